@@ -1,0 +1,181 @@
+# igea - one build for everything, out of tree into $(BUILD)/.
+#
+#   make            library (shared + static) and the igea driver
+#   make check      set-up if needed, build, run every cmocka and pytest suite
+#   make demo       set-up if needed, run the main job on the example flight
+#   make asan       the C suites under AddressSanitizer + UBSan
+#   make bench      benchmarks (not tests; they print ratios)
+#   make install    PREFIX=/usr/local DESTDIR= ; make uninstall
+#
+# The set-up installs the missing Debian packages when run as root on a
+# Debian machine; elsewhere it names them and stops.
+
+PREFIX  ?= /usr/local
+DESTDIR ?=
+BUILD   ?= build
+CC      ?= cc
+PYTHON  ?= python3
+VENV    ?= .venv
+
+SOMAJOR := 1
+VERSION := 1.0.0
+
+DEB_PKGS  := liblapacke-dev libopenblas-dev libgsl-dev libcmocka-dev pkg-config
+PY_PKGS   := numpy pytest scipy
+
+WARN     := -std=c99 -Wall -Wextra -Wpedantic -Werror
+OPT      ?= -O2
+CFLAGS_EXTRA ?=
+LDFLAGS_EXTRA ?=
+CPPFLAGS := -Iinclude -D_POSIX_C_SOURCE=200809L
+LIBCFLAGS = $(WARN) $(OPT) -g -fPIC -fvisibility=hidden -DIGEA_BUILDING $(CFLAGS_EXTRA)
+APPCFLAGS = $(WARN) $(OPT) -g $(CFLAGS_EXTRA)
+LIBS     := -llapacke -lgsl -lopenblas -lm
+
+LIB_SRC  := $(wildcard src/*.c)
+CLI_SRC  := $(wildcard src/cli/*.c)
+TEST_SRC := $(wildcard tests/test_*.c)
+HEADERS  := $(wildcard include/*.h include/igea/*.h) src/internal.h
+
+LIB_OBJ  := $(patsubst src/%.c,$(BUILD)/obj/%.o,$(LIB_SRC))
+CLI_OBJ  := $(patsubst src/cli/%.c,$(BUILD)/obj/cli/%.o,$(CLI_SRC))
+TESTS    := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SRC))
+
+SO_REAL  := $(BUILD)/lib/libigea.so.$(VERSION)
+SO_MAJ   := $(BUILD)/lib/libigea.so.$(SOMAJOR)
+SO_DEV   := $(BUILD)/lib/libigea.so
+STATIC   := $(BUILD)/lib/libigea.a
+DRIVER   := $(BUILD)/bin/igea
+
+.PHONY: all lib check ctest pytest demo asan bench install uninstall clean \
+        deps venv abi-check examples-check
+.DELETE_ON_ERROR:
+
+all: lib $(DRIVER)
+lib: $(SO_DEV) $(STATIC)
+
+$(BUILD)/obj/%.o: src/%.c $(HEADERS) | $(BUILD)/obj
+	$(CC) $(CPPFLAGS) $(LIBCFLAGS) -c $< -o $@
+
+$(BUILD)/obj/cli/%.o: src/cli/%.c src/cli/cli.h $(HEADERS) | $(BUILD)/obj/cli
+	$(CC) $(CPPFLAGS) $(APPCFLAGS) -c $< -o $@
+
+$(SO_REAL): $(LIB_OBJ) src/igea.map | $(BUILD)/lib
+	$(CC) -shared -Wl,-soname,libigea.so.$(SOMAJOR) \
+	  -Wl,--version-script=src/igea.map -Wl,--no-undefined \
+	  $(CFLAGS_EXTRA) $(LDFLAGS_EXTRA) -o $@ $(LIB_OBJ) $(LIBS)
+
+$(SO_MAJ): $(SO_REAL)
+	ln -sf libigea.so.$(VERSION) $@
+$(SO_DEV): $(SO_MAJ)
+	ln -sf libigea.so.$(SOMAJOR) $@
+
+$(STATIC): $(LIB_OBJ) | $(BUILD)/lib
+	rm -f $@ && ar rcs $@ $(LIB_OBJ)
+
+# The driver links the static library: one self-contained program.
+$(DRIVER): $(CLI_OBJ) $(STATIC) | $(BUILD)/bin
+	$(CC) $(CFLAGS_EXTRA) $(LDFLAGS_EXTRA) -o $@ $(CLI_OBJ) $(STATIC) $(LIBS)
+
+# Tests link the static library, so they can reach internal helpers too.
+$(BUILD)/tests/%: tests/%.c tests/testutil.h $(STATIC) | $(BUILD)/tests
+	$(CC) $(CPPFLAGS) -Isrc $(APPCFLAGS) -Wno-unused-parameter $< -o $@ \
+	  $(STATIC) -lcmocka $(LIBS) $(LDFLAGS_EXTRA)
+
+$(BUILD)/obj $(BUILD)/obj/cli $(BUILD)/lib $(BUILD)/bin $(BUILD)/tests:
+	mkdir -p $@
+
+# ---- set-up: Debian packages and the Python virtual environment ----------
+deps:
+	@missing=""; \
+	for p in $(DEB_PKGS); do \
+	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q 'ok installed' || missing="$$missing $$p"; \
+	done; \
+	$(PYTHON) -c 'import venv, ensurepip' 2>/dev/null || missing="$$missing python3-venv"; \
+	if [ -n "$$missing" ]; then \
+	  if [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null; then \
+	    echo "installing:$$missing"; \
+	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing >/dev/null || exit 1; \
+	  else \
+	    echo "igea needs these Debian packages; install them with:"; \
+	    echo "  sudo apt-get install$$missing"; exit 1; \
+	  fi; \
+	fi
+
+venv: $(VENV)/.ok
+$(VENV)/.ok:
+	@$(MAKE) --no-print-directory deps
+	$(PYTHON) -m venv $(VENV)
+	$(VENV)/bin/python -m pip install -q --disable-pip-version-check $(PY_PKGS)
+	touch $@
+
+# ---- tests --------------------------------------------------------------
+check: deps
+	$(MAKE) --no-print-directory all $(TESTS)
+	$(MAKE) --no-print-directory venv
+	$(MAKE) --no-print-directory abi-check ctest examples-check pytest
+
+abi-check: $(SO_DEV)
+	@bad=$$(nm -D --defined-only $(SO_REAL) | awk '{print $$3}' | grep -v '^igea_' || true); \
+	if [ -n "$$bad" ]; then echo "exported symbols without the igea_ prefix: $$bad"; exit 1; fi; \
+	objdump -p $(SO_REAL) | grep -q 'SONAME *libigea.so.$(SOMAJOR)$$' || { echo "soname is not libigea.so.$(SOMAJOR)"; exit 1; }; \
+	echo "abi-check: only igea_* exported, soname libigea.so.$(SOMAJOR)"
+
+ctest: $(TESTS)
+	@fail=0; for t in $(TESTS); do echo "== $$t"; $$t || fail=1; done; exit $$fail
+
+pytest: $(SO_DEV) $(DRIVER) venv
+	IGEA_LIBRARY=$(CURDIR)/$(SO_MAJ) IGEA_DRIVER=$(CURDIR)/$(DRIVER) PYTHONPATH=$(CURDIR)/python \
+	  $(VENV)/bin/python -m pytest -q tests/python
+
+# Examples are built against the staged install through pkg-config, as a
+# user would build them, and run.
+examples-check: all
+	rm -rf $(BUILD)/stage
+	$(MAKE) --no-print-directory install DESTDIR=$(CURDIR)/$(BUILD)/stage PREFIX=/usr
+	@for f in $(wildcard examples/*.c); do \
+	  exe=$(BUILD)/examples/$$(basename $$f .c); mkdir -p $(BUILD)/examples; \
+	  PKG_CONFIG_PATH=$(CURDIR)/$(BUILD)/stage/usr/lib/pkgconfig PKG_CONFIG_SYSROOT_DIR=$(CURDIR)/$(BUILD)/stage \
+	  $(CC) $(WARN) $$f -o $$exe $$(PKG_CONFIG_PATH=$(CURDIR)/$(BUILD)/stage/usr/lib/pkgconfig PKG_CONFIG_SYSROOT_DIR=$(CURDIR)/$(BUILD)/stage pkg-config --cflags --libs igea) \
+	    -Wl,-rpath,$(CURDIR)/$(BUILD)/stage/usr/lib || exit 1; \
+	  echo "== $$exe"; (cd examples && ../$$exe) >/dev/null || { echo "example $$f failed"; exit 1; }; \
+	done; echo "examples-check: examples build via pkg-config and run"
+
+demo: deps
+	$(MAKE) --no-print-directory all
+	@echo "== igea eqerr on the example flight (examples/flight/)"
+	@cd examples/flight && ../../$(DRIVER) eqerr --S S.txt --dw dw.txt --sigma sigma.txt --spec spec.txt; \
+	  st=$$?; echo "(exit status $$st: 0 accepted, 1 rejected)"; [ $$st -le 1 ]
+	@echo "== the seed's Table 1 judged again (examples/seed000_table1.txt)"
+	@$(DRIVER) test --table examples/seed000_table1.txt --z-crit 2.58; [ $$? -le 1 ]
+
+asan: deps
+	$(MAKE) --no-print-directory BUILD=build/asan OPT=-O1 \
+	  CFLAGS_EXTRA="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all" ctest
+
+bench: all venv
+	PYTHONPATH=$(CURDIR)/python IGEA_LIBRARY=$(CURDIR)/$(SO_MAJ) IGEA_DRIVER=$(CURDIR)/$(DRIVER) \
+	  $(VENV)/bin/python bench/run.py
+
+# ---- install --------------------------------------------------------------
+$(BUILD)/igea.pc: igea.pc.in | $(BUILD)/lib
+	sed -e 's|@PREFIX@|$(PREFIX)|g' -e 's|@VERSION@|$(VERSION)|g' $< > $@
+
+install: all $(BUILD)/igea.pc
+	install -d $(DESTDIR)$(PREFIX)/include/igea $(DESTDIR)$(PREFIX)/lib/pkgconfig $(DESTDIR)$(PREFIX)/bin
+	install -m 644 include/igea.h $(DESTDIR)$(PREFIX)/include/
+	install -m 644 include/igea/*.h $(DESTDIR)$(PREFIX)/include/igea/
+	install -m 644 $(STATIC) $(DESTDIR)$(PREFIX)/lib/
+	install -m 755 $(SO_REAL) $(DESTDIR)$(PREFIX)/lib/
+	ln -sf libigea.so.$(VERSION) $(DESTDIR)$(PREFIX)/lib/libigea.so.$(SOMAJOR)
+	ln -sf libigea.so.$(SOMAJOR) $(DESTDIR)$(PREFIX)/lib/libigea.so
+	install -m 644 $(BUILD)/igea.pc $(DESTDIR)$(PREFIX)/lib/pkgconfig/
+	install -m 755 $(DRIVER) $(DESTDIR)$(PREFIX)/bin/
+
+uninstall:
+	rm -rf $(DESTDIR)$(PREFIX)/include/igea $(DESTDIR)$(PREFIX)/include/igea.h
+	rm -f $(DESTDIR)$(PREFIX)/lib/libigea.a $(DESTDIR)$(PREFIX)/lib/libigea.so* \
+	  $(DESTDIR)$(PREFIX)/lib/pkgconfig/igea.pc $(DESTDIR)$(PREFIX)/bin/igea
+
+clean:
+	rm -rf $(BUILD)

@@ -1,0 +1,71 @@
+/*
+ * igea/common.h - status codes, version, library-wide conventions.
+ *
+ * What is not declared in the igea headers is not part of the API.
+ *
+ * Conventions (every module):
+ *  - Matrices are column-major with an explicit leading dimension, sizes
+ *    are int, vectors are contiguous: a Fortran caller passes its arrays
+ *    as they are.
+ *  - Every routine returns an int status like LAPACK's INFO: 0 success;
+ *    -i argument i (1-based) is invalid; IGEA_E* (-1010 and below) a
+ *    library-wide failure; > 0 a routine's own documented outcome.
+ *    Outputs are untouched when a call fails (status < 0).
+ *  - The library never prints, never exits or aborts, keeps no global
+ *    mutable state and never changes process-wide state: every function is
+ *    reentrant and may be called from many threads at once; a handle
+ *    belongs to one thread at a time.
+ */
+#ifndef IGEA_COMMON_H
+#define IGEA_COMMON_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(IGEA_BUILDING) && defined(__GNUC__)
+#define IGEA_API __attribute__((visibility("default")))
+#else
+#define IGEA_API
+#endif
+
+#define IGEA_VERSION_MAJOR 1
+#define IGEA_VERSION_MINOR 0
+#define IGEA_VERSION_PATCH 0
+#define IGEA_VERSION_NUMBER                                                  \
+    (IGEA_VERSION_MAJOR * 10000 + IGEA_VERSION_MINOR * 100 + IGEA_VERSION_PATCH)
+#define IGEA_VERSION_STRING "1.0.0"
+
+/* Status codes. 0 is success, -i names the invalid argument i. */
+#define IGEA_OK 0
+#define IGEA_ENOMEM (-1010)       /* out of memory */
+#define IGEA_ENONFINITE (-1011)   /* an input holds NaN or Inf */
+#define IGEA_ENONPOSITIVE (-1012) /* a variance or sigma is zero or negative */
+#define IGEA_ESINGULAR (-1013)    /* a matrix is singular or not positive definite */
+#define IGEA_ERANK (-1014)        /* rank-deficient where full rank is needed */
+#define IGEA_ENOCONV (-1015)      /* an iteration did not converge */
+#define IGEA_ELAPACK (-1016)      /* LAPACK reported a failure */
+#define IGEA_EDOMAIN (-1017)      /* a value is outside its mathematical domain */
+#define IGEA_ENOTESTABLE (-1018)  /* no component is precise enough to test */
+#define IGEA_EDEPENDENT (-1019)   /* pooled flights are not independent */
+#define IGEA_EEMPTY (-1020)       /* no data (zero rows or zero terms) */
+
+/* Static English text for a status code; never NULL. */
+IGEA_API const char *igea_strerror(int status);
+
+/* "1.0.0" and IGEA_VERSION_NUMBER of the library actually linked. */
+IGEA_API const char *igea_version(void);
+IGEA_API int igea_version_number(void);
+
+/*
+ * Optional process-wide set-up for programs that own their process (the
+ * driver, the Python package): switches GSL's abort-on-error handler off.
+ * The library validates every argument before GSL sees it and does not
+ * need this; it exists for hosts that also call GSL themselves. Returns 0.
+ */
+IGEA_API int igea_init(void);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

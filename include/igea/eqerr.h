@@ -1,0 +1,116 @@
+/*
+ * igea/eqerr.h - equivalent-error accuracy assessment of an inertial system
+ * from flight-test velocity differences (seed 000; METHODS 1.2 steps 1-7).
+ *
+ * Model dw = S X + e, S (m x N) the velocity environment functions, columns
+ * scaled to the 1-sigma specs so that X ~ N(0, I) when the system is within
+ * spec. The normal matrix A = S^T K^-1 S = P diag(lambda) P^T (dsyevd,
+ * descending) gives the equivalent errors Xhat_i = p_i^T b / lambda_i,
+ * which are independent with Xhat_i ~ N(0, 1 + 1/lambda_i) under H0. The
+ * tracking scale sigma_w is estimated from the small eigenvalues and K is
+ * rescaled (K <- c K); the components with lambda_i >= lambda_test are then
+ * tested one by one (normal) and together (chi-square).
+ *
+ * Three ways in:
+ *  - igea_eqerr_run: whole matrices in memory, eig or SVD route, residuals;
+ *  - igea_normal_accumulate (streamed blocks) + igea_eqerr_solve (eig
+ *    route) + igea_eqerr_coef/igea_eqerr_residual (a second pass);
+ *  - igea_stats_accuracy_test on published (Xhat, lambda) tables.
+ */
+#ifndef IGEA_EQERR_H
+#define IGEA_EQERR_H
+
+#include "igea/common.h"
+#include "igea/normal.h"
+#include "igea/stats.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Indices into opts[IGEA_EQERR_OPT_LEN]; igea_eqerr_defaults fills them. */
+#define IGEA_EQERR_OPT_ALPHA 0        /* significance level, 0.01 */
+#define IGEA_EQERR_OPT_LAMBDA_TEST 1  /* test components with lambda >= 10 */
+#define IGEA_EQERR_OPT_LAMBDA_SMALL 2 /* small eigenvalues: lambda <= 0.1 */
+#define IGEA_EQERR_OPT_N_MIN 3        /* at least 5 small eigenvalues */
+#define IGEA_EQERR_OPT_TOL 4          /* stop when |sigma_w^2 - 1| <= 0.05 */
+#define IGEA_EQERR_OPT_MAX_ITER 5     /* 10 */
+#define IGEA_EQERR_OPT_CORRECT 6      /* 1: correct sigma_w, 0: off */
+#define IGEA_EQERR_OPT_RANK_TOL 7     /* 0: default (eig N*10*eps, svd max(m,N)*eps) */
+#define IGEA_EQERR_OPT_BIAS_CORRECT 8 /* 1: sigma_w^2 = mean(g^2 - lambda) [D] */
+#define IGEA_EQERR_OPT_CLAMP 9        /* 1: never let c fall below 1 [D] */
+#define IGEA_EQERR_OPT_Z_CRIT 10      /* > 0: impose z_crit (2.58); 0 exact */
+#define IGEA_EQERR_OPT_ROUTE 11       /* IGEA_ROUTE_EIG or IGEA_ROUTE_SVD */
+#define IGEA_EQERR_OPT_LEN 16
+
+#define IGEA_ROUTE_EIG 0 /* normal matrix + dsyevd (streamable) */
+#define IGEA_ROUTE_SVD 1 /* thin SVD of the weighted S (dgesdd), in memory */
+
+/* Fill opts[IGEA_EQERR_OPT_LEN] with the defaults above. Returns 0, -1. */
+IGEA_API int igea_eqerr_defaults(double *opts);
+
+/*
+ * Steps 1-5 from the normal equations (eig route).
+ *  1 N >= 1; 2 A (N x N, lower triangle read), 3 lda >= N; 4 b (N);
+ *  5 opts (IGEA_EQERR_OPT_LEN values, or NULL for the defaults);
+ * Outputs (caller-owned):
+ *  6 lambda[N]  eigenvalues, descending, divided by the final scale c
+ *  7 P (N x N), 8 ldp >= N: eigenvectors as columns (METHODS 0.3 signs)
+ *  9 equiv_err[N]: Xhat_i for i < rank, 0 beyond
+ * 10 z[N]: z_i for tested components (a prefix, i < n_test), 0 beyond
+ * 11 reject[N]: 1 rejected, 0 accepted, -1 not tested
+ * 12 info[IGEA_INFO_LEN]: see igea/stats.h (rank, c, iterations, ...)
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENOTESTABLE (no lambda >= lambda_test;
+ * nothing is written), IGEA_ENOMEM, IGEA_ELAPACK.
+ */
+IGEA_API int igea_eqerr_solve(int N, const double *A, int lda, const double *b,
+                              const double *opts, double *lambda, double *P,
+                              int ldp, double *equiv_err, double *z,
+                              int *reject, double *info);
+
+/*
+ * Everything from whole matrices: S (m x N column-major, lds >= m), dw (m),
+ * track_sigma (m values, or 1 with sigma_inc = 0), spec_sigma (N or NULL),
+ * opts (NULL: defaults; OPT_ROUTE picks eig or SVD). Outputs as
+ * igea_eqerr_solve (arguments 10-16 there are 10-16 here), plus
+ * 17 residual[m] (dw - S D P_t Xhat_t, physical units) or NULL and
+ * 18 rms[3] (per axis x, y, z of epoch-major rows) or NULL.
+ *  arguments: 1 m, 2 N, 3 S, 4 lds, 5 dw, 6 track_sigma, 7 sigma_inc,
+ *  8 spec_sigma, 9 opts, 10 lambda, 11 P, 12 ldp, 13 equiv_err, 14 z,
+ *  15 reject, 16 info, 17 residual, 18 rms.
+ */
+IGEA_API int igea_eqerr_run(int m, int N, const double *S, int lds,
+                            const double *dw, const double *track_sigma,
+                            int sigma_inc, const double *spec_sigma,
+                            const double *opts, double *lambda, double *P,
+                            int ldp, double *equiv_err, double *z, int *reject,
+                            double *info, double *residual, double *rms);
+
+/*
+ * The fitted coefficients in physical units of the raw S columns:
+ * coef = D P_t Xhat_t, the sum over the n_test tested components (n_test =
+ * info[IGEA_INFO_N_TEST]); spec_sigma may be NULL (D = I).
+ * Arguments: 1 N, 2 P, 3 ldp, 4 equiv_err, 5 n_test (0..N), 6 spec_sigma,
+ * 7 coef[N].
+ */
+IGEA_API int igea_eqerr_coef(int N, const double *P, int ldp,
+                             const double *equiv_err, int n_test,
+                             const double *spec_sigma, double *coef);
+
+/*
+ * Residuals of a block of rows, residual = dw - S coef, for a second pass
+ * over a streamed flight. row0 is the index of the block's first row in the
+ * flight (rows are epoch-major x, y, z: axis = row % 3); axis_ss (6 values,
+ * or NULL) accumulates the sums of squares per axis [0..2] and the row
+ * counts [3..5], so rms_a = sqrt(axis_ss[a] / axis_ss[3 + a]).
+ * Arguments: 1 layout, 2 m, 3 N, 4 S, 5 lds, 6 dw, 7 coef, 8 row0 >= 0,
+ * 9 residual[m] (or NULL), 10 axis_ss.
+ */
+IGEA_API int igea_eqerr_residual(int layout, int m, int N, const double *S,
+                                 int lds, const double *dw, const double *coef,
+                                 int row0, double *residual, double *axis_ss);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

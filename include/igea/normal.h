@@ -1,0 +1,53 @@
+/*
+ * igea/normal.h - weighted normal equations (METHODS 1.2 step 0-1).
+ *
+ * For observations dw = S X + e with diagonal tracking covariance
+ * K = diag(track_sigma^2) and columns of S scaled by the 1-sigma specs D =
+ * diag(spec_sigma), this accumulates
+ *     A += D S^T K^-1 S D,   b += D S^T K^-1 dw,
+ *     wtw[0] += dw^T K^-1 dw,  wtw[1] += number of rows,
+ * so a flight of any length can be streamed in row blocks with O(N^2)
+ * memory: zero A (N x N), b (N) and wtw (2), then call once per block.
+ * The whole of A is updated (both triangles).
+ */
+#ifndef IGEA_NORMAL_H
+#define IGEA_NORMAL_H
+
+#include "igea/common.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Layout of S: IGEA_COLMAJOR: S is m x N column-major, lds >= max(1, m)
+ * (Fortran); IGEA_ROWMAJOR: the array holds S^T, i.e. N x m column-major
+ * with lds >= N, which is S stored row by row (C, numpy, .npy files). */
+#define IGEA_COLMAJOR 0
+#define IGEA_ROWMAJOR 1
+
+/*
+ * Arguments (1-based positions, as the -i status names them):
+ *  1 layout       IGEA_COLMAJOR or IGEA_ROWMAJOR
+ *  2 m            rows in this block, >= 0 (0 is a no-op)
+ *  3 N            error terms, >= 1
+ *  4 S            the block, see layout
+ *  5 lds          its leading dimension
+ *  6 dw           m velocity differences
+ *  7 track_sigma  tracking 1-sigma per row (sigma_inc = 1) or one value for
+ *                 all rows (sigma_inc = 0); > 0 (IGEA_ENONPOSITIVE)
+ *  8 sigma_inc    0 or 1
+ *  9 spec_sigma   N specs (> 0), or NULL for no column scaling
+ * 10 A, 11 lda >= N, 12 b, 13 wtw[2]: running sums, updated in place.
+ * Returns 0, -i, IGEA_ENONFINITE (NaN/Inf in S, dw or sigma),
+ * IGEA_ENONPOSITIVE, IGEA_ENOMEM. On failure A, b, wtw are untouched.
+ */
+IGEA_API int igea_normal_accumulate(int layout, int m, int N, const double *S,
+                                    int lds, const double *dw,
+                                    const double *track_sigma, int sigma_inc,
+                                    const double *spec_sigma, double *A,
+                                    int lda, double *b, double *wtw);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,98 @@
+/*
+ * igea/stats.h - normal and chi-square distributions, the equivalent-error
+ * accuracy tests of seed 000 (METHODS 1.2 steps 4-6).
+ *
+ * Every routine validates its arguments before GSL sees them, so GSL's
+ * abort-on-error handler never fires (on this GSL, gsl_cdf_chisq_Pinv
+ * aborts the process for many valid inputs; igea inverts the regularised
+ * incomplete gamma function itself, with a bracketed Newton iteration).
+ */
+#ifndef IGEA_STATS_H
+#define IGEA_STATS_H
+
+#include "igea/common.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Largest degrees of freedom accepted by the chi-square routines. */
+#define IGEA_STATS_DOF_MAX 1e9
+
+/* Standard normal cdf Phi(x); x may be +-Inf. -1: x is NaN. */
+IGEA_API int igea_stats_normal_cdf(double x, double *p);
+/* Lower quantile z = Phi^-1(p), 0 < p < 1. -1: p outside (0, 1). */
+IGEA_API int igea_stats_normal_quantile(double p, double *z);
+
+/* Chi-square cdf P(x; dof) and survival Q(x; dof) = 1 - P (the p-value
+ * of a statistic x), x >= 0 (+Inf allowed), 0 < dof <= IGEA_STATS_DOF_MAX. */
+IGEA_API int igea_stats_chi2_cdf(double x, double dof, double *p);
+IGEA_API int igea_stats_chi2_sf(double x, double dof, double *q);
+/* Lower quantile: P(x; dof) = p, 0 < p < 1. */
+IGEA_API int igea_stats_chi2_quantile(double p, double dof, double *x);
+/* Upper alpha point chi2_alpha(dof) (the seed's notation): Q(x; dof) =
+ * alpha, 0 < alpha < 1. chi2_0.01(11) = 24.725. */
+IGEA_API int igea_stats_chi2_upper(double alpha, double dof, double *x);
+
+/* Indices into the info[IGEA_INFO_LEN] array that the accuracy tests and
+ * igea_eqerr_* fill (doubles; counts and flags are whole numbers). */
+#define IGEA_INFO_N_TEST 0     /* components tested, |I_t| */
+#define IGEA_INFO_CHI2 1       /* T = sum z_i^2 over I_t */
+#define IGEA_INFO_DOF 2        /* its degrees of freedom */
+#define IGEA_INFO_CHI2_CRIT 3  /* chi2_alpha(dof) */
+#define IGEA_INFO_Z_CRIT 4     /* z_{1-alpha/2} (or the caller's value) */
+#define IGEA_INFO_P_VALUE 5    /* Q(T; dof) */
+#define IGEA_INFO_N_REJECT 6   /* components with |z_i| > z_crit */
+#define IGEA_INFO_PASSED 7     /* 1: no rejection and T < chi2_crit */
+#define IGEA_INFO_RANK 8       /* numerical rank r (igea_eqerr_*) */
+#define IGEA_INFO_SCALE 9      /* c: K was multiplied by c (sigma_w^2) */
+#define IGEA_INFO_ITERATIONS 10 /* sigma_w iterations run */
+#define IGEA_INFO_N_SMALL 11   /* |I_small| of the last iteration */
+#define IGEA_INFO_FLAG 12      /* IGEA_SIGMAW_* */
+#define IGEA_INFO_N_FLIGHTS 13 /* flights pooled (igea_stats_pool) */
+#define IGEA_INFO_LEN 16
+
+/* Outcome of the tracking-accuracy (sigma_w) correction. */
+#define IGEA_SIGMAW_CONVERGED 0
+#define IGEA_SIGMAW_NOT_ESTIMABLE 1 /* fewer than n_min small eigenvalues */
+#define IGEA_SIGMAW_NO_CONVERGENCE 2
+#define IGEA_SIGMAW_OFF 3
+
+/*
+ * Per-component normal tests and the chi-square test (METHODS 1.2 steps 4
+ * and 5) of n equivalent errors equiv_err[i] with eigenvalues lambda[i]:
+ * component i is tested when lambda[i] >= lambda_test, z_i =
+ * equiv_err[i] / sqrt(1 + 1/lambda[i]) and it is rejected when |z_i| >
+ * z_crit = z_{1-alpha/2}; T = sum z_i^2 is compared with chi2_alpha(|I_t|).
+ *   n >= 1; equiv_err, lambda: n values, finite; 0 < alpha < 1;
+ *   lambda_test > 0; z_crit: > 0 to impose a critical value (e.g. 2.58,
+ *   the seed's tabulated z_0.995), 0 to use the exact quantile.
+ * Outputs: z[n] (z_i for tested components, 0 elsewhere), reject[n] (1
+ * rejected, 0 accepted, -1 not tested), info[IGEA_INFO_LEN] (entries 0-7).
+ * Returns 0, -i, IGEA_ENONFINITE, or IGEA_ENOTESTABLE when no lambda[i]
+ * reaches lambda_test.
+ */
+IGEA_API int igea_stats_accuracy_test(int n, const double *equiv_err,
+                                      const double *lambda, double alpha,
+                                      double lambda_test, double z_crit,
+                                      double *z, int *reject, double *info);
+
+/*
+ * Pooling over independent flights (METHODS 1.2 step 6): T_tot = sum of
+ * chi2[f], dof_tot = sum of dof[f]; passed iff no flight has a rejected
+ * component (n_reject[f] == 0) and T_tot < chi2_alpha(dof_tot).
+ *   nflights >= 1; chi2[f] >= 0; dof[f] >= 1; n_reject[f] >= 0;
+ *   unit_id: NULL, or the inertial unit flown in each flight: a unit that
+ *   appears twice makes the flights dependent and the call returns
+ *   IGEA_EDEPENDENT; 0 < alpha < 1.
+ * Output info: N_TEST (= dof_tot), CHI2, DOF, CHI2_CRIT, Z_CRIT, P_VALUE,
+ * N_REJECT (sum), PASSED, N_FLIGHTS.
+ */
+IGEA_API int igea_stats_pool(int nflights, const double *chi2, const int *dof,
+                             const int *n_reject, const int *unit_id,
+                             double alpha, double *info);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,138 @@
+"""Loading libigea and the one table of its C prototypes.
+
+The shared library is found through $IGEA_LIBRARY, then beside this
+package, then the repository's build/lib, then the system's loader path.
+Every exported symbol is declared in PROTOTYPES below (a test compares the
+table with the library's exports).
+"""
+import ctypes
+import os
+from ctypes import POINTER, c_char_p, c_double, c_int, c_void_p
+
+import numpy as np
+
+MAJOR = 1
+
+_D = POINTER(c_double)
+_I = POINTER(c_int)
+_P = c_void_p
+
+# name: (restype, [argtypes])
+PROTOTYPES = {
+    # common
+    "igea_strerror": (c_char_p, [c_int]),
+    "igea_version": (c_char_p, []),
+    "igea_version_number": (c_int, []),
+    "igea_init": (c_int, []),
+    # stats
+    "igea_stats_normal_cdf": (c_int, [c_double, _D]),
+    "igea_stats_normal_quantile": (c_int, [c_double, _D]),
+    "igea_stats_chi2_cdf": (c_int, [c_double, c_double, _D]),
+    "igea_stats_chi2_sf": (c_int, [c_double, c_double, _D]),
+    "igea_stats_chi2_quantile": (c_int, [c_double, c_double, _D]),
+    "igea_stats_chi2_upper": (c_int, [c_double, c_double, _D]),
+    "igea_stats_accuracy_test": (c_int, [c_int, _D, _D, c_double, c_double, c_double, _D, _I, _D]),
+    "igea_stats_pool": (c_int, [c_int, _D, _I, _I, _I, c_double, _D]),
+    # normal
+    "igea_normal_accumulate": (c_int, [c_int, c_int, c_int, _D, c_int, _D, _D, c_int, _D, _D, c_int, _D, _D]),
+    # eqerr
+    "igea_eqerr_defaults": (c_int, [_D]),
+    "igea_eqerr_solve": (c_int, [c_int, _D, c_int, _D, _D, _D, _D, c_int, _D, _D, _I, _D]),
+    "igea_eqerr_run": (c_int, [c_int, c_int, _D, c_int, _D, _D, c_int, _D, _D,
+                               _D, _D, c_int, _D, _D, _I, _D, _D, _D]),
+    "igea_eqerr_coef": (c_int, [c_int, _D, c_int, _D, c_int, _D, _D]),
+    "igea_eqerr_residual": (c_int, [c_int, c_int, c_int, _D, c_int, _D, _D, c_int, _D, _D]),
+    # -- further modules add their block below, one block per module --
+}
+
+
+class IgeaError(Exception):
+    """A libigea call failed: .code is the status, .message its text."""
+
+    def __init__(self, code, message, where=""):
+        self.code = int(code)
+        self.message = message
+        super().__init__(f"{where + ': ' if where else ''}{message} (status {code})")
+
+
+def _candidates():
+    env = os.environ.get("IGEA_LIBRARY")
+    if env:
+        yield env
+    here = os.path.dirname(os.path.abspath(__file__))
+    yield os.path.join(here, "libigea.so.%d" % MAJOR)
+    repo = os.path.dirname(os.path.dirname(here))
+    yield os.path.join(repo, "build", "lib", "libigea.so.%d" % MAJOR)
+    yield "libigea.so.%d" % MAJOR
+
+
+def _load():
+    errors = []
+    for path in _candidates():
+        if os.sep in path and not os.path.exists(path):
+            continue
+        try:
+            return ctypes.CDLL(path)
+        except OSError as exc:
+            errors.append(f"{path}: {exc}")
+    raise ImportError("libigea not found; build it with 'make' or set IGEA_LIBRARY\n"
+                      + "\n".join(errors))
+
+
+lib = _load()
+for _name, (_res, _args) in PROTOTYPES.items():
+    _f = getattr(lib, _name)
+    _f.restype = _res
+    _f.argtypes = _args
+
+if lib.igea_version_number() // 10000 != MAJOR:
+    raise ImportError("libigea major version %d, this package needs %d"
+                      % (lib.igea_version_number() // 10000, MAJOR))
+lib.igea_init()
+
+
+def strerror(code):
+    return lib.igea_strerror(int(code)).decode()
+
+
+def check(status, where="", argnames=None):
+    """Raise IgeaError for a negative status; return status otherwise.
+
+    argnames: the C argument names in order, so that -i names argument i."""
+    if status < 0:
+        msg = strerror(status)
+        if -1000 < status < 0 and argnames and -status <= len(argnames):
+            msg = "invalid argument %d (%s)" % (-status, argnames[-status - 1])
+        raise IgeaError(status, msg, where)
+    return status
+
+
+def dptr(a):
+    """double* of a numpy float64 array (None -> NULL)."""
+    if a is None:
+        return None
+    return a.ctypes.data_as(_D)
+
+
+def iptr(a):
+    if a is None:
+        return None
+    return a.ctypes.data_as(_I)
+
+
+def as_f64(x, name, ndim=None, shape=None):
+    """x as a finite-checked-later float64 array in Fortran order.
+
+    Raises ValueError naming the argument for a wrong number of dimensions
+    or a wrong shape (None entries in shape match anything)."""
+    try:
+        a = np.asarray(x, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{name}: not an array of numbers ({exc})") from None
+    if ndim is not None and a.ndim != ndim:
+        raise ValueError(f"{name}: expected a {ndim}-D array, got shape {a.shape}")
+    if shape is not None:
+        if len(shape) != a.ndim or any(s is not None and s != d for s, d in zip(shape, a.shape)):
+            want = "(" + ", ".join("*" if s is None else str(s) for s in shape) + ")"
+            raise ValueError(f"{name}: expected shape {want}, got {a.shape}")
+    return np.asfortranarray(a)

@@ -1,0 +1,100 @@
+/* src/cli/cli.h - the igea driver's shared pieces: exit codes, strict
+ * number parsing with file:line:column messages, text and .npy input
+ * (whole or streamed in row blocks), atomic output files, JSON helpers.
+ * The driver calls only the public library API besides these. */
+#ifndef IGEA_CLI_H
+#define IGEA_CLI_H
+
+#include <stdio.h>
+
+#include "igea.h"
+
+/* Exit codes (sysexits-style, DESIGN.md). */
+#define CLI_OK 0
+#define CLI_REJECT 1    /* an accuracy test rejected: a verdict */
+#define CLI_USAGE 64    /* bad command line */
+#define CLI_DATAERR 65  /* malformed or invalid input data */
+#define CLI_NOINPUT 66  /* an input file is missing or unreadable */
+#define CLI_SOFTWARE 70 /* numerical or internal failure */
+#define CLI_IOERR 74    /* writing output failed */
+
+/* "igea: <message>\n" on stderr. */
+void cli_error(const char *fmt, ...)
+#ifdef __GNUC__
+    __attribute__((format(printf, 1, 2)))
+#endif
+    ;
+
+/* Map a library status to an exit code, printing igea_strerror() with the
+ * given context ("eqerr: ..."). Returns CLI_OK for 0. */
+int cli_status(int status, const char *context);
+
+/* Strict option values: the whole string must be a finite number / an int.
+ * On failure print "option --name: 'text' is not a number" and return
+ * CLI_USAGE. */
+int cli_parse_double(const char *opt, const char *s, double *out);
+int cli_parse_int(const char *opt, const char *s, int *out);
+/* Value of an option that takes one: argv[*i + 1] (advancing *i), or NULL
+ * with a usage message when it is missing. */
+const char *cli_optarg(int argc, char **argv, int *i);
+
+/* ---- input ------------------------------------------------------------- */
+/* A dense matrix, row-major (row r, column c at v[r * cols + c]). */
+typedef struct {
+    double *v;
+    long rows;
+    int cols;
+} cli_matrix;
+
+/* Read a whole text (whitespace or commas, '#' comments, blank lines
+ * skipped; every row the same number of columns) or .npy (float64, any
+ * order, 1-D or 2-D; 1-D gives one column) file. Returns an exit code;
+ * messages name file:line:column. An empty file is an error (65). */
+int cli_read_matrix(const char *path, cli_matrix *out);
+void cli_matrix_free(cli_matrix *m);
+
+/* Streaming reader: row blocks of a text or .npy file in O(block) memory. */
+typedef struct cli_reader cli_reader;
+int cli_reader_open(const char *path, cli_reader **out);
+/* Columns of the file (known after open for .npy, after the first data row
+ * for text: cli_reader_open reads ahead one row). */
+int cli_reader_cols(const cli_reader *r);
+/* Read up to maxrows rows into buf (row-major, maxrows * cols doubles);
+ * *nread = rows read, 0 at end of file. Returns an exit code. */
+int cli_reader_next(cli_reader *r, long maxrows, double *buf, long *nread);
+const char *cli_reader_path(const cli_reader *r);
+void cli_reader_close(cli_reader *r);
+
+/* ---- output ------------------------------------------------------------ */
+/* An output stream that is either stdout (path NULL or "-") or a temporary
+ * file in the target's directory renamed onto the target by cli_out_commit:
+ * a failed run never leaves a half-written file. */
+typedef struct {
+    FILE *f;
+    char *tmp;
+    char *path;
+} cli_out;
+int cli_out_open(cli_out *o, const char *path);
+int cli_out_commit(cli_out *o); /* returns CLI_OK or CLI_IOERR */
+void cli_out_abort(cli_out *o);
+
+/* Write a row-major matrix to path atomically: .npy (float64, C order) when
+ * the name ends in ".npy", else text with %.17g and an optional '#' header
+ * line (may be NULL). */
+int cli_write_matrix(const char *path, const double *v, long rows, int cols,
+                     const char *header);
+
+/* JSON: a number (NaN/Inf become null), %.17g. */
+void cli_json_num(FILE *f, double x);
+/* JSON array of n doubles / ints. */
+void cli_json_array(FILE *f, const double *x, long n);
+void cli_json_iarray(FILE *f, const int *x, long n);
+/* JSON string with escapes. */
+void cli_json_str(FILE *f, const char *s);
+
+/* ---- commands: int cmd_<name>(int argc, char **argv), argv[0] = name -- */
+int cmd_eqerr(int argc, char **argv);
+int cmd_test(int argc, char **argv);
+int cmd_version(int argc, char **argv);
+
+#endif

@@ -1,0 +1,156 @@
+/* common.c - status text, version, argument-check helpers, shared kernels. */
+#include <stdint.h>
+
+#include <gsl/gsl_errno.h>
+#include <lapacke.h>
+
+#include "internal.h"
+
+const char *igea_strerror(int status)
+{
+    if (status == IGEA_OK)
+        return "success";
+    if (status < 0 && status > -1000)
+        return "invalid argument (the negated status is its 1-based position)";
+    switch (status) {
+    case IGEA_ENOMEM: return "out of memory";
+    case IGEA_ENONFINITE: return "an input holds NaN or Inf";
+    case IGEA_ENONPOSITIVE: return "a variance or standard deviation is zero or negative";
+    case IGEA_ESINGULAR: return "a matrix is singular or not positive definite";
+    case IGEA_ERANK: return "the problem is rank-deficient where full rank is needed";
+    case IGEA_ENOCONV: return "an iteration did not converge";
+    case IGEA_ELAPACK: return "LAPACK reported a failure";
+    case IGEA_EDOMAIN: return "a value is outside its mathematical domain";
+    case IGEA_ENOTESTABLE: return "no component is precise enough to be tested";
+    case IGEA_EDEPENDENT: return "pooled flights are not independent (the same unit appears twice)";
+    case IGEA_EEMPTY: return "no data (zero rows or zero terms)";
+    default: break;
+    }
+    if (status > 0)
+        return "a routine-specific outcome (see the routine's documentation)";
+    return "unknown status code";
+}
+
+const char *igea_version(void) { return IGEA_VERSION_STRING; }
+int igea_version_number(void) { return IGEA_VERSION_NUMBER; }
+
+int igea_init(void)
+{
+    gsl_set_error_handler_off();
+    return 0;
+}
+
+int igea__finite_vec(int n, const double *x, int inc)
+{
+    for (int i = 0; i < n; i++)
+        if (!isfinite(x[(size_t)i * (size_t)inc]))
+            return 0;
+    return 1;
+}
+
+int igea__finite_mat(int m, int n, const double *a, int lda)
+{
+    for (int j = 0; j < n; j++) {
+        const double *col = a + (size_t)j * (size_t)lda;
+        double acc = 0.0;
+        /* x * 0 is NaN exactly when x is NaN or Inf: one test per column. */
+        for (int i = 0; i < m; i++)
+            acc += col[i] * 0.0;
+        if (acc != 0.0)
+            return 0;
+    }
+    return 1;
+}
+
+int igea__positive_vec(int n, const double *x, int *nonfinite)
+{
+    *nonfinite = 0;
+    for (int i = 0; i < n; i++) {
+        if (!isfinite(x[i])) {
+            *nonfinite = 1;
+            return 0;
+        }
+    }
+    for (int i = 0; i < n; i++)
+        if (!(x[i] > 0.0))
+            return 0;
+    return 1;
+}
+
+double *igea__dalloc(size_t n)
+{
+    if (n > SIZE_MAX / sizeof(double) - 1)
+        return NULL;
+    return malloc((n ? n : 1) * sizeof(double));
+}
+
+int *igea__ialloc(size_t n)
+{
+    if (n > SIZE_MAX / sizeof(int) - 1)
+        return NULL;
+    return malloc((n ? n : 1) * sizeof(int));
+}
+
+int igea__sign_fix(int n, double *v)
+{
+    int imax = 0;
+    for (int i = 1; i < n; i++)
+        if (fabs(v[i]) > fabs(v[imax]))
+            imax = i;
+    if (n > 0 && v[imax] < 0.0) {
+        for (int i = 0; i < n; i++)
+            v[i] = -v[i];
+        return -1;
+    }
+    return 1;
+}
+
+int igea__syev_desc(int n, const double *a, int lda, double *w, double *v,
+                    int ldv)
+{
+    if (n == 0)
+        return 0;
+    double *z = igea__dalloc((size_t)n * (size_t)n + (size_t)n);
+    if (!z)
+        return IGEA_ENOMEM;
+    double *wa = z + (size_t)n * (size_t)n;
+    for (int j = 0; j < n; j++)
+        for (int i = j; i < n; i++)
+            z[i + (size_t)j * n] = IGEA_AT(a, lda, i, j);
+    /* Workspace query, then the real call. */
+    double wq;
+    lapack_int iwq;
+    lapack_int info = LAPACKE_dsyevd_work(LAPACK_COL_MAJOR, 'V', 'L', n, z, n,
+                                          wa, &wq, -1, &iwq, -1);
+    if (info != 0) {
+        free(z);
+        return IGEA_ELAPACK;
+    }
+    size_t lwork = (size_t)wq + 1;
+    size_t liwork = (size_t)iwq + 1;
+    double *work = igea__dalloc(lwork);
+    lapack_int *iwork = malloc(liwork * sizeof(lapack_int));
+    if (!work || !iwork) {
+        free(work);
+        free(iwork);
+        free(z);
+        return IGEA_ENOMEM;
+    }
+    info = LAPACKE_dsyevd_work(LAPACK_COL_MAJOR, 'V', 'L', n, z, n, wa, work,
+                               (lapack_int)lwork, iwork, (lapack_int)liwork);
+    free(work);
+    free(iwork);
+    if (info != 0) {
+        free(z);
+        return IGEA_ELAPACK;
+    }
+    for (int k = 0; k < n; k++) {
+        int src = n - 1 - k;
+        w[k] = wa[src];
+        double *dst = v + (size_t)k * (size_t)ldv;
+        memcpy(dst, z + (size_t)src * n, (size_t)n * sizeof(double));
+        igea__sign_fix(n, dst);
+    }
+    free(z);
+    return 0;
+}

@@ -1,0 +1,462 @@
+/* eqerr.c - equivalent-error separation, sigma_w correction, tests
+ * (METHODS 1.2). */
+#include <float.h>
+
+#include <cblas.h>
+#include <lapacke.h>
+
+#include "igea/eqerr.h"
+#include "internal.h"
+
+int igea_eqerr_defaults(double *opts)
+{
+    if (!opts)
+        return -1;
+    for (int k = 0; k < IGEA_EQERR_OPT_LEN; k++)
+        opts[k] = 0.0;
+    opts[IGEA_EQERR_OPT_ALPHA] = 0.01;
+    opts[IGEA_EQERR_OPT_LAMBDA_TEST] = 10.0;
+    opts[IGEA_EQERR_OPT_LAMBDA_SMALL] = 0.1;
+    opts[IGEA_EQERR_OPT_N_MIN] = 5;
+    opts[IGEA_EQERR_OPT_TOL] = 0.05;
+    opts[IGEA_EQERR_OPT_MAX_ITER] = 10;
+    opts[IGEA_EQERR_OPT_CORRECT] = 1;
+    opts[IGEA_EQERR_OPT_ROUTE] = IGEA_ROUTE_EIG;
+    return 0;
+}
+
+/* 0 if opts are valid, else the offending index + 1. */
+static int check_opts(const double *o)
+{
+    for (int k = 0; k < IGEA_EQERR_OPT_LEN; k++)
+        if (!isfinite(o[k]))
+            return k + 1;
+    if (!(o[IGEA_EQERR_OPT_ALPHA] > 0 && o[IGEA_EQERR_OPT_ALPHA] < 1)) return 1 + IGEA_EQERR_OPT_ALPHA;
+    if (!(o[IGEA_EQERR_OPT_LAMBDA_TEST] > 0)) return 1 + IGEA_EQERR_OPT_LAMBDA_TEST;
+    if (!(o[IGEA_EQERR_OPT_LAMBDA_SMALL] > 0)) return 1 + IGEA_EQERR_OPT_LAMBDA_SMALL;
+    if (!(o[IGEA_EQERR_OPT_N_MIN] >= 1)) return 1 + IGEA_EQERR_OPT_N_MIN;
+    if (!(o[IGEA_EQERR_OPT_TOL] > 0)) return 1 + IGEA_EQERR_OPT_TOL;
+    if (!(o[IGEA_EQERR_OPT_MAX_ITER] >= 1 && o[IGEA_EQERR_OPT_MAX_ITER] <= 1000)) return 1 + IGEA_EQERR_OPT_MAX_ITER;
+    if (o[IGEA_EQERR_OPT_CORRECT] != 0 && o[IGEA_EQERR_OPT_CORRECT] != 1) return 1 + IGEA_EQERR_OPT_CORRECT;
+    if (!(o[IGEA_EQERR_OPT_RANK_TOL] >= 0 && o[IGEA_EQERR_OPT_RANK_TOL] < 1)) return 1 + IGEA_EQERR_OPT_RANK_TOL;
+    if (o[IGEA_EQERR_OPT_BIAS_CORRECT] != 0 && o[IGEA_EQERR_OPT_BIAS_CORRECT] != 1) return 1 + IGEA_EQERR_OPT_BIAS_CORRECT;
+    if (o[IGEA_EQERR_OPT_CLAMP] != 0 && o[IGEA_EQERR_OPT_CLAMP] != 1) return 1 + IGEA_EQERR_OPT_CLAMP;
+    if (!(o[IGEA_EQERR_OPT_Z_CRIT] >= 0)) return 1 + IGEA_EQERR_OPT_Z_CRIT;
+    if (o[IGEA_EQERR_OPT_ROUTE] != IGEA_ROUTE_EIG && o[IGEA_EQERR_OPT_ROUTE] != IGEA_ROUTE_SVD) return 1 + IGEA_EQERR_OPT_ROUTE;
+    return 0;
+}
+
+/*
+ * Step 3 (sigma_w iteration, exactly the METHODS pseudo-code) and steps 4-5.
+ * lam0[N] descending (at c = 1), g0[r] = p_i^T b / sqrt(lam0_i), xhat[r].
+ * Writes lambda[N], z[N], reject[N] and info; returns 0 or a failure (the
+ * outputs are then scratch owned by the caller, who discards them).
+ */
+static int sigmaw_and_test(int N, int r, const double *lam0, const double *g0,
+                           const double *xhat, const double *o, double *lambda,
+                           double *z, int *reject, double *info)
+{
+    double c = 1.0;
+    int flag = IGEA_SIGMAW_OFF, iters = 0, nsmall = 0;
+    if (o[IGEA_EQERR_OPT_CORRECT] == 1) {
+        const double lam_s = o[IGEA_EQERR_OPT_LAMBDA_SMALL];
+        const int nmin = (int)o[IGEA_EQERR_OPT_N_MIN];
+        const int maxit = (int)o[IGEA_EQERR_OPT_MAX_ITER];
+        const int bias = o[IGEA_EQERR_OPT_BIAS_CORRECT] == 1;
+        const int clamp = o[IGEA_EQERR_OPT_CLAMP] == 1;
+        int prev_lo = -1; /* the small set is the suffix [lo, r) */
+        flag = IGEA_SIGMAW_NO_CONVERGENCE;
+        for (int it = 0; it < maxit; it++) {
+            iters = it + 1;
+            int lo = r;
+            while (lo > 0 && lam0[lo - 1] / c <= lam_s)
+                lo--;
+            nsmall = r - lo;
+            if (nsmall < nmin) {
+                flag = IGEA_SIGMAW_NOT_ESTIMABLE;
+                break;
+            }
+            igea__ksum acc = {0, 0};
+            for (int i = lo; i < r; i++) {
+                double g2 = g0[i] * g0[i] / c;
+                igea__ksum_add(&acc, bias ? g2 - lam0[i] / c : g2);
+            }
+            double sw2 = igea__ksum_get(&acc) / nsmall;
+            if (!(sw2 > 0.0) || !isfinite(sw2)) {
+                flag = IGEA_SIGMAW_NOT_ESTIMABLE;
+                break;
+            }
+            if (fabs(sw2 - 1.0) <= o[IGEA_EQERR_OPT_TOL] && (it == 0 || lo == prev_lo)) {
+                flag = IGEA_SIGMAW_CONVERGED;
+                break;
+            }
+            prev_lo = lo;
+            double cn = c * sw2;
+            if (clamp && cn < 1.0) {
+                if (c == 1.0) {
+                    flag = IGEA_SIGMAW_CONVERGED;
+                    break;
+                }
+                cn = 1.0;
+            }
+            c = cn;
+        }
+    }
+    for (int i = 0; i < N; i++)
+        lambda[i] = lam0[i] / c;
+    if (r == 0)
+        return IGEA_ENOTESTABLE;
+    int st = igea_stats_accuracy_test(r, xhat, lambda, o[IGEA_EQERR_OPT_ALPHA],
+                                      o[IGEA_EQERR_OPT_LAMBDA_TEST],
+                                      o[IGEA_EQERR_OPT_Z_CRIT], z, reject, info);
+    if (st != 0)
+        return st < 0 && st > -1000 ? IGEA_EDOMAIN : st;
+    for (int i = r; i < N; i++) {
+        z[i] = 0.0;
+        reject[i] = -1;
+    }
+    info[IGEA_INFO_RANK] = r;
+    info[IGEA_INFO_SCALE] = c;
+    info[IGEA_INFO_ITERATIONS] = iters;
+    info[IGEA_INFO_N_SMALL] = nsmall;
+    info[IGEA_INFO_FLAG] = flag;
+    for (int k = IGEA_INFO_FLAG + 1; k < IGEA_INFO_LEN; k++)
+        info[k] = 0.0;
+    return 0;
+}
+
+/* Scratch results, copied to the caller's arrays only on success. */
+typedef struct {
+    double *lam0, *V, *g0, *xhat, *lambda, *z, *info;
+    int *reject;
+} scratch;
+
+static int scratch_alloc(scratch *s, int N)
+{
+    size_t n = (size_t)N;
+    s->lam0 = igea__dalloc(n * n + 6 * n + IGEA_INFO_LEN);
+    s->reject = igea__ialloc(n);
+    if (!s->lam0 || !s->reject) {
+        free(s->lam0);
+        free(s->reject);
+        return IGEA_ENOMEM;
+    }
+    s->V = s->lam0 + n;
+    s->g0 = s->V + n * n;
+    s->xhat = s->g0 + n;
+    s->lambda = s->xhat + n;
+    s->z = s->lambda + n;
+    s->info = s->z + n;
+    for (size_t i = 0; i < n; i++)
+        s->xhat[i] = s->g0[i] = 0.0;
+    return 0;
+}
+
+static void scratch_free(scratch *s)
+{
+    free(s->lam0);
+    free(s->reject);
+}
+
+static void scratch_out(const scratch *s, int N, double *lambda, double *P,
+                        int ldp, double *equiv_err, double *z, int *reject,
+                        double *info)
+{
+    size_t n = (size_t)N;
+    memcpy(lambda, s->lambda, n * sizeof(double));
+    for (int j = 0; j < N; j++)
+        memcpy(P + (size_t)j * ldp, s->V + (size_t)j * n, n * sizeof(double));
+    memcpy(equiv_err, s->xhat, n * sizeof(double));
+    memcpy(z, s->z, n * sizeof(double));
+    memcpy(reject, s->reject, n * sizeof(int));
+    memcpy(info, s->info, IGEA_INFO_LEN * sizeof(double));
+}
+
+/* Eig route from normal equations into the scratch. */
+static int solve_eig(int N, const double *A, int lda, const double *b,
+                     const double *o, scratch *s)
+{
+    int st = igea__syev_desc(N, A, lda, s->lam0, s->V, N);
+    if (st != 0)
+        return st;
+    double tol = o[IGEA_EQERR_OPT_RANK_TOL] > 0 ? o[IGEA_EQERR_OPT_RANK_TOL]
+                                                 : N * 10.0 * DBL_EPSILON;
+    int r = 0;
+    if (s->lam0[0] > 0.0)
+        while (r < N && s->lam0[r] > tol * s->lam0[0])
+            r++;
+    for (int i = 0; i < r; i++) {
+        double pb = cblas_ddot(N, s->V + (size_t)i * N, 1, b, 1);
+        s->xhat[i] = pb / s->lam0[i];
+        s->g0[i] = pb / sqrt(s->lam0[i]);
+    }
+    return sigmaw_and_test(N, r, s->lam0, s->g0, s->xhat, o, s->lambda, s->z,
+                           s->reject, s->info);
+}
+
+int igea_eqerr_solve(int N, const double *A, int lda, const double *b,
+                     const double *opts, double *lambda, double *P, int ldp,
+                     double *equiv_err, double *z, int *reject, double *info)
+{
+    double dflt[IGEA_EQERR_OPT_LEN];
+    if (N < 1) return -1;
+    if (!A) return -2;
+    if (lda < N) return -3;
+    if (!b) return -4;
+    if (!opts) {
+        igea_eqerr_defaults(dflt);
+        opts = dflt;
+    } else if (check_opts(opts))
+        return -5;
+    if (!lambda) return -6;
+    if (!P) return -7;
+    if (ldp < N) return -8;
+    if (!equiv_err) return -9;
+    if (!z) return -10;
+    if (!reject) return -11;
+    if (!info) return -12;
+    for (int j = 0; j < N; j++)
+        if (!igea__finite_vec(N - j, &IGEA_AT(A, lda, j, j), 1))
+            return IGEA_ENONFINITE;
+    if (!igea__finite_vec(N, b, 1))
+        return IGEA_ENONFINITE;
+    scratch s;
+    if (scratch_alloc(&s, N))
+        return IGEA_ENOMEM;
+    int st = solve_eig(N, A, lda, b, opts, &s);
+    if (st == 0)
+        scratch_out(&s, N, lambda, P, ldp, equiv_err, z, reject, info);
+    scratch_free(&s);
+    return st;
+}
+
+/* SVD route: thin SVD of the weighted, spec-scaled S. */
+static int solve_svd(int m, int N, const double *S, int lds, const double *dw,
+                     const double *track_sigma, int sigma_inc,
+                     const double *spec, const double *o, scratch *s)
+{
+    int k = IGEA_MIN(m, N);
+    char jobz = m >= N ? 'S' : 'A';
+    int ucols = m >= N ? N : m;
+    size_t mn = (size_t)m * N;
+    double *St = igea__dalloc(mn + (size_t)m + (size_t)m * ucols + (size_t)k);
+    lapack_int *iwork = malloc(sizeof(lapack_int) * (8 * (size_t)k + 1));
+    if (!St || !iwork) {
+        free(St);
+        free(iwork);
+        return IGEA_ENOMEM;
+    }
+    double *wt = St + mn, *U = wt + m, *sv = U + (size_t)m * ucols;
+    for (int i = 0; i < m; i++)
+        wt[i] = dw[i] / track_sigma[sigma_inc ? i : 0];
+    for (int j = 0; j < N; j++)
+        for (int i = 0; i < m; i++)
+            St[i + (size_t)j * m] = IGEA_AT(S, lds, i, j) *
+                                    (spec ? spec[j] : 1.0) /
+                                    track_sigma[sigma_inc ? i : 0];
+    int st = 0;
+    if (!igea__finite_mat(m, N, St, m) || !igea__finite_vec(m, wt, 1))
+        st = IGEA_ENONFINITE;
+    double wq;
+    lapack_int info = 0;
+    if (st == 0)
+        info = LAPACKE_dgesdd_work(LAPACK_COL_MAJOR, jobz, m, N, St, m, sv, U,
+                                   m, s->V, N, &wq, -1, iwork);
+    double *work = NULL;
+    if (st == 0 && info == 0) {
+        size_t lw = (size_t)wq + 1;
+        work = igea__dalloc(lw);
+        if (!work)
+            st = IGEA_ENOMEM;
+        else
+            info = LAPACKE_dgesdd_work(LAPACK_COL_MAJOR, jobz, m, N, St, m, sv,
+                                       U, m, s->V, N, work, (lapack_int)lw,
+                                       iwork);
+    }
+    if (st == 0 && info != 0)
+        st = IGEA_ELAPACK;
+    if (st == 0) {
+        /* s->V holds V^T (N x N): transpose in place into V (columns). */
+        for (int i = 0; i < N; i++)
+            for (int j = i + 1; j < N; j++) {
+                double t = s->V[i + (size_t)j * N];
+                s->V[i + (size_t)j * N] = s->V[j + (size_t)i * N];
+                s->V[j + (size_t)i * N] = t;
+            }
+        double tol = o[IGEA_EQERR_OPT_RANK_TOL] > 0
+                         ? sqrt(o[IGEA_EQERR_OPT_RANK_TOL])
+                         : IGEA_MAX(m, N) * DBL_EPSILON;
+        int r = 0;
+        if (k > 0 && sv[0] > 0.0)
+            while (r < k && sv[r] > tol * sv[0])
+                r++;
+        for (int i = 0; i < N; i++) {
+            s->lam0[i] = i < k ? sv[i] * sv[i] : 0.0;
+            double sg = igea__sign_fix(N, s->V + (size_t)i * N);
+            if (i < r) {
+                double g = sg * cblas_ddot(m, U + (size_t)i * m, 1, wt, 1);
+                s->g0[i] = g;
+                s->xhat[i] = g / sv[i];
+            }
+        }
+        st = sigmaw_and_test(N, r, s->lam0, s->g0, s->xhat, o, s->lambda,
+                             s->z, s->reject, s->info);
+    }
+    free(work);
+    free(iwork);
+    free(St);
+    return st;
+}
+
+int igea_eqerr_coef(int N, const double *P, int ldp, const double *equiv_err,
+                    int n_test, const double *spec_sigma, double *coef)
+{
+    if (N < 1) return -1;
+    if (!P) return -2;
+    if (ldp < N) return -3;
+    if (!equiv_err) return -4;
+    if (n_test < 0 || n_test > N) return -5;
+    if (!coef) return -7;
+    if (!igea__finite_mat(N, n_test, P, ldp) || !igea__finite_vec(n_test, equiv_err, 1))
+        return IGEA_ENONFINITE;
+    if (spec_sigma) {
+        int nf;
+        if (!igea__positive_vec(N, spec_sigma, &nf))
+            return nf ? IGEA_ENONFINITE : IGEA_ENONPOSITIVE;
+    }
+    for (int i = 0; i < N; i++) {
+        double acc = 0.0;
+        for (int k = 0; k < n_test; k++)
+            acc += IGEA_AT(P, ldp, i, k) * equiv_err[k];
+        coef[i] = acc * (spec_sigma ? spec_sigma[i] : 1.0);
+    }
+    return 0;
+}
+
+int igea_eqerr_residual(int layout, int m, int N, const double *S, int lds,
+                        const double *dw, const double *coef, int row0,
+                        double *residual, double *axis_ss)
+{
+    if (layout != IGEA_COLMAJOR && layout != IGEA_ROWMAJOR) return -1;
+    if (m < 0) return -2;
+    if (N < 1) return -3;
+    if (!S && m > 0) return -4;
+    if (lds < IGEA_MAX(1, layout == IGEA_COLMAJOR ? m : N)) return -5;
+    if (!dw && m > 0) return -6;
+    if (!coef) return -7;
+    if (row0 < 0) return -8;
+    if (!igea__finite_vec(N, coef, 1) || !igea__finite_vec(m, dw, 1))
+        return IGEA_ENONFINITE;
+    if (m == 0)
+        return 0;
+    double *e = igea__dalloc((size_t)m);
+    if (!e)
+        return IGEA_ENOMEM;
+    memcpy(e, dw, (size_t)m * sizeof(double));
+    if (layout == IGEA_COLMAJOR)
+        cblas_dgemv(CblasColMajor, CblasNoTrans, m, N, -1.0, S, lds, coef, 1,
+                    1.0, e, 1);
+    else
+        cblas_dgemv(CblasColMajor, CblasTrans, N, m, -1.0, S, lds, coef, 1,
+                    1.0, e, 1);
+    if (!igea__finite_vec(m, e, 1)) {
+        free(e);
+        return IGEA_ENONFINITE;
+    }
+    if (axis_ss) {
+        for (int i = 0; i < m; i++) {
+            int a = (int)(((long long)row0 + i) % 3);
+            axis_ss[a] += e[i] * e[i];
+            axis_ss[3 + a] += 1.0;
+        }
+    }
+    if (residual)
+        memcpy(residual, e, (size_t)m * sizeof(double));
+    free(e);
+    return 0;
+}
+
+int igea_eqerr_run(int m, int N, const double *S, int lds, const double *dw,
+                   const double *track_sigma, int sigma_inc,
+                   const double *spec_sigma, const double *opts,
+                   double *lambda, double *P, int ldp, double *equiv_err,
+                   double *z, int *reject, double *info, double *residual,
+                   double *rms)
+{
+    double dflt[IGEA_EQERR_OPT_LEN];
+    if (m < 1) return -1;
+    if (N < 1) return -2;
+    if (!S) return -3;
+    if (lds < m) return -4;
+    if (!dw) return -5;
+    if (!track_sigma) return -6;
+    if (sigma_inc != 0 && sigma_inc != 1) return -7;
+    if (!opts) {
+        igea_eqerr_defaults(dflt);
+        opts = dflt;
+    } else if (check_opts(opts))
+        return -9;
+    if (!lambda) return -10;
+    if (!P) return -11;
+    if (ldp < N) return -12;
+    if (!equiv_err) return -13;
+    if (!z) return -14;
+    if (!reject) return -15;
+    if (!info) return -16;
+    int nf;
+    if (!igea__positive_vec(sigma_inc ? m : 1, track_sigma, &nf))
+        return nf ? IGEA_ENONFINITE : IGEA_ENONPOSITIVE;
+    if (spec_sigma && !igea__positive_vec(N, spec_sigma, &nf))
+        return nf ? IGEA_ENONFINITE : IGEA_ENONPOSITIVE;
+
+    scratch s;
+    if (scratch_alloc(&s, N))
+        return IGEA_ENOMEM;
+    int st;
+    if (opts[IGEA_EQERR_OPT_ROUTE] == IGEA_ROUTE_SVD) {
+        st = solve_svd(m, N, S, lds, dw, track_sigma, sigma_inc, spec_sigma,
+                       opts, &s);
+    } else {
+        size_t nn = (size_t)N * N;
+        double *A = igea__dalloc(nn + N + 2);
+        if (!A) {
+            scratch_free(&s);
+            return IGEA_ENOMEM;
+        }
+        double *b = A + nn, *wtw = b + N;
+        memset(A, 0, (nn + N + 2) * sizeof(double));
+        st = igea_normal_accumulate(IGEA_COLMAJOR, m, N, S, lds, dw,
+                                    track_sigma, sigma_inc, spec_sigma, A, N,
+                                    b, wtw);
+        if (st < 0 && st > -1000)
+            st = IGEA_EDOMAIN; /* cannot happen: arguments checked above */
+        if (st == 0)
+            st = solve_eig(N, A, N, b, opts, &s);
+        free(A);
+    }
+    double *coef = NULL, *e = NULL, ss[6] = {0, 0, 0, 0, 0, 0};
+    if (st == 0 && (residual || rms)) {
+        coef = igea__dalloc((size_t)N);
+        e = igea__dalloc((size_t)m);
+        if (!coef || !e)
+            st = IGEA_ENOMEM;
+        if (st == 0)
+            st = igea_eqerr_coef(N, s.V, N, s.xhat,
+                                 (int)s.info[IGEA_INFO_N_TEST], spec_sigma, coef);
+        if (st == 0)
+            st = igea_eqerr_residual(IGEA_COLMAJOR, m, N, S, lds, dw, coef, 0,
+                                     e, ss);
+    }
+    if (st == 0) {
+        scratch_out(&s, N, lambda, P, ldp, equiv_err, z, reject, info);
+        if (residual)
+            memcpy(residual, e, (size_t)m * sizeof(double));
+        if (rms)
+            for (int a = 0; a < 3; a++)
+                rms[a] = ss[3 + a] > 0 ? sqrt(ss[a] / ss[3 + a]) : 0.0;
+    }
+    free(coef);
+    free(e);
+    scratch_free(&s);
+    return st;
+}

@@ -1,0 +1,57 @@
+/* src/internal.h - private helpers shared by the library sources.
+ * Never installed; nothing here is API. */
+#ifndef IGEA_INTERNAL_H
+#define IGEA_INTERNAL_H
+
+#include <math.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "igea/common.h"
+
+/* Column-major element (i, j) of a matrix with leading dimension ld. */
+#define IGEA_AT(a, ld, i, j) ((a)[(size_t)(i) + (size_t)(j) * (size_t)(ld)])
+
+#define IGEA_MAX(a, b) ((a) > (b) ? (a) : (b))
+#define IGEA_MIN(a, b) ((a) < (b) ? (a) : (b))
+
+/* 1 if every x[i * inc], i < n, is finite. */
+int igea__finite_vec(int n, const double *x, int inc);
+/* 1 if every element of the m x n column-major matrix is finite. */
+int igea__finite_mat(int m, int n, const double *a, int lda);
+/* 1 if every x[i] > 0 (and finite); sets *nonfinite if a NaN/Inf is met. */
+int igea__positive_vec(int n, const double *x, int *nonfinite);
+
+/* malloc of n doubles / ints (n >= 0; returns a valid pointer for n == 0),
+ * NULL on overflow or failure. */
+double *igea__dalloc(size_t n);
+int *igea__ialloc(size_t n);
+
+/* Symmetric eigen-decomposition with LAPACK dsyevd of the lower triangle of
+ * the n x n matrix a (lda): w descending, v (ldv) the eigenvectors as
+ * columns with the sign convention of METHODS 0.3 (largest-magnitude entry
+ * positive). Returns 0, IGEA_ENOMEM or IGEA_ELAPACK. */
+int igea__syev_desc(int n, const double *a, int lda, double *w, double *v,
+                    int ldv);
+
+/* Flip column j of v (ldv, n rows) so that its largest-magnitude entry is
+ * positive; returns -1 if flipped, +1 otherwise. */
+int igea__sign_fix(int n, double *v);
+
+/* Neumaier compensated sum. */
+typedef struct {
+    double s, c;
+} igea__ksum;
+static inline void igea__ksum_add(igea__ksum *k, double x)
+{
+    double t = k->s + x;
+    if (fabs(k->s) >= fabs(x))
+        k->c += (k->s - t) + x;
+    else
+        k->c += (x - t) + k->s;
+    k->s = t;
+}
+static inline double igea__ksum_get(const igea__ksum *k) { return k->s + k->c; }
+
+#endif

@@ -1,0 +1,308 @@
+/* stats.c - distributions and the equivalent-error accuracy tests. */
+#include <float.h>
+
+#include <gsl/gsl_cdf.h>
+#include <gsl/gsl_sf_gamma.h>
+
+#include "igea/stats.h"
+#include "internal.h"
+
+static int dof_ok(double dof) { return dof > 0.0 && dof <= IGEA_STATS_DOF_MAX; }
+
+int igea_stats_normal_cdf(double x, double *p)
+{
+    if (isnan(x))
+        return -1;
+    if (!p)
+        return -2;
+    *p = isinf(x) ? (x > 0 ? 1.0 : 0.0) : gsl_cdf_ugaussian_P(x);
+    return 0;
+}
+
+int igea_stats_normal_quantile(double p, double *z)
+{
+    if (!(p > 0.0 && p < 1.0))
+        return -1;
+    if (!z)
+        return -2;
+    *z = gsl_cdf_ugaussian_Pinv(p);
+    return 0;
+}
+
+/* P or Q of the chi-square distribution; x >= 0 finite, dof validated.
+ * gsl_sf_gamma_inc_[PQ]_e never reach the error handler for a > 0, x >= 0. */
+static double chi2_tail(double x, double dof, int upper)
+{
+    gsl_sf_result r;
+    int st = upper ? gsl_sf_gamma_inc_Q_e(0.5 * dof, 0.5 * x, &r)
+                   : gsl_sf_gamma_inc_P_e(0.5 * dof, 0.5 * x, &r);
+    if (st != 0)
+        return NAN;
+    return r.val;
+}
+
+static int chi2_dist(double x, double dof, double *out, int upper)
+{
+    if (isnan(x) || x < 0.0)
+        return -1;
+    if (!dof_ok(dof))
+        return -2;
+    if (!out)
+        return -3;
+    double v;
+    if (isinf(x))
+        v = upper ? 0.0 : 1.0;
+    else if (x == 0.0)
+        v = upper ? 1.0 : 0.0;
+    else
+        v = chi2_tail(x, dof, upper);
+    if (!isfinite(v))
+        return IGEA_ENOCONV;
+    *out = v;
+    return 0;
+}
+
+int igea_stats_chi2_cdf(double x, double dof, double *p) { return chi2_dist(x, dof, p, 0); }
+int igea_stats_chi2_sf(double x, double dof, double *q) { return chi2_dist(x, dof, q, 1); }
+
+/* log of the chi-square density at x > 0. */
+static double chi2_logpdf(double x, double dof)
+{
+    double a = 0.5 * dof;
+    return (a - 1.0) * log(0.5 * x) - 0.5 * x - gsl_sf_lngamma(a) - 0.69314718055994530942;
+}
+
+/*
+ * Solve tail(x) = target for x > 0, where tail is P (upper = 0) or Q
+ * (upper = 1) and 0 < target <= 0.5, so that the tail on the side being
+ * matched is never close to 1 and its logarithm keeps full precision.
+ * Newton on t = log x for F(t) = log tail(e^t) - log target, safeguarded
+ * by a bracket that bisection falls back on.
+ */
+static int chi2_invert(double target, double dof, int upper, double *xout)
+{
+    const double lt = log(target);
+    double z = gsl_cdf_ugaussian_Pinv(upper ? 1.0 - target : target);
+    /* Wilson-Hilferty start; small-x series start where it fails. */
+    double h = 2.0 / (9.0 * dof);
+    double wh = 1.0 - h + z * sqrt(h);
+    double x0;
+    if (wh > 0.05)
+        x0 = dof * wh * wh * wh;
+    else {
+        double a = 0.5 * dof;
+        double lp = upper ? log1p(-target) : lt;
+        x0 = 2.0 * exp((lp + gsl_sf_lngamma(a + 1.0)) / a);
+    }
+    if (!(x0 > 0.0) || !isfinite(x0))
+        x0 = dof;
+    double t = log(x0);
+
+    /* F is increasing in t for P, decreasing for Q; use G = s*F, increasing. */
+    const double s = upper ? -1.0 : 1.0;
+#define G_OF(tt, out)                                                       \
+    do {                                                                    \
+        double xx_ = exp(tt);                                               \
+        double v_ = chi2_tail(xx_, dof, upper);                             \
+        (out) = (v_ > 0.0) ? s * (log(v_) - lt) : (upper ? HUGE_VAL : -HUGE_VAL); \
+    } while (0)
+
+    double lo = t, hi = t, glo, ghi, g;
+    G_OF(t, g);
+    if (isnan(g))
+        return IGEA_ENOCONV;
+    glo = ghi = g;
+    double step = 0.5;
+    for (int k = 0; glo > 0.0; k++) {
+        if (k > 200 || lo < -1500.0)
+            return IGEA_ENOCONV;
+        hi = lo;
+        ghi = glo;
+        lo -= step;
+        step *= 2.0;
+        G_OF(lo, glo);
+    }
+    step = 0.5;
+    for (int k = 0; ghi < 0.0; k++) {
+        if (k > 200 || hi > 800.0)
+            return IGEA_ENOCONV;
+        lo = hi;
+        glo = ghi;
+        hi += step;
+        step *= 2.0;
+        G_OF(hi, ghi);
+    }
+    /* Now glo <= 0 <= ghi. */
+    t = (glo == -HUGE_VAL || ghi == HUGE_VAL) ? 0.5 * (lo + hi) : t;
+    if (t < lo || t > hi)
+        t = 0.5 * (lo + hi);
+    for (int it = 0; it < 300; it++) {
+        double x = exp(t);
+        double v = chi2_tail(x, dof, upper);
+        if (!(v > 0.0)) {
+            /* underflow of the tail: move towards the bracket's middle */
+            if (upper) hi = t; else lo = t;
+            t = 0.5 * (lo + hi);
+            continue;
+        }
+        g = s * (log(v) - lt);
+        if (g == 0.0)
+            break;
+        if (g < 0.0) lo = t; else hi = t;
+        /* dG/dt = s * d log tail / dt = x * pdf(x) / tail (both tails). */
+        double dg = exp(log(x) + chi2_logpdf(x, dof) - log(v));
+        double tn = t - g / dg;
+        if (!(tn > lo && tn < hi) || !isfinite(tn))
+            tn = 0.5 * (lo + hi);
+        double dt = fabs(tn - t);
+        t = tn;
+        if (dt <= 4.0 * DBL_EPSILON * IGEA_MAX(1.0, fabs(t)) || hi - lo <= 4.0 * DBL_EPSILON * IGEA_MAX(1.0, fabs(t)))
+            break;
+    }
+#undef G_OF
+    double x = exp(t);
+    if (!isfinite(x))
+        return IGEA_ENOCONV;
+    *xout = x;
+    return 0;
+}
+
+int igea_stats_chi2_quantile(double p, double dof, double *x)
+{
+    if (!(p > 0.0 && p < 1.0))
+        return -1;
+    if (!dof_ok(dof))
+        return -2;
+    if (!x)
+        return -3;
+    double r;
+    int st = p <= 0.5 ? chi2_invert(p, dof, 0, &r) : chi2_invert(1.0 - p, dof, 1, &r);
+    if (st == 0)
+        *x = r;
+    return st;
+}
+
+int igea_stats_chi2_upper(double alpha, double dof, double *x)
+{
+    if (!(alpha > 0.0 && alpha < 1.0))
+        return -1;
+    if (!dof_ok(dof))
+        return -2;
+    if (!x)
+        return -3;
+    double r;
+    int st = alpha <= 0.5 ? chi2_invert(alpha, dof, 1, &r)
+                          : chi2_invert(1.0 - alpha, dof, 0, &r);
+    if (st == 0)
+        *x = r;
+    return st;
+}
+
+int igea_stats_accuracy_test(int n, const double *equiv_err,
+                             const double *lambda, double alpha,
+                             double lambda_test, double z_crit, double *z,
+                             int *reject, double *info)
+{
+    if (n < 1) return -1;
+    if (!equiv_err) return -2;
+    if (!lambda) return -3;
+    if (!(alpha > 0.0 && alpha < 1.0)) return -4;
+    if (!(lambda_test > 0.0) || !isfinite(lambda_test)) return -5;
+    if (!(z_crit >= 0.0) || !isfinite(z_crit)) return -6;
+    if (!z) return -7;
+    if (!reject) return -8;
+    if (!info) return -9;
+    if (!igea__finite_vec(n, equiv_err, 1) || !igea__finite_vec(n, lambda, 1))
+        return IGEA_ENONFINITE;
+
+    int ntest = 0;
+    for (int i = 0; i < n; i++)
+        if (lambda[i] >= lambda_test)
+            ntest++;
+    if (ntest == 0)
+        return IGEA_ENOTESTABLE;
+    double zc = z_crit, crit, pval;
+    if (zc == 0.0)
+        zc = gsl_cdf_ugaussian_Qinv(0.5 * alpha);
+    int st = igea_stats_chi2_upper(alpha, (double)ntest, &crit);
+    if (st != 0)
+        return st;
+    igea__ksum t = {0, 0};
+    int nrej = 0;
+    for (int i = 0; i < n; i++) {
+        if (lambda[i] >= lambda_test) {
+            double zi = equiv_err[i] / sqrt(1.0 + 1.0 / lambda[i]);
+            igea__ksum_add(&t, zi * zi);
+            z[i] = zi;
+            reject[i] = fabs(zi) > zc;
+            nrej += reject[i];
+        } else {
+            z[i] = 0.0;
+            reject[i] = -1;
+        }
+    }
+    double T = igea__ksum_get(&t);
+    st = igea_stats_chi2_sf(T, (double)ntest, &pval);
+    if (st != 0)
+        return st;
+    for (int k = 0; k < IGEA_INFO_LEN; k++)
+        if (k < IGEA_INFO_RANK)
+            info[k] = 0.0;
+    info[IGEA_INFO_N_TEST] = ntest;
+    info[IGEA_INFO_CHI2] = T;
+    info[IGEA_INFO_DOF] = ntest;
+    info[IGEA_INFO_CHI2_CRIT] = crit;
+    info[IGEA_INFO_Z_CRIT] = zc;
+    info[IGEA_INFO_P_VALUE] = pval;
+    info[IGEA_INFO_N_REJECT] = nrej;
+    info[IGEA_INFO_PASSED] = (nrej == 0 && T < crit) ? 1.0 : 0.0;
+    return 0;
+}
+
+int igea_stats_pool(int nflights, const double *chi2, const int *dof,
+                    const int *n_reject, const int *unit_id, double alpha,
+                    double *info)
+{
+    if (nflights < 1) return -1;
+    if (!chi2) return -2;
+    if (!dof) return -3;
+    if (!n_reject) return -4;
+    if (!(alpha > 0.0 && alpha < 1.0)) return -6;
+    if (!info) return -7;
+    if (!igea__finite_vec(nflights, chi2, 1))
+        return IGEA_ENONFINITE;
+    double dtot = 0.0;
+    long nrej = 0;
+    igea__ksum t = {0, 0};
+    for (int f = 0; f < nflights; f++) {
+        if (chi2[f] < 0.0) return -2;
+        if (dof[f] < 1) return -3;
+        if (n_reject[f] < 0) return -4;
+        dtot += dof[f];
+        nrej += n_reject[f];
+        igea__ksum_add(&t, chi2[f]);
+    }
+    if (unit_id)
+        for (int f = 0; f < nflights; f++)
+            for (int g = f + 1; g < nflights; g++)
+                if (unit_id[f] == unit_id[g])
+                    return IGEA_EDEPENDENT;
+    double T = igea__ksum_get(&t), crit, pval;
+    int st = igea_stats_chi2_upper(alpha, dtot, &crit);
+    if (st == 0)
+        st = igea_stats_chi2_sf(T, dtot, &pval);
+    if (st != 0)
+        return st;
+    for (int k = 0; k < IGEA_INFO_LEN; k++)
+        info[k] = 0.0;
+    info[IGEA_INFO_N_TEST] = dtot;
+    info[IGEA_INFO_CHI2] = T;
+    info[IGEA_INFO_DOF] = dtot;
+    info[IGEA_INFO_CHI2_CRIT] = crit;
+    info[IGEA_INFO_Z_CRIT] = gsl_cdf_ugaussian_Qinv(0.5 * alpha);
+    info[IGEA_INFO_P_VALUE] = pval;
+    info[IGEA_INFO_N_REJECT] = (double)nrej;
+    info[IGEA_INFO_PASSED] = (nrej == 0 && T < crit) ? 1.0 : 0.0;
+    info[IGEA_INFO_N_FLIGHTS] = nflights;
+    return 0;
+}
