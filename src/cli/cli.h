@@ -5,6 +5,7 @@
 #ifndef IGEA_CLI_H
 #define IGEA_CLI_H
 
+#include <math.h>
 #include <stdio.h>
 
 #include "igea.h"
