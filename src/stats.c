@@ -163,7 +163,9 @@ static int chi2_invert(double target, double dof, int upper, double *xout)
     double x = exp(t);
     if (!isfinite(x))
         return IGEA_ENOCONV;
-    *xout = x;
+    /* A lower quantile below the smallest normal double (tiny dof and p):
+     * the nearest representable answer is 0. */
+    *xout = x < DBL_MIN ? 0.0 : x;
     return 0;
 }
 

@@ -16,8 +16,11 @@
 extern "C" {
 #endif
 
-/* Largest degrees of freedom accepted by the chi-square routines. */
-#define IGEA_STATS_DOF_MAX 1e9
+/* Largest degrees of freedom accepted by the chi-square routines. Above it
+ * GSL's incomplete gamma function loses accuracy (P + Q departs from 1 by
+ * 1e-3 at dof 1e6) or reaches its error handler (dof > 2e6). Accuracy of
+ * P and Q: about 1e-13 up to dof 1e4, 1e-8 at dof 1e5. */
+#define IGEA_STATS_DOF_MAX 1e5
 
 /* Standard normal cdf Phi(x); x may be +-Inf. -1: x is NaN. */
 IGEA_API int igea_stats_normal_cdf(double x, double *p);
@@ -28,7 +31,8 @@ IGEA_API int igea_stats_normal_quantile(double p, double *z);
  * of a statistic x), x >= 0 (+Inf allowed), 0 < dof <= IGEA_STATS_DOF_MAX. */
 IGEA_API int igea_stats_chi2_cdf(double x, double dof, double *p);
 IGEA_API int igea_stats_chi2_sf(double x, double dof, double *q);
-/* Lower quantile: P(x; dof) = p, 0 < p < 1. */
+/* Lower quantile: P(x; dof) = p, 0 < p < 1. A quantile below the smallest
+ * normal double (e.g. dof 0.01, p 1e-10) is returned as 0. */
 IGEA_API int igea_stats_chi2_quantile(double p, double dof, double *x);
 /* Upper alpha point chi2_alpha(dof) (the seed's notation): Q(x; dof) =
  * alpha, 0 < alpha < 1. chi2_0.01(11) = 24.725. */

@@ -1,0 +1,405 @@
+/* Tests of igea/eqerr.h. References: METHODS 1.6(a) (computed there with an
+ * independent numpy/scipy implementation), the sigma_w pseudo-code of
+ * METHODS 1.2 step 3 worked by hand on diagonal normal equations, closed
+ * forms. */
+#include "testutil.h"
+
+#include "igea.h"
+
+/* ---- METHODS 1.6(a) ---------------------------------------------------- */
+enum { M6 = 12, N6 = 4 };
+static double S6[M6 * N6], dw6[M6];
+static const double X6[N6] = {0.5, -1, 0.8, 0.3};
+
+static void make6(void)
+{
+    for (int k = 0; k < 4; k++) {
+        double t = k + 1;
+        double rows[3][4] = {{t, 0.5 * t * t, 0, 0.1 * t},
+                             {0, 0.2 * t, t, 0.1 * t + 0.01 * t * t},
+                             {0.3 * t, 0, 0.1 * t * t, 0.1 * t}};
+        for (int a = 0; a < 3; a++)
+            for (int j = 0; j < 4; j++)
+                S6[3 * k + a + j * M6] = rows[a][j];
+    }
+    for (int i = 0; i < M6; i++) {
+        dw6[i] = 0.05 * cos(1.7 * i);
+        for (int j = 0; j < N6; j++)
+            dw6[i] += S6[i + j * M6] * X6[j];
+    }
+}
+
+static const double lam6[4] = {4.7892162965e+04, 1.3446929088e+04, 1.4862431452e+03, 4.8248022104e+00};
+static const double xh6[4] = {-0.5306467356, 0.8807047625, 0.9903378107, -0.5506797041};
+static const double P6[4][4] = {{0.499739, -0.054682, 0.852116, -0.145496},
+                                {0.860168, -0.070587, -0.504380, 0.027003},
+                                {0.080865, 0.987116, -0.007619, -0.137861},
+                                {0.061911, 0.132779, 0.139430, 0.979335}};
+static const double z6[3] = {-0.5306412, 0.88067202, 0.99000481};
+static const double ls6[4] = {0.6106609553, -1.0329878838, 0.8948191166, -0.3171307789};
+
+static void check6(const double *lam, const double *P, int ldp, const double *xh,
+                   const double *z, const int *rej, const double *info)
+{
+    for (int i = 0; i < 4; i++) {
+        assert_close(lam[i], lam6[i], 1e-10);
+        assert_close(xh[i], xh6[i], 1e-9);
+        for (int j = 0; j < 4; j++)
+            assert_close_abs(P[i + j * ldp], P6[i][j], 0, 0.6e-6);
+    }
+    for (int i = 0; i < 3; i++) {
+        assert_close(z[i], z6[i], 1e-7);
+        assert_int_equal(rej[i], 0);
+    }
+    assert_int_equal(rej[3], -1);
+    assert_close(info[IGEA_INFO_CHI2], 2.0372728049, 1e-10);
+    assert_int_equal((int)info[IGEA_INFO_N_TEST], 3);
+    assert_int_equal((int)info[IGEA_INFO_RANK], 4);
+    assert_true(info[IGEA_INFO_SCALE] == 1.0);
+    assert_int_equal((int)info[IGEA_INFO_FLAG], IGEA_SIGMAW_OFF);
+    /* P Xhat is the least-squares solution */
+    for (int i = 0; i < 4; i++) {
+        double x = 0;
+        for (int k = 0; k < 4; k++)
+            x += P[i + k * ldp] * xh[k];
+        assert_close(x, ls6[i], 1e-9);
+    }
+}
+
+static void test_methods_vector_both_routes(void **state)
+{
+    make6();
+    double opts[IGEA_EQERR_OPT_LEN], lam[4], P[6 * 4], xh[4], z[4], info[IGEA_INFO_LEN],
+        res[M6], rms[3], sig = 0.05;
+    int rej[4];
+    igea_eqerr_defaults(opts);
+    opts[IGEA_EQERR_OPT_CORRECT] = 0;
+    fill_nan(P, 24);
+    assert_int_equal(igea_eqerr_run(M6, N6, S6, M6, dw6, &sig, 0, NULL, opts, lam, P, 6, xh, z,
+                                    rej, info, res, rms), 0);
+    check6(lam, P, 6, xh, z, rej, info);
+    /* residual = dw - S P_t Xhat_t (3 tested components) */
+    double coef[4];
+    assert_int_equal(igea_eqerr_coef(4, P, 6, xh, 3, NULL, coef), 0);
+    for (int i = 0; i < 4; i++) {
+        double c = 0;
+        for (int k = 0; k < 3; k++)
+            c += P[i + k * 6] * xh[k];
+        assert_close(coef[i], c, 1e-15);
+    }
+    double ss[3] = {0, 0, 0};
+    for (int i = 0; i < M6; i++) {
+        double e = dw6[i];
+        for (int j = 0; j < 4; j++)
+            e -= S6[i + j * M6] * coef[j];
+        assert_close_abs(res[i], e, 1e-12, 1e-15);
+        ss[i % 3] += e * e;
+    }
+    for (int a = 0; a < 3; a++)
+        assert_close(rms[a], sqrt(ss[a] / 4), 1e-12);
+
+    opts[IGEA_EQERR_OPT_ROUTE] = IGEA_ROUTE_SVD;
+    fill_nan(P, 24);
+    assert_int_equal(igea_eqerr_run(M6, N6, S6, M6, dw6, &sig, 0, NULL, opts, lam, P, 6, xh, z,
+                                    rej, info, NULL, NULL), 0);
+    check6(lam, P, 6, xh, z, rej, info);
+}
+
+/* Streamed: normal equations in blocks + solve equal the one-call run. */
+static void test_streamed_equals_run(void **state)
+{
+    make6();
+    double A[16] = {0}, b[4] = {0}, w[2] = {0, 0}, sig[M6], spec[4] = {1, 2, 0.5, 3};
+    for (int i = 0; i < M6; i++)
+        sig[i] = 0.05 * (1 + 0.1 * i);
+    for (int r0 = 0; r0 < M6; r0 += 5) {
+        int nr = r0 + 5 <= M6 ? 5 : M6 - r0;
+        double blk[5 * 4];
+        for (int i = 0; i < nr; i++)
+            for (int j = 0; j < 4; j++)
+                blk[i + j * nr] = S6[r0 + i + j * M6];
+        assert_int_equal(igea_normal_accumulate(IGEA_COLMAJOR, nr, 4, blk, nr, dw6 + r0, sig + r0,
+                                                1, spec, A, 4, b, w), 0);
+    }
+    double lam[4], P[16], xh[4], z[4], info[IGEA_INFO_LEN], lam2[4], P2[16], xh2[4], z2[4],
+        info2[IGEA_INFO_LEN];
+    int rej[4], rej2[4];
+    assert_int_equal(igea_eqerr_solve(4, A, 4, b, NULL, lam, P, 4, xh, z, rej, info), 0);
+    assert_int_equal(igea_eqerr_run(M6, 4, S6, M6, dw6, sig, 1, spec, NULL, lam2, P2, 4, xh2, z2,
+                                    rej2, info2, NULL, NULL), 0);
+    for (int i = 0; i < 4; i++) {
+        assert_close(lam[i], lam2[i], 1e-12);
+        assert_close(xh[i], xh2[i], 1e-10);
+    }
+    assert_close(info[IGEA_INFO_CHI2], info2[IGEA_INFO_CHI2], 1e-10);
+}
+
+/* ---- sigma_w iteration on diagonal normal equations ------------------------
+ * A = diag(lam0), b_i = g_i sqrt(lam0_i): then P = I and g0_i = g_i. */
+enum { ND = 10 };
+static void diag_problem(const double *lam0, const double *g, double *A, double *b)
+{
+    memset(A, 0, sizeof(double) * ND * ND);
+    for (int i = 0; i < ND; i++) {
+        A[i + i * ND] = lam0[i];
+        b[i] = g[i] * sqrt(lam0[i]);
+    }
+}
+
+static void test_sigmaw_iteration(void **state)
+{
+    double A[ND * ND], b[ND], lam[ND], P[ND * ND], xh[ND], z[ND], info[IGEA_INFO_LEN];
+    int rej[ND];
+    /* Worked by hand (METHODS 1.2 step 3): it0: small set = 5 eigenvalues
+     * <= 0.1 with g^2 = 4 -> sw2 = 4, c = 4. it1: 0.3/4 = 0.075 joins: sw2 =
+     * (1 + 20)/4/6 = 0.875, c = 3.5. it2: sw2 = 21/3.5/6 = 1, same set ->
+     * converged: 3 iterations, c = 3.5, 6 small. */
+    const double lam0[ND] = {1e4, 1e3, 500, 100, 0.3, 0.05, 0.04, 0.03, 0.02, 0.01};
+    const double g[ND] = {1, -1, 0.5, 0.2, 1, 2, -2, 2, -2, 2};
+    diag_problem(lam0, g, A, b);
+    assert_int_equal(igea_eqerr_solve(ND, A, ND, b, NULL, lam, P, ND, xh, z, rej, info), 0);
+    assert_close(info[IGEA_INFO_SCALE], 3.5, 1e-14);
+    assert_int_equal((int)info[IGEA_INFO_ITERATIONS], 3);
+    assert_int_equal((int)info[IGEA_INFO_N_SMALL], 6);
+    assert_int_equal((int)info[IGEA_INFO_FLAG], IGEA_SIGMAW_CONVERGED);
+    for (int i = 0; i < ND; i++) {
+        assert_close(lam[i], lam0[i] / 3.5, 1e-14);
+        assert_close(xh[i], g[i] / sqrt(lam0[i]), 1e-14); /* unchanged by c */
+    }
+    /* tested: lambda >= 10 after scaling: 1e4, 1e3, 500, 100 -> 4 */
+    assert_int_equal((int)info[IGEA_INFO_N_TEST], 4);
+    double T = 0;
+    for (int i = 0; i < 4; i++) {
+        double zi = xh[i] / sqrt(1 + 3.5 / lam0[i]);
+        assert_close(z[i], zi, 1e-14);
+        T += zi * zi;
+    }
+    assert_close(info[IGEA_INFO_CHI2], T, 1e-14);
+
+    double opts[IGEA_EQERR_OPT_LEN];
+    /* one iteration only: no convergence, c kept at 4 */
+    igea_eqerr_defaults(opts);
+    opts[IGEA_EQERR_OPT_MAX_ITER] = 1;
+    assert_int_equal(igea_eqerr_solve(ND, A, ND, b, opts, lam, P, ND, xh, z, rej, info), 0);
+    assert_int_equal((int)info[IGEA_INFO_FLAG], IGEA_SIGMAW_NO_CONVERGENCE);
+    assert_close(info[IGEA_INFO_SCALE], 4.0, 1e-14);
+    /* n_min = 6: only 5 small eigenvalues at c = 1 -> not estimable, c = 1 */
+    igea_eqerr_defaults(opts);
+    opts[IGEA_EQERR_OPT_N_MIN] = 6;
+    assert_int_equal(igea_eqerr_solve(ND, A, ND, b, opts, lam, P, ND, xh, z, rej, info), 0);
+    assert_int_equal((int)info[IGEA_INFO_FLAG], IGEA_SIGMAW_NOT_ESTIMABLE);
+    assert_true(info[IGEA_INFO_SCALE] == 1.0);
+    assert_int_equal((int)info[IGEA_INFO_N_SMALL], 5);
+    /* bias correction: sw2 = mean(g^2 - lambda) = 4 - 0.03 at it0 */
+    igea_eqerr_defaults(opts);
+    opts[IGEA_EQERR_OPT_BIAS_CORRECT] = 1;
+    opts[IGEA_EQERR_OPT_MAX_ITER] = 1;
+    assert_int_equal(igea_eqerr_solve(ND, A, ND, b, opts, lam, P, ND, xh, z, rej, info), 0);
+    assert_close(info[IGEA_INFO_SCALE], 4.0 - 0.03, 1e-14);
+    /* off */
+    igea_eqerr_defaults(opts);
+    opts[IGEA_EQERR_OPT_CORRECT] = 0;
+    assert_int_equal(igea_eqerr_solve(ND, A, ND, b, opts, lam, P, ND, xh, z, rej, info), 0);
+    assert_int_equal((int)info[IGEA_INFO_FLAG], IGEA_SIGMAW_OFF);
+    assert_int_equal((int)info[IGEA_INFO_ITERATIONS], 0);
+}
+
+static void test_sigmaw_clamp_and_converged_first(void **state)
+{
+    double A[ND * ND], b[ND], lam[ND], P[ND * ND], xh[ND], z[ND], info[IGEA_INFO_LEN], opts[IGEA_EQERR_OPT_LEN];
+    int rej[ND];
+    const double lam0[ND] = {1e4, 1e3, 500, 100, 0.3, 0.05, 0.04, 0.03, 0.02, 0.01};
+    double g[ND] = {1, -1, 0.5, 0.2, 1, 0.5, -0.5, 0.5, -0.5, 0.5}; /* sw2 = 0.25 */
+    diag_problem(lam0, g, A, b);
+    igea_eqerr_defaults(opts);
+    opts[IGEA_EQERR_OPT_CLAMP] = 1;
+    assert_int_equal(igea_eqerr_solve(ND, A, ND, b, opts, lam, P, ND, xh, z, rej, info), 0);
+    assert_true(info[IGEA_INFO_SCALE] == 1.0);
+    assert_int_equal((int)info[IGEA_INFO_FLAG], IGEA_SIGMAW_CONVERGED);
+    /* without the clamp c goes below 1: 0.25, then 0.3/0.25 = 1.2 leaves
+     * the small set unchanged... at c = 0.25 only lam0 <= 0.025 are small
+     * (2 < n_min): not estimable, c stays 0.25 */
+    opts[IGEA_EQERR_OPT_CLAMP] = 0;
+    assert_int_equal(igea_eqerr_solve(ND, A, ND, b, opts, lam, P, ND, xh, z, rej, info), 0);
+    assert_close(info[IGEA_INFO_SCALE], 0.25, 1e-14);
+    assert_int_equal((int)info[IGEA_INFO_FLAG], IGEA_SIGMAW_NOT_ESTIMABLE);
+    assert_int_equal((int)info[IGEA_INFO_ITERATIONS], 2);
+    /* sw2 within tol at the first iteration: converged at once, c = 1 */
+    for (int i = 5; i < ND; i++)
+        g[i] = (i % 2 ? 1.02 : -1.02);
+    diag_problem(lam0, g, A, b);
+    assert_int_equal(igea_eqerr_solve(ND, A, ND, b, NULL, lam, P, ND, xh, z, rej, info), 0);
+    assert_true(info[IGEA_INFO_SCALE] == 1.0);
+    assert_int_equal((int)info[IGEA_INFO_ITERATIONS], 1);
+    assert_int_equal((int)info[IGEA_INFO_FLAG], IGEA_SIGMAW_CONVERGED);
+}
+
+/* Rank deficiency: a zero eigenvalue is neither estimated nor tested. */
+static void test_rank_deficient(void **state)
+{
+    /* S with column 3 = column 1 + column 2 */
+    enum { MR = 9, NR = 3 };
+    double S[MR * NR], d[MR], sig = 1.0, lam[NR], P[NR * NR], xh[NR], z[NR], info[IGEA_INFO_LEN];
+    int rej[NR];
+    for (int i = 0; i < MR; i++) {
+        S[i] = 10 * (i + 1);
+        S[i + MR] = 10 * (i + 1) * (i + 1) * 0.1;
+        S[i + 2 * MR] = S[i] + S[i + MR];
+        d[i] = 0.3 * S[i] - 0.1 * S[i + MR] + 0.01 * cos(i);
+    }
+    double opts[IGEA_EQERR_OPT_LEN];
+    igea_eqerr_defaults(opts);
+    opts[IGEA_EQERR_OPT_CORRECT] = 0;
+    for (int route = 0; route < 2; route++) {
+        opts[IGEA_EQERR_OPT_ROUTE] = route;
+        assert_int_equal(igea_eqerr_run(MR, NR, S, MR, d, &sig, 0, NULL, opts, lam, P, NR, xh, z,
+                                        rej, info, NULL, NULL), 0);
+        assert_int_equal((int)info[IGEA_INFO_RANK], 2);
+        assert_true(xh[2] == 0.0);
+        assert_int_equal(rej[2], -1);
+        assert_true(fabs(lam[2]) < 1e-9 * lam[0]);
+        /* the null vector is (1, 1, -1)/sqrt 3 up to sign */
+        assert_close(fabs(P[0 + 2 * NR]), 1 / sqrt(3.0), 1e-6);
+    }
+}
+
+static void test_not_testable_and_invalid(void **state)
+{
+    make6();
+    double A[16] = {0}, b[4] = {0}, w[2] = {0, 0}, sig = 100.0; /* imprecise: lambda < 10 */
+    assert_int_equal(igea_normal_accumulate(IGEA_COLMAJOR, M6, 4, S6, M6, dw6, &sig, 0, NULL, A, 4, b, w), 0);
+    double lam[4], P[16], xh[4], z[4], info[IGEA_INFO_LEN], opts[IGEA_EQERR_OPT_LEN];
+    int rej[4];
+    fill_sentinel(lam, 4);
+    fill_sentinel(P, 16);
+    fill_sentinel(info, IGEA_INFO_LEN);
+    assert_int_equal(igea_eqerr_solve(4, A, 4, b, NULL, lam, P, 4, xh, z, rej, info), IGEA_ENOTESTABLE);
+    assert_int_equal(igea_eqerr_solve(0, A, 4, b, NULL, lam, P, 4, xh, z, rej, info), -1);
+    assert_int_equal(igea_eqerr_solve(4, NULL, 4, b, NULL, lam, P, 4, xh, z, rej, info), -2);
+    assert_int_equal(igea_eqerr_solve(4, A, 3, b, NULL, lam, P, 4, xh, z, rej, info), -3);
+    assert_int_equal(igea_eqerr_solve(4, A, 4, NULL, NULL, lam, P, 4, xh, z, rej, info), -4);
+    igea_eqerr_defaults(opts);
+    for (int k = 0; k < 12; k++) {
+        double keep = opts[k];
+        opts[k] = k == IGEA_EQERR_OPT_RANK_TOL ? 2.0 : (k == IGEA_EQERR_OPT_ROUTE ? 7 : -1.0);
+        assert_int_equal(igea_eqerr_solve(4, A, 4, b, opts, lam, P, 4, xh, z, rej, info), -5);
+        opts[k] = keep;
+    }
+    opts[3] = NAN;
+    assert_int_equal(igea_eqerr_solve(4, A, 4, b, opts, lam, P, 4, xh, z, rej, info), -5);
+    assert_int_equal(igea_eqerr_defaults(NULL), -1);
+    assert_int_equal(igea_eqerr_solve(4, A, 4, b, NULL, NULL, P, 4, xh, z, rej, info), -6);
+    assert_int_equal(igea_eqerr_solve(4, A, 4, b, NULL, lam, NULL, 4, xh, z, rej, info), -7);
+    assert_int_equal(igea_eqerr_solve(4, A, 4, b, NULL, lam, P, 3, xh, z, rej, info), -8);
+    assert_int_equal(igea_eqerr_solve(4, A, 4, b, NULL, lam, P, 4, NULL, z, rej, info), -9);
+    assert_int_equal(igea_eqerr_solve(4, A, 4, b, NULL, lam, P, 4, xh, NULL, rej, info), -10);
+    assert_int_equal(igea_eqerr_solve(4, A, 4, b, NULL, lam, P, 4, xh, z, NULL, info), -11);
+    assert_int_equal(igea_eqerr_solve(4, A, 4, b, NULL, lam, P, 4, xh, z, rej, NULL), -12);
+    A[5] = NAN;
+    assert_int_equal(igea_eqerr_solve(4, A, 4, b, NULL, lam, P, 4, xh, z, rej, info), IGEA_ENONFINITE);
+    assert_true(all_sentinel(lam, 4) && all_sentinel(P, 16) && all_sentinel(info, IGEA_INFO_LEN));
+
+    /* igea_eqerr_run */
+    double s1 = 0.05, spec[4] = {1, 1, 1, 1}, res[M6], rms[3];
+#define RUN(m, n, S, lds, d, g, gi, sp, o, L, PP, ldp, X, Z, R, I) \
+    igea_eqerr_run(m, n, S, lds, d, g, gi, sp, o, L, PP, ldp, X, Z, R, I, res, rms)
+    assert_int_equal(RUN(0, 4, S6, M6, dw6, &s1, 0, NULL, NULL, lam, P, 4, xh, z, rej, info), -1);
+    assert_int_equal(RUN(M6, 0, S6, M6, dw6, &s1, 0, NULL, NULL, lam, P, 4, xh, z, rej, info), -2);
+    assert_int_equal(RUN(M6, 4, NULL, M6, dw6, &s1, 0, NULL, NULL, lam, P, 4, xh, z, rej, info), -3);
+    assert_int_equal(RUN(M6, 4, S6, M6 - 1, dw6, &s1, 0, NULL, NULL, lam, P, 4, xh, z, rej, info), -4);
+    assert_int_equal(RUN(M6, 4, S6, M6, NULL, &s1, 0, NULL, NULL, lam, P, 4, xh, z, rej, info), -5);
+    assert_int_equal(RUN(M6, 4, S6, M6, dw6, NULL, 0, NULL, NULL, lam, P, 4, xh, z, rej, info), -6);
+    assert_int_equal(RUN(M6, 4, S6, M6, dw6, &s1, 3, NULL, NULL, lam, P, 4, xh, z, rej, info), -7);
+    opts[3] = 0;
+    assert_int_equal(RUN(M6, 4, S6, M6, dw6, &s1, 0, NULL, opts, lam, P, 4, xh, z, rej, info), -9);
+    assert_int_equal(RUN(M6, 4, S6, M6, dw6, &s1, 0, NULL, NULL, NULL, P, 4, xh, z, rej, info), -10);
+    assert_int_equal(RUN(M6, 4, S6, M6, dw6, &s1, 0, NULL, NULL, lam, NULL, 4, xh, z, rej, info), -11);
+    assert_int_equal(RUN(M6, 4, S6, M6, dw6, &s1, 0, NULL, NULL, lam, P, 3, xh, z, rej, info), -12);
+    assert_int_equal(RUN(M6, 4, S6, M6, dw6, &s1, 0, NULL, NULL, lam, P, 4, NULL, z, rej, info), -13);
+    assert_int_equal(RUN(M6, 4, S6, M6, dw6, &s1, 0, NULL, NULL, lam, P, 4, xh, NULL, rej, info), -14);
+    assert_int_equal(RUN(M6, 4, S6, M6, dw6, &s1, 0, NULL, NULL, lam, P, 4, xh, z, NULL, info), -15);
+    assert_int_equal(RUN(M6, 4, S6, M6, dw6, &s1, 0, NULL, NULL, lam, P, 4, xh, z, rej, NULL), -16);
+    s1 = 0.0;
+    assert_int_equal(RUN(M6, 4, S6, M6, dw6, &s1, 0, NULL, NULL, lam, P, 4, xh, z, rej, info), IGEA_ENONPOSITIVE);
+    s1 = NAN;
+    assert_int_equal(RUN(M6, 4, S6, M6, dw6, &s1, 0, NULL, NULL, lam, P, 4, xh, z, rej, info), IGEA_ENONFINITE);
+    s1 = 0.05;
+    spec[1] = -2;
+    assert_int_equal(RUN(M6, 4, S6, M6, dw6, &s1, 0, spec, NULL, lam, P, 4, xh, z, rej, info), IGEA_ENONPOSITIVE);
+    for (int route = 0; route < 2; route++) {
+        igea_eqerr_defaults(opts);
+        opts[IGEA_EQERR_OPT_ROUTE] = route;
+        S6[7 + 2 * M6] = INFINITY;
+        assert_int_equal(RUN(M6, 4, S6, M6, dw6, &s1, 0, NULL, opts, lam, P, 4, xh, z, rej, info), IGEA_ENONFINITE);
+        make6();
+        dw6[11] = NAN;
+        assert_int_equal(RUN(M6, 4, S6, M6, dw6, &s1, 0, NULL, opts, lam, P, 4, xh, z, rej, info), IGEA_ENONFINITE);
+        make6();
+    }
+    assert_true(all_sentinel(lam, 4) && all_sentinel(P, 16) && all_sentinel(info, IGEA_INFO_LEN));
+#undef RUN
+}
+
+static void test_padding_and_residual_args(void **state)
+{
+    make6();
+    enum { LDS = M6 + 5 };
+    double Sp[LDS * 4], lam[4], P[16], xh[4], z[4], info[IGEA_INFO_LEN], s1 = 0.05, opts[IGEA_EQERR_OPT_LEN];
+    int rej[4];
+    fill_nan(Sp, LDS * 4);
+    for (int j = 0; j < 4; j++)
+        for (int i = 0; i < M6; i++)
+            Sp[i + j * LDS] = S6[i + j * M6];
+    igea_eqerr_defaults(opts);
+    opts[IGEA_EQERR_OPT_CORRECT] = 0;
+    for (int route = 0; route < 2; route++) {
+        opts[IGEA_EQERR_OPT_ROUTE] = route;
+        assert_int_equal(igea_eqerr_run(M6, 4, Sp, LDS, dw6, &s1, 0, NULL, opts, lam, P, 4, xh, z,
+                                        rej, info, NULL, NULL), 0);
+        check6(lam, P, 4, xh, z, rej, info);
+    }
+    double coef[4] = {0.1, 0.2, 0.3, 0.4}, e[M6], ss[6] = {0};
+    assert_int_equal(igea_eqerr_residual(IGEA_COLMAJOR, M6, 4, Sp, LDS, dw6, coef, 1, e, ss), 0);
+    for (int i = 0; i < M6; i++) {
+        double r = dw6[i];
+        for (int j = 0; j < 4; j++)
+            r -= S6[i + j * M6] * coef[j];
+        assert_close_abs(e[i], r, 1e-14, 1e-15);
+    }
+    /* row0 = 1: the first row of the block is a y row */
+    assert_true(ss[3] == 4 && ss[4] == 4 && ss[5] == 4);
+    assert_close(ss[1], e[0] * e[0] + e[3] * e[3] + e[6] * e[6] + e[9] * e[9], 1e-14);
+    assert_int_equal(igea_eqerr_residual(5, M6, 4, Sp, LDS, dw6, coef, 0, e, ss), -1);
+    assert_int_equal(igea_eqerr_residual(0, -1, 4, Sp, LDS, dw6, coef, 0, e, ss), -2);
+    assert_int_equal(igea_eqerr_residual(0, M6, 0, Sp, LDS, dw6, coef, 0, e, ss), -3);
+    assert_int_equal(igea_eqerr_residual(0, M6, 4, NULL, LDS, dw6, coef, 0, e, ss), -4);
+    assert_int_equal(igea_eqerr_residual(0, M6, 4, Sp, M6 - 1, dw6, coef, 0, e, ss), -5);
+    assert_int_equal(igea_eqerr_residual(0, M6, 4, Sp, LDS, NULL, coef, 0, e, ss), -6);
+    assert_int_equal(igea_eqerr_residual(0, M6, 4, Sp, LDS, dw6, NULL, 0, e, ss), -7);
+    assert_int_equal(igea_eqerr_residual(0, M6, 4, Sp, LDS, dw6, coef, -1, e, ss), -8);
+    coef[0] = NAN;
+    assert_int_equal(igea_eqerr_residual(0, M6, 4, Sp, LDS, dw6, coef, 0, e, ss), IGEA_ENONFINITE);
+    coef[0] = 0.1;
+    assert_int_equal(igea_eqerr_coef(0, P, 4, xh, 3, NULL, coef), -1);
+    assert_int_equal(igea_eqerr_coef(4, NULL, 4, xh, 3, NULL, coef), -2);
+    assert_int_equal(igea_eqerr_coef(4, P, 3, xh, 3, NULL, coef), -3);
+    assert_int_equal(igea_eqerr_coef(4, P, 4, NULL, 3, NULL, coef), -4);
+    assert_int_equal(igea_eqerr_coef(4, P, 4, xh, 5, NULL, coef), -5);
+    assert_int_equal(igea_eqerr_coef(4, P, 4, xh, 3, NULL, NULL), -7);
+    double spec[4] = {1, 0, 1, 1};
+    assert_int_equal(igea_eqerr_coef(4, P, 4, xh, 3, spec, coef), IGEA_ENONPOSITIVE);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_methods_vector_both_routes),
+        cmocka_unit_test(test_streamed_equals_run),
+        cmocka_unit_test(test_sigmaw_iteration),
+        cmocka_unit_test(test_sigmaw_clamp_and_converged_first),
+        cmocka_unit_test(test_rank_deficient),
+        cmocka_unit_test(test_not_testable_and_invalid),
+        cmocka_unit_test(test_padding_and_residual_args),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,180 @@
+/* Tests of igea/normal.h: the weighted normal equations against a direct
+ * triple loop, in one call and in row blocks, both layouts. */
+#include "testutil.h"
+
+#include "igea.h"
+
+enum { M = 37, N = 5 };
+static double S[M * N], dw[M], sig[M], spec[N];
+
+static void make(void)
+{
+    for (int i = 0; i < M; i++) {
+        for (int j = 0; j < N; j++)
+            S[i + j * M] = sin(0.3 * i + 1.7 * j) + 0.01 * i * j;
+        dw[i] = cos(0.11 * i);
+        sig[i] = 0.5 + 0.01 * i;
+    }
+    for (int j = 0; j < N; j++)
+        spec[j] = 1.0 + 0.5 * j;
+}
+
+/* Independent reference: A = D S' K^-1 S D by definition. */
+static void reference(double *A, double *b, double *ww)
+{
+    *ww = 0;
+    for (int j = 0; j < N; j++) {
+        b[j] = 0;
+        for (int k = 0; k < N; k++) {
+            double a = 0;
+            for (int i = 0; i < M; i++)
+                a += S[i + j * M] * S[i + k * M] / (sig[i] * sig[i]);
+            A[j + k * N] = a * spec[j] * spec[k];
+        }
+        for (int i = 0; i < M; i++)
+            b[j] += S[i + j * M] * dw[i] / (sig[i] * sig[i]) * spec[j];
+    }
+    for (int i = 0; i < M; i++)
+        *ww += dw[i] * dw[i] / (sig[i] * sig[i]);
+}
+
+static void test_whole_and_blocks(void **state)
+{
+    make();
+    double Ar[N * N], br[N], wr, A[N * N], b[N], w[2];
+    reference(Ar, br, &wr);
+    memset(A, 0, sizeof A);
+    memset(b, 0, sizeof b);
+    w[0] = w[1] = 0;
+    assert_int_equal(igea_normal_accumulate(IGEA_COLMAJOR, M, N, S, M, dw, sig, 1, spec, A, N, b, w), 0);
+    for (int k = 0; k < N * N; k++)
+        assert_close(A[k], Ar[k], 1e-13);
+    for (int k = 0; k < N; k++)
+        assert_close(b[k], br[k], 1e-13);
+    assert_close(w[0], wr, 1e-14);
+    assert_true(w[1] == M);
+    /* the same in three blocks of rows (13 + 13 + 11), row-major storage */
+    double St[M * N];
+    for (int i = 0; i < M; i++)
+        for (int j = 0; j < N; j++)
+            St[j + i * N] = S[i + j * M];
+    memset(A, 0, sizeof A);
+    memset(b, 0, sizeof b);
+    w[0] = w[1] = 0;
+    for (int r0 = 0; r0 < M; r0 += 13) {
+        int nr = r0 + 13 <= M ? 13 : M - r0;
+        assert_int_equal(igea_normal_accumulate(IGEA_ROWMAJOR, nr, N, St + (size_t)r0 * N, N,
+                                                dw + r0, sig + r0, 1, spec, A, N, b, w), 0);
+    }
+    for (int k = 0; k < N * N; k++)
+        assert_close(A[k], Ar[k], 1e-13);
+    for (int k = 0; k < N; k++)
+        assert_close(b[k], br[k], 1e-13);
+    assert_true(w[1] == M);
+}
+
+static void test_scalar_sigma_no_spec_padding(void **state)
+{
+    make();
+    /* lds > m with NaN padding must not be read */
+    enum { LDS = M + 3 };
+    double Sp[LDS * N], A[N * N], b[N], w[2] = {0, 0}, s0 = 0.25;
+    fill_nan(Sp, LDS * N);
+    for (int j = 0; j < N; j++)
+        for (int i = 0; i < M; i++)
+            Sp[i + j * LDS] = S[i + j * M];
+    memset(A, 0, sizeof A);
+    memset(b, 0, sizeof b);
+    assert_int_equal(igea_normal_accumulate(IGEA_COLMAJOR, M, N, Sp, LDS, dw, &s0, 0, NULL, A, N, b, w), 0);
+    for (int j = 0; j < N; j++)
+        for (int k = 0; k < N; k++) {
+            double a = 0;
+            for (int i = 0; i < M; i++)
+                a += S[i + j * M] * S[i + k * M] / (s0 * s0);
+            assert_close(A[j + k * N], a, 1e-13);
+        }
+    /* m = 0 is a no-op */
+    double A0[N * N];
+    memcpy(A0, A, sizeof A);
+    assert_int_equal(igea_normal_accumulate(IGEA_COLMAJOR, 0, N, NULL, 1, NULL, NULL, 1, NULL, A, N, b, w), 0);
+    assert_memory_equal(A, A0, sizeof A);
+}
+
+static void test_invalid(void **state)
+{
+    make();
+    double A[N * N], b[N], w[2];
+    fill_sentinel(A, N * N);
+    fill_sentinel(b, N);
+    fill_sentinel(w, 2);
+#define ACC(l, m, n, s, lds, d, g, gi, sp, a, lda, bb, ww) \
+    igea_normal_accumulate(l, m, n, s, lds, d, g, gi, sp, a, lda, bb, ww)
+    assert_int_equal(ACC(2, M, N, S, M, dw, sig, 1, spec, A, N, b, w), -1);
+    assert_int_equal(ACC(0, -1, N, S, M, dw, sig, 1, spec, A, N, b, w), -2);
+    assert_int_equal(ACC(0, M, 0, S, M, dw, sig, 1, spec, A, N, b, w), -3);
+    assert_int_equal(ACC(0, M, N, NULL, M, dw, sig, 1, spec, A, N, b, w), -4);
+    assert_int_equal(ACC(0, M, N, S, M - 1, dw, sig, 1, spec, A, N, b, w), -5);
+    assert_int_equal(ACC(1, M, N, S, N - 1, dw, sig, 1, spec, A, N, b, w), -5);
+    assert_int_equal(ACC(0, M, N, S, M, NULL, sig, 1, spec, A, N, b, w), -6);
+    assert_int_equal(ACC(0, M, N, S, M, dw, NULL, 1, spec, A, N, b, w), -7);
+    assert_int_equal(ACC(0, M, N, S, M, dw, sig, 2, spec, A, N, b, w), -8);
+    assert_int_equal(ACC(0, M, N, S, M, dw, sig, 1, spec, NULL, N, b, w), -10);
+    assert_int_equal(ACC(0, M, N, S, M, dw, sig, 1, spec, A, N - 1, b, w), -11);
+    assert_int_equal(ACC(0, M, N, S, M, dw, sig, 1, spec, A, N, NULL, w), -12);
+    assert_int_equal(ACC(0, M, N, S, M, dw, sig, 1, spec, A, N, b, NULL), -13);
+    spec[2] = 0.0;
+    assert_int_equal(ACC(0, M, N, S, M, dw, sig, 1, spec, A, N, b, w), IGEA_ENONPOSITIVE);
+    spec[2] = NAN;
+    assert_int_equal(ACC(0, M, N, S, M, dw, sig, 1, spec, A, N, b, w), IGEA_ENONFINITE);
+    make();
+    sig[30] = -1.0;
+    assert_int_equal(ACC(0, M, N, S, M, dw, sig, 1, spec, A, N, b, w), IGEA_ENONPOSITIVE);
+    sig[30] = INFINITY;
+    assert_int_equal(ACC(0, M, N, S, M, dw, sig, 1, spec, A, N, b, w), IGEA_ENONFINITE);
+    make();
+    S[M - 1 + 3 * M] = NAN; /* last row: the first blocks were fine */
+    assert_int_equal(ACC(0, M, N, S, M, dw, sig, 1, spec, A, N, b, w), IGEA_ENONFINITE);
+    make();
+    dw[5] = INFINITY;
+    assert_int_equal(ACC(0, M, N, S, M, dw, sig, 1, spec, A, N, b, w), IGEA_ENONFINITE);
+    assert_true(all_sentinel(A, N * N) && all_sentinel(b, N) && all_sentinel(w, 2));
+#undef ACC
+}
+
+/* A long flight (more rows than one internal block) equals its halves. */
+static void test_long_flight(void **state)
+{
+    enum { ML = 50000, NL = 3 };
+    double *Sl = malloc(sizeof(double) * ML * NL), *d = malloc(sizeof(double) * ML);
+    assert_non_null(Sl);
+    assert_non_null(d);
+    for (int i = 0; i < ML; i++) {
+        for (int j = 0; j < NL; j++)
+            Sl[i + (size_t)j * ML] = pow(i / (double)ML, j);
+        d[i] = 1.0;
+    }
+    double s1 = 1.0, A[NL * NL] = {0}, b[NL] = {0}, w[2] = {0, 0};
+    assert_int_equal(igea_normal_accumulate(IGEA_COLMAJOR, ML, NL, Sl, ML, d, &s1, 0, NULL, A, NL, b, w), 0);
+    /* sum_i (i/ML)^(j+k), compensated reference */
+    for (int j = 0; j < NL; j++)
+        for (int k = 0; k < NL; k++) {
+            long double ref = 0;
+            for (int i = 0; i < ML; i++)
+                ref += powl((long double)i / ML, j + k);
+            assert_close(A[j + k * NL], (double)ref, 1e-12);
+        }
+    assert_close(w[0], ML, 1e-15);
+    free(Sl);
+    free(d);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_whole_and_blocks),
+        cmocka_unit_test(test_scalar_sigma_no_spec_padding),
+        cmocka_unit_test(test_invalid),
+        cmocka_unit_test(test_long_flight),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,262 @@
+/* Tests of igea/stats.h and igea/common.h.
+ * Reference values: scipy.stats 1.x (chi2.isf/ppf/sf/cdf, norm.ppf/cdf),
+ * computed independently of GSL; the seed's Tables 1-2 (Xiao & Chen 2018). */
+#include "testutil.h"
+
+#include <gsl/gsl_errno.h>
+
+#include "igea.h"
+
+/* Counts calls of GSL's error handler: the library must never reach it. */
+static int gsl_handler_calls;
+static void counting_handler(const char *reason, const char *file, int line, int err)
+{
+    (void)reason, (void)file, (void)line, (void)err;
+    gsl_handler_calls++;
+}
+
+static void test_version_and_strerror(void **state)
+{
+    assert_int_equal(igea_version_number(), IGEA_VERSION_NUMBER);
+    assert_string_equal(igea_version(), IGEA_VERSION_STRING);
+    int codes[] = {IGEA_OK, -3, IGEA_ENOMEM, IGEA_ENONFINITE, IGEA_ENONPOSITIVE,
+                   IGEA_ESINGULAR, IGEA_ERANK, IGEA_ENOCONV, IGEA_ELAPACK, IGEA_EDOMAIN,
+                   IGEA_ENOTESTABLE, IGEA_EDEPENDENT, IGEA_EEMPTY, 7, -5000};
+    for (size_t i = 0; i < sizeof codes / sizeof codes[0]; i++) {
+        const char *s = igea_strerror(codes[i]);
+        assert_non_null(s);
+        assert_true(strlen(s) > 5);
+    }
+    /* every named code has its own text */
+    for (int a = -1020; a <= -1010; a++)
+        for (int b = a + 1; b <= -1010; b++)
+            assert_string_not_equal(igea_strerror(a), igea_strerror(b));
+}
+
+static void test_normal(void **state)
+{
+    double z, p;
+    assert_int_equal(igea_stats_normal_quantile(0.995, &z), 0);
+    assert_close(z, 2.5758293035489004, 1e-15);
+    assert_int_equal(igea_stats_normal_cdf(-1.5, &p), 0);
+    assert_close(p, 0.06680720126885807, 1e-14);
+    assert_int_equal(igea_stats_normal_cdf(INFINITY, &p), 0);
+    assert_true(p == 1.0);
+    z = SENTINEL;
+    assert_int_equal(igea_stats_normal_quantile(0.0, &z), -1);
+    assert_int_equal(igea_stats_normal_quantile(1.0, &z), -1);
+    assert_int_equal(igea_stats_normal_quantile(NAN, &z), -1);
+    assert_int_equal(igea_stats_normal_quantile(1.5, &z), -1);
+    assert_true(z == SENTINEL);
+    assert_int_equal(igea_stats_normal_quantile(0.5, NULL), -2);
+    assert_int_equal(igea_stats_normal_cdf(NAN, &p), -1);
+    assert_int_equal(igea_stats_normal_cdf(0.0, NULL), -2);
+}
+
+static void test_chi2_values(void **state)
+{
+    double x;
+    assert_int_equal(igea_stats_chi2_upper(0.01, 11, &x), 0);
+    assert_close(x, 24.72497031131828, 1e-13); /* the seed's 24.725 */
+    assert_int_equal(igea_stats_chi2_quantile(0.5, 1, &x), 0);
+    assert_close(x, 0.454936423119572, 1e-13);
+    assert_int_equal(igea_stats_chi2_quantile(1e-10, 10000, &x), 0);
+    assert_close(x, 9126.511802423256, 1e-12);
+    assert_int_equal(igea_stats_chi2_upper(0.01, 1e5, &x), 0);
+    assert_close(x, 101043.31473677837, 1e-12);
+    assert_int_equal(igea_stats_chi2_upper(1e-12, 3, &x), 0);
+    assert_close(x, 58.919755683202155, 1e-12);
+    assert_int_equal(igea_stats_chi2_quantile(1e-300, 2, &x), 0);
+    assert_close(x, 2e-300, 1e-12);
+    assert_int_equal(igea_stats_chi2_quantile(0.99, 0.01, &x), 0);
+    assert_close(x, 0.16361202464505492, 1e-11);
+    assert_int_equal(igea_stats_chi2_quantile(0.3, 0.01, &x), 0);
+    assert_close(x, 2.9948907893119766e-105, 1e-10);
+    double p;
+    assert_int_equal(igea_stats_chi2_sf(13.269943, 11, &p), 0);
+    assert_close(p, 0.2760488648920812, 1e-12);
+    assert_int_equal(igea_stats_chi2_cdf(3.0, 2.5, &p), 0);
+    assert_close(p, 0.6941503705541809, 1e-13);
+    assert_int_equal(igea_stats_chi2_sf(20000, 20000, &p), 0);
+    assert_close(p, 0.4986701916600448, 1e-12);
+}
+
+/* Inputs that abort the process through GSL's handler (gsl_cdf_chisq_Pinv
+ * with dof 0; convergence failures at large dof) come back as codes or
+ * values; the round trip P(Pinv(p)) = p holds over a wide grid. */
+static void test_chi2_no_abort_grid(void **state)
+{
+    gsl_error_handler_t *old = gsl_set_error_handler(counting_handler);
+    gsl_handler_calls = 0;
+    double x = SENTINEL;
+    assert_int_equal(igea_stats_chi2_quantile(0.5, 0.0, &x), -2);
+    assert_int_equal(igea_stats_chi2_quantile(1.5, 3.0, &x), -1);
+    assert_int_equal(igea_stats_chi2_quantile(0.5, -1.0, &x), -2);
+    assert_int_equal(igea_stats_chi2_quantile(0.5, NAN, &x), -2);
+    assert_int_equal(igea_stats_chi2_quantile(0.5, 2e5, &x), -2);
+    assert_int_equal(igea_stats_chi2_upper(0.0, 3.0, &x), -1);
+    assert_int_equal(igea_stats_chi2_upper(0.5, 3.0, NULL), -3);
+    assert_int_equal(igea_stats_chi2_quantile(0.5, 3.0, NULL), -3);
+    assert_int_equal(igea_stats_chi2_cdf(-1.0, 3.0, &x), -1);
+    assert_int_equal(igea_stats_chi2_cdf(NAN, 3.0, &x), -1);
+    assert_int_equal(igea_stats_chi2_sf(1.0, 0.0, &x), -2);
+    assert_int_equal(igea_stats_chi2_sf(1.0, 1.0, NULL), -3);
+    assert_true(x == SENTINEL);
+    const double ps[] = {1e-300, 1e-100, 1e-16, 1e-10, 1e-5, 0.01, 0.5, 0.99, 1 - 1e-10};
+    const double dofs[] = {1e-3, 0.01, 0.1, 0.5, 1, 2, 11, 100, 1000, 1e4, 1e5};
+    for (size_t j = 0; j < sizeof dofs / sizeof dofs[0]; j++)
+        for (size_t i = 0; i < sizeof ps / sizeof ps[0]; i++) {
+            double q, back;
+            int st = igea_stats_chi2_quantile(ps[i], dofs[j], &q);
+            if (st == IGEA_ENOCONV) /* a representable answer may not exist */
+                continue;
+            assert_int_equal(st, 0);
+            if (q == 0.0) { /* underflow: only where x^(dof/2) ~ p cannot be a double */
+                assert_true(log(ps[i]) / (0.5 * dofs[j]) < -700);
+                continue;
+            }
+            if (ps[i] <= 0.5) {
+                assert_int_equal(igea_stats_chi2_cdf(q, dofs[j], &back), 0);
+                assert_close(back, ps[i], dofs[j] <= 1e4 ? 1e-9 : 1e-6);
+            } else { /* 1 - p is exact for p >= 0.5 */
+                assert_int_equal(igea_stats_chi2_sf(q, dofs[j], &back), 0);
+                assert_close(back, 1.0 - ps[i], dofs[j] <= 1e4 ? 1e-9 : 1e-6);
+            }
+            assert_int_equal(igea_stats_chi2_upper(ps[i], dofs[j], &q), 0);
+            assert_int_equal(igea_stats_chi2_sf(q, dofs[j], &back), 0);
+            if (ps[i] <= 0.5)
+                assert_close(back, ps[i], 1e-9);
+        }
+    /* cdf and sf over the whole domain: x from 1e-300 to 1e300 and around
+     * the mean, every dof up to the documented maximum */
+    for (size_t j = 0; j < sizeof dofs / sizeof dofs[0]; j++) {
+        for (double xx = 1e-300; xx < 1e300; xx *= 1e3) {
+            double p, q;
+            assert_int_equal(igea_stats_chi2_cdf(xx, dofs[j], &p), 0);
+            assert_int_equal(igea_stats_chi2_sf(xx, dofs[j], &q), 0);
+            assert_true(p >= 0 && p <= 1 && q >= 0 && q <= 1);
+        }
+        for (double k = -40; k <= 40; k += 0.5) {
+            double xx = dofs[j] + k * sqrt(2 * dofs[j]), p, q;
+            if (xx <= 0)
+                continue;
+            assert_int_equal(igea_stats_chi2_cdf(xx, dofs[j], &p), 0);
+            assert_int_equal(igea_stats_chi2_sf(xx, dofs[j], &q), 0);
+            assert_close_abs(p + q, 1.0, 0, dofs[j] <= 1e4 ? 1e-12 : 1e-7);
+        }
+    }
+    assert_int_equal(igea_stats_chi2_upper(0.01, IGEA_STATS_DOF_MAX, &x), 0);
+    assert_int_equal(gsl_handler_calls, 0);
+    gsl_set_error_handler(old);
+}
+
+/* Seed 000, Table 1 -> Table 2 with the tabulated z = 2.58, and eq. (10). */
+static const double tab_x[11] = {0.2833, -1.0819, 0.8138, 0.4933, 0.0526, 0.1372,
+                                 0.8714, -0.8370, 2.5527, 1.7403, -0.3456};
+static const double tab_l[11] = {2.42E+05, 9.03E+04, 7.24E+04, 1.56E+04, 2.05E+03, 1.79E+03,
+                                 1.38E+03, 6.51E+02, 5.01E+02, 1.85E+02, 8.62E+01};
+
+static void test_accuracy_seed_table(void **state)
+{
+    double z[11], info[IGEA_INFO_LEN];
+    int rej[11];
+    assert_int_equal(igea_stats_accuracy_test(11, tab_x, tab_l, 0.01, 10.0, 2.58, z, rej, info), 0);
+    /* Table 2 thresholds sqrt(1 + 1/lambda) * 2.58 to 4 decimals */
+    const double thr[11] = {2.5800, 2.5800, 2.5800, 2.5801, 2.5806, 2.5807,
+                            2.5809, 2.5820, 2.5826, 2.5870, 2.5949};
+    for (int i = 0; i < 11; i++) {
+        double t = sqrt(1.0 + 1.0 / tab_l[i]) * info[IGEA_INFO_Z_CRIT];
+        assert_true(fabs(t - thr[i]) < 0.5e-4);
+        assert_int_equal(rej[i], 0);
+    }
+    assert_close(info[IGEA_INFO_CHI2], 13.2699, 0.5e-4 / 13.27); /* printed 13.2700 */
+    assert_true(fabs(info[IGEA_INFO_CHI2] - 13.2699) < 0.5e-4);
+    assert_int_equal((int)info[IGEA_INFO_DOF], 11);
+    assert_close(info[IGEA_INFO_CHI2_CRIT], 24.72497031131828, 1e-13);
+    assert_true(fabs(info[IGEA_INFO_P_VALUE] - 0.276) < 0.5e-3);
+    assert_true(info[IGEA_INFO_PASSED] == 1.0);
+    /* exact z: component 9 still passes, by about 1 % (METHODS 1.5) */
+    assert_int_equal(igea_stats_accuracy_test(11, tab_x, tab_l, 0.01, 10.0, 0.0, z, rej, info), 0);
+    assert_close(info[IGEA_INFO_Z_CRIT], 2.5758293035489004, 1e-15);
+    assert_close(z[8], 2.5527 / sqrt(1.0 + 1.0 / 501.0), 1e-15);
+    assert_true(fabs(z[8] - 2.5502) < 0.5e-4);
+    assert_int_equal(rej[8], 0);
+    /* at alpha = 0.05 component 9 is rejected */
+    assert_int_equal(igea_stats_accuracy_test(11, tab_x, tab_l, 0.05, 10.0, 0.0, z, rej, info), 0);
+    assert_int_equal(rej[8], 1);
+    assert_int_equal((int)info[IGEA_INFO_N_REJECT], 1);
+    assert_true(info[IGEA_INFO_PASSED] == 0.0);
+    /* lambda_test = 200 keeps the first 9 */
+    assert_int_equal(igea_stats_accuracy_test(11, tab_x, tab_l, 0.01, 200.0, 0.0, z, rej, info), 0);
+    assert_int_equal((int)info[IGEA_INFO_N_TEST], 9);
+    assert_int_equal(rej[9], -1);
+    assert_int_equal(rej[10], -1);
+}
+
+static void test_accuracy_invalid(void **state)
+{
+    double z[11], info[IGEA_INFO_LEN], x[2] = {1.0, NAN}, l[2] = {100, 100};
+    int rej[11];
+    fill_sentinel(info, IGEA_INFO_LEN);
+    assert_int_equal(igea_stats_accuracy_test(0, tab_x, tab_l, 0.01, 10, 0, z, rej, info), -1);
+    assert_int_equal(igea_stats_accuracy_test(11, NULL, tab_l, 0.01, 10, 0, z, rej, info), -2);
+    assert_int_equal(igea_stats_accuracy_test(11, tab_x, NULL, 0.01, 10, 0, z, rej, info), -3);
+    assert_int_equal(igea_stats_accuracy_test(11, tab_x, tab_l, 1.0, 10, 0, z, rej, info), -4);
+    assert_int_equal(igea_stats_accuracy_test(11, tab_x, tab_l, 0.01, 0, 0, z, rej, info), -5);
+    assert_int_equal(igea_stats_accuracy_test(11, tab_x, tab_l, 0.01, 10, -1, z, rej, info), -6);
+    assert_int_equal(igea_stats_accuracy_test(11, tab_x, tab_l, 0.01, 10, 0, NULL, rej, info), -7);
+    assert_int_equal(igea_stats_accuracy_test(11, tab_x, tab_l, 0.01, 10, 0, z, NULL, info), -8);
+    assert_int_equal(igea_stats_accuracy_test(11, tab_x, tab_l, 0.01, 10, 0, z, rej, NULL), -9);
+    assert_int_equal(igea_stats_accuracy_test(2, x, l, 0.01, 10, 0, z, rej, info), IGEA_ENONFINITE);
+    assert_int_equal(igea_stats_accuracy_test(11, tab_x, tab_l, 0.01, 1e6, 0, z, rej, info),
+                     IGEA_ENOTESTABLE);
+    assert_true(all_sentinel(info, IGEA_INFO_LEN));
+}
+
+static void test_pool(void **state)
+{
+    /* METHODS 1.6(b) illustration: three flights, T = 4.88 + 2.54 + 5.42 =
+     * 12.84 with 7 + 6 + 7 = 20 dof against chi2_0.01(20) = 37.566. */
+    double T[3] = {4.88, 2.54, 5.42}, info[IGEA_INFO_LEN];
+    int dof[3] = {7, 6, 7}, nrej[3] = {0, 0, 0}, ids[3] = {11, 12, 13}, same[3] = {11, 12, 11};
+    assert_int_equal(igea_stats_pool(3, T, dof, nrej, ids, 0.01, info), 0);
+    assert_close(info[IGEA_INFO_CHI2], 12.84, 1e-15);
+    assert_int_equal((int)info[IGEA_INFO_DOF], 20);
+    assert_close(info[IGEA_INFO_CHI2_CRIT], 37.56623478662507, 1e-12);
+    assert_true(info[IGEA_INFO_PASSED] == 1.0);
+    assert_int_equal((int)info[IGEA_INFO_N_FLIGHTS], 3);
+    nrej[1] = 1; /* one rejected component anywhere rejects the system */
+    assert_int_equal(igea_stats_pool(3, T, dof, nrej, NULL, 0.01, info), 0);
+    assert_true(info[IGEA_INFO_PASSED] == 0.0);
+    nrej[1] = 0;
+    fill_sentinel(info, IGEA_INFO_LEN);
+    assert_int_equal(igea_stats_pool(3, T, dof, nrej, same, 0.01, info), IGEA_EDEPENDENT);
+    assert_int_equal(igea_stats_pool(0, T, dof, nrej, NULL, 0.01, info), -1);
+    assert_int_equal(igea_stats_pool(3, NULL, dof, nrej, NULL, 0.01, info), -2);
+    assert_int_equal(igea_stats_pool(3, T, NULL, nrej, NULL, 0.01, info), -3);
+    assert_int_equal(igea_stats_pool(3, T, dof, NULL, NULL, 0.01, info), -4);
+    assert_int_equal(igea_stats_pool(3, T, dof, nrej, NULL, 0.0, info), -6);
+    assert_int_equal(igea_stats_pool(3, T, dof, nrej, NULL, 0.01, NULL), -7);
+    T[0] = -1;
+    assert_int_equal(igea_stats_pool(3, T, dof, nrej, NULL, 0.01, info), -2);
+    T[0] = NAN;
+    assert_int_equal(igea_stats_pool(3, T, dof, nrej, NULL, 0.01, info), IGEA_ENONFINITE);
+    T[0] = 4.88;
+    dof[0] = 0;
+    assert_int_equal(igea_stats_pool(3, T, dof, nrej, NULL, 0.01, info), -3);
+    assert_true(all_sentinel(info, IGEA_INFO_LEN));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_version_and_strerror),
+        cmocka_unit_test(test_normal),
+        cmocka_unit_test(test_chi2_values),
+        cmocka_unit_test(test_chi2_no_abort_grid),
+        cmocka_unit_test(test_accuracy_seed_table),
+        cmocka_unit_test(test_accuracy_invalid),
+        cmocka_unit_test(test_pool),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
