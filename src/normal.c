@@ -35,67 +35,88 @@ int igea_normal_accumulate(int layout, int m, int N, const double *S, int lds,
     }
     if (m == 0)
         return 0;
-    if (sigma_inc == 0 || m > 0) {
+    {
         int nf;
         if (!igea__positive_vec(sigma_inc ? m : 1, track_sigma, &nf))
             return nf ? IGEA_ENONFINITE : IGEA_ENONPOSITIVE;
     }
 
-    const int rb = IGEA_MIN(block_rows(N), m);
-    /* scratch: local A (N*N), b (N), scaled block (rb*N), weighted dw (rb) */
+    /* One tracking sigma for every row (the common case): no copy of S at
+     * all, one dsyrk over the caller's array and the weights applied to the
+     * N x N result. Otherwise rows are weighted in cache-sized blocks. */
+    int uniform = 1;
+    if (sigma_inc)
+        for (int i = 1; i < m && uniform; i++)
+            uniform = track_sigma[i] == track_sigma[0];
+    const int rb = uniform ? 0 : IGEA_MIN(block_rows(N), m);
     size_t nn = (size_t)N * (size_t)N;
-    double *work = igea__dalloc(nn + (size_t)N + (size_t)rb * (size_t)N + (size_t)rb);
+    size_t nw = uniform ? (size_t)m : (size_t)rb * ((size_t)N + 2);
+    double *work = igea__dalloc(nn + (size_t)N + nw);
     if (!work)
         return IGEA_ENOMEM;
-    double *Al = work, *bl = Al + nn, *blk = bl + N, *wb = blk + (size_t)rb * N;
+    double *Al = work, *bl = Al + nn;
     memset(Al, 0, (nn + (size_t)N) * sizeof(double));
     igea__ksum ww = {0, 0};
-    int bad = 0;
 
-    for (int r0 = 0; r0 < m && !bad; r0 += rb) {
-        int nr = IGEA_MIN(rb, m - r0);
-        for (int i = 0; i < nr; i++) {
-            double w = 1.0 / track_sigma[sigma_inc ? r0 + i : 0];
-            wb[i] = dw[r0 + i] * w;
+    if (uniform) {
+        double *wb = bl + N;
+        double w = 1.0 / track_sigma[0];
+        for (int i = 0; i < m; i++) {
+            wb[i] = dw[i] * w;
+            igea__ksum_add(&ww, wb[i] * wb[i]);
+            wb[i] *= w;
         }
         if (layout == IGEA_COLMAJOR) {
+            cblas_dsyrk(CblasColMajor, CblasLower, CblasTrans, N, m, w * w, S, lds, 0.0, Al, N);
+            cblas_dgemv(CblasColMajor, CblasTrans, m, N, 1.0, S, lds, wb, 1, 0.0, bl, 1);
+        } else {
+            cblas_dsyrk(CblasColMajor, CblasLower, CblasNoTrans, N, m, w * w, S, lds, 0.0, Al, N);
+            cblas_dgemv(CblasColMajor, CblasNoTrans, N, m, 1.0, S, lds, wb, 1, 0.0, bl, 1);
+        }
+        if (spec_sigma) {
             for (int j = 0; j < N; j++) {
-                const double *src = S + (size_t)j * lds + r0;
-                double *dst = blk + (size_t)j * nr;
-                double sc = spec_sigma ? spec_sigma[j] : 1.0;
-                if (sigma_inc)
+                for (int i = j; i < N; i++)
+                    Al[i + (size_t)j * N] *= spec_sigma[i] * spec_sigma[j];
+                bl[j] *= spec_sigma[j];
+            }
+        }
+    } else {
+        double *blk = bl + N, *wb = blk + (size_t)rb * N, *wt = wb + rb;
+        for (int r0 = 0; r0 < m; r0 += rb) {
+            int nr = IGEA_MIN(rb, m - r0);
+            for (int i = 0; i < nr; i++) {
+                wt[i] = 1.0 / track_sigma[r0 + i];
+                wb[i] = dw[r0 + i] * wt[i];
+            }
+            if (layout == IGEA_COLMAJOR) {
+                for (int j = 0; j < N; j++) {
+                    const double *src = S + (size_t)j * lds + r0;
+                    double *dst = blk + (size_t)j * nr;
+                    double sc = spec_sigma ? spec_sigma[j] : 1.0;
                     for (int i = 0; i < nr; i++)
-                        dst[i] = src[i] * (sc / track_sigma[r0 + i]);
-                else {
-                    double f = sc / track_sigma[0];
-                    for (int i = 0; i < nr; i++)
-                        dst[i] = src[i] * f;
+                        dst[i] = src[i] * sc * wt[i];
+                }
+            } else {
+                for (int i = 0; i < nr; i++) {
+                    const double *src = S + (size_t)(r0 + i) * lds;
+                    if (spec_sigma)
+                        for (int j = 0; j < N; j++)
+                            blk[i + (size_t)j * nr] = src[j] * spec_sigma[j] * wt[i];
+                    else
+                        for (int j = 0; j < N; j++)
+                            blk[i + (size_t)j * nr] = src[j] * wt[i];
                 }
             }
-        } else {
-            for (int i = 0; i < nr; i++) {
-                const double *src = S + (size_t)(r0 + i) * lds;
-                double w = 1.0 / track_sigma[sigma_inc ? r0 + i : 0];
-                if (spec_sigma)
-                    for (int j = 0; j < N; j++)
-                        blk[i + (size_t)j * nr] = src[j] * spec_sigma[j] * w;
-                else
-                    for (int j = 0; j < N; j++)
-                        blk[i + (size_t)j * nr] = src[j] * w;
-            }
+            cblas_dsyrk(CblasColMajor, CblasLower, CblasTrans, N, nr, 1.0, blk, nr, 1.0, Al, N);
+            cblas_dgemv(CblasColMajor, CblasTrans, nr, N, 1.0, blk, nr, wb, 1, 1.0, bl, 1);
+            for (int i = 0; i < nr; i++)
+                igea__ksum_add(&ww, wb[i] * wb[i]);
         }
-        if (!igea__finite_mat(nr, N, blk, nr) || !igea__finite_vec(nr, wb, 1)) {
-            bad = 1;
-            break;
-        }
-        cblas_dsyrk(CblasColMajor, CblasLower, CblasTrans, N, nr, 1.0, blk, nr,
-                    1.0, Al, N);
-        cblas_dgemv(CblasColMajor, CblasTrans, nr, N, 1.0, blk, nr, wb, 1, 1.0,
-                    bl, 1);
-        for (int i = 0; i < nr; i++)
-            igea__ksum_add(&ww, wb[i] * wb[i]);
     }
-    if (bad) {
+    /* A NaN or Inf anywhere in S or dw reaches a diagonal element of A (a
+     * sum of squares, which cannot cancel), b or w'w: one O(N) check. */
+    if (!igea__finite_vec(N, Al, N + 1) || !igea__finite_vec(N, bl, 1) ||
+        !isfinite(igea__ksum_get(&ww))) {
         free(work);
         return IGEA_ENONFINITE;
     }

@@ -137,6 +137,20 @@ static void test_invalid(void **state)
     make();
     dw[5] = INFINITY;
     assert_int_equal(ACC(0, M, N, S, M, dw, sig, 1, spec, A, N, b, w), IGEA_ENONFINITE);
+    /* the same with one sigma for all rows (no copy of S is made) */
+    double s0 = 0.5, eq[M];
+    for (int i = 0; i < M; i++)
+        eq[i] = 0.5;
+    make();
+    S[M - 1 + 3 * M] = NAN;
+    assert_int_equal(ACC(0, M, N, S, M, dw, &s0, 0, spec, A, N, b, w), IGEA_ENONFINITE);
+    assert_int_equal(ACC(0, M, N, S, M, dw, eq, 1, NULL, A, N, b, w), IGEA_ENONFINITE);
+    make();
+    S[3] = -INFINITY;
+    assert_int_equal(ACC(1, M, N, S, N, dw, &s0, 0, NULL, A, N, b, w), IGEA_ENONFINITE);
+    make();
+    dw[0] = NAN;
+    assert_int_equal(ACC(0, M, N, S, M, dw, &s0, 0, spec, A, N, b, w), IGEA_ENONFINITE);
     assert_true(all_sentinel(A, N * N) && all_sentinel(b, N) && all_sentinel(w, 2));
 #undef ACC
 }

@@ -1,0 +1,156 @@
+#!/usr/bin/env python3
+"""Speed and memory of the equivalent-error assessment (issue: 180,000 rows
+x 74 terms; a 1,800,000-row flight through the driver in < 64 MB).
+
+One run measures, on the same matrix:
+  floor   one bare OpenBLAS cblas_dsyrk (S^T S) - the least any method must do
+  igea    igea.eqerr through Python (normal equations, dsyevd, sigma_w loop,
+          tests, residuals)
+  driver  'igea eqerr' on .npy files (reads 107 MB from disk)
+  numpy   the same steps written with numpy/scipy
+and prints the ratios. Then it writes a 1.8M-row .npy flight (1.07 GB) and
+reports the driver's peak resident memory.
+
+    make bench            (or: python bench/bench_eqerr.py [--rows N] [--skip-big])
+"""
+import argparse
+import ctypes
+import ctypes.util
+import os
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+from scipy import stats
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "python"))
+import igea  # noqa: E402
+
+DRIVER = os.environ.get("IGEA_DRIVER", os.path.join(os.path.dirname(__file__), "..", "build", "bin", "igea"))
+
+
+def best(f, repeat=5):
+    ts = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        f()
+        ts.append(time.perf_counter() - t0)
+    return min(ts)
+
+
+def numpy_eqerr(S, dw, sigma, spec, alpha=0.01, lambda_test=10.0, lambda_small=0.1, n_min=5,
+                tol=0.05, max_iter=10):
+    St = S * (spec / sigma[:, None]) if sigma.ndim else S * (spec / sigma)
+    A = St.T @ St
+    b = St.T @ (dw / sigma)
+    lam0, V = np.linalg.eigh(A)
+    lam0, V = lam0[::-1], V[:, ::-1]
+    N = len(lam0)
+    r = int(np.sum(lam0 > N * 10 * np.finfo(float).eps * lam0[0]))
+    pb = V.T @ b
+    xhat = pb[:r] / lam0[:r]
+    g0 = pb[:r] / np.sqrt(lam0[:r])
+    c, prev = 1.0, None
+    for it in range(max_iter):
+        small = np.nonzero(lam0[:r] / c <= lambda_small)[0]
+        if len(small) < n_min:
+            break
+        sw2 = np.mean(g0[small] ** 2) / c
+        if abs(sw2 - 1) <= tol and (it == 0 or np.array_equal(small, prev)):
+            break
+        prev, c = small, c * sw2
+    lam = lam0[:r] / c
+    t = lam >= lambda_test
+    z = xhat[t] / np.sqrt(1 + 1 / lam[t])
+    T = np.sum(z * z)
+    passed = not np.any(np.abs(z) > stats.norm.isf(alpha / 2)) and T < stats.chi2.isf(alpha, t.sum())
+    coef = spec * (V[:, :r][:, t] @ xhat[t])
+    res = dw - S @ coef
+    return passed, res
+
+
+def make_flight(m, N, seed=1):
+    rng = np.random.default_rng(seed)
+    tt = np.linspace(0, 1, m // 3).repeat(3)
+    # smooth, strongly collinear columns like environment functions
+    S = np.empty((m, N), order="F")
+    for j in range(N):
+        S[:, j] = np.cos((j % 12 + 1) * tt + j) * tt ** (1 + j % 5) + 1e-3 * rng.standard_normal(m)
+    spec = 10.0 ** rng.uniform(-1, 1, N)
+    sigma = np.full(m, 0.01)
+    dw = S @ (rng.standard_normal(N) * spec) + 0.01 * rng.standard_normal(m)
+    return S, dw, sigma, spec
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--rows", type=int, default=180000)
+    ap.add_argument("--terms", type=int, default=74)
+    ap.add_argument("--big-rows", type=int, default=1800000)
+    ap.add_argument("--skip-big", action="store_true")
+    a = ap.parse_args()
+    m, N = a.rows, a.terms
+    S, dw, sigma, spec = make_flight(m, N)
+
+    blas = ctypes.CDLL(ctypes.util.find_library("openblas") or "libopenblas.so.0")
+    C = np.zeros((N, N), order="F")
+    dp = ctypes.POINTER(ctypes.c_double)
+
+    def floor():
+        blas.cblas_dsyrk(102, 122, 112, N, m, ctypes.c_double(1.0), S.ctypes.data_as(dp), m,
+                         ctypes.c_double(0.0), C.ctypes.data_as(dp), N)
+
+    t_floor = best(floor)
+    t_igea = best(lambda: igea.eqerr(S, dw, sigma, spec))
+    t_numpy = best(lambda: numpy_eqerr(S, dw, sigma, spec), repeat=3)
+    with tempfile.TemporaryDirectory() as d:
+        Sc = np.ascontiguousarray(S)
+        for name, arr in [("S", Sc), ("dw", dw), ("sigma", sigma), ("spec", spec)]:
+            np.save(os.path.join(d, name + ".npy"), arr)
+        del Sc
+        cmd = [DRIVER, "eqerr", "--S", "S.npy", "--dw", "dw.npy", "--sigma", "sigma.npy",
+               "--spec", "spec.npy", "--out", "report.txt"]
+        t_drv = best(lambda: subprocess.run(cmd, cwd=d, check=False), repeat=3)
+    print(f"eqerr, {m} rows x {N} terms (best of several runs, this machine):")
+    print(f"  floor  (one cblas_dsyrk)      {t_floor * 1e3:8.1f} ms")
+    print(f"  igea   (Python, whole job)    {t_igea * 1e3:8.1f} ms   {t_igea / t_floor:5.2f} x floor")
+    print(f"  driver (.npy files, whole job){t_drv * 1e3:8.1f} ms   {t_drv / t_floor:5.2f} x floor")
+    print(f"  numpy/scipy (same steps)      {t_numpy * 1e3:8.1f} ms   {t_numpy / t_igea:5.2f} x igea")
+    print(f"  targets: igea <= 1.3 x floor ({'met' if t_igea <= 1.3 * t_floor else 'NOT met'}), "
+          f"numpy >= 1.5 x igea ({'met' if t_numpy >= 1.5 * t_igea else 'NOT met'})")
+    if a.skip_big:
+        return
+    mb = a.big_rows
+    with tempfile.TemporaryDirectory(dir=os.environ.get("IGEA_BENCH_TMP")) as d:
+        path = os.path.join(d, "S.npy")
+        mm = np.lib.format.open_memmap(path, mode="w+", dtype="<f8", shape=(mb, N))
+        dwb = np.empty(mb)
+        step = 60000
+        for r0 in range(0, mb, step):
+            r1 = min(mb, r0 + step)
+            blk, d_, _, _ = make_flight(r1 - r0, N, seed=r0)
+            mm[r0:r1] = blk
+            dwb[r0:r1] = d_
+        mm.flush()
+        del mm
+        np.save(os.path.join(d, "dw.npy"), dwb)
+        np.save(os.path.join(d, "spec.npy"), spec)
+        del dwb
+        cmd = [DRIVER, "eqerr", "--S", "S.npy", "--dw", "dw.npy", "--sigma", "0.01", "--spec",
+               "spec.npy", "--out", "report.txt"]
+        before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+        t0 = time.perf_counter()
+        r = subprocess.run(cmd, cwd=d)
+        dt = time.perf_counter() - t0
+        peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+        print(f"driver on a {mb}-row x {N} flight ({mb * N * 8 / 1e9:.2f} GB .npy): exit {r.returncode}, "
+              f"{dt:.1f} s, peak RSS {peak / 1024:.1f} MB (target < 64 MB: "
+              f"{'met' if peak / 1024 < 64 else 'NOT met'})"
+              + ("" if peak > before else " [peak may include an earlier child]"))
+
+
+if __name__ == "__main__":
+    main()
