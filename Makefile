@@ -137,7 +137,7 @@ examples-check: all
 	  exe=$(BUILD)/examples/$$(basename $$f .c); mkdir -p $(BUILD)/examples; \
 	  PKG_CONFIG_PATH=$(CURDIR)/$(BUILD)/stage/usr/lib/pkgconfig PKG_CONFIG_SYSROOT_DIR=$(CURDIR)/$(BUILD)/stage \
 	  $(CC) $(WARN) $$f -o $$exe $$(PKG_CONFIG_PATH=$(CURDIR)/$(BUILD)/stage/usr/lib/pkgconfig PKG_CONFIG_SYSROOT_DIR=$(CURDIR)/$(BUILD)/stage pkg-config --cflags --libs igea) \
-	    -Wl,-rpath,$(CURDIR)/$(BUILD)/stage/usr/lib || exit 1; \
+	    -lm -Wl,-rpath,$(CURDIR)/$(BUILD)/stage/usr/lib || exit 1; \
 	  echo "== $$exe"; (cd examples && ../$$exe) >/dev/null || { echo "example $$f failed"; exit 1; }; \
 	done; echo "examples-check: examples build via pkg-config and run"
 
