@@ -307,3 +307,51 @@ def test_driver_errors_and_pool(tmp_path):
     for cmd in ("eqerr", "test", "version"):
         r = driver(cmd, "--help")
         assert r.returncode == 0 and "usage" in r.stdout
+
+
+def test_driver_npy_layouts_and_faults(tmp_path):
+    S, dw, sigma, spec, _ = flight(8)
+    np.save(tmp_path / "S.npy", S)                       # C order
+    np.save(tmp_path / "SF.npy", np.asfortranarray(S))   # Fortran order
+    np.save(tmp_path / "dw.npy", dw)
+    np.save(tmp_path / "spec.npy", spec)
+    a = driver("eqerr", "--S", "S.npy", "--dw", "dw.npy", "--sigma", "0.01", "--spec", "spec.npy",
+               "--json", "--residuals", "res.txt", cwd=tmp_path)
+    b = driver("eqerr", "--S", "SF.npy", "--dw", "dw.npy", "--sigma", "0.01", "--spec", "spec.npy",
+               "--json", cwd=tmp_path)
+    assert a.returncode in (0, 1) and a.returncode == b.returncode, a.stderr + b.stderr
+    ja, jb = json.loads(a.stdout), json.loads(b.stdout)
+    assert ja["chi2"] == jb["chi2"] and ja["eigenvalues"] == jb["eigenvalues"]
+    np.testing.assert_allclose(np.loadtxt(tmp_path / "res.txt"), ja["residual"], rtol=0, atol=0)
+    # truncated .npy: the header promises more than the file holds
+    raw = (tmp_path / "S.npy").read_bytes()
+    (tmp_path / "trunc.npy").write_bytes(raw[:-800])
+    r = driver("eqerr", "--S", "trunc.npy", "--dw", "dw.npy", "--sigma", "0.01", cwd=tmp_path)
+    assert r.returncode == 65 and "truncated" in r.stderr
+    # NaN inside a .npy and in a text file
+    Sn = S.copy()
+    Sn[17, 3] = np.nan
+    np.save(tmp_path / "nan.npy", Sn)
+    r = driver("eqerr", "--S", "nan.npy", "--dw", "dw.npy", "--sigma", "0.01", cwd=tmp_path)
+    assert r.returncode == 65 and "row 18, column 4" in r.stderr
+    np.savetxt(tmp_path / "nan.txt", Sn, fmt="%.17g")
+    r = driver("eqerr", "--S", "nan.txt", "--dw", "dw.npy", "--sigma", "0.01", cwd=tmp_path)
+    assert r.returncode == 65 and "nan.txt:18:" in r.stderr
+    # float32 .npy is refused with a hint
+    np.save(tmp_path / "f32.npy", S.astype(np.float32))
+    r = driver("eqerr", "--S", "f32.npy", "--dw", "dw.npy", "--sigma", "0.01", cwd=tmp_path)
+    assert r.returncode == 65 and "float64" in r.stderr
+    # a zero tracking sigma in a file names its row
+    sg = np.full(len(dw), 0.01)
+    sg[40] = 0.0
+    np.savetxt(tmp_path / "sg.txt", sg)
+    r = driver("eqerr", "--S", "S.npy", "--dw", "dw.npy", "--sigma", "sg.txt", cwd=tmp_path)
+    assert r.returncode == 65 and "row 41" in r.stderr
+    # comma-separated text with comments reads the same as .npy
+    with open(tmp_path / "S.csv", "w") as f:
+        f.write("# environment functions\n\n")
+        for row in S:
+            f.write(", ".join("%.17g" % v for v in row) + "  # row\n")
+    c = driver("eqerr", "--S", "S.csv", "--dw", "dw.npy", "--sigma", "0.01", "--spec", "spec.npy",
+               "--json", cwd=tmp_path)
+    assert json.loads(c.stdout)["chi2"] == ja["chi2"]
