@@ -1,0 +1,211 @@
+/*
+ * igea/regress.h - classical error separation y = A x + e: weighted least
+ * squares, ridge, principal-component, Bayesian and empirical-Bayes ridge
+ * (EBR) estimators, and collinearity diagnostics (seeds 000 and 003;
+ * METHODS 0.3, 4.3).
+ *
+ * Every estimator works on the thin SVD (LAPACK dgesdd) of the weighted
+ * design diag(1/sigma) A, never on A^T A, so that exactly singular and
+ * badly conditioned designs keep their digits: the numerical rank is
+ * r = #{s_i > rcond * s_1}, rcond = max(m, N) * eps by default (METHODS
+ * 0.3), and the directions beyond r (the null space) are never estimated
+ * from the data: they are left at zero (minimum norm) or at the prior.
+ *
+ * Sizes: m rows (observations), N columns (terms). A is column-major with
+ * leading dimension lda >= m. Outputs are untouched when a call fails.
+ */
+#ifndef IGEA_REGRESS_H
+#define IGEA_REGRESS_H
+
+#include "igea/common.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* EBR rules for the prior scale lambda (METHODS 4.3 steps 5-6). */
+#define IGEA_EBR_SC 0  /* Shinozaki-Chang rule, METHODS 4.3 eq. (17) */
+#define IGEA_EBR_MM 1  /* unbiased moments: sum z_i^2/(1+l d_i) = r S/(m-r) */
+#define IGEA_EBR_ML2 2 /* type-II maximum likelihood */
+
+/*
+ * Weighted least squares by SVD (dgesdd) of diag(1/sigma) A; minimum-norm
+ * solution if rank-deficient.
+ *  1 m >= 1 rows; 2 N >= 1 terms; 3 A (m x N), 4 lda >= m; 5 y (m);
+ *  6 sigma: m row standard deviations (> 0) or NULL (unweighted);
+ *  7 rcond: relative singular-value cut, <= 0 for the default max(m,N)*eps
+ *    (must be < 1);
+ * Outputs:
+ *  8 x[N] the (minimum-norm) solution;
+ *  9 cov (N x N, may be NULL), 10 ldc >= N (ignored when cov is NULL):
+ *    sigma2 * pinv(A^T W A) with W = diag(1/sigma^2);
+ * 11 rank: numerical rank r;
+ * 12 sigma2: residual variance RSS_w / (m - r) of the weighted residuals,
+ *    0 if m == r;
+ * 13 residual[m] (may be NULL): y - A x, unweighted.
+ * The rank is judged, and a full-rank solution computed, on the columns of
+ * diag(1/sigma) A scaled to unit norm (scale-free rank; NIST Filip keeps
+ * 8 digits); a rank-deficient problem is solved on the unscaled SVD, which
+ * gives the true minimum-norm solution.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE (a sigma <= 0),
+ * IGEA_ENOMEM, IGEA_ELAPACK.
+ */
+IGEA_API int igea_regress_ls(int m, int N, const double *A, int lda,
+                             const double *y, const double *sigma,
+                             double rcond, double *x, double *cov, int ldc,
+                             int *rank, double *sigma2, double *residual);
+
+/*
+ * Empirical-Bayes ridge exactly as METHODS 4.3: canonical form of A D_s
+ * (thin SVD, rank r with the default cut of METHODS 0.3), lambda* from the
+ * rule's equation solved by Brent (positive-part rule: 0 when there is no
+ * root), lambda hat = max(lambda*, lam_floor), theta_i = lambda d_i /
+ * (1 + lambda d_i) x_i, beta = D_s V theta.
+ *  1 m rows, 2 N terms, 3 A (m x N), 4 lda >= m, 5 y (m);
+ *  6 prior_scale: N values s_j > 0 (D_s = diag(s)) or NULL (D_s = I);
+ *  7 rule: IGEA_EBR_SC, IGEA_EBR_MM or IGEA_EBR_ML2; 8 lam_floor >= 0,
+ *    finite.
+ * Outputs:
+ *  9 beta[N]; 10 lam: lambda hat; 11 rank r;
+ * 12 shrink[N]: lambda d_i / (1 + lambda d_i) for the first r canonical
+ *    components (d_i descending), 0 beyond;
+ * 13 sd_post[N]: posterior standard deviations (sqrt of the diagonal of
+ *    sigma^2 D_s V diag(lambda / (1 + lambda d_i)) V^T D_s over all N
+ *    directions, d_i = 0 beyond r: a null direction keeps its prior
+ *    variance lambda sigma^2, so a prior-determined coefficient shows it);
+ * 14 sd_freq[N]: frequentist standard deviations with lambda fixed
+ *    (diagonal of sigma^2 D_s V diag(lambda^2 d_i / (1 + lambda d_i)^2)
+ *    V^T D_s), sigma^2 = S / (m - r).
+ * shrink, sd_post and sd_freq may be NULL.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE (a prior scale <= 0),
+ * IGEA_ERANK (rank r < 3), IGEA_EDOMAIN (m == r or an exact
+ * fit, S = 0: no residual to estimate sigma^2 from), IGEA_ENOCONV,
+ * IGEA_ENOMEM, IGEA_ELAPACK.
+ */
+IGEA_API int igea_regress_ebr(int m, int N, const double *A, int lda,
+                              const double *y, const double *prior_scale,
+                              int rule, double lam_floor, double *beta,
+                              double *lam, int *rank, double *shrink,
+                              double *sd_post, double *sd_freq);
+
+/* Ridge rules for k (the ridge constant added to the normal matrix). */
+#define IGEA_RIDGE_FIXED 0 /* k given by the caller */
+#define IGEA_RIDGE_HKB 1   /* Hoerl-Kennard-Baldwin: k = r s^2 / |x_LS|^2 */
+#define IGEA_RIDGE_LW 2    /* Lawless-Wang: k = r s^2 / |A_w x_LS|^2 */
+#define IGEA_RIDGE_GCV 3   /* minimise m RSS(k) / (m - tr H(k))^2 */
+#define IGEA_RIDGE_LOO 4   /* minimise sum (e_i / (1 - h_ii(k)))^2 */
+
+/*
+ * Ridge regression x(k) = (A^T W A + k I)^-1 A^T W y on the design as given
+ * (no centring or scaling: scale the columns first if the terms have
+ * different units), W = diag(1/sigma^2).
+ *  1 m, 2 N, 3 A, 4 lda >= m, 5 y (m), 6 sigma (m or NULL);
+ *  7 rule: IGEA_RIDGE_*; 8 k >= 0 (read for IGEA_RIDGE_FIXED only);
+ * Outputs: 9 x[N]; 10 cov (N x N or NULL): s^2 (B + kI)^-1 B (B + kI)^-1,
+ *  B = A^T W A; 11 ldc >= N when cov is given; 12 k_used; 13 sigma2: s^2,
+ *  the least-squares residual variance RSS_w / (m - r) (0 if m == r);
+ *  14 residual[m] (y - A x, or NULL).
+ * The GCV and LOO searches minimise over log10 k in [log10(d_1) - 12,
+ * log10(d_1) + 4] (d_1 the largest eigenvalue of B): a 161-point grid, then
+ * golden section next to the best grid point.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_EDOMAIN (HKB/LW
+ * with m == r, or x_LS = 0), IGEA_ENOMEM, IGEA_ELAPACK.
+ */
+IGEA_API int igea_regress_ridge(int m, int N, const double *A, int lda,
+                                const double *y, const double *sigma,
+                                int rule, double k, double *x, double *cov,
+                                int ldc, double *k_used, double *sigma2,
+                                double *residual);
+
+/*
+ * Ridge trace: x(k_j) for nk values k[j] >= 0 (k = 0: minimum-norm LS).
+ *  1 m, 2 N, 3 A, 4 lda, 5 y, 6 sigma (or NULL), 7 nk >= 1, 8 k[nk];
+ *  9 X (N x nk, column j = x(k_j)), 10 ldx >= N;
+ * 11 edf[nk] (effective degrees of freedom tr H(k) = sum d_i/(d_i + k), or
+ *    NULL).
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ENOMEM,
+ * IGEA_ELAPACK.
+ */
+IGEA_API int igea_regress_ridge_trace(int m, int N, const double *A, int lda,
+                                      const double *y, const double *sigma,
+                                      int nk, const double *k, double *X,
+                                      int ldx, double *edf);
+
+/*
+ * Principal-component estimation: x = sum over the kept components i of
+ * v_i (u_i^T y_w) / s_i, the components being the eigenvectors of
+ * B = A^T W A (eigenvalues d_i = s_i^2, descending) within the numerical
+ * rank r.
+ *  1 m, 2 N, 3 A, 4 lda, 5 y, 6 sigma (or NULL);
+ *  7 ncomp >= 0: keep the min(ncomp, r) largest; 0: keep those with
+ *    d_i >= eig_min; 8 eig_min > 0 (read when ncomp == 0);
+ * Outputs: 9 x[N]; 10 cov (or NULL): s^2 sum v_i v_i^T / d_i over the kept
+ *  components; 11 ldc; 12 nused: components kept; 13 sigma2: s^2 of least
+ *  squares (as igea_regress_ridge); 14 residual[m] or NULL.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ENOMEM,
+ * IGEA_ELAPACK.
+ */
+IGEA_API int igea_regress_pce(int m, int N, const double *A, int lda,
+                              const double *y, const double *sigma, int ncomp,
+                              double eig_min, double *x, double *cov, int ldc,
+                              int *nused, double *sigma2, double *residual);
+
+/*
+ * Bayesian estimation with a normal prior x ~ N(mu, P) (e.g. from ground
+ * calibration) and known noise: y = A x + e, e ~ N(0, diag(sigma^2))
+ * (sigma NULL: unit variance). Posterior mean and covariance
+ *   cov = (A^T W A + P^-1)^-1, x = cov (A^T W y + P^-1 mu),
+ * computed without inverting P: P = L L^T (dpotrf), x = mu + L t and the
+ * SVD of diag(1/sigma) A L (a singular design is fine; P must be SPD).
+ *  1 m, 2 N, 3 A, 4 lda, 5 y, 6 sigma (or NULL); 7 prior_mean (N, or NULL
+ *  for 0); 8 prior_cov (N x N, lower triangle read), 9 ldp >= N;
+ * Outputs: 10 x[N]; 11 cov (or NULL), 12 ldc; 13 residual[m] or NULL.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ESINGULAR (P not
+ * positive definite), IGEA_ENOMEM, IGEA_ELAPACK.
+ */
+IGEA_API int igea_regress_bayes(int m, int N, const double *A, int lda,
+                                const double *y, const double *sigma,
+                                const double *prior_mean,
+                                const double *prior_cov, int ldp, double *x,
+                                double *cov, int ldc, double *residual);
+
+/* Threshold [D] on the squared null-space component of a unit coefficient
+ * direction e_j above which coefficient j is flagged prior-determined. */
+#define IGEA_REGRESS_NULL_TOL 1e-8
+
+/*
+ * Collinearity diagnostics of B = A^T W A from the SVD of diag(1/sigma) A.
+ *  1 m, 2 N, 3 A, 4 lda; 5 y (m, or NULL: the noise scale is then 1, the
+ *  sigmas being taken as known); 6 sigma (or NULL); 7 rcond (as
+ *  igea_regress_ls);
+ * Outputs:
+ *  8 cond[2]: s_1 / s_min over min(m, N) singular values (Inf if s_min is
+ *    0 or m < N) and s_1 / s_r, the condition of the estimable part;
+ *  9 rank r;
+ * 10 eig[N]: eigenvalues d_i = s_i^2 of B, descending (0 beyond min(m,N));
+ * 11 V (N x N or NULL), 12 ldv: the eigenvectors v_i as columns (METHODS
+ *    0.3 signs); v_1..v_r are the estimable combinations, v_{r+1}..v_N span
+ *    the null space;
+ * 13 vif[N] (or NULL): uncentred variance-inflation factors B_jj pinv(B)_jj,
+ *    Inf for a prior-determined coefficient;
+ * 14 sd_comb[N] (or NULL): standard deviation s / s_i of the estimable
+ *    combination v_i^T x for i < r (s^2 = RSS_w / (m - r) from y, or 1),
+ *    Inf beyond r;
+ * 15 prior_det[N] (or NULL): 1 when coefficient j has a null-space
+ *    component (sum_{i >= r} V_ji^2 > IGEA_REGRESS_NULL_TOL): the data do
+ *    not determine it, any estimate of it alone comes from a prior or a
+ *    minimum-norm convention (METHODS 4.3 caveat); 0 otherwise.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ENOMEM,
+ * IGEA_ELAPACK.
+ */
+IGEA_API int igea_regress_collinearity(int m, int N, const double *A, int lda,
+                                       const double *y, const double *sigma,
+                                       double rcond, double *cond, int *rank,
+                                       double *eig, double *V, int ldv,
+                                       double *vif, double *sd_comb,
+                                       int *prior_det);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,410 @@
+"""Classical error separation: least squares, ridge, principal-component,
+Bayesian and empirical-Bayes ridge estimators, collinearity diagnostics
+(seeds 000 and 003; METHODS 0.3, 4.3). All work on the SVD of the weighted
+design, never on the normal matrix."""
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _lib
+
+_EBR_RULES = {"sc": 0, "mm": 1, "ml2": 2}
+_RIDGE_RULES = {"fixed": 0, "hkb": 1, "lw": 2, "gcv": 3, "loo": 4}
+
+_LS_ARGS = ["m", "N", "A", "lda", "y", "sigma", "rcond", "x", "cov", "ldc", "rank", "sigma2",
+            "residual"]
+_EBR_ARGS = ["m", "N", "A", "lda", "y", "prior_scale", "rule", "lam_floor", "beta", "lam",
+             "rank", "shrink", "sd_post", "sd_freq"]
+_RIDGE_ARGS = ["m", "N", "A", "lda", "y", "sigma", "rule", "k", "x", "cov", "ldc", "k_used",
+               "sigma2", "residual"]
+_TRACE_ARGS = ["m", "N", "A", "lda", "y", "sigma", "nk", "k", "X", "ldx", "edf"]
+_PCE_ARGS = ["m", "N", "A", "lda", "y", "sigma", "ncomp", "eig_min", "x", "cov", "ldc", "nused",
+             "sigma2", "residual"]
+_BAYES_ARGS = ["m", "N", "A", "lda", "y", "sigma", "prior_mean", "prior_cov", "ldp", "x", "cov",
+               "ldc", "residual"]
+_COLL_ARGS = ["m", "N", "A", "lda", "y", "sigma", "rcond", "cond", "rank", "eig", "V", "ldv",
+              "vif", "sd_comb", "prior_det"]
+
+
+def _design(A, y, sigma=None, y_optional=False):
+    A = _lib.as_f64(A, "A", ndim=2)
+    m, N = A.shape
+    if m < 1 or N < 1:
+        raise ValueError("A: expected at least one row and one column, got shape %s" % (A.shape,))
+    if y is None and y_optional:
+        yv = None
+    else:
+        yv = _lib.as_f64(y, "y", ndim=1, shape=(m,))
+    sg = None
+    if sigma is not None:
+        if np.ndim(sigma) == 0:
+            sg = np.full(m, float(sigma))
+        else:
+            sg = _lib.as_f64(sigma, "sigma", ndim=1, shape=(m,))
+    return A, m, N, yv, sg
+
+
+def _names(N, names):
+    if names is None:
+        return ["x%d" % (j + 1) for j in range(N)]
+    names = [str(s) for s in names]
+    if len(names) != N:
+        raise ValueError("names: expected %d names, got %d" % (N, len(names)))
+    return names
+
+
+def _coef_table(names, x, sd, extra=None, sd_name="sd"):
+    head = "%-10s %16s %14s" % ("term", "estimate", sd_name)
+    if extra:
+        head += "".join(" %14s" % e[0] for e in extra)
+    rows = [head]
+    for j, nm in enumerate(names):
+        row = "%-10s %16.8e %14.6e" % (nm, x[j], sd[j])
+        if extra:
+            row += "".join(" %14.6e" % e[1][j] for e in extra)
+        rows.append(row)
+    return rows
+
+
+@dataclass(frozen=True)
+class LsResult:
+    """Weighted least squares (minimum norm when rank-deficient)."""
+    x: np.ndarray
+    cov: np.ndarray
+    rank: int
+    sigma2: float
+    residual: np.ndarray
+    names: tuple = None
+
+    @property
+    def sd(self):
+        return np.sqrt(np.diag(self.cov))
+
+    def summary(self):
+        N = len(self.x)
+        lines = ["least squares: rank %d of %d, residual variance %.6e (%d dof)"
+                 % (self.rank, N, self.sigma2, len(self.residual) - self.rank)]
+        if self.rank < N:
+            lines.append("rank-deficient: minimum-norm solution; see igea.collinearity for the "
+                         "estimable combinations")
+        lines += _coef_table(_names(N, self.names), self.x, self.sd)
+        return "\n".join(lines)
+
+
+@dataclass(frozen=True)
+class EbrResult:
+    """Empirical-Bayes ridge (METHODS 4.3)."""
+    x: np.ndarray
+    lam: float
+    rank: int
+    shrink: np.ndarray
+    sd_posterior: np.ndarray
+    sd_frequentist: np.ndarray
+    rule: str = "sc"
+    names: tuple = None
+
+    def summary(self):
+        N = len(self.x)
+        lines = ["empirical-Bayes ridge (%s rule): lambda = %.10e, rank %d of %d"
+                 % (self.rule.upper(), self.lam, self.rank, N),
+                 "shrink factors (canonical components): "
+                 + " ".join("%.5f" % s for s in self.shrink[:self.rank])]
+        if self.rank < N:
+            lines.append("%d null direction(s): the coefficients touching them are set by the "
+                         "prior, not by the data (METHODS 4.3 caveat)" % (N - self.rank))
+        lines += _coef_table(_names(N, self.names), self.x, self.sd_posterior,
+                             [("sd_frequentist", self.sd_frequentist)], sd_name="sd_posterior")
+        return "\n".join(lines)
+
+
+@dataclass(frozen=True)
+class RidgeResult:
+    """Ridge regression x(k) = (A^T W A + k I)^-1 A^T W y."""
+    x: np.ndarray
+    cov: np.ndarray
+    k: float
+    rule: str
+    sigma2: float
+    residual: np.ndarray
+    names: tuple = None
+
+    @property
+    def sd(self):
+        return np.sqrt(np.diag(self.cov))
+
+    def summary(self):
+        lines = ["ridge (%s): k = %.6e, least-squares residual variance %.6e"
+                 % (self.rule, self.k, self.sigma2)]
+        lines += _coef_table(_names(len(self.x), self.names), self.x, self.sd)
+        return "\n".join(lines)
+
+
+@dataclass(frozen=True)
+class RidgeTrace:
+    """x(k) for a grid of k: X[:, j] = x(k[j])."""
+    k: np.ndarray
+    X: np.ndarray
+    edf: np.ndarray
+
+    def summary(self):
+        rows = ["%14s %8s  %s" % ("k", "edf", "coefficients")]
+        for j in range(len(self.k)):
+            rows.append("%14.6e %8.4f  %s" % (self.k[j], self.edf[j],
+                                              " ".join("%12.5e" % v for v in self.X[:, j])))
+        return "\n".join(rows)
+
+
+@dataclass(frozen=True)
+class PceResult:
+    """Principal-component estimate (truncated SVD)."""
+    x: np.ndarray
+    cov: np.ndarray
+    ncomp: int
+    sigma2: float
+    residual: np.ndarray
+    names: tuple = None
+
+    @property
+    def sd(self):
+        return np.sqrt(np.diag(self.cov))
+
+    def summary(self):
+        lines = ["principal-component estimate: %d component(s) kept, least-squares residual "
+                 "variance %.6e" % (self.ncomp, self.sigma2)]
+        lines += _coef_table(_names(len(self.x), self.names), self.x, self.sd)
+        return "\n".join(lines)
+
+
+@dataclass(frozen=True)
+class BayesResult:
+    """Posterior mean and covariance with a normal prior and known noise."""
+    x: np.ndarray
+    cov: np.ndarray
+    residual: np.ndarray
+    prior_sd: np.ndarray
+    names: tuple = None
+
+    @property
+    def sd(self):
+        return np.sqrt(np.diag(self.cov))
+
+    def summary(self):
+        ratio = self.sd / self.prior_sd
+        lines = ["Bayesian estimate (normal prior, known noise); sd ratio = posterior / prior sd "
+                 "(near 1: the data add little, the prior decides)"]
+        lines += _coef_table(_names(len(self.x), self.names), self.x, self.sd,
+                             [("prior_sd", self.prior_sd), ("sd_ratio", ratio)])
+        return "\n".join(lines)
+
+
+@dataclass(frozen=True)
+class Collinearity:
+    """Collinearity diagnostics of the weighted normal matrix B = A^T W A."""
+    cond: float
+    cond_estimable: float
+    rank: int
+    eigenvalues: np.ndarray
+    eigenvectors: np.ndarray
+    vif: np.ndarray
+    sd_comb: np.ndarray
+    prior_determined: np.ndarray
+    names: tuple = None
+
+    @property
+    def null_space(self):
+        return self.eigenvectors[:, self.rank:]
+
+    @property
+    def estimable(self):
+        """The estimable combinations v_i (columns), i < rank."""
+        return self.eigenvectors[:, :self.rank]
+
+    def summary(self):
+        N = len(self.eigenvalues)
+        names = _names(N, self.names)
+        lines = ["condition number %.6e (estimable part %.6e), rank %d of %d"
+                 % (self.cond, self.cond_estimable, self.rank, N), "",
+                 "%4s %14s %14s  %s" % ("i", "eigenvalue", "sd(v_i^T x)", "combination v_i")]
+        for i in range(N):
+            v = self.eigenvectors[:, i]
+            big = np.argsort(-np.abs(v))[:4]
+            comb = " ".join("%+.3f*%s" % (v[j], names[j]) for j in big if abs(v[j]) > 1e-3)
+            lines.append("%4d %14.6e %14s  %s" % (i + 1, self.eigenvalues[i],
+                                                  "%.6e" % self.sd_comb[i] if i < self.rank
+                                                  else "(null space)", comb))
+        lines += ["", "%-10s %14s  %s" % ("term", "VIF", "determined by")]
+        for j in range(N):
+            lines.append("%-10s %14.6g  %s" % (names[j], self.vif[j],
+                                               "PRIOR (null-space component)"
+                                               if self.prior_determined[j] else "data"))
+        return "\n".join(lines)
+
+
+def ls(A, y, sigma=None, *, rcond=0.0, names=None):
+    """Weighted least squares by SVD; minimum-norm solution if rank-deficient.
+
+    A: (m, N), y: (m,), sigma: None, a number or (m,) row sds; rcond <= 0
+    for the default rank cut max(m, N) eps. Returns LsResult(x, cov, rank,
+    sigma2, residual)."""
+    A, m, N, y, sg = _design(A, y, sigma)
+    x = np.empty(N)
+    cov = np.empty((N, N), order="F")
+    rank = np.zeros(1, dtype=np.intc)
+    s2 = np.zeros(1)
+    res = np.empty(m)
+    st = _lib.lib.igea_regress_ls(m, N, _lib.dptr(A), m, _lib.dptr(y), _lib.dptr(sg),
+                                  float(rcond), _lib.dptr(x), _lib.dptr(cov), N, _lib.iptr(rank),
+                                  _lib.dptr(s2), _lib.dptr(res))
+    _lib.check(st, "igea.ls", _LS_ARGS)
+    return LsResult(x=x, cov=np.ascontiguousarray(cov), rank=int(rank[0]), sigma2=float(s2[0]),
+                    residual=res, names=None if names is None else tuple(_names(N, names)))
+
+
+def ebr(A, y, *, rule="sc", prior_scale=None, lam_floor=0.0, names=None):
+    """Empirical-Bayes ridge exactly as METHODS 4.3.
+
+    rule: "sc" (Shinozaki-Chang, eq. 17), "mm" or "ml2"; prior_scale: (N,)
+    D_s or None; lam_floor >= 0. Returns EbrResult(x, lam, rank, shrink,
+    sd_posterior, sd_frequentist)."""
+    A, m, N, y, _ = _design(A, y)
+    if rule not in _EBR_RULES:
+        raise ValueError("rule: expected 'sc', 'mm' or 'ml2', got %r" % (rule,))
+    ps = None if prior_scale is None else _lib.as_f64(prior_scale, "prior_scale", ndim=1,
+                                                      shape=(N,))
+    beta = np.empty(N)
+    lam = np.zeros(1)
+    rank = np.zeros(1, dtype=np.intc)
+    sh, sp, sf = np.empty(N), np.empty(N), np.empty(N)
+    st = _lib.lib.igea_regress_ebr(m, N, _lib.dptr(A), m, _lib.dptr(y), _lib.dptr(ps),
+                                   _EBR_RULES[rule], float(lam_floor), _lib.dptr(beta),
+                                   _lib.dptr(lam), _lib.iptr(rank), _lib.dptr(sh), _lib.dptr(sp),
+                                   _lib.dptr(sf))
+    _lib.check(st, "igea.ebr", _EBR_ARGS)
+    return EbrResult(x=beta, lam=float(lam[0]), rank=int(rank[0]), shrink=sh, sd_posterior=sp,
+                     sd_frequentist=sf, rule=rule,
+                     names=None if names is None else tuple(_names(N, names)))
+
+
+def ridge(A, y, sigma=None, *, k=None, rule=None, names=None):
+    """Ridge regression on the design as given (scale the columns first).
+
+    Either k (a number >= 0) or rule in "hkb" (Hoerl-Kennard-Baldwin), "lw"
+    (Lawless-Wang), "gcv", "loo". Returns RidgeResult(x, cov, k, rule,
+    sigma2, residual)."""
+    A, m, N, y, sg = _design(A, y, sigma)
+    if (k is None) == (rule is None):
+        raise ValueError("k, rule: give exactly one of them")
+    if rule is None:
+        rule = "fixed"
+    if rule not in _RIDGE_RULES:
+        raise ValueError("rule: expected one of 'hkb', 'lw', 'gcv', 'loo', got %r" % (rule,))
+    x = np.empty(N)
+    cov = np.empty((N, N), order="F")
+    ku = np.zeros(1)
+    s2 = np.zeros(1)
+    res = np.empty(m)
+    st = _lib.lib.igea_regress_ridge(m, N, _lib.dptr(A), m, _lib.dptr(y), _lib.dptr(sg),
+                                     _RIDGE_RULES[rule], float(k) if k is not None else 0.0,
+                                     _lib.dptr(x), _lib.dptr(cov), N, _lib.dptr(ku),
+                                     _lib.dptr(s2), _lib.dptr(res))
+    _lib.check(st, "igea.ridge", _RIDGE_ARGS)
+    return RidgeResult(x=x, cov=np.ascontiguousarray(cov), k=float(ku[0]), rule=rule,
+                       sigma2=float(s2[0]), residual=res,
+                       names=None if names is None else tuple(_names(N, names)))
+
+
+def ridge_trace(A, y, k, sigma=None):
+    """The ridge trace: RidgeTrace(k, X (N, len(k)), edf)."""
+    A, m, N, y, sg = _design(A, y, sigma)
+    kv = _lib.as_f64(k, "k", ndim=1)
+    nk = kv.shape[0]
+    if nk < 1:
+        raise ValueError("k: empty")
+    X = np.empty((N, nk), order="F")
+    edf = np.empty(nk)
+    st = _lib.lib.igea_regress_ridge_trace(m, N, _lib.dptr(A), m, _lib.dptr(y), _lib.dptr(sg),
+                                           nk, _lib.dptr(kv), _lib.dptr(X), N, _lib.dptr(edf))
+    _lib.check(st, "igea.ridge_trace", _TRACE_ARGS)
+    return RidgeTrace(k=np.array(kv), X=np.ascontiguousarray(X), edf=edf)
+
+
+def pce(A, y, sigma=None, *, ncomp=None, eig_min=None, names=None):
+    """Principal-component estimation: keep the ncomp largest components, or
+    those with eigenvalue >= eig_min. Returns PceResult."""
+    A, m, N, y, sg = _design(A, y, sigma)
+    if (ncomp is None) == (eig_min is None):
+        raise ValueError("ncomp, eig_min: give exactly one of them")
+    if ncomp is not None and int(ncomp) < 1:
+        raise ValueError("ncomp: expected >= 1, got %r" % (ncomp,))
+    x = np.empty(N)
+    cov = np.empty((N, N), order="F")
+    nu = np.zeros(1, dtype=np.intc)
+    s2 = np.zeros(1)
+    res = np.empty(m)
+    st = _lib.lib.igea_regress_pce(m, N, _lib.dptr(A), m, _lib.dptr(y), _lib.dptr(sg),
+                                   int(ncomp) if ncomp is not None else 0,
+                                   float(eig_min) if eig_min is not None else 0.0,
+                                   _lib.dptr(x), _lib.dptr(cov), N, _lib.iptr(nu), _lib.dptr(s2),
+                                   _lib.dptr(res))
+    _lib.check(st, "igea.pce", _PCE_ARGS)
+    return PceResult(x=x, cov=np.ascontiguousarray(cov), ncomp=int(nu[0]), sigma2=float(s2[0]),
+                     residual=res, names=None if names is None else tuple(_names(N, names)))
+
+
+def bayes(A, y, prior_cov, prior_mean=None, sigma=None, *, names=None):
+    """Bayesian estimate with prior x ~ N(prior_mean, prior_cov) and known
+    noise sds sigma (None: 1). prior_cov: (N, N) SPD. Returns BayesResult."""
+    A, m, N, y, sg = _design(A, y, sigma)
+    P = _lib.as_f64(prior_cov, "prior_cov", ndim=2, shape=(N, N))
+    mu = None if prior_mean is None else _lib.as_f64(prior_mean, "prior_mean", ndim=1,
+                                                     shape=(N,))
+    x = np.empty(N)
+    cov = np.empty((N, N), order="F")
+    res = np.empty(m)
+    st = _lib.lib.igea_regress_bayes(m, N, _lib.dptr(A), m, _lib.dptr(y), _lib.dptr(sg),
+                                     _lib.dptr(mu), _lib.dptr(P), N, _lib.dptr(x), _lib.dptr(cov),
+                                     N, _lib.dptr(res))
+    _lib.check(st, "igea.bayes", _BAYES_ARGS)
+    return BayesResult(x=x, cov=np.ascontiguousarray(cov), residual=res,
+                       prior_sd=np.sqrt(np.diag(P)).copy(),
+                       names=None if names is None else tuple(_names(N, names)))
+
+
+def collinearity(A, y=None, sigma=None, *, rcond=0.0, names=None):
+    """Condition number, eigenvalue table, VIFs, null space, estimable
+    combinations with their sds (scaled by the residual sd when y is given)
+    and the prior-determined flags. Returns Collinearity."""
+    A, m, N, y, sg = _design(A, y, sigma, y_optional=True)
+    cond = np.empty(2)
+    rank = np.zeros(1, dtype=np.intc)
+    eig = np.empty(N)
+    V = np.empty((N, N), order="F")
+    vif = np.empty(N)
+    sd = np.empty(N)
+    pd = np.empty(N, dtype=np.intc)
+    st = _lib.lib.igea_regress_collinearity(m, N, _lib.dptr(A), m, _lib.dptr(y), _lib.dptr(sg),
+                                            float(rcond), _lib.dptr(cond), _lib.iptr(rank),
+                                            _lib.dptr(eig), _lib.dptr(V), N, _lib.dptr(vif),
+                                            _lib.dptr(sd), _lib.iptr(pd))
+    _lib.check(st, "igea.collinearity", _COLL_ARGS)
+    return Collinearity(cond=float(cond[0]), cond_estimable=float(cond[1]), rank=int(rank[0]),
+                        eigenvalues=eig, eigenvectors=np.ascontiguousarray(V), vif=vif,
+                        sd_comb=sd, prior_determined=pd.astype(bool),
+                        names=None if names is None else tuple(_names(N, names)))
+
+
+def bias_mse(estimate, A, x_true, sigma_true):
+    """Bias and MSE of a linear estimator at fixed tuning (k, ncomp, lambda),
+    given the true coefficients: estimate(y) -> x for y in R^m, A (m, N),
+    sigma_true: noise sd (number or (m,)). Uses linearity: E x = estimate(A
+    x_true) and Cov x = L diag(sigma^2) L^T with L's columns estimate(e_i).
+    Returns (bias (N,), mse (N,))."""
+    A = _lib.as_f64(A, "A", ndim=2)
+    m, N = A.shape
+    xt = _lib.as_f64(x_true, "x_true", ndim=1, shape=(N,))
+    sg = np.broadcast_to(np.asarray(sigma_true, dtype=float), (m,))
+    mean = np.asarray(estimate(A @ xt), dtype=float)
+    L = np.column_stack([np.asarray(estimate(np.eye(m)[:, i]), dtype=float) for i in range(m)])
+    var = np.einsum("ji,i,ji->j", L, sg ** 2, L)
+    bias = mean - xt
+    return bias, var + bias ** 2

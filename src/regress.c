@@ -1,0 +1,1015 @@
+/* regress.c - least squares, ridge, principal-component, Bayesian and
+ * empirical-Bayes ridge estimators and collinearity diagnostics (METHODS
+ * 0.3, 4.3). Every estimator works on the thin SVD of the weighted design
+ * (dgesdd), never on the normal matrix. */
+#include <float.h>
+
+#include <cblas.h>
+#include <lapacke.h>
+
+#include "igea/regress.h"
+#include "internal.h"
+
+/* ---- the canonical form ------------------------------------------------ */
+
+/* Aw = diag(1/sigma) A diag(cs) = U diag(s) V^T, z = U^T yw. V is N x N
+ * (columns, METHODS 0.3 signs; the columns beyond k = min(m, N) span the
+ * rest of the null space), U is m x k. */
+typedef struct {
+    int m, N, k, r;
+    double *U, *s, *V, *yw, *z;
+    double *mem;
+} canon;
+
+static void canon_free(canon *c)
+{
+    free(c->mem);
+    c->mem = NULL;
+}
+
+/* Common argument checks of (m, N, A, lda, y, sigma) at positions 1-6;
+ * y may be NULL when allow_null_y. Returns 0 or -i. */
+static int check_args(int m, int N, const double *A, int lda, const double *y,
+                      int allow_null_y)
+{
+    if (m < 1)
+        return -1;
+    if (N < 1)
+        return -2;
+    if (!A)
+        return -3;
+    if (lda < m)
+        return -4;
+    if (!y && !allow_null_y)
+        return -5;
+    return 0;
+}
+
+/* Value checks after the -i checks: NaN/Inf, sigma > 0, column scale > 0. */
+static int check_values(int m, int N, const double *A, int lda,
+                        const double *y, const double *sigma,
+                        const double *cs)
+{
+    if (!igea__finite_mat(m, N, A, lda))
+        return IGEA_ENONFINITE;
+    if (y && !igea__finite_vec(m, y, 1))
+        return IGEA_ENONFINITE;
+    int nonfinite = 0;
+    if (sigma && !igea__positive_vec(m, sigma, &nonfinite))
+        return nonfinite ? IGEA_ENONFINITE : IGEA_ENONPOSITIVE;
+    if (cs && !igea__positive_vec(N, cs, &nonfinite))
+        return nonfinite ? IGEA_ENONFINITE : IGEA_ENONPOSITIVE;
+    return 0;
+}
+
+/* Rank cut of METHODS 0.3: s_i > rcond * s_1, rcond = max(m, N) eps. */
+static int rank_of(int k, const double *s, double rcond, int m, int N)
+{
+    double tol = rcond > 0 ? rcond : IGEA_MAX(m, N) * DBL_EPSILON;
+    int r = 0;
+    if (k > 0 && s[0] > 0.0)
+        while (r < k && s[r] > tol * s[0])
+            r++;
+    return r;
+}
+
+static int canon_make(int m, int N, const double *A, int lda, const double *y,
+                      const double *sigma, const double *cs, double rcond,
+                      canon *c)
+{
+    int k = IGEA_MIN(m, N);
+    char jobz = m >= N ? 'S' : 'A';
+    int ucols = m >= N ? N : m;
+    size_t mn = (size_t)m * (size_t)N;
+    size_t need = mn + (size_t)m * ucols + (size_t)k + (size_t)N * N +
+                  2 * (size_t)m + (size_t)k;
+    c->mem = igea__dalloc(need);
+    lapack_int *iwork = malloc(sizeof(lapack_int) * (8 * (size_t)k + 1));
+    if (!c->mem || !iwork) {
+        free(iwork);
+        canon_free(c);
+        return IGEA_ENOMEM;
+    }
+    double *Aw = c->mem;
+    c->U = Aw + mn;
+    c->s = c->U + (size_t)m * ucols;
+    c->V = c->s + k;
+    c->yw = c->V + (size_t)N * N;
+    c->z = c->yw + m;
+    c->m = m;
+    c->N = N;
+    c->k = k;
+    for (int j = 0; j < N; j++)
+        for (int i = 0; i < m; i++)
+            Aw[i + (size_t)j * m] = IGEA_AT(A, lda, i, j) *
+                                    (cs ? cs[j] : 1.0) /
+                                    (sigma ? sigma[i] : 1.0);
+    for (int i = 0; i < m; i++)
+        c->yw[i] = y ? y[i] / (sigma ? sigma[i] : 1.0) : 0.0;
+    double wq;
+    lapack_int info = LAPACKE_dgesdd_work(LAPACK_COL_MAJOR, jobz, m, N, Aw, m,
+                                          c->s, c->U, m, c->V, N, &wq, -1,
+                                          iwork);
+    int st = 0;
+    if (info == 0) {
+        size_t lw = (size_t)wq + 1;
+        double *work = igea__dalloc(lw);
+        if (!work)
+            st = IGEA_ENOMEM;
+        else {
+            info = LAPACKE_dgesdd_work(LAPACK_COL_MAJOR, jobz, m, N, Aw, m,
+                                       c->s, c->U, m, c->V, N, work,
+                                       (lapack_int)lw, iwork);
+            free(work);
+        }
+    }
+    free(iwork);
+    if (st == 0 && info != 0)
+        st = IGEA_ELAPACK;
+    if (st == 0 && !igea__finite_vec(k, c->s, 1))
+        st = IGEA_ELAPACK;
+    if (st != 0) {
+        canon_free(c);
+        return st;
+    }
+    /* V^T -> V (columns), METHODS 0.3 signs, U flipped with V. */
+    for (int i = 0; i < N; i++)
+        for (int j = i + 1; j < N; j++) {
+            double t = c->V[i + (size_t)j * N];
+            c->V[i + (size_t)j * N] = c->V[j + (size_t)i * N];
+            c->V[j + (size_t)i * N] = t;
+        }
+    for (int i = 0; i < N; i++) {
+        int sg = igea__sign_fix(N, c->V + (size_t)i * N);
+        if (sg < 0 && i < k)
+            cblas_dscal(m, -1.0, c->U + (size_t)i * m, 1);
+    }
+    c->r = rank_of(k, c->s, rcond, m, N);
+    for (int i = 0; i < k; i++)
+        c->z[i] = cblas_ddot(m, c->U + (size_t)i * m, 1, c->yw, 1);
+    return 0;
+}
+
+/* ||yw - U_r z_r||^2: the weighted residual sum of squares of LS. */
+static double canon_rss(const canon *c)
+{
+    igea__ksum acc = {0.0, 0.0};
+    for (int i = 0; i < c->m; i++) {
+        double e = c->yw[i];
+        for (int j = 0; j < c->r; j++)
+            e -= c->U[i + (size_t)j * c->m] * c->z[j];
+        igea__ksum_add(&acc, e * e);
+    }
+    return igea__ksum_get(&acc);
+}
+
+/* x = D V diag(f) z over i < n (f_i multiplies z_i), D = diag(cs) or I. */
+static void canon_coef(const canon *c, int n, const double *f,
+                       const double *cs, double *x)
+{
+    int N = c->N;
+    for (int j = 0; j < N; j++) {
+        igea__ksum acc = {0.0, 0.0};
+        for (int i = 0; i < n; i++)
+            igea__ksum_add(&acc, c->V[j + (size_t)i * N] * f[i] * c->z[i]);
+        x[j] = igea__ksum_get(&acc) * (cs ? cs[j] : 1.0);
+    }
+}
+
+/* cov = scale * D V diag(g) V^T D over i < n (g has n entries). */
+static void canon_cov(const canon *c, int n, const double *g, double scale,
+                      const double *cs, double *cov, int ldc)
+{
+    int N = c->N;
+    for (int a = 0; a < N; a++)
+        for (int b = 0; b <= a; b++) {
+            double acc = 0.0;
+            for (int i = 0; i < n; i++)
+                acc += c->V[a + (size_t)i * N] * g[i] * c->V[b + (size_t)i * N];
+            acc *= scale * (cs ? cs[a] * cs[b] : 1.0);
+            IGEA_AT(cov, ldc, a, b) = acc;
+            IGEA_AT(cov, ldc, b, a) = acc;
+        }
+}
+
+/* Diagonal of the above, as standard deviations. */
+static void canon_sd(const canon *c, int n, const double *g, double scale,
+                     const double *cs, double *sd)
+{
+    int N = c->N;
+    for (int a = 0; a < N; a++) {
+        double acc = 0.0;
+        for (int i = 0; i < n; i++) {
+            double v = c->V[a + (size_t)i * N];
+            acc += v * v * g[i];
+        }
+        sd[a] = sqrt(acc * scale) * (cs ? cs[a] : 1.0);
+    }
+}
+
+/* residual = y - A x (unweighted). */
+static void residual_of(int m, int N, const double *A, int lda,
+                        const double *y, const double *x, double *res)
+{
+    memcpy(res, y, (size_t)m * sizeof(double));
+    cblas_dgemv(CblasColMajor, CblasNoTrans, m, N, -1.0, A, lda, x, 1, 1.0,
+                res, 1);
+}
+
+/* ---- least squares ----------------------------------------------------- */
+
+int igea_regress_ls(int m, int N, const double *A, int lda, const double *y,
+                    const double *sigma, double rcond, double *x, double *cov,
+                    int ldc, int *rank, double *sigma2, double *residual)
+{
+    int st = check_args(m, N, A, lda, y, 0);
+    if (st)
+        return st;
+    if (isnan(rcond) || rcond >= 1.0)
+        return -7;
+    if (!x)
+        return -8;
+    if (cov && ldc < N)
+        return -10;
+    if (!rank)
+        return -11;
+    if (!sigma2)
+        return -12;
+    st = check_values(m, N, A, lda, y, sigma, NULL);
+    if (st)
+        return st;
+
+    /* [D] Column equilibration: the rank is judged and, at full rank, the
+     * solution computed on diag(1/sigma) A D_c with D_c = 1/||column||
+     * (scale-invariant rank; this keeps NIST Filip at ~8 digits). At rank
+     * deficiency the unscaled SVD gives the minimum-norm solution. */
+    double *cs = igea__dalloc((size_t)N + (size_t)N + (size_t)m + (size_t)N);
+    if (!cs)
+        return IGEA_ENOMEM;
+    double *xs = cs + N, *res = xs + N, *g = res + m;
+    for (int j = 0; j < N; j++) {
+        double nrm = 0.0, sc = 0.0;
+        for (int i = 0; i < m; i++) {
+            double v = IGEA_AT(A, lda, i, j) / (sigma ? sigma[i] : 1.0);
+            double av = fabs(v);
+            if (av > sc) {
+                nrm = nrm * (sc / av) * (sc / av) + 1.0;
+                sc = av;
+            } else if (av > 0)
+                nrm += (av / sc) * (av / sc);
+        }
+        nrm = sc * sqrt(nrm);
+        cs[j] = nrm > 0 ? 1.0 / nrm : 1.0;
+    }
+    canon c;
+    st = canon_make(m, N, A, lda, y, sigma, cs, rcond, &c);
+    if (st) {
+        free(cs);
+        return st;
+    }
+    const double *D = cs;
+    if (c.r < N) {
+        canon_free(&c);
+        st = canon_make(m, N, A, lda, y, sigma, NULL, rcond, &c);
+        if (st) {
+            free(cs);
+            return st;
+        }
+        D = NULL;
+    }
+    int r = c.r;
+    for (int i = 0; i < r; i++)
+        g[i] = 1.0 / c.s[i];
+    canon_coef(&c, r, g, D, xs);
+    residual_of(m, N, A, lda, y, xs, res);
+    igea__ksum acc = {0.0, 0.0};
+    for (int i = 0; i < m; i++) {
+        double e = res[i] / (sigma ? sigma[i] : 1.0);
+        igea__ksum_add(&acc, e * e);
+    }
+    double s2 = m > r ? igea__ksum_get(&acc) / (m - r) : 0.0;
+    if (cov) {
+        for (int i = 0; i < r; i++)
+            g[i] = 1.0 / (c.s[i] * c.s[i]);
+        canon_cov(&c, r, g, s2, D, cov, ldc);
+    }
+    memcpy(x, xs, (size_t)N * sizeof(double));
+    *rank = r;
+    *sigma2 = s2;
+    if (residual)
+        memcpy(residual, res, (size_t)m * sizeof(double));
+    canon_free(&c);
+    free(cs);
+    return 0;
+}
+
+/* ---- scalar root finding and minimisation ------------------------------ */
+
+typedef double (*scalar_fn)(double, const void *);
+
+/* Brent's zeroin on [a, b] with f(a) f(b) <= 0; tolerance 4 eps |x|. */
+static double brent_root(scalar_fn f, const void *ctx, double a, double b,
+                         double fa, double fb, int *ok)
+{
+    double c = a, fc = fa, d = b - a, e = d;
+    *ok = 0;
+    for (int it = 0; it < 300; it++) {
+        if ((fb > 0 && fc > 0) || (fb < 0 && fc < 0)) {
+            c = a;
+            fc = fa;
+            d = e = b - a;
+        }
+        if (fabs(fc) < fabs(fb)) {
+            a = b;
+            b = c;
+            c = a;
+            fa = fb;
+            fb = fc;
+            fc = fa;
+        }
+        double tol = 2.0 * DBL_EPSILON * fabs(b) + 1e-300;
+        double xm = 0.5 * (c - b);
+        if (fabs(xm) <= tol || fb == 0.0) {
+            *ok = 1;
+            return b;
+        }
+        if (fabs(e) >= tol && fabs(fa) > fabs(fb)) {
+            double s = fb / fa, p, q;
+            if (a == c) {
+                p = 2.0 * xm * s;
+                q = 1.0 - s;
+            } else {
+                double qq = fa / fc, rr = fb / fc;
+                p = s * (2.0 * xm * qq * (qq - rr) - (b - a) * (rr - 1.0));
+                q = (qq - 1.0) * (rr - 1.0) * (s - 1.0);
+            }
+            if (p > 0)
+                q = -q;
+            else
+                p = -p;
+            if (2.0 * p < IGEA_MIN(3.0 * xm * q - fabs(tol * q), fabs(e * q))) {
+                e = d;
+                d = p / q;
+            } else {
+                d = xm;
+                e = d;
+            }
+        } else {
+            d = xm;
+            e = d;
+        }
+        a = b;
+        fa = fb;
+        b += fabs(d) > tol ? d : (xm > 0 ? tol : -tol);
+        fb = f(b, ctx);
+    }
+    return b;
+}
+
+/* Minimise f over t in [lo, hi] on a grid of n points and a golden-section
+ * refinement between the neighbours of the best point. */
+static double grid_golden_min(scalar_fn f, const void *ctx, double lo,
+                              double hi, int n)
+{
+    double best = lo, fbest = f(lo, ctx);
+    int ib = 0;
+    for (int i = 1; i < n; i++) {
+        double t = lo + (hi - lo) * i / (n - 1);
+        double v = f(t, ctx);
+        if (v < fbest) {
+            fbest = v;
+            best = t;
+            ib = i;
+        }
+    }
+    double a = lo + (hi - lo) * IGEA_MAX(ib - 1, 0) / (n - 1);
+    double b = lo + (hi - lo) * IGEA_MIN(ib + 1, n - 1) / (n - 1);
+    const double gr = 0.6180339887498949;
+    double x1 = b - gr * (b - a), x2 = a + gr * (b - a);
+    double f1 = f(x1, ctx), f2 = f(x2, ctx);
+    for (int it = 0; it < 80 && b - a > 1e-12 * (1.0 + fabs(a)); it++) {
+        if (f1 < f2) {
+            b = x2;
+            x2 = x1;
+            f2 = f1;
+            x1 = b - gr * (b - a);
+            f1 = f(x1, ctx);
+        } else {
+            a = x1;
+            x1 = x2;
+            f1 = f2;
+            x2 = a + gr * (b - a);
+            f2 = f(x2, ctx);
+        }
+    }
+    double t = f1 < f2 ? x1 : x2, ft = IGEA_MIN(f1, f2);
+    return ft < fbest ? t : best;
+}
+
+/* ---- EBR --------------------------------------------------------------- */
+
+typedef struct {
+    int r;
+    const double *d, *z2;
+    double target, s2hat;
+} ebr_ctx;
+
+/* sum z_i^2 / (1 + lambda d_i) - target (decreasing in lambda). */
+static double ebr_moment(double lam, const void *p)
+{
+    const ebr_ctx *q = p;
+    igea__ksum acc = {0.0, 0.0};
+    for (int i = 0; i < q->r; i++)
+        igea__ksum_add(&acc, q->z2[i] / fma(lam, q->d[i], 1.0));
+    return igea__ksum_get(&acc) - q->target;
+}
+
+/* Derivative of the type-II log likelihood (times 2, sign kept). */
+static double ebr_ml2_grad(double lam, const void *p)
+{
+    const ebr_ctx *q = p;
+    igea__ksum acc = {0.0, 0.0};
+    for (int i = 0; i < q->r; i++) {
+        double w = fma(lam, q->d[i], 1.0);
+        igea__ksum_add(&acc,
+                       q->d[i] / w * (q->z2[i] / (q->s2hat * w) - 1.0));
+    }
+    return igea__ksum_get(&acc);
+}
+
+static double ebr_ml2_negll(double lam, const void *p)
+{
+    const ebr_ctx *q = p;
+    double acc = 0.0;
+    for (int i = 0; i < q->r; i++) {
+        double w = fma(lam, q->d[i], 1.0);
+        acc += log(w) + q->z2[i] / (q->s2hat * w);
+    }
+    return acc;
+}
+
+/* lambda* of the rule; 0 by the positive-part rule when there is no root. */
+static int ebr_lambda(int rule, ebr_ctx *q, double *lam)
+{
+    if (rule == IGEA_EBR_ML2) {
+        /* The maximiser lies in [0, lmax]: beyond lmax every term of the
+         * gradient is negative. Grid on log scale, then Brent on the
+         * gradient's sign change next to the best grid point. */
+        double lmax = 0.0;
+        for (int i = 0; i < q->r; i++)
+            lmax = IGEA_MAX(lmax, (q->z2[i] / q->s2hat - 1.0) / q->d[i]);
+        if (!(lmax > 0.0)) {
+            *lam = 0.0;
+            return 0;
+        }
+        const int n = 241;
+        double best = 0.0, fbest = ebr_ml2_negll(0.0, q);
+        int ib = -1;
+        double grid[241];
+        for (int i = 0; i < n; i++) {
+            grid[i] = lmax * pow(10.0, -16.0 * (n - 1 - i) / (n - 1));
+            double v = ebr_ml2_negll(grid[i], q);
+            if (v < fbest) {
+                fbest = v;
+                best = grid[i];
+                ib = i;
+            }
+        }
+        if (ib < 0) {
+            *lam = 0.0;
+            return 0;
+        }
+        double a = ib > 0 ? grid[ib - 1] : 0.0;
+        double b = ib < n - 1 ? grid[ib + 1] : lmax;
+        double ga = ebr_ml2_grad(a, q), gb = ebr_ml2_grad(b, q);
+        if (ga > 0 && gb < 0) {
+            int ok;
+            double t = brent_root(ebr_ml2_grad, q, a, b, ga, gb, &ok);
+            if (ok && ebr_ml2_negll(t, q) <= fbest)
+                best = t;
+        }
+        *lam = best;
+        return 0;
+    }
+    double f0 = ebr_moment(0.0, q);
+    if (!(f0 > 0.0)) {
+        *lam = 0.0; /* positive-part rule */
+        return 0;
+    }
+    double lo = 0.0, hi = 1.0 / q->d[0], fhi = ebr_moment(hi, q);
+    int grow = 0;
+    while (fhi > 0.0) {
+        lo = hi;
+        f0 = fhi;
+        hi *= 10.0;
+        fhi = ebr_moment(hi, q);
+        if (++grow > 700 || !isfinite(hi))
+            return IGEA_ENOCONV;
+    }
+    int ok;
+    double t = brent_root(ebr_moment, q, lo, hi, f0, fhi, &ok);
+    if (!ok)
+        return IGEA_ENOCONV;
+    *lam = t;
+    return 0;
+}
+
+int igea_regress_ebr(int m, int N, const double *A, int lda, const double *y,
+                     const double *prior_scale, int rule, double lam_floor,
+                     double *beta, double *lam, int *rank, double *shrink,
+                     double *sd_post, double *sd_freq)
+{
+    int st = check_args(m, N, A, lda, y, 0);
+    if (st)
+        return st;
+    if (rule != IGEA_EBR_SC && rule != IGEA_EBR_MM && rule != IGEA_EBR_ML2)
+        return -7;
+    if (!(lam_floor >= 0.0) || !isfinite(lam_floor))
+        return -8;
+    if (!beta)
+        return -9;
+    if (!lam)
+        return -10;
+    if (!rank)
+        return -11;
+    st = check_values(m, N, A, lda, y, NULL, prior_scale);
+    if (st)
+        return st;
+    canon c;
+    st = canon_make(m, N, A, lda, y, NULL, prior_scale, 0.0, &c);
+    if (st)
+        return st;
+    int r = c.r;
+    double *w = igea__dalloc(6 * (size_t)N + 2);
+    if (!w) {
+        canon_free(&c);
+        return IGEA_ENOMEM;
+    }
+    double *d = w, *z2 = d + N, *f = z2 + N, *g = f + N, *bt = g + N,
+           *sp = bt + N;
+    if (r < 3)
+        st = IGEA_ERANK;
+    double S = canon_rss(&c);
+    if (st == 0 && (m <= r || !(S > 0.0)))
+        st = IGEA_EDOMAIN;
+    double lstar = 0.0;
+    if (st == 0) {
+        for (int i = 0; i < r; i++) {
+            d[i] = c.s[i] * c.s[i];
+            z2[i] = c.z[i] * c.z[i];
+        }
+        ebr_ctx q = {r, d, z2, 0.0, S / (m - r)};
+        if (rule == IGEA_EBR_SC)
+            q.target = (double)(r - 2) * S / (double)(m - r + 2);
+        else if (rule == IGEA_EBR_MM)
+            q.target = (double)r * S / (double)(m - r);
+        st = ebr_lambda(rule, &q, &lstar);
+    }
+    if (st) {
+        free(w);
+        canon_free(&c);
+        return st;
+    }
+    double lh = IGEA_MAX(lstar, lam_floor);
+    double s2 = S / (m - r);
+    for (int i = 0; i < r; i++) {
+        double den = fma(lh, d[i], 1.0);
+        f[i] = lh * d[i] / den / c.s[i]; /* theta_i = f_i z_i */
+        sp[i] = lh * d[i] / den;
+    }
+    canon_coef(&c, r, f, prior_scale, bt);
+    /* Posterior: every direction, d_i = 0 beyond r (the prior variance). */
+    double *post = igea__dalloc(2 * (size_t)N);
+    if (!post) {
+        free(w);
+        canon_free(&c);
+        return IGEA_ENOMEM;
+    }
+    double *freq = post + N;
+    for (int i = 0; i < N; i++) {
+        double di = i < r ? d[i] : 0.0;
+        g[i] = lh / fma(lh, di, 1.0);
+    }
+    canon_sd(&c, N, g, s2, prior_scale, post);
+    for (int i = 0; i < r; i++) {
+        double den = fma(lh, d[i], 1.0);
+        g[i] = lh * lh * d[i] / (den * den);
+    }
+    canon_sd(&c, r, g, s2, prior_scale, freq);
+    memcpy(beta, bt, (size_t)N * sizeof(double));
+    *lam = lh;
+    *rank = r;
+    if (shrink)
+        for (int i = 0; i < N; i++)
+            shrink[i] = i < r ? sp[i] : 0.0;
+    if (sd_post)
+        memcpy(sd_post, post, (size_t)N * sizeof(double));
+    if (sd_freq)
+        memcpy(sd_freq, freq, (size_t)N * sizeof(double));
+    free(post);
+    free(w);
+    canon_free(&c);
+    return 0;
+}
+
+/* ---- ridge ------------------------------------------------------------- */
+
+typedef struct {
+    const canon *c;
+    double rss_ls;
+    int loo;
+} ridge_ctx;
+
+/* GCV or LOO criterion as a function of t = log10 k. */
+static double ridge_crit(double t, const void *p)
+{
+    const ridge_ctx *q = p;
+    const canon *c = q->c;
+    double k = pow(10.0, t);
+    int m = c->m, r = c->r;
+    if (!q->loo) {
+        igea__ksum rss = {q->rss_ls, 0.0};
+        double edf = 0.0;
+        for (int i = 0; i < r; i++) {
+            double d = c->s[i] * c->s[i], sh = k / (d + k);
+            igea__ksum_add(&rss, sh * sh * c->z[i] * c->z[i]);
+            edf += d / (d + k);
+        }
+        double den = m - edf;
+        if (!(den > 0.0))
+            return HUGE_VAL;
+        return m * igea__ksum_get(&rss) / (den * den);
+    }
+    igea__ksum press = {0.0, 0.0};
+    for (int j = 0; j < m; j++) {
+        double e = c->yw[j], h = 0.0;
+        for (int i = 0; i < r; i++) {
+            double d = c->s[i] * c->s[i], f = d / (d + k);
+            double u = c->U[j + (size_t)i * m];
+            e -= u * f * c->z[i];
+            h += u * u * f;
+        }
+        if (!(h < 1.0))
+            return HUGE_VAL;
+        double v = e / (1.0 - h);
+        igea__ksum_add(&press, v * v);
+    }
+    return igea__ksum_get(&press);
+}
+
+/* Shared by the canonical estimators: x = V f z, cov = s2 V g V^T. */
+static void finish(const canon *c, int n, const double *f, const double *g,
+                   double s2, int m, int N, const double *A, int lda,
+                   const double *y, double *x, double *cov, int ldc,
+                   double *residual)
+{
+    canon_coef(c, n, f, NULL, x);
+    if (cov)
+        canon_cov(c, n, g, s2, NULL, cov, ldc);
+    if (residual)
+        residual_of(m, N, A, lda, y, x, residual);
+}
+
+int igea_regress_ridge(int m, int N, const double *A, int lda,
+                       const double *y, const double *sigma, int rule,
+                       double k, double *x, double *cov, int ldc,
+                       double *k_used, double *sigma2, double *residual)
+{
+    int st = check_args(m, N, A, lda, y, 0);
+    if (st)
+        return st;
+    if (rule < IGEA_RIDGE_FIXED || rule > IGEA_RIDGE_LOO)
+        return -7;
+    if (rule == IGEA_RIDGE_FIXED && !(k >= 0.0 && isfinite(k)))
+        return -8;
+    if (!x)
+        return -9;
+    if (cov && ldc < N)
+        return -11;
+    if (!k_used)
+        return -12;
+    if (!sigma2)
+        return -13;
+    st = check_values(m, N, A, lda, y, sigma, NULL);
+    if (st)
+        return st;
+    canon c;
+    st = canon_make(m, N, A, lda, y, sigma, NULL, 0.0, &c);
+    if (st)
+        return st;
+    int r = c.r;
+    double rss = canon_rss(&c);
+    double s2 = m > r ? rss / (m - r) : 0.0;
+    double kk = k;
+    if (rule == IGEA_RIDGE_HKB || rule == IGEA_RIDGE_LW) {
+        igea__ksum nx = {0.0, 0.0}, nz = {0.0, 0.0};
+        for (int j = 0; j < N; j++) {
+            igea__ksum a = {0.0, 0.0};
+            for (int i = 0; i < r; i++)
+                igea__ksum_add(&a, c.V[j + (size_t)i * N] * c.z[i] / c.s[i]);
+            double v = igea__ksum_get(&a);
+            igea__ksum_add(&nx, v * v);
+        }
+        for (int i = 0; i < r; i++)
+            igea__ksum_add(&nz, c.z[i] * c.z[i]);
+        double den = rule == IGEA_RIDGE_HKB ? igea__ksum_get(&nx)
+                                            : igea__ksum_get(&nz);
+        if (m <= r || !(den > 0.0)) {
+            canon_free(&c);
+            return IGEA_EDOMAIN;
+        }
+        kk = r * s2 / den;
+    } else if (rule == IGEA_RIDGE_GCV || rule == IGEA_RIDGE_LOO) {
+        if (r == 0)
+            kk = 0.0;
+        else {
+            ridge_ctx q = {&c, rss, rule == IGEA_RIDGE_LOO};
+            double t0 = log10(c.s[0] * c.s[0]);
+            kk = pow(10.0, grid_golden_min(ridge_crit, &q, t0 - 12.0,
+                                           t0 + 4.0, 161));
+        }
+    }
+    double *w = igea__dalloc(2 * (size_t)N + (size_t)m);
+    if (!w) {
+        canon_free(&c);
+        return IGEA_ENOMEM;
+    }
+    double *f = w, *g = w + N, *xs = g + N;
+    for (int i = 0; i < r; i++) {
+        double d = c.s[i] * c.s[i];
+        f[i] = c.s[i] / (d + kk);
+        g[i] = d / ((d + kk) * (d + kk));
+    }
+    /* x first into scratch; the caller's arrays are written last. */
+    finish(&c, r, f, g, s2, m, N, A, lda, y, xs, cov, ldc, NULL);
+    memcpy(x, xs, (size_t)N * sizeof(double));
+    if (residual)
+        residual_of(m, N, A, lda, y, x, residual);
+    *k_used = kk;
+    *sigma2 = s2;
+    free(w);
+    canon_free(&c);
+    return 0;
+}
+
+int igea_regress_ridge_trace(int m, int N, const double *A, int lda,
+                             const double *y, const double *sigma, int nk,
+                             const double *k, double *X, int ldx, double *edf)
+{
+    int st = check_args(m, N, A, lda, y, 0);
+    if (st)
+        return st;
+    if (nk < 1)
+        return -7;
+    if (!k)
+        return -8;
+    for (int j = 0; j < nk; j++)
+        if (!(k[j] >= 0.0 && isfinite(k[j])))
+            return -8;
+    if (!X)
+        return -9;
+    if (ldx < N)
+        return -10;
+    st = check_values(m, N, A, lda, y, sigma, NULL);
+    if (st)
+        return st;
+    canon c;
+    st = canon_make(m, N, A, lda, y, sigma, NULL, 0.0, &c);
+    if (st)
+        return st;
+    double *f = igea__dalloc((size_t)N);
+    if (!f) {
+        canon_free(&c);
+        return IGEA_ENOMEM;
+    }
+    for (int j = 0; j < nk; j++) {
+        double e = 0.0;
+        for (int i = 0; i < c.r; i++) {
+            double d = c.s[i] * c.s[i];
+            f[i] = c.s[i] / (d + k[j]);
+            e += d / (d + k[j]);
+        }
+        canon_coef(&c, c.r, f, NULL, X + (size_t)j * ldx);
+        if (edf)
+            edf[j] = e;
+    }
+    free(f);
+    canon_free(&c);
+    return 0;
+}
+
+/* ---- principal components ---------------------------------------------- */
+
+int igea_regress_pce(int m, int N, const double *A, int lda, const double *y,
+                     const double *sigma, int ncomp, double eig_min,
+                     double *x, double *cov, int ldc, int *nused,
+                     double *sigma2, double *residual)
+{
+    int st = check_args(m, N, A, lda, y, 0);
+    if (st)
+        return st;
+    if (ncomp < 0)
+        return -7;
+    if (ncomp == 0 && !(eig_min > 0.0 && isfinite(eig_min)))
+        return -8;
+    if (!x)
+        return -9;
+    if (cov && ldc < N)
+        return -11;
+    if (!nused)
+        return -12;
+    if (!sigma2)
+        return -13;
+    st = check_values(m, N, A, lda, y, sigma, NULL);
+    if (st)
+        return st;
+    canon c;
+    st = canon_make(m, N, A, lda, y, sigma, NULL, 0.0, &c);
+    if (st)
+        return st;
+    int r = c.r, n = 0;
+    if (ncomp > 0)
+        n = IGEA_MIN(ncomp, r);
+    else
+        while (n < r && c.s[n] * c.s[n] >= eig_min)
+            n++;
+    double s2 = m > r ? canon_rss(&c) / (m - r) : 0.0;
+    double *w = igea__dalloc(3 * (size_t)N);
+    if (!w) {
+        canon_free(&c);
+        return IGEA_ENOMEM;
+    }
+    double *f = w, *g = w + N, *xs = g + N;
+    for (int i = 0; i < n; i++) {
+        f[i] = 1.0 / c.s[i];
+        g[i] = f[i] * f[i];
+    }
+    canon_coef(&c, n, f, NULL, xs);
+    if (cov)
+        canon_cov(&c, n, g, s2, NULL, cov, ldc);
+    memcpy(x, xs, (size_t)N * sizeof(double));
+    if (residual)
+        residual_of(m, N, A, lda, y, x, residual);
+    *nused = n;
+    *sigma2 = s2;
+    free(w);
+    canon_free(&c);
+    return 0;
+}
+
+/* ---- Bayes --------------------------------------------------------------- */
+
+int igea_regress_bayes(int m, int N, const double *A, int lda,
+                       const double *y, const double *sigma,
+                       const double *prior_mean, const double *prior_cov,
+                       int ldp, double *x, double *cov, int ldc,
+                       double *residual)
+{
+    int st = check_args(m, N, A, lda, y, 0);
+    if (st)
+        return st;
+    if (!prior_cov)
+        return -8;
+    if (ldp < N)
+        return -9;
+    if (!x)
+        return -10;
+    if (cov && ldc < N)
+        return -12;
+    st = check_values(m, N, A, lda, y, sigma, NULL);
+    if (st)
+        return st;
+    if (prior_mean && !igea__finite_vec(N, prior_mean, 1))
+        return IGEA_ENONFINITE;
+    for (int j = 0; j < N; j++)
+        if (!igea__finite_vec(N - j, prior_cov + j + (size_t)j * ldp, 1))
+            return IGEA_ENONFINITE;
+    size_t nn = (size_t)N * N, mn = (size_t)m * N;
+    double *w = igea__dalloc(nn + mn + 2 * (size_t)m + 5 * (size_t)N + nn);
+    if (!w)
+        return IGEA_ENOMEM;
+    double *L = w, *M = L + nn, *yr = M + mn, *res = yr + m, *t = res + m,
+           *f = t + N, *g = f + N, *xs = g + N, *tmp = xs + N, *C = tmp + N;
+    for (int j = 0; j < N; j++)
+        for (int i = 0; i < N; i++)
+            L[i + (size_t)j * N] = i >= j ? IGEA_AT(prior_cov, ldp, i, j) : 0.0;
+    lapack_int info = LAPACKE_dpotrf_work(LAPACK_COL_MAJOR, 'L', N, L, N);
+    if (info != 0) {
+        free(w);
+        return info > 0 ? IGEA_ESINGULAR : IGEA_ELAPACK;
+    }
+    for (int j = 0; j < N; j++)
+        for (int i = 0; i < m; i++)
+            M[i + (size_t)j * m] = IGEA_AT(A, lda, i, j);
+    cblas_dtrmm(CblasColMajor, CblasRight, CblasLower, CblasNoTrans,
+                CblasNonUnit, m, N, 1.0, L, N, M, m);
+    memcpy(yr, y, (size_t)m * sizeof(double));
+    if (prior_mean)
+        cblas_dgemv(CblasColMajor, CblasNoTrans, m, N, -1.0, A, lda,
+                    prior_mean, 1, 1.0, yr, 1);
+    canon c;
+    st = canon_make(m, N, M, m, yr, sigma, NULL, 0.0, &c);
+    if (st) {
+        free(w);
+        return st;
+    }
+    /* t = V diag(s / (d + 1)) z, cov_t = V diag(1 / (d + 1)) V^T. */
+    for (int i = 0; i < N; i++) {
+        double d = i < c.k ? c.s[i] * c.s[i] : 0.0;
+        f[i] = i < c.k ? c.s[i] / (d + 1.0) : 0.0;
+        g[i] = 1.0 / (d + 1.0);
+    }
+    canon_coef(&c, c.k, f, NULL, t);
+    for (int j = 0; j < N; j++) {
+        double v = prior_mean ? prior_mean[j] : 0.0;
+        for (int i = 0; i <= j; i++)
+            v += L[j + (size_t)i * N] * t[i];
+        xs[j] = v;
+    }
+    if (cov) {
+        canon_cov(&c, N, g, 1.0, NULL, C, N);
+        /* cov = L C L^T */
+        cblas_dtrmm(CblasColMajor, CblasLeft, CblasLower, CblasNoTrans,
+                    CblasNonUnit, N, N, 1.0, L, N, C, N);
+        cblas_dtrmm(CblasColMajor, CblasRight, CblasLower, CblasTrans,
+                    CblasNonUnit, N, N, 1.0, L, N, C, N);
+        for (int j = 0; j < N; j++)
+            for (int i = 0; i < N; i++) {
+                double v = 0.5 * (C[i + (size_t)j * N] + C[j + (size_t)i * N]);
+                IGEA_AT(cov, ldc, i, j) = v;
+            }
+    }
+    (void)tmp;
+    memcpy(x, xs, (size_t)N * sizeof(double));
+    if (residual)
+        residual_of(m, N, A, lda, y, x, residual);
+    canon_free(&c);
+    free(w);
+    return 0;
+}
+
+/* ---- diagnostics ----------------------------------------------------------- */
+
+int igea_regress_collinearity(int m, int N, const double *A, int lda,
+                              const double *y, const double *sigma,
+                              double rcond, double *cond, int *rank,
+                              double *eig, double *V, int ldv, double *vif,
+                              double *sd_comb, int *prior_det)
+{
+    int st = check_args(m, N, A, lda, y, 1);
+    if (st)
+        return st;
+    if (isnan(rcond) || rcond >= 1.0)
+        return -7;
+    if (!cond)
+        return -8;
+    if (!rank)
+        return -9;
+    if (!eig)
+        return -10;
+    if (V && ldv < N)
+        return -12;
+    st = check_values(m, N, A, lda, y, sigma, NULL);
+    if (st)
+        return st;
+    canon c;
+    st = canon_make(m, N, A, lda, y, sigma, NULL, rcond, &c);
+    if (st)
+        return st;
+    int r = c.r, k = c.k;
+    double s2 = 1.0;
+    if (y)
+        s2 = m > r ? canon_rss(&c) / (m - r) : 0.0;
+    double s1 = k > 0 ? c.s[0] : 0.0, smin = m >= N ? c.s[N - 1] : 0.0;
+    cond[0] = smin > 0.0 ? s1 / smin : INFINITY;
+    cond[1] = r > 0 ? s1 / c.s[r - 1] : INFINITY;
+    *rank = r;
+    for (int i = 0; i < N; i++)
+        eig[i] = i < k ? c.s[i] * c.s[i] : 0.0;
+    if (V)
+        for (int j = 0; j < N; j++)
+            memcpy(V + (size_t)j * ldv, c.V + (size_t)j * N,
+                   (size_t)N * sizeof(double));
+    for (int j = 0; j < N; j++) {
+        double nul = 0.0, bjj = 0.0, pjj = 0.0;
+        for (int i = 0; i < N; i++) {
+            double v = c.V[j + (size_t)i * N];
+            if (i >= r)
+                nul += v * v;
+            else {
+                bjj += v * v * eig[i];
+                pjj += v * v / eig[i];
+            }
+        }
+        int pd = nul > IGEA_REGRESS_NULL_TOL;
+        if (prior_det)
+            prior_det[j] = pd;
+        if (vif)
+            vif[j] = pd ? INFINITY : bjj * pjj;
+    }
+    if (sd_comb)
+        for (int i = 0; i < N; i++)
+            sd_comb[i] = i < r ? sqrt(s2) / c.s[i] : INFINITY;
+    canon_free(&c);
+    return 0;
+}

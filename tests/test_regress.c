@@ -1,0 +1,1022 @@
+/* test_regress.c - least squares, ridge, PCE, Bayes, EBR and diagnostics.
+ * References: METHODS 4.2 (20-position design) and 4.3 (EBR test vector);
+ * NIST StRD Longley and Filip certified values (computed by NIST in
+ * 500-digit arithmetic); closed forms derived in the comments. */
+#include "testutil.h"
+
+#include "igea/regress.h"
+
+#define PI_ 3.14159265358979323846
+
+static const double filip_y[82] = {0.8116, 0.9072, 0.9052, 0.9039, 0.8053, 0.8377, 0.8667, 0.8809, 0.7975, 0.8162, 0.8515, 0.8766, 0.8885, 0.8859, 0.8959, 0.8913, 0.8959, 0.8971, 0.9021, 0.909, 0.9139, 0.9199, 0.8692, 0.8872, 0.89, 0.891, 0.8977, 0.9035, 0.9078, 0.7675, 0.7705, 0.7713, 0.7736, 0.7775, 0.7841, 0.7971, 0.8329, 0.8641, 0.8804, 0.7668, 0.7633, 0.7678, 0.7697, 0.77, 0.7749, 0.7796, 0.7897, 0.8131, 0.8498, 0.8741, 0.8061, 0.846, 0.8751, 0.8856, 0.8919, 0.8934, 0.894, 0.8957, 0.9047, 0.9129, 0.9209, 0.9219, 0.7739, 0.7681, 0.7665, 0.7703, 0.7702, 0.7761, 0.7809, 0.7961, 0.8253, 0.8602, 0.8809, 0.8301, 0.8664, 0.8834, 0.8898, 0.8964, 0.8963, 0.9074, 0.9119, 0.9228};
+static const double filip_x[82] = {-6.860120914, -4.324130045, -4.358625055, -4.358426747, -6.955852379, -6.661145254, -6.355462942, -6.118102026, -7.115148017, -6.815308569, -6.519993057, -6.204119983, -5.853871964, -6.109523091, -5.79832982, -5.482672118, -5.171791386, -4.851705903, -4.517126416, -4.143573228, -3.709075441, -3.499489089, -6.300769497, -5.953504836, -5.642065153, -5.031376979, -4.680685696, -4.329846955, -3.928486195, -8.56735134, -8.363211311, -8.107682739, -7.823908741, -7.522878745, -7.218819279, -6.920818754, -6.628932138, -6.323946875, -5.991399828, -8.781464495, -8.663140179, -8.473531488, -8.247337057, -7.971428747, -7.676129393, -7.352812702, -7.072065318, -6.774174009, -6.478861916, -6.159517513, -6.835647144, -6.53165267, -6.224098421, -5.910094889, -5.598599459, -5.290645224, -4.974284616, -4.64454848, -4.290560426, -3.885055584, -3.408378962, -3.13200249, -8.726767166, -8.66695597, -8.511026475, -8.165388579, -7.886056648, -7.588043762, -7.283412422, -6.995678626, -6.691862621, -6.392544977, -6.067374056, -6.684029655, -6.378719832, -6.065855188, -5.752272167, -5.132414673, -4.811352704, -4.098269308, -3.66174277, -3.2644011};
+
+/* NIST StRD Filip: y = B0 + B1 x + ... + B10 x^10, certified values. */
+static const double filip_b[11] = {
+    -1467.48961422980, -2772.17959193342, -2316.37108160893,
+    -1127.97394098372, -354.478233703349, -75.1242017393757,
+    -10.8753180355343, -1.06221498588947, -0.670191154593408E-01,
+    -0.246781078275479E-02, -0.402962525080404E-04};
+static const double filip_sd[11] = {
+    298.084530995537, 559.779865474950, 466.477572127796, 227.204274477751,
+    71.6478660875927, 15.2897178747400, 2.23691159816033, 0.221624321934227,
+    0.142363763154724E-01, 0.535617408889821E-03, 0.896632837373868E-05};
+
+/* NIST StRD Longley: y, x1..x6 (16 rows), certified B0..B6 and sds. */
+static const double longley[16][7] = {
+    {60323, 83.0, 234289, 2356, 1590, 107608, 1947},
+    {61122, 88.5, 259426, 2325, 1456, 108632, 1948},
+    {60171, 88.2, 258054, 3682, 1616, 109773, 1949},
+    {61187, 89.5, 284599, 3351, 1650, 110929, 1950},
+    {63221, 96.2, 328975, 2099, 3099, 112075, 1951},
+    {63639, 98.1, 346999, 1932, 3594, 113270, 1952},
+    {64989, 99.0, 365385, 1870, 3547, 115094, 1953},
+    {63761, 100.0, 363112, 3578, 3350, 116219, 1954},
+    {66019, 101.2, 397469, 2904, 3048, 117388, 1955},
+    {67857, 104.6, 419180, 2822, 2857, 118734, 1956},
+    {68169, 108.4, 442769, 2936, 2798, 120445, 1957},
+    {66513, 110.8, 444546, 4681, 2637, 121950, 1958},
+    {68655, 112.6, 482704, 3813, 2552, 123366, 1959},
+    {69564, 114.2, 502601, 3931, 2514, 125368, 1960},
+    {69331, 115.7, 518173, 4806, 2572, 127852, 1961},
+    {70551, 116.9, 554894, 4007, 2827, 130081, 1962}};
+static const double longley_b[7] = {
+    -3482258.63459582, 15.0618722713733, -0.358191792925910e-01,
+    -2.02022980381683, -1.03322686717359, -0.511041056535807e-01,
+    1829.15146461355};
+static const double longley_sd[7] = {
+    890420.383607373, 84.9149257747669, 0.334910077722432e-01,
+    0.488399681651699, 0.214274163161675, 0.226073200069370,
+    455.478499142212};
+static const double longley_rsd = 304.854073561965;
+
+/* Longley design with leading dimension lda (padding NaN). */
+static void longley_design(int lda, double *A, double *y)
+{
+    fill_nan(A, (size_t)lda * 7);
+    for (int i = 0; i < 16; i++) {
+        A[i] = 1.0;
+        for (int j = 1; j < 7; j++)
+            A[i + (size_t)j * lda] = longley[i][j];
+        y[i] = longley[i][0];
+    }
+}
+
+/* METHODS 4.2: 20-position dual-accelerometer design (20 x 9), lda. */
+static void dual_design(int lda, double *A)
+{
+    fill_nan(A, (size_t)lda * 9);
+    for (int n = 0; n < 20; n++) {
+        double th = 18.0 * n * PI_ / 180.0, s = sin(th), c = cos(th);
+        double row[9] = {s, c, s * s, c * c, -s * c, s * s * s, c * c * c,
+                         s * s * c, -s * c * c};
+        for (int j = 0; j < 9; j++)
+            A[n + (size_t)j * lda] = row[j];
+    }
+}
+
+static const double ebr_beta_true[9] = {2e-4, -1.5e-4, 3e-4, -2e-4, 0.5e-4,
+                                        0.2e-4, -0.1e-4, 0.1e-4, -0.2e-4};
+
+/* METHODS 4.3 test vector: Y = A beta + a cos(7 theta + 0.3) + a/2 sin 5 theta. */
+static void ebr_data(double a, int lda, double *A, double *y)
+{
+    dual_design(lda, A);
+    for (int n = 0; n < 20; n++) {
+        double th = 18.0 * n * PI_ / 180.0, v = 0.0;
+        for (int j = 0; j < 9; j++)
+            v += A[n + (size_t)j * lda] * ebr_beta_true[j];
+        y[n] = v + a * cos(7.0 * th + 0.3) + 0.5 * a * sin(5.0 * th);
+    }
+}
+
+/* ref printed with nd significant digits: got must round to it, i.e. lie
+ * within half a unit of its last digit (plus a hair for binary ref). */
+static void assert_digits_at(double got, double ref, int nd, int line)
+{
+    double e = floor(log10(fabs(ref)));
+    double half = 0.5 * pow(10.0, e - nd + 1) * (1.0 + 1e-9);
+    assert_close_at(got, ref, 0.0, half, __FILE__, line);
+}
+#define assert_digits(got, ref, nd) assert_digits_at((got), (ref), (nd), __LINE__)
+
+/* ---- least squares ---- */
+
+static void test_ls_longley(void **state)
+{
+    (void)state;
+    int lda = 19;
+    double A[19 * 7], y[16], x[7], cov[8 * 7], res[16], s2;
+    int rank;
+    longley_design(lda, A, y);
+    assert_int_equal(igea_regress_ls(16, 7, A, lda, y, NULL, 0.0, x, cov, 8,
+                                     &rank, &s2, res), 0);
+    assert_int_equal(rank, 7);
+    /* >= 10 significant digits against NIST's certified values. */
+    for (int j = 0; j < 7; j++) {
+        assert_close(x[j], longley_b[j], 1e-10);
+        assert_close(sqrt(cov[j + 8 * j]), longley_sd[j], 1e-10);
+    }
+    assert_close(sqrt(s2), longley_rsd, 1e-10);
+    double r0 = y[0];
+    for (int j = 0; j < 7; j++)
+        r0 -= A[(size_t)j * lda] * x[j];
+    assert_close_abs(res[0], r0, 1e-9, 1e-6);
+}
+
+static void test_ls_filip(void **state)
+{
+    (void)state;
+    /* Degree-10 polynomial, cond(A) ~ 1.8e15 (5e9 after column
+     * equilibration): >= 7 significant digits required. */
+    double A[82 * 11], x[11], cov[11 * 11], s2;
+    int rank;
+    for (int i = 0; i < 82; i++) {
+        double p = 1.0;
+        for (int j = 0; j < 11; j++) {
+            A[i + 82 * j] = p;
+            p *= filip_x[i];
+        }
+    }
+    assert_int_equal(igea_regress_ls(82, 11, A, 82, filip_y, NULL, 0.0, x,
+                                     cov, 11, &rank, &s2, NULL), 0);
+    assert_int_equal(rank, 11);
+    for (int j = 0; j < 11; j++) {
+        assert_close(x[j], filip_b[j], 1e-7);
+        assert_close(sqrt(cov[j + 11 * j]), filip_sd[j], 1e-7);
+    }
+}
+
+/* ---- EBR ---- */
+
+static void test_ebr_vector(void **state)
+{
+    (void)state;
+    const double a[3] = {1e-6, 3e-5, 3e-4};
+    const double lstar[3] = {4.3191821286e+04, 4.7812680709e+01,
+                             3.1903350644e-01};
+    const double shrink_ref[7] = {0.83916, 0.83916, 0.76136, 0.61467,
+                                  0.44370, 0.26782, 0.26782};
+    const double beta_ref[9] = {1.156185e-4, -8.07093e-5, 1.917349e-4,
+                                -1.155993e-4, 2.21849e-5, 7.84732e-5,
+                                -5.76305e-5, -2.30789e-5, -3.71453e-5};
+    const int beta_nd[9] = {7, 6, 7, 7, 6, 6, 6, 6, 6};
+    int lda = 23;
+    double A[23 * 9], y[20], beta[9], lam, shrink[9], sdp[9], sdf[9];
+    int rank;
+    for (int t = 0; t < 3; t++) {
+        ebr_data(a[t], lda, A, y);
+        assert_int_equal(igea_regress_ebr(20, 9, A, lda, y, NULL, IGEA_EBR_SC,
+                                          0.0, beta, &lam, &rank, shrink, sdp,
+                                          sdf), 0);
+        assert_int_equal(rank, 7);
+        /* a = 1e-6: METHODS prints 4.3191821286e+04; the root with the
+         * exact S = 12.5 a^2 (scipy brentq, rtol 1e-15) is
+         * 4.319182128821e+04, so the printed 11th digit carries the
+         * cancellation of S = |Y|^2 - sum z^2 (S is 1e-5 of |Y|^2 there):
+         * 10 digits for that row, all 11 for the others. */
+        assert_digits(lam, lstar[t], t == 0 ? 10 : 11);
+        if (t == 0)
+            assert_close(lam, 4.319182128821e+04, 1e-12);
+    }
+    for (int i = 0; i < 7; i++)
+        assert_digits(shrink[i], shrink_ref[i], 5);
+    for (int i = 7; i < 9; i++)
+        assert_true(shrink[i] == 0.0);
+    for (int j = 0; j < 9; j++)
+        assert_digits(beta[j], beta_ref[j], beta_nd[j]);
+}
+
+
+/* ---- independent dense routines (Gauss-Jordan, partial pivoting) ---- */
+
+/* inv = a^-1 for the n x n column-major a (n <= 12). Returns 0 if singular. */
+static int gj_inverse(int n, const double *a, double *inv)
+{
+    double w[12 * 24];
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < 2 * n; j++)
+            w[i * 24 + j] = j < n ? a[i + n * j] : (j - n == i);
+    for (int c = 0; c < n; c++) {
+        int p = c;
+        for (int i = c + 1; i < n; i++)
+            if (fabs(w[i * 24 + c]) > fabs(w[p * 24 + c]))
+                p = i;
+        if (w[p * 24 + c] == 0.0)
+            return 0;
+        for (int j = 0; j < 2 * n; j++) {
+            double t = w[c * 24 + j];
+            w[c * 24 + j] = w[p * 24 + j];
+            w[p * 24 + j] = t;
+        }
+        double d = w[c * 24 + c];
+        for (int j = 0; j < 2 * n; j++)
+            w[c * 24 + j] /= d;
+        for (int i = 0; i < n; i++)
+            if (i != c) {
+                double f = w[i * 24 + c];
+                for (int j = 0; j < 2 * n; j++)
+                    w[i * 24 + j] -= f * w[c * 24 + j];
+            }
+    }
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < n; j++)
+            inv[i + n * j] = w[i * 24 + n + j];
+    return 1;
+}
+
+/* B = A^T A (+ k I) and b = A^T y for an m x N matrix (lda). */
+static void normal_eq(int m, int N, const double *A, int lda, const double *y,
+                      double k, double *B, double *b)
+{
+    for (int a = 0; a < N; a++) {
+        for (int c = 0; c < N; c++) {
+            double s = 0.0;
+            for (int i = 0; i < m; i++)
+                s += A[i + (size_t)a * lda] * A[i + (size_t)c * lda];
+            B[a + N * c] = s + (a == c ? k : 0.0);
+        }
+        double s = 0.0;
+        for (int i = 0; i < m; i++)
+            s += A[i + (size_t)a * lda] * y[i];
+        b[a] = s;
+    }
+}
+
+static void matvec(int N, const double *M, const double *v, double *out)
+{
+    for (int a = 0; a < N; a++) {
+        double s = 0.0;
+        for (int c = 0; c < N; c++)
+            s += M[a + N * c] * v[c];
+        out[a] = s;
+    }
+}
+
+/* ---- more least squares ---- */
+
+static void test_ls_weighted_line(void **state)
+{
+    (void)state;
+    /* Weighted straight line: closed forms with w_i = 1/sigma_i^2,
+     * D = Sw Sxx - Sx^2, b = (Sw Sxy - Sx Sy)/D, a = (Sxx Sy - Sx Sxy)/D,
+     * var(a) = s2 Sxx/D, var(b) = s2 Sw/D, cov = -s2 Sx/D. */
+    const double xv[6] = {0.0, 1.0, 2.0, 3.0, 4.0, 5.0};
+    const double yv[6] = {1.1, 2.9, 5.2, 7.1, 8.8, 11.3};
+    const double sg[6] = {0.1, 0.2, 0.1, 0.3, 0.2, 0.4};
+    double A[8 * 2];
+    fill_nan(A, 16);
+    double Sw = 0, Sx = 0, Sy = 0, Sxx = 0, Sxy = 0;
+    for (int i = 0; i < 6; i++) {
+        A[i] = 1.0;
+        A[i + 8] = xv[i];
+        double w = 1.0 / (sg[i] * sg[i]);
+        Sw += w;
+        Sx += w * xv[i];
+        Sy += w * yv[i];
+        Sxx += w * xv[i] * xv[i];
+        Sxy += w * xv[i] * yv[i];
+    }
+    double D = Sw * Sxx - Sx * Sx, b = (Sw * Sxy - Sx * Sy) / D,
+           a = (Sxx * Sy - Sx * Sxy) / D, chi2 = 0.0;
+    for (int i = 0; i < 6; i++) {
+        double e = (yv[i] - a - b * xv[i]) / sg[i];
+        chi2 += e * e;
+    }
+    double s2ref = chi2 / 4.0;
+    double x[2], cov[3 * 2], s2, res[6];
+    int rank;
+    assert_int_equal(igea_regress_ls(6, 2, A, 8, yv, sg, 0.0, x, cov, 3, &rank,
+                                     &s2, res), 0);
+    assert_int_equal(rank, 2);
+    assert_close(x[0], a, 1e-12);
+    assert_close(x[1], b, 1e-12);
+    assert_close(s2, s2ref, 1e-11);
+    assert_close(cov[0], s2ref * Sxx / D, 1e-11);
+    assert_close(cov[4], s2ref * Sw / D, 1e-11);
+    assert_close(cov[1], -s2ref * Sx / D, 1e-11);
+    assert_close(cov[3], -s2ref * Sx / D, 1e-11);
+    assert_close(res[3], yv[3] - a - 3.0 * b, 1e-10);
+}
+
+static void test_ls_rank_deficient(void **state)
+{
+    (void)state;
+    /* METHODS 4.2: rank 7, null space n1 (0, 5, 8) = (-1, 1, -1) and
+     * n2 (1, 6, 7) = (-1, 1, 1); the minimum-norm solution is orthogonal
+     * to both, and the residual is the added harmonics: S = 12.5 a^2. */
+    int lda = 21;
+    double A[21 * 9], y[20], x[9], cov[9 * 9], s2, res[20];
+    int rank;
+    ebr_data(3e-5, lda, A, y);
+    assert_int_equal(igea_regress_ls(20, 9, A, lda, y, NULL, 0.0, x, cov, 9,
+                                     &rank, &s2, res), 0);
+    assert_int_equal(rank, 7);
+    assert_close_abs(-x[0] + x[5] - x[8], 0.0, 0.0, 1e-18);
+    assert_close_abs(-x[1] + x[6] + x[7], 0.0, 0.0, 1e-18);
+    assert_close(s2, 12.5 * 3e-5 * 3e-5 / 13.0, 1e-9);
+    /* estimable combinations are exact: k_A1, k_B1, eta, K_A0 + K_A2 */
+    assert_close(x[2], ebr_beta_true[2], 1e-9);
+    assert_close(x[3], ebr_beta_true[3], 1e-9);
+    assert_close(x[4], ebr_beta_true[4], 1e-9);
+    assert_close(x[0] + x[5], ebr_beta_true[0] + ebr_beta_true[5], 1e-9);
+    /* cov n1 = 0 */
+    for (int a = 0; a < 9; a++)
+        assert_close_abs(-cov[a] + cov[a + 45] - cov[a + 72], 0.0, 0.0,
+                         1e-12 * cov[2 + 18]);
+    /* Two identical columns: the minimum norm splits the coefficient. */
+    double B[2 * 5], yb[5] = {2, 4, 6, 8, 10.5}, xb[2], sb;
+    for (int i = 0; i < 5; i++)
+        B[i] = B[i + 5] = i + 1.0;
+    assert_int_equal(igea_regress_ls(5, 2, B, 5, yb, NULL, 0.0, xb, NULL, 1,
+                                     &rank, &sb, NULL), 0);
+    assert_int_equal(rank, 1);
+    double slope = (2 + 8 + 18 + 32 + 52.5) / 55.0;
+    assert_close(xb[0], slope / 2, 1e-13);
+    assert_close(xb[1], slope / 2, 1e-13);
+    /* Wide problem (m < N): minimum norm x = A^T (A A^T)^-1 y. */
+    double W[2 * 3] = {1, 0, 1, 1, 0, 1}, yw[2] = {1, 2}, xw[3], sw;
+    assert_int_equal(igea_regress_ls(2, 3, W, 2, yw, NULL, 0.0, xw, NULL, 1,
+                                     &rank, &sw, NULL), 0);
+    assert_int_equal(rank, 2);
+    /* A A^T = [[2,1],[1,2]], inverse [[2,-1],[-1,2]]/3; t = (0, 1) */
+    assert_close_abs(xw[0], 0.0, 0, 1e-15);
+    assert_close(xw[1], 1.0, 1e-14);
+    assert_close(xw[2], 1.0, 1e-14);
+    assert_true(sw == 0.0);
+}
+
+static void test_ls_errors(void **state)
+{
+    (void)state;
+    double A[6] = {1, 2, 3, 1, 0, 1}, y[3] = {1, 2, 2}, sg[3] = {1, 1, 1};
+    double x[2], cov[4], s2 = SENTINEL, res[3];
+    int rank = -7;
+    fill_sentinel(x, 2);
+    fill_sentinel(cov, 4);
+    fill_sentinel(res, 3);
+#define LS(...) igea_regress_ls(__VA_ARGS__)
+    assert_int_equal(LS(0, 2, A, 3, y, NULL, 0, x, cov, 2, &rank, &s2, res), -1);
+    assert_int_equal(LS(3, 0, A, 3, y, NULL, 0, x, cov, 2, &rank, &s2, res), -2);
+    assert_int_equal(LS(3, 2, NULL, 3, y, NULL, 0, x, cov, 2, &rank, &s2, res), -3);
+    assert_int_equal(LS(3, 2, A, 2, y, NULL, 0, x, cov, 2, &rank, &s2, res), -4);
+    assert_int_equal(LS(3, 2, A, 3, NULL, NULL, 0, x, cov, 2, &rank, &s2, res), -5);
+    assert_int_equal(LS(3, 2, A, 3, y, NULL, 1.0, x, cov, 2, &rank, &s2, res), -7);
+    assert_int_equal(LS(3, 2, A, 3, y, NULL, NAN, x, cov, 2, &rank, &s2, res), -7);
+    assert_int_equal(LS(3, 2, A, 3, y, NULL, 0, NULL, cov, 2, &rank, &s2, res), -8);
+    assert_int_equal(LS(3, 2, A, 3, y, NULL, 0, x, cov, 1, &rank, &s2, res), -10);
+    assert_int_equal(LS(3, 2, A, 3, y, NULL, 0, x, cov, 2, NULL, &s2, res), -11);
+    assert_int_equal(LS(3, 2, A, 3, y, NULL, 0, x, cov, 2, &rank, NULL, res), -12);
+    sg[1] = 0.0;
+    assert_int_equal(LS(3, 2, A, 3, y, sg, 0, x, cov, 2, &rank, &s2, res),
+                     IGEA_ENONPOSITIVE);
+    sg[1] = NAN;
+    assert_int_equal(LS(3, 2, A, 3, y, sg, 0, x, cov, 2, &rank, &s2, res),
+                     IGEA_ENONFINITE);
+    y[2] = INFINITY;
+    assert_int_equal(LS(3, 2, A, 3, y, NULL, 0, x, cov, 2, &rank, &s2, res),
+                     IGEA_ENONFINITE);
+    y[2] = 2;
+    A[4] = NAN;
+    assert_int_equal(LS(3, 2, A, 3, y, NULL, 0, x, cov, 2, &rank, &s2, res),
+                     IGEA_ENONFINITE);
+#undef LS
+    assert_true(all_sentinel(x, 2) && all_sentinel(cov, 4) &&
+                all_sentinel(res, 3) && s2 == SENTINEL && rank == -7);
+}
+
+/* ---- EBR: sds and the other rules ---- */
+
+static void test_ebr_closed_forms(void **state)
+{
+    (void)state;
+    /* With D_s = I: beta = M A^T y, M = (A^T A + I/lambda)^-1 (full rank
+     * even though A is singular), posterior cov = s2 M, frequentist cov =
+     * s2 M A^T A M, s2 = S / (m - r), S = |y - A x_LS|^2. */
+    int lda = 20;
+    double A[20 * 9], y[20], beta[9], lam, sh[9], sdp[9], sdf[9];
+    int rank;
+    ebr_data(1e-4, lda, A, y);
+    assert_int_equal(igea_regress_ebr(20, 9, A, lda, y, NULL, IGEA_EBR_SC, 0.0,
+                                      beta, &lam, &rank, sh, sdp, sdf), 0);
+    double B[81], b[9], M[81], ref[9], xl[9], s2;
+    int rl;
+    assert_int_equal(igea_regress_ls(20, 9, A, lda, y, NULL, 0, xl, NULL, 1,
+                                     &rl, &s2, NULL), 0);
+    normal_eq(20, 9, A, lda, y, 1.0 / lam, B, b);
+    assert_true(gj_inverse(9, B, M));
+    matvec(9, M, b, ref);
+    for (int j = 0; j < 9; j++)
+        assert_close(beta[j], ref[j], 1e-8);
+    double AtA[81], MB[81];
+    normal_eq(20, 9, A, lda, y, 0.0, AtA, b);
+    for (int j = 0; j < 9; j++) {
+        assert_close(sdp[j], sqrt(s2 * M[j * 10]), 1e-8);
+        /* (M AtA M)_jj */
+        for (int c = 0; c < 9; c++)
+            matvec(9, M, AtA + 9 * c, MB + 9 * c);
+        double v = 0.0;
+        for (int c = 0; c < 9; c++)
+            v += MB[j + 9 * c] * M[c + 9 * j];
+        assert_close(sdf[j], sqrt(s2 * v), 1e-7);
+    }
+    /* The SC equation holds: y^T A beta = |y|^2 - S - (r-2) S/(m-r+2). */
+    double S = s2 * 13.0, yy = 0.0, yab = 0.0;
+    for (int i = 0; i < 20; i++) {
+        double ab = 0.0;
+        for (int j = 0; j < 9; j++)
+            ab += A[i + 20 * j] * beta[j];
+        yy += y[i] * y[i];
+        yab += y[i] * ab;
+    }
+    assert_close(yab, yy - S - 5.0 * S / 15.0, 1e-9);
+    /* MM: y^T A beta = |y|^2 - S - r S/(m-r). */
+    assert_int_equal(igea_regress_ebr(20, 9, A, lda, y, NULL, IGEA_EBR_MM, 0.0,
+                                      beta, &lam, &rank, NULL, NULL, NULL), 0);
+    yab = 0.0;
+    for (int i = 0; i < 20; i++)
+        for (int j = 0; j < 9; j++)
+            yab += y[i] * A[i + 20 * j] * beta[j];
+    assert_close(yab, yy - S - 7.0 * S / 13.0, 1e-9);
+}
+
+static void test_ebr_orthogonal(void **state)
+{
+    (void)state;
+    /* Orthogonal design, all d_i = d = 12: the three rules in closed form,
+     * Z = |P y|^2, S = |y|^2 - Z, s2 = S/(m-r):
+     *  SC:  Z/(1 + l d) = (r-2) S/(m-r+2)
+     *  MM:  Z/(1 + l d) = r S/(m-r)
+     *  ML2: 1 + l d = Z/(r s2)  (stationary point of the likelihood). */
+    const int m = 12, N = 4;
+    double A[12 * 4], y[12], beta[4], lam, shrink[4];
+    int rank;
+    for (int i = 0; i < m; i++) {
+        A[i] = 1.0;
+        A[i + 12] = (i % 2) ? 1.0 : -1.0;
+        A[i + 24] = ((i / 2) % 2) ? 1.0 : -1.0;
+        y[i] = 0.3 * A[i] - 0.7 * A[i + 12] + 0.2 * A[i + 24] +
+               0.25 * sin(1.7 * i + 0.4);
+    }
+    /* column 3 = column 1 * column 2: all four mutually orthogonal */
+    for (int i = 0; i < m; i++)
+        A[i + 36] = A[i + 12] * A[i + 24];
+    double G[16], g[4];
+    normal_eq(m, N, A, m, y, 0.0, G, g);
+    for (int a = 0; a < N; a++)
+        for (int c = 0; c < N; c++)
+            if (a != c)
+                assert_true(fabs(G[a + 4 * c]) < 1e-14);
+    double d = G[0], Z = 0.0, yy = 0.0;
+    for (int a = 0; a < N; a++) {
+        assert_close(G[a * 5], d, 1e-15);
+        Z += g[a] * g[a] / d;
+    }
+    for (int i = 0; i < m; i++)
+        yy += y[i] * y[i];
+    double S = yy - Z, s2 = S / (m - N);
+    double want[3] = {(Z / (2.0 * S / 10.0) - 1.0) / d,
+                      (Z / (4.0 * S / 8.0) - 1.0) / d,
+                      (Z / (4.0 * s2) - 1.0) / d};
+    for (int rule = 0; rule < 3; rule++) {
+        assert_int_equal(igea_regress_ebr(m, N, A, m, y, NULL, rule, 0.0, beta,
+                                          &lam, &rank, shrink, NULL, NULL), 0);
+        assert_int_equal(rank, 4);
+        assert_close(lam, want[rule], 1e-10);
+        for (int j = 0; j < N; j++) {
+            assert_close(shrink[j], lam * d / (1 + lam * d), 1e-12);
+            assert_close(beta[j], g[j] / d * shrink[j], 1e-11);
+        }
+    }
+    /* lam_floor above lambda*: lambda hat = floor. */
+    assert_int_equal(igea_regress_ebr(m, N, A, m, y, NULL, IGEA_EBR_SC, 100.0,
+                                      beta, &lam, &rank, shrink, NULL, NULL), 0);
+    assert_true(lam == 100.0);
+    /* Positive-part rule: pure noise orthogonal to the design -> lambda 0,
+     * beta 0 (full shrinkage to the prior mean). */
+    double yn[12], w[12];
+    for (int i = 0; i < m; i++)
+        w[i] = sin(2.3 * i + 0.1);
+    for (int i = 0; i < m; i++) {
+        double p = 0.0;
+        for (int a = 0; a < N; a++) {
+            double at = 0.0;
+            for (int t = 0; t < m; t++)
+                at += A[t + 12 * a] * w[t];
+            p += A[i + 12 * a] * at / 12.0;
+        }
+        yn[i] = w[i] - p + 1e-3 * A[i + 12];
+    }
+    assert_int_equal(igea_regress_ebr(m, N, A, m, yn, NULL, IGEA_EBR_SC, 0.0,
+                                      beta, &lam, &rank, shrink, NULL, NULL), 0);
+    assert_true(lam == 0.0);
+    for (int j = 0; j < N; j++)
+        assert_true(beta[j] == 0.0 && shrink[j] == 0.0);
+}
+
+static void test_ebr_prior_scale(void **state)
+{
+    (void)state;
+    /* EBR(A, D_s) = D_s EBR(A D_s, I). */
+    int lda = 22;
+    double A[22 * 9], As[20 * 9], y[20], ds[9], b1[9], b2[9], l1, l2, p1[9],
+        p2[9];
+    int r1, r2;
+    ebr_data(3e-5, lda, A, y);
+    for (int j = 0; j < 9; j++) {
+        ds[j] = 0.5 + 0.25 * j;
+        for (int i = 0; i < 20; i++)
+            As[i + 20 * j] = A[i + (size_t)lda * j] * ds[j];
+    }
+    assert_int_equal(igea_regress_ebr(20, 9, A, lda, y, ds, IGEA_EBR_SC, 0.0,
+                                      b1, &l1, &r1, NULL, p1, NULL), 0);
+    assert_int_equal(igea_regress_ebr(20, 9, As, 20, y, NULL, IGEA_EBR_SC, 0.0,
+                                      b2, &l2, &r2, NULL, p2, NULL), 0);
+    assert_int_equal(r1, r2);
+    assert_close(l1, l2, 1e-12);
+    for (int j = 0; j < 9; j++) {
+        assert_close(b1[j], ds[j] * b2[j], 1e-10);
+        assert_close(p1[j], ds[j] * p2[j], 1e-10);
+    }
+}
+
+static void test_ebr_errors(void **state)
+{
+    (void)state;
+    double A[20 * 9], y[20], b[9], lam = SENTINEL, sh[9], sp[9], sf[9],
+        ds[9];
+    int r = -3;
+    ebr_data(1e-5, 20, A, y);
+    for (int j = 0; j < 9; j++)
+        ds[j] = 1.0;
+    fill_sentinel(b, 9);
+    fill_sentinel(sh, 9);
+    fill_sentinel(sp, 9);
+    fill_sentinel(sf, 9);
+#define EBR(...) igea_regress_ebr(__VA_ARGS__)
+    assert_int_equal(EBR(0, 9, A, 20, y, NULL, 0, 0, b, &lam, &r, sh, sp, sf), -1);
+    assert_int_equal(EBR(20, 0, A, 20, y, NULL, 0, 0, b, &lam, &r, sh, sp, sf), -2);
+    assert_int_equal(EBR(20, 9, NULL, 20, y, NULL, 0, 0, b, &lam, &r, sh, sp, sf), -3);
+    assert_int_equal(EBR(20, 9, A, 19, y, NULL, 0, 0, b, &lam, &r, sh, sp, sf), -4);
+    assert_int_equal(EBR(20, 9, A, 20, NULL, NULL, 0, 0, b, &lam, &r, sh, sp, sf), -5);
+    assert_int_equal(EBR(20, 9, A, 20, y, NULL, 3, 0, b, &lam, &r, sh, sp, sf), -7);
+    assert_int_equal(EBR(20, 9, A, 20, y, NULL, 0, -1, b, &lam, &r, sh, sp, sf), -8);
+    assert_int_equal(EBR(20, 9, A, 20, y, NULL, 0, NAN, b, &lam, &r, sh, sp, sf), -8);
+    assert_int_equal(EBR(20, 9, A, 20, y, NULL, 0, 0, NULL, &lam, &r, sh, sp, sf), -9);
+    assert_int_equal(EBR(20, 9, A, 20, y, NULL, 0, 0, b, NULL, &r, sh, sp, sf), -10);
+    assert_int_equal(EBR(20, 9, A, 20, y, NULL, 0, 0, b, &lam, NULL, sh, sp, sf), -11);
+    ds[3] = 0.0;
+    assert_int_equal(EBR(20, 9, A, 20, y, ds, 0, 0, b, &lam, &r, sh, sp, sf),
+                     IGEA_ENONPOSITIVE);
+    ds[3] = NAN;
+    assert_int_equal(EBR(20, 9, A, 20, y, ds, 0, 0, b, &lam, &r, sh, sp, sf),
+                     IGEA_ENONFINITE);
+    y[4] = NAN;
+    assert_int_equal(EBR(20, 9, A, 20, y, NULL, 0, 0, b, &lam, &r, sh, sp, sf),
+                     IGEA_ENONFINITE);
+    y[4] = 0.0;
+    /* rank 2 < 3 */
+    assert_int_equal(EBR(20, 2, A, 20, y, NULL, 0, 0, b, &lam, &r, sh, sp, sf),
+                     IGEA_ERANK);
+    /* m == r: no residual degrees of freedom */
+    double Q[9] = {1, 0, 0, 0, 2, 0, 0, 0, 3}, yq[3] = {1, 2, 3};
+    assert_int_equal(EBR(3, 3, Q, 3, yq, NULL, 0, 0, b, &lam, &r, sh, sp, sf),
+                     IGEA_EDOMAIN);
+#undef EBR
+    assert_true(all_sentinel(b, 9) && all_sentinel(sh, 9) &&
+                all_sentinel(sp, 9) && all_sentinel(sf, 9) &&
+                lam == SENTINEL && r == -3);
+}
+
+/* ---- ridge ---- */
+
+static void test_ridge(void **state)
+{
+    (void)state;
+    int lda = 19;
+    double A[19 * 7], y[16], x[7], cov[49], ku, s2, res[16];
+    longley_design(lda, A, y);
+    /* Scale the columns to unit norm first (ridge is not scale-free). */
+    double As[16 * 7];
+    for (int j = 0; j < 7; j++) {
+        double n = 0.0;
+        for (int i = 0; i < 16; i++)
+            n += A[i + lda * j] * A[i + lda * j];
+        for (int i = 0; i < 16; i++)
+            As[i + 16 * j] = A[i + lda * j] / sqrt(n);
+    }
+    double B[49], b[7], M[49], ref[7];
+    const double k = 1e-4;
+    assert_int_equal(igea_regress_ridge(16, 7, As, 16, y, NULL,
+                                        IGEA_RIDGE_FIXED, k, x, cov, 7, &ku,
+                                        &s2, res), 0);
+    assert_true(ku == k);
+    normal_eq(16, 7, As, 16, y, k, B, b);
+    assert_true(gj_inverse(7, B, M));
+    matvec(7, M, b, ref);
+    for (int j = 0; j < 7; j++)
+        assert_close(x[j], ref[j], 1e-8);
+    assert_close(s2, longley_rsd * longley_rsd, 1e-9);
+    /* cov = s2 M B0 M with B0 = A^T A */
+    double B0[49], MB[49];
+    normal_eq(16, 7, As, 16, y, 0.0, B0, b);
+    for (int c = 0; c < 7; c++)
+        matvec(7, M, B0 + 7 * c, MB + 7 * c);
+    for (int a = 0; a < 7; a++) {
+        double v = 0.0;
+        for (int c = 0; c < 7; c++)
+            v += MB[a + 7 * c] * M[c + 7 * a];
+        assert_close(cov[a * 8], s2 * v, 1e-7);
+    }
+    /* HKB and LW in closed form from least squares (p = 7 = rank). */
+    double xl[7], sl;
+    int rk;
+    assert_int_equal(igea_regress_ls(16, 7, As, 16, y, NULL, 0, xl, NULL, 1,
+                                     &rk, &sl, NULL), 0);
+    double nx = 0.0, nax = 0.0;
+    for (int j = 0; j < 7; j++)
+        nx += xl[j] * xl[j];
+    for (int i = 0; i < 16; i++) {
+        double v = 0.0;
+        for (int j = 0; j < 7; j++)
+            v += As[i + 16 * j] * xl[j];
+        nax += v * v;
+    }
+    assert_int_equal(igea_regress_ridge(16, 7, As, 16, y, NULL, IGEA_RIDGE_HKB,
+                                        0, x, NULL, 1, &ku, &s2, NULL), 0);
+    assert_close(ku, 7 * sl / nx, 1e-9);
+    assert_int_equal(igea_regress_ridge(16, 7, As, 16, y, NULL, IGEA_RIDGE_LW,
+                                        0, x, NULL, 1, &ku, &s2, NULL), 0);
+    assert_close(ku, 7 * sl / nax, 1e-9);
+    /* GCV and LOO: the returned k is a local minimum of the criterion,
+     * evaluated here independently from H = A M A^T. */
+    for (int rule = IGEA_RIDGE_GCV; rule <= IGEA_RIDGE_LOO; rule++) {
+        assert_int_equal(igea_regress_ridge(16, 7, As, 16, y, NULL, rule, 0, x,
+                                            NULL, 1, &ku, &s2, NULL), 0);
+        double crit[3];
+        for (int t = 0; t < 3; t++) {
+            double kk = ku * (t == 0 ? 1.0 : (t == 1 ? 1.05 : 1 / 1.05));
+            normal_eq(16, 7, As, 16, y, kk, B, b);
+            assert_true(gj_inverse(7, B, M));
+            double rss = 0.0, tr = 0.0, press = 0.0;
+            for (int i = 0; i < 16; i++) {
+                double fit = 0.0, h = 0.0;
+                for (int a = 0; a < 7; a++)
+                    for (int c = 0; c < 7; c++) {
+                        fit += As[i + 16 * a] * M[a + 7 * c] * b[c];
+                        h += As[i + 16 * a] * M[a + 7 * c] * As[i + 16 * c];
+                    }
+                double e = y[i] - fit;
+                rss += e * e;
+                tr += h;
+                press += (e / (1 - h)) * (e / (1 - h));
+            }
+            crit[t] = rule == IGEA_RIDGE_GCV ? 16 * rss / ((16 - tr) * (16 - tr))
+                                             : press;
+        }
+        assert_true(crit[0] <= crit[1] * (1 + 1e-12));
+        assert_true(crit[0] <= crit[2] * (1 + 1e-12));
+    }
+    /* Trace: k = 0 gives least squares; k = 1e-4 the fixed ridge. */
+    double kg[2] = {0.0, 1e-4}, X[8 * 2], edf[2];
+    assert_int_equal(igea_regress_ridge_trace(16, 7, As, 16, y, NULL, 2, kg, X,
+                                              8, edf), 0);
+    assert_close(edf[0], 7.0, 1e-12);
+    assert_true(edf[1] < 7.0);
+    assert_int_equal(igea_regress_ridge(16, 7, As, 16, y, NULL,
+                                        IGEA_RIDGE_FIXED, 1e-4, x, NULL, 1, &ku,
+                                        &s2, NULL), 0);
+    for (int j = 0; j < 7; j++) {
+        assert_close(X[j], xl[j], 1e-8);
+        assert_close(X[8 + j], x[j], 1e-12);
+    }
+}
+
+static void test_ridge_published_longley(void **state)
+{
+    (void)state;
+    /* Published ridge constants for Longley (R, MASS::lm.ridge + select,
+     * Venables & Ripley; output printed in Faraway, "Practical Regression
+     * and Anova using R", ridge regression section, and in course notes): Employed ~ . gives
+     * "modified HKB estimator is 0.004275357, modified L-W estimator is
+     * 0.03229531"; GNP.deflator ~ . gives 0.006837 and 0.05267. MASS
+     * centres the columns, scales them by sqrt(mean(x^2)), centres y and
+     * uses s2 = RSS/(n-p-1), (p-2) instead of p, and for L-W a factor n;
+     * so HKB_MASS = k_HKB (p-2)/p (n-p)/(n-p-1) and LW_MASS = that times n.
+     * Column/row scalings of the NIST data (R stores some /10, /1000)
+     * leave both unchanged. */
+    for (int t = 0; t < 2; t++) {
+        const int n = 16, p = 6;
+        double X[16 * 6], y[16], x[6], kh, kl, s2;
+        int ycol = t == 0 ? 0 : 1;
+        int col = 0;
+        for (int c = 0; c < 7; c++) {
+            if (c == ycol)
+                continue;
+            double mean = 0.0, ms = 0.0;
+            for (int i = 0; i < n; i++)
+                mean += longley[i][c] / n;
+            for (int i = 0; i < n; i++) {
+                X[i + n * col] = longley[i][c] - mean;
+                ms += X[i + n * col] * X[i + n * col] / n;
+            }
+            for (int i = 0; i < n; i++)
+                X[i + n * col] /= sqrt(ms);
+            col++;
+        }
+        double ym = 0.0;
+        for (int i = 0; i < n; i++)
+            ym += longley[i][ycol] / n;
+        for (int i = 0; i < n; i++)
+            y[i] = longley[i][ycol] - ym;
+        assert_int_equal(igea_regress_ridge(n, p, X, n, y, NULL, IGEA_RIDGE_HKB,
+                                            0, x, NULL, 1, &kh, &s2, NULL), 0);
+        assert_int_equal(igea_regress_ridge(n, p, X, n, y, NULL, IGEA_RIDGE_LW,
+                                            0, x, NULL, 1, &kl, &s2, NULL), 0);
+        double f = (p - 2.0) / p * (n - p) / (n - p - 1.0);
+        if (t == 0) {
+            assert_digits(kh * f, 0.004275357, 7);
+            assert_digits(kl * f * n, 0.03229531, 7);
+        } else {
+            assert_digits(kh * f, 0.006837, 4);
+            assert_digits(kl * f * n, 0.05267, 4);
+        }
+    }
+}
+
+static void test_ridge_errors(void **state)
+{
+    (void)state;
+    double A[6] = {1, 2, 3, 1, 0, 1}, y[3] = {1, 2, 2};
+    double x[2], cov[4], ku = SENTINEL, s2 = SENTINEL, res[3], kg[1] = {0.1},
+        X[2];
+    fill_sentinel(x, 2);
+    fill_sentinel(cov, 4);
+    fill_sentinel(res, 3);
+    fill_sentinel(X, 2);
+#define RG(...) igea_regress_ridge(__VA_ARGS__)
+    assert_int_equal(RG(0, 2, A, 3, y, NULL, 0, 1, x, cov, 2, &ku, &s2, res), -1);
+    assert_int_equal(RG(3, 0, A, 3, y, NULL, 0, 1, x, cov, 2, &ku, &s2, res), -2);
+    assert_int_equal(RG(3, 2, NULL, 3, y, NULL, 0, 1, x, cov, 2, &ku, &s2, res), -3);
+    assert_int_equal(RG(3, 2, A, 1, y, NULL, 0, 1, x, cov, 2, &ku, &s2, res), -4);
+    assert_int_equal(RG(3, 2, A, 3, NULL, NULL, 0, 1, x, cov, 2, &ku, &s2, res), -5);
+    assert_int_equal(RG(3, 2, A, 3, y, NULL, 5, 1, x, cov, 2, &ku, &s2, res), -7);
+    assert_int_equal(RG(3, 2, A, 3, y, NULL, 0, -1, x, cov, 2, &ku, &s2, res), -8);
+    assert_int_equal(RG(3, 2, A, 3, y, NULL, 0, 1, NULL, cov, 2, &ku, &s2, res), -9);
+    assert_int_equal(RG(3, 2, A, 3, y, NULL, 0, 1, x, cov, 1, &ku, &s2, res), -11);
+    assert_int_equal(RG(3, 2, A, 3, y, NULL, 0, 1, x, cov, 2, NULL, &s2, res), -12);
+    assert_int_equal(RG(3, 2, A, 3, y, NULL, 0, 1, x, cov, 2, &ku, NULL, res), -13);
+    A[2] = NAN;
+    assert_int_equal(RG(3, 2, A, 3, y, NULL, 0, 1, x, cov, 2, &ku, &s2, res),
+                     IGEA_ENONFINITE);
+    A[2] = 3;
+    /* HKB needs residual degrees of freedom */
+    double Q[4] = {1, 0, 0, 1}, yq[2] = {1, 1};
+    assert_int_equal(RG(2, 2, Q, 2, yq, NULL, IGEA_RIDGE_HKB, 0, x, cov, 2, &ku,
+                        &s2, res), IGEA_EDOMAIN);
+#undef RG
+    assert_int_equal(igea_regress_ridge_trace(3, 2, A, 3, y, NULL, 0, kg, X, 2,
+                                              NULL), -7);
+    assert_int_equal(igea_regress_ridge_trace(3, 2, A, 3, y, NULL, 1, NULL, X,
+                                              2, NULL), -8);
+    kg[0] = -1;
+    assert_int_equal(igea_regress_ridge_trace(3, 2, A, 3, y, NULL, 1, kg, X, 2,
+                                              NULL), -8);
+    kg[0] = 1;
+    assert_int_equal(igea_regress_ridge_trace(3, 2, A, 3, y, NULL, 1, kg, NULL,
+                                              2, NULL), -9);
+    assert_int_equal(igea_regress_ridge_trace(3, 2, A, 3, y, NULL, 1, kg, X, 1,
+                                              NULL), -10);
+    assert_true(all_sentinel(x, 2) && all_sentinel(cov, 4) &&
+                all_sentinel(res, 3) && all_sentinel(X, 2) &&
+                ku == SENTINEL && s2 == SENTINEL);
+}
+
+/* ---- PCE ---- */
+
+static void test_pce(void **state)
+{
+    (void)state;
+    /* A = [diag(3, 2, 1); 1 x 3 zero row], eigenvectors e_i, d = 9, 4, 1:
+     * keeping 2 components gives x = (y1/3, y2/2, 0); eig_min = 0.5 keeps
+     * all three (least squares). sigma2 = y4^2 / (4 - 3). */
+    double A[5 * 3], y[4] = {3.0, -4.0, 0.5, 0.2}, x[3], cov[9], s2, res[4];
+    int n;
+    fill_nan(A, 15);
+    for (int j = 0; j < 3; j++)
+        for (int i = 0; i < 4; i++)
+            A[i + 5 * j] = (i == j) ? 3.0 - j : 0.0;
+    assert_int_equal(igea_regress_pce(4, 3, A, 5, y, NULL, 2, 0.0, x, cov, 3,
+                                      &n, &s2, res), 0);
+    assert_int_equal(n, 2);
+    assert_close(x[0], 1.0, 1e-15);
+    assert_close(x[1], -2.0, 1e-15);
+    assert_true(x[2] == 0.0);
+    assert_close(s2, 0.04, 1e-13);
+    assert_close(cov[0], 0.04 / 9, 1e-13);
+    assert_close(cov[4], 0.04 / 4, 1e-13);
+    assert_close_abs(cov[8], 0.0, 0, 1e-30);
+    assert_close(res[2], 0.5, 1e-15);
+    assert_int_equal(igea_regress_pce(4, 3, A, 5, y, NULL, 0, 0.5, x, NULL, 1,
+                                      &n, &s2, NULL), 0);
+    assert_int_equal(n, 3);
+    assert_close(x[2], 0.5, 1e-15);
+    assert_int_equal(igea_regress_pce(4, 3, A, 5, y, NULL, 0, 5.0, x, NULL, 1,
+                                      &n, &s2, NULL), 0);
+    assert_int_equal(n, 1);
+    assert_true(x[1] == 0.0);
+    /* errors */
+    double xs[3];
+    fill_sentinel(xs, 3);
+    assert_int_equal(igea_regress_pce(4, 3, A, 5, y, NULL, -1, 0, xs, NULL, 1,
+                                      &n, &s2, NULL), -7);
+    assert_int_equal(igea_regress_pce(4, 3, A, 5, y, NULL, 0, 0, xs, NULL, 1,
+                                      &n, &s2, NULL), -8);
+    assert_int_equal(igea_regress_pce(4, 3, A, 5, y, NULL, 1, 0, NULL, NULL, 1,
+                                      &n, &s2, NULL), -9);
+    assert_int_equal(igea_regress_pce(4, 3, A, 5, y, NULL, 1, 0, xs, cov, 2,
+                                      &n, &s2, NULL), -11);
+    assert_int_equal(igea_regress_pce(4, 3, A, 5, y, NULL, 1, 0, xs, NULL, 1,
+                                      NULL, &s2, NULL), -12);
+    assert_int_equal(igea_regress_pce(4, 3, A, 5, y, NULL, 1, 0, xs, NULL, 1,
+                                      &n, NULL, NULL), -13);
+    assert_int_equal(igea_regress_pce(4, 3, A, 4, y, NULL, 1, 0, xs, NULL, 1,
+                                      &n, &s2, NULL), IGEA_ENONFINITE - 0 * 4);
+    assert_true(all_sentinel(xs, 3));
+}
+
+/* ---- Bayes ---- */
+
+static void test_bayes(void **state)
+{
+    (void)state;
+    /* Singular design (METHODS 4.2) + SPD prior: closed form
+     * cov = (A^T W A + P^-1)^-1, x = cov (A^T W y + P^-1 mu). */
+    int lda = 21;
+    double A[21 * 9], y[20], sg[20], mu[9], P[10 * 9], x[9], cov[81],
+        res[20];
+    ebr_data(2e-5, lda, A, y);
+    fill_nan(P, 90);
+    for (int i = 0; i < 20; i++)
+        sg[i] = 1e-5 * (1.0 + 0.05 * i);
+    for (int j = 0; j < 9; j++) {
+        mu[j] = 1e-5 * (j - 4);
+        for (int i = 0; i < 9; i++)
+            P[i + 10 * j] = 1e-8 * (i == j ? 2.0 + 0.1 * i : 0.3 / (1 + abs(i - j)));
+    }
+    assert_int_equal(igea_regress_bayes(20, 9, A, lda, y, sg, mu, P, 10, x,
+                                        cov, 9, res), 0);
+    double Aw[20 * 9], yw[20], B[81], b[9], Pi[81], Pd[81], C[81], rhs[9],
+        pm[9], ref[9];
+    for (int i = 0; i < 20; i++) {
+        yw[i] = y[i] / sg[i];
+        for (int j = 0; j < 9; j++)
+            Aw[i + 20 * j] = A[i + lda * j] / sg[i];
+    }
+    normal_eq(20, 9, Aw, 20, yw, 0.0, B, b);
+    for (int j = 0; j < 9; j++)
+        for (int i = 0; i < 9; i++)
+            Pd[i + 9 * j] = P[(i > j ? i : j) + 10 * (i > j ? j : i)];
+    assert_true(gj_inverse(9, Pd, Pi));
+    for (int k = 0; k < 81; k++)
+        B[k] += Pi[k];
+    assert_true(gj_inverse(9, B, C));
+    matvec(9, Pi, mu, pm);
+    for (int j = 0; j < 9; j++)
+        rhs[j] = b[j] + pm[j];
+    matvec(9, C, rhs, ref);
+    for (int j = 0; j < 9; j++) {
+        assert_close(x[j], ref[j], 1e-8);
+        for (int i = 0; i < 9; i++)
+            assert_close_abs(cov[i + 9 * j], C[i + 9 * j], 1e-7,
+                             1e-9 * sqrt(C[i * 10] * C[j * 10]));
+    }
+    double r0 = y[0];
+    for (int j = 0; j < 9; j++)
+        r0 -= A[lda * j] * x[j];
+    assert_close_abs(res[0], r0, 1e-9, 1e-14);
+    /* errors */
+    double xs[9];
+    fill_sentinel(xs, 9);
+    assert_int_equal(igea_regress_bayes(20, 9, A, lda, y, sg, mu, NULL, 10, xs,
+                                        NULL, 9, NULL), -8);
+    assert_int_equal(igea_regress_bayes(20, 9, A, lda, y, sg, mu, P, 8, xs,
+                                        NULL, 9, NULL), -9);
+    assert_int_equal(igea_regress_bayes(20, 9, A, lda, y, sg, mu, P, 10, NULL,
+                                        NULL, 9, NULL), -10);
+    assert_int_equal(igea_regress_bayes(20, 9, A, lda, y, sg, mu, P, 10, xs,
+                                        cov, 8, NULL), -12);
+    double Pbad[81];
+    for (int k = 0; k < 81; k++)
+        Pbad[k] = (k % 10 == 0) ? 1.0 : 0.0;
+    Pbad[4 * 10] = -1.0;
+    assert_int_equal(igea_regress_bayes(20, 9, A, lda, y, sg, mu, Pbad, 9, xs,
+                                        NULL, 9, NULL), IGEA_ESINGULAR);
+    mu[2] = NAN;
+    assert_int_equal(igea_regress_bayes(20, 9, A, lda, y, sg, mu, P, 10, xs,
+                                        NULL, 9, NULL), IGEA_ENONFINITE);
+    assert_true(all_sentinel(xs, 9));
+}
+
+/* ---- diagnostics ---- */
+
+static void test_collinearity(void **state)
+{
+    (void)state;
+    /* METHODS 4.2: eigenvalues (17.5 +- sqrt(231.25))/2 (x2), 10, 5, 2.5,
+     * 0, 0; coefficients 0, 1, 5, 6, 7, 8 are prior-determined; VIF of
+     * k_A1 = 7.5 * 7.5/50 = 1.125, of eta = 1. */
+    int lda = 24;
+    double A[24 * 9], y[20], cond[2], eig[9], V[10 * 9], vif[9], sd[9];
+    int rank, pd[9];
+    ebr_data(0.0, lda, A, y);
+    assert_int_equal(igea_regress_collinearity(20, 9, A, lda, NULL, NULL, 0,
+                                               cond, &rank, eig, V, 10, vif,
+                                               sd, pd), 0);
+    assert_int_equal(rank, 7);
+    double hi = (17.5 + sqrt(231.25)) / 2, lo = (17.5 - sqrt(231.25)) / 2;
+    const double ref[7] = {hi, hi, 10, 5, 2.5, lo, lo};
+    for (int i = 0; i < 7; i++) {
+        assert_close(eig[i], ref[i], 1e-13);
+        assert_close(sd[i], 1.0 / sqrt(ref[i]), 1e-13);
+    }
+    assert_true(eig[7] < 1e-25 && eig[8] < 1e-25);
+    assert_true(isinf(sd[7]) && isinf(sd[8]));
+    assert_close(cond[1], sqrt(hi / lo), 1e-12);
+    assert_true(cond[0] > 1e14);
+    const int pd_ref[9] = {1, 1, 0, 0, 0, 1, 1, 1, 1};
+    for (int j = 0; j < 9; j++) {
+        assert_int_equal(pd[j], pd_ref[j]);
+        if (pd_ref[j])
+            assert_true(isinf(vif[j]));
+    }
+    assert_close(vif[2], 1.125, 1e-12);
+    assert_close(vif[3], 1.125, 1e-12);
+    assert_close(vif[4], 1.0, 1e-12);
+    /* the null space spans n1 and n2 */
+    const double n1[9] = {-1, 0, 0, 0, 0, 1, 0, 0, -1};
+    const double n2[9] = {0, -1, 0, 0, 0, 0, 1, 1, 0};
+    for (int t = 0; t < 2; t++) {
+        const double *n = t ? n2 : n1;
+        double p = 0.0;
+        for (int c = 7; c < 9; c++) {
+            double dt = 0.0;
+            for (int j = 0; j < 9; j++)
+                dt += V[j + 10 * c] * n[j];
+            p += dt * dt;
+        }
+        assert_close(p, 3.0, 1e-12);
+    }
+    /* with y: sd of the combinations scale with s = sqrt(RSS/(m-r)) */
+    ebr_data(4e-5, lda, A, y);
+    assert_int_equal(igea_regress_collinearity(20, 9, A, lda, y, NULL, 0, cond,
+                                               &rank, eig, NULL, 1, NULL, sd,
+                                               NULL), 0);
+    double s = sqrt(12.5 * 16e-10 / 13.0);
+    assert_close(sd[0], s / sqrt(hi), 1e-9);
+    /* errors */
+    double cs[2] = {SENTINEL, SENTINEL};
+    assert_int_equal(igea_regress_collinearity(20, 9, A, lda, y, NULL, 2, cs,
+                                               &rank, eig, V, 10, vif, sd, pd),
+                     -7);
+    assert_int_equal(igea_regress_collinearity(20, 9, A, lda, y, NULL, 0, NULL,
+                                               &rank, eig, V, 10, vif, sd, pd),
+                     -8);
+    assert_int_equal(igea_regress_collinearity(20, 9, A, lda, y, NULL, 0, cs,
+                                               NULL, eig, V, 10, vif, sd, pd),
+                     -9);
+    assert_int_equal(igea_regress_collinearity(20, 9, A, lda, y, NULL, 0, cs,
+                                               &rank, NULL, V, 10, vif, sd, pd),
+                     -10);
+    assert_int_equal(igea_regress_collinearity(20, 9, A, lda, y, NULL, 0, cs,
+                                               &rank, eig, V, 8, vif, sd, pd),
+                     -12);
+    A[3] = INFINITY;
+    assert_int_equal(igea_regress_collinearity(20, 9, A, lda, y, NULL, 0, cs,
+                                               &rank, eig, V, 10, vif, sd, pd),
+                     IGEA_ENONFINITE);
+    assert_true(cs[0] == SENTINEL && cs[1] == SENTINEL);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_ls_longley),
+        cmocka_unit_test(test_ls_filip),
+        cmocka_unit_test(test_ls_weighted_line),
+        cmocka_unit_test(test_ls_rank_deficient),
+        cmocka_unit_test(test_ls_errors),
+        cmocka_unit_test(test_ebr_vector),
+        cmocka_unit_test(test_ebr_closed_forms),
+        cmocka_unit_test(test_ebr_orthogonal),
+        cmocka_unit_test(test_ebr_prior_scale),
+        cmocka_unit_test(test_ebr_errors),
+        cmocka_unit_test(test_ridge),
+        cmocka_unit_test(test_ridge_published_longley),
+        cmocka_unit_test(test_ridge_errors),
+        cmocka_unit_test(test_pce),
+        cmocka_unit_test(test_bayes),
+        cmocka_unit_test(test_collinearity),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
