@@ -1,0 +1,279 @@
+/*
+ * igea/accel.h - accelerometer calibration in the gravity field on a
+ * dividing head (seed 003; METHODS 4.1-4.3).
+ *
+ * The head turns about a horizontal axis (the pendulous axis PA in the
+ * "door" position); at head angle theta the input axis IA of accelerometer
+ * A senses g sin(phi), phi = theta + head error + installation angle.
+ * Outputs are in g (raw volts divided by the nominal scale factor, see
+ * igea_accel_to_g).
+ *
+ * Single model (METHODS 4.1), IGEA_ACCEL_SINGLE, 5 coefficients, observation
+ * y = y_A - sin(theta), design row [1, s, c, s^2, s c] (s = sin theta,
+ * c = cos theta):
+ *     K = [K0, k1, delta0, K2, Kix]
+ * (bias, scale-factor correction, installation angle about the rotation
+ * axis in rad, second-order term, cross-coupling with the second in-plane
+ * axis x: Kio when turning about PA, Kip when turning about OA). The head
+ * errors enter as delta_theta cos(theta): the single model's accuracy limit.
+ *
+ * Orthogonal-dual g^2 model (METHODS 4.2), IGEA_ACCEL_DUAL, 9 coefficients,
+ * B mounted at 90 deg + eta from A, observation
+ * y = (y_A^2 + y_B^2 - 1) / 2, design row
+ *     [s, c, s^2, c^2, -s c, s^3, c^3, s^2 c, -s c^2]
+ * for K = [KA0, KB0, kA1, kB1, eta, KA2, KB2, KAix, KBix]. The head errors
+ * cancel to first order, but the design has rank 7 (for 7 or more distinct
+ * equispaced positions): the null space is spanned by
+ * n1 = (KA0, KA2, KBix) = (-1, 1, -1) and n2 = (KB0, KB2, KAix) = (-1, 1, 1).
+ * Only the estimable combinations (igea_accel_combinations)
+ *     kA1, kB1, eta, KA0 + KA2, KA2 + KBix, KB0 + KB2, KB2 - KAix
+ * are determined by a calibration; the individual KA0, KB0, KA2, KB2, KAix,
+ * KBix are fixed by the minimum-norm convention (LS) or by the prior (EBR),
+ * and every fit flags them so (IGEA_ACCEL_PRIOR).
+ *
+ * Status codes as everywhere in igea: 0 ok, -i argument i invalid,
+ * IGEA_E* library-wide failures; outputs are untouched on failure.
+ */
+#ifndef IGEA_ACCEL_H
+#define IGEA_ACCEL_H
+
+#include "igea/common.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Models. */
+#define IGEA_ACCEL_SINGLE 0
+#define IGEA_ACCEL_DUAL 1
+
+/* Coefficients per model and estimable combinations per model. */
+#define IGEA_ACCEL_NP_SINGLE 5
+#define IGEA_ACCEL_NP_DUAL 9
+#define IGEA_ACCEL_NC_SINGLE 5
+#define IGEA_ACCEL_NC_DUAL 7
+
+/* Column order of the single model (METHODS 4.1). */
+#define IGEA_ACCEL_K0 0
+#define IGEA_ACCEL_K1 1
+#define IGEA_ACCEL_DELTA0 2
+#define IGEA_ACCEL_K2 3
+#define IGEA_ACCEL_KIX 4
+
+/* Column order of the dual model (METHODS 4.2, eq. 4). */
+#define IGEA_ACCEL_KA0 0
+#define IGEA_ACCEL_KB0 1
+#define IGEA_ACCEL_KA1 2
+#define IGEA_ACCEL_KB1 3
+#define IGEA_ACCEL_ETA 4
+#define IGEA_ACCEL_KA2 5
+#define IGEA_ACCEL_KB2 6
+#define IGEA_ACCEL_KAIX 7
+#define IGEA_ACCEL_KBIX 8
+/* Truth vectors of igea_accel_simulate: the 9 dual coefficients, then the
+ * installation angle delta0 (rad). */
+#define IGEA_ACCEL_SIM_DELTA0 9
+#define IGEA_ACCEL_NP_SIM 10
+
+/* Fit methods. */
+#define IGEA_ACCEL_LS 0  /* least squares (minimum norm if rank-deficient) */
+#define IGEA_ACCEL_EBR 1 /* empirical-Bayes ridge (METHODS 4.3) */
+
+/* Flags per coefficient. */
+#define IGEA_ACCEL_DATA 0  /* determined by the data */
+#define IGEA_ACCEL_PRIOR 1 /* loads on the null space: fixed by the prior or
+                              by the minimum-norm convention, not the data */
+
+/* A coefficient is flagged IGEA_ACCEL_PRIOR when the norm of its
+ * projection on the null space of the design exceeds this. */
+#define IGEA_ACCEL_LOADING_TOL 1e-6
+
+/* Indices into info[IGEA_ACCEL_INFO_LEN] (doubles). */
+#define IGEA_ACCEL_INFO_RANK 0   /* numerical rank of the design */
+#define IGEA_ACCEL_INFO_SIGMA 1  /* residual sd of the observation equation,
+                                    sqrt(RSS / dof) (0 when dof = 0) */
+#define IGEA_ACCEL_INFO_LAMBDA 2 /* EBR prior scale lambda hat (0 for LS) */
+#define IGEA_ACCEL_INFO_RMS 3    /* residual root-mean-square */
+#define IGEA_ACCEL_INFO_NOBS 4   /* observations used */
+#define IGEA_ACCEL_INFO_DOF 5    /* observations - rank */
+#define IGEA_ACCEL_INFO_ITER 6   /* Gauss-Newton iterations (refine) */
+#define IGEA_ACCEL_INFO_STEP 7   /* last Gauss-Newton step, max-norm */
+#define IGEA_ACCEL_INFO_LEN 8
+
+/*
+ * Position schedule: n equally spaced head angles
+ * theta_deg[k] = start_deg + 360 k / n, k = 0..n-1 (the 360 deg reading,
+ * which repeats 0 deg, is not part of it).
+ *  1 n >= 1; 2 start_deg finite; 3 theta_deg[n] output.
+ * Returns 0 or -i.
+ */
+IGEA_API int igea_accel_schedule(int n, double start_deg, double *theta_deg);
+
+/*
+ * Merge the readings of one calibration into one value per position: the
+ * clockwise and counter-clockwise runs are averaged per position, and the
+ * 360 deg reading is averaged with the 0 deg one (angles are compared
+ * modulo 360). Readings whose angles differ by at most tol_deg (after
+ * sorting) form one position; the position's angle is the mean of its
+ * readings' angles reduced to [-tol_deg, 360 - tol_deg).
+ *  1 nrows >= 1 readings; 2 angle_deg[nrows] head angles (any order);
+ *  3 ya[nrows] A outputs; 4 yb[nrows] B outputs or NULL (single model);
+ *  5 tol_deg: 0 <= tol_deg < 45;
+ * Outputs (capacity nrows each; positions in ascending angle):
+ *  6 theta_deg, 7 ya_mean, 8 yb_mean (NULL when yb is NULL),
+ *  9 count[nrows] readings per position (may be NULL), 10 npos.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENOMEM.
+ */
+IGEA_API int igea_accel_merge(int nrows, const double *angle_deg,
+                              const double *ya, const double *yb,
+                              double tol_deg, double *theta_deg,
+                              double *ya_mean, double *yb_mean, int *count,
+                              int *npos);
+
+/*
+ * Raw outputs to g: y[i] = raw[i] / scale (scale = the nominal scale factor
+ * in output units per g, e.g. V/g; its sign carries the polarity).
+ *  1 n >= 1; 2 raw[n]; 3 scale finite and != 0; 4 y[n] (may alias raw).
+ * Returns 0, -i, IGEA_ENONFINITE.
+ */
+IGEA_API int igea_accel_to_g(int n, const double *raw, double scale,
+                             double *y);
+
+/*
+ * Observation of the linear model: single y = y_A - sin(theta); dual
+ * y = (y_A^2 + y_B^2 - 1) / 2 (METHODS 4.2 eq. 3), outputs in g.
+ *  1 model; 2 n >= 1; 3 theta_deg[n]; 4 ya[n]; 5 yb[n] (dual; ignored and
+ *  may be NULL for single); 6 y[n].
+ * Returns 0, -i, IGEA_ENONFINITE.
+ */
+IGEA_API int igea_accel_observe(int model, int n, const double *theta_deg,
+                                const double *ya, const double *yb, double *y);
+
+/*
+ * Design matrix (n x np column-major, np = 5 single / 9 dual) in the
+ * column order above.
+ *  1 model; 2 n >= 1 positions; 3 theta_deg[n]; 4 A; 5 lda >= n.
+ * Returns 0, -i, IGEA_ENONFINITE.
+ */
+IGEA_API int igea_accel_design(int model, int n, const double *theta_deg,
+                               double *A, int lda);
+
+/*
+ * The model's estimable combinations as the columns of C (np x nc): the
+ * identity for the single model (nc = 5); for the dual model (nc = 7) the
+ * columns are kA1, kB1, eta, KA0 + KA2, KA2 + KBix, KB0 + KB2, KB2 - KAix.
+ *  1 model; 2 C; 3 ldc >= np.
+ * Returns 0 or -i.
+ */
+IGEA_API int igea_accel_combinations(int model, double *C, int ldc);
+
+/*
+ * Identifiability of a position schedule: singular values, rank, null
+ * space, and each coefficient's and each combination's loading on the null
+ * space (the norm of its projection; 0 = determined by the data).
+ *  1 model; 2 n >= 1; 3 theta_deg[n];
+ * Outputs:
+ *  4 sv[np] singular values of the design, descending (0 beyond min(n, np));
+ *  5 null (np x np), 6 ldn >= np: the first np - rank columns are an
+ *    orthonormal null-space basis in canonical form [D] (reduced echelon
+ *    form of the basis, orthonormalised in order; each vector's first
+ *    nonzero entry positive), the remaining columns are 0; null may be NULL
+ *    (ldn >= 1 then);
+ *  7 loading[np] (may be NULL); 8 comb_loading[nc] (may be NULL), the
+ *    loading of each combination of igea_accel_combinations divided by its
+ *    norm; 9 rank (numerical rank, cut max(n, np) eps s_1; METHODS 0.3).
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENOMEM, IGEA_ELAPACK.
+ */
+IGEA_API int igea_accel_analyze(int model, int n, const double *theta_deg,
+                                double *sv, double *null, int ldn,
+                                double *loading, double *comb_loading,
+                                int *rank);
+
+/*
+ * Fit a calibration: the linear model's observations and design (above),
+ * then least squares (igea_regress_ls: minimum norm when rank-deficient) or
+ * EBR (igea_regress_ebr, METHODS 4.3).
+ *  1 model: IGEA_ACCEL_SINGLE or IGEA_ACCEL_DUAL;
+ *  2 method: IGEA_ACCEL_LS or IGEA_ACCEL_EBR;
+ *  3 n >= 1 positions (EBR needs n > rank and rank >= 3);
+ *  4 theta_deg[n] head angles; 5 ya[n] A outputs in g;
+ *  6 yb[n] B outputs in g (dual; ignored and may be NULL for single);
+ *  7 prior_scale: np historical spreads tau_j > 0 for EBR (prior
+ *    beta_j ~ N(0, lambda sigma^2 tau_j^2)) or NULL (isotropic); ignored
+ *    for LS;
+ *  8 rule: IGEA_EBR_SC, IGEA_EBR_MM or IGEA_EBR_ML2 (EBR; ignored for LS);
+ *  9 lam_floor >= 0 (EBR; ignored for LS);
+ * Outputs:
+ * 10 coef[np] in the model's column order;
+ * 11 sd[np] (may be NULL): LS sqrt(diag(sigma^2 pinv(A^T A))) (the spread
+ *    of the minimum-norm estimate); EBR the posterior sd of
+ *    igea_regress_ebr (a null direction keeps its prior variance). For a
+ *    coefficient flagged IGEA_ACCEL_PRIOR neither is an uncertainty of the
+ *    coefficient itself, which the data do not determine;
+ * 12 flag[np] (may be NULL): IGEA_ACCEL_DATA or IGEA_ACCEL_PRIOR;
+ * 13 comb[nc] (may be NULL): the estimable combinations C^T coef;
+ * 14 comb_sd[nc] (may be NULL): their standard deviations (LS:
+ *    sqrt(sigma^2 c^T pinv(A^T A) c); EBR: sqrt(c^T Cov_post c), the
+ *    posterior of METHODS 4.3 step 7); NaN for a combination that is not estimable with these
+ *    positions (comb_loading > IGEA_ACCEL_LOADING_TOL); sd and comb_sd
+ *    are NaN when n == rank (no residual to estimate sigma from);
+ * 15 info[IGEA_ACCEL_INFO_LEN] (may be NULL).
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE (a prior scale <= 0),
+ * IGEA_ERANK, IGEA_EDOMAIN (EBR without residual), IGEA_ENOCONV,
+ * IGEA_ENOMEM, IGEA_ELAPACK (the last five from igea_regress_*).
+ */
+IGEA_API int igea_accel_fit(int model, int method, int n,
+                            const double *theta_deg, const double *ya,
+                            const double *yb, const double *prior_scale,
+                            int rule, double lam_floor, double *coef,
+                            double *sd, int *flag, double *comb,
+                            double *comb_sd, double *info);
+
+/*
+ * Gauss-Newton refinement of a dual calibration on the exact model (1)-(2)
+ * of METHODS 4.2, for mg-level biases where the first-order g^2 model's
+ * neglected terms (~ coefficient^2) matter [D]. Unknowns: the coefficients
+ * and the actual angle phi_n of every position (head error and installation
+ * angle included), fitted to both outputs. The null-space part of coef0
+ * (with respect to the linear design) is kept fixed: only the estimable
+ * directions and the angles move, so that the refinement never invents
+ * information the data do not hold.
+ *  1 n >= 1 positions (2 n > n + rank for a residual); 2 theta_deg[n];
+ *  3 ya[n], 4 yb[n] outputs in g; 5 coef0[9] start (e.g. an LS or EBR fit);
+ *  6 max_iter >= 1; 7 tol > 0: stop when the max-norm of a step (g, rad)
+ *    is <= tol;
+ * Outputs: 8 coef[9]; 9 sd[9] (may be NULL): from the final Jacobian, 0 in
+ * the fixed null directions; 10 phi_deg[n] (may be NULL): fitted angles;
+ * 11 info (may be NULL): rank, sigma (per output), -, rms, nobs = 2n,
+ * dof, iterations, last step.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENOCONV (no convergence within
+ * max_iter), IGEA_ENOMEM, IGEA_ELAPACK.
+ */
+IGEA_API int igea_accel_refine(int n, const double *theta_deg,
+                               const double *ya, const double *yb,
+                               const double *coef0, int max_iter, double tol,
+                               double *coef, double *sd, double *phi_deg,
+                               double *info);
+
+/*
+ * Simulate one calibration of an orthogonal pair with the exact models
+ * (1)-(2): phi = theta + delta_theta + delta0, delta_theta ~ N(0,
+ * head_sd^2) drawn per reading, y_A = eq. (1) at phi, y_B = eq. (2) at
+ * phi + eta, plus independent N(0, noise_sd^2) noise on each output.
+ * Random numbers from a GSL Mersenne twister (gsl_rng_mt19937) seeded with
+ * seed; the same seed gives the same calibration on every platform.
+ *  1 n >= 1 readings; 2 theta_deg[n]; 3 truth[IGEA_ACCEL_NP_SIM] (the 9 dual
+ *  coefficients, then delta0 in rad); 4 head_sd >= 0 in rad (1 arcsec =
+ *  4.8481e-6 rad); 5 noise_sd >= 0 in g; 6 seed >= 0;
+ *  7 ya[n], 8 yb[n] outputs in g (yb may be NULL).
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENOMEM.
+ */
+IGEA_API int igea_accel_simulate(int n, const double *theta_deg,
+                                 const double *truth, double head_sd,
+                                 double noise_sd, int seed, double *ya,
+                                 double *yb);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

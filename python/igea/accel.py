@@ -1,0 +1,312 @@
+"""Dividing-head accelerometer calibration (seed 003, METHODS 4.1-4.3).
+
+Single model (5 coefficients, observation y_A - sin(theta)) and orthogonal
+dual g^2 model (9 coefficients, observation (y_A^2 + y_B^2 - 1) / 2, rank 7
+for 7 or more equispaced positions), fitted by least squares (minimum norm)
+or empirical-Bayes ridge. Every coefficient carries a flag: "data" when the
+calibration determines it, "prior" when it loads on the design's null space
+and its value is set by the prior (EBR) or the minimum-norm convention (LS).
+"""
+import ctypes
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _lib
+
+_MODELS = {"single": 0, "dual": 1}
+_METHODS = {"ls": 0, "ebr": 1}
+_RULES = {"sc": 0, "mm": 1, "ml2": 2}
+_NP = {"single": 5, "dual": 9}
+_NC = {"single": 5, "dual": 7}
+_INFO_LEN = 8
+LOADING_TOL = 1e-6
+ARCSEC = np.pi / 180.0 / 3600.0
+
+
+def coefficient_names(model="dual", axis="pa"):
+    """Names of the coefficients in the design's column order, in the
+    notation of IEEE Std 1293: the cross-coupling term is labelled by the
+    in-plane axis x that the rotation excites (turning about PA gives Kio,
+    about OA gives Kip)."""
+    x = {"pa": "o", "oa": "p"}[_axis(axis)]
+    if _model(model) == "single":
+        return ["K0", "k1", "delta0", "K2", "Ki" + x]
+    return ["KA0", "KB0", "kA1", "kB1", "eta", "KA2", "KB2", "KAi" + x, "KBi" + x]
+
+
+def combination_names(model="dual", axis="pa"):
+    """Names of the estimable combinations (columns of accel_combinations)."""
+    x = {"pa": "o", "oa": "p"}[_axis(axis)]
+    if _model(model) == "single":
+        return coefficient_names("single", axis)
+    return ["kA1", "kB1", "eta", "KA0+KA2", "KA2+KBi" + x, "KB0+KB2", "KB2-KAi" + x]
+
+
+def _model(model):
+    if model not in _MODELS:
+        raise ValueError(f"model: expected 'single' or 'dual', got {model!r}")
+    return model
+
+
+def _axis(axis):
+    if axis not in ("pa", "oa"):
+        raise ValueError(f"axis: expected 'pa' or 'oa', got {axis!r}")
+    return axis
+
+
+def _theta(theta_deg):
+    t = _lib.as_f64(theta_deg, "theta_deg", ndim=1)
+    if t.shape[0] < 1:
+        raise ValueError("theta_deg: expected at least one angle")
+    return t
+
+
+def _vec(x, name, n):
+    return _lib.as_f64(x, name, ndim=1, shape=(n,))
+
+
+def accel_schedule(n, start_deg=0.0):
+    """n equally spaced head angles start_deg + 360 k / n (degrees)."""
+    out = np.zeros(max(int(n), 1))
+    _lib.check(_lib.lib.igea_accel_schedule(int(n), float(start_deg), _lib.dptr(out)),
+               "igea.accel_schedule", ["n", "start_deg", "theta_deg"])
+    return out
+
+
+def accel_merge(angle_deg, y_a, y_b=None, *, tol_deg=1e-6):
+    """Average the readings of one calibration per position (clockwise and
+    counter-clockwise runs, and 360 deg with 0 deg).
+
+    Returns (theta_deg, y_a, y_b or None, count), positions ascending."""
+    ang = _lib.as_f64(angle_deg, "angle_deg", ndim=1)
+    n = ang.shape[0]
+    if n < 1:
+        raise ValueError("angle_deg: expected at least one reading")
+    ya = _vec(y_a, "y_a", n)
+    yb = None if y_b is None else _vec(y_b, "y_b", n)
+    t, ma = np.zeros(n), np.zeros(n)
+    mb = None if yb is None else np.zeros(n)
+    cnt = np.zeros(n, dtype=np.intc)
+    npos = ctypes.c_int()
+    _lib.check(_lib.lib.igea_accel_merge(n, _lib.dptr(ang), _lib.dptr(ya), _lib.dptr(yb),
+                                         float(tol_deg), _lib.dptr(t), _lib.dptr(ma),
+                                         _lib.dptr(mb), _lib.iptr(cnt), ctypes.byref(npos)),
+               "igea.accel_merge", ["nrows", "angle_deg", "y_a", "y_b", "tol_deg",
+                                    "theta_deg", "ya_mean", "yb_mean", "count", "npos"])
+    k = npos.value
+    return t[:k].copy(), ma[:k].copy(), None if mb is None else mb[:k].copy(), cnt[:k].copy()
+
+
+def accel_to_g(raw, scale):
+    """Raw outputs (e.g. volts) divided by the nominal scale factor (per g)."""
+    r = _lib.as_f64(raw, "raw", ndim=1)
+    if r.shape[0] < 1:
+        raise ValueError("raw: expected at least one value")
+    y = np.zeros(r.shape[0])
+    _lib.check(_lib.lib.igea_accel_to_g(r.shape[0], _lib.dptr(r), float(scale), _lib.dptr(y)),
+               "igea.accel_to_g", ["n", "raw", "scale", "y"])
+    return y
+
+
+def accel_design(theta_deg, *, model="dual"):
+    """Design matrix (n x 5 single, n x 9 dual) in METHODS 4.1/4.2 column
+    order: single [1, s, c, s^2, sc]; dual [s, c, s^2, c^2, -sc, s^3, c^3,
+    s^2 c, -s c^2] with s = sin(theta), c = cos(theta)."""
+    m = _model(model)
+    t = _theta(theta_deg)
+    n = t.shape[0]
+    A = np.zeros((n, _NP[m]), order="F")
+    _lib.check(_lib.lib.igea_accel_design(_MODELS[m], n, _lib.dptr(t), _lib.dptr(A), n),
+               "igea.accel_design", ["model", "n", "theta_deg", "A", "lda"])
+    return A
+
+
+def accel_combinations(model="dual"):
+    """The estimable combinations as columns (np x nc)."""
+    m = _model(model)
+    C = np.zeros((_NP[m], _NC[m]), order="F")
+    _lib.check(_lib.lib.igea_accel_combinations(_MODELS[m], _lib.dptr(C), _NP[m]),
+               "igea.accel_combinations", ["model", "C", "ldc"])
+    return C
+
+
+@dataclass(frozen=True)
+class AccelDesignInfo:
+    """Identifiability of a position schedule (igea.accel_analyze)."""
+    model: str
+    singular_values: np.ndarray
+    rank: int
+    null_space: np.ndarray      # np x (np - rank), canonical orthonormal basis
+    loading: np.ndarray         # per coefficient, norm of its null-space part
+    comb_loading: np.ndarray    # per estimable combination (0: estimable)
+    names: list
+
+    def summary(self):
+        lines = ["%s model: %d coefficients, rank %d" % (self.model, len(self.names), self.rank),
+                 "singular values: " + " ".join("%.6g" % s for s in self.singular_values)]
+        for j, name in enumerate(self.names):
+            lines.append("  %-8s loading %.3g  %s" % (name, self.loading[j],
+                         "prior-determined" if self.loading[j] > LOADING_TOL else "data"))
+        for k in range(self.null_space.shape[1]):
+            lines.append("null vector %d: " % (k + 1) + " ".join(
+                "%s=%+.4f" % (self.names[j], v) for j, v in enumerate(self.null_space[:, k])
+                if abs(v) > 1e-12))
+        return "\n".join(lines)
+
+
+def accel_analyze(theta_deg, *, model="dual", axis="pa"):
+    """Singular values, rank, null space and loadings of the design."""
+    m = _model(model)
+    t = _theta(theta_deg)
+    n, npar, nc = t.shape[0], _NP[m], _NC[m]
+    sv, nb = np.zeros(npar), np.zeros((npar, npar), order="F")
+    ld, cl, r = np.zeros(npar), np.zeros(nc), ctypes.c_int()
+    _lib.check(_lib.lib.igea_accel_analyze(_MODELS[m], n, _lib.dptr(t), _lib.dptr(sv),
+                                           _lib.dptr(nb), npar, _lib.dptr(ld), _lib.dptr(cl),
+                                           ctypes.byref(r)),
+               "igea.accel_analyze", ["model", "n", "theta_deg", "sv", "null", "ldn",
+                                      "loading", "comb_loading", "rank"])
+    return AccelDesignInfo(m, sv, r.value, nb[:, :npar - r.value].copy(), ld, cl,
+                           coefficient_names(m, axis))
+
+
+@dataclass(frozen=True)
+class AccelFit:
+    """A calibration fit (igea.accel_fit); field names match
+    'igea accel --json'."""
+    model: str
+    method: str
+    names: list
+    coef: np.ndarray
+    sd: np.ndarray
+    flags: list                 # "data" or "prior" per coefficient
+    comb_names: list
+    comb: np.ndarray
+    comb_sd: np.ndarray         # NaN where a combination is not estimable
+    rank: int
+    sigma: float                # residual sd of the observation equation
+    lam: float                  # EBR lambda hat (0 for LS)
+    rms: float
+    nobs: int
+    dof: int
+
+    def summary(self):
+        lines = ["%s model, %s: %d positions, rank %d, residual sd %.3e g, rms %.3e g%s"
+                 % (self.model, self.method.upper(), self.nobs, self.rank, self.sigma, self.rms,
+                    ", lambda %.6g" % self.lam if self.method == "ebr" else ""),
+                 "%-10s %15s %12s  %s" % ("coef", "estimate", "sd", "determined by")]
+        for j, name in enumerate(self.names):
+            lines.append("%-10s %15.6e %12.3e  %s" % (name, self.coef[j], self.sd[j],
+                         "data" if self.flags[j] == "data" else
+                         "PRIOR (not identifiable; sd is not its uncertainty)"))
+        lines.append("estimable combinations:")
+        for k, name in enumerate(self.comb_names):
+            lines.append("%-10s %15.6e %12.3e" % (name, self.comb[k], self.comb_sd[k]))
+        return "\n".join(lines)
+
+
+def accel_fit(theta_deg, y_a, y_b=None, *, model="dual", method="ls", prior_scale=None,
+              rule="sc", lam_floor=0.0, scale_a=None, scale_b=None, axis="pa"):
+    """Fit one calibration.
+
+    theta_deg: head angles (one per position; see accel_merge); y_a, y_b:
+    outputs in g, or raw outputs with the nominal scale factors scale_a,
+    scale_b (output units per g); model "single" (A only) or "dual";
+    method "ls" (minimum-norm least squares) or "ebr" (empirical-Bayes
+    ridge with prior_scale, rule "sc"/"mm"/"ml2" and lam_floor)."""
+    m = _model(model)
+    if method not in _METHODS:
+        raise ValueError(f"method: expected 'ls' or 'ebr', got {method!r}")
+    if rule not in _RULES:
+        raise ValueError(f"rule: expected 'sc', 'mm' or 'ml2', got {rule!r}")
+    t = _theta(theta_deg)
+    n, npar, nc = t.shape[0], _NP[m], _NC[m]
+    ya = _vec(y_a, "y_a", n)
+    if scale_a is not None:
+        ya = accel_to_g(ya, scale_a)
+    yb = None
+    if m == "dual":
+        if y_b is None:
+            raise ValueError("y_b: the dual model needs the B outputs")
+        yb = _vec(y_b, "y_b", n)
+        if scale_b is not None:
+            yb = accel_to_g(yb, scale_b)
+    ps = None if prior_scale is None else _vec(prior_scale, "prior_scale", npar)
+    coef, sd, flag = np.zeros(npar), np.zeros(npar), np.zeros(npar, dtype=np.intc)
+    comb, csd, info = np.zeros(nc), np.zeros(nc), np.zeros(_INFO_LEN)
+    _lib.check(_lib.lib.igea_accel_fit(_MODELS[m], _METHODS[method], n, _lib.dptr(t),
+                                       _lib.dptr(ya), _lib.dptr(yb), _lib.dptr(ps),
+                                       _RULES[rule], float(lam_floor), _lib.dptr(coef),
+                                       _lib.dptr(sd), _lib.iptr(flag), _lib.dptr(comb),
+                                       _lib.dptr(csd), _lib.dptr(info)),
+               "igea.accel_fit", ["model", "method", "n", "theta_deg", "y_a", "y_b",
+                                  "prior_scale", "rule", "lam_floor", "coef", "sd", "flag",
+                                  "comb", "comb_sd", "info"])
+    return AccelFit(m, method, coefficient_names(m, axis), coef, sd,
+                    ["prior" if f else "data" for f in flag], combination_names(m, axis),
+                    comb, csd, int(info[0]), float(info[1]), float(info[2]), float(info[3]),
+                    int(info[4]), int(info[5]))
+
+
+@dataclass(frozen=True)
+class AccelRefine:
+    """Gauss-Newton refinement on the exact dual model (igea.accel_refine)."""
+    names: list
+    coef: np.ndarray
+    sd: np.ndarray
+    phi_deg: np.ndarray
+    comb: np.ndarray
+    rank: int
+    sigma: float
+    rms: float
+    iterations: int
+    step: float
+
+    def summary(self):
+        lines = ["exact-model refinement: %d iterations, last step %.2e, residual sd %.3e g"
+                 % (self.iterations, self.step, self.sigma)]
+        for j, name in enumerate(self.names):
+            lines.append("%-10s %15.6e %12.3e" % (name, self.coef[j], self.sd[j]))
+        return "\n".join(lines)
+
+
+def accel_refine(theta_deg, y_a, y_b, coef0, *, max_iter=50, tol=1e-13, axis="pa"):
+    """Gauss-Newton on the exact models (1)-(2) from coef0 (a dual fit's
+    coefficients); the null-space part of coef0 stays fixed."""
+    t = _theta(theta_deg)
+    n = t.shape[0]
+    ya, yb = _vec(y_a, "y_a", n), _vec(y_b, "y_b", n)
+    c0 = _vec(coef0, "coef0", 9)
+    coef, sd, phi, info = np.zeros(9), np.zeros(9), np.zeros(n), np.zeros(_INFO_LEN)
+    _lib.check(_lib.lib.igea_accel_refine(n, _lib.dptr(t), _lib.dptr(ya), _lib.dptr(yb),
+                                          _lib.dptr(c0), int(max_iter), float(tol),
+                                          _lib.dptr(coef), _lib.dptr(sd), _lib.dptr(phi),
+                                          _lib.dptr(info)),
+               "igea.accel_refine", ["n", "theta_deg", "y_a", "y_b", "coef0", "max_iter",
+                                     "tol", "coef", "sd", "phi_deg", "info"])
+    C = accel_combinations("dual")
+    return AccelRefine(coefficient_names("dual", axis), coef, sd, phi, C.T @ coef,
+                       int(info[0]), float(info[1]), float(info[3]), int(info[6]),
+                       float(info[7]))
+
+
+def accel_simulate(theta_deg, truth, *, head_sd_arcsec=1.0, noise_sd=1e-6, seed=0):
+    """One simulated calibration of an orthogonal pair on the exact models.
+
+    truth: the 9 dual coefficients, optionally a 10th value delta0 (rad).
+    Returns (y_a, y_b) in g."""
+    t = _theta(theta_deg)
+    n = t.shape[0]
+    tr = _lib.as_f64(truth, "truth", ndim=1)
+    if tr.shape[0] == 9:
+        tr = np.append(tr, 0.0)
+    if tr.shape[0] != 10:
+        raise ValueError(f"truth: expected 9 or 10 values, got {tr.shape[0]}")
+    ya, yb = np.zeros(n), np.zeros(n)
+    _lib.check(_lib.lib.igea_accel_simulate(n, _lib.dptr(t), _lib.dptr(tr),
+                                            float(head_sd_arcsec) * ARCSEC, float(noise_sd),
+                                            int(seed), _lib.dptr(ya), _lib.dptr(yb)),
+               "igea.accel_simulate", ["n", "theta_deg", "truth", "head_sd", "noise_sd",
+                                       "seed", "y_a", "y_b"])
+    return ya, yb

@@ -1,0 +1,884 @@
+/* accel.c - dividing-head accelerometer calibration: schedules, single and
+ * orthogonal-dual (g^2) designs, identifiability, fits through the regress
+ * estimators, exact-model refinement, simulation (METHODS 4.1-4.3). */
+#include <float.h>
+
+#include <gsl/gsl_randist.h>
+#include <gsl/gsl_rng.h>
+#include <lapacke.h>
+
+#include "igea/accel.h"
+#include "igea/regress.h"
+#include "internal.h"
+
+#define ACCEL_PI 3.14159265358979323846
+#define ACCEL_MAXP 9
+
+static int model_np(int model)
+{
+    return model == IGEA_ACCEL_SINGLE ? IGEA_ACCEL_NP_SINGLE : IGEA_ACCEL_NP_DUAL;
+}
+
+static int model_nc(int model)
+{
+    return model == IGEA_ACCEL_SINGLE ? IGEA_ACCEL_NC_SINGLE : IGEA_ACCEL_NC_DUAL;
+}
+
+static int model_ok(int model)
+{
+    return model == IGEA_ACCEL_SINGLE || model == IGEA_ACCEL_DUAL;
+}
+
+/* sin and cos of an angle in degrees, exact (0, +-1) at multiples of 90:
+ * reduce to the nearest quadrant, then rotate. */
+static void sincosd(double deg, double *s, double *c)
+{
+    double r = fmod(deg, 360.0);
+    if (r < 0.0)
+        r += 360.0;
+    double q = floor(r / 90.0 + 0.5);
+    double x = (r - 90.0 * q) * (ACCEL_PI / 180.0);
+    double sx = sin(x), cx = cos(x);
+    switch ((int)q % 4) {
+    case 0: *s = sx; *c = cx; break;
+    case 1: *s = cx; *c = -sx; break;
+    case 2: *s = -sx; *c = -cx; break;
+    default: *s = -cx; *c = sx; break;
+    }
+    if (*s == 0.0)
+        *s = 0.0; /* no negative zeros */
+    if (*c == 0.0)
+        *c = 0.0;
+}
+
+/* Row of the design at one angle. */
+static void design_row(int model, double deg, double *row)
+{
+    double s, c;
+    sincosd(deg, &s, &c);
+    if (model == IGEA_ACCEL_SINGLE) {
+        row[0] = 1.0;
+        row[1] = s;
+        row[2] = c;
+        row[3] = s * s;
+        row[4] = s * c;
+    } else {
+        row[0] = s;
+        row[1] = c;
+        row[2] = s * s;
+        row[3] = c * c;
+        row[4] = -s * c;
+        row[5] = s * s * s;
+        row[6] = c * c * c;
+        row[7] = s * s * c;
+        row[8] = -s * c * c;
+    }
+}
+
+static void fill_design(int model, int n, const double *theta, double *A,
+                        int lda)
+{
+    int np = model_np(model);
+    double row[ACCEL_MAXP];
+    for (int i = 0; i < n; i++) {
+        design_row(model, theta[i], row);
+        for (int j = 0; j < np; j++)
+            IGEA_AT(A, lda, i, j) = row[j];
+    }
+}
+
+static void fill_combinations(int model, double *C, int ldc)
+{
+    int np = model_np(model), nc = model_nc(model);
+    for (int j = 0; j < nc; j++)
+        for (int i = 0; i < np; i++)
+            IGEA_AT(C, ldc, i, j) = 0.0;
+    if (model == IGEA_ACCEL_SINGLE) {
+        for (int j = 0; j < nc; j++)
+            IGEA_AT(C, ldc, j, j) = 1.0;
+        return;
+    }
+    IGEA_AT(C, ldc, IGEA_ACCEL_KA1, 0) = 1.0;
+    IGEA_AT(C, ldc, IGEA_ACCEL_KB1, 1) = 1.0;
+    IGEA_AT(C, ldc, IGEA_ACCEL_ETA, 2) = 1.0;
+    IGEA_AT(C, ldc, IGEA_ACCEL_KA0, 3) = 1.0;
+    IGEA_AT(C, ldc, IGEA_ACCEL_KA2, 3) = 1.0;
+    IGEA_AT(C, ldc, IGEA_ACCEL_KA2, 4) = 1.0;
+    IGEA_AT(C, ldc, IGEA_ACCEL_KBIX, 4) = 1.0;
+    IGEA_AT(C, ldc, IGEA_ACCEL_KB0, 5) = 1.0;
+    IGEA_AT(C, ldc, IGEA_ACCEL_KB2, 5) = 1.0;
+    IGEA_AT(C, ldc, IGEA_ACCEL_KB2, 6) = 1.0;
+    IGEA_AT(C, ldc, IGEA_ACCEL_KAIX, 6) = -1.0;
+}
+
+/*
+ * Singular values s[N] (descending, 0 beyond min(m, N)) and all right
+ * singular vectors V (N x N, columns) of the m x N matrix A (lda); rank
+ * with the cut max(m, N) eps s_1 (METHODS 0.3). Returns 0, IGEA_ENOMEM,
+ * IGEA_ELAPACK.
+ */
+static int svd_v(int m, int N, const double *A, int lda, double *s,
+                 double *V, int *rank)
+{
+    int k = IGEA_MIN(m, N);
+    int ucols = m >= N ? N : m;
+    char jobz = m >= N ? 'S' : 'A';
+    size_t need = (size_t)m * N + (size_t)m * ucols + (size_t)N * N + (size_t)k;
+    double *a = igea__dalloc(need);
+    if (!a)
+        return IGEA_ENOMEM;
+    double *u = a + (size_t)m * N;
+    double *vt = u + (size_t)m * ucols;
+    double *sv = vt + (size_t)N * N;
+    for (int j = 0; j < N; j++)
+        for (int i = 0; i < m; i++)
+            a[(size_t)i + (size_t)j * m] = IGEA_AT(A, lda, i, j);
+    lapack_int info = LAPACKE_dgesdd(LAPACK_COL_MAJOR, jobz, m, N, a, m, sv, u,
+                                     m, vt, N);
+    if (info != 0) {
+        free(a);
+        return IGEA_ELAPACK;
+    }
+    for (int i = 0; i < N; i++)
+        s[i] = i < k ? sv[i] : 0.0;
+    for (int j = 0; j < N; j++)
+        for (int i = 0; i < N; i++)
+            V[(size_t)i + (size_t)j * N] = vt[(size_t)j + (size_t)i * N];
+    double cut = (double)IGEA_MAX(m, N) * DBL_EPSILON * s[0];
+    int r = 0;
+    while (r < k && s[r] > cut)
+        r++;
+    *rank = r;
+    free(a);
+    return 0;
+}
+
+/*
+ * Canonical orthonormal basis of the null space spanned by V's columns
+ * r..N-1 (N x N, ld N): reduced echelon form with column pivoting, then
+ * Gram-Schmidt in order, first nonzero entry positive. Writes nb (N x N,
+ * ld N): k = N - r columns, then zeros.
+ */
+static void null_canonical(int N, int r, const double *V, double *nb)
+{
+    int k = N - r;
+    double M[ACCEL_MAXP * ACCEL_MAXP]; /* k x N, row-major */
+    for (int i = 0; i < k; i++)
+        for (int j = 0; j < N; j++)
+            M[i * N + j] = V[(size_t)j + (size_t)(r + i) * N];
+    int prow = 0;
+    for (int col = 0; col < N && prow < k; col++) {
+        int best = prow;
+        for (int i = prow + 1; i < k; i++)
+            if (fabs(M[i * N + col]) > fabs(M[best * N + col]))
+                best = i;
+        if (fabs(M[best * N + col]) <= 1e-10)
+            continue;
+        if (best != prow)
+            for (int j = 0; j < N; j++) {
+                double t = M[prow * N + j];
+                M[prow * N + j] = M[best * N + j];
+                M[best * N + j] = t;
+            }
+        double piv = M[prow * N + col];
+        for (int j = 0; j < N; j++)
+            M[prow * N + j] /= piv;
+        for (int i = 0; i < k; i++) {
+            if (i == prow)
+                continue;
+            double f = M[i * N + col];
+            if (f != 0.0)
+                for (int j = 0; j < N; j++)
+                    M[i * N + j] -= f * M[prow * N + j];
+        }
+        M[prow * N + col] = 1.0;
+        prow++;
+    }
+    for (int i = 0; i < k; i++) {
+        double *v = M + i * N;
+        for (int p = 0; p < i; p++) {
+            const double *w = M + p * N;
+            double d = 0.0;
+            for (int j = 0; j < N; j++)
+                d += v[j] * w[j];
+            for (int j = 0; j < N; j++)
+                v[j] -= d * w[j];
+        }
+        double nrm = 0.0;
+        for (int j = 0; j < N; j++)
+            nrm += v[j] * v[j];
+        nrm = sqrt(nrm);
+        int first = -1;
+        for (int j = 0; j < N; j++) {
+            v[j] /= nrm;
+            if (fabs(v[j]) < 1e-15)
+                v[j] = 0.0;
+            if (first < 0 && fabs(v[j]) > 1e-12)
+                first = j;
+        }
+        if (first >= 0 && v[first] < 0.0)
+            for (int j = 0; j < N; j++)
+                v[j] = -v[j];
+    }
+    for (int i = 0; i < N; i++)
+        for (int j = 0; j < N; j++)
+            nb[(size_t)j + (size_t)i * N] = i < k ? M[i * N + j] : 0.0;
+}
+
+/* Loading of vector c (length N) on the null space V[:, r:] (ld N). */
+static double null_loading(int N, int r, const double *V, const double *c)
+{
+    double ss = 0.0;
+    for (int i = r; i < N; i++) {
+        double d = 0.0;
+        for (int j = 0; j < N; j++)
+            d += V[(size_t)j + (size_t)i * N] * c[j];
+        ss += d * d;
+    }
+    return sqrt(ss);
+}
+
+/* ---------------------------------------------------------------------- */
+
+int igea_accel_schedule(int n, double start_deg, double *theta_deg)
+{
+    if (n < 1)
+        return -1;
+    if (!isfinite(start_deg))
+        return -2;
+    if (!theta_deg)
+        return -3;
+    for (int k = 0; k < n; k++)
+        theta_deg[k] = start_deg + 360.0 * (double)k / (double)n;
+    return 0;
+}
+
+typedef struct {
+    double a;
+    int idx;
+} angle_idx;
+
+static int cmp_angle(const void *p, const void *q)
+{
+    const angle_idx *x = p, *y = q;
+    if (x->a < y->a)
+        return -1;
+    if (x->a > y->a)
+        return 1;
+    return x->idx < y->idx ? -1 : x->idx > y->idx;
+}
+
+int igea_accel_merge(int nrows, const double *angle_deg, const double *ya,
+                     const double *yb, double tol_deg, double *theta_deg,
+                     double *ya_mean, double *yb_mean, int *count, int *npos)
+{
+    if (nrows < 1)
+        return -1;
+    if (!angle_deg)
+        return -2;
+    if (!ya)
+        return -3;
+    if (!(tol_deg >= 0.0 && tol_deg < 45.0))
+        return -5;
+    if (!theta_deg)
+        return -6;
+    if (!ya_mean)
+        return -7;
+    if (yb && !yb_mean)
+        return -8;
+    if (!npos)
+        return -10;
+    if (!igea__finite_vec(nrows, angle_deg, 1) || !igea__finite_vec(nrows, ya, 1) ||
+        (yb && !igea__finite_vec(nrows, yb, 1)))
+        return IGEA_ENONFINITE;
+    angle_idx *ai = malloc((size_t)nrows * sizeof *ai);
+    double *tmp = igea__dalloc(3 * (size_t)nrows);
+    int *cnt = igea__ialloc((size_t)nrows);
+    if (!ai || !tmp || !cnt) {
+        free(ai);
+        free(tmp);
+        free(cnt);
+        return IGEA_ENOMEM;
+    }
+    for (int i = 0; i < nrows; i++) {
+        double a = fmod(angle_deg[i], 360.0);
+        if (a < 0.0)
+            a += 360.0;
+        if (a >= 360.0 - tol_deg && a > 0.0)
+            a -= 360.0;
+        ai[i].a = a;
+        ai[i].idx = i;
+    }
+    qsort(ai, (size_t)nrows, sizeof *ai, cmp_angle);
+    double *t = tmp, *ma = tmp + nrows, *mb = tmp + 2 * (size_t)nrows;
+    int np = 0;
+    for (int k = 0; k < nrows;) {
+        int e = k + 1;
+        while (e < nrows && ai[e].a - ai[k].a <= tol_deg)
+            e++;
+        double sa = 0.0, sy = 0.0, sb = 0.0;
+        for (int q = k; q < e; q++) {
+            sa += ai[q].a;
+            sy += ya[ai[q].idx];
+            if (yb)
+                sb += yb[ai[q].idx];
+        }
+        double w = (double)(e - k);
+        t[np] = sa / w;
+        ma[np] = sy / w;
+        mb[np] = sb / w;
+        cnt[np] = e - k;
+        np++;
+        k = e;
+    }
+    memcpy(theta_deg, t, (size_t)np * sizeof(double));
+    memcpy(ya_mean, ma, (size_t)np * sizeof(double));
+    if (yb)
+        memcpy(yb_mean, mb, (size_t)np * sizeof(double));
+    if (count)
+        memcpy(count, cnt, (size_t)np * sizeof(int));
+    *npos = np;
+    free(ai);
+    free(tmp);
+    free(cnt);
+    return 0;
+}
+
+int igea_accel_to_g(int n, const double *raw, double scale, double *y)
+{
+    if (n < 1)
+        return -1;
+    if (!raw)
+        return -2;
+    if (!isfinite(scale) || scale == 0.0)
+        return -3;
+    if (!y)
+        return -4;
+    if (!igea__finite_vec(n, raw, 1))
+        return IGEA_ENONFINITE;
+    for (int i = 0; i < n; i++)
+        y[i] = raw[i] / scale;
+    return 0;
+}
+
+static void observe(int model, int n, const double *theta, const double *ya,
+                    const double *yb, double *y)
+{
+    for (int i = 0; i < n; i++) {
+        if (model == IGEA_ACCEL_SINGLE) {
+            double s, c;
+            sincosd(theta[i], &s, &c);
+            y[i] = ya[i] - s;
+        } else {
+            /* (a^2 + b^2 - 1) / 2 with fma: the result is ~1e-4 of the
+             * terms, so keep the rounding of the squares out of it. */
+            double a2m = fma(ya[i], ya[i], -1.0);
+            y[i] = 0.5 * fma(yb[i], yb[i], a2m);
+        }
+    }
+}
+
+int igea_accel_observe(int model, int n, const double *theta_deg,
+                       const double *ya, const double *yb, double *y)
+{
+    if (!model_ok(model))
+        return -1;
+    if (n < 1)
+        return -2;
+    if (!theta_deg)
+        return -3;
+    if (!ya)
+        return -4;
+    if (model == IGEA_ACCEL_DUAL && !yb)
+        return -5;
+    if (!y)
+        return -6;
+    if (!igea__finite_vec(n, theta_deg, 1) || !igea__finite_vec(n, ya, 1) ||
+        (model == IGEA_ACCEL_DUAL && !igea__finite_vec(n, yb, 1)))
+        return IGEA_ENONFINITE;
+    observe(model, n, theta_deg, ya, yb, y);
+    return 0;
+}
+
+int igea_accel_design(int model, int n, const double *theta_deg, double *A,
+                      int lda)
+{
+    if (!model_ok(model))
+        return -1;
+    if (n < 1)
+        return -2;
+    if (!theta_deg)
+        return -3;
+    if (!A)
+        return -4;
+    if (lda < n)
+        return -5;
+    if (!igea__finite_vec(n, theta_deg, 1))
+        return IGEA_ENONFINITE;
+    fill_design(model, n, theta_deg, A, lda);
+    return 0;
+}
+
+int igea_accel_combinations(int model, double *C, int ldc)
+{
+    if (!model_ok(model))
+        return -1;
+    if (!C)
+        return -2;
+    if (ldc < model_np(model))
+        return -3;
+    fill_combinations(model, C, ldc);
+    return 0;
+}
+
+/* SVD of the model's design at theta: s, V (np x np), rank. */
+static int design_svd(int model, int n, const double *theta, double *s,
+                      double *V, int *rank)
+{
+    int np = model_np(model);
+    double *A = igea__dalloc((size_t)n * np);
+    if (!A)
+        return IGEA_ENOMEM;
+    fill_design(model, n, theta, A, n);
+    int st = svd_v(n, np, A, n, s, V, rank);
+    free(A);
+    return st;
+}
+
+int igea_accel_analyze(int model, int n, const double *theta_deg, double *sv,
+                       double *null, int ldn, double *loading,
+                       double *comb_loading, int *rank)
+{
+    if (!model_ok(model))
+        return -1;
+    if (n < 1)
+        return -2;
+    if (!theta_deg)
+        return -3;
+    if (!sv)
+        return -4;
+    int np = model_np(model), nc = model_nc(model);
+    if (null ? ldn < np : ldn < 1)
+        return -6;
+    if (!rank)
+        return -9;
+    if (!igea__finite_vec(n, theta_deg, 1))
+        return IGEA_ENONFINITE;
+    double s[ACCEL_MAXP], V[ACCEL_MAXP * ACCEL_MAXP], nb[ACCEL_MAXP * ACCEL_MAXP];
+    double C[ACCEL_MAXP * ACCEL_MAXP];
+    int r;
+    int st = design_svd(model, n, theta_deg, s, V, &r);
+    if (st != 0)
+        return st;
+    memcpy(sv, s, (size_t)np * sizeof(double));
+    if (null) {
+        null_canonical(np, r, V, nb);
+        for (int j = 0; j < np; j++)
+            memcpy(null + (size_t)j * ldn, nb + (size_t)j * np,
+                   (size_t)np * sizeof(double));
+    }
+    if (loading) {
+        for (int j = 0; j < np; j++) {
+            double e[ACCEL_MAXP] = {0};
+            e[j] = 1.0;
+            loading[j] = null_loading(np, r, V, e);
+        }
+    }
+    if (comb_loading) {
+        fill_combinations(model, C, np);
+        for (int j = 0; j < nc; j++) {
+            const double *c = C + (size_t)j * np;
+            double nrm = 0.0;
+            for (int i = 0; i < np; i++)
+                nrm += c[i] * c[i];
+            comb_loading[j] = null_loading(np, r, V, c) / sqrt(nrm);
+        }
+    }
+    *rank = r;
+    return 0;
+}
+
+/* ---------------------------------------------------------------------- */
+
+int igea_accel_fit(int model, int method, int n, const double *theta_deg,
+                   const double *ya, const double *yb,
+                   const double *prior_scale, int rule, double lam_floor,
+                   double *coef, double *sd, int *flag, double *comb,
+                   double *comb_sd, double *info)
+{
+    if (!model_ok(model))
+        return -1;
+    if (method != IGEA_ACCEL_LS && method != IGEA_ACCEL_EBR)
+        return -2;
+    if (n < 1)
+        return -3;
+    if (!theta_deg)
+        return -4;
+    if (!ya)
+        return -5;
+    if (model == IGEA_ACCEL_DUAL && !yb)
+        return -6;
+    int ebr = method == IGEA_ACCEL_EBR;
+    if (ebr && rule != IGEA_EBR_SC && rule != IGEA_EBR_MM && rule != IGEA_EBR_ML2)
+        return -8;
+    if (ebr && !(lam_floor >= 0.0 && isfinite(lam_floor)))
+        return -9;
+    if (!coef)
+        return -10;
+    int np = model_np(model), nc = model_nc(model);
+    if (!igea__finite_vec(n, theta_deg, 1) || !igea__finite_vec(n, ya, 1) ||
+        (model == IGEA_ACCEL_DUAL && !igea__finite_vec(n, yb, 1)))
+        return IGEA_ENONFINITE;
+    if (ebr && prior_scale) {
+        int nonfinite;
+        if (!igea__positive_vec(np, prior_scale, &nonfinite))
+            return nonfinite ? IGEA_ENONFINITE : IGEA_ENONPOSITIVE;
+    }
+
+    size_t nn = (size_t)n;
+    double *A = igea__dalloc(nn * np + 2 * nn);
+    if (!A)
+        return IGEA_ENOMEM;
+    double *y = A + nn * np, *res = y + nn;
+    fill_design(model, n, theta_deg, A, n);
+    observe(model, n, theta_deg, ya, yb, y);
+
+    double x[ACCEL_MAXP], cov[ACCEL_MAXP * ACCEL_MAXP], sdv[ACCEL_MAXP];
+    double s[ACCEL_MAXP], V[ACCEL_MAXP * ACCEL_MAXP], C[ACCEL_MAXP * ACCEL_MAXP];
+    double cmb[ACCEL_MAXP], cmbsd[ACCEL_MAXP], inf[IGEA_ACCEL_INFO_LEN];
+    int flg[ACCEL_MAXP];
+    int rank_ls = 0, r = 0;
+    double sigma2 = 0.0, lam = 0.0;
+    /* LS always: the solution for LS, sigma^2 = S / (n - r) for both. */
+    int st = igea_regress_ls(n, np, A, n, y, NULL, 0.0, x, cov, np, &rank_ls,
+                             &sigma2, res);
+    if (st != 0)
+        goto done;
+    if (ebr) {
+        int rank_ebr;
+        st = igea_regress_ebr(n, np, A, n, y, prior_scale, rule, lam_floor, x,
+                              &lam, &rank_ebr, NULL, sdv, NULL);
+        if (st != 0)
+            goto done;
+    } else {
+        for (int j = 0; j < np; j++)
+            sdv[j] = sqrt(fmax(cov[j + j * np], 0.0));
+    }
+    /* Null space of the design itself (not of A D_s): which coefficients
+     * the data determine. */
+    st = svd_v(n, np, A, n, s, V, &r);
+    if (st != 0)
+        goto done;
+    for (int j = 0; j < np; j++) {
+        double e[ACCEL_MAXP] = {0};
+        e[j] = 1.0;
+        flg[j] = null_loading(np, r, V, e) > IGEA_ACCEL_LOADING_TOL
+                     ? IGEA_ACCEL_PRIOR
+                     : IGEA_ACCEL_DATA;
+    }
+    fill_combinations(model, C, np);
+    /* For EBR the posterior covariance in the canonical form of A D_s. */
+    double sd_s[ACCEL_MAXP], Vs[ACCEL_MAXP * ACCEL_MAXP];
+    int rs = 0;
+    if (ebr) {
+        double *Ad = igea__dalloc(nn * np);
+        if (!Ad) {
+            st = IGEA_ENOMEM;
+            goto done;
+        }
+        for (int j = 0; j < np; j++)
+            for (size_t i = 0; i < nn; i++)
+                Ad[i + j * nn] = A[i + j * nn] * (prior_scale ? prior_scale[j] : 1.0);
+        st = svd_v(n, np, Ad, n, sd_s, Vs, &rs);
+        free(Ad);
+        if (st != 0)
+            goto done;
+    }
+    for (int k = 0; k < nc; k++) {
+        const double *c = C + (size_t)k * np;
+        double v = 0.0, nrm = 0.0;
+        for (int j = 0; j < np; j++) {
+            v += c[j] * x[j];
+            nrm += c[j] * c[j];
+        }
+        cmb[k] = v;
+        if (null_loading(np, r, V, c) / sqrt(nrm) > IGEA_ACCEL_LOADING_TOL) {
+            cmbsd[k] = NAN;
+            continue;
+        }
+        double var = 0.0;
+        if (!ebr) {
+            for (int i = 0; i < np; i++)
+                for (int j = 0; j < np; j++)
+                    var += c[i] * cov[i + j * np] * c[j];
+        } else {
+            for (int i = 0; i < rs; i++) {
+                double d = sd_s[i] * sd_s[i], p = 0.0;
+                for (int j = 0; j < np; j++)
+                    p += Vs[j + (size_t)i * np] * (prior_scale ? prior_scale[j] : 1.0) * c[j];
+                var += lam / (1.0 + lam * d) * p * p;
+            }
+            var *= sigma2;
+        }
+        cmbsd[k] = sqrt(fmax(var, 0.0));
+    }
+    /* No residual degrees of freedom: sigma is unknown, so are the sds. */
+    if (n == rank_ls) {
+        for (int j = 0; j < np; j++)
+            sdv[j] = NAN;
+        for (int k = 0; k < nc; k++)
+            cmbsd[k] = NAN;
+    }
+    /* Residuals of the fit actually returned. */
+    igea__ksum rss = {0, 0};
+    for (size_t i = 0; i < nn; i++) {
+        double f = 0.0;
+        for (int j = 0; j < np; j++)
+            f += A[i + j * nn] * x[j];
+        double e = y[i] - f;
+        igea__ksum_add(&rss, e * e);
+    }
+    inf[IGEA_ACCEL_INFO_RANK] = rank_ls;
+    inf[IGEA_ACCEL_INFO_SIGMA] = sqrt(sigma2);
+    inf[IGEA_ACCEL_INFO_LAMBDA] = ebr ? lam : 0.0;
+    inf[IGEA_ACCEL_INFO_RMS] = sqrt(igea__ksum_get(&rss) / (double)n);
+    inf[IGEA_ACCEL_INFO_NOBS] = n;
+    inf[IGEA_ACCEL_INFO_DOF] = n - rank_ls;
+    inf[IGEA_ACCEL_INFO_ITER] = 0;
+    inf[IGEA_ACCEL_INFO_STEP] = 0;
+
+    memcpy(coef, x, (size_t)np * sizeof(double));
+    if (sd)
+        memcpy(sd, sdv, (size_t)np * sizeof(double));
+    if (flag)
+        memcpy(flag, flg, (size_t)np * sizeof(int));
+    if (comb)
+        memcpy(comb, cmb, (size_t)nc * sizeof(double));
+    if (comb_sd)
+        memcpy(comb_sd, cmbsd, (size_t)nc * sizeof(double));
+    if (info)
+        memcpy(info, inf, sizeof inf);
+done:
+    free(A);
+    return st;
+}
+
+/* ---------------------------------------------------------------------- */
+
+/* Exact models (1)-(2) at angle phi (rad) for coefficients K (dual order):
+ * values and derivatives with respect to phi. */
+static void exact_models(const double *K, double phi, double *fa, double *fb,
+                         double *dfa, double *dfb, double *ja, double *jb)
+{
+    double sa = sin(phi), ca = cos(phi);
+    double b = phi + K[IGEA_ACCEL_ETA];
+    double sb = sin(b), cb = cos(b);
+    *fa = K[IGEA_ACCEL_KA0] + (1.0 + K[IGEA_ACCEL_KA1]) * sa +
+          K[IGEA_ACCEL_KA2] * sa * sa + K[IGEA_ACCEL_KAIX] * sa * ca;
+    *fb = K[IGEA_ACCEL_KB0] + (1.0 + K[IGEA_ACCEL_KB1]) * cb +
+          K[IGEA_ACCEL_KB2] * cb * cb - K[IGEA_ACCEL_KBIX] * cb * sb;
+    *dfa = (1.0 + K[IGEA_ACCEL_KA1]) * ca + 2.0 * K[IGEA_ACCEL_KA2] * sa * ca +
+           K[IGEA_ACCEL_KAIX] * (ca * ca - sa * sa);
+    *dfb = -(1.0 + K[IGEA_ACCEL_KB1]) * sb - 2.0 * K[IGEA_ACCEL_KB2] * cb * sb -
+           K[IGEA_ACCEL_KBIX] * (cb * cb - sb * sb);
+    if (ja) {
+        for (int j = 0; j < IGEA_ACCEL_NP_DUAL; j++)
+            ja[j] = jb[j] = 0.0;
+        ja[IGEA_ACCEL_KA0] = 1.0;
+        ja[IGEA_ACCEL_KA1] = sa;
+        ja[IGEA_ACCEL_KA2] = sa * sa;
+        ja[IGEA_ACCEL_KAIX] = sa * ca;
+        jb[IGEA_ACCEL_KB0] = 1.0;
+        jb[IGEA_ACCEL_KB1] = cb;
+        jb[IGEA_ACCEL_ETA] = *dfb;
+        jb[IGEA_ACCEL_KB2] = cb * cb;
+        jb[IGEA_ACCEL_KBIX] = -cb * sb;
+    }
+}
+
+int igea_accel_refine(int n, const double *theta_deg, const double *ya,
+                      const double *yb, const double *coef0, int max_iter,
+                      double tol, double *coef, double *sd, double *phi_deg,
+                      double *info)
+{
+    const int np = IGEA_ACCEL_NP_DUAL;
+    if (n < 1)
+        return -1;
+    if (!theta_deg)
+        return -2;
+    if (!ya)
+        return -3;
+    if (!yb)
+        return -4;
+    if (!coef0)
+        return -5;
+    if (max_iter < 1)
+        return -6;
+    if (!(tol > 0.0) || !isfinite(tol))
+        return -7;
+    if (!coef)
+        return -8;
+    if (!igea__finite_vec(n, theta_deg, 1) || !igea__finite_vec(n, ya, 1) ||
+        !igea__finite_vec(n, yb, 1) || !igea__finite_vec(np, coef0, 1))
+        return IGEA_ENONFINITE;
+
+    double s[ACCEL_MAXP], V[ACCEL_MAXP * ACCEL_MAXP];
+    int r;
+    int st = design_svd(IGEA_ACCEL_DUAL, n, theta_deg, s, V, &r);
+    if (st != 0)
+        return st;
+    size_t nn = (size_t)n, m = 2 * nn, nu = (size_t)r + nn;
+    double *J = igea__dalloc(m * nu + 2 * m + 2 * nu + nu * nu + nn);
+    if (!J)
+        return IGEA_ENOMEM;
+    double *res = J + m * nu, *rres = res + m, *p = rres + m, *dp = p + nu,
+           *cv = dp + nu, *psi = cv + nu * nu;
+    double K[ACCEL_MAXP], ja[ACCEL_MAXP], jb[ACCEL_MAXP];
+    /* Start: u = 0, angles from the outputs themselves (y_A ~ sin phi,
+     * y_B ~ cos phi), as offsets from the nominal angles. */
+    for (size_t i = 0; i < nu; i++)
+        p[i] = 0.0;
+    for (size_t i = 0; i < nn; i++) {
+        double th = fmod(theta_deg[i], 360.0) * (ACCEL_PI / 180.0);
+        double d = atan2(ya[i], yb[i]) - th;
+        d = remainder(d, 2.0 * ACCEL_PI);
+        p[r + i] = d;
+        psi[i] = th;
+    }
+    int it = 0, converged = 0, rk = 0;
+    double step = 0.0, sigma2 = 0.0;
+    for (it = 1; it <= max_iter; it++) {
+        for (int j = 0; j < np; j++) {
+            K[j] = coef0[j];
+            for (int q = 0; q < r; q++)
+                K[j] += V[j + (size_t)q * np] * p[q];
+        }
+        for (size_t i = 0; i < m * nu; i++)
+            J[i] = 0.0;
+        for (size_t i = 0; i < nn; i++) {
+            double fa, fb, dfa, dfb;
+            exact_models(K, psi[i] + p[r + i], &fa, &fb, &dfa, &dfb, ja, jb);
+            res[i] = ya[i] - fa;
+            res[nn + i] = yb[i] - fb;
+            for (int q = 0; q < r; q++) {
+                double ua = 0.0, ub = 0.0;
+                for (int j = 0; j < np; j++) {
+                    ua += ja[j] * V[j + (size_t)q * np];
+                    ub += jb[j] * V[j + (size_t)q * np];
+                }
+                J[i + q * m] = ua;
+                J[nn + i + q * m] = ub;
+            }
+            J[i + (r + i) * m] = dfa;
+            J[nn + i + (r + i) * m] = dfb;
+        }
+        st = igea_regress_ls((int)m, (int)nu, J, (int)m, res, NULL, 0.0, dp, cv,
+                             (int)nu, &rk, &sigma2, rres);
+        if (st != 0)
+            goto done;
+        step = 0.0;
+        for (size_t i = 0; i < nu; i++) {
+            p[i] += dp[i];
+            step = fmax(step, fabs(dp[i]));
+        }
+        if (step <= tol) {
+            converged = 1;
+            break;
+        }
+    }
+    if (!converged) {
+        st = IGEA_ENOCONV;
+        goto done;
+    }
+    {
+        double out[ACCEL_MAXP], sdo[ACCEL_MAXP];
+        igea__ksum rss = {0, 0};
+        for (int j = 0; j < np; j++) {
+            out[j] = coef0[j];
+            for (int q = 0; q < r; q++)
+                out[j] += V[j + (size_t)q * np] * p[q];
+            double v = 0.0;
+            for (int a = 0; a < r; a++)
+                for (int b = 0; b < r; b++)
+                    v += V[j + (size_t)a * np] * cv[a + (size_t)b * nu] *
+                         V[j + (size_t)b * np];
+            sdo[j] = sqrt(fmax(v, 0.0));
+        }
+        for (size_t i = 0; i < nn; i++) {
+            double fa, fb, dfa, dfb;
+            exact_models(out, psi[i] + p[r + i], &fa, &fb, &dfa, &dfb, NULL, NULL);
+            igea__ksum_add(&rss, (ya[i] - fa) * (ya[i] - fa));
+            igea__ksum_add(&rss, (yb[i] - fb) * (yb[i] - fb));
+        }
+        memcpy(coef, out, (size_t)np * sizeof(double));
+        if (sd)
+            memcpy(sd, sdo, (size_t)np * sizeof(double));
+        if (phi_deg)
+            for (size_t i = 0; i < nn; i++)
+                phi_deg[i] = theta_deg[i] + p[r + i] * (180.0 / ACCEL_PI);
+        if (info) {
+            info[IGEA_ACCEL_INFO_RANK] = r;
+            info[IGEA_ACCEL_INFO_SIGMA] = sqrt(sigma2);
+            info[IGEA_ACCEL_INFO_LAMBDA] = 0.0;
+            info[IGEA_ACCEL_INFO_RMS] = sqrt(igea__ksum_get(&rss) / (double)m);
+            info[IGEA_ACCEL_INFO_NOBS] = (double)m;
+            info[IGEA_ACCEL_INFO_DOF] = (double)m - (double)rk;
+            info[IGEA_ACCEL_INFO_ITER] = it;
+            info[IGEA_ACCEL_INFO_STEP] = step;
+        }
+    }
+done:
+    free(J);
+    return st;
+}
+
+/* ---------------------------------------------------------------------- */
+
+int igea_accel_simulate(int n, const double *theta_deg, const double *truth,
+                        double head_sd, double noise_sd, int seed, double *ya,
+                        double *yb)
+{
+    if (n < 1)
+        return -1;
+    if (!theta_deg)
+        return -2;
+    if (!truth)
+        return -3;
+    if (!(head_sd >= 0.0) || !isfinite(head_sd))
+        return -4;
+    if (!(noise_sd >= 0.0) || !isfinite(noise_sd))
+        return -5;
+    if (seed < 0)
+        return -6;
+    if (!ya)
+        return -7;
+    if (!igea__finite_vec(n, theta_deg, 1) ||
+        !igea__finite_vec(IGEA_ACCEL_NP_SIM, truth, 1))
+        return IGEA_ENONFINITE;
+    double *buf = igea__dalloc(2 * (size_t)n);
+    if (!buf)
+        return IGEA_ENOMEM;
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    if (!rng) {
+        free(buf);
+        return IGEA_ENOMEM;
+    }
+    gsl_rng_set(rng, (unsigned long)seed);
+    for (int i = 0; i < n; i++) {
+        double dth = head_sd > 0.0 ? gsl_ran_gaussian(rng, head_sd) : 0.0;
+        double ea = noise_sd > 0.0 ? gsl_ran_gaussian(rng, noise_sd) : 0.0;
+        double eb = noise_sd > 0.0 ? gsl_ran_gaussian(rng, noise_sd) : 0.0;
+        double th = fmod(theta_deg[i], 360.0) * (ACCEL_PI / 180.0);
+        double phi = th + dth + truth[IGEA_ACCEL_SIM_DELTA0];
+        double fa, fb, dfa, dfb;
+        exact_models(truth, phi, &fa, &fb, &dfa, &dfb, NULL, NULL);
+        buf[i] = fa + ea;
+        buf[n + i] = fb + eb;
+    }
+    gsl_rng_free(rng);
+    memcpy(ya, buf, (size_t)n * sizeof(double));
+    if (yb)
+        memcpy(yb, buf + n, (size_t)n * sizeof(double));
+    free(buf);
+    return 0;
+}
