@@ -858,7 +858,7 @@ int igea_accel_simulate(int n, const double *theta_deg, const double *truth,
     double *buf = igea__dalloc(2 * (size_t)n);
     if (!buf)
         return IGEA_ENOMEM;
-    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng *rng = igea__rng_new(gsl_rng_mt19937, 0);
     if (!rng) {
         free(buf);
         return IGEA_ENOMEM;
@@ -875,7 +875,7 @@ int igea_accel_simulate(int n, const double *theta_deg, const double *truth,
         buf[i] = fa + ea;
         buf[n + i] = fb + eb;
     }
-    gsl_rng_free(rng);
+    igea__rng_free(rng);
     memcpy(ya, buf, (size_t)n * sizeof(double));
     if (yb)
         memcpy(yb, buf + n, (size_t)n * sizeof(double));

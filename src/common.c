@@ -154,3 +154,26 @@ int igea__syev_desc(int n, const double *a, int lda, double *w, double *v,
     free(z);
     return 0;
 }
+
+gsl_rng *igea__rng_new(const gsl_rng_type *T, unsigned long seed)
+{
+    gsl_rng *r = malloc(sizeof *r);
+    if (!r)
+        return NULL;
+    r->type = T;
+    r->state = malloc(T->size ? T->size : 1);
+    if (!r->state) {
+        free(r);
+        return NULL;
+    }
+    gsl_rng_set(r, seed);
+    return r;
+}
+
+void igea__rng_free(gsl_rng *r)
+{
+    if (r) {
+        free(r->state);
+        free(r);
+    }
+}

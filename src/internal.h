@@ -8,6 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <gsl/gsl_rng.h>
+
 #include "igea/common.h"
 
 /* Column-major element (i, j) of a matrix with leading dimension ld. */
@@ -38,6 +40,12 @@ int igea__syev_desc(int n, const double *a, int lda, double *w, double *v,
 /* Flip column j of v (ldv, n rows) so that its largest-magnitude entry is
  * positive; returns -1 if flipped, +1 otherwise. */
 int igea__sign_fix(int n, double *v);
+
+/* A GSL generator of type T seeded with seed, allocated without
+ * gsl_rng_alloc, which calls GSL's (aborting) error handler when memory
+ * runs out. NULL on allocation failure; free with igea__rng_free. */
+gsl_rng *igea__rng_new(const gsl_rng_type *T, unsigned long seed);
+void igea__rng_free(gsl_rng *r);
 
 /* Neumaier compensated sum. */
 typedef struct {

@@ -1,0 +1,663 @@
+/* tests/test_envfun.c - environment functions (METHODS 5) against closed
+ * forms and against full nonlinear strapdown and platform error
+ * simulations written here (METHODS 5.6). */
+#include "testutil.h"
+
+#include "igea/envfun.h"
+#include "igea/sim.h"
+
+#define DEG (3.14159265358979323846 / 180.0)
+#define G0 9.80665
+
+/* ---- small 3-D helpers (row-major 3x3) ---------------------------------- */
+static void m3_mul(const double *a, const double *b, double *c)
+{
+    double t[9];
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            t[3 * i + j] = a[3 * i] * b[j] + a[3 * i + 1] * b[3 + j] +
+                           a[3 * i + 2] * b[6 + j];
+    memcpy(c, t, sizeof t);
+}
+static void m3_vec(const double *a, const double *x, double *y)
+{
+    double t[3];
+    for (int i = 0; i < 3; i++)
+        t[i] = a[3 * i] * x[0] + a[3 * i + 1] * x[1] + a[3 * i + 2] * x[2];
+    memcpy(y, t, sizeof t);
+}
+static void m3_tvec(const double *a, const double *x, double *y)
+{
+    double t[3];
+    for (int i = 0; i < 3; i++)
+        t[i] = a[i] * x[0] + a[3 + i] * x[1] + a[6 + i] * x[2];
+    memcpy(y, t, sizeof t);
+}
+/* exp([v x]) by Rodrigues */
+static void m3_exp(const double *v, double *R)
+{
+    double a = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    double s = a > 1e-12 ? sin(a) / a : 1.0 - a * a / 6.0;
+    double c = a > 1e-12 ? (1.0 - cos(a)) / (a * a) : 0.5 - a * a / 24.0;
+    double K[9] = {0, -v[2], v[1], v[2], 0, -v[0], -v[1], v[0], 0}, K2[9];
+    m3_mul(K, K, K2);
+    for (int i = 0; i < 9; i++)
+        R[i] = (i % 4 == 0 ? 1.0 : 0.0) + s * K[i] + c * K2[i];
+}
+static void q_dcm(const double *q0, double *C)
+{
+    double n = sqrt(q0[0] * q0[0] + q0[1] * q0[1] + q0[2] * q0[2] + q0[3] * q0[3]);
+    double a = q0[0] / n, b = q0[1] / n, c = q0[2] / n, d = q0[3] / n;
+    double t[9] = {a * a + b * b - c * c - d * d, 2 * (b * c - a * d), 2 * (b * d + a * c),
+                   2 * (b * c + a * d), a * a - b * b + c * c - d * d, 2 * (c * d - a * b),
+                   2 * (b * d - a * c), 2 * (c * d + a * b), a * a - b * b - c * c + d * d};
+    memcpy(C, t, sizeof t);
+}
+
+/* Instrument errors, indexed by term code, in SI units (METHODS 5.6 sizes). */
+static void error_sizes(double *err)
+{
+    double gyro = 0.5 * DEG / 3600.0;
+    for (int k = 0; k < IGEA_TERM_COUNT; k++)
+        err[k] = 0.0;
+    for (int a = 0; a < 3; a++) {
+        err[IGEA_TERM_ACC_BIAS_X + a] = 1e-3 * G0 * (a == 1 ? -0.8 : 1.0);
+        err[IGEA_TERM_ACC_SCALE_X + a] = 1e-4 * (a == 2 ? -1.0 : 1.0);
+        err[IGEA_TERM_ACC_SQ_X + a] = 1e-5 / G0;
+        err[IGEA_TERM_GYRO_BIAS_X + a] = gyro * (a == 0 ? -1.0 : 1.0);
+        err[IGEA_TERM_GYRO_G_X + a] = gyro / G0;
+        err[IGEA_TERM_GYRO_SCALE_X + a] = 1e-4;
+        err[IGEA_TERM_ATT0_X + a] = 1e-4 * (a == 1 ? -1.0 : 1.0);
+        err[IGEA_TERM_GYRO_GI_X + a] = gyro / G0;
+        err[IGEA_TERM_GYRO_GS_X + a] = -gyro / G0;
+        err[IGEA_TERM_ALIGN0_X + a] = 1e-4 * (a == 0 ? -1.0 : 1.0);
+    }
+    for (int k = IGEA_TERM_ACC_MIS_XY; k <= IGEA_TERM_ACC_MIS_ZY; k++)
+        err[k] = 1e-4 * ((k % 2) ? 1.0 : -1.0);
+}
+
+/* Accelerometer reading with errors err (by code) of true force f. */
+static void acc_read(const double *err, const double *f, double *out)
+{
+    static const int mj[6] = {0, 0, 1, 1, 2, 2}, mk[6] = {1, 2, 0, 2, 0, 1};
+    for (int a = 0; a < 3; a++)
+        out[a] = f[a] + err[IGEA_TERM_ACC_BIAS_X + a] +
+                 err[IGEA_TERM_ACC_SCALE_X + a] * f[a] +
+                 err[IGEA_TERM_ACC_SQ_X + a] * f[a] * f[a];
+    for (int i = 0; i < 6; i++)
+        out[mj[i]] += err[IGEA_TERM_ACC_MIS_XY + i] * f[mk[i]];
+}
+
+/* Full nonlinear strapdown navigation with errors err; dW (3 x nsamp,
+ * sample-major) = computed - error-free apparent velocity. */
+static void nonlinear_strapdown(const double *tr, int n, const double *err,
+                                double *dW)
+{
+    double C[9], Ch[9], W[3] = {0, 0, 0}, Wh[3] = {0, 0, 0};
+    double fa_p[3], fh_p[3], w_p[3], wh_p[3], phi0[3], E[9];
+    {
+        double q[4];
+        for (int i = 0; i < 4; i++)
+            q[i] = tr[(size_t)(7 + i) * n];
+        q_dcm(q, C);
+    }
+    for (int a = 0; a < 3; a++)
+        phi0[a] = -err[IGEA_TERM_ATT0_X + a];
+    m3_exp(phi0, E); /* Chat = exp(-[phi0 x]) C */
+    m3_mul(E, C, Ch);
+    for (int k = 0; k < n; k++) {
+        double f[3], w[3], fh[3], wh[3], fa[3], fha[3];
+        for (int a = 0; a < 3; a++) {
+            f[a] = tr[k + (size_t)(1 + a) * n];
+            w[a] = tr[k + (size_t)(4 + a) * n];
+        }
+        acc_read(err, f, fh);
+        for (int a = 0; a < 3; a++)
+            wh[a] = w[a] + err[IGEA_TERM_GYRO_BIAS_X + a] +
+                    err[IGEA_TERM_GYRO_G_X + a] * f[a] +
+                    err[IGEA_TERM_GYRO_SCALE_X + a] * w[a];
+        if (k > 0) {
+            double h = tr[k] - tr[k - 1], v[3], vh[3], R[9];
+            for (int a = 0; a < 3; a++) {
+                v[a] = 0.5 * h * (w_p[a] + w[a]);
+                vh[a] = 0.5 * h * (wh_p[a] + wh[a]);
+            }
+            m3_exp(v, R);
+            m3_mul(C, R, C);
+            m3_exp(vh, R);
+            m3_mul(Ch, R, Ch);
+        }
+        m3_vec(C, f, fa);
+        m3_vec(Ch, fh, fha);
+        if (k > 0) {
+            double h = tr[k] - tr[k - 1];
+            for (int a = 0; a < 3; a++) {
+                W[a] += 0.5 * h * (fa_p[a] + fa[a]);
+                Wh[a] += 0.5 * h * (fh_p[a] + fha[a]);
+            }
+        }
+        for (int a = 0; a < 3; a++) {
+            dW[3 * (size_t)k + a] = Wh[a] - W[a];
+            fa_p[a] = fa[a];
+            fh_p[a] = fha[a];
+            w_p[a] = w[a];
+            wh_p[a] = wh[a];
+        }
+    }
+}
+
+/* Full nonlinear platform navigation: the platform (C_p^a) starts rotated
+ * by alpha0 and drifts at eps (platform axes); accelerometers read the
+ * platform-axis force with errors; the navigator takes it as inertial.
+ * With grav, also integrates v' = f + g(r) (true and computed) and
+ * returns velocity (dV) and position (dR) errors; else dV = dW. */
+static void gravity_pm(const double *r, double *g)
+{
+    double p[3] = {r[0], r[1] + 6371000.0, r[2]};
+    double n = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+    for (int a = 0; a < 3; a++)
+        g[a] = -3.986004418e14 * p[a] / (n * n * n);
+}
+static void nonlinear_platform(const double *tr, int n, const double *err,
+                               const int *in_ax, const int *spin_ax, int grav,
+                               double *dV, double *dR)
+{
+    double P[9], a0[3], W[3] = {0, 0, 0}, Wh[3] = {0, 0, 0};
+    double fa_p[3] = {0}, fh_p[3] = {0}, eps_p[3] = {0};
+    double r[3] = {0, 0, 0}, v[3] = {0, 0, 0}, rh[3] = {0, 0, 0}, vh[3] = {0, 0, 0};
+    for (int a = 0; a < 3; a++)
+        a0[a] = err[IGEA_TERM_ALIGN0_X + a];
+    m3_exp(a0, P); /* C_p^a = exp([alpha0 x]) */
+    for (int k = 0; k < n; k++) {
+        double fa[3], fp[3], fh[3], eps[3];
+        for (int a = 0; a < 3; a++)
+            fa[a] = tr[k + (size_t)(1 + a) * n];
+        if (k > 0) {
+            /* drift over the step: predictor for eps at k */
+            double h = tr[k] - tr[k - 1], rv[3], R[9], Pt[9], fpk[3], ek[3];
+            memcpy(Pt, P, sizeof Pt);
+            for (int it = 0; it < 2; it++) {
+                m3_tvec(Pt, fa, fpk);
+                for (int j = 0; j < 3; j++)
+                    ek[j] = err[IGEA_TERM_GYRO_BIAS_X + j] +
+                            err[IGEA_TERM_GYRO_GI_X + j] * fpk[in_ax[j]] +
+                            err[IGEA_TERM_GYRO_GS_X + j] * fpk[spin_ax[j]];
+                for (int j = 0; j < 3; j++)
+                    rv[j] = 0.5 * h * (eps_p[j] + ek[j]);
+                m3_exp(rv, R);
+                m3_mul(P, R, Pt);
+            }
+            memcpy(P, Pt, sizeof Pt);
+        }
+        m3_tvec(P, fa, fp); /* f^p = C_a^p f^a */
+        acc_read(err, fp, fh);
+        for (int j = 0; j < 3; j++)
+            eps[j] = err[IGEA_TERM_GYRO_BIAS_X + j] +
+                     err[IGEA_TERM_GYRO_GI_X + j] * fp[in_ax[j]] +
+                     err[IGEA_TERM_GYRO_GS_X + j] * fp[spin_ax[j]];
+        if (k > 0) {
+            double h = tr[k] - tr[k - 1];
+            if (grav) { /* velocity Verlet, true and computed */
+                double g[3], gh[3];
+                gravity_pm(r, g);
+                gravity_pm(rh, gh);
+                for (int a = 0; a < 3; a++) {
+                    v[a] += 0.5 * h * (fa_p[a] + g[a]);
+                    vh[a] += 0.5 * h * (fh_p[a] + gh[a]);
+                    r[a] += h * v[a];
+                    rh[a] += h * vh[a];
+                }
+                gravity_pm(r, g);
+                gravity_pm(rh, gh);
+                for (int a = 0; a < 3; a++) {
+                    v[a] += 0.5 * h * (fa[a] + g[a]);
+                    vh[a] += 0.5 * h * (fh[a] + gh[a]);
+                }
+            }
+            for (int a = 0; a < 3; a++) {
+                W[a] += 0.5 * h * (fa_p[a] + fa[a]);
+                Wh[a] += 0.5 * h * (fh_p[a] + fh[a]);
+            }
+        }
+        for (int a = 0; a < 3; a++) {
+            dV[3 * (size_t)k + a] = grav ? vh[a] - v[a] : Wh[a] - W[a];
+            if (dR)
+                dR[3 * (size_t)k + a] = rh[a] - r[a];
+            fa_p[a] = fa[a];
+            fh_p[a] = fh[a];
+            eps_p[a] = eps[a];
+        }
+    }
+}
+
+/* ---- fixtures ------------------------------------------------------------ */
+#define T_DUR 120.0
+#define RATE 50.0
+#define N_EP 121 /* epochs 0, 1, ..., 120 s */
+
+static double *make_traj(int system, int *n)
+{
+    assert_int_equal(igea_sim_trajectory_length(T_DUR, RATE, n), 0);
+    double *tr = malloc(sizeof(double) * (size_t)*n * IGEA_TRAJ_COLS);
+    assert_non_null(tr);
+    assert_int_equal(igea_sim_trajectory(system, T_DUR, RATE, *n, tr, *n), 0);
+    return tr;
+}
+
+static int all_terms(int system, int *codes)
+{
+    int n = 0;
+    for (int k = 0; k < IGEA_TERM_COUNT; k++)
+        if (igea_envfun_term_valid(system, k))
+            codes[n++] = k;
+    return n;
+}
+
+/* Compare S (scaled by the error sizes) with the nonlinear errors dWn at
+ * epochs = integer seconds (sample index e * RATE): each term alone and
+ * all together. Returns the worst relative discrepancies. */
+static void compare_terms(int system, double scale, const int *codes, int nt,
+                          double *worst_single, double *worst_all,
+                          double *final_norm)
+{
+    int n;
+    double *tr = make_traj(system, &n), err[IGEA_TERM_COUNT];
+    double ep[N_EP], spec[IGEA_TERM_COUNT];
+    int m = 3 * N_EP;
+    double *S = malloc(sizeof(double) * (size_t)m * nt);
+    double *dW = malloc(sizeof(double) * 3 * (size_t)n);
+    double one[IGEA_TERM_COUNT];
+    assert_non_null(S);
+    assert_non_null(dW);
+    error_sizes(err);
+    for (int k = 0; k < IGEA_TERM_COUNT; k++)
+        err[k] *= scale;
+    for (int e = 0; e < N_EP; e++)
+        ep[e] = e;
+    for (int j = 0; j < nt; j++)
+        spec[j] = fabs(err[codes[j]]); /* X_j = sign of the error */
+    assert_int_equal(igea_envfun_compute(system, n, tr, n, nt, codes, NULL,
+                                         N_EP, ep, spec, IGEA_ENVFUN_VELOCITY,
+                                         S, m),
+                     0);
+    int in_ax[3] = {0, 1, 2}, spin_ax[3] = {1, 2, 0};
+    *worst_single = 0.0;
+    for (int j = -1; j < nt; j++) {
+        /* j = -1: all terms together */
+        for (int k = 0; k < IGEA_TERM_COUNT; k++)
+            one[k] = 0.0;
+        for (int c = 0; c < nt; c++)
+            if (j < 0 || c == j)
+                one[codes[c]] = err[codes[c]];
+        if (system == IGEA_ENVFUN_STRAPDOWN)
+            nonlinear_strapdown(tr, n, one, dW);
+        else
+            nonlinear_platform(tr, n, one, in_ax, spin_ax, 0, dW, NULL);
+        double maxd = 0.0, maxn = 0.0;
+        for (int e = 0; e < N_EP; e++) {
+            size_t k = (size_t)(e * (int)RATE);
+            for (int a = 0; a < 3; a++) {
+                double lin = 0.0;
+                for (int c = 0; c < nt; c++)
+                    if (j < 0 || c == j)
+                        lin += S[3 * e + a + (size_t)c * m] *
+                               (err[codes[c]] < 0 ? -1.0 : 1.0);
+                double nl = dW[3 * k + a];
+                maxd = fmax(maxd, fabs(lin - nl));
+                maxn = fmax(maxn, fabs(nl));
+            }
+        }
+        double rel = maxd / maxn;
+        if (j < 0) {
+            *worst_all = rel;
+            double fn = 0.0;
+            for (int a = 0; a < 3; a++)
+                fn += dW[3 * (size_t)(n - 1) + a] * dW[3 * (size_t)(n - 1) + a];
+            *final_norm = sqrt(fn);
+        } else {
+            if (rel > *worst_single)
+                *worst_single = rel;
+            if (rel > 5e-4)
+                print_error("term code %d: relative discrepancy %.3g\n",
+                            codes[j], rel);
+        }
+        assert_true(maxn > 1e-7); /* every term visibly moves W */
+    }
+    free(S);
+    free(dW);
+    free(tr);
+}
+
+static void compare(int system, double scale, double *worst_single,
+                    double *worst_all, double *final_norm)
+{
+    int codes[IGEA_TERM_COUNT], nt = all_terms(system, codes);
+    compare_terms(system, scale, codes, nt, worst_single, worst_all, final_norm);
+}
+
+/* The 21-term strapdown model of METHODS 5.5/5.6 (no acc_sq, gyro_scale):
+ * METHODS 5.6 reports 8.4e-5 relative (all terms), 1.5e-4 worst single,
+ * for its own trajectory and error signs; here 4.2e-4 and 1.3e-4, second
+ * order in the error sizes (see check_system). */
+static void test_strapdown21_vs_nonlinear(void **state)
+{
+    int codes[21], k = 0;
+    double ws, wa, fn;
+    for (int c = 0; c < IGEA_TERM_GYRO_SCALE_X; c++)
+        if (c < IGEA_TERM_ACC_SQ_X || c >= IGEA_TERM_ACC_MIS_XY)
+            codes[k++] = c;
+    for (int a = 0; a < 3; a++)
+        codes[k++] = IGEA_TERM_ATT0_X + a;
+    assert_int_equal(k, 21);
+    compare_terms(IGEA_ENVFUN_STRAPDOWN, 1.0, codes, 21, &ws, &wa, &fn);
+    print_message("strapdown, 21 terms: final |dW| %.3g m/s, all terms rel %.3g, "
+                  "worst single term rel %.3g\n", fn, wa, ws);
+    assert_true(wa < 6e-4);
+    assert_true(ws < 3e-4);
+}
+
+/* The discrepancy is second order: halving every error halves the
+ * relative discrepancy (a wrong sign or integral would leave it O(1)). */
+static void check_system(int system, const char *name)
+{
+    double ws, wa, fn, ws2, wa2, fn2;
+    compare(system, 1.0, &ws, &wa, &fn);
+    compare(system, 0.5, &ws2, &wa2, &fn2);
+    print_message("%s: final |dW| %.3g m/s, all 27 terms rel %.3g, worst "
+                  "single term rel %.3g; errors halved: %.3g, %.3g\n",
+                  name, fn, wa, ws, wa2, ws2);
+    assert_true(fn > 0.5);
+    assert_true(wa < 6e-4);
+    assert_true(ws < 3e-4);
+    assert_true(wa2 / wa > 0.4 && wa2 / wa < 0.6);
+    assert_true(ws2 / ws > 0.4 && ws2 / ws < 0.6);
+}
+
+static void test_strapdown_vs_nonlinear(void **state)
+{
+    check_system(IGEA_ENVFUN_STRAPDOWN, "strapdown");
+}
+
+static void test_platform_vs_nonlinear(void **state)
+{
+    check_system(IGEA_ENVFUN_PLATFORM, "platform");
+}
+
+/* igea_sim_nonlinear (the library's truth model) agrees with the
+ * simulations written here to rounding: both implement the same physics
+ * independently. */
+static void test_library_truth_model(void **state)
+{
+    for (int system = 0; system < 2; system++) {
+        int n, in_ax[3] = {0, 1, 2}, spin_ax[3] = {1, 2, 0};
+        double *tr = make_traj(system, &n), err[IGEA_TERM_COUNT], ep[N_EP];
+        double *dW = malloc(sizeof(double) * 3 * (size_t)n), lib[3 * N_EP];
+        error_sizes(err);
+        for (int k = 0; k < IGEA_TERM_COUNT; k++)
+            if (!igea_envfun_term_valid(system, k))
+                err[k] = 0.0;
+        for (int e = 0; e < N_EP; e++)
+            ep[e] = e;
+        if (system == IGEA_ENVFUN_STRAPDOWN)
+            nonlinear_strapdown(tr, n, err, dW);
+        else
+            nonlinear_platform(tr, n, err, in_ax, spin_ax, 0, dW, NULL);
+        assert_int_equal(igea_sim_nonlinear(system, n, tr, n, err, NULL, N_EP, ep, lib), 0);
+        double md = 0, mn = 0;
+        for (int e = 0; e < N_EP; e++)
+            for (int a = 0; a < 3; a++) {
+                double ref = dW[3 * (size_t)(e * (int)RATE) + a];
+                md = fmax(md, fabs(lib[3 * e + a] - ref));
+                mn = fmax(mn, fabs(ref));
+            }
+        assert_true(md <= 1e-9 * mn);
+        /* no errors: exactly zero */
+        double zero[IGEA_TERM_COUNT] = {0};
+        assert_int_equal(igea_sim_nonlinear(system, n, tr, n, zero, NULL, N_EP, ep, lib), 0);
+        for (int i = 0; i < 3 * N_EP; i++)
+            assert_true(lib[i] == 0.0);
+        free(dW);
+        free(tr);
+    }
+}
+
+/* Gravity-gradient coupling (METHODS 5.4): platform accelerometer biases
+ * (exactly linear in W) against a nonlinear navigation with point-mass
+ * gravity; the uncoupled position function must miss by much more. */
+static void test_gravity_coupling(void **state)
+{
+    int n, codes[3] = {IGEA_TERM_ACC_BIAS_X, IGEA_TERM_ACC_BIAS_X + 1,
+                       IGEA_TERM_ACC_BIAS_X + 2};
+    int in_ax[3] = {0, 1, 2}, spin_ax[3] = {1, 2, 0};
+    double *tr = make_traj(IGEA_ENVFUN_PLATFORM, &n), err[IGEA_TERM_COUNT];
+    double ep[N_EP], spec[3], S[4][3 * N_EP];
+    double *dV = malloc(sizeof(double) * 3 * (size_t)n);
+    double *dR = malloc(sizeof(double) * 3 * (size_t)n);
+    error_sizes(err);
+    for (int k = 0; k < IGEA_TERM_COUNT; k++)
+        if (k > IGEA_TERM_ACC_BIAS_X + 2)
+            err[k] = 0.0;
+    for (int a = 0; a < 3; a++)
+        spec[a] = fabs(err[codes[a]]);
+    for (int e = 0; e < N_EP; e++)
+        ep[e] = e;
+    for (int o = 0; o < 4; o++) {
+        double full[3 * N_EP * 3];
+        assert_int_equal(igea_envfun_compute(IGEA_ENVFUN_PLATFORM, n, tr, n, 3,
+                                             codes, NULL, N_EP, ep, spec, o,
+                                             full, 3 * N_EP),
+                         0);
+        for (int i = 0; i < 3 * N_EP; i++)
+            S[o][i] = full[i] * (err[codes[0]] < 0 ? -1 : 1) +
+                      full[i + 3 * N_EP] * (err[codes[1]] < 0 ? -1 : 1) +
+                      full[i + 6 * N_EP] * (err[codes[2]] < 0 ? -1 : 1);
+    }
+    nonlinear_platform(tr, n, err, in_ax, spin_ax, 1, dV, dR);
+    double dv_g = 0, dr_g = 0, dv_0 = 0, dr_0 = 0, nv = 0, nr = 0;
+    for (int e = 0; e < N_EP; e++)
+        for (int a = 0; a < 3; a++) {
+            size_t k = 3 * (size_t)(e * (int)RATE) + a;
+            dv_g = fmax(dv_g, fabs(S[IGEA_ENVFUN_VELOCITY_G][3 * e + a] - dV[k]));
+            dr_g = fmax(dr_g, fabs(S[IGEA_ENVFUN_POSITION_G][3 * e + a] - dR[k]));
+            dv_0 = fmax(dv_0, fabs(S[IGEA_ENVFUN_VELOCITY][3 * e + a] - dV[k]));
+            dr_0 = fmax(dr_0, fabs(S[IGEA_ENVFUN_POSITION][3 * e + a] - dR[k]));
+            nv = fmax(nv, fabs(dV[k]));
+            nr = fmax(nr, fabs(dR[k]));
+        }
+    print_message("gravity: velocity rel %.3g (uncoupled %.3g), position rel "
+                  "%.3g (uncoupled %.3g)\n", dv_g / nv, dv_0 / nv, dr_g / nr,
+                  dr_0 / nr);
+    assert_true(dv_g / nv < 2e-5);
+    assert_true(dr_g / nr < 2e-5);
+    assert_true(dv_0 / nv > 1e-3);
+    assert_true(dr_0 / nr > 3e-4);
+    free(dV);
+    free(dR);
+    free(tr);
+}
+
+/* Closed forms on a constant-force, non-rotating trajectory (METHODS 5.2,
+ * 5.3): bias t e_j, scale W_j e_j, gyro bias t^2/2 (e_j x f) (strapdown)
+ * or t^2/2 (f x e_j) (platform), attitude W x e_k; position = t^3/6 etc. */
+static void test_closed_forms(void **state)
+{
+    enum { NS = 11 };
+    double tr[NS * IGEA_TRAJ_COLS], f[3] = {3.0, -2.0, 12.0};
+    for (int k = 0; k < NS; k++) {
+        tr[k] = 0.5 * k;
+        for (int a = 0; a < 3; a++) {
+            tr[k + (1 + a) * NS] = f[a];
+            tr[k + (4 + a) * NS] = 0.0;
+        }
+        tr[k + 7 * NS] = 2.0; /* unnormalised identity quaternion */
+        tr[k + 8 * NS] = tr[k + 9 * NS] = tr[k + 10 * NS] = 0.0;
+    }
+    double ep[2] = {1.75, 5.0}; /* 1.75 s lies between samples */
+    int sd[4] = {IGEA_TERM_ACC_BIAS_X + 1, IGEA_TERM_ACC_SCALE_X + 2,
+                 IGEA_TERM_GYRO_BIAS_X, IGEA_TERM_ATT0_X + 1};
+    int pf[4] = {IGEA_TERM_ACC_BIAS_X + 1, IGEA_TERM_ACC_MIS_XZ,
+                 IGEA_TERM_GYRO_BIAS_X, IGEA_TERM_ALIGN0_X + 1};
+    double S[6 * 4];
+    assert_int_equal(igea_envfun_compute(IGEA_ENVFUN_STRAPDOWN, NS, tr, NS, 4,
+                                         sd, NULL, 2, ep, NULL,
+                                         IGEA_ENVFUN_VELOCITY, S, 6),
+                     0);
+    double t = 5.0, W[3] = {f[0] * t, f[1] * t, f[2] * t};
+    assert_close(S[3 + 1], t, 1e-14);
+    assert_close(S[6 + 3 + 2], f[2] * t, 1e-14);
+    /* gyro x bias: t^2/2 (e_x x f) = t^2/2 (0, -f_z, f_y) */
+    assert_close(S[12 + 3 + 1], -0.5 * t * t * f[2], 1e-14);
+    assert_close(S[12 + 3 + 2], 0.5 * t * t * f[1], 1e-14);
+    assert_close_abs(S[12 + 3 + 0], 0.0, 0, 1e-12);
+    /* att0 y: W x e_y = (-W_z, 0, W_x) */
+    assert_close(S[18 + 3 + 0], -W[2], 1e-14);
+    assert_close(S[18 + 3 + 2], W[0], 1e-14);
+    /* linear interpolation at 1.75 s of the bias column (exact: linear) */
+    assert_close(S[1], 1.75, 1e-14);
+    /* interpolation of a quadratic (gyro) between samples 1.5 and 2.0 */
+    assert_close(S[12 + 1], -0.5 * f[2] * (0.5 * (1.5 * 1.5 + 2.0 * 2.0)), 1e-14);
+
+    assert_int_equal(igea_envfun_compute(IGEA_ENVFUN_PLATFORM, NS, tr, NS, 4,
+                                         pf, NULL, 2, ep, NULL,
+                                         IGEA_ENVFUN_VELOCITY, S, 6),
+                     0);
+    assert_close(S[3 + 1], t, 1e-14);
+    assert_close(S[6 + 3 + 0], W[2], 1e-14); /* mis xz: W_z e_x */
+    /* f x e_x = (0, f_z, -f_y) */
+    assert_close(S[12 + 3 + 1], 0.5 * t * t * f[2], 1e-14);
+    assert_close(S[12 + 3 + 2], -0.5 * t * t * f[1], 1e-14);
+    assert_close(S[18 + 3 + 0], -W[2], 1e-14);
+
+    /* position without gravity: bias t^2/2 (exact for trapezoid of linear) */
+    assert_int_equal(igea_envfun_compute(IGEA_ENVFUN_PLATFORM, NS, tr, NS, 4,
+                                         pf, NULL, 2, ep, NULL,
+                                         IGEA_ENVFUN_POSITION, S, 6),
+                     0);
+    assert_close(S[3 + 1], 0.5 * t * t, 1e-14);
+}
+
+/* Spec scaling multiplies columns; lds > m leaves NaN padding alone. */
+static void test_spec_lds(void **state)
+{
+    int n, codes[IGEA_TERM_COUNT], nt = all_terms(IGEA_ENVFUN_STRAPDOWN, codes);
+    double *tr = make_traj(IGEA_ENVFUN_STRAPDOWN, &n);
+    double ep[5] = {0.0, 10.01, 33.3, 33.3, 120.0}, spec[IGEA_TERM_COUNT];
+    int m = 15, ld = 19;
+    double *S1 = malloc(sizeof(double) * m * nt);
+    double *S2 = malloc(sizeof(double) * ld * nt);
+    for (int j = 0; j < nt; j++)
+        spec[j] = 0.5 + j;
+    assert_int_equal(igea_envfun_compute(IGEA_ENVFUN_STRAPDOWN, n, tr, n, nt,
+                                         codes, NULL, 5, ep, NULL, 0, S1, m), 0);
+    fill_nan(S2, (size_t)ld * nt);
+    assert_int_equal(igea_envfun_compute(IGEA_ENVFUN_STRAPDOWN, n, tr, n, nt,
+                                         codes, NULL, 5, ep, spec, 0, S2, ld), 0);
+    for (int j = 0; j < nt; j++) {
+        for (int i = 0; i < 3; i++)
+            assert_true(S1[i + j * m] == 0.0); /* epoch at t_0 */
+        for (int i = 0; i < m; i++)
+            assert_close_abs(S2[i + j * ld], S1[i + j * m] * spec[j], 1e-15, 1e-300);
+        for (int i = m; i < ld; i++)
+            assert_true(isnan(S2[i + j * ld]));
+        for (int i = 0; i < 3; i++) /* repeated epoch, repeated row */
+            assert_true(S1[6 + i + j * m] == S1[9 + i + j * m]);
+    }
+    free(S1);
+    free(S2);
+    free(tr);
+}
+
+static void test_term_valid(void **state)
+{
+    assert_int_equal(igea_envfun_term_valid(IGEA_ENVFUN_STRAPDOWN, IGEA_TERM_ATT0_X + 2), 1);
+    assert_int_equal(igea_envfun_term_valid(IGEA_ENVFUN_STRAPDOWN, IGEA_TERM_ALIGN0_X), 0);
+    assert_int_equal(igea_envfun_term_valid(IGEA_ENVFUN_PLATFORM, IGEA_TERM_GYRO_G_X), 0);
+    assert_int_equal(igea_envfun_term_valid(IGEA_ENVFUN_PLATFORM, IGEA_TERM_GYRO_GS_X + 2), 1);
+    assert_int_equal(igea_envfun_term_valid(IGEA_ENVFUN_PLATFORM, IGEA_TERM_ACC_MIS_ZY), 1);
+    assert_int_equal(igea_envfun_term_valid(2, 0), 0);
+    assert_int_equal(igea_envfun_term_valid(0, -1), 0);
+    assert_int_equal(igea_envfun_term_valid(0, IGEA_TERM_COUNT), 0);
+    int a = 0, b = 0;
+    for (int k = 0; k < IGEA_TERM_COUNT; k++) {
+        a += igea_envfun_term_valid(0, k);
+        b += igea_envfun_term_valid(1, k);
+    }
+    assert_int_equal(a, 27);
+    assert_int_equal(b, 27);
+}
+
+/* Every -i path, NaN, non-positive spec, zero quaternion; S untouched. */
+static void test_invalid(void **state)
+{
+    enum { NS = 4 };
+    double tr[NS * IGEA_TRAJ_COLS], ep[2] = {0.5, 1.0}, S[6 * 2], spec[2] = {1, 1};
+    int codes[2] = {0, IGEA_TERM_GYRO_BIAS_X}, bad[2] = {0, IGEA_TERM_ALIGN0_X};
+    int axes[6] = {0, 1, 2, 1, 2, 3};
+    for (int k = 0; k < NS; k++) {
+        tr[k] = k;
+        for (int c = 1; c < IGEA_TRAJ_COLS; c++)
+            tr[k + c * NS] = (c == 7) ? 1.0 : 0.1 * c;
+    }
+    fill_sentinel(S, 12);
+#define EF(...) igea_envfun_compute(__VA_ARGS__)
+    assert_int_equal(EF(2, NS, tr, NS, 2, codes, NULL, 2, ep, NULL, 0, S, 6), -1);
+    assert_int_equal(EF(0, 1, tr, NS, 2, codes, NULL, 2, ep, NULL, 0, S, 6), -2);
+    assert_int_equal(EF(0, NS, NULL, NS, 2, codes, NULL, 2, ep, NULL, 0, S, 6), -3);
+    assert_int_equal(EF(0, NS, tr, NS - 1, 2, codes, NULL, 2, ep, NULL, 0, S, 6), -4);
+    assert_int_equal(EF(0, NS, tr, NS, 0, codes, NULL, 2, ep, NULL, 0, S, 6), -5);
+    assert_int_equal(EF(0, NS, tr, NS, 2, NULL, NULL, 2, ep, NULL, 0, S, 6), -6);
+    assert_int_equal(EF(0, NS, tr, NS, 2, bad, NULL, 2, ep, NULL, 0, S, 6), -6);
+    assert_int_equal(EF(1, NS, tr, NS, 2, codes, axes, 2, ep, NULL, 0, S, 6), -7);
+    assert_int_equal(EF(0, NS, tr, NS, 2, codes, axes, 2, ep, NULL, 0, S, 6), 0);
+    fill_sentinel(S, 12);
+    assert_int_equal(EF(0, NS, tr, NS, 2, codes, NULL, 0, ep, NULL, 0, S, 6), -8);
+    assert_int_equal(EF(0, NS, tr, NS, 2, codes, NULL, 2, NULL, NULL, 0, S, 6), -9);
+    double ep_bad[2] = {1.0, 0.5}, ep_out[2] = {0.5, 3.5};
+    assert_int_equal(EF(0, NS, tr, NS, 2, codes, NULL, 2, ep_bad, NULL, 0, S, 6), -9);
+    assert_int_equal(EF(0, NS, tr, NS, 2, codes, NULL, 2, ep_out, NULL, 0, S, 6), -9);
+    assert_int_equal(EF(0, NS, tr, NS, 2, codes, NULL, 2, ep, NULL, 4, S, 6), -11);
+    assert_int_equal(EF(0, NS, tr, NS, 2, codes, NULL, 2, ep, NULL, -1, S, 6), -11);
+    assert_int_equal(EF(0, NS, tr, NS, 2, codes, NULL, 2, ep, NULL, 0, NULL, 6), -12);
+    assert_int_equal(EF(0, NS, tr, NS, 2, codes, NULL, 2, ep, NULL, 0, S, 5), -13);
+    spec[1] = 0.0;
+    assert_int_equal(EF(0, NS, tr, NS, 2, codes, NULL, 2, ep, spec, 0, S, 6),
+                     IGEA_ENONPOSITIVE);
+    spec[1] = NAN;
+    assert_int_equal(EF(0, NS, tr, NS, 2, codes, NULL, 2, ep, spec, 0, S, 6),
+                     IGEA_ENONFINITE);
+    double ep_nan[2] = {0.5, NAN};
+    assert_int_equal(EF(0, NS, tr, NS, 2, codes, NULL, 2, ep_nan, NULL, 0, S, 6),
+                     IGEA_ENONFINITE);
+    tr[2 + 5 * NS] = NAN;
+    assert_int_equal(EF(0, NS, tr, NS, 2, codes, NULL, 2, ep, NULL, 0, S, 6),
+                     IGEA_ENONFINITE);
+    tr[2 + 5 * NS] = 0.5;
+    tr[2] = 1.0; /* t not increasing */
+    assert_int_equal(EF(0, NS, tr, NS, 2, codes, NULL, 2, ep, NULL, 0, S, 6), -3);
+    tr[2] = 2.0;
+    tr[1 + 7 * NS] = 0.0; /* zero quaternion (q1..q3 = 0.8, 0.9, 1.0 here) */
+    tr[1 + 8 * NS] = tr[1 + 9 * NS] = tr[1 + 10 * NS] = 0.0;
+    assert_int_equal(EF(0, NS, tr, NS, 2, codes, NULL, 2, ep, NULL, 0, S, 6),
+                     IGEA_EDOMAIN);
+    /* a platform ignores the quaternion */
+    int pcodes[2] = {0, IGEA_TERM_ALIGN0_X};
+    assert_true(all_sentinel(S, 12));
+    assert_int_equal(EF(1, NS, tr, NS, 2, pcodes, NULL, 2, ep, NULL, 0, S, 6), 0);
+#undef EF
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_term_valid),
+        cmocka_unit_test(test_closed_forms),
+        cmocka_unit_test(test_spec_lds),
+        cmocka_unit_test(test_invalid),
+        cmocka_unit_test(test_strapdown_vs_nonlinear),
+        cmocka_unit_test(test_strapdown21_vs_nonlinear),
+        cmocka_unit_test(test_platform_vs_nonlinear),
+        cmocka_unit_test(test_gravity_coupling),
+        cmocka_unit_test(test_library_truth_model),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

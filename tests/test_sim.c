@@ -1,0 +1,704 @@
+/* tests/test_sim.c - reference trajectory, synthetic flights and the
+ * Monte Carlo of the equivalent-error test (igea/sim.h). Statistical
+ * checks use two-sided binomial (or normal-theory) bounds at a 1e-6
+ * false-failure probability, so they cannot flake; the seeds are fixed
+ * anyway, so every run draws the same numbers. */
+#include "testutil.h"
+
+#include <gsl/gsl_cdf.h>
+
+#include "igea/eqerr.h"
+#include "igea/envfun.h"
+#include "igea/sim.h"
+
+/* Out-of-memory loop (as tests/test_oom.c): this program's malloc can fail
+ * the n-th allocation; not under AddressSanitizer, which owns malloc. */
+#if defined(__SANITIZE_ADDRESS__)
+#define OOM_DISABLED 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define OOM_DISABLED 1
+#endif
+#endif
+#ifndef OOM_DISABLED
+extern void *__libc_malloc(size_t);
+static long fail_at = -1, calls = 0;
+void *malloc(size_t n)
+{
+    if (fail_at >= 0 && calls++ == fail_at)
+        return NULL;
+    return __libc_malloc(n);
+}
+#endif
+
+#define G0 9.80665
+#define DEG_H (3.14159265358979323846 / 180.0 / 3600.0)
+#define M_EP 120
+#define NT 21
+
+/* 1 if count is inside the two-sided 1e-6 acceptance region of
+ * Binomial(n, p) (each tail <= 0.5e-6). */
+static int binom_ok(int count, int n, double p)
+{
+    double lo_tail = gsl_cdf_binomial_P((unsigned)count, p, (unsigned)n);
+    double hi_tail = count > 0 ? gsl_cdf_binomial_Q((unsigned)(count - 1), p, (unsigned)n)
+                               : 1.0;
+    if (!(lo_tail > 0.5e-6 && hi_tail > 0.5e-6))
+        print_error("count %d of %d outside the 1e-6 region of p = %g\n", count, n, p);
+    return lo_tail > 0.5e-6 && hi_tail > 0.5e-6;
+}
+
+/* The 21-term strapdown model on the reference boost, epochs 1..120 s,
+ * with the default specs of docs/envfun.md; tracking sigma 1 cm/s. */
+static double S21[3 * M_EP * NT], SPEC21[NT], SIG = 0.01;
+static int setup_model(void **state)
+{
+    int codes[NT], n = 0, k = 0;
+    for (int a = 0; a < 3; a++) {
+        codes[k] = IGEA_TERM_ACC_BIAS_X + a;
+        SPEC21[k++] = 1e-3 * G0;
+    }
+    for (int a = 0; a < 3; a++) {
+        codes[k] = IGEA_TERM_ACC_SCALE_X + a;
+        SPEC21[k++] = 1e-4;
+    }
+    for (int a = 0; a < 6; a++) {
+        codes[k] = IGEA_TERM_ACC_MIS_XY + a;
+        SPEC21[k++] = 1e-4;
+    }
+    for (int a = 0; a < 3; a++) {
+        codes[k] = IGEA_TERM_GYRO_BIAS_X + a;
+        SPEC21[k++] = 0.5 * DEG_H;
+    }
+    for (int a = 0; a < 3; a++) {
+        codes[k] = IGEA_TERM_GYRO_G_X + a;
+        SPEC21[k++] = 0.5 * DEG_H / G0;
+    }
+    for (int a = 0; a < 3; a++) {
+        codes[k] = IGEA_TERM_ATT0_X + a;
+        SPEC21[k++] = 1e-4;
+    }
+    double ep[M_EP];
+    for (int e = 0; e < M_EP; e++)
+        ep[e] = e + 1.0;
+    if (igea_sim_trajectory_length(120.0, 50.0, &n) != 0)
+        return -1;
+    double *tr = malloc(sizeof(double) * (size_t)n * IGEA_TRAJ_COLS);
+    if (!tr || igea_sim_trajectory(IGEA_ENVFUN_STRAPDOWN, 120.0, 50.0, n, tr, n) ||
+        igea_envfun_compute(IGEA_ENVFUN_STRAPDOWN, n, tr, n, NT, codes, NULL,
+                            M_EP, ep, NULL, IGEA_ENVFUN_VELOCITY, S21, 3 * M_EP))
+        return -1;
+    free(tr);
+    return 0;
+}
+
+/* ---- trajectory ---------------------------------------------------------- */
+static void test_trajectory(void **state)
+{
+    int n = 0;
+    assert_int_equal(igea_sim_trajectory_length(120.0, 50.0, &n), 0);
+    assert_int_equal(n, 6001);
+    assert_int_equal(igea_sim_trajectory_length(0.0, 50.0, &n), -1);
+    assert_int_equal(igea_sim_trajectory_length(10.0, -1.0, &n), -2);
+    assert_int_equal(igea_sim_trajectory_length(10.0, 1.0, NULL), -3);
+    n = 6001;
+    int ld = n + 3;
+    double *sd = malloc(sizeof(double) * (size_t)ld * IGEA_TRAJ_COLS);
+    double *pf = malloc(sizeof(double) * (size_t)n * IGEA_TRAJ_COLS);
+    fill_nan(sd, (size_t)ld * IGEA_TRAJ_COLS);
+    assert_int_equal(igea_sim_trajectory(IGEA_ENVFUN_STRAPDOWN, 120.0, 50.0, n, sd, ld), 0);
+    assert_int_equal(igea_sim_trajectory(IGEA_ENVFUN_PLATFORM, 120.0, 50.0, n, pf, n), 0);
+    for (int k = 0; k < n; k++) {
+        double qn = 0, fb = 0, fa = 0;
+        assert_close(sd[k], k / 50.0, 1e-15);
+        for (int i = 0; i < 4; i++)
+            qn += sd[k + (7 + i) * ld] * sd[k + (7 + i) * ld];
+        assert_close(qn, 1.0, 1e-13);
+        for (int i = 0; i < 3; i++) {
+            fb += sd[k + (1 + i) * ld] * sd[k + (1 + i) * ld];
+            fa += pf[k + (1 + i) * n] * pf[k + (1 + i) * n];
+        }
+        assert_close(fa, fb, 1e-12); /* platform force = C f_b */
+        assert_true(sd[k + ld] >= 15.0 && sd[k + ld] <= 25.0);
+    }
+    for (int k = n; k < ld; k++)
+        assert_true(isnan(sd[k]));
+    /* body x starts vertical (force along launch y) and ends pitched over by
+     * 60 deg (+- the wobble): elevation of the thrust axis ~30 deg */
+    assert_close(pf[0 + 2 * n], 15.0, 1e-12);
+    double fx = pf[(n - 1) + n], fy = pf[(n - 1) + 2 * n];
+    double elev = atan2(fy, fx) * 180.0 / 3.14159265358979323846;
+    assert_true(elev > 28.0 && elev < 32.0);
+    assert_true(fx > 0.0); /* pitched downrange */
+    /* invalid arguments */
+    assert_int_equal(igea_sim_trajectory(2, 120.0, 50.0, n, pf, n), -1);
+    assert_int_equal(igea_sim_trajectory(0, -1.0, 50.0, n, pf, n), -2);
+    assert_int_equal(igea_sim_trajectory(0, 120.0, 0.0, n, pf, n), -3);
+    assert_int_equal(igea_sim_trajectory(0, 120.0, 50.0, n - 1, pf, n), -4);
+    assert_int_equal(igea_sim_trajectory(0, 120.0, 50.0, n, NULL, n), -5);
+    assert_int_equal(igea_sim_trajectory(0, 120.0, 50.0, n, pf, n - 1), -6);
+    free(sd);
+    free(pf);
+}
+
+/* ---- flights -------------------------------------------------------------- */
+static void test_flight_reproducible(void **state)
+{
+    int m = 3 * M_EP;
+    double x1[NT], x2[NT], x3[NT], d1[3 * M_EP], d2[3 * M_EP], d3[3 * M_EP];
+    double xv[NT] = {0};
+    int xf[NT] = {0};
+    assert_int_equal(igea_sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL,
+                                     NULL, 42, 7, x1, d1), 0);
+    assert_int_equal(igea_sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL,
+                                     NULL, 42, 7, x2, d2), 0);
+    assert_memory_equal(d1, d2, sizeof d1);
+    assert_memory_equal(x1, x2, sizeof x1);
+    assert_int_equal(igea_sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL,
+                                     NULL, 42, 8, x3, d3), 0);
+    assert_true(x3[0] != x1[0] && d3[5] != d1[5]);
+    assert_int_equal(igea_sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL,
+                                     NULL, 43, 7, x3, d3), 0);
+    assert_true(x3[0] != x1[0]);
+    /* fixing one term leaves the other terms' draws and the noise alone */
+    xv[4] = 2.5;
+    xf[4] = 1;
+    assert_int_equal(igea_sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, xv, xf,
+                                     NULL, 42, 7, x3, d3), 0);
+    for (int j = 0; j < NT; j++)
+        assert_true(x3[j] == (j == 4 ? 2.5 : x1[j]));
+    /* dw - S D x is the same noise in both */
+    for (int i = 0; i < m; i++) {
+        double s1 = 0, s3 = 0;
+        for (int j = 0; j < NT; j++) {
+            s1 += S21[i + j * m] * SPEC21[j] * x1[j];
+            s3 += S21[i + j * m] * SPEC21[j] * x3[j];
+        }
+        assert_close_abs(d3[i] - s3, d1[i] - s1, 1e-9, 1e-12);
+    }
+    /* ranlxd2: another stream, also reproducible */
+    double opts[IGEA_SIM_OPT_LEN];
+    igea_sim_defaults(opts);
+    opts[IGEA_SIM_OPT_GENERATOR] = IGEA_SIM_RANLXD2;
+    assert_int_equal(igea_sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL,
+                                     opts, 42, 7, x2, d2), 0);
+    assert_true(x2[0] != x1[0]);
+    assert_int_equal(igea_sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL,
+                                     opts, 42, 7, x3, d3), 0);
+    assert_memory_equal(d2, d3, sizeof d2);
+}
+
+/* Noise statistics with S = 0 on a long record: sigma_w scale, AR(1),
+ * growth, outliers (normal-theory bounds at > 5 sd). */
+static void test_flight_noise(void **state)
+{
+    enum { ME = 20000, MR = 3 * ME };
+    double *S0 = calloc(MR, sizeof(double)), *dw = malloc(MR * sizeof(double));
+    double *sig = malloc(MR * sizeof(double)), opts[IGEA_SIM_OPT_LEN];
+    for (int i = 0; i < MR; i++)
+        sig[i] = 0.5 + (i % 7) * 0.1;
+    igea_sim_defaults(opts);
+    opts[IGEA_SIM_OPT_SIGMA_W] = 1.8;
+    assert_int_equal(igea_sim_flight(MR, 1, S0, MR, sig, 1, NULL, NULL, NULL, opts,
+                                     1, 0, NULL, dw), 0);
+    double v = 0;
+    for (int i = 0; i < MR; i++)
+        v += (dw[i] / sig[i]) * (dw[i] / sig[i]);
+    v /= MR; /* E = 3.24, sd 3.24 sqrt(2/MR) = 0.0187 */
+    assert_close_abs(v, 3.24, 0, 6 * 3.24 * sqrt(2.0 / MR));
+
+    /* AR(1) phi = 0.6 per axis along epochs; unit variance kept */
+    opts[IGEA_SIM_OPT_SIGMA_W] = 1.0;
+    opts[IGEA_SIM_OPT_AR1] = 0.6;
+    assert_int_equal(igea_sim_flight(MR, 1, S0, MR, sig, 1, NULL, NULL, NULL, opts,
+                                     2, 0, NULL, dw), 0);
+    for (int a = 0; a < 3; a++) {
+        double c1 = 0, c0 = 0;
+        for (int e = 1; e < ME; e++) {
+            double u = dw[3 * e + a] / sig[3 * e + a];
+            double p = dw[3 * (e - 1) + a] / sig[3 * (e - 1) + a];
+            c1 += u * p;
+            c0 += u * u;
+        }
+        /* sd of the lag-1 estimate ~ sqrt((1 - phi^2)(1 + ...)/n) < 0.01 */
+        assert_close_abs(c1 / c0, 0.6, 0, 0.05);
+        assert_close_abs(c0 / (ME - 1), 1.0, 0, 0.1);
+    }
+    /* growth g = 2: the true sd triples from the first to the last epoch */
+    opts[IGEA_SIM_OPT_AR1] = 0.0;
+    opts[IGEA_SIM_OPT_GROWTH] = 2.0;
+    assert_int_equal(igea_sim_flight(MR, 1, S0, MR, sig, 1, NULL, NULL, NULL, opts,
+                                     3, 0, NULL, dw), 0);
+    double vf = 0, vl = 0;
+    int nb = 3 * 2000;
+    for (int i = 0; i < nb; i++) {
+        double gf = 1.0 + 2.0 * (i / 3) / (double)(ME - 1);
+        double gl = 1.0 + 2.0 * ((MR - 1 - i) / 3) / (double)(ME - 1);
+        vf += pow(dw[i] / (sig[i] * gf), 2);
+        vl += pow(dw[MR - 1 - i] / (sig[MR - 1 - i] * gl), 2);
+    }
+    assert_close_abs(vf / nb, 1.0, 0, 6 * sqrt(2.0 / nb));
+    assert_close_abs(vl / nb, 1.0, 0, 6 * sqrt(2.0 / nb));
+    /* outliers: p = 0.02, scale 10: rows beyond 5 sd are outliers with
+     * probability 2 (1 - Phi(5 / sqrt(101))) (plus 5.7e-7 of normal rows) */
+    opts[IGEA_SIM_OPT_GROWTH] = 0.0;
+    opts[IGEA_SIM_OPT_OUTLIER_PROB] = 0.02;
+    assert_int_equal(igea_sim_flight(MR, 1, S0, MR, sig, 1, NULL, NULL, NULL, opts,
+                                     4, 0, NULL, dw), 0);
+    int big = 0;
+    for (int i = 0; i < MR; i++)
+        big += fabs(dw[i] / sig[i]) > 5.0;
+    double p_big = 0.02 * 2.0 * gsl_cdf_ugaussian_Q(5.0 / sqrt(101.0)) +
+                   0.98 * 2.0 * gsl_cdf_ugaussian_Q(5.0);
+    assert_true(binom_ok(big, MR, p_big));
+    free(S0);
+    free(dw);
+    free(sig);
+}
+
+static void test_flight_signal(void **state)
+{
+    int m = 3 * M_EP;
+    double x[NT], dw[3 * M_EP], tiny = 1e-12;
+    assert_int_equal(igea_sim_flight(m, NT, S21, m, &tiny, 0, SPEC21, NULL, NULL,
+                                     NULL, 5, 0, x, dw), 0);
+    for (int i = 0; i < m; i++) {
+        double s = 0;
+        for (int j = 0; j < NT; j++)
+            s += S21[i + j * m] * SPEC21[j] * x[j];
+        assert_close_abs(dw[i], s, 1e-12, 1e-9);
+    }
+}
+
+static void test_flight_invalid(void **state)
+{
+    int m = 3 * M_EP, xf[NT] = {0};
+    double x[NT], dw[3 * M_EP], opts[IGEA_SIM_OPT_LEN], bad_sig = -1.0, nan_sig = NAN;
+    fill_sentinel(dw, (size_t)m);
+    fill_sentinel(x, NT);
+#define FL(...) igea_sim_flight(__VA_ARGS__)
+    assert_int_equal(FL(m - 1, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, 0, x, dw), -1);
+    assert_int_equal(FL(0, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, 0, x, dw), -1);
+    assert_int_equal(FL(m, 0, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, 0, x, dw), -2);
+    assert_int_equal(FL(m, NT, NULL, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, 0, x, dw), -3);
+    assert_int_equal(FL(m, NT, S21, m - 1, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, 0, x, dw), -4);
+    assert_int_equal(FL(m, NT, S21, m, NULL, 0, SPEC21, NULL, NULL, NULL, 1, 0, x, dw), -5);
+    assert_int_equal(FL(m, NT, S21, m, &SIG, 2, SPEC21, NULL, NULL, NULL, 1, 0, x, dw), -6);
+    assert_int_equal(FL(m, NT, S21, m, &SIG, 0, SPEC21, NULL, xf, NULL, 1, 0, x, dw), -8);
+    xf[3] = 2;
+    assert_int_equal(FL(m, NT, S21, m, &SIG, 0, SPEC21, x, xf, NULL, 1, 0, x, dw), -9);
+    igea_sim_defaults(opts);
+    opts[IGEA_SIM_OPT_SIGMA_W] = 0.0;
+    assert_int_equal(FL(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, opts, 1, 0, x, dw), -10);
+    igea_sim_defaults(opts);
+    opts[IGEA_SIM_OPT_AR1] = 1.0;
+    assert_int_equal(FL(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, opts, 1, 0, x, dw), -10);
+    igea_sim_defaults(opts);
+    opts[IGEA_SIM_OPT_OUTLIER_PROB] = 1.5;
+    assert_int_equal(FL(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, opts, 1, 0, x, dw), -10);
+    igea_sim_defaults(opts);
+    opts[IGEA_SIM_OPT_GENERATOR] = 3;
+    assert_int_equal(FL(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, opts, 1, 0, x, dw), -10);
+    opts[IGEA_SIM_OPT_GENERATOR] = NAN;
+    assert_int_equal(FL(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, opts, 1, 0, x, dw), -10);
+    assert_int_equal(FL(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, -1, 0, x, dw), -11);
+    assert_int_equal(FL(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, -1, x, dw), -12);
+    assert_int_equal(FL(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, 0, x, NULL), -14);
+    assert_int_equal(FL(m, NT, S21, m, &bad_sig, 0, SPEC21, NULL, NULL, NULL, 1, 0, x, dw),
+                     IGEA_ENONPOSITIVE);
+    assert_int_equal(FL(m, NT, S21, m, &nan_sig, 0, SPEC21, NULL, NULL, NULL, 1, 0, x, dw),
+                     IGEA_ENONFINITE);
+    double spec_bad[NT];
+    memcpy(spec_bad, SPEC21, sizeof spec_bad);
+    spec_bad[20] = 0.0;
+    assert_int_equal(FL(m, NT, S21, m, &SIG, 0, spec_bad, NULL, NULL, NULL, 1, 0, x, dw),
+                     IGEA_ENONPOSITIVE);
+    double xv[NT] = {0};
+    int xf0[NT] = {0};
+    xv[2] = INFINITY;
+    assert_int_equal(FL(m, NT, S21, m, &SIG, 0, SPEC21, xv, xf0, NULL, 1, 0, x, dw),
+                     IGEA_ENONFINITE);
+    double S1[6] = {1, 2, 3, 4, NAN, 6};
+    assert_int_equal(FL(3, 2, S1, 3, &SIG, 0, NULL, NULL, NULL, NULL, 1, 0, x, dw),
+                     IGEA_ENONFINITE);
+    assert_true(all_sentinel(dw, (size_t)m));
+    assert_true(all_sentinel(x, NT));
+#undef FL
+}
+
+/* ---- Monte Carlo ----------------------------------------------------------- */
+#define NF 300
+
+static void run_mc(const double *opts, const double *eqo, int first, int nf,
+                   int nthreads, double *counts, int *ct, int *cr, double *chi2,
+                   int *dof, int *nrej, double *scale)
+{
+    int m = 3 * M_EP;
+    assert_int_equal(igea_sim_montecarlo(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL,
+                                         opts, 2024, eqo, first, nf, nthreads,
+                                         counts, ct, cr, chi2, dof, nrej, scale), 0);
+}
+
+/* Results do not depend on the thread count or on chunking, and each
+ * flight's verdict equals igea_eqerr_run on igea_sim_flight's data. */
+static void test_mc_threads(void **state)
+{
+    double c1[IGEA_MC_LEN], c2[IGEA_MC_LEN], c3[IGEA_MC_LEN];
+    int ct1[NT], cr1[NT], ct2[NT], cr2[NT], d1[NF], d2[NF], n1[NF], n2[NF];
+    double x1[NF], x2[NF], s1[NF], s2[NF];
+    run_mc(NULL, NULL, 0, NF, 1, c1, ct1, cr1, x1, d1, n1, s1);
+    run_mc(NULL, NULL, 0, NF, 2, c2, ct2, cr2, x2, d2, n2, s2);
+    assert_memory_equal(c1, c2, sizeof c1);
+    assert_memory_equal(ct1, ct2, sizeof ct1);
+    assert_memory_equal(cr1, cr2, sizeof cr1);
+    assert_memory_equal(x1, x2, sizeof x1);
+    assert_memory_equal(s1, s2, sizeof s1);
+    assert_memory_equal(d1, d2, sizeof d1);
+    assert_memory_equal(n1, n2, sizeof n1);
+    run_mc(NULL, NULL, 0, NF, 3, c3, NULL, NULL, NULL, NULL, NULL, NULL);
+    assert_memory_equal(c1, c3, sizeof c1);
+    /* chunk: flights 100..299 alone */
+    run_mc(NULL, NULL, 100, NF - 100, 2, c3, NULL, NULL, x2, d2, n2, s2);
+    assert_memory_equal(x1 + 100, x2, (NF - 100) * sizeof(double));
+    assert_memory_equal(n1 + 100, n2, (NF - 100) * sizeof(int));
+    assert_true(c1[IGEA_MC_FLIGHTS] == NF);
+    /* independent route: flight f through igea_sim_flight + igea_eqerr_run */
+    int m = 3 * M_EP;
+    for (int f = 0; f < 5; f++) {
+        double dw[3 * M_EP], lam[NT], P[NT * NT], xh[NT], z[NT], info[IGEA_INFO_LEN];
+        int rej[NT];
+        assert_int_equal(igea_sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL,
+                                         NULL, 2024, f, NULL, dw), 0);
+        assert_int_equal(igea_eqerr_run(m, NT, S21, m, dw, &SIG, 0, SPEC21, NULL, lam,
+                                        P, NT, xh, z, rej, info, NULL, NULL), 0);
+        assert_close(x1[f], info[IGEA_INFO_CHI2], 1e-6);
+        assert_int_equal(d1[f], (int)info[IGEA_INFO_DOF]);
+        assert_int_equal(n1[f], (int)info[IGEA_INFO_N_REJECT]);
+        assert_close(s1[f], info[IGEA_INFO_SCALE], 1e-6);
+    }
+}
+
+/* Study 1 (small): sigma_w = 1, X ~ N(0, I), no sigma_w correction, alpha
+ * = 0.1: every component test and the chi-square test have exact size
+ * alpha; counts must lie in the binomial 1e-6 regions. */
+static void test_mc_size(void **state)
+{
+    double counts[IGEA_MC_LEN], eqo[IGEA_EQERR_OPT_LEN];
+    int ct[NT], cr[NT];
+    igea_eqerr_defaults(eqo);
+    eqo[IGEA_EQERR_OPT_ALPHA] = 0.1;
+    eqo[IGEA_EQERR_OPT_CORRECT] = 0;
+    run_mc(NULL, eqo, 0, NF, 0, counts, ct, cr, NULL, NULL, NULL, NULL);
+    print_message("size: chi2 rejected %g of %d, any component %g\n",
+                  counts[IGEA_MC_CHI2_REJECT], NF, counts[IGEA_MC_ANY_REJECT]);
+    assert_true(binom_ok((int)counts[IGEA_MC_CHI2_REJECT], NF, 0.1));
+    int ntested = 0;
+    for (int i = 0; i < NT; i++) {
+        if (ct[i] == 0)
+            continue;
+        ntested++;
+        assert_int_equal(ct[i], NF); /* fixed test set when c = 1 */
+        assert_true(binom_ok(cr[i], NF, 0.1));
+    }
+    assert_int_equal(ntested, 7);
+    assert_true(counts[IGEA_MC_MEAN_SCALE] == 1.0);
+    assert_int_equal((int)counts[IGEA_MC_NOT_TESTABLE], 0);
+}
+
+/* Study 2 (small): true sigma_w = 10, stated 1. Without the correction
+ * the weakest tested component (lambda_7) rejects with probability
+ * 2 Q(z / sqrt(1 + 100 / lambda_7)) >> alpha; with it, c ~ 100 and the
+ * chi-square test is back near alpha. */
+static void test_mc_misstated(void **state)
+{
+    double counts[IGEA_MC_LEN], eqo[IGEA_EQERR_OPT_LEN], opts[IGEA_SIM_OPT_LEN];
+    int ct[NT], cr[NT], m = 3 * M_EP;
+    double scale[NF];
+    igea_sim_defaults(opts);
+    opts[IGEA_SIM_OPT_SIGMA_W] = 10.0;
+    igea_eqerr_defaults(eqo);
+    eqo[IGEA_EQERR_OPT_ALPHA] = 0.1;
+    eqo[IGEA_EQERR_OPT_CORRECT] = 0;
+    /* lambda of the weighted, scaled S (does not depend on dw) */
+    double dw[3 * M_EP], lam[NT], P[NT * NT], xh[NT], z[NT], info[IGEA_INFO_LEN];
+    int rej[NT];
+    igea_sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, 0, NULL, dw);
+    assert_int_equal(igea_eqerr_run(m, NT, S21, m, dw, &SIG, 0, SPEC21, eqo, lam, P,
+                                    NT, xh, z, rej, info, NULL, NULL), 0);
+    int last = (int)info[IGEA_INFO_N_TEST] - 1;
+    double zc = info[IGEA_INFO_Z_CRIT];
+    /* X_i ~ N(0, 1 + sigma_w^2 / lambda_i): z_i = Xhat_i / sqrt(1 + 1/lambda_i) */
+    double sd = sqrt((1.0 + 100.0 / lam[last]) / (1.0 + 1.0 / lam[last]));
+    double p_last = 2.0 * gsl_cdf_ugaussian_Q(zc / sd);
+    run_mc(opts, eqo, 0, NF, 0, counts, ct, cr, NULL, NULL, NULL, NULL);
+    print_message("misstated: lambda_%d = %.4g, component rejection %d of %d "
+                  "(exact p %.4f)\n", last + 1, lam[last], cr[last], NF, p_last);
+    assert_true(p_last > 0.3);
+    assert_true(binom_ok(cr[last], NF, p_last));
+    double uncorrected = counts[IGEA_MC_FAILED];
+    eqo[IGEA_EQERR_OPT_CORRECT] = 1;
+    run_mc(opts, eqo, 0, NF, 0, counts, ct, cr, NULL, NULL, NULL, scale);
+    print_message("misstated: failed %g uncorrected, %g corrected; mean c %.4g\n",
+                  uncorrected, counts[IGEA_MC_FAILED], counts[IGEA_MC_MEAN_SCALE]);
+    /* c estimates sigma_w^2 = 100 from ~12 small eigenvalues (relative sd
+     * ~ sqrt(2/12) per flight, /sqrt(300) for the mean: 2.4 %) */
+    assert_close(counts[IGEA_MC_MEAN_SCALE], 100.0, 0.15);
+    /* family-wise size at alpha = 0.1 with 5-7 components is 0.4-0.5; the
+     * uncorrected run fails ~0.74 of the flights */
+    assert_true(counts[IGEA_MC_FAILED] < 0.75 * uncorrected);
+}
+
+/* lds > m with NaN padding: same flights and verdicts as lds = m. */
+static void test_lds_padding(void **state)
+{
+    int m = 3 * M_EP, ld = m + 5;
+    double *Sp = malloc(sizeof(double) * (size_t)ld * NT);
+    double d1[3 * M_EP], d2[3 * M_EP], c1[IGEA_MC_LEN], c2[IGEA_MC_LEN], x1[50], x2[50];
+    fill_nan(Sp, (size_t)ld * NT);
+    for (int j = 0; j < NT; j++)
+        memcpy(Sp + (size_t)j * ld, S21 + (size_t)j * m, sizeof(double) * m);
+    assert_int_equal(igea_sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL,
+                                     9, 3, NULL, d1), 0);
+    assert_int_equal(igea_sim_flight(m, NT, Sp, ld, &SIG, 0, SPEC21, NULL, NULL, NULL,
+                                     9, 3, NULL, d2), 0);
+    assert_memory_equal(d1, d2, sizeof d1);
+    assert_int_equal(igea_sim_montecarlo(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL,
+                                         9, NULL, 0, 50, 1, c1, NULL, NULL, x1, NULL,
+                                         NULL, NULL), 0);
+    assert_int_equal(igea_sim_montecarlo(m, NT, Sp, ld, &SIG, 0, SPEC21, NULL, NULL, NULL,
+                                         9, NULL, 0, 50, 2, c2, NULL, NULL, x2, NULL,
+                                         NULL, NULL), 0);
+    assert_memory_equal(c1, c2, sizeof c1);
+    assert_memory_equal(x1, x2, sizeof x1);
+    free(Sp);
+}
+
+static void test_nonlinear_invalid(void **state)
+{
+    enum { NS = 4 };
+    double tr[NS * IGEA_TRAJ_COLS], ep[2] = {0.5, 1.0}, dW[6], err[IGEA_TERM_COUNT] = {0};
+    int axes[6] = {0, 1, 2, 1, 2, 3};
+    for (int k = 0; k < NS; k++) {
+        tr[k] = k;
+        for (int c = 1; c < IGEA_TRAJ_COLS; c++)
+            tr[k + c * NS] = (c == 7) ? 1.0 : 0.1 * c;
+    }
+    fill_sentinel(dW, 6);
+#define NL(...) igea_sim_nonlinear(__VA_ARGS__)
+    assert_int_equal(NL(2, NS, tr, NS, err, NULL, 2, ep, dW), -1);
+    assert_int_equal(NL(0, 1, tr, NS, err, NULL, 2, ep, dW), -2);
+    assert_int_equal(NL(0, NS, NULL, NS, err, NULL, 2, ep, dW), -3);
+    assert_int_equal(NL(0, NS, tr, NS - 1, err, NULL, 2, ep, dW), -4);
+    assert_int_equal(NL(0, NS, tr, NS, NULL, NULL, 2, ep, dW), -5);
+    err[IGEA_TERM_ALIGN0_X] = 1e-4; /* a platform term in a strapdown run */
+    assert_int_equal(NL(0, NS, tr, NS, err, NULL, 2, ep, dW), -5);
+    err[IGEA_TERM_ALIGN0_X] = 0.0;
+    assert_int_equal(NL(1, NS, tr, NS, err, axes, 2, ep, dW), -6);
+    assert_int_equal(NL(0, NS, tr, NS, err, NULL, 0, ep, dW), -7);
+    assert_int_equal(NL(0, NS, tr, NS, err, NULL, 2, NULL, dW), -8);
+    double ep_bad[2] = {1.0, 0.5};
+    assert_int_equal(NL(0, NS, tr, NS, err, NULL, 2, ep_bad, dW), -8);
+    assert_int_equal(NL(0, NS, tr, NS, err, NULL, 2, ep, NULL), -9);
+    err[0] = NAN;
+    assert_int_equal(NL(0, NS, tr, NS, err, NULL, 2, ep, dW), IGEA_ENONFINITE);
+    err[0] = 0.0;
+    tr[7 * NS] = 0.0; /* zero quaternion at t_0 (q1..q3 = 0.8, 0.9, 1.0) */
+    tr[8 * NS] = tr[9 * NS] = tr[10 * NS] = 0.0;
+    assert_int_equal(NL(0, NS, tr, NS, err, NULL, 2, ep, dW), IGEA_EDOMAIN);
+    assert_true(all_sentinel(dW, 6));
+    err[0] = 0.01; /* platform: bias only, dW = 0.01 t e_x exactly */
+    assert_int_equal(NL(1, NS, tr, NS, err, NULL, 2, ep, dW), 0);
+    assert_close(dW[0], 0.005, 1e-13);
+    assert_close(dW[3], 0.01, 1e-13);
+    assert_true(dW[1] == 0.0 && dW[5] == 0.0);
+#undef NL
+}
+
+/* The truth model and S X agree to second order on the 21-term model. */
+static void test_nonlinear_vs_linear(void **state)
+{
+    int n = 0, m = 3 * M_EP, codes[NT], k = 0;
+    for (int c = 0; c < IGEA_TERM_GYRO_SCALE_X; c++)
+        if (c < IGEA_TERM_ACC_SQ_X || c >= IGEA_TERM_ACC_MIS_XY)
+            codes[k++] = c;
+    for (int a = 0; a < 3; a++)
+        codes[k++] = IGEA_TERM_ATT0_X + a;
+    igea_sim_trajectory_length(120.0, 50.0, &n);
+    double *tr = malloc(sizeof(double) * (size_t)n * IGEA_TRAJ_COLS);
+    igea_sim_trajectory(IGEA_ENVFUN_STRAPDOWN, 120.0, 50.0, n, tr, n);
+    double x[NT], dw[3 * M_EP], err[IGEA_TERM_COUNT] = {0}, ep[M_EP], nl[3 * M_EP], tiny = 1e-15;
+    for (int e = 0; e < M_EP; e++)
+        ep[e] = e + 1.0;
+    /* X ~ N(0, I) in spec units: linear part from igea_sim_flight, no noise */
+    assert_int_equal(igea_sim_flight(m, NT, S21, m, &tiny, 0, SPEC21, NULL, NULL, NULL, 3, 0,
+                                     x, dw), 0);
+    for (int j = 0; j < NT; j++)
+        err[codes[j]] = x[j] * SPEC21[j];
+    assert_int_equal(igea_sim_nonlinear(IGEA_ENVFUN_STRAPDOWN, n, tr, n, err, NULL, M_EP,
+                                        ep, nl), 0);
+    double md = 0, mn = 0;
+    for (int i = 0; i < m; i++) {
+        md = fmax(md, fabs(nl[i] - dw[i]));
+        mn = fmax(mn, fabs(nl[i]));
+    }
+    print_message("truth model vs S X (21 terms, X ~ N(0, I)): max |dW| %.3g m/s, "
+                  "rel discrepancy %.3g\n", mn, md / mn);
+    assert_true(mn > 0.1);
+    assert_true(md / mn < 1e-3);
+    free(tr);
+}
+
+/* Fail the 1st, 2nd, ... allocation of each call until it succeeds: every
+ * failure is IGEA_ENOMEM with the outputs untouched, the success equals an
+ * unconstrained call. GSL's default (aborting) handler stays in place:
+ * the library must not reach it. */
+static void test_oom(void **state)
+{
+#ifdef OOM_DISABLED
+    skip();
+#else
+    enum { F = 20 };
+    int m = 3 * M_EP, n = 0;
+    double ref[IGEA_MC_LEN], c[IGEA_MC_LEN], x[NT], dw[3 * M_EP], dref[3 * M_EP];
+    assert_int_equal(igea_sim_montecarlo(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1,
+                                         NULL, 0, F, 2, ref, NULL, NULL, NULL, NULL, NULL,
+                                         NULL), 0);
+    int st, fails = 0;
+    for (long k = 0;; k++) {
+        fill_sentinel(c, IGEA_MC_LEN);
+        calls = 0;
+        fail_at = k;
+        st = igea_sim_montecarlo(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, NULL,
+                                 0, F, 2, c, NULL, NULL, NULL, NULL, NULL, NULL);
+        fail_at = -1;
+        if (st == 0)
+            break;
+        fails++;
+        assert_int_equal(st, IGEA_ENOMEM);
+        assert_true(all_sentinel(c, IGEA_MC_LEN));
+        assert_true(k < 1000);
+    }
+    assert_true(fails >= 3);
+    assert_memory_equal(c, ref, sizeof c);
+
+    assert_int_equal(igea_sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, 0,
+                                     NULL, dref), 0);
+    for (long k = 0;; k++) {
+        fill_sentinel(dw, (size_t)m);
+        calls = 0;
+        fail_at = k;
+        st = igea_sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, 0, x, dw);
+        fail_at = -1;
+        if (st == 0)
+            break;
+        assert_int_equal(st, IGEA_ENOMEM);
+        assert_true(all_sentinel(dw, (size_t)m));
+    }
+    assert_memory_equal(dw, dref, sizeof dw);
+
+    assert_int_equal(igea_sim_trajectory_length(10.0, 10.0, &n), 0);
+    double tr[101 * IGEA_TRAJ_COLS], ep[10], S1[30 * 3], S2[30 * 3], nl1[30], nl2[30];
+    double err[IGEA_TERM_COUNT] = {0};
+    int codes[3] = {IGEA_TERM_ACC_BIAS_X, IGEA_TERM_GYRO_BIAS_X + 1, IGEA_TERM_ATT0_X};
+    err[IGEA_TERM_GYRO_BIAS_X] = 1e-5;
+    assert_int_equal(igea_sim_trajectory(0, 10.0, 10.0, n, tr, n), 0);
+    for (int e = 0; e < 10; e++)
+        ep[e] = e + 0.5;
+    assert_int_equal(igea_envfun_compute(0, n, tr, n, 3, codes, NULL, 10, ep, NULL,
+                                         IGEA_ENVFUN_POSITION_G, S1, 30), 0);
+    assert_int_equal(igea_sim_nonlinear(0, n, tr, n, err, NULL, 10, ep, nl1), 0);
+    for (long k = 0;; k++) {
+        fill_sentinel(S2, 90);
+        fill_sentinel(nl2, 30);
+        calls = 0;
+        fail_at = k;
+        st = igea_envfun_compute(0, n, tr, n, 3, codes, NULL, 10, ep, NULL,
+                                 IGEA_ENVFUN_POSITION_G, S2, 30);
+        int st2 = igea_sim_nonlinear(0, n, tr, n, err, NULL, 10, ep, nl2);
+        fail_at = -1;
+        if (st == 0 && st2 == 0)
+            break;
+        if (st) {
+            assert_int_equal(st, IGEA_ENOMEM);
+            assert_true(all_sentinel(S2, 90));
+        }
+        if (st2) {
+            assert_int_equal(st2, IGEA_ENOMEM);
+            assert_true(all_sentinel(nl2, 30));
+        }
+    }
+    assert_memory_equal(S1, S2, sizeof S1);
+    assert_memory_equal(nl1, nl2, sizeof nl1);
+#endif
+}
+
+static void test_defaults(void **state)
+{
+    double o[IGEA_SIM_OPT_LEN];
+    fill_sentinel(o, IGEA_SIM_OPT_LEN);
+    assert_int_equal(igea_sim_defaults(NULL), -1);
+    assert_int_equal(igea_sim_defaults(o), 0);
+    assert_true(o[IGEA_SIM_OPT_SIGMA_W] == 1.0 && o[IGEA_SIM_OPT_AR1] == 0.0 &&
+                o[IGEA_SIM_OPT_GROWTH] == 0.0 && o[IGEA_SIM_OPT_OUTLIER_PROB] == 0.0 &&
+                o[IGEA_SIM_OPT_OUTLIER_SCALE] == 10.0 &&
+                o[IGEA_SIM_OPT_GENERATOR] == IGEA_SIM_MT19937 && o[6] == 0.0 && o[7] == 0.0);
+}
+
+static void test_mc_invalid(void **state)
+{
+    int m = 3 * M_EP;
+    double counts[IGEA_MC_LEN], eqo[IGEA_EQERR_OPT_LEN];
+    fill_sentinel(counts, IGEA_MC_LEN);
+#define MC(...) igea_sim_montecarlo(__VA_ARGS__)
+    assert_int_equal(MC(m + 1, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, NULL,
+                        0, 10, 1, counts, NULL, NULL, NULL, NULL, NULL, NULL), -1);
+    assert_int_equal(MC(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, -3, NULL,
+                        0, 10, 1, counts, NULL, NULL, NULL, NULL, NULL, NULL), -11);
+    igea_eqerr_defaults(eqo);
+    eqo[IGEA_EQERR_OPT_ALPHA] = NAN;
+    assert_int_equal(MC(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, eqo,
+                        0, 10, 1, counts, NULL, NULL, NULL, NULL, NULL, NULL), -12);
+    eqo[IGEA_EQERR_OPT_ALPHA] = 1.5; /* rejected by igea_eqerr_solve */
+    assert_int_equal(MC(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, eqo,
+                        0, 10, 2, counts, NULL, NULL, NULL, NULL, NULL, NULL), -12);
+    assert_int_equal(MC(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, NULL,
+                        -1, 10, 1, counts, NULL, NULL, NULL, NULL, NULL, NULL), -13);
+    assert_int_equal(MC(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, NULL,
+                        0, 0, 1, counts, NULL, NULL, NULL, NULL, NULL, NULL), -14);
+    assert_int_equal(MC(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, NULL,
+                        0, 10, -1, counts, NULL, NULL, NULL, NULL, NULL, NULL), -15);
+    assert_int_equal(MC(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, NULL,
+                        0, 10, 1, NULL, NULL, NULL, NULL, NULL, NULL, NULL), -16);
+    double nan_sig = NAN;
+    assert_int_equal(MC(m, NT, S21, m, &nan_sig, 0, SPEC21, NULL, NULL, NULL, 1, NULL,
+                        0, 10, 1, counts, NULL, NULL, NULL, NULL, NULL, NULL),
+                     IGEA_ENONFINITE);
+    assert_true(all_sentinel(counts, IGEA_MC_LEN));
+    /* all-zero S: nothing testable, every flight passes */
+    double S0[30] = {0}, one = 1.0;
+    assert_int_equal(MC(6, 5, S0, 6, &one, 0, NULL, NULL, NULL, NULL, 1, NULL, 0, 10, 1,
+                        counts, NULL, NULL, NULL, NULL, NULL, NULL), 0);
+    assert_true(counts[IGEA_MC_NOT_TESTABLE] == 10 && counts[IGEA_MC_FAILED] == 0);
+#undef MC
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_trajectory),
+        cmocka_unit_test(test_flight_reproducible),
+        cmocka_unit_test(test_flight_noise),
+        cmocka_unit_test(test_flight_signal),
+        cmocka_unit_test(test_flight_invalid),
+        cmocka_unit_test(test_mc_threads),
+        cmocka_unit_test(test_mc_size),
+        cmocka_unit_test(test_mc_misstated),
+        cmocka_unit_test(test_mc_invalid),
+        cmocka_unit_test(test_lds_padding),
+        cmocka_unit_test(test_defaults),
+        cmocka_unit_test(test_oom),
+        cmocka_unit_test(test_nonlinear_invalid),
+        cmocka_unit_test(test_nonlinear_vs_linear),
+    };
+    return cmocka_run_group_tests(tests, setup_model, NULL);
+}
