@@ -143,8 +143,19 @@ examples-check: all
 
 demo: deps
 	$(MAKE) --no-print-directory all
-	@echo "== igea eqerr on the example flight (examples/flight/)"
-	@cd examples/flight && ../../$(DRIVER) eqerr --S S.txt --dw dw.txt --sigma sigma.txt --spec spec.txt; \
+	@echo "== igea simulate: a flight with known truth (reference boost, 21-term strapdown,"
+	@echo "   tracking 1 cm/s stated, the true tracking noise 1.8 times larger)"
+	@rm -rf $(BUILD)/demo $(BUILD)/demo5 && mkdir -p $(BUILD)/demo $(BUILD)/demo5
+	@$(DRIVER) simulate --seed 7 --sigma-w 1.8 --save-traj --dir $(BUILD)/demo
+	@echo "== igea envfun: trajectory -> environment functions S"
+	@$(DRIVER) envfun $(BUILD)/demo/traj.txt --terms default --out $(BUILD)/demo/S_envfun.txt && \
+	  cmp -s $(BUILD)/demo/S.txt $(BUILD)/demo/S_envfun.txt && echo "S from the trajectory equals the simulator's S"
+	@echo "== igea eqerr: the verdict"
+	@cd $(BUILD)/demo && $(CURDIR)/$(DRIVER) eqerr --S S.txt --dw dw.txt --sigma sigma.txt --spec spec.txt; \
+	  st=$$?; echo "(exit status $$st: 0 accepted, 1 rejected)"; [ $$st -le 1 ]
+	@echo "== the same flight with gyro_bias_y at 5 x spec"
+	@$(DRIVER) simulate --seed 7 --x gyro_bias_y=5 --dir $(BUILD)/demo5
+	@cd $(BUILD)/demo5 && $(CURDIR)/$(DRIVER) eqerr --S S.txt --dw dw.txt --sigma sigma.txt --spec spec.txt; \
 	  st=$$?; echo "(exit status $$st: 0 accepted, 1 rejected)"; [ $$st -le 1 ]
 	@echo "== the seed's Table 1 judged again (examples/seed000_table1.txt)"
 	@$(DRIVER) test --table examples/seed000_table1.txt --z-crit 2.58; [ $$? -le 1 ]
