@@ -1,0 +1,526 @@
+/* stability.c - block-mean 3-sigma statistic, Allan deviations with EDF
+ * confidence intervals, noise identification (METHODS 3.4). */
+#include <float.h>
+
+#include "igea/stability.h"
+#include "igea/stats.h"
+#include "internal.h"
+
+/* Running window sum with a branch-free compensation (Knuth's TwoSum). */
+typedef struct {
+    double s, c;
+} wsum;
+
+static inline void ws_add(wsum *w, double x)
+{
+    double t = w->s + x;
+    double bp = t - w->s;
+    w->c += (w->s - (t - bp)) + (x - bp);
+    w->s = t;
+}
+static inline double ws_get(const wsum *w) { return w->s + w->c; }
+
+/* Compensated sum of (y[k] - mu), k = from .. from + len - 1, as a wsum. */
+static wsum window_init(const double *y, size_t from, size_t len, double mu)
+{
+    wsum w = {0.0, 0.0};
+    for (size_t k = 0; k < len; k++)
+        ws_add(&w, y[from + k] - mu);
+    return w;
+}
+
+static double mean_of(size_t n, const double *y)
+{
+    igea__ksum k = {0.0, 0.0};
+    for (size_t i = 0; i < n; i++)
+        igea__ksum_add(&k, y[i]);
+    return igea__ksum_get(&k) / (double)n;
+}
+
+/* Sum of squares accumulated in blocks of plain sums. */
+typedef struct {
+    igea__ksum tot;
+    double part;
+    int cnt;
+} sqacc;
+static inline void sq_add(sqacc *a, double v)
+{
+    a->part += v * v;
+    if (++a->cnt == 1024) {
+        igea__ksum_add(&a->tot, a->part);
+        a->part = 0.0;
+        a->cnt = 0;
+    }
+}
+static inline double sq_get(sqacc *a)
+{
+    igea__ksum t = a->tot;
+    igea__ksum_add(&t, a->part);
+    return igea__ksum_get(&t);
+}
+
+int igea_stability_block(int n, const double *y, double fs, double block,
+                         double *out)
+{
+    if (n < 2)
+        return -1;
+    if (!y)
+        return -2;
+    if (!(isfinite(fs) && fs > 0.0))
+        return -3;
+    if (!(isfinite(block) && block > 0.0))
+        return -4;
+    if (!out)
+        return -5;
+    double v = block * fs;
+    if (!(v >= 0.5 && v <= (double)n))
+        return -4;
+    long nb = lround(v);
+    long B = n / nb;
+    if (B < 2)
+        return -4;
+    if (!igea__finite_vec(n, y, 1))
+        return IGEA_ENONFINITE;
+    double *m = igea__dalloc((size_t)B);
+    if (!m)
+        return IGEA_ENOMEM;
+    for (long b = 0; b < B; b++)
+        m[b] = mean_of((size_t)nb, y + (size_t)b * (size_t)nb);
+    double mm = mean_of((size_t)B, m);
+    igea__ksum ss = {0, 0}, sd = {0, 0};
+    for (long b = 0; b < B; b++) {
+        double d = m[b] - mm;
+        igea__ksum_add(&ss, d * d);
+        if (b + 1 < B) {
+            double e = m[b + 1] - m[b];
+            igea__ksum_add(&sd, e * e);
+        }
+    }
+    double sig = sqrt(igea__ksum_get(&ss) / (double)(B - 1));
+    out[IGEA_BLOCK_3SIGMA] = 3.0 * sig;
+    out[IGEA_BLOCK_SIGMA] = sig;
+    out[IGEA_BLOCK_NBLOCK] = (double)B;
+    out[IGEA_BLOCK_NSAMP] = (double)nb;
+    out[IGEA_BLOCK_MEAN] = mm;
+    out[IGEA_BLOCK_ADEV] = sqrt(igea__ksum_get(&sd) / (2.0 * (double)(B - 1)));
+    free(m);
+    return 0;
+}
+
+/* Terms (count) of an estimator with averaging factor m; <= 0: none. */
+static long term_count(long n, long m, int kind)
+{
+    switch (kind) {
+    case IGEA_ALLAN_OVERLAPPING: return n - 2 * m + 1;
+    case IGEA_ALLAN_MODIFIED: return n - 3 * m + 2;
+    default: return n / m - 1;
+    }
+}
+
+static double oadev_var(size_t n, const double *y, size_t m, double mu,
+                        long cnt)
+{
+    wsum a = window_init(y, 0, m, mu), b = window_init(y, m, m, mu);
+    sqacc acc = {{0, 0}, 0.0, 0};
+    for (size_t i = 0; i < (size_t)cnt; i++) {
+        sq_add(&acc, ws_get(&b) - ws_get(&a));
+        if (i + 1 < (size_t)cnt) {
+            ws_add(&a, y[i + m] - y[i]);
+            ws_add(&b, y[i + 2 * m] - y[i + m]);
+        }
+    }
+    (void)n;
+    double md = (double)m;
+    return sq_get(&acc) / (2.0 * md * md * (double)cnt);
+}
+
+static double mdev_var(size_t n, const double *y, size_t m, double mu, long cnt)
+{
+    (void)n;
+    /* S_0 = sum_{i<m} (A(i+m) - A(i)) with two running windows. */
+    wsum p = window_init(y, 0, m, mu), q = window_init(y, m, m, mu);
+    wsum S = {0.0, 0.0};
+    for (size_t i = 0; i < m; i++) {
+        ws_add(&S, ws_get(&q) - ws_get(&p));
+        if (i + 1 < m) {
+            ws_add(&p, y[i + m] - y[i]);
+            ws_add(&q, y[i + 2 * m] - y[i + m]);
+        }
+    }
+    /* Windows A(j), A(j+m), A(j+2m); S_{j+1} = S_j + A(j+2m) - 2A(j+m) + A(j). */
+    wsum a0 = window_init(y, 0, m, mu), a1 = window_init(y, m, m, mu);
+    wsum a2 = {0.0, 0.0};
+    if (cnt > 1)
+        a2 = window_init(y, 2 * m, m, mu);
+    sqacc acc = {{0, 0}, 0.0, 0};
+    for (size_t j = 0; j < (size_t)cnt; j++) {
+        sq_add(&acc, ws_get(&S));
+        if (j + 1 == (size_t)cnt)
+            break;
+        double g0 = ws_get(&a0), g1 = ws_get(&a1), g2 = ws_get(&a2);
+        ws_add(&S, (g2 - g1) - (g1 - g0));
+        if (j + 2 < (size_t)cnt) {
+            ws_add(&a0, y[j + m] - y[j]);
+            ws_add(&a1, y[j + 2 * m] - y[j + m]);
+            ws_add(&a2, y[j + 3 * m] - y[j + 2 * m]);
+        }
+    }
+    double md = (double)m;
+    return sq_get(&acc) / (2.0 * md * md * md * md * (double)cnt);
+}
+
+static double nadev_var(size_t n, const double *y, size_t m, long cnt)
+{
+    (void)n;
+    double prev = mean_of(m, y);
+    igea__ksum acc = {0, 0};
+    for (long b = 1; b <= cnt; b++) {
+        double cur = mean_of(m, y + (size_t)b * m);
+        igea__ksum_add(&acc, (cur - prev) * (cur - prev));
+        prev = cur;
+    }
+    return igea__ksum_get(&acc) / (2.0 * (double)cnt);
+}
+
+/* EDF of the overlapping Allan variance, NIST SP 1065 Table 5 (Howe, Allan
+ * and Barnes), N phase points, averaging factor m, noise exponent alpha. */
+static double edf_oadev(double N, double m, int alpha)
+{
+    switch (alpha) {
+    case IGEA_NOISE_WPM:
+        return (N + 1.0) * (N - 2.0 * m) / (2.0 * (N - m));
+    case IGEA_NOISE_FPM: {
+        double a = log((N - 1.0) / (2.0 * m)), b = log((2.0 * m + 1.0) * (N - 1.0) / 4.0);
+        return a * b > 0.0 ? exp(sqrt(a * b)) : NAN;
+    }
+    case IGEA_NOISE_WFM:
+        return (3.0 * (N - 1.0) / (2.0 * m) - 2.0 * (N - 2.0) / N) * 4.0 * m * m /
+               (4.0 * m * m + 5.0);
+    case IGEA_NOISE_FFM:
+        if (m == 1.0)
+            return 2.0 * (N - 2.0) * (N - 2.0) / (2.3 * N - 4.9);
+        return 5.0 * N * N / (4.0 * m * (N + 3.0 * m));
+    default: /* RWFM */
+        return (N - 2.0) / (m * (N - 3.0) * (N - 3.0)) *
+               ((N - 1.0) * (N - 1.0) - 3.0 * m * (N - 1.0) + 4.0 * m * m);
+    }
+}
+
+/* EDF of the modified Allan variance: Greenhall and Riley, "Uncertainty of
+ * stability variances based on finite differences" (PTTI 2003), eqs.
+ * (7)-(10), case F = 1 (modified), stride S = m (overlapping), d = 2, with
+ * their Table 1 for long records. sw is the generalised autocovariance of
+ * the power-law phase noise, sx its filtered form, sz that of the second
+ * difference. */
+static double gh_sw(double t, int alpha)
+{
+    double a = fabs(t);
+    switch (alpha) {
+    case 2: return -a;
+    case 1: return a > 0.0 ? t * t * log(a) : 0.0;
+    case 0: return a * a * a;
+    case -1: return a > 0.0 ? t * t * t * t * log(a) : 0.0;
+    default: return a * a * a * a * a; /* -2 */
+    }
+}
+
+static double gh_sx(double t, double F, int alpha)
+{
+    return F * F * (2.0 * gh_sw(t, alpha) - gh_sw(t - 1.0 / F, alpha) -
+                    gh_sw(t + 1.0 / F, alpha));
+}
+
+static double gh_sz(double t, double F, int alpha)
+{
+    return 6.0 * gh_sx(t, F, alpha) - 4.0 * gh_sx(t - 1.0, F, alpha) -
+           4.0 * gh_sx(t + 1.0, F, alpha) + gh_sx(t - 2.0, F, alpha) +
+           gh_sx(t + 2.0, F, alpha);
+}
+
+static double gh_basic_sum(double J, double M, double S, double F, int alpha)
+{
+    double z0 = gh_sz(0.0, F, alpha), zJ = gh_sz(J / S, F, alpha);
+    double s = z0 * z0 + (1.0 - J / M) * zJ * zJ;
+    for (long j = 1; j < (long)J; j++) {
+        double z = gh_sz((double)j / S, F, alpha);
+        s += 2.0 * (1.0 - (double)j / M) * z * z;
+    }
+    return s;
+}
+
+static double edf_mdev(double N, double m, int alpha)
+{
+    /* Table 1, d = 2: (a0, a1) for alpha = 2, 1, 0, -1, -2 */
+    static const double t1[5][2] = {{7.0 / 9.0, 0.5}, {0.997, 0.616}, {1.033, 0.607},
+                                    {1.048, 0.534}, {1.302, 0.535}};
+    const double Jmax = 100.0;
+    double M = N - 3.0 * m + 1.0, J = IGEA_MIN(M, 3.0 * m), r = M / m;
+    double z0 = gh_sz(0.0, 1.0, alpha);
+    if (J <= Jmax)
+        return z0 * z0 * M / gh_basic_sum(J, M, m, 1.0, alpha);
+    if (r > 3.0) {
+        const double *a = t1[2 - alpha];
+        return r / (a[0] - a[1] / r);
+    }
+    return z0 * z0 * Jmax / gh_basic_sum(Jmax, Jmax, Jmax / r, 1.0, alpha);
+}
+
+/* Lag-1 autocorrelation noise identification (Riley and Greenhall, "Power
+ * law noise identification using the lag 1 autocorrelation", 2004) on the
+ * non-overlapping m-sample means of y (mean mu removed), differenced d =
+ * 0, 1, 2 times in one streaming pass: stop at the first d with delta =
+ * r1 / (1 + r1) < 0.25 (or d = 2); alpha = round(-2 (delta + d)) for
+ * frequency data. Returns IGEA_NOISE_AUTO when fewer than 32 means exist. */
+typedef struct {
+    double n, s, ss, lag, first, last, prev;
+} acf1;
+
+static void acf_add(acf1 *a, double z)
+{
+    if (a->n == 0)
+        a->first = z;
+    else
+        a->lag += a->prev * z;
+    a->n += 1;
+    a->s += z;
+    a->ss += z * z;
+    a->prev = a->last = z;
+}
+
+static double acf_r1(const acf1 *a)
+{
+    double N = a->n, zb = a->s / N;
+    double den = a->ss - N * zb * zb;
+    double num = a->lag - zb * (a->s - a->last) - zb * (a->s - a->first) + (N - 1) * zb * zb;
+    return den > 0.0 ? num / den : 0.0;
+}
+
+static int noise_lag1(size_t n, const double *y, size_t m, double mu)
+{
+    size_t B = n / m;
+    if (B < 32)
+        return IGEA_NOISE_AUTO;
+    acf1 a[3];
+    memset(a, 0, sizeof a);
+    double z0p = 0.0, z1p = 0.0;
+    for (size_t b = 0; b < B; b++) {
+        igea__ksum k = {0.0, 0.0};
+        for (size_t i = 0; i < m; i++)
+            igea__ksum_add(&k, y[b * m + i] - mu);
+        double z0 = igea__ksum_get(&k) / (double)m;
+        acf_add(&a[0], z0);
+        if (b >= 1) {
+            double z1 = z0 - z0p;
+            acf_add(&a[1], z1);
+            if (b >= 2)
+                acf_add(&a[2], z1 - z1p);
+            z1p = z1;
+        }
+        z0p = z0;
+    }
+    for (int d = 0; d <= 2; d++) {
+        double r1 = acf_r1(&a[d]), delta = r1 / (1.0 + r1);
+        if (delta < 0.25 || d == 2) {
+            long alpha = lround(-2.0 * (delta + d));
+            return (int)IGEA_MAX(IGEA_NOISE_RWFM, IGEA_MIN(IGEA_NOISE_WPM, alpha));
+        }
+    }
+    return IGEA_NOISE_WFM; /* not reached */
+}
+
+int igea_stability_allan(int n, const double *y, double fs, int ntau,
+                         const double *tau, int kind, int noise, double conf,
+                         double *dev, double *lo, double *hi, double *edf,
+                         int *count)
+{
+    if (n < 2)
+        return -1;
+    if (!y)
+        return -2;
+    if (!(isfinite(fs) && fs > 0.0))
+        return -3;
+    if (ntau < 1)
+        return -4;
+    if (!tau)
+        return -5;
+    if (kind < IGEA_ALLAN_OVERLAPPING || kind > IGEA_ALLAN_NONOVERLAPPING)
+        return -6;
+    if (!(noise == IGEA_NOISE_AUTO ||
+          (noise >= IGEA_NOISE_RWFM && noise <= IGEA_NOISE_WPM)))
+        return -7;
+    if (!(conf > 0.0 && conf < 1.0))
+        return -8;
+    if (!dev)
+        return -9;
+    for (int j = 0; j < ntau; j++) {
+        double v = tau[j] * fs;
+        if (!(isfinite(tau[j]) && tau[j] > 0.0 && v >= 0.5 && v <= (double)n))
+            return -5;
+        if (term_count(n, lround(v), kind) < 1)
+            return -5;
+    }
+    if (!igea__finite_vec(n, y, 1))
+        return IGEA_ENONFINITE;
+    double *w = igea__dalloc(4 * (size_t)ntau);
+    int *cw = igea__ialloc((size_t)ntau);
+    if (!w || !cw) {
+        free(w);
+        free(cw);
+        return IGEA_ENOMEM;
+    }
+    double *d = w, *l = w + ntau, *h = l + ntau, *e = h + ntau;
+    double mu = mean_of((size_t)n, y);
+    for (int j = 0; j < ntau; j++) {
+        size_t m = (size_t)lround(tau[j] * fs);
+        long cnt = term_count(n, (long)m, kind);
+        double var;
+        if (kind == IGEA_ALLAN_OVERLAPPING)
+            var = oadev_var((size_t)n, y, m, mu, cnt);
+        else if (kind == IGEA_ALLAN_MODIFIED)
+            var = mdev_var((size_t)n, y, m, mu, cnt);
+        else
+            var = nadev_var((size_t)n, y, m, cnt);
+        d[j] = sqrt(var);
+        cw[j] = (int)cnt;
+    }
+    int status = 0, last_alpha = IGEA_NOISE_WFM;
+    for (int j = 0; j < ntau && status == 0; j++) {
+        int alpha = noise;
+        if (noise == IGEA_NOISE_AUTO) {
+            alpha = noise_lag1((size_t)n, y, (size_t)lround(tau[j] * fs), mu);
+            if (alpha == IGEA_NOISE_AUTO)
+                alpha = last_alpha; /* too few means: keep the last type */
+            last_alpha = alpha;
+        }
+        double m = (double)lround(tau[j] * fs), N = (double)n + 1.0;
+        if (kind == IGEA_ALLAN_NONOVERLAPPING) {
+            N = (double)(cw[j] + 2); /* B + 1 phase points of the means */
+            m = 1.0;
+        }
+        /* the modified variance equals the overlapping one at m = 1 */
+        double ev = kind == IGEA_ALLAN_MODIFIED && m > 1.0 ? edf_mdev(N, m, alpha)
+                                                           : edf_oadev(N, m, alpha);
+        if (!(ev >= 1.0))
+            ev = 1.0;
+        if (ev > IGEA_STATS_DOF_MAX)
+            ev = IGEA_STATS_DOF_MAX;
+        double chi_hi, chi_lo;
+        int s1 = igea_stats_chi2_quantile(0.5 * (1.0 + conf), ev, &chi_hi);
+        int s2 = igea_stats_chi2_quantile(0.5 * (1.0 - conf), ev, &chi_lo);
+        if (s1 || s2 || !(chi_lo > 0.0)) {
+            status = IGEA_ENOCONV;
+            break;
+        }
+        e[j] = ev;
+        l[j] = d[j] * sqrt(ev / chi_hi);
+        h[j] = d[j] * sqrt(ev / chi_lo);
+    }
+    if (status == 0) {
+        size_t sz = (size_t)ntau * sizeof(double);
+        memcpy(dev, d, sz);
+        if (lo)
+            memcpy(lo, l, sz);
+        if (hi)
+            memcpy(hi, h, sz);
+        if (edf)
+            memcpy(edf, e, sz);
+        if (count)
+            memcpy(count, cw, (size_t)ntau * sizeof(int));
+    }
+    free(w);
+    free(cw);
+    return status;
+}
+
+int igea_stability_octave_taus(int n, double fs, int kind, int ntau_max,
+                               double *tau, int *ntau)
+{
+    if (n < 2)
+        return -1;
+    if (!(isfinite(fs) && fs > 0.0))
+        return -2;
+    if (kind < IGEA_ALLAN_OVERLAPPING || kind > IGEA_ALLAN_NONOVERLAPPING)
+        return -3;
+    if (ntau_max < 1)
+        return -4;
+    if (!tau)
+        return -5;
+    if (!ntau)
+        return -6;
+    int k = 0;
+    for (long m = 1; k < ntau_max && m <= n && term_count(n, m, kind) >= 1; m *= 2)
+        tau[k++] = (double)m / fs;
+    *ntau = k;
+    return 0;
+}
+
+int igea_stability_noise_id(int ntau, const double *tau, const double *adev,
+                            double *out)
+{
+    if (ntau < 2)
+        return -1;
+    if (!tau)
+        return -2;
+    if (!adev)
+        return -3;
+    if (!out)
+        return -4;
+    if (!igea__finite_vec(ntau, tau, 1) || !igea__finite_vec(ntau, adev, 1))
+        return IGEA_ENONFINITE;
+    for (int j = 0; j < ntau; j++) {
+        if (!(tau[j] > 0.0) || (j > 0 && !(tau[j] > tau[j - 1])))
+            return -2;
+        if (!(adev[j] > 0.0))
+            return -3;
+    }
+    static const double target[3] = {-1.0, -0.5, 0.5};
+    double res[IGEA_NOISEID_LEN];
+    for (int t = 0; t < 3; t++) {
+        /* Q and N: the shortest-tau pair within 0.1 of the slope (the most
+         * precise point of that region); otherwise, and for K, the pair
+         * nearest to the slope within 0.15. */
+        int best = -1;
+        double bd = 0.15;
+        for (int j = 0; j + 1 < ntau && t < 2; j++) {
+            double s = log(adev[j + 1] / adev[j]) / log(tau[j + 1] / tau[j]);
+            if (fabs(s - target[t]) <= 0.1) {
+                best = j;
+                break;
+            }
+        }
+        for (int j = 0; j + 1 < ntau && best < 0; j++) {
+            double s = log(adev[j + 1] / adev[j]) / log(tau[j + 1] / tau[j]);
+            if (fabs(s - target[t]) <= bd) {
+                bd = fabs(s - target[t]);
+                best = j;
+            }
+        }
+        double val = NAN, at = NAN;
+        if (best >= 0) {
+            at = sqrt(tau[best] * tau[best + 1]);
+            double sg = sqrt(adev[best] * adev[best + 1]);
+            if (t == 0)
+                val = sg * at / sqrt(3.0);
+            else if (t == 1)
+                val = sg * sqrt(at);
+            else
+                val = sg * sqrt(3.0 / at);
+        }
+        int slot = t == 0 ? IGEA_NOISEID_Q : t == 1 ? IGEA_NOISEID_N : IGEA_NOISEID_K;
+        res[slot] = val;
+        res[slot + 1] = at;
+    }
+    int jmin = 0;
+    for (int j = 1; j < ntau; j++)
+        if (adev[j] < adev[jmin])
+            jmin = j;
+    if (jmin > 0 && jmin < ntau - 1) {
+        res[IGEA_NOISEID_B] = adev[jmin] / 0.66428090415820634 /* sqrt(2 ln2 / pi) */;
+        res[IGEA_NOISEID_B_TAU] = tau[jmin];
+    } else {
+        res[IGEA_NOISEID_B] = NAN;
+        res[IGEA_NOISEID_B_TAU] = NAN;
+    }
+    memcpy(out, res, sizeof res);
+    return 0;
+}
