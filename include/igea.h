@@ -5,4 +5,11 @@
 #include "igea/stats.h"
 #include "igea/normal.h"
 #include "igea/eqerr.h"
+#include "igea/regress.h"
+#include "igea/accel.h"
+#include "igea/envfun.h"
+#include "igea/sim.h"
+#include "igea/redund.h"
+#include "igea/stability.h"
+#include "igea/rls.h"
 #endif

@@ -10,3 +10,10 @@ __version__ = _clib.igea_version().decode()
 from .eqerr import EqerrResult, TestResult, accuracy_test, eqerr, pool  # noqa: E402
 from .stats import chi2_cdf, chi2_quantile, chi2_sf, chi2_upper, normal_cdf, normal_quantile  # noqa: E402
 # -- further modules: one import line each, below --
+from .redund import FdiResult, GeometryReliability, Seed002Reliability, SeriesCheck, SkewCheck, confidence_distance, erfinv, false_alarm, fdi, fuse, fusion_set, parity_matrix, relation, reliability_diagram, reliability_exponential, reliability_geometry, reliability_kofn, reliability_parallel, reliability_seed002, reliability_series, series_check, simulate_redundant, skew_check, support, thresholds, transform  # noqa: E402,E501
+from .stability import AllanResult, Block3Sigma, NoiseTerms, allan, block_3sigma, noise_id, octave_taus  # noqa: E402,E501
+from .regress import BayesResult, Collinearity, EbrResult, LsResult, PceResult, RidgeResult, RidgeTrace, bayes, bias_mse, collinearity, ebr, ls, pce, ridge, ridge_trace  # noqa: E402,E501
+from .envfun import envfun, term_table  # noqa: E402
+from .rls import RLS, RlsEpoch, RlsResult, rls_run  # noqa: E402
+from .sim import Flight, MonteCarloResult, montecarlo, reference_trajectory, simulate  # noqa: E402,E501
+from .accel import AccelDesignInfo, AccelFit, AccelRefine, accel_analyze, accel_combinations, accel_design, accel_fit, accel_merge, accel_refine, accel_schedule, accel_simulate, accel_to_g  # noqa: E402,E501

@@ -97,5 +97,13 @@ void cli_json_str(FILE *f, const char *s);
 int cmd_eqerr(int argc, char **argv);
 int cmd_test(int argc, char **argv);
 int cmd_version(int argc, char **argv);
+int cmd_accel(int argc, char **argv);
+int cmd_regress(int argc, char **argv);
+int cmd_envfun(int argc, char **argv);
+int cmd_simulate(int argc, char **argv);
+int cmd_montecarlo(int argc, char **argv);
+int cmd_rls(int argc, char **argv);
+int cmd_redund(int argc, char **argv);
+int cmd_stability(int argc, char **argv);
 
 #endif

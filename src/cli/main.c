@@ -13,7 +13,14 @@ typedef struct {
 static const command commands[] = {
     {"eqerr", cmd_eqerr, "equivalent-error accuracy assessment of one flight (seed 000)"},
     {"test", cmd_test, "judge saved results: pool flights, or a table of (Xhat, lambda)"},
-    /* commands of further modules: one line each, in this block */
+    {"regress", cmd_regress, "least squares, ridge, PCE, Bayes and empirical-Bayes ridge with diagnostics"},
+    {"rls", cmd_rls, "recursive (standard, iterated, polynomial) RLS over a stream of epochs (seed 001)"},
+    {"redund", cmd_redund, "redundant sensors: reliability, consistency, fusion, parity FDI (seed 002)"},
+    {"stability", cmd_stability, "block 3-sigma (100-s variance) and Allan deviation of a record"},
+    {"accel", cmd_accel, "dividing-head accelerometer calibration, single and dual g^2 models (seed 003)"},
+    {"envfun", cmd_envfun, "environment-function matrix S of a trajectory and error terms"},
+    {"simulate", cmd_simulate, "a synthetic flight test with known truth: S, dw, sigma, spec, X files"},
+    {"montecarlo", cmd_montecarlo, "size and power of the accuracy test over many simulated flights"},
     {"version", cmd_version, "print the library and driver version"},
 };
 

@@ -1,0 +1,285 @@
+"""Recursive least squares for guidance tool-error coefficients (seed 001,
+METHODS 2): standard, iterated and polynomial RLS, anomaly handling,
+forgetting, the honest (Joseph) covariance and Q_p."""
+import ctypes
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _lib
+
+VARIANTS = {"standard": 0, "iterated": 1, "polynomial": 2}
+ANOMALY = {None: 0, "none": 0, "replace": 1, "skip": 2, "isolate": 3}
+ACTIONS = {0: "updated", 1: "flagged", 2: "replaced", 3: "skipped", 4: "isolated"}
+FLAG_INNOVATION, FLAG_JUMP, FLAG_MISSING, FLAG_UNUSED = 1, 2, 4, 8
+_LAYOUT_BLOCKS = 1
+
+_CREATE_ARGS = ["m", "k", "x0", "gamma0", "ldg", "out"]
+_VARIANT_ARGS = ["h", "variant", "p"]
+_ANOMALY_ARGS = ["h", "policy", "kappa", "jump_max"]
+_FORGET_ARGS = ["h", "forget"]
+_UPDATE_ARGS = ["h", "c", "ldc", "y", "track_sigma", "flags"]
+_RUN_ARGS = ["h", "n", "layout", "C", "lds", "Y", "track_sigma", "sigma_inc", "x_out", "ldx",
+             "flags", "actions", "n_done"]
+
+
+def _choice(table, value, name):
+    try:
+        return table[value]
+    except (KeyError, TypeError):
+        names = ", ".join(repr(k) for k in table)
+        raise ValueError(f"{name}: expected one of {names}, got {value!r}") from None
+
+
+def _flag_names(f):
+    f = int(f)
+    out = [n for b, n in ((FLAG_INNOVATION, "innovation"), (FLAG_JUMP, "jump"),
+                          (FLAG_MISSING, "missing"), (FLAG_UNUSED, "unused")) if f & b]
+    return "+".join(out) if out else "-"
+
+
+@dataclass(frozen=True)
+class RlsEpoch:
+    """What RLS.update did at one epoch: action name and the per-row flag
+    bits (FLAG_INNOVATION 1, FLAG_JUMP 2, FLAG_MISSING 4, FLAG_UNUSED 8)."""
+    action: str
+    flags: np.ndarray
+
+    def summary(self):
+        return "%s; rows: %s" % (self.action, ", ".join(_flag_names(f) for f in self.flags))
+
+
+@dataclass(frozen=True)
+class RlsResult:
+    """Result of igea.rls_run.
+
+    x (epochs x m): the estimate after each epoch; gamma, covariance (m x m):
+    the final Gamma and the honest covariance of x (Joseph form with the
+    gain used; equals Gamma for p = 1); q: Q_p (whitened); flags (epochs x k)
+    and actions (epochs, codes of ACTIONS); residual (epochs x k): the
+    compensated telemetry y - c x after each epoch (physical units)."""
+    x: np.ndarray
+    gamma: np.ndarray
+    covariance: np.ndarray
+    q: float
+    flags: np.ndarray
+    actions: np.ndarray
+    residual: np.ndarray
+    variant: str
+    p: int
+    counts: dict
+
+    def summary(self):
+        n, m = self.x.shape
+        sd = (np.sqrt(np.diag(self.covariance)) if self.covariance is not None
+              else np.full(m, np.nan))
+        lines = ["rls: %s, p = %d, %d epochs, %d coefficients" % (self.variant, self.p, n, m),
+                 "epochs updated %d, anomalous %d; Q_p = %.6g over %d rows"
+                 % (self.counts["updates"], self.counts["anomalous"], self.q,
+                    self.counts["rows"]),
+                 "%5s %16s %14s %14s" % ("coef", "estimate", "sd (honest)", "sd (Gamma)")]
+        gsd = np.sqrt(np.diag(self.gamma))
+        for i in range(m):
+            lines.append("%5d %16.8g %14.6g %14.6g" % (i + 1, self.x[-1, i] if n else np.nan,
+                                                       sd[i], gsd[i]))
+        return "\n".join(lines)
+
+
+def _prior(x0, gamma0):
+    g = _lib.as_f64(gamma0, "gamma0", ndim=2)
+    m = g.shape[0]
+    if g.shape != (m, m) or m < 1:
+        raise ValueError(f"gamma0: expected a square (m, m) array, got {g.shape}")
+    x = None if x0 is None else _lib.as_f64(x0, "x0", ndim=1, shape=(m,))
+    return m, x, g
+
+
+def _sigma(track_sigma, k, n=None):
+    """None, a scalar, (k,) or (n, k) -> (array or None, sigma_inc)."""
+    if track_sigma is None:
+        return None, 0
+    s = np.asarray(track_sigma, dtype=np.float64)
+    if s.ndim == 0:
+        return np.full(k, float(s)), 0
+    if s.ndim == 1:
+        return _lib.as_f64(s, "track_sigma", ndim=1, shape=(k,)), 0
+    if n is not None and s.ndim == 2:
+        return np.ascontiguousarray(_lib.as_f64(s, "track_sigma", shape=(n, k))), 1
+    raise ValueError(f"track_sigma: expected a scalar or shape ({k},)"
+                     + (f" or ({n}, {k})" if n is not None else "") + f", got {s.shape}")
+
+
+def _c_order(x, name, shape):
+    """x as a C-order float64 array of the given shape (None: any), without
+    a copy when it already is one; ValueError naming the argument."""
+    try:
+        a = np.asarray(x, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{name}: not an array of numbers ({exc})") from None
+    if a.ndim != len(shape) or any(s is not None and s != d for s, d in zip(shape, a.shape)):
+        want = "(" + ", ".join("*" if s is None else str(s) for s in shape) + ")"
+        raise ValueError(f"{name}: expected shape {want}, got {a.shape}")
+    return np.ascontiguousarray(a)
+
+
+class RLS:
+    """Recursive estimator state (an igea_rls handle).
+
+    RLS(x0, gamma0, k, variant="standard"|"iterated"|"polynomial", p=1,
+    anomaly=None|"replace"|"skip"|"isolate", kappa=4.0, jump_max=None,
+    forget=1.0, covariance=True). x0 (m,) or None (zeros), gamma0 (m, m)
+    symmetric positive definite (whitened units), k rows per epoch;
+    covariance=False skips the honest covariance (then .covariance raises
+    IgeaError once a p > 1 gain was used). Then .update(c, y,
+    track_sigma=None) per epoch; .x, .gamma, .covariance, .q, .counts."""
+
+    def __init__(self, x0, gamma0, k, *, variant="standard", p=1, anomaly=None, kappa=4.0,
+                 jump_max=None, forget=1.0, covariance=True):
+        self._h = ctypes.c_void_p()
+        m, x, g = _prior(x0, gamma0)
+        k = int(k)
+        if k < 1:
+            raise ValueError(f"k: expected a positive number of rows, got {k}")
+        v = _choice(VARIANTS, variant, "variant")
+        pol = _choice(ANOMALY, anomaly, "anomaly")
+        jm = None if jump_max is None else _lib.as_f64(jump_max, "jump_max", ndim=1, shape=(k,))
+        h = ctypes.c_void_p()
+        _lib.check(_lib.lib.igea_rls_create(m, k, _lib.dptr(x), _lib.dptr(g), m,
+                                            ctypes.byref(h)), "igea.RLS", _CREATE_ARGS)
+        self._h = h
+        self.m, self.k = m, k
+        self.variant, self.p = variant, int(p) if v else 1
+        _lib.check(_lib.lib.igea_rls_set_variant(h, v, int(p)), "igea.RLS", _VARIANT_ARGS)
+        _lib.check(_lib.lib.igea_rls_set_anomaly(h, pol, float(kappa), _lib.dptr(jm)),
+                   "igea.RLS", _ANOMALY_ARGS)
+        _lib.check(_lib.lib.igea_rls_set_forget(h, float(forget)), "igea.RLS", _FORGET_ARGS)
+        _lib.check(_lib.lib.igea_rls_set_covariance(h, 1 if covariance else 0), "igea.RLS",
+                   ["h", "covariance"])
+        self.track_covariance = bool(covariance)
+        self._flags = np.zeros(k, dtype=np.intc)
+
+    def close(self):
+        """Free the handle (also done when the object is collected)."""
+        h, self._h = getattr(self, "_h", None), ctypes.c_void_p()
+        if h is not None and h.value:
+            _lib.lib.igea_rls_free(h)
+
+    def __del__(self):
+        try:
+            self.close()
+        except Exception:  # interpreter shutdown: the library may be gone
+            pass
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def _handle(self):
+        if not self._h.value:
+            raise ValueError("RLS: the handle has been closed")
+        return self._h
+
+    def update(self, c, y, track_sigma=None):
+        """One epoch: c (k, m), y (k,) (NaN = dropout, with a policy set).
+        Returns RlsEpoch(action, flags)."""
+        h = self._handle()
+        ca = _lib.as_f64(c, "c", ndim=2, shape=(self.k, self.m))
+        ya = np.ascontiguousarray(_lib.as_f64(y, "y", ndim=1, shape=(self.k,)))
+        sa, _ = _sigma(track_sigma, self.k)
+        st = _lib.check(_lib.lib.igea_rls_update(h, _lib.dptr(ca), self.k, _lib.dptr(ya),
+                                                 _lib.dptr(sa), _lib.iptr(self._flags)),
+                        "igea.RLS.update", _UPDATE_ARGS)
+        return RlsEpoch(ACTIONS[st], self._flags.copy())
+
+    def run(self, C, Y, track_sigma=None):
+        """Many epochs at once: C (n, k, m), Y (n, k). Returns (x (n, m),
+        flags (n, k), actions (n,))."""
+        h = self._handle()
+        Ca = _c_order(C, "C", (None, self.k, self.m))  # the blocks layout, no copy if C-order
+        n = Ca.shape[0]
+        Ya = _c_order(Y, "Y", (n, self.k))
+        sa, inc = _sigma(track_sigma, self.k, n)
+        X = np.zeros((n, self.m))
+        flags = np.zeros((n, self.k), dtype=np.intc)
+        actions = np.zeros(n, dtype=np.intc)
+        done = ctypes.c_int(0)
+        st = _lib.lib.igea_rls_run(h, n, _LAYOUT_BLOCKS, _lib.dptr(Ca), self.m, _lib.dptr(Ya),
+                                   _lib.dptr(sa), inc, _lib.dptr(X), self.m, _lib.iptr(flags),
+                                   _lib.iptr(actions), ctypes.byref(done))
+        _lib.check(st, "igea.rls_run (epoch %d)" % done.value, _RUN_ARGS)
+        return X, flags, actions
+
+    @property
+    def x(self):
+        out = np.zeros(self.m)
+        _lib.check(_lib.lib.igea_rls_get_x(self._handle(), _lib.dptr(out)), "igea.RLS.x")
+        return out
+
+    def _sym(self, fn, where):
+        out = np.zeros((self.m, self.m), order="F")
+        _lib.check(fn(self._handle(), _lib.dptr(out), self.m), where)
+        return np.ascontiguousarray(out)
+
+    @property
+    def gamma(self):
+        return self._sym(_lib.lib.igea_rls_get_gamma, "igea.RLS.gamma")
+
+    @property
+    def covariance(self):
+        return self._sym(_lib.lib.igea_rls_get_covariance, "igea.RLS.covariance")
+
+    @property
+    def q(self):
+        q = ctypes.c_double()
+        _lib.check(_lib.lib.igea_rls_get_q(self._handle(), ctypes.byref(q)), "igea.RLS.q")
+        return q.value
+
+    @property
+    def counts(self):
+        c = np.zeros(4, dtype=np.intc)
+        _lib.check(_lib.lib.igea_rls_get_counts(self._handle(), _lib.iptr(c)), "igea.RLS.counts")
+        return {"epochs": int(c[0]), "updates": int(c[1]), "anomalous": int(c[2]),
+                "rows": int(c[3])}
+
+    def compensate(self, c, y):
+        """Compensated telemetry y - c x with the current estimate (METHODS 2.5)."""
+        ca = _lib.as_f64(c, "c", ndim=2, shape=(self.k, self.m))
+        ya = np.ascontiguousarray(_lib.as_f64(y, "y", ndim=1, shape=(self.k,)))
+        out = np.zeros(self.k)
+        _lib.check(_lib.lib.igea_rls_compensate(self._handle(), _lib.dptr(ca), self.k,
+                                                _lib.dptr(ya), _lib.dptr(out)),
+                   "igea.RLS.compensate", ["h", "c", "ldc", "y", "yhat"])
+        return out
+
+
+def rls_run(C, Y, x0, gamma0, *, variant="standard", p=1, anomaly=None, kappa=4.0, forget=1.0,
+            track_sigma=None, jump_max=None, covariance=True):
+    """Run RLS over a whole record.
+
+    C (epochs, k, m) environment functions, Y (epochs, k) telemetry minus
+    tracking (NaN marks a dropout when an anomaly policy is set), x0 (m,) or
+    None, gamma0 (m, m); track_sigma None (unit), a scalar, (k,) or
+    (epochs, k); covariance=False: do not track the honest covariance
+    (RlsResult.covariance is then None unless p = 1). Returns RlsResult."""
+    Ca = _c_order(C, "C", (None, None, None))
+    n, k, m = Ca.shape
+    Ya = _c_order(Y, "Y", (n, k))
+    g = _lib.as_f64(gamma0, "gamma0", ndim=2)
+    if g.shape != (m, m):
+        raise ValueError(f"gamma0: expected shape ({m}, {m}), got {g.shape}")
+    if x0 is not None:
+        _lib.as_f64(x0, "x0", ndim=1, shape=(m,))
+    _sigma(track_sigma, k, n)
+    with RLS(x0, g, k, variant=variant, p=p, anomaly=anomaly, kappa=kappa,
+             jump_max=jump_max, forget=forget, covariance=covariance) as est:
+        X, flags, actions = est.run(Ca, Ya, track_sigma)
+        resid = Ya - np.einsum("ekm,em->ek", Ca, X)
+        try:
+            cov = est.covariance
+        except _lib.IgeaError:
+            cov = None
+        return RlsResult(x=X, gamma=est.gamma, covariance=cov, q=est.q,
+                         flags=flags, actions=actions, residual=resid, variant=variant,
+                         p=est.p, counts=est.counts)
