@@ -78,7 +78,7 @@ $(DRIVER): $(CLI_OBJ) $(STATIC) | $(BUILD)/bin
 	$(CC) $(CFLAGS_EXTRA) $(LDFLAGS_EXTRA) -o $@ $(CLI_OBJ) $(STATIC) $(LIBS)
 
 # Tests link the static library, so they can reach internal helpers too.
-$(BUILD)/tests/%: tests/%.c tests/testutil.h $(STATIC) | $(BUILD)/tests
+$(BUILD)/tests/%: tests/%.c tests/testutil.h tests/oom.h $(STATIC) | $(BUILD)/tests
 	$(CC) $(CPPFLAGS) -Isrc $(APPCFLAGS) -Wno-unused-parameter $< -o $@ \
 	  $(STATIC) -lcmocka $(LIBS) $(LDFLAGS_EXTRA)
 

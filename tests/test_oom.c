@@ -9,24 +9,9 @@
 
 #include "igea.h"
 
-#if defined(__SANITIZE_ADDRESS__)
-#define OOM_DISABLED 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define OOM_DISABLED 1
-#endif
-#endif
+#include "oom.h"
 
 #ifndef OOM_DISABLED
-extern void *__libc_malloc(size_t);
-static long fail_at = -1, calls = 0;
-void *malloc(size_t n)
-{
-    if (fail_at >= 0 && calls++ == fail_at)
-        return NULL;
-    return __libc_malloc(n);
-}
-
 enum { M = 30, N = 4 };
 static double S[M * N], dw[M];
 
@@ -60,12 +45,12 @@ static void oom_loop_run(int route, int nsig)
         fill_sentinel(P, N * N);
         fill_sentinel(info, IGEA_INFO_LEN);
         fill_sentinel(res, M);
-        calls = 0;
-        fail_at = k;
+        oom_calls = 0;
+        oom_fail_at = k;
         int st = igea_eqerr_run(M, N, S, M, dw, sig, 1, NULL, opts, lam, P, N, x, z, rej, info, res, rms);
-        fail_at = -1;
+        oom_fail_at = -1;
         if (st == 0) {
-            assert_true(calls <= k); /* no allocation was failed */
+            assert_true(oom_calls <= k); /* no allocation was failed */
             assert_memory_equal(lam, lam0, sizeof lam);
             assert_memory_equal(res, res0, sizeof res);
             break;
@@ -89,10 +74,10 @@ static void test_oom_normal(void **state)
     fill_sentinel(A, N * N);
     fill_sentinel(b, N);
     fill_sentinel(w, 2);
-    calls = 0;
-    fail_at = 0;
+    oom_calls = 0;
+    oom_fail_at = 0;
     int st = igea_normal_accumulate(IGEA_COLMAJOR, M, N, S, M, dw, &s1, 0, NULL, A, N, b, w);
-    fail_at = -1;
+    oom_fail_at = -1;
     assert_int_equal(st, IGEA_ENOMEM);
     assert_true(all_sentinel(A, N * N) && all_sentinel(b, N) && all_sentinel(w, 2));
 }

@@ -9,25 +9,7 @@
  * the k-th allocation inside a call, k = 0, 1, ... until the call
  * succeeds; each failure must be IGEA_ENOMEM with the outputs untouched.
  * Not under AddressSanitizer, which owns malloc. */
-#if defined(__SANITIZE_ADDRESS__)
-#define OOM_DISABLED 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define OOM_DISABLED 1
-#endif
-#endif
-#ifndef OOM_DISABLED
-extern void *__libc_malloc(size_t);
-static long oom_fail_at = -1, oom_calls = 0;
-void *malloc(size_t n)
-{
-    if (oom_fail_at >= 0 && oom_calls++ == oom_fail_at)
-        return NULL;
-    return __libc_malloc(n);
-}
-#define OOM_ARM(k) (oom_calls = 0, oom_fail_at = (k))
-#define OOM_DISARM() (oom_fail_at = -1)
-#endif
+#include "oom.h"
 
 #define S2 0.70710678118654752440
 #define PI_ 3.14159265358979323846

@@ -9,23 +9,7 @@
 /* The program's own malloc (as tests/test_oom.c) counts and can fail the
  * allocations made inside a call; not under AddressSanitizer, which owns
  * malloc itself. */
-#if defined(__SANITIZE_ADDRESS__)
-#define RLS_NO_MALLOC_HOOK 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define RLS_NO_MALLOC_HOOK 1
-#endif
-#endif
-#ifndef RLS_NO_MALLOC_HOOK
-extern void *__libc_malloc(size_t);
-static long fail_at = -1, mallocs = 0;
-void *malloc(size_t n)
-{
-    if (fail_at >= 0 && mallocs++ == fail_at)
-        return NULL;
-    return __libc_malloc(n);
-}
-#endif
+#include "oom.h"
 
 /* ---- helpers ------------------------------------------------------------ */
 
@@ -854,14 +838,14 @@ static void test_covariance_switch(void **state)
  * igea_rls_update and igea_rls_run allocate nothing. */
 static void test_allocation(void **state)
 {
-#ifdef RLS_NO_MALLOC_HOOK
+#ifdef OOM_DISABLED
     skip();
 #else
-    fail_at = 0; /* probe: under valgrind this malloc is not ours */
-    mallocs = 0;
+    oom_fail_at = 0; /* probe: under valgrind this malloc is not ours */
+    oom_calls = 0;
     void *(*volatile call_malloc)(size_t) = malloc; /* not elided by the compiler */
     void *probe = call_malloc(16);
-    fail_at = -1;
+    oom_fail_at = -1;
     if (probe) {
         free(probe);
         skip();
@@ -871,10 +855,10 @@ static void test_allocation(void **state)
     int ok = 0;
     for (long k = 0; k < 10 && !ok; k++) {
         h = (igea_rls *)&h;
-        fail_at = k;
-        mallocs = 0;
+        oom_fail_at = k;
+        oom_calls = 0;
         int st = igea_rls_create(4, 2, NULL, g, 4, &h);
-        fail_at = -1;
+        oom_fail_at = -1;
         if (st == 0) {
             ok = 1;
             assert_true(k >= 1); /* at least one allocation was failed first */
@@ -888,14 +872,14 @@ static void test_allocation(void **state)
     igea_rls_set_variant(h, IGEA_RLS_POLYNOMIAL, 5);
     igea_rls_set_anomaly(h, IGEA_RLS_ANOMALY_ISOLATE, 4.0, NULL);
     feed(h, &r, 0, 1); /* BLAS may set itself up on its first call */
-    fail_at = 1000000;
-    mallocs = 0;
+    oom_fail_at = 1000000;
+    oom_calls = 0;
     feed(h, &r, 1, 40);
     int done;
     assert_int_equal(igea_rls_run(h, 10, IGEA_RLS_LAYOUT_ROWS, r.S + 80, 100, r.y + 80, NULL,
                                   0, NULL, 4, NULL, NULL, &done), 0);
-    long during = mallocs;
-    fail_at = -1;
+    long during = oom_calls;
+    oom_fail_at = -1;
     assert_int_equal(during, 0);
     igea_rls_free(h);
     free_record(&r);

@@ -13,23 +13,7 @@
 
 /* Out-of-memory loop (as tests/test_oom.c): this program's malloc can fail
  * the n-th allocation; not under AddressSanitizer, which owns malloc. */
-#if defined(__SANITIZE_ADDRESS__)
-#define OOM_DISABLED 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define OOM_DISABLED 1
-#endif
-#endif
-#ifndef OOM_DISABLED
-extern void *__libc_malloc(size_t);
-static long fail_at = -1, calls = 0;
-void *malloc(size_t n)
-{
-    if (fail_at >= 0 && calls++ == fail_at)
-        return NULL;
-    return __libc_malloc(n);
-}
-#endif
+#include "oom.h"
 
 #define G0 9.80665
 #define DEG_H (3.14159265358979323846 / 180.0 / 3600.0)
@@ -566,11 +550,11 @@ static void test_oom(void **state)
     int st, fails = 0;
     for (long k = 0;; k++) {
         fill_sentinel(c, IGEA_MC_LEN);
-        calls = 0;
-        fail_at = k;
+        oom_calls = 0;
+        oom_fail_at = k;
         st = igea_sim_montecarlo(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, NULL,
                                  0, F, 2, c, NULL, NULL, NULL, NULL, NULL, NULL);
-        fail_at = -1;
+        oom_fail_at = -1;
         if (st == 0)
             break;
         fails++;
@@ -585,10 +569,10 @@ static void test_oom(void **state)
                                      NULL, dref), 0);
     for (long k = 0;; k++) {
         fill_sentinel(dw, (size_t)m);
-        calls = 0;
-        fail_at = k;
+        oom_calls = 0;
+        oom_fail_at = k;
         st = igea_sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, 0, x, dw);
-        fail_at = -1;
+        oom_fail_at = -1;
         if (st == 0)
             break;
         assert_int_equal(st, IGEA_ENOMEM);
@@ -610,12 +594,12 @@ static void test_oom(void **state)
     for (long k = 0;; k++) {
         fill_sentinel(S2, 90);
         fill_sentinel(nl2, 30);
-        calls = 0;
-        fail_at = k;
+        oom_calls = 0;
+        oom_fail_at = k;
         st = igea_envfun_compute(0, n, tr, n, 3, codes, NULL, 10, ep, NULL,
                                  IGEA_ENVFUN_POSITION_G, S2, 30);
         int st2 = igea_sim_nonlinear(0, n, tr, n, err, NULL, 10, ep, nl2);
-        fail_at = -1;
+        oom_fail_at = -1;
         if (st == 0 && st2 == 0)
             break;
         if (st) {

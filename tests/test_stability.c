@@ -9,23 +9,7 @@
 #include "igea/stats.h"
 
 /* Out-of-memory loop (as tests/test_oom.c); not under AddressSanitizer. */
-#if defined(__SANITIZE_ADDRESS__)
-#define OOM_DISABLED 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define OOM_DISABLED 1
-#endif
-#endif
-#ifndef OOM_DISABLED
-extern void *__libc_malloc(size_t);
-static long oom_fail_at = -1, oom_calls = 0;
-void *malloc(size_t n)
-{
-    if (oom_fail_at >= 0 && oom_calls++ == oom_fail_at)
-        return NULL;
-    return __libc_malloc(n);
-}
-#endif
+#include "oom.h"
 
 /* The NBS 1000-point frequency data set: x_{k+1} = 16807 x_k mod
  * 2^31 - 1, x_0 = 1234567890, y = x / (2^31 - 1) (Riley, "The calculation
