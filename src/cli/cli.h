@@ -35,6 +35,10 @@ int cli_status(int status, const char *context);
  * CLI_USAGE. */
 int cli_parse_double(const char *opt, const char *s, double *out);
 int cli_parse_int(const char *opt, const char *s, int *out);
+/* An option that takes a file or one positive number (--sigma FILE|NUM):
+ * when v is a number, sets *is_number = 1 and *value; a number <= 0 prints
+ * a message and returns CLI_USAGE. */
+int cli_file_or_positive(const char *opt, const char *v, int *is_number, double *value);
 /* Value of an option that takes one: argv[*i + 1] (advancing *i), or NULL
  * with a usage message when it is missing. */
 const char *cli_optarg(int argc, char **argv, int *i);

@@ -262,17 +262,8 @@ static int parse_eqerr(int argc, char **argv, eqerr_args *a)
         else if (!strcmp(o, "--dw")) { NEED(); a->dw = v; }
         else if (!strcmp(o, "--sigma")) {
             NEED();
-            char *end;
-            errno = 0;
-            double sv = strtod(v, &end);
-            if (end != v && *end == '\0') {
-                if (!(sv > 0) || !isfinite(sv)) {
-                    cli_error("--sigma %s: the tracking sigma must be a positive number", v);
-                    return CLI_USAGE;
-                }
-                a->sigma_is_number = 1;
-                a->sigma_value = sv;
-            }
+            if ((ec = cli_file_or_positive(o, v, &a->sigma_is_number, &a->sigma_value)))
+                return ec;
             a->sigma = v;
         }
         else if (!strcmp(o, "--spec")) { NEED(); a->spec = v; }

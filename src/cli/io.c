@@ -62,6 +62,22 @@ int cli_parse_int(const char *opt, const char *s, int *out)
     return CLI_OK;
 }
 
+int cli_file_or_positive(const char *opt, const char *v, int *is_number, double *value)
+{
+    char *end;
+    errno = 0;
+    double x = strtod(v, &end);
+    if (end == v || *end != '\0')
+        return CLI_OK; /* a file name */
+    if (!(x > 0) || !isfinite(x)) {
+        cli_error("%s %s: must be a positive number or a file", opt, v);
+        return CLI_USAGE;
+    }
+    *is_number = 1;
+    *value = x;
+    return CLI_OK;
+}
+
 const char *cli_optarg(int argc, char **argv, int *i)
 {
     if (*i + 1 >= argc) {
