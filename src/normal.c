@@ -66,12 +66,20 @@ int igea_normal_accumulate(int layout, int m, int N, const double *S, int lds,
             igea__ksum_add(&ww, wb[i] * wb[i]);
             wb[i] *= w;
         }
-        if (layout == IGEA_COLMAJOR) {
-            cblas_dsyrk(CblasColMajor, CblasLower, CblasTrans, N, m, w * w, S, lds, 0.0, Al, N);
-            cblas_dgemv(CblasColMajor, CblasTrans, m, N, 1.0, S, lds, wb, 1, 0.0, bl, 1);
-        } else {
-            cblas_dsyrk(CblasColMajor, CblasLower, CblasNoTrans, N, m, w * w, S, lds, 0.0, Al, N);
-            cblas_dgemv(CblasColMajor, CblasNoTrans, N, m, 1.0, S, lds, wb, 1, 0.0, bl, 1);
+        /* Row blocks of about 1 MB: dgemv finds the block dsyrk has just
+         * brought into cache, so S is read from memory once. */
+        const int ub = IGEA_MAX(256, (1 << 17) / N);
+        for (int r0 = 0; r0 < m; r0 += ub) {
+            int nr = IGEA_MIN(ub, m - r0);
+            if (layout == IGEA_COLMAJOR) {
+                const double *Sb = S + r0;
+                cblas_dsyrk(CblasColMajor, CblasLower, CblasTrans, N, nr, w * w, Sb, lds, 1.0, Al, N);
+                cblas_dgemv(CblasColMajor, CblasTrans, nr, N, 1.0, Sb, lds, wb + r0, 1, 1.0, bl, 1);
+            } else {
+                const double *Sb = S + (size_t)r0 * lds;
+                cblas_dsyrk(CblasColMajor, CblasLower, CblasNoTrans, N, nr, w * w, Sb, lds, 1.0, Al, N);
+                cblas_dgemv(CblasColMajor, CblasNoTrans, N, nr, 1.0, Sb, lds, wb + r0, 1, 1.0, bl, 1);
+            }
         }
         if (spec_sigma) {
             for (int j = 0; j < N; j++) {
