@@ -169,10 +169,8 @@ bench: all venv
 	  $(VENV)/bin/python bench/run.py
 
 # ---- install --------------------------------------------------------------
-$(BUILD)/igea.pc: igea.pc.in | $(BUILD)/lib
-	sed -e 's|@PREFIX@|$(PREFIX)|g' -e 's|@VERSION@|$(VERSION)|g' $< > $@
-
-install: all $(BUILD)/igea.pc
+# igea.pc is written at install time: its prefix is this install's PREFIX.
+install: all
 	install -d $(DESTDIR)$(PREFIX)/include/igea $(DESTDIR)$(PREFIX)/lib/pkgconfig $(DESTDIR)$(PREFIX)/bin
 	install -m 644 include/igea.h $(DESTDIR)$(PREFIX)/include/
 	install -m 644 include/igea/*.h $(DESTDIR)$(PREFIX)/include/igea/
@@ -180,7 +178,8 @@ install: all $(BUILD)/igea.pc
 	install -m 755 $(SO_REAL) $(DESTDIR)$(PREFIX)/lib/
 	ln -sf libigea.so.$(VERSION) $(DESTDIR)$(PREFIX)/lib/libigea.so.$(SOMAJOR)
 	ln -sf libigea.so.$(SOMAJOR) $(DESTDIR)$(PREFIX)/lib/libigea.so
-	install -m 644 $(BUILD)/igea.pc $(DESTDIR)$(PREFIX)/lib/pkgconfig/
+	sed -e 's|@PREFIX@|$(PREFIX)|g' -e 's|@VERSION@|$(VERSION)|g' igea.pc.in \
+	  > $(DESTDIR)$(PREFIX)/lib/pkgconfig/igea.pc && chmod 644 $(DESTDIR)$(PREFIX)/lib/pkgconfig/igea.pc
 	install -m 755 $(DRIVER) $(DESTDIR)$(PREFIX)/bin/
 
 uninstall:
