@@ -39,6 +39,14 @@ def _component_table(xhat, lam, z, reject, z_crit):
     return rows
 
 
+def _attach(obj, **private):
+    """Context for .summary() kept off the dataclass fields (the fields are
+    exactly those of the documented result)."""
+    for k, v in private.items():
+        object.__setattr__(obj, "_" + k, v)
+    return obj
+
+
 @dataclass(frozen=True)
 class TestResult:
     """Per-component and chi-square verdicts (igea.accuracy_test, igea.pool)."""
@@ -51,19 +59,19 @@ class TestResult:
     z_crit: float
     p_value: float
     passed: bool
-    alpha: float
-    n_reject: int
-    equiv_err: np.ndarray = None
-    eigenvalues: np.ndarray = None
+
+    @property
+    def n_reject(self):
+        return int(np.count_nonzero(self.reject))
 
     def summary(self):
         lines = []
-        if self.equiv_err is not None:
-            lines += _component_table(self.equiv_err, self.eigenvalues, self.z, self.reject,
-                                      self.z_crit)
+        xhat = getattr(self, "_equiv_err", None)
+        if xhat is not None:
+            lines += _component_table(xhat, self._eigenvalues, self.z, self.reject, self.z_crit)
             lines.append("")
         lines += _verdict_lines(self.n_test, self.chi2, self.dof, self.chi2_crit, self.p_value,
-                                self.n_reject, self.passed, self.alpha)
+                                self.n_reject, self.passed, getattr(self, "_alpha", 0.01))
         return "\n".join(lines)
 
 
@@ -89,8 +97,6 @@ class EqerrResult:
     passed: bool
     residual: np.ndarray
     rms: np.ndarray
-    alpha: float = 0.01
-    lambda_small: float = 0.1
 
     @property
     def n_reject(self):
@@ -110,10 +116,10 @@ class EqerrResult:
             lines.append("tracking-accuracy correction: c = %.6g (sigma_w = %.4f), %d iteration(s), "
                          "%d small eigenvalue(s) <= %g, %s"
                          % (self.scale, np.sqrt(self.scale), self.iterations, self.n_small,
-                            self.lambda_small, self.flag))
+                            getattr(self, "_lambda_small", 0.1), self.flag))
         lines.append("residual RMS per axis (x, y, z): %.6g %.6g %.6g" % tuple(self.rms))
         lines += _verdict_lines(self.n_test, self.chi2, self.dof, self.chi2_crit, self.p_value,
-                                self.n_reject, self.passed, self.alpha)
+                                self.n_reject, self.passed, getattr(self, "_alpha", 0.01))
         return "\n".join(lines)
 
 
@@ -169,13 +175,13 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=0.01, lambda_test=10.0, lambda_small
                              "igea.eqerr")
     _lib.check(st, "igea.eqerr")
     nt = int(info[_N_TEST])
-    return EqerrResult(
+    return _attach(EqerrResult(
         eigenvalues=lam, eigenvectors=np.ascontiguousarray(P), rank=int(info[_RANK]),
         equiv_err=xhat, n_test=nt, z=z[:nt].copy(), reject=rej[:nt] == 1,
         chi2=float(info[_CHI2]), dof=int(info[_DOF]), chi2_crit=float(info[_CHI2_CRIT]),
         z_crit=float(info[_Z_CRIT]), p_value=float(info[_P_VALUE]), scale=float(info[_SCALE]),
         iterations=int(info[_ITERATIONS]), n_small=int(info[_N_SMALL]),
-        flag=_FLAGS[int(info[_FLAG])], passed=bool(info[_PASSED] == 1.0), residual=res, rms=rms,
+        flag=_FLAGS[int(info[_FLAG])], passed=bool(info[_PASSED] == 1.0), residual=res, rms=rms),
         alpha=float(alpha), lambda_small=float(lambda_small))
 
 
@@ -199,12 +205,11 @@ def accuracy_test(equiv_err, eigenvalues, *, alpha=0.01, lambda_test=10.0, z_cri
     _lib.check(st, "igea.accuracy_test",
                ["n", "equiv_err", "eigenvalues", "alpha", "lambda_test", "z_crit"])
     tested = rej >= 0
-    return TestResult(n_test=int(info[_N_TEST]), z=z[tested], reject=rej[tested] == 1,
-                      chi2=float(info[_CHI2]), dof=int(info[_DOF]),
-                      chi2_crit=float(info[_CHI2_CRIT]), z_crit=float(info[_Z_CRIT]),
-                      p_value=float(info[_P_VALUE]), passed=bool(info[_PASSED] == 1.0),
-                      alpha=float(alpha), n_reject=int(info[_N_REJECT]),
-                      equiv_err=x[tested], eigenvalues=lam[tested])
+    return _attach(TestResult(n_test=int(info[_N_TEST]), z=z[tested], reject=rej[tested] == 1,
+                              chi2=float(info[_CHI2]), dof=int(info[_DOF]),
+                              chi2_crit=float(info[_CHI2_CRIT]), z_crit=float(info[_Z_CRIT]),
+                              p_value=float(info[_P_VALUE]), passed=bool(info[_PASSED] == 1.0)),
+                   alpha=float(alpha), equiv_err=x[tested], eigenvalues=lam[tested])
 
 
 def pool(results, *, alpha=0.01, unit_ids=None):
@@ -234,8 +239,8 @@ def pool(results, *, alpha=0.01, unit_ids=None):
     _lib.check(st, "igea.pool", ["nflights", "chi2", "dof", "n_reject", "unit_id", "alpha"])
     z = np.concatenate([np.asarray(get(r, "z"), dtype=float) for r in results])
     rej = np.concatenate([np.asarray(get(r, "reject"), dtype=bool) for r in results])
-    return TestResult(n_test=int(info[_N_TEST]), z=z, reject=rej, chi2=float(info[_CHI2]),
-                      dof=int(info[_DOF]), chi2_crit=float(info[_CHI2_CRIT]),
-                      z_crit=float(info[_Z_CRIT]), p_value=float(info[_P_VALUE]),
-                      passed=bool(info[_PASSED] == 1.0), alpha=float(alpha),
-                      n_reject=int(info[_N_REJECT]))
+    return _attach(TestResult(n_test=int(info[_N_TEST]), z=z, reject=rej, chi2=float(info[_CHI2]),
+                              dof=int(info[_DOF]), chi2_crit=float(info[_CHI2_CRIT]),
+                              z_crit=float(info[_Z_CRIT]), p_value=float(info[_P_VALUE]),
+                              passed=bool(info[_PASSED] == 1.0)),
+                   alpha=float(alpha))

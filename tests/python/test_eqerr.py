@@ -355,3 +355,17 @@ def test_driver_npy_layouts_and_faults(tmp_path):
     c = driver("eqerr", "--S", "S.csv", "--dw", "dw.npy", "--sigma", "0.01", "--spec", "spec.npy",
                "--json", cwd=tmp_path)
     assert json.loads(c.stdout)["chi2"] == ja["chi2"]
+
+
+def test_result_fields_are_the_documented_ones():
+    import dataclasses
+    want = ["eigenvalues", "eigenvectors", "rank", "equiv_err", "n_test", "z", "reject", "chi2",
+            "dof", "chi2_crit", "z_crit", "p_value", "scale", "iterations", "n_small", "flag",
+            "passed", "residual", "rms"]
+    assert [f.name for f in dataclasses.fields(igea.EqerrResult)] == want
+    assert [f.name for f in dataclasses.fields(igea.TestResult)] == [
+        "n_test", "z", "reject", "chi2", "dof", "chi2_crit", "z_crit", "p_value", "passed"]
+    r = igea.eqerr(*flight(2)[:4], alpha=0.05)
+    assert "alpha = 0.05" in r.summary()
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        r.chi2 = 0.0
