@@ -242,7 +242,7 @@ def validation(n_size, n_power, outdir):
     ax.set_title("Operating characteristic, one flight")
     ax.legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(os.path.join(outdir, "validation_power.png"), dpi=120)
+    fig.savefig(os.path.join(outdir, "validation_power.png"), dpi=110)
     print(f"\nwrote {os.path.join(outdir, 'validation_power.png')}")
 
 

@@ -178,9 +178,10 @@ def plot(a):
     ax.set_xticks(np.arange(a["N"]) + 0.4)
     ax.set_xticklabels(a["names"], rotation=60, fontsize=7)
     ax.set_ylabel("MSE (spec units^2)")
+    ax.set_title("MSE of each estimator per coefficient over simulated in-spec flights")
     ax.legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(os.path.join(HERE, "..", "docs", "separation_mse.png"), dpi=120)
+    fig.savefig(os.path.join(HERE, "..", "docs", "separation_mse.png"), dpi=110)
 
 
 def main():

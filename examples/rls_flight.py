@@ -83,7 +83,7 @@ def main():
                   title="coefficient error against p")
         ax[0].legend()
         fig.tight_layout()
-        fig.savefig("rls_flight.png", dpi=120)
+        fig.savefig("rls_flight.png", dpi=110)
         print("wrote rls_flight.png")
     return 0
 
