@@ -230,53 +230,41 @@ int igea_eqerr_solve(int N, const double *A, int lda, const double *b,
     return st;
 }
 
-/* SVD route: thin SVD of the weighted, spec-scaled S. */
-static int solve_svd(int m, int N, const double *S, int lds, const double *dw,
-                     const double *track_sigma, int sigma_inc,
-                     const double *spec, const double *o, scratch *s)
+/* SVD route from the QR factor R ((N+1) x (N+1), upper) of [S~ w~]: the
+ * SVD of R[0:N, 0:N] = U diag(s) V' gives lambda = s^2, P = V, and
+ * g_i = u_i' (Q' w~) = u_i' R[0:N, N] (METHODS 1.2 step 2, SVD form). */
+static int solve_qr(int N, const double *R, int ldr, double rows, const double *o,
+                    scratch *s)
 {
-    int k = IGEA_MIN(m, N);
-    char jobz = m >= N ? 'S' : 'A';
-    int ucols = m >= N ? N : m;
-    size_t mn = (size_t)m * N;
-    double *St = igea__dalloc(mn + (size_t)m + (size_t)m * ucols + (size_t)k);
-    lapack_int *iwork = malloc(sizeof(lapack_int) * (8 * (size_t)k + 1));
-    if (!St || !iwork) {
-        free(St);
+    size_t nn = (size_t)N * N;
+    double *Rc = igea__dalloc(2 * nn + (size_t)N);
+    lapack_int *iwork = malloc(sizeof(lapack_int) * (8 * (size_t)N + 1));
+    if (!Rc || !iwork) {
+        free(Rc);
         free(iwork);
         return IGEA_ENOMEM;
     }
-    double *wt = St + mn, *U = wt + m, *sv = U + (size_t)m * ucols;
-    for (int i = 0; i < m; i++)
-        wt[i] = dw[i] / track_sigma[sigma_inc ? i : 0];
+    double *U = Rc + nn, *sv = U + nn, *work = NULL;
     for (int j = 0; j < N; j++)
-        for (int i = 0; i < m; i++)
-            St[i + (size_t)j * m] = IGEA_AT(S, lds, i, j) *
-                                    (spec ? spec[j] : 1.0) /
-                                    track_sigma[sigma_inc ? i : 0];
-    int st = 0;
-    if (!igea__finite_mat(m, N, St, m) || !igea__finite_vec(m, wt, 1))
-        st = IGEA_ENONFINITE;
+        for (int i = 0; i < N; i++)
+            Rc[i + (size_t)j * N] = i <= j ? IGEA_AT(R, ldr, i, j) : 0.0;
     double wq;
-    lapack_int info = 0;
-    if (st == 0)
-        info = LAPACKE_dgesdd_work(LAPACK_COL_MAJOR, jobz, m, N, St, m, sv, U,
-                                   m, s->V, N, &wq, -1, iwork);
-    double *work = NULL;
-    if (st == 0 && info == 0) {
+    int st = 0;
+    lapack_int info = LAPACKE_dgesdd_work(LAPACK_COL_MAJOR, 'A', N, N, Rc, N, sv, U, N,
+                                          s->V, N, &wq, -1, iwork);
+    if (info == 0) {
         size_t lw = (size_t)wq + 1;
         work = igea__dalloc(lw);
         if (!work)
             st = IGEA_ENOMEM;
         else
-            info = LAPACKE_dgesdd_work(LAPACK_COL_MAJOR, jobz, m, N, St, m, sv,
-                                       U, m, s->V, N, work, (lapack_int)lw,
-                                       iwork);
+            info = LAPACKE_dgesdd_work(LAPACK_COL_MAJOR, 'A', N, N, Rc, N, sv, U, N,
+                                       s->V, N, work, (lapack_int)lw, iwork);
     }
     if (st == 0 && info != 0)
         st = IGEA_ELAPACK;
     if (st == 0) {
-        /* s->V holds V^T (N x N): transpose in place into V (columns). */
+        /* s->V holds V' (N x N): transpose in place into V (columns). */
         for (int i = 0; i < N; i++)
             for (int j = i + 1; j < N; j++) {
                 double t = s->V[i + (size_t)j * N];
@@ -285,26 +273,63 @@ static int solve_svd(int m, int N, const double *S, int lds, const double *dw,
             }
         double tol = o[IGEA_EQERR_OPT_RANK_TOL] > 0
                          ? sqrt(o[IGEA_EQERR_OPT_RANK_TOL])
-                         : IGEA_MAX(m, N) * DBL_EPSILON;
+                         : IGEA_MAX(rows, (double)N) * DBL_EPSILON;
         int r = 0;
-        if (k > 0 && sv[0] > 0.0)
-            while (r < k && sv[r] > tol * sv[0])
+        if (sv[0] > 0.0)
+            while (r < N && sv[r] > tol * sv[0])
                 r++;
+        const double *qtw = &IGEA_AT(R, ldr, 0, N);
         for (int i = 0; i < N; i++) {
-            s->lam0[i] = i < k ? sv[i] * sv[i] : 0.0;
+            s->lam0[i] = sv[i] * sv[i];
             double sg = igea__sign_fix(N, s->V + (size_t)i * N);
             if (i < r) {
-                double g = sg * cblas_ddot(m, U + (size_t)i * m, 1, wt, 1);
-                s->g0[i] = g;
-                s->xhat[i] = g / sv[i];
+                double g = 0.0;
+                for (int k = 0; k < N; k++)
+                    g += U[k + (size_t)i * N] * qtw[k];
+                s->g0[i] = sg * g;
+                s->xhat[i] = s->g0[i] / sv[i];
             }
         }
-        st = sigmaw_and_test(N, r, s->lam0, s->g0, s->xhat, o, s->lambda,
-                             s->z, s->reject, s->info);
+        st = sigmaw_and_test(N, r, s->lam0, s->g0, s->xhat, o, s->lambda, s->z, s->reject,
+                             s->info);
     }
     free(work);
     free(iwork);
-    free(St);
+    free(Rc);
+    return st;
+}
+
+int igea_eqerr_solve_qr(int N, const double *R, int ldr, double rows, const double *opts,
+                        double *lambda, double *P, int ldp, double *equiv_err, double *z,
+                        int *reject, double *info)
+{
+    double dflt[IGEA_EQERR_OPT_LEN];
+    if (N < 1) return -1;
+    if (!R) return -2;
+    if (ldr < N + 1) return -3;
+    if (!(rows >= 1.0) || !isfinite(rows)) return -4;
+    if (!opts) {
+        igea_eqerr_defaults(dflt);
+        opts = dflt;
+    } else if (check_opts(opts))
+        return -5;
+    if (!lambda) return -6;
+    if (!P) return -7;
+    if (ldp < N) return -8;
+    if (!equiv_err) return -9;
+    if (!z) return -10;
+    if (!reject) return -11;
+    if (!info) return -12;
+    for (int j = 0; j <= N; j++)
+        if (!igea__finite_vec(j + 1, &IGEA_AT(R, ldr, 0, j), 1))
+            return IGEA_ENONFINITE;
+    scratch s;
+    if (scratch_alloc(&s, N))
+        return IGEA_ENOMEM;
+    int st = solve_qr(N, R, ldr, rows, opts, &s);
+    if (st == 0)
+        scratch_out(&s, N, lambda, P, ldp, equiv_err, z, reject, info);
+    scratch_free(&s);
     return st;
 }
 
@@ -414,8 +439,20 @@ int igea_eqerr_run(int m, int N, const double *S, int lds, const double *dw,
         return IGEA_ENOMEM;
     int st;
     if (opts[IGEA_EQERR_OPT_ROUTE] == IGEA_ROUTE_SVD) {
-        st = solve_svd(m, N, S, lds, dw, track_sigma, sigma_inc, spec_sigma,
-                       opts, &s);
+        size_t n1 = (size_t)N + 1;
+        double *R = igea__dalloc(n1 * n1), rows = 0.0;
+        if (!R) {
+            scratch_free(&s);
+            return IGEA_ENOMEM;
+        }
+        memset(R, 0, n1 * n1 * sizeof(double));
+        st = igea_normal_qr_accumulate(IGEA_COLMAJOR, m, N, S, lds, dw, track_sigma,
+                                       sigma_inc, spec_sigma, R, (int)n1, &rows);
+        if (st < 0 && st > -1000)
+            st = IGEA_EDOMAIN; /* cannot happen: arguments checked above */
+        if (st == 0)
+            st = solve_qr(N, R, (int)n1, rows, opts, &s);
+        free(R);
     } else {
         size_t nn = (size_t)N * N;
         double *A = igea__dalloc(nn + N + 2);

@@ -1,5 +1,7 @@
-/* normal.c - weighted normal equations, one dsyrk pass over the data. */
+/* normal.c - weighted normal equations (one dsyrk pass over the data) and
+ * the streamed QR factor of the same weighted data (dtpqrt). */
 #include <cblas.h>
+#include <lapacke.h>
 
 #include "igea/normal.h"
 #include "internal.h"
@@ -11,10 +13,9 @@ static int block_rows(int N)
     return IGEA_MAX(64, IGEA_MIN(rb, 4096));
 }
 
-int igea_normal_accumulate(int layout, int m, int N, const double *S, int lds,
-                           const double *dw, const double *track_sigma,
-                           int sigma_inc, const double *spec_sigma, double *A,
-                           int lda, double *b, double *wtw)
+/* Arguments 1-8 (shapes and pointers) of both accumulators. */
+static int check_dims(int layout, int m, int N, const double *S, int lds,
+                      const double *dw, const double *track_sigma, int sigma_inc)
 {
     if (layout != IGEA_COLMAJOR && layout != IGEA_ROWMAJOR) return -1;
     if (m < 0) return -2;
@@ -24,22 +25,68 @@ int igea_normal_accumulate(int layout, int m, int N, const double *S, int lds,
     if (!dw && m > 0) return -6;
     if (!track_sigma && m > 0) return -7;
     if (sigma_inc != 0 && sigma_inc != 1) return -8;
+    return 0;
+}
+
+/* The specs and tracking sigmas must be positive and finite. */
+static int check_weights(int m, int N, const double *track_sigma, int sigma_inc,
+                         const double *spec_sigma)
+{
+    int nf;
+    if (spec_sigma && !igea__positive_vec(N, spec_sigma, &nf))
+        return nf ? IGEA_ENONFINITE : IGEA_ENONPOSITIVE;
+    if (m > 0 && !igea__positive_vec(sigma_inc ? m : 1, track_sigma, &nf))
+        return nf ? IGEA_ENONFINITE : IGEA_ENONPOSITIVE;
+    return 0;
+}
+
+/* Rows r0..r0+nr-1 weighted and scaled into blk (nr x N, column-major, ld
+ * nr), the weighted dw into wb; wt is nr doubles of scratch. */
+static void weight_block(int layout, int r0, int nr, int N, const double *S,
+                         int lds, const double *dw, const double *track_sigma,
+                         int sigma_inc, const double *spec_sigma, double *blk,
+                         double *wb, double *wt)
+{
+    for (int i = 0; i < nr; i++) {
+        wt[i] = 1.0 / track_sigma[sigma_inc ? r0 + i : 0];
+        wb[i] = dw[r0 + i] * wt[i];
+    }
+    if (layout == IGEA_COLMAJOR) {
+        for (int j = 0; j < N; j++) {
+            const double *src = S + (size_t)j * lds + r0;
+            double *dst = blk + (size_t)j * nr;
+            double sc = spec_sigma ? spec_sigma[j] : 1.0;
+            for (int i = 0; i < nr; i++)
+                dst[i] = src[i] * sc * wt[i];
+        }
+    } else {
+        for (int i = 0; i < nr; i++) {
+            const double *src = S + (size_t)(r0 + i) * lds;
+            if (spec_sigma)
+                for (int j = 0; j < N; j++)
+                    blk[i + (size_t)j * nr] = src[j] * spec_sigma[j] * wt[i];
+            else
+                for (int j = 0; j < N; j++)
+                    blk[i + (size_t)j * nr] = src[j] * wt[i];
+        }
+    }
+}
+
+int igea_normal_accumulate(int layout, int m, int N, const double *S, int lds,
+                           const double *dw, const double *track_sigma,
+                           int sigma_inc, const double *spec_sigma, double *A,
+                           int lda, double *b, double *wtw)
+{
+    int st = check_dims(layout, m, N, S, lds, dw, track_sigma, sigma_inc);
+    if (st) return st;
     if (!A) return -10;
     if (lda < N) return -11;
     if (!b) return -12;
     if (!wtw) return -13;
-    if (spec_sigma) {
-        int nf;
-        if (!igea__positive_vec(N, spec_sigma, &nf))
-            return nf ? IGEA_ENONFINITE : IGEA_ENONPOSITIVE;
-    }
+    if ((st = check_weights(m, N, track_sigma, sigma_inc, spec_sigma)))
+        return st;
     if (m == 0)
         return 0;
-    {
-        int nf;
-        if (!igea__positive_vec(sigma_inc ? m : 1, track_sigma, &nf))
-            return nf ? IGEA_ENONFINITE : IGEA_ENONPOSITIVE;
-    }
 
     /* One tracking sigma for every row (the common case): no copy of S at
      * all, one dsyrk over the caller's array and the weights applied to the
@@ -92,29 +139,8 @@ int igea_normal_accumulate(int layout, int m, int N, const double *S, int lds,
         double *blk = bl + N, *wb = blk + (size_t)rb * N, *wt = wb + rb;
         for (int r0 = 0; r0 < m; r0 += rb) {
             int nr = IGEA_MIN(rb, m - r0);
-            for (int i = 0; i < nr; i++) {
-                wt[i] = 1.0 / track_sigma[r0 + i];
-                wb[i] = dw[r0 + i] * wt[i];
-            }
-            if (layout == IGEA_COLMAJOR) {
-                for (int j = 0; j < N; j++) {
-                    const double *src = S + (size_t)j * lds + r0;
-                    double *dst = blk + (size_t)j * nr;
-                    double sc = spec_sigma ? spec_sigma[j] : 1.0;
-                    for (int i = 0; i < nr; i++)
-                        dst[i] = src[i] * sc * wt[i];
-                }
-            } else {
-                for (int i = 0; i < nr; i++) {
-                    const double *src = S + (size_t)(r0 + i) * lds;
-                    if (spec_sigma)
-                        for (int j = 0; j < N; j++)
-                            blk[i + (size_t)j * nr] = src[j] * spec_sigma[j] * wt[i];
-                    else
-                        for (int j = 0; j < N; j++)
-                            blk[i + (size_t)j * nr] = src[j] * wt[i];
-                }
-            }
+            weight_block(layout, r0, nr, N, S, lds, dw, track_sigma, sigma_inc,
+                         spec_sigma, blk, wb, wt);
             cblas_dsyrk(CblasColMajor, CblasLower, CblasTrans, N, nr, 1.0, blk, nr, 1.0, Al, N);
             cblas_dgemv(CblasColMajor, CblasTrans, nr, N, 1.0, blk, nr, wb, 1, 1.0, bl, 1);
             for (int i = 0; i < nr; i++)
@@ -141,4 +167,55 @@ int igea_normal_accumulate(int layout, int m, int N, const double *S, int lds,
     wtw[1] += m;
     free(work);
     return 0;
+}
+
+int igea_normal_qr_accumulate(int layout, int m, int N, const double *S,
+                              int lds, const double *dw,
+                              const double *track_sigma, int sigma_inc,
+                              const double *spec_sigma, double *R, int ldr,
+                              double *rows)
+{
+    int st = check_dims(layout, m, N, S, lds, dw, track_sigma, sigma_inc);
+    if (st) return st;
+    if (!R) return -10;
+    if (ldr < N + 1) return -11;
+    if (!rows) return -12;
+    if ((st = check_weights(m, N, track_sigma, sigma_inc, spec_sigma)))
+        return st;
+    if (m == 0)
+        return 0;
+    const int n1 = N + 1, nb = IGEA_MIN(32, n1);
+    const int rb = IGEA_MIN(IGEA_MAX(block_rows(N), n1), m);
+    size_t rr = (size_t)n1 * n1;
+    /* scratch: R copy, block [S~ w~] (rb x n1), T (nb x n1), work (nb x n1),
+     * weights (rb) */
+    double *work = igea__dalloc(rr + (size_t)rb * n1 + 2 * (size_t)nb * n1 + (size_t)rb);
+    if (!work)
+        return IGEA_ENOMEM;
+    double *Rl = work, *blk = Rl + rr, *T = blk + (size_t)rb * n1, *tw = T + (size_t)nb * n1;
+    double *wt = tw + (size_t)nb * n1;
+    for (int j = 0; j < n1; j++)
+        for (int i = 0; i < n1; i++)
+            Rl[i + (size_t)j * n1] = i <= j ? IGEA_AT(R, ldr, i, j) : 0.0;
+    for (int r0 = 0; r0 < m && st == 0; r0 += rb) {
+        int nr = IGEA_MIN(rb, m - r0);
+        weight_block(layout, r0, nr, N, S, lds, dw, track_sigma, sigma_inc, spec_sigma,
+                     blk, blk + (size_t)N * nr, wt);
+        if (!igea__finite_mat(nr, n1, blk, nr)) {
+            st = IGEA_ENONFINITE;
+            break;
+        }
+        if (LAPACKE_dtpqrt_work(LAPACK_COL_MAJOR, nr, n1, 0, nb, Rl, n1, blk, nr, T, nb, tw) != 0)
+            st = IGEA_ELAPACK;
+    }
+    if (st == 0 && !igea__finite_mat(n1, n1, Rl, n1))
+        st = IGEA_ENONFINITE;
+    if (st == 0) {
+        for (int j = 0; j < n1; j++)
+            for (int i = 0; i <= j; i++)
+                IGEA_AT(R, ldr, i, j) = Rl[i + (size_t)j * n1];
+        *rows += m;
+    }
+    free(work);
+    return st;
 }

@@ -390,6 +390,98 @@ static void test_padding_and_residual_args(void **state)
     assert_int_equal(igea_eqerr_coef(4, P, 4, xh, 3, spec, coef), IGEA_ENONPOSITIVE);
 }
 
+/* METHODS 1.2 step 1: the SVD route resolves eigenvalues down to about
+ * eps^2 lambda_1, the normal-equation route to about eps lambda_1. S is
+ * built as U diag(s) V' with known singular values 1 .. 1e-7 (eigenvalues
+ * down to 1e-14 lambda_1); U has orthonormal columns (a cosine basis),
+ * V a Householder reflection. */
+static void test_svd_route_resolves_small_eigenvalues(void **state)
+{
+    enum { MS = 400, NS = 6 };
+    const double sv[NS] = {1.0, 1e-1, 1e-2, 1e-4, 1e-6, 1e-7};
+    double *S = malloc(sizeof(double) * MS * NS), U[MS * NS], V[NS * NS], d[MS], h[NS];
+    assert_non_null(S);
+    for (int j = 0; j < NS; j++) /* orthonormal cosine columns */
+        for (int i = 0; i < MS; i++)
+            U[i + j * MS] = sqrt((j ? 2.0 : 1.0) / MS) * cos(3.14159265358979323846 * j * (i + 0.5) / MS);
+    double hn = 0;
+    for (int j = 0; j < NS; j++) {
+        h[j] = 1.0 + j;
+        hn += h[j] * h[j];
+    }
+    for (int i = 0; i < NS; i++)
+        for (int j = 0; j < NS; j++)
+            V[i + j * NS] = (i == j) - 2.0 * h[i] * h[j] / hn;
+    for (int i = 0; i < MS; i++) {
+        for (int j = 0; j < NS; j++) {
+            double a = 0;
+            for (int k = 0; k < NS; k++)
+                a += U[i + k * MS] * sv[k] * V[j + k * NS];
+            S[i + j * MS] = a;
+        }
+        d[i] = 0.0;
+    }
+    double opts[IGEA_EQERR_OPT_LEN], lam[NS], P[NS * NS], xh[NS], z[NS], info[IGEA_INFO_LEN], one = 1.0;
+    int rej[NS];
+    igea_eqerr_defaults(opts);
+    opts[IGEA_EQERR_OPT_CORRECT] = 0;
+    opts[IGEA_EQERR_OPT_LAMBDA_TEST] = 1e-20;
+    opts[IGEA_EQERR_OPT_RANK_TOL] = 1e-30;
+    double err[2] = {0, 0};
+    for (int route = 0; route < 2; route++) {
+        opts[IGEA_EQERR_OPT_ROUTE] = route;
+        assert_int_equal(igea_eqerr_run(MS, NS, S, MS, d, &one, 0, NULL, opts, lam, P, NS, xh, z,
+                                        rej, info, NULL, NULL), 0);
+        for (int i = 0; i < NS; i++)
+            err[route] = fmax(err[route], fabs(lam[i] - sv[i] * sv[i]) / (sv[i] * sv[i]));
+    }
+    /* eig: 1e-14 lambda_1 is at the eps lambda_1 noise floor (1.6e-3
+     * relative measured); svd: 1.3e-11 measured for the smallest */
+    assert_true(err[IGEA_ROUTE_EIG] > 1e-4);
+    assert_true(err[IGEA_ROUTE_SVD] < 1e-9);
+    free(S);
+}
+
+static void test_solve_qr_args(void **state)
+{
+    double R[25] = {0}, lam[4], P[16], xh[4], z[4], info[IGEA_INFO_LEN], opts[IGEA_EQERR_OPT_LEN];
+    int rej[4];
+    for (int i = 0; i < 5; i++)
+        R[i + 5 * i] = 10.0 - i;
+    fill_sentinel(lam, 4);
+    fill_sentinel(info, IGEA_INFO_LEN);
+    assert_int_equal(igea_eqerr_solve_qr(0, R, 5, 9, NULL, lam, P, 4, xh, z, rej, info), -1);
+    assert_int_equal(igea_eqerr_solve_qr(4, NULL, 5, 9, NULL, lam, P, 4, xh, z, rej, info), -2);
+    assert_int_equal(igea_eqerr_solve_qr(4, R, 4, 9, NULL, lam, P, 4, xh, z, rej, info), -3);
+    assert_int_equal(igea_eqerr_solve_qr(4, R, 5, 0.5, NULL, lam, P, 4, xh, z, rej, info), -4);
+    igea_eqerr_defaults(opts);
+    opts[IGEA_EQERR_OPT_ALPHA] = 2;
+    assert_int_equal(igea_eqerr_solve_qr(4, R, 5, 9, opts, lam, P, 4, xh, z, rej, info), -5);
+    assert_int_equal(igea_eqerr_solve_qr(4, R, 5, 9, NULL, NULL, P, 4, xh, z, rej, info), -6);
+    assert_int_equal(igea_eqerr_solve_qr(4, R, 5, 9, NULL, lam, NULL, 4, xh, z, rej, info), -7);
+    assert_int_equal(igea_eqerr_solve_qr(4, R, 5, 9, NULL, lam, P, 3, xh, z, rej, info), -8);
+    assert_int_equal(igea_eqerr_solve_qr(4, R, 5, 9, NULL, lam, P, 4, NULL, z, rej, info), -9);
+    assert_int_equal(igea_eqerr_solve_qr(4, R, 5, 9, NULL, lam, P, 4, xh, NULL, rej, info), -10);
+    assert_int_equal(igea_eqerr_solve_qr(4, R, 5, 9, NULL, lam, P, 4, xh, z, NULL, info), -11);
+    assert_int_equal(igea_eqerr_solve_qr(4, R, 5, 9, NULL, lam, P, 4, xh, z, rej, NULL), -12);
+    R[2 + 5 * 4] = NAN; /* the Q'w column */
+    assert_int_equal(igea_eqerr_solve_qr(4, R, 5, 9, NULL, lam, P, 4, xh, z, rej, info), IGEA_ENONFINITE);
+    R[2 + 5 * 4] = 0.0;
+    R[3 + 5 * 1] = NAN; /* below the diagonal: not read */
+    assert_true(all_sentinel(lam, 4) && all_sentinel(info, IGEA_INFO_LEN));
+    /* diagonal R: lambda = diag^2, Xhat = (Q'w)_i / R_ii */
+    R[0 + 5 * 4] = 3.0;
+    R[1 + 5 * 4] = -2.0;
+    opts[IGEA_EQERR_OPT_ALPHA] = 0.01;
+    opts[IGEA_EQERR_OPT_CORRECT] = 0;
+    assert_int_equal(igea_eqerr_solve_qr(4, R, 5, 9, opts, lam, P, 4, xh, z, rej, info), 0);
+    assert_close(lam[0], 100.0, 1e-15);
+    assert_close(lam[3], 49.0, 1e-15);
+    assert_close(xh[0], 0.3, 1e-15);
+    assert_close(xh[1], -2.0 / 9.0, 1e-15);
+    assert_true(xh[2] == 0.0 && xh[3] == 0.0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -400,6 +492,8 @@ int main(void)
         cmocka_unit_test(test_rank_deficient),
         cmocka_unit_test(test_not_testable_and_invalid),
         cmocka_unit_test(test_padding_and_residual_args),
+        cmocka_unit_test(test_svd_route_resolves_small_eigenvalues),
+        cmocka_unit_test(test_solve_qr_args),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

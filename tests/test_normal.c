@@ -182,6 +182,63 @@ static void test_long_flight(void **state)
     free(d);
 }
 
+/* The QR factor of [S~ w~]: R'R reproduces the normal equations and
+ * R[N,N]^2 the weighted residual sum of squares, in one call or in blocks. */
+static void test_qr_factor(void **state)
+{
+    make();
+    enum { N1 = N + 1 };
+    double Ar[N * N], br[N], wr, R[N1 * N1], R2[N1 * N1], rows = 0, rows2 = 0;
+    reference(Ar, br, &wr);
+    memset(R, 0, sizeof R);
+    memset(R2, 0, sizeof R2);
+    assert_int_equal(igea_normal_qr_accumulate(IGEA_COLMAJOR, M, N, S, M, dw, sig, 1, spec, R, N1, &rows), 0);
+    assert_true(rows == M);
+    double St[M * N];
+    for (int i = 0; i < M; i++)
+        for (int j = 0; j < N; j++)
+            St[j + i * N] = S[i + j * M];
+    for (int r0 = 0; r0 < M; r0 += 4) { /* blocks shorter than N + 1 rows */
+        int nr = r0 + 4 <= M ? 4 : M - r0;
+        assert_int_equal(igea_normal_qr_accumulate(IGEA_ROWMAJOR, nr, N, St + (size_t)r0 * N, N,
+                                                   dw + r0, sig + r0, 1, spec, R2, N1, &rows2), 0);
+    }
+    for (const double *Rx = R; Rx; Rx = Rx == R ? R2 : NULL) {
+        for (int j = 0; j < N; j++) {
+            for (int k = 0; k < N; k++) {
+                double a = 0;
+                for (int i = 0; i <= (j < k ? j : k); i++)
+                    a += Rx[i + j * N1] * Rx[i + k * N1];
+                assert_close(a, Ar[j + k * N], 1e-12);
+            }
+            double bj = 0; /* b = R' (Q' w~) */
+            for (int i = 0; i <= j; i++)
+                bj += Rx[i + j * N1] * Rx[i + N * N1];
+            assert_close(bj, br[j], 1e-12);
+        }
+        /* |w~|^2 = |Q'w~|^2 + R[N,N]^2 */
+        double ww = 0;
+        for (int i = 0; i <= N; i++)
+            ww += Rx[i + N * N1] * Rx[i + N * N1];
+        assert_close(ww, wr, 1e-12);
+    }
+    /* invalid arguments and faults leave R untouched */
+    double Rs[N1 * N1], rs = SENTINEL;
+    fill_sentinel(Rs, N1 * N1);
+    assert_int_equal(igea_normal_qr_accumulate(3, M, N, S, M, dw, sig, 1, spec, Rs, N1, &rs), -1);
+    assert_int_equal(igea_normal_qr_accumulate(0, M, N, S, M - 1, dw, sig, 1, spec, Rs, N1, &rs), -5);
+    assert_int_equal(igea_normal_qr_accumulate(0, M, N, S, M, dw, sig, 1, spec, NULL, N1, &rs), -10);
+    assert_int_equal(igea_normal_qr_accumulate(0, M, N, S, M, dw, sig, 1, spec, Rs, N, &rs), -11);
+    assert_int_equal(igea_normal_qr_accumulate(0, M, N, S, M, dw, sig, 1, spec, Rs, N1, NULL), -12);
+    sig[3] = 0.0;
+    assert_int_equal(igea_normal_qr_accumulate(0, M, N, S, M, dw, sig, 1, spec, Rs, N1, &rs), IGEA_ENONPOSITIVE);
+    make();
+    S[M - 2 + 4 * M] = NAN;
+    assert_int_equal(igea_normal_qr_accumulate(0, M, N, S, M, dw, sig, 1, spec, Rs, N1, &rs), IGEA_ENONFINITE);
+    make();
+    assert_true(all_sentinel(Rs, N1 * N1) && rs == SENTINEL);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -189,6 +246,7 @@ int main(void)
         cmocka_unit_test(test_scalar_sigma_no_spec_padding),
         cmocka_unit_test(test_invalid),
         cmocka_unit_test(test_long_flight),
+        cmocka_unit_test(test_qr_factor),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

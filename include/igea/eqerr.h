@@ -13,8 +13,9 @@
  *
  * Three ways in:
  *  - igea_eqerr_run: whole matrices in memory, eig or SVD route, residuals;
- *  - igea_normal_accumulate (streamed blocks) + igea_eqerr_solve (eig
- *    route) + igea_eqerr_coef/igea_eqerr_residual (a second pass);
+ *  - streamed row blocks: igea_normal_accumulate + igea_eqerr_solve (eig
+ *    route) or igea_normal_qr_accumulate + igea_eqerr_solve_qr (SVD
+ *    route), then igea_eqerr_coef/igea_eqerr_residual in a second pass;
  *  - igea_stats_accuracy_test on published (Xhat, lambda) tables.
  */
 #ifndef IGEA_EQERR_H
@@ -44,7 +45,8 @@ extern "C" {
 #define IGEA_EQERR_OPT_LEN 16
 
 #define IGEA_ROUTE_EIG 0 /* normal matrix + dsyevd (streamable) */
-#define IGEA_ROUTE_SVD 1 /* thin SVD of the weighted S (dgesdd), in memory */
+#define IGEA_ROUTE_SVD 1 /* SVD of the weighted S through its QR factor (dtpqrt
+                          * + dgesdd), streamable */
 
 /* Fill opts[IGEA_EQERR_OPT_LEN] with the defaults above. Returns 0, -1. */
 IGEA_API int igea_eqerr_defaults(double *opts);
@@ -67,6 +69,20 @@ IGEA_API int igea_eqerr_solve(int N, const double *A, int lda, const double *b,
                               const double *opts, double *lambda, double *P,
                               int ldp, double *equiv_err, double *z,
                               int *reject, double *info);
+
+/*
+ * Steps 1-5 on the SVD route from the streamed QR factor of
+ * igea_normal_qr_accumulate: R ((N+1) x (N+1), upper triangle read, ldr >=
+ * N + 1) and rows (its row count, >= 1, which sets the rank threshold
+ * s_i > max(rows, N) eps s_1). The eigenvalues s_i^2 are resolved down to
+ * about eps^2 lambda_1 instead of eps lambda_1 (METHODS 1.2 step 1).
+ * Arguments: 1 N, 2 R, 3 ldr, 4 rows, 5 opts (or NULL), 6-12 as
+ * igea_eqerr_solve. Same returns.
+ */
+IGEA_API int igea_eqerr_solve_qr(int N, const double *R, int ldr, double rows,
+                                 const double *opts, double *lambda, double *P,
+                                 int ldp, double *equiv_err, double *z,
+                                 int *reject, double *info);
 
 /*
  * Everything from whole matrices: S (m x N column-major, lds >= m), dw (m),

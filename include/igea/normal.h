@@ -47,6 +47,28 @@ IGEA_API int igea_normal_accumulate(int layout, int m, int N, const double *S,
                                     const double *spec_sigma, double *A,
                                     int lda, double *b, double *wtw);
 
+/*
+ * The same data as an orthogonal factorisation, for the accuracy (SVD)
+ * route of METHODS 1.2-1.3 on flights of any length (TSQR): R is the
+ * (N+1) x (N+1) upper-triangular factor of the weighted, spec-scaled
+ * augmented matrix [D S' K^-1/2 ; dw' K^-1/2]' = [S~ w~], updated in place
+ * per row block with LAPACK dtpqrt. Zero R (and *rows) before the first
+ * block. Then R[0:N, 0:N] is the R of S~ (R'R = A, without squaring the
+ * condition number), R[0:N, N] = Q' w~, and R[N, N]^2 the residual sum of
+ * squares of the weighted least-squares fit. Only the upper triangle of R
+ * is read or written.
+ * Arguments 1-9 as igea_normal_accumulate; 10 R, 11 ldr >= N + 1,
+ * 12 rows (a running row count, as wtw[1]).
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ENOMEM,
+ * IGEA_ELAPACK; R and rows are untouched on failure.
+ */
+IGEA_API int igea_normal_qr_accumulate(int layout, int m, int N,
+                                       const double *S, int lds,
+                                       const double *dw,
+                                       const double *track_sigma,
+                                       int sigma_inc, const double *spec_sigma,
+                                       double *R, int ldr, double *rows);
+
 #ifdef __cplusplus
 }
 #endif

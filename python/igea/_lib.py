@@ -35,9 +35,11 @@ PROTOTYPES = {
     "igea_stats_pool": (c_int, [c_int, _D, _I, _I, _I, c_double, _D]),
     # normal
     "igea_normal_accumulate": (c_int, [c_int, c_int, c_int, _D, c_int, _D, _D, c_int, _D, _D, c_int, _D, _D]),
+    "igea_normal_qr_accumulate": (c_int, [c_int, c_int, c_int, _D, c_int, _D, _D, c_int, _D, _D, c_int, _D]),
     # eqerr
     "igea_eqerr_defaults": (c_int, [_D]),
     "igea_eqerr_solve": (c_int, [c_int, _D, c_int, _D, _D, _D, _D, c_int, _D, _D, _I, _D]),
+    "igea_eqerr_solve_qr": (c_int, [c_int, _D, c_int, c_double, _D, _D, _D, c_int, _D, _D, _I, _D]),
     "igea_eqerr_run": (c_int, [c_int, c_int, _D, c_int, _D, _D, c_int, _D, _D,
                                _D, _D, c_int, _D, _D, _I, _D, _D, _D]),
     "igea_eqerr_coef": (c_int, [c_int, _D, c_int, _D, c_int, _D, _D]),

@@ -83,8 +83,8 @@ static void eqerr_help(void)
 "Each component is tested against z_{1-alpha/2} sqrt(1 + 1/lambda_i), and all\n"
 "together by T = sum Xhat_i^2/(1 + 1/lambda_i) against chi2_alpha(n_test).\n"
 "\n"
-"Inputs: text (whitespace or commas, '#' comments) or .npy (float64). Text and\n"
-"row-major .npy inputs are streamed in row blocks, so the eig route needs\n"
+"Inputs: text (whitespace or commas, '#' comments) or .npy (float64), read in\n"
+"row blocks twice (the decomposition, then the residuals): either route needs\n"
 "O(N^2) memory whatever the flight length.\n"
 "\n"
 "options:\n"
@@ -103,9 +103,10 @@ static void eqerr_help(void)
 "  --clamp             never make the tracking weights more optimistic (c >= 1)\n"
 "  --z-crit Z          impose the normal critical value (e.g. 2.58 as in the\n"
 "                      seed's tables) instead of the exact z_{1-alpha/2}\n"
-"  --route eig|svd     normal matrix + dsyevd (default, streamed) or thin SVD of\n"
-"                      the weighted S (holds S in memory; resolves eigenvalues\n"
-"                      down to eps^2 lambda_1 instead of eps lambda_1)\n"
+"  --route eig|svd     normal matrix + dsyevd (default), or the SVD of the\n"
+"                      weighted S through its streamed QR factor (dtpqrt):\n"
+"                      resolves eigenvalues down to eps^2 lambda_1 instead of\n"
+"                      eps lambda_1, at about twice the cost\n"
 "  --residuals FILE    write the per-row residuals dw - S D P_t Xhat_t\n"
 "  --json              machine-readable output (field names as igea.eqerr)\n"
 "  --out FILE          write the report there (atomically) instead of stdout\n"
@@ -416,7 +417,8 @@ static void text_report(FILE *f, const flight *r, const eqerr_args *a)
     report_chi2(f, info, a->opts[IGEA_EQERR_OPT_ALPHA]);
 }
 
-/* Eig route, streamed: pass 1 normal equations, pass 2 residuals. */
+/* Streamed, either route: pass 1 normal equations (eig) or the QR factor
+ * of the weighted data (SVD), pass 2 residuals. */
 static int run_streamed(const eqerr_args *a, flight *r, cli_out *res_out, cli_out *json_out)
 {
     streams s;
@@ -428,21 +430,25 @@ static int run_streamed(const eqerr_args *a, flight *r, cli_out *res_out, cli_ou
         goto done;
     if (a->spec && (ec = read_spec(a->spec, N, &r->spec)))
         goto done;
-    double *A = calloc((size_t)N * N + N + 2, sizeof(double));
+    const int svd = a->opts[IGEA_EQERR_OPT_ROUTE] == IGEA_ROUTE_SVD;
+    /* eig: A (N x N), b (N), wtw (2); svd: R ((N+1) x (N+1)), row count */
+    double *A = calloc((size_t)(N + 1) * (N + 1) + N + 2, sizeof(double));
     if (!A) {
         cli_error("out of memory");
         ec = CLI_SOFTWARE;
         goto done;
     }
-    double *b = A + (size_t)N * N, *wtw = b + N;
+    double *b = A + (size_t)N * N, *wtw = b + N, qrows = 0.0;
     long rows = 0, n;
     for (;;) {
         if ((ec = streams_next(a, &s, &n)) || n == 0)
             break;
         if ((ec = check_sigma_block(a, s.gbuf, n, rows)))
             break;
-        int st = igea_normal_accumulate(IGEA_ROWMAJOR, (int)n, N, s.sbuf, N, s.dbuf, s.gbuf,
-                                        1, r->spec, A, N, b, wtw);
+        int st = svd ? igea_normal_qr_accumulate(IGEA_ROWMAJOR, (int)n, N, s.sbuf, N, s.dbuf,
+                                                 s.gbuf, 1, r->spec, A, N + 1, &qrows)
+                     : igea_normal_accumulate(IGEA_ROWMAJOR, (int)n, N, s.sbuf, N, s.dbuf,
+                                              s.gbuf, 1, r->spec, A, N, b, wtw);
         if (st) {
             ec = cli_status(st, st == IGEA_ENONFINITE ? "eqerr: rows with NaN/Inf" : "eqerr");
             break;
@@ -460,8 +466,10 @@ static int run_streamed(const eqerr_args *a, flight *r, cli_out *res_out, cli_ou
     }
     if (!ec) {
         r->m = (int)rows;
-        int st = igea_eqerr_solve(N, A, N, b, a->opts, r->lambda, r->P, N, r->xhat, r->z,
-                                  r->reject, r->info);
+        int st = svd ? igea_eqerr_solve_qr(N, A, N + 1, qrows, a->opts, r->lambda, r->P, N,
+                                           r->xhat, r->z, r->reject, r->info)
+                     : igea_eqerr_solve(N, A, N, b, a->opts, r->lambda, r->P, N, r->xhat,
+                                        r->z, r->reject, r->info);
         if (st)
             ec = cli_status(st, "eqerr");
     }
@@ -520,74 +528,6 @@ done:
     return ec;
 }
 
-/* SVD route: whole matrices in memory. */
-static int run_inmemory(const eqerr_args *a, flight *r, cli_out *res_out, cli_out *json_out)
-{
-    cli_matrix S = {0, 0, 0}, dw = {0, 0, 0}, sg = {0, 0, 0};
-    double *Sc = NULL, *e = NULL;
-    int ec = cli_read_matrix(a->S, &S);
-    if (!ec)
-        ec = cli_read_matrix(a->dw, &dw);
-    if (!ec && !a->sigma_is_number)
-        ec = cli_read_matrix(a->sigma, &sg);
-    if (ec)
-        goto done;
-    if (dw.cols != 1 || dw.rows != S.rows || (!a->sigma_is_number && (sg.cols != 1 || sg.rows != S.rows))) {
-        cli_error("%s, %s%s%s: dw and sigma must be single columns with as many rows as S (%ld)",
-                  a->dw, a->sigma_is_number ? "" : a->sigma, a->sigma_is_number ? "" : ", ",
-                  a->S, S.rows);
-        ec = CLI_DATAERR;
-        goto done;
-    }
-    if (S.rows > 2147483647L) {
-        ec = CLI_DATAERR;
-        goto done;
-    }
-    if (!a->sigma_is_number && (ec = check_sigma_block(a, sg.v, sg.rows, 0)))
-        goto done;
-    int m = (int)S.rows, N = S.cols;
-    if ((ec = flight_alloc(r, N)))
-        goto done;
-    if (a->spec && (ec = read_spec(a->spec, N, &r->spec)))
-        goto done;
-    Sc = malloc((size_t)m * N * sizeof(double));
-    e = malloc((size_t)m * sizeof(double));
-    if (!Sc || !e) {
-        ec = CLI_SOFTWARE;
-        goto done;
-    }
-    for (int i = 0; i < m; i++)
-        for (int j = 0; j < N; j++)
-            Sc[i + (size_t)j * m] = S.v[(size_t)i * N + j];
-    r->m = m;
-    int st = igea_eqerr_run(m, N, Sc, m, dw.v, a->sigma_is_number ? &a->sigma_value : sg.v,
-                            a->sigma_is_number ? 0 : 1, r->spec, a->opts, r->lambda, r->P, N,
-                            r->xhat, r->z, r->reject, r->info, e, r->rms);
-    if (st) {
-        ec = cli_status(st, "eqerr");
-        goto done;
-    }
-    if (json_out) {
-        json_head(json_out->f, r, a);
-        fputs("  \"residual\": [", json_out->f);
-        for (int i = 0; i < m; i++) {
-            if (i)
-                fputs(", ", json_out->f);
-            cli_json_num(json_out->f, e[i]);
-        }
-    }
-    if (res_out)
-        for (int i = 0; i < m; i++)
-            fprintf(res_out->f, "%.17g\n", e[i]);
-done:
-    cli_matrix_free(&S);
-    cli_matrix_free(&dw);
-    cli_matrix_free(&sg);
-    free(Sc);
-    free(e);
-    return ec;
-}
-
 int cmd_eqerr(int argc, char **argv)
 {
     eqerr_args a;
@@ -616,9 +556,7 @@ int cmd_eqerr(int argc, char **argv)
         jo.f = jf;
     }
     if (!ec)
-        ec = a.opts[IGEA_EQERR_OPT_ROUTE] == IGEA_ROUTE_SVD
-                 ? run_inmemory(&a, &r, a.residuals ? &res : NULL, a.json ? &jo : NULL)
-                 : run_streamed(&a, &r, a.residuals ? &res : NULL, a.json ? &jo : NULL);
+        ec = run_streamed(&a, &r, a.residuals ? &res : NULL, a.json ? &jo : NULL);
     if (!ec) {
         if (a.json) {
             fputs("],\n  \"rms\": ", jf);
