@@ -272,7 +272,10 @@ static int npy_header(cli_reader *r)
                     p++;
             }
         }
-        if (nd == 1) {
+        if (dims[0] < 0 || dims[1] < 0) {
+            cli_error("%s: malformed .npy shape", r->path);
+            ec = CLI_DATAERR;
+        } else if (nd == 1) {
             r->rows = dims[0];
             r->cols = 1;
             r->oned = 1;
