@@ -194,6 +194,28 @@ static int solve_eig(int N, const double *A, int lda, const double *b,
                            s->reject, s->info);
 }
 
+/* Arguments 5-12, common to igea_eqerr_solve and igea_eqerr_solve_qr;
+ * *opts NULL is replaced by the defaults written into dflt. */
+static int check_solve_args(int N, const double **opts, double *dflt,
+                            const double *lambda, const double *P, int ldp,
+                            const double *equiv_err, const double *z,
+                            const int *reject, const double *info)
+{
+    if (!*opts) {
+        igea_eqerr_defaults(dflt);
+        *opts = dflt;
+    } else if (check_opts(*opts))
+        return -5;
+    if (!lambda) return -6;
+    if (!P) return -7;
+    if (ldp < N) return -8;
+    if (!equiv_err) return -9;
+    if (!z) return -10;
+    if (!reject) return -11;
+    if (!info) return -12;
+    return 0;
+}
+
 int igea_eqerr_solve(int N, const double *A, int lda, const double *b,
                      const double *opts, double *lambda, double *P, int ldp,
                      double *equiv_err, double *z, int *reject, double *info)
@@ -203,18 +225,9 @@ int igea_eqerr_solve(int N, const double *A, int lda, const double *b,
     if (!A) return -2;
     if (lda < N) return -3;
     if (!b) return -4;
-    if (!opts) {
-        igea_eqerr_defaults(dflt);
-        opts = dflt;
-    } else if (check_opts(opts))
-        return -5;
-    if (!lambda) return -6;
-    if (!P) return -7;
-    if (ldp < N) return -8;
-    if (!equiv_err) return -9;
-    if (!z) return -10;
-    if (!reject) return -11;
-    if (!info) return -12;
+    int st = check_solve_args(N, &opts, dflt, lambda, P, ldp, equiv_err, z, reject, info);
+    if (st)
+        return st;
     for (int j = 0; j < N; j++)
         if (!igea__finite_vec(N - j, &IGEA_AT(A, lda, j, j), 1))
             return IGEA_ENONFINITE;
@@ -223,7 +236,7 @@ int igea_eqerr_solve(int N, const double *A, int lda, const double *b,
     scratch s;
     if (scratch_alloc(&s, N))
         return IGEA_ENOMEM;
-    int st = solve_eig(N, A, lda, b, opts, &s);
+    st = solve_eig(N, A, lda, b, opts, &s);
     if (st == 0)
         scratch_out(&s, N, lambda, P, ldp, equiv_err, z, reject, info);
     scratch_free(&s);
@@ -308,25 +321,16 @@ int igea_eqerr_solve_qr(int N, const double *R, int ldr, double rows, const doub
     if (!R) return -2;
     if (ldr < N + 1) return -3;
     if (!(rows >= 1.0) || !isfinite(rows)) return -4;
-    if (!opts) {
-        igea_eqerr_defaults(dflt);
-        opts = dflt;
-    } else if (check_opts(opts))
-        return -5;
-    if (!lambda) return -6;
-    if (!P) return -7;
-    if (ldp < N) return -8;
-    if (!equiv_err) return -9;
-    if (!z) return -10;
-    if (!reject) return -11;
-    if (!info) return -12;
+    int st = check_solve_args(N, &opts, dflt, lambda, P, ldp, equiv_err, z, reject, info);
+    if (st)
+        return st;
     for (int j = 0; j <= N; j++)
         if (!igea__finite_vec(j + 1, &IGEA_AT(R, ldr, 0, j), 1))
             return IGEA_ENONFINITE;
     scratch s;
     if (scratch_alloc(&s, N))
         return IGEA_ENOMEM;
-    int st = solve_qr(N, R, ldr, rows, opts, &s);
+    st = solve_qr(N, R, ldr, rows, opts, &s);
     if (st == 0)
         scratch_out(&s, N, lambda, P, ldp, equiv_err, z, reject, info);
     scratch_free(&s);
