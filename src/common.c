@@ -177,3 +177,21 @@ void igea__rng_free(gsl_rng *r)
         free(r);
     }
 }
+
+int igea__platform_axes(const int *axes, int *in_ax, int *spin_ax)
+{
+    for (int j = 0; j < 3; j++) {
+        in_ax[j] = j;
+        spin_ax[j] = (j + 1) % 3;
+    }
+    if (!axes)
+        return 0;
+    for (int j = 0; j < 6; j++)
+        if (axes[j] < 0 || axes[j] > 2)
+            return -1;
+    for (int j = 0; j < 3; j++) {
+        in_ax[j] = axes[j];
+        spin_ax[j] = axes[3 + j];
+    }
+    return 0;
+}

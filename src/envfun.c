@@ -152,7 +152,8 @@ int igea_envfun_compute(int system, int nsamp, const double *traj, int ldt,
                         int nepochs, const double *epochs, const double *spec,
                         int output, double *S, int lds)
 {
-    int in_ax[3] = {0, 1, 2}, spin_ax[3] = {1, 2, 0};
+    int in_ax[3], spin_ax[3];
+    igea__platform_axes(NULL, in_ax, spin_ax);
     int nf = 0, st = IGEA_OK;
 
     if (system != IGEA_ENVFUN_STRAPDOWN && system != IGEA_ENVFUN_PLATFORM)
@@ -170,15 +171,8 @@ int igea_envfun_compute(int system, int nsamp, const double *traj, int ldt,
     for (int j = 0; j < nterms; j++)
         if (!igea_envfun_term_valid(system, terms[j]))
             return -6;
-    if (system == IGEA_ENVFUN_PLATFORM && axes) {
-        for (int j = 0; j < 6; j++)
-            if (axes[j] < 0 || axes[j] > 2)
-                return -7;
-        for (int j = 0; j < 3; j++) {
-            in_ax[j] = axes[j];
-            spin_ax[j] = axes[3 + j];
-        }
-    }
+    if (system == IGEA_ENVFUN_PLATFORM && igea__platform_axes(axes, in_ax, spin_ax))
+        return -7;
     if (nepochs < 1 || nepochs > INT_MAX / 3)
         return -8;
     if (!epochs)

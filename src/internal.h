@@ -47,6 +47,11 @@ int igea__sign_fix(int n, double *v);
 gsl_rng *igea__rng_new(const gsl_rng_type *T, unsigned long seed);
 void igea__rng_free(gsl_rng *r);
 
+/* Platform gyro input/spin axis mapping: axes NULL gives the default
+ * (input x,y,z; spin y,z,x); otherwise axes[0..2] are the input and
+ * axes[3..5] the spin axes, each 0..2. Returns 0, or -1 for a bad entry. */
+int igea__platform_axes(const int *axes, int *in_ax, int *spin_ax);
+
 /* Neumaier compensated sum. */
 typedef struct {
     double s, c;

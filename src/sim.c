@@ -595,7 +595,8 @@ int igea_sim_nonlinear(int system, int nsamp, const double *traj, int ldt,
                        const double *err, const int *axes, int nepochs,
                        const double *epochs, double *dW)
 {
-    int in_ax[3] = {0, 1, 2}, spin_ax[3] = {1, 2, 0};
+    int in_ax[3], spin_ax[3];
+    igea__platform_axes(NULL, in_ax, spin_ax);
     if (system != IGEA_ENVFUN_STRAPDOWN && system != IGEA_ENVFUN_PLATFORM)
         return -1;
     if (nsamp < 2)
@@ -609,15 +610,8 @@ int igea_sim_nonlinear(int system, int nsamp, const double *traj, int ldt,
     for (int k = 0; k < IGEA_TERM_COUNT; k++)
         if (err[k] != 0.0 && !igea_envfun_term_valid(system, k))
             return -5;
-    if (system == IGEA_ENVFUN_PLATFORM && axes) {
-        for (int j = 0; j < 6; j++)
-            if (axes[j] < 0 || axes[j] > 2)
-                return -6;
-        for (int j = 0; j < 3; j++) {
-            in_ax[j] = axes[j];
-            spin_ax[j] = axes[3 + j];
-        }
-    }
+    if (system == IGEA_ENVFUN_PLATFORM && igea__platform_axes(axes, in_ax, spin_ax))
+        return -6;
     if (nepochs < 1 || nepochs > INT_MAX / 3)
         return -7;
     if (!epochs)
