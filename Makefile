@@ -113,7 +113,7 @@ $(VENV)/.ok:
 check: deps
 	$(MAKE) --no-print-directory all $(TESTS)
 	$(MAKE) --no-print-directory venv
-	$(MAKE) --no-print-directory abi-check ctest examples-check pytest
+	$(MAKE) --no-print-directory abi-check ctest examples-check pytest $(CHECK_EXTRA)
 
 abi-check: $(SO_DEV)
 	@bad=$$(nm -D --defined-only $(SO_REAL) | awk '{print $$3}' | grep -v '^igea_' || true); \
@@ -162,7 +162,7 @@ demo: deps
 
 asan: deps
 	$(MAKE) --no-print-directory BUILD=build/asan OPT=-O1 \
-	  CFLAGS_EXTRA="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all" ctest
+	  CFLAGS_EXTRA="-fsanitize=address,undefined,float-cast-overflow -fno-omit-frame-pointer -fno-sanitize-recover=all" ctest
 
 bench: all venv
 	PYTHONPATH=$(CURDIR)/python IGEA_LIBRARY=$(CURDIR)/$(SO_MAJ) IGEA_DRIVER=$(CURDIR)/$(DRIVER) \
@@ -189,3 +189,10 @@ uninstall:
 
 clean:
 	rm -rf $(BUILD)
+
+# ---- the audit: fuzzing, generated invalid-argument and out-of-memory
+# suites, thread sanitizer. Each fragment adds its targets and appends the
+# quick ones that make check runs to CHECK_EXTRA.
+CHECK_EXTRA :=
+include tests/fuzz/fuzz.mk
+include tests/audit/audit.mk

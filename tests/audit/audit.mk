@@ -1,0 +1,1 @@
+# tests/audit/audit.mk - generated invalid-argument and OOM suites, TSan

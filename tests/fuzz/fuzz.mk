@@ -1,0 +1,1 @@
+# tests/fuzz/fuzz.mk - libFuzzer targets (clang): make fuzz
