@@ -78,6 +78,8 @@ static void json_names(FILE *f, const char *const *names, int n)
 
 int cmd_accel(int argc, char **argv)
 {
+    if (cli_one_stdin(argc, argv))
+        return CLI_USAGE;
     const char *path = NULL, *prior_path = NULL, *out_path = NULL;
     int model = IGEA_ACCEL_DUAL, method = IGEA_ACCEL_LS, rule = IGEA_EBR_SC;
     int json = 0, refine = 0, axis = 0;

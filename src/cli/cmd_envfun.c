@@ -260,6 +260,8 @@ static void list_terms(void)
 
 int cmd_envfun(int argc, char **argv)
 {
+    if (cli_one_stdin(argc, argv))
+        return CLI_USAGE;
     const char *traj_path = NULL, *terms = NULL, *epochs_file = NULL, *spec_arg = NULL;
     const char *out = NULL, *v;
     int system = IGEA_ENVFUN_STRAPDOWN, output = IGEA_ENVFUN_VELOCITY, json = 0;

@@ -1,6 +1,7 @@
 /* igea eqerr, igea test - the equivalent-error accuracy assessment
  * (seed 000, METHODS 1.2) from files, and judging saved results. */
 #include <errno.h>
+#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -149,11 +150,11 @@ static void streams_close(streams *s)
 static int streams_open(const eqerr_args *a, streams *s)
 {
     memset(s, 0, sizeof *s);
-    int ec = cli_reader_open(a->S, &s->S);
+    int ec = cli_reader_open_twice(a->S, &s->S);
     if (!ec)
-        ec = cli_reader_open(a->dw, &s->dw);
+        ec = cli_reader_open_twice(a->dw, &s->dw);
     if (!ec && !a->sigma_is_number)
-        ec = cli_reader_open(a->sigma, &s->sig);
+        ec = cli_reader_open_twice(a->sigma, &s->sig);
     if (ec) {
         streams_close(s);
         return ec;
@@ -177,11 +178,22 @@ static int streams_open(const eqerr_args *a, streams *s)
     s->dbuf = malloc((size_t)s->block * sizeof(double));
     s->gbuf = malloc((size_t)s->block * sizeof(double));
     if (!s->sbuf || !s->dbuf || !s->gbuf) {
-        cli_error("out of memory");
+        cli_error("out of memory (row blocks of %s)", a->S);
         streams_close(s);
         return CLI_SOFTWARE;
     }
     return CLI_OK;
+}
+
+/* All three again from their first row (the second pass). */
+static int streams_rewind(streams *s)
+{
+    int ec = cli_reader_rewind(s->S);
+    if (!ec)
+        ec = cli_reader_rewind(s->dw);
+    if (!ec && s->sig)
+        ec = cli_reader_rewind(s->sig);
+    return ec;
 }
 
 /* Next block of all three; *n rows (0 at the end). */
@@ -212,14 +224,15 @@ static int streams_next(const eqerr_args *a, streams *s, long *n)
     return CLI_OK;
 }
 
-static int read_spec(const char *path, int N, double **spec)
+static int read_spec(const char *path, const char *S, int N, double **spec)
 {
     cli_matrix m;
     int ec = cli_read_matrix(path, &m);
     if (ec)
         return ec;
     if (m.rows * m.cols != N) {
-        cli_error("%s: %ld specs, but S has %d columns", path, m.rows * m.cols, N);
+        cli_error("%s: %d columns, but %s holds %ld specs (one per column of S)", S, N, path,
+                  m.rows * m.cols);
         cli_matrix_free(&m);
         return CLI_DATAERR;
     }
@@ -428,7 +441,7 @@ static int run_streamed(const eqerr_args *a, flight *r, cli_out *res_out, cli_ou
     int N = s.N;
     if ((ec = flight_alloc(r, N)))
         goto done;
-    if (a->spec && (ec = read_spec(a->spec, N, &r->spec)))
+    if (a->spec && (ec = read_spec(a->spec, a->S, N, &r->spec)))
         goto done;
     const int svd = a->opts[IGEA_EQERR_OPT_ROUTE] == IGEA_ROUTE_SVD;
     /* eig: A (N x N), b (N), wtw (2); svd: R ((N+1) x (N+1)), row count */
@@ -483,12 +496,12 @@ static int run_streamed(const eqerr_args *a, flight *r, cli_out *res_out, cli_ou
     if (!coef || !e) {
         free(coef);
         free(e);
+        cli_error("out of memory (residuals of %s)", a->S);
         ec = CLI_SOFTWARE;
         goto done;
     }
     igea_eqerr_coef(N, r->P, N, r->xhat, (int)r->info[IGEA_INFO_N_TEST], r->spec, coef);
-    streams_close(&s);
-    if ((ec = streams_open(a, &s))) {
+    if ((ec = streams_rewind(&s))) {
         free(coef);
         free(e);
         goto done;
@@ -530,11 +543,13 @@ done:
 
 int cmd_eqerr(int argc, char **argv)
 {
+    if (cli_one_stdin(argc, argv))
+        return CLI_USAGE;
     eqerr_args a;
     int ec = parse_eqerr(argc, argv, &a);
     if (ec)
         return ec < 0 ? CLI_OK : ec;
-    cli_out out = {0, 0, 0}, res = {0, 0, 0};
+    cli_out out = CLI_OUT_INIT, res = CLI_OUT_INIT;
     if ((ec = cli_out_open(&out, a.out)))
         return ec;
     if (a.residuals && (ec = cli_out_open(&res, a.residuals))) {
@@ -546,7 +561,7 @@ int cmd_eqerr(int argc, char **argv)
     /* With --json the document goes to a temporary stream first when it is
      * stdout, so that a failure never leaves half a document behind. */
     FILE *jf = NULL;
-    cli_out jo = {0, 0, 0};
+    cli_out jo = CLI_OUT_INIT;
     if (a.json) {
         jf = out.f == stdout ? tmpfile() : out.f;
         if (!jf) {
@@ -646,12 +661,25 @@ static int json_number(const char *doc, const char *key, double *out)
     return 0;
 }
 
+/* A JSON count: a whole number in [0, INT_MAX]. */
+static int is_count(double v)
+{
+    return isfinite(v) && v >= 0 && v <= INT_MAX && v == floor(v);
+}
+
+/* The whole of a result file ("-": standard input). */
 static char *slurp(const char *path, int *ec)
 {
-    FILE *f = fopen(path, "rb");
+    int is_stdin = !strcmp(path, "-");
+    FILE *f = is_stdin ? stdin : fopen(path, "rb");
     if (!f) {
-        cli_error("%s: %s", path, strerror(errno));
-        *ec = CLI_NOINPUT;
+        int e = errno;
+        if (e == ENOMEM)
+            *ec = cli_oom(path);
+        else {
+            cli_error("%s: %s", path, strerror(e));
+            *ec = CLI_NOINPUT;
+        }
         return NULL;
     }
     size_t cap = 1 << 16, n = 0;
@@ -670,9 +698,24 @@ static char *slurp(const char *path, int *ec)
             cap *= 2;
         }
     }
-    fclose(f);
+    int bad = buf && ferror(f), e = errno;
+    if (!is_stdin)
+        fclose(f);
     if (!buf) {
-        *ec = CLI_SOFTWARE;
+        *ec = cli_oom(path);
+        return NULL;
+    }
+    if (bad) {
+        free(buf);
+        *ec = e == ENOMEM ? cli_oom(path) : CLI_NOINPUT;
+        if (e != ENOMEM)
+            cli_error("%s: read error: %s", path, strerror(e));
+        return NULL;
+    }
+    if (memchr(buf, '\0', n)) {
+        free(buf);
+        cli_error("%s: a NUL byte in a JSON result (binary data?)", path);
+        *ec = CLI_DATAERR;
         return NULL;
     }
     buf[n] = '\0';
@@ -681,6 +724,8 @@ static char *slurp(const char *path, int *ec)
 
 int cmd_test(int argc, char **argv)
 {
+    if (cli_one_stdin(argc, argv))
+        return CLI_USAGE;
     const char *table = NULL, *outp = NULL, *units = NULL;
     double alpha = 0.01, lambda_test = 10.0, zcrit = 0.0;
     int json = 0, nfiles = 0, ec;
@@ -828,6 +873,15 @@ int cmd_test(int argc, char **argv)
                 json_number(doc, "n_reject", &r)) {
                 cli_error("%s: not an 'igea eqerr --json' result (chi2, dof, n_reject missing)",
                           files[f]);
+                ec = CLI_DATAERR;
+            } else if (!(isfinite(T) && T >= 0)) {
+                cli_error("%s: \"chi2\": %g is not a chi-square value (finite, >= 0)",
+                          files[f], T);
+                ec = CLI_DATAERR;
+            } else if (!is_count(d) || !is_count(r)) {
+                cli_error("%s: \"%s\": %.17g is not a count (a whole number from 0 to %d)",
+                          files[f], is_count(d) ? "n_reject" : "dof", is_count(d) ? r : d,
+                          INT_MAX);
                 ec = CLI_DATAERR;
             } else {
                 chi2[f] = T;

@@ -73,6 +73,8 @@ static void montecarlo_help(void)
 
 int cmd_montecarlo(int argc, char **argv)
 {
+    if (cli_one_stdin(argc, argv))
+        return CLI_USAGE;
     void *mdl = simmodel_new();
     int nflights = 2000, first = 0, nthreads = 0, pool = 0, json = 0, ec = CLI_OK;
     double eqo[IGEA_EQERR_OPT_LEN];

@@ -526,6 +526,8 @@ done:
 
 int cmd_redund(int argc, char **argv)
 {
+    if (cli_one_stdin(argc, argv))
+        return CLI_USAGE;
     rd_args a;
     int ec = parse(argc, argv, &a);
     if (ec < 0)

@@ -218,6 +218,8 @@ static void print_epoch(printer *pr, long e, int act, const int *fl, const doubl
 
 int cmd_rls(int argc, char **argv)
 {
+    if (cli_one_stdin(argc, argv))
+        return CLI_USAGE;
     rls_args a;
     int ec = parse(argc, argv, &a);
     if (ec < 0)
@@ -232,7 +234,7 @@ int cmd_rls(int argc, char **argv)
     double *buf = NULL, *g0 = NULL, *work = NULL, *jump = NULL;
     int *fl = NULL;
     igea_rls *h = NULL;
-    cli_out out = {NULL, NULL, NULL};
+    cli_out out = CLI_OUT_INIT;
     int out_open = 0;
     long m = 0, n_epochs = -1;
 

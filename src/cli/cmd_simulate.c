@@ -317,6 +317,8 @@ static char *join(const char *dir, const char *name)
 
 int cmd_simulate(int argc, char **argv)
 {
+    if (cli_one_stdin(argc, argv))
+        return CLI_USAGE;
     void *mdl = simmodel_new();
     const char *dir = ".";
     int flight = 0, save_traj = 0, json = 0, nonlin = 0, ec = CLI_OK;
@@ -351,6 +353,8 @@ int cmd_simulate(int argc, char **argv)
     simmodel *s = mdl;
     double *dw = NULL, *x = NULL, *Srow = NULL, *trow = NULL;
     char *header = NULL, *path = NULL;
+    cli_out outs[6];
+    int nopen = 0;
     if ((ec = simmodel_build(mdl)))
         goto done;
     if (flight < 0) {
@@ -390,37 +394,42 @@ int cmd_simulate(int argc, char **argv)
     for (int i = 0; i < s->m; i++)
         for (int j = 0; j < s->N; j++)
             Srow[(size_t)i * s->N + j] = s->S[i + (size_t)j * s->m];
-#define WRITE(name, v, r, c, h)                                                \
-    do {                                                                      \
-        free(path);                                                           \
-        if (!(path = join(dir, name))) { ec = CLI_SOFTWARE; goto done; }      \
-        if ((ec = cli_write_matrix(path, v, r, c, h))) goto done;             \
-    } while (0)
-    WRITE("S.txt", Srow, s->m, s->N, header);
-    WRITE("dw.txt", dw, s->m, 1, "dw (m/s), rows epoch-major x, y, z");
-    WRITE("sigma.txt", s->sigma, s->m, 1, "stated tracking 1-sigma (m/s) per row");
-    WRITE("spec.txt", s->spec, s->N, 1, header);
-    {
-        cli_out o;
-        free(path);
-        if (!(path = join(dir, "X.txt"))) { ec = CLI_SOFTWARE; goto done; }
-        if ((ec = cli_out_open(&o, path)))
-            goto done;
-        fprintf(o.f, "# true X (spec units) and term name; seed %d flight %d\n", s->seed, flight);
-        for (int j = 0; j < s->N; j++)
-            fprintf(o.f, "%.17g # %s\n", x[j], envfun_term_name(s->codes[j]));
-        if ((ec = cli_out_commit(&o)))
-            goto done;
-    }
     if (save_traj) {
         trow = malloc(sizeof(double) * (size_t)s->nsamp * IGEA_TRAJ_COLS);
-        if (!trow) { ec = CLI_SOFTWARE; goto done; }
+        if (!trow) { ec = cli_oom("the trajectory table"); goto done; }
         for (int k = 0; k < s->nsamp; k++)
             for (int c = 0; c < IGEA_TRAJ_COLS; c++)
                 trow[(size_t)k * IGEA_TRAJ_COLS + c] = s->traj[k + (size_t)c * s->nsamp];
-        WRITE("traj.txt", trow, s->nsamp, IGEA_TRAJ_COLS, "t f_x f_y f_z w_x w_y w_z q0 q1 q2 q3");
     }
-#undef WRITE
+    /* All files go to temporaries first and replace the old set only when
+     * every one is complete. */
+    static const char *const names[6] = {"S.txt", "dw.txt", "sigma.txt", "spec.txt", "X.txt",
+                                         "traj.txt"};
+    int nout = save_traj ? 6 : 5;
+    for (int k = 0; k < 6; k++)
+        outs[k] = (cli_out)CLI_OUT_INIT;
+    for (int k = 0; k < nout; k++) {
+        free(path);
+        if (!(path = join(dir, names[k]))) { ec = cli_oom("an output path"); goto done; }
+        if ((ec = cli_out_open(&outs[k], path)))
+            goto done;
+        nopen = k + 1;
+    }
+    cli_write_matrix_body(outs[0].f, 0, Srow, s->m, s->N, header);
+    cli_write_matrix_body(outs[1].f, 0, dw, s->m, 1, "dw (m/s), rows epoch-major x, y, z");
+    cli_write_matrix_body(outs[2].f, 0, s->sigma, s->m, 1,
+                          "stated tracking 1-sigma (m/s) per row");
+    cli_write_matrix_body(outs[3].f, 0, s->spec, s->N, 1, header);
+    fprintf(outs[4].f, "# true X (spec units) and term name; seed %d flight %d\n", s->seed,
+            flight);
+    for (int j = 0; j < s->N; j++)
+        fprintf(outs[4].f, "%.17g # %s\n", x[j], envfun_term_name(s->codes[j]));
+    if (save_traj)
+        cli_write_matrix_body(outs[5].f, 0, trow, s->nsamp, IGEA_TRAJ_COLS,
+                              "t f_x f_y f_z w_x w_y w_z q0 q1 q2 q3");
+    nopen = 0;
+    if ((ec = cli_out_commit_all(outs, nout)))
+        goto done;
     if (json) {
         printf("{\n  \"dir\": ");
         cli_json_str(stdout, dir);
@@ -438,6 +447,8 @@ int cmd_simulate(int argc, char **argv)
                 "%s/{S,dw,sigma,spec,X}.txt\n", s->nep, s->N, s->seed, flight, dir);
     }
 done:
+    for (int k = 0; k < nopen; k++)
+        cli_out_abort(&outs[k]);
     free(dw);
     free(x);
     free(Srow);

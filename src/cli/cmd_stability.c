@@ -16,8 +16,9 @@ static void stability_help(void)
 "                      [--conf C] [--json] [--out FILE]\n"
 "\n"
 "Stability of a static record of one sensor (a gyro's rate, an\n"
-"accelerometer's output) sampled at --fs Hz: FILE is text or .npy, one value\n"
-"per row (or pick column K, from 1, of a wider file).\n"
+"accelerometer's output) sampled at --fs Hz: FILE is text or .npy ('-' for\n"
+"standard input), one value per row; a file of several columns needs\n"
+"--column K (from 1, as cut -f) to pick the record.\n"
 "\n"
 "  block statistic  3 sigma of the means of non-overlapping --block-second\n"
 "                   blocks (default 100: the seed's 100-second variance), with\n"
@@ -44,7 +45,7 @@ static void stability_help(void)
 typedef struct {
     const char *file, *taus, *kind, *noise, *out;
     double fs, block, conf;
-    int column, json;
+    int column, column_given, json;
 } st_args;
 
 static int parse(int argc, char **argv, st_args *a)
@@ -78,6 +79,7 @@ static int parse(int argc, char **argv, st_args *a)
             NEED();
             if ((ec = cli_parse_int(o, v, &a->column)))
                 return ec;
+            a->column_given = 1;
         } else if (!strcmp(o, "--kind")) { NEED(); a->kind = v; }
         else if (!strcmp(o, "--noise")) { NEED(); a->noise = v; }
         else if (!strcmp(o, "--taus")) { NEED(); a->taus = v; }
@@ -138,6 +140,8 @@ static void num_or_dash(FILE *f, double v)
 
 int cmd_stability(int argc, char **argv)
 {
+    if (cli_one_stdin(argc, argv))
+        return CLI_USAGE;
     st_args a;
     int ec = parse(argc, argv, &a);
     if (ec < 0)
@@ -158,6 +162,12 @@ int cmd_stability(int argc, char **argv)
     int *cnt = NULL;
     if ((ec = cli_read_matrix(a.file, &m)))
         return ec;
+    if (m.cols > 1 && !a.column_given) {
+        cli_error("%s: %d columns; pick the record with --column K (1 to %d)", a.file, m.cols,
+                  m.cols);
+        ec = CLI_USAGE;
+        goto done;
+    }
     if (a.column > m.cols) {
         cli_error("%s: has %d column(s), --column %d", a.file, m.cols, a.column);
         ec = CLI_USAGE;
