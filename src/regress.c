@@ -54,12 +54,30 @@ static int check_values(int m, int N, const double *A, int lda,
         return IGEA_ENONFINITE;
     if (y && !igea__finite_vec(m, y, 1))
         return IGEA_ENONFINITE;
-    int nonfinite = 0;
-    if (sigma && !igea__positive_vec(m, sigma, &nonfinite))
-        return nonfinite ? IGEA_ENONFINITE : IGEA_ENONPOSITIVE;
-    if (cs && !igea__positive_vec(N, cs, &nonfinite))
-        return nonfinite ? IGEA_ENONFINITE : IGEA_ENONPOSITIVE;
-    return 0;
+    int st = sigma ? igea__sigma_vec(m, sigma) : 0;
+    if (st == 0 && cs)
+        st = igea__sigma_vec(N, cs);
+    return st;
+}
+
+/* s / (s^2 + k) for s > 0, k >= 0, without forming s^2 (which overflows or
+ * underflows at the ends of the double range). */
+static double ridge_factor(double s, double k)
+{
+    if (k == 0.0)
+        return 1.0 / s;
+    double q = s / sqrt(k); /* f = q / (1 + q^2) / sqrt(k) */
+    double f = q > 1.0 ? (1.0 / q) / (1.0 + (1.0 / q) / q) : q / (1.0 + q * q);
+    return f / sqrt(k);
+}
+
+/* d / (d + k) with d = s^2, without forming s^2. */
+static double ridge_hat(double s, double rk)
+{
+    if (rk == 0.0)
+        return 1.0;
+    double q = rk / s; /* k / d = q^2 */
+    return q < 1.0 ? 1.0 / (1.0 + q * q) : (1.0 / q) / ((1.0 / q) + q);
 }
 
 /* Rank cut of METHODS 0.3: s_i > rcond * s_1, rcond = max(m, N) eps. */
@@ -106,6 +124,12 @@ static int canon_make(int m, int N, const double *A, int lda, const double *y,
                                     (sigma ? sigma[i] : 1.0);
     for (int i = 0; i < m; i++)
         c->yw[i] = y ? y[i] / (sigma ? sigma[i] : 1.0) : 0.0;
+    /* Finite inputs, but the weighted data overflowed (y / sigma). */
+    if (!igea__finite_mat(m, N, Aw, m) || !igea__finite_vec(m, c->yw, 1)) {
+        free(iwork);
+        canon_free(c);
+        return IGEA_EOVERFLOW;
+    }
     double wq;
     lapack_int info = LAPACKE_dgesdd_work(LAPACK_COL_MAJOR, jobz, m, N, Aw, m,
                                           c->s, c->U, m, c->V, N, &wq, -1,
@@ -186,7 +210,9 @@ static void canon_cov(const canon *c, int n, const double *g, double scale,
             double acc = 0.0;
             for (int i = 0; i < n; i++)
                 acc += c->V[a + (size_t)i * N] * g[i] * c->V[b + (size_t)i * N];
-            acc *= scale * (cs ? cs[a] * cs[b] : 1.0);
+            acc *= scale;
+            if (cs)
+                acc = acc * cs[a] * cs[b];
             IGEA_AT(cov, ldc, a, b) = acc;
             IGEA_AT(cov, ldc, b, a) = acc;
         }
@@ -243,10 +269,11 @@ int igea_regress_ls(int m, int N, const double *A, int lda, const double *y,
      * solution computed on diag(1/sigma) A D_c with D_c = 1/||column||
      * (scale-invariant rank; this keeps NIST Filip at ~8 digits). At rank
      * deficiency the unscaled SVD gives the minimum-norm solution. */
-    double *cs = igea__dalloc((size_t)N + (size_t)N + (size_t)m + (size_t)N);
+    size_t nn = cov ? (size_t)N * (size_t)N : 0;
+    double *cs = igea__dalloc((size_t)N + (size_t)N + (size_t)m + (size_t)N + nn);
     if (!cs)
         return IGEA_ENOMEM;
-    double *xs = cs + N, *res = xs + N, *g = res + m;
+    double *xs = cs + N, *res = xs + N, *g = res + m, *cv = g + N;
     for (int j = 0; j < N; j++) {
         double nrm = 0.0, sc = 0.0;
         for (int i = 0; i < m; i++) {
@@ -258,8 +285,10 @@ int igea_regress_ls(int m, int N, const double *A, int lda, const double *y,
             } else if (av > 0)
                 nrm += (av / sc) * (av / sc);
         }
-        nrm = sc * sqrt(nrm);
-        cs[j] = nrm > 0 ? 1.0 / nrm : 1.0;
+        /* 1 / (sc sqrt(nrm)) without forming a norm beyond DBL_MAX; a
+         * column whose scale is not representable is left unscaled. */
+        double inv = sc > 0 ? (1.0 / sc) / sqrt(nrm) : 1.0;
+        cs[j] = isfinite(inv) && inv >= DBL_MIN ? inv : 1.0;
     }
     canon c;
     st = canon_make(m, N, A, lda, y, sigma, cs, rcond, &c);
@@ -290,17 +319,28 @@ int igea_regress_ls(int m, int N, const double *A, int lda, const double *y,
     double s2 = m > r ? igea__ksum_get(&acc) / (m - r) : 0.0;
     if (cov) {
         for (int i = 0; i < r; i++)
-            g[i] = 1.0 / (c.s[i] * c.s[i]);
-        canon_cov(&c, r, g, s2, D, cov, ldc);
+            g[i] = 1.0 / c.s[i] / c.s[i];
+        canon_cov(&c, r, g, s2, D, cv, N);
     }
-    memcpy(x, xs, (size_t)N * sizeof(double));
-    *rank = r;
-    *sigma2 = s2;
-    if (residual)
-        memcpy(residual, res, (size_t)m * sizeof(double));
+    /* Every output finite, or a status: finite inputs whose solution or
+     * covariance leaves the double range. */
+    if (!igea__finite_vec(N, xs, 1) || !igea__finite_vec(m, res, 1) ||
+        !isfinite(s2) || (cov && !igea__finite_mat(N, N, cv, N)))
+        st = IGEA_EOVERFLOW;
+    if (st == 0) {
+        memcpy(x, xs, (size_t)N * sizeof(double));
+        if (cov)
+            for (int j = 0; j < N; j++)
+                memcpy(cov + (size_t)j * ldc, cv + (size_t)j * N,
+                       (size_t)N * sizeof(double));
+        *rank = r;
+        *sigma2 = s2;
+        if (residual)
+            memcpy(residual, res, (size_t)m * sizeof(double));
+    }
     canon_free(&c);
     free(cs);
-    return 0;
+    return st;
 }
 
 /* ---- scalar root finding and minimisation ------------------------------ */
@@ -540,24 +580,35 @@ int igea_regress_ebr(int m, int N, const double *A, int lda, const double *y,
     if (st)
         return st;
     int r = c.r;
-    double *w = igea__dalloc(6 * (size_t)N + 2);
+    double *w = igea__dalloc(8 * (size_t)N + 2);
     if (!w) {
         canon_free(&c);
         return IGEA_ENOMEM;
     }
     double *d = w, *z2 = d + N, *f = z2 + N, *g = f + N, *bt = g + N,
-           *sp = bt + N;
+           *sp = bt + N, *post = sp + N, *freq = post + N;
     if (r < 3)
         st = IGEA_ERANK;
     double S = canon_rss(&c);
     if (st == 0 && (m <= r || !(S > 0.0)))
         st = IGEA_EDOMAIN;
-    double lstar = 0.0;
+    if (st == 0 && !isfinite(S))
+        st = IGEA_EOVERFLOW;
+    /* The canonical form is solved on the design scaled by 1/s_1 (d_i =
+     * (s_i / s_1)^2 in (0, 1]): lambda d_i, the shrinkage and the
+     * equations of every rule are unchanged by a scale of A, and lambda
+     * itself is lambda' / s_1^2. */
+    double s1 = r > 0 ? c.s[0] : 1.0, lstar = 0.0;
     if (st == 0) {
         for (int i = 0; i < r; i++) {
-            d[i] = c.s[i] * c.s[i];
+            double q = c.s[i] / s1;
+            d[i] = q * q;
             z2[i] = c.z[i] * c.z[i];
         }
+        if (!igea__finite_vec(r, z2, 1))
+            st = IGEA_EOVERFLOW;
+    }
+    if (st == 0) {
         ebr_ctx q = {r, d, z2, 0.0, S / (m - r)};
         if (rule == IGEA_EBR_SC)
             q.target = (double)(r - 2) * S / (double)(m - r + 2);
@@ -565,51 +616,61 @@ int igea_regress_ebr(int m, int N, const double *A, int lda, const double *y,
             q.target = (double)r * S / (double)(m - r);
         st = ebr_lambda(rule, &q, &lstar);
     }
+    /* lambda hat in the caller's units and in the scaled form. */
+    double lh = 0.0, lhs = 0.0;
+    if (st == 0) {
+        lh = IGEA_MAX(lstar / s1 / s1, lam_floor);
+        lhs = lh * s1 * s1;
+        if (!isfinite(lh) || !isfinite(lhs) || (lstar > 0.0 && !(lh > 0.0)))
+            st = IGEA_EOVERFLOW;
+    }
     if (st) {
         free(w);
         canon_free(&c);
         return st;
     }
-    double lh = IGEA_MAX(lstar, lam_floor);
     double s2 = S / (m - r);
     for (int i = 0; i < r; i++) {
-        double den = fma(lh, d[i], 1.0);
-        f[i] = lh * d[i] / den / c.s[i]; /* theta_i = f_i z_i */
-        sp[i] = lh * d[i] / den;
+        double den = fma(lhs, d[i], 1.0);
+        sp[i] = lhs * d[i] / den;
+        f[i] = sp[i] / c.s[i]; /* theta_i = f_i z_i */
     }
     canon_coef(&c, r, f, prior_scale, bt);
-    /* Posterior: every direction, d_i = 0 beyond r (the prior variance). */
-    double *post = igea__dalloc(2 * (size_t)N);
-    if (!post) {
-        free(w);
-        canon_free(&c);
-        return IGEA_ENOMEM;
-    }
-    double *freq = post + N;
+    /* Posterior: every direction, d_i = 0 beyond r (the prior variance);
+     * the variances carry the factor 1 / s_1^2 of the scaled form. */
     for (int i = 0; i < N; i++) {
         double di = i < r ? d[i] : 0.0;
-        g[i] = lh / fma(lh, di, 1.0);
+        g[i] = lhs / fma(lhs, di, 1.0);
     }
     canon_sd(&c, N, g, s2, prior_scale, post);
     for (int i = 0; i < r; i++) {
-        double den = fma(lh, d[i], 1.0);
-        g[i] = lh * lh * d[i] / (den * den);
+        double den = fma(lhs, d[i], 1.0);
+        g[i] = lhs * lhs * d[i] / (den * den);
     }
     canon_sd(&c, r, g, s2, prior_scale, freq);
-    memcpy(beta, bt, (size_t)N * sizeof(double));
-    *lam = lh;
-    *rank = r;
-    if (shrink)
-        for (int i = 0; i < N; i++)
-            shrink[i] = i < r ? sp[i] : 0.0;
-    if (sd_post)
-        memcpy(sd_post, post, (size_t)N * sizeof(double));
-    if (sd_freq)
-        memcpy(sd_freq, freq, (size_t)N * sizeof(double));
-    free(post);
+    for (int i = 0; i < N; i++) {
+        post[i] /= s1;
+        freq[i] /= s1;
+    }
+    if (!igea__finite_vec(N, bt, 1) || !igea__finite_vec(r, sp, 1) ||
+        (sd_post && !igea__finite_vec(N, post, 1)) ||
+        (sd_freq && !igea__finite_vec(N, freq, 1)))
+        st = IGEA_EOVERFLOW;
+    if (st == 0) {
+        memcpy(beta, bt, (size_t)N * sizeof(double));
+        *lam = lh;
+        *rank = r;
+        if (shrink)
+            for (int i = 0; i < N; i++)
+                shrink[i] = i < r ? sp[i] : 0.0;
+        if (sd_post)
+            memcpy(sd_post, post, (size_t)N * sizeof(double));
+        if (sd_freq)
+            memcpy(sd_freq, freq, (size_t)N * sizeof(double));
+    }
     free(w);
     canon_free(&c);
-    return 0;
+    return st;
 }
 
 /* ---- ridge ------------------------------------------------------------- */
@@ -620,31 +681,32 @@ typedef struct {
     int loo;
 } ridge_ctx;
 
-/* GCV or LOO criterion as a function of t = log10 k. */
+/* GCV or LOO criterion as a function of t = log10 k; every term depends on
+ * d_i / (d_i + k) alone, formed from s_i / sqrt(k) (no s_i^2). */
 static double ridge_crit(double t, const void *p)
 {
     const ridge_ctx *q = p;
     const canon *c = q->c;
-    double k = pow(10.0, t);
+    double rk = pow(10.0, 0.5 * t);
     int m = c->m, r = c->r;
     if (!q->loo) {
         igea__ksum rss = {q->rss_ls, 0.0};
         double edf = 0.0;
         for (int i = 0; i < r; i++) {
-            double d = c->s[i] * c->s[i], sh = k / (d + k);
-            igea__ksum_add(&rss, sh * sh * c->z[i] * c->z[i]);
-            edf += d / (d + k);
+            double h = ridge_hat(c->s[i], rk), sh = (1.0 - h) * c->z[i];
+            igea__ksum_add(&rss, sh * sh);
+            edf += h;
         }
         double den = m - edf;
         if (!(den > 0.0))
             return HUGE_VAL;
-        return m * igea__ksum_get(&rss) / (den * den);
+        return m * (igea__ksum_get(&rss) / den / den);
     }
     igea__ksum press = {0.0, 0.0};
     for (int j = 0; j < m; j++) {
         double e = c->yw[j], h = 0.0;
         for (int i = 0; i < r; i++) {
-            double d = c->s[i] * c->s[i], f = d / (d + k);
+            double f = ridge_hat(c->s[i], rk);
             double u = c->U[j + (size_t)i * m];
             e -= u * f * c->z[i];
             h += u * u * f;
@@ -657,17 +719,21 @@ static double ridge_crit(double t, const void *p)
     return igea__ksum_get(&press);
 }
 
-/* Shared by the canonical estimators: x = V f z, cov = s2 V g V^T. */
-static void finish(const canon *c, int n, const double *f, const double *g,
-                   double s2, int m, int N, const double *A, int lda,
-                   const double *y, double *x, double *cov, int ldc,
-                   double *residual)
+/* Euclidean norm without overflow or underflow of the squares. */
+static double norm2(int n, const double *x)
 {
-    canon_coef(c, n, f, NULL, x);
-    if (cov)
-        canon_cov(c, n, g, s2, NULL, cov, ldc);
-    if (residual)
-        residual_of(m, N, A, lda, y, x, residual);
+    double sc = 0.0, ss = 1.0;
+    for (int i = 0; i < n; i++) {
+        double a = fabs(x[i]);
+        if (a == 0.0)
+            continue;
+        if (a > sc) {
+            ss = 1.0 + ss * (sc / a) * (sc / a);
+            sc = a;
+        } else
+            ss += (a / sc) * (a / sc);
+    }
+    return sc * sqrt(ss);
 }
 
 int igea_regress_ridge(int m, int N, const double *A, int lda,
@@ -700,56 +766,69 @@ int igea_regress_ridge(int m, int N, const double *A, int lda,
     int r = c.r;
     double rss = canon_rss(&c);
     double s2 = m > r ? rss / (m - r) : 0.0;
-    double kk = k;
-    if (rule == IGEA_RIDGE_HKB || rule == IGEA_RIDGE_LW) {
-        igea__ksum nx = {0.0, 0.0}, nz = {0.0, 0.0};
-        for (int j = 0; j < N; j++) {
-            igea__ksum a = {0.0, 0.0};
-            for (int i = 0; i < r; i++)
-                igea__ksum_add(&a, c.V[j + (size_t)i * N] * c.z[i] / c.s[i]);
-            double v = igea__ksum_get(&a);
-            igea__ksum_add(&nx, v * v);
-        }
-        for (int i = 0; i < r; i++)
-            igea__ksum_add(&nz, c.z[i] * c.z[i]);
-        double den = rule == IGEA_RIDGE_HKB ? igea__ksum_get(&nx)
-                                            : igea__ksum_get(&nz);
-        if (m <= r || !(den > 0.0)) {
-            canon_free(&c);
-            return IGEA_EDOMAIN;
-        }
-        kk = r * s2 / den;
-    } else if (rule == IGEA_RIDGE_GCV || rule == IGEA_RIDGE_LOO) {
-        if (r == 0)
-            kk = 0.0;
-        else {
-            ridge_ctx q = {&c, rss, rule == IGEA_RIDGE_LOO};
-            double t0 = log10(c.s[0] * c.s[0]);
-            kk = pow(10.0, grid_golden_min(ridge_crit, &q, t0 - 12.0,
-                                           t0 + 4.0, 161));
-        }
-    }
-    double *w = igea__dalloc(2 * (size_t)N + (size_t)m);
+    /* Scratch: f, g (N each), x (N), residual (m), cov (N x N). */
+    size_t nn = cov ? (size_t)N * (size_t)N : 0;
+    double *w = igea__dalloc(3 * (size_t)N + (size_t)m + nn);
     if (!w) {
         canon_free(&c);
         return IGEA_ENOMEM;
     }
-    double *f = w, *g = w + N, *xs = g + N;
-    for (int i = 0; i < r; i++) {
-        double d = c.s[i] * c.s[i];
-        f[i] = c.s[i] / (d + kk);
-        g[i] = d / ((d + kk) * (d + kk));
+    double *f = w, *g = w + N, *xs = g + N, *res = xs + N, *cv = res + m;
+    if (!isfinite(rss))
+        st = IGEA_EOVERFLOW;
+    /* The rules find rk = sqrt(k), which stays representable where k
+     * itself may not be; k_used = rk^2 must then be. */
+    double rk = sqrt(k);
+    if (st == 0 && (rule == IGEA_RIDGE_HKB || rule == IGEA_RIDGE_LW)) {
+        for (int i = 0; i < r; i++)
+            f[i] = 1.0 / c.s[i];
+        canon_coef(&c, r, f, NULL, xs);
+        double den = rule == IGEA_RIDGE_HKB ? norm2(N, xs) : norm2(r, c.z);
+        if (m <= r || !(den > 0.0))
+            st = IGEA_EDOMAIN;
+        else
+            rk = sqrt((double)r * s2) / den;
+    } else if (st == 0 && (rule == IGEA_RIDGE_GCV || rule == IGEA_RIDGE_LOO)) {
+        if (r == 0)
+            rk = 0.0;
+        else {
+            ridge_ctx q = {&c, rss, rule == IGEA_RIDGE_LOO};
+            double t0 = 2.0 * log10(c.s[0]);
+            rk = pow(10.0, 0.5 * grid_golden_min(ridge_crit, &q, t0 - 12.0,
+                                                 t0 + 4.0, 161));
+        }
     }
-    /* x first into scratch; the caller's arrays are written last. */
-    finish(&c, r, f, g, s2, m, N, A, lda, y, xs, cov, ldc, NULL);
-    memcpy(x, xs, (size_t)N * sizeof(double));
-    if (residual)
-        residual_of(m, N, A, lda, y, x, residual);
-    *k_used = kk;
-    *sigma2 = s2;
+    double kk = rule == IGEA_RIDGE_FIXED ? k : rk * rk;
+    if (st == 0 && (!isfinite(kk) || (rk > 0.0 && kk < DBL_MIN)))
+        st = IGEA_EOVERFLOW;
+    if (st == 0) {
+        for (int i = 0; i < r; i++) {
+            f[i] = ridge_factor(c.s[i], kk);
+            g[i] = f[i] * f[i]; /* d / (d + k)^2 */
+        }
+        /* Everything into scratch; the caller's arrays are written last. */
+        canon_coef(&c, r, f, NULL, xs);
+        if (cov)
+            canon_cov(&c, r, g, s2, NULL, cv, N);
+        residual_of(m, N, A, lda, y, xs, res);
+        if (!igea__finite_vec(N, xs, 1) || !igea__finite_vec(m, res, 1) ||
+            !isfinite(s2) || (cov && !igea__finite_mat(N, N, cv, N)))
+            st = IGEA_EOVERFLOW;
+    }
+    if (st == 0) {
+        memcpy(x, xs, (size_t)N * sizeof(double));
+        if (cov)
+            for (int j = 0; j < N; j++)
+                memcpy(cov + (size_t)j * ldc, cv + (size_t)j * N,
+                       (size_t)N * sizeof(double));
+        if (residual)
+            memcpy(residual, res, (size_t)m * sizeof(double));
+        *k_used = kk;
+        *sigma2 = s2;
+    }
     free(w);
     canon_free(&c);
-    return 0;
+    return st;
 }
 
 int igea_regress_ridge_trace(int m, int N, const double *A, int lda,
@@ -777,25 +856,34 @@ int igea_regress_ridge_trace(int m, int N, const double *A, int lda,
     st = canon_make(m, N, A, lda, y, sigma, NULL, 0.0, &c);
     if (st)
         return st;
-    double *f = igea__dalloc((size_t)N);
+    /* Scratch: f (N), the trace (N x nk) and edf (nk): the caller's arrays
+     * are written only when every value is finite. */
+    double *f = igea__dalloc((size_t)N + ((size_t)N + 1) * (size_t)nk);
     if (!f) {
         canon_free(&c);
         return IGEA_ENOMEM;
     }
+    double *Xs = f + N, *es = Xs + (size_t)N * nk;
     for (int j = 0; j < nk; j++) {
-        double e = 0.0;
+        double e = 0.0, rk = sqrt(k[j]);
         for (int i = 0; i < c.r; i++) {
-            double d = c.s[i] * c.s[i];
-            f[i] = c.s[i] / (d + k[j]);
-            e += d / (d + k[j]);
+            f[i] = ridge_factor(c.s[i], k[j]);
+            e += ridge_hat(c.s[i], rk);
         }
-        canon_coef(&c, c.r, f, NULL, X + (size_t)j * ldx);
+        canon_coef(&c, c.r, f, NULL, Xs + (size_t)j * N);
+        es[j] = e;
+    }
+    st = igea__finite_mat(N, nk, Xs, N) ? 0 : IGEA_EOVERFLOW;
+    if (st == 0) {
+        for (int j = 0; j < nk; j++)
+            memcpy(X + (size_t)j * ldx, Xs + (size_t)j * N,
+                   (size_t)N * sizeof(double));
         if (edf)
-            edf[j] = e;
+            memcpy(edf, es, (size_t)nk * sizeof(double));
     }
     free(f);
     canon_free(&c);
-    return 0;
+    return st;
 }
 
 /* ---- principal components ---------------------------------------------- */
@@ -830,31 +918,46 @@ int igea_regress_pce(int m, int N, const double *A, int lda, const double *y,
     int r = c.r, n = 0;
     if (ncomp > 0)
         n = IGEA_MIN(ncomp, r);
-    else
-        while (n < r && c.s[n] * c.s[n] >= eig_min)
+    else {
+        /* d_i >= eig_min as s_i >= sqrt(eig_min): no s_i^2 to overflow. */
+        double smin = sqrt(eig_min);
+        while (n < r && c.s[n] >= smin)
             n++;
+    }
     double s2 = m > r ? canon_rss(&c) / (m - r) : 0.0;
-    double *w = igea__dalloc(3 * (size_t)N);
+    size_t nn = cov ? (size_t)N * (size_t)N : 0;
+    double *w = igea__dalloc(3 * (size_t)N + (size_t)m + nn);
     if (!w) {
         canon_free(&c);
         return IGEA_ENOMEM;
     }
-    double *f = w, *g = w + N, *xs = g + N;
+    double *f = w, *g = w + N, *xs = g + N, *res = xs + N, *cv = res + m;
     for (int i = 0; i < n; i++) {
         f[i] = 1.0 / c.s[i];
         g[i] = f[i] * f[i];
     }
     canon_coef(&c, n, f, NULL, xs);
     if (cov)
-        canon_cov(&c, n, g, s2, NULL, cov, ldc);
-    memcpy(x, xs, (size_t)N * sizeof(double));
-    if (residual)
-        residual_of(m, N, A, lda, y, x, residual);
-    *nused = n;
-    *sigma2 = s2;
+        canon_cov(&c, n, g, s2, NULL, cv, N);
+    residual_of(m, N, A, lda, y, xs, res);
+    st = 0;
+    if (!igea__finite_vec(N, xs, 1) || !igea__finite_vec(m, res, 1) ||
+        !isfinite(s2) || (cov && !igea__finite_mat(N, N, cv, N)))
+        st = IGEA_EOVERFLOW;
+    if (st == 0) {
+        memcpy(x, xs, (size_t)N * sizeof(double));
+        if (cov)
+            for (int j = 0; j < N; j++)
+                memcpy(cov + (size_t)j * ldc, cv + (size_t)j * N,
+                       (size_t)N * sizeof(double));
+        if (residual)
+            memcpy(residual, res, (size_t)m * sizeof(double));
+        *nused = n;
+        *sigma2 = s2;
+    }
     free(w);
     canon_free(&c);
-    return 0;
+    return st;
 }
 
 /* ---- Bayes --------------------------------------------------------------- */
@@ -915,9 +1018,9 @@ int igea_regress_bayes(int m, int N, const double *A, int lda,
     }
     /* t = V diag(s / (d + 1)) z, cov_t = V diag(1 / (d + 1)) V^T. */
     for (int i = 0; i < N; i++) {
-        double d = i < c.k ? c.s[i] * c.s[i] : 0.0;
-        f[i] = i < c.k ? c.s[i] / (d + 1.0) : 0.0;
-        g[i] = 1.0 / (d + 1.0);
+        double si = i < c.k ? c.s[i] : 0.0, ui = si > 1.0 ? 1.0 / si : 0.0;
+        f[i] = si > 0.0 ? ridge_factor(si, 1.0) : 0.0; /* s / (d + 1) */
+        g[i] = si > 1.0 ? ui * ui / (1.0 + ui * ui) : 1.0 / (1.0 + si * si);
     }
     canon_coef(&c, c.k, f, NULL, t);
     for (int j = 0; j < N; j++) {
@@ -933,19 +1036,25 @@ int igea_regress_bayes(int m, int N, const double *A, int lda,
                     CblasNonUnit, N, N, 1.0, L, N, C, N);
         cblas_dtrmm(CblasColMajor, CblasRight, CblasLower, CblasTrans,
                     CblasNonUnit, N, N, 1.0, L, N, C, N);
-        for (int j = 0; j < N; j++)
-            for (int i = 0; i < N; i++) {
-                double v = 0.5 * (C[i + (size_t)j * N] + C[j + (size_t)i * N]);
-                IGEA_AT(cov, ldc, i, j) = v;
-            }
     }
     (void)tmp;
-    memcpy(x, xs, (size_t)N * sizeof(double));
-    if (residual)
-        residual_of(m, N, A, lda, y, x, residual);
+    residual_of(m, N, A, lda, y, xs, res);
+    if (!igea__finite_vec(N, xs, 1) || !igea__finite_vec(m, res, 1) ||
+        (cov && !igea__finite_mat(N, N, C, N)))
+        st = IGEA_EOVERFLOW;
+    if (st == 0) {
+        if (cov)
+            for (int j = 0; j < N; j++)
+                for (int i = 0; i < N; i++)
+                    IGEA_AT(cov, ldc, i, j) =
+                        0.5 * (C[i + (size_t)j * N] + C[j + (size_t)i * N]);
+        memcpy(x, xs, (size_t)N * sizeof(double));
+        if (residual)
+            memcpy(residual, res, (size_t)m * sizeof(double));
+    }
     canon_free(&c);
     free(w);
-    return 0;
+    return st;
 }
 
 /* ---- diagnostics ----------------------------------------------------------- */
@@ -980,36 +1089,65 @@ int igea_regress_collinearity(int m, int N, const double *A, int lda,
     double s2 = 1.0;
     if (y)
         s2 = m > r ? canon_rss(&c) / (m - r) : 0.0;
+    double *w = igea__dalloc(3 * (size_t)N);
+    int *pdw = igea__ialloc((size_t)N);
+    if (!w || !pdw) {
+        free(w);
+        free(pdw);
+        canon_free(&c);
+        return IGEA_ENOMEM;
+    }
+    double *ev = w, *vf = ev + N, *sc = vf + N;
     double s1 = k > 0 ? c.s[0] : 0.0, smin = m >= N ? c.s[N - 1] : 0.0;
-    cond[0] = smin > 0.0 ? s1 / smin : INFINITY;
-    cond[1] = r > 0 ? s1 / c.s[r - 1] : INFINITY;
-    *rank = r;
+    double cd[2];
+    cd[0] = smin > 0.0 ? s1 / smin : INFINITY;
+    cd[1] = r > 0 ? s1 / c.s[r - 1] : INFINITY;
     for (int i = 0; i < N; i++)
-        eig[i] = i < k ? c.s[i] * c.s[i] : 0.0;
-    if (V)
-        for (int j = 0; j < N; j++)
-            memcpy(V + (size_t)j * ldv, c.V + (size_t)j * N,
-                   (size_t)N * sizeof(double));
-    for (int j = 0; j < N; j++) {
+        ev[i] = i < k ? c.s[i] * c.s[i] : 0.0;
+    /* The eigenvalues of the estimable part must be normal numbers. */
+    st = isfinite(s2) ? 0 : IGEA_EOVERFLOW;
+    for (int i = 0; i < k && st == 0; i++)
+        if (!isfinite(ev[i]) || (i < r && !(ev[i] >= DBL_MIN)))
+            st = IGEA_EOVERFLOW;
+    for (int j = 0; j < N && st == 0; j++) {
         double nul = 0.0, bjj = 0.0, pjj = 0.0;
         for (int i = 0; i < N; i++) {
             double v = c.V[j + (size_t)i * N];
             if (i >= r)
                 nul += v * v;
             else {
-                bjj += v * v * eig[i];
-                pjj += v * v / eig[i];
+                bjj += v * v * ev[i];
+                pjj += v * v / ev[i];
             }
         }
-        int pd = nul > IGEA_REGRESS_NULL_TOL;
-        if (prior_det)
-            prior_det[j] = pd;
-        if (vif)
-            vif[j] = pd ? INFINITY : bjj * pjj;
+        pdw[j] = nul > IGEA_REGRESS_NULL_TOL;
+        vf[j] = pdw[j] ? INFINITY : bjj * pjj;
+        if (!pdw[j] && !isfinite(vf[j]))
+            st = IGEA_EOVERFLOW;
     }
-    if (sd_comb)
-        for (int i = 0; i < N; i++)
-            sd_comb[i] = i < r ? sqrt(s2) / c.s[i] : INFINITY;
+    for (int i = 0; i < N && st == 0; i++) {
+        sc[i] = i < r ? sqrt(s2) / c.s[i] : INFINITY;
+        if (i < r && !isfinite(sc[i]))
+            st = IGEA_EOVERFLOW;
+    }
+    if (st == 0) {
+        cond[0] = cd[0];
+        cond[1] = cd[1];
+        *rank = r;
+        memcpy(eig, ev, (size_t)N * sizeof(double));
+        if (V)
+            for (int j = 0; j < N; j++)
+                memcpy(V + (size_t)j * ldv, c.V + (size_t)j * N,
+                       (size_t)N * sizeof(double));
+        if (prior_det)
+            memcpy(prior_det, pdw, (size_t)N * sizeof(int));
+        if (vif)
+            memcpy(vif, vf, (size_t)N * sizeof(double));
+        if (sd_comb)
+            memcpy(sd_comb, sc, (size_t)N * sizeof(double));
+    }
+    free(w);
+    free(pdw);
     canon_free(&c);
-    return 0;
+    return st;
 }
