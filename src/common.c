@@ -24,6 +24,12 @@ const char *igea_strerror(int status)
     case IGEA_ENOTESTABLE: return "no component is precise enough to be tested";
     case IGEA_EDEPENDENT: return "pooled flights are not independent (the same unit appears twice)";
     case IGEA_EEMPTY: return "no data (zero rows or zero terms)";
+    case IGEA_ERANGE:
+        return "a standard deviation is below 1.5e-154 (its inverse square, the weight, "
+               "overflows): rescale the inputs (units?)";
+    case IGEA_EOVERFLOW:
+        return "a result overflowed or underflowed the double range although the inputs "
+               "are finite: rescale the inputs (units?)";
     default: break;
     }
     if (status > 0)
@@ -75,6 +81,17 @@ int igea__positive_vec(int n, const double *x, int *nonfinite)
         if (!(x[i] > 0.0))
             return 0;
     return 1;
+}
+
+int igea__sigma_vec(int n, const double *x)
+{
+    int nf;
+    if (!igea__positive_vec(n, x, &nf))
+        return nf ? IGEA_ENONFINITE : IGEA_ENONPOSITIVE;
+    for (int i = 0; i < n; i++)
+        if (!(x[i] >= IGEA_SIGMA_MIN))
+            return IGEA_ERANGE;
+    return 0;
 }
 
 double *igea__dalloc(size_t n)

@@ -152,6 +152,14 @@ static int scratch_alloc(scratch *s, int N)
     return 0;
 }
 
+/* 1 when every result in the scratch is finite. */
+static int scratch_finite(const scratch *s, int N)
+{
+    return igea__finite_vec(N, s->lambda, 1) && igea__finite_mat(N, N, s->V, N) &&
+           igea__finite_vec(N, s->xhat, 1) && igea__finite_vec(N, s->z, 1) &&
+           igea__finite_vec(IGEA_INFO_LEN, s->info, 1);
+}
+
 static void scratch_free(scratch *s)
 {
     free(s->lam0);
@@ -237,6 +245,8 @@ int igea_eqerr_solve(int N, const double *A, int lda, const double *b,
     if (scratch_alloc(&s, N))
         return IGEA_ENOMEM;
     st = solve_eig(N, A, lda, b, opts, &s);
+    if (st == 0 && !scratch_finite(&s, N))
+        st = IGEA_EOVERFLOW;
     if (st == 0)
         scratch_out(&s, N, lambda, P, ldp, equiv_err, z, reject, info);
     scratch_free(&s);
@@ -331,6 +341,8 @@ int igea_eqerr_solve_qr(int N, const double *R, int ldr, double rows, const doub
     if (scratch_alloc(&s, N))
         return IGEA_ENOMEM;
     st = solve_qr(N, R, ldr, rows, opts, &s);
+    if (st == 0 && !scratch_finite(&s, N))
+        st = IGEA_EOVERFLOW;
     if (st == 0)
         scratch_out(&s, N, lambda, P, ldp, equiv_err, z, reject, info);
     scratch_free(&s);
@@ -349,9 +361,16 @@ int igea_eqerr_coef(int N, const double *P, int ldp, const double *equiv_err,
     if (!igea__finite_mat(N, n_test, P, ldp) || !igea__finite_vec(n_test, equiv_err, 1))
         return IGEA_ENONFINITE;
     if (spec_sigma) {
-        int nf;
-        if (!igea__positive_vec(N, spec_sigma, &nf))
-            return nf ? IGEA_ENONFINITE : IGEA_ENONPOSITIVE;
+        int st = igea__sigma_vec(N, spec_sigma);
+        if (st)
+            return st;
+    }
+    for (int i = 0; i < N; i++) {
+        double acc = 0.0;
+        for (int k = 0; k < n_test; k++)
+            acc += IGEA_AT(P, ldp, i, k) * equiv_err[k];
+        if (!isfinite(acc * (spec_sigma ? spec_sigma[i] : 1.0)))
+            return IGEA_EOVERFLOW;
     }
     for (int i = 0; i < N; i++) {
         double acc = 0.0;
@@ -388,9 +407,25 @@ int igea_eqerr_residual(int layout, int m, int N, const double *S, int lds,
     else
         cblas_dgemv(CblasColMajor, CblasTrans, N, m, -1.0, S, lds, coef, 1,
                     1.0, e, 1);
-    if (!igea__finite_vec(m, e, 1)) {
+    int st = 0;
+    if (!igea__finite_vec(m, e, 1))
+        st = (layout == IGEA_COLMAJOR ? igea__finite_mat(m, N, S, lds)
+                                      : igea__finite_mat(N, m, S, lds))
+                 ? IGEA_EOVERFLOW
+                 : IGEA_ENONFINITE;
+    if (st == 0 && axis_ss) {
+        double t[6];
+        memcpy(t, axis_ss, sizeof t);
+        for (int i = 0; i < m; i++) {
+            int a = (int)(((long long)row0 + i) % 3);
+            t[a] += e[i] * e[i];
+        }
+        if (!igea__finite_vec(3, t, 1))
+            st = IGEA_EOVERFLOW;
+    }
+    if (st) {
         free(e);
-        return IGEA_ENONFINITE;
+        return st;
     }
     if (axis_ss) {
         for (int i = 0; i < m; i++) {
@@ -432,16 +467,15 @@ int igea_eqerr_run(int m, int N, const double *S, int lds, const double *dw,
     if (!z) return -14;
     if (!reject) return -15;
     if (!info) return -16;
-    int nf;
-    if (!igea__positive_vec(sigma_inc ? m : 1, track_sigma, &nf))
-        return nf ? IGEA_ENONFINITE : IGEA_ENONPOSITIVE;
-    if (spec_sigma && !igea__positive_vec(N, spec_sigma, &nf))
-        return nf ? IGEA_ENONFINITE : IGEA_ENONPOSITIVE;
+    int st = igea__sigma_vec(sigma_inc ? m : 1, track_sigma);
+    if (st == 0 && spec_sigma)
+        st = igea__sigma_vec(N, spec_sigma);
+    if (st)
+        return st;
 
     scratch s;
     if (scratch_alloc(&s, N))
         return IGEA_ENOMEM;
-    int st;
     if (opts[IGEA_EQERR_OPT_ROUTE] == IGEA_ROUTE_SVD) {
         size_t n1 = (size_t)N + 1;
         double *R = igea__dalloc(n1 * n1), rows = 0.0;
@@ -475,6 +509,8 @@ int igea_eqerr_run(int m, int N, const double *S, int lds, const double *dw,
             st = solve_eig(N, A, N, b, opts, &s);
         free(A);
     }
+    if (st == 0 && !scratch_finite(&s, N))
+        st = IGEA_EOVERFLOW;
     double *coef = NULL, *e = NULL, ss[6] = {0, 0, 0, 0, 0, 0};
     if (st == 0 && (residual || rms)) {
         coef = igea__dalloc((size_t)N);

@@ -25,6 +25,12 @@ int igea__finite_mat(int m, int n, const double *a, int lda);
 /* 1 if every x[i] > 0 (and finite); sets *nonfinite if a NaN/Inf is met. */
 int igea__positive_vec(int n, const double *x, int *nonfinite);
 
+/* Standard deviations x[0..n-1]: 0 when every one is finite and within
+ * >= IGEA_SIGMA_MIN; otherwise IGEA_ENONFINITE (a NaN or Inf),
+ * IGEA_ENONPOSITIVE (a value <= 0) or IGEA_ERANGE (positive but below
+ * IGEA_SIGMA_MIN), checked in that order over the whole vector. */
+int igea__sigma_vec(int n, const double *x);
+
 /* malloc of n doubles / ints (n >= 0; returns a valid pointer for n == 0),
  * NULL on overflow or failure. */
 double *igea__dalloc(size_t n);

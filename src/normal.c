@@ -32,12 +32,23 @@ static int check_dims(int layout, int m, int N, const double *S, int lds,
 static int check_weights(int m, int N, const double *track_sigma, int sigma_inc,
                          const double *spec_sigma)
 {
-    int nf;
-    if (spec_sigma && !igea__positive_vec(N, spec_sigma, &nf))
-        return nf ? IGEA_ENONFINITE : IGEA_ENONPOSITIVE;
-    if (m > 0 && !igea__positive_vec(sigma_inc ? m : 1, track_sigma, &nf))
-        return nf ? IGEA_ENONFINITE : IGEA_ENONPOSITIVE;
-    return 0;
+    int st = spec_sigma ? igea__sigma_vec(N, spec_sigma) : 0;
+    if (st == 0 && m > 0)
+        st = igea__sigma_vec(sigma_inc ? m : 1, track_sigma);
+    return st;
+}
+
+/* Why a weighted result is not finite: IGEA_ENONFINITE when rows r0..r0+nr-1
+ * of S or dw hold a NaN or Inf, IGEA_EOVERFLOW when they are all finite
+ * (the weighted sums left the double range). */
+static int nonfinite_cause(int layout, int r0, int nr, int N, const double *S,
+                           int lds, const double *dw)
+{
+    int fin = layout == IGEA_COLMAJOR
+                  ? igea__finite_mat(nr, N, S + r0, lds)
+                  : igea__finite_mat(N, nr, S + (size_t)r0 * lds, lds);
+    return fin && igea__finite_vec(nr, dw + r0, 1) ? IGEA_EOVERFLOW
+                                                   : IGEA_ENONFINITE;
 }
 
 /* Rows r0..r0+nr-1 weighted and scaled into blk (nr x N, column-major, ld
@@ -148,11 +159,27 @@ int igea_normal_accumulate(int layout, int m, int N, const double *S, int lds,
         }
     }
     /* A NaN or Inf anywhere in S or dw reaches a diagonal element of A (a
-     * sum of squares, which cannot cancel), b or w'w: one O(N) check. */
+     * sum of squares, which cannot cancel), b or w'w: one O(N) check; so
+     * does an overflow of the weighted sums of finite data, told apart by a
+     * scan of the inputs on that failure path only. */
     if (!igea__finite_vec(N, Al, N + 1) || !igea__finite_vec(N, bl, 1) ||
         !isfinite(igea__ksum_get(&ww))) {
         free(work);
-        return IGEA_ENONFINITE;
+        return nonfinite_cause(layout, 0, m, N, S, lds, dw);
+    }
+    /* The running sums must stay finite too (checked before any write). */
+    int over = !isfinite(wtw[0] + igea__ksum_get(&ww));
+    for (int j = 0; j < N && !over; j++) {
+        over = !isfinite(b[j] + bl[j]);
+        for (int i = j; i < N && !over; i++) {
+            double v = Al[i + (size_t)j * N];
+            over = !isfinite(IGEA_AT(A, lda, i, j) + v) ||
+                   (i != j && !isfinite(IGEA_AT(A, lda, j, i) + v));
+        }
+    }
+    if (over) {
+        free(work);
+        return IGEA_EOVERFLOW;
     }
     for (int j = 0; j < N; j++) {
         for (int i = j; i < N; i++) {
@@ -202,14 +229,14 @@ int igea_normal_qr_accumulate(int layout, int m, int N, const double *S,
         weight_block(layout, r0, nr, N, S, lds, dw, track_sigma, sigma_inc, spec_sigma,
                      blk, blk + (size_t)N * nr, wt);
         if (!igea__finite_mat(nr, n1, blk, nr)) {
-            st = IGEA_ENONFINITE;
+            st = nonfinite_cause(layout, r0, nr, N, S, lds, dw);
             break;
         }
         if (LAPACKE_dtpqrt_work(LAPACK_COL_MAJOR, nr, n1, 0, nb, Rl, n1, blk, nr, T, nb, tw) != 0)
             st = IGEA_ELAPACK;
     }
     if (st == 0 && !igea__finite_mat(n1, n1, Rl, n1))
-        st = IGEA_ENONFINITE;
+        st = IGEA_EOVERFLOW; /* every block was finite */
     if (st == 0) {
         for (int j = 0; j < n1; j++)
             for (int i = 0; i <= j; i++)

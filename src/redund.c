@@ -524,13 +524,11 @@ static int check_alpha(int n, const double *alpha, int lda)
     return 0;
 }
 
-/* Sigma check: 0 ok, IGEA_ENONFINITE or IGEA_ENONPOSITIVE. */
+/* Sigma check: 0 ok, IGEA_ENONFINITE, IGEA_ENONPOSITIVE or IGEA_ERANGE
+ * (below IGEA_SIGMA_MIN: 1/sigma^2 weights the data). */
 static int check_sigma(int n, const double *sigma)
 {
-    int nonfinite = 0;
-    if (!igea__positive_vec(n, sigma, &nonfinite))
-        return nonfinite ? IGEA_ENONFINITE : IGEA_ENONPOSITIVE;
-    return 0;
+    return igea__sigma_vec(n, sigma);
 }
 
 static void cdm_fill(int n, const double *x, const double *sigma, double *D,
@@ -806,6 +804,8 @@ int igea_redund_fuse(int n, const double *x, const double *sigma,
     double v, s;
     if (fuse_core(n, x, 1, sigma, keep, weighted, &v, &s) == 0)
         return IGEA_EEMPTY;
+    if (!isfinite(v) || !isfinite(s))
+        return IGEA_EOVERFLOW;
     *value = v;
     if (fused_sigma)
         *fused_sigma = s;

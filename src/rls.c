@@ -568,9 +568,9 @@ static int update_impl(igea_rls *h, const double *c, size_t rs, size_t cs,
 {
     const int m = h->m, k = h->k;
     if (track_sigma) {
-        int nonfinite = 0;
-        if (!igea__positive_vec(k, track_sigma, &nonfinite))
-            return nonfinite ? IGEA_ENONFINITE : IGEA_ENONPOSITIVE;
+        int st = igea__sigma_vec(k, track_sigma);
+        if (st)
+            return st;
     }
     int nmissing = 0;
     for (int j = 0; j < k; j++)

@@ -203,10 +203,10 @@ static int check_flight_args(int m, int N, const double *S, int lds,
         return -11;
     if (!igea__finite_mat(m, N, S, lds))
         return IGEA_ENONFINITE;
-    if (!igea__positive_vec(sigma_inc ? m : 1, track_sigma, &nf))
-        return nf ? IGEA_ENONFINITE : IGEA_ENONPOSITIVE;
-    if (spec_sigma && !igea__positive_vec(N, spec_sigma, &nf))
-        return nf ? IGEA_ENONFINITE : IGEA_ENONPOSITIVE;
+    if ((nf = igea__sigma_vec(sigma_inc ? m : 1, track_sigma)) != 0)
+        return nf;
+    if (spec_sigma && (nf = igea__sigma_vec(N, spec_sigma)) != 0)
+        return nf;
     if (x_value && !igea__finite_vec(N, x_value, 1))
         return IGEA_ENONFINITE;
     ctx->m = m;

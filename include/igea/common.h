@@ -49,6 +49,15 @@ extern "C" {
 #define IGEA_ENOTESTABLE (-1018)  /* no component is precise enough to test */
 #define IGEA_EDEPENDENT (-1019)   /* pooled flights are not independent */
 #define IGEA_EEMPTY (-1020)       /* no data (zero rows or zero terms) */
+#define IGEA_ERANGE (-1021)       /* a sigma is below IGEA_SIGMA_MIN (1/sigma^2 overflows) */
+#define IGEA_EOVERFLOW (-1022)    /* a result overflowed or underflowed: rescale */
+
+/* Smallest standard deviation (a sigma whose inverse square weights the
+ * data) accepted: 2^-511, about 1.5e-154, where 1/sigma^2 = 2^1022 is still
+ * finite. A positive sigma below it (a denormal one, say) gives IGEA_ERANGE
+ * where the weight would be Inf. A large sigma is accepted: its weight
+ * 1/sigma^2 may round to 0, which removes the row. */
+#define IGEA_SIGMA_MIN 1.4916681462400413e-154 /* 2^-511 */
 
 /* Static English text for a status code; never NULL. */
 IGEA_API const char *igea_strerror(int status);

@@ -34,12 +34,16 @@ extern "C" {
  *  5 lds          its leading dimension
  *  6 dw           m velocity differences
  *  7 track_sigma  tracking 1-sigma per row (sigma_inc = 1) or one value for
- *                 all rows (sigma_inc = 0); > 0 (IGEA_ENONPOSITIVE)
+ *                 all rows (sigma_inc = 0); > 0 (IGEA_ENONPOSITIVE)  and
+ *                 >= IGEA_SIGMA_MIN (IGEA_ERANGE)
  *  8 sigma_inc    0 or 1
- *  9 spec_sigma   N specs (> 0), or NULL for no column scaling
+ *  9 spec_sigma   N specs (> 0, >= IGEA_SIGMA_MIN), or NULL for no
+ *                 column scaling
  * 10 A, 11 lda >= N, 12 b, 13 wtw[2]: running sums, updated in place.
  * Returns 0, -i, IGEA_ENONFINITE (NaN/Inf in S, dw or sigma),
- * IGEA_ENONPOSITIVE, IGEA_ENOMEM. On failure A, b, wtw are untouched.
+ * IGEA_ENONPOSITIVE, IGEA_ERANGE, IGEA_EOVERFLOW (S and dw are finite but
+ * a weighted sum, or a running sum, overflowed: rescale the inputs),
+ * IGEA_ENOMEM. On failure A, b, wtw are untouched.
  */
 IGEA_API int igea_normal_accumulate(int layout, int m, int N, const double *S,
                                     int lds, const double *dw,
@@ -59,8 +63,9 @@ IGEA_API int igea_normal_accumulate(int layout, int m, int N, const double *S,
  * is read or written.
  * Arguments 1-9 as igea_normal_accumulate; 10 R, 11 ldr >= N + 1,
  * 12 rows (a running row count, as wtw[1]).
- * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ENOMEM,
- * IGEA_ELAPACK; R and rows are untouched on failure.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ERANGE,
+ * IGEA_EOVERFLOW (finite data whose weighted rows or factor overflowed),
+ * IGEA_ENOMEM, IGEA_ELAPACK; R and rows are untouched on failure.
  */
 IGEA_API int igea_normal_qr_accumulate(int layout, int m, int N,
                                        const double *S, int lds,
