@@ -133,11 +133,35 @@ static int svd_v(int m, int N, const double *A, int lda, double *s,
     for (int j = 0; j < N; j++)
         for (int i = 0; i < m; i++)
             a[(size_t)i + (size_t)j * m] = IGEA_AT(A, lda, i, j);
-    lapack_int info = LAPACKE_dgesdd(LAPACK_COL_MAJOR, jobz, m, N, a, m, sv, u,
-                                     m, vt, N);
-    if (info != 0) {
+    /* The _work entry point with igea's own workspace: the high-level one
+     * allocates behind the library's back and prints when that fails. */
+    lapack_int *iwork = malloc(sizeof(lapack_int) * (8 * (size_t)k + 1));
+    if (!iwork) {
         free(a);
-        return IGEA_ELAPACK;
+        return IGEA_ENOMEM;
+    }
+    double wq;
+    int st = 0;
+    lapack_int info = LAPACKE_dgesdd_work(LAPACK_COL_MAJOR, jobz, m, N, a, m,
+                                          sv, u, m, vt, N, &wq, -1, iwork);
+    if (info == 0) {
+        size_t lw = (size_t)wq + 1;
+        double *work = igea__dalloc(lw);
+        if (!work)
+            st = IGEA_ENOMEM;
+        else {
+            info = LAPACKE_dgesdd_work(LAPACK_COL_MAJOR, jobz, m, N, a, m, sv,
+                                       u, m, vt, N, work, (lapack_int)lw,
+                                       iwork);
+            free(work);
+        }
+    }
+    free(iwork);
+    if (st == 0 && (info != 0 || !igea__finite_vec(k, sv, 1)))
+        st = IGEA_ELAPACK;
+    if (st != 0) {
+        free(a);
+        return st;
     }
     for (int i = 0; i < N; i++)
         s[i] = i < k ? sv[i] : 0.0;
@@ -530,9 +554,9 @@ int igea_accel_fit(int model, int method, int n, const double *theta_deg,
         (model == IGEA_ACCEL_DUAL && !igea__finite_vec(n, yb, 1)))
         return IGEA_ENONFINITE;
     if (ebr && prior_scale) {
-        int nonfinite;
-        if (!igea__positive_vec(np, prior_scale, &nonfinite))
-            return nonfinite ? IGEA_ENONFINITE : IGEA_ENONPOSITIVE;
+        int st = igea__sigma_vec(np, prior_scale);
+        if (st)
+            return st;
     }
 
     size_t nn = (size_t)n;
@@ -646,6 +670,18 @@ int igea_accel_fit(int model, int method, int n, const double *theta_deg,
     inf[IGEA_ACCEL_INFO_DOF] = n - rank_ls;
     inf[IGEA_ACCEL_INFO_ITER] = 0;
     inf[IGEA_ACCEL_INFO_STEP] = 0;
+    /* Every output finite except the documented NaN of a standard
+     * deviation that cannot be estimated. */
+    if (!igea__finite_vec(np, x, 1) || !igea__finite_vec(nc, cmb, 1) ||
+        !igea__finite_vec(IGEA_ACCEL_INFO_LEN, inf, 1)) {
+        st = IGEA_EOVERFLOW;
+        goto done;
+    }
+    for (int j = 0; j < np; j++)
+        if (isinf(sdv[j]) || (isnan(sdv[j]) && n != rank_ls)) {
+            st = IGEA_EOVERFLOW;
+            goto done;
+        }
 
     memcpy(coef, x, (size_t)np * sizeof(double));
     if (sd)

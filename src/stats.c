@@ -200,6 +200,30 @@ int igea_stats_chi2_upper(double alpha, double dof, double *x)
     return st;
 }
 
+/* Sum of non-negative finite terms, saturated: *sat = 1 and DBL_MAX when
+ * the sum (or a term) exceeds the double range. */
+typedef struct {
+    igea__ksum k;
+    int sat;
+} sat_sum;
+
+static void sat_add(sat_sum *t, double x)
+{
+    if (t->sat)
+        return;
+    if (!isfinite(x) || !isfinite(t->k.s + x)) {
+        t->sat = 1;
+        return;
+    }
+    igea__ksum_add(&t->k, x);
+}
+
+static double sat_get(const sat_sum *t)
+{
+    double v = t->sat ? DBL_MAX : igea__ksum_get(&t->k);
+    return isfinite(v) ? v : DBL_MAX;
+}
+
 int igea_stats_accuracy_test(int n, const double *equiv_err,
                              const double *lambda, double alpha,
                              double lambda_test, double z_crit, double *z,
@@ -223,18 +247,36 @@ int igea_stats_accuracy_test(int n, const double *equiv_err,
             ntest++;
     if (ntest == 0)
         return IGEA_ENOTESTABLE;
+    if (ntest > IGEA_STATS_DOF_MAX)
+        return -1;
     double zc = z_crit, crit, pval;
     if (zc == 0.0)
         zc = gsl_cdf_ugaussian_Qinv(0.5 * alpha);
     int st = igea_stats_chi2_upper(alpha, (double)ntest, &crit);
     if (st != 0)
         return st;
-    igea__ksum t = {0, 0};
+    /* First pass: the statistic only; z_i = e_i / sqrt(1 + 1/lambda_i) is
+     * finite (|z_i| <= |e_i|), z_i^2 and T may exceed the double range. */
+    sat_sum t = {{0, 0}, 0};
+    for (int i = 0; i < n; i++) {
+        if (lambda[i] >= lambda_test) {
+            double zi = equiv_err[i] / sqrt(1.0 + 1.0 / lambda[i]);
+            sat_add(&t, zi * zi);
+        }
+    }
+    double T = sat_get(&t);
+    if (t.sat)
+        pval = 0.0; /* Q(T) < Q(DBL_MAX) = 0 to double precision */
+    else {
+        st = igea_stats_chi2_sf(T, (double)ntest, &pval);
+        if (st != 0)
+            return st < 0 && st > -1000 ? IGEA_ENOCONV : st;
+    }
+    /* Nothing can fail from here: the outputs are written. */
     int nrej = 0;
     for (int i = 0; i < n; i++) {
         if (lambda[i] >= lambda_test) {
             double zi = equiv_err[i] / sqrt(1.0 + 1.0 / lambda[i]);
-            igea__ksum_add(&t, zi * zi);
             z[i] = zi;
             reject[i] = fabs(zi) > zc;
             nrej += reject[i];
@@ -243,10 +285,6 @@ int igea_stats_accuracy_test(int n, const double *equiv_err,
             reject[i] = -1;
         }
     }
-    double T = igea__ksum_get(&t);
-    st = igea_stats_chi2_sf(T, (double)ntest, &pval);
-    if (st != 0)
-        return st;
     for (int k = 0; k < IGEA_INFO_LEN; k++)
         if (k < IGEA_INFO_RANK)
             info[k] = 0.0;
@@ -275,26 +313,28 @@ int igea_stats_pool(int nflights, const double *chi2, const int *dof,
         return IGEA_ENONFINITE;
     double dtot = 0.0;
     long nrej = 0;
-    igea__ksum t = {0, 0};
+    sat_sum t = {{0, 0}, 0};
     for (int f = 0; f < nflights; f++) {
         if (chi2[f] < 0.0) return -2;
         if (dof[f] < 1) return -3;
         if (n_reject[f] < 0) return -4;
         dtot += dof[f];
         nrej += n_reject[f];
-        igea__ksum_add(&t, chi2[f]);
+        sat_add(&t, chi2[f]);
     }
+    if (dtot > IGEA_STATS_DOF_MAX)
+        return -3;
     if (unit_id)
         for (int f = 0; f < nflights; f++)
             for (int g = f + 1; g < nflights; g++)
                 if (unit_id[f] == unit_id[g])
                     return IGEA_EDEPENDENT;
-    double T = igea__ksum_get(&t), crit, pval;
+    double T = sat_get(&t), crit, pval = 0.0;
     int st = igea_stats_chi2_upper(alpha, dtot, &crit);
-    if (st == 0)
+    if (st == 0 && !t.sat)
         st = igea_stats_chi2_sf(T, dtot, &pval);
     if (st != 0)
-        return st;
+        return st < 0 && st > -1000 ? IGEA_ENOCONV : st;
     for (int k = 0; k < IGEA_INFO_LEN; k++)
         info[k] = 0.0;
     info[IGEA_INFO_N_TEST] = dtot;

@@ -73,8 +73,13 @@ IGEA_API int igea_stats_chi2_upper(double alpha, double dof, double *x);
  *   the seed's tabulated z_0.995), 0 to use the exact quantile.
  * Outputs: z[n] (z_i for tested components, 0 elsewhere), reject[n] (1
  * rejected, 0 accepted, -1 not tested), info[IGEA_INFO_LEN] (entries 0-7).
- * Returns 0, -i, IGEA_ENONFINITE, or IGEA_ENOTESTABLE when no lambda[i]
- * reaches lambda_test.
+ * Large finite values are data: z_i is always finite (|z_i| <= |e_i|);
+ * when T exceeds the double range (e.g. an equivalent error of 1e300) it
+ * is saturated at DBL_MAX with P_VALUE 0 and PASSED 0 (rejected), never
+ * Inf or NaN. Outputs are written only on success.
+ * Returns 0, -i (-1 also when more than IGEA_STATS_DOF_MAX components are
+ * tested), IGEA_ENONFINITE, IGEA_ENOCONV, or IGEA_ENOTESTABLE when no
+ * lambda[i] reaches lambda_test.
  */
 IGEA_API int igea_stats_accuracy_test(int n, const double *equiv_err,
                                       const double *lambda, double alpha,
@@ -90,7 +95,11 @@ IGEA_API int igea_stats_accuracy_test(int n, const double *equiv_err,
  *   appears twice makes the flights dependent and the call returns
  *   IGEA_EDEPENDENT; 0 < alpha < 1.
  * Output info: N_TEST (= dof_tot), CHI2, DOF, CHI2_CRIT, Z_CRIT, P_VALUE,
- * N_REJECT (sum), PASSED, N_FLIGHTS.
+ * N_REJECT (sum), PASSED, N_FLIGHTS. A T_tot beyond the double range (two
+ * chi2 of 1e308) is saturated at DBL_MAX with P_VALUE 0 and PASSED 0.
+ * Returns 0, -i (-3 also when dof_tot > IGEA_STATS_DOF_MAX),
+ * IGEA_ENONFINITE, IGEA_EDEPENDENT, IGEA_ENOCONV; info is written only on
+ * success.
  */
 IGEA_API int igea_stats_pool(int nflights, const double *chi2, const int *dof,
                              const int *n_reject, const int *unit_id,
