@@ -1,0 +1,347 @@
+/* tests/audit/audit.h - run-time support of the generated audit suites.
+ *
+ * gen_invalid.py reads the public headers and writes, for every exported
+ * function, a descriptor (audit_fn): a set-up that builds one valid call
+ * (its "baseline") in an audit_call, a wrapper that makes the call from it,
+ * and the list of invalid mutations of that call. The suites
+ * (test_invalid.c, test_oom.c, test_threads.c) only interpret those tables.
+ *
+ * Every pointer argument gets its own heap buffer of AUDIT_NB elements,
+ * larger than any baseline needs: an output is filled with a byte pattern
+ * (AUDIT_FILL) and compared whole, so no output size has to be known. */
+#ifndef IGEA_AUDIT_H
+#define IGEA_AUDIT_H
+
+#include <limits.h>
+#include <math.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "igea.h"
+
+#define AUDIT_MAXARG 24
+#define AUDIT_NB 4096
+#define AUDIT_FILL 0xA5
+#define AUDIT_PI 3.14159265358979323846
+/* A handle output's initial content: not a valid handle, not NULL. */
+#define AUDIT_BAD_HANDLE ((igea_rls *)(uintptr_t)0x5a5a5a50u)
+
+/* Argument types. */
+enum { AT_INT, AT_DBL, AT_PD, AT_PI, AT_H, AT_HO };
+/* Mutation kinds. */
+enum { MK_INT, MK_IADD, MK_DBL, MK_NULL, MK_ELEM };
+/* What a mutated call must do. */
+enum { EX_FAIL, EX_OK, EX_ANY };
+
+typedef struct {
+    int arg;       /* 0-based argument index */
+    int kind;      /* MK_* */
+    long ival;     /* MK_INT: the new value; MK_IADD: added to the baseline */
+    double dval;   /* MK_DBL, MK_ELEM: the new value */
+    int expect;    /* EX_* */
+    const char *label; /* "lda=m-1", "A=NULL", "A[0]=NaN", ... */
+} audit_mut;
+
+typedef struct {
+    int nargs;
+    int type[AUDIT_MAXARG];
+    int isconst[AUDIT_MAXARG];
+    long iv[AUDIT_MAXARG];
+    double dv[AUDIT_MAXARG];
+    void *pv[AUDIT_MAXARG];  /* what is passed */
+    void *buf[AUDIT_MAXARG]; /* what is owned (freed by audit_teardown) */
+    size_t nbytes[AUDIT_MAXARG];
+    unsigned char *snap[AUDIT_MAXARG]; /* content before the call */
+    double hstate[AUDIT_MAXARG][64];   /* a handle's state before the call */
+    int consumed[AUDIT_MAXARG];        /* the call released this handle */
+} audit_call;
+
+typedef struct {
+    const char *name;
+    int nargs;
+    const char *const *argnames;
+    void (*setup)(audit_call *);
+    int (*call)(audit_call *);
+    const audit_mut *muts;
+    int nmut;
+    int threads; /* 0: process-wide set-up, not for the threads suite */
+    int consumes; /* index of a handle argument the call releases, or -1 */
+} audit_fn;
+
+/* ---- deterministic values -------------------------------------------- */
+
+/* Uniform in [0, 1) from an index (SplitMix64 finaliser). */
+static inline double audit_u01(long i)
+{
+    uint64_t z = (uint64_t)i * 0x9E3779B97F4A7C15ull + 0x632BE59BD9B4E019ull;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    z ^= z >> 31;
+    return (double)(z >> 11) * (1.0 / 9007199254740992.0);
+}
+/* Uniform in [-1, 1). */
+static inline double au(long i) { return 2.0 * audit_u01(i) - 1.0; }
+/* Uniform in [0.5, 1.5): scales, sigmas. */
+static inline double apos(long i) { return 0.5 + audit_u01(i + 7777); }
+static inline double asind(double deg) { return sin(deg * AUDIT_PI / 180.0); }
+static inline double acosd(double deg) { return cos(deg * AUDIT_PI / 180.0); }
+
+/* Symmetric positive definite n x n (ld) matrix: d I + a small symmetric
+ * perturbation. */
+static inline void audit_spd(double *p, int n, int ld, double d)
+{
+    for (int j = 0; j < n; j++)
+        for (int i = 0; i < n; i++) {
+            int lo = i < j ? i : j, hi = i < j ? j : i;
+            p[i + (size_t)j * ld] = (i == j ? d : 0.0) + 0.1 * au(lo * 31 + hi);
+        }
+}
+/* Upper-triangular n x n (ld) with diagonal d and small entries above. */
+static inline void audit_upper(double *p, int n, int ld, double d)
+{
+    for (int j = 0; j < n; j++)
+        for (int i = 0; i < n; i++)
+            p[i + (size_t)j * ld] = i == j ? d * (1.0 + 0.1 * j) : i < j ? au(i + 17 * j) : 0.0;
+}
+
+/* A handle of m coefficients, k rows, after nup updates. NULL on failure. */
+static inline igea_rls *audit_rls_new(int m, int k, int nup)
+{
+    double g[64], c[64], y[16];
+    igea_rls *h = NULL;
+    audit_spd(g, m, m, 4.0);
+    if (igea_rls_create(m, k, NULL, g, m, &h) != 0)
+        return NULL;
+    for (int e = 0; e < nup; e++) {
+        for (int i = 0; i < k * m; i++)
+            c[i] = au(100 * e + i);
+        for (int i = 0; i < k; i++)
+            y[i] = 0.3 * au(1000 + 10 * e + i);
+        if (igea_rls_update(h, c, k, y, NULL, NULL) < 0) {
+            igea_rls_free(h);
+            return NULL;
+        }
+    }
+    return h;
+}
+
+/* The observable state of a handle, for "untouched" and "bitwise equal"
+ * checks: sizes, x, Gamma, P (or a marker), Q, counters. */
+static inline void audit_rls_state(const igea_rls *h, double st[64])
+{
+    int m = 0, k = 0, counts[IGEA_RLS_COUNT_LEN] = {0};
+    for (int i = 0; i < 64; i++)
+        st[i] = 0;
+    if (!h || igea_rls_get_size(h, &m, &k) != 0 || m > 4)
+        return;
+    st[0] = m;
+    st[1] = k;
+    igea_rls_get_x(h, st + 2);
+    igea_rls_get_gamma(h, st + 6, m);
+    if (igea_rls_get_covariance(h, st + 22, m) != 0)
+        st[22] = -1;
+    igea_rls_get_q(h, st + 38);
+    igea_rls_get_counts(h, counts);
+    for (int i = 0; i < IGEA_RLS_COUNT_LEN; i++)
+        st[40 + i] = counts[i];
+}
+
+/* ---- buffers ---------------------------------------------------------- */
+
+static inline void *audit_buf(audit_call *c, int a, int type, int isconst, size_t elsize)
+{
+    c->type[a] = type;
+    c->isconst[a] = isconst;
+    c->nbytes[a] = (size_t)AUDIT_NB * elsize;
+    c->buf[a] = malloc(c->nbytes[a]);
+    if (!c->buf[a]) {
+        fprintf(stderr, "audit: out of memory in the set-up\n");
+        exit(2);
+    }
+    memset(c->buf[a], AUDIT_FILL, c->nbytes[a]);
+    c->pv[a] = c->buf[a];
+    return c->buf[a];
+}
+
+static inline void audit_teardown(audit_call *c)
+{
+    for (int a = 0; a < c->nargs; a++) {
+        if (c->type[a] == AT_H && c->buf[a] && !c->consumed[a])
+            igea_rls_free((igea_rls *)c->buf[a]);
+        else if (c->type[a] == AT_HO && c->buf[a]) {
+            igea_rls *h = *(igea_rls **)c->buf[a];
+            if (h != AUDIT_BAD_HANDLE)
+                igea_rls_free(h);
+            free(c->buf[a]);
+        } else if (c->type[a] != AT_H)
+            free(c->buf[a]);
+        free(c->snap[a]);
+        c->buf[a] = c->snap[a] = NULL;
+    }
+}
+
+static inline void audit_apply(audit_call *c, const audit_mut *m)
+{
+    switch (m->kind) {
+    case MK_INT: c->iv[m->arg] = m->ival; break;
+    case MK_IADD: c->iv[m->arg] += m->ival; break;
+    case MK_DBL: c->dv[m->arg] = m->dval; break;
+    case MK_NULL: c->pv[m->arg] = NULL; break;
+    case MK_ELEM: ((double *)c->buf[m->arg])[0] = m->dval; break;
+    }
+}
+
+/* Record what a failed call must leave untouched. */
+static inline void audit_snapshot(audit_call *c)
+{
+    for (int a = 0; a < c->nargs; a++) {
+        if ((c->type[a] == AT_PD || c->type[a] == AT_PI) && !c->isconst[a] && c->buf[a]) {
+            free(c->snap[a]);
+            c->snap[a] = malloc(c->nbytes[a]);
+            if (!c->snap[a])
+                exit(2);
+            memcpy(c->snap[a], c->buf[a], c->nbytes[a]);
+        } else if (c->type[a] == AT_H && !c->isconst[a] && c->buf[a])
+            audit_rls_state((const igea_rls *)c->buf[a], c->hstate[a]);
+    }
+}
+
+/* The first argument changed since audit_snapshot (its index), or -1. A
+ * handle output must be NULL after a failure. */
+static inline int audit_changed(const audit_call *c, int failed)
+{
+    for (int a = 0; a < c->nargs; a++) {
+        if (c->snap[a] && memcmp(c->snap[a], c->buf[a], c->nbytes[a]) != 0)
+            return a;
+        if (c->type[a] == AT_H && !c->isconst[a] && c->buf[a] && !c->consumed[a]) {
+            double st[64];
+            audit_rls_state((const igea_rls *)c->buf[a], st);
+            if (memcmp(st, c->hstate[a], sizeof st) != 0)
+                return a;
+        }
+        if (failed && c->type[a] == AT_HO && c->pv[a] && *(igea_rls **)c->buf[a] != NULL)
+            return a;
+    }
+    return -1;
+}
+
+/* Results of a successful call, for bitwise comparison: the content of
+ * every writable buffer and the state of every handle (an output handle's
+ * state, not its address). Returns a malloc'ed block of *len bytes. */
+static inline unsigned char *audit_results(const audit_call *c, size_t *len)
+{
+    size_t n = 0;
+    for (int a = 0; a < c->nargs; a++)
+        if ((c->type[a] == AT_PD || c->type[a] == AT_PI) && !c->isconst[a] && c->buf[a])
+            n += c->nbytes[a];
+        else if (c->type[a] == AT_H || c->type[a] == AT_HO)
+            n += 64 * sizeof(double);
+    unsigned char *r = malloc(n ? n : 1), *p = r;
+    if (!r)
+        exit(2);
+    for (int a = 0; a < c->nargs; a++)
+        if ((c->type[a] == AT_PD || c->type[a] == AT_PI) && !c->isconst[a] && c->buf[a]) {
+            memcpy(p, c->buf[a], c->nbytes[a]);
+            p += c->nbytes[a];
+        } else if (c->type[a] == AT_H || c->type[a] == AT_HO) {
+            double st[64];
+            const igea_rls *h = NULL;
+            if (c->type[a] == AT_H && !c->consumed[a])
+                h = (const igea_rls *)c->buf[a];
+            else if (c->type[a] == AT_HO && c->buf[a] && *(igea_rls **)c->buf[a] != AUDIT_BAD_HANDLE)
+                h = *(igea_rls **)c->buf[a];
+            audit_rls_state(h, st);
+            memcpy(p, st, sizeof st);
+            p += sizeof st;
+        }
+    *len = n;
+    return r;
+}
+
+/* ---- the expected-failure list ---------------------------------------- */
+
+/* known_defects.txt: one entry per line, "ID | what happens"; '#' starts a
+ * comment line. ID is the suite's name of a check, e.g.
+ * "invalid igea_regress_ls lda=m-1" or "oom igea_regress_ridge". */
+typedef struct {
+    char id[160];
+    char what[400];
+    int seen;
+} audit_known;
+
+static inline int audit_read_known(const char *path, audit_known *k, int cap)
+{
+    FILE *f = fopen(path, "r");
+    int n = 0;
+    char line[600];
+    if (!f)
+        return 0;
+    while (n < cap && fgets(line, sizeof line, f)) {
+        char *bar, *e;
+        if (line[0] == '#' || line[0] == '\n')
+            continue;
+        line[strcspn(line, "\n")] = 0;
+        bar = strchr(line, '|');
+        if (bar)
+            *bar = 0;
+        for (e = line + strlen(line); e > line && e[-1] == ' '; e--)
+            e[-1] = 0;
+        memcpy(k[n].id, line, strlen(line) < sizeof k[n].id ? strlen(line) + 1 : sizeof k[n].id);
+        k[n].id[sizeof k[n].id - 1] = 0;
+        if (bar) {
+            const char *w = bar + 1 + (bar[1] == ' ');
+            size_t l = strlen(w) < sizeof k[n].what - 1 ? strlen(w) : sizeof k[n].what - 1;
+            memcpy(k[n].what, w, l);
+            k[n].what[l] = 0;
+        } else
+            k[n].what[0] = 0;
+        k[n].seen = 0;
+        n++;
+    }
+    fclose(f);
+    return n;
+}
+
+/* The entry for check id that failed with message msg (NULL for a check
+ * that passed: then only an exact entry is returned). An ID ending in '*'
+ * matches every check it begins; a "[msg: TEXT]" in the description
+ * restricts the entry to failures whose message contains TEXT. */
+static inline audit_known *audit_find_known(audit_known *k, int n, const char *id,
+                                            const char *msg)
+{
+    for (int i = 0; i < n; i++) {
+        size_t l = strlen(k[i].id);
+        int hit = strcmp(k[i].id, id) == 0 ||
+                  (msg && l > 0 && k[i].id[l - 1] == '*' && strncmp(k[i].id, id, l - 1) == 0);
+        if (!hit)
+            continue;
+        const char *want = strstr(k[i].what, "[msg: ");
+        if (msg && want) {
+            char t[200];
+            const char *e = strchr(want + 6, ']');
+            size_t tl = e ? (size_t)(e - want - 6) : strlen(want + 6);
+            if (tl >= sizeof t)
+                tl = sizeof t - 1;
+            memcpy(t, want + 6, tl);
+            t[tl] = 0;
+            if (!strstr(msg, t))
+                continue;
+        }
+        return &k[i];
+    }
+    return NULL;
+}
+
+/* Print the entries of the list that no check matched (a stale entry,
+ * or one of a suite that did not run: filtered by the id's prefix). */
+static inline void audit_unseen(const audit_known *k, int n, const char *prefix)
+{
+    for (int i = 0; i < n; i++)
+        if (!k[i].seen && strncmp(k[i].id, prefix, strlen(prefix)) == 0)
+            printf("NOW PASSES (drop it from known_defects.txt): %s\n", k[i].id);
+}
+
+#endif

@@ -1,0 +1,196 @@
+"""Valid baseline calls of the exported functions, for gen_invalid.py.
+
+A parameter's value is taken, in order, from the function's entry in BASE,
+from NAME_DEFAULTS (by parameter name), or from its type: a writable
+pointer is an output ('out'), an igea_rls * a fresh handle ('h'), an
+igea_rls ** a handle output ('ho'). A function whose every parameter is
+resolved so needs no entry; the generator stops when one cannot be.
+
+Values:
+  scalars    a C expression; it may name the function's other scalars
+  pointers   'out'         output, filled with a byte pattern
+             'NULL'        passed as NULL
+             'u' 'pos' '0' values au(i) in [-1, 1), apos(i) in [0.5, 1.5), 0
+             'c:EXPR'      element i is EXPR
+             '[a, b, ...]' these elements, then zeros
+             'set:CODE'    C statements filling the buffer b_
+             'h'           a handle from audit_rls_new(3, 2, 2) (m = 3, k = 2,
+                           after two updates); 'h0' the same before any
+A writable pointer given values is an input-output argument: a failed call
+must leave it as it was, like an output.
+
+Keys starting with '_' annotate the function:
+  _opt, _req     pointer parameters that may / may not be NULL, where the
+                 reading of the header comment ("may be NULL", "or NULL")
+                 is wrong
+  _null_any      NULL is allowed only in some cases: no expectation
+  _zero_ok       size parameters for which 0 is valid
+  _inf_ok        double parameters (scalar or array) for which +-Inf is
+                 valid ('name' both signs, 'name+' or 'name-' one)
+  _nan_ok        double parameters for which NaN is valid
+  _int           class of an int parameter not in gen_invalid.INT_CLASS
+                 (size, ld, enum, nonneg, index, free)
+  _ret           'bool': the function answers 1/0 (1 for the baseline),
+                 mutations must give 0
+  _extra         further mutations: [(param, C value, 'ok'|'fail'|'any')]
+  _threads       False: not run by the threads suite (process-wide set-up)
+"""
+
+NAME_DEFAULTS = {
+    'm': '6', 'N': '3', 'n': '6',
+    'A': 'u', 'S': 'u', 'H': 'u', 'y': 'u', 'dw': 'u',
+    'lda': 'm', 'lds': 'm', 'ldc': 'N', 'ldp': 'N', 'ldv': 'N',
+    'sigma': 'pos', 'track_sigma': 'pos', 'spec_sigma': 'pos',
+    'sigma_inc': '1', 'layout': 'IGEA_COLMAJOR',
+    'rcond': '0.0', 'alpha': '0.01',
+    'h': 'h',
+}
+
+EQ_OPTS = 'set:igea_eqerr_defaults(b_);'
+SIM_OPTS = 'set:igea_sim_defaults(b_);'
+TRAJ = 'set:igea_sim_trajectory(IGEA_ENVFUN_STRAPDOWN, 10.0, 10.0, 101, b_, 101);'
+THETA30 = 'c:30.0 * (double)i'
+YA_DUAL = 'c:asind(30.0 * (double)i) + 1e-4 * au(i)'
+YB_DUAL = 'c:acosd(30.0 * (double)i) + 1e-4 * au(i + 500)'
+
+BASE = {
+    # ---- common
+    'igea_strerror': dict(status='IGEA_ENOMEM', _int=dict(status='free'),
+                          _extra=[('status', 'INT_MIN', 'ok'), ('status', '12345', 'ok'),
+                                  ('status', '-1', 'ok'), ('status', '0', 'ok')]),
+    'igea_init': dict(_threads=False),
+    # ---- stats
+    'igea_stats_normal_cdf': dict(x='0.5', _inf_ok=['x']),
+    'igea_stats_normal_quantile': dict(p='0.3'),
+    'igea_stats_chi2_cdf': dict(x='2.0', dof='3.0', _inf_ok=['x+']),
+    'igea_stats_chi2_sf': dict(x='2.0', dof='3.0', _inf_ok=['x+']),
+    'igea_stats_chi2_quantile': dict(p='0.3', dof='3.0'),
+    'igea_stats_chi2_upper': dict(alpha='0.01', dof='11.0'),
+    'igea_stats_accuracy_test': dict(equiv_err='u', **{'lambda': 'c:20.0 + (double)i'},
+                                     lambda_test='10.0', z_crit='2.58'),
+    'igea_stats_pool': dict(nflights='3', chi2='[2.0, 3.0, 1.5]', dof='[2, 3, 2]',
+                            n_reject='[0, 0, 0]', unit_id='[1, 2, 3]'),
+    # ---- normal
+    'igea_normal_accumulate': dict(lda='N', A='0', b='0', wtw='0', _zero_ok=['m']),
+    'igea_normal_qr_accumulate': dict(R='0', ldr='N + 1', rows='0', _zero_ok=['m'],
+                                      _opt=['spec_sigma']),
+    # ---- eqerr
+    'igea_eqerr_solve': dict(A='set:audit_spd(b_, 3, 3, 100.0);', lda='N', b='u', opts=EQ_OPTS),
+    'igea_eqerr_solve_qr': dict(R='set:audit_upper(b_, 4, 4, 10.0);', ldr='N + 1', rows='20.0',
+                                opts=EQ_OPTS),
+    'igea_eqerr_run': dict(m='12', track_sigma='c:0.05', opts=EQ_OPTS, _req=['S', 'dw', 'z']),
+    'igea_eqerr_coef': dict(P='u', equiv_err='u', n_test='2', _int=dict(n_test='nonneg'),
+                            _req=['coef']),
+    'igea_eqerr_residual': dict(coef='u', row0='0', axis_ss='0', _zero_ok=['m']),
+    # ---- regress
+    'igea_regress_ebr': dict(m='8', prior_scale='pos', rule='IGEA_EBR_SC', lam_floor='0.0'),
+    'igea_regress_ls': dict(_req=['x'], _inf_ok=['rcond-']),
+    'igea_regress_ridge': dict(rule='IGEA_RIDGE_FIXED', k='0.1', _req=['A', 'x', 'y']),
+    'igea_regress_ridge_trace': dict(nk='3', k='[0.0, 0.1, 1.0]', ldx='N', _req=['k']),
+    'igea_regress_pce': dict(ncomp='0', eig_min='0.01', _zero_ok=['ncomp']),
+    'igea_regress_bayes': dict(prior_mean='u', prior_cov='set:audit_spd(b_, 3, 3, 1.0);',
+                               _req=['A', 'x', 'y']),
+    'igea_regress_collinearity': dict(_inf_ok=['rcond-']),
+    # ---- accel
+    'igea_accel_schedule': dict(n='8', start_deg='0.0'),
+    'igea_accel_merge': dict(nrows='8', angle_deg='c:45.0 * (double)i', ya='u', yb='u',
+                             tol_deg='1.0', _null_any=['yb', 'yb_mean']),
+    'igea_accel_to_g': dict(raw='u', scale='2.5'),
+    'igea_accel_observe': dict(model='IGEA_ACCEL_DUAL', n='8', theta_deg=THETA30,
+                               ya=YA_DUAL, yb=YB_DUAL, _req=['yb']),
+    'igea_accel_design': dict(model='IGEA_ACCEL_DUAL', n='12', theta_deg=THETA30, lda='n'),
+    'igea_accel_combinations': dict(model='IGEA_ACCEL_DUAL', ldc='9'),
+    'igea_accel_analyze': dict(model='IGEA_ACCEL_DUAL', n='12', theta_deg=THETA30, ldn='9'),
+    'igea_accel_fit': dict(model='IGEA_ACCEL_DUAL', method='IGEA_ACCEL_EBR', n='12',
+                           theta_deg=THETA30, ya=YA_DUAL, yb=YB_DUAL, prior_scale='pos',
+                           rule='IGEA_EBR_SC', lam_floor='0.0', _req=['yb']),
+    'igea_accel_refine': dict(n='12', theta_deg=THETA30, ya=YA_DUAL, yb=YB_DUAL, coef0='0',
+                              max_iter='50', tol='1e-9'),
+    'igea_accel_simulate': dict(n='12', theta_deg=THETA30, truth='c:1e-4 * au(i)',
+                                head_sd='1e-6', noise_sd='1e-5', seed='1'),
+    # ---- envfun
+    'igea_envfun_term_valid': dict(system='IGEA_ENVFUN_STRAPDOWN', term='IGEA_TERM_ACC_BIAS_X',
+                                   _ret='bool'),
+    'igea_envfun_compute': dict(system='IGEA_ENVFUN_STRAPDOWN', nsamp='101', traj=TRAJ,
+                                ldt='nsamp', nterms='3', terms='[0, 3, 15]', axes='NULL',
+                                nepochs='5', epochs='c:2.0 * (double)i', spec='pos',
+                                output='IGEA_ENVFUN_VELOCITY', lds='3 * nepochs', _opt=['spec']),
+    # ---- sim
+    'igea_sim_trajectory_length': dict(duration='10.0', rate='10.0'),
+    'igea_sim_trajectory': dict(system='IGEA_ENVFUN_STRAPDOWN', duration='10.0', rate='10.0',
+                                nsamp='101', ldt='nsamp'),
+    'igea_sim_flight': dict(x_value='u', x_fixed='[1, 0, 1]', opts=SIM_OPTS, seed='1',
+                            flight='0', _null_any=['x_value'], _opt=['x_fixed']),
+    'igea_sim_nonlinear': dict(system='IGEA_ENVFUN_STRAPDOWN', nsamp='101', traj=TRAJ,
+                               ldt='nsamp', err='set:b_[0] = 1e-3; b_[15] = 1e-6;'
+                               ' for (long i = 1; i < AUDIT_NB; i++) if (i != 15) b_[i] = 0;',
+                               axes='NULL', nepochs='5', epochs='c:2.0 * (double)i'),
+    'igea_sim_montecarlo': dict(m='12', track_sigma='c:0.05', x_value='NULL', x_fixed='NULL',
+                                opts='NULL', seed='1', eq_opts=EQ_OPTS, first_flight='0',
+                                nflights='4', nthreads='1', _zero_ok=['nthreads'],
+                                _int=dict(nthreads='nonneg'), _opt=['spec_sigma']),
+    # ---- redund
+    'igea_redund_exponential': dict(**{'lambda': '1e-4'}, t='100.0'),
+    'igea_redund_series': dict(n='4', R='c:0.9'),
+    'igea_redund_parallel': dict(n='4', R='c:0.9'),
+    'igea_redund_kofn': dict(n='4', k='2', R='c:0.9'),
+    'igea_redund_diagram': dict(ncomp='4', R='[0.9, 0.8, 0.7, 0.6]', nblock='2',
+                                type='[IGEA_RBD_SERIES, IGEA_RBD_KOFN]', k='[0, 2]',
+                                first='[0, 2, 5]', member='[0, 1, 2, 3, 4]',
+                                _null_any=['k']),
+    'igea_redund_seed002': dict(Re1='0.9', Re2='0.95'),
+    'igea_redund_geometry': dict(n='6', axes='u', lda='n', R='c:0.9', fdi='1'),
+    'igea_redund_erfinv': dict(y='0.3'),
+    'igea_redund_confidence_distance': dict(n='4', x='u', ldd='n'),
+    'igea_redund_thresholds': dict(n='4', alpha='c:0.9', lda='n', ldd='n'),
+    'igea_redund_relation': dict(n='4', D='c:0.5', ldd='n', alpha='c:0.9', lda='n', ldr='n'),
+    'igea_redund_relation_delta': dict(n='4', x='u', delta='c:0.5', ldd='n', ldr='n',
+                                       _inf_ok=['delta+']),
+    'igea_redund_fusion_set': dict(n='4', D='c:0.3 * audit_u01(i)', ldd='n', alpha='c:0.9',
+                                   lda='n', iterative='1'),
+    'igea_redund_fuse': dict(n='4', x='u', keep='c:1', weighted='1'),
+    'igea_redund_false_alarm': dict(sigma_i='1.0', noise_i='0.5', noise_j='0.5',
+                                    alpha='0.9'),
+    'igea_redund_transform': dict(ngroup='2', C='u', v='u'),
+    'igea_redund_parity': dict(m='5', q='3', ldh='m', ldv='m - q'),
+    'igea_redund_fdi': dict(m='5', q='3', ldh='m', pfa='0.01'),
+    'igea_redund_skew_check': dict(ny='2', ay='u', sy='pos', nz='2', az='u', sz='pos',
+                                   ad='0.1', sd='1.0', cy='0.7071', cz='0.7071',
+                                   kappa='3.0'),
+    'igea_redund_window_count': dict(nsamp='100', fs='10.0', window='2.0'),
+    'igea_redund_series_check': dict(nsamp='100', nsens='4', ldy='nsamp', fs='10.0',
+                                     window='2.0', alpha='c:0.9', lda='nsens',
+                                     iterative='1', weighted='1', nwin='5'),
+    'igea_redund_simulate': dict(nsamp='100', nsens='4', fs='10.0', level='u', noise='pos',
+                                 fault_sensor='1', t0='2.0', t1='5.0', fault_bias='1.0',
+                                 seed='1', ldy='nsamp', _inf_ok=['t0', 't1']),
+    # ---- stability
+    'igea_stability_block': dict(n='200', fs='10.0', block='2.0'),
+    'igea_stability_allan': dict(n='200', fs='10.0', ntau='3', tau='[0.1, 0.2, 0.4]',
+                                 kind='IGEA_ALLAN_OVERLAPPING', noise='IGEA_NOISE_AUTO',
+                                 conf='0.683', _opt=['lo', 'hi']),
+    'igea_stability_octave_taus': dict(n='200', fs='10.0', kind='IGEA_ALLAN_OVERLAPPING',
+                                       ntau_max='8'),
+    'igea_stability_noise_id': dict(ntau='6', tau='c:0.1 * pow(2.0, (double)i)',
+                                    adev='c:1e-3 * (1.0 + 0.1 * (double)i)'),
+    # ---- rls (handles: m = 3 coefficients, k = 2 rows)
+    'igea_rls_create': dict(m='3', k='2', x0='u', gamma0='set:audit_spd(b_, 3, 3, 1.0);',
+                            ldg='m'),
+    'igea_rls_free': dict(),
+    'igea_rls_set_variant': dict(variant='IGEA_RLS_POLYNOMIAL', p='3'),
+    'igea_rls_set_anomaly': dict(policy='IGEA_RLS_ANOMALY_SKIP', kappa='4.0', jump_max='pos',
+                                 _inf_ok=['kappa+', 'jump_max+']),
+    'igea_rls_set_covariance': dict(h='h0', track='1'),
+    'igea_rls_set_forget': dict(**{'lambda': '0.99'}),
+    'igea_rls_update': dict(c='u', ldc='2', y='u', track_sigma='pos'),
+    'igea_rls_run': dict(n='4', layout='IGEA_RLS_LAYOUT_ROWS', S='u', lds='8', dw='u',
+                         track_sigma='pos', sigma_inc='1', ldx='3', _zero_ok=['n'],
+                         _opt=['track_sigma']),
+    'igea_rls_get_x': dict(),
+    'igea_rls_get_gamma': dict(ldg='3'),
+    'igea_rls_get_covariance': dict(ldc='3'),
+    'igea_rls_get_q': dict(),
+    'igea_rls_get_counts': dict(),
+    'igea_rls_get_size': dict(),
+    'igea_rls_compensate': dict(c='u', ldc='2', y='u'),
+}
