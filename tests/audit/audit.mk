@@ -14,7 +14,7 @@ AUDIT_GEN   := $(AUDIT_DIR)/audit_gen.c
 AUDIT_KNOWN := tests/audit/known_defects.txt
 AUDIT_DEPS  := tests/audit/audit.h $(AUDIT_GEN) tests/oom.h
 AUDIT_BINS  := $(AUDIT_DIR)/test_invalid $(AUDIT_DIR)/test_oom $(AUDIT_DIR)/test_threads
-AUDIT_THREADS_REPS ?= 20
+AUDIT_THREADS_REPS ?= 50
 TSAN_DIR    := $(BUILD)/tsan
 
 .PHONY: audit audit-build tsan
@@ -50,6 +50,6 @@ tsan:
 	  CFLAGS_EXTRA="-fsanitize=thread -fno-omit-frame-pointer" \
 	  LDFLAGS_EXTRA="-fsanitize=thread" $(TSAN_DIR)/audit/test_threads
 	TSAN_OPTIONS="halt_on_error=1 exitcode=66 $(TSAN_OPTIONS)" OPENBLAS_NUM_THREADS=1 \
-	  $(TSAN_DIR)/audit/test_threads $(AUDIT_KNOWN) 3
+	  $(TSAN_DIR)/audit/test_threads $(AUDIT_KNOWN) 10
 
 CHECK_EXTRA += audit
