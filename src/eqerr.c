@@ -313,8 +313,13 @@ static int solve_qr(int N, const double *R, int ldr, double rows, const double *
                 s->xhat[i] = s->g0[i] / sv[i];
             }
         }
-        st = sigmaw_and_test(N, r, s->lam0, s->g0, s->xhat, o, s->lambda, s->z, s->reject,
-                             s->info);
+        /* lambda = s^2 of a finite factor may leave the double range. */
+        for (int i = 0; i < N; i++)
+            if (!isfinite(s->lam0[i]) || (i < r && !(s->lam0[i] >= DBL_MIN)))
+                st = IGEA_EOVERFLOW;
+        if (st == 0)
+            st = sigmaw_and_test(N, r, s->lam0, s->g0, s->xhat, o, s->lambda, s->z,
+                                 s->reject, s->info);
     }
     free(work);
     free(iwork);

@@ -3,11 +3,14 @@
  * eigenvalues and singular values in closed form, null space n1, n2),
  * 4.3 (EBR test vector); closed forms for the minimum-norm solution and the
  * single-model covariance. */
+#include <unistd.h>
+
 #include "testutil.h"
 
 #include "igea/accel.h"
 #include "igea/regress.h"
 #include "internal.h"
+#include "oom.h"
 
 #define NPOS 20
 #define DEG (3.14159265358979323846 / 180.0)
@@ -849,6 +852,136 @@ static void test_refine_invalid(void **state)
                 all_sentinel(info, 8));
 }
 
+/* ---- out of memory ------------------------------------------------------ */
+
+#ifndef OOM_DISABLED
+/* The n-th allocation inside fn fails, for every n until a call makes no
+ * failing allocation: each failure is IGEA_ENOMEM with the outputs
+ * untouched, and nothing reaches stdout (LAPACKE's high-level entry points
+ * print "Not enough memory" and report a LAPACK failure). */
+typedef int (*oom_fn)(double *out, int nout);
+
+static void oom_loop(oom_fn fn, int nout)
+{
+    double *out = __libc_malloc(sizeof(double) * (size_t)nout);
+    assert_non_null(out);
+    fill_sentinel(out, (size_t)nout);
+    assert_int_equal(fn(out, nout), 0); /* warm up: the library works */
+    fflush(stdout);
+    FILE *cap = tmpfile();
+    assert_non_null(cap);
+    int saved = dup(1);
+    assert_true(saved >= 0);
+    assert_true(dup2(fileno(cap), 1) == 1);
+    int k, st = 0, failures = 0, bad_status = 0, touched = 0;
+    for (k = 0; k < 10000; k++) {
+        fill_sentinel(out, (size_t)nout);
+        OOM_ARM(k);
+        st = fn(out, nout);
+        OOM_DISARM();
+        if (oom_calls <= k)
+            break; /* no allocation was failed: the call ran through */
+        failures++;
+        if (st != IGEA_ENOMEM)
+            bad_status = st ? st : 1;
+        if (!all_sentinel(out, (size_t)nout))
+            touched = 1;
+        if (bad_status || touched)
+            break;
+    }
+    fflush(stdout);
+    long printed = ftell(cap) > 0 ? ftell(cap) : (fseek(cap, 0, SEEK_END), ftell(cap));
+    dup2(saved, 1);
+    close(saved);
+    fclose(cap);
+    free(out);
+    if (bad_status)
+        fail_msg("allocation %d failed: status %d, not IGEA_ENOMEM", k, bad_status);
+    assert_false(touched);
+    assert_int_equal(printed, 0);
+    assert_int_equal(st, 0);
+    assert_true(failures >= 2);
+}
+
+static double oom_th[NPOS], oom_ya[NPOS], oom_yb[NPOS];
+
+static void oom_data(void)
+{
+    double truth[10];
+    schedule20(oom_th);
+    mg_truth(truth);
+    assert_int_equal(igea_accel_simulate(NPOS, oom_th, truth, ARCSEC, 1e-6, 5,
+                                         oom_ya, oom_yb), 0);
+}
+
+/* out: coef 9, sd 9, comb 7, comb_sd 7, info 8 (flag kept apart) */
+static int fit_call(int model, int method, double *out)
+{
+    int flag[9];
+    const double ps[9] = {1, 2, 1, 1, 3, 1, 1, 2, 1};
+    return igea_accel_fit(model, method, NPOS, oom_th, oom_ya, oom_yb,
+                          method == IGEA_ACCEL_EBR ? ps : NULL, IGEA_EBR_SC, 0,
+                          out, out + 9, flag, out + 18, out + 25, out + 32);
+}
+static int fit_dual_ls(double *o, int n) { (void)n; return fit_call(IGEA_ACCEL_DUAL, IGEA_ACCEL_LS, o); }
+static int fit_dual_ebr(double *o, int n) { (void)n; return fit_call(IGEA_ACCEL_DUAL, IGEA_ACCEL_EBR, o); }
+static int fit_single_ls(double *o, int n) { (void)n; return fit_call(IGEA_ACCEL_SINGLE, IGEA_ACCEL_LS, o); }
+static int fit_single_ebr(double *o, int n) { (void)n; return fit_call(IGEA_ACCEL_SINGLE, IGEA_ACCEL_EBR, o); }
+
+static int analyze_call(double *o, int n)
+{
+    (void)n;
+    int rank;
+    return igea_accel_analyze(IGEA_ACCEL_DUAL, NPOS, oom_th, o, o + 9, 9, o + 90,
+                              o + 99, &rank);
+}
+
+static int refine_call(double *o, int n)
+{
+    (void)n;
+    double start[10];
+    mg_truth(start);
+    return igea_accel_refine(NPOS, oom_th, oom_ya, oom_yb, start, 30, 1e-12, o,
+                             o + 9, o + 18, o + 18 + NPOS);
+}
+
+static void test_fit_out_of_memory(void **state)
+{
+    (void)state;
+    oom_data();
+    oom_loop(fit_dual_ls, 40);
+    oom_loop(fit_dual_ebr, 40);
+    oom_loop(fit_single_ls, 40);
+    oom_loop(fit_single_ebr, 40);
+    oom_loop(analyze_call, 106);
+    oom_loop(refine_call, 18 + NPOS + 8);
+}
+#else
+static void test_fit_out_of_memory(void **state)
+{
+    (void)state;
+    skip();
+}
+#endif
+
+/* A prior scale below 2^-511 is out of range (the fit goes through EBR's
+ * canonical form of A D_s). */
+static void test_fit_prior_scale_range(void **state)
+{
+    (void)state;
+    double th[NPOS], ya[NPOS], yb[NPOS], coef[9], ps[9];
+    schedule20(th);
+    ebr_vector(3e-4, th, ya, yb);
+    for (int j = 0; j < 9; j++)
+        ps[j] = 1.0;
+    ps[4] = 1e-300;
+    fill_sentinel(coef, 9);
+    assert_int_equal(igea_accel_fit(IGEA_ACCEL_DUAL, IGEA_ACCEL_EBR, NPOS, th, ya, yb,
+                                    ps, IGEA_EBR_SC, 0, coef, NULL, NULL, NULL,
+                                    NULL, NULL), IGEA_ERANGE);
+    assert_true(all_sentinel(coef, 9));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -872,6 +1005,8 @@ int main(void)
         cmocka_unit_test(test_fit_invalid),
         cmocka_unit_test(test_refine),
         cmocka_unit_test(test_refine_invalid),
+        cmocka_unit_test(test_fit_out_of_memory),
+        cmocka_unit_test(test_fit_prior_scale_range),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

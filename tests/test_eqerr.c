@@ -5,6 +5,7 @@
 #include "testutil.h"
 
 #include "igea.h"
+#include "internal.h"
 
 /* ---- METHODS 1.6(a) ---------------------------------------------------- */
 enum { M6 = 12, N6 = 4 };
@@ -482,6 +483,91 @@ static void test_solve_qr_args(void **state)
     assert_true(xh[2] == 0.0 && xh[3] == 0.0);
 }
 
+/* ---- overflow and sigma range ------------------------------------------ */
+
+static void run_sentinel(int m, const double *S, const double *dw,
+                         const double *sig, int inc, const double *spec,
+                         double route, int want)
+{
+    double o[IGEA_EQERR_OPT_LEN], lam[N6], P[N6 * N6], xh[N6], z[N6],
+        info[IGEA_INFO_LEN], res[M6], rms[3];
+    int rej[N6] = {-7, -7, -7, -7};
+    igea_eqerr_defaults(o);
+    o[IGEA_EQERR_OPT_CORRECT] = 0;
+    o[IGEA_EQERR_OPT_ROUTE] = route;
+    fill_sentinel(lam, N6);
+    fill_sentinel(P, N6 * N6);
+    fill_sentinel(xh, N6);
+    fill_sentinel(z, N6);
+    fill_sentinel(info, IGEA_INFO_LEN);
+    fill_sentinel(res, M6);
+    fill_sentinel(rms, 3);
+    assert_int_equal(igea_eqerr_run(m, N6, S, m, dw, sig, inc, spec, o, lam, P,
+                                    N6, xh, z, rej, info, res, rms), want);
+    assert_true(all_sentinel(lam, N6) && all_sentinel(P, N6 * N6) &&
+                all_sentinel(xh, N6) && all_sentinel(z, N6) &&
+                all_sentinel(info, IGEA_INFO_LEN) && all_sentinel(res, M6) &&
+                all_sentinel(rms, 3));
+    for (int i = 0; i < N6; i++)
+        assert_int_equal(rej[i], -7);
+}
+
+static void test_overflow_is_not_nonfinite(void **state)
+{
+    (void)state;
+    make6();
+    /* S * 1e200, every value finite: the weighted normal matrix (~1e400)
+     * overflows. That is IGEA_EOVERFLOW on both routes, not "an input
+     * holds NaN or Inf". */
+    double Sb[M6 * N6], sig[M6];
+    for (int i = 0; i < M6 * N6; i++)
+        Sb[i] = S6[i] * 1e200;
+    for (int i = 0; i < M6; i++)
+        sig[i] = 0.05;
+    assert_true(igea__finite_mat(M6, N6, Sb, M6));
+    run_sentinel(M6, Sb, dw6, sig, 1, NULL, IGEA_ROUTE_EIG, IGEA_EOVERFLOW);
+    run_sentinel(M6, Sb, dw6, sig, 0, NULL, IGEA_ROUTE_EIG, IGEA_EOVERFLOW);
+    run_sentinel(M6, Sb, dw6, sig, 1, NULL, IGEA_ROUTE_SVD, IGEA_EOVERFLOW);
+    /* A NaN is still a NaN. */
+    Sb[5] = NAN;
+    run_sentinel(M6, Sb, dw6, sig, 1, NULL, IGEA_ROUTE_EIG, IGEA_ENONFINITE);
+    run_sentinel(M6, Sb, dw6, sig, 0, NULL, IGEA_ROUTE_EIG, IGEA_ENONFINITE);
+    run_sentinel(M6, Sb, dw6, sig, 1, NULL, IGEA_ROUTE_SVD, IGEA_ENONFINITE);
+    /* Finite S, specs of 1e160: the scaled data overflow. */
+    double spec[N6] = {1e160, 1e160, 1e160, 1e160};
+    run_sentinel(M6, S6, dw6, sig, 1, spec, IGEA_ROUTE_EIG, IGEA_EOVERFLOW);
+    run_sentinel(M6, S6, dw6, sig, 1, spec, IGEA_ROUTE_SVD, IGEA_EOVERFLOW);
+}
+
+static void test_sigma_range(void **state)
+{
+    (void)state;
+    make6();
+    double sig[M6];
+    for (int i = 0; i < M6; i++)
+        sig[i] = 0.05;
+    /* A denormal tracking sigma: named as out of range, both routes, per
+     * row and as the single value; also a denormal spec. */
+    sig[4] = 5e-320;
+    run_sentinel(M6, S6, dw6, sig, 1, NULL, IGEA_ROUTE_EIG, IGEA_ERANGE);
+    run_sentinel(M6, S6, dw6, sig, 1, NULL, IGEA_ROUTE_SVD, IGEA_ERANGE);
+    sig[0] = 1e-155;
+    run_sentinel(M6, S6, dw6, sig, 0, NULL, IGEA_ROUTE_EIG, IGEA_ERANGE);
+    sig[0] = sig[4] = 0.05;
+    double spec[N6] = {1, 1, 4e-320, 1};
+    run_sentinel(M6, S6, dw6, sig, 1, spec, IGEA_ROUTE_EIG, IGEA_ERANGE);
+    /* NaN and non-positive keep their statuses. */
+    sig[2] = -1;
+    run_sentinel(M6, S6, dw6, sig, 1, NULL, IGEA_ROUTE_EIG, IGEA_ENONPOSITIVE);
+    sig[2] = NAN;
+    run_sentinel(M6, S6, dw6, sig, 1, NULL, IGEA_ROUTE_EIG, IGEA_ENONFINITE);
+    double P[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    double xh[4] = {1, 2, 3, 4}, coef[4];
+    fill_sentinel(coef, 4);
+    assert_int_equal(igea_eqerr_coef(4, P, 4, xh, 4, spec, coef), IGEA_ERANGE);
+    assert_true(all_sentinel(coef, 4));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -494,6 +580,8 @@ int main(void)
         cmocka_unit_test(test_padding_and_residual_args),
         cmocka_unit_test(test_svd_route_resolves_small_eigenvalues),
         cmocka_unit_test(test_solve_qr_args),
+        cmocka_unit_test(test_overflow_is_not_nonfinite),
+        cmocka_unit_test(test_sigma_range),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

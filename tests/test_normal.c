@@ -3,6 +3,7 @@
 #include "testutil.h"
 
 #include "igea.h"
+#include "internal.h"
 
 enum { M = 37, N = 5 };
 static double S[M * N], dw[M], sig[M], spec[N];
@@ -239,6 +240,99 @@ static void test_qr_factor(void **state)
     assert_true(all_sentinel(Rs, N1 * N1) && rs == SENTINEL);
 }
 
+static void test_overflow_and_range(void **state)
+{
+    (void)state;
+    make();
+    double Sb[M * N], A[N * N], b[N], ww[2], R[(N + 1) * (N + 1)], rows;
+    for (int i = 0; i < M * N; i++)
+        Sb[i] = S[i] * 1e200;
+    for (int layout = 0; layout < 2; layout++) {
+        /* the row-major view of the same numbers: S^T, N x M */
+        double St[M * N];
+        for (int i = 0; i < M; i++)
+            for (int j = 0; j < N; j++)
+                St[j + i * N] = Sb[i + j * M];
+        const double *X = layout == IGEA_COLMAJOR ? Sb : St;
+        int ld = layout == IGEA_COLMAJOR ? M : N;
+        for (int inc = 0; inc < 2; inc++) {
+            fill_sentinel(A, N * N);
+            fill_sentinel(b, N);
+            fill_sentinel(ww, 2);
+            assert_int_equal(igea_normal_accumulate(layout, M, N, X, ld, dw, sig,
+                                                    inc, NULL, A, N, b, ww),
+                             IGEA_EOVERFLOW);
+            assert_true(all_sentinel(A, N * N) && all_sentinel(b, N) &&
+                        all_sentinel(ww, 2));
+        }
+        /* QR: the blocks are finite, the factor (~1e200 sqrt(m)) too; with
+         * 1e307 the weighted rows themselves overflow. */
+        double Sc[M * N];
+        for (int i = 0; i < M * N; i++)
+            Sc[i] = (layout == IGEA_COLMAJOR ? S[i] : 0.0) * 1e307;
+        if (layout == IGEA_ROWMAJOR)
+            for (int i = 0; i < M; i++)
+                for (int j = 0; j < N; j++)
+                    Sc[j + i * N] = S[i + j * M] * 1e307;
+        fill_sentinel(R, (N + 1) * (N + 1));
+        rows = SENTINEL;
+        assert_int_equal(igea_normal_qr_accumulate(layout, M, N, Sc, ld, dw, sig,
+                                                   1, spec, R, N + 1, &rows),
+                         IGEA_EOVERFLOW);
+        assert_true(all_sentinel(R, (N + 1) * (N + 1)) && rows == SENTINEL);
+    }
+    /* The running sums overflowing on a later block: untouched too. */
+    memset(A, 0, sizeof A);
+    memset(b, 0, sizeof b);
+    memset(ww, 0, sizeof ww);
+    A[0] = 1.7e308;
+    double A0[N * N];
+    memcpy(A0, A, sizeof A);
+    double big[M];
+    for (int i = 0; i < M; i++)
+        big[i] = 1.0;
+    double Sbig[M * N];
+    for (int i = 0; i < M * N; i++)
+        Sbig[i] = 1e153;
+    assert_int_equal(igea_normal_accumulate(IGEA_COLMAJOR, M, N, Sbig, M, big,
+                                            big, 0, NULL, A, N, b, ww),
+                     IGEA_EOVERFLOW);
+    assert_true(memcmp(A, A0, sizeof A) == 0 && b[0] == 0.0 && ww[0] == 0.0);
+    /* A sigma below 2^-511 (here denormal) is out of range, in either
+     * accumulator, per row or as one value, and as a spec. */
+    double sg[M];
+    memcpy(sg, sig, sizeof sg);
+    sg[7] = 1e-310;
+    fill_sentinel(A, N * N);
+    assert_int_equal(igea_normal_accumulate(IGEA_COLMAJOR, M, N, S, M, dw, sg, 1,
+                                            NULL, A, N, b, ww), IGEA_ERANGE);
+    assert_int_equal(igea_normal_qr_accumulate(IGEA_COLMAJOR, M, N, S, M, dw, sg,
+                                               1, NULL, R, N + 1, &rows),
+                     IGEA_ERANGE);
+    double one = 1e-160;
+    assert_int_equal(igea_normal_accumulate(IGEA_COLMAJOR, M, N, S, M, dw, &one,
+                                            0, NULL, A, N, b, ww), IGEA_ERANGE);
+    double sp[N];
+    memcpy(sp, spec, sizeof sp);
+    sp[2] = 2e-320;
+    assert_int_equal(igea_normal_accumulate(IGEA_COLMAJOR, M, N, S, M, dw, sig, 1,
+                                            sp, A, N, b, ww), IGEA_ERANGE);
+    assert_true(all_sentinel(A, N * N));
+    /* The smallest accepted sigma works and gives finite sums. */
+    one = IGEA_SIGMA_MIN;
+    memset(A, 0, sizeof A);
+    memset(b, 0, sizeof b);
+    memset(ww, 0, sizeof ww);
+    double Ss[M * N], ds[M];
+    for (int i = 0; i < M * N; i++)
+        Ss[i] = S[i] * 1e-160;
+    for (int i = 0; i < M; i++)
+        ds[i] = dw[i] * 1e-160;
+    assert_int_equal(igea_normal_accumulate(IGEA_COLMAJOR, M, N, Ss, M, ds, &one,
+                                            0, NULL, A, N, b, ww), 0);
+    assert_true(igea__finite_mat(N, N, A, N));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -247,6 +341,7 @@ int main(void)
         cmocka_unit_test(test_invalid),
         cmocka_unit_test(test_long_flight),
         cmocka_unit_test(test_qr_factor),
+        cmocka_unit_test(test_overflow_and_range),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

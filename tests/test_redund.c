@@ -1071,6 +1071,33 @@ static void test_oom(void **state)
 }
 #endif
 
+static void test_sigma_range(void **state)
+{
+    (void)state;
+    /* Sigmas below 2^-511 (a denormal one, say): IGEA_ERANGE, outputs
+     * untouched, in every routine that weights by 1/sigma^2 or whitens. */
+    double x[3] = {1.0, 1.1, 0.9}, sg[3] = {0.1, 5e-320, 0.2}, v = SENTINEL,
+           s = SENTINEL, D[9];
+    fill_sentinel(D, 9);
+    assert_int_equal(igea_redund_fuse(3, x, sg, NULL, 1, &v, &s), IGEA_ERANGE);
+    assert_int_equal(igea_redund_fuse(3, x, sg, NULL, 0, &v, &s), IGEA_ERANGE);
+    assert_int_equal(igea_redund_confidence_distance(3, x, sg, D, 3), IGEA_ERANGE);
+    assert_true(v == SENTINEL && s == SENTINEL && all_sentinel(D, 9));
+    double H[8] = {1, 1, 1, 1, 0, 1, 2, 3}, y[4] = {1, 2, 3, 4.1},
+           sg4[4] = {1, 1, 1e-155, 1}, par[2], info[8];
+    fill_sentinel(par, 2);
+    fill_sentinel(info, 8);
+    int iso = -7;
+    assert_int_equal(igea_redund_fdi(4, 2, H, 4, y, sg4, 0.01, par, info, &iso),
+                     IGEA_ERANGE);
+    assert_true(all_sentinel(par, 2) && all_sentinel(info, 8) && iso == -7);
+    /* The smallest accepted value works. */
+    sg[1] = IGEA_SIGMA_MIN;
+    assert_int_equal(igea_redund_fuse(3, x, sg, NULL, 1, &v, &s), 0);
+    assert_close(v, 1.1, 1e-12);
+    assert_close(s, IGEA_SIGMA_MIN, 1e-12);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1096,6 +1123,7 @@ int main(void)
         cmocka_unit_test(test_simulate_args),
 #ifndef OOM_DISABLED
         cmocka_unit_test(test_oom),
+        cmocka_unit_test(test_sigma_range),
 #endif
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -998,6 +998,548 @@ static void test_collinearity(void **state)
     assert_true(cs[0] == SENTINEL && cs[1] == SENTINEL);
 }
 
+/* ---- fewer rows than terms, scaling, sigma range ---------------------- */
+
+/* Solve the n x n SPD system M u = b (n <= 8) by Cholesky, in the test's
+ * own arithmetic (M is overwritten). */
+static void spd_solve(int n, double *M, double *b)
+{
+    for (int j = 0; j < n; j++) {
+        double d = M[j + j * n];
+        for (int k = 0; k < j; k++)
+            d -= M[j + k * n] * M[j + k * n];
+        assert_true(d > 0.0);
+        M[j + j * n] = sqrt(d);
+        for (int i = j + 1; i < n; i++) {
+            double v = M[i + j * n];
+            for (int k = 0; k < j; k++)
+                v -= M[i + k * n] * M[j + k * n];
+            M[i + j * n] = v / M[j + j * n];
+        }
+    }
+    for (int i = 0; i < n; i++) {
+        double v = b[i];
+        for (int k = 0; k < i; k++)
+            v -= M[i + k * n] * b[k];
+        b[i] = v / M[i + i * n];
+    }
+    for (int i = n - 1; i >= 0; i--) {
+        double v = b[i];
+        for (int k = i + 1; k < n; k++)
+            v -= M[k + i * n] * b[k];
+        b[i] = v / M[i + i * n];
+    }
+}
+
+/* x = A^T (A A^T + k I)^-1 y for the m x N matrix A (ld m), m <= 8: the
+ * minimum-norm least-squares solution at k = 0 (full row rank), ridge
+ * x(k) = (A^T A + k I)^-1 A^T y otherwise (push-through identity). */
+static void wide_closed_form(int m, int N, const double *A, const double *y,
+                             double k, double *x)
+{
+    double M[64], u[8];
+    for (int i = 0; i < m; i++) {
+        for (int j = 0; j < m; j++) {
+            double v = 0.0;
+            for (int c = 0; c < N; c++)
+                v += A[i + c * m] * A[j + c * m];
+            M[i + j * m] = v + (i == j ? k : 0.0);
+        }
+        u[i] = y[i];
+    }
+    spd_solve(m, M, u);
+    for (int c = 0; c < N; c++) {
+        x[c] = 0.0;
+        for (int i = 0; i < m; i++)
+            x[c] += A[i + c * m] * u[i];
+    }
+}
+
+/* A 2 x 40 design with entries of mixed sign, and its y. */
+static void wide_2x40(double *A, double *y)
+{
+    for (int j = 0; j < 40; j++) {
+        A[0 + 2 * j] = sin(0.3 * j + 0.1);
+        A[1 + 2 * j] = cos(0.7 * j) + 0.01 * j;
+    }
+    y[0] = 1.5;
+    y[1] = -0.25;
+}
+
+static void test_wide_ls_pce_ridge(void **state)
+{
+    (void)state;
+    enum { M = 2, N = 40 };
+    double A[M * N], y[M], want[N], x[N], cov[N * N], res[M], ku, s2;
+    int rank, nused;
+    wide_2x40(A, y);
+    /* LS: the minimum-norm solution, an exact fit. */
+    wide_closed_form(M, N, A, y, 0.0, want);
+    fill_sentinel(cov, N * N);
+    assert_int_equal(igea_regress_ls(M, N, A, M, y, NULL, 0, x, cov, N, &rank,
+                                     &s2, res), 0);
+    assert_int_equal(rank, 2);
+    assert_true(s2 == 0.0);
+    for (int j = 0; j < N; j++)
+        assert_close_abs(x[j], want[j], 1e-12, 1e-14);
+    for (int i = 0; i < M; i++)
+        assert_close_abs(res[i], 0.0, 0.0, 1e-13);
+    /* PCE keeping every component: the same solution. */
+    assert_int_equal(igea_regress_pce(M, N, A, M, y, NULL, N, 0.0, x, cov, N,
+                                      &nused, &s2, res), 0);
+    assert_int_equal(nused, 2);
+    for (int j = 0; j < N; j++)
+        assert_close_abs(x[j], want[j], 1e-12, 1e-14);
+    /* Ridge, fixed k, every scratch path (cov and residual requested). */
+    const double ks[3] = {0.0, 0.3, 25.0};
+    for (int t = 0; t < 3; t++) {
+        wide_closed_form(M, N, A, y, ks[t], want);
+        fill_sentinel(cov, N * N);
+        assert_int_equal(igea_regress_ridge(M, N, A, M, y, NULL, IGEA_RIDGE_FIXED,
+                                            ks[t], x, cov, N, &ku, &s2, res), 0);
+        assert_true(ku == ks[t]);
+        assert_true(s2 == 0.0); /* m == r: no residual variance */
+        for (int j = 0; j < N; j++)
+            assert_close_abs(x[j], want[j], 1e-11, 1e-14);
+        for (int j = 0; j < N * N; j++)
+            assert_true(cov[j] == 0.0);
+        for (int i = 0; i < M; i++) {
+            double f = y[i];
+            for (int j = 0; j < N; j++)
+                f -= A[i + M * j] * want[j];
+            assert_close_abs(res[i], f, 1e-10, 1e-13);
+        }
+    }
+    /* Weighted: diag(1/sigma) A and y / sigma in the closed form. */
+    double sg[M] = {0.5, 4.0}, Aw[M * N], yw[M];
+    for (int j = 0; j < N; j++)
+        for (int i = 0; i < M; i++)
+            Aw[i + M * j] = A[i + M * j] / sg[i];
+    for (int i = 0; i < M; i++)
+        yw[i] = y[i] / sg[i];
+    wide_closed_form(M, N, Aw, yw, 0.7, want);
+    assert_int_equal(igea_regress_ridge(M, N, A, M, y, sg, IGEA_RIDGE_FIXED, 0.7,
+                                        x, NULL, N, &ku, &s2, NULL), 0);
+    for (int j = 0; j < N; j++)
+        assert_close_abs(x[j], want[j], 1e-11, 1e-14);
+    /* HKB and LW need residual degrees of freedom: refused, untouched. */
+    for (int rule = IGEA_RIDGE_HKB; rule <= IGEA_RIDGE_LW; rule++) {
+        fill_sentinel(x, N);
+        fill_sentinel(cov, N * N);
+        fill_sentinel(res, M);
+        ku = s2 = SENTINEL;
+        assert_int_equal(igea_regress_ridge(M, N, A, M, y, NULL, rule, 0.0, x,
+                                            cov, N, &ku, &s2, res), IGEA_EDOMAIN);
+        assert_true(all_sentinel(x, N) && all_sentinel(cov, N * N) &&
+                    all_sentinel(res, M) && ku == SENTINEL && s2 == SENTINEL);
+    }
+    /* GCV and LOO: the x returned is the ridge solution at the k returned. */
+    for (int rule = IGEA_RIDGE_GCV; rule <= IGEA_RIDGE_LOO; rule++) {
+        int st = igea_regress_ridge(M, N, A, M, y, NULL, rule, 0.0, x, cov, N,
+                                    &ku, &s2, res);
+        assert_int_equal(st, 0);
+        assert_true(ku >= 0.0 && isfinite(ku));
+        wide_closed_form(M, N, A, y, ku, want);
+        for (int j = 0; j < N; j++)
+            assert_close_abs(x[j], want[j], 1e-9, 1e-13);
+    }
+    /* Ridge trace with m < N. */
+    double kk[3] = {0.0, 0.3, 25.0}, X[N * 3], edf[3];
+    assert_int_equal(igea_regress_ridge_trace(M, N, A, M, y, NULL, 3, kk, X, N,
+                                              edf), 0);
+    for (int t = 0; t < 3; t++) {
+        wide_closed_form(M, N, A, y, kk[t], want);
+        for (int j = 0; j < N; j++)
+            assert_close_abs(X[j + N * t], want[j], 1e-11, 1e-14);
+        /* edf = tr(G (G + kI)^-1), G = A A^T (2 x 2) */
+        double g11 = 0, g12 = 0, g22 = 0;
+        for (int j = 0; j < N; j++) {
+            g11 += A[2 * j] * A[2 * j];
+            g12 += A[2 * j] * A[2 * j + 1];
+            g22 += A[2 * j + 1] * A[2 * j + 1];
+        }
+        double a = g11 + kk[t], d = g22 + kk[t], det = a * d - g12 * g12;
+        double tr = (g11 * d - g12 * g12 + g22 * a - g12 * g12) / det;
+        assert_close(edf[t], tr, 1e-12);
+    }
+}
+
+static void test_wide_1x3(void **state)
+{
+    (void)state;
+    /* The driver's reproducer: S = [1 2 3], y = 0.5. */
+    double A[3] = {1, 2, 3}, y[1] = {0.5}, x[3], cov[9], res[1], ku, s2;
+    int rank, nused;
+    assert_int_equal(igea_regress_ls(1, 3, A, 1, y, NULL, 0, x, cov, 3, &rank,
+                                     &s2, res), 0);
+    for (int j = 0; j < 3; j++)
+        assert_close(x[j], A[j] * 0.5 / 14.0, 1e-14);
+    for (int rule = IGEA_RIDGE_FIXED; rule <= IGEA_RIDGE_LOO; rule++) {
+        int st = igea_regress_ridge(1, 3, A, 1, y, NULL, rule, 2.0, x, cov, 3,
+                                    &ku, &s2, res);
+        if (rule == IGEA_RIDGE_HKB || rule == IGEA_RIDGE_LW) {
+            assert_int_equal(st, IGEA_EDOMAIN);
+            continue;
+        }
+        assert_int_equal(st, 0);
+        if (rule == IGEA_RIDGE_FIXED)
+            assert_true(ku == 2.0);
+        /* x = a y / (|a|^2 + k) */
+        for (int j = 0; j < 3; j++)
+            assert_close(x[j], A[j] * 0.5 / (14.0 + ku), 1e-12);
+    }
+    assert_int_equal(igea_regress_pce(1, 3, A, 1, y, NULL, 3, 0.0, x, cov, 3,
+                                      &nused, &s2, res), 0);
+    assert_int_equal(nused, 1);
+    for (int j = 0; j < 3; j++)
+        assert_close(x[j], A[j] * 0.5 / 14.0, 1e-14);
+    /* Bayes with P = I, mu = 0: x = a y / (|a|^2 + 1),
+     * cov = I - a a^T / (|a|^2 + 1). */
+    double P[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    assert_int_equal(igea_regress_bayes(1, 3, A, 1, y, NULL, NULL, P, 3, x, cov,
+                                        3, res), 0);
+    for (int j = 0; j < 3; j++) {
+        assert_close(x[j], A[j] * 0.5 / 15.0, 1e-14);
+        for (int i = 0; i < 3; i++)
+            assert_close_abs(cov[i + 3 * j], (i == j) - A[i] * A[j] / 15.0,
+                             1e-13, 1e-15);
+    }
+    /* EBR needs rank >= 3. */
+    double lam = SENTINEL, beta[3];
+    fill_sentinel(beta, 3);
+    assert_int_equal(igea_regress_ebr(1, 3, A, 1, y, NULL, IGEA_EBR_MM, 0.0,
+                                      beta, &lam, &rank, NULL, NULL, NULL),
+                     IGEA_ERANK);
+    assert_true(all_sentinel(beta, 3) && lam == SENTINEL);
+    double cs[2], eig[3], V[9], vif[3], sd[3];
+    int pd[3];
+    assert_int_equal(igea_regress_collinearity(1, 3, A, 1, NULL, NULL, 0, cs,
+                                               &rank, eig, V, 3, vif, sd, pd),
+                     0);
+    assert_int_equal(rank, 1);
+    assert_close(eig[0], 14.0, 1e-14);
+    assert_true(eig[1] == 0.0 && eig[2] == 0.0);
+    assert_true(isinf(cs[0]));
+    assert_close(sd[0], 1.0 / sqrt(14.0), 1e-14);
+    for (int j = 0; j < 3; j++)
+        assert_int_equal(pd[j], 1);
+}
+
+static void test_wide_bayes_ebr_collinearity(void **state)
+{
+    (void)state;
+    enum { M = 2, N = 40 };
+    double A[M * N], y[M], want[N], x[N], cov[N * N], res[M];
+    wide_2x40(A, y);
+    /* Bayes, P = I: x = A^T (A A^T + I)^-1 y, cov = I - A^T (AA^T + I)^-1 A. */
+    static double P[N * N];
+    for (int j = 0; j < N * N; j++)
+        P[j] = (j % (N + 1)) == 0;
+    wide_closed_form(M, N, A, y, 1.0, want);
+    assert_int_equal(igea_regress_bayes(M, N, A, M, y, NULL, NULL, P, N, x, cov,
+                                        N, res), 0);
+    for (int j = 0; j < N; j++)
+        assert_close_abs(x[j], want[j], 1e-12, 1e-14);
+    for (int c = 0; c < N; c += 7) {
+        /* column c of cov: e_c - A^T (AA^T + I)^-1 A e_c */
+        double e[M] = {A[M * c], A[1 + M * c]}, col[N];
+        wide_closed_form(M, N, A, e, 1.0, col);
+        for (int j = 0; j < N; j++)
+            assert_close_abs(cov[j + N * c], (j == c) - col[j], 1e-12, 1e-14);
+    }
+    /* Collinearity: d_1, d_2 the eigenvalues of A A^T, then zeros. */
+    double cs[2], eig[N], V[N * N], vif[N], sd[N];
+    int rank, pd[N];
+    assert_int_equal(igea_regress_collinearity(M, N, A, M, NULL, NULL, 0, cs,
+                                               &rank, eig, V, N, vif, sd, pd), 0);
+    double g11 = 0, g12 = 0, g22 = 0;
+    for (int j = 0; j < N; j++) {
+        g11 += A[2 * j] * A[2 * j];
+        g12 += A[2 * j] * A[2 * j + 1];
+        g22 += A[2 * j + 1] * A[2 * j + 1];
+    }
+    double h = 0.5 * (g11 + g22), q = sqrt(0.25 * (g11 - g22) * (g11 - g22) + g12 * g12);
+    assert_int_equal(rank, 2);
+    assert_close(eig[0], h + q, 1e-13);
+    assert_close(eig[1], h - q, 1e-12);
+    for (int j = 2; j < N; j++)
+        assert_true(eig[j] == 0.0);
+    assert_true(isinf(cs[0]));
+    assert_close(cs[1], sqrt((h + q) / (h - q)), 1e-12);
+    /* EBR with m < N: a 5 x 8 design of rank 3 (m > r). beta is the
+     * ridge solution at k = 1 / lambda. */
+    enum { M5 = 5, N8 = 8 };
+    double B[M5 * N8], yb[M5], bt[N8], lam, sh[N8], sp[N8], sf[N8];
+    int r5;
+    for (int j = 0; j < N8; j++)
+        for (int i = 0; i < M5; i++) {
+            double b0 = 1.0 + i, b1 = cos(1.3 * i), b2 = (i * i) % 3 - 1.0;
+            B[i + M5 * j] = b0 * sin(0.4 * j + 0.2) + b1 * (j - 3.5) +
+                            b2 * cos(0.9 * j);
+        }
+    for (int i = 0; i < M5; i++)
+        yb[i] = 0.3 * i - 0.5 + 0.1 * (i % 2);
+    assert_int_equal(igea_regress_ebr(M5, N8, B, M5, yb, NULL, IGEA_EBR_MM, 0.5,
+                                      bt, &lam, &r5, sh, sp, sf), 0);
+    assert_int_equal(r5, 3);
+    assert_true(lam >= 0.5 && isfinite(lam));
+    /* ridge at k = 1/lam on a rank-deficient design: (A^T A + kI)^-1 A^T y
+     * = A^T (A A^T + kI)^-1 y still holds for k > 0. */
+    double wb[N8];
+    wide_closed_form(M5, N8, B, yb, 1.0 / lam, wb);
+    for (int j = 0; j < N8; j++)
+        assert_close_abs(bt[j], wb[j], 1e-9, 1e-12);
+    for (int j = 0; j < N8; j++)
+        assert_true(isfinite(sp[j]) && isfinite(sf[j]) && isfinite(sh[j]));
+}
+
+/* A = [1 0; 0 1; 1 1; 1 -1; 2 1; 0 3], y with a residual. */
+static const double small_A[12] = {1, 0, 1, 1, 2, 0, 0, 1, 1, -1, 1, 3};
+static const double small_y[6] = {1.0, 2.1, 2.9, -1.2, 4.1, 5.8};
+
+static void test_scaled_designs(void **state)
+{
+    (void)state;
+    double A[12], x0[2], x[2], cov[4], res[6], s2, ku, s20;
+    int rank;
+    /* LS on A * 1e-300: x = 1e300 x(A), an exact change of units. */
+    assert_int_equal(igea_regress_ls(6, 2, small_A, 6, small_y, NULL, 0, x0,
+                                     NULL, 2, &rank, &s20, NULL), 0);
+    for (int i = 0; i < 12; i++)
+        A[i] = small_A[i] * 1e-300;
+    assert_int_equal(igea_regress_ls(6, 2, A, 6, small_y, NULL, 0, x, NULL, 2,
+                                     &rank, &s2, res), 0);
+    assert_close(x[0], x0[0] * 1e300, 1e-13);
+    assert_close(x[1], x0[1] * 1e300, 1e-13);
+    assert_close(s2, s20, 1e-12);
+    /* ... whose covariance (~1e600) is not representable: a status. */
+    fill_sentinel(cov, 4);
+    fill_sentinel(x, 2);
+    s2 = SENTINEL;
+    assert_int_equal(igea_regress_ls(6, 2, A, 6, small_y, NULL, 0, x, cov, 2,
+                                     &rank, &s2, res), IGEA_EOVERFLOW);
+    assert_true(all_sentinel(cov, 4) && all_sentinel(x, 2) && s2 == SENTINEL);
+    /* Ridge k = 0 (minimum-norm LS) on A * 1e-300: d_i = s_i^2 underflows,
+     * s_i / (d_i + k) must not. */
+    assert_int_equal(igea_regress_ridge(6, 2, A, 6, small_y, NULL,
+                                        IGEA_RIDGE_FIXED, 0.0, x, NULL, 2, &ku,
+                                        &s2, NULL), 0);
+    assert_close(x[0], x0[0] * 1e300, 1e-12);
+    assert_close(x[1], x0[1] * 1e300, 1e-12);
+    /* Lawless-Wang's k = r s^2 / |A x_LS|^2 does not depend on the scale
+     * of A: k(A * 1e-300) = k(A), and x = (A^T A + k I)^-1 A^T y is then
+     * 1e-300 A0^T y / k to a relative 1e-600. */
+    double fit[6], nf = 0.0;
+    for (int i = 0; i < 6; i++) {
+        fit[i] = small_A[i] * x0[0] + small_A[i + 6] * x0[1];
+        nf += fit[i] * fit[i];
+    }
+    double klw = 2.0 * s20 / nf;
+    assert_int_equal(igea_regress_ridge(6, 2, A, 6, small_y, NULL,
+                                        IGEA_RIDGE_LW, 0.0, x, NULL, 2, &ku,
+                                        &s2, res), 0);
+    assert_close(ku, klw, 1e-12);
+    for (int j = 0; j < 2; j++) {
+        double aty = 0.0;
+        for (int i = 0; i < 6; i++)
+            aty += small_A[i + 6 * j] * small_y[i];
+        assert_close(x[j], 1e-300 * aty / klw, 1e-12);
+    }
+    /* HKB, GCV and LOO on A * 1e-300 choose k ~ 1e-600: not a double, so a
+     * status, never NaN with status 0; outputs untouched. */
+    for (int rule = IGEA_RIDGE_HKB; rule <= IGEA_RIDGE_LOO; rule++) {
+        if (rule == IGEA_RIDGE_LW)
+            continue;
+        fill_sentinel(x, 2);
+        fill_sentinel(res, 6);
+        ku = s2 = SENTINEL;
+        int st = igea_regress_ridge(6, 2, A, 6, small_y, NULL, rule, 0.0, x,
+                                    NULL, 2, &ku, &s2, res);
+        assert_int_equal(st, IGEA_EOVERFLOW);
+        assert_true(all_sentinel(x, 2) && all_sentinel(res, 6) &&
+                    ku == SENTINEL && s2 == SENTINEL);
+    }
+    /* HKB on A and on A * 2^-40 (within range): k scales by 2^-80 and x by
+     * 2^40 exactly in exact arithmetic. */
+    double k0, xa[2];
+    assert_int_equal(igea_regress_ridge(6, 2, small_A, 6, small_y, NULL,
+                                        IGEA_RIDGE_HKB, 0.0, xa, NULL, 2, &k0,
+                                        &s20, NULL), 0);
+    /* HKB closed form: k = r s^2 / |x_LS|^2 */
+    assert_close(k0, 2.0 * s20 / (x0[0] * x0[0] + x0[1] * x0[1]), 1e-12);
+    for (int i = 0; i < 12; i++)
+        A[i] = small_A[i] * 0x1p-40;
+    assert_int_equal(igea_regress_ridge(6, 2, A, 6, small_y, NULL,
+                                        IGEA_RIDGE_HKB, 0.0, x, NULL, 2, &ku,
+                                        &s2, NULL), 0);
+    assert_close(ku, k0 * 0x1p-80, 1e-12);
+    assert_close(x[0], xa[0] * 0x1p40, 1e-12);
+    assert_close(x[1], xa[1] * 0x1p40, 1e-12);
+}
+
+static void test_scaled_column_ridge(void **state)
+{
+    (void)state;
+    /* Three terms, the third column multiplied by 1e300: relative to
+     * s_1 ~ 1e300 the other singular values (~1) are below the rank cut
+     * max(m, N) eps s_1, so the numerical rank is 1 and the estimable
+     * direction is e_3. HKB then asks k = s^2 / x_LS^2 ~ 1e600: a status
+     * (was k = NaN with status 0). Lawless-Wang's k = s^2 / z_1^2, with z_1
+     * = u_1^T y, u_1 the unit third column, is representable. */
+    double As[18], y[6] = {1.0, 2.1, 2.9, -1.2, 4.1, 5.8}, c3[6], nc = 0.0;
+    for (int i = 0; i < 6; i++) {
+        As[i] = small_A[i];
+        As[6 + i] = small_A[6 + i];
+        c3[i] = 1.0 + 0.5 * i * i - 0.1 * i;
+        As[12 + i] = c3[i] * 1e300;
+        nc += c3[i] * c3[i];
+    }
+    nc = sqrt(nc);
+    double z1 = 0.0, yy = 0.0;
+    for (int i = 0; i < 6; i++) {
+        z1 += c3[i] / nc * y[i];
+        yy += y[i] * y[i];
+    }
+    double s2 = (yy - z1 * z1) / 5.0, klw = s2 / (z1 * z1);
+    double x[3], cov[9], res[6], ku, s2o;
+    fill_sentinel(x, 3);
+    fill_sentinel(cov, 9);
+    ku = s2o = SENTINEL;
+    assert_int_equal(igea_regress_ridge(6, 3, As, 6, y, NULL, IGEA_RIDGE_HKB,
+                                        0.0, x, cov, 3, &ku, &s2o, res),
+                     IGEA_EOVERFLOW);
+    assert_true(all_sentinel(x, 3) && all_sentinel(cov, 9) && ku == SENTINEL &&
+                s2o == SENTINEL);
+    assert_int_equal(igea_regress_ridge(6, 3, As, 6, y, NULL, IGEA_RIDGE_LW,
+                                        0.0, x, cov, 3, &ku, &s2o, res), 0);
+    assert_close(s2o, s2, 1e-10);
+    assert_close(ku, klw, 1e-10);
+    assert_close(x[2], z1 / (nc * 1e300), 1e-12); /* s_1 >> k: LS */
+    assert_true(fabs(x[0]) < 1e-290 && fabs(x[1]) < 1e-290);
+    for (int j = 0; j < 9; j++)
+        assert_true(isfinite(cov[j]));
+    /* GCV and LOO search k around d_1 ~ 1e600: a k that is not a double is
+     * a status; whatever is returned with status 0 is finite. */
+    for (int rule = IGEA_RIDGE_GCV; rule <= IGEA_RIDGE_LOO; rule++) {
+        fill_sentinel(x, 3);
+        ku = SENTINEL;
+        int st = igea_regress_ridge(6, 3, As, 6, y, NULL, rule, 0.0, x, cov, 3,
+                                    &ku, &s2o, res);
+        if (st == 0)
+            assert_true(isfinite(ku) && isfinite(x[0]) && isfinite(x[1]) &&
+                        isfinite(x[2]));
+        else {
+            assert_int_equal(st, IGEA_EOVERFLOW);
+            assert_true(all_sentinel(x, 3) && ku == SENTINEL);
+        }
+    }
+}
+
+static void test_ebr_scaled(void **state)
+{
+    (void)state;
+    /* The EBR test vector design scaled by 1e-300: beta ~ 1e300 beta0 but
+     * lambda ~ 1e600 lambda0, not a double: a status, outputs untouched
+     * (was NaN estimates with status 0). A scale of 2^-60 is solved
+     * exactly as a change of units. */
+    enum { M = 30, N = 4 };
+    double A[M * N], As[M * N], y[M];
+    for (int i = 0; i < M; i++) {
+        double t = (i + 0.5) / M;
+        A[i] = 1.0;
+        A[i + M] = t;
+        A[i + 2 * M] = t * t;
+        A[i + 3 * M] = sin(6.0 * t);
+        y[i] = 0.2 + 0.5 * t - 0.3 * t * t + 0.05 * sin(6.0 * t) +
+               0.02 * cos(37.0 * i);
+    }
+    double b0[N], l0, sp0[N], sf0[N];
+    int r0;
+    assert_int_equal(igea_regress_ebr(M, N, A, M, y, NULL, IGEA_EBR_MM, 0.0, b0,
+                                      &l0, &r0, NULL, sp0, sf0), 0);
+    assert_true(l0 > 0.0);
+    for (int rule = IGEA_EBR_SC; rule <= IGEA_EBR_ML2; rule++) {
+        for (int i = 0; i < M * N; i++)
+            As[i] = A[i] * 1e-300;
+        double b[N], lam = SENTINEL, sp[N], sf[N], sh[N];
+        int rank = -7;
+        fill_sentinel(b, N);
+        fill_sentinel(sp, N);
+        int st = igea_regress_ebr(M, N, As, M, y, NULL, rule, 0.0, b, &lam,
+                                  &rank, sh, sp, sf);
+        if (st == 0) /* lambda* = 0 by the positive-part rule */
+            assert_true(lam == 0.0 && isfinite(b[0]) && isfinite(sp[0]));
+        else {
+            assert_int_equal(st, IGEA_EOVERFLOW);
+            assert_true(all_sentinel(b, N) && all_sentinel(sp, N) &&
+                        lam == SENTINEL && rank == -7);
+        }
+    }
+    for (int i = 0; i < M * N; i++)
+        As[i] = A[i] * 0x1p-60;
+    double b[N], lam, sp[N], sf[N];
+    int rank;
+    assert_int_equal(igea_regress_ebr(M, N, As, M, y, NULL, IGEA_EBR_MM, 0.0, b,
+                                      &lam, &rank, NULL, sp, sf), 0);
+    assert_close(lam, l0 * 0x1p120, 1e-9);
+    for (int j = 0; j < N; j++) {
+        assert_close(b[j], b0[j] * 0x1p60, 1e-9);
+        assert_close(sp[j], sp0[j] * 0x1p60, 1e-9);
+        assert_close(sf[j], sf0[j] * 0x1p60, 1e-9);
+    }
+}
+
+static void test_sigma_range(void **state)
+{
+    (void)state;
+    /* A denormal sigma (1/sigma^2 = Inf) and one just below 2^-511: the
+     * status names the range, outputs are untouched. 2^-511 is accepted. */
+    const double bad[2] = {4e-320, 1e-160};
+    for (int t = 0; t < 2; t++) {
+        double sg[6] = {1, 1, 1, 1, 1, 1}, x[2], cov[4], res[6], s2 = SENTINEL,
+               ku = SENTINEL;
+        int rank = -7, nu = -7;
+        sg[3] = bad[t];
+        fill_sentinel(x, 2);
+        fill_sentinel(cov, 4);
+        fill_sentinel(res, 6);
+        assert_int_equal(igea_regress_ls(6, 2, small_A, 6, small_y, sg, 0, x, cov,
+                                         2, &rank, &s2, res), IGEA_ERANGE);
+        assert_int_equal(igea_regress_ridge(6, 2, small_A, 6, small_y, sg,
+                                            IGEA_RIDGE_GCV, 0, x, cov, 2, &ku,
+                                            &s2, res), IGEA_ERANGE);
+        assert_int_equal(igea_regress_pce(6, 2, small_A, 6, small_y, sg, 2, 0, x,
+                                          cov, 2, &nu, &s2, res), IGEA_ERANGE);
+        double P[4] = {1, 0, 0, 1}, kg[1] = {1.0}, cs[2], eig[2];
+        assert_int_equal(igea_regress_bayes(6, 2, small_A, 6, small_y, sg, NULL,
+                                            P, 2, x, cov, 2, res), IGEA_ERANGE);
+        assert_int_equal(igea_regress_ridge_trace(6, 2, small_A, 6, small_y, sg,
+                                                  1, kg, x, 2, NULL),
+                         IGEA_ERANGE);
+        fill_sentinel(cs, 2);
+        assert_int_equal(igea_regress_collinearity(6, 2, small_A, 6, small_y, sg,
+                                                   0, cs, &rank, eig, NULL, 2,
+                                                   NULL, NULL, NULL),
+                         IGEA_ERANGE);
+        assert_true(all_sentinel(x, 2) && all_sentinel(cov, 4) &&
+                    all_sentinel(res, 6) && all_sentinel(cs, 2) &&
+                    s2 == SENTINEL && ku == SENTINEL && rank == -7 && nu == -7);
+        /* EBR's prior scales are checked alike. */
+        double ps[2] = {1.0, bad[t]}, lam = SENTINEL;
+        assert_int_equal(igea_regress_ebr(6, 2, small_A, 6, small_y, ps,
+                                          IGEA_EBR_MM, 0, x, &lam, &rank, NULL,
+                                          NULL, NULL), IGEA_ERANGE);
+        assert_true(lam == SENTINEL && all_sentinel(x, 2));
+    }
+    double sg[6] = {1, 1, 1, IGEA_SIGMA_MIN, 1, 1}, x[2], s2;
+    int rank;
+    assert_true(IGEA_SIGMA_MIN == 0x1p-511);
+    assert_int_equal(igea_regress_ls(6, 2, small_A, 6, small_y, sg, 0, x, NULL,
+                                     2, &rank, &s2, NULL), 0);
+    assert_true(isfinite(x[0]) && isfinite(x[1]) && isfinite(s2));
+    assert_true(strstr(igea_strerror(IGEA_ERANGE), "1.5e-154") != NULL);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1017,6 +1559,13 @@ int main(void)
         cmocka_unit_test(test_pce),
         cmocka_unit_test(test_bayes),
         cmocka_unit_test(test_collinearity),
+        cmocka_unit_test(test_wide_ls_pce_ridge),
+        cmocka_unit_test(test_wide_1x3),
+        cmocka_unit_test(test_wide_bayes_ebr_collinearity),
+        cmocka_unit_test(test_scaled_designs),
+        cmocka_unit_test(test_scaled_column_ridge),
+        cmocka_unit_test(test_ebr_scaled),
+        cmocka_unit_test(test_sigma_range),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

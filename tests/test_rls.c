@@ -886,6 +886,26 @@ static void test_allocation(void **state)
 #endif
 }
 
+static void test_sigma_range(void **state)
+{
+    (void)state;
+    /* A denormal tracking sigma: IGEA_ERANGE (its weight 1/sigma^2 would be
+     * Inf), the state untouched; 2^-511 is accepted. */
+    igea_rls *h = make(2, 2, 1e4, IGEA_RLS_STANDARD, 1);
+    double c[4] = {1, 0, 0.5, 1}, y[2] = {0.3, -0.2}, x0[2], x1[2];
+    assert_int_equal(igea_rls_get_x(h, x0), 0);
+    const double bad[3] = {4e-320, 1e-160, 0x1p-512};
+    for (int t = 0; t < 3; t++) {
+        double sg[2] = {0.1, bad[t]};
+        assert_int_equal(igea_rls_update(h, c, 2, y, sg, NULL), IGEA_ERANGE);
+        assert_int_equal(igea_rls_get_x(h, x1), 0);
+        assert_true(x1[0] == x0[0] && x1[1] == x0[1]);
+    }
+    double sg[2] = {0.1, IGEA_SIGMA_MIN * 1e150};
+    assert_true(igea_rls_update(h, c, 2, y, sg, NULL) >= 0);
+    igea_rls_free(h);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -906,6 +926,7 @@ int main(void)
         cmocka_unit_test(test_create_args),
         cmocka_unit_test(test_setter_args),
         cmocka_unit_test(test_update_args),
+        cmocka_unit_test(test_sigma_range),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

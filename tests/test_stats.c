@@ -1,6 +1,8 @@
 /* Tests of igea/stats.h and igea/common.h.
  * Reference values: scipy.stats 1.x (chi2.isf/ppf/sf/cdf, norm.ppf/cdf),
  * computed independently of GSL; the seed's Tables 1-2 (Xiao & Chen 2018). */
+#include <float.h>
+
 #include "testutil.h"
 
 #include <gsl/gsl_errno.h>
@@ -247,6 +249,89 @@ static void test_pool(void **state)
     assert_true(all_sentinel(info, IGEA_INFO_LEN));
 }
 
+static void test_large_finite_values(void **state)
+{
+    (void)state;
+    /* An equivalent error of 1e300: z_1 = 1e300 / sqrt(1.01) is a double,
+     * z_1^2 and T are not: T saturates at DBL_MAX, p = 0, rejected (was
+     * status -1 after z and reject were written). */
+    double e[2] = {1e300, 0.5}, lam[2] = {100, 50}, z[2], info[IGEA_INFO_LEN];
+    int rej[2];
+    assert_int_equal(igea_stats_accuracy_test(2, e, lam, 0.01, 10, 0, z, rej,
+                                              info), 0);
+    assert_close(z[0], 1e300 / sqrt(1.01), 1e-15);
+    assert_close(z[1], 0.5 / sqrt(1.02), 1e-15);
+    assert_int_equal(rej[0], 1);
+    assert_int_equal(rej[1], 0);
+    assert_true(info[IGEA_INFO_CHI2] == DBL_MAX);
+    assert_true(info[IGEA_INFO_P_VALUE] == 0.0);
+    assert_true(info[IGEA_INFO_PASSED] == 0.0);
+    assert_true(info[IGEA_INFO_N_REJECT] == 1.0);
+    assert_close(info[IGEA_INFO_CHI2_CRIT], 9.2103403719761836, 1e-12);
+    for (int k = 0; k < IGEA_INFO_RANK; k++)
+        assert_true(isfinite(info[k]));
+    /* Large but summable: T = 1e300 / 1.01 + 0.25 / 1.02 exactly as a
+     * double; Q(T; 2) = exp(-T / 2) = 0. */
+    e[0] = 1e150;
+    assert_int_equal(igea_stats_accuracy_test(2, e, lam, 0.01, 10, 0, z, rej,
+                                              info), 0);
+    assert_close(info[IGEA_INFO_CHI2], 1e300 / 1.01, 1e-15);
+    assert_true(info[IGEA_INFO_P_VALUE] == 0.0 && info[IGEA_INFO_PASSED] == 0.0);
+    /* Pooling two chi-squares of 1e308: the sum overflows, the verdict is
+     * a rejection with p = 0 (was status -1). */
+    double c2[2] = {1e308, 1e308};
+    int dof[2] = {3, 4}, nr[2] = {0, 0};
+    assert_int_equal(igea_stats_pool(2, c2, dof, nr, NULL, 0.01, info), 0);
+    assert_true(info[IGEA_INFO_CHI2] == DBL_MAX);
+    assert_true(info[IGEA_INFO_P_VALUE] == 0.0);
+    assert_true(info[IGEA_INFO_PASSED] == 0.0);
+    assert_true(info[IGEA_INFO_DOF] == 7.0);
+    /* One large finite chi-square: summed exactly, p = 0. */
+    c2[0] = 1e300;
+    c2[1] = 2.0;
+    assert_int_equal(igea_stats_pool(2, c2, dof, nr, NULL, 0.01, info), 0);
+    assert_true(info[IGEA_INFO_CHI2] == 1e300);
+    assert_true(info[IGEA_INFO_P_VALUE] == 0.0 && info[IGEA_INFO_PASSED] == 0.0);
+    /* Failures write nothing. */
+    double zs[2], is[IGEA_INFO_LEN];
+    int rs[2] = {-7, -7};
+    fill_sentinel(zs, 2);
+    fill_sentinel(is, IGEA_INFO_LEN);
+    e[1] = NAN;
+    assert_int_equal(igea_stats_accuracy_test(2, e, lam, 0.01, 10, 0, zs, rs, is),
+                     IGEA_ENONFINITE);
+    assert_true(all_sentinel(zs, 2) && all_sentinel(is, IGEA_INFO_LEN) &&
+                rs[0] == -7 && rs[1] == -7);
+    /* More tested components than the chi-square routines accept: the
+     * count is named, not the equivalent errors. */
+    int nbig = (int)IGEA_STATS_DOF_MAX + 1;
+    double *eb = malloc(sizeof(double) * nbig), *lb = malloc(sizeof(double) * nbig);
+    double *zb = malloc(sizeof(double) * nbig);
+    int *rb = malloc(sizeof(int) * nbig);
+    assert_non_null(eb && lb && zb && rb);
+    for (int i = 0; i < nbig; i++) {
+        eb[i] = 0.1;
+        lb[i] = 100.0;
+    }
+    fill_sentinel(zb, nbig);
+    assert_int_equal(igea_stats_accuracy_test(nbig, eb, lb, 0.01, 10, 0, zb, rb,
+                                              is), -1);
+    assert_true(all_sentinel(zb, nbig) && all_sentinel(is, IGEA_INFO_LEN));
+    free(eb);
+    free(lb);
+    free(zb);
+    free(rb);
+    int dbig[2] = {60000, 60000};
+    c2[0] = c2[1] = 1.0;
+    assert_int_equal(igea_stats_pool(2, c2, dbig, nr, NULL, 0.01, is), -3);
+    assert_true(all_sentinel(is, IGEA_INFO_LEN));
+    /* The new statuses have their own text. */
+    assert_true(strstr(igea_strerror(IGEA_EOVERFLOW), "overflow") != NULL);
+    assert_true(strcmp(igea_strerror(IGEA_EOVERFLOW),
+                       igea_strerror(IGEA_ENONFINITE)) != 0);
+    assert_true(strstr(igea_strerror(IGEA_ERANGE), "standard deviation") != NULL);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -257,6 +342,7 @@ int main(void)
         cmocka_unit_test(test_accuracy_seed_table),
         cmocka_unit_test(test_accuracy_invalid),
         cmocka_unit_test(test_pool),
+        cmocka_unit_test(test_large_finite_values),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
