@@ -305,18 +305,24 @@ static inline int audit_read_known(const char *path, audit_known *k, int cap)
     return n;
 }
 
-/* The entry for check id that failed with message msg (NULL for a check
- * that passed: then only an exact entry is returned). An ID ending in '*'
- * matches every check it begins; a "[msg: TEXT]" in the description
- * restricts the entry to failures whose message contains TEXT. */
+/* Glob match where only '*' is special (any run of characters). */
+static inline int audit_glob(const char *pat, const char *s)
+{
+    if (!*pat)
+        return !*s;
+    if (*pat == '*')
+        return audit_glob(pat + 1, s) || (*s && audit_glob(pat, s + 1));
+    return *s == *pat && audit_glob(pat + 1, s + 1);
+}
+
+/* The entry for check id that failed with message msg. An ID may hold '*'
+ * (any characters); a "[msg: TEXT]" in the description restricts the
+ * entry to failures whose message contains TEXT. */
 static inline audit_known *audit_find_known(audit_known *k, int n, const char *id,
                                             const char *msg)
 {
     for (int i = 0; i < n; i++) {
-        size_t l = strlen(k[i].id);
-        int hit = strcmp(k[i].id, id) == 0 ||
-                  (msg && l > 0 && k[i].id[l - 1] == '*' && strncmp(k[i].id, id, l - 1) == 0);
-        if (!hit)
+        if (!audit_glob(k[i].id, id))
             continue;
         const char *want = strstr(k[i].what, "[msg: ");
         if (msg && want) {

@@ -28,6 +28,8 @@ Keys starting with '_' annotate the function:
   _inf_ok        double parameters (scalar or array) for which +-Inf is
                  valid ('name' both signs, 'name+' or 'name-' one)
   _nan_ok        double parameters for which NaN is valid
+  _ignored       parameters the header says this call does not read: their
+                 mutations carry no expectation
   _int           class of an int parameter not in gen_invalid.INT_CLASS
                  (size, ld, enum, nonneg, index, free)
   _ret           'bool': the function answers 1/0 (1 for the baseline),
@@ -193,4 +195,43 @@ BASE = {
     'igea_rls_get_counts': dict(),
     'igea_rls_get_size': dict(),
     'igea_rls_compensate': dict(c='u', ldc='2', y='u'),
+}
+
+# Further baselines of some functions, for the branches the first one does
+# not reach (fewer rows than terms, other rules, routes, models, layouts).
+# Each inherits the function's BASE entry; its checks are named
+# "FUNCTION@VARIANT".
+WIDE = dict(m='2', N='5')
+VARIANTS = {
+    'igea_normal_accumulate': dict(rowmajor=dict(layout='IGEA_ROWMAJOR', lds='N')),
+    'igea_normal_qr_accumulate': dict(rowmajor=dict(layout='IGEA_ROWMAJOR', lds='N')),
+    'igea_eqerr_run': dict(svd=dict(opts='set:igea_eqerr_defaults(b_);'
+                                         ' b_[IGEA_EQERR_OPT_ROUTE] = IGEA_ROUTE_SVD;')),
+    'igea_regress_ls': dict(wide=WIDE),
+    'igea_regress_ridge': dict(wide=WIDE, hkb=dict(rule='IGEA_RIDGE_HKB', _ignored=['k']),
+                               lw=dict(rule='IGEA_RIDGE_LW', _ignored=['k']),
+                               gcv=dict(rule='IGEA_RIDGE_GCV', _ignored=['k']),
+                               loo=dict(rule='IGEA_RIDGE_LOO', _ignored=['k']),
+                               wide_gcv=dict(WIDE, rule='IGEA_RIDGE_GCV', _ignored=['k'])),
+    'igea_regress_ridge_trace': dict(wide=WIDE),
+    'igea_regress_pce': dict(wide=WIDE, ncomp2=dict(ncomp='2', _ignored=['eig_min'])),
+    'igea_regress_bayes': dict(wide=dict(WIDE, prior_cov='set:audit_spd(b_, 5, 5, 1.0);')),
+    'igea_regress_collinearity': dict(wide=WIDE),
+    'igea_regress_ebr': dict(mm=dict(rule='IGEA_EBR_MM'), ml2=dict(rule='IGEA_EBR_ML2')),
+    'igea_accel_fit': dict(ls=dict(method='IGEA_ACCEL_LS',
+                                   _ignored=['prior_scale', 'rule', 'lam_floor']),
+                           single=dict(model='IGEA_ACCEL_SINGLE', yb='NULL',
+                                       ya='c:asind(30.0 * (double)i) + 1e-4 * au(i)')),
+    'igea_accel_analyze': dict(single=dict(model='IGEA_ACCEL_SINGLE', ldn='5')),
+    'igea_accel_design': dict(single=dict(model='IGEA_ACCEL_SINGLE')),
+    'igea_envfun_compute': dict(platform=dict(
+        system='IGEA_ENVFUN_PLATFORM', terms='[0, 15, 27, 33]', nterms='4',
+        traj='set:igea_sim_trajectory(IGEA_ENVFUN_PLATFORM, 10.0, 10.0, 101, b_, 101);',
+        axes='[0, 1, 2, 1, 2, 0]', output='IGEA_ENVFUN_POSITION_G')),
+    'igea_sim_trajectory': dict(platform=dict(system='IGEA_ENVFUN_PLATFORM')),
+    'igea_sim_montecarlo': dict(threads=dict(nthreads='2')),
+    'igea_redund_geometry': dict(span=dict(fdi='0')),
+    'igea_redund_fusion_set': dict(oneshot=dict(iterative='0')),
+    'igea_stability_allan': dict(modified=dict(kind='IGEA_ALLAN_MODIFIED', noise='IGEA_NOISE_WFM'),
+                                 nonoverlapping=dict(kind='IGEA_ALLAN_NONOVERLAPPING')),
 }

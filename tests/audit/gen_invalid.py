@@ -149,7 +149,7 @@ def fill_code(p, val, idx):
 
 def resolve(func):
     """The baseline value of every parameter; exits when one is missing."""
-    entry = baselines.BASE.get(func.name, {})
+    entry = func.entry
     vals = {}
     for p in func.params:
         if p.name in entry:
@@ -181,7 +181,7 @@ def generate(funcs):
     table = []
     total_fail = 0
     for f in funcs:
-        entry = baselines.BASE.get(f.name, {})
+        entry = f.entry
         vals = resolve(f)
         names = [p.name for p in f.params]
         opt = optional_from_comment(f)
@@ -192,11 +192,12 @@ def generate(funcs):
         inf_ok = entry.get('_inf_ok', [])
         nan_ok = set(entry.get('_nan_ok', []))
         intcls = dict(entry.get('_int', {}))
+        ignored = set(entry.get('_ignored', []))
         if len(f.params) > 24:
             raise SystemExit('gen_invalid: %s has more than AUDIT_MAXARG parameters' % f.name)
         # set-up
         s = ['static void setup_%s(audit_call *c)\n{\n    memset(c, 0, sizeof *c);\n'
-             '    c->nargs = %d;\n' % (f.name, len(f.params))]
+             '    c->nargs = %d;\n' % (f.cid, len(f.params))]
         scal = [p for p in f.params if not p.isptr]
         done, order = set(), []
         while len(order) < len(scal):
@@ -253,7 +254,7 @@ def generate(funcs):
             raise SystemExit('gen_invalid: unsupported return type %r of %s' % (f.ret, f.name))
         if not f.params:
             body = '    (void)c;\n' + body
-        out.append('static int call_%s(audit_call *c)\n{\n%s}\n\n' % (f.name, body))
+        out.append('static int call_%s(audit_call *c)\n{\n%s}\n\n' % (f.cid, body))
         # mutations
         muts = []
 
@@ -318,26 +319,28 @@ def generate(funcs):
                     add(i, 'MK_ELEM', '0', 'NAN', 'EX_ANY' if p.name in nan_ok else 'EX_FAIL',
                         '%s[0]=NaN' % p.name)
                     add(i, 'MK_ELEM', '0', 'INFINITY', infexp(p.name, '+'), '%s[0]=+Inf' % p.name)
+        muts = [(m[0], m[1], m[2], m[3], 'EX_ANY' if names[m[0]] in ignored else m[4], m[5])
+                for m in muts]
         for (pname, cval, exp) in entry.get('_extra', []):
             i = names.index(pname)
             kind = 'MK_INT' if f.params[i].at == 'AT_INT' else 'MK_DBL'
             add(i, kind, cval if kind == 'MK_INT' else '0', cval if kind == 'MK_DBL' else '0',
                 {'ok': 'EX_OK', 'fail': 'EX_FAIL', 'any': 'EX_ANY'}[exp],
                 '%s=%s' % (pname, cval))
-        out.append('static const audit_mut muts_%s[] = {\n' % f.name)
+        out.append('static const audit_mut muts_%s[] = {\n' % f.cid)
         for (i, kind, ival, dval, exp, label) in muts:
             out.append('    {%d, %s, %s, %s, %s, %s},\n' % (i, kind, ival, dval, exp, dq(label)))
         if not muts:
             out.append('    {0, MK_INT, 0, 0, EX_ANY, NULL},\n')
         out.append('};\n')
         out.append('static const char *const names_%s[] = {%s};\n\n' % (
-            f.name, ', '.join(dq(n) for n in names) if names else 'NULL'))
+            f.cid, ', '.join(dq(n) for n in names) if names else 'NULL'))
         table.append('    {"%s", %d, names_%s, setup_%s, call_%s, muts_%s, %d, %d, %d},\n' % (
-            f.name, len(f.params), f.name, f.name, f.name, f.name, len(muts),
+            f.label, len(f.params), f.cid, f.cid, f.cid, f.cid, len(muts),
             0 if entry.get('_threads') is False else 1, consumes))
         total_fail += sum(1 for m in muts if m[4] == 'EX_FAIL')
         listing.append('%s (%s): %d mutations; may be NULL: %s; ints: %s' % (
-            f.name, f.header, len(muts), ', '.join(sorted(opt & set(names))) or '-',
+            f.label, f.header, len(muts), ', '.join(sorted(opt & set(names))) or '-',
             ', '.join(cls_list) or '-'))
     out.append('static const audit_fn audit_fns[] = {\n%s};\n' % ''.join(table))
     out.append('static const int audit_nfns = %d;\n' % len(funcs))
@@ -353,7 +356,21 @@ def main():
     if stale:
         raise SystemExit('gen_invalid: baselines.py names functions that are not exported: %s'
                          % ', '.join(stale))
-    code, listing, nfail = generate(funcs)
+    stale = sorted(set(getattr(baselines, 'VARIANTS', {})) - names)
+    if stale:
+        raise SystemExit('gen_invalid: VARIANTS names functions that are not exported: %s'
+                         % ', '.join(stale))
+    calls = []
+    for f in funcs:
+        f.label, f.cid, f.entry = f.name, f.name, baselines.BASE.get(f.name, {})
+        calls.append(f)
+        for vname, over in sorted(getattr(baselines, 'VARIANTS', {}).get(f.name, {}).items()):
+            v = Func(f.ret, f.name, f.params, f.comment, f.header)
+            v.label, v.cid = f.name + '@' + vname, f.name + '__' + vname
+            v.entry = dict(f.entry)
+            v.entry.update(over)
+            calls.append(v)
+    code, listing, nfail = generate(calls)
     tmp = sys.argv[1] + '.tmp'
     with open(tmp, 'w') as fh:
         fh.write(code)
@@ -361,7 +378,8 @@ def main():
     if len(sys.argv) > 2:
         with open(sys.argv[2], 'w') as fh:
             fh.write('\n'.join(listing) + '\n')
-    print('gen_invalid: %d exported functions, %d invalid-argument mutations' % (len(funcs), nfail))
+    print('gen_invalid: %d exported functions, %d baselines, %d invalid-argument mutations'
+          % (len(funcs), len(calls), nfail))
 
 
 if __name__ == '__main__':

@@ -35,9 +35,24 @@ enum { K_MAX = 20000 };
 
 /* One call with the k-th allocation failed (k < 0: none); *printed: bytes
  * written to stdout or stderr during the call. */
+static FILE *cap;
+
+/* The start of what the last call printed, on one line. */
+static void audit_captured(char *text, size_t n)
+{
+    size_t got;
+    lseek(fileno(cap), 0, SEEK_SET);
+    got = (size_t)read(fileno(cap), text, n - 1);
+    if (got >= n)
+        got = 0;
+    text[got] = 0;
+    for (size_t i = 0; i < got; i++)
+        if ((unsigned char)text[i] < 32)
+            text[i] = ' ';
+}
+
 static int call_armed(const audit_fn *f, audit_call *c, long k, long *nalloc, long *printed)
 {
-    static FILE *cap;
     if (!cap && !(cap = tmpfile()))
         _exit(3);
     if (ftruncate(fileno(cap), 0) != 0)
@@ -87,8 +102,10 @@ static void oom_function(const audit_fn *f, char *out, size_t cap)
         audit_snapshot(&c);
         int st = call_armed(f, &c, k, &n, &printed);
         if (printed > 0) {
-            snprintf(out, cap, "allocation %ld failed: status %d and %ld bytes printed", k, st,
-                     printed);
+            char text[80] = "";
+            audit_captured(text, sizeof text);
+            snprintf(out, cap, "allocation %ld failed: status %d and %ld bytes printed \"%s\"", k,
+                     st, printed, text);
             audit_teardown(&c);
             return;
         }
@@ -181,7 +198,7 @@ int main(int argc, char **argv)
         }
     }
     audit_unseen(known, nknown, "oom ");
-    printf("test_oom: %d exported functions, %d allocate; %ld out-of-memory calls\n", audit_nfns,
+    printf("test_oom: %d baseline calls, %d allocate; %ld out-of-memory calls\n", audit_nfns,
            nalloc_fns, loops);
     if (nhit)
         printf("%d checks failed as listed in tests/audit/known_defects.txt\n", nhit);
