@@ -107,14 +107,20 @@ static inline void audit_upper(double *p, int n, int ld, double d)
             p[i + (size_t)j * ld] = i == j ? d * (1.0 + 0.1 * j) : i < j ? au(i + 17 * j) : 0.0;
 }
 
-/* A handle of m coefficients, k rows, after nup updates. NULL on failure. */
-static inline igea_rls *audit_rls_new(int m, int k, int nup)
+/* A handle of m coefficients, k rows, with the given variant (order p)
+ * and anomaly policy, after nup updates. NULL on failure. */
+static inline igea_rls *audit_rls_new_ex(int m, int k, int nup, int variant, int p, int policy)
 {
     double g[64], c[64], y[16];
     igea_rls *h = NULL;
     audit_spd(g, m, m, 4.0);
     if (igea_rls_create(m, k, NULL, g, m, &h) != 0)
         return NULL;
+    if (igea_rls_set_variant(h, variant, p) != 0 ||
+        igea_rls_set_anomaly(h, policy, 4.0, NULL) != 0) {
+        igea_rls_free(h);
+        return NULL;
+    }
     for (int e = 0; e < nup; e++) {
         for (int i = 0; i < k * m; i++)
             c[i] = au(100 * e + i);
@@ -126,6 +132,11 @@ static inline igea_rls *audit_rls_new(int m, int k, int nup)
         }
     }
     return h;
+}
+
+static inline igea_rls *audit_rls_new(int m, int k, int nup)
+{
+    return audit_rls_new_ex(m, k, nup, IGEA_RLS_STANDARD, 1, IGEA_RLS_ANOMALY_NONE);
 }
 
 /* The observable state of a handle, for "untouched" and "bitwise equal"

@@ -15,7 +15,9 @@ Values:
              '[a, b, ...]' these elements, then zeros
              'set:CODE'    C statements filling the buffer b_
              'h'           a handle from audit_rls_new(3, 2, 2) (m = 3, k = 2,
-                           after two updates); 'h0' the same before any
+                           after two updates); 'h0' the same before any;
+                           'hpoly' polynomial RLS of order 3, 'hiso' the
+                           ISOLATE anomaly policy (audit_rls_new_ex)
 A writable pointer given values is an input-output argument: a failed call
 must leave it as it was, like an output.
 
@@ -232,6 +234,10 @@ VARIANTS = {
     'igea_sim_montecarlo': dict(threads=dict(nthreads='2')),
     'igea_redund_geometry': dict(span=dict(fdi='0')),
     'igea_redund_fusion_set': dict(oneshot=dict(iterative='0')),
+    'igea_rls_update': dict(poly=dict(h='hpoly'),
+                            isolate=dict(h='hiso', _nan_ok=['y'], _inf_ok=['y'])),
+    'igea_rls_run': dict(poly=dict(h='hpoly')),
+    'igea_rls_get_covariance': dict(poly=dict(h='hpoly')),
     'igea_stability_allan': dict(modified=dict(kind='IGEA_ALLAN_MODIFIED', noise='IGEA_NOISE_WFM'),
                                  nonoverlapping=dict(kind='IGEA_ALLAN_NONOVERLAPPING')),
 }

@@ -110,12 +110,15 @@ def optional_from_comment(func):
 def fill_code(p, val, idx):
     """C statements that create and fill the buffer of pointer p."""
     if p.at == 'AT_H':
-        if val not in ('h', 'h0'):
-            raise SystemExit('gen_invalid: handle %s needs the value h or h0' % p.name)
-        nup = 2 if val == 'h' else 0
-        return ('    c->type[%d] = AT_H; c->isconst[%d] = %d; c->buf[%d] = audit_rls_new(3, 2, %d);\n'
+        new = {'h': 'audit_rls_new(3, 2, 2)', 'h0': 'audit_rls_new(3, 2, 0)',
+               'hpoly': 'audit_rls_new_ex(3, 2, 2, IGEA_RLS_POLYNOMIAL, 3, IGEA_RLS_ANOMALY_NONE)',
+               'hiso': 'audit_rls_new_ex(3, 2, 2, IGEA_RLS_STANDARD, 1, IGEA_RLS_ANOMALY_ISOLATE)'}
+        if val not in new:
+            raise SystemExit('gen_invalid: handle %s needs one of %s' % (p.name, ', '.join(new)))
+        return ('    c->type[%d] = AT_H; c->isconst[%d] = %d; c->buf[%d] = %s;\n'
                 '    if (!c->buf[%d]) { fprintf(stderr, "audit: handle set-up failed\\n"); exit(2); }\n'
-                '    c->pv[%d] = c->buf[%d];\n' % (idx, idx, int(p.const), idx, nup, idx, idx, idx))
+                '    c->pv[%d] = c->buf[%d];\n' % (idx, idx, int(p.const), idx, new[val], idx, idx,
+                                                 idx))
     if p.at == 'AT_HO':
         return ('    c->type[%d] = AT_HO; c->buf[%d] = malloc(sizeof(igea_rls *));\n'
                 '    if (!c->buf[%d]) exit(2);\n'
