@@ -32,7 +32,7 @@
 /* Argument types. */
 enum { AT_INT, AT_DBL, AT_PD, AT_PI, AT_H, AT_HO };
 /* Mutation kinds. */
-enum { MK_INT, MK_IADD, MK_DBL, MK_NULL, MK_ELEM };
+enum { MK_INT, MK_IADD, MK_DBL, MK_NULL, MK_ELEM, MK_IELEM };
 /* What a mutated call must do. */
 enum { EX_FAIL, EX_OK, EX_ANY };
 
@@ -40,7 +40,8 @@ typedef struct {
     int arg;       /* 0-based argument index */
     int kind;      /* MK_* */
     long ival;     /* MK_INT: the new value; MK_IADD: added to the baseline */
-    double dval;   /* MK_DBL, MK_ELEM: the new value */
+    double dval;   /* MK_DBL, MK_ELEM: the new value (MK_ELEM, MK_IELEM:
+                      of the first element of an array) */
     int expect;    /* EX_* */
     const char *label; /* "lda=m-1", "A=NULL", "A[0]=NaN", ... */
 } audit_mut;
@@ -202,6 +203,7 @@ static inline void audit_apply(audit_call *c, const audit_mut *m)
     case MK_DBL: c->dv[m->arg] = m->dval; break;
     case MK_NULL: c->pv[m->arg] = NULL; break;
     case MK_ELEM: ((double *)c->buf[m->arg])[0] = m->dval; break;
+    case MK_IELEM: ((int *)c->buf[m->arg])[0] = (int)m->ival; break;
     }
 }
 

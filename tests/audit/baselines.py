@@ -34,6 +34,8 @@ Keys starting with '_' annotate the function:
                  mutations carry no expectation
   _int           class of an int parameter not in gen_invalid.INT_CLASS
                  (size, ld, enum, nonneg, index, free)
+  _intarr        class of a const int array not in gen_invalid.INTARR_CLASS
+                 (code, count, flag, free)
   _ret           'bool': the function answers 1/0 (1 for the baseline),
                  mutations must give 0
   _extra         further mutations: [(param, C value, 'ok'|'fail'|'any')]

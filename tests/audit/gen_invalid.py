@@ -36,6 +36,12 @@ for _n in ('layout model method rule kind noise system output variant policy sig
 for _n in 'seed flight row0 first_flight nthreads n_test'.split():
     INT_CLASS[_n] = 'nonneg'
 INT_CLASS['fault_sensor'] = 'index'
+# Classes of the first element of const int arrays: code (an index or an
+# enumeration: -1 and 12345 invalid), count (-1 invalid), flag (0 or 1: -1
+# and 2 invalid), free (any value).
+INTARR_CLASS = {'terms': 'code', 'axes': 'code', 'type': 'code', 'first': 'code',
+                'member': 'code', 'dof': 'count', 'n_reject': 'count', 'x_fixed': 'flag',
+                'keep': 'free', 'unit_id': 'free', 'k': 'free'}
 
 
 class Param:
@@ -322,6 +328,18 @@ def generate(funcs):
                     add(i, 'MK_ELEM', '0', 'NAN', 'EX_ANY' if p.name in nan_ok else 'EX_FAIL',
                         '%s[0]=NaN' % p.name)
                     add(i, 'MK_ELEM', '0', 'INFINITY', infexp(p.name, '+'), '%s[0]=+Inf' % p.name)
+                    add(i, 'MK_ELEM', '0', '-INFINITY', infexp(p.name, '-'),
+                        '%s[0]=-Inf' % p.name)
+                if p.at == 'AT_PI' and p.const:
+                    acls = entry.get('_intarr', {}).get(p.name) or INTARR_CLASS.get(p.name)
+                    if acls is None:
+                        raise SystemExit('gen_invalid: int array %s of %s has no class: add it '
+                                         'to INTARR_CLASS or to _intarr in baselines.py'
+                                         % (p.name, f.name))
+                    bad = {'code': ['-1', '12345'], 'count': ['-1'], 'flag': ['-1', '2'],
+                           'free': []}[acls]
+                    for x in bad:
+                        add(i, 'MK_IELEM', x, '0', 'EX_FAIL', '%s[0]=%s' % (p.name, x))
         muts = [(m[0], m[1], m[2], m[3], 'EX_ANY' if names[m[0]] in ignored else m[4], m[5])
                 for m in muts]
         for (pname, cval, exp) in entry.get('_extra', []):
