@@ -317,7 +317,7 @@ int cmd_envfun(int argc, char **argv)
         goto done;
     if (spec_arg) {
         spec = malloc(sizeof(double) * (size_t)nt);
-        if (!spec) { ec = CLI_SOFTWARE; goto done; }
+        if (!spec) { ec = cli_oom("the term specs"); goto done; }
         if (!strcmp(spec_arg, "default")) {
             for (int j = 0; j < nt; j++)
                 spec[j] = envfun_default_spec(codes[j]);

@@ -359,10 +359,8 @@ static int flight_alloc(flight *r, int N)
     r->xhat = malloc(n * sizeof(double));
     r->z = malloc(n * sizeof(double));
     r->reject = malloc(n * sizeof(int));
-    if (!r->lambda || !r->P || !r->xhat || !r->z || !r->reject) {
-        cli_error("out of memory");
-        return CLI_SOFTWARE;
-    }
+    if (!r->lambda || !r->P || !r->xhat || !r->z || !r->reject)
+        return cli_oom("the results");
     return CLI_OK;
 }
 
@@ -447,8 +445,7 @@ static int run_streamed(const eqerr_args *a, flight *r, cli_out *res_out, cli_ou
     /* eig: A (N x N), b (N), wtw (2); svd: R ((N+1) x (N+1)), row count */
     double *A = calloc((size_t)(N + 1) * (N + 1) + N + 2, sizeof(double));
     if (!A) {
-        cli_error("out of memory");
-        ec = CLI_SOFTWARE;
+        ec = cli_oom("the normal matrix");
         goto done;
     }
     double *b = A + (size_t)N * N, *wtw = b + N, qrows = 0.0;
@@ -563,10 +560,15 @@ int cmd_eqerr(int argc, char **argv)
     FILE *jf = NULL;
     cli_out jo = CLI_OUT_INIT;
     if (a.json) {
+        errno = 0;
         jf = out.f == stdout ? tmpfile() : out.f;
         if (!jf) {
-            cli_error("cannot create a temporary file");
-            ec = CLI_IOERR;
+            if (errno == ENOMEM)
+                ec = cli_oom("a temporary file for the JSON document");
+            else {
+                cli_error("cannot create a temporary file: %s", strerror(errno));
+                ec = CLI_IOERR;
+            }
         }
         jo.f = jf;
     }
@@ -578,11 +580,18 @@ int cmd_eqerr(int argc, char **argv)
             cli_json_array(jf, r.rms, 3);
             fputs("\n}\n", jf);
             if (jf != out.f) {
-                rewind(jf);
                 char buf[65536];
                 size_t k;
-                while ((k = fread(buf, 1, sizeof buf, jf)) > 0)
+                if (fflush(jf) != 0 || ferror(jf) || fseek(jf, 0, SEEK_SET) != 0) {
+                    cli_error("writing a temporary file: %s", strerror(errno));
+                    ec = errno == ENOMEM ? CLI_SOFTWARE : CLI_IOERR;
+                }
+                while (!ec && (k = fread(buf, 1, sizeof buf, jf)) > 0)
                     fwrite(buf, 1, k, out.f);
+                if (!ec && ferror(jf)) {
+                    cli_error("reading back a temporary file: %s", strerror(errno));
+                    ec = CLI_IOERR;
+                }
             }
         } else
             text_report(out.f, &r, &a);
@@ -731,7 +740,7 @@ int cmd_test(int argc, char **argv)
     int json = 0, nfiles = 0, ec;
     char **files = calloc((size_t)argc + 1, sizeof(char *));
     if (!files)
-        return CLI_SOFTWARE;
+        return cli_oom("the file list");
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i], *v;
         if (!strcmp(o, "--help") || !strcmp(o, "-h")) {
@@ -795,7 +804,7 @@ int cmd_test(int argc, char **argv)
         double *x = malloc(sizeof(double) * n), *lam = malloc(sizeof(double) * n);
         double *z = malloc(sizeof(double) * n);
         int *rej = malloc(sizeof(int) * n);
-        ec = (!x || !lam || !z || !rej) ? CLI_SOFTWARE : CLI_OK;
+        ec = (!x || !lam || !z || !rej) ? cli_oom("the table") : CLI_OK;
         for (int i = 0; !ec && i < n; i++) {
             x[i] = t.v[(size_t)i * t.cols + c0];
             lam[i] = t.v[(size_t)i * t.cols + c0 + 1];
@@ -845,7 +854,8 @@ int cmd_test(int argc, char **argv)
         double *chi2 = malloc(sizeof(double) * nfiles);
         int *dof = malloc(sizeof(int) * nfiles), *nrej = malloc(sizeof(int) * nfiles);
         int *uid = units ? malloc(sizeof(int) * nfiles) : NULL;
-        ec = (!chi2 || !dof || !nrej || (units && !uid)) ? CLI_SOFTWARE : CLI_OK;
+        ec = (!chi2 || !dof || !nrej || (units && !uid)) ? cli_oom("the pooled flights")
+                                                          : CLI_OK;
         if (!ec && units) {
             const char *p = units;
             for (int f = 0; f < nfiles; f++) {

@@ -172,7 +172,7 @@ int cmd_montecarlo(int argc, char **argv)
         if (bad || !fS || !fx || !ffix) {
             free(fS); free(fsig); free(fspec); free(fx); free(ffix);
             simmodel_free(mdl);
-            return bad ? CLI_DATAERR : CLI_SOFTWARE;
+            return bad ? CLI_DATAERR : cli_oom("the flight geometry");
         }
         int mfix = 0, mN, mm, ms;
         const double *d1, *d2, *d3, *d4, *d5;
@@ -196,16 +196,20 @@ int cmd_montecarlo(int argc, char **argv)
     for (int j = 0; j < N; j++)
         anyfix |= xfix[j];
 
+    cli_out o = CLI_OUT_INIT;
     size_t nf = (size_t)nflights;
     double *chi2 = malloc(nf * sizeof(double)), *scale = malloc(nf * sizeof(double));
     int *dof = malloc(nf * sizeof(int)), *nrej = malloc(nf * sizeof(int));
     int *ct = calloc((size_t)N, sizeof(int)), *cr = calloc((size_t)N, sizeof(int));
     int *ct1 = malloc((size_t)N * sizeof(int)), *cr1 = malloc((size_t)N * sizeof(int));
     if (!chi2 || !scale || !dof || !nrej || !ct || !cr || !ct1 || !cr1) {
-        cli_error("out of memory");
-        ec = CLI_SOFTWARE;
+        ec = cli_oom("the per-flight tables");
         goto done;
     }
+    /* The per-flight table's temporary exists from the start: a run that
+     * fails or is killed leaves the old file as it was. */
+    if (out && (ec = cli_out_open(&o, out)))
+        goto done;
     double tot[IGEA_MC_LEN] = {0};
     int tty = isatty(2), chunk = 1000;
     for (int done_f = 0; done_f < nflights; done_f += chunk) {
@@ -252,7 +256,7 @@ int cmd_montecarlo(int argc, char **argv)
         int *pd = malloc((size_t)pool * sizeof(int)), *pr = malloc((size_t)pool * sizeof(int));
         if (!pc || !pd || !pr) {
             free(pc); free(pd); free(pr);
-            ec = CLI_SOFTWARE;
+            ec = cli_oom("the pooled verdicts");
             goto done;
         }
         for (int g = 0; g + pool <= nflights; g += pool) {
@@ -275,9 +279,6 @@ int cmd_montecarlo(int argc, char **argv)
         free(pc); free(pd); free(pr);
     }
     if (out) {
-        cli_out o;
-        if ((ec = cli_out_open(&o, out)))
-            goto done;
         fprintf(o.f, "# flight chi2 dof n_reject c   (seed %d)\n", seed);
         for (size_t f = 0; f < nf; f++)
             fprintf(o.f, "%d %.17g %d %d %.17g\n", first + (int)f, chi2[f], dof[f], nrej[f],
@@ -356,6 +357,7 @@ int cmd_montecarlo(int argc, char **argv)
         }
     }
 done:
+    cli_out_abort(&o);
     free(chi2);
     free(scale);
     free(dof);

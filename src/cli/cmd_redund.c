@@ -68,7 +68,7 @@ static int read_values(const char *what, const char *s, int *n, double **v)
         }
         *v = malloc(sizeof(double) * (size_t)*n);
         if (!*v)
-            return CLI_SOFTWARE;
+            return cli_oom(what);
         for (int i = 0; i < *n; i++)
             (*v)[i] = d;
         return CLI_OK;
@@ -224,7 +224,7 @@ static int do_reliability(const rd_args *a)
     axc = malloc(sizeof(double) * 3 * (size_t)n);
     if (!axc) {
         cli_matrix_free(&ax);
-        return CLI_SOFTWARE;
+        return cli_oom("the sensor axes");
     }
     for (int k = 0; k < n; k++)
         for (int c = 0; c < 3; c++)
@@ -292,7 +292,7 @@ static int do_consistency(const rd_args *a)
     int *r = malloc(sizeof(int) * (nn + 3 * (size_t)n));
     double fused = 0, fsig = 0;
     if (!D || !r) {
-        ec = CLI_SOFTWARE;
+        ec = cli_oom("the reliability tables");
         goto done;
     }
     int *sup = r + nn, *keep = sup + n, *keep1 = keep + n;
@@ -376,7 +376,7 @@ static int do_fuse(const rd_args *a)
     double *means = NULL, *fused = NULL, *fsig = NULL;
     int *ex = NULL;
     if (!y) {
-        ec = CLI_SOFTWARE;
+        ec = cli_oom("the record");
         goto done;
     }
     for (int k = 0; k < ns; k++)
@@ -393,7 +393,7 @@ static int do_fuse(const rd_args *a)
     means = malloc(sizeof(double) * (size_t)nwin * (nc + 2));
     ex = malloc(sizeof(int) * (size_t)nwin * nc);
     if (!means || !ex) {
-        ec = CLI_SOFTWARE;
+        ec = cli_oom("the consistency tables");
         goto done;
     }
     fused = means + (size_t)nwin * nc;
@@ -475,7 +475,7 @@ static int do_fdi(const rd_args *a)
     double *par = malloc(sizeof(double) * (size_t)(m - q)), info[IGEA_FDI_LEN];
     int iso = -1;
     if (!H || !par) {
-        ec = CLI_SOFTWARE;
+        ec = cli_oom("the parity tables");
         goto done;
     }
     for (int i = 0; i < m; i++)

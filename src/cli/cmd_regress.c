@@ -396,7 +396,7 @@ int cmd_regress(int argc, char **argv)
                    : !strcmp(a.rule, "mm") ? IGEA_EBR_MM : IGEA_EBR_ML2;
         double *Aw = malloc((mn + (size_t)m) * sizeof(double));
         if (!Aw) {
-            ec = CLI_SOFTWARE;
+            ec = cli_oom("the weighted design");
             goto done;
         }
         double *yw = Aw + mn;

@@ -185,7 +185,7 @@ int cmd_stability(int argc, char **argv)
     } else {
         y = malloc(sizeof(double) * (size_t)n);
         if (!y) {
-            ec = CLI_SOFTWARE;
+            ec = cli_oom("the record");
             goto done;
         }
         for (int k = 0; k < n; k++)
@@ -201,7 +201,7 @@ int cmd_stability(int argc, char **argv)
     } else {
         tau = malloc(sizeof(double) * 64);
         if (!tau) {
-            ec = CLI_SOFTWARE;
+            ec = cli_oom("the averaging times");
             goto done;
         }
         int st = igea_stability_octave_taus(n, a.fs, kind, 64, tau, &ntau);
@@ -213,7 +213,7 @@ int cmd_stability(int argc, char **argv)
     dev = malloc(sizeof(double) * 4 * (size_t)(ntau > 0 ? ntau : 1));
     cnt = malloc(sizeof(int) * (size_t)(ntau > 0 ? ntau : 1));
     if (!dev || !cnt) {
-        ec = CLI_SOFTWARE;
+        ec = cli_oom("the deviations");
         goto done;
     }
     double *lo = dev + ntau, *hi = lo + ntau, *edf = hi + ntau;

@@ -197,8 +197,7 @@ static int src_more(src *s, const char *path, int *ec)
     ssize_t k;
     if (s->seekable) {
         off_t at = s->pos + (off_t)s->blen;
-        k = at >= s->size ? 0 : pread_retry(s->fd, s->buf + s->blen, SRC_BUF - s->blen,
-                                            at + s->delta);
+        k = pread_retry(s->fd, s->buf + s->blen, SRC_BUF - s->blen, at + s->delta);
     } else
         k = read_retry(s->fd, s->buf + s->blen, SRC_BUF - s->blen);
     if (k < 0) {
