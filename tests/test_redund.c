@@ -1121,9 +1121,9 @@ int main(void)
         cmocka_unit_test(test_skew_check),
         cmocka_unit_test(test_series_experiment),
         cmocka_unit_test(test_simulate_args),
+        cmocka_unit_test(test_sigma_range),
 #ifndef OOM_DISABLED
         cmocka_unit_test(test_oom),
-        cmocka_unit_test(test_sigma_range),
 #endif
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -218,9 +218,11 @@ IGEA_API int igea_accel_analyze(int model, int n, const double *theta_deg,
  *    positions (comb_loading > IGEA_ACCEL_LOADING_TOL); sd and comb_sd
  *    are NaN when n == rank (no residual to estimate sigma from);
  * 15 info[IGEA_ACCEL_INFO_LEN] (may be NULL).
+ * Every other output is finite on success (else IGEA_EOVERFLOW).
  * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE (a prior scale <= 0),
- * IGEA_ERANK, IGEA_EDOMAIN (EBR without residual), IGEA_ENOCONV,
- * IGEA_ENOMEM, IGEA_ELAPACK (the last five from igea_regress_*).
+ * IGEA_ERANGE (a prior scale below IGEA_SIGMA_MIN), IGEA_ERANK,
+ * IGEA_EDOMAIN (EBR without residual), IGEA_ENOCONV, IGEA_EOVERFLOW,
+ * IGEA_ENOMEM, IGEA_ELAPACK (the last six from igea_regress_*).
  */
 IGEA_API int igea_accel_fit(int model, int method, int n,
                             const double *theta_deg, const double *ya,

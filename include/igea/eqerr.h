@@ -63,7 +63,9 @@ IGEA_API int igea_eqerr_defaults(double *opts);
  * 11 reject[N]: 1 rejected, 0 accepted, -1 not tested
  * 12 info[IGEA_INFO_LEN]: see igea/stats.h (rank, c, iterations, ...)
  * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENOTESTABLE (no lambda >= lambda_test;
- * nothing is written), IGEA_ENOMEM, IGEA_ELAPACK.
+ * nothing is written), IGEA_EOVERFLOW (a result, e.g. lambda = s^2 on the
+ * SVD route, is not a finite double: rescale the inputs), IGEA_ENOMEM,
+ * IGEA_ELAPACK. Every output is finite on success.
  */
 IGEA_API int igea_eqerr_solve(int N, const double *A, int lda, const double *b,
                               const double *opts, double *lambda, double *P,
@@ -94,6 +96,11 @@ IGEA_API int igea_eqerr_solve_qr(int N, const double *R, int ldr, double rows,
  *  arguments: 1 m, 2 N, 3 S, 4 lds, 5 dw, 6 track_sigma, 7 sigma_inc,
  *  8 spec_sigma, 9 opts, 10 lambda, 11 P, 12 ldp, 13 equiv_err, 14 z,
  *  15 reject, 16 info, 17 residual, 18 rms.
+ * Returns those of igea_eqerr_solve and igea_normal_accumulate:
+ * IGEA_ENONFINITE (NaN or Inf in S, dw or a sigma), IGEA_ENONPOSITIVE,
+ * IGEA_ERANGE (a sigma or spec below IGEA_SIGMA_MIN), IGEA_EOVERFLOW
+ * (finite inputs whose weighted normal matrix or factor overflowed, e.g.
+ * S in the wrong units), ...; nothing is written on failure.
  */
 IGEA_API int igea_eqerr_run(int m, int N, const double *S, int lds,
                             const double *dw, const double *track_sigma,
@@ -107,7 +114,8 @@ IGEA_API int igea_eqerr_run(int m, int N, const double *S, int lds,
  * coef = D P_t Xhat_t, the sum over the n_test tested components (n_test =
  * info[IGEA_INFO_N_TEST]); spec_sigma may be NULL (D = I).
  * Arguments: 1 N, 2 P, 3 ldp, 4 equiv_err, 5 n_test (0..N), 6 spec_sigma,
- * 7 coef[N].
+ * 7 coef[N]. Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE,
+ * IGEA_ERANGE, IGEA_EOVERFLOW (a coefficient beyond the double range).
  */
 IGEA_API int igea_eqerr_coef(int N, const double *P, int ldp,
                              const double *equiv_err, int n_test,
@@ -121,6 +129,9 @@ IGEA_API int igea_eqerr_coef(int N, const double *P, int ldp,
  * counts [3..5], so rms_a = sqrt(axis_ss[a] / axis_ss[3 + a]).
  * Arguments: 1 layout, 2 m, 3 N, 4 S, 5 lds, 6 dw, 7 coef, 8 row0 >= 0,
  * 9 residual[m] (or NULL), 10 axis_ss.
+ * Returns 0, -i, IGEA_ENONFINITE (NaN/Inf in the inputs), IGEA_EOVERFLOW
+ * (finite inputs, a residual or a sum of squares overflowed), IGEA_ENOMEM;
+ * residual and axis_ss are untouched on failure.
  */
 IGEA_API int igea_eqerr_residual(int layout, int m, int N, const double *S,
                                  int lds, const double *dw, const double *coef,

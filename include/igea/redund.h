@@ -17,6 +17,11 @@
 
 #include "igea/common.h"
 
+/* Every sigma array here (sigma, sy, sz, ...) must hold values > 0
+ * (IGEA_ENONPOSITIVE), finite (IGEA_ENONFINITE) and >= IGEA_SIGMA_MIN
+ * (IGEA_ERANGE: the weights 1/sigma^2 of a smaller one overflow);
+ * igea_redund_fuse returns IGEA_EOVERFLOW when its result is not finite. */
+
 #ifdef __cplusplus
 extern "C" {
 #endif

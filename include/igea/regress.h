@@ -11,8 +11,18 @@
  * 0.3), and the directions beyond r (the null space) are never estimated
  * from the data: they are left at zero (minimum norm) or at the prior.
  *
- * Sizes: m rows (observations), N columns (terms). A is column-major with
- * leading dimension lda >= m. Outputs are untouched when a call fails.
+ * Sizes: m rows (observations), N columns (terms); m < N (fewer rows than
+ * terms) is accepted by every estimator. A is column-major with leading
+ * dimension lda >= m. Outputs are untouched when a call fails.
+ *
+ * Range: a sigma must be >= IGEA_SIGMA_MIN (2^-511, so that 1/sigma^2 is
+ * finite), else IGEA_ERANGE; so must an EBR prior scale. The canonical
+ * quantities are formed without squaring singular values where the
+ * estimator allows it (a design scaled by 1e-300 gives the scaled
+ * answer), and a result that is not representable (a covariance of
+ * 1e600, a ridge constant or an EBR lambda beyond the double range) is
+ * IGEA_EOVERFLOW: no estimator returns 0 with a NaN or Inf in an output,
+ * except the Inf values documented for igea_regress_collinearity.
  */
 #ifndef IGEA_REGRESS_H
 #define IGEA_REGRESS_H
@@ -48,7 +58,7 @@ extern "C" {
  * 8 digits); a rank-deficient problem is solved on the unscaled SVD, which
  * gives the true minimum-norm solution.
  * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE (a sigma <= 0),
- * IGEA_ENOMEM, IGEA_ELAPACK.
+ * IGEA_ERANGE, IGEA_EOVERFLOW, IGEA_ENOMEM, IGEA_ELAPACK.
  */
 IGEA_API int igea_regress_ls(int m, int N, const double *A, int lda,
                              const double *y, const double *sigma,
@@ -77,10 +87,12 @@ IGEA_API int igea_regress_ls(int m, int N, const double *A, int lda,
  *    (diagonal of sigma^2 D_s V diag(lambda^2 d_i / (1 + lambda d_i)^2)
  *    V^T D_s), sigma^2 = S / (m - r).
  * shrink, sd_post and sd_freq may be NULL.
+ * lambda is solved on A D_s scaled by 1/s_1 and returned in the caller's
+ * units (lambda' / s_1^2); IGEA_EOVERFLOW when it is not a normal double.
  * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE (a prior scale <= 0),
- * IGEA_ERANK (rank r < 3), IGEA_EDOMAIN (m == r or an exact
+ * IGEA_ERANGE, IGEA_ERANK (rank r < 3), IGEA_EDOMAIN (m == r or an exact
  * fit, S = 0: no residual to estimate sigma^2 from), IGEA_ENOCONV,
- * IGEA_ENOMEM, IGEA_ELAPACK.
+ * IGEA_EOVERFLOW, IGEA_ENOMEM, IGEA_ELAPACK.
  */
 IGEA_API int igea_regress_ebr(int m, int N, const double *A, int lda,
                               const double *y, const double *prior_scale,
@@ -108,8 +120,11 @@ IGEA_API int igea_regress_ebr(int m, int N, const double *A, int lda,
  * The GCV and LOO searches minimise over log10 k in [log10(d_1) - 12,
  * log10(d_1) + 4] (d_1 the largest eigenvalue of B): a 161-point grid, then
  * golden section next to the best grid point.
- * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_EDOMAIN (HKB/LW
- * with m == r, or x_LS = 0), IGEA_ENOMEM, IGEA_ELAPACK.
+ * The rules compute sqrt(k), so a k_used that is not a normal double (e.g.
+ * HKB on a design scaled by 1e-300, k ~ 1e-600) is IGEA_EOVERFLOW.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ERANGE,
+ * IGEA_EDOMAIN (HKB/LW with m == r, or x_LS = 0), IGEA_EOVERFLOW,
+ * IGEA_ENOMEM, IGEA_ELAPACK.
  */
 IGEA_API int igea_regress_ridge(int m, int N, const double *A, int lda,
                                 const double *y, const double *sigma,
@@ -123,8 +138,8 @@ IGEA_API int igea_regress_ridge(int m, int N, const double *A, int lda,
  *  9 X (N x nk, column j = x(k_j)), 10 ldx >= N;
  * 11 edf[nk] (effective degrees of freedom tr H(k) = sum d_i/(d_i + k), or
  *    NULL).
- * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ENOMEM,
- * IGEA_ELAPACK.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ERANGE,
+ * IGEA_EOVERFLOW, IGEA_ENOMEM, IGEA_ELAPACK.
  */
 IGEA_API int igea_regress_ridge_trace(int m, int N, const double *A, int lda,
                                       const double *y, const double *sigma,
@@ -142,8 +157,8 @@ IGEA_API int igea_regress_ridge_trace(int m, int N, const double *A, int lda,
  * Outputs: 9 x[N]; 10 cov (or NULL): s^2 sum v_i v_i^T / d_i over the kept
  *  components; 11 ldc; 12 nused: components kept; 13 sigma2: s^2 of least
  *  squares (as igea_regress_ridge); 14 residual[m] or NULL.
- * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ENOMEM,
- * IGEA_ELAPACK.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ERANGE,
+ * IGEA_EOVERFLOW, IGEA_ENOMEM, IGEA_ELAPACK.
  */
 IGEA_API int igea_regress_pce(int m, int N, const double *A, int lda,
                               const double *y, const double *sigma, int ncomp,
@@ -160,8 +175,9 @@ IGEA_API int igea_regress_pce(int m, int N, const double *A, int lda,
  *  1 m, 2 N, 3 A, 4 lda, 5 y, 6 sigma (or NULL); 7 prior_mean (N, or NULL
  *  for 0); 8 prior_cov (N x N, lower triangle read), 9 ldp >= N;
  * Outputs: 10 x[N]; 11 cov (or NULL), 12 ldc; 13 residual[m] or NULL.
- * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ESINGULAR (P not
- * positive definite), IGEA_ENOMEM, IGEA_ELAPACK.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ERANGE,
+ * IGEA_ESINGULAR (P not positive definite), IGEA_EOVERFLOW, IGEA_ENOMEM,
+ * IGEA_ELAPACK.
  */
 IGEA_API int igea_regress_bayes(int m, int N, const double *A, int lda,
                                 const double *y, const double *sigma,
@@ -195,8 +211,8 @@ IGEA_API int igea_regress_bayes(int m, int N, const double *A, int lda,
  *    component (sum_{i >= r} V_ji^2 > IGEA_REGRESS_NULL_TOL): the data do
  *    not determine it, any estimate of it alone comes from a prior or a
  *    minimum-norm convention (METHODS 4.3 caveat); 0 otherwise.
- * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ENOMEM,
- * IGEA_ELAPACK.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ERANGE,
+ * IGEA_EOVERFLOW, IGEA_ENOMEM, IGEA_ELAPACK.
  */
 IGEA_API int igea_regress_collinearity(int m, int N, const double *A, int lda,
                                        const double *y, const double *sigma,

@@ -153,6 +153,7 @@ IGEA_API int igea_rls_set_forget(igea_rls *h, double lambda);
  * Returns what was done (IGEA_RLS_UPDATED, _FLAGGED, _REPLACED, _SKIPPED,
  * _ISOLATED), or -i, IGEA_ENONFINITE (NaN/Inf in c, or in y without a
  * policy, or a non-finite result), IGEA_ENONPOSITIVE (track_sigma <= 0),
+ * IGEA_ERANGE (a track_sigma below IGEA_SIGMA_MIN: its weight overflows),
  * IGEA_ESINGULAR (the update would make Gamma or P lose positive
  * definiteness); on failure the state and flags are untouched.
  */

@@ -100,7 +100,8 @@ IGEA_API int igea_sim_trajectory(int system, double duration, double rate,
  *                 track_sigma_i (1 + g e/(M-1)) eps_i, eps AR(1) per axis
  *                 with unit variance, plus an outlier N(0, (scale sd_i)^2)
  *                 with probability outlier_prob
- * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ENOMEM.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ERANGE (a sigma
+ * or spec below IGEA_SIGMA_MIN), IGEA_ENOMEM.
  */
 IGEA_API int igea_sim_flight(int m, int N, const double *S, int lds,
                              const double *track_sigma, int sigma_inc,
@@ -167,7 +168,7 @@ IGEA_API int igea_sim_nonlinear(int system, int nsamp, const double *traj,
  * 21 n_reject     nflights outputs or NULL: rejected components
  * 22 scale        nflights outputs or NULL: final c of each flight
  * Flights with nothing testable count in IGEA_MC_NOT_TESTABLE and pass.
- * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ENOMEM,
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ERANGE, IGEA_ENOMEM,
  * IGEA_ELAPACK (outputs untouched on failure).
  */
 IGEA_API int igea_sim_montecarlo(int m, int N, const double *S, int lds,
