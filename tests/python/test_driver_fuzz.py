@@ -65,3 +65,28 @@ def test_mutated_npy(flight):
         assert r.returncode in (0, 1, 65, 70), (trial, r.returncode, r.stderr)
         if r.returncode == 65:
             assert b"m.npy" in r.stderr or b"dw.txt" in r.stderr, r.stderr
+
+
+def test_mutated_inputs_through_a_pipe(flight):
+    """The same mutated file read from a pipe (standard input, read as it
+    comes, spooled for eqerr's second pass) gives what the file gives."""
+    rng = np.random.default_rng(13)
+    for name in ("S.npy", "S.txt"):
+        good = (flight / name).read_bytes()
+        for trial in range(40):
+            data = bytearray(good)
+            pos = int(rng.integers(0, len(data)))
+            if trial % 2:
+                data = data[:pos]
+            else:
+                data[pos] = int(rng.integers(0, 256))
+            ext = name[1:]
+            (flight / ("p" + ext)).write_bytes(bytes(data))
+            a = run(flight, "eqerr", "--S", "p" + ext, "--dw", "dw.txt", "--sigma", "0.01",
+                    "--json")
+            b = subprocess.run([DRIVER, "eqerr", "--S", "-", "--dw", "dw.txt", "--sigma",
+                                "0.01", "--json"], cwd=flight, input=bytes(data),
+                               capture_output=True, timeout=60)
+            assert a.returncode in (0, 1, 65, 70), (name, trial, a.stderr)
+            assert (b.returncode, b.stdout) == (a.returncode, a.stdout), \
+                (name, trial, a.stderr, b.stderr)

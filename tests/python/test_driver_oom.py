@@ -41,6 +41,12 @@ def work(tmp_path_factory):
                         "--dir", "sim"], cwd=d, capture_output=True)
     assert r.returncode == 0, r.stderr
     shutil.copy(d / "sim" / "traj.txt", d / "traj.txt")
+    for f in ("accel_dual.txt", "seed000_table1.txt"):
+        shutil.copy(os.path.join(REPO, "examples", f), d / f)
+    r = subprocess.run([DRIVER, "eqerr", "--S", "S.txt", "--dw", "dw.txt", "--sigma",
+                        "sigma.txt", "--spec", "spec.txt", "--json", "--out", "f1.json"],
+                       cwd=d, capture_output=True)
+    assert r.returncode == 0, r.stderr
     np.savetxt(d / "y.txt", np.random.default_rng(1).standard_normal(3000))
     return d
 
@@ -61,6 +67,15 @@ CASES = {
     "regress": (["regress", "--method", "ls", "--S", "S.txt", "--dw", "dw.txt", "--sigma",
                  "sigma.txt", "--out", "OUT"], None),
     "simulate": (["simulate", "--seed", "4", "--duration", "20", "--dir", "simout"], None),
+    "regress_ridge": (["regress", "--method", "ridge", "--S", "S.txt", "--dw", "dw.txt",
+                       "--sigma", "sigma.txt", "--out", "OUT"], None),
+    "rls": (["rls", "--S", "S.txt", "--dw", "dw.txt", "--sigma", "sigma.txt", "--out", "OUT"],
+            None),
+    "accel": (["accel", "accel_dual.txt", "--out", "OUT"], None),
+    "montecarlo": (["montecarlo", "--flights", "4", "--duration", "20", "--threads", "1",
+                    "--out", "OUT"], None),
+    "test_table": (["test", "--table", "seed000_table1.txt", "--out", "OUT"], None),
+    "test_pool": (["test", "f1.json", "f1.json", "--out", "OUT"], None),
 }
 
 
