@@ -846,6 +846,12 @@ int igea_accel_refine(int n, const double *theta_deg, const double *ya,
             igea__ksum_add(&rss, (ya[i] - fa) * (ya[i] - fa));
             igea__ksum_add(&rss, (yb[i] - fb) * (yb[i] - fb));
         }
+        if (!igea__finite_vec(np, out, 1) || !igea__finite_vec(np, sdo, 1) ||
+            !igea__finite_vec((int)nu, p, 1) || !isfinite(sigma2) ||
+            !isfinite(igea__ksum_get(&rss))) {
+            st = IGEA_EOVERFLOW;
+            goto done;
+        }
         memcpy(coef, out, (size_t)np * sizeof(double));
         if (sd)
             memcpy(sd, sdo, (size_t)np * sizeof(double));
