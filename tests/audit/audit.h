@@ -70,6 +70,8 @@ typedef struct {
     int nmut;
     int threads; /* 0: process-wide set-up, not for the threads suite */
     int consumes; /* index of a handle argument the call releases, or -1 */
+    unsigned long nan_out; /* bit a: output argument a may hold NaN on success */
+    int base_any; /* the baseline may fail (extreme data): then untouched, no mutations */
 } audit_fn;
 
 /* ---- deterministic values -------------------------------------------- */
@@ -237,6 +239,21 @@ static inline int audit_changed(const audit_call *c, int failed)
         }
         if (failed && c->type[a] == AT_HO && c->pv[a] && *(igea_rls **)c->buf[a] != NULL)
             return a;
+    }
+    return -1;
+}
+
+/* The first writable double array holding a NaN after a successful call
+ * (its index), or -1; arguments whose nan_ok bit is set may hold NaN. */
+static inline int audit_nan_output(const audit_call *c, unsigned long nan_ok)
+{
+    for (int a = 0; a < c->nargs; a++) {
+        if (c->type[a] != AT_PD || c->isconst[a] || !c->buf[a] || (nan_ok >> a & 1))
+            continue;
+        const double *x = (const double *)c->buf[a];
+        for (size_t i = 0; i < c->nbytes[a] / sizeof(double); i++)
+            if (isnan(x[i]))
+                return a;
     }
     return -1;
 }

@@ -40,6 +40,11 @@ Keys starting with '_' annotate the function:
                  mutations must give 0
   _extra         further mutations: [(param, C value, 'ok'|'fail'|'any')]
   _threads       False: not run by the threads suite (process-wide set-up)
+  _expect        'any': extreme but finite data, which the call may refuse;
+                 it must then leave the outputs untouched, and a success
+                 must hold no NaN (no mutations of such a baseline)
+  _nan_out       outputs documented to hold NaN after a success (a
+                 successful call must leave no NaN in any other output)
 """
 
 NAME_DEFAULTS = {
@@ -178,7 +183,7 @@ BASE = {
     'igea_stability_octave_taus': dict(n='200', fs='10.0', kind='IGEA_ALLAN_OVERLAPPING',
                                        ntau_max='8'),
     'igea_stability_noise_id': dict(ntau='6', tau='c:0.1 * pow(2.0, (double)i)',
-                                    adev='c:1e-3 * (1.0 + 0.1 * (double)i)'),
+                                    adev='c:1e-3 * (1.0 + 0.1 * (double)i)', _nan_out=['out']),
     # ---- rls (handles: m = 3 coefficients, k = 2 rows)
     'igea_rls_create': dict(m='3', k='2', x0='u', gamma0='set:audit_spd(b_, 3, 3, 1.0);',
                             ldg='m'),
@@ -207,21 +212,27 @@ BASE = {
 # "FUNCTION@VARIANT".
 WIDE = dict(m='2', N='5')
 VARIANTS = {
-    'igea_normal_accumulate': dict(rowmajor=dict(layout='IGEA_ROWMAJOR', lds='N')),
     'igea_normal_qr_accumulate': dict(rowmajor=dict(layout='IGEA_ROWMAJOR', lds='N')),
     'igea_eqerr_run': dict(svd=dict(opts='set:igea_eqerr_defaults(b_);'
-                                         ' b_[IGEA_EQERR_OPT_ROUTE] = IGEA_ROUTE_SVD;')),
-    'igea_regress_ls': dict(wide=WIDE),
+                                         ' b_[IGEA_EQERR_OPT_ROUTE] = IGEA_ROUTE_SVD;'),
+                           huge=dict(S='c:1e200 * au(i)', _expect='any'),
+                           tiny_sigma=dict(track_sigma='c:1e-310', _expect='any')),
     'igea_regress_ridge': dict(wide=WIDE, hkb=dict(rule='IGEA_RIDGE_HKB', _ignored=['k']),
                                lw=dict(rule='IGEA_RIDGE_LW', _ignored=['k']),
                                gcv=dict(rule='IGEA_RIDGE_GCV', _ignored=['k']),
                                loo=dict(rule='IGEA_RIDGE_LOO', _ignored=['k']),
-                               wide_gcv=dict(WIDE, rule='IGEA_RIDGE_GCV', _ignored=['k'])),
+                               wide_gcv=dict(WIDE, rule='IGEA_RIDGE_GCV', _ignored=['k']),
+                               tiny=dict(A='c:1e-300 * au(i)', rule='IGEA_RIDGE_HKB',
+                                         _expect='any'),
+                               col_huge=dict(A='c:(i >= 12 ? 1e300 : 1.0) * au(i)',
+                                             rule='IGEA_RIDGE_HKB', _expect='any')),
     'igea_regress_ridge_trace': dict(wide=WIDE),
     'igea_regress_pce': dict(wide=WIDE, ncomp2=dict(ncomp='2', _ignored=['eig_min'])),
     'igea_regress_bayes': dict(wide=dict(WIDE, prior_cov='set:audit_spd(b_, 5, 5, 1.0);')),
     'igea_regress_collinearity': dict(wide=WIDE),
-    'igea_regress_ebr': dict(mm=dict(rule='IGEA_EBR_MM'), ml2=dict(rule='IGEA_EBR_ML2')),
+    'igea_regress_ebr': dict(mm=dict(rule='IGEA_EBR_MM'), ml2=dict(rule='IGEA_EBR_ML2'),
+                             tiny=dict(A='c:1e-300 * au(i)', _expect='any')),
+    'igea_regress_ls': dict(wide=WIDE, tiny=dict(A='c:1e-300 * au(i)', _expect='any')),
     'igea_accel_fit': dict(ls=dict(method='IGEA_ACCEL_LS',
                                    _ignored=['prior_scale', 'rule', 'lam_floor']),
                            single=dict(model='IGEA_ACCEL_SINGLE', yb='NULL',
@@ -234,12 +245,17 @@ VARIANTS = {
         axes='[0, 1, 2, 1, 2, 0]', output='IGEA_ENVFUN_POSITION_G')),
     'igea_sim_trajectory': dict(platform=dict(system='IGEA_ENVFUN_PLATFORM')),
     'igea_sim_montecarlo': dict(threads=dict(nthreads='2')),
-    'igea_redund_geometry': dict(span=dict(fdi='0')),
+    'igea_redund_geometry': dict(span=dict(fdi='0', _nan_out=['out'])),
     'igea_redund_fusion_set': dict(oneshot=dict(iterative='0')),
     'igea_rls_update': dict(poly=dict(h='hpoly'),
                             isolate=dict(h='hiso', _nan_ok=['y'], _inf_ok=['y'])),
     'igea_rls_run': dict(poly=dict(h='hpoly')),
     'igea_rls_get_covariance': dict(poly=dict(h='hpoly')),
+    # large or tiny finite data: a verdict, or a clean refusal, never NaN
+    'igea_stats_accuracy_test': dict(huge=dict(equiv_err='c:i == 0 ? 1e300 : au(i)')),
+    'igea_stats_pool': dict(huge=dict(chi2='[1e308, 1e308, 1.5]')),
+    'igea_normal_accumulate': dict(rowmajor=dict(layout='IGEA_ROWMAJOR', lds='N'),
+                                   huge=dict(S='c:1e200 * au(i)', _expect='any')),
     'igea_stability_allan': dict(modified=dict(kind='IGEA_ALLAN_MODIFIED', noise='IGEA_NOISE_WFM'),
                                  nonoverlapping=dict(kind='IGEA_ALLAN_NONOVERLAPPING')),
 }

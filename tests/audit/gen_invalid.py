@@ -348,6 +348,8 @@ def generate(funcs):
             add(i, kind, cval if kind == 'MK_INT' else '0', cval if kind == 'MK_DBL' else '0',
                 {'ok': 'EX_OK', 'fail': 'EX_FAIL', 'any': 'EX_ANY'}[exp],
                 '%s=%s' % (pname, cval))
+        if entry.get('_expect') == 'any':
+            muts = []  # extreme data: the baseline itself is the check
         out.append('static const audit_mut muts_%s[] = {\n' % f.cid)
         for (i, kind, ival, dval, exp, label) in muts:
             out.append('    {%d, %s, %s, %s, %s, %s},\n' % (i, kind, ival, dval, exp, dq(label)))
@@ -356,9 +358,13 @@ def generate(funcs):
         out.append('};\n')
         out.append('static const char *const names_%s[] = {%s};\n\n' % (
             f.cid, ', '.join(dq(n) for n in names) if names else 'NULL'))
-        table.append('    {"%s", %d, names_%s, setup_%s, call_%s, muts_%s, %d, %d, %d},\n' % (
-            f.label, len(f.params), f.cid, f.cid, f.cid, f.cid, len(muts),
-            0 if entry.get('_threads') is False else 1, consumes))
+        nan_out = 0
+        for pname in entry.get('_nan_out', []):
+            nan_out |= 1 << names.index(pname)
+        base_any = int(entry.get('_expect') == 'any')
+        table.append('    {"%s", %d, names_%s, setup_%s, call_%s, muts_%s, %d, %d, %d, %#xul, %d},\n'
+                     % (f.label, len(f.params), f.cid, f.cid, f.cid, f.cid, len(muts),
+                        0 if entry.get('_threads') is False else 1, consumes, nan_out, base_any))
         total_fail += sum(1 for m in muts if m[4] == 'EX_FAIL')
         listing.append('%s (%s): %d mutations; may be NULL: %s; ints: %s' % (
             f.label, f.header, len(muts), ', '.join(sorted(opt & set(names))) or '-',

@@ -58,12 +58,18 @@ static void run_one(const audit_fn *f, const audit_mut *m, char *msg, size_t cap
         dup2(so, 1);
         dup2(se, 2);
         long printed = lseek(fileno(cap_f), 0, SEEK_END);
-        int expect = m ? m->expect : EX_OK;
+        int expect = m ? m->expect : f->base_any ? EX_ANY : EX_OK;
         if (expect == EX_FAIL && st >= 0)
             len += (size_t)snprintf(out + len, sizeof out - len, "status %d (want < 0); ", st);
         if (expect == EX_OK && st < 0)
             len += (size_t)snprintf(out + len, sizeof out - len, "status %d (%s) (want >= 0); ",
                                     st, igea_strerror(st));
+        if (st >= 0) {
+            int a = audit_nan_output(&c, f->nan_out);
+            if (a >= 0)
+                len += (size_t)snprintf(out + len, sizeof out - len,
+                                        "status %d but %s holds NaN; ", st, f->argnames[a]);
+        }
         if (st < 0) {
             int a = audit_changed(&c, 1);
             if (a >= 0)
