@@ -39,9 +39,9 @@ enum { EX_FAIL, EX_OK, EX_ANY };
 typedef struct {
     int arg;       /* 0-based argument index */
     int kind;      /* MK_* */
-    long ival;     /* MK_INT: the new value; MK_IADD: added to the baseline */
-    double dval;   /* MK_DBL, MK_ELEM: the new value (MK_ELEM, MK_IELEM:
-                      of the first element of an array) */
+    long ival;     /* MK_INT: the new value; MK_IADD: added to the baseline;
+                      MK_ELEM: the index of the element; MK_IELEM: the value */
+    double dval;   /* MK_DBL, MK_ELEM: the new value */
     int expect;    /* EX_* */
     const char *label; /* "lda=m-1", "A=NULL", "A[0]=NaN", ... */
 } audit_mut;
@@ -204,7 +204,7 @@ static inline void audit_apply(audit_call *c, const audit_mut *m)
     case MK_IADD: c->iv[m->arg] += m->ival; break;
     case MK_DBL: c->dv[m->arg] = m->dval; break;
     case MK_NULL: c->pv[m->arg] = NULL; break;
-    case MK_ELEM: ((double *)c->buf[m->arg])[0] = m->dval; break;
+    case MK_ELEM: ((double *)c->buf[m->arg])[m->ival] = m->dval; break;
     case MK_IELEM: ((int *)c->buf[m->arg])[0] = (int)m->ival; break;
     }
 }

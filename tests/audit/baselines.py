@@ -30,6 +30,8 @@ Keys starting with '_' annotate the function:
   _inf_ok        double parameters (scalar or array) for which +-Inf is
                  valid ('name' both signs, 'name+' or 'name-' one)
   _nan_ok        double parameters for which NaN is valid
+  _neg_bad       {array: [indices]}: elements that may not be negative (a
+                 running count or sum of squares): -1 there must fail
   _ignored       parameters the header says this call does not read: their
                  mutations carry no expectation
   _int           class of an int parameter not in gen_invalid.INT_CLASS
@@ -82,9 +84,10 @@ BASE = {
     'igea_stats_pool': dict(nflights='3', chi2='[2.0, 3.0, 1.5]', dof='[2, 3, 2]',
                             n_reject='[0, 0, 0]', unit_id='[1, 2, 3]'),
     # ---- normal
-    'igea_normal_accumulate': dict(lda='N', A='0', b='0', wtw='0', _zero_ok=['m']),
+    'igea_normal_accumulate': dict(lda='N', A='0', b='0', wtw='0', _zero_ok=['m'],
+                                   _neg_bad={'wtw': [0, 1]}),
     'igea_normal_qr_accumulate': dict(R='0', ldr='N + 1', rows='0', _zero_ok=['m'],
-                                      _opt=['spec_sigma']),
+                                      _opt=['spec_sigma'], _neg_bad={'rows': [0]}),
     # ---- eqerr
     'igea_eqerr_solve': dict(A='set:audit_spd(b_, 3, 3, 100.0);', lda='N', b='u', opts=EQ_OPTS),
     'igea_eqerr_solve_qr': dict(R='set:audit_upper(b_, 4, 4, 10.0);', ldr='N + 1', rows='20.0',

@@ -330,6 +330,8 @@ def generate(funcs):
                     add(i, 'MK_ELEM', '0', 'INFINITY', infexp(p.name, '+'), '%s[0]=+Inf' % p.name)
                     add(i, 'MK_ELEM', '0', '-INFINITY', infexp(p.name, '-'),
                         '%s[0]=-Inf' % p.name)
+                for idx in entry.get('_neg_bad', {}).get(p.name, []):
+                    add(i, 'MK_ELEM', str(idx), '-1.0', 'EX_FAIL', '%s[%d]=-1' % (p.name, idx))
                 if p.at == 'AT_PI' and p.const:
                     acls = entry.get('_intarr', {}).get(p.name) or INTARR_CLASS.get(p.name)
                     if acls is None:
