@@ -1071,10 +1071,14 @@ int cli_out_open(cli_out *o, const char *path)
         o->f = stdout;
         return CLI_OK;
     }
-    if (!(o->path = resolve_target(path)))
-        return out_oom(o, path);
+    /* What the path names, following every link (the kernel's view: also
+     * right for /dev/stdout and /proc/self/fd/N); then the file to replace. */
     struct stat st;
-    int exists = stat(o->path, &st) == 0;
+    int exists = stat(path, &st) == 0;
+    if (!(o->path = exists && !S_ISREG(st.st_mode) ? strdup(path) : resolve_target(path)))
+        return out_oom(o, path);
+    if (exists && S_ISREG(st.st_mode))
+        exists = stat(o->path, &st) == 0;
     if (exists && S_ISDIR(st.st_mode)) {
         cli_error("%s: is a directory", path);
         cli_out_abort(o);

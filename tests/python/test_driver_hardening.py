@@ -359,6 +359,13 @@ def test_out_fifo_written_in_place(flight):
     assert not [f for f in os.listdir(flight) if ".tmp." in f]
 
 
+def test_out_dev_stdout_is_the_pipe(flight):
+    r = write_out(flight, "/dev/stdout")
+    assert r.returncode == 0, r.stderr
+    assert json.loads(r.stdout)["terms"] == 18
+    assert os.path.islink("/dev/stdout") or not os.path.exists("/dev/stdout.tmp")
+
+
 def _restore_dev_null():
     st = os.lstat("/dev/null")
     if not stat.S_ISCHR(st.st_mode) and os.geteuid() == 0:
