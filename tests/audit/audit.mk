@@ -53,7 +53,7 @@ audit: $(AUDIT_BINS)
 # nothing visible (the out-of-memory suite needs its own malloc: not here).
 ASAN_FLAGS := -fsanitize=address,undefined,float-cast-overflow -fno-omit-frame-pointer \
               -fno-sanitize-recover=all
-audit-asan:
+audit-asan: | $(AUDIT_DIR)
 	@$(MAKE) --no-print-directory BUILD=$(ASAN_DIR) OPT=-O1 CFLAGS_EXTRA="$(ASAN_FLAGS)" \
 	  LDFLAGS_EXTRA="$(ASAN_FLAGS)" $(ASAN_DIR)/audit/test_invalid $(ASAN_DIR)/audit/test_threads \
 	  >$(AUDIT_DIR)/asan-build.log 2>&1 || { cat $(AUDIT_DIR)/asan-build.log; exit 1; }
