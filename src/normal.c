@@ -206,7 +206,7 @@ int igea_normal_qr_accumulate(int layout, int m, int N, const double *S,
     if (st) return st;
     if (!R) return -10;
     if (ldr < N + 1) return -11;
-    if (!rows) return -12;
+    if (!rows || !(*rows >= 0.0 && *rows < 0x1p53)) return -12;
     if ((st = check_weights(m, N, track_sigma, sigma_inc, spec_sigma)))
         return st;
     if (m == 0)

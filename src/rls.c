@@ -698,8 +698,6 @@ int igea_rls_run(igea_rls *h, int n, int layout, const double *S, int lds,
                  const double *dw, const double *track_sigma, int sigma_inc,
                  double *x_out, int ldx, int *flags, int *actions, int *n_done)
 {
-    if (n_done)
-        *n_done = 0;
     if (!h)
         return -1;
     if (n < 0)
@@ -718,6 +716,10 @@ int igea_rls_run(igea_rls *h, int n, int layout, const double *S, int lds,
         return -8;
     if (x_out && ldx < m)
         return -10;
+    /* The arguments are valid: from here *n_done reports progress, also
+     * when an epoch fails (the documented exception to untouched outputs). */
+    if (n_done)
+        *n_done = 0;
     for (int e = 0; e < n; e++) {
         size_t row = (size_t)e * (size_t)k;
         const double *sig = track_sigma ? track_sigma + (sigma_inc ? row : 0) : NULL;

@@ -281,6 +281,17 @@ static void test_overflow_and_range(void **state)
                          IGEA_EOVERFLOW);
         assert_true(all_sentinel(R, (N + 1) * (N + 1)) && rows == SENTINEL);
     }
+    /* A running row count that is not finite and >= 0 is refused. */
+    const double badrows[4] = {NAN, INFINITY, -INFINITY, -1.0};
+    for (int t = 0; t < 4; t++) {
+        fill_sentinel(R, (N + 1) * (N + 1));
+        rows = badrows[t];
+        assert_int_equal(igea_normal_qr_accumulate(IGEA_COLMAJOR, M, N, S, M, dw,
+                                                   sig, 1, NULL, R, N + 1, &rows),
+                         -12);
+        assert_true(all_sentinel(R, (N + 1) * (N + 1)));
+    }
+    rows = 0.0;
     /* The running sums overflowing on a later block: untouched too. */
     memset(A, 0, sizeof A);
     memset(b, 0, sizeof b);

@@ -790,7 +790,10 @@ static void test_update_args(void **state)
     /* run arguments */
     int done = 7;
     assert_int_equal(igea_rls_run(NULL, 1, 0, c, 2, y, NULL, 0, NULL, 3, NULL, NULL, &done), -1);
-    assert_int_equal(done, 0);
+    assert_int_equal(done, 7); /* an invalid argument leaves n_done untouched */
+    assert_int_equal(igea_rls_run(h, -1, 0, c, 2, y, NULL, 0, NULL, 3, NULL, NULL, &done), -2);
+    assert_int_equal(igea_rls_run(h, 1, 0, c, 2, y, sig, 2, NULL, 3, NULL, NULL, &done), -8);
+    assert_int_equal(done, 7);
     assert_int_equal(igea_rls_run(h, -1, 0, c, 2, y, NULL, 0, NULL, 3, NULL, NULL, NULL), -2);
     assert_int_equal(igea_rls_run(h, 1, 2, c, 2, y, NULL, 0, NULL, 3, NULL, NULL, NULL), -3);
     assert_int_equal(igea_rls_run(h, 1, 0, NULL, 2, y, NULL, 0, NULL, 3, NULL, NULL, NULL), -4);

@@ -62,7 +62,8 @@ IGEA_API int igea_normal_accumulate(int layout, int m, int N, const double *S,
  * squares of the weighted least-squares fit. Only the upper triangle of R
  * is read or written.
  * Arguments 1-9 as igea_normal_accumulate; 10 R, 11 ldr >= N + 1,
- * 12 rows (a running row count, as wtw[1]).
+ * 12 rows (a running row count, as wtw[1]: >= 0 and below 2^53, else
+ * -12).
  * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ERANGE,
  * IGEA_EOVERFLOW (finite data whose weighted rows or factor overflowed),
  * IGEA_ENOMEM, IGEA_ELAPACK; R and rows are untouched on failure.

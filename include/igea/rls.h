@@ -183,7 +183,9 @@ IGEA_API int igea_rls_update(igea_rls *h, const double *c, int ldc,
  * Returns 0, -i (this function's arguments, checked before any epoch), or
  * the first failing epoch's IGEA_E* status; the epochs before it are
  * processed and their outputs written, the failing epoch and the ones
- * after it are not (*n_done tells how many were).
+ * after it are not (*n_done tells how many were: it is written, 0 first,
+ * once the arguments are valid, also when an epoch fails; a -i status
+ * leaves it untouched).
  */
 IGEA_API int igea_rls_run(igea_rls *h, int n, int layout, const double *S,
                           int lds, const double *dw, const double *track_sigma,
