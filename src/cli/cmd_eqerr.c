@@ -599,10 +599,15 @@ int cmd_eqerr(int argc, char **argv)
     }
     if (jf && jf != out.f)
         fclose(jf);
-    if (!ec && a.residuals)
-        ec = cli_out_commit(&res);
-    if (!ec)
-        ec = cli_out_commit(&out);
+    if (!ec) {
+        /* the report and the residuals replace their old files together */
+        cli_out both[2];
+        both[0] = out;
+        both[1] = res;
+        ec = cli_out_commit_all(both, a.residuals ? 2 : 1);
+        out = both[0];
+        res = both[1];
+    }
     if (ec) {
         cli_out_abort(&out);
         cli_out_abort(&res);

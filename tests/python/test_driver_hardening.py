@@ -400,6 +400,18 @@ def test_out_device_stays_a_device(flight):
     assert stat.S_IMODE(after.st_mode) == stat.S_IMODE(before.st_mode)
 
 
+def test_eqerr_report_and_residuals_together(flight):
+    if not os.path.exists("/dev/full"):
+        pytest.skip("no /dev/full")
+    (flight / "res.txt").write_text("old\n")
+    r = run(flight, "eqerr", "--S", "S.txt", *FLIGHT_ARGS, "--residuals", "res.txt",
+            "--out", "/dev/full")
+    assert r.returncode == 74, r.stderr
+    assert r.stderr.count(b"\n") == 1 and b"/dev/full" in r.stderr
+    assert (flight / "res.txt").read_text() == "old\n"
+    assert not [f for f in os.listdir(flight) if ".tmp." in f]
+
+
 def test_simulate_dir_all_or_nothing(tmp_path):
     r = run(tmp_path, "simulate", "--seed", "1", "--duration", "30", "--dir", ".")
     assert r.returncode == 0, r.stderr
