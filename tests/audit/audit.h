@@ -72,6 +72,8 @@ typedef struct {
     int consumes; /* index of a handle argument the call releases, or -1 */
     unsigned long nan_out; /* bit a: output argument a may hold NaN on success */
     int base_any; /* the baseline may fail (extreme data): then untouched, no mutations */
+    unsigned long progress; /* bit a: argument a reports progress and may be written
+                               when a call fails with an IGEA_E* status (not -i) */
 } audit_fn;
 
 /* ---- deterministic values -------------------------------------------- */
@@ -224,11 +226,14 @@ static inline void audit_snapshot(audit_call *c)
     }
 }
 
-/* The first argument changed since audit_snapshot (its index), or -1. A
- * handle output must be NULL after a failure. */
-static inline int audit_changed(const audit_call *c, int failed)
+/* The first argument changed since audit_snapshot (its index), or -1,
+ * skipping the arguments whose bit is set in except. A handle output must
+ * be NULL after a failure. */
+static inline int audit_changed_but(const audit_call *c, int failed, unsigned long except)
 {
     for (int a = 0; a < c->nargs; a++) {
+        if (except >> a & 1)
+            continue;
         if (c->snap[a] && memcmp(c->snap[a], c->buf[a], c->nbytes[a]) != 0)
             return a;
         if (c->type[a] == AT_H && !c->isconst[a] && c->buf[a] && !c->consumed[a]) {
@@ -241,6 +246,18 @@ static inline int audit_changed(const audit_call *c, int failed)
             return a;
     }
     return -1;
+}
+
+static inline int audit_changed(const audit_call *c, int failed)
+{
+    return audit_changed_but(c, failed, 0);
+}
+
+/* The same for a call of f that returned st < 0: a progress output may
+ * tell how far a call got when it failed on the data (st <= -1000). */
+static inline int audit_changed_after(const audit_fn *f, const audit_call *c, int st)
+{
+    return audit_changed_but(c, 1, st <= -1000 ? f->progress : 0);
 }
 
 /* The first writable double array holding a NaN after a successful call

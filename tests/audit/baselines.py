@@ -27,8 +27,11 @@ Keys starting with '_' annotate the function:
                  is wrong
   _null_any      NULL is allowed only in some cases: no expectation
   _zero_ok       size parameters for which 0 is valid
-  _inf_ok        double parameters (scalar or array) for which +-Inf is
-                 valid ('name' both signs, 'name+' or 'name-' one)
+  _inf_ok        double parameters (scalar or array) for which +-Inf may
+                 be accepted ('name' both signs, 'name+' or 'name-' one):
+                 no expectation
+  _valid         labels of mutations the header documents as valid
+                 ('x=+Inf'): the call must succeed
   _nan_ok        double parameters for which NaN is valid
   _neg_bad       {array: [indices]}: elements that may not be negative (a
                  running count or sum of squares): -1 there must fail
@@ -45,6 +48,9 @@ Keys starting with '_' annotate the function:
   _expect        'any': extreme but finite data, which the call may refuse;
                  it must then leave the outputs untouched, and a success
                  must hold no NaN (no mutations of such a baseline)
+  _progress      outputs documented to report how far a call got when it
+                 fails on the data (an IGEA_E* status): they may be written
+                 then, but not when an argument is invalid (-i)
   _nan_out       outputs documented to hold NaN after a success (a
                  successful call must leave no NaN in any other output)
 """
@@ -73,10 +79,10 @@ BASE = {
                                   ('status', '-1', 'ok'), ('status', '0', 'ok')]),
     'igea_init': dict(_threads=False),
     # ---- stats
-    'igea_stats_normal_cdf': dict(x='0.5', _inf_ok=['x']),
+    'igea_stats_normal_cdf': dict(x='0.5', _valid=['x=+Inf', 'x=-Inf']),
     'igea_stats_normal_quantile': dict(p='0.3'),
-    'igea_stats_chi2_cdf': dict(x='2.0', dof='3.0', _inf_ok=['x+']),
-    'igea_stats_chi2_sf': dict(x='2.0', dof='3.0', _inf_ok=['x+']),
+    'igea_stats_chi2_cdf': dict(x='2.0', dof='3.0', _valid=['x=+Inf']),
+    'igea_stats_chi2_sf': dict(x='2.0', dof='3.0', _valid=['x=+Inf']),
     'igea_stats_chi2_quantile': dict(p='0.3', dof='3.0'),
     'igea_stats_chi2_upper': dict(alpha='0.01', dof='11.0'),
     'igea_stats_accuracy_test': dict(equiv_err='u', **{'lambda': 'c:20.0 + (double)i'},
@@ -193,13 +199,13 @@ BASE = {
     'igea_rls_free': dict(),
     'igea_rls_set_variant': dict(variant='IGEA_RLS_POLYNOMIAL', p='3'),
     'igea_rls_set_anomaly': dict(policy='IGEA_RLS_ANOMALY_SKIP', kappa='4.0', jump_max='pos',
-                                 _inf_ok=['kappa+', 'jump_max+']),
+                                 _valid=['kappa=+Inf', 'jump_max[0]=+Inf']),
     'igea_rls_set_covariance': dict(h='h0', track='1'),
     'igea_rls_set_forget': dict(**{'lambda': '0.99'}),
     'igea_rls_update': dict(c='u', ldc='2', y='u', track_sigma='pos'),
     'igea_rls_run': dict(n='4', layout='IGEA_RLS_LAYOUT_ROWS', S='u', lds='8', dw='u',
                          track_sigma='pos', sigma_inc='1', ldx='3', _zero_ok=['n'],
-                         _opt=['track_sigma']),
+                         _opt=['track_sigma'], _progress=['n_done']),
     'igea_rls_get_x': dict(),
     'igea_rls_get_gamma': dict(ldg='3'),
     'igea_rls_get_covariance': dict(ldc='3'),
@@ -251,7 +257,7 @@ VARIANTS = {
     'igea_redund_geometry': dict(span=dict(fdi='0', _nan_out=['out'])),
     'igea_redund_fusion_set': dict(oneshot=dict(iterative='0')),
     'igea_rls_update': dict(poly=dict(h='hpoly'),
-                            isolate=dict(h='hiso', _nan_ok=['y'], _inf_ok=['y'])),
+                            isolate=dict(h='hiso', _valid=['y[0]=NaN', 'y[0]=+Inf', 'y[0]=-Inf'])),
     'igea_rls_run': dict(poly=dict(h='hpoly')),
     'igea_rls_get_covariance': dict(poly=dict(h='hpoly')),
     # large or tiny finite data: a verdict, or a clean refusal, never NaN

@@ -342,8 +342,13 @@ def generate(funcs):
                            'free': []}[acls]
                     for x in bad:
                         add(i, 'MK_IELEM', x, '0', 'EX_FAIL', '%s[0]=%s' % (p.name, x))
-        muts = [(m[0], m[1], m[2], m[3], 'EX_ANY' if names[m[0]] in ignored else m[4], m[5])
-                for m in muts]
+        valid = set(entry.get('_valid', []))
+        muts = [(m[0], m[1], m[2], m[3], 'EX_OK' if m[5] in valid else
+                 'EX_ANY' if names[m[0]] in ignored else m[4], m[5]) for m in muts]
+        unknown = valid - {m[5] for m in muts}
+        if unknown:
+            raise SystemExit('gen_invalid: _valid of %s names no mutation: %s'
+                             % (f.label, ', '.join(sorted(unknown))))
         for (pname, cval, exp) in entry.get('_extra', []):
             i = names.index(pname)
             kind = 'MK_INT' if f.params[i].at == 'AT_INT' else 'MK_DBL'
@@ -364,9 +369,14 @@ def generate(funcs):
         for pname in entry.get('_nan_out', []):
             nan_out |= 1 << names.index(pname)
         base_any = int(entry.get('_expect') == 'any')
-        table.append('    {"%s", %d, names_%s, setup_%s, call_%s, muts_%s, %d, %d, %d, %#xul, %d},\n'
+        progress = 0
+        for pname in entry.get('_progress', []):
+            progress |= 1 << names.index(pname)
+        table.append('    {"%s", %d, names_%s, setup_%s, call_%s, muts_%s, %d, %d, %d, %#xul, %d, '
+                     '%#xul},\n'
                      % (f.label, len(f.params), f.cid, f.cid, f.cid, f.cid, len(muts),
-                        0 if entry.get('_threads') is False else 1, consumes, nan_out, base_any))
+                        0 if entry.get('_threads') is False else 1, consumes, nan_out, base_any,
+                        progress))
         total_fail += sum(1 for m in muts if m[4] == 'EX_FAIL')
         listing.append('%s (%s): %d mutations; may be NULL: %s; ints: %s' % (
             f.label, f.header, len(muts), ', '.join(sorted(opt & set(names))) or '-',

@@ -71,7 +71,7 @@ static void run_one(const audit_fn *f, const audit_mut *m, char *msg, size_t cap
                                         "status %d but %s holds NaN; ", st, f->argnames[a]);
         }
         if (st < 0) {
-            int a = audit_changed(&c, 1);
+            int a = audit_changed_after(f, &c, st);
             if (a >= 0)
                 len += (size_t)snprintf(out + len, sizeof out - len,
                                         "failed with status %d but changed %s; ", st,

@@ -129,7 +129,7 @@ static void oom_function(const audit_fn *f, char *out, size_t cap)
             free(ref);
             return;
         }
-        int a = audit_changed(&c, 1);
+        int a = audit_changed_after(f, &c, st);
         audit_teardown(&c);
         if (st != IGEA_ENOMEM) {
             snprintf(out, cap, "allocation %ld failed: status %d (%s), want IGEA_ENOMEM", k, st,
