@@ -113,6 +113,11 @@ int cli_out_commit(cli_out *o); /* returns CLI_OK or CLI_IOERR */
 int cli_out_commit_all(cli_out *o, int n);
 void cli_out_abort(cli_out *o);
 
+/* Flush standard output: CLI_OK, or a message and CLI_IOERR when it cannot
+ * be written (a command that also writes files calls it before committing
+ * them, so that a lost summary is not a success). */
+int cli_stdout_check(void);
+
 /* Write a row-major matrix to path atomically: .npy (float64, C order) when
  * the name ends in ".npy", else text with %.17g and an optional '#' header
  * line (may be NULL). */

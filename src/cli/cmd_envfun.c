@@ -364,8 +364,12 @@ int cmd_envfun(int argc, char **argv)
         for (int j = 0; j < nt; j++)
             Srow[(size_t)i * nt + j] = S[i + (size_t)j * m];
     if (out) {
-        if ((ec = cli_write_matrix(out, Srow, m, nt, header)))
+        cli_out o;
+        if ((ec = cli_out_open(&o, out)))
             goto done;
+        cli_write_matrix_body(o.f, o.f != stdout && strlen(out) >= 4 &&
+                                       !strcmp(out + strlen(out) - 4, ".npy"),
+                              Srow, m, nt, header);
         if (json) {
             printf("{\n  \"rows\": %d,\n  \"terms\": [", m);
             for (int j = 0; j < nt; j++) {
@@ -375,9 +379,16 @@ int cmd_envfun(int argc, char **argv)
             printf("],\n  \"out\": ");
             cli_json_str(stdout, out);
             printf("\n}\n");
-        } else {
-            fprintf(stderr, "igea envfun: %d epochs x 3 axes, %d terms -> %s\n", nep, nt, out);
         }
+        /* the summary first: a run whose summary is lost keeps the old file */
+        if (json && (ec = cli_stdout_check())) {
+            cli_out_abort(&o);
+            goto done;
+        }
+        if ((ec = cli_out_commit(&o)))
+            goto done;
+        if (!json)
+            fprintf(stderr, "igea envfun: %d epochs x 3 axes, %d terms -> %s\n", nep, nt, out);
     } else if (json) {
         printf("{\n  \"terms\": [");
         for (int j = 0; j < nt; j++) {

@@ -427,9 +427,6 @@ int cmd_simulate(int argc, char **argv)
     if (save_traj)
         cli_write_matrix_body(outs[5].f, 0, trow, s->nsamp, IGEA_TRAJ_COLS,
                               "t f_x f_y f_z w_x w_y w_z q0 q1 q2 q3");
-    nopen = 0;
-    if ((ec = cli_out_commit_all(outs, nout)))
-        goto done;
     if (json) {
         printf("{\n  \"dir\": ");
         cli_json_str(stdout, dir);
@@ -442,7 +439,14 @@ int cmd_simulate(int argc, char **argv)
         printf("],\n  \"x_true\": ");
         cli_json_array(stdout, x, s->N);
         printf("\n}\n");
-    } else {
+        /* a run whose summary is lost keeps the old files */
+        if ((ec = cli_stdout_check()))
+            goto done;
+    }
+    nopen = 0;
+    if ((ec = cli_out_commit_all(outs, nout)))
+        goto done;
+    if (!json) {
         fprintf(stderr, "igea simulate: %d epochs x 3 axes, %d terms, seed %d flight %d -> "
                 "%s/{S,dw,sigma,spec,X}.txt\n", s->nep, s->N, s->seed, flight, dir);
     }

@@ -1139,16 +1139,21 @@ int cli_out_open(cli_out *o, const char *path)
     return CLI_OK;
 }
 
+int cli_stdout_check(void)
+{
+    errno = 0;
+    if (fflush(stdout) != 0 || ferror(stdout)) {
+        cli_error("writing standard output: %s", errno ? strerror(errno) : "I/O error");
+        return CLI_IOERR;
+    }
+    return CLI_OK;
+}
+
 /* Flush and close; the temporary stays until out_rename. */
 static int out_finish(cli_out *o)
 {
-    if (o->f == stdout) {
-        if (fflush(stdout) != 0 || ferror(stdout)) {
-            cli_error("writing standard output: %s", strerror(errno));
-            return CLI_IOERR;
-        }
-        return CLI_OK;
-    }
+    if (o->f == stdout)
+        return cli_stdout_check();
     errno = 0;
     int bad = fflush(o->f) != 0 || ferror(o->f);
     int e = errno;

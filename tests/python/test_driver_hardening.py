@@ -300,6 +300,23 @@ def test_stdout_full_is_an_error(traj, args):
     assert r.stderr.count(b"\n") == 1 and b"standard output" in r.stderr
 
 
+def test_lost_summary_keeps_old_files(traj, tmp_path):
+    if not os.path.exists("/dev/full"):
+        pytest.skip("no /dev/full")
+    for f in ("S.txt", "dw.txt", "sigma.txt", "spec.txt", "X.txt", "Senv.txt"):
+        (tmp_path / f).write_text("old\n")
+    with open("/dev/full", "wb") as full:
+        a = subprocess.run([DRIVER, "simulate", "--duration", "30", "--json", "--dir", "."],
+                           cwd=tmp_path, stdout=full, stderr=subprocess.PIPE, timeout=120)
+        b = subprocess.run([DRIVER, "envfun", str(traj / "traj.txt"), "--terms", "default",
+                            "--json", "--out", "Senv.txt"], cwd=tmp_path, stdout=full,
+                           stderr=subprocess.PIPE, timeout=120)
+    assert a.returncode == 74 and b.returncode == 74, (a.stderr, b.stderr)
+    for f in ("S.txt", "dw.txt", "sigma.txt", "spec.txt", "X.txt", "Senv.txt"):
+        assert (tmp_path / f).read_text() == "old\n", f
+    assert not [f for f in os.listdir(tmp_path) if ".tmp." in f]
+
+
 # ---- output files -------------------------------------------------------------
 def write_out(cwd, out):
     return run(cwd, "eqerr", "--S", "S.txt", *FLIGHT_ARGS, "--json", "--out", out)
@@ -360,10 +377,13 @@ def test_out_fifo_written_in_place(flight):
 
 
 def test_out_dev_stdout_is_the_pipe(flight):
-    r = write_out(flight, "/dev/stdout")
+    # a private link like /dev/stdout, so the system's own is never at stake
+    os.symlink("/proc/self/fd/1", flight / "stdout")
+    r = write_out(flight, "stdout")
     assert r.returncode == 0, r.stderr
     assert json.loads(r.stdout)["terms"] == 18
-    assert os.path.islink("/dev/stdout") or not os.path.exists("/dev/stdout.tmp")
+    assert os.path.islink(flight / "stdout")
+    assert not [f for f in os.listdir(flight) if ".tmp." in f]
 
 
 def _restore_dev_null():
@@ -400,14 +420,31 @@ def test_out_device_stays_a_device(flight):
     assert stat.S_IMODE(after.st_mode) == stat.S_IMODE(before.st_mode)
 
 
+def full_device(d):
+    """A device that refuses every write (ENOSPC) to use as an output file:
+    as root a private copy of /dev/full in d, so that a driver that replaced
+    its --out target could never replace the system's /dev/full."""
+    if os.geteuid() != 0:
+        return "/dev/full"
+    node = os.path.join(str(d), "full")
+    try:
+        os.mknod(node, 0o666 | stat.S_IFCHR, os.makedev(1, 7))
+        with open(node, "wb", buffering=0) as f:
+            f.write(b"x")
+    except OSError as e:
+        if e.errno == 28:   # ENOSPC: the node works
+            return node
+    pytest.skip("cannot use a device node here")
+
+
 def test_eqerr_report_and_residuals_together(flight):
-    if not os.path.exists("/dev/full"):
-        pytest.skip("no /dev/full")
+    full = full_device(flight)
     (flight / "res.txt").write_text("old\n")
     r = run(flight, "eqerr", "--S", "S.txt", *FLIGHT_ARGS, "--residuals", "res.txt",
-            "--out", "/dev/full")
+            "--out", full)
+    assert stat.S_ISCHR(os.lstat(full).st_mode)
     assert r.returncode == 74, r.stderr
-    assert r.stderr.count(b"\n") == 1 and b"/dev/full" in r.stderr
+    assert r.stderr.count(b"\n") == 1 and b"full" in r.stderr
     assert (flight / "res.txt").read_text() == "old\n"
     assert not [f for f in os.listdir(flight) if ".tmp." in f]
 
