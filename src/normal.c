@@ -1,5 +1,7 @@
 /* normal.c - weighted normal equations (one dsyrk pass over the data) and
  * the streamed QR factor of the same weighted data (dtpqrt). */
+#include <float.h>
+
 #include <cblas.h>
 #include <lapacke.h>
 
@@ -93,7 +95,9 @@ int igea_normal_accumulate(int layout, int m, int N, const double *S, int lds,
     if (!A) return -10;
     if (lda < N) return -11;
     if (!b) return -12;
-    if (!wtw) return -13;
+    if (!wtw || !(wtw[0] >= 0.0 && wtw[0] <= DBL_MAX) ||
+        !(wtw[1] >= 0.0 && wtw[1] < 0x1p53))
+        return -13;
     if ((st = check_weights(m, N, track_sigma, sigma_inc, spec_sigma)))
         return st;
     if (m == 0)

@@ -292,6 +292,17 @@ static void test_overflow_and_range(void **state)
         assert_true(all_sentinel(R, (N + 1) * (N + 1)));
     }
     rows = 0.0;
+    /* So is a negative or non-finite running sum in wtw. */
+    for (int t = 0; t < 4; t++)
+        for (int w = 0; w < 2; w++) {
+            double wt[2] = {0.0, 0.0};
+            wt[w] = badrows[t];
+            fill_sentinel(A, N * N);
+            assert_int_equal(igea_normal_accumulate(IGEA_COLMAJOR, M, N, S, M, dw,
+                                                    sig, 1, NULL, A, N, b, wt),
+                             -13);
+            assert_true(all_sentinel(A, N * N));
+        }
     /* The running sums overflowing on a later block: untouched too. */
     memset(A, 0, sizeof A);
     memset(b, 0, sizeof b);

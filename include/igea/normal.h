@@ -39,7 +39,8 @@ extern "C" {
  *  8 sigma_inc    0 or 1
  *  9 spec_sigma   N specs (> 0, >= IGEA_SIGMA_MIN), or NULL for no
  *                 column scaling
- * 10 A, 11 lda >= N, 12 b, 13 wtw[2]: running sums, updated in place.
+ * 10 A, 11 lda >= N, 12 b, 13 wtw[2]: running sums, updated in place
+ *    (wtw[0] and wtw[1] finite and >= 0, else -13).
  * Returns 0, -i, IGEA_ENONFINITE (NaN/Inf in S, dw or sigma),
  * IGEA_ENONPOSITIVE, IGEA_ERANGE, IGEA_EOVERFLOW (S and dw are finite but
  * a weighted sum, or a running sum, overflowed: rescale the inputs),
