@@ -645,7 +645,12 @@ static int npy_header(cli_reader *r)
         cli_error("%s: .npy shape (%ld, %d) too large", r->path, r->rows, r->cols);
         return CLI_DATAERR;
     }
-    if (r->fortran && !r->oned && r->cols > 1 && (ec = src_spool(&r->s, r->path)))
+    /* A non-seekable input is copied to a temporary file first when it
+     * must be read out of order (Fortran order) or when its rows are wide
+     * (more than 512 values): then the header is checked against the bytes
+     * really there before anything is sized from the column count. */
+    if (((r->fortran && !r->oned && r->cols > 1) || r->cols > 512) &&
+        (ec = src_spool(&r->s, r->path)))
         return ec;
     if (r->s.seekable) {
         off_t need = (off_t)r->rows * r->cols * 8;
@@ -880,8 +885,13 @@ int cli_read_matrix(const char *path, cli_matrix *out)
     /* A seekable .npy has been checked to hold its rows; anything else
      * grows as the data arrives. */
     long cap = r->npy && r->s.seekable ? r->rows : 1024, rows = 0;
-    if (r->npy && !r->s.seekable && cap > r->rows)
-        cap = r->rows;
+    if (r->npy && !r->s.seekable) {
+        cap = (1L << 17) / cols; /* 1 MB to start with */
+        if (cap < 1)
+            cap = 1;
+        if (cap > r->rows)
+            cap = r->rows;
+    }
     double *v = NULL;
     if ((size_t)cap > SIZE_MAX / sizeof(double) / (size_t)cols ||
         !(v = malloc((size_t)cap * cols * sizeof(double)))) {

@@ -96,6 +96,18 @@ def test_npy_header_larger_than_a_pipe_holds(flight):
     assert rss < 64 << 20
 
 
+@pytest.mark.parametrize("shape", ["(1, 2147483647)", "(3, 100000000)"])
+def test_npy_wide_header_on_a_pipe(flight, shape):
+    # The column count of a non-seekable .npy is not trusted before the data
+    # is there: refused as truncated, in little memory.
+    data = npy_header(shape) + np.arange(4.0).tobytes()
+    code, err, rss = run_rss(flight, "eqerr", "--S", "-", "--dw", "dw.txt", "--sigma", "0.01",
+                             stdin=_pipe_of(data))
+    assert code == 65, err
+    assert b"truncated" in err
+    assert rss < 32 << 20
+
+
 def _pipe_of(data):
     rfd, wfd = os.pipe()
     def w():
