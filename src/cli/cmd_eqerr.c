@@ -700,7 +700,12 @@ static char *slurp(const char *path, int *ec)
     size_t cap = 1 << 16, n = 0;
     char *buf = malloc(cap + 1);
     size_t k;
+    int nul = 0;
     while (buf && (k = fread(buf + n, 1, cap - n, f)) > 0) {
+        if (memchr(buf + n, '\0', k)) {
+            nul = 1; /* binary data: refused at once, not read to the end */
+            break;
+        }
         n += k;
         if (n == cap) {
             char *nb = realloc(buf, 2 * cap + 1);
@@ -727,7 +732,7 @@ static char *slurp(const char *path, int *ec)
             cli_error("%s: read error: %s", path, strerror(e));
         return NULL;
     }
-    if (memchr(buf, '\0', n)) {
+    if (nul) {
         free(buf);
         cli_error("%s: a NUL byte in a JSON result (binary data?)", path);
         *ec = CLI_DATAERR;

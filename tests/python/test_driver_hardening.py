@@ -280,6 +280,12 @@ def test_saved_result_counts_checked(flight, field, value):
     assert b"bad.json" in r.stderr and field.encode() in r.stderr
 
 
+def test_saved_result_binary_refused_early(tmp_path):
+    code, err, rss = run_rss(tmp_path, "test", "/dev/zero")
+    assert code == 65 and b"/dev/zero" in err and b"NUL" in err
+    assert rss < 32 << 20
+
+
 # ---- standard output on a full disk -----------------------------------------
 @pytest.fixture(scope="module")
 def traj(tmp_path_factory):
