@@ -30,7 +30,7 @@ $(AUDIT_GEN): tests/audit/gen_invalid.py tests/audit/baselines.py $(wildcard inc
 
 $(AUDIT_DIR)/test_%: tests/audit/test_%.c $(AUDIT_DEPS) $(STATIC) | $(AUDIT_DIR)
 	$(CC) $(CPPFLAGS) -I$(AUDIT_DIR) -Itests/audit -Itests $(APPCFLAGS) $< -o $@ \
-	  $(STATIC) $(LIBS) -lpthread $(LDFLAGS_EXTRA)
+	  $(STATIC) $(LIBS) -lpthread -ldl $(LDFLAGS_EXTRA)
 
 audit-build: $(AUDIT_BINS)
 
