@@ -62,6 +62,8 @@ CASES = {
                         "--spec", "spec.txt", "--route", "svd", "--json", "--out", "OUT"], None),
     "eqerr_stdin": (["eqerr", "--S", "-", "--dw", "dw.txt", "--sigma", "0.01", "--spec",
                      "spec.txt", "--out", "OUT"], "S.txt"),
+    "eqerr_pipe_svd": (["eqerr", "--S", "-", "--dw", "dw.txt", "--sigma", "sigma.txt",
+                        "--route", "svd", "--out", "OUT"], "pipe:S.txt"),
     "envfun": (["envfun", "traj.txt", "--terms", "default", "--out", "OUT"], None),
     "stability": (["stability", "y.txt", "--fs", "10", "--block", "10", "--out", "OUT"], None),
     "regress": (["regress", "--method", "ls", "--S", "S.txt", "--dw", "dw.txt", "--sigma",
@@ -80,6 +82,9 @@ CASES = {
 
 
 def run(cwd, args, stdin_file, env):
+    if stdin_file and stdin_file.startswith("pipe:"):
+        return subprocess.run([DRIVER, *args], cwd=cwd, input=(cwd / stdin_file[5:]).read_bytes(),
+                              capture_output=True, env=env, timeout=120)
     stdin = open(cwd / stdin_file, "rb") if stdin_file else subprocess.DEVNULL
     try:
         return subprocess.run([DRIVER, *args], cwd=cwd, stdin=stdin, capture_output=True,
