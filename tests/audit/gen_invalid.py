@@ -156,6 +156,11 @@ def fill_code(p, val, idx):
     return s
 
 
+def is_fill(v):
+    """Whether a NAME_DEFAULTS value is for a pointer (else a scalar)."""
+    return v in ('u', 'pos', '0', 'h', 'NULL', 'out') or v.startswith(('c:', '[', 'set:'))
+
+
 def resolve(func):
     """The baseline value of every parameter; exits when one is missing."""
     entry = func.entry
@@ -167,10 +172,8 @@ def resolve(func):
             v = 'h' if p.at == 'AT_H' else 'ho'
         elif p.isptr and not p.const:
             v = 'out'
-        elif p.name in baselines.NAME_DEFAULTS and (p.isptr == (baselines.NAME_DEFAULTS[p.name]
-                                                                 in ('u', 'pos', '0', 'h')
-                                                                 or baselines.NAME_DEFAULTS[
-                                                                     p.name].startswith('c:'))):
+        elif p.name in baselines.NAME_DEFAULTS and p.isptr == is_fill(
+                baselines.NAME_DEFAULTS[p.name]):
             v = baselines.NAME_DEFAULTS[p.name]
         else:
             raise SystemExit('gen_invalid: no baseline value for parameter %s of %s (%s): add it '
@@ -210,7 +213,7 @@ def generate(funcs):
         scal = [p for p in f.params if not p.isptr]
         done, order = set(), []
         while len(order) < len(scal):
-            progress = False
+            moved = False
             for p in scal:
                 if p.name in done:
                     continue
@@ -219,8 +222,8 @@ def generate(funcs):
                 if refs <= done:
                     order.append(p)
                     done.add(p.name)
-                    progress = True
-            if not progress:
+                    moved = True
+            if not moved:
                 raise SystemExit('gen_invalid: circular baseline values in %s' % f.name)
         for p in order:
             ct = 'int' if p.at == 'AT_INT' else 'double'
@@ -243,7 +246,7 @@ def generate(funcs):
             elif p.at == 'AT_DBL':
                 args.append('c->dv[%d]' % i)
             else:
-                args.append('(%s)c->pv[%d]' % (p.ctype.replace(' *', ' *').replace('* ', '*'), i))
+                args.append('(%s)c->pv[%d]' % (p.ctype, i))
         callexpr = '%s(%s)' % (f.name, ', '.join(args))
         consumes = -1
         if f.ret == 'void':
