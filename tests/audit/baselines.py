@@ -196,7 +196,6 @@ BASE = {
     # ---- rls (handles: m = 3 coefficients, k = 2 rows)
     'igea_rls_create': dict(m='3', k='2', x0='u', gamma0='set:audit_spd(b_, 3, 3, 1.0);',
                             ldg='m'),
-    'igea_rls_free': dict(),
     'igea_rls_set_variant': dict(variant='IGEA_RLS_POLYNOMIAL', p='3'),
     'igea_rls_set_anomaly': dict(policy='IGEA_RLS_ANOMALY_SKIP', kappa='4.0', jump_max='pos',
                                  _valid=['kappa=+Inf', 'jump_max[0]=+Inf']),
@@ -206,12 +205,8 @@ BASE = {
     'igea_rls_run': dict(n='4', layout='IGEA_RLS_LAYOUT_ROWS', S='u', lds='8', dw='u',
                          track_sigma='pos', sigma_inc='1', ldx='3', _zero_ok=['n'],
                          _opt=['track_sigma'], _progress=['n_done']),
-    'igea_rls_get_x': dict(),
     'igea_rls_get_gamma': dict(ldg='3'),
     'igea_rls_get_covariance': dict(ldc='3'),
-    'igea_rls_get_q': dict(),
-    'igea_rls_get_counts': dict(),
-    'igea_rls_get_size': dict(),
     'igea_rls_compensate': dict(c='u', ldc='2', y='u'),
 }
 
