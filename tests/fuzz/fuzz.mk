@@ -34,8 +34,6 @@ fuzz-deps:
 	@$(FUZZ_RUN) deps
 
 fuzz-bins: $(FUZZ_BINS)
-$(FUZZ_BINS): $(FUZZ_LIB_OBJ) $(FUZZ_CLI_OBJ) $(FUZZ_BUILD)/obj/harness.o
-.PRECIOUS: $(FUZZ_BUILD)/obj/fuzz_%.o
 
 fuzz: fuzz-deps
 	@$(MAKE) --no-print-directory fuzz-bins
@@ -57,8 +55,8 @@ $(FUZZ_BUILD)/obj/cli/%.o: src/cli/%.c src/cli/cli.h $(HEADERS) | $(FUZZ_BUILD)/
 $(FUZZ_BUILD)/obj/%.o: tests/fuzz/%.c tests/fuzz/harness.h src/cli/cli.h $(HEADERS) | $(FUZZ_BUILD)/obj
 	$(FUZZ_CC) $(CPPFLAGS) $(WARN) $(FUZZ_CFLAGS) -c $< -o $@
 
-$(FUZZ_BUILD)/bin/fuzz_%: $(FUZZ_BUILD)/obj/fuzz_%.o $(FUZZ_BUILD)/obj/harness.o $(FUZZ_LIB_OBJ) \
-                          $(FUZZ_CLI_OBJ) | $(FUZZ_BUILD)/bin
+$(FUZZ_BINS): $(FUZZ_BUILD)/bin/fuzz_%: $(FUZZ_BUILD)/obj/fuzz_%.o $(FUZZ_BUILD)/obj/harness.o \
+              $(FUZZ_LIB_OBJ) $(FUZZ_CLI_OBJ) | $(FUZZ_BUILD)/bin
 	$(FUZZ_CC) -fsanitize=fuzzer,address,undefined -o $@ $^ $(LIBS)
 
 $(FUZZ_BUILD)/obj $(FUZZ_BUILD)/obj/lib $(FUZZ_BUILD)/obj/cli $(FUZZ_BUILD)/bin:

@@ -13,6 +13,8 @@
  *     0.5
  *     0.25
  *
+ * A file named "stdin" is also what the command reads on standard input
+ * (a pipe), so "-" in the command line reads it.
  * After every run the harness checks that the exit status is a documented
  * one, that a failed run left no new file (nor a *.tmp.* file on any run),
  * did not change an input file, wrote nothing to standard output (unless
@@ -72,10 +74,11 @@ int fz_command(const char *name, int (*cmd)(int, char **), const char *const *pr
                int flags, int (*guard)(const fz_run *), const uint8_t *data, size_t size);
 
 /* Reader targets: data[0] seeds the block sizes, the rest is the file
- * fz_dir()/fname. Reads it whole (cli_read_matrix) and streamed
- * (cli_reader_next in random blocks): the exit codes, shapes and bits must
- * agree, a failure must leave the output untouched, and a success holds
- * only finite values. */
+ * fz_dir()/fname. Reads it whole (cli_read_matrix), streamed (cli_reader_next
+ * in random blocks) and in two passes (cli_reader_rewind), then the same
+ * bytes from a pipe on standard input ("-") the three ways: the exit codes,
+ * shapes and bits must agree, a failure must leave the output untouched and
+ * say why, and a success holds only finite values. */
 int fz_reader(const char *fname, const uint8_t *data, size_t size);
 
 /* A small deterministic generator for the readers' block sizes. */
