@@ -543,7 +543,7 @@ int igea_accel_fit(int model, int method, int n, const double *theta_deg,
     if (model == IGEA_ACCEL_DUAL && !yb)
         return -6;
     int ebr = method == IGEA_ACCEL_EBR;
-    if (ebr && rule != IGEA_EBR_SC && rule != IGEA_EBR_MM && rule != IGEA_EBR_ML2)
+    if (ebr && rule != IGEA_REGRESS_EBR_SC && rule != IGEA_REGRESS_EBR_MM && rule != IGEA_REGRESS_EBR_ML2)
         return -8;
     if (ebr && !(lam_floor >= 0.0 && isfinite(lam_floor)))
         return -9;

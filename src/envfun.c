@@ -13,21 +13,21 @@ enum { FAM_ACC = 0, FAM_GYRO = 1, FAM_ATT = 2 };
 
 int igea_envfun_term_valid(int system, int term)
 {
-    if (term < 0 || term >= IGEA_TERM_COUNT)
+    if (term < 0 || term >= IGEA_ENVFUN_TERM_COUNT)
         return 0;
     if (system == IGEA_ENVFUN_STRAPDOWN)
-        return term < IGEA_TERM_GYRO_GI_X;
+        return term < IGEA_ENVFUN_TERM_GYRO_GI_X;
     if (system == IGEA_ENVFUN_PLATFORM)
-        return term < IGEA_TERM_GYRO_G_X || term >= IGEA_TERM_GYRO_GI_X;
+        return term < IGEA_ENVFUN_TERM_GYRO_G_X || term >= IGEA_ENVFUN_TERM_GYRO_GI_X;
     return 0;
 }
 
 static int term_family(int term)
 {
-    if (term < IGEA_TERM_GYRO_BIAS_X)
+    if (term < IGEA_ENVFUN_TERM_GYRO_BIAS_X)
         return FAM_ACC;
-    if ((term >= IGEA_TERM_ATT0_X && term < IGEA_TERM_GYRO_GI_X) ||
-        term >= IGEA_TERM_ALIGN0_X)
+    if ((term >= IGEA_ENVFUN_TERM_ATT0_X && term < IGEA_ENVFUN_TERM_GYRO_GI_X) ||
+        term >= IGEA_ENVFUN_TERM_ALIGN0_X)
         return FAM_ATT;
     return FAM_GYRO;
 }
@@ -42,30 +42,30 @@ static void term_unit(int term, const double *f, const double *w,
     static const int mis_k[6] = {1, 2, 0, 2, 0, 1};
     int j;
     u[0] = u[1] = u[2] = 0.0;
-    if (term < IGEA_TERM_ACC_SCALE_X) {
+    if (term < IGEA_ENVFUN_TERM_ACC_SCALE_X) {
         u[term] = 1.0;
-    } else if (term < IGEA_TERM_ACC_SQ_X) {
-        j = term - IGEA_TERM_ACC_SCALE_X;
+    } else if (term < IGEA_ENVFUN_TERM_ACC_SQ_X) {
+        j = term - IGEA_ENVFUN_TERM_ACC_SCALE_X;
         u[j] = f[j];
-    } else if (term < IGEA_TERM_ACC_MIS_XY) {
-        j = term - IGEA_TERM_ACC_SQ_X;
+    } else if (term < IGEA_ENVFUN_TERM_ACC_MIS_XY) {
+        j = term - IGEA_ENVFUN_TERM_ACC_SQ_X;
         u[j] = f[j] * f[j];
-    } else if (term < IGEA_TERM_GYRO_BIAS_X) {
-        j = term - IGEA_TERM_ACC_MIS_XY;
+    } else if (term < IGEA_ENVFUN_TERM_GYRO_BIAS_X) {
+        j = term - IGEA_ENVFUN_TERM_ACC_MIS_XY;
         u[mis_j[j]] = f[mis_k[j]];
-    } else if (term < IGEA_TERM_GYRO_G_X) {
-        u[term - IGEA_TERM_GYRO_BIAS_X] = 1.0;
-    } else if (term < IGEA_TERM_GYRO_SCALE_X) {
-        j = term - IGEA_TERM_GYRO_G_X;
+    } else if (term < IGEA_ENVFUN_TERM_GYRO_G_X) {
+        u[term - IGEA_ENVFUN_TERM_GYRO_BIAS_X] = 1.0;
+    } else if (term < IGEA_ENVFUN_TERM_GYRO_SCALE_X) {
+        j = term - IGEA_ENVFUN_TERM_GYRO_G_X;
         u[j] = f[j];
-    } else if (term < IGEA_TERM_ATT0_X) {
-        j = term - IGEA_TERM_GYRO_SCALE_X;
+    } else if (term < IGEA_ENVFUN_TERM_ATT0_X) {
+        j = term - IGEA_ENVFUN_TERM_GYRO_SCALE_X;
         u[j] = w[j];
-    } else if (term >= IGEA_TERM_GYRO_GI_X && term < IGEA_TERM_GYRO_GS_X) {
-        j = term - IGEA_TERM_GYRO_GI_X;
+    } else if (term >= IGEA_ENVFUN_TERM_GYRO_GI_X && term < IGEA_ENVFUN_TERM_GYRO_GS_X) {
+        j = term - IGEA_ENVFUN_TERM_GYRO_GI_X;
         u[j] = f[in_ax[j]];
-    } else if (term >= IGEA_TERM_GYRO_GS_X && term < IGEA_TERM_ALIGN0_X) {
-        j = term - IGEA_TERM_GYRO_GS_X;
+    } else if (term >= IGEA_ENVFUN_TERM_GYRO_GS_X && term < IGEA_ENVFUN_TERM_ALIGN0_X) {
+        j = term - IGEA_ENVFUN_TERM_GYRO_GS_X;
         u[j] = f[spin_ax[j]];
     }
 }
@@ -185,7 +185,7 @@ int igea_envfun_compute(int system, int nsamp, const double *traj, int ldt,
         return -13;
 
     /* data checks */
-    if (!igea__finite_mat(nsamp, IGEA_TRAJ_COLS, traj, ldt) ||
+    if (!igea__finite_mat(nsamp, IGEA_ENVFUN_TRAJ_COLS, traj, ldt) ||
         !igea__finite_vec(nepochs, epochs, 1))
         return IGEA_ENONFINITE;
     if (spec && !igea__positive_vec(nterms, spec, &nf))
@@ -314,9 +314,9 @@ int igea_envfun_compute(int system, int nsamp, const double *traj, int ldt,
             double *po = p_out + 3 * (size_t)j;
             double u[3], cu[3], co[3];
             if (fam == FAM_ATT) {
-                int kax = (terms[j] >= IGEA_TERM_ALIGN0_X)
-                              ? terms[j] - IGEA_TERM_ALIGN0_X
-                              : terms[j] - IGEA_TERM_ATT0_X;
+                int kax = (terms[j] >= IGEA_ENVFUN_TERM_ALIGN0_X)
+                              ? terms[j] - IGEA_ENVFUN_TERM_ALIGN0_X
+                              : terms[j] - IGEA_ENVFUN_TERM_ATT0_X;
                 double ek[3] = {0, 0, 0};
                 ek[kax] = 1.0;
                 cross(Wv, ek, vj);

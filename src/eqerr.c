@@ -21,7 +21,7 @@ int igea_eqerr_defaults(double *opts)
     opts[IGEA_EQERR_OPT_TOL] = 0.05;
     opts[IGEA_EQERR_OPT_MAX_ITER] = 10;
     opts[IGEA_EQERR_OPT_CORRECT] = 1;
-    opts[IGEA_EQERR_OPT_ROUTE] = IGEA_ROUTE_EIG;
+    opts[IGEA_EQERR_OPT_ROUTE] = IGEA_EQERR_ROUTE_EIG;
     return 0;
 }
 
@@ -42,7 +42,7 @@ static int check_opts(const double *o)
     if (o[IGEA_EQERR_OPT_BIAS_CORRECT] != 0 && o[IGEA_EQERR_OPT_BIAS_CORRECT] != 1) return 1 + IGEA_EQERR_OPT_BIAS_CORRECT;
     if (o[IGEA_EQERR_OPT_CLAMP] != 0 && o[IGEA_EQERR_OPT_CLAMP] != 1) return 1 + IGEA_EQERR_OPT_CLAMP;
     if (!(o[IGEA_EQERR_OPT_Z_CRIT] >= 0)) return 1 + IGEA_EQERR_OPT_Z_CRIT;
-    if (o[IGEA_EQERR_OPT_ROUTE] != IGEA_ROUTE_EIG && o[IGEA_EQERR_OPT_ROUTE] != IGEA_ROUTE_SVD) return 1 + IGEA_EQERR_OPT_ROUTE;
+    if (o[IGEA_EQERR_OPT_ROUTE] != IGEA_EQERR_ROUTE_EIG && o[IGEA_EQERR_OPT_ROUTE] != IGEA_EQERR_ROUTE_SVD) return 1 + IGEA_EQERR_OPT_ROUTE;
     return 0;
 }
 
@@ -57,7 +57,7 @@ static int sigmaw_and_test(int N, int r, const double *lam0, const double *g0,
                            double *z, int *reject, double *info)
 {
     double c = 1.0;
-    int flag = IGEA_SIGMAW_OFF, iters = 0, nsmall = 0;
+    int flag = IGEA_STATS_SIGMAW_OFF, iters = 0, nsmall = 0;
     if (o[IGEA_EQERR_OPT_CORRECT] == 1) {
         const double lam_s = o[IGEA_EQERR_OPT_LAMBDA_SMALL];
         const int nmin = (int)o[IGEA_EQERR_OPT_N_MIN];
@@ -65,7 +65,7 @@ static int sigmaw_and_test(int N, int r, const double *lam0, const double *g0,
         const int bias = o[IGEA_EQERR_OPT_BIAS_CORRECT] == 1;
         const int clamp = o[IGEA_EQERR_OPT_CLAMP] == 1;
         int prev_lo = -1; /* the small set is the suffix [lo, r) */
-        flag = IGEA_SIGMAW_NO_CONVERGENCE;
+        flag = IGEA_STATS_SIGMAW_NO_CONVERGENCE;
         for (int it = 0; it < maxit; it++) {
             iters = it + 1;
             int lo = r;
@@ -73,7 +73,7 @@ static int sigmaw_and_test(int N, int r, const double *lam0, const double *g0,
                 lo--;
             nsmall = r - lo;
             if (nsmall < nmin) {
-                flag = IGEA_SIGMAW_NOT_ESTIMABLE;
+                flag = IGEA_STATS_SIGMAW_NOT_ESTIMABLE;
                 break;
             }
             igea__ksum acc = {0, 0};
@@ -83,18 +83,18 @@ static int sigmaw_and_test(int N, int r, const double *lam0, const double *g0,
             }
             double sw2 = igea__ksum_get(&acc) / nsmall;
             if (!(sw2 > 0.0) || !isfinite(sw2)) {
-                flag = IGEA_SIGMAW_NOT_ESTIMABLE;
+                flag = IGEA_STATS_SIGMAW_NOT_ESTIMABLE;
                 break;
             }
             if (fabs(sw2 - 1.0) <= o[IGEA_EQERR_OPT_TOL] && (it == 0 || lo == prev_lo)) {
-                flag = IGEA_SIGMAW_CONVERGED;
+                flag = IGEA_STATS_SIGMAW_CONVERGED;
                 break;
             }
             prev_lo = lo;
             double cn = c * sw2;
             if (clamp && cn < 1.0) {
                 if (c == 1.0) {
-                    flag = IGEA_SIGMAW_CONVERGED;
+                    flag = IGEA_STATS_SIGMAW_CONVERGED;
                     break;
                 }
                 cn = 1.0;
@@ -115,12 +115,12 @@ static int sigmaw_and_test(int N, int r, const double *lam0, const double *g0,
         z[i] = 0.0;
         reject[i] = -1;
     }
-    info[IGEA_INFO_RANK] = r;
-    info[IGEA_INFO_SCALE] = c;
-    info[IGEA_INFO_ITERATIONS] = iters;
-    info[IGEA_INFO_N_SMALL] = nsmall;
-    info[IGEA_INFO_FLAG] = flag;
-    for (int k = IGEA_INFO_FLAG + 1; k < IGEA_INFO_LEN; k++)
+    info[IGEA_STATS_INFO_RANK] = r;
+    info[IGEA_STATS_INFO_SCALE] = c;
+    info[IGEA_STATS_INFO_ITERATIONS] = iters;
+    info[IGEA_STATS_INFO_N_SMALL] = nsmall;
+    info[IGEA_STATS_INFO_FLAG] = flag;
+    for (int k = IGEA_STATS_INFO_FLAG + 1; k < IGEA_STATS_INFO_LEN; k++)
         info[k] = 0.0;
     return 0;
 }
@@ -134,7 +134,7 @@ typedef struct {
 static int scratch_alloc(scratch *s, int N)
 {
     size_t n = (size_t)N;
-    s->lam0 = igea__dalloc(n * n + 6 * n + IGEA_INFO_LEN);
+    s->lam0 = igea__dalloc(n * n + 6 * n + IGEA_STATS_INFO_LEN);
     s->reject = igea__ialloc(n);
     if (!s->lam0 || !s->reject) {
         free(s->lam0);
@@ -157,7 +157,7 @@ static int scratch_finite(const scratch *s, int N)
 {
     return igea__finite_vec(N, s->lambda, 1) && igea__finite_mat(N, N, s->V, N) &&
            igea__finite_vec(N, s->xhat, 1) && igea__finite_vec(N, s->z, 1) &&
-           igea__finite_vec(IGEA_INFO_LEN, s->info, 1);
+           igea__finite_vec(IGEA_STATS_INFO_LEN, s->info, 1);
 }
 
 static void scratch_free(scratch *s)
@@ -177,7 +177,7 @@ static void scratch_out(const scratch *s, int N, double *lambda, double *P,
     memcpy(equiv_err, s->xhat, n * sizeof(double));
     memcpy(z, s->z, n * sizeof(double));
     memcpy(reject, s->reject, n * sizeof(int));
-    memcpy(info, s->info, IGEA_INFO_LEN * sizeof(double));
+    memcpy(info, s->info, IGEA_STATS_INFO_LEN * sizeof(double));
 }
 
 /* Eig route from normal equations into the scratch. */
@@ -481,7 +481,7 @@ int igea_eqerr_run(int m, int N, const double *S, int lds, const double *dw,
     scratch s;
     if (scratch_alloc(&s, N))
         return IGEA_ENOMEM;
-    if (opts[IGEA_EQERR_OPT_ROUTE] == IGEA_ROUTE_SVD) {
+    if (opts[IGEA_EQERR_OPT_ROUTE] == IGEA_EQERR_ROUTE_SVD) {
         size_t n1 = (size_t)N + 1;
         double *R = igea__dalloc(n1 * n1), rows = 0.0;
         if (!R) {
@@ -524,7 +524,7 @@ int igea_eqerr_run(int m, int N, const double *S, int lds, const double *dw,
             st = IGEA_ENOMEM;
         if (st == 0)
             st = igea_eqerr_coef(N, s.V, N, s.xhat,
-                                 (int)s.info[IGEA_INFO_N_TEST], spec_sigma, coef);
+                                 (int)s.info[IGEA_STATS_INFO_N_TEST], spec_sigma, coef);
         if (st == 0)
             st = igea_eqerr_residual(IGEA_COLMAJOR, m, N, S, lds, dw, coef, 0,
                                      e, ss);

@@ -77,7 +77,7 @@ static double kofn_of(int n, int k, const double *R, double *work)
     return 1.0 - igea__ksum_get(&s);
 }
 
-int igea_redund_series(int n, const double *R, double *out)
+int igea_redund_reliability_series(int n, const double *R, double *out)
 {
     if (n < 1)
         return -1;
@@ -93,7 +93,7 @@ int igea_redund_series(int n, const double *R, double *out)
     return 0;
 }
 
-int igea_redund_parallel(int n, const double *R, double *out)
+int igea_redund_reliability_parallel(int n, const double *R, double *out)
 {
     if (n < 1)
         return -1;
@@ -109,7 +109,7 @@ int igea_redund_parallel(int n, const double *R, double *out)
     return 0;
 }
 
-int igea_redund_kofn(int n, int k, const double *R, double *out)
+int igea_redund_reliability_kofn(int n, int k, const double *R, double *out)
 {
     if (n < 1)
         return -1;
@@ -154,9 +154,9 @@ int igea_redund_diagram(int ncomp, const double *R, int nblock,
     if (!check_probs(ncomp, R))
         return -2;
     for (int b = 0; b < nblock; b++) {
-        if (type[b] < IGEA_RBD_SERIES || type[b] > IGEA_RBD_KOFN)
+        if (type[b] < IGEA_REDUND_RBD_SERIES || type[b] > IGEA_REDUND_RBD_KOFN)
             return -4;
-        if (type[b] == IGEA_RBD_KOFN && !k)
+        if (type[b] == IGEA_REDUND_RBD_KOFN && !k)
             return -5;
     }
     if (first[0] != 0)
@@ -167,7 +167,7 @@ int igea_redund_diagram(int ncomp, const double *R, int nblock,
     int nmem = first[nblock];
     for (int b = 0; b < nblock; b++) {
         int cnt = first[b + 1] - first[b];
-        if (type[b] == IGEA_RBD_KOFN && (k[b] < 1 || k[b] > cnt))
+        if (type[b] == IGEA_REDUND_RBD_KOFN && (k[b] < 1 || k[b] > cnt))
             return -5;
     }
     size_t nnode = (size_t)ncomp + (size_t)nblock;
@@ -197,9 +197,9 @@ int igea_redund_diagram(int ncomp, const double *R, int nblock,
             for (int j = 0; j < cnt; j++)
                 mv[j] = val[member[first[b] + j]];
             double r;
-            if (type[b] == IGEA_RBD_SERIES)
+            if (type[b] == IGEA_REDUND_RBD_SERIES)
                 r = series_of(cnt, mv);
-            else if (type[b] == IGEA_RBD_PARALLEL)
+            else if (type[b] == IGEA_REDUND_RBD_PARALLEL)
                 r = parallel_of(cnt, mv);
             else
                 r = kofn_of(cnt, k[b], mv, work);
@@ -226,13 +226,13 @@ int igea_redund_seed002(double Re1, double Re2, double *out)
     double a = 1.0 - q2 * q2; /* a Y (or Z) pair */
     double acc7 = x4 * (1.0 - q2 * (1.0 - a * a));
     double accx = x4 * (a * a + 2.0 * a * (1.0 - a) * Re2);
-    out[IGEA_SEED002_GYRO] = gyro;
-    out[IGEA_SEED002_ACC_EQ7] = acc7;
-    out[IGEA_SEED002_SYS_EQ7] = gyro * acc7;
-    out[IGEA_SEED002_SYS_NO_D] = gyro * x4 * a * a;
-    out[IGEA_SEED002_NONREDUND] = Re1 * Re1 * Re1 * Re2 * Re2 * Re2;
-    out[IGEA_SEED002_SYS_EXACT] = gyro * accx;
-    out[IGEA_SEED002_ACC_EXACT] = accx;
+    out[IGEA_REDUND_SEED002_GYRO] = gyro;
+    out[IGEA_REDUND_SEED002_ACC_EQ7] = acc7;
+    out[IGEA_REDUND_SEED002_SYS_EQ7] = gyro * acc7;
+    out[IGEA_REDUND_SEED002_SYS_NO_D] = gyro * x4 * a * a;
+    out[IGEA_REDUND_SEED002_NONREDUND] = Re1 * Re1 * Re1 * Re2 * Re2 * Re2;
+    out[IGEA_REDUND_SEED002_SYS_EXACT] = gyro * accx;
+    out[IGEA_REDUND_SEED002_ACC_EXACT] = accx;
     return 0;
 }
 
@@ -280,7 +280,7 @@ int igea_redund_geometry(int n, const double *axes, int lda, const double *R,
         return -4;
     if (fdi != 0 && fdi != 1)
         return -5;
-    if (fdi && n > IGEA_GEOM_FDI_MAX)
+    if (fdi && n > IGEA_REDUND_GEOM_FDI_MAX)
         return -1;
     if (!out)
         return -6;
@@ -332,12 +332,12 @@ int igea_redund_geometry(int n, const double *axes, int lda, const double *R,
         cls[k] = found;
         rho[found] *= 1.0 - R[k]; /* failure product for now */
     }
-    if (status == 0 && d > IGEA_GEOM_CLASS_MAX)
+    if (status == 0 && d > IGEA_REDUND_GEOM_CLASS_MAX)
         status = -1;
     svd3_ws ws = {NULL, 0, {0}};
     if (status == 0)
         status = svd3_init(&ws, IGEA_MAX(n, 3));
-    double res[IGEA_GEOM_LEN];
+    double res[IGEA_REDUND_GEOM_LEN];
     if (status == 0) {
         for (int c = 0; c < d; c++)
             rho[c] = 1.0 - rho[c];
@@ -367,10 +367,10 @@ int igea_redund_geometry(int n, const double *axes, int lda, const double *R,
             else if (sv[2] > GEOM_RANK_TOL * sv[0])
                 igea__ksum_add(&span, w);
         }
-        res[IGEA_GEOM_SPAN] = igea__ksum_get(&span);
-        res[IGEA_GEOM_DETECT] = NAN;
-        res[IGEA_GEOM_ISOLATE] = NAN;
-        res[IGEA_GEOM_CLASSES] = (double)d;
+        res[IGEA_REDUND_GEOM_SPAN] = igea__ksum_get(&span);
+        res[IGEA_REDUND_GEOM_DETECT] = NAN;
+        res[IGEA_REDUND_GEOM_ISOLATE] = NAN;
+        res[IGEA_REDUND_GEOM_CLASSES] = (double)d;
     }
     if (status == 0 && fdi) {
         double *u = igea__dalloc((size_t)n * 3 + (size_t)n * (size_t)n + 9);
@@ -429,8 +429,8 @@ int igea_redund_geometry(int n, const double *axes, int lda, const double *R,
                 igea__ksum_add(&iso, w);
         }
         if (status == 0) {
-            res[IGEA_GEOM_DETECT] = igea__ksum_get(&det);
-            res[IGEA_GEOM_ISOLATE] = igea__ksum_get(&iso);
+            res[IGEA_REDUND_GEOM_DETECT] = igea__ksum_get(&det);
+            res[IGEA_REDUND_GEOM_ISOLATE] = igea__ksum_get(&iso);
         }
         free(u);
         free(idx);
@@ -493,7 +493,7 @@ static double erfinv_of(double y)
     return y < 0.0 ? -x : x;
 }
 
-int igea_redund_erfinv(double y, double *x)
+int igea_stats_erfinv(double y, double *x)
 {
     if (!(y > -1.0 && y < 1.0))
         return -1;
@@ -1027,14 +1027,14 @@ int igea_redund_fdi(int m, int q, const double *H, int ldh, const double *y,
     int detected = T > thr;
     if (!detected)
         best = -1;
-    info[IGEA_FDI_STAT] = T;
-    info[IGEA_FDI_THRESHOLD] = thr;
-    info[IGEA_FDI_DOF] = (double)dof;
-    info[IGEA_FDI_P_VALUE] = pval;
-    info[IGEA_FDI_DETECTED] = detected;
-    info[IGEA_FDI_ISOLATED] = (double)best;
-    info[IGEA_FDI_ISO_STAT] = best >= 0 ? best_stat : 0.0;
-    info[IGEA_FDI_ISOLABLE] = isolable;
+    info[IGEA_REDUND_FDI_STAT] = T;
+    info[IGEA_REDUND_FDI_THRESHOLD] = thr;
+    info[IGEA_REDUND_FDI_DOF] = (double)dof;
+    info[IGEA_REDUND_FDI_P_VALUE] = pval;
+    info[IGEA_REDUND_FDI_DETECTED] = detected;
+    info[IGEA_REDUND_FDI_ISOLATED] = (double)best;
+    info[IGEA_REDUND_FDI_ISO_STAT] = best >= 0 ? best_stat : 0.0;
+    info[IGEA_REDUND_FDI_ISOLABLE] = isolable;
     if (parity)
         memcpy(parity, p, (size_t)dof * sizeof(double));
     if (isolated)
@@ -1151,7 +1151,7 @@ int igea_redund_window_count(int nsamp, double fs, double window, int *nwin)
     return 0;
 }
 
-int igea_redund_series_check(int nsamp, int nsens, const double *y, int ldy,
+int igea_redund_monitor(int nsamp, int nsens, const double *y, int ldy,
                              double fs, double window, const double *sigma,
                              const double *alpha, int lda, int iterative,
                              int weighted, int nwin, double *means,

@@ -491,7 +491,7 @@ static double ebr_ml2_negll(double lam, const void *p)
 /* lambda* of the rule; 0 by the positive-part rule when there is no root. */
 static int ebr_lambda(int rule, ebr_ctx *q, double *lam)
 {
-    if (rule == IGEA_EBR_ML2) {
+    if (rule == IGEA_REGRESS_EBR_ML2) {
         /* The maximiser lies in [0, lmax]: beyond lmax every term of the
          * gradient is negative. Grid on log scale, then Brent on the
          * gradient's sign change next to the best grid point. */
@@ -562,7 +562,7 @@ int igea_regress_ebr(int m, int N, const double *A, int lda, const double *y,
     int st = check_args(m, N, A, lda, y, 0);
     if (st)
         return st;
-    if (rule != IGEA_EBR_SC && rule != IGEA_EBR_MM && rule != IGEA_EBR_ML2)
+    if (rule != IGEA_REGRESS_EBR_SC && rule != IGEA_REGRESS_EBR_MM && rule != IGEA_REGRESS_EBR_ML2)
         return -7;
     if (!(lam_floor >= 0.0) || !isfinite(lam_floor))
         return -8;
@@ -610,9 +610,9 @@ int igea_regress_ebr(int m, int N, const double *A, int lda, const double *y,
     }
     if (st == 0) {
         ebr_ctx q = {r, d, z2, 0.0, S / (m - r)};
-        if (rule == IGEA_EBR_SC)
+        if (rule == IGEA_REGRESS_EBR_SC)
             q.target = (double)(r - 2) * S / (double)(m - r + 2);
-        else if (rule == IGEA_EBR_MM)
+        else if (rule == IGEA_REGRESS_EBR_MM)
             q.target = (double)r * S / (double)(m - r);
         st = ebr_lambda(rule, &q, &lstar);
     }
@@ -744,9 +744,9 @@ int igea_regress_ridge(int m, int N, const double *A, int lda,
     int st = check_args(m, N, A, lda, y, 0);
     if (st)
         return st;
-    if (rule < IGEA_RIDGE_FIXED || rule > IGEA_RIDGE_LOO)
+    if (rule < IGEA_REGRESS_RIDGE_FIXED || rule > IGEA_REGRESS_RIDGE_LOO)
         return -7;
-    if (rule == IGEA_RIDGE_FIXED && !(k >= 0.0 && isfinite(k)))
+    if (rule == IGEA_REGRESS_RIDGE_FIXED && !(k >= 0.0 && isfinite(k)))
         return -8;
     if (!x)
         return -9;
@@ -779,26 +779,26 @@ int igea_regress_ridge(int m, int N, const double *A, int lda,
     /* The rules find rk = sqrt(k), which stays representable where k
      * itself may not be; k_used = rk^2 must then be. */
     double rk = sqrt(k);
-    if (st == 0 && (rule == IGEA_RIDGE_HKB || rule == IGEA_RIDGE_LW)) {
+    if (st == 0 && (rule == IGEA_REGRESS_RIDGE_HKB || rule == IGEA_REGRESS_RIDGE_LW)) {
         for (int i = 0; i < r; i++)
             f[i] = 1.0 / c.s[i];
         canon_coef(&c, r, f, NULL, xs);
-        double den = rule == IGEA_RIDGE_HKB ? norm2(N, xs) : norm2(r, c.z);
+        double den = rule == IGEA_REGRESS_RIDGE_HKB ? norm2(N, xs) : norm2(r, c.z);
         if (m <= r || !(den > 0.0))
             st = IGEA_EDOMAIN;
         else
             rk = sqrt((double)r * s2) / den;
-    } else if (st == 0 && (rule == IGEA_RIDGE_GCV || rule == IGEA_RIDGE_LOO)) {
+    } else if (st == 0 && (rule == IGEA_REGRESS_RIDGE_GCV || rule == IGEA_REGRESS_RIDGE_LOO)) {
         if (r == 0)
             rk = 0.0;
         else {
-            ridge_ctx q = {&c, rss, rule == IGEA_RIDGE_LOO};
+            ridge_ctx q = {&c, rss, rule == IGEA_REGRESS_RIDGE_LOO};
             double t0 = 2.0 * log10(c.s[0]);
             rk = pow(10.0, 0.5 * grid_golden_min(ridge_crit, &q, t0 - 12.0,
                                                  t0 + 4.0, 161));
         }
     }
-    double kk = rule == IGEA_RIDGE_FIXED ? k : rk * rk;
+    double kk = rule == IGEA_REGRESS_RIDGE_FIXED ? k : rk * rk;
     if (st == 0 && (!isfinite(kk) || (rk > 0.0 && kk < DBL_MIN)))
         st = IGEA_EOVERFLOW;
     if (st == 0) {

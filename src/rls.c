@@ -703,11 +703,11 @@ int igea_rls_run(igea_rls *h, int n, int layout, const double *S, int lds,
     if (n < 0)
         return -2;
     const int k = h->k, m = h->m;
-    if (layout != IGEA_RLS_LAYOUT_ROWS && layout != IGEA_RLS_LAYOUT_BLOCKS)
+    if (layout != IGEA_COLMAJOR && layout != IGEA_ROWMAJOR)
         return -3;
     if (!S && n > 0)
         return -4;
-    if (layout == IGEA_RLS_LAYOUT_ROWS ? (double)lds < IGEA_MAX(1.0, (double)n * k)
+    if (layout == IGEA_COLMAJOR ? (double)lds < IGEA_MAX(1.0, (double)n * k)
                                        : lds < m)
         return -5;
     if (!dw && n > 0)
@@ -725,7 +725,7 @@ int igea_rls_run(igea_rls *h, int n, int layout, const double *S, int lds,
         const double *sig = track_sigma ? track_sigma + (sigma_inc ? row : 0) : NULL;
         const double *c;
         size_t rs, cs;
-        if (layout == IGEA_RLS_LAYOUT_ROWS) {
+        if (layout == IGEA_COLMAJOR) {
             c = S + row;
             rs = 1;
             cs = (size_t)lds;

@@ -328,7 +328,7 @@ static void *mc_worker(void *arg)
     int m = c->m, N = c->N;
     size_t nn = (size_t)N * N;
     double *w = igea__dalloc(2 * (size_t)m + 6 * (size_t)N + nn +
-                             IGEA_INFO_LEN);
+                             IGEA_STATS_INFO_LEN);
     int *rej = igea__ialloc((size_t)N);
     gsl_rng *r = (w && rej) ? igea__rng_new(rng_type(c), 0) : NULL;
     if (!r) {
@@ -365,11 +365,11 @@ static void *mc_worker(void *arg)
             jb->fail = (st > -1000) ? -12 : st; /* -5: the eqerr options */
             break;
         }
-        jb->chi2[f] = info[IGEA_INFO_CHI2];
-        jb->dof[f] = (int)info[IGEA_INFO_DOF];
-        jb->nrej[f] = (int)info[IGEA_INFO_N_REJECT];
-        jb->scale[f] = info[IGEA_INFO_SCALE];
-        jb->status[f] = info[IGEA_INFO_CHI2] >= info[IGEA_INFO_CHI2_CRIT]
+        jb->chi2[f] = info[IGEA_STATS_INFO_CHI2];
+        jb->dof[f] = (int)info[IGEA_STATS_INFO_DOF];
+        jb->nrej[f] = (int)info[IGEA_STATS_INFO_N_REJECT];
+        jb->scale[f] = info[IGEA_STATS_INFO_SCALE];
+        jb->status[f] = info[IGEA_STATS_INFO_CHI2] >= info[IGEA_STATS_INFO_CHI2_CRIT]
                             ? 1 : 0; /* chi-square rejected */
         for (int i = 0; i < N; i++) {
             if (rej[i] >= 0)
@@ -497,27 +497,27 @@ int igea_sim_montecarlo(int m, int N, const double *S, int lds,
             st = jobs[t].fail;
 
     if (st == 0) {
-        double res[IGEA_MC_LEN] = {0};
+        double res[IGEA_SIM_MC_LEN] = {0};
         double sum_c = 0.0, sum_t = 0.0;
         int n_c = 0;
-        res[IGEA_MC_FLIGHTS] = nflights;
+        res[IGEA_SIM_MC_FLIGHTS] = nflights;
         for (size_t f = 0; f < nf; f++) {
             if (f_status[f] == IGEA_ENOTESTABLE) {
-                res[IGEA_MC_NOT_TESTABLE] += 1;
+                res[IGEA_SIM_MC_NOT_TESTABLE] += 1;
                 continue;
             }
             if (f_status[f] == 1)
-                res[IGEA_MC_CHI2_REJECT] += 1;
+                res[IGEA_SIM_MC_CHI2_REJECT] += 1;
             if (f_nrej[f] > 0)
-                res[IGEA_MC_ANY_REJECT] += 1;
+                res[IGEA_SIM_MC_ANY_REJECT] += 1;
             if (f_status[f] == 1 || f_nrej[f] > 0)
-                res[IGEA_MC_FAILED] += 1;
+                res[IGEA_SIM_MC_FAILED] += 1;
             sum_c += f_scale[f];
             sum_t += f_dof[f];
             n_c++;
         }
-        res[IGEA_MC_MEAN_SCALE] = n_c ? sum_c / n_c : NAN;
-        res[IGEA_MC_MEAN_TESTED] = n_c ? sum_t / n_c : 0.0;
+        res[IGEA_SIM_MC_MEAN_SCALE] = n_c ? sum_c / n_c : NAN;
+        res[IGEA_SIM_MC_MEAN_TESTED] = n_c ? sum_t / n_c : 0.0;
         memcpy(counts, res, sizeof res);
         for (int i = 0; i < N; i++) {
             int te = 0, re = 0;
@@ -584,11 +584,11 @@ static void acc_errors(const double *err, const double *f, double *out)
 {
     static const int mj[6] = {0, 0, 1, 1, 2, 2}, mk[6] = {1, 2, 0, 2, 0, 1};
     for (int a = 0; a < 3; a++)
-        out[a] = f[a] + err[IGEA_TERM_ACC_BIAS_X + a] +
-                 err[IGEA_TERM_ACC_SCALE_X + a] * f[a] +
-                 err[IGEA_TERM_ACC_SQ_X + a] * f[a] * f[a];
+        out[a] = f[a] + err[IGEA_ENVFUN_TERM_ACC_BIAS_X + a] +
+                 err[IGEA_ENVFUN_TERM_ACC_SCALE_X + a] * f[a] +
+                 err[IGEA_ENVFUN_TERM_ACC_SQ_X + a] * f[a] * f[a];
     for (int i = 0; i < 6; i++)
-        out[mj[i]] += err[IGEA_TERM_ACC_MIS_XY + i] * f[mk[i]];
+        out[mj[i]] += err[IGEA_ENVFUN_TERM_ACC_MIS_XY + i] * f[mk[i]];
 }
 
 int igea_sim_nonlinear(int system, int nsamp, const double *traj, int ldt,
@@ -607,7 +607,7 @@ int igea_sim_nonlinear(int system, int nsamp, const double *traj, int ldt,
         return -4;
     if (!err)
         return -5;
-    for (int k = 0; k < IGEA_TERM_COUNT; k++)
+    for (int k = 0; k < IGEA_ENVFUN_TERM_COUNT; k++)
         if (err[k] != 0.0 && !igea_envfun_term_valid(system, k))
             return -5;
     if (system == IGEA_ENVFUN_PLATFORM && igea__platform_axes(axes, in_ax, spin_ax))
@@ -618,8 +618,8 @@ int igea_sim_nonlinear(int system, int nsamp, const double *traj, int ldt,
         return -8;
     if (!dW)
         return -9;
-    if (!igea__finite_mat(nsamp, IGEA_TRAJ_COLS, traj, ldt) ||
-        !igea__finite_vec(IGEA_TERM_COUNT, err, 1) ||
+    if (!igea__finite_mat(nsamp, IGEA_ENVFUN_TRAJ_COLS, traj, ldt) ||
+        !igea__finite_vec(IGEA_ENVFUN_TERM_COUNT, err, 1) ||
         !igea__finite_vec(nepochs, epochs, 1))
         return IGEA_ENONFINITE;
     for (int k = 1; k < nsamp; k++)
@@ -653,12 +653,12 @@ int igea_sim_nonlinear(int system, int nsamp, const double *traj, int ldt,
                        2 * (b * d - a * c), 2 * (c * d + a * b), a * a - b * b - c * c + d * d};
         memcpy(C, t, sizeof t);
         for (int i = 0; i < 3; i++)
-            v0[i] = -err[IGEA_TERM_ATT0_X + i];
+            v0[i] = -err[IGEA_ENVFUN_TERM_ATT0_X + i];
         m3_exp(v0, E);
         m3_mul(E, C, Ch);
     } else {
         for (int i = 0; i < 3; i++)
-            v0[i] = err[IGEA_TERM_ALIGN0_X + i];
+            v0[i] = err[IGEA_ENVFUN_TERM_ALIGN0_X + i];
         m3_exp(v0, Ch);
     }
     double W[3] = {0, 0, 0}, Wh[3] = {0, 0, 0}, fa_p[3] = {0, 0, 0}, fh_p[3] = {0, 0, 0};
@@ -674,9 +674,9 @@ int igea_sim_nonlinear(int system, int nsamp, const double *traj, int ldt,
         if (system == IGEA_ENVFUN_STRAPDOWN) {
             double fb_h[3];
             for (int a = 0; a < 3; a++)
-                wh[a] = w[a] + err[IGEA_TERM_GYRO_BIAS_X + a] +
-                        err[IGEA_TERM_GYRO_G_X + a] * f[a] +
-                        err[IGEA_TERM_GYRO_SCALE_X + a] * w[a];
+                wh[a] = w[a] + err[IGEA_ENVFUN_TERM_GYRO_BIAS_X + a] +
+                        err[IGEA_ENVFUN_TERM_GYRO_G_X + a] * f[a] +
+                        err[IGEA_ENVFUN_TERM_GYRO_SCALE_X + a] * w[a];
             if (k > 0) {
                 double h = t - t_p, v[3], R[9];
                 for (int a = 0; a < 3; a++)
@@ -701,9 +701,9 @@ int igea_sim_nonlinear(int system, int nsamp, const double *traj, int ldt,
                 for (int it = 0; it < 2; it++) {
                     m3_vec(P, fa, fpk, 1);
                     for (int j = 0; j < 3; j++)
-                        ek[j] = err[IGEA_TERM_GYRO_BIAS_X + j] +
-                                err[IGEA_TERM_GYRO_GI_X + j] * fpk[in_ax[j]] +
-                                err[IGEA_TERM_GYRO_GS_X + j] * fpk[spin_ax[j]];
+                        ek[j] = err[IGEA_ENVFUN_TERM_GYRO_BIAS_X + j] +
+                                err[IGEA_ENVFUN_TERM_GYRO_GI_X + j] * fpk[in_ax[j]] +
+                                err[IGEA_ENVFUN_TERM_GYRO_GS_X + j] * fpk[spin_ax[j]];
                     for (int j = 0; j < 3; j++)
                         v[j] = 0.5 * h * (wh_p[j] + ek[j]);
                     m3_exp(v, R);
@@ -714,9 +714,9 @@ int igea_sim_nonlinear(int system, int nsamp, const double *traj, int ldt,
             m3_vec(Ch, fa, fp, 1); /* f^p = C_a^p f^a */
             acc_errors(err, fp, fh);
             for (int j = 0; j < 3; j++)
-                wh[j] = err[IGEA_TERM_GYRO_BIAS_X + j] +
-                        err[IGEA_TERM_GYRO_GI_X + j] * fp[in_ax[j]] +
-                        err[IGEA_TERM_GYRO_GS_X + j] * fp[spin_ax[j]];
+                wh[j] = err[IGEA_ENVFUN_TERM_GYRO_BIAS_X + j] +
+                        err[IGEA_ENVFUN_TERM_GYRO_GI_X + j] * fp[in_ax[j]] +
+                        err[IGEA_ENVFUN_TERM_GYRO_GS_X + j] * fp[spin_ax[j]];
         }
         if (k > 0) {
             double h = t - t_p;

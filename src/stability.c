@@ -97,12 +97,12 @@ int igea_stability_block(int n, const double *y, double fs, double block,
         }
     }
     double sig = sqrt(igea__ksum_get(&ss) / (double)(B - 1));
-    out[IGEA_BLOCK_3SIGMA] = 3.0 * sig;
-    out[IGEA_BLOCK_SIGMA] = sig;
-    out[IGEA_BLOCK_NBLOCK] = (double)B;
-    out[IGEA_BLOCK_NSAMP] = (double)nb;
-    out[IGEA_BLOCK_MEAN] = mm;
-    out[IGEA_BLOCK_ADEV] = sqrt(igea__ksum_get(&sd) / (2.0 * (double)(B - 1)));
+    out[IGEA_STABILITY_BLOCK_3SIGMA] = 3.0 * sig;
+    out[IGEA_STABILITY_BLOCK_SIGMA] = sig;
+    out[IGEA_STABILITY_BLOCK_NBLOCK] = (double)B;
+    out[IGEA_STABILITY_BLOCK_NSAMP] = (double)nb;
+    out[IGEA_STABILITY_BLOCK_MEAN] = mm;
+    out[IGEA_STABILITY_BLOCK_ADEV] = sqrt(igea__ksum_get(&sd) / (2.0 * (double)(B - 1)));
     free(m);
     return 0;
 }
@@ -111,8 +111,8 @@ int igea_stability_block(int n, const double *y, double fs, double block,
 static long term_count(long n, long m, int kind)
 {
     switch (kind) {
-    case IGEA_ALLAN_OVERLAPPING: return n - 2 * m + 1;
-    case IGEA_ALLAN_MODIFIED: return n - 3 * m + 2;
+    case IGEA_STABILITY_ALLAN_OVERLAPPING: return n - 2 * m + 1;
+    case IGEA_STABILITY_ALLAN_MODIFIED: return n - 3 * m + 2;
     default: return n / m - 1;
     }
 }
@@ -187,16 +187,16 @@ static double nadev_var(size_t n, const double *y, size_t m, long cnt)
 static double edf_oadev(double N, double m, int alpha)
 {
     switch (alpha) {
-    case IGEA_NOISE_WPM:
+    case IGEA_STABILITY_NOISE_WPM:
         return (N + 1.0) * (N - 2.0 * m) / (2.0 * (N - m));
-    case IGEA_NOISE_FPM: {
+    case IGEA_STABILITY_NOISE_FPM: {
         double a = log((N - 1.0) / (2.0 * m)), b = log((2.0 * m + 1.0) * (N - 1.0) / 4.0);
         return a * b > 0.0 ? exp(sqrt(a * b)) : NAN;
     }
-    case IGEA_NOISE_WFM:
+    case IGEA_STABILITY_NOISE_WFM:
         return (3.0 * (N - 1.0) / (2.0 * m) - 2.0 * (N - 2.0) / N) * 4.0 * m * m /
                (4.0 * m * m + 5.0);
-    case IGEA_NOISE_FFM:
+    case IGEA_STABILITY_NOISE_FFM:
         if (m == 1.0)
             return 2.0 * (N - 2.0) * (N - 2.0) / (2.3 * N - 4.9);
         return 5.0 * N * N / (4.0 * m * (N + 3.0 * m));
@@ -270,7 +270,7 @@ static double edf_mdev(double N, double m, int alpha)
  * non-overlapping m-sample means of y (mean mu removed), differenced d =
  * 0, 1, 2 times in one streaming pass: stop at the first d with delta =
  * r1 / (1 + r1) < 0.25 (or d = 2); alpha = round(-2 (delta + d)) for
- * frequency data. Returns IGEA_NOISE_AUTO when fewer than 32 means exist. */
+ * frequency data. Returns IGEA_STABILITY_NOISE_AUTO when fewer than 32 means exist. */
 typedef struct {
     double n, s, ss, lag, first, last, prev;
 } acf1;
@@ -299,7 +299,7 @@ static int noise_lag1(size_t n, const double *y, size_t m, double mu)
 {
     size_t B = n / m;
     if (B < 32)
-        return IGEA_NOISE_AUTO;
+        return IGEA_STABILITY_NOISE_AUTO;
     acf1 a[3];
     memset(a, 0, sizeof a);
     double z0p = 0.0, z1p = 0.0;
@@ -322,10 +322,10 @@ static int noise_lag1(size_t n, const double *y, size_t m, double mu)
         double r1 = acf_r1(&a[d]), delta = r1 / (1.0 + r1);
         if (delta < 0.25 || d == 2) {
             long alpha = lround(-2.0 * (delta + d));
-            return (int)IGEA_MAX(IGEA_NOISE_RWFM, IGEA_MIN(IGEA_NOISE_WPM, alpha));
+            return (int)IGEA_MAX(IGEA_STABILITY_NOISE_RWFM, IGEA_MIN(IGEA_STABILITY_NOISE_WPM, alpha));
         }
     }
-    return IGEA_NOISE_WFM; /* not reached */
+    return IGEA_STABILITY_NOISE_WFM; /* not reached */
 }
 
 int igea_stability_allan(int n, const double *y, double fs, int ntau,
@@ -343,10 +343,10 @@ int igea_stability_allan(int n, const double *y, double fs, int ntau,
         return -4;
     if (!tau)
         return -5;
-    if (kind < IGEA_ALLAN_OVERLAPPING || kind > IGEA_ALLAN_NONOVERLAPPING)
+    if (kind < IGEA_STABILITY_ALLAN_OVERLAPPING || kind > IGEA_STABILITY_ALLAN_NONOVERLAPPING)
         return -6;
-    if (!(noise == IGEA_NOISE_AUTO ||
-          (noise >= IGEA_NOISE_RWFM && noise <= IGEA_NOISE_WPM)))
+    if (!(noise == IGEA_STABILITY_NOISE_AUTO ||
+          (noise >= IGEA_STABILITY_NOISE_RWFM && noise <= IGEA_STABILITY_NOISE_WPM)))
         return -7;
     if (!(conf > 0.0 && conf < 1.0))
         return -8;
@@ -374,31 +374,31 @@ int igea_stability_allan(int n, const double *y, double fs, int ntau,
         size_t m = (size_t)lround(tau[j] * fs);
         long cnt = term_count(n, (long)m, kind);
         double var;
-        if (kind == IGEA_ALLAN_OVERLAPPING)
+        if (kind == IGEA_STABILITY_ALLAN_OVERLAPPING)
             var = oadev_var((size_t)n, y, m, mu, cnt);
-        else if (kind == IGEA_ALLAN_MODIFIED)
+        else if (kind == IGEA_STABILITY_ALLAN_MODIFIED)
             var = mdev_var((size_t)n, y, m, mu, cnt);
         else
             var = nadev_var((size_t)n, y, m, cnt);
         d[j] = sqrt(var);
         cw[j] = (int)cnt;
     }
-    int status = 0, last_alpha = IGEA_NOISE_WFM;
+    int status = 0, last_alpha = IGEA_STABILITY_NOISE_WFM;
     for (int j = 0; j < ntau && status == 0; j++) {
         int alpha = noise;
-        if (noise == IGEA_NOISE_AUTO) {
+        if (noise == IGEA_STABILITY_NOISE_AUTO) {
             alpha = noise_lag1((size_t)n, y, (size_t)lround(tau[j] * fs), mu);
-            if (alpha == IGEA_NOISE_AUTO)
+            if (alpha == IGEA_STABILITY_NOISE_AUTO)
                 alpha = last_alpha; /* too few means: keep the last type */
             last_alpha = alpha;
         }
         double m = (double)lround(tau[j] * fs), N = (double)n + 1.0;
-        if (kind == IGEA_ALLAN_NONOVERLAPPING) {
+        if (kind == IGEA_STABILITY_ALLAN_NONOVERLAPPING) {
             N = (double)(cw[j] + 2); /* B + 1 phase points of the means */
             m = 1.0;
         }
         /* the modified variance equals the overlapping one at m = 1 */
-        double ev = kind == IGEA_ALLAN_MODIFIED && m > 1.0 ? edf_mdev(N, m, alpha)
+        double ev = kind == IGEA_STABILITY_ALLAN_MODIFIED && m > 1.0 ? edf_mdev(N, m, alpha)
                                                            : edf_oadev(N, m, alpha);
         if (!(ev >= 1.0))
             ev = 1.0;
@@ -439,7 +439,7 @@ int igea_stability_octave_taus(int n, double fs, int kind, int ntau_max,
         return -1;
     if (!(isfinite(fs) && fs > 0.0))
         return -2;
-    if (kind < IGEA_ALLAN_OVERLAPPING || kind > IGEA_ALLAN_NONOVERLAPPING)
+    if (kind < IGEA_STABILITY_ALLAN_OVERLAPPING || kind > IGEA_STABILITY_ALLAN_NONOVERLAPPING)
         return -3;
     if (ntau_max < 1)
         return -4;
@@ -474,7 +474,7 @@ int igea_stability_noise_id(int ntau, const double *tau, const double *adev,
             return -3;
     }
     static const double target[3] = {-1.0, -0.5, 0.5};
-    double res[IGEA_NOISEID_LEN];
+    double res[IGEA_STABILITY_NOISEID_LEN];
     for (int t = 0; t < 3; t++) {
         /* Q and N: the shortest-tau pair within 0.1 of the slope (the most
          * precise point of that region); otherwise, and for K, the pair
@@ -506,7 +506,7 @@ int igea_stability_noise_id(int ntau, const double *tau, const double *adev,
             else
                 val = sg * sqrt(3.0 / at);
         }
-        int slot = t == 0 ? IGEA_NOISEID_Q : t == 1 ? IGEA_NOISEID_N : IGEA_NOISEID_K;
+        int slot = t == 0 ? IGEA_STABILITY_NOISEID_Q : t == 1 ? IGEA_STABILITY_NOISEID_N : IGEA_STABILITY_NOISEID_K;
         res[slot] = val;
         res[slot + 1] = at;
     }
@@ -515,11 +515,11 @@ int igea_stability_noise_id(int ntau, const double *tau, const double *adev,
         if (adev[j] < adev[jmin])
             jmin = j;
     if (jmin > 0 && jmin < ntau - 1) {
-        res[IGEA_NOISEID_B] = adev[jmin] / 0.66428090415820634 /* sqrt(2 ln2 / pi) */;
-        res[IGEA_NOISEID_B_TAU] = tau[jmin];
+        res[IGEA_STABILITY_NOISEID_B] = adev[jmin] / 0.66428090415820634 /* sqrt(2 ln2 / pi) */;
+        res[IGEA_STABILITY_NOISEID_B_TAU] = tau[jmin];
     } else {
-        res[IGEA_NOISEID_B] = NAN;
-        res[IGEA_NOISEID_B_TAU] = NAN;
+        res[IGEA_STABILITY_NOISEID_B] = NAN;
+        res[IGEA_STABILITY_NOISEID_B_TAU] = NAN;
     }
     memcpy(out, res, sizeof res);
     return 0;

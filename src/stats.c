@@ -285,17 +285,17 @@ int igea_stats_accuracy_test(int n, const double *equiv_err,
             reject[i] = -1;
         }
     }
-    for (int k = 0; k < IGEA_INFO_LEN; k++)
-        if (k < IGEA_INFO_RANK)
+    for (int k = 0; k < IGEA_STATS_INFO_LEN; k++)
+        if (k < IGEA_STATS_INFO_RANK)
             info[k] = 0.0;
-    info[IGEA_INFO_N_TEST] = ntest;
-    info[IGEA_INFO_CHI2] = T;
-    info[IGEA_INFO_DOF] = ntest;
-    info[IGEA_INFO_CHI2_CRIT] = crit;
-    info[IGEA_INFO_Z_CRIT] = zc;
-    info[IGEA_INFO_P_VALUE] = pval;
-    info[IGEA_INFO_N_REJECT] = nrej;
-    info[IGEA_INFO_PASSED] = (nrej == 0 && T < crit) ? 1.0 : 0.0;
+    info[IGEA_STATS_INFO_N_TEST] = ntest;
+    info[IGEA_STATS_INFO_CHI2] = T;
+    info[IGEA_STATS_INFO_DOF] = ntest;
+    info[IGEA_STATS_INFO_CHI2_CRIT] = crit;
+    info[IGEA_STATS_INFO_Z_CRIT] = zc;
+    info[IGEA_STATS_INFO_P_VALUE] = pval;
+    info[IGEA_STATS_INFO_N_REJECT] = nrej;
+    info[IGEA_STATS_INFO_PASSED] = (nrej == 0 && T < crit) ? 1.0 : 0.0;
     return 0;
 }
 
@@ -335,16 +335,16 @@ int igea_stats_pool(int nflights, const double *chi2, const int *dof,
         st = igea_stats_chi2_sf(T, dtot, &pval);
     if (st != 0)
         return st < 0 && st > -1000 ? IGEA_ENOCONV : st;
-    for (int k = 0; k < IGEA_INFO_LEN; k++)
+    for (int k = 0; k < IGEA_STATS_INFO_LEN; k++)
         info[k] = 0.0;
-    info[IGEA_INFO_N_TEST] = dtot;
-    info[IGEA_INFO_CHI2] = T;
-    info[IGEA_INFO_DOF] = dtot;
-    info[IGEA_INFO_CHI2_CRIT] = crit;
-    info[IGEA_INFO_Z_CRIT] = gsl_cdf_ugaussian_Qinv(0.5 * alpha);
-    info[IGEA_INFO_P_VALUE] = pval;
-    info[IGEA_INFO_N_REJECT] = (double)nrej;
-    info[IGEA_INFO_PASSED] = (nrej == 0 && T < crit) ? 1.0 : 0.0;
-    info[IGEA_INFO_N_FLIGHTS] = nflights;
+    info[IGEA_STATS_INFO_N_TEST] = dtot;
+    info[IGEA_STATS_INFO_CHI2] = T;
+    info[IGEA_STATS_INFO_DOF] = dtot;
+    info[IGEA_STATS_INFO_CHI2_CRIT] = crit;
+    info[IGEA_STATS_INFO_Z_CRIT] = gsl_cdf_ugaussian_Qinv(0.5 * alpha);
+    info[IGEA_STATS_INFO_P_VALUE] = pval;
+    info[IGEA_STATS_INFO_N_REJECT] = (double)nrej;
+    info[IGEA_STATS_INFO_PASSED] = (nrej == 0 && T < crit) ? 1.0 : 0.0;
+    info[IGEA_STATS_INFO_N_FLIGHTS] = nflights;
     return 0;
 }

@@ -529,7 +529,7 @@ static void test_fit_ebr_vector(void **state)
     for (int k = 0; k < 3; k++) {
         ebr_vector(as[k], th, ya, yb);
         assert_int_equal(igea_accel_fit(IGEA_ACCEL_DUAL, IGEA_ACCEL_EBR, NPOS, th, ya, yb,
-                                        NULL, IGEA_EBR_SC, 0, coef, sd, flag, cmb, csd,
+                                        NULL, IGEA_REGRESS_EBR_SC, 0, coef, sd, flag, cmb, csd,
                                         info), 0);
         assert_close(info[IGEA_ACCEL_INFO_LAMBDA], lam[k], 1e-8);
         assert_int_equal((int)info[IGEA_ACCEL_INFO_RANK], 7);
@@ -569,7 +569,7 @@ static void test_fit_noise_free_recovery(void **state)
     assert_int_equal(igea_accel_simulate(NPOS, th, truth, ARCSEC, 0, 11, ya, yb), 0);
     for (int method = IGEA_ACCEL_LS; method <= IGEA_ACCEL_EBR; method++) {
         int st = igea_accel_fit(IGEA_ACCEL_DUAL, method, NPOS, th, ya, yb, NULL,
-                                IGEA_EBR_SC, 0, coef, NULL, NULL, cmb, csd, info);
+                                IGEA_REGRESS_EBR_SC, 0, coef, NULL, NULL, cmb, csd, info);
         if (method == IGEA_ACCEL_EBR && st == IGEA_EDOMAIN)
             continue; /* an exact fit leaves EBR no residual */
         assert_int_equal(st, 0);
@@ -661,9 +661,9 @@ static void test_fit_prior_scale(void **state)
     schedule20(th);
     ebr_vector(1e-6, th, ya, yb);
     assert_int_equal(igea_accel_fit(IGEA_ACCEL_DUAL, IGEA_ACCEL_EBR, NPOS, th, ya, yb, NULL,
-                                    IGEA_EBR_SC, 0, c_iso, NULL, NULL, m_iso, NULL, info), 0);
+                                    IGEA_REGRESS_EBR_SC, 0, c_iso, NULL, NULL, m_iso, NULL, info), 0);
     assert_int_equal(igea_accel_fit(IGEA_ACCEL_DUAL, IGEA_ACCEL_EBR, NPOS, th, ya, yb, tau,
-                                    IGEA_EBR_SC, 0, c_pr, NULL, NULL, m_pr, NULL, info), 0);
+                                    IGEA_REGRESS_EBR_SC, 0, c_pr, NULL, NULL, m_pr, NULL, info), 0);
     for (int k = 0; k < 7; k++)
         assert_close_abs(m_pr[k], m_iso[k], 0, 1e-7);
     /* (1e-7: with the scaled prior lambda d_i ~ 500, a 0.2 % shrinkage of
@@ -920,7 +920,7 @@ static int fit_call(int model, int method, double *out)
     int flag[9];
     const double ps[9] = {1, 2, 1, 1, 3, 1, 1, 2, 1};
     return igea_accel_fit(model, method, NPOS, oom_th, oom_ya, oom_yb,
-                          method == IGEA_ACCEL_EBR ? ps : NULL, IGEA_EBR_SC, 0,
+                          method == IGEA_ACCEL_EBR ? ps : NULL, IGEA_REGRESS_EBR_SC, 0,
                           out, out + 9, flag, out + 18, out + 25, out + 32);
 }
 static int fit_dual_ls(double *o, int n) { (void)n; return fit_call(IGEA_ACCEL_DUAL, IGEA_ACCEL_LS, o); }
@@ -977,7 +977,7 @@ static void test_fit_prior_scale_range(void **state)
     ps[4] = 1e-300;
     fill_sentinel(coef, 9);
     assert_int_equal(igea_accel_fit(IGEA_ACCEL_DUAL, IGEA_ACCEL_EBR, NPOS, th, ya, yb,
-                                    ps, IGEA_EBR_SC, 0, coef, NULL, NULL, NULL,
+                                    ps, IGEA_REGRESS_EBR_SC, 0, coef, NULL, NULL, NULL,
                                     NULL, NULL), IGEA_ERANGE);
     assert_true(all_sentinel(coef, 9));
 }

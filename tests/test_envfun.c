@@ -58,21 +58,21 @@ static void q_dcm(const double *q0, double *C)
 static void error_sizes(double *err)
 {
     double gyro = 0.5 * DEG / 3600.0;
-    for (int k = 0; k < IGEA_TERM_COUNT; k++)
+    for (int k = 0; k < IGEA_ENVFUN_TERM_COUNT; k++)
         err[k] = 0.0;
     for (int a = 0; a < 3; a++) {
-        err[IGEA_TERM_ACC_BIAS_X + a] = 1e-3 * G0 * (a == 1 ? -0.8 : 1.0);
-        err[IGEA_TERM_ACC_SCALE_X + a] = 1e-4 * (a == 2 ? -1.0 : 1.0);
-        err[IGEA_TERM_ACC_SQ_X + a] = 1e-5 / G0;
-        err[IGEA_TERM_GYRO_BIAS_X + a] = gyro * (a == 0 ? -1.0 : 1.0);
-        err[IGEA_TERM_GYRO_G_X + a] = gyro / G0;
-        err[IGEA_TERM_GYRO_SCALE_X + a] = 1e-4;
-        err[IGEA_TERM_ATT0_X + a] = 1e-4 * (a == 1 ? -1.0 : 1.0);
-        err[IGEA_TERM_GYRO_GI_X + a] = gyro / G0;
-        err[IGEA_TERM_GYRO_GS_X + a] = -gyro / G0;
-        err[IGEA_TERM_ALIGN0_X + a] = 1e-4 * (a == 0 ? -1.0 : 1.0);
+        err[IGEA_ENVFUN_TERM_ACC_BIAS_X + a] = 1e-3 * G0 * (a == 1 ? -0.8 : 1.0);
+        err[IGEA_ENVFUN_TERM_ACC_SCALE_X + a] = 1e-4 * (a == 2 ? -1.0 : 1.0);
+        err[IGEA_ENVFUN_TERM_ACC_SQ_X + a] = 1e-5 / G0;
+        err[IGEA_ENVFUN_TERM_GYRO_BIAS_X + a] = gyro * (a == 0 ? -1.0 : 1.0);
+        err[IGEA_ENVFUN_TERM_GYRO_G_X + a] = gyro / G0;
+        err[IGEA_ENVFUN_TERM_GYRO_SCALE_X + a] = 1e-4;
+        err[IGEA_ENVFUN_TERM_ATT0_X + a] = 1e-4 * (a == 1 ? -1.0 : 1.0);
+        err[IGEA_ENVFUN_TERM_GYRO_GI_X + a] = gyro / G0;
+        err[IGEA_ENVFUN_TERM_GYRO_GS_X + a] = -gyro / G0;
+        err[IGEA_ENVFUN_TERM_ALIGN0_X + a] = 1e-4 * (a == 0 ? -1.0 : 1.0);
     }
-    for (int k = IGEA_TERM_ACC_MIS_XY; k <= IGEA_TERM_ACC_MIS_ZY; k++)
+    for (int k = IGEA_ENVFUN_TERM_ACC_MIS_XY; k <= IGEA_ENVFUN_TERM_ACC_MIS_ZY; k++)
         err[k] = 1e-4 * ((k % 2) ? 1.0 : -1.0);
 }
 
@@ -81,11 +81,11 @@ static void acc_read(const double *err, const double *f, double *out)
 {
     static const int mj[6] = {0, 0, 1, 1, 2, 2}, mk[6] = {1, 2, 0, 2, 0, 1};
     for (int a = 0; a < 3; a++)
-        out[a] = f[a] + err[IGEA_TERM_ACC_BIAS_X + a] +
-                 err[IGEA_TERM_ACC_SCALE_X + a] * f[a] +
-                 err[IGEA_TERM_ACC_SQ_X + a] * f[a] * f[a];
+        out[a] = f[a] + err[IGEA_ENVFUN_TERM_ACC_BIAS_X + a] +
+                 err[IGEA_ENVFUN_TERM_ACC_SCALE_X + a] * f[a] +
+                 err[IGEA_ENVFUN_TERM_ACC_SQ_X + a] * f[a] * f[a];
     for (int i = 0; i < 6; i++)
-        out[mj[i]] += err[IGEA_TERM_ACC_MIS_XY + i] * f[mk[i]];
+        out[mj[i]] += err[IGEA_ENVFUN_TERM_ACC_MIS_XY + i] * f[mk[i]];
 }
 
 /* Full nonlinear strapdown navigation with errors err; dW (3 x nsamp,
@@ -102,7 +102,7 @@ static void nonlinear_strapdown(const double *tr, int n, const double *err,
         q_dcm(q, C);
     }
     for (int a = 0; a < 3; a++)
-        phi0[a] = -err[IGEA_TERM_ATT0_X + a];
+        phi0[a] = -err[IGEA_ENVFUN_TERM_ATT0_X + a];
     m3_exp(phi0, E); /* Chat = exp(-[phi0 x]) C */
     m3_mul(E, C, Ch);
     for (int k = 0; k < n; k++) {
@@ -113,9 +113,9 @@ static void nonlinear_strapdown(const double *tr, int n, const double *err,
         }
         acc_read(err, f, fh);
         for (int a = 0; a < 3; a++)
-            wh[a] = w[a] + err[IGEA_TERM_GYRO_BIAS_X + a] +
-                    err[IGEA_TERM_GYRO_G_X + a] * f[a] +
-                    err[IGEA_TERM_GYRO_SCALE_X + a] * w[a];
+            wh[a] = w[a] + err[IGEA_ENVFUN_TERM_GYRO_BIAS_X + a] +
+                    err[IGEA_ENVFUN_TERM_GYRO_G_X + a] * f[a] +
+                    err[IGEA_ENVFUN_TERM_GYRO_SCALE_X + a] * w[a];
         if (k > 0) {
             double h = tr[k] - tr[k - 1], v[3], vh[3], R[9];
             for (int a = 0; a < 3; a++) {
@@ -166,7 +166,7 @@ static void nonlinear_platform(const double *tr, int n, const double *err,
     double fa_p[3] = {0}, fh_p[3] = {0}, eps_p[3] = {0};
     double r[3] = {0, 0, 0}, v[3] = {0, 0, 0}, rh[3] = {0, 0, 0}, vh[3] = {0, 0, 0};
     for (int a = 0; a < 3; a++)
-        a0[a] = err[IGEA_TERM_ALIGN0_X + a];
+        a0[a] = err[IGEA_ENVFUN_TERM_ALIGN0_X + a];
     m3_exp(a0, P); /* C_p^a = exp([alpha0 x]) */
     for (int k = 0; k < n; k++) {
         double fa[3], fp[3], fh[3], eps[3];
@@ -179,9 +179,9 @@ static void nonlinear_platform(const double *tr, int n, const double *err,
             for (int it = 0; it < 2; it++) {
                 m3_tvec(Pt, fa, fpk);
                 for (int j = 0; j < 3; j++)
-                    ek[j] = err[IGEA_TERM_GYRO_BIAS_X + j] +
-                            err[IGEA_TERM_GYRO_GI_X + j] * fpk[in_ax[j]] +
-                            err[IGEA_TERM_GYRO_GS_X + j] * fpk[spin_ax[j]];
+                    ek[j] = err[IGEA_ENVFUN_TERM_GYRO_BIAS_X + j] +
+                            err[IGEA_ENVFUN_TERM_GYRO_GI_X + j] * fpk[in_ax[j]] +
+                            err[IGEA_ENVFUN_TERM_GYRO_GS_X + j] * fpk[spin_ax[j]];
                 for (int j = 0; j < 3; j++)
                     rv[j] = 0.5 * h * (eps_p[j] + ek[j]);
                 m3_exp(rv, R);
@@ -192,9 +192,9 @@ static void nonlinear_platform(const double *tr, int n, const double *err,
         m3_tvec(P, fa, fp); /* f^p = C_a^p f^a */
         acc_read(err, fp, fh);
         for (int j = 0; j < 3; j++)
-            eps[j] = err[IGEA_TERM_GYRO_BIAS_X + j] +
-                     err[IGEA_TERM_GYRO_GI_X + j] * fp[in_ax[j]] +
-                     err[IGEA_TERM_GYRO_GS_X + j] * fp[spin_ax[j]];
+            eps[j] = err[IGEA_ENVFUN_TERM_GYRO_BIAS_X + j] +
+                     err[IGEA_ENVFUN_TERM_GYRO_GI_X + j] * fp[in_ax[j]] +
+                     err[IGEA_ENVFUN_TERM_GYRO_GS_X + j] * fp[spin_ax[j]];
         if (k > 0) {
             double h = tr[k] - tr[k - 1];
             if (grav) { /* velocity Verlet, true and computed */
@@ -238,7 +238,7 @@ static void nonlinear_platform(const double *tr, int n, const double *err,
 static double *make_traj(int system, int *n)
 {
     assert_int_equal(igea_sim_trajectory_length(T_DUR, RATE, n), 0);
-    double *tr = malloc(sizeof(double) * (size_t)*n * IGEA_TRAJ_COLS);
+    double *tr = malloc(sizeof(double) * (size_t)*n * IGEA_ENVFUN_TRAJ_COLS);
     assert_non_null(tr);
     assert_int_equal(igea_sim_trajectory(system, T_DUR, RATE, *n, tr, *n), 0);
     return tr;
@@ -247,7 +247,7 @@ static double *make_traj(int system, int *n)
 static int all_terms(int system, int *codes)
 {
     int n = 0;
-    for (int k = 0; k < IGEA_TERM_COUNT; k++)
+    for (int k = 0; k < IGEA_ENVFUN_TERM_COUNT; k++)
         if (igea_envfun_term_valid(system, k))
             codes[n++] = k;
     return n;
@@ -261,16 +261,16 @@ static void compare_terms(int system, double scale, const int *codes, int nt,
                           double *final_norm)
 {
     int n;
-    double *tr = make_traj(system, &n), err[IGEA_TERM_COUNT];
-    double ep[N_EP], spec[IGEA_TERM_COUNT];
+    double *tr = make_traj(system, &n), err[IGEA_ENVFUN_TERM_COUNT];
+    double ep[N_EP], spec[IGEA_ENVFUN_TERM_COUNT];
     int m = 3 * N_EP;
     double *S = malloc(sizeof(double) * (size_t)m * nt);
     double *dW = malloc(sizeof(double) * 3 * (size_t)n);
-    double one[IGEA_TERM_COUNT];
+    double one[IGEA_ENVFUN_TERM_COUNT];
     assert_non_null(S);
     assert_non_null(dW);
     error_sizes(err);
-    for (int k = 0; k < IGEA_TERM_COUNT; k++)
+    for (int k = 0; k < IGEA_ENVFUN_TERM_COUNT; k++)
         err[k] *= scale;
     for (int e = 0; e < N_EP; e++)
         ep[e] = e;
@@ -284,7 +284,7 @@ static void compare_terms(int system, double scale, const int *codes, int nt,
     *worst_single = 0.0;
     for (int j = -1; j < nt; j++) {
         /* j = -1: all terms together */
-        for (int k = 0; k < IGEA_TERM_COUNT; k++)
+        for (int k = 0; k < IGEA_ENVFUN_TERM_COUNT; k++)
             one[k] = 0.0;
         for (int c = 0; c < nt; c++)
             if (j < 0 || c == j)
@@ -331,7 +331,7 @@ static void compare_terms(int system, double scale, const int *codes, int nt,
 static void compare(int system, double scale, double *worst_single,
                     double *worst_all, double *final_norm)
 {
-    int codes[IGEA_TERM_COUNT], nt = all_terms(system, codes);
+    int codes[IGEA_ENVFUN_TERM_COUNT], nt = all_terms(system, codes);
     compare_terms(system, scale, codes, nt, worst_single, worst_all, final_norm);
 }
 
@@ -343,11 +343,11 @@ static void test_strapdown21_vs_nonlinear(void **state)
 {
     int codes[21], k = 0;
     double ws, wa, fn;
-    for (int c = 0; c < IGEA_TERM_GYRO_SCALE_X; c++)
-        if (c < IGEA_TERM_ACC_SQ_X || c >= IGEA_TERM_ACC_MIS_XY)
+    for (int c = 0; c < IGEA_ENVFUN_TERM_GYRO_SCALE_X; c++)
+        if (c < IGEA_ENVFUN_TERM_ACC_SQ_X || c >= IGEA_ENVFUN_TERM_ACC_MIS_XY)
             codes[k++] = c;
     for (int a = 0; a < 3; a++)
-        codes[k++] = IGEA_TERM_ATT0_X + a;
+        codes[k++] = IGEA_ENVFUN_TERM_ATT0_X + a;
     assert_int_equal(k, 21);
     compare_terms(IGEA_ENVFUN_STRAPDOWN, 1.0, codes, 21, &ws, &wa, &fn);
     print_message("strapdown, 21 terms: final |dW| %.3g m/s, all terms rel %.3g, "
@@ -390,10 +390,10 @@ static void test_library_truth_model(void **state)
 {
     for (int system = 0; system < 2; system++) {
         int n, in_ax[3] = {0, 1, 2}, spin_ax[3] = {1, 2, 0};
-        double *tr = make_traj(system, &n), err[IGEA_TERM_COUNT], ep[N_EP];
+        double *tr = make_traj(system, &n), err[IGEA_ENVFUN_TERM_COUNT], ep[N_EP];
         double *dW = malloc(sizeof(double) * 3 * (size_t)n), lib[3 * N_EP];
         error_sizes(err);
-        for (int k = 0; k < IGEA_TERM_COUNT; k++)
+        for (int k = 0; k < IGEA_ENVFUN_TERM_COUNT; k++)
             if (!igea_envfun_term_valid(system, k))
                 err[k] = 0.0;
         for (int e = 0; e < N_EP; e++)
@@ -412,7 +412,7 @@ static void test_library_truth_model(void **state)
             }
         assert_true(md <= 1e-9 * mn);
         /* no errors: exactly zero */
-        double zero[IGEA_TERM_COUNT] = {0};
+        double zero[IGEA_ENVFUN_TERM_COUNT] = {0};
         assert_int_equal(igea_sim_nonlinear(system, n, tr, n, zero, NULL, N_EP, ep, lib), 0);
         for (int i = 0; i < 3 * N_EP; i++)
             assert_true(lib[i] == 0.0);
@@ -426,16 +426,16 @@ static void test_library_truth_model(void **state)
  * gravity; the uncoupled position function must miss by much more. */
 static void test_gravity_coupling(void **state)
 {
-    int n, codes[3] = {IGEA_TERM_ACC_BIAS_X, IGEA_TERM_ACC_BIAS_X + 1,
-                       IGEA_TERM_ACC_BIAS_X + 2};
+    int n, codes[3] = {IGEA_ENVFUN_TERM_ACC_BIAS_X, IGEA_ENVFUN_TERM_ACC_BIAS_X + 1,
+                       IGEA_ENVFUN_TERM_ACC_BIAS_X + 2};
     int in_ax[3] = {0, 1, 2}, spin_ax[3] = {1, 2, 0};
-    double *tr = make_traj(IGEA_ENVFUN_PLATFORM, &n), err[IGEA_TERM_COUNT];
+    double *tr = make_traj(IGEA_ENVFUN_PLATFORM, &n), err[IGEA_ENVFUN_TERM_COUNT];
     double ep[N_EP], spec[3], S[4][3 * N_EP];
     double *dV = malloc(sizeof(double) * 3 * (size_t)n);
     double *dR = malloc(sizeof(double) * 3 * (size_t)n);
     error_sizes(err);
-    for (int k = 0; k < IGEA_TERM_COUNT; k++)
-        if (k > IGEA_TERM_ACC_BIAS_X + 2)
+    for (int k = 0; k < IGEA_ENVFUN_TERM_COUNT; k++)
+        if (k > IGEA_ENVFUN_TERM_ACC_BIAS_X + 2)
             err[k] = 0.0;
     for (int a = 0; a < 3; a++)
         spec[a] = fabs(err[codes[a]]);
@@ -482,7 +482,7 @@ static void test_gravity_coupling(void **state)
 static void test_closed_forms(void **state)
 {
     enum { NS = 11 };
-    double tr[NS * IGEA_TRAJ_COLS], f[3] = {3.0, -2.0, 12.0};
+    double tr[NS * IGEA_ENVFUN_TRAJ_COLS], f[3] = {3.0, -2.0, 12.0};
     for (int k = 0; k < NS; k++) {
         tr[k] = 0.5 * k;
         for (int a = 0; a < 3; a++) {
@@ -493,10 +493,10 @@ static void test_closed_forms(void **state)
         tr[k + 8 * NS] = tr[k + 9 * NS] = tr[k + 10 * NS] = 0.0;
     }
     double ep[2] = {1.75, 5.0}; /* 1.75 s lies between samples */
-    int sd[4] = {IGEA_TERM_ACC_BIAS_X + 1, IGEA_TERM_ACC_SCALE_X + 2,
-                 IGEA_TERM_GYRO_BIAS_X, IGEA_TERM_ATT0_X + 1};
-    int pf[4] = {IGEA_TERM_ACC_BIAS_X + 1, IGEA_TERM_ACC_MIS_XZ,
-                 IGEA_TERM_GYRO_BIAS_X, IGEA_TERM_ALIGN0_X + 1};
+    int sd[4] = {IGEA_ENVFUN_TERM_ACC_BIAS_X + 1, IGEA_ENVFUN_TERM_ACC_SCALE_X + 2,
+                 IGEA_ENVFUN_TERM_GYRO_BIAS_X, IGEA_ENVFUN_TERM_ATT0_X + 1};
+    int pf[4] = {IGEA_ENVFUN_TERM_ACC_BIAS_X + 1, IGEA_ENVFUN_TERM_ACC_MIS_XZ,
+                 IGEA_ENVFUN_TERM_GYRO_BIAS_X, IGEA_ENVFUN_TERM_ALIGN0_X + 1};
     double S[6 * 4];
     assert_int_equal(igea_envfun_compute(IGEA_ENVFUN_STRAPDOWN, NS, tr, NS, 4,
                                          sd, NULL, 2, ep, NULL,
@@ -539,9 +539,9 @@ static void test_closed_forms(void **state)
 /* Spec scaling multiplies columns; lds > m leaves NaN padding alone. */
 static void test_spec_lds(void **state)
 {
-    int n, codes[IGEA_TERM_COUNT], nt = all_terms(IGEA_ENVFUN_STRAPDOWN, codes);
+    int n, codes[IGEA_ENVFUN_TERM_COUNT], nt = all_terms(IGEA_ENVFUN_STRAPDOWN, codes);
     double *tr = make_traj(IGEA_ENVFUN_STRAPDOWN, &n);
-    double ep[5] = {0.0, 10.01, 33.3, 33.3, 120.0}, spec[IGEA_TERM_COUNT];
+    double ep[5] = {0.0, 10.01, 33.3, 33.3, 120.0}, spec[IGEA_ENVFUN_TERM_COUNT];
     int m = 15, ld = 19;
     double *S1 = malloc(sizeof(double) * m * nt);
     double *S2 = malloc(sizeof(double) * ld * nt);
@@ -569,16 +569,16 @@ static void test_spec_lds(void **state)
 
 static void test_term_valid(void **state)
 {
-    assert_int_equal(igea_envfun_term_valid(IGEA_ENVFUN_STRAPDOWN, IGEA_TERM_ATT0_X + 2), 1);
-    assert_int_equal(igea_envfun_term_valid(IGEA_ENVFUN_STRAPDOWN, IGEA_TERM_ALIGN0_X), 0);
-    assert_int_equal(igea_envfun_term_valid(IGEA_ENVFUN_PLATFORM, IGEA_TERM_GYRO_G_X), 0);
-    assert_int_equal(igea_envfun_term_valid(IGEA_ENVFUN_PLATFORM, IGEA_TERM_GYRO_GS_X + 2), 1);
-    assert_int_equal(igea_envfun_term_valid(IGEA_ENVFUN_PLATFORM, IGEA_TERM_ACC_MIS_ZY), 1);
+    assert_int_equal(igea_envfun_term_valid(IGEA_ENVFUN_STRAPDOWN, IGEA_ENVFUN_TERM_ATT0_X + 2), 1);
+    assert_int_equal(igea_envfun_term_valid(IGEA_ENVFUN_STRAPDOWN, IGEA_ENVFUN_TERM_ALIGN0_X), 0);
+    assert_int_equal(igea_envfun_term_valid(IGEA_ENVFUN_PLATFORM, IGEA_ENVFUN_TERM_GYRO_G_X), 0);
+    assert_int_equal(igea_envfun_term_valid(IGEA_ENVFUN_PLATFORM, IGEA_ENVFUN_TERM_GYRO_GS_X + 2), 1);
+    assert_int_equal(igea_envfun_term_valid(IGEA_ENVFUN_PLATFORM, IGEA_ENVFUN_TERM_ACC_MIS_ZY), 1);
     assert_int_equal(igea_envfun_term_valid(2, 0), 0);
     assert_int_equal(igea_envfun_term_valid(0, -1), 0);
-    assert_int_equal(igea_envfun_term_valid(0, IGEA_TERM_COUNT), 0);
+    assert_int_equal(igea_envfun_term_valid(0, IGEA_ENVFUN_TERM_COUNT), 0);
     int a = 0, b = 0;
-    for (int k = 0; k < IGEA_TERM_COUNT; k++) {
+    for (int k = 0; k < IGEA_ENVFUN_TERM_COUNT; k++) {
         a += igea_envfun_term_valid(0, k);
         b += igea_envfun_term_valid(1, k);
     }
@@ -590,12 +590,12 @@ static void test_term_valid(void **state)
 static void test_invalid(void **state)
 {
     enum { NS = 4 };
-    double tr[NS * IGEA_TRAJ_COLS], ep[2] = {0.5, 1.0}, S[6 * 2], spec[2] = {1, 1};
-    int codes[2] = {0, IGEA_TERM_GYRO_BIAS_X}, bad[2] = {0, IGEA_TERM_ALIGN0_X};
+    double tr[NS * IGEA_ENVFUN_TRAJ_COLS], ep[2] = {0.5, 1.0}, S[6 * 2], spec[2] = {1, 1};
+    int codes[2] = {0, IGEA_ENVFUN_TERM_GYRO_BIAS_X}, bad[2] = {0, IGEA_ENVFUN_TERM_ALIGN0_X};
     int axes[6] = {0, 1, 2, 1, 2, 3};
     for (int k = 0; k < NS; k++) {
         tr[k] = k;
-        for (int c = 1; c < IGEA_TRAJ_COLS; c++)
+        for (int c = 1; c < IGEA_ENVFUN_TRAJ_COLS; c++)
             tr[k + c * NS] = (c == 7) ? 1.0 : 0.1 * c;
     }
     fill_sentinel(S, 12);
@@ -640,7 +640,7 @@ static void test_invalid(void **state)
     assert_int_equal(EF(0, NS, tr, NS, 2, codes, NULL, 2, ep, NULL, 0, S, 6),
                      IGEA_EDOMAIN);
     /* a platform ignores the quaternion */
-    int pcodes[2] = {0, IGEA_TERM_ALIGN0_X};
+    int pcodes[2] = {0, IGEA_ENVFUN_TERM_ALIGN0_X};
     assert_true(all_sentinel(S, 12));
     assert_int_equal(EF(1, NS, tr, NS, 2, pcodes, NULL, 2, ep, NULL, 0, S, 6), 0);
 #undef EF

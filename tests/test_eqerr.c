@@ -53,11 +53,11 @@ static void check6(const double *lam, const double *P, int ldp, const double *xh
         assert_int_equal(rej[i], 0);
     }
     assert_int_equal(rej[3], -1);
-    assert_close(info[IGEA_INFO_CHI2], 2.0372728049, 1e-10);
-    assert_int_equal((int)info[IGEA_INFO_N_TEST], 3);
-    assert_int_equal((int)info[IGEA_INFO_RANK], 4);
-    assert_true(info[IGEA_INFO_SCALE] == 1.0);
-    assert_int_equal((int)info[IGEA_INFO_FLAG], IGEA_SIGMAW_OFF);
+    assert_close(info[IGEA_STATS_INFO_CHI2], 2.0372728049, 1e-10);
+    assert_int_equal((int)info[IGEA_STATS_INFO_N_TEST], 3);
+    assert_int_equal((int)info[IGEA_STATS_INFO_RANK], 4);
+    assert_true(info[IGEA_STATS_INFO_SCALE] == 1.0);
+    assert_int_equal((int)info[IGEA_STATS_INFO_FLAG], IGEA_STATS_SIGMAW_OFF);
     /* P Xhat is the least-squares solution */
     for (int i = 0; i < 4; i++) {
         double x = 0;
@@ -70,7 +70,7 @@ static void check6(const double *lam, const double *P, int ldp, const double *xh
 static void test_methods_vector_both_routes(void **state)
 {
     make6();
-    double opts[IGEA_EQERR_OPT_LEN], lam[4], P[6 * 4], xh[4], z[4], info[IGEA_INFO_LEN],
+    double opts[IGEA_EQERR_OPT_LEN], lam[4], P[6 * 4], xh[4], z[4], info[IGEA_STATS_INFO_LEN],
         res[M6], rms[3], sig = 0.05;
     int rej[4];
     igea_eqerr_defaults(opts);
@@ -99,7 +99,7 @@ static void test_methods_vector_both_routes(void **state)
     for (int a = 0; a < 3; a++)
         assert_close(rms[a], sqrt(ss[a] / 4), 1e-12);
 
-    opts[IGEA_EQERR_OPT_ROUTE] = IGEA_ROUTE_SVD;
+    opts[IGEA_EQERR_OPT_ROUTE] = IGEA_EQERR_ROUTE_SVD;
     fill_nan(P, 24);
     assert_int_equal(igea_eqerr_run(M6, N6, S6, M6, dw6, &sig, 0, NULL, opts, lam, P, 6, xh, z,
                                     rej, info, NULL, NULL), 0);
@@ -122,8 +122,8 @@ static void test_streamed_equals_run(void **state)
         assert_int_equal(igea_normal_accumulate(IGEA_COLMAJOR, nr, 4, blk, nr, dw6 + r0, sig + r0,
                                                 1, spec, A, 4, b, w), 0);
     }
-    double lam[4], P[16], xh[4], z[4], info[IGEA_INFO_LEN], lam2[4], P2[16], xh2[4], z2[4],
-        info2[IGEA_INFO_LEN];
+    double lam[4], P[16], xh[4], z[4], info[IGEA_STATS_INFO_LEN], lam2[4], P2[16], xh2[4], z2[4],
+        info2[IGEA_STATS_INFO_LEN];
     int rej[4], rej2[4];
     assert_int_equal(igea_eqerr_solve(4, A, 4, b, NULL, lam, P, 4, xh, z, rej, info), 0);
     assert_int_equal(igea_eqerr_run(M6, 4, S6, M6, dw6, sig, 1, spec, NULL, lam2, P2, 4, xh2, z2,
@@ -132,7 +132,7 @@ static void test_streamed_equals_run(void **state)
         assert_close(lam[i], lam2[i], 1e-12);
         assert_close(xh[i], xh2[i], 1e-10);
     }
-    assert_close(info[IGEA_INFO_CHI2], info2[IGEA_INFO_CHI2], 1e-10);
+    assert_close(info[IGEA_STATS_INFO_CHI2], info2[IGEA_STATS_INFO_CHI2], 1e-10);
 }
 
 /* ---- sigma_w iteration on diagonal normal equations ------------------------
@@ -149,7 +149,7 @@ static void diag_problem(const double *lam0, const double *g, double *A, double 
 
 static void test_sigmaw_iteration(void **state)
 {
-    double A[ND * ND], b[ND], lam[ND], P[ND * ND], xh[ND], z[ND], info[IGEA_INFO_LEN];
+    double A[ND * ND], b[ND], lam[ND], P[ND * ND], xh[ND], z[ND], info[IGEA_STATS_INFO_LEN];
     int rej[ND];
     /* Worked by hand (METHODS 1.2 step 3): it0: small set = 5 eigenvalues
      * <= 0.1 with g^2 = 4 -> sw2 = 4, c = 4. it1: 0.3/4 = 0.075 joins: sw2 =
@@ -159,55 +159,55 @@ static void test_sigmaw_iteration(void **state)
     const double g[ND] = {1, -1, 0.5, 0.2, 1, 2, -2, 2, -2, 2};
     diag_problem(lam0, g, A, b);
     assert_int_equal(igea_eqerr_solve(ND, A, ND, b, NULL, lam, P, ND, xh, z, rej, info), 0);
-    assert_close(info[IGEA_INFO_SCALE], 3.5, 1e-14);
-    assert_int_equal((int)info[IGEA_INFO_ITERATIONS], 3);
-    assert_int_equal((int)info[IGEA_INFO_N_SMALL], 6);
-    assert_int_equal((int)info[IGEA_INFO_FLAG], IGEA_SIGMAW_CONVERGED);
+    assert_close(info[IGEA_STATS_INFO_SCALE], 3.5, 1e-14);
+    assert_int_equal((int)info[IGEA_STATS_INFO_ITERATIONS], 3);
+    assert_int_equal((int)info[IGEA_STATS_INFO_N_SMALL], 6);
+    assert_int_equal((int)info[IGEA_STATS_INFO_FLAG], IGEA_STATS_SIGMAW_CONVERGED);
     for (int i = 0; i < ND; i++) {
         assert_close(lam[i], lam0[i] / 3.5, 1e-14);
         assert_close(xh[i], g[i] / sqrt(lam0[i]), 1e-14); /* unchanged by c */
     }
     /* tested: lambda >= 10 after scaling: 1e4, 1e3, 500, 100 -> 4 */
-    assert_int_equal((int)info[IGEA_INFO_N_TEST], 4);
+    assert_int_equal((int)info[IGEA_STATS_INFO_N_TEST], 4);
     double T = 0;
     for (int i = 0; i < 4; i++) {
         double zi = xh[i] / sqrt(1 + 3.5 / lam0[i]);
         assert_close(z[i], zi, 1e-14);
         T += zi * zi;
     }
-    assert_close(info[IGEA_INFO_CHI2], T, 1e-14);
+    assert_close(info[IGEA_STATS_INFO_CHI2], T, 1e-14);
 
     double opts[IGEA_EQERR_OPT_LEN];
     /* one iteration only: no convergence, c kept at 4 */
     igea_eqerr_defaults(opts);
     opts[IGEA_EQERR_OPT_MAX_ITER] = 1;
     assert_int_equal(igea_eqerr_solve(ND, A, ND, b, opts, lam, P, ND, xh, z, rej, info), 0);
-    assert_int_equal((int)info[IGEA_INFO_FLAG], IGEA_SIGMAW_NO_CONVERGENCE);
-    assert_close(info[IGEA_INFO_SCALE], 4.0, 1e-14);
+    assert_int_equal((int)info[IGEA_STATS_INFO_FLAG], IGEA_STATS_SIGMAW_NO_CONVERGENCE);
+    assert_close(info[IGEA_STATS_INFO_SCALE], 4.0, 1e-14);
     /* n_min = 6: only 5 small eigenvalues at c = 1 -> not estimable, c = 1 */
     igea_eqerr_defaults(opts);
     opts[IGEA_EQERR_OPT_N_MIN] = 6;
     assert_int_equal(igea_eqerr_solve(ND, A, ND, b, opts, lam, P, ND, xh, z, rej, info), 0);
-    assert_int_equal((int)info[IGEA_INFO_FLAG], IGEA_SIGMAW_NOT_ESTIMABLE);
-    assert_true(info[IGEA_INFO_SCALE] == 1.0);
-    assert_int_equal((int)info[IGEA_INFO_N_SMALL], 5);
+    assert_int_equal((int)info[IGEA_STATS_INFO_FLAG], IGEA_STATS_SIGMAW_NOT_ESTIMABLE);
+    assert_true(info[IGEA_STATS_INFO_SCALE] == 1.0);
+    assert_int_equal((int)info[IGEA_STATS_INFO_N_SMALL], 5);
     /* bias correction: sw2 = mean(g^2 - lambda) = 4 - 0.03 at it0 */
     igea_eqerr_defaults(opts);
     opts[IGEA_EQERR_OPT_BIAS_CORRECT] = 1;
     opts[IGEA_EQERR_OPT_MAX_ITER] = 1;
     assert_int_equal(igea_eqerr_solve(ND, A, ND, b, opts, lam, P, ND, xh, z, rej, info), 0);
-    assert_close(info[IGEA_INFO_SCALE], 4.0 - 0.03, 1e-14);
+    assert_close(info[IGEA_STATS_INFO_SCALE], 4.0 - 0.03, 1e-14);
     /* off */
     igea_eqerr_defaults(opts);
     opts[IGEA_EQERR_OPT_CORRECT] = 0;
     assert_int_equal(igea_eqerr_solve(ND, A, ND, b, opts, lam, P, ND, xh, z, rej, info), 0);
-    assert_int_equal((int)info[IGEA_INFO_FLAG], IGEA_SIGMAW_OFF);
-    assert_int_equal((int)info[IGEA_INFO_ITERATIONS], 0);
+    assert_int_equal((int)info[IGEA_STATS_INFO_FLAG], IGEA_STATS_SIGMAW_OFF);
+    assert_int_equal((int)info[IGEA_STATS_INFO_ITERATIONS], 0);
 }
 
 static void test_sigmaw_clamp_and_converged_first(void **state)
 {
-    double A[ND * ND], b[ND], lam[ND], P[ND * ND], xh[ND], z[ND], info[IGEA_INFO_LEN], opts[IGEA_EQERR_OPT_LEN];
+    double A[ND * ND], b[ND], lam[ND], P[ND * ND], xh[ND], z[ND], info[IGEA_STATS_INFO_LEN], opts[IGEA_EQERR_OPT_LEN];
     int rej[ND];
     const double lam0[ND] = {1e4, 1e3, 500, 100, 0.3, 0.05, 0.04, 0.03, 0.02, 0.01};
     double g[ND] = {1, -1, 0.5, 0.2, 1, 0.5, -0.5, 0.5, -0.5, 0.5}; /* sw2 = 0.25 */
@@ -215,24 +215,24 @@ static void test_sigmaw_clamp_and_converged_first(void **state)
     igea_eqerr_defaults(opts);
     opts[IGEA_EQERR_OPT_CLAMP] = 1;
     assert_int_equal(igea_eqerr_solve(ND, A, ND, b, opts, lam, P, ND, xh, z, rej, info), 0);
-    assert_true(info[IGEA_INFO_SCALE] == 1.0);
-    assert_int_equal((int)info[IGEA_INFO_FLAG], IGEA_SIGMAW_CONVERGED);
+    assert_true(info[IGEA_STATS_INFO_SCALE] == 1.0);
+    assert_int_equal((int)info[IGEA_STATS_INFO_FLAG], IGEA_STATS_SIGMAW_CONVERGED);
     /* without the clamp c goes below 1: 0.25, then 0.3/0.25 = 1.2 leaves
      * the small set unchanged... at c = 0.25 only lam0 <= 0.025 are small
      * (2 < n_min): not estimable, c stays 0.25 */
     opts[IGEA_EQERR_OPT_CLAMP] = 0;
     assert_int_equal(igea_eqerr_solve(ND, A, ND, b, opts, lam, P, ND, xh, z, rej, info), 0);
-    assert_close(info[IGEA_INFO_SCALE], 0.25, 1e-14);
-    assert_int_equal((int)info[IGEA_INFO_FLAG], IGEA_SIGMAW_NOT_ESTIMABLE);
-    assert_int_equal((int)info[IGEA_INFO_ITERATIONS], 2);
+    assert_close(info[IGEA_STATS_INFO_SCALE], 0.25, 1e-14);
+    assert_int_equal((int)info[IGEA_STATS_INFO_FLAG], IGEA_STATS_SIGMAW_NOT_ESTIMABLE);
+    assert_int_equal((int)info[IGEA_STATS_INFO_ITERATIONS], 2);
     /* sw2 within tol at the first iteration: converged at once, c = 1 */
     for (int i = 5; i < ND; i++)
         g[i] = (i % 2 ? 1.02 : -1.02);
     diag_problem(lam0, g, A, b);
     assert_int_equal(igea_eqerr_solve(ND, A, ND, b, NULL, lam, P, ND, xh, z, rej, info), 0);
-    assert_true(info[IGEA_INFO_SCALE] == 1.0);
-    assert_int_equal((int)info[IGEA_INFO_ITERATIONS], 1);
-    assert_int_equal((int)info[IGEA_INFO_FLAG], IGEA_SIGMAW_CONVERGED);
+    assert_true(info[IGEA_STATS_INFO_SCALE] == 1.0);
+    assert_int_equal((int)info[IGEA_STATS_INFO_ITERATIONS], 1);
+    assert_int_equal((int)info[IGEA_STATS_INFO_FLAG], IGEA_STATS_SIGMAW_CONVERGED);
 }
 
 /* Rank deficiency: a zero eigenvalue is neither estimated nor tested. */
@@ -240,7 +240,7 @@ static void test_rank_deficient(void **state)
 {
     /* S with column 3 = column 1 + column 2 */
     enum { MR = 9, NR = 3 };
-    double S[MR * NR], d[MR], sig = 1.0, lam[NR], P[NR * NR], xh[NR], z[NR], info[IGEA_INFO_LEN];
+    double S[MR * NR], d[MR], sig = 1.0, lam[NR], P[NR * NR], xh[NR], z[NR], info[IGEA_STATS_INFO_LEN];
     int rej[NR];
     for (int i = 0; i < MR; i++) {
         S[i] = 10 * (i + 1);
@@ -255,7 +255,7 @@ static void test_rank_deficient(void **state)
         opts[IGEA_EQERR_OPT_ROUTE] = route;
         assert_int_equal(igea_eqerr_run(MR, NR, S, MR, d, &sig, 0, NULL, opts, lam, P, NR, xh, z,
                                         rej, info, NULL, NULL), 0);
-        assert_int_equal((int)info[IGEA_INFO_RANK], 2);
+        assert_int_equal((int)info[IGEA_STATS_INFO_RANK], 2);
         assert_true(xh[2] == 0.0);
         assert_int_equal(rej[2], -1);
         assert_true(fabs(lam[2]) < 1e-9 * lam[0]);
@@ -269,11 +269,11 @@ static void test_not_testable_and_invalid(void **state)
     make6();
     double A[16] = {0}, b[4] = {0}, w[2] = {0, 0}, sig = 100.0; /* imprecise: lambda < 10 */
     assert_int_equal(igea_normal_accumulate(IGEA_COLMAJOR, M6, 4, S6, M6, dw6, &sig, 0, NULL, A, 4, b, w), 0);
-    double lam[4], P[16], xh[4], z[4], info[IGEA_INFO_LEN], opts[IGEA_EQERR_OPT_LEN];
+    double lam[4], P[16], xh[4], z[4], info[IGEA_STATS_INFO_LEN], opts[IGEA_EQERR_OPT_LEN];
     int rej[4];
     fill_sentinel(lam, 4);
     fill_sentinel(P, 16);
-    fill_sentinel(info, IGEA_INFO_LEN);
+    fill_sentinel(info, IGEA_STATS_INFO_LEN);
     assert_int_equal(igea_eqerr_solve(4, A, 4, b, NULL, lam, P, 4, xh, z, rej, info), IGEA_ENOTESTABLE);
     assert_int_equal(igea_eqerr_solve(0, A, 4, b, NULL, lam, P, 4, xh, z, rej, info), -1);
     assert_int_equal(igea_eqerr_solve(4, NULL, 4, b, NULL, lam, P, 4, xh, z, rej, info), -2);
@@ -298,7 +298,7 @@ static void test_not_testable_and_invalid(void **state)
     assert_int_equal(igea_eqerr_solve(4, A, 4, b, NULL, lam, P, 4, xh, z, rej, NULL), -12);
     A[5] = NAN;
     assert_int_equal(igea_eqerr_solve(4, A, 4, b, NULL, lam, P, 4, xh, z, rej, info), IGEA_ENONFINITE);
-    assert_true(all_sentinel(lam, 4) && all_sentinel(P, 16) && all_sentinel(info, IGEA_INFO_LEN));
+    assert_true(all_sentinel(lam, 4) && all_sentinel(P, 16) && all_sentinel(info, IGEA_STATS_INFO_LEN));
 
     /* igea_eqerr_run */
     double s1 = 0.05, spec[4] = {1, 1, 1, 1}, res[M6], rms[3];
@@ -337,7 +337,7 @@ static void test_not_testable_and_invalid(void **state)
         assert_int_equal(RUN(M6, 4, S6, M6, dw6, &s1, 0, NULL, opts, lam, P, 4, xh, z, rej, info), IGEA_ENONFINITE);
         make6();
     }
-    assert_true(all_sentinel(lam, 4) && all_sentinel(P, 16) && all_sentinel(info, IGEA_INFO_LEN));
+    assert_true(all_sentinel(lam, 4) && all_sentinel(P, 16) && all_sentinel(info, IGEA_STATS_INFO_LEN));
 #undef RUN
 }
 
@@ -345,7 +345,7 @@ static void test_padding_and_residual_args(void **state)
 {
     make6();
     enum { LDS = M6 + 5 };
-    double Sp[LDS * 4], lam[4], P[16], xh[4], z[4], info[IGEA_INFO_LEN], s1 = 0.05, opts[IGEA_EQERR_OPT_LEN];
+    double Sp[LDS * 4], lam[4], P[16], xh[4], z[4], info[IGEA_STATS_INFO_LEN], s1 = 0.05, opts[IGEA_EQERR_OPT_LEN];
     int rej[4];
     fill_nan(Sp, LDS * 4);
     for (int j = 0; j < 4; j++)
@@ -422,7 +422,7 @@ static void test_svd_route_resolves_small_eigenvalues(void **state)
         }
         d[i] = 0.0;
     }
-    double opts[IGEA_EQERR_OPT_LEN], lam[NS], P[NS * NS], xh[NS], z[NS], info[IGEA_INFO_LEN], one = 1.0;
+    double opts[IGEA_EQERR_OPT_LEN], lam[NS], P[NS * NS], xh[NS], z[NS], info[IGEA_STATS_INFO_LEN], one = 1.0;
     int rej[NS];
     igea_eqerr_defaults(opts);
     opts[IGEA_EQERR_OPT_CORRECT] = 0;
@@ -438,19 +438,19 @@ static void test_svd_route_resolves_small_eigenvalues(void **state)
     }
     /* eig: 1e-14 lambda_1 is at the eps lambda_1 noise floor (1.6e-3
      * relative measured); svd: 1.3e-11 measured for the smallest */
-    assert_true(err[IGEA_ROUTE_EIG] > 1e-4);
-    assert_true(err[IGEA_ROUTE_SVD] < 1e-9);
+    assert_true(err[IGEA_EQERR_ROUTE_EIG] > 1e-4);
+    assert_true(err[IGEA_EQERR_ROUTE_SVD] < 1e-9);
     free(S);
 }
 
 static void test_solve_qr_args(void **state)
 {
-    double R[25] = {0}, lam[4], P[16], xh[4], z[4], info[IGEA_INFO_LEN], opts[IGEA_EQERR_OPT_LEN];
+    double R[25] = {0}, lam[4], P[16], xh[4], z[4], info[IGEA_STATS_INFO_LEN], opts[IGEA_EQERR_OPT_LEN];
     int rej[4];
     for (int i = 0; i < 5; i++)
         R[i + 5 * i] = 10.0 - i;
     fill_sentinel(lam, 4);
-    fill_sentinel(info, IGEA_INFO_LEN);
+    fill_sentinel(info, IGEA_STATS_INFO_LEN);
     assert_int_equal(igea_eqerr_solve_qr(0, R, 5, 9, NULL, lam, P, 4, xh, z, rej, info), -1);
     assert_int_equal(igea_eqerr_solve_qr(4, NULL, 5, 9, NULL, lam, P, 4, xh, z, rej, info), -2);
     assert_int_equal(igea_eqerr_solve_qr(4, R, 4, 9, NULL, lam, P, 4, xh, z, rej, info), -3);
@@ -469,7 +469,7 @@ static void test_solve_qr_args(void **state)
     assert_int_equal(igea_eqerr_solve_qr(4, R, 5, 9, NULL, lam, P, 4, xh, z, rej, info), IGEA_ENONFINITE);
     R[2 + 5 * 4] = 0.0;
     R[3 + 5 * 1] = NAN; /* below the diagonal: not read */
-    assert_true(all_sentinel(lam, 4) && all_sentinel(info, IGEA_INFO_LEN));
+    assert_true(all_sentinel(lam, 4) && all_sentinel(info, IGEA_STATS_INFO_LEN));
     /* diagonal R: lambda = diag^2, Xhat = (Q'w)_i / R_ii */
     R[0 + 5 * 4] = 3.0;
     R[1 + 5 * 4] = -2.0;
@@ -490,7 +490,7 @@ static void run_sentinel(int m, const double *S, const double *dw,
                          double route, int want)
 {
     double o[IGEA_EQERR_OPT_LEN], lam[N6], P[N6 * N6], xh[N6], z[N6],
-        info[IGEA_INFO_LEN], res[M6], rms[3];
+        info[IGEA_STATS_INFO_LEN], res[M6], rms[3];
     int rej[N6] = {-7, -7, -7, -7};
     igea_eqerr_defaults(o);
     o[IGEA_EQERR_OPT_CORRECT] = 0;
@@ -499,14 +499,14 @@ static void run_sentinel(int m, const double *S, const double *dw,
     fill_sentinel(P, N6 * N6);
     fill_sentinel(xh, N6);
     fill_sentinel(z, N6);
-    fill_sentinel(info, IGEA_INFO_LEN);
+    fill_sentinel(info, IGEA_STATS_INFO_LEN);
     fill_sentinel(res, M6);
     fill_sentinel(rms, 3);
     assert_int_equal(igea_eqerr_run(m, N6, S, m, dw, sig, inc, spec, o, lam, P,
                                     N6, xh, z, rej, info, res, rms), want);
     assert_true(all_sentinel(lam, N6) && all_sentinel(P, N6 * N6) &&
                 all_sentinel(xh, N6) && all_sentinel(z, N6) &&
-                all_sentinel(info, IGEA_INFO_LEN) && all_sentinel(res, M6) &&
+                all_sentinel(info, IGEA_STATS_INFO_LEN) && all_sentinel(res, M6) &&
                 all_sentinel(rms, 3));
     for (int i = 0; i < N6; i++)
         assert_int_equal(rej[i], -7);
@@ -525,18 +525,18 @@ static void test_overflow_is_not_nonfinite(void **state)
     for (int i = 0; i < M6; i++)
         sig[i] = 0.05;
     assert_true(igea__finite_mat(M6, N6, Sb, M6));
-    run_sentinel(M6, Sb, dw6, sig, 1, NULL, IGEA_ROUTE_EIG, IGEA_EOVERFLOW);
-    run_sentinel(M6, Sb, dw6, sig, 0, NULL, IGEA_ROUTE_EIG, IGEA_EOVERFLOW);
-    run_sentinel(M6, Sb, dw6, sig, 1, NULL, IGEA_ROUTE_SVD, IGEA_EOVERFLOW);
+    run_sentinel(M6, Sb, dw6, sig, 1, NULL, IGEA_EQERR_ROUTE_EIG, IGEA_EOVERFLOW);
+    run_sentinel(M6, Sb, dw6, sig, 0, NULL, IGEA_EQERR_ROUTE_EIG, IGEA_EOVERFLOW);
+    run_sentinel(M6, Sb, dw6, sig, 1, NULL, IGEA_EQERR_ROUTE_SVD, IGEA_EOVERFLOW);
     /* A NaN is still a NaN. */
     Sb[5] = NAN;
-    run_sentinel(M6, Sb, dw6, sig, 1, NULL, IGEA_ROUTE_EIG, IGEA_ENONFINITE);
-    run_sentinel(M6, Sb, dw6, sig, 0, NULL, IGEA_ROUTE_EIG, IGEA_ENONFINITE);
-    run_sentinel(M6, Sb, dw6, sig, 1, NULL, IGEA_ROUTE_SVD, IGEA_ENONFINITE);
+    run_sentinel(M6, Sb, dw6, sig, 1, NULL, IGEA_EQERR_ROUTE_EIG, IGEA_ENONFINITE);
+    run_sentinel(M6, Sb, dw6, sig, 0, NULL, IGEA_EQERR_ROUTE_EIG, IGEA_ENONFINITE);
+    run_sentinel(M6, Sb, dw6, sig, 1, NULL, IGEA_EQERR_ROUTE_SVD, IGEA_ENONFINITE);
     /* Finite S, specs of 1e160: the scaled data overflow. */
     double spec[N6] = {1e160, 1e160, 1e160, 1e160};
-    run_sentinel(M6, S6, dw6, sig, 1, spec, IGEA_ROUTE_EIG, IGEA_EOVERFLOW);
-    run_sentinel(M6, S6, dw6, sig, 1, spec, IGEA_ROUTE_SVD, IGEA_EOVERFLOW);
+    run_sentinel(M6, S6, dw6, sig, 1, spec, IGEA_EQERR_ROUTE_EIG, IGEA_EOVERFLOW);
+    run_sentinel(M6, S6, dw6, sig, 1, spec, IGEA_EQERR_ROUTE_SVD, IGEA_EOVERFLOW);
 }
 
 static void test_sigma_range(void **state)
@@ -549,18 +549,18 @@ static void test_sigma_range(void **state)
     /* A denormal tracking sigma: named as out of range, both routes, per
      * row and as the single value; also a denormal spec. */
     sig[4] = 5e-320;
-    run_sentinel(M6, S6, dw6, sig, 1, NULL, IGEA_ROUTE_EIG, IGEA_ERANGE);
-    run_sentinel(M6, S6, dw6, sig, 1, NULL, IGEA_ROUTE_SVD, IGEA_ERANGE);
+    run_sentinel(M6, S6, dw6, sig, 1, NULL, IGEA_EQERR_ROUTE_EIG, IGEA_ERANGE);
+    run_sentinel(M6, S6, dw6, sig, 1, NULL, IGEA_EQERR_ROUTE_SVD, IGEA_ERANGE);
     sig[0] = 1e-155;
-    run_sentinel(M6, S6, dw6, sig, 0, NULL, IGEA_ROUTE_EIG, IGEA_ERANGE);
+    run_sentinel(M6, S6, dw6, sig, 0, NULL, IGEA_EQERR_ROUTE_EIG, IGEA_ERANGE);
     sig[0] = sig[4] = 0.05;
     double spec[N6] = {1, 1, 4e-320, 1};
-    run_sentinel(M6, S6, dw6, sig, 1, spec, IGEA_ROUTE_EIG, IGEA_ERANGE);
+    run_sentinel(M6, S6, dw6, sig, 1, spec, IGEA_EQERR_ROUTE_EIG, IGEA_ERANGE);
     /* NaN and non-positive keep their statuses. */
     sig[2] = -1;
-    run_sentinel(M6, S6, dw6, sig, 1, NULL, IGEA_ROUTE_EIG, IGEA_ENONPOSITIVE);
+    run_sentinel(M6, S6, dw6, sig, 1, NULL, IGEA_EQERR_ROUTE_EIG, IGEA_ENONPOSITIVE);
     sig[2] = NAN;
-    run_sentinel(M6, S6, dw6, sig, 1, NULL, IGEA_ROUTE_EIG, IGEA_ENONFINITE);
+    run_sentinel(M6, S6, dw6, sig, 1, NULL, IGEA_EQERR_ROUTE_EIG, IGEA_ENONFINITE);
     double P[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
     double xh[4] = {1, 2, 3, 4}, coef[4];
     fill_sentinel(coef, 4);

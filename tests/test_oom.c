@@ -33,17 +33,17 @@ static void oom_loop_run(int route, int nsig)
     igea_eqerr_defaults(opts);
     opts[IGEA_EQERR_OPT_CORRECT] = 0;
     opts[IGEA_EQERR_OPT_ROUTE] = route;
-    double lam0[N], P0[N * N], x0[N], z0[N], info0[IGEA_INFO_LEN], res0[M], rms0[3];
+    double lam0[N], P0[N * N], x0[N], z0[N], info0[IGEA_STATS_INFO_LEN], res0[M], rms0[3];
     int rej0[N];
     assert_int_equal(igea_eqerr_run(M, N, S, M, dw, sig, 1, NULL, opts, lam0, P0, N, x0, z0, rej0,
                                     info0, res0, rms0), 0);
     int failures = 0;
     for (long k = 0; k < 1000; k++) {
-        double lam[N], P[N * N], x[N], z[N], info[IGEA_INFO_LEN], res[M], rms[3];
+        double lam[N], P[N * N], x[N], z[N], info[IGEA_STATS_INFO_LEN], res[M], rms[3];
         int rej[N];
         fill_sentinel(lam, N);
         fill_sentinel(P, N * N);
-        fill_sentinel(info, IGEA_INFO_LEN);
+        fill_sentinel(info, IGEA_STATS_INFO_LEN);
         fill_sentinel(res, M);
         oom_calls = 0;
         oom_fail_at = k;
@@ -58,14 +58,14 @@ static void oom_loop_run(int route, int nsig)
         failures++;
         assert_int_equal(st, IGEA_ENOMEM);
         assert_true(all_sentinel(lam, N) && all_sentinel(P, N * N) &&
-                    all_sentinel(info, IGEA_INFO_LEN) && all_sentinel(res, M));
+                    all_sentinel(info, IGEA_STATS_INFO_LEN) && all_sentinel(res, M));
     }
     assert_true(failures >= 2); /* the loop did fail allocations */
 }
 
-static void test_oom_eig(void **state) { oom_loop_run(IGEA_ROUTE_EIG, 1); }
-static void test_oom_eig_uniform(void **state) { oom_loop_run(IGEA_ROUTE_EIG, 0); }
-static void test_oom_svd(void **state) { oom_loop_run(IGEA_ROUTE_SVD, 1); }
+static void test_oom_eig(void **state) { oom_loop_run(IGEA_EQERR_ROUTE_EIG, 1); }
+static void test_oom_eig_uniform(void **state) { oom_loop_run(IGEA_EQERR_ROUTE_EIG, 0); }
+static void test_oom_svd(void **state) { oom_loop_run(IGEA_EQERR_ROUTE_SVD, 1); }
 
 static void test_oom_normal(void **state)
 {

@@ -39,17 +39,17 @@ static void test_series_parallel_kofn(void **state)
 {
     const double R[4] = {0.9, 0.8, 0.95, 0.7};
     double out = SENTINEL;
-    assert_int_equal(igea_redund_series(4, R, &out), 0);
+    assert_int_equal(igea_redund_reliability_series(4, R, &out), 0);
     assert_close(out, 0.9 * 0.8 * 0.95 * 0.7, 1e-15);
-    assert_int_equal(igea_redund_parallel(4, R, &out), 0);
+    assert_int_equal(igea_redund_reliability_parallel(4, R, &out), 0);
     assert_close(out, 1.0 - 0.1 * 0.2 * 0.05 * 0.3, 1e-15);
     /* k = n is series, k = 1 parallel */
     double s, p;
-    igea_redund_series(4, R, &s);
-    igea_redund_parallel(4, R, &p);
-    assert_int_equal(igea_redund_kofn(4, 4, R, &out), 0);
+    igea_redund_reliability_series(4, R, &s);
+    igea_redund_reliability_parallel(4, R, &p);
+    assert_int_equal(igea_redund_reliability_kofn(4, 4, R, &out), 0);
     assert_close(out, s, 1e-14);
-    assert_int_equal(igea_redund_kofn(4, 1, R, &out), 0);
+    assert_int_equal(igea_redund_reliability_kofn(4, 1, R, &out), 0);
     assert_close(out, p, 1e-14);
     /* 2-of-4 by explicit enumeration */
     double want = 0.0;
@@ -67,32 +67,32 @@ static void test_series_parallel_kofn(void **state)
         if (c >= 2)
             want += w;
     }
-    assert_int_equal(igea_redund_kofn(4, 2, R, &out), 0);
+    assert_int_equal(igea_redund_reliability_kofn(4, 2, R, &out), 0);
     assert_close(out, want, 1e-14);
     /* equal R: binomial closed form, 2-of-3 = 3r^2 - 2r^3 */
     const double r3[3] = {0.99, 0.99, 0.99};
-    assert_int_equal(igea_redund_kofn(3, 2, r3, &out), 0);
+    assert_int_equal(igea_redund_reliability_kofn(3, 2, r3, &out), 0);
     assert_close(out, 3 * 0.99 * 0.99 - 2 * 0.99 * 0.99 * 0.99, 1e-15);
     /* invalid arguments */
     out = SENTINEL;
     const double bad[2] = {0.5, 1.5}, nanv[2] = {0.5, NAN};
-    assert_int_equal(igea_redund_series(0, R, &out), -1);
-    assert_int_equal(igea_redund_series(2, NULL, &out), -2);
-    assert_int_equal(igea_redund_series(2, R, NULL), -3);
-    assert_int_equal(igea_redund_series(2, bad, &out), -2);
-    assert_int_equal(igea_redund_series(2, nanv, &out), IGEA_ENONFINITE);
-    assert_int_equal(igea_redund_parallel(0, R, &out), -1);
-    assert_int_equal(igea_redund_parallel(2, NULL, &out), -2);
-    assert_int_equal(igea_redund_parallel(2, R, NULL), -3);
-    assert_int_equal(igea_redund_parallel(2, bad, &out), -2);
-    assert_int_equal(igea_redund_parallel(2, nanv, &out), IGEA_ENONFINITE);
-    assert_int_equal(igea_redund_kofn(0, 1, R, &out), -1);
-    assert_int_equal(igea_redund_kofn(2, 0, R, &out), -2);
-    assert_int_equal(igea_redund_kofn(2, 3, R, &out), -2);
-    assert_int_equal(igea_redund_kofn(2, 1, NULL, &out), -3);
-    assert_int_equal(igea_redund_kofn(2, 1, R, NULL), -4);
-    assert_int_equal(igea_redund_kofn(2, 1, bad, &out), -3);
-    assert_int_equal(igea_redund_kofn(2, 1, nanv, &out), IGEA_ENONFINITE);
+    assert_int_equal(igea_redund_reliability_series(0, R, &out), -1);
+    assert_int_equal(igea_redund_reliability_series(2, NULL, &out), -2);
+    assert_int_equal(igea_redund_reliability_series(2, R, NULL), -3);
+    assert_int_equal(igea_redund_reliability_series(2, bad, &out), -2);
+    assert_int_equal(igea_redund_reliability_series(2, nanv, &out), IGEA_ENONFINITE);
+    assert_int_equal(igea_redund_reliability_parallel(0, R, &out), -1);
+    assert_int_equal(igea_redund_reliability_parallel(2, NULL, &out), -2);
+    assert_int_equal(igea_redund_reliability_parallel(2, R, NULL), -3);
+    assert_int_equal(igea_redund_reliability_parallel(2, bad, &out), -2);
+    assert_int_equal(igea_redund_reliability_parallel(2, nanv, &out), IGEA_ENONFINITE);
+    assert_int_equal(igea_redund_reliability_kofn(0, 1, R, &out), -1);
+    assert_int_equal(igea_redund_reliability_kofn(2, 0, R, &out), -2);
+    assert_int_equal(igea_redund_reliability_kofn(2, 3, R, &out), -2);
+    assert_int_equal(igea_redund_reliability_kofn(2, 1, NULL, &out), -3);
+    assert_int_equal(igea_redund_reliability_kofn(2, 1, R, NULL), -4);
+    assert_int_equal(igea_redund_reliability_kofn(2, 1, bad, &out), -3);
+    assert_int_equal(igea_redund_reliability_kofn(2, 1, nanv, &out), IGEA_ENONFINITE);
     assert_true(out == SENTINEL);
 }
 
@@ -103,9 +103,9 @@ static void test_diagram(void **state)
     double R[9];
     for (int i = 0; i < 9; i++)
         R[i] = 0.995;
-    const int type[6] = {IGEA_RBD_PARALLEL, IGEA_RBD_PARALLEL,
-                         IGEA_RBD_PARALLEL, IGEA_RBD_SERIES,
-                         IGEA_RBD_PARALLEL, IGEA_RBD_SERIES};
+    const int type[6] = {IGEA_REDUND_RBD_PARALLEL, IGEA_REDUND_RBD_PARALLEL,
+                         IGEA_REDUND_RBD_PARALLEL, IGEA_REDUND_RBD_SERIES,
+                         IGEA_REDUND_RBD_PARALLEL, IGEA_REDUND_RBD_SERIES};
     /* b0 = X1..X4, b1 = Y pair, b2 = Z pair, b3 = b1 b2, b4 = D || b3,
      * b5 = b0 b4 */
     const int first[7] = {0, 4, 6, 8, 10, 12, 14};
@@ -117,7 +117,7 @@ static void test_diagram(void **state)
     assert_close(Rb[5], (1 - pow(q, 4)) * (1 - q * (1 - pow(1 - q * q, 2))), 1e-15);
     /* 2-of-3 block over a series block */
     const double r2[4] = {0.9, 0.8, 0.7, 0.6};
-    const int t2[2] = {IGEA_RBD_SERIES, IGEA_RBD_KOFN};
+    const int t2[2] = {IGEA_REDUND_RBD_SERIES, IGEA_REDUND_RBD_KOFN};
     const int k2[2] = {0, 2};
     const int f2[3] = {0, 2, 5};
     const int m2[5] = {0, 1, 2, 3, 4 + 0};
@@ -131,7 +131,7 @@ static void test_diagram(void **state)
     const int mfwd[5] = {0, 1, 2, 3, 4 + 1};
     const int fbad[3] = {0, 2, 2};
     const int f0[3] = {1, 2, 5};
-    const int tbad[2] = {IGEA_RBD_SERIES, 7};
+    const int tbad[2] = {IGEA_REDUND_RBD_SERIES, 7};
     const int kbad[2] = {0, 4};
     const double rbad[4] = {0.9, 0.8, -0.1, 0.6}, rnan[4] = {0.9, NAN, 0.7, 0.6};
     assert_int_equal(igea_redund_diagram(0, r2, 2, t2, k2, f2, m2, Rb), -1);
@@ -155,25 +155,25 @@ static void test_diagram(void **state)
 
 static void test_seed002(void **state)
 {
-    double out[IGEA_SEED002_LEN];
+    double out[IGEA_REDUND_SEED002_LEN];
     assert_int_equal(igea_redund_seed002(0.992, 0.995, out), 0);
     /* METHODS 3.1 table and 3.2, to the digits printed */
-    assert_close_abs(out[IGEA_SEED002_NONREDUND], 0.9616217080, 0, 5e-11);
-    assert_close_abs(out[IGEA_SEED002_SYS_NO_D], 0.9997580219, 0, 5e-11);
-    assert_close_abs(out[IGEA_SEED002_SYS_EQ7], 0.9998077617, 0, 5e-11);
-    assert_close_abs(out[IGEA_SEED002_SYS_EXACT], 0.9998077611, 0, 5e-11);
-    assert_close_abs(out[IGEA_SEED002_GYRO], 0.999808012288, 0, 5e-13);
-    assert_close_abs(out[IGEA_SEED002_ACC_EQ7], 0.999999749378, 0, 5e-13);
-    assert_close_abs(out[IGEA_SEED002_ACC_EXACT], 0.999999748756, 0, 5e-13);
+    assert_close_abs(out[IGEA_REDUND_SEED002_NONREDUND], 0.9616217080, 0, 5e-11);
+    assert_close_abs(out[IGEA_REDUND_SEED002_SYS_NO_D], 0.9997580219, 0, 5e-11);
+    assert_close_abs(out[IGEA_REDUND_SEED002_SYS_EQ7], 0.9998077617, 0, 5e-11);
+    assert_close_abs(out[IGEA_REDUND_SEED002_SYS_EXACT], 0.9998077611, 0, 5e-11);
+    assert_close_abs(out[IGEA_REDUND_SEED002_GYRO], 0.999808012288, 0, 5e-13);
+    assert_close_abs(out[IGEA_REDUND_SEED002_ACC_EQ7], 0.999999749378, 0, 5e-13);
+    assert_close_abs(out[IGEA_REDUND_SEED002_ACC_EXACT], 0.999999748756, 0, 5e-13);
     /* eq. (7) overstates the exact value by exactly q^4 Re2 */
-    assert_close(out[IGEA_SEED002_ACC_EQ7] - out[IGEA_SEED002_ACC_EXACT],
+    assert_close(out[IGEA_REDUND_SEED002_ACC_EQ7] - out[IGEA_REDUND_SEED002_ACC_EXACT],
                  (1 - pow(0.005, 4)) * pow(0.005, 4) * 0.995, 1e-6);
-    fill_sentinel(out, IGEA_SEED002_LEN);
+    fill_sentinel(out, IGEA_REDUND_SEED002_LEN);
     assert_int_equal(igea_redund_seed002(1.2, 0.995, out), -1);
     assert_int_equal(igea_redund_seed002(NAN, 0.995, out), -1);
     assert_int_equal(igea_redund_seed002(0.9, -0.1, out), -2);
     assert_int_equal(igea_redund_seed002(0.9, 0.9, NULL), -3);
-    assert_true(all_sentinel(out, IGEA_SEED002_LEN));
+    assert_true(all_sentinel(out, IGEA_REDUND_SEED002_LEN));
 }
 
 /* ---- geometry ----------------------------------------------------------- */
@@ -220,7 +220,7 @@ static void set_axis(double *ax, int ld, int k, double x, double y, double z)
 static void test_geometry_seed(void **state)
 {
     /* the 9 accelerometers: X x4, Y x2, Z x2, D in YOZ at 45 deg */
-    double ax[9 * 3], R[9], out[IGEA_GEOM_LEN];
+    double ax[9 * 3], R[9], out[IGEA_REDUND_GEOM_LEN];
     for (int k = 0; k < 4; k++)
         set_axis(ax, 9, k, 2.0, 0, 0); /* not unit: normalised inside */
     set_axis(ax, 9, 4, 0, 1, 0);
@@ -231,20 +231,20 @@ static void test_geometry_seed(void **state)
     for (int k = 0; k < 9; k++)
         R[k] = 0.995;
     assert_int_equal(igea_redund_geometry(9, ax, 9, R, 1, out), 0);
-    assert_close_abs(out[IGEA_GEOM_SPAN], 0.999999748756, 0, 5e-13);
+    assert_close_abs(out[IGEA_REDUND_GEOM_SPAN], 0.999999748756, 0, 5e-13);
     double q = 0.005, a = 1 - q * q;
-    assert_close(out[IGEA_GEOM_SPAN], (1 - pow(q, 4)) * (a * a + 2 * a * (1 - a) * 0.995), 1e-14);
-    assert_close(out[IGEA_GEOM_CLASSES], 4.0, 0);
+    assert_close(out[IGEA_REDUND_GEOM_SPAN], (1 - pow(q, 4)) * (a * a + 2 * a * (1 - a) * 0.995), 1e-14);
+    assert_close(out[IGEA_REDUND_GEOM_CLASSES], 4.0, 0);
     double unit[27];
     memcpy(unit, ax, sizeof unit);
     for (int k = 0; k < 4; k++)
         unit[k] = 1.0;
-    assert_close(brute_span(9, unit, R), out[IGEA_GEOM_SPAN], 1e-14);
+    assert_close(brute_span(9, unit, R), out[IGEA_REDUND_GEOM_SPAN], 1e-14);
     /* detect <= span, isolate <= detect; all nine healthy is isolable
      * (METHODS 3.2 extension), so isolate >= R^9 */
-    assert_true(out[IGEA_GEOM_DETECT] <= out[IGEA_GEOM_SPAN]);
-    assert_true(out[IGEA_GEOM_ISOLATE] <= out[IGEA_GEOM_DETECT]);
-    assert_true(out[IGEA_GEOM_ISOLATE] >= pow(0.995, 9));
+    assert_true(out[IGEA_REDUND_GEOM_DETECT] <= out[IGEA_REDUND_GEOM_SPAN]);
+    assert_true(out[IGEA_REDUND_GEOM_ISOLATE] <= out[IGEA_REDUND_GEOM_DETECT]);
+    assert_true(out[IGEA_REDUND_GEOM_ISOLATE] >= pow(0.995, 9));
     /* the gyros: 2 per axis; detection needs all six (a lone survivor of a
      * pair is essential), isolation never possible (a pair's parity columns
      * are antiparallel) */
@@ -254,18 +254,18 @@ static void test_geometry_seed(void **state)
         Rg[k] = 0.992;
     }
     assert_int_equal(igea_redund_geometry(6, g, 6, Rg, 1, out), 0);
-    assert_close_abs(out[IGEA_GEOM_SPAN], 0.999808012288, 0, 5e-13);
-    assert_close(out[IGEA_GEOM_DETECT], pow(0.992, 6), 1e-13);
-    assert_true(out[IGEA_GEOM_ISOLATE] == 0.0);
+    assert_close_abs(out[IGEA_REDUND_GEOM_SPAN], 0.999808012288, 0, 5e-13);
+    assert_close(out[IGEA_REDUND_GEOM_DETECT], pow(0.992, 6), 1e-13);
+    assert_true(out[IGEA_REDUND_GEOM_ISOLATE] == 0.0);
     assert_int_equal(igea_redund_geometry(6, g, 6, Rg, 0, out), 0);
-    assert_true(isnan(out[IGEA_GEOM_DETECT]) && isnan(out[IGEA_GEOM_ISOLATE]));
+    assert_true(isnan(out[IGEA_REDUND_GEOM_DETECT]) && isnan(out[IGEA_REDUND_GEOM_ISOLATE]));
 }
 
 static void test_geometry_cone(void **state)
 {
     /* 5 and 6 axes on a cone (half-angle 54.7356 deg): no three coplanar */
     for (int n = 4; n <= 6; n++) {
-        double ax[6 * 3], R[6], out[IGEA_GEOM_LEN];
+        double ax[6 * 3], R[6], out[IGEA_REDUND_GEOM_LEN];
         double c = 1.0 / sqrt(3.0), s = sqrt(2.0 / 3.0);
         for (int k = 0; k < n; k++) {
             double az = 2.0 * PI_ * k / n + 0.1 * k * k;
@@ -274,36 +274,36 @@ static void test_geometry_cone(void **state)
         }
         assert_int_equal(igea_redund_geometry(n, ax, n, R, 1, out), 0);
         double k3, k4, all;
-        igea_redund_kofn(n, 3, R, &k3);
-        igea_redund_kofn(n, 4, R, &k4);
-        igea_redund_series(n, R, &all);
-        assert_close(out[IGEA_GEOM_SPAN], k3, 1e-13);
-        assert_close(out[IGEA_GEOM_SPAN], brute_span(n, ax, R), 1e-13);
-        assert_close(out[IGEA_GEOM_DETECT], k4, 1e-13);
+        igea_redund_reliability_kofn(n, 3, R, &k3);
+        igea_redund_reliability_kofn(n, 4, R, &k4);
+        igea_redund_reliability_series(n, R, &all);
+        assert_close(out[IGEA_REDUND_GEOM_SPAN], k3, 1e-13);
+        assert_close(out[IGEA_REDUND_GEOM_SPAN], brute_span(n, ax, R), 1e-13);
+        assert_close(out[IGEA_REDUND_GEOM_DETECT], k4, 1e-13);
         if (n == 4) /* one parity relation: columns all parallel */
-            assert_true(out[IGEA_GEOM_ISOLATE] == 0.0);
+            assert_true(out[IGEA_REDUND_GEOM_ISOLATE] == 0.0);
         else if (n == 5) /* isolation needs all five */
-            assert_close(out[IGEA_GEOM_ISOLATE], all, 1e-13);
+            assert_close(out[IGEA_REDUND_GEOM_ISOLATE], all, 1e-13);
         else { /* needs at least five (any five on the cone isolate) */
             double k5;
-            igea_redund_kofn(n, 5, R, &k5);
-            assert_close(out[IGEA_GEOM_ISOLATE], k5, 1e-13);
+            igea_redund_reliability_kofn(n, 5, R, &k5);
+            assert_close(out[IGEA_REDUND_GEOM_ISOLATE], k5, 1e-13);
         }
     }
 }
 
 static void test_geometry_args(void **state)
 {
-    double ax[5 * 3], R[4] = {0.9, 0.9, 0.9, 0.9}, out[IGEA_GEOM_LEN];
+    double ax[5 * 3], R[4] = {0.9, 0.9, 0.9, 0.9}, out[IGEA_REDUND_GEOM_LEN];
     fill_nan(ax, 15); /* ld 5 > n = 4: the padding row is NaN */
     set_axis(ax, 5, 0, 1, 0, 0);
     set_axis(ax, 5, 1, 0, 1, 0);
     set_axis(ax, 5, 2, 0, 0, 1);
     set_axis(ax, 5, 3, 1, 1, 1);
     assert_int_equal(igea_redund_geometry(4, ax, 5, R, 1, out), 0);
-    assert_close(out[IGEA_GEOM_SPAN], 4 * pow(0.9, 3) * 0.1 + pow(0.9, 4), 1e-14);
-    assert_close(out[IGEA_GEOM_DETECT], pow(0.9, 4), 1e-14);
-    fill_sentinel(out, IGEA_GEOM_LEN);
+    assert_close(out[IGEA_REDUND_GEOM_SPAN], 4 * pow(0.9, 3) * 0.1 + pow(0.9, 4), 1e-14);
+    assert_close(out[IGEA_REDUND_GEOM_DETECT], pow(0.9, 4), 1e-14);
+    fill_sentinel(out, IGEA_REDUND_GEOM_LEN);
     double Rb[4] = {0.9, 1.1, 0.9, 0.9};
     assert_int_equal(igea_redund_geometry(0, ax, 5, R, 1, out), -1);
     assert_int_equal(igea_redund_geometry(21, ax, 21, R, 1, out), -1);
@@ -319,7 +319,7 @@ static void test_geometry_args(void **state)
     assert_int_equal(igea_redund_geometry(4, ax, 5, R, 1, out), IGEA_EDOMAIN);
     ax[2] = NAN;
     assert_int_equal(igea_redund_geometry(4, ax, 5, R, 1, out), IGEA_ENONFINITE);
-    assert_true(all_sentinel(out, IGEA_GEOM_LEN));
+    assert_true(all_sentinel(out, IGEA_REDUND_GEOM_LEN));
 }
 
 /* ---- consistency -------------------------------------------------------- */
@@ -327,27 +327,27 @@ static void test_geometry_args(void **state)
 static void test_erfinv(void **state)
 {
     double x = SENTINEL;
-    assert_int_equal(igea_redund_erfinv(0.5, &x), 0);
+    assert_int_equal(igea_stats_erfinv(0.5, &x), 0);
     assert_close(x, 0.47693627620446987338, 2e-16); /* erfinv(1/2), DLMF 7.17 */
-    assert_int_equal(igea_redund_erfinv(0.0, &x), 0);
+    assert_int_equal(igea_stats_erfinv(0.0, &x), 0);
     assert_true(x == 0.0);
     for (double y = -0.999; y < 1.0; y += 0.0123) {
-        assert_int_equal(igea_redund_erfinv(y, &x), 0);
+        assert_int_equal(igea_stats_erfinv(y, &x), 0);
         assert_close_abs(erf(x), y, 4e-16, 1e-300);
     }
     /* the tail, through erfc: the start is poor here, Newton fixes it */
     const double q[4] = {1e-6, 1e-10, 1e-14, 1e-15};
     for (int i = 0; i < 4; i++) {
-        assert_int_equal(igea_redund_erfinv(1.0 - q[i], &x), 0);
+        assert_int_equal(igea_stats_erfinv(1.0 - q[i], &x), 0);
         assert_close(erfc(x), 1.0 - (1.0 - q[i]), 1e-13);
-        assert_int_equal(igea_redund_erfinv(-(1.0 - q[i]), &x), 0);
+        assert_int_equal(igea_stats_erfinv(-(1.0 - q[i]), &x), 0);
         assert_close(erfc(-x), 1.0 - (1.0 - q[i]), 1e-13);
     }
     x = SENTINEL;
-    assert_int_equal(igea_redund_erfinv(1.0, &x), -1);
-    assert_int_equal(igea_redund_erfinv(-1.0, &x), -1);
-    assert_int_equal(igea_redund_erfinv(NAN, &x), -1);
-    assert_int_equal(igea_redund_erfinv(0.3, NULL), -2);
+    assert_int_equal(igea_stats_erfinv(1.0, &x), -1);
+    assert_int_equal(igea_stats_erfinv(-1.0, &x), -1);
+    assert_int_equal(igea_stats_erfinv(NAN, &x), -1);
+    assert_int_equal(igea_stats_erfinv(0.3, NULL), -2);
     assert_true(x == SENTINEL);
 }
 
@@ -593,7 +593,7 @@ static void test_false_alarm(void **state)
     /* closed form 1 - erf(k erfinv(alpha) / sqrt2), unequal noises */
     assert_int_equal(igea_redund_false_alarm(2.0, 1.0, 2.0, 0.9, &p), 0);
     double ei;
-    igea_redund_erfinv(0.9, &ei);
+    igea_stats_erfinv(0.9, &ei);
     assert_close(p, 1.0 - erf(sqrt(2.0) * 2.0 * ei / sqrt(2.0 * 5.0)), 1e-13);
     p = SENTINEL;
     assert_int_equal(igea_redund_false_alarm(0.0, 1, 1, 0.7, &p), -1);
@@ -703,7 +703,7 @@ static void test_parity(void **state)
 
 static void test_fdi(void **state)
 {
-    double H[6 * 3], y[6], sig[6], info[IGEA_FDI_LEN], par[3];
+    double H[6 * 3], y[6], sig[6], info[IGEA_REDUND_FDI_LEN], par[3];
     int iso = -9;
     cone6(H, 6);
     const double xt[3] = {0.1, -0.2, 9.8};
@@ -712,11 +712,11 @@ static void test_fdi(void **state)
         sig[i] = 1e-3 * (1 + 0.2 * i);
     }
     assert_int_equal(igea_redund_fdi(6, 3, H, 6, y, sig, 0.01, par, info, &iso), 0);
-    assert_close_abs(info[IGEA_FDI_STAT], 0.0, 0, 1e-20);
-    assert_close(info[IGEA_FDI_THRESHOLD], 11.344866730144373, 1e-12); /* chi2_0.01(3) */
-    assert_close(info[IGEA_FDI_DOF], 3.0, 0);
-    assert_true(info[IGEA_FDI_DETECTED] == 0.0 && iso == -1);
-    assert_true(info[IGEA_FDI_ISOLATED] == -1.0 && info[IGEA_FDI_ISOLABLE] == 1.0);
+    assert_close_abs(info[IGEA_REDUND_FDI_STAT], 0.0, 0, 1e-20);
+    assert_close(info[IGEA_REDUND_FDI_THRESHOLD], 11.344866730144373, 1e-12); /* chi2_0.01(3) */
+    assert_close(info[IGEA_REDUND_FDI_DOF], 3.0, 0);
+    assert_true(info[IGEA_REDUND_FDI_DETECTED] == 0.0 && iso == -1);
+    assert_true(info[IGEA_REDUND_FDI_ISOLATED] == -1.0 && info[IGEA_REDUND_FDI_ISOLABLE] == 1.0);
     /* a bias of 8 sigma on each sensor in turn: detected and isolated, with
      * the statistic (b / sigma_k)^2 P_kk of the whitened projector */
     for (int k = 0; k < 6; k++) {
@@ -725,7 +725,7 @@ static void test_fdi(void **state)
         yf[k] += 8.0 * sig[k];
         assert_int_equal(igea_redund_fdi(6, 3, H, 6, yf, sig, 0.01, par, info, &iso), 0);
         assert_int_equal(iso, k);
-        assert_true(info[IGEA_FDI_DETECTED] == 1.0);
+        assert_true(info[IGEA_REDUND_FDI_DETECTED] == 1.0);
         double Vw[18];
         double Hw[18];
         for (int c = 0; c < 3; c++)
@@ -735,21 +735,21 @@ static void test_fdi(void **state)
         double pkk = 0;
         for (int r = 0; r < 3; r++)
             pkk += Vw[r + 3 * k] * Vw[r + 3 * k];
-        assert_close(info[IGEA_FDI_STAT], 64.0 * pkk, 1e-10);
-        assert_close(info[IGEA_FDI_ISO_STAT], 64.0 * pkk, 1e-10);
+        assert_close(info[IGEA_REDUND_FDI_STAT], 64.0 * pkk, 1e-10);
+        assert_close(info[IGEA_REDUND_FDI_ISO_STAT], 64.0 * pkk, 1e-10);
         double sf;
         igea_stats_chi2_sf(64.0 * pkk, 3.0, &sf);
-        assert_close(info[IGEA_FDI_P_VALUE], sf, 1e-8);
+        assert_close(info[IGEA_REDUND_FDI_P_VALUE], sf, 1e-8);
     }
     /* 4 sensors: detection but no isolation (one parity relation) */
     double H4[12] = {1, 0, 0, 1, 0, 1, 0, 1, 0, 0, 1, 1}, y4[4] = {0, 0, 0, 0.1},
            s4[4] = {1e-3, 1e-3, 1e-3, 1e-3};
     assert_int_equal(igea_redund_fdi(4, 3, H4, 4, y4, s4, 0.001, NULL, info, NULL), 0);
-    assert_true(info[IGEA_FDI_DETECTED] == 1.0 && info[IGEA_FDI_ISOLABLE] == 0.0);
+    assert_true(info[IGEA_REDUND_FDI_DETECTED] == 1.0 && info[IGEA_REDUND_FDI_ISOLABLE] == 0.0);
     /* invalid */
     double ys[6];
     memcpy(ys, y, sizeof y);
-    fill_sentinel(info, IGEA_FDI_LEN);
+    fill_sentinel(info, IGEA_REDUND_FDI_LEN);
     fill_sentinel(par, 3);
     iso = -9;
     double sb[6] = {1, 1, 0, 1, 1, 1};
@@ -765,7 +765,7 @@ static void test_fdi(void **state)
     assert_int_equal(igea_redund_fdi(6, 3, H, 6, y, sb, 0.01, par, info, &iso), IGEA_ENONPOSITIVE);
     ys[2] = NAN;
     assert_int_equal(igea_redund_fdi(6, 3, H, 6, ys, sig, 0.01, par, info, &iso), IGEA_ENONFINITE);
-    assert_true(all_sentinel(info, IGEA_FDI_LEN) && all_sentinel(par, 3) && iso == -9);
+    assert_true(all_sentinel(info, IGEA_REDUND_FDI_LEN) && all_sentinel(par, 3) && iso == -9);
 }
 
 static void test_fdi_yz_plane(void **state)
@@ -773,7 +773,7 @@ static void test_fdi_yz_plane(void **state)
     /* seed 002's YZ plane: Y1 Y2 Z1 Z2 D (q = 2): 3 parity relations, any
      * single fault isolated (METHODS 3.2 extension) */
     double H[10] = {1, 1, 0, 0, S2, 0, 0, 1, 1, S2}, sig[5] = {1e-3, 1e-3, 1e-3, 1e-3, 1e-3};
-    double y0[5], info[IGEA_FDI_LEN];
+    double y0[5], info[IGEA_REDUND_FDI_LEN];
     for (int i = 0; i < 5; i++)
         y0[i] = 0.3 * H[i] - 0.2 * H[i + 5];
     for (int k = 0; k < 5; k++) {
@@ -783,7 +783,7 @@ static void test_fdi_yz_plane(void **state)
         y[k] += 0.01;
         assert_int_equal(igea_redund_fdi(5, 2, H, 5, y, sig, 0.001, NULL, info, &iso), 0);
         assert_int_equal(iso, k);
-        assert_true(info[IGEA_FDI_ISOLABLE] == 1.0 && info[IGEA_FDI_DOF] == 3.0);
+        assert_true(info[IGEA_REDUND_FDI_ISOLABLE] == 1.0 && info[IGEA_REDUND_FDI_DOF] == 3.0);
     }
 }
 
@@ -855,7 +855,7 @@ static void test_series_experiment(void **state)
     assert_int_equal(nwin, 200);
     double *means = malloc(sizeof(double) * 4 * 200), fused[200], fsig[200], alpha = 0.7;
     int *ex = malloc(sizeof(int) * 4 * 200);
-    assert_int_equal(igea_redund_series_check(n, 4, y, n, fs, 1.0, sigma, &alpha, 0, 1, 1, nwin,
+    assert_int_equal(igea_redund_monitor(n, 4, y, n, fs, 1.0, sigma, &alpha, 0, 1, 1, nwin,
                                               means, ex, fused, fsig), 0);
     for (int w = 0; w < nwin; w++) {
         int faulty = w >= 100 && w < 120;
@@ -884,24 +884,24 @@ static void test_series_experiment(void **state)
     double fz[200];
     fill_sentinel(fz, 200);
     double ab = 1.5, sb[4] = {1, 1, 0, 1};
-    assert_int_equal(igea_redund_series_check(0, 4, y, n, fs, 1.0, sigma, &alpha, 0, 1, 1, nwin, NULL, ex, fz, NULL), -1);
-    assert_int_equal(igea_redund_series_check(n, 0, y, n, fs, 1.0, sigma, &alpha, 0, 1, 1, nwin, NULL, ex, fz, NULL), -2);
-    assert_int_equal(igea_redund_series_check(n, 4, NULL, n, fs, 1.0, sigma, &alpha, 0, 1, 1, nwin, NULL, ex, fz, NULL), -3);
-    assert_int_equal(igea_redund_series_check(n, 4, y, n - 1, fs, 1.0, sigma, &alpha, 0, 1, 1, nwin, NULL, ex, fz, NULL), -4);
-    assert_int_equal(igea_redund_series_check(n, 4, y, n, 0.0, 1.0, sigma, &alpha, 0, 1, 1, nwin, NULL, ex, fz, NULL), -5);
-    assert_int_equal(igea_redund_series_check(n, 4, y, n, fs, 0.0, sigma, &alpha, 0, 1, 1, nwin, NULL, ex, fz, NULL), -6);
-    assert_int_equal(igea_redund_series_check(n, 4, y, n, fs, 1.0, NULL, &alpha, 0, 1, 1, nwin, NULL, ex, fz, NULL), -7);
-    assert_int_equal(igea_redund_series_check(n, 4, y, n, fs, 1.0, sigma, NULL, 0, 1, 1, nwin, NULL, ex, fz, NULL), -8);
-    assert_int_equal(igea_redund_series_check(n, 4, y, n, fs, 1.0, sigma, &ab, 0, 1, 1, nwin, NULL, ex, fz, NULL), -8);
-    assert_int_equal(igea_redund_series_check(n, 4, y, n, fs, 1.0, sigma, &alpha, 2, 1, 1, nwin, NULL, ex, fz, NULL), -9);
-    assert_int_equal(igea_redund_series_check(n, 4, y, n, fs, 1.0, sigma, &alpha, 0, 3, 1, nwin, NULL, ex, fz, NULL), -10);
-    assert_int_equal(igea_redund_series_check(n, 4, y, n, fs, 1.0, sigma, &alpha, 0, 1, 3, nwin, NULL, ex, fz, NULL), -11);
-    assert_int_equal(igea_redund_series_check(n, 4, y, n, fs, 1.0, sigma, &alpha, 0, 1, 1, 199, NULL, ex, fz, NULL), -12);
-    assert_int_equal(igea_redund_series_check(n, 4, y, n, fs, 1.0, sigma, &alpha, 0, 1, 1, nwin, NULL, NULL, fz, NULL), -14);
-    assert_int_equal(igea_redund_series_check(n, 4, y, n, fs, 1.0, sigma, &alpha, 0, 1, 1, nwin, NULL, ex, NULL, NULL), -15);
-    assert_int_equal(igea_redund_series_check(n, 4, y, n, fs, 1.0, sb, &alpha, 0, 1, 1, nwin, NULL, ex, fz, NULL), IGEA_ENONPOSITIVE);
+    assert_int_equal(igea_redund_monitor(0, 4, y, n, fs, 1.0, sigma, &alpha, 0, 1, 1, nwin, NULL, ex, fz, NULL), -1);
+    assert_int_equal(igea_redund_monitor(n, 0, y, n, fs, 1.0, sigma, &alpha, 0, 1, 1, nwin, NULL, ex, fz, NULL), -2);
+    assert_int_equal(igea_redund_monitor(n, 4, NULL, n, fs, 1.0, sigma, &alpha, 0, 1, 1, nwin, NULL, ex, fz, NULL), -3);
+    assert_int_equal(igea_redund_monitor(n, 4, y, n - 1, fs, 1.0, sigma, &alpha, 0, 1, 1, nwin, NULL, ex, fz, NULL), -4);
+    assert_int_equal(igea_redund_monitor(n, 4, y, n, 0.0, 1.0, sigma, &alpha, 0, 1, 1, nwin, NULL, ex, fz, NULL), -5);
+    assert_int_equal(igea_redund_monitor(n, 4, y, n, fs, 0.0, sigma, &alpha, 0, 1, 1, nwin, NULL, ex, fz, NULL), -6);
+    assert_int_equal(igea_redund_monitor(n, 4, y, n, fs, 1.0, NULL, &alpha, 0, 1, 1, nwin, NULL, ex, fz, NULL), -7);
+    assert_int_equal(igea_redund_monitor(n, 4, y, n, fs, 1.0, sigma, NULL, 0, 1, 1, nwin, NULL, ex, fz, NULL), -8);
+    assert_int_equal(igea_redund_monitor(n, 4, y, n, fs, 1.0, sigma, &ab, 0, 1, 1, nwin, NULL, ex, fz, NULL), -8);
+    assert_int_equal(igea_redund_monitor(n, 4, y, n, fs, 1.0, sigma, &alpha, 2, 1, 1, nwin, NULL, ex, fz, NULL), -9);
+    assert_int_equal(igea_redund_monitor(n, 4, y, n, fs, 1.0, sigma, &alpha, 0, 3, 1, nwin, NULL, ex, fz, NULL), -10);
+    assert_int_equal(igea_redund_monitor(n, 4, y, n, fs, 1.0, sigma, &alpha, 0, 1, 3, nwin, NULL, ex, fz, NULL), -11);
+    assert_int_equal(igea_redund_monitor(n, 4, y, n, fs, 1.0, sigma, &alpha, 0, 1, 1, 199, NULL, ex, fz, NULL), -12);
+    assert_int_equal(igea_redund_monitor(n, 4, y, n, fs, 1.0, sigma, &alpha, 0, 1, 1, nwin, NULL, NULL, fz, NULL), -14);
+    assert_int_equal(igea_redund_monitor(n, 4, y, n, fs, 1.0, sigma, &alpha, 0, 1, 1, nwin, NULL, ex, NULL, NULL), -15);
+    assert_int_equal(igea_redund_monitor(n, 4, y, n, fs, 1.0, sb, &alpha, 0, 1, 1, nwin, NULL, ex, fz, NULL), IGEA_ENONPOSITIVE);
     y[5] = NAN;
-    assert_int_equal(igea_redund_series_check(n, 4, y, n, fs, 1.0, sigma, &alpha, 0, 1, 1, nwin, NULL, ex, fz, NULL), IGEA_ENONFINITE);
+    assert_int_equal(igea_redund_monitor(n, 4, y, n, fs, 1.0, sigma, &alpha, 0, 1, 1, nwin, NULL, ex, fz, NULL), IGEA_ENONFINITE);
     assert_true(all_sentinel(fz, 200));
     assert_int_equal(igea_redund_window_count(0, 1.0, 1.0, &nwin), -1);
     assert_int_equal(igea_redund_window_count(5, NAN, 1.0, &nwin), -2);
@@ -943,7 +943,7 @@ static void test_simulate_args(void **state)
 static void test_oom(void **state)
 {
     /* geometry with fdi */
-    double ax[6 * 3], R[6], ref[IGEA_GEOM_LEN], out[IGEA_GEOM_LEN];
+    double ax[6 * 3], R[6], ref[IGEA_REDUND_GEOM_LEN], out[IGEA_REDUND_GEOM_LEN];
     double c = 1.0 / sqrt(3.0), sn = sqrt(2.0 / 3.0);
     for (int k = 0; k < 6; k++) {
         set_axis(ax, 6, k, sn * cos(1.1 * k), sn * sin(1.1 * k), c);
@@ -952,18 +952,18 @@ static void test_oom(void **state)
     assert_int_equal(igea_redund_geometry(6, ax, 6, R, 1, ref), 0);
     int k, st, nfail = 0;
     for (k = 0;; k++) {
-        fill_sentinel(out, IGEA_GEOM_LEN);
+        fill_sentinel(out, IGEA_REDUND_GEOM_LEN);
         OOM_ARM(k);
         st = igea_redund_geometry(6, ax, 6, R, 1, out);
         OOM_DISARM();
         if (st != IGEA_ENOMEM)
             break;
         nfail++;
-        assert_true(all_sentinel(out, IGEA_GEOM_LEN));
+        assert_true(all_sentinel(out, IGEA_REDUND_GEOM_LEN));
     }
     assert_int_equal(st, 0);
     assert_true(nfail >= 2);
-    for (int i = 0; i < IGEA_GEOM_LEN; i++)
+    for (int i = 0; i < IGEA_REDUND_GEOM_LEN; i++)
         assert_close(out[i], ref[i], 0);
     /* fusion set, kofn, diagram */
     double D[16], alpha = 0.7, x[4] = {1.000010, 1.000018, 0.999995, 1.010004}, sg[4] = {2e-5, 2e-5, 2e-5, 2e-5};
@@ -982,14 +982,14 @@ static void test_oom(void **state)
     double v = SENTINEL;
     for (k = 0;; k++) {
         OOM_ARM(k);
-        st = igea_redund_kofn(6, 4, R, &v);
+        st = igea_redund_reliability_kofn(6, 4, R, &v);
         OOM_DISARM();
         if (st != IGEA_ENOMEM)
             break;
         assert_true(v == SENTINEL);
     }
     assert_int_equal(st, 0);
-    const int type[2] = {IGEA_RBD_PARALLEL, IGEA_RBD_SERIES}, first[3] = {0, 2, 4},
+    const int type[2] = {IGEA_REDUND_RBD_PARALLEL, IGEA_REDUND_RBD_SERIES}, first[3] = {0, 2, 4},
               member[4] = {0, 1, 6, 2};
     double Rb[2] = {SENTINEL, SENTINEL};
     for (k = 0;; k++) {
@@ -1003,7 +1003,7 @@ static void test_oom(void **state)
     assert_int_equal(st, 0);
     assert_close(Rb[1], (1 - 0.05 * 0.05) * 0.95, 1e-15);
     /* parity and fdi */
-    double H[18], V[18], y[6], sig[6], info[IGEA_FDI_LEN];
+    double H[18], V[18], y[6], sig[6], info[IGEA_REDUND_FDI_LEN];
     cone6(H, 6);
     for (int i = 0; i < 6; i++) {
         y[i] = H[i] + (i == 4 ? 0.02 : 0.0);
@@ -1021,13 +1021,13 @@ static void test_oom(void **state)
     assert_int_equal(st, 0);
     int iso = -9;
     for (k = 0;; k++) {
-        fill_sentinel(info, IGEA_FDI_LEN);
+        fill_sentinel(info, IGEA_REDUND_FDI_LEN);
         OOM_ARM(k);
         st = igea_redund_fdi(6, 3, H, 6, y, sig, 0.01, NULL, info, &iso);
         OOM_DISARM();
         if (st != IGEA_ENOMEM)
             break;
-        assert_true(all_sentinel(info, IGEA_FDI_LEN) && iso == -9);
+        assert_true(all_sentinel(info, IGEA_REDUND_FDI_LEN) && iso == -9);
     }
     assert_true(st == 0 && iso == 4);
     /* skew check */
@@ -1060,7 +1060,7 @@ static void test_oom(void **state)
     for (k = 0;; k++) {
         fill_sentinel(fused, 4);
         OOM_ARM(k);
-        st = igea_redund_series_check(NS, 3, rec, NS, 100, 1.0, s3, &alpha, 0, 1, 1, 4, NULL, ex, fused, NULL);
+        st = igea_redund_monitor(NS, 3, rec, NS, 100, 1.0, s3, &alpha, 0, 1, 1, 4, NULL, ex, fused, NULL);
         OOM_DISARM();
         if (st != IGEA_ENOMEM)
             break;

@@ -166,7 +166,7 @@ static void test_ebr_vector(void **state)
     int rank;
     for (int t = 0; t < 3; t++) {
         ebr_data(a[t], lda, A, y);
-        assert_int_equal(igea_regress_ebr(20, 9, A, lda, y, NULL, IGEA_EBR_SC,
+        assert_int_equal(igea_regress_ebr(20, 9, A, lda, y, NULL, IGEA_REGRESS_EBR_SC,
                                           0.0, beta, &lam, &rank, shrink, sdp,
                                           sdf), 0);
         assert_int_equal(rank, 7);
@@ -397,7 +397,7 @@ static void test_ebr_closed_forms(void **state)
     double A[20 * 9], y[20], beta[9], lam, sh[9], sdp[9], sdf[9];
     int rank;
     ebr_data(1e-4, lda, A, y);
-    assert_int_equal(igea_regress_ebr(20, 9, A, lda, y, NULL, IGEA_EBR_SC, 0.0,
+    assert_int_equal(igea_regress_ebr(20, 9, A, lda, y, NULL, IGEA_REGRESS_EBR_SC, 0.0,
                                       beta, &lam, &rank, sh, sdp, sdf), 0);
     double B[81], b[9], M[81], ref[9], xl[9], s2;
     int rl;
@@ -431,7 +431,7 @@ static void test_ebr_closed_forms(void **state)
     }
     assert_close(yab, yy - S - 5.0 * S / 15.0, 1e-9);
     /* MM: y^T A beta = |y|^2 - S - r S/(m-r). */
-    assert_int_equal(igea_regress_ebr(20, 9, A, lda, y, NULL, IGEA_EBR_MM, 0.0,
+    assert_int_equal(igea_regress_ebr(20, 9, A, lda, y, NULL, IGEA_REGRESS_EBR_MM, 0.0,
                                       beta, &lam, &rank, NULL, NULL, NULL), 0);
     yab = 0.0;
     for (int i = 0; i < 20; i++)
@@ -489,7 +489,7 @@ static void test_ebr_orthogonal(void **state)
         }
     }
     /* lam_floor above lambda*: lambda hat = floor. */
-    assert_int_equal(igea_regress_ebr(m, N, A, m, y, NULL, IGEA_EBR_SC, 100.0,
+    assert_int_equal(igea_regress_ebr(m, N, A, m, y, NULL, IGEA_REGRESS_EBR_SC, 100.0,
                                       beta, &lam, &rank, shrink, NULL, NULL), 0);
     assert_true(lam == 100.0);
     /* Positive-part rule: pure noise orthogonal to the design -> lambda 0,
@@ -507,7 +507,7 @@ static void test_ebr_orthogonal(void **state)
         }
         yn[i] = w[i] - p + 1e-3 * A[i + 12];
     }
-    assert_int_equal(igea_regress_ebr(m, N, A, m, yn, NULL, IGEA_EBR_SC, 0.0,
+    assert_int_equal(igea_regress_ebr(m, N, A, m, yn, NULL, IGEA_REGRESS_EBR_SC, 0.0,
                                       beta, &lam, &rank, shrink, NULL, NULL), 0);
     assert_true(lam == 0.0);
     for (int j = 0; j < N; j++)
@@ -528,9 +528,9 @@ static void test_ebr_prior_scale(void **state)
         for (int i = 0; i < 20; i++)
             As[i + 20 * j] = A[i + (size_t)lda * j] * ds[j];
     }
-    assert_int_equal(igea_regress_ebr(20, 9, A, lda, y, ds, IGEA_EBR_SC, 0.0,
+    assert_int_equal(igea_regress_ebr(20, 9, A, lda, y, ds, IGEA_REGRESS_EBR_SC, 0.0,
                                       b1, &l1, &r1, NULL, p1, NULL), 0);
-    assert_int_equal(igea_regress_ebr(20, 9, As, 20, y, NULL, IGEA_EBR_SC, 0.0,
+    assert_int_equal(igea_regress_ebr(20, 9, As, 20, y, NULL, IGEA_REGRESS_EBR_SC, 0.0,
                                       b2, &l2, &r2, NULL, p2, NULL), 0);
     assert_int_equal(r1, r2);
     assert_close(l1, l2, 1e-12);
@@ -608,7 +608,7 @@ static void test_ridge(void **state)
     double B[49], b[7], M[49], ref[7];
     const double k = 1e-4;
     assert_int_equal(igea_regress_ridge(16, 7, As, 16, y, NULL,
-                                        IGEA_RIDGE_FIXED, k, x, cov, 7, &ku,
+                                        IGEA_REGRESS_RIDGE_FIXED, k, x, cov, 7, &ku,
                                         &s2, res), 0);
     assert_true(ku == k);
     normal_eq(16, 7, As, 16, y, k, B, b);
@@ -642,15 +642,15 @@ static void test_ridge(void **state)
             v += As[i + 16 * j] * xl[j];
         nax += v * v;
     }
-    assert_int_equal(igea_regress_ridge(16, 7, As, 16, y, NULL, IGEA_RIDGE_HKB,
+    assert_int_equal(igea_regress_ridge(16, 7, As, 16, y, NULL, IGEA_REGRESS_RIDGE_HKB,
                                         0, x, NULL, 1, &ku, &s2, NULL), 0);
     assert_close(ku, 7 * sl / nx, 1e-9);
-    assert_int_equal(igea_regress_ridge(16, 7, As, 16, y, NULL, IGEA_RIDGE_LW,
+    assert_int_equal(igea_regress_ridge(16, 7, As, 16, y, NULL, IGEA_REGRESS_RIDGE_LW,
                                         0, x, NULL, 1, &ku, &s2, NULL), 0);
     assert_close(ku, 7 * sl / nax, 1e-9);
     /* GCV and LOO: the returned k is a local minimum of the criterion,
      * evaluated here independently from H = A M A^T. */
-    for (int rule = IGEA_RIDGE_GCV; rule <= IGEA_RIDGE_LOO; rule++) {
+    for (int rule = IGEA_REGRESS_RIDGE_GCV; rule <= IGEA_REGRESS_RIDGE_LOO; rule++) {
         assert_int_equal(igea_regress_ridge(16, 7, As, 16, y, NULL, rule, 0, x,
                                             NULL, 1, &ku, &s2, NULL), 0);
         double crit[3];
@@ -671,7 +671,7 @@ static void test_ridge(void **state)
                 tr += h;
                 press += (e / (1 - h)) * (e / (1 - h));
             }
-            crit[t] = rule == IGEA_RIDGE_GCV ? 16 * rss / ((16 - tr) * (16 - tr))
+            crit[t] = rule == IGEA_REGRESS_RIDGE_GCV ? 16 * rss / ((16 - tr) * (16 - tr))
                                              : press;
         }
         assert_true(crit[0] <= crit[1] * (1 + 1e-12));
@@ -684,7 +684,7 @@ static void test_ridge(void **state)
     assert_close(edf[0], 7.0, 1e-12);
     assert_true(edf[1] < 7.0);
     assert_int_equal(igea_regress_ridge(16, 7, As, 16, y, NULL,
-                                        IGEA_RIDGE_FIXED, 1e-4, x, NULL, 1, &ku,
+                                        IGEA_REGRESS_RIDGE_FIXED, 1e-4, x, NULL, 1, &ku,
                                         &s2, NULL), 0);
     for (int j = 0; j < 7; j++) {
         assert_close(X[j], xl[j], 1e-8);
@@ -729,9 +729,9 @@ static void test_ridge_published_longley(void **state)
             ym += longley[i][ycol] / n;
         for (int i = 0; i < n; i++)
             y[i] = longley[i][ycol] - ym;
-        assert_int_equal(igea_regress_ridge(n, p, X, n, y, NULL, IGEA_RIDGE_HKB,
+        assert_int_equal(igea_regress_ridge(n, p, X, n, y, NULL, IGEA_REGRESS_RIDGE_HKB,
                                             0, x, NULL, 1, &kh, &s2, NULL), 0);
-        assert_int_equal(igea_regress_ridge(n, p, X, n, y, NULL, IGEA_RIDGE_LW,
+        assert_int_equal(igea_regress_ridge(n, p, X, n, y, NULL, IGEA_REGRESS_RIDGE_LW,
                                             0, x, NULL, 1, &kl, &s2, NULL), 0);
         double f = (p - 2.0) / p * (n - p) / (n - p - 1.0);
         if (t == 0) {
@@ -772,7 +772,7 @@ static void test_ridge_errors(void **state)
     A[2] = 3;
     /* HKB needs residual degrees of freedom */
     double Q[4] = {1, 0, 0, 1}, yq[2] = {1, 1};
-    assert_int_equal(RG(2, 2, Q, 2, yq, NULL, IGEA_RIDGE_HKB, 0, x, cov, 2, &ku,
+    assert_int_equal(RG(2, 2, Q, 2, yq, NULL, IGEA_REGRESS_RIDGE_HKB, 0, x, cov, 2, &ku,
                         &s2, res), IGEA_EDOMAIN);
 #undef RG
     assert_int_equal(igea_regress_ridge_trace(3, 2, A, 3, y, NULL, 0, kg, X, 2,
@@ -1095,7 +1095,7 @@ static void test_wide_ls_pce_ridge(void **state)
     for (int t = 0; t < 3; t++) {
         wide_closed_form(M, N, A, y, ks[t], want);
         fill_sentinel(cov, N * N);
-        assert_int_equal(igea_regress_ridge(M, N, A, M, y, NULL, IGEA_RIDGE_FIXED,
+        assert_int_equal(igea_regress_ridge(M, N, A, M, y, NULL, IGEA_REGRESS_RIDGE_FIXED,
                                             ks[t], x, cov, N, &ku, &s2, res), 0);
         assert_true(ku == ks[t]);
         assert_true(s2 == 0.0); /* m == r: no residual variance */
@@ -1118,12 +1118,12 @@ static void test_wide_ls_pce_ridge(void **state)
     for (int i = 0; i < M; i++)
         yw[i] = y[i] / sg[i];
     wide_closed_form(M, N, Aw, yw, 0.7, want);
-    assert_int_equal(igea_regress_ridge(M, N, A, M, y, sg, IGEA_RIDGE_FIXED, 0.7,
+    assert_int_equal(igea_regress_ridge(M, N, A, M, y, sg, IGEA_REGRESS_RIDGE_FIXED, 0.7,
                                         x, NULL, N, &ku, &s2, NULL), 0);
     for (int j = 0; j < N; j++)
         assert_close_abs(x[j], want[j], 1e-11, 1e-14);
     /* HKB and LW need residual degrees of freedom: refused, untouched. */
-    for (int rule = IGEA_RIDGE_HKB; rule <= IGEA_RIDGE_LW; rule++) {
+    for (int rule = IGEA_REGRESS_RIDGE_HKB; rule <= IGEA_REGRESS_RIDGE_LW; rule++) {
         fill_sentinel(x, N);
         fill_sentinel(cov, N * N);
         fill_sentinel(res, M);
@@ -1134,7 +1134,7 @@ static void test_wide_ls_pce_ridge(void **state)
                     all_sentinel(res, M) && ku == SENTINEL && s2 == SENTINEL);
     }
     /* GCV and LOO: the x returned is the ridge solution at the k returned. */
-    for (int rule = IGEA_RIDGE_GCV; rule <= IGEA_RIDGE_LOO; rule++) {
+    for (int rule = IGEA_REGRESS_RIDGE_GCV; rule <= IGEA_REGRESS_RIDGE_LOO; rule++) {
         int st = igea_regress_ridge(M, N, A, M, y, NULL, rule, 0.0, x, cov, N,
                                     &ku, &s2, res);
         assert_int_equal(st, 0);
@@ -1174,15 +1174,15 @@ static void test_wide_1x3(void **state)
                                      &s2, res), 0);
     for (int j = 0; j < 3; j++)
         assert_close(x[j], A[j] * 0.5 / 14.0, 1e-14);
-    for (int rule = IGEA_RIDGE_FIXED; rule <= IGEA_RIDGE_LOO; rule++) {
+    for (int rule = IGEA_REGRESS_RIDGE_FIXED; rule <= IGEA_REGRESS_RIDGE_LOO; rule++) {
         int st = igea_regress_ridge(1, 3, A, 1, y, NULL, rule, 2.0, x, cov, 3,
                                     &ku, &s2, res);
-        if (rule == IGEA_RIDGE_HKB || rule == IGEA_RIDGE_LW) {
+        if (rule == IGEA_REGRESS_RIDGE_HKB || rule == IGEA_REGRESS_RIDGE_LW) {
             assert_int_equal(st, IGEA_EDOMAIN);
             continue;
         }
         assert_int_equal(st, 0);
-        if (rule == IGEA_RIDGE_FIXED)
+        if (rule == IGEA_REGRESS_RIDGE_FIXED)
             assert_true(ku == 2.0);
         /* x = a y / (|a|^2 + k) */
         for (int j = 0; j < 3; j++)
@@ -1207,7 +1207,7 @@ static void test_wide_1x3(void **state)
     /* EBR needs rank >= 3. */
     double lam = SENTINEL, beta[3];
     fill_sentinel(beta, 3);
-    assert_int_equal(igea_regress_ebr(1, 3, A, 1, y, NULL, IGEA_EBR_MM, 0.0,
+    assert_int_equal(igea_regress_ebr(1, 3, A, 1, y, NULL, IGEA_REGRESS_EBR_MM, 0.0,
                                       beta, &lam, &rank, NULL, NULL, NULL),
                      IGEA_ERANK);
     assert_true(all_sentinel(beta, 3) && lam == SENTINEL);
@@ -1279,7 +1279,7 @@ static void test_wide_bayes_ebr_collinearity(void **state)
         }
     for (int i = 0; i < M5; i++)
         yb[i] = 0.3 * i - 0.5 + 0.1 * (i % 2);
-    assert_int_equal(igea_regress_ebr(M5, N8, B, M5, yb, NULL, IGEA_EBR_MM, 0.5,
+    assert_int_equal(igea_regress_ebr(M5, N8, B, M5, yb, NULL, IGEA_REGRESS_EBR_MM, 0.5,
                                       bt, &lam, &r5, sh, sp, sf), 0);
     assert_int_equal(r5, 3);
     assert_true(lam >= 0.5 && isfinite(lam));
@@ -1322,7 +1322,7 @@ static void test_scaled_designs(void **state)
     /* Ridge k = 0 (minimum-norm LS) on A * 1e-300: d_i = s_i^2 underflows,
      * s_i / (d_i + k) must not. */
     assert_int_equal(igea_regress_ridge(6, 2, A, 6, small_y, NULL,
-                                        IGEA_RIDGE_FIXED, 0.0, x, NULL, 2, &ku,
+                                        IGEA_REGRESS_RIDGE_FIXED, 0.0, x, NULL, 2, &ku,
                                         &s2, NULL), 0);
     assert_close(x[0], x0[0] * 1e300, 1e-12);
     assert_close(x[1], x0[1] * 1e300, 1e-12);
@@ -1336,7 +1336,7 @@ static void test_scaled_designs(void **state)
     }
     double klw = 2.0 * s20 / nf;
     assert_int_equal(igea_regress_ridge(6, 2, A, 6, small_y, NULL,
-                                        IGEA_RIDGE_LW, 0.0, x, NULL, 2, &ku,
+                                        IGEA_REGRESS_RIDGE_LW, 0.0, x, NULL, 2, &ku,
                                         &s2, res), 0);
     assert_close(ku, klw, 1e-12);
     for (int j = 0; j < 2; j++) {
@@ -1347,8 +1347,8 @@ static void test_scaled_designs(void **state)
     }
     /* HKB, GCV and LOO on A * 1e-300 choose k ~ 1e-600: not a double, so a
      * status, never NaN with status 0; outputs untouched. */
-    for (int rule = IGEA_RIDGE_HKB; rule <= IGEA_RIDGE_LOO; rule++) {
-        if (rule == IGEA_RIDGE_LW)
+    for (int rule = IGEA_REGRESS_RIDGE_HKB; rule <= IGEA_REGRESS_RIDGE_LOO; rule++) {
+        if (rule == IGEA_REGRESS_RIDGE_LW)
             continue;
         fill_sentinel(x, 2);
         fill_sentinel(res, 6);
@@ -1363,14 +1363,14 @@ static void test_scaled_designs(void **state)
      * 2^40 exactly in exact arithmetic. */
     double k0, xa[2];
     assert_int_equal(igea_regress_ridge(6, 2, small_A, 6, small_y, NULL,
-                                        IGEA_RIDGE_HKB, 0.0, xa, NULL, 2, &k0,
+                                        IGEA_REGRESS_RIDGE_HKB, 0.0, xa, NULL, 2, &k0,
                                         &s20, NULL), 0);
     /* HKB closed form: k = r s^2 / |x_LS|^2 */
     assert_close(k0, 2.0 * s20 / (x0[0] * x0[0] + x0[1] * x0[1]), 1e-12);
     for (int i = 0; i < 12; i++)
         A[i] = small_A[i] * 0x1p-40;
     assert_int_equal(igea_regress_ridge(6, 2, A, 6, small_y, NULL,
-                                        IGEA_RIDGE_HKB, 0.0, x, NULL, 2, &ku,
+                                        IGEA_REGRESS_RIDGE_HKB, 0.0, x, NULL, 2, &ku,
                                         &s2, NULL), 0);
     assert_close(ku, k0 * 0x1p-80, 1e-12);
     assert_close(x[0], xa[0] * 0x1p40, 1e-12);
@@ -1405,12 +1405,12 @@ static void test_scaled_column_ridge(void **state)
     fill_sentinel(x, 3);
     fill_sentinel(cov, 9);
     ku = s2o = SENTINEL;
-    assert_int_equal(igea_regress_ridge(6, 3, As, 6, y, NULL, IGEA_RIDGE_HKB,
+    assert_int_equal(igea_regress_ridge(6, 3, As, 6, y, NULL, IGEA_REGRESS_RIDGE_HKB,
                                         0.0, x, cov, 3, &ku, &s2o, res),
                      IGEA_EOVERFLOW);
     assert_true(all_sentinel(x, 3) && all_sentinel(cov, 9) && ku == SENTINEL &&
                 s2o == SENTINEL);
-    assert_int_equal(igea_regress_ridge(6, 3, As, 6, y, NULL, IGEA_RIDGE_LW,
+    assert_int_equal(igea_regress_ridge(6, 3, As, 6, y, NULL, IGEA_REGRESS_RIDGE_LW,
                                         0.0, x, cov, 3, &ku, &s2o, res), 0);
     assert_close(s2o, s2, 1e-10);
     assert_close(ku, klw, 1e-10);
@@ -1420,7 +1420,7 @@ static void test_scaled_column_ridge(void **state)
         assert_true(isfinite(cov[j]));
     /* GCV and LOO search k around d_1 ~ 1e600: a k that is not a double is
      * a status; whatever is returned with status 0 is finite. */
-    for (int rule = IGEA_RIDGE_GCV; rule <= IGEA_RIDGE_LOO; rule++) {
+    for (int rule = IGEA_REGRESS_RIDGE_GCV; rule <= IGEA_REGRESS_RIDGE_LOO; rule++) {
         fill_sentinel(x, 3);
         ku = SENTINEL;
         int st = igea_regress_ridge(6, 3, As, 6, y, NULL, rule, 0.0, x, cov, 3,
@@ -1455,10 +1455,10 @@ static void test_ebr_scaled(void **state)
     }
     double b0[N], l0, sp0[N], sf0[N];
     int r0;
-    assert_int_equal(igea_regress_ebr(M, N, A, M, y, NULL, IGEA_EBR_MM, 0.0, b0,
+    assert_int_equal(igea_regress_ebr(M, N, A, M, y, NULL, IGEA_REGRESS_EBR_MM, 0.0, b0,
                                       &l0, &r0, NULL, sp0, sf0), 0);
     assert_true(l0 > 0.0);
-    for (int rule = IGEA_EBR_SC; rule <= IGEA_EBR_ML2; rule++) {
+    for (int rule = IGEA_REGRESS_EBR_SC; rule <= IGEA_REGRESS_EBR_ML2; rule++) {
         for (int i = 0; i < M * N; i++)
             As[i] = A[i] * 1e-300;
         double b[N], lam = SENTINEL, sp[N], sf[N], sh[N];
@@ -1479,7 +1479,7 @@ static void test_ebr_scaled(void **state)
         As[i] = A[i] * 0x1p-60;
     double b[N], lam, sp[N], sf[N];
     int rank;
-    assert_int_equal(igea_regress_ebr(M, N, As, M, y, NULL, IGEA_EBR_MM, 0.0, b,
+    assert_int_equal(igea_regress_ebr(M, N, As, M, y, NULL, IGEA_REGRESS_EBR_MM, 0.0, b,
                                       &lam, &rank, NULL, sp, sf), 0);
     assert_close(lam, l0 * 0x1p120, 1e-9);
     for (int j = 0; j < N; j++) {
@@ -1506,7 +1506,7 @@ static void test_sigma_range(void **state)
         assert_int_equal(igea_regress_ls(6, 2, small_A, 6, small_y, sg, 0, x, cov,
                                          2, &rank, &s2, res), IGEA_ERANGE);
         assert_int_equal(igea_regress_ridge(6, 2, small_A, 6, small_y, sg,
-                                            IGEA_RIDGE_GCV, 0, x, cov, 2, &ku,
+                                            IGEA_REGRESS_RIDGE_GCV, 0, x, cov, 2, &ku,
                                             &s2, res), IGEA_ERANGE);
         assert_int_equal(igea_regress_pce(6, 2, small_A, 6, small_y, sg, 2, 0, x,
                                           cov, 2, &nu, &s2, res), IGEA_ERANGE);
@@ -1527,7 +1527,7 @@ static void test_sigma_range(void **state)
         /* EBR's prior scales are checked alike. */
         double ps[2] = {1.0, bad[t]}, lam = SENTINEL;
         assert_int_equal(igea_regress_ebr(6, 2, small_A, 6, small_y, ps,
-                                          IGEA_EBR_MM, 0, x, &lam, &rank, NULL,
+                                          IGEA_REGRESS_EBR_MM, 0, x, &lam, &rank, NULL,
                                           NULL, NULL), IGEA_ERANGE);
         assert_true(lam == SENTINEL && all_sentinel(x, 2));
     }

@@ -568,10 +568,10 @@ static void test_run_layouts(void **state)
         igea_rls_set_anomaly(h, IGEA_RLS_ANOMALY_ISOLATE, 4.0, NULL);
         int done = -1;
         if (v == 0)
-            assert_int_equal(igea_rls_run(h, n, IGEA_RLS_LAYOUT_ROWS, R, lr, r.y, sig, 0,
+            assert_int_equal(igea_rls_run(h, n, IGEA_COLMAJOR, R, lr, r.y, sig, 0,
                                           xo[v], m + 1, fo[v], ao[v], &done), 0);
         else if (v == 1)
-            assert_int_equal(igea_rls_run(h, n, IGEA_RLS_LAYOUT_BLOCKS, B, lb, r.y, sig, 0,
+            assert_int_equal(igea_rls_run(h, n, IGEA_ROWMAJOR, B, lb, r.y, sig, 0,
                                           xo[v], m + 1, fo[v], ao[v], &done), 0);
         else {
             for (int e = 0; e < n; e++) {
@@ -604,7 +604,7 @@ static void test_run_layouts(void **state)
     R[5 * k + 1] = NAN;
     igea_rls *h = make(m, k, 10.0, IGEA_RLS_STANDARD, 1);
     int done = -1;
-    assert_int_equal(igea_rls_run(h, n, IGEA_RLS_LAYOUT_ROWS, R, lr, r.y, NULL, 0,
+    assert_int_equal(igea_rls_run(h, n, IGEA_COLMAJOR, R, lr, r.y, NULL, 0,
                                   NULL, m, NULL, NULL, &done), IGEA_ENONFINITE);
     assert_int_equal(done, 5);
     int cnt[4];
@@ -625,7 +625,7 @@ static void test_long_run_pd(void **state)
     igea_rls *h = make(m, k, 1e6, IGEA_RLS_POLYNOMIAL, 5);
     igea_rls_set_forget(h, 0.999);
     int done;
-    assert_int_equal(igea_rls_run(h, n, IGEA_RLS_LAYOUT_ROWS, r.S, n * k, r.y, NULL, 0,
+    assert_int_equal(igea_rls_run(h, n, IGEA_COLMAJOR, r.S, n * k, r.y, NULL, 0,
                                   NULL, m, NULL, NULL, &done), 0);
     double g[144], c[144], x[12];
     igea_rls_get_gamma(h, g, m);
@@ -879,7 +879,7 @@ static void test_allocation(void **state)
     oom_calls = 0;
     feed(h, &r, 1, 40);
     int done;
-    assert_int_equal(igea_rls_run(h, 10, IGEA_RLS_LAYOUT_ROWS, r.S + 80, 100, r.y + 80, NULL,
+    assert_int_equal(igea_rls_run(h, 10, IGEA_COLMAJOR, r.S + 80, 100, r.y + 80, NULL,
                                   0, NULL, 4, NULL, NULL, &done), 0);
     long during = oom_calls;
     oom_fail_at = -1;

@@ -39,27 +39,27 @@ static int setup_model(void **state)
 {
     int codes[NT], n = 0, k = 0;
     for (int a = 0; a < 3; a++) {
-        codes[k] = IGEA_TERM_ACC_BIAS_X + a;
+        codes[k] = IGEA_ENVFUN_TERM_ACC_BIAS_X + a;
         SPEC21[k++] = 1e-3 * G0;
     }
     for (int a = 0; a < 3; a++) {
-        codes[k] = IGEA_TERM_ACC_SCALE_X + a;
+        codes[k] = IGEA_ENVFUN_TERM_ACC_SCALE_X + a;
         SPEC21[k++] = 1e-4;
     }
     for (int a = 0; a < 6; a++) {
-        codes[k] = IGEA_TERM_ACC_MIS_XY + a;
+        codes[k] = IGEA_ENVFUN_TERM_ACC_MIS_XY + a;
         SPEC21[k++] = 1e-4;
     }
     for (int a = 0; a < 3; a++) {
-        codes[k] = IGEA_TERM_GYRO_BIAS_X + a;
+        codes[k] = IGEA_ENVFUN_TERM_GYRO_BIAS_X + a;
         SPEC21[k++] = 0.5 * DEG_H;
     }
     for (int a = 0; a < 3; a++) {
-        codes[k] = IGEA_TERM_GYRO_G_X + a;
+        codes[k] = IGEA_ENVFUN_TERM_GYRO_G_X + a;
         SPEC21[k++] = 0.5 * DEG_H / G0;
     }
     for (int a = 0; a < 3; a++) {
-        codes[k] = IGEA_TERM_ATT0_X + a;
+        codes[k] = IGEA_ENVFUN_TERM_ATT0_X + a;
         SPEC21[k++] = 1e-4;
     }
     double ep[M_EP];
@@ -67,7 +67,7 @@ static int setup_model(void **state)
         ep[e] = e + 1.0;
     if (igea_sim_trajectory_length(120.0, 50.0, &n) != 0)
         return -1;
-    double *tr = malloc(sizeof(double) * (size_t)n * IGEA_TRAJ_COLS);
+    double *tr = malloc(sizeof(double) * (size_t)n * IGEA_ENVFUN_TRAJ_COLS);
     if (!tr || igea_sim_trajectory(IGEA_ENVFUN_STRAPDOWN, 120.0, 50.0, n, tr, n) ||
         igea_envfun_compute(IGEA_ENVFUN_STRAPDOWN, n, tr, n, NT, codes, NULL,
                             M_EP, ep, NULL, IGEA_ENVFUN_VELOCITY, S21, 3 * M_EP))
@@ -87,9 +87,9 @@ static void test_trajectory(void **state)
     assert_int_equal(igea_sim_trajectory_length(10.0, 1.0, NULL), -3);
     n = 6001;
     int ld = n + 3;
-    double *sd = malloc(sizeof(double) * (size_t)ld * IGEA_TRAJ_COLS);
-    double *pf = malloc(sizeof(double) * (size_t)n * IGEA_TRAJ_COLS);
-    fill_nan(sd, (size_t)ld * IGEA_TRAJ_COLS);
+    double *sd = malloc(sizeof(double) * (size_t)ld * IGEA_ENVFUN_TRAJ_COLS);
+    double *pf = malloc(sizeof(double) * (size_t)n * IGEA_ENVFUN_TRAJ_COLS);
+    fill_nan(sd, (size_t)ld * IGEA_ENVFUN_TRAJ_COLS);
     assert_int_equal(igea_sim_trajectory(IGEA_ENVFUN_STRAPDOWN, 120.0, 50.0, n, sd, ld), 0);
     assert_int_equal(igea_sim_trajectory(IGEA_ENVFUN_PLATFORM, 120.0, 50.0, n, pf, n), 0);
     for (int k = 0; k < n; k++) {
@@ -327,7 +327,7 @@ static void run_mc(const double *opts, const double *eqo, int first, int nf,
  * flight's verdict equals igea_eqerr_run on igea_sim_flight's data. */
 static void test_mc_threads(void **state)
 {
-    double c1[IGEA_MC_LEN], c2[IGEA_MC_LEN], c3[IGEA_MC_LEN];
+    double c1[IGEA_SIM_MC_LEN], c2[IGEA_SIM_MC_LEN], c3[IGEA_SIM_MC_LEN];
     int ct1[NT], cr1[NT], ct2[NT], cr2[NT], d1[NF], d2[NF], n1[NF], n2[NF];
     double x1[NF], x2[NF], s1[NF], s2[NF];
     run_mc(NULL, NULL, 0, NF, 1, c1, ct1, cr1, x1, d1, n1, s1);
@@ -345,20 +345,20 @@ static void test_mc_threads(void **state)
     run_mc(NULL, NULL, 100, NF - 100, 2, c3, NULL, NULL, x2, d2, n2, s2);
     assert_memory_equal(x1 + 100, x2, (NF - 100) * sizeof(double));
     assert_memory_equal(n1 + 100, n2, (NF - 100) * sizeof(int));
-    assert_true(c1[IGEA_MC_FLIGHTS] == NF);
+    assert_true(c1[IGEA_SIM_MC_FLIGHTS] == NF);
     /* independent route: flight f through igea_sim_flight + igea_eqerr_run */
     int m = 3 * M_EP;
     for (int f = 0; f < 5; f++) {
-        double dw[3 * M_EP], lam[NT], P[NT * NT], xh[NT], z[NT], info[IGEA_INFO_LEN];
+        double dw[3 * M_EP], lam[NT], P[NT * NT], xh[NT], z[NT], info[IGEA_STATS_INFO_LEN];
         int rej[NT];
         assert_int_equal(igea_sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL,
                                          NULL, 2024, f, NULL, dw), 0);
         assert_int_equal(igea_eqerr_run(m, NT, S21, m, dw, &SIG, 0, SPEC21, NULL, lam,
                                         P, NT, xh, z, rej, info, NULL, NULL), 0);
-        assert_close(x1[f], info[IGEA_INFO_CHI2], 1e-6);
-        assert_int_equal(d1[f], (int)info[IGEA_INFO_DOF]);
-        assert_int_equal(n1[f], (int)info[IGEA_INFO_N_REJECT]);
-        assert_close(s1[f], info[IGEA_INFO_SCALE], 1e-6);
+        assert_close(x1[f], info[IGEA_STATS_INFO_CHI2], 1e-6);
+        assert_int_equal(d1[f], (int)info[IGEA_STATS_INFO_DOF]);
+        assert_int_equal(n1[f], (int)info[IGEA_STATS_INFO_N_REJECT]);
+        assert_close(s1[f], info[IGEA_STATS_INFO_SCALE], 1e-6);
     }
 }
 
@@ -367,15 +367,15 @@ static void test_mc_threads(void **state)
  * alpha; counts must lie in the binomial 1e-6 regions. */
 static void test_mc_size(void **state)
 {
-    double counts[IGEA_MC_LEN], eqo[IGEA_EQERR_OPT_LEN];
+    double counts[IGEA_SIM_MC_LEN], eqo[IGEA_EQERR_OPT_LEN];
     int ct[NT], cr[NT];
     igea_eqerr_defaults(eqo);
     eqo[IGEA_EQERR_OPT_ALPHA] = 0.1;
     eqo[IGEA_EQERR_OPT_CORRECT] = 0;
     run_mc(NULL, eqo, 0, NF, 0, counts, ct, cr, NULL, NULL, NULL, NULL);
     print_message("size: chi2 rejected %g of %d, any component %g\n",
-                  counts[IGEA_MC_CHI2_REJECT], NF, counts[IGEA_MC_ANY_REJECT]);
-    assert_true(binom_ok((int)counts[IGEA_MC_CHI2_REJECT], NF, 0.1));
+                  counts[IGEA_SIM_MC_CHI2_REJECT], NF, counts[IGEA_SIM_MC_ANY_REJECT]);
+    assert_true(binom_ok((int)counts[IGEA_SIM_MC_CHI2_REJECT], NF, 0.1));
     int ntested = 0;
     for (int i = 0; i < NT; i++) {
         if (ct[i] == 0)
@@ -385,8 +385,8 @@ static void test_mc_size(void **state)
         assert_true(binom_ok(cr[i], NF, 0.1));
     }
     assert_int_equal(ntested, 7);
-    assert_true(counts[IGEA_MC_MEAN_SCALE] == 1.0);
-    assert_int_equal((int)counts[IGEA_MC_NOT_TESTABLE], 0);
+    assert_true(counts[IGEA_SIM_MC_MEAN_SCALE] == 1.0);
+    assert_int_equal((int)counts[IGEA_SIM_MC_NOT_TESTABLE], 0);
 }
 
 /* Study 2 (small): true sigma_w = 10, stated 1. Without the correction
@@ -395,7 +395,7 @@ static void test_mc_size(void **state)
  * chi-square test is back near alpha. */
 static void test_mc_misstated(void **state)
 {
-    double counts[IGEA_MC_LEN], eqo[IGEA_EQERR_OPT_LEN], opts[IGEA_SIM_OPT_LEN];
+    double counts[IGEA_SIM_MC_LEN], eqo[IGEA_EQERR_OPT_LEN], opts[IGEA_SIM_OPT_LEN];
     int ct[NT], cr[NT], m = 3 * M_EP;
     double scale[NF];
     igea_sim_defaults(opts);
@@ -404,13 +404,13 @@ static void test_mc_misstated(void **state)
     eqo[IGEA_EQERR_OPT_ALPHA] = 0.1;
     eqo[IGEA_EQERR_OPT_CORRECT] = 0;
     /* lambda of the weighted, scaled S (does not depend on dw) */
-    double dw[3 * M_EP], lam[NT], P[NT * NT], xh[NT], z[NT], info[IGEA_INFO_LEN];
+    double dw[3 * M_EP], lam[NT], P[NT * NT], xh[NT], z[NT], info[IGEA_STATS_INFO_LEN];
     int rej[NT];
     igea_sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, 0, NULL, dw);
     assert_int_equal(igea_eqerr_run(m, NT, S21, m, dw, &SIG, 0, SPEC21, eqo, lam, P,
                                     NT, xh, z, rej, info, NULL, NULL), 0);
-    int last = (int)info[IGEA_INFO_N_TEST] - 1;
-    double zc = info[IGEA_INFO_Z_CRIT];
+    int last = (int)info[IGEA_STATS_INFO_N_TEST] - 1;
+    double zc = info[IGEA_STATS_INFO_Z_CRIT];
     /* X_i ~ N(0, 1 + sigma_w^2 / lambda_i): z_i = Xhat_i / sqrt(1 + 1/lambda_i) */
     double sd = sqrt((1.0 + 100.0 / lam[last]) / (1.0 + 1.0 / lam[last]));
     double p_last = 2.0 * gsl_cdf_ugaussian_Q(zc / sd);
@@ -419,17 +419,17 @@ static void test_mc_misstated(void **state)
                   "(exact p %.4f)\n", last + 1, lam[last], cr[last], NF, p_last);
     assert_true(p_last > 0.3);
     assert_true(binom_ok(cr[last], NF, p_last));
-    double uncorrected = counts[IGEA_MC_FAILED];
+    double uncorrected = counts[IGEA_SIM_MC_FAILED];
     eqo[IGEA_EQERR_OPT_CORRECT] = 1;
     run_mc(opts, eqo, 0, NF, 0, counts, ct, cr, NULL, NULL, NULL, scale);
     print_message("misstated: failed %g uncorrected, %g corrected; mean c %.4g\n",
-                  uncorrected, counts[IGEA_MC_FAILED], counts[IGEA_MC_MEAN_SCALE]);
+                  uncorrected, counts[IGEA_SIM_MC_FAILED], counts[IGEA_SIM_MC_MEAN_SCALE]);
     /* c estimates sigma_w^2 = 100 from ~12 small eigenvalues (relative sd
      * ~ sqrt(2/12) per flight, /sqrt(300) for the mean: 2.4 %) */
-    assert_close(counts[IGEA_MC_MEAN_SCALE], 100.0, 0.15);
+    assert_close(counts[IGEA_SIM_MC_MEAN_SCALE], 100.0, 0.15);
     /* family-wise size at alpha = 0.1 with 5-7 components is 0.4-0.5; the
      * uncorrected run fails ~0.74 of the flights */
-    assert_true(counts[IGEA_MC_FAILED] < 0.75 * uncorrected);
+    assert_true(counts[IGEA_SIM_MC_FAILED] < 0.75 * uncorrected);
 }
 
 /* lds > m with NaN padding: same flights and verdicts as lds = m. */
@@ -437,7 +437,7 @@ static void test_lds_padding(void **state)
 {
     int m = 3 * M_EP, ld = m + 5;
     double *Sp = malloc(sizeof(double) * (size_t)ld * NT);
-    double d1[3 * M_EP], d2[3 * M_EP], c1[IGEA_MC_LEN], c2[IGEA_MC_LEN], x1[50], x2[50];
+    double d1[3 * M_EP], d2[3 * M_EP], c1[IGEA_SIM_MC_LEN], c2[IGEA_SIM_MC_LEN], x1[50], x2[50];
     fill_nan(Sp, (size_t)ld * NT);
     for (int j = 0; j < NT; j++)
         memcpy(Sp + (size_t)j * ld, S21 + (size_t)j * m, sizeof(double) * m);
@@ -460,11 +460,11 @@ static void test_lds_padding(void **state)
 static void test_nonlinear_invalid(void **state)
 {
     enum { NS = 4 };
-    double tr[NS * IGEA_TRAJ_COLS], ep[2] = {0.5, 1.0}, dW[6], err[IGEA_TERM_COUNT] = {0};
+    double tr[NS * IGEA_ENVFUN_TRAJ_COLS], ep[2] = {0.5, 1.0}, dW[6], err[IGEA_ENVFUN_TERM_COUNT] = {0};
     int axes[6] = {0, 1, 2, 1, 2, 3};
     for (int k = 0; k < NS; k++) {
         tr[k] = k;
-        for (int c = 1; c < IGEA_TRAJ_COLS; c++)
+        for (int c = 1; c < IGEA_ENVFUN_TRAJ_COLS; c++)
             tr[k + c * NS] = (c == 7) ? 1.0 : 0.1 * c;
     }
     fill_sentinel(dW, 6);
@@ -474,9 +474,9 @@ static void test_nonlinear_invalid(void **state)
     assert_int_equal(NL(0, NS, NULL, NS, err, NULL, 2, ep, dW), -3);
     assert_int_equal(NL(0, NS, tr, NS - 1, err, NULL, 2, ep, dW), -4);
     assert_int_equal(NL(0, NS, tr, NS, NULL, NULL, 2, ep, dW), -5);
-    err[IGEA_TERM_ALIGN0_X] = 1e-4; /* a platform term in a strapdown run */
+    err[IGEA_ENVFUN_TERM_ALIGN0_X] = 1e-4; /* a platform term in a strapdown run */
     assert_int_equal(NL(0, NS, tr, NS, err, NULL, 2, ep, dW), -5);
-    err[IGEA_TERM_ALIGN0_X] = 0.0;
+    err[IGEA_ENVFUN_TERM_ALIGN0_X] = 0.0;
     assert_int_equal(NL(1, NS, tr, NS, err, axes, 2, ep, dW), -6);
     assert_int_equal(NL(0, NS, tr, NS, err, NULL, 0, ep, dW), -7);
     assert_int_equal(NL(0, NS, tr, NS, err, NULL, 2, NULL, dW), -8);
@@ -502,15 +502,15 @@ static void test_nonlinear_invalid(void **state)
 static void test_nonlinear_vs_linear(void **state)
 {
     int n = 0, m = 3 * M_EP, codes[NT], k = 0;
-    for (int c = 0; c < IGEA_TERM_GYRO_SCALE_X; c++)
-        if (c < IGEA_TERM_ACC_SQ_X || c >= IGEA_TERM_ACC_MIS_XY)
+    for (int c = 0; c < IGEA_ENVFUN_TERM_GYRO_SCALE_X; c++)
+        if (c < IGEA_ENVFUN_TERM_ACC_SQ_X || c >= IGEA_ENVFUN_TERM_ACC_MIS_XY)
             codes[k++] = c;
     for (int a = 0; a < 3; a++)
-        codes[k++] = IGEA_TERM_ATT0_X + a;
+        codes[k++] = IGEA_ENVFUN_TERM_ATT0_X + a;
     igea_sim_trajectory_length(120.0, 50.0, &n);
-    double *tr = malloc(sizeof(double) * (size_t)n * IGEA_TRAJ_COLS);
+    double *tr = malloc(sizeof(double) * (size_t)n * IGEA_ENVFUN_TRAJ_COLS);
     igea_sim_trajectory(IGEA_ENVFUN_STRAPDOWN, 120.0, 50.0, n, tr, n);
-    double x[NT], dw[3 * M_EP], err[IGEA_TERM_COUNT] = {0}, ep[M_EP], nl[3 * M_EP], tiny = 1e-15;
+    double x[NT], dw[3 * M_EP], err[IGEA_ENVFUN_TERM_COUNT] = {0}, ep[M_EP], nl[3 * M_EP], tiny = 1e-15;
     for (int e = 0; e < M_EP; e++)
         ep[e] = e + 1.0;
     /* X ~ N(0, I) in spec units: linear part from igea_sim_flight, no noise */
@@ -543,13 +543,13 @@ static void test_oom(void **state)
 #else
     enum { F = 20 };
     int m = 3 * M_EP, n = 0;
-    double ref[IGEA_MC_LEN], c[IGEA_MC_LEN], x[NT], dw[3 * M_EP], dref[3 * M_EP];
+    double ref[IGEA_SIM_MC_LEN], c[IGEA_SIM_MC_LEN], x[NT], dw[3 * M_EP], dref[3 * M_EP];
     assert_int_equal(igea_sim_montecarlo(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1,
                                          NULL, 0, F, 2, ref, NULL, NULL, NULL, NULL, NULL,
                                          NULL), 0);
     int st, fails = 0;
     for (long k = 0;; k++) {
-        fill_sentinel(c, IGEA_MC_LEN);
+        fill_sentinel(c, IGEA_SIM_MC_LEN);
         oom_calls = 0;
         oom_fail_at = k;
         st = igea_sim_montecarlo(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, NULL,
@@ -559,7 +559,7 @@ static void test_oom(void **state)
             break;
         fails++;
         assert_int_equal(st, IGEA_ENOMEM);
-        assert_true(all_sentinel(c, IGEA_MC_LEN));
+        assert_true(all_sentinel(c, IGEA_SIM_MC_LEN));
         assert_true(k < 1000);
     }
     assert_true(fails >= 3);
@@ -581,10 +581,10 @@ static void test_oom(void **state)
     assert_memory_equal(dw, dref, sizeof dw);
 
     assert_int_equal(igea_sim_trajectory_length(10.0, 10.0, &n), 0);
-    double tr[101 * IGEA_TRAJ_COLS], ep[10], S1[30 * 3], S2[30 * 3], nl1[30], nl2[30];
-    double err[IGEA_TERM_COUNT] = {0};
-    int codes[3] = {IGEA_TERM_ACC_BIAS_X, IGEA_TERM_GYRO_BIAS_X + 1, IGEA_TERM_ATT0_X};
-    err[IGEA_TERM_GYRO_BIAS_X] = 1e-5;
+    double tr[101 * IGEA_ENVFUN_TRAJ_COLS], ep[10], S1[30 * 3], S2[30 * 3], nl1[30], nl2[30];
+    double err[IGEA_ENVFUN_TERM_COUNT] = {0};
+    int codes[3] = {IGEA_ENVFUN_TERM_ACC_BIAS_X, IGEA_ENVFUN_TERM_GYRO_BIAS_X + 1, IGEA_ENVFUN_TERM_ATT0_X};
+    err[IGEA_ENVFUN_TERM_GYRO_BIAS_X] = 1e-5;
     assert_int_equal(igea_sim_trajectory(0, 10.0, 10.0, n, tr, n), 0);
     for (int e = 0; e < 10; e++)
         ep[e] = e + 0.5;
@@ -631,8 +631,8 @@ static void test_defaults(void **state)
 static void test_mc_invalid(void **state)
 {
     int m = 3 * M_EP;
-    double counts[IGEA_MC_LEN], eqo[IGEA_EQERR_OPT_LEN];
-    fill_sentinel(counts, IGEA_MC_LEN);
+    double counts[IGEA_SIM_MC_LEN], eqo[IGEA_EQERR_OPT_LEN];
+    fill_sentinel(counts, IGEA_SIM_MC_LEN);
 #define MC(...) igea_sim_montecarlo(__VA_ARGS__)
     assert_int_equal(MC(m + 1, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, NULL,
                         0, 10, 1, counts, NULL, NULL, NULL, NULL, NULL, NULL), -1);
@@ -657,12 +657,12 @@ static void test_mc_invalid(void **state)
     assert_int_equal(MC(m, NT, S21, m, &nan_sig, 0, SPEC21, NULL, NULL, NULL, 1, NULL,
                         0, 10, 1, counts, NULL, NULL, NULL, NULL, NULL, NULL),
                      IGEA_ENONFINITE);
-    assert_true(all_sentinel(counts, IGEA_MC_LEN));
+    assert_true(all_sentinel(counts, IGEA_SIM_MC_LEN));
     /* all-zero S: nothing testable, every flight passes */
     double S0[30] = {0}, one = 1.0;
     assert_int_equal(MC(6, 5, S0, 6, &one, 0, NULL, NULL, NULL, NULL, 1, NULL, 0, 10, 1,
                         counts, NULL, NULL, NULL, NULL, NULL, NULL), 0);
-    assert_true(counts[IGEA_MC_NOT_TESTABLE] == 10 && counts[IGEA_MC_FAILED] == 0);
+    assert_true(counts[IGEA_SIM_MC_NOT_TESTABLE] == 10 && counts[IGEA_SIM_MC_FAILED] == 0);
 #undef MC
 }
 

@@ -27,21 +27,21 @@ static void test_block(void **state)
 {
     /* METHODS 3.4 test vector: 300 s at 1 Hz, blocks of 1, 2, 3 with a
      * +-0.5 alternating pattern -> block means 1, 2, 3, 3 sigma = 3 */
-    double y[350], out[IGEA_BLOCK_LEN];
+    double y[350], out[IGEA_STABILITY_BLOCK_LEN];
     for (int k = 0; k < 350; k++)
         y[k] = (k < 300 ? 1.0 + k / 100 : 100.0) + (k % 2 ? -0.5 : 0.5);
     assert_int_equal(igea_stability_block(350, y, 1.0, 100.0, out), 0);
-    assert_close(out[IGEA_BLOCK_3SIGMA], 3.0, 1e-15);
-    assert_close(out[IGEA_BLOCK_SIGMA], 1.0, 1e-15);
-    assert_close(out[IGEA_BLOCK_NBLOCK], 3.0, 0);
-    assert_close(out[IGEA_BLOCK_NSAMP], 100.0, 0);
-    assert_close(out[IGEA_BLOCK_MEAN], 2.0, 1e-15);
-    assert_close(out[IGEA_BLOCK_ADEV], sqrt(0.5), 1e-15);
+    assert_close(out[IGEA_STABILITY_BLOCK_3SIGMA], 3.0, 1e-15);
+    assert_close(out[IGEA_STABILITY_BLOCK_SIGMA], 1.0, 1e-15);
+    assert_close(out[IGEA_STABILITY_BLOCK_NBLOCK], 3.0, 0);
+    assert_close(out[IGEA_STABILITY_BLOCK_NSAMP], 100.0, 0);
+    assert_close(out[IGEA_STABILITY_BLOCK_MEAN], 2.0, 1e-15);
+    assert_close(out[IGEA_STABILITY_BLOCK_ADEV], sqrt(0.5), 1e-15);
     /* compensated sums: the same on a 1e9 offset */
     for (int k = 0; k < 350; k++)
         y[k] += 1e9;
     assert_int_equal(igea_stability_block(350, y, 1.0, 100.0, out), 0);
-    assert_close(out[IGEA_BLOCK_3SIGMA], 3.0, 1e-12);
+    assert_close(out[IGEA_STABILITY_BLOCK_3SIGMA], 3.0, 1e-12);
     /* white noise 1e-5 at 10 Hz for 6 h: 3 sigma ~ 3e-5 / sqrt(1000) */
     int n = 216000;
     double *w = malloc(sizeof(double) * n);
@@ -51,10 +51,10 @@ static void test_block(void **state)
         w[k] = 1.0 + gsl_ran_gaussian(r, 1e-5);
     gsl_rng_free(r);
     assert_int_equal(igea_stability_block(n, w, 10.0, 100.0, out), 0);
-    assert_close(out[IGEA_BLOCK_NBLOCK], 216.0, 0);
-    assert_close(out[IGEA_BLOCK_3SIGMA], 3e-5 / sqrt(1000.0), 0.2); /* sd ~5 % */
+    assert_close(out[IGEA_STABILITY_BLOCK_NBLOCK], 216.0, 0);
+    assert_close(out[IGEA_STABILITY_BLOCK_3SIGMA], 3e-5 / sqrt(1000.0), 0.2); /* sd ~5 % */
     /* invalid */
-    fill_sentinel(out, IGEA_BLOCK_LEN);
+    fill_sentinel(out, IGEA_STABILITY_BLOCK_LEN);
     assert_int_equal(igea_stability_block(1, w, 10.0, 100.0, out), -1);
     assert_int_equal(igea_stability_block(n, NULL, 10.0, 100.0, out), -2);
     assert_int_equal(igea_stability_block(n, w, 0.0, 100.0, out), -3);
@@ -65,7 +65,7 @@ static void test_block(void **state)
     assert_int_equal(igea_stability_block(n, w, 10.0, 100.0, NULL), -5);
     w[100] = INFINITY;
     assert_int_equal(igea_stability_block(n, w, 10.0, 100.0, out), IGEA_ENONFINITE);
-    assert_true(all_sentinel(out, IGEA_BLOCK_LEN));
+    assert_true(all_sentinel(out, IGEA_STABILITY_BLOCK_LEN));
     free(w);
 }
 
@@ -82,15 +82,15 @@ static void test_allan_nbs(void **state)
     for (int kind = 0; kind < 3; kind++) {
         double dev[3];
         int cnt[3];
-        assert_int_equal(igea_stability_allan(1000, y, 1.0, 3, tau, kind, IGEA_NOISE_WFM,
+        assert_int_equal(igea_stability_allan(1000, y, 1.0, 3, tau, kind, IGEA_STABILITY_NOISE_WFM,
                                               0.683, dev, NULL, NULL, NULL, cnt), 0);
         for (int j = 0; j < 3; j++)
             assert_close(dev[j], want[kind][j], 2e-7);
-        if (kind == IGEA_ALLAN_OVERLAPPING)
+        if (kind == IGEA_STABILITY_ALLAN_OVERLAPPING)
             assert_true(cnt[0] == 999 && cnt[1] == 981 && cnt[2] == 801);
-        if (kind == IGEA_ALLAN_MODIFIED)
+        if (kind == IGEA_STABILITY_ALLAN_MODIFIED)
             assert_true(cnt[1] == 972 && cnt[2] == 702);
-        if (kind == IGEA_ALLAN_NONOVERLAPPING)
+        if (kind == IGEA_STABILITY_ALLAN_NONOVERLAPPING)
             assert_true(cnt[1] == 99 && cnt[2] == 9);
     }
     /* the 9-point frequency set of the same suite, tau = 1, 2 */
@@ -99,7 +99,7 @@ static void test_allan_nbs(void **state)
     const double w2[3][2] = {{91.22945, 85.95287}, {91.22945, 74.78849}, {91.22945, 115.8082}};
     for (int kind = 0; kind < 3; kind++) {
         double dev[2];
-        assert_int_equal(igea_stability_allan(9, f, 1.0, 2, t2, kind, IGEA_NOISE_WFM, 0.683,
+        assert_int_equal(igea_stability_allan(9, f, 1.0, 2, t2, kind, IGEA_STABILITY_NOISE_WFM, 0.683,
                                               dev, NULL, NULL, NULL, NULL), 0);
         assert_close(dev[0], w2[kind][0], 1e-7);
         assert_close(dev[1], w2[kind][1], 5e-7);
@@ -152,10 +152,10 @@ static void test_allan_direct_and_ramp(void **state)
     const double tau[5] = {0.5, 1.5, 4.0, 12.5, 40.0}; /* fs = 2: m = 1, 3, 8, 25, 80 */
     const int m[5] = {1, 3, 8, 25, 80};
     double dev[5], dmod[5];
-    assert_int_equal(igea_stability_allan(n, y, 2.0, 5, tau, IGEA_ALLAN_OVERLAPPING,
-                                          IGEA_NOISE_WFM, 0.683, dev, NULL, NULL, NULL, NULL), 0);
-    assert_int_equal(igea_stability_allan(n, y, 2.0, 5, tau, IGEA_ALLAN_MODIFIED,
-                                          IGEA_NOISE_WFM, 0.683, dmod, NULL, NULL, NULL, NULL), 0);
+    assert_int_equal(igea_stability_allan(n, y, 2.0, 5, tau, IGEA_STABILITY_ALLAN_OVERLAPPING,
+                                          IGEA_STABILITY_NOISE_WFM, 0.683, dev, NULL, NULL, NULL, NULL), 0);
+    assert_int_equal(igea_stability_allan(n, y, 2.0, 5, tau, IGEA_STABILITY_ALLAN_MODIFIED,
+                                          IGEA_STABILITY_NOISE_WFM, 0.683, dmod, NULL, NULL, NULL, NULL), 0);
     for (int j = 0; j < 5; j++) {
         assert_close(dev[j], direct_oadev(n, y, m[j]), 1e-12);
         assert_close(dmod[j], direct_mdev(n, y, m[j]), 1e-12);
@@ -170,7 +170,7 @@ static void test_allan_direct_and_ramp(void **state)
     const double tr[4] = {0.125, 1.0, 16.0, 128.0};
     for (int kind = 0; kind < 3; kind++) {
         double d[4];
-        assert_int_equal(igea_stability_allan(nr, yr, fs, 4, tr, kind, IGEA_NOISE_RWFM, 0.9,
+        assert_int_equal(igea_stability_allan(nr, yr, fs, 4, tr, kind, IGEA_STABILITY_NOISE_RWFM, 0.9,
                                               d, NULL, NULL, NULL, NULL), 0);
         for (int j = 0; j < 4; j++)
             assert_close(d[j], R * tr[j] / sqrt(2.0), 1e-8);
@@ -184,8 +184,8 @@ static void test_allan_edf(void **state)
     nbs1000(y);
     const double tau[3] = {1, 10, 100};
     double dev[3], lo[3], hi[3], edf[3];
-    assert_int_equal(igea_stability_allan(1000, y, 1.0, 3, tau, IGEA_ALLAN_OVERLAPPING,
-                                          IGEA_NOISE_WFM, 0.683, dev, lo, hi, edf, NULL), 0);
+    assert_int_equal(igea_stability_allan(1000, y, 1.0, 3, tau, IGEA_STABILITY_ALLAN_OVERLAPPING,
+                                          IGEA_STABILITY_NOISE_WFM, 0.683, dev, lo, hi, edf, NULL), 0);
     /* SP 1065 white FM: [3(N-1)/(2m) - 2(N-2)/N] 4m^2 / (4m^2 + 5), N = 1001 */
     for (int j = 0; j < 3; j++) {
         double N = 1001, m = tau[j];
@@ -201,25 +201,25 @@ static void test_allan_edf(void **state)
     assert_close(edf[0], 665.77955378, 1e-9);
     /* the other noise types (SP 1065 Table 5) at m = 10, N = 1001 */
     double N = 1001, m = 10, e;
-    assert_int_equal(igea_stability_allan(1000, y, 1.0, 1, tau + 1, 0, IGEA_NOISE_WPM, 0.683,
+    assert_int_equal(igea_stability_allan(1000, y, 1.0, 1, tau + 1, 0, IGEA_STABILITY_NOISE_WPM, 0.683,
                                           dev, NULL, NULL, &e, NULL), 0);
     assert_close(e, (N + 1) * (N - 2 * m) / (2 * (N - m)), 1e-14);
-    assert_int_equal(igea_stability_allan(1000, y, 1.0, 1, tau + 1, 0, IGEA_NOISE_FPM, 0.683,
+    assert_int_equal(igea_stability_allan(1000, y, 1.0, 1, tau + 1, 0, IGEA_STABILITY_NOISE_FPM, 0.683,
                                           dev, NULL, NULL, &e, NULL), 0);
     assert_close(e, exp(sqrt(log((N - 1) / (2 * m)) * log((2 * m + 1) * (N - 1) / 4))), 1e-14);
-    assert_int_equal(igea_stability_allan(1000, y, 1.0, 1, tau + 1, 0, IGEA_NOISE_FFM, 0.683,
+    assert_int_equal(igea_stability_allan(1000, y, 1.0, 1, tau + 1, 0, IGEA_STABILITY_NOISE_FFM, 0.683,
                                           dev, NULL, NULL, &e, NULL), 0);
     assert_close(e, 5 * N * N / (4 * m * (N + 3 * m)), 1e-14);
-    assert_int_equal(igea_stability_allan(1000, y, 1.0, 1, tau, 0, IGEA_NOISE_FFM, 0.683,
+    assert_int_equal(igea_stability_allan(1000, y, 1.0, 1, tau, 0, IGEA_STABILITY_NOISE_FFM, 0.683,
                                           dev, NULL, NULL, &e, NULL), 0);
     assert_close(e, 2 * (N - 2) * (N - 2) / (2.3 * N - 4.9), 1e-14);
-    assert_int_equal(igea_stability_allan(1000, y, 1.0, 1, tau + 1, 0, IGEA_NOISE_RWFM, 0.683,
+    assert_int_equal(igea_stability_allan(1000, y, 1.0, 1, tau + 1, 0, IGEA_STABILITY_NOISE_RWFM, 0.683,
                                           dev, NULL, NULL, &e, NULL), 0);
     assert_close(e, (N - 2) / (m * (N - 3) * (N - 3)) * ((N - 1) * (N - 1) - 3 * m * (N - 1) + 4 * m * m), 1e-14);
     /* non-overlapping: the formula on the B + 1 = 11 phase points of the
      * 100-s means, m = 1 (B = 10 at tau 100) */
-    assert_int_equal(igea_stability_allan(1000, y, 1.0, 1, tau + 2, IGEA_ALLAN_NONOVERLAPPING,
-                                          IGEA_NOISE_WFM, 0.683, dev, NULL, NULL, &e, NULL), 0);
+    assert_int_equal(igea_stability_allan(1000, y, 1.0, 1, tau + 2, IGEA_STABILITY_ALLAN_NONOVERLAPPING,
+                                          IGEA_STABILITY_NOISE_WFM, 0.683, dev, NULL, NULL, &e, NULL), 0);
     assert_close(e, (3.0 * 10 / 2 - 2.0 * 9 / 11) * 4.0 / 9.0, 1e-14);
     /* modified: Greenhall's EDF against the exact EDF tr(C)^2 / |C|_F^2 of
      * the estimator's quadratic form (C its covariance), computed for n =
@@ -228,17 +228,17 @@ static void test_allan_edf(void **state)
     for (int k = 0; k < 300; k++)
         y3[k] = sin(0.1 * k);
     const double m16 = 16, m40 = 40, m4 = 4, m1 = 1;
-    assert_int_equal(igea_stability_allan(300, y3, 1.0, 1, &m16, IGEA_ALLAN_MODIFIED, IGEA_NOISE_WFM,
+    assert_int_equal(igea_stability_allan(300, y3, 1.0, 1, &m16, IGEA_STABILITY_ALLAN_MODIFIED, IGEA_STABILITY_NOISE_WFM,
                                           0.683, dev, NULL, NULL, &em, NULL), 0);
     assert_close(em, 15.984003390423982, 3e-3);
-    assert_int_equal(igea_stability_allan(300, y3, 1.0, 1, &m40, IGEA_ALLAN_MODIFIED, IGEA_NOISE_WFM,
+    assert_int_equal(igea_stability_allan(300, y3, 1.0, 1, &m40, IGEA_STABILITY_ALLAN_MODIFIED, IGEA_STABILITY_NOISE_WFM,
                                           0.683, dev, NULL, NULL, &em, NULL), 0);
     assert_close(em, 5.0575394296789895, 1e-4);
-    assert_int_equal(igea_stability_allan(300, y3, 1.0, 1, &m4, IGEA_ALLAN_MODIFIED, IGEA_NOISE_WPM,
+    assert_int_equal(igea_stability_allan(300, y3, 1.0, 1, &m4, IGEA_STABILITY_ALLAN_MODIFIED, IGEA_STABILITY_NOISE_WPM,
                                           0.683, dev, NULL, NULL, &em, NULL), 0);
     assert_close(em, 85.9649620943241, 1e-10);
     /* m = 1: the overlapping formula (the estimators coincide) */
-    assert_int_equal(igea_stability_allan(300, y3, 1.0, 1, &m1, IGEA_ALLAN_MODIFIED, IGEA_NOISE_WFM,
+    assert_int_equal(igea_stability_allan(300, y3, 1.0, 1, &m1, IGEA_STABILITY_ALLAN_MODIFIED, IGEA_STABILITY_NOISE_WFM,
                                           0.683, dev, NULL, NULL, &em, NULL), 0);
     assert_close(em, (3.0 * 300 / 2 - 2.0 * 299 / 301) * 4.0 / 9.0, 1e-14);
     /* AUTO: white noise gives the white-FM EDF, a random walk the RWFM one */
@@ -255,25 +255,25 @@ static void test_allan_edf(void **state)
     gsl_rng_free(r);
     const double t4[4] = {2, 4, 8, 16};
     double ea[4], ew[4], dv[4];
-    assert_int_equal(igea_stability_allan(n, w, 1.0, 4, t4, 0, IGEA_NOISE_AUTO, 0.9, dv, NULL, NULL, ea, NULL), 0);
-    assert_int_equal(igea_stability_allan(n, w, 1.0, 4, t4, 0, IGEA_NOISE_WFM, 0.9, dv, NULL, NULL, ew, NULL), 0);
+    assert_int_equal(igea_stability_allan(n, w, 1.0, 4, t4, 0, IGEA_STABILITY_NOISE_AUTO, 0.9, dv, NULL, NULL, ea, NULL), 0);
+    assert_int_equal(igea_stability_allan(n, w, 1.0, 4, t4, 0, IGEA_STABILITY_NOISE_WFM, 0.9, dv, NULL, NULL, ew, NULL), 0);
     for (int j = 0; j < 4; j++)
         assert_close(ea[j], ew[j], 1e-15);
-    assert_int_equal(igea_stability_allan(n, rw, 1.0, 4, t4, 0, IGEA_NOISE_AUTO, 0.9, dv, NULL, NULL, ea, NULL), 0);
-    assert_int_equal(igea_stability_allan(n, rw, 1.0, 4, t4, 0, IGEA_NOISE_RWFM, 0.9, dv, NULL, NULL, ew, NULL), 0);
+    assert_int_equal(igea_stability_allan(n, rw, 1.0, 4, t4, 0, IGEA_STABILITY_NOISE_AUTO, 0.9, dv, NULL, NULL, ea, NULL), 0);
+    assert_int_equal(igea_stability_allan(n, rw, 1.0, 4, t4, 0, IGEA_STABILITY_NOISE_RWFM, 0.9, dv, NULL, NULL, ew, NULL), 0);
     for (int j = 0; j < 4; j++)
         assert_close(ea[j], ew[j], 1e-15);
     /* differenced white noise (white PM) gives the WPM one */
     for (int k = n - 1; k > 0; k--)
         w[k] -= w[k - 1];
-    assert_int_equal(igea_stability_allan(n, w, 1.0, 4, t4, 0, IGEA_NOISE_AUTO, 0.9, dv, NULL, NULL, ea, NULL), 0);
-    assert_int_equal(igea_stability_allan(n, w, 1.0, 4, t4, 0, IGEA_NOISE_WPM, 0.9, dv, NULL, NULL, ew, NULL), 0);
+    assert_int_equal(igea_stability_allan(n, w, 1.0, 4, t4, 0, IGEA_STABILITY_NOISE_AUTO, 0.9, dv, NULL, NULL, ea, NULL), 0);
+    assert_int_equal(igea_stability_allan(n, w, 1.0, 4, t4, 0, IGEA_STABILITY_NOISE_WPM, 0.9, dv, NULL, NULL, ew, NULL), 0);
     for (int j = 0; j < 4; j++)
         assert_close(ea[j], ew[j], 1e-15);
     /* beyond 32 means the type of the last identified tau is kept */
     const double t2[2] = {64, 256};
-    assert_int_equal(igea_stability_allan(n, w, 1.0, 2, t2, 0, IGEA_NOISE_AUTO, 0.9, dv, NULL, NULL, ea, NULL), 0);
-    assert_int_equal(igea_stability_allan(n, w, 1.0, 2, t2, 0, IGEA_NOISE_WPM, 0.9, dv, NULL, NULL, ew, NULL), 0);
+    assert_int_equal(igea_stability_allan(n, w, 1.0, 2, t2, 0, IGEA_STABILITY_NOISE_AUTO, 0.9, dv, NULL, NULL, ea, NULL), 0);
+    assert_int_equal(igea_stability_allan(n, w, 1.0, 2, t2, 0, IGEA_STABILITY_NOISE_WPM, 0.9, dv, NULL, NULL, ew, NULL), 0);
     assert_close(ea[1], ew[1], 1e-15);
     free(w);
     free(rw);
@@ -344,7 +344,7 @@ static void test_octave_taus(void **state)
 
 static void test_noise_id(void **state)
 {
-    double tau[16], s[16], out[IGEA_NOISEID_LEN];
+    double tau[16], s[16], out[IGEA_STABILITY_NOISEID_LEN];
     /* pure terms: exact */
     for (int j = 0; j < 16; j++)
         tau[j] = pow(2.0, j - 4);
@@ -352,16 +352,16 @@ static void test_noise_id(void **state)
     for (int j = 0; j < 16; j++)
         s[j] = N / sqrt(tau[j]);
     assert_int_equal(igea_stability_noise_id(16, tau, s, out), 0);
-    assert_close(out[IGEA_NOISEID_N], N, 1e-13);
-    assert_true(isnan(out[IGEA_NOISEID_K]) && isnan(out[IGEA_NOISEID_B]) && isnan(out[IGEA_NOISEID_Q]));
+    assert_close(out[IGEA_STABILITY_NOISEID_N], N, 1e-13);
+    assert_true(isnan(out[IGEA_STABILITY_NOISEID_K]) && isnan(out[IGEA_STABILITY_NOISEID_B]) && isnan(out[IGEA_STABILITY_NOISEID_Q]));
     for (int j = 0; j < 16; j++)
         s[j] = K * sqrt(tau[j] / 3.0);
     assert_int_equal(igea_stability_noise_id(16, tau, s, out), 0);
-    assert_close(out[IGEA_NOISEID_K], K, 1e-13);
+    assert_close(out[IGEA_STABILITY_NOISEID_K], K, 1e-13);
     for (int j = 0; j < 16; j++)
         s[j] = sqrt(3.0) * Q / tau[j];
     assert_int_equal(igea_stability_noise_id(16, tau, s, out), 0);
-    assert_close(out[IGEA_NOISEID_Q], Q, 1e-13);
+    assert_close(out[IGEA_STABILITY_NOISEID_Q], Q, 1e-13);
     /* a gyro curve: ARW + bias instability (flat part) + RRW */
     double B = 1e-4, Nn = 1e-3, Kk = 1e-7;
     for (int j = 0; j < 16; j++)
@@ -369,12 +369,12 @@ static void test_noise_id(void **state)
     for (int j = 0; j < 16; j++)
         s[j] = sqrt(Nn * Nn / tau[j] + 0.4412712 * B * B + Kk * Kk * tau[j] / 3.0);
     assert_int_equal(igea_stability_noise_id(16, tau, s, out), 0);
-    assert_close(out[IGEA_NOISEID_N], Nn, 0.02);
-    assert_close(out[IGEA_NOISEID_K], Kk, 0.10);
-    assert_close(out[IGEA_NOISEID_B], B, 0.10);
-    assert_true(out[IGEA_NOISEID_B] >= B); /* the minimum lies above B's floor */
+    assert_close(out[IGEA_STABILITY_NOISEID_N], Nn, 0.02);
+    assert_close(out[IGEA_STABILITY_NOISEID_K], Kk, 0.10);
+    assert_close(out[IGEA_STABILITY_NOISEID_B], B, 0.10);
+    assert_true(out[IGEA_STABILITY_NOISEID_B] >= B); /* the minimum lies above B's floor */
     /* invalid */
-    fill_sentinel(out, IGEA_NOISEID_LEN);
+    fill_sentinel(out, IGEA_STABILITY_NOISEID_LEN);
     double tb[3] = {1, 1, 2}, sb[3] = {1, 0, 1}, sn[3] = {1, NAN, 1};
     assert_int_equal(igea_stability_noise_id(1, tau, s, out), -1);
     assert_int_equal(igea_stability_noise_id(3, NULL, s, out), -2);
@@ -383,7 +383,7 @@ static void test_noise_id(void **state)
     assert_int_equal(igea_stability_noise_id(3, tau, sb, out), -3);
     assert_int_equal(igea_stability_noise_id(3, tau, s, NULL), -4);
     assert_int_equal(igea_stability_noise_id(3, tau, sn, out), IGEA_ENONFINITE);
-    assert_true(all_sentinel(out, IGEA_NOISEID_LEN));
+    assert_true(all_sentinel(out, IGEA_STABILITY_NOISEID_LEN));
 }
 
 #ifndef OOM_DISABLED
@@ -395,7 +395,7 @@ static void test_oom(void **state)
     for (int kind = 0; kind < 3; kind++) {
         double ref[3], dev[3], lo[3], edf[3];
         int cnt[3], st, k;
-        assert_int_equal(igea_stability_allan(1000, y, 1, 3, tau, kind, IGEA_NOISE_AUTO, 0.9,
+        assert_int_equal(igea_stability_allan(1000, y, 1, 3, tau, kind, IGEA_STABILITY_NOISE_AUTO, 0.9,
                                               ref, NULL, NULL, NULL, NULL), 0);
         for (k = 0;; k++) {
             fill_sentinel(dev, 3);
@@ -404,7 +404,7 @@ static void test_oom(void **state)
             cnt[0] = -5;
             oom_calls = 0;
             oom_fail_at = k;
-            st = igea_stability_allan(1000, y, 1, 3, tau, kind, IGEA_NOISE_AUTO, 0.9, dev, lo,
+            st = igea_stability_allan(1000, y, 1, 3, tau, kind, IGEA_STABILITY_NOISE_AUTO, 0.9, dev, lo,
                                       NULL, edf, cnt);
             oom_fail_at = -1;
             if (st != IGEA_ENOMEM)
@@ -417,17 +417,17 @@ static void test_oom(void **state)
         for (int j = 0; j < 3; j++)
             assert_close(dev[j], ref[j], 0);
     }
-    double out[IGEA_BLOCK_LEN];
+    double out[IGEA_STABILITY_BLOCK_LEN];
     int st, k;
     for (k = 0;; k++) {
-        fill_sentinel(out, IGEA_BLOCK_LEN);
+        fill_sentinel(out, IGEA_STABILITY_BLOCK_LEN);
         oom_calls = 0;
         oom_fail_at = k;
         st = igea_stability_block(1000, y, 1.0, 100.0, out);
         oom_fail_at = -1;
         if (st != IGEA_ENOMEM)
             break;
-        assert_true(all_sentinel(out, IGEA_BLOCK_LEN));
+        assert_true(all_sentinel(out, IGEA_STABILITY_BLOCK_LEN));
     }
     assert_int_equal(st, 0);
     assert_true(k >= 1);

@@ -160,46 +160,46 @@ static const double tab_l[11] = {2.42E+05, 9.03E+04, 7.24E+04, 1.56E+04, 2.05E+0
 
 static void test_accuracy_seed_table(void **state)
 {
-    double z[11], info[IGEA_INFO_LEN];
+    double z[11], info[IGEA_STATS_INFO_LEN];
     int rej[11];
     assert_int_equal(igea_stats_accuracy_test(11, tab_x, tab_l, 0.01, 10.0, 2.58, z, rej, info), 0);
     /* Table 2 thresholds sqrt(1 + 1/lambda) * 2.58 to 4 decimals */
     const double thr[11] = {2.5800, 2.5800, 2.5800, 2.5801, 2.5806, 2.5807,
                             2.5809, 2.5820, 2.5826, 2.5870, 2.5949};
     for (int i = 0; i < 11; i++) {
-        double t = sqrt(1.0 + 1.0 / tab_l[i]) * info[IGEA_INFO_Z_CRIT];
+        double t = sqrt(1.0 + 1.0 / tab_l[i]) * info[IGEA_STATS_INFO_Z_CRIT];
         assert_true(fabs(t - thr[i]) < 0.5e-4);
         assert_int_equal(rej[i], 0);
     }
-    assert_close(info[IGEA_INFO_CHI2], 13.2699, 0.5e-4 / 13.27); /* printed 13.2700 */
-    assert_true(fabs(info[IGEA_INFO_CHI2] - 13.2699) < 0.5e-4);
-    assert_int_equal((int)info[IGEA_INFO_DOF], 11);
-    assert_close(info[IGEA_INFO_CHI2_CRIT], 24.72497031131828, 1e-13);
-    assert_true(fabs(info[IGEA_INFO_P_VALUE] - 0.276) < 0.5e-3);
-    assert_true(info[IGEA_INFO_PASSED] == 1.0);
+    assert_close(info[IGEA_STATS_INFO_CHI2], 13.2699, 0.5e-4 / 13.27); /* printed 13.2700 */
+    assert_true(fabs(info[IGEA_STATS_INFO_CHI2] - 13.2699) < 0.5e-4);
+    assert_int_equal((int)info[IGEA_STATS_INFO_DOF], 11);
+    assert_close(info[IGEA_STATS_INFO_CHI2_CRIT], 24.72497031131828, 1e-13);
+    assert_true(fabs(info[IGEA_STATS_INFO_P_VALUE] - 0.276) < 0.5e-3);
+    assert_true(info[IGEA_STATS_INFO_PASSED] == 1.0);
     /* exact z: component 9 still passes, by about 1 % (METHODS 1.5) */
     assert_int_equal(igea_stats_accuracy_test(11, tab_x, tab_l, 0.01, 10.0, 0.0, z, rej, info), 0);
-    assert_close(info[IGEA_INFO_Z_CRIT], 2.5758293035489004, 1e-15);
+    assert_close(info[IGEA_STATS_INFO_Z_CRIT], 2.5758293035489004, 1e-15);
     assert_close(z[8], 2.5527 / sqrt(1.0 + 1.0 / 501.0), 1e-15);
     assert_true(fabs(z[8] - 2.5502) < 0.5e-4);
     assert_int_equal(rej[8], 0);
     /* at alpha = 0.05 component 9 is rejected */
     assert_int_equal(igea_stats_accuracy_test(11, tab_x, tab_l, 0.05, 10.0, 0.0, z, rej, info), 0);
     assert_int_equal(rej[8], 1);
-    assert_int_equal((int)info[IGEA_INFO_N_REJECT], 1);
-    assert_true(info[IGEA_INFO_PASSED] == 0.0);
+    assert_int_equal((int)info[IGEA_STATS_INFO_N_REJECT], 1);
+    assert_true(info[IGEA_STATS_INFO_PASSED] == 0.0);
     /* lambda_test = 200 keeps the first 9 */
     assert_int_equal(igea_stats_accuracy_test(11, tab_x, tab_l, 0.01, 200.0, 0.0, z, rej, info), 0);
-    assert_int_equal((int)info[IGEA_INFO_N_TEST], 9);
+    assert_int_equal((int)info[IGEA_STATS_INFO_N_TEST], 9);
     assert_int_equal(rej[9], -1);
     assert_int_equal(rej[10], -1);
 }
 
 static void test_accuracy_invalid(void **state)
 {
-    double z[11], info[IGEA_INFO_LEN], x[2] = {1.0, NAN}, l[2] = {100, 100};
+    double z[11], info[IGEA_STATS_INFO_LEN], x[2] = {1.0, NAN}, l[2] = {100, 100};
     int rej[11];
-    fill_sentinel(info, IGEA_INFO_LEN);
+    fill_sentinel(info, IGEA_STATS_INFO_LEN);
     assert_int_equal(igea_stats_accuracy_test(0, tab_x, tab_l, 0.01, 10, 0, z, rej, info), -1);
     assert_int_equal(igea_stats_accuracy_test(11, NULL, tab_l, 0.01, 10, 0, z, rej, info), -2);
     assert_int_equal(igea_stats_accuracy_test(11, tab_x, NULL, 0.01, 10, 0, z, rej, info), -3);
@@ -212,26 +212,26 @@ static void test_accuracy_invalid(void **state)
     assert_int_equal(igea_stats_accuracy_test(2, x, l, 0.01, 10, 0, z, rej, info), IGEA_ENONFINITE);
     assert_int_equal(igea_stats_accuracy_test(11, tab_x, tab_l, 0.01, 1e6, 0, z, rej, info),
                      IGEA_ENOTESTABLE);
-    assert_true(all_sentinel(info, IGEA_INFO_LEN));
+    assert_true(all_sentinel(info, IGEA_STATS_INFO_LEN));
 }
 
 static void test_pool(void **state)
 {
     /* METHODS 1.6(b) illustration: three flights, T = 4.88 + 2.54 + 5.42 =
      * 12.84 with 7 + 6 + 7 = 20 dof against chi2_0.01(20) = 37.566. */
-    double T[3] = {4.88, 2.54, 5.42}, info[IGEA_INFO_LEN];
+    double T[3] = {4.88, 2.54, 5.42}, info[IGEA_STATS_INFO_LEN];
     int dof[3] = {7, 6, 7}, nrej[3] = {0, 0, 0}, ids[3] = {11, 12, 13}, same[3] = {11, 12, 11};
     assert_int_equal(igea_stats_pool(3, T, dof, nrej, ids, 0.01, info), 0);
-    assert_close(info[IGEA_INFO_CHI2], 12.84, 1e-15);
-    assert_int_equal((int)info[IGEA_INFO_DOF], 20);
-    assert_close(info[IGEA_INFO_CHI2_CRIT], 37.56623478662507, 1e-12);
-    assert_true(info[IGEA_INFO_PASSED] == 1.0);
-    assert_int_equal((int)info[IGEA_INFO_N_FLIGHTS], 3);
+    assert_close(info[IGEA_STATS_INFO_CHI2], 12.84, 1e-15);
+    assert_int_equal((int)info[IGEA_STATS_INFO_DOF], 20);
+    assert_close(info[IGEA_STATS_INFO_CHI2_CRIT], 37.56623478662507, 1e-12);
+    assert_true(info[IGEA_STATS_INFO_PASSED] == 1.0);
+    assert_int_equal((int)info[IGEA_STATS_INFO_N_FLIGHTS], 3);
     nrej[1] = 1; /* one rejected component anywhere rejects the system */
     assert_int_equal(igea_stats_pool(3, T, dof, nrej, NULL, 0.01, info), 0);
-    assert_true(info[IGEA_INFO_PASSED] == 0.0);
+    assert_true(info[IGEA_STATS_INFO_PASSED] == 0.0);
     nrej[1] = 0;
-    fill_sentinel(info, IGEA_INFO_LEN);
+    fill_sentinel(info, IGEA_STATS_INFO_LEN);
     assert_int_equal(igea_stats_pool(3, T, dof, nrej, same, 0.01, info), IGEA_EDEPENDENT);
     assert_int_equal(igea_stats_pool(0, T, dof, nrej, NULL, 0.01, info), -1);
     assert_int_equal(igea_stats_pool(3, NULL, dof, nrej, NULL, 0.01, info), -2);
@@ -246,7 +246,7 @@ static void test_pool(void **state)
     T[0] = 4.88;
     dof[0] = 0;
     assert_int_equal(igea_stats_pool(3, T, dof, nrej, NULL, 0.01, info), -3);
-    assert_true(all_sentinel(info, IGEA_INFO_LEN));
+    assert_true(all_sentinel(info, IGEA_STATS_INFO_LEN));
 }
 
 static void test_large_finite_values(void **state)
@@ -255,7 +255,7 @@ static void test_large_finite_values(void **state)
     /* An equivalent error of 1e300: z_1 = 1e300 / sqrt(1.01) is a double,
      * z_1^2 and T are not: T saturates at DBL_MAX, p = 0, rejected (was
      * status -1 after z and reject were written). */
-    double e[2] = {1e300, 0.5}, lam[2] = {100, 50}, z[2], info[IGEA_INFO_LEN];
+    double e[2] = {1e300, 0.5}, lam[2] = {100, 50}, z[2], info[IGEA_STATS_INFO_LEN];
     int rej[2];
     assert_int_equal(igea_stats_accuracy_test(2, e, lam, 0.01, 10, 0, z, rej,
                                               info), 0);
@@ -263,44 +263,44 @@ static void test_large_finite_values(void **state)
     assert_close(z[1], 0.5 / sqrt(1.02), 1e-15);
     assert_int_equal(rej[0], 1);
     assert_int_equal(rej[1], 0);
-    assert_true(info[IGEA_INFO_CHI2] == DBL_MAX);
-    assert_true(info[IGEA_INFO_P_VALUE] == 0.0);
-    assert_true(info[IGEA_INFO_PASSED] == 0.0);
-    assert_true(info[IGEA_INFO_N_REJECT] == 1.0);
-    assert_close(info[IGEA_INFO_CHI2_CRIT], 9.2103403719761836, 1e-12);
-    for (int k = 0; k < IGEA_INFO_RANK; k++)
+    assert_true(info[IGEA_STATS_INFO_CHI2] == DBL_MAX);
+    assert_true(info[IGEA_STATS_INFO_P_VALUE] == 0.0);
+    assert_true(info[IGEA_STATS_INFO_PASSED] == 0.0);
+    assert_true(info[IGEA_STATS_INFO_N_REJECT] == 1.0);
+    assert_close(info[IGEA_STATS_INFO_CHI2_CRIT], 9.2103403719761836, 1e-12);
+    for (int k = 0; k < IGEA_STATS_INFO_RANK; k++)
         assert_true(isfinite(info[k]));
     /* Large but summable: T = 1e300 / 1.01 + 0.25 / 1.02 exactly as a
      * double; Q(T; 2) = exp(-T / 2) = 0. */
     e[0] = 1e150;
     assert_int_equal(igea_stats_accuracy_test(2, e, lam, 0.01, 10, 0, z, rej,
                                               info), 0);
-    assert_close(info[IGEA_INFO_CHI2], 1e300 / 1.01, 1e-15);
-    assert_true(info[IGEA_INFO_P_VALUE] == 0.0 && info[IGEA_INFO_PASSED] == 0.0);
+    assert_close(info[IGEA_STATS_INFO_CHI2], 1e300 / 1.01, 1e-15);
+    assert_true(info[IGEA_STATS_INFO_P_VALUE] == 0.0 && info[IGEA_STATS_INFO_PASSED] == 0.0);
     /* Pooling two chi-squares of 1e308: the sum overflows, the verdict is
      * a rejection with p = 0 (was status -1). */
     double c2[2] = {1e308, 1e308};
     int dof[2] = {3, 4}, nr[2] = {0, 0};
     assert_int_equal(igea_stats_pool(2, c2, dof, nr, NULL, 0.01, info), 0);
-    assert_true(info[IGEA_INFO_CHI2] == DBL_MAX);
-    assert_true(info[IGEA_INFO_P_VALUE] == 0.0);
-    assert_true(info[IGEA_INFO_PASSED] == 0.0);
-    assert_true(info[IGEA_INFO_DOF] == 7.0);
+    assert_true(info[IGEA_STATS_INFO_CHI2] == DBL_MAX);
+    assert_true(info[IGEA_STATS_INFO_P_VALUE] == 0.0);
+    assert_true(info[IGEA_STATS_INFO_PASSED] == 0.0);
+    assert_true(info[IGEA_STATS_INFO_DOF] == 7.0);
     /* One large finite chi-square: summed exactly, p = 0. */
     c2[0] = 1e300;
     c2[1] = 2.0;
     assert_int_equal(igea_stats_pool(2, c2, dof, nr, NULL, 0.01, info), 0);
-    assert_true(info[IGEA_INFO_CHI2] == 1e300);
-    assert_true(info[IGEA_INFO_P_VALUE] == 0.0 && info[IGEA_INFO_PASSED] == 0.0);
+    assert_true(info[IGEA_STATS_INFO_CHI2] == 1e300);
+    assert_true(info[IGEA_STATS_INFO_P_VALUE] == 0.0 && info[IGEA_STATS_INFO_PASSED] == 0.0);
     /* Failures write nothing. */
-    double zs[2], is[IGEA_INFO_LEN];
+    double zs[2], is[IGEA_STATS_INFO_LEN];
     int rs[2] = {-7, -7};
     fill_sentinel(zs, 2);
-    fill_sentinel(is, IGEA_INFO_LEN);
+    fill_sentinel(is, IGEA_STATS_INFO_LEN);
     e[1] = NAN;
     assert_int_equal(igea_stats_accuracy_test(2, e, lam, 0.01, 10, 0, zs, rs, is),
                      IGEA_ENONFINITE);
-    assert_true(all_sentinel(zs, 2) && all_sentinel(is, IGEA_INFO_LEN) &&
+    assert_true(all_sentinel(zs, 2) && all_sentinel(is, IGEA_STATS_INFO_LEN) &&
                 rs[0] == -7 && rs[1] == -7);
     /* More tested components than the chi-square routines accept: the
      * count is named, not the equivalent errors. */
@@ -316,7 +316,7 @@ static void test_large_finite_values(void **state)
     fill_sentinel(zb, nbig);
     assert_int_equal(igea_stats_accuracy_test(nbig, eb, lb, 0.01, 10, 0, zb, rb,
                                               is), -1);
-    assert_true(all_sentinel(zb, nbig) && all_sentinel(is, IGEA_INFO_LEN));
+    assert_true(all_sentinel(zb, nbig) && all_sentinel(is, IGEA_STATS_INFO_LEN));
     free(eb);
     free(lb);
     free(zb);
@@ -324,7 +324,7 @@ static void test_large_finite_values(void **state)
     int dbig[2] = {60000, 60000};
     c2[0] = c2[1] = 1.0;
     assert_int_equal(igea_stats_pool(2, c2, dbig, nr, NULL, 0.01, is), -3);
-    assert_true(all_sentinel(is, IGEA_INFO_LEN));
+    assert_true(all_sentinel(is, IGEA_STATS_INFO_LEN));
     /* The new statuses have their own text. */
     assert_true(strstr(igea_strerror(IGEA_EOVERFLOW), "overflow") != NULL);
     assert_true(strcmp(igea_strerror(IGEA_EOVERFLOW),

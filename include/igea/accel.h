@@ -201,7 +201,7 @@ IGEA_API int igea_accel_analyze(int model, int n, const double *theta_deg,
  *  7 prior_scale: np historical spreads tau_j > 0 for EBR (prior
  *    beta_j ~ N(0, lambda sigma^2 tau_j^2)) or NULL (isotropic); ignored
  *    for LS;
- *  8 rule: IGEA_EBR_SC, IGEA_EBR_MM or IGEA_EBR_ML2 (EBR; ignored for LS);
+ *  8 rule: IGEA_REGRESS_EBR_SC, IGEA_REGRESS_EBR_MM or IGEA_REGRESS_EBR_ML2 (EBR; ignored for LS);
  *  9 lam_floor >= 0 (EBR; ignored for LS);
  * Outputs:
  * 10 coef[np] in the model's column order;

@@ -36,6 +36,13 @@ extern "C" {
     (IGEA_VERSION_MAJOR * 10000 + IGEA_VERSION_MINOR * 100 + IGEA_VERSION_PATCH)
 #define IGEA_VERSION_STRING "1.0.0"
 
+/* Layout of a matrix argument, for every function that takes one:
+ * IGEA_COLMAJOR, the m x n matrix column-major with ld >= max(1, m)
+ * (Fortran, LAPACK); IGEA_ROWMAJOR, the array holds its transpose, i.e. the
+ * matrix stored row by row with ld >= max(1, n) (C, numpy, .npy files). */
+#define IGEA_COLMAJOR 0
+#define IGEA_ROWMAJOR 1
+
 /* Status codes. 0 is success, -i names the invalid argument i. */
 #define IGEA_OK 0
 #define IGEA_ENOMEM (-1010)       /* out of memory */

@@ -30,7 +30,7 @@
  * Strapdown: f and w in body axes. Platform: f in launch-inertial axes;
  * w and q are ignored (need only be finite).
  *
- * Error terms are int codes IGEA_TERM_* (Fortran-friendly: no strings in
+ * Error terms are int codes IGEA_ENVFUN_TERM_* (Fortran-friendly: no strings in
  * the API). The driver and the Python package map the stable names of
  * docs/envfun.md (acc_bias_x, gyro_g_z, ...) to these codes.
  */
@@ -54,28 +54,28 @@ extern "C" {
 #define IGEA_ENVFUN_POSITION_G 3 /* position with gravity-gradient coupling */
 
 /* Columns of the trajectory array. */
-#define IGEA_TRAJ_COLS 11
+#define IGEA_ENVFUN_TRAJ_COLS 11
 
 /* Error-term codes. Axis offsets: +0 x, +1 y, +2 z. "both": valid for both
  * systems; "sd": strapdown only; "pf": platform only. Units of one
  * coefficient: SI (m/s^2, rad/s, rad, dimensionless). */
-#define IGEA_TERM_ACC_BIAS_X 0   /* both: accel bias K0j, 1 m/s^2 */
-#define IGEA_TERM_ACC_SCALE_X 3  /* both: accel scale K1j, u = e_j f_j */
-#define IGEA_TERM_ACC_SQ_X 6     /* both: accel 2nd order K2j, e_j f_j^2 */
-#define IGEA_TERM_ACC_MIS_XY 9   /* both: accel x senses f_y, e_x f_y */
-#define IGEA_TERM_ACC_MIS_XZ 10  /* both: e_x f_z */
-#define IGEA_TERM_ACC_MIS_YX 11  /* both: e_y f_x */
-#define IGEA_TERM_ACC_MIS_YZ 12  /* both: e_y f_z */
-#define IGEA_TERM_ACC_MIS_ZX 13  /* both: e_z f_x */
-#define IGEA_TERM_ACC_MIS_ZY 14  /* both: e_z f_y */
-#define IGEA_TERM_GYRO_BIAS_X 15 /* both: constant drift D0j, 1 rad/s */
-#define IGEA_TERM_GYRO_G_X 18    /* sd: drift e_j f_j (rad/s per m/s^2) */
-#define IGEA_TERM_GYRO_SCALE_X 21 /* sd: gyro scale factor, e_j w_j */
-#define IGEA_TERM_ATT0_X 24      /* sd: initial attitude error phi0 = e_k */
-#define IGEA_TERM_GYRO_GI_X 27   /* pf: drift e_j f_I(j) (input axis) */
-#define IGEA_TERM_GYRO_GS_X 30   /* pf: drift e_j f_S(j) (spin axis) */
-#define IGEA_TERM_ALIGN0_X 33    /* pf: initial alignment alpha0 = e_k */
-#define IGEA_TERM_COUNT 36       /* codes are 0 .. IGEA_TERM_COUNT - 1 */
+#define IGEA_ENVFUN_TERM_ACC_BIAS_X 0   /* both: accel bias K0j, 1 m/s^2 */
+#define IGEA_ENVFUN_TERM_ACC_SCALE_X 3  /* both: accel scale K1j, u = e_j f_j */
+#define IGEA_ENVFUN_TERM_ACC_SQ_X 6     /* both: accel 2nd order K2j, e_j f_j^2 */
+#define IGEA_ENVFUN_TERM_ACC_MIS_XY 9   /* both: accel x senses f_y, e_x f_y */
+#define IGEA_ENVFUN_TERM_ACC_MIS_XZ 10  /* both: e_x f_z */
+#define IGEA_ENVFUN_TERM_ACC_MIS_YX 11  /* both: e_y f_x */
+#define IGEA_ENVFUN_TERM_ACC_MIS_YZ 12  /* both: e_y f_z */
+#define IGEA_ENVFUN_TERM_ACC_MIS_ZX 13  /* both: e_z f_x */
+#define IGEA_ENVFUN_TERM_ACC_MIS_ZY 14  /* both: e_z f_y */
+#define IGEA_ENVFUN_TERM_GYRO_BIAS_X 15 /* both: constant drift D0j, 1 rad/s */
+#define IGEA_ENVFUN_TERM_GYRO_G_X 18    /* sd: drift e_j f_j (rad/s per m/s^2) */
+#define IGEA_ENVFUN_TERM_GYRO_SCALE_X 21 /* sd: gyro scale factor, e_j w_j */
+#define IGEA_ENVFUN_TERM_ATT0_X 24      /* sd: initial attitude error phi0 = e_k */
+#define IGEA_ENVFUN_TERM_GYRO_GI_X 27   /* pf: drift e_j f_I(j) (input axis) */
+#define IGEA_ENVFUN_TERM_GYRO_GS_X 30   /* pf: drift e_j f_S(j) (spin axis) */
+#define IGEA_ENVFUN_TERM_ALIGN0_X 33    /* pf: initial alignment alpha0 = e_k */
+#define IGEA_ENVFUN_TERM_COUNT 36       /* codes are 0 .. IGEA_ENVFUN_TERM_COUNT - 1 */
 
 /*
  * 1 if term code `term` is valid for system kind `system`, else 0

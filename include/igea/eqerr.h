@@ -41,11 +41,11 @@ extern "C" {
 #define IGEA_EQERR_OPT_BIAS_CORRECT 8 /* 1: sigma_w^2 = mean(g^2 - lambda) [D] */
 #define IGEA_EQERR_OPT_CLAMP 9        /* 1: never let c fall below 1 [D] */
 #define IGEA_EQERR_OPT_Z_CRIT 10      /* > 0: impose z_crit (2.58); 0 exact */
-#define IGEA_EQERR_OPT_ROUTE 11       /* IGEA_ROUTE_EIG or IGEA_ROUTE_SVD */
+#define IGEA_EQERR_OPT_ROUTE 11       /* IGEA_EQERR_ROUTE_EIG or IGEA_EQERR_ROUTE_SVD */
 #define IGEA_EQERR_OPT_LEN 16
 
-#define IGEA_ROUTE_EIG 0 /* normal matrix + dsyevd (streamable) */
-#define IGEA_ROUTE_SVD 1 /* SVD of the weighted S through its QR factor (dtpqrt
+#define IGEA_EQERR_ROUTE_EIG 0 /* normal matrix + dsyevd (streamable) */
+#define IGEA_EQERR_ROUTE_SVD 1 /* SVD of the weighted S through its QR factor (dtpqrt
                           * + dgesdd), streamable */
 
 /* Fill opts[IGEA_EQERR_OPT_LEN] with the defaults above. Returns 0, -1. */
@@ -61,7 +61,7 @@ IGEA_API int igea_eqerr_defaults(double *opts);
  *  9 equiv_err[N]: Xhat_i for i < rank, 0 beyond
  * 10 z[N]: z_i for tested components (a prefix, i < n_test), 0 beyond
  * 11 reject[N]: 1 rejected, 0 accepted, -1 not tested
- * 12 info[IGEA_INFO_LEN]: see igea/stats.h (rank, c, iterations, ...)
+ * 12 info[IGEA_STATS_INFO_LEN]: see igea/stats.h (rank, c, iterations, ...)
  * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENOTESTABLE (no lambda >= lambda_test;
  * nothing is written), IGEA_EOVERFLOW (a result, e.g. lambda = s^2 on the
  * SVD route, is not a finite double: rescale the inputs), IGEA_ENOMEM,
@@ -112,7 +112,7 @@ IGEA_API int igea_eqerr_run(int m, int N, const double *S, int lds,
 /*
  * The fitted coefficients in physical units of the raw S columns:
  * coef = D P_t Xhat_t, the sum over the n_test tested components (n_test =
- * info[IGEA_INFO_N_TEST]); spec_sigma may be NULL (D = I).
+ * info[IGEA_STATS_INFO_N_TEST]); spec_sigma may be NULL (D = I).
  * Arguments: 1 N, 2 P, 3 ldp, 4 equiv_err, 5 n_test (0..N), 6 spec_sigma,
  * 7 coef[N]. Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE,
  * IGEA_ERANGE, IGEA_EOVERFLOW (a coefficient beyond the double range).

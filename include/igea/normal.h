@@ -19,11 +19,10 @@
 extern "C" {
 #endif
 
-/* Layout of S: IGEA_COLMAJOR: S is m x N column-major, lds >= max(1, m)
- * (Fortran); IGEA_ROWMAJOR: the array holds S^T, i.e. N x m column-major
- * with lds >= N, which is S stored row by row (C, numpy, .npy files). */
-#define IGEA_COLMAJOR 0
-#define IGEA_ROWMAJOR 1
+/* Layout of S (IGEA_COLMAJOR, IGEA_ROWMAJOR of igea/common.h):
+ * IGEA_COLMAJOR: S is m x N column-major, lds >= max(1, m) (Fortran);
+ * IGEA_ROWMAJOR: the array holds S^T, i.e. N x m column-major with
+ * lds >= N, which is S stored row by row (C, numpy, .npy files). */
 
 /*
  * Arguments (1-based positions, as the -i status names them):

@@ -46,14 +46,14 @@ IGEA_API int igea_redund_exponential(double lambda, double t, double *R,
  * kofn: 1 n >= 1, 2 k (1 <= k <= n), 3 R, 4 out.
  * Returns 0, -i, IGEA_ENONFINITE (NaN in R), IGEA_ENOMEM (kofn).
  */
-IGEA_API int igea_redund_series(int n, const double *R, double *out);
-IGEA_API int igea_redund_parallel(int n, const double *R, double *out);
-IGEA_API int igea_redund_kofn(int n, int k, const double *R, double *out);
+IGEA_API int igea_redund_reliability_series(int n, const double *R, double *out);
+IGEA_API int igea_redund_reliability_parallel(int n, const double *R, double *out);
+IGEA_API int igea_redund_reliability_kofn(int n, int k, const double *R, double *out);
 
 /* Block types of igea_redund_diagram (reliability block diagram). */
-#define IGEA_RBD_SERIES 0
-#define IGEA_RBD_PARALLEL 1
-#define IGEA_RBD_KOFN 2
+#define IGEA_REDUND_RBD_SERIES 0
+#define IGEA_REDUND_RBD_PARALLEL 1
+#define IGEA_REDUND_RBD_KOFN 2
 
 /*
  * A reliability block diagram of independent components, evaluated block
@@ -66,7 +66,7 @@ IGEA_API int igea_redund_kofn(int n, int k, const double *R, double *out);
  *  1 ncomp   components >= 1
  *  2 R       their ncomp reliabilities in [0, 1]
  *  3 nblock  blocks >= 1
- *  4 type    nblock IGEA_RBD_* codes
+ *  4 type    nblock IGEA_REDUND_RBD_* codes
  *  5 k       nblock values of k for KOFN blocks (others ignored); may be
  *            NULL when no block is KOFN
  *  6 first   nblock + 1 offsets into member, first[0] = 0, increasing
@@ -79,33 +79,33 @@ IGEA_API int igea_redund_diagram(int ncomp, const double *R, int nblock,
                                  double *Rblock);
 
 /* Entries of the out array of igea_redund_seed002. */
-#define IGEA_SEED002_GYRO 0       /* (6) [1 - (1 - Re1)^2]^3 */
-#define IGEA_SEED002_ACC_EQ7 1    /* (7) as printed */
-#define IGEA_SEED002_SYS_EQ7 2    /* (8) with (7) */
-#define IGEA_SEED002_SYS_NO_D 3   /* X4, Y2, Z2 without the skew sensor: (10) */
-#define IGEA_SEED002_NONREDUND 4  /* (9) Re1^3 Re2^3 */
-#define IGEA_SEED002_SYS_EXACT 5  /* METHODS 3.2 exact geometric value */
-#define IGEA_SEED002_ACC_EXACT 6  /* exact accelerometer part */
-#define IGEA_SEED002_LEN 7
+#define IGEA_REDUND_SEED002_GYRO 0       /* (6) [1 - (1 - Re1)^2]^3 */
+#define IGEA_REDUND_SEED002_ACC_EQ7 1    /* (7) as printed */
+#define IGEA_REDUND_SEED002_SYS_EQ7 2    /* (8) with (7) */
+#define IGEA_REDUND_SEED002_SYS_NO_D 3   /* X4, Y2, Z2 without the skew sensor: (10) */
+#define IGEA_REDUND_SEED002_NONREDUND 4  /* (9) Re1^3 Re2^3 */
+#define IGEA_REDUND_SEED002_SYS_EXACT 5  /* METHODS 3.2 exact geometric value */
+#define IGEA_REDUND_SEED002_ACC_EXACT 6  /* exact accelerometer part */
+#define IGEA_REDUND_SEED002_LEN 7
 
 /*
  * The reliability figures of seed 002 (METHODS 3.1 table, 3.2) for gyro
  * reliability Re1 and accelerometer reliability Re2, both in [0, 1].
- *  3 out[IGEA_SEED002_LEN]
+ *  3 out[IGEA_REDUND_SEED002_LEN]
  */
 IGEA_API int igea_redund_seed002(double Re1, double Re2, double *out);
 
 /* Entries of the out array of igea_redund_geometry. */
-#define IGEA_GEOM_SPAN 0     /* P(surviving axes span 3-D) */
-#define IGEA_GEOM_DETECT 1   /* ... and any further single fault is detectable */
-#define IGEA_GEOM_ISOLATE 2  /* ... and any further single fault is isolable */
-#define IGEA_GEOM_CLASSES 3  /* number of direction classes */
-#define IGEA_GEOM_LEN 4
+#define IGEA_REDUND_GEOM_SPAN 0     /* P(surviving axes span 3-D) */
+#define IGEA_REDUND_GEOM_DETECT 1   /* ... and any further single fault is detectable */
+#define IGEA_REDUND_GEOM_ISOLATE 2  /* ... and any further single fault is isolable */
+#define IGEA_REDUND_GEOM_CLASSES 3  /* number of direction classes */
+#define IGEA_REDUND_GEOM_LEN 4
 
 /* Largest n for the detection / isolation enumeration (2^n subsets). */
-#define IGEA_GEOM_FDI_MAX 20
+#define IGEA_REDUND_GEOM_FDI_MAX 20
 /* Largest number of direction classes for the span enumeration. */
-#define IGEA_GEOM_CLASS_MAX 24
+#define IGEA_REDUND_GEOM_CLASS_MAX 24
 
 /*
  * Exact reliability of a sensor geometry (METHODS 3.2): n sensors with
@@ -121,12 +121,12 @@ IGEA_API int igea_redund_seed002(double Re1, double Re2, double *out);
  *  columns are not parallel (P_kl^2 < (1 - 1e-9) P_kk P_ll). The set counts
  *  for DETECT when every surviving sensor is detectable, for ISOLATE when
  *  in addition no two columns are parallel.
- *  1 n      sensors >= 1 (<= IGEA_GEOM_FDI_MAX when fdi = 1)
+ *  1 n      sensors >= 1 (<= IGEA_REDUND_GEOM_FDI_MAX when fdi = 1)
  *  2 axes   n x 3, rows non-zero
  *  3 lda    >= max(1, n)
  *  4 R      n reliabilities in [0, 1]
  *  5 fdi    0: SPAN only (DETECT, ISOLATE set to NaN), 1: all
- *  6 out    [IGEA_GEOM_LEN]
+ *  6 out    [IGEA_REDUND_GEOM_LEN]
  * Returns 0, -i, IGEA_ENONFINITE, IGEA_EDOMAIN (a zero axis), IGEA_ENOMEM,
  * IGEA_ELAPACK.
  */
@@ -134,10 +134,6 @@ IGEA_API int igea_redund_geometry(int n, const double *axes, int lda,
                                   const double *R, int fdi, double *out);
 
 /* ---- consistency and fusion (METHODS 3.3) ------------------------------ */
-
-/* Inverse error function, -1 < y < 1 (Giles' start + Newton steps on C99
- * erf; |erf(x) - y| at rounding level). -1: y outside (-1, 1). */
-IGEA_API int igea_redund_erfinv(double y, double *x);
 
 /*
  * Confidence-distance matrix (13): D_ij = |erf((x_j - x_i) / (sqrt2 s_i))|.
@@ -239,15 +235,15 @@ IGEA_API int igea_redund_parity(int m, int q, const double *H, int ldh,
                                 double *V, int ldv);
 
 /* Entries of the info array of igea_redund_fdi. */
-#define IGEA_FDI_STAT 0       /* p^T p of the whitened parity vector */
-#define IGEA_FDI_THRESHOLD 1  /* chi2_pfa(m - q) */
-#define IGEA_FDI_DOF 2        /* m - q */
-#define IGEA_FDI_P_VALUE 3    /* Q(stat; m - q) */
-#define IGEA_FDI_DETECTED 4   /* 1 if stat > threshold */
-#define IGEA_FDI_ISOLATED 5   /* 0-based sensor, -1 if none */
-#define IGEA_FDI_ISO_STAT 6   /* its isolation statistic (v_k^T p)^2 / |v_k|^2 */
-#define IGEA_FDI_ISOLABLE 7   /* 1 if no two parity columns are parallel */
-#define IGEA_FDI_LEN 8
+#define IGEA_REDUND_FDI_STAT 0       /* p^T p of the whitened parity vector */
+#define IGEA_REDUND_FDI_THRESHOLD 1  /* chi2_pfa(m - q) */
+#define IGEA_REDUND_FDI_DOF 2        /* m - q */
+#define IGEA_REDUND_FDI_P_VALUE 3    /* Q(stat; m - q) */
+#define IGEA_REDUND_FDI_DETECTED 4   /* 1 if stat > threshold */
+#define IGEA_REDUND_FDI_ISOLATED 5   /* 0-based sensor, -1 if none */
+#define IGEA_REDUND_FDI_ISO_STAT 6   /* its isolation statistic (v_k^T p)^2 / |v_k|^2 */
+#define IGEA_REDUND_FDI_ISOLABLE 7   /* 1 if no two parity columns are parallel */
+#define IGEA_REDUND_FDI_LEN 8
 
 /*
  * Generalized likelihood test (parity space) of one epoch: measurements
@@ -257,7 +253,7 @@ IGEA_API int igea_redund_parity(int m, int q, const double *H, int ldh,
  * maximises (v_k^T p)^2 / (v_k^T v_k) over sensors with v_k != 0.
  *  1 m > q, 2 q >= 1, 3 H (m x q), 4 ldh >= m, 5 y[m], 6 sigma[m] > 0,
  *  7 0 < pfa < 1, 8 parity: out (m - q), may be NULL, 9 info
- *  [IGEA_FDI_LEN], 10 isolated: out (0-based or -1), may be NULL.
+ *  [IGEA_REDUND_FDI_LEN], 10 isolated: out (0-based or -1), may be NULL.
  */
 IGEA_API int igea_redund_fdi(int m, int q, const double *H, int ldh,
                              const double *y, const double *sigma, double pfa,
@@ -301,7 +297,7 @@ IGEA_API int igea_redund_window_count(int nsamp, double fs, double window,
  *  NULL), 14 excluded (nsens x nwin ints, ld nsens: 1 excluded), 15 fused
  *  [nwin], 16 fused_sigma [nwin] (may be NULL).
  */
-IGEA_API int igea_redund_series_check(int nsamp, int nsens, const double *y,
+IGEA_API int igea_redund_monitor(int nsamp, int nsens, const double *y,
                                       int ldy, double fs, double window,
                                       const double *sigma, const double *alpha,
                                       int lda, int iterative, int weighted,

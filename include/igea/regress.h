@@ -34,9 +34,9 @@ extern "C" {
 #endif
 
 /* EBR rules for the prior scale lambda (METHODS 4.3 steps 5-6). */
-#define IGEA_EBR_SC 0  /* Shinozaki-Chang rule, METHODS 4.3 eq. (17) */
-#define IGEA_EBR_MM 1  /* unbiased moments: sum z_i^2/(1+l d_i) = r S/(m-r) */
-#define IGEA_EBR_ML2 2 /* type-II maximum likelihood */
+#define IGEA_REGRESS_EBR_SC 0  /* Shinozaki-Chang rule, METHODS 4.3 eq. (17) */
+#define IGEA_REGRESS_EBR_MM 1  /* unbiased moments: sum z_i^2/(1+l d_i) = r S/(m-r) */
+#define IGEA_REGRESS_EBR_ML2 2 /* type-II maximum likelihood */
 
 /*
  * Weighted least squares by SVD (dgesdd) of diag(1/sigma) A; minimum-norm
@@ -73,7 +73,7 @@ IGEA_API int igea_regress_ls(int m, int N, const double *A, int lda,
  * (1 + lambda d_i) x_i, beta = D_s V theta.
  *  1 m rows, 2 N terms, 3 A (m x N), 4 lda >= m, 5 y (m);
  *  6 prior_scale: N values s_j > 0 (D_s = diag(s)) or NULL (D_s = I);
- *  7 rule: IGEA_EBR_SC, IGEA_EBR_MM or IGEA_EBR_ML2; 8 lam_floor >= 0,
+ *  7 rule: IGEA_REGRESS_EBR_SC, IGEA_REGRESS_EBR_MM or IGEA_REGRESS_EBR_ML2; 8 lam_floor >= 0,
  *    finite.
  * Outputs:
  *  9 beta[N]; 10 lam: lambda hat; 11 rank r;
@@ -101,18 +101,18 @@ IGEA_API int igea_regress_ebr(int m, int N, const double *A, int lda,
                               double *sd_post, double *sd_freq);
 
 /* Ridge rules for k (the ridge constant added to the normal matrix). */
-#define IGEA_RIDGE_FIXED 0 /* k given by the caller */
-#define IGEA_RIDGE_HKB 1   /* Hoerl-Kennard-Baldwin: k = r s^2 / |x_LS|^2 */
-#define IGEA_RIDGE_LW 2    /* Lawless-Wang: k = r s^2 / |A_w x_LS|^2 */
-#define IGEA_RIDGE_GCV 3   /* minimise m RSS(k) / (m - tr H(k))^2 */
-#define IGEA_RIDGE_LOO 4   /* minimise sum (e_i / (1 - h_ii(k)))^2 */
+#define IGEA_REGRESS_RIDGE_FIXED 0 /* k given by the caller */
+#define IGEA_REGRESS_RIDGE_HKB 1   /* Hoerl-Kennard-Baldwin: k = r s^2 / |x_LS|^2 */
+#define IGEA_REGRESS_RIDGE_LW 2    /* Lawless-Wang: k = r s^2 / |A_w x_LS|^2 */
+#define IGEA_REGRESS_RIDGE_GCV 3   /* minimise m RSS(k) / (m - tr H(k))^2 */
+#define IGEA_REGRESS_RIDGE_LOO 4   /* minimise sum (e_i / (1 - h_ii(k)))^2 */
 
 /*
  * Ridge regression x(k) = (A^T W A + k I)^-1 A^T W y on the design as given
  * (no centring or scaling: scale the columns first if the terms have
  * different units), W = diag(1/sigma^2).
  *  1 m, 2 N, 3 A, 4 lda >= m, 5 y (m), 6 sigma (m or NULL);
- *  7 rule: IGEA_RIDGE_*; 8 k >= 0 (read for IGEA_RIDGE_FIXED only);
+ *  7 rule: IGEA_REGRESS_RIDGE_*; 8 k >= 0 (read for IGEA_REGRESS_RIDGE_FIXED only);
  * Outputs: 9 x[N]; 10 cov (N x N or NULL): s^2 (B + kI)^-1 B (B + kI)^-1,
  *  B = A^T W A; 11 ldc >= N when cov is given; 12 k_used; 13 sigma2: s^2,
  *  the least-squares residual variance RSS_w / (m - r) (0 if m == r);

@@ -161,17 +161,16 @@ IGEA_API int igea_rls_update(igea_rls *h, const double *c, int ldc,
                              const double *y, const double *track_sigma,
                              int *flags);
 
-/* Layouts of a whole record (igea_rls_run). */
-#define IGEA_RLS_LAYOUT_ROWS 0   /* eqerr layout: (n k) x m, k rows per epoch */
-#define IGEA_RLS_LAYOUT_BLOCKS 1 /* n blocks c_e^T, each m x k */
+/* Layouts of a whole record (igea_rls_run): IGEA_COLMAJOR, IGEA_ROWMAJOR of
+ * igea/common.h, read as below. */
 
 /*
  * A whole record of n epochs, processed in turn by igea_rls_update.
  *  1 h; 2 n >= 0 epochs; 3 layout:
- *    IGEA_RLS_LAYOUT_ROWS: S is (n k) x m column-major, 5 lds >= max(1, n k),
+ *    IGEA_COLMAJOR: S is (n k) x m column-major, 5 lds >= max(1, n k),
  *      rows e k .. e k + k - 1 are epoch e's c (the eqerr layout: S and dw
  *      of a flight with k rows per epoch, epoch-major);
- *    IGEA_RLS_LAYOUT_BLOCKS: S holds n blocks c_e^T (m x k column-major,
+ *    IGEA_ROWMAJOR: S holds n blocks c_e^T (m x k column-major,
  *      5 lds >= m), block e starting at S + e k lds (a C-order array of
  *      shape (n, k, m) with lds = m); the faster layout;
  *  4 S; 6 dw (n k values, y of the epochs in turn); 7 track_sigma (n k

@@ -123,8 +123,8 @@ IGEA_API int igea_sim_flight(int m, int N, const double *S, int lds,
  * rotated force with their errors and the navigator takes it as inertial.
  *  1 system     IGEA_ENVFUN_STRAPDOWN or IGEA_ENVFUN_PLATFORM
  *  2 nsamp >= 2, 3 traj (nsamp x 11, igea/envfun.h), 4 ldt >= nsamp
- *  5 err        IGEA_TERM_COUNT values: the error of every term by code, in
- *               SI units (e.g. err[IGEA_TERM_ACC_BIAS_X] = 9.8e-3); terms
+ *  5 err        IGEA_ENVFUN_TERM_COUNT values: the error of every term by code, in
+ *               SI units (e.g. err[IGEA_ENVFUN_TERM_ACC_BIAS_X] = 9.8e-3); terms
  *               not valid for the system must be 0
  *  6 axes       platform gyro axes as igea_envfun_compute, or NULL
  *  7 nepochs >= 1, 8 epochs (non-decreasing, inside the trajectory)
@@ -138,15 +138,15 @@ IGEA_API int igea_sim_nonlinear(int system, int nsamp, const double *traj,
                                 int nepochs, const double *epochs,
                                 double *dW);
 
-/* Indices into counts[IGEA_MC_LEN] of igea_sim_montecarlo. */
-#define IGEA_MC_FLIGHTS 0      /* flights run */
-#define IGEA_MC_FAILED 1       /* verdict "out of spec": any rejection */
-#define IGEA_MC_CHI2_REJECT 2  /* T >= chi2_alpha(|I_t|) */
-#define IGEA_MC_ANY_REJECT 3   /* at least one component |z_i| > z_crit */
-#define IGEA_MC_NOT_TESTABLE 4 /* no component with lambda >= lambda_test */
-#define IGEA_MC_MEAN_SCALE 5   /* mean of the final scale c (sigma_w^2) */
-#define IGEA_MC_MEAN_TESTED 6  /* mean |I_t| */
-#define IGEA_MC_LEN 8
+/* Indices into counts[IGEA_SIM_MC_LEN] of igea_sim_montecarlo. */
+#define IGEA_SIM_MC_FLIGHTS 0      /* flights run */
+#define IGEA_SIM_MC_FAILED 1       /* verdict "out of spec": any rejection */
+#define IGEA_SIM_MC_CHI2_REJECT 2  /* T >= chi2_alpha(|I_t|) */
+#define IGEA_SIM_MC_ANY_REJECT 3   /* at least one component |z_i| > z_crit */
+#define IGEA_SIM_MC_NOT_TESTABLE 4 /* no component with lambda >= lambda_test */
+#define IGEA_SIM_MC_MEAN_SCALE 5   /* mean of the final scale c (sigma_w^2) */
+#define IGEA_SIM_MC_MEAN_TESTED 6  /* mean |I_t| */
+#define IGEA_SIM_MC_LEN 8
 
 /*
  * Monte Carlo: flights first_flight .. first_flight + nflights - 1 of
@@ -158,7 +158,7 @@ IGEA_API int igea_sim_nonlinear(int system, int nsamp, const double *traj,
  * 14 nflights     >= 1
  * 15 nthreads     >= 0 (0: the number of online processors); results do
  *                 not depend on it
- * 16 counts       IGEA_MC_LEN outputs (above)
+ * 16 counts       IGEA_SIM_MC_LEN outputs (above)
  * 17 comp_tested  N outputs or NULL: flights in which eigen-component i
  *                 (descending lambda) was tested
  * 18 comp_reject  N outputs or NULL: ... and rejected
@@ -167,7 +167,7 @@ IGEA_API int igea_sim_nonlinear(int system, int nsamp, const double *traj,
  * 20 dof          nflights outputs or NULL: |I_t| (0 if not testable)
  * 21 n_reject     nflights outputs or NULL: rejected components
  * 22 scale        nflights outputs or NULL: final c of each flight
- * Flights with nothing testable count in IGEA_MC_NOT_TESTABLE and pass.
+ * Flights with nothing testable count in IGEA_SIM_MC_NOT_TESTABLE and pass.
  * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ERANGE, IGEA_ENOMEM,
  * IGEA_ELAPACK (outputs untouched on failure).
  */

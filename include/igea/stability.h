@@ -20,42 +20,42 @@ extern "C" {
 #endif
 
 /* Entries of the out array of igea_stability_block. */
-#define IGEA_BLOCK_3SIGMA 0  /* 3 sigma_b */
-#define IGEA_BLOCK_SIGMA 1   /* sigma_b: sample sd of the block means */
-#define IGEA_BLOCK_NBLOCK 2  /* B, the number of whole blocks */
-#define IGEA_BLOCK_NSAMP 3   /* N_b = round(block fs) samples per block */
-#define IGEA_BLOCK_MEAN 4    /* mean of the block means */
-#define IGEA_BLOCK_ADEV 5    /* sqrt(sum (m_{b+1} - m_b)^2 / (2 (B - 1))) */
-#define IGEA_BLOCK_LEN 6
+#define IGEA_STABILITY_BLOCK_3SIGMA 0  /* 3 sigma_b */
+#define IGEA_STABILITY_BLOCK_SIGMA 1   /* sigma_b: sample sd of the block means */
+#define IGEA_STABILITY_BLOCK_NBLOCK 2  /* B, the number of whole blocks */
+#define IGEA_STABILITY_BLOCK_NSAMP 3   /* N_b = round(block fs) samples per block */
+#define IGEA_STABILITY_BLOCK_MEAN 4    /* mean of the block means */
+#define IGEA_STABILITY_BLOCK_ADEV 5    /* sqrt(sum (m_{b+1} - m_b)^2 / (2 (B - 1))) */
+#define IGEA_STABILITY_BLOCK_LEN 6
 
 /*
  * Block-mean statistic (METHODS 3.4): N_b = round(block fs), B = floor(n /
  * N_b) non-overlapping blocks (a remainder is ignored), block means m_b,
  * sigma_b = sqrt(sum (m_b - mean)^2 / (B - 1)).
  *  1 n >= 2, 2 y[n] finite, 3 fs > 0, 4 block > 0 (seconds) with B >= 2,
- *  5 out[IGEA_BLOCK_LEN].
+ *  5 out[IGEA_STABILITY_BLOCK_LEN].
  */
 IGEA_API int igea_stability_block(int n, const double *y, double fs,
                                   double block, double *out);
 
 /* Allan variance kinds. */
-#define IGEA_ALLAN_OVERLAPPING 0
-#define IGEA_ALLAN_MODIFIED 1
-#define IGEA_ALLAN_NONOVERLAPPING 2
+#define IGEA_STABILITY_ALLAN_OVERLAPPING 0
+#define IGEA_STABILITY_ALLAN_MODIFIED 1
+#define IGEA_STABILITY_ALLAN_NONOVERLAPPING 2
 
 /* Power-law noise exponents alpha of S_y(f) ~ f^alpha for the EDF, and
- * IGEA_NOISE_AUTO: identified per tau by the lag-1 autocorrelation of the
+ * IGEA_STABILITY_NOISE_AUTO: identified per tau by the lag-1 autocorrelation of the
  * tau-averages (Riley and Greenhall 2004; with fewer than 32 averages the
  * type found at the previous tau, white FM at the first, is kept).
  * Inertial names: white FM = angle / velocity random walk, flicker FM =
  * bias instability, random-walk FM = rate random walk, white PM =
  * quantisation. */
-#define IGEA_NOISE_WPM 2
-#define IGEA_NOISE_FPM 1
-#define IGEA_NOISE_WFM 0
-#define IGEA_NOISE_FFM (-1)
-#define IGEA_NOISE_RWFM (-2)
-#define IGEA_NOISE_AUTO 99
+#define IGEA_STABILITY_NOISE_WPM 2
+#define IGEA_STABILITY_NOISE_FPM 1
+#define IGEA_STABILITY_NOISE_WFM 0
+#define IGEA_STABILITY_NOISE_FFM (-1)
+#define IGEA_STABILITY_NOISE_RWFM (-2)
+#define IGEA_STABILITY_NOISE_AUTO 99
 
 /*
  * Allan deviation at averaging times tau[j] (m_j = round(tau[j] fs) >= 1
@@ -75,7 +75,7 @@ IGEA_API int igea_stability_block(int n, const double *y, double fs,
  * [s sqrt(edf / chi2_{(1+conf)/2}(edf)), s sqrt(edf / chi2_{(1-conf)/2}(edf))]
  * with lower chi-square quantiles.
  *  1 n >= 2, 2 y[n] finite, 3 fs > 0, 4 ntau >= 1, 5 tau[ntau] > 0 each
- *  with count >= 1, 6 kind IGEA_ALLAN_*, 7 noise IGEA_NOISE_*, 8 0 < conf
+ *  with count >= 1, 6 kind IGEA_STABILITY_ALLAN_*, 7 noise IGEA_STABILITY_NOISE_*, 8 0 < conf
  *  < 1 (0.683 for 1 sigma), 9 dev[ntau] out, 10 lo, 11 hi, 12 edf (each
  *  ntau, may be NULL), 13 count (ntau ints, may be NULL).
  */
@@ -91,15 +91,15 @@ IGEA_API int igea_stability_octave_taus(int n, double fs, int kind,
                                         int ntau_max, double *tau, int *ntau);
 
 /* Entries of the out array of igea_stability_noise_id. */
-#define IGEA_NOISEID_N 0        /* random walk coefficient: sigma(1 s) of the -1/2 line */
-#define IGEA_NOISEID_N_TAU 1    /* tau where the -1/2 slope was read */
-#define IGEA_NOISEID_B 2        /* bias instability: min sigma / sqrt(2 ln2 / pi) */
-#define IGEA_NOISEID_B_TAU 3    /* tau of the minimum */
-#define IGEA_NOISEID_K 4        /* rate random walk: sigma(3 s) of the +1/2 line */
-#define IGEA_NOISEID_K_TAU 5
-#define IGEA_NOISEID_Q 6        /* quantisation: sigma(sqrt3 s) of the -1 line */
-#define IGEA_NOISEID_Q_TAU 7
-#define IGEA_NOISEID_LEN 8
+#define IGEA_STABILITY_NOISEID_N 0        /* random walk coefficient: sigma(1 s) of the -1/2 line */
+#define IGEA_STABILITY_NOISEID_N_TAU 1    /* tau where the -1/2 slope was read */
+#define IGEA_STABILITY_NOISEID_B 2        /* bias instability: min sigma / sqrt(2 ln2 / pi) */
+#define IGEA_STABILITY_NOISEID_B_TAU 3    /* tau of the minimum */
+#define IGEA_STABILITY_NOISEID_K 4        /* rate random walk: sigma(3 s) of the +1/2 line */
+#define IGEA_STABILITY_NOISEID_K_TAU 5
+#define IGEA_STABILITY_NOISEID_Q 6        /* quantisation: sigma(sqrt3 s) of the -1 line */
+#define IGEA_STABILITY_NOISEID_Q_TAU 7
+#define IGEA_STABILITY_NOISEID_LEN 8
 
 /*
  * Noise terms from an Allan deviation curve (IEEE Std 952 slope method):

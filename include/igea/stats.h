@@ -24,6 +24,10 @@ extern "C" {
 
 /* Standard normal cdf Phi(x); x may be +-Inf. -1: x is NaN. */
 IGEA_API int igea_stats_normal_cdf(double x, double *p);
+
+/* Inverse error function, -1 < y < 1 (Giles' start + Newton steps on C99
+ * erf; |erf(x) - y| at rounding level). -1: y outside (-1, 1). */
+IGEA_API int igea_stats_erfinv(double y, double *x);
 /* Lower quantile z = Phi^-1(p), 0 < p < 1. -1: p outside (0, 1). */
 IGEA_API int igea_stats_normal_quantile(double p, double *z);
 
@@ -38,29 +42,29 @@ IGEA_API int igea_stats_chi2_quantile(double p, double dof, double *x);
  * alpha, 0 < alpha < 1. chi2_0.01(11) = 24.725. */
 IGEA_API int igea_stats_chi2_upper(double alpha, double dof, double *x);
 
-/* Indices into the info[IGEA_INFO_LEN] array that the accuracy tests and
+/* Indices into the info[IGEA_STATS_INFO_LEN] array that the accuracy tests and
  * igea_eqerr_* fill (doubles; counts and flags are whole numbers). */
-#define IGEA_INFO_N_TEST 0     /* components tested, |I_t| */
-#define IGEA_INFO_CHI2 1       /* T = sum z_i^2 over I_t */
-#define IGEA_INFO_DOF 2        /* its degrees of freedom */
-#define IGEA_INFO_CHI2_CRIT 3  /* chi2_alpha(dof) */
-#define IGEA_INFO_Z_CRIT 4     /* z_{1-alpha/2} (or the caller's value) */
-#define IGEA_INFO_P_VALUE 5    /* Q(T; dof) */
-#define IGEA_INFO_N_REJECT 6   /* components with |z_i| > z_crit */
-#define IGEA_INFO_PASSED 7     /* 1: no rejection and T < chi2_crit */
-#define IGEA_INFO_RANK 8       /* numerical rank r (igea_eqerr_*) */
-#define IGEA_INFO_SCALE 9      /* c: K was multiplied by c (sigma_w^2) */
-#define IGEA_INFO_ITERATIONS 10 /* sigma_w iterations run */
-#define IGEA_INFO_N_SMALL 11   /* |I_small| of the last iteration */
-#define IGEA_INFO_FLAG 12      /* IGEA_SIGMAW_* */
-#define IGEA_INFO_N_FLIGHTS 13 /* flights pooled (igea_stats_pool) */
-#define IGEA_INFO_LEN 16
+#define IGEA_STATS_INFO_N_TEST 0     /* components tested, |I_t| */
+#define IGEA_STATS_INFO_CHI2 1       /* T = sum z_i^2 over I_t */
+#define IGEA_STATS_INFO_DOF 2        /* its degrees of freedom */
+#define IGEA_STATS_INFO_CHI2_CRIT 3  /* chi2_alpha(dof) */
+#define IGEA_STATS_INFO_Z_CRIT 4     /* z_{1-alpha/2} (or the caller's value) */
+#define IGEA_STATS_INFO_P_VALUE 5    /* Q(T; dof) */
+#define IGEA_STATS_INFO_N_REJECT 6   /* components with |z_i| > z_crit */
+#define IGEA_STATS_INFO_PASSED 7     /* 1: no rejection and T < chi2_crit */
+#define IGEA_STATS_INFO_RANK 8       /* numerical rank r (igea_eqerr_*) */
+#define IGEA_STATS_INFO_SCALE 9      /* c: K was multiplied by c (sigma_w^2) */
+#define IGEA_STATS_INFO_ITERATIONS 10 /* sigma_w iterations run */
+#define IGEA_STATS_INFO_N_SMALL 11   /* |I_small| of the last iteration */
+#define IGEA_STATS_INFO_FLAG 12      /* IGEA_STATS_SIGMAW_* */
+#define IGEA_STATS_INFO_N_FLIGHTS 13 /* flights pooled (igea_stats_pool) */
+#define IGEA_STATS_INFO_LEN 16
 
 /* Outcome of the tracking-accuracy (sigma_w) correction. */
-#define IGEA_SIGMAW_CONVERGED 0
-#define IGEA_SIGMAW_NOT_ESTIMABLE 1 /* fewer than n_min small eigenvalues */
-#define IGEA_SIGMAW_NO_CONVERGENCE 2
-#define IGEA_SIGMAW_OFF 3
+#define IGEA_STATS_SIGMAW_CONVERGED 0
+#define IGEA_STATS_SIGMAW_NOT_ESTIMABLE 1 /* fewer than n_min small eigenvalues */
+#define IGEA_STATS_SIGMAW_NO_CONVERGENCE 2
+#define IGEA_STATS_SIGMAW_OFF 3
 
 /*
  * Per-component normal tests and the chi-square test (METHODS 1.2 steps 4
@@ -72,7 +76,7 @@ IGEA_API int igea_stats_chi2_upper(double alpha, double dof, double *x);
  *   lambda_test > 0; z_crit: > 0 to impose a critical value (e.g. 2.58,
  *   the seed's tabulated z_0.995), 0 to use the exact quantile.
  * Outputs: z[n] (z_i for tested components, 0 elsewhere), reject[n] (1
- * rejected, 0 accepted, -1 not tested), info[IGEA_INFO_LEN] (entries 0-7).
+ * rejected, 0 accepted, -1 not tested), info[IGEA_STATS_INFO_LEN] (entries 0-7).
  * Large finite values are data: z_i is always finite (|z_i| <= |e_i|);
  * when T exceeds the double range (e.g. an equivalent error of 1e300) it
  * is saturated at DBL_MAX with P_VALUE 0 and PASSED 0 (rejected), never

@@ -1,6 +1,6 @@
 """Environment-function matrices S from a trajectory (METHODS 5).
 
-The C library takes integer term codes (IGEA_TERM_*, igea/envfun.h); this
+The C library takes integer term codes (IGEA_ENVFUN_TERM_*, igea/envfun.h); this
 module holds the stable term names of docs/envfun.md and maps them.
 """
 import math

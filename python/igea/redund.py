@@ -71,17 +71,17 @@ def _rel_fn(fn, where, R, *extra):
 
 def reliability_series(R):
     """All components must work."""
-    return _rel_fn(_lib.lib.igea_redund_series, "igea.reliability_series", R)
+    return _rel_fn(_lib.lib.igea_redund_reliability_series, "igea.reliability_series", R)
 
 
 def reliability_parallel(R):
     """One working component suffices."""
-    return _rel_fn(_lib.lib.igea_redund_parallel, "igea.reliability_parallel", R)
+    return _rel_fn(_lib.lib.igea_redund_reliability_parallel, "igea.reliability_parallel", R)
 
 
 def reliability_kofn(R, k):
     """At least k of the independent components work (exact for unequal R)."""
-    return _rel_fn(_lib.lib.igea_redund_kofn, "igea.reliability_kofn", R, int(k))
+    return _rel_fn(_lib.lib.igea_redund_reliability_kofn, "igea.reliability_kofn", R, int(k))
 
 
 def reliability_diagram(R, blocks):
@@ -178,7 +178,7 @@ def reliability_geometry(axes, R, *, fdi=True):
 def erfinv(y):
     """Inverse error function, -1 < y < 1."""
     out = _dout()
-    _lib.check(_lib.lib.igea_redund_erfinv(float(y), ctypes.byref(out)), "igea.erfinv",
+    _lib.check(_lib.lib.igea_stats_erfinv(float(y), ctypes.byref(out)), "igea.erfinv",
                ["y", "x"])
     return out.value
 
@@ -455,7 +455,7 @@ def series_check(y, fs, window, sigma, alpha=0.7, *, iterative=True, weighted=Tr
     ex = np.empty((nsens, nw), dtype=np.intc, order="F")
     fused = np.empty(nw)
     fsig = np.empty(nw)
-    _lib.check(_lib.lib.igea_redund_series_check(
+    _lib.check(_lib.lib.igea_redund_monitor(
         nsamp, nsens, _lib.dptr(a), nsamp, float(fs), float(window), _lib.dptr(s),
         _lib.dptr(al), lda, int(bool(iterative)), int(bool(weighted)), nw, _lib.dptr(means),
         _lib.iptr(ex), _lib.dptr(fused), _lib.dptr(fsig)),

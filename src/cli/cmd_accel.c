@@ -81,7 +81,7 @@ int cmd_accel(int argc, char **argv)
     if (cli_one_stdin(argc, argv))
         return CLI_USAGE;
     const char *path = NULL, *prior_path = NULL, *out_path = NULL;
-    int model = IGEA_ACCEL_DUAL, method = IGEA_ACCEL_LS, rule = IGEA_EBR_SC;
+    int model = IGEA_ACCEL_DUAL, method = IGEA_ACCEL_LS, rule = IGEA_REGRESS_EBR_SC;
     int json = 0, refine = 0, axis = 0;
     double lam_floor = 0.0, scale_a = 1.0, scale_b = 1.0, tol = 1e-6;
     for (int i = 1; i < argc; i++) {
@@ -114,11 +114,11 @@ int cmd_accel(int argc, char **argv)
                     ok = 0;
             } else if (!strcmp(a, "--rule")) {
                 if (!strcmp(v, "sc"))
-                    rule = IGEA_EBR_SC;
+                    rule = IGEA_REGRESS_EBR_SC;
                 else if (!strcmp(v, "mm"))
-                    rule = IGEA_EBR_MM;
+                    rule = IGEA_REGRESS_EBR_MM;
                 else if (!strcmp(v, "ml2"))
-                    rule = IGEA_EBR_ML2;
+                    rule = IGEA_REGRESS_EBR_ML2;
                 else
                     ok = 0;
             } else {

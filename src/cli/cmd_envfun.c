@@ -8,7 +8,7 @@
 #include "cli.h"
 
 /* ---- term names (docs/envfun.md) ---------------------------------------- */
-static const char *const TERM_NAMES[IGEA_TERM_COUNT] = {
+static const char *const TERM_NAMES[IGEA_ENVFUN_TERM_COUNT] = {
     "acc_bias_x",   "acc_bias_y",   "acc_bias_z",   "acc_scale_x", "acc_scale_y",
     "acc_scale_z",  "acc_sq_x",     "acc_sq_y",     "acc_sq_z",    "acc_mis_xy",
     "acc_mis_xz",   "acc_mis_yx",   "acc_mis_yz",   "acc_mis_zx",  "acc_mis_zy",
@@ -24,21 +24,21 @@ static const char *const TERM_NAMES[IGEA_TERM_COUNT] = {
 /* Default 1-sigma spec of a term code (SI units; docs/envfun.md). */
 double envfun_default_spec(int code)
 {
-    if (code < IGEA_TERM_ACC_SCALE_X) return 1e-3 * G0;          /* 1 mg */
-    if (code < IGEA_TERM_ACC_SQ_X) return 1e-4;
-    if (code < IGEA_TERM_ACC_MIS_XY) return 1e-5 / G0;           /* 10 ug/g^2 */
-    if (code < IGEA_TERM_GYRO_BIAS_X) return 1e-4;
-    if (code < IGEA_TERM_GYRO_G_X) return 0.5 * DEG_H;           /* 0.5 deg/h */
-    if (code < IGEA_TERM_GYRO_SCALE_X) return 0.5 * DEG_H / G0;  /* 0.5 deg/h/g */
-    if (code < IGEA_TERM_ATT0_X) return 1e-4;
-    if (code < IGEA_TERM_GYRO_GI_X) return 1e-4;                 /* rad */
-    if (code < IGEA_TERM_ALIGN0_X) return 0.5 * DEG_H / G0;
+    if (code < IGEA_ENVFUN_TERM_ACC_SCALE_X) return 1e-3 * G0;          /* 1 mg */
+    if (code < IGEA_ENVFUN_TERM_ACC_SQ_X) return 1e-4;
+    if (code < IGEA_ENVFUN_TERM_ACC_MIS_XY) return 1e-5 / G0;           /* 10 ug/g^2 */
+    if (code < IGEA_ENVFUN_TERM_GYRO_BIAS_X) return 1e-4;
+    if (code < IGEA_ENVFUN_TERM_GYRO_G_X) return 0.5 * DEG_H;           /* 0.5 deg/h */
+    if (code < IGEA_ENVFUN_TERM_GYRO_SCALE_X) return 0.5 * DEG_H / G0;  /* 0.5 deg/h/g */
+    if (code < IGEA_ENVFUN_TERM_ATT0_X) return 1e-4;
+    if (code < IGEA_ENVFUN_TERM_GYRO_GI_X) return 1e-4;                 /* rad */
+    if (code < IGEA_ENVFUN_TERM_ALIGN0_X) return 0.5 * DEG_H / G0;
     return 1e-4;
 }
 
 const char *envfun_term_name(int code)
 {
-    return (code >= 0 && code < IGEA_TERM_COUNT) ? TERM_NAMES[code] : "?";
+    return (code >= 0 && code < IGEA_ENVFUN_TERM_COUNT) ? TERM_NAMES[code] : "?";
 }
 
 static const char *const SD21[21] = {
@@ -54,7 +54,7 @@ static const char *const PF21[21] = {
 
 static int lookup(int system, const char *name, size_t len)
 {
-    for (int k = 0; k < IGEA_TERM_COUNT; k++)
+    for (int k = 0; k < IGEA_ENVFUN_TERM_COUNT; k++)
         if (strlen(TERM_NAMES[k]) == len && !strncmp(TERM_NAMES[k], name, len) &&
             igea_envfun_term_valid(system, k))
             return k;
@@ -66,7 +66,7 @@ static int lookup(int system, const char *name, size_t len)
  * exit code; names the unknown term. */
 int envfun_parse_terms(int system, const char *list, int **codes, int *n)
 {
-    int cap = IGEA_TERM_COUNT + 64, cnt = 0;
+    int cap = IGEA_ENVFUN_TERM_COUNT + 64, cnt = 0;
     int *c = malloc(sizeof(int) * (size_t)cap);
     if (!c) {
         cli_error("out of memory");
@@ -77,7 +77,7 @@ int envfun_parse_terms(int system, const char *list, int **codes, int *n)
             c[cnt++] = lookup(system, system == IGEA_ENVFUN_STRAPDOWN ? SD21[j] : PF21[j],
                               strlen(system == IGEA_ENVFUN_STRAPDOWN ? SD21[j] : PF21[j]));
     } else if (!strcmp(list, "all")) {
-        for (int k = 0; k < IGEA_TERM_COUNT; k++)
+        for (int k = 0; k < IGEA_ENVFUN_TERM_COUNT; k++)
             if (igea_envfun_term_valid(system, k))
                 c[cnt++] = k;
     } else {
@@ -125,21 +125,21 @@ int envfun_read_traj(const char *path, double **traj, int *nsamp)
     int ec = cli_read_matrix(path, &m);
     if (ec)
         return ec;
-    if (m.cols != IGEA_TRAJ_COLS || m.rows < 2 || m.rows > 100000000L) {
+    if (m.cols != IGEA_ENVFUN_TRAJ_COLS || m.rows < 2 || m.rows > 100000000L) {
         cli_error("%s: a trajectory has 11 columns (t f_x f_y f_z w_x w_y w_z q0 q1 q2 q3) "
                   "and at least 2 rows; found %ld x %d", path, m.rows, m.cols);
         cli_matrix_free(&m);
         return CLI_DATAERR;
     }
-    double *t = malloc(sizeof(double) * (size_t)m.rows * IGEA_TRAJ_COLS);
+    double *t = malloc(sizeof(double) * (size_t)m.rows * IGEA_ENVFUN_TRAJ_COLS);
     if (!t) {
         cli_matrix_free(&m);
         cli_error("out of memory");
         return CLI_SOFTWARE;
     }
     for (long k = 0; k < m.rows; k++)
-        for (int c = 0; c < IGEA_TRAJ_COLS; c++)
-            t[k + (size_t)c * (size_t)m.rows] = m.v[k * IGEA_TRAJ_COLS + c];
+        for (int c = 0; c < IGEA_ENVFUN_TRAJ_COLS; c++)
+            t[k + (size_t)c * (size_t)m.rows] = m.v[k * IGEA_ENVFUN_TRAJ_COLS + c];
     *nsamp = (int)m.rows;
     *traj = t;
     cli_matrix_free(&m);
@@ -241,18 +241,18 @@ static void envfun_help(void)
 static void list_terms(void)
 {
     printf("%-14s %-10s %-12s %s\n", "term", "systems", "default spec", "unit");
-    for (int k = 0; k < IGEA_TERM_COUNT; k++) {
+    for (int k = 0; k < IGEA_ENVFUN_TERM_COUNT; k++) {
         int sd = igea_envfun_term_valid(IGEA_ENVFUN_STRAPDOWN, k);
         int pf = igea_envfun_term_valid(IGEA_ENVFUN_PLATFORM, k);
-        const char *unit = k < IGEA_TERM_ACC_SCALE_X ? "m/s^2"
-                         : k < IGEA_TERM_ACC_SQ_X ? "-"
-                         : k < IGEA_TERM_ACC_MIS_XY ? "1/(m/s^2)"
-                         : k < IGEA_TERM_GYRO_BIAS_X ? "-"
-                         : k < IGEA_TERM_GYRO_G_X ? "rad/s"
-                         : k < IGEA_TERM_GYRO_SCALE_X ? "rad/s/(m/s^2)"
-                         : k < IGEA_TERM_ATT0_X ? "-"
-                         : k < IGEA_TERM_GYRO_GI_X ? "rad"
-                         : k < IGEA_TERM_ALIGN0_X ? "rad/s/(m/s^2)" : "rad";
+        const char *unit = k < IGEA_ENVFUN_TERM_ACC_SCALE_X ? "m/s^2"
+                         : k < IGEA_ENVFUN_TERM_ACC_SQ_X ? "-"
+                         : k < IGEA_ENVFUN_TERM_ACC_MIS_XY ? "1/(m/s^2)"
+                         : k < IGEA_ENVFUN_TERM_GYRO_BIAS_X ? "-"
+                         : k < IGEA_ENVFUN_TERM_GYRO_G_X ? "rad/s"
+                         : k < IGEA_ENVFUN_TERM_GYRO_SCALE_X ? "rad/s/(m/s^2)"
+                         : k < IGEA_ENVFUN_TERM_ATT0_X ? "-"
+                         : k < IGEA_ENVFUN_TERM_GYRO_GI_X ? "rad"
+                         : k < IGEA_ENVFUN_TERM_ALIGN0_X ? "rad/s/(m/s^2)" : "rad";
         printf("%-14s %-10s %-12.5g %s\n", TERM_NAMES[k],
                sd && pf ? "both" : sd ? "strapdown" : "platform", envfun_default_spec(k), unit);
     }

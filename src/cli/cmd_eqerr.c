@@ -10,9 +10,9 @@
 static const char *flag_name(int flag)
 {
     switch (flag) {
-    case IGEA_SIGMAW_CONVERGED: return "converged";
-    case IGEA_SIGMAW_NOT_ESTIMABLE: return "not_estimable";
-    case IGEA_SIGMAW_NO_CONVERGENCE: return "no_convergence";
+    case IGEA_STATS_SIGMAW_CONVERGED: return "converged";
+    case IGEA_STATS_SIGMAW_NOT_ESTIMABLE: return "not_estimable";
+    case IGEA_STATS_SIGMAW_NO_CONVERGENCE: return "no_convergence";
     default: return "off";
     }
 }
@@ -36,12 +36,12 @@ static void report_components(FILE *f, int n, const double *xhat,
 
 static void report_chi2(FILE *f, const double *info, double alpha)
 {
-    double T = info[IGEA_INFO_CHI2], crit = info[IGEA_INFO_CHI2_CRIT];
+    double T = info[IGEA_STATS_INFO_CHI2], crit = info[IGEA_STATS_INFO_CHI2_CRIT];
     fprintf(f, "chi-square: T = %.4f with %d dof; chi2_%g(%d) = %.3f; p-value %.4g -> %s\n",
-            T, (int)info[IGEA_INFO_DOF], alpha, (int)info[IGEA_INFO_DOF], crit,
-            info[IGEA_INFO_P_VALUE], T < crit ? "pass" : "REJECT");
-    int nrej = (int)info[IGEA_INFO_N_REJECT];
-    if (info[IGEA_INFO_PASSED] == 1.0)
+            T, (int)info[IGEA_STATS_INFO_DOF], alpha, (int)info[IGEA_STATS_INFO_DOF], crit,
+            info[IGEA_STATS_INFO_P_VALUE], T < crit ? "pass" : "REJECT");
+    int nrej = (int)info[IGEA_STATS_INFO_N_REJECT];
+    if (info[IGEA_STATS_INFO_PASSED] == 1.0)
         fprintf(f, "verdict: ACCEPTED - no component rejected and T < chi2 critical value "
                    "(alpha = %g)\n", alpha);
     else
@@ -51,16 +51,16 @@ static void report_chi2(FILE *f, const double *info, double alpha)
 
 static void json_test_fields(FILE *f, const double *info)
 {
-    fprintf(f, "  \"n_test\": %d,\n  \"chi2\": ", (int)info[IGEA_INFO_N_TEST]);
-    cli_json_num(f, info[IGEA_INFO_CHI2]);
-    fprintf(f, ",\n  \"dof\": %d,\n  \"chi2_crit\": ", (int)info[IGEA_INFO_DOF]);
-    cli_json_num(f, info[IGEA_INFO_CHI2_CRIT]);
+    fprintf(f, "  \"n_test\": %d,\n  \"chi2\": ", (int)info[IGEA_STATS_INFO_N_TEST]);
+    cli_json_num(f, info[IGEA_STATS_INFO_CHI2]);
+    fprintf(f, ",\n  \"dof\": %d,\n  \"chi2_crit\": ", (int)info[IGEA_STATS_INFO_DOF]);
+    cli_json_num(f, info[IGEA_STATS_INFO_CHI2_CRIT]);
     fputs(",\n  \"z_crit\": ", f);
-    cli_json_num(f, info[IGEA_INFO_Z_CRIT]);
+    cli_json_num(f, info[IGEA_STATS_INFO_Z_CRIT]);
     fputs(",\n  \"p_value\": ", f);
-    cli_json_num(f, info[IGEA_INFO_P_VALUE]);
-    fprintf(f, ",\n  \"n_reject\": %d,\n  \"passed\": %s", (int)info[IGEA_INFO_N_REJECT],
-            info[IGEA_INFO_PASSED] == 1.0 ? "true" : "false");
+    cli_json_num(f, info[IGEA_STATS_INFO_P_VALUE]);
+    fprintf(f, ",\n  \"n_reject\": %d,\n  \"passed\": %s", (int)info[IGEA_STATS_INFO_N_REJECT],
+            info[IGEA_STATS_INFO_PASSED] == 1.0 ? "true" : "false");
 }
 
 /* ---------------------------------------------------------------------- */
@@ -297,8 +297,8 @@ static int parse_eqerr(int argc, char **argv, eqerr_args *a)
         else if (!strcmp(o, "--json")) a->json = 1;
         else if (!strcmp(o, "--route")) {
             NEED();
-            if (!strcmp(v, "eig")) a->opts[IGEA_EQERR_OPT_ROUTE] = IGEA_ROUTE_EIG;
-            else if (!strcmp(v, "svd")) a->opts[IGEA_EQERR_OPT_ROUTE] = IGEA_ROUTE_SVD;
+            if (!strcmp(v, "eig")) a->opts[IGEA_EQERR_OPT_ROUTE] = IGEA_EQERR_ROUTE_EIG;
+            else if (!strcmp(v, "svd")) a->opts[IGEA_EQERR_OPT_ROUTE] = IGEA_EQERR_ROUTE_SVD;
             else { cli_error("--route %s: expected eig or svd", v); return CLI_USAGE; }
         } else {
             cli_error("eqerr: unknown option '%s' (see igea eqerr --help)", o);
@@ -337,7 +337,7 @@ static int parse_eqerr(int argc, char **argv, eqerr_args *a)
 /* Results of one flight. */
 typedef struct {
     int m, N;
-    double *lambda, *P, *xhat, *z, *spec, info[IGEA_INFO_LEN], rms[3];
+    double *lambda, *P, *xhat, *z, *spec, info[IGEA_STATS_INFO_LEN], rms[3];
     int *reject;
 } flight;
 
@@ -380,9 +380,9 @@ static void json_head(FILE *f, const flight *r, const eqerr_args *a)
         }
         fputc(']', f);
     }
-    fprintf(f, "],\n  \"rank\": %d,\n  \"equiv_err\": ", (int)r->info[IGEA_INFO_RANK]);
+    fprintf(f, "],\n  \"rank\": %d,\n  \"equiv_err\": ", (int)r->info[IGEA_STATS_INFO_RANK]);
     cli_json_array(f, r->xhat, N);
-    int nt = (int)r->info[IGEA_INFO_N_TEST];
+    int nt = (int)r->info[IGEA_STATS_INFO_N_TEST];
     fputs(",\n  \"z\": ", f);
     cli_json_array(f, r->z, nt);
     fputs(",\n  \"reject\": [", f);
@@ -391,14 +391,14 @@ static void json_head(FILE *f, const flight *r, const eqerr_args *a)
     fputs("],\n", f);
     json_test_fields(f, r->info);
     fputs(",\n  \"scale\": ", f);
-    cli_json_num(f, r->info[IGEA_INFO_SCALE]);
+    cli_json_num(f, r->info[IGEA_STATS_INFO_SCALE]);
     fprintf(f, ",\n  \"iterations\": %d,\n  \"n_small\": %d,\n  \"flag\": \"%s\",\n",
-            (int)r->info[IGEA_INFO_ITERATIONS], (int)r->info[IGEA_INFO_N_SMALL],
-            flag_name((int)r->info[IGEA_INFO_FLAG]));
+            (int)r->info[IGEA_STATS_INFO_ITERATIONS], (int)r->info[IGEA_STATS_INFO_N_SMALL],
+            flag_name((int)r->info[IGEA_STATS_INFO_FLAG]));
     fprintf(f, "  \"alpha\": %.17g,\n  \"lambda_test\": %.17g,\n  \"route\": \"%s\",\n"
                "  \"rows\": %d,\n  \"terms\": %d,\n",
             a->opts[IGEA_EQERR_OPT_ALPHA], a->opts[IGEA_EQERR_OPT_LAMBDA_TEST],
-            a->opts[IGEA_EQERR_OPT_ROUTE] == IGEA_ROUTE_SVD ? "svd" : "eig", r->m, N);
+            a->opts[IGEA_EQERR_OPT_ROUTE] == IGEA_EQERR_ROUTE_SVD ? "svd" : "eig", r->m, N);
 }
 
 static void text_report(FILE *f, const flight *r, const eqerr_args *a)
@@ -409,20 +409,20 @@ static void text_report(FILE *f, const flight *r, const eqerr_args *a)
             a->spec ? a->spec : "");
     fprintf(f, "route %s: rank %d of %d; lambda_1 = %.6e; %d component(s) with lambda >= %g "
                "tested\n\n",
-            a->opts[IGEA_EQERR_OPT_ROUTE] == IGEA_ROUTE_SVD ? "svd" : "eig",
-            (int)info[IGEA_INFO_RANK], r->N, r->lambda[0], (int)info[IGEA_INFO_N_TEST],
+            a->opts[IGEA_EQERR_OPT_ROUTE] == IGEA_EQERR_ROUTE_SVD ? "svd" : "eig",
+            (int)info[IGEA_STATS_INFO_RANK], r->N, r->lambda[0], (int)info[IGEA_STATS_INFO_N_TEST],
             a->opts[IGEA_EQERR_OPT_LAMBDA_TEST]);
-    report_components(f, r->N, r->xhat, r->lambda, r->z, r->reject, info[IGEA_INFO_Z_CRIT]);
+    report_components(f, r->N, r->xhat, r->lambda, r->z, r->reject, info[IGEA_STATS_INFO_Z_CRIT]);
     fprintf(f, "(threshold = sqrt(1 + 1/lambda) z_crit, z_crit = %.6f; precision = "
-               "lambda^-1/2)\n\n", info[IGEA_INFO_Z_CRIT]);
-    int flag = (int)info[IGEA_INFO_FLAG];
-    if (flag == IGEA_SIGMAW_OFF)
+               "lambda^-1/2)\n\n", info[IGEA_STATS_INFO_Z_CRIT]);
+    int flag = (int)info[IGEA_STATS_INFO_FLAG];
+    if (flag == IGEA_STATS_SIGMAW_OFF)
         fprintf(f, "tracking-accuracy correction: off (c = 1)\n");
     else
         fprintf(f, "tracking-accuracy correction: c = %.6g (sigma_w = %.4f), %d iteration(s), "
                    "%d small eigenvalue(s) <= %g, %s\n",
-                info[IGEA_INFO_SCALE], sqrt(info[IGEA_INFO_SCALE]),
-                (int)info[IGEA_INFO_ITERATIONS], (int)info[IGEA_INFO_N_SMALL],
+                info[IGEA_STATS_INFO_SCALE], sqrt(info[IGEA_STATS_INFO_SCALE]),
+                (int)info[IGEA_STATS_INFO_ITERATIONS], (int)info[IGEA_STATS_INFO_N_SMALL],
                 a->opts[IGEA_EQERR_OPT_LAMBDA_SMALL], flag_name(flag));
     fprintf(f, "residual RMS per axis (x, y, z): %.6g %.6g %.6g\n", r->rms[0], r->rms[1],
             r->rms[2]);
@@ -442,7 +442,7 @@ static int run_streamed(const eqerr_args *a, flight *r, cli_out *res_out, cli_ou
         goto done;
     if (a->spec && (ec = read_spec(a->spec, a->S, N, &r->spec)))
         goto done;
-    const int svd = a->opts[IGEA_EQERR_OPT_ROUTE] == IGEA_ROUTE_SVD;
+    const int svd = a->opts[IGEA_EQERR_OPT_ROUTE] == IGEA_EQERR_ROUTE_SVD;
     /* eig: A (N x N), b (N), wtw (2); svd: R ((N+1) x (N+1)), row count */
     double *A = calloc((size_t)(N + 1) * (N + 1) + N + 2, sizeof(double));
     if (!A) {
@@ -498,7 +498,7 @@ static int run_streamed(const eqerr_args *a, flight *r, cli_out *res_out, cli_ou
         ec = CLI_SOFTWARE;
         goto done;
     }
-    igea_eqerr_coef(N, r->P, N, r->xhat, (int)r->info[IGEA_INFO_N_TEST], r->spec, coef);
+    igea_eqerr_coef(N, r->P, N, r->xhat, (int)r->info[IGEA_STATS_INFO_N_TEST], r->spec, coef);
     if ((ec = streams_rewind(&s))) {
         free(coef);
         free(e);
@@ -614,7 +614,7 @@ int cmd_eqerr(int argc, char **argv)
         flight_free(&r);
         return ec;
     }
-    int passed = r.info[IGEA_INFO_PASSED] == 1.0;
+    int passed = r.info[IGEA_STATS_INFO_PASSED] == 1.0;
     flight_free(&r);
     return passed ? CLI_OK : CLI_REJECT;
 }
@@ -795,7 +795,7 @@ int cmd_test(int argc, char **argv)
         free(files);
         return CLI_USAGE;
     }
-    double info[IGEA_INFO_LEN];
+    double info[IGEA_STATS_INFO_LEN];
     cli_out out;
     if (table) {
         cli_matrix t;
@@ -848,10 +848,10 @@ int cmd_test(int argc, char **argv)
                 fputs("\n}\n", out.f);
             } else {
                 fprintf(out.f, "igea test: %s, %d component(s), %d with lambda >= %g tested\n\n",
-                        table, n, (int)info[IGEA_INFO_N_TEST], lambda_test);
-                report_components(out.f, n, x, lam, z, rej, info[IGEA_INFO_Z_CRIT]);
+                        table, n, (int)info[IGEA_STATS_INFO_N_TEST], lambda_test);
+                report_components(out.f, n, x, lam, z, rej, info[IGEA_STATS_INFO_Z_CRIT]);
                 fprintf(out.f, "(threshold = sqrt(1 + 1/lambda) z_crit, z_crit = %.6f)\n\n",
-                        info[IGEA_INFO_Z_CRIT]);
+                        info[IGEA_STATS_INFO_Z_CRIT]);
                 report_chi2(out.f, info, alpha);
             }
             ec = cli_out_commit(&out);
@@ -938,5 +938,5 @@ int cmd_test(int argc, char **argv)
     free(files);
     if (ec)
         return ec;
-    return info[IGEA_INFO_PASSED] == 1.0 ? CLI_OK : CLI_REJECT;
+    return info[IGEA_STATS_INFO_PASSED] == 1.0 ? CLI_OK : CLI_REJECT;
 }

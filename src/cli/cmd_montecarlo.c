@@ -210,11 +210,11 @@ int cmd_montecarlo(int argc, char **argv)
      * fails or is killed leaves the old file as it was. */
     if (out && (ec = cli_out_open(&o, out)))
         goto done;
-    double tot[IGEA_MC_LEN] = {0};
+    double tot[IGEA_SIM_MC_LEN] = {0};
     int tty = isatty(2), chunk = 1000;
     for (int done_f = 0; done_f < nflights; done_f += chunk) {
         int n = nflights - done_f < chunk ? nflights - done_f : chunk;
-        double c[IGEA_MC_LEN];
+        double c[IGEA_SIM_MC_LEN];
         int st = igea_sim_montecarlo(m, N, S, m, sigma, 1, spec, xval, anyfix ? xfix : NULL,
                                      opts, seed, eqo, first + done_f, n, nthreads, c, ct1,
                                      cr1, chi2 + done_f, dof + done_f, nrej + done_f,
@@ -226,7 +226,7 @@ int cmd_montecarlo(int argc, char **argv)
         }
         if ((ec = simmodel_status(st, "montecarlo")))
             goto done;
-        for (int k = IGEA_MC_FLIGHTS; k <= IGEA_MC_NOT_TESTABLE; k++)
+        for (int k = IGEA_SIM_MC_FLIGHTS; k <= IGEA_SIM_MC_NOT_TESTABLE; k++)
             tot[k] += c[k];
         for (int j = 0; j < N; j++) {
             ct[j] += ct1[j];
@@ -246,8 +246,8 @@ int cmd_montecarlo(int argc, char **argv)
                 sd += dof[f];
                 nt++;
             }
-        tot[IGEA_MC_MEAN_SCALE] = nt ? sc / nt : NAN;
-        tot[IGEA_MC_MEAN_TESTED] = nt ? sd / nt : 0;
+        tot[IGEA_SIM_MC_MEAN_SCALE] = nt ? sc / nt : NAN;
+        tot[IGEA_SIM_MC_MEAN_TESTED] = nt ? sd / nt : 0;
     }
     /* pooled verdicts */
     int npools = 0, pool_fail = 0;
@@ -271,9 +271,9 @@ int cmd_montecarlo(int argc, char **argv)
             npools++;
             if (k == 0)
                 continue;
-            double info[IGEA_INFO_LEN];
+            double info[IGEA_STATS_INFO_LEN];
             int st = igea_stats_pool(k, pc, pd, pr, NULL, eqo[IGEA_EQERR_OPT_ALPHA], info);
-            if (st == 0 && info[IGEA_INFO_PASSED] != 1.0)
+            if (st == 0 && info[IGEA_STATS_INFO_PASSED] != 1.0)
                 pool_fail++;
         }
         free(pc); free(pd); free(pr);
@@ -286,7 +286,7 @@ int cmd_montecarlo(int argc, char **argv)
         if ((ec = cli_out_commit(&o)))
             goto done;
     }
-    double alpha = eqo[IGEA_EQERR_OPT_ALPHA], n = tot[IGEA_MC_FLIGHTS], lo, hi;
+    double alpha = eqo[IGEA_EQERR_OPT_ALPHA], n = tot[IGEA_SIM_MC_FLIGHTS], lo, hi;
     const char *labels[4] = {"failed", "chi2_reject", "any_reject", "not_testable"};
     if (json) {
         printf("{\n  \"flights\": %d,\n  \"seed\": %d,\n  \"first\": %d,\n  \"alpha\": ",
@@ -296,7 +296,7 @@ int cmd_montecarlo(int argc, char **argv)
                eqo[IGEA_EQERR_OPT_CORRECT] != 0 ? "true" : "false");
         cli_json_num(stdout, opts[IGEA_SIM_OPT_SIGMA_W]);
         for (int k = 0; k < 4; k++) {
-            double cnt = tot[IGEA_MC_FAILED + k];
+            double cnt = tot[IGEA_SIM_MC_FAILED + k];
             wilson(cnt, n, &lo, &hi);
             printf(",\n  \"%s\": {\"count\": %d, \"rate\": ", labels[k], (int)cnt);
             cli_json_num(stdout, cnt / n);
@@ -307,9 +307,9 @@ int cmd_montecarlo(int argc, char **argv)
             printf("]}");
         }
         printf(",\n  \"mean_c\": ");
-        cli_json_num(stdout, tot[IGEA_MC_MEAN_SCALE]);
+        cli_json_num(stdout, tot[IGEA_SIM_MC_MEAN_SCALE]);
         printf(",\n  \"mean_tested\": ");
-        cli_json_num(stdout, tot[IGEA_MC_MEAN_TESTED]);
+        cli_json_num(stdout, tot[IGEA_SIM_MC_MEAN_TESTED]);
         printf(",\n  \"comp_tested\": ");
         cli_json_iarray(stdout, ct, N);
         printf(",\n  \"comp_reject\": ");
@@ -334,12 +334,12 @@ int cmd_montecarlo(int argc, char **argv)
         const char *names[4] = {"verdict 'out of spec'", "chi-square rejected",
                                 "a component rejected", "nothing testable"};
         for (int k = 0; k < 4; k++) {
-            double cnt = tot[IGEA_MC_FAILED + k];
+            double cnt = tot[IGEA_SIM_MC_FAILED + k];
             wilson(cnt, n, &lo, &hi);
             printf("%-26s %7d %8.4f   [%.4f, %.4f]\n", names[k], (int)cnt, cnt / n, lo, hi);
         }
         printf("mean c (sigma_w^2 estimate) %.4f; mean components tested %.2f\n\n",
-               tot[IGEA_MC_MEAN_SCALE], tot[IGEA_MC_MEAN_TESTED]);
+               tot[IGEA_SIM_MC_MEAN_SCALE], tot[IGEA_SIM_MC_MEAN_TESTED]);
         printf("%9s %8s %8s %8s   %s\n", "component", "tested", "rejected", "rate",
                "99% interval");
         for (int j = 0; j < N; j++) {

@@ -181,17 +181,17 @@ static int do_reliability(const rd_args *a)
     cli_out o;
     int ec, st;
     if (!a->axes) {
-        double r[IGEA_SEED002_LEN];
+        double r[IGEA_REDUND_SEED002_LEN];
         if ((st = igea_redund_seed002(a->re1, a->re2, r)))
             return cli_status(st, "redund reliability: --re1/--re2 in [0, 1]");
         if ((ec = open_out(a, &o)))
             return ec;
-        static const char *names[IGEA_SEED002_LEN] = {
+        static const char *names[IGEA_REDUND_SEED002_LEN] = {
             "gyro_eq6", "acc_eq7", "system_eq8_with_eq7", "system_without_skew_eq10",
             "non_redundant_eq9", "system_exact", "acc_exact"};
         if (a->json) {
             fprintf(o.f, "{\n  \"re1\": %.17g,\n  \"re2\": %.17g", a->re1, a->re2);
-            for (int k = 0; k < IGEA_SEED002_LEN; k++) {
+            for (int k = 0; k < IGEA_REDUND_SEED002_LEN; k++) {
                 fprintf(o.f, ",\n  \"%s\": ", names[k]);
                 cli_json_num(o.f, r[k]);
             }
@@ -214,9 +214,9 @@ static int do_reliability(const rd_args *a)
     double *R = NULL, *axc = NULL;
     if ((ec = cli_read_matrix(a->axes, &ax)))
         return ec;
-    if (ax.cols != 3 || ax.rows < 1 || ax.rows > IGEA_GEOM_FDI_MAX) {
+    if (ax.cols != 3 || ax.rows < 1 || ax.rows > IGEA_REDUND_GEOM_FDI_MAX) {
         cli_error("%s: expected 1 to %d rows of 3 (one input axis per sensor)", a->axes,
-                  IGEA_GEOM_FDI_MAX);
+                  IGEA_REDUND_GEOM_FDI_MAX);
         cli_matrix_free(&ax);
         return CLI_DATAERR;
     }
@@ -234,7 +234,7 @@ static int do_reliability(const rd_args *a)
         free(axc);
         return ec;
     }
-    double g[IGEA_GEOM_LEN];
+    double g[IGEA_REDUND_GEOM_LEN];
     st = igea_redund_geometry(n, axc, n, R, 1, g);
     free(axc);
     free(R);
@@ -398,7 +398,7 @@ static int do_fuse(const rd_args *a)
     }
     fused = means + (size_t)nwin * nc;
     fsig = fused + nwin;
-    st = igea_redund_series_check(ns, nc, y, ns, a->fs, a->window, s, &a->alpha, 0,
+    st = igea_redund_monitor(ns, nc, y, ns, a->fs, a->window, s, &a->alpha, 0,
                                   !a->one_shot, !a->average, nwin, means, ex, fused, fsig);
     if (st) {
         ec = cli_status(st, "redund fuse");
@@ -472,7 +472,7 @@ static int do_fdi(const rd_args *a)
         return CLI_DATAERR;
     }
     double *H = malloc(sizeof(double) * (size_t)m * q), *y = NULL, *s = NULL;
-    double *par = malloc(sizeof(double) * (size_t)(m - q)), info[IGEA_FDI_LEN];
+    double *par = malloc(sizeof(double) * (size_t)(m - q)), info[IGEA_REDUND_FDI_LEN];
     int iso = -1;
     if (!H || !par) {
         ec = cli_oom("the parity tables");
@@ -492,23 +492,23 @@ static int do_fdi(const rd_args *a)
         goto done;
     if (a->json) {
         fprintf(o.f, "{\n  \"statistic\": ");
-        cli_json_num(o.f, info[IGEA_FDI_STAT]);
+        cli_json_num(o.f, info[IGEA_REDUND_FDI_STAT]);
         fprintf(o.f, ",\n  \"threshold\": ");
-        cli_json_num(o.f, info[IGEA_FDI_THRESHOLD]);
-        fprintf(o.f, ",\n  \"dof\": %d,\n  \"p_value\": ", (int)info[IGEA_FDI_DOF]);
-        cli_json_num(o.f, info[IGEA_FDI_P_VALUE]);
+        cli_json_num(o.f, info[IGEA_REDUND_FDI_THRESHOLD]);
+        fprintf(o.f, ",\n  \"dof\": %d,\n  \"p_value\": ", (int)info[IGEA_REDUND_FDI_DOF]);
+        cli_json_num(o.f, info[IGEA_REDUND_FDI_P_VALUE]);
         fprintf(o.f, ",\n  \"detected\": %s,\n  \"isolated\": %d,\n  \"isolable\": %s,\n"
-                     "  \"parity\": ", info[IGEA_FDI_DETECTED] ? "true" : "false",
-                iso >= 0 ? iso + 1 : 0, info[IGEA_FDI_ISOLABLE] ? "true" : "false");
+                     "  \"parity\": ", info[IGEA_REDUND_FDI_DETECTED] ? "true" : "false",
+                iso >= 0 ? iso + 1 : 0, info[IGEA_REDUND_FDI_ISOLABLE] ? "true" : "false");
         cli_json_array(o.f, par, m - q);
         fprintf(o.f, "\n}\n");
     } else {
         fprintf(o.f, "parity statistic %.6g, threshold chi2_%g(%d) = %.6g, p-value %.4g\n",
-                info[IGEA_FDI_STAT], a->pfa, (int)info[IGEA_FDI_DOF], info[IGEA_FDI_THRESHOLD],
-                info[IGEA_FDI_P_VALUE]);
-        if (!info[IGEA_FDI_DETECTED])
+                info[IGEA_REDUND_FDI_STAT], a->pfa, (int)info[IGEA_REDUND_FDI_DOF], info[IGEA_REDUND_FDI_THRESHOLD],
+                info[IGEA_REDUND_FDI_P_VALUE]);
+        if (!info[IGEA_REDUND_FDI_DETECTED])
             fprintf(o.f, "no fault detected\n");
-        else if (!info[IGEA_FDI_ISOLABLE])
+        else if (!info[IGEA_REDUND_FDI_ISOLABLE])
             fprintf(o.f, "FAULT DETECTED; this geometry cannot isolate a single fault "
                          "(most likely sensor %d)\n", iso + 1);
         else

@@ -368,10 +368,10 @@ int cmd_regress(int argc, char **argv)
     if (!strcmp(a.method, "ls")) {
         st = igea_regress_ls(m, N, A, m, y, sig, a.rcond, x, cov, N, &r.rank, &r.sigma2, res);
     } else if (!strcmp(a.method, "ridge")) {
-        int rule = a.have_k ? IGEA_RIDGE_FIXED
-                   : !a.rule || !strcmp(a.rule, "gcv") ? IGEA_RIDGE_GCV
-                   : !strcmp(a.rule, "hkb") ? IGEA_RIDGE_HKB
-                   : !strcmp(a.rule, "lw") ? IGEA_RIDGE_LW : IGEA_RIDGE_LOO;
+        int rule = a.have_k ? IGEA_REGRESS_RIDGE_FIXED
+                   : !a.rule || !strcmp(a.rule, "gcv") ? IGEA_REGRESS_RIDGE_GCV
+                   : !strcmp(a.rule, "hkb") ? IGEA_REGRESS_RIDGE_HKB
+                   : !strcmp(a.rule, "lw") ? IGEA_REGRESS_RIDGE_LW : IGEA_REGRESS_RIDGE_LOO;
         st = igea_regress_ridge(m, N, A, m, y, sig, rule, a.k, x, cov, N, &r.scalar, &r.sigma2,
                                 res);
         r.scalar_name = "k";
@@ -392,8 +392,8 @@ int cmd_regress(int argc, char **argv)
         st = igea_regress_bayes(m, N, A, m, y, sig, mu, P, N, x, cov, N, res);
         r.sigma2 = 1.0;
     } else {
-        int rule = !a.rule || !strcmp(a.rule, "sc") ? IGEA_EBR_SC
-                   : !strcmp(a.rule, "mm") ? IGEA_EBR_MM : IGEA_EBR_ML2;
+        int rule = !a.rule || !strcmp(a.rule, "sc") ? IGEA_REGRESS_EBR_SC
+                   : !strcmp(a.rule, "mm") ? IGEA_REGRESS_EBR_MM : IGEA_REGRESS_EBR_ML2;
         double *Aw = malloc((mn + (size_t)m) * sizeof(double));
         if (!Aw) {
             ec = cli_oom("the weighted design");

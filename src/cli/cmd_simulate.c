@@ -155,7 +155,7 @@ int simmodel_build(void *p)
             cli_error("--duration must be in (0, 1e5] s and --rate in (0, 1e4] Hz");
             return CLI_USAGE;
         }
-        s->traj = malloc(sizeof(double) * (size_t)s->nsamp * IGEA_TRAJ_COLS);
+        s->traj = malloc(sizeof(double) * (size_t)s->nsamp * IGEA_ENVFUN_TRAJ_COLS);
         if (!s->traj) {
             cli_error("out of memory");
             return CLI_SOFTWARE;
@@ -372,7 +372,7 @@ int cmd_simulate(int argc, char **argv)
     if ((ec = simmodel_status(st, "simulate")))
         goto done;
     if (nonlin) {
-        double err[IGEA_TERM_COUNT] = {0};
+        double err[IGEA_ENVFUN_TERM_COUNT] = {0};
         double *nl = malloc(sizeof(double) * (size_t)s->m);
         if (!nl) { cli_error("out of memory"); ec = CLI_SOFTWARE; goto done; }
         for (int j = 0; j < s->N; j++)
@@ -395,11 +395,11 @@ int cmd_simulate(int argc, char **argv)
         for (int j = 0; j < s->N; j++)
             Srow[(size_t)i * s->N + j] = s->S[i + (size_t)j * s->m];
     if (save_traj) {
-        trow = malloc(sizeof(double) * (size_t)s->nsamp * IGEA_TRAJ_COLS);
+        trow = malloc(sizeof(double) * (size_t)s->nsamp * IGEA_ENVFUN_TRAJ_COLS);
         if (!trow) { ec = cli_oom("the trajectory table"); goto done; }
         for (int k = 0; k < s->nsamp; k++)
-            for (int c = 0; c < IGEA_TRAJ_COLS; c++)
-                trow[(size_t)k * IGEA_TRAJ_COLS + c] = s->traj[k + (size_t)c * s->nsamp];
+            for (int c = 0; c < IGEA_ENVFUN_TRAJ_COLS; c++)
+                trow[(size_t)k * IGEA_ENVFUN_TRAJ_COLS + c] = s->traj[k + (size_t)c * s->nsamp];
     }
     /* All files go to temporaries first and replace the old set only when
      * every one is complete. */
@@ -425,7 +425,7 @@ int cmd_simulate(int argc, char **argv)
     for (int j = 0; j < s->N; j++)
         fprintf(outs[4].f, "%.17g # %s\n", x[j], envfun_term_name(s->codes[j]));
     if (save_traj)
-        cli_write_matrix_body(outs[5].f, 0, trow, s->nsamp, IGEA_TRAJ_COLS,
+        cli_write_matrix_body(outs[5].f, 0, trow, s->nsamp, IGEA_ENVFUN_TRAJ_COLS,
                               "t f_x f_y f_z w_x w_y w_z q0 q1 q2 q3");
     if (json) {
         printf("{\n  \"dir\": ");

@@ -113,9 +113,9 @@ static int parse(int argc, char **argv, st_args *a)
 
 static int kind_code(const char *k)
 {
-    if (!strcmp(k, "overlapping")) return IGEA_ALLAN_OVERLAPPING;
-    if (!strcmp(k, "modified")) return IGEA_ALLAN_MODIFIED;
-    if (!strcmp(k, "nonoverlapping")) return IGEA_ALLAN_NONOVERLAPPING;
+    if (!strcmp(k, "overlapping")) return IGEA_STABILITY_ALLAN_OVERLAPPING;
+    if (!strcmp(k, "modified")) return IGEA_STABILITY_ALLAN_MODIFIED;
+    if (!strcmp(k, "nonoverlapping")) return IGEA_STABILITY_ALLAN_NONOVERLAPPING;
     return -100;
 }
 
@@ -123,7 +123,7 @@ static int noise_code(const char *k)
 {
     static const char *names[] = {"rwfm", "ffm", "wfm", "fpm", "wpm"};
     if (!strcmp(k, "auto"))
-        return IGEA_NOISE_AUTO;
+        return IGEA_STABILITY_NOISE_AUTO;
     for (int i = 0; i < 5; i++)
         if (!strcmp(k, names[i]))
             return i - 2;
@@ -217,7 +217,7 @@ int cmd_stability(int argc, char **argv)
         goto done;
     }
     double *lo = dev + ntau, *hi = lo + ntau, *edf = hi + ntau;
-    double blk[IGEA_BLOCK_LEN], nid[IGEA_NOISEID_LEN];
+    double blk[IGEA_STABILITY_BLOCK_LEN], nid[IGEA_STABILITY_NOISEID_LEN];
     int st = igea_stability_block(n, y, a.fs, a.block, blk), have_block = st == 0;
     if (st && st != -4) {
         ec = cli_status(st, "stability: block statistic");
@@ -235,7 +235,7 @@ int cmd_stability(int argc, char **argv)
         goto done;
     static const char *nn[4] = {"random_walk", "bias_instability", "rate_random_walk",
                                 "quantization"};
-    static const int ni[4] = {IGEA_NOISEID_N, IGEA_NOISEID_B, IGEA_NOISEID_K, IGEA_NOISEID_Q};
+    static const int ni[4] = {IGEA_STABILITY_NOISEID_N, IGEA_STABILITY_NOISEID_B, IGEA_STABILITY_NOISEID_K, IGEA_STABILITY_NOISEID_Q};
     for (int j = 0; j < ntau; j++)
         tau[j] = (double)lround(tau[j] * a.fs) / a.fs;
     if (a.json) {
@@ -243,8 +243,8 @@ int cmd_stability(int argc, char **argv)
         if (have_block) {
             fprintf(o.f, "{\"seconds\": %.17g, \"three_sigma\": %.17g, \"sigma\": %.17g, "
                          "\"nblock\": %d, \"mean\": %.17g, \"adev\": %.17g}",
-                    blk[IGEA_BLOCK_NSAMP] / a.fs, blk[IGEA_BLOCK_3SIGMA], blk[IGEA_BLOCK_SIGMA],
-                    (int)blk[IGEA_BLOCK_NBLOCK], blk[IGEA_BLOCK_MEAN], blk[IGEA_BLOCK_ADEV]);
+                    blk[IGEA_STABILITY_BLOCK_NSAMP] / a.fs, blk[IGEA_STABILITY_BLOCK_3SIGMA], blk[IGEA_STABILITY_BLOCK_SIGMA],
+                    (int)blk[IGEA_STABILITY_BLOCK_NBLOCK], blk[IGEA_STABILITY_BLOCK_MEAN], blk[IGEA_STABILITY_BLOCK_ADEV]);
         } else {
             fprintf(o.f, "null");
         }
@@ -271,9 +271,9 @@ int cmd_stability(int argc, char **argv)
         if (have_block)
             fprintf(o.f, "%g-s blocks: 3 sigma = %.6e (sigma %.6e of %d block means; mean "
                          "%.12g; Allan deviation at %g s %.6e)\n",
-                    blk[IGEA_BLOCK_NSAMP] / a.fs, blk[IGEA_BLOCK_3SIGMA], blk[IGEA_BLOCK_SIGMA],
-                    (int)blk[IGEA_BLOCK_NBLOCK], blk[IGEA_BLOCK_MEAN],
-                    blk[IGEA_BLOCK_NSAMP] / a.fs, blk[IGEA_BLOCK_ADEV]);
+                    blk[IGEA_STABILITY_BLOCK_NSAMP] / a.fs, blk[IGEA_STABILITY_BLOCK_3SIGMA], blk[IGEA_STABILITY_BLOCK_SIGMA],
+                    (int)blk[IGEA_STABILITY_BLOCK_NBLOCK], blk[IGEA_STABILITY_BLOCK_MEAN],
+                    blk[IGEA_STABILITY_BLOCK_NSAMP] / a.fs, blk[IGEA_STABILITY_BLOCK_ADEV]);
         else
             fprintf(o.f, "%g-s blocks: the record holds fewer than 2 blocks\n", a.block);
         fprintf(o.f, "\n%s Allan deviation, %.1f %% intervals\n", a.kind, 100 * a.conf);
