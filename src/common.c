@@ -4,6 +4,8 @@
 #include <gsl/gsl_errno.h>
 #include <lapacke.h>
 
+#include "igea/eqerr.h"
+#include "igea/sim.h"
 #include "internal.h"
 
 const char *igea_strerror(int status)
@@ -35,6 +37,42 @@ const char *igea_strerror(int status)
     if (status > 0)
         return "a routine-specific outcome (see the routine's documentation)";
     return "unknown status code";
+}
+
+const char *igea_opt_name(int module, int slot)
+{
+    static const char *const eqerr[IGEA_EQERR_OPT_LEN] = {
+        [IGEA_EQERR_OPT_ALPHA] = "alpha",
+        [IGEA_EQERR_OPT_LAMBDA_TEST] = "lambda_test",
+        [IGEA_EQERR_OPT_LAMBDA_SMALL] = "lambda_small",
+        [IGEA_EQERR_OPT_N_MIN] = "n_min",
+        [IGEA_EQERR_OPT_TOL] = "tol",
+        [IGEA_EQERR_OPT_MAX_ITER] = "max_iter",
+        [IGEA_EQERR_OPT_CORRECT] = "correct",
+        [IGEA_EQERR_OPT_RANK_TOL] = "rank_tol",
+        [IGEA_EQERR_OPT_BIAS_CORRECT] = "bias_correct",
+        [IGEA_EQERR_OPT_CLAMP] = "clamp",
+        [IGEA_EQERR_OPT_Z_CRIT] = "z_crit",
+        [IGEA_EQERR_OPT_ROUTE] = "route",
+    };
+    static const char *const sim[IGEA_SIM_OPT_LEN] = {
+        [IGEA_SIM_OPT_SIGMA_W] = "sigma_w",
+        [IGEA_SIM_OPT_AR1] = "ar1",
+        [IGEA_SIM_OPT_GROWTH] = "growth",
+        [IGEA_SIM_OPT_OUTLIER_PROB] = "outlier_prob",
+        [IGEA_SIM_OPT_OUTLIER_SCALE] = "outlier_scale",
+        [IGEA_SIM_OPT_GENERATOR] = "generator",
+    };
+    const char *const *names;
+    int len;
+    switch (module) {
+    case IGEA_MODULE_EQERR: names = eqerr; len = IGEA_EQERR_OPT_LEN; break;
+    case IGEA_MODULE_SIM: names = sim; len = IGEA_SIM_OPT_LEN; break;
+    default: return "";
+    }
+    if (slot < 0 || slot >= len)
+        return "";
+    return names[slot] ? names[slot] : "reserved";
 }
 
 const char *igea_version(void) { return IGEA_VERSION_STRING; }

@@ -25,9 +25,10 @@ int igea_eqerr_defaults(double *opts)
     return 0;
 }
 
-/* 0 if opts are valid, else the offending index + 1. */
-static int check_opts(const double *o)
+int igea_eqerr_check_opts(const double *o)
 {
+    if (!o)
+        return -1;
     for (int k = 0; k < IGEA_EQERR_OPT_LEN; k++)
         if (!isfinite(o[k]))
             return k + 1;
@@ -212,7 +213,7 @@ static int check_solve_args(int N, const double **opts, double *dflt,
     if (!*opts) {
         igea_eqerr_defaults(dflt);
         *opts = dflt;
-    } else if (check_opts(*opts))
+    } else if (igea_eqerr_check_opts(*opts))
         return -5;
     if (!lambda) return -6;
     if (!P) return -7;
@@ -463,7 +464,7 @@ int igea_eqerr_run(int m, int N, const double *S, int lds, const double *dw,
     if (!opts) {
         igea_eqerr_defaults(dflt);
         opts = dflt;
-    } else if (check_opts(opts))
+    } else if (igea_eqerr_check_opts(opts))
         return -9;
     if (!lambda) return -10;
     if (!P) return -11;

@@ -568,6 +568,68 @@ static void test_sigma_range(void **state)
     assert_true(all_sentinel(coef, 4));
 }
 
+/* igea_eqerr_check_opts: 0 for the defaults, 1 + the slot for each rule of
+ * the header; igea_opt_name spells the slot as its macro does. */
+static void test_check_opts_and_names(void **state)
+{
+    double o[IGEA_EQERR_OPT_LEN];
+    assert_int_equal(igea_eqerr_check_opts(NULL), -1);
+    assert_int_equal(igea_eqerr_defaults(o), 0);
+    assert_int_equal(igea_eqerr_check_opts(o), 0);
+    static const struct { int slot; double bad, good; const char *name; } rule[] = {
+        {IGEA_EQERR_OPT_ALPHA, 1.0, 0.999, "alpha"},
+        {IGEA_EQERR_OPT_LAMBDA_TEST, 0.0, 1e-300, "lambda_test"},
+        {IGEA_EQERR_OPT_LAMBDA_SMALL, -1.0, 5.0, "lambda_small"},
+        {IGEA_EQERR_OPT_N_MIN, 0.5, 1.0, "n_min"},
+        {IGEA_EQERR_OPT_TOL, 0.0, 1.0, "tol"},
+        {IGEA_EQERR_OPT_MAX_ITER, 1001.0, 1000.0, "max_iter"},
+        {IGEA_EQERR_OPT_CORRECT, 0.5, 0.0, "correct"},
+        {IGEA_EQERR_OPT_RANK_TOL, 1.0, 0.5, "rank_tol"},
+        {IGEA_EQERR_OPT_BIAS_CORRECT, 2.0, 1.0, "bias_correct"},
+        {IGEA_EQERR_OPT_CLAMP, -1.0, 1.0, "clamp"},
+        {IGEA_EQERR_OPT_Z_CRIT, -0.1, 2.58, "z_crit"},
+        {IGEA_EQERR_OPT_ROUTE, 2.0, IGEA_EQERR_ROUTE_SVD, "route"},
+    };
+    for (size_t k = 0; k < sizeof rule / sizeof rule[0]; k++) {
+        igea_eqerr_defaults(o);
+        o[rule[k].slot] = rule[k].good;
+        assert_int_equal(igea_eqerr_check_opts(o), 0);
+        o[rule[k].slot] = rule[k].bad;
+        assert_int_equal(igea_eqerr_check_opts(o), 1 + rule[k].slot);
+        o[rule[k].slot] = NAN;
+        assert_int_equal(igea_eqerr_check_opts(o), 1 + rule[k].slot);
+        assert_string_equal(igea_opt_name(IGEA_MODULE_EQERR, rule[k].slot), rule[k].name);
+    }
+    /* the first invalid slot is reported; reserved slots must be finite */
+    igea_eqerr_defaults(o);
+    o[IGEA_EQERR_OPT_TOL] = -1;
+    o[IGEA_EQERR_OPT_ALPHA] = 2;
+    assert_int_equal(igea_eqerr_check_opts(o), 1 + IGEA_EQERR_OPT_ALPHA);
+    igea_eqerr_defaults(o);
+    o[IGEA_EQERR_OPT_LEN - 1] = INFINITY;
+    assert_int_equal(igea_eqerr_check_opts(o), IGEA_EQERR_OPT_LEN);
+    assert_string_equal(igea_opt_name(IGEA_MODULE_EQERR, IGEA_EQERR_OPT_LEN - 1), "reserved");
+    /* the solvers refuse what the check refuses, as their opts argument */
+    double A[4] = {100, 0, 0, 50}, b[2] = {1, 2}, lam[2], P[4], xh[2], z[2], info[IGEA_STATS_INFO_LEN];
+    int rej[2];
+    igea_eqerr_defaults(o);
+    o[IGEA_EQERR_OPT_CLAMP] = 3;
+    assert_int_equal(igea_eqerr_solve(2, A, 2, b, o, lam, P, 2, xh, z, rej, info), -5);
+    /* simulation slots and unknown ones */
+    static const char *const simn[] = {"sigma_w", "ar1", "growth", "outlier_prob",
+                                       "outlier_scale", "generator"};
+    assert_int_equal(IGEA_SIM_OPT_SIGMA_W, 0);
+    assert_int_equal(IGEA_SIM_OPT_GENERATOR, 5);
+    for (int k = 0; k < 6; k++)
+        assert_string_equal(igea_opt_name(IGEA_MODULE_SIM, k), simn[k]);
+    assert_string_equal(igea_opt_name(IGEA_MODULE_SIM, IGEA_SIM_OPT_LEN - 1), "reserved");
+    assert_string_equal(igea_opt_name(IGEA_MODULE_SIM, IGEA_SIM_OPT_LEN), "");
+    assert_string_equal(igea_opt_name(IGEA_MODULE_EQERR, IGEA_EQERR_OPT_LEN), "");
+    assert_string_equal(igea_opt_name(IGEA_MODULE_EQERR, -1), "");
+    assert_string_equal(igea_opt_name(0, 0), "");
+    assert_string_equal(igea_opt_name(3, 0), "");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -582,6 +644,7 @@ int main(void)
         cmocka_unit_test(test_solve_qr_args),
         cmocka_unit_test(test_overflow_is_not_nonfinite),
         cmocka_unit_test(test_sigma_range),
+        cmocka_unit_test(test_check_opts_and_names),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

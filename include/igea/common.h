@@ -69,6 +69,22 @@ extern "C" {
 /* Static English text for a status code; never NULL. */
 IGEA_API const char *igea_strerror(int status);
 
+/* Modules that take an options array (opts[IGEA_<MODULE>_OPT_LEN]), for
+ * igea_opt_name. */
+#define IGEA_MODULE_EQERR 1 /* igea/eqerr.h, IGEA_EQERR_OPT_* */
+#define IGEA_MODULE_SIM 2   /* igea/sim.h, IGEA_SIM_OPT_* */
+
+/*
+ * Static name of slot `slot` of module `module`'s options array, as the
+ * index macro spells it in lower case ("alpha" for IGEA_EQERR_OPT_ALPHA,
+ * "sigma_w" for IGEA_SIM_OPT_SIGMA_W): the name to print for the slot that
+ * igea_eqerr_check_opts or igea_sim_check_opts reports (their status minus
+ * 1). "reserved" for a slot of the array that has no meaning yet (it must
+ * hold a finite value), "" for an unknown module or a slot outside the
+ * array. Never NULL.
+ */
+IGEA_API const char *igea_opt_name(int module, int slot);
+
 /* "1.0.0" and IGEA_VERSION_NUMBER of the library actually linked. */
 IGEA_API const char *igea_version(void);
 IGEA_API int igea_version_number(void);

@@ -52,6 +52,18 @@ extern "C" {
 IGEA_API int igea_eqerr_defaults(double *opts);
 
 /*
+ * Check opts[IGEA_EQERR_OPT_LEN] as igea_eqerr_solve, igea_eqerr_solve_qr,
+ * igea_eqerr_run and igea_sim_montecarlo do: every slot finite (the
+ * reserved ones included), 0 < alpha < 1, lambda_test > 0,
+ * lambda_small > 0, n_min >= 1, tol > 0, 1 <= max_iter <= 1000, correct,
+ * bias_correct and clamp 0 or 1, 0 <= rank_tol < 1, z_crit >= 0, route
+ * IGEA_EQERR_ROUTE_EIG or IGEA_EQERR_ROUTE_SVD. Returns 0 when they are
+ * valid, else 1 + the first invalid slot (name it with
+ * igea_opt_name(IGEA_MODULE_EQERR, status - 1)); -1 for opts NULL.
+ */
+IGEA_API int igea_eqerr_check_opts(const double *opts);
+
+/*
  * Steps 1-5 from the normal equations (eig route).
  *  1 N >= 1; 2 A (N x N, lower triangle read), 3 lda >= N; 4 b (N);
  *  5 opts (IGEA_EQERR_OPT_LEN values, or NULL for the defaults);

@@ -24,6 +24,7 @@ PROTOTYPES = {
     "igea_version": (c_char_p, []),
     "igea_version_number": (c_int, []),
     "igea_init": (c_int, []),
+    "igea_opt_name": (c_char_p, [c_int, c_int]),
     # stats
     "igea_stats_normal_cdf": (c_int, [c_double, _D]),
     "igea_stats_normal_quantile": (c_int, [c_double, _D]),
@@ -38,6 +39,7 @@ PROTOTYPES = {
     "igea_normal_qr_accumulate": (c_int, [c_int, c_int, c_int, _D, c_int, _D, _D, c_int, _D, _D, c_int, _D]),
     # eqerr
     "igea_eqerr_defaults": (c_int, [_D]),
+    "igea_eqerr_check_opts": (c_int, [_D]),
     "igea_eqerr_solve": (c_int, [c_int, _D, c_int, _D, _D, _D, _D, c_int, _D, _D, _I, _D]),
     "igea_eqerr_solve_qr": (c_int, [c_int, _D, c_int, c_double, _D, _D, _D, c_int, _D, _D, _I, _D]),
     "igea_eqerr_run": (c_int, [c_int, c_int, _D, c_int, _D, _D, c_int, _D, _D,

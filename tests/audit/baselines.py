@@ -78,6 +78,10 @@ BASE = {
                           _extra=[('status', 'INT_MIN', 'ok'), ('status', '12345', 'ok'),
                                   ('status', '-1', 'ok'), ('status', '0', 'ok')]),
     'igea_init': dict(_threads=False),
+    'igea_opt_name': dict(module='IGEA_MODULE_EQERR', slot='0',
+                          _int=dict(module='free', slot='free'),
+                          _extra=[('module', '12345', 'ok'), ('slot', '-1', 'ok'),
+                                  ('slot', 'INT_MIN', 'ok'), ('slot', '12345', 'ok')]),
     # ---- stats
     'igea_stats_normal_cdf': dict(x='0.5', _valid=['x=+Inf', 'x=-Inf']),
     'igea_stats_normal_quantile': dict(p='0.3'),
@@ -95,6 +99,8 @@ BASE = {
     'igea_normal_qr_accumulate': dict(R='0', ldr='N + 1', rows='0', _zero_ok=['m'],
                                       _opt=['spec_sigma'], _neg_bad={'rows': [0]}),
     # ---- eqerr
+    'igea_eqerr_check_opts': dict(opts=EQ_OPTS, _nan_ok=['opts'], _inf_ok=['opts'],
+                                  _req=['opts']),
     'igea_eqerr_solve': dict(A='set:audit_spd(b_, 3, 3, 100.0);', lda='N', b='u', opts=EQ_OPTS),
     'igea_eqerr_solve_qr': dict(R='set:audit_upper(b_, 4, 4, 10.0);', ldr='N + 1', rows='20.0',
                                 opts=EQ_OPTS),
