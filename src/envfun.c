@@ -11,6 +11,102 @@
 /* Term families. */
 enum { FAM_ACC = 0, FAM_GYRO = 1, FAM_ATT = 2 };
 
+/* ---- the term catalogue ------------------------------------------------ */
+
+#define G0 9.80665                                   /* m/s^2 per g */
+#define DEG_H (3.14159265358979323846 / 180.0 / 3600.0) /* rad/s per deg/h */
+
+/* Name, unit and default 1-sigma spec of every code, by code. */
+static const struct {
+    const char *name, *unit;
+    double spec;
+} TERMS[IGEA_ENVFUN_TERM_COUNT] = {
+#define AXES3(pre, unit, spec) \
+    {pre "x", unit, spec}, {pre "y", unit, spec}, {pre "z", unit, spec}
+    AXES3("acc_bias_", "m/s^2", 1e-3 * G0),          /* 1 mg */
+    AXES3("acc_scale_", "-", 1e-4),
+    AXES3("acc_sq_", "1/(m/s^2)", 1e-5 / G0),        /* 10 ug/g^2 */
+    {"acc_mis_xy", "-", 1e-4}, {"acc_mis_xz", "-", 1e-4},
+    {"acc_mis_yx", "-", 1e-4}, {"acc_mis_yz", "-", 1e-4},
+    {"acc_mis_zx", "-", 1e-4}, {"acc_mis_zy", "-", 1e-4},
+    AXES3("gyro_bias_", "rad/s", 0.5 * DEG_H),       /* 0.5 deg/h */
+    AXES3("gyro_g_", "rad/s/(m/s^2)", 0.5 * DEG_H / G0), /* 0.5 deg/h/g */
+    AXES3("gyro_scale_", "-", 1e-4),
+    AXES3("att0_", "rad", 1e-4),
+    AXES3("gyro_gi_", "rad/s/(m/s^2)", 0.5 * DEG_H / G0),
+    AXES3("gyro_gs_", "rad/s/(m/s^2)", 0.5 * DEG_H / G0),
+    AXES3("align0_", "rad", 1e-4),
+#undef AXES3
+};
+
+/* The 21-term models of METHODS 1.6(b) / 5.5, in model order. */
+static const int DEFAULT_SD[IGEA_ENVFUN_DEFAULT_TERMS] = {
+    IGEA_ENVFUN_TERM_ACC_BIAS_X, IGEA_ENVFUN_TERM_ACC_BIAS_X + 1, IGEA_ENVFUN_TERM_ACC_BIAS_X + 2,
+    IGEA_ENVFUN_TERM_ACC_SCALE_X, IGEA_ENVFUN_TERM_ACC_SCALE_X + 1, IGEA_ENVFUN_TERM_ACC_SCALE_X + 2,
+    IGEA_ENVFUN_TERM_ACC_MIS_XY, IGEA_ENVFUN_TERM_ACC_MIS_XZ, IGEA_ENVFUN_TERM_ACC_MIS_YX,
+    IGEA_ENVFUN_TERM_ACC_MIS_YZ, IGEA_ENVFUN_TERM_ACC_MIS_ZX, IGEA_ENVFUN_TERM_ACC_MIS_ZY,
+    IGEA_ENVFUN_TERM_GYRO_BIAS_X, IGEA_ENVFUN_TERM_GYRO_BIAS_X + 1, IGEA_ENVFUN_TERM_GYRO_BIAS_X + 2,
+    IGEA_ENVFUN_TERM_GYRO_G_X, IGEA_ENVFUN_TERM_GYRO_G_X + 1, IGEA_ENVFUN_TERM_GYRO_G_X + 2,
+    IGEA_ENVFUN_TERM_ATT0_X, IGEA_ENVFUN_TERM_ATT0_X + 1, IGEA_ENVFUN_TERM_ATT0_X + 2};
+static const int DEFAULT_PF[IGEA_ENVFUN_DEFAULT_TERMS] = {
+    IGEA_ENVFUN_TERM_ACC_BIAS_X, IGEA_ENVFUN_TERM_ACC_BIAS_X + 1, IGEA_ENVFUN_TERM_ACC_BIAS_X + 2,
+    IGEA_ENVFUN_TERM_ACC_SCALE_X, IGEA_ENVFUN_TERM_ACC_SCALE_X + 1, IGEA_ENVFUN_TERM_ACC_SCALE_X + 2,
+    IGEA_ENVFUN_TERM_GYRO_BIAS_X, IGEA_ENVFUN_TERM_GYRO_BIAS_X + 1, IGEA_ENVFUN_TERM_GYRO_BIAS_X + 2,
+    IGEA_ENVFUN_TERM_GYRO_GI_X, IGEA_ENVFUN_TERM_GYRO_GI_X + 1, IGEA_ENVFUN_TERM_GYRO_GI_X + 2,
+    IGEA_ENVFUN_TERM_GYRO_GS_X, IGEA_ENVFUN_TERM_GYRO_GS_X + 1, IGEA_ENVFUN_TERM_GYRO_GS_X + 2,
+    IGEA_ENVFUN_TERM_ALIGN0_X, IGEA_ENVFUN_TERM_ALIGN0_X + 1, IGEA_ENVFUN_TERM_ALIGN0_X + 2,
+    IGEA_ENVFUN_TERM_ACC_SQ_X, IGEA_ENVFUN_TERM_ACC_SQ_X + 1, IGEA_ENVFUN_TERM_ACC_SQ_X + 2};
+
+const char *igea_envfun_term_name(int term)
+{
+    return (term >= 0 && term < IGEA_ENVFUN_TERM_COUNT) ? TERMS[term].name : "";
+}
+
+const char *igea_envfun_term_unit(int term)
+{
+    return (term >= 0 && term < IGEA_ENVFUN_TERM_COUNT) ? TERMS[term].unit : "";
+}
+
+int igea_envfun_term_code(int system, const char *name)
+{
+    if (system != IGEA_ENVFUN_STRAPDOWN && system != IGEA_ENVFUN_PLATFORM)
+        return -1;
+    if (!name)
+        return -2;
+    for (int k = 0; k < IGEA_ENVFUN_TERM_COUNT; k++)
+        if (!strcmp(TERMS[k].name, name) && igea_envfun_term_valid(system, k))
+            return k;
+    return -2;
+}
+
+int igea_envfun_default_spec(int system, int term, double *spec)
+{
+    if (system != IGEA_ENVFUN_STRAPDOWN && system != IGEA_ENVFUN_PLATFORM)
+        return -1;
+    if (!igea_envfun_term_valid(system, term))
+        return -2;
+    if (!spec)
+        return -3;
+    *spec = TERMS[term].spec;
+    return 0;
+}
+
+int igea_envfun_default_terms(int system, int *terms, int cap, int *n)
+{
+    if (system != IGEA_ENVFUN_STRAPDOWN && system != IGEA_ENVFUN_PLATFORM)
+        return -1;
+    if (!terms)
+        return -2;
+    if (cap < IGEA_ENVFUN_DEFAULT_TERMS)
+        return -3;
+    if (!n)
+        return -4;
+    memcpy(terms, system == IGEA_ENVFUN_STRAPDOWN ? DEFAULT_SD : DEFAULT_PF,
+           sizeof DEFAULT_SD);
+    *n = IGEA_ENVFUN_DEFAULT_TERMS;
+    return 0;
+}
+
 int igea_envfun_term_valid(int system, int term)
 {
     if (term < 0 || term >= IGEA_ENVFUN_TERM_COUNT)

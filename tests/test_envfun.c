@@ -646,10 +646,96 @@ static void test_invalid(void **state)
 #undef EF
 }
 
+/* The catalogue: names, units and default specs of docs/envfun.md (values
+ * written here from the document's units: 1 mg, 10 ug/g^2, 0.5 deg/h,
+ * 0.5 deg/h/g, 1e-4), default term sets and the name <-> code mapping. */
+static void test_catalogue(void **state)
+{
+    (void)state;
+    static const char *const sd21[21] = {
+        "acc_bias_x", "acc_bias_y", "acc_bias_z", "acc_scale_x", "acc_scale_y",
+        "acc_scale_z", "acc_mis_xy", "acc_mis_xz", "acc_mis_yx", "acc_mis_yz",
+        "acc_mis_zx", "acc_mis_zy", "gyro_bias_x", "gyro_bias_y", "gyro_bias_z",
+        "gyro_g_x", "gyro_g_y", "gyro_g_z", "att0_x", "att0_y", "att0_z"};
+    static const char *const pf21[21] = {
+        "acc_bias_x", "acc_bias_y", "acc_bias_z", "acc_scale_x", "acc_scale_y",
+        "acc_scale_z", "gyro_bias_x", "gyro_bias_y", "gyro_bias_z", "gyro_gi_x",
+        "gyro_gi_y", "gyro_gi_z", "gyro_gs_x", "gyro_gs_y", "gyro_gs_z", "align0_x",
+        "align0_y", "align0_z", "acc_sq_x", "acc_sq_y", "acc_sq_z"};
+    int codes[IGEA_ENVFUN_TERM_COUNT], n = -1;
+    double sp = -1.0, degh = DEG / 3600.0;
+
+    assert_string_equal(igea_envfun_term_name(IGEA_ENVFUN_TERM_ACC_BIAS_X), "acc_bias_x");
+    assert_string_equal(igea_envfun_term_name(IGEA_ENVFUN_TERM_ACC_MIS_YZ), "acc_mis_yz");
+    assert_string_equal(igea_envfun_term_name(IGEA_ENVFUN_TERM_GYRO_G_X + 2), "gyro_g_z");
+    assert_string_equal(igea_envfun_term_name(IGEA_ENVFUN_TERM_ALIGN0_X + 2), "align0_z");
+    assert_string_equal(igea_envfun_term_name(-1), "");
+    assert_string_equal(igea_envfun_term_name(IGEA_ENVFUN_TERM_COUNT), "");
+    assert_string_equal(igea_envfun_term_unit(IGEA_ENVFUN_TERM_ACC_BIAS_X + 1), "m/s^2");
+    assert_string_equal(igea_envfun_term_unit(IGEA_ENVFUN_TERM_ACC_SQ_X), "1/(m/s^2)");
+    assert_string_equal(igea_envfun_term_unit(IGEA_ENVFUN_TERM_GYRO_BIAS_X), "rad/s");
+    assert_string_equal(igea_envfun_term_unit(IGEA_ENVFUN_TERM_GYRO_GS_X), "rad/s/(m/s^2)");
+    assert_string_equal(igea_envfun_term_unit(IGEA_ENVFUN_TERM_ATT0_X), "rad");
+    assert_string_equal(igea_envfun_term_unit(IGEA_ENVFUN_TERM_GYRO_SCALE_X), "-");
+    assert_string_equal(igea_envfun_term_unit(12345), "");
+
+    /* every name maps back to its code in the systems it is valid for */
+    for (int k = 0; k < IGEA_ENVFUN_TERM_COUNT; k++)
+        for (int sys = 0; sys < 2; sys++) {
+            int c = igea_envfun_term_code(sys, igea_envfun_term_name(k));
+            assert_int_equal(c, igea_envfun_term_valid(sys, k) ? k : -2);
+        }
+    assert_int_equal(igea_envfun_term_code(IGEA_ENVFUN_PLATFORM, "att0_x"), -2);
+    assert_int_equal(igea_envfun_term_code(IGEA_ENVFUN_STRAPDOWN, "ACC_BIAS_X"), -2);
+    assert_int_equal(igea_envfun_term_code(IGEA_ENVFUN_STRAPDOWN, "acc_bias_"), -2);
+    assert_int_equal(igea_envfun_term_code(IGEA_ENVFUN_STRAPDOWN, ""), -2);
+    assert_int_equal(igea_envfun_term_code(IGEA_ENVFUN_STRAPDOWN, NULL), -2);
+    assert_int_equal(igea_envfun_term_code(7, "acc_bias_x"), -1);
+
+    struct { int sys; const char *name; double spec; } want[] = {
+        {0, "acc_bias_y", 9.80665e-3}, {1, "acc_scale_z", 1e-4},
+        {1, "acc_sq_x", 1e-5 / 9.80665}, {0, "acc_mis_zx", 1e-4},
+        {0, "gyro_bias_x", 0.5 * degh}, {0, "gyro_g_y", 0.5 * degh / 9.80665},
+        {0, "gyro_scale_x", 1e-4}, {0, "att0_z", 1e-4},
+        {1, "gyro_gi_z", 0.5 * degh / 9.80665}, {1, "gyro_gs_x", 0.5 * degh / 9.80665},
+        {1, "align0_y", 1e-4}};
+    for (size_t i = 0; i < sizeof want / sizeof want[0]; i++) {
+        int c = igea_envfun_term_code(want[i].sys, want[i].name);
+        assert_true(c >= 0);
+        assert_int_equal(igea_envfun_default_spec(want[i].sys, c, &sp), 0);
+        assert_close(sp, want[i].spec, 1e-15 * want[i].spec);
+    }
+    sp = -1.0;
+    assert_int_equal(igea_envfun_default_spec(IGEA_ENVFUN_PLATFORM, IGEA_ENVFUN_TERM_ATT0_X,
+                                              &sp), -2);
+    assert_int_equal(igea_envfun_default_spec(2, 0, &sp), -1);
+    assert_int_equal(igea_envfun_default_spec(0, 0, NULL), -3);
+    assert_true(sp == -1.0);
+
+    for (int sys = 0; sys < 2; sys++) {
+        const char *const *want21 = sys == IGEA_ENVFUN_STRAPDOWN ? sd21 : pf21;
+        n = -1;
+        assert_int_equal(igea_envfun_default_terms(sys, codes, IGEA_ENVFUN_TERM_COUNT, &n), 0);
+        assert_int_equal(n, 21);
+        for (int j = 0; j < 21; j++)
+            assert_string_equal(igea_envfun_term_name(codes[j]), want21[j]);
+    }
+    n = -1;
+    codes[0] = -7;
+    assert_int_equal(igea_envfun_default_terms(0, codes, 20, &n), -3);
+    assert_int_equal(igea_envfun_default_terms(0, NULL, 21, &n), -2);
+    assert_int_equal(igea_envfun_default_terms(0, codes, 21, NULL), -4);
+    assert_int_equal(igea_envfun_default_terms(-1, codes, 21, &n), -1);
+    assert_true(n == -1 && codes[0] == -7);
+    assert_int_equal(igea_envfun_default_terms(1, codes, 21, &n), 0);
+    assert_int_equal(n, 21);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_term_valid),
+        cmocka_unit_test(test_catalogue),
         cmocka_unit_test(test_closed_forms),
         cmocka_unit_test(test_spec_lds),
         cmocka_unit_test(test_invalid),

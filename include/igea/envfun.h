@@ -30,9 +30,10 @@
  * Strapdown: f and w in body axes. Platform: f in launch-inertial axes;
  * w and q are ignored (need only be finite).
  *
- * Error terms are int codes IGEA_ENVFUN_TERM_* (Fortran-friendly: no strings in
- * the API). The driver and the Python package map the stable names of
- * docs/envfun.md (acc_bias_x, gyro_g_z, ...) to these codes.
+ * Error terms are int codes IGEA_ENVFUN_TERM_*. Their stable names (acc_bias_x,
+ * gyro_g_z, ...), units, default specs and the default term sets are kept
+ * here only (igea_envfun_term_name ... igea_envfun_default_terms below);
+ * the driver, the Python package and docs/terms.md read them.
  */
 #ifndef IGEA_ENVFUN_H
 #define IGEA_ENVFUN_H
@@ -82,6 +83,56 @@ extern "C" {
  * (also 0 for an unknown system or code).
  */
 IGEA_API int igea_envfun_term_valid(int system, int term);
+
+/*
+ * The term catalogue (docs/terms.md is generated from these functions).
+ *
+ * igea_envfun_term_name: the stable name of term code `term` (acc_bias_x,
+ * gyro_g_z, ...), a static string; "" for an unknown code, never NULL.
+ */
+IGEA_API const char *igea_envfun_term_name(int term);
+
+/*
+ * igea_envfun_term_unit: the SI unit of one coefficient of term code `term`,
+ * a static string ("m/s^2", "rad/s", "rad/s/(m/s^2)", "1/(m/s^2)", "rad",
+ * "-" for a dimensionless coefficient); "" for an unknown code, never NULL.
+ */
+IGEA_API const char *igea_envfun_term_unit(int term);
+
+/*
+ * igea_envfun_term_code: the code of the term called `name` (exact,
+ * case-sensitive) in the catalogue of system kind `system`.
+ * Returns the code (>= 0), -1 (unknown system), -2 (name NULL, or not a term
+ * of that system).
+ */
+IGEA_API int igea_envfun_term_code(int system, const char *name);
+
+/*
+ * igea_envfun_default_spec: the default 1-sigma spec of term code `term`
+ * of system kind `system`, in the unit of igea_envfun_term_unit (1 mg for
+ * accelerometer biases, 1e-4 for scale factors, misalignments and initial
+ * attitude or alignment, 10 ug/g^2 for second-order terms, 0.5 deg/h for
+ * gyro biases, 0.5 deg/h/g for g-sensitive drifts).
+ * Arguments: 1 system, 2 term (valid for the system), 3 spec (output).
+ * Returns 0, -i (spec untouched).
+ */
+IGEA_API int igea_envfun_default_spec(int system, int term, double *spec);
+
+/* Terms of the default models (igea_envfun_default_terms). */
+#define IGEA_ENVFUN_DEFAULT_TERMS 21
+
+/*
+ * igea_envfun_default_terms: the default term set of system kind `system`
+ * (the 21-term model of METHODS 1.6(b) / 5.5), the codes in model order.
+ * Strapdown: acc_bias_*, acc_scale_*, acc_mis_*, gyro_bias_*, gyro_g_*,
+ * att0_*; platform: acc_bias_*, acc_scale_*, gyro_bias_*, gyro_gi_*,
+ * gyro_gs_*, align0_*, acc_sq_*.
+ * Arguments: 1 system, 2 terms (output, cap ints), 3 cap >= the number of
+ * terms (IGEA_ENVFUN_DEFAULT_TERMS; IGEA_ENVFUN_TERM_COUNT always suffices),
+ * 4 n (output: the number of terms written).
+ * Returns 0, -i (outputs untouched).
+ */
+IGEA_API int igea_envfun_default_terms(int system, int *terms, int cap, int *n);
 
 /*
  * Environment-function matrix of a trajectory.

@@ -113,6 +113,11 @@ PROTOTYPES = {
                                           _D, c_int, _D, _D, _I]),
     # envfun
     "igea_envfun_term_valid": (c_int, [c_int, c_int]),
+    "igea_envfun_term_name": (c_char_p, [c_int]),
+    "igea_envfun_term_unit": (c_char_p, [c_int]),
+    "igea_envfun_term_code": (c_int, [c_int, c_char_p]),
+    "igea_envfun_default_spec": (c_int, [c_int, c_int, _D]),
+    "igea_envfun_default_terms": (c_int, [c_int, _I, c_int, _I]),
     "igea_envfun_compute": (c_int, [c_int, c_int, _D, c_int, c_int, _I, _I, c_int, _D, _D,
                                     c_int, _D, c_int]),
     # sim

@@ -51,8 +51,11 @@ class Param:
         t = self.ctype.replace(' ', '')
         self.const = t.startswith('const')
         base = t[5:] if self.const else t
+        # a const char * (a name) is held in an int buffer filled by its
+        # baseline's set: code; its only mutation is NULL
         self.at = {'int': 'AT_INT', 'double': 'AT_DBL', 'double*': 'AT_PD', 'int*': 'AT_PI',
-                   'igea_rls*': 'AT_H', 'igea_rls**': 'AT_HO'}.get(base)
+                   'igea_rls*': 'AT_H', 'igea_rls**': 'AT_HO',
+                   'char*': 'AT_PI' if self.const else None}.get(base)
         if self.at is None:
             raise SystemExit('gen_invalid: unsupported parameter type %r (%s)' % (ctype, name))
         self.isptr = self.at not in ('AT_INT', 'AT_DBL')
