@@ -2,6 +2,7 @@
 #include <limits.h>
 
 #include "internal.h"
+#include "rotation.h"
 
 #include "igea/envfun.h"
 
@@ -166,36 +167,6 @@ static void term_unit(int term, const double *f, const double *w,
     }
 }
 
-static void cross(const double *a, const double *b, double *c)
-{
-    c[0] = a[1] * b[2] - a[2] * b[1];
-    c[1] = a[2] * b[0] - a[0] * b[2];
-    c[2] = a[0] * b[1] - a[1] * b[0];
-}
-
-/* Direction cosine matrix C (row-major 3x3, v_a = C v_b) of a unit
- * quaternion (scalar first). */
-static void quat_dcm(const double *q, double *C)
-{
-    double a = q[0], b = q[1], c = q[2], d = q[3];
-    C[0] = a * a + b * b - c * c - d * d;
-    C[1] = 2.0 * (b * c - a * d);
-    C[2] = 2.0 * (b * d + a * c);
-    C[3] = 2.0 * (b * c + a * d);
-    C[4] = a * a - b * b + c * c - d * d;
-    C[5] = 2.0 * (c * d - a * b);
-    C[6] = 2.0 * (b * d - a * c);
-    C[7] = 2.0 * (c * d + a * b);
-    C[8] = a * a - b * b - c * c + d * d;
-}
-
-static void mat_vec(const double *C, const double *x, double *y)
-{
-    y[0] = C[0] * x[0] + C[1] * x[1] + C[2] * x[2];
-    y[1] = C[3] * x[0] + C[4] * x[1] + C[5] * x[2];
-    y[2] = C[6] * x[0] + C[7] * x[1] + C[8] * x[2];
-}
-
 /* Point-mass gravity g and its gradient G (row-major 3x3) at launch-frame
  * position r (launch point at the origin, y up, earth centre at -R e_y). */
 static void gravity(const double *r, double *g, double *G)
@@ -213,16 +184,16 @@ static void gravity(const double *r, double *g, double *G)
     }
 }
 
-/* Per-sample state of the integration: instrument-axis f, w, the a-frame
- * specific force fa. */
+/* Per-sample state of the integration: instrument-axis f, w, the attitude
+ * C (strapdown) and the a-frame specific force fa. */
 typedef struct {
-    double t, f[3], w[3], fa[3];
+    double t, f[3], w[3], C[9], fa[3];
 } sample;
 
 static void load_sample(int system, const double *traj, int ldt, int k,
                         sample *s)
 {
-    double q[4], C[9], nq = 0.0;
+    double q[4];
     s->t = IGEA_AT(traj, ldt, k, 0);
     for (int i = 0; i < 3; i++) {
         s->f[i] = IGEA_AT(traj, ldt, k, 1 + i);
@@ -232,26 +203,38 @@ static void load_sample(int system, const double *traj, int ldt, int k,
         memcpy(s->fa, s->f, sizeof s->fa);
         return;
     }
-    for (int i = 0; i < 4; i++) {
-        q[i] = IGEA_AT(traj, ldt, k, 7 + i);
-        nq += q[i] * q[i];
-    }
-    nq = sqrt(nq);
     for (int i = 0; i < 4; i++)
-        q[i] /= nq;
-    quat_dcm(q, C);
-    mat_vec(C, s->f, s->fa);
+        q[i] = IGEA_AT(traj, ldt, k, 7 + i);
+    igea__quat_dcm_unit(q, s->C);
+    igea__m3_vec(s->C, s->f, s->fa, 0);
 }
 
-int igea_envfun_compute(int system, int nsamp, const double *traj, int ldt,
-                        int nterms, const int *terms, const int *axes,
-                        int nepochs, const double *epochs, const double *spec,
-                        int output, double *S, int lds)
-{
+/* The state of the integration over the samples: per term 3-vectors
+ * (nterms x 3 each) and the nominal trajectory of the gravity kinds. */
+typedef struct {
+    int system, nterms, output, grav;
+    const int *terms;
     int in_ax[3], spin_ax[3];
-    igea__platform_axes(NULL, in_ax, spin_ax);
-    int nf = 0, st = IGEA_OK;
+    size_t nt3;
+    double *vel;      /* S_j(t_k) velocity function */
+    double *inner;    /* Phi_u or alpha of gyro terms */
+    double *p_in;     /* previous inner integrand */
+    double *p_out;    /* previous outer integrand */
+    double *pos;      /* position (or gravity s_r) */
+    double *sv;       /* gravity-coupled s_v */
+    double *val;      /* output value at t_k */
+    double *val_prev; /* output value at t_{k-1} */
+    double *vel_prev;
+    double Wv[3], rn[3], vn[3], gacc_prev[3], Gm[9];
+} integ;
 
+/* Argument checks of igea_envfun_compute: 0 or -i; the platform axes. */
+static int check_args(int system, int nsamp, const double *traj, int ldt,
+                      int nterms, const int *terms, const int *axes,
+                      int nepochs, const double *epochs, int output,
+                      const double *S, int lds, int *in_ax, int *spin_ax)
+{
+    igea__platform_axes(NULL, in_ax, spin_ax);
     if (system != IGEA_ENVFUN_STRAPDOWN && system != IGEA_ENVFUN_PLATFORM)
         return -1;
     if (nsamp < 2)
@@ -279,8 +262,16 @@ int igea_envfun_compute(int system, int nsamp, const double *traj, int ldt,
         return -12;
     if (lds < 3 * nepochs)
         return -13;
+    return 0;
+}
 
-    /* data checks */
+/* Data checks: finite values, positive specs, increasing times, epochs
+ * inside the trajectory, quaternions of non-zero norm. */
+static int check_data(int system, int nsamp, const double *traj, int ldt,
+                      int nterms, const double *spec, int nepochs,
+                      const double *epochs)
+{
+    int nf = 0;
     if (!igea__finite_mat(nsamp, IGEA_ENVFUN_TRAJ_COLS, traj, ldt) ||
         !igea__finite_vec(nepochs, epochs, 1))
         return IGEA_ENONFINITE;
@@ -304,198 +295,221 @@ int igea_envfun_compute(int system, int nsamp, const double *traj, int ldt,
             if (!(nq > 1e-200))
                 return IGEA_EDOMAIN;
         }
+    return 0;
+}
 
-    /* scratch: per term 3-vectors */
-    size_t nt3 = (size_t)nterms * 3;
-    size_t mrows = (size_t)nepochs * 3;
+/* The a-frame unit error of term j at sample s (family ACC or GYRO). */
+static void term_integrand(const integ *g, int j, const sample *s, double *cu)
+{
+    double u[3];
+    term_unit(g->terms[j], s->f, s->w, g->in_ax, g->spin_ax, u);
+    if (g->system == IGEA_ENVFUN_STRAPDOWN)
+        igea__m3_vec(s->C, u, cu, 0);
+    else
+        memcpy(cu, u, sizeof u);
+}
+
+/* Initial integrands at sample 0 (the outer integrand of a gyro term
+ * starts at 0: inner = 0). */
+static void init_integrands(integ *g, const sample *s)
+{
+    for (int j = 0; j < g->nterms; j++)
+        if (term_family(g->terms[j]) != FAM_ATT)
+            term_integrand(g, j, s, g->p_in + 3 * (size_t)j);
+}
+
+/* Gravity step: the nominal trajectory v' = f^a + g(r), trapezoid with a
+ * predicted end point; the gradient Gm at the mid-step position. */
+static void gravity_step(integ *g, const sample *prev, const sample *cur, double h)
+{
+    double rp[3], gnew[3], rmid[3], vnew[3];
+    for (int a = 0; a < 3; a++)
+        rp[a] = g->rn[a] + h * g->vn[a] +
+                0.5 * h * h * (prev->fa[a] + g->gacc_prev[a]);
+    gravity(rp, gnew, NULL);
+    for (int a = 0; a < 3; a++) {
+        vnew[a] = g->vn[a] + 0.5 * h * (prev->fa[a] + g->gacc_prev[a] +
+                                        cur->fa[a] + gnew[a]);
+        rp[a] = g->rn[a] + 0.5 * h * (g->vn[a] + vnew[a]);
+        rmid[a] = 0.5 * (g->rn[a] + rp[a]);
+    }
+    gravity(rmid, NULL, g->Gm);
+    memcpy(g->rn, rp, sizeof g->rn);
+    memcpy(g->vn, vnew, sizeof g->vn);
+    gravity(g->rn, g->gacc_prev, NULL);
+}
+
+/* Term step: the velocity functions of every term at sample cur. */
+static void term_step(integ *g, const sample *cur, double h)
+{
+    for (int j = 0; j < g->nterms; j++) {
+        int fam = term_family(g->terms[j]);
+        double *vj = g->vel + 3 * (size_t)j;
+        double *ij = g->inner + 3 * (size_t)j;
+        double *pi = g->p_in + 3 * (size_t)j;
+        double *po = g->p_out + 3 * (size_t)j;
+        double cu[3], co[3];
+        if (fam == FAM_ATT) {
+            int kax = (g->terms[j] >= IGEA_ENVFUN_TERM_ALIGN0_X)
+                          ? g->terms[j] - IGEA_ENVFUN_TERM_ALIGN0_X
+                          : g->terms[j] - IGEA_ENVFUN_TERM_ATT0_X;
+            double ek[3] = {0, 0, 0};
+            ek[kax] = 1.0;
+            igea__cross(g->Wv, ek, vj);
+            continue;
+        }
+        term_integrand(g, j, cur, cu);
+        if (fam == FAM_ACC) {
+            for (int a = 0; a < 3; a++)
+                vj[a] += 0.5 * h * (pi[a] + cu[a]);
+        } else {
+            for (int a = 0; a < 3; a++)
+                ij[a] += 0.5 * h * (pi[a] + cu[a]);
+            if (g->system == IGEA_ENVFUN_STRAPDOWN)
+                igea__cross(ij, cur->fa, co); /* Phi_u x f^a */
+            else
+                igea__cross(cur->fa, ij, co); /* f^a x alpha */
+            for (int a = 0; a < 3; a++)
+                vj[a] += 0.5 * h * (po[a] + co[a]);
+            memcpy(po, co, sizeof co);
+        }
+        memcpy(pi, cu, sizeof cu);
+    }
+}
+
+/* Output step: val <- the output kind at sample k (val_prev the one at
+ * k - 1). */
+static void output_step(integ *g, double h)
+{
+    size_t nt3 = g->nt3;
+    memcpy(g->val_prev, g->val, nt3 * sizeof(double));
+    if (g->output == IGEA_ENVFUN_VELOCITY) {
+        memcpy(g->val, g->vel, nt3 * sizeof(double));
+    } else if (g->output == IGEA_ENVFUN_POSITION) {
+        for (size_t i = 0; i < nt3; i++)
+            g->pos[i] += 0.5 * h * (g->vel_prev[i] + g->vel[i]);
+        memcpy(g->val, g->pos, nt3 * sizeof(double));
+    } else {
+        const double *Gm = g->Gm;
+        for (int j = 0; j < g->nterms; j++) {
+            double *r = g->pos + 3 * (size_t)j, *v = g->sv + 3 * (size_t)j;
+            double dS[3], rm[3], vnew[3];
+            for (int a = 0; a < 3; a++) {
+                dS[a] = g->vel[3 * (size_t)j + a] - g->vel_prev[3 * (size_t)j + a];
+                rm[a] = r[a] + 0.5 * h * v[a] + 0.25 * h * dS[a];
+            }
+            for (int a = 0; a < 3; a++)
+                vnew[a] = v[a] + dS[a] +
+                          h * (Gm[3 * a] * rm[0] + Gm[3 * a + 1] * rm[1] +
+                               Gm[3 * a + 2] * rm[2]);
+            for (int a = 0; a < 3; a++) {
+                r[a] += 0.5 * h * (v[a] + vnew[a]);
+                v[a] = vnew[a];
+            }
+            memcpy(g->val + 3 * (size_t)j,
+                   g->output == IGEA_ENVFUN_VELOCITY_G ? v : r,
+                   3 * sizeof(double));
+        }
+    }
+}
+
+/* Epoch interpolation: rows of the epochs e.. in (t0, t1] (weight of val),
+ * zero at t_0 when h = 0; returns the next epoch. */
+static int interpolate(const integ *g, int e, int nepochs, const double *epochs,
+                       double t0, double t1, double *out, size_t mrows)
+{
+    while (e < nepochs && epochs[e] <= t1) {
+        double wgt = t1 > t0 ? (epochs[e] - t0) / (t1 - t0) : 0.0;
+        for (int j = 0; j < g->nterms; j++)
+            for (int a = 0; a < 3; a++) {
+                size_t i = 3 * (size_t)j + a;
+                IGEA_AT(out, mrows, 3 * (size_t)e + a, j) =
+                    t1 > t0 ? (1.0 - wgt) * g->val_prev[i] + wgt * g->val[i] : 0.0;
+            }
+        e++;
+    }
+    return e;
+}
+
+/* Scale the columns by spec into S: IGEA_ENONFINITE (S untouched) if a
+ * value overflows. */
+static int scale_out(int nterms, const double *spec, const double *out,
+                     size_t mrows, double *S, int lds)
+{
+    for (int j = 0; j < nterms; j++) {
+        double s = spec ? spec[j] : 1.0;
+        for (size_t i = 0; i < mrows; i++)
+            if (!isfinite(IGEA_AT(out, mrows, i, j) * s))
+                return IGEA_ENONFINITE;
+    }
+    for (int j = 0; j < nterms; j++) {
+        double s = spec ? spec[j] : 1.0;
+        for (size_t i = 0; i < mrows; i++)
+            IGEA_AT(S, lds, i, j) = IGEA_AT(out, mrows, i, j) * s;
+    }
+    return IGEA_OK;
+}
+
+int igea_envfun_compute(int system, int nsamp, const double *traj, int ldt,
+                        int nterms, const int *terms, const int *axes,
+                        int nepochs, const double *epochs, const double *spec,
+                        int output, double *S, int lds)
+{
+    integ g;
+    int st = check_args(system, nsamp, traj, ldt, nterms, terms, axes, nepochs,
+                        epochs, output, S, lds, g.in_ax, g.spin_ax);
+    if (st == 0)
+        st = check_data(system, nsamp, traj, ldt, nterms, spec, nepochs, epochs);
+    if (st)
+        return st;
+
+    size_t nt3 = (size_t)nterms * 3, mrows = (size_t)nepochs * 3;
     double *work = igea__dalloc(nt3 * 9 + mrows * (size_t)nterms);
     if (!work)
         return IGEA_ENOMEM;
-    double *vel = work;            /* S_j(t_k) velocity function */
-    double *inner = vel + nt3;     /* Phi_u or alpha of gyro terms */
-    double *p_in = inner + nt3;    /* previous inner integrand */
-    double *p_out = p_in + nt3;    /* previous outer integrand */
-    double *pos = p_out + nt3;     /* position (or gravity s_r) */
-    double *sv = pos + nt3;        /* gravity-coupled s_v */
-    double *val = sv + nt3;        /* output value at t_k */
-    double *val_prev = val + nt3;  /* output value at t_{k-1} */
-    double *vel_prev = val_prev + nt3;
-    double *out = vel_prev + nt3;  /* 3 nepochs x nterms, ld = mrows */
     memset(work, 0, nt3 * 9 * sizeof(double));
+    g.system = system;
+    g.nterms = nterms;
+    g.terms = terms;
+    g.output = output;
+    g.grav = (output == IGEA_ENVFUN_VELOCITY_G || output == IGEA_ENVFUN_POSITION_G);
+    g.nt3 = nt3;
+    g.vel = work;
+    g.inner = g.vel + nt3;
+    g.p_in = g.inner + nt3;
+    g.p_out = g.p_in + nt3;
+    g.pos = g.p_out + nt3;
+    g.sv = g.pos + nt3;
+    g.val = g.sv + nt3;
+    g.val_prev = g.val + nt3;
+    g.vel_prev = g.val_prev + nt3;
+    double *out = g.vel_prev + nt3; /* 3 nepochs x nterms, ld = mrows */
+    for (int a = 0; a < 3; a++)
+        g.Wv[a] = g.rn[a] = g.vn[a] = 0.0;
+    for (int i = 0; i < 9; i++)
+        g.Gm[i] = 0.0;
 
     sample cur, prev;
-    double Wv[3] = {0, 0, 0}, rn[3] = {0, 0, 0}, vn[3] = {0, 0, 0};
-    double gacc_prev[3];
-    int e = 0;
-    int grav = (output == IGEA_ENVFUN_VELOCITY_G ||
-                output == IGEA_ENVFUN_POSITION_G);
-
     load_sample(system, traj, ldt, 0, &cur);
-    gravity(rn, gacc_prev, NULL);
-    /* initial integrands */
-    for (int j = 0; j < nterms; j++) {
-        int fam = term_family(terms[j]);
-        double u[3], cu[3];
-        if (fam == FAM_ATT)
-            continue;
-        term_unit(terms[j], cur.f, cur.w, in_ax, spin_ax, u);
-        if (system == IGEA_ENVFUN_STRAPDOWN) {
-            double q[4], C[9], nq = 0.0;
-            for (int i = 0; i < 4; i++) {
-                q[i] = IGEA_AT(traj, ldt, 0, 7 + i);
-                nq += q[i] * q[i];
-            }
-            nq = sqrt(nq);
-            for (int i = 0; i < 4; i++)
-                q[i] /= nq;
-            quat_dcm(q, C);
-            mat_vec(C, u, cu);
-        } else {
-            memcpy(cu, u, sizeof cu);
-        }
-        memcpy(p_in + 3 * (size_t)j, cu, sizeof cu);
-        /* outer integrand of a gyro term starts at 0 (inner = 0) */
-    }
+    gravity(g.rn, g.gacc_prev, NULL);
+    init_integrands(&g, &cur);
     /* epochs at t_0: everything is zero */
-    while (e < nepochs && epochs[e] <= cur.t) {
-        for (int j = 0; j < nterms; j++)
-            for (int a = 0; a < 3; a++)
-                IGEA_AT(out, mrows, 3 * (size_t)e + a, j) = 0.0;
-        e++;
-    }
-
+    int e = interpolate(&g, 0, nepochs, epochs, cur.t, cur.t, out, mrows);
     for (int k = 1; k < nsamp && e < nepochs; k++) {
-        double C[9], h, Gm[9];
         prev = cur;
         load_sample(system, traj, ldt, k, &cur);
-        h = cur.t - prev.t;
-        if (system == IGEA_ENVFUN_STRAPDOWN) {
-            double q[4], nq = 0.0;
-            for (int i = 0; i < 4; i++) {
-                q[i] = IGEA_AT(traj, ldt, k, 7 + i);
-                nq += q[i] * q[i];
-            }
-            nq = sqrt(nq);
-            for (int i = 0; i < 4; i++)
-                q[i] /= nq;
-            quat_dcm(q, C);
-        }
+        double h = cur.t - prev.t;
         for (int a = 0; a < 3; a++)
-            Wv[a] += 0.5 * h * (prev.fa[a] + cur.fa[a]);
-        if (grav) {
-            /* nominal trajectory: v' = f^a + g(r), trapezoid with a
-             * predicted end point; G at the mid-step position */
-            double rp[3], gnew[3], rmid[3], vnew[3];
-            for (int a = 0; a < 3; a++)
-                rp[a] = rn[a] + h * vn[a] +
-                        0.5 * h * h * (prev.fa[a] + gacc_prev[a]);
-            gravity(rp, gnew, NULL);
-            for (int a = 0; a < 3; a++) {
-                vnew[a] = vn[a] + 0.5 * h * (prev.fa[a] + gacc_prev[a] +
-                                             cur.fa[a] + gnew[a]);
-                rp[a] = rn[a] + 0.5 * h * (vn[a] + vnew[a]);
-                rmid[a] = 0.5 * (rn[a] + rp[a]);
-            }
-            gravity(rmid, NULL, Gm);
-            memcpy(rn, rp, sizeof rn);
-            memcpy(vn, vnew, sizeof vn);
-            gravity(rn, gacc_prev, NULL);
-        }
-        memcpy(vel_prev, vel, nt3 * sizeof(double));
-        for (int j = 0; j < nterms; j++) {
-            int fam = term_family(terms[j]);
-            double *vj = vel + 3 * (size_t)j;
-            double *ij = inner + 3 * (size_t)j;
-            double *pi = p_in + 3 * (size_t)j;
-            double *po = p_out + 3 * (size_t)j;
-            double u[3], cu[3], co[3];
-            if (fam == FAM_ATT) {
-                int kax = (terms[j] >= IGEA_ENVFUN_TERM_ALIGN0_X)
-                              ? terms[j] - IGEA_ENVFUN_TERM_ALIGN0_X
-                              : terms[j] - IGEA_ENVFUN_TERM_ATT0_X;
-                double ek[3] = {0, 0, 0};
-                ek[kax] = 1.0;
-                cross(Wv, ek, vj);
-                continue;
-            }
-            term_unit(terms[j], cur.f, cur.w, in_ax, spin_ax, u);
-            if (system == IGEA_ENVFUN_STRAPDOWN)
-                mat_vec(C, u, cu);
-            else
-                memcpy(cu, u, sizeof cu);
-            if (fam == FAM_ACC) {
-                for (int a = 0; a < 3; a++)
-                    vj[a] += 0.5 * h * (pi[a] + cu[a]);
-            } else {
-                for (int a = 0; a < 3; a++)
-                    ij[a] += 0.5 * h * (pi[a] + cu[a]);
-                if (system == IGEA_ENVFUN_STRAPDOWN)
-                    cross(ij, cur.fa, co); /* Phi_u x f^a */
-                else
-                    cross(cur.fa, ij, co); /* f^a x alpha */
-                for (int a = 0; a < 3; a++)
-                    vj[a] += 0.5 * h * (po[a] + co[a]);
-                memcpy(po, co, sizeof co);
-            }
-            memcpy(pi, cu, sizeof cu);
-        }
-        /* output kind */
-        memcpy(val_prev, val, nt3 * sizeof(double));
-        if (output == IGEA_ENVFUN_VELOCITY) {
-            memcpy(val, vel, nt3 * sizeof(double));
-        } else if (output == IGEA_ENVFUN_POSITION) {
-            for (size_t i = 0; i < nt3; i++)
-                pos[i] += 0.5 * h * (vel_prev[i] + vel[i]);
-            memcpy(val, pos, nt3 * sizeof(double));
-        } else {
-            for (int j = 0; j < nterms; j++) {
-                double *r = pos + 3 * (size_t)j, *v = sv + 3 * (size_t)j;
-                double dS[3], rm[3], vnew[3];
-                for (int a = 0; a < 3; a++) {
-                    dS[a] = vel[3 * (size_t)j + a] - vel_prev[3 * (size_t)j + a];
-                    rm[a] = r[a] + 0.5 * h * v[a] + 0.25 * h * dS[a];
-                }
-                for (int a = 0; a < 3; a++)
-                    vnew[a] = v[a] + dS[a] +
-                              h * (Gm[3 * a] * rm[0] + Gm[3 * a + 1] * rm[1] +
-                                   Gm[3 * a + 2] * rm[2]);
-                for (int a = 0; a < 3; a++) {
-                    r[a] += 0.5 * h * (v[a] + vnew[a]);
-                    v[a] = vnew[a];
-                }
-                memcpy(val + 3 * (size_t)j,
-                       output == IGEA_ENVFUN_VELOCITY_G ? v : r,
-                       3 * sizeof(double));
-            }
-        }
+            g.Wv[a] += 0.5 * h * (prev.fa[a] + cur.fa[a]);
+        if (g.grav)
+            gravity_step(&g, &prev, &cur, h);
+        memcpy(g.vel_prev, g.vel, nt3 * sizeof(double));
+        term_step(&g, &cur, h);
+        output_step(&g, h);
         /* epochs in (t_{k-1}, t_k]: linear interpolation */
-        while (e < nepochs && epochs[e] <= cur.t) {
-            double wgt = (epochs[e] - prev.t) / h;
-            for (int j = 0; j < nterms; j++)
-                for (int a = 0; a < 3; a++) {
-                    size_t i = 3 * (size_t)j + a;
-                    IGEA_AT(out, mrows, 3 * (size_t)e + a, j) =
-                        (1.0 - wgt) * val_prev[i] + wgt * val[i];
-                }
-            e++;
-        }
+        e = interpolate(&g, e, nepochs, epochs, prev.t, cur.t, out, mrows);
     }
-
-    /* scale and copy out */
-    for (int j = 0; j < nterms; j++) {
-        double s = spec ? spec[j] : 1.0;
-        for (size_t i = 0; i < mrows; i++) {
-            double v = IGEA_AT(out, mrows, i, j) * s;
-            if (!isfinite(v))
-                st = IGEA_ENONFINITE;
-        }
-    }
-    if (st == IGEA_OK)
-        for (int j = 0; j < nterms; j++) {
-            double s = spec ? spec[j] : 1.0;
-            for (size_t i = 0; i < mrows; i++)
-                IGEA_AT(S, lds, i, j) = IGEA_AT(out, mrows, i, j) * s;
-        }
+    st = scale_out(nterms, spec, out, mrows, S, lds);
     free(work);
     return st;
 }

@@ -12,6 +12,7 @@
 #include "igea/envfun.h"
 #include "igea/sim.h"
 #include "internal.h"
+#include "rotation.h"
 
 #define SIM_PI 3.14159265358979323846
 
@@ -63,32 +64,6 @@ static void body_force(double t, double T, double *f)
     f[2] = 0.2 * cos(2.0 * SIM_PI * 0.17 * t);
 }
 
-/* q <- q * exp(rotation vector v / 2), normalised */
-static void quat_rotate(double *q, const double *v)
-{
-    double a = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    double c = cos(0.5 * a), s = a > 0 ? sin(0.5 * a) / a : 0.5;
-    double d[4] = {c, s * v[0], s * v[1], s * v[2]}, r[4], n;
-    r[0] = q[0] * d[0] - q[1] * d[1] - q[2] * d[2] - q[3] * d[3];
-    r[1] = q[0] * d[1] + q[1] * d[0] + q[2] * d[3] - q[3] * d[2];
-    r[2] = q[0] * d[2] - q[1] * d[3] + q[2] * d[0] + q[3] * d[1];
-    r[3] = q[0] * d[3] + q[1] * d[2] - q[2] * d[1] + q[3] * d[0];
-    n = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2] + r[3] * r[3]);
-    for (int i = 0; i < 4; i++)
-        q[i] = r[i] / n;
-}
-
-static void quat_apply(const double *q, const double *x, double *y)
-{
-    double a = q[0], b = q[1], c = q[2], d = q[3];
-    y[0] = (a * a + b * b - c * c - d * d) * x[0] + 2 * (b * c - a * d) * x[1] +
-           2 * (b * d + a * c) * x[2];
-    y[1] = 2 * (b * c + a * d) * x[0] + (a * a - b * b + c * c - d * d) * x[1] +
-           2 * (c * d - a * b) * x[2];
-    y[2] = 2 * (b * d - a * c) * x[0] + 2 * (c * d + a * b) * x[1] +
-           (a * a - b * b - c * c + d * d) * x[2];
-}
-
 int igea_sim_trajectory(int system, double duration, double rate, int nsamp,
                         double *traj, int ldt)
 {
@@ -116,14 +91,16 @@ int igea_sim_trajectory(int system, double duration, double rate, int nsamp,
                 body_rate(tm, duration, wm);
                 for (int a = 0; a < 3; a++)
                     v[a] = wm[a] * h;
-                quat_rotate(q, v);
+                igea__quat_rotate(q, v);
             }
         }
         body_force(t, duration, f);
         body_rate(t, duration, w);
         IGEA_AT(traj, ldt, k, 0) = t;
         if (system == IGEA_ENVFUN_PLATFORM) {
-            quat_apply(q, f, fa);
+            double C[9];
+            igea__quat_dcm(q, C);
+            igea__m3_vec(C, f, fa, 0);
             memcpy(f, fa, sizeof f);
         }
         for (int a = 0; a < 3; a++) {
@@ -548,38 +525,6 @@ int igea_sim_montecarlo(int m, int N, const double *S, int lds,
 
 /* ---- nonlinear truth model ------------------------------------------------ */
 
-/* row-major 3x3 helpers */
-static void m3_mul(const double *a, const double *b, double *c)
-{
-    double t[9];
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++)
-            t[3 * i + j] = a[3 * i] * b[j] + a[3 * i + 1] * b[3 + j] +
-                           a[3 * i + 2] * b[6 + j];
-    memcpy(c, t, sizeof t);
-}
-
-static void m3_vec(const double *a, const double *x, double *y, int trans)
-{
-    double t[3];
-    for (int i = 0; i < 3; i++)
-        t[i] = trans ? a[i] * x[0] + a[3 + i] * x[1] + a[6 + i] * x[2]
-                     : a[3 * i] * x[0] + a[3 * i + 1] * x[1] + a[3 * i + 2] * x[2];
-    memcpy(y, t, sizeof t);
-}
-
-/* exp([v x]) (Rodrigues) */
-static void m3_exp(const double *v, double *R)
-{
-    double a = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    double s = a > 1e-8 ? sin(a) / a : 1.0 - a * a / 6.0;
-    double c = a > 1e-8 ? (1.0 - cos(a)) / (a * a) : 0.5 - a * a / 24.0;
-    double K[9] = {0, -v[2], v[1], v[2], 0, -v[0], -v[1], v[0], 0}, K2[9];
-    m3_mul(K, K, K2);
-    for (int i = 0; i < 9; i++)
-        R[i] = (i % 4 == 0 ? 1.0 : 0.0) + s * K[i] + c * K2[i];
-}
-
 static void acc_errors(const double *err, const double *f, double *out)
 {
     static const int mj[6] = {0, 0, 1, 1, 2, 2}, mk[6] = {1, 2, 0, 2, 0, 1};
@@ -591,11 +536,25 @@ static void acc_errors(const double *err, const double *f, double *out)
         out[mj[i]] += err[IGEA_ENVFUN_TERM_ACC_MIS_XY + i] * f[mk[i]];
 }
 
-int igea_sim_nonlinear(int system, int nsamp, const double *traj, int ldt,
-                       const double *err, const int *axes, int nepochs,
-                       const double *epochs, double *dW)
-{
+/* The state of the two navigations of igea_sim_nonlinear: C the reference
+ * attitude (strapdown) or identity, Ch the erroneous attitude (strapdown)
+ * or the platform's C_p^a; the previous sample's values (_p) and the
+ * apparent velocities W (reference) and Wh (erroneous). */
+typedef struct {
+    const double *err;
     int in_ax[3], spin_ax[3];
+    double C[9], Ch[9];
+    double W[3], Wh[3], fa_p[3], fh_p[3], w_p[3], wh_p[3], d_p[3];
+    double t_p;
+} nav_state;
+
+/* Arguments and data of igea_sim_nonlinear: 0, -i, IGEA_ENONFINITE,
+ * IGEA_EDOMAIN; the platform axes. */
+static int nonlinear_check(int system, int nsamp, const double *traj, int ldt,
+                           const double *err, const int *axes, int nepochs,
+                           const double *epochs, const double *dW, int *in_ax,
+                           int *spin_ax)
+{
     igea__platform_axes(NULL, in_ax, spin_ax);
     if (system != IGEA_ENVFUN_STRAPDOWN && system != IGEA_ENVFUN_PLATFORM)
         return -1;
@@ -630,40 +589,119 @@ int igea_sim_nonlinear(int system, int nsamp, const double *traj, int ldt,
             epochs[e] > IGEA_AT(traj, ldt, nsamp - 1, 0) ||
             (e > 0 && epochs[e] < epochs[e - 1]))
             return -8;
-    double q[4], nq = 0.0;
-    for (int i = 0; i < 4; i++) {
-        q[i] = IGEA_AT(traj, ldt, 0, 7 + i);
-        nq += q[i] * q[i];
-    }
+    double nq = 0.0;
+    for (int i = 0; i < 4; i++)
+        nq += IGEA_AT(traj, ldt, 0, 7 + i) * IGEA_AT(traj, ldt, 0, 7 + i);
     if (system == IGEA_ENVFUN_STRAPDOWN && !(nq > 1e-200))
         return IGEA_EDOMAIN;
+    return 0;
+}
+
+/* Initial attitudes: strapdown C(0) and exp(-[phi0 x]) C(0); platform the
+ * identity and exp([alpha0 x]). */
+static void nav_init(int system, const double *traj, int ldt, nav_state *n)
+{
+    static const double I3[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    double q[4], v0[3], E[9];
+    memcpy(n->C, I3, sizeof I3);
+    if (system == IGEA_ENVFUN_STRAPDOWN) {
+        for (int i = 0; i < 4; i++)
+            q[i] = IGEA_AT(traj, ldt, 0, 7 + i);
+        igea__quat_dcm_unit(q, n->C);
+        for (int i = 0; i < 3; i++)
+            v0[i] = -n->err[IGEA_ENVFUN_TERM_ATT0_X + i];
+        igea__m3_exp(v0, E);
+        igea__m3_mul(E, n->C, n->Ch);
+    } else {
+        for (int i = 0; i < 3; i++)
+            v0[i] = n->err[IGEA_ENVFUN_TERM_ALIGN0_X + i];
+        igea__m3_exp(v0, n->Ch);
+    }
+    for (int a = 0; a < 3; a++)
+        n->W[a] = n->Wh[a] = n->fa_p[a] = n->fh_p[a] = n->w_p[a] = n->wh_p[a] =
+            n->d_p[a] = 0.0;
+    n->t_p = 0.0;
+}
+
+/* Strapdown step at sample k (time t, body f and w): both attitudes
+ * propagated with the trapezoid mean rates; fa the reference a-frame
+ * force, fh the erroneous one, wh the erroneous rate. */
+static void strapdown_step(nav_state *n, int k, double t, const double *f,
+                           const double *w, double *fa, double *fh, double *wh)
+{
+    const double *err = n->err;
+    double fb_h[3];
+    for (int a = 0; a < 3; a++)
+        wh[a] = w[a] + err[IGEA_ENVFUN_TERM_GYRO_BIAS_X + a] +
+                err[IGEA_ENVFUN_TERM_GYRO_G_X + a] * f[a] +
+                err[IGEA_ENVFUN_TERM_GYRO_SCALE_X + a] * w[a];
+    if (k > 0) {
+        double h = t - n->t_p, v[3], R[9];
+        for (int a = 0; a < 3; a++)
+            v[a] = 0.5 * h * (n->w_p[a] + w[a]);
+        igea__m3_exp(v, R);
+        igea__m3_mul(n->C, R, n->C);
+        for (int a = 0; a < 3; a++)
+            v[a] = 0.5 * h * (n->wh_p[a] + wh[a]);
+        igea__m3_exp(v, R);
+        igea__m3_mul(n->Ch, R, n->Ch);
+    }
+    acc_errors(err, f, fb_h);
+    igea__m3_vec(n->C, f, fa, 0);
+    igea__m3_vec(n->Ch, fb_h, fh, 0);
+}
+
+/* Platform drift rate eps from the platform-axis force fp. */
+static void platform_drift(const nav_state *n, const double *fp, double *eps)
+{
+    const double *err = n->err;
+    for (int j = 0; j < 3; j++)
+        eps[j] = err[IGEA_ENVFUN_TERM_GYRO_BIAS_X + j] +
+                 err[IGEA_ENVFUN_TERM_GYRO_GI_X + j] * fp[n->in_ax[j]] +
+                 err[IGEA_ENVFUN_TERM_GYRO_GS_X + j] * fp[n->spin_ax[j]];
+}
+
+/* Platform step at sample k (time t, inertial force f): the platform
+ * drifts over the step (eps at the end predicted twice); the
+ * accelerometers read the rotated force with their errors (fh), wh the
+ * drift rate at the sample. */
+static void platform_step(nav_state *n, int k, double t, const double *f,
+                          double *fa, double *fh, double *wh)
+{
+    double fp[3];
+    memcpy(fa, f, 3 * sizeof(double));
+    if (k > 0) {
+        double h = t - n->t_p, P[9], ek[3], fpk[3], v[3], R[9];
+        memcpy(P, n->Ch, sizeof P);
+        for (int it = 0; it < 2; it++) {
+            igea__m3_vec(P, fa, fpk, 1);
+            platform_drift(n, fpk, ek);
+            for (int j = 0; j < 3; j++)
+                v[j] = 0.5 * h * (n->wh_p[j] + ek[j]);
+            igea__m3_exp(v, R);
+            igea__m3_mul(n->Ch, R, P);
+        }
+        memcpy(n->Ch, P, sizeof P);
+    }
+    igea__m3_vec(n->Ch, fa, fp, 1); /* f^p = C_a^p f^a */
+    acc_errors(n->err, fp, fh);
+    platform_drift(n, fp, wh);
+}
+
+int igea_sim_nonlinear(int system, int nsamp, const double *traj, int ldt,
+                       const double *err, const int *axes, int nepochs,
+                       const double *epochs, double *dW)
+{
+    nav_state n;
+    int st = nonlinear_check(system, nsamp, traj, ldt, err, axes, nepochs,
+                             epochs, dW, n.in_ax, n.spin_ax);
+    if (st)
+        return st;
     double *out = igea__dalloc(3 * (size_t)nepochs);
     if (!out)
         return IGEA_ENOMEM;
-
-    /* C: reference attitude (strapdown) or identity; Ch: erroneous attitude
-     * (strapdown) or the platform's C_p^a */
-    double C[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, Ch[9], E[9], v0[3];
-    if (system == IGEA_ENVFUN_STRAPDOWN) {
-        double a = q[0], b = q[1], c = q[2], d = q[3];
-        nq = sqrt(nq);
-        a /= nq; b /= nq; c /= nq; d /= nq;
-        double t[9] = {a * a + b * b - c * c - d * d, 2 * (b * c - a * d), 2 * (b * d + a * c),
-                       2 * (b * c + a * d), a * a - b * b + c * c - d * d, 2 * (c * d - a * b),
-                       2 * (b * d - a * c), 2 * (c * d + a * b), a * a - b * b - c * c + d * d};
-        memcpy(C, t, sizeof t);
-        for (int i = 0; i < 3; i++)
-            v0[i] = -err[IGEA_ENVFUN_TERM_ATT0_X + i];
-        m3_exp(v0, E);
-        m3_mul(E, C, Ch);
-    } else {
-        for (int i = 0; i < 3; i++)
-            v0[i] = err[IGEA_ENVFUN_TERM_ALIGN0_X + i];
-        m3_exp(v0, Ch);
-    }
-    double W[3] = {0, 0, 0}, Wh[3] = {0, 0, 0}, fa_p[3] = {0, 0, 0}, fh_p[3] = {0, 0, 0};
-    double w_p[3] = {0, 0, 0}, wh_p[3] = {0, 0, 0}, d_p[3] = {0, 0, 0};
-    double t_p = 0.0;
+    n.err = err;
+    nav_init(system, traj, ldt, &n);
     int e = 0;
     for (int k = 0; k < nsamp && e < nepochs; k++) {
         double t = IGEA_AT(traj, ldt, k, 0), f[3], w[3], fa[3], fh[3], wh[3], d[3];
@@ -671,78 +709,33 @@ int igea_sim_nonlinear(int system, int nsamp, const double *traj, int ldt,
             f[a] = IGEA_AT(traj, ldt, k, 1 + a);
             w[a] = IGEA_AT(traj, ldt, k, 4 + a);
         }
-        if (system == IGEA_ENVFUN_STRAPDOWN) {
-            double fb_h[3];
-            for (int a = 0; a < 3; a++)
-                wh[a] = w[a] + err[IGEA_ENVFUN_TERM_GYRO_BIAS_X + a] +
-                        err[IGEA_ENVFUN_TERM_GYRO_G_X + a] * f[a] +
-                        err[IGEA_ENVFUN_TERM_GYRO_SCALE_X + a] * w[a];
-            if (k > 0) {
-                double h = t - t_p, v[3], R[9];
-                for (int a = 0; a < 3; a++)
-                    v[a] = 0.5 * h * (w_p[a] + w[a]);
-                m3_exp(v, R);
-                m3_mul(C, R, C);
-                for (int a = 0; a < 3; a++)
-                    v[a] = 0.5 * h * (wh_p[a] + wh[a]);
-                m3_exp(v, R);
-                m3_mul(Ch, R, Ch);
-            }
-            acc_errors(err, f, fb_h);
-            m3_vec(C, f, fa, 0);
-            m3_vec(Ch, fb_h, fh, 0);
-        } else {
-            double fp[3];
-            memcpy(fa, f, sizeof fa);
-            if (k > 0) {
-                /* drift over the step, eps at the end predicted twice */
-                double h = t - t_p, P[9], ek[3], fpk[3], v[3], R[9];
-                memcpy(P, Ch, sizeof P);
-                for (int it = 0; it < 2; it++) {
-                    m3_vec(P, fa, fpk, 1);
-                    for (int j = 0; j < 3; j++)
-                        ek[j] = err[IGEA_ENVFUN_TERM_GYRO_BIAS_X + j] +
-                                err[IGEA_ENVFUN_TERM_GYRO_GI_X + j] * fpk[in_ax[j]] +
-                                err[IGEA_ENVFUN_TERM_GYRO_GS_X + j] * fpk[spin_ax[j]];
-                    for (int j = 0; j < 3; j++)
-                        v[j] = 0.5 * h * (wh_p[j] + ek[j]);
-                    m3_exp(v, R);
-                    m3_mul(Ch, R, P);
-                }
-                memcpy(Ch, P, sizeof P);
-            }
-            m3_vec(Ch, fa, fp, 1); /* f^p = C_a^p f^a */
-            acc_errors(err, fp, fh);
-            for (int j = 0; j < 3; j++)
-                wh[j] = err[IGEA_ENVFUN_TERM_GYRO_BIAS_X + j] +
-                        err[IGEA_ENVFUN_TERM_GYRO_GI_X + j] * fp[in_ax[j]] +
-                        err[IGEA_ENVFUN_TERM_GYRO_GS_X + j] * fp[spin_ax[j]];
-        }
+        if (system == IGEA_ENVFUN_STRAPDOWN)
+            strapdown_step(&n, k, t, f, w, fa, fh, wh);
+        else
+            platform_step(&n, k, t, f, fa, fh, wh);
         if (k > 0) {
-            double h = t - t_p;
+            double h = t - n.t_p;
             for (int a = 0; a < 3; a++) {
-                W[a] += 0.5 * h * (fa_p[a] + fa[a]);
-                Wh[a] += 0.5 * h * (fh_p[a] + fh[a]);
+                n.W[a] += 0.5 * h * (n.fa_p[a] + fa[a]);
+                n.Wh[a] += 0.5 * h * (n.fh_p[a] + fh[a]);
             }
         }
         for (int a = 0; a < 3; a++)
-            d[a] = Wh[a] - W[a];
+            d[a] = n.Wh[a] - n.W[a];
         while (e < nepochs && epochs[e] <= t) {
-            double wgt = (k == 0) ? 1.0 : (epochs[e] - t_p) / (t - t_p);
+            double wgt = (k == 0) ? 1.0 : (epochs[e] - n.t_p) / (t - n.t_p);
             for (int a = 0; a < 3; a++)
-                out[3 * (size_t)e + a] = (1.0 - wgt) * d_p[a] + wgt * d[a];
+                out[3 * (size_t)e + a] = (1.0 - wgt) * n.d_p[a] + wgt * d[a];
             e++;
         }
-        for (int a = 0; a < 3; a++) {
-            fa_p[a] = fa[a];
-            fh_p[a] = fh[a];
-            w_p[a] = w[a];
-            wh_p[a] = wh[a];
-            d_p[a] = d[a];
-        }
-        t_p = t;
+        memcpy(n.fa_p, fa, sizeof fa);
+        memcpy(n.fh_p, fh, sizeof fh);
+        memcpy(n.w_p, w, sizeof w);
+        memcpy(n.wh_p, wh, sizeof wh);
+        memcpy(n.d_p, d, sizeof d);
+        n.t_p = t;
     }
-    int st = igea__finite_vec(3 * nepochs, out, 1) ? 0 : IGEA_ENONFINITE;
+    st = igea__finite_vec(3 * nepochs, out, 1) ? 0 : IGEA_ENONFINITE;
     if (st == 0)
         memcpy(dW, out, 3 * (size_t)nepochs * sizeof(double));
     free(out);

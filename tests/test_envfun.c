@@ -5,6 +5,7 @@
 
 #include "igea/envfun.h"
 #include "igea/sim.h"
+#include "rotation.h"
 
 #define DEG (3.14159265358979323846 / 180.0)
 #define G0 9.80665
@@ -33,25 +34,40 @@ static void m3_tvec(const double *a, const double *x, double *y)
         t[i] = a[i] * x[0] + a[3 + i] * x[1] + a[6 + i] * x[2];
     memcpy(y, t, sizeof t);
 }
-/* exp([v x]) by Rodrigues */
+/* exp([v x]) by its power series sum K^n / n! (independent of the
+ * library's closed-form Rodrigues kernel). */
 static void m3_exp(const double *v, double *R)
 {
-    double a = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    double s = a > 1e-12 ? sin(a) / a : 1.0 - a * a / 6.0;
-    double c = a > 1e-12 ? (1.0 - cos(a)) / (a * a) : 0.5 - a * a / 24.0;
-    double K[9] = {0, -v[2], v[1], v[2], 0, -v[0], -v[1], v[0], 0}, K2[9];
-    m3_mul(K, K, K2);
-    for (int i = 0; i < 9; i++)
-        R[i] = (i % 4 == 0 ? 1.0 : 0.0) + s * K[i] + c * K2[i];
+    double K[9] = {0, -v[2], v[1], v[2], 0, -v[0], -v[1], v[0], 0};
+    double T[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    memcpy(R, T, sizeof T);
+    for (int n = 1; n < 60; n++) {
+        double mx = 0.0;
+        m3_mul(T, K, T);
+        for (int i = 0; i < 9; i++) {
+            T[i] /= n;
+            R[i] += T[i];
+            mx = fmax(mx, fabs(T[i]));
+        }
+        if (mx < 1e-300 || (n > 3 && mx < 1e-18))
+            break;
+    }
 }
+/* Direction cosines of a quaternion (any norm > 0) by the axis-angle
+ * formula C = cos(t) I + (1 - cos(t)) n n^T + sin(t) [n x], t = 2 atan2(|v|,
+ * q0), n = v / |v| (independent of the library's quaternion polynomial). */
 static void q_dcm(const double *q0, double *C)
 {
-    double n = sqrt(q0[0] * q0[0] + q0[1] * q0[1] + q0[2] * q0[2] + q0[3] * q0[3]);
-    double a = q0[0] / n, b = q0[1] / n, c = q0[2] / n, d = q0[3] / n;
-    double t[9] = {a * a + b * b - c * c - d * d, 2 * (b * c - a * d), 2 * (b * d + a * c),
-                   2 * (b * c + a * d), a * a - b * b + c * c - d * d, 2 * (c * d - a * b),
-                   2 * (b * d - a * c), 2 * (c * d + a * b), a * a - b * b - c * c + d * d};
-    memcpy(C, t, sizeof t);
+    double vn = sqrt(q0[1] * q0[1] + q0[2] * q0[2] + q0[3] * q0[3]);
+    double t = 2.0 * atan2(vn, q0[0]), c = cos(t), s = sin(t);
+    double n[3] = {0, 0, 0};
+    if (vn > 0)
+        for (int i = 0; i < 3; i++)
+            n[i] = q0[1 + i] / vn;
+    double N[9] = {0, -n[2], n[1], n[2], 0, -n[0], -n[1], n[0], 0};
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            C[3 * i + j] = (i == j ? c : 0.0) + (1.0 - c) * n[i] * n[j] + s * N[3 * i + j];
 }
 
 /* Instrument errors, indexed by term code, in SI units (METHODS 5.6 sizes). */
@@ -646,6 +662,86 @@ static void test_invalid(void **state)
 #undef EF
 }
 
+/* The library's rotation kernels (src/rotation.c) against independent
+ * formulas: the axis-angle DCM, the exponential series, and the attitude
+ * ODE dq/dt = q (0, w) / 2 integrated by RK4 in small steps. */
+static void qmul_w(const double *q, const double *w, double *dq)
+{
+    dq[0] = 0.5 * (-q[1] * w[0] - q[2] * w[1] - q[3] * w[2]);
+    dq[1] = 0.5 * (q[0] * w[0] + q[2] * w[2] - q[3] * w[1]);
+    dq[2] = 0.5 * (q[0] * w[1] - q[1] * w[2] + q[3] * w[0]);
+    dq[3] = 0.5 * (q[0] * w[2] + q[1] * w[1] - q[2] * w[0]);
+}
+
+static void test_rotation_kernels(void **state)
+{
+    (void)state;
+    const double qs[4][4] = {{1, 0, 0, 0}, {0.5, -0.5, 0.5, 0.5},
+                             {0.9, 0.1, -0.3, 0.2}, {-0.2, 0.7, 0.1, -0.4}};
+    const double vs[4][3] = {{0, 0, 0}, {1e-9, -2e-9, 3e-9}, {0.3, -0.2, 0.1},
+                             {1.5, 2.0, -0.5}};
+    double C[9], Cr[9], R[9], Rr[9], y[3], yr[3];
+    for (int k = 0; k < 4; k++) {
+        double n = sqrt(qs[k][0] * qs[k][0] + qs[k][1] * qs[k][1] + qs[k][2] * qs[k][2] +
+                        qs[k][3] * qs[k][3]), u[4];
+        for (int i = 0; i < 4; i++)
+            u[i] = qs[k][i] / n;
+        q_dcm(qs[k], Cr);
+        igea__quat_dcm(u, C);
+        for (int i = 0; i < 9; i++)
+            assert_close_abs(C[i], Cr[i], 0.0, 1e-14);
+        igea__quat_dcm_unit(qs[k], C); /* not normalised on input */
+        for (int i = 0; i < 9; i++)
+            assert_close_abs(C[i], Cr[i], 0.0, 1e-14);
+        igea__m3_exp(vs[k], R);
+        m3_exp(vs[k], Rr);
+        for (int i = 0; i < 9; i++)
+            assert_close_abs(R[i], Rr[i], 0.0, 1e-14);
+        /* y = C x and C^T x; the cross product */
+        const double x[3] = {0.3, -1.2, 2.5};
+        igea__m3_vec(Cr, x, y, 0);
+        for (int i = 0; i < 3; i++) {
+            yr[i] = Cr[3 * i] * x[0] + Cr[3 * i + 1] * x[1] + Cr[3 * i + 2] * x[2];
+            assert_close_abs(y[i], yr[i], 0.0, 1e-14);
+        }
+        igea__m3_vec(Cr, x, y, 1);
+        for (int i = 0; i < 3; i++) {
+            yr[i] = Cr[i] * x[0] + Cr[3 + i] * x[1] + Cr[6 + i] * x[2];
+            assert_close_abs(y[i], yr[i], 0.0, 1e-14);
+        }
+        igea__cross(vs[3], x, y);
+        assert_close_abs(y[0], 2.0 * 2.5 - (-0.5) * (-1.2), 0.0, 1e-14);
+        assert_close_abs(y[1], -0.5 * 0.3 - 1.5 * 2.5, 0.0, 1e-14);
+        assert_close_abs(y[2], 1.5 * (-1.2) - 2.0 * 0.3, 0.0, 1e-14);
+        /* q * exp(v / 2): the ODE with the constant rate v over unit time */
+        double q[4], qi[4];
+        memcpy(q, u, sizeof q);
+        memcpy(qi, u, sizeof qi);
+        igea__quat_rotate(q, vs[k]);
+        const int nstep = 2000;
+        const double h = 1.0 / nstep;
+        for (int s = 0; s < nstep; s++) {
+            double k1[4], k2[4], k3[4], k4[4], t[4];
+            qmul_w(qi, vs[k], k1);
+            for (int i = 0; i < 4; i++) t[i] = qi[i] + 0.5 * h * k1[i];
+            qmul_w(t, vs[k], k2);
+            for (int i = 0; i < 4; i++) t[i] = qi[i] + 0.5 * h * k2[i];
+            qmul_w(t, vs[k], k3);
+            for (int i = 0; i < 4; i++) t[i] = qi[i] + h * k3[i];
+            qmul_w(t, vs[k], k4);
+            for (int i = 0; i < 4; i++)
+                qi[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+        }
+        for (int i = 0; i < 4; i++)
+            assert_close_abs(q[i], qi[i], 0.0, 1e-12);
+        /* the body-frame rotation composes on the right: C(q exp) = C(q) R */
+        q_dcm(q, C);
+        m3_mul(Cr, Rr, R);
+        for (int i = 0; i < 9; i++)
+            assert_close_abs(C[i], R[i], 0.0, 1e-13);
+    }
+}
+
 /* The catalogue: names, units and default specs of docs/envfun.md (values
  * written here from the document's units: 1 mg, 10 ug/g^2, 0.5 deg/h,
  * 0.5 deg/h/g, 1e-4), default term sets and the name <-> code mapping. */
@@ -736,6 +832,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_term_valid),
         cmocka_unit_test(test_catalogue),
+        cmocka_unit_test(test_rotation_kernels),
         cmocka_unit_test(test_closed_forms),
         cmocka_unit_test(test_spec_lds),
         cmocka_unit_test(test_invalid),
