@@ -17,8 +17,10 @@ CC      ?= cc
 PYTHON  ?= python3
 VENV    ?= .venv
 
-SOMAJOR := 1
-VERSION := 1.0.0
+# The version is include/igea/common.h's (IGEA_VERSION_MAJOR.MINOR.PATCH).
+VERSION := $(shell sed -n 's/^\#define IGEA_VERSION_\(MAJOR\|MINOR\|PATCH\) \([0-9]*\)$$/\2/p' \
+             include/igea/common.h | paste -sd. -)
+SOMAJOR := $(firstword $(subst ., ,$(VERSION)))
 
 DEB_PKGS  := liblapacke-dev libopenblas-dev libgsl-dev libcmocka-dev pkg-config
 PY_PKGS   := numpy pytest scipy
@@ -123,6 +125,12 @@ abi-check: $(SO_DEV)
 
 ctest: $(TESTS)
 	@fail=0; for t in $(TESTS); do echo "== $$t"; $$t || fail=1; done; exit $$fail
+
+# The Python mirror of the headers (committed, so that 'pip install ./python'
+# needs no make); regenerated whenever a header changes.
+python/igea/_capi.py: python/gen_capi.py $(wildcard include/igea/*.h)
+	$(PYTHON) python/gen_capi.py $@
+all pytest bench: python/igea/_capi.py
 
 pytest: $(SO_DEV) $(DRIVER) venv
 	IGEA_LIBRARY=$(CURDIR)/$(SO_MAJ) IGEA_DRIVER=$(CURDIR)/$(DRIVER) PYTHONPATH=$(CURDIR)/python \

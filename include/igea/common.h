@@ -29,12 +29,18 @@ extern "C" {
 #define IGEA_API
 #endif
 
+/* The version, written here only: the Makefile (library file name,
+ * igea.pc) and the Python package (python/igea/_capi.py) read these three
+ * lines. The soname is libigea.so.IGEA_VERSION_MAJOR. */
 #define IGEA_VERSION_MAJOR 1
-#define IGEA_VERSION_MINOR 0
+#define IGEA_VERSION_MINOR 1
 #define IGEA_VERSION_PATCH 0
 #define IGEA_VERSION_NUMBER                                                  \
     (IGEA_VERSION_MAJOR * 10000 + IGEA_VERSION_MINOR * 100 + IGEA_VERSION_PATCH)
-#define IGEA_VERSION_STRING "1.0.0"
+#define IGEA_VERSION_STR_(a, b, c) #a "." #b "." #c
+#define IGEA_VERSION_XSTR_(a, b, c) IGEA_VERSION_STR_(a, b, c)
+#define IGEA_VERSION_STRING                                                  \
+    IGEA_VERSION_XSTR_(IGEA_VERSION_MAJOR, IGEA_VERSION_MINOR, IGEA_VERSION_PATCH)
 
 /* Layout of a matrix argument, for every function that takes one:
  * IGEA_COLMAJOR, the m x n matrix column-major with ld >= max(1, m)
@@ -85,7 +91,8 @@ IGEA_API const char *igea_strerror(int status);
  */
 IGEA_API const char *igea_opt_name(int module, int slot);
 
-/* "1.0.0" and IGEA_VERSION_NUMBER of the library actually linked. */
+/* IGEA_VERSION_STRING ("1.1.0") and IGEA_VERSION_NUMBER of the library
+ * actually linked. */
 IGEA_API const char *igea_version(void);
 IGEA_API int igea_version_number(void);
 

@@ -1,155 +1,36 @@
-"""Loading libigea and the one table of its C prototypes.
+"""Loading libigea with the prototypes of its headers.
 
 The shared library is found through $IGEA_LIBRARY, then beside this
 package, then the repository's build/lib, then the system's loader path.
-Every exported symbol is declared in PROTOTYPES below (a test compares the
-table with the library's exports).
+Every function of the headers gets the ctypes prototype that
+python/gen_capi.py wrote into _capi.PROTOTYPES; the constants of the
+headers are the names of _capi (IGEA_X is _capi.X).
 """
 import ctypes
 import os
-from ctypes import POINTER, c_char_p, c_double, c_int, c_void_p
+from ctypes import POINTER, c_double, c_int
 
 import numpy as np
 
-MAJOR = 1
+from . import _capi
+
+MAJOR = _capi.VERSION_MAJOR
+PROTOTYPES = _capi.PROTOTYPES
 
 _D = POINTER(c_double)
 _I = POINTER(c_int)
-_P = c_void_p
-
-# name: (restype, [argtypes])
-PROTOTYPES = {
-    # common
-    "igea_strerror": (c_char_p, [c_int]),
-    "igea_version": (c_char_p, []),
-    "igea_version_number": (c_int, []),
-    "igea_init": (c_int, []),
-    "igea_opt_name": (c_char_p, [c_int, c_int]),
-    # stats
-    "igea_stats_normal_cdf": (c_int, [c_double, _D]),
-    "igea_stats_normal_quantile": (c_int, [c_double, _D]),
-    "igea_stats_chi2_cdf": (c_int, [c_double, c_double, _D]),
-    "igea_stats_chi2_sf": (c_int, [c_double, c_double, _D]),
-    "igea_stats_chi2_quantile": (c_int, [c_double, c_double, _D]),
-    "igea_stats_chi2_upper": (c_int, [c_double, c_double, _D]),
-    "igea_stats_accuracy_test": (c_int, [c_int, _D, _D, c_double, c_double, c_double, _D, _I, _D]),
-    "igea_stats_pool": (c_int, [c_int, _D, _I, _I, _I, c_double, _D]),
-    # normal
-    "igea_normal_accumulate": (c_int, [c_int, c_int, c_int, _D, c_int, _D, _D, c_int, _D, _D, c_int, _D, _D]),
-    "igea_normal_qr_accumulate": (c_int, [c_int, c_int, c_int, _D, c_int, _D, _D, c_int, _D, _D, c_int, _D]),
-    # eqerr
-    "igea_eqerr_defaults": (c_int, [_D]),
-    "igea_eqerr_check_opts": (c_int, [_D]),
-    "igea_eqerr_solve": (c_int, [c_int, _D, c_int, _D, _D, _D, _D, c_int, _D, _D, _I, _D]),
-    "igea_eqerr_solve_qr": (c_int, [c_int, _D, c_int, c_double, _D, _D, _D, c_int, _D, _D, _I, _D]),
-    "igea_eqerr_run": (c_int, [c_int, c_int, _D, c_int, _D, _D, c_int, _D, _D,
-                               _D, _D, c_int, _D, _D, _I, _D, _D, _D]),
-    "igea_eqerr_coef": (c_int, [c_int, _D, c_int, _D, c_int, _D, _D]),
-    "igea_eqerr_residual": (c_int, [c_int, c_int, c_int, _D, c_int, _D, _D, c_int, _D, _D]),
-    # -- further modules add their block below, one block per module --
-    # redund
-    "igea_redund_exponential": (c_int, [c_double, c_double, _D, _D]),
-    "igea_redund_reliability_series": (c_int, [c_int, _D, _D]),
-    "igea_redund_reliability_parallel": (c_int, [c_int, _D, _D]),
-    "igea_redund_reliability_kofn": (c_int, [c_int, c_int, _D, _D]),
-    "igea_redund_diagram": (c_int, [c_int, _D, c_int, _I, _I, _I, _I, _D]),
-    "igea_redund_seed002": (c_int, [c_double, c_double, _D]),
-    "igea_redund_geometry": (c_int, [c_int, _D, c_int, _D, c_int, _D]),
-    "igea_stats_erfinv": (c_int, [c_double, _D]),
-    "igea_redund_confidence_distance": (c_int, [c_int, _D, _D, _D, c_int]),
-    "igea_redund_thresholds": (c_int, [c_int, _D, _D, c_int, _D, c_int]),
-    "igea_redund_relation": (c_int, [c_int, _D, c_int, _D, c_int, _I, c_int]),
-    "igea_redund_relation_delta": (c_int, [c_int, _D, _D, c_int, _I, c_int]),
-    "igea_redund_fusion_set": (c_int, [c_int, _D, c_int, _D, c_int, c_int, _I, _I]),
-    "igea_redund_fuse": (c_int, [c_int, _D, _D, _I, c_int, _D, _D]),
-    "igea_redund_false_alarm": (c_int, [c_double, c_double, c_double, c_double, _D]),
-    "igea_redund_transform": (c_int, [c_int, _D, _D, _D]),
-    "igea_redund_parity": (c_int, [c_int, c_int, _D, c_int, _D, c_int]),
-    "igea_redund_fdi": (c_int, [c_int, c_int, _D, c_int, _D, _D, c_double, _D, _D, _I]),
-    "igea_redund_skew_check": (c_int, [c_int, _D, _D, c_int, _D, _D, c_double, c_double, c_double,
-                                       c_double, c_double, _D, _I, _I, _I]),
-    "igea_redund_window_count": (c_int, [c_int, c_double, c_double, _I]),
-    "igea_redund_monitor": (c_int, [c_int, c_int, _D, c_int, c_double, c_double, _D, _D,
-                                         c_int, c_int, c_int, c_int, _D, _I, _D, _D]),
-    "igea_redund_simulate": (c_int, [c_int, c_int, c_double, _D, _D, c_int, c_double, c_double,
-                                     c_double, c_int, _D, c_int]),
-    # stability
-    "igea_stability_block": (c_int, [c_int, _D, c_double, c_double, _D]),
-    "igea_stability_allan": (c_int, [c_int, _D, c_double, c_int, _D, c_int, c_int, c_double, _D,
-                                     _D, _D, _D, _I]),
-    "igea_stability_octave_taus": (c_int, [c_int, c_double, c_int, c_int, _D, _I]),
-    "igea_stability_noise_id": (c_int, [c_int, _D, _D, _D]),
-    # rls
-    "igea_rls_create": (c_int, [c_int, c_int, _D, _D, c_int, POINTER(c_void_p)]),
-    "igea_rls_free": (None, [c_void_p]),
-    "igea_rls_set_variant": (c_int, [c_void_p, c_int, c_int]),
-    "igea_rls_set_anomaly": (c_int, [c_void_p, c_int, c_double, _D]),
-    "igea_rls_set_forget": (c_int, [c_void_p, c_double]),
-    "igea_rls_set_covariance": (c_int, [c_void_p, c_int]),
-    "igea_rls_update": (c_int, [c_void_p, _D, c_int, _D, _D, _I]),
-    "igea_rls_run": (c_int, [c_void_p, c_int, c_int, _D, c_int, _D, _D, c_int, _D, c_int, _I,
-                             _I, _I]),
-    "igea_rls_get_x": (c_int, [c_void_p, _D]),
-    "igea_rls_get_gamma": (c_int, [c_void_p, _D, c_int]),
-    "igea_rls_get_covariance": (c_int, [c_void_p, _D, c_int]),
-    "igea_rls_get_q": (c_int, [c_void_p, _D]),
-    "igea_rls_get_counts": (c_int, [c_void_p, _I]),
-    "igea_rls_get_size": (c_int, [c_void_p, _I, _I]),
-    "igea_rls_compensate": (c_int, [c_void_p, _D, c_int, _D, _D]),
-    # regress
-    "igea_regress_ls": (c_int, [c_int, c_int, _D, c_int, _D, _D, c_double, _D, _D, c_int, _I,
-                                _D, _D]),
-    "igea_regress_ebr": (c_int, [c_int, c_int, _D, c_int, _D, _D, c_int, c_double, _D, _D, _I,
-                                 _D, _D, _D]),
-    "igea_regress_ridge": (c_int, [c_int, c_int, _D, c_int, _D, _D, c_int, c_double, _D, _D,
-                                   c_int, _D, _D, _D]),
-    "igea_regress_ridge_trace": (c_int, [c_int, c_int, _D, c_int, _D, _D, c_int, _D, _D, c_int,
-                                         _D]),
-    "igea_regress_pce": (c_int, [c_int, c_int, _D, c_int, _D, _D, c_int, c_double, _D, _D, c_int,
-                                 _I, _D, _D]),
-    "igea_regress_bayes": (c_int, [c_int, c_int, _D, c_int, _D, _D, _D, _D, c_int, _D, _D, c_int,
-                                   _D]),
-    "igea_regress_collinearity": (c_int, [c_int, c_int, _D, c_int, _D, _D, c_double, _D, _I, _D,
-                                          _D, c_int, _D, _D, _I]),
-    # envfun
-    "igea_envfun_term_valid": (c_int, [c_int, c_int]),
-    "igea_envfun_term_name": (c_char_p, [c_int]),
-    "igea_envfun_term_unit": (c_char_p, [c_int]),
-    "igea_envfun_term_code": (c_int, [c_int, c_char_p]),
-    "igea_envfun_default_spec": (c_int, [c_int, c_int, _D]),
-    "igea_envfun_default_terms": (c_int, [c_int, _I, c_int, _I]),
-    "igea_envfun_compute": (c_int, [c_int, c_int, _D, c_int, c_int, _I, _I, c_int, _D, _D,
-                                    c_int, _D, c_int]),
-    # sim
-    "igea_sim_defaults": (c_int, [_D]),
-    "igea_sim_trajectory_length": (c_int, [c_double, c_double, _I]),
-    "igea_sim_trajectory": (c_int, [c_int, c_double, c_double, c_int, _D, c_int]),
-    "igea_sim_flight": (c_int, [c_int, c_int, _D, c_int, _D, c_int, _D, _D, _I, _D, c_int,
-                                c_int, _D, _D]),
-    "igea_sim_montecarlo": (c_int, [c_int, c_int, _D, c_int, _D, c_int, _D, _D, _I, _D, c_int,
-                                    _D, c_int, c_int, c_int, _D, _I, _I, _D, _I, _I, _D]),
-    "igea_sim_nonlinear": (c_int, [c_int, c_int, _D, c_int, _D, _I, c_int, _D, _D]),
-    # accel
-    "igea_accel_schedule": (c_int, [c_int, c_double, _D]),
-    "igea_accel_merge": (c_int, [c_int, _D, _D, _D, c_double, _D, _D, _D, _I, _I]),
-    "igea_accel_to_g": (c_int, [c_int, _D, c_double, _D]),
-    "igea_accel_observe": (c_int, [c_int, c_int, _D, _D, _D, _D]),
-    "igea_accel_design": (c_int, [c_int, c_int, _D, _D, c_int]),
-    "igea_accel_combinations": (c_int, [c_int, _D, c_int]),
-    "igea_accel_analyze": (c_int, [c_int, c_int, _D, _D, _D, c_int, _D, _D, _I]),
-    "igea_accel_fit": (c_int, [c_int, c_int, c_int, _D, _D, _D, _D, c_int, c_double,
-                               _D, _D, _I, _D, _D, _D]),
-    "igea_accel_refine": (c_int, [c_int, _D, _D, _D, _D, c_int, c_double, _D, _D, _D, _D]),
-    "igea_accel_simulate": (c_int, [c_int, _D, _D, c_double, c_double, c_int, _D, _D]),
-}
 
 
 class IgeaError(Exception):
-    """A libigea call failed: .code is the status, .message its text."""
+    """A libigea call failed: .code is the status, .message its text,
+    .function the C function and .argument the name of the invalid
+    argument (status -i: the i-th parameter of the prototype) or None."""
 
-    def __init__(self, code, message, where=""):
+    def __init__(self, code, message, where="", function=None, argument=None):
         self.code = int(code)
         self.message = message
+        self.function = function
+        self.argument = argument
         super().__init__(f"{where + ': ' if where else ''}{message} (status {code})")
 
 
@@ -178,10 +59,14 @@ def _load():
 
 
 lib = _load()
-for _name, (_res, _args) in PROTOTYPES.items():
+_missing = [name for name in _capi.PROTOTYPES if not hasattr(lib, name)]
+if _missing:
+    raise ImportError("%s lacks %s: the library is older than this package's headers"
+                      % (lib._name, ", ".join(_missing)))
+for _name, (_res, _args) in _capi.PROTOTYPES.items():
     _f = getattr(lib, _name)
     _f.restype = _res
-    _f.argtypes = _args
+    _f.argtypes = [t for _, t in _args]
 
 if lib.igea_version_number() // 10000 != MAJOR:
     raise ImportError("libigea major version %d, this package needs %d"
@@ -193,16 +78,65 @@ def strerror(code):
     return lib.igea_strerror(int(code)).decode()
 
 
-def check(status, where="", argnames=None):
-    """Raise IgeaError for a negative status; return status otherwise.
+def argnames(function):
+    """The parameter names of a C function, in order (from its header)."""
+    return [n for n, _ in _capi.PROTOTYPES[function][1]]
 
-    argnames: the C argument names in order, so that -i names argument i."""
+
+def check(status, where, function):
+    """Raise IgeaError for a negative status of `function`; return status
+    otherwise. Status -i names the i-th parameter of the prototype; the
+    library-wide codes carry igea_strerror's text."""
     if status < 0:
-        msg = strerror(status)
-        if -1000 < status < 0 and argnames and -status <= len(argnames):
-            msg = "invalid argument %d (%s)" % (-status, argnames[-status - 1])
-        raise IgeaError(status, msg, where)
+        names = argnames(function)
+        if -status <= len(names):
+            arg = names[-status - 1]
+            raise IgeaError(status, "invalid argument %d (%s)" % (-status, arg), where, function,
+                            arg)
+        raise IgeaError(status, strerror(status), where, function)
     return status
+
+
+def call(where, function, *args):
+    """lib.function(*args), checked: returns the status (>= 0) or raises
+    IgeaError naming the failing argument (see check)."""
+    return check(getattr(lib, function)(*args), where, function)
+
+
+def choices(prefix, names):
+    """{name: value of the constant prefix + NAME}: a Python choice table
+    whose codes are the header's (names: a space-separated string)."""
+    return {n: getattr(_capi, prefix + n.upper()) for n in names.split()}
+
+
+def fields(array, prefix, **kinds):
+    """{name: kind(array[_capi.<PREFIX><NAME>])}: an output array of the
+    library (info, counts, out) read slot by slot by name."""
+    return {n: k(array[getattr(_capi, prefix + n.upper())]) for n, k in kinds.items()}
+
+
+def options(module, where, at, **slots):
+    """The options array of a module (module "eqerr": opts[EQERR_OPT_LEN]):
+    the library's defaults (igea_<module>_defaults), then each given slot
+    (named as its IGEA_<MODULE>_OPT_* macro, in lower case) set. Checked by
+    igea_<module>_check_opts: a bad slot raises IgeaError with the status
+    that at = (function, argument) gives for that options argument, naming
+    the slot as igea_opt_name does."""
+    m = module.upper()
+    opts = np.zeros(getattr(_capi, m + "_OPT_LEN"))
+    call(where, "igea_%s_defaults" % module, dptr(opts))
+    for name, value in slots.items():
+        opts[getattr(_capi, "%s_OPT_%s" % (m, name.upper()))] = float(value)
+    checker = "igea_%s_check_opts" % module
+    st = getattr(lib, checker)(dptr(opts)) if checker in _capi.PROTOTYPES else 0
+    if st > 0:
+        function, arg = at
+        i = argnames(function).index(arg)
+        slot = lib.igea_opt_name(getattr(_capi, "MODULE_" + m), st - 1).decode()
+        raise IgeaError(-(i + 1), "invalid argument %d (%s): the options slot %s = %r is out "
+                        "of its range" % (i + 1, arg, slot, opts[st - 1]), where, function, arg)
+    check(st, where, checker)
+    return opts
 
 
 def dptr(a):

@@ -12,15 +12,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _lib
+from . import _capi, _lib
 
-_MODELS = {"single": 0, "dual": 1}
-_METHODS = {"ls": 0, "ebr": 1}
-_RULES = {"sc": 0, "mm": 1, "ml2": 2}
-_NP = {"single": 5, "dual": 9}
-_NC = {"single": 5, "dual": 7}
-_INFO_LEN = 8
-LOADING_TOL = 1e-6
+_MODELS = _lib.choices("ACCEL_", "single dual")
+_METHODS = _lib.choices("ACCEL_", "ls ebr")
+_RULES = _lib.choices("REGRESS_EBR_", "sc mm ml2")
+_NP = _lib.choices("ACCEL_NP_", "single dual")
+_NC = _lib.choices("ACCEL_NC_", "single dual")
+LOADING_TOL = _capi.ACCEL_LOADING_TOL
 ARCSEC = np.pi / 180.0 / 3600.0
 
 
@@ -69,8 +68,8 @@ def _vec(x, name, n):
 def accel_schedule(n, start_deg=0.0):
     """n equally spaced head angles start_deg + 360 k / n (degrees)."""
     out = np.zeros(max(int(n), 1))
-    _lib.check(_lib.lib.igea_accel_schedule(int(n), float(start_deg), _lib.dptr(out)),
-               "igea.accel_schedule", ["n", "start_deg", "theta_deg"])
+    _lib.call("igea.accel_schedule", "igea_accel_schedule", int(n), float(start_deg),
+              _lib.dptr(out))
     return out
 
 
@@ -89,11 +88,9 @@ def accel_merge(angle_deg, y_a, y_b=None, *, tol_deg=1e-6):
     mb = None if yb is None else np.zeros(n)
     cnt = np.zeros(n, dtype=np.intc)
     npos = ctypes.c_int()
-    _lib.check(_lib.lib.igea_accel_merge(n, _lib.dptr(ang), _lib.dptr(ya), _lib.dptr(yb),
-                                         float(tol_deg), _lib.dptr(t), _lib.dptr(ma),
-                                         _lib.dptr(mb), _lib.iptr(cnt), ctypes.byref(npos)),
-               "igea.accel_merge", ["nrows", "angle_deg", "y_a", "y_b", "tol_deg",
-                                    "theta_deg", "ya_mean", "yb_mean", "count", "npos"])
+    _lib.call("igea.accel_merge", "igea_accel_merge", n, _lib.dptr(ang), _lib.dptr(ya),
+              _lib.dptr(yb), float(tol_deg), _lib.dptr(t), _lib.dptr(ma), _lib.dptr(mb),
+              _lib.iptr(cnt), ctypes.byref(npos))
     k = npos.value
     return t[:k].copy(), ma[:k].copy(), None if mb is None else mb[:k].copy(), cnt[:k].copy()
 
@@ -104,8 +101,8 @@ def accel_to_g(raw, scale):
     if r.shape[0] < 1:
         raise ValueError("raw: expected at least one value")
     y = np.zeros(r.shape[0])
-    _lib.check(_lib.lib.igea_accel_to_g(r.shape[0], _lib.dptr(r), float(scale), _lib.dptr(y)),
-               "igea.accel_to_g", ["n", "raw", "scale", "y"])
+    _lib.call("igea.accel_to_g", "igea_accel_to_g", r.shape[0], _lib.dptr(r), float(scale),
+              _lib.dptr(y))
     return y
 
 
@@ -117,8 +114,8 @@ def accel_design(theta_deg, *, model="dual"):
     t = _theta(theta_deg)
     n = t.shape[0]
     A = np.zeros((n, _NP[m]), order="F")
-    _lib.check(_lib.lib.igea_accel_design(_MODELS[m], n, _lib.dptr(t), _lib.dptr(A), n),
-               "igea.accel_design", ["model", "n", "theta_deg", "A", "lda"])
+    _lib.call("igea.accel_design", "igea_accel_design", _MODELS[m], n, _lib.dptr(t), _lib.dptr(A),
+              n)
     return A
 
 
@@ -126,8 +123,8 @@ def accel_combinations(model="dual"):
     """The estimable combinations as columns (np x nc)."""
     m = _model(model)
     C = np.zeros((_NP[m], _NC[m]), order="F")
-    _lib.check(_lib.lib.igea_accel_combinations(_MODELS[m], _lib.dptr(C), _NP[m]),
-               "igea.accel_combinations", ["model", "C", "ldc"])
+    _lib.call("igea.accel_combinations", "igea_accel_combinations", _MODELS[m], _lib.dptr(C),
+              _NP[m])
     return C
 
 
@@ -162,11 +159,8 @@ def accel_analyze(theta_deg, *, model="dual", axis="pa"):
     n, npar, nc = t.shape[0], _NP[m], _NC[m]
     sv, nb = np.zeros(npar), np.zeros((npar, npar), order="F")
     ld, cl, r = np.zeros(npar), np.zeros(nc), ctypes.c_int()
-    _lib.check(_lib.lib.igea_accel_analyze(_MODELS[m], n, _lib.dptr(t), _lib.dptr(sv),
-                                           _lib.dptr(nb), npar, _lib.dptr(ld), _lib.dptr(cl),
-                                           ctypes.byref(r)),
-               "igea.accel_analyze", ["model", "n", "theta_deg", "sv", "null", "ldn",
-                                      "loading", "comb_loading", "rank"])
+    _lib.call("igea.accel_analyze", "igea_accel_analyze", _MODELS[m], n, _lib.dptr(t),
+              _lib.dptr(sv), _lib.dptr(nb), npar, _lib.dptr(ld), _lib.dptr(cl), ctypes.byref(r))
     return AccelDesignInfo(m, sv, r.value, nb[:, :npar - r.value].copy(), ld, cl,
                            coefficient_names(m, axis))
 
@@ -234,19 +228,17 @@ def accel_fit(theta_deg, y_a, y_b=None, *, model="dual", method="ls", prior_scal
             yb = accel_to_g(yb, scale_b)
     ps = None if prior_scale is None else _vec(prior_scale, "prior_scale", npar)
     coef, sd, flag = np.zeros(npar), np.zeros(npar), np.zeros(npar, dtype=np.intc)
-    comb, csd, info = np.zeros(nc), np.zeros(nc), np.zeros(_INFO_LEN)
-    _lib.check(_lib.lib.igea_accel_fit(_MODELS[m], _METHODS[method], n, _lib.dptr(t),
-                                       _lib.dptr(ya), _lib.dptr(yb), _lib.dptr(ps),
-                                       _RULES[rule], float(lam_floor), _lib.dptr(coef),
-                                       _lib.dptr(sd), _lib.iptr(flag), _lib.dptr(comb),
-                                       _lib.dptr(csd), _lib.dptr(info)),
-               "igea.accel_fit", ["model", "method", "n", "theta_deg", "y_a", "y_b",
-                                  "prior_scale", "rule", "lam_floor", "coef", "sd", "flag",
-                                  "comb", "comb_sd", "info"])
+    comb, csd, info = np.zeros(nc), np.zeros(nc), np.zeros(_capi.ACCEL_INFO_LEN)
+    _lib.call("igea.accel_fit", "igea_accel_fit", _MODELS[m], _METHODS[method], n, _lib.dptr(t),
+              _lib.dptr(ya), _lib.dptr(yb), _lib.dptr(ps), _RULES[rule], float(lam_floor),
+              _lib.dptr(coef), _lib.dptr(sd), _lib.iptr(flag), _lib.dptr(comb), _lib.dptr(csd),
+              _lib.dptr(info))
     return AccelFit(m, method, coefficient_names(m, axis), coef, sd,
-                    ["prior" if f else "data" for f in flag], combination_names(m, axis),
-                    comb, csd, int(info[0]), float(info[1]), float(info[2]), float(info[3]),
-                    int(info[4]), int(info[5]))
+                    ["prior" if f == _capi.ACCEL_PRIOR else "data" for f in flag],
+                    combination_names(m, axis), comb, csd,
+                    lam=float(info[_capi.ACCEL_INFO_LAMBDA]),
+                    **_lib.fields(info, "ACCEL_INFO_", rank=int, sigma=float, rms=float, nobs=int,
+                                  dof=int))
 
 
 @dataclass(frozen=True)
@@ -277,18 +269,18 @@ def accel_refine(theta_deg, y_a, y_b, coef0, *, max_iter=50, tol=1e-13, axis="pa
     t = _theta(theta_deg)
     n = t.shape[0]
     ya, yb = _vec(y_a, "y_a", n), _vec(y_b, "y_b", n)
-    c0 = _vec(coef0, "coef0", 9)
-    coef, sd, phi, info = np.zeros(9), np.zeros(9), np.zeros(n), np.zeros(_INFO_LEN)
-    _lib.check(_lib.lib.igea_accel_refine(n, _lib.dptr(t), _lib.dptr(ya), _lib.dptr(yb),
-                                          _lib.dptr(c0), int(max_iter), float(tol),
-                                          _lib.dptr(coef), _lib.dptr(sd), _lib.dptr(phi),
-                                          _lib.dptr(info)),
-               "igea.accel_refine", ["n", "theta_deg", "y_a", "y_b", "coef0", "max_iter",
-                                     "tol", "coef", "sd", "phi_deg", "info"])
+    npar = _capi.ACCEL_NP_DUAL
+    c0 = _vec(coef0, "coef0", npar)
+    coef, sd, phi = np.zeros(npar), np.zeros(npar), np.zeros(n)
+    info = np.zeros(_capi.ACCEL_INFO_LEN)
+    _lib.call("igea.accel_refine", "igea_accel_refine", n, _lib.dptr(t), _lib.dptr(ya),
+              _lib.dptr(yb), _lib.dptr(c0), int(max_iter), float(tol), _lib.dptr(coef),
+              _lib.dptr(sd), _lib.dptr(phi), _lib.dptr(info))
     C = accel_combinations("dual")
     return AccelRefine(coefficient_names("dual", axis), coef, sd, phi, C.T @ coef,
-                       int(info[0]), float(info[1]), float(info[3]), int(info[6]),
-                       float(info[7]))
+                       iterations=int(info[_capi.ACCEL_INFO_ITER]),
+                       **_lib.fields(info, "ACCEL_INFO_", rank=int, sigma=float, rms=float,
+                                     step=float))
 
 
 def accel_simulate(theta_deg, truth, *, head_sd_arcsec=1.0, noise_sd=1e-6, seed=0):
@@ -299,14 +291,13 @@ def accel_simulate(theta_deg, truth, *, head_sd_arcsec=1.0, noise_sd=1e-6, seed=
     t = _theta(theta_deg)
     n = t.shape[0]
     tr = _lib.as_f64(truth, "truth", ndim=1)
-    if tr.shape[0] == 9:
-        tr = np.append(tr, 0.0)
-    if tr.shape[0] != 10:
-        raise ValueError(f"truth: expected 9 or 10 values, got {tr.shape[0]}")
+    if tr.shape[0] == _capi.ACCEL_NP_DUAL:
+        tr = np.append(tr, 0.0)  # delta0
+    if tr.shape[0] != _capi.ACCEL_NP_SIM:
+        raise ValueError(f"truth: expected {_capi.ACCEL_NP_DUAL} or {_capi.ACCEL_NP_SIM} values, "
+                         f"got {tr.shape[0]}")
     ya, yb = np.zeros(n), np.zeros(n)
-    _lib.check(_lib.lib.igea_accel_simulate(n, _lib.dptr(t), _lib.dptr(tr),
-                                            float(head_sd_arcsec) * ARCSEC, float(noise_sd),
-                                            int(seed), _lib.dptr(ya), _lib.dptr(yb)),
-               "igea.accel_simulate", ["n", "theta_deg", "truth", "head_sd", "noise_sd",
-                                       "seed", "y_a", "y_b"])
+    _lib.call("igea.accel_simulate", "igea_accel_simulate", n, _lib.dptr(t), _lib.dptr(tr),
+              float(head_sd_arcsec) * ARCSEC, float(noise_sd), int(seed), _lib.dptr(ya),
+              _lib.dptr(yb))
     return ya, yb

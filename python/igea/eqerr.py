@@ -3,18 +3,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import _capi
 from . import _lib
 
-# indices of the C info array (igea/stats.h)
-_N_TEST, _CHI2, _DOF, _CHI2_CRIT, _Z_CRIT, _P_VALUE, _N_REJECT, _PASSED = range(8)
-_RANK, _SCALE, _ITERATIONS, _N_SMALL, _FLAG, _N_FLIGHTS = range(8, 14)
-_INFO_LEN = 16
-_OPT_LEN = 16
-_FLAGS = {0: "converged", 1: "not_estimable", 2: "no_convergence", 3: "off"}
-_ROUTES = {"eig": 0, "svd": 1}
+_FLAGS = {v: k for k, v in _lib.choices("STATS_SIGMAW_",
+                                        "converged not_estimable no_convergence off").items()}
+_ROUTES = _lib.choices("EQERR_ROUTE_", "eig svd")
 
-_RUN_ARGS = ["m", "N", "S", "lds", "dw", "track_sigma", "sigma_inc", "spec_sigma", "opts",
-             "lambda", "P", "ldp", "equiv_err", "z", "reject", "info", "residual", "rms"]
+
+def _test_fields(info):
+    """The fields of a TestResult held in an info array (igea/stats.h)."""
+    return _lib.fields(info, "STATS_INFO_", n_test=int, chi2=float, dof=int, chi2_crit=float,
+                       z_crit=float, p_value=float, passed=bool)
 
 
 def _verdict_lines(n_test, chi2, dof, chi2_crit, p_value, n_reject, passed, alpha):
@@ -150,38 +150,30 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=0.01, lambda_test=10.0, lambda_small
         spec = _lib.as_f64(spec, "spec", ndim=1, shape=(N,))
     if route not in _ROUTES:
         raise ValueError("route: expected 'eig' or 'svd', got %r" % (route,))
-    opts = np.zeros(_OPT_LEN)
-    _lib.lib.igea_eqerr_defaults(_lib.dptr(opts))
-    opts[0:12] = [alpha, lambda_test, lambda_small, n_min, tol, max_iter,
-                  1.0 if correct_tracking else 0.0, rank_tol, 1.0 if bias_correct else 0.0,
-                  1.0 if clamp else 0.0, 0.0 if z_crit is None else z_crit, _ROUTES[route]]
+    opts = _lib.options("eqerr", "igea.eqerr", ("igea_eqerr_run", "opts"), alpha=alpha,
+                        lambda_test=lambda_test, lambda_small=lambda_small, n_min=n_min, tol=tol,
+                        max_iter=max_iter, correct=bool(correct_tracking), rank_tol=rank_tol,
+                        bias_correct=bool(bias_correct), clamp=bool(clamp),
+                        z_crit=0.0 if z_crit is None else z_crit, route=_ROUTES[route])
     lam = np.empty(N)
     P = np.empty((N, N), order="F")
     xhat = np.empty(N)
     z = np.empty(N)
     rej = np.empty(N, dtype=np.intc)
-    info = np.empty(_INFO_LEN)
+    info = np.empty(_capi.STATS_INFO_LEN)
     res = np.empty(m)
     rms = np.empty(3)
-    st = _lib.lib.igea_eqerr_run(m, N, _lib.dptr(S), m, _lib.dptr(dw), _lib.dptr(sig), sigma_inc,
-                                 _lib.dptr(spec), _lib.dptr(opts), _lib.dptr(lam), _lib.dptr(P), N,
-                                 _lib.dptr(xhat), _lib.dptr(z), _lib.iptr(rej), _lib.dptr(info),
-                                 _lib.dptr(res), _lib.dptr(rms))
-    if st < 0 and -1000 < st:
-        # Python validated shapes; map the bad option to a readable message
-        names = {9: "options (alpha in (0,1), lambda_test, lambda_small, tol > 0, n_min >= 1, "
-                    "1 <= max_iter <= 1000, 0 <= rank_tol < 1, z_crit >= 0)"}
-        raise _lib.IgeaError(st, "invalid argument %d (%s)" % (-st, names.get(-st, _RUN_ARGS[-st - 1])),
-                             "igea.eqerr")
-    _lib.check(st, "igea.eqerr")
-    nt = int(info[_N_TEST])
+    _lib.call("igea.eqerr", "igea_eqerr_run", m, N, _lib.dptr(S), m, _lib.dptr(dw),
+              _lib.dptr(sig), sigma_inc, _lib.dptr(spec), _lib.dptr(opts), _lib.dptr(lam),
+              _lib.dptr(P), N, _lib.dptr(xhat), _lib.dptr(z), _lib.iptr(rej), _lib.dptr(info),
+              _lib.dptr(res), _lib.dptr(rms))
+    test = _test_fields(info)
+    nt = test["n_test"]
     return _attach(EqerrResult(
-        eigenvalues=lam, eigenvectors=np.ascontiguousarray(P), rank=int(info[_RANK]),
-        equiv_err=xhat, n_test=nt, z=z[:nt].copy(), reject=rej[:nt] == 1,
-        chi2=float(info[_CHI2]), dof=int(info[_DOF]), chi2_crit=float(info[_CHI2_CRIT]),
-        z_crit=float(info[_Z_CRIT]), p_value=float(info[_P_VALUE]), scale=float(info[_SCALE]),
-        iterations=int(info[_ITERATIONS]), n_small=int(info[_N_SMALL]),
-        flag=_FLAGS[int(info[_FLAG])], passed=bool(info[_PASSED] == 1.0), residual=res, rms=rms),
+        eigenvalues=lam, eigenvectors=np.ascontiguousarray(P), equiv_err=xhat, z=z[:nt].copy(),
+        reject=rej[:nt] == 1, flag=_FLAGS[int(info[_capi.STATS_INFO_FLAG])], residual=res,
+        rms=rms, **test, **_lib.fields(info, "STATS_INFO_", rank=int, scale=float,
+                                        iterations=int, n_small=int)),
         alpha=float(alpha), lambda_small=float(lambda_small))
 
 
@@ -198,17 +190,12 @@ def accuracy_test(equiv_err, eigenvalues, *, alpha=0.01, lambda_test=10.0, z_cri
     lam = _lib.as_f64(eigenvalues, "eigenvalues", ndim=1, shape=(n,))
     z = np.empty(n)
     rej = np.empty(n, dtype=np.intc)
-    info = np.empty(_INFO_LEN)
-    st = _lib.lib.igea_stats_accuracy_test(n, _lib.dptr(x), _lib.dptr(lam), float(alpha),
-                                           float(lambda_test), 0.0 if z_crit is None else float(z_crit),
-                                           _lib.dptr(z), _lib.iptr(rej), _lib.dptr(info))
-    _lib.check(st, "igea.accuracy_test",
-               ["n", "equiv_err", "eigenvalues", "alpha", "lambda_test", "z_crit"])
+    info = np.empty(_capi.STATS_INFO_LEN)
+    _lib.call("igea.accuracy_test", "igea_stats_accuracy_test", n, _lib.dptr(x), _lib.dptr(lam),
+              float(alpha), float(lambda_test), 0.0 if z_crit is None else float(z_crit),
+              _lib.dptr(z), _lib.iptr(rej), _lib.dptr(info))
     tested = rej >= 0
-    return _attach(TestResult(n_test=int(info[_N_TEST]), z=z[tested], reject=rej[tested] == 1,
-                              chi2=float(info[_CHI2]), dof=int(info[_DOF]),
-                              chi2_crit=float(info[_CHI2_CRIT]), z_crit=float(info[_Z_CRIT]),
-                              p_value=float(info[_P_VALUE]), passed=bool(info[_PASSED] == 1.0)),
+    return _attach(TestResult(z=z[tested], reject=rej[tested] == 1, **_test_fields(info)),
                    alpha=float(alpha), equiv_err=x[tested], eigenvalues=lam[tested])
 
 
@@ -233,14 +220,9 @@ def pool(results, *, alpha=0.01, unit_ids=None):
         uid = np.asarray(unit_ids, dtype=np.intc)
         if uid.shape != (len(results),):
             raise ValueError("unit_ids: expected %d ids, got shape %s" % (len(results), uid.shape))
-    info = np.empty(_INFO_LEN)
-    st = _lib.lib.igea_stats_pool(len(results), _lib.dptr(chi2), _lib.iptr(dof), _lib.iptr(nrej),
-                                  _lib.iptr(uid), float(alpha), _lib.dptr(info))
-    _lib.check(st, "igea.pool", ["nflights", "chi2", "dof", "n_reject", "unit_id", "alpha"])
+    info = np.empty(_capi.STATS_INFO_LEN)
+    _lib.call("igea.pool", "igea_stats_pool", len(results), _lib.dptr(chi2), _lib.iptr(dof),
+              _lib.iptr(nrej), _lib.iptr(uid), float(alpha), _lib.dptr(info))
     z = np.concatenate([np.asarray(get(r, "z"), dtype=float) for r in results])
     rej = np.concatenate([np.asarray(get(r, "reject"), dtype=bool) for r in results])
-    return _attach(TestResult(n_test=int(info[_N_TEST]), z=z, reject=rej, chi2=float(info[_CHI2]),
-                              dof=int(info[_DOF]), chi2_crit=float(info[_CHI2_CRIT]),
-                              z_crit=float(info[_Z_CRIT]), p_value=float(info[_P_VALUE]),
-                              passed=bool(info[_PASSED] == 1.0)),
-                   alpha=float(alpha))
+    return _attach(TestResult(z=z, reject=rej, **_test_fields(info)), alpha=float(alpha))

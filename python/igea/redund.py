@@ -6,9 +6,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _lib
+from . import _capi, _lib
 
-_BLOCK = {"series": 0, "parallel": 1, "kofn": 2}
+_BLOCK = _lib.choices("REDUND_RBD_", "series parallel kofn")
 
 
 def _vec(x, name, n=None):
@@ -50,38 +50,31 @@ def _dout():
 def reliability_exponential(lam, t):
     """(R, MTBF) of an exponential component: R = exp(-lam t), MTBF = 1/lam."""
     R, m = _dout(), _dout()
-    _lib.check(_lib.lib.igea_redund_exponential(float(lam), float(t), ctypes.byref(R),
-                                                ctypes.byref(m)),
-               "igea.reliability_exponential", ["lambda", "t", "R", "mtbf"])
+    _lib.call("igea.reliability_exponential", "igea_redund_exponential", float(lam), float(t),
+              ctypes.byref(R), ctypes.byref(m))
     return R.value, m.value
 
 
 def _rel_fn(fn, where, R, *extra):
     r = _vec(R, "R")
     out = _dout()
-    if extra:
-        st = fn(r.size, extra[0], _lib.dptr(r), ctypes.byref(out))
-        names = ["n", "k", "R", "out"]
-    else:
-        st = fn(r.size, _lib.dptr(r), ctypes.byref(out))
-        names = ["n", "R", "out"]
-    _lib.check(st, where, names)
+    _lib.call(where, fn, r.size, *extra, _lib.dptr(r), ctypes.byref(out))
     return out.value
 
 
 def reliability_series(R):
     """All components must work."""
-    return _rel_fn(_lib.lib.igea_redund_reliability_series, "igea.reliability_series", R)
+    return _rel_fn("igea_redund_reliability_series", "igea.reliability_series", R)
 
 
 def reliability_parallel(R):
     """One working component suffices."""
-    return _rel_fn(_lib.lib.igea_redund_reliability_parallel, "igea.reliability_parallel", R)
+    return _rel_fn("igea_redund_reliability_parallel", "igea.reliability_parallel", R)
 
 
 def reliability_kofn(R, k):
     """At least k of the independent components work (exact for unequal R)."""
-    return _rel_fn(_lib.lib.igea_redund_reliability_kofn, "igea.reliability_kofn", R, int(k))
+    return _rel_fn("igea_redund_reliability_kofn", "igea.reliability_kofn", R, int(k))
 
 
 def reliability_diagram(R, blocks):
@@ -106,11 +99,8 @@ def reliability_diagram(R, blocks):
         first.append(len(members))
     ti, ki, fi, mi = (np.array(v, dtype=np.intc) for v in (types, ks, first, members))
     out = np.empty(len(blocks))
-    _lib.check(_lib.lib.igea_redund_diagram(r.size, _lib.dptr(r), len(blocks), _lib.iptr(ti),
-                                            _lib.iptr(ki), _lib.iptr(fi), _lib.iptr(mi),
-                                            _lib.dptr(out)),
-               "igea.reliability_diagram",
-               ["ncomp", "R", "nblock", "type", "k", "first", "member", "Rblock"])
+    _lib.call("igea.reliability_diagram", "igea_redund_diagram", r.size, _lib.dptr(r), len(blocks),
+              _lib.iptr(ti), _lib.iptr(ki), _lib.iptr(fi), _lib.iptr(mi), _lib.dptr(out))
     return out
 
 
@@ -137,10 +127,13 @@ class Seed002Reliability:
 
 
 def reliability_seed002(Re1=0.992, Re2=0.995):
-    out = np.empty(7)
-    _lib.check(_lib.lib.igea_redund_seed002(float(Re1), float(Re2), _lib.dptr(out)),
-               "igea.reliability_seed002", ["Re1", "Re2", "out"])
-    return Seed002Reliability(*[float(v) for v in out])
+    out = np.empty(_capi.REDUND_SEED002_LEN)
+    _lib.call("igea.reliability_seed002", "igea_redund_seed002", float(Re1), float(Re2),
+              _lib.dptr(out))
+    return Seed002Reliability(**{f: float(out[getattr(_capi, "REDUND_SEED002_" + s)]) for f, s in (
+        ("gyro", "GYRO"), ("acc_eq7", "ACC_EQ7"), ("system_eq7", "SYS_EQ7"),
+        ("system_without_skew", "SYS_NO_D"), ("non_redundant", "NONREDUND"),
+        ("system_exact", "SYS_EXACT"), ("acc_exact", "ACC_EXACT"))})
 
 
 @dataclass(frozen=True)
@@ -166,11 +159,11 @@ def reliability_geometry(axes, R, *, fdi=True):
     if n < 1:
         raise ValueError("axes: at least one sensor is needed")
     r = _vec(R, "R", n)
-    out = np.empty(4)
-    _lib.check(_lib.lib.igea_redund_geometry(n, _lib.dptr(a), n, _lib.dptr(r), int(bool(fdi)),
-                                             _lib.dptr(out)),
-               "igea.reliability_geometry", ["n", "axes", "lda", "R", "fdi", "out"])
-    return GeometryReliability(float(out[0]), float(out[1]), float(out[2]), int(out[3]))
+    out = np.empty(_capi.REDUND_GEOM_LEN)
+    _lib.call("igea.reliability_geometry", "igea_redund_geometry", n, _lib.dptr(a), n,
+              _lib.dptr(r), int(bool(fdi)), _lib.dptr(out))
+    return GeometryReliability(**_lib.fields(out, "REDUND_GEOM_", span=float, detect=float,
+                                             isolate=float, classes=int))
 
 
 # ---- consistency and fusion --------------------------------------------------
@@ -178,8 +171,7 @@ def reliability_geometry(axes, R, *, fdi=True):
 def erfinv(y):
     """Inverse error function, -1 < y < 1."""
     out = _dout()
-    _lib.check(_lib.lib.igea_stats_erfinv(float(y), ctypes.byref(out)), "igea.erfinv",
-               ["y", "x"])
+    _lib.call("igea.erfinv", "igea_stats_erfinv", float(y), ctypes.byref(out))
     return out.value
 
 
@@ -191,9 +183,8 @@ def confidence_distance(x, sigma):
         raise ValueError("x: at least one measurement is needed")
     s = _vec(sigma, "sigma", n)
     D = np.empty((n, n), order="F")
-    _lib.check(_lib.lib.igea_redund_confidence_distance(n, _lib.dptr(xv), _lib.dptr(s),
-                                                        _lib.dptr(D), n),
-               "igea.confidence_distance", ["n", "x", "sigma", "D", "ldd"])
+    _lib.call("igea.confidence_distance", "igea_redund_confidence_distance", n, _lib.dptr(xv),
+              _lib.dptr(s), _lib.dptr(D), n)
     return D
 
 
@@ -204,9 +195,8 @@ def thresholds(sigma, alpha=0.7, n=None):
     m = s.size
     a, lda = _alpha(alpha, m)
     delta = np.empty((m, m), order="F")
-    _lib.check(_lib.lib.igea_redund_thresholds(m, _lib.dptr(s), _lib.dptr(a), lda,
-                                               _lib.dptr(delta), m),
-               "igea.thresholds", ["n", "sigma", "alpha", "lda", "delta", "ldd"])
+    _lib.call("igea.thresholds", "igea_redund_thresholds", m, _lib.dptr(s), _lib.dptr(a), lda,
+              _lib.dptr(delta), m)
     return delta
 
 
@@ -216,9 +206,8 @@ def relation(D, alpha=0.7):
     n = d.shape[0]
     a, lda = _alpha(alpha, n)
     r = np.empty((n, n), dtype=np.intc, order="F")
-    _lib.check(_lib.lib.igea_redund_relation(n, _lib.dptr(d), n, _lib.dptr(a), lda,
-                                             _lib.iptr(r), n),
-               "igea.relation", ["n", "D", "ldd", "alpha", "lda", "r", "ldr"])
+    _lib.call("igea.relation", "igea_redund_relation", n, _lib.dptr(d), n, _lib.dptr(a), lda,
+              _lib.iptr(r), n)
     return r.astype(int)
 
 
@@ -228,11 +217,8 @@ def _fusion(D, alpha, iterative):
     a, lda = _alpha(alpha, n)
     keep = np.empty(n, dtype=np.intc)
     sup = np.empty(n, dtype=np.intc)
-    _lib.check(_lib.lib.igea_redund_fusion_set(n, _lib.dptr(d), n, _lib.dptr(a), lda,
-                                               int(bool(iterative)), _lib.iptr(keep),
-                                               _lib.iptr(sup)),
-               "igea.fusion_set",
-               ["n", "D", "ldd", "alpha", "lda", "iterative", "keep", "support"])
+    _lib.call("igea.fusion_set", "igea_redund_fusion_set", n, _lib.dptr(d), n, _lib.dptr(a), lda,
+              int(bool(iterative)), _lib.iptr(keep), _lib.iptr(sup))
     return keep.astype(bool), sup.astype(int)
 
 
@@ -262,9 +248,8 @@ def fuse(x, sigma, mask=None, *, weighted=True):
             raise ValueError(f"mask: expected shape ({n},), got {m.shape}")
         keep = np.ascontiguousarray(m.astype(bool), dtype=np.intc)
     v, fs = _dout(), _dout()
-    _lib.check(_lib.lib.igea_redund_fuse(n, _lib.dptr(xv), _lib.dptr(s), _lib.iptr(keep),
-                                         int(bool(weighted)), ctypes.byref(v), ctypes.byref(fs)),
-               "igea.fuse", ["n", "x", "sigma", "keep", "weighted", "value", "fused_sigma"])
+    _lib.call("igea.fuse", "igea_redund_fuse", n, _lib.dptr(xv), _lib.dptr(s), _lib.iptr(keep),
+              int(bool(weighted)), ctypes.byref(v), ctypes.byref(fs))
     return v.value, fs.value
 
 
@@ -274,9 +259,8 @@ def false_alarm(sigma_i, noise_i, noise_j=None, alpha=0.7):
     if noise_j is None:
         noise_j = noise_i
     p = _dout()
-    _lib.check(_lib.lib.igea_redund_false_alarm(float(sigma_i), float(noise_i), float(noise_j),
-                                                float(alpha), ctypes.byref(p)),
-               "igea.false_alarm", ["sigma_i", "noise_i", "noise_j", "alpha", "p"])
+    _lib.call("igea.false_alarm", "igea_redund_false_alarm", float(sigma_i), float(noise_i),
+              float(noise_j), float(alpha), ctypes.byref(p))
     return p.value
 
 
@@ -290,8 +274,8 @@ def transform(C, v):
     cf = np.ascontiguousarray(np.transpose(c, (0, 2, 1)))  # each 3x3 column-major
     vf = np.ascontiguousarray(vv)
     out = np.empty((g, 3))
-    _lib.check(_lib.lib.igea_redund_transform(g, _lib.dptr(cf), _lib.dptr(vf), _lib.dptr(out)),
-               "igea.transform", ["ngroup", "C", "v", "out"])
+    _lib.call("igea.transform", "igea_redund_transform", g, _lib.dptr(cf), _lib.dptr(vf),
+              _lib.dptr(out))
     return out
 
 
@@ -304,8 +288,8 @@ def parity_matrix(H):
     if q < 1 or m <= q:
         raise ValueError(f"H: expected shape (m, q) with m > q >= 1, got {h.shape}")
     V = np.empty((m - q, m), order="F")
-    _lib.check(_lib.lib.igea_redund_parity(m, q, _lib.dptr(h), m, _lib.dptr(V), m - q),
-               "igea.parity_matrix", ["m", "q", "H", "ldh", "V", "ldv"])
+    _lib.call("igea.parity_matrix", "igea_redund_parity", m, q, _lib.dptr(h), m, _lib.dptr(V),
+              m - q)
     return V
 
 
@@ -342,15 +326,15 @@ def fdi(H, y, sigma, pfa=0.01):
     yv = _vec(y, "y", m)
     s = _vec(sigma, "sigma", m)
     par = np.empty(m - q)
-    info = np.empty(8)
+    info = np.empty(_capi.REDUND_FDI_LEN)
     iso = ctypes.c_int()
-    _lib.check(_lib.lib.igea_redund_fdi(m, q, _lib.dptr(h), m, _lib.dptr(yv), _lib.dptr(s),
-                                        float(pfa), _lib.dptr(par), _lib.dptr(info),
-                                        ctypes.byref(iso)),
-               "igea.fdi", ["m", "q", "H", "ldh", "y", "sigma", "pfa", "parity", "info",
-                            "isolated"])
-    return FdiResult(float(info[0]), float(info[1]), int(info[2]), float(info[3]),
-                     bool(info[4]), int(iso.value), float(info[6]), bool(info[7]), par)
+    _lib.call("igea.fdi", "igea_redund_fdi", m, q, _lib.dptr(h), m, _lib.dptr(yv), _lib.dptr(s),
+              float(pfa), _lib.dptr(par), _lib.dptr(info), ctypes.byref(iso))
+    return FdiResult(statistic=float(info[_capi.REDUND_FDI_STAT]),
+                     isolation_statistic=float(info[_capi.REDUND_FDI_ISO_STAT]),
+                     isolated=int(iso.value), parity=par,
+                     **_lib.fields(info, "REDUND_FDI_", threshold=float, dof=int, p_value=float,
+                                   detected=bool, isolable=bool))
 
 
 @dataclass(frozen=True)
@@ -385,12 +369,10 @@ def skew_check(ay, sy, az, sz, ad, sd, *, axis=(0.7071067811865476, 0.7071067811
     fy = np.empty(y.size, dtype=np.intc)
     fz = np.empty(z.size, dtype=np.intc)
     fd = ctypes.c_int()
-    _lib.check(_lib.lib.igea_redund_skew_check(
-        y.size, _lib.dptr(y), _lib.dptr(syv), z.size, _lib.dptr(z), _lib.dptr(szv), float(ad),
-        float(sd), float(axis[0]), float(axis[1]), float(kappa), _lib.dptr(res), _lib.iptr(fy),
-        _lib.iptr(fz), ctypes.byref(fd)),
-        "igea.skew_check", ["ny", "ay", "sy", "nz", "az", "sz", "ad", "sd", "cy", "cz", "kappa",
-                            "resid", "faulty_y", "faulty_z", "faulty_d"])
+    _lib.call("igea.skew_check", "igea_redund_skew_check", y.size, _lib.dptr(y), _lib.dptr(syv),
+              z.size, _lib.dptr(z), _lib.dptr(szv), float(ad), float(sd), float(axis[0]),
+              float(axis[1]), float(kappa), _lib.dptr(res), _lib.iptr(fy), _lib.iptr(fz),
+              ctypes.byref(fd))
     return SkewCheck(res, fy.astype(bool), fz.astype(bool), bool(fd.value))
 
 
@@ -445,9 +427,8 @@ def series_check(y, fs, window, sigma, alpha=0.7, *, iterative=True, weighted=Tr
     s = _vec(sigma, "sigma", nsens)
     al, lda = _alpha(alpha, nsens)
     nwin = ctypes.c_int()
-    _lib.check(_lib.lib.igea_redund_window_count(nsamp, float(fs), float(window),
-                                                 ctypes.byref(nwin)),
-               "igea.series_check", ["nsamp", "fs", "window", "nwin"])
+    _lib.call("igea.series_check", "igea_redund_window_count", nsamp, float(fs), float(window),
+              ctypes.byref(nwin))
     nw = nwin.value
     if nw < 1:
         raise ValueError("y: shorter than one window")
@@ -455,13 +436,10 @@ def series_check(y, fs, window, sigma, alpha=0.7, *, iterative=True, weighted=Tr
     ex = np.empty((nsens, nw), dtype=np.intc, order="F")
     fused = np.empty(nw)
     fsig = np.empty(nw)
-    _lib.check(_lib.lib.igea_redund_monitor(
-        nsamp, nsens, _lib.dptr(a), nsamp, float(fs), float(window), _lib.dptr(s),
-        _lib.dptr(al), lda, int(bool(iterative)), int(bool(weighted)), nw, _lib.dptr(means),
-        _lib.iptr(ex), _lib.dptr(fused), _lib.dptr(fsig)),
-        "igea.series_check",
-        ["nsamp", "nsens", "y", "ldy", "fs", "window", "sigma", "alpha", "lda", "iterative",
-         "weighted", "nwin", "means", "excluded", "fused", "fused_sigma"])
+    _lib.call("igea.series_check", "igea_redund_monitor", nsamp, nsens, _lib.dptr(a), nsamp,
+              float(fs), float(window), _lib.dptr(s), _lib.dptr(al), lda, int(bool(iterative)),
+              int(bool(weighted)), nw, _lib.dptr(means), _lib.iptr(ex), _lib.dptr(fused),
+              _lib.dptr(fsig))
     step = round(window * fs) / fs
     return SeriesCheck(np.arange(nw) * step, step, means.T.copy(), ex.T.astype(bool), fused,
                        fsig)
@@ -475,11 +453,7 @@ def simulate_redundant(nsamp, fs, level, noise, *, fault_sensor=-1, t0=0.0, t1=0
     n = lv.size
     nz = _vec(noise, "noise", n)
     y = np.empty((nsamp, n), order="F")
-    _lib.check(_lib.lib.igea_redund_simulate(int(nsamp), n, float(fs), _lib.dptr(lv),
-                                             _lib.dptr(nz), int(fault_sensor), float(t0),
-                                             float(t1), float(bias), int(seed), _lib.dptr(y),
-                                             max(1, int(nsamp))),
-               "igea.simulate_redundant",
-               ["nsamp", "nsens", "fs", "level", "noise", "fault_sensor", "t0", "t1",
-                "fault_bias", "seed", "y", "ldy"])
+    _lib.call("igea.simulate_redundant", "igea_redund_simulate", int(nsamp), n, float(fs),
+              _lib.dptr(lv), _lib.dptr(nz), int(fault_sensor), float(t0), float(t1), float(bias),
+              int(seed), _lib.dptr(y), max(1, int(nsamp)))
     return y

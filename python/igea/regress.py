@@ -8,25 +8,13 @@ import numpy as np
 
 from . import _lib
 
-_EBR_RULES = {"sc": 0, "mm": 1, "ml2": 2}
-_RIDGE_RULES = {"fixed": 0, "hkb": 1, "lw": 2, "gcv": 3, "loo": 4}
-
-_LS_ARGS = ["m", "N", "A", "lda", "y", "sigma", "rcond", "x", "cov", "ldc", "rank", "sigma2",
-            "residual"]
-_EBR_ARGS = ["m", "N", "A", "lda", "y", "prior_scale", "rule", "lam_floor", "beta", "lam",
-             "rank", "shrink", "sd_post", "sd_freq"]
-_RIDGE_ARGS = ["m", "N", "A", "lda", "y", "sigma", "rule", "k", "x", "cov", "ldc", "k_used",
-               "sigma2", "residual"]
-_TRACE_ARGS = ["m", "N", "A", "lda", "y", "sigma", "nk", "k", "X", "ldx", "edf"]
-_PCE_ARGS = ["m", "N", "A", "lda", "y", "sigma", "ncomp", "eig_min", "x", "cov", "ldc", "nused",
-             "sigma2", "residual"]
-_BAYES_ARGS = ["m", "N", "A", "lda", "y", "sigma", "prior_mean", "prior_cov", "ldp", "x", "cov",
-               "ldc", "residual"]
-_COLL_ARGS = ["m", "N", "A", "lda", "y", "sigma", "rcond", "cond", "rank", "eig", "V", "ldv",
-              "vif", "sd_comb", "prior_det"]
+_EBR_RULES = _lib.choices("REGRESS_EBR_", "sc mm ml2")
+_RIDGE_RULES = _lib.choices("REGRESS_RIDGE_", "fixed hkb lw gcv loo")
 
 
-def _design(A, y, sigma=None, y_optional=False):
+def _design(A, y, sigma=None, spec=None, y_optional=False):
+    """A, m, N, y, sigma (m,) or None, spec (N,) or None: the arrays of the
+    igea_regress_* arguments A, y, sigma and spec_sigma."""
     A = _lib.as_f64(A, "A", ndim=2)
     m, N = A.shape
     if m < 1 or N < 1:
@@ -41,7 +29,8 @@ def _design(A, y, sigma=None, y_optional=False):
             sg = np.full(m, float(sigma))
         else:
             sg = _lib.as_f64(sigma, "sigma", ndim=1, shape=(m,))
-    return A, m, N, yv, sg
+    sp = None if spec is None else _lib.as_f64(spec, "spec", ndim=1, shape=(N,))
+    return A, m, N, yv, sg, sp
 
 
 def _names(N, names):
@@ -93,15 +82,21 @@ class LsResult:
 
 @dataclass(frozen=True)
 class EbrResult:
-    """Empirical-Bayes ridge (METHODS 4.3)."""
+    """Empirical-Bayes ridge (METHODS 4.3); sd: the posterior sds."""
     x: np.ndarray
+    cov: np.ndarray
     lam: float
     rank: int
+    sigma2: float
+    residual: np.ndarray
     shrink: np.ndarray
-    sd_posterior: np.ndarray
     sd_frequentist: np.ndarray
     rule: str = "sc"
     names: tuple = None
+
+    @property
+    def sd(self):
+        return np.sqrt(np.diag(self.cov))
 
     def summary(self):
         N = len(self.x)
@@ -112,7 +107,7 @@ class EbrResult:
         if self.rank < N:
             lines.append("%d null direction(s): the coefficients touching them are set by the "
                          "prior, not by the data (METHODS 4.3 caveat)" % (N - self.rank))
-        lines += _coef_table(_names(N, self.names), self.x, self.sd_posterior,
+        lines += _coef_table(_names(N, self.names), self.x, self.sd,
                              [("sd_frequentist", self.sd_frequentist)], sd_name="sd_posterior")
         return "\n".join(lines)
 
@@ -240,58 +235,57 @@ class Collinearity:
         return "\n".join(lines)
 
 
-def ls(A, y, sigma=None, *, rcond=0.0, names=None):
+def ls(A, y, sigma=None, *, spec=None, rcond=0.0, names=None):
     """Weighted least squares by SVD; minimum-norm solution if rank-deficient.
 
-    A: (m, N), y: (m,), sigma: None, a number or (m,) row sds; rcond <= 0
-    for the default rank cut max(m, N) eps. Returns LsResult(x, cov, rank,
+    A: (m, N), y: (m,), sigma: None, a number or (m,) row sds; spec: None
+    or (N,) column scales (the 1-sigma specs: every estimator then works on
+    A diag(spec) and returns x, cov in A's units); rcond <= 0 for the
+    default rank cut max(m, N) eps. Returns LsResult(x, cov, rank,
     sigma2, residual)."""
-    A, m, N, y, sg = _design(A, y, sigma)
+    A, m, N, y, sg, sp = _design(A, y, sigma, spec)
     x = np.empty(N)
     cov = np.empty((N, N), order="F")
     rank = np.zeros(1, dtype=np.intc)
     s2 = np.zeros(1)
     res = np.empty(m)
-    st = _lib.lib.igea_regress_ls(m, N, _lib.dptr(A), m, _lib.dptr(y), _lib.dptr(sg),
-                                  float(rcond), _lib.dptr(x), _lib.dptr(cov), N, _lib.iptr(rank),
-                                  _lib.dptr(s2), _lib.dptr(res))
-    _lib.check(st, "igea.ls", _LS_ARGS)
+    _lib.call("igea.ls", "igea_regress_ls", m, N, _lib.dptr(A), m, _lib.dptr(y), _lib.dptr(sg),
+              _lib.dptr(sp), float(rcond), _lib.dptr(x), _lib.dptr(cov), N, _lib.iptr(rank),
+              _lib.dptr(s2), _lib.dptr(res))
     return LsResult(x=x, cov=np.ascontiguousarray(cov), rank=int(rank[0]), sigma2=float(s2[0]),
                     residual=res, names=None if names is None else tuple(_names(N, names)))
 
 
-def ebr(A, y, *, rule="sc", prior_scale=None, lam_floor=0.0, names=None):
+def ebr(A, y, sigma=None, *, spec=None, rule="sc", lam_floor=0.0, names=None):
     """Empirical-Bayes ridge exactly as METHODS 4.3.
 
-    rule: "sc" (Shinozaki-Chang, eq. 17), "mm" or "ml2"; prior_scale: (N,)
-    D_s or None; lam_floor >= 0. Returns EbrResult(x, lam, rank, shrink,
-    sd_posterior, sd_frequentist)."""
-    A, m, N, y, _ = _design(A, y)
+    sigma: None, a number or (m,) row sds; spec: (N,) prior scales (the
+    1-sigma specs, D of METHODS 4.3) or None; rule: "sc" (Shinozaki-Chang,
+    eq. 17), "mm" or "ml2"; lam_floor >= 0. Returns EbrResult(x, cov, lam,
+    rank, sigma2, residual, shrink, sd_frequentist; sd the posterior sds)."""
+    A, m, N, y, sg, sp = _design(A, y, sigma, spec)
     if rule not in _EBR_RULES:
         raise ValueError("rule: expected 'sc', 'mm' or 'ml2', got %r" % (rule,))
-    ps = None if prior_scale is None else _lib.as_f64(prior_scale, "prior_scale", ndim=1,
-                                                      shape=(N,))
-    beta = np.empty(N)
-    lam = np.zeros(1)
+    x, cov = np.empty(N), np.empty((N, N), order="F")
+    lam, s2 = np.zeros(1), np.zeros(1)
     rank = np.zeros(1, dtype=np.intc)
-    sh, sp, sf = np.empty(N), np.empty(N), np.empty(N)
-    st = _lib.lib.igea_regress_ebr(m, N, _lib.dptr(A), m, _lib.dptr(y), _lib.dptr(ps),
-                                   _EBR_RULES[rule], float(lam_floor), _lib.dptr(beta),
-                                   _lib.dptr(lam), _lib.iptr(rank), _lib.dptr(sh), _lib.dptr(sp),
-                                   _lib.dptr(sf))
-    _lib.check(st, "igea.ebr", _EBR_ARGS)
-    return EbrResult(x=beta, lam=float(lam[0]), rank=int(rank[0]), shrink=sh, sd_posterior=sp,
-                     sd_frequentist=sf, rule=rule,
+    res, sh, sf = np.empty(m), np.empty(N), np.empty(N)
+    _lib.call("igea.ebr", "igea_regress_ebr", m, N, _lib.dptr(A), m, _lib.dptr(y), _lib.dptr(sg),
+              _lib.dptr(sp), _EBR_RULES[rule], float(lam_floor), _lib.dptr(x), _lib.dptr(cov), N,
+              _lib.dptr(lam), _lib.iptr(rank), _lib.dptr(s2), _lib.dptr(res), _lib.dptr(sh),
+              _lib.dptr(sf))
+    return EbrResult(x=x, cov=np.ascontiguousarray(cov), lam=float(lam[0]), rank=int(rank[0]),
+                     sigma2=float(s2[0]), residual=res, shrink=sh, sd_frequentist=sf, rule=rule,
                      names=None if names is None else tuple(_names(N, names)))
 
 
-def ridge(A, y, sigma=None, *, k=None, rule=None, names=None):
+def ridge(A, y, sigma=None, *, spec=None, k=None, rule=None, names=None):
     """Ridge regression on the design as given (scale the columns first).
 
     Either k (a number >= 0) or rule in "hkb" (Hoerl-Kennard-Baldwin), "lw"
     (Lawless-Wang), "gcv", "loo". Returns RidgeResult(x, cov, k, rule,
     sigma2, residual)."""
-    A, m, N, y, sg = _design(A, y, sigma)
+    A, m, N, y, sg, sp = _design(A, y, sigma, spec)
     if (k is None) == (rule is None):
         raise ValueError("k, rule: give exactly one of them")
     if rule is None:
@@ -303,35 +297,32 @@ def ridge(A, y, sigma=None, *, k=None, rule=None, names=None):
     ku = np.zeros(1)
     s2 = np.zeros(1)
     res = np.empty(m)
-    st = _lib.lib.igea_regress_ridge(m, N, _lib.dptr(A), m, _lib.dptr(y), _lib.dptr(sg),
-                                     _RIDGE_RULES[rule], float(k) if k is not None else 0.0,
-                                     _lib.dptr(x), _lib.dptr(cov), N, _lib.dptr(ku),
-                                     _lib.dptr(s2), _lib.dptr(res))
-    _lib.check(st, "igea.ridge", _RIDGE_ARGS)
+    _lib.call("igea.ridge", "igea_regress_ridge", m, N, _lib.dptr(A), m, _lib.dptr(y),
+              _lib.dptr(sg), _lib.dptr(sp), _RIDGE_RULES[rule], float(k) if k is not None else 0.0,
+              _lib.dptr(x), _lib.dptr(cov), N, _lib.dptr(ku), _lib.dptr(s2), _lib.dptr(res))
     return RidgeResult(x=x, cov=np.ascontiguousarray(cov), k=float(ku[0]), rule=rule,
                        sigma2=float(s2[0]), residual=res,
                        names=None if names is None else tuple(_names(N, names)))
 
 
-def ridge_trace(A, y, k, sigma=None):
+def ridge_trace(A, y, k, sigma=None, *, spec=None):
     """The ridge trace: RidgeTrace(k, X (N, len(k)), edf)."""
-    A, m, N, y, sg = _design(A, y, sigma)
+    A, m, N, y, sg, sp = _design(A, y, sigma, spec)
     kv = _lib.as_f64(k, "k", ndim=1)
     nk = kv.shape[0]
     if nk < 1:
         raise ValueError("k: empty")
     X = np.empty((N, nk), order="F")
     edf = np.empty(nk)
-    st = _lib.lib.igea_regress_ridge_trace(m, N, _lib.dptr(A), m, _lib.dptr(y), _lib.dptr(sg),
-                                           nk, _lib.dptr(kv), _lib.dptr(X), N, _lib.dptr(edf))
-    _lib.check(st, "igea.ridge_trace", _TRACE_ARGS)
+    _lib.call("igea.ridge_trace", "igea_regress_ridge_trace", m, N, _lib.dptr(A), m, _lib.dptr(y),
+              _lib.dptr(sg), _lib.dptr(sp), nk, _lib.dptr(kv), _lib.dptr(X), N, _lib.dptr(edf))
     return RidgeTrace(k=np.array(kv), X=np.ascontiguousarray(X), edf=edf)
 
 
-def pce(A, y, sigma=None, *, ncomp=None, eig_min=None, names=None):
+def pce(A, y, sigma=None, *, spec=None, ncomp=None, eig_min=None, names=None):
     """Principal-component estimation: keep the ncomp largest components, or
     those with eigenvalue >= eig_min. Returns PceResult."""
-    A, m, N, y, sg = _design(A, y, sigma)
+    A, m, N, y, sg, sp = _design(A, y, sigma, spec)
     if (ncomp is None) == (eig_min is None):
         raise ValueError("ncomp, eig_min: give exactly one of them")
     if ncomp is not None and int(ncomp) < 1:
@@ -341,40 +332,37 @@ def pce(A, y, sigma=None, *, ncomp=None, eig_min=None, names=None):
     nu = np.zeros(1, dtype=np.intc)
     s2 = np.zeros(1)
     res = np.empty(m)
-    st = _lib.lib.igea_regress_pce(m, N, _lib.dptr(A), m, _lib.dptr(y), _lib.dptr(sg),
-                                   int(ncomp) if ncomp is not None else 0,
-                                   float(eig_min) if eig_min is not None else 0.0,
-                                   _lib.dptr(x), _lib.dptr(cov), N, _lib.iptr(nu), _lib.dptr(s2),
-                                   _lib.dptr(res))
-    _lib.check(st, "igea.pce", _PCE_ARGS)
+    _lib.call("igea.pce", "igea_regress_pce", m, N, _lib.dptr(A), m, _lib.dptr(y), _lib.dptr(sg),
+              _lib.dptr(sp), int(ncomp) if ncomp is not None else 0,
+              float(eig_min) if eig_min is not None else 0.0, _lib.dptr(x), _lib.dptr(cov), N,
+              _lib.iptr(nu), _lib.dptr(s2), _lib.dptr(res))
     return PceResult(x=x, cov=np.ascontiguousarray(cov), ncomp=int(nu[0]), sigma2=float(s2[0]),
                      residual=res, names=None if names is None else tuple(_names(N, names)))
 
 
-def bayes(A, y, prior_cov, prior_mean=None, sigma=None, *, names=None):
+def bayes(A, y, prior_cov, prior_mean=None, sigma=None, *, spec=None, names=None):
     """Bayesian estimate with prior x ~ N(prior_mean, prior_cov) and known
     noise sds sigma (None: 1). prior_cov: (N, N) SPD. Returns BayesResult."""
-    A, m, N, y, sg = _design(A, y, sigma)
+    A, m, N, y, sg, sp = _design(A, y, sigma, spec)
     P = _lib.as_f64(prior_cov, "prior_cov", ndim=2, shape=(N, N))
     mu = None if prior_mean is None else _lib.as_f64(prior_mean, "prior_mean", ndim=1,
                                                      shape=(N,))
     x = np.empty(N)
     cov = np.empty((N, N), order="F")
     res = np.empty(m)
-    st = _lib.lib.igea_regress_bayes(m, N, _lib.dptr(A), m, _lib.dptr(y), _lib.dptr(sg),
-                                     _lib.dptr(mu), _lib.dptr(P), N, _lib.dptr(x), _lib.dptr(cov),
-                                     N, _lib.dptr(res))
-    _lib.check(st, "igea.bayes", _BAYES_ARGS)
+    _lib.call("igea.bayes", "igea_regress_bayes", m, N, _lib.dptr(A), m, _lib.dptr(y),
+              _lib.dptr(sg), _lib.dptr(sp), _lib.dptr(mu), _lib.dptr(P), N, _lib.dptr(x),
+              _lib.dptr(cov), N, _lib.dptr(res))
     return BayesResult(x=x, cov=np.ascontiguousarray(cov), residual=res,
                        prior_sd=np.sqrt(np.diag(P)).copy(),
                        names=None if names is None else tuple(_names(N, names)))
 
 
-def collinearity(A, y=None, sigma=None, *, rcond=0.0, names=None):
+def collinearity(A, y=None, sigma=None, *, spec=None, rcond=0.0, names=None):
     """Condition number, eigenvalue table, VIFs, null space, estimable
     combinations with their sds (scaled by the residual sd when y is given)
     and the prior-determined flags. Returns Collinearity."""
-    A, m, N, y, sg = _design(A, y, sigma, y_optional=True)
+    A, m, N, y, sg, sp = _design(A, y, sigma, spec, y_optional=True)
     cond = np.empty(2)
     rank = np.zeros(1, dtype=np.intc)
     eig = np.empty(N)
@@ -382,11 +370,10 @@ def collinearity(A, y=None, sigma=None, *, rcond=0.0, names=None):
     vif = np.empty(N)
     sd = np.empty(N)
     pd = np.empty(N, dtype=np.intc)
-    st = _lib.lib.igea_regress_collinearity(m, N, _lib.dptr(A), m, _lib.dptr(y), _lib.dptr(sg),
-                                            float(rcond), _lib.dptr(cond), _lib.iptr(rank),
-                                            _lib.dptr(eig), _lib.dptr(V), N, _lib.dptr(vif),
-                                            _lib.dptr(sd), _lib.iptr(pd))
-    _lib.check(st, "igea.collinearity", _COLL_ARGS)
+    _lib.call("igea.collinearity", "igea_regress_collinearity", m, N, _lib.dptr(A), m,
+              _lib.dptr(y), _lib.dptr(sg), _lib.dptr(sp), float(rcond), _lib.dptr(cond),
+              _lib.iptr(rank), _lib.dptr(eig), _lib.dptr(V), N, _lib.dptr(vif), _lib.dptr(sd),
+              _lib.iptr(pd))
     return Collinearity(cond=float(cond[0]), cond_estimable=float(cond[1]), rank=int(rank[0]),
                         eigenvalues=eig, eigenvectors=np.ascontiguousarray(V), vif=vif,
                         sd_comb=sd, prior_determined=pd.astype(bool),

@@ -6,21 +6,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import _capi
 from . import _lib
 
-VARIANTS = {"standard": 0, "iterated": 1, "polynomial": 2}
-ANOMALY = {None: 0, "none": 0, "replace": 1, "skip": 2, "isolate": 3}
-ACTIONS = {0: "updated", 1: "flagged", 2: "replaced", 3: "skipped", 4: "isolated"}
-FLAG_INNOVATION, FLAG_JUMP, FLAG_MISSING, FLAG_UNUSED = 1, 2, 4, 8
-_LAYOUT_BLOCKS = 1
-
-_CREATE_ARGS = ["m", "k", "x0", "gamma0", "ldg", "out"]
-_VARIANT_ARGS = ["h", "variant", "p"]
-_ANOMALY_ARGS = ["h", "policy", "kappa", "jump_max"]
-_FORGET_ARGS = ["h", "forget"]
-_UPDATE_ARGS = ["h", "c", "ldc", "y", "track_sigma", "flags"]
-_RUN_ARGS = ["h", "n", "layout", "C", "lds", "Y", "track_sigma", "sigma_inc", "x_out", "ldx",
-             "flags", "actions", "n_done"]
+VARIANTS = _lib.choices("RLS_", "standard iterated polynomial")
+ANOMALY = {None: _capi.RLS_ANOMALY_NONE,
+           **_lib.choices("RLS_ANOMALY_", "none replace skip isolate")}
+ACTIONS = {v: k for k, v in _lib.choices("RLS_", "updated flagged replaced skipped "
+                                                 "isolated").items()}
+FLAGS = _lib.choices("RLS_FLAG_", "innovation jump missing unused")
+FLAG_INNOVATION, FLAG_JUMP, FLAG_MISSING, FLAG_UNUSED = FLAGS.values()
 
 
 def _choice(table, value, name):
@@ -33,8 +28,7 @@ def _choice(table, value, name):
 
 def _flag_names(f):
     f = int(f)
-    out = [n for b, n in ((FLAG_INNOVATION, "innovation"), (FLAG_JUMP, "jump"),
-                          (FLAG_MISSING, "missing"), (FLAG_UNUSED, "unused")) if f & b]
+    out = [n for n, b in FLAGS.items() if f & b]
     return "+".join(out) if out else "-"
 
 
@@ -144,17 +138,15 @@ class RLS:
         pol = _choice(ANOMALY, anomaly, "anomaly")
         jm = None if jump_max is None else _lib.as_f64(jump_max, "jump_max", ndim=1, shape=(k,))
         h = ctypes.c_void_p()
-        _lib.check(_lib.lib.igea_rls_create(m, k, _lib.dptr(x), _lib.dptr(g), m,
-                                            ctypes.byref(h)), "igea.RLS", _CREATE_ARGS)
+        _lib.call("igea.RLS", "igea_rls_create", m, k, _lib.dptr(x), _lib.dptr(g), m,
+                  ctypes.byref(h))
         self._h = h
         self.m, self.k = m, k
         self.variant, self.p = variant, int(p) if v else 1
-        _lib.check(_lib.lib.igea_rls_set_variant(h, v, int(p)), "igea.RLS", _VARIANT_ARGS)
-        _lib.check(_lib.lib.igea_rls_set_anomaly(h, pol, float(kappa), _lib.dptr(jm)),
-                   "igea.RLS", _ANOMALY_ARGS)
-        _lib.check(_lib.lib.igea_rls_set_forget(h, float(forget)), "igea.RLS", _FORGET_ARGS)
-        _lib.check(_lib.lib.igea_rls_set_covariance(h, 1 if covariance else 0), "igea.RLS",
-                   ["h", "covariance"])
+        _lib.call("igea.RLS", "igea_rls_set_variant", h, v, int(p))
+        _lib.call("igea.RLS", "igea_rls_set_anomaly", h, pol, float(kappa), _lib.dptr(jm))
+        _lib.call("igea.RLS: forget", "igea_rls_set_forget", h, float(forget))
+        _lib.call("igea.RLS", "igea_rls_set_covariance", h, 1 if covariance else 0)
         self.track_covariance = bool(covariance)
         self._flags = np.zeros(k, dtype=np.intc)
 
@@ -188,9 +180,8 @@ class RLS:
         ca = _lib.as_f64(c, "c", ndim=2, shape=(self.k, self.m))
         ya = np.ascontiguousarray(_lib.as_f64(y, "y", ndim=1, shape=(self.k,)))
         sa, _ = _sigma(track_sigma, self.k)
-        st = _lib.check(_lib.lib.igea_rls_update(h, _lib.dptr(ca), self.k, _lib.dptr(ya),
-                                                 _lib.dptr(sa), _lib.iptr(self._flags)),
-                        "igea.RLS.update", _UPDATE_ARGS)
+        st = _lib.call("igea.RLS.update", "igea_rls_update", h, _lib.dptr(ca), self.k,
+                       _lib.dptr(ya), _lib.dptr(sa), _lib.iptr(self._flags))
         return RlsEpoch(ACTIONS[st], self._flags.copy())
 
     def run(self, C, Y, track_sigma=None):
@@ -205,52 +196,50 @@ class RLS:
         flags = np.zeros((n, self.k), dtype=np.intc)
         actions = np.zeros(n, dtype=np.intc)
         done = ctypes.c_int(0)
-        st = _lib.lib.igea_rls_run(h, n, _LAYOUT_BLOCKS, _lib.dptr(Ca), self.m, _lib.dptr(Ya),
-                                   _lib.dptr(sa), inc, _lib.dptr(X), self.m, _lib.iptr(flags),
-                                   _lib.iptr(actions), ctypes.byref(done))
-        _lib.check(st, "igea.rls_run (epoch %d)" % done.value, _RUN_ARGS)
+        st = _lib.lib.igea_rls_run(h, n, _capi.ROWMAJOR, _lib.dptr(Ca), self.m,
+                                   _lib.dptr(Ya), _lib.dptr(sa), inc, _lib.dptr(X), self.m,
+                                   _lib.iptr(flags), _lib.iptr(actions), ctypes.byref(done))
+        _lib.check(st, "igea.rls_run (epoch %d)" % done.value, "igea_rls_run")
         return X, flags, actions
 
     @property
     def x(self):
         out = np.zeros(self.m)
-        _lib.check(_lib.lib.igea_rls_get_x(self._handle(), _lib.dptr(out)), "igea.RLS.x")
+        _lib.call("igea.RLS.x", "igea_rls_get_x", self._handle(), _lib.dptr(out))
         return out
 
     def _sym(self, fn, where):
         out = np.zeros((self.m, self.m), order="F")
-        _lib.check(fn(self._handle(), _lib.dptr(out), self.m), where)
+        _lib.call(where, fn, self._handle(), _lib.dptr(out), self.m)
         return np.ascontiguousarray(out)
 
     @property
     def gamma(self):
-        return self._sym(_lib.lib.igea_rls_get_gamma, "igea.RLS.gamma")
+        return self._sym("igea_rls_get_gamma", "igea.RLS.gamma")
 
     @property
     def covariance(self):
-        return self._sym(_lib.lib.igea_rls_get_covariance, "igea.RLS.covariance")
+        return self._sym("igea_rls_get_covariance", "igea.RLS.covariance")
 
     @property
     def q(self):
         q = ctypes.c_double()
-        _lib.check(_lib.lib.igea_rls_get_q(self._handle(), ctypes.byref(q)), "igea.RLS.q")
+        _lib.call("igea.RLS.q", "igea_rls_get_q", self._handle(), ctypes.byref(q))
         return q.value
 
     @property
     def counts(self):
-        c = np.zeros(4, dtype=np.intc)
-        _lib.check(_lib.lib.igea_rls_get_counts(self._handle(), _lib.iptr(c)), "igea.RLS.counts")
-        return {"epochs": int(c[0]), "updates": int(c[1]), "anomalous": int(c[2]),
-                "rows": int(c[3])}
+        c = np.zeros(_capi.RLS_COUNT_LEN, dtype=np.intc)
+        _lib.call("igea.RLS.counts", "igea_rls_get_counts", self._handle(), _lib.iptr(c))
+        return _lib.fields(c, "RLS_COUNT_", epochs=int, updates=int, anomalous=int, rows=int)
 
     def compensate(self, c, y):
         """Compensated telemetry y - c x with the current estimate (METHODS 2.5)."""
         ca = _lib.as_f64(c, "c", ndim=2, shape=(self.k, self.m))
         ya = np.ascontiguousarray(_lib.as_f64(y, "y", ndim=1, shape=(self.k,)))
         out = np.zeros(self.k)
-        _lib.check(_lib.lib.igea_rls_compensate(self._handle(), _lib.dptr(ca), self.k,
-                                                _lib.dptr(ya), _lib.dptr(out)),
-                   "igea.RLS.compensate", ["h", "c", "ldc", "y", "yhat"])
+        _lib.call("igea.RLS.compensate", "igea_rls_compensate", self._handle(), _lib.dptr(ca),
+                  self.k, _lib.dptr(ya), _lib.dptr(out))
         return out
 
 

@@ -4,36 +4,21 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _lib
-from .envfun import STRAPDOWN_21, _system_code, default_spec, envfun, term_codes
+from . import _capi, _lib
+from .envfun import _system_code, default_spec, default_terms, envfun, term_codes
 
-_SIM_OPT_LEN = 8
-_MC_LEN = 8
-_EQ_OPT_LEN = 16
-_GENERATORS = {"mt19937": 0, "ranlxd2": 1}
-
-_FLIGHT_ARGS = ["m", "N", "S", "lds", "track_sigma", "sigma_inc", "spec_sigma", "x_value",
-                "x_fixed", "opts", "seed", "flight", "x_true", "dw"]
-_MC_ARGS = _FLIGHT_ARGS[:11] + ["eq_opts", "first_flight", "nflights", "nthreads", "counts",
-                                "comp_tested", "comp_reject", "chi2", "dof", "n_reject", "scale"]
-
+_GENERATORS = _lib.choices("SIM_", "mt19937 ranlxd2")
 
 def reference_trajectory(duration=120.0, rate=50.0, *, system="strapdown"):
     """The reference boost trajectory (samples x 11), METHODS 5.6."""
     sc = _system_code(system)
     n = _lib.c_int(0)
-    _lib.check(_lib.lib.igea_sim_trajectory_length(float(duration), float(rate),
-                                                     _lib.ctypes.byref(n)),
-               "igea.reference_trajectory", ["duration", "rate", "nsamp"])
-    tr = np.zeros((n.value, 11), order="F")
-    _lib.check(_lib.lib.igea_sim_trajectory(sc, float(duration), float(rate), n.value,
-                                            _lib.dptr(tr), n.value),
-               "igea.reference_trajectory",
-               ["system", "duration", "rate", "nsamp", "traj", "ldt"])
+    _lib.call("igea.reference_trajectory", "igea_sim_trajectory_length", float(duration),
+              float(rate), _lib.ctypes.byref(n))
+    tr = np.zeros((n.value, _capi.ENVFUN_TRAJ_COLS), order="F")
+    _lib.call("igea.reference_trajectory", "igea_sim_trajectory", sc, float(duration), float(rate),
+              n.value, _lib.dptr(tr), n.value)
     return tr
-
-
-_TERM_COUNT = 36
 
 
 def nonlinear(traj, errors, epochs, *, system="strapdown", axes=None):
@@ -42,11 +27,11 @@ def nonlinear(traj, errors, epochs, *, system="strapdown", axes=None):
     trajectory: the truth-model counterpart of S @ X (igea_sim_nonlinear)."""
     sc = _system_code(system)
     tr = _lib.as_f64(traj, "traj", ndim=2)
-    if tr.shape[1] != 11:
-        raise ValueError(f"traj: expected shape (*, 11), got {tr.shape}")
+    if tr.shape[1] != _capi.ENVFUN_TRAJ_COLS:
+        raise ValueError(f"traj: expected shape (*, {_capi.ENVFUN_TRAJ_COLS}), got {tr.shape}")
     if not isinstance(errors, dict):
         raise ValueError("errors: a dict {term name: value}")
-    err = np.zeros(_TERM_COUNT)
+    err = np.zeros(_capi.ENVFUN_TERM_COUNT)
     if errors:
         codes = term_codes(list(errors), system)
         err[codes] = [float(v) for v in errors.values()]
@@ -55,20 +40,15 @@ def nonlinear(traj, errors, epochs, *, system="strapdown", axes=None):
     if ax is not None and ax.shape != (6,):
         raise ValueError(f"axes: expected 6 ints, got shape {ax.shape}")
     out = np.zeros(3 * ep.size)
-    st = _lib.lib.igea_sim_nonlinear(sc, tr.shape[0], _lib.dptr(tr), tr.shape[0],
-                                     _lib.dptr(err), _lib.iptr(ax), ep.size, _lib.dptr(ep),
-                                     _lib.dptr(out))
-    _lib.check(st, "igea.sim.nonlinear", ["system", "nsamp", "traj", "ldt", "err", "axes",
-                                          "nepochs", "epochs", "dW"])
+    _lib.call("igea.sim.nonlinear", "igea_sim_nonlinear", sc, tr.shape[0], _lib.dptr(tr),
+              tr.shape[0], _lib.dptr(err), _lib.iptr(ax), ep.size, _lib.dptr(ep), _lib.dptr(out))
     return out
 
 
-def _sim_opts(sigma_w, ar1, growth, outlier_prob, outlier_scale, generator):
+def _sim_opts(where, at, generator, **slots):
     if generator not in _GENERATORS:
         raise ValueError(f"generator: one of {sorted(_GENERATORS)}, got {generator!r}")
-    o = np.zeros(_SIM_OPT_LEN)
-    o[:6] = [sigma_w, ar1, growth, outlier_prob, outlier_scale, _GENERATORS[generator]]
-    return o
+    return _lib.options("sim", where, at, generator=_GENERATORS[generator], **slots)
 
 
 def _sigma(sigma, m):
@@ -131,12 +111,7 @@ def simulate(traj=None, terms=None, epochs=None, *, system="strapdown", spec="de
     if traj is None:
         traj = reference_trajectory(system=system)
     tr = _lib.as_f64(traj, "traj", ndim=2)
-    if terms is None:
-        terms = STRAPDOWN_21 if system == "strapdown" else None
-        if terms is None:
-            from .envfun import PLATFORM_21
-            terms = PLATFORM_21
-    terms = tuple(terms)
+    terms = tuple(default_terms(system) if terms is None else terms)
     if epochs is None:
         epochs = np.arange(1.0, np.floor(tr[-1, 0] - tr[0, 0]) + 1.0) + tr[0, 0]
     ep = _lib.as_f64(epochs, "epochs", ndim=1)
@@ -155,12 +130,13 @@ def simulate(traj=None, terms=None, epochs=None, *, system="strapdown", spec="de
     grow = 1.0 + sigma_growth * (np.arange(M) / max(M - 1, 1))
     sig = np.repeat(sig0 * grow, 3)
     xv, xf = _x_spec(x, terms, N)
-    opts = _sim_opts(sigma_w, ar1, growth, outlier_prob, outlier_scale, generator)
+    opts = _sim_opts("igea.simulate", ("igea_sim_flight", "opts"), generator, sigma_w=sigma_w,
+                     ar1=ar1, growth=growth, outlier_prob=outlier_prob,
+                     outlier_scale=outlier_scale)
     dw, xt = np.zeros(m), np.zeros(N)
-    st = _lib.lib.igea_sim_flight(m, N, _lib.dptr(S), m, _lib.dptr(sig), 1, _lib.dptr(sp),
-                                  _lib.dptr(xv), _lib.iptr(xf), _lib.dptr(opts), int(seed),
-                                  int(flight), _lib.dptr(xt), _lib.dptr(dw))
-    _lib.check(st, "igea.simulate", _FLIGHT_ARGS)
+    _lib.call("igea.simulate", "igea_sim_flight", m, N, _lib.dptr(S), m, _lib.dptr(sig), 1,
+              _lib.dptr(sp), _lib.dptr(xv), _lib.iptr(xf), _lib.dptr(opts), int(seed), int(flight),
+              _lib.dptr(xt), _lib.dptr(dw))
     if nonlinear_truth:
         nl = nonlinear(tr, dict(zip(terms, xt * sp)), ep, system=system)
         dw = dw - S @ (sp * xt) + nl
@@ -209,26 +185,26 @@ def montecarlo(S, sigma, nflights, *, spec=None, terms=None, x=None, sigma_w=1.0
     if isinstance(x, dict) and terms is None:
         raise ValueError("x: a dict needs terms")
     xv, xf = _x_spec(x, terms if terms is not None else [], N)
-    opts = _sim_opts(sigma_w, ar1, growth, outlier_prob, outlier_scale, generator)
-    eq = np.zeros(_EQ_OPT_LEN)
-    _lib.lib.igea_eqerr_defaults(_lib.dptr(eq))
-    eq[0], eq[1] = alpha, lambda_test
-    eq[6] = 1.0 if correct_tracking else 0.0
-    eq[8] = 1.0 if bias_correct else 0.0
-    eq[9] = 1.0 if clamp else 0.0
+    at = ("igea_sim_montecarlo", "opts")
+    opts = _sim_opts("igea.montecarlo", at, generator, sigma_w=sigma_w, ar1=ar1, growth=growth,
+                     outlier_prob=outlier_prob, outlier_scale=outlier_scale)
+    eq = _lib.options("eqerr", "igea.montecarlo", ("igea_sim_montecarlo", "eq_opts"),
+                      alpha=alpha, lambda_test=lambda_test, correct=bool(correct_tracking),
+                      bias_correct=bool(bias_correct), clamp=bool(clamp))
     nflights = int(nflights)
     if nflights < 1:
         raise ValueError("nflights: must be >= 1")
-    counts = np.zeros(_MC_LEN)
+    counts = np.zeros(_capi.SIM_MC_LEN)
     ct, cr = np.zeros(N, dtype=np.intc), np.zeros(N, dtype=np.intc)
     chi2, scale = np.zeros(nflights), np.zeros(nflights)
     dof, nrej = np.zeros(nflights, dtype=np.intc), np.zeros(nflights, dtype=np.intc)
-    st = _lib.lib.igea_sim_montecarlo(
-        m, N, _lib.dptr(S), m, _lib.dptr(sig), inc, _lib.dptr(sp), _lib.dptr(xv),
-        _lib.iptr(xf), _lib.dptr(opts), int(seed), _lib.dptr(eq), int(first_flight),
-        nflights, int(nthreads), _lib.dptr(counts), _lib.iptr(ct), _lib.iptr(cr),
-        _lib.dptr(chi2), _lib.iptr(dof), _lib.iptr(nrej), _lib.dptr(scale))
-    _lib.check(st, "igea.montecarlo", _MC_ARGS)
-    return MonteCarloResult(int(counts[0]), int(counts[1]), int(counts[2]), int(counts[3]),
-                            int(counts[4]), float(counts[5]), float(counts[6]), ct, cr, chi2,
-                            dof, nrej, scale)
+    _lib.call("igea.montecarlo", "igea_sim_montecarlo", m, N, _lib.dptr(S), m, _lib.dptr(sig),
+              inc, _lib.dptr(sp), _lib.dptr(xv), _lib.iptr(xf), _lib.dptr(opts), int(seed),
+              _lib.dptr(eq), int(first_flight), nflights, int(nthreads), _lib.dptr(counts),
+              _lib.iptr(ct), _lib.iptr(cr), _lib.dptr(chi2), _lib.iptr(dof), _lib.iptr(nrej),
+              _lib.dptr(scale))
+    return MonteCarloResult(comp_tested=ct, comp_reject=cr, chi2=chi2, dof=dof, n_reject=nrej,
+                            scale=scale, **_lib.fields(
+                                counts, "SIM_MC_", flights=int, failed=int, chi2_reject=int,
+                                any_reject=int, not_testable=int, mean_scale=float,
+                                mean_tested=float))

@@ -6,10 +6,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _lib
+from . import _capi, _lib
 
-_KIND = {"overlapping": 0, "modified": 1, "nonoverlapping": 2}
-_NOISE = {"wpm": 2, "fpm": 1, "wfm": 0, "ffm": -1, "rwfm": -2, "auto": 99}
+_KIND = _lib.choices("STABILITY_ALLAN_", "overlapping modified nonoverlapping")
+_NOISE = _lib.choices("STABILITY_NOISE_", "wpm fpm wfm ffm rwfm auto")
 
 
 def _record(y):
@@ -39,12 +39,13 @@ class Block3Sigma:
 def block_3sigma(y, fs, block=100.0):
     """3 sigma of the means of non-overlapping blocks of `block` seconds."""
     a = _record(y)
-    out = np.empty(6)
-    _lib.check(_lib.lib.igea_stability_block(a.size, _lib.dptr(a), float(fs), float(block),
-                                             _lib.dptr(out)),
-               "igea.block_3sigma", ["n", "y", "fs", "block", "out"])
-    return Block3Sigma(float(out[0]), float(out[1]), int(out[2]), int(out[3]), float(out[4]),
-                       float(out[5]))
+    out = np.empty(_capi.STABILITY_BLOCK_LEN)
+    _lib.call("igea.block_3sigma", "igea_stability_block", a.size, _lib.dptr(a), float(fs),
+              float(block), _lib.dptr(out))
+    return Block3Sigma(three_sigma=float(out[_capi.STABILITY_BLOCK_3SIGMA]),
+                       block_samples=int(out[_capi.STABILITY_BLOCK_NSAMP]),
+                       **_lib.fields(out, "STABILITY_BLOCK_", sigma=float, nblock=int,
+                                     mean=float, adev=float))
 
 
 def octave_taus(n, fs, kind="overlapping"):
@@ -53,9 +54,8 @@ def octave_taus(n, fs, kind="overlapping"):
         raise ValueError("kind: one of " + ", ".join(_KIND))
     tau = np.empty(64)
     nt = ctypes.c_int()
-    _lib.check(_lib.lib.igea_stability_octave_taus(int(n), float(fs), _KIND[kind], 64,
-                                                   _lib.dptr(tau), ctypes.byref(nt)),
-               "igea.octave_taus", ["n", "fs", "kind", "ntau_max", "tau", "ntau"])
+    _lib.call("igea.octave_taus", "igea_stability_octave_taus", int(n), float(fs), _KIND[kind], 64,
+              _lib.dptr(tau), ctypes.byref(nt))
     return tau[:nt.value].copy()
 
 
@@ -96,12 +96,9 @@ def allan(y, fs, taus=None, *, kind="overlapping", noise="auto", conf=0.683):
         raise ValueError("taus: at least one averaging time is needed")
     dev, lo, hi, edf = (np.empty(nt) for _ in range(4))
     cnt = np.empty(nt, dtype=np.intc)
-    _lib.check(_lib.lib.igea_stability_allan(a.size, _lib.dptr(a), float(fs), nt, _lib.dptr(t),
-                                             _KIND[kind], _NOISE[noise], float(conf),
-                                             _lib.dptr(dev), _lib.dptr(lo), _lib.dptr(hi),
-                                             _lib.dptr(edf), _lib.iptr(cnt)),
-               "igea.allan", ["n", "y", "fs", "ntau", "tau", "kind", "noise", "conf", "dev",
-                              "lo", "hi", "edf", "count"])
+    _lib.call("igea.allan", "igea_stability_allan", a.size, _lib.dptr(a), float(fs), nt,
+              _lib.dptr(t), _KIND[kind], _NOISE[noise], float(conf), _lib.dptr(dev), _lib.dptr(lo),
+              _lib.dptr(hi), _lib.dptr(edf), _lib.iptr(cnt))
     used = np.round(t * fs) / fs
     return AllanResult(kind, used, dev, lo, hi, edf, cnt.astype(int), float(conf))
 
@@ -133,8 +130,10 @@ def noise_id(taus, adev):
     d = np.ascontiguousarray(_lib.as_f64(adev, "adev", ndim=1, shape=(t.size,)))
     if t.size < 2:
         raise ValueError("taus: at least 2 points are needed")
-    out = np.empty(8)
-    _lib.check(_lib.lib.igea_stability_noise_id(t.size, _lib.dptr(t), _lib.dptr(d),
-                                                _lib.dptr(out)),
-               "igea.noise_id", ["ntau", "tau", "adev", "out"])
-    return NoiseTerms(*[float(v) for v in out])
+    out = np.empty(_capi.STABILITY_NOISEID_LEN)
+    _lib.call("igea.noise_id", "igea_stability_noise_id", t.size, _lib.dptr(t), _lib.dptr(d),
+              _lib.dptr(out))
+    slot = {"random_walk": "N", "bias_instability": "B", "rate_random_walk": "K",
+            "quantization": "Q"}
+    return NoiseTerms(**{f + t: float(out[getattr(_capi, "STABILITY_NOISEID_" + s + t.upper())])
+                         for f, s in slot.items() for t in ("", "_tau")})

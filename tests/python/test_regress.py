@@ -192,7 +192,7 @@ def test_ebr_against_reference(rule, case):
     np.testing.assert_allclose(got.lam, lam, rtol=1e-7 if rule == "ml2" else 1e-12)
     np.testing.assert_allclose(got.shrink[:r], sh, rtol=1e-7)
     np.testing.assert_allclose(got.x, beta, rtol=1e-6, atol=1e-12 * np.max(np.abs(beta)))
-    np.testing.assert_allclose(got.sd_posterior, sdp, rtol=1e-6)
+    np.testing.assert_allclose(got.sd, sdp, rtol=1e-6)
     np.testing.assert_allclose(got.sd_frequentist, sdf, rtol=1e-6)
 
 
@@ -200,10 +200,10 @@ def test_ebr_prior_scale_and_floor():
     A, y = ebr_data(3e-5)
     scale = np.array([1e-4, 1e-4, 3e-4, 3e-4, 1e-4, 2e-5, 2e-5, 2e-5, 2e-5])
     lam, r, sh, beta, sdp, sdf = ref_ebr(A, y, "sc", scale=scale)
-    got = igea.ebr(A, y, prior_scale=scale)
+    got = igea.ebr(A, y, spec=scale)
     np.testing.assert_allclose(got.lam, lam, rtol=1e-11)
     np.testing.assert_allclose(got.x, beta, rtol=1e-8)
-    np.testing.assert_allclose(got.sd_posterior, sdp, rtol=1e-8)
+    np.testing.assert_allclose(got.sd, sdp, rtol=1e-8)
     fl = igea.ebr(A, y, lam_floor=10 * got.lam * 1e8)
     assert fl.lam == 10 * got.lam * 1e8
 
@@ -212,8 +212,8 @@ def test_ebr_errors():
     A, y = ebr_data(1e-5)
     with pytest.raises(ValueError, match="rule"):
         igea.ebr(A, y, rule="xx")
-    with pytest.raises(ValueError, match="prior_scale"):
-        igea.ebr(A, y, prior_scale=np.ones(3))
+    with pytest.raises(ValueError, match="spec"):
+        igea.ebr(A, y, spec=np.ones(3))
     with pytest.raises(igea.IgeaError) as e:
         igea.ebr(A[:, :2], y)
     assert e.value.code == -1014
@@ -405,7 +405,7 @@ def test_driver_json_matches_python(tmp_path):
                              spec * igea.bayes(As, y, np.eye(6), sigma=sg).sd),
         ("ebr", "--rule", "mm"): lambda: (
             spec * igea.ebr(As / sg[:, None], y / sg, rule="mm").x,
-            spec * igea.ebr(As / sg[:, None], y / sg, rule="mm").sd_posterior),
+            spec * igea.ebr(As / sg[:, None], y / sg, rule="mm").sd),
     }
     for args, ref in cases.items():
         out = subprocess.run(base + ["--method", *args], capture_output=True, text=True)
