@@ -392,6 +392,33 @@ static void check_dir(const fz_run *r, int dfd, const char *rel, int failed, int
     closedir(d);
 }
 
+/* Temporary files the driver makes outside the working directory (the
+ * spool of a non-seekable input) are unlinked at once: none may remain in
+ * TMPDIR. Checked only when TMPDIR is a private directory (run.sh). */
+static void check_tmpdir(void)
+{
+    static int use = -1;
+    static const char *dir;
+    if (use < 0) {
+        dir = getenv("TMPDIR");
+        use = dir && *dir && strcmp(dir, "/tmp") != 0 && strcmp(dir, "/tmp/") != 0;
+    }
+    if (!use)
+        return;
+    DIR *d = opendir(dir);
+    if (!d)
+        return;
+    struct dirent *e;
+    while ((e = readdir(d)))
+        if (!strncmp(e->d_name, "igea-spool.", 11)) {
+            char name[256];
+            snprintf(name, sizeof name, "%s", e->d_name);
+            closedir(d);
+            fz_fail("the temporary file %s/%s was left", dir, name);
+        }
+    closedir(d);
+}
+
 static off_t fd_size(int fd)
 {
     struct stat st;
@@ -482,6 +509,7 @@ int fz_command(const char *name, int (*cmd)(int, char **), const char *const *pr
         fz_fail("undocumented exit status %d", rc);
     int failed = rc != CLI_OK && rc != CLI_REJECT;
     check_dir(&r, work_fd, "", failed, rc);
+    check_tmpdir();
     off_t nout = fd_size(out_fd);
     if (failed && nout > 0 && !(flags & FZ_STREAMS))
         fz_fail("exit %d (a failure) after writing %lld bytes to standard output", rc,
@@ -723,6 +751,7 @@ int fz_reader(const char *fname, const uint8_t *data, size_t size)
         fz_fail("chdir back: %s", strerror(errno));
     if (fd_size(out_fd) > 0)
         fz_fail("a reader wrote to standard output");
+    check_tmpdir();
     fz_clean();
     return 0;
 }

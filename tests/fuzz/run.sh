@@ -77,6 +77,7 @@ for t in ${FUZZ_TARGETS:-}; do
     if [ "$mode" = quick ]; then
         # each seed once, then a short run from the seeds
         if ! "$B/bin/fuzz_$t" -close_fd_mask=2 -runs=1 $SEEDS/$t/* >"$B/logs/$t.replay.log" 2>&1; then
+            rm -rf "$TMPDIR"/igea-fuzz-*
             echo "fuzz_$t: a seed input fails (log: $B/logs/$t.replay.log)"
             tail -n 30 "$B/logs/$t.replay.log"
             fail=1 failed="$failed $t"
@@ -92,6 +93,8 @@ for t in ${FUZZ_TARGETS:-}; do
     fi
     run "$t" "$corpus" "$secs" "$log"
     st=$?
+    # the private directories of targets that stopped at a failure
+    rm -rf "$TMPDIR"/igea-fuzz-*
     n=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -n 1)
     n=$(( ${n:-0} + nseed ))
     total=$((total + n))
