@@ -574,20 +574,21 @@ int igea_accel_fit(int model, int method, int n, const double *theta_deg,
     int rank_ls = 0, r = 0;
     double sigma2 = 0.0, lam = 0.0;
     /* LS always: the solution for LS, sigma^2 = S / (n - r) for both. */
-    int st = igea_regress_ls(n, np, A, n, y, NULL, 0.0, x, cov, np, &rank_ls,
+    int st = igea_regress_ls(n, np, A, n, y, NULL, NULL, 0.0, x, cov, np, &rank_ls,
                              &sigma2, res);
     if (st != 0)
         goto done;
     if (ebr) {
+        /* EBR's solution and posterior covariance replace LS's. */
         int rank_ebr;
-        st = igea_regress_ebr(n, np, A, n, y, prior_scale, rule, lam_floor, x,
-                              &lam, &rank_ebr, NULL, sdv, NULL);
+        double s2_ebr;
+        st = igea_regress_ebr(n, np, A, n, y, NULL, prior_scale, rule, lam_floor, x,
+                              cov, np, &lam, &rank_ebr, &s2_ebr, NULL, NULL, NULL);
         if (st != 0)
             goto done;
-    } else {
-        for (int j = 0; j < np; j++)
-            sdv[j] = sqrt(fmax(cov[j + j * np], 0.0));
     }
+    for (int j = 0; j < np; j++)
+        sdv[j] = sqrt(fmax(cov[j + j * np], 0.0));
     /* Null space of the design itself (not of A D_s): which coefficients
      * the data determine. */
     st = svd_v(n, np, A, n, s, V, &r);
@@ -601,23 +602,6 @@ int igea_accel_fit(int model, int method, int n, const double *theta_deg,
                      : IGEA_ACCEL_DATA;
     }
     fill_combinations(model, C, np);
-    /* For EBR the posterior covariance in the canonical form of A D_s. */
-    double sd_s[ACCEL_MAXP], Vs[ACCEL_MAXP * ACCEL_MAXP];
-    int rs = 0;
-    if (ebr) {
-        double *Ad = igea__dalloc(nn * np);
-        if (!Ad) {
-            st = IGEA_ENOMEM;
-            goto done;
-        }
-        for (int j = 0; j < np; j++)
-            for (size_t i = 0; i < nn; i++)
-                Ad[i + j * nn] = A[i + j * nn] * (prior_scale ? prior_scale[j] : 1.0);
-        st = svd_v(n, np, Ad, n, sd_s, Vs, &rs);
-        free(Ad);
-        if (st != 0)
-            goto done;
-    }
     for (int k = 0; k < nc; k++) {
         const double *c = C + (size_t)k * np;
         double v = 0.0, nrm = 0.0;
@@ -630,20 +614,12 @@ int igea_accel_fit(int model, int method, int n, const double *theta_deg,
             cmbsd[k] = NAN;
             continue;
         }
+        /* c^T cov c: LS sigma^2 pinv(A^T A), EBR the posterior of METHODS
+         * 4.3 step 7. */
         double var = 0.0;
-        if (!ebr) {
-            for (int i = 0; i < np; i++)
-                for (int j = 0; j < np; j++)
-                    var += c[i] * cov[i + j * np] * c[j];
-        } else {
-            for (int i = 0; i < rs; i++) {
-                double d = sd_s[i] * sd_s[i], p = 0.0;
-                for (int j = 0; j < np; j++)
-                    p += Vs[j + (size_t)i * np] * (prior_scale ? prior_scale[j] : 1.0) * c[j];
-                var += lam / (1.0 + lam * d) * p * p;
-            }
-            var *= sigma2;
-        }
+        for (int i = 0; i < np; i++)
+            for (int j = 0; j < np; j++)
+                var += c[i] * cov[i + j * np] * c[j];
         cmbsd[k] = sqrt(fmax(var, 0.0));
     }
     /* No residual degrees of freedom: sigma is unknown, so are the sds. */
@@ -808,7 +784,7 @@ int igea_accel_refine(int n, const double *theta_deg, const double *ya,
             J[i + (r + i) * m] = dfa;
             J[nn + i + (r + i) * m] = dfb;
         }
-        st = igea_regress_ls((int)m, (int)nu, J, (int)m, res, NULL, 0.0, dp, cv,
+        st = igea_regress_ls((int)m, (int)nu, J, (int)m, res, NULL, NULL, 0.0, dp, cv,
                              (int)nu, &rk, &sigma2, rres);
         if (st != 0)
             goto done;

@@ -242,29 +242,52 @@ static void residual_of(int m, int N, const double *A, int lda,
                 res, 1);
 }
 
+/* The design A D (m x N, ld m) in *own when spec is given: *A and *lda then
+ * point to it; A itself otherwise (*own NULL). The product is rounded once,
+ * as a caller scaling the columns would. Returns 0 or IGEA_ENOMEM. */
+static int scaled_design(int m, int N, const double **A, int *lda,
+                         const double *spec, double **own)
+{
+    *own = NULL;
+    if (!spec)
+        return 0;
+    double *a = igea__dalloc((size_t)m * (size_t)N);
+    if (!a)
+        return IGEA_ENOMEM;
+    for (int j = 0; j < N; j++)
+        for (int i = 0; i < m; i++)
+            a[i + (size_t)j * m] = IGEA_AT(*A, *lda, i, j) * spec[j];
+    *own = a;
+    *A = a;
+    *lda = m;
+    return 0;
+}
+
+/* Back to the caller's units: x = D x' and cov = D cov' D (N x N, ldc), in
+ * place; x or cov may be NULL, spec NULL does nothing. */
+static void unscale(int N, const double *spec, double *x, double *cov, int ldc)
+{
+    if (!spec)
+        return;
+    for (int j = 0; j < N; j++) {
+        if (x)
+            x[j] *= spec[j];
+        if (cov)
+            for (int i = 0; i < N; i++)
+                IGEA_AT(cov, ldc, i, j) = IGEA_AT(cov, ldc, i, j) * spec[i] * spec[j];
+    }
+}
+
 /* ---- least squares ----------------------------------------------------- */
 
-int igea_regress_ls(int m, int N, const double *A, int lda, const double *y,
-                    const double *sigma, double rcond, double *x, double *cov,
-                    int ldc, int *rank, double *sigma2, double *residual)
+/* Least squares on the (scaled) design A; spec only takes x and cov back to
+ * the caller's units. */
+static int ls_core(int m, int N, const double *A, int lda, const double *y,
+                   const double *sigma, const double *spec, double rcond,
+                   double *x, double *cov, int ldc, int *rank, double *sigma2,
+                   double *residual)
 {
-    int st = check_args(m, N, A, lda, y, 0);
-    if (st)
-        return st;
-    if (isnan(rcond) || rcond >= 1.0)
-        return -7;
-    if (!x)
-        return -8;
-    if (cov && ldc < N)
-        return -10;
-    if (!rank)
-        return -11;
-    if (!sigma2)
-        return -12;
-    st = check_values(m, N, A, lda, y, sigma, NULL);
-    if (st)
-        return st;
-
+    int st;
     /* [D] Column equilibration: the rank is judged and, at full rank, the
      * solution computed on diag(1/sigma) A D_c with D_c = 1/||column||
      * (scale-invariant rank; this keeps NIST Filip at ~8 digits). At rank
@@ -322,6 +345,7 @@ int igea_regress_ls(int m, int N, const double *A, int lda, const double *y,
             g[i] = 1.0 / c.s[i] / c.s[i];
         canon_cov(&c, r, g, s2, D, cv, N);
     }
+    unscale(N, spec, xs, cov ? cv : NULL, N);
     /* Every output finite, or a status: finite inputs whose solution or
      * covariance leaves the double range. */
     if (!igea__finite_vec(N, xs, 1) || !igea__finite_vec(m, res, 1) ||
@@ -340,6 +364,36 @@ int igea_regress_ls(int m, int N, const double *A, int lda, const double *y,
     }
     canon_free(&c);
     free(cs);
+    return st;
+}
+
+int igea_regress_ls(int m, int N, const double *A, int lda, const double *y,
+                    const double *sigma, const double *spec_sigma, double rcond,
+                    double *x, double *cov, int ldc, int *rank, double *sigma2,
+                    double *residual)
+{
+    int st = check_args(m, N, A, lda, y, 0);
+    if (st)
+        return st;
+    if (isnan(rcond) || rcond >= 1.0)
+        return -8;
+    if (!x)
+        return -9;
+    if (cov && ldc < N)
+        return -11;
+    if (!rank)
+        return -12;
+    if (!sigma2)
+        return -13;
+    st = check_values(m, N, A, lda, y, sigma, spec_sigma);
+    if (st)
+        return st;
+    double *own;
+    if (scaled_design(m, N, &A, &lda, spec_sigma, &own))
+        return IGEA_ENOMEM;
+    st = ls_core(m, N, A, lda, y, sigma, spec_sigma, rcond, x, cov, ldc, rank,
+                 sigma2, residual);
+    free(own);
     return st;
 }
 
@@ -554,119 +608,153 @@ static int ebr_lambda(int rule, ebr_ctx *q, double *lam)
     return 0;
 }
 
+/* The weighted residual sum of squares S and lambda hat of METHODS 4.3
+ * steps 4-6 on the canonical form c (rank r >= 3, m > r): d_i = (s_i /
+ * s_1)^2 and z2_i = z_i^2 into d and z2, lambda hat in the units of the
+ * scaled problem (*lh) and of the form scaled by 1/s_1 (*lhs). */
+static int ebr_fit(const canon *c, int rule, double lam_floor, double *d,
+                   double *z2, double *S_out, double *lh, double *lhs)
+{
+    int m = c->m, r = c->r;
+    if (r < 3)
+        return IGEA_ERANK;
+    double S = canon_rss(c);
+    if (m <= r || !(S > 0.0))
+        return IGEA_EDOMAIN;
+    if (!isfinite(S))
+        return IGEA_EOVERFLOW;
+    /* The canonical form is solved on the design scaled by 1/s_1 (d_i =
+     * (s_i / s_1)^2 in (0, 1]): lambda d_i, the shrinkage and the
+     * equations of every rule are unchanged by a scale of A, and lambda
+     * itself is lambda' / s_1^2. */
+    double s1 = c->s[0], lstar = 0.0;
+    for (int i = 0; i < r; i++) {
+        double q = c->s[i] / s1;
+        d[i] = q * q;
+        z2[i] = c->z[i] * c->z[i];
+    }
+    if (!igea__finite_vec(r, z2, 1))
+        return IGEA_EOVERFLOW;
+    ebr_ctx q = {r, d, z2, 0.0, S / (m - r)};
+    if (rule == IGEA_REGRESS_EBR_SC)
+        q.target = (double)(r - 2) * S / (double)(m - r + 2);
+    else if (rule == IGEA_REGRESS_EBR_MM)
+        q.target = (double)r * S / (double)(m - r);
+    int st = ebr_lambda(rule, &q, &lstar);
+    if (st)
+        return st;
+    *lh = IGEA_MAX(lstar / s1 / s1, lam_floor);
+    *lhs = *lh * s1 * s1;
+    if (!isfinite(*lh) || !isfinite(*lhs) || (lstar > 0.0 && !(*lh > 0.0)))
+        return IGEA_EOVERFLOW;
+    *S_out = S;
+    return 0;
+}
+
+/* Scratch results of EBR, copied to the caller's arrays on success. */
+typedef struct {
+    double *d, *z2, *f, *g, *bt, *sp, *freq, *res, *cv;
+} ebr_out;
+
+/* beta, the shrinkage, the posterior covariance and the frequentist sds
+ * (METHODS 4.3 steps 7-8) from lambda hat, into the scratch. */
+static void ebr_results(const canon *c, const double *spec, double lhs,
+                        double s2, int want_cov, ebr_out *o)
+{
+    int N = c->N, r = c->r;
+    double s1 = c->s[0];
+    for (int i = 0; i < r; i++) {
+        double den = fma(lhs, o->d[i], 1.0);
+        o->sp[i] = lhs * o->d[i] / den;
+        o->f[i] = o->sp[i] / c->s[i]; /* theta_i = f_i z_i */
+    }
+    canon_coef(c, r, o->f, spec, o->bt);
+    /* Posterior: every direction, d_i = 0 beyond r (the prior variance);
+     * the variances carry the factor 1 / s_1^2 of the scaled form. */
+    if (want_cov) {
+        for (int i = 0; i < N; i++) {
+            double di = i < r ? o->d[i] : 0.0;
+            o->g[i] = lhs / fma(lhs, di, 1.0);
+        }
+        canon_cov(c, N, o->g, s2, spec, o->cv, N);
+        for (size_t k = 0; k < (size_t)N * N; k++)
+            o->cv[k] = o->cv[k] / s1 / s1;
+    }
+    for (int i = 0; i < r; i++) {
+        double den = fma(lhs, o->d[i], 1.0);
+        o->g[i] = lhs * lhs * o->d[i] / (den * den);
+    }
+    canon_sd(c, r, o->g, s2, spec, o->freq);
+    for (int i = 0; i < N; i++)
+        o->freq[i] /= s1;
+}
+
 int igea_regress_ebr(int m, int N, const double *A, int lda, const double *y,
-                     const double *prior_scale, int rule, double lam_floor,
-                     double *beta, double *lam, int *rank, double *shrink,
-                     double *sd_post, double *sd_freq)
+                     const double *sigma, const double *spec_sigma, int rule,
+                     double lam_floor, double *x, double *cov, int ldc,
+                     double *lam, int *rank, double *sigma2, double *residual,
+                     double *shrink, double *sd_freq)
 {
     int st = check_args(m, N, A, lda, y, 0);
     if (st)
         return st;
     if (rule != IGEA_REGRESS_EBR_SC && rule != IGEA_REGRESS_EBR_MM && rule != IGEA_REGRESS_EBR_ML2)
-        return -7;
-    if (!(lam_floor >= 0.0) || !isfinite(lam_floor))
         return -8;
-    if (!beta)
+    if (!(lam_floor >= 0.0) || !isfinite(lam_floor))
         return -9;
-    if (!lam)
+    if (!x)
         return -10;
+    if (cov && ldc < N)
+        return -12;
+    if (!lam)
+        return -13;
     if (!rank)
-        return -11;
-    st = check_values(m, N, A, lda, y, NULL, prior_scale);
+        return -14;
+    if (!sigma2)
+        return -15;
+    st = check_values(m, N, A, lda, y, sigma, spec_sigma);
     if (st)
         return st;
     canon c;
-    st = canon_make(m, N, A, lda, y, NULL, prior_scale, 0.0, &c);
+    st = canon_make(m, N, A, lda, y, sigma, spec_sigma, 0.0, &c);
     if (st)
         return st;
-    int r = c.r;
-    double *w = igea__dalloc(8 * (size_t)N + 2);
+    size_t n = (size_t)N, nn = cov ? n * n : 0;
+    double *w = igea__dalloc(7 * n + (size_t)m + nn + 2);
     if (!w) {
         canon_free(&c);
         return IGEA_ENOMEM;
     }
-    double *d = w, *z2 = d + N, *f = z2 + N, *g = f + N, *bt = g + N,
-           *sp = bt + N, *post = sp + N, *freq = post + N;
-    if (r < 3)
-        st = IGEA_ERANK;
-    double S = canon_rss(&c);
-    if (st == 0 && (m <= r || !(S > 0.0)))
-        st = IGEA_EDOMAIN;
-    if (st == 0 && !isfinite(S))
-        st = IGEA_EOVERFLOW;
-    /* The canonical form is solved on the design scaled by 1/s_1 (d_i =
-     * (s_i / s_1)^2 in (0, 1]): lambda d_i, the shrinkage and the
-     * equations of every rule are unchanged by a scale of A, and lambda
-     * itself is lambda' / s_1^2. */
-    double s1 = r > 0 ? c.s[0] : 1.0, lstar = 0.0;
+    ebr_out o = {w, w + n, w + 2 * n, w + 3 * n, w + 4 * n, w + 5 * n, w + 6 * n,
+                 w + 7 * n, w + 7 * n + m};
+    double S = 0.0, lh = 0.0, lhs = 0.0;
+    st = ebr_fit(&c, rule, lam_floor, o.d, o.z2, &S, &lh, &lhs);
+    int r = c.r;
+    double s2 = st == 0 ? S / (m - r) : 0.0;
     if (st == 0) {
-        for (int i = 0; i < r; i++) {
-            double q = c.s[i] / s1;
-            d[i] = q * q;
-            z2[i] = c.z[i] * c.z[i];
-        }
-        if (!igea__finite_vec(r, z2, 1))
+        ebr_results(&c, spec_sigma, lhs, s2, cov != NULL, &o);
+        residual_of(m, N, A, lda, y, o.bt, o.res);
+        if (!igea__finite_vec(N, o.bt, 1) || !igea__finite_vec(r, o.sp, 1) ||
+            !igea__finite_vec(m, o.res, 1) || !isfinite(s2) ||
+            (cov && !igea__finite_mat(N, N, o.cv, N)) ||
+            (sd_freq && !igea__finite_vec(N, o.freq, 1)))
             st = IGEA_EOVERFLOW;
     }
     if (st == 0) {
-        ebr_ctx q = {r, d, z2, 0.0, S / (m - r)};
-        if (rule == IGEA_REGRESS_EBR_SC)
-            q.target = (double)(r - 2) * S / (double)(m - r + 2);
-        else if (rule == IGEA_REGRESS_EBR_MM)
-            q.target = (double)r * S / (double)(m - r);
-        st = ebr_lambda(rule, &q, &lstar);
-    }
-    /* lambda hat in the caller's units and in the scaled form. */
-    double lh = 0.0, lhs = 0.0;
-    if (st == 0) {
-        lh = IGEA_MAX(lstar / s1 / s1, lam_floor);
-        lhs = lh * s1 * s1;
-        if (!isfinite(lh) || !isfinite(lhs) || (lstar > 0.0 && !(lh > 0.0)))
-            st = IGEA_EOVERFLOW;
-    }
-    if (st) {
-        free(w);
-        canon_free(&c);
-        return st;
-    }
-    double s2 = S / (m - r);
-    for (int i = 0; i < r; i++) {
-        double den = fma(lhs, d[i], 1.0);
-        sp[i] = lhs * d[i] / den;
-        f[i] = sp[i] / c.s[i]; /* theta_i = f_i z_i */
-    }
-    canon_coef(&c, r, f, prior_scale, bt);
-    /* Posterior: every direction, d_i = 0 beyond r (the prior variance);
-     * the variances carry the factor 1 / s_1^2 of the scaled form. */
-    for (int i = 0; i < N; i++) {
-        double di = i < r ? d[i] : 0.0;
-        g[i] = lhs / fma(lhs, di, 1.0);
-    }
-    canon_sd(&c, N, g, s2, prior_scale, post);
-    for (int i = 0; i < r; i++) {
-        double den = fma(lhs, d[i], 1.0);
-        g[i] = lhs * lhs * d[i] / (den * den);
-    }
-    canon_sd(&c, r, g, s2, prior_scale, freq);
-    for (int i = 0; i < N; i++) {
-        post[i] /= s1;
-        freq[i] /= s1;
-    }
-    if (!igea__finite_vec(N, bt, 1) || !igea__finite_vec(r, sp, 1) ||
-        (sd_post && !igea__finite_vec(N, post, 1)) ||
-        (sd_freq && !igea__finite_vec(N, freq, 1)))
-        st = IGEA_EOVERFLOW;
-    if (st == 0) {
-        memcpy(beta, bt, (size_t)N * sizeof(double));
+        memcpy(x, o.bt, n * sizeof(double));
+        if (cov)
+            for (int j = 0; j < N; j++)
+                memcpy(cov + (size_t)j * ldc, o.cv + (size_t)j * N, n * sizeof(double));
         *lam = lh;
         *rank = r;
+        *sigma2 = s2;
+        if (residual)
+            memcpy(residual, o.res, (size_t)m * sizeof(double));
         if (shrink)
             for (int i = 0; i < N; i++)
-                shrink[i] = i < r ? sp[i] : 0.0;
-        if (sd_post)
-            memcpy(sd_post, post, (size_t)N * sizeof(double));
+                shrink[i] = i < r ? o.sp[i] : 0.0;
         if (sd_freq)
-            memcpy(sd_freq, freq, (size_t)N * sizeof(double));
+            memcpy(sd_freq, o.freq, n * sizeof(double));
     }
     free(w);
     canon_free(&c);
@@ -736,31 +824,41 @@ static double norm2(int n, const double *x)
     return sc * sqrt(ss);
 }
 
-int igea_regress_ridge(int m, int N, const double *A, int lda,
-                       const double *y, const double *sigma, int rule,
-                       double k, double *x, double *cov, int ldc,
-                       double *k_used, double *sigma2, double *residual)
+/* sqrt(k) of a ridge rule on the canonical form (rss its LS residual sum
+ * of squares, s2 = rss / (m - r)); f and xs are scratch (N each). Returns
+ * 0 or IGEA_EDOMAIN (HKB/LW without residual or with x_LS = 0). */
+static int ridge_rule_rk(const canon *c, int rule, double rss, double s2,
+                         double *f, double *xs, double *rk)
 {
-    int st = check_args(m, N, A, lda, y, 0);
-    if (st)
-        return st;
-    if (rule < IGEA_REGRESS_RIDGE_FIXED || rule > IGEA_REGRESS_RIDGE_LOO)
-        return -7;
-    if (rule == IGEA_REGRESS_RIDGE_FIXED && !(k >= 0.0 && isfinite(k)))
-        return -8;
-    if (!x)
-        return -9;
-    if (cov && ldc < N)
-        return -11;
-    if (!k_used)
-        return -12;
-    if (!sigma2)
-        return -13;
-    st = check_values(m, N, A, lda, y, sigma, NULL);
-    if (st)
-        return st;
+    int m = c->m, N = c->N, r = c->r;
+    if (rule == IGEA_REGRESS_RIDGE_HKB || rule == IGEA_REGRESS_RIDGE_LW) {
+        for (int i = 0; i < r; i++)
+            f[i] = 1.0 / c->s[i];
+        canon_coef(c, r, f, NULL, xs);
+        double den = rule == IGEA_REGRESS_RIDGE_HKB ? norm2(N, xs) : norm2(r, c->z);
+        if (m <= r || !(den > 0.0))
+            return IGEA_EDOMAIN;
+        *rk = sqrt((double)r * s2) / den;
+    } else if (rule == IGEA_REGRESS_RIDGE_GCV || rule == IGEA_REGRESS_RIDGE_LOO) {
+        if (r == 0)
+            *rk = 0.0;
+        else {
+            ridge_ctx q = {c, rss, rule == IGEA_REGRESS_RIDGE_LOO};
+            double t0 = 2.0 * log10(c->s[0]);
+            *rk = pow(10.0, 0.5 * grid_golden_min(ridge_crit, &q, t0 - 12.0,
+                                                  t0 + 4.0, 161));
+        }
+    }
+    return 0;
+}
+
+static int ridge_core(int m, int N, const double *A, int lda, const double *y,
+                      const double *sigma, const double *spec, int rule,
+                      double k, double *x, double *cov, int ldc,
+                      double *k_used, double *sigma2, double *residual)
+{
     canon c;
-    st = canon_make(m, N, A, lda, y, sigma, NULL, 0.0, &c);
+    int st = canon_make(m, N, A, lda, y, sigma, NULL, 0.0, &c);
     if (st)
         return st;
     int r = c.r;
@@ -779,25 +877,8 @@ int igea_regress_ridge(int m, int N, const double *A, int lda,
     /* The rules find rk = sqrt(k), which stays representable where k
      * itself may not be; k_used = rk^2 must then be. */
     double rk = sqrt(k);
-    if (st == 0 && (rule == IGEA_REGRESS_RIDGE_HKB || rule == IGEA_REGRESS_RIDGE_LW)) {
-        for (int i = 0; i < r; i++)
-            f[i] = 1.0 / c.s[i];
-        canon_coef(&c, r, f, NULL, xs);
-        double den = rule == IGEA_REGRESS_RIDGE_HKB ? norm2(N, xs) : norm2(r, c.z);
-        if (m <= r || !(den > 0.0))
-            st = IGEA_EDOMAIN;
-        else
-            rk = sqrt((double)r * s2) / den;
-    } else if (st == 0 && (rule == IGEA_REGRESS_RIDGE_GCV || rule == IGEA_REGRESS_RIDGE_LOO)) {
-        if (r == 0)
-            rk = 0.0;
-        else {
-            ridge_ctx q = {&c, rss, rule == IGEA_REGRESS_RIDGE_LOO};
-            double t0 = 2.0 * log10(c.s[0]);
-            rk = pow(10.0, 0.5 * grid_golden_min(ridge_crit, &q, t0 - 12.0,
-                                                 t0 + 4.0, 161));
-        }
-    }
+    if (st == 0)
+        st = ridge_rule_rk(&c, rule, rss, s2, f, xs, &rk);
     double kk = rule == IGEA_REGRESS_RIDGE_FIXED ? k : rk * rk;
     if (st == 0 && (!isfinite(kk) || (rk > 0.0 && kk < DBL_MIN)))
         st = IGEA_EOVERFLOW;
@@ -811,6 +892,7 @@ int igea_regress_ridge(int m, int N, const double *A, int lda,
         if (cov)
             canon_cov(&c, r, g, s2, NULL, cv, N);
         residual_of(m, N, A, lda, y, xs, res);
+        unscale(N, spec, xs, cov ? cv : NULL, N);
         if (!igea__finite_vec(N, xs, 1) || !igea__finite_vec(m, res, 1) ||
             !isfinite(s2) || (cov && !igea__finite_mat(N, N, cv, N)))
             st = IGEA_EOVERFLOW;
@@ -831,29 +913,65 @@ int igea_regress_ridge(int m, int N, const double *A, int lda,
     return st;
 }
 
+int igea_regress_ridge(int m, int N, const double *A, int lda,
+                       const double *y, const double *sigma,
+                       const double *spec_sigma, int rule, double k, double *x,
+                       double *cov, int ldc, double *k_used, double *sigma2,
+                       double *residual)
+{
+    int st = check_args(m, N, A, lda, y, 0);
+    if (st)
+        return st;
+    if (rule < IGEA_REGRESS_RIDGE_FIXED || rule > IGEA_REGRESS_RIDGE_LOO)
+        return -8;
+    if (rule == IGEA_REGRESS_RIDGE_FIXED && !(k >= 0.0 && isfinite(k)))
+        return -9;
+    if (!x)
+        return -10;
+    if (cov && ldc < N)
+        return -12;
+    if (!k_used)
+        return -13;
+    if (!sigma2)
+        return -14;
+    st = check_values(m, N, A, lda, y, sigma, spec_sigma);
+    if (st)
+        return st;
+    double *own;
+    if (scaled_design(m, N, &A, &lda, spec_sigma, &own))
+        return IGEA_ENOMEM;
+    st = ridge_core(m, N, A, lda, y, sigma, spec_sigma, rule, k, x, cov, ldc,
+                    k_used, sigma2, residual);
+    free(own);
+    return st;
+}
+
 int igea_regress_ridge_trace(int m, int N, const double *A, int lda,
-                             const double *y, const double *sigma, int nk,
-                             const double *k, double *X, int ldx, double *edf)
+                             const double *y, const double *sigma,
+                             const double *spec_sigma, int nk, const double *k,
+                             double *X, int ldx, double *edf)
 {
     int st = check_args(m, N, A, lda, y, 0);
     if (st)
         return st;
     if (nk < 1)
-        return -7;
-    if (!k)
         return -8;
+    if (!k)
+        return -9;
     for (int j = 0; j < nk; j++)
         if (!(k[j] >= 0.0 && isfinite(k[j])))
-            return -8;
+            return -9;
     if (!X)
-        return -9;
-    if (ldx < N)
         return -10;
-    st = check_values(m, N, A, lda, y, sigma, NULL);
+    if (ldx < N)
+        return -11;
+    st = check_values(m, N, A, lda, y, sigma, spec_sigma);
     if (st)
         return st;
+    /* The scaled design A D is the canonical form's column scale cs = D:
+     * the same rounded products as a copy of A D. */
     canon c;
-    st = canon_make(m, N, A, lda, y, sigma, NULL, 0.0, &c);
+    st = canon_make(m, N, A, lda, y, sigma, spec_sigma, 0.0, &c);
     if (st)
         return st;
     /* Scratch: f (N), the trace (N x nk) and edf (nk): the caller's arrays
@@ -871,6 +989,7 @@ int igea_regress_ridge_trace(int m, int N, const double *A, int lda,
             e += ridge_hat(c.s[i], rk);
         }
         canon_coef(&c, c.r, f, NULL, Xs + (size_t)j * N);
+        unscale(N, spec_sigma, Xs + (size_t)j * N, NULL, 0);
         es[j] = e;
     }
     st = igea__finite_mat(N, nk, Xs, N) ? 0 : IGEA_EOVERFLOW;
@@ -888,31 +1007,13 @@ int igea_regress_ridge_trace(int m, int N, const double *A, int lda,
 
 /* ---- principal components ---------------------------------------------- */
 
-int igea_regress_pce(int m, int N, const double *A, int lda, const double *y,
-                     const double *sigma, int ncomp, double eig_min,
-                     double *x, double *cov, int ldc, int *nused,
-                     double *sigma2, double *residual)
+static int pce_core(int m, int N, const double *A, int lda, const double *y,
+                    const double *sigma, const double *spec, int ncomp,
+                    double eig_min, double *x, double *cov, int ldc,
+                    int *nused, double *sigma2, double *residual)
 {
-    int st = check_args(m, N, A, lda, y, 0);
-    if (st)
-        return st;
-    if (ncomp < 0)
-        return -7;
-    if (ncomp == 0 && !(eig_min > 0.0 && isfinite(eig_min)))
-        return -8;
-    if (!x)
-        return -9;
-    if (cov && ldc < N)
-        return -11;
-    if (!nused)
-        return -12;
-    if (!sigma2)
-        return -13;
-    st = check_values(m, N, A, lda, y, sigma, NULL);
-    if (st)
-        return st;
     canon c;
-    st = canon_make(m, N, A, lda, y, sigma, NULL, 0.0, &c);
+    int st = canon_make(m, N, A, lda, y, sigma, NULL, 0.0, &c);
     if (st)
         return st;
     int r = c.r, n = 0;
@@ -940,6 +1041,7 @@ int igea_regress_pce(int m, int N, const double *A, int lda, const double *y,
     if (cov)
         canon_cov(&c, n, g, s2, NULL, cv, N);
     residual_of(m, N, A, lda, y, xs, res);
+    unscale(N, spec, xs, cov ? cv : NULL, N);
     st = 0;
     if (!igea__finite_vec(N, xs, 1) || !igea__finite_vec(m, res, 1) ||
         !isfinite(s2) || (cov && !igea__finite_mat(N, N, cv, N)))
@@ -960,33 +1062,49 @@ int igea_regress_pce(int m, int N, const double *A, int lda, const double *y,
     return st;
 }
 
-/* ---- Bayes --------------------------------------------------------------- */
-
-int igea_regress_bayes(int m, int N, const double *A, int lda,
-                       const double *y, const double *sigma,
-                       const double *prior_mean, const double *prior_cov,
-                       int ldp, double *x, double *cov, int ldc,
-                       double *residual)
+int igea_regress_pce(int m, int N, const double *A, int lda, const double *y,
+                     const double *sigma, const double *spec_sigma, int ncomp,
+                     double eig_min, double *x, double *cov, int ldc,
+                     int *nused, double *sigma2, double *residual)
 {
     int st = check_args(m, N, A, lda, y, 0);
     if (st)
         return st;
-    if (!prior_cov)
+    if (ncomp < 0)
         return -8;
-    if (ldp < N)
+    if (ncomp == 0 && !(eig_min > 0.0 && isfinite(eig_min)))
         return -9;
     if (!x)
         return -10;
     if (cov && ldc < N)
         return -12;
-    st = check_values(m, N, A, lda, y, sigma, NULL);
+    if (!nused)
+        return -13;
+    if (!sigma2)
+        return -14;
+    st = check_values(m, N, A, lda, y, sigma, spec_sigma);
     if (st)
         return st;
-    if (prior_mean && !igea__finite_vec(N, prior_mean, 1))
-        return IGEA_ENONFINITE;
-    for (int j = 0; j < N; j++)
-        if (!igea__finite_vec(N - j, prior_cov + j + (size_t)j * ldp, 1))
-            return IGEA_ENONFINITE;
+    double *own;
+    if (scaled_design(m, N, &A, &lda, spec_sigma, &own))
+        return IGEA_ENOMEM;
+    st = pce_core(m, N, A, lda, y, sigma, spec_sigma, ncomp, eig_min, x, cov,
+                  ldc, nused, sigma2, residual);
+    free(own);
+    return st;
+}
+
+/* ---- Bayes --------------------------------------------------------------- */
+
+/* Bayes on the (scaled) design A with the (scaled) prior: prior_cov the
+ * lower triangle of P (ldp), or NULL for the identity. */
+static int bayes_core(int m, int N, const double *A, int lda, const double *y,
+                      const double *sigma, const double *spec,
+                      const double *prior_mean, const double *prior_cov,
+                      int ldp, double *x, double *cov, int ldc,
+                      double *residual)
+{
+    int st = 0;
     size_t nn = (size_t)N * N, mn = (size_t)m * N;
     double *w = igea__dalloc(nn + mn + 2 * (size_t)m + 5 * (size_t)N + nn);
     if (!w)
@@ -995,7 +1113,9 @@ int igea_regress_bayes(int m, int N, const double *A, int lda,
            *f = t + N, *g = f + N, *xs = g + N, *tmp = xs + N, *C = tmp + N;
     for (int j = 0; j < N; j++)
         for (int i = 0; i < N; i++)
-            L[i + (size_t)j * N] = i >= j ? IGEA_AT(prior_cov, ldp, i, j) : 0.0;
+            L[i + (size_t)j * N] = i < j ? 0.0
+                                   : prior_cov ? IGEA_AT(prior_cov, ldp, i, j)
+                                   : i == j ? 1.0 : 0.0;
     lapack_int info = LAPACKE_dpotrf_work(LAPACK_COL_MAJOR, 'L', N, L, N);
     if (info != 0) {
         free(w);
@@ -1039,6 +1159,7 @@ int igea_regress_bayes(int m, int N, const double *A, int lda,
     }
     (void)tmp;
     residual_of(m, N, A, lda, y, xs, res);
+    unscale(N, spec, xs, cov ? C : NULL, N);
     if (!igea__finite_vec(N, xs, 1) || !igea__finite_vec(m, res, 1) ||
         (cov && !igea__finite_mat(N, N, C, N)))
         st = IGEA_EOVERFLOW;
@@ -1057,32 +1178,85 @@ int igea_regress_bayes(int m, int N, const double *A, int lda,
     return st;
 }
 
+int igea_regress_bayes(int m, int N, const double *A, int lda,
+                       const double *y, const double *sigma,
+                       const double *spec_sigma, const double *prior_mean,
+                       const double *prior_cov, int ldp, double *x,
+                       double *cov, int ldc, double *residual)
+{
+    int st = check_args(m, N, A, lda, y, 0);
+    if (st)
+        return st;
+    if (prior_cov && ldp < N)
+        return -10;
+    if (!x)
+        return -11;
+    if (cov && ldc < N)
+        return -13;
+    st = check_values(m, N, A, lda, y, sigma, spec_sigma);
+    if (st)
+        return st;
+    if (prior_mean && !igea__finite_vec(N, prior_mean, 1))
+        return IGEA_ENONFINITE;
+    for (int j = 0; j < N && prior_cov; j++)
+        if (!igea__finite_vec(N - j, prior_cov + j + (size_t)j * ldp, 1))
+            return IGEA_ENONFINITE;
+    double *own, *pr = NULL;
+    if (scaled_design(m, N, &A, &lda, spec_sigma, &own))
+        return IGEA_ENOMEM;
+    if (spec_sigma && (prior_mean || prior_cov)) {
+        /* The prior of the scaled coefficients X / spec. */
+        size_t n = (size_t)N;
+        pr = igea__dalloc(n + n * n);
+        if (!pr) {
+            free(own);
+            return IGEA_ENOMEM;
+        }
+        for (int i = 0; i < N; i++) {
+            pr[i] = prior_mean ? prior_mean[i] / spec_sigma[i] : 0.0;
+            for (int j = 0; j <= i && prior_cov; j++)
+                pr[n + i + (size_t)j * n] =
+                    IGEA_AT(prior_cov, ldp, i, j) / (spec_sigma[i] * spec_sigma[j]);
+        }
+        prior_mean = prior_mean ? pr : NULL;
+        prior_cov = prior_cov ? pr + n : NULL;
+        ldp = N;
+    }
+    st = bayes_core(m, N, A, lda, y, sigma, spec_sigma, prior_mean, prior_cov,
+                    ldp, x, cov, ldc, residual);
+    free(pr);
+    free(own);
+    return st;
+}
+
 /* ---- diagnostics ----------------------------------------------------------- */
 
 int igea_regress_collinearity(int m, int N, const double *A, int lda,
                               const double *y, const double *sigma,
-                              double rcond, double *cond, int *rank,
-                              double *eig, double *V, int ldv, double *vif,
-                              double *sd_comb, int *prior_det)
+                              const double *spec_sigma, double rcond,
+                              double *cond, int *rank, double *eig, double *V,
+                              int ldv, double *vif, double *sd_comb,
+                              int *prior_det)
 {
     int st = check_args(m, N, A, lda, y, 1);
     if (st)
         return st;
     if (isnan(rcond) || rcond >= 1.0)
-        return -7;
-    if (!cond)
         return -8;
-    if (!rank)
+    if (!cond)
         return -9;
-    if (!eig)
+    if (!rank)
         return -10;
+    if (!eig)
+        return -11;
     if (V && ldv < N)
-        return -12;
-    st = check_values(m, N, A, lda, y, sigma, NULL);
+        return -13;
+    st = check_values(m, N, A, lda, y, sigma, spec_sigma);
     if (st)
         return st;
+    /* The diagnostics of A D: the canonical form's column scale. */
     canon c;
-    st = canon_make(m, N, A, lda, y, sigma, NULL, rcond, &c);
+    st = canon_make(m, N, A, lda, y, sigma, spec_sigma, rcond, &c);
     if (st)
         return st;
     int r = c.r, k = c.k;

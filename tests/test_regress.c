@@ -8,6 +8,26 @@
 
 #define PI_ 3.14159265358979323846
 
+/* EBR with unit row weights and the posterior sds, the diagonal of the
+ * covariance igea_regress_ebr returns (prior_scale is its spec_sigma). */
+static int ebr_old(int m, int N, const double *A, int lda, const double *y,
+                   const double *prior_scale, int rule, double lam_floor,
+                   double *beta, double *lam, int *rank, double *shrink,
+                   double *sd_post, double *sd_freq)
+{
+    double *cov = malloc((size_t)N * (size_t)N * sizeof(double)), s2;
+    if (!cov)
+        return IGEA_ENOMEM;
+    int st = igea_regress_ebr(m, N, A, lda, y, NULL, prior_scale, rule, lam_floor, beta,
+                              sd_post ? cov : NULL, N, lam, rank, &s2, NULL, shrink,
+                              sd_freq);
+    if (st == 0 && sd_post)
+        for (int j = 0; j < N; j++)
+            sd_post[j] = sqrt(cov[j + (size_t)j * N]);
+    free(cov);
+    return st;
+}
+
 static const double filip_y[82] = {0.8116, 0.9072, 0.9052, 0.9039, 0.8053, 0.8377, 0.8667, 0.8809, 0.7975, 0.8162, 0.8515, 0.8766, 0.8885, 0.8859, 0.8959, 0.8913, 0.8959, 0.8971, 0.9021, 0.909, 0.9139, 0.9199, 0.8692, 0.8872, 0.89, 0.891, 0.8977, 0.9035, 0.9078, 0.7675, 0.7705, 0.7713, 0.7736, 0.7775, 0.7841, 0.7971, 0.8329, 0.8641, 0.8804, 0.7668, 0.7633, 0.7678, 0.7697, 0.77, 0.7749, 0.7796, 0.7897, 0.8131, 0.8498, 0.8741, 0.8061, 0.846, 0.8751, 0.8856, 0.8919, 0.8934, 0.894, 0.8957, 0.9047, 0.9129, 0.9209, 0.9219, 0.7739, 0.7681, 0.7665, 0.7703, 0.7702, 0.7761, 0.7809, 0.7961, 0.8253, 0.8602, 0.8809, 0.8301, 0.8664, 0.8834, 0.8898, 0.8964, 0.8963, 0.9074, 0.9119, 0.9228};
 static const double filip_x[82] = {-6.860120914, -4.324130045, -4.358625055, -4.358426747, -6.955852379, -6.661145254, -6.355462942, -6.118102026, -7.115148017, -6.815308569, -6.519993057, -6.204119983, -5.853871964, -6.109523091, -5.79832982, -5.482672118, -5.171791386, -4.851705903, -4.517126416, -4.143573228, -3.709075441, -3.499489089, -6.300769497, -5.953504836, -5.642065153, -5.031376979, -4.680685696, -4.329846955, -3.928486195, -8.56735134, -8.363211311, -8.107682739, -7.823908741, -7.522878745, -7.218819279, -6.920818754, -6.628932138, -6.323946875, -5.991399828, -8.781464495, -8.663140179, -8.473531488, -8.247337057, -7.971428747, -7.676129393, -7.352812702, -7.072065318, -6.774174009, -6.478861916, -6.159517513, -6.835647144, -6.53165267, -6.224098421, -5.910094889, -5.598599459, -5.290645224, -4.974284616, -4.64454848, -4.290560426, -3.885055584, -3.408378962, -3.13200249, -8.726767166, -8.66695597, -8.511026475, -8.165388579, -7.886056648, -7.588043762, -7.283412422, -6.995678626, -6.691862621, -6.392544977, -6.067374056, -6.684029655, -6.378719832, -6.065855188, -5.752272167, -5.132414673, -4.811352704, -4.098269308, -3.66174277, -3.2644011};
 
@@ -109,7 +129,7 @@ static void test_ls_longley(void **state)
     double A[19 * 7], y[16], x[7], cov[8 * 7], res[16], s2;
     int rank;
     longley_design(lda, A, y);
-    assert_int_equal(igea_regress_ls(16, 7, A, lda, y, NULL, 0.0, x, cov, 8,
+    assert_int_equal(igea_regress_ls(16, 7, A, lda, y, NULL, NULL, 0.0, x, cov, 8,
                                      &rank, &s2, res), 0);
     assert_int_equal(rank, 7);
     /* >= 10 significant digits against NIST's certified values. */
@@ -138,7 +158,7 @@ static void test_ls_filip(void **state)
             p *= filip_x[i];
         }
     }
-    assert_int_equal(igea_regress_ls(82, 11, A, 82, filip_y, NULL, 0.0, x,
+    assert_int_equal(igea_regress_ls(82, 11, A, 82, filip_y, NULL, NULL, 0.0, x,
                                      cov, 11, &rank, &s2, NULL), 0);
     assert_int_equal(rank, 11);
     for (int j = 0; j < 11; j++) {
@@ -166,7 +186,7 @@ static void test_ebr_vector(void **state)
     int rank;
     for (int t = 0; t < 3; t++) {
         ebr_data(a[t], lda, A, y);
-        assert_int_equal(igea_regress_ebr(20, 9, A, lda, y, NULL, IGEA_REGRESS_EBR_SC,
+        assert_int_equal(ebr_old(20, 9, A, lda, y, NULL, IGEA_REGRESS_EBR_SC,
                                           0.0, beta, &lam, &rank, shrink, sdp,
                                           sdf), 0);
         assert_int_equal(rank, 7);
@@ -286,7 +306,7 @@ static void test_ls_weighted_line(void **state)
     double s2ref = chi2 / 4.0;
     double x[2], cov[3 * 2], s2, res[6];
     int rank;
-    assert_int_equal(igea_regress_ls(6, 2, A, 8, yv, sg, 0.0, x, cov, 3, &rank,
+    assert_int_equal(igea_regress_ls(6, 2, A, 8, yv, sg, NULL, 0.0, x, cov, 3, &rank,
                                      &s2, res), 0);
     assert_int_equal(rank, 2);
     assert_close(x[0], a, 1e-12);
@@ -309,7 +329,7 @@ static void test_ls_rank_deficient(void **state)
     double A[21 * 9], y[20], x[9], cov[9 * 9], s2, res[20];
     int rank;
     ebr_data(3e-5, lda, A, y);
-    assert_int_equal(igea_regress_ls(20, 9, A, lda, y, NULL, 0.0, x, cov, 9,
+    assert_int_equal(igea_regress_ls(20, 9, A, lda, y, NULL, NULL, 0.0, x, cov, 9,
                                      &rank, &s2, res), 0);
     assert_int_equal(rank, 7);
     assert_close_abs(-x[0] + x[5] - x[8], 0.0, 0.0, 1e-18);
@@ -328,7 +348,7 @@ static void test_ls_rank_deficient(void **state)
     double B[2 * 5], yb[5] = {2, 4, 6, 8, 10.5}, xb[2], sb;
     for (int i = 0; i < 5; i++)
         B[i] = B[i + 5] = i + 1.0;
-    assert_int_equal(igea_regress_ls(5, 2, B, 5, yb, NULL, 0.0, xb, NULL, 1,
+    assert_int_equal(igea_regress_ls(5, 2, B, 5, yb, NULL, NULL, 0.0, xb, NULL, 1,
                                      &rank, &sb, NULL), 0);
     assert_int_equal(rank, 1);
     double slope = (2 + 8 + 18 + 32 + 52.5) / 55.0;
@@ -336,7 +356,7 @@ static void test_ls_rank_deficient(void **state)
     assert_close(xb[1], slope / 2, 1e-13);
     /* Wide problem (m < N): minimum norm x = A^T (A A^T)^-1 y. */
     double W[2 * 3] = {1, 0, 1, 1, 0, 1}, yw[2] = {1, 2}, xw[3], sw;
-    assert_int_equal(igea_regress_ls(2, 3, W, 2, yw, NULL, 0.0, xw, NULL, 1,
+    assert_int_equal(igea_regress_ls(2, 3, W, 2, yw, NULL, NULL, 0.0, xw, NULL, 1,
                                      &rank, &sw, NULL), 0);
     assert_int_equal(rank, 2);
     /* A A^T = [[2,1],[1,2]], inverse [[2,-1],[-1,2]]/3; t = (0, 1) */
@@ -356,29 +376,29 @@ static void test_ls_errors(void **state)
     fill_sentinel(cov, 4);
     fill_sentinel(res, 3);
 #define LS(...) igea_regress_ls(__VA_ARGS__)
-    assert_int_equal(LS(0, 2, A, 3, y, NULL, 0, x, cov, 2, &rank, &s2, res), -1);
-    assert_int_equal(LS(3, 0, A, 3, y, NULL, 0, x, cov, 2, &rank, &s2, res), -2);
-    assert_int_equal(LS(3, 2, NULL, 3, y, NULL, 0, x, cov, 2, &rank, &s2, res), -3);
-    assert_int_equal(LS(3, 2, A, 2, y, NULL, 0, x, cov, 2, &rank, &s2, res), -4);
-    assert_int_equal(LS(3, 2, A, 3, NULL, NULL, 0, x, cov, 2, &rank, &s2, res), -5);
-    assert_int_equal(LS(3, 2, A, 3, y, NULL, 1.0, x, cov, 2, &rank, &s2, res), -7);
-    assert_int_equal(LS(3, 2, A, 3, y, NULL, NAN, x, cov, 2, &rank, &s2, res), -7);
-    assert_int_equal(LS(3, 2, A, 3, y, NULL, 0, NULL, cov, 2, &rank, &s2, res), -8);
-    assert_int_equal(LS(3, 2, A, 3, y, NULL, 0, x, cov, 1, &rank, &s2, res), -10);
-    assert_int_equal(LS(3, 2, A, 3, y, NULL, 0, x, cov, 2, NULL, &s2, res), -11);
-    assert_int_equal(LS(3, 2, A, 3, y, NULL, 0, x, cov, 2, &rank, NULL, res), -12);
+    assert_int_equal(LS(0, 2, A, 3, y, NULL, NULL, 0, x, cov, 2, &rank, &s2, res), -1);
+    assert_int_equal(LS(3, 0, A, 3, y, NULL, NULL, 0, x, cov, 2, &rank, &s2, res), -2);
+    assert_int_equal(LS(3, 2, NULL, 3, y, NULL, NULL, 0, x, cov, 2, &rank, &s2, res), -3);
+    assert_int_equal(LS(3, 2, A, 2, y, NULL, NULL, 0, x, cov, 2, &rank, &s2, res), -4);
+    assert_int_equal(LS(3, 2, A, 3, NULL, NULL, NULL, 0, x, cov, 2, &rank, &s2, res), -5);
+    assert_int_equal(LS(3, 2, A, 3, y, NULL, NULL, 1.0, x, cov, 2, &rank, &s2, res), -8);
+    assert_int_equal(LS(3, 2, A, 3, y, NULL, NULL, NAN, x, cov, 2, &rank, &s2, res), -8);
+    assert_int_equal(LS(3, 2, A, 3, y, NULL, NULL, 0, NULL, cov, 2, &rank, &s2, res), -9);
+    assert_int_equal(LS(3, 2, A, 3, y, NULL, NULL, 0, x, cov, 1, &rank, &s2, res), -11);
+    assert_int_equal(LS(3, 2, A, 3, y, NULL, NULL, 0, x, cov, 2, NULL, &s2, res), -12);
+    assert_int_equal(LS(3, 2, A, 3, y, NULL, NULL, 0, x, cov, 2, &rank, NULL, res), -13);
     sg[1] = 0.0;
-    assert_int_equal(LS(3, 2, A, 3, y, sg, 0, x, cov, 2, &rank, &s2, res),
+    assert_int_equal(LS(3, 2, A, 3, y, sg, NULL, 0, x, cov, 2, &rank, &s2, res),
                      IGEA_ENONPOSITIVE);
     sg[1] = NAN;
-    assert_int_equal(LS(3, 2, A, 3, y, sg, 0, x, cov, 2, &rank, &s2, res),
+    assert_int_equal(LS(3, 2, A, 3, y, sg, NULL, 0, x, cov, 2, &rank, &s2, res),
                      IGEA_ENONFINITE);
     y[2] = INFINITY;
-    assert_int_equal(LS(3, 2, A, 3, y, NULL, 0, x, cov, 2, &rank, &s2, res),
+    assert_int_equal(LS(3, 2, A, 3, y, NULL, NULL, 0, x, cov, 2, &rank, &s2, res),
                      IGEA_ENONFINITE);
     y[2] = 2;
     A[4] = NAN;
-    assert_int_equal(LS(3, 2, A, 3, y, NULL, 0, x, cov, 2, &rank, &s2, res),
+    assert_int_equal(LS(3, 2, A, 3, y, NULL, NULL, 0, x, cov, 2, &rank, &s2, res),
                      IGEA_ENONFINITE);
 #undef LS
     assert_true(all_sentinel(x, 2) && all_sentinel(cov, 4) &&
@@ -397,11 +417,11 @@ static void test_ebr_closed_forms(void **state)
     double A[20 * 9], y[20], beta[9], lam, sh[9], sdp[9], sdf[9];
     int rank;
     ebr_data(1e-4, lda, A, y);
-    assert_int_equal(igea_regress_ebr(20, 9, A, lda, y, NULL, IGEA_REGRESS_EBR_SC, 0.0,
+    assert_int_equal(ebr_old(20, 9, A, lda, y, NULL, IGEA_REGRESS_EBR_SC, 0.0,
                                       beta, &lam, &rank, sh, sdp, sdf), 0);
     double B[81], b[9], M[81], ref[9], xl[9], s2;
     int rl;
-    assert_int_equal(igea_regress_ls(20, 9, A, lda, y, NULL, 0, xl, NULL, 1,
+    assert_int_equal(igea_regress_ls(20, 9, A, lda, y, NULL, NULL, 0, xl, NULL, 1,
                                      &rl, &s2, NULL), 0);
     normal_eq(20, 9, A, lda, y, 1.0 / lam, B, b);
     assert_true(gj_inverse(9, B, M));
@@ -431,7 +451,7 @@ static void test_ebr_closed_forms(void **state)
     }
     assert_close(yab, yy - S - 5.0 * S / 15.0, 1e-9);
     /* MM: y^T A beta = |y|^2 - S - r S/(m-r). */
-    assert_int_equal(igea_regress_ebr(20, 9, A, lda, y, NULL, IGEA_REGRESS_EBR_MM, 0.0,
+    assert_int_equal(ebr_old(20, 9, A, lda, y, NULL, IGEA_REGRESS_EBR_MM, 0.0,
                                       beta, &lam, &rank, NULL, NULL, NULL), 0);
     yab = 0.0;
     for (int i = 0; i < 20; i++)
@@ -479,7 +499,7 @@ static void test_ebr_orthogonal(void **state)
                       (Z / (4.0 * S / 8.0) - 1.0) / d,
                       (Z / (4.0 * s2) - 1.0) / d};
     for (int rule = 0; rule < 3; rule++) {
-        assert_int_equal(igea_regress_ebr(m, N, A, m, y, NULL, rule, 0.0, beta,
+        assert_int_equal(ebr_old(m, N, A, m, y, NULL, rule, 0.0, beta,
                                           &lam, &rank, shrink, NULL, NULL), 0);
         assert_int_equal(rank, 4);
         assert_close(lam, want[rule], 1e-10);
@@ -489,7 +509,7 @@ static void test_ebr_orthogonal(void **state)
         }
     }
     /* lam_floor above lambda*: lambda hat = floor. */
-    assert_int_equal(igea_regress_ebr(m, N, A, m, y, NULL, IGEA_REGRESS_EBR_SC, 100.0,
+    assert_int_equal(ebr_old(m, N, A, m, y, NULL, IGEA_REGRESS_EBR_SC, 100.0,
                                       beta, &lam, &rank, shrink, NULL, NULL), 0);
     assert_true(lam == 100.0);
     /* Positive-part rule: pure noise orthogonal to the design -> lambda 0,
@@ -507,7 +527,7 @@ static void test_ebr_orthogonal(void **state)
         }
         yn[i] = w[i] - p + 1e-3 * A[i + 12];
     }
-    assert_int_equal(igea_regress_ebr(m, N, A, m, yn, NULL, IGEA_REGRESS_EBR_SC, 0.0,
+    assert_int_equal(ebr_old(m, N, A, m, yn, NULL, IGEA_REGRESS_EBR_SC, 0.0,
                                       beta, &lam, &rank, shrink, NULL, NULL), 0);
     assert_true(lam == 0.0);
     for (int j = 0; j < N; j++)
@@ -528,9 +548,9 @@ static void test_ebr_prior_scale(void **state)
         for (int i = 0; i < 20; i++)
             As[i + 20 * j] = A[i + (size_t)lda * j] * ds[j];
     }
-    assert_int_equal(igea_regress_ebr(20, 9, A, lda, y, ds, IGEA_REGRESS_EBR_SC, 0.0,
+    assert_int_equal(ebr_old(20, 9, A, lda, y, ds, IGEA_REGRESS_EBR_SC, 0.0,
                                       b1, &l1, &r1, NULL, p1, NULL), 0);
-    assert_int_equal(igea_regress_ebr(20, 9, As, 20, y, NULL, IGEA_REGRESS_EBR_SC, 0.0,
+    assert_int_equal(ebr_old(20, 9, As, 20, y, NULL, IGEA_REGRESS_EBR_SC, 0.0,
                                       b2, &l2, &r2, NULL, p2, NULL), 0);
     assert_int_equal(r1, r2);
     assert_close(l1, l2, 1e-12);
@@ -554,34 +574,47 @@ static void test_ebr_errors(void **state)
     fill_sentinel(sp, 9);
     fill_sentinel(sf, 9);
 #define EBR(...) igea_regress_ebr(__VA_ARGS__)
-    assert_int_equal(EBR(0, 9, A, 20, y, NULL, 0, 0, b, &lam, &r, sh, sp, sf), -1);
-    assert_int_equal(EBR(20, 0, A, 20, y, NULL, 0, 0, b, &lam, &r, sh, sp, sf), -2);
-    assert_int_equal(EBR(20, 9, NULL, 20, y, NULL, 0, 0, b, &lam, &r, sh, sp, sf), -3);
-    assert_int_equal(EBR(20, 9, A, 19, y, NULL, 0, 0, b, &lam, &r, sh, sp, sf), -4);
-    assert_int_equal(EBR(20, 9, A, 20, NULL, NULL, 0, 0, b, &lam, &r, sh, sp, sf), -5);
-    assert_int_equal(EBR(20, 9, A, 20, y, NULL, 3, 0, b, &lam, &r, sh, sp, sf), -7);
-    assert_int_equal(EBR(20, 9, A, 20, y, NULL, 0, -1, b, &lam, &r, sh, sp, sf), -8);
-    assert_int_equal(EBR(20, 9, A, 20, y, NULL, 0, NAN, b, &lam, &r, sh, sp, sf), -8);
-    assert_int_equal(EBR(20, 9, A, 20, y, NULL, 0, 0, NULL, &lam, &r, sh, sp, sf), -9);
-    assert_int_equal(EBR(20, 9, A, 20, y, NULL, 0, 0, b, NULL, &r, sh, sp, sf), -10);
-    assert_int_equal(EBR(20, 9, A, 20, y, NULL, 0, 0, b, &lam, NULL, sh, sp, sf), -11);
+    double cv[81], s2 = SENTINEL, rs[20];
+    fill_sentinel(cv, 81);
+    fill_sentinel(rs, 20);
+    assert_int_equal(EBR(0, 9, A, 20, y, NULL, NULL, 0, 0, b, cv, 9, &lam, &r, &s2, rs, sh, sf), -1);
+    assert_int_equal(EBR(20, 0, A, 20, y, NULL, NULL, 0, 0, b, cv, 9, &lam, &r, &s2, rs, sh, sf), -2);
+    assert_int_equal(EBR(20, 9, NULL, 20, y, NULL, NULL, 0, 0, b, cv, 9, &lam, &r, &s2, rs, sh, sf), -3);
+    assert_int_equal(EBR(20, 9, A, 19, y, NULL, NULL, 0, 0, b, cv, 9, &lam, &r, &s2, rs, sh, sf), -4);
+    assert_int_equal(EBR(20, 9, A, 20, NULL, NULL, NULL, 0, 0, b, cv, 9, &lam, &r, &s2, rs, sh, sf), -5);
+    assert_int_equal(EBR(20, 9, A, 20, y, NULL, NULL, 3, 0, b, cv, 9, &lam, &r, &s2, rs, sh, sf), -8);
+    assert_int_equal(EBR(20, 9, A, 20, y, NULL, NULL, 0, -1, b, cv, 9, &lam, &r, &s2, rs, sh, sf), -9);
+    assert_int_equal(EBR(20, 9, A, 20, y, NULL, NULL, 0, NAN, b, cv, 9, &lam, &r, &s2, rs, sh, sf), -9);
+    assert_int_equal(EBR(20, 9, A, 20, y, NULL, NULL, 0, 0, NULL, cv, 9, &lam, &r, &s2, rs, sh, sf), -10);
+    assert_int_equal(EBR(20, 9, A, 20, y, NULL, NULL, 0, 0, b, cv, 8, &lam, &r, &s2, rs, sh, sf), -12);
+    assert_int_equal(EBR(20, 9, A, 20, y, NULL, NULL, 0, 0, b, cv, 9, NULL, &r, &s2, rs, sh, sf), -13);
+    assert_int_equal(EBR(20, 9, A, 20, y, NULL, NULL, 0, 0, b, cv, 9, &lam, NULL, &s2, rs, sh, sf), -14);
+    assert_int_equal(EBR(20, 9, A, 20, y, NULL, NULL, 0, 0, b, cv, 9, &lam, &r, NULL, rs, sh, sf), -15);
     ds[3] = 0.0;
-    assert_int_equal(EBR(20, 9, A, 20, y, ds, 0, 0, b, &lam, &r, sh, sp, sf),
+    assert_int_equal(EBR(20, 9, A, 20, y, NULL, ds, 0, 0, b, cv, 9, &lam, &r, &s2, rs, sh, sf),
                      IGEA_ENONPOSITIVE);
     ds[3] = NAN;
-    assert_int_equal(EBR(20, 9, A, 20, y, ds, 0, 0, b, &lam, &r, sh, sp, sf),
+    assert_int_equal(EBR(20, 9, A, 20, y, NULL, ds, 0, 0, b, cv, 9, &lam, &r, &s2, rs, sh, sf),
                      IGEA_ENONFINITE);
+    ds[3] = 1.0;
+    double sg[20];
+    for (int i = 0; i < 20; i++)
+        sg[i] = 1.0;
+    sg[7] = -1.0;
+    assert_int_equal(EBR(20, 9, A, 20, y, sg, NULL, 0, 0, b, cv, 9, &lam, &r, &s2, rs, sh, sf),
+                     IGEA_ENONPOSITIVE);
     y[4] = NAN;
-    assert_int_equal(EBR(20, 9, A, 20, y, NULL, 0, 0, b, &lam, &r, sh, sp, sf),
+    assert_int_equal(EBR(20, 9, A, 20, y, NULL, NULL, 0, 0, b, cv, 9, &lam, &r, &s2, rs, sh, sf),
                      IGEA_ENONFINITE);
     y[4] = 0.0;
     /* rank 2 < 3 */
-    assert_int_equal(EBR(20, 2, A, 20, y, NULL, 0, 0, b, &lam, &r, sh, sp, sf),
+    assert_int_equal(EBR(20, 2, A, 20, y, NULL, NULL, 0, 0, b, cv, 9, &lam, &r, &s2, rs, sh, sf),
                      IGEA_ERANK);
     /* m == r: no residual degrees of freedom */
     double Q[9] = {1, 0, 0, 0, 2, 0, 0, 0, 3}, yq[3] = {1, 2, 3};
-    assert_int_equal(EBR(3, 3, Q, 3, yq, NULL, 0, 0, b, &lam, &r, sh, sp, sf),
+    assert_int_equal(EBR(3, 3, Q, 3, yq, NULL, NULL, 0, 0, b, cv, 9, &lam, &r, &s2, rs, sh, sf),
                      IGEA_EDOMAIN);
+    assert_true(all_sentinel(cv, 81) && all_sentinel(rs, 20) && s2 == SENTINEL);
 #undef EBR
     assert_true(all_sentinel(b, 9) && all_sentinel(sh, 9) &&
                 all_sentinel(sp, 9) && all_sentinel(sf, 9) &&
@@ -607,7 +640,7 @@ static void test_ridge(void **state)
     }
     double B[49], b[7], M[49], ref[7];
     const double k = 1e-4;
-    assert_int_equal(igea_regress_ridge(16, 7, As, 16, y, NULL,
+    assert_int_equal(igea_regress_ridge(16, 7, As, 16, y, NULL, NULL,
                                         IGEA_REGRESS_RIDGE_FIXED, k, x, cov, 7, &ku,
                                         &s2, res), 0);
     assert_true(ku == k);
@@ -631,7 +664,7 @@ static void test_ridge(void **state)
     /* HKB and LW in closed form from least squares (p = 7 = rank). */
     double xl[7], sl;
     int rk;
-    assert_int_equal(igea_regress_ls(16, 7, As, 16, y, NULL, 0, xl, NULL, 1,
+    assert_int_equal(igea_regress_ls(16, 7, As, 16, y, NULL, NULL, 0, xl, NULL, 1,
                                      &rk, &sl, NULL), 0);
     double nx = 0.0, nax = 0.0;
     for (int j = 0; j < 7; j++)
@@ -642,16 +675,16 @@ static void test_ridge(void **state)
             v += As[i + 16 * j] * xl[j];
         nax += v * v;
     }
-    assert_int_equal(igea_regress_ridge(16, 7, As, 16, y, NULL, IGEA_REGRESS_RIDGE_HKB,
+    assert_int_equal(igea_regress_ridge(16, 7, As, 16, y, NULL, NULL, IGEA_REGRESS_RIDGE_HKB,
                                         0, x, NULL, 1, &ku, &s2, NULL), 0);
     assert_close(ku, 7 * sl / nx, 1e-9);
-    assert_int_equal(igea_regress_ridge(16, 7, As, 16, y, NULL, IGEA_REGRESS_RIDGE_LW,
+    assert_int_equal(igea_regress_ridge(16, 7, As, 16, y, NULL, NULL, IGEA_REGRESS_RIDGE_LW,
                                         0, x, NULL, 1, &ku, &s2, NULL), 0);
     assert_close(ku, 7 * sl / nax, 1e-9);
     /* GCV and LOO: the returned k is a local minimum of the criterion,
      * evaluated here independently from H = A M A^T. */
     for (int rule = IGEA_REGRESS_RIDGE_GCV; rule <= IGEA_REGRESS_RIDGE_LOO; rule++) {
-        assert_int_equal(igea_regress_ridge(16, 7, As, 16, y, NULL, rule, 0, x,
+        assert_int_equal(igea_regress_ridge(16, 7, As, 16, y, NULL, NULL, rule, 0, x,
                                             NULL, 1, &ku, &s2, NULL), 0);
         double crit[3];
         for (int t = 0; t < 3; t++) {
@@ -679,11 +712,11 @@ static void test_ridge(void **state)
     }
     /* Trace: k = 0 gives least squares; k = 1e-4 the fixed ridge. */
     double kg[2] = {0.0, 1e-4}, X[8 * 2], edf[2];
-    assert_int_equal(igea_regress_ridge_trace(16, 7, As, 16, y, NULL, 2, kg, X,
+    assert_int_equal(igea_regress_ridge_trace(16, 7, As, 16, y, NULL, NULL, 2, kg, X,
                                               8, edf), 0);
     assert_close(edf[0], 7.0, 1e-12);
     assert_true(edf[1] < 7.0);
-    assert_int_equal(igea_regress_ridge(16, 7, As, 16, y, NULL,
+    assert_int_equal(igea_regress_ridge(16, 7, As, 16, y, NULL, NULL,
                                         IGEA_REGRESS_RIDGE_FIXED, 1e-4, x, NULL, 1, &ku,
                                         &s2, NULL), 0);
     for (int j = 0; j < 7; j++) {
@@ -729,9 +762,9 @@ static void test_ridge_published_longley(void **state)
             ym += longley[i][ycol] / n;
         for (int i = 0; i < n; i++)
             y[i] = longley[i][ycol] - ym;
-        assert_int_equal(igea_regress_ridge(n, p, X, n, y, NULL, IGEA_REGRESS_RIDGE_HKB,
+        assert_int_equal(igea_regress_ridge(n, p, X, n, y, NULL, NULL, IGEA_REGRESS_RIDGE_HKB,
                                             0, x, NULL, 1, &kh, &s2, NULL), 0);
-        assert_int_equal(igea_regress_ridge(n, p, X, n, y, NULL, IGEA_REGRESS_RIDGE_LW,
+        assert_int_equal(igea_regress_ridge(n, p, X, n, y, NULL, NULL, IGEA_REGRESS_RIDGE_LW,
                                             0, x, NULL, 1, &kl, &s2, NULL), 0);
         double f = (p - 2.0) / p * (n - p) / (n - p - 1.0);
         if (t == 0) {
@@ -755,38 +788,38 @@ static void test_ridge_errors(void **state)
     fill_sentinel(res, 3);
     fill_sentinel(X, 2);
 #define RG(...) igea_regress_ridge(__VA_ARGS__)
-    assert_int_equal(RG(0, 2, A, 3, y, NULL, 0, 1, x, cov, 2, &ku, &s2, res), -1);
-    assert_int_equal(RG(3, 0, A, 3, y, NULL, 0, 1, x, cov, 2, &ku, &s2, res), -2);
-    assert_int_equal(RG(3, 2, NULL, 3, y, NULL, 0, 1, x, cov, 2, &ku, &s2, res), -3);
-    assert_int_equal(RG(3, 2, A, 1, y, NULL, 0, 1, x, cov, 2, &ku, &s2, res), -4);
-    assert_int_equal(RG(3, 2, A, 3, NULL, NULL, 0, 1, x, cov, 2, &ku, &s2, res), -5);
-    assert_int_equal(RG(3, 2, A, 3, y, NULL, 5, 1, x, cov, 2, &ku, &s2, res), -7);
-    assert_int_equal(RG(3, 2, A, 3, y, NULL, 0, -1, x, cov, 2, &ku, &s2, res), -8);
-    assert_int_equal(RG(3, 2, A, 3, y, NULL, 0, 1, NULL, cov, 2, &ku, &s2, res), -9);
-    assert_int_equal(RG(3, 2, A, 3, y, NULL, 0, 1, x, cov, 1, &ku, &s2, res), -11);
-    assert_int_equal(RG(3, 2, A, 3, y, NULL, 0, 1, x, cov, 2, NULL, &s2, res), -12);
-    assert_int_equal(RG(3, 2, A, 3, y, NULL, 0, 1, x, cov, 2, &ku, NULL, res), -13);
+    assert_int_equal(RG(0, 2, A, 3, y, NULL, NULL, 0, 1, x, cov, 2, &ku, &s2, res), -1);
+    assert_int_equal(RG(3, 0, A, 3, y, NULL, NULL, 0, 1, x, cov, 2, &ku, &s2, res), -2);
+    assert_int_equal(RG(3, 2, NULL, 3, y, NULL, NULL, 0, 1, x, cov, 2, &ku, &s2, res), -3);
+    assert_int_equal(RG(3, 2, A, 1, y, NULL, NULL, 0, 1, x, cov, 2, &ku, &s2, res), -4);
+    assert_int_equal(RG(3, 2, A, 3, NULL, NULL, NULL, 0, 1, x, cov, 2, &ku, &s2, res), -5);
+    assert_int_equal(RG(3, 2, A, 3, y, NULL, NULL, 5, 1, x, cov, 2, &ku, &s2, res), -8);
+    assert_int_equal(RG(3, 2, A, 3, y, NULL, NULL, 0, -1, x, cov, 2, &ku, &s2, res), -9);
+    assert_int_equal(RG(3, 2, A, 3, y, NULL, NULL, 0, 1, NULL, cov, 2, &ku, &s2, res), -10);
+    assert_int_equal(RG(3, 2, A, 3, y, NULL, NULL, 0, 1, x, cov, 1, &ku, &s2, res), -12);
+    assert_int_equal(RG(3, 2, A, 3, y, NULL, NULL, 0, 1, x, cov, 2, NULL, &s2, res), -13);
+    assert_int_equal(RG(3, 2, A, 3, y, NULL, NULL, 0, 1, x, cov, 2, &ku, NULL, res), -14);
     A[2] = NAN;
-    assert_int_equal(RG(3, 2, A, 3, y, NULL, 0, 1, x, cov, 2, &ku, &s2, res),
+    assert_int_equal(RG(3, 2, A, 3, y, NULL, NULL, 0, 1, x, cov, 2, &ku, &s2, res),
                      IGEA_ENONFINITE);
     A[2] = 3;
     /* HKB needs residual degrees of freedom */
     double Q[4] = {1, 0, 0, 1}, yq[2] = {1, 1};
-    assert_int_equal(RG(2, 2, Q, 2, yq, NULL, IGEA_REGRESS_RIDGE_HKB, 0, x, cov, 2, &ku,
+    assert_int_equal(RG(2, 2, Q, 2, yq, NULL, NULL, IGEA_REGRESS_RIDGE_HKB, 0, x, cov, 2, &ku,
                         &s2, res), IGEA_EDOMAIN);
 #undef RG
-    assert_int_equal(igea_regress_ridge_trace(3, 2, A, 3, y, NULL, 0, kg, X, 2,
-                                              NULL), -7);
-    assert_int_equal(igea_regress_ridge_trace(3, 2, A, 3, y, NULL, 1, NULL, X,
-                                              2, NULL), -8);
-    kg[0] = -1;
-    assert_int_equal(igea_regress_ridge_trace(3, 2, A, 3, y, NULL, 1, kg, X, 2,
+    assert_int_equal(igea_regress_ridge_trace(3, 2, A, 3, y, NULL, NULL, 0, kg, X, 2,
                                               NULL), -8);
-    kg[0] = 1;
-    assert_int_equal(igea_regress_ridge_trace(3, 2, A, 3, y, NULL, 1, kg, NULL,
+    assert_int_equal(igea_regress_ridge_trace(3, 2, A, 3, y, NULL, NULL, 1, NULL, X,
                                               2, NULL), -9);
-    assert_int_equal(igea_regress_ridge_trace(3, 2, A, 3, y, NULL, 1, kg, X, 1,
-                                              NULL), -10);
+    kg[0] = -1;
+    assert_int_equal(igea_regress_ridge_trace(3, 2, A, 3, y, NULL, NULL, 1, kg, X, 2,
+                                              NULL), -9);
+    kg[0] = 1;
+    assert_int_equal(igea_regress_ridge_trace(3, 2, A, 3, y, NULL, NULL, 1, kg, NULL,
+                                              2, NULL), -10);
+    assert_int_equal(igea_regress_ridge_trace(3, 2, A, 3, y, NULL, NULL, 1, kg, X, 1,
+                                              NULL), -11);
     assert_true(all_sentinel(x, 2) && all_sentinel(cov, 4) &&
                 all_sentinel(res, 3) && all_sentinel(X, 2) &&
                 ku == SENTINEL && s2 == SENTINEL);
@@ -806,7 +839,7 @@ static void test_pce(void **state)
     for (int j = 0; j < 3; j++)
         for (int i = 0; i < 4; i++)
             A[i + 5 * j] = (i == j) ? 3.0 - j : 0.0;
-    assert_int_equal(igea_regress_pce(4, 3, A, 5, y, NULL, 2, 0.0, x, cov, 3,
+    assert_int_equal(igea_regress_pce(4, 3, A, 5, y, NULL, NULL, 2, 0.0, x, cov, 3,
                                       &n, &s2, res), 0);
     assert_int_equal(n, 2);
     assert_close(x[0], 1.0, 1e-15);
@@ -817,30 +850,30 @@ static void test_pce(void **state)
     assert_close(cov[4], 0.04 / 4, 1e-13);
     assert_close_abs(cov[8], 0.0, 0, 1e-30);
     assert_close(res[2], 0.5, 1e-15);
-    assert_int_equal(igea_regress_pce(4, 3, A, 5, y, NULL, 0, 0.5, x, NULL, 1,
+    assert_int_equal(igea_regress_pce(4, 3, A, 5, y, NULL, NULL, 0, 0.5, x, NULL, 1,
                                       &n, &s2, NULL), 0);
     assert_int_equal(n, 3);
     assert_close(x[2], 0.5, 1e-15);
-    assert_int_equal(igea_regress_pce(4, 3, A, 5, y, NULL, 0, 5.0, x, NULL, 1,
+    assert_int_equal(igea_regress_pce(4, 3, A, 5, y, NULL, NULL, 0, 5.0, x, NULL, 1,
                                       &n, &s2, NULL), 0);
     assert_int_equal(n, 1);
     assert_true(x[1] == 0.0);
     /* errors */
     double xs[3];
     fill_sentinel(xs, 3);
-    assert_int_equal(igea_regress_pce(4, 3, A, 5, y, NULL, -1, 0, xs, NULL, 1,
-                                      &n, &s2, NULL), -7);
-    assert_int_equal(igea_regress_pce(4, 3, A, 5, y, NULL, 0, 0, xs, NULL, 1,
+    assert_int_equal(igea_regress_pce(4, 3, A, 5, y, NULL, NULL, -1, 0, xs, NULL, 1,
                                       &n, &s2, NULL), -8);
-    assert_int_equal(igea_regress_pce(4, 3, A, 5, y, NULL, 1, 0, NULL, NULL, 1,
+    assert_int_equal(igea_regress_pce(4, 3, A, 5, y, NULL, NULL, 0, 0, xs, NULL, 1,
                                       &n, &s2, NULL), -9);
-    assert_int_equal(igea_regress_pce(4, 3, A, 5, y, NULL, 1, 0, xs, cov, 2,
-                                      &n, &s2, NULL), -11);
-    assert_int_equal(igea_regress_pce(4, 3, A, 5, y, NULL, 1, 0, xs, NULL, 1,
-                                      NULL, &s2, NULL), -12);
-    assert_int_equal(igea_regress_pce(4, 3, A, 5, y, NULL, 1, 0, xs, NULL, 1,
-                                      &n, NULL, NULL), -13);
-    assert_int_equal(igea_regress_pce(4, 3, A, 4, y, NULL, 1, 0, xs, NULL, 1,
+    assert_int_equal(igea_regress_pce(4, 3, A, 5, y, NULL, NULL, 1, 0, NULL, NULL, 1,
+                                      &n, &s2, NULL), -10);
+    assert_int_equal(igea_regress_pce(4, 3, A, 5, y, NULL, NULL, 1, 0, xs, cov, 2,
+                                      &n, &s2, NULL), -12);
+    assert_int_equal(igea_regress_pce(4, 3, A, 5, y, NULL, NULL, 1, 0, xs, NULL, 1,
+                                      NULL, &s2, NULL), -13);
+    assert_int_equal(igea_regress_pce(4, 3, A, 5, y, NULL, NULL, 1, 0, xs, NULL, 1,
+                                      &n, NULL, NULL), -14);
+    assert_int_equal(igea_regress_pce(4, 3, A, 4, y, NULL, NULL, 1, 0, xs, NULL, 1,
                                       &n, &s2, NULL), IGEA_ENONFINITE - 0 * 4);
     assert_true(all_sentinel(xs, 3));
 }
@@ -864,7 +897,7 @@ static void test_bayes(void **state)
         for (int i = 0; i < 9; i++)
             P[i + 10 * j] = 1e-8 * (i == j ? 2.0 + 0.1 * i : 0.3 / (1 + abs(i - j)));
     }
-    assert_int_equal(igea_regress_bayes(20, 9, A, lda, y, sg, mu, P, 10, x,
+    assert_int_equal(igea_regress_bayes(20, 9, A, lda, y, sg, NULL, mu, P, 10, x,
                                         cov, 9, res), 0);
     double Aw[20 * 9], yw[20], B[81], b[9], Pi[81], Pd[81], C[81], rhs[9],
         pm[9], ref[9];
@@ -898,22 +931,30 @@ static void test_bayes(void **state)
     /* errors */
     double xs[9];
     fill_sentinel(xs, 9);
-    assert_int_equal(igea_regress_bayes(20, 9, A, lda, y, sg, mu, NULL, 10, xs,
-                                        NULL, 9, NULL), -8);
-    assert_int_equal(igea_regress_bayes(20, 9, A, lda, y, sg, mu, P, 8, xs,
-                                        NULL, 9, NULL), -9);
-    assert_int_equal(igea_regress_bayes(20, 9, A, lda, y, sg, mu, P, 10, NULL,
+    /* no prior covariance: the identity (diag(spec^2) without a spec) */
+    double xI[9], xN[9], PI[81] = {0};
+    for (int k = 0; k < 9; k++)
+        PI[k * 10] = 1.0;
+    assert_int_equal(igea_regress_bayes(20, 9, A, lda, y, sg, NULL, mu, PI, 9, xI,
+                                        NULL, 9, NULL), 0);
+    assert_int_equal(igea_regress_bayes(20, 9, A, lda, y, sg, NULL, mu, NULL, 0, xN,
+                                        NULL, 9, NULL), 0);
+    for (int k = 0; k < 9; k++)
+        assert_true(xN[k] == xI[k]);
+    assert_int_equal(igea_regress_bayes(20, 9, A, lda, y, sg, NULL, mu, P, 8, xs,
                                         NULL, 9, NULL), -10);
-    assert_int_equal(igea_regress_bayes(20, 9, A, lda, y, sg, mu, P, 10, xs,
-                                        cov, 8, NULL), -12);
+    assert_int_equal(igea_regress_bayes(20, 9, A, lda, y, sg, NULL, mu, P, 10, NULL,
+                                        NULL, 9, NULL), -11);
+    assert_int_equal(igea_regress_bayes(20, 9, A, lda, y, sg, NULL, mu, P, 10, xs,
+                                        cov, 8, NULL), -13);
     double Pbad[81];
     for (int k = 0; k < 81; k++)
         Pbad[k] = (k % 10 == 0) ? 1.0 : 0.0;
     Pbad[4 * 10] = -1.0;
-    assert_int_equal(igea_regress_bayes(20, 9, A, lda, y, sg, mu, Pbad, 9, xs,
+    assert_int_equal(igea_regress_bayes(20, 9, A, lda, y, sg, NULL, mu, Pbad, 9, xs,
                                         NULL, 9, NULL), IGEA_ESINGULAR);
     mu[2] = NAN;
-    assert_int_equal(igea_regress_bayes(20, 9, A, lda, y, sg, mu, P, 10, xs,
+    assert_int_equal(igea_regress_bayes(20, 9, A, lda, y, sg, NULL, mu, P, 10, xs,
                                         NULL, 9, NULL), IGEA_ENONFINITE);
     assert_true(all_sentinel(xs, 9));
 }
@@ -930,7 +971,7 @@ static void test_collinearity(void **state)
     double A[24 * 9], y[20], cond[2], eig[9], V[10 * 9], vif[9], sd[9];
     int rank, pd[9];
     ebr_data(0.0, lda, A, y);
-    assert_int_equal(igea_regress_collinearity(20, 9, A, lda, NULL, NULL, 0,
+    assert_int_equal(igea_regress_collinearity(20, 9, A, lda, NULL, NULL, NULL, 0,
                                                cond, &rank, eig, V, 10, vif,
                                                sd, pd), 0);
     assert_int_equal(rank, 7);
@@ -969,30 +1010,30 @@ static void test_collinearity(void **state)
     }
     /* with y: sd of the combinations scale with s = sqrt(RSS/(m-r)) */
     ebr_data(4e-5, lda, A, y);
-    assert_int_equal(igea_regress_collinearity(20, 9, A, lda, y, NULL, 0, cond,
+    assert_int_equal(igea_regress_collinearity(20, 9, A, lda, y, NULL, NULL, 0, cond,
                                                &rank, eig, NULL, 1, NULL, sd,
                                                NULL), 0);
     double s = sqrt(12.5 * 16e-10 / 13.0);
     assert_close(sd[0], s / sqrt(hi), 1e-9);
     /* errors */
     double cs[2] = {SENTINEL, SENTINEL};
-    assert_int_equal(igea_regress_collinearity(20, 9, A, lda, y, NULL, 2, cs,
-                                               &rank, eig, V, 10, vif, sd, pd),
-                     -7);
-    assert_int_equal(igea_regress_collinearity(20, 9, A, lda, y, NULL, 0, NULL,
+    assert_int_equal(igea_regress_collinearity(20, 9, A, lda, y, NULL, NULL, 2, cs,
                                                &rank, eig, V, 10, vif, sd, pd),
                      -8);
-    assert_int_equal(igea_regress_collinearity(20, 9, A, lda, y, NULL, 0, cs,
-                                               NULL, eig, V, 10, vif, sd, pd),
+    assert_int_equal(igea_regress_collinearity(20, 9, A, lda, y, NULL, NULL, 0, NULL,
+                                               &rank, eig, V, 10, vif, sd, pd),
                      -9);
-    assert_int_equal(igea_regress_collinearity(20, 9, A, lda, y, NULL, 0, cs,
-                                               &rank, NULL, V, 10, vif, sd, pd),
+    assert_int_equal(igea_regress_collinearity(20, 9, A, lda, y, NULL, NULL, 0, cs,
+                                               NULL, eig, V, 10, vif, sd, pd),
                      -10);
-    assert_int_equal(igea_regress_collinearity(20, 9, A, lda, y, NULL, 0, cs,
+    assert_int_equal(igea_regress_collinearity(20, 9, A, lda, y, NULL, NULL, 0, cs,
+                                               &rank, NULL, V, 10, vif, sd, pd),
+                     -11);
+    assert_int_equal(igea_regress_collinearity(20, 9, A, lda, y, NULL, NULL, 0, cs,
                                                &rank, eig, V, 8, vif, sd, pd),
-                     -12);
+                     -13);
     A[3] = INFINITY;
-    assert_int_equal(igea_regress_collinearity(20, 9, A, lda, y, NULL, 0, cs,
+    assert_int_equal(igea_regress_collinearity(20, 9, A, lda, y, NULL, NULL, 0, cs,
                                                &rank, eig, V, 10, vif, sd, pd),
                      IGEA_ENONFINITE);
     assert_true(cs[0] == SENTINEL && cs[1] == SENTINEL);
@@ -1076,7 +1117,7 @@ static void test_wide_ls_pce_ridge(void **state)
     /* LS: the minimum-norm solution, an exact fit. */
     wide_closed_form(M, N, A, y, 0.0, want);
     fill_sentinel(cov, N * N);
-    assert_int_equal(igea_regress_ls(M, N, A, M, y, NULL, 0, x, cov, N, &rank,
+    assert_int_equal(igea_regress_ls(M, N, A, M, y, NULL, NULL, 0, x, cov, N, &rank,
                                      &s2, res), 0);
     assert_int_equal(rank, 2);
     assert_true(s2 == 0.0);
@@ -1085,7 +1126,7 @@ static void test_wide_ls_pce_ridge(void **state)
     for (int i = 0; i < M; i++)
         assert_close_abs(res[i], 0.0, 0.0, 1e-13);
     /* PCE keeping every component: the same solution. */
-    assert_int_equal(igea_regress_pce(M, N, A, M, y, NULL, N, 0.0, x, cov, N,
+    assert_int_equal(igea_regress_pce(M, N, A, M, y, NULL, NULL, N, 0.0, x, cov, N,
                                       &nused, &s2, res), 0);
     assert_int_equal(nused, 2);
     for (int j = 0; j < N; j++)
@@ -1095,7 +1136,7 @@ static void test_wide_ls_pce_ridge(void **state)
     for (int t = 0; t < 3; t++) {
         wide_closed_form(M, N, A, y, ks[t], want);
         fill_sentinel(cov, N * N);
-        assert_int_equal(igea_regress_ridge(M, N, A, M, y, NULL, IGEA_REGRESS_RIDGE_FIXED,
+        assert_int_equal(igea_regress_ridge(M, N, A, M, y, NULL, NULL, IGEA_REGRESS_RIDGE_FIXED,
                                             ks[t], x, cov, N, &ku, &s2, res), 0);
         assert_true(ku == ks[t]);
         assert_true(s2 == 0.0); /* m == r: no residual variance */
@@ -1118,7 +1159,7 @@ static void test_wide_ls_pce_ridge(void **state)
     for (int i = 0; i < M; i++)
         yw[i] = y[i] / sg[i];
     wide_closed_form(M, N, Aw, yw, 0.7, want);
-    assert_int_equal(igea_regress_ridge(M, N, A, M, y, sg, IGEA_REGRESS_RIDGE_FIXED, 0.7,
+    assert_int_equal(igea_regress_ridge(M, N, A, M, y, sg, NULL, IGEA_REGRESS_RIDGE_FIXED, 0.7,
                                         x, NULL, N, &ku, &s2, NULL), 0);
     for (int j = 0; j < N; j++)
         assert_close_abs(x[j], want[j], 1e-11, 1e-14);
@@ -1128,14 +1169,14 @@ static void test_wide_ls_pce_ridge(void **state)
         fill_sentinel(cov, N * N);
         fill_sentinel(res, M);
         ku = s2 = SENTINEL;
-        assert_int_equal(igea_regress_ridge(M, N, A, M, y, NULL, rule, 0.0, x,
+        assert_int_equal(igea_regress_ridge(M, N, A, M, y, NULL, NULL, rule, 0.0, x,
                                             cov, N, &ku, &s2, res), IGEA_EDOMAIN);
         assert_true(all_sentinel(x, N) && all_sentinel(cov, N * N) &&
                     all_sentinel(res, M) && ku == SENTINEL && s2 == SENTINEL);
     }
     /* GCV and LOO: the x returned is the ridge solution at the k returned. */
     for (int rule = IGEA_REGRESS_RIDGE_GCV; rule <= IGEA_REGRESS_RIDGE_LOO; rule++) {
-        int st = igea_regress_ridge(M, N, A, M, y, NULL, rule, 0.0, x, cov, N,
+        int st = igea_regress_ridge(M, N, A, M, y, NULL, NULL, rule, 0.0, x, cov, N,
                                     &ku, &s2, res);
         assert_int_equal(st, 0);
         assert_true(ku >= 0.0 && isfinite(ku));
@@ -1145,7 +1186,7 @@ static void test_wide_ls_pce_ridge(void **state)
     }
     /* Ridge trace with m < N. */
     double kk[3] = {0.0, 0.3, 25.0}, X[N * 3], edf[3];
-    assert_int_equal(igea_regress_ridge_trace(M, N, A, M, y, NULL, 3, kk, X, N,
+    assert_int_equal(igea_regress_ridge_trace(M, N, A, M, y, NULL, NULL, 3, kk, X, N,
                                               edf), 0);
     for (int t = 0; t < 3; t++) {
         wide_closed_form(M, N, A, y, kk[t], want);
@@ -1170,12 +1211,12 @@ static void test_wide_1x3(void **state)
     /* The driver's reproducer: S = [1 2 3], y = 0.5. */
     double A[3] = {1, 2, 3}, y[1] = {0.5}, x[3], cov[9], res[1], ku, s2;
     int rank, nused;
-    assert_int_equal(igea_regress_ls(1, 3, A, 1, y, NULL, 0, x, cov, 3, &rank,
+    assert_int_equal(igea_regress_ls(1, 3, A, 1, y, NULL, NULL, 0, x, cov, 3, &rank,
                                      &s2, res), 0);
     for (int j = 0; j < 3; j++)
         assert_close(x[j], A[j] * 0.5 / 14.0, 1e-14);
     for (int rule = IGEA_REGRESS_RIDGE_FIXED; rule <= IGEA_REGRESS_RIDGE_LOO; rule++) {
-        int st = igea_regress_ridge(1, 3, A, 1, y, NULL, rule, 2.0, x, cov, 3,
+        int st = igea_regress_ridge(1, 3, A, 1, y, NULL, NULL, rule, 2.0, x, cov, 3,
                                     &ku, &s2, res);
         if (rule == IGEA_REGRESS_RIDGE_HKB || rule == IGEA_REGRESS_RIDGE_LW) {
             assert_int_equal(st, IGEA_EDOMAIN);
@@ -1188,7 +1229,7 @@ static void test_wide_1x3(void **state)
         for (int j = 0; j < 3; j++)
             assert_close(x[j], A[j] * 0.5 / (14.0 + ku), 1e-12);
     }
-    assert_int_equal(igea_regress_pce(1, 3, A, 1, y, NULL, 3, 0.0, x, cov, 3,
+    assert_int_equal(igea_regress_pce(1, 3, A, 1, y, NULL, NULL, 3, 0.0, x, cov, 3,
                                       &nused, &s2, res), 0);
     assert_int_equal(nused, 1);
     for (int j = 0; j < 3; j++)
@@ -1196,7 +1237,7 @@ static void test_wide_1x3(void **state)
     /* Bayes with P = I, mu = 0: x = a y / (|a|^2 + 1),
      * cov = I - a a^T / (|a|^2 + 1). */
     double P[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-    assert_int_equal(igea_regress_bayes(1, 3, A, 1, y, NULL, NULL, P, 3, x, cov,
+    assert_int_equal(igea_regress_bayes(1, 3, A, 1, y, NULL, NULL, NULL, P, 3, x, cov,
                                         3, res), 0);
     for (int j = 0; j < 3; j++) {
         assert_close(x[j], A[j] * 0.5 / 15.0, 1e-14);
@@ -1207,13 +1248,13 @@ static void test_wide_1x3(void **state)
     /* EBR needs rank >= 3. */
     double lam = SENTINEL, beta[3];
     fill_sentinel(beta, 3);
-    assert_int_equal(igea_regress_ebr(1, 3, A, 1, y, NULL, IGEA_REGRESS_EBR_MM, 0.0,
+    assert_int_equal(ebr_old(1, 3, A, 1, y, NULL, IGEA_REGRESS_EBR_MM, 0.0,
                                       beta, &lam, &rank, NULL, NULL, NULL),
                      IGEA_ERANK);
     assert_true(all_sentinel(beta, 3) && lam == SENTINEL);
     double cs[2], eig[3], V[9], vif[3], sd[3];
     int pd[3];
-    assert_int_equal(igea_regress_collinearity(1, 3, A, 1, NULL, NULL, 0, cs,
+    assert_int_equal(igea_regress_collinearity(1, 3, A, 1, NULL, NULL, NULL, 0, cs,
                                                &rank, eig, V, 3, vif, sd, pd),
                      0);
     assert_int_equal(rank, 1);
@@ -1236,7 +1277,7 @@ static void test_wide_bayes_ebr_collinearity(void **state)
     for (int j = 0; j < N * N; j++)
         P[j] = (j % (N + 1)) == 0;
     wide_closed_form(M, N, A, y, 1.0, want);
-    assert_int_equal(igea_regress_bayes(M, N, A, M, y, NULL, NULL, P, N, x, cov,
+    assert_int_equal(igea_regress_bayes(M, N, A, M, y, NULL, NULL, NULL, P, N, x, cov,
                                         N, res), 0);
     for (int j = 0; j < N; j++)
         assert_close_abs(x[j], want[j], 1e-12, 1e-14);
@@ -1250,7 +1291,7 @@ static void test_wide_bayes_ebr_collinearity(void **state)
     /* Collinearity: d_1, d_2 the eigenvalues of A A^T, then zeros. */
     double cs[2], eig[N], V[N * N], vif[N], sd[N];
     int rank, pd[N];
-    assert_int_equal(igea_regress_collinearity(M, N, A, M, NULL, NULL, 0, cs,
+    assert_int_equal(igea_regress_collinearity(M, N, A, M, NULL, NULL, NULL, 0, cs,
                                                &rank, eig, V, N, vif, sd, pd), 0);
     double g11 = 0, g12 = 0, g22 = 0;
     for (int j = 0; j < N; j++) {
@@ -1279,7 +1320,7 @@ static void test_wide_bayes_ebr_collinearity(void **state)
         }
     for (int i = 0; i < M5; i++)
         yb[i] = 0.3 * i - 0.5 + 0.1 * (i % 2);
-    assert_int_equal(igea_regress_ebr(M5, N8, B, M5, yb, NULL, IGEA_REGRESS_EBR_MM, 0.5,
+    assert_int_equal(ebr_old(M5, N8, B, M5, yb, NULL, IGEA_REGRESS_EBR_MM, 0.5,
                                       bt, &lam, &r5, sh, sp, sf), 0);
     assert_int_equal(r5, 3);
     assert_true(lam >= 0.5 && isfinite(lam));
@@ -1303,11 +1344,11 @@ static void test_scaled_designs(void **state)
     double A[12], x0[2], x[2], cov[4], res[6], s2, ku, s20;
     int rank;
     /* LS on A * 1e-300: x = 1e300 x(A), an exact change of units. */
-    assert_int_equal(igea_regress_ls(6, 2, small_A, 6, small_y, NULL, 0, x0,
+    assert_int_equal(igea_regress_ls(6, 2, small_A, 6, small_y, NULL, NULL, 0, x0,
                                      NULL, 2, &rank, &s20, NULL), 0);
     for (int i = 0; i < 12; i++)
         A[i] = small_A[i] * 1e-300;
-    assert_int_equal(igea_regress_ls(6, 2, A, 6, small_y, NULL, 0, x, NULL, 2,
+    assert_int_equal(igea_regress_ls(6, 2, A, 6, small_y, NULL, NULL, 0, x, NULL, 2,
                                      &rank, &s2, res), 0);
     assert_close(x[0], x0[0] * 1e300, 1e-13);
     assert_close(x[1], x0[1] * 1e300, 1e-13);
@@ -1316,12 +1357,12 @@ static void test_scaled_designs(void **state)
     fill_sentinel(cov, 4);
     fill_sentinel(x, 2);
     s2 = SENTINEL;
-    assert_int_equal(igea_regress_ls(6, 2, A, 6, small_y, NULL, 0, x, cov, 2,
+    assert_int_equal(igea_regress_ls(6, 2, A, 6, small_y, NULL, NULL, 0, x, cov, 2,
                                      &rank, &s2, res), IGEA_EOVERFLOW);
     assert_true(all_sentinel(cov, 4) && all_sentinel(x, 2) && s2 == SENTINEL);
     /* Ridge k = 0 (minimum-norm LS) on A * 1e-300: d_i = s_i^2 underflows,
      * s_i / (d_i + k) must not. */
-    assert_int_equal(igea_regress_ridge(6, 2, A, 6, small_y, NULL,
+    assert_int_equal(igea_regress_ridge(6, 2, A, 6, small_y, NULL, NULL,
                                         IGEA_REGRESS_RIDGE_FIXED, 0.0, x, NULL, 2, &ku,
                                         &s2, NULL), 0);
     assert_close(x[0], x0[0] * 1e300, 1e-12);
@@ -1335,7 +1376,7 @@ static void test_scaled_designs(void **state)
         nf += fit[i] * fit[i];
     }
     double klw = 2.0 * s20 / nf;
-    assert_int_equal(igea_regress_ridge(6, 2, A, 6, small_y, NULL,
+    assert_int_equal(igea_regress_ridge(6, 2, A, 6, small_y, NULL, NULL,
                                         IGEA_REGRESS_RIDGE_LW, 0.0, x, NULL, 2, &ku,
                                         &s2, res), 0);
     assert_close(ku, klw, 1e-12);
@@ -1353,7 +1394,7 @@ static void test_scaled_designs(void **state)
         fill_sentinel(x, 2);
         fill_sentinel(res, 6);
         ku = s2 = SENTINEL;
-        int st = igea_regress_ridge(6, 2, A, 6, small_y, NULL, rule, 0.0, x,
+        int st = igea_regress_ridge(6, 2, A, 6, small_y, NULL, NULL, rule, 0.0, x,
                                     NULL, 2, &ku, &s2, res);
         assert_int_equal(st, IGEA_EOVERFLOW);
         assert_true(all_sentinel(x, 2) && all_sentinel(res, 6) &&
@@ -1362,14 +1403,14 @@ static void test_scaled_designs(void **state)
     /* HKB on A and on A * 2^-40 (within range): k scales by 2^-80 and x by
      * 2^40 exactly in exact arithmetic. */
     double k0, xa[2];
-    assert_int_equal(igea_regress_ridge(6, 2, small_A, 6, small_y, NULL,
+    assert_int_equal(igea_regress_ridge(6, 2, small_A, 6, small_y, NULL, NULL,
                                         IGEA_REGRESS_RIDGE_HKB, 0.0, xa, NULL, 2, &k0,
                                         &s20, NULL), 0);
     /* HKB closed form: k = r s^2 / |x_LS|^2 */
     assert_close(k0, 2.0 * s20 / (x0[0] * x0[0] + x0[1] * x0[1]), 1e-12);
     for (int i = 0; i < 12; i++)
         A[i] = small_A[i] * 0x1p-40;
-    assert_int_equal(igea_regress_ridge(6, 2, A, 6, small_y, NULL,
+    assert_int_equal(igea_regress_ridge(6, 2, A, 6, small_y, NULL, NULL,
                                         IGEA_REGRESS_RIDGE_HKB, 0.0, x, NULL, 2, &ku,
                                         &s2, NULL), 0);
     assert_close(ku, k0 * 0x1p-80, 1e-12);
@@ -1405,12 +1446,12 @@ static void test_scaled_column_ridge(void **state)
     fill_sentinel(x, 3);
     fill_sentinel(cov, 9);
     ku = s2o = SENTINEL;
-    assert_int_equal(igea_regress_ridge(6, 3, As, 6, y, NULL, IGEA_REGRESS_RIDGE_HKB,
+    assert_int_equal(igea_regress_ridge(6, 3, As, 6, y, NULL, NULL, IGEA_REGRESS_RIDGE_HKB,
                                         0.0, x, cov, 3, &ku, &s2o, res),
                      IGEA_EOVERFLOW);
     assert_true(all_sentinel(x, 3) && all_sentinel(cov, 9) && ku == SENTINEL &&
                 s2o == SENTINEL);
-    assert_int_equal(igea_regress_ridge(6, 3, As, 6, y, NULL, IGEA_REGRESS_RIDGE_LW,
+    assert_int_equal(igea_regress_ridge(6, 3, As, 6, y, NULL, NULL, IGEA_REGRESS_RIDGE_LW,
                                         0.0, x, cov, 3, &ku, &s2o, res), 0);
     assert_close(s2o, s2, 1e-10);
     assert_close(ku, klw, 1e-10);
@@ -1423,7 +1464,7 @@ static void test_scaled_column_ridge(void **state)
     for (int rule = IGEA_REGRESS_RIDGE_GCV; rule <= IGEA_REGRESS_RIDGE_LOO; rule++) {
         fill_sentinel(x, 3);
         ku = SENTINEL;
-        int st = igea_regress_ridge(6, 3, As, 6, y, NULL, rule, 0.0, x, cov, 3,
+        int st = igea_regress_ridge(6, 3, As, 6, y, NULL, NULL, rule, 0.0, x, cov, 3,
                                     &ku, &s2o, res);
         if (st == 0)
             assert_true(isfinite(ku) && isfinite(x[0]) && isfinite(x[1]) &&
@@ -1455,7 +1496,7 @@ static void test_ebr_scaled(void **state)
     }
     double b0[N], l0, sp0[N], sf0[N];
     int r0;
-    assert_int_equal(igea_regress_ebr(M, N, A, M, y, NULL, IGEA_REGRESS_EBR_MM, 0.0, b0,
+    assert_int_equal(ebr_old(M, N, A, M, y, NULL, IGEA_REGRESS_EBR_MM, 0.0, b0,
                                       &l0, &r0, NULL, sp0, sf0), 0);
     assert_true(l0 > 0.0);
     for (int rule = IGEA_REGRESS_EBR_SC; rule <= IGEA_REGRESS_EBR_ML2; rule++) {
@@ -1465,7 +1506,7 @@ static void test_ebr_scaled(void **state)
         int rank = -7;
         fill_sentinel(b, N);
         fill_sentinel(sp, N);
-        int st = igea_regress_ebr(M, N, As, M, y, NULL, rule, 0.0, b, &lam,
+        int st = ebr_old(M, N, As, M, y, NULL, rule, 0.0, b, &lam,
                                   &rank, sh, sp, sf);
         if (st == 0) /* lambda* = 0 by the positive-part rule */
             assert_true(lam == 0.0 && isfinite(b[0]) && isfinite(sp[0]));
@@ -1479,7 +1520,7 @@ static void test_ebr_scaled(void **state)
         As[i] = A[i] * 0x1p-60;
     double b[N], lam, sp[N], sf[N];
     int rank;
-    assert_int_equal(igea_regress_ebr(M, N, As, M, y, NULL, IGEA_REGRESS_EBR_MM, 0.0, b,
+    assert_int_equal(ebr_old(M, N, As, M, y, NULL, IGEA_REGRESS_EBR_MM, 0.0, b,
                                       &lam, &rank, NULL, sp, sf), 0);
     assert_close(lam, l0 * 0x1p120, 1e-9);
     for (int j = 0; j < N; j++) {
@@ -1503,21 +1544,21 @@ static void test_sigma_range(void **state)
         fill_sentinel(x, 2);
         fill_sentinel(cov, 4);
         fill_sentinel(res, 6);
-        assert_int_equal(igea_regress_ls(6, 2, small_A, 6, small_y, sg, 0, x, cov,
+        assert_int_equal(igea_regress_ls(6, 2, small_A, 6, small_y, sg, NULL, 0, x, cov,
                                          2, &rank, &s2, res), IGEA_ERANGE);
-        assert_int_equal(igea_regress_ridge(6, 2, small_A, 6, small_y, sg,
+        assert_int_equal(igea_regress_ridge(6, 2, small_A, 6, small_y, sg, NULL,
                                             IGEA_REGRESS_RIDGE_GCV, 0, x, cov, 2, &ku,
                                             &s2, res), IGEA_ERANGE);
-        assert_int_equal(igea_regress_pce(6, 2, small_A, 6, small_y, sg, 2, 0, x,
+        assert_int_equal(igea_regress_pce(6, 2, small_A, 6, small_y, sg, NULL, 2, 0, x,
                                           cov, 2, &nu, &s2, res), IGEA_ERANGE);
         double P[4] = {1, 0, 0, 1}, kg[1] = {1.0}, cs[2], eig[2];
-        assert_int_equal(igea_regress_bayes(6, 2, small_A, 6, small_y, sg, NULL,
+        assert_int_equal(igea_regress_bayes(6, 2, small_A, 6, small_y, sg, NULL, NULL,
                                             P, 2, x, cov, 2, res), IGEA_ERANGE);
-        assert_int_equal(igea_regress_ridge_trace(6, 2, small_A, 6, small_y, sg,
+        assert_int_equal(igea_regress_ridge_trace(6, 2, small_A, 6, small_y, sg, NULL,
                                                   1, kg, x, 2, NULL),
                          IGEA_ERANGE);
         fill_sentinel(cs, 2);
-        assert_int_equal(igea_regress_collinearity(6, 2, small_A, 6, small_y, sg,
+        assert_int_equal(igea_regress_collinearity(6, 2, small_A, 6, small_y, sg, NULL,
                                                    0, cs, &rank, eig, NULL, 2,
                                                    NULL, NULL, NULL),
                          IGEA_ERANGE);
@@ -1526,7 +1567,7 @@ static void test_sigma_range(void **state)
                     s2 == SENTINEL && ku == SENTINEL && rank == -7 && nu == -7);
         /* EBR's prior scales are checked alike. */
         double ps[2] = {1.0, bad[t]}, lam = SENTINEL;
-        assert_int_equal(igea_regress_ebr(6, 2, small_A, 6, small_y, ps,
+        assert_int_equal(ebr_old(6, 2, small_A, 6, small_y, ps,
                                           IGEA_REGRESS_EBR_MM, 0, x, &lam, &rank, NULL,
                                           NULL, NULL), IGEA_ERANGE);
         assert_true(lam == SENTINEL && all_sentinel(x, 2));
@@ -1534,10 +1575,159 @@ static void test_sigma_range(void **state)
     double sg[6] = {1, 1, 1, IGEA_SIGMA_MIN, 1, 1}, x[2], s2;
     int rank;
     assert_true(IGEA_SIGMA_MIN == 0x1p-511);
-    assert_int_equal(igea_regress_ls(6, 2, small_A, 6, small_y, sg, 0, x, NULL,
+    assert_int_equal(igea_regress_ls(6, 2, small_A, 6, small_y, sg, NULL, 0, x, NULL,
                                      2, &rank, &s2, NULL), 0);
     assert_true(isfinite(x[0]) && isfinite(x[1]) && isfinite(s2));
     assert_true(strstr(igea_strerror(IGEA_ERANGE), "1.5e-154") != NULL);
+}
+
+/* spec_sigma: every estimator on A with column scales D equals the same
+ * estimator on the design A D written out here, taken back by hand
+ * (x = D x', cov = D cov' D); the Bayesian prior is taken to X / spec. EBR
+ * with row sigmas equals EBR on the rows whitened here. */
+enum { SM = 14, SN = 4 };
+static void spec_problem(double *A, double *AD, double *y, double *sg, double *sp)
+{
+    static const double spec[SN] = {1.0, 2.5, 0.25, 4.0};
+    for (int i = 0; i < SM; i++) {
+        double t = 0.37 * (i + 1);
+        sg[i] = 0.5 + 0.05 * i;
+        y[i] = sin(t) + 0.1 * cos(3.1 * t);
+        for (int j = 0; j < SN; j++) {
+            A[i + SM * j] = cos(t * (j + 1)) + 0.2 * j;
+            AD[i + SM * j] = A[i + SM * j] * spec[j];
+        }
+    }
+    memcpy(sp, spec, sizeof spec);
+}
+
+static void check_unscaled(const double *sp, const double *x, const double *xr,
+                           const double *cov, const double *cr)
+{
+    for (int j = 0; j < SN; j++) {
+        assert_close_abs(x[j], sp[j] * xr[j], 1e-13, 1e-15);
+        for (int i = 0; cov && i < SN; i++)
+            assert_close_abs(cov[i + SN * j], sp[i] * cr[i + SN * j] * sp[j], 1e-13, 1e-17);
+    }
+}
+
+static void test_spec_sigma_all_estimators(void **state)
+{
+    double A[SM * SN], AD[SM * SN], y[SM], sg[SM], sp[SN];
+    double x[SN], xr[SN], cov[SN * SN], cr[SN * SN], res[SM], rr[SM], s2, s2r, q, qr;
+    int rk, rkr;
+    spec_problem(A, AD, y, sg, sp);
+    assert_int_equal(igea_regress_ls(SM, SN, A, SM, y, sg, sp, 0.0, x, cov, SN, &rk, &s2, res), 0);
+    assert_int_equal(igea_regress_ls(SM, SN, AD, SM, y, sg, NULL, 0.0, xr, cr, SN, &rkr, &s2r, rr), 0);
+    check_unscaled(sp, x, xr, cov, cr);
+    assert_int_equal(rk, rkr);
+    assert_close(s2, s2r, 1e-13);
+    for (int i = 0; i < SM; i++)
+        assert_close_abs(res[i], rr[i], 1e-12, 1e-14);
+    assert_int_equal(igea_regress_ridge(SM, SN, A, SM, y, sg, sp, IGEA_REGRESS_RIDGE_GCV, 0.0, x,
+                                        cov, SN, &q, &s2, NULL), 0);
+    assert_int_equal(igea_regress_ridge(SM, SN, AD, SM, y, sg, NULL, IGEA_REGRESS_RIDGE_GCV, 0.0,
+                                        xr, cr, SN, &qr, &s2r, NULL), 0);
+    check_unscaled(sp, x, xr, cov, cr);
+    assert_close(q, qr, 1e-13);
+    double k3[3] = {0.0, 0.3, 3.0}, X[SN * 3], Xr[SN * 3], e[3], er[3];
+    assert_int_equal(igea_regress_ridge_trace(SM, SN, A, SM, y, sg, sp, 3, k3, X, SN, e), 0);
+    assert_int_equal(igea_regress_ridge_trace(SM, SN, AD, SM, y, sg, NULL, 3, k3, Xr, SN, er), 0);
+    for (int j = 0; j < 3; j++) {
+        check_unscaled(sp, X + SN * j, Xr + SN * j, NULL, NULL);
+        assert_close(e[j], er[j], 1e-13);
+    }
+    int nu, nur;
+    assert_int_equal(igea_regress_pce(SM, SN, A, SM, y, sg, sp, 2, 0.0, x, cov, SN, &nu, &s2,
+                                      NULL), 0);
+    assert_int_equal(igea_regress_pce(SM, SN, AD, SM, y, sg, NULL, 2, 0.0, xr, cr, SN, &nur,
+                                      &s2r, NULL), 0);
+    check_unscaled(sp, x, xr, cov, cr);
+    assert_int_equal(nu, 2);
+    /* Bayes: prior mean mu, covariance P in the caller's units */
+    double mu[SN] = {0.1, -0.4, 0.02, 1.0}, P[SN * SN] = {0}, mus[SN], Ps[SN * SN];
+    for (int i = 0; i < SN; i++)
+        for (int j = 0; j < SN; j++) {
+            P[i + SN * j] = (i == j ? 1.0 : 0.3) * sp[i] * sp[j];
+            Ps[i + SN * j] = i == j ? 1.0 : 0.3;
+        }
+    for (int i = 0; i < SN; i++)
+        mus[i] = mu[i] / sp[i];
+    assert_int_equal(igea_regress_bayes(SM, SN, A, SM, y, sg, sp, mu, P, SN, x, cov, SN, NULL), 0);
+    assert_int_equal(igea_regress_bayes(SM, SN, AD, SM, y, sg, NULL, mus, Ps, SN, xr, cr, SN,
+                                        NULL), 0);
+    check_unscaled(sp, x, xr, cov, cr);
+    /* no prior covariance: diag(spec^2), the identity on X / spec */
+    double I4[SN * SN] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    assert_int_equal(igea_regress_bayes(SM, SN, A, SM, y, sg, sp, NULL, NULL, 0, x, cov, SN,
+                                        NULL), 0);
+    assert_int_equal(igea_regress_bayes(SM, SN, AD, SM, y, sg, NULL, NULL, I4, SN, xr, cr, SN,
+                                        NULL), 0);
+    check_unscaled(sp, x, xr, cov, cr);
+    /* collinearity of A D */
+    double cd[2], cdr[2], ev[SN], evr[SN], vf[SN], vfr[SN];
+    assert_int_equal(igea_regress_collinearity(SM, SN, A, SM, y, sg, sp, 0.0, cd, &rk, ev, NULL,
+                                               1, vf, NULL, NULL), 0);
+    assert_int_equal(igea_regress_collinearity(SM, SN, AD, SM, y, sg, NULL, 0.0, cdr, &rkr, evr,
+                                               NULL, 1, vfr, NULL, NULL), 0);
+    assert_close(cd[0], cdr[0], 1e-13);
+    for (int i = 0; i < SN; i++) {
+        assert_close(ev[i], evr[i], 1e-13);
+        assert_close(vf[i], vfr[i], 1e-12);
+    }
+}
+
+static void test_ebr_sigma_and_cov(void **state)
+{
+    /* the 20 x 9 dual design: rows whitened by hand give the same EBR */
+    double A[20 * 9], y[20], Aw[20 * 9], yw[20], sg[20], ds[9];
+    ebr_data(3e-5, 20, A, y);
+    for (int i = 0; i < 20; i++) {
+        sg[i] = 0.5 + 0.1 * (i % 7);
+        yw[i] = y[i] / sg[i];
+        for (int j = 0; j < 9; j++)
+            Aw[i + 20 * j] = A[i + 20 * j] / sg[i];
+    }
+    for (int j = 0; j < 9; j++)
+        ds[j] = 1.0 + 0.5 * j;
+    double b[9], br[9], cov[81], cr[81], lam, lr, s2, s2r, sh[9], shr[9], sf[9], sfr[9];
+    double res[20];
+    int r, rr;
+    assert_int_equal(igea_regress_ebr(20, 9, A, 20, y, sg, ds, IGEA_REGRESS_EBR_SC, 0.0, b, cov,
+                                      9, &lam, &r, &s2, res, sh, sf), 0);
+    assert_int_equal(igea_regress_ebr(20, 9, Aw, 20, yw, NULL, ds, IGEA_REGRESS_EBR_SC, 0.0, br,
+                                      cr, 9, &lr, &rr, &s2r, NULL, shr, sfr), 0);
+    assert_int_equal(r, 7);
+    assert_int_equal(rr, 7);
+    assert_close(lam, lr, 1e-12);
+    assert_close(s2, s2r, 1e-12);
+    for (int j = 0; j < 9; j++) {
+        assert_close_abs(b[j], br[j], 1e-12, 1e-18);
+        assert_close(sf[j], sfr[j], 1e-12);
+        assert_close_abs(sh[j], shr[j], 1e-12, 1e-15);
+        for (int i = 0; i < 9; i++)
+            assert_close_abs(cov[i + 9 * j], cr[i + 9 * j], 1e-11, 1e-24);
+    }
+    /* sigma^2 = S / (m - r), S the weighted RSS of least squares (rank 7) */
+    double xl[9], s2l;
+    int rl;
+    assert_int_equal(igea_regress_ls(20, 9, A, 20, y, sg, NULL, 0.0, xl, NULL, 9, &rl, &s2l,
+                                     NULL), 0);
+    assert_int_equal(rl, 7);
+    assert_close(s2, s2l, 1e-9);
+    /* residual = y - A beta */
+    for (int i = 0; i < 20; i++) {
+        double e = y[i];
+        for (int j = 0; j < 9; j++)
+            e -= A[i + 20 * j] * b[j];
+        assert_close_abs(res[i], e, 1e-9, 1e-15);
+    }
+    /* the posterior covariance is symmetric and its diagonal positive */
+    for (int i = 0; i < 9; i++) {
+        assert_true(cov[i * 10] > 0.0);
+        for (int j = 0; j < 9; j++)
+            assert_true(cov[i + 9 * j] == cov[j + 9 * i]);
+    }
 }
 
 int main(void)
@@ -1566,6 +1756,8 @@ int main(void)
         cmocka_unit_test(test_scaled_column_ridge),
         cmocka_unit_test(test_ebr_scaled),
         cmocka_unit_test(test_sigma_range),
+        cmocka_unit_test(test_spec_sigma_all_estimators),
+        cmocka_unit_test(test_ebr_sigma_and_cov),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -15,6 +15,19 @@
  * terms) is accepted by every estimator. A is column-major with leading
  * dimension lda >= m. Outputs are untouched when a call fails.
  *
+ * Every function takes, in the same places, sigma (m row standard
+ * deviations > 0, or NULL: unit weights) and spec_sigma (N column scales
+ * > 0, e.g. the 1-sigma specs of the terms, or NULL: none), as
+ * igea_eqerr_run does. With spec_sigma the estimator works on the scaled
+ * design A D, D = diag(spec_sigma), i.e. on the coefficients X / spec
+ * (ridge, PCE and EBR then shrink every term in multiples of its spec,
+ * and the Bayesian prior defaults to the in-spec system), and returns the
+ * coefficients, their covariance and standard deviations in the caller's
+ * units of A's columns: x = D x', cov = D cov' D. The tuning quantities
+ * (ridge k, PCE eig_min, EBR lambda, the eigenvalues and eigenvectors of
+ * igea_regress_collinearity) are those of the scaled problem. Residuals
+ * y - A x do not depend on the scaling.
+ *
  * Range: a sigma must be >= IGEA_SIGMA_MIN (2^-511, so that 1/sigma^2 is
  * finite), else IGEA_ERANGE; so must an EBR prior scale. The canonical
  * quantities are formed without squaring singular values where the
@@ -39,20 +52,21 @@ extern "C" {
 #define IGEA_REGRESS_EBR_ML2 2 /* type-II maximum likelihood */
 
 /*
- * Weighted least squares by SVD (dgesdd) of diag(1/sigma) A; minimum-norm
- * solution if rank-deficient.
+ * Weighted least squares by SVD (dgesdd) of diag(1/sigma) A D; minimum-norm
+ * solution (in the scaled coefficients) if rank-deficient.
  *  1 m >= 1 rows; 2 N >= 1 terms; 3 A (m x N), 4 lda >= m; 5 y (m);
  *  6 sigma: m row standard deviations (> 0) or NULL (unweighted);
- *  7 rcond: relative singular-value cut, <= 0 for the default max(m,N)*eps
+ *  7 spec_sigma: N column scales (> 0) or NULL (see above);
+ *  8 rcond: relative singular-value cut, <= 0 for the default max(m,N)*eps
  *    (must be < 1);
  * Outputs:
- *  8 x[N] the (minimum-norm) solution;
- *  9 cov (N x N, may be NULL), 10 ldc >= N (ignored when cov is NULL):
- *    sigma2 * pinv(A^T W A) with W = diag(1/sigma^2);
- * 11 rank: numerical rank r;
- * 12 sigma2: residual variance RSS_w / (m - r) of the weighted residuals,
+ *  9 x[N] the (minimum-norm) solution;
+ * 10 cov (N x N, may be NULL), 11 ldc >= N (ignored when cov is NULL):
+ *    sigma2 * D pinv(D A^T W A D) D with W = diag(1/sigma^2);
+ * 12 rank: numerical rank r;
+ * 13 sigma2: residual variance RSS_w / (m - r) of the weighted residuals,
  *    0 if m == r;
- * 13 residual[m] (may be NULL): y - A x, unweighted.
+ * 14 residual[m] (may be NULL): y - A x, unweighted.
  * The rank is judged, and a full-rank solution computed, on the columns of
  * diag(1/sigma) A scaled to unit norm (scale-free rank; NIST Filip keeps
  * 8 digits); a rank-deficient problem is solved on the unscaled SVD, which
@@ -62,43 +76,54 @@ extern "C" {
  */
 IGEA_API int igea_regress_ls(int m, int N, const double *A, int lda,
                              const double *y, const double *sigma,
-                             double rcond, double *x, double *cov, int ldc,
-                             int *rank, double *sigma2, double *residual);
+                             const double *spec_sigma, double rcond, double *x,
+                             double *cov, int ldc, int *rank, double *sigma2,
+                             double *residual);
 
 /*
- * Empirical-Bayes ridge exactly as METHODS 4.3: canonical form of A D_s
- * (thin SVD, rank r with the default cut of METHODS 0.3), lambda* from the
- * rule's equation solved by Brent (positive-part rule: 0 when there is no
- * root), lambda hat = max(lambda*, lam_floor), theta_i = lambda d_i /
- * (1 + lambda d_i) x_i, beta = D_s V theta.
+ * Empirical-Bayes ridge exactly as METHODS 4.3 on the whitened rows
+ * diag(1/sigma) A, y / sigma: canonical form of diag(1/sigma) A D (thin
+ * SVD, rank r with the default cut of METHODS 0.3), lambda* from the rule's
+ * equation solved by Brent (positive-part rule: 0 when there is no root),
+ * lambda hat = max(lambda*, lam_floor), theta_i = lambda d_i /
+ * (1 + lambda d_i) x_i, beta = D V theta. D = diag(spec_sigma) is the
+ * prior scale of METHODS 4.3 (prior beta_j ~ N(0, lambda sigma^2 s_j^2)).
  *  1 m rows, 2 N terms, 3 A (m x N), 4 lda >= m, 5 y (m);
- *  6 prior_scale: N values s_j > 0 (D_s = diag(s)) or NULL (D_s = I);
- *  7 rule: IGEA_REGRESS_EBR_SC, IGEA_REGRESS_EBR_MM or IGEA_REGRESS_EBR_ML2; 8 lam_floor >= 0,
- *    finite.
+ *  6 sigma: m row standard deviations (> 0) or NULL (unit);
+ *  7 spec_sigma: N prior scales s_j > 0 or NULL (D = I);
+ *  8 rule: IGEA_REGRESS_EBR_SC, IGEA_REGRESS_EBR_MM or IGEA_REGRESS_EBR_ML2;
+ *  9 lam_floor >= 0, finite.
  * Outputs:
- *  9 beta[N]; 10 lam: lambda hat; 11 rank r;
- * 12 shrink[N]: lambda d_i / (1 + lambda d_i) for the first r canonical
- *    components (d_i descending), 0 beyond;
- * 13 sd_post[N]: posterior standard deviations (sqrt of the diagonal of
- *    sigma^2 D_s V diag(lambda / (1 + lambda d_i)) V^T D_s over all N
- *    directions, d_i = 0 beyond r: a null direction keeps its prior
- *    variance lambda sigma^2, so a prior-determined coefficient shows it);
- * 14 sd_freq[N]: frequentist standard deviations with lambda fixed
- *    (diagonal of sigma^2 D_s V diag(lambda^2 d_i / (1 + lambda d_i)^2)
- *    V^T D_s), sigma^2 = S / (m - r).
- * shrink, sd_post and sd_freq may be NULL.
- * lambda is solved on A D_s scaled by 1/s_1 and returned in the caller's
- * units (lambda' / s_1^2); IGEA_EOVERFLOW when it is not a normal double.
- * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE (a prior scale <= 0),
- * IGEA_ERANGE, IGEA_ERANK (rank r < 3), IGEA_EDOMAIN (m == r or an exact
- * fit, S = 0: no residual to estimate sigma^2 from), IGEA_ENOCONV,
- * IGEA_EOVERFLOW, IGEA_ENOMEM, IGEA_ELAPACK.
+ * 10 x[N]: beta;
+ * 11 cov (N x N, may be NULL), 12 ldc >= N (ignored when cov is NULL): the
+ *    posterior covariance sigma^2 D V diag(lambda / (1 + lambda d_i)) V^T D
+ *    over all N directions, d_i = 0 beyond r: a null direction keeps its
+ *    prior variance lambda sigma^2, so a prior-determined coefficient shows
+ *    it (METHODS 4.3 step 7; the posterior sd is sqrt of its diagonal);
+ * 13 lam: lambda hat; 14 rank r;
+ * 15 sigma2: sigma^2 = S / (m - r), S the weighted residual sum of squares
+ *    of the canonical form;
+ * 16 residual[m] (may be NULL): y - A beta, unweighted;
+ * 17 shrink[N] (may be NULL): lambda d_i / (1 + lambda d_i) for the first
+ *    r canonical components (d_i descending), 0 beyond;
+ * 18 sd_freq[N] (may be NULL): frequentist standard deviations with lambda
+ *    fixed (diagonal of sigma^2 D V diag(lambda^2 d_i / (1 + lambda d_i)^2)
+ *    V^T D).
+ * lambda is solved on the design scaled by 1/s_1 and returned in the
+ * units of the scaled problem (lambda' / s_1^2); IGEA_EOVERFLOW when it is
+ * not a normal double.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE (a sigma or prior
+ * scale <= 0), IGEA_ERANGE, IGEA_ERANK (rank r < 3), IGEA_EDOMAIN (m == r
+ * or an exact fit, S = 0: no residual to estimate sigma^2 from),
+ * IGEA_ENOCONV, IGEA_EOVERFLOW, IGEA_ENOMEM, IGEA_ELAPACK.
  */
 IGEA_API int igea_regress_ebr(int m, int N, const double *A, int lda,
-                              const double *y, const double *prior_scale,
-                              int rule, double lam_floor, double *beta,
-                              double *lam, int *rank, double *shrink,
-                              double *sd_post, double *sd_freq);
+                              const double *y, const double *sigma,
+                              const double *spec_sigma, int rule,
+                              double lam_floor, double *x, double *cov,
+                              int ldc, double *lam, int *rank, double *sigma2,
+                              double *residual, double *shrink,
+                              double *sd_freq);
 
 /* Ridge rules for k (the ridge constant added to the normal matrix). */
 #define IGEA_REGRESS_RIDGE_FIXED 0 /* k given by the caller */
@@ -108,15 +133,16 @@ IGEA_API int igea_regress_ebr(int m, int N, const double *A, int lda,
 #define IGEA_REGRESS_RIDGE_LOO 4   /* minimise sum (e_i / (1 - h_ii(k)))^2 */
 
 /*
- * Ridge regression x(k) = (A^T W A + k I)^-1 A^T W y on the design as given
- * (no centring or scaling: scale the columns first if the terms have
- * different units), W = diag(1/sigma^2).
- *  1 m, 2 N, 3 A, 4 lda >= m, 5 y (m), 6 sigma (m or NULL);
- *  7 rule: IGEA_REGRESS_RIDGE_*; 8 k >= 0 (read for IGEA_REGRESS_RIDGE_FIXED only);
- * Outputs: 9 x[N]; 10 cov (N x N or NULL): s^2 (B + kI)^-1 B (B + kI)^-1,
- *  B = A^T W A; 11 ldc >= N when cov is given; 12 k_used; 13 sigma2: s^2,
- *  the least-squares residual variance RSS_w / (m - r) (0 if m == r);
- *  14 residual[m] (y - A x, or NULL).
+ * Ridge regression x' = (B + k I)^-1 D A^T W y, x = D x', on the design
+ * A D (no centring; without spec_sigma scale the columns first if the
+ * terms have different units), W = diag(1/sigma^2), B = D A^T W A D.
+ *  1 m, 2 N, 3 A, 4 lda >= m, 5 y (m), 6 sigma (m or NULL), 7 spec_sigma
+ *  (N or NULL); 8 rule: IGEA_REGRESS_RIDGE_*; 9 k >= 0 (read for
+ *  IGEA_REGRESS_RIDGE_FIXED only);
+ * Outputs: 10 x[N]; 11 cov (N x N or NULL): s^2 D (B + kI)^-1 B (B + kI)^-1
+ *  D; 12 ldc >= N when cov is given; 13 k_used; 14 sigma2: s^2, the
+ *  least-squares residual variance RSS_w / (m - r) (0 if m == r);
+ *  15 residual[m] (y - A x, or NULL).
  * The GCV and LOO searches minimise over log10 k in [log10(d_1) - 12,
  * log10(d_1) + 4] (d_1 the largest eigenvalue of B): a 161-point grid, then
  * golden section next to the best grid point.
@@ -128,40 +154,43 @@ IGEA_API int igea_regress_ebr(int m, int N, const double *A, int lda,
  */
 IGEA_API int igea_regress_ridge(int m, int N, const double *A, int lda,
                                 const double *y, const double *sigma,
-                                int rule, double k, double *x, double *cov,
-                                int ldc, double *k_used, double *sigma2,
+                                const double *spec_sigma, int rule, double k,
+                                double *x, double *cov, int ldc,
+                                double *k_used, double *sigma2,
                                 double *residual);
 
 /*
  * Ridge trace: x(k_j) for nk values k[j] >= 0 (k = 0: minimum-norm LS).
- *  1 m, 2 N, 3 A, 4 lda, 5 y, 6 sigma (or NULL), 7 nk >= 1, 8 k[nk];
- *  9 X (N x nk, column j = x(k_j)), 10 ldx >= N;
- * 11 edf[nk] (effective degrees of freedom tr H(k) = sum d_i/(d_i + k), or
+ *  1 m, 2 N, 3 A, 4 lda, 5 y, 6 sigma (or NULL), 7 spec_sigma (or NULL),
+ *  8 nk >= 1, 9 k[nk]; 10 X (N x nk, column j = x(k_j)), 11 ldx >= N;
+ * 12 edf[nk] (effective degrees of freedom tr H(k) = sum d_i/(d_i + k), or
  *    NULL).
  * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ERANGE,
  * IGEA_EOVERFLOW, IGEA_ENOMEM, IGEA_ELAPACK.
  */
 IGEA_API int igea_regress_ridge_trace(int m, int N, const double *A, int lda,
                                       const double *y, const double *sigma,
-                                      int nk, const double *k, double *X,
-                                      int ldx, double *edf);
+                                      const double *spec_sigma, int nk,
+                                      const double *k, double *X, int ldx,
+                                      double *edf);
 
 /*
  * Principal-component estimation: x = sum over the kept components i of
  * v_i (u_i^T y_w) / s_i, the components being the eigenvectors of
- * B = A^T W A (eigenvalues d_i = s_i^2, descending) within the numerical
- * rank r.
- *  1 m, 2 N, 3 A, 4 lda, 5 y, 6 sigma (or NULL);
- *  7 ncomp >= 0: keep the min(ncomp, r) largest; 0: keep those with
- *    d_i >= eig_min; 8 eig_min > 0 (read when ncomp == 0);
- * Outputs: 9 x[N]; 10 cov (or NULL): s^2 sum v_i v_i^T / d_i over the kept
- *  components; 11 ldc; 12 nused: components kept; 13 sigma2: s^2 of least
- *  squares (as igea_regress_ridge); 14 residual[m] or NULL.
+ * B = D A^T W A D (eigenvalues d_i = s_i^2, descending) within the
+ * numerical rank r, x = D x'.
+ *  1 m, 2 N, 3 A, 4 lda, 5 y, 6 sigma (or NULL), 7 spec_sigma (or NULL);
+ *  8 ncomp >= 0: keep the min(ncomp, r) largest; 0: keep those with
+ *    d_i >= eig_min; 9 eig_min > 0 (read when ncomp == 0);
+ * Outputs: 10 x[N]; 11 cov (or NULL): s^2 D (sum v_i v_i^T / d_i) D over
+ *  the kept components; 12 ldc; 13 nused: components kept; 14 sigma2: s^2
+ *  of least squares (as igea_regress_ridge); 15 residual[m] or NULL.
  * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ERANGE,
  * IGEA_EOVERFLOW, IGEA_ENOMEM, IGEA_ELAPACK.
  */
 IGEA_API int igea_regress_pce(int m, int N, const double *A, int lda,
-                              const double *y, const double *sigma, int ncomp,
+                              const double *y, const double *sigma,
+                              const double *spec_sigma, int ncomp,
                               double eig_min, double *x, double *cov, int ldc,
                               int *nused, double *sigma2, double *residual);
 
@@ -172,15 +201,21 @@ IGEA_API int igea_regress_pce(int m, int N, const double *A, int lda,
  *   cov = (A^T W A + P^-1)^-1, x = cov (A^T W y + P^-1 mu),
  * computed without inverting P: P = L L^T (dpotrf), x = mu + L t and the
  * SVD of diag(1/sigma) A L (a singular design is fine; P must be SPD).
- *  1 m, 2 N, 3 A, 4 lda, 5 y, 6 sigma (or NULL); 7 prior_mean (N, or NULL
- *  for 0); 8 prior_cov (N x N, lower triangle read), 9 ldp >= N;
- * Outputs: 10 x[N]; 11 cov (or NULL), 12 ldc; 13 residual[m] or NULL.
+ * With spec_sigma the prior is taken to the scaled coefficients X / spec
+ * (mu_j / s_j, P_ij / (s_i s_j)) and the results back (x = D x',
+ * cov = D cov' D).
+ *  1 m, 2 N, 3 A, 4 lda, 5 y, 6 sigma (or NULL), 7 spec_sigma (or NULL);
+ *  8 prior_mean (N, or NULL for 0); 9 prior_cov (N x N, lower triangle
+ *  read), or NULL for P = D^2 = diag(spec_sigma^2) (the in-spec system;
+ *  the identity without spec_sigma); 10 ldp >= N when prior_cov is given;
+ * Outputs: 11 x[N]; 12 cov (or NULL), 13 ldc; 14 residual[m] or NULL.
  * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ERANGE,
  * IGEA_ESINGULAR (P not positive definite), IGEA_EOVERFLOW, IGEA_ENOMEM,
  * IGEA_ELAPACK.
  */
 IGEA_API int igea_regress_bayes(int m, int N, const double *A, int lda,
                                 const double *y, const double *sigma,
+                                const double *spec_sigma,
                                 const double *prior_mean,
                                 const double *prior_cov, int ldp, double *x,
                                 double *cov, int ldc, double *residual);
@@ -190,24 +225,26 @@ IGEA_API int igea_regress_bayes(int m, int N, const double *A, int lda,
 #define IGEA_REGRESS_NULL_TOL 1e-8
 
 /*
- * Collinearity diagnostics of B = A^T W A from the SVD of diag(1/sigma) A.
+ * Collinearity diagnostics of B = D A^T W A D from the SVD of
+ * diag(1/sigma) A D (D = diag(spec_sigma) or I: with spec_sigma, the
+ * diagnostics of the coefficients in spec units X / spec).
  *  1 m, 2 N, 3 A, 4 lda; 5 y (m, or NULL: the noise scale is then 1, the
- *  sigmas being taken as known); 6 sigma (or NULL); 7 rcond (as
- *  igea_regress_ls);
+ *  sigmas being taken as known); 6 sigma (or NULL); 7 spec_sigma (or
+ *  NULL); 8 rcond (as igea_regress_ls);
  * Outputs:
- *  8 cond[2]: s_1 / s_min over min(m, N) singular values (Inf if s_min is
+ *  9 cond[2]: s_1 / s_min over min(m, N) singular values (Inf if s_min is
  *    0 or m < N) and s_1 / s_r, the condition of the estimable part;
- *  9 rank r;
- * 10 eig[N]: eigenvalues d_i = s_i^2 of B, descending (0 beyond min(m,N));
- * 11 V (N x N or NULL), 12 ldv: the eigenvectors v_i as columns (METHODS
+ * 10 rank r;
+ * 11 eig[N]: eigenvalues d_i = s_i^2 of B, descending (0 beyond min(m,N));
+ * 12 V (N x N or NULL), 13 ldv: the eigenvectors v_i as columns (METHODS
  *    0.3 signs); v_1..v_r are the estimable combinations, v_{r+1}..v_N span
  *    the null space;
- * 13 vif[N] (or NULL): uncentred variance-inflation factors B_jj pinv(B)_jj,
+ * 14 vif[N] (or NULL): uncentred variance-inflation factors B_jj pinv(B)_jj,
  *    Inf for a prior-determined coefficient;
- * 14 sd_comb[N] (or NULL): standard deviation s / s_i of the estimable
- *    combination v_i^T x for i < r (s^2 = RSS_w / (m - r) from y, or 1),
+ * 15 sd_comb[N] (or NULL): standard deviation s / s_i of the estimable
+ *    combination v_i^T x' for i < r (s^2 = RSS_w / (m - r) from y, or 1),
  *    Inf beyond r;
- * 15 prior_det[N] (or NULL): 1 when coefficient j has a null-space
+ * 16 prior_det[N] (or NULL): 1 when coefficient j has a null-space
  *    component (sum_{i >= r} V_ji^2 > IGEA_REGRESS_NULL_TOL): the data do
  *    not determine it, any estimate of it alone comes from a prior or a
  *    minimum-norm convention (METHODS 4.3 caveat); 0 otherwise.
@@ -216,7 +253,7 @@ IGEA_API int igea_regress_bayes(int m, int N, const double *A, int lda,
  */
 IGEA_API int igea_regress_collinearity(int m, int N, const double *A, int lda,
                                        const double *y, const double *sigma,
-                                       double rcond, double *cond, int *rank,
+                                       const double *spec_sigma, double rcond, double *cond, int *rank,
                                        double *eig, double *V, int ldv,
                                        double *vif, double *sd_comb,
                                        int *prior_det);

@@ -358,7 +358,7 @@ int cmd_regress(int argc, char **argv)
     r.vif = vif;
     r.sdc = sdc;
     r.pd = pd;
-    int st = igea_regress_collinearity(m, N, A, m, y, sig, a.rcond, r.cond, &r.rank, eig, NULL,
+    int st = igea_regress_collinearity(m, N, A, m, y, sig, NULL, a.rcond, r.cond, &r.rank, eig, NULL,
                                        1, vif, sdc, pd);
     if (st) {
         ec = cli_status(st, "regress: diagnostics");
@@ -366,19 +366,19 @@ int cmd_regress(int argc, char **argv)
     }
     int have_cov = 1;
     if (!strcmp(a.method, "ls")) {
-        st = igea_regress_ls(m, N, A, m, y, sig, a.rcond, x, cov, N, &r.rank, &r.sigma2, res);
+        st = igea_regress_ls(m, N, A, m, y, sig, NULL, a.rcond, x, cov, N, &r.rank, &r.sigma2, res);
     } else if (!strcmp(a.method, "ridge")) {
         int rule = a.have_k ? IGEA_REGRESS_RIDGE_FIXED
                    : !a.rule || !strcmp(a.rule, "gcv") ? IGEA_REGRESS_RIDGE_GCV
                    : !strcmp(a.rule, "hkb") ? IGEA_REGRESS_RIDGE_HKB
                    : !strcmp(a.rule, "lw") ? IGEA_REGRESS_RIDGE_LW : IGEA_REGRESS_RIDGE_LOO;
-        st = igea_regress_ridge(m, N, A, m, y, sig, rule, a.k, x, cov, N, &r.scalar, &r.sigma2,
+        st = igea_regress_ridge(m, N, A, m, y, sig, NULL, rule, a.k, x, cov, N, &r.scalar, &r.sigma2,
                                 res);
         r.scalar_name = "k";
     } else if (!strcmp(a.method, "pce")) {
         int nc = a.have_ncomp ? a.ncomp : 0;
         double em = a.have_eig_min ? a.eig_min : 1.0;
-        st = igea_regress_pce(m, N, A, m, y, sig, nc, em, x, cov, N, &r.count, &r.sigma2, res);
+        st = igea_regress_pce(m, N, A, m, y, sig, NULL, nc, em, x, cov, N, &r.count, &r.sigma2, res);
         r.count_name = "ncomp";
     } else if (!strcmp(a.method, "bayes")) {
         /* prior on the scaled coefficients X/spec */
@@ -389,34 +389,16 @@ int cmd_regress(int argc, char **argv)
                     pc ? pc[(size_t)i * N + j] / ((spec ? spec[i] : 1.0) * (spec ? spec[j] : 1.0))
                        : (i == j ? 1.0 : 0.0);
         }
-        st = igea_regress_bayes(m, N, A, m, y, sig, mu, P, N, x, cov, N, res);
+        st = igea_regress_bayes(m, N, A, m, y, sig, NULL, mu, P, N, x, cov, N, res);
         r.sigma2 = 1.0;
     } else {
         int rule = !a.rule || !strcmp(a.rule, "sc") ? IGEA_REGRESS_EBR_SC
                    : !strcmp(a.rule, "mm") ? IGEA_REGRESS_EBR_MM : IGEA_REGRESS_EBR_ML2;
-        double *Aw = malloc((mn + (size_t)m) * sizeof(double));
-        if (!Aw) {
-            ec = cli_oom("the weighted design");
-            goto done;
-        }
-        double *yw = Aw + mn;
-        for (int i = 0; i < m; i++) {
-            yw[i] = y[i] / sig[i];
-            for (int j = 0; j < N; j++)
-                Aw[i + (size_t)j * m] = A[i + (size_t)j * m] / sig[i];
-        }
-        st = igea_regress_ebr(m, N, Aw, m, yw, NULL, rule, a.lam_floor, x, &r.scalar, &r.rank,
-                              e2, sd, e1);
-        free(Aw);
+        st = igea_regress_ebr(m, N, A, m, y, sig, NULL, rule, a.lam_floor, x, cov, N,
+                              &r.scalar, &r.rank, &r.sigma2, NULL, e2, e1);
         r.scalar_name = "lambda";
         r.extra1_name = "sd_frequentist";
         r.shrink = e2;
-        have_cov = 0;
-        if (st == 0) {
-            /* sigma^2 = S / (m - r) of METHODS 4.3, from least squares */
-            int rk;
-            st = igea_regress_ls(m, N, A, m, y, sig, 0.0, cov, NULL, 1, &rk, &r.sigma2, NULL);
-        }
     }
     if (st) {
         ec = cli_status(st, a.method);

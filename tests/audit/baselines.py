@@ -109,7 +109,7 @@ BASE = {
                             _req=['coef']),
     'igea_eqerr_residual': dict(coef='u', row0='0', axis_ss='0', _zero_ok=['m']),
     # ---- regress
-    'igea_regress_ebr': dict(m='8', prior_scale='pos', rule='IGEA_REGRESS_EBR_SC', lam_floor='0.0'),
+    'igea_regress_ebr': dict(m='8', rule='IGEA_REGRESS_EBR_SC', lam_floor='0.0', _req=['x']),
     'igea_regress_ls': dict(_req=['x'], _inf_ok=['rcond-']),
     'igea_regress_ridge': dict(rule='IGEA_REGRESS_RIDGE_FIXED', k='0.1', _req=['A', 'x', 'y']),
     'igea_regress_ridge_trace': dict(nk='3', k='[0.0, 0.1, 1.0]', ldx='N', _req=['k']),
