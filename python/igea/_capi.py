@@ -197,6 +197,12 @@ SIM_MC_NOT_TESTABLE = 4
 SIM_MC_MEAN_SCALE = 5
 SIM_MC_MEAN_TESTED = 6
 SIM_MC_LEN = 8
+SIM_MC_RATES_LEN = 12
+SIM_MC_TABLE_CHI2 = 0
+SIM_MC_TABLE_DOF = 1
+SIM_MC_TABLE_N_REJECT = 2
+SIM_MC_TABLE_SCALE = 3
+SIM_MC_TABLE_COLS = 4
 
 # igea/stability.h
 STABILITY_BLOCK_3SIGMA = 0
@@ -354,6 +360,9 @@ PROTOTYPES = {
         ("fs", c_double), ("window", c_double), ("sigma", _PD), ("alpha", _PD), ("lda", c_int),
         ("iterative", c_int), ("weighted", c_int), ("nwin", c_int), ("means", _PD),
         ("excluded", _PI), ("fused", _PD), ("fused_sigma", _PD),)),
+    "igea_redund_monitor_intervals": (c_int, (("nsens", c_int), ("nwin", c_int), ("excluded", _PI),
+        ("fs", c_double), ("window", c_double), ("maxiv", c_int), ("niv", _PI), ("sensor", _PI),
+        ("win_start", _PI), ("win_end", _PI), ("t_start", _PD), ("t_end", _PD),)),
     "igea_redund_simulate": (c_int, (("nsamp", c_int), ("nsens", c_int), ("fs", c_double),
         ("level", _PD), ("noise", _PD), ("fault_sensor", c_int), ("t0", c_double),
         ("t1", c_double), ("fault_bias", c_double), ("seed", c_int), ("y", _PD), ("ldy", c_int),)),
@@ -411,19 +420,34 @@ PROTOTYPES = {
         ("nsamp", _PI),)),
     "igea_sim_trajectory": (c_int, (("system", c_int), ("duration", c_double), ("rate", c_double),
         ("nsamp", c_int), ("traj", _PD), ("ldt", c_int),)),
-    "igea_sim_flight": (c_int, (("m", c_int), ("N", c_int), ("S", _PD), ("lds", c_int),
-        ("track_sigma", _PD), ("sigma_inc", c_int), ("spec_sigma", _PD), ("x_value", _PD),
-        ("x_fixed", _PI), ("opts", _PD), ("seed", c_int), ("flight", c_int), ("x_true", _PD),
-        ("dw", _PD),)),
+    "igea_sim_check_opts": (c_int, (("opts", _PD),)),
+    "igea_sim_model_create": (c_int, (("m", c_int), ("N", c_int), ("S", _PD), ("lds", c_int),
+        ("model", _PH),)),
+    "igea_sim_model_create_trajectory": (c_int, (("system", c_int), ("nsamp", c_int),
+        ("traj", _PD), ("ldt", c_int), ("nterms", c_int), ("terms", _PI), ("axes", _PI),
+        ("nepochs", c_int), ("epochs", _PD), ("model", _PH),)),
+    "igea_sim_model_free": (None, (("model", c_void_p),)),
+    "igea_sim_model_set_sigma": (c_int, (("model", c_void_p), ("track_sigma", _PD),
+        ("sigma_inc", c_int), ("growth", c_double),)),
+    "igea_sim_model_set_spec": (c_int, (("model", c_void_p), ("spec_sigma", _PD),)),
+    "igea_sim_model_set_noise": (c_int, (("model", c_void_p), ("opts", _PD),)),
+    "igea_sim_model_set_truth": (c_int, (("model", c_void_p), ("x_value", _PD), ("x_fixed", _PI),
+        )),
+    "igea_sim_model_set_nonlinear": (c_int, (("model", c_void_p), ("on", c_int),)),
+    "igea_sim_model_get_size": (c_int, (("model", c_void_p), ("m", _PI), ("N", _PI),)),
+    "igea_sim_model_get_s": (c_int, (("model", c_void_p), ("S", _PD), ("lds", c_int),)),
+    "igea_sim_model_get_sigma": (c_int, (("model", c_void_p), ("track_sigma", _PD),)),
+    "igea_sim_model_get_spec": (c_int, (("model", c_void_p), ("spec_sigma", _PD),)),
+    "igea_sim_flight": (c_int, (("model", c_void_p), ("seed", c_int), ("flight", c_int),
+        ("x_true", _PD), ("dw", _PD),)),
     "igea_sim_nonlinear": (c_int, (("system", c_int), ("nsamp", c_int), ("traj", _PD),
         ("ldt", c_int), ("err", _PD), ("axes", _PI), ("nepochs", c_int), ("epochs", _PD),
         ("dW", _PD),)),
-    "igea_sim_montecarlo": (c_int, (("m", c_int), ("N", c_int), ("S", _PD), ("lds", c_int),
-        ("track_sigma", _PD), ("sigma_inc", c_int), ("spec_sigma", _PD), ("x_value", _PD),
-        ("x_fixed", _PI), ("opts", _PD), ("seed", c_int), ("eq_opts", _PD),
+    "igea_sim_interval": (c_int, (("k", c_double), ("n", c_double), ("lohi", _PD),)),
+    "igea_sim_montecarlo": (c_int, (("model", c_void_p), ("eq_opts", _PD), ("seed", c_int),
         ("first_flight", c_int), ("nflights", c_int), ("nthreads", c_int), ("counts", _PD),
-        ("comp_tested", _PI), ("comp_reject", _PI), ("chi2", _PD), ("dof", _PI), ("n_reject", _PI),
-        ("scale", _PD),)),
+        ("rates", _PD), ("comp_tested", _PI), ("comp_reject", _PI), ("table", _PD), ("ldt", c_int),
+        )),
     # igea/stability.h
     "igea_stability_block": (c_int, (("n", c_int), ("y", _PD), ("fs", c_double),
         ("block", c_double), ("out", _PD),)),

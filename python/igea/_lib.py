@@ -58,13 +58,20 @@ def _load():
                       + "\n".join(errors))
 
 
+def _absent(name):
+    def call(*args):
+        raise ImportError("%s lacks %s: the library is older than this package's headers"
+                          % (lib._name, name))
+    return call
+
+
 lib = _load()
-_missing = [name for name in _capi.PROTOTYPES if not hasattr(lib, name)]
-if _missing:
-    raise ImportError("%s lacks %s: the library is older than this package's headers"
-                      % (lib._name, ", ".join(_missing)))
 for _name, (_res, _args) in _capi.PROTOTYPES.items():
-    _f = getattr(lib, _name)
+    try:
+        _f = getattr(lib, _name)
+    except AttributeError:  # an older minor version: fails when called
+        setattr(lib, _name, _absent(_name))
+        continue
     _f.restype = _res
     _f.argtypes = [t for _, t in _args]
 
@@ -117,8 +124,9 @@ def fields(array, prefix, **kinds):
 
 def options(module, where, at, **slots):
     """The options array of a module (module "eqerr": opts[EQERR_OPT_LEN]):
-    the library's defaults (igea_<module>_defaults), then each given slot
-    (named as its IGEA_<MODULE>_OPT_* macro, in lower case) set. Checked by
+    the library's defaults (igea_<module>_defaults), then each slot given
+    (named as its IGEA_<MODULE>_OPT_* macro, in lower case) and not None
+    set: a keyword left None keeps the library's default. Checked by
     igea_<module>_check_opts: a bad slot raises IgeaError with the status
     that at = (function, argument) gives for that options argument, naming
     the slot as igea_opt_name does."""
@@ -126,7 +134,8 @@ def options(module, where, at, **slots):
     opts = np.zeros(getattr(_capi, m + "_OPT_LEN"))
     call(where, "igea_%s_defaults" % module, dptr(opts))
     for name, value in slots.items():
-        opts[getattr(_capi, "%s_OPT_%s" % (m, name.upper()))] = float(value)
+        if value is not None:
+            opts[getattr(_capi, "%s_OPT_%s" % (m, name.upper()))] = float(value)
     checker = "igea_%s_check_opts" % module
     st = getattr(lib, checker)(dptr(opts)) if checker in _capi.PROTOTYPES else 0
     if st > 0:

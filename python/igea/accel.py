@@ -146,7 +146,7 @@ class AccelDesignInfo:
             lines.append("  %-8s loading %.3g  %s" % (name, self.loading[j],
                          "prior-determined" if self.loading[j] > LOADING_TOL else "data"))
         for k in range(self.null_space.shape[1]):
-            lines.append("null vector %d: " % (k + 1) + " ".join(
+            lines.append("null vector %d: " % k + " ".join(
                 "%s=%+.4f" % (self.names[j], v) for j, v in enumerate(self.null_space[:, k])
                 if abs(v) > 1e-12))
         return "\n".join(lines)

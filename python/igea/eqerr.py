@@ -34,7 +34,7 @@ def _component_table(xhat, lam, z, reject, z_crit):
                                                  "precision", "threshold", "z", "verdict")]
     for i in range(len(z)):
         rows.append("%5d %13.6e %13.6f %11.4e %10.4f %9.4f  %s"
-                    % (i + 1, lam[i], xhat[i], lam[i] ** -0.5,
+                    % (i, lam[i], xhat[i], lam[i] ** -0.5,
                        np.sqrt(1 + 1 / lam[i]) * z_crit, z[i], "REJECT" if reject[i] else "pass"))
     return rows
 
@@ -47,8 +47,20 @@ def _attach(obj, **private):
     return obj
 
 
+class _Verdict:
+    """The verdict part of a result (n_test, z, reject, chi2, ... passed)."""
+
+    @property
+    def n_reject(self):
+        return int(np.count_nonzero(self.reject))
+
+    def _verdict(self):
+        return _verdict_lines(self.n_test, self.chi2, self.dof, self.chi2_crit, self.p_value,
+                              self.n_reject, self.passed, getattr(self, "_alpha", 0.01))
+
+
 @dataclass(frozen=True)
-class TestResult:
+class TestResult(_Verdict):
     """Per-component and chi-square verdicts (igea.accuracy_test, igea.pool)."""
     n_test: int
     z: np.ndarray
@@ -60,23 +72,17 @@ class TestResult:
     p_value: float
     passed: bool
 
-    @property
-    def n_reject(self):
-        return int(np.count_nonzero(self.reject))
-
     def summary(self):
         lines = []
         xhat = getattr(self, "_equiv_err", None)
         if xhat is not None:
             lines += _component_table(xhat, self._eigenvalues, self.z, self.reject, self.z_crit)
             lines.append("")
-        lines += _verdict_lines(self.n_test, self.chi2, self.dof, self.chi2_crit, self.p_value,
-                                self.n_reject, self.passed, getattr(self, "_alpha", 0.01))
-        return "\n".join(lines)
+        return "\n".join(lines + self._verdict())
 
 
 @dataclass(frozen=True)
-class EqerrResult:
+class EqerrResult(_Verdict):
     """Result of igea.eqerr; field names match 'igea eqerr --json'."""
     eigenvalues: np.ndarray
     eigenvectors: np.ndarray
@@ -98,10 +104,6 @@ class EqerrResult:
     residual: np.ndarray
     rms: np.ndarray
 
-    @property
-    def n_reject(self):
-        return int(np.count_nonzero(self.reject))
-
     def summary(self):
         lines = ["rank %d of %d; lambda_1 = %.6e; %d component(s) tested"
                  % (self.rank, len(self.eigenvalues), self.eigenvalues[0], self.n_test), ""]
@@ -118,19 +120,19 @@ class EqerrResult:
                          % (self.scale, np.sqrt(self.scale), self.iterations, self.n_small,
                             getattr(self, "_lambda_small", 0.1), self.flag))
         lines.append("residual RMS per axis (x, y, z): %.6g %.6g %.6g" % tuple(self.rms))
-        lines += _verdict_lines(self.n_test, self.chi2, self.dof, self.chi2_crit, self.p_value,
-                                self.n_reject, self.passed, getattr(self, "_alpha", 0.01))
-        return "\n".join(lines)
+        return "\n".join(lines + self._verdict())
 
 
-def eqerr(S, dw, sigma, spec=None, *, alpha=0.01, lambda_test=10.0, lambda_small=0.1,
-          correct_tracking=True, route="eig", n_min=5, tol=0.05, max_iter=10,
-          bias_correct=False, clamp=False, z_crit=None, rank_tol=0.0):
+def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small=None,
+          correction=None, route="eig", n_min=None, tol=None, max_iter=None,
+          bias_correct=None, clamp=None, z_crit=None, rank_tol=None):
     """Equivalent-error accuracy assessment of one flight (METHODS 1.2).
 
     S: (m, N) environment functions (rows epoch-major x, y, z), dw: (m,)
     velocity differences, sigma: tracking 1-sigma, a number or (m,) per row,
-    spec: (N,) 1-sigma specs scaling S's columns, or None.
+    spec: (N,) 1-sigma specs scaling S's columns, or None. The options are
+    the slots of igea/eqerr.h (correction: IGEA_EQERR_OPT_CORRECT); one left
+    None keeps the library's default (igea_eqerr_defaults).
     Returns an EqerrResult."""
     S = _lib.as_f64(S, "S", ndim=2)
     m, N = S.shape
@@ -152,9 +154,9 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=0.01, lambda_test=10.0, lambda_small
         raise ValueError("route: expected 'eig' or 'svd', got %r" % (route,))
     opts = _lib.options("eqerr", "igea.eqerr", ("igea_eqerr_run", "opts"), alpha=alpha,
                         lambda_test=lambda_test, lambda_small=lambda_small, n_min=n_min, tol=tol,
-                        max_iter=max_iter, correct=bool(correct_tracking), rank_tol=rank_tol,
-                        bias_correct=bool(bias_correct), clamp=bool(clamp),
-                        z_crit=0.0 if z_crit is None else z_crit, route=_ROUTES[route])
+                        max_iter=max_iter, correct=correction, rank_tol=rank_tol,
+                        bias_correct=bias_correct, clamp=clamp, z_crit=z_crit,
+                        route=_ROUTES[route])
     lam = np.empty(N)
     P = np.empty((N, N), order="F")
     xhat = np.empty(N)
@@ -174,7 +176,7 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=0.01, lambda_test=10.0, lambda_small
         reject=rej[:nt] == 1, flag=_FLAGS[int(info[_capi.STATS_INFO_FLAG])], residual=res,
         rms=rms, **test, **_lib.fields(info, "STATS_INFO_", rank=int, scale=float,
                                         iterations=int, n_small=int)),
-        alpha=float(alpha), lambda_small=float(lambda_small))
+        alpha=opts[_capi.EQERR_OPT_ALPHA], lambda_small=opts[_capi.EQERR_OPT_LAMBDA_SMALL])
 
 
 def accuracy_test(equiv_err, eigenvalues, *, alpha=0.01, lambda_test=10.0, z_crit=None):

@@ -35,11 +35,15 @@ def _design(A, y, sigma=None, spec=None, y_optional=False):
 
 def _names(N, names):
     if names is None:
-        return ["x%d" % (j + 1) for j in range(N)]
+        return ["x%d" % j for j in range(N)]
     names = [str(s) for s in names]
     if len(names) != N:
         raise ValueError("names: expected %d names, got %d" % (N, len(names)))
     return names
+
+
+def _given(N, names):
+    return None if names is None else tuple(_names(N, names))
 
 
 def _coef_table(names, x, sd, extra=None, sd_name="sd"):
@@ -55,8 +59,19 @@ def _coef_table(names, x, sd, extra=None, sd_name="sd"):
     return rows
 
 
+class _Estimate:
+    """An estimate x with covariance cov (and term names)."""
+
+    @property
+    def sd(self):
+        return np.sqrt(np.diag(self.cov))
+
+    def _table(self, extra=None, sd_name="sd"):
+        return _coef_table(_names(len(self.x), self.names), self.x, self.sd, extra, sd_name)
+
+
 @dataclass(frozen=True)
-class LsResult:
+class LsResult(_Estimate):
     """Weighted least squares (minimum norm when rank-deficient)."""
     x: np.ndarray
     cov: np.ndarray
@@ -65,10 +80,6 @@ class LsResult:
     residual: np.ndarray
     names: tuple = None
 
-    @property
-    def sd(self):
-        return np.sqrt(np.diag(self.cov))
-
     def summary(self):
         N = len(self.x)
         lines = ["least squares: rank %d of %d, residual variance %.6e (%d dof)"
@@ -76,12 +87,12 @@ class LsResult:
         if self.rank < N:
             lines.append("rank-deficient: minimum-norm solution; see igea.collinearity for the "
                          "estimable combinations")
-        lines += _coef_table(_names(N, self.names), self.x, self.sd)
+        lines += self._table()
         return "\n".join(lines)
 
 
 @dataclass(frozen=True)
-class EbrResult:
+class EbrResult(_Estimate):
     """Empirical-Bayes ridge (METHODS 4.3); sd: the posterior sds."""
     x: np.ndarray
     cov: np.ndarray
@@ -94,10 +105,6 @@ class EbrResult:
     rule: str = "sc"
     names: tuple = None
 
-    @property
-    def sd(self):
-        return np.sqrt(np.diag(self.cov))
-
     def summary(self):
         N = len(self.x)
         lines = ["empirical-Bayes ridge (%s rule): lambda = %.10e, rank %d of %d"
@@ -107,13 +114,12 @@ class EbrResult:
         if self.rank < N:
             lines.append("%d null direction(s): the coefficients touching them are set by the "
                          "prior, not by the data (METHODS 4.3 caveat)" % (N - self.rank))
-        lines += _coef_table(_names(N, self.names), self.x, self.sd,
-                             [("sd_frequentist", self.sd_frequentist)], sd_name="sd_posterior")
+        lines += self._table([("sd_frequentist", self.sd_frequentist)], "sd_posterior")
         return "\n".join(lines)
 
 
 @dataclass(frozen=True)
-class RidgeResult:
+class RidgeResult(_Estimate):
     """Ridge regression x(k) = (A^T W A + k I)^-1 A^T W y."""
     x: np.ndarray
     cov: np.ndarray
@@ -123,14 +129,10 @@ class RidgeResult:
     residual: np.ndarray
     names: tuple = None
 
-    @property
-    def sd(self):
-        return np.sqrt(np.diag(self.cov))
-
     def summary(self):
         lines = ["ridge (%s): k = %.6e, least-squares residual variance %.6e"
                  % (self.rule, self.k, self.sigma2)]
-        lines += _coef_table(_names(len(self.x), self.names), self.x, self.sd)
+        lines += self._table()
         return "\n".join(lines)
 
 
@@ -150,7 +152,7 @@ class RidgeTrace:
 
 
 @dataclass(frozen=True)
-class PceResult:
+class PceResult(_Estimate):
     """Principal-component estimate (truncated SVD)."""
     x: np.ndarray
     cov: np.ndarray
@@ -159,19 +161,15 @@ class PceResult:
     residual: np.ndarray
     names: tuple = None
 
-    @property
-    def sd(self):
-        return np.sqrt(np.diag(self.cov))
-
     def summary(self):
         lines = ["principal-component estimate: %d component(s) kept, least-squares residual "
                  "variance %.6e" % (self.ncomp, self.sigma2)]
-        lines += _coef_table(_names(len(self.x), self.names), self.x, self.sd)
+        lines += self._table()
         return "\n".join(lines)
 
 
 @dataclass(frozen=True)
-class BayesResult:
+class BayesResult(_Estimate):
     """Posterior mean and covariance with a normal prior and known noise."""
     x: np.ndarray
     cov: np.ndarray
@@ -179,16 +177,11 @@ class BayesResult:
     prior_sd: np.ndarray
     names: tuple = None
 
-    @property
-    def sd(self):
-        return np.sqrt(np.diag(self.cov))
-
     def summary(self):
         ratio = self.sd / self.prior_sd
         lines = ["Bayesian estimate (normal prior, known noise); sd ratio = posterior / prior sd "
                  "(near 1: the data add little, the prior decides)"]
-        lines += _coef_table(_names(len(self.x), self.names), self.x, self.sd,
-                             [("prior_sd", self.prior_sd), ("sd_ratio", ratio)])
+        lines += self._table([("prior_sd", self.prior_sd), ("sd_ratio", ratio)])
         return "\n".join(lines)
 
 
@@ -224,7 +217,7 @@ class Collinearity:
             v = self.eigenvectors[:, i]
             big = np.argsort(-np.abs(v))[:4]
             comb = " ".join("%+.3f*%s" % (v[j], names[j]) for j in big if abs(v[j]) > 1e-3)
-            lines.append("%4d %14.6e %14s  %s" % (i + 1, self.eigenvalues[i],
+            lines.append("%4d %14.6e %14s  %s" % (i, self.eigenvalues[i],
                                                   "%.6e" % self.sd_comb[i] if i < self.rank
                                                   else "(null space)", comb))
         lines += ["", "%-10s %14s  %s" % ("term", "VIF", "determined by")]
@@ -253,7 +246,7 @@ def ls(A, y, sigma=None, *, spec=None, rcond=0.0, names=None):
               _lib.dptr(sp), float(rcond), _lib.dptr(x), _lib.dptr(cov), N, _lib.iptr(rank),
               _lib.dptr(s2), _lib.dptr(res))
     return LsResult(x=x, cov=np.ascontiguousarray(cov), rank=int(rank[0]), sigma2=float(s2[0]),
-                    residual=res, names=None if names is None else tuple(_names(N, names)))
+                    residual=res, names=_given(N, names))
 
 
 def ebr(A, y, sigma=None, *, spec=None, rule="sc", lam_floor=0.0, names=None):
@@ -276,7 +269,7 @@ def ebr(A, y, sigma=None, *, spec=None, rule="sc", lam_floor=0.0, names=None):
               _lib.dptr(sf))
     return EbrResult(x=x, cov=np.ascontiguousarray(cov), lam=float(lam[0]), rank=int(rank[0]),
                      sigma2=float(s2[0]), residual=res, shrink=sh, sd_frequentist=sf, rule=rule,
-                     names=None if names is None else tuple(_names(N, names)))
+                     names=_given(N, names))
 
 
 def ridge(A, y, sigma=None, *, spec=None, k=None, rule=None, names=None):
@@ -302,7 +295,7 @@ def ridge(A, y, sigma=None, *, spec=None, k=None, rule=None, names=None):
               _lib.dptr(x), _lib.dptr(cov), N, _lib.dptr(ku), _lib.dptr(s2), _lib.dptr(res))
     return RidgeResult(x=x, cov=np.ascontiguousarray(cov), k=float(ku[0]), rule=rule,
                        sigma2=float(s2[0]), residual=res,
-                       names=None if names is None else tuple(_names(N, names)))
+                       names=_given(N, names))
 
 
 def ridge_trace(A, y, k, sigma=None, *, spec=None):
@@ -337,7 +330,7 @@ def pce(A, y, sigma=None, *, spec=None, ncomp=None, eig_min=None, names=None):
               float(eig_min) if eig_min is not None else 0.0, _lib.dptr(x), _lib.dptr(cov), N,
               _lib.iptr(nu), _lib.dptr(s2), _lib.dptr(res))
     return PceResult(x=x, cov=np.ascontiguousarray(cov), ncomp=int(nu[0]), sigma2=float(s2[0]),
-                     residual=res, names=None if names is None else tuple(_names(N, names)))
+                     residual=res, names=_given(N, names))
 
 
 def bayes(A, y, prior_cov, prior_mean=None, sigma=None, *, spec=None, names=None):
@@ -355,7 +348,7 @@ def bayes(A, y, prior_cov, prior_mean=None, sigma=None, *, spec=None, names=None
               _lib.dptr(cov), N, _lib.dptr(res))
     return BayesResult(x=x, cov=np.ascontiguousarray(cov), residual=res,
                        prior_sd=np.sqrt(np.diag(P)).copy(),
-                       names=None if names is None else tuple(_names(N, names)))
+                       names=_given(N, names))
 
 
 def collinearity(A, y=None, sigma=None, *, spec=None, rcond=0.0, names=None):
@@ -377,7 +370,7 @@ def collinearity(A, y=None, sigma=None, *, spec=None, rcond=0.0, names=None):
     return Collinearity(cond=float(cond[0]), cond_estimable=float(cond[1]), rank=int(rank[0]),
                         eigenvalues=eig, eigenvectors=np.ascontiguousarray(V), vif=vif,
                         sd_comb=sd, prior_determined=pd.astype(bool),
-                        names=None if names is None else tuple(_names(N, names)))
+                        names=_given(N, names))
 
 
 def bias_mse(estimate, A, x_true, sigma_true):

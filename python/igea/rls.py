@@ -74,7 +74,7 @@ class RlsResult:
                  "%5s %16s %14s %14s" % ("coef", "estimate", "sd (honest)", "sd (Gamma)")]
         gsd = np.sqrt(np.diag(self.gamma))
         for i in range(m):
-            lines.append("%5d %16.8g %14.6g %14.6g" % (i + 1, self.x[-1, i] if n else np.nan,
+            lines.append("%5d %16.8g %14.6g %14.6g" % (i, self.x[-1, i] if n else np.nan,
                                                        sd[i], gsd[i]))
         return "\n".join(lines)
 
@@ -231,7 +231,8 @@ class RLS:
     def counts(self):
         c = np.zeros(_capi.RLS_COUNT_LEN, dtype=np.intc)
         _lib.call("igea.RLS.counts", "igea_rls_get_counts", self._handle(), _lib.iptr(c))
-        return _lib.fields(c, "RLS_COUNT_", epochs=int, updates=int, anomalous=int, rows=int)
+        f = _lib.fields(c, "RLS_COUNT_", epochs=int, updates=int, anomalous=int, rows=int)
+        return {"n_epochs": f.pop("epochs"), **f}
 
     def compensate(self, c, y):
         """Compensated telemetry y - c x with the current estimate (METHODS 2.5)."""

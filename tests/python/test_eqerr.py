@@ -143,7 +143,7 @@ def test_sigma_w_corrects_misstated_tracking():
 
 def test_options_and_no_correction():
     S, dw, sigma, spec, _ = flight(3, sigma_w=1.5)
-    res = igea.eqerr(S, dw, sigma, spec, correct_tracking=False, alpha=0.05, lambda_test=100.0)
+    res = igea.eqerr(S, dw, sigma, spec, correction=False, alpha=0.05, lambda_test=100.0)
     ref = reference(S, dw, sigma, spec, alpha=0.05, lambda_test=100.0, correct=False)
     assert_matches(res, ref)
     assert res.flag == "off" and res.scale == 1.0
@@ -178,7 +178,7 @@ def test_errors():
     with pytest.raises(igea.IgeaError, match="options"):
         igea.eqerr(S, dw, sigma, spec, alpha=1.5)
     with pytest.raises(igea.IgeaError) as e:   # nothing precise enough
-        igea.eqerr(S, dw, sigma * 1e6, spec, correct_tracking=False)
+        igea.eqerr(S, dw, sigma * 1e6, spec, correction=False)
     assert e.value.code == -1018
 
 
