@@ -222,7 +222,7 @@ def test_class_matches_run_and_frees():
     np.testing.assert_array_equal(est.gamma, r.gamma)
     np.testing.assert_array_equal(est.covariance, r.covariance)
     assert est.q == r.q
-    assert est.counts == {"epochs": 150, "updates": 150, "anomalous": 0, "rows": 450}
+    assert est.counts == {"n_epochs": 150, "updates": 150, "anomalous": 0, "rows": 450}
     np.testing.assert_allclose(est.compensate(C[0], Y[0]), Y[0] - C[0] @ est.x)
     assert isinstance(est._h.value, int)
     est.close()
