@@ -1151,6 +1151,69 @@ int igea_redund_window_count(int nsamp, double fs, double window, int *nwin)
     return 0;
 }
 
+int igea_redund_monitor_intervals(int nsens, int nwin, const int *excluded,
+                                  double fs, double window, int maxiv,
+                                  int *niv, int *sensor, int *win_start,
+                                  int *win_end, double *t_start, double *t_end)
+{
+    long nw;
+    if (nsens < 1)
+        return -1;
+    if (nwin < 1)
+        return -2;
+    if (!excluded)
+        return -3;
+    if (!(isfinite(fs) && fs > 0.0))
+        return -4;
+    if (!(isfinite(window) && window > 0.0) || window_len(fs, window, &nw))
+        return -5;
+    if (maxiv < 0)
+        return -6;
+    if (!niv)
+        return -7;
+    if (maxiv > 0 && !sensor)
+        return -8;
+    if (maxiv > 0 && !win_start)
+        return -9;
+    if (maxiv > 0 && !win_end)
+        return -10;
+    size_t n = (size_t)nsens * (size_t)nwin;
+    for (size_t k = 0; k < n; k++)
+        if (excluded[k] != 0 && excluded[k] != 1)
+            return -3;
+    /* count first: nothing is written when the intervals do not fit */
+    int count = 0;
+    for (int s = 0; s < nsens; s++)
+        for (int w = 0; w < nwin; w++)
+            count += excluded[s + (size_t)w * nsens] &&
+                     (w == 0 || !excluded[s + (size_t)(w - 1) * nsens]);
+    if (maxiv > 0 && count > maxiv)
+        return -6;
+    *niv = count;
+    if (maxiv == 0)
+        return 0;
+    double step = (double)nw / fs;
+    int k = 0;
+    for (int s = 0; s < nsens; s++)
+        for (int w = 0; w < nwin; w++) {
+            if (!excluded[s + (size_t)w * nsens] ||
+                (w > 0 && excluded[s + (size_t)(w - 1) * nsens]))
+                continue;
+            int e = w;
+            while (e < nwin && excluded[s + (size_t)e * nsens])
+                e++;
+            sensor[k] = s;
+            win_start[k] = w;
+            win_end[k] = e;
+            if (t_start)
+                t_start[k] = w * step;
+            if (t_end)
+                t_end[k] = e * step;
+            k++;
+        }
+    return 0;
+}
+
 int igea_redund_monitor(int nsamp, int nsens, const double *y, int ldy,
                              double fs, double window, const double *sigma,
                              const double *alpha, int lda, int iterative,

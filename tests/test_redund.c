@@ -869,6 +869,16 @@ static void test_series_experiment(void **state)
             m += y[(size_t)w * fs + k + (size_t)n * 2];
         assert_close(means[2 + 4 * w], m / fs, 1e-14);
     }
+    /* one interval: sensor 3 (0-based), windows 100..119, 100 s to 120 s */
+    int niv = -1, isn[8], iw0[8], iw1[8];
+    double it0[8], it1[8];
+    assert_int_equal(igea_redund_monitor_intervals(4, nwin, ex, fs, 1.0, 8, &niv, isn, iw0, iw1,
+                                                   it0, it1), 0);
+    assert_int_equal(niv, 1);
+    assert_int_equal(isn[0], 3);
+    assert_int_equal(iw0[0], 100);
+    assert_int_equal(iw1[0], 120);
+    assert_true(it0[0] == 100.0 && it1[0] == 120.0);
     /* the same record is reproduced by the same seed; another seed differs */
     double *y2 = malloc(sizeof(double) * (size_t)n * 4);
     igea_redund_simulate(n, 4, fs, level, noise, 3, 100.0, 120.0, 0.010, 2024, y2, n);
@@ -1098,9 +1108,60 @@ static void test_sigma_range(void **state)
     assert_close(s, IGEA_SIGMA_MIN, 1e-12);
 }
 
+/* Exclusion intervals of a hand-written table: 3 sensors x 6 windows of
+ * round(0.25 x 10) = 3 samples at 10 Hz, i.e. 0.3 s. */
+static void test_monitor_intervals(void **state)
+{
+    /* excluded[s + 3 w]: sensor 0 in windows 0-1 and 4; sensor 1 never;
+     * sensor 2 in windows 2..5 (to the end) */
+    static const int ex[18] = {1, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 1, 1, 0, 1, 0, 0, 1};
+    int n = -1, sn[9], w0[9], w1[9];
+    double t0[9], t1[9];
+    assert_int_equal(igea_redund_monitor_intervals(3, 6, ex, 10.0, 0.25, 0, &n, NULL, NULL, NULL,
+                                                   NULL, NULL), 0);
+    assert_int_equal(n, 3);
+    n = -1;
+    assert_int_equal(igea_redund_monitor_intervals(3, 6, ex, 10.0, 0.25, 9, &n, sn, w0, w1, t0,
+                                                   t1), 0);
+    assert_int_equal(n, 3);
+    const int es[3] = {0, 0, 2}, e0[3] = {0, 4, 2}, e1[3] = {2, 5, 6};
+    for (int k = 0; k < 3; k++) {
+        assert_int_equal(sn[k], es[k]);
+        assert_int_equal(w0[k], e0[k]);
+        assert_int_equal(w1[k], e1[k]);
+        assert_close(t0[k], 0.3 * e0[k], 1e-15);
+        assert_close(t1[k], 0.3 * e1[k], 1e-15);
+    }
+    /* times may be omitted */
+    assert_int_equal(igea_redund_monitor_intervals(3, 6, ex, 10.0, 0.25, 3, &n, sn, w0, w1, NULL,
+                                                   NULL), 0);
+    /* too little room: -6, nothing written */
+    int z[2] = {-7, -7};
+    n = -1;
+    assert_int_equal(igea_redund_monitor_intervals(3, 6, ex, 10.0, 0.25, 2, &n, z, z, z, NULL,
+                                                   NULL), -6);
+    assert_true(n == -1 && z[0] == -7 && z[1] == -7);
+    /* invalid arguments */
+    assert_int_equal(igea_redund_monitor_intervals(0, 6, ex, 10.0, 0.25, 9, &n, sn, w0, w1, t0, t1), -1);
+    assert_int_equal(igea_redund_monitor_intervals(3, 0, ex, 10.0, 0.25, 9, &n, sn, w0, w1, t0, t1), -2);
+    assert_int_equal(igea_redund_monitor_intervals(3, 6, NULL, 10.0, 0.25, 9, &n, sn, w0, w1, t0, t1), -3);
+    int bad[18];
+    memcpy(bad, ex, sizeof bad);
+    bad[7] = 2;
+    assert_int_equal(igea_redund_monitor_intervals(3, 6, bad, 10.0, 0.25, 9, &n, sn, w0, w1, t0, t1), -3);
+    assert_int_equal(igea_redund_monitor_intervals(3, 6, ex, 0.0, 0.25, 9, &n, sn, w0, w1, t0, t1), -4);
+    assert_int_equal(igea_redund_monitor_intervals(3, 6, ex, 10.0, 0.01, 9, &n, sn, w0, w1, t0, t1), -5);
+    assert_int_equal(igea_redund_monitor_intervals(3, 6, ex, 10.0, 0.25, -1, &n, sn, w0, w1, t0, t1), -6);
+    assert_int_equal(igea_redund_monitor_intervals(3, 6, ex, 10.0, 0.25, 9, NULL, sn, w0, w1, t0, t1), -7);
+    assert_int_equal(igea_redund_monitor_intervals(3, 6, ex, 10.0, 0.25, 9, &n, NULL, w0, w1, t0, t1), -8);
+    assert_int_equal(igea_redund_monitor_intervals(3, 6, ex, 10.0, 0.25, 9, &n, sn, NULL, w1, t0, t1), -9);
+    assert_int_equal(igea_redund_monitor_intervals(3, 6, ex, 10.0, 0.25, 9, &n, sn, w0, NULL, t0, t1), -10);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_monitor_intervals),
         cmocka_unit_test(test_exponential),
         cmocka_unit_test(test_series_parallel_kofn),
         cmocka_unit_test(test_diagram),

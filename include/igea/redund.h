@@ -305,6 +305,32 @@ IGEA_API int igea_redund_monitor(int nsamp, int nsens, const double *y,
                                       double *fused, double *fused_sigma);
 
 /*
+ * The exclusion intervals of igea_redund_monitor's excluded table: each run
+ * of consecutive windows in which a sensor was excluded, sensor after
+ * sensor (0-based, ascending), runs in time order. Interval k is sensor
+ * sensor[k], windows win_start[k] .. win_end[k] - 1 (0-based, end
+ * exclusive), times t_start[k] = win_start[k] step and t_end[k] =
+ * win_end[k] step with step = round(window fs) / fs, the window length in
+ * seconds.
+ *  1 nsens >= 1, 2 nwin >= 1, 3 excluded (nsens x nwin ints, ld nsens, as
+ *  written by igea_redund_monitor: 0 or 1), 4 fs > 0, 5 window > 0 (as
+ *  given to igea_redund_monitor), 6 maxiv >= 0: the room in the five
+ *  output arrays (nsens ((nwin + 1) / 2) always suffices; 0 with the
+ *  arrays NULL asks for the count alone), 7 niv (out): the number of
+ *  intervals, 8 sensor[maxiv], 9 win_start[maxiv], 10 win_end[maxiv],
+ *  11 t_start[maxiv], 12 t_end[maxiv] (outputs; t_start and t_end may be
+ *  NULL).
+ * Returns 0, -i (-6 when the intervals do not fit in maxiv > 0; nothing
+ * is written then).
+ */
+IGEA_API int igea_redund_monitor_intervals(int nsens, int nwin,
+                                           const int *excluded, double fs,
+                                           double window, int maxiv, int *niv,
+                                           int *sensor, int *win_start,
+                                           int *win_end, double *t_start,
+                                           double *t_end);
+
+/*
  * Simulated static record for the check: y_ki = level_i + noise_i N(0,1),
  * plus fault_bias on sensor fault_sensor for t0 <= k / fs < t1. Draws from
  * GSL's mt19937 seeded with seed, sensor after sensor per sample.
