@@ -68,6 +68,15 @@ typedef struct {
 int cli_read_matrix(const char *path, cli_matrix *out);
 void cli_matrix_free(cli_matrix *m);
 
+/* The numbers of a file in any layout, malloc'd into *out: exactly n of them
+ * (n >= 0; otherwise a message "PATH: K values, but WHAT needs N" and
+ * CLI_DATAERR) or, for n < 0, as many as it holds; *count (may be NULL) gets
+ * how many. */
+int cli_read_vector(const char *path, long n, const char *what, double **out, long *count);
+/* FILE|NUMBER: a number (> 0) gives n copies of it (n >= 1), a file
+ * cli_read_vector(arg, n, ...). */
+int cli_read_values(const char *arg, long n, const char *what, double **out, long *count);
+
 /* Streaming reader: row blocks of a text or .npy file in O(block) memory. */
 typedef struct cli_reader cli_reader;
 int cli_reader_open(const char *path, cli_reader **out);
@@ -127,13 +136,154 @@ int cli_write_matrix(const char *path, const double *v, long rows, int cols,
 void cli_write_matrix_body(FILE *f, int npy, const double *v, long rows, int cols,
                            const char *header);
 
-/* JSON: a number (NaN/Inf become null), %.17g. */
+/* ---- JSON --------------------------------------------------------------- */
+/* Low level: a number (NaN/Inf become null, %.17g), arrays of doubles/ints,
+ * an escaped string. */
 void cli_json_num(FILE *f, double x);
-/* JSON array of n doubles / ints. */
 void cli_json_array(FILE *f, const double *x, long n);
 void cli_json_iarray(FILE *f, const int *x, long n);
-/* JSON string with escapes. */
 void cli_json_str(FILE *f, const char *s);
+
+/* The writer: cli_json_begin opens the top-level object, every value is
+ * written with its key (NULL inside an array), containers are opened and
+ * closed, cli_json_end closes whatever is open. Separators, indentation and
+ * escapes are the writer's. */
+#define CLI_JSON_DEPTH 8
+typedef struct {
+    FILE *f;
+    int depth;
+    int count[CLI_JSON_DEPTH];
+    int lines[CLI_JSON_DEPTH];
+    char close[CLI_JSON_DEPTH];
+} cli_json;
+void cli_json_begin(cli_json *j, FILE *f);
+void cli_json_end(cli_json *j);
+void cli_json_open(cli_json *j, const char *key, char bracket); /* '{' or '[' */
+void cli_json_close(cli_json *j);
+void cli_jnum(cli_json *j, const char *key, double x);
+void cli_jint(cli_json *j, const char *key, long x);
+void cli_jbool(cli_json *j, const char *key, int x);
+void cli_jstr(cli_json *j, const char *key, const char *s); /* NULL: null */
+void cli_jnums(cli_json *j, const char *key, const double *x, long n);
+void cli_jints(cli_json *j, const char *key, const int *x, long n);
+void cli_jbools(cli_json *j, const char *key, const int *x, long n);
+
+/* ---- options -------------------------------------------------------------- */
+/* One table per command: name, kind, target, default (as text: set before
+ * parsing and shown in --help), argument name (for CHOICE the choices,
+ * "a|b|c"; the target receives the index), help text ('\n' continues on an
+ * indented line), and an optional int set to 1 when the option is given.
+ * FLAG sets its int to 1 (default 0), CLEAR sets it to 0 (a --no-x flag,
+ * default 1). DSET and DCLEAR set a double (a slot of a library options
+ * array) to 1 or 0 and leave it alone otherwise. HEAD is a heading line of
+ * the help (help text only); END closes the table. A default of CLI_DEF_LIB
+ * leaves the target as the command set it (from the library's defaults) and
+ * shows that value in the help. --help and -h print the help. */
+enum { CLI_OPT_END, CLI_OPT_FLAG, CLI_OPT_CLEAR, CLI_OPT_INT, CLI_OPT_NUM, CLI_OPT_STR,
+       CLI_OPT_CHOICE, CLI_OPT_DSET, CLI_OPT_DCLEAR, CLI_OPT_HEAD };
+#define CLI_DEF_LIB "\001"
+typedef struct {
+    const char *name;
+    int kind;
+    void *target;
+    const char *def;
+    const char *arg;
+    const char *help;
+    int *given;
+} cli_opt;
+#define CLI_HEAD(text) {NULL, CLI_OPT_HEAD, NULL, NULL, NULL, text, NULL}
+#define CLI_JSON_OPT(t) {"--json", CLI_OPT_FLAG, t, NULL, NULL, "machine-readable output", NULL}
+#define CLI_OUT_OPT(t)                                                                       \
+    {"--out", CLI_OPT_STR, t, NULL, "FILE", "write the report there (atomically; '-' is\n"  \
+                                           "standard output) instead of standard output", NULL}
+#define CLI_END {NULL, CLI_OPT_END, NULL, NULL, NULL, NULL, NULL}
+
+typedef struct {
+    const char *name;  /* the command, for messages */
+    const char *intro; /* help text before the option list */
+    const cli_opt *opts;
+    const char *outro; /* help text after it */
+} cli_command;
+
+/* Returned by cli_parse when --help was printed (the command returns CLI_OK). */
+#define CLI_HELP (-1)
+/* Defaults, then argv[1..]: CLI_OK, CLI_HELP or CLI_USAGE (with a message).
+ * Every argument is an option: a bare word is refused. */
+int cli_parse(const cli_command *c, int argc, char **argv);
+void cli_help(FILE *f, const cli_command *c);
+/* value among choices "a|b|c": *index = its position, or a message and
+ * CLI_USAGE. */
+int cli_choice(const char *opt, const char *value, const char *choices, int *index);
+/* The status of a library options check (igea_eqerr_check_opts, ...): 0 is
+ * CLI_OK; 1 + slot names the slot's option (the slot name with '-' for '_')
+ * in a usage message. */
+int cli_check_opts(const char *cmd, int module, int status);
+/* A comma-separated list: *items (one malloc'd block, free(*items)) points to
+ * *n non-empty items. */
+int cli_split_list(const char *list, char ***items, int *n);
+
+/* ---- flights (flight.c) ------------------------------------------------ */
+/* --terms LIST ('default', 'all' or names) into term codes (malloc'd). */
+int cli_parse_terms(int system, const char *list, int **codes, int *n);
+/* A trajectory file (rows t f3 w3 q4) into a column-major array. */
+int cli_read_traj(const char *path, double **traj, int *nsamp);
+/* "name name ..." of the terms (malloc'd; NULL when out of memory). */
+char *cli_term_header(const int *codes, int n);
+/* Epochs every step seconds from t0 + step to t1, or those of a file. */
+int cli_epochs(const char *file, double step, double t0, double t1, double **ep, int *n);
+/* --spec default|FILE: the specs of the terms (malloc'd). */
+int cli_term_specs(int system, const int *codes, int n, const char *arg, double **spec);
+
+/* The flight-model options of simulate and montecarlo (CLI_FLIGHT_OPTIONS
+ * in their tables; cli_flight_defaults before parsing). */
+typedef struct {
+    const char *traj, *terms, *epochs, *spec, *x, *sigma;
+    double duration, rate, step, sigma_growth;
+    int system, seed, generator;
+    double opts[IGEA_SIM_OPT_LEN];
+} cli_flight_args;
+extern cli_flight_args cli_flight_opts;
+void cli_flight_defaults(void);
+/* in the order of the codes: IGEA_ENVFUN_STRAPDOWN 0, IGEA_ENVFUN_PLATFORM 1 */
+#define CLI_SYSTEMS "strapdown|platform"
+#define CLI_FLIGHT_MODEL_OPTIONS                                                               \
+    CLI_HEAD("flight model:"),                                                                 \
+    {"--traj", CLI_OPT_STR, &cli_flight_opts.traj, NULL, "FILE", "trajectory (t f3 w3 q4 rows, see igea envfun\n"   \
+     "--help), or the reference boost:", NULL},                                                \
+    {"--duration", CLI_OPT_NUM, &cli_flight_opts.duration, "120", "S", "the reference boost (METHODS 5.6) of S seconds", NULL}, \
+    {"--rate", CLI_OPT_NUM, &cli_flight_opts.rate, "50", "HZ", "sampled at HZ", NULL},          \
+    {"--system", CLI_OPT_CHOICE, &cli_flight_opts.system, "strapdown", CLI_SYSTEMS, "the inertial system", NULL}, \
+    {"--terms", CLI_OPT_STR, &cli_flight_opts.terms, "default", "LIST", "term names, 'default' (21-term model) or 'all'", NULL}, \
+    {"--epoch-step", CLI_OPT_NUM, &cli_flight_opts.step, "1", "DT", "tracking epochs every DT s", NULL}, \
+    {"--epochs", CLI_OPT_STR, &cli_flight_opts.epochs, NULL, "FILE", "or the tracking epochs of a file", NULL}, \
+    {"--spec", CLI_OPT_STR, &cli_flight_opts.spec, NULL, "FILE", "1-sigma specs of the terms (default: igea envfun\n--list)", NULL}, \
+    {"--sigma", CLI_OPT_STR, &cli_flight_opts.sigma, "0.01", "FILE|NUM", "stated tracking 1-sigma (m/s), one per row or one\nnumber", NULL}, \
+    {"--sigma-growth", CLI_OPT_NUM, &cli_flight_opts.sigma_growth, "0", "G", "stated (and true) sigma grows by 1 + G e/(M-1)\n" \
+     "along the epochs, as with range", NULL}
+#define CLI_FLIGHT_TRUTH_OPTIONS                                                               \
+    CLI_HEAD("true errors:"),                                                                  \
+    {"--x", CLI_OPT_STR, &cli_flight_opts.x, NULL, "NAME=K,...", "these terms at K x spec; the others drawn N(0, 1)", NULL}, \
+    {"--sigma-w", CLI_OPT_NUM, &cli_flight_opts.opts[IGEA_SIM_OPT_SIGMA_W], CLI_DEF_LIB, "W", "true tracking noise = W x stated", NULL}, \
+    {"--ar1", CLI_OPT_NUM, &cli_flight_opts.opts[IGEA_SIM_OPT_AR1], CLI_DEF_LIB, "PHI", "AR(1) correlation of the noise along epochs", NULL}, \
+    {"--growth", CLI_OPT_NUM, &cli_flight_opts.opts[IGEA_SIM_OPT_GROWTH], CLI_DEF_LIB, "G", "unstated noise growth: true sd x (1 + G e/(M-1))", NULL}, \
+    {"--outlier-prob", CLI_OPT_NUM, &cli_flight_opts.opts[IGEA_SIM_OPT_OUTLIER_PROB], CLI_DEF_LIB, "P", "probability of an outlier per row", NULL}, \
+    {"--outlier-scale", CLI_OPT_NUM, &cli_flight_opts.opts[IGEA_SIM_OPT_OUTLIER_SCALE], CLI_DEF_LIB, "K", "outlier sd in row sds", NULL}, \
+    {"--seed", CLI_OPT_INT, &cli_flight_opts.seed, "0", "N", "random seed", NULL},          \
+    {"--generator", CLI_OPT_CHOICE, &cli_flight_opts.generator, "mt19937", "mt19937|ranlxd2", "random number generator", NULL}
+
+/* A flight model built from the options: trajectory, terms, epochs, specs,
+ * true X settings and the library's model. */
+typedef struct {
+    double *traj, *ep, *spec, *xval;
+    int *codes, *xfix, nsamp, nep, m, N;
+    igea_sim_model *model;
+} cli_flight;
+int cli_flight_build(const cli_flight_args *a, cli_flight *f, const char *cmd);
+/* The model's stated sigma, specs (f->spec or none), truth and noise. */
+int cli_flight_set(const cli_flight_args *a, cli_flight *f, const char *cmd);
+/* The noise options (opts with the generator set). */
+void cli_flight_noise(const cli_flight_args *a, double *opts);
+void cli_flight_free(cli_flight *f);
 
 /* ---- commands: int cmd_<name>(int argc, char **argv), argv[0] = name -- */
 /* The driver: argv[1] names the command (or --help, --version); runs it,

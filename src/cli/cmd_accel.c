@@ -4,53 +4,92 @@
 
 #include "cli.h"
 
-static void help(void)
+typedef struct {
+    const char *data, *prior, *out;
+    int model, method, rule, axis, json, refine;
+    double lam_floor, scale_a, scale_b, tol;
+} ac_args;
+
+static ac_args A;
+static const int model_codes[] = {IGEA_ACCEL_DUAL, IGEA_ACCEL_SINGLE};
+static const int method_codes[] = {IGEA_ACCEL_LS, IGEA_ACCEL_EBR};
+static const int rule_codes[] = {IGEA_REGRESS_EBR_SC, IGEA_REGRESS_EBR_MM, IGEA_REGRESS_EBR_ML2};
+
+static const cli_opt options[] = {
+    {"--data", CLI_OPT_STR, &A.data, NULL, "FILE", "the readings: angle (deg), A output, B output", NULL},
+    {"--model", CLI_OPT_CHOICE, &A.model, "dual", "dual|single", "single reads the first two columns", NULL},
+    {"--method", CLI_OPT_CHOICE, &A.method, "ls", "ls|ebr", "least squares or empirical-Bayes ridge", NULL},
+    {"--prior", CLI_OPT_STR, &A.prior, NULL, "FILE", "EBR prior scales tau_j, one per coefficient (9\n"
+     "dual, 5 single), e.g. historical spreads", NULL},
+    {"--rule", CLI_OPT_CHOICE, &A.rule, "sc", "sc|mm|ml2", "EBR rule for lambda (METHODS 4.3 eq. 17)", NULL},
+    {"--lam-floor", CLI_OPT_NUM, &A.lam_floor, "0", "X", "EBR lower bound on lambda", NULL},
+    {"--scale-a", CLI_OPT_NUM, &A.scale_a, "1", "K", "nominal scale factor of A (1: outputs in g)", NULL},
+    {"--scale-b", CLI_OPT_NUM, &A.scale_b, "1", "K", "nominal scale factor of B", NULL},
+    {"--tol", CLI_OPT_NUM, &A.tol, "1e-6", "DEG", "readings this close form one position", NULL},
+    {"--axis", CLI_OPT_CHOICE, &A.axis, "pa", "pa|oa", "rotation axis, names the cross-coupling Kio\n"
+     "(pa, the door position) or Kip (oa)", NULL},
+    {"--refine", CLI_OPT_FLAG, &A.refine, NULL, NULL, "dual: Gauss-Newton on the exact models (1)-(2)\n"
+     "after the linear fit (for mg-level biases); the\nnull-space part of the fit is kept", NULL},
+    CLI_JSON_OPT(&A.json),
+    CLI_OUT_OPT(&A.out),
+    CLI_END};
+
+static const cli_command command = {"accel",
+"usage: igea accel --data FILE [options]\n"
+"\n"
+"Calibrates accelerometers in the gravity field from a multi-position tumble\n"
+"on a dividing head turning about a horizontal axis (METHODS 4.1-4.3).\n"
+"\n"
+"The data hold one row per reading: head angle (deg), A output, B output\n"
+"(text or .npy; '#' comments). Rows of the clockwise and counter-clockwise\n"
+"runs at the same angle are averaged, and the 360 deg reading is averaged\n"
+"with the 0 deg one. Outputs are in g, or raw (e.g. volts) with\n"
+"--scale-a/--scale-b, the nominal scale factors in output units per g.\n"
+"\n"
+"Models:\n"
+"  dual    orthogonal pair, g^2 observation (y_A^2 + y_B^2 - 1)/2: the head\n"
+"          angle errors cancel, but KA0, KA2, KBix and KB0, KB2, KAix are\n"
+"          coupled (rank 7 of 9); their individual values are flagged PRIOR:\n"
+"          they come from the minimum-norm convention (ls) or the prior (ebr),\n"
+"          not from the data. The estimable combinations are reported with sds.\n"
+"  single  accelerometer A alone, y_A - sin(theta) on [1, s, c, s^2, sc]: all\n"
+"          five coefficients identifiable, head errors enter as noise.\n"
+"\n"
+"options:\n",
+options,
+"\n"
+"example (the seed's 20-position experiment, 0..360 deg both ways):\n"
+"  igea accel --data examples/accel_dual.txt\n"
+"  igea accel --method ebr --prior examples/accel_prior.txt --data examples/accel_dual.txt\n"
+"  igea accel --model single --json --data examples/accel_dual.txt\n"
+"\n"
+"exit status: 0 ok, 64 usage, 65 bad input, 66 missing input, 70 numerical\n"
+"failure, 74 output error.\n"};
+
+static int parse(int argc, char **argv, ac_args *a)
 {
-    printf(
-        "usage: igea accel [options] FILE\n"
-        "\n"
-        "Calibrates accelerometers in the gravity field from a multi-position tumble\n"
-        "on a dividing head turning about a horizontal axis (METHODS 4.1-4.3).\n"
-        "\n"
-        "FILE holds one row per reading: head angle (deg), A output, B output\n"
-        "(text or .npy; '#' comments). Rows of the clockwise and counter-clockwise\n"
-        "runs at the same angle are averaged, and the 360 deg reading is averaged\n"
-        "with the 0 deg one. Outputs are in g, or raw (e.g. volts) with\n"
-        "--scale-a/--scale-b, the nominal scale factors in output units per g.\n"
-        "\n"
-        "Models:\n"
-        "  dual    orthogonal pair, g^2 observation (y_A^2 + y_B^2 - 1)/2: the head\n"
-        "          angle errors cancel, but KA0, KA2, KBix and KB0, KB2, KAix are\n"
-        "          coupled (rank 7 of 9); their individual values are flagged PRIOR:\n"
-        "          they come from the minimum-norm convention (ls) or the prior (ebr),\n"
-        "          not from the data. The estimable combinations are reported with sds.\n"
-        "  single  accelerometer A alone, y_A - sin(theta) on [1, s, c, s^2, sc]: all\n"
-        "          five coefficients identifiable, head errors enter as noise.\n"
-        "\n"
-        "Options:\n"
-        "  --model dual|single   (default dual; single reads the first two columns)\n"
-        "  --method ls|ebr       least squares (default) or empirical-Bayes ridge\n"
-        "  --prior FILE          EBR prior scales tau_j, one per coefficient (9 dual,\n"
-        "                        5 single), e.g. historical spreads\n"
-        "  --rule sc|mm|ml2      EBR rule for lambda (default sc, METHODS 4.3 eq. 17)\n"
-        "  --lam-floor X         EBR lower bound on lambda (default 0)\n"
-        "  --scale-a K, --scale-b K  nominal scale factors (default 1: outputs in g)\n"
-        "  --tol DEG             readings this close form one position (default 1e-6)\n"
-        "  --axis pa|oa          rotation axis, names the cross-coupling Kio (pa, the\n"
-        "                        door position; default) or Kip (oa)\n"
-        "  --refine              dual: Gauss-Newton on the exact models (1)-(2) after\n"
-        "                        the linear fit (for mg-level biases); the null-space\n"
-        "                        part of the fit is kept\n"
-        "  --json                machine-readable output\n"
-        "  --out FILE            write the report to FILE (atomically)\n"
-        "\n"
-        "Example (the seed's 20-position experiment, 0..360 deg both ways):\n"
-        "  igea accel examples/accel_dual.txt\n"
-        "  igea accel --method ebr --prior examples/accel_prior.txt examples/accel_dual.txt\n"
-        "  igea accel --model single --json examples/accel_dual.txt\n"
-        "\n"
-        "Exit status: 0 ok, 64 usage, 65 bad input, 66 missing input, 70 numerical\n"
-        "failure, 74 output error.\n");
+    int ec = cli_parse(&command, argc, argv);
+    *a = A;
+    if (ec)
+        return ec;
+    const char *msg = NULL;
+    if (!a->data)
+        msg = "accel: --data FILE is required (see igea accel --help)";
+    else if (a->scale_a == 0.0 || a->scale_b == 0.0)
+        msg = "accel: a scale factor must not be 0";
+    else if (!(a->tol >= 0.0 && a->tol < 45.0))
+        msg = "accel: --tol must be in [0, 45) degrees";
+    else if (a->lam_floor < 0.0)
+        msg = "accel: --lam-floor must be >= 0";
+    else if (a->refine && model_codes[a->model] != IGEA_ACCEL_DUAL)
+        msg = "accel: --refine needs the dual model";
+    else if (a->prior && method_codes[a->method] != IGEA_ACCEL_EBR)
+        msg = "accel: --prior needs --method ebr";
+    if (msg) {
+        cli_error("%s", msg);
+        return CLI_USAGE;
+    }
+    return CLI_OK;
 }
 
 static const char *names_dual[2][9] = {
@@ -65,309 +104,206 @@ static const char *units_dual[9] = {"g", "g", "", "", "rad", "g/g^2", "g/g^2", "
                                     "g/g^2"};
 static const char *units_single[5] = {"g", "", "rad", "g/g^2", "g/g^2"};
 
-static void json_names(FILE *f, const char *const *names, int n)
+typedef struct {
+    int dual, np, nc, nr, npos;
+    const char *const *names, *const *cnames, *const *units;
+    double *ang, *ya, *yb, *th, *ma, *mb, *phi; /* nr each */
+    int *cnt;
+    double tau[9], coef[9], sd[9], cmb[7], csd[7], info[IGEA_ACCEL_INFO_LEN];
+    double rcoef[9], rsd[9], rcmb[7], rinfo[IGEA_ACCEL_INFO_LEN];
+    int flag[9];
+} ac_run;
+
+static void setup(const ac_args *a, ac_run *r)
 {
-    fputc('[', f);
-    for (int i = 0; i < n; i++) {
-        if (i)
-            fputs(", ", f);
-        cli_json_str(f, names[i]);
+    r->dual = model_codes[a->model] == IGEA_ACCEL_DUAL;
+    r->np = r->dual ? IGEA_ACCEL_NP_DUAL : IGEA_ACCEL_NP_SINGLE;
+    r->nc = r->dual ? IGEA_ACCEL_NC_DUAL : IGEA_ACCEL_NC_SINGLE;
+    r->names = r->dual ? names_dual[a->axis] : names_single[a->axis];
+    r->cnames = r->dual ? comb_dual[a->axis] : names_single[a->axis];
+    r->units = r->dual ? units_dual : units_single;
+}
+
+/* The readings (angle, A[, B]) and the prior scales. */
+static int read_inputs(const ac_args *a, ac_run *r)
+{
+    cli_matrix in = {0};
+    int ec = cli_read_matrix(a->data, &in);
+    if (ec)
+        return ec;
+    if (in.cols < (r->dual ? 3 : 2)) {
+        cli_error("%s: %d column(s); expected angle, A output%s per row", a->data, in.cols,
+                  r->dual ? ", B output" : "");
+        ec = CLI_DATAERR;
+    } else if (in.rows > 10000000L) {
+        cli_error("%s: too many rows", a->data);
+        ec = CLI_DATAERR;
+    } else if (!(r->ang = malloc((size_t)in.rows * 7 * sizeof(double) + 1)) ||
+               !(r->cnt = malloc((size_t)in.rows * sizeof(int) + 1))) {
+        ec = cli_oom("the readings");
     }
-    fputc(']', f);
+    if (ec) {
+        cli_matrix_free(&in);
+        return ec;
+    }
+    int nr = r->nr = (int)in.rows;
+    r->ya = r->ang + nr, r->yb = r->ya + nr, r->th = r->yb + nr, r->ma = r->th + nr;
+    r->mb = r->ma + nr, r->phi = r->mb + nr;
+    for (int i = 0; i < nr; i++) {
+        r->ang[i] = in.v[(size_t)i * in.cols];
+        r->ya[i] = in.v[(size_t)i * in.cols + 1];
+        r->yb[i] = r->dual ? in.v[(size_t)i * in.cols + 2] : 0.0;
+    }
+    cli_matrix_free(&in);
+    if (a->prior) {
+        double *p;
+        if ((ec = cli_read_vector(a->prior, r->np, "the prior (one scale per coefficient)", &p,
+                                  NULL)))
+            return ec;
+        memcpy(r->tau, p, (size_t)r->np * sizeof(double));
+        free(p);
+    }
+    return CLI_OK;
+}
+
+/* Scale to g, merge the positions, fit, and refine. */
+static int compute(const ac_args *a, ac_run *r)
+{
+    int nr = r->nr;
+    int st = igea_accel_to_g(nr, r->ya, a->scale_a, r->ya);
+    if (!st && r->dual)
+        st = igea_accel_to_g(nr, r->yb, a->scale_b, r->yb);
+    if (!st)
+        st = igea_accel_merge(nr, r->ang, r->ya, r->dual ? r->yb : NULL, a->tol, r->th, r->ma,
+                              r->dual ? r->mb : NULL, r->cnt, &r->npos);
+    if (!st)
+        st = igea_accel_fit(model_codes[a->model], method_codes[a->method], r->npos, r->th,
+                            r->ma, r->mb, a->prior ? r->tau : NULL, rule_codes[a->rule],
+                            a->lam_floor, r->coef, r->sd, r->flag, r->cmb, r->csd, r->info);
+    if (st)
+        return cli_status(st, "accel");
+    if (!a->refine)
+        return CLI_OK;
+    double C[63];
+    st = igea_accel_refine(r->npos, r->th, r->ma, r->mb, r->coef, 100, 1e-13, r->rcoef, r->rsd,
+                           r->phi, r->rinfo);
+    if (!st)
+        st = igea_accel_combinations(IGEA_ACCEL_DUAL, C, 9);
+    if (st)
+        return cli_status(st, "accel --refine");
+    for (int k = 0; k < r->nc; k++) {
+        r->rcmb[k] = 0.0;
+        for (int j = 0; j < r->np; j++)
+            r->rcmb[k] += C[j + k * 9] * r->rcoef[j];
+    }
+    return CLI_OK;
+}
+
+static void json_strs(cli_json *j, const char *key, const char *const *s, int n)
+{
+    cli_json_open(j, key, '[');
+    for (int i = 0; i < n; i++)
+        cli_jstr(j, NULL, s[i]);
+    cli_json_close(j);
+}
+
+static const char *const model_names[] = {"dual", "single"}, *const method_names[] = {"ls", "ebr"};
+
+static void json_report(FILE *f, const ac_args *a, const ac_run *r)
+{
+    cli_json j;
+    cli_json_begin(&j, f);
+    cli_jstr(&j, "model", model_names[a->model]);
+    cli_jstr(&j, "method", method_names[a->method]);
+    cli_jint(&j, "positions", r->npos);
+    cli_jint(&j, "readings", r->nr);
+    cli_jnums(&j, "theta_deg", r->th, r->npos);
+    cli_jints(&j, "readings_per_position", r->cnt, r->npos);
+    json_strs(&j, "names", r->names, r->np);
+    cli_jnums(&j, "coef", r->coef, r->np);
+    cli_jnums(&j, "sd", r->sd, r->np);
+    cli_json_open(&j, "flags", '[');
+    for (int i = 0; i < r->np; i++)
+        cli_jstr(&j, NULL, r->flag[i] ? "prior" : "data");
+    cli_json_close(&j);
+    json_strs(&j, "comb_names", r->cnames, r->nc);
+    cli_jnums(&j, "comb", r->cmb, r->nc);
+    cli_jnums(&j, "comb_sd", r->csd, r->nc);
+    cli_jint(&j, "rank", (long)r->info[IGEA_ACCEL_INFO_RANK]);
+    cli_jint(&j, "dof", (long)r->info[IGEA_ACCEL_INFO_DOF]);
+    cli_jnum(&j, "sigma", r->info[IGEA_ACCEL_INFO_SIGMA]);
+    cli_jnum(&j, "rms", r->info[IGEA_ACCEL_INFO_RMS]);
+    cli_jnum(&j, "lam", r->info[IGEA_ACCEL_INFO_LAMBDA]);
+    if (a->refine) {
+        cli_json_open(&j, "refined", '{');
+        cli_jnums(&j, "coef", r->rcoef, r->np);
+        cli_jnums(&j, "sd", r->rsd, r->np);
+        cli_jnums(&j, "comb", r->rcmb, r->nc);
+        cli_jnums(&j, "phi_deg", r->phi, r->npos);
+        cli_jint(&j, "iterations", (long)r->rinfo[IGEA_ACCEL_INFO_ITER]);
+        cli_jnum(&j, "sigma", r->rinfo[IGEA_ACCEL_INFO_SIGMA]);
+    }
+    cli_json_end(&j);
+}
+
+static void text_refined(FILE *f, const ac_run *r)
+{
+    fprintf(f, "\nexact-model refinement (%d iterations, residual sd %.3e g per output):\n",
+            (int)r->rinfo[IGEA_ACCEL_INFO_ITER], r->rinfo[IGEA_ACCEL_INFO_SIGMA]);
+    for (int j = 0; j < r->np; j++)
+        fprintf(f, "%-9s %15.6e %12.3e  %s\n", r->names[j], r->rcoef[j], r->rsd[j],
+                r->flag[j] ? "null part kept from the fit" : "data");
+    for (int k = 0; k < r->nc; k++)
+        fprintf(f, "%-9s %15.6e\n", r->cnames[k], r->rcmb[k]);
+}
+
+static void text_report(FILE *f, const ac_args *a, const ac_run *r)
+{
+    int ls = method_codes[a->method] == IGEA_ACCEL_LS;
+    fprintf(f, "igea accel: %s model, %s; %d readings -> %d positions; rank %d, dof %d\n",
+            model_names[a->model], ls ? "least squares" : "empirical-Bayes ridge", r->nr,
+            r->npos, (int)r->info[IGEA_ACCEL_INFO_RANK], (int)r->info[IGEA_ACCEL_INFO_DOF]);
+    fprintf(f, "residual sd %.3e g, rms %.3e g", r->info[IGEA_ACCEL_INFO_SIGMA],
+            r->info[IGEA_ACCEL_INFO_RMS]);
+    if (!ls)
+        fprintf(f, ", lambda %.6g%s", r->info[IGEA_ACCEL_INFO_LAMBDA],
+                a->prior ? " (prior-scaled)" : " (isotropic prior)");
+    fprintf(f, "\n\n%-9s %-6s %15s %12s  %s\n", "coef", "unit", "estimate", "sd", "determined by");
+    int anyprior = 0;
+    for (int j = 0; j < r->np; j++) {
+        fprintf(f, "%-9s %-6s %15.6e %12.3e  %s\n", r->names[j], r->units[j], r->coef[j],
+                r->sd[j], r->flag[j] ? (ls ? "PRIOR (minimum-norm convention)"
+                                           : "PRIOR (not from the data)") : "data");
+        anyprior |= r->flag[j];
+    }
+    if (anyprior)
+        fprintf(f, "PRIOR: the calibration holds no information on these coefficients "
+                   "one by one;\ntheir values and sds follow the %s, not the instrument: "
+                   "use the estimable\ncombinations below.\n",
+                ls ? "minimum-norm convention" : "prior");
+    fprintf(f, "\n%-9s %15s %12s\n", "estimable", "estimate", "sd");
+    for (int k = 0; k < r->nc; k++)
+        fprintf(f, "%-9s %15.6e %12.3e\n", r->cnames[k], r->cmb[k], r->csd[k]);
+    if (a->refine)
+        text_refined(f, r);
 }
 
 int cmd_accel(int argc, char **argv)
 {
     if (cli_one_stdin(argc, argv))
         return CLI_USAGE;
-    const char *path = NULL, *prior_path = NULL, *out_path = NULL;
-    int model = IGEA_ACCEL_DUAL, method = IGEA_ACCEL_LS, rule = IGEA_REGRESS_EBR_SC;
-    int json = 0, refine = 0, axis = 0;
-    double lam_floor = 0.0, scale_a = 1.0, scale_b = 1.0, tol = 1e-6;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i], *v;
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            help();
-            return CLI_OK;
-        } else if (!strcmp(a, "--json")) {
-            json = 1;
-        } else if (!strcmp(a, "--refine")) {
-            refine = 1;
-        } else if (!strcmp(a, "--model") || !strcmp(a, "--method") || !strcmp(a, "--rule") ||
-                   !strcmp(a, "--axis")) {
-            if (!(v = cli_optarg(argc, argv, &i)))
-                return CLI_USAGE;
-            int ok = 1;
-            if (!strcmp(a, "--model")) {
-                if (!strcmp(v, "dual"))
-                    model = IGEA_ACCEL_DUAL;
-                else if (!strcmp(v, "single"))
-                    model = IGEA_ACCEL_SINGLE;
-                else
-                    ok = 0;
-            } else if (!strcmp(a, "--method")) {
-                if (!strcmp(v, "ls"))
-                    method = IGEA_ACCEL_LS;
-                else if (!strcmp(v, "ebr"))
-                    method = IGEA_ACCEL_EBR;
-                else
-                    ok = 0;
-            } else if (!strcmp(a, "--rule")) {
-                if (!strcmp(v, "sc"))
-                    rule = IGEA_REGRESS_EBR_SC;
-                else if (!strcmp(v, "mm"))
-                    rule = IGEA_REGRESS_EBR_MM;
-                else if (!strcmp(v, "ml2"))
-                    rule = IGEA_REGRESS_EBR_ML2;
-                else
-                    ok = 0;
-            } else {
-                if (!strcmp(v, "pa"))
-                    axis = 0;
-                else if (!strcmp(v, "oa"))
-                    axis = 1;
-                else
-                    ok = 0;
-            }
-            if (!ok) {
-                cli_error("accel: option %s: unknown value '%s' (see igea accel --help)", a, v);
-                return CLI_USAGE;
-            }
-        } else if (!strcmp(a, "--prior") || !strcmp(a, "--out")) {
-            if (!(v = cli_optarg(argc, argv, &i)))
-                return CLI_USAGE;
-            if (!strcmp(a, "--prior"))
-                prior_path = v;
-            else
-                out_path = v;
-        } else if (!strcmp(a, "--lam-floor") || !strcmp(a, "--scale-a") ||
-                   !strcmp(a, "--scale-b") || !strcmp(a, "--tol")) {
-            if (!(v = cli_optarg(argc, argv, &i)))
-                return CLI_USAGE;
-            double *dst = !strcmp(a, "--lam-floor") ? &lam_floor
-                          : !strcmp(a, "--scale-a") ? &scale_a
-                          : !strcmp(a, "--scale-b") ? &scale_b
-                                                    : &tol;
-            if (cli_parse_double(a, v, dst))
-                return CLI_USAGE;
-        } else if (a[0] == '-' && a[1] != '\0') {
-            cli_error("accel: unknown option '%s' (see igea accel --help)", a);
-            return CLI_USAGE;
-        } else if (!path) {
-            path = a;
-        } else {
-            cli_error("accel: one input file expected, got '%s' too", a);
-            return CLI_USAGE;
-        }
-    }
-    if (!path) {
-        cli_error("accel: no input file (see igea accel --help)");
-        return CLI_USAGE;
-    }
-    if (scale_a == 0.0 || scale_b == 0.0) {
-        cli_error("accel: a scale factor must not be 0");
-        return CLI_USAGE;
-    }
-    if (!(tol >= 0.0 && tol < 45.0)) {
-        cli_error("accel: --tol must be in [0, 45) degrees");
-        return CLI_USAGE;
-    }
-    if (lam_floor < 0.0) {
-        cli_error("accel: --lam-floor must be >= 0");
-        return CLI_USAGE;
-    }
-    if (refine && model != IGEA_ACCEL_DUAL) {
-        cli_error("accel: --refine needs the dual model");
-        return CLI_USAGE;
-    }
-    if (prior_path && method != IGEA_ACCEL_EBR) {
-        cli_error("accel: --prior needs --method ebr");
-        return CLI_USAGE;
-    }
-    const int np = model == IGEA_ACCEL_DUAL ? IGEA_ACCEL_NP_DUAL : IGEA_ACCEL_NP_SINGLE;
-    const int nc = model == IGEA_ACCEL_DUAL ? IGEA_ACCEL_NC_DUAL : IGEA_ACCEL_NC_SINGLE;
-    const int need_cols = model == IGEA_ACCEL_DUAL ? 3 : 2;
-    const char *const *names = model == IGEA_ACCEL_DUAL ? names_dual[axis] : names_single[axis];
-    const char *const *cnames = model == IGEA_ACCEL_DUAL ? comb_dual[axis] : names_single[axis];
-    const char *const *units = model == IGEA_ACCEL_DUAL ? units_dual : units_single;
-
-    cli_matrix in = {0}, pr = {0};
-    int ec = cli_read_matrix(path, &in);
+    ac_args a;
+    int ec = parse(argc, argv, &a);
     if (ec)
-        return ec;
-    if (in.cols < need_cols) {
-        cli_error("%s: %d column(s); expected angle, A output%s per row", path, in.cols,
-                  model == IGEA_ACCEL_DUAL ? ", B output" : "");
-        cli_matrix_free(&in);
-        return CLI_DATAERR;
-    }
-    if (in.rows > 10000000L) {
-        cli_error("%s: too many rows", path);
-        cli_matrix_free(&in);
-        return CLI_DATAERR;
-    }
-    double tau[9];
-    if (prior_path) {
-        ec = cli_read_matrix(prior_path, &pr);
-        if (ec) {
-            cli_matrix_free(&in);
-            return ec;
-        }
-        if (pr.rows * pr.cols != np) {
-            cli_error("%s: %ld value(s); the prior needs %d scales (one per coefficient)",
-                      prior_path, pr.rows * (long)pr.cols, np);
-            cli_matrix_free(&in);
-            cli_matrix_free(&pr);
-            return CLI_DATAERR;
-        }
-        memcpy(tau, pr.v, (size_t)np * sizeof(double));
-        cli_matrix_free(&pr);
-    }
-    int nr = (int)in.rows;
-    double *buf = malloc((size_t)nr * 7 * sizeof(double) + 1);
-    int *cnt = malloc((size_t)nr * sizeof(int) + 1);
-    if (!buf || !cnt) {
-        free(buf);
-        free(cnt);
-        cli_matrix_free(&in);
-        cli_error("out of memory");
-        return CLI_SOFTWARE;
-    }
-    double *ang = buf, *ya = ang + nr, *yb = ya + nr, *th = yb + nr, *ma = th + nr,
-           *mb = ma + nr, *phi = mb + nr;
-    for (int i = 0; i < nr; i++) {
-        ang[i] = in.v[(size_t)i * in.cols];
-        ya[i] = in.v[(size_t)i * in.cols + 1];
-        yb[i] = model == IGEA_ACCEL_DUAL ? in.v[(size_t)i * in.cols + 2] : 0.0;
-    }
-    cli_matrix_free(&in);
-    int npos = 0;
-    double coef[9], sd[9], cmb[7], csd[7], info[IGEA_ACCEL_INFO_LEN];
-    double rcoef[9], rsd[9], rinfo[IGEA_ACCEL_INFO_LEN], rcmb[7], C[63];
-    int flag[9];
-    int st = igea_accel_to_g(nr, ya, scale_a, ya);
-    if (!st && model == IGEA_ACCEL_DUAL)
-        st = igea_accel_to_g(nr, yb, scale_b, yb);
-    if (!st)
-        st = igea_accel_merge(nr, ang, ya, model == IGEA_ACCEL_DUAL ? yb : NULL, tol, th, ma,
-                              model == IGEA_ACCEL_DUAL ? mb : NULL, cnt, &npos);
-    if (!st)
-        st = igea_accel_fit(model, method, npos, th, ma, mb, prior_path ? tau : NULL, rule,
-                            lam_floor, coef, sd, flag, cmb, csd, info);
-    if (st) {
-        free(buf);
-        free(cnt);
-        return cli_status(st, "accel");
-    }
-    if (refine) {
-        st = igea_accel_refine(npos, th, ma, mb, coef, 100, 1e-13, rcoef, rsd, phi, rinfo);
-        if (!st)
-            st = igea_accel_combinations(IGEA_ACCEL_DUAL, C, 9);
-        if (st) {
-            free(buf);
-            free(cnt);
-            return cli_status(st, "accel --refine");
-        }
-        for (int k = 0; k < nc; k++) {
-            rcmb[k] = 0.0;
-            for (int j = 0; j < np; j++)
-                rcmb[k] += C[j + k * 9] * rcoef[j];
-        }
-    }
+        return ec == CLI_HELP ? CLI_OK : ec;
+    ac_run r = {0};
+    setup(&a, &r);
     cli_out o;
-    ec = cli_out_open(&o, out_path);
-    if (ec) {
-        free(buf);
-        free(cnt);
-        return ec;
+    if (!(ec = read_inputs(&a, &r)) && !(ec = compute(&a, &r)) && !(ec = cli_out_open(&o, a.out))) {
+        (a.json ? json_report : text_report)(o.f, &a, &r);
+        ec = cli_out_commit(&o);
     }
-    FILE *f = o.f;
-    const char *mname = model == IGEA_ACCEL_DUAL ? "dual" : "single";
-    const char *meth = method == IGEA_ACCEL_LS ? "ls" : "ebr";
-    if (json) {
-        fprintf(f, "{\"model\": \"%s\", \"method\": \"%s\", \"positions\": %d, \"readings\": %d,\n",
-                mname, meth, npos, nr);
-        fputs(" \"theta_deg\": ", f);
-        cli_json_array(f, th, npos);
-        fputs(",\n \"readings_per_position\": ", f);
-        cli_json_iarray(f, cnt, npos);
-        fputs(",\n \"names\": ", f);
-        json_names(f, names, np);
-        fputs(",\n \"coef\": ", f);
-        cli_json_array(f, coef, np);
-        fputs(",\n \"sd\": ", f);
-        cli_json_array(f, sd, np);
-        fputs(",\n \"flags\": [", f);
-        for (int j = 0; j < np; j++)
-            fprintf(f, "%s\"%s\"", j ? ", " : "", flag[j] ? "prior" : "data");
-        fputs("],\n \"comb_names\": ", f);
-        json_names(f, cnames, nc);
-        fputs(",\n \"comb\": ", f);
-        cli_json_array(f, cmb, nc);
-        fputs(",\n \"comb_sd\": ", f);
-        cli_json_array(f, csd, nc);
-        fprintf(f, ",\n \"rank\": %d, \"dof\": %d, \"sigma\": ", (int)info[IGEA_ACCEL_INFO_RANK],
-                (int)info[IGEA_ACCEL_INFO_DOF]);
-        cli_json_num(f, info[IGEA_ACCEL_INFO_SIGMA]);
-        fputs(", \"rms\": ", f);
-        cli_json_num(f, info[IGEA_ACCEL_INFO_RMS]);
-        fputs(", \"lam\": ", f);
-        cli_json_num(f, info[IGEA_ACCEL_INFO_LAMBDA]);
-        if (refine) {
-            fputs(",\n \"refined\": {\"coef\": ", f);
-            cli_json_array(f, rcoef, np);
-            fputs(", \"sd\": ", f);
-            cli_json_array(f, rsd, np);
-            fputs(", \"comb\": ", f);
-            cli_json_array(f, rcmb, nc);
-            fputs(", \"phi_deg\": ", f);
-            cli_json_array(f, phi, npos);
-            fprintf(f, ", \"iterations\": %d, \"sigma\": ", (int)rinfo[IGEA_ACCEL_INFO_ITER]);
-            cli_json_num(f, rinfo[IGEA_ACCEL_INFO_SIGMA]);
-            fputc('}', f);
-        }
-        fputs("}\n", f);
-    } else {
-        fprintf(f, "igea accel: %s model, %s; %d readings -> %d positions; rank %d, "
-                   "dof %d\n", mname, method == IGEA_ACCEL_LS ? "least squares" :
-                   "empirical-Bayes ridge", nr, npos, (int)info[IGEA_ACCEL_INFO_RANK],
-                (int)info[IGEA_ACCEL_INFO_DOF]);
-        fprintf(f, "residual sd %.3e g, rms %.3e g", info[IGEA_ACCEL_INFO_SIGMA],
-                info[IGEA_ACCEL_INFO_RMS]);
-        if (method == IGEA_ACCEL_EBR)
-            fprintf(f, ", lambda %.6g%s", info[IGEA_ACCEL_INFO_LAMBDA],
-                    prior_path ? " (prior-scaled)" : " (isotropic prior)");
-        fputc('\n', f);
-        fprintf(f, "\n%-9s %-6s %15s %12s  %s\n", "coef", "unit", "estimate", "sd",
-                "determined by");
-        for (int j = 0; j < np; j++)
-            fprintf(f, "%-9s %-6s %15.6e %12.3e  %s\n", names[j], units[j], coef[j], sd[j],
-                    flag[j] ? (method == IGEA_ACCEL_LS ? "PRIOR (minimum-norm convention)"
-                                                       : "PRIOR (not from the data)")
-                            : "data");
-        int anyprior = 0;
-        for (int j = 0; j < np; j++)
-            anyprior |= flag[j];
-        if (anyprior)
-            fprintf(f, "PRIOR: the calibration holds no information on these coefficients "
-                       "one by one;\ntheir values and sds follow the %s, not the instrument: "
-                       "use the estimable\ncombinations below.\n",
-                    method == IGEA_ACCEL_LS ? "minimum-norm convention" : "prior");
-        fprintf(f, "\n%-9s %15s %12s\n", "estimable", "estimate", "sd");
-        for (int k = 0; k < nc; k++)
-            fprintf(f, "%-9s %15.6e %12.3e\n", cnames[k], cmb[k], csd[k]);
-        if (refine) {
-            fprintf(f, "\nexact-model refinement (%d iterations, residual sd %.3e g per "
-                       "output):\n", (int)rinfo[IGEA_ACCEL_INFO_ITER],
-                    rinfo[IGEA_ACCEL_INFO_SIGMA]);
-            for (int j = 0; j < np; j++)
-                fprintf(f, "%-9s %15.6e %12.3e  %s\n", names[j], rcoef[j], rsd[j],
-                        flag[j] ? "null part kept from the fit" : "data");
-            for (int k = 0; k < nc; k++)
-                fprintf(f, "%-9s %15.6e\n", cnames[k], rcmb[k]);
-        }
-    }
-    free(buf);
-    free(cnt);
-    return cli_out_commit(&o);
+    free(r.ang);
+    free(r.cnt);
+    return ec;
 }

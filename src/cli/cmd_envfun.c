@@ -1,215 +1,44 @@
 /* igea envfun - environment-function matrix S of a trajectory file and a
- * list of error terms (METHODS 5). Also holds the term-name table that the
- * simulate and montecarlo commands share (the library speaks int codes). */
-#include <math.h>
+ * list of error terms (METHODS 5). The term catalogue is the library's. */
 #include <stdlib.h>
 #include <string.h>
 
 #include "cli.h"
 
-/* ---- term names (docs/envfun.md) ---------------------------------------- */
-static const char *const TERM_NAMES[IGEA_ENVFUN_TERM_COUNT] = {
-    "acc_bias_x",   "acc_bias_y",   "acc_bias_z",   "acc_scale_x", "acc_scale_y",
-    "acc_scale_z",  "acc_sq_x",     "acc_sq_y",     "acc_sq_z",    "acc_mis_xy",
-    "acc_mis_xz",   "acc_mis_yx",   "acc_mis_yz",   "acc_mis_zx",  "acc_mis_zy",
-    "gyro_bias_x",  "gyro_bias_y",  "gyro_bias_z",  "gyro_g_x",    "gyro_g_y",
-    "gyro_g_z",     "gyro_scale_x", "gyro_scale_y", "gyro_scale_z", "att0_x",
-    "att0_y",       "att0_z",       "gyro_gi_x",    "gyro_gi_y",   "gyro_gi_z",
-    "gyro_gs_x",    "gyro_gs_y",    "gyro_gs_z",    "align0_x",    "align0_y",
-    "align0_z"};
+typedef struct {
+    const char *traj, *terms, *epochs, *spec, *axes, *out;
+    double step;
+    int system, output, json, list;
+} ef_args;
 
-#define G0 9.80665
-#define DEG_H (3.14159265358979323846 / 180.0 / 3600.0)
+static ef_args A;
+static const int output_codes[] = {IGEA_ENVFUN_VELOCITY, IGEA_ENVFUN_POSITION,
+                                   IGEA_ENVFUN_VELOCITY_G, IGEA_ENVFUN_POSITION_G};
 
-/* Default 1-sigma spec of a term code (SI units; docs/envfun.md). */
-double envfun_default_spec(int code)
-{
-    if (code < IGEA_ENVFUN_TERM_ACC_SCALE_X) return 1e-3 * G0;          /* 1 mg */
-    if (code < IGEA_ENVFUN_TERM_ACC_SQ_X) return 1e-4;
-    if (code < IGEA_ENVFUN_TERM_ACC_MIS_XY) return 1e-5 / G0;           /* 10 ug/g^2 */
-    if (code < IGEA_ENVFUN_TERM_GYRO_BIAS_X) return 1e-4;
-    if (code < IGEA_ENVFUN_TERM_GYRO_G_X) return 0.5 * DEG_H;           /* 0.5 deg/h */
-    if (code < IGEA_ENVFUN_TERM_GYRO_SCALE_X) return 0.5 * DEG_H / G0;  /* 0.5 deg/h/g */
-    if (code < IGEA_ENVFUN_TERM_ATT0_X) return 1e-4;
-    if (code < IGEA_ENVFUN_TERM_GYRO_GI_X) return 1e-4;                 /* rad */
-    if (code < IGEA_ENVFUN_TERM_ALIGN0_X) return 0.5 * DEG_H / G0;
-    return 1e-4;
-}
+static const cli_opt options[] = {
+    {"--traj", CLI_OPT_STR, &A.traj, NULL, "FILE", "the trajectory (required)", NULL},
+    {"--terms", CLI_OPT_STR, &A.terms, NULL, "LIST", "comma-separated term names, 'default' (the 21-term\nmodel) or 'all' (required)", NULL},
+    {"--list", CLI_OPT_FLAG, &A.list, NULL, NULL, "print the catalogue with default specs and units", NULL},
+    {"--system", CLI_OPT_CHOICE, &A.system, "strapdown", CLI_SYSTEMS, "the inertial system", NULL},
+    {"--epochs", CLI_OPT_STR, &A.epochs, NULL, "FILE", "epoch times (s), non-decreasing, inside the trajectory", NULL},
+    {"--epoch-step", CLI_OPT_NUM, &A.step, "1", "DT", "or one epoch every DT s after the first sample", NULL},
+    {"--spec", CLI_OPT_STR, &A.spec, NULL, "default|FILE", "multiply the columns by 1-sigma specs (default: raw S)", NULL},
+    {"--axes", CLI_OPT_STR, &A.axes, NULL, "I,I,I,S,S,S", "platform gyro input and spin axes (0..2; default\n0,1,2,1,2,0)", NULL},
+    {"--output", CLI_OPT_CHOICE, &A.output, "velocity", "velocity|position|velocity_g|position_g",
+     "the quantity (_g: with the point-mass gravity-gradient\ncoupling)", NULL},
+    {"--out", CLI_OPT_STR, &A.out, NULL, "FILE", "write S there (text with a '# names' header, or .npy)", NULL},
+    {"--json", CLI_OPT_FLAG, &A.json, NULL, NULL, "machine-readable summary (with --out) or S as JSON", NULL},
+    CLI_END};
 
-const char *envfun_term_name(int code)
-{
-    return (code >= 0 && code < IGEA_ENVFUN_TERM_COUNT) ? TERM_NAMES[code] : "?";
-}
-
-static const char *const SD21[21] = {
-    "acc_bias_x", "acc_bias_y", "acc_bias_z", "acc_scale_x", "acc_scale_y", "acc_scale_z",
-    "acc_mis_xy", "acc_mis_xz", "acc_mis_yx", "acc_mis_yz", "acc_mis_zx", "acc_mis_zy",
-    "gyro_bias_x", "gyro_bias_y", "gyro_bias_z", "gyro_g_x", "gyro_g_y", "gyro_g_z",
-    "att0_x", "att0_y", "att0_z"};
-static const char *const PF21[21] = {
-    "acc_bias_x", "acc_bias_y", "acc_bias_z", "acc_scale_x", "acc_scale_y", "acc_scale_z",
-    "gyro_bias_x", "gyro_bias_y", "gyro_bias_z", "gyro_gi_x", "gyro_gi_y", "gyro_gi_z",
-    "gyro_gs_x", "gyro_gs_y", "gyro_gs_z", "align0_x", "align0_y", "align0_z",
-    "acc_sq_x", "acc_sq_y", "acc_sq_z"};
-
-static int lookup(int system, const char *name, size_t len)
-{
-    for (int k = 0; k < IGEA_ENVFUN_TERM_COUNT; k++)
-        if (strlen(TERM_NAMES[k]) == len && !strncmp(TERM_NAMES[k], name, len) &&
-            igea_envfun_term_valid(system, k))
-            return k;
-    return -1;
-}
-
-/* Parse a comma-separated term list ("default" = the 21-term model of the
- * system, "all" = the whole catalogue) into codes (malloc'ed). Returns an
- * exit code; names the unknown term. */
-int envfun_parse_terms(int system, const char *list, int **codes, int *n)
-{
-    int cap = IGEA_ENVFUN_TERM_COUNT + 64, cnt = 0;
-    int *c = malloc(sizeof(int) * (size_t)cap);
-    if (!c) {
-        cli_error("out of memory");
-        return CLI_SOFTWARE;
-    }
-    if (!strcmp(list, "default")) {
-        for (int j = 0; j < 21; j++)
-            c[cnt++] = lookup(system, system == IGEA_ENVFUN_STRAPDOWN ? SD21[j] : PF21[j],
-                              strlen(system == IGEA_ENVFUN_STRAPDOWN ? SD21[j] : PF21[j]));
-    } else if (!strcmp(list, "all")) {
-        for (int k = 0; k < IGEA_ENVFUN_TERM_COUNT; k++)
-            if (igea_envfun_term_valid(system, k))
-                c[cnt++] = k;
-    } else {
-        const char *p = list;
-        while (*p) {
-            const char *e = strchr(p, ',');
-            size_t len = e ? (size_t)(e - p) : strlen(p);
-            int k = lookup(system, p, len);
-            if (k < 0 || cnt >= cap) {
-                cli_error("--terms: '%.*s' is not a %s term (see igea envfun --list)",
-                          (int)len, p,
-                          system == IGEA_ENVFUN_STRAPDOWN ? "strapdown" : "platform");
-                free(c);
-                return CLI_USAGE;
-            }
-            c[cnt++] = k;
-            p = e ? e + 1 : p + len;
-        }
-        if (cnt == 0) {
-            cli_error("--terms: empty list");
-            free(c);
-            return CLI_USAGE;
-        }
-    }
-    *codes = c;
-    *n = cnt;
-    return CLI_OK;
-}
-
-int envfun_parse_system(const char *s, int *system)
-{
-    if (!strcmp(s, "strapdown")) *system = IGEA_ENVFUN_STRAPDOWN;
-    else if (!strcmp(s, "platform")) *system = IGEA_ENVFUN_PLATFORM;
-    else {
-        cli_error("--system: 'strapdown' or 'platform', not '%s'", s);
-        return CLI_USAGE;
-    }
-    return CLI_OK;
-}
-
-/* Read a trajectory file (rows t f3 w3 q4) into a column-major array. */
-int envfun_read_traj(const char *path, double **traj, int *nsamp)
-{
-    cli_matrix m;
-    int ec = cli_read_matrix(path, &m);
-    if (ec)
-        return ec;
-    if (m.cols != IGEA_ENVFUN_TRAJ_COLS || m.rows < 2 || m.rows > 100000000L) {
-        cli_error("%s: a trajectory has 11 columns (t f_x f_y f_z w_x w_y w_z q0 q1 q2 q3) "
-                  "and at least 2 rows; found %ld x %d", path, m.rows, m.cols);
-        cli_matrix_free(&m);
-        return CLI_DATAERR;
-    }
-    double *t = malloc(sizeof(double) * (size_t)m.rows * IGEA_ENVFUN_TRAJ_COLS);
-    if (!t) {
-        cli_matrix_free(&m);
-        cli_error("out of memory");
-        return CLI_SOFTWARE;
-    }
-    for (long k = 0; k < m.rows; k++)
-        for (int c = 0; c < IGEA_ENVFUN_TRAJ_COLS; c++)
-            t[k + (size_t)c * (size_t)m.rows] = m.v[k * IGEA_ENVFUN_TRAJ_COLS + c];
-    *nsamp = (int)m.rows;
-    *traj = t;
-    cli_matrix_free(&m);
-    return CLI_OK;
-}
-
-/* Header line "# name name ..." of S files. */
-char *envfun_header(const int *codes, int n)
-{
-    size_t len = 2;
-    for (int j = 0; j < n; j++)
-        len += strlen(envfun_term_name(codes[j])) + 1;
-    char *h = malloc(len + 1);
-    if (!h)
-        return NULL;
-    strcpy(h, "");
-    for (int j = 0; j < n; j++) {
-        if (j)
-            strcat(h, " ");
-        strcat(h, envfun_term_name(codes[j]));
-    }
-    return h;
-}
-
-/* Epochs every step seconds from t0 + step to the end (inclusive within
- * 1e-9 step), or from a file. */
-int envfun_epochs(const char *file, double step, double t0, double t1, double **ep, int *n)
-{
-    if (file) {
-        cli_matrix m;
-        int ec = cli_read_matrix(file, &m);
-        if (ec)
-            return ec;
-        *ep = m.v;
-        *n = (int)(m.rows * m.cols);
-        return CLI_OK;
-    }
-    if (!(step > 0)) {
-        cli_error("--epoch-step must be > 0");
-        return CLI_USAGE;
-    }
-    long cnt = (long)floor((t1 - t0) / step + 1e-9);
-    if (cnt < 1 || cnt > 10000000L) {
-        cli_error("--epoch-step %g gives %ld epochs in [%g, %g]", step, cnt, t0, t1);
-        return CLI_USAGE;
-    }
-    double *e = malloc(sizeof(double) * (size_t)cnt);
-    if (!e) {
-        cli_error("out of memory");
-        return CLI_SOFTWARE;
-    }
-    for (long i = 0; i < cnt; i++)
-        e[i] = fmin(t0 + (double)(i + 1) * step, t1);
-    *ep = e;
-    *n = (int)cnt;
-    return CLI_OK;
-}
-
-/* ---------------------------------------------------------------------- */
-static void envfun_help(void)
-{
-    printf(
-"usage: igea envfun TRAJECTORY --terms LIST [options]\n"
+static const cli_command command = {"envfun",
+"usage: igea envfun --traj FILE --terms LIST [options]\n"
 "\n"
 "Environment-function matrix S of a flight (METHODS 5): column j holds the\n"
 "change of the apparent velocity (launch-inertial frame) per unit of error\n"
-"coefficient j, at each tracking epoch, rows epoch-major (x, y, z of epoch 1,\n"
-"then epoch 2, ...). This is the S that 'igea eqerr' reads.\n"
+"coefficient j, at each tracking epoch, rows epoch-major (x, y, z of epoch 0,\n"
+"then epoch 1, ...). This is the S that 'igea eqerr' reads.\n"
 "\n"
-"TRAJECTORY: text or .npy, one row per telemetry sample:\n"
+"The trajectory: text or .npy, one row per telemetry sample:\n"
 "  t f_x f_y f_z w_x w_y w_z q0 q1 q2 q3\n"
 "  (s, m/s^2, rad/s; specific force and rate in body axes for strapdown, force\n"
 "  in launch-inertial axes for a platform, whose rate columns are ignored;\n"
@@ -217,44 +46,142 @@ static void envfun_help(void)
 "Integration is by the trapezoid rule at the telemetry rate (>= 10 Hz\n"
 "recommended), then linear interpolation to the epochs.\n"
 "\n"
-"options:\n"
-"  --terms LIST        comma-separated term names, 'default' (the 21-term model)\n"
-"                      or 'all'; --list prints the catalogue with default specs\n"
-"  --system KIND       strapdown (default) or platform\n"
-"  --epochs FILE       epoch times (s), non-decreasing, inside the trajectory\n"
-"  --epoch-step DT     or one epoch every DT s after the first sample (default 1)\n"
-"  --spec default|FILE multiply the columns by 1-sigma specs (default: raw S)\n"
-"  --axes I,I,I,S,S,S  platform gyro input and spin axes (0..2; default\n"
-"                      0,1,2,1,2,0)\n"
-"  --output KIND       velocity (default), position, velocity_g, position_g\n"
-"                      (_g: with the point-mass gravity-gradient coupling)\n"
-"  --out FILE          write S there (text with a '# names' header, or .npy)\n"
-"  --json              machine-readable summary (with --out) or S as JSON\n"
+"options:\n",
+options,
 "\n"
 "example:\n"
 "  igea simulate --dir flight --save-traj        # writes flight/traj.txt, ...\n"
-"  igea envfun flight/traj.txt --terms acc_bias_x,gyro_bias_y,att0_z \\\n"
+"  igea envfun --traj flight/traj.txt --terms acc_bias_x,gyro_bias_y,att0_z \\\n"
 "      --epoch-step 1 --out S3.txt\n"
-"  igea envfun flight/traj.txt --terms default --out S.txt\n");
-}
+"  igea envfun --traj flight/traj.txt --terms default --out S.txt\n"};
 
-static void list_terms(void)
+static void list_terms(FILE *f)
 {
-    printf("%-14s %-10s %-12s %s\n", "term", "systems", "default spec", "unit");
+    fprintf(f, "%-14s %-10s %-12s %s\n", "term", "systems", "default spec", "unit");
     for (int k = 0; k < IGEA_ENVFUN_TERM_COUNT; k++) {
         int sd = igea_envfun_term_valid(IGEA_ENVFUN_STRAPDOWN, k);
         int pf = igea_envfun_term_valid(IGEA_ENVFUN_PLATFORM, k);
-        const char *unit = k < IGEA_ENVFUN_TERM_ACC_SCALE_X ? "m/s^2"
-                         : k < IGEA_ENVFUN_TERM_ACC_SQ_X ? "-"
-                         : k < IGEA_ENVFUN_TERM_ACC_MIS_XY ? "1/(m/s^2)"
-                         : k < IGEA_ENVFUN_TERM_GYRO_BIAS_X ? "-"
-                         : k < IGEA_ENVFUN_TERM_GYRO_G_X ? "rad/s"
-                         : k < IGEA_ENVFUN_TERM_GYRO_SCALE_X ? "rad/s/(m/s^2)"
-                         : k < IGEA_ENVFUN_TERM_ATT0_X ? "-"
-                         : k < IGEA_ENVFUN_TERM_GYRO_GI_X ? "rad"
-                         : k < IGEA_ENVFUN_TERM_ALIGN0_X ? "rad/s/(m/s^2)" : "rad";
-        printf("%-14s %-10s %-12.5g %s\n", TERM_NAMES[k],
-               sd && pf ? "both" : sd ? "strapdown" : "platform", envfun_default_spec(k), unit);
+        double spec = 0.0;
+        igea_envfun_default_spec(sd ? IGEA_ENVFUN_STRAPDOWN : IGEA_ENVFUN_PLATFORM, k, &spec);
+        fprintf(f, "%-14s %-10s %-12.5g %s\n", igea_envfun_term_name(k),
+                sd && pf ? "both" : sd ? "strapdown" : "platform", spec, igea_envfun_term_unit(k));
+    }
+}
+
+/* igea_envfun_compute's arguments 3 (the trajectory), 7 (the axes) and 9
+ * (the epochs). */
+#define ARG_TRAJ (-3)
+#define ARG_AXES (-7)
+#define ARG_EPOCHS (-9)
+
+typedef struct {
+    int *codes, nt, nsamp, nep, m, axes[6];
+    double *traj, *ep, *spec, *S; /* S row-major */
+    char *header;
+} ef_run;
+
+static int read_inputs(const ef_args *a, ef_run *r)
+{
+    int ec;
+    if (a->axes && sscanf(a->axes, "%d,%d,%d,%d,%d,%d", &r->axes[0], &r->axes[1], &r->axes[2], &r->axes[3],
+               &r->axes[4], &r->axes[5]) != 6) {
+        cli_error("--axes: six comma-separated axis numbers 0..2");
+        return CLI_USAGE;
+    }
+    if ((ec = cli_parse_terms(a->system, a->terms, &r->codes, &r->nt)) ||
+        (ec = cli_read_traj(a->traj, &r->traj, &r->nsamp)) ||
+        (ec = cli_epochs(a->epochs, a->step, r->traj[0], r->traj[r->nsamp - 1], &r->ep, &r->nep)))
+        return ec;
+    if (a->spec && (ec = cli_term_specs(a->system, r->codes, r->nt, a->spec, &r->spec)))
+        return ec;
+    r->m = 3 * r->nep;
+    if (!(r->header = cli_term_header(r->codes, r->nt)))
+        return cli_oom("the header");
+    return CLI_OK;
+}
+
+static int compute(const ef_args *a, ef_run *r)
+{
+    int m = r->m, nt = r->nt;
+    double *S = malloc(sizeof(double) * (size_t)m * nt);
+    if (!S || !(r->S = malloc(sizeof(double) * (size_t)m * nt))) {
+        free(S);
+        return cli_oom("S");
+    }
+    int st = igea_envfun_compute(a->system, r->nsamp, r->traj, r->nsamp, nt,
+                                 r->codes, a->axes ? r->axes : NULL, r->nep, r->ep, r->spec,
+                                 output_codes[a->output], S, m);
+    int ec = CLI_OK;
+    if (st == ARG_EPOCHS) {
+        cli_error("envfun: the epochs must be non-decreasing and inside [%g, %g] s", r->traj[0],
+                  r->traj[r->nsamp - 1]);
+        ec = CLI_DATAERR;
+    } else if (st == ARG_TRAJ) {
+        cli_error("%s: the time column must be strictly increasing", a->traj);
+        ec = CLI_DATAERR;
+    } else if (st == ARG_AXES) {
+        cli_error("--axes: axis numbers are 0, 1, 2");
+        ec = CLI_USAGE;
+    } else {
+        ec = cli_status(st, "envfun");
+    }
+    for (int i = 0; !ec && i < m; i++)
+        for (int j = 0; j < nt; j++)
+            r->S[(size_t)i * nt + j] = S[i + (size_t)j * m];
+    free(S);
+    return ec;
+}
+
+static void json_terms(cli_json *j, const ef_run *r)
+{
+    cli_json_open(j, "terms", '[');
+    for (int k = 0; k < r->nt; k++)
+        cli_jstr(j, NULL, igea_envfun_term_name(r->codes[k]));
+    cli_json_close(j);
+}
+
+/* S to --out, with a summary on standard output (checked before the file
+ * is committed: a run whose summary is lost keeps the old file). */
+static int write_file(const ef_args *a, const ef_run *r)
+{
+    cli_out o;
+    int ec = cli_out_open(&o, a->out);
+    if (ec)
+        return ec;
+    size_t len = strlen(a->out);
+    cli_write_matrix_body(o.f, o.f != stdout && len >= 4 && !strcmp(a->out + len - 4, ".npy"),
+                          r->S, r->m, r->nt, r->header);
+    if (a->json) {
+        cli_json j;
+        cli_json_begin(&j, stdout);
+        cli_jint(&j, "rows", r->m);
+        json_terms(&j, r);
+        cli_jstr(&j, "out", a->out);
+        cli_json_end(&j);
+        if ((ec = cli_stdout_check())) {
+            cli_out_abort(&o);
+            return ec;
+        }
+    }
+    if ((ec = cli_out_commit(&o)))
+        return ec;
+    if (!a->json)
+        fprintf(stderr, "igea envfun: %d epochs x 3 axes, %d terms -> %s\n", r->nep, r->nt, a->out);
+    return CLI_OK;
+}
+
+static void write_stdout(FILE *f, const ef_args *a, const ef_run *r)
+{
+    if (a->json) {
+        cli_json j;
+        cli_json_begin(&j, f);
+        json_terms(&j, r);
+        cli_json_open(&j, "S", '[');
+        for (int i = 0; i < r->m; i++)
+            cli_jnums(&j, NULL, r->S + (size_t)i * r->nt, r->nt);
+        cli_json_end(&j);
+    } else {
+        cli_write_matrix_body(f, 0, r->S, r->m, r->nt, r->header);
     }
 }
 
@@ -262,161 +189,36 @@ int cmd_envfun(int argc, char **argv)
 {
     if (cli_one_stdin(argc, argv))
         return CLI_USAGE;
-    const char *traj_path = NULL, *terms = NULL, *epochs_file = NULL, *spec_arg = NULL;
-    const char *out = NULL, *v;
-    int system = IGEA_ENVFUN_STRAPDOWN, output = IGEA_ENVFUN_VELOCITY, json = 0;
-    int axes[6], have_axes = 0, ec;
-    double step = 1.0;
-
-    for (int i = 1; i < argc; i++) {
-        const char *o = argv[i];
-        if (!strcmp(o, "--help") || !strcmp(o, "-h")) { envfun_help(); return CLI_OK; }
-        else if (!strcmp(o, "--list")) { list_terms(); return CLI_OK; }
-        else if (!strcmp(o, "--json")) json = 1;
-        else if (!strcmp(o, "--terms")) { if (!(terms = cli_optarg(argc, argv, &i))) return CLI_USAGE; }
-        else if (!strcmp(o, "--epochs")) { if (!(epochs_file = cli_optarg(argc, argv, &i))) return CLI_USAGE; }
-        else if (!strcmp(o, "--spec")) { if (!(spec_arg = cli_optarg(argc, argv, &i))) return CLI_USAGE; }
-        else if (!strcmp(o, "--out")) { if (!(out = cli_optarg(argc, argv, &i))) return CLI_USAGE; }
-        else if (!strcmp(o, "--epoch-step")) {
-            if (!(v = cli_optarg(argc, argv, &i))) return CLI_USAGE;
-            if ((ec = cli_parse_double("epoch-step", v, &step))) return ec;
-        } else if (!strcmp(o, "--system")) {
-            if (!(v = cli_optarg(argc, argv, &i))) return CLI_USAGE;
-            if ((ec = envfun_parse_system(v, &system))) return ec;
-        } else if (!strcmp(o, "--output")) {
-            if (!(v = cli_optarg(argc, argv, &i))) return CLI_USAGE;
-            if (!strcmp(v, "velocity")) output = IGEA_ENVFUN_VELOCITY;
-            else if (!strcmp(v, "position")) output = IGEA_ENVFUN_POSITION;
-            else if (!strcmp(v, "velocity_g")) output = IGEA_ENVFUN_VELOCITY_G;
-            else if (!strcmp(v, "position_g")) output = IGEA_ENVFUN_POSITION_G;
-            else { cli_error("--output: velocity, position, velocity_g or position_g"); return CLI_USAGE; }
-        } else if (!strcmp(o, "--axes")) {
-            if (!(v = cli_optarg(argc, argv, &i))) return CLI_USAGE;
-            if (sscanf(v, "%d,%d,%d,%d,%d,%d", &axes[0], &axes[1], &axes[2], &axes[3],
-                       &axes[4], &axes[5]) != 6) {
-                cli_error("--axes: six comma-separated axis numbers 0..2");
-                return CLI_USAGE;
-            }
-            have_axes = 1;
-        } else if (o[0] == '-' && o[1]) { cli_error("envfun: unknown option %s (see --help)", o); return CLI_USAGE; }
-        else if (!traj_path) traj_path = o;
-        else { cli_error("envfun: one trajectory file only ('%s')", o); return CLI_USAGE; }
+    int ec = cli_parse(&command, argc, argv);
+    ef_args a = A;
+    if (ec)
+        return ec == CLI_HELP ? CLI_OK : ec;
+    if (a.list) {
+        list_terms(stdout);
+        return CLI_OK;
     }
-    if (!traj_path || !terms) {
-        cli_error("envfun: a trajectory file and --terms are required (see --help)");
+    if (!a.traj || !a.terms) {
+        cli_error("envfun: --traj FILE and --terms are required (see --help)");
         return CLI_USAGE;
     }
-    int *codes = NULL, nt = 0, nsamp = 0, nep = 0;
-    double *traj = NULL, *ep = NULL, *spec = NULL, *S = NULL, *Srow = NULL;
-    char *header = NULL;
-    if ((ec = envfun_parse_terms(system, terms, &codes, &nt)))
-        return ec;
-    if ((ec = envfun_read_traj(traj_path, &traj, &nsamp)))
-        goto done;
-    if ((ec = envfun_epochs(epochs_file, step, traj[0], traj[nsamp - 1], &ep, &nep)))
-        goto done;
-    if (spec_arg) {
-        spec = malloc(sizeof(double) * (size_t)nt);
-        if (!spec) { ec = cli_oom("the term specs"); goto done; }
-        if (!strcmp(spec_arg, "default")) {
-            for (int j = 0; j < nt; j++)
-                spec[j] = envfun_default_spec(codes[j]);
+    ef_run r;
+    memset(&r, 0, sizeof r);
+    if (!(ec = read_inputs(&a, &r)) && !(ec = compute(&a, &r))) {
+        if (a.out) {
+            ec = write_file(&a, &r);
         } else {
-            cli_matrix sm;
-            if ((ec = cli_read_matrix(spec_arg, &sm)))
-                goto done;
-            if (sm.rows * sm.cols != nt) {
-                cli_error("%s: %ld specs for %d terms", spec_arg, sm.rows * sm.cols, nt);
-                cli_matrix_free(&sm);
-                ec = CLI_DATAERR;
-                goto done;
+            cli_out o;
+            if (!(ec = cli_out_open(&o, NULL))) {
+                write_stdout(o.f, &a, &r);
+                ec = cli_out_commit(&o);
             }
-            memcpy(spec, sm.v, sizeof(double) * (size_t)nt);
-            cli_matrix_free(&sm);
         }
     }
-    int m = 3 * nep;
-    S = malloc(sizeof(double) * (size_t)m * nt);
-    Srow = malloc(sizeof(double) * (size_t)m * nt);
-    header = envfun_header(codes, nt);
-    if (!S || !Srow || !header) { cli_error("out of memory"); ec = CLI_SOFTWARE; goto done; }
-    int st = igea_envfun_compute(system, nsamp, traj, nsamp, nt, codes,
-                                 have_axes ? axes : NULL, nep, ep, spec, output, S, m);
-    if (st == -9) {
-        cli_error("envfun: the epochs must be non-decreasing and inside [%g, %g] s",
-                  traj[0], traj[nsamp - 1]);
-        ec = CLI_DATAERR;
-        goto done;
-    }
-    if (st == -3) {
-        cli_error("%s: the time column must be strictly increasing", traj_path);
-        ec = CLI_DATAERR;
-        goto done;
-    }
-    if (st == -7) {
-        cli_error("--axes: axis numbers are 0, 1, 2");
-        ec = CLI_USAGE;
-        goto done;
-    }
-    if ((ec = cli_status(st, "envfun")))
-        goto done;
-    for (int i = 0; i < m; i++)
-        for (int j = 0; j < nt; j++)
-            Srow[(size_t)i * nt + j] = S[i + (size_t)j * m];
-    if (out) {
-        cli_out o;
-        if ((ec = cli_out_open(&o, out)))
-            goto done;
-        cli_write_matrix_body(o.f, o.f != stdout && strlen(out) >= 4 &&
-                                       !strcmp(out + strlen(out) - 4, ".npy"),
-                              Srow, m, nt, header);
-        if (json) {
-            printf("{\n  \"rows\": %d,\n  \"terms\": [", m);
-            for (int j = 0; j < nt; j++) {
-                if (j) fputs(", ", stdout);
-                cli_json_str(stdout, envfun_term_name(codes[j]));
-            }
-            printf("],\n  \"out\": ");
-            cli_json_str(stdout, out);
-            printf("\n}\n");
-        }
-        /* the summary first: a run whose summary is lost keeps the old file */
-        if (json && (ec = cli_stdout_check())) {
-            cli_out_abort(&o);
-            goto done;
-        }
-        if ((ec = cli_out_commit(&o)))
-            goto done;
-        if (!json)
-            fprintf(stderr, "igea envfun: %d epochs x 3 axes, %d terms -> %s\n", nep, nt, out);
-    } else if (json) {
-        printf("{\n  \"terms\": [");
-        for (int j = 0; j < nt; j++) {
-            if (j) fputs(", ", stdout);
-            cli_json_str(stdout, envfun_term_name(codes[j]));
-        }
-        printf("],\n  \"S\": [\n");
-        for (int i = 0; i < m; i++) {
-            fputs("    ", stdout);
-            cli_json_array(stdout, Srow + (size_t)i * nt, nt);
-            fputs(i + 1 < m ? ",\n" : "\n", stdout);
-        }
-        printf("  ]\n}\n");
-    } else {
-        printf("# %s\n", header);
-        for (int i = 0; i < m; i++) {
-            for (int j = 0; j < nt; j++)
-                printf(j ? " %.17g" : "%.17g", Srow[(size_t)i * nt + j]);
-            putchar('\n');
-        }
-    }
-done:
-    free(codes);
-    free(traj);
-    free(ep);
-    free(spec);
-    free(S);
-    free(Srow);
-    free(header);
+    free(r.codes);
+    free(r.traj);
+    free(r.ep);
+    free(r.spec);
+    free(r.S);
+    free(r.header);
     return ec;
 }

@@ -28,7 +28,7 @@ static void report_components(FILE *f, int n, const double *xhat,
         if (reject[i] < 0)
             continue;
         double thr = sqrt(1.0 + 1.0 / lambda[i]) * zc;
-        fprintf(f, "%5d %13.6e %13.6f %11.4e %10.4f %9.4f  %s\n", i + 1, lambda[i],
+        fprintf(f, "%5d %13.6e %13.6f %11.4e %10.4f %9.4f  %s\n", i, lambda[i],
                 xhat[i], 1.0 / sqrt(lambda[i]), thr, z[i],
                 reject[i] ? "REJECT" : "pass");
     }
@@ -49,24 +49,60 @@ static void report_chi2(FILE *f, const double *info, double alpha)
                 T < crit ? "" : ", chi-square test failed", alpha);
 }
 
-static void json_test_fields(FILE *f, const double *info)
+static void json_test_fields(cli_json *j, const double *info)
 {
-    fprintf(f, "  \"n_test\": %d,\n  \"chi2\": ", (int)info[IGEA_STATS_INFO_N_TEST]);
-    cli_json_num(f, info[IGEA_STATS_INFO_CHI2]);
-    fprintf(f, ",\n  \"dof\": %d,\n  \"chi2_crit\": ", (int)info[IGEA_STATS_INFO_DOF]);
-    cli_json_num(f, info[IGEA_STATS_INFO_CHI2_CRIT]);
-    fputs(",\n  \"z_crit\": ", f);
-    cli_json_num(f, info[IGEA_STATS_INFO_Z_CRIT]);
-    fputs(",\n  \"p_value\": ", f);
-    cli_json_num(f, info[IGEA_STATS_INFO_P_VALUE]);
-    fprintf(f, ",\n  \"n_reject\": %d,\n  \"passed\": %s", (int)info[IGEA_STATS_INFO_N_REJECT],
-            info[IGEA_STATS_INFO_PASSED] == 1.0 ? "true" : "false");
+    cli_jint(j, "n_test", (long)info[IGEA_STATS_INFO_N_TEST]);
+    cli_jnum(j, "chi2", info[IGEA_STATS_INFO_CHI2]);
+    cli_jint(j, "dof", (long)info[IGEA_STATS_INFO_DOF]);
+    cli_jnum(j, "chi2_crit", info[IGEA_STATS_INFO_CHI2_CRIT]);
+    cli_jnum(j, "z_crit", info[IGEA_STATS_INFO_Z_CRIT]);
+    cli_jnum(j, "p_value", info[IGEA_STATS_INFO_P_VALUE]);
+    cli_jint(j, "n_reject", (long)info[IGEA_STATS_INFO_N_REJECT]);
+    cli_jbool(j, "passed", info[IGEA_STATS_INFO_PASSED] == 1.0);
 }
 
-/* ---------------------------------------------------------------------- */
-static void eqerr_help(void)
+static void json_verdicts(cli_json *j, const double *z, const int *reject, int n)
 {
-    printf(
+    cli_jnums(j, "z", z, n);
+    cli_json_open(j, "reject", '[');
+    for (int i = 0; i < n; i++)
+        cli_jbool(j, NULL, reject[i] == 1);
+    cli_json_close(j);
+}
+
+typedef struct {
+    const char *S, *dw, *sigma, *spec, *residuals, *out;
+    double sigma_value;
+    int sigma_is_number, json, route;
+    double opts[IGEA_EQERR_OPT_LEN];
+} eqerr_args;
+
+static eqerr_args EA;
+#define EQ_OPT(slot) (&EA.opts[IGEA_EQERR_OPT_##slot])
+static const cli_opt eqerr_options[] = {
+    {"--S", CLI_OPT_STR, &EA.S, NULL, "FILE", "environment functions, m rows x N columns", NULL},
+    {"--dw", CLI_OPT_STR, &EA.dw, NULL, "FILE", "velocity differences, m values (one column)", NULL},
+    {"--sigma", CLI_OPT_STR, &EA.sigma, NULL, "FILE|NUM", "tracking 1-sigma per row (m values), or one number", NULL},
+    {"--spec", CLI_OPT_STR, &EA.spec, NULL, "FILE", "N term specs (1-sigma), any layout", NULL},
+    {"--alpha", CLI_OPT_NUM, EQ_OPT(ALPHA), CLI_DEF_LIB, "A", "significance level", NULL},
+    {"--lambda-test", CLI_OPT_NUM, EQ_OPT(LAMBDA_TEST), CLI_DEF_LIB, "L", "test components with lambda >= L", NULL},
+    {"--lambda-small", CLI_OPT_NUM, EQ_OPT(LAMBDA_SMALL), CLI_DEF_LIB, "L", "small eigenvalues for sigma_w: lambda <= L", NULL},
+    {"--n-min", CLI_OPT_NUM, EQ_OPT(N_MIN), CLI_DEF_LIB, "N", "fewest small eigenvalues to estimate sigma_w", NULL},
+    {"--tol", CLI_OPT_NUM, EQ_OPT(TOL), CLI_DEF_LIB, "T", "stop when |sigma_w^2 - 1| <= T", NULL},
+    {"--max-iter", CLI_OPT_NUM, EQ_OPT(MAX_ITER), CLI_DEF_LIB, "N", "sigma_w iterations", NULL},
+    {"--no-correction", CLI_OPT_DCLEAR, EQ_OPT(CORRECT), NULL, NULL, "do not correct the tracking accuracy", NULL},
+    {"--bias-correct", CLI_OPT_DSET, EQ_OPT(BIAS_CORRECT), NULL, NULL, "sigma_w^2 = mean(g^2 - lambda) over the small set", NULL},
+    {"--clamp", CLI_OPT_DSET, EQ_OPT(CLAMP), NULL, NULL, "never make the tracking weights more optimistic\n(c >= 1)", NULL},
+    {"--z-crit", CLI_OPT_NUM, EQ_OPT(Z_CRIT), NULL, "Z", "impose the normal critical value (e.g. 2.58 as in\nthe seed's tables) instead of the exact z_{1-alpha/2}", NULL},
+    {"--route", CLI_OPT_CHOICE, &EA.route, "eig", "eig|svd", "normal matrix + dsyevd, or the SVD of the weighted\n"
+     "S through its streamed QR factor (dtpqrt): resolves\neigenvalues down to eps^2 lambda_1 instead of eps\n"
+     "lambda_1, at about twice the cost", NULL},
+    {"--residuals", CLI_OPT_STR, &EA.residuals, NULL, "FILE", "write the per-row residuals dw - S D P_t Xhat_t", NULL},
+    {"--json", CLI_OPT_FLAG, &EA.json, NULL, NULL, "machine-readable output (field names as igea.eqerr)", NULL},
+    CLI_OUT_OPT(&EA.out),
+    CLI_END};
+
+static const cli_command eqerr_command = {"eqerr",
 "usage: igea eqerr --S FILE --dw FILE --sigma FILE|NUMBER [--spec FILE] [options]\n"
 "\n"
 "Equivalent-error accuracy assessment of one flight (seed 000; METHODS 1.2).\n"
@@ -89,29 +125,8 @@ static void eqerr_help(void)
 "O(N^2) memory whatever the flight length. One input may be '-', standard\n"
 "input; a pipe or FIFO is copied to a temporary file for the second pass.\n"
 "\n"
-"options:\n"
-"  --S FILE            environment functions, m rows x N columns\n"
-"  --dw FILE           velocity differences, m values (one column)\n"
-"  --sigma FILE|NUM    tracking 1-sigma per row (m values), or one number\n"
-"  --spec FILE         N term specs (1-sigma), any layout\n"
-"  --alpha A           significance level (default 0.01)\n"
-"  --lambda-test L     test components with lambda >= L (default 10)\n"
-"  --lambda-small L    small eigenvalues for sigma_w: lambda <= L (default 0.1)\n"
-"  --n-min N           fewest small eigenvalues to estimate sigma_w (default 5)\n"
-"  --tol T             stop when |sigma_w^2 - 1| <= T (default 0.05)\n"
-"  --max-iter N        sigma_w iterations (default 10)\n"
-"  --no-correction     do not correct the tracking accuracy\n"
-"  --bias-correct      sigma_w^2 = mean(g^2 - lambda) over the small set\n"
-"  --clamp             never make the tracking weights more optimistic (c >= 1)\n"
-"  --z-crit Z          impose the normal critical value (e.g. 2.58 as in the\n"
-"                      seed's tables) instead of the exact z_{1-alpha/2}\n"
-"  --route eig|svd     normal matrix + dsyevd (default), or the SVD of the\n"
-"                      weighted S through its streamed QR factor (dtpqrt):\n"
-"                      resolves eigenvalues down to eps^2 lambda_1 instead of\n"
-"                      eps lambda_1, at about twice the cost\n"
-"  --residuals FILE    write the per-row residuals dw - S D P_t Xhat_t\n"
-"  --json              machine-readable output (field names as igea.eqerr)\n"
-"  --out FILE          write the report there (atomically) instead of stdout\n"
+"options:\n",
+eqerr_options,
 "\n"
 "exit status: 0 accepted, 1 rejected, 64 usage, 65 bad input, 66 missing input,\n"
 "70 numerical failure (e.g. no component precise enough to test), 74 I/O error.\n"
@@ -119,15 +134,25 @@ static void eqerr_help(void)
 "example (the bundled flight):\n"
 "  cd examples/flight\n"
 "  igea eqerr --S S.txt --dw dw.txt --sigma sigma.txt --spec spec.txt\n"
-"  igea eqerr --S S.txt --dw dw.txt --sigma 0.01 --spec spec.txt --json --out f1.json\n");
-}
+"  igea eqerr --S S.txt --dw dw.txt --sigma 0.01 --spec spec.txt --json --out f1.json\n"};
 
-typedef struct {
-    const char *S, *dw, *sigma, *spec, *residuals, *out;
-    double sigma_value;
-    int sigma_is_number, json;
-    double opts[IGEA_EQERR_OPT_LEN];
-} eqerr_args;
+static int parse_eqerr(int argc, char **argv, eqerr_args *a)
+{
+    memset(&EA, 0, sizeof EA);
+    igea_eqerr_defaults(EA.opts);
+    int ec = cli_parse(&eqerr_command, argc, argv);
+    *a = EA;
+    if (ec)
+        return ec;
+    if (!a->S || !a->dw || !a->sigma) {
+        cli_error("eqerr: --S, --dw and --sigma are required (see igea eqerr --help)");
+        return CLI_USAGE;
+    }
+    if ((ec = cli_file_or_positive("--sigma", a->sigma, &a->sigma_is_number, &a->sigma_value)))
+        return ec;
+    a->opts[IGEA_EQERR_OPT_ROUTE] = a->route ? IGEA_EQERR_ROUTE_SVD : IGEA_EQERR_ROUTE_EIG;
+    return cli_check_opts("eqerr", IGEA_MODULE_EQERR, igea_eqerr_check_opts(a->opts));
+}
 
 /* Open the three streamed inputs in lockstep. */
 typedef struct {
@@ -260,80 +285,6 @@ static int check_sigma_block(const eqerr_args *a, const double *g, long n, long 
     return CLI_OK;
 }
 
-static int parse_eqerr(int argc, char **argv, eqerr_args *a)
-{
-    memset(a, 0, sizeof *a);
-    igea_eqerr_defaults(a->opts);
-    for (int i = 1; i < argc; i++) {
-        const char *o = argv[i], *v;
-        int ec = CLI_OK;
-        double x;
-#define NEED() do { if (!(v = cli_optarg(argc, argv, &i))) return CLI_USAGE; } while (0)
-#define DOPT(name, idx) else if (!strcmp(o, name)) { NEED(); if ((ec = cli_parse_double(o, v, &x))) return ec; a->opts[idx] = x; }
-        if (!strcmp(o, "--help") || !strcmp(o, "-h")) {
-            eqerr_help();
-            return -1;
-        } else if (!strcmp(o, "--S")) { NEED(); a->S = v; }
-        else if (!strcmp(o, "--dw")) { NEED(); a->dw = v; }
-        else if (!strcmp(o, "--sigma")) {
-            NEED();
-            if ((ec = cli_file_or_positive(o, v, &a->sigma_is_number, &a->sigma_value)))
-                return ec;
-            a->sigma = v;
-        }
-        else if (!strcmp(o, "--spec")) { NEED(); a->spec = v; }
-        else if (!strcmp(o, "--residuals")) { NEED(); a->residuals = v; }
-        else if (!strcmp(o, "--out")) { NEED(); a->out = v; }
-        DOPT("--alpha", IGEA_EQERR_OPT_ALPHA)
-        DOPT("--lambda-test", IGEA_EQERR_OPT_LAMBDA_TEST)
-        DOPT("--lambda-small", IGEA_EQERR_OPT_LAMBDA_SMALL)
-        DOPT("--n-min", IGEA_EQERR_OPT_N_MIN)
-        DOPT("--tol", IGEA_EQERR_OPT_TOL)
-        DOPT("--max-iter", IGEA_EQERR_OPT_MAX_ITER)
-        DOPT("--z-crit", IGEA_EQERR_OPT_Z_CRIT)
-        else if (!strcmp(o, "--no-correction")) a->opts[IGEA_EQERR_OPT_CORRECT] = 0;
-        else if (!strcmp(o, "--bias-correct")) a->opts[IGEA_EQERR_OPT_BIAS_CORRECT] = 1;
-        else if (!strcmp(o, "--clamp")) a->opts[IGEA_EQERR_OPT_CLAMP] = 1;
-        else if (!strcmp(o, "--json")) a->json = 1;
-        else if (!strcmp(o, "--route")) {
-            NEED();
-            if (!strcmp(v, "eig")) a->opts[IGEA_EQERR_OPT_ROUTE] = IGEA_EQERR_ROUTE_EIG;
-            else if (!strcmp(v, "svd")) a->opts[IGEA_EQERR_OPT_ROUTE] = IGEA_EQERR_ROUTE_SVD;
-            else { cli_error("--route %s: expected eig or svd", v); return CLI_USAGE; }
-        } else {
-            cli_error("eqerr: unknown option '%s' (see igea eqerr --help)", o);
-            return CLI_USAGE;
-        }
-#undef DOPT
-#undef NEED
-    }
-    if (!a->S || !a->dw || !a->sigma) {
-        cli_error("eqerr: --S, --dw and --sigma are required (see igea eqerr --help)");
-        return CLI_USAGE;
-    }
-    const char *names[] = {"--alpha", "--lambda-test", "--lambda-small", "--n-min", "--tol",
-                           "--max-iter"};
-    double *o = a->opts;
-    int bad = -1;
-    if (!(o[IGEA_EQERR_OPT_ALPHA] > 0 && o[IGEA_EQERR_OPT_ALPHA] < 1)) bad = 0;
-    else if (!(o[IGEA_EQERR_OPT_LAMBDA_TEST] > 0)) bad = 1;
-    else if (!(o[IGEA_EQERR_OPT_LAMBDA_SMALL] > 0)) bad = 2;
-    else if (!(o[IGEA_EQERR_OPT_N_MIN] >= 1) || o[IGEA_EQERR_OPT_N_MIN] != floor(o[IGEA_EQERR_OPT_N_MIN])) bad = 3;
-    else if (!(o[IGEA_EQERR_OPT_TOL] > 0)) bad = 4;
-    else if (!(o[IGEA_EQERR_OPT_MAX_ITER] >= 1 && o[IGEA_EQERR_OPT_MAX_ITER] <= 1000) ||
-             o[IGEA_EQERR_OPT_MAX_ITER] != floor(o[IGEA_EQERR_OPT_MAX_ITER])) bad = 5;
-    if (bad >= 0) {
-        cli_error("eqerr: %s is out of range (alpha in (0,1); lambdas, tol > 0; n-min, "
-                  "max-iter whole numbers >= 1)", names[bad]);
-        return CLI_USAGE;
-    }
-    if (o[IGEA_EQERR_OPT_Z_CRIT] < 0) {
-        cli_error("eqerr: --z-crit must be > 0");
-        return CLI_USAGE;
-    }
-    return CLI_OK;
-}
-
 /* Results of one flight. */
 typedef struct {
     int m, N;
@@ -365,40 +316,33 @@ static int flight_alloc(flight *r, int N)
     return CLI_OK;
 }
 
-static void json_head(FILE *f, const flight *r, const eqerr_args *a)
+/* The document up to the residuals, whose array is left open. */
+static void json_head(cli_json *j, const flight *r, const eqerr_args *a)
 {
-    int N = r->N;
-    fputs("{\n  \"eigenvalues\": ", f);
-    cli_json_array(f, r->lambda, N);
-    fputs(",\n  \"eigenvectors\": [", f);
+    int N = r->N, nt = (int)r->info[IGEA_STATS_INFO_N_TEST];
+    cli_jnums(j, "eigenvalues", r->lambda, N);
+    cli_json_open(j, "eigenvectors", '[');
     for (int i = 0; i < N; i++) {
-        fputs(i ? ",\n    [" : "\n    [", f);
-        for (int j = 0; j < N; j++) {
-            if (j)
-                fputs(", ", f);
-            cli_json_num(f, r->P[i + (size_t)j * N]);
-        }
-        fputc(']', f);
+        cli_json_open(j, NULL, '[');
+        for (int k = 0; k < N; k++)
+            cli_jnum(j, NULL, r->P[i + (size_t)k * N]);
+        cli_json_close(j);
     }
-    fprintf(f, "],\n  \"rank\": %d,\n  \"equiv_err\": ", (int)r->info[IGEA_STATS_INFO_RANK]);
-    cli_json_array(f, r->xhat, N);
-    int nt = (int)r->info[IGEA_STATS_INFO_N_TEST];
-    fputs(",\n  \"z\": ", f);
-    cli_json_array(f, r->z, nt);
-    fputs(",\n  \"reject\": [", f);
-    for (int i = 0; i < nt; i++)
-        fprintf(f, "%s%s", i ? ", " : "", r->reject[i] == 1 ? "true" : "false");
-    fputs("],\n", f);
-    json_test_fields(f, r->info);
-    fputs(",\n  \"scale\": ", f);
-    cli_json_num(f, r->info[IGEA_STATS_INFO_SCALE]);
-    fprintf(f, ",\n  \"iterations\": %d,\n  \"n_small\": %d,\n  \"flag\": \"%s\",\n",
-            (int)r->info[IGEA_STATS_INFO_ITERATIONS], (int)r->info[IGEA_STATS_INFO_N_SMALL],
-            flag_name((int)r->info[IGEA_STATS_INFO_FLAG]));
-    fprintf(f, "  \"alpha\": %.17g,\n  \"lambda_test\": %.17g,\n  \"route\": \"%s\",\n"
-               "  \"rows\": %d,\n  \"terms\": %d,\n",
-            a->opts[IGEA_EQERR_OPT_ALPHA], a->opts[IGEA_EQERR_OPT_LAMBDA_TEST],
-            a->opts[IGEA_EQERR_OPT_ROUTE] == IGEA_EQERR_ROUTE_SVD ? "svd" : "eig", r->m, N);
+    cli_json_close(j);
+    cli_jint(j, "rank", (long)r->info[IGEA_STATS_INFO_RANK]);
+    cli_jnums(j, "equiv_err", r->xhat, N);
+    json_verdicts(j, r->z, r->reject, nt);
+    json_test_fields(j, r->info);
+    cli_jnum(j, "scale", r->info[IGEA_STATS_INFO_SCALE]);
+    cli_jint(j, "iterations", (long)r->info[IGEA_STATS_INFO_ITERATIONS]);
+    cli_jint(j, "n_small", (long)r->info[IGEA_STATS_INFO_N_SMALL]);
+    cli_jstr(j, "flag", flag_name((int)r->info[IGEA_STATS_INFO_FLAG]));
+    cli_jnum(j, "alpha", a->opts[IGEA_EQERR_OPT_ALPHA]);
+    cli_jnum(j, "lambda_test", a->opts[IGEA_EQERR_OPT_LAMBDA_TEST]);
+    cli_jstr(j, "route", a->route ? "svd" : "eig");
+    cli_jint(j, "rows", r->m);
+    cli_jint(j, "n_terms", N);
+    cli_json_open(j, "residual", '[');
 }
 
 static void text_report(FILE *f, const flight *r, const eqerr_args *a)
@@ -429,43 +373,30 @@ static void text_report(FILE *f, const flight *r, const eqerr_args *a)
     report_chi2(f, info, a->opts[IGEA_EQERR_OPT_ALPHA]);
 }
 
-/* Streamed, either route: pass 1 normal equations (eig) or the QR factor
- * of the weighted data (SVD), pass 2 residuals. */
-static int run_streamed(const eqerr_args *a, flight *r, cli_out *res_out, cli_out *json_out)
+/* Pass 1, either route: the normal equations (eig) or the QR factor of the
+ * weighted data (svd), then the decomposition and the test. */
+static int pass_solve(const eqerr_args *a, streams *s, flight *r)
 {
-    streams s;
-    int ec = streams_open(a, &s);
-    if (ec)
-        return ec;
-    int N = s.N;
-    if ((ec = flight_alloc(r, N)))
-        goto done;
-    if (a->spec && (ec = read_spec(a->spec, a->S, N, &r->spec)))
-        goto done;
-    const int svd = a->opts[IGEA_EQERR_OPT_ROUTE] == IGEA_EQERR_ROUTE_SVD;
+    int N = s->N, ec = CLI_OK;
+    const int svd = a->route;
     /* eig: A (N x N), b (N), wtw (2); svd: R ((N+1) x (N+1)), row count */
     double *A = calloc((size_t)(N + 1) * (N + 1) + N + 2, sizeof(double));
-    if (!A) {
-        ec = cli_oom("the normal matrix");
-        goto done;
-    }
+    if (!A)
+        return cli_oom("the normal matrix");
     double *b = A + (size_t)N * N, *wtw = b + N, qrows = 0.0;
     long rows = 0, n;
-    for (;;) {
-        if ((ec = streams_next(a, &s, &n)) || n == 0)
+    while (!(ec = streams_next(a, s, &n)) && n > 0) {
+        if ((ec = check_sigma_block(a, s->gbuf, n, rows)))
             break;
-        if ((ec = check_sigma_block(a, s.gbuf, n, rows)))
-            break;
-        int st = svd ? igea_normal_qr_accumulate(IGEA_ROWMAJOR, (int)n, N, s.sbuf, N, s.dbuf,
-                                                 s.gbuf, 1, r->spec, A, N + 1, &qrows)
-                     : igea_normal_accumulate(IGEA_ROWMAJOR, (int)n, N, s.sbuf, N, s.dbuf,
-                                              s.gbuf, 1, r->spec, A, N, b, wtw);
+        int st = svd ? igea_normal_qr_accumulate(IGEA_ROWMAJOR, (int)n, N, s->sbuf, N, s->dbuf,
+                                                 s->gbuf, 1, r->spec, A, N + 1, &qrows)
+                     : igea_normal_accumulate(IGEA_ROWMAJOR, (int)n, N, s->sbuf, N, s->dbuf,
+                                              s->gbuf, 1, r->spec, A, N, b, wtw);
         if (st) {
             ec = cli_status(st, st == IGEA_ENONFINITE ? "eqerr: rows with NaN/Inf" : "eqerr");
             break;
         }
-        rows += n;
-        if (rows > 2147483647L) {
+        if ((rows += n) > 2147483647L) {
             cli_error("%s: more than 2^31-1 rows", a->S);
             ec = CLI_DATAERR;
             break;
@@ -481,52 +412,41 @@ static int run_streamed(const eqerr_args *a, flight *r, cli_out *res_out, cli_ou
                                            r->xhat, r->z, r->reject, r->info)
                      : igea_eqerr_solve(N, A, N, b, a->opts, r->lambda, r->P, N, r->xhat,
                                         r->z, r->reject, r->info);
-        if (st)
-            ec = cli_status(st, "eqerr");
+        ec = cli_status(st, "eqerr");
     }
     free(A);
-    if (ec)
-        goto done;
+    return ec;
+}
 
-    /* Pass 2: residuals. */
+/* Pass 2: the residuals, to the residuals file and into the JSON document. */
+static int pass_residuals(const eqerr_args *a, streams *s, flight *r, FILE *res, cli_json *j)
+{
+    int N = s->N, ec;
     double *coef = malloc((size_t)N * sizeof(double));
-    double *e = malloc((size_t)s.block * sizeof(double));
+    double *e = malloc((size_t)s->block * sizeof(double));
     if (!coef || !e) {
         free(coef);
         free(e);
         cli_error("out of memory (residuals of %s)", a->S);
-        ec = CLI_SOFTWARE;
-        goto done;
+        return CLI_SOFTWARE;
     }
     igea_eqerr_coef(N, r->P, N, r->xhat, (int)r->info[IGEA_STATS_INFO_N_TEST], r->spec, coef);
-    if ((ec = streams_rewind(&s))) {
-        free(coef);
-        free(e);
-        goto done;
-    }
     double ss[6] = {0, 0, 0, 0, 0, 0};
-    long row0 = 0;
-    if (json_out) {
-        json_head(json_out->f, r, a);
-        fputs("  \"residual\": [", json_out->f);
-    }
-    for (;;) {
-        if ((ec = streams_next(a, &s, &n)) || n == 0)
-            break;
-        int st = igea_eqerr_residual(IGEA_ROWMAJOR, (int)n, N, s.sbuf, N, s.dbuf, coef,
+    long row0 = 0, n;
+    if (j)
+        json_head(j, r, a);
+    while (!(ec = streams_next(a, s, &n)) && n > 0) {
+        int st = igea_eqerr_residual(IGEA_ROWMAJOR, (int)n, N, s->sbuf, N, s->dbuf, coef,
                                      (int)row0, e, ss);
         if (st) {
             ec = cli_status(st, "eqerr residuals");
             break;
         }
         for (long i = 0; i < n; i++) {
-            if (res_out)
-                fprintf(res_out->f, "%.17g\n", e[i]);
-            if (json_out) {
-                if (row0 + i)
-                    fputs(", ", json_out->f);
-                cli_json_num(json_out->f, e[i]);
-            }
+            if (res)
+                fprintf(res, "%.17g\n", e[i]);
+            if (j)
+                cli_jnum(j, NULL, e[i]);
         }
         row0 += n;
     }
@@ -534,8 +454,81 @@ static int run_streamed(const eqerr_args *a, flight *r, cli_out *res_out, cli_ou
         r->rms[k] = ss[3 + k] > 0 ? sqrt(ss[k] / ss[3 + k]) : 0.0;
     free(coef);
     free(e);
-done:
+    return ec;
+}
+
+/* Both passes over the streamed inputs. */
+static int run_streamed(const eqerr_args *a, flight *r, FILE *res, cli_json *j)
+{
+    streams s;
+    int ec = streams_open(a, &s);
+    if (!ec)
+        ec = flight_alloc(r, s.N);
+    if (!ec && a->spec)
+        ec = read_spec(a->spec, a->S, s.N, &r->spec);
+    if (!ec)
+        ec = pass_solve(a, &s, r);
+    if (!ec)
+        ec = streams_rewind(&s);
+    if (!ec)
+        ec = pass_residuals(a, &s, r, res, j);
     streams_close(&s);
+    return ec;
+}
+
+/* With --json to standard output the document is written to a temporary
+ * stream first, so that a failure never leaves half a document behind. */
+static int json_stream(FILE *out, FILE **jf)
+{
+    errno = 0;
+    *jf = out == stdout ? tmpfile() : out;
+    if (*jf)
+        return CLI_OK;
+    if (errno == ENOMEM)
+        return cli_oom("a temporary file for the JSON document");
+    cli_error("cannot create a temporary file: %s", strerror(errno));
+    return CLI_IOERR;
+}
+
+static int json_copy(FILE *jf, FILE *out)
+{
+    char buf[65536];
+    size_t k;
+    if (jf == out)
+        return CLI_OK;
+    if (fflush(jf) != 0 || ferror(jf) || fseek(jf, 0, SEEK_SET) != 0) {
+        cli_error("writing a temporary file: %s", strerror(errno));
+        return errno == ENOMEM ? CLI_SOFTWARE : CLI_IOERR;
+    }
+    while ((k = fread(buf, 1, sizeof buf, jf)) > 0)
+        fwrite(buf, 1, k, out);
+    if (ferror(jf)) {
+        cli_error("reading back a temporary file: %s", strerror(errno));
+        return CLI_IOERR;
+    }
+    return CLI_OK;
+}
+
+/* The report (and the residuals) from the two passes. */
+static int eqerr_report(const eqerr_args *a, flight *r, cli_out *out, cli_out *res)
+{
+    FILE *jf = NULL;
+    cli_json j;
+    int ec = a->json ? json_stream(out->f, &jf) : CLI_OK;
+    if (jf)
+        cli_json_begin(&j, jf);
+    if (!ec)
+        ec = run_streamed(a, r, a->residuals ? res->f : NULL, jf ? &j : NULL);
+    if (!ec && jf) {
+        cli_json_close(&j);
+        cli_jnums(&j, "rms", r->rms, 3);
+        cli_json_end(&j);
+        ec = json_copy(jf, out->f);
+    } else if (!ec) {
+        text_report(out->f, r, a);
+    }
+    if (jf && jf != out->f)
+        fclose(jf);
     return ec;
 }
 
@@ -546,115 +539,30 @@ int cmd_eqerr(int argc, char **argv)
     eqerr_args a;
     int ec = parse_eqerr(argc, argv, &a);
     if (ec)
-        return ec < 0 ? CLI_OK : ec;
-    cli_out out = CLI_OUT_INIT, res = CLI_OUT_INIT;
-    if ((ec = cli_out_open(&out, a.out)))
+        return ec == CLI_HELP ? CLI_OK : ec;
+    cli_out both[2] = {CLI_OUT_INIT, CLI_OUT_INIT};
+    if ((ec = cli_out_open(&both[0], a.out)))
         return ec;
-    if (a.residuals && (ec = cli_out_open(&res, a.residuals))) {
-        cli_out_abort(&out);
+    if (a.residuals && (ec = cli_out_open(&both[1], a.residuals))) {
+        cli_out_abort(&both[0]);
         return ec;
     }
     flight r;
     memset(&r, 0, sizeof r);
-    /* With --json the document goes to a temporary stream first when it is
-     * stdout, so that a failure never leaves half a document behind. */
-    FILE *jf = NULL;
-    cli_out jo = CLI_OUT_INIT;
-    if (a.json) {
-        errno = 0;
-        jf = out.f == stdout ? tmpfile() : out.f;
-        if (!jf) {
-            if (errno == ENOMEM)
-                ec = cli_oom("a temporary file for the JSON document");
-            else {
-                cli_error("cannot create a temporary file: %s", strerror(errno));
-                ec = CLI_IOERR;
-            }
-        }
-        jo.f = jf;
-    }
+    ec = eqerr_report(&a, &r, &both[0], &both[1]);
+    /* the report and the residuals replace their old files together */
     if (!ec)
-        ec = run_streamed(&a, &r, a.residuals ? &res : NULL, a.json ? &jo : NULL);
-    if (!ec) {
-        if (a.json) {
-            fputs("],\n  \"rms\": ", jf);
-            cli_json_array(jf, r.rms, 3);
-            fputs("\n}\n", jf);
-            if (jf != out.f) {
-                char buf[65536];
-                size_t k;
-                if (fflush(jf) != 0 || ferror(jf) || fseek(jf, 0, SEEK_SET) != 0) {
-                    cli_error("writing a temporary file: %s", strerror(errno));
-                    ec = errno == ENOMEM ? CLI_SOFTWARE : CLI_IOERR;
-                }
-                while (!ec && (k = fread(buf, 1, sizeof buf, jf)) > 0)
-                    fwrite(buf, 1, k, out.f);
-                if (!ec && ferror(jf)) {
-                    cli_error("reading back a temporary file: %s", strerror(errno));
-                    ec = CLI_IOERR;
-                }
-            }
-        } else
-            text_report(out.f, &r, &a);
-    }
-    if (jf && jf != out.f)
-        fclose(jf);
-    if (!ec) {
-        /* the report and the residuals replace their old files together */
-        cli_out both[2];
-        both[0] = out;
-        both[1] = res;
         ec = cli_out_commit_all(both, a.residuals ? 2 : 1);
-        out = both[0];
-        res = both[1];
-    }
     if (ec) {
-        cli_out_abort(&out);
-        cli_out_abort(&res);
-        flight_free(&r);
-        return ec;
+        cli_out_abort(&both[0]);
+        cli_out_abort(&both[1]);
     }
     int passed = r.info[IGEA_STATS_INFO_PASSED] == 1.0;
     flight_free(&r);
-    return passed ? CLI_OK : CLI_REJECT;
+    return ec ? ec : passed ? CLI_OK : CLI_REJECT;
 }
 
 /* ---------------------------------------------------------------------- */
-static void test_help(void)
-{
-    printf(
-"usage: igea test --table FILE [options]\n"
-"       igea test [--unit-ids LIST] [options] RESULT.json...\n"
-"\n"
-"Judges saved equivalent-error results (seed 000; METHODS 1.2 steps 4-6).\n"
-"\n"
-"--table FILE: a table of equivalent errors and their eigenvalues, like the\n"
-"seed's Table 1: two columns (Xhat, lambda), or three or four columns\n"
-"(component number, Xhat, lambda[, precision]). Every component with\n"
-"lambda >= lambda_test is tested against z_{1-alpha/2} sqrt(1 + 1/lambda), and\n"
-"all of them together by T = sum Xhat^2/(1 + 1/lambda) against chi2_alpha.\n"
-"\n"
-"RESULT.json...: outputs of 'igea eqerr --json' for independent flights, pooled:\n"
-"T_tot = sum T_f with sum of the dof; accepted iff no component of any flight\n"
-"is rejected and T_tot < chi2_alpha(dof_tot). Flights of the same inertial unit\n"
-"are not independent: give --unit-ids (one id per file, e.g. 7,8,9) to have\n"
-"that checked.\n"
-"\n"
-"options:\n"
-"  --alpha A          significance level (default 0.01)\n"
-"  --lambda-test L    (--table) test components with lambda >= L (default 10)\n"
-"  --z-crit Z         (--table) impose z_crit, e.g. 2.58 as the seed's tables\n"
-"  --unit-ids LIST    comma-separated unit ids, one per RESULT.json\n"
-"  --json             machine-readable output\n"
-"  --out FILE         write there (atomically) instead of stdout\n"
-"\n"
-"exit status: 0 accepted, 1 rejected, 64 usage, 65 bad input, 66 missing input.\n"
-"\n"
-"examples:\n"
-"  igea test --table examples/seed000_table1.txt --z-crit 2.58\n"
-"  igea test --unit-ids 1,2,3 f1.json f2.json f3.json\n");
-}
-
 /* Value of top-level key "name" in our own JSON output. */
 static int json_number(const char *doc, const char *key, double *out)
 {
@@ -742,201 +650,220 @@ static char *slurp(const char *path, int *ec)
     return buf;
 }
 
+typedef struct {
+    const char *table, *results, *units, *out;
+    double alpha, lambda_test, zcrit;
+    int json;
+} test_args;
+
+static test_args TA;
+static const cli_opt test_options[] = {
+    {"--table", CLI_OPT_STR, &TA.table, NULL, "FILE", "a table of (Xhat, lambda), as the seed's Table 1", NULL},
+    {"--results", CLI_OPT_STR, &TA.results, NULL, "LIST", "comma-separated 'igea eqerr --json' results to pool", NULL},
+    {"--unit-ids", CLI_OPT_STR, &TA.units, NULL, "LIST", "comma-separated unit ids, one per result", NULL},
+    {"--alpha", CLI_OPT_NUM, &TA.alpha, "0.01", "A", "significance level", NULL},
+    {"--lambda-test", CLI_OPT_NUM, &TA.lambda_test, "10", "L", "(--table) test components with lambda >= L", NULL},
+    {"--z-crit", CLI_OPT_NUM, &TA.zcrit, NULL, "Z", "(--table) impose z_crit, e.g. 2.58 as the seed's tables", NULL},
+    CLI_JSON_OPT(&TA.json),
+    CLI_OUT_OPT(&TA.out),
+    CLI_END};
+
+static const cli_command test_command = {"test",
+"usage: igea test --table FILE [options]\n"
+"       igea test --results LIST [--unit-ids LIST] [options]\n"
+"\n"
+"Judges saved equivalent-error results (seed 000; METHODS 1.2 steps 4-6).\n"
+"\n"
+"--table FILE: a table of equivalent errors and their eigenvalues, like the\n"
+"seed's Table 1: two columns (Xhat, lambda), or three or four columns\n"
+"(component number, Xhat, lambda[, precision]). Every component with\n"
+"lambda >= lambda_test is tested against z_{1-alpha/2} sqrt(1 + 1/lambda), and\n"
+"all of them together by T = sum Xhat^2/(1 + 1/lambda) against chi2_alpha.\n"
+"\n"
+"--results LIST: outputs of 'igea eqerr --json' for independent flights, pooled:\n"
+"T_tot = sum T_f with sum of the dof; accepted iff no component of any flight\n"
+"is rejected and T_tot < chi2_alpha(dof_tot). Flights of the same inertial unit\n"
+"are not independent: give --unit-ids (one id per file, e.g. 7,8,9) to have\n"
+"that checked.\n"
+"\n"
+"options:\n",
+test_options,
+"\n"
+"exit status: 0 accepted, 1 rejected, 64 usage, 65 bad input, 66 missing input.\n"
+"\n"
+"examples:\n"
+"  igea test --table examples/seed000_table1.txt --z-crit 2.58\n"
+"  igea test --unit-ids 1,2,3 --results f1.json,f2.json,f3.json\n"};
+
+/* --table: the accuracy test of a table of (Xhat, lambda). */
+static int test_table(const test_args *a, double *info)
+{
+    cli_matrix t;
+    int ec = cli_read_matrix(a->table, &t);
+    if (ec)
+        return ec;
+    int c0 = t.cols == 2 ? 0 : 1;
+    if (t.cols < 2 || t.cols > 4 || t.rows > 100000) {
+        cli_error("%s: expected 2 columns (Xhat, lambda) or 3-4 (n, Xhat, lambda[, precision]), "
+                  "found %d", a->table, t.cols);
+        cli_matrix_free(&t);
+        return CLI_DATAERR;
+    }
+    int n = (int)t.rows;
+    double *x = malloc(sizeof(double) * n), *lam = malloc(sizeof(double) * n);
+    double *z = malloc(sizeof(double) * n);
+    int *rej = malloc(sizeof(int) * n);
+    ec = (!x || !lam || !z || !rej) ? cli_oom("the table") : CLI_OK;
+    for (int i = 0; !ec && i < n; i++) {
+        x[i] = t.v[(size_t)i * t.cols + c0];
+        lam[i] = t.v[(size_t)i * t.cols + c0 + 1];
+        if (!(lam[i] > 0)) {
+            cli_error("%s: row %d: eigenvalue %g must be > 0", a->table, i + 1, lam[i]);
+            ec = CLI_DATAERR;
+        }
+    }
+    if (!ec)
+        ec = cli_status(igea_stats_accuracy_test(n, x, lam, a->alpha, a->lambda_test, a->zcrit,
+                                                 z, rej, info), "test");
+    cli_out out;
+    if (!ec && !(ec = cli_out_open(&out, a->out))) {
+        if (a->json) {
+            cli_json j;
+            cli_json_begin(&j, out.f);
+            int k = 0; /* the tested components, in order */
+            for (int i = 0; i < n; i++)
+                if (rej[i] >= 0)
+                    z[k] = z[i], rej[k++] = rej[i];
+            json_verdicts(&j, z, rej, k);
+            json_test_fields(&j, info);
+            cli_json_end(&j);
+        } else {
+            fprintf(out.f, "igea test: %s, %d component(s), %d with lambda >= %g tested\n\n",
+                    a->table, n, (int)info[IGEA_STATS_INFO_N_TEST], a->lambda_test);
+            report_components(out.f, n, x, lam, z, rej, info[IGEA_STATS_INFO_Z_CRIT]);
+            fprintf(out.f, "(threshold = sqrt(1 + 1/lambda) z_crit, z_crit = %.6f)\n\n",
+                    info[IGEA_STATS_INFO_Z_CRIT]);
+            report_chi2(out.f, info, a->alpha);
+        }
+        ec = cli_out_commit(&out);
+    }
+    free(x);
+    free(lam);
+    free(z);
+    free(rej);
+    cli_matrix_free(&t);
+    return ec;
+}
+
+/* chi2, dof and n_reject of one saved result. */
+static int read_result(const char *path, double *chi2, int *dof, int *nrej)
+{
+    int ec = CLI_OK;
+    char *doc = slurp(path, &ec);
+    if (!doc)
+        return ec;
+    double T, d, r;
+    if (json_number(doc, "chi2", &T) || json_number(doc, "dof", &d) ||
+        json_number(doc, "n_reject", &r)) {
+        cli_error("%s: not an 'igea eqerr --json' result (chi2, dof, n_reject missing)", path);
+        ec = CLI_DATAERR;
+    } else if (!(isfinite(T) && T >= 0)) {
+        cli_error("%s: \"chi2\": %g is not a chi-square value (finite, >= 0)", path, T);
+        ec = CLI_DATAERR;
+    } else if (!is_count(d) || !is_count(r)) {
+        cli_error("%s: \"%s\": %.17g is not a count (a whole number from 0 to %d)", path,
+                  is_count(d) ? "n_reject" : "dof", is_count(d) ? r : d, INT_MAX);
+        ec = CLI_DATAERR;
+    } else {
+        *chi2 = T;
+        *dof = (int)d;
+        *nrej = (int)r;
+    }
+    free(doc);
+    return ec;
+}
+
+/* --unit-ids: one whole number per result file. */
+static int read_unit_ids(const char *units, int nfiles, int *uid)
+{
+    const char *p = units;
+    for (int f = 0; f < nfiles; f++) {
+        char *end;
+        long v = strtol(p, &end, 10);
+        if (end == p || (*end != ',' && *end != '\0') || (*end == '\0' && f + 1 < nfiles)) {
+            cli_error("--unit-ids %s: expected %d comma-separated whole numbers", units, nfiles);
+            return CLI_USAGE;
+        }
+        uid[f] = (int)v;
+        p = *end ? end + 1 : end;
+    }
+    if (*p) {
+        cli_error("--unit-ids %s: more ids than result files (%d)", units, nfiles);
+        return CLI_USAGE;
+    }
+    return CLI_OK;
+}
+
+/* --results: pool independent flights. */
+static int test_pool(const test_args *a, double *info)
+{
+    char **files = NULL;
+    int nfiles = 0, ec = cli_split_list(a->results, &files, &nfiles);
+    if (ec)
+        return ec;
+    double *chi2 = malloc(sizeof(double) * nfiles);
+    int *dof = malloc(sizeof(int) * nfiles), *nrej = malloc(sizeof(int) * nfiles);
+    int *uid = a->units ? malloc(sizeof(int) * nfiles) : NULL;
+    ec = (!chi2 || !dof || !nrej || (a->units && !uid)) ? cli_oom("the pooled flights") : CLI_OK;
+    if (!ec && a->units)
+        ec = read_unit_ids(a->units, nfiles, uid);
+    for (int f = 0; !ec && f < nfiles; f++)
+        ec = read_result(files[f], &chi2[f], &dof[f], &nrej[f]);
+    if (!ec)
+        ec = cli_status(igea_stats_pool(nfiles, chi2, dof, nrej, uid, a->alpha, info), "test");
+    cli_out out;
+    if (!ec && !(ec = cli_out_open(&out, a->out))) {
+        if (a->json) {
+            cli_json j;
+            cli_json_begin(&j, out.f);
+            cli_jint(&j, "flights", nfiles);
+            json_test_fields(&j, info);
+            cli_json_end(&j);
+        } else {
+            fprintf(out.f, "igea test: %d flight(s) pooled\n", nfiles);
+            for (int f = 0; f < nfiles; f++)
+                fprintf(out.f, "  %-30s T = %9.4f  dof %3d  rejected components %d\n", files[f],
+                        chi2[f], dof[f], nrej[f]);
+            report_chi2(out.f, info, a->alpha);
+        }
+        ec = cli_out_commit(&out);
+    }
+    free(chi2);
+    free(dof);
+    free(nrej);
+    free(uid);
+    free(files);
+    return ec;
+}
+
 int cmd_test(int argc, char **argv)
 {
     if (cli_one_stdin(argc, argv))
         return CLI_USAGE;
-    const char *table = NULL, *outp = NULL, *units = NULL;
-    double alpha = 0.01, lambda_test = 10.0, zcrit = 0.0;
-    int json = 0, nfiles = 0, ec;
-    char **files = calloc((size_t)argc + 1, sizeof(char *));
-    if (!files)
-        return cli_oom("the file list");
-    for (int i = 1; i < argc; i++) {
-        const char *o = argv[i], *v;
-        if (!strcmp(o, "--help") || !strcmp(o, "-h")) {
-            test_help();
-            free(files);
-            return CLI_OK;
-        }
-        if (!strcmp(o, "--table") || !strcmp(o, "--out") || !strcmp(o, "--unit-ids") ||
-            !strcmp(o, "--alpha") || !strcmp(o, "--lambda-test") || !strcmp(o, "--z-crit")) {
-            if (!(v = cli_optarg(argc, argv, &i))) {
-                free(files);
-                return CLI_USAGE;
-            }
-            ec = CLI_OK;
-            if (!strcmp(o, "--table")) table = v;
-            else if (!strcmp(o, "--out")) outp = v;
-            else if (!strcmp(o, "--unit-ids")) units = v;
-            else if (!strcmp(o, "--alpha")) ec = cli_parse_double(o, v, &alpha);
-            else if (!strcmp(o, "--lambda-test")) ec = cli_parse_double(o, v, &lambda_test);
-            else ec = cli_parse_double(o, v, &zcrit);
-            if (ec) {
-                free(files);
-                return ec;
-            }
-        } else if (!strcmp(o, "--json"))
-            json = 1;
-        else if (o[0] == '-' && o[1]) {
-            cli_error("test: unknown option '%s' (see igea test --help)", o);
-            free(files);
-            return CLI_USAGE;
-        } else
-            files[nfiles++] = argv[i];
-    }
-    if (!(alpha > 0 && alpha < 1) || !(lambda_test > 0) || zcrit < 0) {
+    int ec = cli_parse(&test_command, argc, argv);
+    test_args a = TA;
+    if (ec)
+        return ec == CLI_HELP ? CLI_OK : ec;
+    if (!(a.alpha > 0 && a.alpha < 1) || !(a.lambda_test > 0) || a.zcrit < 0) {
         cli_error("test: --alpha must be in (0, 1), --lambda-test > 0, --z-crit > 0");
-        free(files);
         return CLI_USAGE;
     }
-    if ((table != NULL) == (nfiles > 0)) {
-        cli_error("test: give either --table FILE or RESULT.json files (see igea test --help)");
-        free(files);
+    if ((a.table != NULL) == (a.results != NULL)) {
+        cli_error("test: give either --table FILE or --results LIST (see igea test --help)");
         return CLI_USAGE;
     }
     double info[IGEA_STATS_INFO_LEN];
-    cli_out out;
-    if (table) {
-        cli_matrix t;
-        if ((ec = cli_read_matrix(table, &t))) {
-            free(files);
-            return ec;
-        }
-        int c0 = t.cols == 2 ? 0 : 1;
-        if (t.cols < 2 || t.cols > 4 || t.rows > 100000) {
-            cli_error("%s: expected 2 columns (Xhat, lambda) or 3-4 (n, Xhat, lambda[, precision]), "
-                      "found %d", table, t.cols);
-            cli_matrix_free(&t);
-            free(files);
-            return CLI_DATAERR;
-        }
-        int n = (int)t.rows;
-        double *x = malloc(sizeof(double) * n), *lam = malloc(sizeof(double) * n);
-        double *z = malloc(sizeof(double) * n);
-        int *rej = malloc(sizeof(int) * n);
-        ec = (!x || !lam || !z || !rej) ? cli_oom("the table") : CLI_OK;
-        for (int i = 0; !ec && i < n; i++) {
-            x[i] = t.v[(size_t)i * t.cols + c0];
-            lam[i] = t.v[(size_t)i * t.cols + c0 + 1];
-            if (!(lam[i] > 0)) {
-                cli_error("%s: row %d: eigenvalue %g must be > 0", table, i + 1, lam[i]);
-                ec = CLI_DATAERR;
-            }
-        }
-        if (!ec) {
-            int st = igea_stats_accuracy_test(n, x, lam, alpha, lambda_test, zcrit, z, rej, info);
-            if (st)
-                ec = cli_status(st, "test");
-        }
-        if (!ec && !(ec = cli_out_open(&out, outp))) {
-            if (json) {
-                fputs("{\n  \"z\": [", out.f);
-                int k = 0;
-                for (int i = 0; i < n; i++)
-                    if (rej[i] >= 0) {
-                        fputs(k++ ? ", " : "", out.f);
-                        cli_json_num(out.f, z[i]);
-                    }
-                fputs("],\n  \"reject\": [", out.f);
-                k = 0;
-                for (int i = 0; i < n; i++)
-                    if (rej[i] >= 0)
-                        fprintf(out.f, "%s%s", k++ ? ", " : "", rej[i] ? "true" : "false");
-                fputs("],\n", out.f);
-                json_test_fields(out.f, info);
-                fputs("\n}\n", out.f);
-            } else {
-                fprintf(out.f, "igea test: %s, %d component(s), %d with lambda >= %g tested\n\n",
-                        table, n, (int)info[IGEA_STATS_INFO_N_TEST], lambda_test);
-                report_components(out.f, n, x, lam, z, rej, info[IGEA_STATS_INFO_Z_CRIT]);
-                fprintf(out.f, "(threshold = sqrt(1 + 1/lambda) z_crit, z_crit = %.6f)\n\n",
-                        info[IGEA_STATS_INFO_Z_CRIT]);
-                report_chi2(out.f, info, alpha);
-            }
-            ec = cli_out_commit(&out);
-        }
-        free(x);
-        free(lam);
-        free(z);
-        free(rej);
-        cli_matrix_free(&t);
-    } else {
-        double *chi2 = malloc(sizeof(double) * nfiles);
-        int *dof = malloc(sizeof(int) * nfiles), *nrej = malloc(sizeof(int) * nfiles);
-        int *uid = units ? malloc(sizeof(int) * nfiles) : NULL;
-        ec = (!chi2 || !dof || !nrej || (units && !uid)) ? cli_oom("the pooled flights")
-                                                          : CLI_OK;
-        if (!ec && units) {
-            const char *p = units;
-            for (int f = 0; f < nfiles; f++) {
-                char *end;
-                long v = strtol(p, &end, 10);
-                if (end == p || (*end != ',' && *end != '\0') || (*end == '\0' && f + 1 < nfiles)) {
-                    cli_error("--unit-ids %s: expected %d comma-separated whole numbers", units, nfiles);
-                    ec = CLI_USAGE;
-                    break;
-                }
-                uid[f] = (int)v;
-                p = *end ? end + 1 : end;
-            }
-            if (!ec && *p) {
-                cli_error("--unit-ids %s: more ids than result files (%d)", units, nfiles);
-                ec = CLI_USAGE;
-            }
-        }
-        for (int f = 0; !ec && f < nfiles; f++) {
-            char *doc = slurp(files[f], &ec);
-            if (!doc)
-                break;
-            double T, d, r;
-            if (json_number(doc, "chi2", &T) || json_number(doc, "dof", &d) ||
-                json_number(doc, "n_reject", &r)) {
-                cli_error("%s: not an 'igea eqerr --json' result (chi2, dof, n_reject missing)",
-                          files[f]);
-                ec = CLI_DATAERR;
-            } else if (!(isfinite(T) && T >= 0)) {
-                cli_error("%s: \"chi2\": %g is not a chi-square value (finite, >= 0)",
-                          files[f], T);
-                ec = CLI_DATAERR;
-            } else if (!is_count(d) || !is_count(r)) {
-                cli_error("%s: \"%s\": %.17g is not a count (a whole number from 0 to %d)",
-                          files[f], is_count(d) ? "n_reject" : "dof", is_count(d) ? r : d,
-                          INT_MAX);
-                ec = CLI_DATAERR;
-            } else {
-                chi2[f] = T;
-                dof[f] = (int)d;
-                nrej[f] = (int)r;
-            }
-            free(doc);
-        }
-        if (!ec) {
-            int st = igea_stats_pool(nfiles, chi2, dof, nrej, uid, alpha, info);
-            if (st)
-                ec = cli_status(st, "test");
-        }
-        if (!ec && !(ec = cli_out_open(&out, outp))) {
-            if (json) {
-                fprintf(out.f, "{\n  \"flights\": %d,\n", nfiles);
-                json_test_fields(out.f, info);
-                fputs("\n}\n", out.f);
-            } else {
-                fprintf(out.f, "igea test: %d flight(s) pooled\n", nfiles);
-                for (int f = 0; f < nfiles; f++)
-                    fprintf(out.f, "  %-30s T = %9.4f  dof %3d  rejected components %d\n",
-                            files[f], chi2[f], dof[f], nrej[f]);
-                report_chi2(out.f, info, alpha);
-            }
-            ec = cli_out_commit(&out);
-        }
-        free(chi2);
-        free(dof);
-        free(nrej);
-        free(uid);
-    }
-    free(files);
-    if (ec)
+    if ((ec = a.table ? test_table(&a, info) : test_pool(&a, info)))
         return ec;
     return info[IGEA_STATS_INFO_PASSED] == 1.0 ? CLI_OK : CLI_REJECT;
 }

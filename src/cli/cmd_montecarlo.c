@@ -1,5 +1,6 @@
 /* igea montecarlo - many simulated flights judged by the equivalent-error
- * test: its size (false-alarm rate) and power, with 99% intervals. */
+ * test: its size (false-alarm rate) and power, with 99% intervals. The
+ * model, the flights, the verdicts and the intervals are the library's. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -7,370 +8,317 @@
 
 #include "cli.h"
 
-/* cmd_simulate.c / cmd_envfun.c */
-void *simmodel_new(void);
-void simmodel_free(void *p);
-void simmodel_help(void);
-int simmodel_option(void *p, int argc, char **argv, int *i);
-int simmodel_build(void *p);
-void simmodel_get(void *p, int *m, int *N, const double **S, const double **sigma,
-                  const double **spec, const double **xval, const int **xfix,
-                  const double **opts, int *seed, const int **codes);
-int simmodel_status(int st, const char *context);
-const char *envfun_term_name(int code);
+typedef struct {
+    const char *S, *out;
+    int flights, first, threads, pool, json;
+    double eqo[IGEA_EQERR_OPT_LEN];
+} mc_args;
 
-/* Wilson score interval of k successes in n at 99% (z = 2.5758). */
-static void wilson(double k, double n, double *lo, double *hi)
-{
-    double z = 2.5758293035489004, p = k / n, z2 = z * z / n;
-    double c = (p + z2 / 2) / (1 + z2);
-    double h = z * sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z2);
-    *lo = fmax(0.0, c - h);
-    *hi = fmin(1.0, c + h);
-}
+static mc_args A;
+static const cli_opt options[] = {
+    CLI_FLIGHT_MODEL_OPTIONS,
+    CLI_FLIGHT_TRUTH_OPTIONS,
+    CLI_HEAD("your own flight geometry (instead of the model above):"),
+    {"--S", CLI_OPT_STR, &A.S, NULL, "FILE", "S (rows epoch-major, one column per term), as igea\n"
+     "eqerr, with --sigma FILE|NUM and --spec FILE (X ~\nN(0, I); --x does not apply)", NULL},
+    CLI_HEAD("test:"),
+    {"--flights", CLI_OPT_INT, &A.flights, "2000", "N", "number of flights", NULL},
+    {"--first-flight", CLI_OPT_INT, &A.first, "0", "F", "index of the first flight", NULL},
+    {"--threads", CLI_OPT_INT, &A.threads, "0", "T", "worker threads, 0 = all processors", NULL},
+    {"--alpha", CLI_OPT_NUM, &A.eqo[IGEA_EQERR_OPT_ALPHA], CLI_DEF_LIB, "A", "significance level", NULL},
+    {"--lambda-test", CLI_OPT_NUM, &A.eqo[IGEA_EQERR_OPT_LAMBDA_TEST], CLI_DEF_LIB, "L", "test components with lambda >= L", NULL},
+    {"--no-correction", CLI_OPT_DCLEAR, &A.eqo[IGEA_EQERR_OPT_CORRECT], NULL, NULL, "no tracking-accuracy (sigma_w) correction", NULL},
+    {"--bias-correct", CLI_OPT_DSET, &A.eqo[IGEA_EQERR_OPT_BIAS_CORRECT], NULL, NULL, "sigma_w^2 = mean(g^2 - lambda) [D]", NULL},
+    {"--pool", CLI_OPT_INT, &A.pool, "0", "F", "also pool consecutive groups of F flights (METHODS\n"
+     "1.2 step 6) and report the pooled verdict rate", NULL},
+    CLI_HEAD("output:"),
+    {"--out", CLI_OPT_STR, &A.out, NULL, "FILE", "per-flight table: flight chi2 dof n_reject scale", NULL},
+    {"--json", CLI_OPT_FLAG, &A.json, NULL, NULL, "machine-readable summary", NULL},
+    CLI_END};
 
-static void montecarlo_help(void)
-{
-    printf(
+static const cli_command command = {"montecarlo",
 "usage: igea montecarlo [options]\n"
 "\n"
 "Monte Carlo proof of the equivalent-error test (seed 000): simulates many\n"
 "flights with known truth (as 'igea simulate') and judges each with the test\n"
 "of 'igea eqerr' (eig route), reporting how often the verdict is 'out of\n"
-"spec', the chi-square and per-component rejection rates with 99%% (Wilson)\n"
+"spec', the chi-square and per-component rejection rates with 99% (Wilson)\n"
 "intervals, and the mean sigma_w^2 estimate. With the truth in spec (X ~ N(0,\n"
 "I), sigma_w = 1) the rates are the test's size; with a term set to K x spec\n"
 "(--x) they are its power. Flight f uses the random stream (seed, f): results\n"
 "do not depend on --threads.\n"
-"\n");
-    simmodel_help();
-    printf(
-"your own flight geometry (instead of the model above):\n"
-"  --S FILE            S (rows epoch-major, one column per term), as igea eqerr\n"
-"  --sigma-file FILE   stated tracking 1-sigma per row\n"
-"  --spec-file FILE    1-sigma spec per term (X ~ N(0, I); --x does not apply)\n"
-"test:\n"
-"  --flights N         number of flights (2000)\n"
-"  --first F           index of the first flight (0)\n"
-"  --threads T         worker threads, 0 = all processors (0)\n"
-"  --alpha A           significance level (0.01)\n"
-"  --lambda-test L     test components with lambda >= L (10)\n"
-"  --no-correct        no tracking-accuracy (sigma_w) correction\n"
-"  --bias-correct      sigma_w^2 = mean(g^2 - lambda) [D]\n"
-"  --pool F            also pool consecutive groups of F flights (METHODS 1.2\n"
-"                      step 6) and report the pooled verdict rate\n"
-"output:\n"
-"  --out FILE          per-flight table: flight chi2 dof n_reject c\n"
-"  --json              machine-readable summary\n"
+"\n",
+options,
 "Progress goes to stderr when it is a terminal.\n"
 "\n"
 "example:\n"
-"  igea montecarlo --flights 2000 --seed 1                      # size\n"
-"  igea montecarlo --flights 2000 --sigma-w 1.8 --no-correct    # misstated sigma\n"
-"  igea montecarlo --flights 1000 --x gyro_bias_y=2 --pool 4    # power, pooled\n"
-"  igea montecarlo --S S.txt --sigma-file sigma.txt --spec-file spec.txt\n");
+"  igea montecarlo --flights 2000 --seed 1                       # size\n"
+"  igea montecarlo --flights 2000 --sigma-w 1.8 --no-correction  # misstated sigma\n"
+"  igea montecarlo --flights 1000 --x gyro_bias_y=2 --pool 4     # power, pooled\n"
+"  igea montecarlo --S S.txt --sigma sigma.txt --spec spec.txt\n"};
+
+/* A model of the flight geometry of --S, --sigma and --spec. */
+static int own_geometry(const mc_args *a, const cli_flight_args *fa, cli_flight *f)
+{
+    memset(f, 0, sizeof *f);
+    if (!fa->spec) {
+        cli_error("montecarlo: --S needs --sigma FILE|NUM and --spec FILE");
+        return CLI_USAGE;
+    }
+    if (fa->x) {
+        cli_error("montecarlo: --x applies to the simulated model, not to --S files");
+        return CLI_USAGE;
+    }
+    cli_matrix S;
+    int ec = cli_read_matrix(a->S, &S);
+    if (ec)
+        return ec;
+    if (S.rows % 3 != 0 || S.rows > 100000000L) {
+        cli_error("montecarlo: S must have 3 rows per epoch (%ld x %d)", S.rows, S.cols);
+        cli_matrix_free(&S);
+        return CLI_DATAERR;
+    }
+    f->m = (int)S.rows, f->N = S.cols, f->nep = f->m / 3;
+    double *Sc = malloc(sizeof(double) * (size_t)f->m * f->N);
+    if (!Sc) {
+        cli_matrix_free(&S);
+        return cli_oom("the flight geometry");
+    }
+    for (int i = 0; i < f->m; i++)
+        for (int j = 0; j < f->N; j++)
+            Sc[i + (size_t)j * f->m] = S.v[(size_t)i * f->N + j];
+    cli_matrix_free(&S);
+    int st = igea_sim_model_create(f->m, f->N, Sc, f->m, &f->model);
+    free(Sc);
+    if ((ec = cli_status(st, "montecarlo")) ||
+        (ec = cli_read_vector(fa->spec, f->N, "one spec per column of S", &f->spec, NULL)))
+        return ec;
+    return cli_flight_set(fa, f, "montecarlo");
+}
+
+typedef struct {
+    double counts[IGEA_SIM_MC_LEN], rates[IGEA_SIM_MC_RATES_LEN], *table;
+    int *ct, *cr, npools, pool_fail;
+} mc_result;
+
+/* One call per chunk of flights, for the progress line; the counts and
+ * means of the chunks are combined, the intervals are the library's. */
+static int run_flights(const mc_args *a, const cli_flight_args *fa, const cli_flight *f,
+                       mc_result *r)
+{
+    int N = f->N, chunk = 1000, tty = isatty(2), ec = CLI_OK;
+    int *ct1 = malloc((size_t)N * sizeof(int)), *cr1 = malloc((size_t)N * sizeof(int));
+    if (!ct1 || !cr1)
+        ec = cli_oom("the component counts");
+    double *c = r->counts, sum_scale = 0, sum_tested = 0;
+    for (int done = 0; !ec && done < a->flights; done += chunk) {
+        int n = a->flights - done < chunk ? a->flights - done : chunk;
+        double c1[IGEA_SIM_MC_LEN];
+        int st = igea_sim_montecarlo(f->model, a->eqo, fa->seed, a->first + done, n, a->threads,
+                                     c1, NULL, ct1, cr1, r->table + done, a->flights);
+        if ((ec = cli_status(st, "montecarlo")))
+            break;
+        for (int k = IGEA_SIM_MC_FLIGHTS; k <= IGEA_SIM_MC_NOT_TESTABLE; k++)
+            c[k] += c1[k];
+        double testable = c1[IGEA_SIM_MC_FLIGHTS] - c1[IGEA_SIM_MC_NOT_TESTABLE];
+        if (testable > 0) {
+            sum_scale += testable * c1[IGEA_SIM_MC_MEAN_SCALE];
+            sum_tested += testable * c1[IGEA_SIM_MC_MEAN_TESTED];
+        }
+        for (int j = 0; j < N; j++)
+            r->ct[j] += ct1[j], r->cr[j] += cr1[j];
+        if (tty && a->flights > chunk)
+            fprintf(stderr, "\rigea montecarlo: %d / %d flights", done + n, a->flights);
+    }
+    if (tty && a->flights > chunk)
+        fputc('\n', stderr);
+    free(ct1);
+    free(cr1);
+    double testable = c[IGEA_SIM_MC_FLIGHTS] - c[IGEA_SIM_MC_NOT_TESTABLE];
+    c[IGEA_SIM_MC_MEAN_SCALE] = testable > 0 ? sum_scale / testable : NAN;
+    c[IGEA_SIM_MC_MEAN_TESTED] = testable > 0 ? sum_tested / testable : 0;
+    for (int k = 0; !ec && k < 4; k++) {
+        r->rates[3 * k] = c[IGEA_SIM_MC_FAILED + k] / c[IGEA_SIM_MC_FLIGHTS];
+        ec = cli_status(igea_sim_interval(c[IGEA_SIM_MC_FAILED + k], c[IGEA_SIM_MC_FLIGHTS],
+                                          r->rates + 3 * k + 1), "montecarlo");
+    }
+    return ec;
+}
+
+/* Pooled verdicts of consecutive groups of a->pool flights. */
+static int pool_flights(const mc_args *a, mc_result *r)
+{
+    int P = a->pool, nf = a->flights;
+    double *pc = malloc((size_t)P * sizeof(double));
+    int *pd = malloc((size_t)P * sizeof(int)), *pr = malloc((size_t)P * sizeof(int));
+    int ec = !pc || !pd || !pr ? cli_oom("the pooled verdicts") : CLI_OK;
+    const double *T = r->table + (size_t)IGEA_SIM_MC_TABLE_CHI2 * nf;
+    const double *D = r->table + (size_t)IGEA_SIM_MC_TABLE_DOF * nf;
+    const double *R = r->table + (size_t)IGEA_SIM_MC_TABLE_N_REJECT * nf;
+    for (int g = 0; !ec && g + P <= nf; g += P) {
+        int k = 0;
+        for (int fl = g; fl < g + P; fl++)
+            if (D[fl] > 0)
+                pc[k] = T[fl], pd[k] = (int)D[fl], pr[k] = (int)R[fl], k++;
+        r->npools++;
+        double info[IGEA_STATS_INFO_LEN];
+        if (k > 0 && igea_stats_pool(k, pc, pd, pr, NULL, a->eqo[IGEA_EQERR_OPT_ALPHA], info) == 0 &&
+            info[IGEA_STATS_INFO_PASSED] != 1.0)
+            r->pool_fail++;
+    }
+    free(pc);
+    free(pd);
+    free(pr);
+    return ec;
+}
+
+static void write_table(FILE *f, const mc_args *a, const cli_flight_args *fa, const mc_result *r)
+{
+    int nf = a->flights;
+    const double *t = r->table;
+    fprintf(f, "# flight chi2 dof n_reject scale   (seed %d)\n", fa->seed);
+    for (int i = 0; i < nf; i++)
+        fprintf(f, "%d %.17g %d %d %.17g\n", a->first + i, t[i + IGEA_SIM_MC_TABLE_CHI2 * nf],
+                (int)t[i + IGEA_SIM_MC_TABLE_DOF * nf], (int)t[i + IGEA_SIM_MC_TABLE_N_REJECT * nf],
+                t[i + IGEA_SIM_MC_TABLE_SCALE * nf]);
+}
+
+static const char *const rate_keys[4] = {"failed", "chi2_reject", "any_reject", "not_testable"};
+
+static void json_report(FILE *out, const mc_args *a, const cli_flight_args *fa,
+                        const cli_flight *f, const mc_result *r)
+{
+    double opts[IGEA_SIM_OPT_LEN];
+    cli_flight_noise(fa, opts);
+    cli_json j;
+    cli_json_begin(&j, out);
+    cli_jint(&j, "flights", a->flights);
+    cli_jint(&j, "seed", fa->seed);
+    cli_jint(&j, "first_flight", a->first);
+    cli_jnum(&j, "alpha", a->eqo[IGEA_EQERR_OPT_ALPHA]);
+    cli_jbool(&j, "correction", a->eqo[IGEA_EQERR_OPT_CORRECT] != 0);
+    cli_jnum(&j, "sigma_w", opts[IGEA_SIM_OPT_SIGMA_W]);
+    for (int k = 0; k < 4; k++) {
+        cli_json_open(&j, rate_keys[k], '{');
+        cli_jint(&j, "count", (long)r->counts[IGEA_SIM_MC_FAILED + k]);
+        cli_jnum(&j, "rate", r->rates[3 * k]);
+        cli_jnums(&j, "ci99", r->rates + 3 * k + 1, 2);
+        cli_json_close(&j);
+    }
+    cli_jnum(&j, "mean_scale", r->counts[IGEA_SIM_MC_MEAN_SCALE]);
+    cli_jnum(&j, "mean_tested", r->counts[IGEA_SIM_MC_MEAN_TESTED]);
+    cli_jints(&j, "comp_tested", r->ct, f->N);
+    cli_jints(&j, "comp_reject", r->cr, f->N);
+    if (a->pool > 0) {
+        cli_json_open(&j, "pool", '{');
+        cli_jint(&j, "size", a->pool);
+        cli_jint(&j, "pools", r->npools);
+        cli_jint(&j, "failed", r->pool_fail);
+    }
+    cli_json_end(&j);
+}
+
+static void text_components(FILE *out, const cli_flight *f, const mc_result *r)
+{
+    double lohi[2];
+    fprintf(out, "%9s %8s %8s %8s   %s\n", "component", "tested", "rejected", "rate",
+            "99% interval");
+    for (int j = 0; j < f->N; j++) {
+        if (!r->ct[j] || igea_sim_interval(r->cr[j], r->ct[j], lohi))
+            continue;
+        fprintf(out, "%9d %8d %8d %8.4f   [%.4f, %.4f]\n", j, r->ct[j], r->cr[j],
+                (double)r->cr[j] / r->ct[j], lohi[0], lohi[1]);
+    }
+}
+
+static void text_report(FILE *out, const mc_args *a, const cli_flight_args *fa,
+                        const cli_flight *f, const mc_result *r)
+{
+    double opts[IGEA_SIM_OPT_LEN], lohi[2];
+    cli_flight_noise(fa, opts);
+    fprintf(out, "igea montecarlo: %d flights (seed %d, first %d), %d rows x %d terms\n",
+            a->flights, fa->seed, a->first, f->m, f->N);
+    fprintf(out, "truth: sigma_w %g, ar1 %g, growth %g, outliers %g", opts[IGEA_SIM_OPT_SIGMA_W],
+            opts[IGEA_SIM_OPT_AR1], opts[IGEA_SIM_OPT_GROWTH], opts[IGEA_SIM_OPT_OUTLIER_PROB]);
+    for (int j = 0; f->xfix && j < f->N; j++)
+        if (f->xfix[j])
+            fprintf(out, ", %s = %g x spec", igea_envfun_term_name(f->codes[j]), f->xval[j]);
+    fprintf(out, "; test: alpha %g, sigma_w correction %s\n\n", a->eqo[IGEA_EQERR_OPT_ALPHA],
+            a->eqo[IGEA_EQERR_OPT_CORRECT] != 0 ? "on" : "off");
+    fprintf(out, "%-26s %7s %8s   %s\n", "", "count", "rate", "99% interval");
+    static const char *const names[4] = {"verdict 'out of spec'", "chi-square rejected",
+                                         "a component rejected", "nothing testable"};
+    for (int k = 0; k < 4; k++)
+        fprintf(out, "%-26s %7d %8.4f   [%.4f, %.4f]\n", names[k],
+                (int)r->counts[IGEA_SIM_MC_FAILED + k], r->rates[3 * k], r->rates[3 * k + 1],
+                r->rates[3 * k + 2]);
+    fprintf(out, "mean c (sigma_w^2 estimate) %.4f; mean components tested %.2f\n\n",
+            r->counts[IGEA_SIM_MC_MEAN_SCALE], r->counts[IGEA_SIM_MC_MEAN_TESTED]);
+    text_components(out, f, r);
+    if (a->pool > 0 && r->npools > 0 && !igea_sim_interval(r->pool_fail, r->npools, lohi))
+        fprintf(out, "\npooled over %d flights: %d of %d pools 'out of spec' (%.4f, 99%% "
+                     "interval [%.4f, %.4f])\n", a->pool, r->pool_fail, r->npools,
+                (double)r->pool_fail / r->npools, lohi[0], lohi[1]);
+}
+
+static int parse(int argc, char **argv, mc_args *a, cli_flight_args *fa)
+{
+    cli_flight_defaults();
+    igea_eqerr_defaults(A.eqo);
+    int ec = cli_parse(&command, argc, argv);
+    *a = A;
+    *fa = cli_flight_opts;
+    if (ec)
+        return ec;
+    if (a->flights < 1 || a->first < 0 || a->threads < 0 || a->pool < 0) {
+        cli_error("montecarlo: --flights >= 1, --first-flight >= 0, --threads >= 0, --pool >= 0");
+        return CLI_USAGE;
+    }
+    return cli_check_opts("montecarlo", IGEA_MODULE_EQERR, igea_eqerr_check_opts(a->eqo));
 }
 
 int cmd_montecarlo(int argc, char **argv)
 {
     if (cli_one_stdin(argc, argv))
         return CLI_USAGE;
-    void *mdl = simmodel_new();
-    int nflights = 2000, first = 0, nthreads = 0, pool = 0, json = 0, ec = CLI_OK;
-    double eqo[IGEA_EQERR_OPT_LEN];
-    const char *out = NULL, *S_file = NULL, *sigma_arg = NULL, *spec_file = NULL;
-    if (!mdl) {
-        cli_error("out of memory");
-        return CLI_SOFTWARE;
-    }
-    igea_eqerr_defaults(eqo);
-    for (int i = 1; i < argc; i++) {
-        const char *o = argv[i], *v;
-        if (!strcmp(o, "--help") || !strcmp(o, "-h")) { montecarlo_help(); simmodel_free(mdl); return CLI_OK; }
-        int r = simmodel_option(mdl, argc, argv, &i);
-        if (r >= 0) {
-            if (r) { simmodel_free(mdl); return r; }
-            continue;
-        }
-        int *iv = NULL;
-        double *dv = NULL;
-        if (!strcmp(o, "--flights")) iv = &nflights;
-        else if (!strcmp(o, "--first")) iv = &first;
-        else if (!strcmp(o, "--threads")) iv = &nthreads;
-        else if (!strcmp(o, "--pool")) iv = &pool;
-        else if (!strcmp(o, "--alpha")) dv = &eqo[IGEA_EQERR_OPT_ALPHA];
-        else if (!strcmp(o, "--lambda-test")) dv = &eqo[IGEA_EQERR_OPT_LAMBDA_TEST];
-        else if (!strcmp(o, "--no-correct")) { eqo[IGEA_EQERR_OPT_CORRECT] = 0; continue; }
-        else if (!strcmp(o, "--bias-correct")) { eqo[IGEA_EQERR_OPT_BIAS_CORRECT] = 1; continue; }
-        else if (!strcmp(o, "--json")) { json = 1; continue; }
-        else if (!strcmp(o, "--out") || !strcmp(o, "--S") || !strcmp(o, "--sigma-file") ||
-                 !strcmp(o, "--spec-file")) {
-            const char **dst = !strcmp(o, "--out") ? &out : !strcmp(o, "--S") ? &S_file
-                             : !strcmp(o, "--sigma-file") ? &sigma_arg : &spec_file;
-            if (!(*dst = cli_optarg(argc, argv, &i))) { simmodel_free(mdl); return CLI_USAGE; }
-            continue;
-        } else {
-            cli_error("montecarlo: unknown option %s (see --help)", o);
-            simmodel_free(mdl);
-            return CLI_USAGE;
-        }
-        if (!(v = cli_optarg(argc, argv, &i)) ||
-            (iv ? cli_parse_int(o + 2, v, iv) : cli_parse_double(o + 2, v, dv))) {
-            simmodel_free(mdl);
-            return CLI_USAGE;
-        }
-    }
-    if (nflights < 1 || first < 0 || nthreads < 0 || pool < 0 ||
-        !(eqo[IGEA_EQERR_OPT_ALPHA] > 0 && eqo[IGEA_EQERR_OPT_ALPHA] < 1)) {
-        cli_error("montecarlo: --flights >= 1, --first >= 0, --threads >= 0, --pool >= 0, "
-                  "0 < --alpha < 1");
-        simmodel_free(mdl);
-        return CLI_USAGE;
-    }
-    if ((ec = simmodel_build(mdl))) {
-        simmodel_free(mdl);
-        return ec;
-    }
-    int m, N, seed;
-    const double *S, *sigma, *spec, *xval, *opts;
-    const int *xfix, *codes;
-    simmodel_get(mdl, &m, &N, &S, &sigma, &spec, &xval, &xfix, &opts, &seed, &codes);
-    /* a flight geometry of your own: S, sigma and spec from files */
-    double *fS = NULL, *fsig = NULL, *fspec = NULL, *fx = NULL;
-    int *ffix = NULL;
-    if (S_file) {
-        cli_matrix a, b, c;
-        int e2;
-        if (!sigma_arg || !spec_file) {
-            cli_error("montecarlo: --S needs --sigma-file and --spec-file");
-            simmodel_free(mdl);
-            return CLI_USAGE;
-        }
-        if ((e2 = cli_read_matrix(S_file, &a))) { simmodel_free(mdl); return e2; }
-        if ((e2 = cli_read_matrix(sigma_arg, &b))) { cli_matrix_free(&a); simmodel_free(mdl); return e2; }
-        if ((e2 = cli_read_matrix(spec_file, &c))) {
-            cli_matrix_free(&a); cli_matrix_free(&b); simmodel_free(mdl); return e2;
-        }
-        int bad = a.rows % 3 != 0 || a.rows > 100000000L || b.rows * b.cols != a.rows ||
-                  c.rows * c.cols != a.cols;
-        if (bad)
-            cli_error("montecarlo: S must have 3 rows per epoch, sigma one value per row of S "
-                      "and spec one per column (%ld x %d, %ld, %ld)", a.rows, a.cols,
-                      b.rows * b.cols, c.rows * c.cols);
-        m = (int)a.rows;
-        N = a.cols;
-        fS = bad ? NULL : malloc(sizeof(double) * (size_t)m * N);
-        fx = calloc((size_t)N + 1, sizeof(double));
-        ffix = calloc((size_t)N + 1, sizeof(int));
-        if (!bad && fS && fx && ffix)
-            for (int i = 0; i < m; i++)
-                for (int j = 0; j < N; j++)
-                    fS[i + (size_t)j * m] = a.v[(size_t)i * N + j];
-        cli_matrix_free(&a);
-        fsig = b.v;
-        fspec = c.v;
-        if (bad || !fS || !fx || !ffix) {
-            free(fS); free(fsig); free(fspec); free(fx); free(ffix);
-            simmodel_free(mdl);
-            return bad ? CLI_DATAERR : cli_oom("the flight geometry");
-        }
-        int mfix = 0, mN, mm, ms;
-        const double *d1, *d2, *d3, *d4, *d5;
-        const int *i1, *i2;
-        simmodel_get(mdl, &mm, &mN, &d1, &d2, &d3, &d4, &i1, &d5, &ms, &i2);
-        for (int j = 0; j < mN; j++)
-            mfix |= i1[j];
-        if (mfix) {
-            cli_error("montecarlo: --x applies to the simulated model, not to --S files");
-            free(fS); free(fsig); free(fspec); free(fx); free(ffix);
-            simmodel_free(mdl);
-            return CLI_USAGE;
-        }
-        S = fS;
-        sigma = fsig;
-        spec = fspec;
-        xval = fx;
-        xfix = ffix;
-    }
-    int anyfix = 0;
-    for (int j = 0; j < N; j++)
-        anyfix |= xfix[j];
-
-    cli_out o = CLI_OUT_INIT;
-    size_t nf = (size_t)nflights;
-    double *chi2 = malloc(nf * sizeof(double)), *scale = malloc(nf * sizeof(double));
-    int *dof = malloc(nf * sizeof(int)), *nrej = malloc(nf * sizeof(int));
-    int *ct = calloc((size_t)N, sizeof(int)), *cr = calloc((size_t)N, sizeof(int));
-    int *ct1 = malloc((size_t)N * sizeof(int)), *cr1 = malloc((size_t)N * sizeof(int));
-    if (!chi2 || !scale || !dof || !nrej || !ct || !cr || !ct1 || !cr1) {
+    mc_args a;
+    cli_flight_args fa;
+    int ec = parse(argc, argv, &a, &fa);
+    if (ec)
+        return ec == CLI_HELP ? CLI_OK : ec;
+    cli_flight f;
+    mc_result r;
+    memset(&r, 0, sizeof r);
+    cli_out table = CLI_OUT_INIT, rep = CLI_OUT_INIT;
+    if ((ec = a.S ? own_geometry(&a, &fa, &f) : cli_flight_build(&fa, &f, "montecarlo")))
+        goto done;
+    r.table = malloc(sizeof(double) * (size_t)a.flights * IGEA_SIM_MC_TABLE_COLS);
+    r.ct = calloc((size_t)f.N, sizeof(int));
+    r.cr = calloc((size_t)f.N, sizeof(int));
+    if (!r.table || !r.ct || !r.cr) {
         ec = cli_oom("the per-flight tables");
         goto done;
     }
     /* The per-flight table's temporary exists from the start: a run that
      * fails or is killed leaves the old file as it was. */
-    if (out && (ec = cli_out_open(&o, out)))
+    if (a.out && (ec = cli_out_open(&table, a.out)))
         goto done;
-    double tot[IGEA_SIM_MC_LEN] = {0};
-    int tty = isatty(2), chunk = 1000;
-    for (int done_f = 0; done_f < nflights; done_f += chunk) {
-        int n = nflights - done_f < chunk ? nflights - done_f : chunk;
-        double c[IGEA_SIM_MC_LEN];
-        int st = igea_sim_montecarlo(m, N, S, m, sigma, 1, spec, xval, anyfix ? xfix : NULL,
-                                     opts, seed, eqo, first + done_f, n, nthreads, c, ct1,
-                                     cr1, chi2 + done_f, dof + done_f, nrej + done_f,
-                                     scale + done_f);
-        if (st == -12) {
-            cli_error("montecarlo: invalid test options");
-            ec = CLI_USAGE;
-            goto done;
-        }
-        if ((ec = simmodel_status(st, "montecarlo")))
-            goto done;
-        for (int k = IGEA_SIM_MC_FLIGHTS; k <= IGEA_SIM_MC_NOT_TESTABLE; k++)
-            tot[k] += c[k];
-        for (int j = 0; j < N; j++) {
-            ct[j] += ct1[j];
-            cr[j] += cr1[j];
-        }
-        if (tty && nflights > chunk)
-            fprintf(stderr, "\rigea montecarlo: %d / %d flights", done_f + n, nflights);
-    }
-    if (tty && nflights > chunk)
-        fputc('\n', stderr);
-    {
-        double sc = 0, sd = 0;
-        int nt = 0;
-        for (size_t f = 0; f < nf; f++)
-            if (dof[f] > 0) {
-                sc += scale[f];
-                sd += dof[f];
-                nt++;
-            }
-        tot[IGEA_SIM_MC_MEAN_SCALE] = nt ? sc / nt : NAN;
-        tot[IGEA_SIM_MC_MEAN_TESTED] = nt ? sd / nt : 0;
-    }
-    /* pooled verdicts */
-    int npools = 0, pool_fail = 0;
-    if (pool > 0) {
-        double *pc = malloc((size_t)pool * sizeof(double));
-        int *pd = malloc((size_t)pool * sizeof(int)), *pr = malloc((size_t)pool * sizeof(int));
-        if (!pc || !pd || !pr) {
-            free(pc); free(pd); free(pr);
-            ec = cli_oom("the pooled verdicts");
-            goto done;
-        }
-        for (int g = 0; g + pool <= nflights; g += pool) {
-            int k = 0;
-            for (int f = g; f < g + pool; f++)
-                if (dof[f] > 0) {
-                    pc[k] = chi2[f];
-                    pd[k] = dof[f];
-                    pr[k] = nrej[f];
-                    k++;
-                }
-            npools++;
-            if (k == 0)
-                continue;
-            double info[IGEA_STATS_INFO_LEN];
-            int st = igea_stats_pool(k, pc, pd, pr, NULL, eqo[IGEA_EQERR_OPT_ALPHA], info);
-            if (st == 0 && info[IGEA_STATS_INFO_PASSED] != 1.0)
-                pool_fail++;
-        }
-        free(pc); free(pd); free(pr);
-    }
-    if (out) {
-        fprintf(o.f, "# flight chi2 dof n_reject c   (seed %d)\n", seed);
-        for (size_t f = 0; f < nf; f++)
-            fprintf(o.f, "%d %.17g %d %d %.17g\n", first + (int)f, chi2[f], dof[f], nrej[f],
-                    scale[f]);
-        if ((ec = cli_out_commit(&o)))
+    if ((ec = run_flights(&a, &fa, &f, &r)) || (a.pool > 0 && (ec = pool_flights(&a, &r))))
+        goto done;
+    if (a.out) {
+        write_table(table.f, &a, &fa, &r);
+        if ((ec = cli_out_commit(&table)))
             goto done;
     }
-    double alpha = eqo[IGEA_EQERR_OPT_ALPHA], n = tot[IGEA_SIM_MC_FLIGHTS], lo, hi;
-    const char *labels[4] = {"failed", "chi2_reject", "any_reject", "not_testable"};
-    if (json) {
-        printf("{\n  \"flights\": %d,\n  \"seed\": %d,\n  \"first\": %d,\n  \"alpha\": ",
-               nflights, seed, first);
-        cli_json_num(stdout, alpha);
-        printf(",\n  \"correct_tracking\": %s,\n  \"sigma_w\": ",
-               eqo[IGEA_EQERR_OPT_CORRECT] != 0 ? "true" : "false");
-        cli_json_num(stdout, opts[IGEA_SIM_OPT_SIGMA_W]);
-        for (int k = 0; k < 4; k++) {
-            double cnt = tot[IGEA_SIM_MC_FAILED + k];
-            wilson(cnt, n, &lo, &hi);
-            printf(",\n  \"%s\": {\"count\": %d, \"rate\": ", labels[k], (int)cnt);
-            cli_json_num(stdout, cnt / n);
-            printf(", \"ci99\": [");
-            cli_json_num(stdout, lo);
-            printf(", ");
-            cli_json_num(stdout, hi);
-            printf("]}");
-        }
-        printf(",\n  \"mean_c\": ");
-        cli_json_num(stdout, tot[IGEA_SIM_MC_MEAN_SCALE]);
-        printf(",\n  \"mean_tested\": ");
-        cli_json_num(stdout, tot[IGEA_SIM_MC_MEAN_TESTED]);
-        printf(",\n  \"comp_tested\": ");
-        cli_json_iarray(stdout, ct, N);
-        printf(",\n  \"comp_reject\": ");
-        cli_json_iarray(stdout, cr, N);
-        if (pool > 0) {
-            printf(",\n  \"pool\": {\"size\": %d, \"pools\": %d, \"failed\": %d}", pool,
-                   npools, pool_fail);
-        }
-        printf("\n}\n");
-    } else {
-        printf("igea montecarlo: %d flights (seed %d, first %d), %d rows x %d terms\n",
-               nflights, seed, first, m, N);
-        printf("truth: sigma_w %g, ar1 %g, growth %g, outliers %g", opts[IGEA_SIM_OPT_SIGMA_W],
-               opts[IGEA_SIM_OPT_AR1], opts[IGEA_SIM_OPT_GROWTH],
-               opts[IGEA_SIM_OPT_OUTLIER_PROB]);
-        for (int j = 0; j < N; j++)
-            if (xfix[j])
-                printf(", %s = %g x spec", envfun_term_name(codes[j]), xval[j]);
-        printf("; test: alpha %g, sigma_w correction %s\n\n", alpha,
-               eqo[IGEA_EQERR_OPT_CORRECT] != 0 ? "on" : "off");
-        printf("%-26s %7s %8s   %s\n", "", "count", "rate", "99% interval");
-        const char *names[4] = {"verdict 'out of spec'", "chi-square rejected",
-                                "a component rejected", "nothing testable"};
-        for (int k = 0; k < 4; k++) {
-            double cnt = tot[IGEA_SIM_MC_FAILED + k];
-            wilson(cnt, n, &lo, &hi);
-            printf("%-26s %7d %8.4f   [%.4f, %.4f]\n", names[k], (int)cnt, cnt / n, lo, hi);
-        }
-        printf("mean c (sigma_w^2 estimate) %.4f; mean components tested %.2f\n\n",
-               tot[IGEA_SIM_MC_MEAN_SCALE], tot[IGEA_SIM_MC_MEAN_TESTED]);
-        printf("%9s %8s %8s %8s   %s\n", "component", "tested", "rejected", "rate",
-               "99% interval");
-        for (int j = 0; j < N; j++) {
-            if (!ct[j])
-                continue;
-            wilson(cr[j], ct[j], &lo, &hi);
-            printf("%9d %8d %8d %8.4f   [%.4f, %.4f]\n", j + 1, ct[j], cr[j],
-                   (double)cr[j] / ct[j], lo, hi);
-        }
-        if (pool > 0 && npools > 0) {
-            wilson(pool_fail, npools, &lo, &hi);
-            printf("\npooled over %d flights: %d of %d pools 'out of spec' (%.4f, 99%% "
-                   "interval [%.4f, %.4f])\n", pool, pool_fail, npools,
-                   (double)pool_fail / npools, lo, hi);
-        }
+    if (!(ec = cli_out_open(&rep, NULL))) {
+        (a.json ? json_report : text_report)(rep.f, &a, &fa, &f, &r);
+        ec = cli_out_commit(&rep);
     }
 done:
-    cli_out_abort(&o);
-    free(chi2);
-    free(scale);
-    free(dof);
-    free(nrej);
-    free(ct);
-    free(cr);
-    free(ct1);
-    free(cr1);
-    free(fS);
-    free(fsig);
-    free(fspec);
-    free(fx);
-    free(ffix);
-    simmodel_free(mdl);
+    cli_out_abort(&table);
+    free(r.table);
+    free(r.ct);
+    free(r.cr);
+    cli_flight_free(&f);
     return ec;
 }

@@ -1,49 +1,67 @@
 /* igea regress - the classical separation estimators (least squares,
  * ridge, principal components, Bayes, empirical-Bayes ridge) on the inputs
  * of igea eqerr, with the collinearity diagnostics (METHODS 0.3, 4.3). */
-#include <errno.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "cli.h"
 
-static void regress_help(void)
-{
-    printf(
+enum { M_LS, M_RIDGE, M_PCE, M_BAYES, M_EBR };
+static const char *const method_names[] = {"ls", "ridge", "pce", "bayes", "ebr"};
+
+typedef struct {
+    const char *S, *dw, *sigma, *spec, *prior_mean, *prior_cov, *rule, *out;
+    double k, eig_min, lam_floor, rcond;
+    int method, json, ncomp, have_method, have_k, have_ncomp, have_eig_min, rule_code;
+} rg_args;
+
+static rg_args A;
+static const cli_opt options[] = {
+    {"--method", CLI_OPT_CHOICE, &A.method, NULL, "ls|ridge|pce|bayes|ebr", "the estimator (required)", &A.have_method},
+    {"--S", CLI_OPT_STR, &A.S, NULL, "FILE", "environment functions, m rows x N columns", NULL},
+    {"--dw", CLI_OPT_STR, &A.dw, NULL, "FILE", "velocity differences, m values", NULL},
+    {"--sigma", CLI_OPT_STR, &A.sigma, NULL, "FILE|NUM", "row 1-sigma, m values or one number (default 1)", NULL},
+    {"--spec", CLI_OPT_STR, &A.spec, NULL, "FILE", "N term specs (1-sigma): the estimators work on\nS diag(spec)", NULL},
+    {"--rcond", CLI_OPT_NUM, &A.rcond, NULL, "R", "ls: relative singular-value cut (default max(m,N) eps)", NULL},
+    {"--k", CLI_OPT_NUM, &A.k, NULL, "K", "ridge: the ridge constant (instead of --rule)", &A.have_k},
+    {"--rule", CLI_OPT_STR, &A.rule, NULL, "NAME", "ridge: hkb|lw|gcv|loo (Hoerl-Kennard-Baldwin, Lawless-\n"
+     "Wang, generalised cross-validation, leave-one-out;\ndefault gcv); ebr: sc|mm|ml2 (default sc)", NULL},
+    {"--ncomp", CLI_OPT_INT, &A.ncomp, NULL, "N", "pce: keep N components", &A.have_ncomp},
+    {"--eig-min", CLI_OPT_NUM, &A.eig_min, NULL, "E", "pce: keep the components with eigenvalue >= E\n"
+     "(default 1: at least as precise as spec)", &A.have_eig_min},
+    {"--prior-mean", CLI_OPT_STR, &A.prior_mean, NULL, "FILE", "bayes: prior mean, N values (default 0)", NULL},
+    {"--prior-cov", CLI_OPT_STR, &A.prior_cov, NULL, "FILE", "bayes: prior covariance, N x N (default\ndiag(spec^2), needs --spec)", NULL},
+    {"--lam-floor", CLI_OPT_NUM, &A.lam_floor, "0", "L", "ebr: lower bound on lambda", NULL},
+    CLI_JSON_OPT(&A.json),
+    CLI_OUT_OPT(&A.out),
+    CLI_END};
+
+static const cli_command command = {"regress",
 "usage: igea regress --method ls|ridge|pce|bayes|ebr --S FILE --dw FILE\n"
 "                    [--sigma FILE|NUMBER] [--spec FILE] [options]\n"
 "\n"
 "Classical error separation of one flight: estimates of every coefficient X of\n"
 "dw = S X + e, with standard deviations and the collinearity diagnostics that\n"
 "say which coefficients the data determine at all (METHODS 0.3, 4.3).\n"
-"Inputs as for 'igea eqerr': S (m rows x N terms), dw (m values), sigma (the\n"
-"row 1-sigma, a file or one number; default 1) and spec (N 1-sigma specs).\n"
-"With --spec the estimators work on the spec-scaled design S diag(spec), so\n"
-"ridge, PCE and EBR shrink every term in multiples of its spec, and the\n"
-"Bayesian prior defaults to X ~ N(0, diag(spec^2)) (the in-spec system);\n"
-"estimates are always reported in the units of S's columns.\n"
+"Inputs as for 'igea eqerr'. With --spec the estimators work on the\n"
+"spec-scaled design S diag(spec), so ridge, PCE and EBR shrink every term in\n"
+"multiples of its spec, and the Bayesian prior defaults to X ~ N(0,\n"
+"diag(spec^2)) (the in-spec system); estimates are always reported in the\n"
+"units of S's columns.\n"
+"\n"
+"methods:\n"
+"  ls      weighted least squares; minimum-norm solution if rank-deficient\n"
+"  ridge   (S'WS + kI)^-1 S'W dw, k given or by a rule\n"
+"  pce     principal components\n"
+"  bayes   posterior mean with prior X ~ N(mu, P), noise known (sigma)\n"
+"  ebr     empirical-Bayes ridge, METHODS 4.3\n"
 "\n"
 "Every estimator uses the SVD of the weighted design, never S'S. Coefficients\n"
 "with a component in the null space of the design are flagged PRIOR: the\n"
 "flight carries no information on them, whatever an estimator prints.\n"
 "\n"
-"methods and their options:\n"
-"  ls      weighted least squares; minimum-norm solution if rank-deficient\n"
-"          --rcond R      relative singular-value cut (default max(m,N) eps)\n"
-"  ridge   (S'WS + kI)^-1 S'W dw\n"
-"          --k K | --rule hkb|lw|gcv|loo   (Hoerl-Kennard-Baldwin, Lawless-\n"
-"          Wang, generalised cross-validation, leave-one-out; default gcv)\n"
-"  pce     principal components: --ncomp N | --eig-min E (default: all\n"
-"          components with eigenvalue >= 1, i.e. at least as precise as spec)\n"
-"  bayes   posterior mean with prior X ~ N(mu, P), noise known (sigma):\n"
-"          --prior-mean FILE (N values, default 0), --prior-cov FILE (N x N;\n"
-"          default diag(spec^2), needs --spec)\n"
-"  ebr     empirical-Bayes ridge, METHODS 4.3: --rule sc|mm|ml2 (default sc),\n"
-"          --lam-floor L (default 0); rows are whitened by sigma first\n"
-"\n"
-"other options:\n"
-"  --json         machine-readable output\n"
-"  --out FILE     write the report there (atomically) instead of stdout\n"
+"options:\n",
+options,
 "\n"
 "exit status: 0 ok, 64 usage, 65 bad input, 66 missing input, 70 numerical\n"
 "failure (e.g. ebr with rank < 3), 74 I/O error.\n"
@@ -51,227 +69,245 @@ static void regress_help(void)
 "example (the bundled flight):\n"
 "  cd examples/flight\n"
 "  igea regress --method ebr --S S.txt --dw dw.txt --sigma sigma.txt --spec spec.txt\n"
-"  igea regress --method ridge --rule hkb --S S.txt --dw dw.txt --sigma 0.01 --json\n");
-}
+"  igea regress --method ridge --rule hkb --S S.txt --dw dw.txt --sigma 0.01 --json\n"};
 
-typedef struct {
-    const char *method, *S, *dw, *sigma, *spec, *prior_mean, *prior_cov, *rule, *out;
-    double sigma_value, k, eig_min, lam_floor, rcond;
-    int sigma_is_number, json, ncomp, have_k, have_ncomp, have_eig_min;
-} rg_args;
+/* The method's own options, checked. */
+static const char *check_method(rg_args *a)
+{
+    static const int ridge_rules[] = {IGEA_REGRESS_RIDGE_HKB, IGEA_REGRESS_RIDGE_LW,
+                                      IGEA_REGRESS_RIDGE_GCV, IGEA_REGRESS_RIDGE_LOO};
+    static const int ebr_rules[] = {IGEA_REGRESS_EBR_SC, IGEA_REGRESS_EBR_MM,
+                                    IGEA_REGRESS_EBR_ML2};
+    int k = 0;
+    switch (a->method) {
+    case M_RIDGE:
+        if (a->have_k && a->rule)
+            return "regress: give --k or --rule, not both";
+        if (a->have_k && !(a->k >= 0))
+            return "regress: --k must be >= 0";
+        if (a->rule && cli_choice("--rule", a->rule, "hkb|lw|gcv|loo", &k))
+            return "regress: --rule: hkb, lw, gcv or loo for ridge";
+        a->rule_code = a->have_k ? IGEA_REGRESS_RIDGE_FIXED
+                                 : a->rule ? ridge_rules[k] : IGEA_REGRESS_RIDGE_GCV;
+        return NULL;
+    case M_EBR:
+        if (a->rule && cli_choice("--rule", a->rule, "sc|mm|ml2", &k))
+            return "regress: --rule: sc, mm or ml2 for ebr";
+        a->rule_code = ebr_rules[k];
+        return a->lam_floor >= 0 ? NULL : "regress: --lam-floor must be >= 0";
+    case M_PCE:
+        if (a->have_ncomp && a->have_eig_min)
+            return "regress: give --ncomp or --eig-min, not both";
+        if ((a->have_ncomp && a->ncomp < 1) || (a->have_eig_min && !(a->eig_min > 0)))
+            return "regress: --ncomp must be >= 1 and --eig-min > 0";
+        return NULL;
+    case M_BAYES:
+        return !a->prior_cov && !a->spec
+                   ? "regress: bayes needs --prior-cov FILE or --spec FILE (prior diag(spec^2))"
+                   : NULL;
+    default:
+        return NULL;
+    }
+}
 
 static int parse(int argc, char **argv, rg_args *a)
 {
-    memset(a, 0, sizeof *a);
-    for (int i = 1; i < argc; i++) {
-        const char *o = argv[i], *v;
-        int ec;
-#define NEED() do { if (!(v = cli_optarg(argc, argv, &i))) return CLI_USAGE; } while (0)
-        if (!strcmp(o, "--help") || !strcmp(o, "-h")) {
-            regress_help();
-            return -1;
-        } else if (!strcmp(o, "--method")) { NEED(); a->method = v; }
-        else if (!strcmp(o, "--S")) { NEED(); a->S = v; }
-        else if (!strcmp(o, "--dw")) { NEED(); a->dw = v; }
-        else if (!strcmp(o, "--spec")) { NEED(); a->spec = v; }
-        else if (!strcmp(o, "--prior-mean")) { NEED(); a->prior_mean = v; }
-        else if (!strcmp(o, "--prior-cov")) { NEED(); a->prior_cov = v; }
-        else if (!strcmp(o, "--rule")) { NEED(); a->rule = v; }
-        else if (!strcmp(o, "--out")) { NEED(); a->out = v; }
-        else if (!strcmp(o, "--json")) a->json = 1;
-        else if (!strcmp(o, "--sigma")) {
-            NEED();
-            if ((ec = cli_file_or_positive(o, v, &a->sigma_is_number, &a->sigma_value)))
-                return ec;
-            a->sigma = v;
-        } else if (!strcmp(o, "--k")) {
-            NEED();
-            if ((ec = cli_parse_double(o, v, &a->k)))
-                return ec;
-            a->have_k = 1;
-        } else if (!strcmp(o, "--eig-min")) {
-            NEED();
-            if ((ec = cli_parse_double(o, v, &a->eig_min)))
-                return ec;
-            a->have_eig_min = 1;
-        } else if (!strcmp(o, "--lam-floor")) {
-            NEED();
-            if ((ec = cli_parse_double(o, v, &a->lam_floor)))
-                return ec;
-        } else if (!strcmp(o, "--rcond")) {
-            NEED();
-            if ((ec = cli_parse_double(o, v, &a->rcond)))
-                return ec;
-        } else if (!strcmp(o, "--ncomp")) {
-            NEED();
-            if ((ec = cli_parse_int(o, v, &a->ncomp)))
-                return ec;
-            a->have_ncomp = 1;
-        } else {
-            cli_error("regress: unknown option '%s' (see igea regress --help)", o);
-            return CLI_USAGE;
-        }
-#undef NEED
-    }
-    if (!a->method || !a->S || !a->dw) {
-        cli_error("regress: --method, --S and --dw are required (see igea regress --help)");
-        return CLI_USAGE;
-    }
-    const char *ms[] = {"ls", "ridge", "pce", "bayes", "ebr"};
-    int ok = 0;
-    for (int i = 0; i < 5; i++)
-        ok |= !strcmp(a->method, ms[i]);
-    if (!ok) {
-        cli_error("regress: --method %s: expected ls, ridge, pce, bayes or ebr", a->method);
-        return CLI_USAGE;
-    }
-    if (!strcmp(a->method, "ridge")) {
-        if (a->have_k && a->rule) {
-            cli_error("regress: give --k or --rule, not both");
-            return CLI_USAGE;
-        }
-        if (a->have_k && !(a->k >= 0)) {
-            cli_error("regress: --k must be >= 0");
-            return CLI_USAGE;
-        }
-        if (a->rule && strcmp(a->rule, "hkb") && strcmp(a->rule, "lw") &&
-            strcmp(a->rule, "gcv") && strcmp(a->rule, "loo")) {
-            cli_error("regress: --rule %s: expected hkb, lw, gcv or loo for ridge", a->rule);
-            return CLI_USAGE;
-        }
-    }
-    if (!strcmp(a->method, "ebr")) {
-        if (a->rule && strcmp(a->rule, "sc") && strcmp(a->rule, "mm") && strcmp(a->rule, "ml2")) {
-            cli_error("regress: --rule %s: expected sc, mm or ml2 for ebr", a->rule);
-            return CLI_USAGE;
-        }
-        if (!(a->lam_floor >= 0)) {
-            cli_error("regress: --lam-floor must be >= 0");
-            return CLI_USAGE;
-        }
-    }
-    if (!strcmp(a->method, "pce")) {
-        if (a->have_ncomp && a->have_eig_min) {
-            cli_error("regress: give --ncomp or --eig-min, not both");
-            return CLI_USAGE;
-        }
-        if ((a->have_ncomp && a->ncomp < 1) || (a->have_eig_min && !(a->eig_min > 0))) {
-            cli_error("regress: --ncomp must be >= 1 and --eig-min > 0");
-            return CLI_USAGE;
-        }
-    }
-    if (!strcmp(a->method, "bayes") && !a->prior_cov && !a->spec) {
-        cli_error("regress: bayes needs --prior-cov FILE or --spec FILE (prior diag(spec^2))");
-        return CLI_USAGE;
-    }
-    if (!(a->rcond < 1)) {
-        cli_error("regress: --rcond must be < 1");
+    int ec = cli_parse(&command, argc, argv);
+    *a = A;
+    if (ec)
+        return ec;
+    const char *msg = NULL;
+    if (!a->have_method || !a->S || !a->dw)
+        msg = "regress: --method, --S and --dw are required (see igea regress --help)";
+    else if (!(a->rcond < 1))
+        msg = "regress: --rcond must be < 1";
+    else
+        msg = check_method(a);
+    if (msg) {
+        cli_error("%s", msg);
         return CLI_USAGE;
     }
     return CLI_OK;
 }
 
-/* Read a file holding exactly n numbers (any layout). */
-static int read_n(const char *path, long n, const char *what, double **out)
+/* Inputs, column-major for the library. */
+typedef struct {
+    int m, N;
+    double *A, *y, *sig, *spec, *pm, *pc;
+} rg_in;
+
+static void in_free(rg_in *in)
 {
-    cli_matrix m;
-    int ec = cli_read_matrix(path, &m);
+    free(in->A);
+    free(in->y);
+    free(in->sig);
+    free(in->spec);
+    free(in->pm);
+    free(in->pc);
+}
+
+static int read_inputs(const rg_args *a, rg_in *in)
+{
+    cli_matrix S = {0};
+    int ec = cli_read_matrix(a->S, &S);
     if (ec)
         return ec;
-    if (m.rows * m.cols != n) {
-        cli_error("%s: %ld values, but %s needs %ld", path, m.rows * m.cols, what, n);
-        cli_matrix_free(&m);
+    if (S.rows > 2147483647L) {
+        cli_error("%s: too many rows", a->S);
+        cli_matrix_free(&S);
         return CLI_DATAERR;
     }
-    *out = m.v;
+    int m = in->m = (int)S.rows, N = in->N = S.cols;
+    if (!(in->A = malloc(sizeof(double) * (size_t)m * N))) {
+        cli_matrix_free(&S);
+        return cli_oom("the design");
+    }
+    for (int i = 0; i < m; i++)
+        for (int j = 0; j < N; j++)
+            in->A[i + (size_t)j * m] = S.v[(size_t)i * N + j];
+    cli_matrix_free(&S);
+    if ((ec = cli_read_vector(a->dw, m, "dw (one value per row of S)", &in->y, NULL)))
+        return ec;
+    if (a->sigma && (ec = cli_read_values(a->sigma, m, "--sigma (one per row of S)", &in->sig,
+                                          NULL)))
+        return ec;
+    for (int i = 0; in->sig && i < m; i++)
+        if (!(in->sig[i] > 0)) {
+            cli_error("%s: row %d: sigma %g must be > 0", a->sigma, i + 1, in->sig[i]);
+            return CLI_DATAERR;
+        }
+    if (a->spec && (ec = cli_read_vector(a->spec, N, "one spec per column of S", &in->spec, NULL)))
+        return ec;
+    for (int j = 0; in->spec && j < N; j++)
+        if (!(in->spec[j] > 0)) {
+            cli_error("%s: spec %d is %g; specs must be > 0", a->spec, j, in->spec[j]);
+            return CLI_DATAERR;
+        }
+    if (a->prior_mean && (ec = cli_read_vector(a->prior_mean, N, "the prior mean", &in->pm, NULL)))
+        return ec;
+    if (a->prior_cov && (ec = cli_read_vector(a->prior_cov, (long)N * N,
+                                              "the N x N prior covariance", &in->pc, NULL)))
+        return ec;
     return CLI_OK;
 }
 
 typedef struct {
-    int m, N, rank, count;
-    double *x, *sd, *extra1, *shrink, *eig, *vif, *sdc;
-    int *pd;
+    int rank, count, *pd;
+    double *x, *sd, *cov, *sdf, *shrink, *eig, *vif, *sdc;
     double scalar, sigma2, cond[2];
-    const char *count_name, *scalar_name, *extra1_name;
+    const char *count_name, *scalar_name;
 } rg_out;
 
-static void json_report(FILE *f, const rg_args *a, const rg_out *r)
+/* The estimator chosen, then sd = sqrt(diag(cov)). */
+static int estimate(const rg_args *a, const rg_in *in, rg_out *r)
 {
-    fprintf(f, "{\n  \"method\": \"%s\",\n  \"rows\": %d,\n  \"terms\": %d,\n  \"rank\": %d,\n",
-            a->method, r->m, r->N, r->rank);
-    fputs("  \"x\": ", f);
-    cli_json_array(f, r->x, r->N);
-    fputs(",\n  \"sd\": ", f);
-    cli_json_array(f, r->sd, r->N);
-    if (r->scalar_name) {
-        fprintf(f, ",\n  \"%s\": ", r->scalar_name);
-        cli_json_num(f, r->scalar);
+    int m = in->m, N = in->N, st;
+    const double *A = in->A, *y = in->y, *sig = in->sig, *sp = in->spec;
+    switch (a->method) {
+    case M_LS:
+        st = igea_regress_ls(m, N, A, m, y, sig, sp, a->rcond, r->x, r->cov, N, &r->rank,
+                             &r->sigma2, NULL);
+        break;
+    case M_RIDGE:
+        st = igea_regress_ridge(m, N, A, m, y, sig, sp, a->rule_code, a->k, r->x, r->cov, N,
+                                &r->scalar, &r->sigma2, NULL);
+        r->scalar_name = "k";
+        break;
+    case M_PCE:
+        st = igea_regress_pce(m, N, A, m, y, sig, sp, a->have_ncomp ? a->ncomp : 0,
+                              a->have_eig_min ? a->eig_min : 1.0, r->x, r->cov, N, &r->count,
+                              &r->sigma2, NULL);
+        r->count_name = "ncomp";
+        break;
+    case M_BAYES:
+        st = igea_regress_bayes(m, N, A, m, y, sig, sp, in->pm, in->pc, N, r->x, r->cov, N, NULL);
+        r->sigma2 = 1.0;
+        break;
+    default:
+        st = igea_regress_ebr(m, N, A, m, y, sig, sp, a->rule_code, a->lam_floor, r->x, r->cov,
+                              N, &r->scalar, &r->rank, &r->sigma2, NULL, r->shrink, r->sdf);
+        r->scalar_name = "lam";
+        break;
     }
-    if (r->count_name)
-        fprintf(f, ",\n  \"%s\": %d", r->count_name, r->count);
-    if (r->extra1_name) {
-        fprintf(f, ",\n  \"%s\": ", r->extra1_name);
-        cli_json_array(f, r->extra1, r->N);
-    }
-    if (r->shrink) {
-        fputs(",\n  \"shrink\": ", f);
-        cli_json_array(f, r->shrink, r->N);
-    }
-    fputs(",\n  \"sigma2\": ", f);
-    cli_json_num(f, r->sigma2);
-    fputs(",\n  \"cond\": ", f);
-    cli_json_num(f, r->cond[0]);
-    fputs(",\n  \"cond_estimable\": ", f);
-    cli_json_num(f, r->cond[1]);
-    fputs(",\n  \"eigenvalues\": ", f);
-    cli_json_array(f, r->eig, r->N);
-    fputs(",\n  \"vif\": ", f);
-    cli_json_array(f, r->vif, r->N);
-    fputs(",\n  \"sd_comb\": ", f);
-    cli_json_array(f, r->sdc, r->N);
-    fputs(",\n  \"prior_determined\": [", f);
-    for (int j = 0; j < r->N; j++)
-        fprintf(f, "%s%s", j ? ", " : "", r->pd[j] ? "true" : "false");
-    fputs("]\n}\n", f);
+    if (st)
+        return cli_status(st, method_names[a->method]);
+    for (int j = 0; j < N; j++)
+        r->sd[j] = sqrt(r->cov[j + (size_t)j * N]);
+    return CLI_OK;
 }
 
-static void text_report(FILE *f, const rg_args *a, const rg_out *r)
+static void json_report(FILE *f, const rg_args *a, const rg_in *in, const rg_out *r)
 {
-    fprintf(f, "igea regress --method %s: %s (%d rows x %d terms)%s%s\n", a->method, a->S,
-            r->m, r->N, a->spec ? ", spec-scaled by " : "", a->spec ? a->spec : "");
+    int N = in->N;
+    cli_json j;
+    cli_json_begin(&j, f);
+    cli_jstr(&j, "method", method_names[a->method]);
+    cli_jint(&j, "rows", in->m);
+    cli_jint(&j, "n_terms", N);
+    cli_jint(&j, "rank", r->rank);
+    cli_jnums(&j, "x", r->x, N);
+    cli_jnums(&j, "sd", r->sd, N);
+    if (r->scalar_name)
+        cli_jnum(&j, r->scalar_name, r->scalar);
+    if (r->count_name)
+        cli_jint(&j, r->count_name, r->count);
+    if (a->method == M_EBR) {
+        cli_jnums(&j, "sd_frequentist", r->sdf, N);
+        cli_jnums(&j, "shrink", r->shrink, N);
+    }
+    cli_jnum(&j, "sigma2", r->sigma2);
+    cli_jnum(&j, "cond", r->cond[0]);
+    cli_jnum(&j, "cond_estimable", r->cond[1]);
+    cli_jnums(&j, "eigenvalues", r->eig, N);
+    cli_jnums(&j, "vif", r->vif, N);
+    cli_jnums(&j, "sd_comb", r->sdc, N);
+    cli_jbools(&j, "prior_determined", r->pd, N);
+    cli_json_end(&j);
+}
+
+static void text_table(FILE *f, int N, const rg_out *r, int ebr)
+{
+    fprintf(f, "%5s %16s %14s", "term", "estimate", "sd");
+    if (ebr)
+        fprintf(f, " %14s", "sd_frequentist");
+    fprintf(f, " %12s  %s\n", "VIF", "determined by");
+    for (int j = 0; j < N; j++) {
+        fprintf(f, "%5d %16.8e %14.6e", j, r->x[j], r->sd[j]);
+        if (ebr)
+            fprintf(f, " %14.6e", r->sdf[j]);
+        fprintf(f, " %12.5g  %s\n", r->vif[j], r->pd[j] ? "PRIOR (null space)" : "data");
+    }
+    fprintf(f, "\neigenvalues of the (scaled) normal matrix and sd of each estimable "
+               "combination v_i'X:\n");
+    for (int i = 0; i < N; i++) {
+        if (i < r->rank)
+            fprintf(f, "%5d %14.6e %14.6e\n", i, r->eig[i], r->sdc[i]);
+        else
+            fprintf(f, "%5d %14.6e %14s\n", i, r->eig[i], "null space");
+    }
+}
+
+static void text_report(FILE *f, const rg_args *a, const rg_in *in, const rg_out *r)
+{
+    int N = in->N, npd = 0;
+    fprintf(f, "igea regress --method %s: %s (%d rows x %d terms)%s%s\n",
+            method_names[a->method], a->S, in->m, N, a->spec ? ", spec-scaled by " : "",
+            a->spec ? a->spec : "");
     fprintf(f, "rank %d of %d; condition number %.4e (estimable part %.4e); residual "
-               "variance %.6g\n", r->rank, r->N, r->cond[0], r->cond[1], r->sigma2);
+               "variance %.6g\n", r->rank, N, r->cond[0], r->cond[1], r->sigma2);
     if (r->scalar_name)
         fprintf(f, "%s = %.10g\n", r->scalar_name, r->scalar);
     if (r->count_name)
         fprintf(f, "%s = %d\n", r->count_name, r->count);
-    if (r->shrink) {
+    if (a->method == M_EBR) {
         fputs("shrink factors of the canonical components:", f);
         for (int i = 0; i < r->rank; i++)
             fprintf(f, " %.5f", r->shrink[i]);
         fputc('\n', f);
     }
     fputc('\n', f);
-    fprintf(f, "%5s %16s %14s", "term", "estimate", "sd");
-    if (r->extra1_name)
-        fprintf(f, " %14s", r->extra1_name);
-    fprintf(f, " %12s  %s\n", "VIF", "determined by");
-    for (int j = 0; j < r->N; j++) {
-        fprintf(f, "%5d %16.8e %14.6e", j + 1, r->x[j], r->sd[j]);
-        if (r->extra1_name)
-            fprintf(f, " %14.6e", r->extra1[j]);
-        fprintf(f, " %12.5g  %s\n", r->vif[j], r->pd[j] ? "PRIOR (null space)" : "data");
-    }
-    fprintf(f, "\neigenvalues of the (scaled) normal matrix and sd of each estimable "
-               "combination v_i'X:\n");
-    for (int i = 0; i < r->N; i++) {
-        if (i < r->rank)
-            fprintf(f, "%5d %14.6e %14.6e\n", i + 1, r->eig[i], r->sdc[i]);
-        else
-            fprintf(f, "%5d %14.6e %14s\n", i + 1, r->eig[i], "null space");
-    }
-    int npd = 0;
-    for (int j = 0; j < r->N; j++)
+    text_table(f, N, r, a->method == M_EBR);
+    for (int j = 0; j < N; j++)
         npd += r->pd[j];
     if (npd)
         fprintf(f, "\n%d coefficient(s) marked PRIOR have a component in the null space: the "
@@ -285,152 +321,34 @@ int cmd_regress(int argc, char **argv)
         return CLI_USAGE;
     rg_args a;
     int ec = parse(argc, argv, &a);
-    if (ec < 0)
-        return CLI_OK;
     if (ec)
-        return ec;
-    cli_matrix S = {0, 0, 0}, dw = {0, 0, 0}, sg = {0, 0, 0};
-    double *spec = NULL, *pm = NULL, *pc = NULL, *work = NULL;
-    int *pd = NULL;
-    if ((ec = cli_read_matrix(a.S, &S)) || (ec = cli_read_matrix(a.dw, &dw)))
+        return ec == CLI_HELP ? CLI_OK : ec;
+    rg_in in = {0};
+    rg_out r = {0};
+    double *work = NULL;
+    if ((ec = read_inputs(&a, &in)))
         goto done;
-    if (a.sigma && !a.sigma_is_number && (ec = cli_read_matrix(a.sigma, &sg)))
-        goto done;
-    if (dw.cols != 1 || dw.rows != S.rows ||
-        (a.sigma && !a.sigma_is_number && (sg.cols != 1 || sg.rows != S.rows))) {
-        cli_error("%s%s%s: dw and sigma must be single columns with as many rows as %s (%ld)",
-                  a.dw, a.sigma && !a.sigma_is_number ? ", " : "",
-                  a.sigma && !a.sigma_is_number ? a.sigma : "", a.S, S.rows);
-        ec = CLI_DATAERR;
+    int N = in.N;
+    work = malloc(((size_t)N * N + 9 * (size_t)N) * sizeof(double));
+    r.pd = malloc((size_t)N * sizeof(int));
+    if (!work || !r.pd) {
+        ec = cli_oom("the results");
         goto done;
     }
-    if (S.rows > 2147483647L) {
-        cli_error("%s: too many rows", a.S);
-        ec = CLI_DATAERR;
+    r.cov = work, r.x = r.cov + (size_t)N * N, r.sd = r.x + N, r.sdf = r.sd + N;
+    r.shrink = r.sdf + N, r.eig = r.shrink + N, r.vif = r.eig + N, r.sdc = r.vif + N;
+    int st = igea_regress_collinearity(in.m, N, in.A, in.m, in.y, in.sig, in.spec, a.rcond,
+                                       r.cond, &r.rank, r.eig, NULL, 1, r.vif, r.sdc, r.pd);
+    if ((ec = cli_status(st, "regress: diagnostics")) || (ec = estimate(&a, &in, &r)))
         goto done;
-    }
-    int m = (int)S.rows, N = S.cols;
-    if (a.spec && (ec = read_n(a.spec, N, "one spec per column of S", &spec)))
-        goto done;
-    if (spec)
-        for (int j = 0; j < N; j++)
-            if (!(spec[j] > 0)) {
-                cli_error("%s: spec %d is %g; specs must be > 0", a.spec, j + 1, spec[j]);
-                ec = CLI_DATAERR;
-                goto done;
-            }
-    if (a.prior_mean && (ec = read_n(a.prior_mean, N, "the prior mean", &pm)))
-        goto done;
-    if (a.prior_cov && (ec = read_n(a.prior_cov, (long)N * N, "the N x N prior covariance", &pc)))
-        goto done;
-    size_t nn = (size_t)N * N, mn = (size_t)m * N;
-    work = malloc((mn + 3 * (size_t)m + nn * 2 + 12 * (size_t)N) * sizeof(double));
-    pd = malloc((size_t)N * sizeof(int));
-    if (!work || !pd) {
-        cli_error("out of memory");
-        ec = CLI_SOFTWARE;
-        goto done;
-    }
-    double *A = work, *y = A + mn, *sig = y + m, *res = sig + m, *cov = res + m, *P = cov + nn,
-           *x = P + nn, *sd = x + N, *e1 = sd + N, *e2 = e1 + N, *eig = e2 + N, *vif = eig + N,
-           *sdc = vif + N, *mu = sdc + N;
-    /* A = S diag(spec), column-major. */
-    for (int i = 0; i < m; i++) {
-        y[i] = dw.v[i];
-        sig[i] = !a.sigma ? 1.0 : (a.sigma_is_number ? a.sigma_value : sg.v[i]);
-        for (int j = 0; j < N; j++)
-            A[i + (size_t)j * m] = S.v[(size_t)i * N + j] * (spec ? spec[j] : 1.0);
-    }
-    for (int i = 0; i < m; i++)
-        if (!(sig[i] > 0)) {
-            cli_error("%s: row %d: sigma %g must be > 0", a.sigma, i + 1, sig[i]);
-            ec = CLI_DATAERR;
-            goto done;
-        }
-    rg_out r;
-    memset(&r, 0, sizeof r);
-    r.m = m;
-    r.N = N;
-    r.x = x;
-    r.sd = sd;
-    r.extra1 = e1;
-    r.eig = eig;
-    r.vif = vif;
-    r.sdc = sdc;
-    r.pd = pd;
-    int st = igea_regress_collinearity(m, N, A, m, y, sig, NULL, a.rcond, r.cond, &r.rank, eig, NULL,
-                                       1, vif, sdc, pd);
-    if (st) {
-        ec = cli_status(st, "regress: diagnostics");
-        goto done;
-    }
-    int have_cov = 1;
-    if (!strcmp(a.method, "ls")) {
-        st = igea_regress_ls(m, N, A, m, y, sig, NULL, a.rcond, x, cov, N, &r.rank, &r.sigma2, res);
-    } else if (!strcmp(a.method, "ridge")) {
-        int rule = a.have_k ? IGEA_REGRESS_RIDGE_FIXED
-                   : !a.rule || !strcmp(a.rule, "gcv") ? IGEA_REGRESS_RIDGE_GCV
-                   : !strcmp(a.rule, "hkb") ? IGEA_REGRESS_RIDGE_HKB
-                   : !strcmp(a.rule, "lw") ? IGEA_REGRESS_RIDGE_LW : IGEA_REGRESS_RIDGE_LOO;
-        st = igea_regress_ridge(m, N, A, m, y, sig, NULL, rule, a.k, x, cov, N, &r.scalar, &r.sigma2,
-                                res);
-        r.scalar_name = "k";
-    } else if (!strcmp(a.method, "pce")) {
-        int nc = a.have_ncomp ? a.ncomp : 0;
-        double em = a.have_eig_min ? a.eig_min : 1.0;
-        st = igea_regress_pce(m, N, A, m, y, sig, NULL, nc, em, x, cov, N, &r.count, &r.sigma2, res);
-        r.count_name = "ncomp";
-    } else if (!strcmp(a.method, "bayes")) {
-        /* prior on the scaled coefficients X/spec */
-        for (int i = 0; i < N; i++) {
-            mu[i] = pm ? pm[i] / (spec ? spec[i] : 1.0) : 0.0;
-            for (int j = 0; j < N; j++)
-                P[i + (size_t)j * N] =
-                    pc ? pc[(size_t)i * N + j] / ((spec ? spec[i] : 1.0) * (spec ? spec[j] : 1.0))
-                       : (i == j ? 1.0 : 0.0);
-        }
-        st = igea_regress_bayes(m, N, A, m, y, sig, NULL, mu, P, N, x, cov, N, res);
-        r.sigma2 = 1.0;
-    } else {
-        int rule = !a.rule || !strcmp(a.rule, "sc") ? IGEA_REGRESS_EBR_SC
-                   : !strcmp(a.rule, "mm") ? IGEA_REGRESS_EBR_MM : IGEA_REGRESS_EBR_ML2;
-        st = igea_regress_ebr(m, N, A, m, y, sig, NULL, rule, a.lam_floor, x, cov, N,
-                              &r.scalar, &r.rank, &r.sigma2, NULL, e2, e1);
-        r.scalar_name = "lambda";
-        r.extra1_name = "sd_frequentist";
-        r.shrink = e2;
-    }
-    if (st) {
-        ec = cli_status(st, a.method);
-        goto done;
-    }
-    if (have_cov)
-        for (int j = 0; j < N; j++)
-            sd[j] = sqrt(cov[j + (size_t)j * N]);
-    /* back to the units of S's columns */
-    for (int j = 0; j < N; j++) {
-        double s = spec ? spec[j] : 1.0;
-        x[j] *= s;
-        sd[j] *= s;
-        if (r.extra1_name)
-            e1[j] *= s;
-    }
     cli_out o;
     if ((ec = cli_out_open(&o, a.out)))
         goto done;
-    if (a.json)
-        json_report(o.f, &a, &r);
-    else
-        text_report(o.f, &a, &r);
+    (a.json ? json_report : text_report)(o.f, &a, &in, &r);
     ec = cli_out_commit(&o);
 done:
-    cli_matrix_free(&S);
-    cli_matrix_free(&dw);
-    cli_matrix_free(&sg);
-    free(spec);
-    free(pm);
-    free(pc);
+    in_free(&in);
     free(work);
-    free(pd);
+    free(r.pd);
     return ec;
 }

@@ -6,50 +6,58 @@
 
 #include "cli.h"
 
-static void rls_help(void)
-{
-    printf(
+typedef struct {
+    const char *data, *S, *dw, *sigma, *x0, *gamma0, *out;
+    int k, p, variant, policy, every, json;
+    double kappa, jump, forget;
+} rls_args;
+
+static rls_args A;
+#define VARIANTS "standard|iterated|polynomial"
+#define POLICIES "none|replace|skip|isolate"
+static const char *const vname[] = {"standard", "iterated", "polynomial"};
+static const char *const pname[] = {"none", "replace", "skip", "isolate"};
+
+static const cli_opt options[] = {
+    CLI_HEAD("input (text or .npy; streamed, so records longer than memory are fine):"),
+    {"--data", CLI_OPT_STR, &A.data, NULL, "FILE", "one row per epoch: y_1..y_k, then the k x m block\n"
+     "c row by row (c_11..c_1m, c_21..c_2m, ...): k + k m\ncolumns", NULL},
+    {"--S", CLI_OPT_STR, &A.S, NULL, "FILE", "or the 'igea eqerr' layout: S with k rows per epoch\n"
+     "(epoch-major, m columns), with --dw", NULL},
+    {"--dw", CLI_OPT_STR, &A.dw, NULL, "FILE", "one value per row of S", NULL},
+    {"--k", CLI_OPT_INT, &A.k, "3", "K", "observation rows per epoch (3: x, y, z)", NULL},
+    {"--sigma", CLI_OPT_STR, &A.sigma, NULL, "FILE|NUM", "tracking 1-sigma per row: a number, a file of k\n"
+     "values (the same every epoch) or, with --S/--dw, one\nvalue per row of S; default 1: y and c already\nwhitened", NULL},
+    {"--x0", CLI_OPT_STR, &A.x0, NULL, "FILE", "initial estimate, m values (default 0)", NULL},
+    {"--gamma0", CLI_OPT_STR, &A.gamma0, "1e6", "G", "initial Gamma (whitened units): a number g for g I,\n"
+     "a file of m values (diagonal) or of m x m values\n(1e6: diffuse, then standard RLS is batch least\nsquares)", NULL},
+    CLI_HEAD("\nestimator:"),
+    {"--variant", CLI_OPT_CHOICE, &A.variant, "standard", VARIANTS, "the RLS variant", NULL},
+    {"--p", CLI_OPT_INT, &A.p, "1", "P", "order of the polynomial / number of iterations", NULL},
+    {"--forget", CLI_OPT_NUM, &A.forget, "1", "L", "forgetting factor 0 < L <= 1 (1: none)", NULL},
+    {"--anomaly", CLI_OPT_CHOICE, &A.policy, "none", POLICIES, "none: flag only; replace: the patent's variant\n"
+     "A (previous epoch's y); skip: no update at an\nanomalous epoch; isolate: variant B, the flagged\n"
+     "rows are dropped from that epoch's update", NULL},
+    {"--kappa", CLI_OPT_NUM, &A.kappa, "4", "K", "innovation test |e_j| > K sd", NULL},
+    {"--jump", CLI_OPT_NUM, &A.jump, NULL, "J", "jump test |y_j - y_prev,j| > J (physical units;\n"
+     "default off; catches telemetry dropouts to zero)", NULL},
+    CLI_HEAD("\noutput: by default one line per epoch: epoch (from 0), action (0 updated,\n"
+             "1 flagged, 2 replaced, 3 skipped, 4 isolated), k flags (bits: 1 innovation,\n"
+             "2 jump, 4 missing, 8 row unused), m estimates, k compensated values y - c x;\n"
+             "then '#' lines with the final estimate, its honest standard deviations and Q_p"),
+    {"--every", CLI_OPT_INT, &A.every, "1", "N", "print every N-th epoch only (0: the final summary\nonly)", NULL},
+    {"--json", CLI_OPT_FLAG, &A.json, NULL, NULL, "machine-readable output (same content)", NULL},
+    CLI_OUT_OPT(&A.out),
+    CLI_END};
+
+static const cli_command command = {"rls",
 "usage: igea rls (--data FILE | --S FILE --dw FILE) [--k K] [options]\n"
 "\n"
 "Estimates the constant tool-error coefficients X of y_n = c_n X + v_n epoch by\n"
 "epoch (recursive least squares, METHODS 2), as a real-time loop would: each\n"
 "epoch's k observations (telemetry minus tracking) update the estimate once.\n"
-"\n"
-"input (text or .npy; streamed, so records longer than memory are fine):\n"
-"  --data FILE    one row per epoch: y_1..y_k, then the k x m block c row by\n"
-"                 row (c_11..c_1m, c_21..c_2m, ...): k + k m columns\n"
-"  --S FILE --dw FILE   the 'igea eqerr' layout: S with k rows per epoch\n"
-"                 (epoch-major, m columns), dw one value per row\n"
-"  --k K          observation rows per epoch (default 3: x, y, z)\n"
-"  --sigma S      tracking 1-sigma per row: a number, a file of k values (the\n"
-"                 same every epoch) or, with --S/--dw, one value per row of S\n"
-"                 (the eqerr sigma file); default 1: y and c already whitened\n"
-"  --x0 FILE      initial estimate, m values (default 0)\n"
-"  --gamma0 G     initial Gamma (whitened units): a number g for g I, a file\n"
-"                 of m values (diagonal) or of m x m values (default 1e6:\n"
-"                 diffuse, then standard RLS is batch least squares)\n"
-"\n"
-"estimator:\n"
-"  --variant V    standard | iterated | polynomial (default standard)\n"
-"  -p P           order of the polynomial / number of iterations (default 1)\n"
-"  --forget L     forgetting factor 0 < L <= 1 (default 1: none)\n"
-"  --anomaly A    none | replace | skip | isolate (default none: flag only)\n"
-"                 replace: the patent's variant A (previous epoch's y);\n"
-"                 skip: no update at an anomalous epoch; isolate: variant B,\n"
-"                 the flagged rows are dropped from that epoch's update\n"
-"  --kappa K      innovation test |e_j| > K sd (default 4)\n"
-"  --jump J       jump test |y_j - y_prev,j| > J (physical units; default off;\n"
-"                 catches telemetry dropouts to zero)\n"
-"\n"
-"output:\n"
-"  default        one line per epoch: epoch, action (0 updated, 1 flagged,\n"
-"                 2 replaced, 3 skipped, 4 isolated), k flags (bits: 1\n"
-"                 innovation, 2 jump, 4 missing, 8 row unused), m estimates,\n"
-"                 k compensated values y - c x; then '#' lines with the final\n"
-"                 estimate, its honest standard deviations and Q_p\n"
-"  --every N      print every N-th epoch only (0: the final summary only)\n"
-"  --json         machine-readable output (same content)\n"
-"  --out FILE     write there (atomically) instead of standard output\n"
+"\n",
+options,
 "\n"
 "Q_p falls as p grows by construction; it is not a measure of accuracy\n"
 "(METHODS 2.6): read the honest standard deviations beside it.\n"
@@ -66,68 +74,15 @@ static void rls_help(void)
 "  4.0 6.0  1 0 1 0  0 1 0 1\n"
 "  EOF\n"
 "  igea rls --data rec.txt --k 2 --gamma0 100 --variant polynomial -p 3 \\\n"
-"           --anomaly isolate --sigma 0.01\n");
-}
-
-typedef struct {
-    const char *data, *S, *dw, *sigma, *x0, *gamma0, *out;
-    int k, p, variant, policy, every, json;
-    double kappa, jump, forget;
-} rls_args;
-
-static int pick(const char *opt, const char *v, const char *const *names, int n, int *out)
-{
-    for (int i = 0; i < n; i++)
-        if (!strcmp(v, names[i])) {
-            *out = i;
-            return CLI_OK;
-        }
-    cli_error("rls: option %s: unknown value '%s' (see igea rls --help)", opt, v);
-    return CLI_USAGE;
-}
+"           --anomaly isolate --sigma 0.01\n"};
 
 static int parse(int argc, char **argv, rls_args *a)
 {
-    static const char *const variants[] = {"standard", "iterated", "polynomial"};
-    static const char *const policies[] = {"none", "replace", "skip", "isolate"};
-    memset(a, 0, sizeof *a);
-    a->k = 3;
-    a->p = 1;
-    a->kappa = 4.0;
-    a->jump = INFINITY;
-    a->forget = 1.0;
-    a->every = 1;
-    for (int i = 1; i < argc; i++) {
-        const char *o = argv[i], *v;
-        int ec = CLI_OK;
-#define NEED() do { if (!(v = cli_optarg(argc, argv, &i))) return CLI_USAGE; } while (0)
-        if (!strcmp(o, "--help") || !strcmp(o, "-h")) {
-            rls_help();
-            return -1;
-        } else if (!strcmp(o, "--data")) { NEED(); a->data = v; }
-        else if (!strcmp(o, "--S")) { NEED(); a->S = v; }
-        else if (!strcmp(o, "--dw")) { NEED(); a->dw = v; }
-        else if (!strcmp(o, "--sigma")) { NEED(); a->sigma = v; }
-        else if (!strcmp(o, "--x0")) { NEED(); a->x0 = v; }
-        else if (!strcmp(o, "--gamma0")) { NEED(); a->gamma0 = v; }
-        else if (!strcmp(o, "--out")) { NEED(); a->out = v; }
-        else if (!strcmp(o, "--json")) a->json = 1;
-        else if (!strcmp(o, "--k")) { NEED(); ec = cli_parse_int(o, v, &a->k); }
-        else if (!strcmp(o, "-p") || !strcmp(o, "--p")) { NEED(); ec = cli_parse_int(o, v, &a->p); }
-        else if (!strcmp(o, "--every")) { NEED(); ec = cli_parse_int(o, v, &a->every); }
-        else if (!strcmp(o, "--kappa")) { NEED(); ec = cli_parse_double(o, v, &a->kappa); }
-        else if (!strcmp(o, "--jump")) { NEED(); ec = cli_parse_double(o, v, &a->jump); }
-        else if (!strcmp(o, "--forget")) { NEED(); ec = cli_parse_double(o, v, &a->forget); }
-        else if (!strcmp(o, "--variant")) { NEED(); ec = pick(o, v, variants, 3, &a->variant); }
-        else if (!strcmp(o, "--anomaly")) { NEED(); ec = pick(o, v, policies, 4, &a->policy); }
-        else {
-            cli_error("rls: unknown option '%s' (see igea rls --help)", o);
-            return CLI_USAGE;
-        }
-        if (ec)
-            return ec;
-#undef NEED
-    }
+    A.jump = INFINITY;
+    int ec = cli_parse(&command, argc, argv);
+    *a = A;
+    if (ec)
+        return ec;
     if (!a->data == !(a->S || a->dw) || (!a->data && !(a->S && a->dw))) {
         cli_error("rls: give either --data FILE or both --S FILE and --dw FILE");
         return CLI_USAGE;
@@ -137,7 +92,7 @@ static int parse(int argc, char **argv, rls_args *a)
         return CLI_USAGE;
     }
     if (a->p < 1 || a->p > 1000000) {
-        cli_error("rls: -p %d: need 1 <= p <= 1000000", a->p);
+        cli_error("rls: --p %d: need 1 <= p <= 1000000", a->p);
         return CLI_USAGE;
     }
     if (a->every < 0) {
@@ -183,10 +138,161 @@ static int read_num_or_file(const char *what, const char *s, long n1, long n2,
 
 static const char *const action_name[] = {"updated", "flagged", "replaced", "skipped", "isolated"};
 
+/* The inputs: a streamed record (--data) or S and dw whole. */
+typedef struct {
+    cli_reader *rd;
+    cli_matrix S, dw, sg, x0m, g0m;
+    long m, n_epochs;
+    double sig_num, g_num;
+    int sig_is_num, sig_per_row, g_is_num;
+} rls_in;
+
+static void in_free(rls_in *in)
+{
+    cli_reader_close(in->rd);
+    cli_matrix_free(&in->S);
+    cli_matrix_free(&in->dw);
+    cli_matrix_free(&in->sg);
+    cli_matrix_free(&in->x0m);
+    cli_matrix_free(&in->g0m);
+}
+
+/* The record's sizes: m coefficients, the epochs (-1: streamed, unknown). */
+static int open_inputs(const rls_args *a, rls_in *in)
+{
+    const int k = a->k;
+    int ec;
+    in->n_epochs = -1;
+    if (a->data) {
+        if ((ec = cli_reader_open(a->data, &in->rd)))
+            return ec;
+        int cols = cli_reader_cols(in->rd);
+        if (cols <= k || (cols - k) % k != 0) {
+            cli_error("%s: %d columns; with --k %d an epoch row needs k + k m columns", a->data,
+                      cols, k);
+            return CLI_DATAERR;
+        }
+        in->m = (cols - k) / k;
+        return CLI_OK;
+    }
+    if ((ec = cli_read_matrix(a->S, &in->S)) || (ec = cli_read_matrix(a->dw, &in->dw)))
+        return ec;
+    if (in->dw.rows * in->dw.cols != in->S.rows || in->S.rows % k != 0) {
+        cli_error("%s, %s: S has %ld rows, dw %ld values; both must be the same multiple "
+                  "of --k %d", a->S, a->dw, in->S.rows, in->dw.rows * in->dw.cols, k);
+        return CLI_DATAERR;
+    }
+    in->m = in->S.cols;
+    in->n_epochs = in->S.rows / k;
+    if (in->n_epochs > 2147483647L) {
+        cli_error("%s: too many epochs", a->S);
+        return CLI_DATAERR;
+    }
+    return CLI_OK;
+}
+
+/* --sigma, --gamma0 and --x0. */
+static int read_priors(const rls_args *a, rls_in *in)
+{
+    const int k = a->k;
+    const long m = in->m;
+    double dummy;
+    int xnum = 0, ec;
+    in->sig_num = 1.0;
+    in->sig_is_num = 1;
+    /* --sigma: k values (every epoch), or with --S/--dw one per row of S */
+    if (a->sigma && (ec = read_num_or_file("--sigma", a->sigma, k, a->data ? 0 : in->n_epochs * k,
+                                           &in->sig_num, &in->sg, &in->sig_is_num)))
+        return ec;
+    in->sig_per_row = !in->sig_is_num && in->sg.rows * in->sg.cols != k;
+    if (in->sig_per_row)
+        for (long t = 0; t < in->n_epochs * k; t++)
+            if (!(in->sg.v[t] > 0)) {
+                cli_error("%s: sigma of row %ld is %g; must be > 0", a->sigma, t + 1, in->sg.v[t]);
+                return CLI_DATAERR;
+            }
+    if (a->sigma && in->sig_is_num && !(in->sig_num > 0)) {
+        cli_error("rls: --sigma %s: must be > 0", a->sigma);
+        return CLI_USAGE;
+    }
+    if ((ec = read_num_or_file("--gamma0", a->gamma0, m, m * m, &in->g_num, &in->g0m,
+                               &in->g_is_num)))
+        return ec;
+    if (a->x0 && (ec = read_num_or_file("--x0", a->x0, m, 0, &dummy, &in->x0m, &xnum)))
+        return ec;
+    if (a->x0 && xnum) {
+        cli_error("rls: --x0 needs a file of %ld values", m);
+        return CLI_USAGE;
+    }
+    return CLI_OK;
+}
+
+/* The filter with its initial state and options; sig: the k row sigmas
+ * when they are the same every epoch. */
+static int make_filter(const rls_args *a, const rls_in *in, double *sig, igea_rls **h)
+{
+    const int k = a->k;
+    const long m = in->m;
+    double *g0 = calloc((size_t)(m * m), sizeof(double)), *jump = malloc((size_t)k * sizeof(double));
+    int ec = !g0 || !jump ? cli_oom("the initial state") : CLI_OK;
+    for (long i = 0; !ec && i < m; i++)
+        for (long j = 0; j < m; j++)
+            g0[i + j * m] = in->g_is_num ? (i == j ? in->g_num : 0.0)
+                            : in->g0m.rows * in->g0m.cols == m ? (i == j ? in->g0m.v[i] : 0.0)
+                            : in->g0m.v[i * m + j]; /* row-major; symmetric, lower read */
+    for (int j = 0; !ec && j < k; j++) {
+        sig[j] = in->sig_is_num ? in->sig_num : in->sg.v[j];
+        if (!in->sig_per_row && !(sig[j] > 0)) {
+            cli_error("%s: sigma %d is %g; must be > 0", a->sigma, j, sig[j]);
+            ec = CLI_DATAERR;
+        }
+        jump[j] = a->jump;
+    }
+    int st = 0;
+    if (!ec && (st = igea_rls_create((int)m, k, a->x0 ? in->x0m.v : NULL, g0, (int)m, h)))
+        ec = cli_status(st, "rls: initial state (x0, gamma0)");
+    if (!ec && ((st = igea_rls_set_variant(*h, a->variant, a->p)) ||
+                (st = igea_rls_set_anomaly(*h, a->policy, a->kappa, isfinite(a->jump) ? jump : NULL)) ||
+                (st = igea_rls_set_forget(*h, a->forget))))
+        ec = cli_status(st, "rls: options");
+    free(g0);
+    free(jump);
+    return ec;
+}
+
 typedef struct {
     FILE *f;
-    int json, m, k, every, first;
+    cli_json j;
+    int json, m, k, every;
 } printer;
+
+static void print_header(printer *pr, const rls_args *a)
+{
+    FILE *f = pr->f;
+    int p = a->variant ? a->p : 1;
+    if (pr->json) {
+        cli_json_begin(&pr->j, f);
+        cli_jint(&pr->j, "m", pr->m);
+        cli_jint(&pr->j, "k", pr->k);
+        cli_jstr(&pr->j, "variant", vname[a->variant]);
+        cli_jint(&pr->j, "p", p);
+        cli_jstr(&pr->j, "anomaly", pname[a->policy]);
+        cli_jnum(&pr->j, "kappa", a->kappa);
+        cli_jnum(&pr->j, "forget", a->forget);
+        cli_json_open(&pr->j, "epochs", '[');
+        return;
+    }
+    fprintf(f, "# igea rls: m = %d, k = %d, %s RLS, p = %d, anomaly %s, kappa %g, forget %g\n"
+               "# epoch action", pr->m, pr->k, vname[a->variant], p, pname[a->policy], a->kappa,
+            a->forget);
+    for (int j = 0; j < pr->k; j++)
+        fprintf(f, " flag%d", j);
+    for (int i = 0; i < pr->m; i++)
+        fprintf(f, " x%d", i);
+    for (int j = 0; j < pr->k; j++)
+        fprintf(f, " comp%d", j);
+    fputc('\n', f);
+}
 
 static void print_epoch(printer *pr, long e, int act, const int *fl, const double *x,
                         const double *comp)
@@ -195,25 +301,123 @@ static void print_epoch(printer *pr, long e, int act, const int *fl, const doubl
         return;
     FILE *f = pr->f;
     if (pr->json) {
-        fprintf(f, "%s\n    {\"epoch\": %ld, \"action\": \"%s\", \"flags\": ",
-                pr->first ? "" : ",", e + 1, action_name[act]);
-        cli_json_iarray(f, fl, pr->k);
-        fputs(", \"x\": ", f);
-        cli_json_array(f, x, pr->m);
-        fputs(", \"compensated\": ", f);
-        cli_json_array(f, comp, pr->k);
-        fputc('}', f);
-    } else {
-        fprintf(f, "%ld %d", e + 1, act);
-        for (int j = 0; j < pr->k; j++)
-            fprintf(f, " %d", fl[j]);
-        for (int i = 0; i < pr->m; i++)
-            fprintf(f, " %.17g", x[i]);
-        for (int j = 0; j < pr->k; j++)
-            fprintf(f, " %.17g", comp[j]);
-        fputc('\n', f);
+        cli_json_open(&pr->j, NULL, '{');
+        cli_jint(&pr->j, "epoch", e);
+        cli_jstr(&pr->j, "action", action_name[act]);
+        cli_jints(&pr->j, "flags", fl, pr->k);
+        cli_jnums(&pr->j, "x", x, pr->m);
+        cli_jnums(&pr->j, "compensated", comp, pr->k);
+        cli_json_close(&pr->j);
+        return;
     }
-    pr->first = 0;
+    fprintf(f, "%ld %d", e, act);
+    for (int j = 0; j < pr->k; j++)
+        fprintf(f, " %d", fl[j]);
+    for (int i = 0; i < pr->m; i++)
+        fprintf(f, " %.17g", x[i]);
+    for (int j = 0; j < pr->k; j++)
+        fprintf(f, " %.17g", comp[j]);
+    fputc('\n', f);
+}
+
+static void json_matrix(cli_json *j, const char *key, const double *v, int m)
+{
+    cli_json_open(j, key, '[');
+    for (int i = 0; i < m; i++)
+        cli_jnums(j, NULL, v + (size_t)i * m, m);
+    cli_json_close(j);
+}
+
+/* The final estimate; cov: m x m scratch. */
+static void print_summary(printer *pr, igea_rls *h, double *x, double *cov)
+{
+    const int m = pr->m;
+    double q;
+    int cnt[IGEA_RLS_COUNT_LEN];
+    igea_rls_get_q(h, &q);
+    igea_rls_get_counts(h, cnt);
+    igea_rls_get_x(h, x);
+    igea_rls_get_covariance(h, cov, m);
+    if (!pr->json) {
+        fprintf(pr->f, "# epochs %d, updated %d, anomalous %d; Q_p = %.6g over %d rows "
+                       "(whitened; not a measure of accuracy)\n",
+                cnt[0], cnt[1], cnt[2], q, cnt[3]);
+        fprintf(pr->f, "# %5s %24s %14s\n", "coef", "estimate", "sd (honest)");
+        for (int i = 0; i < m; i++)
+            fprintf(pr->f, "# %5d %24.17g %14.6g\n", i, x[i], sqrt(cov[i + (size_t)i * m]));
+        return;
+    }
+    cli_json *j = &pr->j;
+    cli_json_close(j);
+    cli_jnums(j, "x", x, m);
+    cli_json_open(j, "sd", '[');
+    for (int i = 0; i < m; i++)
+        cli_jnum(j, NULL, sqrt(cov[i + (size_t)i * m]));
+    cli_json_close(j);
+    json_matrix(j, "covariance", cov, m);
+    igea_rls_get_gamma(h, cov, m);
+    json_matrix(j, "gamma", cov, m);
+    cli_jnum(j, "q", q);
+    cli_jint(j, "n_epochs", cnt[0]);
+    cli_jint(j, "updates", cnt[1]);
+    cli_jint(j, "anomalous", cnt[2]);
+    cli_jint(j, "rows", cnt[3]);
+    cli_json_end(j);
+}
+
+/* Epoch e's y[k] and c (k x m, column-major) from a record row or S, dw. */
+static void epoch_data(const rls_args *a, const rls_in *in, const double *row, long e, double *y,
+                       double *c)
+{
+    const int k = a->k;
+    const long m = in->m;
+    for (int j = 0; j < k; j++) {
+        long srow = e * k + j;
+        y[j] = row ? row[j] : in->dw.v[srow];
+        for (long i = 0; i < m; i++)
+            c[j + i * k] = row ? row[k + j * m + i] : in->S.v[srow * m + i];
+    }
+}
+
+/* Every epoch through the filter, printed as it goes; *ne epochs. */
+static int run_stream(const rls_args *a, rls_in *in, igea_rls *h, printer *pr, double *sig,
+                      double *work, long *ne)
+{
+    const int k = a->k;
+    const long m = in->m, block = 256, cols = k + (long)k * m;
+    double *y = work, *comp = y + k, *x = comp + k, *c = x + m;
+    int *fl = malloc((size_t)k * sizeof(int)), ec = CLI_OK;
+    double *buf = a->data ? malloc((size_t)(block * cols) * sizeof(double)) : NULL;
+    if (!fl || (a->data && !buf))
+        ec = cli_oom("the epochs");
+    long e = 0, nread = 0;
+    while (!ec) {
+        if (a->data)
+            ec = cli_reader_next(in->rd, block, buf, &nread);
+        else
+            nread = in->n_epochs - e < block ? in->n_epochs - e : block;
+        if (ec || nread == 0)
+            break;
+        for (long r = 0; r < nread && !ec; r++, e++) {
+            epoch_data(a, in, a->data ? buf + r * cols : NULL, e, y, c);
+            if (in->sig_per_row)
+                memcpy(sig, in->sg.v + e * k, (size_t)k * sizeof(double));
+            int act = igea_rls_update(h, c, k, y, sig, fl);
+            if (act < 0) {
+                char ctx[64];
+                snprintf(ctx, sizeof ctx, "rls: epoch %ld", e);
+                ec = cli_status(act, ctx);
+                break;
+            }
+            igea_rls_get_x(h, x);
+            igea_rls_compensate(h, c, k, y, comp);
+            print_epoch(pr, e, act, fl, x, comp);
+        }
+    }
+    free(fl);
+    free(buf);
+    *ne = e;
+    return ec;
 }
 
 int cmd_rls(int argc, char **argv)
@@ -222,256 +426,45 @@ int cmd_rls(int argc, char **argv)
         return CLI_USAGE;
     rls_args a;
     int ec = parse(argc, argv, &a);
-    if (ec < 0)
-        return CLI_OK;
     if (ec)
-        return ec;
-    static const char *const vname[] = {"standard", "iterated", "polynomial"};
-    static const char *const pname[] = {"none", "replace", "skip", "isolate"};
+        return ec == CLI_HELP ? CLI_OK : ec;
     const int k = a.k;
-    cli_reader *rd = NULL;
-    cli_matrix S = {0, 0, 0}, dw = {0, 0, 0}, sg = {0, 0, 0}, x0m = {0, 0, 0}, g0m = {0, 0, 0};
-    double *buf = NULL, *g0 = NULL, *work = NULL, *jump = NULL;
-    int *fl = NULL;
+    rls_in in;
+    memset(&in, 0, sizeof in);
+    double *work = NULL;
     igea_rls *h = NULL;
     cli_out out = CLI_OUT_INIT;
     int out_open = 0;
-    long m = 0, n_epochs = -1;
-
-    /* sizes */
-    if (a.data) {
-        if ((ec = cli_reader_open(a.data, &rd)))
-            goto done;
-        int cols = cli_reader_cols(rd);
-        if (cols <= k || (cols - k) % k != 0) {
-            cli_error("%s: %d columns; with --k %d an epoch row needs k + k m columns", a.data,
-                      cols, k);
-            ec = CLI_DATAERR;
-            goto done;
-        }
-        m = (cols - k) / k;
-    } else {
-        if ((ec = cli_read_matrix(a.S, &S)) || (ec = cli_read_matrix(a.dw, &dw)))
-            goto done;
-        if (dw.rows * dw.cols != S.rows || S.rows % k != 0) {
-            cli_error("%s, %s: S has %ld rows, dw %ld values; both must be the same multiple "
-                      "of --k %d", a.S, a.dw, S.rows, dw.rows * dw.cols, k);
-            ec = CLI_DATAERR;
-            goto done;
-        }
-        m = S.cols;
-        n_epochs = S.rows / k;
-        if (n_epochs > 2147483647L) {
-            cli_error("%s: too many epochs", a.S);
-            ec = CLI_DATAERR;
-            goto done;
-        }
-    }
-    /* prior and sigma */
-    double sig_num = 1.0, g_num = 1e6, dummy;
-    int sig_is_num = 1, g_is_num = 1, xnum = 0;
-    /* --sigma: k values (every epoch), or with --S/--dw one per row of S */
-    if (a.sigma && (ec = read_num_or_file("--sigma", a.sigma, k, a.data ? 0 : n_epochs * k,
-                                          &sig_num, &sg, &sig_is_num)))
+    long m, ne = 0;
+    if ((ec = open_inputs(&a, &in)) || (ec = read_priors(&a, &in)))
         goto done;
-    const int sig_per_row = !sig_is_num && sg.rows * sg.cols != k;
-    if (sig_per_row)
-        for (long t = 0; t < n_epochs * k; t++)
-            if (!(sg.v[t] > 0)) {
-                cli_error("%s: sigma of row %ld is %g; must be > 0", a.sigma, t + 1, sg.v[t]);
-                ec = CLI_DATAERR;
-                goto done;
-            }
-    if (a.sigma && sig_is_num && !(sig_num > 0)) {
-        cli_error("rls: --sigma %s: must be > 0", a.sigma);
-        ec = CLI_USAGE;
+    m = in.m;
+    /* sig (k), y (k), comp (k), x (m), c (k m), then m x m for the summary */
+    if (!(work = malloc((size_t)(3 * k + m + k * m + m * m) * sizeof(double)))) {
+        ec = cli_oom("the filter");
         goto done;
     }
-    if (a.gamma0 && (ec = read_num_or_file("--gamma0", a.gamma0, m, m * m, &g_num, &g0m, &g_is_num)))
-        goto done;
-    if (a.x0 && (ec = read_num_or_file("--x0", a.x0, m, 0, &dummy, &x0m, &xnum)))
-        goto done;
-    if (a.x0 && xnum) {
-        cli_error("rls: --x0 needs a file of %ld values", m);
-        ec = CLI_USAGE;
-        goto done;
-    }
-    g0 = calloc((size_t)(m * m), sizeof(double));
-    work = malloc((size_t)(3 * k + 2 * m + k * m + (long)k * (m + 1)) * sizeof(double));
-    fl = malloc((size_t)k * sizeof(int));
-    jump = malloc((size_t)k * sizeof(double));
-    if (!g0 || !work || !fl || !jump) {
-        cli_error("out of memory");
-        ec = CLI_SOFTWARE;
-        goto done;
-    }
-    for (long i = 0; i < m; i++)
-        for (long j = 0; j < m; j++) {
-            double v;
-            if (g_is_num)
-                v = i == j ? g_num : 0.0;
-            else if (g0m.rows * g0m.cols == m)
-                v = i == j ? g0m.v[i] : 0.0;
-            else
-                v = g0m.v[i * m + j]; /* row-major; symmetric, lower read */
-            g0[i + j * m] = v;
-        }
-    double *sig = work, *y = sig + k, *comp = y + k, *x = comp + k, *c = x + m, *row = c + k * m;
-    (void)row;
-    for (int j = 0; j < k; j++) {
-        sig[j] = sig_is_num ? sig_num : sg.v[j];
-        if (!sig_per_row && !(sig[j] > 0)) {
-            cli_error("%s: sigma %d is %g; must be > 0", a.sigma, j + 1, sig[j]);
-            ec = CLI_DATAERR;
-            goto done;
-        }
-        jump[j] = a.jump;
-    }
-    int st = igea_rls_create((int)m, k, a.x0 ? x0m.v : NULL, g0, (int)m, &h);
-    if (st) {
-        ec = cli_status(st, "rls: initial state (x0, gamma0)");
-        goto done;
-    }
-    if ((st = igea_rls_set_variant(h, a.variant, a.p)) ||
-        (st = igea_rls_set_anomaly(h, a.policy, a.kappa, isfinite(a.jump) ? jump : NULL)) ||
-        (st = igea_rls_set_forget(h, a.forget))) {
-        ec = cli_status(st, "rls: options");
-        goto done;
-    }
-    if ((ec = cli_out_open(&out, a.out)))
+    if ((ec = make_filter(&a, &in, work, &h)) || (ec = cli_out_open(&out, a.out)))
         goto done;
     out_open = 1;
-    printer pr = {out.f, a.json, (int)m, k, a.every, 1};
-    if (a.json)
-        fprintf(out.f, "{\"m\": %ld, \"k\": %d, \"variant\": \"%s\", \"p\": %d, "
-                       "\"anomaly\": \"%s\", \"kappa\": %.17g, \"forget\": %.17g,\n  \"epochs\": [",
-                m, k, vname[a.variant], a.variant ? a.p : 1, pname[a.policy], a.kappa, a.forget);
-    else {
-        fprintf(out.f, "# igea rls: m = %ld, k = %d, %s RLS, p = %d, anomaly %s, kappa %g, "
-                       "forget %g\n# epoch action", m, k, vname[a.variant],
-                a.variant ? a.p : 1, pname[a.policy], a.kappa, a.forget);
-        for (int j = 0; j < k; j++)
-            fprintf(out.f, " flag%d", j + 1);
-        for (long i = 0; i < m; i++)
-            fprintf(out.f, " x%ld", i + 1);
-        for (int j = 0; j < k; j++)
-            fprintf(out.f, " comp%d", j + 1);
-        fputc('\n', out.f);
-    }
-
-    /* the stream */
-    const long block = 256;
-    long cols = a.data ? k + (long)k * m : 0;
-    if (a.data) {
-        buf = malloc((size_t)(block * cols) * sizeof(double));
-        if (!buf) {
-            cli_error("out of memory");
-            ec = CLI_SOFTWARE;
-            goto done;
-        }
-    }
-    long e = 0;
-    for (;;) {
-        long nread = 0;
-        if (a.data) {
-            if ((ec = cli_reader_next(rd, block, buf, &nread)))
-                goto done;
-        } else {
-            nread = n_epochs - e < block ? n_epochs - e : block;
-        }
-        if (nread == 0)
-            break;
-        for (long r = 0; r < nread; r++, e++) {
-            if (a.data) {
-                const double *v = buf + r * cols;
-                for (int j = 0; j < k; j++) {
-                    y[j] = v[j];
-                    for (long i = 0; i < m; i++)
-                        c[j + i * k] = v[k + j * m + i];
-                }
-            } else {
-                for (int j = 0; j < k; j++) {
-                    long srow = e * k + j;
-                    y[j] = dw.v[srow];
-                    for (long i = 0; i < m; i++)
-                        c[j + i * k] = S.v[srow * m + i];
-                }
-            }
-            if (sig_per_row)
-                memcpy(sig, sg.v + e * k, (size_t)k * sizeof(double));
-            int act = igea_rls_update(h, c, k, y, sig, fl);
-            if (act < 0) {
-                char ctx[64];
-                snprintf(ctx, sizeof ctx, "rls: epoch %ld", e + 1);
-                ec = cli_status(act, ctx);
-                goto done;
-            }
-            igea_rls_get_x(h, x);
-            igea_rls_compensate(h, c, k, y, comp);
-            print_epoch(&pr, e, act, fl, x, comp);
-        }
-    }
-    if (e == 0) {
+    printer pr;
+    pr.f = out.f, pr.json = a.json, pr.m = (int)m, pr.k = k, pr.every = a.every;
+    print_header(&pr, &a);
+    if ((ec = run_stream(&a, &in, h, &pr, work, work + k, &ne)))
+        goto done;
+    if (ne == 0) {
         cli_error("rls: no epochs in the input");
         ec = CLI_DATAERR;
         goto done;
     }
-
-    /* final summary */
-    {
-        double q, *cov = g0; /* reuse */
-        int cnt[IGEA_RLS_COUNT_LEN];
-        igea_rls_get_q(h, &q);
-        igea_rls_get_counts(h, cnt);
-        igea_rls_get_x(h, x);
-        igea_rls_get_covariance(h, cov, (int)m);
-        FILE *f = out.f;
-        if (a.json) {
-            fputs("\n  ],\n  \"x\": ", f);
-            cli_json_array(f, x, m);
-            fputs(",\n  \"sd\": [", f);
-            for (long i = 0; i < m; i++) {
-                fputs(i ? ", " : "", f);
-                cli_json_num(f, sqrt(cov[i + i * m]));
-            }
-            fputs("],\n  \"covariance\": [", f);
-            for (long i = 0; i < m; i++) {
-                fputs(i ? ",\n    " : "\n    ", f);
-                cli_json_array(f, cov + i * m, m);
-            }
-            igea_rls_get_gamma(h, cov, (int)m);
-            fputs("],\n  \"gamma\": [", f);
-            for (long i = 0; i < m; i++) {
-                fputs(i ? ",\n    " : "\n    ", f);
-                cli_json_array(f, cov + i * m, m);
-            }
-            fprintf(f, "],\n  \"q\": %.17g, \"n_epochs\": %d, \"updates\": %d, \"anomalous\": %d, "
-                       "\"rows\": %d}\n", q, cnt[0], cnt[1], cnt[2], cnt[3]);
-        } else {
-            fprintf(f, "# epochs %d, updated %d, anomalous %d; Q_p = %.6g over %d rows "
-                       "(whitened; not a measure of accuracy)\n",
-                    cnt[0], cnt[1], cnt[2], q, cnt[3]);
-            fprintf(f, "# %5s %24s %14s\n", "coef", "estimate", "sd (honest)");
-            for (long i = 0; i < m; i++)
-                fprintf(f, "# %5ld %24.17g %14.6g\n", i + 1, x[i], sqrt(cov[i + i * m]));
-        }
-    }
+    print_summary(&pr, h, work + 3 * k, work + 3 * k + m + k * m);
     ec = cli_out_commit(&out);
     out_open = 0;
 done:
     if (out_open)
         cli_out_abort(&out);
     igea_rls_free(h);
-    cli_reader_close(rd);
-    cli_matrix_free(&S);
-    cli_matrix_free(&dw);
-    cli_matrix_free(&sg);
-    cli_matrix_free(&x0m);
-    cli_matrix_free(&g0m);
-    free(buf);
-    free(g0);
+    in_free(&in);
     free(work);
-    free(fl);
-    free(jump);
     return ec;
 }

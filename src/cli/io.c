@@ -1273,46 +1273,45 @@ int cli_write_matrix(const char *path, const double *v, long rows, int cols,
     return cli_out_commit(&o);
 }
 
-void cli_json_num(FILE *f, double x)
-{
-    if (isfinite(x))
-        fprintf(f, "%.17g", x);
-    else
-        fputs("null", f);
-}
 
-void cli_json_array(FILE *f, const double *x, long n)
+int cli_read_vector(const char *path, long n, const char *what, double **out, long *count)
 {
-    fputc('[', f);
-    for (long i = 0; i < n; i++) {
-        if (i)
-            fputs(", ", f);
-        cli_json_num(f, x[i]);
+    cli_matrix m = {0};
+    int ec = cli_read_matrix(path, &m);
+    if (ec)
+        return ec;
+    long got = m.rows * m.cols;
+    if (n >= 0 && got != n) {
+        cli_error("%s: %ld values, but %s needs %ld", path, got, what, n);
+        cli_matrix_free(&m);
+        return CLI_DATAERR;
     }
-    fputc(']', f);
+    if (count)
+        *count = got;
+    *out = m.v;
+    return CLI_OK;
 }
 
-void cli_json_iarray(FILE *f, const int *x, long n)
+int cli_read_values(const char *arg, long n, const char *what, double **out, long *count)
 {
-    fputc('[', f);
+    char *end;
+    errno = 0;
+    double x = strtod(arg, &end);
+    if (end == arg || *end != '\0')
+        return cli_read_vector(arg, n, what, out, count);
+    if (!(x > 0) || !isfinite(x)) {
+        cli_error("%s %s: must be a positive number or a file", what, arg);
+        return CLI_USAGE;
+    }
+    if (n < 1) {
+        cli_error("%s must be a file here", what);
+        return CLI_USAGE;
+    }
+    if (!(*out = malloc(sizeof(double) * (size_t)n)))
+        return cli_oom(what);
     for (long i = 0; i < n; i++)
-        fprintf(f, "%s%d", i ? ", " : "", x[i]);
-    fputc(']', f);
-}
-
-void cli_json_str(FILE *f, const char *s)
-{
-    fputc('"', f);
-    for (; *s; s++) {
-        unsigned char c = (unsigned char)*s;
-        if (c == '"' || c == '\\')
-            fprintf(f, "\\%c", c);
-        else if (c == '\n')
-            fputs("\\n", f);
-        else if (c < 0x20)
-            fprintf(f, "\\u%04x", c);
-        else
-            fputc(c, f);
-    }
-    fputc('"', f);
+        (*out)[i] = x;
+    if (count)
+        *count = n;
+    return CLI_OK;
 }

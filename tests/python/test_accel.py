@@ -271,7 +271,7 @@ def test_driver_json_matches_python(tmp_path):
     for extra, kw in [([], {}), (["--method", "ebr", "--prior", str(prior)],
                                  dict(method="ebr", prior_scale=tau))]:
         out = subprocess.run([DRIVER, "accel", "--json", "--scale-a", "2.5", "--scale-b", "2.5",
-                              *extra, str(f)], capture_output=True, text=True)
+                              *extra, "--data", str(f)], capture_output=True, text=True)
         assert out.returncode == 0, out.stderr
         js = json.loads(out.stdout)
         ref = igea.accel_fit(th, ma, mb, **kw)
@@ -286,28 +286,28 @@ def test_driver_json_matches_python(tmp_path):
 def test_driver_table_single_refine_and_errors(tmp_path):
     f = tmp_path / "cal.txt"
     _write_experiment(f, np.append(BETA, 0.0))
-    out = subprocess.run([DRIVER, "accel", str(f)], capture_output=True, text=True)
+    out = subprocess.run([DRIVER, "accel", "--data", str(f)], capture_output=True, text=True)
     assert out.returncode == 0 and "PRIOR" in out.stdout and "KA0+KA2" in out.stdout
-    out = subprocess.run([DRIVER, "accel", "--model", "single", "--axis", "oa", str(f)],
+    out = subprocess.run([DRIVER, "accel", "--model", "single", "--axis", "oa", "--data", str(f)],
                          capture_output=True, text=True)
     assert out.returncode == 0 and "Kip" in out.stdout and "PRIOR" not in out.stdout
     o = tmp_path / "rep.json"
-    out = subprocess.run([DRIVER, "accel", "--refine", "--json", "--out", str(o), str(f)],
+    out = subprocess.run([DRIVER, "accel", "--refine", "--json", "--out", str(o), "--data", str(f)],
                          capture_output=True, text=True)
     assert out.returncode == 0 and out.stdout == ""
     assert "refined" in json.loads(o.read_text())
     h = subprocess.run([DRIVER, "accel", "--help"], capture_output=True, text=True)
     assert h.returncode == 0 and "igea accel" in h.stdout
-    for args, code in [(["--bogus"], 64), (["--model", "triple", str(f)], 64),
-                       (["--refine", "--model", "single", str(f)], 64),
-                       (["--prior", str(f), str(f)], 64),
-                       ([str(tmp_path / "missing.txt")], 66)]:
+    for args, code in [(["--bogus"], 64), (["--model", "triple", "--data", str(f)], 64),
+                       (["--refine", "--model", "single", "--data", str(f)], 64),
+                       (["--prior", str(f), "--data", str(f)], 64),
+                       (["--data", str(tmp_path / "missing.txt")], 66)]:
         r = subprocess.run([DRIVER, "accel", *args], capture_output=True, text=True)
         assert r.returncode == code, (args, r.stderr)
     bad = tmp_path / "bad.txt"
     bad.write_text("0 0.1\n18 0.3\n")
-    r = subprocess.run([DRIVER, "accel", str(bad)], capture_output=True, text=True)
+    r = subprocess.run([DRIVER, "accel", "--data", str(bad)], capture_output=True, text=True)
     assert r.returncode == 65
     bad.write_text("0 0.1 1\n18 x 1\n")
-    r = subprocess.run([DRIVER, "accel", str(bad)], capture_output=True, text=True)
+    r = subprocess.run([DRIVER, "accel", "--data", str(bad)], capture_output=True, text=True)
     assert r.returncode == 65 and "2:" in r.stderr

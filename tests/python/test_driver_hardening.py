@@ -89,7 +89,7 @@ def test_npy_header_larger_than_a_pipe_holds(flight):
     # 10^9 rows promised, 3 given: refused as truncated after reading what
     # is there, without sizing anything from the header.
     data = npy_header("(1000000000, 1)") + np.arange(3.0).tobytes()
-    code, err, rss = run_rss(flight, "stability", "-", "--fs", "1",
+    code, err, rss = run_rss(flight, "stability", "--data", "-", "--fs", "1",
                              stdin=_pipe_of(data))
     assert code == 65, err
     assert b"truncated" in err and b"1000000000" in err
@@ -177,9 +177,9 @@ def test_two_stdin_inputs_refused(flight):
 def test_stdin_on_other_commands(flight):
     y = np.random.default_rng(3).standard_normal(4000)
     np.savetxt(flight / "y.txt", y)
-    ref = run(flight, "stability", "y.txt", "--fs", "10", "--json")
+    ref = run(flight, "stability", "--data", "y.txt", "--fs", "10", "--json")
     assert ref.returncode == 0, ref.stderr
-    got = run(flight, "stability", "-", "--fs", "10", "--json", input=(flight / "y.txt").read_bytes())
+    got = run(flight, "stability", "--data", "-", "--fs", "10", "--json", input=(flight / "y.txt").read_bytes())
     assert json.loads(got.stdout)["dev"] == json.loads(ref.stdout)["dev"]
     ref = run(flight, "regress", "--method", "ls", "--S", "S.txt", "--dw", "dw.txt", "--json")
     got = run(flight, "regress", "--method", "ls", "--S", "-", "--dw", "dw.txt", "--json",
@@ -212,7 +212,7 @@ def test_genuine_csv_accepted(flight):
     assert eqerr_json(flight, "S2.csv") == ref
     ints = np.arange(1, 13, dtype=float).reshape(4, 3)
     (flight / "i.csv").write_text("\n".join(",".join("%d" % v for v in row) for row in ints))
-    r = run(flight, "stability", "i.csv", "--fs", "1", "--column", "2", "--json")
+    r = run(flight, "stability", "--data", "i.csv", "--fs", "1", "--column", "1", "--json")
     assert r.returncode == 0, r.stderr
 
 
@@ -236,7 +236,7 @@ def test_binary_as_text_refused_early(tmp_path, kind):
         for _ in range(50):
             f.write(chunk)
     t0 = time.time()
-    code, err, rss = run_rss(tmp_path, "stability", "big.txt", "--fs", "1")
+    code, err, rss = run_rss(tmp_path, "stability", "--data", "big.txt", "--fs", "1")
     assert code == 65, err
     assert b"big.txt:" in err
     assert (b"line longer than" in err) if kind == "no_newline" else (b"NUL byte" in err)
@@ -251,11 +251,11 @@ def test_stability_wide_file_needs_column(tmp_path):
     t = np.arange(3000) / 10.0
     np.savetxt(tmp_path / "tr.txt", np.column_stack([t, rate]), fmt="%.17g")
     np.savetxt(tmp_path / "r.txt", rate, fmt="%.17g")
-    r = run(tmp_path, "stability", "tr.txt", "--fs", "10")
+    r = run(tmp_path, "stability", "--data", "tr.txt", "--fs", "10")
     assert r.returncode == 64
     assert b"tr.txt" in r.stderr and b"2 columns" in r.stderr and b"--column" in r.stderr
-    a = run(tmp_path, "stability", "tr.txt", "--fs", "10", "--column", "2", "--json")
-    b = run(tmp_path, "stability", "r.txt", "--fs", "10", "--json")
+    a = run(tmp_path, "stability", "--data", "tr.txt", "--fs", "10", "--column", "1", "--json")
+    b = run(tmp_path, "stability", "--data", "r.txt", "--fs", "10", "--json")
     assert a.returncode == 0 and b.returncode == 0
     ja, jb = json.loads(a.stdout), json.loads(b.stdout)
     assert ja["dev"] == jb["dev"]
@@ -275,13 +275,13 @@ def test_saved_result_counts_checked(flight, field, value):
     lines = [("  \"%s\": %s," % (field, value)) if l.startswith("  \"%s\":" % field) else l
              for l in doc.split("\n")]
     (flight / "bad.json").write_text("\n".join(lines))
-    r = run(flight, "test", "bad.json")
+    r = run(flight, "test", "--results", "bad.json")
     assert r.returncode == 65, (r.returncode, r.stdout, r.stderr)
     assert b"bad.json" in r.stderr and field.encode() in r.stderr
 
 
 def test_saved_result_binary_refused_early(tmp_path):
-    code, err, rss = run_rss(tmp_path, "test", "/dev/zero")
+    code, err, rss = run_rss(tmp_path, "test", "--results", "/dev/zero")
     assert code == 65 and b"/dev/zero" in err and b"NUL" in err
     assert rss < 32 << 20
 
@@ -296,8 +296,8 @@ def traj(tmp_path_factory):
 
 
 @pytest.mark.parametrize("args", [
-    ["envfun", "traj.txt", "--terms", "default"],
-    ["envfun", "traj.txt", "--terms", "default", "--json"],
+    ["envfun", "--traj", "traj.txt", "--terms", "default"],
+    ["envfun", "--traj", "traj.txt", "--terms", "default", "--json"],
     ["envfun", "--list"],
     ["simulate", "--duration", "30", "--json", "--dir", "."],
     ["montecarlo", "--flights", "20", "--duration", "30"],
@@ -306,7 +306,7 @@ def traj(tmp_path_factory):
     ["--help"],
     ["eqerr", "--help"],
     ["eqerr", "--S", "S.txt", "--dw", "dw.txt", "--sigma", "sigma.txt", "--spec", "spec.txt"],
-    ["stability", "dw.txt", "--fs", "1", "--block", "2"],
+    ["stability", "--data", "dw.txt", "--fs", "1", "--block", "2"],
 ])
 def test_stdout_full_is_an_error(traj, args):
     if not os.path.exists("/dev/full"):
@@ -326,7 +326,7 @@ def test_lost_summary_keeps_old_files(traj, tmp_path):
     with open("/dev/full", "wb") as full:
         a = subprocess.run([DRIVER, "simulate", "--duration", "30", "--json", "--dir", "."],
                            cwd=tmp_path, stdout=full, stderr=subprocess.PIPE, timeout=120)
-        b = subprocess.run([DRIVER, "envfun", str(traj / "traj.txt"), "--terms", "default",
+        b = subprocess.run([DRIVER, "envfun", "--traj", str(traj / "traj.txt"), "--terms", "default",
                             "--json", "--out", "Senv.txt"], cwd=tmp_path, stdout=full,
                            stderr=subprocess.PIPE, timeout=120)
     assert a.returncode == 74 and b.returncode == 74, (a.stderr, b.stderr)
@@ -345,7 +345,7 @@ def test_out_keeps_mode_and_umask(flight):
     os.chmod(flight / "r.json", 0o600)
     assert write_out(flight, "r.json").returncode == 0
     assert stat.S_IMODE(os.stat(flight / "r.json").st_mode) == 0o600
-    assert json.loads((flight / "r.json").read_text())["terms"] == 18
+    assert json.loads((flight / "r.json").read_text())["n_terms"] == 18
     old = os.umask(0o077)
     try:
         assert write_out(flight, "new.json").returncode == 0
@@ -367,7 +367,7 @@ def test_out_follows_symlink(flight):
     os.symlink("sub/target.json", flight / "link.json")
     assert write_out(flight, "link.json").returncode == 0
     assert os.path.islink(flight / "link.json")
-    assert json.loads((flight / "sub" / "target.json").read_text())["terms"] == 18
+    assert json.loads((flight / "sub" / "target.json").read_text())["n_terms"] == 18
     assert stat.S_IMODE(os.stat(flight / "sub" / "target.json").st_mode) == 0o640
     assert not [f for f in os.listdir(flight / "sub") if ".tmp." in f]
     assert not [f for f in os.listdir(flight) if ".tmp." in f]
@@ -375,7 +375,7 @@ def test_out_follows_symlink(flight):
     os.symlink("sub/fresh.json", flight / "dangling.json")
     assert write_out(flight, "dangling.json").returncode == 0
     assert os.path.islink(flight / "dangling.json")
-    assert json.loads((flight / "sub" / "fresh.json").read_text())["terms"] == 18
+    assert json.loads((flight / "sub" / "fresh.json").read_text())["n_terms"] == 18
 
 
 def test_out_fifo_written_in_place(flight):
@@ -390,7 +390,7 @@ def test_out_fifo_written_in_place(flight):
     t.join(30)
     assert r.returncode == 0, r.stderr
     assert stat.S_ISFIFO(os.lstat(flight / "pipe.json").st_mode)
-    assert json.loads(got[0])["terms"] == 18
+    assert json.loads(got[0])["n_terms"] == 18
     assert not [f for f in os.listdir(flight) if ".tmp." in f]
 
 
@@ -399,7 +399,7 @@ def test_out_dev_stdout_is_the_pipe(flight):
     os.symlink("/proc/self/fd/1", flight / "stdout")
     r = write_out(flight, "stdout")
     assert r.returncode == 0, r.stderr
-    assert json.loads(r.stdout)["terms"] == 18
+    assert json.loads(r.stdout)["n_terms"] == 18
     assert os.path.islink(flight / "stdout")
     assert not [f for f in os.listdir(flight) if ".tmp." in f]
 

@@ -64,8 +64,8 @@ CASES = {
                      "spec.txt", "--out", "OUT"], "S.txt"),
     "eqerr_pipe_svd": (["eqerr", "--S", "-", "--dw", "dw.txt", "--sigma", "sigma.txt",
                         "--route", "svd", "--out", "OUT"], "pipe:S.txt"),
-    "envfun": (["envfun", "traj.txt", "--terms", "default", "--out", "OUT"], None),
-    "stability": (["stability", "y.txt", "--fs", "10", "--block", "10", "--out", "OUT"], None),
+    "envfun": (["envfun", "--traj", "traj.txt", "--terms", "default", "--out", "OUT"], None),
+    "stability": (["stability", "--data", "y.txt", "--fs", "10", "--block", "10", "--out", "OUT"], None),
     "regress": (["regress", "--method", "ls", "--S", "S.txt", "--dw", "dw.txt", "--sigma",
                  "sigma.txt", "--out", "OUT"], None),
     "simulate": (["simulate", "--seed", "4", "--duration", "20", "--dir", "simout"], None),
@@ -73,11 +73,11 @@ CASES = {
                        "--sigma", "sigma.txt", "--out", "OUT"], None),
     "rls": (["rls", "--S", "S.txt", "--dw", "dw.txt", "--sigma", "sigma.txt", "--out", "OUT"],
             None),
-    "accel": (["accel", "accel_dual.txt", "--out", "OUT"], None),
+    "accel": (["accel", "--data", "accel_dual.txt", "--out", "OUT"], None),
     "montecarlo": (["montecarlo", "--flights", "4", "--duration", "20", "--threads", "1",
                     "--out", "OUT"], None),
     "test_table": (["test", "--table", "seed000_table1.txt", "--out", "OUT"], None),
-    "test_pool": (["test", "f1.json", "f1.json", "--out", "OUT"], None),
+    "test_pool": (["test", "--results", "f1.json,f1.json", "--out", "OUT"], None),
 }
 
 

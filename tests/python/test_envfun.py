@@ -212,7 +212,7 @@ def test_driver_envfun_matches_python(tmp_path, traj_sd):
     tf = tmp_path / "traj.txt"
     np.savetxt(tf, traj_sd, fmt="%.17g")
     out = tmp_path / "S.txt"
-    r = subprocess.run([DRIVER, "envfun", str(tf), "--terms", "acc_bias_x,gyro_g_z,att0_y",
+    r = subprocess.run([DRIVER, "envfun", "--traj", str(tf), "--terms", "acc_bias_x,gyro_g_z,att0_y",
                         "--epoch-step", "2", "--out", str(out)], capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
     first = out.read_text().splitlines()[0]
@@ -222,10 +222,10 @@ def test_driver_envfun_matches_python(tmp_path, traj_sd):
     want = igea.envfun(traj_sd, ["acc_bias_x", "gyro_g_z", "att0_y"], ep)
     np.testing.assert_allclose(S, want, rtol=1e-15, atol=0)
     # usage errors
-    r = subprocess.run([DRIVER, "envfun", str(tf), "--terms", "nope"], capture_output=True,
+    r = subprocess.run([DRIVER, "envfun", "--traj", str(tf), "--terms", "nope"], capture_output=True,
                        text=True)
     assert r.returncode == 64 and "nope" in r.stderr
-    r = subprocess.run([DRIVER, "envfun", str(tf), "--terms", "acc_bias_x", "--epochs",
+    r = subprocess.run([DRIVER, "envfun", "--traj", str(tf), "--terms", "acc_bias_x", "--epochs",
                         str(tmp_path / "missing.txt")], capture_output=True, text=True)
     assert r.returncode == 66
     r = subprocess.run([DRIVER, "envfun", "--help"], capture_output=True, text=True)

@@ -297,12 +297,12 @@ def test_driver_errors_and_pool(tmp_path):
                    "--spec", f"spec{s}.txt", "--json", "--out", f"r{s}.json", cwd=tmp_path)
         assert r.returncode in (0, 1), r.stderr
         outs.append(igea.eqerr(S, dw, sigma, spec))
-    r = driver("test", "--json", "r31.json", "r32.json", cwd=tmp_path)
+    r = driver("test", "--json", "--results", "r31.json,r32.json", cwd=tmp_path)
     js = json.loads(r.stdout)
     p = igea.pool(outs)
     assert js["dof"] == p.dof and np.isclose(js["chi2"], p.chi2, rtol=1e-6)
     assert r.returncode == (0 if p.passed else 1)
-    r = driver("test", "--unit-ids", "4,4", "r31.json", "r32.json", cwd=tmp_path)
+    r = driver("test", "--unit-ids", "4,4", "--results", "r31.json,r32.json", cwd=tmp_path)
     assert r.returncode == 65 and "independent" in r.stderr
     for cmd in ("eqerr", "test", "version"):
         r = driver(cmd, "--help")

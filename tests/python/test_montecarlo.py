@@ -152,12 +152,12 @@ def test_driver_montecarlo_files(model, tmp_path):
     np.savetxt(tmp_path / "S.txt", fl.S, fmt="%.17g")
     np.savetxt(tmp_path / "sigma.txt", fl.sigma, fmt="%.17g")
     np.savetxt(tmp_path / "spec.txt", fl.spec, fmt="%.17g")
-    r = subprocess.run([DRIVER, "montecarlo", "--S", "S.txt", "--sigma-file", "sigma.txt",
-                        "--spec-file", "spec.txt", "--flights", "120", "--seed", "8",
-                        "--json", "--no-correct"], cwd=tmp_path, capture_output=True, text=True)
+    r = subprocess.run([DRIVER, "montecarlo", "--S", "S.txt", "--sigma", "sigma.txt",
+                        "--spec", "spec.txt", "--flights", "120", "--seed", "8",
+                        "--json", "--no-correction"], cwd=tmp_path, capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
     d = json.loads(r.stdout)
-    py = igea.montecarlo(fl.S, fl.sigma, 120, spec=fl.spec, seed=8, correct_tracking=False)
+    py = igea.montecarlo(fl.S, fl.sigma, 120, spec=fl.spec, seed=8, correction=False)
     assert d["failed"]["count"] == py.failed
     assert d["comp_tested"] == py.comp_tested.tolist()
     r = subprocess.run([DRIVER, "montecarlo", "--S", "S.txt", "--flights", "5"], cwd=tmp_path,

@@ -313,7 +313,7 @@ def test_driver_matches_python(tmp_path):
     np.savetxt(tmp_path / "dw.txt", Y.reshape(-1), fmt="%.17g")
     r = igea.rls_run(C, Y, None, 100 * np.eye(4), variant="iterated", p=3, anomaly="isolate",
                      track_sigma=0.01)
-    common = ["--gamma0", "100", "--variant", "iterated", "-p", "3", "--anomaly", "isolate",
+    common = ["--gamma0", "100", "--variant", "iterated", "--p", "3", "--anomaly", "isolate",
               "--sigma", "0.01"]
     out = subprocess.run([drv, "rls", "--data", str(tmp_path / "rec.txt")] + common,
                          capture_output=True, text=True)
@@ -353,7 +353,7 @@ def test_driver_errors(tmp_path):
     assert o.returncode == 65 and "bad.txt:2:5" in o.stderr
     (tmp_path / "ok.txt").write_text("1 1 0\n2 0 1\n")
     assert run("--data", str(tmp_path / "ok.txt"), "--k", "2").returncode == 65
-    assert run("--data", str(tmp_path / "ok.txt"), "--k", "1", "-p", "0").returncode == 64
+    assert run("--data", str(tmp_path / "ok.txt"), "--k", "1", "--p", "0").returncode == 64
     assert run("--data", str(tmp_path / "ok.txt"), "--k", "1", "--gamma0", "-1").returncode == 70
     out = tmp_path / "never.txt"
     assert run("--data", str(tmp_path / "ok.txt"), "--k", "1", "--sigma", "0",

@@ -177,7 +177,7 @@ def test_driver_stability(tmp_path):
     y = 0.5 + rng.normal(0, 0.01, 30000)
     np.save(tmp_path / "g.npy", y)
     drv = os.environ["IGEA_DRIVER"]
-    r = subprocess.run([drv, "stability", "g.npy", "--fs", "100", "--block", "10", "--json"],
+    r = subprocess.run([drv, "stability", "--data", "g.npy", "--fs", "100", "--block", "10", "--json"],
                        capture_output=True, text=True, cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     d = json.loads(r.stdout)
@@ -189,7 +189,7 @@ def test_driver_stability(tmp_path):
     assert d["block"]["three_sigma"] == pytest.approx(b.three_sigma, rel=1e-15)
     assert d["noise"]["random_walk"] == pytest.approx(0.001, rel=0.05)
     np.savetxt(tmp_path / "two.txt", np.column_stack([y[:500], y[:500] * 2]))
-    r = subprocess.run([drv, "stability", "two.txt", "--fs", "1", "--column", "2", "--kind",
+    r = subprocess.run([drv, "stability", "--data", "two.txt", "--fs", "1", "--column", "1", "--kind",
                         "modified", "--json"], capture_output=True, text=True, cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     d = json.loads(r.stdout)
@@ -198,9 +198,9 @@ def test_driver_stability(tmp_path):
     assert d["block"] is not None
     h = subprocess.run([drv, "stability", "--help"], capture_output=True, text=True)
     assert h.returncode == 0 and "example" in h.stdout
-    for bad in (["g.npy"], ["g.npy", "--fs", "1", "--kind", "x"], ["g.npy", "--fs", "x"],
-                ["g.npy", "--fs", "1", "--nope"]):
+    for bad in (["--data", "g.npy"], ["--data", "g.npy", "--fs", "1", "--kind", "x"],
+                ["--data", "g.npy", "--fs", "x"], ["--data", "g.npy", "--fs", "1", "--nope"]):
         assert subprocess.run([drv, "stability", *bad], capture_output=True,
                               cwd=tmp_path).returncode == 64
-    assert subprocess.run([drv, "stability", "none.npy", "--fs", "1"], capture_output=True,
+    assert subprocess.run([drv, "stability", "--data", "none.npy", "--fs", "1"], capture_output=True,
                           cwd=tmp_path).returncode == 66

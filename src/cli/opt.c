@@ -1,0 +1,195 @@
+/* opt.c - the driver's one option parser: every command describes its
+ * options in a table (name, kind, default, help, target); the same table
+ * sets the defaults, parses the command line and prints the option list of
+ * the command's --help. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+
+int cli_choice(const char *opt, const char *value, const char *choices, int *index)
+{
+    size_t len = strlen(value);
+    int k = 0;
+    for (const char *p = choices;; k++) {
+        const char *bar = strchr(p, '|');
+        size_t n = bar ? (size_t)(bar - p) : strlen(p);
+        if (n == len && !strncmp(p, value, n)) {
+            *index = k;
+            return CLI_OK;
+        }
+        if (!bar)
+            break;
+        p = bar + 1;
+    }
+    cli_error("option %s: '%s' is not one of %s", opt, value, choices);
+    return CLI_USAGE;
+}
+
+/* Store the text v into o's target. */
+static int set_value(const cli_opt *o, const char *v)
+{
+    switch (o->kind) {
+    case CLI_OPT_INT:
+        return cli_parse_int(o->name, v, (int *)o->target);
+    case CLI_OPT_NUM:
+        return cli_parse_double(o->name, v, (double *)o->target);
+    case CLI_OPT_STR:
+        *(const char **)o->target = v;
+        return CLI_OK;
+    case CLI_OPT_CHOICE:
+        return cli_choice(o->name, v, o->arg, (int *)o->target);
+    default:
+        return CLI_OK;
+    }
+}
+
+static int takes_value(const cli_opt *o)
+{
+    return o->kind == CLI_OPT_INT || o->kind == CLI_OPT_NUM || o->kind == CLI_OPT_STR ||
+           o->kind == CLI_OPT_CHOICE;
+}
+
+/* "  --name ARG" padded to the help column, then the help text (its '\n'
+ * continue on indented lines) and the default. */
+#define HELP_COL 22
+static void print_option(FILE *f, const cli_opt *o)
+{
+    char head[96];
+    const char *arg = o->arg;
+    if (o->kind == CLI_OPT_FLAG || o->kind == CLI_OPT_CLEAR || o->kind == CLI_OPT_DSET ||
+        o->kind == CLI_OPT_DCLEAR)
+        arg = NULL;
+    snprintf(head, sizeof head, "  %s%s%s", o->name, arg ? " " : "", arg ? arg : "");
+    int w = (int)strlen(head);
+    if (w >= HELP_COL) {
+        fprintf(f, "%s\n%*s", head, HELP_COL, "");
+    } else {
+        fprintf(f, "%-*s", HELP_COL, head);
+    }
+    for (const char *p = o->help; *p; p++) {
+        fputc(*p, f);
+        if (*p == '\n')
+            fprintf(f, "%*s", HELP_COL, "");
+    }
+    if (o->def && !strcmp(o->def, CLI_DEF_LIB)) {
+        if (o->kind == CLI_OPT_NUM)
+            fprintf(f, " (default %g)", *(const double *)o->target);
+        else if (o->kind == CLI_OPT_INT)
+            fprintf(f, " (default %d)", *(const int *)o->target);
+    } else if (o->def) {
+        fprintf(f, " (default %s)", o->def);
+    }
+    fputc('\n', f);
+}
+
+void cli_help(FILE *f, const cli_command *c)
+{
+    fputs(c->intro, f);
+    for (const cli_opt *o = c->opts; o->kind != CLI_OPT_END; o++) {
+        if (o->kind == CLI_OPT_HEAD)
+            fprintf(f, "%s\n", o->help);
+        else
+            print_option(f, o);
+    }
+    fputs(c->outro, f);
+}
+
+int cli_parse(const cli_command *c, int argc, char **argv)
+{
+    const cli_opt *o;
+    for (o = c->opts; o->kind != CLI_OPT_END; o++) {
+        if (o->given)
+            *o->given = 0;
+        if (o->kind == CLI_OPT_FLAG)
+            *(int *)o->target = 0;
+        else if (o->kind == CLI_OPT_CLEAR)
+            *(int *)o->target = 1;
+        else if (takes_value(o) && o->def && strcmp(o->def, CLI_DEF_LIB) &&
+                 set_value(o, o->def) != CLI_OK)
+            return CLI_SOFTWARE; /* a default that does not parse: a table error */
+        else if (o->kind == CLI_OPT_STR && !o->def)
+            *(const char **)o->target = NULL;
+    }
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            cli_help(stdout, c);
+            return CLI_HELP;
+        }
+        for (o = c->opts; o->kind != CLI_OPT_END; o++)
+            if (o->name && !strcmp(o->name, a))
+                break;
+        if (o->kind == CLI_OPT_END) {
+            if (a[0] == '-' && a[1] != '\0')
+                cli_error("%s: unknown option '%s' (see igea %s --help)", c->name, a, c->name);
+            else
+                cli_error("%s: unexpected argument '%s': inputs are options (see igea %s --help)",
+                          c->name, a, c->name);
+            return CLI_USAGE;
+        }
+        if (o->given)
+            *o->given = 1;
+        if (o->kind == CLI_OPT_FLAG || o->kind == CLI_OPT_CLEAR) {
+            *(int *)o->target = o->kind == CLI_OPT_FLAG;
+            continue;
+        }
+        if (o->kind == CLI_OPT_DSET || o->kind == CLI_OPT_DCLEAR) {
+            *(double *)o->target = o->kind == CLI_OPT_DSET;
+            continue;
+        }
+        const char *v = cli_optarg(argc, argv, &i);
+        if (!v)
+            return CLI_USAGE;
+        int ec = set_value(o, v);
+        if (ec)
+            return ec;
+    }
+    return CLI_OK;
+}
+
+int cli_check_opts(const char *cmd, int module, int status)
+{
+    if (status == 0)
+        return CLI_OK;
+    char name[64];
+    snprintf(name, sizeof name, "%s", status > 0 ? igea_opt_name(module, status - 1) : "");
+    for (char *p = name; *p; p++)
+        if (*p == '_')
+            *p = '-';
+    cli_error("%s: --%s is out of range (see igea %s --help)", cmd, name, cmd);
+    return CLI_USAGE;
+}
+
+int cli_split_list(const char *list, char ***items, int *n)
+{
+    size_t len = strlen(list);
+    int k = 1;
+    for (const char *p = list; *p; p++)
+        k += *p == ',';
+    /* the pointers, then a copy of the text cut at the commas */
+    char **v = malloc(sizeof(char *) * (size_t)k + len + 1);
+    if (!v)
+        return cli_oom("a list");
+    char *text = (char *)(v + k);
+    memcpy(text, list, len + 1);
+    k = 0;
+    for (char *p = text;; p++) {
+        char *c = strchr(p, ',');
+        v[k++] = p;
+        if (!c)
+            break;
+        *c = '\0';
+        p = c;
+    }
+    for (int i = 0; i < k; i++)
+        if (!*v[i]) {
+            cli_error("list '%s': an empty item", list);
+            free(v);
+            return CLI_USAGE;
+        }
+    *items = v;
+    *n = k;
+    return CLI_OK;
+}
