@@ -387,23 +387,11 @@ class SeriesCheck:
     excluded: np.ndarray     # (nwin, nsens) bool
     fused: np.ndarray        # (nwin,)
     fused_sigma: np.ndarray  # (nwin,)
+    exclusions: list         # [(sensor, from, to)]: the library's intervals, sensor 0-based
 
     def intervals(self):
         """[(sensor, t_start, t_end)] of the exclusions."""
-        out = []
-        for s in range(self.excluded.shape[1]):
-            col = self.excluded[:, s]
-            k = 0
-            while k < col.size:
-                if col[k]:
-                    j = k
-                    while j < col.size and col[j]:
-                        j += 1
-                    out.append((s, float(self.t[k]), float(self.t[j - 1] + self.window)))
-                    k = j
-                else:
-                    k += 1
-        return out
+        return list(self.exclusions)
 
     def summary(self):
         iv = self.intervals()
@@ -440,9 +428,18 @@ def series_check(y, fs, window, sigma, alpha=0.7, *, iterative=True, weighted=Tr
               float(fs), float(window), _lib.dptr(s), _lib.dptr(al), lda, int(bool(iterative)),
               int(bool(weighted)), nw, _lib.dptr(means), _lib.iptr(ex), _lib.dptr(fused),
               _lib.dptr(fsig))
+    cap = nsens * ((nw + 1) // 2)
+    sensor, w0, w1 = (np.zeros(cap, dtype=np.intc) for _ in range(3))
+    t0, t1 = np.zeros(cap), np.zeros(cap)
+    niv = ctypes.c_int()
+    _lib.call("igea.series_check", "igea_redund_monitor_intervals", nsens, nw, _lib.iptr(ex),
+              float(fs), float(window), cap, ctypes.byref(niv), _lib.iptr(sensor), _lib.iptr(w0),
+              _lib.iptr(w1), _lib.dptr(t0), _lib.dptr(t1))
     step = round(window * fs) / fs
+    k = niv.value
     return SeriesCheck(np.arange(nw) * step, step, means.T.copy(), ex.T.astype(bool), fused,
-                       fsig)
+                       fsig, [(int(a), float(b), float(c)) for a, b, c in
+                              zip(sensor[:k], t0[:k], t1[:k])])
 
 
 def simulate_redundant(nsamp, fs, level, noise, *, fault_sensor=-1, t0=0.0, t1=0.0, bias=0.0,
