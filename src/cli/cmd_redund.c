@@ -7,38 +7,65 @@
 
 #include "cli.h"
 
-static void redund_help(void)
-{
-    printf(
+typedef struct {
+    const char *axes, *R, *x, *sigma, *data, *H, *y, *out;
+    double re1, re2, alpha, fs, window, pfa;
+    int json, one_shot, average;
+} rd_args;
+
+static rd_args A;
+static const cli_opt options[] = {
+    CLI_HEAD("reliability:"),
+    {"--re1", CLI_OPT_NUM, &A.re1, "0.992", "R", "gyro reliability", NULL},
+    {"--re2", CLI_OPT_NUM, &A.re2, "0.995", "R", "accelerometer reliability", NULL},
+    {"--axes", CLI_OPT_STR, &A.axes, NULL, "FILE", "n rows of 3: each sensor's input axis", NULL},
+    {"--R", CLI_OPT_STR, &A.R, NULL, "FILE|NUM", "with --axes: sensor reliabilities (n values or one)", NULL},
+    CLI_HEAD("consistency, fuse, fdi:"),
+    {"--x", CLI_OPT_STR, &A.x, NULL, "FILE", "consistency: n measurements of one quantity", NULL},
+    {"--data", CLI_OPT_STR, &A.data, NULL, "FILE", "fuse: the record (rows = samples, columns = sensors)", NULL},
+    {"--fs", CLI_OPT_NUM, &A.fs, "-1", "HZ", "fuse: sampling rate (required)", NULL},
+    {"--window", CLI_OPT_NUM, &A.window, "1", "S", "fuse: window length in seconds", NULL},
+    {"--H", CLI_OPT_STR, &A.H, NULL, "FILE", "fdi: measurement matrix, m rows of q (m > q)", NULL},
+    {"--y", CLI_OPT_STR, &A.y, NULL, "FILE", "fdi: the m measurements of one epoch", NULL},
+    {"--sigma", CLI_OPT_STR, &A.sigma, NULL, "FILE|NUM", "tolerances (consistency, fuse) or noise sds (fdi)", NULL},
+    {"--alpha", CLI_OPT_NUM, &A.alpha, "0.7", "A", "relation threshold on d_ij", NULL},
+    {"--one-shot", CLI_OPT_FLAG, &A.one_shot, NULL, NULL, "one-shot fusion set instead of the iterative majority", NULL},
+    {"--average", CLI_OPT_FLAG, &A.average, NULL, NULL, "fuse: plain mean instead of the weighted one", NULL},
+    {"--pfa", CLI_OPT_NUM, &A.pfa, "0.01", "P", "fdi: false-alarm probability", NULL},
+    CLI_JSON_OPT(&A.json),
+    CLI_OUT_OPT(&A.out),
+    CLI_END};
+
+static const cli_command command = {"redund",
 "usage: igea redund reliability [--re1 R] [--re2 R] [--axes FILE --R FILE|NUMBER]\n"
 "       igea redund consistency --x FILE --sigma FILE|NUMBER [--alpha A] [--one-shot]\n"
-"       igea redund fuse --record FILE --fs HZ --sigma FILE|NUMBER [--window S]\n"
+"       igea redund fuse --data FILE --fs HZ --sigma FILE|NUMBER [--window S]\n"
 "                        [--alpha A] [--one-shot] [--average]\n"
 "       igea redund fdi --H FILE --y FILE --sigma FILE|NUMBER [--pfa P]\n"
 "       (every form takes --json and --out FILE)\n"
 "\n"
-"Redundant inertial sensors (METHODS 3).\n"
+"Redundant inertial sensors (METHODS 3). Sensors are numbered from 0.\n"
 "\n"
 "reliability  Without --axes: the figures of seed 002 for gyro reliability\n"
-"             --re1 (default 0.992) and accelerometer reliability --re2 (0.995):\n"
-"             eq. (6), (7), (8), the quoted (10) (= without the skew sensor), the\n"
-"             non-redundant (9) and the exact geometric value. With --axes (n\n"
-"             rows of 3: each sensor's input axis) and --R (n values or one):\n"
-"             P(the surviving axes span 3-D), and P(they can still detect /\n"
-"             isolate a further single fault) from the parity matrix.\n"
+"             --re1 and accelerometer reliability --re2: eq. (6), (7), (8), the\n"
+"             quoted (10) (= without the skew sensor), the non-redundant (9)\n"
+"             and the exact geometric value. With --axes and --R: P(the\n"
+"             surviving axes span 3-D), and P(they can still detect / isolate\n"
+"             a further single fault) from the parity matrix.\n"
 "consistency  One epoch of n redundant measurements --x of one quantity with\n"
 "             tolerances --sigma: the confidence-distance matrix D, the relation\n"
-"             matrix (d_ij <= alpha, default 0.7), support counts, the fusion set\n"
-"             (iterative majority; --one-shot) and the fused value and sigma.\n"
-"             Choose sigma as a tolerance (about 3-5x the noise of x): with sigma\n"
-"             equal to the noise, healthy pairs disagree 46 %% of the time.\n"
-"fuse         A record (rows = samples at --fs Hz, columns = sensors): the\n"
-"             check of every window of --window seconds (default 1) on the\n"
-"             window means: which sensors were excluded when, and the fused\n"
-"             output (weighted; --average for the plain mean).\n"
-"fdi          Parity-space test of one epoch y = H x + e (H: m rows of q,\n"
-"             m > q): chi-square detection at false-alarm probability --pfa\n"
-"             (default 0.01) and the isolated sensor (numbered from 1).\n"
+"             matrix (d_ij <= alpha), support counts, the fusion set (iterative\n"
+"             majority; --one-shot) and the fused value and sigma. Choose sigma\n"
+"             as a tolerance (about 3-5x the noise of x): with sigma equal to the\n"
+"             noise, healthy pairs disagree 46 % of the time.\n"
+"fuse         A record sampled at --fs Hz: the check of every window of\n"
+"             --window seconds on the window means: which sensors were excluded\n"
+"             when, and the fused output (weighted; --average for the mean).\n"
+"fdi          Parity-space test of one epoch y = H x + e: chi-square detection\n"
+"             at false-alarm probability --pfa and the isolated sensor.\n"
+"\n"
+"options:\n",
+options,
 "\n"
 "exit status: 0 ok (a detected fault is reported, not an error), 64 usage,\n"
 "65 bad input, 66 missing input, 70 numerical failure, 74 I/O error.\n"
@@ -47,476 +74,387 @@ static void redund_help(void)
 "  igea redund reliability\n"
 "  printf '1.000010\\n1.000018\\n0.999995\\n1.010004\\n' > x.txt\n"
 "  igea redund consistency --x x.txt --sigma 20e-6 --alpha 0.7\n"
-"  igea redund fuse --record ax.npy --fs 100 --window 1 --sigma 20e-6 --json\n");
+"  igea redund fuse --data ax.npy --fs 100 --window 1 --sigma 20e-6 --json\n"};
+
+enum { RELIABILITY, CONSISTENCY, FUSE, FDI };
+
+/* The subcommand's inputs, present. */
+static const char *check_sub(int sub, const rd_args *a)
+{
+    if (sub == RELIABILITY && a->axes && !a->R)
+        return "redund reliability: --axes needs --R";
+    if (sub == CONSISTENCY && (!a->x || !a->sigma))
+        return "redund consistency: --x and --sigma are required";
+    if (sub == FUSE && (!a->data || !a->sigma || !(a->fs > 0)))
+        return "redund fuse: --data, --fs (> 0) and --sigma are required";
+    if (sub == FDI && (!a->H || !a->y || !a->sigma))
+        return "redund fdi: --H, --y and --sigma are required";
+    return NULL;
 }
 
-typedef struct {
-    const char *sub, *axes, *R, *x, *sigma, *record, *H, *y, *out;
-    double re1, re2, alpha, fs, window, pfa;
-    int json, one_shot, average;
-} rd_args;
-
-/* A file or a number: n values into *v (malloc). n < 0: take the file's. */
-static int read_values(const char *what, const char *s, int *n, double **v)
+static int parse(int argc, char **argv, rd_args *a, int *sub)
 {
-    char *end;
-    double d = strtod(s, &end);
-    if (end != s && *end == '\0') {
-        if (*n < 1) {
-            cli_error("redund: %s must be a file here", what);
-            return CLI_USAGE;
-        }
-        *v = malloc(sizeof(double) * (size_t)*n);
-        if (!*v)
-            return cli_oom(what);
-        for (int i = 0; i < *n; i++)
-            (*v)[i] = d;
-        return CLI_OK;
+    if (argc > 1 && (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h"))) {
+        cli_help(stdout, &command);
+        return CLI_HELP;
     }
-    cli_matrix m = {0};
-    int ec = cli_read_matrix(s, &m);
-    if (ec)
-        return ec;
-    long cnt = m.rows * m.cols;
-    if (*n >= 1 && cnt != *n) {
-        cli_error("%s: %s holds %ld values, expected %d", what, s, cnt, *n);
-        cli_matrix_free(&m);
-        return CLI_DATAERR;
-    }
-    *n = (int)cnt;
-    *v = m.v;
-    return CLI_OK;
-}
-
-static int parse(int argc, char **argv, rd_args *a)
-{
-    memset(a, 0, sizeof *a);
-    a->re1 = 0.992;
-    a->re2 = 0.995;
-    a->alpha = 0.7;
-    a->window = 1.0;
-    a->pfa = 0.01;
-    a->fs = -1.0;
-    int i = 1;
-    if (argc > 1 && argv[1][0] != '-') {
-        a->sub = argv[1];
-        i = 2;
-    }
-    for (; i < argc; i++) {
-        const char *o = argv[i], *v;
-        int ec;
-#define NEED() do { if (!(v = cli_optarg(argc, argv, &i))) return CLI_USAGE; } while (0)
-#define DBL(field) do { NEED(); if ((ec = cli_parse_double(o, v, &a->field))) return ec; } while (0)
-        if (!strcmp(o, "--help") || !strcmp(o, "-h")) {
-            redund_help();
-            return -1;
-        } else if (!strcmp(o, "--axes")) { NEED(); a->axes = v; }
-        else if (!strcmp(o, "--R")) { NEED(); a->R = v; }
-        else if (!strcmp(o, "--x")) { NEED(); a->x = v; }
-        else if (!strcmp(o, "--sigma")) { NEED(); a->sigma = v; }
-        else if (!strcmp(o, "--record")) { NEED(); a->record = v; }
-        else if (!strcmp(o, "--H")) { NEED(); a->H = v; }
-        else if (!strcmp(o, "--y")) { NEED(); a->y = v; }
-        else if (!strcmp(o, "--out")) { NEED(); a->out = v; }
-        else if (!strcmp(o, "--re1")) DBL(re1);
-        else if (!strcmp(o, "--re2")) DBL(re2);
-        else if (!strcmp(o, "--alpha")) DBL(alpha);
-        else if (!strcmp(o, "--fs")) DBL(fs);
-        else if (!strcmp(o, "--window")) DBL(window);
-        else if (!strcmp(o, "--pfa")) DBL(pfa);
-        else if (!strcmp(o, "--json")) a->json = 1;
-        else if (!strcmp(o, "--one-shot")) a->one_shot = 1;
-        else if (!strcmp(o, "--average")) a->average = 1;
-        else {
-            cli_error("redund: unknown option '%s' (see igea redund --help)", o);
-            return CLI_USAGE;
-        }
-#undef DBL
-#undef NEED
-    }
-    if (!(a->alpha > 0 && a->alpha < 1) || !(a->pfa > 0 && a->pfa < 1)) {
-        cli_error("redund: --alpha and --pfa must lie in (0, 1)");
-        return CLI_USAGE;
-    }
-    if (!(a->re1 >= 0 && a->re1 <= 1) || !(a->re2 >= 0 && a->re2 <= 1)) {
-        cli_error("redund: --re1 and --re2 must lie in [0, 1]");
-        return CLI_USAGE;
-    }
-    if (!(a->window > 0)) {
-        cli_error("redund: --window must be > 0");
-        return CLI_USAGE;
-    }
-    if (!a->sub) {
+    if (argc < 2 || argv[1][0] == '-') {
         cli_error("redund: a subcommand is required: reliability, consistency, fuse or fdi");
         return CLI_USAGE;
     }
-    if (strcmp(a->sub, "reliability") && strcmp(a->sub, "consistency") &&
-        strcmp(a->sub, "fuse") && strcmp(a->sub, "fdi")) {
-        cli_error("redund: unknown subcommand '%s' (reliability, consistency, fuse, fdi)", a->sub);
+    if (cli_choice("redund", argv[1], "reliability|consistency|fuse|fdi", sub))
         return CLI_USAGE;
-    }
-    if (!strcmp(a->sub, "reliability") && a->axes && !a->R) {
-        cli_error("redund reliability: --axes needs --R");
-        return CLI_USAGE;
-    }
-    if (!strcmp(a->sub, "consistency") && (!a->x || !a->sigma)) {
-        cli_error("redund consistency: --x and --sigma are required");
-        return CLI_USAGE;
-    }
-    if (!strcmp(a->sub, "fuse") && (!a->record || !a->sigma || !(a->fs > 0))) {
-        cli_error("redund fuse: --record, --fs (> 0) and --sigma are required");
-        return CLI_USAGE;
-    }
-    if (!strcmp(a->sub, "fdi") && (!a->H || !a->y || !a->sigma)) {
-        cli_error("redund fdi: --H, --y and --sigma are required");
+    int ec = cli_parse(&command, argc - 1, argv + 1);
+    *a = A;
+    if (ec)
+        return ec;
+    const char *msg = NULL;
+    if (!(a->alpha > 0 && a->alpha < 1) || !(a->pfa > 0 && a->pfa < 1))
+        msg = "redund: --alpha and --pfa must lie in (0, 1)";
+    else if (!(a->re1 >= 0 && a->re1 <= 1) || !(a->re2 >= 0 && a->re2 <= 1))
+        msg = "redund: --re1 and --re2 must lie in [0, 1]";
+    else if (!(a->window > 0))
+        msg = "redund: --window must be > 0";
+    else
+        msg = check_sub(*sub, a);
+    if (msg) {
+        cli_error("%s", msg);
         return CLI_USAGE;
     }
     return CLI_OK;
 }
 
-static int open_out(const rd_args *a, cli_out *o) { return cli_out_open(o, a->out); }
-
-static int do_reliability(const rd_args *a)
-{
-    cli_out o;
-    int ec, st;
-    if (!a->axes) {
-        double r[IGEA_REDUND_SEED002_LEN];
-        if ((st = igea_redund_seed002(a->re1, a->re2, r)))
-            return cli_status(st, "redund reliability: --re1/--re2 in [0, 1]");
-        if ((ec = open_out(a, &o)))
-            return ec;
-        static const char *names[IGEA_REDUND_SEED002_LEN] = {
-            "gyro_eq6", "acc_eq7", "system_eq8_with_eq7", "system_without_skew_eq10",
-            "non_redundant_eq9", "system_exact", "acc_exact"};
-        if (a->json) {
-            fprintf(o.f, "{\n  \"re1\": %.17g,\n  \"re2\": %.17g", a->re1, a->re2);
-            for (int k = 0; k < IGEA_REDUND_SEED002_LEN; k++) {
-                fprintf(o.f, ",\n  \"%s\": ", names[k]);
-                cli_json_num(o.f, r[k]);
-            }
-            fprintf(o.f, "\n}\n");
-        } else {
-            fprintf(o.f, "seed 002 reliability, Re1 = %g (gyros), Re2 = %g (accelerometers)\n",
-                    a->re1, a->re2);
-            fprintf(o.f, "  gyros, 2 per axis (6)                  %.10f\n", r[0]);
-            fprintf(o.f, "  accelerometers as printed (7)          %.12f\n", r[1]);
-            fprintf(o.f, "  system (8) with (7)                    %.10f\n", r[2]);
-            fprintf(o.f, "  system without the skew sensor (10)    %.10f   <- the quoted value\n", r[3]);
-            fprintf(o.f, "  non-redundant (9)                      %.10f\n", r[4]);
-            fprintf(o.f, "  system, exact geometric                %.10f\n", r[5]);
-            fprintf(o.f, "(7) counts 'only the skew sensor D survives' as working; the exact\n"
-                         "value does not: one skewed axis cannot measure two components.)\n");
-        }
-        return cli_out_commit(&o);
-    }
-    cli_matrix ax = {0};
-    double *R = NULL, *axc = NULL;
-    if ((ec = cli_read_matrix(a->axes, &ax)))
-        return ec;
-    if (ax.cols != 3 || ax.rows < 1 || ax.rows > IGEA_REDUND_GEOM_FDI_MAX) {
-        cli_error("%s: expected 1 to %d rows of 3 (one input axis per sensor)", a->axes,
-                  IGEA_REDUND_GEOM_FDI_MAX);
-        cli_matrix_free(&ax);
-        return CLI_DATAERR;
-    }
-    int n = (int)ax.rows;
-    axc = malloc(sizeof(double) * 3 * (size_t)n);
-    if (!axc) {
-        cli_matrix_free(&ax);
-        return cli_oom("the sensor axes");
-    }
-    for (int k = 0; k < n; k++)
-        for (int c = 0; c < 3; c++)
-            axc[k + (size_t)c * n] = ax.v[(size_t)k * 3 + c];
-    cli_matrix_free(&ax);
-    if ((ec = read_values("--R", a->R, &n, &R))) {
-        free(axc);
-        return ec;
-    }
-    double g[IGEA_REDUND_GEOM_LEN];
-    st = igea_redund_geometry(n, axc, n, R, 1, g);
-    free(axc);
-    free(R);
-    if (st)
-        return cli_status(st, "redund reliability");
-    if ((ec = open_out(a, &o)))
-        return ec;
-    if (a->json) {
-        fprintf(o.f, "{\n  \"sensors\": %d,\n  \"classes\": %d,\n  \"span\": ", n, (int)g[3]);
-        cli_json_num(o.f, g[0]);
-        fprintf(o.f, ",\n  \"detect\": ");
-        cli_json_num(o.f, g[1]);
-        fprintf(o.f, ",\n  \"isolate\": ");
-        cli_json_num(o.f, g[2]);
-        fprintf(o.f, "\n}\n");
-    } else {
-        fprintf(o.f, "%d sensors in %d direction classes\n", n, (int)g[3]);
-        fprintf(o.f, "  P(surviving axes span 3-D)                  %.12f\n", g[0]);
-        fprintf(o.f, "  P(... and a further fault is detectable)    %.12f\n", g[1]);
-        fprintf(o.f, "  P(... and a further fault is isolable)      %.12f\n", g[2]);
-    }
-    return cli_out_commit(&o);
-}
-
-static void json_imatrix(FILE *f, const int *r, int n)
-{
-    fprintf(f, "[");
-    for (int i = 0; i < n; i++) {
-        int row[64];
-        for (int j = 0; j < n && j < 64; j++)
-            row[j] = r[i + (size_t)j * n];
-        fprintf(f, "%s", i ? ", " : "");
-        cli_json_iarray(f, row, n);
-    }
-    fprintf(f, "]");
-}
-
-static int do_consistency(const rd_args *a)
-{
-    int n = -1, ec, st;
-    double *x = NULL, *s = NULL;
-    if ((ec = read_values("--x", a->x, &n, &x)))
-        return ec;
-    if (n > 64) {
-        cli_error("%s: at most 64 measurements", a->x);
-        free(x);
-        return CLI_DATAERR;
-    }
-    if ((ec = read_values("--sigma", a->sigma, &n, &s))) {
-        free(x);
-        return ec;
-    }
-    size_t nn = (size_t)n * n;
-    double *D = malloc(sizeof(double) * nn);
-    int *r = malloc(sizeof(int) * (nn + 3 * (size_t)n));
-    double fused = 0, fsig = 0;
-    if (!D || !r) {
-        ec = cli_oom("the reliability tables");
-        goto done;
-    }
-    int *sup = r + nn, *keep = sup + n, *keep1 = keep + n;
-    if ((st = igea_redund_confidence_distance(n, x, s, D, n)) ||
-        (st = igea_redund_relation(n, D, n, &a->alpha, 0, r, n)) ||
-        (st = igea_redund_fusion_set(n, D, n, &a->alpha, 0, 1, keep, sup)) ||
-        (st = igea_redund_fusion_set(n, D, n, &a->alpha, 0, 0, keep1, NULL)) ||
-        (st = igea_redund_fuse(n, x, s, a->one_shot ? keep1 : keep, !a->average, &fused, &fsig))) {
-        ec = cli_status(st, "redund consistency (sigma > 0, 0 < alpha < 1)");
-        goto done;
-    }
-    cli_out o;
-    if ((ec = open_out(a, &o)))
-        goto done;
-    if (a->json) {
-        fprintf(o.f, "{\n  \"n\": %d,\n  \"alpha\": %.17g,\n  \"D\": [", n, a->alpha);
-        for (int i = 0; i < n; i++) {
-            double row[64];
-            for (int j = 0; j < n; j++)
-                row[j] = D[i + (size_t)j * n];
-            fprintf(o.f, "%s", i ? ", " : "");
-            cli_json_array(o.f, row, n);
-        }
-        fprintf(o.f, "],\n  \"relation\": ");
-        json_imatrix(o.f, r, n);
-        fprintf(o.f, ",\n  \"support\": ");
-        cli_json_iarray(o.f, sup, n);
-        fprintf(o.f, ",\n  \"fusion_set\": ");
-        cli_json_iarray(o.f, keep, n);
-        fprintf(o.f, ",\n  \"fusion_set_one_shot\": ");
-        cli_json_iarray(o.f, keep1, n);
-        fprintf(o.f, ",\n  \"fused\": ");
-        cli_json_num(o.f, fused);
-        fprintf(o.f, ",\n  \"fused_sigma\": ");
-        cli_json_num(o.f, fsig);
-        fprintf(o.f, "\n}\n");
-    } else {
-        fprintf(o.f, "confidence-distance matrix D (row i: d_ij, i supports j when d_ij <= %g)\n",
-                a->alpha);
-        for (int i = 0; i < n; i++) {
-            for (int j = 0; j < n; j++)
-                fprintf(o.f, " %7.4f", D[i + (size_t)j * n]);
-            fprintf(o.f, "\n");
-        }
-        fprintf(o.f, "relation matrix\n");
-        for (int i = 0; i < n; i++) {
-            for (int j = 0; j < n; j++)
-                fprintf(o.f, " %d", r[i + (size_t)j * n]);
-            fprintf(o.f, "\n");
-        }
-        fprintf(o.f, "%6s %8s %10s %10s\n", "sensor", "support", "iterative", "one-shot");
-        for (int j = 0; j < n; j++)
-            fprintf(o.f, "%6d %8d %10s %10s\n", j + 1, sup[j], keep[j] ? "kept" : "EXCLUDED",
-                    keep1[j] ? "kept" : "EXCLUDED");
-        fprintf(o.f, "fused (%s, %s set) = %.12g, sigma %.6g\n",
-                a->average ? "average" : "weighted", a->one_shot ? "one-shot" : "iterative",
-                fused, fsig);
-    }
-    ec = cli_out_commit(&o);
-done:
-    free(x);
-    free(s);
-    free(D);
-    free(r);
-    return ec;
-}
-
-static int do_fuse(const rd_args *a)
+/* A file of rows into a column-major array; *rows, *cols. */
+static int read_colmajor(const char *path, double **v, int *rows, int *cols)
 {
     cli_matrix m = {0};
-    int ec, st, nwin = 0;
-    if ((ec = cli_read_matrix(a->record, &m)))
+    int ec = cli_read_matrix(path, &m);
+    if (ec)
         return ec;
-    if (m.rows > 2147483647L || m.cols > 64) {
-        cli_error("%s: too large (at most 64 sensors)", a->record);
+    if (m.rows > 2147483647L) {
+        cli_error("%s: too many rows", path);
         cli_matrix_free(&m);
         return CLI_DATAERR;
     }
-    int ns = (int)m.rows, nc = m.cols;
-    double *y = malloc(sizeof(double) * (size_t)ns * nc), *s = NULL;
-    double *means = NULL, *fused = NULL, *fsig = NULL;
-    int *ex = NULL;
-    if (!y) {
-        ec = cli_oom("the record");
-        goto done;
+    *rows = (int)m.rows, *cols = m.cols;
+    if (!(*v = malloc(sizeof(double) * (size_t)m.rows * m.cols))) {
+        cli_matrix_free(&m);
+        return cli_oom(path);
     }
-    for (int k = 0; k < ns; k++)
-        for (int c = 0; c < nc; c++)
-            y[k + (size_t)c * ns] = m.v[(size_t)k * nc + c];
-    if ((ec = read_values("--sigma", a->sigma, &nc, &s)))
-        goto done;
-    if ((st = igea_redund_window_count(ns, a->fs, a->window, &nwin)) || nwin < 1) {
-        cli_error("redund fuse: --window %g s at --fs %g Hz gives no whole window of %d samples",
-                  a->window, a->fs, ns);
-        ec = CLI_USAGE;
-        goto done;
-    }
-    means = malloc(sizeof(double) * (size_t)nwin * (nc + 2));
-    ex = malloc(sizeof(int) * (size_t)nwin * nc);
-    if (!means || !ex) {
-        ec = cli_oom("the consistency tables");
-        goto done;
-    }
-    fused = means + (size_t)nwin * nc;
-    fsig = fused + nwin;
-    st = igea_redund_monitor(ns, nc, y, ns, a->fs, a->window, s, &a->alpha, 0,
-                                  !a->one_shot, !a->average, nwin, means, ex, fused, fsig);
-    if (st) {
-        ec = cli_status(st, "redund fuse");
-        goto done;
-    }
-    double step = (double)lround(a->window * a->fs) / a->fs;
-    cli_out o;
-    if ((ec = open_out(a, &o)))
-        goto done;
-    if (a->json) {
-        fprintf(o.f, "{\n  \"windows\": %d,\n  \"sensors\": %d,\n  \"window\": %.17g,\n"
-                     "  \"exclusions\": [", nwin, nc, step);
-    } else {
-        fprintf(o.f, "%d windows of %g s, %d sensors, alpha %g\n", nwin, step, nc, a->alpha);
-    }
-    int first = 1, any = 0;
-    for (int c = 0; c < nc; c++)
-        for (int w = 0; w < nwin; w++) {
-            if (!ex[c + (size_t)w * nc] || (w > 0 && ex[c + (size_t)(w - 1) * nc]))
-                continue;
-            int e = w;
-            while (e < nwin && ex[c + (size_t)e * nc])
-                e++;
-            any = 1;
-            if (a->json) {
-                fprintf(o.f, "%s{\"sensor\": %d, \"from\": %.17g, \"to\": %.17g}",
-                        first ? "" : ", ", c + 1, w * step, e * step);
-            } else {
-                fprintf(o.f, "sensor %d excluded from %g s to %g s\n", c + 1, w * step, e * step);
-            }
-            first = 0;
-        }
-    if (a->json) {
-        fprintf(o.f, "],\n  \"fused\": ");
-        cli_json_array(o.f, fused, nwin);
-        fprintf(o.f, ",\n  \"fused_sigma\": ");
-        cli_json_array(o.f, fsig, nwin);
-        fprintf(o.f, "\n}\n");
-    } else {
-        if (!any)
-            fprintf(o.f, "no sensor excluded\n");
-        fprintf(o.f, "%10s %20s %12s  excluded\n", "t (s)", "fused", "sigma");
-        for (int w = 0; w < nwin; w++) {
-            fprintf(o.f, "%10g %20.12g %12.4g ", w * step, fused[w], fsig[w]);
-            for (int c = 0; c < nc; c++)
-                if (ex[c + (size_t)w * nc])
-                    fprintf(o.f, " %d", c + 1);
-            fprintf(o.f, "\n");
-        }
-    }
-    ec = cli_out_commit(&o);
-done:
+    for (long i = 0; i < m.rows; i++)
+        for (int c = 0; c < m.cols; c++)
+            (*v)[i + (size_t)c * m.rows] = m.v[(size_t)i * m.cols + c];
     cli_matrix_free(&m);
-    free(y);
-    free(s);
-    free(means);
-    free(ex);
+    return CLI_OK;
+}
+
+static int report_seed002(const rd_args *a, FILE *f)
+{
+    double r[IGEA_REDUND_SEED002_LEN];
+    int st = igea_redund_seed002(a->re1, a->re2, r);
+    if (st)
+        return cli_status(st, "redund reliability: --re1/--re2 in [0, 1]");
+    static const char *names[IGEA_REDUND_SEED002_LEN] = {
+        "gyro_eq6", "acc_eq7", "system_eq8_with_eq7", "system_without_skew_eq10",
+        "non_redundant_eq9", "system_exact", "acc_exact"};
+    if (a->json) {
+        cli_json j;
+        cli_json_begin(&j, f);
+        cli_jnum(&j, "re1", a->re1);
+        cli_jnum(&j, "re2", a->re2);
+        for (int k = 0; k < IGEA_REDUND_SEED002_LEN; k++)
+            cli_jnum(&j, names[k], r[k]);
+        cli_json_end(&j);
+        return CLI_OK;
+    }
+    fprintf(f, "seed 002 reliability, Re1 = %g (gyros), Re2 = %g (accelerometers)\n", a->re1, a->re2);
+    fprintf(f, "  gyros, 2 per axis (6)                  %.10f\n", r[0]);
+    fprintf(f, "  accelerometers as printed (7)          %.12f\n", r[1]);
+    fprintf(f, "  system (8) with (7)                    %.10f\n", r[2]);
+    fprintf(f, "  system without the skew sensor (10)    %.10f   <- the quoted value\n", r[3]);
+    fprintf(f, "  non-redundant (9)                      %.10f\n", r[4]);
+    fprintf(f, "  system, exact geometric                %.10f\n", r[5]);
+    fprintf(f, "(7) counts 'only the skew sensor D survives' as working; the exact\n"
+               "value does not: one skewed axis cannot measure two components.)\n");
+    return CLI_OK;
+}
+
+static int report_geometry(const rd_args *a, FILE *f)
+{
+    double *axc = NULL, *R = NULL, g[IGEA_REDUND_GEOM_LEN];
+    int n, cols, ec = read_colmajor(a->axes, &axc, &n, &cols);
+    if (!ec && (cols != 3 || n < 1 || n > IGEA_REDUND_GEOM_FDI_MAX)) {
+        cli_error("%s: expected 1 to %d rows of 3 (one input axis per sensor)", a->axes,
+                  IGEA_REDUND_GEOM_FDI_MAX);
+        ec = CLI_DATAERR;
+    }
+    if (!ec && !(ec = cli_read_values(a->R, n, "--R", &R, NULL)))
+        ec = cli_status(igea_redund_geometry(n, axc, n, R, 1, g), "redund reliability");
+    free(axc);
+    free(R);
+    if (ec)
+        return ec;
+    if (a->json) {
+        cli_json j;
+        cli_json_begin(&j, f);
+        cli_jint(&j, "sensors", n);
+        cli_jint(&j, "classes", (long)g[3]);
+        cli_jnum(&j, "span", g[0]);
+        cli_jnum(&j, "detect", g[1]);
+        cli_jnum(&j, "isolate", g[2]);
+        cli_json_end(&j);
+        return CLI_OK;
+    }
+    fprintf(f, "%d sensors in %d direction classes\n", n, (int)g[3]);
+    fprintf(f, "  P(surviving axes span 3-D)                  %.12f\n", g[0]);
+    fprintf(f, "  P(... and a further fault is detectable)    %.12f\n", g[1]);
+    fprintf(f, "  P(... and a further fault is isolable)      %.12f\n", g[2]);
+    return CLI_OK;
+}
+
+static int do_reliability(const rd_args *a, FILE *f)
+{
+    return a->axes ? report_geometry(a, f) : report_seed002(a, f);
+}
+
+/* Row-major rows of an n x n column-major matrix, as JSON arrays. */
+static void json_square(cli_json *j, const char *key, const double *D, const int *I, int n)
+{
+    cli_json_open(j, key, '[');
+    for (int i = 0; i < n; i++) {
+        cli_json_open(j, NULL, '[');
+        for (int k = 0; k < n; k++) {
+            if (D)
+                cli_jnum(j, NULL, D[i + (size_t)k * n]);
+            else
+                cli_jint(j, NULL, I[i + (size_t)k * n]);
+        }
+        cli_json_close(j);
+    }
+    cli_json_close(j);
+}
+
+typedef struct {
+    int n, *r, *sup, *keep, *keep1;
+    double *x, *s, *D, fused, fsig;
+} consistency;
+
+static void report_consistency(const rd_args *a, FILE *f, const consistency *c)
+{
+    int n = c->n;
+    if (a->json) {
+        cli_json j;
+        cli_json_begin(&j, f);
+        cli_jint(&j, "n", n);
+        cli_jnum(&j, "alpha", a->alpha);
+        json_square(&j, "D", c->D, NULL, n);
+        json_square(&j, "relation", NULL, c->r, n);
+        cli_jints(&j, "support", c->sup, n);
+        cli_jints(&j, "fusion_set", c->keep, n);
+        cli_jints(&j, "fusion_set_one_shot", c->keep1, n);
+        cli_jnum(&j, "fused", c->fused);
+        cli_jnum(&j, "fused_sigma", c->fsig);
+        cli_json_end(&j);
+        return;
+    }
+    fprintf(f, "confidence-distance matrix D (row i: d_ij, i supports j when d_ij <= %g)\n", a->alpha);
+    for (int i = 0; i < n; i++) {
+        for (int k = 0; k < n; k++)
+            fprintf(f, " %7.4f", c->D[i + (size_t)k * n]);
+        fprintf(f, "\n");
+    }
+    fprintf(f, "relation matrix\n");
+    for (int i = 0; i < n; i++) {
+        for (int k = 0; k < n; k++)
+            fprintf(f, " %d", c->r[i + (size_t)k * n]);
+        fprintf(f, "\n");
+    }
+    fprintf(f, "%6s %8s %10s %10s\n", "sensor", "support", "iterative", "one-shot");
+    for (int k = 0; k < n; k++)
+        fprintf(f, "%6d %8d %10s %10s\n", k, c->sup[k], c->keep[k] ? "kept" : "EXCLUDED",
+                c->keep1[k] ? "kept" : "EXCLUDED");
+    fprintf(f, "fused (%s, %s set) = %.12g, sigma %.6g\n", a->average ? "average" : "weighted",
+            a->one_shot ? "one-shot" : "iterative", c->fused, c->fsig);
+}
+
+static int do_consistency(const rd_args *a, FILE *f)
+{
+    consistency c;
+    memset(&c, 0, sizeof c);
+    long n;
+    int ec = cli_read_values(a->x, -1, "--x", &c.x, &n), st;
+    if (!ec && n > 64) {
+        cli_error("%s: at most 64 measurements", a->x);
+        ec = CLI_DATAERR;
+    }
+    c.n = (int)n;
+    if (!ec)
+        ec = cli_read_values(a->sigma, n, "--sigma", &c.s, NULL);
+    size_t nn = (size_t)n * n;
+    if (!ec && (!(c.D = malloc(sizeof(double) * nn)) ||
+                !(c.r = malloc(sizeof(int) * (nn + 3 * (size_t)n)))))
+        ec = cli_oom("the consistency tables");
+    if (!ec) {
+        c.sup = c.r + nn, c.keep = c.sup + n, c.keep1 = c.keep + n;
+        if ((st = igea_redund_confidence_distance(c.n, c.x, c.s, c.D, c.n)) ||
+            (st = igea_redund_relation(c.n, c.D, c.n, &a->alpha, 0, c.r, c.n)) ||
+            (st = igea_redund_fusion_set(c.n, c.D, c.n, &a->alpha, 0, 1, c.keep, c.sup)) ||
+            (st = igea_redund_fusion_set(c.n, c.D, c.n, &a->alpha, 0, 0, c.keep1, NULL)) ||
+            (st = igea_redund_fuse(c.n, c.x, c.s, a->one_shot ? c.keep1 : c.keep, !a->average,
+                                   &c.fused, &c.fsig)))
+            ec = cli_status(st, "redund consistency (sigma > 0, 0 < alpha < 1)");
+    }
+    if (!ec)
+        report_consistency(a, f, &c);
+    free(c.x);
+    free(c.s);
+    free(c.D);
+    free(c.r);
     return ec;
 }
 
-static int do_fdi(const rd_args *a)
+typedef struct {
+    int nwin, nc, niv, *ex, *iv; /* iv: sensor, win_start, win_end (3 x maxiv) */
+    double *means, *fused, *fsig, *t, step; /* t: t_start, t_end (2 x maxiv) */
+} fuse_run;
+
+static void report_fuse(const rd_args *a, FILE *f, const fuse_run *r)
 {
-    cli_matrix h = {0};
-    int ec, st;
-    if ((ec = cli_read_matrix(a->H, &h)))
-        return ec;
-    int m = (int)h.rows, q = h.cols;
-    if (m <= q || m > 1000) {
-        cli_error("%s: H needs more rows than columns (m > q), at most 1000 rows", a->H);
-        cli_matrix_free(&h);
-        return CLI_DATAERR;
-    }
-    double *H = malloc(sizeof(double) * (size_t)m * q), *y = NULL, *s = NULL;
-    double *par = malloc(sizeof(double) * (size_t)(m - q)), info[IGEA_REDUND_FDI_LEN];
-    int iso = -1;
-    if (!H || !par) {
-        ec = cli_oom("the parity tables");
-        goto done;
-    }
-    for (int i = 0; i < m; i++)
-        for (int c = 0; c < q; c++)
-            H[i + (size_t)c * m] = h.v[(size_t)i * q + c];
-    if ((ec = read_values("--y", a->y, &m, &y)) || (ec = read_values("--sigma", a->sigma, &m, &s)))
-        goto done;
-    if ((st = igea_redund_fdi(m, q, H, m, y, s, a->pfa, par, info, &iso))) {
-        ec = cli_status(st, "redund fdi");
-        goto done;
-    }
-    cli_out o;
-    if ((ec = open_out(a, &o)))
-        goto done;
+    int nwin = r->nwin, nc = r->nc, m = nc * ((nwin + 1) / 2);
+    const int *sensor = r->iv;
+    const double *t0 = r->t, *t1 = r->t + m;
     if (a->json) {
-        fprintf(o.f, "{\n  \"statistic\": ");
-        cli_json_num(o.f, info[IGEA_REDUND_FDI_STAT]);
-        fprintf(o.f, ",\n  \"threshold\": ");
-        cli_json_num(o.f, info[IGEA_REDUND_FDI_THRESHOLD]);
-        fprintf(o.f, ",\n  \"dof\": %d,\n  \"p_value\": ", (int)info[IGEA_REDUND_FDI_DOF]);
-        cli_json_num(o.f, info[IGEA_REDUND_FDI_P_VALUE]);
-        fprintf(o.f, ",\n  \"detected\": %s,\n  \"isolated\": %d,\n  \"isolable\": %s,\n"
-                     "  \"parity\": ", info[IGEA_REDUND_FDI_DETECTED] ? "true" : "false",
-                iso >= 0 ? iso + 1 : 0, info[IGEA_REDUND_FDI_ISOLABLE] ? "true" : "false");
-        cli_json_array(o.f, par, m - q);
-        fprintf(o.f, "\n}\n");
-    } else {
-        fprintf(o.f, "parity statistic %.6g, threshold chi2_%g(%d) = %.6g, p-value %.4g\n",
-                info[IGEA_REDUND_FDI_STAT], a->pfa, (int)info[IGEA_REDUND_FDI_DOF], info[IGEA_REDUND_FDI_THRESHOLD],
-                info[IGEA_REDUND_FDI_P_VALUE]);
-        if (!info[IGEA_REDUND_FDI_DETECTED])
-            fprintf(o.f, "no fault detected\n");
-        else if (!info[IGEA_REDUND_FDI_ISOLABLE])
-            fprintf(o.f, "FAULT DETECTED; this geometry cannot isolate a single fault "
-                         "(most likely sensor %d)\n", iso + 1);
-        else
-            fprintf(o.f, "FAULT DETECTED, isolated sensor %d\n", iso + 1);
+        cli_json j;
+        cli_json_begin(&j, f);
+        cli_jint(&j, "windows", nwin);
+        cli_jint(&j, "sensors", nc);
+        cli_jnum(&j, "window", r->step);
+        cli_json_open(&j, "exclusions", '[');
+        for (int k = 0; k < r->niv; k++) {
+            cli_json_open(&j, NULL, '{');
+            cli_jint(&j, "sensor", sensor[k]);
+            cli_jnum(&j, "from", t0[k]);
+            cli_jnum(&j, "to", t1[k]);
+            cli_json_close(&j);
+        }
+        cli_json_close(&j);
+        cli_jnums(&j, "fused", r->fused, nwin);
+        cli_jnums(&j, "fused_sigma", r->fsig, nwin);
+        cli_json_end(&j);
+        return;
     }
-    ec = cli_out_commit(&o);
-done:
-    cli_matrix_free(&h);
+    fprintf(f, "%d windows of %g s, %d sensors, alpha %g\n", nwin, r->step, nc, a->alpha);
+    for (int k = 0; k < r->niv; k++)
+        fprintf(f, "sensor %d excluded from %g s to %g s\n", sensor[k], t0[k], t1[k]);
+    if (!r->niv)
+        fprintf(f, "no sensor excluded\n");
+    fprintf(f, "%10s %20s %12s  excluded\n", "t (s)", "fused", "sigma");
+    for (int w = 0; w < nwin; w++) {
+        fprintf(f, "%10g %20.12g %12.4g ", w * r->step, r->fused[w], r->fsig[w]);
+        for (int c = 0; c < nc; c++)
+            if (r->ex[c + (size_t)w * nc])
+                fprintf(f, " %d", c);
+        fprintf(f, "\n");
+    }
+}
+
+/* The windowed check and its exclusion intervals. */
+static int run_fuse(const rd_args *a, const double *y, int ns, const double *s, fuse_run *r)
+{
+    int nwin = r->nwin, nc = r->nc, m = nc * ((nwin + 1) / 2);
+    double *means = r->means = malloc(sizeof(double) * (size_t)nwin * (nc + 2));
+    r->ex = malloc(sizeof(int) * (size_t)nwin * nc);
+    r->iv = malloc(sizeof(int) * 3 * (size_t)m);
+    r->t = malloc(sizeof(double) * 2 * (size_t)m);
+    int ec = !means || !r->ex || !r->iv || !r->t ? cli_oom("the consistency tables") : CLI_OK;
+    if (!ec) {
+        r->fused = means + (size_t)nwin * nc;
+        r->fsig = r->fused + nwin;
+        int st = igea_redund_monitor(ns, nc, y, ns, a->fs, a->window, s, &a->alpha, 0,
+                                     !a->one_shot, !a->average, nwin, means, r->ex, r->fused,
+                                     r->fsig);
+        if (!st)
+            st = igea_redund_monitor_intervals(nc, nwin, r->ex, a->fs, a->window, m, &r->niv,
+                                               r->iv, r->iv + m, r->iv + 2 * m, r->t, r->t + m);
+        ec = cli_status(st, "redund fuse");
+    }
+    return ec;
+}
+
+static int do_fuse(const rd_args *a, FILE *f)
+{
+    double *y = NULL, *s = NULL;
+    fuse_run r;
+    memset(&r, 0, sizeof r);
+    int ns = 0, ec = read_colmajor(a->data, &y, &ns, &r.nc);
+    if (!ec && r.nc > 64) {
+        cli_error("%s: too large (at most 64 sensors)", a->data);
+        ec = CLI_DATAERR;
+    }
+    if (!ec)
+        ec = cli_read_values(a->sigma, r.nc, "--sigma", &s, NULL);
+    if (!ec && (igea_redund_window_count(ns, a->fs, a->window, &r.nwin) || r.nwin < 1)) {
+        cli_error("redund fuse: --window %g s at --fs %g Hz gives no whole window of %d samples",
+                  a->window, a->fs, ns);
+        ec = CLI_USAGE;
+    }
+    if (!ec && !(ec = run_fuse(a, y, ns, s, &r))) {
+        r.step = (double)lround(a->window * a->fs) / a->fs;
+        report_fuse(a, f, &r);
+    }
+    free(r.means);
+    free(y);
+    free(s);
+    free(r.ex);
+    free(r.iv);
+    free(r.t);
+    return ec;
+}
+
+static void report_fdi(const rd_args *a, FILE *f, const double *info, int iso, const double *par,
+                       int npar)
+{
+    if (a->json) {
+        cli_json j;
+        cli_json_begin(&j, f);
+        cli_jnum(&j, "statistic", info[IGEA_REDUND_FDI_STAT]);
+        cli_jnum(&j, "threshold", info[IGEA_REDUND_FDI_THRESHOLD]);
+        cli_jint(&j, "dof", (long)info[IGEA_REDUND_FDI_DOF]);
+        cli_jnum(&j, "p_value", info[IGEA_REDUND_FDI_P_VALUE]);
+        cli_jbool(&j, "detected", info[IGEA_REDUND_FDI_DETECTED] != 0);
+        cli_jint(&j, "isolated", iso);
+        cli_jbool(&j, "isolable", info[IGEA_REDUND_FDI_ISOLABLE] != 0);
+        cli_jnums(&j, "parity", par, npar);
+        cli_json_end(&j);
+        return;
+    }
+    fprintf(f, "parity statistic %.6g, threshold chi2_%g(%d) = %.6g, p-value %.4g\n",
+            info[IGEA_REDUND_FDI_STAT], a->pfa, (int)info[IGEA_REDUND_FDI_DOF],
+            info[IGEA_REDUND_FDI_THRESHOLD], info[IGEA_REDUND_FDI_P_VALUE]);
+    if (!info[IGEA_REDUND_FDI_DETECTED])
+        fprintf(f, "no fault detected\n");
+    else if (!info[IGEA_REDUND_FDI_ISOLABLE])
+        fprintf(f, "FAULT DETECTED; this geometry cannot isolate a single fault "
+                   "(most likely sensor %d)\n", iso);
+    else
+        fprintf(f, "FAULT DETECTED, isolated sensor %d\n", iso);
+}
+
+static int do_fdi(const rd_args *a, FILE *f)
+{
+    double *H = NULL, *y = NULL, *s = NULL, *par = NULL, info[IGEA_REDUND_FDI_LEN];
+    int m = 0, q = 0, iso = -1, ec = read_colmajor(a->H, &H, &m, &q);
+    if (!ec && (m <= q || m > 1000)) {
+        cli_error("%s: H needs more rows than columns (m > q), at most 1000 rows", a->H);
+        ec = CLI_DATAERR;
+    }
+    if (!ec && !(par = malloc(sizeof(double) * (size_t)(m - q))))
+        ec = cli_oom("the parity vector");
+    if (!ec && !(ec = cli_read_values(a->y, m, "--y", &y, NULL)) &&
+        !(ec = cli_read_values(a->sigma, m, "--sigma", &s, NULL)))
+        ec = cli_status(igea_redund_fdi(m, q, H, m, y, s, a->pfa, par, info, &iso), "redund fdi");
+    if (!ec)
+        report_fdi(a, f, info, iso, par, m - q);
     free(H);
     free(par);
     free(y);
@@ -529,16 +467,18 @@ int cmd_redund(int argc, char **argv)
     if (cli_one_stdin(argc, argv))
         return CLI_USAGE;
     rd_args a;
-    int ec = parse(argc, argv, &a);
-    if (ec < 0)
-        return CLI_OK;
+    int sub, ec = parse(argc, argv, &a, &sub);
     if (ec)
+        return ec == CLI_HELP ? CLI_OK : ec;
+    static int (*const run[])(const rd_args *, FILE *) = {do_reliability, do_consistency,
+                                                          do_fuse, do_fdi};
+    /* the report goes to a temporary first: a failed run leaves no part */
+    cli_out o;
+    if ((ec = cli_out_open(&o, a.out)))
         return ec;
-    if (!strcmp(a.sub, "reliability"))
-        return do_reliability(&a);
-    if (!strcmp(a.sub, "consistency"))
-        return do_consistency(&a);
-    if (!strcmp(a.sub, "fuse"))
-        return do_fuse(&a);
-    return do_fdi(&a);
+    if ((ec = run[sub](&a, o.f))) {
+        cli_out_abort(&o);
+        return ec;
+    }
+    return cli_out_commit(&o);
 }

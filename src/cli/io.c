@@ -1114,7 +1114,22 @@ int cli_out_open(cli_out *o, const char *path)
     snprintf(o->tmp, n + 16, "%s.tmp.XXXXXX", o->path);
     mode_t um = umask(0);
     umask(um);
+    /* the fatal signals wait while the temporary is created and registered,
+     * so that no signal can leave it behind unregistered */
+    sigset_t block, saved;
+    sigemptyset(&block);
+    sigaddset(&block, SIGINT);
+    sigaddset(&block, SIGTERM);
+    sigaddset(&block, SIGHUP);
+    sigaddset(&block, SIGPIPE);
+    install_handlers();
+    sigprocmask(SIG_BLOCK, &block, &saved);
     int fd = mkstemp(o->tmp);
+    if (fd >= 0)
+        o->slot = tmp_register(o->tmp);
+    int mk_errno = errno;
+    sigprocmask(SIG_SETMASK, &saved, NULL);
+    errno = mk_errno;
     if (fd < 0) {
         int e = errno;
         free(o->tmp);
@@ -1125,7 +1140,6 @@ int cli_out_open(cli_out *o, const char *path)
         cli_out_abort(o);
         return CLI_IOERR;
     }
-    o->slot = tmp_register(o->tmp);
     /* The replaced file keeps its mode (and owner, when allowed); a new one
      * gets 0666 less the umask, as with a plain open(). */
     if (exists) {
