@@ -9,6 +9,7 @@
 #include <gsl/gsl_rng.h>
 
 #include "igea/eqerr.h"
+#include "igea/normal.h"
 #include "igea/envfun.h"
 #include "igea/sim.h"
 #include "internal.h"
@@ -113,6 +114,300 @@ int igea_sim_trajectory(int system, double duration, double rate, int nsamp,
     return 0;
 }
 
+/* ---- the model ------------------------------------------------------------ */
+
+struct igea_sim_model {
+    int m, N;
+    double *S;     /* m x N, ld m */
+    double *sigma; /* m stated sigmas, growth applied */
+    double *spec;  /* N specs (1 where none) */
+    int has_spec;
+    double *x_value; /* N, with x_fixed: the fixed terms */
+    int *x_fixed;
+    int has_truth;
+    double opts[IGEA_SIM_OPT_LEN];
+    /* trajectory models: the nonlinear truth */
+    int system, nsamp, nepochs, has_axes, axes[6], nonlinear;
+    double *traj, *epochs; /* nsamp x 11 (ld nsamp), nepochs */
+    int *terms;            /* N codes */
+};
+
+#define SIM_SIGMA_DEFAULT 0.01
+
+int igea_sim_check_opts(const double *opts)
+{
+    if (!opts)
+        return -1;
+    for (int i = 0; i < IGEA_SIM_OPT_LEN; i++)
+        if (!isfinite(opts[i]))
+            return 1 + i;
+    if (!(opts[IGEA_SIM_OPT_SIGMA_W] > 0.0))
+        return 1 + IGEA_SIM_OPT_SIGMA_W;
+    if (!(fabs(opts[IGEA_SIM_OPT_AR1]) < 1.0))
+        return 1 + IGEA_SIM_OPT_AR1;
+    if (!(opts[IGEA_SIM_OPT_GROWTH] >= 0.0))
+        return 1 + IGEA_SIM_OPT_GROWTH;
+    if (!(opts[IGEA_SIM_OPT_OUTLIER_PROB] >= 0.0 && opts[IGEA_SIM_OPT_OUTLIER_PROB] <= 1.0))
+        return 1 + IGEA_SIM_OPT_OUTLIER_PROB;
+    if (!(opts[IGEA_SIM_OPT_OUTLIER_SCALE] >= 0.0))
+        return 1 + IGEA_SIM_OPT_OUTLIER_SCALE;
+    if (opts[IGEA_SIM_OPT_GENERATOR] != IGEA_SIM_MT19937 &&
+        opts[IGEA_SIM_OPT_GENERATOR] != IGEA_SIM_RANLXD2)
+        return 1 + IGEA_SIM_OPT_GENERATOR;
+    return 0;
+}
+
+void igea_sim_model_free(igea_sim_model *model)
+{
+    if (!model)
+        return;
+    free(model->S);
+    free(model->sigma);
+    free(model->spec);
+    free(model->x_value);
+    free(model->x_fixed);
+    free(model->traj);
+    free(model->epochs);
+    free(model->terms);
+    free(model);
+}
+
+/* A model of m x N with its arrays allocated and the defaults set. */
+static igea_sim_model *model_new(int m, int N)
+{
+    igea_sim_model *md = calloc(1, sizeof *md);
+    if (!md)
+        return NULL;
+    md->m = m;
+    md->N = N;
+    md->S = igea__dalloc((size_t)m * (size_t)N);
+    md->sigma = igea__dalloc((size_t)m);
+    md->spec = igea__dalloc((size_t)N);
+    md->x_value = igea__dalloc((size_t)N);
+    md->x_fixed = igea__ialloc((size_t)N);
+    if (!md->S || !md->sigma || !md->spec || !md->x_value || !md->x_fixed) {
+        igea_sim_model_free(md);
+        return NULL;
+    }
+    for (int i = 0; i < m; i++)
+        md->sigma[i] = SIM_SIGMA_DEFAULT;
+    for (int j = 0; j < N; j++) {
+        md->spec[j] = 1.0;
+        md->x_value[j] = 0.0;
+        md->x_fixed[j] = 0;
+    }
+    igea_sim_defaults(md->opts);
+    return md;
+}
+
+int igea_sim_model_create(int m, int N, const double *S, int lds,
+                          igea_sim_model **model)
+{
+    if (model)
+        *model = NULL;
+    if (m < 3 || m % 3 != 0)
+        return -1;
+    if (N < 1 || (size_t)N > ((size_t)-1 / sizeof(double)) / (size_t)m)
+        return -2;
+    if (!S)
+        return -3;
+    if (lds < m)
+        return -4;
+    if (!model)
+        return -5;
+    if (!igea__finite_mat(m, N, S, lds))
+        return IGEA_ENONFINITE;
+    igea_sim_model *md = model_new(m, N);
+    if (!md)
+        return IGEA_ENOMEM;
+    for (int j = 0; j < N; j++)
+        memcpy(md->S + (size_t)j * (size_t)m, S + (size_t)j * (size_t)lds,
+               (size_t)m * sizeof(double));
+    *model = md;
+    return 0;
+}
+
+int igea_sim_model_create_trajectory(int system, int nsamp, const double *traj,
+                                     int ldt, int nterms, const int *terms,
+                                     const int *axes, int nepochs,
+                                     const double *epochs, igea_sim_model **model)
+{
+    if (!model)
+        return -10;
+    *model = NULL;
+    if (nepochs < 1 || nepochs > INT_MAX / 3)
+        return -8;
+    if (nterms < 1)
+        return -5;
+    igea_sim_model *md = model_new(3 * nepochs, nterms);
+    if (!md)
+        return IGEA_ENOMEM;
+    int m = 3 * nepochs;
+    int st = igea_envfun_compute(system, nsamp, traj, ldt, nterms, terms, axes,
+                                 nepochs, epochs, NULL, IGEA_ENVFUN_VELOCITY,
+                                 md->S, m);
+    if (st) {
+        igea_sim_model_free(md);
+        return st;
+    }
+    md->traj = igea__dalloc((size_t)nsamp * IGEA_ENVFUN_TRAJ_COLS);
+    md->epochs = igea__dalloc((size_t)nepochs);
+    md->terms = igea__ialloc((size_t)nterms);
+    if (!md->traj || !md->epochs || !md->terms) {
+        igea_sim_model_free(md);
+        return IGEA_ENOMEM;
+    }
+    for (int c = 0; c < IGEA_ENVFUN_TRAJ_COLS; c++)
+        memcpy(md->traj + (size_t)c * (size_t)nsamp, traj + (size_t)c * (size_t)ldt,
+               (size_t)nsamp * sizeof(double));
+    memcpy(md->epochs, epochs, (size_t)nepochs * sizeof(double));
+    memcpy(md->terms, terms, (size_t)nterms * sizeof(int));
+    for (int j = 0; j < nterms; j++)
+        igea_envfun_default_spec(system, terms[j], &md->spec[j]);
+    md->has_spec = 1;
+    md->system = system;
+    md->nsamp = nsamp;
+    md->nepochs = nepochs;
+    md->has_axes = axes != NULL;
+    if (axes)
+        memcpy(md->axes, axes, sizeof md->axes);
+    *model = md;
+    return 0;
+}
+
+int igea_sim_model_set_sigma(igea_sim_model *model, const double *track_sigma,
+                             int sigma_inc, double growth)
+{
+    int st;
+    if (!model)
+        return -1;
+    if (!track_sigma)
+        return -2;
+    if (sigma_inc != 0 && sigma_inc != 1)
+        return -3;
+    if (!(growth >= 0.0) || !isfinite(growth))
+        return -4;
+    int m = model->m, M = m / 3;
+    if ((st = igea__sigma_vec(sigma_inc ? m : 1, track_sigma)) != 0)
+        return st;
+    for (int i = 0; i < m; i++) {
+        int e = i / 3;
+        double g = 1.0 + (M > 1 ? growth * e / (double)(M - 1) : 0.0);
+        if (!isfinite(track_sigma[sigma_inc ? i : 0] * g))
+            return IGEA_ERANGE;
+    }
+    for (int i = 0; i < m; i++) {
+        int e = i / 3;
+        double g = 1.0 + (M > 1 ? growth * e / (double)(M - 1) : 0.0);
+        model->sigma[i] = track_sigma[sigma_inc ? i : 0] * g;
+    }
+    return 0;
+}
+
+int igea_sim_model_set_spec(igea_sim_model *model, const double *spec_sigma)
+{
+    int st;
+    if (!model)
+        return -1;
+    if (spec_sigma && (st = igea__sigma_vec(model->N, spec_sigma)) != 0)
+        return st;
+    for (int j = 0; j < model->N; j++)
+        model->spec[j] = spec_sigma ? spec_sigma[j] : 1.0;
+    model->has_spec = spec_sigma != NULL;
+    return 0;
+}
+
+int igea_sim_model_set_noise(igea_sim_model *model, const double *opts)
+{
+    if (!model)
+        return -1;
+    if (opts && igea_sim_check_opts(opts) != 0)
+        return -2;
+    if (opts)
+        memcpy(model->opts, opts, sizeof model->opts);
+    else
+        igea_sim_defaults(model->opts);
+    return 0;
+}
+
+int igea_sim_model_set_truth(igea_sim_model *model, const double *x_value,
+                             const int *x_fixed)
+{
+    if (!model)
+        return -1;
+    if (x_fixed && !x_value)
+        return -2;
+    if (x_fixed)
+        for (int j = 0; j < model->N; j++)
+            if (x_fixed[j] != 0 && x_fixed[j] != 1)
+                return -3;
+    if (x_value && !igea__finite_vec(model->N, x_value, 1))
+        return IGEA_ENONFINITE;
+    for (int j = 0; j < model->N; j++) {
+        model->x_value[j] = x_value ? x_value[j] : 0.0;
+        model->x_fixed[j] = x_fixed ? x_fixed[j] : 0;
+    }
+    model->has_truth = x_fixed != NULL;
+    return 0;
+}
+
+int igea_sim_model_set_nonlinear(igea_sim_model *model, int on)
+{
+    if (!model)
+        return -1;
+    if ((on != 0 && on != 1) || (on && !model->traj))
+        return -2;
+    model->nonlinear = on;
+    return 0;
+}
+
+int igea_sim_model_get_size(const igea_sim_model *model, int *m, int *N)
+{
+    if (!model)
+        return -1;
+    if (!m)
+        return -2;
+    if (!N)
+        return -3;
+    *m = model->m;
+    *N = model->N;
+    return 0;
+}
+
+int igea_sim_model_get_s(const igea_sim_model *model, double *S, int lds)
+{
+    if (!model)
+        return -1;
+    if (!S)
+        return -2;
+    if (lds < model->m)
+        return -3;
+    for (int j = 0; j < model->N; j++)
+        memcpy(S + (size_t)j * (size_t)lds, model->S + (size_t)j * (size_t)model->m,
+               (size_t)model->m * sizeof(double));
+    return 0;
+}
+
+int igea_sim_model_get_sigma(const igea_sim_model *model, double *track_sigma)
+{
+    if (!model)
+        return -1;
+    if (!track_sigma)
+        return -2;
+    memcpy(track_sigma, model->sigma, (size_t)model->m * sizeof(double));
+    return 0;
+}
+
+int igea_sim_model_get_spec(const igea_sim_model *model, double *spec_sigma)
+{
+    if (!model)
+        return -1;
+    if (!spec_sigma)
+        return -2;
+    memcpy(spec_sigma, model->spec, (size_t)model->N * sizeof(double));
+    return 0;
+}
+
 /* ---- flights ------------------------------------------------------------ */
 
 static unsigned long flight_seed(int seed, int flight)
@@ -126,89 +421,40 @@ static unsigned long flight_seed(int seed, int flight)
     return (unsigned long)(z & 0xFFFFFFFFUL); /* GSL seeds are 32-bit safe */
 }
 
-typedef struct {
-    int m, N, lds, sigma_inc;
-    const double *S, *track_sigma, *spec, *x_value;
-    const int *x_fixed;
-    double opts[IGEA_SIM_OPT_LEN];
-    int seed;
-} flight_ctx;
-
-/* Validate arguments 1-12 of igea_sim_flight / igea_sim_montecarlo. */
-static int check_flight_args(int m, int N, const double *S, int lds,
-                             const double *track_sigma, int sigma_inc,
-                             const double *spec_sigma, const double *x_value,
-                             const int *x_fixed, const double *opts, int seed,
-                             flight_ctx *ctx)
-{
-    int nf = 0;
-    if (m < 3 || m % 3 != 0)
-        return -1;
-    if (N < 1)
-        return -2;
-    if (!S)
-        return -3;
-    if (lds < m)
-        return -4;
-    if (!track_sigma)
-        return -5;
-    if (sigma_inc != 0 && sigma_inc != 1)
-        return -6;
-    if (x_fixed && !x_value)
-        return -8;
-    if (x_fixed)
-        for (int j = 0; j < N; j++)
-            if (x_fixed[j] != 0 && x_fixed[j] != 1)
-                return -9;
-    if (opts) {
-        memcpy(ctx->opts, opts, sizeof ctx->opts);
-        if (!igea__finite_vec(IGEA_SIM_OPT_LEN, opts, 1))
-            return -10;
-    } else {
-        igea_sim_defaults(ctx->opts);
-    }
-    if (!(ctx->opts[IGEA_SIM_OPT_SIGMA_W] > 0.0) ||
-        !(fabs(ctx->opts[IGEA_SIM_OPT_AR1]) < 1.0) ||
-        !(ctx->opts[IGEA_SIM_OPT_GROWTH] >= 0.0) ||
-        !(ctx->opts[IGEA_SIM_OPT_OUTLIER_PROB] >= 0.0 &&
-          ctx->opts[IGEA_SIM_OPT_OUTLIER_PROB] <= 1.0) ||
-        !(ctx->opts[IGEA_SIM_OPT_OUTLIER_SCALE] >= 0.0) ||
-        (ctx->opts[IGEA_SIM_OPT_GENERATOR] != IGEA_SIM_MT19937 &&
-         ctx->opts[IGEA_SIM_OPT_GENERATOR] != IGEA_SIM_RANLXD2))
-        return -10;
-    if (seed < 0)
-        return -11;
-    if (!igea__finite_mat(m, N, S, lds))
-        return IGEA_ENONFINITE;
-    if ((nf = igea__sigma_vec(sigma_inc ? m : 1, track_sigma)) != 0)
-        return nf;
-    if (spec_sigma && (nf = igea__sigma_vec(N, spec_sigma)) != 0)
-        return nf;
-    if (x_value && !igea__finite_vec(N, x_value, 1))
-        return IGEA_ENONFINITE;
-    ctx->m = m;
-    ctx->N = N;
-    ctx->S = S;
-    ctx->lds = lds;
-    ctx->track_sigma = track_sigma;
-    ctx->sigma_inc = sigma_inc;
-    ctx->spec = spec_sigma;
-    ctx->x_value = x_value;
-    ctx->x_fixed = x_fixed;
-    ctx->seed = seed;
-    return 0;
-}
-
-static const gsl_rng_type *rng_type(const flight_ctx *c)
+static const gsl_rng_type *rng_type(const igea_sim_model *c)
 {
     return c->opts[IGEA_SIM_OPT_GENERATOR] == IGEA_SIM_RANLXD2
                ? gsl_rng_ranlxd2
                : gsl_rng_mt19937;
 }
 
-/* Generate flight `flight` into x (N) and dw (m); xs (N) is scratch. */
-static void gen_flight(const flight_ctx *c, gsl_rng *r, int flight, double *x,
-                       double *xs, double *dw)
+/* The nonlinear truth in place of S D X in dw (m): dw += dW_nonlinear(X D)
+ * - S D X. nl (m) is scratch. */
+static int nonlinear_swap(const igea_sim_model *c, const double *x, double *nl,
+                          double *dw)
+{
+    double err[IGEA_ENVFUN_TERM_COUNT] = {0};
+    int m = c->m, N = c->N;
+    for (int j = 0; j < N; j++)
+        err[c->terms[j]] += x[j] * c->spec[j];
+    int st = igea_sim_nonlinear(c->system, c->nsamp, c->traj, c->nsamp, err,
+                                c->has_axes ? c->axes : NULL, c->nepochs,
+                                c->epochs, nl);
+    if (st)
+        return st;
+    for (int i = 0; i < m; i++) {
+        double lin = 0.0;
+        for (int j = 0; j < N; j++)
+            lin += c->S[i + (size_t)j * m] * c->spec[j] * x[j];
+        dw[i] += nl[i] - lin;
+    }
+    return 0;
+}
+
+/* Generate flight `flight` into x (N) and dw (m); xs (N) is scratch, nl
+ * (m) scratch of the nonlinear truth. */
+static int gen_flight(const igea_sim_model *c, gsl_rng *r, int seed, int flight,
+                      double *x, double *xs, double *nl, double *dw)
 {
     int m = c->m, N = c->N, M = m / 3;
     double sw = c->opts[IGEA_SIM_OPT_SIGMA_W];
@@ -218,16 +464,16 @@ static void gen_flight(const flight_ctx *c, gsl_rng *r, int flight, double *x,
     double out_scale = c->opts[IGEA_SIM_OPT_OUTLIER_SCALE];
     double innov = sqrt(1.0 - phi * phi), prev[3] = {0, 0, 0};
 
-    gsl_rng_set(r, flight_seed(c->seed, flight));
+    gsl_rng_set(r, flight_seed(seed, flight));
     for (int j = 0; j < N; j++) {
         double g = gsl_ran_gaussian_ziggurat(r, 1.0);
-        x[j] = (c->x_fixed && c->x_fixed[j]) ? c->x_value[j] : g;
-        xs[j] = x[j] * (c->spec ? c->spec[j] : 1.0);
+        x[j] = c->x_fixed[j] ? c->x_value[j] : g;
+        xs[j] = x[j] * c->spec[j];
     }
     for (int i = 0; i < m; i++)
         dw[i] = 0.0;
     for (int j = 0; j < N; j++) {
-        const double *col = c->S + (size_t)j * (size_t)c->lds;
+        const double *col = c->S + (size_t)j * (size_t)m;
         for (int i = 0; i < m; i++)
             dw[i] += col[i] * xs[j];
     }
@@ -237,59 +483,75 @@ static void gen_flight(const flight_ctx *c, gsl_rng *r, int flight, double *x,
         double u = gsl_rng_uniform(r);
         double go = gsl_ran_gaussian_ziggurat(r, 1.0);
         double eps = (e == 0) ? g : phi * prev[a] + innov * g;
-        double sd = sw * c->track_sigma[c->sigma_inc ? i : 0] *
+        double sd = sw * c->sigma[i] *
                     (1.0 + (M > 1 ? growth * e / (double)(M - 1) : 0.0));
         prev[a] = eps;
         dw[i] += sd * eps;
         if (u < p_out)
             dw[i] += out_scale * sd * go;
     }
+    return c->nonlinear ? nonlinear_swap(c, x, nl, dw) : 0;
 }
 
-int igea_sim_flight(int m, int N, const double *S, int lds,
-                    const double *track_sigma, int sigma_inc,
-                    const double *spec_sigma, const double *x_value,
-                    const int *x_fixed, const double *opts, int seed,
-                    int flight, double *x_true, double *dw)
+int igea_sim_flight(const igea_sim_model *model, int seed, int flight,
+                    double *x_true, double *dw)
 {
-    flight_ctx c;
-    int st = check_flight_args(m, N, S, lds, track_sigma, sigma_inc,
-                               spec_sigma, x_value, x_fixed, opts, seed, &c);
-    if (st)
-        return st;
+    if (!model)
+        return -1;
+    if (seed < 0)
+        return -2;
     if (flight < 0)
-        return -12;
+        return -3;
     if (!dw)
-        return -14;
-    double *work = igea__dalloc((size_t)m + 2 * (size_t)N);
+        return -5;
+    int m = model->m, N = model->N;
+    double *work = igea__dalloc(2 * (size_t)m + 2 * (size_t)N);
     if (!work)
         return IGEA_ENOMEM;
-    gsl_rng *r = igea__rng_new(rng_type(&c), 0);
+    gsl_rng *r = igea__rng_new(rng_type(model), 0);
     if (!r) {
         free(work);
         return IGEA_ENOMEM;
     }
-    gen_flight(&c, r, flight, work + m, work + m + N, work);
+    int st = gen_flight(model, r, seed, flight, work + m, work + m + N,
+                        work + m + 2 * (size_t)N, work);
     igea__rng_free(r);
-    if (!igea__finite_vec(m, work, 1)) {
-        free(work);
-        return IGEA_ENONFINITE;
+    if (st == 0 && !igea__finite_vec(m, work, 1))
+        st = IGEA_ENONFINITE;
+    if (st == 0) {
+        memcpy(dw, work, (size_t)m * sizeof(double));
+        if (x_true)
+            memcpy(x_true, work + m, (size_t)N * sizeof(double));
     }
-    memcpy(dw, work, (size_t)m * sizeof(double));
-    if (x_true)
-        memcpy(x_true, work + m, (size_t)N * sizeof(double));
     free(work);
-    return 0;
+    return st;
 }
 
 /* ---- Monte Carlo -------------------------------------------------------- */
 
+int igea_sim_interval(double k, double n, double *lohi)
+{
+    if (!(k >= 0.0) || !isfinite(k) || (n > 0.0 && k > n))
+        return -1;
+    if (!(n > 0.0) || !isfinite(n))
+        return -2;
+    if (!lohi)
+        return -3;
+    /* Wilson score interval at 99 % */
+    double z = 2.5758293035489004, p = k / n, z2 = z * z / n;
+    double c = (p + z2 / 2) / (1 + z2);
+    double h = z * sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z2);
+    lohi[0] = fmax(0.0, c - h);
+    lohi[1] = fmin(1.0, c + h);
+    return 0;
+}
+
 typedef struct {
-    const flight_ctx *c;
+    const igea_sim_model *c;
     const double *Sw; /* K^-1/2 S D, m x N */
     const double *A;  /* Sw^T Sw, N x N */
     const double *eq_opts;
-    int first, nflights, thread, nthreads;
+    int seed, first, nflights, thread, nthreads;
     /* per-flight results (indexed from 0) */
     double *chi2, *scale;
     int *dof, *nrej, *status;
@@ -298,13 +560,57 @@ typedef struct {
     int fail; /* a status < 0 other than ENOTESTABLE */
 } mc_job;
 
+/* Judge flight f of a job from its dw; scratch w (m + 5 N + N^2 +
+ * IGEA_STATS_INFO_LEN doubles), rej (N ints). Returns 0 or the failure. */
+static int mc_judge(mc_job *jb, int f, const double *dw, double *w, int *rej)
+{
+    const igea_sim_model *c = jb->c;
+    int m = c->m, N = c->N;
+    double *wdw = w, *b = wdw + m, *lam = b + N, *xhat = lam + N, *P = xhat + N;
+    double *z = P + (size_t)N * N, *info = z + N;
+    for (int i = 0; i < m; i++)
+        wdw[i] = dw[i] / c->sigma[i];
+    for (int j = 0; j < N; j++) {
+        const double *col = jb->Sw + (size_t)j * (size_t)m;
+        double acc = 0.0;
+        for (int i = 0; i < m; i++)
+            acc += col[i] * wdw[i];
+        b[j] = acc;
+    }
+    int st = igea_eqerr_solve(N, jb->A, N, b, jb->eq_opts, lam, P, N, xhat, z,
+                              rej, info);
+    jb->status[f] = st;
+    if (st == IGEA_ENOTESTABLE) {
+        jb->chi2[f] = 0.0;
+        jb->dof[f] = 0;
+        jb->nrej[f] = 0;
+        jb->scale[f] = NAN;
+        return 0;
+    }
+    if (st < 0)
+        return (st > -1000) ? -2 : st; /* -5: the eqerr options */
+    jb->chi2[f] = info[IGEA_STATS_INFO_CHI2];
+    jb->dof[f] = (int)info[IGEA_STATS_INFO_DOF];
+    jb->nrej[f] = (int)info[IGEA_STATS_INFO_N_REJECT];
+    jb->scale[f] = info[IGEA_STATS_INFO_SCALE];
+    jb->status[f] = info[IGEA_STATS_INFO_CHI2] >= info[IGEA_STATS_INFO_CHI2_CRIT]
+                        ? 1 : 0; /* chi-square rejected */
+    for (int i = 0; i < N; i++) {
+        if (rej[i] >= 0)
+            jb->tested[i]++;
+        if (rej[i] == 1)
+            jb->rejected[i]++;
+    }
+    return 0;
+}
+
 static void *mc_worker(void *arg)
 {
     mc_job *jb = arg;
-    const flight_ctx *c = jb->c;
+    const igea_sim_model *c = jb->c;
     int m = c->m, N = c->N;
     size_t nn = (size_t)N * N;
-    double *w = igea__dalloc(2 * (size_t)m + 6 * (size_t)N + nn +
+    double *w = igea__dalloc(3 * (size_t)m + 7 * (size_t)N + nn +
                              IGEA_STATS_INFO_LEN);
     int *rej = igea__ialloc((size_t)N);
     gsl_rng *r = (w && rej) ? igea__rng_new(rng_type(c), 0) : NULL;
@@ -314,45 +620,14 @@ static void *mc_worker(void *arg)
         jb->fail = IGEA_ENOMEM;
         return NULL;
     }
-    double *dw = w, *wdw = dw + m, *x = wdw + m, *xs = x + N, *b = xs + N;
-    double *lam = b + N, *xhat = lam + N, *P = xhat + N, *z = P + nn;
-    double *info = z + N;
+    double *dw = w, *nl = dw + m, *x = nl + m, *xs = x + N, *judge = xs + N;
     for (int f = jb->thread; f < jb->nflights; f += jb->nthreads) {
-        gen_flight(c, r, jb->first + f, x, xs, dw);
-        for (int i = 0; i < m; i++)
-            wdw[i] = dw[i] / c->track_sigma[c->sigma_inc ? i : 0];
-        for (int j = 0; j < N; j++) {
-            const double *col = jb->Sw + (size_t)j * (size_t)m;
-            double acc = 0.0;
-            for (int i = 0; i < m; i++)
-                acc += col[i] * wdw[i];
-            b[j] = acc;
-        }
-        int st = igea_eqerr_solve(N, jb->A, N, b, jb->eq_opts, lam, P, N,
-                                  xhat, z, rej, info);
-        jb->status[f] = st;
-        if (st == IGEA_ENOTESTABLE) {
-            jb->chi2[f] = 0.0;
-            jb->dof[f] = 0;
-            jb->nrej[f] = 0;
-            jb->scale[f] = NAN;
-            continue;
-        }
-        if (st < 0) {
-            jb->fail = (st > -1000) ? -12 : st; /* -5: the eqerr options */
+        int st = gen_flight(c, r, jb->seed, jb->first + f, x, xs, nl, dw);
+        if (st == 0)
+            st = mc_judge(jb, f, dw, judge, rej);
+        if (st) {
+            jb->fail = st;
             break;
-        }
-        jb->chi2[f] = info[IGEA_STATS_INFO_CHI2];
-        jb->dof[f] = (int)info[IGEA_STATS_INFO_DOF];
-        jb->nrej[f] = (int)info[IGEA_STATS_INFO_N_REJECT];
-        jb->scale[f] = info[IGEA_STATS_INFO_SCALE];
-        jb->status[f] = info[IGEA_STATS_INFO_CHI2] >= info[IGEA_STATS_INFO_CHI2_CRIT]
-                            ? 1 : 0; /* chi-square rejected */
-        for (int i = 0; i < N; i++) {
-            if (rej[i] >= 0)
-                jb->tested[i]++;
-            if (rej[i] == 1)
-                jb->rejected[i]++;
         }
     }
     igea__rng_free(r);
@@ -361,101 +636,13 @@ static void *mc_worker(void *arg)
     return NULL;
 }
 
-int igea_sim_montecarlo(int m, int N, const double *S, int lds,
-                        const double *track_sigma, int sigma_inc,
-                        const double *spec_sigma, const double *x_value,
-                        const int *x_fixed, const double *opts, int seed,
-                        const double *eq_opts, int first_flight, int nflights,
-                        int nthreads, double *counts, int *comp_tested,
-                        int *comp_reject, double *chi2, int *dof,
-                        int *n_reject, double *scale)
+/* Run the jobs on nthreads threads (a thread that cannot start: its share
+ * runs here). Returns the first failure of a job, or 0. */
+static int mc_run(mc_job *jobs, pthread_t *tid, int nthreads)
 {
-    flight_ctx c;
-    double eqo[IGEA_EQERR_OPT_LEN];
-    int st = check_flight_args(m, N, S, lds, track_sigma, sigma_inc,
-                               spec_sigma, x_value, x_fixed, opts, seed, &c);
-    if (st)
-        return st;
-    if (eq_opts) {
-        if (!igea__finite_vec(IGEA_EQERR_OPT_LEN, eq_opts, 1))
-            return -12;
-        memcpy(eqo, eq_opts, sizeof eqo);
-    } else {
-        igea_eqerr_defaults(eqo);
-    }
-    if (first_flight < 0)
-        return -13;
-    if (nflights < 1 || nflights > INT_MAX - first_flight)
-        return -14;
-    if (nthreads < 0)
-        return -15;
-    if (!counts)
-        return -16;
-    if (nthreads == 0) {
-        long np = sysconf(_SC_NPROCESSORS_ONLN);
-        nthreads = np > 0 ? (int)IGEA_MIN(np, 64) : 1;
-    }
-    if (nthreads > nflights)
-        nthreads = nflights;
-    if (nthreads > 256)
-        nthreads = 256;
-
-    size_t nn = (size_t)N * N, nf = (size_t)nflights;
-    double *dwork = igea__dalloc((size_t)m * N + nn + 2 * nf);
-    int *iwork = igea__ialloc(3 * nf + 2 * (size_t)N * nthreads);
-    mc_job *jobs = calloc((size_t)nthreads, sizeof *jobs);
-    pthread_t *tid = calloc((size_t)nthreads, sizeof *tid);
-    if (!dwork || !iwork || !jobs || !tid) {
-        free(dwork);
-        free(iwork);
-        free(jobs);
-        free(tid);
-        return IGEA_ENOMEM;
-    }
-    double *Sw = dwork, *A = Sw + (size_t)m * N, *f_chi2 = A + nn;
-    double *f_scale = f_chi2 + nf;
-    int *f_dof = iwork, *f_nrej = f_dof + nf, *f_status = f_nrej + nf;
-    int *cnt = f_status + nf;
-    memset(cnt, 0, 2 * (size_t)N * nthreads * sizeof(int));
-
-    /* whitened, spec-scaled S and its normal matrix (both triangles) */
-    for (int j = 0; j < N; j++) {
-        double s = spec_sigma ? spec_sigma[j] : 1.0;
-        for (int i = 0; i < m; i++)
-            IGEA_AT(Sw, m, i, j) =
-                IGEA_AT(S, lds, i, j) * s / track_sigma[sigma_inc ? i : 0];
-    }
-    for (int j = 0; j < N; j++)
-        for (int k = 0; k <= j; k++) {
-            igea__ksum acc = {0.0, 0.0};
-            for (int i = 0; i < m; i++)
-                igea__ksum_add(&acc, IGEA_AT(Sw, m, i, j) * IGEA_AT(Sw, m, i, k));
-            IGEA_AT(A, N, j, k) = IGEA_AT(A, N, k, j) = igea__ksum_get(&acc);
-        }
-
-    int nstarted = 0;
-    for (int t = 0; t < nthreads; t++) {
-        mc_job *jb = &jobs[t];
-        jb->c = &c;
-        jb->Sw = Sw;
-        jb->A = A;
-        jb->eq_opts = eqo;
-        jb->first = first_flight;
-        jb->nflights = nflights;
-        jb->thread = t;
-        jb->nthreads = nthreads;
-        jb->chi2 = f_chi2;
-        jb->scale = f_scale;
-        jb->dof = f_dof;
-        jb->nrej = f_nrej;
-        jb->status = f_status;
-        jb->tested = cnt + 2 * (size_t)N * t;
-        jb->rejected = jb->tested + N;
-        jb->fail = 0;
-    }
+    int nstarted = 0, st = 0;
     if (nthreads == 1) {
         mc_worker(&jobs[0]);
-        nstarted = 1;
     } else {
         for (int t = 0; t < nthreads; t++) {
             if (pthread_create(&tid[t], NULL, mc_worker, &jobs[t]) != 0)
@@ -464,63 +651,181 @@ int igea_sim_montecarlo(int m, int N, const double *S, int lds,
         }
         for (int t = 0; t < nstarted; t++)
             pthread_join(tid[t], NULL);
-        /* threads that could not start: run their share here */
         for (int t = nstarted; t < nthreads; t++)
             mc_worker(&jobs[t]);
     }
-    st = 0;
     for (int t = 0; t < nthreads; t++)
         if (jobs[t].fail)
             st = jobs[t].fail;
+    return st;
+}
 
-    if (st == 0) {
-        double res[IGEA_SIM_MC_LEN] = {0};
-        double sum_c = 0.0, sum_t = 0.0;
-        int n_c = 0;
-        res[IGEA_SIM_MC_FLIGHTS] = nflights;
-        for (size_t f = 0; f < nf; f++) {
-            if (f_status[f] == IGEA_ENOTESTABLE) {
-                res[IGEA_SIM_MC_NOT_TESTABLE] += 1;
-                continue;
-            }
-            if (f_status[f] == 1)
-                res[IGEA_SIM_MC_CHI2_REJECT] += 1;
-            if (f_nrej[f] > 0)
-                res[IGEA_SIM_MC_ANY_REJECT] += 1;
-            if (f_status[f] == 1 || f_nrej[f] > 0)
-                res[IGEA_SIM_MC_FAILED] += 1;
-            sum_c += f_scale[f];
-            sum_t += f_dof[f];
-            n_c++;
+/* Counts, rates and the means from the per-flight results. */
+static void mc_counts(int nflights, const int *f_status, const int *f_nrej,
+                      const int *f_dof, const double *f_scale, double *res,
+                      double *rates)
+{
+    double sum_c = 0.0, sum_t = 0.0;
+    int n_c = 0;
+    for (int k = 0; k < IGEA_SIM_MC_LEN; k++)
+        res[k] = 0.0;
+    res[IGEA_SIM_MC_FLIGHTS] = nflights;
+    for (int f = 0; f < nflights; f++) {
+        if (f_status[f] == IGEA_ENOTESTABLE) {
+            res[IGEA_SIM_MC_NOT_TESTABLE] += 1;
+            continue;
         }
-        res[IGEA_SIM_MC_MEAN_SCALE] = n_c ? sum_c / n_c : NAN;
-        res[IGEA_SIM_MC_MEAN_TESTED] = n_c ? sum_t / n_c : 0.0;
-        memcpy(counts, res, sizeof res);
-        for (int i = 0; i < N; i++) {
-            int te = 0, re = 0;
-            for (int t = 0; t < nthreads; t++) {
-                te += cnt[2 * (size_t)N * t + i];
-                re += cnt[2 * (size_t)N * t + N + i];
-            }
-            if (comp_tested)
-                comp_tested[i] = te;
-            if (comp_reject)
-                comp_reject[i] = re;
+        if (f_status[f] == 1)
+            res[IGEA_SIM_MC_CHI2_REJECT] += 1;
+        if (f_nrej[f] > 0)
+            res[IGEA_SIM_MC_ANY_REJECT] += 1;
+        if (f_status[f] == 1 || f_nrej[f] > 0)
+            res[IGEA_SIM_MC_FAILED] += 1;
+        sum_c += f_scale[f];
+        sum_t += f_dof[f];
+        n_c++;
+    }
+    res[IGEA_SIM_MC_MEAN_SCALE] = n_c ? sum_c / n_c : NAN;
+    res[IGEA_SIM_MC_MEAN_TESTED] = n_c ? sum_t / n_c : 0.0;
+    for (int k = IGEA_SIM_MC_FAILED; k <= IGEA_SIM_MC_NOT_TESTABLE; k++) {
+        double *r = rates + 3 * (k - IGEA_SIM_MC_FAILED);
+        r[0] = res[k] / nflights;
+        igea_sim_interval(res[k], nflights, r + 1);
+    }
+}
+
+/* The whitened, spec-scaled S (m x N) and its normal matrix A (N x N, by
+ * igea_normal_accumulate); zeros (m + N) is scratch. */
+static int mc_normal(const igea_sim_model *c, double *Sw, double *A, double *zeros)
+{
+    int m = c->m, N = c->N;
+    double wtw[2] = {0.0, 0.0};
+    for (int j = 0; j < N; j++)
+        for (int i = 0; i < m; i++)
+            IGEA_AT(Sw, m, i, j) = IGEA_AT(c->S, m, i, j) * c->spec[j] / c->sigma[i];
+    memset(A, 0, (size_t)N * N * sizeof(double));
+    memset(zeros, 0, ((size_t)m + N) * sizeof(double));
+    return igea_normal_accumulate(IGEA_COLMAJOR, m, N, c->S, m, zeros, c->sigma, 1,
+                                  c->spec, A, N, zeros + m, wtw);
+}
+
+/* The outputs of a successful run. */
+static void mc_write(const mc_job *jobs, int nthreads, int N, int nflights,
+                     double *counts, double *rates, int *comp_tested,
+                     int *comp_reject, double *table, int ldt)
+{
+    const mc_job *j0 = &jobs[0];
+    double res[IGEA_SIM_MC_LEN], rt[IGEA_SIM_MC_RATES_LEN];
+    mc_counts(nflights, j0->status, j0->nrej, j0->dof, j0->scale, res, rt);
+    memcpy(counts, res, sizeof res);
+    if (rates)
+        memcpy(rates, rt, sizeof rt);
+    for (int i = 0; i < N; i++) {
+        int te = 0, re = 0;
+        for (int t = 0; t < nthreads; t++) {
+            te += jobs[t].tested[i];
+            re += jobs[t].rejected[i];
         }
-        if (chi2)
-            memcpy(chi2, f_chi2, nf * sizeof(double));
-        if (scale)
-            memcpy(scale, f_scale, nf * sizeof(double));
-        if (dof)
-            memcpy(dof, f_dof, nf * sizeof(int));
-        if (n_reject)
-            memcpy(n_reject, f_nrej, nf * sizeof(int));
+        if (comp_tested)
+            comp_tested[i] = te;
+        if (comp_reject)
+            comp_reject[i] = re;
+    }
+    if (table)
+        for (int f = 0; f < nflights; f++) {
+            IGEA_AT(table, ldt, f, IGEA_SIM_MC_TABLE_CHI2) = j0->chi2[f];
+            IGEA_AT(table, ldt, f, IGEA_SIM_MC_TABLE_DOF) = j0->dof[f];
+            IGEA_AT(table, ldt, f, IGEA_SIM_MC_TABLE_N_REJECT) = j0->nrej[f];
+            IGEA_AT(table, ldt, f, IGEA_SIM_MC_TABLE_SCALE) = j0->scale[f];
+        }
+}
+
+/* igea_sim_montecarlo after its argument checks. */
+static int mc_main(const igea_sim_model *c, const double *eqo, int seed,
+                   int first, int nflights, int nthreads, double *counts,
+                   double *rates, int *comp_tested, int *comp_reject,
+                   double *table, int ldt)
+{
+    int m = c->m, N = c->N;
+    size_t nn = (size_t)N * N, nf = (size_t)nflights;
+    double *dwork = igea__dalloc((size_t)m * N + nn + (size_t)m + N + 2 * nf);
+    int *iwork = igea__ialloc(3 * nf + 2 * (size_t)N * nthreads);
+    mc_job *jobs = calloc((size_t)nthreads, sizeof *jobs);
+    pthread_t *tid = calloc((size_t)nthreads, sizeof *tid);
+    int st = IGEA_ENOMEM;
+    if (dwork && iwork && jobs && tid) {
+        double *Sw = dwork, *A = Sw + (size_t)m * N, *zeros = A + nn;
+        double *f_chi2 = zeros + m + N, *f_scale = f_chi2 + nf;
+        int *f_dof = iwork, *f_nrej = f_dof + nf, *f_status = f_nrej + nf;
+        int *cnt = f_status + nf;
+        memset(cnt, 0, 2 * (size_t)N * nthreads * sizeof(int));
+        st = mc_normal(c, Sw, A, zeros);
+        for (int t = 0; t < nthreads && st == 0; t++) {
+            mc_job *jb = &jobs[t];
+            jb->c = c;
+            jb->Sw = Sw;
+            jb->A = A;
+            jb->eq_opts = eqo;
+            jb->seed = seed;
+            jb->first = first;
+            jb->nflights = nflights;
+            jb->thread = t;
+            jb->nthreads = nthreads;
+            jb->chi2 = f_chi2;
+            jb->scale = f_scale;
+            jb->dof = f_dof;
+            jb->nrej = f_nrej;
+            jb->status = f_status;
+            jb->tested = cnt + 2 * (size_t)N * t;
+            jb->rejected = jb->tested + N;
+            jb->fail = 0;
+        }
+        if (st == 0)
+            st = mc_run(jobs, tid, nthreads);
+        if (st == 0)
+            mc_write(jobs, nthreads, N, nflights, counts, rates, comp_tested,
+                     comp_reject, table, ldt);
     }
     free(dwork);
     free(iwork);
     free(jobs);
     free(tid);
     return st;
+}
+
+int igea_sim_montecarlo(const igea_sim_model *model, const double *eq_opts,
+                        int seed, int first_flight, int nflights, int nthreads,
+                        double *counts, double *rates, int *comp_tested,
+                        int *comp_reject, double *table, int ldt)
+{
+    double eqo[IGEA_EQERR_OPT_LEN];
+    if (!model)
+        return -1;
+    if (eq_opts && igea_eqerr_check_opts(eq_opts) != 0)
+        return -2;
+    if (seed < 0)
+        return -3;
+    if (first_flight < 0)
+        return -4;
+    if (nflights < 1 || nflights > INT_MAX - first_flight)
+        return -5;
+    if (nthreads < 0)
+        return -6;
+    if (!counts)
+        return -7;
+    if (table && ldt < nflights)
+        return -12;
+    if (eq_opts)
+        memcpy(eqo, eq_opts, sizeof eqo);
+    else
+        igea_eqerr_defaults(eqo);
+    if (nthreads == 0) {
+        long np = sysconf(_SC_NPROCESSORS_ONLN);
+        nthreads = np > 0 ? (int)IGEA_MIN(np, 64) : 1;
+    }
+    nthreads = IGEA_MIN(IGEA_MIN(nthreads, nflights), 256);
+    return mc_main(model, eqo, seed, first_flight, nflights, nthreads, counts,
+                   rates, comp_tested, comp_reject, table, ldt);
 }
 
 /* ---- nonlinear truth model ------------------------------------------------ */

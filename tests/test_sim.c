@@ -5,6 +5,8 @@
  * anyway, so every run draws the same numbers. */
 #include "testutil.h"
 
+#include <limits.h>
+
 #include <gsl/gsl_cdf.h>
 
 #include "igea/eqerr.h"
@@ -77,6 +79,72 @@ static int setup_model(void **state)
 }
 
 /* ---- trajectory ---------------------------------------------------------- */
+/* ---- the model API through the argument lists of a single call -------- */
+
+/* A model of S (m x N, ld lds) with these settings; status of the first
+ * failing call. */
+static int make_model(int m, int N, const double *S, int lds, const double *sig,
+                      int sigma_inc, const double *spec, const double *xv,
+                      const int *xf, const double *opts, igea_sim_model **md)
+{
+    int st = igea_sim_model_create(m, N, S, lds, md);
+    if (st == 0)
+        st = igea_sim_model_set_sigma(*md, sig, sigma_inc, 0.0);
+    if (st == 0)
+        st = igea_sim_model_set_spec(*md, spec);
+    if (st == 0)
+        st = igea_sim_model_set_truth(*md, xv, xf);
+    if (st == 0)
+        st = igea_sim_model_set_noise(*md, opts);
+    if (st) {
+        igea_sim_model_free(*md);
+        *md = NULL;
+    }
+    return st;
+}
+
+static int sim_flight(int m, int N, const double *S, int lds, const double *sig,
+                      int sigma_inc, const double *spec, const double *xv,
+                      const int *xf, const double *opts, int seed, int flight,
+                      double *x_true, double *dw)
+{
+    igea_sim_model *md = NULL;
+    int st = make_model(m, N, S, lds, sig, sigma_inc, spec, xv, xf, opts, &md);
+    if (st == 0)
+        st = igea_sim_flight(md, seed, flight, x_true, dw);
+    igea_sim_model_free(md);
+    return st;
+}
+
+/* The Monte Carlo with the per-flight table split into its columns. */
+static int sim_mc(int m, int N, const double *S, int lds, const double *sig,
+                  int sigma_inc, const double *spec, const double *xv, const int *xf,
+                  const double *opts, int seed, const double *eqo, int first, int nf,
+                  int nthreads, double *counts, int *ct, int *cr, double *chi2,
+                  int *dof, int *nrej, double *scale)
+{
+    igea_sim_model *md = NULL;
+    double *tab = malloc(sizeof(double) * (size_t)(nf > 0 ? nf : 1) * IGEA_SIM_MC_TABLE_COLS);
+    int st = tab ? make_model(m, N, S, lds, sig, sigma_inc, spec, xv, xf, opts, &md)
+                 : IGEA_ENOMEM;
+    if (st == 0)
+        st = igea_sim_montecarlo(md, eqo, seed, first, nf, nthreads, counts, NULL, ct, cr,
+                                 tab, nf);
+    for (int f = 0; st == 0 && f < nf; f++) {
+        if (chi2)
+            chi2[f] = tab[f + (size_t)IGEA_SIM_MC_TABLE_CHI2 * nf];
+        if (dof)
+            dof[f] = (int)tab[f + (size_t)IGEA_SIM_MC_TABLE_DOF * nf];
+        if (nrej)
+            nrej[f] = (int)tab[f + (size_t)IGEA_SIM_MC_TABLE_N_REJECT * nf];
+        if (scale)
+            scale[f] = tab[f + (size_t)IGEA_SIM_MC_TABLE_SCALE * nf];
+    }
+    igea_sim_model_free(md);
+    free(tab);
+    return st;
+}
+
 static void test_trajectory(void **state)
 {
     int n = 0;
@@ -132,22 +200,22 @@ static void test_flight_reproducible(void **state)
     double x1[NT], x2[NT], x3[NT], d1[3 * M_EP], d2[3 * M_EP], d3[3 * M_EP];
     double xv[NT] = {0};
     int xf[NT] = {0};
-    assert_int_equal(igea_sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL,
+    assert_int_equal(sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL,
                                      NULL, 42, 7, x1, d1), 0);
-    assert_int_equal(igea_sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL,
+    assert_int_equal(sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL,
                                      NULL, 42, 7, x2, d2), 0);
     assert_memory_equal(d1, d2, sizeof d1);
     assert_memory_equal(x1, x2, sizeof x1);
-    assert_int_equal(igea_sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL,
+    assert_int_equal(sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL,
                                      NULL, 42, 8, x3, d3), 0);
     assert_true(x3[0] != x1[0] && d3[5] != d1[5]);
-    assert_int_equal(igea_sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL,
+    assert_int_equal(sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL,
                                      NULL, 43, 7, x3, d3), 0);
     assert_true(x3[0] != x1[0]);
     /* fixing one term leaves the other terms' draws and the noise alone */
     xv[4] = 2.5;
     xf[4] = 1;
-    assert_int_equal(igea_sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, xv, xf,
+    assert_int_equal(sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, xv, xf,
                                      NULL, 42, 7, x3, d3), 0);
     for (int j = 0; j < NT; j++)
         assert_true(x3[j] == (j == 4 ? 2.5 : x1[j]));
@@ -164,10 +232,10 @@ static void test_flight_reproducible(void **state)
     double opts[IGEA_SIM_OPT_LEN];
     igea_sim_defaults(opts);
     opts[IGEA_SIM_OPT_GENERATOR] = IGEA_SIM_RANLXD2;
-    assert_int_equal(igea_sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL,
+    assert_int_equal(sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL,
                                      opts, 42, 7, x2, d2), 0);
     assert_true(x2[0] != x1[0]);
-    assert_int_equal(igea_sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL,
+    assert_int_equal(sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL,
                                      opts, 42, 7, x3, d3), 0);
     assert_memory_equal(d2, d3, sizeof d2);
 }
@@ -183,7 +251,7 @@ static void test_flight_noise(void **state)
         sig[i] = 0.5 + (i % 7) * 0.1;
     igea_sim_defaults(opts);
     opts[IGEA_SIM_OPT_SIGMA_W] = 1.8;
-    assert_int_equal(igea_sim_flight(MR, 1, S0, MR, sig, 1, NULL, NULL, NULL, opts,
+    assert_int_equal(sim_flight(MR, 1, S0, MR, sig, 1, NULL, NULL, NULL, opts,
                                      1, 0, NULL, dw), 0);
     double v = 0;
     for (int i = 0; i < MR; i++)
@@ -194,7 +262,7 @@ static void test_flight_noise(void **state)
     /* AR(1) phi = 0.6 per axis along epochs; unit variance kept */
     opts[IGEA_SIM_OPT_SIGMA_W] = 1.0;
     opts[IGEA_SIM_OPT_AR1] = 0.6;
-    assert_int_equal(igea_sim_flight(MR, 1, S0, MR, sig, 1, NULL, NULL, NULL, opts,
+    assert_int_equal(sim_flight(MR, 1, S0, MR, sig, 1, NULL, NULL, NULL, opts,
                                      2, 0, NULL, dw), 0);
     for (int a = 0; a < 3; a++) {
         double c1 = 0, c0 = 0;
@@ -211,7 +279,7 @@ static void test_flight_noise(void **state)
     /* growth g = 2: the true sd triples from the first to the last epoch */
     opts[IGEA_SIM_OPT_AR1] = 0.0;
     opts[IGEA_SIM_OPT_GROWTH] = 2.0;
-    assert_int_equal(igea_sim_flight(MR, 1, S0, MR, sig, 1, NULL, NULL, NULL, opts,
+    assert_int_equal(sim_flight(MR, 1, S0, MR, sig, 1, NULL, NULL, NULL, opts,
                                      3, 0, NULL, dw), 0);
     double vf = 0, vl = 0;
     int nb = 3 * 2000;
@@ -227,7 +295,7 @@ static void test_flight_noise(void **state)
      * probability 2 (1 - Phi(5 / sqrt(101))) (plus 5.7e-7 of normal rows) */
     opts[IGEA_SIM_OPT_GROWTH] = 0.0;
     opts[IGEA_SIM_OPT_OUTLIER_PROB] = 0.02;
-    assert_int_equal(igea_sim_flight(MR, 1, S0, MR, sig, 1, NULL, NULL, NULL, opts,
+    assert_int_equal(sim_flight(MR, 1, S0, MR, sig, 1, NULL, NULL, NULL, opts,
                                      4, 0, NULL, dw), 0);
     int big = 0;
     for (int i = 0; i < MR; i++)
@@ -244,7 +312,7 @@ static void test_flight_signal(void **state)
 {
     int m = 3 * M_EP;
     double x[NT], dw[3 * M_EP], tiny = 1e-12;
-    assert_int_equal(igea_sim_flight(m, NT, S21, m, &tiny, 0, SPEC21, NULL, NULL,
+    assert_int_equal(sim_flight(m, NT, S21, m, &tiny, 0, SPEC21, NULL, NULL,
                                      NULL, 5, 0, x, dw), 0);
     for (int i = 0; i < m; i++) {
         double s = 0;
@@ -254,60 +322,104 @@ static void test_flight_signal(void **state)
     }
 }
 
+/* Invalid arguments of the model's constructors, setters and flights
+ * (statuses by argument position); a failure leaves outputs and the
+ * model as they were. */
 static void test_flight_invalid(void **state)
 {
-    int m = 3 * M_EP, xf[NT] = {0};
+    int m = 3 * M_EP, xf[NT] = {0}, mm = -1, nn = -1;
     double x[NT], dw[3 * M_EP], opts[IGEA_SIM_OPT_LEN], bad_sig = -1.0, nan_sig = NAN;
+    double sg[3 * M_EP], d1[3 * M_EP], d2[3 * M_EP];
+    igea_sim_model *md = (igea_sim_model *)&mm;
     fill_sentinel(dw, (size_t)m);
     fill_sentinel(x, NT);
-#define FL(...) igea_sim_flight(__VA_ARGS__)
-    assert_int_equal(FL(m - 1, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, 0, x, dw), -1);
-    assert_int_equal(FL(0, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, 0, x, dw), -1);
-    assert_int_equal(FL(m, 0, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, 0, x, dw), -2);
-    assert_int_equal(FL(m, NT, NULL, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, 0, x, dw), -3);
-    assert_int_equal(FL(m, NT, S21, m - 1, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, 0, x, dw), -4);
-    assert_int_equal(FL(m, NT, S21, m, NULL, 0, SPEC21, NULL, NULL, NULL, 1, 0, x, dw), -5);
-    assert_int_equal(FL(m, NT, S21, m, &SIG, 2, SPEC21, NULL, NULL, NULL, 1, 0, x, dw), -6);
-    assert_int_equal(FL(m, NT, S21, m, &SIG, 0, SPEC21, NULL, xf, NULL, 1, 0, x, dw), -8);
-    xf[3] = 2;
-    assert_int_equal(FL(m, NT, S21, m, &SIG, 0, SPEC21, x, xf, NULL, 1, 0, x, dw), -9);
-    igea_sim_defaults(opts);
-    opts[IGEA_SIM_OPT_SIGMA_W] = 0.0;
-    assert_int_equal(FL(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, opts, 1, 0, x, dw), -10);
-    igea_sim_defaults(opts);
-    opts[IGEA_SIM_OPT_AR1] = 1.0;
-    assert_int_equal(FL(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, opts, 1, 0, x, dw), -10);
-    igea_sim_defaults(opts);
-    opts[IGEA_SIM_OPT_OUTLIER_PROB] = 1.5;
-    assert_int_equal(FL(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, opts, 1, 0, x, dw), -10);
-    igea_sim_defaults(opts);
-    opts[IGEA_SIM_OPT_GENERATOR] = 3;
-    assert_int_equal(FL(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, opts, 1, 0, x, dw), -10);
-    opts[IGEA_SIM_OPT_GENERATOR] = NAN;
-    assert_int_equal(FL(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, opts, 1, 0, x, dw), -10);
-    assert_int_equal(FL(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, -1, 0, x, dw), -11);
-    assert_int_equal(FL(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, -1, x, dw), -12);
-    assert_int_equal(FL(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, 0, x, NULL), -14);
-    assert_int_equal(FL(m, NT, S21, m, &bad_sig, 0, SPEC21, NULL, NULL, NULL, 1, 0, x, dw),
-                     IGEA_ENONPOSITIVE);
-    assert_int_equal(FL(m, NT, S21, m, &nan_sig, 0, SPEC21, NULL, NULL, NULL, 1, 0, x, dw),
-                     IGEA_ENONFINITE);
+    assert_int_equal(igea_sim_model_create(m - 1, NT, S21, m, &md), -1);
+    assert_null(md);
+    assert_int_equal(igea_sim_model_create(0, NT, S21, m, &md), -1);
+    assert_int_equal(igea_sim_model_create(m, 0, S21, m, &md), -2);
+    assert_int_equal(igea_sim_model_create(m, NT, NULL, m, &md), -3);
+    assert_int_equal(igea_sim_model_create(m, NT, S21, m - 1, &md), -4);
+    assert_int_equal(igea_sim_model_create(m, NT, S21, m, NULL), -5);
+    double S1[6] = {1, 2, 3, 4, NAN, 6};
+    assert_int_equal(igea_sim_model_create(3, 2, S1, 3, &md), IGEA_ENONFINITE);
+    assert_null(md);
+    assert_int_equal(make_model(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, &md), 0);
+    assert_int_equal(igea_sim_flight(md, 1, 0, x, d1), 0);
+
+    assert_int_equal(igea_sim_model_set_sigma(NULL, &SIG, 0, 0.0), -1);
+    assert_int_equal(igea_sim_model_set_sigma(md, NULL, 0, 0.0), -2);
+    assert_int_equal(igea_sim_model_set_sigma(md, &SIG, 2, 0.0), -3);
+    assert_int_equal(igea_sim_model_set_sigma(md, &SIG, 0, -0.5), -4);
+    assert_int_equal(igea_sim_model_set_sigma(md, &SIG, 0, NAN), -4);
+    assert_int_equal(igea_sim_model_set_sigma(md, &bad_sig, 0, 0.0), IGEA_ENONPOSITIVE);
+    assert_int_equal(igea_sim_model_set_sigma(md, &nan_sig, 0, 0.0), IGEA_ENONFINITE);
+    double big = 1e308;
+    assert_int_equal(igea_sim_model_set_sigma(md, &big, 0, 10.0), IGEA_ERANGE);
     double spec_bad[NT];
     memcpy(spec_bad, SPEC21, sizeof spec_bad);
     spec_bad[20] = 0.0;
-    assert_int_equal(FL(m, NT, S21, m, &SIG, 0, spec_bad, NULL, NULL, NULL, 1, 0, x, dw),
-                     IGEA_ENONPOSITIVE);
+    assert_int_equal(igea_sim_model_set_spec(NULL, SPEC21), -1);
+    assert_int_equal(igea_sim_model_set_spec(md, spec_bad), IGEA_ENONPOSITIVE);
+    assert_int_equal(igea_sim_model_set_truth(NULL, NULL, NULL), -1);
+    assert_int_equal(igea_sim_model_set_truth(md, NULL, xf), -2);
+    xf[3] = 2;
+    assert_int_equal(igea_sim_model_set_truth(md, x, xf), -3);
     double xv[NT] = {0};
     int xf0[NT] = {0};
     xv[2] = INFINITY;
-    assert_int_equal(FL(m, NT, S21, m, &SIG, 0, SPEC21, xv, xf0, NULL, 1, 0, x, dw),
-                     IGEA_ENONFINITE);
-    double S1[6] = {1, 2, 3, 4, NAN, 6};
-    assert_int_equal(FL(3, 2, S1, 3, &SIG, 0, NULL, NULL, NULL, NULL, 1, 0, x, dw),
-                     IGEA_ENONFINITE);
+    assert_int_equal(igea_sim_model_set_truth(md, xv, xf0), IGEA_ENONFINITE);
+    igea_sim_defaults(opts);
+    opts[IGEA_SIM_OPT_SIGMA_W] = 0.0;
+    assert_int_equal(igea_sim_model_set_noise(md, opts), -2);
+    assert_int_equal(igea_sim_check_opts(opts), 1 + IGEA_SIM_OPT_SIGMA_W);
+    igea_sim_defaults(opts);
+    opts[IGEA_SIM_OPT_AR1] = 1.0;
+    assert_int_equal(igea_sim_model_set_noise(md, opts), -2);
+    assert_int_equal(igea_sim_check_opts(opts), 1 + IGEA_SIM_OPT_AR1);
+    igea_sim_defaults(opts);
+    opts[IGEA_SIM_OPT_GROWTH] = -1.0;
+    assert_int_equal(igea_sim_check_opts(opts), 1 + IGEA_SIM_OPT_GROWTH);
+    igea_sim_defaults(opts);
+    opts[IGEA_SIM_OPT_OUTLIER_PROB] = 1.5;
+    assert_int_equal(igea_sim_model_set_noise(md, opts), -2);
+    assert_int_equal(igea_sim_check_opts(opts), 1 + IGEA_SIM_OPT_OUTLIER_PROB);
+    igea_sim_defaults(opts);
+    opts[IGEA_SIM_OPT_OUTLIER_SCALE] = -1.0;
+    assert_int_equal(igea_sim_check_opts(opts), 1 + IGEA_SIM_OPT_OUTLIER_SCALE);
+    igea_sim_defaults(opts);
+    opts[IGEA_SIM_OPT_GENERATOR] = 3;
+    assert_int_equal(igea_sim_model_set_noise(md, opts), -2);
+    assert_int_equal(igea_sim_check_opts(opts), 1 + IGEA_SIM_OPT_GENERATOR);
+    opts[IGEA_SIM_OPT_GENERATOR] = NAN;
+    assert_int_equal(igea_sim_check_opts(opts), 1 + IGEA_SIM_OPT_GENERATOR);
+    igea_sim_defaults(opts);
+    opts[7] = INFINITY; /* a reserved slot */
+    assert_int_equal(igea_sim_check_opts(opts), 8);
+    assert_int_equal(igea_sim_check_opts(NULL), -1);
+    igea_sim_defaults(opts);
+    assert_int_equal(igea_sim_check_opts(opts), 0);
+    assert_int_equal(igea_sim_model_set_nonlinear(md, 1), -2); /* no trajectory */
+    assert_int_equal(igea_sim_model_set_nonlinear(NULL, 0), -1);
+
+    assert_int_equal(igea_sim_flight(NULL, 1, 0, x, dw), -1);
+    assert_int_equal(igea_sim_flight(md, -1, 0, x, dw), -2);
+    assert_int_equal(igea_sim_flight(md, 1, -1, x, dw), -3);
+    assert_int_equal(igea_sim_flight(md, 1, 0, x, NULL), -5);
     assert_true(all_sentinel(dw, (size_t)m));
-    assert_true(all_sentinel(x, NT));
-#undef FL
+    /* the failed setters left the model as it was */
+    fill_sentinel(x, NT);
+    assert_int_equal(igea_sim_flight(md, 1, 0, x, d2), 0);
+    assert_memory_equal(d1, d2, sizeof d1);
+    assert_int_equal(igea_sim_model_get_size(md, &mm, &nn), 0);
+    assert_true(mm == m && nn == NT);
+    assert_int_equal(igea_sim_model_get_sigma(md, sg), 0);
+    for (int i = 0; i < m; i++)
+        assert_true(sg[i] == SIG);
+    assert_int_equal(igea_sim_model_get_size(md, NULL, &nn), -2);
+    assert_int_equal(igea_sim_model_get_s(md, dw, m - 1), -3);
+    assert_int_equal(igea_sim_model_get_spec(md, NULL), -2);
+    igea_sim_model_free(md);
+    igea_sim_model_free(NULL);
 }
 
 /* ---- Monte Carlo ----------------------------------------------------------- */
@@ -318,7 +430,7 @@ static void run_mc(const double *opts, const double *eqo, int first, int nf,
                    int *dof, int *nrej, double *scale)
 {
     int m = 3 * M_EP;
-    assert_int_equal(igea_sim_montecarlo(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL,
+    assert_int_equal(sim_mc(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL,
                                          opts, 2024, eqo, first, nf, nthreads,
                                          counts, ct, cr, chi2, dof, nrej, scale), 0);
 }
@@ -351,11 +463,11 @@ static void test_mc_threads(void **state)
     for (int f = 0; f < 5; f++) {
         double dw[3 * M_EP], lam[NT], P[NT * NT], xh[NT], z[NT], info[IGEA_STATS_INFO_LEN];
         int rej[NT];
-        assert_int_equal(igea_sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL,
+        assert_int_equal(sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL,
                                          NULL, 2024, f, NULL, dw), 0);
         assert_int_equal(igea_eqerr_run(m, NT, S21, m, dw, &SIG, 0, SPEC21, NULL, lam,
                                         P, NT, xh, z, rej, info, NULL, NULL), 0);
-        assert_close(x1[f], info[IGEA_STATS_INFO_CHI2], 1e-6);
+        assert_close(x1[f], info[IGEA_STATS_INFO_CHI2], 1e-10); /* the same normal equations */
         assert_int_equal(d1[f], (int)info[IGEA_STATS_INFO_DOF]);
         assert_int_equal(n1[f], (int)info[IGEA_STATS_INFO_N_REJECT]);
         assert_close(s1[f], info[IGEA_STATS_INFO_SCALE], 1e-6);
@@ -406,7 +518,7 @@ static void test_mc_misstated(void **state)
     /* lambda of the weighted, scaled S (does not depend on dw) */
     double dw[3 * M_EP], lam[NT], P[NT * NT], xh[NT], z[NT], info[IGEA_STATS_INFO_LEN];
     int rej[NT];
-    igea_sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, 0, NULL, dw);
+    sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, 0, NULL, dw);
     assert_int_equal(igea_eqerr_run(m, NT, S21, m, dw, &SIG, 0, SPEC21, eqo, lam, P,
                                     NT, xh, z, rej, info, NULL, NULL), 0);
     int last = (int)info[IGEA_STATS_INFO_N_TEST] - 1;
@@ -441,15 +553,15 @@ static void test_lds_padding(void **state)
     fill_nan(Sp, (size_t)ld * NT);
     for (int j = 0; j < NT; j++)
         memcpy(Sp + (size_t)j * ld, S21 + (size_t)j * m, sizeof(double) * m);
-    assert_int_equal(igea_sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL,
+    assert_int_equal(sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL,
                                      9, 3, NULL, d1), 0);
-    assert_int_equal(igea_sim_flight(m, NT, Sp, ld, &SIG, 0, SPEC21, NULL, NULL, NULL,
+    assert_int_equal(sim_flight(m, NT, Sp, ld, &SIG, 0, SPEC21, NULL, NULL, NULL,
                                      9, 3, NULL, d2), 0);
     assert_memory_equal(d1, d2, sizeof d1);
-    assert_int_equal(igea_sim_montecarlo(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL,
+    assert_int_equal(sim_mc(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL,
                                          9, NULL, 0, 50, 1, c1, NULL, NULL, x1, NULL,
                                          NULL, NULL), 0);
-    assert_int_equal(igea_sim_montecarlo(m, NT, Sp, ld, &SIG, 0, SPEC21, NULL, NULL, NULL,
+    assert_int_equal(sim_mc(m, NT, Sp, ld, &SIG, 0, SPEC21, NULL, NULL, NULL,
                                          9, NULL, 0, 50, 2, c2, NULL, NULL, x2, NULL,
                                          NULL, NULL), 0);
     assert_memory_equal(c1, c2, sizeof c1);
@@ -514,7 +626,7 @@ static void test_nonlinear_vs_linear(void **state)
     for (int e = 0; e < M_EP; e++)
         ep[e] = e + 1.0;
     /* X ~ N(0, I) in spec units: linear part from igea_sim_flight, no noise */
-    assert_int_equal(igea_sim_flight(m, NT, S21, m, &tiny, 0, SPEC21, NULL, NULL, NULL, 3, 0,
+    assert_int_equal(sim_flight(m, NT, S21, m, &tiny, 0, SPEC21, NULL, NULL, NULL, 3, 0,
                                      x, dw), 0);
     for (int j = 0; j < NT; j++)
         err[codes[j]] = x[j] * SPEC21[j];
@@ -544,7 +656,7 @@ static void test_oom(void **state)
     enum { F = 20 };
     int m = 3 * M_EP, n = 0;
     double ref[IGEA_SIM_MC_LEN], c[IGEA_SIM_MC_LEN], x[NT], dw[3 * M_EP], dref[3 * M_EP];
-    assert_int_equal(igea_sim_montecarlo(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1,
+    assert_int_equal(sim_mc(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1,
                                          NULL, 0, F, 2, ref, NULL, NULL, NULL, NULL, NULL,
                                          NULL), 0);
     int st, fails = 0;
@@ -552,7 +664,7 @@ static void test_oom(void **state)
         fill_sentinel(c, IGEA_SIM_MC_LEN);
         oom_calls = 0;
         oom_fail_at = k;
-        st = igea_sim_montecarlo(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, NULL,
+        st = sim_mc(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, NULL,
                                  0, F, 2, c, NULL, NULL, NULL, NULL, NULL, NULL);
         oom_fail_at = -1;
         if (st == 0)
@@ -565,13 +677,13 @@ static void test_oom(void **state)
     assert_true(fails >= 3);
     assert_memory_equal(c, ref, sizeof c);
 
-    assert_int_equal(igea_sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, 0,
+    assert_int_equal(sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, 0,
                                      NULL, dref), 0);
     for (long k = 0;; k++) {
         fill_sentinel(dw, (size_t)m);
         oom_calls = 0;
         oom_fail_at = k;
-        st = igea_sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, 0, x, dw);
+        st = sim_flight(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, 0, x, dw);
         oom_fail_at = -1;
         if (st == 0)
             break;
@@ -631,39 +743,108 @@ static void test_defaults(void **state)
 static void test_mc_invalid(void **state)
 {
     int m = 3 * M_EP;
-    double counts[IGEA_SIM_MC_LEN], eqo[IGEA_EQERR_OPT_LEN];
+    double counts[IGEA_SIM_MC_LEN], eqo[IGEA_EQERR_OPT_LEN], tab[10 * 4];
+    igea_sim_model *md = NULL;
     fill_sentinel(counts, IGEA_SIM_MC_LEN);
+    fill_sentinel(tab, 40);
+    assert_int_equal(make_model(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, &md), 0);
 #define MC(...) igea_sim_montecarlo(__VA_ARGS__)
-    assert_int_equal(MC(m + 1, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, NULL,
-                        0, 10, 1, counts, NULL, NULL, NULL, NULL, NULL, NULL), -1);
-    assert_int_equal(MC(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, -3, NULL,
-                        0, 10, 1, counts, NULL, NULL, NULL, NULL, NULL, NULL), -11);
+    assert_int_equal(MC(NULL, NULL, 1, 0, 10, 1, counts, NULL, NULL, NULL, NULL, 1), -1);
     igea_eqerr_defaults(eqo);
     eqo[IGEA_EQERR_OPT_ALPHA] = NAN;
-    assert_int_equal(MC(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, eqo,
-                        0, 10, 1, counts, NULL, NULL, NULL, NULL, NULL, NULL), -12);
-    eqo[IGEA_EQERR_OPT_ALPHA] = 1.5; /* rejected by igea_eqerr_solve */
-    assert_int_equal(MC(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, eqo,
-                        0, 10, 2, counts, NULL, NULL, NULL, NULL, NULL, NULL), -12);
-    assert_int_equal(MC(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, NULL,
-                        -1, 10, 1, counts, NULL, NULL, NULL, NULL, NULL, NULL), -13);
-    assert_int_equal(MC(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, NULL,
-                        0, 0, 1, counts, NULL, NULL, NULL, NULL, NULL, NULL), -14);
-    assert_int_equal(MC(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, NULL,
-                        0, 10, -1, counts, NULL, NULL, NULL, NULL, NULL, NULL), -15);
-    assert_int_equal(MC(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, 1, NULL,
-                        0, 10, 1, NULL, NULL, NULL, NULL, NULL, NULL, NULL), -16);
-    double nan_sig = NAN;
-    assert_int_equal(MC(m, NT, S21, m, &nan_sig, 0, SPEC21, NULL, NULL, NULL, 1, NULL,
-                        0, 10, 1, counts, NULL, NULL, NULL, NULL, NULL, NULL),
-                     IGEA_ENONFINITE);
+    assert_int_equal(MC(md, eqo, 1, 0, 10, 1, counts, NULL, NULL, NULL, NULL, 1), -2);
+    eqo[IGEA_EQERR_OPT_ALPHA] = 1.5;
+    assert_int_equal(MC(md, eqo, 1, 0, 10, 2, counts, NULL, NULL, NULL, NULL, 1), -2);
+    assert_int_equal(MC(md, NULL, -3, 0, 10, 1, counts, NULL, NULL, NULL, NULL, 1), -3);
+    assert_int_equal(MC(md, NULL, 1, -1, 10, 1, counts, NULL, NULL, NULL, NULL, 1), -4);
+    assert_int_equal(MC(md, NULL, 1, 0, 0, 1, counts, NULL, NULL, NULL, NULL, 1), -5);
+    assert_int_equal(MC(md, NULL, 1, INT_MAX, 2, 1, counts, NULL, NULL, NULL, NULL, 1), -5);
+    assert_int_equal(MC(md, NULL, 1, 0, 10, -1, counts, NULL, NULL, NULL, NULL, 1), -6);
+    assert_int_equal(MC(md, NULL, 1, 0, 10, 1, NULL, NULL, NULL, NULL, NULL, 1), -7);
+    assert_int_equal(MC(md, NULL, 1, 0, 10, 1, counts, NULL, NULL, NULL, tab, 9), -12);
     assert_true(all_sentinel(counts, IGEA_SIM_MC_LEN));
+    assert_true(all_sentinel(tab, 40));
+    /* NULL table: ldt is not read */
+    assert_int_equal(MC(md, NULL, 1, 0, 10, 1, counts, NULL, NULL, NULL, NULL, 0), 0);
+    igea_sim_model_free(md);
     /* all-zero S: nothing testable, every flight passes */
-    double S0[30] = {0}, one = 1.0;
-    assert_int_equal(MC(6, 5, S0, 6, &one, 0, NULL, NULL, NULL, NULL, 1, NULL, 0, 10, 1,
-                        counts, NULL, NULL, NULL, NULL, NULL, NULL), 0);
+    double S0[30] = {0}, one = 1.0, rates[IGEA_SIM_MC_RATES_LEN];
+    assert_int_equal(make_model(6, 5, S0, 6, &one, 0, NULL, NULL, NULL, NULL, &md), 0);
+    assert_int_equal(MC(md, NULL, 1, 0, 10, 1, counts, rates, NULL, NULL, tab, 10), 0);
     assert_true(counts[IGEA_SIM_MC_NOT_TESTABLE] == 10 && counts[IGEA_SIM_MC_FAILED] == 0);
+    assert_true(isnan(counts[IGEA_SIM_MC_MEAN_SCALE]));
+    assert_true(rates[3 * (IGEA_SIM_MC_NOT_TESTABLE - 1)] == 1.0);
+    for (int f = 0; f < 10; f++)
+        assert_true(tab[f] == 0.0 && tab[10 + f] == 0.0 && isnan(tab[30 + f]));
+    igea_sim_model_free(md);
 #undef MC
+}
+
+/* A model of a trajectory: S and specs as igea_envfun_compute and the
+ * catalogue give them, the stated sigma grown by 1 + g e/(M-1), the
+ * nonlinear truth equal to the linear flight with S D X replaced by
+ * igea_sim_nonlinear of X D; the 99 % Wilson interval in closed cases. */
+static void test_model_trajectory(void **state)
+{
+    enum { NE = 20 };
+    int n = 0, codes[3] = {IGEA_ENVFUN_TERM_ACC_BIAS_X, IGEA_ENVFUN_TERM_GYRO_BIAS_X + 1,
+                           IGEA_ENVFUN_TERM_ATT0_X + 2};
+    assert_int_equal(igea_sim_trajectory_length(40.0, 20.0, &n), 0);
+    double *tr = malloc(sizeof(double) * (size_t)n * IGEA_ENVFUN_TRAJ_COLS);
+    double ep[NE], S[3 * NE * 3], Sm[3 * NE * 3], sp[3], sg[3 * NE], x[3], dl[3 * NE];
+    double dn[3 * NE], nl[3 * NE], err[IGEA_ENVFUN_TERM_COUNT] = {0}, s0 = 0.02;
+    assert_non_null(tr);
+    assert_int_equal(igea_sim_trajectory(0, 40.0, 20.0, n, tr, n), 0);
+    for (int e = 0; e < NE; e++)
+        ep[e] = 2.0 * (e + 1);
+    igea_sim_model *md = NULL;
+    assert_int_equal(igea_sim_model_create_trajectory(0, n, tr, n, 3, codes, NULL, NE, ep,
+                                                      &md), 0);
+    assert_int_equal(igea_envfun_compute(0, n, tr, n, 3, codes, NULL, NE, ep, NULL,
+                                         IGEA_ENVFUN_VELOCITY, S, 3 * NE), 0);
+    assert_int_equal(igea_sim_model_get_s(md, Sm, 3 * NE), 0);
+    assert_memory_equal(S, Sm, sizeof S);
+    assert_int_equal(igea_sim_model_get_spec(md, sp), 0);
+    assert_close(sp[0], 1e-3 * 9.80665, 1e-15);
+    assert_close(sp[1], 0.5 * 3.14159265358979323846 / 180.0 / 3600.0, 1e-15);
+    assert_close(sp[2], 1e-4, 1e-15);
+    assert_int_equal(igea_sim_model_set_sigma(md, &s0, 0, 0.5), 0);
+    assert_int_equal(igea_sim_model_get_sigma(md, sg), 0);
+    for (int i = 0; i < 3 * NE; i++)
+        assert_close(sg[i], s0 * (1.0 + 0.5 * (i / 3) / (NE - 1.0)), 1e-15);
+    /* truth 20 x spec: second-order effects visible */
+    double xv[3] = {20.0, -20.0, 20.0};
+    int xf[3] = {1, 1, 1};
+    assert_int_equal(igea_sim_model_set_truth(md, xv, xf), 0);
+    assert_int_equal(igea_sim_flight(md, 5, 2, x, dl), 0);
+    assert_int_equal(igea_sim_model_set_nonlinear(md, 1), 0);
+    assert_int_equal(igea_sim_flight(md, 5, 2, x, dn), 0);
+    for (int j = 0; j < 3; j++)
+        err[codes[j]] = xv[j] * sp[j];
+    assert_int_equal(igea_sim_nonlinear(0, n, tr, n, err, NULL, NE, ep, nl), 0);
+    double maxd = 0.0;
+    for (int i = 0; i < 3 * NE; i++) {
+        double lin = 0.0;
+        for (int j = 0; j < 3; j++)
+            lin += S[i + 3 * NE * j] * sp[j] * xv[j];
+        assert_close_abs(dn[i], dl[i] - lin + nl[i], 0.0, 1e-12);
+        maxd = fmax(maxd, fabs(nl[i] - lin));
+    }
+    assert_true(maxd > 1e-6); /* the swap changed dw */
+    igea_sim_model_free(md);
+    free(tr);
+
+    double lh[2];
+    assert_int_equal(igea_sim_interval(0.0, 10.0, lh), 0);
+    double z2 = 2.5758293035489004 * 2.5758293035489004;
+    assert_close_abs(lh[0], 0.0, 0.0, 1e-15);
+    assert_close(lh[1], z2 / (10.0 + z2), 1e-14);
+    assert_int_equal(igea_sim_interval(10.0, 10.0, lh), 0);
+    assert_close(lh[0], 10.0 / (10.0 + z2), 1e-14);
+    assert_close(lh[1], 1.0, 1e-15);
+    assert_int_equal(igea_sim_interval(11.0, 10.0, lh), -1);
+    assert_int_equal(igea_sim_interval(1.0, 0.0, lh), -2);
+    assert_int_equal(igea_sim_interval(1.0, 10.0, NULL), -3);
 }
 
 int main(void)
@@ -683,6 +864,7 @@ int main(void)
         cmocka_unit_test(test_oom),
         cmocka_unit_test(test_nonlinear_invalid),
         cmocka_unit_test(test_nonlinear_vs_linear),
+        cmocka_unit_test(test_model_trajectory),
     };
     return cmocka_run_group_tests(tests, setup_model, NULL);
 }

@@ -6,6 +6,8 @@
  *    thrust 15-25 m/s^2 along body x, a pitch-over of 60 degrees, a small
  *    wobble; attitude propagated with exact quaternion exponentials), in
  *    the trajectory layout of igea/envfun.h.
+ *  - igea_sim_model_*: the simulation model (a handle): flight geometry,
+ *    stated sigma, specs, true noise, true X, linear or nonlinear truth.
  *  - igea_sim_flight: one synthetic flight dw = S D X + noise, X drawn
  *    N(0, I) in spec units or set term by term, tracking noise white with
  *    a true scale sigma_w, AR(1)-correlated, growing along the flight, with
@@ -78,36 +80,140 @@ IGEA_API int igea_sim_trajectory(int system, double duration, double rate,
                                  int nsamp, double *traj, int ldt);
 
 /*
- * One synthetic flight.
- *  1 m            rows, a multiple of 3 (epoch-major x, y, z), >= 3
- *  2 N            error terms, >= 1
- *  3 S            m x N column-major environment functions (raw units)
- *  4 lds          >= m
- *  5 track_sigma  stated tracking 1-sigma: m values (sigma_inc 1) or one
- *                 (sigma_inc 0), > 0
- *  6 sigma_inc    0 or 1
- *  7 spec_sigma   N specs (> 0) scaling the columns, or NULL
- *  8 x_value      N values (spec units) used for the fixed terms, or NULL
- *  9 x_fixed      N ints: 1 term j is X_j = x_value[j], 0 drawn N(0, 1);
- *                 NULL: all drawn. Non-NULL needs x_value.
- * 10 opts         IGEA_SIM_OPT_LEN values or NULL (defaults): sigma_w > 0,
- *                 |ar1| < 1, growth >= 0, 0 <= outlier_prob <= 1,
- *                 outlier_scale >= 0, generator 0 or 1
- * 11 seed         >= 0
- * 12 flight       >= 0, the flight index (its own random stream)
- * 13 x_true       N outputs (the X used, spec units), or NULL
- * 14 dw           m outputs: S D X + noise, noise_i = sigma_w
- *                 track_sigma_i (1 + g e/(M-1)) eps_i, eps AR(1) per axis
- *                 with unit variance, plus an outlier N(0, (scale sd_i)^2)
- *                 with probability outlier_prob
- * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ERANGE (a sigma
- * or spec below IGEA_SIGMA_MIN), IGEA_ENOMEM.
+ * Check opts[IGEA_SIM_OPT_LEN] as the model does: every slot finite (the
+ * reserved ones included), sigma_w > 0, |ar1| < 1, growth >= 0, 0 <=
+ * outlier_prob <= 1, outlier_scale >= 0, generator IGEA_SIM_MT19937 or
+ * IGEA_SIM_RANLXD2. Returns 0 when they are valid, else 1 + the first
+ * invalid slot (igea_opt_name(IGEA_MODULE_SIM, status - 1) names it); -1
+ * for opts NULL.
  */
-IGEA_API int igea_sim_flight(int m, int N, const double *S, int lds,
-                             const double *track_sigma, int sigma_inc,
-                             const double *spec_sigma, const double *x_value,
-                             const int *x_fixed, const double *opts, int seed,
-                             int flight, double *x_true, double *dw);
+IGEA_API int igea_sim_check_opts(const double *opts);
+
+/*
+ * The simulation model: an opaque handle holding the flight geometry (S, m
+ * rows epoch-major x, y, z, N terms, raw units), the stated tracking sigma,
+ * the 1-sigma specs, the true noise (opts), the true X (fixed terms) and,
+ * for a model made from a trajectory, the trajectory, terms and epochs of
+ * the nonlinear truth. A handle is not shared between threads while a
+ * setter runs; flights and Monte Carlo runs only read it.
+ *
+ * Defaults: stated sigma 0.01 m/s on every row, no growth [D]; specs 1
+ * (igea_sim_model_create) or the catalogue's (igea_envfun_default_spec,
+ * igea_sim_model_create_trajectory); igea_sim_defaults noise; every X
+ * drawn N(0, 1); linear truth S D X.
+ */
+typedef struct igea_sim_model igea_sim_model;
+
+/*
+ * A model of a given flight geometry (no trajectory: no nonlinear truth).
+ *  1 m      rows, a multiple of 3, >= 3
+ *  2 N      terms, >= 1
+ *  3 S      m x N column-major, finite (copied)
+ *  4 lds    >= m
+ *  5 model  output: the new handle (NULL on failure)
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENOMEM.
+ */
+IGEA_API int igea_sim_model_create(int m, int N, const double *S, int lds,
+                                   igea_sim_model **model);
+
+/*
+ * A model of a trajectory: S = igea_envfun_compute(system, ..., velocity,
+ * no spec) at the epochs, specs the catalogue's defaults; the trajectory,
+ * terms, axes and epochs are copied for the nonlinear truth.
+ * Arguments 1-9 as igea_envfun_compute's 1-9, 10 model (output).
+ * Returns 0, -i, the statuses of igea_envfun_compute, IGEA_ENOMEM.
+ */
+IGEA_API int igea_sim_model_create_trajectory(int system, int nsamp,
+                                              const double *traj, int ldt,
+                                              int nterms, const int *terms,
+                                              const int *axes, int nepochs,
+                                              const double *epochs,
+                                              igea_sim_model **model);
+
+/* Release a model (NULL is a no-op). */
+IGEA_API void igea_sim_model_free(igea_sim_model *model);
+
+/*
+ * Stated tracking 1-sigma: track_sigma m values (sigma_inc 1) or one
+ * (sigma_inc 0), > 0 and >= IGEA_SIGMA_MIN, grown along the epochs as
+ * with range: row i of epoch e gets track_sigma_i (1 + growth e/(M-1)), M
+ * = m/3 epochs; growth >= 0. The grown values are what the flights are
+ * judged with (igea_sim_model_get_sigma).
+ * Arguments: 1 model, 2 track_sigma, 3 sigma_inc, 4 growth.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ERANGE (a sigma
+ * below IGEA_SIGMA_MIN, or a grown sigma overflowing); the model is
+ * unchanged on failure.
+ */
+IGEA_API int igea_sim_model_set_sigma(igea_sim_model *model,
+                                      const double *track_sigma,
+                                      int sigma_inc, double growth);
+
+/*
+ * 1-sigma specs scaling the columns: N values (> 0, >= IGEA_SIGMA_MIN),
+ * or NULL for none (1). Arguments: 1 model, 2 spec_sigma.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ERANGE.
+ */
+IGEA_API int igea_sim_model_set_spec(igea_sim_model *model,
+                                     const double *spec_sigma);
+
+/*
+ * The true tracking noise: opts[IGEA_SIM_OPT_LEN] (checked as
+ * igea_sim_check_opts), or NULL for igea_sim_defaults.
+ * Arguments: 1 model, 2 opts. Returns 0, -i.
+ */
+IGEA_API int igea_sim_model_set_noise(igea_sim_model *model, const double *opts);
+
+/*
+ * The true X: x_fixed N ints, 1 term j is X_j = x_value[j] (spec units,
+ * finite), 0 drawn N(0, 1); both NULL: all drawn (x_fixed non-NULL needs
+ * x_value). Arguments: 1 model, 2 x_value, 3 x_fixed.
+ * Returns 0, -i, IGEA_ENONFINITE.
+ */
+IGEA_API int igea_sim_model_set_truth(igea_sim_model *model,
+                                      const double *x_value,
+                                      const int *x_fixed);
+
+/*
+ * Nonlinear truth (on 1) or linear (0, the default): with it a flight's
+ * dw is igea_sim_nonlinear of the true errors X D (by term code) instead
+ * of S D X, with the same noise. Needs a model made by
+ * igea_sim_model_create_trajectory.
+ * Arguments: 1 model, 2 on (0 or 1). Returns 0, -i.
+ */
+IGEA_API int igea_sim_model_set_nonlinear(igea_sim_model *model, int on);
+
+/* Rows m and terms N of the model. Returns 0, -i. */
+IGEA_API int igea_sim_model_get_size(const igea_sim_model *model, int *m,
+                                     int *N);
+
+/* S (m x N, raw units) into S with leading dimension lds >= m.
+ * Returns 0, -i. */
+IGEA_API int igea_sim_model_get_s(const igea_sim_model *model, double *S,
+                                  int lds);
+
+/* The m stated tracking sigmas (growth applied). Returns 0, -i. */
+IGEA_API int igea_sim_model_get_sigma(const igea_sim_model *model,
+                                      double *track_sigma);
+
+/* The N specs (1 where none were set). Returns 0, -i. */
+IGEA_API int igea_sim_model_get_spec(const igea_sim_model *model,
+                                     double *spec_sigma);
+
+/*
+ * One synthetic flight of the model.
+ *  1 model
+ *  2 seed     >= 0
+ *  3 flight   >= 0, the flight index (its own random stream)
+ *  4 x_true   N outputs (the X used, spec units), or NULL
+ *  5 dw       m outputs: S D X (or the nonlinear truth) + noise, noise_i =
+ *             sigma_w track_sigma_i (1 + g e/(M-1)) eps_i, eps AR(1) per
+ *             axis with unit variance, plus an outlier N(0, (scale sd_i)^2)
+ *             with probability outlier_prob
+ * Returns 0, -i, IGEA_ENONFINITE, the statuses of igea_sim_nonlinear,
+ * IGEA_ENOMEM (outputs untouched on failure).
+ */
+IGEA_API int igea_sim_flight(const igea_sim_model *model, int seed, int flight,
+                             double *x_true, double *dw);
 
 /*
  * Velocity error of a full nonlinear navigation with the instrument errors
@@ -148,39 +254,58 @@ IGEA_API int igea_sim_nonlinear(int system, int nsamp, const double *traj,
 #define IGEA_SIM_MC_MEAN_TESTED 6  /* mean |I_t| */
 #define IGEA_SIM_MC_LEN 8
 
+/* rates[IGEA_SIM_MC_RATES_LEN]: for each count k of IGEA_SIM_MC_FAILED ..
+ * IGEA_SIM_MC_NOT_TESTABLE, rates[3 (k - 1)] = count / flights and
+ * rates[3 (k - 1) + 1], [+ 2] its 99 % interval (igea_sim_interval). */
+#define IGEA_SIM_MC_RATES_LEN 12
+
+/* Columns of the per-flight table of igea_sim_montecarlo. */
+#define IGEA_SIM_MC_TABLE_CHI2 0     /* T (0 if not testable) */
+#define IGEA_SIM_MC_TABLE_DOF 1      /* |I_t| (0 if not testable) */
+#define IGEA_SIM_MC_TABLE_N_REJECT 2 /* rejected components */
+#define IGEA_SIM_MC_TABLE_SCALE 3    /* final c (NaN if not testable) */
+#define IGEA_SIM_MC_TABLE_COLS 4
+
+/*
+ * The 99 % Wilson score interval of a rate of k successes in n trials
+ * (z = 2.5758293035489004), clipped to [0, 1]: the interval of the Monte
+ * Carlo rates. Arguments: 1 k (0 <= k <= n), 2 n (> 0), 3 lohi (2
+ * outputs). Returns 0, -i.
+ */
+IGEA_API int igea_sim_interval(double k, double n, double *lohi);
+
 /*
  * Monte Carlo: flights first_flight .. first_flight + nflights - 1 of
- * igea_sim_flight (arguments 1-11 as there), each judged by
- * igea_eqerr_solve on the normal equations of S, dw, track_sigma,
- * spec_sigma (eig route, whatever eq_opts' route).
- * 12 eq_opts      IGEA_EQERR_OPT_LEN values or NULL (igea_eqerr_defaults)
- * 13 first_flight >= 0
- * 14 nflights     >= 1
- * 15 nthreads     >= 0 (0: the number of online processors); results do
+ * igea_sim_flight, each judged by igea_eqerr_solve on the normal equations
+ * (igea_normal_accumulate) of the model's S, stated sigma and specs (eig
+ * route, whatever eq_opts' route).
+ *  1 model
+ *  2 eq_opts      IGEA_EQERR_OPT_LEN values or NULL (igea_eqerr_defaults)
+ *  3 seed         >= 0
+ *  4 first_flight >= 0
+ *  5 nflights     >= 1
+ *  6 nthreads     >= 0 (0: the number of online processors); results do
  *                 not depend on it
- * 16 counts       IGEA_SIM_MC_LEN outputs (above)
- * 17 comp_tested  N outputs or NULL: flights in which eigen-component i
+ *  7 counts       IGEA_SIM_MC_LEN outputs (above); the means are over the
+ *                 testable flights (IGEA_SIM_MC_MEAN_SCALE NaN if none)
+ *  8 rates        IGEA_SIM_MC_RATES_LEN outputs (above), or NULL
+ *  9 comp_tested  N outputs or NULL: flights in which eigen-component i
  *                 (descending lambda) was tested
- * 18 comp_reject  N outputs or NULL: ... and rejected
- * 19 chi2         nflights outputs or NULL: T of each flight (0 if not
- *                 testable)
- * 20 dof          nflights outputs or NULL: |I_t| (0 if not testable)
- * 21 n_reject     nflights outputs or NULL: rejected components
- * 22 scale        nflights outputs or NULL: final c of each flight
+ * 10 comp_reject  N outputs or NULL: ... and rejected
+ * 11 table        nflights x IGEA_SIM_MC_TABLE_COLS outputs (column-major,
+ *                 row f the flight first_flight + f), or NULL
+ * 12 ldt          >= nflights (ignored when table is NULL)
  * Flights with nothing testable count in IGEA_SIM_MC_NOT_TESTABLE and pass.
- * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ERANGE, IGEA_ENOMEM,
- * IGEA_ELAPACK (outputs untouched on failure).
+ * Returns 0, -i (-2 also for eqerr options that igea_eqerr_check_opts
+ * refuses), IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ERANGE, IGEA_EOVERFLOW,
+ * IGEA_ENOMEM, IGEA_ELAPACK (outputs untouched on failure).
  */
-IGEA_API int igea_sim_montecarlo(int m, int N, const double *S, int lds,
-                                 const double *track_sigma, int sigma_inc,
-                                 const double *spec_sigma,
-                                 const double *x_value, const int *x_fixed,
-                                 const double *opts, int seed,
-                                 const double *eq_opts, int first_flight,
-                                 int nflights, int nthreads, double *counts,
+IGEA_API int igea_sim_montecarlo(const igea_sim_model *model,
+                                 const double *eq_opts, int seed,
+                                 int first_flight, int nflights, int nthreads,
+                                 double *counts, double *rates,
                                  int *comp_tested, int *comp_reject,
-                                 double *chi2, int *dof, int *n_reject,
-                                 double *scale);
+                                 double *table, int ldt);
 
 #ifdef __cplusplus
 }

@@ -1,5 +1,6 @@
 """Reproducible synthetic flights and the Monte Carlo check of the
 equivalent-error test (igea/sim.h)."""
+import ctypes
 from dataclasses import dataclass
 
 import numpy as np
@@ -56,6 +57,27 @@ def _sigma(sigma, m):
         return _lib.as_f64(sigma, "sigma").reshape(1), 0
     s = _lib.as_f64(sigma, "sigma", ndim=1, shape=(m,))
     return s, 1
+
+
+def _model(where, create, *args, sigma, sigma_inc, growth=0.0, spec=None, xv=None, xf=None,
+           opts=None, nonlinear=False):
+    """An igea_sim_model handle (create: the constructor, args: its
+    arguments before the handle) with these settings; free it with
+    _lib.lib.igea_sim_model_free."""
+    h = ctypes.c_void_p()
+    _lib.call(where, create, *args, ctypes.byref(h))
+    try:
+        _lib.call(where, "igea_sim_model_set_sigma", h, _lib.dptr(sigma), int(sigma_inc),
+                  float(growth))
+        if spec is not None:
+            _lib.call(where, "igea_sim_model_set_spec", h, _lib.dptr(spec))
+        _lib.call(where, "igea_sim_model_set_truth", h, _lib.dptr(xv), _lib.iptr(xf))
+        _lib.call(where, "igea_sim_model_set_noise", h, _lib.dptr(opts))
+        _lib.call(where, "igea_sim_model_set_nonlinear", h, int(bool(nonlinear)))
+    except BaseException:
+        _lib.lib.igea_sim_model_free(h)
+        raise
+    return h
 
 
 def _x_spec(x, terms, N):
@@ -121,25 +143,28 @@ def simulate(traj=None, terms=None, epochs=None, *, system="strapdown", spec="de
         sp = default_spec(terms, system)
     else:
         sp = _lib.as_f64(spec, "spec", ndim=1, shape=(len(terms),))
-    S = envfun(tr, terms, ep, system=system)
-    m, N = S.shape
-    M = m // 3
+    codes = term_codes(terms, system)
+    m, N = 3 * ep.size, len(codes)
     sig0 = float(sigma)
     if not sig0 > 0:
         raise ValueError("sigma: must be > 0")
-    grow = 1.0 + sigma_growth * (np.arange(M) / max(M - 1, 1))
-    sig = np.repeat(sig0 * grow, 3)
     xv, xf = _x_spec(x, terms, N)
-    opts = _sim_opts("igea.simulate", ("igea_sim_flight", "opts"), generator, sigma_w=sigma_w,
-                     ar1=ar1, growth=growth, outlier_prob=outlier_prob,
+    opts = _sim_opts("igea.simulate", ("igea_sim_model_set_noise", "opts"), generator,
+                     sigma_w=sigma_w, ar1=ar1, growth=growth, outlier_prob=outlier_prob,
                      outlier_scale=outlier_scale)
-    dw, xt = np.zeros(m), np.zeros(N)
-    _lib.call("igea.simulate", "igea_sim_flight", m, N, _lib.dptr(S), m, _lib.dptr(sig), 1,
-              _lib.dptr(sp), _lib.dptr(xv), _lib.iptr(xf), _lib.dptr(opts), int(seed), int(flight),
-              _lib.dptr(xt), _lib.dptr(dw))
-    if nonlinear_truth:
-        nl = nonlinear(tr, dict(zip(terms, xt * sp)), ep, system=system)
-        dw = dw - S @ (sp * xt) + nl
+    n = tr.shape[0]
+    h = _model("igea.simulate", "igea_sim_model_create_trajectory", _system_code(system), n,
+               _lib.dptr(tr), n, N, _lib.iptr(codes), None, ep.size, _lib.dptr(ep),
+               sigma=np.array([sig0]), sigma_inc=0, growth=sigma_growth, spec=sp, xv=xv, xf=xf,
+               opts=opts, nonlinear=nonlinear_truth)
+    try:
+        S, sig, dw, xt = np.zeros((m, N), order="F"), np.zeros(m), np.zeros(m), np.zeros(N)
+        _lib.call("igea.simulate", "igea_sim_flight", h, int(seed), int(flight), _lib.dptr(xt),
+                  _lib.dptr(dw))
+        _lib.call("igea.simulate", "igea_sim_model_get_s", h, _lib.dptr(S), m)
+        _lib.call("igea.simulate", "igea_sim_model_get_sigma", h, _lib.dptr(sig))
+    finally:
+        _lib.lib.igea_sim_model_free(h)
     return Flight(S, dw, sig, sp, xt, terms, ep)
 
 
@@ -185,7 +210,7 @@ def montecarlo(S, sigma, nflights, *, spec=None, terms=None, x=None, sigma_w=1.0
     if isinstance(x, dict) and terms is None:
         raise ValueError("x: a dict needs terms")
     xv, xf = _x_spec(x, terms if terms is not None else [], N)
-    at = ("igea_sim_montecarlo", "opts")
+    at = ("igea_sim_model_set_noise", "opts")
     opts = _sim_opts("igea.montecarlo", at, generator, sigma_w=sigma_w, ar1=ar1, growth=growth,
                      outlier_prob=outlier_prob, outlier_scale=outlier_scale)
     eq = _lib.options("eqerr", "igea.montecarlo", ("igea_sim_montecarlo", "eq_opts"),
@@ -196,13 +221,18 @@ def montecarlo(S, sigma, nflights, *, spec=None, terms=None, x=None, sigma_w=1.0
         raise ValueError("nflights: must be >= 1")
     counts = np.zeros(_capi.SIM_MC_LEN)
     ct, cr = np.zeros(N, dtype=np.intc), np.zeros(N, dtype=np.intc)
-    chi2, scale = np.zeros(nflights), np.zeros(nflights)
-    dof, nrej = np.zeros(nflights, dtype=np.intc), np.zeros(nflights, dtype=np.intc)
-    _lib.call("igea.montecarlo", "igea_sim_montecarlo", m, N, _lib.dptr(S), m, _lib.dptr(sig),
-              inc, _lib.dptr(sp), _lib.dptr(xv), _lib.iptr(xf), _lib.dptr(opts), int(seed),
-              _lib.dptr(eq), int(first_flight), nflights, int(nthreads), _lib.dptr(counts),
-              _lib.iptr(ct), _lib.iptr(cr), _lib.dptr(chi2), _lib.iptr(dof), _lib.iptr(nrej),
-              _lib.dptr(scale))
+    table = np.zeros((nflights, _capi.SIM_MC_TABLE_COLS), order="F")
+    h = _model("igea.montecarlo", "igea_sim_model_create", m, N, _lib.dptr(S), m,
+               sigma=sig, sigma_inc=inc, spec=sp, xv=xv, xf=xf, opts=opts)
+    try:
+        _lib.call("igea.montecarlo", "igea_sim_montecarlo", h, _lib.dptr(eq), int(seed),
+                  int(first_flight), nflights, int(nthreads), _lib.dptr(counts), None,
+                  _lib.iptr(ct), _lib.iptr(cr), _lib.dptr(table), nflights)
+    finally:
+        _lib.lib.igea_sim_model_free(h)
+    chi2, scale = table[:, _capi.SIM_MC_TABLE_CHI2].copy(), table[:, _capi.SIM_MC_TABLE_SCALE].copy()
+    dof = table[:, _capi.SIM_MC_TABLE_DOF].astype(np.intc)
+    nrej = table[:, _capi.SIM_MC_TABLE_N_REJECT].astype(np.intc)
     return MonteCarloResult(comp_tested=ct, comp_reject=cr, chi2=chi2, dof=dof, n_reject=nrej,
                             scale=scale, **_lib.fields(
                                 counts, "SIM_MC_", flights=int, failed=int, chi2_reject=int,

@@ -29,6 +29,8 @@
 /* A handle output's initial content: not a valid handle, not NULL. */
 #define AUDIT_BAD_HANDLE ((igea_rls *)(uintptr_t)0x5a5a5a50u)
 
+/* Handle kinds. */
+enum { AUDIT_HK_RLS, AUDIT_HK_SIM };
 /* Argument types. */
 enum { AT_INT, AT_DBL, AT_PD, AT_PI, AT_H, AT_HO };
 /* Mutation kinds. */
@@ -58,6 +60,7 @@ typedef struct {
     unsigned char *snap[AUDIT_MAXARG]; /* content before the call */
     double hstate[AUDIT_MAXARG][64];   /* a handle's state before the call */
     int consumed[AUDIT_MAXARG];        /* the call released this handle */
+    int hkind[AUDIT_MAXARG];           /* a handle's kind: AUDIT_HK_* */
 } audit_call;
 
 typedef struct {
@@ -165,6 +168,62 @@ static inline void audit_rls_state(const igea_rls *h, double st[64])
         st[40 + i] = counts[i];
 }
 
+/* A simulation model of a 6 x 3 geometry (traj 0) or of the 10 s reference
+ * trajectory, 3 terms, 5 epochs (traj 1); stated sigma 0.05, specs, one
+ * fixed term. NULL on failure. */
+static inline igea_sim_model *audit_sim_model_new(int traj)
+{
+    double S[18], sig = 0.05, spec[3] = {0.5, 1.0, 2.0}, xv[3] = {1.5, 0, 0};
+    double tr[101 * IGEA_ENVFUN_TRAJ_COLS], ep[5] = {1, 3, 5, 7, 9};
+    int xf[3] = {1, 0, 0}, terms[3] = {0, 3, 15};
+    igea_sim_model *h = NULL;
+    for (int i = 0; i < 18; i++)
+        S[i] = au(i + 300);
+    if (traj ? igea_sim_trajectory(IGEA_ENVFUN_STRAPDOWN, 10.0, 10.0, 101, tr, 101) != 0 ||
+                   igea_sim_model_create_trajectory(IGEA_ENVFUN_STRAPDOWN, 101, tr, 101, 3,
+                                                    terms, NULL, 5, ep, &h) != 0
+             : igea_sim_model_create(6, 3, S, 6, &h) != 0)
+        return NULL;
+    if (igea_sim_model_set_sigma(h, &sig, 0, 0.5) != 0 ||
+        (!traj && igea_sim_model_set_spec(h, spec) != 0) ||
+        igea_sim_model_set_truth(h, xv, xf) != 0) {
+        igea_sim_model_free(h);
+        return NULL;
+    }
+    return h;
+}
+
+/* The observable state of a model: sizes, S, stated sigma, specs. */
+static inline void audit_sim_model_state(const igea_sim_model *h, double st[64])
+{
+    int m = 0, N = 0;
+    for (int i = 0; i < 64; i++)
+        st[i] = 0;
+    if (!h || igea_sim_model_get_size(h, &m, &N) != 0 || m * N > 30 || m > 15)
+        return;
+    st[0] = m;
+    st[1] = N;
+    igea_sim_model_get_s(h, st + 2, m);
+    igea_sim_model_get_sigma(h, st + 32);
+    igea_sim_model_get_spec(h, st + 47);
+}
+
+static inline void audit_hfree(int kind, void *h)
+{
+    if (kind == AUDIT_HK_SIM)
+        igea_sim_model_free((igea_sim_model *)h);
+    else
+        igea_rls_free((igea_rls *)h);
+}
+
+static inline void audit_hstate(int kind, const void *h, double st[64])
+{
+    if (kind == AUDIT_HK_SIM)
+        audit_sim_model_state((const igea_sim_model *)h, st);
+    else
+        audit_rls_state((const igea_rls *)h, st);
+}
+
 /* ---- buffers ---------------------------------------------------------- */
 
 static inline void *audit_buf(audit_call *c, int a, int type, int isconst, size_t elsize)
@@ -186,11 +245,11 @@ static inline void audit_teardown(audit_call *c)
 {
     for (int a = 0; a < c->nargs; a++) {
         if (c->type[a] == AT_H && c->buf[a] && !c->consumed[a])
-            igea_rls_free((igea_rls *)c->buf[a]);
+            audit_hfree(c->hkind[a], c->buf[a]);
         else if (c->type[a] == AT_HO && c->buf[a]) {
             igea_rls *h = *(igea_rls **)c->buf[a];
             if (h != AUDIT_BAD_HANDLE)
-                igea_rls_free(h);
+                audit_hfree(c->hkind[a], h);
             free(c->buf[a]);
         } else if (c->type[a] != AT_H)
             free(c->buf[a]);
@@ -222,7 +281,7 @@ static inline void audit_snapshot(audit_call *c)
                 exit(2);
             memcpy(c->snap[a], c->buf[a], c->nbytes[a]);
         } else if (c->type[a] == AT_H && !c->isconst[a] && c->buf[a])
-            audit_rls_state((const igea_rls *)c->buf[a], c->hstate[a]);
+            audit_hstate(c->hkind[a], c->buf[a], c->hstate[a]);
     }
 }
 
@@ -238,7 +297,7 @@ static inline int audit_changed_but(const audit_call *c, int failed, unsigned lo
             return a;
         if (c->type[a] == AT_H && !c->isconst[a] && c->buf[a] && !c->consumed[a]) {
             double st[64];
-            audit_rls_state((const igea_rls *)c->buf[a], st);
+            audit_hstate(c->hkind[a], c->buf[a], st);
             if (memcmp(st, c->hstate[a], sizeof st) != 0)
                 return a;
         }
@@ -300,7 +359,7 @@ static inline unsigned char *audit_results(const audit_call *c, size_t *len)
                 h = (const igea_rls *)c->buf[a];
             else if (c->type[a] == AT_HO && c->buf[a] && *(igea_rls **)c->buf[a] != AUDIT_BAD_HANDLE)
                 h = *(igea_rls **)c->buf[a];
-            audit_rls_state(h, st);
+            audit_hstate(c->hkind[a], h, st);
             memcpy(p, st, sizeof st);
             p += sizeof st;
         }

@@ -55,7 +55,10 @@ class Param:
         # baseline's set: code; its only mutation is NULL
         self.at = {'int': 'AT_INT', 'double': 'AT_DBL', 'double*': 'AT_PD', 'int*': 'AT_PI',
                    'igea_rls*': 'AT_H', 'igea_rls**': 'AT_HO',
+                   'igea_sim_model*': 'AT_H', 'igea_sim_model**': 'AT_HO',
                    'char*': 'AT_PI' if self.const else None}.get(base)
+        # the handle's kind (audit.h AUDIT_HK_*)
+        self.hkind = 'AUDIT_HK_SIM' if base.startswith('igea_sim_model') else 'AUDIT_HK_RLS'
         if self.at is None:
             raise SystemExit('gen_invalid: unsupported parameter type %r (%s)' % (ctype, name))
         self.isptr = self.at not in ('AT_INT', 'AT_DBL')
@@ -121,15 +124,20 @@ def fill_code(p, val, idx):
     if p.at == 'AT_H':
         new = {'h': 'audit_rls_new(3, 2, 2)', 'h0': 'audit_rls_new(3, 2, 0)',
                'hpoly': 'audit_rls_new_ex(3, 2, 2, IGEA_RLS_POLYNOMIAL, 3, IGEA_RLS_ANOMALY_NONE)',
-               'hiso': 'audit_rls_new_ex(3, 2, 2, IGEA_RLS_STANDARD, 1, IGEA_RLS_ANOMALY_ISOLATE)'}
+               'hiso': 'audit_rls_new_ex(3, 2, 2, IGEA_RLS_STANDARD, 1, IGEA_RLS_ANOMALY_ISOLATE)',
+               'm': 'audit_sim_model_new(0)', 'mtraj': 'audit_sim_model_new(1)'}
+        if (val in ('m', 'mtraj')) != (p.hkind == 'AUDIT_HK_SIM'):
+            raise SystemExit('gen_invalid: handle %s: %s is not of its type' % (p.name, val))
         if val not in new:
             raise SystemExit('gen_invalid: handle %s needs one of %s' % (p.name, ', '.join(new)))
-        return ('    c->type[%d] = AT_H; c->isconst[%d] = %d; c->buf[%d] = %s;\n'
+        return ('    c->hkind[%d] = %s;\n' % (idx, p.hkind) +
+                '    c->type[%d] = AT_H; c->isconst[%d] = %d; c->buf[%d] = %s;\n'
                 '    if (!c->buf[%d]) { fprintf(stderr, "audit: handle set-up failed\\n"); exit(2); }\n'
                 '    c->pv[%d] = c->buf[%d];\n' % (idx, idx, int(p.const), idx, new[val], idx, idx,
                                                  idx))
     if p.at == 'AT_HO':
-        return ('    c->type[%d] = AT_HO; c->buf[%d] = malloc(sizeof(igea_rls *));\n'
+        return ('    c->hkind[%d] = %s;\n' % (idx, p.hkind) +
+                '    c->type[%d] = AT_HO; c->buf[%d] = malloc(sizeof(igea_rls *));\n'
                 '    if (!c->buf[%d]) exit(2);\n'
                 '    *(igea_rls **)c->buf[%d] = AUDIT_BAD_HANDLE; c->pv[%d] = c->buf[%d];\n'
                 % (idx, idx, idx, idx, idx, idx))
@@ -172,7 +180,7 @@ def resolve(func):
         if p.name in entry:
             v = entry[p.name]
         elif p.at in ('AT_H', 'AT_HO'):
-            v = 'h' if p.at == 'AT_H' else 'ho'
+            v = ('m' if p.hkind == 'AUDIT_HK_SIM' else 'h') if p.at == 'AT_H' else 'ho'
         elif p.isptr and not p.const:
             v = 'out'
         elif p.name in baselines.NAME_DEFAULTS and p.isptr == is_fill(
