@@ -523,9 +523,10 @@ static int npy_truncated(cli_reader *r, long long have)
     return CLI_DATAERR;
 }
 
-static int npy_header(cli_reader *r)
+/* The header dictionary of a .npy file (malloc'd, NUL-terminated). */
+static int npy_header_text(cli_reader *r, char **text)
 {
-    unsigned char magic[10];
+    unsigned char magic[10], more[2];
     int ec = CLI_OK;
     long long k = src_read(&r->s, magic, 10, r->path, &ec);
     if (k < 0)
@@ -535,20 +536,16 @@ static int npy_header(cli_reader *r)
         return CLI_DATAERR;
     }
     int major = magic[6];
-    size_t hlen;
-    if (major == 1)
-        hlen = magic[8] | (magic[9] << 8);
-    else if (major == 2 || major == 3) {
-        unsigned char more[2];
+    size_t hlen = magic[8] | ((size_t)magic[9] << 8);
+    if (major == 2 || major == 3) {
         if ((k = src_read(&r->s, more, 2, r->path, &ec)) < 0)
             return ec;
         if (k != 2) {
             cli_error("%s: truncated .npy header", r->path);
             return CLI_DATAERR;
         }
-        hlen = (size_t)magic[8] | ((size_t)magic[9] << 8) | ((size_t)more[0] << 16) |
-               ((size_t)more[1] << 24);
-    } else {
+        hlen |= ((size_t)more[0] << 16) | ((size_t)more[1] << 24);
+    } else if (major != 1) {
         cli_error("%s: unsupported .npy version %d", r->path, major);
         return CLI_DATAERR;
     }
@@ -561,74 +558,84 @@ static int npy_header(cli_reader *r)
         cli_error("out of memory reading %s (.npy header)", r->path);
         return CLI_SOFTWARE;
     }
-    if ((k = src_read(&r->s, h, hlen, r->path, &ec)) < 0) {
+    if ((k = src_read(&r->s, h, hlen, r->path, &ec)) < 0 || (size_t)k != hlen) {
         free(h);
-        return ec;
-    }
-    if ((size_t)k != hlen) {
-        free(h);
-        cli_error("%s: truncated .npy header", r->path);
-        return CLI_DATAERR;
+        if (k >= 0)
+            cli_error("%s: truncated .npy header", r->path);
+        return k < 0 ? ec : CLI_DATAERR;
     }
     h[hlen] = '\0';
-    char *d = strstr(h, "'descr'");
-    char *fo = strstr(h, "'fortran_order'");
-    char *sh = strstr(h, "'shape'");
+    *text = h;
+    return CLI_OK;
+}
+
+/* The 'shape' tuple: rows and columns of a 1-D or 2-D array. */
+static int npy_shape(cli_reader *r, const char *sh)
+{
+    const char *p = strchr(sh, '(');
+    long dims[3] = {0, 0, 0};
+    int nd = 0, big = 0;
+    for (p = p ? p + 1 : NULL; p && nd < 3;) {
+        while (*p == ' ')
+            p++;
+        if (*p == ')')
+            break;
+        char *end;
+        errno = 0;
+        long x = strtol(p, &end, 10);
+        if (end == p)
+            break;
+        big |= errno == ERANGE;
+        dims[nd++] = x;
+        for (p = end; *p == ' ' || *p == 'L'; p++)
+            ;
+        if (*p == ',')
+            p++;
+    }
+    if (dims[0] < 0 || dims[1] < 0) {
+        cli_error("%s: malformed .npy shape", r->path);
+    } else if (nd == 1 && !big) {
+        r->rows = dims[0], r->cols = 1, r->oned = 1;
+        return CLI_OK;
+    } else if (nd == 2 && !big && dims[1] <= INT_MAX) {
+        r->rows = dims[0], r->cols = (int)dims[1];
+        return CLI_OK;
+    } else if (big || nd == 2) {
+        cli_error("%s: .npy shape too large", r->path);
+    } else {
+        cli_error("%s: .npy array must be 1-D or 2-D", r->path);
+    }
+    return CLI_DATAERR;
+}
+
+/* descr, fortran_order and shape of the header. */
+static int npy_dict(cli_reader *r, const char *h)
+{
+    const char *d = strstr(h, "'descr'"), *fo = strstr(h, "'fortran_order'");
+    const char *sh = strstr(h, "'shape'");
     if (!d || !fo || !sh) {
         cli_error("%s: malformed .npy header", r->path);
-        ec = CLI_DATAERR;
-    } else if (!strstr(d, "'<f8'") || strstr(d, "'<f8'") > strchr(d + 7, ',')) {
+        return CLI_DATAERR;
+    }
+    if (!strstr(d, "'<f8'") || strstr(d, "'<f8'") > strchr(d + 7, ',')) {
         cli_error("%s: .npy data must be little-endian float64 ('<f8'); convert with "
                   "numpy: np.save(path, a.astype('<f8'))", r->path);
-        ec = CLI_DATAERR;
-    } else {
-        char *v = strchr(fo + 15, ':');
-        while (v && (*v == ':' || *v == ' '))
-            v++;
-        r->fortran = v && strncmp(v, "True", 4) == 0;
-        char *p = strchr(sh, '(');
-        long dims[3] = {0, 0, 0};
-        int nd = 0, big = 0;
-        if (p) {
-            p++;
-            while (nd < 3) {
-                while (*p == ' ')
-                    p++;
-                if (*p == ')')
-                    break;
-                char *end;
-                errno = 0;
-                long x = strtol(p, &end, 10);
-                if (end == p)
-                    break;
-                if (errno == ERANGE)
-                    big = 1;
-                dims[nd++] = x;
-                p = end;
-                while (*p == ' ' || *p == 'L')
-                    p++;
-                if (*p == ',')
-                    p++;
-            }
-        }
-        if (dims[0] < 0 || dims[1] < 0) {
-            cli_error("%s: malformed .npy shape", r->path);
-            ec = CLI_DATAERR;
-        } else if (nd == 1 && !big) {
-            r->rows = dims[0];
-            r->cols = 1;
-            r->oned = 1;
-        } else if (nd == 2 && !big && dims[1] <= INT_MAX) {
-            r->rows = dims[0];
-            r->cols = (int)dims[1];
-        } else if (big || (nd == 2 && dims[1] > INT_MAX)) {
-            cli_error("%s: .npy shape too large", r->path);
-            ec = CLI_DATAERR;
-        } else {
-            cli_error("%s: .npy array must be 1-D or 2-D", r->path);
-            ec = CLI_DATAERR;
-        }
+        return CLI_DATAERR;
     }
+    const char *v = strchr(fo + 15, ':');
+    while (v && (*v == ':' || *v == ' '))
+        v++;
+    r->fortran = v && strncmp(v, "True", 4) == 0;
+    return npy_shape(r, sh);
+}
+
+static int npy_header(cli_reader *r)
+{
+    char *h = NULL;
+    int ec = npy_header_text(r, &h);
+    if (ec)
+        return ec;
+    ec = npy_dict(r, h);
     free(h);
     if (ec)
         return ec;
@@ -681,6 +688,72 @@ static int npy_read_at(cli_reader *r, off_t off, void *dst, size_t n)
     return CLI_OK;
 }
 
+/* The descriptor of path ("-": standard input), its kind and size. */
+static int reader_fd(cli_reader *r, const char *path, int is_stdin)
+{
+    if (is_stdin) {
+        r->s.fd = 0;
+    } else {
+        do
+            r->s.fd = open(path, O_RDONLY);
+        while (r->s.fd < 0 && errno == EINTR);
+        if (r->s.fd < 0) {
+            int e = errno;
+            if (e == ENOMEM)
+                cli_error("out of memory opening %s", path);
+            else
+                cli_error("%s: %s", path, strerror(e));
+            return e == ENOMEM ? CLI_SOFTWARE : CLI_NOINPUT;
+        }
+        r->s.own = 1;
+    }
+    struct stat st;
+    if (fstat(r->s.fd, &st) != 0) {
+        int e = errno;
+        cli_error("%s: %s", r->path, strerror(e));
+        return e == ENOMEM ? CLI_SOFTWARE : CLI_NOINPUT;
+    }
+    if (S_ISDIR(st.st_mode)) {
+        cli_error("%s: is a directory", path);
+        return CLI_NOINPUT;
+    }
+    if (S_ISREG(st.st_mode)) {
+        off_t at = is_stdin ? lseek(0, 0, SEEK_CUR) : 0;
+        if (at >= 0 && at <= st.st_size) {
+            r->s.seekable = 1;
+            r->s.delta = at;
+            r->s.size = st.st_size - at;
+        }
+    }
+    return CLI_OK;
+}
+
+/* .npy by name, or by its magic bytes for any other name; then its header,
+ * or the first text row read ahead. */
+static int reader_start(cli_reader *r, const char *path)
+{
+    int ec = CLI_OK;
+    r->npy = ends_with(path, ".npy");
+    if (!r->npy) {
+        int more = 1;
+        while (r->s.blen < 6 && (more = src_more(&r->s, r->path, &ec)) > 0)
+            ;
+        if (more < 0)
+            return ec;
+        r->npy = r->s.blen >= 6 && memcmp(r->s.buf, "\x93NUMPY", 6) == 0;
+    }
+    if (r->npy)
+        return npy_header(r);
+    int got = text_row(r, &ec);
+    if (got == 0) {
+        cli_error("%s: no data (the file is empty or holds only comments)", r->path);
+        ec = CLI_DATAERR;
+    } else if (got == 1) {
+        r->have_ahead = 1;
+    }
+    return ec;
+}
+
 static int reader_open(const char *path, int twice, cli_reader **out)
 {
     cli_reader *r = calloc(1, sizeof *r);
@@ -697,70 +770,11 @@ static int reader_open(const char *path, int twice, cli_reader **out)
         return CLI_SOFTWARE;
     }
     r->twice = twice;
-    if (is_stdin)
-        r->s.fd = 0;
-    else {
-        do
-            r->s.fd = open(path, O_RDONLY);
-        while (r->s.fd < 0 && errno == EINTR);
-        if (r->s.fd < 0) {
-            int e = errno;
-            if (e == ENOMEM)
-                cli_error("out of memory opening %s", path);
-            else
-                cli_error("%s: %s", path, strerror(e));
-            cli_reader_close(r);
-            return e == ENOMEM ? CLI_SOFTWARE : CLI_NOINPUT;
-        }
-        r->s.own = 1;
-    }
-    struct stat st;
-    if (fstat(r->s.fd, &st) != 0) {
-        int e = errno;
-        cli_error("%s: %s", r->path, strerror(e));
-        cli_reader_close(r);
-        return e == ENOMEM ? CLI_SOFTWARE : CLI_NOINPUT;
-    }
-    if (S_ISDIR(st.st_mode)) {
-        cli_error("%s: is a directory", path);
-        cli_reader_close(r);
-        return CLI_NOINPUT;
-    }
-    if (S_ISREG(st.st_mode)) {
-        off_t at = is_stdin ? lseek(0, 0, SEEK_CUR) : 0;
-        if (at >= 0 && at <= st.st_size) {
-            r->s.seekable = 1;
-            r->s.delta = at;
-            r->s.size = st.st_size - at;
-        }
-    }
-    int ec = CLI_OK;
-    if (twice && !r->s.seekable && (r->s.tee = spool_new(r->path, &ec)) < 0) {
-        cli_reader_close(r);
-        return ec;
-    }
-    /* .npy by name, or by its magic bytes for any other name. */
-    r->npy = ends_with(path, ".npy");
-    if (!r->npy) {
-        int more = 1;
-        while (r->s.blen < 6 && (more = src_more(&r->s, r->path, &ec)) > 0)
-            ;
-        if (more < 0) {
-            cli_reader_close(r);
-            return ec;
-        }
-        r->npy = r->s.blen >= 6 && memcmp(r->s.buf, "\x93NUMPY", 6) == 0;
-    }
-    if (r->npy)
-        ec = npy_header(r);
-    else {
-        int got = text_row(r, &ec);
-        if (got == 0) {
-            cli_error("%s: no data (the file is empty or holds only comments)", r->path);
-            ec = CLI_DATAERR;
-        } else if (got == 1)
-            r->have_ahead = 1;
-    }
+    int ec = reader_fd(r, path, is_stdin);
+    if (!ec && twice && !r->s.seekable)
+        r->s.tee = spool_new(r->path, &ec);
+    if (!ec)
+        ec = reader_start(r, path);
     if (ec) {
         cli_reader_close(r);
         return ec;
@@ -1070,6 +1084,73 @@ static int out_oom(cli_out *o, const char *path)
     return CLI_SOFTWARE;
 }
 
+/* mkstemp of the temporary beside o->path, registered for the signal
+ * clean-up: the fatal signals wait meanwhile, so that none can leave it
+ * behind unregistered. Returns the descriptor or -1 (errno set). */
+static int out_mkstemp(cli_out *o)
+{
+    sigset_t block, saved;
+    sigemptyset(&block);
+    sigaddset(&block, SIGINT);
+    sigaddset(&block, SIGTERM);
+    sigaddset(&block, SIGHUP);
+    sigaddset(&block, SIGPIPE);
+    install_handlers();
+    sigprocmask(SIG_BLOCK, &block, &saved);
+    int fd = mkstemp(o->tmp);
+    if (fd >= 0)
+        o->slot = tmp_register(o->tmp);
+    int e = errno;
+    sigprocmask(SIG_SETMASK, &saved, NULL);
+    errno = e;
+    return fd;
+}
+
+/* A failed open or create: out of memory, or "cannot <what>" and 74. */
+static int out_fail(cli_out *o, const char *path, const char *what, int e)
+{
+    if (e == ENOMEM)
+        return out_oom(o, path);
+    cli_error("%s: cannot %s: %s", path, what, strerror(e));
+    cli_out_abort(o);
+    return CLI_IOERR;
+}
+
+/* The temporary that will replace o->path; st: the replaced file's (exists). */
+static int out_temporary(cli_out *o, const char *path, int exists, const struct stat *st)
+{
+    size_t n = strlen(o->path);
+    if (!(o->tmp = malloc(n + 16)))
+        return out_oom(o, path);
+    snprintf(o->tmp, n + 16, "%s.tmp.XXXXXX", o->path);
+    mode_t um = umask(0);
+    umask(um);
+    int fd = out_mkstemp(o);
+    if (fd < 0) {
+        int e = errno;
+        free(o->tmp);
+        o->tmp = NULL;
+        return out_fail(o, path, "create", e);
+    }
+    /* The replaced file keeps its mode (and owner, when allowed); a new one
+     * gets 0666 less the umask, as with a plain open(). */
+    if (exists) {
+        fchmod(fd, st->st_mode & 07777);
+        if (st->st_uid != geteuid() || st->st_gid != getegid())
+            if (fchown(fd, st->st_uid, st->st_gid) != 0) {
+                /* not allowed: the file becomes ours, with the same mode */
+            }
+    } else {
+        fchmod(fd, 0666 & ~um);
+    }
+    if (!(o->f = fdopen(fd, "wb"))) {
+        int e = errno;
+        close(fd);
+        return out_fail(o, path, "create", e);
+    }
+    return CLI_OK;
+}
+
 int cli_out_open(cli_out *o, const char *path)
 {
     o->f = NULL;
@@ -1094,72 +1175,12 @@ int cli_out_open(cli_out *o, const char *path)
         cli_out_abort(o);
         return CLI_IOERR;
     }
-    if (exists && !S_ISREG(st.st_mode)) {
-        /* A device or a FIFO: written in place, never replaced. */
-        o->f = fopen(o->path, "wb");
-        if (!o->f) {
-            int e = errno;
-            if (e == ENOMEM)
-                return out_oom(o, path);
-            cli_error("%s: cannot open: %s", path, strerror(e));
-            cli_out_abort(o);
-            return CLI_IOERR;
-        }
-        o->direct = 1;
-        return CLI_OK;
-    }
-    size_t n = strlen(o->path);
-    if (!(o->tmp = malloc(n + 16)))
-        return out_oom(o, path);
-    snprintf(o->tmp, n + 16, "%s.tmp.XXXXXX", o->path);
-    mode_t um = umask(0);
-    umask(um);
-    /* the fatal signals wait while the temporary is created and registered,
-     * so that no signal can leave it behind unregistered */
-    sigset_t block, saved;
-    sigemptyset(&block);
-    sigaddset(&block, SIGINT);
-    sigaddset(&block, SIGTERM);
-    sigaddset(&block, SIGHUP);
-    sigaddset(&block, SIGPIPE);
-    install_handlers();
-    sigprocmask(SIG_BLOCK, &block, &saved);
-    int fd = mkstemp(o->tmp);
-    if (fd >= 0)
-        o->slot = tmp_register(o->tmp);
-    int mk_errno = errno;
-    sigprocmask(SIG_SETMASK, &saved, NULL);
-    errno = mk_errno;
-    if (fd < 0) {
-        int e = errno;
-        free(o->tmp);
-        o->tmp = NULL;
-        if (e == ENOMEM)
-            return out_oom(o, path);
-        cli_error("%s: cannot create: %s", path, strerror(e));
-        cli_out_abort(o);
-        return CLI_IOERR;
-    }
-    /* The replaced file keeps its mode (and owner, when allowed); a new one
-     * gets 0666 less the umask, as with a plain open(). */
-    if (exists) {
-        fchmod(fd, st.st_mode & 07777);
-        if (st.st_uid != geteuid() || st.st_gid != getegid())
-            if (fchown(fd, st.st_uid, st.st_gid) != 0) {
-                /* not allowed: the file becomes ours, with the same mode */
-            }
-    } else
-        fchmod(fd, 0666 & ~um);
-    o->f = fdopen(fd, "wb");
-    if (!o->f) {
-        int e = errno;
-        close(fd);
-        if (e == ENOMEM)
-            return out_oom(o, path);
-        cli_error("%s: cannot create: %s", path, strerror(e));
-        cli_out_abort(o);
-        return CLI_IOERR;
-    }
+    if (!exists || S_ISREG(st.st_mode))
+        return out_temporary(o, path, exists, &st);
+    /* A device or a FIFO: written in place, never replaced. */
+    if (!(o->f = fopen(o->path, "wb")))
+        return out_fail(o, path, "open", errno);
+    o->direct = 1;
     return CLI_OK;
 }
 
