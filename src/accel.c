@@ -122,59 +122,23 @@ static int svd_v(int m, int N, const double *A, int lda, double *s,
 {
     int k = IGEA_MIN(m, N);
     int ucols = m >= N ? N : m;
-    char jobz = m >= N ? 'S' : 'A';
-    size_t need = (size_t)m * N + (size_t)m * ucols + (size_t)N * N + (size_t)k;
-    double *a = igea__dalloc(need);
+    double *a = igea__dalloc((size_t)m * N + (size_t)m * ucols + (size_t)k);
     if (!a)
         return IGEA_ENOMEM;
-    double *u = a + (size_t)m * N;
-    double *vt = u + (size_t)m * ucols;
-    double *sv = vt + (size_t)N * N;
+    double *u = a + (size_t)m * N, *sv = u + (size_t)m * ucols;
     for (int j = 0; j < N; j++)
         for (int i = 0; i < m; i++)
             a[(size_t)i + (size_t)j * m] = IGEA_AT(A, lda, i, j);
-    /* The _work entry point with igea's own workspace: the high-level one
-     * allocates behind the library's back and prints when that fails. */
-    lapack_int *iwork = malloc(sizeof(lapack_int) * (8 * (size_t)k + 1));
-    if (!iwork) {
-        free(a);
-        return IGEA_ENOMEM;
-    }
-    double wq;
-    int st = 0;
-    lapack_int info = LAPACKE_dgesdd_work(LAPACK_COL_MAJOR, jobz, m, N, a, m,
-                                          sv, u, m, vt, N, &wq, -1, iwork);
-    if (info == 0) {
-        size_t lw = (size_t)wq + 1;
-        double *work = igea__dalloc(lw);
-        if (!work)
-            st = IGEA_ENOMEM;
-        else {
-            info = LAPACKE_dgesdd_work(LAPACK_COL_MAJOR, jobz, m, N, a, m, sv,
-                                       u, m, vt, N, work, (lapack_int)lw,
-                                       iwork);
-            free(work);
-        }
-    }
-    free(iwork);
-    if (st == 0 && (info != 0 || !igea__finite_vec(k, sv, 1)))
+    int st = igea__svd(m, N, a, sv, u, 0, V);
+    if (st == 0 && !igea__finite_vec(k, sv, 1))
         st = IGEA_ELAPACK;
-    if (st != 0) {
-        free(a);
-        return st;
-    }
-    for (int i = 0; i < N; i++)
-        s[i] = i < k ? sv[i] : 0.0;
-    for (int j = 0; j < N; j++)
+    if (st == 0) {
         for (int i = 0; i < N; i++)
-            V[(size_t)i + (size_t)j * N] = vt[(size_t)j + (size_t)i * N];
-    double cut = (double)IGEA_MAX(m, N) * DBL_EPSILON * s[0];
-    int r = 0;
-    while (r < k && s[r] > cut)
-        r++;
-    *rank = r;
+            s[i] = i < k ? sv[i] : 0.0;
+        *rank = igea__rank_cut(k, s, (double)IGEA_MAX(m, N) * DBL_EPSILON);
+    }
     free(a);
-    return 0;
+    return st;
 }
 
 /*

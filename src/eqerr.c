@@ -190,10 +190,7 @@ static int solve_eig(int N, const double *A, int lda, const double *b,
         return st;
     double tol = o[IGEA_EQERR_OPT_RANK_TOL] > 0 ? o[IGEA_EQERR_OPT_RANK_TOL]
                                                  : N * 10.0 * DBL_EPSILON;
-    int r = 0;
-    if (s->lam0[0] > 0.0)
-        while (r < N && s->lam0[r] > tol * s->lam0[0])
-            r++;
+    int r = igea__rank_cut(N, s->lam0, tol);
     for (int i = 0; i < r; i++) {
         double pb = cblas_ddot(N, s->V + (size_t)i * N, 1, b, 1);
         s->xhat[i] = pb / s->lam0[i];
@@ -262,55 +259,27 @@ static int solve_qr(int N, const double *R, int ldr, double rows, const double *
 {
     size_t nn = (size_t)N * N;
     double *Rc = igea__dalloc(2 * nn + (size_t)N);
-    lapack_int *iwork = malloc(sizeof(lapack_int) * (8 * (size_t)N + 1));
-    if (!Rc || !iwork) {
-        free(Rc);
-        free(iwork);
+    if (!Rc)
         return IGEA_ENOMEM;
-    }
-    double *U = Rc + nn, *sv = U + nn, *work = NULL;
+    double *U = Rc + nn, *sv = U + nn;
     for (int j = 0; j < N; j++)
         for (int i = 0; i < N; i++)
             Rc[i + (size_t)j * N] = i <= j ? IGEA_AT(R, ldr, i, j) : 0.0;
-    double wq;
-    int st = 0;
-    lapack_int info = LAPACKE_dgesdd_work(LAPACK_COL_MAJOR, 'A', N, N, Rc, N, sv, U, N,
-                                          s->V, N, &wq, -1, iwork);
-    if (info == 0) {
-        size_t lw = (size_t)wq + 1;
-        work = igea__dalloc(lw);
-        if (!work)
-            st = IGEA_ENOMEM;
-        else
-            info = LAPACKE_dgesdd_work(LAPACK_COL_MAJOR, 'A', N, N, Rc, N, sv, U, N,
-                                       s->V, N, work, (lapack_int)lw, iwork);
-    }
-    if (st == 0 && info != 0)
-        st = IGEA_ELAPACK;
+    /* V with the METHODS 0.3 signs, U's columns flipped with V's. */
+    int st = igea__svd(N, N, Rc, sv, U, 0, s->V);
     if (st == 0) {
-        /* s->V holds V' (N x N): transpose in place into V (columns). */
-        for (int i = 0; i < N; i++)
-            for (int j = i + 1; j < N; j++) {
-                double t = s->V[i + (size_t)j * N];
-                s->V[i + (size_t)j * N] = s->V[j + (size_t)i * N];
-                s->V[j + (size_t)i * N] = t;
-            }
         double tol = o[IGEA_EQERR_OPT_RANK_TOL] > 0
                          ? sqrt(o[IGEA_EQERR_OPT_RANK_TOL])
                          : IGEA_MAX(rows, (double)N) * DBL_EPSILON;
-        int r = 0;
-        if (sv[0] > 0.0)
-            while (r < N && sv[r] > tol * sv[0])
-                r++;
+        int r = igea__rank_cut(N, sv, tol);
         const double *qtw = &IGEA_AT(R, ldr, 0, N);
         for (int i = 0; i < N; i++) {
             s->lam0[i] = sv[i] * sv[i];
-            double sg = igea__sign_fix(N, s->V + (size_t)i * N);
             if (i < r) {
                 double g = 0.0;
                 for (int k = 0; k < N; k++)
                     g += U[k + (size_t)i * N] * qtw[k];
-                s->g0[i] = sg * g;
+                s->g0[i] = g;
                 s->xhat[i] = s->g0[i] / sv[i];
             }
         }
@@ -322,8 +291,6 @@ static int solve_qr(int N, const double *R, int ldr, double rows, const double *
             st = sigmaw_and_test(N, r, s->lam0, s->g0, s->xhat, o, s->lambda, s->z,
                                  s->reject, s->info);
     }
-    free(work);
-    free(iwork);
     free(Rc);
     return st;
 }

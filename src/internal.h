@@ -58,6 +58,35 @@ void igea__rng_free(gsl_rng *r);
  * axes[3..5] the spin axes, each 0..2. Returns 0, or -1 for a bad entry. */
 int igea__platform_axes(const int *axes, int *in_ax, int *spin_ax);
 
+/* ---- dense kernels (linalg.c) ---- */
+
+/* SVD a = U diag(s) V^T of the m x N matrix a (ld m, destroyed) by dgesdd
+ * with igea-owned workspace. s[min(m, N)] descending; U (ld m): the first
+ * min(m, N) left singular vectors, or all m with full_u (U then m x m;
+ * when m < N U is m x m either way); V (N x N, ld N): all N right
+ * singular vectors as columns (those beyond min(m, N) complete the null
+ * space), each with the METHODS 0.3 sign (largest-magnitude entry
+ * positive), U's first min(m, N) columns flipped with them. Returns 0,
+ * IGEA_ENOMEM or IGEA_ELAPACK (s is not checked for finiteness). */
+int igea__svd(int m, int N, double *a, double *s, double *U, int full_u,
+              double *V);
+
+/* The METHODS 0.3 rank cut of k descending values: #{s_i > tol s_1}, 0
+ * when s_1 <= 0. The default tol of an SVD is max(m, N) eps. */
+int igea__rank_cut(int k, const double *s, double tol);
+
+/* In-place transpose of the n x n matrix a (lda). */
+void igea__transpose(int n, double *a, int lda);
+
+/* Cholesky a + shift I = L L^T in place: the lower triangle of a (lda) is
+ * read and overwritten by L, the upper one is not touched; no allocation.
+ * Returns 0, IGEA_ESINGULAR (a pivot <= 0: not positive definite) or
+ * IGEA_ENONFINITE (a pivot NaN or Inf). */
+int igea__chol_lower(int n, double *a, int lda, double shift);
+
+/* erf^-1(y) of a validated y in (-1, 1) (stats.c; igea_stats_erfinv). */
+double igea__erfinv(double y);
+
 /* Neumaier compensated sum. */
 typedef struct {
     double s, c;

@@ -11,7 +11,6 @@
 #include "internal.h"
 
 #define SQRT2 1.41421356237309504880
-#define TWO_OVER_SQRTPI 1.12837916709551257390
 
 static int prob_ok(double p) { return p >= 0.0 && p <= 1.0; }
 
@@ -445,64 +444,6 @@ int igea_redund_geometry(int n, const double *axes, int lda, const double *R,
 
 /* ---- consistency -------------------------------------------------------- */
 
-/* erfinv of a validated y in (-1, 1). */
-static double erfinv_of(double y)
-{
-    if (y == 0.0)
-        return 0.0;
-    double ay = fabs(y);
-    /* Giles (2010), single-precision approximation as the start. */
-    double w = -log((1.0 - ay) * (1.0 + ay)), p;
-    if (w < 5.0) {
-        w -= 2.5;
-        p = 2.81022636e-08;
-        p = 3.43273939e-07 + p * w;
-        p = -3.5233877e-06 + p * w;
-        p = -4.39150654e-06 + p * w;
-        p = 0.00021858087 + p * w;
-        p = -0.00125372503 + p * w;
-        p = -0.00417768164 + p * w;
-        p = 0.246640727 + p * w;
-        p = 1.50140941 + p * w;
-    } else {
-        w = sqrt(w) - 3.0;
-        p = -0.000200214257;
-        p = 0.000100950558 + p * w;
-        p = 0.00134934322 + p * w;
-        p = -0.00367342844 + p * w;
-        p = 0.00573950773 + p * w;
-        p = -0.0076224613 + p * w;
-        p = 0.00943887047 + p * w;
-        p = 1.00167406 + p * w;
-        p = 2.83297682 + p * w;
-    }
-    double x = p * ay;
-    /* Newton steps (the start is within ~1% far in the tail, ~1e-7
-     * elsewhere, so 2-5 steps); for ay > 0.5 on erfc(x) = 1 - ay (exact by Sterbenz),
-     * which keeps the relative accuracy in the tail. */
-    for (int it = 0; it < 12; it++) {
-        double dens = TWO_OVER_SQRTPI * exp(-x * x);
-        if (!(dens > 0.0))
-            break;
-        double dx = ay > 0.5 ? (erfc(x) - (1.0 - ay)) / dens /* erfc' = -dens */
-                             : -(erf(x) - ay) / dens;
-        x += dx;
-        if (fabs(dx) <= 1e-16 * x)
-            break;
-    }
-    return y < 0.0 ? -x : x;
-}
-
-int igea_stats_erfinv(double y, double *x)
-{
-    if (!(y > -1.0 && y < 1.0))
-        return -1;
-    if (!x)
-        return -2;
-    *x = erfinv_of(y);
-    return 0;
-}
-
 /* alpha_ij with lda = 0 meaning one value. */
 static double alpha_at(const double *alpha, int lda, int i, int j)
 {
@@ -586,7 +527,7 @@ int igea_redund_thresholds(int n, const double *sigma, const double *alpha,
     for (int j = 0; j < n; j++)
         for (int i = 0; i < n; i++)
             IGEA_AT(delta, ldd, i, j) =
-                SQRT2 * sigma[i] * erfinv_of(alpha_at(alpha, lda, i, j));
+                SQRT2 * sigma[i] * igea__erfinv(alpha_at(alpha, lda, i, j));
     return 0;
 }
 
@@ -825,7 +766,7 @@ int igea_redund_false_alarm(double sigma_i, double noise_i, double noise_j,
         return -4;
     if (!p)
         return -5;
-    double delta = SQRT2 * sigma_i * erfinv_of(alpha);
+    double delta = SQRT2 * sigma_i * igea__erfinv(alpha);
     *p = erfc(delta / sqrt(2.0 * (noise_i * noise_i + noise_j * noise_j)));
     return 0;
 }
@@ -858,37 +799,14 @@ int igea_redund_transform(int ngroup, const double *C, const double *v,
  * U (m x m), s (q). Returns 0, IGEA_ERANK, IGEA_ENOMEM, IGEA_ELAPACK. */
 static int full_u(int m, int q, double *a, double *U, double *s)
 {
-    double wq;
-    lapack_int *iwork = malloc(8 * (size_t)q * sizeof(lapack_int));
-    if (!iwork)
+    double *v = igea__dalloc((size_t)q * (size_t)q);
+    if (!v)
         return IGEA_ENOMEM;
-    double *vt = igea__dalloc((size_t)q * (size_t)q);
-    if (!vt) {
-        free(iwork);
-        return IGEA_ENOMEM;
-    }
-    lapack_int info = LAPACKE_dgesdd_work(LAPACK_COL_MAJOR, 'A', m, q, a, m, s,
-                                          U, m, vt, q, &wq, -1, iwork);
-    double *work = NULL;
-    if (info == 0) {
-        lapack_int lwork = (lapack_int)wq + 16;
-        work = igea__dalloc((size_t)lwork);
-        if (!work)
-            info = -1000;
-        else
-            info = LAPACKE_dgesdd_work(LAPACK_COL_MAJOR, 'A', m, q, a, m, s, U,
-                                       m, vt, q, work, lwork, iwork);
-    }
-    free(work);
-    free(vt);
-    free(iwork);
-    if (info == -1000)
-        return IGEA_ENOMEM;
-    if (info != 0)
-        return IGEA_ELAPACK;
-    if (!(s[q - 1] > (double)IGEA_MAX(m, q) * DBL_EPSILON * s[0]))
-        return IGEA_ERANK;
-    return 0;
+    int st = igea__svd(m, q, a, s, U, 1, v);
+    free(v);
+    if (st == 0 && igea__rank_cut(q, s, (double)IGEA_MAX(m, q) * DBL_EPSILON) < q)
+        st = IGEA_ERANK;
+    return st;
 }
 
 /* V ((m - q) x m, ld ldv) from U with the row sign convention. */

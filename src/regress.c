@@ -83,12 +83,7 @@ static double ridge_hat(double s, double rk)
 /* Rank cut of METHODS 0.3: s_i > rcond * s_1, rcond = max(m, N) eps. */
 static int rank_of(int k, const double *s, double rcond, int m, int N)
 {
-    double tol = rcond > 0 ? rcond : IGEA_MAX(m, N) * DBL_EPSILON;
-    int r = 0;
-    if (k > 0 && s[0] > 0.0)
-        while (r < k && s[r] > tol * s[0])
-            r++;
-    return r;
+    return igea__rank_cut(k, s, rcond > 0 ? rcond : IGEA_MAX(m, N) * DBL_EPSILON);
 }
 
 static int canon_make(int m, int N, const double *A, int lda, const double *y,
@@ -96,18 +91,13 @@ static int canon_make(int m, int N, const double *A, int lda, const double *y,
                       canon *c)
 {
     int k = IGEA_MIN(m, N);
-    char jobz = m >= N ? 'S' : 'A';
     int ucols = m >= N ? N : m;
     size_t mn = (size_t)m * (size_t)N;
     size_t need = mn + (size_t)m * ucols + (size_t)k + (size_t)N * N +
                   2 * (size_t)m + (size_t)k;
     c->mem = igea__dalloc(need);
-    lapack_int *iwork = malloc(sizeof(lapack_int) * (8 * (size_t)k + 1));
-    if (!c->mem || !iwork) {
-        free(iwork);
-        canon_free(c);
+    if (!c->mem)
         return IGEA_ENOMEM;
-    }
     double *Aw = c->mem;
     c->U = Aw + mn;
     c->s = c->U + (size_t)m * ucols;
@@ -126,47 +116,15 @@ static int canon_make(int m, int N, const double *A, int lda, const double *y,
         c->yw[i] = y ? y[i] / (sigma ? sigma[i] : 1.0) : 0.0;
     /* Finite inputs, but the weighted data overflowed (y / sigma). */
     if (!igea__finite_mat(m, N, Aw, m) || !igea__finite_vec(m, c->yw, 1)) {
-        free(iwork);
         canon_free(c);
         return IGEA_EOVERFLOW;
     }
-    double wq;
-    lapack_int info = LAPACKE_dgesdd_work(LAPACK_COL_MAJOR, jobz, m, N, Aw, m,
-                                          c->s, c->U, m, c->V, N, &wq, -1,
-                                          iwork);
-    int st = 0;
-    if (info == 0) {
-        size_t lw = (size_t)wq + 1;
-        double *work = igea__dalloc(lw);
-        if (!work)
-            st = IGEA_ENOMEM;
-        else {
-            info = LAPACKE_dgesdd_work(LAPACK_COL_MAJOR, jobz, m, N, Aw, m,
-                                       c->s, c->U, m, c->V, N, work,
-                                       (lapack_int)lw, iwork);
-            free(work);
-        }
-    }
-    free(iwork);
-    if (st == 0 && info != 0)
-        st = IGEA_ELAPACK;
+    int st = igea__svd(m, N, Aw, c->s, c->U, 0, c->V);
     if (st == 0 && !igea__finite_vec(k, c->s, 1))
         st = IGEA_ELAPACK;
     if (st != 0) {
         canon_free(c);
         return st;
-    }
-    /* V^T -> V (columns), METHODS 0.3 signs, U flipped with V. */
-    for (int i = 0; i < N; i++)
-        for (int j = i + 1; j < N; j++) {
-            double t = c->V[i + (size_t)j * N];
-            c->V[i + (size_t)j * N] = c->V[j + (size_t)i * N];
-            c->V[j + (size_t)i * N] = t;
-        }
-    for (int i = 0; i < N; i++) {
-        int sg = igea__sign_fix(N, c->V + (size_t)i * N);
-        if (sg < 0 && i < k)
-            cblas_dscal(m, -1.0, c->U + (size_t)i * m, 1);
     }
     c->r = rank_of(k, c->s, rcond, m, N);
     for (int i = 0; i < k; i++)

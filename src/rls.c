@@ -211,22 +211,9 @@ int igea_rls_create(int m, int k, const double *x0, const double *gamma0,
     for (int j = 0; j < m; j++)
         for (int i = j; i < m; i++)
             L[i + M * j] = IGEA_AT(gamma0, ldg, i, j);
-    for (int j = 0; j < m; j++) {
-        double s = L[j + M * j];
-        for (int l = 0; l < j; l++)
-            s -= L[j + M * l] * L[j + M * l];
-        if (!(s > 0.0) || !isfinite(s)) {
-            igea_rls_free(h);
-            return IGEA_ESINGULAR;
-        }
-        double dj = sqrt(s);
-        L[j + M * j] = dj;
-        for (int i = j + 1; i < m; i++) {
-            double t = L[i + M * j];
-            for (int l = 0; l < j; l++)
-                t -= L[i + M * l] * L[j + M * l];
-            L[i + M * j] = t / dj;
-        }
+    if (igea__chol_lower(m, L, m, 0.0) != 0) {
+        igea_rls_free(h);
+        return IGEA_ESINGULAR;
     }
     for (int j = 0; j < m; j++)
         for (int i = j; i < m; i++)
@@ -381,21 +368,9 @@ static int cov_prepare(igea_rls *h, int kk, double linv, const double *src,
     const size_t mk = (size_t)m * kk, M = (size_t)m;
     double *Z2 = GB, *Z1 = GB + mk, *T = BG, *L = h->Sm;
     small_sym(m, kk, h->ct, ut, L);
-    for (int j = 0; j < kk; j++) { /* L L^T = I + S, lower triangle */
-        double d = 1.0 + L[j + (size_t)j * kk];
-        for (int l = 0; l < j; l++)
-            d -= L[j + (size_t)l * kk] * L[j + (size_t)l * kk];
-        if (!(d > 0.0) || !isfinite(d))
-            return isfinite(d) ? IGEA_ESINGULAR : IGEA_ENONFINITE;
-        d = sqrt(d);
-        L[j + (size_t)j * kk] = d;
-        for (int i = j + 1; i < kk; i++) {
-            double t = L[i + (size_t)j * kk];
-            for (int l = 0; l < j; l++)
-                t -= L[i + (size_t)l * kk] * L[j + (size_t)l * kk];
-            L[i + (size_t)j * kk] = t / d;
-        }
-    }
+    int st = igea__chol_lower(kk, L, kk, 1.0); /* L L^T = I + S */
+    if (st)
+        return st;
     for (int j = 0; j < kk; j++) { /* Z1 = U^T L^-T, column by column */
         double *z = Z1 + j * M;
         memcpy(z, ut + j * M, M * sizeof(double));

@@ -324,33 +324,6 @@ static void test_geometry_args(void **state)
 
 /* ---- consistency -------------------------------------------------------- */
 
-static void test_erfinv(void **state)
-{
-    double x = SENTINEL;
-    assert_int_equal(igea_stats_erfinv(0.5, &x), 0);
-    assert_close(x, 0.47693627620446987338, 2e-16); /* erfinv(1/2), DLMF 7.17 */
-    assert_int_equal(igea_stats_erfinv(0.0, &x), 0);
-    assert_true(x == 0.0);
-    for (double y = -0.999; y < 1.0; y += 0.0123) {
-        assert_int_equal(igea_stats_erfinv(y, &x), 0);
-        assert_close_abs(erf(x), y, 4e-16, 1e-300);
-    }
-    /* the tail, through erfc: the start is poor here, Newton fixes it */
-    const double q[4] = {1e-6, 1e-10, 1e-14, 1e-15};
-    for (int i = 0; i < 4; i++) {
-        assert_int_equal(igea_stats_erfinv(1.0 - q[i], &x), 0);
-        assert_close(erfc(x), 1.0 - (1.0 - q[i]), 1e-13);
-        assert_int_equal(igea_stats_erfinv(-(1.0 - q[i]), &x), 0);
-        assert_close(erfc(-x), 1.0 - (1.0 - q[i]), 1e-13);
-    }
-    x = SENTINEL;
-    assert_int_equal(igea_stats_erfinv(1.0, &x), -1);
-    assert_int_equal(igea_stats_erfinv(-1.0, &x), -1);
-    assert_int_equal(igea_stats_erfinv(NAN, &x), -1);
-    assert_int_equal(igea_stats_erfinv(0.3, NULL), -2);
-    assert_true(x == SENTINEL);
-}
-
 static const double TV_X[4] = {1.000010, 1.000018, 0.999995, 1.000004};
 static const double TV_S[4] = {20e-6, 20e-6, 20e-6, 20e-6};
 
@@ -1169,7 +1142,6 @@ int main(void)
         cmocka_unit_test(test_geometry_seed),
         cmocka_unit_test(test_geometry_cone),
         cmocka_unit_test(test_geometry_args),
-        cmocka_unit_test(test_erfinv),
         cmocka_unit_test(test_confidence_distance),
         cmocka_unit_test(test_thresholds_relation),
         cmocka_unit_test(test_fusion_set),

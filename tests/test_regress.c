@@ -5,6 +5,7 @@
 #include "testutil.h"
 
 #include "igea/regress.h"
+#include "internal.h"
 
 #define PI_ 3.14159265358979323846
 
@@ -1730,6 +1731,62 @@ static void test_ebr_sigma_and_cov(void **state)
     }
 }
 
+/* The shared kernels of src/linalg.c against closed forms. */
+static void test_linalg_kernels(void **state)
+{
+    /* A = [3 0; 0 -4; 0 0] (3 x 2): s = (4, 3), v_1 = e_2 (sign +), u_1 =
+     * -e_2 (flipped with v_1: A v_1 = (0, -4, 0) = 4 u_1), v_2 = e_1,
+     * u_2 = e_1 */
+    double a[6] = {3, 0, 0, 0, -4, 0}, s[2], U[9], V[4];
+    assert_int_equal(igea__svd(3, 2, a, s, U, 0, V), 0);
+    assert_close(s[0], 4.0, 1e-15);
+    assert_close(s[1], 3.0, 1e-15);
+    assert_close_abs(V[1], 1.0, 1e-15, 0);
+    assert_close_abs(V[0], 0.0, 0, 1e-15);
+    assert_close_abs(V[2], 1.0, 1e-15, 0);
+    assert_close_abs(U[1], -1.0, 1e-15, 0);
+    assert_close_abs(U[3], 1.0, 1e-15, 0);
+    /* full U: the third column spans the left null space e_3 (+-) */
+    double a2[6] = {3, 0, 0, 0, -4, 0};
+    assert_int_equal(igea__svd(3, 2, a2, s, U, 1, V), 0);
+    assert_close_abs(fabs(U[8]), 1.0, 1e-15, 0);
+    /* wide: 1 x 3 [1 2 2]: s = 3, v_1 = (1, 2, 2)/3, V orthonormal */
+    double w[3] = {1, 2, 2}, sw[1], Uw[1], Vw[9];
+    assert_int_equal(igea__svd(1, 3, w, sw, Uw, 0, Vw), 0);
+    assert_close(sw[0], 3.0, 1e-15);
+    for (int i = 0; i < 3; i++)
+        assert_close(Vw[i], (i == 0 ? 1.0 : 2.0) / 3.0, 1e-15);
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            double d = 0;
+            for (int k = 0; k < 3; k++)
+                d += Vw[k + 3 * i] * Vw[k + 3 * j];
+            assert_close_abs(d, i == j ? 1.0 : 0.0, 1e-15, 1e-15);
+        }
+    /* rank cut: s_i > tol s_1 */
+    const double sv[4] = {10, 1, 1e-9, 0};
+    assert_int_equal(igea__rank_cut(4, sv, 1e-8), 2);
+    assert_int_equal(igea__rank_cut(4, sv, 1e-10), 2); /* not above the cut */
+    assert_int_equal(igea__rank_cut(4, sv, 1e-11), 3);
+    const double z[2] = {0, 0};
+    assert_int_equal(igea__rank_cut(2, z, 1e-8), 0);
+    /* transpose */
+    double t[4] = {1, 2, 3, 4};
+    igea__transpose(2, t, 2);
+    assert_true(t[0] == 1 && t[1] == 3 && t[2] == 2 && t[3] == 4);
+    /* Cholesky of [4 2; 2 5] (+ shift 0): L = [2 0; 1 2]; of [0 0; 0 0] + I */
+    double c[4] = {4, 2, -99, 5};
+    assert_int_equal(igea__chol_lower(2, c, 2, 0.0), 0);
+    assert_true(c[0] == 2 && c[1] == 1 && c[3] == 2 && c[2] == -99);
+    double c1[4] = {0, 0, 0, 0};
+    assert_int_equal(igea__chol_lower(2, c1, 2, 1.0), 0);
+    assert_true(c1[0] == 1 && c1[1] == 0 && c1[3] == 1);
+    double c2[4] = {1, 2, 0, 1}; /* [1 2; 2 1]: indefinite */
+    assert_int_equal(igea__chol_lower(2, c2, 2, 0.0), IGEA_ESINGULAR);
+    double c3[4] = {1, 0, 0, NAN};
+    assert_int_equal(igea__chol_lower(2, c3, 2, 0.0), IGEA_ENONFINITE);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1758,6 +1815,7 @@ int main(void)
         cmocka_unit_test(test_sigma_range),
         cmocka_unit_test(test_spec_sigma_all_estimators),
         cmocka_unit_test(test_ebr_sigma_and_cov),
+        cmocka_unit_test(test_linalg_kernels),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

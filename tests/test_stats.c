@@ -332,9 +332,37 @@ static void test_large_finite_values(void **state)
     assert_true(strstr(igea_strerror(IGEA_ERANGE), "standard deviation") != NULL);
 }
 
+static void test_erfinv(void **state)
+{
+    double x = SENTINEL;
+    assert_int_equal(igea_stats_erfinv(0.5, &x), 0);
+    assert_close(x, 0.47693627620446987338, 2e-16); /* erfinv(1/2), DLMF 7.17 */
+    assert_int_equal(igea_stats_erfinv(0.0, &x), 0);
+    assert_true(x == 0.0);
+    for (double y = -0.999; y < 1.0; y += 0.0123) {
+        assert_int_equal(igea_stats_erfinv(y, &x), 0);
+        assert_close_abs(erf(x), y, 4e-16, 1e-300);
+    }
+    /* the tail, through erfc: the start is poor here, Newton fixes it */
+    const double q[4] = {1e-6, 1e-10, 1e-14, 1e-15};
+    for (int i = 0; i < 4; i++) {
+        assert_int_equal(igea_stats_erfinv(1.0 - q[i], &x), 0);
+        assert_close(erfc(x), 1.0 - (1.0 - q[i]), 1e-13);
+        assert_int_equal(igea_stats_erfinv(-(1.0 - q[i]), &x), 0);
+        assert_close(erfc(-x), 1.0 - (1.0 - q[i]), 1e-13);
+    }
+    x = SENTINEL;
+    assert_int_equal(igea_stats_erfinv(1.0, &x), -1);
+    assert_int_equal(igea_stats_erfinv(-1.0, &x), -1);
+    assert_int_equal(igea_stats_erfinv(NAN, &x), -1);
+    assert_int_equal(igea_stats_erfinv(0.3, NULL), -2);
+    assert_true(x == SENTINEL);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_erfinv),
         cmocka_unit_test(test_version_and_strerror),
         cmocka_unit_test(test_normal),
         cmocka_unit_test(test_chi2_values),
