@@ -6,7 +6,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _capi, _lib
-from .envfun import _system_code, default_spec, default_terms, envfun, term_codes
+from .envfun import _system_code, default_terms, term_codes
 
 _GENERATORS = _lib.choices("SIM_", "mt19937 ranlxd2")
 
@@ -46,38 +46,44 @@ def nonlinear(traj, errors, epochs, *, system="strapdown", axes=None):
     return out
 
 
-def _sim_opts(where, at, generator, **slots):
-    if generator not in _GENERATORS:
-        raise ValueError(f"generator: one of {sorted(_GENERATORS)}, got {generator!r}")
-    return _lib.options("sim", where, at, generator=_GENERATORS[generator], **slots)
+class _Model:
+    """An igea_sim_model handle: created by `create` (the handle its last
+    argument), set with set(what, ...) = igea_sim_model_set_<what>, freed on
+    leaving a with block."""
+
+    def __init__(self, where, create, *args):
+        self.where, self.h = where, ctypes.c_void_p()
+        _lib.call(where, create, *args, ctypes.byref(self.h))
+
+    def set(self, what, *args):
+        _lib.call(self.where, "igea_sim_model_set_" + what, self.h, *args)
+
+    def noise(self, generator, **slots):
+        """The true noise: the library's defaults with the slots given."""
+        if generator not in _GENERATORS:
+            raise ValueError(f"generator: one of {sorted(_GENERATORS)}, got {generator!r}")
+        self.set("noise", _lib.dptr(_lib.options(
+            "sim", self.where, ("igea_sim_model_set_noise", "opts"),
+            generator=_GENERATORS[generator], **slots)))
+
+    def get(self, what, n):
+        out = np.zeros(n)
+        _lib.call(self.where, "igea_sim_model_get_" + what, self.h, _lib.dptr(out))
+        return out
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        _lib.lib.igea_sim_model_free(self.h)
 
 
 def _sigma(sigma, m):
+    """(track_sigma, sigma_inc) of a number or (m,) values."""
     if np.ndim(sigma) == 0:
         return _lib.as_f64(sigma, "sigma").reshape(1), 0
     s = _lib.as_f64(sigma, "sigma", ndim=1, shape=(m,))
     return s, 1
-
-
-def _model(where, create, *args, sigma, sigma_inc, growth=0.0, spec=None, xv=None, xf=None,
-           opts=None, nonlinear=False):
-    """An igea_sim_model handle (create: the constructor, args: its
-    arguments before the handle) with these settings; free it with
-    _lib.lib.igea_sim_model_free."""
-    h = ctypes.c_void_p()
-    _lib.call(where, create, *args, ctypes.byref(h))
-    try:
-        _lib.call(where, "igea_sim_model_set_sigma", h, _lib.dptr(sigma), int(sigma_inc),
-                  float(growth))
-        if spec is not None:
-            _lib.call(where, "igea_sim_model_set_spec", h, _lib.dptr(spec))
-        _lib.call(where, "igea_sim_model_set_truth", h, _lib.dptr(xv), _lib.iptr(xf))
-        _lib.call(where, "igea_sim_model_set_noise", h, _lib.dptr(opts))
-        _lib.call(where, "igea_sim_model_set_nonlinear", h, int(bool(nonlinear)))
-    except BaseException:
-        _lib.lib.igea_sim_model_free(h)
-        raise
-    return h
 
 
 def _x_spec(x, terms, N):
@@ -115,57 +121,53 @@ class Flight:
 
 
 def simulate(traj=None, terms=None, epochs=None, *, system="strapdown", spec="default",
-             sigma=0.01, sigma_growth=0.0, sigma_w=1.0, ar1=0.0, growth=0.0,
-             outlier_prob=0.0, outlier_scale=10.0, x=None, seed=0, flight=0,
+             sigma=0.01, sigma_growth=0.0, sigma_w=None, ar1=None, growth=None,
+             outlier_prob=None, outlier_scale=None, x=None, seed=0, flight=0,
              generator="mt19937", nonlinear_truth=False):
     """One synthetic flight dw = S diag(spec) X + noise.
 
     traj: None (the reference boost, 120 s at 50 Hz) or (samples x 11);
     terms: names (default the 21-term strapdown model); epochs: default 1,
     2, ..., up to the trajectory's end; spec: "default" or N values;
-    sigma: stated tracking 1-sigma (m/s), grown by (1 + sigma_growth e/(M-1))
-    along the epochs; sigma_w, ar1, growth, outlier_prob, outlier_scale: the
-    true noise (igea/sim.h); x: None (X ~ N(0, I)), {name: k} (those terms
-    at k x spec, the others drawn) or N values; seed, flight: the stream;
+    sigma: stated tracking 1-sigma (m/s, a number or one per row), grown by
+    (1 + sigma_growth e/(M-1)) along the epochs; sigma_w, ar1, growth,
+    outlier_prob, outlier_scale: the true noise (igea/sim.h; None: the
+    library's default); x: None (X ~ N(0, I)), {name: k} (those terms at k x
+    spec, the others drawn) or N values; seed, flight: the stream;
     nonlinear_truth: dw from the full nonlinear navigation error
     (igea.sim.nonlinear) instead of S diag(spec) X, with the same noise.
+    The model is the library's (igea_sim_model_*).
     """
     if traj is None:
         traj = reference_trajectory(system=system)
     tr = _lib.as_f64(traj, "traj", ndim=2)
     terms = tuple(default_terms(system) if terms is None else terms)
+    codes = term_codes(terms, system)
     if epochs is None:
         epochs = np.arange(1.0, np.floor(tr[-1, 0] - tr[0, 0]) + 1.0) + tr[0, 0]
     ep = _lib.as_f64(epochs, "epochs", ndim=1)
-    if isinstance(spec, str):
-        if spec != "default":
-            raise ValueError("spec: 'default' or an array")
-        sp = default_spec(terms, system)
-    else:
-        sp = _lib.as_f64(spec, "spec", ndim=1, shape=(len(terms),))
-    codes = term_codes(terms, system)
-    m, N = 3 * ep.size, len(codes)
-    sig0 = float(sigma)
-    if not sig0 > 0:
-        raise ValueError("sigma: must be > 0")
-    xv, xf = _x_spec(x, terms, N)
-    opts = _sim_opts("igea.simulate", ("igea_sim_model_set_noise", "opts"), generator,
-                     sigma_w=sigma_w, ar1=ar1, growth=growth, outlier_prob=outlier_prob,
-                     outlier_scale=outlier_scale)
     n = tr.shape[0]
-    h = _model("igea.simulate", "igea_sim_model_create_trajectory", _system_code(system), n,
-               _lib.dptr(tr), n, N, _lib.iptr(codes), None, ep.size, _lib.dptr(ep),
-               sigma=np.array([sig0]), sigma_inc=0, growth=sigma_growth, spec=sp, xv=xv, xf=xf,
-               opts=opts, nonlinear=nonlinear_truth)
-    try:
-        S, sig, dw, xt = np.zeros((m, N), order="F"), np.zeros(m), np.zeros(m), np.zeros(N)
-        _lib.call("igea.simulate", "igea_sim_flight", h, int(seed), int(flight), _lib.dptr(xt),
-                  _lib.dptr(dw))
-        _lib.call("igea.simulate", "igea_sim_model_get_s", h, _lib.dptr(S), m)
-        _lib.call("igea.simulate", "igea_sim_model_get_sigma", h, _lib.dptr(sig))
-    finally:
-        _lib.lib.igea_sim_model_free(h)
-    return Flight(S, dw, sig, sp, xt, terms, ep)
+    with _Model("igea.simulate", "igea_sim_model_create_trajectory", _system_code(system), n,
+                _lib.dptr(tr), n, len(codes), _lib.iptr(codes), None, ep.size,
+                _lib.dptr(ep)) as model:
+        m, N = 3 * ep.size, len(codes)
+        sig, inc = _sigma(sigma, m)
+        model.set("sigma", _lib.dptr(sig), inc, float(sigma_growth))
+        if not isinstance(spec, str):
+            model.set("spec", _lib.dptr(_lib.as_f64(spec, "spec", ndim=1, shape=(N,))))
+        elif spec != "default":
+            raise ValueError("spec: 'default' or an array")
+        model.noise(generator, sigma_w=sigma_w, ar1=ar1, growth=growth,
+                    outlier_prob=outlier_prob, outlier_scale=outlier_scale)
+        xv, xf = _x_spec(x, terms, N)
+        model.set("truth", _lib.dptr(xv), _lib.iptr(xf))
+        model.set("nonlinear", int(bool(nonlinear_truth)))
+        dw, xt = np.zeros(m), np.zeros(N)
+        _lib.call("igea.simulate", "igea_sim_flight", model.h, int(seed), int(flight),
+                  _lib.dptr(xt), _lib.dptr(dw))
+        S = np.zeros((m, N), order="F")
+        _lib.call("igea.simulate", "igea_sim_model_get_s", model.h, _lib.dptr(S), m)
+        return Flight(S, dw, model.get("sigma", m), model.get("spec", N), xt, terms, ep)
 
 
 @dataclass(frozen=True)
@@ -183,10 +185,12 @@ class MonteCarloResult:
     chi2: np.ndarray
     dof: np.ndarray
     n_reject: np.ndarray
-    scale: np.ndarray
+    scale: np.ndarray    # NaN for a flight with nothing testable
+    rates: dict = None   # {"failed": count / flights, ...} of the four counts
+    ci99: dict = None    # {"failed": (lo, hi), ...}: their 99 % Wilson intervals
 
     def rate(self, what="failed"):
-        return getattr(self, what) / self.flights
+        return self.rates[what]
 
     def summary(self):
         return ("%d flights: failed %d (%.4f), chi-square rejected %d (%.4f), a component "
@@ -197,12 +201,14 @@ class MonteCarloResult:
                    self.mean_tested))
 
 
-def montecarlo(S, sigma, nflights, *, spec=None, terms=None, x=None, sigma_w=1.0, ar1=0.0,
-               growth=0.0, outlier_prob=0.0, outlier_scale=10.0, generator="mt19937",
-               seed=0, first_flight=0, nthreads=0, alpha=0.01, lambda_test=10.0,
-               correct_tracking=True, bias_correct=False, clamp=False):
-    """Run flights first_flight .. first_flight + nflights - 1 and judge each
-    with the seed-000 test; results do not depend on nthreads."""
+def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None, ar1=None,
+               growth=None, outlier_prob=None, outlier_scale=None, generator="mt19937",
+               seed=0, first_flight=0, threads=0, alpha=None, lambda_test=None,
+               correction=None, bias_correct=None, clamp=None):
+    """Run flights first_flight .. first_flight + flights - 1 and judge each
+    with the seed-000 test; results do not depend on threads (0: one per
+    online processor). Options left None keep the library's defaults
+    (igea_sim_defaults, igea_eqerr_defaults)."""
     S = _lib.as_f64(S, "S", ndim=2)
     m, N = S.shape
     sig, inc = _sigma(sigma, m)
@@ -210,31 +216,34 @@ def montecarlo(S, sigma, nflights, *, spec=None, terms=None, x=None, sigma_w=1.0
     if isinstance(x, dict) and terms is None:
         raise ValueError("x: a dict needs terms")
     xv, xf = _x_spec(x, terms if terms is not None else [], N)
-    at = ("igea_sim_model_set_noise", "opts")
-    opts = _sim_opts("igea.montecarlo", at, generator, sigma_w=sigma_w, ar1=ar1, growth=growth,
-                     outlier_prob=outlier_prob, outlier_scale=outlier_scale)
-    eq = _lib.options("eqerr", "igea.montecarlo", ("igea_sim_montecarlo", "eq_opts"),
-                      alpha=alpha, lambda_test=lambda_test, correct=bool(correct_tracking),
-                      bias_correct=bool(bias_correct), clamp=bool(clamp))
-    nflights = int(nflights)
+    nflights = int(flights)
     if nflights < 1:
-        raise ValueError("nflights: must be >= 1")
-    counts = np.zeros(_capi.SIM_MC_LEN)
+        raise ValueError("flights: must be >= 1")
+    where = "igea.montecarlo"
+    eq = _lib.options("eqerr", where, ("igea_sim_montecarlo", "eq_opts"), alpha=alpha,
+                      lambda_test=lambda_test, correct=correction, bias_correct=bias_correct,
+                      clamp=clamp)
+    counts, rates = np.zeros(_capi.SIM_MC_LEN), np.zeros(_capi.SIM_MC_RATES_LEN)
     ct, cr = np.zeros(N, dtype=np.intc), np.zeros(N, dtype=np.intc)
     table = np.zeros((nflights, _capi.SIM_MC_TABLE_COLS), order="F")
-    h = _model("igea.montecarlo", "igea_sim_model_create", m, N, _lib.dptr(S), m,
-               sigma=sig, sigma_inc=inc, spec=sp, xv=xv, xf=xf, opts=opts)
-    try:
-        _lib.call("igea.montecarlo", "igea_sim_montecarlo", h, _lib.dptr(eq), int(seed),
-                  int(first_flight), nflights, int(nthreads), _lib.dptr(counts), None,
+    with _Model(where, "igea_sim_model_create", m, N, _lib.dptr(S), m) as model:
+        model.set("sigma", _lib.dptr(sig), inc, 0.0)
+        model.set("spec", _lib.dptr(sp))
+        model.noise(generator, sigma_w=sigma_w, ar1=ar1, growth=growth,
+                    outlier_prob=outlier_prob, outlier_scale=outlier_scale)
+        model.set("truth", _lib.dptr(xv), _lib.iptr(xf))
+        _lib.call(where, "igea_sim_montecarlo", model.h, _lib.dptr(eq), int(seed),
+                  int(first_flight), nflights, int(threads), _lib.dptr(counts), _lib.dptr(rates),
                   _lib.iptr(ct), _lib.iptr(cr), _lib.dptr(table), nflights)
-    finally:
-        _lib.lib.igea_sim_model_free(h)
-    chi2, scale = table[:, _capi.SIM_MC_TABLE_CHI2].copy(), table[:, _capi.SIM_MC_TABLE_SCALE].copy()
-    dof = table[:, _capi.SIM_MC_TABLE_DOF].astype(np.intc)
-    nrej = table[:, _capi.SIM_MC_TABLE_N_REJECT].astype(np.intc)
-    return MonteCarloResult(comp_tested=ct, comp_reject=cr, chi2=chi2, dof=dof, n_reject=nrej,
-                            scale=scale, **_lib.fields(
-                                counts, "SIM_MC_", flights=int, failed=int, chi2_reject=int,
-                                any_reject=int, not_testable=int, mean_scale=float,
-                                mean_tested=float))
+    col = _lib.fields(table.T, "SIM_MC_TABLE_", chi2=np.array, dof=np.array, n_reject=np.array,
+                      scale=np.array)
+    # rates[3 (k - 1)] and its interval at [+1], [+2] for the counts k (igea/sim.h)
+    at = {k: 3 * (getattr(_capi, "SIM_MC_" + k.upper()) - 1)
+          for k in ("failed", "chi2_reject", "any_reject", "not_testable")}
+    return MonteCarloResult(
+        comp_tested=ct, comp_reject=cr, dof=col.pop("dof").astype(int),
+        n_reject=col.pop("n_reject").astype(int), **col,
+        rates={k: float(rates[i]) for k, i in at.items()},
+        ci99={k: (float(rates[i + 1]), float(rates[i + 2])) for k, i in at.items()},
+        **_lib.fields(counts, "SIM_MC_", flights=int, failed=int, chi2_reject=int,
+                      any_reject=int, not_testable=int, mean_scale=float, mean_tested=float))

@@ -36,7 +36,7 @@ def numpy_test(S, dw, sigma, spec, alpha=0.01, lambda_test=10.0):
 
 def test_flights_match_numpy_test(model):
     S, sig, spec = model.S, model.sigma, model.spec
-    r = igea.montecarlo(S, sig, 12, spec=spec, seed=5, correct_tracking=False, nthreads=2)
+    r = igea.montecarlo(S, sig, 12, spec=spec, seed=5, correction=False, threads=2)
     for f in range(12):
         fl = igea.simulate(seed=5, flight=f)
         T, dof, nrej, chi_rej = numpy_test(fl.S, fl.dw, fl.sigma, fl.spec)
@@ -86,7 +86,7 @@ def test_size_small(model):
     chi-square test and each component test."""
     n = 400
     r = igea.montecarlo(model.S, model.sigma, n, spec=model.spec, seed=21, alpha=0.1,
-                        correct_tracking=False)
+                        correction=False)
     assert binom_ok(r.chi2_reject, n, 0.1)
     tested = r.comp_tested > 0
     assert tested.sum() == 7
@@ -102,9 +102,9 @@ def test_size_small(model):
 def test_misstated_sigma_small(model):
     n = 300
     un = igea.montecarlo(model.S, model.sigma, n, spec=model.spec, seed=22, sigma_w=10.0,
-                         alpha=0.1, correct_tracking=False)
+                         alpha=0.1, correction=False)
     co = igea.montecarlo(model.S, model.sigma, n, spec=model.spec, seed=22, sigma_w=10.0,
-                         alpha=0.1, correct_tracking=True)
+                         alpha=0.1, correction=True)
     # weakest tested component, exact rejection probability without correction
     St = model.S * model.spec / model.sigma[:, None]
     lam = np.sort(np.linalg.eigvalsh(St.T @ St))[::-1]
@@ -118,9 +118,9 @@ def test_misstated_sigma_small(model):
 
 
 def test_threads_and_chunks_identical(model):
-    a = igea.montecarlo(model.S, model.sigma, 200, spec=model.spec, seed=3, nthreads=1)
-    b = igea.montecarlo(model.S, model.sigma, 200, spec=model.spec, seed=3, nthreads=2)
-    c = igea.montecarlo(model.S, model.sigma, 100, spec=model.spec, seed=3, nthreads=2,
+    a = igea.montecarlo(model.S, model.sigma, 200, spec=model.spec, seed=3, threads=1)
+    b = igea.montecarlo(model.S, model.sigma, 200, spec=model.spec, seed=3, threads=2)
+    c = igea.montecarlo(model.S, model.sigma, 100, spec=model.spec, seed=3, threads=2,
                         first_flight=100)
     np.testing.assert_array_equal(a.chi2, b.chi2)
     np.testing.assert_array_equal(a.comp_reject, b.comp_reject)
@@ -134,7 +134,7 @@ def test_montecarlo_errors(model):
         igea.montecarlo(model.S, np.ones(5), 10)
     with pytest.raises(ValueError, match="spec"):
         igea.montecarlo(model.S, 0.01, 10, spec=np.ones(3))
-    with pytest.raises(ValueError, match="nflights"):
+    with pytest.raises(ValueError, match="flights"):
         igea.montecarlo(model.S, 0.01, 0)
     with pytest.raises(igea.IgeaError, match="opts"):
         igea.montecarlo(model.S, 0.01, 10, sigma_w=-1.0)
