@@ -234,15 +234,10 @@ static int check_args(int system, int nsamp, const double *traj, int ldt,
                       int nepochs, const double *epochs, int output,
                       const double *S, int lds, int *in_ax, int *spin_ax)
 {
+    int st;
     igea__platform_axes(NULL, in_ax, spin_ax);
-    if (system != IGEA_ENVFUN_STRAPDOWN && system != IGEA_ENVFUN_PLATFORM)
-        return -1;
-    if (nsamp < 2)
-        return -2;
-    if (!traj)
-        return -3;
-    if (ldt < nsamp)
-        return -4;
+    if ((st = igea__traj_args(system, nsamp, traj, ldt)) != 0)
+        return st;
     if (nterms < 1)
         return -5;
     if (!terms)
@@ -277,24 +272,13 @@ static int check_data(int system, int nsamp, const double *traj, int ldt,
         return IGEA_ENONFINITE;
     if (spec && !igea__positive_vec(nterms, spec, &nf))
         return nf ? IGEA_ENONFINITE : IGEA_ENONPOSITIVE;
-    for (int k = 1; k < nsamp; k++)
-        if (!(IGEA_AT(traj, ldt, k, 0) > IGEA_AT(traj, ldt, k - 1, 0)))
-            return -3;
-    for (int e = 0; e < nepochs; e++) {
-        if (epochs[e] < IGEA_AT(traj, ldt, 0, 0) ||
-            epochs[e] > IGEA_AT(traj, ldt, nsamp - 1, 0))
-            return -9;
-        if (e > 0 && epochs[e] < epochs[e - 1])
-            return -9;
-    }
+    int bad = igea__traj_times(nsamp, traj, ldt, nepochs, epochs);
+    if (bad)
+        return bad == 1 ? -3 : -9;
     if (system == IGEA_ENVFUN_STRAPDOWN)
-        for (int k = 0; k < nsamp; k++) {
-            double nq = 0.0;
-            for (int i = 0; i < 4; i++)
-                nq += IGEA_AT(traj, ldt, k, 7 + i) * IGEA_AT(traj, ldt, k, 7 + i);
-            if (!(nq > 1e-200))
+        for (int k = 0; k < nsamp; k++)
+            if (!(igea__traj_qnorm2(traj, ldt, k) > 1e-200))
                 return IGEA_EDOMAIN;
-        }
     return 0;
 }
 

@@ -2,7 +2,10 @@
 #include <math.h>
 #include <string.h>
 
+#include "internal.h"
 #include "rotation.h"
+
+#include "igea/envfun.h"
 
 void igea__cross(const double *a, const double *b, double *c)
 {
@@ -78,4 +81,39 @@ void igea__m3_exp(const double *v, double *R)
     igea__m3_mul(K, K, K2);
     for (int i = 0; i < 9; i++)
         R[i] = (i % 4 == 0 ? 1.0 : 0.0) + s * K[i] + c * K2[i];
+}
+
+int igea__traj_args(int system, int nsamp, const double *traj, int ldt)
+{
+    if (system != IGEA_ENVFUN_STRAPDOWN && system != IGEA_ENVFUN_PLATFORM)
+        return -1;
+    if (nsamp < 2)
+        return -2;
+    if (!traj)
+        return -3;
+    if (ldt < nsamp)
+        return -4;
+    return 0;
+}
+
+int igea__traj_times(int nsamp, const double *traj, int ldt, int nepochs,
+                     const double *epochs)
+{
+    for (int k = 1; k < nsamp; k++)
+        if (!(IGEA_AT(traj, ldt, k, 0) > IGEA_AT(traj, ldt, k - 1, 0)))
+            return 1;
+    for (int e = 0; e < nepochs; e++)
+        if (epochs[e] < IGEA_AT(traj, ldt, 0, 0) ||
+            epochs[e] > IGEA_AT(traj, ldt, nsamp - 1, 0) ||
+            (e > 0 && epochs[e] < epochs[e - 1]))
+            return 2;
+    return 0;
+}
+
+double igea__traj_qnorm2(const double *traj, int ldt, int k)
+{
+    double nq = 0.0;
+    for (int i = 0; i < 4; i++)
+        nq += IGEA_AT(traj, ldt, k, 7 + i) * IGEA_AT(traj, ldt, k, 7 + i);
+    return nq;
 }

@@ -1,5 +1,6 @@
 /* src/rotation.h - quaternion, direction-cosine and rotation-vector
- * kernels shared by envfun.c and sim.c (private: not installed).
+ * kernels, and the trajectory checks, shared by envfun.c and sim.c
+ * (private: not installed).
  * Matrices are row-major 3x3; quaternions scalar first, body -> frame. */
 #ifndef IGEA_ROTATION_H
 #define IGEA_ROTATION_H
@@ -24,5 +25,18 @@ void igea__m3_vec(const double *a, const double *x, double *y, int trans);
 
 /* R = exp([v x]) (Rodrigues). */
 void igea__m3_exp(const double *v, double *R);
+
+/* Arguments 1-4 of a trajectory call (system, nsamp >= 2, traj, ldt >=
+ * nsamp): 0 or -i. */
+int igea__traj_args(int system, int nsamp, const double *traj, int ldt);
+
+/* Times of a trajectory (nsamp x 11, ld ldt, finite) and its epochs: 0, 1
+ * (t not strictly increasing), 2 (epochs decreasing or outside [t_0,
+ * t_last]). */
+int igea__traj_times(int nsamp, const double *traj, int ldt, int nepochs,
+                     const double *epochs);
+
+/* Squared norm of the quaternion of sample k. */
+double igea__traj_qnorm2(const double *traj, int ldt, int k);
 
 #endif

@@ -860,15 +860,10 @@ static int nonlinear_check(int system, int nsamp, const double *traj, int ldt,
                            const double *epochs, const double *dW, int *in_ax,
                            int *spin_ax)
 {
+    int st;
     igea__platform_axes(NULL, in_ax, spin_ax);
-    if (system != IGEA_ENVFUN_STRAPDOWN && system != IGEA_ENVFUN_PLATFORM)
-        return -1;
-    if (nsamp < 2)
-        return -2;
-    if (!traj)
-        return -3;
-    if (ldt < nsamp)
-        return -4;
+    if ((st = igea__traj_args(system, nsamp, traj, ldt)) != 0)
+        return st;
     if (!err)
         return -5;
     for (int k = 0; k < IGEA_ENVFUN_TERM_COUNT; k++)
@@ -886,18 +881,10 @@ static int nonlinear_check(int system, int nsamp, const double *traj, int ldt,
         !igea__finite_vec(IGEA_ENVFUN_TERM_COUNT, err, 1) ||
         !igea__finite_vec(nepochs, epochs, 1))
         return IGEA_ENONFINITE;
-    for (int k = 1; k < nsamp; k++)
-        if (!(IGEA_AT(traj, ldt, k, 0) > IGEA_AT(traj, ldt, k - 1, 0)))
-            return -3;
-    for (int e = 0; e < nepochs; e++)
-        if (epochs[e] < IGEA_AT(traj, ldt, 0, 0) ||
-            epochs[e] > IGEA_AT(traj, ldt, nsamp - 1, 0) ||
-            (e > 0 && epochs[e] < epochs[e - 1]))
-            return -8;
-    double nq = 0.0;
-    for (int i = 0; i < 4; i++)
-        nq += IGEA_AT(traj, ldt, 0, 7 + i) * IGEA_AT(traj, ldt, 0, 7 + i);
-    if (system == IGEA_ENVFUN_STRAPDOWN && !(nq > 1e-200))
+    int bad = igea__traj_times(nsamp, traj, ldt, nepochs, epochs);
+    if (bad)
+        return bad == 1 ? -3 : -8;
+    if (system == IGEA_ENVFUN_STRAPDOWN && !(igea__traj_qnorm2(traj, ldt, 0) > 1e-200))
         return IGEA_EDOMAIN;
     return 0;
 }

@@ -748,19 +748,6 @@ static void test_rotation_kernels(void **state)
 static void test_catalogue(void **state)
 {
     (void)state;
-    static const char *const sd21[21] = {
-        "acc_bias_x", "acc_bias_y", "acc_bias_z", "acc_scale_x", "acc_scale_y",
-        "acc_scale_z", "acc_mis_xy", "acc_mis_xz", "acc_mis_yx", "acc_mis_yz",
-        "acc_mis_zx", "acc_mis_zy", "gyro_bias_x", "gyro_bias_y", "gyro_bias_z",
-        "gyro_g_x", "gyro_g_y", "gyro_g_z", "att0_x", "att0_y", "att0_z"};
-    static const char *const pf21[21] = {
-        "acc_bias_x", "acc_bias_y", "acc_bias_z", "acc_scale_x", "acc_scale_y",
-        "acc_scale_z", "gyro_bias_x", "gyro_bias_y", "gyro_bias_z", "gyro_gi_x",
-        "gyro_gi_y", "gyro_gi_z", "gyro_gs_x", "gyro_gs_y", "gyro_gs_z", "align0_x",
-        "align0_y", "align0_z", "acc_sq_x", "acc_sq_y", "acc_sq_z"};
-    int codes[IGEA_ENVFUN_TERM_COUNT], n = -1;
-    double sp = -1.0, degh = DEG / 3600.0;
-
     assert_string_equal(igea_envfun_term_name(IGEA_ENVFUN_TERM_ACC_BIAS_X), "acc_bias_x");
     assert_string_equal(igea_envfun_term_name(IGEA_ENVFUN_TERM_ACC_MIS_YZ), "acc_mis_yz");
     assert_string_equal(igea_envfun_term_name(IGEA_ENVFUN_TERM_GYRO_G_X + 2), "gyro_g_z");
@@ -787,7 +774,24 @@ static void test_catalogue(void **state)
     assert_int_equal(igea_envfun_term_code(IGEA_ENVFUN_STRAPDOWN, ""), -2);
     assert_int_equal(igea_envfun_term_code(IGEA_ENVFUN_STRAPDOWN, NULL), -2);
     assert_int_equal(igea_envfun_term_code(7, "acc_bias_x"), -1);
+}
 
+/* Default specs (the document's units) and default term sets. */
+static void test_catalogue_defaults(void **state)
+{
+    (void)state;
+    static const char *const sd21[21] = {
+        "acc_bias_x", "acc_bias_y", "acc_bias_z", "acc_scale_x", "acc_scale_y",
+        "acc_scale_z", "acc_mis_xy", "acc_mis_xz", "acc_mis_yx", "acc_mis_yz",
+        "acc_mis_zx", "acc_mis_zy", "gyro_bias_x", "gyro_bias_y", "gyro_bias_z",
+        "gyro_g_x", "gyro_g_y", "gyro_g_z", "att0_x", "att0_y", "att0_z"};
+    static const char *const pf21[21] = {
+        "acc_bias_x", "acc_bias_y", "acc_bias_z", "acc_scale_x", "acc_scale_y",
+        "acc_scale_z", "gyro_bias_x", "gyro_bias_y", "gyro_bias_z", "gyro_gi_x",
+        "gyro_gi_y", "gyro_gi_z", "gyro_gs_x", "gyro_gs_y", "gyro_gs_z", "align0_x",
+        "align0_y", "align0_z", "acc_sq_x", "acc_sq_y", "acc_sq_z"};
+    int codes[IGEA_ENVFUN_TERM_COUNT], n = -1;
+    double sp = -1.0, degh = DEG / 3600.0;
     struct { int sys; const char *name; double spec; } want[] = {
         {0, "acc_bias_y", 9.80665e-3}, {1, "acc_scale_z", 1e-4},
         {1, "acc_sq_x", 1e-5 / 9.80665}, {0, "acc_mis_zx", 1e-4},
@@ -832,6 +836,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_term_valid),
         cmocka_unit_test(test_catalogue),
+        cmocka_unit_test(test_catalogue_defaults),
         cmocka_unit_test(test_rotation_kernels),
         cmocka_unit_test(test_closed_forms),
         cmocka_unit_test(test_spec_lds),

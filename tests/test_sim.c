@@ -322,30 +322,11 @@ static void test_flight_signal(void **state)
     }
 }
 
-/* Invalid arguments of the model's constructors, setters and flights
- * (statuses by argument position); a failure leaves outputs and the
- * model as they were. */
-static void test_flight_invalid(void **state)
+/* Invalid arguments of the model's setters: the model is left as it was. */
+static void model_setters_invalid(igea_sim_model *md)
 {
-    int m = 3 * M_EP, xf[NT] = {0}, mm = -1, nn = -1;
-    double x[NT], dw[3 * M_EP], opts[IGEA_SIM_OPT_LEN], bad_sig = -1.0, nan_sig = NAN;
-    double sg[3 * M_EP], d1[3 * M_EP], d2[3 * M_EP];
-    igea_sim_model *md = (igea_sim_model *)&mm;
-    fill_sentinel(dw, (size_t)m);
-    fill_sentinel(x, NT);
-    assert_int_equal(igea_sim_model_create(m - 1, NT, S21, m, &md), -1);
-    assert_null(md);
-    assert_int_equal(igea_sim_model_create(0, NT, S21, m, &md), -1);
-    assert_int_equal(igea_sim_model_create(m, 0, S21, m, &md), -2);
-    assert_int_equal(igea_sim_model_create(m, NT, NULL, m, &md), -3);
-    assert_int_equal(igea_sim_model_create(m, NT, S21, m - 1, &md), -4);
-    assert_int_equal(igea_sim_model_create(m, NT, S21, m, NULL), -5);
-    double S1[6] = {1, 2, 3, 4, NAN, 6};
-    assert_int_equal(igea_sim_model_create(3, 2, S1, 3, &md), IGEA_ENONFINITE);
-    assert_null(md);
-    assert_int_equal(make_model(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, &md), 0);
-    assert_int_equal(igea_sim_flight(md, 1, 0, x, d1), 0);
-
+    int xf[NT] = {0};
+    double x[NT] = {0}, bad_sig = -1.0, nan_sig = NAN;
     assert_int_equal(igea_sim_model_set_sigma(NULL, &SIG, 0, 0.0), -1);
     assert_int_equal(igea_sim_model_set_sigma(md, NULL, 0, 0.0), -2);
     assert_int_equal(igea_sim_model_set_sigma(md, &SIG, 2, 0.0), -3);
@@ -368,6 +349,60 @@ static void test_flight_invalid(void **state)
     int xf0[NT] = {0};
     xv[2] = INFINITY;
     assert_int_equal(igea_sim_model_set_truth(md, xv, xf0), IGEA_ENONFINITE);
+}
+
+/* Invalid arguments of the model's constructors, setters and flights
+ * (statuses by argument position); a failure leaves outputs and the
+ * model as they were. */
+static void test_flight_invalid(void **state)
+{
+    int m = 3 * M_EP, mm = -1, nn = -1;
+    double x[NT], dw[3 * M_EP], sg[3 * M_EP], d1[3 * M_EP], d2[3 * M_EP];
+    igea_sim_model *md = (igea_sim_model *)&mm;
+    fill_sentinel(dw, (size_t)m);
+    fill_sentinel(x, NT);
+    assert_int_equal(igea_sim_model_create(m - 1, NT, S21, m, &md), -1);
+    assert_null(md);
+    assert_int_equal(igea_sim_model_create(0, NT, S21, m, &md), -1);
+    assert_int_equal(igea_sim_model_create(m, 0, S21, m, &md), -2);
+    assert_int_equal(igea_sim_model_create(m, NT, NULL, m, &md), -3);
+    assert_int_equal(igea_sim_model_create(m, NT, S21, m - 1, &md), -4);
+    assert_int_equal(igea_sim_model_create(m, NT, S21, m, NULL), -5);
+    double S1[6] = {1, 2, 3, 4, NAN, 6};
+    assert_int_equal(igea_sim_model_create(3, 2, S1, 3, &md), IGEA_ENONFINITE);
+    assert_null(md);
+    assert_int_equal(make_model(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, NULL, &md), 0);
+    assert_int_equal(igea_sim_flight(md, 1, 0, x, d1), 0);
+    model_setters_invalid(md);
+    assert_int_equal(igea_sim_model_set_nonlinear(md, 1), -2); /* no trajectory */
+    assert_int_equal(igea_sim_model_set_nonlinear(NULL, 0), -1);
+    assert_int_equal(igea_sim_flight(NULL, 1, 0, x, dw), -1);
+    assert_int_equal(igea_sim_flight(md, -1, 0, x, dw), -2);
+    assert_int_equal(igea_sim_flight(md, 1, -1, x, dw), -3);
+    assert_int_equal(igea_sim_flight(md, 1, 0, x, NULL), -5);
+    assert_true(all_sentinel(dw, (size_t)m));
+    /* the failed setters left the model as it was */
+    fill_sentinel(x, NT);
+    assert_int_equal(igea_sim_flight(md, 1, 0, x, d2), 0);
+    assert_memory_equal(d1, d2, sizeof d1);
+    assert_int_equal(igea_sim_model_get_size(md, &mm, &nn), 0);
+    assert_true(mm == m && nn == NT);
+    assert_int_equal(igea_sim_model_get_sigma(md, sg), 0);
+    for (int i = 0; i < m; i++)
+        assert_true(sg[i] == SIG);
+    assert_int_equal(igea_sim_model_get_size(md, NULL, &nn), -2);
+    assert_int_equal(igea_sim_model_get_s(md, dw, m - 1), -3);
+    assert_int_equal(igea_sim_model_get_spec(md, NULL), -2);
+    igea_sim_model_free(md);
+    igea_sim_model_free(NULL);
+}
+
+/* igea_sim_check_opts and the noise setter. */
+static void test_check_opts(void **state)
+{
+    double opts[IGEA_SIM_OPT_LEN], S1[6] = {1, 2, 3, 4, 5, 6};
+    igea_sim_model *md = NULL;
+    assert_int_equal(igea_sim_model_create(3, 2, S1, 3, &md), 0);
     igea_sim_defaults(opts);
     opts[IGEA_SIM_OPT_SIGMA_W] = 0.0;
     assert_int_equal(igea_sim_model_set_noise(md, opts), -2);
@@ -398,28 +433,10 @@ static void test_flight_invalid(void **state)
     assert_int_equal(igea_sim_check_opts(NULL), -1);
     igea_sim_defaults(opts);
     assert_int_equal(igea_sim_check_opts(opts), 0);
-    assert_int_equal(igea_sim_model_set_nonlinear(md, 1), -2); /* no trajectory */
-    assert_int_equal(igea_sim_model_set_nonlinear(NULL, 0), -1);
-
-    assert_int_equal(igea_sim_flight(NULL, 1, 0, x, dw), -1);
-    assert_int_equal(igea_sim_flight(md, -1, 0, x, dw), -2);
-    assert_int_equal(igea_sim_flight(md, 1, -1, x, dw), -3);
-    assert_int_equal(igea_sim_flight(md, 1, 0, x, NULL), -5);
-    assert_true(all_sentinel(dw, (size_t)m));
-    /* the failed setters left the model as it was */
-    fill_sentinel(x, NT);
-    assert_int_equal(igea_sim_flight(md, 1, 0, x, d2), 0);
-    assert_memory_equal(d1, d2, sizeof d1);
-    assert_int_equal(igea_sim_model_get_size(md, &mm, &nn), 0);
-    assert_true(mm == m && nn == NT);
-    assert_int_equal(igea_sim_model_get_sigma(md, sg), 0);
-    for (int i = 0; i < m; i++)
-        assert_true(sg[i] == SIG);
-    assert_int_equal(igea_sim_model_get_size(md, NULL, &nn), -2);
-    assert_int_equal(igea_sim_model_get_s(md, dw, m - 1), -3);
-    assert_int_equal(igea_sim_model_get_spec(md, NULL), -2);
+    assert_int_equal(igea_sim_model_set_noise(md, opts), 0);
+    assert_int_equal(igea_sim_model_set_noise(md, NULL), 0);
+    assert_int_equal(igea_sim_model_set_noise(NULL, NULL), -1);
     igea_sim_model_free(md);
-    igea_sim_model_free(NULL);
 }
 
 /* ---- Monte Carlo ----------------------------------------------------------- */
@@ -855,6 +872,7 @@ int main(void)
         cmocka_unit_test(test_flight_noise),
         cmocka_unit_test(test_flight_signal),
         cmocka_unit_test(test_flight_invalid),
+        cmocka_unit_test(test_check_opts),
         cmocka_unit_test(test_mc_threads),
         cmocka_unit_test(test_mc_size),
         cmocka_unit_test(test_mc_misstated),
