@@ -182,12 +182,12 @@ class AccelFit:
     sigma: float                # residual sd of the observation equation
     lam: float                  # EBR lambda hat (0 for LS)
     rms: float
-    nobs: int
+    positions: int              # observations used (IGEA_ACCEL_INFO_NOBS)
     dof: int
 
     def summary(self):
         lines = ["%s model, %s: %d positions, rank %d, residual sd %.3e g, rms %.3e g%s"
-                 % (self.model, self.method.upper(), self.nobs, self.rank, self.sigma, self.rms,
+                 % (self.model, self.method.upper(), self.positions, self.rank, self.sigma, self.rms,
                     ", lambda %.6g" % self.lam if self.method == "ebr" else ""),
                  "%-10s %15s %12s  %s" % ("coef", "estimate", "sd", "determined by")]
         for j, name in enumerate(self.names):
@@ -237,7 +237,8 @@ def accel_fit(theta_deg, y_a, y_b=None, *, model="dual", method="ls", prior_scal
                     ["prior" if f == _capi.ACCEL_PRIOR else "data" for f in flag],
                     combination_names(m, axis), comb, csd,
                     lam=float(info[_capi.ACCEL_INFO_LAMBDA]),
-                    **_lib.fields(info, "ACCEL_INFO_", rank=int, sigma=float, rms=float, nobs=int,
+                    positions=int(info[_capi.ACCEL_INFO_NOBS]),
+                    **_lib.fields(info, "ACCEL_INFO_", rank=int, sigma=float, rms=float,
                                   dof=int))
 
 

@@ -91,7 +91,7 @@ def test_fit_ls_dual_min_norm_against_pinv():
     np.testing.assert_allclose(f.comb, C.T @ x, rtol=1e-9, atol=1e-16)
     np.testing.assert_allclose(f.comb_sd, np.sqrt(np.diag(C.T @ cov @ C)), rtol=1e-8)
     assert f.flags == ["prior", "prior", "data", "data", "data", "prior", "prior", "prior", "prior"]
-    assert (f.rank, f.dof, f.nobs) == (7, 13, 20)
+    assert (f.rank, f.dof, f.positions) == (7, 13, 20)
     assert "PRIOR" in f.summary() and "KA0+KA2" in f.summary()
 
 

@@ -74,3 +74,4 @@ def test_result_fields_are_json_keys():
     assert {"flights", "mean_scale", "mean_tested", "comp_tested", "comp_reject"} <= mc
     assert {"flights", "mean_scale"} <= json_keys("montecarlo")
     assert "n_epochs" in json_keys("rls")
+    assert fields(igea.AccelFit) <= json_keys("accel")
