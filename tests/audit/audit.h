@@ -169,8 +169,8 @@ static inline void audit_rls_state(const igea_rls *h, double st[64])
 }
 
 /* A simulation model of a 6 x 3 geometry (traj 0) or of the 10 s reference
- * trajectory, 3 terms, 5 epochs (traj 1); stated sigma 0.05, specs, one
- * fixed term. NULL on failure. */
+ * trajectory, 3 terms, 5 epochs (traj 1; traj 2 with the nonlinear truth);
+ * stated sigma 0.05, specs, one fixed term. NULL on failure. */
 static inline igea_sim_model *audit_sim_model_new(int traj)
 {
     double S[18], sig = 0.05, spec[3] = {0.5, 1.0, 2.0}, xv[3] = {1.5, 0, 0};
@@ -186,7 +186,8 @@ static inline igea_sim_model *audit_sim_model_new(int traj)
         return NULL;
     if (igea_sim_model_set_sigma(h, &sig, 0, 0.5) != 0 ||
         (!traj && igea_sim_model_set_spec(h, spec) != 0) ||
-        igea_sim_model_set_truth(h, xv, xf) != 0) {
+        igea_sim_model_set_truth(h, xv, xf) != 0 ||
+        (traj == 2 && igea_sim_model_set_nonlinear(h, 1) != 0)) {
         igea_sim_model_free(h);
         return NULL;
     }

@@ -18,6 +18,9 @@ Values:
                            after two updates); 'h0' the same before any;
                            'hpoly' polynomial RLS of order 3, 'hiso' the
                            ISOLATE anomaly policy (audit_rls_new_ex)
+             'm'           a simulation model from audit_sim_model_new(0)
+                           (6 x 3 geometry), 'mtraj' one of a trajectory,
+                           'mnl' the same with the nonlinear truth
 A writable pointer given values is an input-output argument: a failed call
 must leave it as it was, like an output.
 
@@ -295,8 +298,9 @@ VARIANTS = {
         traj='set:igea_sim_trajectory(IGEA_ENVFUN_PLATFORM, 10.0, 10.0, 101, b_, 101);',
         axes='[0, 1, 2, 1, 2, 0]', output='IGEA_ENVFUN_POSITION_G')),
     'igea_sim_trajectory': dict(platform=dict(system='IGEA_ENVFUN_PLATFORM')),
-    'igea_sim_montecarlo': dict(threads=dict(nthreads='2'), traj=dict(model='mtraj')),
-    'igea_sim_flight': dict(traj=dict(model='mtraj')),
+    'igea_sim_montecarlo': dict(threads=dict(nthreads='2'), traj=dict(model='mtraj'),
+                                nonlinear=dict(model='mnl')),
+    'igea_sim_flight': dict(traj=dict(model='mtraj'), nonlinear=dict(model='mnl')),
     'igea_redund_geometry': dict(span=dict(fdi='0', _nan_out=['out'])),
     'igea_redund_fusion_set': dict(oneshot=dict(iterative='0')),
     'igea_rls_update': dict(poly=dict(h='hpoly'),

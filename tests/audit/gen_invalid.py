@@ -125,8 +125,9 @@ def fill_code(p, val, idx):
         new = {'h': 'audit_rls_new(3, 2, 2)', 'h0': 'audit_rls_new(3, 2, 0)',
                'hpoly': 'audit_rls_new_ex(3, 2, 2, IGEA_RLS_POLYNOMIAL, 3, IGEA_RLS_ANOMALY_NONE)',
                'hiso': 'audit_rls_new_ex(3, 2, 2, IGEA_RLS_STANDARD, 1, IGEA_RLS_ANOMALY_ISOLATE)',
-               'm': 'audit_sim_model_new(0)', 'mtraj': 'audit_sim_model_new(1)'}
-        if (val in ('m', 'mtraj')) != (p.hkind == 'AUDIT_HK_SIM'):
+               'm': 'audit_sim_model_new(0)', 'mtraj': 'audit_sim_model_new(1)',
+               'mnl': 'audit_sim_model_new(2)'}
+        if (val in ('m', 'mtraj', 'mnl')) != (p.hkind == 'AUDIT_HK_SIM'):
             raise SystemExit('gen_invalid: handle %s: %s is not of its type' % (p.name, val))
         if val not in new:
             raise SystemExit('gen_invalid: handle %s needs one of %s' % (p.name, ', '.join(new)))
