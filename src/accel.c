@@ -488,11 +488,10 @@ int igea_accel_analyze(int model, int n, const double *theta_deg, double *sv,
 
 /* ---------------------------------------------------------------------- */
 
-int igea_accel_fit(int model, int method, int n, const double *theta_deg,
-                   const double *ya, const double *yb,
-                   const double *prior_scale, int rule, double lam_floor,
-                   double *coef, double *sd, int *flag, double *comb,
-                   double *comb_sd, double *info)
+/* Arguments of igea_accel_fit: 0, -i, or the status of the data. */
+static int fit_check(int model, int method, int n, const double *theta_deg,
+                     const double *ya, const double *yb, const double *prior_scale,
+                     int rule, double lam_floor, const double *coef)
 {
     if (!model_ok(model))
         return -1;
@@ -507,63 +506,38 @@ int igea_accel_fit(int model, int method, int n, const double *theta_deg,
     if (model == IGEA_ACCEL_DUAL && !yb)
         return -6;
     int ebr = method == IGEA_ACCEL_EBR;
-    if (ebr && rule != IGEA_REGRESS_EBR_SC && rule != IGEA_REGRESS_EBR_MM && rule != IGEA_REGRESS_EBR_ML2)
+    if (ebr && rule != IGEA_REGRESS_EBR_SC && rule != IGEA_REGRESS_EBR_MM &&
+        rule != IGEA_REGRESS_EBR_ML2)
         return -8;
     if (ebr && !(lam_floor >= 0.0 && isfinite(lam_floor)))
         return -9;
     if (!coef)
         return -10;
-    int np = model_np(model), nc = model_nc(model);
     if (!igea__finite_vec(n, theta_deg, 1) || !igea__finite_vec(n, ya, 1) ||
         (model == IGEA_ACCEL_DUAL && !igea__finite_vec(n, yb, 1)))
         return IGEA_ENONFINITE;
-    if (ebr && prior_scale) {
-        int st = igea__sigma_vec(np, prior_scale);
-        if (st)
-            return st;
-    }
+    if (ebr && prior_scale)
+        return igea__sigma_vec(model_np(model), prior_scale);
+    return 0;
+}
 
-    size_t nn = (size_t)n;
-    double *A = igea__dalloc(nn * np + 2 * nn);
-    if (!A)
-        return IGEA_ENOMEM;
-    double *y = A + nn * np, *res = y + nn;
-    fill_design(model, n, theta_deg, A, n);
-    observe(model, n, theta_deg, ya, yb, y);
-
-    double x[ACCEL_MAXP], cov[ACCEL_MAXP * ACCEL_MAXP], sdv[ACCEL_MAXP];
+/* Which coefficients the data determine (the null space of the design A
+ * itself, not of A D_s: flg), the combinations C^T x (cmb) and their sds
+ * sqrt(c^T cov c) (cmbsd; NaN when not estimable). cov is LS's sigma^2
+ * pinv(A^T A) or EBR's posterior (METHODS 4.3 step 7). */
+static int fit_identify(int model, int n, const double *A, const double *x,
+                        const double *cov, int *flg, double *cmb, double *cmbsd)
+{
+    int np = model_np(model), nc = model_nc(model), r = 0;
     double s[ACCEL_MAXP], V[ACCEL_MAXP * ACCEL_MAXP], C[ACCEL_MAXP * ACCEL_MAXP];
-    double cmb[ACCEL_MAXP], cmbsd[ACCEL_MAXP], inf[IGEA_ACCEL_INFO_LEN];
-    int flg[ACCEL_MAXP];
-    int rank_ls = 0, r = 0;
-    double sigma2 = 0.0, lam = 0.0;
-    /* LS always: the solution for LS, sigma^2 = S / (n - r) for both. */
-    int st = igea_regress_ls(n, np, A, n, y, NULL, NULL, 0.0, x, cov, np, &rank_ls,
-                             &sigma2, res);
+    int st = svd_v(n, np, A, n, s, V, &r);
     if (st != 0)
-        goto done;
-    if (ebr) {
-        /* EBR's solution and posterior covariance replace LS's. */
-        int rank_ebr;
-        double s2_ebr;
-        st = igea_regress_ebr(n, np, A, n, y, NULL, prior_scale, rule, lam_floor, x,
-                              cov, np, &lam, &rank_ebr, &s2_ebr, NULL, NULL, NULL);
-        if (st != 0)
-            goto done;
-    }
-    for (int j = 0; j < np; j++)
-        sdv[j] = sqrt(fmax(cov[j + j * np], 0.0));
-    /* Null space of the design itself (not of A D_s): which coefficients
-     * the data determine. */
-    st = svd_v(n, np, A, n, s, V, &r);
-    if (st != 0)
-        goto done;
+        return st;
     for (int j = 0; j < np; j++) {
         double e[ACCEL_MAXP] = {0};
         e[j] = 1.0;
-        flg[j] = null_loading(np, r, V, e) > IGEA_ACCEL_LOADING_TOL
-                     ? IGEA_ACCEL_PRIOR
-                     : IGEA_ACCEL_DATA;
+        flg[j] = null_loading(np, r, V, e) > IGEA_ACCEL_LOADING_TOL ? IGEA_ACCEL_PRIOR
+                                                                     : IGEA_ACCEL_DATA;
     }
     fill_combinations(model, C, np);
     for (int k = 0; k < nc; k++) {
@@ -578,22 +552,20 @@ int igea_accel_fit(int model, int method, int n, const double *theta_deg,
             cmbsd[k] = NAN;
             continue;
         }
-        /* c^T cov c: LS sigma^2 pinv(A^T A), EBR the posterior of METHODS
-         * 4.3 step 7. */
         double var = 0.0;
         for (int i = 0; i < np; i++)
             for (int j = 0; j < np; j++)
                 var += c[i] * cov[i + j * np] * c[j];
         cmbsd[k] = sqrt(fmax(var, 0.0));
     }
-    /* No residual degrees of freedom: sigma is unknown, so are the sds. */
-    if (n == rank_ls) {
-        for (int j = 0; j < np; j++)
-            sdv[j] = NAN;
-        for (int k = 0; k < nc; k++)
-            cmbsd[k] = NAN;
-    }
-    /* Residuals of the fit actually returned. */
+    return 0;
+}
+
+/* info of a fit: the residuals of the fit actually returned. */
+static void fit_info(int n, int np, const double *A, const double *y, const double *x,
+                     int rank_ls, double sigma2, double lam, double *inf)
+{
+    size_t nn = (size_t)n;
     igea__ksum rss = {0, 0};
     for (size_t i = 0; i < nn; i++) {
         double f = 0.0;
@@ -604,12 +576,66 @@ int igea_accel_fit(int model, int method, int n, const double *theta_deg,
     }
     inf[IGEA_ACCEL_INFO_RANK] = rank_ls;
     inf[IGEA_ACCEL_INFO_SIGMA] = sqrt(sigma2);
-    inf[IGEA_ACCEL_INFO_LAMBDA] = ebr ? lam : 0.0;
+    inf[IGEA_ACCEL_INFO_LAMBDA] = lam;
     inf[IGEA_ACCEL_INFO_RMS] = sqrt(igea__ksum_get(&rss) / (double)n);
     inf[IGEA_ACCEL_INFO_NOBS] = n;
     inf[IGEA_ACCEL_INFO_DOF] = n - rank_ls;
     inf[IGEA_ACCEL_INFO_ITER] = 0;
     inf[IGEA_ACCEL_INFO_STEP] = 0;
+}
+
+int igea_accel_fit(int model, int method, int n, const double *theta_deg,
+                   const double *ya, const double *yb,
+                   const double *prior_scale, int rule, double lam_floor,
+                   double *coef, double *sd, int *flag, double *comb,
+                   double *comb_sd, double *info)
+{
+    int st = fit_check(model, method, n, theta_deg, ya, yb, prior_scale, rule,
+                       lam_floor, coef);
+    if (st)
+        return st;
+    int ebr = method == IGEA_ACCEL_EBR;
+    int np = model_np(model), nc = model_nc(model);
+    size_t nn = (size_t)n;
+    double *A = igea__dalloc(nn * np + 2 * nn);
+    if (!A)
+        return IGEA_ENOMEM;
+    double *y = A + nn * np, *res = y + nn;
+    fill_design(model, n, theta_deg, A, n);
+    observe(model, n, theta_deg, ya, yb, y);
+
+    double x[ACCEL_MAXP], cov[ACCEL_MAXP * ACCEL_MAXP], sdv[ACCEL_MAXP];
+    double cmb[ACCEL_MAXP], cmbsd[ACCEL_MAXP], inf[IGEA_ACCEL_INFO_LEN];
+    int flg[ACCEL_MAXP];
+    int rank_ls = 0;
+    double sigma2 = 0.0, lam = 0.0;
+    /* LS always: the solution for LS, sigma^2 = S / (n - r) for both. */
+    st = igea_regress_ls(n, np, A, n, y, NULL, NULL, 0.0, x, cov, np, &rank_ls,
+                             &sigma2, res);
+    if (st != 0)
+        goto done;
+    if (ebr) {
+        /* EBR's solution and posterior covariance replace LS's. */
+        int rank_ebr;
+        double s2_ebr;
+        st = igea_regress_ebr(n, np, A, n, y, NULL, prior_scale, rule, lam_floor, x,
+                              cov, np, &lam, &rank_ebr, &s2_ebr, NULL, NULL, NULL);
+        if (st != 0)
+            goto done;
+    }
+    for (int j = 0; j < np; j++)
+        sdv[j] = sqrt(fmax(cov[j + j * np], 0.0));
+    st = fit_identify(model, n, A, x, cov, flg, cmb, cmbsd);
+    if (st != 0)
+        goto done;
+    /* No residual degrees of freedom: sigma is unknown, so are the sds. */
+    if (n == rank_ls) {
+        for (int j = 0; j < np; j++)
+            sdv[j] = NAN;
+        for (int k = 0; k < nc; k++)
+            cmbsd[k] = NAN;
+    }
+    fit_info(n, np, A, y, x, rank_ls, sigma2, ebr ? lam : 0.0, inf);
     /* Every output finite except the documented NaN of a standard
      * deviation that cannot be estimated. */
     if (!igea__finite_vec(np, x, 1) || !igea__finite_vec(nc, cmb, 1) ||
@@ -672,6 +698,126 @@ static void exact_models(const double *K, double phi, double *fa, double *fb,
     }
 }
 
+/* Coefficients K = coef0 + V_r u of the parameters p = (u[r], angle
+ * offsets[n]). */
+static void refine_coef(int r, const double *V, const double *coef0,
+                        const double *p, double *K)
+{
+    const int np = IGEA_ACCEL_NP_DUAL;
+    for (int j = 0; j < np; j++) {
+        K[j] = coef0[j];
+        for (int q = 0; q < r; q++)
+            K[j] += V[j + (size_t)q * np] * p[q];
+    }
+}
+
+/* Residuals res (2n: A outputs, then B) of the exact models at p and their
+ * Jacobian J (2n x (r + n)) with respect to p. */
+static void refine_jacobian(int n, int r, const double *V, const double *coef0,
+                            const double *psi, const double *ya, const double *yb,
+                            const double *p, double *J, double *res)
+{
+    const int np = IGEA_ACCEL_NP_DUAL;
+    size_t nn = (size_t)n, m = 2 * nn, nu = (size_t)r + nn;
+    double K[ACCEL_MAXP], ja[ACCEL_MAXP], jb[ACCEL_MAXP];
+    refine_coef(r, V, coef0, p, K);
+    for (size_t i = 0; i < m * nu; i++)
+        J[i] = 0.0;
+    for (size_t i = 0; i < nn; i++) {
+        double fa, fb, dfa, dfb;
+        exact_models(K, psi[i] + p[r + i], &fa, &fb, &dfa, &dfb, ja, jb);
+        res[i] = ya[i] - fa;
+        res[nn + i] = yb[i] - fb;
+        for (int q = 0; q < r; q++) {
+            double ua = 0.0, ub = 0.0;
+            for (int j = 0; j < np; j++) {
+                ua += ja[j] * V[j + (size_t)q * np];
+                ub += jb[j] * V[j + (size_t)q * np];
+            }
+            J[i + q * m] = ua;
+            J[nn + i + q * m] = ub;
+        }
+        J[i + (r + i) * m] = dfa;
+        J[nn + i + (r + i) * m] = dfb;
+    }
+}
+
+/* The converged coefficients out, their sds sdo from the covariance cv
+ * (nu x nu) of p, and the residual sum of squares. */
+static void refine_result(int n, int r, const double *V, const double *coef0,
+                          const double *psi, const double *ya, const double *yb,
+                          const double *p, const double *cv, double *out,
+                          double *sdo, double *rss_out)
+{
+    const int np = IGEA_ACCEL_NP_DUAL;
+    size_t nn = (size_t)n, nu = (size_t)r + nn;
+    igea__ksum rss = {0, 0};
+    refine_coef(r, V, coef0, p, out);
+    for (int j = 0; j < np; j++) {
+        double v = 0.0;
+        for (int a = 0; a < r; a++)
+            for (int b = 0; b < r; b++)
+                v += V[j + (size_t)a * np] * cv[a + (size_t)b * nu] * V[j + (size_t)b * np];
+        sdo[j] = sqrt(fmax(v, 0.0));
+    }
+    for (size_t i = 0; i < nn; i++) {
+        double fa, fb, dfa, dfb;
+        exact_models(out, psi[i] + p[r + i], &fa, &fb, &dfa, &dfb, NULL, NULL);
+        igea__ksum_add(&rss, (ya[i] - fa) * (ya[i] - fa));
+        igea__ksum_add(&rss, (yb[i] - fb) * (yb[i] - fb));
+    }
+    *rss_out = igea__ksum_get(&rss);
+}
+
+/* Start: u = 0, angles from the outputs themselves (y_A ~ sin phi, y_B ~
+ * cos phi), as offsets from the nominal angles psi (rad). */
+static void refine_start(int n, int r, const double *theta_deg, const double *ya,
+                         const double *yb, double *p, double *psi)
+{
+    for (int i = 0; i < r + n; i++)
+        p[i] = 0.0;
+    for (int i = 0; i < n; i++) {
+        double th = fmod(theta_deg[i], 360.0) * (ACCEL_PI / 180.0);
+        double d = atan2(ya[i], yb[i]) - th;
+        d = remainder(d, 2.0 * ACCEL_PI);
+        p[r + i] = d;
+        psi[i] = th;
+    }
+}
+
+typedef struct {
+    int n, r;
+    const double *V, *coef0, *psi, *ya, *yb;
+} refine_data;
+
+/* Gauss-Newton on p until the largest step is <= tol: each step the
+ * minimum-norm least-squares solution dp of J dp = res (its covariance in
+ * cv). Returns 0, IGEA_ENOCONV or a failure of igea_regress_ls. */
+static int refine_gauss_newton(const refine_data *d, int max_iter, double tol, double *p,
+                               double *J, double *res, double *rres, double *dp,
+                               double *cv, int *it_out, int *rk, double *step_out,
+                               double *sigma2)
+{
+    size_t m = 2 * (size_t)d->n, nu = (size_t)d->r + (size_t)d->n;
+    for (int it = 1; it <= max_iter; it++) {
+        refine_jacobian(d->n, d->r, d->V, d->coef0, d->psi, d->ya, d->yb, p, J, res);
+        int st = igea_regress_ls((int)m, (int)nu, J, (int)m, res, NULL, NULL, 0.0, dp, cv,
+                                 (int)nu, rk, sigma2, rres);
+        if (st != 0)
+            return st;
+        double step = 0.0;
+        for (size_t i = 0; i < nu; i++) {
+            p[i] += dp[i];
+            step = fmax(step, fabs(dp[i]));
+        }
+        *it_out = it;
+        *step_out = step;
+        if (step <= tol)
+            return 0;
+    }
+    return IGEA_ENOCONV;
+}
+
 int igea_accel_refine(int n, const double *theta_deg, const double *ya,
                       const double *yb, const double *coef0, int max_iter,
                       double tol, double *coef, double *sd, double *phi_deg,
@@ -709,86 +855,19 @@ int igea_accel_refine(int n, const double *theta_deg, const double *ya,
         return IGEA_ENOMEM;
     double *res = J + m * nu, *rres = res + m, *p = rres + m, *dp = p + nu,
            *cv = dp + nu, *psi = cv + nu * nu;
-    double K[ACCEL_MAXP], ja[ACCEL_MAXP], jb[ACCEL_MAXP];
-    /* Start: u = 0, angles from the outputs themselves (y_A ~ sin phi,
-     * y_B ~ cos phi), as offsets from the nominal angles. */
-    for (size_t i = 0; i < nu; i++)
-        p[i] = 0.0;
-    for (size_t i = 0; i < nn; i++) {
-        double th = fmod(theta_deg[i], 360.0) * (ACCEL_PI / 180.0);
-        double d = atan2(ya[i], yb[i]) - th;
-        d = remainder(d, 2.0 * ACCEL_PI);
-        p[r + i] = d;
-        psi[i] = th;
-    }
-    int it = 0, converged = 0, rk = 0;
+    refine_start(n, r, theta_deg, ya, yb, p, psi);
+    int it = 0, rk = 0;
     double step = 0.0, sigma2 = 0.0;
-    for (it = 1; it <= max_iter; it++) {
-        for (int j = 0; j < np; j++) {
-            K[j] = coef0[j];
-            for (int q = 0; q < r; q++)
-                K[j] += V[j + (size_t)q * np] * p[q];
-        }
-        for (size_t i = 0; i < m * nu; i++)
-            J[i] = 0.0;
-        for (size_t i = 0; i < nn; i++) {
-            double fa, fb, dfa, dfb;
-            exact_models(K, psi[i] + p[r + i], &fa, &fb, &dfa, &dfb, ja, jb);
-            res[i] = ya[i] - fa;
-            res[nn + i] = yb[i] - fb;
-            for (int q = 0; q < r; q++) {
-                double ua = 0.0, ub = 0.0;
-                for (int j = 0; j < np; j++) {
-                    ua += ja[j] * V[j + (size_t)q * np];
-                    ub += jb[j] * V[j + (size_t)q * np];
-                }
-                J[i + q * m] = ua;
-                J[nn + i + q * m] = ub;
-            }
-            J[i + (r + i) * m] = dfa;
-            J[nn + i + (r + i) * m] = dfb;
-        }
-        st = igea_regress_ls((int)m, (int)nu, J, (int)m, res, NULL, NULL, 0.0, dp, cv,
-                             (int)nu, &rk, &sigma2, rres);
-        if (st != 0)
-            goto done;
-        step = 0.0;
-        for (size_t i = 0; i < nu; i++) {
-            p[i] += dp[i];
-            step = fmax(step, fabs(dp[i]));
-        }
-        if (step <= tol) {
-            converged = 1;
-            break;
-        }
-    }
-    if (!converged) {
-        st = IGEA_ENOCONV;
+    const refine_data d = {n, r, V, coef0, psi, ya, yb};
+    st = refine_gauss_newton(&d, max_iter, tol, p, J, res, rres, dp, cv, &it, &rk, &step,
+                             &sigma2);
+    if (st != 0)
         goto done;
-    }
     {
-        double out[ACCEL_MAXP], sdo[ACCEL_MAXP];
-        igea__ksum rss = {0, 0};
-        for (int j = 0; j < np; j++) {
-            out[j] = coef0[j];
-            for (int q = 0; q < r; q++)
-                out[j] += V[j + (size_t)q * np] * p[q];
-            double v = 0.0;
-            for (int a = 0; a < r; a++)
-                for (int b = 0; b < r; b++)
-                    v += V[j + (size_t)a * np] * cv[a + (size_t)b * nu] *
-                         V[j + (size_t)b * np];
-            sdo[j] = sqrt(fmax(v, 0.0));
-        }
-        for (size_t i = 0; i < nn; i++) {
-            double fa, fb, dfa, dfb;
-            exact_models(out, psi[i] + p[r + i], &fa, &fb, &dfa, &dfb, NULL, NULL);
-            igea__ksum_add(&rss, (ya[i] - fa) * (ya[i] - fa));
-            igea__ksum_add(&rss, (yb[i] - fb) * (yb[i] - fb));
-        }
+        double out[ACCEL_MAXP], sdo[ACCEL_MAXP], rss;
+        refine_result(n, r, V, coef0, psi, ya, yb, p, cv, out, sdo, &rss);
         if (!igea__finite_vec(np, out, 1) || !igea__finite_vec(np, sdo, 1) ||
-            !igea__finite_vec((int)nu, p, 1) || !isfinite(sigma2) ||
-            !isfinite(igea__ksum_get(&rss))) {
+            !igea__finite_vec((int)nu, p, 1) || !isfinite(sigma2) || !isfinite(rss)) {
             st = IGEA_EOVERFLOW;
             goto done;
         }
@@ -802,7 +881,7 @@ int igea_accel_refine(int n, const double *theta_deg, const double *ya,
             info[IGEA_ACCEL_INFO_RANK] = r;
             info[IGEA_ACCEL_INFO_SIGMA] = sqrt(sigma2);
             info[IGEA_ACCEL_INFO_LAMBDA] = 0.0;
-            info[IGEA_ACCEL_INFO_RMS] = sqrt(igea__ksum_get(&rss) / (double)m);
+            info[IGEA_ACCEL_INFO_RMS] = sqrt(rss / (double)m);
             info[IGEA_ACCEL_INFO_NOBS] = (double)m;
             info[IGEA_ACCEL_INFO_DOF] = (double)m - (double)rk;
             info[IGEA_ACCEL_INFO_ITER] = it;

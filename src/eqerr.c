@@ -413,6 +413,60 @@ int igea_eqerr_residual(int layout, int m, int N, const double *S, int lds,
     return 0;
 }
 
+/* igea_eqerr_run's SVD route: the QR factor of the weighted [S D, dw],
+ * then solve_qr. */
+static int run_svd(int m, int N, const double *S, int lds, const double *dw,
+                   const double *track_sigma, int sigma_inc,
+                   const double *spec_sigma, const double *opts, scratch *s)
+{
+    size_t n1 = (size_t)N + 1;
+    double *R = igea__dalloc(n1 * n1), rows = 0.0;
+    if (!R)
+        return IGEA_ENOMEM;
+    memset(R, 0, n1 * n1 * sizeof(double));
+    int st = igea_normal_qr_accumulate(IGEA_COLMAJOR, m, N, S, lds, dw, track_sigma,
+                                       sigma_inc, spec_sigma, R, (int)n1, &rows);
+    if (st < 0 && st > -1000)
+        st = IGEA_EDOMAIN; /* cannot happen: arguments checked above */
+    if (st == 0)
+        st = solve_qr(N, R, (int)n1, rows, opts, s);
+    free(R);
+    return st;
+}
+
+/* igea_eqerr_run's eig route: the normal equations, then solve_eig. */
+static int run_eig(int m, int N, const double *S, int lds, const double *dw,
+                   const double *track_sigma, int sigma_inc,
+                   const double *spec_sigma, const double *opts, scratch *s)
+{
+    size_t nn = (size_t)N * N;
+    double *A = igea__dalloc(nn + N + 2);
+    if (!A)
+        return IGEA_ENOMEM;
+    double *b = A + nn, *wtw = b + N;
+    memset(A, 0, (nn + N + 2) * sizeof(double));
+    int st = igea_normal_accumulate(IGEA_COLMAJOR, m, N, S, lds, dw, track_sigma,
+                                    sigma_inc, spec_sigma, A, N, b, wtw);
+    if (st < 0 && st > -1000)
+        st = IGEA_EDOMAIN; /* cannot happen: arguments checked above */
+    if (st == 0)
+        st = solve_eig(N, A, N, b, opts, s);
+    free(A);
+    return st;
+}
+
+/* Residuals e (m) and the per-axis sums ss of the fit in the scratch. */
+static int run_residuals(int m, int N, const double *S, int lds, const double *dw,
+                         const double *spec_sigma, const scratch *s, double *coef,
+                         double *e, double *ss)
+{
+    int st = igea_eqerr_coef(N, s->V, N, s->xhat, (int)s->info[IGEA_STATS_INFO_N_TEST],
+                             spec_sigma, coef);
+    if (st == 0)
+        st = igea_eqerr_residual(IGEA_COLMAJOR, m, N, S, lds, dw, coef, 0, e, ss);
+    return st;
+}
+
 int igea_eqerr_run(int m, int N, const double *S, int lds, const double *dw,
                    const double *track_sigma, int sigma_inc,
                    const double *spec_sigma, const double *opts,
@@ -449,53 +503,17 @@ int igea_eqerr_run(int m, int N, const double *S, int lds, const double *dw,
     scratch s;
     if (scratch_alloc(&s, N))
         return IGEA_ENOMEM;
-    if (opts[IGEA_EQERR_OPT_ROUTE] == IGEA_EQERR_ROUTE_SVD) {
-        size_t n1 = (size_t)N + 1;
-        double *R = igea__dalloc(n1 * n1), rows = 0.0;
-        if (!R) {
-            scratch_free(&s);
-            return IGEA_ENOMEM;
-        }
-        memset(R, 0, n1 * n1 * sizeof(double));
-        st = igea_normal_qr_accumulate(IGEA_COLMAJOR, m, N, S, lds, dw, track_sigma,
-                                       sigma_inc, spec_sigma, R, (int)n1, &rows);
-        if (st < 0 && st > -1000)
-            st = IGEA_EDOMAIN; /* cannot happen: arguments checked above */
-        if (st == 0)
-            st = solve_qr(N, R, (int)n1, rows, opts, &s);
-        free(R);
-    } else {
-        size_t nn = (size_t)N * N;
-        double *A = igea__dalloc(nn + N + 2);
-        if (!A) {
-            scratch_free(&s);
-            return IGEA_ENOMEM;
-        }
-        double *b = A + nn, *wtw = b + N;
-        memset(A, 0, (nn + N + 2) * sizeof(double));
-        st = igea_normal_accumulate(IGEA_COLMAJOR, m, N, S, lds, dw,
-                                    track_sigma, sigma_inc, spec_sigma, A, N,
-                                    b, wtw);
-        if (st < 0 && st > -1000)
-            st = IGEA_EDOMAIN; /* cannot happen: arguments checked above */
-        if (st == 0)
-            st = solve_eig(N, A, N, b, opts, &s);
-        free(A);
-    }
+    st = opts[IGEA_EQERR_OPT_ROUTE] == IGEA_EQERR_ROUTE_SVD
+             ? run_svd(m, N, S, lds, dw, track_sigma, sigma_inc, spec_sigma, opts, &s)
+             : run_eig(m, N, S, lds, dw, track_sigma, sigma_inc, spec_sigma, opts, &s);
     if (st == 0 && !scratch_finite(&s, N))
         st = IGEA_EOVERFLOW;
     double *coef = NULL, *e = NULL, ss[6] = {0, 0, 0, 0, 0, 0};
     if (st == 0 && (residual || rms)) {
         coef = igea__dalloc((size_t)N);
         e = igea__dalloc((size_t)m);
-        if (!coef || !e)
-            st = IGEA_ENOMEM;
-        if (st == 0)
-            st = igea_eqerr_coef(N, s.V, N, s.xhat,
-                                 (int)s.info[IGEA_STATS_INFO_N_TEST], spec_sigma, coef);
-        if (st == 0)
-            st = igea_eqerr_residual(IGEA_COLMAJOR, m, N, S, lds, dw, coef, 0,
-                                     e, ss);
+        st = !coef || !e ? IGEA_ENOMEM
+                         : run_residuals(m, N, S, lds, dw, spec_sigma, &s, coef, e, ss);
     }
     if (st == 0) {
         scratch_out(&s, N, lambda, P, ldp, equiv_err, z, reject, info);

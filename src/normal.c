@@ -85,6 +85,93 @@ static void weight_block(int layout, int r0, int nr, int N, const double *S,
     }
 }
 
+/* One tracking sigma for every row: no copy of S, one dsyrk over the
+ * caller's array and the weights applied to the N x N result Al (lower)
+ * and bl; wb is m doubles of scratch, ww gathers w'w. */
+static void accumulate_uniform(int layout, int m, int N, const double *S, int lds,
+                               const double *dw, double sigma,
+                               const double *spec_sigma, double *Al, double *bl,
+                               double *wb, igea__ksum *ww)
+{
+    double w = 1.0 / sigma;
+    for (int i = 0; i < m; i++) {
+        wb[i] = dw[i] * w;
+        igea__ksum_add(ww, wb[i] * wb[i]);
+        wb[i] *= w;
+    }
+    /* Row blocks of about 1 MB: dgemv finds the block dsyrk has just
+     * brought into cache, so S is read from memory once. */
+    const int ub = IGEA_MAX(256, (1 << 17) / N);
+    for (int r0 = 0; r0 < m; r0 += ub) {
+        int nr = IGEA_MIN(ub, m - r0);
+        if (layout == IGEA_COLMAJOR) {
+            const double *Sb = S + r0;
+            cblas_dsyrk(CblasColMajor, CblasLower, CblasTrans, N, nr, w * w, Sb, lds, 1.0, Al, N);
+            cblas_dgemv(CblasColMajor, CblasTrans, nr, N, 1.0, Sb, lds, wb + r0, 1, 1.0, bl, 1);
+        } else {
+            const double *Sb = S + (size_t)r0 * lds;
+            cblas_dsyrk(CblasColMajor, CblasLower, CblasNoTrans, N, nr, w * w, Sb, lds, 1.0, Al, N);
+            cblas_dgemv(CblasColMajor, CblasNoTrans, N, nr, 1.0, Sb, lds, wb + r0, 1, 1.0, bl, 1);
+        }
+    }
+    if (spec_sigma) {
+        for (int j = 0; j < N; j++) {
+            for (int i = j; i < N; i++)
+                Al[i + (size_t)j * N] *= spec_sigma[i] * spec_sigma[j];
+            bl[j] *= spec_sigma[j];
+        }
+    }
+}
+
+/* Rows of different sigmas: weighted in cache-sized blocks of rb rows
+ * (scratch: rb (N + 2) doubles). */
+static void accumulate_blocks(int layout, int m, int N, const double *S, int lds,
+                              const double *dw, const double *track_sigma,
+                              int sigma_inc, const double *spec_sigma, int rb,
+                              double *Al, double *bl, double *scratch, igea__ksum *ww)
+{
+    double *blk = scratch, *wb = blk + (size_t)rb * N, *wt = wb + rb;
+    for (int r0 = 0; r0 < m; r0 += rb) {
+        int nr = IGEA_MIN(rb, m - r0);
+        weight_block(layout, r0, nr, N, S, lds, dw, track_sigma, sigma_inc,
+                     spec_sigma, blk, wb, wt);
+        cblas_dsyrk(CblasColMajor, CblasLower, CblasTrans, N, nr, 1.0, blk, nr, 1.0, Al, N);
+        cblas_dgemv(CblasColMajor, CblasTrans, nr, N, 1.0, blk, nr, wb, 1, 1.0, bl, 1);
+        for (int i = 0; i < nr; i++)
+            igea__ksum_add(ww, wb[i] * wb[i]);
+    }
+}
+
+/* Add Al (lower, N x N), bl and ww to the running A (both triangles), b
+ * and wtw, or IGEA_EOVERFLOW (checked before any write). */
+static int add_running(int m, int N, const double *Al, const double *bl, double ww,
+                       double *A, int lda, double *b, double *wtw)
+{
+    int over = !isfinite(wtw[0] + ww);
+    for (int j = 0; j < N && !over; j++) {
+        over = !isfinite(b[j] + bl[j]);
+        for (int i = j; i < N && !over; i++) {
+            double v = Al[i + (size_t)j * N];
+            over = !isfinite(IGEA_AT(A, lda, i, j) + v) ||
+                   (i != j && !isfinite(IGEA_AT(A, lda, j, i) + v));
+        }
+    }
+    if (over)
+        return IGEA_EOVERFLOW;
+    for (int j = 0; j < N; j++) {
+        for (int i = j; i < N; i++) {
+            double v = Al[i + (size_t)j * N];
+            IGEA_AT(A, lda, i, j) += v;
+            if (i != j)
+                IGEA_AT(A, lda, j, i) += v;
+        }
+        b[j] += bl[j];
+    }
+    wtw[0] += ww;
+    wtw[1] += m;
+    return 0;
+}
+
 int igea_normal_accumulate(int layout, int m, int N, const double *S, int lds,
                            const double *dw, const double *track_sigma,
                            int sigma_inc, const double *spec_sigma, double *A,
@@ -103,9 +190,8 @@ int igea_normal_accumulate(int layout, int m, int N, const double *S, int lds,
     if (m == 0)
         return 0;
 
-    /* One tracking sigma for every row (the common case): no copy of S at
-     * all, one dsyrk over the caller's array and the weights applied to the
-     * N x N result. Otherwise rows are weighted in cache-sized blocks. */
+    /* One tracking sigma for every row (the common case), or rows weighted
+     * in cache-sized blocks. */
     int uniform = 1;
     if (sigma_inc)
         for (int i = 1; i < m && uniform; i++)
@@ -119,85 +205,23 @@ int igea_normal_accumulate(int layout, int m, int N, const double *S, int lds,
     double *Al = work, *bl = Al + nn;
     memset(Al, 0, (nn + (size_t)N) * sizeof(double));
     igea__ksum ww = {0, 0};
-
-    if (uniform) {
-        double *wb = bl + N;
-        double w = 1.0 / track_sigma[0];
-        for (int i = 0; i < m; i++) {
-            wb[i] = dw[i] * w;
-            igea__ksum_add(&ww, wb[i] * wb[i]);
-            wb[i] *= w;
-        }
-        /* Row blocks of about 1 MB: dgemv finds the block dsyrk has just
-         * brought into cache, so S is read from memory once. */
-        const int ub = IGEA_MAX(256, (1 << 17) / N);
-        for (int r0 = 0; r0 < m; r0 += ub) {
-            int nr = IGEA_MIN(ub, m - r0);
-            if (layout == IGEA_COLMAJOR) {
-                const double *Sb = S + r0;
-                cblas_dsyrk(CblasColMajor, CblasLower, CblasTrans, N, nr, w * w, Sb, lds, 1.0, Al, N);
-                cblas_dgemv(CblasColMajor, CblasTrans, nr, N, 1.0, Sb, lds, wb + r0, 1, 1.0, bl, 1);
-            } else {
-                const double *Sb = S + (size_t)r0 * lds;
-                cblas_dsyrk(CblasColMajor, CblasLower, CblasNoTrans, N, nr, w * w, Sb, lds, 1.0, Al, N);
-                cblas_dgemv(CblasColMajor, CblasNoTrans, N, nr, 1.0, Sb, lds, wb + r0, 1, 1.0, bl, 1);
-            }
-        }
-        if (spec_sigma) {
-            for (int j = 0; j < N; j++) {
-                for (int i = j; i < N; i++)
-                    Al[i + (size_t)j * N] *= spec_sigma[i] * spec_sigma[j];
-                bl[j] *= spec_sigma[j];
-            }
-        }
-    } else {
-        double *blk = bl + N, *wb = blk + (size_t)rb * N, *wt = wb + rb;
-        for (int r0 = 0; r0 < m; r0 += rb) {
-            int nr = IGEA_MIN(rb, m - r0);
-            weight_block(layout, r0, nr, N, S, lds, dw, track_sigma, sigma_inc,
-                         spec_sigma, blk, wb, wt);
-            cblas_dsyrk(CblasColMajor, CblasLower, CblasTrans, N, nr, 1.0, blk, nr, 1.0, Al, N);
-            cblas_dgemv(CblasColMajor, CblasTrans, nr, N, 1.0, blk, nr, wb, 1, 1.0, bl, 1);
-            for (int i = 0; i < nr; i++)
-                igea__ksum_add(&ww, wb[i] * wb[i]);
-        }
-    }
+    if (uniform)
+        accumulate_uniform(layout, m, N, S, lds, dw, track_sigma[0], spec_sigma, Al, bl,
+                           bl + N, &ww);
+    else
+        accumulate_blocks(layout, m, N, S, lds, dw, track_sigma, sigma_inc, spec_sigma,
+                          rb, Al, bl, bl + N, &ww);
     /* A NaN or Inf anywhere in S or dw reaches a diagonal element of A (a
      * sum of squares, which cannot cancel), b or w'w: one O(N) check; so
      * does an overflow of the weighted sums of finite data, told apart by a
      * scan of the inputs on that failure path only. */
     if (!igea__finite_vec(N, Al, N + 1) || !igea__finite_vec(N, bl, 1) ||
-        !isfinite(igea__ksum_get(&ww))) {
-        free(work);
-        return nonfinite_cause(layout, 0, m, N, S, lds, dw);
-    }
-    /* The running sums must stay finite too (checked before any write). */
-    int over = !isfinite(wtw[0] + igea__ksum_get(&ww));
-    for (int j = 0; j < N && !over; j++) {
-        over = !isfinite(b[j] + bl[j]);
-        for (int i = j; i < N && !over; i++) {
-            double v = Al[i + (size_t)j * N];
-            over = !isfinite(IGEA_AT(A, lda, i, j) + v) ||
-                   (i != j && !isfinite(IGEA_AT(A, lda, j, i) + v));
-        }
-    }
-    if (over) {
-        free(work);
-        return IGEA_EOVERFLOW;
-    }
-    for (int j = 0; j < N; j++) {
-        for (int i = j; i < N; i++) {
-            double v = Al[i + (size_t)j * N];
-            IGEA_AT(A, lda, i, j) += v;
-            if (i != j)
-                IGEA_AT(A, lda, j, i) += v;
-        }
-        b[j] += bl[j];
-    }
-    wtw[0] += igea__ksum_get(&ww);
-    wtw[1] += m;
+        !isfinite(igea__ksum_get(&ww)))
+        st = nonfinite_cause(layout, 0, m, N, S, lds, dw);
+    else
+        st = add_running(m, N, Al, bl, igea__ksum_get(&ww), A, lda, b, wtw);
     free(work);
-    return 0;
+    return st;
 }
 
 int igea_normal_qr_accumulate(int layout, int m, int N, const double *S,

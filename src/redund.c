@@ -266,6 +266,171 @@ static int svd3_init(svd3_ws *w, int mmax)
     return w->work ? 0 : IGEA_ENOMEM;
 }
 
+/* Unit axes h (n x 3, ld n) from the rows of axes; IGEA_EDOMAIN for a zero
+ * axis. */
+static int geom_unit_axes(int n, const double *axes, int lda, double *h)
+{
+    for (int k = 0; k < n; k++) {
+        double nr = sqrt(IGEA_AT(axes, lda, k, 0) * IGEA_AT(axes, lda, k, 0) +
+                         IGEA_AT(axes, lda, k, 1) * IGEA_AT(axes, lda, k, 1) +
+                         IGEA_AT(axes, lda, k, 2) * IGEA_AT(axes, lda, k, 2));
+        if (!(nr > 0.0))
+            return IGEA_EDOMAIN;
+        for (int c = 0; c < 3; c++)
+            h[k + (size_t)c * n] = IGEA_AT(axes, lda, k, c) / nr;
+    }
+    return 0;
+}
+
+/* Direction classes of the unit axes: cdir (rows, ld n), cls[k] the class
+ * of sensor k, rho the survival of each class (1 - prod (1 - R_k)).
+ * Returns the number of classes. */
+static int geom_classes(int n, const double *h, const double *R, double *cdir,
+                        int *cls, double *rho)
+{
+    int d = 0;
+    for (int k = 0; k < n; k++) {
+        int found = -1;
+        for (int c = 0; c < d && found < 0; c++) {
+            double dot = 0.0;
+            for (int e = 0; e < 3; e++)
+                dot += h[k + (size_t)e * n] * cdir[c + (size_t)e * n];
+            if (fabs(dot) > GEOM_SAME_DIR)
+                found = c;
+        }
+        if (found < 0) {
+            found = d++;
+            for (int e = 0; e < 3; e++)
+                cdir[found + (size_t)e * n] = h[k + (size_t)e * n];
+            rho[found] = 1.0;
+        }
+        cls[k] = found;
+        rho[found] *= 1.0 - R[k]; /* failure product for now */
+    }
+    for (int c = 0; c < d; c++)
+        rho[c] = 1.0 - rho[c];
+    return d;
+}
+
+/* Probability that the surviving classes span 3-space: the sum over the
+ * subsets of the d classes that do (a, sv: scratch, ld n). */
+static int geom_span(int n, int d, const double *cdir, const double *rho,
+                     double *a, double *sv, svd3_ws *ws, double *span_out)
+{
+    igea__ksum span = {0.0, 0.0};
+    unsigned long nsub = 1UL << d;
+    for (unsigned long mask = 0; mask < nsub; mask++) {
+        double w = 1.0;
+        int cnt = 0;
+        for (int c = 0; c < d; c++) {
+            if (mask & (1UL << c)) {
+                w *= rho[c];
+                for (int e = 0; e < 3; e++)
+                    a[cnt + (size_t)e * n] = cdir[c + (size_t)e * n];
+                cnt++;
+            } else {
+                w *= 1.0 - rho[c];
+            }
+        }
+        if (cnt < 3 || w == 0.0)
+            continue;
+        double u1[1], vt1[1];
+        lapack_int info = LAPACKE_dgesdd_work(LAPACK_COL_MAJOR, 'N', cnt, 3, a, n,
+                                              sv, u1, 1, vt1, 1, ws->work,
+                                              ws->lwork, ws->iwork);
+        if (info != 0)
+            return IGEA_ELAPACK;
+        if (sv[2] > GEOM_RANK_TOL * sv[0])
+            igea__ksum_add(&span, w);
+    }
+    *span_out = igea__ksum_get(&span);
+    return 0;
+}
+
+/* Detection and isolation of one subset of cnt >= 4 surviving sensors
+ * (rows of a, ld n): parity projector P = I - U U^T from the thin SVD.
+ * Sets *detect (every sensor seen by the parity space) and *isolate (no
+ * two parity columns parallel); *rank3 0 when the subset does not span. */
+static int geom_subset_fdi(int n, int cnt, double *a, double *sv, double *u,
+                           double *P, double *vt, svd3_ws *ws, int *rank3,
+                           int *detect, int *isolate)
+{
+    *rank3 = *detect = *isolate = 0;
+    lapack_int info = LAPACKE_dgesdd_work(LAPACK_COL_MAJOR, 'S', cnt, 3, a, n, sv,
+                                          u, n, vt, 3, ws->work, ws->lwork,
+                                          ws->iwork);
+    if (info != 0)
+        return IGEA_ELAPACK;
+    *rank3 = sv[2] > GEOM_RANK_TOL * sv[0];
+    if (!*rank3)
+        return 0;
+    for (int j = 0; j < cnt; j++)
+        for (int i = 0; i < cnt; i++) {
+            double s = (i == j) ? 1.0 : 0.0;
+            for (int e = 0; e < 3; e++)
+                s -= u[i + (size_t)e * n] * u[j + (size_t)e * n];
+            P[i + (size_t)j * n] = s;
+        }
+    int det = 1, iso = 1;
+    for (int i = 0; i < cnt && det; i++)
+        if (!(P[i + (size_t)i * n] > GEOM_ZERO_COL))
+            det = 0;
+    if (!det)
+        return 0;
+    for (int j = 0; j < cnt && iso; j++)
+        for (int i = j + 1; i < cnt && iso; i++) {
+            double pij = P[i + (size_t)j * n];
+            if (pij * pij >= (1.0 - GEOM_PARALLEL) * P[i + (size_t)i * n] *
+                                 P[j + (size_t)j * n])
+                iso = 0;
+        }
+    *detect = 1;
+    *isolate = iso;
+    return 0;
+}
+
+/* Probabilities of detection and isolation: the sums over the subsets of
+ * surviving sensors (h unit axes, a and sv scratch, ld n). */
+static int geom_fdi(int n, const double *h, const double *R, double *a,
+                    double *sv, svd3_ws *ws, double *det_out, double *iso_out)
+{
+    double *u = igea__dalloc((size_t)n * 3 + (size_t)n * (size_t)n + 9);
+    int *idx = igea__ialloc((size_t)n);
+    int status = !u || !idx ? IGEA_ENOMEM : 0;
+    double *P = u ? u + (size_t)n * 3 : NULL, *vt = P ? P + (size_t)n * n : NULL;
+    igea__ksum det = {0.0, 0.0}, iso = {0.0, 0.0};
+    unsigned long nsub = 1UL << n;
+    for (unsigned long mask = 0; mask < nsub && status == 0; mask++) {
+        double w = 1.0;
+        int cnt = 0;
+        for (int k = 0; k < n; k++) {
+            if (mask & (1UL << k)) {
+                w *= R[k];
+                for (int e = 0; e < 3; e++)
+                    a[cnt + (size_t)e * n] = h[k + (size_t)e * n];
+                idx[cnt++] = k;
+            } else {
+                w *= 1.0 - R[k];
+            }
+        }
+        if (cnt < 4 || w == 0.0)
+            continue; /* < 4 sensors: no parity relation */
+        int rank3, detect, isolate;
+        status = geom_subset_fdi(n, cnt, a, sv, u, P, vt, ws, &rank3, &detect, &isolate);
+        if (detect)
+            igea__ksum_add(&det, w);
+        if (isolate)
+            igea__ksum_add(&iso, w);
+    }
+    if (status == 0) {
+        *det_out = igea__ksum_get(&det);
+        *iso_out = igea__ksum_get(&iso);
+    }
+    free(u);
+    free(idx);
+    return status;
+}
+
 int igea_redund_geometry(int n, const double *axes, int lda, const double *R,
                          int fdi, double *out)
 {
@@ -299,38 +464,9 @@ int igea_redund_geometry(int n, const double *axes, int lda, const double *R,
     double *rho = cdir + (size_t)n * 3; /* class survival */
     double *sv = rho + n;               /* singular values etc. */
     double *a = sv + 9;                 /* matrix for dgesdd, ld n */
-    int status = 0;
-    for (int k = 0; k < n && status == 0; k++) {
-        double nr = sqrt(IGEA_AT(axes, lda, k, 0) * IGEA_AT(axes, lda, k, 0) +
-                         IGEA_AT(axes, lda, k, 1) * IGEA_AT(axes, lda, k, 1) +
-                         IGEA_AT(axes, lda, k, 2) * IGEA_AT(axes, lda, k, 2));
-        if (!(nr > 0.0)) {
-            status = IGEA_EDOMAIN;
-            break;
-        }
-        for (int c = 0; c < 3; c++)
-            h[k + (size_t)c * n] = IGEA_AT(axes, lda, k, c) / nr;
-    }
-    /* Direction classes. */
-    int d = 0;
-    for (int k = 0; k < n && status == 0; k++) {
-        int found = -1;
-        for (int c = 0; c < d && found < 0; c++) {
-            double dot = 0.0;
-            for (int e = 0; e < 3; e++)
-                dot += h[k + (size_t)e * n] * cdir[c + (size_t)e * n];
-            if (fabs(dot) > GEOM_SAME_DIR)
-                found = c;
-        }
-        if (found < 0) {
-            found = d++;
-            for (int e = 0; e < 3; e++)
-                cdir[found + (size_t)e * n] = h[k + (size_t)e * n];
-            rho[found] = 1.0;
-        }
-        cls[k] = found;
-        rho[found] *= 1.0 - R[k]; /* failure product for now */
-    }
+    int status = geom_unit_axes(n, axes, lda, h), d = 0;
+    if (status == 0)
+        d = geom_classes(n, h, R, cdir, cls, rho);
     if (status == 0 && d > IGEA_REDUND_GEOM_CLASS_MAX)
         status = -1;
     svd3_ws ws = {NULL, 0, {0}};
@@ -338,102 +474,14 @@ int igea_redund_geometry(int n, const double *axes, int lda, const double *R,
         status = svd3_init(&ws, IGEA_MAX(n, 3));
     double res[IGEA_REDUND_GEOM_LEN];
     if (status == 0) {
-        for (int c = 0; c < d; c++)
-            rho[c] = 1.0 - rho[c];
-        igea__ksum span = {0.0, 0.0};
-        unsigned long nsub = 1UL << d;
-        for (unsigned long mask = 0; mask < nsub && status == 0; mask++) {
-            double w = 1.0;
-            int cnt = 0;
-            for (int c = 0; c < d; c++) {
-                if (mask & (1UL << c)) {
-                    w *= rho[c];
-                    for (int e = 0; e < 3; e++)
-                        a[cnt + (size_t)e * n] = cdir[c + (size_t)e * n];
-                    cnt++;
-                } else {
-                    w *= 1.0 - rho[c];
-                }
-            }
-            if (cnt < 3 || w == 0.0)
-                continue;
-            double u1[1], vt1[1];
-            lapack_int info = LAPACKE_dgesdd_work(LAPACK_COL_MAJOR, 'N', cnt, 3,
-                                                  a, n, sv, u1, 1, vt1, 1,
-                                                  ws.work, ws.lwork, ws.iwork);
-            if (info != 0)
-                status = IGEA_ELAPACK;
-            else if (sv[2] > GEOM_RANK_TOL * sv[0])
-                igea__ksum_add(&span, w);
-        }
-        res[IGEA_REDUND_GEOM_SPAN] = igea__ksum_get(&span);
+        status = geom_span(n, d, cdir, rho, a, sv, &ws, &res[IGEA_REDUND_GEOM_SPAN]);
         res[IGEA_REDUND_GEOM_DETECT] = NAN;
         res[IGEA_REDUND_GEOM_ISOLATE] = NAN;
         res[IGEA_REDUND_GEOM_CLASSES] = (double)d;
     }
-    if (status == 0 && fdi) {
-        double *u = igea__dalloc((size_t)n * 3 + (size_t)n * (size_t)n + 9);
-        int *idx = igea__ialloc((size_t)n);
-        if (!u || !idx)
-            status = IGEA_ENOMEM;
-        double *P = u ? u + (size_t)n * 3 : NULL, *vt = P ? P + (size_t)n * n : NULL;
-        igea__ksum det = {0.0, 0.0}, iso = {0.0, 0.0};
-        unsigned long nsub = 1UL << n;
-        for (unsigned long mask = 0; mask < nsub && status == 0; mask++) {
-            double w = 1.0;
-            int cnt = 0;
-            for (int k = 0; k < n; k++) {
-                if (mask & (1UL << k)) {
-                    w *= R[k];
-                    for (int e = 0; e < 3; e++)
-                        a[cnt + (size_t)e * n] = h[k + (size_t)e * n];
-                    idx[cnt++] = k;
-                } else {
-                    w *= 1.0 - R[k];
-                }
-            }
-            if (cnt < 4 || w == 0.0)
-                continue; /* < 4 sensors: no parity relation */
-            lapack_int info = LAPACKE_dgesdd_work(LAPACK_COL_MAJOR, 'S', cnt, 3,
-                                                  a, n, sv, u, n, vt, 3,
-                                                  ws.work, ws.lwork, ws.iwork);
-            if (info != 0) {
-                status = IGEA_ELAPACK;
-                break;
-            }
-            if (!(sv[2] > GEOM_RANK_TOL * sv[0]))
-                continue;
-            for (int j = 0; j < cnt; j++)
-                for (int i = 0; i < cnt; i++) {
-                    double s = (i == j) ? 1.0 : 0.0;
-                    for (int e = 0; e < 3; e++)
-                        s -= u[i + (size_t)e * n] * u[j + (size_t)e * n];
-                    P[i + (size_t)j * n] = s;
-                }
-            int detect = 1, isolate = 1;
-            for (int i = 0; i < cnt && detect; i++)
-                if (!(P[i + (size_t)i * n] > GEOM_ZERO_COL))
-                    detect = 0;
-            if (!detect)
-                continue;
-            igea__ksum_add(&det, w);
-            for (int j = 0; j < cnt && isolate; j++)
-                for (int i = j + 1; i < cnt && isolate; i++) {
-                    double pij = P[i + (size_t)j * n];
-                    if (pij * pij >= (1.0 - GEOM_PARALLEL) * P[i + (size_t)i * n] *
-                                         P[j + (size_t)j * n])
-                        isolate = 0;
-                }
-            if (isolate)
-                igea__ksum_add(&iso, w);
-        }
-        if (status == 0) {
-            res[IGEA_REDUND_GEOM_DETECT] = igea__ksum_get(&det);
-            res[IGEA_REDUND_GEOM_ISOLATE] = igea__ksum_get(&iso);
-        }
-        free(u);
-        free(idx);
-    }
+    if (status == 0 && fdi)
+        status = geom_fdi(n, h, R, a, sv, &ws, &res[IGEA_REDUND_GEOM_DETECT],
+                          &res[IGEA_REDUND_GEOM_ISOLATE]);
     if (status == 0)
         memcpy(out, res, sizeof res);
     free(ws.work);
@@ -856,6 +904,44 @@ int igea_redund_parity(int m, int q, const double *H, int ldh, double *V,
     return st;
 }
 
+/* Isolation on the parity vector p (dof) with V (dof x m, ld dof): the
+ * sensor whose parity column explains p best (returned, with its
+ * statistic), and whether every pair of columns can be told apart. */
+static int fdi_isolate(int m, int dof, const double *V, const double *p,
+                       int *isolable_out, double *best_out)
+{
+    int best = -1, isolable = 1;
+    double best_stat = 0.0;
+    for (int k = 0; k < m; k++) {
+        double nk = 0.0, vp = 0.0;
+        for (int r = 0; r < dof; r++) {
+            nk += V[r + (size_t)k * dof] * V[r + (size_t)k * dof];
+            vp += V[r + (size_t)k * dof] * p[r];
+        }
+        if (!(nk > GEOM_ZERO_COL)) {
+            isolable = 0;
+            continue;
+        }
+        for (int l = k + 1; l < m; l++) {
+            double nl = 0.0, kl = 0.0;
+            for (int r = 0; r < dof; r++) {
+                nl += V[r + (size_t)l * dof] * V[r + (size_t)l * dof];
+                kl += V[r + (size_t)k * dof] * V[r + (size_t)l * dof];
+            }
+            if (kl * kl >= (1.0 - GEOM_PARALLEL) * nk * nl)
+                isolable = 0;
+        }
+        double sk = vp * vp / nk;
+        if (best < 0 || sk > best_stat) {
+            best = k;
+            best_stat = sk;
+        }
+    }
+    *isolable_out = isolable;
+    *best_out = best_stat;
+    return best;
+}
+
 int igea_redund_fdi(int m, int q, const double *H, int ldh, const double *y,
                     const double *sigma, double pfa, double *parity,
                     double *info, int *isolated)
@@ -915,33 +1001,9 @@ int igea_redund_fdi(int m, int q, const double *H, int ldh, const double *y,
         free(a);
         return IGEA_ENOCONV;
     }
-    int best = -1, isolable = 1;
-    double best_stat = 0.0;
-    for (int k = 0; k < m; k++) {
-        double nk = 0.0, vp = 0.0;
-        for (int r = 0; r < dof; r++) {
-            nk += V[r + (size_t)k * dof] * V[r + (size_t)k * dof];
-            vp += V[r + (size_t)k * dof] * p[r];
-        }
-        if (!(nk > GEOM_ZERO_COL)) {
-            isolable = 0;
-            continue;
-        }
-        for (int l = k + 1; l < m; l++) {
-            double nl = 0.0, kl = 0.0;
-            for (int r = 0; r < dof; r++) {
-                nl += V[r + (size_t)l * dof] * V[r + (size_t)l * dof];
-                kl += V[r + (size_t)k * dof] * V[r + (size_t)l * dof];
-            }
-            if (kl * kl >= (1.0 - GEOM_PARALLEL) * nk * nl)
-                isolable = 0;
-        }
-        double sk = vp * vp / nk;
-        if (best < 0 || sk > best_stat) {
-            best = k;
-            best_stat = sk;
-        }
-    }
+    int isolable;
+    double best_stat;
+    int best = fdi_isolate(m, dof, V, p, &isolable, &best_stat);
     int detected = T > thr;
     if (!detected)
         best = -1;
@@ -959,6 +1021,43 @@ int igea_redund_fdi(int m, int q, const double *H, int ldh, const double *y,
         *isolated = best;
     free(a);
     return 0;
+}
+
+/* The residuals p_ij = ad - (cy ay_i + cz az_j) (r, ny x nz) against
+ * kappa times their sd: a sensor is suspect when every residual through it
+ * fails (fy, fz); when all fail, the diagonal sensor is (returns 1, fy and
+ * fz cleared). */
+static int skew_table(int ny, const double *ay, const double *sy, int nz,
+                      const double *az, const double *sz, double ad, double sd,
+                      double cy, double cz, double kappa, double *r, int *fy,
+                      int *fz)
+{
+    size_t nfail = 0;
+    for (int i = 0; i < ny; i++)
+        fy[i] = 1;
+    for (int j = 0; j < nz; j++)
+        fz[j] = 1;
+    for (int j = 0; j < nz; j++)
+        for (int i = 0; i < ny; i++) {
+            double pij = ad - (cy * ay[i] + cz * az[j]);
+            double thr = kappa * sqrt(sd * sd + cy * cy * sy[i] * sy[i] +
+                                      cz * cz * sz[j] * sz[j]);
+            r[i + (size_t)j * ny] = pij;
+            if (fabs(pij) > thr) {
+                nfail++;
+            } else {
+                fy[i] = 0;
+                fz[j] = 0;
+            }
+        }
+    int dsus = nfail == (size_t)ny * (size_t)nz;
+    if (dsus) {
+        for (int i = 0; i < ny; i++)
+            fy[i] = 0;
+        for (int j = 0; j < nz; j++)
+            fz[j] = 0;
+    }
+    return dsus;
 }
 
 int igea_redund_skew_check(int ny, const double *ay, const double *sy, int nz,
@@ -1008,31 +1107,8 @@ int igea_redund_skew_check(int ny, const double *ay, const double *sy, int nz,
         free(fy);
         return IGEA_ENOMEM;
     }
-    int *fz = fy + ny, nfail = 0;
-    for (int i = 0; i < ny; i++)
-        fy[i] = 1;
-    for (int j = 0; j < nz; j++)
-        fz[j] = 1;
-    for (int j = 0; j < nz; j++)
-        for (int i = 0; i < ny; i++) {
-            double pij = ad - (cy * ay[i] + cz * az[j]);
-            double thr = kappa * sqrt(sd * sd + cy * cy * sy[i] * sy[i] +
-                                      cz * cz * sz[j] * sz[j]);
-            r[i + (size_t)j * ny] = pij;
-            if (fabs(pij) > thr) {
-                nfail++;
-            } else {
-                fy[i] = 0;
-                fz[j] = 0;
-            }
-        }
-    int dsus = (size_t)nfail == np_;
-    if (dsus) {
-        for (int i = 0; i < ny; i++)
-            fy[i] = 0;
-        for (int j = 0; j < nz; j++)
-            fz[j] = 0;
-    }
+    int *fz = fy + ny;
+    int dsus = skew_table(ny, ay, sy, nz, az, sz, ad, sd, cy, cz, kappa, r, fy, fz);
     if (resid)
         memcpy(resid, r, np_ * sizeof(double));
     memcpy(faulty_y, fy, (size_t)ny * sizeof(int));

@@ -238,6 +238,28 @@ static void unscale(int N, const double *spec, double *x, double *cov, int ldc)
 
 /* ---- least squares ----------------------------------------------------- */
 
+/* cs[j] = 1 / ||column j of diag(1/sigma) A||, without forming a norm
+ * beyond DBL_MAX; a column whose scale is not representable is left
+ * unscaled (1). */
+static void equilibrate(int m, int N, const double *A, int lda, const double *sigma,
+                        double *cs)
+{
+    for (int j = 0; j < N; j++) {
+        double nrm = 0.0, sc = 0.0;
+        for (int i = 0; i < m; i++) {
+            double v = IGEA_AT(A, lda, i, j) / (sigma ? sigma[i] : 1.0);
+            double av = fabs(v);
+            if (av > sc) {
+                nrm = nrm * (sc / av) * (sc / av) + 1.0;
+                sc = av;
+            } else if (av > 0)
+                nrm += (av / sc) * (av / sc);
+        }
+        double inv = sc > 0 ? (1.0 / sc) / sqrt(nrm) : 1.0;
+        cs[j] = isfinite(inv) && inv >= DBL_MIN ? inv : 1.0;
+    }
+}
+
 /* Least squares on the (scaled) design A; spec only takes x and cov back to
  * the caller's units. */
 static int ls_core(int m, int N, const double *A, int lda, const double *y,
@@ -255,22 +277,7 @@ static int ls_core(int m, int N, const double *A, int lda, const double *y,
     if (!cs)
         return IGEA_ENOMEM;
     double *xs = cs + N, *res = xs + N, *g = res + m, *cv = g + N;
-    for (int j = 0; j < N; j++) {
-        double nrm = 0.0, sc = 0.0;
-        for (int i = 0; i < m; i++) {
-            double v = IGEA_AT(A, lda, i, j) / (sigma ? sigma[i] : 1.0);
-            double av = fabs(v);
-            if (av > sc) {
-                nrm = nrm * (sc / av) * (sc / av) + 1.0;
-                sc = av;
-            } else if (av > 0)
-                nrm += (av / sc) * (av / sc);
-        }
-        /* 1 / (sc sqrt(nrm)) without forming a norm beyond DBL_MAX; a
-         * column whose scale is not representable is left unscaled. */
-        double inv = sc > 0 ? (1.0 / sc) / sqrt(nrm) : 1.0;
-        cs[j] = isfinite(inv) && inv >= DBL_MIN ? inv : 1.0;
-    }
+    equilibrate(m, N, A, lda, sigma, cs);
     canon c;
     st = canon_make(m, N, A, lda, y, sigma, cs, rcond, &c);
     if (st) {
@@ -1189,6 +1196,45 @@ int igea_regress_bayes(int m, int N, const double *A, int lda,
 
 /* ---- diagnostics ----------------------------------------------------------- */
 
+/* The eigenvalues ev, VIFs vf, combination sds sc and prior-determined
+ * flags pdw (N each) of the canonical form with noise variance s2; every
+ * value of the estimable part representable, else IGEA_EOVERFLOW. */
+static int coll_tables(const canon *c, double s2, double *ev, double *vf, double *sc,
+                       int *pdw)
+{
+    int N = c->N, r = c->r, k = c->k;
+    for (int i = 0; i < N; i++)
+        ev[i] = i < k ? c->s[i] * c->s[i] : 0.0;
+    /* The eigenvalues of the estimable part must be normal numbers. */
+    if (!isfinite(s2))
+        return IGEA_EOVERFLOW;
+    for (int i = 0; i < k; i++)
+        if (!isfinite(ev[i]) || (i < r && !(ev[i] >= DBL_MIN)))
+            return IGEA_EOVERFLOW;
+    for (int j = 0; j < N; j++) {
+        double nul = 0.0, bjj = 0.0, pjj = 0.0;
+        for (int i = 0; i < N; i++) {
+            double v = c->V[j + (size_t)i * N];
+            if (i >= r)
+                nul += v * v;
+            else {
+                bjj += v * v * ev[i];
+                pjj += v * v / ev[i];
+            }
+        }
+        pdw[j] = nul > IGEA_REGRESS_NULL_TOL;
+        vf[j] = pdw[j] ? INFINITY : bjj * pjj;
+        if (!pdw[j] && !isfinite(vf[j]))
+            return IGEA_EOVERFLOW;
+    }
+    for (int i = 0; i < N; i++) {
+        sc[i] = i < r ? sqrt(s2) / c->s[i] : INFINITY;
+        if (i < r && !isfinite(sc[i]))
+            return IGEA_EOVERFLOW;
+    }
+    return 0;
+}
+
 int igea_regress_collinearity(int m, int N, const double *A, int lda,
                               const double *y, const double *sigma,
                               const double *spec_sigma, double rcond,
@@ -1234,34 +1280,7 @@ int igea_regress_collinearity(int m, int N, const double *A, int lda,
     double cd[2];
     cd[0] = smin > 0.0 ? s1 / smin : INFINITY;
     cd[1] = r > 0 ? s1 / c.s[r - 1] : INFINITY;
-    for (int i = 0; i < N; i++)
-        ev[i] = i < k ? c.s[i] * c.s[i] : 0.0;
-    /* The eigenvalues of the estimable part must be normal numbers. */
-    st = isfinite(s2) ? 0 : IGEA_EOVERFLOW;
-    for (int i = 0; i < k && st == 0; i++)
-        if (!isfinite(ev[i]) || (i < r && !(ev[i] >= DBL_MIN)))
-            st = IGEA_EOVERFLOW;
-    for (int j = 0; j < N && st == 0; j++) {
-        double nul = 0.0, bjj = 0.0, pjj = 0.0;
-        for (int i = 0; i < N; i++) {
-            double v = c.V[j + (size_t)i * N];
-            if (i >= r)
-                nul += v * v;
-            else {
-                bjj += v * v * ev[i];
-                pjj += v * v / ev[i];
-            }
-        }
-        pdw[j] = nul > IGEA_REGRESS_NULL_TOL;
-        vf[j] = pdw[j] ? INFINITY : bjj * pjj;
-        if (!pdw[j] && !isfinite(vf[j]))
-            st = IGEA_EOVERFLOW;
-    }
-    for (int i = 0; i < N && st == 0; i++) {
-        sc[i] = i < r ? sqrt(s2) / c.s[i] : INFINITY;
-        if (i < r && !isfinite(sc[i]))
-            st = IGEA_EOVERFLOW;
-    }
+    st = coll_tables(&c, s2, ev, vf, sc, pdw);
     if (st == 0) {
         cond[0] = cd[0];
         cond[1] = cd[1];

@@ -141,31 +141,14 @@ static int finite_strided(int rows, int cols, const double *a, size_t ld)
 
 /* ---- create / free / setters ---------------------------------------- */
 
-int igea_rls_create(int m, int k, const double *x0, const double *gamma0,
-                    int ldg, igea_rls **out)
+/* A zeroed handle for m coefficients and k rows, every array in two
+ * blocks (all the memory igea_rls_update will ever use); NULL when out of
+ * memory. */
+static igea_rls *rls_alloc(int m, int k)
 {
-    if (out)
-        *out = NULL;
-    if (m < 1)
-        return -1;
-    if (k < 1)
-        return -2;
-    if (!gamma0)
-        return -4;
-    if (ldg < m)
-        return -5;
-    if (!out)
-        return -6;
-    if (x0 && !igea__finite_vec(m, x0, 1))
-        return IGEA_ENONFINITE;
-    for (int j = 0; j < m; j++)
-        for (int i = j; i < m; i++)
-            if (!isfinite(IGEA_AT(gamma0, ldg, i, j)))
-                return IGEA_ENONFINITE;
-
     igea_rls *h = malloc(sizeof *h);
     if (!h)
-        return IGEA_ENOMEM;
+        return NULL;
     memset(h, 0, sizeof *h);
     size_t M = (size_t)m, K = (size_t)k;
     size_t nd = 2 * M + 2 * M * M + 11 * M * K + 6 * K * K + 7 * K;
@@ -173,7 +156,7 @@ int igea_rls_create(int m, int k, const double *x0, const double *gamma0,
     h->mem_i = igea__ialloc(3 * K);
     if (!h->mem_d || !h->mem_i) {
         igea_rls_free(h);
-        return IGEA_ENOMEM;
+        return NULL;
     }
     double *d = h->mem_d;
     h->x = d; d += M;
@@ -204,6 +187,35 @@ int igea_rls_create(int m, int k, const double *x0, const double *gamma0,
     h->keep = h->yprev_ok + K;
     h->fl = h->keep + K;
     memset(h->mem_d, 0, nd * sizeof(double));
+    return h;
+}
+
+int igea_rls_create(int m, int k, const double *x0, const double *gamma0,
+                    int ldg, igea_rls **out)
+{
+    if (out)
+        *out = NULL;
+    if (m < 1)
+        return -1;
+    if (k < 1)
+        return -2;
+    if (!gamma0)
+        return -4;
+    if (ldg < m)
+        return -5;
+    if (!out)
+        return -6;
+    if (x0 && !igea__finite_vec(m, x0, 1))
+        return IGEA_ENONFINITE;
+    for (int j = 0; j < m; j++)
+        for (int i = j; i < m; i++)
+            if (!isfinite(IGEA_AT(gamma0, ldg, i, j)))
+                return IGEA_ENONFINITE;
+
+    igea_rls *h = rls_alloc(m, k);
+    if (!h)
+        return IGEA_ENOMEM;
+    size_t M = (size_t)m;
 
     /* Positive definiteness of Gamma_0: Cholesky of a copy in cov (P is
      * only read once it has been set from Gamma). */
@@ -416,14 +428,13 @@ static int cov_prepare(igea_rls *h, int kk, double linv, const double *src,
  * A (kk x kk) and gt = Gamma c^T / lambda are in the scratch. Commits the
  * state on success. Returns 0, IGEA_ENONFINITE or IGEA_ESINGULAR, with the
  * state untouched on failure. */
-static int core_update(igea_rls *h, int kk)
+/* The gains (METHODS 2.8 eigen form): Sigma_e = I + A = W diag(1 + a)
+ * W^T, K = gt Sigma_e^-1 into h->KB and, for p > 1 gains, K_p = gt
+ * f_p(Sigma_e) into h->KPB. Returns 1 when a p > 1 gain is used. */
+static int core_gains(igea_rls *h, int kk)
 {
     const int m = h->m, p = h->p;
-    const size_t mk = (size_t)m * kk;
-    const double linv = 1.0 / h->lambda;
-    double *ct = h->ct, *gt = h->gt, *K = h->KB, *Kp = h->KPB;
-
-    /* Sigma_e = I + A = W diag(1 + a) W^T (METHODS 2.8 eigen form). */
+    double *gt = h->gt;
     memcpy(h->Jw, h->A, (size_t)kk * kk * sizeof(double));
     jacobi_eig(kk, h->Jw, h->a, h->W);
     for (int j = 0; j < kk; j++) {
@@ -432,25 +443,30 @@ static int core_update(igea_rls *h, int kk)
     }
     eig_func(kk, h->W, h->r, h->Mk);
     cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, m, kk, kk, 1.0, gt,
-                m, h->Mk, kk, 0.0, K, m);
-
+                m, h->Mk, kk, 0.0, h->KB, m);
     const int multi = h->variant != IGEA_RLS_STANDARD && p > 1;
     if (multi) {
         for (int j = 0; j < kk; j++)
             h->r[j] = poly_gain(h->a[j] > 0.0 ? h->a[j] : 0.0, p);
         eig_func(kk, h->W, h->r, h->Mp);
         cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, m, kk, kk, 1.0,
-                    gt, m, h->Mp, kk, 0.0, Kp, m);
+                    gt, m, h->Mp, kk, 0.0, h->KPB, m);
     }
-    const double *gain = multi ? Kp : K; /* the gain actually applied to e */
+    return multi;
+}
 
+/* The new state xn = x + gain e (the iterated variant: p passes with K). */
+static int core_state(igea_rls *h, int kk, int multi)
+{
+    const int m = h->m, p = h->p;
+    const double *K = h->KB, *gain = multi ? h->KPB : h->KB;
     memcpy(h->xn, h->x, (size_t)m * sizeof(double));
     if (multi && h->variant == IGEA_RLS_ITERATED) {
         /* METHODS 2.3 literally: p passes with the one gain K. */
         memcpy(h->r, h->e, (size_t)kk * sizeof(double));
         for (int it = 0; it < p; it++) {
             if (it > 0)
-                resid(m, kk, ct, h->yw, h->xn, h->r);
+                resid(m, kk, h->ct, h->yw, h->xn, h->r);
             cblas_dgemv(CblasColMajor, CblasNoTrans, m, kk, 1.0, K, m, h->r, 1,
                         1.0, h->xn, 1);
         }
@@ -458,12 +474,16 @@ static int core_update(igea_rls *h, int kk)
         cblas_dgemv(CblasColMajor, CblasNoTrans, m, kk, 1.0, gain, m, h->e, 1,
                     1.0, h->xn, 1);
     }
-    if (!finite_block((size_t)m, h->xn))
-        return IGEA_ENONFINITE;
+    return finite_block((size_t)m, h->xn) ? 0 : IGEA_ENONFINITE;
+}
 
-    /* Gamma in symmetric form (METHODS 2.8): Gamma/lambda - K Sigma_e K^T
-     * = Gamma/lambda - V V^T, V = gt W diag((1 + a)^-1/2), a rank-kk
-     * downdate that is symmetric bit for bit. */
+/* Gamma in symmetric form (METHODS 2.8): Gamma/lambda - K Sigma_e K^T =
+ * Gamma/lambda - V V^T, V = gt W diag((1 + a)^-1/2) into h->BK, a rank-kk
+ * downdate that is symmetric bit for bit; its new diagonal must stay
+ * positive and finite. */
+static int core_gamma_factor(igea_rls *h, int kk, double linv)
+{
+    const int m = h->m;
     for (int j = 0; j < kk; j++) {
         double aj = h->a[j] > 0.0 ? h->a[j] : 0.0;
         double sj = 1.0 / sqrt(1.0 + aj);
@@ -471,9 +491,9 @@ static int core_update(igea_rls *h, int kk)
             h->Jw[i + (size_t)j * kk] = h->W[i + (size_t)j * kk] * sj;
     }
     double *V = h->BK;
-    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, m, kk, kk, 1.0, gt,
+    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, m, kk, kk, 1.0, h->gt,
                 m, h->Jw, kk, 0.0, V, m);
-    if (!finite_block(mk, V))
+    if (!finite_block((size_t)m * kk, V))
         return IGEA_ENONFINITE;
     for (int i = 0; i < m; i++) {
         double dnew = h->gam[(size_t)i * m + i] * linv;
@@ -482,25 +502,14 @@ static int core_update(igea_rls *h, int kk)
         if (!(dnew > 0.0 && dnew < INFINITY))
             return dnew > 0.0 || isnan(dnew) ? IGEA_ENONFINITE : IGEA_ESINGULAR;
     }
-    int st;
-    /* P: the gain actually used (Joseph form, factored), unless P == Gamma. */
-    const int cov_upd = h->track_cov && (multi || !h->p_same);
-    if (cov_upd) {
-        if (!multi) /* P != Gamma but the gain is K: copy it as the P gain */
-            memcpy(Kp, K, mk * sizeof(double));
-        const double *src = h->p_same ? h->gam : h->cov;
-        const double *ut = gt;
-        if (!h->p_same) {
-            cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, m, kk, m,
-                        linv, h->cov, m, ct, m, 0.0, h->ut, m);
-            ut = h->ut;
-        }
-        st = cov_prepare(h, kk, linv, src, ut, Kp, h->KPB, h->BKP);
-        if (st != 0)
-            return st;
-    }
+    return 0;
+}
 
-    /* Commit (nothing below can fail). */
+/* Commit the prepared update (nothing here can fail). */
+static void core_commit(igea_rls *h, int kk, double linv, int multi, int cov_upd)
+{
+    const int m = h->m;
+    double *V = h->BK;
     if (cov_upd) {
         if (h->p_same)
             memcpy(h->cov, h->gam, (size_t)m * m * sizeof(double));
@@ -521,11 +530,41 @@ static int core_update(igea_rls *h, int kk)
     double *t = h->x;
     h->x = h->xn;
     h->xn = t;
-    resid(m, kk, ct, h->yw, h->x, h->r);
+    resid(m, kk, h->ct, h->yw, h->x, h->r);
     for (int j = 0; j < kk; j++)
         igea__ksum_add(&h->q, h->r[j] * h->r[j]);
     h->counts[IGEA_RLS_COUNT_ROWS] += kk;
     h->counts[IGEA_RLS_COUNT_UPDATES]++;
+}
+
+static int core_update(igea_rls *h, int kk)
+{
+    const int m = h->m;
+    const size_t mk = (size_t)m * kk;
+    const double linv = 1.0 / h->lambda;
+    const int multi = core_gains(h, kk);
+    int st = core_state(h, kk, multi);
+    if (st == 0)
+        st = core_gamma_factor(h, kk, linv);
+    if (st != 0)
+        return st;
+    /* P: the gain actually used (Joseph form, factored), unless P == Gamma. */
+    const int cov_upd = h->track_cov && (multi || !h->p_same);
+    if (cov_upd) {
+        if (!multi) /* P != Gamma but the gain is K: copy it as the P gain */
+            memcpy(h->KPB, h->KB, mk * sizeof(double));
+        const double *src = h->p_same ? h->gam : h->cov;
+        const double *ut = h->gt;
+        if (!h->p_same) {
+            cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, m, kk, m,
+                        linv, h->cov, m, h->ct, m, 0.0, h->ut, m);
+            ut = h->ut;
+        }
+        st = cov_prepare(h, kk, linv, src, ut, h->KPB, h->KPB, h->BKP);
+        if (st != 0)
+            return st;
+    }
+    core_commit(h, kk, linv, multi, cov_upd);
     return 0;
 }
 
@@ -538,6 +577,92 @@ static void innovations(igea_rls *h, const double *y, const double *sig)
 }
 
 /* One epoch with c(j, i) at c[j * rs + i * cs] (arguments checked). */
+/* Detection (METHODS 2.7): the flags of the k rows into h->fl; returns
+ * the number of flagged rows. */
+static int detect(igea_rls *h, const double *y)
+{
+    const int k = h->k;
+    int nflag = 0;
+    for (int j = 0; j < k; j++) {
+        int f = 0;
+        if (!isfinite(y[j])) {
+            f |= IGEA_RLS_FLAG_MISSING;
+        } else {
+            double sd = sqrt(1.0 + (h->A[j + (size_t)j * k] > 0 ? h->A[j + (size_t)j * k] : 0.0));
+            if (fabs(h->e[j]) > h->kappa * sd)
+                f |= IGEA_RLS_FLAG_INNOVATION;
+            if (h->has_jump && h->yprev_ok[j] &&
+                fabs(y[j] - h->yprev[j]) > h->jump_max[j])
+                f |= IGEA_RLS_FLAG_JUMP;
+        }
+        h->fl[j] = f;
+        if (f)
+            nflag++;
+    }
+    return nflag;
+}
+
+/* Isolation: the unflagged rows compressed to the first *kk columns of ct,
+ * gt (and yw, e, A). */
+static void isolate_rows(igea_rls *h, int *kk_out)
+{
+    const int m = h->m, k = h->k;
+    int kk = 0;
+    for (int j = 0; j < k; j++) {
+        h->keep[j] = h->fl[j] == 0;
+        if (!h->keep[j])
+            continue;
+        if (kk != j) {
+            memcpy(h->ct + (size_t)kk * m, h->ct + (size_t)j * m, (size_t)m * sizeof(double));
+            memcpy(h->gt + (size_t)kk * m, h->gt + (size_t)j * m, (size_t)m * sizeof(double));
+            h->yw[kk] = h->yw[j];
+            h->e[kk] = h->e[j];
+        }
+        h->r[kk] = (double)j; /* original row of kept row kk */
+        kk++;
+    }
+    for (int jj = 0; jj < kk; jj++)
+        for (int ii = jj; ii < kk; ii++) {
+            int i0 = (int)h->r[ii], j0 = (int)h->r[jj];
+            h->Sm[ii + (size_t)jj * kk] = h->Sm[jj + (size_t)ii * kk] =
+                h->A[i0 + (size_t)j0 * k];
+        }
+    memcpy(h->A, h->Sm, (size_t)kk * kk * sizeof(double));
+    *kk_out = kk;
+}
+
+/* The anomaly policy on nflag flagged rows: the action, and *kk the rows
+ * the update uses (0: none). */
+static int apply_policy(igea_rls *h, const double *y, const double *track_sigma,
+                        int nflag, int *kk)
+{
+    const int k = h->k;
+    for (int j = 0; j < k; j++) {
+        h->keep[j] = 1;
+        h->yused[j] = y[j];
+    }
+    if (!nflag)
+        return IGEA_RLS_UPDATED;
+    if (h->policy == IGEA_RLS_ANOMALY_NONE)
+        return IGEA_RLS_FLAGGED;
+    int all_prev = 1;
+    for (int j = 0; j < k; j++)
+        all_prev &= h->yprev_ok[j];
+    if (h->policy == IGEA_RLS_ANOMALY_SKIP ||
+        (h->policy == IGEA_RLS_ANOMALY_REPLACE && !all_prev) ||
+        (h->policy == IGEA_RLS_ANOMALY_ISOLATE && nflag == k)) {
+        *kk = 0;
+        return IGEA_RLS_SKIPPED;
+    }
+    if (h->policy == IGEA_RLS_ANOMALY_REPLACE) {
+        memcpy(h->yused, h->yprev, (size_t)k * sizeof(double));
+        innovations(h, h->yused, track_sigma);
+        return IGEA_RLS_REPLACED;
+    }
+    isolate_rows(h, kk); /* isolate: compress to the unflagged rows */
+    return IGEA_RLS_ISOLATED;
+}
+
 static int update_impl(igea_rls *h, const double *c, size_t rs, size_t cs,
                        const double *y, const double *track_sigma, int *flags)
 {
@@ -568,70 +693,9 @@ static int update_impl(igea_rls *h, const double *c, size_t rs, size_t cs,
     small_sym(m, k, h->ct, h->gt, h->A);
     innovations(h, y, track_sigma);
 
-    /* Detection (METHODS 2.7). */
-    int nflag = 0;
-    for (int j = 0; j < k; j++) {
-        int f = 0;
-        if (!isfinite(y[j])) {
-            f |= IGEA_RLS_FLAG_MISSING;
-        } else {
-            double sd = sqrt(1.0 + (h->A[j + (size_t)j * k] > 0 ? h->A[j + (size_t)j * k] : 0.0));
-            if (fabs(h->e[j]) > h->kappa * sd)
-                f |= IGEA_RLS_FLAG_INNOVATION;
-            if (h->has_jump && h->yprev_ok[j] &&
-                fabs(y[j] - h->yprev[j]) > h->jump_max[j])
-                f |= IGEA_RLS_FLAG_JUMP;
-        }
-        h->fl[j] = f;
-        if (f)
-            nflag++;
-    }
-
-    int action = nflag ? IGEA_RLS_FLAGGED : IGEA_RLS_UPDATED;
+    int nflag = detect(h, y);
     int kk = k;
-    for (int j = 0; j < k; j++) {
-        h->keep[j] = 1;
-        h->yused[j] = y[j];
-    }
-    if (nflag && h->policy != IGEA_RLS_ANOMALY_NONE) {
-        int all_prev = 1;
-        for (int j = 0; j < k; j++)
-            all_prev &= h->yprev_ok[j];
-        if (h->policy == IGEA_RLS_ANOMALY_SKIP ||
-            (h->policy == IGEA_RLS_ANOMALY_REPLACE && !all_prev) ||
-            (h->policy == IGEA_RLS_ANOMALY_ISOLATE && nflag == k)) {
-            action = IGEA_RLS_SKIPPED;
-            kk = 0;
-        } else if (h->policy == IGEA_RLS_ANOMALY_REPLACE) {
-            action = IGEA_RLS_REPLACED;
-            memcpy(h->yused, h->yprev, (size_t)k * sizeof(double));
-            innovations(h, h->yused, track_sigma);
-        } else { /* isolate: compress to the unflagged rows */
-            action = IGEA_RLS_ISOLATED;
-            kk = 0;
-            for (int j = 0; j < k; j++) {
-                h->keep[j] = h->fl[j] == 0;
-                if (!h->keep[j])
-                    continue;
-                if (kk != j) {
-                    memcpy(h->ct + (size_t)kk * m, h->ct + (size_t)j * m, (size_t)m * sizeof(double));
-                    memcpy(h->gt + (size_t)kk * m, h->gt + (size_t)j * m, (size_t)m * sizeof(double));
-                    h->yw[kk] = h->yw[j];
-                    h->e[kk] = h->e[j];
-                }
-                h->r[kk] = (double)j; /* original row of kept row kk */
-                kk++;
-            }
-            for (int jj = 0; jj < kk; jj++)
-                for (int ii = jj; ii < kk; ii++) {
-                    int i0 = (int)h->r[ii], j0 = (int)h->r[jj];
-                    h->Sm[ii + (size_t)jj * kk] = h->Sm[jj + (size_t)ii * kk] =
-                        h->A[i0 + (size_t)j0 * k];
-                }
-            memcpy(h->A, h->Sm, (size_t)kk * kk * sizeof(double));
-        }
-    }
-
+    int action = apply_policy(h, y, track_sigma, nflag, &kk);
     if (kk > 0) {
         int st = core_update(h, kk);
         if (st != 0)

@@ -328,6 +328,65 @@ static int noise_lag1(size_t n, const double *y, size_t m, double mu)
     return IGEA_STABILITY_NOISE_WFM; /* not reached */
 }
 
+/* The deviations d and term counts cw of the kind at every tau. */
+static void allan_devs(int n, const double *y, double fs, int ntau, const double *tau,
+                       int kind, double mu, double *d, int *cw)
+{
+    for (int j = 0; j < ntau; j++) {
+        size_t m = (size_t)lround(tau[j] * fs);
+        long cnt = term_count(n, (long)m, kind);
+        double var;
+        if (kind == IGEA_STABILITY_ALLAN_OVERLAPPING)
+            var = oadev_var((size_t)n, y, m, mu, cnt);
+        else if (kind == IGEA_STABILITY_ALLAN_MODIFIED)
+            var = mdev_var((size_t)n, y, m, mu, cnt);
+        else
+            var = nadev_var((size_t)n, y, m, cnt);
+        d[j] = sqrt(var);
+        cw[j] = (int)cnt;
+    }
+}
+
+/* Equivalent degrees of freedom e and the chi-square interval [l, h] of
+ * every deviation d at confidence conf (noise type given or identified per
+ * tau). Returns 0 or IGEA_ENOCONV. */
+static int allan_intervals(int n, const double *y, double fs, int ntau, const double *tau,
+                           int kind, int noise, double conf, double mu, const double *d,
+                           const int *cw, double *l, double *h, double *e)
+{
+    int last_alpha = IGEA_STABILITY_NOISE_WFM;
+    for (int j = 0; j < ntau; j++) {
+        int alpha = noise;
+        if (noise == IGEA_STABILITY_NOISE_AUTO) {
+            alpha = noise_lag1((size_t)n, y, (size_t)lround(tau[j] * fs), mu);
+            if (alpha == IGEA_STABILITY_NOISE_AUTO)
+                alpha = last_alpha; /* too few means: keep the last type */
+            last_alpha = alpha;
+        }
+        double m = (double)lround(tau[j] * fs), N = (double)n + 1.0;
+        if (kind == IGEA_STABILITY_ALLAN_NONOVERLAPPING) {
+            N = (double)(cw[j] + 2); /* B + 1 phase points of the means */
+            m = 1.0;
+        }
+        /* the modified variance equals the overlapping one at m = 1 */
+        double ev = kind == IGEA_STABILITY_ALLAN_MODIFIED && m > 1.0 ? edf_mdev(N, m, alpha)
+                                                           : edf_oadev(N, m, alpha);
+        if (!(ev >= 1.0))
+            ev = 1.0;
+        if (ev > IGEA_STATS_DOF_MAX)
+            ev = IGEA_STATS_DOF_MAX;
+        double chi_hi, chi_lo;
+        int s1 = igea_stats_chi2_quantile(0.5 * (1.0 + conf), ev, &chi_hi);
+        int s2 = igea_stats_chi2_quantile(0.5 * (1.0 - conf), ev, &chi_lo);
+        if (s1 || s2 || !(chi_lo > 0.0))
+            return IGEA_ENOCONV;
+        e[j] = ev;
+        l[j] = d[j] * sqrt(ev / chi_hi);
+        h[j] = d[j] * sqrt(ev / chi_lo);
+    }
+    return 0;
+}
+
 int igea_stability_allan(int n, const double *y, double fs, int ntau,
                          const double *tau, int kind, int noise, double conf,
                          double *dev, double *lo, double *hi, double *edf,
@@ -370,51 +429,8 @@ int igea_stability_allan(int n, const double *y, double fs, int ntau,
     }
     double *d = w, *l = w + ntau, *h = l + ntau, *e = h + ntau;
     double mu = mean_of((size_t)n, y);
-    for (int j = 0; j < ntau; j++) {
-        size_t m = (size_t)lround(tau[j] * fs);
-        long cnt = term_count(n, (long)m, kind);
-        double var;
-        if (kind == IGEA_STABILITY_ALLAN_OVERLAPPING)
-            var = oadev_var((size_t)n, y, m, mu, cnt);
-        else if (kind == IGEA_STABILITY_ALLAN_MODIFIED)
-            var = mdev_var((size_t)n, y, m, mu, cnt);
-        else
-            var = nadev_var((size_t)n, y, m, cnt);
-        d[j] = sqrt(var);
-        cw[j] = (int)cnt;
-    }
-    int status = 0, last_alpha = IGEA_STABILITY_NOISE_WFM;
-    for (int j = 0; j < ntau && status == 0; j++) {
-        int alpha = noise;
-        if (noise == IGEA_STABILITY_NOISE_AUTO) {
-            alpha = noise_lag1((size_t)n, y, (size_t)lround(tau[j] * fs), mu);
-            if (alpha == IGEA_STABILITY_NOISE_AUTO)
-                alpha = last_alpha; /* too few means: keep the last type */
-            last_alpha = alpha;
-        }
-        double m = (double)lround(tau[j] * fs), N = (double)n + 1.0;
-        if (kind == IGEA_STABILITY_ALLAN_NONOVERLAPPING) {
-            N = (double)(cw[j] + 2); /* B + 1 phase points of the means */
-            m = 1.0;
-        }
-        /* the modified variance equals the overlapping one at m = 1 */
-        double ev = kind == IGEA_STABILITY_ALLAN_MODIFIED && m > 1.0 ? edf_mdev(N, m, alpha)
-                                                           : edf_oadev(N, m, alpha);
-        if (!(ev >= 1.0))
-            ev = 1.0;
-        if (ev > IGEA_STATS_DOF_MAX)
-            ev = IGEA_STATS_DOF_MAX;
-        double chi_hi, chi_lo;
-        int s1 = igea_stats_chi2_quantile(0.5 * (1.0 + conf), ev, &chi_hi);
-        int s2 = igea_stats_chi2_quantile(0.5 * (1.0 - conf), ev, &chi_lo);
-        if (s1 || s2 || !(chi_lo > 0.0)) {
-            status = IGEA_ENOCONV;
-            break;
-        }
-        e[j] = ev;
-        l[j] = d[j] * sqrt(ev / chi_hi);
-        h[j] = d[j] * sqrt(ev / chi_lo);
-    }
+    allan_devs(n, y, fs, ntau, tau, kind, mu, d, cw);
+    int status = allan_intervals(n, y, fs, ntau, tau, kind, noise, conf, mu, d, cw, l, h, e);
     if (status == 0) {
         size_t sz = (size_t)ntau * sizeof(double);
         memcpy(dev, d, sz);

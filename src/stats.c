@@ -72,18 +72,22 @@ static double chi2_logpdf(double x, double dof)
     return (a - 1.0) * log(0.5 * x) - 0.5 * x - gsl_sf_lngamma(a) - 0.69314718055994530942;
 }
 
-/*
- * Solve tail(x) = target for x > 0, where tail is P (upper = 0) or Q
- * (upper = 1) and 0 < target <= 0.5, so that the tail on the side being
- * matched is never close to 1 and its logarithm keeps full precision.
- * Newton on t = log x for F(t) = log tail(e^t) - log target, safeguarded
- * by a bracket that bisection falls back on.
- */
-static int chi2_invert(double target, double dof, int upper, double *xout)
+/* Inversion state: G(t) = s (log tail(e^t) - log target), increasing. */
+typedef struct {
+    double dof, lt, s;
+    int upper;
+} chi2_inv;
+
+static double chi2_g(const chi2_inv *q, double t)
 {
-    const double lt = log(target);
+    double v = chi2_tail(exp(t), q->dof, q->upper);
+    return v > 0.0 ? q->s * (log(v) - q->lt) : (q->upper ? HUGE_VAL : -HUGE_VAL);
+}
+
+/* Wilson-Hilferty start t = log x0; small-x series start where it fails. */
+static double chi2_start(double target, double dof, int upper, double lt)
+{
     double z = gsl_cdf_ugaussian_Pinv(upper ? 1.0 - target : target);
-    /* Wilson-Hilferty start; small-x series start where it fails. */
     double h = 2.0 / (9.0 * dof);
     double wh = 1.0 - h + z * sqrt(h);
     double x0;
@@ -96,19 +100,15 @@ static int chi2_invert(double target, double dof, int upper, double *xout)
     }
     if (!(x0 > 0.0) || !isfinite(x0))
         x0 = dof;
-    double t = log(x0);
+    return log(x0);
+}
 
-    /* F is increasing in t for P, decreasing for Q; use G = s*F, increasing. */
-    const double s = upper ? -1.0 : 1.0;
-#define G_OF(tt, out)                                                       \
-    do {                                                                    \
-        double xx_ = exp(tt);                                               \
-        double v_ = chi2_tail(xx_, dof, upper);                             \
-        (out) = (v_ > 0.0) ? s * (log(v_) - lt) : (upper ? HUGE_VAL : -HUGE_VAL); \
-    } while (0)
-
-    double lo = t, hi = t, glo, ghi, g;
-    G_OF(t, g);
+/* A bracket [lo, hi] around t with G(lo) <= 0 <= G(hi), by doubling
+ * steps; IGEA_ENOCONV when none is found. */
+static int chi2_bracket(const chi2_inv *q, double t, double *lo_out, double *hi_out,
+                        double *glo_out, double *ghi_out)
+{
+    double lo = t, hi = t, glo, ghi, g = chi2_g(q, t);
     if (isnan(g))
         return IGEA_ENOCONV;
     glo = ghi = g;
@@ -120,7 +120,7 @@ static int chi2_invert(double target, double dof, int upper, double *xout)
         ghi = glo;
         lo -= step;
         step *= 2.0;
-        G_OF(lo, glo);
+        glo = chi2_g(q, lo);
     }
     step = 0.5;
     for (int k = 0; ghi < 0.0; k++) {
@@ -130,8 +130,31 @@ static int chi2_invert(double target, double dof, int upper, double *xout)
         glo = ghi;
         hi += step;
         step *= 2.0;
-        G_OF(hi, ghi);
+        ghi = chi2_g(q, hi);
     }
+    *lo_out = lo;
+    *hi_out = hi;
+    *glo_out = glo;
+    *ghi_out = ghi;
+    return 0;
+}
+
+/*
+ * Solve tail(x) = target for x > 0, where tail is P (upper = 0) or Q
+ * (upper = 1) and 0 < target <= 0.5, so that the tail on the side being
+ * matched is never close to 1 and its logarithm keeps full precision.
+ * Newton on t = log x for F(t) = log tail(e^t) - log target, safeguarded
+ * by a bracket that bisection falls back on.
+ */
+static int chi2_invert(double target, double dof, int upper, double *xout)
+{
+    /* F is increasing in t for P, decreasing for Q; use G = s*F, increasing. */
+    const chi2_inv q = {dof, log(target), upper ? -1.0 : 1.0, upper};
+    double t = chi2_start(target, dof, upper, q.lt);
+    double lo, hi, glo, ghi, g;
+    int st = chi2_bracket(&q, t, &lo, &hi, &glo, &ghi);
+    if (st)
+        return st;
     /* Now glo <= 0 <= ghi. */
     t = (glo == -HUGE_VAL || ghi == HUGE_VAL) ? 0.5 * (lo + hi) : t;
     if (t < lo || t > hi)
@@ -145,7 +168,7 @@ static int chi2_invert(double target, double dof, int upper, double *xout)
             t = 0.5 * (lo + hi);
             continue;
         }
-        g = s * (log(v) - lt);
+        g = q.s * (log(v) - q.lt);
         if (g == 0.0)
             break;
         if (g < 0.0) lo = t; else hi = t;
@@ -159,7 +182,6 @@ static int chi2_invert(double target, double dof, int upper, double *xout)
         if (dt <= 4.0 * DBL_EPSILON * IGEA_MAX(1.0, fabs(t)) || hi - lo <= 4.0 * DBL_EPSILON * IGEA_MAX(1.0, fabs(t)))
             break;
     }
-#undef G_OF
     double x = exp(t);
     if (!isfinite(x))
         return IGEA_ENOCONV;
