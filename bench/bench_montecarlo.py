@@ -82,7 +82,7 @@ def benchmark(nflights):
     times = {}
     for nt in (1, 2):
         t0 = time.perf_counter()
-        r = igea.montecarlo(S, sig, nflights, spec=spec, seed=7, nthreads=nt)
+        r = igea.montecarlo(S, sig, nflights, spec=spec, seed=7, threads=nt)
         times[nt] = time.perf_counter() - t0
         print(f"  igea.montecarlo, {nt} thread(s): {times[nt]:7.2f} s "
               f"({1e6 * times[nt] / nflights:6.1f} us/flight), 'out of spec' rate "
@@ -154,7 +154,7 @@ def validation(n_size, n_power, outdir):
     print("|---|---|---|---|---|")
     res1 = {}
     for corr in (True, False):
-        r = igea.montecarlo(S, sig, n_size, spec=spec, seed=101, correct_tracking=corr)
+        r = igea.montecarlo(S, sig, n_size, spec=spec, seed=101, correction=corr)
         res1[corr] = r
         print(f"| {'on' if corr else 'off'} | {fmt(r.failed, n_size)} | "
               f"{fmt(r.chi2_reject, n_size)} | {r.mean_scale:.4f} | {r.mean_tested:.2f} |")
@@ -180,7 +180,7 @@ def validation(n_size, n_power, outdir):
     for sw in (1.8, 3.0, 5.0):
         for corr in (False, True):
             r = igea.montecarlo(S, sig, n_size, spec=spec, seed=202, sigma_w=sw,
-                                correct_tracking=corr)
+                                correction=corr)
             print(f"| {sw} | {'on' if corr else 'off'} | {fmt(r.failed, n_size)} | "
                   f"{fmt(r.chi2_reject, n_size)} | {r.mean_scale:.4f} | "
                   f"{r.mean_tested:.2f} |")

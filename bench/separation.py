@@ -74,16 +74,16 @@ def part_a(nflights, seed, shift=None):
         r = igea.bayes(A, y, np.eye(N))
         est["Bayes N(0,I)"] = (r.x, r.sd)
         r = igea.ebr(A, y, rule="sc")
-        est["EBR SC"] = (r.x, r.sd_posterior)
+        est["EBR SC"] = (r.x, r.sd)
         r = igea.ebr(A, y, rule="mm")
-        est["EBR MM"] = (r.x, r.sd_posterior)
+        est["EBR MM"] = (r.x, r.sd)
         r = igea.ebr(A, y, rule="ml2")
-        est["EBR ML2"] = (r.x, r.sd_posterior)
+        est["EBR ML2"] = (r.x, r.sd)
         for k, (x, sd) in est.items():
             err[k][f] = x - X
             out_naive[k] += bool(np.any(np.abs(x) > 3.0))
             out_z[k] += bool(np.any(np.abs(x) > Z995 * np.sqrt(1.0 + sd ** 2)))
-        q = igea.eqerr(S, y * sigma, sigma, spec, correct_tracking=False)
+        q = igea.eqerr(S, y * sigma, sigma, spec, correction=False)
         eq_reject += not q.passed
         n_test.append(q.n_test)
     elapsed = time.time() - t0
@@ -109,7 +109,7 @@ def part_b(ncal, seed):
         y = A @ beta + noise * rng.standard_normal(20)
         err["LS min-norm"][i] = igea.ls(A, y).x - beta
         err["EBR isotropic"][i] = igea.ebr(A, y).x - beta
-        err["EBR prior-scaled"][i] = igea.ebr(A, y, prior_scale=tau).x - beta
+        err["EBR prior-scaled"][i] = igea.ebr(A, y, spec=tau).x - beta
         err["Bayes N(0, tau^2)"][i] = igea.bayes(A, y, np.diag(tau ** 2), sigma=noise).x - beta
     coll = igea.collinearity(A, names=names)
     return dict(names=names, methods=methods, beta=beta,
