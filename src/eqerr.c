@@ -181,6 +181,20 @@ static void scratch_out(const scratch *s, int N, double *lambda, double *P,
     memcpy(info, s->info, IGEA_STATS_INFO_LEN * sizeof(double));
 }
 
+/* The end of a solve with status st: the scratch results checked finite
+ * (else IGEA_EOVERFLOW) and copied out, the scratch freed. */
+static int scratch_finish(scratch *s, int st, int N, double *lambda, double *P,
+                          int ldp, double *equiv_err, double *z, int *reject,
+                          double *info)
+{
+    if (st == 0 && !scratch_finite(s, N))
+        st = IGEA_EOVERFLOW;
+    if (st == 0)
+        scratch_out(s, N, lambda, P, ldp, equiv_err, z, reject, info);
+    scratch_free(s);
+    return st;
+}
+
 /* Eig route from normal equations into the scratch. */
 static int solve_eig(int N, const double *A, int lda, const double *b,
                      const double *o, scratch *s)
@@ -243,12 +257,7 @@ int igea_eqerr_solve(int N, const double *A, int lda, const double *b,
     if (scratch_alloc(&s, N))
         return IGEA_ENOMEM;
     st = solve_eig(N, A, lda, b, opts, &s);
-    if (st == 0 && !scratch_finite(&s, N))
-        st = IGEA_EOVERFLOW;
-    if (st == 0)
-        scratch_out(&s, N, lambda, P, ldp, equiv_err, z, reject, info);
-    scratch_free(&s);
-    return st;
+    return scratch_finish(&s, st, N, lambda, P, ldp, equiv_err, z, reject, info);
 }
 
 /* SVD route from the QR factor R ((N+1) x (N+1), upper) of [S~ w~]: the
@@ -314,12 +323,7 @@ int igea_eqerr_solve_qr(int N, const double *R, int ldr, double rows, const doub
     if (scratch_alloc(&s, N))
         return IGEA_ENOMEM;
     st = solve_qr(N, R, ldr, rows, opts, &s);
-    if (st == 0 && !scratch_finite(&s, N))
-        st = IGEA_EOVERFLOW;
-    if (st == 0)
-        scratch_out(&s, N, lambda, P, ldp, equiv_err, z, reject, info);
-    scratch_free(&s);
-    return st;
+    return scratch_finish(&s, st, N, lambda, P, ldp, equiv_err, z, reject, info);
 }
 
 int igea_eqerr_coef(int N, const double *P, int ldp, const double *equiv_err,

@@ -236,6 +236,27 @@ static void unscale(int N, const double *spec, double *x, double *cov, int ldc)
     }
 }
 
+/* The end of a fit: x' (xs) and its covariance cv (N x N, ld N; read only
+ * when cov is given) back to the caller's units, every value checked
+ * finite (IGEA_EOVERFLOW: finite inputs whose result left the double
+ * range), then x, cov (ldc) and the residuals res (m) copied out. */
+static int fit_out(int m, int N, const double *spec, double s2, double *xs,
+                   double *cv, const double *res, double *x, double *cov, int ldc,
+                   double *residual)
+{
+    unscale(N, spec, xs, cov ? cv : NULL, N);
+    if (!igea__finite_vec(N, xs, 1) || !igea__finite_vec(m, res, 1) ||
+        !isfinite(s2) || (cov && !igea__finite_mat(N, N, cv, N)))
+        return IGEA_EOVERFLOW;
+    memcpy(x, xs, (size_t)N * sizeof(double));
+    if (cov)
+        for (int j = 0; j < N; j++)
+            memcpy(cov + (size_t)j * ldc, cv + (size_t)j * N, (size_t)N * sizeof(double));
+    if (residual)
+        memcpy(residual, res, (size_t)m * sizeof(double));
+    return 0;
+}
+
 /* ---- least squares ----------------------------------------------------- */
 
 /* cs[j] = 1 / ||column j of diag(1/sigma) A||, without forming a norm
@@ -310,22 +331,10 @@ static int ls_core(int m, int N, const double *A, int lda, const double *y,
             g[i] = 1.0 / c.s[i] / c.s[i];
         canon_cov(&c, r, g, s2, D, cv, N);
     }
-    unscale(N, spec, xs, cov ? cv : NULL, N);
-    /* Every output finite, or a status: finite inputs whose solution or
-     * covariance leaves the double range. */
-    if (!igea__finite_vec(N, xs, 1) || !igea__finite_vec(m, res, 1) ||
-        !isfinite(s2) || (cov && !igea__finite_mat(N, N, cv, N)))
-        st = IGEA_EOVERFLOW;
+    st = fit_out(m, N, spec, s2, xs, cv, res, x, cov, ldc, residual);
     if (st == 0) {
-        memcpy(x, xs, (size_t)N * sizeof(double));
-        if (cov)
-            for (int j = 0; j < N; j++)
-                memcpy(cov + (size_t)j * ldc, cv + (size_t)j * N,
-                       (size_t)N * sizeof(double));
         *rank = r;
         *sigma2 = s2;
-        if (residual)
-            memcpy(residual, res, (size_t)m * sizeof(double));
     }
     canon_free(&c);
     free(cs);
@@ -857,19 +866,9 @@ static int ridge_core(int m, int N, const double *A, int lda, const double *y,
         if (cov)
             canon_cov(&c, r, g, s2, NULL, cv, N);
         residual_of(m, N, A, lda, y, xs, res);
-        unscale(N, spec, xs, cov ? cv : NULL, N);
-        if (!igea__finite_vec(N, xs, 1) || !igea__finite_vec(m, res, 1) ||
-            !isfinite(s2) || (cov && !igea__finite_mat(N, N, cv, N)))
-            st = IGEA_EOVERFLOW;
+        st = fit_out(m, N, spec, s2, xs, cv, res, x, cov, ldc, residual);
     }
     if (st == 0) {
-        memcpy(x, xs, (size_t)N * sizeof(double));
-        if (cov)
-            for (int j = 0; j < N; j++)
-                memcpy(cov + (size_t)j * ldc, cv + (size_t)j * N,
-                       (size_t)N * sizeof(double));
-        if (residual)
-            memcpy(residual, res, (size_t)m * sizeof(double));
         *k_used = kk;
         *sigma2 = s2;
     }
@@ -1006,19 +1005,8 @@ static int pce_core(int m, int N, const double *A, int lda, const double *y,
     if (cov)
         canon_cov(&c, n, g, s2, NULL, cv, N);
     residual_of(m, N, A, lda, y, xs, res);
-    unscale(N, spec, xs, cov ? cv : NULL, N);
-    st = 0;
-    if (!igea__finite_vec(N, xs, 1) || !igea__finite_vec(m, res, 1) ||
-        !isfinite(s2) || (cov && !igea__finite_mat(N, N, cv, N)))
-        st = IGEA_EOVERFLOW;
+    st = fit_out(m, N, spec, s2, xs, cv, res, x, cov, ldc, residual);
     if (st == 0) {
-        memcpy(x, xs, (size_t)N * sizeof(double));
-        if (cov)
-            for (int j = 0; j < N; j++)
-                memcpy(cov + (size_t)j * ldc, cv + (size_t)j * N,
-                       (size_t)N * sizeof(double));
-        if (residual)
-            memcpy(residual, res, (size_t)m * sizeof(double));
         *nused = n;
         *sigma2 = s2;
     }

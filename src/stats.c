@@ -191,7 +191,9 @@ static int chi2_invert(double target, double dof, int upper, double *xout)
     return 0;
 }
 
-int igea_stats_chi2_quantile(double p, double dof, double *x)
+/* The x whose tail on side upper (0: P, 1: Q) is p: the smaller of the
+ * two tails is inverted, where its logarithm keeps full precision. */
+static int chi2_side_quantile(double p, double dof, int upper, double *x)
 {
     if (!(p > 0.0 && p < 1.0))
         return -1;
@@ -200,26 +202,20 @@ int igea_stats_chi2_quantile(double p, double dof, double *x)
     if (!x)
         return -3;
     double r;
-    int st = p <= 0.5 ? chi2_invert(p, dof, 0, &r) : chi2_invert(1.0 - p, dof, 1, &r);
+    int st = p <= 0.5 ? chi2_invert(p, dof, upper, &r) : chi2_invert(1.0 - p, dof, !upper, &r);
     if (st == 0)
         *x = r;
     return st;
 }
 
+int igea_stats_chi2_quantile(double p, double dof, double *x)
+{
+    return chi2_side_quantile(p, dof, 0, x);
+}
+
 int igea_stats_chi2_upper(double alpha, double dof, double *x)
 {
-    if (!(alpha > 0.0 && alpha < 1.0))
-        return -1;
-    if (!dof_ok(dof))
-        return -2;
-    if (!x)
-        return -3;
-    double r;
-    int st = alpha <= 0.5 ? chi2_invert(alpha, dof, 1, &r)
-                          : chi2_invert(1.0 - alpha, dof, 0, &r);
-    if (st == 0)
-        *x = r;
-    return st;
+    return chi2_side_quantile(alpha, dof, 1, x);
 }
 
 /* Sum of non-negative finite terms, saturated: *sat = 1 and DBL_MAX when
