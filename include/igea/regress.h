@@ -29,7 +29,7 @@
  * y - A x do not depend on the scaling.
  *
  * Range: a sigma must be >= IGEA_SIGMA_MIN (2^-511, so that 1/sigma^2 is
- * finite), else IGEA_ERANGE; so must an EBR prior scale. The canonical
+ * finite), else IGEA_ERANGE; so must a spec_sigma. The canonical
  * quantities are formed without squaring singular values where the
  * estimator allows it (a design scaled by 1e-300 gives the scaled
  * answer), and a result that is not representable (a covariance of
