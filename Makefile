@@ -37,7 +37,7 @@ LIBS     := -llapacke -lgsl -lopenblas -lm
 LIB_SRC  := $(wildcard src/*.c)
 CLI_SRC  := $(wildcard src/cli/*.c)
 TEST_SRC := $(wildcard tests/test_*.c)
-HEADERS  := $(wildcard include/*.h include/igea/*.h) src/internal.h
+HEADERS  := $(wildcard include/*.h include/igea/*.h src/*.h)
 
 LIB_OBJ  := $(patsubst src/%.c,$(BUILD)/obj/%.o,$(LIB_SRC))
 CLI_OBJ  := $(patsubst src/cli/%.c,$(BUILD)/obj/cli/%.o,$(CLI_SRC))
