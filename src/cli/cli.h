@@ -137,17 +137,10 @@ void cli_write_matrix_body(FILE *f, int npy, const double *v, long rows, int col
                            const char *header);
 
 /* ---- JSON --------------------------------------------------------------- */
-/* Low level: a number (NaN/Inf become null, %.17g), arrays of doubles/ints,
- * an escaped string. */
-void cli_json_num(FILE *f, double x);
-void cli_json_array(FILE *f, const double *x, long n);
-void cli_json_iarray(FILE *f, const int *x, long n);
-void cli_json_str(FILE *f, const char *s);
-
 /* The writer: cli_json_begin opens the top-level object, every value is
  * written with its key (NULL inside an array), containers are opened and
  * closed, cli_json_end closes whatever is open. Separators, indentation and
- * escapes are the writer's. */
+ * string escapes are the writer's; numbers are %.17g, NaN and Inf null. */
 #define CLI_JSON_DEPTH 8
 typedef struct {
     FILE *f;
@@ -208,7 +201,8 @@ typedef struct {
 /* Returned by cli_parse when --help was printed (the command returns CLI_OK). */
 #define CLI_HELP (-1)
 /* Defaults, then argv[1..]: CLI_OK, CLI_HELP or CLI_USAGE (with a message).
- * Every argument is an option: a bare word is refused. */
+ * Every argument is an option: a bare word is refused; at most one input
+ * may be '-' (cli_one_stdin). */
 int cli_parse(const cli_command *c, int argc, char **argv);
 void cli_help(FILE *f, const cli_command *c);
 /* value among choices "a|b|c": *index = its position, or a message and

@@ -290,8 +290,6 @@ static void text_report(FILE *f, const ac_args *a, const ac_run *r)
 
 int cmd_accel(int argc, char **argv)
 {
-    if (cli_one_stdin(argc, argv))
-        return CLI_USAGE;
     ac_args a;
     int ec = parse(argc, argv, &a);
     if (ec)

@@ -187,8 +187,6 @@ static void write_stdout(FILE *f, const ef_args *a, const ef_run *r)
 
 int cmd_envfun(int argc, char **argv)
 {
-    if (cli_one_stdin(argc, argv))
-        return CLI_USAGE;
     int ec = cli_parse(&command, argc, argv);
     ef_args a = A;
     if (ec)

@@ -534,8 +534,6 @@ static int eqerr_report(const eqerr_args *a, flight *r, cli_out *out, cli_out *r
 
 int cmd_eqerr(int argc, char **argv)
 {
-    if (cli_one_stdin(argc, argv))
-        return CLI_USAGE;
     eqerr_args a;
     int ec = parse_eqerr(argc, argv, &a);
     if (ec)
@@ -848,8 +846,6 @@ static int test_pool(const test_args *a, double *info)
 
 int cmd_test(int argc, char **argv)
 {
-    if (cli_one_stdin(argc, argv))
-        return CLI_USAGE;
     int ec = cli_parse(&test_command, argc, argv);
     test_args a = TA;
     if (ec)

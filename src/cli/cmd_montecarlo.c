@@ -279,8 +279,6 @@ static int parse(int argc, char **argv, mc_args *a, cli_flight_args *fa)
 
 int cmd_montecarlo(int argc, char **argv)
 {
-    if (cli_one_stdin(argc, argv))
-        return CLI_USAGE;
     mc_args a;
     cli_flight_args fa;
     int ec = parse(argc, argv, &a, &fa);

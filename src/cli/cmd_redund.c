@@ -464,8 +464,6 @@ static int do_fdi(const rd_args *a, FILE *f)
 
 int cmd_redund(int argc, char **argv)
 {
-    if (cli_one_stdin(argc, argv))
-        return CLI_USAGE;
     rd_args a;
     int sub, ec = parse(argc, argv, &a, &sub);
     if (ec)

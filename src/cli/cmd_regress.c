@@ -317,8 +317,6 @@ static void text_report(FILE *f, const rg_args *a, const rg_in *in, const rg_out
 
 int cmd_regress(int argc, char **argv)
 {
-    if (cli_one_stdin(argc, argv))
-        return CLI_USAGE;
     rg_args a;
     int ec = parse(argc, argv, &a);
     if (ec)

@@ -422,8 +422,6 @@ static int run_stream(const rls_args *a, rls_in *in, igea_rls *h, printer *pr, d
 
 int cmd_rls(int argc, char **argv)
 {
-    if (cli_one_stdin(argc, argv))
-        return CLI_USAGE;
     rls_args a;
     int ec = parse(argc, argv, &a);
     if (ec)

@@ -163,8 +163,6 @@ static int commit_files(const sm_args *a, const cli_flight_args *fa, const cli_f
 
 int cmd_simulate(int argc, char **argv)
 {
-    if (cli_one_stdin(argc, argv))
-        return CLI_USAGE;
     cli_flight_defaults();
     int ec = cli_parse(&command, argc, argv);
     sm_args a = A;

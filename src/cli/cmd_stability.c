@@ -245,8 +245,6 @@ static int compute(const st_args *a, const double *y, st_result *r)
 
 int cmd_stability(int argc, char **argv)
 {
-    if (cli_one_stdin(argc, argv))
-        return CLI_USAGE;
     st_args a;
     int ec = parse(argc, argv, &a);
     if (ec)

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "cli.h"
@@ -1084,26 +1085,34 @@ static int out_oom(cli_out *o, const char *path)
     return CLI_SOFTWARE;
 }
 
-/* mkstemp of the temporary beside o->path, registered for the signal
- * clean-up: the fatal signals wait meanwhile, so that none can leave it
+/* Create the temporary o->tmp ("<path>.tmp." + 6 characters), registered
+ * for the signal clean-up before it exists: a fatal signal, delivered to
+ * any thread (the numerical libraries run their own), can never leave it
  * behind unregistered. Returns the descriptor or -1 (errno set). */
 static int out_mkstemp(cli_out *o)
 {
-    sigset_t block, saved;
-    sigemptyset(&block);
-    sigaddset(&block, SIGINT);
-    sigaddset(&block, SIGTERM);
-    sigaddset(&block, SIGHUP);
-    sigaddset(&block, SIGPIPE);
+    static const char digits[] = "0123456789abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ";
+    static unsigned long counter;
+    char *x = o->tmp + strlen(o->tmp) - 6;
     install_handlers();
-    sigprocmask(SIG_BLOCK, &block, &saved);
-    int fd = mkstemp(o->tmp);
-    if (fd >= 0)
+    for (int tries = 0; tries < 1000; tries++) {
+        unsigned long v = (unsigned long)getpid() * 2654435761u ^ (unsigned long)time(NULL) ^
+                          (unsigned long)clock() * 40503u ^ ++counter * 0x9e3779b9u;
+        for (int k = 0; k < 6; k++, v /= 62)
+            x[k] = digits[v % 62];
         o->slot = tmp_register(o->tmp);
-    int e = errno;
-    sigprocmask(SIG_SETMASK, &saved, NULL);
-    errno = e;
-    return fd;
+        int fd = open(o->tmp, O_RDWR | O_CREAT | O_EXCL, 0600);
+        if (fd >= 0)
+            return fd;
+        int e = errno;
+        tmp_unregister(o->slot);
+        o->slot = 0;
+        errno = e;
+        if (e != EEXIST)
+            return -1;
+    }
+    errno = EEXIST;
+    return -1;
 }
 
 /* A failed open or create: out of memory, or "cannot <what>" and 74. */

@@ -7,7 +7,7 @@
 
 #include "cli.h"
 
-void cli_json_num(FILE *f, double x)
+static void json_num(FILE *f, double x)
 {
     if (isfinite(x))
         fprintf(f, "%.17g", x);
@@ -15,7 +15,7 @@ void cli_json_num(FILE *f, double x)
         fputs("null", f);
 }
 
-void cli_json_str(FILE *f, const char *s)
+static void json_str(FILE *f, const char *s)
 {
     fputc('"', f);
     for (; *s; s++) {
@@ -54,7 +54,7 @@ static void member(cli_json *j, const char *key, int container)
         fputc(' ', j->f);
     }
     if (key) {
-        cli_json_str(j->f, key);
+        json_str(j->f, key);
         fputs(": ", j->f);
     }
 }
@@ -92,7 +92,7 @@ void cli_json_end(cli_json *j)
 void cli_jnum(cli_json *j, const char *key, double x)
 {
     member(j, key, 0);
-    cli_json_num(j->f, x);
+    json_num(j->f, x);
 }
 
 void cli_jint(cli_json *j, const char *key, long x)
@@ -111,7 +111,7 @@ void cli_jstr(cli_json *j, const char *key, const char *s)
 {
     member(j, key, 0);
     if (s)
-        cli_json_str(j->f, s);
+        json_str(j->f, s);
     else
         fputs("null", j->f);
 }
@@ -123,7 +123,7 @@ void cli_jnums(cli_json *j, const char *key, const double *x, long n)
     for (long i = 0; i < n; i++) {
         if (i)
             fputs(", ", j->f);
-        cli_json_num(j->f, x[i]);
+        json_num(j->f, x[i]);
     }
     fputc(']', j->f);
 }
@@ -146,21 +146,3 @@ void cli_jbools(cli_json *j, const char *key, const int *x, long n)
     fputc(']', j->f);
 }
 
-void cli_json_array(FILE *f, const double *x, long n)
-{
-    fputc('[', f);
-    for (long i = 0; i < n; i++) {
-        if (i)
-            fputs(", ", f);
-        cli_json_num(f, x[i]);
-    }
-    fputc(']', f);
-}
-
-void cli_json_iarray(FILE *f, const int *x, long n)
-{
-    fputc('[', f);
-    for (long i = 0; i < n; i++)
-        fprintf(f, "%s%d", i ? ", " : "", x[i]);
-    fputc(']', f);
-}

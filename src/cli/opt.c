@@ -99,6 +99,8 @@ void cli_help(FILE *f, const cli_command *c)
 int cli_parse(const cli_command *c, int argc, char **argv)
 {
     const cli_opt *o;
+    if (cli_one_stdin(argc, argv))
+        return CLI_USAGE;
     for (o = c->opts; o->kind != CLI_OPT_END; o++) {
         if (o->given)
             *o->given = 0;
