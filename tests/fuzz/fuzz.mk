@@ -8,9 +8,15 @@
 #                    target for FUZZ_QUICK_TIME seconds (default 3)
 #   make fuzz-deps   clang with libFuzzer, installed as root on Debian
 #
+# One target per reader (text, npy: whole, streamed, two-pass and piped reads
+# agree bit for bit) and per command (cli_run in process: documented exit
+# status, no file or temporary left by a failure, 74 when stdout is full);
+# the input format and every check are in harness.h. Some targets longer:
+#   make fuzz FUZZ_TARGETS="text npy" FUZZ_TIME=300
 # The targets compile the library and the driver (without main.c) with
 # clang -fsanitize=fuzzer,address,undefined. Reproduce a crash with
 #   $(FUZZ_BUILD)/bin/fuzz_<target> $(FUZZ_BUILD)/crashes/<target>-crash-<sha1>
+# (IGEA_FUZZ_TRACE=1 prints each run's command line and exit status).
 
 FUZZ_CC         ?= clang
 FUZZ_TIME       ?= 60
@@ -49,10 +55,10 @@ fuzz-quick:
 $(FUZZ_BUILD)/obj/lib/%.o: src/%.c $(HEADERS) | $(FUZZ_BUILD)/obj/lib
 	$(FUZZ_CC) $(CPPFLAGS) $(filter-out -Werror,$(WARN)) $(FUZZ_CFLAGS) -c $< -o $@
 
-$(FUZZ_BUILD)/obj/cli/%.o: src/cli/%.c src/cli/cli.h $(HEADERS) | $(FUZZ_BUILD)/obj/cli
+$(FUZZ_BUILD)/obj/cli/%.o: src/cli/%.c $(wildcard src/cli/*.h) $(HEADERS) | $(FUZZ_BUILD)/obj/cli
 	$(FUZZ_CC) $(CPPFLAGS) $(filter-out -Werror,$(WARN)) $(FUZZ_CFLAGS) -c $< -o $@
 
-$(FUZZ_BUILD)/obj/%.o: tests/fuzz/%.c tests/fuzz/harness.h src/cli/cli.h $(HEADERS) | $(FUZZ_BUILD)/obj
+$(FUZZ_BUILD)/obj/%.o: tests/fuzz/%.c tests/fuzz/harness.h $(wildcard src/cli/*.h) $(HEADERS) | $(FUZZ_BUILD)/obj
 	$(FUZZ_CC) $(CPPFLAGS) $(WARN) $(FUZZ_CFLAGS) -c $< -o $@
 
 $(FUZZ_BINS): $(FUZZ_BUILD)/bin/fuzz_%: $(FUZZ_BUILD)/obj/fuzz_%.o $(FUZZ_BUILD)/obj/harness.o \

@@ -34,6 +34,8 @@ static int null_rdev_ok;
 static dev_t null_rdev;
 static const fz_run *current;
 
+static int is_input(const fz_run *r, const char *name);
+
 static void rm_tree_at(int dfd)
 {
     int fd = dup(dfd);
@@ -206,6 +208,34 @@ int fz_has(const fz_run *r, const char *token)
         if (!strcmp(r->argv[i], token))
             return 1;
     return 0;
+}
+
+const char *fz_opt_str(const fz_run *r, const char *opt)
+{
+    const char *v = NULL;
+    for (int i = 0; i + 1 < r->argc; i++)
+        if (!strcmp(r->argv[i], opt))
+            v = r->argv[i + 1];
+    return v;
+}
+
+long fz_values(const fz_run *r, const char *name)
+{
+    if (name && !strcmp(name, "-"))
+        name = "stdin";
+    if (!name || is_input(r, name) < 0)
+        return 0;
+    if (fchdir(work_fd) != 0)
+        fz_fail("chdir %s: %s", work, strerror(errno));
+    cli_matrix m;
+    long rows = 0;
+    if (cli_read_matrix(name, &m) == CLI_OK) {
+        rows = m.rows * m.cols;
+        cli_matrix_free(&m);
+    }
+    if (home_fd >= 0 && fchdir(home_fd) != 0)
+        fz_fail("chdir back: %s", strerror(errno));
+    return rows;
 }
 
 double fz_max_abs(const fz_run *r)

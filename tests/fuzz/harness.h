@@ -64,8 +64,13 @@ int fz_write(const char *name, const void *p, size_t n);
  * number. */
 double fz_opt_num(const fz_run *r, const char *opt, double dflt);
 int fz_has(const fz_run *r, const char *token);
+/* The value of the last occurrence of option opt, or NULL. */
+const char *fz_opt_str(const fz_run *r, const char *opt);
 /* The largest |value| in the input files that read as matrices (0 if none). */
 double fz_max_abs(const fz_run *r);
+/* Values in the input file name read as a matrix ("-": the file named
+ * stdin; 0 if it does not read). */
+long fz_values(const fz_run *r, const char *name);
 
 /* Parse data, write its files, run cmd with argv = {name, prefix...,
  * tokens...}, check the run as described above. guard returns nonzero to
