@@ -28,7 +28,7 @@ static const command commands[] = {
 
 static void usage(FILE *f)
 {
-    fprintf(f, "usage: igea <command> [options] FILE...\n\n"
+    fprintf(f, "usage: igea <command> [options]   (inputs are options: --S FILE, --data FILE, ...)\n\n"
                "Inertial guidance error analysis. Commands:\n");
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
         fprintf(f, "  %-10s %s\n", commands[i].name, commands[i].summary);
