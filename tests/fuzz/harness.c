@@ -19,6 +19,12 @@
 int cli_run(int argc, char **argv);
 #pragma weak cli_run
 
+/* The two-pass reader, compared with the one-pass reads when present. */
+int cli_reader_open_twice(const char *path, cli_reader **out);
+int cli_reader_rewind(cli_reader *r);
+#pragma weak cli_reader_open_twice
+#pragma weak cli_reader_rewind
+
 /* The sanitizer runtime's report descriptor (present under -fsanitize). */
 void __sanitizer_set_report_fd(void *fd);
 
@@ -742,9 +748,11 @@ int fz_reader(const char *fname, const uint8_t *data, size_t size)
     free(s.v);
     s.rows = 0;
     s.v = NULL;
-    ec2 = stream_read(fname, 1, &seed, &s);
-    compare("the two-pass read", ec1, &m, ec2, &s);
-    free(s.v);
+    if (cli_reader_open_twice && cli_reader_rewind) {
+        ec2 = stream_read(fname, 1, &seed, &s);
+        compare("the two-pass read", ec1, &m, ec2, &s);
+        free(s.v);
+    }
 
     /* the same bytes from a pipe on standard input ("-"), whole, streamed
      * and in two passes (spooled); a pipe is told .npy by its magic bytes,
@@ -768,6 +776,8 @@ int fz_reader(const char *fname, const uint8_t *data, size_t size)
                 s.rows = 0;
                 s.cols = 0;
                 s.v = NULL;
+                if (pass == 2 && !(cli_reader_open_twice && cli_reader_rewind))
+                    break;
                 ec2 = stream_read("-", pass == 2, &seed, &s);
                 compare(what[pass], ec1, &m, ec2, &s);
                 free(s.v);
