@@ -156,7 +156,7 @@ demo: deps
 	@rm -rf $(BUILD)/demo $(BUILD)/demo5 && mkdir -p $(BUILD)/demo $(BUILD)/demo5
 	@$(DRIVER) simulate --seed 7 --sigma-w 1.8 --save-traj --dir $(BUILD)/demo
 	@echo "== igea envfun: trajectory -> environment functions S"
-	@$(DRIVER) envfun $(BUILD)/demo/traj.txt --terms default --out $(BUILD)/demo/S_envfun.txt && \
+	@$(DRIVER) envfun --traj $(BUILD)/demo/traj.txt --terms default --out $(BUILD)/demo/S_envfun.txt && \
 	  cmp -s $(BUILD)/demo/S.txt $(BUILD)/demo/S_envfun.txt && echo "S from the trajectory equals the simulator's S"
 	@echo "== igea eqerr: the verdict"
 	@cd $(BUILD)/demo && $(CURDIR)/$(DRIVER) eqerr --S S.txt --dw dw.txt --sigma sigma.txt --spec spec.txt; \

@@ -10,9 +10,9 @@ B output (g). Truth: METHODS 4.3's coefficients, installation angle 2e-4 rad,
 1 arcsec head angle errors per reading, 1 micro-g output noise.
 
 The same fits from the command line:
-    igea accel examples/accel_dual.txt
-    igea accel --method ebr --prior examples/accel_prior.txt examples/accel_dual.txt
-    igea accel --model single examples/accel_dual.txt
+    igea accel --data examples/accel_dual.txt
+    igea accel --method ebr --prior examples/accel_prior.txt --data examples/accel_dual.txt
+    igea accel --model single --data examples/accel_dual.txt
 """
 import os
 import sys
