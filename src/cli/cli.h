@@ -279,6 +279,24 @@ int cli_flight_set(const cli_flight_args *a, cli_flight *f, const char *cmd);
 void cli_flight_noise(const cli_flight_args *a, double *opts);
 void cli_flight_free(cli_flight *f);
 
+/* ---- shared steps of the commands (report.c) ----------------------------- */
+/* A matrix file into a column-major array (malloc'd); *rows, *cols. */
+int cli_read_colmajor(const char *path, double **v, int *rows, int *cols);
+/* A row-major copy of a column-major rows x cols array (malloc'd; NULL when
+ * out of memory). */
+double *cli_rowmajor(const double *v, long rows, int cols);
+/* A rows x cols matrix as an array of row arrays, each row on its own line;
+ * element (i, k) is v[i rs + k cs] (row-major: rs = cols, cs = 1;
+ * column-major: rs = 1, cs = rows), or iv[...] when v is NULL. */
+void cli_jmatrix(cli_json *j, const char *key, const double *v, const int *iv, int rows,
+                 int cols, long rs, long cs);
+/* An array of n strings; of the names of n term codes. */
+void cli_jstrs(cli_json *j, const char *key, const char *const *s, int n);
+void cli_jterms(cli_json *j, const char *key, const int *codes, int n);
+/* A failed option check: msg (not NULL) as the usage message and CLI_USAGE;
+ * CLI_OK for NULL. */
+int cli_usage(const char *msg);
+
 /* ---- commands: int cmd_<name>(int argc, char **argv), argv[0] = name -- */
 /* The driver: argv[1] names the command (or --help, --version); runs it,
  * then checks that standard output was written: a failed write or flush is

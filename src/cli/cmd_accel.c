@@ -72,24 +72,14 @@ static int parse(int argc, char **argv, ac_args *a)
     *a = A;
     if (ec)
         return ec;
-    const char *msg = NULL;
-    if (!a->data)
-        msg = "accel: --data FILE is required (see igea accel --help)";
-    else if (a->scale_a == 0.0 || a->scale_b == 0.0)
-        msg = "accel: a scale factor must not be 0";
-    else if (!(a->tol >= 0.0 && a->tol < 45.0))
-        msg = "accel: --tol must be in [0, 45) degrees";
-    else if (a->lam_floor < 0.0)
-        msg = "accel: --lam-floor must be >= 0";
-    else if (a->refine && model_codes[a->model] != IGEA_ACCEL_DUAL)
-        msg = "accel: --refine needs the dual model";
-    else if (a->prior && method_codes[a->method] != IGEA_ACCEL_EBR)
-        msg = "accel: --prior needs --method ebr";
-    if (msg) {
-        cli_error("%s", msg);
-        return CLI_USAGE;
-    }
-    return CLI_OK;
+    return cli_usage(!a->data ? "accel: --data FILE is required (see igea accel --help)"
+                     : a->scale_a == 0.0 || a->scale_b == 0.0 ? "accel: a scale factor must not be 0"
+                     : !(a->tol >= 0.0 && a->tol < 45.0) ? "accel: --tol must be in [0, 45) degrees"
+                     : a->lam_floor < 0.0 ? "accel: --lam-floor must be >= 0"
+                     : a->refine && model_codes[a->model] != IGEA_ACCEL_DUAL
+                         ? "accel: --refine needs the dual model"
+                     : a->prior && method_codes[a->method] != IGEA_ACCEL_EBR
+                         ? "accel: --prior needs --method ebr" : NULL);
 }
 
 static const char *names_dual[2][9] = {
@@ -199,14 +189,6 @@ static int compute(const ac_args *a, ac_run *r)
     return CLI_OK;
 }
 
-static void json_strs(cli_json *j, const char *key, const char *const *s, int n)
-{
-    cli_json_open(j, key, '[');
-    for (int i = 0; i < n; i++)
-        cli_jstr(j, NULL, s[i]);
-    cli_json_close(j);
-}
-
 static const char *const model_names[] = {"dual", "single"}, *const method_names[] = {"ls", "ebr"};
 
 static void json_report(FILE *f, const ac_args *a, const ac_run *r)
@@ -219,14 +201,14 @@ static void json_report(FILE *f, const ac_args *a, const ac_run *r)
     cli_jint(&j, "readings", r->nr);
     cli_jnums(&j, "theta_deg", r->th, r->npos);
     cli_jints(&j, "readings_per_position", r->cnt, r->npos);
-    json_strs(&j, "names", r->names, r->np);
+    cli_jstrs(&j, "names", r->names, r->np);
     cli_jnums(&j, "coef", r->coef, r->np);
     cli_jnums(&j, "sd", r->sd, r->np);
     cli_json_open(&j, "flags", '[');
     for (int i = 0; i < r->np; i++)
         cli_jstr(&j, NULL, r->flag[i] ? "prior" : "data");
     cli_json_close(&j);
-    json_strs(&j, "comb_names", r->cnames, r->nc);
+    cli_jstrs(&j, "comb_names", r->cnames, r->nc);
     cli_jnums(&j, "comb", r->cmb, r->nc);
     cli_jnums(&j, "comb_sd", r->csd, r->nc);
     cli_jint(&j, "rank", (long)r->info[IGEA_ACCEL_INFO_RANK]);

@@ -104,10 +104,8 @@ static int compute(const ef_args *a, ef_run *r)
 {
     int m = r->m, nt = r->nt;
     double *S = malloc(sizeof(double) * (size_t)m * nt);
-    if (!S || !(r->S = malloc(sizeof(double) * (size_t)m * nt))) {
-        free(S);
+    if (!S)
         return cli_oom("S");
-    }
     int st = igea_envfun_compute(a->system, r->nsamp, r->traj, r->nsamp, nt,
                                  r->codes, a->axes ? r->axes : NULL, r->nep, r->ep, r->spec,
                                  output_codes[a->output], S, m);
@@ -125,19 +123,10 @@ static int compute(const ef_args *a, ef_run *r)
     } else {
         ec = cli_status(st, "envfun");
     }
-    for (int i = 0; !ec && i < m; i++)
-        for (int j = 0; j < nt; j++)
-            r->S[(size_t)i * nt + j] = S[i + (size_t)j * m];
+    if (!ec && !(r->S = cli_rowmajor(S, m, nt)))
+        ec = cli_oom("S");
     free(S);
     return ec;
-}
-
-static void json_terms(cli_json *j, const ef_run *r)
-{
-    cli_json_open(j, "terms", '[');
-    for (int k = 0; k < r->nt; k++)
-        cli_jstr(j, NULL, igea_envfun_term_name(r->codes[k]));
-    cli_json_close(j);
 }
 
 /* S to --out, with a summary on standard output (checked before the file
@@ -155,7 +144,7 @@ static int write_file(const ef_args *a, const ef_run *r)
         cli_json j;
         cli_json_begin(&j, stdout);
         cli_jint(&j, "rows", r->m);
-        json_terms(&j, r);
+        cli_jterms(&j, "terms", r->codes, r->nt);
         cli_jstr(&j, "out", a->out);
         cli_json_end(&j);
         if ((ec = cli_stdout_check())) {
@@ -175,7 +164,7 @@ static void write_stdout(FILE *f, const ef_args *a, const ef_run *r)
     if (a->json) {
         cli_json j;
         cli_json_begin(&j, f);
-        json_terms(&j, r);
+        cli_jterms(&j, "terms", r->codes, r->nt);
         cli_json_open(&j, "S", '[');
         for (int i = 0; i < r->m; i++)
             cli_jnums(&j, NULL, r->S + (size_t)i * r->nt, r->nt);

@@ -108,44 +108,13 @@ static int parse(int argc, char **argv, rd_args *a, int *sub)
     *a = A;
     if (ec)
         return ec;
-    const char *msg = NULL;
     if (!(a->alpha > 0 && a->alpha < 1) || !(a->pfa > 0 && a->pfa < 1))
-        msg = "redund: --alpha and --pfa must lie in (0, 1)";
-    else if (!(a->re1 >= 0 && a->re1 <= 1) || !(a->re2 >= 0 && a->re2 <= 1))
-        msg = "redund: --re1 and --re2 must lie in [0, 1]";
-    else if (!(a->window > 0))
-        msg = "redund: --window must be > 0";
-    else
-        msg = check_sub(*sub, a);
-    if (msg) {
-        cli_error("%s", msg);
-        return CLI_USAGE;
-    }
-    return CLI_OK;
-}
-
-/* A file of rows into a column-major array; *rows, *cols. */
-static int read_colmajor(const char *path, double **v, int *rows, int *cols)
-{
-    cli_matrix m = {0};
-    int ec = cli_read_matrix(path, &m);
-    if (ec)
-        return ec;
-    if (m.rows > 2147483647L) {
-        cli_error("%s: too many rows", path);
-        cli_matrix_free(&m);
-        return CLI_DATAERR;
-    }
-    *rows = (int)m.rows, *cols = m.cols;
-    if (!(*v = malloc(sizeof(double) * (size_t)m.rows * m.cols))) {
-        cli_matrix_free(&m);
-        return cli_oom(path);
-    }
-    for (long i = 0; i < m.rows; i++)
-        for (int c = 0; c < m.cols; c++)
-            (*v)[i + (size_t)c * m.rows] = m.v[(size_t)i * m.cols + c];
-    cli_matrix_free(&m);
-    return CLI_OK;
+        return cli_usage("redund: --alpha and --pfa must lie in (0, 1)");
+    if (!(a->re1 >= 0 && a->re1 <= 1) || !(a->re2 >= 0 && a->re2 <= 1))
+        return cli_usage("redund: --re1 and --re2 must lie in [0, 1]");
+    if (!(a->window > 0))
+        return cli_usage("redund: --window must be > 0");
+    return cli_usage(check_sub(*sub, a));
 }
 
 static int report_seed002(const rd_args *a, FILE *f)
@@ -182,7 +151,7 @@ static int report_seed002(const rd_args *a, FILE *f)
 static int report_geometry(const rd_args *a, FILE *f)
 {
     double *axc = NULL, *R = NULL, g[IGEA_REDUND_GEOM_LEN];
-    int n, cols, ec = read_colmajor(a->axes, &axc, &n, &cols);
+    int n, cols, ec = cli_read_colmajor(a->axes, &axc, &n, &cols);
     if (!ec && (cols != 3 || n < 1 || n > IGEA_REDUND_GEOM_FDI_MAX)) {
         cli_error("%s: expected 1 to %d rows of 3 (one input axis per sensor)", a->axes,
                   IGEA_REDUND_GEOM_FDI_MAX);
@@ -217,23 +186,6 @@ static int do_reliability(const rd_args *a, FILE *f)
     return a->axes ? report_geometry(a, f) : report_seed002(a, f);
 }
 
-/* Row-major rows of an n x n column-major matrix, as JSON arrays. */
-static void json_square(cli_json *j, const char *key, const double *D, const int *I, int n)
-{
-    cli_json_open(j, key, '[');
-    for (int i = 0; i < n; i++) {
-        cli_json_open(j, NULL, '[');
-        for (int k = 0; k < n; k++) {
-            if (D)
-                cli_jnum(j, NULL, D[i + (size_t)k * n]);
-            else
-                cli_jint(j, NULL, I[i + (size_t)k * n]);
-        }
-        cli_json_close(j);
-    }
-    cli_json_close(j);
-}
-
 typedef struct {
     int n, *r, *sup, *keep, *keep1;
     double *x, *s, *D, fused, fsig;
@@ -247,8 +199,8 @@ static void report_consistency(const rd_args *a, FILE *f, const consistency *c)
         cli_json_begin(&j, f);
         cli_jint(&j, "n", n);
         cli_jnum(&j, "alpha", a->alpha);
-        json_square(&j, "D", c->D, NULL, n);
-        json_square(&j, "relation", NULL, c->r, n);
+        cli_jmatrix(&j, "D", c->D, NULL, n, n, 1, n);
+        cli_jmatrix(&j, "relation", NULL, c->r, n, n, 1, n);
         cli_jints(&j, "support", c->sup, n);
         cli_jints(&j, "fusion_set", c->keep, n);
         cli_jints(&j, "fusion_set_one_shot", c->keep1, n);
@@ -386,7 +338,7 @@ static int do_fuse(const rd_args *a, FILE *f)
     double *y = NULL, *s = NULL;
     fuse_run r;
     memset(&r, 0, sizeof r);
-    int ns = 0, ec = read_colmajor(a->data, &y, &ns, &r.nc);
+    int ns = 0, ec = cli_read_colmajor(a->data, &y, &ns, &r.nc);
     if (!ec && r.nc > 64) {
         cli_error("%s: too large (at most 64 sensors)", a->data);
         ec = CLI_DATAERR;
@@ -443,7 +395,7 @@ static void report_fdi(const rd_args *a, FILE *f, const double *info, int iso, c
 static int do_fdi(const rd_args *a, FILE *f)
 {
     double *H = NULL, *y = NULL, *s = NULL, *par = NULL, info[IGEA_REDUND_FDI_LEN];
-    int m = 0, q = 0, iso = -1, ec = read_colmajor(a->H, &H, &m, &q);
+    int m = 0, q = 0, iso = -1, ec = cli_read_colmajor(a->H, &H, &m, &q);
     if (!ec && (m <= q || m > 1000)) {
         cli_error("%s: H needs more rows than columns (m > q), at most 1000 rows", a->H);
         ec = CLI_DATAERR;

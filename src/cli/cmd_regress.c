@@ -116,18 +116,11 @@ static int parse(int argc, char **argv, rg_args *a)
     *a = A;
     if (ec)
         return ec;
-    const char *msg = NULL;
     if (!a->have_method || !a->S || !a->dw)
-        msg = "regress: --method, --S and --dw are required (see igea regress --help)";
-    else if (!(a->rcond < 1))
-        msg = "regress: --rcond must be < 1";
-    else
-        msg = check_method(a);
-    if (msg) {
-        cli_error("%s", msg);
-        return CLI_USAGE;
-    }
-    return CLI_OK;
+        return cli_usage("regress: --method, --S and --dw are required (see igea regress --help)");
+    if (!(a->rcond < 1))
+        return cli_usage("regress: --rcond must be < 1");
+    return cli_usage(check_method(a));
 }
 
 /* Inputs, column-major for the library. */
@@ -148,24 +141,9 @@ static void in_free(rg_in *in)
 
 static int read_inputs(const rg_args *a, rg_in *in)
 {
-    cli_matrix S = {0};
-    int ec = cli_read_matrix(a->S, &S);
+    int ec = cli_read_colmajor(a->S, &in->A, &in->m, &in->N), m = in->m, N = in->N;
     if (ec)
         return ec;
-    if (S.rows > 2147483647L) {
-        cli_error("%s: too many rows", a->S);
-        cli_matrix_free(&S);
-        return CLI_DATAERR;
-    }
-    int m = in->m = (int)S.rows, N = in->N = S.cols;
-    if (!(in->A = malloc(sizeof(double) * (size_t)m * N))) {
-        cli_matrix_free(&S);
-        return cli_oom("the design");
-    }
-    for (int i = 0; i < m; i++)
-        for (int j = 0; j < N; j++)
-            in->A[i + (size_t)j * m] = S.v[(size_t)i * N + j];
-    cli_matrix_free(&S);
     if ((ec = cli_read_vector(a->dw, m, "dw (one value per row of S)", &in->y, NULL)))
         return ec;
     if (a->sigma && (ec = cli_read_values(a->sigma, m, "--sigma (one per row of S)", &in->sig,

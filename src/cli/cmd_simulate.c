@@ -68,11 +68,9 @@ static int run_flight(const sm_args *a, const cli_flight_args *fa, cli_flight *f
     double *S = malloc(sizeof(double) * (size_t)m * N);
     r->x = malloc(sizeof(double) * (size_t)N);
     r->dw = malloc(sizeof(double) * (size_t)m);
-    r->S = malloc(sizeof(double) * (size_t)m * N);
     r->sigma = malloc(sizeof(double) * (size_t)m);
     r->header = cli_term_header(f->codes, N);
-    int ec = !S || !r->x || !r->dw || !r->S || !r->sigma || !r->header ? cli_oom("the flight")
-                                                                       : CLI_OK;
+    int ec = !S || !r->x || !r->dw || !r->sigma || !r->header ? cli_oom("the flight") : CLI_OK;
     int st = 0;
     if (!ec && a->nonlinear)
         st = igea_sim_model_set_nonlinear(f->model, 1);
@@ -84,18 +82,12 @@ static int run_flight(const sm_args *a, const cli_flight_args *fa, cli_flight *f
         st = igea_sim_model_get_sigma(f->model, r->sigma);
     if (!ec)
         ec = cli_status(st, "simulate");
-    for (int i = 0; !ec && i < m; i++)
-        for (int j = 0; j < N; j++)
-            r->S[(size_t)i * N + j] = S[i + (size_t)j * m];
+    if (!ec && !(r->S = cli_rowmajor(S, m, N)))
+        ec = cli_oom("the flight");
     free(S);
-    if (ec || !a->save_traj)
-        return ec;
-    if (!(r->traj = malloc(sizeof(double) * (size_t)f->nsamp * IGEA_ENVFUN_TRAJ_COLS)))
-        return cli_oom("the trajectory table");
-    for (int k = 0; k < f->nsamp; k++)
-        for (int c = 0; c < IGEA_ENVFUN_TRAJ_COLS; c++)
-            r->traj[(size_t)k * IGEA_ENVFUN_TRAJ_COLS + c] = f->traj[k + (size_t)c * f->nsamp];
-    return CLI_OK;
+    if (!ec && a->save_traj && !(r->traj = cli_rowmajor(f->traj, f->nsamp, IGEA_ENVFUN_TRAJ_COLS)))
+        ec = cli_oom("the trajectory table");
+    return ec;
 }
 
 static void write_files(cli_out *outs, const sm_args *a, const cli_flight_args *fa,
@@ -123,10 +115,7 @@ static void json_summary(FILE *out, const sm_args *a, const cli_flight_args *fa,
     cli_jint(&j, "rows", f->m);
     cli_jint(&j, "seed", fa->seed);
     cli_jint(&j, "flight", a->flight);
-    cli_json_open(&j, "terms", '[');
-    for (int k = 0; k < f->N; k++)
-        cli_jstr(&j, NULL, igea_envfun_term_name(f->codes[k]));
-    cli_json_close(&j);
+    cli_jterms(&j, "terms", f->codes, f->N);
     cli_jnums(&j, "x_true", r->x, f->N);
     cli_json_end(&j);
 }
