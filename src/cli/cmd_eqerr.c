@@ -181,34 +181,31 @@ static int streams_open(const eqerr_args *a, streams *s)
         ec = cli_reader_open_twice(a->dw, &s->dw);
     if (!ec && !a->sigma_is_number)
         ec = cli_reader_open_twice(a->sigma, &s->sig);
-    if (ec) {
-        streams_close(s);
-        return ec;
+    for (int k = 0; !ec && k < 2; k++) {
+        cli_reader *rd = k ? s->sig : s->dw;
+        if (rd && cli_reader_cols(rd) != 1) {
+            cli_error("%s: %s must be one column, found %d", k ? a->sigma : a->dw,
+                      k ? "sigma" : "dw", cli_reader_cols(rd));
+            ec = CLI_DATAERR;
+        }
     }
-    if (cli_reader_cols(s->dw) != 1) {
-        cli_error("%s: dw must be one column, found %d", a->dw, cli_reader_cols(s->dw));
-        streams_close(s);
-        return CLI_DATAERR;
+    if (!ec) {
+        s->N = cli_reader_cols(s->S);
+        s->block = 1 + (4L << 20) / (8L * (s->N + 2)); /* about 4 MB of rows */
+        s->block -= s->block % 3;
+        if (s->block < 3)
+            s->block = 3;
+        s->sbuf = malloc((size_t)s->block * s->N * sizeof(double));
+        s->dbuf = malloc((size_t)s->block * sizeof(double));
+        s->gbuf = malloc((size_t)s->block * sizeof(double));
+        if (!s->sbuf || !s->dbuf || !s->gbuf) {
+            cli_error("out of memory (row blocks of %s)", a->S);
+            ec = CLI_SOFTWARE;
+        }
     }
-    if (s->sig && cli_reader_cols(s->sig) != 1) {
-        cli_error("%s: sigma must be one column, found %d", a->sigma, cli_reader_cols(s->sig));
+    if (ec)
         streams_close(s);
-        return CLI_DATAERR;
-    }
-    s->N = cli_reader_cols(s->S);
-    s->block = 1 + (4L << 20) / (8L * (s->N + 2)); /* about 4 MB of rows */
-    s->block -= s->block % 3;
-    if (s->block < 3)
-        s->block = 3;
-    s->sbuf = malloc((size_t)s->block * s->N * sizeof(double));
-    s->dbuf = malloc((size_t)s->block * sizeof(double));
-    s->gbuf = malloc((size_t)s->block * sizeof(double));
-    if (!s->sbuf || !s->dbuf || !s->gbuf) {
-        cli_error("out of memory (row blocks of %s)", a->S);
-        streams_close(s);
-        return CLI_SOFTWARE;
-    }
-    return CLI_OK;
+    return ec;
 }
 
 /* All three again from their first row (the second pass). */
@@ -294,10 +291,7 @@ typedef struct {
 
 static void flight_free(flight *r)
 {
-    free(r->lambda);
-    free(r->P);
-    free(r->xhat);
-    free(r->z);
+    free(r->lambda); /* P, xhat and z are in its block */
     free(r->spec);
     free(r->reject);
 }
@@ -306,13 +300,11 @@ static int flight_alloc(flight *r, int N)
 {
     size_t n = (size_t)N;
     r->N = N;
-    r->lambda = malloc(n * sizeof(double));
-    r->P = malloc(n * n * sizeof(double));
-    r->xhat = malloc(n * sizeof(double));
-    r->z = malloc(n * sizeof(double));
+    r->lambda = malloc((n * n + 3 * n) * sizeof(double));
     r->reject = malloc(n * sizeof(int));
-    if (!r->lambda || !r->P || !r->xhat || !r->z || !r->reject)
+    if (!r->lambda || !r->reject)
         return cli_oom("the results");
+    r->P = r->lambda + n, r->xhat = r->P + n * n, r->z = r->xhat + n;
     return CLI_OK;
 }
 
@@ -321,14 +313,7 @@ static void json_head(cli_json *j, const flight *r, const eqerr_args *a)
 {
     int N = r->N, nt = (int)r->info[IGEA_STATS_INFO_N_TEST];
     cli_jnums(j, "eigenvalues", r->lambda, N);
-    cli_json_open(j, "eigenvectors", '[');
-    for (int i = 0; i < N; i++) {
-        cli_json_open(j, NULL, '[');
-        for (int k = 0; k < N; k++)
-            cli_jnum(j, NULL, r->P[i + (size_t)k * N]);
-        cli_json_close(j);
-    }
-    cli_json_close(j);
+    cli_jmatrix(j, "eigenvectors", r->P, NULL, N, N, 1, N);
     cli_jint(j, "rank", (long)r->info[IGEA_STATS_INFO_RANK]);
     cli_jnums(j, "equiv_err", r->xhat, N);
     json_verdicts(j, r->z, r->reject, nt);
