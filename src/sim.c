@@ -12,6 +12,7 @@
 #include "igea/normal.h"
 #include "igea/envfun.h"
 #include "igea/sim.h"
+#include "igea/stats.h"
 #include "internal.h"
 #include "rotation.h"
 
@@ -826,6 +827,106 @@ int igea_sim_montecarlo(const igea_sim_model *model, const double *eq_opts,
     nthreads = IGEA_MIN(IGEA_MIN(nthreads, nflights), 256);
     return mc_main(model, eqo, seed, first_flight, nflights, nthreads, counts,
                    rates, comp_tested, comp_reject, table, ldt);
+}
+
+/* ---- pooled verdicts ------------------------------------------------------ */
+
+/* The table's CHI2, DOF and N_REJECT columns as igea_sim_pool reads them:
+ * 0, IGEA_ENONFINITE or -2. */
+static int pool_check(int nflights, const double *T, const double *D,
+                      const double *R)
+{
+    if (!igea__finite_vec(nflights, T, 1) || !igea__finite_vec(nflights, D, 1) ||
+        !igea__finite_vec(nflights, R, 1))
+        return IGEA_ENONFINITE;
+    for (int f = 0; f < nflights; f++) {
+        if (!(D[f] >= 0.0 && D[f] <= IGEA_STATS_DOF_MAX && D[f] == floor(D[f])))
+            return -2;
+        if (!(R[f] >= 0.0 && R[f] <= D[f] && R[f] == floor(R[f])))
+            return -2;
+        if (!(T[f] >= 0.0) || (D[f] == 0.0 && T[f] != 0.0))
+            return -2;
+    }
+    return 0;
+}
+
+/* The pooled verdict of the flights T, D, R [0, size): *failed 1 when "out
+ * of spec"; scratch pc (size doubles), pd, pr (size ints). */
+static int pool_group(int size, const double *T, const double *D, const double *R,
+                      double alpha, double *pc, int *pd, int *pr, int *failed)
+{
+    int k = 0;
+    double dsum = 0.0;
+    for (int f = 0; f < size; f++)
+        if (D[f] > 0.0) {
+            pc[k] = T[f];
+            pd[k] = (int)D[f];
+            pr[k] = (int)R[f];
+            dsum += D[f];
+            k++;
+        }
+    *failed = 0;
+    if (k == 0)
+        return 0;
+    if (dsum > IGEA_STATS_DOF_MAX)
+        return -4;
+    double info[IGEA_STATS_INFO_LEN];
+    int st = igea_stats_pool(k, pc, pd, pr, NULL, alpha, info);
+    if (st < 0)
+        return st > -1000 ? -2 : st;
+    *failed = info[IGEA_STATS_INFO_PASSED] != 1.0;
+    return 0;
+}
+
+int igea_sim_pool(int nflights, const double *table, int ldt, int size,
+                  double alpha, double *pooled)
+{
+    if (nflights < 1)
+        return -1;
+    if (!table)
+        return -2;
+    if (ldt < nflights)
+        return -3;
+    if (size < 1)
+        return -4;
+    if (!(alpha > 0.0 && alpha < 1.0))
+        return -5;
+    if (!pooled)
+        return -6;
+    const double *T = table + (size_t)IGEA_SIM_MC_TABLE_CHI2 * (size_t)ldt;
+    const double *D = table + (size_t)IGEA_SIM_MC_TABLE_DOF * (size_t)ldt;
+    const double *R = table + (size_t)IGEA_SIM_MC_TABLE_N_REJECT * (size_t)ldt;
+    int st = pool_check(nflights, T, D, R);
+    if (st)
+        return st;
+    int npools = nflights / size, nfail = 0;
+    if (npools > 0) {
+        double *pc = igea__dalloc((size_t)size);
+        int *pd = igea__ialloc(2 * (size_t)size);
+        st = pc && pd ? 0 : IGEA_ENOMEM;
+        for (int g = 0; st == 0 && g < npools; g++) {
+            size_t f0 = (size_t)g * (size_t)size;
+            int failed = 0;
+            st = pool_group(size, T + f0, D + f0, R + f0, alpha, pc, pd, pd + size,
+                            &failed);
+            nfail += failed;
+        }
+        free(pc);
+        free(pd);
+        if (st)
+            return st;
+    }
+    double lohi[2] = {NAN, NAN};
+    if (npools > 0)
+        igea_sim_interval(nfail, npools, lohi);
+    for (int k = 0; k < IGEA_SIM_POOL_LEN; k++)
+        pooled[k] = 0.0;
+    pooled[IGEA_SIM_POOL_POOLS] = npools;
+    pooled[IGEA_SIM_POOL_FAILED] = nfail;
+    pooled[IGEA_SIM_POOL_RATE] = npools > 0 ? (double)nfail / npools : NAN;
+    pooled[IGEA_SIM_POOL_CI99_LO] = lohi[0];
+    pooled[IGEA_SIM_POOL_CI99_HI] = lohi[1];
+    return 0;
 }
 
 /* ---- nonlinear truth model ------------------------------------------------ */

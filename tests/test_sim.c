@@ -864,6 +864,199 @@ static void test_model_trajectory(void **state)
     assert_int_equal(igea_sim_interval(1.0, 10.0, NULL), -3);
 }
 
+/* ---- pooled verdicts ------------------------------------------------------ */
+
+/* The pooled verdicts written out: groups [g size, (g + 1) size) of the
+ * testable rows, "out of spec" when a row has a rejection or the chi-square
+ * sum reaches the upper alpha quantile of chi2(summed dof) (GSL); the rate
+ * and its 99 % Wilson score interval in closed form. */
+static void pool_by_hand(int nf, const double *tab, int ldt, int size, double alpha,
+                         double *want)
+{
+    int npools = nf / size, nfail = 0;
+    for (int g = 0; g < npools; g++) {
+        double T = 0.0, dof = 0.0, nrej = 0.0;
+        for (int f = g * size; f < (g + 1) * size; f++) {
+            if (tab[f + ldt * IGEA_SIM_MC_TABLE_DOF] == 0.0)
+                continue;
+            T += tab[f + ldt * IGEA_SIM_MC_TABLE_CHI2];
+            dof += tab[f + ldt * IGEA_SIM_MC_TABLE_DOF];
+            nrej += tab[f + ldt * IGEA_SIM_MC_TABLE_N_REJECT];
+        }
+        if (dof > 0 && (nrej > 0 || T >= gsl_cdf_chisq_Qinv(alpha, dof)))
+            nfail++;
+    }
+    for (int k = 0; k < IGEA_SIM_POOL_LEN; k++)
+        want[k] = 0.0;
+    want[IGEA_SIM_POOL_POOLS] = npools;
+    want[IGEA_SIM_POOL_FAILED] = nfail;
+    if (npools == 0) {
+        want[IGEA_SIM_POOL_RATE] = want[IGEA_SIM_POOL_CI99_LO] = want[IGEA_SIM_POOL_CI99_HI] = NAN;
+        return;
+    }
+    double n = npools, p = nfail / n, z = gsl_cdf_ugaussian_Pinv(0.995), z2 = z * z;
+    double mid = (p + z2 / (2 * n)) / (1 + z2 / n);
+    double half = z / (1 + z2 / n) * sqrt(p * (1 - p) / n + z2 / (4 * n * n));
+    want[IGEA_SIM_POOL_RATE] = p;
+    want[IGEA_SIM_POOL_CI99_LO] = fmax(0.0, mid - half);
+    want[IGEA_SIM_POOL_CI99_HI] = fmin(1.0, mid + half);
+}
+
+static void assert_pooled(const double *got, const double *want)
+{
+    for (int k = 0; k < IGEA_SIM_POOL_LEN; k++) {
+        if (isnan(want[k]))
+            assert_true(isnan(got[k]));
+        else if (k == IGEA_SIM_POOL_CI99_LO || k == IGEA_SIM_POOL_CI99_HI)
+            assert_close_abs(got[k], want[k], 1e-12, 1e-15);
+        else
+            assert_true(got[k] == want[k]);
+    }
+}
+
+/* The pooled verdicts of a Monte Carlo table (misstated sigma_w: many
+ * groups fail, some pass) equal the hand computation for several group
+ * sizes, a partial last group left out, and a padded table. */
+static void test_pool(void **state)
+{
+    enum { F = 100, LDT = F + 3 };
+    int m = 3 * M_EP;
+    double opts[IGEA_SIM_OPT_LEN], eqo[IGEA_EQERR_OPT_LEN], counts[IGEA_SIM_MC_LEN];
+    double tab[LDT * IGEA_SIM_MC_TABLE_COLS], got[IGEA_SIM_POOL_LEN], want[IGEA_SIM_POOL_LEN];
+    igea_sim_defaults(opts);
+    opts[IGEA_SIM_OPT_SIGMA_W] = 1.3;
+    igea_eqerr_defaults(eqo);
+    eqo[IGEA_EQERR_OPT_CORRECT] = 0;
+    igea_sim_model *md = NULL;
+    assert_int_equal(make_model(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, opts, &md), 0);
+    fill_nan(tab, LDT * IGEA_SIM_MC_TABLE_COLS);
+    assert_int_equal(igea_sim_montecarlo(md, eqo, 77, 0, F, 2, counts, NULL, NULL, NULL, tab,
+                                         LDT), 0);
+    igea_sim_model_free(md);
+    int seen_fail = 0, seen_pass = 0;
+    static const int sizes[] = {1, 3, 7, 10, 33, 100, 101};
+    for (size_t i = 0; i < sizeof sizes / sizeof *sizes; i++) {
+        int size = sizes[i];
+        pool_by_hand(F, tab, LDT, size, 0.01, want);
+        fill_sentinel(got, IGEA_SIM_POOL_LEN);
+        assert_int_equal(igea_sim_pool(F, tab, LDT, size, 0.01, got), 0);
+        assert_pooled(got, want);
+        assert_int_equal((int)got[IGEA_SIM_POOL_POOLS], F / size);
+        if (got[IGEA_SIM_POOL_FAILED] > 0)
+            seen_fail = 1;
+        if (got[IGEA_SIM_POOL_FAILED] < got[IGEA_SIM_POOL_POOLS])
+            seen_pass = 1;
+    }
+    assert_true(seen_fail && seen_pass);
+    /* size 1: every flight its own group, the pooled verdict is the flight's */
+    assert_int_equal(igea_sim_pool(F, tab, LDT, 1, 0.01, got), 0);
+    assert_true(got[IGEA_SIM_POOL_FAILED] == counts[IGEA_SIM_MC_FAILED]);
+    /* another alpha changes the chi-square part only */
+    pool_by_hand(F, tab, LDT, 4, 0.2, want);
+    assert_int_equal(igea_sim_pool(F, tab, LDT, 4, 0.2, got), 0);
+    assert_pooled(got, want);
+
+    /* a table by hand, groups of 2 rows: rows 0, 1 pool to T = 6 < chi2_0.01(6)
+     * = 16.81; rows 2, 3 hold nothing testable (a group that passes); row 4
+     * alone, T = 17 >= chi2_0.01(3) = 11.34, fails its group {4, 5}, or is
+     * left out in a partial group when there are 5 rows */
+    double h[6 * IGEA_SIM_MC_TABLE_COLS] = {
+        /* chi2 */ 2.0, 4.0, 0.0, 0.0, 17.0, 0.0,
+        /* dof  */ 3.0, 3.0, 0.0, 0.0, 3.0, 0.0,
+        /* nrej */ 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
+        /* scale */ 1.0, 1.0, NAN, NAN, 1.0, NAN};
+    assert_int_equal(igea_sim_pool(5, h, 6, 2, 0.01, got), 0);
+    assert_true(got[IGEA_SIM_POOL_POOLS] == 2 && got[IGEA_SIM_POOL_FAILED] == 0);
+    assert_true(got[IGEA_SIM_POOL_RATE] == 0.0);
+    assert_int_equal(igea_sim_pool(6, h, 6, 2, 0.01, got), 0);
+    assert_true(got[IGEA_SIM_POOL_POOLS] == 3 && got[IGEA_SIM_POOL_FAILED] == 1);
+    assert_close(got[IGEA_SIM_POOL_RATE], 1.0 / 3.0, 1e-15);
+    h[11] = 4.0; /* row 5 tested (T 0): 17 < chi2_0.01(7) = 18.48, the group passes */
+    assert_int_equal(igea_sim_pool(6, h, 6, 2, 0.01, got), 0);
+    assert_true(got[IGEA_SIM_POOL_FAILED] == 0);
+    h[13] = 1.0; /* a rejected component in row 1 fails group 0 whatever its chi-square */
+    assert_int_equal(igea_sim_pool(6, h, 6, 2, 0.01, got), 0);
+    assert_true(got[IGEA_SIM_POOL_FAILED] == 1 && got[IGEA_SIM_POOL_POOLS] == 3);
+    pool_by_hand(6, h, 6, 2, 0.01, want);
+    assert_pooled(got, want);
+    /* no group: size > nflights */
+    fill_sentinel(got, IGEA_SIM_POOL_LEN);
+    assert_int_equal(igea_sim_pool(6, h, 6, 7, 0.01, got), 0);
+    assert_true(got[IGEA_SIM_POOL_POOLS] == 0 && got[IGEA_SIM_POOL_FAILED] == 0);
+    assert_true(isnan(got[IGEA_SIM_POOL_RATE]) && isnan(got[IGEA_SIM_POOL_CI99_LO]) &&
+                isnan(got[IGEA_SIM_POOL_CI99_HI]));
+}
+
+/* Invalid arguments and table entries: the status, the outputs untouched. */
+static void test_pool_invalid(void **state)
+{
+    double got[IGEA_SIM_POOL_LEN], t[4 * IGEA_SIM_MC_TABLE_COLS];
+    /* rows 0..3 of a table with ldt 4: chi2, dof, n_reject, scale */
+    static const double t0[4 * IGEA_SIM_MC_TABLE_COLS] = {
+        2.0, 1.0, 0.0, 5.0, 3.0, 2.0, 0.0, 4.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, NAN, 1.0};
+    fill_sentinel(got, IGEA_SIM_POOL_LEN);
+#define POOL(...) igea_sim_pool(__VA_ARGS__)
+    assert_int_equal(POOL(0, t0, 4, 2, 0.01, got), -1);
+    assert_int_equal(POOL(-1, t0, 4, 2, 0.01, got), -1);
+    assert_int_equal(POOL(4, NULL, 4, 2, 0.01, got), -2);
+    assert_int_equal(POOL(4, t0, 3, 2, 0.01, got), -3);
+    assert_int_equal(POOL(4, t0, 4, 0, 0.01, got), -4);
+    assert_int_equal(POOL(4, t0, 4, INT_MIN, 0.01, got), -4);
+    assert_int_equal(POOL(4, t0, 4, 2, 0.0, got), -5);
+    assert_int_equal(POOL(4, t0, 4, 2, 1.0, got), -5);
+    assert_int_equal(POOL(4, t0, 4, 2, NAN, got), -5);
+    assert_true(all_sentinel(got, IGEA_SIM_POOL_LEN));
+    assert_int_equal(POOL(4, t0, 4, 2, 0.01, NULL), -6);
+    /* the entries, each broken in turn (the partial group's rows included) */
+    struct { int at; double v; int st; } bad[] = {
+        {0, NAN, IGEA_ENONFINITE}, {3, INFINITY, IGEA_ENONFINITE},
+        {4, NAN, IGEA_ENONFINITE}, {9, -INFINITY, IGEA_ENONFINITE},
+        {0, -1.0, -2},           /* chi2 < 0 */
+        {2, 1.0, -2},            /* chi2 > 0 where nothing was tested */
+        {5, 2.5, -2},            /* dof not an integer */
+        {7, -1.0, -2},           /* dof < 0 */
+        {7, 2e5, -2},            /* dof > IGEA_STATS_DOF_MAX */
+        {9, 3.0, -2},            /* n_reject > dof */
+        {8, 0.5, -2},            /* n_reject not an integer */
+        {11, -1.0, -2},          /* n_reject < 0 */
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
+        memcpy(t, t0, sizeof t);
+        t[bad[i].at] = bad[i].v;
+        assert_int_equal(POOL(4, t, 4, 2, 0.01, got), bad[i].st);
+        assert_true(all_sentinel(got, IGEA_SIM_POOL_LEN));
+    }
+    /* the scale column is not read; a group's dof beyond IGEA_STATS_DOF_MAX is refused */
+    memcpy(t, t0, sizeof t);
+    t[12] = NAN, t[13] = INFINITY;
+    assert_int_equal(POOL(4, t, 4, 2, 0.01, got), 0);
+    fill_sentinel(got, IGEA_SIM_POOL_LEN);
+    t[4] = t[5] = 6e4;
+    assert_int_equal(POOL(4, t, 4, 2, 0.01, got), -4);
+    assert_true(all_sentinel(got, IGEA_SIM_POOL_LEN));
+    assert_int_equal(POOL(4, t, 4, 1, 0.01, got), 0); /* groups of one: 6e4 each */
+#undef POOL
+#ifndef OOM_DISABLED
+    double ref[IGEA_SIM_POOL_LEN];
+    assert_int_equal(igea_sim_pool(4, t0, 4, 2, 0.01, ref), 0);
+    int fails = 0;
+    for (long k = 0;; k++) {
+        fill_sentinel(got, IGEA_SIM_POOL_LEN);
+        OOM_ARM(k);
+        int st = igea_sim_pool(4, t0, 4, 2, 0.01, got);
+        OOM_DISARM();
+        if (st == 0)
+            break;
+        fails++;
+        assert_int_equal(st, IGEA_ENOMEM);
+        assert_true(all_sentinel(got, IGEA_SIM_POOL_LEN));
+        assert_true(k < 100);
+    }
+    assert_true(fails >= 1);
+    assert_memory_equal(got, ref, sizeof got);
+#endif
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -883,6 +1076,8 @@ int main(void)
         cmocka_unit_test(test_nonlinear_invalid),
         cmocka_unit_test(test_nonlinear_vs_linear),
         cmocka_unit_test(test_model_trajectory),
+        cmocka_unit_test(test_pool),
+        cmocka_unit_test(test_pool_invalid),
     };
     return cmocka_run_group_tests(tests, setup_model, NULL);
 }

@@ -15,6 +15,8 @@
  *  - igea_sim_montecarlo: many flights generated and judged by the seed-000
  *    test (igea_eqerr_solve on the normal equations), with counts of
  *    rejections, optionally on several POSIX threads.
+ *  - igea_sim_pool: the pooled verdicts of consecutive groups of the
+ *    Monte Carlo's flights (METHODS 1.2 step 6) and their rate.
  *
  * Reproducibility: every random number comes from a GSL generator seeded
  * from the caller's seed and the flight index (a SplitMix64 hash of the
@@ -306,6 +308,42 @@ IGEA_API int igea_sim_montecarlo(const igea_sim_model *model,
                                  double *counts, double *rates,
                                  int *comp_tested, int *comp_reject,
                                  double *table, int ldt);
+
+/* Indices into pooled[IGEA_SIM_POOL_LEN] of igea_sim_pool. */
+#define IGEA_SIM_POOL_POOLS 0   /* groups judged: floor(nflights / size) */
+#define IGEA_SIM_POOL_FAILED 1  /* groups whose pooled verdict is "out of spec" */
+#define IGEA_SIM_POOL_RATE 2    /* FAILED / POOLS */
+#define IGEA_SIM_POOL_CI99_LO 3 /* its 99 % interval (igea_sim_interval) */
+#define IGEA_SIM_POOL_CI99_HI 4
+#define IGEA_SIM_POOL_LEN 8
+
+/*
+ * Pooled verdicts of a Monte Carlo run (METHODS 1.2 step 6): the rows of a
+ * per-flight table of igea_sim_montecarlo taken in consecutive groups of
+ * size flights (rows 0 .. size - 1, size .. 2 size - 1, ...; a last group
+ * of fewer than size rows is left out), each group judged by
+ * igea_stats_pool on its testable flights (DOF > 0): "out of spec" when a
+ * flight of the group has a rejected component or the summed chi-square
+ * reaches chi2_alpha(summed dof). A group with no testable flight passes,
+ * as a flight with nothing testable does.
+ *  1 nflights  >= 1, rows of the table
+ *  2 table     nflights x IGEA_SIM_MC_TABLE_COLS, column-major, as
+ *              igea_sim_montecarlo writes it; read are CHI2 (finite, >= 0,
+ *              0 where DOF is 0), DOF (an integer, 0 .. IGEA_STATS_DOF_MAX)
+ *              and N_REJECT (an integer, 0 .. DOF), not SCALE
+ *  3 ldt       >= nflights
+ *  4 size      >= 1, flights per group
+ *  5 alpha     0 < alpha < 1, the level of the pooled chi-square test (the
+ *              flights' own: IGEA_EQERR_OPT_ALPHA of the run)
+ *  6 pooled    IGEA_SIM_POOL_LEN outputs (above; the unnamed slots 0). When
+ *              size > nflights there is no group: POOLS and FAILED 0, RATE
+ *              and its interval NaN.
+ * Returns 0, -i (-2 also for a table entry out of its range, -4 also when
+ * a group's summed dof exceeds IGEA_STATS_DOF_MAX), IGEA_ENONFINITE,
+ * IGEA_ENOCONV, IGEA_ENOMEM (outputs untouched on failure).
+ */
+IGEA_API int igea_sim_pool(int nflights, const double *table, int ldt,
+                           int size, double alpha, double *pooled);
 
 #ifdef __cplusplus
 }

@@ -203,6 +203,12 @@ SIM_MC_TABLE_DOF = 1
 SIM_MC_TABLE_N_REJECT = 2
 SIM_MC_TABLE_SCALE = 3
 SIM_MC_TABLE_COLS = 4
+SIM_POOL_POOLS = 0
+SIM_POOL_FAILED = 1
+SIM_POOL_RATE = 2
+SIM_POOL_CI99_LO = 3
+SIM_POOL_CI99_HI = 4
+SIM_POOL_LEN = 8
 
 # igea/stability.h
 STABILITY_BLOCK_3SIGMA = 0
@@ -448,6 +454,8 @@ PROTOTYPES = {
         ("first_flight", c_int), ("nflights", c_int), ("nthreads", c_int), ("counts", _PD),
         ("rates", _PD), ("comp_tested", _PI), ("comp_reject", _PI), ("table", _PD), ("ldt", c_int),
         )),
+    "igea_sim_pool": (c_int, (("nflights", c_int), ("table", _PD), ("ldt", c_int), ("size", c_int),
+        ("alpha", c_double), ("pooled", _PD),)),
     # igea/stability.h
     "igea_stability_block": (c_int, (("n", c_int), ("y", _PD), ("fs", c_double),
         ("block", c_double), ("out", _PD),)),

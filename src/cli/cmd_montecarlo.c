@@ -98,7 +98,8 @@ static int own_geometry(const mc_args *a, const cli_flight_args *fa, cli_flight 
 
 typedef struct {
     double counts[IGEA_SIM_MC_LEN], rates[IGEA_SIM_MC_RATES_LEN], *table;
-    int *ct, *cr, npools, pool_fail;
+    double pooled[IGEA_SIM_POOL_LEN];
+    int *ct, *cr;
 } mc_result;
 
 /* One call per chunk of flights, for the progress line; the counts and
@@ -145,33 +146,6 @@ static int run_flights(const mc_args *a, const cli_flight_args *fa, const cli_fl
     return ec;
 }
 
-/* Pooled verdicts of consecutive groups of a->pool flights. */
-static int pool_flights(const mc_args *a, mc_result *r)
-{
-    int P = a->pool, nf = a->flights;
-    double *pc = malloc((size_t)P * sizeof(double));
-    int *pd = malloc((size_t)P * sizeof(int)), *pr = malloc((size_t)P * sizeof(int));
-    int ec = !pc || !pd || !pr ? cli_oom("the pooled verdicts") : CLI_OK;
-    const double *T = r->table + (size_t)IGEA_SIM_MC_TABLE_CHI2 * nf;
-    const double *D = r->table + (size_t)IGEA_SIM_MC_TABLE_DOF * nf;
-    const double *R = r->table + (size_t)IGEA_SIM_MC_TABLE_N_REJECT * nf;
-    for (int g = 0; !ec && g + P <= nf; g += P) {
-        int k = 0;
-        for (int fl = g; fl < g + P; fl++)
-            if (D[fl] > 0)
-                pc[k] = T[fl], pd[k] = (int)D[fl], pr[k] = (int)R[fl], k++;
-        r->npools++;
-        double info[IGEA_STATS_INFO_LEN];
-        if (k > 0 && igea_stats_pool(k, pc, pd, pr, NULL, a->eqo[IGEA_EQERR_OPT_ALPHA], info) == 0 &&
-            info[IGEA_STATS_INFO_PASSED] != 1.0)
-            r->pool_fail++;
-    }
-    free(pc);
-    free(pd);
-    free(pr);
-    return ec;
-}
-
 static void write_table(FILE *f, const mc_args *a, const cli_flight_args *fa, const mc_result *r)
 {
     int nf = a->flights;
@@ -212,8 +186,11 @@ static void json_report(FILE *out, const mc_args *a, const cli_flight_args *fa,
     if (a->pool > 0) {
         cli_json_open(&j, "pool", '{');
         cli_jint(&j, "size", a->pool);
-        cli_jint(&j, "pools", r->npools);
-        cli_jint(&j, "failed", r->pool_fail);
+        cli_jint(&j, "pools", (long)r->pooled[IGEA_SIM_POOL_POOLS]);
+        cli_jint(&j, "failed", (long)r->pooled[IGEA_SIM_POOL_FAILED]);
+        cli_jnum(&j, "rate", r->pooled[IGEA_SIM_POOL_RATE]);
+        cli_jnums(&j, "ci99", r->pooled + IGEA_SIM_POOL_CI99_LO, 2);
+        cli_json_close(&j);
     }
     cli_json_end(&j);
 }
@@ -234,7 +211,8 @@ static void text_components(FILE *out, const cli_flight *f, const mc_result *r)
 static void text_report(FILE *out, const mc_args *a, const cli_flight_args *fa,
                         const cli_flight *f, const mc_result *r)
 {
-    double opts[IGEA_SIM_OPT_LEN], lohi[2];
+    double opts[IGEA_SIM_OPT_LEN];
+    const double *p = r->pooled;
     cli_flight_noise(fa, opts);
     fprintf(out, "igea montecarlo: %d flights (seed %d, first %d), %d rows x %d terms\n",
             a->flights, fa->seed, a->first, f->m, f->N);
@@ -255,10 +233,11 @@ static void text_report(FILE *out, const mc_args *a, const cli_flight_args *fa,
     fprintf(out, "mean c (sigma_w^2 estimate) %.4f; mean components tested %.2f\n\n",
             r->counts[IGEA_SIM_MC_MEAN_SCALE], r->counts[IGEA_SIM_MC_MEAN_TESTED]);
     text_components(out, f, r);
-    if (a->pool > 0 && r->npools > 0 && !igea_sim_interval(r->pool_fail, r->npools, lohi))
+    if (a->pool > 0 && p[IGEA_SIM_POOL_POOLS] > 0)
         fprintf(out, "\npooled over %d flights: %d of %d pools 'out of spec' (%.4f, 99%% "
-                     "interval [%.4f, %.4f])\n", a->pool, r->pool_fail, r->npools,
-                (double)r->pool_fail / r->npools, lohi[0], lohi[1]);
+                     "interval [%.4f, %.4f])\n", a->pool, (int)p[IGEA_SIM_POOL_FAILED],
+                (int)p[IGEA_SIM_POOL_POOLS], p[IGEA_SIM_POOL_RATE], p[IGEA_SIM_POOL_CI99_LO],
+                p[IGEA_SIM_POOL_CI99_HI]);
 }
 
 static int parse(int argc, char **argv, mc_args *a, cli_flight_args *fa)
@@ -301,7 +280,11 @@ int cmd_montecarlo(int argc, char **argv)
      * fails or is killed leaves the old file as it was. */
     if (a.out && (ec = cli_out_open(&table, a.out)))
         goto done;
-    if ((ec = run_flights(&a, &fa, &f, &r)) || (a.pool > 0 && (ec = pool_flights(&a, &r))))
+    if ((ec = run_flights(&a, &fa, &f, &r)))
+        goto done;
+    if (a.pool > 0 && (ec = cli_status(igea_sim_pool(a.flights, r.table, a.flights, a.pool,
+                                                     a.eqo[IGEA_EQERR_OPT_ALPHA], r.pooled),
+                                       "montecarlo")))
         goto done;
     if (a.out) {
         write_table(table.f, &a, &fa, &r);

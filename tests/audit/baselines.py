@@ -187,6 +187,11 @@ BASE = {
     'igea_sim_montecarlo': dict(eq_opts=EQ_OPTS, seed='1', first_flight='0', nflights='4',
                                 nthreads='1', ldt='nflights', _zero_ok=['nthreads'],
                                 _int=dict(nthreads='nonneg'), _nan_out=['counts', 'table']),
+    # 7 flights (a partial last group), flight 2 not testable, flight 4 a rejection
+    'igea_sim_pool': dict(nflights='7', ldt='nflights', size='3', _int=dict(size='size'),
+                          table='set:for (int i = 0; i < 7; i++) { b_[i] = i == 2 ? 0.0 : 1.0 + i;'
+                                ' b_[7 + i] = i == 2 ? 0.0 : 3.0; b_[14 + i] = i == 4;'
+                                ' b_[21 + i] = NAN; }'),
     # ---- redund
     'igea_redund_exponential': dict(**{'lambda': '1e-4'}, t='100.0'),
     'igea_redund_reliability_series': dict(n='4', R='c:0.9'),
