@@ -678,8 +678,15 @@ test_options,
 "  igea test --table examples/seed000_table1.txt --z-crit 2.58\n"
 "  igea test --unit-ids 1,2,3 --results f1.json,f2.json,f3.json\n"};
 
+/* What the test judged: a table (n rows) or nfiles saved results. */
+typedef struct {
+    int n, nfiles, *rej, *dof, *nrej, *uid;
+    double *x, *lam, *z, *chi2;
+    char **files;
+} test_run;
+
 /* --table: the accuracy test of a table of (Xhat, lambda). */
-static int test_table(const test_args *a, double *info)
+static int test_table(const test_args *a, test_run *r, double *info)
 {
     cli_matrix t;
     int ec = cli_read_matrix(a->table, &t);
@@ -692,50 +699,24 @@ static int test_table(const test_args *a, double *info)
         cli_matrix_free(&t);
         return CLI_DATAERR;
     }
-    int n = (int)t.rows;
-    double *x = malloc(sizeof(double) * n), *lam = malloc(sizeof(double) * n);
-    double *z = malloc(sizeof(double) * n);
-    int *rej = malloc(sizeof(int) * n);
-    ec = (!x || !lam || !z || !rej) ? cli_oom("the table") : CLI_OK;
+    int n = r->n = (int)t.rows;
+    r->x = malloc(sizeof(double) * n), r->lam = malloc(sizeof(double) * n);
+    r->z = malloc(sizeof(double) * n);
+    r->rej = malloc(sizeof(int) * n);
+    ec = (!r->x || !r->lam || !r->z || !r->rej) ? cli_oom("the table") : CLI_OK;
     for (int i = 0; !ec && i < n; i++) {
-        x[i] = t.v[(size_t)i * t.cols + c0];
-        lam[i] = t.v[(size_t)i * t.cols + c0 + 1];
-        if (!(lam[i] > 0)) {
-            cli_error("%s: row %d: eigenvalue %g must be > 0", a->table, i + 1, lam[i]);
+        r->x[i] = t.v[(size_t)i * t.cols + c0];
+        r->lam[i] = t.v[(size_t)i * t.cols + c0 + 1];
+        if (!(r->lam[i] > 0)) {
+            cli_error("%s: row %d: eigenvalue %g must be > 0", a->table, i + 1, r->lam[i]);
             ec = CLI_DATAERR;
         }
     }
-    if (!ec)
-        ec = cli_status(igea_stats_accuracy_test(n, x, lam, a->alpha, a->lambda_test, a->zcrit,
-                                                 z, rej, info), "test");
-    cli_out out;
-    if (!ec && !(ec = cli_out_open(&out, a->out))) {
-        if (a->json) {
-            cli_json j;
-            cli_json_begin(&j, out.f);
-            int k = 0; /* the tested components, in order */
-            for (int i = 0; i < n; i++)
-                if (rej[i] >= 0)
-                    z[k] = z[i], rej[k++] = rej[i];
-            json_verdicts(&j, z, rej, k);
-            json_test_fields(&j, info);
-            cli_json_end(&j);
-        } else {
-            fprintf(out.f, "igea test: %s, %d component(s), %d with lambda >= %g tested\n\n",
-                    a->table, n, (int)info[IGEA_STATS_INFO_N_TEST], a->lambda_test);
-            report_components(out.f, n, x, lam, z, rej, info[IGEA_STATS_INFO_Z_CRIT]);
-            fprintf(out.f, "(threshold = sqrt(1 + 1/lambda) z_crit, z_crit = %.6f)\n\n",
-                    info[IGEA_STATS_INFO_Z_CRIT]);
-            report_chi2(out.f, info, a->alpha);
-        }
-        ec = cli_out_commit(&out);
-    }
-    free(x);
-    free(lam);
-    free(z);
-    free(rej);
     cli_matrix_free(&t);
-    return ec;
+    if (ec)
+        return ec;
+    return cli_status(igea_stats_accuracy_test(n, r->x, r->lam, a->alpha, a->lambda_test,
+                                               a->zcrit, r->z, r->rej, info), "test");
 }
 
 /* chi2, dof and n_reject of one saved result. */
@@ -788,45 +769,57 @@ static int read_unit_ids(const char *units, int nfiles, int *uid)
 }
 
 /* --results: pool independent flights. */
-static int test_pool(const test_args *a, double *info)
+static int test_pool(const test_args *a, test_run *r, double *info)
 {
-    char **files = NULL;
-    int nfiles = 0, ec = cli_split_list(a->results, &files, &nfiles);
+    int ec = cli_split_list(a->results, &r->files, &r->nfiles), nf = r->nfiles;
     if (ec)
         return ec;
-    double *chi2 = malloc(sizeof(double) * nfiles);
-    int *dof = malloc(sizeof(int) * nfiles), *nrej = malloc(sizeof(int) * nfiles);
-    int *uid = a->units ? malloc(sizeof(int) * nfiles) : NULL;
-    ec = (!chi2 || !dof || !nrej || (a->units && !uid)) ? cli_oom("the pooled flights") : CLI_OK;
+    r->chi2 = malloc(sizeof(double) * nf);
+    r->dof = malloc(sizeof(int) * nf), r->nrej = malloc(sizeof(int) * nf);
+    r->uid = a->units ? malloc(sizeof(int) * nf) : NULL;
+    ec = (!r->chi2 || !r->dof || !r->nrej || (a->units && !r->uid)) ? cli_oom("the pooled flights")
+                                                                    : CLI_OK;
     if (!ec && a->units)
-        ec = read_unit_ids(a->units, nfiles, uid);
-    for (int f = 0; !ec && f < nfiles; f++)
-        ec = read_result(files[f], &chi2[f], &dof[f], &nrej[f]);
-    if (!ec)
-        ec = cli_status(igea_stats_pool(nfiles, chi2, dof, nrej, uid, a->alpha, info), "test");
-    cli_out out;
-    if (!ec && !(ec = cli_out_open(&out, a->out))) {
-        if (a->json) {
-            cli_json j;
-            cli_json_begin(&j, out.f);
-            cli_jint(&j, "flights", nfiles);
-            json_test_fields(&j, info);
-            cli_json_end(&j);
+        ec = read_unit_ids(a->units, nf, r->uid);
+    for (int f = 0; !ec && f < nf; f++)
+        ec = read_result(r->files[f], &r->chi2[f], &r->dof[f], &r->nrej[f]);
+    if (ec)
+        return ec;
+    return cli_status(igea_stats_pool(nf, r->chi2, r->dof, r->nrej, r->uid, a->alpha, info),
+                      "test");
+}
+
+static void test_report(FILE *f, const test_args *a, test_run *r, const double *info)
+{
+    if (a->json) {
+        cli_json j;
+        cli_json_begin(&j, f);
+        if (a->table) {
+            int k = 0; /* the tested components, in order */
+            for (int i = 0; i < r->n; i++)
+                if (r->rej[i] >= 0)
+                    r->z[k] = r->z[i], r->rej[k++] = r->rej[i];
+            json_verdicts(&j, r->z, r->rej, k);
         } else {
-            fprintf(out.f, "igea test: %d flight(s) pooled\n", nfiles);
-            for (int f = 0; f < nfiles; f++)
-                fprintf(out.f, "  %-30s T = %9.4f  dof %3d  rejected components %d\n", files[f],
-                        chi2[f], dof[f], nrej[f]);
-            report_chi2(out.f, info, a->alpha);
+            cli_jint(&j, "flights", r->nfiles);
         }
-        ec = cli_out_commit(&out);
+        json_test_fields(&j, info);
+        cli_json_end(&j);
+        return;
     }
-    free(chi2);
-    free(dof);
-    free(nrej);
-    free(uid);
-    free(files);
-    return ec;
+    if (a->table) {
+        fprintf(f, "igea test: %s, %d component(s), %d with lambda >= %g tested\n\n", a->table,
+                r->n, (int)info[IGEA_STATS_INFO_N_TEST], a->lambda_test);
+        report_components(f, r->n, r->x, r->lam, r->z, r->rej, info[IGEA_STATS_INFO_Z_CRIT]);
+        fprintf(f, "(threshold = sqrt(1 + 1/lambda) z_crit, z_crit = %.6f)\n\n",
+                info[IGEA_STATS_INFO_Z_CRIT]);
+    } else {
+        fprintf(f, "igea test: %d flight(s) pooled\n", r->nfiles);
+        for (int k = 0; k < r->nfiles; k++)
+            fprintf(f, "  %-30s T = %9.4f  dof %3d  rejected components %d\n", r->files[k],
+                    r->chi2[k], r->dof[k], r->nrej[k]);
+    }
+    report_chi2(f, info, a->alpha);
 }
 
 int cmd_test(int argc, char **argv)
@@ -835,16 +828,27 @@ int cmd_test(int argc, char **argv)
     test_args a = TA;
     if (ec)
         return ec == CLI_HELP ? CLI_OK : ec;
-    if (!(a.alpha > 0 && a.alpha < 1) || !(a.lambda_test > 0) || a.zcrit < 0) {
-        cli_error("test: --alpha must be in (0, 1), --lambda-test > 0, --z-crit > 0");
-        return CLI_USAGE;
-    }
-    if ((a.table != NULL) == (a.results != NULL)) {
-        cli_error("test: give either --table FILE or --results LIST (see igea test --help)");
-        return CLI_USAGE;
-    }
+    if (!(a.alpha > 0 && a.alpha < 1) || !(a.lambda_test > 0) || a.zcrit < 0)
+        return cli_usage("test: --alpha must be in (0, 1), --lambda-test > 0, --z-crit > 0");
+    if ((a.table != NULL) == (a.results != NULL))
+        return cli_usage("test: give either --table FILE or --results LIST (see igea test --help)");
     double info[IGEA_STATS_INFO_LEN];
-    if ((ec = a.table ? test_table(&a, info) : test_pool(&a, info)))
-        return ec;
-    return info[IGEA_STATS_INFO_PASSED] == 1.0 ? CLI_OK : CLI_REJECT;
+    test_run r;
+    memset(&r, 0, sizeof r);
+    cli_out out;
+    if (!(ec = a.table ? test_table(&a, &r, info) : test_pool(&a, &r, info)) &&
+        !(ec = cli_out_open(&out, a.out))) {
+        test_report(out.f, &a, &r, info);
+        ec = cli_out_commit(&out);
+    }
+    free(r.x);
+    free(r.lam);
+    free(r.z);
+    free(r.rej);
+    free(r.chi2);
+    free(r.dof);
+    free(r.nrej);
+    free(r.uid);
+    free(r.files);
+    return ec ? ec : info[IGEA_STATS_INFO_PASSED] == 1.0 ? CLI_OK : CLI_REJECT;
 }
