@@ -72,19 +72,10 @@ static int parse(int argc, char **argv, st_args *a)
     *a = A;
     if (ec)
         return ec;
-    if (!a->file || !(a->fs > 0)) {
-        cli_error("stability: --data FILE and --fs (> 0) are required (see igea stability --help)");
-        return CLI_USAGE;
-    }
-    if (a->column < 0) {
-        cli_error("stability: --column counts from 0");
-        return CLI_USAGE;
-    }
-    if (!(a->conf > 0 && a->conf < 1)) {
-        cli_error("stability: --conf must lie in (0, 1)");
-        return CLI_USAGE;
-    }
-    return CLI_OK;
+    return cli_usage(!a->file || !(a->fs > 0)
+                         ? "stability: --data FILE and --fs (> 0) are required (see igea stability --help)"
+                     : a->column < 0 ? "stability: --column counts from 0"
+                     : !(a->conf > 0 && a->conf < 1) ? "stability: --conf must lie in (0, 1)" : NULL);
 }
 
 static void num_or_dash(FILE *f, double v)
