@@ -290,6 +290,8 @@ double *cli_rowmajor(const double *v, long rows, int cols);
  * column-major: rs = 1, cs = rows), or iv[...] when v is NULL. */
 void cli_jmatrix(cli_json *j, const char *key, const double *v, const int *iv, int rows,
                  int cols, long rs, long cs);
+/* A row-major rows x cols matrix as an array of row arrays, inline. */
+void cli_jrows(cli_json *j, const char *key, const double *v, int rows, int cols);
 /* An array of n strings; of the names of n term codes. */
 void cli_jstrs(cli_json *j, const char *key, const char *const *s, int n);
 void cli_jterms(cli_json *j, const char *key, const int *codes, int n);

@@ -165,9 +165,7 @@ static void write_stdout(FILE *f, const ef_args *a, const ef_run *r)
         cli_json j;
         cli_json_begin(&j, f);
         cli_jterms(&j, "terms", r->codes, r->nt);
-        cli_json_open(&j, "S", '[');
-        for (int i = 0; i < r->m; i++)
-            cli_jnums(&j, NULL, r->S + (size_t)i * r->nt, r->nt);
+        cli_jrows(&j, "S", r->S, r->m, r->nt);
         cli_json_end(&j);
     } else {
         cli_write_matrix_body(f, 0, r->S, r->m, r->nt, r->header);

@@ -320,14 +320,6 @@ static void print_epoch(printer *pr, long e, int act, const int *fl, const doubl
     fputc('\n', f);
 }
 
-static void json_matrix(cli_json *j, const char *key, const double *v, int m)
-{
-    cli_json_open(j, key, '[');
-    for (int i = 0; i < m; i++)
-        cli_jnums(j, NULL, v + (size_t)i * m, m);
-    cli_json_close(j);
-}
-
 /* The final estimate; cov: m x m scratch. */
 static void print_summary(printer *pr, igea_rls *h, double *x, double *cov)
 {
@@ -354,9 +346,9 @@ static void print_summary(printer *pr, igea_rls *h, double *x, double *cov)
     for (int i = 0; i < m; i++)
         cli_jnum(j, NULL, sqrt(cov[i + (size_t)i * m]));
     cli_json_close(j);
-    json_matrix(j, "covariance", cov, m);
+    cli_jrows(j, "covariance", cov, m, m);
     igea_rls_get_gamma(h, cov, m);
-    json_matrix(j, "gamma", cov, m);
+    cli_jrows(j, "gamma", cov, m, m);
     cli_jnum(j, "q", q);
     cli_jint(j, "n_epochs", cnt[0]);
     cli_jint(j, "updates", cnt[1]);

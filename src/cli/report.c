@@ -53,6 +53,14 @@ void cli_jmatrix(cli_json *j, const char *key, const double *v, const int *iv, i
     cli_json_close(j);
 }
 
+void cli_jrows(cli_json *j, const char *key, const double *v, int rows, int cols)
+{
+    cli_json_open(j, key, '[');
+    for (int i = 0; i < rows; i++)
+        cli_jnums(j, NULL, v + (size_t)i * cols, cols);
+    cli_json_close(j);
+}
+
 void cli_jstrs(cli_json *j, const char *key, const char *const *s, int n)
 {
     cli_json_open(j, key, '[');
