@@ -320,8 +320,8 @@ static void print_epoch(printer *pr, long e, int act, const int *fl, const doubl
     fputc('\n', f);
 }
 
-/* The final estimate; cov: m x m scratch. */
-static void print_summary(printer *pr, igea_rls *h, double *x, double *cov)
+/* The final estimate; x, sd: m values, cov: m x m scratch. */
+static void print_summary(printer *pr, igea_rls *h, double *x, double *sd, double *cov)
 {
     const int m = pr->m;
     double q;
@@ -330,22 +330,21 @@ static void print_summary(printer *pr, igea_rls *h, double *x, double *cov)
     igea_rls_get_counts(h, cnt);
     igea_rls_get_x(h, x);
     igea_rls_get_covariance(h, cov, m);
+    for (int i = 0; i < m; i++)
+        sd[i] = sqrt(cov[i + (size_t)i * m]);
     if (!pr->json) {
         fprintf(pr->f, "# epochs %d, updated %d, anomalous %d; Q_p = %.6g over %d rows "
                        "(whitened; not a measure of accuracy)\n",
                 cnt[0], cnt[1], cnt[2], q, cnt[3]);
         fprintf(pr->f, "# %5s %24s %14s\n", "coef", "estimate", "sd (honest)");
         for (int i = 0; i < m; i++)
-            fprintf(pr->f, "# %5d %24.17g %14.6g\n", i, x[i], sqrt(cov[i + (size_t)i * m]));
+            fprintf(pr->f, "# %5d %24.17g %14.6g\n", i, x[i], sd[i]);
         return;
     }
     cli_json *j = &pr->j;
     cli_json_close(j);
     cli_jnums(j, "x", x, m);
-    cli_json_open(j, "sd", '[');
-    for (int i = 0; i < m; i++)
-        cli_jnum(j, NULL, sqrt(cov[i + (size_t)i * m]));
-    cli_json_close(j);
+    cli_jnums(j, "sd", sd, m);
     cli_jrows(j, "covariance", cov, m, m);
     igea_rls_get_gamma(h, cov, m);
     cli_jrows(j, "gamma", cov, m, m);
@@ -447,7 +446,8 @@ int cmd_rls(int argc, char **argv)
         ec = CLI_DATAERR;
         goto done;
     }
-    print_summary(&pr, h, work + 3 * k, work + 3 * k + m + k * m);
+    /* sd in the first m of the k m values of c, free after the last epoch */
+    print_summary(&pr, h, work + 3 * k, work + 3 * k + m, work + 3 * k + m + k * m);
     ec = cli_out_commit(&out);
     out_open = 0;
 done:
