@@ -121,10 +121,9 @@ static int read_record(const st_args *a, double **y, int *n)
 static int read_taus(const st_args *a, int n, int kind, double **tau, int *ntau)
 {
     if (a->taus) {
-        cli_matrix tm = {0};
-        int ec = cli_read_matrix(a->taus, &tm);
-        *tau = tm.v;
-        *ntau = (int)(tm.rows * tm.cols);
+        long cnt = 0;
+        int ec = cli_read_vector(a->taus, -1, "the averaging times", tau, &cnt);
+        *ntau = (int)cnt;
         return ec;
     }
     if (!(*tau = malloc(sizeof(double) * 64)))
