@@ -171,6 +171,17 @@ def simulate(traj=None, terms=None, epochs=None, *, system="strapdown", spec="de
 
 
 @dataclass(frozen=True)
+class MonteCarloPool:
+    """Pooled verdicts of consecutive groups of `size` flights (igea_sim_pool,
+    METHODS 1.2 step 6): the "pool" object of `igea montecarlo --pool --json`."""
+    size: int            # flights per group; a last group of fewer is left out
+    pools: int           # groups judged
+    failed: int          # groups whose pooled verdict is "out of spec"
+    rate: float          # failed / pools (NaN without a group)
+    ci99: tuple          # its 99 % Wilson interval (NaN, NaN without a group)
+
+
+@dataclass(frozen=True)
 class MonteCarloResult:
     """Rejection counts of many simulated flights (igea_sim_montecarlo)."""
     flights: int
@@ -188,6 +199,7 @@ class MonteCarloResult:
     scale: np.ndarray    # NaN for a flight with nothing testable
     rates: dict = None   # {"failed": count / flights, ...} of the four counts
     ci99: dict = None    # {"failed": (lo, hi), ...}: their 99 % Wilson intervals
+    pool: MonteCarloPool = None  # with pool=F: the pooled verdicts of groups of F flights
 
     def rate(self, what="failed"):
         return self.rates[what]
@@ -204,11 +216,13 @@ class MonteCarloResult:
 def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None, ar1=None,
                growth=None, outlier_prob=None, outlier_scale=None, generator="mt19937",
                seed=0, first_flight=0, threads=0, alpha=None, lambda_test=None,
-               correction=None, bias_correct=None, clamp=None):
+               correction=None, bias_correct=None, clamp=None, pool=None):
     """Run flights first_flight .. first_flight + flights - 1 and judge each
     with the seed-000 test; results do not depend on threads (0: one per
     online processor). Options left None keep the library's defaults
-    (igea_sim_defaults, igea_eqerr_defaults)."""
+    (igea_sim_defaults, igea_eqerr_defaults). pool=F (> 0; None or 0: no
+    pooling) also pools consecutive groups of F flights at the same alpha
+    (igea_sim_pool): the result's `pool`."""
     S = _lib.as_f64(S, "S", ndim=2)
     m, N = S.shape
     sig, inc = _sigma(sigma, m)
@@ -235,6 +249,15 @@ def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None
         _lib.call(where, "igea_sim_montecarlo", model.h, _lib.dptr(eq), int(seed),
                   int(first_flight), nflights, int(threads), _lib.dptr(counts), _lib.dptr(rates),
                   _lib.iptr(ct), _lib.iptr(cr), _lib.dptr(table), nflights)
+    pooled = None
+    if pool:
+        out = np.zeros(_capi.SIM_POOL_LEN)
+        _lib.call(where, "igea_sim_pool", nflights, _lib.dptr(table), nflights, int(pool),
+                  float(eq[_capi.EQERR_OPT_ALPHA]), _lib.dptr(out))
+        f = _lib.fields(out, "SIM_POOL_", pools=int, failed=int, rate=float, ci99_lo=float,
+                        ci99_hi=float)
+        pooled = MonteCarloPool(size=int(pool), pools=f["pools"], failed=f["failed"],
+                                rate=f["rate"], ci99=(f["ci99_lo"], f["ci99_hi"]))
     col = _lib.fields(table.T, "SIM_MC_TABLE_", chi2=np.array, dof=np.array, n_reject=np.array,
                       scale=np.array)
     # rates[3 (k - 1)] and its interval at [+1], [+2] for the counts k (igea/sim.h)
@@ -244,6 +267,6 @@ def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None
         comp_tested=ct, comp_reject=cr, dof=col.pop("dof").astype(int),
         n_reject=col.pop("n_reject").astype(int), **col,
         rates={k: float(rates[i]) for k, i in at.items()},
-        ci99={k: (float(rates[i + 1]), float(rates[i + 2])) for k, i in at.items()},
+        ci99={k: (float(rates[i + 1]), float(rates[i + 2])) for k, i in at.items()}, pool=pooled,
         **_lib.fields(counts, "SIM_MC_", flights=int, failed=int, chi2_reject=int,
                       any_reject=int, not_testable=int, mean_scale=float, mean_tested=float))
