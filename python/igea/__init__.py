@@ -15,5 +15,5 @@ from .stability import AllanResult, Block3Sigma, NoiseTerms, allan, block_3sigma
 from .regress import BayesResult, Collinearity, EbrResult, LsResult, PceResult, RidgeResult, RidgeTrace, bayes, bias_mse, collinearity, ebr, ls, pce, ridge, ridge_trace  # noqa: E402,E501
 from .envfun import envfun, term_table  # noqa: E402
 from .rls import RLS, RlsEpoch, RlsResult, rls_run  # noqa: E402
-from .sim import Flight, MonteCarloResult, montecarlo, reference_trajectory, simulate  # noqa: E402,E501
+from .sim import Flight, MonteCarloPool, MonteCarloResult, montecarlo, reference_trajectory, simulate  # noqa: E402,E501
 from .accel import AccelDesignInfo, AccelFit, AccelRefine, accel_analyze, accel_combinations, accel_design, accel_fit, accel_merge, accel_refine, accel_schedule, accel_simulate, accel_to_g  # noqa: E402,E501
