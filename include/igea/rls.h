@@ -139,8 +139,8 @@ IGEA_API int igea_rls_set_anomaly(igea_rls *h, int policy, double kappa,
  */
 IGEA_API int igea_rls_set_covariance(igea_rls *h, int track);
 
-/* Forgetting factor: 1 h; 2 0 < lambda <= 1. Returns 0 or -i. */
-IGEA_API int igea_rls_set_forget(igea_rls *h, double lambda);
+/* Forgetting factor: 1 h; 2 0 < forget <= 1. Returns 0 or -i. */
+IGEA_API int igea_rls_set_forget(igea_rls *h, double forget);
 
 /*
  * One epoch.

@@ -406,7 +406,7 @@ PROTOTYPES = {
     "igea_rls_set_anomaly": (c_int, (("h", c_void_p), ("policy", c_int), ("kappa", c_double),
         ("jump_max", _PD),)),
     "igea_rls_set_covariance": (c_int, (("h", c_void_p), ("track", c_int),)),
-    "igea_rls_set_forget": (c_int, (("h", c_void_p), ("lambda", c_double),)),
+    "igea_rls_set_forget": (c_int, (("h", c_void_p), ("forget", c_double),)),
     "igea_rls_update": (c_int, (("h", c_void_p), ("c", _PD), ("ldc", c_int), ("y", _PD),
         ("track_sigma", _PD), ("flags", _PI),)),
     "igea_rls_run": (c_int, (("h", c_void_p), ("n", c_int), ("layout", c_int), ("S", _PD),
