@@ -224,6 +224,11 @@ IGEA_API int igea_regress_bayes(int m, int N, const double *A, int lda,
  * direction e_j above which coefficient j is flagged prior-determined. */
 #define IGEA_REGRESS_NULL_TOL 1e-8
 
+/* Indices into cond[IGEA_REGRESS_COND_LEN] of igea_regress_collinearity. */
+#define IGEA_REGRESS_COND_ALL 0       /* s_1 / s_min */
+#define IGEA_REGRESS_COND_ESTIMABLE 1 /* s_1 / s_r */
+#define IGEA_REGRESS_COND_LEN 2
+
 /*
  * Collinearity diagnostics of B = D A^T W A D from the SVD of
  * diag(1/sigma) A D (D = diag(spec_sigma) or I: with spec_sigma, the
@@ -232,8 +237,10 @@ IGEA_API int igea_regress_bayes(int m, int N, const double *A, int lda,
  *  sigmas being taken as known); 6 sigma (or NULL); 7 spec_sigma (or
  *  NULL); 8 rcond (as igea_regress_ls);
  * Outputs:
- *  9 cond[2]: s_1 / s_min over min(m, N) singular values (Inf if s_min is
- *    0 or m < N) and s_1 / s_r, the condition of the estimable part;
+ *  9 cond[IGEA_REGRESS_COND_LEN]: [IGEA_REGRESS_COND_ALL] s_1 / s_min over
+ *    min(m, N) singular values (Inf if s_min is 0 or m < N) and
+ *    [IGEA_REGRESS_COND_ESTIMABLE] s_1 / s_r, the condition of the
+ *    estimable part;
  * 10 rank r;
  * 11 eig[N]: eigenvalues d_i = s_i^2 of B, descending (0 beyond min(m,N));
  * 12 V (N x N or NULL), 13 ldv: the eigenvectors v_i as columns (METHODS

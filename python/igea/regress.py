@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _lib
+from . import _capi, _lib
 
 _EBR_RULES = _lib.choices("REGRESS_EBR_", "sc mm ml2")
 _RIDGE_RULES = _lib.choices("REGRESS_RIDGE_", "fixed hkb lw gcv loo")
@@ -356,7 +356,7 @@ def collinearity(A, y=None, sigma=None, *, spec=None, rcond=0.0, names=None):
     combinations with their sds (scaled by the residual sd when y is given)
     and the prior-determined flags. Returns Collinearity."""
     A, m, N, y, sg, sp = _design(A, y, sigma, spec, y_optional=True)
-    cond = np.empty(2)
+    cond = np.empty(_capi.REGRESS_COND_LEN)
     rank = np.zeros(1, dtype=np.intc)
     eig = np.empty(N)
     V = np.empty((N, N), order="F")
@@ -367,7 +367,8 @@ def collinearity(A, y=None, sigma=None, *, spec=None, rcond=0.0, names=None):
               _lib.dptr(y), _lib.dptr(sg), _lib.dptr(sp), float(rcond), _lib.dptr(cond),
               _lib.iptr(rank), _lib.dptr(eig), _lib.dptr(V), N, _lib.dptr(vif), _lib.dptr(sd),
               _lib.iptr(pd))
-    return Collinearity(cond=float(cond[0]), cond_estimable=float(cond[1]), rank=int(rank[0]),
+    c = _lib.fields(cond, "REGRESS_COND_", all=float, estimable=float)
+    return Collinearity(cond=c["all"], cond_estimable=c["estimable"], rank=int(rank[0]),
                         eigenvalues=eig, eigenvectors=np.ascontiguousarray(V), vif=vif,
                         sd_comb=sd, prior_determined=pd.astype(bool),
                         names=_given(N, names))

@@ -172,7 +172,7 @@ static int read_inputs(const rg_args *a, rg_in *in)
 typedef struct {
     int rank, count, *pd;
     double *x, *sd, *cov, *sdf, *shrink, *eig, *vif, *sdc;
-    double scalar, sigma2, cond[2];
+    double scalar, sigma2, cond[IGEA_REGRESS_COND_LEN];
     const char *count_name, *scalar_name;
 } rg_out;
 
@@ -234,8 +234,8 @@ static void json_report(FILE *f, const rg_args *a, const rg_in *in, const rg_out
         cli_jnums(&j, "shrink", r->shrink, N);
     }
     cli_jnum(&j, "sigma2", r->sigma2);
-    cli_jnum(&j, "cond", r->cond[0]);
-    cli_jnum(&j, "cond_estimable", r->cond[1]);
+    cli_jnum(&j, "cond", r->cond[IGEA_REGRESS_COND_ALL]);
+    cli_jnum(&j, "cond_estimable", r->cond[IGEA_REGRESS_COND_ESTIMABLE]);
     cli_jnums(&j, "eigenvalues", r->eig, N);
     cli_jnums(&j, "vif", r->vif, N);
     cli_jnums(&j, "sd_comb", r->sdc, N);
@@ -272,7 +272,8 @@ static void text_report(FILE *f, const rg_args *a, const rg_in *in, const rg_out
             method_names[a->method], a->S, in->m, N, a->spec ? ", spec-scaled by " : "",
             a->spec ? a->spec : "");
     fprintf(f, "rank %d of %d; condition number %.4e (estimable part %.4e); residual "
-               "variance %.6g\n", r->rank, N, r->cond[0], r->cond[1], r->sigma2);
+               "variance %.6g\n", r->rank, N, r->cond[IGEA_REGRESS_COND_ALL],
+               r->cond[IGEA_REGRESS_COND_ESTIMABLE], r->sigma2);
     if (r->scalar_name)
         fprintf(f, "%s = %.10g\n", r->scalar_name, r->scalar);
     if (r->count_name)
