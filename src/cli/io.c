@@ -1211,6 +1211,12 @@ static int out_finish(cli_out *o)
     errno = 0;
     int bad = fflush(o->f) != 0 || ferror(o->f);
     int e = errno;
+    /* The temporary's data reach the disk before it replaces the target, so
+     * a crash after the rename never leaves an empty or partial file. */
+    if (!bad && o->tmp && !o->direct && fsync(fileno(o->f)) != 0 && errno != EINVAL) {
+        bad = 1;
+        e = errno;
+    }
     if (fclose(o->f) != 0 && !bad) {
         bad = 1;
         e = errno;
