@@ -91,6 +91,63 @@ IGEA_API const char *igea_strerror(int status);
  */
 IGEA_API const char *igea_opt_name(int module, int slot);
 
+/* Enumerations whose codes the library takes or returns as int, for
+ * igea_choice_name / igea_choice_code / igea_choice_codes. A name is the
+ * code's macro suffix in lower case; the codes are listed in increasing
+ * order (bit values for IGEA_CHOICE_RLS_FLAG). */
+#define IGEA_CHOICE_EQERR_ROUTE 1        /* igea/eqerr.h IGEA_EQERR_ROUTE_*: eig svd */
+#define IGEA_CHOICE_REGRESS_RIDGE_RULE 2 /* igea/regress.h IGEA_REGRESS_RIDGE_*: fixed hkb lw
+                                          * gcv loo */
+#define IGEA_CHOICE_REGRESS_EBR_RULE 3   /* igea/regress.h IGEA_REGRESS_EBR_*: sc mm ml2 */
+#define IGEA_CHOICE_ACCEL_MODEL 4        /* igea/accel.h IGEA_ACCEL_SINGLE, _DUAL: single dual */
+#define IGEA_CHOICE_ACCEL_METHOD 5       /* igea/accel.h IGEA_ACCEL_LS, _EBR: ls ebr */
+#define IGEA_CHOICE_ENVFUN_SYSTEM 6      /* igea/envfun.h IGEA_ENVFUN_STRAPDOWN, _PLATFORM:
+                                          * strapdown platform */
+#define IGEA_CHOICE_ENVFUN_OUTPUT 7      /* igea/envfun.h IGEA_ENVFUN_VELOCITY, _POSITION,
+                                          * _VELOCITY_G, _POSITION_G: velocity position
+                                          * velocity_g position_g */
+#define IGEA_CHOICE_SIM_GENERATOR 8      /* igea/sim.h IGEA_SIM_MT19937, _RANLXD2: mt19937
+                                          * ranlxd2 */
+#define IGEA_CHOICE_RLS_VARIANT 9        /* igea/rls.h IGEA_RLS_STANDARD, _ITERATED,
+                                          * _POLYNOMIAL: standard iterated polynomial */
+#define IGEA_CHOICE_RLS_ANOMALY 10       /* igea/rls.h IGEA_RLS_ANOMALY_*: none replace skip
+                                          * isolate */
+#define IGEA_CHOICE_RLS_ACTION 11        /* igea/rls.h IGEA_RLS_UPDATED, _FLAGGED, _REPLACED,
+                                          * _SKIPPED, _ISOLATED: updated flagged replaced
+                                          * skipped isolated */
+#define IGEA_CHOICE_RLS_FLAG 12          /* igea/rls.h IGEA_RLS_FLAG_* (bits 1 2 4 8):
+                                          * innovation jump missing unused */
+#define IGEA_CHOICE_STABILITY_KIND 13    /* igea/stability.h IGEA_STABILITY_ALLAN_*:
+                                          * overlapping modified nonoverlapping */
+#define IGEA_CHOICE_STABILITY_NOISE 14   /* igea/stability.h IGEA_STABILITY_NOISE_* (-2 .. 2,
+                                          * 99): rwfm ffm wfm fpm wpm auto */
+#define IGEA_CHOICE_STATS_SIGMAW_FLAG 15 /* igea/stats.h IGEA_STATS_SIGMAW_*: converged
+                                          * not_estimable no_convergence off */
+#define IGEA_CHOICE_REDUND_RBD 16        /* igea/redund.h IGEA_REDUND_RBD_*: series parallel
+                                          * kofn */
+
+/* Static name of code `code` of enumeration `kind` (IGEA_CHOICE_*): "svd"
+ * for (IGEA_CHOICE_EQERR_ROUTE, IGEA_EQERR_ROUTE_SVD). "" for an unknown
+ * kind or a code outside the enumeration; never NULL. */
+IGEA_API const char *igea_choice_name(int kind, int code);
+
+/*
+ * The code of the name `name` (as igea_choice_name spells it, exact and
+ * case-sensitive) in enumeration `kind`, into *code. Returns 0, or -1 for
+ * an unknown kind, -2 for a NULL or unknown name, -3 for a NULL code (*code
+ * untouched). The code is an out-argument because some codes are negative
+ * (IGEA_STABILITY_NOISE_FFM).
+ */
+IGEA_API int igea_choice_code(int kind, const char *name, int *code);
+
+/*
+ * The codes of enumeration `kind` in their listing order: returns how many
+ * there are and writes the first min(count, len) of them to codes (NULL
+ * when len is 0). -1 for an unknown kind, -2 for a NULL codes with len > 0,
+ * -3 for len < 0.
+ */
+IGEA_API int igea_choice_codes(int kind, int *codes, int len);
+
 /* IGEA_VERSION_STRING ("1.1.0") and IGEA_VERSION_NUMBER of the library
  * actually linked. */
 IGEA_API const char *igea_version(void);

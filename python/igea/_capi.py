@@ -71,6 +71,22 @@ EOVERFLOW = -1022
 SIGMA_MIN = 1.4916681462400413e-154
 MODULE_EQERR = 1
 MODULE_SIM = 2
+CHOICE_EQERR_ROUTE = 1
+CHOICE_REGRESS_RIDGE_RULE = 2
+CHOICE_REGRESS_EBR_RULE = 3
+CHOICE_ACCEL_MODEL = 4
+CHOICE_ACCEL_METHOD = 5
+CHOICE_ENVFUN_SYSTEM = 6
+CHOICE_ENVFUN_OUTPUT = 7
+CHOICE_SIM_GENERATOR = 8
+CHOICE_RLS_VARIANT = 9
+CHOICE_RLS_ANOMALY = 10
+CHOICE_RLS_ACTION = 11
+CHOICE_RLS_FLAG = 12
+CHOICE_STABILITY_KIND = 13
+CHOICE_STABILITY_NOISE = 14
+CHOICE_STATS_SIGMAW_FLAG = 15
+CHOICE_REDUND_RBD = 16
 
 # igea/envfun.h
 ENVFUN_STRAPDOWN = 0
@@ -289,6 +305,9 @@ PROTOTYPES = {
     # igea/common.h
     "igea_strerror": (c_char_p, (("status", c_int),)),
     "igea_opt_name": (c_char_p, (("module", c_int), ("slot", c_int),)),
+    "igea_choice_name": (c_char_p, (("kind", c_int), ("code", c_int),)),
+    "igea_choice_code": (c_int, (("kind", c_int), ("name", c_char_p), ("code", _PI),)),
+    "igea_choice_codes": (c_int, (("kind", c_int), ("codes", _PI), ("len", c_int),)),
     "igea_version": (c_char_p, ()),
     "igea_version_number": (c_int, ()),
     "igea_init": (c_int, ()),

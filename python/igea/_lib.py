@@ -110,10 +110,30 @@ def call(where, function, *args):
     return check(getattr(lib, function)(*args), where, function)
 
 
-def choices(prefix, names):
-    """{name: value of the constant prefix + NAME}: a Python choice table
-    whose codes are the header's (names: a space-separated string)."""
-    return {n: getattr(_capi, prefix + n.upper()) for n in names.split()}
+def choice_codes(kind):
+    """{name: code} of the library's enumeration kind (_capi.CHOICE_*), in
+    the library's listing order (igea_choice_codes, igea_choice_name)."""
+    n = check(lib.igea_choice_codes(kind, None, 0), "igea.choice_codes", "igea_choice_codes")
+    codes = (c_int * max(n, 1))()
+    check(lib.igea_choice_codes(kind, codes, n), "igea.choice_codes", "igea_choice_codes")
+    return {lib.igea_choice_name(kind, c).decode(): c for c in codes[:n]}
+
+
+def choice_name(kind, code):
+    """The name of code `code` of enumeration kind ("" when it has none)."""
+    return lib.igea_choice_name(kind, int(code)).decode()
+
+
+def choice(kind, value, where, argument):
+    """The code of the name `value` in enumeration kind (_capi.CHOICE_*):
+    ValueError "where: argument: expected one of 'a', 'b', got 'x'" when
+    it is not one of the library's names."""
+    code = c_int(0)
+    if isinstance(value, str) and "\0" not in value and lib.igea_choice_code(
+            kind, value.encode(), ctypes.byref(code)) == 0:
+        return code.value
+    names = ", ".join(repr(n) for n in choice_codes(kind))
+    raise ValueError(f"{where}: {argument}: expected one of {names}, got {value!r}")
 
 
 def fields(array, prefix, **kinds):

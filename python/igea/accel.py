@@ -14,11 +14,9 @@ import numpy as np
 
 from . import _capi, _lib
 
-_MODELS = _lib.choices("ACCEL_", "single dual")
-_METHODS = _lib.choices("ACCEL_", "ls ebr")
-_RULES = _lib.choices("REGRESS_EBR_", "sc mm ml2")
-_NP = _lib.choices("ACCEL_NP_", "single dual")
-_NC = _lib.choices("ACCEL_NC_", "single dual")
+_MODELS = _lib.choice_codes(_capi.CHOICE_ACCEL_MODEL)
+_NP = {m: getattr(_capi, "ACCEL_NP_" + m.upper()) for m in _MODELS}
+_NC = {m: getattr(_capi, "ACCEL_NC_" + m.upper()) for m in _MODELS}
 LOADING_TOL = _capi.ACCEL_LOADING_TOL
 ARCSEC = np.pi / 180.0 / 3600.0
 
@@ -43,8 +41,7 @@ def combination_names(model="dual", axis="pa"):
 
 
 def _model(model):
-    if model not in _MODELS:
-        raise ValueError(f"model: expected 'single' or 'dual', got {model!r}")
+    _lib.choice(_capi.CHOICE_ACCEL_MODEL, model, "igea.accel", "model")
     return model
 
 
@@ -210,10 +207,8 @@ def accel_fit(theta_deg, y_a, y_b=None, *, model="dual", method="ls", prior_scal
     method "ls" (minimum-norm least squares) or "ebr" (empirical-Bayes
     ridge with prior_scale, rule "sc"/"mm"/"ml2" and lam_floor)."""
     m = _model(model)
-    if method not in _METHODS:
-        raise ValueError(f"method: expected 'ls' or 'ebr', got {method!r}")
-    if rule not in _RULES:
-        raise ValueError(f"rule: expected 'sc', 'mm' or 'ml2', got {rule!r}")
+    method_code = _lib.choice(_capi.CHOICE_ACCEL_METHOD, method, "igea.accel_fit", "method")
+    rule_code = _lib.choice(_capi.CHOICE_REGRESS_EBR_RULE, rule, "igea.accel_fit", "rule")
     t = _theta(theta_deg)
     n, npar, nc = t.shape[0], _NP[m], _NC[m]
     ya = _vec(y_a, "y_a", n)
@@ -229,8 +224,8 @@ def accel_fit(theta_deg, y_a, y_b=None, *, model="dual", method="ls", prior_scal
     ps = None if prior_scale is None else _vec(prior_scale, "prior_scale", npar)
     coef, sd, flag = np.zeros(npar), np.zeros(npar), np.zeros(npar, dtype=np.intc)
     comb, csd, info = np.zeros(nc), np.zeros(nc), np.zeros(_capi.ACCEL_INFO_LEN)
-    _lib.call("igea.accel_fit", "igea_accel_fit", _MODELS[m], _METHODS[method], n, _lib.dptr(t),
-              _lib.dptr(ya), _lib.dptr(yb), _lib.dptr(ps), _RULES[rule], float(lam_floor),
+    _lib.call("igea.accel_fit", "igea_accel_fit", _MODELS[m], method_code, n, _lib.dptr(t),
+              _lib.dptr(ya), _lib.dptr(yb), _lib.dptr(ps), rule_code, float(lam_floor),
               _lib.dptr(coef), _lib.dptr(sd), _lib.iptr(flag), _lib.dptr(comb), _lib.dptr(csd),
               _lib.dptr(info))
     return AccelFit(m, method, coefficient_names(m, axis), coef, sd,

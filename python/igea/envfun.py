@@ -12,14 +12,10 @@ import numpy as np
 from . import _capi, _lib
 
 STRAPDOWN, PLATFORM = _capi.ENVFUN_STRAPDOWN, _capi.ENVFUN_PLATFORM
-_SYSTEMS = _lib.choices("ENVFUN_", "strapdown platform")
-_OUTPUTS = _lib.choices("ENVFUN_", "velocity position velocity_g position_g")
 
 
 def _system_code(system):
-    if system not in _SYSTEMS:
-        raise ValueError(f"system: expected 'strapdown' or 'platform', got {system!r}")
-    return _SYSTEMS[system]
+    return _lib.choice(_capi.CHOICE_ENVFUN_SYSTEM, system, "igea.envfun", "system")
 
 
 def _catalogue(sc):
@@ -119,11 +115,10 @@ def envfun(traj, terms, epochs, *, system="strapdown", spec=None, axes=None,
         ax = np.ascontiguousarray(axes, dtype=np.intc)
         if ax.shape != (6,):
             raise ValueError(f"axes: expected 6 ints, got shape {ax.shape}")
-    if output not in _OUTPUTS:
-        raise ValueError(f"output: one of {sorted(_OUTPUTS)}, got {output!r}")
+    output_code = _lib.choice(_capi.CHOICE_ENVFUN_OUTPUT, output, "igea.envfun", "output")
     n, m = tr.shape[0], 3 * ep.size
     S = np.zeros((m, len(codes)), order="F")
     _lib.call("igea.envfun", "igea_envfun_compute", sys_code, n, _lib.dptr(tr), n, len(codes),
               _lib.iptr(codes), _lib.iptr(ax), ep.size, _lib.dptr(ep), _lib.dptr(sp),
-              _OUTPUTS[output], _lib.dptr(S), m)
+              output_code, _lib.dptr(S), m)
     return S

@@ -6,9 +6,6 @@ import numpy as np
 from . import _capi
 from . import _lib
 
-_FLAGS = {v: k for k, v in _lib.choices("STATS_SIGMAW_",
-                                        "converged not_estimable no_convergence off").items()}
-_ROUTES = _lib.choices("EQERR_ROUTE_", "eig svd")
 
 
 def _test_fields(info):
@@ -150,13 +147,12 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
         raise ValueError("sigma: expected a number or shape (%d,), got %s" % (m, sig.shape))
     if spec is not None:
         spec = _lib.as_f64(spec, "spec", ndim=1, shape=(N,))
-    if route not in _ROUTES:
-        raise ValueError("route: expected 'eig' or 'svd', got %r" % (route,))
+    route = _lib.choice(_capi.CHOICE_EQERR_ROUTE, route, "igea.eqerr", "route")
     opts = _lib.options("eqerr", "igea.eqerr", ("igea_eqerr_run", "opts"), alpha=alpha,
                         lambda_test=lambda_test, lambda_small=lambda_small, n_min=n_min, tol=tol,
                         max_iter=max_iter, correct=correction, rank_tol=rank_tol,
                         bias_correct=bias_correct, clamp=clamp, z_crit=z_crit,
-                        route=_ROUTES[route])
+                        route=route)
     lam = np.empty(N)
     P = np.empty((N, N), order="F")
     xhat = np.empty(N)
@@ -173,7 +169,9 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
     nt = test["n_test"]
     return _attach(EqerrResult(
         eigenvalues=lam, eigenvectors=np.ascontiguousarray(P), equiv_err=xhat, z=z[:nt].copy(),
-        reject=rej[:nt] == 1, flag=_FLAGS[int(info[_capi.STATS_INFO_FLAG])], residual=res,
+        reject=rej[:nt] == 1,
+        flag=_lib.choice_name(_capi.CHOICE_STATS_SIGMAW_FLAG, info[_capi.STATS_INFO_FLAG]),
+        residual=res,
         rms=rms, **test, **_lib.fields(info, "STATS_INFO_", rank=int, scale=float,
                                         iterations=int, n_small=int)),
         alpha=opts[_capi.EQERR_OPT_ALPHA], lambda_small=opts[_capi.EQERR_OPT_LAMBDA_SMALL])

@@ -8,7 +8,6 @@ import numpy as np
 
 from . import _capi, _lib
 
-_BLOCK = _lib.choices("REDUND_RBD_", "series parallel kofn")
 
 
 def _vec(x, name, n=None):
@@ -90,10 +89,10 @@ def reliability_diagram(R, blocks):
         raise ValueError("blocks: at least one block is needed")
     types, ks, first, members = [], [], [0], []
     for b in blocks:
-        if len(b) not in (2, 3) or b[0] not in _BLOCK:
-            raise ValueError("blocks: each block is (kind, members[, k]) with kind "
-                             "series, parallel or kofn")
-        types.append(_BLOCK[b[0]])
+        if len(b) not in (2, 3):
+            raise ValueError("blocks: each block is (kind, members[, k])")
+        types.append(_lib.choice(_capi.CHOICE_REDUND_RBD, b[0], "igea.reliability_diagram",
+                                 "blocks"))
         ks.append(int(b[2]) if len(b) == 3 else 0)
         members.extend(int(m) for m in b[1])
         first.append(len(members))

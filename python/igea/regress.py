@@ -8,8 +8,6 @@ import numpy as np
 
 from . import _capi, _lib
 
-_EBR_RULES = _lib.choices("REGRESS_EBR_", "sc mm ml2")
-_RIDGE_RULES = _lib.choices("REGRESS_RIDGE_", "fixed hkb lw gcv loo")
 
 
 def _design(A, y, sigma=None, spec=None, y_optional=False):
@@ -257,14 +255,13 @@ def ebr(A, y, sigma=None, *, spec=None, rule="sc", lam_floor=0.0, names=None):
     eq. 17), "mm" or "ml2"; lam_floor >= 0. Returns EbrResult(x, cov, lam,
     rank, sigma2, residual, shrink, sd_frequentist; sd the posterior sds)."""
     A, m, N, y, sg, sp = _design(A, y, sigma, spec)
-    if rule not in _EBR_RULES:
-        raise ValueError("rule: expected 'sc', 'mm' or 'ml2', got %r" % (rule,))
+    rule_code = _lib.choice(_capi.CHOICE_REGRESS_EBR_RULE, rule, "igea.ebr", "rule")
     x, cov = np.empty(N), np.empty((N, N), order="F")
     lam, s2 = np.zeros(1), np.zeros(1)
     rank = np.zeros(1, dtype=np.intc)
     res, sh, sf = np.empty(m), np.empty(N), np.empty(N)
     _lib.call("igea.ebr", "igea_regress_ebr", m, N, _lib.dptr(A), m, _lib.dptr(y), _lib.dptr(sg),
-              _lib.dptr(sp), _EBR_RULES[rule], float(lam_floor), _lib.dptr(x), _lib.dptr(cov), N,
+              _lib.dptr(sp), rule_code, float(lam_floor), _lib.dptr(x), _lib.dptr(cov), N,
               _lib.dptr(lam), _lib.iptr(rank), _lib.dptr(s2), _lib.dptr(res), _lib.dptr(sh),
               _lib.dptr(sf))
     return EbrResult(x=x, cov=np.ascontiguousarray(cov), lam=float(lam[0]), rank=int(rank[0]),
@@ -283,15 +280,14 @@ def ridge(A, y, sigma=None, *, spec=None, k=None, rule=None, names=None):
         raise ValueError("k, rule: give exactly one of them")
     if rule is None:
         rule = "fixed"
-    if rule not in _RIDGE_RULES:
-        raise ValueError("rule: expected one of 'hkb', 'lw', 'gcv', 'loo', got %r" % (rule,))
+    rule_code = _lib.choice(_capi.CHOICE_REGRESS_RIDGE_RULE, rule, "igea.ridge", "rule")
     x = np.empty(N)
     cov = np.empty((N, N), order="F")
     ku = np.zeros(1)
     s2 = np.zeros(1)
     res = np.empty(m)
     _lib.call("igea.ridge", "igea_regress_ridge", m, N, _lib.dptr(A), m, _lib.dptr(y),
-              _lib.dptr(sg), _lib.dptr(sp), _RIDGE_RULES[rule], float(k) if k is not None else 0.0,
+              _lib.dptr(sg), _lib.dptr(sp), rule_code, float(k) if k is not None else 0.0,
               _lib.dptr(x), _lib.dptr(cov), N, _lib.dptr(ku), _lib.dptr(s2), _lib.dptr(res))
     return RidgeResult(x=x, cov=np.ascontiguousarray(cov), k=float(ku[0]), rule=rule,
                        sigma2=float(s2[0]), residual=res,

@@ -9,21 +9,11 @@ import numpy as np
 from . import _capi
 from . import _lib
 
-VARIANTS = _lib.choices("RLS_", "standard iterated polynomial")
-ANOMALY = {None: _capi.RLS_ANOMALY_NONE,
-           **_lib.choices("RLS_ANOMALY_", "none replace skip isolate")}
-ACTIONS = {v: k for k, v in _lib.choices("RLS_", "updated flagged replaced skipped "
-                                                 "isolated").items()}
-FLAGS = _lib.choices("RLS_FLAG_", "innovation jump missing unused")
-FLAG_INNOVATION, FLAG_JUMP, FLAG_MISSING, FLAG_UNUSED = FLAGS.values()
-
-
-def _choice(table, value, name):
-    try:
-        return table[value]
-    except (KeyError, TypeError):
-        names = ", ".join(repr(k) for k in table)
-        raise ValueError(f"{name}: expected one of {names}, got {value!r}") from None
+VARIANTS = _lib.choice_codes(_capi.CHOICE_RLS_VARIANT)
+ACTIONS = {c: n for n, c in _lib.choice_codes(_capi.CHOICE_RLS_ACTION).items()}
+FLAGS = _lib.choice_codes(_capi.CHOICE_RLS_FLAG)
+FLAG_INNOVATION, FLAG_JUMP, FLAG_MISSING, FLAG_UNUSED = (
+    _capi.RLS_FLAG_INNOVATION, _capi.RLS_FLAG_JUMP, _capi.RLS_FLAG_MISSING, _capi.RLS_FLAG_UNUSED)
 
 
 def _flag_names(f):
@@ -134,8 +124,9 @@ class RLS:
         k = int(k)
         if k < 1:
             raise ValueError(f"k: expected a positive number of rows, got {k}")
-        v = _choice(VARIANTS, variant, "variant")
-        pol = _choice(ANOMALY, anomaly, "anomaly")
+        v = _lib.choice(_capi.CHOICE_RLS_VARIANT, variant, "igea.RLS", "variant")
+        pol = (_capi.RLS_ANOMALY_NONE if anomaly is None else
+               _lib.choice(_capi.CHOICE_RLS_ANOMALY, anomaly, "igea.RLS", "anomaly"))
         jm = None if jump_max is None else _lib.as_f64(jump_max, "jump_max", ndim=1, shape=(k,))
         h = ctypes.c_void_p()
         _lib.call("igea.RLS", "igea_rls_create", m, k, _lib.dptr(x), _lib.dptr(g), m,

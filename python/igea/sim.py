@@ -8,7 +8,6 @@ import numpy as np
 from . import _capi, _lib
 from .envfun import _system_code, default_terms, term_codes
 
-_GENERATORS = _lib.choices("SIM_", "mt19937 ranlxd2")
 
 def reference_trajectory(duration=120.0, rate=50.0, *, system="strapdown"):
     """The reference boost trajectory (samples x 11), METHODS 5.6."""
@@ -60,11 +59,10 @@ class _Model:
 
     def noise(self, generator, **slots):
         """The true noise: the library's defaults with the slots given."""
-        if generator not in _GENERATORS:
-            raise ValueError(f"generator: one of {sorted(_GENERATORS)}, got {generator!r}")
+        generator = _lib.choice(_capi.CHOICE_SIM_GENERATOR, generator, self.where, "generator")
         self.set("noise", _lib.dptr(_lib.options(
             "sim", self.where, ("igea_sim_model_set_noise", "opts"),
-            generator=_GENERATORS[generator], **slots)))
+            generator=generator, **slots)))
 
     def get(self, what, n):
         out = np.zeros(n)

@@ -8,8 +8,6 @@ import numpy as np
 
 from . import _capi, _lib
 
-_KIND = _lib.choices("STABILITY_ALLAN_", "overlapping modified nonoverlapping")
-_NOISE = _lib.choices("STABILITY_NOISE_", "wpm fpm wfm ffm rwfm auto")
 
 
 def _record(y):
@@ -50,11 +48,10 @@ def block_3sigma(y, fs, block=100.0):
 
 def octave_taus(n, fs, kind="overlapping"):
     """tau = 2^k / fs while the estimator has at least one term."""
-    if kind not in _KIND:
-        raise ValueError("kind: one of " + ", ".join(_KIND))
+    kind = _lib.choice(_capi.CHOICE_STABILITY_KIND, kind, "igea.octave_taus", "kind")
     tau = np.empty(64)
     nt = ctypes.c_int()
-    _lib.call("igea.octave_taus", "igea_stability_octave_taus", int(n), float(fs), _KIND[kind], 64,
+    _lib.call("igea.octave_taus", "igea_stability_octave_taus", int(n), float(fs), kind, 64,
               _lib.dptr(tau), ctypes.byref(nt))
     return tau[:nt.value].copy()
 
@@ -85,10 +82,8 @@ def allan(y, fs, taus=None, *, kind="overlapping", noise="auto", conf=0.683):
     octaves). kind: overlapping, modified or nonoverlapping; noise: the
     power-law type for the EDF (wpm, fpm, wfm, ffm, rwfm) or auto."""
     a = _record(y)
-    if kind not in _KIND:
-        raise ValueError("kind: one of " + ", ".join(_KIND))
-    if noise not in _NOISE:
-        raise ValueError("noise: one of " + ", ".join(_NOISE))
+    kind_code = _lib.choice(_capi.CHOICE_STABILITY_KIND, kind, "igea.allan", "kind")
+    noise = _lib.choice(_capi.CHOICE_STABILITY_NOISE, noise, "igea.allan", "noise")
     t = octave_taus(a.size, fs, kind) if taus is None else np.ascontiguousarray(
         _lib.as_f64(np.atleast_1d(taus), "taus", ndim=1))
     nt = t.size
@@ -97,7 +92,7 @@ def allan(y, fs, taus=None, *, kind="overlapping", noise="auto", conf=0.683):
     dev, lo, hi, edf = (np.empty(nt) for _ in range(4))
     cnt = np.empty(nt, dtype=np.intc)
     _lib.call("igea.allan", "igea_stability_allan", a.size, _lib.dptr(a), float(fs), nt,
-              _lib.dptr(t), _KIND[kind], _NOISE[noise], float(conf), _lib.dptr(dev), _lib.dptr(lo),
+              _lib.dptr(t), kind_code, noise, float(conf), _lib.dptr(dev), _lib.dptr(lo),
               _lib.dptr(hi), _lib.dptr(edf), _lib.iptr(cnt))
     used = np.round(t * fs) / fs
     return AllanResult(kind, used, dev, lo, hi, edf, cnt.astype(int), float(conf))

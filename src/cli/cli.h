@@ -163,8 +163,10 @@ void cli_jbools(cli_json *j, const char *key, const int *x, long n);
 
 /* ---- options -------------------------------------------------------------- */
 /* One table per command: name, kind, target, default (as text: set before
- * parsing and shown in --help), argument name (for CHOICE the choices,
- * "a|b|c"; the target receives the index), help text ('\n' continues on an
+ * parsing and shown in --help), argument name (for CHOICE either
+ * CLI_CHOICES(IGEA_CHOICE_...), a library enumeration whose names --help
+ * lists and whose code the target receives, or the driver's own words
+ * "a|b|c", whose index it receives), help text ('\n' continues on an
  * indented line), and an optional int set to 1 when the option is given.
  * FLAG sets its int to 1 (default 0), CLEAR sets it to 0 (a --no-x flag,
  * default 1). DSET and DCLEAR set a double (a slot of a library options
@@ -175,6 +177,10 @@ void cli_jbools(cli_json *j, const char *key, const int *x, long n);
 enum { CLI_OPT_END, CLI_OPT_FLAG, CLI_OPT_CLEAR, CLI_OPT_INT, CLI_OPT_NUM, CLI_OPT_STR,
        CLI_OPT_CHOICE, CLI_OPT_DSET, CLI_OPT_DCLEAR, CLI_OPT_HEAD };
 #define CLI_DEF_LIB "\001"
+#define CLI_CHOICE_MARK "\002"
+#define CLI_CHOICE_STR_(k) #k
+#define CLI_CHOICE_STR(k) CLI_CHOICE_STR_(k)
+#define CLI_CHOICES(kind) CLI_CHOICE_MARK CLI_CHOICE_STR(kind)
 typedef struct {
     const char *name;
     int kind;
@@ -205,9 +211,17 @@ typedef struct {
  * may be '-' (cli_one_stdin). */
 int cli_parse(const cli_command *c, int argc, char **argv);
 void cli_help(FILE *f, const cli_command *c);
-/* value among choices "a|b|c": *index = its position, or a message and
+/* value, a name of the library's enumeration kind (IGEA_CHOICE_*): *code =
+ * its code, or a message listing the library's names and CLI_USAGE. */
+int cli_choice(const char *opt, int kind, const char *value, int *code);
+/* The names of enumeration kind as "a|b|c" in buf (size bytes). */
+#define CLI_CHOICE_MAX 16
+#define CLI_CHOICE_TEXT 256
+const char *cli_choice_names(int kind, char *buf, size_t size);
+/* value among the driver's own words "a|b|c" (a command's sub-command or
+ * method, not a library code): *index = its position, or a message and
  * CLI_USAGE. */
-int cli_choice(const char *opt, const char *value, const char *choices, int *index);
+int cli_pick(const char *opt, const char *value, const char *words, int *index);
 /* The status of a library options check (igea_eqerr_check_opts, ...): 0 is
  * CLI_OK; 1 + slot names the slot's option (the slot name with '-' for '_')
  * in a usage message. */
@@ -238,15 +252,13 @@ typedef struct {
 } cli_flight_args;
 extern cli_flight_args cli_flight_opts;
 void cli_flight_defaults(void);
-/* in the order of the codes: IGEA_ENVFUN_STRAPDOWN 0, IGEA_ENVFUN_PLATFORM 1 */
-#define CLI_SYSTEMS "strapdown|platform"
 #define CLI_FLIGHT_MODEL_OPTIONS                                                               \
     CLI_HEAD("flight model:"),                                                                 \
     {"--traj", CLI_OPT_STR, &cli_flight_opts.traj, NULL, "FILE", "trajectory (t f3 w3 q4 rows, see igea envfun\n"   \
      "--help), or the reference boost:", NULL},                                                \
     {"--duration", CLI_OPT_NUM, &cli_flight_opts.duration, "120", "S", "the reference boost (METHODS 5.6) of S seconds", NULL}, \
     {"--rate", CLI_OPT_NUM, &cli_flight_opts.rate, "50", "HZ", "sampled at HZ", NULL},          \
-    {"--system", CLI_OPT_CHOICE, &cli_flight_opts.system, "strapdown", CLI_SYSTEMS, "the inertial system", NULL}, \
+    {"--system", CLI_OPT_CHOICE, &cli_flight_opts.system, "strapdown", CLI_CHOICES(IGEA_CHOICE_ENVFUN_SYSTEM), "the inertial system", NULL}, \
     {"--terms", CLI_OPT_STR, &cli_flight_opts.terms, "default", "LIST", "term names, 'default' (21-term model) or 'all'", NULL}, \
     {"--epoch-step", CLI_OPT_NUM, &cli_flight_opts.step, "1", "DT", "tracking epochs every DT s", NULL}, \
     {"--epochs", CLI_OPT_STR, &cli_flight_opts.epochs, NULL, "FILE", "or the tracking epochs of a file", NULL}, \
@@ -263,7 +275,7 @@ void cli_flight_defaults(void);
     {"--outlier-prob", CLI_OPT_NUM, &cli_flight_opts.opts[IGEA_SIM_OPT_OUTLIER_PROB], CLI_DEF_LIB, "P", "probability of an outlier per row", NULL}, \
     {"--outlier-scale", CLI_OPT_NUM, &cli_flight_opts.opts[IGEA_SIM_OPT_OUTLIER_SCALE], CLI_DEF_LIB, "K", "outlier sd in row sds", NULL}, \
     {"--seed", CLI_OPT_INT, &cli_flight_opts.seed, "0", "N", "random seed", NULL},          \
-    {"--generator", CLI_OPT_CHOICE, &cli_flight_opts.generator, "mt19937", "mt19937|ranlxd2", "random number generator", NULL}
+    {"--generator", CLI_OPT_CHOICE, &cli_flight_opts.generator, "mt19937", CLI_CHOICES(IGEA_CHOICE_SIM_GENERATOR), "random number generator", NULL}
 
 /* A flight model built from the options: trajectory, terms, epochs, specs,
  * true X settings and the library's model. */

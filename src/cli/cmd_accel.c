@@ -11,17 +11,14 @@ typedef struct {
 } ac_args;
 
 static ac_args A;
-static const int model_codes[] = {IGEA_ACCEL_DUAL, IGEA_ACCEL_SINGLE};
-static const int method_codes[] = {IGEA_ACCEL_LS, IGEA_ACCEL_EBR};
-static const int rule_codes[] = {IGEA_REGRESS_EBR_SC, IGEA_REGRESS_EBR_MM, IGEA_REGRESS_EBR_ML2};
 
 static const cli_opt options[] = {
     {"--data", CLI_OPT_STR, &A.data, NULL, "FILE", "the readings: angle (deg), A output, B output", NULL},
-    {"--model", CLI_OPT_CHOICE, &A.model, "dual", "dual|single", "single reads the first two columns", NULL},
-    {"--method", CLI_OPT_CHOICE, &A.method, "ls", "ls|ebr", "least squares or empirical-Bayes ridge", NULL},
+    {"--model", CLI_OPT_CHOICE, &A.model, "dual", CLI_CHOICES(IGEA_CHOICE_ACCEL_MODEL), "single reads the first two columns", NULL},
+    {"--method", CLI_OPT_CHOICE, &A.method, "ls", CLI_CHOICES(IGEA_CHOICE_ACCEL_METHOD), "least squares or empirical-Bayes ridge", NULL},
     {"--prior", CLI_OPT_STR, &A.prior, NULL, "FILE", "EBR prior scales tau_j, one per coefficient (9\n"
      "dual, 5 single), e.g. historical spreads", NULL},
-    {"--rule", CLI_OPT_CHOICE, &A.rule, "sc", "sc|mm|ml2", "EBR rule for lambda (METHODS 4.3 eq. 17)", NULL},
+    {"--rule", CLI_OPT_CHOICE, &A.rule, "sc", CLI_CHOICES(IGEA_CHOICE_REGRESS_EBR_RULE), "EBR rule for lambda (METHODS 4.3 eq. 17)", NULL},
     {"--lam-floor", CLI_OPT_NUM, &A.lam_floor, "0", "X", "EBR lower bound on lambda", NULL},
     {"--scale-a", CLI_OPT_NUM, &A.scale_a, "1", "K", "nominal scale factor of A (1: outputs in g)", NULL},
     {"--scale-b", CLI_OPT_NUM, &A.scale_b, "1", "K", "nominal scale factor of B", NULL},
@@ -76,9 +73,9 @@ static int parse(int argc, char **argv, ac_args *a)
                      : a->scale_a == 0.0 || a->scale_b == 0.0 ? "accel: a scale factor must not be 0"
                      : !(a->tol >= 0.0 && a->tol < 45.0) ? "accel: --tol must be in [0, 45) degrees"
                      : a->lam_floor < 0.0 ? "accel: --lam-floor must be >= 0"
-                     : a->refine && model_codes[a->model] != IGEA_ACCEL_DUAL
+                     : a->refine && a->model != IGEA_ACCEL_DUAL
                          ? "accel: --refine needs the dual model"
-                     : a->prior && method_codes[a->method] != IGEA_ACCEL_EBR
+                     : a->prior && a->method != IGEA_ACCEL_EBR
                          ? "accel: --prior needs --method ebr" : NULL);
 }
 
@@ -106,7 +103,7 @@ typedef struct {
 
 static void setup(const ac_args *a, ac_run *r)
 {
-    r->dual = model_codes[a->model] == IGEA_ACCEL_DUAL;
+    r->dual = a->model == IGEA_ACCEL_DUAL;
     r->np = r->dual ? IGEA_ACCEL_NP_DUAL : IGEA_ACCEL_NP_SINGLE;
     r->nc = r->dual ? IGEA_ACCEL_NC_DUAL : IGEA_ACCEL_NC_SINGLE;
     r->names = r->dual ? names_dual[a->axis] : names_single[a->axis];
@@ -167,8 +164,8 @@ static int compute(const ac_args *a, ac_run *r)
         st = igea_accel_merge(nr, r->ang, r->ya, r->dual ? r->yb : NULL, a->tol, r->th, r->ma,
                               r->dual ? r->mb : NULL, r->cnt, &r->npos);
     if (!st)
-        st = igea_accel_fit(model_codes[a->model], method_codes[a->method], r->npos, r->th,
-                            r->ma, r->mb, a->prior ? r->tau : NULL, rule_codes[a->rule],
+        st = igea_accel_fit(a->model, a->method, r->npos, r->th,
+                            r->ma, r->mb, a->prior ? r->tau : NULL, a->rule,
                             a->lam_floor, r->coef, r->sd, r->flag, r->cmb, r->csd, r->info);
     if (st)
         return cli_status(st, "accel");
@@ -189,14 +186,12 @@ static int compute(const ac_args *a, ac_run *r)
     return CLI_OK;
 }
 
-static const char *const model_names[] = {"dual", "single"}, *const method_names[] = {"ls", "ebr"};
-
 static void json_report(FILE *f, const ac_args *a, const ac_run *r)
 {
     cli_json j;
     cli_json_begin(&j, f);
-    cli_jstr(&j, "model", model_names[a->model]);
-    cli_jstr(&j, "method", method_names[a->method]);
+    cli_jstr(&j, "model", igea_choice_name(IGEA_CHOICE_ACCEL_MODEL, a->model));
+    cli_jstr(&j, "method", igea_choice_name(IGEA_CHOICE_ACCEL_METHOD, a->method));
     cli_jint(&j, "positions", r->npos);
     cli_jint(&j, "readings", r->nr);
     cli_jnums(&j, "theta_deg", r->th, r->npos);
@@ -241,9 +236,10 @@ static void text_refined(FILE *f, const ac_run *r)
 
 static void text_report(FILE *f, const ac_args *a, const ac_run *r)
 {
-    int ls = method_codes[a->method] == IGEA_ACCEL_LS;
+    int ls = a->method == IGEA_ACCEL_LS;
     fprintf(f, "igea accel: %s model, %s; %d readings -> %d positions; rank %d, dof %d\n",
-            model_names[a->model], ls ? "least squares" : "empirical-Bayes ridge", r->nr,
+            igea_choice_name(IGEA_CHOICE_ACCEL_MODEL, a->model),
+            ls ? "least squares" : "empirical-Bayes ridge", r->nr,
             r->npos, (int)r->info[IGEA_ACCEL_INFO_RANK], (int)r->info[IGEA_ACCEL_INFO_DOF]);
     fprintf(f, "residual sd %.3e g, rms %.3e g", r->info[IGEA_ACCEL_INFO_SIGMA],
             r->info[IGEA_ACCEL_INFO_RMS]);

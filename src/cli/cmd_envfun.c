@@ -12,19 +12,17 @@ typedef struct {
 } ef_args;
 
 static ef_args A;
-static const int output_codes[] = {IGEA_ENVFUN_VELOCITY, IGEA_ENVFUN_POSITION,
-                                   IGEA_ENVFUN_VELOCITY_G, IGEA_ENVFUN_POSITION_G};
 
 static const cli_opt options[] = {
     {"--traj", CLI_OPT_STR, &A.traj, NULL, "FILE", "the trajectory (required)", NULL},
     {"--terms", CLI_OPT_STR, &A.terms, NULL, "LIST", "comma-separated term names, 'default' (the 21-term\nmodel) or 'all' (required)", NULL},
     {"--list", CLI_OPT_FLAG, &A.list, NULL, NULL, "print the catalogue with default specs and units", NULL},
-    {"--system", CLI_OPT_CHOICE, &A.system, "strapdown", CLI_SYSTEMS, "the inertial system", NULL},
+    {"--system", CLI_OPT_CHOICE, &A.system, "strapdown", CLI_CHOICES(IGEA_CHOICE_ENVFUN_SYSTEM), "the inertial system", NULL},
     {"--epochs", CLI_OPT_STR, &A.epochs, NULL, "FILE", "epoch times (s), non-decreasing, inside the trajectory", NULL},
     {"--epoch-step", CLI_OPT_NUM, &A.step, "1", "DT", "or one epoch every DT s after the first sample", NULL},
     {"--spec", CLI_OPT_STR, &A.spec, NULL, "default|FILE", "multiply the columns by 1-sigma specs (default: raw S)", NULL},
     {"--axes", CLI_OPT_STR, &A.axes, NULL, "I,I,I,S,S,S", "platform gyro input and spin axes (0..2; default\n0,1,2,1,2,0)", NULL},
-    {"--output", CLI_OPT_CHOICE, &A.output, "velocity", "velocity|position|velocity_g|position_g",
+    {"--output", CLI_OPT_CHOICE, &A.output, "velocity", CLI_CHOICES(IGEA_CHOICE_ENVFUN_OUTPUT),
      "the quantity (_g: with the point-mass gravity-gradient\ncoupling)", NULL},
     {"--out", CLI_OPT_STR, &A.out, NULL, "FILE", "write S there (text with a '# names' header, or .npy)", NULL},
     {"--json", CLI_OPT_FLAG, &A.json, NULL, NULL, "machine-readable summary (with --out) or S as JSON", NULL},
@@ -64,7 +62,7 @@ static void list_terms(FILE *f)
         double spec = 0.0;
         igea_envfun_default_spec(sd ? IGEA_ENVFUN_STRAPDOWN : IGEA_ENVFUN_PLATFORM, k, &spec);
         fprintf(f, "%-14s %-10s %-12.5g %s\n", igea_envfun_term_name(k),
-                sd && pf ? "both" : sd ? "strapdown" : "platform", spec, igea_envfun_term_unit(k));
+                sd && pf ? "both" : igea_choice_name(IGEA_CHOICE_ENVFUN_SYSTEM, sd ? IGEA_ENVFUN_STRAPDOWN : IGEA_ENVFUN_PLATFORM), spec, igea_envfun_term_unit(k));
     }
 }
 
@@ -108,7 +106,7 @@ static int compute(const ef_args *a, ef_run *r)
         return cli_oom("S");
     int st = igea_envfun_compute(a->system, r->nsamp, r->traj, r->nsamp, nt,
                                  r->codes, a->axes ? r->axes : NULL, r->nep, r->ep, r->spec,
-                                 output_codes[a->output], S, m);
+                                 a->output, S, m);
     int ec = CLI_OK;
     if (st == ARG_EPOCHS) {
         cli_error("envfun: the epochs must be non-decreasing and inside [%g, %g] s", r->traj[0],

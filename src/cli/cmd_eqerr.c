@@ -9,12 +9,7 @@
 
 static const char *flag_name(int flag)
 {
-    switch (flag) {
-    case IGEA_STATS_SIGMAW_CONVERGED: return "converged";
-    case IGEA_STATS_SIGMAW_NOT_ESTIMABLE: return "not_estimable";
-    case IGEA_STATS_SIGMAW_NO_CONVERGENCE: return "no_convergence";
-    default: return "off";
-    }
+    return igea_choice_name(IGEA_CHOICE_STATS_SIGMAW_FLAG, flag);
 }
 
 /* The seed's Tables 1-2 plus the chi-square line (shared by both commands). */
@@ -94,7 +89,7 @@ static const cli_opt eqerr_options[] = {
     {"--bias-correct", CLI_OPT_DSET, EQ_OPT(BIAS_CORRECT), NULL, NULL, "sigma_w^2 = mean(g^2 - lambda) over the small set", NULL},
     {"--clamp", CLI_OPT_DSET, EQ_OPT(CLAMP), NULL, NULL, "never make the tracking weights more optimistic\n(c >= 1)", NULL},
     {"--z-crit", CLI_OPT_NUM, EQ_OPT(Z_CRIT), NULL, "Z", "impose the normal critical value (e.g. 2.58 as in\nthe seed's tables) instead of the exact z_{1-alpha/2}", NULL},
-    {"--route", CLI_OPT_CHOICE, &EA.route, "eig", "eig|svd", "normal matrix + dsyevd, or the SVD of the weighted\n"
+    {"--route", CLI_OPT_CHOICE, &EA.route, "eig", CLI_CHOICES(IGEA_CHOICE_EQERR_ROUTE), "normal matrix + dsyevd, or the SVD of the weighted\n"
      "S through its streamed QR factor (dtpqrt): resolves\neigenvalues down to eps^2 lambda_1 instead of eps\n"
      "lambda_1, at about twice the cost", NULL},
     {"--residuals", CLI_OPT_STR, &EA.residuals, NULL, "FILE", "write the per-row residuals dw - S D P_t Xhat_t", NULL},
@@ -150,7 +145,7 @@ static int parse_eqerr(int argc, char **argv, eqerr_args *a)
     }
     if ((ec = cli_file_or_positive("--sigma", a->sigma, &a->sigma_is_number, &a->sigma_value)))
         return ec;
-    a->opts[IGEA_EQERR_OPT_ROUTE] = a->route ? IGEA_EQERR_ROUTE_SVD : IGEA_EQERR_ROUTE_EIG;
+    a->opts[IGEA_EQERR_OPT_ROUTE] = a->route;
     return cli_check_opts("eqerr", IGEA_MODULE_EQERR, igea_eqerr_check_opts(a->opts));
 }
 
@@ -324,7 +319,7 @@ static void json_head(cli_json *j, const flight *r, const eqerr_args *a)
     cli_jstr(j, "flag", flag_name((int)r->info[IGEA_STATS_INFO_FLAG]));
     cli_jnum(j, "alpha", a->opts[IGEA_EQERR_OPT_ALPHA]);
     cli_jnum(j, "lambda_test", a->opts[IGEA_EQERR_OPT_LAMBDA_TEST]);
-    cli_jstr(j, "route", a->route ? "svd" : "eig");
+    cli_jstr(j, "route", igea_choice_name(IGEA_CHOICE_EQERR_ROUTE, a->route));
     cli_jint(j, "rows", r->m);
     cli_jint(j, "n_terms", N);
     cli_json_open(j, "residual", '[');
@@ -338,7 +333,7 @@ static void text_report(FILE *f, const flight *r, const eqerr_args *a)
             a->spec ? a->spec : "");
     fprintf(f, "route %s: rank %d of %d; lambda_1 = %.6e; %d component(s) with lambda >= %g "
                "tested\n\n",
-            a->opts[IGEA_EQERR_OPT_ROUTE] == IGEA_EQERR_ROUTE_SVD ? "svd" : "eig",
+            igea_choice_name(IGEA_CHOICE_EQERR_ROUTE, (int)a->opts[IGEA_EQERR_OPT_ROUTE]),
             (int)info[IGEA_STATS_INFO_RANK], r->N, r->lambda[0], (int)info[IGEA_STATS_INFO_N_TEST],
             a->opts[IGEA_EQERR_OPT_LAMBDA_TEST]);
     report_components(f, r->N, r->xhat, r->lambda, r->z, r->reject, info[IGEA_STATS_INFO_Z_CRIT]);
@@ -363,7 +358,7 @@ static void text_report(FILE *f, const flight *r, const eqerr_args *a)
 static int pass_solve(const eqerr_args *a, streams *s, flight *r)
 {
     int N = s->N, ec = CLI_OK;
-    const int svd = a->route;
+    const int svd = a->route == IGEA_EQERR_ROUTE_SVD;
     /* eig: A (N x N), b (N), wtw (2); svd: R ((N+1) x (N+1)), row count */
     double *A = calloc((size_t)(N + 1) * (N + 1) + N + 2, sizeof(double));
     if (!A)

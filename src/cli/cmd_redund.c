@@ -102,7 +102,7 @@ static int parse(int argc, char **argv, rd_args *a, int *sub)
         cli_error("redund: a subcommand is required: reliability, consistency, fuse or fdi");
         return CLI_USAGE;
     }
-    if (cli_choice("redund", argv[1], "reliability|consistency|fuse|fdi", sub))
+    if (cli_pick("redund", argv[1], "reliability|consistency|fuse|fdi", sub))
         return CLI_USAGE;
     int ec = cli_parse(&command, argc - 1, argv + 1);
     *a = A;

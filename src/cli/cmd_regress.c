@@ -74,10 +74,8 @@ options,
 /* The method's own options, checked. */
 static const char *check_method(rg_args *a)
 {
-    static const int ridge_rules[] = {IGEA_REGRESS_RIDGE_HKB, IGEA_REGRESS_RIDGE_LW,
-                                      IGEA_REGRESS_RIDGE_GCV, IGEA_REGRESS_RIDGE_LOO};
-    static const int ebr_rules[] = {IGEA_REGRESS_EBR_SC, IGEA_REGRESS_EBR_MM,
-                                    IGEA_REGRESS_EBR_ML2};
+    static char msg[CLI_CHOICE_TEXT + 64];
+    char names[CLI_CHOICE_TEXT];
     int k = 0;
     switch (a->method) {
     case M_RIDGE:
@@ -85,15 +83,23 @@ static const char *check_method(rg_args *a)
             return "regress: give --k or --rule, not both";
         if (a->have_k && !(a->k >= 0))
             return "regress: --k must be >= 0";
-        if (a->rule && cli_choice("--rule", a->rule, "hkb|lw|gcv|loo", &k))
-            return "regress: --rule: hkb, lw, gcv or loo for ridge";
+        if (a->rule && (igea_choice_code(IGEA_CHOICE_REGRESS_RIDGE_RULE, a->rule, &k) ||
+                        k == IGEA_REGRESS_RIDGE_FIXED)) {
+            snprintf(msg, sizeof msg, "regress: --rule '%s': ridge takes one of %s but fixed "
+                     "(that is --k K)", a->rule,
+                     cli_choice_names(IGEA_CHOICE_REGRESS_RIDGE_RULE, names, sizeof names));
+            return msg;
+        }
         a->rule_code = a->have_k ? IGEA_REGRESS_RIDGE_FIXED
-                                 : a->rule ? ridge_rules[k] : IGEA_REGRESS_RIDGE_GCV;
+                                 : a->rule ? k : IGEA_REGRESS_RIDGE_GCV;
         return NULL;
     case M_EBR:
-        if (a->rule && cli_choice("--rule", a->rule, "sc|mm|ml2", &k))
-            return "regress: --rule: sc, mm or ml2 for ebr";
-        a->rule_code = ebr_rules[k];
+        if (a->rule && igea_choice_code(IGEA_CHOICE_REGRESS_EBR_RULE, a->rule, &k)) {
+            snprintf(msg, sizeof msg, "regress: --rule '%s': one of %s for ebr", a->rule,
+                     cli_choice_names(IGEA_CHOICE_REGRESS_EBR_RULE, names, sizeof names));
+            return msg;
+        }
+        a->rule_code = a->rule ? k : IGEA_REGRESS_EBR_SC;
         return a->lam_floor >= 0 ? NULL : "regress: --lam-floor must be >= 0";
     case M_PCE:
         if (a->have_ncomp && a->have_eig_min)

@@ -13,10 +13,6 @@ typedef struct {
 } rls_args;
 
 static rls_args A;
-#define VARIANTS "standard|iterated|polynomial"
-#define POLICIES "none|replace|skip|isolate"
-static const char *const vname[] = {"standard", "iterated", "polynomial"};
-static const char *const pname[] = {"none", "replace", "skip", "isolate"};
 
 static const cli_opt options[] = {
     CLI_HEAD("input (text or .npy; streamed, so records longer than memory are fine):"),
@@ -32,10 +28,10 @@ static const cli_opt options[] = {
     {"--gamma0", CLI_OPT_STR, &A.gamma0, "1e6", "G", "initial Gamma (whitened units): a number g for g I,\n"
      "a file of m values (diagonal) or of m x m values\n(1e6: diffuse, then standard RLS is batch least\nsquares)", NULL},
     CLI_HEAD("\nestimator:"),
-    {"--variant", CLI_OPT_CHOICE, &A.variant, "standard", VARIANTS, "the RLS variant", NULL},
+    {"--variant", CLI_OPT_CHOICE, &A.variant, "standard", CLI_CHOICES(IGEA_CHOICE_RLS_VARIANT), "the RLS variant", NULL},
     {"--p", CLI_OPT_INT, &A.p, "1", "P", "order of the polynomial / number of iterations", NULL},
     {"--forget", CLI_OPT_NUM, &A.forget, "1", "L", "forgetting factor 0 < L <= 1 (1: none)", NULL},
-    {"--anomaly", CLI_OPT_CHOICE, &A.policy, "none", POLICIES, "none: flag only; replace: the patent's variant\n"
+    {"--anomaly", CLI_OPT_CHOICE, &A.policy, "none", CLI_CHOICES(IGEA_CHOICE_RLS_ANOMALY), "none: flag only; replace: the patent's variant\n"
      "A (previous epoch's y); skip: no update at an\nanomalous epoch; isolate: variant B, the flagged\n"
      "rows are dropped from that epoch's update", NULL},
     {"--kappa", CLI_OPT_NUM, &A.kappa, "4", "K", "innovation test |e_j| > K sd", NULL},
@@ -136,7 +132,6 @@ static int read_num_or_file(const char *what, const char *s, long n1, long n2,
     return CLI_OK;
 }
 
-static const char *const action_name[] = {"updated", "flagged", "replaced", "skipped", "isolated"};
 
 /* The inputs: a streamed record (--data) or S and dw whole. */
 typedef struct {
@@ -274,16 +269,16 @@ static void print_header(printer *pr, const rls_args *a)
         cli_json_begin(&pr->j, f);
         cli_jint(&pr->j, "m", pr->m);
         cli_jint(&pr->j, "k", pr->k);
-        cli_jstr(&pr->j, "variant", vname[a->variant]);
+        cli_jstr(&pr->j, "variant", igea_choice_name(IGEA_CHOICE_RLS_VARIANT, a->variant));
         cli_jint(&pr->j, "p", p);
-        cli_jstr(&pr->j, "anomaly", pname[a->policy]);
+        cli_jstr(&pr->j, "anomaly", igea_choice_name(IGEA_CHOICE_RLS_ANOMALY, a->policy));
         cli_jnum(&pr->j, "kappa", a->kappa);
         cli_jnum(&pr->j, "forget", a->forget);
         cli_json_open(&pr->j, "epochs", '[');
         return;
     }
     fprintf(f, "# igea rls: m = %d, k = %d, %s RLS, p = %d, anomaly %s, kappa %g, forget %g\n"
-               "# epoch action", pr->m, pr->k, vname[a->variant], p, pname[a->policy], a->kappa,
+               "# epoch action", pr->m, pr->k, igea_choice_name(IGEA_CHOICE_RLS_VARIANT, a->variant), p, igea_choice_name(IGEA_CHOICE_RLS_ANOMALY, a->policy), a->kappa,
             a->forget);
     for (int j = 0; j < pr->k; j++)
         fprintf(f, " flag%d", j);
@@ -303,7 +298,7 @@ static void print_epoch(printer *pr, long e, int act, const int *fl, const doubl
     if (pr->json) {
         cli_json_open(&pr->j, NULL, '{');
         cli_jint(&pr->j, "epoch", e);
-        cli_jstr(&pr->j, "action", action_name[act]);
+        cli_jstr(&pr->j, "action", igea_choice_name(IGEA_CHOICE_RLS_ACTION, act));
         cli_jints(&pr->j, "flags", fl, pr->k);
         cli_jnums(&pr->j, "x", x, pr->m);
         cli_jnums(&pr->j, "compensated", comp, pr->k);

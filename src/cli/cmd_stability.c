@@ -14,11 +14,6 @@ typedef struct {
 } st_args;
 
 static st_args A;
-/* --noise choices in the order of the library's codes, from -2 (rwfm). */
-#define NOISE_CHOICES "rwfm|ffm|wfm|fpm|wpm|auto"
-static const int kind_codes[] = {IGEA_STABILITY_ALLAN_OVERLAPPING, IGEA_STABILITY_ALLAN_MODIFIED,
-                                 IGEA_STABILITY_ALLAN_NONOVERLAPPING};
-static const char *const kind_names[] = {"overlapping", "modified", "nonoverlapping"};
 
 static const cli_opt options[] = {
     {"--data", CLI_OPT_STR, &A.file, NULL, "FILE", "the record: text or .npy ('-' for standard input)", NULL},
@@ -26,10 +21,10 @@ static const cli_opt options[] = {
     {"--column", CLI_OPT_INT, &A.column, "0", "K", "the record's column in a file of several (from 0)",
      &A.column_given},
     {"--block", CLI_OPT_NUM, &A.block, "100", "S", "block length in seconds", NULL},
-    {"--kind", CLI_OPT_CHOICE, &A.kind, "overlapping", "overlapping|modified|nonoverlapping",
+    {"--kind", CLI_OPT_CHOICE, &A.kind, "overlapping", CLI_CHOICES(IGEA_CHOICE_STABILITY_KIND),
      "Allan deviation kind", NULL},
     {"--taus", CLI_OPT_STR, &A.taus, NULL, "FILE", "averaging times (default: octaves)", NULL},
-    {"--noise", CLI_OPT_CHOICE, &A.noise, "auto", NOISE_CHOICES,
+    {"--noise", CLI_OPT_CHOICE, &A.noise, "auto", CLI_CHOICES(IGEA_CHOICE_STABILITY_NOISE),
      "noise type for the intervals (auto: per tau\nfrom the lag-1 autocorrelation)", NULL},
     {"--conf", CLI_OPT_NUM, &A.conf, "0.683", "C", "confidence of the intervals, in (0, 1)", NULL},
     CLI_JSON_OPT(&A.json),
@@ -162,7 +157,7 @@ static void json_report(FILE *f, const st_args *a, const st_result *r)
     } else {
         cli_jstr(&j, "block", NULL);
     }
-    cli_jstr(&j, "kind", kind_names[a->kind]);
+    cli_jstr(&j, "kind", igea_choice_name(IGEA_CHOICE_STABILITY_KIND, a->kind));
     cli_jnum(&j, "conf", a->conf);
     cli_jnums(&j, "taus", r->tau, r->ntau);
     cli_jnums(&j, "dev", r->dev, r->ntau);
@@ -189,7 +184,7 @@ static void text_report(FILE *f, const st_args *a, const st_result *r)
                 b[IGEA_STABILITY_BLOCK_ADEV]);
     else
         fprintf(f, "%g-s blocks: the record holds fewer than 2 blocks\n", a->block);
-    fprintf(f, "\n%s Allan deviation, %.1f %% intervals\n", kind_names[a->kind], 100 * a->conf);
+    fprintf(f, "\n%s Allan deviation, %.1f %% intervals\n", igea_choice_name(IGEA_CHOICE_STABILITY_KIND, a->kind), 100 * a->conf);
     fprintf(f, "%12s %14s %14s %14s %9s %10s\n", "tau (s)", "deviation", "low", "high", "edf",
             "terms");
     for (int j = 0; j < r->ntau; j++)
@@ -215,8 +210,7 @@ static void text_report(FILE *f, const st_args *a, const st_result *r)
 
 static int compute(const st_args *a, const double *y, st_result *r)
 {
-    int kind = kind_codes[a->kind];
-    int noise = a->noise == 5 ? IGEA_STABILITY_NOISE_AUTO : a->noise - 2;
+    int kind = a->kind, noise = a->noise;
     int st = igea_stability_block(r->n, y, a->fs, a->block, r->blk);
     r->have_block = st == 0;
     if (st && st != BLOCK_ARG_LENGTH)
@@ -241,7 +235,7 @@ int cmd_stability(int argc, char **argv)
         return ec == CLI_HELP ? CLI_OK : ec;
     st_result r = {0};
     double *y = NULL;
-    if ((ec = read_record(&a, &y, &r.n)) || (ec = read_taus(&a, r.n, kind_codes[a.kind], &r.tau,
+    if ((ec = read_record(&a, &y, &r.n)) || (ec = read_taus(&a, r.n, a.kind, &r.tau,
                                                             &r.ntau)))
         goto done;
     size_t nt = (size_t)(r.ntau > 0 ? r.ntau : 1);

@@ -7,11 +7,6 @@
 
 #include "cli.h"
 
-static const char *system_name(int system)
-{
-    return system == IGEA_ENVFUN_STRAPDOWN ? "strapdown" : "platform";
-}
-
 int cli_parse_terms(int system, const char *list, int **codes, int *n)
 {
     int cap = IGEA_ENVFUN_TERM_COUNT, cnt = 0;
@@ -35,7 +30,7 @@ int cli_parse_terms(int system, const char *list, int **codes, int *n)
             int k = len < sizeof name ? igea_envfun_term_code(system, name) : -2;
             if (k < 0) {
                 cli_error("--terms: '%.*s' is not a %s term (see igea envfun --list)", (int)len, p,
-                          system_name(system));
+                          igea_choice_name(IGEA_CHOICE_ENVFUN_SYSTEM, system));
                 free(c);
                 return CLI_USAGE;
             }
@@ -157,7 +152,7 @@ void cli_flight_free(cli_flight *f)
 void cli_flight_noise(const cli_flight_args *a, double *opts)
 {
     memcpy(opts, a->opts, sizeof a->opts);
-    opts[IGEA_SIM_OPT_GENERATOR] = a->generator ? IGEA_SIM_RANLXD2 : IGEA_SIM_MT19937;
+    opts[IGEA_SIM_OPT_GENERATOR] = a->generator;
 }
 
 /* --x NAME=K,...: terms fixed at K x spec. */

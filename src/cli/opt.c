@@ -8,11 +8,11 @@
 
 #include "cli.h"
 
-int cli_choice(const char *opt, const char *value, const char *choices, int *index)
+int cli_pick(const char *opt, const char *value, const char *words, int *index)
 {
     size_t len = strlen(value);
     int k = 0;
-    for (const char *p = choices;; k++) {
+    for (const char *p = words;; k++) {
         const char *bar = strchr(p, '|');
         size_t n = bar ? (size_t)(bar - p) : strlen(p);
         if (n == len && !strncmp(p, value, n)) {
@@ -23,8 +23,40 @@ int cli_choice(const char *opt, const char *value, const char *choices, int *ind
             break;
         p = bar + 1;
     }
-    cli_error("option %s: '%s' is not one of %s", opt, value, choices);
+    cli_error("option %s: '%s' is not one of %s", opt, value, words);
     return CLI_USAGE;
+}
+
+const char *cli_choice_names(int kind, char *buf, size_t size)
+{
+    int codes[CLI_CHOICE_MAX], n = igea_choice_codes(kind, codes, CLI_CHOICE_MAX);
+    size_t used = 0;
+    buf[0] = '\0';
+    for (int i = 0; i < n && i < CLI_CHOICE_MAX; i++) {
+        int w = snprintf(buf + used, size - used, "%s%s", i ? "|" : "",
+                         igea_choice_name(kind, codes[i]));
+        if (w < 0 || (size_t)w >= size - used)
+            break;
+        used += (size_t)w;
+    }
+    return buf;
+}
+
+int cli_choice(const char *opt, int kind, const char *value, int *code)
+{
+    char names[CLI_CHOICE_TEXT];
+    if (igea_choice_code(kind, value, code) == 0)
+        return CLI_OK;
+    cli_error("option %s: '%s' is not one of %s", opt, value,
+              cli_choice_names(kind, names, sizeof names));
+    return CLI_USAGE;
+}
+
+/* The library enumeration of a CHOICE option (CLI_CHOICES(kind)), or 0 for
+ * a list of words. */
+static int choice_kind(const cli_opt *o)
+{
+    return o->arg[0] == CLI_CHOICE_MARK[0] ? atoi(o->arg + 1) : 0;
 }
 
 /* Store the text v into o's target. */
@@ -39,7 +71,9 @@ static int set_value(const cli_opt *o, const char *v)
         *(const char **)o->target = v;
         return CLI_OK;
     case CLI_OPT_CHOICE:
-        return cli_choice(o->name, v, o->arg, (int *)o->target);
+        if (choice_kind(o))
+            return cli_choice(o->name, choice_kind(o), v, (int *)o->target);
+        return cli_pick(o->name, v, o->arg, (int *)o->target);
     default:
         return CLI_OK;
     }
@@ -56,8 +90,10 @@ static int takes_value(const cli_opt *o)
 #define HELP_COL 22
 static void print_option(FILE *f, const cli_opt *o)
 {
-    char head[96];
+    char head[96], names[CLI_CHOICE_TEXT];
     const char *arg = o->arg;
+    if (o->kind == CLI_OPT_CHOICE && choice_kind(o))
+        arg = cli_choice_names(choice_kind(o), names, sizeof names);
     if (o->kind == CLI_OPT_FLAG || o->kind == CLI_OPT_CLEAR || o->kind == CLI_OPT_DSET ||
         o->kind == CLI_OPT_DCLEAR)
         arg = NULL;

@@ -1,0 +1,123 @@
+/* choices.c - the names of the library's enumerations (IGEA_CHOICE_*): the
+ * one table that the driver's options and the Python package's keywords
+ * read. */
+#include <string.h>
+
+#include "igea.h"
+
+typedef struct {
+    int code;
+    const char *name;
+} choice;
+
+#define END {0, NULL}
+static const choice eqerr_route[] = {
+    {IGEA_EQERR_ROUTE_EIG, "eig"}, {IGEA_EQERR_ROUTE_SVD, "svd"}, END};
+static const choice ridge_rule[] = {
+    {IGEA_REGRESS_RIDGE_FIXED, "fixed"}, {IGEA_REGRESS_RIDGE_HKB, "hkb"},
+    {IGEA_REGRESS_RIDGE_LW, "lw"}, {IGEA_REGRESS_RIDGE_GCV, "gcv"}, {IGEA_REGRESS_RIDGE_LOO, "loo"},
+    END};
+static const choice ebr_rule[] = {
+    {IGEA_REGRESS_EBR_SC, "sc"}, {IGEA_REGRESS_EBR_MM, "mm"}, {IGEA_REGRESS_EBR_ML2, "ml2"}, END};
+static const choice accel_model[] = {
+    {IGEA_ACCEL_SINGLE, "single"}, {IGEA_ACCEL_DUAL, "dual"}, END};
+static const choice accel_method[] = {
+    {IGEA_ACCEL_LS, "ls"}, {IGEA_ACCEL_EBR, "ebr"}, END};
+static const choice envfun_system[] = {
+    {IGEA_ENVFUN_STRAPDOWN, "strapdown"}, {IGEA_ENVFUN_PLATFORM, "platform"}, END};
+static const choice envfun_output[] = {
+    {IGEA_ENVFUN_VELOCITY, "velocity"}, {IGEA_ENVFUN_POSITION, "position"},
+    {IGEA_ENVFUN_VELOCITY_G, "velocity_g"}, {IGEA_ENVFUN_POSITION_G, "position_g"}, END};
+static const choice sim_generator[] = {
+    {IGEA_SIM_MT19937, "mt19937"}, {IGEA_SIM_RANLXD2, "ranlxd2"}, END};
+static const choice rls_variant[] = {
+    {IGEA_RLS_STANDARD, "standard"}, {IGEA_RLS_ITERATED, "iterated"},
+    {IGEA_RLS_POLYNOMIAL, "polynomial"}, END};
+static const choice rls_anomaly[] = {
+    {IGEA_RLS_ANOMALY_NONE, "none"}, {IGEA_RLS_ANOMALY_REPLACE, "replace"},
+    {IGEA_RLS_ANOMALY_SKIP, "skip"}, {IGEA_RLS_ANOMALY_ISOLATE, "isolate"}, END};
+static const choice rls_action[] = {
+    {IGEA_RLS_UPDATED, "updated"}, {IGEA_RLS_FLAGGED, "flagged"}, {IGEA_RLS_REPLACED, "replaced"},
+    {IGEA_RLS_SKIPPED, "skipped"}, {IGEA_RLS_ISOLATED, "isolated"}, END};
+static const choice rls_flag[] = {
+    {IGEA_RLS_FLAG_INNOVATION, "innovation"}, {IGEA_RLS_FLAG_JUMP, "jump"},
+    {IGEA_RLS_FLAG_MISSING, "missing"}, {IGEA_RLS_FLAG_UNUSED, "unused"}, END};
+static const choice stability_kind[] = {
+    {IGEA_STABILITY_ALLAN_OVERLAPPING, "overlapping"}, {IGEA_STABILITY_ALLAN_MODIFIED, "modified"},
+    {IGEA_STABILITY_ALLAN_NONOVERLAPPING, "nonoverlapping"}, END};
+static const choice stability_noise[] = {
+    {IGEA_STABILITY_NOISE_RWFM, "rwfm"}, {IGEA_STABILITY_NOISE_FFM, "ffm"},
+    {IGEA_STABILITY_NOISE_WFM, "wfm"}, {IGEA_STABILITY_NOISE_FPM, "fpm"},
+    {IGEA_STABILITY_NOISE_WPM, "wpm"}, {IGEA_STABILITY_NOISE_AUTO, "auto"}, END};
+static const choice sigmaw_flag[] = {
+    {IGEA_STATS_SIGMAW_CONVERGED, "converged"}, {IGEA_STATS_SIGMAW_NOT_ESTIMABLE, "not_estimable"},
+    {IGEA_STATS_SIGMAW_NO_CONVERGENCE, "no_convergence"}, {IGEA_STATS_SIGMAW_OFF, "off"}, END};
+static const choice redund_rbd[] = {
+    {IGEA_REDUND_RBD_SERIES, "series"}, {IGEA_REDUND_RBD_PARALLEL, "parallel"},
+    {IGEA_REDUND_RBD_KOFN, "kofn"}, END};
+
+/* The table of a kind, or NULL. */
+static const choice *table(int kind)
+{
+    switch (kind) {
+    case IGEA_CHOICE_EQERR_ROUTE: return eqerr_route;
+    case IGEA_CHOICE_REGRESS_RIDGE_RULE: return ridge_rule;
+    case IGEA_CHOICE_REGRESS_EBR_RULE: return ebr_rule;
+    case IGEA_CHOICE_ACCEL_MODEL: return accel_model;
+    case IGEA_CHOICE_ACCEL_METHOD: return accel_method;
+    case IGEA_CHOICE_ENVFUN_SYSTEM: return envfun_system;
+    case IGEA_CHOICE_ENVFUN_OUTPUT: return envfun_output;
+    case IGEA_CHOICE_SIM_GENERATOR: return sim_generator;
+    case IGEA_CHOICE_RLS_VARIANT: return rls_variant;
+    case IGEA_CHOICE_RLS_ANOMALY: return rls_anomaly;
+    case IGEA_CHOICE_RLS_ACTION: return rls_action;
+    case IGEA_CHOICE_RLS_FLAG: return rls_flag;
+    case IGEA_CHOICE_STABILITY_KIND: return stability_kind;
+    case IGEA_CHOICE_STABILITY_NOISE: return stability_noise;
+    case IGEA_CHOICE_STATS_SIGMAW_FLAG: return sigmaw_flag;
+    case IGEA_CHOICE_REDUND_RBD: return redund_rbd;
+    default: return NULL;
+    }
+}
+
+const char *igea_choice_name(int kind, int code)
+{
+    const choice *t = table(kind);
+    for (; t && t->name; t++)
+        if (t->code == code)
+            return t->name;
+    return "";
+}
+
+int igea_choice_code(int kind, const char *name, int *code)
+{
+    const choice *t = table(kind);
+    if (!t)
+        return -1;
+    if (!name)
+        return -2;
+    if (!code)
+        return -3;
+    for (; t->name; t++)
+        if (!strcmp(t->name, name)) {
+            *code = t->code;
+            return 0;
+        }
+    return -2;
+}
+
+int igea_choice_codes(int kind, int *codes, int len)
+{
+    const choice *t = table(kind);
+    if (!t)
+        return -1;
+    if (len < 0)
+        return -3;
+    if (!codes && len > 0)
+        return -2;
+    int n = 0;
+    for (; t[n].name; n++)
+        if (n < len)
+            codes[n] = t[n].code;
+    return n;
+}
