@@ -427,3 +427,351 @@ int igea_stats_erfinv(double y, double *x)
     *x = igea__erfinv(y);
     return 0;
 }
+
+/* ---- Overall size of the verdict (docs/eqerr.md, "Overall size of the
+ * verdict"). D_k(s) = P(sum_{i<=k} z_i^2 <= s^2 and max |z_i| > a),
+ * C_k(s) = P(chi2_k <= s^2); with z_k = s sin(theta), s' = s cos(theta):
+ *   D_k(s) = int_0^tmax 2 phi(z) D_{k-1}(s') s' dtheta
+ *          + int_tmax^{pi/2} 2 phi(z) C_{k-1}(s') s' dtheta,
+ * tmax = asin(min(1, a / s)). D_{k-1} and C_{k-1} live on panels in s
+ * (UNION_M Gauss-Legendre nodes each, barycentric interpolation), split at
+ * the breakpoints a sqrt(j) and graded geometrically towards each of them;
+ * the theta integral is split where s' crosses a panel boundary or
+ * sqrt(s^2 - a^2), UNION_M nodes per piece. */
+#define UNION_M 10
+#define UNION_H 0.25    /* widest panel in s */
+#define UNION_GRADE 4   /* graded panels after each breakpoint */
+#define UNION_RATIO 0.25
+#define UNION_TINY 1e-30 /* a panel whose values all lie below it is skipped */
+#define UNION_PI 3.14159265358979323846
+#define UNION_SQRT1_2 0.70710678118654752440
+#define UNION_INV_SQRT2PI 0.39894228040143267794
+
+typedef struct {
+    double x[UNION_M], w[UNION_M], bw[UNION_M];
+    const double *bnd; /* P + 1 panel boundaries in s */
+    int P;
+    double a;
+} union_grid;
+
+/* Gauss-Legendre nodes and weights on [-1, 1] by Newton's iteration on
+ * P_M, and the barycentric weights of interpolation at those nodes. */
+static void union_rule(union_grid *g)
+{
+    const int m = UNION_M;
+    for (int i = 0; i < m; i++) {
+        double x = cos(UNION_PI * (i + 0.75) / (m + 0.5)), dp = 1.0;
+        for (int it = 0; it < 100; it++) {
+            double p0 = 1.0, p1 = x;
+            for (int k = 2; k <= m; k++) {
+                double p2 = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k;
+                p0 = p1;
+                p1 = p2;
+            }
+            dp = m * (x * p1 - p0) / (x * x - 1.0);
+            double dx = p1 / dp;
+            x -= dx;
+            if (fabs(dx) < 1e-16)
+                break;
+        }
+        {
+            double p0 = 1.0, p1 = x;
+            for (int k = 2; k <= m; k++) {
+                double p2 = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k;
+                p0 = p1;
+                p1 = p2;
+            }
+            dp = m * (x * p1 - p0) / (x * x - 1.0);
+        }
+        g->x[i] = x;
+        g->w[i] = 2.0 / ((1.0 - x * x) * dp * dp);
+        g->bw[i] = (i % 2 ? -1.0 : 1.0) * sqrt((1.0 - x * x) * g->w[i]);
+    }
+}
+
+/* Panel boundaries on [0, S] (bnd NULL: count only); returns P. */
+static int union_panels(double a, double S, int n, double *bnd)
+{
+    int P = 0;
+    double lo = 0.0;
+    if (bnd)
+        bnd[0] = 0.0;
+    for (int j = 1;; j++) {
+        double hi = j <= n - 1 ? a * sqrt((double)j) : S;
+        if (hi > S)
+            hi = S;
+        if (hi > lo) {
+            double x = lo;
+            if (j > 1)
+                for (int l = UNION_GRADE; l >= 1; l--) {
+                    x = lo + (hi - lo) * pow(UNION_RATIO, l);
+                    P++;
+                    if (bnd)
+                        bnd[P] = x;
+                }
+            int u = (int)ceil((hi - x) / UNION_H);
+            if (u < 1)
+                u = 1;
+            for (int i = 1; i <= u; i++) {
+                P++;
+                if (bnd)
+                    bnd[P] = i == u ? hi : x + (hi - x) * i / u;
+            }
+        }
+        if (hi >= S)
+            break;
+        lo = hi;
+    }
+    return P;
+}
+
+/* Interpolant of the values f[UNION_M] of panel q at s. */
+static double union_interp(const union_grid *g, int q, const double *f, double s)
+{
+    double mid = 0.5 * (g->bnd[q] + g->bnd[q + 1]), half = 0.5 * (g->bnd[q + 1] - g->bnd[q]);
+    double t = (s - mid) / half, num = 0.0, den = 0.0;
+    for (int i = 0; i < UNION_M; i++) {
+        double d = t - g->x[i];
+        if (d == 0.0)
+            return f[i];
+        num += g->bw[i] * f[i] / d;
+        den += g->bw[i] / d;
+    }
+    return num / den;
+}
+
+/* theta of s' = u on the circle of radius s: acos(u / s), well conditioned. */
+static double union_theta(double s, double u) { return atan2(sqrt((s - u) * (s + u)), u); }
+
+/* int over s' in [u0, u1] (inside panel q) of 2 phi(z) f(s') s' dtheta. */
+static double union_piece(const union_grid *g, int q, const double *f, double s, double u0,
+                          double u1)
+{
+    double big = 0.0;
+    for (int i = 0; i < UNION_M; i++)
+        if (fabs(f[i]) > big)
+            big = fabs(f[i]);
+    if (!(big >= UNION_TINY) || !(u1 > u0))
+        return 0.0;
+    double t0 = union_theta(s, u1), t1 = union_theta(s, u0);
+    double mid = 0.5 * (t0 + t1), half = 0.5 * (t1 - t0), sum = 0.0;
+    for (int i = 0; i < UNION_M; i++) {
+        double th = mid + half * g->x[i];
+        double z = s * sin(th), sp = s * cos(th);
+        sum += g->w[i] * exp(-0.5 * z * z) * union_interp(g, q, f, sp) * sp;
+    }
+    return 2.0 * UNION_INV_SQRT2PI * half * sum;
+}
+
+/* D_k(s) from the node values D = D_{k-1}, C = C_{k-1}. */
+static double union_step(const union_grid *g, double s, const double *D, const double *C)
+{
+    double a = g->a, ucut = s > a ? sqrt((s - a) * (s + a)) : 0.0, sum = 0.0;
+    for (int q = 0; q < g->P && g->bnd[q] < s; q++) {
+        double lo = g->bnd[q], hi = g->bnd[q + 1] < s ? g->bnd[q + 1] : s;
+        if (hi > ucut)
+            sum += union_piece(g, q, D + (size_t)q * UNION_M, s, lo > ucut ? lo : ucut, hi);
+        if (lo < ucut)
+            sum += union_piece(g, q, C + (size_t)q * UNION_M, s, lo, hi < ucut ? hi : ucut);
+    }
+    return sum;
+}
+
+/* C_k at the nodes: P(chi2_k <= s^2). */
+static int union_chi2_nodes(const union_grid *g, int k, double *C)
+{
+    for (int q = 0; q < g->P; q++) {
+        double mid = 0.5 * (g->bnd[q] + g->bnd[q + 1]), half = 0.5 * (g->bnd[q + 1] - g->bnd[q]);
+        for (int i = 0; i < UNION_M; i++) {
+            double s = mid + half * g->x[i];
+            double v = k == 1 ? erf(s * UNION_SQRT1_2) : chi2_tail(s * s, (double)k, 0);
+            if (!isfinite(v))
+                return IGEA_ENOCONV;
+            C[(size_t)q * UNION_M + i] = v;
+        }
+    }
+    return 0;
+}
+
+/* P(max |z_i| > a, sum z_i^2 <= b) for n >= 2, a^2 < b < n a^2. */
+static int union_cross(int n, double a, double b, double *out)
+{
+    union_grid g;
+    double S = sqrt(b);
+    union_rule(&g);
+    g.a = a;
+    g.P = union_panels(a, S, n, NULL);
+    size_t N = (size_t)g.P * UNION_M;
+    double *mem = igea__dalloc(3 * N + (size_t)g.P + 1);
+    if (!mem)
+        return IGEA_ENOMEM;
+    double *D0 = mem, *D1 = mem + N, *C = mem + 2 * N, *bnd = mem + 3 * N;
+    union_panels(a, S, n, bnd);
+    g.bnd = bnd;
+    double ea = erfc(a * UNION_SQRT1_2);
+    for (int q = 0; q < g.P; q++) {
+        double mid = 0.5 * (bnd[q] + bnd[q + 1]), half = 0.5 * (bnd[q + 1] - bnd[q]);
+        for (int i = 0; i < UNION_M; i++) {
+            double s = mid + half * g.x[i];
+            D0[(size_t)q * UNION_M + i] = s > a ? ea - erfc(s * UNION_SQRT1_2) : 0.0;
+        }
+    }
+    int st = union_chi2_nodes(&g, 1, C);
+    for (int k = 2; k < n && st == 0; k++) {
+        for (int q = 0; q < g.P; q++) {
+            double mid = 0.5 * (bnd[q] + bnd[q + 1]), half = 0.5 * (bnd[q + 1] - bnd[q]);
+            for (int i = 0; i < UNION_M; i++)
+                D1[(size_t)q * UNION_M + i] = union_step(&g, mid + half * g.x[i], D0, C);
+        }
+        double *t = D0;
+        D0 = D1;
+        D1 = t;
+        st = union_chi2_nodes(&g, k, C);
+    }
+    double v = st == 0 ? union_step(&g, S, D0, C) : NAN;
+    free(mem);
+    if (st != 0)
+        return st;
+    if (!isfinite(v))
+        return IGEA_ENOCONV;
+    *out = v < 0.0 ? 0.0 : v;
+    return 0;
+}
+
+int igea_stats_union_size(int n, double a, double b, double *size)
+{
+    if (n < 1 || n > IGEA_STATS_UNION_N_MAX)
+        return -1;
+    if (isnan(a) || a <= 0.0)
+        return -2;
+    if (isnan(b) || b <= 0.0)
+        return -3;
+    if (!size)
+        return -4;
+    double v, q;
+    if (isinf(a) && isinf(b))
+        v = 0.0;
+    else if (isinf(b) || b >= n * (a * a)) {
+        /* 1 - (1 - P(|z| > a))^n */
+        v = -expm1(n * log1p(-erfc(a * UNION_SQRT1_2)));
+    } else if (a * a >= b) {
+        v = chi2_tail(b, (double)n, 1);
+    } else {
+        int st = union_cross(n, a, b, &q);
+        if (st != 0)
+            return st;
+        v = chi2_tail(b, (double)n, 1) + q;
+    }
+    if (!isfinite(v))
+        return IGEA_ENOCONV;
+    *size = v > 1.0 ? 1.0 : v;
+    return 0;
+}
+
+/* Thresholds of level g: a = z_{1-g/2} (as -z_{g/2}, exact for small g),
+ * b = chi2_g(n). */
+static int verdict_level(int n, double g, double *a, double *b)
+{
+    int st = igea_stats_normal_quantile(0.5 * g, a);
+    if (st != 0)
+        return IGEA_ENOCONV;
+    *a = -*a;
+    st = igea_stats_chi2_upper(g, (double)n, b);
+    return st < 0 && st > -10 ? IGEA_ENOCONV : st;
+}
+
+int igea_stats_verdict_thresholds(int rule, int n, double alpha, double *a, double *b,
+                                  double *size)
+{
+    if (rule < IGEA_STATS_VERDICT_SEED || rule > IGEA_STATS_VERDICT_SIDAK)
+        return -1;
+    if (n < 1 || n > IGEA_STATS_UNION_N_MAX)
+        return -2;
+    if (!(alpha > 0.0 && alpha < 1.0))
+        return -3;
+    if (!a)
+        return -4;
+    if (!b)
+        return -5;
+    if (!size)
+        return -6;
+    double ta, tb, ts;
+    int st;
+    if (rule == IGEA_STATS_VERDICT_CHI2) {
+        st = igea_stats_chi2_upper(alpha, (double)n, &tb);
+        if (st != 0)
+            return IGEA_ENOCONV;
+        ta = HUGE_VAL;
+        ts = alpha;
+    } else if (rule == IGEA_STATS_VERDICT_SEED || rule == IGEA_STATS_VERDICT_SIDAK) {
+        st = verdict_level(n, alpha, &ta, &tb);
+        if (st == 0 && rule == IGEA_STATS_VERDICT_SIDAK) {
+            double gs = -expm1(log1p(-alpha) / n);
+            st = igea_stats_normal_quantile(0.5 * gs, &ta);
+            ta = -ta;
+            if (st != 0)
+                st = IGEA_ENOCONV;
+        }
+        if (st == 0)
+            st = igea_stats_union_size(n, ta, tb, &ts);
+        if (st != 0)
+            return st;
+    } else {
+        /* size(g) increases from <= alpha at g = alpha / (n + 1) (the
+         * union bound) to >= alpha at g = alpha: false position (Illinois)
+         * on log g. */
+        double lo = log(alpha / (n + 1)), hi = log(alpha), flo, fhi, sa, sb, ss;
+        st = verdict_level(n, exp(lo), &sa, &sb);
+        if (st == 0)
+            st = igea_stats_union_size(n, sa, sb, &ss);
+        if (st != 0)
+            return st;
+        flo = ss - alpha;
+        st = verdict_level(n, exp(hi), &ta, &tb);
+        if (st == 0)
+            st = igea_stats_union_size(n, ta, tb, &ts);
+        if (st != 0)
+            return st;
+        fhi = ts - alpha;
+        if (n == 1 || fhi <= 0.0) {
+            /* n = 1: a^2 = b, the size is g */
+        } else if (flo >= 0.0) {
+            st = verdict_level(n, exp(lo), &ta, &tb);
+            ts = ss;
+        } else {
+            int side = 0;
+            for (int it = 0;; it++) {
+                if (it > 200)
+                    return IGEA_ENOCONV;
+                double x = (lo * fhi - hi * flo) / (fhi - flo);
+                if (!(x > lo && x < hi) || it % 4 == 3)
+                    x = 0.5 * (lo + hi); /* a bisection now and then bounds the count */
+                st = verdict_level(n, exp(x), &ta, &tb);
+                if (st == 0)
+                    st = igea_stats_union_size(n, ta, tb, &ts);
+                if (st != 0)
+                    return st;
+                double f = ts - alpha;
+                if (fabs(f) <= 1e-12 * alpha || hi - lo <= 1e-11)
+                    break;
+                if (f < 0.0) {
+                    lo = x;
+                    flo = f;
+                    if (side == -1)
+                        fhi *= 0.5;
+                    side = -1;
+                } else {
+                    hi = x;
+                    fhi = f;
+                    if (side == 1)
+                        flo *= 0.5;
+                    side = 1;
+                }
+            }
+        }
+    }
+    *a = ta;
+    *b = tb;
+    *size = ts;
+    return 0;
+}

@@ -359,6 +359,164 @@ static void test_erfinv(void **state)
     assert_true(x == SENTINEL);
 }
 
+/* ---- overall size of the verdict, against independent computations */
+
+static double un_phi(double z) { return exp(-0.5 * z * z) / sqrt(2.0 * 3.14159265358979323846); }
+static double un_erf2(double x) { return erf(x / sqrt(2.0)); } /* 2 Phi(x) - 1 */
+
+/* 1 - size for n = 2: int_{-a}^{a} phi(z) (2 Phi(min(a, sqrt(b - z^2))) - 1) dz
+ * by composite Simpson on [0, c] and [c, min(a, sqrt b)], c = sqrt(b - a^2). */
+static double un_g2(double a, double b, double z)
+{
+    double r = b - z * z;
+    if (r <= 0.0)
+        return 0.0;
+    double t = sqrt(r);
+    return un_phi(z) * un_erf2(t < a ? t : a);
+}
+
+static double un_simpson2(double a, double b, double lo, double hi)
+{
+    const int m = 20000;
+    double h = (hi - lo) / m, sum = un_g2(a, b, lo) + un_g2(a, b, hi);
+    for (int i = 1; i < m; i++)
+        sum += (i % 2 ? 4.0 : 2.0) * un_g2(a, b, lo + i * h);
+    return sum * h / 3.0;
+}
+
+static double un_size2(double a, double b)
+{
+    double top = a < sqrt(b) ? a : sqrt(b);
+    double c = b > a * a ? sqrt(b - a * a) : 0.0;
+    if (c > top)
+        c = top;
+    return 1.0 - 2.0 * (un_simpson2(a, b, 0.0, c) + un_simpson2(a, b, c, top));
+}
+
+static void test_union_size(void **state)
+{
+    (void)state;
+    double v;
+    /* n = 1: 1 - P(|z| <= min(a, sqrt b)), also with b <= a^2 */
+    const double a1[5] = {2.0, 2.0, 1.5, INFINITY, 1.96};
+    const double b1[5] = {9.0, 2.0, 2.25, 3.84, INFINITY};
+    for (int i = 0; i < 5; i++) {
+        double m = a1[i] < sqrt(b1[i]) ? a1[i] : sqrt(b1[i]);
+        assert_int_equal(igea_stats_union_size(1, a1[i], b1[i], &v), 0);
+        assert_close(v, erfc(m / sqrt(2.0)), 1e-13);
+    }
+    /* a = Inf: the chi-square sf, closed forms for dof 3, 4, 6 */
+    assert_int_equal(igea_stats_union_size(4, INFINITY, 13.28, &v), 0);
+    assert_close(v, exp(-6.64) * (1.0 + 6.64), 1e-13);
+    assert_int_equal(igea_stats_union_size(6, INFINITY, 16.81, &v), 0);
+    assert_close(v, exp(-8.405) * (1.0 + 8.405 + 8.405 * 8.405 / 2.0), 1e-13);
+    /* b <= a^2: the component tests are implied, the chi-square sf */
+    assert_int_equal(igea_stats_union_size(3, 4.0, 11.34, &v), 0);
+    assert_close(v, erfc(sqrt(11.34 / 2.0)) + sqrt(2.0 * 11.34 / 3.14159265358979323846) *
+                        exp(-11.34 / 2.0), 1e-12);
+    /* b = Inf: 1 - (2 Phi(a) - 1)^n */
+    assert_int_equal(igea_stats_union_size(7, 2.5758293035489004, INFINITY, &v), 0);
+    assert_close(v, 1.0 - pow(un_erf2(2.5758293035489004), 7.0), 1e-12);
+    assert_int_equal(igea_stats_union_size(3, INFINITY, INFINITY, &v), 0);
+    assert_true(v == 0.0);
+    /* n = 2 in the crossing regime a^2 < b < 2 a^2, against the 1-D integral */
+    const double a2[6] = {2.5758293035489004, 2.0, 1.0, 3.0, 1.5, 2.5758293035489004};
+    const double b2[6] = {9.210340371976182, 5.0, 1.5, 17.0, 4.0, 6.7};
+    for (int i = 0; i < 6; i++) {
+        assert_int_equal(igea_stats_union_size(2, a2[i], b2[i], &v), 0);
+        assert_close_abs(v, un_size2(a2[i], b2[i]), 0.0, 1e-10);
+    }
+    /* b >= n a^2: the chi-square test is implied */
+    assert_int_equal(igea_stats_union_size(2, 1.0, 2.0, &v), 0);
+    assert_close(v, 1.0 - pow(un_erf2(1.0), 2.0), 1e-13);
+    /* monotone in n and between the bounds max(Q, 1 - p^n) <= size <= sum */
+    double prev = 0.0;
+    for (int n = 2; n <= 12; n++) {
+        double b, qb, lo, hi;
+        assert_int_equal(igea_stats_chi2_upper(0.01, (double)n, &b), 0);
+        qb = 0.01;
+        lo = 1.0 - pow(un_erf2(2.5758293035489004), (double)n);
+        lo = lo > qb ? lo : qb;
+        hi = qb + n * 0.01;
+        assert_int_equal(igea_stats_union_size(n, 2.5758293035489004, b, &v), 0);
+        assert_true(v >= lo - 1e-12 && v <= hi && v > prev);
+        prev = v;
+    }
+}
+
+static void test_union_size_invalid(void **state)
+{
+    (void)state;
+    double v = SENTINEL;
+    assert_int_equal(igea_stats_union_size(0, 2.0, 9.0, &v), -1);
+    assert_int_equal(igea_stats_union_size(IGEA_STATS_UNION_N_MAX + 1, 2.0, 9.0, &v), -1);
+    assert_int_equal(igea_stats_union_size(-3, 2.0, 9.0, &v), -1);
+    assert_int_equal(igea_stats_union_size(2, 0.0, 9.0, &v), -2);
+    assert_int_equal(igea_stats_union_size(2, -1.0, 9.0, &v), -2);
+    assert_int_equal(igea_stats_union_size(2, NAN, 9.0, &v), -2);
+    assert_int_equal(igea_stats_union_size(2, -INFINITY, 9.0, &v), -2);
+    assert_int_equal(igea_stats_union_size(2, 2.0, 0.0, &v), -3);
+    assert_int_equal(igea_stats_union_size(2, 2.0, NAN, &v), -3);
+    assert_int_equal(igea_stats_union_size(2, 2.0, -INFINITY, &v), -3);
+    assert_int_equal(igea_stats_union_size(2, 2.0, 9.0, NULL), -4);
+    assert_true(v == SENTINEL);
+}
+
+static void test_verdict_thresholds(void **state)
+{
+    (void)state;
+    double a, b, s, ref;
+    const double z995 = 2.5758293035489004;
+    /* SEED: today's thresholds with their true size */
+    assert_int_equal(igea_stats_verdict_thresholds(IGEA_STATS_VERDICT_SEED, 2, 0.01, &a, &b, &s), 0);
+    assert_close(a, z995, 1e-14);
+    assert_close(b, -2.0 * log(0.01), 1e-13); /* chi2_alpha(2) = -2 log alpha */
+    assert_close_abs(s, un_size2(z995, -2.0 * log(0.01)), 0.0, 1e-10);
+    assert_int_equal(igea_stats_verdict_thresholds(IGEA_STATS_VERDICT_SEED, 7, 0.01, &a, &b, &s), 0);
+    assert_close(b, 18.475306906582357, 1e-12);
+    assert_true(s > 0.06 && s < 0.08);
+    /* CHI2: no component test */
+    assert_int_equal(igea_stats_verdict_thresholds(IGEA_STATS_VERDICT_CHI2, 4, 0.05, &a, &b, &s), 0);
+    assert_true(isinf(a) && a > 0);
+    assert_close(exp(-b / 2.0) * (1.0 + b / 2.0), 0.05, 1e-12);
+    assert_true(s == 0.05);
+    /* EXACT: one common level g with size alpha (n = 2 by the integral) */
+    const double al[2] = {0.01, 0.05};
+    for (int i = 0; i < 2; i++) {
+        assert_int_equal(igea_stats_verdict_thresholds(IGEA_STATS_VERDICT_EXACT, 2, al[i], &a, &b, &s), 0);
+        double g = erfc(a / sqrt(2.0));
+        assert_true(g < al[i] && g > al[i] / 3.0);
+        assert_close(b, -2.0 * log(g), 1e-10);
+        assert_close(s, al[i], 1e-10);
+        assert_close_abs(un_size2(a, b), al[i], 0.0, 1e-10);
+    }
+    assert_int_equal(igea_stats_verdict_thresholds(IGEA_STATS_VERDICT_EXACT, 1, 0.01, &a, &b, &s), 0);
+    assert_close(a, z995, 1e-13);
+    assert_close(b, z995 * z995, 1e-12);
+    assert_close(s, 0.01, 1e-12);
+    /* SIDAK: component level 1 - sqrt(1 - alpha) for n = 2 */
+    assert_int_equal(igea_stats_verdict_thresholds(IGEA_STATS_VERDICT_SIDAK, 2, 0.01, &a, &b, &s), 0);
+    assert_close(erfc(a / sqrt(2.0)), 1.0 - sqrt(0.99), 1e-11);
+    assert_close(b, -2.0 * log(0.01), 1e-13);
+    ref = un_size2(a, b);
+    assert_close_abs(s, ref, 0.0, 1e-10);
+    assert_true(s > 0.01 && s < 0.02);
+    /* invalid arguments leave the outputs untouched */
+    a = b = s = SENTINEL;
+    assert_int_equal(igea_stats_verdict_thresholds(-1, 2, 0.01, &a, &b, &s), -1);
+    assert_int_equal(igea_stats_verdict_thresholds(4, 2, 0.01, &a, &b, &s), -1);
+    assert_int_equal(igea_stats_verdict_thresholds(IGEA_STATS_VERDICT_EXACT, 0, 0.01, &a, &b, &s), -2);
+    assert_int_equal(igea_stats_verdict_thresholds(IGEA_STATS_VERDICT_EXACT,
+                                                   IGEA_STATS_UNION_N_MAX + 1, 0.01, &a, &b, &s), -2);
+    assert_int_equal(igea_stats_verdict_thresholds(IGEA_STATS_VERDICT_EXACT, 2, 0.0, &a, &b, &s), -3);
+    assert_int_equal(igea_stats_verdict_thresholds(IGEA_STATS_VERDICT_EXACT, 2, 1.0, &a, &b, &s), -3);
+    assert_int_equal(igea_stats_verdict_thresholds(IGEA_STATS_VERDICT_EXACT, 2, NAN, &a, &b, &s), -3);
+    assert_int_equal(igea_stats_verdict_thresholds(IGEA_STATS_VERDICT_EXACT, 2, 0.01, NULL, &b, &s), -4);
+    assert_int_equal(igea_stats_verdict_thresholds(IGEA_STATS_VERDICT_EXACT, 2, 0.01, &a, NULL, &s), -5);
+    assert_int_equal(igea_stats_verdict_thresholds(IGEA_STATS_VERDICT_EXACT, 2, 0.01, &a, &b, NULL), -6);
+    assert_true(a == SENTINEL && b == SENTINEL && s == SENTINEL);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -371,6 +529,9 @@ int main(void)
         cmocka_unit_test(test_accuracy_invalid),
         cmocka_unit_test(test_pool),
         cmocka_unit_test(test_large_finite_values),
+        cmocka_unit_test(test_union_size),
+        cmocka_unit_test(test_union_size_invalid),
+        cmocka_unit_test(test_verdict_thresholds),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
