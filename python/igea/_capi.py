@@ -277,6 +277,11 @@ STATS_SIGMAW_CONVERGED = 0
 STATS_SIGMAW_NOT_ESTIMABLE = 1
 STATS_SIGMAW_NO_CONVERGENCE = 2
 STATS_SIGMAW_OFF = 3
+STATS_UNION_N_MAX = 200
+STATS_VERDICT_SEED = 0
+STATS_VERDICT_CHI2 = 1
+STATS_VERDICT_EXACT = 2
+STATS_VERDICT_SIDAK = 3
 
 PROTOTYPES = {
     # igea/accel.h
@@ -501,4 +506,8 @@ PROTOTYPES = {
         ("reject", _PI), ("info", _PD),)),
     "igea_stats_pool": (c_int, (("nflights", c_int), ("chi2", _PD), ("dof", _PI),
         ("n_reject", _PI), ("unit_id", _PI), ("alpha", c_double), ("info", _PD),)),
+    "igea_stats_union_size": (c_int, (("n", c_int), ("a", c_double), ("b", c_double),
+        ("size", _PD),)),
+    "igea_stats_verdict_thresholds": (c_int, (("rule", c_int), ("n", c_int), ("alpha", c_double),
+        ("a", _PD), ("b", _PD), ("size", _PD),)),
 }

@@ -104,6 +104,9 @@ BASE = {
                                      lambda_test='10.0', z_crit='2.58'),
     'igea_stats_pool': dict(nflights='3', chi2='[2.0, 3.0, 1.5]', dof='[2, 3, 2]',
                             n_reject='[0, 0, 0]', unit_id='[1, 2, 3]'),
+    'igea_stats_union_size': dict(n='3', a='2.5', b='11.0', _inf_ok=['a+', 'b+'],
+                                  _valid=['a=+Inf', 'b=+Inf']),
+    'igea_stats_verdict_thresholds': dict(rule='IGEA_STATS_VERDICT_EXACT', n='3'),
     # ---- normal
     'igea_normal_accumulate': dict(lda='N', A='0', b='0', wtw='0', _zero_ok=['m'],
                                    _neg_bad={'wtw': [0, 1]}),
