@@ -132,8 +132,9 @@ IGEA_API int igea_stats_pool(int nflights, const double *chi2, const int *dof,
  * small sizes keep their relative accuracy. Cost: O(n P^2) with P about
  * 4 sqrt(b) + 5 min(n, b / a^2) panels: at the seed's thresholds (alpha
  * 0.01) 5 ms for n = 7, 0.06 s for n = 20, 0.5 s for n = 50, 3 s for
- * n = 100, 14 s for n = 200. Allocates 31 P doubles with igea's
- * allocator.
+ * n = 100, 14 s for n = 200; more when a is small against sqrt(b) (many
+ * breakpoints): 13 s for n = 100, a = 1.5, b = 120. Allocates 31 P
+ * doubles with igea's allocator.
  * Returns 0, -i, IGEA_ENOMEM or IGEA_ENOCONV; size is written only on
  * success.
  */
