@@ -52,6 +52,9 @@ static const choice stability_noise[] = {
 static const choice sigmaw_flag[] = {
     {IGEA_STATS_SIGMAW_CONVERGED, "converged"}, {IGEA_STATS_SIGMAW_NOT_ESTIMABLE, "not_estimable"},
     {IGEA_STATS_SIGMAW_NO_CONVERGENCE, "no_convergence"}, {IGEA_STATS_SIGMAW_OFF, "off"}, END};
+static const choice stats_verdict[] = {
+    {IGEA_STATS_VERDICT_SEED, "seed"}, {IGEA_STATS_VERDICT_CHI2, "chi2"},
+    {IGEA_STATS_VERDICT_EXACT, "exact"}, {IGEA_STATS_VERDICT_SIDAK, "sidak"}, END};
 static const choice redund_rbd[] = {
     {IGEA_REDUND_RBD_SERIES, "series"}, {IGEA_REDUND_RBD_PARALLEL, "parallel"},
     {IGEA_REDUND_RBD_KOFN, "kofn"}, END};
@@ -76,6 +79,7 @@ static const choice *table(int kind)
     case IGEA_CHOICE_STABILITY_NOISE: return stability_noise;
     case IGEA_CHOICE_STATS_SIGMAW_FLAG: return sigmaw_flag;
     case IGEA_CHOICE_REDUND_RBD: return redund_rbd;
+    case IGEA_CHOICE_STATS_VERDICT: return stats_verdict;
     default: return NULL;
     }
 }

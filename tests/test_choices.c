@@ -68,8 +68,12 @@ static const pair expected[] = {
     {IGEA_CHOICE_REDUND_RBD, IGEA_REDUND_RBD_SERIES, "series"},
     {IGEA_CHOICE_REDUND_RBD, IGEA_REDUND_RBD_PARALLEL, "parallel"},
     {IGEA_CHOICE_REDUND_RBD, IGEA_REDUND_RBD_KOFN, "kofn"},
+    {IGEA_CHOICE_STATS_VERDICT, IGEA_STATS_VERDICT_SEED, "seed"},
+    {IGEA_CHOICE_STATS_VERDICT, IGEA_STATS_VERDICT_CHI2, "chi2"},
+    {IGEA_CHOICE_STATS_VERDICT, IGEA_STATS_VERDICT_EXACT, "exact"},
+    {IGEA_CHOICE_STATS_VERDICT, IGEA_STATS_VERDICT_SIDAK, "sidak"},
 };
-enum { NPAIRS = sizeof expected / sizeof expected[0], KINDS = 16 };
+enum { NPAIRS = sizeof expected / sizeof expected[0], KINDS = 17 };
 
 /* Every macro's name gives the macro's code and back. */
 static void test_macros(void **state)

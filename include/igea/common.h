@@ -125,6 +125,8 @@ IGEA_API const char *igea_opt_name(int module, int slot);
                                           * not_estimable no_convergence off */
 #define IGEA_CHOICE_REDUND_RBD 16        /* igea/redund.h IGEA_REDUND_RBD_*: series parallel
                                           * kofn */
+#define IGEA_CHOICE_STATS_VERDICT 17     /* igea/stats.h IGEA_STATS_VERDICT_*: seed chi2
+                                          * exact sidak */
 
 /* Static name of code `code` of enumeration `kind` (IGEA_CHOICE_*): "svd"
  * for (IGEA_CHOICE_EQERR_ROUTE, IGEA_EQERR_ROUTE_SVD). "" for an unknown

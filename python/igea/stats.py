@@ -47,22 +47,14 @@ def union_size(n, a, b):
     return _scalar("igea_stats_union_size", "igea.union_size", int(n), float(a), float(b))
 
 
-def _verdict_rules():
-    from . import _capi
-    return {"seed": _capi.STATS_VERDICT_SEED, "chi2": _capi.STATS_VERDICT_CHI2,
-            "exact": _capi.STATS_VERDICT_EXACT, "sidak": _capi.STATS_VERDICT_SIDAK}
-
-
 def verdict_thresholds(rule, n, alpha=0.01):
     """(a, b, size) of the overall verdict rule "seed", "chi2", "exact" or
     "sidak" for n tested components at level alpha: |z_i| > a or
     sum z_i^2 > b rejects, size is the rule's true false-alarm
     probability; igea_stats_verdict_thresholds."""
-    rules = _verdict_rules()
-    if rule not in rules:
-        raise ValueError("igea.verdict_thresholds: rule: expected one of %s, got %r"
-                         % (", ".join(repr(k) for k in rules), rule))
+    from . import _capi
+    code = _lib.choice(_capi.CHOICE_STATS_VERDICT, rule, "igea.verdict_thresholds", "rule")
     a, b, s = ctypes.c_double(), ctypes.c_double(), ctypes.c_double()
-    _lib.call("igea.verdict_thresholds", "igea_stats_verdict_thresholds", rules[rule], int(n),
+    _lib.call("igea.verdict_thresholds", "igea_stats_verdict_thresholds", code, int(n),
               float(alpha), ctypes.byref(a), ctypes.byref(b), ctypes.byref(s))
     return a.value, b.value, s.value

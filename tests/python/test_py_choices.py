@@ -123,6 +123,7 @@ PYTHON_KEYWORDS = [
     ("kind", _capi.CHOICE_STABILITY_KIND, lambda n: igea.octave_taus(1000, 10.0, n)),
     ("noise", _capi.CHOICE_STABILITY_NOISE,
      lambda n: igea.allan(_rng.standard_normal(1000), 10.0, noise=n)),
+    ("rule", _capi.CHOICE_STATS_VERDICT, lambda n: igea.verdict_thresholds(n, 3, 0.01)),
     ("blocks", _capi.CHOICE_REDUND_RBD,
      lambda n: igea.reliability_diagram([0.9, 0.8, 0.7], [(n, [0, 1, 2], 2)]
                                         if n == "kofn" else [(n, [0, 1, 2])])),
