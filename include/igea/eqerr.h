@@ -42,7 +42,7 @@ extern "C" {
 #define IGEA_EQERR_OPT_CLAMP 9        /* 1: never let c fall below 1 [D] */
 #define IGEA_EQERR_OPT_Z_CRIT 10      /* > 0: impose z_crit (2.58); 0 exact */
 #define IGEA_EQERR_OPT_ROUTE 11       /* IGEA_EQERR_ROUTE_EIG or IGEA_EQERR_ROUTE_SVD */
-#define IGEA_EQERR_OPT_LEN 16
+#define IGEA_EQERR_OPT_LEN 32 /* slots 12.. reserved for additions (0) */
 
 #define IGEA_EQERR_ROUTE_EIG 0 /* normal matrix + dsyevd (streamable) */
 #define IGEA_EQERR_ROUTE_SVD 1 /* SVD of the weighted S through its QR factor (dtpqrt

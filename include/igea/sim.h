@@ -49,7 +49,7 @@ extern "C" {
 #define IGEA_SIM_OPT_OUTLIER_PROB 3  /* probability of an outlier per row, 0 */
 #define IGEA_SIM_OPT_OUTLIER_SCALE 4 /* outlier sd / row sd, 10 */
 #define IGEA_SIM_OPT_GENERATOR 5     /* IGEA_SIM_MT19937 or IGEA_SIM_RANLXD2 */
-#define IGEA_SIM_OPT_LEN 8
+#define IGEA_SIM_OPT_LEN 32 /* slots 6.. reserved for additions (0) */
 
 #define IGEA_SIM_MT19937 0 /* gsl_rng_mt19937 (default) */
 #define IGEA_SIM_RANLXD2 1 /* gsl_rng_ranlxd2 (slower, luxury) */
@@ -254,7 +254,7 @@ IGEA_API int igea_sim_nonlinear(int system, int nsamp, const double *traj,
 #define IGEA_SIM_MC_NOT_TESTABLE 4 /* no component with lambda >= lambda_test */
 #define IGEA_SIM_MC_MEAN_SCALE 5   /* mean of the final scale c (sigma_w^2) */
 #define IGEA_SIM_MC_MEAN_TESTED 6  /* mean |I_t| */
-#define IGEA_SIM_MC_LEN 8
+#define IGEA_SIM_MC_LEN 16 /* slots 7.. reserved for additions */
 
 /* rates[IGEA_SIM_MC_RATES_LEN]: for each count k of IGEA_SIM_MC_FAILED ..
  * IGEA_SIM_MC_NOT_TESTABLE, rates[3 (k - 1)] = count / flights and

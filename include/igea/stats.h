@@ -58,7 +58,7 @@ IGEA_API int igea_stats_chi2_upper(double alpha, double dof, double *x);
 #define IGEA_STATS_INFO_N_SMALL 11   /* |I_small| of the last iteration */
 #define IGEA_STATS_INFO_FLAG 12      /* IGEA_STATS_SIGMAW_* */
 #define IGEA_STATS_INFO_N_FLIGHTS 13 /* flights pooled (igea_stats_pool) */
-#define IGEA_STATS_INFO_LEN 16
+#define IGEA_STATS_INFO_LEN 32 /* slots 14.. reserved for additions */
 
 /* Outcome of the tracking-accuracy (sigma_w) correction. */
 #define IGEA_STATS_SIGMAW_CONVERGED 0
