@@ -30,7 +30,7 @@ int main(void)
     double opts[IGEA_EQERR_OPT_LEN], lambda[N], P[N * N], xhat[N], z[N], info[IGEA_STATS_INFO_LEN];
     int reject[N];
     igea_eqerr_defaults(opts);
-    opts[IGEA_EQERR_OPT_CORRECT] = 0; /* 12 rows: too few small eigenvalues */
+    opts[IGEA_EQERR_OPT_CORRECTION] = 0; /* 12 rows: too few small eigenvalues */
     int st = igea_eqerr_run(M, N, S, M, dw, &sigma, 0, NULL, opts, lambda, P, N, xhat, z,
                             reject, info, NULL, NULL);
     if (st != 0) {

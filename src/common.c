@@ -48,7 +48,7 @@ const char *igea_opt_name(int module, int slot)
         [IGEA_EQERR_OPT_N_MIN] = "n_min",
         [IGEA_EQERR_OPT_TOL] = "tol",
         [IGEA_EQERR_OPT_MAX_ITER] = "max_iter",
-        [IGEA_EQERR_OPT_CORRECT] = "correct",
+        [IGEA_EQERR_OPT_CORRECTION] = "correction",
         [IGEA_EQERR_OPT_RANK_TOL] = "rank_tol",
         [IGEA_EQERR_OPT_BIAS_CORRECT] = "bias_correct",
         [IGEA_EQERR_OPT_CLAMP] = "clamp",

@@ -20,7 +20,7 @@ int igea_eqerr_defaults(double *opts)
     opts[IGEA_EQERR_OPT_N_MIN] = 5;
     opts[IGEA_EQERR_OPT_TOL] = 0.05;
     opts[IGEA_EQERR_OPT_MAX_ITER] = 10;
-    opts[IGEA_EQERR_OPT_CORRECT] = 1;
+    opts[IGEA_EQERR_OPT_CORRECTION] = 1;
     opts[IGEA_EQERR_OPT_ROUTE] = IGEA_EQERR_ROUTE_EIG;
     return 0;
 }
@@ -38,7 +38,7 @@ int igea_eqerr_check_opts(const double *o)
     if (!(o[IGEA_EQERR_OPT_N_MIN] >= 1)) return 1 + IGEA_EQERR_OPT_N_MIN;
     if (!(o[IGEA_EQERR_OPT_TOL] > 0)) return 1 + IGEA_EQERR_OPT_TOL;
     if (!(o[IGEA_EQERR_OPT_MAX_ITER] >= 1 && o[IGEA_EQERR_OPT_MAX_ITER] <= 1000)) return 1 + IGEA_EQERR_OPT_MAX_ITER;
-    if (o[IGEA_EQERR_OPT_CORRECT] != 0 && o[IGEA_EQERR_OPT_CORRECT] != 1) return 1 + IGEA_EQERR_OPT_CORRECT;
+    if (o[IGEA_EQERR_OPT_CORRECTION] != 0 && o[IGEA_EQERR_OPT_CORRECTION] != 1) return 1 + IGEA_EQERR_OPT_CORRECTION;
     if (!(o[IGEA_EQERR_OPT_RANK_TOL] >= 0 && o[IGEA_EQERR_OPT_RANK_TOL] < 1)) return 1 + IGEA_EQERR_OPT_RANK_TOL;
     if (o[IGEA_EQERR_OPT_BIAS_CORRECT] != 0 && o[IGEA_EQERR_OPT_BIAS_CORRECT] != 1) return 1 + IGEA_EQERR_OPT_BIAS_CORRECT;
     if (o[IGEA_EQERR_OPT_CLAMP] != 0 && o[IGEA_EQERR_OPT_CLAMP] != 1) return 1 + IGEA_EQERR_OPT_CLAMP;
@@ -59,7 +59,7 @@ static int sigmaw_and_test(int N, int r, const double *lam0, const double *g0,
 {
     double c = 1.0;
     int flag = IGEA_STATS_SIGMAW_OFF, iters = 0, nsmall = 0;
-    if (o[IGEA_EQERR_OPT_CORRECT] == 1) {
+    if (o[IGEA_EQERR_OPT_CORRECTION] == 1) {
         const double lam_s = o[IGEA_EQERR_OPT_LAMBDA_SMALL];
         const int nmin = (int)o[IGEA_EQERR_OPT_N_MIN];
         const int maxit = (int)o[IGEA_EQERR_OPT_MAX_ITER];

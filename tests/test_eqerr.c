@@ -74,7 +74,7 @@ static void test_methods_vector_both_routes(void **state)
         res[M6], rms[3], sig = 0.05;
     int rej[4];
     igea_eqerr_defaults(opts);
-    opts[IGEA_EQERR_OPT_CORRECT] = 0;
+    opts[IGEA_EQERR_OPT_CORRECTION] = 0;
     fill_nan(P, 24);
     assert_int_equal(igea_eqerr_run(M6, N6, S6, M6, dw6, &sig, 0, NULL, opts, lam, P, 6, xh, z,
                                     rej, info, res, rms), 0);
@@ -199,7 +199,7 @@ static void test_sigmaw_iteration(void **state)
     assert_close(info[IGEA_STATS_INFO_SCALE], 4.0 - 0.03, 1e-14);
     /* off */
     igea_eqerr_defaults(opts);
-    opts[IGEA_EQERR_OPT_CORRECT] = 0;
+    opts[IGEA_EQERR_OPT_CORRECTION] = 0;
     assert_int_equal(igea_eqerr_solve(ND, A, ND, b, opts, lam, P, ND, xh, z, rej, info), 0);
     assert_int_equal((int)info[IGEA_STATS_INFO_FLAG], IGEA_STATS_SIGMAW_OFF);
     assert_int_equal((int)info[IGEA_STATS_INFO_ITERATIONS], 0);
@@ -250,7 +250,7 @@ static void test_rank_deficient(void **state)
     }
     double opts[IGEA_EQERR_OPT_LEN];
     igea_eqerr_defaults(opts);
-    opts[IGEA_EQERR_OPT_CORRECT] = 0;
+    opts[IGEA_EQERR_OPT_CORRECTION] = 0;
     for (int route = 0; route < 2; route++) {
         opts[IGEA_EQERR_OPT_ROUTE] = route;
         assert_int_equal(igea_eqerr_run(MR, NR, S, MR, d, &sig, 0, NULL, opts, lam, P, NR, xh, z,
@@ -352,7 +352,7 @@ static void test_padding_and_residual_args(void **state)
         for (int i = 0; i < M6; i++)
             Sp[i + j * LDS] = S6[i + j * M6];
     igea_eqerr_defaults(opts);
-    opts[IGEA_EQERR_OPT_CORRECT] = 0;
+    opts[IGEA_EQERR_OPT_CORRECTION] = 0;
     for (int route = 0; route < 2; route++) {
         opts[IGEA_EQERR_OPT_ROUTE] = route;
         assert_int_equal(igea_eqerr_run(M6, 4, Sp, LDS, dw6, &s1, 0, NULL, opts, lam, P, 4, xh, z,
@@ -425,7 +425,7 @@ static void test_svd_route_resolves_small_eigenvalues(void **state)
     double opts[IGEA_EQERR_OPT_LEN], lam[NS], P[NS * NS], xh[NS], z[NS], info[IGEA_STATS_INFO_LEN], one = 1.0;
     int rej[NS];
     igea_eqerr_defaults(opts);
-    opts[IGEA_EQERR_OPT_CORRECT] = 0;
+    opts[IGEA_EQERR_OPT_CORRECTION] = 0;
     opts[IGEA_EQERR_OPT_LAMBDA_TEST] = 1e-20;
     opts[IGEA_EQERR_OPT_RANK_TOL] = 1e-30;
     double err[2] = {0, 0};
@@ -474,7 +474,7 @@ static void test_solve_qr_args(void **state)
     R[0 + 5 * 4] = 3.0;
     R[1 + 5 * 4] = -2.0;
     opts[IGEA_EQERR_OPT_ALPHA] = 0.01;
-    opts[IGEA_EQERR_OPT_CORRECT] = 0;
+    opts[IGEA_EQERR_OPT_CORRECTION] = 0;
     assert_int_equal(igea_eqerr_solve_qr(4, R, 5, 9, opts, lam, P, 4, xh, z, rej, info), 0);
     assert_close(lam[0], 100.0, 1e-15);
     assert_close(lam[3], 49.0, 1e-15);
@@ -493,7 +493,7 @@ static void run_sentinel(int m, const double *S, const double *dw,
         info[IGEA_STATS_INFO_LEN], res[M6], rms[3];
     int rej[N6] = {-7, -7, -7, -7};
     igea_eqerr_defaults(o);
-    o[IGEA_EQERR_OPT_CORRECT] = 0;
+    o[IGEA_EQERR_OPT_CORRECTION] = 0;
     o[IGEA_EQERR_OPT_ROUTE] = route;
     fill_sentinel(lam, N6);
     fill_sentinel(P, N6 * N6);
@@ -583,7 +583,7 @@ static void test_check_opts_and_names(void **state)
         {IGEA_EQERR_OPT_N_MIN, 0.5, 1.0, "n_min"},
         {IGEA_EQERR_OPT_TOL, 0.0, 1.0, "tol"},
         {IGEA_EQERR_OPT_MAX_ITER, 1001.0, 1000.0, "max_iter"},
-        {IGEA_EQERR_OPT_CORRECT, 0.5, 0.0, "correct"},
+        {IGEA_EQERR_OPT_CORRECTION, 0.5, 0.0, "correction"},
         {IGEA_EQERR_OPT_RANK_TOL, 1.0, 0.5, "rank_tol"},
         {IGEA_EQERR_OPT_BIAS_CORRECT, 2.0, 1.0, "bias_correct"},
         {IGEA_EQERR_OPT_CLAMP, -1.0, 1.0, "clamp"},

@@ -31,7 +31,7 @@ static void oom_loop_run(int route, int nsig)
     for (int i = 0; i < M; i++)
         sig[i] = nsig ? 0.001 * (1 + 0.01 * i) : 0.001;
     igea_eqerr_defaults(opts);
-    opts[IGEA_EQERR_OPT_CORRECT] = 0;
+    opts[IGEA_EQERR_OPT_CORRECTION] = 0;
     opts[IGEA_EQERR_OPT_ROUTE] = route;
     double lam0[N], P0[N * N], x0[N], z0[N], info0[IGEA_STATS_INFO_LEN], res0[M], rms0[3];
     int rej0[N];

@@ -500,7 +500,7 @@ static void test_mc_size(void **state)
     int ct[NT], cr[NT];
     igea_eqerr_defaults(eqo);
     eqo[IGEA_EQERR_OPT_ALPHA] = 0.1;
-    eqo[IGEA_EQERR_OPT_CORRECT] = 0;
+    eqo[IGEA_EQERR_OPT_CORRECTION] = 0;
     run_mc(NULL, eqo, 0, NF, 0, counts, ct, cr, NULL, NULL, NULL, NULL);
     print_message("size: chi2 rejected %g of %d, any component %g\n",
                   counts[IGEA_SIM_MC_CHI2_REJECT], NF, counts[IGEA_SIM_MC_ANY_REJECT]);
@@ -531,7 +531,7 @@ static void test_mc_misstated(void **state)
     opts[IGEA_SIM_OPT_SIGMA_W] = 10.0;
     igea_eqerr_defaults(eqo);
     eqo[IGEA_EQERR_OPT_ALPHA] = 0.1;
-    eqo[IGEA_EQERR_OPT_CORRECT] = 0;
+    eqo[IGEA_EQERR_OPT_CORRECTION] = 0;
     /* lambda of the weighted, scaled S (does not depend on dw) */
     double dw[3 * M_EP], lam[NT], P[NT * NT], xh[NT], z[NT], info[IGEA_STATS_INFO_LEN];
     int rej[NT];
@@ -549,7 +549,7 @@ static void test_mc_misstated(void **state)
     assert_true(p_last > 0.3);
     assert_true(binom_ok(cr[last], NF, p_last));
     double uncorrected = counts[IGEA_SIM_MC_FAILED];
-    eqo[IGEA_EQERR_OPT_CORRECT] = 1;
+    eqo[IGEA_EQERR_OPT_CORRECTION] = 1;
     run_mc(opts, eqo, 0, NF, 0, counts, ct, cr, NULL, NULL, NULL, scale);
     print_message("misstated: failed %g uncorrected, %g corrected; mean c %.4g\n",
                   uncorrected, counts[IGEA_SIM_MC_FAILED], counts[IGEA_SIM_MC_MEAN_SCALE]);
@@ -926,7 +926,7 @@ static void test_pool(void **state)
     igea_sim_defaults(opts);
     opts[IGEA_SIM_OPT_SIGMA_W] = 1.3;
     igea_eqerr_defaults(eqo);
-    eqo[IGEA_EQERR_OPT_CORRECT] = 0;
+    eqo[IGEA_EQERR_OPT_CORRECTION] = 0;
     igea_sim_model *md = NULL;
     assert_int_equal(make_model(m, NT, S21, m, &SIG, 0, SPEC21, NULL, NULL, opts, &md), 0);
     fill_nan(tab, LDT * IGEA_SIM_MC_TABLE_COLS);

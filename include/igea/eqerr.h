@@ -36,7 +36,7 @@ extern "C" {
 #define IGEA_EQERR_OPT_N_MIN 3        /* at least 5 small eigenvalues */
 #define IGEA_EQERR_OPT_TOL 4          /* stop when |sigma_w^2 - 1| <= 0.05 */
 #define IGEA_EQERR_OPT_MAX_ITER 5     /* 10 */
-#define IGEA_EQERR_OPT_CORRECT 6      /* 1: correct sigma_w, 0: off */
+#define IGEA_EQERR_OPT_CORRECTION 6      /* 1: correct sigma_w, 0: off */
 #define IGEA_EQERR_OPT_RANK_TOL 7     /* 0: default (eig N*10*eps, svd max(m,N)*eps) */
 #define IGEA_EQERR_OPT_BIAS_CORRECT 8 /* 1: sigma_w^2 = mean(g^2 - lambda) [D] */
 #define IGEA_EQERR_OPT_CLAMP 9        /* 1: never let c fall below 1 [D] */

@@ -128,7 +128,7 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
     S: (m, N) environment functions (rows epoch-major x, y, z), dw: (m,)
     velocity differences, sigma: tracking 1-sigma, a number or (m,) per row,
     spec: (N,) 1-sigma specs scaling S's columns, or None. The options are
-    the slots of igea/eqerr.h (correction: IGEA_EQERR_OPT_CORRECT); one left
+    the slots of igea/eqerr.h (as IGEA_EQERR_OPT_* in lower case); one left
     None keeps the library's default (igea_eqerr_defaults).
     Returns an EqerrResult."""
     S = _lib.as_f64(S, "S", ndim=2)
@@ -150,7 +150,7 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
     route = _lib.choice(_capi.CHOICE_EQERR_ROUTE, route, "igea.eqerr", "route")
     opts = _lib.options("eqerr", "igea.eqerr", ("igea_eqerr_run", "opts"), alpha=alpha,
                         lambda_test=lambda_test, lambda_small=lambda_small, n_min=n_min, tol=tol,
-                        max_iter=max_iter, correct=correction, rank_tol=rank_tol,
+                        max_iter=max_iter, correction=correction, rank_tol=rank_tol,
                         bias_correct=bias_correct, clamp=clamp, z_crit=z_crit,
                         route=route)
     lam = np.empty(N)

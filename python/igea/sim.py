@@ -233,7 +233,7 @@ def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None
         raise ValueError("flights: must be >= 1")
     where = "igea.montecarlo"
     eq = _lib.options("eqerr", where, ("igea_sim_montecarlo", "eq_opts"), alpha=alpha,
-                      lambda_test=lambda_test, correct=correction, bias_correct=bias_correct,
+                      lambda_test=lambda_test, correction=correction, bias_correct=bias_correct,
                       clamp=clamp)
     counts, rates = np.zeros(_capi.SIM_MC_LEN), np.zeros(_capi.SIM_MC_RATES_LEN)
     ct, cr = np.zeros(N, dtype=np.intc), np.zeros(N, dtype=np.intc)

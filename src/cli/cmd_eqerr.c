@@ -85,7 +85,7 @@ static const cli_opt eqerr_options[] = {
     {"--n-min", CLI_OPT_NUM, EQ_OPT(N_MIN), CLI_DEF_LIB, "N", "fewest small eigenvalues to estimate sigma_w", NULL},
     {"--tol", CLI_OPT_NUM, EQ_OPT(TOL), CLI_DEF_LIB, "T", "stop when |sigma_w^2 - 1| <= T", NULL},
     {"--max-iter", CLI_OPT_NUM, EQ_OPT(MAX_ITER), CLI_DEF_LIB, "N", "sigma_w iterations", NULL},
-    {"--no-correction", CLI_OPT_DCLEAR, EQ_OPT(CORRECT), NULL, NULL, "do not correct the tracking accuracy", NULL},
+    {"--no-correction", CLI_OPT_DCLEAR, EQ_OPT(CORRECTION), NULL, NULL, "do not correct the tracking accuracy", NULL},
     {"--bias-correct", CLI_OPT_DSET, EQ_OPT(BIAS_CORRECT), NULL, NULL, "sigma_w^2 = mean(g^2 - lambda) over the small set", NULL},
     {"--clamp", CLI_OPT_DSET, EQ_OPT(CLAMP), NULL, NULL, "never make the tracking weights more optimistic\n(c >= 1)", NULL},
     {"--z-crit", CLI_OPT_NUM, EQ_OPT(Z_CRIT), NULL, "Z", "impose the normal critical value (e.g. 2.58 as in\nthe seed's tables) instead of the exact z_{1-alpha/2}", NULL},

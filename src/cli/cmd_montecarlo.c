@@ -27,7 +27,7 @@ static const cli_opt options[] = {
     {"--threads", CLI_OPT_INT, &A.threads, "0", "T", "worker threads, 0 = all processors", NULL},
     {"--alpha", CLI_OPT_NUM, &A.eqo[IGEA_EQERR_OPT_ALPHA], CLI_DEF_LIB, "A", "significance level", NULL},
     {"--lambda-test", CLI_OPT_NUM, &A.eqo[IGEA_EQERR_OPT_LAMBDA_TEST], CLI_DEF_LIB, "L", "test components with lambda >= L", NULL},
-    {"--no-correction", CLI_OPT_DCLEAR, &A.eqo[IGEA_EQERR_OPT_CORRECT], NULL, NULL, "no tracking-accuracy (sigma_w) correction", NULL},
+    {"--no-correction", CLI_OPT_DCLEAR, &A.eqo[IGEA_EQERR_OPT_CORRECTION], NULL, NULL, "no tracking-accuracy (sigma_w) correction", NULL},
     {"--bias-correct", CLI_OPT_DSET, &A.eqo[IGEA_EQERR_OPT_BIAS_CORRECT], NULL, NULL, "sigma_w^2 = mean(g^2 - lambda) [D]", NULL},
     {"--pool", CLI_OPT_INT, &A.pool, "0", "F", "also pool consecutive groups of F flights (METHODS\n"
      "1.2 step 6) and report the pooled verdict rate", NULL},
@@ -170,7 +170,7 @@ static void json_report(FILE *out, const mc_args *a, const cli_flight_args *fa,
     cli_jint(&j, "seed", fa->seed);
     cli_jint(&j, "first_flight", a->first);
     cli_jnum(&j, "alpha", a->eqo[IGEA_EQERR_OPT_ALPHA]);
-    cli_jbool(&j, "correction", a->eqo[IGEA_EQERR_OPT_CORRECT] != 0);
+    cli_jbool(&j, "correction", a->eqo[IGEA_EQERR_OPT_CORRECTION] != 0);
     cli_jnum(&j, "sigma_w", opts[IGEA_SIM_OPT_SIGMA_W]);
     for (int k = 0; k < 4; k++) {
         cli_json_open(&j, rate_keys[k], '{');
@@ -222,7 +222,7 @@ static void text_report(FILE *out, const mc_args *a, const cli_flight_args *fa,
         if (f->xfix[j])
             fprintf(out, ", %s = %g x spec", igea_envfun_term_name(f->codes[j]), f->xval[j]);
     fprintf(out, "; test: alpha %g, sigma_w correction %s\n\n", a->eqo[IGEA_EQERR_OPT_ALPHA],
-            a->eqo[IGEA_EQERR_OPT_CORRECT] != 0 ? "on" : "off");
+            a->eqo[IGEA_EQERR_OPT_CORRECTION] != 0 ? "on" : "off");
     fprintf(out, "%-26s %7s %8s   %s\n", "", "count", "rate", "99% interval");
     static const char *const names[4] = {"verdict 'out of spec'", "chi-square rejected",
                                          "a component rejected", "nothing testable"};
