@@ -454,35 +454,33 @@ typedef struct {
     double a;
 } union_grid;
 
+/* P_m(x) by the three-term recurrence, and P_m'(x) into *dp. */
+static double legendre(int m, double x, double *dp)
+{
+    double p0 = 1.0, p1 = x;
+    for (int k = 2; k <= m; k++) {
+        double p2 = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k;
+        p0 = p1;
+        p1 = p2;
+    }
+    *dp = m * (x * p1 - p0) / (x * x - 1.0);
+    return p1;
+}
+
 /* Gauss-Legendre nodes and weights on [-1, 1] by Newton's iteration on
  * P_M, and the barycentric weights of interpolation at those nodes. */
 static void union_rule(union_grid *g)
 {
     const int m = UNION_M;
     for (int i = 0; i < m; i++) {
-        double x = cos(UNION_PI * (i + 0.75) / (m + 0.5)), dp = 1.0;
+        double x = cos(UNION_PI * (i + 0.75) / (m + 0.5)), dp;
         for (int it = 0; it < 100; it++) {
-            double p0 = 1.0, p1 = x;
-            for (int k = 2; k <= m; k++) {
-                double p2 = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k;
-                p0 = p1;
-                p1 = p2;
-            }
-            dp = m * (x * p1 - p0) / (x * x - 1.0);
-            double dx = p1 / dp;
+            double dx = legendre(m, x, &dp) / dp;
             x -= dx;
             if (fabs(dx) < 1e-16)
                 break;
         }
-        {
-            double p0 = 1.0, p1 = x;
-            for (int k = 2; k <= m; k++) {
-                double p2 = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k;
-                p0 = p1;
-                p1 = p2;
-            }
-            dp = m * (x * p1 - p0) / (x * x - 1.0);
-        }
+        legendre(m, x, &dp);
         g->x[i] = x;
         g->w[i] = 2.0 / ((1.0 - x * x) * dp * dp);
         g->bw[i] = (i % 2 ? -1.0 : 1.0) * sqrt((1.0 - x * x) * g->w[i]);

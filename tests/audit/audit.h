@@ -450,6 +450,22 @@ static inline audit_known *audit_find_known(audit_known *k, int n, const char *i
 
 /* Print the entries of the list that no check matched (a stale entry,
  * or one of a suite that did not run: filtered by the id's prefix). */
+/* A failed check: "KNOWN DEFECT" (counted in *hit) when the list has it,
+ * else "FAIL" (counted in *failed). */
+static inline void audit_fail(audit_known *k, int n, const char *id, const char *msg, int *hit,
+                              int *failed)
+{
+    audit_known *e = audit_find_known(k, n, id, msg);
+    if (e) {
+        e->seen = 1;
+        (*hit)++;
+        printf("KNOWN DEFECT: %s: %s\n", id, msg);
+    } else {
+        (*failed)++;
+        printf("FAIL: %s: %s\n", id, msg);
+    }
+}
+
 static inline void audit_unseen(const audit_known *k, int n, const char *prefix)
 {
     for (int i = 0; i < n; i++)

@@ -138,15 +138,7 @@ static void report(const char *id, const char *msg)
         passed++;
         return;
     }
-    audit_known *k = audit_find_known(known, nknown, id, msg);
-    if (k) {
-        k->seen = 1;
-        nknown_hit++;
-        printf("KNOWN DEFECT: %s: %s\n", id, msg);
-    } else {
-        failed++;
-        printf("FAIL: %s: %s\n", id, msg);
-    }
+    audit_fail(known, nknown, id, msg, &nknown_hit, &failed);
 }
 
 int main(int argc, char **argv)

@@ -219,15 +219,7 @@ int main(int argc, char **argv)
             }
             continue;
         }
-        audit_known *k = audit_find_known(known, nknown, id, msg);
-        if (k) {
-            k->seen = 1;
-            nhit++;
-            printf("KNOWN DEFECT: %s: %s\n", id, msg);
-        } else {
-            failed++;
-            printf("FAIL: %s: %s\n", id, msg);
-        }
+        audit_fail(known, nknown, id, msg, &nhit, &failed);
     }
     audit_unseen(known, nknown, "oom ");
     printf("test_oom: %d baseline calls, %d allocate; %ld out-of-memory calls\n", audit_nfns,

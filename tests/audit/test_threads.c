@@ -103,15 +103,7 @@ int main(int argc, char **argv)
         snprintf(msg, sizeof msg, "%d of %d calls differ from the single-threaded run "
                  "(first: thread %d, repetition %d)", bad, NTHREADS * reps, tfirst,
                  jobs[tfirst].first_rep[fi]);
-        audit_known *k = audit_find_known(known, nknown, id, msg);
-        if (k) {
-            k->seen = 1;
-            nhit++;
-            printf("KNOWN DEFECT: %s: %s\n", id, msg);
-        } else {
-            failed++;
-            printf("FAIL: %s: %s\n", id, msg);
-        }
+        audit_fail(known, nknown, id, msg, &nhit, &failed);
     }
     audit_unseen(known, nknown, "threads ");
     printf("test_threads: %d threads x %d repetitions x %d functions: %ld calls compared bit for "
