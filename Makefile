@@ -121,7 +121,10 @@ abi-check: $(SO_DEV)
 	@bad=$$(nm -D --defined-only $(SO_REAL) | awk '{print $$3}' | grep -v '^igea_' || true); \
 	if [ -n "$$bad" ]; then echo "exported symbols without the igea_ prefix: $$bad"; exit 1; fi; \
 	objdump -p $(SO_REAL) | grep -q 'SONAME *libigea.so.$(SOMAJOR)$$' || { echo "soname is not libigea.so.$(SOMAJOR)"; exit 1; }; \
-	echo "abi-check: only igea_* exported, soname libigea.so.$(SOMAJOR)"
+	missing=$$(grep -v '^#' tests/abi/libigea.so.$(SOMAJOR).symbols | while read f; do \
+	  nm -D --defined-only $(SO_REAL) | awk '{print $$3}' | grep -qx "$$f" || echo "$$f"; done); \
+	if [ -n "$$missing" ]; then echo "frozen functions no longer exported: $$missing"; exit 1; fi; \
+	echo "abi-check: only igea_* exported, soname libigea.so.$(SOMAJOR), the $$(grep -vc '^#' tests/abi/libigea.so.$(SOMAJOR).symbols) frozen functions present"
 
 ctest: $(TESTS)
 	@fail=0; for t in $(TESTS); do echo "== $$t"; $$t || fail=1; done; exit $$fail
