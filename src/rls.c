@@ -832,6 +832,23 @@ int igea_rls_get_covariance(const igea_rls *h, double *cov, int ldc)
     return get_sym(h, h->p_same ? h->gam : h->cov, cov, ldc);
 }
 
+int igea_rls_get_sd(const igea_rls *h, double *sd)
+{
+    if (!h)
+        return -1;
+    if (!sd)
+        return -2;
+    if (!h->cov_valid)
+        return IGEA_EDOMAIN;
+    const double *P = h->p_same ? h->gam : h->cov;
+    for (int i = 0; i < h->m; i++)
+        if (!(P[i + (size_t)i * h->m] >= 0) || !isfinite(P[i + (size_t)i * h->m]))
+            return IGEA_EDOMAIN; /* not reached for a positive definite state */
+    for (int i = 0; i < h->m; i++)
+        sd[i] = sqrt(P[i + (size_t)i * h->m]);
+    return 0;
+}
+
 int igea_rls_get_q(const igea_rls *h, double *q)
 {
     if (!h)

@@ -203,6 +203,12 @@ IGEA_API int igea_rls_get_gamma(const igea_rls *h, double *gamma, int ldg);
  * and is no longer Gamma. */
 IGEA_API int igea_rls_get_covariance(const igea_rls *h, double *cov, int ldc);
 
+/* Standard deviations of xhat, sd[i] = sqrt(P_ii) of the honest covariance
+ * (igea_rls_get_covariance): 1 h; 2 sd (m values). Returns 0, -i, or
+ * IGEA_EDOMAIN (sd untouched) if P was not tracked and is no longer Gamma
+ * (or a diagonal element is not a finite non-negative number). */
+IGEA_API int igea_rls_get_sd(const igea_rls *h, double *sd);
+
 /* Q_p so far (METHODS 2.6, whitened units): 1 h; 2 q. Returns 0 or -i. */
 IGEA_API int igea_rls_get_q(const igea_rls *h, double *q);
 

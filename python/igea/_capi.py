@@ -443,6 +443,7 @@ PROTOTYPES = {
     "igea_rls_get_x": (c_int, (("h", c_void_p), ("x", _PD),)),
     "igea_rls_get_gamma": (c_int, (("h", c_void_p), ("gamma", _PD), ("ldg", c_int),)),
     "igea_rls_get_covariance": (c_int, (("h", c_void_p), ("cov", _PD), ("ldc", c_int),)),
+    "igea_rls_get_sd": (c_int, (("h", c_void_p), ("sd", _PD),)),
     "igea_rls_get_q": (c_int, (("h", c_void_p), ("q", _PD),)),
     "igea_rls_get_counts": (c_int, (("h", c_void_p), ("counts", _PI),)),
     "igea_rls_get_size": (c_int, (("h", c_void_p), ("m", _PI), ("k", _PI),)),

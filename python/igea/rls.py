@@ -8,6 +8,7 @@ import numpy as np
 
 from . import _capi
 from . import _lib
+from ._compat import _UNSET, renamed
 
 VARIANTS = _lib.choice_codes(_capi.CHOICE_RLS_VARIANT)
 ACTIONS = {c: n for n, c in _lib.choice_codes(_capi.CHOICE_RLS_ACTION).items()}
@@ -39,12 +40,14 @@ class RlsResult:
 
     x (epochs x m): the estimate after each epoch; gamma, covariance (m x m):
     the final Gamma and the honest covariance of x (Joseph form with the
-    gain used; equals Gamma for p = 1); q: Q_p (whitened); flags (epochs x k)
+    gain used; equals Gamma for p = 1); sd (m,): the square roots of its
+    diagonal (None with covariance); q: Q_p (whitened); flags (epochs x k)
     and actions (epochs, codes of ACTIONS); residual (epochs x k): the
     compensated telemetry y - c x after each epoch (physical units)."""
     x: np.ndarray
     gamma: np.ndarray
     covariance: np.ndarray
+    sd: np.ndarray
     q: float
     flags: np.ndarray
     actions: np.ndarray
@@ -55,8 +58,7 @@ class RlsResult:
 
     def summary(self):
         n, m = self.x.shape
-        sd = (np.sqrt(np.diag(self.covariance)) if self.covariance is not None
-              else np.full(m, np.nan))
+        sd = self.sd if self.sd is not None else np.full(m, np.nan)
         lines = ["rls: %s, p = %d, %d epochs, %d coefficients" % (self.variant, self.p, n, m),
                  "epochs updated %d, anomalous %d; Q_p = %.6g over %d rows"
                  % (self.counts["updates"], self.counts["anomalous"], self.q,
@@ -78,18 +80,18 @@ def _prior(x0, gamma0):
     return m, x, g
 
 
-def _sigma(track_sigma, k, n=None):
+def _sigma(sigma, k, n=None):
     """None, a scalar, (k,) or (n, k) -> (array or None, sigma_inc)."""
-    if track_sigma is None:
+    if sigma is None:
         return None, 0
-    s = np.asarray(track_sigma, dtype=np.float64)
+    s = np.asarray(sigma, dtype=np.float64)
     if s.ndim == 0:
         return np.full(k, float(s)), 0
     if s.ndim == 1:
-        return _lib.as_f64(s, "track_sigma", ndim=1, shape=(k,)), 0
+        return _lib.as_f64(s, "sigma", ndim=1, shape=(k,)), 0
     if n is not None and s.ndim == 2:
-        return np.ascontiguousarray(_lib.as_f64(s, "track_sigma", shape=(n, k))), 1
-    raise ValueError(f"track_sigma: expected a scalar or shape ({k},)"
+        return np.ascontiguousarray(_lib.as_f64(s, "sigma", shape=(n, k))), 1
+    raise ValueError(f"sigma: expected a scalar or shape ({k},)"
                      + (f" or ({n}, {k})" if n is not None else "") + f", got {s.shape}")
 
 
@@ -110,15 +112,17 @@ class RLS:
     """Recursive estimator state (an igea_rls handle).
 
     RLS(x0, gamma0, k, variant="standard"|"iterated"|"polynomial", p=1,
-    anomaly=None|"replace"|"skip"|"isolate", kappa=4.0, jump_max=None,
+    anomaly=None|"replace"|"skip"|"isolate", kappa=4.0, jump=None,
     forget=1.0, covariance=True). x0 (m,) or None (zeros), gamma0 (m, m)
     symmetric positive definite (whitened units), k rows per epoch;
     covariance=False skips the honest covariance (then .covariance raises
-    IgeaError once a p > 1 gain was used). Then .update(c, y,
-    track_sigma=None) per epoch; .x, .gamma, .covariance, .q, .counts."""
+    IgeaError once a p > 1 gain was used). Then .update(c, y, sigma=None)
+    per epoch; .x, .gamma, .covariance, .sd, .q, .counts. jump (k,) or one
+    number: the jump test's bounds (the driver's --jump); jump_max= is its old name."""
 
     def __init__(self, x0, gamma0, k, *, variant="standard", p=1, anomaly=None, kappa=4.0,
-                 jump_max=None, forget=1.0, covariance=True):
+                 jump=_UNSET, forget=1.0, covariance=True, jump_max=_UNSET):
+        jump = renamed("igea.RLS", "jump", jump, "jump_max", jump_max)
         self._h = ctypes.c_void_p()
         m, x, g = _prior(x0, gamma0)
         k = int(k)
@@ -127,7 +131,9 @@ class RLS:
         v = _lib.choice(_capi.CHOICE_RLS_VARIANT, variant, "igea.RLS", "variant")
         pol = (_capi.RLS_ANOMALY_NONE if anomaly is None else
                _lib.choice(_capi.CHOICE_RLS_ANOMALY, anomaly, "igea.RLS", "anomaly"))
-        jm = None if jump_max is None else _lib.as_f64(jump_max, "jump_max", ndim=1, shape=(k,))
+        jm = (None if jump is None else
+              _lib.as_f64(np.broadcast_to(np.asarray(jump, dtype=float), (k,)) if np.ndim(jump) == 0
+                          else jump, "jump", ndim=1, shape=(k,)))
         h = ctypes.c_void_p()
         _lib.call("igea.RLS", "igea_rls_create", m, k, _lib.dptr(x), _lib.dptr(g), m,
                   ctypes.byref(h))
@@ -164,25 +170,27 @@ class RLS:
             raise ValueError("RLS: the handle has been closed")
         return self._h
 
-    def update(self, c, y, track_sigma=None):
-        """One epoch: c (k, m), y (k,) (NaN = dropout, with a policy set).
-        Returns RlsEpoch(action, flags)."""
+    def update(self, c, y, sigma=_UNSET, track_sigma=_UNSET):
+        """One epoch: c (k, m), y (k,) (NaN = dropout, with a policy set),
+        sigma None (unit), a scalar or (k,). Returns RlsEpoch(action, flags)."""
+        sigma = renamed("igea.RLS.update", "sigma", sigma, "track_sigma", track_sigma)
         h = self._handle()
         ca = _lib.as_f64(c, "c", ndim=2, shape=(self.k, self.m))
         ya = np.ascontiguousarray(_lib.as_f64(y, "y", ndim=1, shape=(self.k,)))
-        sa, _ = _sigma(track_sigma, self.k)
+        sa, _ = _sigma(sigma, self.k)
         st = _lib.call("igea.RLS.update", "igea_rls_update", h, _lib.dptr(ca), self.k,
                        _lib.dptr(ya), _lib.dptr(sa), _lib.iptr(self._flags))
         return RlsEpoch(ACTIONS[st], self._flags.copy())
 
-    def run(self, C, Y, track_sigma=None):
-        """Many epochs at once: C (n, k, m), Y (n, k). Returns (x (n, m),
-        flags (n, k), actions (n,))."""
+    def run(self, C, Y, sigma=_UNSET, track_sigma=_UNSET):
+        """Many epochs at once: C (n, k, m), Y (n, k), sigma as in update or
+        (n, k). Returns (x (n, m), flags (n, k), actions (n,))."""
+        sigma = renamed("igea.RLS.run", "sigma", sigma, "track_sigma", track_sigma)
         h = self._handle()
         Ca = _c_order(C, "C", (None, self.k, self.m))  # the blocks layout, no copy if C-order
         n = Ca.shape[0]
         Ya = _c_order(Y, "Y", (n, self.k))
-        sa, inc = _sigma(track_sigma, self.k, n)
+        sa, inc = _sigma(sigma, self.k, n)
         X = np.zeros((n, self.m))
         flags = np.zeros((n, self.k), dtype=np.intc)
         actions = np.zeros(n, dtype=np.intc)
@@ -213,6 +221,13 @@ class RLS:
         return self._sym("igea_rls_get_covariance", "igea.RLS.covariance")
 
     @property
+    def sd(self):
+        """sqrt of the honest covariance's diagonal (igea_rls_get_sd)."""
+        out = np.zeros(self.m)
+        _lib.call("igea.RLS.sd", "igea_rls_get_sd", self._handle(), _lib.dptr(out))
+        return out
+
+    @property
     def q(self):
         q = ctypes.c_double()
         _lib.call("igea.RLS.q", "igea_rls_get_q", self._handle(), ctypes.byref(q))
@@ -236,14 +251,19 @@ class RLS:
 
 
 def rls_run(C, Y, x0, gamma0, *, variant="standard", p=1, anomaly=None, kappa=4.0, forget=1.0,
-            track_sigma=None, jump_max=None, covariance=True):
+            sigma=_UNSET, jump=_UNSET, covariance=True, track_sigma=_UNSET,
+            jump_max=_UNSET):
     """Run RLS over a whole record.
 
     C (epochs, k, m) environment functions, Y (epochs, k) telemetry minus
     tracking (NaN marks a dropout when an anomaly policy is set), x0 (m,) or
-    None, gamma0 (m, m); track_sigma None (unit), a scalar, (k,) or
-    (epochs, k); covariance=False: do not track the honest covariance
-    (RlsResult.covariance is then None unless p = 1). Returns RlsResult."""
+    None, gamma0 (m, m); sigma None (unit), a scalar, (k,) or (epochs, k)
+    (the driver's --sigma; track_sigma= is its old name); jump (k,) the jump
+    test's bounds (--jump; jump_max= is its old name); covariance=False: do
+    not track the honest covariance (RlsResult.covariance and .sd are then
+    None unless p = 1). Returns RlsResult."""
+    sigma = renamed("igea.rls_run", "sigma", sigma, "track_sigma", track_sigma)
+    jump = renamed("igea.rls_run", "jump", jump, "jump_max", jump_max)
     Ca = _c_order(C, "C", (None, None, None))
     n, k, m = Ca.shape
     Ya = _c_order(Y, "Y", (n, k))
@@ -252,15 +272,15 @@ def rls_run(C, Y, x0, gamma0, *, variant="standard", p=1, anomaly=None, kappa=4.
         raise ValueError(f"gamma0: expected shape ({m}, {m}), got {g.shape}")
     if x0 is not None:
         _lib.as_f64(x0, "x0", ndim=1, shape=(m,))
-    _sigma(track_sigma, k, n)
+    _sigma(sigma, k, n)
     with RLS(x0, g, k, variant=variant, p=p, anomaly=anomaly, kappa=kappa,
-             jump_max=jump_max, forget=forget, covariance=covariance) as est:
-        X, flags, actions = est.run(Ca, Ya, track_sigma)
+             jump=jump, forget=forget, covariance=covariance) as est:
+        X, flags, actions = est.run(Ca, Ya, sigma)
         resid = Ya - np.einsum("ekm,em->ek", Ca, X)
         try:
-            cov = est.covariance
+            cov, sd = est.covariance, est.sd
         except _lib.IgeaError:
-            cov = None
-        return RlsResult(x=X, gamma=est.gamma, covariance=cov, q=est.q,
+            cov = sd = None
+        return RlsResult(x=X, gamma=est.gamma, covariance=cov, sd=sd, q=est.q,
                          flags=flags, actions=actions, residual=resid, variant=variant,
                          p=est.p, counts=est.counts)

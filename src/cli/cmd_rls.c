@@ -325,12 +325,12 @@ static void print_summary(printer *pr, igea_rls *h, double *x, double *sd, doubl
     igea_rls_get_counts(h, cnt);
     igea_rls_get_x(h, x);
     igea_rls_get_covariance(h, cov, m);
-    for (int i = 0; i < m; i++)
-        sd[i] = sqrt(cov[i + (size_t)i * m]);
+    igea_rls_get_sd(h, sd);
     if (!pr->json) {
         fprintf(pr->f, "# epochs %d, updated %d, anomalous %d; Q_p = %.6g over %d rows "
                        "(whitened; not a measure of accuracy)\n",
-                cnt[0], cnt[1], cnt[2], q, cnt[3]);
+                cnt[IGEA_RLS_COUNT_EPOCHS], cnt[IGEA_RLS_COUNT_UPDATES],
+                cnt[IGEA_RLS_COUNT_ANOMALOUS], q, cnt[IGEA_RLS_COUNT_ROWS]);
         fprintf(pr->f, "# %5s %24s %14s\n", "coef", "estimate", "sd (honest)");
         for (int i = 0; i < m; i++)
             fprintf(pr->f, "# %5d %24.17g %14.6g\n", i, x[i], sd[i]);
@@ -344,10 +344,10 @@ static void print_summary(printer *pr, igea_rls *h, double *x, double *sd, doubl
     igea_rls_get_gamma(h, cov, m);
     cli_jrows(j, "gamma", cov, m, m);
     cli_jnum(j, "q", q);
-    cli_jint(j, "n_epochs", cnt[0]);
-    cli_jint(j, "updates", cnt[1]);
-    cli_jint(j, "anomalous", cnt[2]);
-    cli_jint(j, "rows", cnt[3]);
+    cli_jint(j, "n_epochs", cnt[IGEA_RLS_COUNT_EPOCHS]);
+    cli_jint(j, "updates", cnt[IGEA_RLS_COUNT_UPDATES]);
+    cli_jint(j, "anomalous", cnt[IGEA_RLS_COUNT_ANOMALOUS]);
+    cli_jint(j, "rows", cnt[IGEA_RLS_COUNT_ROWS]);
     cli_json_end(j);
 }
 

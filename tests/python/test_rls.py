@@ -98,7 +98,7 @@ def test_against_numpy(variant, p, forget):
     sigma = np.array([0.5, 1.0, 2.0])
     g0 = np.diag(np.linspace(1, 20, 6)) + 0.3
     x0 = np.linspace(-1, 1, 6)
-    r = igea.rls_run(C, Y, x0, g0, variant=variant, p=p, forget=forget, track_sigma=sigma)
+    r = igea.rls_run(C, Y, x0, g0, variant=variant, p=p, forget=forget, sigma=sigma)
     xs, G, P, q = ref_rls(C, Y, x0, g0, variant, p, forget, sigma)
     np.testing.assert_allclose(r.x, xs, rtol=1e-9, atol=1e-11)
     np.testing.assert_allclose(r.gamma, G, rtol=1e-9, atol=1e-13)
@@ -169,7 +169,7 @@ def test_anomaly_policies_on_outliers_and_dropouts():
     Yb[120, :] = np.nan       # dropout of the whole epoch
     Yb[150, 2] = np.nan       # dropout of one row
     g0 = 1e2 * np.eye(5)
-    r = igea.rls_run(C, Yb, None, g0, anomaly="isolate", track_sigma=sig)
+    r = igea.rls_run(C, Yb, None, g0, anomaly="isolate", sigma=sig)
     assert r.flags[50, 1] & igea.rls.FLAG_INNOVATION
     assert r.flags[120].tolist() == [igea.rls.FLAG_MISSING | igea.rls.FLAG_UNUSED] * 3
     assert r.flags[150, 2] == igea.rls.FLAG_MISSING | igea.rls.FLAG_UNUSED
@@ -182,18 +182,18 @@ def test_anomaly_policies_on_outliers_and_dropouts():
     np.testing.assert_allclose(r.gamma, G, rtol=1e-8, atol=1e-15)
     assert np.max(np.abs(r.x[-1] - X)) < 5 * np.sqrt(np.max(np.diag(r.gamma)))
 
-    s = igea.rls_run(C, Yb, None, g0, anomaly="skip", track_sigma=sig)
+    s = igea.rls_run(C, Yb, None, g0, anomaly="skip", sigma=sig)
     assert s.actions[50] == 3 and s.actions[120] == 3 and s.actions[150] == 3
     np.testing.assert_array_equal(s.x[50], s.x[49])
-    rp = igea.rls_run(C, Yb, None, g0, anomaly="replace", track_sigma=sig)
+    rp = igea.rls_run(C, Yb, None, g0, anomaly="replace", sigma=sig)
     assert rp.actions[50] == 2 and rp.actions[120] == 2
     # no policy: the outlier is flagged but used, and a NaN is an error
     with pytest.raises(igea.IgeaError) as exc:
-        igea.rls_run(C, Yb, None, g0, track_sigma=sig)
+        igea.rls_run(C, Yb, None, g0, sigma=sig)
     assert exc.value.code == -1011 and "epoch 120" in str(exc.value)
     Yo = Y.copy()
     Yo[50, 1] += 0.5
-    nn = igea.rls_run(C, Yo, None, g0, track_sigma=sig)
+    nn = igea.rls_run(C, Yo, None, g0, sigma=sig)
     assert nn.actions[50] == 1
     assert np.max(np.abs(nn.x[-1] - X)) > np.max(np.abs(r.x[-1] - X))
 
@@ -204,7 +204,7 @@ def test_jump_test():
     Cb = np.concatenate([C, np.ones((60, 2, 1))], axis=2)  # bias column
     Yb[40, 0] = 0.0
     r = igea.rls_run(Cb, Yb, None, 1e4 * np.eye(5), anomaly="isolate", kappa=np.inf,
-                     jump_max=[5.0, 5.0])
+                     jump=[5.0, 5.0])
     assert r.flags[40, 0] == igea.rls.FLAG_JUMP | igea.rls.FLAG_UNUSED
     assert np.count_nonzero(r.flags) == 1
 
@@ -260,8 +260,8 @@ def test_shapes_and_errors():
         igea.rls_run(C, Y, None, np.eye(5))
     with pytest.raises(ValueError, match="x0"):
         igea.rls_run(C, Y, np.zeros(5), g)
-    with pytest.raises(ValueError, match="track_sigma"):
-        igea.rls_run(C, Y, None, g, track_sigma=np.ones(4))
+    with pytest.raises(ValueError, match="sigma"):
+        igea.rls_run(C, Y, None, g, sigma=np.ones(4))
     with pytest.raises(ValueError, match="variant"):
         igea.rls_run(C, Y, None, g, variant="kalman")
     with pytest.raises(ValueError, match="anomaly"):
@@ -388,7 +388,7 @@ def test_driver_sigma_per_row(tmp_path):
                           "--gamma0", "10", "--json"], capture_output=True, text=True)
     assert out.returncode == 0, out.stderr
     d = json.loads(out.stdout)
-    r = igea.rls_run(C, Y, None, 10 * np.eye(3), track_sigma=sig)
+    r = igea.rls_run(C, Y, None, 10 * np.eye(3), sigma=sig)
     np.testing.assert_allclose(d["x"], r.x[-1], rtol=1e-14)
     np.testing.assert_allclose([e["x"] for e in d["epochs"]], r.x, rtol=1e-13, atol=1e-15)
     np.savetxt(tmp_path / "sigma_bad.txt", np.ones(7))
@@ -396,3 +396,25 @@ def test_driver_sigma_per_row(tmp_path):
                           str(tmp_path / "dw.txt"), "--sigma", str(tmp_path / "sigma_bad.txt")],
                          capture_output=True, text=True)
     assert bad.returncode == 65 and "sigma" in bad.stderr
+
+
+def test_sd_and_the_driver_spelling_of_keywords():
+    """sd is the square root of the honest covariance's diagonal (numpy
+    here); sigma=/jump= are the driver's --sigma/--jump; the old names
+    track_sigma=/jump_max= give the same result with a DeprecationWarning,
+    and both at once is an error."""
+    C, Y, _ = flight(m=4, k=2, n=60, noise=0.01, seed=9)
+    g0 = 1e4 * np.eye(4)
+    r = igea.rls_run(C, Y, None, g0, variant="iterated", p=3, sigma=0.01, jump=50.0)
+    np.testing.assert_array_equal(r.sd, np.sqrt(np.diag(r.covariance)))
+    with pytest.warns(DeprecationWarning, match="track_sigma= is now sigma="):
+        old = igea.rls_run(C, Y, None, g0, variant="iterated", p=3, track_sigma=0.01,
+                           jump_max=[50.0, 50.0])
+    np.testing.assert_array_equal(old.x, r.x)
+    np.testing.assert_array_equal(old.sd, r.sd)
+    with pytest.raises(TypeError, match="give sigma= only"):
+        igea.rls_run(C, Y, None, g0, sigma=0.01, track_sigma=0.01)
+    with igea.RLS(None, g0, 2, covariance=False, variant="iterated", p=3) as est:
+        est.run(C, Y, 0.01)
+        with pytest.raises(igea.IgeaError):
+            est.sd
