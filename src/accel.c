@@ -419,6 +419,67 @@ int igea_accel_combinations(int model, double *C, int ldc)
     return 0;
 }
 
+static const char *const coef_dual[2][9] = {
+    {"KA0", "KB0", "kA1", "kB1", "eta", "KA2", "KB2", "KAio", "KBio"},
+    {"KA0", "KB0", "kA1", "kB1", "eta", "KA2", "KB2", "KAip", "KBip"}};
+static const char *const coef_single[2][5] = {{"K0", "k1", "delta0", "K2", "Kio"},
+                                              {"K0", "k1", "delta0", "K2", "Kip"}};
+static const char *const comb_dual[2][7] = {
+    {"kA1", "kB1", "eta", "KA0+KA2", "KA2+KBio", "KB0+KB2", "KB2-KAio"},
+    {"kA1", "kB1", "eta", "KA0+KA2", "KA2+KBip", "KB0+KB2", "KB2-KAip"}};
+static const char *const unit_dual[9] = {"g", "g", "", "", "rad", "g/g^2", "g/g^2",
+                                         "g/g^2", "g/g^2"};
+static const char *const unit_single[5] = {"g", "", "rad", "g/g^2", "g/g^2"};
+
+static int axis_ok(int axis) { return axis == IGEA_ACCEL_AXIS_PA || axis == IGEA_ACCEL_AXIS_OA; }
+
+const char *igea_accel_coef_name(int model, int axis, int j)
+{
+    if (!model_ok(model) || !axis_ok(axis) || j < 0 || j >= model_np(model))
+        return "";
+    return model == IGEA_ACCEL_DUAL ? coef_dual[axis][j] : coef_single[axis][j];
+}
+
+const char *igea_accel_comb_name(int model, int axis, int k)
+{
+    if (!model_ok(model) || !axis_ok(axis) || k < 0)
+        return "";
+    if (model == IGEA_ACCEL_DUAL)
+        return k < IGEA_ACCEL_NC_DUAL ? comb_dual[axis][k] : "";
+    return k < IGEA_ACCEL_NC_SINGLE ? coef_single[axis][k] : "";
+}
+
+const char *igea_accel_coef_unit(int model, int j)
+{
+    if (!model_ok(model) || j < 0 || j >= model_np(model))
+        return "";
+    return model == IGEA_ACCEL_DUAL ? unit_dual[j] : unit_single[j];
+}
+
+int igea_accel_combine(int model, const double *coef, double *comb)
+{
+    if (!model_ok(model))
+        return -1;
+    if (!coef)
+        return -2;
+    if (!comb)
+        return -3;
+    const int np = model_np(model);
+    const int nc = model == IGEA_ACCEL_DUAL ? IGEA_ACCEL_NC_DUAL : IGEA_ACCEL_NC_SINGLE;
+    for (int j = 0; j < np; j++)
+        if (!isfinite(coef[j]))
+            return IGEA_ENONFINITE;
+    double C[IGEA_ACCEL_NP_DUAL * IGEA_ACCEL_NC_DUAL];
+    fill_combinations(model, C, np);
+    for (int k = 0; k < nc; k++) {
+        double v = 0.0;
+        for (int j = 0; j < np; j++)
+            v += C[j + (size_t)k * np] * coef[j];
+        comb[k] = v;
+    }
+    return 0;
+}
+
 /* SVD of the model's design at theta: s, V (np x np), rank. */
 static int design_svd(int model, int n, const double *theta, double *s,
                       double *V, int *rank)

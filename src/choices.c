@@ -23,6 +23,8 @@ static const choice accel_model[] = {
     {IGEA_ACCEL_SINGLE, "single"}, {IGEA_ACCEL_DUAL, "dual"}, END};
 static const choice accel_method[] = {
     {IGEA_ACCEL_LS, "ls"}, {IGEA_ACCEL_EBR, "ebr"}, END};
+static const choice accel_axis[] = {
+    {IGEA_ACCEL_AXIS_PA, "pa"}, {IGEA_ACCEL_AXIS_OA, "oa"}, END};
 static const choice envfun_system[] = {
     {IGEA_ENVFUN_STRAPDOWN, "strapdown"}, {IGEA_ENVFUN_PLATFORM, "platform"}, END};
 static const choice envfun_output[] = {
@@ -68,6 +70,7 @@ static const choice *table(int kind)
     case IGEA_CHOICE_REGRESS_EBR_RULE: return ebr_rule;
     case IGEA_CHOICE_ACCEL_MODEL: return accel_model;
     case IGEA_CHOICE_ACCEL_METHOD: return accel_method;
+    case IGEA_CHOICE_ACCEL_AXIS: return accel_axis;
     case IGEA_CHOICE_ENVFUN_SYSTEM: return envfun_system;
     case IGEA_CHOICE_ENVFUN_OUTPUT: return envfun_output;
     case IGEA_CHOICE_SIM_GENERATOR: return sim_generator;

@@ -167,6 +167,32 @@ IGEA_API int igea_accel_design(int model, int n, const double *theta_deg,
  */
 IGEA_API int igea_accel_combinations(int model, double *C, int ldc);
 
+/* The axis the dividing head turns about (IGEA_CHOICE_ACCEL_AXIS: pa oa):
+ * it names the cross-coupling coefficient the rotation excites (turning
+ * about the pendulous axis PA gives Kio, about the output axis OA Kip). */
+#define IGEA_ACCEL_AXIS_PA 0
+#define IGEA_ACCEL_AXIS_OA 1
+
+/*
+ * Names and units of the model's coefficients and combinations, static
+ * strings (like igea_strerror): coefficient j (0 <= j < np) of model for
+ * rotation axis `axis` ("KA0", ..., "KAio"); combination k (0 <= k < nc,
+ * the columns of igea_accel_combinations: "KA0+KA2", ...); the unit of
+ * coefficient j ("g", "" for a scale factor, "rad", "g/g^2"). "" for an
+ * unknown model, axis or index.
+ */
+IGEA_API const char *igea_accel_coef_name(int model, int axis, int j);
+IGEA_API const char *igea_accel_comb_name(int model, int axis, int k);
+IGEA_API const char *igea_accel_coef_unit(int model, int j);
+
+/*
+ * The estimable combinations of a coefficient vector, comb = C^T coef with
+ * C of igea_accel_combinations: 1 model; 2 coef[np]; 3 comb[nc] (output).
+ * Returns 0, -i, or IGEA_ENONFINITE (comb untouched) when coef holds NaN
+ * or Inf.
+ */
+IGEA_API int igea_accel_combine(int model, const double *coef, double *comb);
+
 /*
  * Identifiability of a position schedule: singular values, rank, null
  * space, and each coefficient's and each combination's loading on the null

@@ -101,6 +101,7 @@ IGEA_API const char *igea_opt_name(int module, int slot);
 #define IGEA_CHOICE_REGRESS_EBR_RULE 3   /* igea/regress.h IGEA_REGRESS_EBR_*: sc mm ml2 */
 #define IGEA_CHOICE_ACCEL_MODEL 4        /* igea/accel.h IGEA_ACCEL_SINGLE, _DUAL: single dual */
 #define IGEA_CHOICE_ACCEL_METHOD 5       /* igea/accel.h IGEA_ACCEL_LS, _EBR: ls ebr */
+#define IGEA_CHOICE_ACCEL_AXIS 41        /* igea/accel.h IGEA_ACCEL_AXIS_*: pa oa */
 #define IGEA_CHOICE_ENVFUN_SYSTEM 6      /* igea/envfun.h IGEA_ENVFUN_STRAPDOWN, _PLATFORM:
                                           * strapdown platform */
 #define IGEA_CHOICE_ENVFUN_OUTPUT 7      /* igea/envfun.h IGEA_ENVFUN_VELOCITY, _POSITION,

@@ -45,6 +45,8 @@ ACCEL_INFO_DOF = 5
 ACCEL_INFO_ITER = 6
 ACCEL_INFO_STEP = 7
 ACCEL_INFO_LEN = 8
+ACCEL_AXIS_PA = 0
+ACCEL_AXIS_OA = 1
 
 # igea/common.h
 VERSION_MAJOR = 1
@@ -76,6 +78,7 @@ CHOICE_REGRESS_RIDGE_RULE = 2
 CHOICE_REGRESS_EBR_RULE = 3
 CHOICE_ACCEL_MODEL = 4
 CHOICE_ACCEL_METHOD = 5
+CHOICE_ACCEL_AXIS = 41
 CHOICE_ENVFUN_SYSTEM = 6
 CHOICE_ENVFUN_OUTPUT = 7
 CHOICE_SIM_GENERATOR = 8
@@ -296,6 +299,10 @@ PROTOTYPES = {
     "igea_accel_design": (c_int, (("model", c_int), ("n", c_int), ("theta_deg", _PD), ("A", _PD),
         ("lda", c_int),)),
     "igea_accel_combinations": (c_int, (("model", c_int), ("C", _PD), ("ldc", c_int),)),
+    "igea_accel_coef_name": (c_char_p, (("model", c_int), ("axis", c_int), ("j", c_int),)),
+    "igea_accel_comb_name": (c_char_p, (("model", c_int), ("axis", c_int), ("k", c_int),)),
+    "igea_accel_coef_unit": (c_char_p, (("model", c_int), ("j", c_int),)),
+    "igea_accel_combine": (c_int, (("model", c_int), ("coef", _PD), ("comb", _PD),)),
     "igea_accel_analyze": (c_int, (("model", c_int), ("n", c_int), ("theta_deg", _PD), ("sv", _PD),
         ("null", _PD), ("ldn", c_int), ("loading", _PD), ("comb_loading", _PD), ("rank", _PI),)),
     "igea_accel_fit": (c_int, (("model", c_int), ("method", c_int), ("n", c_int),

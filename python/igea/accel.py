@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _capi, _lib
+from ._compat import _UNSET, renamed
 
 _MODELS = _lib.choice_codes(_capi.CHOICE_ACCEL_MODEL)
 _NP = {m: getattr(_capi, "ACCEL_NP_" + m.upper()) for m in _MODELS}
@@ -25,19 +26,21 @@ def coefficient_names(model="dual", axis="pa"):
     """Names of the coefficients in the design's column order, in the
     notation of IEEE Std 1293: the cross-coupling term is labelled by the
     in-plane axis x that the rotation excites (turning about PA gives Kio,
-    about OA gives Kip)."""
-    x = {"pa": "o", "oa": "p"}[_axis(axis)]
-    if _model(model) == "single":
-        return ["K0", "k1", "delta0", "K2", "Ki" + x]
-    return ["KA0", "KB0", "kA1", "kB1", "eta", "KA2", "KB2", "KAi" + x, "KBi" + x]
+    about OA gives Kip). The library's names (igea_accel_coef_name)."""
+    m, ax = _MODELS[_model(model)], _axis(axis)
+    return [_lib.lib.igea_accel_coef_name(m, ax, j).decode() for j in range(_NP[model])]
+
+
+def coefficient_units(model="dual"):
+    """Units of the coefficients ("g", "" for a scale factor, "rad", "g/g^2")."""
+    m = _MODELS[_model(model)]
+    return [_lib.lib.igea_accel_coef_unit(m, j).decode() for j in range(_NP[model])]
 
 
 def combination_names(model="dual", axis="pa"):
     """Names of the estimable combinations (columns of accel_combinations)."""
-    x = {"pa": "o", "oa": "p"}[_axis(axis)]
-    if _model(model) == "single":
-        return coefficient_names("single", axis)
-    return ["kA1", "kB1", "eta", "KA0+KA2", "KA2+KBi" + x, "KB0+KB2", "KB2-KAi" + x]
+    m, ax = _MODELS[_model(model)], _axis(axis)
+    return [_lib.lib.igea_accel_comb_name(m, ax, k).decode() for k in range(_NC[model])]
 
 
 def _model(model):
@@ -46,9 +49,7 @@ def _model(model):
 
 
 def _axis(axis):
-    if axis not in ("pa", "oa"):
-        raise ValueError(f"axis: expected 'pa' or 'oa', got {axis!r}")
-    return axis
+    return _lib.choice(_capi.CHOICE_ACCEL_AXIS, axis, "igea.accel", "axis")
 
 
 def _theta(theta_deg):
@@ -197,15 +198,19 @@ class AccelFit:
         return "\n".join(lines)
 
 
-def accel_fit(theta_deg, y_a, y_b=None, *, model="dual", method="ls", prior_scale=None,
-              rule="sc", lam_floor=0.0, scale_a=None, scale_b=None, axis="pa"):
+def accel_fit(theta_deg, y_a, y_b=None, *, model="dual", method="ls", prior=_UNSET,
+              rule="sc", lam_floor=0.0, scale_a=None, scale_b=None, axis="pa",
+              prior_scale=_UNSET):
     """Fit one calibration.
 
     theta_deg: head angles (one per position; see accel_merge); y_a, y_b:
     outputs in g, or raw outputs with the nominal scale factors scale_a,
     scale_b (output units per g); model "single" (A only) or "dual";
     method "ls" (minimum-norm least squares) or "ebr" (empirical-Bayes
-    ridge with prior_scale, rule "sc"/"mm"/"ml2" and lam_floor)."""
+    ridge with the prior scales tau_j `prior`, one per coefficient, the
+    driver's --prior (prior_scale= is its old name), rule "sc"/"mm"/"ml2"
+    and lam_floor)."""
+    prior = renamed("igea.accel_fit", "prior", prior, "prior_scale", prior_scale)
     m = _model(model)
     method_code = _lib.choice(_capi.CHOICE_ACCEL_METHOD, method, "igea.accel_fit", "method")
     rule_code = _lib.choice(_capi.CHOICE_REGRESS_EBR_RULE, rule, "igea.accel_fit", "rule")
@@ -221,7 +226,7 @@ def accel_fit(theta_deg, y_a, y_b=None, *, model="dual", method="ls", prior_scal
         yb = _vec(y_b, "y_b", n)
         if scale_b is not None:
             yb = accel_to_g(yb, scale_b)
-    ps = None if prior_scale is None else _vec(prior_scale, "prior_scale", npar)
+    ps = None if prior is None else _vec(prior, "prior", npar)
     coef, sd, flag = np.zeros(npar), np.zeros(npar), np.zeros(npar, dtype=np.intc)
     comb, csd, info = np.zeros(nc), np.zeros(nc), np.zeros(_capi.ACCEL_INFO_LEN)
     _lib.call("igea.accel_fit", "igea_accel_fit", _MODELS[m], method_code, n, _lib.dptr(t),
@@ -272,8 +277,10 @@ def accel_refine(theta_deg, y_a, y_b, coef0, *, max_iter=50, tol=1e-13, axis="pa
     _lib.call("igea.accel_refine", "igea_accel_refine", n, _lib.dptr(t), _lib.dptr(ya),
               _lib.dptr(yb), _lib.dptr(c0), int(max_iter), float(tol), _lib.dptr(coef),
               _lib.dptr(sd), _lib.dptr(phi), _lib.dptr(info))
-    C = accel_combinations("dual")
-    return AccelRefine(coefficient_names("dual", axis), coef, sd, phi, C.T @ coef,
+    comb = np.zeros(_capi.ACCEL_NC_DUAL)
+    _lib.call("igea.accel_refine", "igea_accel_combine", _MODELS["dual"], _lib.dptr(coef),
+              _lib.dptr(comb))
+    return AccelRefine(coefficient_names("dual", axis), coef, sd, phi, comb,
                        iterations=int(info[_capi.ACCEL_INFO_ITER]),
                        **_lib.fields(info, "ACCEL_INFO_", rank=int, sigma=float, rms=float,
                                      step=float))

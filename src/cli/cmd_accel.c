@@ -23,7 +23,7 @@ static const cli_opt options[] = {
     {"--scale-a", CLI_OPT_NUM, &A.scale_a, "1", "K", "nominal scale factor of A (1: outputs in g)", NULL},
     {"--scale-b", CLI_OPT_NUM, &A.scale_b, "1", "K", "nominal scale factor of B", NULL},
     {"--tol", CLI_OPT_NUM, &A.tol, "1e-6", "DEG", "readings this close form one position", NULL},
-    {"--axis", CLI_OPT_CHOICE, &A.axis, "pa", "pa|oa", "rotation axis, names the cross-coupling Kio\n"
+    {"--axis", CLI_OPT_CHOICE, &A.axis, "pa", CLI_CHOICES(IGEA_CHOICE_ACCEL_AXIS), "rotation axis, names the cross-coupling Kio\n"
      "(pa, the door position) or Kip (oa)", NULL},
     {"--refine", CLI_OPT_FLAG, &A.refine, NULL, NULL, "dual: Gauss-Newton on the exact models (1)-(2)\n"
      "after the linear fit (for mg-level biases); the\nnull-space part of the fit is kept", NULL},
@@ -79,21 +79,9 @@ static int parse(int argc, char **argv, ac_args *a)
                          ? "accel: --prior needs --method ebr" : NULL);
 }
 
-static const char *names_dual[2][9] = {
-    {"KA0", "KB0", "kA1", "kB1", "eta", "KA2", "KB2", "KAio", "KBio"},
-    {"KA0", "KB0", "kA1", "kB1", "eta", "KA2", "KB2", "KAip", "KBip"}};
-static const char *names_single[2][5] = {{"K0", "k1", "delta0", "K2", "Kio"},
-                                         {"K0", "k1", "delta0", "K2", "Kip"}};
-static const char *comb_dual[2][7] = {
-    {"kA1", "kB1", "eta", "KA0+KA2", "KA2+KBio", "KB0+KB2", "KB2-KAio"},
-    {"kA1", "kB1", "eta", "KA0+KA2", "KA2+KBip", "KB0+KB2", "KB2-KAip"}};
-static const char *units_dual[9] = {"g", "g", "", "", "rad", "g/g^2", "g/g^2", "g/g^2",
-                                    "g/g^2"};
-static const char *units_single[5] = {"g", "", "rad", "g/g^2", "g/g^2"};
-
 typedef struct {
     int dual, np, nc, nr, npos;
-    const char *const *names, *const *cnames, *const *units;
+    const char *names[9], *cnames[7], *units[9];
     double *ang, *ya, *yb, *th, *ma, *mb, *phi; /* nr each */
     int *cnt;
     double tau[9], coef[9], sd[9], cmb[7], csd[7], info[IGEA_ACCEL_INFO_LEN];
@@ -106,9 +94,12 @@ static void setup(const ac_args *a, ac_run *r)
     r->dual = a->model == IGEA_ACCEL_DUAL;
     r->np = r->dual ? IGEA_ACCEL_NP_DUAL : IGEA_ACCEL_NP_SINGLE;
     r->nc = r->dual ? IGEA_ACCEL_NC_DUAL : IGEA_ACCEL_NC_SINGLE;
-    r->names = r->dual ? names_dual[a->axis] : names_single[a->axis];
-    r->cnames = r->dual ? comb_dual[a->axis] : names_single[a->axis];
-    r->units = r->dual ? units_dual : units_single;
+    for (int j = 0; j < r->np; j++) {
+        r->names[j] = igea_accel_coef_name(a->model, a->axis, j);
+        r->units[j] = igea_accel_coef_unit(a->model, j);
+    }
+    for (int k = 0; k < r->nc; k++)
+        r->cnames[k] = igea_accel_comb_name(a->model, a->axis, k);
 }
 
 /* The readings (angle, A[, B]) and the prior scales. */
@@ -171,19 +162,11 @@ static int compute(const ac_args *a, ac_run *r)
         return cli_status(st, "accel");
     if (!a->refine)
         return CLI_OK;
-    double C[63];
     st = igea_accel_refine(r->npos, r->th, r->ma, r->mb, r->coef, 100, 1e-13, r->rcoef, r->rsd,
                            r->phi, r->rinfo);
     if (!st)
-        st = igea_accel_combinations(IGEA_ACCEL_DUAL, C, 9);
-    if (st)
-        return cli_status(st, "accel --refine");
-    for (int k = 0; k < r->nc; k++) {
-        r->rcmb[k] = 0.0;
-        for (int j = 0; j < r->np; j++)
-            r->rcmb[k] += C[j + k * 9] * r->rcoef[j];
-    }
-    return CLI_OK;
+        st = igea_accel_combine(IGEA_ACCEL_DUAL, r->rcoef, r->rcmb);
+    return cli_status(st, "accel --refine");
 }
 
 static void json_report(FILE *f, const ac_args *a, const ac_run *r)

@@ -212,13 +212,13 @@ def test_shapes_and_errors():
         igea.accel_fit(TH20, np.zeros(20), np.zeros(20), method="pcr")
     with pytest.raises(ValueError, match="rule"):
         igea.accel_fit(TH20, np.zeros(20), np.zeros(20), rule="x")
-    with pytest.raises(ValueError, match="prior_scale"):
-        igea.accel_fit(TH20, np.zeros(20), np.zeros(20), method="ebr", prior_scale=np.ones(5))
+    with pytest.raises(ValueError, match="prior"):
+        igea.accel_fit(TH20, np.zeros(20), np.zeros(20), method="ebr", prior=np.ones(5))
     with pytest.raises(ValueError, match="truth"):
         igea.accel_simulate(TH20, np.zeros(4))
     ya, yb = ebr_vector(3e-5)
     with pytest.raises(igea.IgeaError) as e:
-        igea.accel_fit(TH20, ya, yb, method="ebr", prior_scale=-np.ones(9))
+        igea.accel_fit(TH20, ya, yb, method="ebr", prior=-np.ones(9))
     assert e.value.code == -1012
     bad = ya.copy()
     bad[3] = np.nan
@@ -269,7 +269,7 @@ def test_driver_json_matches_python(tmp_path):
     np.savetxt(prior, tau)
     th, ma, mb, _ = igea.accel_merge(ang, ya, yb)
     for extra, kw in [([], {}), (["--method", "ebr", "--prior", str(prior)],
-                                 dict(method="ebr", prior_scale=tau))]:
+                                 dict(method="ebr", prior=tau))]:
         out = subprocess.run([DRIVER, "accel", "--json", "--scale-a", "2.5", "--scale-b", "2.5",
                               *extra, "--data", str(f)], capture_output=True, text=True)
         assert out.returncode == 0, out.stderr
@@ -311,3 +311,19 @@ def test_driver_table_single_refine_and_errors(tmp_path):
     bad.write_text("0 0.1 1\n18 x 1\n")
     r = subprocess.run([DRIVER, "accel", "--data", str(bad)], capture_output=True, text=True)
     assert r.returncode == 65 and "2:" in r.stderr
+
+
+def test_names_units_and_combinations_are_the_librarys():
+    """The driver's --json names and the Python names are one list (the
+    library's), and comb = C^T coef with C of accel_combinations."""
+    assert igea.accel.coefficient_names("dual", "oa")[7:] == ["KAip", "KBip"]
+    assert igea.accel.combination_names("dual", "pa")[4] == "KA2+KBio"
+    assert igea.accel.coefficient_units("single") == ["g", "", "rad", "g/g^2", "g/g^2"]
+    with pytest.raises(ValueError, match="axis"):
+        igea.accel.coefficient_names("dual", "ia")
+    ya, yb = ebr_vector(3e-5)
+    fit = igea.accel_fit(TH20, ya, yb)
+    ref = igea.accel_refine(TH20, ya, yb, fit.coef, axis="oa")
+    C = igea.accel_combinations("dual")
+    np.testing.assert_allclose(ref.comb, C.T @ ref.coef, rtol=1e-15, atol=1e-18)
+    assert ref.names == igea.accel.coefficient_names("dual", "oa")
