@@ -1145,6 +1145,20 @@ int igea_redund_window_count(int nsamp, double fs, double window, int *nwin)
     return 0;
 }
 
+int igea_redund_window_length(double fs, double window, int *samples, double *seconds)
+{
+    if (!(isfinite(fs) && fs > 0.0))
+        return -1;
+    long nw;
+    if (!(isfinite(window) && window > 0.0) || window_len(fs, window, &nw))
+        return -2;
+    if (samples)
+        *samples = (int)nw;
+    if (seconds)
+        *seconds = (double)nw / fs;
+    return 0;
+}
+
 int igea_redund_monitor_intervals(int nsens, int nwin, const int *excluded,
                                   double fs, double window, int maxiv,
                                   int *niv, int *sensor, int *win_start,

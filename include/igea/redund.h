@@ -285,6 +285,14 @@ IGEA_API int igea_redund_skew_check(int ny, const double *ay, const double *sy,
 IGEA_API int igea_redund_window_count(int nsamp, double fs, double window,
                                       int *nwin);
 
+/* The window actually used: *samples = round(window fs) (halves away from
+ * zero, as C's lround) and its length *seconds = samples / fs, the time
+ * step of the window start times. 1 fs > 0, 2 window > 0 with
+ * round(window fs) >= 1, 3 samples (may be NULL), 4 seconds (may be NULL).
+ * Returns 0 or -i. */
+IGEA_API int igea_redund_window_length(double fs, double window, int *samples,
+                                       double *seconds);
+
 /*
  * Windowed consistency check of nsens redundant sensors measuring the same
  * quantity (columns of y, nsamp x nsens): per window of round(window fs)

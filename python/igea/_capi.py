@@ -397,6 +397,8 @@ PROTOTYPES = {
         ("faulty_z", _PI), ("faulty_d", _PI),)),
     "igea_redund_window_count": (c_int, (("nsamp", c_int), ("fs", c_double), ("window", c_double),
         ("nwin", _PI),)),
+    "igea_redund_window_length": (c_int, (("fs", c_double), ("window", c_double), ("samples", _PI),
+        ("seconds", _PD),)),
     "igea_redund_monitor": (c_int, (("nsamp", c_int), ("nsens", c_int), ("y", _PD), ("ldy", c_int),
         ("fs", c_double), ("window", c_double), ("sigma", _PD), ("alpha", _PD), ("lda", c_int),
         ("iterative", c_int), ("weighted", c_int), ("nwin", c_int), ("means", _PD),

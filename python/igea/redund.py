@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _capi, _lib
+from ._compat import _UNSET, renamed
 
 
 
@@ -210,6 +211,18 @@ def relation(D, alpha=0.7):
     return r.astype(int)
 
 
+def _one_shot(where, one_shot, iterative):
+    """one_shot, or the old keyword iterative (its negation)."""
+    old = _UNSET if iterative is _UNSET else not iterative
+    return bool(renamed(where, "one_shot", one_shot, "iterative", old, default=False))
+
+
+def _average(where, average, weighted):
+    """average, or the old keyword weighted (its negation)."""
+    old = _UNSET if weighted is _UNSET else not weighted
+    return bool(renamed(where, "average", average, "weighted", old, default=False))
+
+
 def _fusion(D, alpha, iterative):
     d = _square(D, "D")
     n = d.shape[0]
@@ -221,10 +234,11 @@ def _fusion(D, alpha, iterative):
     return keep.astype(bool), sup.astype(int)
 
 
-def fusion_set(D, alpha=0.7, *, iterative=True):
-    """Boolean mask of the fusion set (METHODS 3.3): iterative majority, or
-    one shot (iterative=False)."""
-    return _fusion(D, alpha, iterative)[0]
+def fusion_set(D, alpha=0.7, *, one_shot=_UNSET, iterative=_UNSET):
+    """Boolean mask of the fusion set (METHODS 3.3): the iterative majority,
+    or the one-shot set (one_shot=True, the driver's --one-shot;
+    iterative=False is its old spelling)."""
+    return _fusion(D, alpha, not _one_shot("igea.fusion_set", one_shot, iterative))[0]
 
 
 def support(D, alpha=0.7):
@@ -232,9 +246,11 @@ def support(D, alpha=0.7):
     return _fusion(D, alpha, True)[1]
 
 
-def fuse(x, sigma, mask=None, *, weighted=True):
+def fuse(x, sigma, mask=None, *, average=_UNSET, weighted=_UNSET):
     """(value, sigma) fused over mask (None: all): inverse-variance weights,
-    or the plain average with sigma = sqrt(sum sigma^2) / |F|."""
+    or the plain average with sigma = sqrt(sum sigma^2) / |F| (average=True,
+    the driver's --average; weighted=False is its old spelling)."""
+    weighted = not _average("igea.fuse", average, weighted)
     xv = _vec(x, "x")
     n = xv.size
     if n < 1:
@@ -403,10 +419,15 @@ class SeriesCheck:
         return "\n".join(lines)
 
 
-def series_check(y, fs, window, sigma, alpha=0.7, *, iterative=True, weighted=True):
+def series_check(y, fs, window, sigma, alpha=0.7, *, one_shot=_UNSET, average=_UNSET,
+                 iterative=_UNSET, weighted=_UNSET):
     """Per window of round(window fs) samples: window means of the columns of
     y (nsamp, nsens), confidence distances with sigma (tolerances of the
-    means), the fusion set and the fused value."""
+    means), the fusion set (one_shot as fusion_set) and the fused value
+    (average as fuse). SeriesCheck.window is the length used, round(window
+    fs) / fs seconds (igea_redund_window_length)."""
+    iterative = not _one_shot("igea.series_check", one_shot, iterative)
+    weighted = not _average("igea.series_check", average, weighted)
     a = _lib.as_f64(y, "y", ndim=2)
     nsamp, nsens = a.shape
     if nsamp < 1 or nsens < 1:
@@ -434,7 +455,10 @@ def series_check(y, fs, window, sigma, alpha=0.7, *, iterative=True, weighted=Tr
     _lib.call("igea.series_check", "igea_redund_monitor_intervals", nsens, nw, _lib.iptr(ex),
               float(fs), float(window), cap, ctypes.byref(niv), _lib.iptr(sensor), _lib.iptr(w0),
               _lib.iptr(w1), _lib.dptr(t0), _lib.dptr(t1))
-    step = round(window * fs) / fs
+    step = ctypes.c_double()
+    _lib.call("igea.series_check", "igea_redund_window_length", float(fs), float(window), None,
+              ctypes.byref(step))
+    step = step.value
     k = niv.value
     return SeriesCheck(np.arange(nw) * step, step, means.T.copy(), ex.T.astype(bool), fused,
                        fsig, [(int(a), float(b), float(c)) for a, b, c in

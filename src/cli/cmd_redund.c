@@ -351,7 +351,7 @@ static int do_fuse(const rd_args *a, FILE *f)
         ec = CLI_USAGE;
     }
     if (!ec && !(ec = run_fuse(a, y, ns, s, &r))) {
-        r.step = (double)lround(a->window * a->fs) / a->fs;
+        igea_redund_window_length(a->fs, a->window, NULL, &r.step);
         report_fuse(a, f, &r);
     }
     free(r.means);

@@ -244,6 +244,7 @@ BASE = {
                                    ad='0.1', sd='1.0', cy='0.7071', cz='0.7071',
                                    kappa='3.0'),
     'igea_redund_window_count': dict(nsamp='100', fs='10.0', window='2.0'),
+    'igea_redund_window_length': dict(fs='10.0', window='2.5'),
     'igea_redund_monitor': dict(nsamp='100', nsens='4', ldy='nsamp', fs='10.0',
                                      window='2.0', alpha='c:0.9', lda='nsens',
                                      iterative='1', weighted='1', nwin='5'),

@@ -75,3 +75,24 @@ def test_result_fields_are_json_keys():
     assert {"flights", "mean_scale"} <= json_keys("montecarlo")
     assert "n_epochs" in json_keys("rls")
     assert fields(igea.AccelFit) <= json_keys("accel")
+
+
+# Keywords that were spelled apart from the driver: the driver's spelling is
+# the keyword, the old one only a deprecated alias (default: the sentinel).
+RENAMED = [
+    (igea.rls_run, "rls", {"sigma": "track_sigma", "jump": "jump_max"}),
+    (igea.RLS, "rls", {"jump": "jump_max"}),
+    (igea.accel_fit, "accel", {"prior": "prior_scale"}),
+    (igea.series_check, "redund", {"one_shot": "iterative", "average": "weighted"}),
+    (igea.fusion_set, "redund", {"one_shot": "iterative"}),
+    (igea.fuse, "redund", {"average": "weighted"}),
+]
+
+
+@pytest.mark.parametrize("fn, cmd, pairs", RENAMED)
+def test_driver_spelling_with_deprecated_aliases(fn, cmd, pairs):
+    from igea._compat import _UNSET
+    params = inspect.signature(fn).parameters
+    for new, old in pairs.items():
+        assert new in options(cmd), (cmd, new)
+        assert new in params and params[old].default is _UNSET, (fn.__name__, new, old)

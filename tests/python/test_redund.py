@@ -172,7 +172,7 @@ def test_relation_thresholds_fusion():
     x[3] += 0.010
     D = igea.confidence_distance(x, 20e-6)
     np.testing.assert_array_equal(igea.fusion_set(D), [True, True, True, False])
-    np.testing.assert_array_equal(igea.fusion_set(D, iterative=False), [True, False, False, False])
+    np.testing.assert_array_equal(igea.fusion_set(D, one_shot=True), [True, False, False, False])
     np.testing.assert_array_equal(igea.support(D), [2, 1, 1, 0])
     v, s = igea.fuse(x, 20e-6, igea.fusion_set(D))
     assert v == pytest.approx(1.0000077, abs=5e-8)
@@ -188,7 +188,7 @@ def test_relation_thresholds_fusion():
         np.testing.assert_array_equal(ref_cdm(xs, sg) <= np.broadcast_to(alpha, (n, n)),
                                       igea.relation(D, alpha).astype(bool) | np.eye(n, dtype=bool))
         for it in (True, False):
-            np.testing.assert_array_equal(igea.fusion_set(D, alpha, iterative=it),
+            np.testing.assert_array_equal(igea.fusion_set(D, alpha, one_shot=not it),
                                           ref_fusion(D, alpha, it))
     with pytest.raises(ValueError, match="alpha"):
         igea.fusion_set(D, np.ones((2, 2)) * 0.5)
@@ -205,7 +205,7 @@ def test_fuse_and_false_alarm():
     v, fs = igea.fuse(x, s)
     assert v == pytest.approx((w * x).sum() / w.sum(), rel=1e-15)
     assert fs == pytest.approx(w.sum() ** -0.5, rel=1e-15)
-    v, fs = igea.fuse(x, s, [True, False, True], weighted=False)
+    v, fs = igea.fuse(x, s, [True, False, True], average=True)
     assert v == pytest.approx(2.5) and fs == pytest.approx(math.sqrt(17) / 2)
     with pytest.raises(igea.IgeaError):
         igea.fuse(x, s, [False, False, False])
@@ -374,3 +374,24 @@ def test_driver_redund(tmp_path):
     (tmp_path / "bad.txt").write_text("1.0\n2.x\n")
     r = _drive("consistency", "--x", "bad.txt", "--sigma", "1", cwd=tmp_path)
     assert r.returncode == 65 and "bad.txt:2" in r.stderr
+
+
+def test_series_check_window_used_and_the_driver_spelling():
+    """The window used is round(window fs) samples with halves away from
+    zero (C's lround; Python's round(2.5) is 2): window 2.5 s at 1 Hz is 3
+    samples, so 30 samples give 10 windows starting every 3 s. one_shot=/
+    average= are the driver's --one-shot/--average; the old iterative=/
+    weighted= (their negations) give the same result with a warning."""
+    rng = np.random.default_rng(4)
+    y = 1.0 + 1e-6 * rng.standard_normal((30, 4))
+    r = igea.series_check(y, 1.0, 2.5, 20e-6)
+    assert r.window == 3.0 and r.fused.size == 10
+    np.testing.assert_array_equal(r.t, 3.0 * np.arange(10))
+    np.testing.assert_allclose(r.means[0], y[:3].mean(axis=0), rtol=1e-15)
+    new = igea.series_check(y, 1.0, 2.5, 20e-6, one_shot=True, average=True)
+    np.testing.assert_allclose(new.fused, y.reshape(10, 3, 4).mean(axis=(1, 2)), rtol=1e-14)
+    with pytest.warns(DeprecationWarning, match="iterative= is now one_shot="):
+        old = igea.series_check(y, 1.0, 2.5, 20e-6, iterative=False, weighted=False)
+    np.testing.assert_array_equal(old.fused, new.fused)
+    with pytest.raises(TypeError, match="give average= only"):
+        igea.fuse([1.0, 2.0], [1.0, 1.0], average=True, weighted=True)
