@@ -25,6 +25,10 @@ static const choice accel_method[] = {
     {IGEA_ACCEL_LS, "ls"}, {IGEA_ACCEL_EBR, "ebr"}, END};
 static const choice accel_axis[] = {
     {IGEA_ACCEL_AXIS_PA, "pa"}, {IGEA_ACCEL_AXIS_OA, "oa"}, END};
+static const choice impact_model[] = {
+    {IGEA_IMPACT_KEPLER, "kepler"}, {IGEA_IMPACT_J2, "j2"}, END};
+static const choice impact_cep[] = {
+    {IGEA_IMPACT_CEP_SUM, "sum"}, {IGEA_IMPACT_CEP_RMS, "rms"}, END};
 static const choice envfun_system[] = {
     {IGEA_ENVFUN_STRAPDOWN, "strapdown"}, {IGEA_ENVFUN_PLATFORM, "platform"}, END};
 static const choice envfun_output[] = {
@@ -71,6 +75,8 @@ static const choice *table(int kind)
     case IGEA_CHOICE_ACCEL_MODEL: return accel_model;
     case IGEA_CHOICE_ACCEL_METHOD: return accel_method;
     case IGEA_CHOICE_ACCEL_AXIS: return accel_axis;
+    case IGEA_CHOICE_IMPACT_MODEL: return impact_model;
+    case IGEA_CHOICE_IMPACT_CEP: return impact_cep;
     case IGEA_CHOICE_ENVFUN_SYSTEM: return envfun_system;
     case IGEA_CHOICE_ENVFUN_OUTPUT: return envfun_output;
     case IGEA_CHOICE_SIM_GENERATOR: return sim_generator;

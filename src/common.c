@@ -5,6 +5,7 @@
 #include <lapacke.h>
 
 #include "igea/eqerr.h"
+#include "igea/impact.h"
 #include "igea/sim.h"
 #include "internal.h"
 
@@ -63,9 +64,16 @@ const char *igea_opt_name(int module, int slot)
         [IGEA_SIM_OPT_OUTLIER_SCALE] = "outlier_scale",
         [IGEA_SIM_OPT_GENERATOR] = "generator",
     };
+    static const char *const impact[IGEA_IMPACT_OPT_LEN] = {
+        [IGEA_IMPACT_OPT_MU] = "mu",         [IGEA_IMPACT_OPT_RADIUS] = "radius",
+        [IGEA_IMPACT_OPT_OMEGA] = "omega",   [IGEA_IMPACT_OPT_J2] = "j2",
+        [IGEA_IMPACT_OPT_RE] = "re",         [IGEA_IMPACT_OPT_STEP] = "step",
+        [IGEA_IMPACT_OPT_TMAX] = "tmax",
+    };
     const char *const *names;
     int len;
     switch (module) {
+    case IGEA_MODULE_IMPACT: names = impact; len = IGEA_IMPACT_OPT_LEN; break;
     case IGEA_MODULE_EQERR: names = eqerr; len = IGEA_EQERR_OPT_LEN; break;
     case IGEA_MODULE_SIM: names = sim; len = IGEA_SIM_OPT_LEN; break;
     default: return "";

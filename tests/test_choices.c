@@ -74,6 +74,10 @@ static const pair expected[] = {
     {IGEA_CHOICE_STATS_VERDICT, IGEA_STATS_VERDICT_SIDAK, "sidak"},
     {IGEA_CHOICE_ACCEL_AXIS, IGEA_ACCEL_AXIS_PA, "pa"},
     {IGEA_CHOICE_ACCEL_AXIS, IGEA_ACCEL_AXIS_OA, "oa"},
+    {IGEA_CHOICE_IMPACT_MODEL, IGEA_IMPACT_KEPLER, "kepler"},
+    {IGEA_CHOICE_IMPACT_MODEL, IGEA_IMPACT_J2, "j2"},
+    {IGEA_CHOICE_IMPACT_CEP, IGEA_IMPACT_CEP_SUM, "sum"},
+    {IGEA_CHOICE_IMPACT_CEP, IGEA_IMPACT_CEP_RMS, "rms"},
 };
 /* Kinds are numbered from 1, not necessarily without gaps, below KIND_MAX;
  * UNKNOWN_KIND is none. */

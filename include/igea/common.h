@@ -79,6 +79,7 @@ IGEA_API const char *igea_strerror(int status);
  * igea_opt_name. */
 #define IGEA_MODULE_EQERR 1 /* igea/eqerr.h, IGEA_EQERR_OPT_* */
 #define IGEA_MODULE_SIM 2   /* igea/sim.h, IGEA_SIM_OPT_* */
+#define IGEA_MODULE_IMPACT 10 /* igea/impact.h, IGEA_IMPACT_OPT_* */
 
 /*
  * Static name of slot `slot` of module `module`'s options array, as the
@@ -102,6 +103,8 @@ IGEA_API const char *igea_opt_name(int module, int slot);
 #define IGEA_CHOICE_ACCEL_MODEL 4        /* igea/accel.h IGEA_ACCEL_SINGLE, _DUAL: single dual */
 #define IGEA_CHOICE_ACCEL_METHOD 5       /* igea/accel.h IGEA_ACCEL_LS, _EBR: ls ebr */
 #define IGEA_CHOICE_ACCEL_AXIS 41        /* igea/accel.h IGEA_ACCEL_AXIS_*: pa oa */
+#define IGEA_CHOICE_IMPACT_MODEL 42      /* igea/impact.h IGEA_IMPACT_KEPLER, _J2: kepler j2 */
+#define IGEA_CHOICE_IMPACT_CEP 43        /* igea/impact.h IGEA_IMPACT_CEP_*: sum rms */
 #define IGEA_CHOICE_ENVFUN_SYSTEM 6      /* igea/envfun.h IGEA_ENVFUN_STRAPDOWN, _PLATFORM:
                                           * strapdown platform */
 #define IGEA_CHOICE_ENVFUN_OUTPUT 7      /* igea/envfun.h IGEA_ENVFUN_VELOCITY, _POSITION,

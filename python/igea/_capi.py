@@ -73,12 +73,15 @@ EOVERFLOW = -1022
 SIGMA_MIN = 1.4916681462400413e-154
 MODULE_EQERR = 1
 MODULE_SIM = 2
+MODULE_IMPACT = 10
 CHOICE_EQERR_ROUTE = 1
 CHOICE_REGRESS_RIDGE_RULE = 2
 CHOICE_REGRESS_EBR_RULE = 3
 CHOICE_ACCEL_MODEL = 4
 CHOICE_ACCEL_METHOD = 5
 CHOICE_ACCEL_AXIS = 41
+CHOICE_IMPACT_MODEL = 42
+CHOICE_IMPACT_CEP = 43
 CHOICE_ENVFUN_SYSTEM = 6
 CHOICE_ENVFUN_OUTPUT = 7
 CHOICE_SIM_GENERATOR = 8
@@ -135,6 +138,24 @@ EQERR_OPT_ROUTE = 11
 EQERR_OPT_LEN = 32
 EQERR_ROUTE_EIG = 0
 EQERR_ROUTE_SVD = 1
+
+# igea/impact.h
+IMPACT_KEPLER = 0
+IMPACT_J2 = 1
+IMPACT_OPT_MU = 0
+IMPACT_OPT_RADIUS = 1
+IMPACT_OPT_OMEGA = 2
+IMPACT_OPT_J2 = 3
+IMPACT_OPT_RE = 4
+IMPACT_OPT_STEP = 5
+IMPACT_OPT_TMAX = 6
+IMPACT_OPT_LEN = 16
+IMPACT_JAC_POS = 0
+IMPACT_JAC_VEL = 3
+IMPACT_JAC_TIME = 6
+IMPACT_JAC_ROWS = 7
+IMPACT_CEP_SUM = 0
+IMPACT_CEP_RMS = 1
 
 # igea/redund.h
 REDUND_RBD_SERIES = 0
@@ -353,6 +374,19 @@ PROTOTYPES = {
     "igea_eqerr_residual": (c_int, (("layout", c_int), ("m", c_int), ("N", c_int), ("S", _PD),
         ("lds", c_int), ("dw", _PD), ("coef", _PD), ("row0", c_int), ("residual", _PD),
         ("axis_ss", _PD),)),
+    # igea/impact.h
+    "igea_impact_defaults": (c_int, (("opts", _PD),)),
+    "igea_impact_check_opts": (c_int, (("opts", _PD),)),
+    "igea_impact_point": (c_int, (("model", c_int), ("opts", _PD), ("r0", _PD), ("v0", _PD),
+        ("rf", _PD), ("vf", _PD), ("tf", _PD), ("jac", _PD), ("ldj", c_int),)),
+    "igea_impact_axes": (c_int, (("rf", _PD), ("vf", _PD), ("down", _PD), ("cross", _PD),)),
+    "igea_impact_miss_jacobian": (c_int, (("jac", _PD), ("ldj", c_int), ("rf", _PD), ("vf", _PD),
+        ("G", _PD), ("ldg", c_int),)),
+    "igea_impact_budget": (c_int, (("n", c_int), ("G", _PD), ("ldg", c_int), ("E", _PD),
+        ("lde", c_int), ("miss", _PD), ("cov", _PD), ("share", _PD),)),
+    "igea_impact_circle_prob": (c_int, (("cov", _PD), ("r", c_double), ("prob", _PD),)),
+    "igea_impact_cep": (c_int, (("cov", _PD), ("prob", c_double), ("radius", _PD),)),
+    "igea_impact_cep_approx": (c_int, (("cov", _PD), ("rule", c_int), ("radius", _PD),)),
     # igea/normal.h
     "igea_normal_accumulate": (c_int, (("layout", c_int), ("m", c_int), ("N", c_int), ("S", _PD),
         ("lds", c_int), ("dw", _PD), ("track_sigma", _PD), ("sigma_inc", c_int),

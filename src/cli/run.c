@@ -23,6 +23,7 @@ static const command commands[] = {
     {"envfun", cmd_envfun, "environment-function matrix S of a trajectory and error terms"},
     {"simulate", cmd_simulate, "a synthetic flight test with known truth: S, dw, sigma, spec, X files"},
     {"montecarlo", cmd_montecarlo, "size and power of the accuracy test over many simulated flights"},
+    {"impact", cmd_impact, "impact point of a free flight, miss per burnout error, budget and CEP"},
     {"version", cmd_version, "print the library and driver version"},
 };
 

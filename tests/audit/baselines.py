@@ -70,6 +70,7 @@ NAME_DEFAULTS = {
 
 EQ_OPTS = 'set:igea_eqerr_defaults(b_);'
 SIM_OPTS = 'set:igea_sim_defaults(b_);'
+IMP_OPTS = 'set:igea_impact_defaults(b_);'
 TRAJ = 'set:igea_sim_trajectory(IGEA_ENVFUN_STRAPDOWN, 10.0, 10.0, 101, b_, 101);'
 THETA30 = 'c:30.0 * (double)i'
 YA_DUAL = 'c:asind(30.0 * (double)i) + 1e-4 * au(i)'
@@ -160,6 +161,22 @@ BASE = {
     'igea_accel_combine': dict(model='IGEA_ACCEL_DUAL', coef='c:1e-4 * au(i)'),
     'igea_accel_simulate': dict(n='12', theta_deg=THETA30, truth='c:1e-4 * au(i)',
                                 head_sd='1e-6', noise_sd='1e-5', seed='1'),
+    # ---- impact
+    'igea_impact_check_opts': dict(opts=IMP_OPTS, _nan_ok=['opts'], _inf_ok=['opts'],
+                                   _req=['opts']),
+    'igea_impact_point': dict(model='IGEA_IMPACT_KEPLER', opts=IMP_OPTS,
+                              r0='[6471008.8, 0.0, 0.0]', v0='[2500.0, 4330.0, 500.0]',
+                              ldj='IGEA_IMPACT_JAC_ROWS', _int=dict(ldj='ld'),
+                              _req=['r0', 'v0', 'rf']),
+    'igea_impact_axes': dict(rf='[6371008.8, 0.0, 0.0]', vf='[-1000.0, 3000.0, 500.0]'),
+    'igea_impact_miss_jacobian': dict(jac='u', ldj='IGEA_IMPACT_JAC_ROWS',
+                                      rf='[6371008.8, 0.0, 0.0]', vf='[-1000.0, 3000.0, 500.0]',
+                                      ldg='2', _int=dict(ldj='ld', ldg='ld')),
+    'igea_impact_budget': dict(n='3', G='u', ldg='2', E='u', lde='6',
+                               _int=dict(ldg='ld', lde='ld'), _req=['miss']),
+    'igea_impact_circle_prob': dict(cov='[4.0, 1.0, 1.0, 2.0]', r='1.5'),
+    'igea_impact_cep': dict(cov='[4.0, 1.0, 1.0, 2.0]', prob='0.5'),
+    'igea_impact_cep_approx': dict(cov='[4.0, 1.0, 1.0, 2.0]', rule='IGEA_IMPACT_CEP_SUM'),
     # ---- envfun
     'igea_envfun_term_valid': dict(system='IGEA_ENVFUN_STRAPDOWN', term='IGEA_ENVFUN_TERM_ACC_BIAS_X',
                                    _ret='bool'),

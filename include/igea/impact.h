@@ -1,0 +1,168 @@
+/*
+ * igea/impact.h - the impact point of a ballistic free flight, its
+ * sensitivity to the burnout state, the error budget in miss distance and
+ * the circular error probable (docs/impact.md).
+ *
+ * Frames. The burnout state is given in an Earth-centred Earth-fixed frame
+ * (ECEF: z the rotation axis) at the burnout instant: position r0 (m) and
+ * velocity v0 (m/s) relative to the rotating Earth. The free flight is
+ * computed in the inertial frame that coincides with ECEF at burnout (the
+ * inertial velocity is v0 + w x r0), and the impact point is returned in
+ * ECEF at the impact instant. With omega = 0 all three frames are one.
+ *
+ * Models: IGEA_IMPACT_KEPLER, a spherical Earth of gravitational parameter
+ * mu, in closed form (the Kepler ellipse from the burnout state to the
+ * sphere |r| = radius, Lagrange f and g, the time of flight from the
+ * eccentric anomaly); IGEA_IMPACT_J2, the same Earth with the J2 zonal term
+ * (reference radius re), integrated numerically (classical Runge-Kutta of
+ * step `step` s, the crossing of the sphere solved by Newton's method).
+ *
+ * The Jacobian of the impact (position, velocity, time) with respect to the
+ * burnout state is, for Kepler, the exact derivative of the closed form
+ * (forward-mode differentiation, no finite differences); for J2, central
+ * differences of the integration. The miss is measured at the nominal
+ * impact point along the downrange axis (the horizontal part of the impact
+ * velocity) and the crossrange axis (to the right of it, downrange x up).
+ */
+#ifndef IGEA_IMPACT_H
+#define IGEA_IMPACT_H
+
+#include "igea/common.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Models (IGEA_CHOICE_IMPACT_MODEL: kepler j2). */
+#define IGEA_IMPACT_KEPLER 0
+#define IGEA_IMPACT_J2 1
+
+/* Indices into opts[IGEA_IMPACT_OPT_LEN]; igea_impact_defaults fills them
+ * (WGS-84 mu, J2, equatorial radius and Earth rate; the sphere of impact at
+ * the mean radius 6371008.8 m). */
+#define IGEA_IMPACT_OPT_MU 0     /* gravitational parameter, m^3/s^2: 3.986004418e14 */
+#define IGEA_IMPACT_OPT_RADIUS 1 /* radius of the impact sphere, m: 6371008.8 */
+#define IGEA_IMPACT_OPT_OMEGA 2  /* Earth rate, rad/s: 7.292115e-5 (0: no rotation) */
+#define IGEA_IMPACT_OPT_J2 3     /* J2 (the J2 model only): 1.082629821313e-3 */
+#define IGEA_IMPACT_OPT_RE 4     /* J2 reference radius, m: 6378137 */
+#define IGEA_IMPACT_OPT_STEP 5   /* J2 integration step, s: 0.5 */
+#define IGEA_IMPACT_OPT_TMAX 6   /* longest flight searched, s: 1e5 */
+#define IGEA_IMPACT_OPT_LEN 16   /* slots 7.. reserved for additions (0) */
+
+/* Rows of the impact Jacobian jac (IGEA_IMPACT_JAC_ROWS x 6, the columns
+ * the burnout x y z vx vy vz). */
+#define IGEA_IMPACT_JAC_POS 0 /* rows 0..2: impact position */
+#define IGEA_IMPACT_JAC_VEL 3 /* rows 3..5: impact velocity (ECEF) */
+#define IGEA_IMPACT_JAC_TIME 6 /* row 6: time of flight */
+#define IGEA_IMPACT_JAC_ROWS 7
+
+/* Approximate CEP rules (IGEA_CHOICE_IMPACT_CEP: sum rms), sigma_1 >=
+ * sigma_2 the principal standard deviations; both exact for a circle. */
+#define IGEA_IMPACT_CEP_SUM 0 /* 0.5887 (sigma_1 + sigma_2) */
+#define IGEA_IMPACT_CEP_RMS 1 /* 1.1774 sqrt((sigma_1^2 + sigma_2^2) / 2) */
+
+/* Fill opts[IGEA_IMPACT_OPT_LEN] with the defaults above. Returns 0, -1. */
+IGEA_API int igea_impact_defaults(double *opts);
+
+/*
+ * Check opts[IGEA_IMPACT_OPT_LEN]: every slot finite (the reserved ones
+ * included), mu > 0, radius > 0, omega >= 0, re > 0, 0 < step <= 60,
+ * tmax > 0. Returns 0 when they are valid, -1 for a NULL opts, else 1 +
+ * the first bad slot (igea_opt_name(IGEA_MODULE_IMPACT, slot) names it).
+ */
+IGEA_API int igea_impact_check_opts(const double *opts);
+
+/*
+ * The impact point of the free flight from a burnout state.
+ *  1 model IGEA_IMPACT_KEPLER or IGEA_IMPACT_J2; 2 opts
+ *  [IGEA_IMPACT_OPT_LEN] (igea_impact_check_opts); 3 r0[3] burnout
+ *  position (ECEF, m; |r0| >= radius); 4 v0[3] burnout velocity (ECEF, m/s).
+ * Outputs: 5 rf[3] impact position (ECEF at impact, |rf| = radius); 6 vf[3]
+ *  impact velocity (ECEF, relative to the Earth) (may be NULL); 7 tf time of
+ *  flight (s) (may be NULL); 8 jac (IGEA_IMPACT_JAC_ROWS x 6, column-major)
+ *  the derivatives of rf, vf and tf with respect to (r0, v0) (may be NULL);
+ *  9 ldj >= IGEA_IMPACT_JAC_ROWS (read only when jac is not NULL).
+ * Returns 0, -i, IGEA_ENONFINITE, or IGEA_EDOMAIN (outputs untouched) when
+ * the flight does not come down to the sphere: an orbit or escape (Kepler:
+ * energy >= 0 or the perigee above the sphere; J2: no crossing within
+ * tmax), a burnout below the sphere, or a burnout with zero angular
+ * momentum (vertical flight: the impact direction is undefined).
+ */
+IGEA_API int igea_impact_point(int model, const double *opts, const double *r0,
+                               const double *v0, double *rf, double *vf, double *tf,
+                               double *jac, int ldj);
+
+/*
+ * The downrange and crossrange unit vectors at an impact point: down = the
+ * part of vf perpendicular to rf, normalised; cross = down x rf / |rf| (to
+ * the right of the direction of flight).
+ *  1 rf[3] impact position, 2 vf[3] impact velocity; outputs 3 down[3],
+ *  4 cross[3].
+ * Returns 0, -i, IGEA_ENONFINITE, or IGEA_EDOMAIN when vf is vertical or
+ * rf is zero.
+ */
+IGEA_API int igea_impact_axes(const double *rf, const double *vf, double *down,
+                              double *cross);
+
+/*
+ * The miss Jacobian G (2 x 6, column-major): row 0 downrange, row 1
+ * crossrange (m per unit of the burnout x y z vx vy vz), G = [down cross]^T
+ * J_pos with J_pos the position rows of jac and the axes of
+ * igea_impact_axes at (rf, vf).
+ *  1 jac (IGEA_IMPACT_JAC_ROWS x 6), 2 ldj >= IGEA_IMPACT_JAC_ROWS, 3 rf[3],
+ *  4 vf[3]; outputs 5 G, 6 ldg >= 2.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_EDOMAIN (as igea_impact_axes).
+ */
+IGEA_API int igea_impact_miss_jacobian(const double *jac, int ldj, const double *rf,
+                                       const double *vf, double *G, int ldg);
+
+/*
+ * The error budget in miss distance. Column j of E (6 x n) is the burnout
+ * state error (x y z vx vy vz) caused by error term j at its 1-sigma level
+ * (e.g. the position and velocity environment functions at burnout times
+ * the spec), the terms independent.
+ *  1 n >= 1 terms; 2 G (2 x 6, igea_impact_miss_jacobian); 3 ldg >= 2;
+ *  4 E; 5 lde >= 6. Outputs: 6 miss (2 x n, ld 2): downrange and crossrange
+ *  miss of each term; 7 cov[4] (2 x 2, column-major): sum over terms of
+ *  miss_j miss_j^T; 8 share[n]: |miss_j|^2 / sum_k |miss_k|^2 (0 for all
+ *  when every miss is 0) (may be NULL).
+ * Returns 0, -i, IGEA_ENONFINITE.
+ */
+IGEA_API int igea_impact_budget(int n, const double *G, int ldg, const double *E, int lde,
+                                double *miss, double *cov, double *share);
+
+/*
+ * Probability that a zero-mean normal 2-vector of covariance cov lies in
+ * the circle of radius r about the mean:
+ *   P(r) = 1 - (1/pi) int_0^pi exp(-r^2 / (2 (s1 cos^2 t + s2 sin^2 t))) dt
+ * (s1 >= s2 the eigenvalues; Craig's form, exact), by the periodic
+ * trapezoidal rule refined until two successive values agree to 2 ulp.
+ *  1 cov[4] (2 x 2, column-major, symmetric positive semi-definite); 2 r
+ *  >= 0; output 3 prob.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE (a negative variance),
+ * IGEA_EDOMAIN (cov not symmetric to 1e-12 relative, or not positive
+ * semi-definite).
+ */
+IGEA_API int igea_impact_circle_prob(const double *cov, double r, double *prob);
+
+/*
+ * The radius of the circle about the mean that holds probability prob
+ * (0.5: the CEP), the root of igea_impact_circle_prob to full precision.
+ *  1 cov[4] as igea_impact_circle_prob; 2 0 < prob < 1; output 3 radius
+ *  (0 when cov is zero). Returns as igea_impact_circle_prob.
+ */
+IGEA_API int igea_impact_cep(const double *cov, double prob, double *radius);
+
+/*
+ * A usual approximation of the CEP (prob 0.5): 1 cov[4] as above; 2 rule
+ * IGEA_IMPACT_CEP_SUM or IGEA_IMPACT_CEP_RMS; output 3 radius. Their
+ * errors against igea_impact_cep are stated in docs/impact.md. Returns as
+ * igea_impact_circle_prob, or -2 for an unknown rule.
+ */
+IGEA_API int igea_impact_cep_approx(const double *cov, int rule, double *radius);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,139 @@
+"""The impact point of a ballistic free flight, the miss budget and the CEP
+(include/igea/impact.h, docs/impact.md).
+
+The burnout state is ECEF position (m) and velocity relative to the Earth
+(m/s) at burnout; the impact point is ECEF at impact. Models "kepler"
+(spherical Earth, closed form, exact Jacobian) and "j2" (integrated,
+Jacobian by central differences)."""
+import ctypes
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _capi, _lib
+
+
+@dataclass(frozen=True)
+class ImpactResult:
+    """igea.impact: the impact and its sensitivity to the burnout state.
+
+    point (3,), velocity (3,) ECEF at impact; time: time of flight (s);
+    jacobian (7, 6): d(point, velocity, time) / d(burnout x y z vx vy vz);
+    down, cross (3,): the miss axes at the impact point; miss_jacobian
+    (2, 6): downrange and crossrange miss per unit of the burnout state."""
+    model: str
+    point: np.ndarray
+    velocity: np.ndarray
+    time: float
+    jacobian: np.ndarray
+    down: np.ndarray
+    cross: np.ndarray
+    miss_jacobian: np.ndarray
+
+    def summary(self):
+        g = self.miss_jacobian
+        lines = ["impact (%s): time of flight %.3f s, point %.3f %.3f %.3f m"
+                 % (self.model, self.time, *self.point),
+                 "miss per unit burnout error    x         y         z        vx        vy        vz"]
+        for name, row in (("downrange", g[0]), ("crossrange", g[1])):
+            lines.append("%-28s" % name + "".join("%10.4g" % v for v in row))
+        return "\n".join(lines)
+
+
+def _opts(where, mu, radius, omega, j2, re, step, tmax):
+    return _lib.options("impact", where, ("igea_impact_point", "opts"), mu=mu, radius=radius,
+                        omega=omega, j2=j2, re=re, step=step, tmax=tmax)
+
+
+def impact(burnout, *, model="kepler", mu=None, radius=None, omega=None, j2=None, re=None,
+           step=None, tmax=None):
+    """The impact of the free flight from burnout (6,): x y z vx vy vz in
+    ECEF. Options left None keep the library's defaults (WGS-84 mu, J2, re,
+    Earth rate; the impact sphere at the mean radius 6371008.8 m)."""
+    where = "igea.impact"
+    code = _lib.choice(_capi.CHOICE_IMPACT_MODEL, model, where, "model")
+    s = np.ascontiguousarray(_lib.as_f64(burnout, "burnout", ndim=1, shape=(6,)))
+    o = _opts(where, mu, radius, omega, j2, re, step, tmax)
+    rf, vf, tf = np.zeros(3), np.zeros(3), ctypes.c_double()
+    jac = np.zeros((_capi.IMPACT_JAC_ROWS, 6), order="F")
+    _lib.call(where, "igea_impact_point", code, _lib.dptr(o), _lib.dptr(s[:3]),
+              _lib.dptr(s[3:]), _lib.dptr(rf), _lib.dptr(vf), ctypes.byref(tf), _lib.dptr(jac),
+              _capi.IMPACT_JAC_ROWS)
+    down, cross = np.zeros(3), np.zeros(3)
+    _lib.call(where, "igea_impact_axes", _lib.dptr(rf), _lib.dptr(vf), _lib.dptr(down),
+              _lib.dptr(cross))
+    G = np.zeros((2, 6), order="F")
+    _lib.call(where, "igea_impact_miss_jacobian", _lib.dptr(jac), _capi.IMPACT_JAC_ROWS,
+              _lib.dptr(rf), _lib.dptr(vf), _lib.dptr(G), 2)
+    return ImpactResult(model, rf, vf, tf.value, np.ascontiguousarray(jac), down, cross,
+                        np.ascontiguousarray(G))
+
+
+@dataclass(frozen=True)
+class ImpactBudget:
+    """igea.impact_budget: the miss of each term (n, 2: downrange,
+    crossrange), the impact covariance (2, 2), each term's share of its
+    trace, and the CEP of that covariance (exact)."""
+    names: list
+    miss: np.ndarray
+    covariance: np.ndarray
+    share: np.ndarray
+    cep: float
+
+    def summary(self):
+        lines = ["%-16s %12s %12s %8s" % ("term", "downrange", "crossrange", "share")]
+        for j in np.argsort(-self.share):
+            lines.append("%-16s %12.4g %12.4g %7.1f%%" % (self.names[j], self.miss[j, 0],
+                                                          self.miss[j, 1], 100 * self.share[j]))
+        lines.append("CEP %.4g m" % self.cep)
+        return "\n".join(lines)
+
+
+def impact_budget(miss_jacobian, E, names=None):
+    """The error budget in miss distance: miss_jacobian (2, 6) of
+    igea.impact, E (6, n) the burnout state error of each of n independent
+    terms at 1 sigma (e.g. the position and velocity environment functions
+    at burnout times the specs)."""
+    where = "igea.impact_budget"
+    G = _lib.as_f64(miss_jacobian, "miss_jacobian", ndim=2, shape=(2, 6))
+    e = _lib.as_f64(E, "E", ndim=2, shape=(6, None))
+    n = e.shape[1]
+    if n < 1:
+        raise ValueError("E: expected at least one term (column)")
+    names = list(names) if names is not None else ["term_%d" % j for j in range(n)]
+    if len(names) != n:
+        raise ValueError(f"names: expected {n} names, got {len(names)}")
+    miss, cov, share = np.zeros((n, 2)), np.zeros((2, 2), order="F"), np.zeros(n)
+    _lib.call(where, "igea_impact_budget", n, _lib.dptr(G), 2, _lib.dptr(e), 6, _lib.dptr(miss),
+              _lib.dptr(cov), _lib.dptr(share))
+    return ImpactBudget(names, miss, np.ascontiguousarray(cov), share, cep(cov))
+
+
+def _cov(cov):
+    return _lib.as_f64(cov, "cov", ndim=2, shape=(2, 2))
+
+
+def circle_prob(cov, radius):
+    """Probability that a zero-mean normal 2-vector of covariance cov lies
+    within radius of its mean (exact)."""
+    p = ctypes.c_double()
+    _lib.call("igea.circle_prob", "igea_impact_circle_prob", _lib.dptr(_cov(cov)),
+              float(radius), ctypes.byref(p))
+    return p.value
+
+
+def cep(cov, prob=0.5):
+    """The radius about the mean holding probability prob (0.5: the CEP)."""
+    r = ctypes.c_double()
+    _lib.call("igea.cep", "igea_impact_cep", _lib.dptr(_cov(cov)), float(prob), ctypes.byref(r))
+    return r.value
+
+
+def cep_approx(cov, rule="sum"):
+    """A usual approximation of the CEP: "sum" 0.5887 (sigma_1 + sigma_2) or
+    "rms" 1.1774 sqrt((sigma_1^2 + sigma_2^2) / 2)."""
+    code = _lib.choice(_capi.CHOICE_IMPACT_CEP, rule, "igea.cep_approx", "rule")
+    r = ctypes.c_double()
+    _lib.call("igea.cep_approx", "igea_impact_cep_approx", _lib.dptr(_cov(cov)), code,
+              ctypes.byref(r))
+    return r.value
