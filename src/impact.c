@@ -573,14 +573,6 @@ static double circle_term(int craig, double s1, double s2, double r2, double t)
     return -expm1(-0.5 * r2 * q) / q;
 }
 
-/* Neumaier's compensated sum: *s + *c is the running total. */
-static void nsum(double *s, double *c, double x)
-{
-    double t = *s + x;
-    *c += fabs(*s) >= fabs(x) ? (*s - t) + x : (x - t) + *s;
-    *s = t;
-}
-
 static int circle_p(double s1, double s2, double r, double *p)
 {
     if (r == 0 || s1 == 0) {
@@ -595,15 +587,15 @@ static int circle_p(double s1, double s2, double r, double *p)
     const int craig = r2 > s2;
     const double norm = craig ? 1.0 : 1.0 / sqrt(s1 * s2);
     long n = 8;
-    double sum = 0.0, comp = 0.0;
+    igea__ksum sum = {0.0, 0.0};
     for (long k = 0; k < n; k++)
-        nsum(&sum, &comp, circle_term(craig, s1, s2, r2, IMPACT_PI * (double)k / (double)n));
-    double prev = norm * (sum + comp) / (double)n;
+        igea__ksum_add(&sum, circle_term(craig, s1, s2, r2, IMPACT_PI * (double)k / (double)n));
+    double prev = norm * igea__ksum_get(&sum) / (double)n;
     for (; n <= (1L << 24); n *= 2) {
         for (long k = 0; k < n; k++)
-            nsum(&sum, &comp, circle_term(craig, s1, s2, r2,
-                                          IMPACT_PI * (2.0 * (double)k + 1.0) / (2.0 * (double)n)));
-        double cur = norm * (sum + comp) / (2.0 * (double)n);
+            igea__ksum_add(&sum, circle_term(craig, s1, s2, r2,
+                                             IMPACT_PI * (2.0 * (double)k + 1.0) / (2.0 * (double)n)));
+        double cur = norm * igea__ksum_get(&sum) / (2.0 * (double)n);
         if (fabs(cur - prev) <= 4.0 * DBL_EPSILON * cur) {
             *p = fmin(cur, 1.0);
             return 0;
