@@ -13,4 +13,5 @@
 #include "igea/stability.h"
 #include "igea/rls.h"
 #include "igea/impact.h"
+#include "igea/triad.h"
 #endif

@@ -6,6 +6,7 @@
 
 #include "igea/eqerr.h"
 #include "igea/impact.h"
+#include "igea/triad.h"
 #include "igea/sim.h"
 #include "internal.h"
 
@@ -70,9 +71,15 @@ const char *igea_opt_name(int module, int slot)
         [IGEA_IMPACT_OPT_RE] = "re",         [IGEA_IMPACT_OPT_STEP] = "step",
         [IGEA_IMPACT_OPT_TMAX] = "tmax",
     };
+    static const char *const triad[IGEA_TRIAD_OPT_LEN] = {
+        [IGEA_TRIAD_OPT_G] = "g",                   [IGEA_TRIAD_OPT_WINDOW] = "window",
+        [IGEA_TRIAD_OPT_INIT] = "init",             [IGEA_TRIAD_OPT_MIN_STATIC] = "min_static",
+        [IGEA_TRIAD_OPT_THRESHOLD] = "threshold",   [IGEA_TRIAD_OPT_MAX_ITER] = "max_iter",
+    };
     const char *const *names;
     int len;
     switch (module) {
+    case IGEA_MODULE_TRIAD: names = triad; len = IGEA_TRIAD_OPT_LEN; break;
     case IGEA_MODULE_IMPACT: names = impact; len = IGEA_IMPACT_OPT_LEN; break;
     case IGEA_MODULE_EQERR: names = eqerr; len = IGEA_EQERR_OPT_LEN; break;
     case IGEA_MODULE_SIM: names = sim; len = IGEA_SIM_OPT_LEN; break;

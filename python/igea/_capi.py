@@ -74,6 +74,7 @@ SIGMA_MIN = 1.4916681462400413e-154
 MODULE_EQERR = 1
 MODULE_SIM = 2
 MODULE_IMPACT = 10
+MODULE_TRIAD = 11
 CHOICE_EQERR_ROUTE = 1
 CHOICE_REGRESS_RIDGE_RULE = 2
 CHOICE_REGRESS_EBR_RULE = 3
@@ -307,6 +308,34 @@ STATS_VERDICT_SEED = 0
 STATS_VERDICT_CHI2 = 1
 STATS_VERDICT_EXACT = 2
 STATS_VERDICT_SIDAK = 3
+
+# igea/triad.h
+TRIAD_BX = 0
+TRIAD_BY = 1
+TRIAD_BZ = 2
+TRIAD_KX = 3
+TRIAD_KY = 4
+TRIAD_KZ = 5
+TRIAD_TYX = 6
+TRIAD_TZX = 7
+TRIAD_TZY = 8
+TRIAD_NP = 9
+TRIAD_OPT_G = 0
+TRIAD_OPT_WINDOW = 1
+TRIAD_OPT_INIT = 2
+TRIAD_OPT_MIN_STATIC = 3
+TRIAD_OPT_THRESHOLD = 4
+TRIAD_OPT_MAX_ITER = 5
+TRIAD_OPT_LEN = 16
+TRIAD_INFO_K = 0
+TRIAD_INFO_THRESHOLD = 1
+TRIAD_INFO_INTERVALS = 2
+TRIAD_INFO_RMS_BEFORE = 3
+TRIAD_INFO_RMS_AFTER = 4
+TRIAD_INFO_SIGMA = 5
+TRIAD_INFO_ITERATIONS = 6
+TRIAD_INFO_ZETA_INIT = 7
+TRIAD_INFO_LEN = 16
 
 PROTOTYPES = {
     # igea/accel.h
@@ -555,4 +584,17 @@ PROTOTYPES = {
         ("size", _PD),)),
     "igea_stats_verdict_thresholds": (c_int, (("rule", c_int), ("n", c_int), ("alpha", c_double),
         ("a", _PD), ("b", _PD), ("size", _PD),)),
+    # igea/triad.h
+    "igea_triad_defaults": (c_int, (("opts", _PD),)),
+    "igea_triad_check_opts": (c_int, (("opts", _PD),)),
+    "igea_triad_static": (c_int, (("layout", c_int), ("n", c_int), ("acc", _PD), ("lda", c_int),
+        ("fs", c_double), ("window", c_double), ("threshold", c_double), ("min_static", c_double),
+        ("maxint", c_int), ("nint", _PI), ("start", _PI), ("end", _PI), ("means", _PD),)),
+    "igea_triad_fit": (c_int, (("nint", c_int), ("means", _PD), ("g", c_double), ("theta0", _PD),
+        ("max_iter", c_int), ("theta", _PD), ("cov", _PD), ("ldc", c_int), ("info", _PD),)),
+    "igea_triad_calibrate": (c_int, (("layout", c_int), ("n", c_int), ("acc", _PD), ("lda", c_int),
+        ("fs", c_double), ("opts", _PD), ("theta", _PD), ("cov", _PD), ("ldc", c_int),
+        ("info", _PD),)),
+    "igea_triad_apply": (c_int, (("layout", c_int), ("n", c_int), ("raw", _PD), ("ldr", c_int),
+        ("theta", _PD), ("cal", _PD), ("ldc", c_int),)),
 }

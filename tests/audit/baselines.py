@@ -71,6 +71,19 @@ NAME_DEFAULTS = {
 EQ_OPTS = 'set:igea_eqerr_defaults(b_);'
 SIM_OPTS = 'set:igea_sim_defaults(b_);'
 IMP_OPTS = 'set:igea_impact_defaults(b_);'
+TRIAD_OPTS = ('set:igea_triad_defaults(b_); b_[IGEA_TRIAD_OPT_WINDOW] = 0.5; '
+              'b_[IGEA_TRIAD_OPT_INIT] = 3.0;')
+# 16 static means in different directions, |m| ~ 9.8 (a triad fit)
+TRIAD_MEANS = ('set:for (int k = 0; k < 16; k++) { double a = 0.7 * k, e = 0.4 + 0.37 * k; '
+               'b_[3 * k] = 9.8 * cos(a) * sin(e) + 0.01; b_[3 * k + 1] = 9.81 * sin(a) * sin(e) '
+               '- 0.02; b_[3 * k + 2] = 9.79 * cos(e) + 0.03 + 1e-4 * sin(3.1 * k); }')
+# a record at 10 Hz: 3 s static, then 15 attitudes of 2 s joined by 1 s of motion
+TRIAD_RECORD = ('set:for (int i = 0; i < 480; i++) { int k = i < 30 ? 0 : 1 + (i - 30) / 30; '
+                'int moving = i >= 30 && (i - 30) % 30 >= 20; double a = 0.7 * k, '
+                'e = 0.4 + 0.37 * k, w = moving ? 0.5 : 1e-3; '
+                'b_[3 * i] = 9.8 * cos(a) * sin(e) + w * sin(1.3 * i); '
+                'b_[3 * i + 1] = 9.81 * sin(a) * sin(e) + w * sin(2.9 * i); '
+                'b_[3 * i + 2] = 9.79 * cos(e) + w * sin(5.7 * i); }')
 TRAJ = 'set:igea_sim_trajectory(IGEA_ENVFUN_STRAPDOWN, 10.0, 10.0, 101, b_, 101);'
 THETA30 = 'c:30.0 * (double)i'
 YA_DUAL = 'c:asind(30.0 * (double)i) + 1e-4 * au(i)'
@@ -177,6 +190,20 @@ BASE = {
     'igea_impact_circle_prob': dict(cov='[4.0, 1.0, 1.0, 2.0]', r='1.5'),
     'igea_impact_cep': dict(cov='[4.0, 1.0, 1.0, 2.0]', prob='0.5'),
     'igea_impact_cep_approx': dict(cov='[4.0, 1.0, 1.0, 2.0]', rule='IGEA_IMPACT_CEP_SUM'),
+    # ---- triad
+    'igea_triad_check_opts': dict(opts=TRIAD_OPTS, _nan_ok=['opts'], _inf_ok=['opts'],
+                                  _req=['opts']),
+    'igea_triad_static': dict(layout='IGEA_ROWMAJOR', n='60', acc='u', lda='3', fs='10.0',
+                              window='0.5', threshold='1.0', min_static='0.5', maxint='4',
+                              _int=dict(maxint='size'), _zero_ok=['maxint'],
+                              _null_any=['start', 'end']),
+    'igea_triad_fit': dict(nint='16', means=TRIAD_MEANS, g='9.80665', theta0='NULL',
+                           max_iter='200', ldc='9', _nan_out=['info'], _int=dict(nint='size')),
+    'igea_triad_calibrate': dict(layout='IGEA_ROWMAJOR', n='480', acc=TRIAD_RECORD, lda='3',
+                                 fs='10.0', opts=TRIAD_OPTS, ldc='9'),
+    'igea_triad_apply': dict(layout='IGEA_ROWMAJOR', n='5', raw='u', ldr='3',
+                             theta='[0.01, 0.02, 0.03, 1.0, 1.01, 0.99, 0.001, 0.002, 0.003]',
+                             ldc='3'),
     # ---- envfun
     'igea_envfun_term_valid': dict(system='IGEA_ENVFUN_STRAPDOWN', term='IGEA_ENVFUN_TERM_ACC_BIAS_X',
                                    _ret='bool'),

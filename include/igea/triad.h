@@ -1,0 +1,139 @@
+/*
+ * igea/triad.h - turntable-free calibration of an accelerometer triad from
+ * a raw record of static attitudes (docs/calibration.md, "Triad").
+ *
+ * The record is held still in a dozen or more different attitudes (a few
+ * seconds each, in any order, the orientations unknown), after a first
+ * static period. Static intervals are found by a windowed-variance
+ * threshold; in each, the mean output m_k is one observation of gravity,
+ * whose calibrated magnitude must equal the local g:
+ *
+ *   a = T K (m - b),   |a_k| = g for every interval k,
+ *
+ * b the biases (output units), K = diag(k_x, k_y, k_z) the scale factors
+ * (output units to m/s^2 or g: whatever unit g is given in), and T the unit
+ * lower-triangular non-orthogonality [1 0 0; t_yx 1 0; t_zx t_zy 1] (the
+ * calibrated x axis is the sensor's x axis, y lies in the sensors' x-y
+ * plane; the rotation of the whole triad is not observable from
+ * magnitudes). The 9 parameters are fitted by Levenberg-Marquardt on the
+ * residuals |a_k| - g, with their covariance sigma^2 (J^T J)^-1.
+ */
+#ifndef IGEA_TRIAD_H
+#define IGEA_TRIAD_H
+
+#include "igea/common.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* The parameter vector theta[IGEA_TRIAD_NP]. */
+#define IGEA_TRIAD_BX 0 /* biases b_x, b_y, b_z (output units) */
+#define IGEA_TRIAD_BY 1
+#define IGEA_TRIAD_BZ 2
+#define IGEA_TRIAD_KX 3 /* scale factors k_x, k_y, k_z (g units per output unit) */
+#define IGEA_TRIAD_KY 4
+#define IGEA_TRIAD_KZ 5
+#define IGEA_TRIAD_TYX 6 /* non-orthogonality t_yx, t_zx, t_zy (rad, small) */
+#define IGEA_TRIAD_TZX 7
+#define IGEA_TRIAD_TZY 8
+#define IGEA_TRIAD_NP 9
+
+/* Indices into opts[IGEA_TRIAD_OPT_LEN]; igea_triad_defaults fills them. */
+#define IGEA_TRIAD_OPT_G 0          /* local gravity, in the calibrated unit: 9.80665 */
+#define IGEA_TRIAD_OPT_WINDOW 1     /* variance window, s: 2 */
+#define IGEA_TRIAD_OPT_INIT 2       /* the first static period, s: 30 */
+#define IGEA_TRIAD_OPT_MIN_STATIC 3 /* shortest static interval used, s: 1 */
+#define IGEA_TRIAD_OPT_THRESHOLD 4  /* 0: scan k = 1..10; > 0: this k (see below) */
+#define IGEA_TRIAD_OPT_MAX_ITER 5   /* Levenberg-Marquardt iterations: 200 */
+#define IGEA_TRIAD_OPT_LEN 16       /* slots 6.. reserved for additions (0) */
+
+/* Indices into info[IGEA_TRIAD_INFO_LEN]. */
+#define IGEA_TRIAD_INFO_K 0          /* the threshold multiple k used */
+#define IGEA_TRIAD_INFO_THRESHOLD 1  /* the threshold, k zeta_init (output units^2) */
+#define IGEA_TRIAD_INFO_INTERVALS 2  /* static intervals fitted */
+#define IGEA_TRIAD_INFO_RMS_BEFORE 3 /* rms of |a_k| - g with the start values */
+#define IGEA_TRIAD_INFO_RMS_AFTER 4  /* rms of |a_k| - g after the fit */
+#define IGEA_TRIAD_INFO_SIGMA 5      /* sqrt(sum r^2 / (intervals - 9)) */
+#define IGEA_TRIAD_INFO_ITERATIONS 6 /* Levenberg-Marquardt iterations */
+#define IGEA_TRIAD_INFO_ZETA_INIT 7  /* variance magnitude of the first static period */
+#define IGEA_TRIAD_INFO_LEN 16
+
+/* Fill opts[IGEA_TRIAD_OPT_LEN] with the defaults above. Returns 0, -1. */
+IGEA_API int igea_triad_defaults(double *opts);
+
+/*
+ * Check opts[IGEA_TRIAD_OPT_LEN]: every slot finite (the reserved ones
+ * included), g > 0, window > 0, init > 0, min_static > 0, threshold >= 0,
+ * 1 <= max_iter <= 10000. Returns 0, -1 for a NULL opts, else 1 + the
+ * first bad slot (igea_opt_name(IGEA_MODULE_TRIAD, slot) names it).
+ */
+IGEA_API int igea_triad_check_opts(const double *opts);
+
+/*
+ * Static intervals of a 3-axis record: zeta_i, the magnitude of the
+ * per-axis variances over the window of round(window fs) samples (odd:
+ * one more when even) centred on sample i (sqrt(var_x^2 + var_y^2 +
+ * var_z^2); window fs >= 2); the samples with zeta_i < threshold; their maximal runs of at
+ * least round(min_static fs) samples; the mean of the outputs over each.
+ *  1 layout IGEA_ROWMAJOR (sample i, axis j at acc[i lda + j], lda >= 3)
+ *  or IGEA_COLMAJOR (acc[i + j lda], lda >= n); 2 n samples (> the window);
+ *  3 acc; 4 lda; 5 fs > 0 (Hz); 6 window > 0 (s); 7 threshold > 0
+ *  (output units^2); 8 min_static > 0 (s); 9 maxint >= 0: room in the
+ *  outputs. Outputs: 10 nint: the number of intervals found (it may exceed
+ *  maxint: only the first maxint are written); 11 start[maxint], 12
+ *  end[maxint]: sample ranges start <= i < end (both NULL, or neither); 13 means
+ *  (3 x maxint, column k the mean output of interval k) (may be NULL).
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENOMEM.
+ */
+IGEA_API int igea_triad_static(int layout, int n, const double *acc, int lda, double fs,
+                               double window, double threshold, double min_static,
+                               int maxint, int *nint, int *start, int *end, double *means);
+
+/*
+ * Fit theta to the static means: 1 nint >= 12 intervals; 2 means (3 x
+ * nint, column-major, ld 3); 3 g > 0; 4 theta0[9] the start (may be NULL:
+ * zero biases and non-orthogonality, every scale g / median |m_k|); 5
+ * max_iter >= 1. Outputs: 6 theta[9]; 7 cov (9 x 9, ldc) the covariance
+ * sigma^2 (J^T J)^-1 (may be NULL); 8 ldc >= 9; 9 info[IGEA_TRIAD_INFO_LEN]
+ * (may be NULL; slots K, THRESHOLD and ZETA_INIT set to NaN).
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ERANK (the attitudes do not
+ * determine the 9 parameters: J^T J singular), IGEA_ENOCONV, IGEA_ENOMEM.
+ */
+IGEA_API int igea_triad_fit(int nint, const double *means, double g, const double *theta0,
+                            int max_iter, double *theta, double *cov, int ldc, double *info);
+
+/*
+ * The whole calibration from a raw record: zeta_init, the variance
+ * magnitude over the first `init` seconds; for k = opts[THRESHOLD] (or
+ * each k = 1, ..., 10 when it is 0) the static intervals at threshold
+ * k zeta_init and the fit; with the scan, the k that finds the most
+ * static intervals (at least 12), and among those the smallest residual sd
+ * sigma = sqrt(sum r^2 / (intervals - 9)). (A low threshold breaks the
+ * static periods into fragments and keeps fewer of them; a smallest
+ * residual alone would favour such fits with fewer observations.)
+ *  1 layout, 2 n, 3 acc, 4 lda as igea_triad_static; 5 fs > 0; 6 opts
+ *  [IGEA_TRIAD_OPT_LEN]. Outputs: 7 theta[9]; 8 cov (9 x 9, ldc; may be
+ *  NULL); 9 ldc >= 9; 10 info[IGEA_TRIAD_INFO_LEN] (may be NULL).
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_EEMPTY (no threshold gives 12
+ * static intervals, or the record is shorter than init), IGEA_ERANK,
+ * IGEA_ENOCONV, IGEA_ENOMEM.
+ */
+IGEA_API int igea_triad_calibrate(int layout, int n, const double *acc, int lda, double fs,
+                                  const double *opts, double *theta, double *cov, int ldc,
+                                  double *info);
+
+/*
+ * Apply a calibration: cal_i = T K (raw_i - b) for n samples.
+ *  1 layout, 2 n >= 1, 3 raw, 4 ldr (as igea_triad_static); 5 theta[9];
+ *  outputs 6 cal, 7 ldc (the same layout; cal may be raw with ldc = ldr).
+ * Returns 0, -i, IGEA_ENONFINITE.
+ */
+IGEA_API int igea_triad_apply(int layout, int n, const double *raw, int ldr,
+                              const double *theta, double *cal, int ldc);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
