@@ -113,6 +113,54 @@ static const int DEFAULT_PF[IGEA_ENVFUN_DEFAULT_TERMS] = {
     IGEA_ENVFUN_TERM_ALIGN0_X, IGEA_ENVFUN_TERM_ALIGN0_X + 1, IGEA_ENVFUN_TERM_ALIGN0_X + 2,
     IGEA_ENVFUN_TERM_ACC_SQ_X, IGEA_ENVFUN_TERM_ACC_SQ_X + 1, IGEA_ENVFUN_TERM_ACC_SQ_X + 2};
 
+/* The equation of each family (docs/terms.md), by name prefix: j is the
+ * first axis letter of the name, k the second; u the accelerometer error,
+ * eps the gyro rate error (strapdown, body axes) or platform drift, per
+ * unit coefficient; I(j), S(j), O(j) gyro j's input, spin, output axes. */
+static const struct {
+    const char *prefix, *formula;
+} FORMULAS[] = {
+    {"acc_bias_", "u = e_j"},
+    {"acc_scale_", "u = e_j f_j"},
+    {"acc_sq_", "u = e_j f_j^2"},
+    {"acc_mis_", "u = e_j f_k"},
+    {"acc_cube_", "u = e_j f_j^3"},
+    {"acc_asym_", "u = e_j |f_j|"},
+    {"acc_cross_", "u = e_j f_j f_k"},
+    {"acc_xsq_", "u = e_j f_k^2"},
+    {"acc_xprod_", "u = e_j f_k f_l (k, l the other axes)"},
+    {"acc_size_", "u = e_j (w' x e_k + w x (w x e_k))_j"},
+    {"gyro_bias_", "eps = e_j"},
+    {"gyro_g_", "eps = e_j f_j"},
+    {"gyro_scale_", "eps = e_j w_j"},
+    {"gyro_gi_", "eps = e_j f_I(j)"},
+    {"gyro_gs_", "eps = e_j f_S(j)"},
+    {"gyro_gspin_", "eps = e_j f_S(j)"},
+    {"gyro_go_", "eps = e_j f_O(j)"},
+    {"gyro_gii_", "eps = e_j f_I(j)^2"},
+    {"gyro_gss_", "eps = e_j f_S(j)^2"},
+    {"gyro_goo_", "eps = e_j f_O(j)^2"},
+    {"gyro_gis_", "eps = e_j f_I(j) f_S(j)"},
+    {"gyro_gio_", "eps = e_j f_I(j) f_O(j)"},
+    {"gyro_gso_", "eps = e_j f_S(j) f_O(j)"},
+    {"att0_", "phi0 = e_j: S = W x e_j"},
+    {"align0_", "alpha0 = e_j: S = W x e_j"},
+    {"pos0_x", "S = (W x e_z) / R"},
+    {"pos0_z", "S = -(W x e_x) / R"},
+    {"lever_", "S = -(C (w x e_j) - C_0 (w_0 x e_j))"},
+};
+
+const char *igea_envfun_term_formula(int term)
+{
+    const char *name = igea_envfun_term_name(term);
+    if (!*name)
+        return "";
+    for (size_t i = 0; i < sizeof FORMULAS / sizeof FORMULAS[0]; i++)
+        if (!strncmp(name, FORMULAS[i].prefix, strlen(FORMULAS[i].prefix)))
+            return FORMULAS[i].formula;
+    return "";
+}
+
 int igea_envfun_term_count(void)
 {
     return IGEA_ENVFUN_TERM_END;
@@ -365,7 +413,7 @@ static int check_args(int system, int nsamp, const double *traj, int ldt,
     igea__platform_axes(NULL, g->in_ax, g->spin_ax);
     if ((st = igea__traj_args(system, nsamp, traj, ldt)) != 0)
         return st;
-    if (nterms < 0 || nterms > INT_MAX / 3 - nuser || (nterms == 0 && nuser <= 0))
+    if (nterms < 0 || nterms > INT_MAX / 3 || (nterms == 0 && nuser <= 0))
         return -5;
     if (!terms && nterms > 0)
         return -6;
@@ -380,7 +428,7 @@ static int check_args(int system, int nsamp, const double *traj, int ldt,
         return -7;
     if (igea__out_axes(g->in_ax, g->spin_ax, g->out_ax) && uses_out)
         return -7;
-    if (nuser < 0)
+    if (nuser < 0 || nuser > INT_MAX / 3 - nterms)
         return -8;
     if (nuser > 0 && !ukind)
         return -9;

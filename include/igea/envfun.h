@@ -125,6 +125,15 @@ IGEA_API const char *igea_envfun_term_name(int term);
 IGEA_API const char *igea_envfun_term_unit(int term);
 
 /*
+ * igea_envfun_term_formula: the equation of term code `term`, a static
+ * string: the unit error per unit coefficient ("u = e_j f_j^3" for an
+ * accelerometer term, "eps = e_j f_I(j)" for a gyro rate error or platform
+ * drift; j the first axis letter of the name, k the second) or the velocity
+ * function itself ("S = W x e_j"); "" for an unknown code, never NULL.
+ */
+IGEA_API const char *igea_envfun_term_formula(int term);
+
+/*
  * igea_envfun_term_code: the code of the term called `name` (exact,
  * case-sensitive) in the catalogue of system kind `system`.
  * Returns the code (>= 0), -1 (unknown system), -2 (name NULL, or not a term
