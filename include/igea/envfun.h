@@ -146,7 +146,10 @@ IGEA_API int igea_envfun_term_code(int system, const char *name);
  * of system kind `system`, in the unit of igea_envfun_term_unit (1 mg for
  * accelerometer biases, 1e-4 for scale factors, misalignments and initial
  * attitude or alignment, 10 ug/g^2 for second-order terms, 0.5 deg/h for
- * gyro biases, 0.5 deg/h/g for g-sensitive drifts).
+ * gyro biases, 0.5 deg/h/g for g-sensitive drifts; the extended catalogue:
+ * 0.5 deg/h/g^2 second-order drifts, 1 ug/g^3 K3, 2e-5 scale asymmetry,
+ * 10 ug/g^2 cross-coupling terms, 10 m launch point, 0.1 m lever arm,
+ * 0.01 m size effect).
  * Arguments: 1 system, 2 term (valid for the system), 3 spec (output).
  * Returns 0, -i (spec untouched).
  */
@@ -196,7 +199,8 @@ IGEA_API int igea_envfun_all_terms(int system, int *terms, int cap, int *n);
  *  7 axes      platform only: 6 ints, axes[j] the input axis I(j) and
  *              axes[3 + j] the spin axis S(j) of gyro j (values 0..2), or
  *              NULL for I(j) = j, S(j) = (j + 1) mod 3 [D]; ignored for
- *              strapdown
+ *              strapdown; -7 also when a term reads the output axis O(j)
+ *              of a gyro whose I(j) = S(j)
  *  8 nepochs   tracking epochs, >= 1
  *  9 epochs    nepochs times, non-decreasing, within [t_0, t_last]
  * 10 spec      nterms 1-sigma specs (> 0) multiplying the columns, or NULL
@@ -209,7 +213,8 @@ IGEA_API int igea_envfun_all_terms(int system, int *terms, int cap, int *n);
  * 13 lds       >= 3 nepochs
  * Returns 0, -i, IGEA_ENONFINITE (NaN/Inf in traj, epochs or spec),
  * IGEA_ENONPOSITIVE (a spec <= 0), IGEA_EDOMAIN (a quaternion of zero
- * norm), IGEA_ENOMEM. S is untouched on failure.
+ * norm; platform: only with lever_* terms, which read the attitude),
+ * IGEA_ENOMEM. S is untouched on failure.
  */
 IGEA_API int igea_envfun_compute(int system, int nsamp, const double *traj,
                                  int ldt, int nterms, const int *terms,
