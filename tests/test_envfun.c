@@ -996,6 +996,14 @@ static void test_catalogue_extended(void **state)
     assert_string_equal(igea_envfun_term_name(IGEA_ENVFUN_TERM_POS0_Z), "pos0_z");
     assert_string_equal(igea_envfun_term_unit(IGEA_ENVFUN_TERM_GYRO_GSS_X), "rad/s/(m/s^2)^2");
     assert_string_equal(igea_envfun_term_unit(IGEA_ENVFUN_TERM_LEVER_X), "m");
+    assert_string_equal(igea_envfun_term_formula(IGEA_ENVFUN_TERM_ACC_CUBE_X + 1), "u = e_j f_j^3");
+    assert_string_equal(igea_envfun_term_formula(IGEA_ENVFUN_TERM_GYRO_GIO_X), "eps = e_j f_I(j) f_O(j)");
+    assert_string_equal(igea_envfun_term_formula(IGEA_ENVFUN_TERM_GYRO_G_X), "eps = e_j f_j");
+    assert_string_equal(igea_envfun_term_formula(IGEA_ENVFUN_TERM_POS0_Z), "S = -(W x e_x) / R");
+    assert_string_equal(igea_envfun_term_formula(IGEA_ENVFUN_TERM_COUNT), "");
+    assert_string_equal(igea_envfun_term_formula(-3), "");
+    for (int k = 0; k < IGEA_ENVFUN_TERM_END; k++) /* every term has its equation */
+        assert_int_equal(igea_envfun_term_formula(k)[0] != '\0', igea_envfun_term_name(k)[0] != '\0');
     assert_int_equal(igea_envfun_term_valid(IGEA_ENVFUN_PLATFORM, IGEA_ENVFUN_TERM_SIZE_XX), 0);
     assert_int_equal(igea_envfun_term_valid(IGEA_ENVFUN_PLATFORM, IGEA_ENVFUN_TERM_GYRO_GSPIN_X), 0);
     assert_int_equal(igea_envfun_term_valid(IGEA_ENVFUN_STRAPDOWN, IGEA_ENVFUN_TERM_GYRO_GSPIN_X), 1);

@@ -101,7 +101,9 @@ extern "C" {
 #define IGEA_ENVFUN_TERM_LEVER_X 84     /* both: lever arm IMU -> tracked point, body (m) */
 #define IGEA_ENVFUN_TERM_SIZE_XX 87     /* sd: accel j displaced along body axis k
                                          * (size effect, m), order xx xy xz yx .. zz */
-#define IGEA_ENVFUN_TERM_END 96         /* this version's codes are < 96 */
+#define IGEA_ENVFUN_TERM_END 96         /* the codes above are < 96 (fixed: codes a
+                                         * later version adds are bounded by
+                                         * igea_envfun_term_count()) */
 
 /*
  * 1 if term code `term` is valid for system kind `system`, else 0

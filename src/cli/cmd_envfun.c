@@ -62,7 +62,8 @@ options,
 
 static void list_terms(FILE *f)
 {
-    fprintf(f, "%-14s %-10s %-12s %s\n", "term", "systems", "default spec", "unit");
+    fprintf(f, "%-14s %-10s %-12s %-16s %s\n", "term", "systems", "default spec", "unit",
+            "equation");
     for (int k = 0; k < igea_envfun_term_count(); k++) {
         int sd = igea_envfun_term_valid(IGEA_ENVFUN_STRAPDOWN, k);
         int pf = igea_envfun_term_valid(IGEA_ENVFUN_PLATFORM, k);
@@ -70,8 +71,9 @@ static void list_terms(FILE *f)
             continue;
         double spec = 0.0;
         igea_envfun_default_spec(sd ? IGEA_ENVFUN_STRAPDOWN : IGEA_ENVFUN_PLATFORM, k, &spec);
-        fprintf(f, "%-14s %-10s %-12.5g %s\n", igea_envfun_term_name(k),
-                sd && pf ? "both" : igea_choice_name(IGEA_CHOICE_ENVFUN_SYSTEM, sd ? IGEA_ENVFUN_STRAPDOWN : IGEA_ENVFUN_PLATFORM), spec, igea_envfun_term_unit(k));
+        fprintf(f, "%-14s %-10s %-12.5g %-16s %s\n", igea_envfun_term_name(k),
+                sd && pf ? "both" : igea_choice_name(IGEA_CHOICE_ENVFUN_SYSTEM, sd ? IGEA_ENVFUN_STRAPDOWN : IGEA_ENVFUN_PLATFORM), spec, igea_envfun_term_unit(k),
+                igea_envfun_term_formula(k));
     }
 }
 
