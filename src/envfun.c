@@ -9,36 +9,91 @@
 #define EARTH_RADIUS 6371000.0
 #define EARTH_MU 3.986004418e14
 
-/* Term families. */
-enum { FAM_ACC = 0, FAM_GYRO = 1, FAM_ATT = 2 };
+#include "envfun_terms.h"
 
 /* ---- the term catalogue ------------------------------------------------ */
 
 #define G0 9.80665                                   /* m/s^2 per g */
 #define DEG_H (3.14159265358979323846 / 180.0 / 3600.0) /* rad/s per deg/h */
 
-/* Name, unit and default 1-sigma spec of every code, by code. */
-static const struct {
+/* Systems of a term. */
+enum { SYS_SD = 1, SYS_PF = 2, SYS_BOTH = 3 };
+
+/* Factors of a unit error u = e_j prod(factors): F_X..F_Z a fixed axis of
+ * f, F_J f_j, F_I/F_S/F_O gyro j's input/spin/output axis of f, F_ABS
+ * |f_j|, F_W w_j, F_NO none. */
+enum { F_X = 0, F_Y, F_Z, F_J, F_I, F_S, F_O, F_ABS, F_W, F_NO = -1 };
+
+/* Name, unit, default 1-sigma spec, systems, family, axis j and factors of
+ * every code, by code. */
+typedef struct {
     const char *name, *unit;
     double spec;
-} TERMS[IGEA_ENVFUN_TERM_COUNT] = {
-#define AXES3(pre, unit, spec) \
-    {pre "x", unit, spec}, {pre "y", unit, spec}, {pre "z", unit, spec}
-    AXES3("acc_bias_", "m/s^2", 1e-3 * G0),          /* 1 mg */
-    AXES3("acc_scale_", "-", 1e-4),
-    AXES3("acc_sq_", "1/(m/s^2)", 1e-5 / G0),        /* 10 ug/g^2 */
-    {"acc_mis_xy", "-", 1e-4}, {"acc_mis_xz", "-", 1e-4},
-    {"acc_mis_yx", "-", 1e-4}, {"acc_mis_yz", "-", 1e-4},
-    {"acc_mis_zx", "-", 1e-4}, {"acc_mis_zy", "-", 1e-4},
-    AXES3("gyro_bias_", "rad/s", 0.5 * DEG_H),       /* 0.5 deg/h */
-    AXES3("gyro_g_", "rad/s/(m/s^2)", 0.5 * DEG_H / G0), /* 0.5 deg/h/g */
-    AXES3("gyro_scale_", "-", 1e-4),
-    AXES3("att0_", "rad", 1e-4),
-    AXES3("gyro_gi_", "rad/s/(m/s^2)", 0.5 * DEG_H / G0),
-    AXES3("gyro_gs_", "rad/s/(m/s^2)", 0.5 * DEG_H / G0),
-    AXES3("align0_", "rad", 1e-4),
-#undef AXES3
+    signed char sys, fam, j, m[3];
+} term_def;
+
+#define ACC IGEA__FAM_ACC
+#define GYR IGEA__FAM_GYRO
+#define ATT IGEA__FAM_ATT
+#define TD(name, unit, spec, sys, fam, j, m0, m1, m2) \
+    {name, unit, spec, sys, fam, j, {m0, m1, m2}}
+#define AXES3(pre, unit, spec, sys, fam, m0, m1, m2)                 \
+    TD(pre "x", unit, spec, sys, fam, 0, m0, m1, m2),                \
+    TD(pre "y", unit, spec, sys, fam, 1, m0, m1, m2),                \
+    TD(pre "z", unit, spec, sys, fam, 2, m0, m1, m2)
+/* e_j times f_a, f_b (pairs in the order xy xz yx yz zx zy) */
+#define PAIRS6(pre, unit, spec, ma, mb)                                        \
+    TD(pre "xy", unit, spec, SYS_BOTH, ACC, 0, ma(0, 1), mb(0, 1), F_NO),      \
+    TD(pre "xz", unit, spec, SYS_BOTH, ACC, 0, ma(0, 2), mb(0, 2), F_NO),      \
+    TD(pre "yx", unit, spec, SYS_BOTH, ACC, 1, ma(1, 0), mb(1, 0), F_NO),      \
+    TD(pre "yz", unit, spec, SYS_BOTH, ACC, 1, ma(1, 2), mb(1, 2), F_NO),      \
+    TD(pre "zx", unit, spec, SYS_BOTH, ACC, 2, ma(2, 0), mb(2, 0), F_NO),      \
+    TD(pre "zy", unit, spec, SYS_BOTH, ACC, 2, ma(2, 1), mb(2, 1), F_NO)
+#define PJ(j, k) (j)
+#define PK(j, k) (k)
+#define PN(j, k) F_NO
+#define SIZE3(pre, j)                                                          \
+    TD(pre "x", "m", 0.01, SYS_SD, IGEA__FAM_SIZE, j, 0, F_NO, F_NO),          \
+    TD(pre "y", "m", 0.01, SYS_SD, IGEA__FAM_SIZE, j, 1, F_NO, F_NO),          \
+    TD(pre "z", "m", 0.01, SYS_SD, IGEA__FAM_SIZE, j, 2, F_NO, F_NO)
+
+#define GS (0.5 * DEG_H / G0)        /* 0.5 deg/h/g */
+#define GSS (0.5 * DEG_H / (G0 * G0)) /* 0.5 deg/h/g^2 */
+#define US2 (1e-5 / G0)              /* 10 ug/g^2 */
+static const term_def TERMS[IGEA_ENVFUN_TERM_END] = {
+    AXES3("acc_bias_", "m/s^2", 1e-3 * G0, SYS_BOTH, ACC, F_NO, F_NO, F_NO),
+    AXES3("acc_scale_", "-", 1e-4, SYS_BOTH, ACC, F_J, F_NO, F_NO),
+    AXES3("acc_sq_", "1/(m/s^2)", US2, SYS_BOTH, ACC, F_J, F_J, F_NO),
+    PAIRS6("acc_mis_", "-", 1e-4, PK, PN),
+    AXES3("gyro_bias_", "rad/s", 0.5 * DEG_H, SYS_BOTH, GYR, F_NO, F_NO, F_NO),
+    AXES3("gyro_g_", "rad/s/(m/s^2)", GS, SYS_SD, GYR, F_J, F_NO, F_NO),
+    AXES3("gyro_scale_", "-", 1e-4, SYS_SD, GYR, F_W, F_NO, F_NO),
+    AXES3("att0_", "rad", 1e-4, SYS_SD, ATT, F_NO, F_NO, F_NO),
+    AXES3("gyro_gi_", "rad/s/(m/s^2)", GS, SYS_PF, GYR, F_I, F_NO, F_NO),
+    AXES3("gyro_gs_", "rad/s/(m/s^2)", GS, SYS_PF, GYR, F_S, F_NO, F_NO),
+    AXES3("align0_", "rad", 1e-4, SYS_PF, ATT, F_NO, F_NO, F_NO),
+    TD("", "", 0.0, 0, IGEA__FAM_NONE, 0, F_NO, F_NO, F_NO), /* code 36 */
+    AXES3("gyro_go_", "rad/s/(m/s^2)", GS, SYS_BOTH, GYR, F_O, F_NO, F_NO),
+    AXES3("gyro_gii_", "rad/s/(m/s^2)^2", GSS, SYS_BOTH, GYR, F_I, F_I, F_NO),
+    AXES3("gyro_gss_", "rad/s/(m/s^2)^2", GSS, SYS_BOTH, GYR, F_S, F_S, F_NO),
+    AXES3("gyro_goo_", "rad/s/(m/s^2)^2", GSS, SYS_BOTH, GYR, F_O, F_O, F_NO),
+    AXES3("gyro_gis_", "rad/s/(m/s^2)^2", GSS, SYS_BOTH, GYR, F_I, F_S, F_NO),
+    AXES3("gyro_gio_", "rad/s/(m/s^2)^2", GSS, SYS_BOTH, GYR, F_I, F_O, F_NO),
+    AXES3("gyro_gso_", "rad/s/(m/s^2)^2", GSS, SYS_BOTH, GYR, F_S, F_O, F_NO),
+    AXES3("gyro_gspin_", "rad/s/(m/s^2)", GS, SYS_SD, GYR, F_S, F_NO, F_NO),
+    AXES3("acc_cube_", "1/(m/s^2)^2", 1e-6 / (G0 * G0), SYS_BOTH, ACC, F_J, F_J, F_J),
+    AXES3("acc_asym_", "-", 2e-5, SYS_BOTH, ACC, F_ABS, F_NO, F_NO),
+    PAIRS6("acc_cross_", "1/(m/s^2)", US2, PJ, PK),
+    PAIRS6("acc_xsq_", "1/(m/s^2)", US2, PK, PK),
+    TD("acc_xprod_x", "1/(m/s^2)", US2, SYS_BOTH, ACC, 0, F_Y, F_Z, F_NO),
+    TD("acc_xprod_y", "1/(m/s^2)", US2, SYS_BOTH, ACC, 1, F_X, F_Z, F_NO),
+    TD("acc_xprod_z", "1/(m/s^2)", US2, SYS_BOTH, ACC, 2, F_X, F_Y, F_NO),
+    TD("pos0_x", "m", 10.0, SYS_BOTH, IGEA__FAM_POS0, 0, F_NO, F_NO, F_NO),
+    TD("pos0_z", "m", 10.0, SYS_BOTH, IGEA__FAM_POS0, 2, F_NO, F_NO, F_NO),
+    AXES3("lever_", "m", 0.1, SYS_BOTH, IGEA__FAM_LEVER, F_NO, F_NO, F_NO),
+    SIZE3("acc_size_x", 0), SIZE3("acc_size_y", 1), SIZE3("acc_size_z", 2),
 };
+#undef AXES3
 
 /* The 21-term models of METHODS 1.6(b) / 5.5, in model order. */
 static const int DEFAULT_SD[IGEA_ENVFUN_DEFAULT_TERMS] = {
@@ -58,23 +113,76 @@ static const int DEFAULT_PF[IGEA_ENVFUN_DEFAULT_TERMS] = {
     IGEA_ENVFUN_TERM_ALIGN0_X, IGEA_ENVFUN_TERM_ALIGN0_X + 1, IGEA_ENVFUN_TERM_ALIGN0_X + 2,
     IGEA_ENVFUN_TERM_ACC_SQ_X, IGEA_ENVFUN_TERM_ACC_SQ_X + 1, IGEA_ENVFUN_TERM_ACC_SQ_X + 2};
 
+/* The equation of each family (docs/terms.md), by name prefix: j is the
+ * first axis letter of the name, k the second; u the accelerometer error,
+ * eps the gyro rate error (strapdown, body axes) or platform drift, per
+ * unit coefficient; I(j), S(j), O(j) gyro j's input, spin, output axes. */
+static const struct {
+    const char *prefix, *formula;
+} FORMULAS[] = {
+    {"acc_bias_", "u = e_j"},
+    {"acc_scale_", "u = e_j f_j"},
+    {"acc_sq_", "u = e_j f_j^2"},
+    {"acc_mis_", "u = e_j f_k"},
+    {"acc_cube_", "u = e_j f_j^3"},
+    {"acc_asym_", "u = e_j |f_j|"},
+    {"acc_cross_", "u = e_j f_j f_k"},
+    {"acc_xsq_", "u = e_j f_k^2"},
+    {"acc_xprod_", "u = e_j f_k f_l (k, l the other axes)"},
+    {"acc_size_", "u = e_j (w' x e_k + w x (w x e_k))_j"},
+    {"gyro_bias_", "eps = e_j"},
+    {"gyro_g_", "eps = e_j f_j"},
+    {"gyro_scale_", "eps = e_j w_j"},
+    {"gyro_gi_", "eps = e_j f_I(j)"},
+    {"gyro_gs_", "eps = e_j f_S(j)"},
+    {"gyro_gspin_", "eps = e_j f_S(j)"},
+    {"gyro_go_", "eps = e_j f_O(j)"},
+    {"gyro_gii_", "eps = e_j f_I(j)^2"},
+    {"gyro_gss_", "eps = e_j f_S(j)^2"},
+    {"gyro_goo_", "eps = e_j f_O(j)^2"},
+    {"gyro_gis_", "eps = e_j f_I(j) f_S(j)"},
+    {"gyro_gio_", "eps = e_j f_I(j) f_O(j)"},
+    {"gyro_gso_", "eps = e_j f_S(j) f_O(j)"},
+    {"att0_", "phi0 = e_j: S = W x e_j"},
+    {"align0_", "alpha0 = e_j: S = W x e_j"},
+    {"pos0_x", "S = (W x e_z) / R"},
+    {"pos0_z", "S = -(W x e_x) / R"},
+    {"lever_", "S = -(C (w x e_j) - C_0 (w_0 x e_j))"},
+};
+
+const char *igea_envfun_term_formula(int term)
+{
+    const char *name = igea_envfun_term_name(term);
+    if (!*name)
+        return "";
+    for (size_t i = 0; i < sizeof FORMULAS / sizeof FORMULAS[0]; i++)
+        if (!strncmp(name, FORMULAS[i].prefix, strlen(FORMULAS[i].prefix)))
+            return FORMULAS[i].formula;
+    return "";
+}
+
+int igea_envfun_term_count(void)
+{
+    return IGEA_ENVFUN_TERM_END;
+}
+
 const char *igea_envfun_term_name(int term)
 {
-    return (term >= 0 && term < IGEA_ENVFUN_TERM_COUNT) ? TERMS[term].name : "";
+    return (term >= 0 && term < IGEA_ENVFUN_TERM_END) ? TERMS[term].name : "";
 }
 
 const char *igea_envfun_term_unit(int term)
 {
-    return (term >= 0 && term < IGEA_ENVFUN_TERM_COUNT) ? TERMS[term].unit : "";
+    return (term >= 0 && term < IGEA_ENVFUN_TERM_END) ? TERMS[term].unit : "";
 }
 
 int igea_envfun_term_code(int system, const char *name)
 {
     if (system != IGEA_ENVFUN_STRAPDOWN && system != IGEA_ENVFUN_PLATFORM)
         return -1;
-    if (!name)
+    if (!name || !*name)
         return -2;
-    for (int k = 0; k < IGEA_ENVFUN_TERM_COUNT; k++)
+    for (int k = 0; k < IGEA_ENVFUN_TERM_END; k++)
         if (!strcmp(TERMS[k].name, name) && igea_envfun_term_valid(system, k))
             return k;
     return -2;
@@ -108,63 +216,112 @@ int igea_envfun_default_terms(int system, int *terms, int cap, int *n)
     return 0;
 }
 
-int igea_envfun_term_valid(int system, int term)
+int igea_envfun_all_terms(int system, int *terms, int cap, int *n)
 {
-    if (term < 0 || term >= IGEA_ENVFUN_TERM_COUNT)
-        return 0;
-    if (system == IGEA_ENVFUN_STRAPDOWN)
-        return term < IGEA_ENVFUN_TERM_GYRO_GI_X;
-    if (system == IGEA_ENVFUN_PLATFORM)
-        return term < IGEA_ENVFUN_TERM_GYRO_G_X || term >= IGEA_ENVFUN_TERM_GYRO_GI_X;
+    int cnt = 0;
+    if (system != IGEA_ENVFUN_STRAPDOWN && system != IGEA_ENVFUN_PLATFORM)
+        return -1;
+    if (!terms)
+        return -2;
+    for (int k = 0; k < IGEA_ENVFUN_TERM_END; k++)
+        cnt += igea_envfun_term_valid(system, k);
+    if (cap < cnt)
+        return -3;
+    if (!n)
+        return -4;
+    cnt = 0;
+    for (int k = 0; k < IGEA_ENVFUN_TERM_END; k++)
+        if (igea_envfun_term_valid(system, k))
+            terms[cnt++] = k;
+    *n = cnt;
     return 0;
 }
 
-static int term_family(int term)
+int igea_envfun_term_valid(int system, int term)
 {
-    if (term < IGEA_ENVFUN_TERM_GYRO_BIAS_X)
-        return FAM_ACC;
-    if ((term >= IGEA_ENVFUN_TERM_ATT0_X && term < IGEA_ENVFUN_TERM_GYRO_GI_X) ||
-        term >= IGEA_ENVFUN_TERM_ALIGN0_X)
-        return FAM_ATT;
-    return FAM_GYRO;
+    if (term < 0 || term >= IGEA_ENVFUN_TERM_END)
+        return 0;
+    if (system == IGEA_ENVFUN_STRAPDOWN)
+        return (TERMS[term].sys & SYS_SD) != 0;
+    if (system == IGEA_ENVFUN_PLATFORM)
+        return (TERMS[term].sys & SYS_PF) != 0;
+    return 0;
 }
 
-/* Instrument error per unit coefficient of an accelerometer or gyro term
- * (family ACC or GYRO), u (3), from the sample's specific force f and
- * angular rate w in instrument axes; in_ax/spin_ax: platform gyro axes. */
-static void term_unit(int term, const double *f, const double *w,
-                      const int *in_ax, const int *spin_ax, double *u)
+/* ---- the instrument-error model (envfun_terms.h) ------------------------ */
+
+int igea__term_family(int term)
 {
-    static const int mis_j[6] = {0, 0, 1, 1, 2, 2};
-    static const int mis_k[6] = {1, 2, 0, 2, 0, 1};
-    int j;
-    u[0] = u[1] = u[2] = 0.0;
-    if (term < IGEA_ENVFUN_TERM_ACC_SCALE_X) {
-        u[term] = 1.0;
-    } else if (term < IGEA_ENVFUN_TERM_ACC_SQ_X) {
-        j = term - IGEA_ENVFUN_TERM_ACC_SCALE_X;
-        u[j] = f[j];
-    } else if (term < IGEA_ENVFUN_TERM_ACC_MIS_XY) {
-        j = term - IGEA_ENVFUN_TERM_ACC_SQ_X;
-        u[j] = f[j] * f[j];
-    } else if (term < IGEA_ENVFUN_TERM_GYRO_BIAS_X) {
-        j = term - IGEA_ENVFUN_TERM_ACC_MIS_XY;
-        u[mis_j[j]] = f[mis_k[j]];
-    } else if (term < IGEA_ENVFUN_TERM_GYRO_G_X) {
-        u[term - IGEA_ENVFUN_TERM_GYRO_BIAS_X] = 1.0;
-    } else if (term < IGEA_ENVFUN_TERM_GYRO_SCALE_X) {
-        j = term - IGEA_ENVFUN_TERM_GYRO_G_X;
-        u[j] = f[j];
-    } else if (term < IGEA_ENVFUN_TERM_ATT0_X) {
-        j = term - IGEA_ENVFUN_TERM_GYRO_SCALE_X;
-        u[j] = w[j];
-    } else if (term >= IGEA_ENVFUN_TERM_GYRO_GI_X && term < IGEA_ENVFUN_TERM_GYRO_GS_X) {
-        j = term - IGEA_ENVFUN_TERM_GYRO_GI_X;
-        u[j] = f[in_ax[j]];
-    } else if (term >= IGEA_ENVFUN_TERM_GYRO_GS_X && term < IGEA_ENVFUN_TERM_ALIGN0_X) {
-        j = term - IGEA_ENVFUN_TERM_GYRO_GS_X;
-        u[j] = f[spin_ax[j]];
+    return (term >= 0 && term < IGEA_ENVFUN_TERM_END) ? TERMS[term].fam
+                                                       : IGEA__FAM_NONE;
+}
+
+int igea__term_axis(int term, int *k)
+{
+    *k = TERMS[term].fam == IGEA__FAM_SIZE ? TERMS[term].m[0] : -1;
+    return TERMS[term].j;
+}
+
+int igea__term_uses_out(int term)
+{
+    const term_def *d = &TERMS[term];
+    return d->fam == IGEA__FAM_GYRO &&
+           (d->m[0] == F_O || d->m[1] == F_O || d->m[2] == F_O);
+}
+
+int igea__out_axes(const int *in, const int *spin, int *out)
+{
+    int st = 0;
+    for (int j = 0; j < 3; j++) {
+        if (in[j] == spin[j]) {
+            out[j] = (in[j] + 2) % 3;
+            st = -1;
+        } else {
+            out[j] = 3 - in[j] - spin[j];
+        }
     }
+    return st;
+}
+
+void igea__pos0_rotation(int term, double *theta)
+{
+    theta[0] = theta[1] = theta[2] = 0.0;
+    if (term == IGEA_ENVFUN_TERM_POS0_X)
+        theta[2] = -1.0 / EARTH_RADIUS;
+    else if (term == IGEA_ENVFUN_TERM_POS0_Z)
+        theta[0] = 1.0 / EARTH_RADIUS;
+}
+
+static double factor(int fc, int j, const double *f, const double *w,
+                     const int *in, const int *spin, const int *out)
+{
+    switch (fc) {
+    case F_J: return f[j];
+    case F_I: return f[in[j]];
+    case F_S: return f[spin[j]];
+    case F_O: return f[out[j]];
+    case F_ABS: return fabs(f[j]);
+    case F_W: return w[j];
+    case F_NO: return 1.0;
+    default: return f[fc];
+    }
+}
+
+void igea__term_unit(int term, const double *f, const double *w,
+                     const int *in, const int *spin, const int *out, double *u)
+{
+    const term_def *d = &TERMS[term];
+    int j = d->j;
+    u[0] = u[1] = u[2] = 0.0;
+    if (d->fam == IGEA__FAM_SIZE) {
+        int k = d->m[0];
+        double w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+        u[j] = w[j] * w[k] - (j == k ? w2 : 0.0); /* (w x (w x e_k))_j */
+        return;
+    }
+    u[j] = factor(d->m[0], j, f, w, in, spin, out) *
+           factor(d->m[1], j, f, w, in, spin, out) *
+           factor(d->m[2], j, f, w, in, spin, out);
 }
 
 /* Point-mass gravity g and its gradient G (row-major 3x3) at launch-frame
@@ -184,41 +341,27 @@ static void gravity(const double *r, double *g, double *G)
     }
 }
 
-/* Per-sample state of the integration: instrument-axis f, w, the attitude
- * C (strapdown) and the a-frame specific force fa. */
+/* Per-sample state of the integration: index k, instrument-axis f, w, the
+ * attitude C (strapdown; platform when a term needs the body attitude) and
+ * the a-frame specific force fa. */
 typedef struct {
     double t, f[3], w[3], C[9], fa[3];
+    int k;
 } sample;
 
-static void load_sample(int system, const double *traj, int ldt, int k,
-                        sample *s)
-{
-    double q[4];
-    s->t = IGEA_AT(traj, ldt, k, 0);
-    for (int i = 0; i < 3; i++) {
-        s->f[i] = IGEA_AT(traj, ldt, k, 1 + i);
-        s->w[i] = IGEA_AT(traj, ldt, k, 4 + i);
-    }
-    if (system == IGEA_ENVFUN_PLATFORM) {
-        memcpy(s->fa, s->f, sizeof s->fa);
-        return;
-    }
-    for (int i = 0; i < 4; i++)
-        q[i] = IGEA_AT(traj, ldt, k, 7 + i);
-    igea__quat_dcm_unit(q, s->C);
-    igea__m3_vec(s->C, s->f, s->fa, 0);
-}
-
-/* The state of the integration over the samples: per term 3-vectors
- * (nterms x 3 each) and the nominal trajectory of the gravity kinds. */
+/* The state of the integration over the samples: per column 3-vectors
+ * (ncols x 3 each) and the nominal trajectory of the gravity kinds. Columns
+ * 0 .. nb-1 are the catalogue terms, nb .. the user terms. */
 typedef struct {
-    int system, nterms, output, grav;
-    const int *terms;
-    int in_ax[3], spin_ax[3];
+    int system, nterms, nb, output, grav, need_att;
+    const int *terms, *ukind;
+    const double *user;
+    int ldu;
+    int in_ax[3], spin_ax[3], out_ax[3];
     size_t nt3;
     double *vel;      /* S_j(t_k) velocity function */
     double *inner;    /* Phi_u or alpha of gyro terms */
-    double *p_in;     /* previous inner integrand */
+    double *p_in;     /* previous inner integrand (lever: value at t_0) */
     double *p_out;    /* previous outer integrand */
     double *pos;      /* position (or gravity s_r) */
     double *sv;       /* gravity-coupled s_v */
@@ -228,78 +371,147 @@ typedef struct {
     double Wv[3], rn[3], vn[3], gacc_prev[3], Gm[9];
 } integ;
 
-/* Argument checks of igea_envfun_compute: 0 or -i; the platform axes. */
-static int check_args(int system, int nsamp, const double *traj, int ldt,
-                      int nterms, const int *terms, const int *axes,
-                      int nepochs, const double *epochs, int output,
-                      const double *S, int lds, int *in_ax, int *spin_ax)
+static void load_sample(const integ *g, const double *traj, int ldt, int k,
+                        sample *s)
 {
-    int st;
-    igea__platform_axes(NULL, in_ax, spin_ax);
+    double q[4];
+    s->k = k;
+    s->t = IGEA_AT(traj, ldt, k, 0);
+    for (int i = 0; i < 3; i++) {
+        s->f[i] = IGEA_AT(traj, ldt, k, 1 + i);
+        s->w[i] = IGEA_AT(traj, ldt, k, 4 + i);
+    }
+    if (g->system == IGEA_ENVFUN_PLATFORM)
+        memcpy(s->fa, s->f, sizeof s->fa);
+    if (g->system == IGEA_ENVFUN_PLATFORM && !g->need_att)
+        return;
+    for (int i = 0; i < 4; i++)
+        q[i] = IGEA_AT(traj, ldt, k, 7 + i);
+    igea__quat_dcm_unit(q, s->C);
+    if (g->system == IGEA_ENVFUN_STRAPDOWN)
+        igea__m3_vec(s->C, s->f, s->fa, 0);
+}
+
+/* Family of column j. */
+static int col_family(const integ *g, int j)
+{
+    if (j >= g->nb)
+        return g->ukind[j - g->nb] == IGEA_ENVFUN_USER_GYRO ? IGEA__FAM_GYRO
+                                                            : IGEA__FAM_ACC;
+    return igea__term_family(g->terms[j]);
+}
+
+/* Arguments of igea_envfun_compute_user (positions of that function): 0 or
+ * -i; the gyro axes; need_att. */
+static int check_args(int system, int nsamp, const double *traj, int ldt,
+                      int nterms, const int *terms, const int *axes, int nuser,
+                      const int *ukind, const double *user, int ldu,
+                      int nepochs, const double *epochs, int output,
+                      const double *S, int lds, integ *g)
+{
+    int st, uses_out = 0;
+    igea__platform_axes(NULL, g->in_ax, g->spin_ax);
     if ((st = igea__traj_args(system, nsamp, traj, ldt)) != 0)
         return st;
-    if (nterms < 1)
+    if (nterms < 0 || nterms > INT_MAX / 3 || (nterms == 0 && nuser <= 0))
         return -5;
-    if (!terms)
+    if (!terms && nterms > 0)
         return -6;
-    for (int j = 0; j < nterms; j++)
+    g->need_att = 0;
+    for (int j = 0; j < nterms; j++) {
         if (!igea_envfun_term_valid(system, terms[j]))
             return -6;
-    if (system == IGEA_ENVFUN_PLATFORM && igea__platform_axes(axes, in_ax, spin_ax))
+        g->need_att |= igea__term_family(terms[j]) == IGEA__FAM_LEVER;
+        uses_out |= igea__term_uses_out(terms[j]);
+    }
+    if (system == IGEA_ENVFUN_PLATFORM && igea__platform_axes(axes, g->in_ax, g->spin_ax))
         return -7;
-    if (nepochs < 1 || nepochs > INT_MAX / 3)
+    if (igea__out_axes(g->in_ax, g->spin_ax, g->out_ax) && uses_out)
+        return -7;
+    if (nuser < 0 || nuser > INT_MAX / 3 - nterms)
         return -8;
-    if (!epochs)
+    if (nuser > 0 && !ukind)
         return -9;
-    if (output < IGEA_ENVFUN_VELOCITY || output > IGEA_ENVFUN_POSITION_G)
+    for (int i = 0; i < nuser; i++)
+        if (ukind[i] != IGEA_ENVFUN_USER_ACC && ukind[i] != IGEA_ENVFUN_USER_GYRO)
+            return -9;
+    if (nuser > 0 && !user)
+        return -10;
+    if (nuser > 0 && ldu < nsamp)
         return -11;
-    if (!S)
+    if (nepochs < 1 || nepochs > INT_MAX / 3)
         return -12;
-    if (lds < 3 * nepochs)
+    if (!epochs)
         return -13;
+    if (output < IGEA_ENVFUN_VELOCITY || output > IGEA_ENVFUN_POSITION_G)
+        return -15;
+    if (!S)
+        return -16;
+    if (lds < 3 * nepochs)
+        return -17;
     return 0;
 }
 
 /* Data checks: finite values, positive specs, increasing times, epochs
- * inside the trajectory, quaternions of non-zero norm. */
-static int check_data(int system, int nsamp, const double *traj, int ldt,
-                      int nterms, const double *spec, int nepochs,
-                      const double *epochs)
+ * inside the trajectory, quaternions of non-zero norm where used. */
+static int check_data(const integ *g, int nsamp, const double *traj, int ldt,
+                      const double *spec, int nepochs, const double *epochs)
 {
-    int nf = 0;
+    int nf = 0, nu = g->nterms - g->nb;
     if (!igea__finite_mat(nsamp, IGEA_ENVFUN_TRAJ_COLS, traj, ldt) ||
-        !igea__finite_vec(nepochs, epochs, 1))
+        !igea__finite_vec(nepochs, epochs, 1) ||
+        (nu > 0 && !igea__finite_mat(nsamp, 3 * nu, g->user, g->ldu)))
         return IGEA_ENONFINITE;
-    if (spec && !igea__positive_vec(nterms, spec, &nf))
+    if (spec && !igea__positive_vec(g->nterms, spec, &nf))
         return nf ? IGEA_ENONFINITE : IGEA_ENONPOSITIVE;
     int bad = igea__traj_times(nsamp, traj, ldt, nepochs, epochs);
     if (bad)
-        return bad == 1 ? -3 : -9;
-    if (system == IGEA_ENVFUN_STRAPDOWN)
+        return bad == 1 ? -3 : -13;
+    if (g->system == IGEA_ENVFUN_STRAPDOWN || g->need_att)
         for (int k = 0; k < nsamp; k++)
             if (!(igea__traj_qnorm2(traj, ldt, k) > 1e-200))
                 return IGEA_EDOMAIN;
     return 0;
 }
 
-/* The a-frame unit error of term j at sample s (family ACC or GYRO). */
+/* The a-frame unit error of column j at sample s (family ACC, GYRO or the
+ * centripetal part of SIZE). */
 static void term_integrand(const integ *g, int j, const sample *s, double *cu)
 {
     double u[3];
-    term_unit(g->terms[j], s->f, s->w, g->in_ax, g->spin_ax, u);
+    if (j >= g->nb) {
+        size_t c = 3 * (size_t)(j - g->nb);
+        for (int a = 0; a < 3; a++)
+            u[a] = IGEA_AT(g->user, g->ldu, s->k, c + a);
+    } else {
+        igea__term_unit(g->terms[j], s->f, s->w, g->in_ax, g->spin_ax, g->out_ax, u);
+    }
     if (g->system == IGEA_ENVFUN_STRAPDOWN)
         igea__m3_vec(s->C, u, cu, 0);
     else
         memcpy(cu, u, sizeof u);
 }
 
+/* C (w x e_k) of a lever-arm term at sample s. */
+static void lever_rate(const sample *s, int k, double *out)
+{
+    double ek[3] = {0, 0, 0}, wx[3];
+    ek[k] = 1.0;
+    igea__cross(s->w, ek, wx);
+    igea__m3_vec(s->C, wx, out, 0);
+}
+
 /* Initial integrands at sample 0 (the outer integrand of a gyro term
- * starts at 0: inner = 0). */
+ * starts at 0: inner = 0; a lever term keeps its value at t_0). */
 static void init_integrands(integ *g, const sample *s)
 {
-    for (int j = 0; j < g->nterms; j++)
-        if (term_family(g->terms[j]) != FAM_ATT)
+    for (int j = 0; j < g->nterms; j++) {
+        int fam = col_family(g, j), k;
+        if (fam == IGEA__FAM_ACC || fam == IGEA__FAM_GYRO || fam == IGEA__FAM_SIZE)
             term_integrand(g, j, s, g->p_in + 3 * (size_t)j);
+        else if (fam == IGEA__FAM_LEVER)
+            lever_rate(s, igea__term_axis(g->terms[j], &k), g->p_in + 3 * (size_t)j);
+    }
 }
 
 /* Gravity step: the nominal trajectory v' = f^a + g(r), trapezoid with a
@@ -323,27 +535,53 @@ static void gravity_step(integ *g, const sample *prev, const sample *cur, double
     gravity(g->rn, g->gacc_prev, NULL);
 }
 
-/* Term step: the velocity functions of every term at sample cur. */
-static void term_step(integ *g, const sample *cur, double h)
+/* Velocity function of a column that is a function of the sample (ATT:
+ * W x e_k; POS0: theta x W; LEVER: -(C (w x e_k) - its value at t_0)). */
+static void direct_step(integ *g, int j, int fam, const sample *cur, double *vj)
+{
+    int k, ax = igea__term_axis(g->terms[j], &k);
+    double v[3] = {0, 0, 0};
+    if (fam == IGEA__FAM_ATT) {
+        v[ax] = 1.0;
+        igea__cross(g->Wv, v, vj);
+    } else if (fam == IGEA__FAM_POS0) {
+        igea__pos0_rotation(g->terms[j], v);
+        igea__cross(v, g->Wv, vj);
+    } else {
+        lever_rate(cur, ax, v);
+        for (int a = 0; a < 3; a++)
+            vj[a] = -(v[a] - g->p_in[3 * (size_t)j + a]);
+    }
+}
+
+/* Term step: the velocity functions of every column at sample cur. */
+static void term_step(integ *g, const sample *prev, const sample *cur, double h)
 {
     for (int j = 0; j < g->nterms; j++) {
-        int fam = term_family(g->terms[j]);
+        int fam = col_family(g, j);
         double *vj = g->vel + 3 * (size_t)j;
         double *ij = g->inner + 3 * (size_t)j;
         double *pi = g->p_in + 3 * (size_t)j;
         double *po = g->p_out + 3 * (size_t)j;
         double cu[3], co[3];
-        if (fam == FAM_ATT) {
-            int kax = (g->terms[j] >= IGEA_ENVFUN_TERM_ALIGN0_X)
-                          ? g->terms[j] - IGEA_ENVFUN_TERM_ALIGN0_X
-                          : g->terms[j] - IGEA_ENVFUN_TERM_ATT0_X;
-            double ek[3] = {0, 0, 0};
-            ek[kax] = 1.0;
-            igea__cross(g->Wv, ek, vj);
+        if (fam == IGEA__FAM_ATT || fam == IGEA__FAM_POS0 || fam == IGEA__FAM_LEVER) {
+            direct_step(g, j, fam, cur, vj);
             continue;
         }
         term_integrand(g, j, cur, cu);
-        if (fam == FAM_ACC) {
+        if (fam == IGEA__FAM_SIZE) {
+            /* tangential part: Stieltjes sum of e_j (dw x e_k)_j, C at the
+             * mid-step (mean of the ends) */
+            int k, ax = igea__term_axis(g->terms[j], &k);
+            double dw[3], ek[3] = {0, 0, 0}, tg[3];
+            for (int a = 0; a < 3; a++)
+                dw[a] = cur->w[a] - prev->w[a];
+            ek[k] = 1.0;
+            igea__cross(dw, ek, tg);
+            for (int a = 0; a < 3; a++)
+                vj[a] += 0.5 * (prev->C[3 * a + ax] + cur->C[3 * a + ax]) * tg[ax];
+        }
+        if (fam != IGEA__FAM_GYRO) {
             for (int a = 0; a < 3; a++)
                 vj[a] += 0.5 * h * (pi[a] + cu[a]);
         } else {
@@ -434,66 +672,95 @@ static int scale_out(int nterms, const double *spec, const double *out,
     return IGEA_OK;
 }
 
-int igea_envfun_compute(int system, int nsamp, const double *traj, int ldt,
-                        int nterms, const int *terms, const int *axes,
-                        int nepochs, const double *epochs, const double *spec,
-                        int output, double *S, int lds)
+/* The integration of checked arguments into S. */
+static int run(integ *g, int nsamp, const double *traj, int ldt, int nepochs,
+               const double *epochs, const double *spec, double *S, int lds)
 {
-    integ g;
-    int st = check_args(system, nsamp, traj, ldt, nterms, terms, axes, nepochs,
-                        epochs, output, S, lds, g.in_ax, g.spin_ax);
-    if (st == 0)
-        st = check_data(system, nsamp, traj, ldt, nterms, spec, nepochs, epochs);
-    if (st)
-        return st;
-
+    int nterms = g->nterms;
     size_t nt3 = (size_t)nterms * 3, mrows = (size_t)nepochs * 3;
     double *work = igea__dalloc(nt3 * 9 + mrows * (size_t)nterms);
     if (!work)
         return IGEA_ENOMEM;
     memset(work, 0, nt3 * 9 * sizeof(double));
-    g.system = system;
-    g.nterms = nterms;
-    g.terms = terms;
-    g.output = output;
-    g.grav = (output == IGEA_ENVFUN_VELOCITY_G || output == IGEA_ENVFUN_POSITION_G);
-    g.nt3 = nt3;
-    g.vel = work;
-    g.inner = g.vel + nt3;
-    g.p_in = g.inner + nt3;
-    g.p_out = g.p_in + nt3;
-    g.pos = g.p_out + nt3;
-    g.sv = g.pos + nt3;
-    g.val = g.sv + nt3;
-    g.val_prev = g.val + nt3;
-    g.vel_prev = g.val_prev + nt3;
-    double *out = g.vel_prev + nt3; /* 3 nepochs x nterms, ld = mrows */
+    g->grav = (g->output == IGEA_ENVFUN_VELOCITY_G || g->output == IGEA_ENVFUN_POSITION_G);
+    g->nt3 = nt3;
+    g->vel = work;
+    g->inner = g->vel + nt3;
+    g->p_in = g->inner + nt3;
+    g->p_out = g->p_in + nt3;
+    g->pos = g->p_out + nt3;
+    g->sv = g->pos + nt3;
+    g->val = g->sv + nt3;
+    g->val_prev = g->val + nt3;
+    g->vel_prev = g->val_prev + nt3;
+    double *out = g->vel_prev + nt3; /* 3 nepochs x nterms, ld = mrows */
     for (int a = 0; a < 3; a++)
-        g.Wv[a] = g.rn[a] = g.vn[a] = 0.0;
+        g->Wv[a] = g->rn[a] = g->vn[a] = 0.0;
     for (int i = 0; i < 9; i++)
-        g.Gm[i] = 0.0;
+        g->Gm[i] = 0.0;
 
     sample cur, prev;
-    load_sample(system, traj, ldt, 0, &cur);
-    gravity(g.rn, g.gacc_prev, NULL);
-    init_integrands(&g, &cur);
+    load_sample(g, traj, ldt, 0, &cur);
+    gravity(g->rn, g->gacc_prev, NULL);
+    init_integrands(g, &cur);
     /* epochs at t_0: everything is zero */
-    int e = interpolate(&g, 0, nepochs, epochs, cur.t, cur.t, out, mrows);
+    int e = interpolate(g, 0, nepochs, epochs, cur.t, cur.t, out, mrows);
     for (int k = 1; k < nsamp && e < nepochs; k++) {
         prev = cur;
-        load_sample(system, traj, ldt, k, &cur);
+        load_sample(g, traj, ldt, k, &cur);
         double h = cur.t - prev.t;
         for (int a = 0; a < 3; a++)
-            g.Wv[a] += 0.5 * h * (prev.fa[a] + cur.fa[a]);
-        if (g.grav)
-            gravity_step(&g, &prev, &cur, h);
-        memcpy(g.vel_prev, g.vel, nt3 * sizeof(double));
-        term_step(&g, &cur, h);
-        output_step(&g, h);
+            g->Wv[a] += 0.5 * h * (prev.fa[a] + cur.fa[a]);
+        if (g->grav)
+            gravity_step(g, &prev, &cur, h);
+        memcpy(g->vel_prev, g->vel, nt3 * sizeof(double));
+        term_step(g, &prev, &cur, h);
+        output_step(g, h);
         /* epochs in (t_{k-1}, t_k]: linear interpolation */
-        e = interpolate(&g, e, nepochs, epochs, prev.t, cur.t, out, mrows);
+        e = interpolate(g, e, nepochs, epochs, prev.t, cur.t, out, mrows);
     }
-    st = scale_out(nterms, spec, out, mrows, S, lds);
+    int st = scale_out(nterms, spec, out, mrows, S, lds);
     free(work);
     return st;
+}
+
+int igea_envfun_compute_user(int system, int nsamp, const double *traj, int ldt,
+                             int nterms, const int *terms, const int *axes,
+                             int nuser, const int *user_kind, const double *user,
+                             int ldu, int nepochs, const double *epochs,
+                             const double *spec, int output, double *S, int lds)
+{
+    integ g;
+    int st = check_args(system, nsamp, traj, ldt, nterms, terms, axes, nuser,
+                        user_kind, user, ldu, nepochs, epochs, output, S, lds, &g);
+    if (st)
+        return st;
+    g.system = system;
+    g.nb = nterms;
+    g.nterms = nterms + nuser;
+    g.terms = terms;
+    g.ukind = user_kind;
+    g.user = user;
+    g.ldu = ldu;
+    g.output = output;
+    if ((st = check_data(&g, nsamp, traj, ldt, spec, nepochs, epochs)) != 0)
+        return st;
+    return run(&g, nsamp, traj, ldt, nepochs, epochs, spec, S, lds);
+}
+
+int igea_envfun_compute(int system, int nsamp, const double *traj, int ldt,
+                        int nterms, const int *terms, const int *axes,
+                        int nepochs, const double *epochs, const double *spec,
+                        int output, double *S, int lds)
+{
+    /* positions 12 .. 17 of igea_envfun_compute_user are 8 .. 13 here */
+    int st = igea__traj_args(system, nsamp, traj, ldt);
+    if (st == 0 && nterms < 1)
+        st = -5;
+    if (st)
+        return st;
+    st = igea_envfun_compute_user(system, nsamp, traj, ldt, nterms, terms,
+                                      axes, 0, NULL, NULL, nsamp, nepochs, epochs,
+                                      spec, output, S, lds);
+    return (st <= -12 && st >= -17) ? st + 4 : st;
 }

@@ -831,6 +831,355 @@ static void test_catalogue_defaults(void **state)
     assert_int_equal(n, 21);
 }
 
+/* ---- the extended catalogue ------------------------------------------- */
+
+/* Relative discrepancy max|S e - dW_nl| / max|dW_nl| over the epochs of the
+ * errors err (nerr = IGEA_ENVFUN_TERM_END) of the codes codes[0..nt-1]
+ * (S raw, one column per code). */
+static double rel_discrepancy(int system, const double *tr, int n, const double *S,
+                              int m, const int *codes, int nt, const double *err,
+                              const double *ep, int nep, double *absd)
+{
+    double *dW = malloc(sizeof(double) * (size_t)m);
+    assert_non_null(dW);
+    assert_int_equal(igea_envfun_nonlinear(system, n, tr, n, IGEA_ENVFUN_TERM_END, err,
+                                           NULL, nep, ep, dW),
+                     0);
+    double maxd = 0.0, maxn = 0.0;
+    for (int i = 0; i < m; i++) {
+        double lin = 0.0;
+        for (int c = 0; c < nt; c++)
+            lin += S[i + (size_t)c * m] * err[codes[c]];
+        maxd = fmax(maxd, fabs(lin - dW[i]));
+        maxn = fmax(maxn, fabs(dW[i]));
+    }
+    free(dW);
+    assert_true(maxn > 0.0);
+    *absd = maxd;
+    return maxd / maxn;
+}
+
+/* Rewrite the quaternions of a strapdown trajectory as the rates propagate
+ * them in the truth model (q_k = q_{k-1} (cos |v|/2, sin |v|/2 v/|v|), v
+ * the trapezoid mean rate times the step), so that S reads the attitude
+ * the truth flies and the comparison carries no attitude-discretisation
+ * floor. */
+static void consistent_quaternions(double *tr, int n)
+{
+    double q[4];
+    for (int i = 0; i < 4; i++)
+        q[i] = tr[(size_t)(7 + i) * n];
+    for (int k = 1; k < n; k++) {
+        double h = tr[k] - tr[k - 1], v[3], p[4], r[4];
+        for (int a = 0; a < 3; a++)
+            v[a] = 0.5 * h * (tr[k - 1 + (size_t)(4 + a) * n] + tr[k + (size_t)(4 + a) * n]);
+        double th = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        double sc = th > 0 ? sin(0.5 * th) / th : 0.5;
+        r[0] = cos(0.5 * th);
+        for (int a = 0; a < 3; a++)
+            r[1 + a] = sc * v[a];
+        p[0] = q[0] * r[0] - q[1] * r[1] - q[2] * r[2] - q[3] * r[3];
+        p[1] = q[0] * r[1] + q[1] * r[0] + q[2] * r[3] - q[3] * r[2];
+        p[2] = q[0] * r[2] - q[1] * r[3] + q[2] * r[0] + q[3] * r[1];
+        p[3] = q[0] * r[3] + q[1] * r[2] - q[2] * r[1] + q[3] * r[0];
+        memcpy(q, p, sizeof q);
+        for (int i = 0; i < 4; i++)
+            tr[k + (size_t)(7 + i) * n] = q[i];
+    }
+}
+
+/* Every term of the catalogue alone, and all together, against the
+ * nonlinear truth model at the default 1-sigma sizes (signs alternating
+ * +, -, +0.8) and at half of them: where the discrepancy is second order
+ * it halves (ratio 2 +- 10 %). Where the truth is linear in the
+ * coefficient (accelerometer-type errors without an attitude error, the
+ * lever arm) or its second-order part is below the floor, the discrepancy
+ * stays within the floor at both sizes: 1e-9 m/s (rounding: the truth's
+ * Wh - W cancels W of 3e3 m/s) or 2e-5 relative (the O(h^2) difference
+ * between the truth's exact rotation per step and the trapezoid double
+ * integral of S); a wrong sign or integral would be O(1). The strapdown
+ * trajectory's quaternions are first made those the truth flies. */
+static void check_catalogue(int system, const char *name)
+{
+    int n, codes[IGEA_ENVFUN_TERM_END], nt = 0, worst = -1;
+    assert_int_equal(igea_envfun_all_terms(system, codes, IGEA_ENVFUN_TERM_END, &nt), 0);
+    double *tr = make_traj(system, &n), ep[N_EP], err[IGEA_ENVFUN_TERM_END];
+    double sz[IGEA_ENVFUN_TERM_END], worst_rel = 0.0, worst_ratio = 0.0;
+    int m = 3 * N_EP, nlin = 0;
+    double *S = malloc(sizeof(double) * (size_t)m * nt);
+    assert_non_null(S);
+    if (system == IGEA_ENVFUN_STRAPDOWN)
+        consistent_quaternions(tr, n);
+    for (int e = 0; e < N_EP; e++)
+        ep[e] = e;
+    assert_int_equal(igea_envfun_compute(system, n, tr, n, nt, codes, NULL, N_EP, ep, NULL,
+                                         IGEA_ENVFUN_VELOCITY, S, m),
+                     0);
+    for (int c = 0; c < nt; c++) {
+        assert_int_equal(igea_envfun_default_spec(system, codes[c], &sz[codes[c]]), 0);
+        sz[codes[c]] *= (c % 3 == 1) ? -1.0 : (c % 3 == 2 ? 0.8 : 1.0);
+    }
+    for (int j = -1; j < nt; j++) {
+        double rel[2], absd[2];
+        for (int h = 0; h < 2; h++) {
+            for (int k = 0; k < IGEA_ENVFUN_TERM_END; k++)
+                err[k] = 0.0;
+            for (int c = 0; c < nt; c++)
+                if (j < 0 || c == j)
+                    err[codes[c]] = sz[codes[c]] * (h ? 0.5 : 1.0);
+            rel[h] = rel_discrepancy(system, tr, n, S, m, codes, nt, err, ep, N_EP, &absd[h]);
+        }
+        const char *nm = j < 0 ? "(all)" : igea_envfun_term_name(codes[j]);
+        if (getenv("SHOWALL")) print_message("%s %s %.3g %.3g\n", name, nm, rel[0], rel[1]);
+        double ratio = rel[0] / rel[1];
+        if (!(ratio > 1.8 && ratio < 2.2)) {
+            /* linear in the truth: the floor of rounding and of the
+             * trajectory's own attitude (the strapdown truth propagates
+             * C from the rates, S reads the quaternions) */
+            int floor_ok = (rel[0] < 2e-5 && rel[1] < 2e-5) || (absd[0] < 1e-9 && absd[1] < 1e-9);
+            if (!floor_ok)
+                print_error("%s %s: rel %.3g, halved %.3g (%.3g m/s)\n", name, nm,
+                            rel[0], rel[1], absd[0]);
+            assert_true(floor_ok);
+            nlin++;
+            continue;
+        }
+        assert_true(rel[0] < (j < 0 ? 5e-3 : 1e-3));
+        if (j >= 0 && rel[0] > worst_rel) {
+            worst_rel = rel[0];
+            worst = codes[j];
+            worst_ratio = ratio;
+        }
+        if (j < 0)
+            print_message("%s, all %d terms: rel %.3g, halved ratio %.3f\n", name, nt,
+                          rel[0], ratio);
+    }
+    print_message("%s: %d terms, %d linear in the truth; worst term %s rel %.3g "
+                  "(halved: ratio %.3f)\n", name, nt, nlin, igea_envfun_term_name(worst),
+                  worst_rel, worst_ratio);
+    free(S);
+    free(tr);
+}
+
+static void test_catalogue_vs_nonlinear(void **state)
+{
+    (void)state;
+    check_catalogue(IGEA_ENVFUN_PLATFORM, "platform");
+    check_catalogue(IGEA_ENVFUN_STRAPDOWN, "strapdown");
+}
+
+/* The extended catalogue: counts (74 platform terms: the size of seed
+ * 000's platform model), names, the gap at code 36, the all-terms set. */
+static void test_catalogue_extended(void **state)
+{
+    (void)state;
+    int codes[IGEA_ENVFUN_TERM_END], n = -1, a = 0, b = 0;
+    assert_int_equal(igea_envfun_term_count(), IGEA_ENVFUN_TERM_END);
+    for (int k = 0; k < IGEA_ENVFUN_TERM_END; k++) {
+        a += igea_envfun_term_valid(IGEA_ENVFUN_STRAPDOWN, k);
+        b += igea_envfun_term_valid(IGEA_ENVFUN_PLATFORM, k);
+        int named = igea_envfun_term_name(k)[0] != '\0';
+        assert_int_equal(named, igea_envfun_term_valid(0, k) || igea_envfun_term_valid(1, k));
+        for (int sys = 0; sys < 2; sys++)
+            if (named)
+                assert_int_equal(igea_envfun_term_code(sys, igea_envfun_term_name(k)),
+                                 igea_envfun_term_valid(sys, k) ? k : -2);
+    }
+    assert_int_equal(b, 74);
+    assert_int_equal(a, 86);
+    assert_string_equal(igea_envfun_term_name(IGEA_ENVFUN_TERM_COUNT), "");
+    assert_string_equal(igea_envfun_term_name(IGEA_ENVFUN_TERM_END), "");
+    assert_string_equal(igea_envfun_term_name(IGEA_ENVFUN_TERM_GYRO_GIO_X + 1), "gyro_gio_y");
+    assert_string_equal(igea_envfun_term_name(IGEA_ENVFUN_TERM_ACC_CROSS_XY + 3), "acc_cross_yz");
+    assert_string_equal(igea_envfun_term_name(IGEA_ENVFUN_TERM_ACC_XSQ_XY + 4), "acc_xsq_zx");
+    assert_string_equal(igea_envfun_term_name(IGEA_ENVFUN_TERM_SIZE_XX + 5), "acc_size_yz");
+    assert_string_equal(igea_envfun_term_name(IGEA_ENVFUN_TERM_POS0_Z), "pos0_z");
+    assert_string_equal(igea_envfun_term_unit(IGEA_ENVFUN_TERM_GYRO_GSS_X), "rad/s/(m/s^2)^2");
+    assert_string_equal(igea_envfun_term_unit(IGEA_ENVFUN_TERM_LEVER_X), "m");
+    assert_string_equal(igea_envfun_term_formula(IGEA_ENVFUN_TERM_ACC_CUBE_X + 1), "u = e_j f_j^3");
+    assert_string_equal(igea_envfun_term_formula(IGEA_ENVFUN_TERM_GYRO_GIO_X), "eps = e_j f_I(j) f_O(j)");
+    assert_string_equal(igea_envfun_term_formula(IGEA_ENVFUN_TERM_GYRO_G_X), "eps = e_j f_j");
+    assert_string_equal(igea_envfun_term_formula(IGEA_ENVFUN_TERM_POS0_Z), "S = -(W x e_x) / R");
+    assert_string_equal(igea_envfun_term_formula(IGEA_ENVFUN_TERM_COUNT), "");
+    assert_string_equal(igea_envfun_term_formula(-3), "");
+    for (int k = 0; k < IGEA_ENVFUN_TERM_END; k++) /* every term has its equation */
+        assert_int_equal(igea_envfun_term_formula(k)[0] != '\0', igea_envfun_term_name(k)[0] != '\0');
+    assert_int_equal(igea_envfun_term_valid(IGEA_ENVFUN_PLATFORM, IGEA_ENVFUN_TERM_SIZE_XX), 0);
+    assert_int_equal(igea_envfun_term_valid(IGEA_ENVFUN_PLATFORM, IGEA_ENVFUN_TERM_GYRO_GSPIN_X), 0);
+    assert_int_equal(igea_envfun_term_valid(IGEA_ENVFUN_STRAPDOWN, IGEA_ENVFUN_TERM_GYRO_GSPIN_X), 1);
+    assert_int_equal(igea_envfun_all_terms(IGEA_ENVFUN_PLATFORM, codes, IGEA_ENVFUN_TERM_END, &n), 0);
+    assert_int_equal(n, 74);
+    n = -1;
+    codes[0] = -7;
+    assert_int_equal(igea_envfun_all_terms(IGEA_ENVFUN_PLATFORM, codes, 73, &n), -3);
+    assert_int_equal(igea_envfun_all_terms(IGEA_ENVFUN_PLATFORM, NULL, 96, &n), -2);
+    assert_int_equal(igea_envfun_all_terms(IGEA_ENVFUN_PLATFORM, codes, 96, NULL), -4);
+    assert_int_equal(igea_envfun_all_terms(5, codes, 96, &n), -1);
+    assert_true(n == -1 && codes[0] == -7);
+}
+
+/* A constant-force (or constant-rate) trajectory of NS samples at dt. */
+static double *const_traj(int ns, double dt, const double *f, const double *w,
+                          double wz_rot)
+{
+    double *tr = malloc(sizeof(double) * (size_t)ns * IGEA_ENVFUN_TRAJ_COLS);
+    assert_non_null(tr);
+    for (int k = 0; k < ns; k++) {
+        double t = dt * k;
+        tr[k] = t;
+        for (int a = 0; a < 3; a++) {
+            tr[k + (1 + a) * ns] = f[a];
+            tr[k + (4 + a) * ns] = w[a];
+        }
+        /* attitude: rotation by wz_rot t about z */
+        tr[k + 7 * ns] = cos(0.5 * wz_rot * t);
+        tr[k + 8 * ns] = tr[k + 9 * ns] = 0.0;
+        tr[k + 10 * ns] = sin(0.5 * wz_rot * t);
+    }
+    return tr;
+}
+
+/* Closed forms of the new families on a constant-force, non-rotating
+ * platform trajectory, written from the unit errors of docs/envfun.md:
+ * K3 f_j^3 t e_j, asymmetry |f_j| t e_j, cross-coupling f_j f_k t e_j,
+ * drift q(f) constant -> S = t^2/2 q (f x e_j), pos0_x (W x e_z) / R. */
+static void test_closed_forms_extended(void **state)
+{
+    (void)state;
+    enum { NS = 11 };
+    double f[3] = {3.0, -2.0, 12.0}, w0[3] = {0, 0, 0}, t = 5.0, R = 6371000.0;
+    double *tr = const_traj(NS, 0.5, f, w0, 0.0);
+    int pf[6] = {IGEA_ENVFUN_TERM_ACC_CUBE_X + 2, IGEA_ENVFUN_TERM_ACC_ASYM_X + 1,
+                 IGEA_ENVFUN_TERM_ACC_CROSS_XY + 1, IGEA_ENVFUN_TERM_GYRO_GII_X,
+                 IGEA_ENVFUN_TERM_GYRO_GO_X, IGEA_ENVFUN_TERM_POS0_X};
+    double ep[1] = {t}, S[3 * 6];
+    assert_int_equal(igea_envfun_compute(IGEA_ENVFUN_PLATFORM, NS, tr, NS, 6, pf, NULL, 1,
+                                         ep, NULL, IGEA_ENVFUN_VELOCITY, S, 3),
+                     0);
+    assert_close(S[0 * 3 + 2], f[2] * f[2] * f[2] * t, 1e-14);
+    assert_close(S[1 * 3 + 1], 2.0 * t, 1e-14);
+    assert_close(S[2 * 3 + 0], f[0] * f[2] * t, 1e-14); /* acc_cross_xz */
+    /* gyro x, I = x: q = f_x^2; f x e_x = (0, f_z, -f_y) */
+    assert_close(S[3 * 3 + 1], 0.5 * t * t * f[0] * f[0] * f[2], 1e-14);
+    assert_close(S[3 * 3 + 2], -0.5 * t * t * f[0] * f[0] * f[1], 1e-14);
+    /* gyro x, default I = x, S = y: O = z */
+    assert_close(S[4 * 3 + 1], 0.5 * t * t * f[2] * f[2], 1e-14);
+    /* pos0_x: (W x e_z) / R = (W_y, -W_x, 0) / R */
+    assert_close(S[5 * 3 + 0], f[1] * t / R, 1e-14);
+    assert_close(S[5 * 3 + 1], -f[0] * t / R, 1e-14);
+    /* the same gyro drift through the nonlinear truth model: the exact
+     * rotation differs from t^2/2 eps (f x e_x) by O(eps t) relative */
+    double err[IGEA_ENVFUN_TERM_END] = {0}, dW[3], eps = 1e-6;
+    err[IGEA_ENVFUN_TERM_GYRO_BIAS_X] = eps;
+    assert_int_equal(igea_envfun_nonlinear(IGEA_ENVFUN_PLATFORM, NS, tr, NS,
+                                           IGEA_ENVFUN_TERM_END, err, NULL, 1, ep, dW),
+                     0);
+    assert_close(dW[1], 0.5 * eps * t * t * f[2], 1e-4);
+    assert_close(dW[2], -0.5 * eps * t * t * f[1], 1e-4);
+    /* a constant accelerometer bias on a static (1 g) platform: b t */
+    double fg[3] = {0.0, 9.80665, 0.0};
+    double *ts = const_traj(NS, 0.5, fg, w0, 0.0);
+    err[IGEA_ENVFUN_TERM_GYRO_BIAS_X] = 0.0;
+    err[IGEA_ENVFUN_TERM_ACC_BIAS_X + 1] = 1e-3;
+    assert_int_equal(igea_envfun_nonlinear(IGEA_ENVFUN_PLATFORM, NS, ts, NS,
+                                           IGEA_ENVFUN_TERM_END, err, NULL, 1, ep, dW),
+                     0);
+    assert_close(dW[1], 1e-3 * t, 1e-11); /* W +- b t: cancellation of 1e4 */
+    free(ts);
+    free(tr);
+}
+
+/* Lever arm and size effect on a body turning at a constant rate w about
+ * z (attitude R_z(w t)): lever_x: -(C(t) - C(0)) (w x e_x) =
+ * -w (-sin wt, cos wt - 1, 0); size effect of accelerometer x displaced
+ * along x: centripetal -w^2 e_x, S = int C (-w^2 e_x) = -w (sin wt,
+ * 1 - cos wt, 0) (trapezoid error O(h^2)). */
+static void test_lever_size_closed_forms(void **state)
+{
+    (void)state;
+    enum { NS = 2001 };
+    double wz = 0.2, f[3] = {0, 0, 0}, w[3] = {0, 0, wz}, t = 10.0;
+    double *tr = const_traj(NS, t / (NS - 1), f, w, wz);
+    int codes[2] = {IGEA_ENVFUN_TERM_LEVER_X, IGEA_ENVFUN_TERM_SIZE_XX};
+    double ep[1] = {t}, S[6];
+    assert_int_equal(igea_envfun_compute(IGEA_ENVFUN_STRAPDOWN, NS, tr, NS, 2, codes, NULL, 1,
+                                         ep, NULL, IGEA_ENVFUN_VELOCITY, S, 3),
+                     0);
+    double c = cos(wz * t), s = sin(wz * t);
+    assert_close(S[0], wz * s, 1e-13);
+    assert_close(S[1], -wz * (c - 1.0), 1e-13);
+    assert_close(S[3], -wz * s, 1e-6);
+    assert_close(S[4], -wz * (1.0 - c), 1e-6);
+    /* platform lever arm: the same geometry from the body attitude */
+    assert_int_equal(igea_envfun_compute(IGEA_ENVFUN_PLATFORM, NS, tr, NS, 1, codes, NULL, 1,
+                                         ep, NULL, IGEA_ENVFUN_VELOCITY, S, 3),
+                     0);
+    assert_close(S[0], wz * s, 1e-13);
+    free(tr);
+}
+
+/* User-defined terms: a constant series equals the catalogue's bias
+ * column; a thermal-like profile u = e_x sin(a t) on a platform gives
+ * S_x = (1 - cos a t) / a (trapezoid error O(h^2)); gyro kind = drift. */
+static void test_user_terms(void **state)
+{
+    (void)state;
+    enum { NS = 4001 };
+    double f[3] = {3.0, -2.0, 12.0}, w0[3] = {0.01, 0, 0}, T = 40.0, a = 0.3;
+    double *tr = const_traj(NS, T / (NS - 1), f, w0, 0.01);
+    double *u = malloc(sizeof(double) * NS * 9), ep[2] = {13.3, T};
+    int kind[3] = {IGEA_ENVFUN_USER_ACC, IGEA_ENVFUN_USER_GYRO, IGEA_ENVFUN_USER_ACC};
+    int codes[2] = {IGEA_ENVFUN_TERM_ACC_BIAS_X + 1, IGEA_ENVFUN_TERM_GYRO_BIAS_X + 2};
+    assert_non_null(u);
+    for (int k = 0; k < NS; k++) {
+        double t = tr[k];
+        for (int c = 0; c < 9; c++)
+            u[k + (size_t)c * NS] = 0.0;
+        u[k + 0 * NS] = sin(a * t); /* user 0: x */
+        u[k + 5 * NS] = 1.0;        /* user 1: z, a constant drift */
+        u[k + 7 * NS] = 1.0;        /* user 2: y, a constant bias */
+    }
+    double S[6 * 5], R[6 * 2];
+    for (int sys = 0; sys < 2; sys++) {
+        assert_int_equal(igea_envfun_compute_user(sys, NS, tr, NS, 2, codes, NULL, 3, kind, u,
+                                                  NS, 2, ep, NULL, IGEA_ENVFUN_VELOCITY, S, 6),
+                         0);
+        assert_int_equal(igea_envfun_compute(sys, NS, tr, NS, 2, codes, NULL, 2, ep, NULL,
+                                             IGEA_ENVFUN_VELOCITY, R, 6),
+                         0);
+        for (int i = 0; i < 6; i++) {
+            assert_true(S[i] == R[i] && S[6 + i] == R[6 + i]);
+            assert_close_abs(S[24 + i], R[i], 1e-14, 1e-15); /* user 2 = acc_bias_y */
+            assert_close_abs(S[18 + i], R[6 + i], 1e-14, 1e-15); /* user 1 = gyro_bias_z */
+        }
+        if (sys == IGEA_ENVFUN_PLATFORM)
+            for (int e = 0; e < 2; e++)
+                assert_close(S[12 + 3 * e], (1.0 - cos(a * ep[e])) / a, 1e-6);
+    }
+    /* nterms = 0, user terms only; argument errors */
+    assert_int_equal(igea_envfun_compute_user(1, NS, tr, NS, 0, NULL, NULL, 1, kind, u, NS, 2,
+                                              ep, NULL, IGEA_ENVFUN_VELOCITY, S, 6), 0);
+    assert_close(S[0], (1.0 - cos(a * ep[0])) / a, 1e-6);
+    fill_sentinel(S, 30);
+    int badk[1] = {2};
+#define EU(nt, nu, kd, uu, ldu, lds) \
+    igea_envfun_compute_user(1, NS, tr, NS, nt, codes, NULL, nu, kd, uu, ldu, 2, ep, NULL, 0, S, lds)
+    assert_int_equal(EU(0, 0, kind, u, NS, 6), -5);
+    assert_int_equal(EU(-1, 1, kind, u, NS, 6), -5);
+    assert_int_equal(EU(1, -1, kind, u, NS, 6), -8);
+    assert_int_equal(EU(1, 1, NULL, u, NS, 6), -9);
+    assert_int_equal(EU(1, 1, badk, u, NS, 6), -9);
+    assert_int_equal(EU(1, 1, kind, NULL, NS, 6), -10);
+    assert_int_equal(EU(1, 1, kind, u, NS - 1, 6), -11);
+    assert_int_equal(EU(1, 1, kind, u, NS, 5), -17);
+    u[17] = NAN;
+    assert_int_equal(EU(1, 1, kind, u, NS, 6), IGEA_ENONFINITE);
+#undef EU
+    assert_true(all_sentinel(S, 30));
+    free(u);
+    free(tr);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -846,6 +1195,11 @@ int main(void)
         cmocka_unit_test(test_platform_vs_nonlinear),
         cmocka_unit_test(test_gravity_coupling),
         cmocka_unit_test(test_library_truth_model),
+        cmocka_unit_test(test_catalogue_extended),
+        cmocka_unit_test(test_closed_forms_extended),
+        cmocka_unit_test(test_lever_size_closed_forms),
+        cmocka_unit_test(test_user_terms),
+        cmocka_unit_test(test_catalogue_vs_nonlinear),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

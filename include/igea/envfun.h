@@ -76,7 +76,34 @@ extern "C" {
 #define IGEA_ENVFUN_TERM_GYRO_GI_X 27   /* pf: drift e_j f_I(j) (input axis) */
 #define IGEA_ENVFUN_TERM_GYRO_GS_X 30   /* pf: drift e_j f_S(j) (spin axis) */
 #define IGEA_ENVFUN_TERM_ALIGN0_X 33    /* pf: initial alignment alpha0 = e_k */
-#define IGEA_ENVFUN_TERM_COUNT 36       /* codes are 0 .. IGEA_ENVFUN_TERM_COUNT - 1 */
+#define IGEA_ENVFUN_TERM_COUNT 36       /* the first catalogue: codes 0 .. 35 (the
+                                         * size of igea_sim_nonlinear's err);
+                                         * code 36 is never a term */
+/* The extended catalogue (codes 37 ..; see igea_envfun_term_count). Gyro j's
+ * input, spin and output axes I(j), S(j), O(j): platform from `axes`
+ * (O(j) the axis that is neither), strapdown body axes j, j+1, j+2 mod 3. */
+#define IGEA_ENVFUN_TERM_GYRO_GO_X 37   /* both: drift e_j f_O(j) (output axis) */
+#define IGEA_ENVFUN_TERM_GYRO_GII_X 40  /* both: drift e_j f_I^2 (rad/s/(m/s^2)^2) */
+#define IGEA_ENVFUN_TERM_GYRO_GSS_X 43  /* both: drift e_j f_S^2 */
+#define IGEA_ENVFUN_TERM_GYRO_GOO_X 46  /* both: drift e_j f_O^2 */
+#define IGEA_ENVFUN_TERM_GYRO_GIS_X 49  /* both: drift e_j f_I f_S */
+#define IGEA_ENVFUN_TERM_GYRO_GIO_X 52  /* both: drift e_j f_I f_O */
+#define IGEA_ENVFUN_TERM_GYRO_GSO_X 55  /* both: drift e_j f_S f_O */
+#define IGEA_ENVFUN_TERM_GYRO_GSPIN_X 58 /* sd: drift e_j f_S(j) (gyro_gspin_*) */
+#define IGEA_ENVFUN_TERM_ACC_CUBE_X 61  /* both: accel 3rd order K3j, e_j f_j^3 */
+#define IGEA_ENVFUN_TERM_ACC_ASYM_X 64  /* both: scale asymmetry, e_j |f_j| */
+#define IGEA_ENVFUN_TERM_ACC_CROSS_XY 67 /* both: cross-coupling e_j f_j f_k, order
+                                         * xy xz yx yz zx zy as ACC_MIS */
+#define IGEA_ENVFUN_TERM_ACC_XSQ_XY 73  /* both: cross-axis square e_j f_k^2, same order */
+#define IGEA_ENVFUN_TERM_ACC_XPROD_X 79 /* both: e_j f_k f_l (k, l the other axes) */
+#define IGEA_ENVFUN_TERM_POS0_X 82      /* both: launch point error downrange (m) */
+#define IGEA_ENVFUN_TERM_POS0_Z 83      /* both: launch point error cross-range (m) */
+#define IGEA_ENVFUN_TERM_LEVER_X 84     /* both: lever arm IMU -> tracked point, body (m) */
+#define IGEA_ENVFUN_TERM_SIZE_XX 87     /* sd: accel j displaced along body axis k
+                                         * (size effect, m), order xx xy xz yx .. zz */
+#define IGEA_ENVFUN_TERM_END 96         /* the codes above are < 96 (fixed: codes a
+                                         * later version adds are bounded by
+                                         * igea_envfun_term_count()) */
 
 /*
  * 1 if term code `term` is valid for system kind `system`, else 0
@@ -100,6 +127,15 @@ IGEA_API const char *igea_envfun_term_name(int term);
 IGEA_API const char *igea_envfun_term_unit(int term);
 
 /*
+ * igea_envfun_term_formula: the equation of term code `term`, a static
+ * string: the unit error per unit coefficient ("u = e_j f_j^3" for an
+ * accelerometer term, "eps = e_j f_I(j)" for a gyro rate error or platform
+ * drift; j the first axis letter of the name, k the second) or the velocity
+ * function itself ("S = W x e_j"); "" for an unknown code, never NULL.
+ */
+IGEA_API const char *igea_envfun_term_formula(int term);
+
+/*
  * igea_envfun_term_code: the code of the term called `name` (exact,
  * case-sensitive) in the catalogue of system kind `system`.
  * Returns the code (>= 0), -1 (unknown system), -2 (name NULL, or not a term
@@ -112,7 +148,10 @@ IGEA_API int igea_envfun_term_code(int system, const char *name);
  * of system kind `system`, in the unit of igea_envfun_term_unit (1 mg for
  * accelerometer biases, 1e-4 for scale factors, misalignments and initial
  * attitude or alignment, 10 ug/g^2 for second-order terms, 0.5 deg/h for
- * gyro biases, 0.5 deg/h/g for g-sensitive drifts).
+ * gyro biases, 0.5 deg/h/g for g-sensitive drifts; the extended catalogue:
+ * 0.5 deg/h/g^2 second-order drifts, 1 ug/g^3 K3, 2e-5 scale asymmetry,
+ * 10 ug/g^2 cross-coupling terms, 10 m launch point, 0.1 m lever arm,
+ * 0.01 m size effect).
  * Arguments: 1 system, 2 term (valid for the system), 3 spec (output).
  * Returns 0, -i (spec untouched).
  */
@@ -135,6 +174,21 @@ IGEA_API int igea_envfun_default_spec(int system, int term, double *spec);
 IGEA_API int igea_envfun_default_terms(int system, int *terms, int cap, int *n);
 
 /*
+ * igea_envfun_term_count: one past the largest term code of this version
+ * (IGEA_ENVFUN_TERM_END); codes below it with an empty name are not terms.
+ */
+IGEA_API int igea_envfun_term_count(void);
+
+/*
+ * igea_envfun_all_terms: every term code valid for system kind `system`, in
+ * code order (the driver's `--terms all`).
+ * Arguments: 1 system, 2 terms (output, cap ints), 3 cap >= the number of
+ * terms (IGEA_ENVFUN_TERM_END always suffices), 4 n (output: the number
+ * written). Returns 0, -i (outputs untouched).
+ */
+IGEA_API int igea_envfun_all_terms(int system, int *terms, int cap, int *n);
+
+/*
  * Environment-function matrix of a trajectory.
  * Arguments (1-based positions, as the -i status names them):
  *  1 system    IGEA_ENVFUN_STRAPDOWN or IGEA_ENVFUN_PLATFORM
@@ -147,7 +201,8 @@ IGEA_API int igea_envfun_default_terms(int system, int *terms, int cap, int *n);
  *  7 axes      platform only: 6 ints, axes[j] the input axis I(j) and
  *              axes[3 + j] the spin axis S(j) of gyro j (values 0..2), or
  *              NULL for I(j) = j, S(j) = (j + 1) mod 3 [D]; ignored for
- *              strapdown
+ *              strapdown; -7 also when a term reads the output axis O(j)
+ *              of a gyro whose I(j) = S(j)
  *  8 nepochs   tracking epochs, >= 1
  *  9 epochs    nepochs times, non-decreasing, within [t_0, t_last]
  * 10 spec      nterms 1-sigma specs (> 0) multiplying the columns, or NULL
@@ -160,13 +215,78 @@ IGEA_API int igea_envfun_default_terms(int system, int *terms, int cap, int *n);
  * 13 lds       >= 3 nepochs
  * Returns 0, -i, IGEA_ENONFINITE (NaN/Inf in traj, epochs or spec),
  * IGEA_ENONPOSITIVE (a spec <= 0), IGEA_EDOMAIN (a quaternion of zero
- * norm), IGEA_ENOMEM. S is untouched on failure.
+ * norm; platform: only with lever_* terms, which read the attitude),
+ * IGEA_ENOMEM. S is untouched on failure.
  */
 IGEA_API int igea_envfun_compute(int system, int nsamp, const double *traj,
                                  int ldt, int nterms, const int *terms,
                                  const int *axes, int nepochs,
                                  const double *epochs, const double *spec,
                                  int output, double *S, int lds);
+
+/* Kinds of a user-defined term (igea_envfun_compute_user). */
+#define IGEA_ENVFUN_USER_ACC 0  /* a specific-force error, m/s^2 per unit */
+#define IGEA_ENVFUN_USER_GYRO 1 /* a rate error (strapdown) or platform drift,
+                                 * rad/s per unit */
+
+/*
+ * Environment-function matrix of catalogue terms and user-defined terms.
+ * A user term is a sampled unit error u(t_k) in instrument axes (body axes
+ * for strapdown, platform axes for a platform), one 3-vector per telemetry
+ * sample, e.g. a thermal drift profile; it is propagated exactly like a
+ * catalogue accelerometer term (S = int C u dt, platform int u dt) or gyro
+ * term (S = int Phi_u x f^a dt, platform int f^a x alpha dt).
+ * Arguments (1-based positions, as the -i status names them):
+ *  1-4         system, nsamp, traj, ldt as igea_envfun_compute
+ *  5 nterms    catalogue terms, >= 0 (nterms + nuser >= 1)
+ *  6 terms     nterms codes valid for the system; may be NULL if nterms = 0
+ *  7 axes      as igea_envfun_compute (platform only; -7 also when a term
+ *              reads the output axis O(j) of a gyro whose I(j) = S(j))
+ *  8 nuser     user terms, >= 0
+ *  9 user_kind nuser kinds IGEA_ENVFUN_USER_ACC or _GYRO; may be NULL if
+ *              nuser = 0
+ * 10 user      nsamp x 3 nuser column-major: columns 3 i, 3 i + 1, 3 i + 2
+ *              the x, y, z unit error of user term i at each sample; may be
+ *              NULL if nuser = 0
+ * 11 ldu       >= nsamp (when nuser > 0)
+ * 12 nepochs, 13 epochs   as igea_envfun_compute
+ * 14 spec      nterms + nuser 1-sigma specs (> 0), or NULL
+ * 15 output    as igea_envfun_compute
+ * 16 S         output, 3 nepochs x (nterms + nuser) column-major: the
+ *              catalogue columns, then the user columns
+ * 17 lds       >= 3 nepochs
+ * Returns 0, -i, IGEA_ENONFINITE (NaN/Inf in traj, user, epochs or spec),
+ * IGEA_ENONPOSITIVE, IGEA_EDOMAIN (a quaternion of zero norm where the
+ * attitude is used: strapdown, or the platform's lever_* terms),
+ * IGEA_ENOMEM. S is untouched on failure.
+ */
+IGEA_API int igea_envfun_compute_user(int system, int nsamp, const double *traj,
+                                      int ldt, int nterms, const int *terms,
+                                      const int *axes, int nuser,
+                                      const int *user_kind, const double *user,
+                                      int ldu, int nepochs, const double *epochs,
+                                      const double *spec, int output, double *S,
+                                      int lds);
+
+/*
+ * The nonlinear truth model of the whole catalogue: igea_sim_nonlinear
+ * (igea/sim.h) with the errors of every code below nerr (METHODS 5.6; the
+ * new families as documented in docs/envfun.md: launch-point errors read
+ * the reference velocity in the rotated launch frame exp(-[theta x]), the
+ * lever arm adds -(C (w x l) - its value at t_0), the size effect adds
+ * e_j (w' x r + w x (w x r))_j with w' dt the rate increment).
+ *  1 system, 2 nsamp, 3 traj, 4 ldt   as igea_sim_nonlinear
+ *  5 nerr       IGEA_ENVFUN_TERM_COUNT <= nerr <= igea_envfun_term_count()
+ *  6 err        nerr values: the error of each code in SI units; codes not
+ *               valid for the system must be 0
+ *  7 axes, 8 nepochs, 9 epochs, 10 dW as igea_sim_nonlinear
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_EDOMAIN (zero quaternion),
+ * IGEA_ENOMEM (dW untouched on failure).
+ */
+IGEA_API int igea_envfun_nonlinear(int system, int nsamp, const double *traj,
+                                   int ldt, int nerr, const double *err,
+                                   const int *axes, int nepochs,
+                                   const double *epochs, double *dW);
 
 #ifdef __cplusplus
 }

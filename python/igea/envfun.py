@@ -3,7 +3,8 @@
 The C library takes integer term codes (IGEA_ENVFUN_TERM_*, igea/envfun.h)
 and holds the term catalogue: the stable names of docs/terms.md, their
 units, default 1-sigma specs and the default term sets. This module reads
-them from the library.
+them from the library. User-defined terms (`user_terms=`) are sampled
+unit errors in instrument axes, propagated like the catalogue's terms.
 """
 import ctypes
 
@@ -21,7 +22,7 @@ def _system_code(system):
 def _catalogue(sc):
     """{name: (code, default spec)} of system code sc, in code order."""
     out = {}
-    for code in range(_capi.ENVFUN_TERM_COUNT):
+    for code in range(_lib.lib.igea_envfun_term_count()):
         if _lib.lib.igea_envfun_term_valid(sc, code):
             spec = ctypes.c_double()
             _lib.call("igea.envfun", "igea_envfun_default_spec", sc, code, ctypes.byref(spec))
@@ -30,7 +31,7 @@ def _catalogue(sc):
 
 
 def _default_terms(sc):
-    codes = np.zeros(_capi.ENVFUN_TERM_COUNT, dtype=np.intc)
+    codes = np.zeros(_lib.lib.igea_envfun_term_count(), dtype=np.intc)
     n = ctypes.c_int()
     _lib.call("igea.envfun", "igea_envfun_default_terms", sc, _lib.iptr(codes), codes.size,
               ctypes.byref(n))
@@ -80,17 +81,42 @@ def default_spec(terms, system="strapdown"):
     return out
 
 
+def _user_terms(user_terms, nsamp, system):
+    """(names, kinds, nsamp x 3 n array) of user_terms {name: (nsamp, 3)}."""
+    if not isinstance(user_terms, dict):
+        raise ValueError("user_terms: a dict {name: (samples x 3) array}")
+    names, kinds, cols = [], [], []
+    for name, u in user_terms.items():
+        name = str(name)
+        kind = (_capi.ENVFUN_USER_ACC if name.startswith("acc_") else
+                _capi.ENVFUN_USER_GYRO if name.startswith("gyro_") else None)
+        if kind is None or not name.replace("_", "a").isalnum() or name != name.lower():
+            raise ValueError(f"user_terms: {name!r}: a name acc_* (specific-force error) or "
+                             "gyro_* (rate or drift error), lower case, digits, '_'")
+        if any(_lib.lib.igea_envfun_term_code(s, name.encode()) >= 0 for s in (STRAPDOWN, PLATFORM)):
+            raise ValueError(f"user_terms: {name!r} is a catalogue term")
+        a = _lib.as_f64(u, f"user_terms[{name!r}]", ndim=2, shape=(nsamp, 3))
+        names.append(name)
+        kinds.append(kind)
+        cols.append(a)
+    return names, np.asarray(kinds, dtype=np.intc), np.asfortranarray(np.hstack(cols))
+
+
 def envfun(traj, terms, epochs, *, system="strapdown", spec=None, axes=None,
-           output="velocity"):
-    """Environment-function matrix S (3 len(epochs) x len(terms)).
+           output="velocity", user_terms=None):
+    """Environment-function matrix S (3 len(epochs) x (len(terms) + len(user_terms))).
 
     traj: (samples x 11) array t, f_x f_y f_z, w_x w_y w_z, q0 q1 q2 q3
     (specific force and rate in body axes for strapdown, force in
     launch-inertial axes for a platform); terms: list of names
-    (docs/terms.md); epochs: times of the rows (non-decreasing, inside the
-    trajectory); spec: None, "default", or one 1-sigma per term multiplying
-    the columns; axes: platform gyro (input, spin) axes as 6 ints or None;
-    output: "velocity", "position", "velocity_g", "position_g".
+    (docs/terms.md; may be empty with user_terms); epochs: times of the rows
+    (non-decreasing, inside the trajectory); spec: None, "default" (user
+    terms: 1), or one 1-sigma per column multiplying the columns; axes:
+    platform gyro (input, spin) axes as 6 ints or None; output: "velocity",
+    "position", "velocity_g", "position_g"; user_terms: None or {name:
+    (samples x 3) unit error at the trajectory's samples in instrument axes},
+    name acc_* a specific-force error (m/s^2), gyro_* a rate or drift error
+    (rad/s); their columns follow the terms'.
     Rows are epoch-major (x, y, z of epoch 0, then epoch 1, ...).
     """
     sys_code = _system_code(system)
@@ -99,7 +125,12 @@ def envfun(traj, terms, epochs, *, system="strapdown", spec=None, axes=None,
         raise ValueError(f"traj: expected shape (*, {_capi.ENVFUN_TRAJ_COLS}), got {tr.shape}")
     if tr.shape[0] < 2:
         raise ValueError("traj: at least 2 samples are needed")
-    codes = term_codes(terms, system)
+    user = _user_terms(user_terms, tr.shape[0], system) if user_terms else None
+    if user and isinstance(terms, (list, tuple)) and not terms:
+        codes = np.zeros(0, dtype=np.intc)
+    else:
+        codes = term_codes(terms, system)
+    nu = len(user[0]) if user else 0
     ep = _lib.as_f64(epochs, "epochs", ndim=1)
     if ep.size < 1:
         raise ValueError("epochs: empty")
@@ -107,9 +138,10 @@ def envfun(traj, terms, epochs, *, system="strapdown", spec=None, axes=None,
     if isinstance(spec, str):
         if spec != "default":
             raise ValueError("spec: None, 'default' or an array")
-        sp = default_spec(terms, system)
+        sp = np.concatenate([default_spec(terms, system) if len(codes) else np.zeros(0),
+                             np.ones(nu)])
     elif spec is not None:
-        sp = _lib.as_f64(spec, "spec", ndim=1, shape=(len(codes),))
+        sp = _lib.as_f64(spec, "spec", ndim=1, shape=(len(codes) + nu,))
     ax = None
     if axes is not None:
         ax = np.ascontiguousarray(axes, dtype=np.intc)
@@ -117,8 +149,9 @@ def envfun(traj, terms, epochs, *, system="strapdown", spec=None, axes=None,
             raise ValueError(f"axes: expected 6 ints, got shape {ax.shape}")
     output_code = _lib.choice(_capi.CHOICE_ENVFUN_OUTPUT, output, "igea.envfun", "output")
     n, m = tr.shape[0], 3 * ep.size
-    S = np.zeros((m, len(codes)), order="F")
-    _lib.call("igea.envfun", "igea_envfun_compute", sys_code, n, _lib.dptr(tr), n, len(codes),
-              _lib.iptr(codes), _lib.iptr(ax), ep.size, _lib.dptr(ep), _lib.dptr(sp),
-              output_code, _lib.dptr(S), m)
+    S = np.zeros((m, len(codes) + nu), order="F")
+    _lib.call("igea.envfun", "igea_envfun_compute_user", sys_code, n, _lib.dptr(tr), n,
+              len(codes), _lib.iptr(codes) if len(codes) else None, _lib.iptr(ax), nu,
+              _lib.iptr(user[1]) if user else None, _lib.dptr(user[2]) if user else None, n,
+              ep.size, _lib.dptr(ep), _lib.dptr(sp), output_code, _lib.dptr(S), m)
     return S

@@ -24,14 +24,15 @@ def reference_trajectory(duration=120.0, rate=50.0, *, system="strapdown"):
 def nonlinear(traj, errors, epochs, *, system="strapdown", axes=None):
     """Velocity error (3 len(epochs),) of a full nonlinear navigation with the
     instrument errors `errors` ({term name: value in SI units}) on the
-    trajectory: the truth-model counterpart of S @ X (igea_sim_nonlinear)."""
+    trajectory: the truth-model counterpart of S @ X (igea_envfun_nonlinear:
+    every term of the catalogue)."""
     sc = _system_code(system)
     tr = _lib.as_f64(traj, "traj", ndim=2)
     if tr.shape[1] != _capi.ENVFUN_TRAJ_COLS:
         raise ValueError(f"traj: expected shape (*, {_capi.ENVFUN_TRAJ_COLS}), got {tr.shape}")
     if not isinstance(errors, dict):
         raise ValueError("errors: a dict {term name: value}")
-    err = np.zeros(_capi.ENVFUN_TERM_COUNT)
+    err = np.zeros(_lib.lib.igea_envfun_term_count())
     if errors:
         codes = term_codes(list(errors), system)
         err[codes] = [float(v) for v in errors.values()]
@@ -40,8 +41,9 @@ def nonlinear(traj, errors, epochs, *, system="strapdown", axes=None):
     if ax is not None and ax.shape != (6,):
         raise ValueError(f"axes: expected 6 ints, got shape {ax.shape}")
     out = np.zeros(3 * ep.size)
-    _lib.call("igea.sim.nonlinear", "igea_sim_nonlinear", sc, tr.shape[0], _lib.dptr(tr),
-              tr.shape[0], _lib.dptr(err), _lib.iptr(ax), ep.size, _lib.dptr(ep), _lib.dptr(out))
+    _lib.call("igea.sim.nonlinear", "igea_envfun_nonlinear", sc, tr.shape[0], _lib.dptr(tr),
+              tr.shape[0], err.size, _lib.dptr(err), _lib.iptr(ax), ep.size, _lib.dptr(ep),
+              _lib.dptr(out))
     return out
 
 

@@ -1,12 +1,13 @@
 /* igea envfun - environment-function matrix S of a trajectory file and a
  * list of error terms (METHODS 5). The term catalogue is the library's. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "cli.h"
 
 typedef struct {
-    const char *traj, *terms, *epochs, *spec, *axes, *out;
+    const char *traj, *terms, *epochs, *spec, *axes, *out, *term_file;
     double step;
     int system, output, json, list;
 } ef_args;
@@ -15,7 +16,8 @@ static ef_args A;
 
 static const cli_opt options[] = {
     {"--traj", CLI_OPT_STR, &A.traj, NULL, "FILE", "the trajectory (required)", NULL},
-    {"--terms", CLI_OPT_STR, &A.terms, NULL, "LIST", "comma-separated term names, 'default' (the 21-term\nmodel) or 'all' (required)", NULL},
+    {"--terms", CLI_OPT_STR, &A.terms, NULL, "LIST", "comma-separated term names, 'default' (the 21-term\nmodel) or 'all' (required unless --term-file)", NULL},
+    {"--term-file", CLI_OPT_STR, &A.term_file, NULL, "NAME=FILE,...", "user-defined terms: FILE rows 't u_x u_y u_z' at the\ntrajectory's samples, the unit error in instrument\naxes; NAME acc_* a specific-force error (m/s^2),\ngyro_* a rate or drift error (rad/s); columns after\n--terms", NULL},
     {"--list", CLI_OPT_FLAG, &A.list, NULL, NULL, "print the catalogue with default specs and units", NULL},
     {"--system", CLI_OPT_CHOICE, &A.system, "strapdown", CLI_CHOICES(IGEA_CHOICE_ENVFUN_SYSTEM), "the inertial system", NULL},
     {"--epochs", CLI_OPT_STR, &A.epochs, NULL, "FILE", "epoch times (s), non-decreasing, inside the trajectory", NULL},
@@ -43,6 +45,9 @@ static const cli_command command = {"envfun",
 "  q the attitude body -> launch-inertial, scalar first).\n"
 "Integration is by the trapezoid rule at the telemetry rate (>= 10 Hz\n"
 "recommended), then linear interpolation to the epochs.\n"
+"'--terms all' is every term of the system (74 platform terms: the model of\n"
+"seed 000; 86 strapdown). With --spec default a user term's spec is 1 (its\n"
+"file holds the 1-sigma error).\n"
 "\n"
 "options:\n",
 options,
@@ -51,32 +56,150 @@ options,
 "  igea simulate --dir flight --save-traj        # writes flight/traj.txt, ...\n"
 "  igea envfun --traj flight/traj.txt --terms acc_bias_x,gyro_bias_y,att0_z \\\n"
 "      --epoch-step 1 --out S3.txt\n"
-"  igea envfun --traj flight/traj.txt --terms default --out S.txt\n"};
+"  igea envfun --traj flight/traj.txt --terms default --out S.txt\n"
+"  igea envfun --traj flight/traj.txt --terms default \\\n"
+"      --term-file acc_thermal=thermal.txt --out S22.txt\n"};
 
 static void list_terms(FILE *f)
 {
-    fprintf(f, "%-14s %-10s %-12s %s\n", "term", "systems", "default spec", "unit");
-    for (int k = 0; k < IGEA_ENVFUN_TERM_COUNT; k++) {
+    fprintf(f, "%-14s %-10s %-12s %-16s %s\n", "term", "systems", "default spec", "unit",
+            "equation");
+    for (int k = 0; k < igea_envfun_term_count(); k++) {
         int sd = igea_envfun_term_valid(IGEA_ENVFUN_STRAPDOWN, k);
         int pf = igea_envfun_term_valid(IGEA_ENVFUN_PLATFORM, k);
+        if (!sd && !pf)
+            continue;
         double spec = 0.0;
         igea_envfun_default_spec(sd ? IGEA_ENVFUN_STRAPDOWN : IGEA_ENVFUN_PLATFORM, k, &spec);
-        fprintf(f, "%-14s %-10s %-12.5g %s\n", igea_envfun_term_name(k),
-                sd && pf ? "both" : igea_choice_name(IGEA_CHOICE_ENVFUN_SYSTEM, sd ? IGEA_ENVFUN_STRAPDOWN : IGEA_ENVFUN_PLATFORM), spec, igea_envfun_term_unit(k));
+        fprintf(f, "%-14s %-10s %-12.5g %-16s %s\n", igea_envfun_term_name(k),
+                sd && pf ? "both" : igea_choice_name(IGEA_CHOICE_ENVFUN_SYSTEM, sd ? IGEA_ENVFUN_STRAPDOWN : IGEA_ENVFUN_PLATFORM), spec, igea_envfun_term_unit(k),
+                igea_envfun_term_formula(k));
     }
 }
 
-/* igea_envfun_compute's arguments 3 (the trajectory), 7 (the axes) and 9
- * (the epochs). */
+/* igea_envfun_compute_user's arguments 3 (the trajectory), 7 (the axes)
+ * and 13 (the epochs). */
 #define ARG_TRAJ (-3)
 #define ARG_AXES (-7)
-#define ARG_EPOCHS (-9)
+#define ARG_EPOCHS (-13)
 
 typedef struct {
-    int *codes, nt, nsamp, nep, m, axes[6];
+    int *codes, nt, nsamp, nep, m, axes[6], nu, *ukind;
     double *traj, *ep, *spec, *S; /* S row-major */
-    char *header;
+    double *user;                 /* nsamp x 3 nu column-major */
+    char *header, *ubuf;          /* ubuf: the NAME=FILE list, split */
+    const char **names;           /* nt + nu column names */
 } ef_run;
+
+/* One NAME=FILE of --term-file into user term i: the kind from the name,
+ * the unit error from the file (t matching the trajectory's samples). */
+static int read_user_term(ef_run *r, int i, char *item)
+{
+    char *eq = strchr(item, '=');
+    const char *name = item, *file = eq ? eq + 1 : NULL;
+    if (eq)
+        *eq = '\0';
+    int kind = !strncmp(name, "acc_", 4) ? IGEA_ENVFUN_USER_ACC
+               : !strncmp(name, "gyro_", 5) ? IGEA_ENVFUN_USER_GYRO : -1;
+    if (!file || !*file || kind < 0 || strspn(name, "abcdefghijklmnopqrstuvwxyz0123456789_") != strlen(name) ||
+        igea_envfun_term_code(IGEA_ENVFUN_STRAPDOWN, name) >= 0 ||
+        igea_envfun_term_code(IGEA_ENVFUN_PLATFORM, name) >= 0) {
+        cli_error("--term-file: '%s': NAME=FILE with NAME acc_* or gyro_* (lower case, digits, '_'), "
+                  "not a catalogue term", name);
+        return CLI_USAGE;
+    }
+    cli_matrix m;
+    int ec = cli_read_matrix(file, &m);
+    if (ec)
+        return ec;
+    if (m.cols != 4 || m.rows != r->nsamp) {
+        cli_error("%s: a user term has 4 columns (t u_x u_y u_z) and one row per trajectory "
+                  "sample (%d); found %ld x %d", file, r->nsamp, m.rows, m.cols);
+        cli_matrix_free(&m);
+        return CLI_DATAERR;
+    }
+    for (long k = 0; k < m.rows; k++) {
+        double t = r->traj[k];
+        if (!(fabs(m.v[4 * k] - t) <= 1e-9 * fmax(1.0, fabs(t)))) {
+            cli_error("%s:%ld:1: t = %.17g is not the trajectory's sample time %.17g", file, k + 1,
+                      m.v[4 * k], t);
+            cli_matrix_free(&m);
+            return CLI_DATAERR;
+        }
+        for (int a = 0; a < 3; a++)
+            r->user[k + (size_t)r->nsamp * (3 * (size_t)i + a)] = m.v[4 * k + 1 + a];
+    }
+    cli_matrix_free(&m);
+    r->ukind[i] = kind;
+    r->names[r->nt + i] = name;
+    return CLI_OK;
+}
+
+static int read_user_terms(const char *list, ef_run *r)
+{
+    int n = 1;
+    for (const char *p = list; *p; p++)
+        n += *p == ',';
+    if (!(r->ubuf = malloc(strlen(list) + 1)) || !(r->ukind = malloc(sizeof(int) * (size_t)n)) ||
+        !(r->user = malloc(sizeof(double) * 3 * (size_t)n * (size_t)r->nsamp)) ||
+        !(r->names = malloc(sizeof(char *) * (size_t)(r->nt + n))))
+        return cli_oom("the user terms");
+    strcpy(r->ubuf, list);
+    for (int j = 0; j < r->nt; j++)
+        r->names[j] = igea_envfun_term_name(r->codes[j]);
+    char *item = r->ubuf;
+    for (int i = 0; i < n; i++) {
+        char *c = strchr(item, ',');
+        if (c)
+            *c = '\0';
+        int ec = read_user_term(r, i, item);
+        if (ec)
+            return ec;
+        for (int k = 0; k < r->nt + i; k++)
+            if (!strcmp(r->names[k], r->names[r->nt + i])) {
+                cli_error("--term-file: '%s' named twice", r->names[k]);
+                return CLI_USAGE;
+            }
+        item = c ? c + 1 : item;
+    }
+    r->nu = n;
+    return CLI_OK;
+}
+
+/* --spec: the catalogue's specs and 1 for user terms (default), or a
+ * file of one per column. */
+static int read_specs(const ef_args *a, ef_run *r)
+{
+    if (strcmp(a->spec, "default"))
+        return cli_read_vector(a->spec, r->nt + r->nu, "one spec per term", &r->spec, NULL);
+    if (!(r->spec = malloc(sizeof(double) * (size_t)(r->nt + r->nu))))
+        return cli_oom("the term specs");
+    for (int j = 0; j < r->nt + r->nu; j++)
+        r->spec[j] = 1.0;
+    for (int j = 0; j < r->nt; j++)
+        igea_envfun_default_spec(a->system, r->codes[j], &r->spec[j]);
+    return CLI_OK;
+}
+
+/* "name name ..." of the columns. */
+static char *column_header(const ef_run *r)
+{
+    if (!r->nu)
+        return cli_term_header(r->codes, r->nt);
+    size_t len = 1;
+    for (int j = 0; j < r->nt + r->nu; j++)
+        len += strlen(r->names[j]) + 1;
+    char *h = malloc(len);
+    if (!h)
+        return NULL;
+    h[0] = '\0';
+    for (int j = 0; j < r->nt + r->nu; j++) {
+        if (j)
+            strcat(h, " ");
+        strcat(h, r->names[j]);
+    }
+    return h;
+}
 
 static int read_inputs(const ef_args *a, ef_run *r)
 {
@@ -86,27 +209,29 @@ static int read_inputs(const ef_args *a, ef_run *r)
         cli_error("--axes: six comma-separated axis numbers 0..2");
         return CLI_USAGE;
     }
-    if ((ec = cli_parse_terms(a->system, a->terms, &r->codes, &r->nt)) ||
+    if ((a->terms && (ec = cli_parse_terms(a->system, a->terms, &r->codes, &r->nt))) ||
         (ec = cli_read_traj(a->traj, &r->traj, &r->nsamp)) ||
         (ec = cli_epochs(a->epochs, a->step, r->traj[0], r->traj[r->nsamp - 1], &r->ep, &r->nep)))
         return ec;
-    if (a->spec && (ec = cli_term_specs(a->system, r->codes, r->nt, a->spec, &r->spec)))
+    if (a->term_file && (ec = read_user_terms(a->term_file, r)))
+        return ec;
+    if (a->spec && (ec = read_specs(a, r)))
         return ec;
     r->m = 3 * r->nep;
-    if (!(r->header = cli_term_header(r->codes, r->nt)))
+    if (!(r->header = column_header(r)))
         return cli_oom("the header");
     return CLI_OK;
 }
 
 static int compute(const ef_args *a, ef_run *r)
 {
-    int m = r->m, nt = r->nt;
+    int m = r->m, nt = r->nt + r->nu;
     double *S = malloc(sizeof(double) * (size_t)m * nt);
     if (!S)
         return cli_oom("S");
-    int st = igea_envfun_compute(a->system, r->nsamp, r->traj, r->nsamp, nt,
-                                 r->codes, a->axes ? r->axes : NULL, r->nep, r->ep, r->spec,
-                                 a->output, S, m);
+    int st = igea_envfun_compute_user(a->system, r->nsamp, r->traj, r->nsamp, r->nt, r->codes,
+                                      a->axes ? r->axes : NULL, r->nu, r->ukind, r->user,
+                                      r->nsamp, r->nep, r->ep, r->spec, a->output, S, m);
     int ec = CLI_OK;
     if (st == ARG_EPOCHS) {
         cli_error("envfun: the epochs must be non-decreasing and inside [%g, %g] s", r->traj[0],
@@ -116,8 +241,12 @@ static int compute(const ef_args *a, ef_run *r)
         cli_error("%s: the time column must be strictly increasing", a->traj);
         ec = CLI_DATAERR;
     } else if (st == ARG_AXES) {
-        cli_error("--axes: axis numbers are 0, 1, 2");
+        cli_error("--axes: axis numbers are 0, 1, 2, and a gyro's input and spin axes differ "
+                  "when a term reads its output axis");
         ec = CLI_USAGE;
+    } else if (st == IGEA_ENONFINITE && r->nu) {
+        cli_error("envfun: NaN or Inf in the trajectory, a --term-file, the epochs or the specs");
+        ec = CLI_DATAERR;
     } else {
         ec = cli_status(st, "envfun");
     }
@@ -125,6 +254,15 @@ static int compute(const ef_args *a, ef_run *r)
         ec = cli_oom("S");
     free(S);
     return ec;
+}
+
+/* The "terms" key: the column names. */
+static void json_terms(cli_json *j, const ef_run *r)
+{
+    if (r->nu)
+        cli_jstrs(j, "terms", r->names, r->nt + r->nu);
+    else
+        cli_jterms(j, "terms", r->codes, r->nt);
 }
 
 /* S to --out, with a summary on standard output (checked before the file
@@ -137,12 +275,12 @@ static int write_file(const ef_args *a, const ef_run *r)
         return ec;
     size_t len = strlen(a->out);
     cli_write_matrix_body(o.f, o.f != stdout && len >= 4 && !strcmp(a->out + len - 4, ".npy"),
-                          r->S, r->m, r->nt, r->header);
+                          r->S, r->m, r->nt + r->nu, r->header);
     if (a->json) {
         cli_json j;
         cli_json_begin(&j, stdout);
         cli_jint(&j, "rows", r->m);
-        cli_jterms(&j, "terms", r->codes, r->nt);
+        json_terms(&j, r);
         cli_jstr(&j, "out", a->out);
         cli_json_end(&j);
         if ((ec = cli_stdout_check())) {
@@ -153,7 +291,7 @@ static int write_file(const ef_args *a, const ef_run *r)
     if ((ec = cli_out_commit(&o)))
         return ec;
     if (!a->json)
-        fprintf(stderr, "igea envfun: %d epochs x 3 axes, %d terms -> %s\n", r->nep, r->nt, a->out);
+        fprintf(stderr, "igea envfun: %d epochs x 3 axes, %d terms -> %s\n", r->nep, r->nt + r->nu, a->out);
     return CLI_OK;
 }
 
@@ -162,11 +300,11 @@ static void write_stdout(FILE *f, const ef_args *a, const ef_run *r)
     if (a->json) {
         cli_json j;
         cli_json_begin(&j, f);
-        cli_jterms(&j, "terms", r->codes, r->nt);
-        cli_jrows(&j, "S", r->S, r->m, r->nt);
+        json_terms(&j, r);
+        cli_jrows(&j, "S", r->S, r->m, r->nt + r->nu);
         cli_json_end(&j);
     } else {
-        cli_write_matrix_body(f, 0, r->S, r->m, r->nt, r->header);
+        cli_write_matrix_body(f, 0, r->S, r->m, r->nt + r->nu, r->header);
     }
 }
 
@@ -180,8 +318,8 @@ int cmd_envfun(int argc, char **argv)
         list_terms(stdout);
         return CLI_OK;
     }
-    if (!a.traj || !a.terms) {
-        cli_error("envfun: --traj FILE and --terms are required (see --help)");
+    if (!a.traj || (!a.terms && !a.term_file)) {
+        cli_error("envfun: --traj FILE and --terms (or --term-file) are required (see --help)");
         return CLI_USAGE;
     }
     ef_run r;
@@ -203,5 +341,9 @@ int cmd_envfun(int argc, char **argv)
     free(r.spec);
     free(r.S);
     free(r.header);
+    free(r.ubuf);
+    free(r.ukind);
+    free(r.user);
+    free(r.names);
     return ec;
 }

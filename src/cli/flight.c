@@ -9,7 +9,7 @@
 
 int cli_parse_terms(int system, const char *list, int **codes, int *n)
 {
-    int cap = IGEA_ENVFUN_TERM_COUNT, cnt = 0;
+    int cap = igea_envfun_term_count(), cnt = 0;
     for (const char *p = list; *p; p++)
         cap += *p == ',';
     int *c = malloc(sizeof(int) * (size_t)cap);
@@ -18,9 +18,7 @@ int cli_parse_terms(int system, const char *list, int **codes, int *n)
     if (!strcmp(list, "default")) {
         igea_envfun_default_terms(system, c, cap, &cnt);
     } else if (!strcmp(list, "all")) {
-        for (int k = 0; k < IGEA_ENVFUN_TERM_COUNT; k++)
-            if (igea_envfun_term_valid(system, k))
-                c[cnt++] = k;
+        igea_envfun_all_terms(system, c, cap, &cnt);
     } else {
         char name[64];
         for (const char *p = list; *p;) {
