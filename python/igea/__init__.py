@@ -1,9 +1,11 @@
 """igea: inertial guidance error analysis (Python bindings to libigea).
 
 One function per job, numpy arrays in, frozen dataclasses out; failures of
-the library raise IgeaError (code and message), wrong shapes ValueError.
+the library raise IgeaError (code and message), wrong shapes ValueError;
+bad data (an invalid argument, NaN, a sigma <= 0, ...) raise DataError, an
+IgeaError that is also a ValueError.
 """
-from ._lib import IgeaError, lib as _clib
+from ._lib import DataError, IgeaError, lib as _clib
 
 __version__ = _clib.igea_version().decode()
 
