@@ -208,6 +208,15 @@ $(FSRC): python/gen_fortran.py python/gen_capi.py $(wildcard include/igea/*.h)
 $(FMOD): $(FSRC)
 	$(FC) -std=f2018 -Wall -Werror -J$(FDIR) -c $< -o $(FDIR)/igea.o
 
+# The man page and the bash completion, from the driver's own --help (the
+# option tables it parses with).
+MAN1 := $(BUILD)/share/igea.1
+BASHCOMP := $(BUILD)/share/igea.bash
+all: $(MAN1)
+$(BASHCOMP): $(MAN1)
+$(MAN1): src/cli/gen_docs.py $(DRIVER)
+	$(PYTHON) src/cli/gen_docs.py $(DRIVER) $(BUILD)/share
+
 # ---- install --------------------------------------------------------------
 # igea.pc is written at install time: its prefix is this install's PREFIX.
 # Into a system prefix (no DESTDIR, as root) the loader cache is refreshed.
@@ -229,6 +238,9 @@ install: all
 	sed -e 's|@PREFIX@|$(PREFIX)|g' -e 's|@VERSION@|$(VERSION)|g' -e 's|@LIBS_PRIVATE@|$(PC_PRIVATE)|g' igea.pc.in \
 	  > $(DESTDIR)$(PREFIX)/lib/pkgconfig/igea.pc && chmod 644 $(DESTDIR)$(PREFIX)/lib/pkgconfig/igea.pc
 	install -m 755 $(DRIVER) $(DESTDIR)$(PREFIX)/bin/
+	install -d $(DESTDIR)$(PREFIX)/share/man/man1 $(DESTDIR)$(PREFIX)/share/bash-completion/completions
+	install -m 644 $(MAN1) $(DESTDIR)$(PREFIX)/share/man/man1/igea.1
+	install -m 644 $(BASHCOMP) $(DESTDIR)$(PREFIX)/share/bash-completion/completions/igea
 	@if [ -z "$(DESTDIR)" ] && [ "$$(id -u)" = 0 ] && command -v ldconfig >/dev/null; then \
 	  echo ldconfig; ldconfig; \
 	elif [ -z "$(DESTDIR)" ]; then \
@@ -239,7 +251,8 @@ install: all
 uninstall:
 	rm -rf $(DESTDIR)$(PREFIX)/include/igea $(DESTDIR)$(PREFIX)/include/igea.h
 	rm -f $(DESTDIR)$(PREFIX)/lib/libigea.a $(DESTDIR)$(PREFIX)/lib/libigea.so* \
-	  $(DESTDIR)$(PREFIX)/lib/pkgconfig/igea.pc $(DESTDIR)$(PREFIX)/bin/igea
+	  $(DESTDIR)$(PREFIX)/lib/pkgconfig/igea.pc $(DESTDIR)$(PREFIX)/bin/igea \
+	  $(DESTDIR)$(PREFIX)/share/man/man1/igea.1 $(DESTDIR)$(PREFIX)/share/bash-completion/completions/igea
 
 clean:
 	rm -rf $(BUILD)
