@@ -219,7 +219,8 @@ $(MAN1): src/cli/gen_docs.py $(DRIVER)
 
 # ---- install --------------------------------------------------------------
 # igea.pc is written at install time: its prefix is this install's PREFIX.
-# Into a system prefix (no DESTDIR, as root) the loader cache is refreshed.
+# Into a system prefix (no DESTDIR; /usr, /usr/local or a directory of
+# /etc/ld.so.conf) the loader cache is refreshed (ldconfig, as root).
 # Its Libs.private is the complete static link of the dependencies.
 PC_PRIVATE = $(shell pkg-config --static --libs lapacke openblas gsl 2>/dev/null || echo $(LIBS)) \
   $(if $(filter /%,$(shell $(CC) -print-file-name=libquadmath.a)),-lquadmath) -lm
@@ -241,11 +242,14 @@ install: all
 	install -d $(DESTDIR)$(PREFIX)/share/man/man1 $(DESTDIR)$(PREFIX)/share/bash-completion/completions
 	install -m 644 $(MAN1) $(DESTDIR)$(PREFIX)/share/man/man1/igea.1
 	install -m 644 $(BASHCOMP) $(DESTDIR)$(PREFIX)/share/bash-completion/completions/igea
-	@if [ -z "$(DESTDIR)" ] && [ "$$(id -u)" = 0 ] && command -v ldconfig >/dev/null; then \
-	  echo ldconfig; ldconfig; \
-	elif [ -z "$(DESTDIR)" ]; then \
-	  case ":$$LD_LIBRARY_PATH:" in *":$(PREFIX)/lib:"*) ;; *) \
-	    echo "install: not root, no ldconfig; programs find libigea with -Wl,-rpath,$(PREFIX)/lib or LD_LIBRARY_PATH=$(PREFIX)/lib";; esac; \
+	@if [ -n "$(DESTDIR)" ]; then :; \
+	elif { [ "$(PREFIX)" = /usr ] || [ "$(PREFIX)" = /usr/local ] || \
+	       cat /etc/ld.so.conf /etc/ld.so.conf.d/*.conf 2>/dev/null | grep -qx '$(PREFIX)/lib'; }; then \
+	  if [ "$$(id -u)" = 0 ] && command -v ldconfig >/dev/null; then echo ldconfig; ldconfig; \
+	  else echo "install: run ldconfig as root to refresh the loader cache"; fi; \
+	else \
+	  echo "install: $(PREFIX)/lib is not on the loader's path: programs find libigea.so.1"; \
+	  echo "  through LD_LIBRARY_PATH=$(PREFIX)/lib or -Wl,-rpath,$(PREFIX)/lib"; \
 	fi
 
 uninstall:
