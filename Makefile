@@ -6,6 +6,7 @@
 #   make asan       the C suites under AddressSanitizer + UBSan
 #   make bench      benchmarks (not tests; they print ratios)
 #   make install    PREFIX=/usr/local DESTDIR= ; make uninstall
+#   make wheel      the Python package's wheel (libigea.so.1 inside)
 #
 # The set-up installs the missing Debian packages when run as root on a
 # Debian machine; elsewhere it names them and stops.
@@ -216,6 +217,23 @@ all: $(MAN1)
 $(BASHCOMP): $(MAN1)
 $(MAN1): src/cli/gen_docs.py $(DRIVER)
 	$(PYTHON) src/cli/gen_docs.py $(DRIVER) $(BUILD)/share
+
+# The package's wheel (python/igea_build.py: libigea.so.1 inside) in
+# $(BUILD)/wheel. With auditwheel installed it is also repaired into a
+# manylinux wheel that carries OpenBLAS, LAPACKE and GSL; without it the
+# wheel is for machines with the same Debian packages.
+.PHONY: wheel
+wheel: venv
+	rm -rf $(BUILD)/wheel && mkdir -p $(BUILD)/wheel
+	$(VENV)/bin/python -m pip wheel -q --no-index --no-deps --disable-pip-version-check \
+	  -w $(BUILD)/wheel ./python
+	@if command -v auditwheel >/dev/null; then \
+	  auditwheel repair -w $(BUILD)/wheel/manylinux $(BUILD)/wheel/igea-*.whl && \
+	  auditwheel show $(BUILD)/wheel/manylinux/igea-*.whl; \
+	else \
+	  echo "wheel: $$(ls $(BUILD)/wheel/igea-*.whl) (auditwheel is not installed: no manylinux"; \
+	  echo "  repair; the wheel links this system's liblapacke, libopenblas and libgsl)"; \
+	fi
 
 # ---- install --------------------------------------------------------------
 # igea.pc is written at install time: its prefix is this install's PREFIX.
