@@ -40,12 +40,49 @@ def _gen_capi():
         sys.path.pop(0)
 
 
+def _mini_toml(text):
+    """The subset of TOML that pyproject.toml uses, for a Python without
+    tomllib (< 3.11) and without tomli: [tables], and one-line values that
+    are strings, lists of strings or inline tables of strings."""
+    def value(v, where):
+        v = v.strip()
+        if v.startswith("{") and v.endswith("}"):
+            return dict((k.strip(), value(x, where)) for k, x in
+                        (item.split("=", 1) for item in v[1:-1].split(",") if item.strip()))
+        if v.startswith("[") and v.endswith("]"):
+            return [value(x, where) for x in re.findall(r'"(?:[^"\\]|\\.)*"', v)]
+        if len(v) >= 2 and v[0] == v[-1] == '"':
+            return v[1:-1].replace('\\"', '"').replace("\\\\", "\\")
+        raise RuntimeError("igea_build: pyproject.toml: %s: unsupported value %r" % (where, v))
+
+    doc, table = {}, None
+    for n, line in enumerate(text.splitlines(), 1):
+        line = line.strip()
+        if not line or line.startswith("#"):
+            continue
+        if line.startswith("["):
+            table = doc
+            for k in line.strip("[]").split("."):
+                table = table.setdefault(k.strip(), {})
+            continue
+        k, _, v = line.partition("=")
+        if table is None or not _:
+            raise RuntimeError("igea_build: pyproject.toml:%d: cannot read %r" % (n, line))
+        table[k.strip()] = value(v, "line %d" % n)
+    return doc
+
+
 def _pyproject():
+    path = os.path.join(HERE, "pyproject.toml")
     try:
         import tomllib
     except ImportError:  # Python < 3.11
-        import tomli as tomllib
-    with open(os.path.join(HERE, "pyproject.toml"), "rb") as f:
+        try:
+            import tomli as tomllib
+        except ImportError:
+            with open(path) as f:
+                return _mini_toml(f.read())
+    with open(path, "rb") as f:
         return tomllib.load(f)
 
 
@@ -88,7 +125,8 @@ def _tag():
 def _build_library(scratch, version):
     build = os.path.join(scratch, "c")
     target = os.path.join(build, "lib", "libigea.so.%s" % version)
-    cmd = [os.environ.get("MAKE", "make"), "-C", ROOT, "BUILD=" + build, target]
+    jobs = [] if "MAKEFLAGS" in os.environ else ["-j%d" % min(4, os.cpu_count() or 1)]
+    cmd = [os.environ.get("MAKE", "make")] + jobs + ["-C", ROOT, "BUILD=" + build, target]
     sys.stderr.write("igea: building the library: %s\n" % " ".join(cmd))
     subprocess.check_call(cmd, stdout=sys.stderr)
     return target

@@ -139,3 +139,14 @@ def test_fortran_example_error_text(fmod, tmp_path):
     r = subprocess.run([str(exe), str(tmp_path)], capture_output=True, text=True)
     assert r.returncode == 2
     assert "status -1012" in r.stdout and "zero or negative" in r.stdout
+
+
+def test_scalar_table_names_pointer_arguments():
+    """Every entry of gen_fortran.SCALARS is a pointer argument of an
+    exported function (a renamed argument would silently become an array)."""
+    import gen_capi
+    params = {name: dict((pn, pt) for pt, pn in ps) for _, _, name, ps in gen_capi.parse()[1]}
+    for fname, names in gen_fortran.SCALARS.items():
+        assert fname in params, fname
+        for n in names.split():
+            assert n in params[fname] and params[fname][n].rstrip().endswith("*"), (fname, n)

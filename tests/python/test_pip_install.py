@@ -32,7 +32,8 @@ print(json.dumps({'passed': r.passed, 'chi2': r.chi2, 'scale': r.scale, 'lib': L
 
 def _clean_env():
     env = dict(os.environ)
-    for k in ("PYTHONPATH", "IGEA_LIBRARY", "PIP_INDEX_URL", "PIP_FIND_LINKS"):
+    for k in ("PYTHONPATH", "IGEA_LIBRARY", "PIP_INDEX_URL", "PIP_FIND_LINKS", "MAKEFLAGS",
+              "MAKELEVEL", "MFLAGS"):
         env.pop(k, None)
     env["PIP_DISABLE_PIP_VERSION_CHECK"] = "1"
     return env
@@ -83,3 +84,20 @@ def test_pip_install_python_dir(venv, tmp_path):
     rec = [f for f in os.listdir(site) if f.startswith("igea-") and f.endswith(".dist-info")]
     wheel = open(os.path.join(site, rec[0], "WHEEL")).read()
     assert "Root-Is-Purelib: false" in wheel and "Tag: py3-none-linux" in wheel
+
+
+def test_backend_reads_pyproject_without_tomllib():
+    """The backend's own reader (for Python < 3.11 without tomli) gives what
+    tomllib gives on both pyproject.toml files."""
+    tomllib = pytest.importorskip("tomllib")
+    sys.path.insert(0, os.path.join(REPO, "python"))
+    try:
+        import igea_build
+    finally:
+        sys.path.pop(0)
+    for path in (os.path.join(REPO, "python", "pyproject.toml"),
+                 os.path.join(REPO, "pyproject.toml")):
+        text = open(path).read()
+        assert igea_build._mini_toml(text) == tomllib.loads(text), path
+    with pytest.raises(RuntimeError, match="unsupported value"):
+        igea_build._mini_toml("[a]\nb = 3\n")
