@@ -92,6 +92,18 @@ program consts
   st = igea_eqerr_defaults()               ! an absent array is NULL: status -1
   print '(i0)', st
   print '(f8.5, 1x, i0)', IGEA_SIGMA_MIN * 2d0**511, IGEAF_STATS_INFO_CHI2 - IGEA_STATS_INFO_CHI2
+  block  ! a handle: created (igea_rls ** out), queried (scalars out), freed
+    type(c_ptr) :: h
+    real(c_double) :: g0(2, 2) = reshape([4d0, 0d0, 0d0, 9d0], [2, 2]), x(2)
+    integer(c_int) :: m, k
+    st = igea_rls_create(2_c_int, 1_c_int, gamma0=g0, ldg=2_c_int, out=h)  ! x0 absent: zeros
+    print '(i0, 1x, l1)', st, c_associated(h)
+    st = igea_rls_get_size(h, m, k)
+    print '(3(i0, 1x))', st, m, k
+    st = igea_rls_get_x(h, x)
+    print '(i0, 2(1x, f4.1))', st, x
+    call igea_rls_free(h)
+  end block
 end program consts
 """)
     exe = _build(fmod, prog, "consts")
@@ -106,6 +118,9 @@ end program consts
     assert text in ver and int(n) == len(text) and text.count(".") == 2
     assert out[5].strip() == "-1"
     assert out[6].split() == ["1.00000", "1"]  # 2^-511 * 2^511; 1-based = 0-based + 1
+    assert out[7].split() == ["0", "T"]
+    assert out[8].split() == ["0", "2", "1"]
+    assert out[9].split() == ["0", "0.0", "0.0"]  # the header: x0 NULL means zeros
 
 
 def test_fortran_example_matches_driver(fmod):
