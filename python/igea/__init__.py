@@ -9,6 +9,8 @@ from ._lib import DataError, IgeaError, lib as _clib
 
 __version__ = _clib.igea_version().decode()
 
+from .threads import blas_threads  # noqa: E402
+
 from .eqerr import EqerrResult, TestResult, accuracy_test, eqerr, pool  # noqa: E402
 from .stats import chi2_cdf, chi2_quantile, chi2_sf, chi2_upper, normal_cdf, normal_quantile, union_size, verdict_thresholds  # noqa: E402,E501
 # -- further modules: one import line each, below --
@@ -19,4 +21,3 @@ from .envfun import envfun, term_table  # noqa: E402
 from .rls import RLS, RlsEpoch, RlsResult, rls_run  # noqa: E402
 from .sim import Flight, MonteCarloPool, MonteCarloResult, montecarlo, reference_trajectory, simulate  # noqa: E402,E501
 from .accel import AccelDesignInfo, AccelFit, AccelRefine, accel_analyze, accel_combinations, accel_design, accel_fit, accel_merge, accel_refine, accel_schedule, accel_simulate, accel_to_g  # noqa: E402,E501
-from .threads import blas_threads  # noqa: E402
