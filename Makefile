@@ -6,6 +6,7 @@
 #   make asan       the C suites under AddressSanitizer + UBSan
 #   make bench      benchmarks (not tests; they print ratios)
 #   make install    PREFIX=/usr/local DESTDIR= ; make uninstall
+#   make wheel      the Python package's wheel (libigea.so.1 inside)
 #
 # The set-up installs the missing Debian packages when run as root on a
 # Debian machine; elsewhere it names them and stops.
@@ -14,6 +15,9 @@ PREFIX  ?= /usr/local
 DESTDIR ?=
 BUILD   ?= build
 CC      ?= cc
+ifeq ($(origin FC),default)
+FC      := gfortran
+endif
 PYTHON  ?= python3
 VENV    ?= .venv
 
@@ -22,7 +26,7 @@ VERSION := $(shell sed -n 's/^\#define IGEA_VERSION_\(MAJOR\|MINOR\|PATCH\) \([0
              include/igea/common.h | paste -sd. -)
 SOMAJOR := $(firstword $(subst ., ,$(VERSION)))
 
-DEB_PKGS  := liblapacke-dev libopenblas-dev libgsl-dev libcmocka-dev pkg-config
+DEB_PKGS  := liblapacke-dev libopenblas-dev libgsl-dev libcmocka-dev pkg-config gfortran
 PY_PKGS   := numpy pytest scipy
 
 WARN     := -std=c99 -Wall -Wextra -Wpedantic -Werror
@@ -150,7 +154,19 @@ examples-check: all
 	  $(CC) $(WARN) $$f -o $$exe $$(PKG_CONFIG_PATH=$(CURDIR)/$(BUILD)/stage/usr/lib/pkgconfig PKG_CONFIG_SYSROOT_DIR=$(CURDIR)/$(BUILD)/stage pkg-config --cflags --libs igea) \
 	    -lm -Wl,-rpath,$(CURDIR)/$(BUILD)/stage/usr/lib || exit 1; \
 	  echo "== $$exe"; (cd examples && ../$$exe) >/dev/null || { echo "example $$f failed"; exit 1; }; \
-	done; echo "examples-check: examples build via pkg-config and run"
+	done
+	@st=$(CURDIR)/$(BUILD)/stage/usr; pc="pkg-config --define-variable=prefix=$$st"; \
+	  export PKG_CONFIG_PATH=$$st/lib/pkgconfig; \
+	  $(FC) -std=f2018 -Wall $$($$pc --variable=fflags igea) examples/eqerr_example.f90 \
+	    -o $(BUILD)/examples/eqerr_example_f $$($$pc --libs igea) -Wl,-rpath,$$st/lib || exit 1; \
+	  echo "== $(BUILD)/examples/eqerr_example_f"; \
+	  (cd examples && ../$(BUILD)/examples/eqerr_example_f flight) || { echo "example eqerr_example.f90 failed"; exit 1; }
+	@st=$(CURDIR)/$(BUILD)/stage/usr; export PKG_CONFIG_PATH=$$st/lib/pkgconfig; \
+	  $(CC) -static examples/eqerr_example.c -o $(BUILD)/examples/eqerr_example_static \
+	    $$(pkg-config --define-variable=prefix=$$st --static --cflags --libs igea) || exit 1; \
+	  echo "== $(BUILD)/examples/eqerr_example_static (pkg-config --static, linked -static)"; \
+	  $(BUILD)/examples/eqerr_example_static >/dev/null || { echo "static eqerr_example failed"; exit 1; }
+	@echo "examples-check: examples build via pkg-config and run"
 
 demo: deps
 	$(MAKE) --no-print-directory all
@@ -179,24 +195,89 @@ bench: all venv
 	PYTHONPATH=$(CURDIR)/python IGEA_LIBRARY=$(CURDIR)/$(SO_MAJ) IGEA_DRIVER=$(CURDIR)/$(DRIVER) \
 	  $(VENV)/bin/python bench/run.py
 
+# ---- the Fortran module ---------------------------------------------------
+# igea.f90 is written from the headers by python/gen_fortran.py (the parser
+# of gen_capi.py) and compiled to igea.mod by $(FC) when it is installed;
+# it has no code of its own (programs link -ligea only).
+FDIR := $(BUILD)/fortran
+FSRC := $(FDIR)/igea.f90
+FMOD := $(FDIR)/igea.mod
+HAVE_FC := $(shell command -v $(FC) 2>/dev/null)
+.PHONY: fortran
+fortran: $(FMOD)
+all: $(FSRC) $(if $(HAVE_FC),$(FMOD))
+$(FSRC): python/gen_fortran.py python/gen_capi.py $(wildcard include/igea/*.h)
+	@mkdir -p $(FDIR)
+	$(PYTHON) python/gen_fortran.py $@
+$(FMOD): $(FSRC)
+	$(FC) -std=f2018 -Wall -Werror -J$(FDIR) -c $< -o $(FDIR)/igea.o
+
+# The man page and the bash completion, from the driver's own --help (the
+# option tables it parses with).
+MAN1 := $(BUILD)/share/igea.1
+BASHCOMP := $(BUILD)/share/igea.bash
+all: $(MAN1)
+$(BASHCOMP): $(MAN1)
+$(MAN1): src/cli/gen_docs.py $(DRIVER)
+	$(PYTHON) src/cli/gen_docs.py $(DRIVER) $(BUILD)/share
+
+# The package's wheel (python/igea_build.py: libigea.so.1 inside) in
+# $(BUILD)/wheel. With auditwheel installed it is also repaired into a
+# manylinux wheel that carries OpenBLAS, LAPACKE and GSL; without it the
+# wheel is for machines with the same Debian packages.
+.PHONY: wheel
+wheel: venv
+	rm -rf $(BUILD)/wheel && mkdir -p $(BUILD)/wheel
+	$(VENV)/bin/python -m pip wheel -q --no-index --no-deps --disable-pip-version-check \
+	  -w $(BUILD)/wheel ./python
+	@if command -v auditwheel >/dev/null; then \
+	  auditwheel repair -w $(BUILD)/wheel/manylinux $(BUILD)/wheel/igea-*.whl && \
+	  auditwheel show $(BUILD)/wheel/manylinux/igea-*.whl; \
+	else \
+	  echo "wheel: $$(ls $(BUILD)/wheel/igea-*.whl) (auditwheel is not installed: no manylinux"; \
+	  echo "  repair; the wheel links this system's liblapacke, libopenblas and libgsl)"; \
+	fi
+
 # ---- install --------------------------------------------------------------
 # igea.pc is written at install time: its prefix is this install's PREFIX.
+# Into a system prefix (no DESTDIR; /usr, /usr/local or a directory of
+# /etc/ld.so.conf) the loader cache is refreshed (ldconfig, as root).
+# Its Libs.private is the complete static link of the dependencies.
+PC_PRIVATE = $(shell pkg-config --static --libs lapacke openblas gsl 2>/dev/null || echo $(LIBS)) \
+  $(if $(filter /%,$(shell $(CC) -print-file-name=libquadmath.a)),-lquadmath) -lm
 install: all
 	install -d $(DESTDIR)$(PREFIX)/include/igea $(DESTDIR)$(PREFIX)/lib/pkgconfig $(DESTDIR)$(PREFIX)/bin
 	install -m 644 include/igea.h $(DESTDIR)$(PREFIX)/include/
 	install -m 644 include/igea/*.h $(DESTDIR)$(PREFIX)/include/igea/
+	install -d $(DESTDIR)$(PREFIX)/include/igea/fortran
+	install -m 644 $(FSRC) $(DESTDIR)$(PREFIX)/include/igea/fortran/
+	@if [ -f $(FMOD) ]; then install -m 644 $(FMOD) $(DESTDIR)$(PREFIX)/include/igea/fortran/; \
+	 else echo "install: $(FC) not found: igea.mod not built (include/igea/fortran/igea.f90 is installed)"; fi
 	install -m 644 $(STATIC) $(DESTDIR)$(PREFIX)/lib/
 	install -m 755 $(SO_REAL) $(DESTDIR)$(PREFIX)/lib/
 	ln -sf libigea.so.$(VERSION) $(DESTDIR)$(PREFIX)/lib/libigea.so.$(SOMAJOR)
 	ln -sf libigea.so.$(SOMAJOR) $(DESTDIR)$(PREFIX)/lib/libigea.so
-	sed -e 's|@PREFIX@|$(PREFIX)|g' -e 's|@VERSION@|$(VERSION)|g' igea.pc.in \
+	sed -e 's|@PREFIX@|$(PREFIX)|g' -e 's|@VERSION@|$(VERSION)|g' -e 's|@LIBS_PRIVATE@|$(PC_PRIVATE)|g' igea.pc.in \
 	  > $(DESTDIR)$(PREFIX)/lib/pkgconfig/igea.pc && chmod 644 $(DESTDIR)$(PREFIX)/lib/pkgconfig/igea.pc
 	install -m 755 $(DRIVER) $(DESTDIR)$(PREFIX)/bin/
+	install -d $(DESTDIR)$(PREFIX)/share/man/man1 $(DESTDIR)$(PREFIX)/share/bash-completion/completions
+	install -m 644 $(MAN1) $(DESTDIR)$(PREFIX)/share/man/man1/igea.1
+	install -m 644 $(BASHCOMP) $(DESTDIR)$(PREFIX)/share/bash-completion/completions/igea
+	@if [ -n "$(DESTDIR)" ]; then :; \
+	elif { [ "$(PREFIX)" = /usr ] || [ "$(PREFIX)" = /usr/local ] || \
+	       cat /etc/ld.so.conf /etc/ld.so.conf.d/*.conf 2>/dev/null | grep -qx '$(PREFIX)/lib'; }; then \
+	  if [ "$$(id -u)" = 0 ] && command -v ldconfig >/dev/null; then echo ldconfig; ldconfig; \
+	  else echo "install: run ldconfig as root to refresh the loader cache"; fi; \
+	else \
+	  echo "install: $(PREFIX)/lib is not on the loader's path: programs find libigea.so.1"; \
+	  echo "  through LD_LIBRARY_PATH=$(PREFIX)/lib or -Wl,-rpath,$(PREFIX)/lib"; \
+	fi
 
 uninstall:
 	rm -rf $(DESTDIR)$(PREFIX)/include/igea $(DESTDIR)$(PREFIX)/include/igea.h
 	rm -f $(DESTDIR)$(PREFIX)/lib/libigea.a $(DESTDIR)$(PREFIX)/lib/libigea.so* \
-	  $(DESTDIR)$(PREFIX)/lib/pkgconfig/igea.pc $(DESTDIR)$(PREFIX)/bin/igea
+	  $(DESTDIR)$(PREFIX)/lib/pkgconfig/igea.pc $(DESTDIR)$(PREFIX)/bin/igea \
+	  $(DESTDIR)$(PREFIX)/share/man/man1/igea.1 $(DESTDIR)$(PREFIX)/share/bash-completion/completions/igea
 
 clean:
 	rm -rf $(BUILD)

@@ -1,8 +1,10 @@
 /* The equivalent-error test from C: METHODS 1.6(a)'s 4-epoch example.
  * Build against an installed igea:
- *   cc eqerr_example.c $(pkg-config --cflags --libs igea) -o eqerr_example
- * (static: add --static to pkg-config). Prints eigenvalues, equivalent
- * errors and the verdict; exits 0 when accepted, 1 when rejected. */
+ *   cc eqerr_example.c $(pkg-config --cflags --libs igea) -lm -o eqerr_example
+ * Static (libigea.a and its dependencies' static libraries):
+ *   cc -static eqerr_example.c $(pkg-config --static --cflags --libs igea) -o eqerr_example
+ * Prints eigenvalues, equivalent errors and the verdict; exits 0 when
+ * accepted, 3 when T is not METHODS 1.6(a)'s value, 2 on an error. */
 #include <math.h>
 #include <stdio.h>
 

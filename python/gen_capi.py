@@ -7,7 +7,8 @@ public headers include/igea/*.h.
 
 The mirror holds every #define IGEA_X constant of the headers as X (the
 version included), and PROTOTYPES: for every IGEA_API function its ctypes
-return type and its (argument name, ctypes type) pairs in header order.
+return type and its (argument name, ctypes type) pairs in header order;
+INPUTS: for every function, the pointer arguments it only reads (const).
 Standard library only; an unknown C type or a macro whose value cannot be
 computed stops the generation with a message naming it.
 """
@@ -144,6 +145,16 @@ def generate(include=INCLUDE):
         where = "%s: %s" % (fn, name)
         items = ['("%s", %s),' % (pn, ctype(pt, where)) for pt, pn in params]
         out.append(_wrap('    "%s": (%s, (' % (name, ctype(ret, where)), items, ")),", 8))
+    out.append("}\n")
+    out.append("\n# The pointer arguments each function only reads (const in the header),\n"
+               "# in order: where a data error (NaN, a sigma <= 0) may come from.\n"
+               "INPUTS = {\n")
+    for fn, ret, name, params in funcs:
+        ins = ['"%s",' % pn for pt, pn in params
+               if re.search(r"\bconst\b", pt) and "*" in pt and not _HANDLE.match(
+                   re.sub(r"\bconst\b", "", pt).replace(" ", ""))]
+        if ins:
+            out.append(_wrap('    "%s": (' % name, ins, "),", 8))
     out.append("}\n")
     return "".join(out)
 

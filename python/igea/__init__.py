@@ -1,11 +1,15 @@
 """igea: inertial guidance error analysis (Python bindings to libigea).
 
 One function per job, numpy arrays in, frozen dataclasses out; failures of
-the library raise IgeaError (code and message), wrong shapes ValueError.
+the library raise IgeaError (code and message), wrong shapes ValueError;
+bad data (an invalid argument, NaN, a sigma <= 0, ...) raise DataError, an
+IgeaError that is also a ValueError.
 """
-from ._lib import IgeaError, lib as _clib
+from ._lib import DataError, IgeaError, lib as _clib
 
 __version__ = _clib.igea_version().decode()
+
+from .threads import blas_threads  # noqa: E402
 
 from .eqerr import EqerrResult, TestResult, accuracy_test, eqerr, pool  # noqa: E402
 from .stats import chi2_cdf, chi2_quantile, chi2_sf, chi2_upper, normal_cdf, normal_quantile, union_size, verdict_thresholds  # noqa: E402,E501

@@ -1,7 +1,9 @@
 """Loading libigea with the prototypes of its headers.
 
-The shared library is found through $IGEA_LIBRARY, then beside this
-package, then the repository's build/lib, then the system's loader path.
+The shared library is found through $IGEA_LIBRARY (the library file, or
+the directory that holds libigea.so.MAJOR), then beside this package (where
+'pip install ./python' puts the one it builds), then the repository's
+build/lib, then the system's loader path.
 Every function of the headers gets the ctypes prototype that
 python/gen_capi.py wrote into _capi.PROTOTYPES; the constants of the
 headers are the names of _capi (IGEA_X is _capi.X).
@@ -24,20 +26,42 @@ _I = POINTER(c_int)
 class IgeaError(Exception):
     """A libigea call failed: .code is the status, .message its text,
     .function the C function and .argument the name of the invalid
-    argument (status -i: the i-th parameter of the prototype) or None."""
+    argument (status -i: the i-th parameter of the prototype) or None.
+    .detail, for a data error the library reports without naming an
+    argument (NaN or Inf, a sigma <= 0 or too small), names the first
+    offending element of the inputs passed ("dw[17] = nan"), or is None."""
 
-    def __init__(self, code, message, where="", function=None, argument=None):
+    def __init__(self, code, message, where="", function=None, argument=None, detail=None):
         self.code = int(code)
         self.message = message
         self.function = function
         self.argument = argument
-        super().__init__(f"{where + ': ' if where else ''}{message} (status {code})")
+        self.detail = detail
+        text = f"{detail}: {message}" if detail else message
+        super().__init__(f"{where + ': ' if where else ''}{text} (status {code})")
+
+
+class DataError(IgeaError, ValueError):
+    """An IgeaError caused by the values passed (an invalid argument -i, or
+    a data status: NaN, a non-positive sigma, rank, ...): also a ValueError,
+    so that 'except ValueError' catches bad data. Out of memory
+    (IGEA_ENOMEM), a failed iteration (IGEA_ENOCONV) or LAPACK failure
+    (IGEA_ELAPACK) raise a plain IgeaError."""
+
+
+_NOT_DATA = {_capi.ENOMEM, _capi.ENOCONV, _capi.ELAPACK}
+
+
+def error(code, message, where="", function=None, argument=None, detail=None):
+    """The exception for status `code`: DataError unless it is one of _NOT_DATA."""
+    cls = IgeaError if code in _NOT_DATA else DataError
+    return cls(code, message, where, function, argument, detail)
 
 
 def _candidates():
     env = os.environ.get("IGEA_LIBRARY")
     if env:
-        yield env
+        yield os.path.join(env, "libigea.so.%d" % MAJOR) if os.path.isdir(env) else env
     here = os.path.dirname(os.path.abspath(__file__))
     yield os.path.join(here, "libigea.so.%d" % MAJOR)
     repo = os.path.dirname(os.path.dirname(here))
@@ -90,24 +114,71 @@ def argnames(function):
     return [n for n, _ in _capi.PROTOTYPES[function][1]]
 
 
-def check(status, where, function):
-    """Raise IgeaError for a negative status of `function`; return status
-    otherwise. Status -i names the i-th parameter of the prototype; the
-    library-wide codes carry igea_strerror's text."""
+def check(status, where, function, detail=None):
+    """Raise IgeaError (DataError for bad data, see error) for a negative
+    status of `function`; return status otherwise. Status -i names the
+    i-th parameter of the prototype; the library-wide codes carry
+    igea_strerror's text (and detail, when given, first)."""
     if status < 0:
         names = argnames(function)
         if -status <= len(names):
             arg = names[-status - 1]
-            raise IgeaError(status, "invalid argument %d (%s)" % (-status, arg), where, function,
-                            arg)
-        raise IgeaError(status, strerror(status), where, function)
+            raise error(status, "invalid argument %d (%s)" % (-status, arg), where, function,
+                        arg)
+        raise error(status, strerror(status), where, function, detail=detail)
     return status
+
+
+def _index(a, flat):
+    """The index of element `flat` of a (counted in a's memory order, F for a
+    Fortran-ordered matrix, else C) as text: "3" or "12, 4"."""
+    idx = np.unravel_index(flat, a.shape, order="F" if a.flags.f_contiguous and a.ndim > 1
+                           else "C")
+    return ", ".join(str(int(i)) for i in idx)
+
+
+_SIGMA_LIKE = ("sigma", "spec", "sd", "scale", "noise", "var", "level")
+
+
+def diagnose(status, function, args):
+    """For a data status that does not name an argument, the first input
+    element at fault, as "name[i] = value", or None: IGEA_ENONFINITE the
+    first NaN or Inf of the read-only arrays passed (in argument order),
+    IGEA_ENONPOSITIVE the first value <= 0 and IGEA_ERANGE the first below
+    IGEA_SIGMA_MIN of those named like a standard deviation (sigma, spec,
+    ...). Only arrays passed through dptr are seen."""
+    if status not in (_capi.ENONFINITE, _capi.ENONPOSITIVE, _capi.ERANGE):
+        return None
+    names = argnames(function)
+    inputs = set(_capi.INPUTS.get(function, ()))
+    for name, arg in zip(names, args):
+        a = getattr(arg, "_igea_array", None)
+        if name not in inputs or a is None or a.dtype != np.float64 or a.size == 0:
+            continue
+        if status == _capi.ENONFINITE:
+            bad = ~np.isfinite(a)
+        elif not any(k in name.lower() for k in _SIGMA_LIKE):
+            continue
+        elif status == _capi.ENONPOSITIVE:
+            bad = a <= 0
+        else:
+            bad = (a > 0) & (a < _capi.SIGMA_MIN)
+        order = "F" if a.flags.f_contiguous and a.ndim > 1 else "C"
+        flat = np.flatnonzero(bad.ravel(order=order))
+        if flat.size:
+            k = int(flat[0])
+            return "%s[%s] = %r" % (name, _index(a, k), float(a.ravel(order=order)[k]))
+    return None
 
 
 def call(where, function, *args):
     """lib.function(*args), checked: returns the status (>= 0) or raises
-    IgeaError naming the failing argument (see check)."""
-    return check(getattr(lib, function)(*args), where, function)
+    IgeaError naming the failing argument (see check), or for a data
+    status the first offending input element (see diagnose)."""
+    status = getattr(lib, function)(*args)
+    if status < 0:
+        check(status, where, function, diagnose(status, function, args))
+    return status
 
 
 def choice_codes(kind):
@@ -162,8 +233,8 @@ def options(module, where, at, **slots):
         function, arg = at
         i = argnames(function).index(arg)
         slot = lib.igea_opt_name(getattr(_capi, "MODULE_" + m), st - 1).decode()
-        raise IgeaError(-(i + 1), "invalid argument %d (%s): the options slot %s = %r is out "
-                        "of its range" % (i + 1, arg, slot, opts[st - 1]), where, function, arg)
+        raise error(-(i + 1), "invalid argument %d (%s): the options slot %s = %r is out "
+                    "of its range" % (i + 1, arg, slot, opts[st - 1]), where, function, arg)
     check(st, where, checker)
     return opts
 
@@ -172,13 +243,17 @@ def dptr(a):
     """double* of a numpy float64 array (None -> NULL)."""
     if a is None:
         return None
-    return a.ctypes.data_as(_D)
+    p = a.ctypes.data_as(_D)
+    p._igea_array = a  # for diagnose
+    return p
 
 
 def iptr(a):
     if a is None:
         return None
-    return a.ctypes.data_as(_I)
+    p = a.ctypes.data_as(_I)
+    p._igea_array = a
+    return p
 
 
 def as_f64(x, name, ndim=None, shape=None):

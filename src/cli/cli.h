@@ -226,6 +226,11 @@ int cli_pick(const char *opt, const char *value, const char *words, int *index);
  * CLI_OK; 1 + slot names the slot's option (the slot name with '-' for '_')
  * in a usage message. */
 int cli_check_opts(const char *cmd, int module, int status);
+/* Set OpenBLAS to n threads (n >= 1) and return the count it had (0, and
+ * nothing done, without OpenBLAS or for n < 1): a command that runs its own
+ * threads calls cli_blas_threads(1) for their duration, then restores the
+ * count. Process state: the driver's to change, never the library's. */
+int cli_blas_threads(int n);
 /* A comma-separated list: *items (one malloc'd block, free(*items)) points to
  * *n non-empty items. */
 int cli_split_list(const char *list, char ***items, int *n);

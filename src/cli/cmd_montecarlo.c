@@ -280,7 +280,11 @@ int cmd_montecarlo(int argc, char **argv)
      * fails or is killed leaves the old file as it was. */
     if (a.out && (ec = cli_out_open(&table, a.out)))
         goto done;
-    if ((ec = run_flights(&a, &fa, &f, &r)))
+    /* the flights run in threads of their own: OpenBLAS in each one thread */
+    int blas = cli_blas_threads(1);
+    ec = run_flights(&a, &fa, &f, &r);
+    cli_blas_threads(blas);
+    if (ec)
         goto done;
     if (a.pool > 0 && (ec = cli_status(igea_sim_pool(a.flights, r.table, a.flights, a.pool,
                                                      a.eqo[IGEA_EQERR_OPT_ALPHA], r.pooled),

@@ -1,7 +1,8 @@
 /* opt.c - the driver's one option parser: every command describes its
  * options in a table (name, kind, default, help, target); the same table
- * sets the defaults, parses the command line and prints the option list of
- * the command's --help. */
+ * sets the defaults, parses the command line (--name value or
+ * --name=value; an option given twice is refused) and prints the option
+ * list of the command's --help. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -132,9 +133,40 @@ void cli_help(FILE *f, const cli_command *c)
     fputs(c->outro, f);
 }
 
+/* The option of c's table named by a ("--name", or "--name=value": then
+ * *value points after the '='), or NULL. */
+static const cli_opt *find_option(const cli_command *c, const char *a, const char **value)
+{
+    const char *eq = a[0] == '-' && a[1] == '-' ? strchr(a, '=') : NULL;
+    size_t len = eq ? (size_t)(eq - a) : strlen(a);
+    *value = eq ? eq + 1 : NULL;
+    for (const cli_opt *o = c->opts; o->kind != CLI_OPT_END; o++)
+        if (o->name && strlen(o->name) == len && !strncmp(o->name, a, len))
+            return o;
+    return NULL;
+}
+
+/* Refuse an option given twice (its first value would be lost silently). */
+#define CLI_OPTS_MAX 256
+static int seen_once(const cli_command *c, const cli_opt *o, unsigned char *seen)
+{
+    long k = o - c->opts;
+    if (k >= CLI_OPTS_MAX) {
+        cli_error("%s: option table too long", c->name);
+        return CLI_SOFTWARE;
+    }
+    if (seen[k]) {
+        cli_error("%s: option %s given twice", c->name, o->name);
+        return CLI_USAGE;
+    }
+    seen[k] = 1;
+    return CLI_OK;
+}
+
 int cli_parse(const cli_command *c, int argc, char **argv)
 {
     const cli_opt *o;
+    unsigned char seen[CLI_OPTS_MAX] = {0};
     if (cli_one_stdin(argc, argv))
         return CLI_USAGE;
     for (o = c->opts; o->kind != CLI_OPT_END; o++) {
@@ -156,10 +188,8 @@ int cli_parse(const cli_command *c, int argc, char **argv)
             cli_help(stdout, c);
             return CLI_HELP;
         }
-        for (o = c->opts; o->kind != CLI_OPT_END; o++)
-            if (o->name && !strcmp(o->name, a))
-                break;
-        if (o->kind == CLI_OPT_END) {
+        const char *v;
+        if (!(o = find_option(c, a, &v))) {
             if (a[0] == '-' && a[1] != '\0')
                 cli_error("%s: unknown option '%s' (see igea %s --help)", c->name, a, c->name);
             else
@@ -167,8 +197,15 @@ int cli_parse(const cli_command *c, int argc, char **argv)
                           c->name, a, c->name);
             return CLI_USAGE;
         }
+        int ec = seen_once(c, o, seen);
+        if (ec)
+            return ec;
         if (o->given)
             *o->given = 1;
+        if (!takes_value(o) && v) {
+            cli_error("%s: option %s takes no value ('%s')", c->name, o->name, a);
+            return CLI_USAGE;
+        }
         if (o->kind == CLI_OPT_FLAG || o->kind == CLI_OPT_CLEAR) {
             *(int *)o->target = o->kind == CLI_OPT_FLAG;
             continue;
@@ -177,10 +214,9 @@ int cli_parse(const cli_command *c, int argc, char **argv)
             *(double *)o->target = o->kind == CLI_OPT_DSET;
             continue;
         }
-        const char *v = cli_optarg(argc, argv, &i);
-        if (!v)
+        if (!v && !(v = cli_optarg(argc, argv, &i)))
             return CLI_USAGE;
-        int ec = set_value(o, v);
+        ec = set_value(o, v);
         if (ec)
             return ec;
     }
@@ -230,4 +266,23 @@ int cli_split_list(const char *list, char ***items, int *n)
     *items = v;
     *n = k;
     return CLI_OK;
+}
+
+/* OpenBLAS's thread count, where the program is linked with OpenBLAS
+ * (weak: another BLAS has no such functions and this does nothing). */
+#ifdef __GNUC__
+extern void openblas_set_num_threads(int) __attribute__((weak));
+extern int openblas_get_num_threads(void) __attribute__((weak));
+#else
+static void (*openblas_set_num_threads)(int) = NULL;
+static int (*openblas_get_num_threads)(void) = NULL;
+#endif
+
+int cli_blas_threads(int n)
+{
+    if (!openblas_set_num_threads || !openblas_get_num_threads || n < 1)
+        return 0;
+    int old = openblas_get_num_threads();
+    openblas_set_num_threads(n);
+    return old;
 }

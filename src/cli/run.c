@@ -33,7 +33,8 @@ static void usage(FILE *f)
                "Inertial guidance error analysis. Commands:\n");
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
         fprintf(f, "  %-10s %s\n", commands[i].name, commands[i].summary);
-    fprintf(f, "\n'igea <command> --help' explains a command with an example.\n"
+    fprintf(f, "\n'igea <command> --help' (or 'igea help <command>') explains a command with\n"
+               "an example; options are --name VALUE or --name=VALUE, each at most once.\n"
                "Exit status: 0 ok / accepted, 1 an accuracy test rejected, 64 usage,\n"
                "65 bad input data, 66 missing input, 70 numerical failure, 74 I/O error.\n");
 }
@@ -43,6 +44,15 @@ static int dispatch(int argc, char **argv)
     igea_init();
     if (argc < 2) {
         usage(stderr);
+        return CLI_USAGE;
+    }
+    if (!strcmp(argv[1], "help") && argc > 2) { /* igea help CMD = igea CMD --help */
+        char help[] = "--help";
+        char *args[] = {argv[2], help, NULL};
+        for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
+            if (!strcmp(argv[2], commands[i].name))
+                return commands[i].run(2, args);
+        cli_error("help: unknown command '%s' (try 'igea --help')", argv[2]);
         return CLI_USAGE;
     }
     if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h") || !strcmp(argv[1], "help")) {
