@@ -57,6 +57,9 @@ SCALARS = {
     "igea_stats_chi2_cdf": "p", "igea_stats_chi2_sf": "q", "igea_stats_chi2_quantile": "x",
     "igea_stats_chi2_upper": "x", "igea_stats_union_size": "size",
     "igea_stats_verdict_thresholds": "a b size",
+    "igea_redund_window_length": "samples seconds",
+    "igea_impact_point": "tf", "igea_impact_circle_prob": "prob", "igea_impact_cep": "radius",
+    "igea_impact_cep_approx": "radius", "igea_triad_static": "nint",
 }
 
 _KIND = {"int": "integer(c_int)", "double": "real(c_double)"}

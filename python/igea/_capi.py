@@ -121,7 +121,27 @@ ENVFUN_TERM_GYRO_GI_X = 27
 ENVFUN_TERM_GYRO_GS_X = 30
 ENVFUN_TERM_ALIGN0_X = 33
 ENVFUN_TERM_COUNT = 36
+ENVFUN_TERM_GYRO_GO_X = 37
+ENVFUN_TERM_GYRO_GII_X = 40
+ENVFUN_TERM_GYRO_GSS_X = 43
+ENVFUN_TERM_GYRO_GOO_X = 46
+ENVFUN_TERM_GYRO_GIS_X = 49
+ENVFUN_TERM_GYRO_GIO_X = 52
+ENVFUN_TERM_GYRO_GSO_X = 55
+ENVFUN_TERM_GYRO_GSPIN_X = 58
+ENVFUN_TERM_ACC_CUBE_X = 61
+ENVFUN_TERM_ACC_ASYM_X = 64
+ENVFUN_TERM_ACC_CROSS_XY = 67
+ENVFUN_TERM_ACC_XSQ_XY = 73
+ENVFUN_TERM_ACC_XPROD_X = 79
+ENVFUN_TERM_POS0_X = 82
+ENVFUN_TERM_POS0_Z = 83
+ENVFUN_TERM_LEVER_X = 84
+ENVFUN_TERM_SIZE_XX = 87
+ENVFUN_TERM_END = 96
 ENVFUN_DEFAULT_TERMS = 21
+ENVFUN_USER_ACC = 0
+ENVFUN_USER_GYRO = 1
 
 # igea/eqerr.h
 EQERR_OPT_ALPHA = 0
@@ -378,13 +398,24 @@ PROTOTYPES = {
     "igea_envfun_term_valid": (c_int, (("system", c_int), ("term", c_int),)),
     "igea_envfun_term_name": (c_char_p, (("term", c_int),)),
     "igea_envfun_term_unit": (c_char_p, (("term", c_int),)),
+    "igea_envfun_term_formula": (c_char_p, (("term", c_int),)),
     "igea_envfun_term_code": (c_int, (("system", c_int), ("name", c_char_p),)),
     "igea_envfun_default_spec": (c_int, (("system", c_int), ("term", c_int), ("spec", _PD),)),
     "igea_envfun_default_terms": (c_int, (("system", c_int), ("terms", _PI), ("cap", c_int),
         ("n", _PI),)),
+    "igea_envfun_term_count": (c_int, ()),
+    "igea_envfun_all_terms": (c_int, (("system", c_int), ("terms", _PI), ("cap", c_int),
+        ("n", _PI),)),
     "igea_envfun_compute": (c_int, (("system", c_int), ("nsamp", c_int), ("traj", _PD),
         ("ldt", c_int), ("nterms", c_int), ("terms", _PI), ("axes", _PI), ("nepochs", c_int),
         ("epochs", _PD), ("spec", _PD), ("output", c_int), ("S", _PD), ("lds", c_int),)),
+    "igea_envfun_compute_user": (c_int, (("system", c_int), ("nsamp", c_int), ("traj", _PD),
+        ("ldt", c_int), ("nterms", c_int), ("terms", _PI), ("axes", _PI), ("nuser", c_int),
+        ("user_kind", _PI), ("user", _PD), ("ldu", c_int), ("nepochs", c_int), ("epochs", _PD),
+        ("spec", _PD), ("output", c_int), ("S", _PD), ("lds", c_int),)),
+    "igea_envfun_nonlinear": (c_int, (("system", c_int), ("nsamp", c_int), ("traj", _PD),
+        ("ldt", c_int), ("nerr", c_int), ("err", _PD), ("axes", _PI), ("nepochs", c_int),
+        ("epochs", _PD), ("dW", _PD),)),
     # igea/eqerr.h
     "igea_eqerr_defaults": (c_int, (("opts", _PD),)),
     "igea_eqerr_check_opts": (c_int, (("opts", _PD),)),
@@ -597,4 +628,89 @@ PROTOTYPES = {
         ("info", _PD),)),
     "igea_triad_apply": (c_int, (("layout", c_int), ("n", c_int), ("raw", _PD), ("ldr", c_int),
         ("theta", _PD), ("cal", _PD), ("ldc", c_int),)),
+}
+
+# The pointer arguments each function only reads (const in the header),
+# in order: where a data error (NaN, a sigma <= 0) may come from.
+INPUTS = {
+    "igea_accel_merge": ("angle_deg", "ya", "yb",),
+    "igea_accel_to_g": ("raw",),
+    "igea_accel_observe": ("theta_deg", "ya", "yb",),
+    "igea_accel_design": ("theta_deg",),
+    "igea_accel_combine": ("coef",),
+    "igea_accel_analyze": ("theta_deg",),
+    "igea_accel_fit": ("theta_deg", "ya", "yb", "prior_scale",),
+    "igea_accel_refine": ("theta_deg", "ya", "yb", "coef0",),
+    "igea_accel_simulate": ("theta_deg", "truth",),
+    "igea_choice_code": ("name",),
+    "igea_envfun_term_code": ("name",),
+    "igea_envfun_compute": ("traj", "terms", "axes", "epochs", "spec",),
+    "igea_envfun_compute_user": ("traj", "terms", "axes", "user_kind", "user", "epochs", "spec",),
+    "igea_envfun_nonlinear": ("traj", "err", "axes", "epochs",),
+    "igea_eqerr_check_opts": ("opts",),
+    "igea_eqerr_solve": ("A", "b", "opts",),
+    "igea_eqerr_solve_qr": ("R", "opts",),
+    "igea_eqerr_run": ("S", "dw", "track_sigma", "spec_sigma", "opts",),
+    "igea_eqerr_coef": ("P", "equiv_err", "spec_sigma",),
+    "igea_eqerr_residual": ("S", "dw", "coef",),
+    "igea_impact_check_opts": ("opts",),
+    "igea_impact_point": ("opts", "r0", "v0",),
+    "igea_impact_axes": ("rf", "vf",),
+    "igea_impact_miss_jacobian": ("jac", "rf", "vf",),
+    "igea_impact_budget": ("G", "E",),
+    "igea_impact_circle_prob": ("cov",),
+    "igea_impact_cep": ("cov",),
+    "igea_impact_cep_approx": ("cov",),
+    "igea_normal_accumulate": ("S", "dw", "track_sigma", "spec_sigma",),
+    "igea_normal_qr_accumulate": ("S", "dw", "track_sigma", "spec_sigma",),
+    "igea_redund_reliability_series": ("R",),
+    "igea_redund_reliability_parallel": ("R",),
+    "igea_redund_reliability_kofn": ("R",),
+    "igea_redund_diagram": ("R", "type", "k", "first", "member",),
+    "igea_redund_geometry": ("axes", "R",),
+    "igea_redund_confidence_distance": ("x", "sigma",),
+    "igea_redund_thresholds": ("sigma", "alpha",),
+    "igea_redund_relation": ("D", "alpha",),
+    "igea_redund_relation_delta": ("x", "delta",),
+    "igea_redund_fusion_set": ("D", "alpha",),
+    "igea_redund_fuse": ("x", "sigma", "keep",),
+    "igea_redund_transform": ("C", "v",),
+    "igea_redund_parity": ("H",),
+    "igea_redund_fdi": ("H", "y", "sigma",),
+    "igea_redund_skew_check": ("ay", "sy", "az", "sz",),
+    "igea_redund_monitor": ("y", "sigma", "alpha",),
+    "igea_redund_monitor_intervals": ("excluded",),
+    "igea_redund_simulate": ("level", "noise",),
+    "igea_regress_ls": ("A", "y", "sigma", "spec_sigma",),
+    "igea_regress_ebr": ("A", "y", "sigma", "spec_sigma",),
+    "igea_regress_ridge": ("A", "y", "sigma", "spec_sigma",),
+    "igea_regress_ridge_trace": ("A", "y", "sigma", "spec_sigma", "k",),
+    "igea_regress_pce": ("A", "y", "sigma", "spec_sigma",),
+    "igea_regress_bayes": ("A", "y", "sigma", "spec_sigma", "prior_mean", "prior_cov",),
+    "igea_regress_collinearity": ("A", "y", "sigma", "spec_sigma",),
+    "igea_rls_create": ("x0", "gamma0",),
+    "igea_rls_set_anomaly": ("jump_max",),
+    "igea_rls_update": ("c", "y", "track_sigma",),
+    "igea_rls_run": ("S", "dw", "track_sigma",),
+    "igea_rls_compensate": ("c", "y",),
+    "igea_sim_check_opts": ("opts",),
+    "igea_sim_model_create": ("S",),
+    "igea_sim_model_create_trajectory": ("traj", "terms", "axes", "epochs",),
+    "igea_sim_model_set_sigma": ("track_sigma",),
+    "igea_sim_model_set_spec": ("spec_sigma",),
+    "igea_sim_model_set_noise": ("opts",),
+    "igea_sim_model_set_truth": ("x_value", "x_fixed",),
+    "igea_sim_nonlinear": ("traj", "err", "axes", "epochs",),
+    "igea_sim_montecarlo": ("eq_opts",),
+    "igea_sim_pool": ("table",),
+    "igea_stability_block": ("y",),
+    "igea_stability_allan": ("y", "tau",),
+    "igea_stability_noise_id": ("tau", "adev",),
+    "igea_stats_accuracy_test": ("equiv_err", "lambda",),
+    "igea_stats_pool": ("chi2", "dof", "n_reject", "unit_id",),
+    "igea_triad_check_opts": ("opts",),
+    "igea_triad_static": ("acc",),
+    "igea_triad_fit": ("means", "theta0",),
+    "igea_triad_calibrate": ("acc", "opts",),
+    "igea_triad_apply": ("raw", "theta",),
 }
