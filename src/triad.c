@@ -500,7 +500,7 @@ int igea_triad_calibrate(int layout, int n, const double *acc, int lda, double f
     triad_result best;
     int have = 0, err = 0;
     double k0 = opts[IGEA_TRIAD_OPT_THRESHOLD];
-    for (int k = 1; k <= 10 && !st; k++)
+    for (int k = 1; k <= 10 && st >= 0; k++)
         if (k0 == 0 || k == 1)
             st = try_threshold(&r, zeta, z0, k0 > 0 ? k0 : (double)k, minlen, opts, means,
                                maxint, &best, &have, &err);
