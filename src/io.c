@@ -395,6 +395,7 @@ int igea_io_reader_create(igea_io_reader **out)
 {
     if (!out)
         return -1;
+    *out = NULL;
     igea_io_reader *r = calloc(1, sizeof *r);
     if (r && !(r->s.buf = malloc(IO_BUF))) {
         free(r);

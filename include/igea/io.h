@@ -85,7 +85,7 @@ extern "C" {
 typedef struct igea_io_reader igea_io_reader;
 
 /* A new reader, not yet open, into *out (the handle; igea_io_reader_free
- * releases it). Returns 0 or IGEA_ENOMEM (*out untouched). */
+ * releases it). Returns 0, -1 (out NULL) or IGEA_ENOMEM (*out = NULL). */
 IGEA_API int igea_io_reader_create(igea_io_reader **out);
 /* Release a reader and close what it opened (a descriptor given to
  * igea_io_reader_open_fd stays open). r may be NULL. */
