@@ -39,7 +39,10 @@ int cli_status(int status, const char *context)
     case IGEA_ENONPOSITIVE:
     case IGEA_EEMPTY:
     case IGEA_EDEPENDENT:
+    case IGEA_EFORMAT:
         return CLI_DATAERR;
+    case IGEA_EREAD:
+        return CLI_NOINPUT;
     default:
         return CLI_SOFTWARE;
     }
