@@ -22,7 +22,7 @@ class MatrixFile:
         return "MatrixFile(values=<%d x %d>, names=%r)" % (*self.values.shape, self.names)
 
 
-def _failure(r, path, status):
+def _failure(r, path, status, function):
     """IgeaError with the text "PATH:LINE:COL: message" the driver writes."""
     info = np.zeros(_capi.IO_INFO_LEN)
     _lib.lib.igea_io_reader_info(r, _lib.dptr(info))
@@ -32,7 +32,7 @@ def _failure(r, path, status):
     where = path + "".join(":%d" % k for k in (line, col) if k > 0) if line > 0 else path
     if err:
         msg = msg + ": " + os.strerror(err) if msg else os.strerror(err)
-    return _lib.IgeaError(status, msg, where, "igea_io_reader_open")
+    return _lib.IgeaError(status, msg, where, function)
 
 
 def read_matrix(path, names=False):
@@ -43,14 +43,16 @@ def read_matrix(path, names=False):
     IgeaError whose text names file:line:column as the driver does."""
     p = os.fspath(path)
     shown = p if isinstance(p, str) else os.fsdecode(p)
+    if "\0" in shown:
+        raise ValueError("igea.read_matrix: path: a NUL character in %r" % shown)
     h = ctypes.c_void_p()
     _lib.call("igea.read_matrix", "igea_io_reader_create", ctypes.byref(h))
     try:
-        st = _lib.lib.igea_io_reader_open(h, os.fsencode(p), 0, None)
-        if st == 0:
-            st = _lib.lib.igea_io_reader_load(h)
-        if st != 0:
-            raise _failure(h, shown, st)
+        for function, args in (("igea_io_reader_open", (os.fsencode(p), 0, None)),
+                               ("igea_io_reader_load", ())):
+            st = getattr(_lib.lib, function)(h, *args)
+            if st != 0:
+                raise _failure(h, shown, st, function)
         info = np.zeros(_capi.IO_INFO_LEN)
         _lib.lib.igea_io_reader_info(h, _lib.dptr(info))
         rows, cols = int(info[_capi.IO_INFO_ROWS]), int(info[_capi.IO_INFO_COLS])

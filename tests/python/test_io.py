@@ -86,6 +86,12 @@ def test_refusals_name_file_line_column(tmp_path, text, where, what):
     assert e.value.code == -1023
 
 
+def test_nul_in_path_refused(tmp_path):
+    (tmp_path / "a.txt").write_text("1\n")
+    with pytest.raises(ValueError, match="NUL"):
+        igea.read_matrix(str(tmp_path / "a.txt") + "\0junk")
+
+
 def test_missing_and_truncated(tmp_path, A):
     with pytest.raises(igea.IgeaError) as e:
         igea.read_matrix(tmp_path / "absent.txt")
