@@ -372,6 +372,41 @@ static void test_system_errors(void **state)
     igea_io_reader_free(r);
 }
 
+static void test_offsets_tempfile_partial_load(void **state)
+{
+    (void)state;
+    igea_io_reader *r;
+    double info[IGEA_IO_INFO_LEN], v[8];
+    int got;
+    assert_int_equal(igea_io_reader_create(&r), 0);
+    /* a descriptor at an offset: the reader starts there (past "9 9\n") */
+    int fd = open(puts_("o.txt", "9 9\n1 2\n3 4\n5 6\n"), O_RDONLY);
+    assert_true(fd >= 0);
+    assert_int_equal(lseek(fd, 4, SEEK_SET), 4);
+    assert_int_equal(igea_io_reader_open_fd(r, fd, "o.txt", 0, NULL), 0);
+    assert_int_equal(igea_io_reader_next(r, 1, v, &got), 0);
+    assert_int_equal(got, 1);
+    assert_close(v[0], 1, 0);
+    /* the rest loaded whole: rows 2 and 3 */
+    assert_int_equal(igea_io_reader_load(r), 0);
+    igea_io_reader_info(r, info);
+    assert_int_equal((long)info[IGEA_IO_INFO_ROWS], 2);
+    assert_int_equal(igea_io_reader_copy(r, v, IGEA_ROWMAJOR), 0);
+    assert_close(v[0], 3, 0);
+    assert_close(v[3], 6, 0);
+    close(fd);
+    /* two passes of a pipe need a temporary copy: a missing directory */
+    char nodir[300];
+    snprintf(nodir, sizeof nodir, "%s/no/such/dir", dir);
+    fd = piped("1\n", 2);
+    assert_int_equal(igea_io_reader_open_fd(r, fd, NULL, IGEA_IO_TWICE, nodir), IGEA_ETEMPFILE);
+    igea_io_reader_info(r, info);
+    assert_int_equal((int)info[IGEA_IO_INFO_ERRNO], ENOENT);
+    assert_non_null(strstr(igea_io_reader_message(r), "temporary copy"));
+    close(fd);
+    igea_io_reader_free(r);
+}
+
 static int setup(void **state)
 {
     (void)state;
@@ -394,6 +429,7 @@ int main(void)
         cmocka_unit_test(test_bom_crlf_tabs), cmocka_unit_test(test_header_names),
         cmocka_unit_test(test_npy_orders),    cmocka_unit_test(test_pipe_rewind),
         cmocka_unit_test(test_fifo),          cmocka_unit_test(test_system_errors),
+        cmocka_unit_test(test_offsets_tempfile_partial_load),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
