@@ -243,8 +243,8 @@ int cli_read_matrix(const char *path, cli_matrix *out)
     }
     ec = matrix_room(r, &v, &cap, first, most);
     while (!ec) {
-        if (rows == cap && (most > 0 && rows >= most ? 1 : 0))
-            break;
+        if (rows == cap && most > 0 && rows >= most)
+            break; /* a .npy's stated rows, all read */
         if (rows == cap && (ec = matrix_room(r, &v, &cap, rows + 1, most)))
             break;
         long got = 0;
