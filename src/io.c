@@ -200,6 +200,14 @@ static int bad_number(igea_io_reader *r, const char *p)
         return io_fail(r, IGEA_EFORMAT, r->lineno, col, 0,
                        "'%s' is a Fortran repeat count (r*value), which igea does not "
                        "expand: write the values out", tok);
+    const char *e;
+    double v;
+    int er;
+    if (!scan_number(p, &e, &v, &er) && (*e == '+' || *e == '-') && is_digit(e[-1]) &&
+        is_digit(e[1]))
+        return io_fail(r, IGEA_EFORMAT, r->lineno, col, 0,
+                       "'%s' is not a finite number (an exponent without its letter, as "
+                       "Fortran writes exponents beyond 99? write 1.5E-100 or 1.5D-100)", tok);
     return io_fail(r, IGEA_EFORMAT, r->lineno, col, 0, "'%s' is not a finite number", tok);
 }
 

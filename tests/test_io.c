@@ -131,6 +131,11 @@ static void test_fortran_numbers(void **state)
                      IGEA_EFORMAT);
     expect_error(r, IGEA_EFORMAT, 2, 3, "repeat count");
     igea_io_reader_free(r);
+    /* Fortran's E format drops the letter of a 3-digit exponent */
+    assert_int_equal(load(puts_("e3.txt", "0.1500000000000000-100\n"), v, &rows, &cols, &r),
+                     IGEA_EFORMAT);
+    expect_error(r, IGEA_EFORMAT, 1, 1, "exponent without its letter");
+    igea_io_reader_free(r);
     assert_int_equal(igea_io_parse_number("1.0D-02", &x), 0);
     assert_close(x, 0.01, 0);
     assert_int_equal(igea_io_parse_number("0x1D", &x), 0); /* hexadecimal 29 */
