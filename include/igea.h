@@ -14,4 +14,5 @@
 #include "igea/rls.h"
 #include "igea/impact.h"
 #include "igea/triad.h"
+#include "igea/io.h"
 #endif

@@ -34,6 +34,10 @@ const char *igea_strerror(int status)
     case IGEA_EOVERFLOW:
         return "a result overflowed or underflowed the double range although the inputs "
                "are finite: rescale the inputs (units?)";
+    case IGEA_EFORMAT: return "an input file is not what its format says (malformed data)";
+    case IGEA_EREAD: return "an input file cannot be opened or read";
+    case IGEA_ETEMPFILE:
+        return "a temporary copy of an input (for a second pass) cannot be written";
     default: break;
     }
     if (status > 0)

@@ -64,6 +64,9 @@ extern "C" {
 #define IGEA_EEMPTY (-1020)       /* no data (zero rows or zero terms) */
 #define IGEA_ERANGE (-1021)       /* a sigma is below IGEA_SIGMA_MIN (1/sigma^2 overflows) */
 #define IGEA_EOVERFLOW (-1022)    /* a result overflowed or underflowed: rescale */
+#define IGEA_EFORMAT (-1023)      /* an input file is not what its format says (igea/io.h) */
+#define IGEA_EREAD (-1024)        /* an input file cannot be opened or read (igea/io.h) */
+#define IGEA_ETEMPFILE (-1025)    /* a temporary copy of an input cannot be written */
 
 /* Smallest standard deviation (a sigma whose inverse square weights the
  * data) accepted: 2^-511, about 1.5e-154, where 1/sigma^2 = 2^1022 is still

@@ -70,6 +70,9 @@ EDEPENDENT = -1019
 EEMPTY = -1020
 ERANGE = -1021
 EOVERFLOW = -1022
+EFORMAT = -1023
+EREAD = -1024
+ETEMPFILE = -1025
 SIGMA_MIN = 1.4916681462400413e-154
 MODULE_EQERR = 1
 MODULE_SIM = 2
@@ -177,6 +180,21 @@ IMPACT_JAC_TIME = 6
 IMPACT_JAC_ROWS = 7
 IMPACT_CEP_SUM = 0
 IMPACT_CEP_RMS = 1
+
+# igea/io.h
+IO_LINE_MAX = 1048576
+IO_TWICE = 1
+IO_INFO_STATUS = 0
+IO_INFO_LINE = 1
+IO_INFO_COLUMN = 2
+IO_INFO_ERRNO = 3
+IO_INFO_COLS = 4
+IO_INFO_ROWS = 5
+IO_INFO_NAMES = 6
+IO_INFO_NPY = 7
+IO_INFO_NPY_ROWS = 8
+IO_INFO_CHECKED = 9
+IO_INFO_LEN = 16
 
 # igea/redund.h
 REDUND_RBD_SERIES = 0
@@ -447,6 +465,23 @@ PROTOTYPES = {
     "igea_impact_circle_prob": (c_int, (("cov", _PD), ("r", c_double), ("prob", _PD),)),
     "igea_impact_cep": (c_int, (("cov", _PD), ("prob", c_double), ("radius", _PD),)),
     "igea_impact_cep_approx": (c_int, (("cov", _PD), ("rule", c_int), ("radius", _PD),)),
+    # igea/io.h
+    "igea_io_reader_create": (c_int, (("out", _PH),)),
+    "igea_io_reader_free": (None, (("r", c_void_p),)),
+    "igea_io_reader_open": (c_int, (("r", c_void_p), ("path", c_char_p), ("flags", c_int),
+        ("tmpdir", c_char_p),)),
+    "igea_io_reader_open_fd": (c_int, (("r", c_void_p), ("fd", c_int), ("name", c_char_p),
+        ("flags", c_int), ("tmpdir", c_char_p),)),
+    "igea_io_reader_cols": (c_int, (("r", c_void_p),)),
+    "igea_io_reader_names": (c_char_p, (("r", c_void_p),)),
+    "igea_io_reader_next": (c_int, (("r", c_void_p), ("maxrows", c_int), ("buf", _PD),
+        ("nread", _PI),)),
+    "igea_io_reader_rewind": (c_int, (("r", c_void_p),)),
+    "igea_io_reader_load": (c_int, (("r", c_void_p),)),
+    "igea_io_reader_copy": (c_int, (("r", c_void_p), ("v", _PD), ("layout", c_int),)),
+    "igea_io_reader_info": (c_int, (("r", c_void_p), ("info", _PD),)),
+    "igea_io_reader_message": (c_char_p, (("r", c_void_p),)),
+    "igea_io_parse_number": (c_int, (("s", c_char_p), ("x", _PD),)),
     # igea/normal.h
     "igea_normal_accumulate": (c_int, (("layout", c_int), ("m", c_int), ("N", c_int), ("S", _PD),
         ("lds", c_int), ("dw", _PD), ("track_sigma", _PD), ("sigma_inc", c_int),
@@ -661,6 +696,9 @@ INPUTS = {
     "igea_impact_circle_prob": ("cov",),
     "igea_impact_cep": ("cov",),
     "igea_impact_cep_approx": ("cov",),
+    "igea_io_reader_open": ("path", "tmpdir",),
+    "igea_io_reader_open_fd": ("name", "tmpdir",),
+    "igea_io_parse_number": ("s",),
     "igea_normal_accumulate": ("S", "dw", "track_sigma", "spec_sigma",),
     "igea_normal_qr_accumulate": ("S", "dw", "track_sigma", "spec_sigma",),
     "igea_redund_reliability_series": ("R",),

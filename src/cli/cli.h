@@ -33,7 +33,8 @@ int cli_oom(const char *what);
  * given context ("eqerr: ..."). Returns CLI_OK for 0. */
 int cli_status(int status, const char *context);
 
-/* Strict option values: the whole string must be a finite number / an int.
+/* Strict option values: the whole string must be a finite number (the
+ * library's syntax, igea_io_parse_number: D exponents too) / an int.
  * On failure print "option --name: 'text' is not a number" and return
  * CLI_USAGE. */
 int cli_parse_double(const char *opt, const char *s, double *out);
@@ -54,17 +55,15 @@ typedef struct {
     int cols;
 } cli_matrix;
 
-/* Read a whole text (whitespace or commas, '#' comments, blank lines
- * skipped; every row the same number of columns) or .npy (float64, any
- * order, 1-D or 2-D; 1-D gives one column; recognised by the name or, for
- * any other name, by its magic bytes) file. "-" is standard input; pipes,
- * FIFOs and devices are read as they come. A text line is at most
- * CLI_LINE_MAX bytes and holds no NUL byte; a comma between two digits in a
- * file whose values are otherwise separated by blanks is refused as a
- * decimal comma. Returns an exit code; messages name file:line:column (out
- * of memory: 70 "out of memory reading FILE"). An empty file is an error
- * (65). */
-#define CLI_LINE_MAX (1L << 20)
+/* Read a whole text or .npy file through the library's reader (igea/io.h
+ * says what it accepts: blanks, tabs or commas, '#' comments, D exponents,
+ * a header row or '# names' line of column names, BOM and CRLF; decimal
+ * commas and repeat counts refused; .npy float64 in C or Fortran order).
+ * "-" is standard input; pipes, FIFOs and devices are read as they come.
+ * Returns an exit code; messages name file:line:column (65 bad data, 66
+ * unreadable, 74 temporary copy, 70 "out of memory reading FILE"). An empty
+ * file is an error (65). */
+#define CLI_LINE_MAX IGEA_IO_LINE_MAX
 int cli_read_matrix(const char *path, cli_matrix *out);
 void cli_matrix_free(cli_matrix *m);
 
@@ -92,6 +91,8 @@ int cli_reader_cols(const cli_reader *r);
  * *nread = rows read, 0 at end of file. Returns an exit code. */
 int cli_reader_next(cli_reader *r, long maxrows, double *buf, long *nread);
 const char *cli_reader_path(const cli_reader *r);
+/* The column names of the input, '\n'-separated, or "" (igea/io.h). */
+const char *cli_reader_names(const cli_reader *r);
 void cli_reader_close(cli_reader *r);
 
 /* At most one input of a command line may be "-" (an argument "-" that is

@@ -348,6 +348,26 @@ BASE = {
     'igea_rls_get_gamma': dict(ldg='3'),
     'igea_rls_get_covariance': dict(ldc='3'),
     'igea_rls_compensate': dict(c='u', ldc='2', y='u'),
+    # ---- io (handles: 'io' a reader open on audit_io_path(), 3 x 2 with
+    # names; 'io0' created only, 'io2' opened for two passes, 'iol' loaded)
+    'igea_io_reader_create': dict(_req=['out']),
+    'igea_io_reader_open': dict(r='io0', path='set:audit_io_file((char *)b_);', flags='0',
+                                tmpdir='NULL', _int=dict(flags='enum'), _opt=['tmpdir'], _req=['r', 'path'],
+                                _intarr=dict(path='free', tmpdir='free')),
+    'igea_io_reader_open_fd': dict(r='io0', fd='audit_io_fd()', name='set:memcpy(b_, "m.txt", 6);',
+                                   flags='0', tmpdir='NULL', _opt=['name', 'tmpdir'],
+                                   _int=dict(fd='nonneg', flags='enum'),
+                                   _intarr=dict(name='free', tmpdir='free')),
+    'igea_io_reader_cols': dict(_opt=['r']),
+    'igea_io_reader_names': dict(_opt=['r']),
+    'igea_io_reader_message': dict(_opt=['r']),
+    'igea_io_reader_next': dict(maxrows='2', _int=dict(maxrows='size'), _progress=['buf'],
+                                _req=['r', 'buf', 'nread']),
+    'igea_io_reader_rewind': dict(r='io2', _req=['r']),
+    'igea_io_reader_load': dict(_req=['r']),
+    'igea_io_reader_info': dict(_req=['r', 'info']),
+    'igea_io_reader_copy': dict(r='iol', layout='IGEA_ROWMAJOR', _req=['r', 'v']),
+    'igea_io_parse_number': dict(s='set:memcpy(b_, "1.5D+01", 8);', _intarr=dict(s='free')),
 }
 
 # Further baselines of some functions, for the branches the first one does

@@ -9,7 +9,7 @@
 #   make fuzz-deps   clang with libFuzzer, installed as root on Debian
 #
 # One target per reader (text, npy: whole, streamed, two-pass and piped reads
-# agree bit for bit) and per command (cli_run in process: documented exit
+# agree bit for bit), one of the library's reader alone (io), and per command (cli_run in process: documented exit
 # status, no file or temporary left by a failure, 74 when stdout is full);
 # the input format and every check are in harness.h. Some targets longer:
 #   make fuzz FUZZ_TARGETS="text npy" FUZZ_TIME=300
@@ -23,7 +23,7 @@ FUZZ_TIME       ?= 60
 FUZZ_QUICK_TIME ?= 3
 FUZZ_BUILD      ?= $(BUILD)/fuzz
 FUZZ_TARGETS    := text npy eqerr test regress rls redund stability accel envfun simulate \
-                   montecarlo
+                   montecarlo io
 FUZZ_SAN        := -fsanitize=address,undefined -fno-sanitize-recover=undefined \
                    -fno-omit-frame-pointer
 FUZZ_CFLAGS     := -O1 -g $(FUZZ_SAN) -fsanitize=fuzzer-no-link -Isrc/cli -DIGEA_BUILDING

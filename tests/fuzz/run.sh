@@ -41,6 +41,7 @@ dict() {
     case $t in
     text) printf '"#"\n","\n"nan"\n"inf"\n"1e308"\n"-0"\n"0x1p-1074"\n"\\x00"\n"\\x0d\\x0a"\n'; return ;;
     npy) printf '"\\x93NUMPY\\x01\\x00"\n"\\x93NUMPY\\x02\\x00"\n"'"'"'descr'"'"'"\n"'"'"'<f8'"'"'"\n"'"'"'fortran_order'"'"'"\n"True"\n"False"\n"'"'"'shape'"'"'"\n"(2, 3)"\n"(9223372036854775807, 2)"\n'; return ;;
+    io) printf '"#"\n","\n"D+"\n"d-"\n"3*"\n"\\xef\\xbb\\xbf"\n"\\x0d\\x0a"\n"\\x22"\n"nan"\n"\\x93NUMPY\\x01\\x00"\n"'"'"'<f8'"'"'"\n"True"\n"(2, 3)"\n'; return ;;
     test) files="src/cli/cmd_eqerr.c" ;;
     simulate|montecarlo|envfun) files="src/cli/cmd_$t.c $(ls src/cli/flight.c src/cli/cmd_envfun.c 2>/dev/null)" ;;
     *) files="src/cli/cmd_$t.c" ;;
