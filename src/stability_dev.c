@@ -469,19 +469,44 @@ static int noise_b1(long N, const double *x, long m, double tau0, long K, double
     return rn > sqrt(rf / (double)m) ? IGEA_STABILITY_NOISE_FPM : IGEA_STABILITY_NOISE_WPM;
 }
 
-/* Noise exponent alpha at averaging factor m (z: N doubles of workspace). */
-static int noise_at(long N, const double *x, long m, double tau0, double *z)
+/* Remove the least-squares line in k from z[K]. */
+static void detrend1(long K, double *z)
+{
+    double c = 0.5 * (double)(K - 1), Kd = (double)K;
+    igea__ksum s0 = {0, 0}, s1 = {0, 0}, n1 = {0, 0};
+    for (long k = 0; k < K; k++) {
+        double t = (double)k - c;
+        igea__ksum_add(&s0, z[k]);
+        igea__ksum_add(&s1, z[k] * t);
+        igea__ksum_add(&n1, t * t);
+    }
+    double b0 = igea__ksum_get(&s0) / Kd, b1 = igea__ksum_get(&s1) / igea__ksum_get(&n1);
+    for (long k = 0; k < K; k++)
+        z[k] -= b0 + b1 * ((double)k - c);
+}
+
+/* Noise exponent alpha at averaging factor m (z: N doubles of workspace).
+ * Frequency data: the m-sample means, linear trend removed, alpha = -2
+ * (delta + d); phase data: the phase decimated by m, quadratic trend
+ * removed, alpha = 2 - 2 (delta + d) (allantools' autocorr_noise_id). */
+static int noise_at(long N, const double *x, long m, double tau0, int phase, double *z)
 {
     long K = (N - 1) / m + 1;
-    if (K < 30)
+    if (K < 31) /* fewer than 30 means (or 31 phase points) */
         return K - 1 >= 4 ? noise_b1(N, x, m, tau0, K, z) : IGEA_STABILITY_NOISE_WFM;
-    for (long k = 0; k < K; k++)
-        z[k] = x[k * m];
-    detrend2(K, z);
+    if (phase) {
+        for (long k = 0; k < K; k++)
+            z[k] = x[k * m];
+        detrend2(K, z);
+    } else {
+        for (long k = 0; k + 1 < K; k++)
+            z[k] = x[(k + 1) * m] - x[k * m];
+        detrend1(--K, z);
+    }
     for (int d = 0;; d++) {
         double r1 = lag1(K - d, z), delta = r1 / (1.0 + r1);
         if (delta < 0.25 || d == 2) {
-            long a = 2 - 2 * d - lround(2.0 * delta);
+            long a = (phase ? 2 : 0) - 2 * d - lround(2.0 * delta);
             return (int)IGEA_MAX(-2, IGEA_MIN(2, a));
         }
         for (long k = 0; k + 1 < K - d; k++)
@@ -658,7 +683,7 @@ int igea_stability_dev(int n, const double *x, double fs, int data_type, int nta
     for (int j = 0; j < ntau; j++) {
         s.m[j] = dev_factor(kind, tau[j], fs, N);
         d[j] = dev_one(kind, N, s.x, s.y, s.m[j], tau0, s.w, s.q);
-        s.al[j] = need_id ? noise_at(N, s.x, s.m[j], tau0, s.z) : noise;
+        s.al[j] = need_id ? noise_at(N, s.x, s.m[j], tau0, data_type, s.z) : noise;
         if (htot && s.m[j] > 1)
             d[j] /= sqrt(htot_bias(s.al[j]));
     }

@@ -214,6 +214,44 @@ IGEA_API int igea_stability_dev(int n, const double *x, double fs, int data_type
 IGEA_API int igea_stability_taus(int n, double fs, int data_type, int kind, int spacing,
                                  int ntau_max, double *tau, int *ntau);
 
+/* Terms of igea_stability_fit: the Allan variance of IEEE Std 952 (Annex C)
+ * sigma^2(tau) = 3 Q^2 / tau^2 + N^2 / tau + (2 ln2 / pi) B^2 + K^2 tau / 3
+ * + R^2 tau^2 / 2. With y in u (deg/h, m/s^2, ...) and tau in s: Q in u s
+ * (quantisation), N in u sqrt(s) (angle / velocity random walk), B in u
+ * (bias instability), K in u / sqrt(s) (rate random walk), R in u / s (rate
+ * ramp). */
+#define IGEA_STABILITY_FIT_Q 0
+#define IGEA_STABILITY_FIT_N 1
+#define IGEA_STABILITY_FIT_B 2
+#define IGEA_STABILITY_FIT_K 3
+#define IGEA_STABILITY_FIT_R 4
+#define IGEA_STABILITY_FIT_LEN 5
+
+/*
+ * Weighted least-squares fit of the whole Allan variance curve adev[j]^2 at
+ * tau[j] to the five terms, with non-negative variance coefficients c = (Q^2,
+ * N^2, B^2, K^2, R^2) (Lawson and Hanson's NNLS on unit-norm columns,
+ * Householder QR). The weight of point j is edf[j] / (2 s_j^4), s_j^2 the
+ * fitted variance at tau[j] (iterated 8 times from the observed one): the
+ * chi-square variance of an Allan variance estimate with edf[j] degrees of
+ * freedom. Covariance of the positive coefficients (AtWA)^-1, multiplied
+ * by chi2 / (ntau - p) when that exceeds 1 (the points of one curve are
+ * correlated) [D]; a zero coefficient gets the standard error it would
+ * have when fitted with the positive ones. A term is supported when c_k >
+ * 2 se(c_k) [D].
+ *  1 ntau >= 5, 2 tau[ntau] (> 0, distinct), 3 adev[ntau] (> 0), 4 edf[ntau]
+ *  (>= 1), 5 coef[IGEA_STABILITY_FIT_LEN] out: sqrt(c_k) (0 for a zero
+ *  coefficient), 6 se[IGEA_STABILITY_FIT_LEN] out: se(c_k) / (2 sqrt(c_k)),
+ *  or sqrt(se(c_k)) for a zero coefficient (may be NULL), 7
+ *  supported[IGEA_STABILITY_FIT_LEN] out (1 or 0, may be NULL), 8 chi2 out:
+ *  the weighted residual sum of squares (may be NULL).
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENOMEM; outputs untouched on
+ * failure.
+ */
+IGEA_API int igea_stability_fit(int ntau, const double *tau, const double *adev,
+                                const double *edf, double *coef, double *se, int *supported,
+                                double *chi2);
+
 #ifdef __cplusplus
 }
 #endif
