@@ -170,12 +170,15 @@ IGEA_API int igea_stability_noise_id(int ntau, const double *tau,
  * removed first, which no statistic but MTIE and TIERMS sees; these two use
  * the record as it is). Noise type (noise = IGEA_STABILITY_NOISE_AUTO): at
  * each tau on its own (no other tau is consulted), the lag-1
- * autocorrelation of the phase decimated by m (quadratic trend removed),
- * differenced d = 0, 1, 2 times until delta = r1 / (1 + r1) < 0.25, alpha
- * = 2 - round(2 delta) - 2d, when floor((N-1)/m) + 1 >= 30 points exist
- * (Riley and Greenhall 2004); else the B1 ratio (standard / Allan variance
- * of the m-averages) against its power-law values, white and flicker PM
- * told apart by R(n) = MVAR / AVAR (NIST SP 1065 section 5.6); clamped to
+ * autocorrelation r1 (Riley and Greenhall 2004) of the m-sample means less
+ * their line (frequency data; alpha = -2 (delta + d)) or of the phase
+ * decimated by m less its quadratic (phase data; alpha = 2 - 2 (delta +
+ * d)), differenced d = 0, 1, 2 times until delta = r1 / (1 + r1) < 0.25,
+ * delta rounded to halves, when at least 30 means exist; else, from 4
+ * means, the B1 ratio (standard / Allan variance of the m-means) against
+ * its power-law values (geometric-mean boundaries), white and flicker PM
+ * told apart by R(n) = MVAR / AVAR (NIST SP 1065 section 5.6), and white
+ * FM below 4 means [D]; clamped to
  * -2 .. 2. EDF: Greenhall and Riley's algorithm (PTTI 2003; d = 2 for the
  * Allan kinds, d = 3 for the Hadamard kinds, F = 1 for MDEV/TDEV, stride m
  * for the overlapping ones); TOTDEV: SP 1065 Table 7, b N/m - c (white,
@@ -232,13 +235,16 @@ IGEA_API int igea_stability_taus(int n, double fs, int data_type, int kind, int 
  * tau[j] to the five terms, with non-negative variance coefficients c = (Q^2,
  * N^2, B^2, K^2, R^2) (Lawson and Hanson's NNLS on unit-norm columns,
  * Householder QR). The weight of point j is edf[j] / (2 s_j^4), s_j^2 the
- * fitted variance at tau[j] (iterated 8 times from the observed one): the
- * chi-square variance of an Allan variance estimate with edf[j] degrees of
- * freedom. Covariance of the positive coefficients (AtWA)^-1, multiplied
- * by chi2 / (ntau - p) when that exceeds 1 (the points of one curve are
- * correlated) [D]; a zero coefficient gets the standard error it would
- * have when fitted with the positive ones. A term is supported when c_k >
- * 2 se(c_k) [D].
+ * fitted variance at tau[j], iterated 12 times from the observed one: the
+ * Fisher scoring of the maximum-likelihood fit when each estimate is
+ * s_j^2 chi2_edf / edf. Covariance of the positive coefficients
+ * (A^T W A)^-1, times chi2 / (ntau - p) when that exceeds 1 (the points of
+ * one curve are correlated) [D]; a zero coefficient gets the standard
+ * error it would have when fitted with the positive ones. A term is
+ * supported when its coefficient is positive and the likelihood ratio of
+ * the fit with and without it, sum edf_j ((v_j - mu_j) / mu_j - ln(v_j /
+ * mu_j)) (gamma deviance) divided by max(1, deviance / (ntau - p)),
+ * exceeds 3.84 [D].
  *  1 ntau >= 5, 2 tau[ntau] (> 0, distinct), 3 adev[ntau] (> 0), 4 edf[ntau]
  *  (>= 1), 5 coef[IGEA_STABILITY_FIT_LEN] out: sqrt(c_k) (0 for a zero
  *  coefficient), 6 se[IGEA_STABILITY_FIT_LEN] out: se(c_k) / (2 sqrt(c_k)),
