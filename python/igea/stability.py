@@ -47,8 +47,12 @@ def block_3sigma(y, fs, block=100.0):
 
 
 def octave_taus(n, fs, kind="overlapping"):
-    """tau = 2^k / fs while the estimator has at least one term."""
-    kind = _lib.choice(_capi.CHOICE_STABILITY_KIND, kind, "igea.octave_taus", "kind")
+    """tau = 2^k / fs while the estimator has at least one term (the kinds
+    of `stability`: stability_taus on frequency data)."""
+    code = _lib.choice(_capi.CHOICE_STABILITY_KIND, kind, "igea.octave_taus", "kind")
+    if kind not in _LEGACY:
+        return stability_taus(n, fs, kind)
+    kind = code
     tau = np.empty(64)
     nt = ctypes.c_int()
     _lib.call("igea.octave_taus", "igea_stability_octave_taus", int(n), float(fs), kind, 64,
