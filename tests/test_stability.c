@@ -729,6 +729,61 @@ static void test_dev_oom(void **state)
 }
 #endif
 
+static void test_fit(void **state)
+{
+    /* exact IEEE 952 curves (Annex C): the five coefficients back to 1e-8;
+     * one term alone: the others zero and not supported */
+    double tau[20], ad[20], edf[20], c[5], se[5], chi2 = -1;
+    int sup[5];
+    const double Q = 1e-4, N = 3e-3, B = 2e-4, K = 5e-6, R = 1e-8, pi = 3.14159265358979323846;
+    for (int j = 0; j < 20; j++) {
+        double t = pow(2.0, j - 6);
+        tau[j] = t;
+        ad[j] = sqrt(3 * Q * Q / (t * t) + N * N / t + 2 * log(2.0) / pi * B * B + K * K * t / 3 +
+                     R * R * t * t / 2);
+        edf[j] = 50.0;
+    }
+    assert_int_equal(igea_stability_fit(20, tau, ad, edf, c, se, sup, &chi2), 0);
+    const double want[5] = {Q, N, B, K, R};
+    for (int k = 0; k < 5; k++)
+        assert_close(c[k], want[k], 1e-8);
+    assert_true(chi2 >= 0 && chi2 < 1e-20);
+    for (int j = 0; j < 20; j++)
+        ad[j] = K * sqrt(tau[j] / 3);
+    assert_int_equal(igea_stability_fit(20, tau, ad, edf, c, se, sup, NULL), 0);
+    assert_close(c[IGEA_STABILITY_FIT_K], K, 1e-10);
+    for (int k = 0; k < 5; k++) {
+        assert_int_equal(sup[k], k == IGEA_STABILITY_FIT_K);
+        assert_true(k == IGEA_STABILITY_FIT_K || c[k] == 0.0);
+        assert_true(se[k] > 0.0 && isfinite(se[k]));
+    }
+    /* se of K alone: se(K^2) = (sum w f^2)^-1/2, w = edf / (2 sigma^4), f = tau / 3 */
+    double s = 0;
+    for (int j = 0; j < 20; j++) {
+        double v = K * K * tau[j] / 3;
+        s += 50.0 / (2 * v * v) * (tau[j] / 3) * (tau[j] / 3);
+    }
+    assert_close(se[IGEA_STABILITY_FIT_K], 1.0 / sqrt(s) / (2 * K), 1e-8);
+    /* invalid */
+    fill_sentinel(c, 5);
+    assert_int_equal(igea_stability_fit(4, tau, ad, edf, c, se, sup, NULL), -1);
+    assert_int_equal(igea_stability_fit(20, NULL, ad, edf, c, se, sup, NULL), -2);
+    assert_int_equal(igea_stability_fit(20, tau, NULL, edf, c, se, sup, NULL), -3);
+    assert_int_equal(igea_stability_fit(20, tau, ad, NULL, c, se, sup, NULL), -4);
+    assert_int_equal(igea_stability_fit(20, tau, ad, edf, NULL, se, sup, NULL), -5);
+    tau[3] = tau[2];
+    assert_int_equal(igea_stability_fit(20, tau, ad, edf, c, se, sup, NULL), -2);
+    tau[3] = 2 * tau[2];
+    ad[5] = 0;
+    assert_int_equal(igea_stability_fit(20, tau, ad, edf, c, se, sup, NULL), -3);
+    ad[5] = 1e-6;
+    edf[2] = 0.5;
+    assert_int_equal(igea_stability_fit(20, tau, ad, edf, c, se, sup, NULL), -4);
+    edf[2] = NAN;
+    assert_int_equal(igea_stability_fit(20, tau, ad, edf, c, se, sup, NULL), IGEA_ENONFINITE);
+    assert_true(all_sentinel(c, 5));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -745,6 +800,7 @@ int main(void)
         cmocka_unit_test(test_dev_noise_id),
         cmocka_unit_test(test_dev_args),
         cmocka_unit_test(test_dev_taus),
+        cmocka_unit_test(test_fit),
 #ifndef OOM_DISABLED
         cmocka_unit_test(test_oom),
         cmocka_unit_test(test_dev_oom),

@@ -315,10 +315,13 @@ static int compute(const st_args *a, const double *y, st_result *r)
     if (st && st != BLOCK_ARG_LENGTH)
         return cli_status(st, "stability: block statistic");
     if (kind <= IGEA_STABILITY_ALLAN_NONOVERLAPPING) {
+        for (int j = 0; j < r->ntau; j++) { /* the library's m = lround(tau fs), given to it */
+            double v = r->tau[j] * a->fs;
+            if (v >= 0.5 && v <= (double)r->n)
+                r->tau[j] = (double)lround(v) / a->fs;
+        }
         st = igea_stability_allan(r->n, y, a->fs, r->ntau, r->tau, kind, noise, a->conf, r->dev,
                                   r->lo, r->hi, r->edf, r->cnt);
-        for (int j = 0; j < r->ntau && !st; j++)
-            r->tau[j] = (double)lround(r->tau[j] * a->fs) / a->fs;
     } else {
         int ci = has_ci(kind);
         st = igea_stability_dev(r->n, y, a->fs, a->phase, r->ntau, r->tau, kind, noise, a->conf,
