@@ -211,7 +211,8 @@ IGEA_API int igea_stability_dev(int n, const double *x, double fs, int data_type
 /* Averaging times m / fs (THEO1: 0.75 m / fs, m = 2, 4, 8, ... or even
  * steps) of a spacing while the kind has M >= 1 terms, at most ntau_max.
  *  1 n >= 2 samples, 2 fs > 0, 3 data_type, 4 kind (any IGEA_STABILITY_ALLAN_*;
- *  the first three count on rate samples as igea_stability_octave_taus), 5
+ *  the first three count on rate samples as igea_stability_octave_taus and
+ *  give none for phase data), 5
  *  spacing IGEA_STABILITY_TAUS_*, 6 ntau_max >= 1, 7 tau[ntau_max] out, 8
  *  ntau out (>= 0). Returns 0 or -i. */
 IGEA_API int igea_stability_taus(int n, double fs, int data_type, int kind, int spacing,
