@@ -50,7 +50,18 @@ static const choice rls_flag[] = {
     {IGEA_RLS_FLAG_MISSING, "missing"}, {IGEA_RLS_FLAG_UNUSED, "unused"}, END};
 static const choice stability_kind[] = {
     {IGEA_STABILITY_ALLAN_OVERLAPPING, "overlapping"}, {IGEA_STABILITY_ALLAN_MODIFIED, "modified"},
-    {IGEA_STABILITY_ALLAN_NONOVERLAPPING, "nonoverlapping"}, END};
+    {IGEA_STABILITY_ALLAN_NONOVERLAPPING, "nonoverlapping"}, {IGEA_STABILITY_ALLAN_ADEV, "adev"},
+    {IGEA_STABILITY_ALLAN_OADEV, "oadev"}, {IGEA_STABILITY_ALLAN_MDEV, "mdev"},
+    {IGEA_STABILITY_ALLAN_TDEV, "tdev"}, {IGEA_STABILITY_ALLAN_HDEV, "hdev"},
+    {IGEA_STABILITY_ALLAN_OHDEV, "ohdev"}, {IGEA_STABILITY_ALLAN_TOTDEV, "totdev"},
+    {IGEA_STABILITY_ALLAN_MTOTDEV, "mtotdev"}, {IGEA_STABILITY_ALLAN_TTOTDEV, "ttotdev"},
+    {IGEA_STABILITY_ALLAN_HTOTDEV, "htotdev"}, {IGEA_STABILITY_ALLAN_THEO1, "theo1"},
+    {IGEA_STABILITY_ALLAN_MTIE, "mtie"}, {IGEA_STABILITY_ALLAN_TIERMS, "tierms"}, END};
+static const choice stability_data[] = {
+    {IGEA_STABILITY_DATA_FREQ, "freq"}, {IGEA_STABILITY_DATA_PHASE, "phase"}, END};
+static const choice stability_taus[] = {
+    {IGEA_STABILITY_TAUS_OCTAVE, "octave"}, {IGEA_STABILITY_TAUS_DECADE, "decade"},
+    {IGEA_STABILITY_TAUS_ALL, "all"}, END};
 static const choice stability_noise[] = {
     {IGEA_STABILITY_NOISE_RWFM, "rwfm"}, {IGEA_STABILITY_NOISE_FFM, "ffm"},
     {IGEA_STABILITY_NOISE_WFM, "wfm"}, {IGEA_STABILITY_NOISE_FPM, "fpm"},
@@ -89,6 +100,8 @@ static const choice *table(int kind)
     case IGEA_CHOICE_STATS_SIGMAW_FLAG: return sigmaw_flag;
     case IGEA_CHOICE_REDUND_RBD: return redund_rbd;
     case IGEA_CHOICE_STATS_VERDICT: return stats_verdict;
+    case IGEA_CHOICE_STABILITY_DATA: return stability_data;
+    case IGEA_CHOICE_STABILITY_TAUS: return stability_taus;
     default: return NULL;
     }
 }

@@ -434,6 +434,356 @@ static void test_oom(void **state)
 }
 #endif
 
+/* ---- igea_stability_dev: Stable32's statistics ---- */
+
+/* Frequency data y[n] -> n + 1 phase points x (x_0 = 0, tau0 = 1). */
+static void to_phase_1(int n, const double *y, double *x)
+{
+    x[0] = 0.0;
+    for (int k = 0; k < n; k++)
+        x[k + 1] = x[k] + y[k];
+}
+
+static void test_dev_nbs(void **state)
+{
+    /* the NBS 1000-point set at tau = 1, 10, 100: Riley's test suite Table
+     * III / NIST SP 1065 p. 108 (7 digits; TOTDEV "doubly reflected",
+     * HTOTDEV as published, bias-corrected) and the Stable32 v1.60 runs
+     * carried by allantools' tests/nbs14/test_nbs14_1000point.py (5 digits;
+     * MTOTDEV, TTOTDEV without bias correction; THEO1 at m = 10, 100, 1000,
+     * i.e. tau = 0.75 m) */
+    static const struct {
+        int kind;
+        double v[3], tol;
+    } ref[] = {
+        {IGEA_STABILITY_ALLAN_ADEV, {2.922319e-01, 9.965736e-02, 3.897804e-02}, 2e-6},
+        {IGEA_STABILITY_ALLAN_OADEV, {2.922319e-01, 9.159953e-02, 3.241343e-02}, 2e-6},
+        {IGEA_STABILITY_ALLAN_MDEV, {2.922319e-01, 6.172376e-02, 2.170921e-02}, 2e-6},
+        {IGEA_STABILITY_ALLAN_TDEV, {1.687202e-01, 3.563623e-01, 1.253382e+00}, 2e-6},
+        {IGEA_STABILITY_ALLAN_HDEV, {2.943883e-01, 1.052754e-01, 3.910860e-02}, 2e-6},
+        {IGEA_STABILITY_ALLAN_OHDEV, {2.943883e-01, 9.581083e-02, 3.237638e-02}, 2e-6},
+        {IGEA_STABILITY_ALLAN_TOTDEV, {2.922319e-01, 9.134743e-02, 3.406530e-02}, 2e-6},
+        {IGEA_STABILITY_ALLAN_HTOTDEV, {2.943883e-01, 9.614787e-02, 3.058103e-02}, 2e-6},
+        {IGEA_STABILITY_ALLAN_MTOTDEV, {2.0664e-01, 5.5529e-02, 1.9547e-02}, 5e-5},
+        {IGEA_STABILITY_ALLAN_TTOTDEV, {1.1930e-01, 3.2060e-01, 1.1285e+00}, 5e-5},
+        {IGEA_STABILITY_ALLAN_THEO1, {1.0757e-01, 3.1789e-02, 5.0524e-03}, 5e-5},
+    };
+    double y[1000], x[1001];
+    nbs1000(y);
+    to_phase_1(1000, y, x);
+    for (size_t r = 0; r < sizeof ref / sizeof ref[0]; r++) {
+        int k = ref[r].kind, theo = k == IGEA_STABILITY_ALLAN_THEO1;
+        const double tau[3] = {theo ? 7.5 : 1, theo ? 75 : 10, theo ? 750 : 100};
+        for (int type = 0; type < 2; type++) {
+            double dev[3], tu[3];
+            int cnt[3], al[3];
+            const double *data = type == IGEA_STABILITY_DATA_PHASE ? x : y;
+            int n = type == IGEA_STABILITY_DATA_PHASE ? 1001 : 1000;
+            assert_int_equal(igea_stability_dev(n, data, 1.0, type, 3, tau, k, IGEA_STABILITY_NOISE_AUTO,
+                                                0.683, dev, NULL, NULL, NULL, al, cnt, tu), 0);
+            for (int j = 0; j < 3; j++) {
+                assert_close(dev[j], ref[r].v[j], ref[r].tol);
+                assert_close(tu[j], tau[j], 1e-15);
+                assert_true(al[j] >= -2 && al[j] <= 2);
+            }
+        }
+    }
+    /* term counts of SP 1065 (N = 1001 phase points, m = 10) */
+    static const int kinds[6] = {IGEA_STABILITY_ALLAN_ADEV, IGEA_STABILITY_ALLAN_OADEV, IGEA_STABILITY_ALLAN_MDEV,
+                                 IGEA_STABILITY_ALLAN_HDEV, IGEA_STABILITY_ALLAN_OHDEV, IGEA_STABILITY_ALLAN_TOTDEV};
+    static const int want[6] = {99, 981, 972, 98, 971, 999};
+    const double t10 = 10;
+    for (int i = 0; i < 6; i++) {
+        double dv;
+        int c;
+        assert_int_equal(igea_stability_dev(1000, y, 1.0, 0, 1, &t10, kinds[i], 0, 0.683, &dv, NULL, NULL,
+                                            NULL, NULL, &c, NULL), 0);
+        assert_int_equal(c, want[i]);
+    }
+}
+
+static void test_dev_tie(void **state)
+{
+    /* hand-computed: x = 0 3 1 4 1 5 9 2 6, m = 2: ranges of the windows of
+     * 3 points 3 3 3 4 8 7 7 (MTIE 8); x_{i+2} - x_i = 1 1 0 1 8 -3 -3
+     * (TIERMS sqrt(85 / 7)) */
+    const double x[9] = {0, 3, 1, 4, 1, 5, 9, 2, 6}, t2 = 2;
+    double d;
+    int c;
+    assert_int_equal(igea_stability_dev(9, x, 1.0, 1, 1, &t2, IGEA_STABILITY_ALLAN_MTIE, 0, 0.683, &d, NULL,
+                                        NULL, NULL, NULL, &c, NULL), 0);
+    assert_close(d, 8.0, 0);
+    assert_int_equal(c, 7);
+    assert_int_equal(igea_stability_dev(9, x, 1.0, 1, 1, &t2, IGEA_STABILITY_ALLAN_TIERMS, 0, 0.683, &d, NULL,
+                                        NULL, NULL, NULL, &c, NULL), 0);
+    assert_close(d, sqrt(85.0 / 7.0), 1e-15);
+    /* frequency data: the record as it is (a constant rate 2 at fs = 4 ->
+     * x_{i+m} - x_i = 2 m / 4) */
+    double y[20];
+    for (int k = 0; k < 20; k++)
+        y[k] = 2.0;
+    const double t1 = 1.0; /* m = 4 */
+    assert_int_equal(igea_stability_dev(20, y, 4.0, 0, 1, &t1, IGEA_STABILITY_ALLAN_MTIE, 0, 0.683, &d, NULL,
+                                        NULL, NULL, NULL, &c, NULL), 0);
+    assert_close(d, 2.0, 1e-15);
+    assert_int_equal(c, 17);
+}
+
+static void test_dev_edf(void **state)
+{
+    /* Greenhall's EDF for the non-overlapping ADEV, N = 19983 phase points,
+     * m = 2048, random-walk FM: 7.21 (Stable32's Min/Max Sigma ratios 0.816
+     * and 1.416 at 68.27 %); white noise record, seed-independent (the EDF
+     * depends on N, m and alpha only) */
+    int n = 19982;
+    double *y = malloc(sizeof(double) * n);
+    for (int k = 0; k < n; k++)
+        y[k] = sin(0.37 * k) + cos(1.1 * k * k);
+    const double t = 2048, conf = 0.68268949213708585;
+    double d, lo, hi, e;
+    int al;
+    assert_int_equal(igea_stability_dev(n, y, 1.0, 0, 1, &t, IGEA_STABILITY_ALLAN_ADEV, IGEA_STABILITY_NOISE_RWFM,
+                                        conf, &d, &lo, &hi, &e, &al, NULL, NULL), 0);
+    assert_close(e, 7.21, 2e-3);
+    assert_close(lo / d, 0.816, 1e-3);
+    assert_close(hi / d, 1.416, 1e-3);
+    assert_int_equal(al, IGEA_STABILITY_NOISE_RWFM);
+    double ql, qh;
+    igea_stats_chi2_quantile(0.5 + conf / 2, e, &qh);
+    igea_stats_chi2_quantile(0.5 - conf / 2, e, &ql);
+    assert_close(lo, d * sqrt(e / qh), 1e-14);
+    assert_close(hi, d * sqrt(e / ql), 1e-14);
+    /* TOTDEV: SP 1065 Table 7, b N / m - c; MTOTDEV: Table 8 */
+    const double t10 = 10;
+    assert_int_equal(igea_stability_dev(1000, y, 1.0, 0, 1, &t10, IGEA_STABILITY_ALLAN_TOTDEV, IGEA_STABILITY_NOISE_FFM,
+                                        0.9, &d, &lo, &hi, &e, NULL, NULL, NULL), 0);
+    assert_close(e, 1.17 * 1001 / 10 - 0.22, 1e-14);
+    assert_int_equal(igea_stability_dev(1000, y, 1.0, 0, 1, &t10, IGEA_STABILITY_ALLAN_MTOTDEV, IGEA_STABILITY_NOISE_WPM,
+                                        0.9, &d, &lo, &hi, &e, NULL, NULL, NULL), 0);
+    assert_close(e, 1.90 * 1001 / 10 - 2.1, 1e-14);
+    /* no interval for THEO1, HTOTDEV, MTIE, TIERMS: lo, hi, edf must be NULL */
+    assert_int_equal(igea_stability_dev(1000, y, 1.0, 0, 1, &t10, IGEA_STABILITY_ALLAN_THEO1, 0, 0.9, &d, &lo,
+                                        NULL, NULL, NULL, NULL, NULL), -6); /* m = 13 odd */
+    const double t75 = 7.5;
+    assert_int_equal(igea_stability_dev(1000, y, 1.0, 0, 1, &t75, IGEA_STABILITY_ALLAN_THEO1, 0, 0.9, &d, &lo,
+                                        NULL, NULL, NULL, NULL, NULL), -11);
+    assert_int_equal(igea_stability_dev(1000, y, 1.0, 0, 1, &t10, IGEA_STABILITY_ALLAN_MTIE, 0, 0.9, &d, NULL,
+                                        &hi, NULL, NULL, NULL, NULL), -12);
+    assert_int_equal(igea_stability_dev(1000, y, 1.0, 0, 1, &t10, IGEA_STABILITY_ALLAN_HTOTDEV, 0, 0.9, &d, NULL,
+                                        NULL, &e, NULL, NULL, NULL), -13);
+    free(y);
+}
+
+/* Power-law noise of exponent alpha (2, 0, -2) as frequency data. */
+static void powerlaw(gsl_rng *r, int n, int alpha, double *y)
+{
+    double acc = 0, prev = gsl_ran_gaussian(r, 1.0);
+    for (int k = 0; k < n; k++) {
+        double w = gsl_ran_gaussian(r, 1.0);
+        acc += w;
+        y[k] = alpha == 2 ? w - prev : alpha == 0 ? w : acc;
+        prev = w;
+    }
+}
+
+static void test_dev_noise_id(void **state)
+{
+    /* white PM, white FM and random-walk FM identified at m = 1 .. 64 (at
+     * least 30 decimated points: the lag-1 method) in 20 records each;
+     * rate of a wrong type below 10 % (Riley and Greenhall report the lag-1
+     * method near-perfect at these lengths) */
+    int n = 4096, bad = 0, tot = 0;
+    double *y = malloc(sizeof(double) * n);
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r, 11);
+    const double taus[7] = {1, 2, 4, 8, 16, 32, 64};
+    static const int types[3] = {2, 0, -2};
+    for (int t = 0; t < 3; t++)
+        for (int rep = 0; rep < 20; rep++) {
+            powerlaw(r, n, types[t], y);
+            double d[7];
+            int al[7];
+            assert_int_equal(igea_stability_dev(n, y, 1.0, 0, 7, taus, IGEA_STABILITY_ALLAN_OADEV,
+                                                IGEA_STABILITY_NOISE_AUTO, 0.683, d, NULL, NULL, NULL, al,
+                                                NULL, NULL), 0);
+            for (int j = 0; j < 7; j++, tot++)
+                bad += al[j] != types[t];
+            /* each tau on its own gives the same type as in the list */
+            for (int j = 0; j < 7; j += 3) {
+                double d1;
+                int a1;
+                assert_int_equal(igea_stability_dev(n, y, 1.0, 0, 1, taus + j, IGEA_STABILITY_ALLAN_OADEV,
+                                                    IGEA_STABILITY_NOISE_AUTO, 0.683, &d1, NULL, NULL, NULL, &a1,
+                                                    NULL, NULL), 0);
+                assert_int_equal(a1, al[j]);
+                assert_close(d1, d[j], 0);
+            }
+        }
+    assert_true(bad < tot / 10);
+    /* B1 branch (fewer than 30 points): white FM at m = 256 (16 averages),
+     * 40 records, B1 between its white-FM neighbours in most of them */
+    int ok = 0;
+    const double t256 = 256;
+    for (int rep = 0; rep < 40; rep++) {
+        powerlaw(r, n, 0, y);
+        double d;
+        int a;
+        assert_int_equal(igea_stability_dev(n, y, 1.0, 0, 1, &t256, IGEA_STABILITY_ALLAN_OADEV,
+                                            IGEA_STABILITY_NOISE_AUTO, 0.683, &d, NULL, NULL, NULL, &a, NULL,
+                                            NULL), 0);
+        ok += a == 0;
+    }
+    assert_true(ok >= 20);
+    gsl_rng_free(r);
+    free(y);
+}
+
+static void test_dev_args(void **state)
+{
+    double y[100], d[2], lo[2];
+    int al[2];
+    for (int k = 0; k < 100; k++)
+        y[k] = sin(k);
+    const double tau[2] = {1, 10}, tbig[1] = {50};
+    const int K = IGEA_STABILITY_ALLAN_OADEV;
+    fill_sentinel(d, 2);
+    fill_sentinel(lo, 2);
+    al[0] = -7;
+    assert_int_equal(igea_stability_dev(1, y, 1, 0, 2, tau, K, 0, 0.9, d, lo, NULL, NULL, al, NULL, NULL), -1);
+    assert_int_equal(igea_stability_dev(100, NULL, 1, 0, 2, tau, K, 0, 0.9, d, lo, NULL, NULL, al, NULL, NULL), -2);
+    assert_int_equal(igea_stability_dev(100, y, 0, 0, 2, tau, K, 0, 0.9, d, lo, NULL, NULL, al, NULL, NULL), -3);
+    assert_int_equal(igea_stability_dev(100, y, 1, 2, 2, tau, K, 0, 0.9, d, lo, NULL, NULL, al, NULL, NULL), -4);
+    assert_int_equal(igea_stability_dev(100, y, 1, 0, 0, tau, K, 0, 0.9, d, lo, NULL, NULL, al, NULL, NULL), -5);
+    assert_int_equal(igea_stability_dev(100, y, 1, 0, 2, NULL, K, 0, 0.9, d, lo, NULL, NULL, al, NULL, NULL), -6);
+    assert_int_equal(igea_stability_dev(100, y, 1, 0, 1, tbig, K, 0, 0.9, d, lo, NULL, NULL, al, NULL, NULL), 0);
+    assert_int_equal(igea_stability_dev(100, y, 1, 1, 1, tbig, K, 0, 0.9, d, lo, NULL, NULL, al, NULL, NULL), -6);
+    assert_int_equal(igea_stability_dev(100, y, 1, 0, 2, tau, 2, 0, 0.9, d, lo, NULL, NULL, al, NULL, NULL), -7);
+    assert_int_equal(igea_stability_dev(100, y, 1, 0, 2, tau, 16, 0, 0.9, d, lo, NULL, NULL, al, NULL, NULL), -7);
+    assert_int_equal(igea_stability_dev(100, y, 1, 0, 2, tau, K, 5, 0.9, d, lo, NULL, NULL, al, NULL, NULL), -8);
+    assert_int_equal(igea_stability_dev(100, y, 1, 0, 2, tau, K, 0, 1.0, d, lo, NULL, NULL, al, NULL, NULL), -9);
+    assert_int_equal(igea_stability_dev(100, y, 1, 0, 2, tau, K, 0, 0.9, NULL, lo, NULL, NULL, al, NULL, NULL), -10);
+    fill_sentinel(d, 2);
+    fill_sentinel(lo, 2);
+    al[0] = -7;
+    y[3] = NAN;
+    assert_int_equal(igea_stability_dev(100, y, 1, 0, 2, tau, K, 0, 0.9, d, lo, NULL, NULL, al, NULL, NULL),
+                     IGEA_ENONFINITE);
+    assert_true(all_sentinel(d, 2) && all_sentinel(lo, 2) && al[0] == -7);
+    /* a linear phase (constant frequency) has zero Allan deviation, and the
+     * quadratic phase of a frequency ramp R gives R tau / sqrt 2 */
+    double x[200];
+    for (int k = 0; k < 200; k++)
+        x[k] = 3e-3 * k * k / 2.0;
+    const double t5 = 5;
+    assert_int_equal(igea_stability_dev(200, x, 1, 1, 1, &t5, K, 0, 0.9, d, NULL, NULL, NULL, NULL, NULL, NULL), 0);
+    assert_close(d[0], 3e-3 * 5 / sqrt(2.0), 1e-11);
+}
+
+static void test_dev_taus(void **state)
+{
+    double tau[64];
+    int nt = -1;
+    assert_int_equal(igea_stability_taus(1000, 1.0, 0, IGEA_STABILITY_ALLAN_OADEV, IGEA_STABILITY_TAUS_OCTAVE,
+                                         64, tau, &nt), 0);
+    assert_int_equal(nt, 9); /* m = 256: N - 2m = 489 */
+    assert_int_equal(igea_stability_taus(1000, 1.0, 0, IGEA_STABILITY_ALLAN_MDEV, IGEA_STABILITY_TAUS_DECADE,
+                                         64, tau, &nt), 0);
+    assert_int_equal(nt, 8); /* 1 2 4 10 20 40 100 200 (m <= 333) */
+    assert_close(tau[7], 200.0, 0);
+    assert_int_equal(igea_stability_taus(1000, 2.0, 1, IGEA_STABILITY_ALLAN_THEO1, IGEA_STABILITY_TAUS_ALL, 64,
+                                         tau, &nt), 0);
+    assert_int_equal(nt, 64);
+    assert_close(tau[1], 0.75 * 4 / 2.0, 1e-15);
+    assert_int_equal(igea_stability_taus(1000, 1.0, 1, IGEA_STABILITY_ALLAN_OVERLAPPING,
+                                         IGEA_STABILITY_TAUS_OCTAVE, 64, tau, &nt), 0);
+    assert_int_equal(nt, 0);
+    assert_int_equal(igea_stability_taus(1, 1.0, 0, 4, 0, 64, tau, &nt), -1);
+    assert_int_equal(igea_stability_taus(10, 0.0, 0, 4, 0, 64, tau, &nt), -2);
+    assert_int_equal(igea_stability_taus(10, 1.0, 3, 4, 0, 64, tau, &nt), -3);
+    assert_int_equal(igea_stability_taus(10, 1.0, 0, 16, 0, 64, tau, &nt), -4);
+    assert_int_equal(igea_stability_taus(10, 1.0, 0, 4, 3, 64, tau, &nt), -5);
+    assert_int_equal(igea_stability_taus(10, 1.0, 0, 4, 0, 0, tau, &nt), -6);
+    assert_int_equal(igea_stability_taus(10, 1.0, 0, 4, 0, 64, NULL, &nt), -7);
+    assert_int_equal(igea_stability_taus(10, 1.0, 0, 4, 0, 64, tau, NULL), -8);
+}
+
+#ifndef OOM_DISABLED
+static void test_dev_oom(void **state)
+{
+    double y[300], d[2], lo[2];
+    for (int k = 0; k < 300; k++)
+        y[k] = sin(0.3 * k) + 0.01 * k;
+    const double tau[2] = {2, 8};
+    static const int kinds[3] = {IGEA_STABILITY_ALLAN_MTOTDEV, IGEA_STABILITY_ALLAN_HTOTDEV, IGEA_STABILITY_ALLAN_MTIE};
+    for (int i = 0; i < 3; i++)
+        for (int k = 0; k < 12; k++) {
+            fill_sentinel(d, 2);
+            OOM_ARM(k);
+            int st = igea_stability_dev(300, y, 1, 0, 2, tau, kinds[i], IGEA_STABILITY_NOISE_AUTO, 0.9, d,
+                                        i == 0 ? lo : NULL, NULL, NULL, NULL, NULL, NULL);
+            OOM_DISARM();
+            assert_true(st == 0 || st == IGEA_ENOMEM);
+            if (st)
+                assert_true(all_sentinel(d, 2));
+        }
+}
+#endif
+
+static void test_fit(void **state)
+{
+    /* exact IEEE 952 curves (Annex C): the five coefficients back to 1e-8;
+     * one term alone: the others zero and not supported */
+    double tau[20], ad[20], edf[20], c[5], se[5], chi2 = -1;
+    int sup[5];
+    const double Q = 1e-4, N = 3e-3, B = 2e-4, K = 5e-6, R = 1e-8, pi = 3.14159265358979323846;
+    for (int j = 0; j < 20; j++) {
+        double t = pow(2.0, j - 6);
+        tau[j] = t;
+        ad[j] = sqrt(3 * Q * Q / (t * t) + N * N / t + 2 * log(2.0) / pi * B * B + K * K * t / 3 +
+                     R * R * t * t / 2);
+        edf[j] = 50.0;
+    }
+    assert_int_equal(igea_stability_fit(20, tau, ad, edf, c, se, sup, &chi2), 0);
+    const double want[5] = {Q, N, B, K, R};
+    for (int k = 0; k < 5; k++)
+        assert_close(c[k], want[k], 1e-8);
+    assert_true(chi2 >= 0 && chi2 < 1e-20);
+    for (int j = 0; j < 20; j++)
+        ad[j] = K * sqrt(tau[j] / 3);
+    assert_int_equal(igea_stability_fit(20, tau, ad, edf, c, se, sup, NULL), 0);
+    assert_close(c[IGEA_STABILITY_FIT_K], K, 1e-10);
+    for (int k = 0; k < 5; k++) {
+        assert_int_equal(sup[k], k == IGEA_STABILITY_FIT_K);
+        assert_true(k == IGEA_STABILITY_FIT_K || c[k] == 0.0);
+        assert_true(se[k] > 0.0 && isfinite(se[k]));
+    }
+    /* se of K alone: se(K^2) = (sum w f^2)^-1/2, w = edf / (2 sigma^4), f = tau / 3 */
+    double s = 0;
+    for (int j = 0; j < 20; j++) {
+        double v = K * K * tau[j] / 3;
+        s += 50.0 / (2 * v * v) * (tau[j] / 3) * (tau[j] / 3);
+    }
+    assert_close(se[IGEA_STABILITY_FIT_K], 1.0 / sqrt(s) / (2 * K), 1e-8);
+    /* invalid */
+    fill_sentinel(c, 5);
+    assert_int_equal(igea_stability_fit(4, tau, ad, edf, c, se, sup, NULL), -1);
+    assert_int_equal(igea_stability_fit(20, NULL, ad, edf, c, se, sup, NULL), -2);
+    assert_int_equal(igea_stability_fit(20, tau, NULL, edf, c, se, sup, NULL), -3);
+    assert_int_equal(igea_stability_fit(20, tau, ad, NULL, c, se, sup, NULL), -4);
+    assert_int_equal(igea_stability_fit(20, tau, ad, edf, NULL, se, sup, NULL), -5);
+    tau[3] = tau[2];
+    assert_int_equal(igea_stability_fit(20, tau, ad, edf, c, se, sup, NULL), -2);
+    tau[3] = 2 * tau[2];
+    ad[5] = 0;
+    assert_int_equal(igea_stability_fit(20, tau, ad, edf, c, se, sup, NULL), -3);
+    ad[5] = 1e-6;
+    edf[2] = 0.5;
+    assert_int_equal(igea_stability_fit(20, tau, ad, edf, c, se, sup, NULL), -4);
+    edf[2] = NAN;
+    assert_int_equal(igea_stability_fit(20, tau, ad, edf, c, se, sup, NULL), IGEA_ENONFINITE);
+    assert_true(all_sentinel(c, 5));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -444,8 +794,16 @@ int main(void)
         cmocka_unit_test(test_allan_args),
         cmocka_unit_test(test_octave_taus),
         cmocka_unit_test(test_noise_id),
+        cmocka_unit_test(test_dev_nbs),
+        cmocka_unit_test(test_dev_tie),
+        cmocka_unit_test(test_dev_edf),
+        cmocka_unit_test(test_dev_noise_id),
+        cmocka_unit_test(test_dev_args),
+        cmocka_unit_test(test_dev_taus),
+        cmocka_unit_test(test_fit),
 #ifndef OOM_DISABLED
         cmocka_unit_test(test_oom),
+        cmocka_unit_test(test_dev_oom),
 #endif
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -126,7 +126,9 @@ IGEA_API const char *igea_opt_name(int module, int slot);
 #define IGEA_CHOICE_RLS_FLAG 12          /* igea/rls.h IGEA_RLS_FLAG_* (bits 1 2 4 8):
                                           * innovation jump missing unused */
 #define IGEA_CHOICE_STABILITY_KIND 13    /* igea/stability.h IGEA_STABILITY_ALLAN_*:
-                                          * overlapping modified nonoverlapping */
+                                          * overlapping modified nonoverlapping adev oadev
+                                          * mdev tdev hdev ohdev totdev mtotdev ttotdev
+                                          * htotdev theo1 mtie tierms */
 #define IGEA_CHOICE_STABILITY_NOISE 14   /* igea/stability.h IGEA_STABILITY_NOISE_* (-2 .. 2,
                                           * 99): rwfm ffm wfm fpm wpm auto */
 #define IGEA_CHOICE_STATS_SIGMAW_FLAG 15 /* igea/stats.h IGEA_STATS_SIGMAW_*: converged
@@ -135,6 +137,9 @@ IGEA_API const char *igea_opt_name(int module, int slot);
                                           * kofn */
 #define IGEA_CHOICE_STATS_VERDICT 17     /* igea/stats.h IGEA_STATS_VERDICT_*: seed chi2
                                           * exact sidak */
+#define IGEA_CHOICE_STABILITY_DATA 35    /* igea/stability.h IGEA_STABILITY_DATA_*: freq phase */
+#define IGEA_CHOICE_STABILITY_TAUS 36    /* igea/stability.h IGEA_STABILITY_TAUS_*: octave
+                                          * decade all */
 
 /* Static name of code `code` of enumeration `kind` (IGEA_CHOICE_*): "svd"
  * for (IGEA_CHOICE_EQERR_ROUTE, IGEA_EQERR_ROUTE_SVD). "" for an unknown

@@ -115,6 +115,150 @@ IGEA_API int igea_stability_octave_taus(int n, double fs, int kind,
 IGEA_API int igea_stability_noise_id(int ntau, const double *tau,
                                      const double *adev, double *out);
 
+/* ---- Stable32's statistics on phase or frequency data (NIST SP 1065) ---- */
+
+/* Kinds of igea_stability_dev, after the three above (which keep their
+ * rate-data estimators and SP 1065 Table 5 EDFs in igea_stability_allan).
+ * Definitions on the N phase points x_i (seconds of time error, or the
+ * running integral of the rate record: x_0 = 0, x_{i+1} = x_i + y_i / fs),
+ * tau0 = 1 / fs, tau = m tau0, D2_i = x_{i+2m} - 2 x_{i+m} + x_i,
+ * D3_i = x_{i+3m} - 3 x_{i+2m} + 3 x_{i+m} - x_i (docs/stability.md):
+ *  ADEV     sum over i = 0, m, 2m, ... of D2_i^2 / (2 M tau^2)   M = floor((N-1)/m) - 1
+ *  OADEV    the same over every i                                M = N - 2m
+ *  MDEV     sum_j (sum_{i=j}^{j+m-1} D2_i)^2 / (2 m^2 tau^2 M)   M = N - 3m + 1
+ *  TDEV     tau MDEV / sqrt 3 (seconds)                          M = N - 3m + 1
+ *  HDEV     sum over i = 0, m, ... of D3_i^2 / (6 M tau^2)       M = floor((N-1)/m) - 2
+ *  OHDEV    the same over every i                                M = N - 3m
+ *  TOTDEV   OADEV of the doubly reflected series x*_{-j} = 2x_0 - x_j,
+ *           x*_{N-1+j} = 2x_{N-1} - x_{N-1-j}, over i = 1 .. N-2  M = N - 2, m <= N - 1
+ *  MTOTDEV  per 3m-point subsequence: half-average slope removed, extended
+ *           by even reflection to 9m points, mean of the 6m squared
+ *           second differences of m-point means; / (2 tau^2)     M = N - 3m + 1
+ *  TTOTDEV  tau MTOTDEV / sqrt 3                                 M = N - 3m + 1
+ *  HTOTDEV  the same on the frequency y_i = (x_{i+1} - x_i) / tau0 with
+ *           third differences / 6, divided by its bias 0.995, 0.851,
+ *           0.771 for white, flicker, random-walk FM (white FM's for PM)
+ *           at the noise type of the tau (OHDEV at m = 1)       M = N - 3m
+ *  THEO1    sum_{i=0}^{N-m-1} sum_{d=0}^{m/2-1} [x_i - x_{i-d+m/2} + x_{i+m}
+ *           - x_{i+d+m/2}]^2 / (m/2 - d) / (0.75 (N - m) (m tau0)^2), m even,
+ *           reported at tau = 0.75 m tau0                        M = N - m
+ *  MTIE     max over i of (max - min) of x_i .. x_{i+m} (seconds) M = N - m
+ *  TIERMS   sqrt(mean (x_{i+m} - x_i)^2) (seconds)               M = N - m */
+#define IGEA_STABILITY_ALLAN_ADEV 3
+#define IGEA_STABILITY_ALLAN_OADEV 4
+#define IGEA_STABILITY_ALLAN_MDEV 5
+#define IGEA_STABILITY_ALLAN_TDEV 6
+#define IGEA_STABILITY_ALLAN_HDEV 7
+#define IGEA_STABILITY_ALLAN_OHDEV 8
+#define IGEA_STABILITY_ALLAN_TOTDEV 9
+#define IGEA_STABILITY_ALLAN_MTOTDEV 10
+#define IGEA_STABILITY_ALLAN_TTOTDEV 11
+#define IGEA_STABILITY_ALLAN_HTOTDEV 12
+#define IGEA_STABILITY_ALLAN_THEO1 13
+#define IGEA_STABILITY_ALLAN_MTIE 14
+#define IGEA_STABILITY_ALLAN_TIERMS 15
+
+/* Data types of igea_stability_dev (IGEA_CHOICE_STABILITY_DATA). */
+#define IGEA_STABILITY_DATA_FREQ 0  /* rate / fractional-frequency samples y_i */
+#define IGEA_STABILITY_DATA_PHASE 1 /* phase (time error) samples x_i, seconds */
+
+/*
+ * Stable32's statistic `kind` at averaging times tau[j]: m_j = round(tau[j]
+ * fs) (THEO1: m_j = round(tau[j] fs / 0.75), even), with the noise type per
+ * tau, the equivalent degrees of freedom and chi-square intervals.
+ * Frequency data of n samples give N = n + 1 phase points (the mean rate is
+ * removed first, which no statistic but MTIE and TIERMS sees; these two use
+ * the record as it is). Noise type (noise = IGEA_STABILITY_NOISE_AUTO): at
+ * each tau on its own (no other tau is consulted), the lag-1
+ * autocorrelation r1 (Riley and Greenhall 2004) of the m-sample means less
+ * their line (frequency data; alpha = -2 (delta + d)) or of the phase
+ * decimated by m less its quadratic (phase data; alpha = 2 - 2 (delta +
+ * d)), differenced d = 0, 1, 2 times until delta = r1 / (1 + r1) < 0.25,
+ * delta rounded to halves, when at least 30 means exist; else, from 4
+ * means, the B1 ratio (standard / Allan variance of the m-means) against
+ * its power-law values (geometric-mean boundaries), white and flicker PM
+ * told apart by R(n) = MVAR / AVAR (NIST SP 1065 section 5.6), and white
+ * FM below 4 means [D]; clamped to
+ * -2 .. 2. EDF: Greenhall and Riley's algorithm (PTTI 2003; d = 2 for the
+ * Allan kinds, d = 3 for the Hadamard kinds, F = 1 for MDEV/TDEV, stride m
+ * for the overlapping ones); TOTDEV: SP 1065 Table 7, b N/m - c (white,
+ * flicker, random-walk FM; the OADEV EDF for white and flicker PM, [D]);
+ * MTOTDEV and TTOTDEV: SP 1065 Table 8. An EDF below 1 is raised to 1.
+ * THEO1, HTOTDEV, MTIE and TIERMS have no interval here: lo, hi and edf must
+ * be NULL for them. The interval is [s sqrt(edf / chi2_{(1+conf)/2}),
+ * s sqrt(edf / chi2_{(1-conf)/2})].
+ *  1 n >= 2, 2 x[n] finite, 3 fs > 0 (samples per second), 4 data_type
+ *  IGEA_STABILITY_DATA_*, 5 ntau >= 1, 6 tau[ntau] > 0 each with M >= 1
+ *  (THEO1: m even), 7 kind IGEA_STABILITY_ALLAN_ADEV .. _TIERMS, 8 noise
+ *  IGEA_STABILITY_NOISE_*, 9 0 < conf < 1, 10 dev[ntau] out, 11 lo, 12 hi,
+ *  13 edf (each ntau, may be NULL; NULL for THEO1, HTOTDEV, MTIE, TIERMS),
+ *  14 alpha (ntau ints: the noise exponent used at each tau, may be NULL),
+ *  15 count (ntau ints: M, the terms, may be NULL), 16 tau_used (ntau: m
+ *  tau0, THEO1 0.75 m tau0, may be NULL).
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENOMEM, IGEA_ENOCONV (a chi-square
+ * quantile failed); outputs untouched on failure.
+ */
+IGEA_API int igea_stability_dev(int n, const double *x, double fs, int data_type, int ntau,
+                                const double *tau, int kind, int noise, double conf,
+                                double *dev, double *lo, double *hi, double *edf, int *alpha,
+                                int *count, double *tau_used);
+
+/* Spacings of igea_stability_taus (IGEA_CHOICE_STABILITY_TAUS). */
+#define IGEA_STABILITY_TAUS_OCTAVE 0 /* m = 1, 2, 4, 8, ... */
+#define IGEA_STABILITY_TAUS_DECADE 1 /* m = 1, 2, 4, 10, 20, 40, 100, ... */
+#define IGEA_STABILITY_TAUS_ALL 2    /* m = 1, 2, 3, ... */
+
+/* Averaging times m / fs (THEO1: 0.75 m / fs, m = 2, 4, 8, ... or even
+ * steps) of a spacing while the kind has M >= 1 terms, at most ntau_max.
+ *  1 n >= 2 samples, 2 fs > 0, 3 data_type, 4 kind (any IGEA_STABILITY_ALLAN_*;
+ *  the first three count on rate samples as igea_stability_octave_taus and
+ *  give none for phase data), 5
+ *  spacing IGEA_STABILITY_TAUS_*, 6 ntau_max >= 1, 7 tau[ntau_max] out, 8
+ *  ntau out (>= 0). Returns 0 or -i. */
+IGEA_API int igea_stability_taus(int n, double fs, int data_type, int kind, int spacing,
+                                 int ntau_max, double *tau, int *ntau);
+
+/* Terms of igea_stability_fit: the Allan variance of IEEE Std 952 (Annex C)
+ * sigma^2(tau) = 3 Q^2 / tau^2 + N^2 / tau + (2 ln2 / pi) B^2 + K^2 tau / 3
+ * + R^2 tau^2 / 2. With y in u (deg/h, m/s^2, ...) and tau in s: Q in u s
+ * (quantisation), N in u sqrt(s) (angle / velocity random walk), B in u
+ * (bias instability), K in u / sqrt(s) (rate random walk), R in u / s (rate
+ * ramp). */
+#define IGEA_STABILITY_FIT_Q 0
+#define IGEA_STABILITY_FIT_N 1
+#define IGEA_STABILITY_FIT_B 2
+#define IGEA_STABILITY_FIT_K 3
+#define IGEA_STABILITY_FIT_R 4
+#define IGEA_STABILITY_FIT_LEN 5
+
+/*
+ * Weighted least-squares fit of the whole Allan variance curve adev[j]^2 at
+ * tau[j] to the five terms, with non-negative variance coefficients c = (Q^2,
+ * N^2, B^2, K^2, R^2) (Lawson and Hanson's NNLS on unit-norm columns,
+ * Householder QR). The weight of point j is edf[j] / (2 s_j^4), s_j^2 the
+ * fitted variance at tau[j], iterated 12 times from the observed one: the
+ * Fisher scoring of the maximum-likelihood fit when each estimate is
+ * s_j^2 chi2_edf / edf. Covariance of the positive coefficients
+ * (A^T W A)^-1, times chi2 / (ntau - p) when that exceeds 1 (the points of
+ * one curve are correlated) [D]; a zero coefficient gets the standard
+ * error it would have when fitted with the positive ones. A term is
+ * supported when its coefficient is positive and the likelihood ratio of
+ * the fit with and without it, sum edf_j ((v_j - mu_j) / mu_j - ln(v_j /
+ * mu_j)) (gamma deviance) divided by max(1, deviance / (ntau - p)),
+ * exceeds 3.84 [D].
+ *  1 ntau >= 5, 2 tau[ntau] (> 0, distinct), 3 adev[ntau] (> 0), 4 edf[ntau]
+ *  (>= 1), 5 coef[IGEA_STABILITY_FIT_LEN] out: sqrt(c_k) (0 for a zero
+ *  coefficient), 6 se[IGEA_STABILITY_FIT_LEN] out: se(c_k) / (2 sqrt(c_k)),
+ *  or sqrt(se(c_k)) for a zero coefficient (may be NULL), 7
+ *  supported[IGEA_STABILITY_FIT_LEN] out (1 or 0, may be NULL), 8 chi2 out:
+ *  the weighted residual sum of squares (may be NULL).
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENOMEM; outputs untouched on
+ * failure.
+ */
+IGEA_API int igea_stability_fit(int ntau, const double *tau, const double *adev,
+                                const double *edf, double *coef, double *se, int *supported,
+                                double *chi2);
+
 #ifdef __cplusplus
 }
 #endif

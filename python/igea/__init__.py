@@ -16,6 +16,7 @@ from .stats import chi2_cdf, chi2_quantile, chi2_sf, chi2_upper, normal_cdf, nor
 # -- further modules: one import line each, below --
 from .redund import FdiResult, GeometryReliability, Seed002Reliability, SeriesCheck, SkewCheck, confidence_distance, erfinv, false_alarm, fdi, fuse, fusion_set, parity_matrix, relation, reliability_diagram, reliability_exponential, reliability_geometry, reliability_kofn, reliability_parallel, reliability_seed002, reliability_series, series_check, simulate_redundant, skew_check, support, thresholds, transform  # noqa: E402,E501
 from .stability import AllanResult, Block3Sigma, NoiseTerms, allan, block_3sigma, noise_id, octave_taus  # noqa: E402,E501
+from .stability import NoiseFit, StabilityResult, noise_fit, stability, stability_taus  # noqa: E402,E501
 from .regress import BayesResult, Collinearity, EbrResult, LsResult, PceResult, RidgeResult, RidgeTrace, bayes, bias_mse, collinearity, ebr, ls, pce, ridge, ridge_trace  # noqa: E402,E501
 from .envfun import envfun, term_table  # noqa: E402
 from .rls import RLS, RlsEpoch, RlsResult, rls_run  # noqa: E402

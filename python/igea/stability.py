@@ -47,13 +47,21 @@ def block_3sigma(y, fs, block=100.0):
 
 
 def octave_taus(n, fs, kind="overlapping"):
-    """tau = 2^k / fs while the estimator has at least one term."""
-    kind = _lib.choice(_capi.CHOICE_STABILITY_KIND, kind, "igea.octave_taus", "kind")
+    """tau = 2^k / fs while the estimator has at least one term (the kinds
+    of `stability`: stability_taus on frequency data)."""
+    code = _lib.choice(_capi.CHOICE_STABILITY_KIND, kind, "igea.octave_taus", "kind")
+    if kind not in _LEGACY:
+        return stability_taus(n, fs, kind)
+    kind = code
     tau = np.empty(64)
     nt = ctypes.c_int()
     _lib.call("igea.octave_taus", "igea_stability_octave_taus", int(n), float(fs), kind, 64,
               _lib.dptr(tau), ctypes.byref(nt))
     return tau[:nt.value].copy()
+
+
+_LEGACY = ("overlapping", "modified", "nonoverlapping")
+_NO_INTERVAL = ("htotdev", "theo1", "mtie", "tierms")
 
 
 @dataclass(frozen=True)
@@ -80,7 +88,11 @@ class AllanResult:
 def allan(y, fs, taus=None, *, kind="overlapping", noise="auto", conf=0.683):
     """Allan deviation of the rate record y at averaging times taus (None:
     octaves). kind: overlapping, modified or nonoverlapping; noise: the
-    power-law type for the EDF (wpm, fpm, wfm, ffm, rwfm) or auto."""
+    power-law type for the EDF (wpm, fpm, wfm, ffm, rwfm) or auto. The
+    other kinds (adev, oadev, mdev, tdev, hdev, ohdev, totdev, mtotdev,
+    ttotdev, htotdev, theo1, mtie, tierms) are those of `stability`."""
+    if kind not in _LEGACY:
+        return stability(y, fs, taus, kind=kind, noise=noise, conf=conf)
     a = _record(y)
     kind_code = _lib.choice(_capi.CHOICE_STABILITY_KIND, kind, "igea.allan", "kind")
     noise = _lib.choice(_capi.CHOICE_STABILITY_NOISE, noise, "igea.allan", "noise")
@@ -94,7 +106,7 @@ def allan(y, fs, taus=None, *, kind="overlapping", noise="auto", conf=0.683):
     _lib.call("igea.allan", "igea_stability_allan", a.size, _lib.dptr(a), float(fs), nt,
               _lib.dptr(t), kind_code, noise, float(conf), _lib.dptr(dev), _lib.dptr(lo),
               _lib.dptr(hi), _lib.dptr(edf), _lib.iptr(cnt))
-    used = np.round(t * fs) / fs
+    used = np.floor(t * fs + 0.5) / fs   # the library's m = lround(tau fs)
     return AllanResult(kind, used, dev, lo, hi, edf, cnt.astype(int), float(conf))
 
 
@@ -132,3 +144,118 @@ def noise_id(taus, adev):
             "quantization": "Q"}
     return NoiseTerms(**{f + t: float(out[getattr(_capi, "STABILITY_NOISEID_" + s + t.upper())])
                          for f, s in slot.items() for t in ("", "_tau")})
+
+
+def stability_taus(n, fs, kind="oadev", *, data_type="freq", spacing="octave"):
+    """Averaging times of a spacing (octave, decade, all) for n samples of
+    data_type while the kind has at least one term (THEO1: 0.75 m / fs)."""
+    where = "igea.stability_taus"
+    k = _lib.choice(_capi.CHOICE_STABILITY_KIND, kind, where, "kind")
+    dt = _lib.choice(_capi.CHOICE_STABILITY_DATA, data_type, where, "data_type")
+    sp = _lib.choice(_capi.CHOICE_STABILITY_TAUS, spacing, where, "spacing")
+    cap = 64 if spacing != "all" else max(64, int(n) + 1)
+    tau = np.empty(cap)
+    nt = ctypes.c_int()
+    _lib.call(where, "igea_stability_taus", int(n), float(fs), dt, k, sp, cap, _lib.dptr(tau),
+              ctypes.byref(nt))
+    return tau[:nt.value].copy()
+
+
+@dataclass(frozen=True)
+class StabilityResult:
+    """A Stable32 statistic at its averaging times (field names as in
+    'igea stability --json'); lo, hi, edf None for htotdev, theo1, mtie,
+    tierms; alpha: the noise exponent used at each tau."""
+    kind: str
+    data_type: str
+    taus: np.ndarray
+    dev: np.ndarray
+    lo: object
+    hi: object
+    edf: object
+    alpha: np.ndarray
+    count: np.ndarray
+    conf: float
+
+    def summary(self):
+        lines = ["%s (%s data), %.1f %% intervals" % (self.kind, self.data_type, 100 * self.conf),
+                 "%12s %14s %14s %14s %10s %6s %10s" % ("tau", "dev", "lo", "hi", "edf", "alpha",
+                                                         "terms")]
+        for j in range(self.taus.size):
+            ci = ("%14.6e %14.6e %10.1f" % (self.lo[j], self.hi[j], self.edf[j])
+                  if self.lo is not None else "%14s %14s %10s" % ("-", "-", "-"))
+            lines.append("%12.6g %14.6e %s %6d %10d" % (self.taus[j], self.dev[j], ci,
+                                                         self.alpha[j], self.count[j]))
+        return "\n".join(lines)
+
+
+def stability(data, fs, taus=None, *, kind="oadev", data_type="freq", noise="auto", conf=0.683):
+    """Stable32's statistic `kind` (adev oadev mdev tdev hdev ohdev totdev
+    mtotdev ttotdev htotdev theo1 mtie tierms) of phase (seconds) or
+    frequency data sampled at fs, at the averaging times taus (None or
+    'octave', 'decade', 'all': generated; THEO1: tau = 0.75 m / fs), with
+    Greenhall's EDF and chi-square intervals at confidence conf; noise
+    'auto' identifies the type at each tau on its own."""
+    where = "igea.stability"
+    a = _record(data)
+    k = _lib.choice(_capi.CHOICE_STABILITY_KIND, kind, where, "kind")
+    if kind in _LEGACY:
+        raise ValueError(f"{where}: kind: {kind!r} is a rate-data kind of igea.allan; use adev, "
+                         "oadev or mdev")
+    dt = _lib.choice(_capi.CHOICE_STABILITY_DATA, data_type, where, "data_type")
+    nz = _lib.choice(_capi.CHOICE_STABILITY_NOISE, noise, where, "noise")
+    if taus is None or isinstance(taus, str):
+        t = stability_taus(a.size, fs, kind, data_type=data_type, spacing=taus or "octave")
+    else:
+        t = np.ascontiguousarray(_lib.as_f64(np.atleast_1d(taus), "taus", ndim=1))
+    nt = t.size
+    if nt < 1:
+        raise ValueError(f"{where}: taus: at least one averaging time is needed")
+    ci = kind not in _NO_INTERVAL
+    dev, lo, hi, edf, used = (np.empty(nt) for _ in range(5))
+    alpha, cnt = np.empty(nt, dtype=np.intc), np.empty(nt, dtype=np.intc)
+    _lib.call(where, "igea_stability_dev", a.size, _lib.dptr(a), float(fs), dt, nt, _lib.dptr(t),
+              k, nz, float(conf), _lib.dptr(dev), _lib.dptr(lo) if ci else None,
+              _lib.dptr(hi) if ci else None, _lib.dptr(edf) if ci else None, _lib.iptr(alpha),
+              _lib.iptr(cnt), _lib.dptr(used))
+    return StabilityResult(kind, data_type, used, dev, lo if ci else None, hi if ci else None,
+                           edf if ci else None, alpha.astype(int), cnt.astype(int), float(conf))
+
+
+FIT_TERMS = ("quantization", "random_walk", "bias_instability", "rate_random_walk", "rate_ramp")
+
+
+@dataclass(frozen=True)
+class NoiseFit:
+    """IEEE Std 952 noise model fitted to an Allan curve: value and se of
+    Q, N, B, K, R (units of the data times s, sqrt(s), 1, 1/sqrt(s), 1/s);
+    supported: the terms the data support (likelihood ratio)."""
+    terms: tuple
+    value: np.ndarray
+    se: np.ndarray
+    supported: np.ndarray
+    chi2: float
+
+    def summary(self):
+        return "\n".join("%-18s %12.6g +- %-12.3g %s" % (t, v, e, "" if s else "(not supported)")
+                         for t, v, e, s in zip(self.terms, self.value, self.se, self.supported))
+
+
+def noise_fit(taus, adev, edf):
+    """Weighted least-squares fit (non-negative coefficients) of the whole
+    Allan variance curve adev(taus)^2 with equivalent degrees of freedom
+    edf to quantisation, random walk, bias instability, rate random walk
+    and rate ramp."""
+    where = "igea.noise_fit"
+    t = np.ascontiguousarray(_lib.as_f64(taus, "taus", ndim=1))
+    d = np.ascontiguousarray(_lib.as_f64(adev, "adev", ndim=1, shape=(t.size,)))
+    e = np.ascontiguousarray(_lib.as_f64(edf, "edf", ndim=1, shape=(t.size,)))
+    if t.size < 5:
+        raise ValueError(f"{where}: taus: at least 5 points are needed, got {t.size}")
+    n = _capi.STABILITY_FIT_LEN
+    v, se = np.empty(n), np.empty(n)
+    sup = np.empty(n, dtype=np.intc)
+    c2 = ctypes.c_double()
+    _lib.call(where, "igea_stability_fit", t.size, _lib.dptr(t), _lib.dptr(d), _lib.dptr(e),
+              _lib.dptr(v), _lib.dptr(se), _lib.iptr(sup), ctypes.byref(c2))
+    return NoiseFit(FIT_TERMS, v, se, sup.astype(bool), float(c2.value))

@@ -1,6 +1,8 @@
 /* igea stability - stability statistics of a static sensor record (METHODS
- * 3.4): the block-mean 3-sigma ("100-second variance"), Allan deviation
- * with confidence intervals, noise terms read from the curve. */
+ * 3.4): the block-mean 3-sigma ("100-second variance"), Allan deviation and
+ * Stable32's statistics on phase or frequency data with confidence
+ * intervals, the IEEE Std 952 noise model fitted to the curve
+ * (docs/stability.md). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,7 +12,7 @@
 typedef struct {
     const char *file, *taus, *out;
     double fs, block, conf;
-    int column, column_given, kind, noise, json;
+    int column, column_given, kind, noise, json, phase, spacing, fit;
 } st_args;
 
 static st_args A;
@@ -22,8 +24,12 @@ static const cli_opt options[] = {
      &A.column_given},
     {"--block", CLI_OPT_NUM, &A.block, "100", "S", "block length in seconds", NULL},
     {"--kind", CLI_OPT_CHOICE, &A.kind, "overlapping", CLI_CHOICES(IGEA_CHOICE_STABILITY_KIND),
-     "Allan deviation kind", NULL},
-    {"--taus", CLI_OPT_STR, &A.taus, NULL, "FILE", "averaging times (default: octaves)", NULL},
+     "statistic: the rate-data Allan deviations\n(overlapping modified nonoverlapping) or\nStable32's (adev ... tierms)", NULL},
+    {"--phase", CLI_OPT_FLAG, &A.phase, NULL, NULL, "the record is phase (time error, s), not\nfrequency (Stable32 kinds only)", NULL},
+    {"--taus", CLI_OPT_STR, &A.taus, NULL, "FILE", "averaging times (default: --spacing)", NULL},
+    {"--spacing", CLI_OPT_CHOICE, &A.spacing, "octave", CLI_CHOICES(IGEA_CHOICE_STABILITY_TAUS),
+     "generated averaging times (Stable32 kinds;\nthe rate-data kinds use octaves)", NULL},
+    {"--fit", CLI_OPT_FLAG, &A.fit, NULL, NULL, "report the IEEE 952 fit in full (standard\nerrors, support)", NULL},
     {"--noise", CLI_OPT_CHOICE, &A.noise, "auto", CLI_CHOICES(IGEA_CHOICE_STABILITY_NOISE),
      "noise type for the intervals (auto: per tau\nfrom the lag-1 autocorrelation)", NULL},
     {"--conf", CLI_OPT_NUM, &A.conf, "0.683", "C", "confidence of the intervals, in (0, 1)", NULL},
@@ -45,10 +51,15 @@ static const cli_command command = {"stability",
 "                   --kind, with --conf intervals from equivalent degrees of\n"
 "                   freedom (NIST SP 1065; the noise type per tau from the\n"
 "                   lag-1 autocorrelation, or fixed with --noise);\n"
-"  noise terms      random walk N (value of the -1/2 line at 1 s), bias\n"
-"                   instability B (min / 0.664), rate random walk K (the +1/2\n"
-"                   line at 3 s), quantisation Q; '-' where the curve shows no\n"
-"                   such slope.\n"
+"  Stable32 kinds   adev oadev mdev tdev hdev ohdev totdev mtotdev ttotdev\n"
+"                   htotdev theo1 mtie tierms (NIST SP 1065) of frequency or,\n"
+"                   with --phase, phase data; Greenhall's EDF, the noise type\n"
+"                   identified at each tau on its own (alpha);\n"
+"  noise terms      the IEEE Std 952 model 3Q^2/tau^2 + N^2/tau + (2 ln2/pi) B^2\n"
+"                   + K^2 tau/3 + R^2 tau^2/2 fitted to the whole Allan curve\n"
+"                   (weights from the EDF, coefficients >= 0): quantisation Q,\n"
+"                   random walk N, bias instability B, rate random walk K,\n"
+"                   rate ramp R; '-' for a term the data do not support.\n"
 "All sums are compensated and the Allan routines need O(1) extra memory.\n"
 "\n"
 "options:\n",
@@ -59,7 +70,20 @@ options,
 "\n"
 "example (6 h of a gyro at 1 kHz, 3-sigma of 100-s means, octave ADEV):\n"
 "  igea stability --data gyro_x.npy --fs 1000 --block 100\n"
-"  igea stability --data acc.txt --fs 10 --kind modified --json --out acc_stability.json\n"};
+"  igea stability --data acc.txt --fs 10 --kind modified --json --out acc_stability.json\n"
+"  igea stability --data clock_phase.txt --fs 1 --phase --kind tdev --spacing decade\n"
+"  igea stability --data gyro_x.npy --fs 1000 --kind adev --fit\n"};
+
+/* Kinds whose curve is an Allan variance (the IEEE 952 model's). */
+static int fit_kind(int k)
+{
+    return k == IGEA_STABILITY_ALLAN_OVERLAPPING || k == IGEA_STABILITY_ALLAN_NONOVERLAPPING ||
+           k == IGEA_STABILITY_ALLAN_ADEV || k == IGEA_STABILITY_ALLAN_OADEV ||
+           k == IGEA_STABILITY_ALLAN_TOTDEV;
+}
+
+/* Kinds with an interval. */
+static int has_ci(int k) { return k < IGEA_STABILITY_ALLAN_HTOTDEV; }
 
 static int parse(int argc, char **argv, st_args *a)
 {
@@ -70,7 +94,14 @@ static int parse(int argc, char **argv, st_args *a)
     return cli_usage(!a->file || !(a->fs > 0)
                          ? "stability: --data FILE and --fs (> 0) are required (see igea stability --help)"
                      : a->column < 0 ? "stability: --column counts from 0"
-                     : !(a->conf > 0 && a->conf < 1) ? "stability: --conf must lie in (0, 1)" : NULL);
+                     : !(a->conf > 0 && a->conf < 1) ? "stability: --conf must lie in (0, 1)"
+                     : a->phase && a->kind <= IGEA_STABILITY_ALLAN_NONOVERLAPPING
+                         ? "stability: --phase needs a Stable32 kind (adev, oadev, mdev, ...); "
+                           "overlapping, modified and nonoverlapping take rate data"
+                     : a->fit && !fit_kind(a->kind)
+                         ? "stability: --fit needs an Allan-variance kind (overlapping, "
+                           "nonoverlapping, adev, oadev, totdev)"
+                         : NULL);
 }
 
 static void num_or_dash(FILE *f, double v)
@@ -121,22 +152,33 @@ static int read_taus(const st_args *a, int n, int kind, double **tau, int *ntau)
         *ntau = (int)cnt;
         return ec;
     }
-    if (!(*tau = malloc(sizeof(double) * 64)))
+    int cap = a->spacing == IGEA_STABILITY_TAUS_ALL ? n + 1 : 64;
+    if (!(*tau = malloc(sizeof(double) * (size_t)cap)))
         return cli_oom("the averaging times");
-    return cli_status(igea_stability_octave_taus(n, a->fs, kind, 64, *tau, ntau), "stability");
+    if (kind <= IGEA_STABILITY_ALLAN_NONOVERLAPPING)
+        return cli_status(igea_stability_octave_taus(n, a->fs, kind, 64, *tau, ntau), "stability");
+    return cli_status(igea_stability_taus(n, a->fs, a->phase, kind, a->spacing, cap, *tau, ntau),
+                      "stability");
 }
 
 typedef struct {
-    int n, ntau, have_block, have_nid;
+    int n, ntau, have_block, have_fit;
     double *tau, *dev, *lo, *hi, *edf;
-    int *cnt;
-    double blk[IGEA_STABILITY_BLOCK_LEN], nid[IGEA_STABILITY_NOISEID_LEN];
+    int *cnt, *alpha;
+    double blk[IGEA_STABILITY_BLOCK_LEN], fit[IGEA_STABILITY_FIT_LEN], fit_se[IGEA_STABILITY_FIT_LEN];
+    int fit_sup[IGEA_STABILITY_FIT_LEN];
+    double fit_chi2;
 } st_result;
 
-static const char *const noise_keys[4] = {"random_walk", "bias_instability", "rate_random_walk",
-                                          "quantization"};
-static const int noise_slots[4] = {IGEA_STABILITY_NOISEID_N, IGEA_STABILITY_NOISEID_B,
-                                   IGEA_STABILITY_NOISEID_K, IGEA_STABILITY_NOISEID_Q};
+/* the IEEE 952 terms in IGEA_STABILITY_FIT_* order */
+static const char *const fit_keys[IGEA_STABILITY_FIT_LEN] = {
+    "quantization", "random_walk", "bias_instability", "rate_random_walk", "rate_ramp"};
+
+/* A fitted term, NaN (null, '-') when not supported. */
+static double term_or_nan(const st_result *r, int k)
+{
+    return r->have_fit && r->fit_sup[k] ? r->fit[k] : NAN;
+}
 
 static void json_report(FILE *f, const st_args *a, const st_result *r)
 {
@@ -157,17 +199,41 @@ static void json_report(FILE *f, const st_args *a, const st_result *r)
     } else {
         cli_jstr(&j, "block", NULL);
     }
+    int ci = has_ci(a->kind), legacy = a->kind <= IGEA_STABILITY_ALLAN_NONOVERLAPPING;
     cli_jstr(&j, "kind", igea_choice_name(IGEA_CHOICE_STABILITY_KIND, a->kind));
+    cli_jstr(&j, "data_type", a->phase ? "phase" : "freq");
     cli_jnum(&j, "conf", a->conf);
     cli_jnums(&j, "taus", r->tau, r->ntau);
     cli_jnums(&j, "dev", r->dev, r->ntau);
-    cli_jnums(&j, "lo", r->lo, r->ntau);
-    cli_jnums(&j, "hi", r->hi, r->ntau);
-    cli_jnums(&j, "edf", r->edf, r->ntau);
+    if (ci) {
+        cli_jnums(&j, "lo", r->lo, r->ntau);
+        cli_jnums(&j, "hi", r->hi, r->ntau);
+        cli_jnums(&j, "edf", r->edf, r->ntau);
+    } else {
+        cli_jstr(&j, "lo", NULL);
+        cli_jstr(&j, "hi", NULL);
+        cli_jstr(&j, "edf", NULL);
+    }
+    if (legacy)
+        cli_jstr(&j, "alpha", NULL);
+    else
+        cli_jints(&j, "alpha", r->alpha, r->ntau);
     cli_jints(&j, "count", r->cnt, r->ntau);
     cli_json_open(&j, "noise", '{');
-    for (int k = 0; k < 4; k++)
-        cli_jnum(&j, noise_keys[k], r->have_nid ? r->nid[noise_slots[k]] : NAN);
+    for (int k = 0; k < IGEA_STABILITY_FIT_LEN; k++)
+        cli_jnum(&j, fit_keys[k], term_or_nan(r, k));
+    cli_json_close(&j);
+    if (r->have_fit) {
+        cli_json_open(&j, "fit", '{');
+        cli_jstrs(&j, "terms", fit_keys, IGEA_STABILITY_FIT_LEN);
+        cli_jnums(&j, "value", r->fit, IGEA_STABILITY_FIT_LEN);
+        cli_jnums(&j, "se", r->fit_se, IGEA_STABILITY_FIT_LEN);
+        cli_jbools(&j, "supported", r->fit_sup, IGEA_STABILITY_FIT_LEN);
+        cli_jnum(&j, "chi2", r->fit_chi2);
+        cli_json_close(&j);
+    } else {
+        cli_jstr(&j, "fit", NULL);
+    }
     cli_json_end(&j);
 }
 
@@ -184,20 +250,37 @@ static void text_report(FILE *f, const st_args *a, const st_result *r)
                 b[IGEA_STABILITY_BLOCK_ADEV]);
     else
         fprintf(f, "%g-s blocks: the record holds fewer than 2 blocks\n", a->block);
-    fprintf(f, "\n%s Allan deviation, %.1f %% intervals\n", igea_choice_name(IGEA_CHOICE_STABILITY_KIND, a->kind), 100 * a->conf);
-    fprintf(f, "%12s %14s %14s %14s %9s %10s\n", "tau (s)", "deviation", "low", "high", "edf",
-            "terms");
-    for (int j = 0; j < r->ntau; j++)
-        fprintf(f, "%12.6g %14.6e %14.6e %14.6e %9.1f %10d\n", r->tau[j], r->dev[j], r->lo[j],
-                r->hi[j], r->edf[j], r->cnt[j]);
-    if (!r->have_nid)
+    int ci = has_ci(a->kind), legacy = a->kind <= IGEA_STABILITY_ALLAN_NONOVERLAPPING;
+    const char *kn = igea_choice_name(IGEA_CHOICE_STABILITY_KIND, a->kind);
+    if (legacy)
+        fprintf(f, "\n%s Allan deviation, %.1f %% intervals\n", kn, 100 * a->conf);
+    else
+        fprintf(f, "\n%s of %s data, %.1f %% intervals\n", kn, a->phase ? "phase" : "frequency",
+                100 * a->conf);
+    fprintf(f, "%12s %14s %14s %14s %9s %10s%s\n", "tau (s)", "deviation", "low", "high", "edf",
+            "terms", legacy ? "" : "  alpha");
+    for (int j = 0; j < r->ntau; j++) {
+        fprintf(f, "%12.6g %14.6e", r->tau[j], r->dev[j]);
+        if (ci)
+            fprintf(f, " %14.6e %14.6e %9.1f", r->lo[j], r->hi[j], r->edf[j]);
+        else
+            fprintf(f, " %14s %14s %9s", "-", "-", "-");
+        fprintf(f, " %10d", r->cnt[j]);
+        if (!legacy)
+            fprintf(f, "  %5d", r->alpha[j]);
+        fprintf(f, "\n");
+    }
+    if (!r->have_fit)
         return;
-    fprintf(f, "\nnoise terms (units of the data; '-': no such slope)\n");
-    static const char *label[4] = {"random walk N (at 1 s)", "bias instability B",
-                                   "rate random walk K (at 3 s)", "quantisation Q"};
-    for (int k = 0; k < 4; k++) {
-        fprintf(f, "  %-28s", label[k]);
-        num_or_dash(f, r->nid[noise_slots[k]]);
+    fprintf(f, "\nnoise terms, IEEE Std 952 fit (units of the data; '-': not supported)\n");
+    static const char *label[IGEA_STABILITY_FIT_LEN] = {
+        "quantisation Q (x s)", "random walk N (x sqrt s)", "bias instability B",
+        "rate random walk K (/ sqrt s)", "rate ramp R (/ s)"};
+    for (int k = 0; k < IGEA_STABILITY_FIT_LEN; k++) {
+        fprintf(f, "  %-30s", label[k]);
+        num_or_dash(f, term_or_nan(r, k));
+        if (a->fit)
+            fprintf(f, "   fit %.6e +- %.3e", r->fit[k], r->fit_se[k]);
         fprintf(f, "\n");
     }
 }
@@ -205,8 +288,24 @@ static void text_report(FILE *f, const st_args *a, const st_result *r)
 /* igea_stability_block's argument 4 (the block length) is refused when the
  * record holds fewer than 2 blocks: reported, not an error. */
 #define BLOCK_ARG_LENGTH (-4)
-/* igea_stability_allan's argument 5: a tau out of the record's range. */
+/* igea_stability_allan's argument 5, igea_stability_dev's 6: a tau out of
+ * the record's range. */
 #define ALLAN_ARG_TAUS (-5)
+#define DEV_ARG_TAUS (-6)
+
+/* The IEEE 952 fit of the curve (kinds of fit_kind, >= 5 taus). */
+static int fit_curve(const st_args *a, st_result *r)
+{
+    r->have_fit = 0;
+    if (!fit_kind(a->kind) || r->ntau < 5)
+        return CLI_OK;
+    int st = igea_stability_fit(r->ntau, r->tau, r->dev, r->edf, r->fit, r->fit_se, r->fit_sup,
+                                &r->fit_chi2);
+    if (st)
+        return cli_status(st, "stability: IEEE 952 fit");
+    r->have_fit = 1;
+    return CLI_OK;
+}
 
 static int compute(const st_args *a, const double *y, st_result *r)
 {
@@ -215,16 +314,27 @@ static int compute(const st_args *a, const double *y, st_result *r)
     r->have_block = st == 0;
     if (st && st != BLOCK_ARG_LENGTH)
         return cli_status(st, "stability: block statistic");
-    st = igea_stability_allan(r->n, y, a->fs, r->ntau, r->tau, kind, noise, a->conf, r->dev,
-                              r->lo, r->hi, r->edf, r->cnt);
+    if (kind <= IGEA_STABILITY_ALLAN_NONOVERLAPPING) {
+        for (int j = 0; j < r->ntau; j++) { /* the library's m = lround(tau fs), given to it */
+            double v = r->tau[j] * a->fs;
+            if (v >= 0.5 && v <= (double)r->n)
+                r->tau[j] = (double)lround(v) / a->fs;
+        }
+        st = igea_stability_allan(r->n, y, a->fs, r->ntau, r->tau, kind, noise, a->conf, r->dev,
+                                  r->lo, r->hi, r->edf, r->cnt);
+    } else {
+        int ci = has_ci(kind);
+        st = igea_stability_dev(r->n, y, a->fs, a->phase, r->ntau, r->tau, kind, noise, a->conf,
+                                r->dev, ci ? r->lo : NULL, ci ? r->hi : NULL, ci ? r->edf : NULL,
+                                r->alpha, r->cnt, r->tau);
+    }
     if (st)
-        return cli_status(st, st == ALLAN_ARG_TAUS ? "stability: a tau is shorter than 1 sample "
-                                                     "or too long for the record"
-                                                   : "stability: Allan deviation");
-    r->have_nid = r->ntau >= 2 && igea_stability_noise_id(r->ntau, r->tau, r->dev, r->nid) == 0;
-    for (int j = 0; j < r->ntau; j++)
-        r->tau[j] = (double)lround(r->tau[j] * a->fs) / a->fs;
-    return CLI_OK;
+        return cli_status(st, st == DEV_ARG_TAUS || (st == ALLAN_ARG_TAUS &&
+                                                     kind <= IGEA_STABILITY_ALLAN_NONOVERLAPPING)
+                                  ? "stability: a tau is shorter than 1 sample or too long for "
+                                    "the record (theo1: tau = 0.75 m / fs, m even)"
+                                  : "stability: deviation");
+    return fit_curve(a, r);
 }
 
 int cmd_stability(int argc, char **argv)
@@ -240,12 +350,13 @@ int cmd_stability(int argc, char **argv)
         goto done;
     size_t nt = (size_t)(r.ntau > 0 ? r.ntau : 1);
     r.dev = malloc(sizeof(double) * 4 * nt);
-    r.cnt = malloc(sizeof(int) * nt);
+    r.cnt = malloc(sizeof(int) * 2 * nt);
     if (!r.dev || !r.cnt) {
         ec = cli_oom("the deviations");
         goto done;
     }
     r.lo = r.dev + r.ntau, r.hi = r.lo + r.ntau, r.edf = r.hi + r.ntau;
+    r.alpha = r.cnt + r.ntau;
     if ((ec = compute(&a, y, &r)))
         goto done;
     cli_out o;

@@ -91,7 +91,7 @@ static int takes_value(const cli_opt *o)
 #define HELP_COL 22
 static void print_option(FILE *f, const cli_opt *o)
 {
-    char head[96], names[CLI_CHOICE_TEXT];
+    char head[CLI_CHOICE_TEXT + 96], names[CLI_CHOICE_TEXT];
     const char *arg = o->arg;
     if (o->kind == CLI_OPT_CHOICE && choice_kind(o))
         arg = cli_choice_names(choice_kind(o), names, sizeof names);

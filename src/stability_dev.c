@@ -1,0 +1,770 @@
+/* stability_dev.c - Stable32's frequency-stability statistics on phase or
+ * frequency data (NIST SP 1065), Greenhall and Riley's EDF, noise
+ * identification per averaging time (docs/stability.md). */
+#include <float.h>
+
+#include "igea/stability.h"
+#include "igea/stats.h"
+#include "internal.h"
+
+/* Sum of squares accumulated in blocks of plain sums, compensated. */
+typedef struct {
+    igea__ksum tot;
+    double part;
+    int cnt;
+} sqa;
+static inline void sqa_add(sqa *a, double v)
+{
+    a->part += v * v;
+    if (++a->cnt == 512) {
+        igea__ksum_add(&a->tot, a->part);
+        a->part = 0.0;
+        a->cnt = 0;
+    }
+}
+static inline double sqa_get(const sqa *a)
+{
+    igea__ksum t = a->tot;
+    igea__ksum_add(&t, a->part);
+    return igea__ksum_get(&t);
+}
+
+#define K_FIRST IGEA_STABILITY_ALLAN_ADEV
+#define K_LAST IGEA_STABILITY_ALLAN_TIERMS
+
+/* Terms M of the kind on N phase points at averaging factor m (<= 0: none). */
+static long dev_terms(int kind, long N, long m)
+{
+    switch (kind) {
+    case IGEA_STABILITY_ALLAN_ADEV: return (N - 1) / m - 1;
+    case IGEA_STABILITY_ALLAN_OADEV: return N - 2 * m;
+    case IGEA_STABILITY_ALLAN_MDEV:
+    case IGEA_STABILITY_ALLAN_TDEV:
+    case IGEA_STABILITY_ALLAN_MTOTDEV:
+    case IGEA_STABILITY_ALLAN_TTOTDEV: return N - 3 * m + 1;
+    case IGEA_STABILITY_ALLAN_HDEV: return (N - 1) / m - 2;
+    case IGEA_STABILITY_ALLAN_OHDEV:
+    case IGEA_STABILITY_ALLAN_HTOTDEV: return N - 3 * m;
+    case IGEA_STABILITY_ALLAN_TOTDEV: return m <= N - 1 ? N - 2 : 0;
+    case IGEA_STABILITY_ALLAN_THEO1: return m % 2 == 0 && m <= N - 1 ? N - m : 0;
+    default: return N - m; /* MTIE, TIERMS */
+    }
+}
+
+/* Averaging factor of tau: round(tau fs), THEO1 round(tau fs / 0.75); 0
+ * when out of range. */
+static long dev_factor(int kind, double tau, double fs, long N)
+{
+    double v = tau * fs / (kind == IGEA_STABILITY_ALLAN_THEO1 ? 0.75 : 1.0);
+    if (!(isfinite(tau) && tau > 0.0 && v >= 0.5 && v <= (double)N))
+        return 0;
+    return lround(v);
+}
+
+/* Second (d = 2) or third (d = 3) difference of x at i with spacing m. */
+static inline double diff_at(const double *x, long i, long m, int d)
+{
+    if (d == 2)
+        return (x[i + 2 * m] - x[i + m]) - (x[i + m] - x[i]);
+    return ((x[i + 3 * m] - x[i + 2 * m]) - (x[i + 2 * m] - x[i + m])) -
+           ((x[i + 2 * m] - x[i + m]) - (x[i + m] - x[i]));
+}
+
+/* Allan (d = 2) or Hadamard (d = 3) deviation, stride 1 or m. */
+static double dev_diff(long N, const double *x, long m, long stride, int d, double tau)
+{
+    sqa a = {{0, 0}, 0, 0};
+    long c = 0;
+    for (long i = 0; i + d * m < N; i += stride, c++)
+        sqa_add(&a, diff_at(x, i, m, d));
+    return sqrt(sqa_get(&a) / ((d == 2 ? 2.0 : 6.0) * (double)c)) / tau;
+}
+
+/* Modified Allan deviation: running sums S_j of m second differences. */
+static double dev_mod(long N, const double *x, long m, double tau)
+{
+    igea__ksum S = {0, 0};
+    for (long i = 0; i < m; i++)
+        igea__ksum_add(&S, diff_at(x, i, m, 2));
+    long M = N - 3 * m + 1;
+    sqa a = {{0, 0}, 0, 0};
+    for (long j = 0; j < M; j++) {
+        double s = igea__ksum_get(&S);
+        sqa_add(&a, s);
+        if (j + 1 < M) {
+            igea__ksum_add(&S, diff_at(x, j + m, m, 2));
+            igea__ksum_add(&S, -diff_at(x, j, m, 2));
+        }
+    }
+    double md = (double)m;
+    return sqrt(sqa_get(&a) / (2.0 * md * md * (double)M)) / tau;
+}
+
+/* Doubly reflected series of TOTDEV at index k in [-(N-2), 2N-3]. */
+static inline double refl(long N, const double *x, long k)
+{
+    if (k < 0)
+        return 2.0 * x[0] - x[-k];
+    if (k > N - 1)
+        return 2.0 * x[N - 1] - x[2 * (N - 1) - k];
+    return x[k];
+}
+
+static double dev_tot(long N, const double *x, long m, double tau)
+{
+    sqa a = {{0, 0}, 0, 0};
+    for (long i = 1; i <= N - 2; i++)
+        sqa_add(&a, (refl(N, x, i + m) - refl(N, x, i)) - (refl(N, x, i) - refl(N, x, i - m)));
+    return sqrt(sqa_get(&a) / (2.0 * (double)(N - 2))) / tau;
+}
+
+/* One 3m-point subsequence s (MTOTDEV: phase; HTOTDEV: frequency): the
+ * half-average slope removed, even reflection to 9m points in w, and the
+ * mean over the 6m positions of (sum1 - 2 sum2 + sum3)^2 / m^2 of three
+ * adjacent m-point sums. */
+static double tot_sub(const double *s, long m, double *w)
+{
+    long L = 3 * m, h1 = L / 2, h2 = L - L / 2;
+    igea__ksum a = {0, 0}, b = {0, 0};
+    for (long k = 0; k < h1; k++)
+        igea__ksum_add(&a, s[k]);
+    for (long k = h2; k < L; k++)
+        igea__ksum_add(&b, s[k]);
+    double slope = (igea__ksum_get(&b) / (double)(L - h2) - igea__ksum_get(&a) / (double)h1) /
+                   (double)(L % 2 ? h1 + 1 : h1);
+    for (long k = 0; k < L; k++) {
+        double v = s[k] - slope * (double)(k - h1);
+        w[L + k] = v;
+        w[L - 1 - k] = v;
+        w[3 * L - 1 - k] = v;
+    }
+    igea__ksum s1 = {0, 0}, s2 = {0, 0}, s3 = {0, 0};
+    for (long k = 0; k < m; k++) {
+        igea__ksum_add(&s1, w[k]);
+        igea__ksum_add(&s2, w[m + k]);
+        igea__ksum_add(&s3, w[2 * m + k]);
+    }
+    sqa acc = {{0, 0}, 0, 0};
+    for (long j = 0; j < 6 * m; j++) {
+        if (j > 0) {
+            igea__ksum_add(&s1, w[j + m - 1] - w[j - 1]);
+            igea__ksum_add(&s2, w[j + 2 * m - 1] - w[j + m - 1]);
+            igea__ksum_add(&s3, w[j + 3 * m - 1] - w[j + 2 * m - 1]);
+        }
+        double g1 = igea__ksum_get(&s1), g2 = igea__ksum_get(&s2), g3 = igea__ksum_get(&s3);
+        sqa_add(&acc, ((g3 - g2) - (g2 - g1)) / (double)m);
+    }
+    return sqa_get(&acc) / (6.0 * (double)m);
+}
+
+/* MTOTDEV (hadamard = 0, x phase) or HTOTDEV (hadamard = 1, x frequency of
+ * N - 1 samples); w holds 9m doubles. */
+static double dev_mtot(long N, const double *x, long m, double tau, int hadamard, double *w)
+{
+    long len = hadamard ? N - 1 : N, M = len - 3 * m + 1;
+    igea__ksum acc = {0, 0};
+    for (long i = 0; i < M; i++)
+        igea__ksum_add(&acc, tot_sub(x + i, m, w));
+    double v = igea__ksum_get(&acc) / (double)M;
+    return hadamard ? sqrt(v / 6.0) : sqrt(v / 2.0) / tau;
+}
+
+static double dev_theo1(long N, const double *x, long m, double tau0)
+{
+    long h = m / 2;
+    igea__ksum acc = {0, 0};
+    for (long i = 0; i < N - m; i++) {
+        double s = 0.0;
+        for (long d = 0; d < h; d++) {
+            double t = (x[i] - x[i - d + h]) + (x[i + m] - x[i + d + h]);
+            s += t * t / (double)(h - d);
+        }
+        igea__ksum_add(&acc, s);
+    }
+    double mt = (double)m * tau0;
+    return sqrt(igea__ksum_get(&acc) / (0.75 * (double)(N - m) * mt * mt));
+}
+
+/* MTIE with monotonic queues of indices (q: 2N longs). */
+static double dev_mtie(long N, const double *x, long m, long *q)
+{
+    long *qa = q, *qb = q + N, ha = 0, ta = 0, hb = 0, tb = 0;
+    double best = 0.0;
+    for (long k = 0; k < N; k++) {
+        while (ta > ha && x[qa[ta - 1]] <= x[k])
+            ta--;
+        qa[ta++] = k;
+        while (tb > hb && x[qb[tb - 1]] >= x[k])
+            tb--;
+        qb[tb++] = k;
+        if (k >= m) {
+            long i = k - m; /* window i .. k */
+            while (qa[ha] < i)
+                ha++;
+            while (qb[hb] < i)
+                hb++;
+            double r = x[qa[ha]] - x[qb[hb]];
+            if (r > best)
+                best = r;
+        }
+    }
+    return best;
+}
+
+static double dev_tierms(long N, const double *x, long m)
+{
+    sqa a = {{0, 0}, 0, 0};
+    for (long i = 0; i + m < N; i++)
+        sqa_add(&a, x[i + m] - x[i]);
+    return sqrt(sqa_get(&a) / (double)(N - m));
+}
+
+/* The statistic at averaging factor m; y: the frequency (HTOTDEV), w: 9m
+ * doubles, q: 2N longs. */
+static double dev_one(int kind, long N, const double *x, const double *y, long m, double tau0,
+                      double *w, long *q)
+{
+    double tau = (double)m * tau0;
+    switch (kind) {
+    case IGEA_STABILITY_ALLAN_ADEV: return dev_diff(N, x, m, m, 2, tau);
+    case IGEA_STABILITY_ALLAN_OADEV: return dev_diff(N, x, m, 1, 2, tau);
+    case IGEA_STABILITY_ALLAN_MDEV: return dev_mod(N, x, m, tau);
+    case IGEA_STABILITY_ALLAN_TDEV: return tau * dev_mod(N, x, m, tau) / sqrt(3.0);
+    case IGEA_STABILITY_ALLAN_HDEV: return dev_diff(N, x, m, m, 3, tau);
+    case IGEA_STABILITY_ALLAN_OHDEV: return dev_diff(N, x, m, 1, 3, tau);
+    case IGEA_STABILITY_ALLAN_TOTDEV: return dev_tot(N, x, m, tau);
+    case IGEA_STABILITY_ALLAN_MTOTDEV: return dev_mtot(N, x, m, tau, 0, w);
+    case IGEA_STABILITY_ALLAN_TTOTDEV: return tau * dev_mtot(N, x, m, tau, 0, w) / sqrt(3.0);
+    case IGEA_STABILITY_ALLAN_HTOTDEV:
+        return m == 1 ? dev_diff(N, x, 1, 1, 3, tau) : dev_mtot(N, y, m, tau, 1, w);
+    case IGEA_STABILITY_ALLAN_THEO1: return dev_theo1(N, x, m, tau0);
+    case IGEA_STABILITY_ALLAN_MTIE: return dev_mtie(N, x, m, q);
+    default: return dev_tierms(N, x, m);
+    }
+}
+
+/* ---- Greenhall and Riley's EDF (PTTI 2003, eqs. 7-13, Tables 1-3) ---- */
+
+static double g_sw(double t, int a)
+{
+    double u = fabs(t);
+    switch (a) {
+    case 2: return -u;
+    case 1: return u > 0.0 ? t * t * log(u) : 0.0;
+    case 0: return u * u * u;
+    case -1: return u > 0.0 ? t * t * t * t * log(u) : 0.0;
+    case -2: return u * u * u * u * u;
+    case -3: return u > 0.0 ? pow(t, 6) * log(u) : 0.0;
+    default: return pow(u, 7);
+    }
+}
+
+static double g_sx(double t, double F, int a)
+{
+    if (isinf(F))
+        return g_sw(t, a + 2);
+    return F * F * (2.0 * g_sw(t, a) - g_sw(t - 1.0 / F, a) - g_sw(t + 1.0 / F, a));
+}
+
+static double g_sz(double t, double F, int a, int d)
+{
+    static const double c[4][4] = {{0}, {2, -1}, {6, -4, 1}, {20, -15, 6, -1}};
+    double s = c[d][0] * g_sx(t, F, a);
+    for (int k = 1; k <= d; k++)
+        s += c[d][k] * (g_sx(t - k, F, a) + g_sx(t + k, F, a));
+    return s;
+}
+
+static double g_bsum(double J, double M, double S, double F, int a, int d)
+{
+    double z0 = g_sz(0.0, F, a, d), zJ = g_sz(J / S, F, a, d);
+    double s = z0 * z0 + (1.0 - J / M) * zJ * zJ;
+    for (long j = 1; j < (long)J; j++) {
+        double z = g_sz((double)j / S, F, a, d);
+        s += 2.0 * (1.0 - (double)j / M) * z * z;
+    }
+    return s;
+}
+
+/* EDF of unmodified white PM when ceil(M / S) <= d (Greenhall's case 4.1,
+ * computed exactly: terms are binomial filters of white phase, correlated
+ * only at lags that are multiples of m). */
+static double edf_wpm_short(int d, double m, double S, double M)
+{
+    static const double c[4][7] = {{0}, {1, -2, 1}, {1, -3, 3, -1}, {1, -4, 6, -4, 1}};
+    const double *cd = c[d - 1];
+    double c0 = 0.0, den = M;
+    for (int k = 0; k <= d; k++)
+        c0 += cd[k] * cd[k];
+    for (long l = 1; l < (long)M; l++) {
+        double lag = (double)l * m / S; /* samples */
+        double q = lag / m;
+        if (q != floor(q) || q > d)
+            continue;
+        double r = 0.0;
+        for (int k = 0; k + (int)q <= d; k++)
+            r += cd[k] * cd[k + (int)q];
+        r /= c0;
+        den += 2.0 * (M - (double)l) * r * r;
+    }
+    return M * M / den;
+}
+
+static double edf_greenhall(int a, int d, double m, double N, int overlapping, int modified)
+{
+    static const double t1[7][3][2] = {
+        {{2. / 3, 1. / 3}, {7. / 9, 0.5}, {22. / 25, 2. / 3}}, {{0.840, 0.345}, {0.997, 0.616}, {1.141, 0.843}},
+        {{1.079, 0.368}, {1.033, 0.607}, {1.184, 0.848}}, {{-1, -1}, {1.048, 0.534}, {1.180, 0.816}},
+        {{-1, -1}, {1.302, 0.535}, {1.175, 0.777}}, {{-1, -1}, {-1, -1}, {1.194, 0.703}},
+        {{-1, -1}, {-1, -1}, {1.489, 0.702}}};
+    static const double t2[7][3][2] = {
+        {{1.5, 0.5}, {35. / 18, 1.0}, {231. / 100, 1.5}}, {{78.6, 25.2}, {790., 410.}, {9950., 6520.}},
+        {{2. / 3, 1. / 6}, {2. / 3, 1. / 3}, {7. / 9, 0.5}}, {{-1, -1}, {0.852, 0.375}, {0.997, 0.617}},
+        {{-1, -1}, {1.079, 0.368}, {1.033, 0.607}}, {{-1, -1}, {-1, -1}, {1.053, 0.553}},
+        {{-1, -1}, {-1, -1}, {1.302, 0.535}}};
+    static const double t3[3][2] = {{6.0, 4.0}, {15.23, 12.0}, {47.8, 40.0}};
+    const double Jmax = 100.0, inf = INFINITY;
+    double F = modified ? 1.0 : m, S = overlapping ? m : 1.0;
+    double L = m / F + m * d, M = 1.0 + floor(S * (N - L) / m);
+    double J = IGEA_MIN(M, (d + 1) * S), r = M / S;
+    int row = 2 - a, col = d - 1;
+    if (modified) {
+        double z0 = g_sz(0.0, 1.0, a, d);
+        if (J <= Jmax)
+            return z0 * z0 * M / g_bsum(J, M, S, 1.0, a, d);
+        if (r > d + 1)
+            return 1.0 / ((t1[row][col][0] - t1[row][col][1] / r) / r);
+        return z0 * z0 * Jmax / g_bsum(Jmax, Jmax, Jmax / r, 1.0, a, d);
+    }
+    if (a <= 0) {
+        if (J <= Jmax) {
+            double mp = m * (d + 1) <= Jmax ? m : inf, z0 = g_sz(0.0, mp, a, d);
+            return z0 * z0 * M / g_bsum(J, M, S, mp, a, d);
+        }
+        if (r > d + 1)
+            return 1.0 / ((t2[row][col][0] - t2[row][col][1] / r) / r);
+        double z0 = g_sz(0.0, inf, a, d);
+        return z0 * z0 * Jmax / g_bsum(Jmax, Jmax, Jmax / r, inf, a, d);
+    }
+    if (a == 1) {
+        double b = t3[col][0] + t3[col][1] * log(m);
+        if (J <= Jmax) {
+            double z0 = g_sz(0.0, m, 1, d);
+            return z0 * z0 * M / g_bsum(J, M, S, m, 1, d);
+        }
+        if (r > d + 1)
+            return 1.0 / ((t2[row][col][0] - t2[row][col][1] / r) / (b * b * r));
+        return b * b * Jmax / g_bsum(Jmax, Jmax, Jmax / r, Jmax / r, 1, d);
+    }
+    if (ceil(r) <= d) /* a == 2 */
+        return edf_wpm_short(d, m, S, M);
+    double a0 = d == 2 ? 70.0 / 36.0 : 924.0 / 400.0; /* C(4d,2d) / C(2d,d)^2 */
+    return 1.0 / ((a0 - 0.5 * d / r) / M);
+}
+
+/* EDF of the kind (NaN: no interval for this kind). */
+static double dev_edf(int kind, int a, double N, double m)
+{
+    static const double t7[3][2] = {{1.50, 0.0}, {1.17, 0.22}, {0.93, 0.36}};
+    static const double t8[5][2] = {{1.90, 2.1}, {1.20, 1.40}, {1.10, 1.2}, {0.85, 0.50}, {0.75, 0.31}};
+    switch (kind) {
+    case IGEA_STABILITY_ALLAN_ADEV: return edf_greenhall(a, 2, m, N, 0, 0);
+    case IGEA_STABILITY_ALLAN_OADEV: return edf_greenhall(a, 2, m, N, 1, 0);
+    case IGEA_STABILITY_ALLAN_MDEV:
+    case IGEA_STABILITY_ALLAN_TDEV: return edf_greenhall(a, 2, m, N, 1, 1);
+    case IGEA_STABILITY_ALLAN_HDEV: return edf_greenhall(a, 3, m, N, 0, 0);
+    case IGEA_STABILITY_ALLAN_OHDEV: return edf_greenhall(a, 3, m, N, 1, 0);
+    case IGEA_STABILITY_ALLAN_TOTDEV:
+        if (a > 0)
+            return edf_greenhall(a, 2, m, N, 1, 0);
+        return t7[-a][0] * N / m - t7[-a][1];
+    case IGEA_STABILITY_ALLAN_MTOTDEV:
+    case IGEA_STABILITY_ALLAN_TTOTDEV: return t8[2 - a][0] * N / m - t8[2 - a][1];
+    default: return NAN;
+    }
+}
+
+/* ---- noise identification at one averaging factor ---- */
+
+/* Lag-1 autocorrelation of z[K]. */
+static double lag1(long K, const double *z)
+{
+    igea__ksum s = {0, 0};
+    for (long i = 0; i < K; i++)
+        igea__ksum_add(&s, z[i]);
+    double mu = igea__ksum_get(&s) / (double)K;
+    igea__ksum num = {0, 0}, den = {0, 0};
+    for (long i = 0; i < K; i++) {
+        double u = z[i] - mu;
+        igea__ksum_add(&den, u * u);
+        if (i + 1 < K)
+            igea__ksum_add(&num, u * (z[i + 1] - mu));
+    }
+    double dd = igea__ksum_get(&den);
+    return dd > 0.0 ? igea__ksum_get(&num) / dd : 0.0;
+}
+
+/* Remove the least-squares quadratic in k from z[K] (orthogonal
+ * polynomials on k = 0 .. K-1). */
+static void detrend2(long K, double *z)
+{
+    double c = 0.5 * (double)(K - 1), Kd = (double)K;
+    double p2m = (Kd * Kd - 1.0) / 12.0; /* mean of (k-c)^2 */
+    igea__ksum s0 = {0, 0}, s1 = {0, 0}, s2 = {0, 0}, n1 = {0, 0}, n2 = {0, 0};
+    for (long k = 0; k < K; k++) {
+        double t = (double)k - c, q = t * t - p2m;
+        igea__ksum_add(&s0, z[k]);
+        igea__ksum_add(&s1, z[k] * t);
+        igea__ksum_add(&s2, z[k] * q);
+        igea__ksum_add(&n1, t * t);
+        igea__ksum_add(&n2, q * q);
+    }
+    double b0 = igea__ksum_get(&s0) / Kd, b1 = igea__ksum_get(&s1) / igea__ksum_get(&n1);
+    double nq = igea__ksum_get(&n2), b2 = nq > 0.0 ? igea__ksum_get(&s2) / nq : 0.0;
+    for (long k = 0; k < K; k++) {
+        double t = (double)k - c;
+        z[k] -= b0 + b1 * t + b2 * (t * t - p2m);
+    }
+}
+
+static double b1_theory(double N, int mu)
+{
+    switch (mu) {
+    case 1: return N / 2.0;
+    case 0: return N * log(N) / (2.0 * (N - 1.0) * log(2.0));
+    case -1: return 1.0;
+    default: return (N * N - 1.0) / (1.5 * N * (N - 1.0));
+    }
+}
+
+/* B1 / R(n) identification on K - 1 >= 4 averages of m samples. */
+static int noise_b1(long N, const double *x, long m, double tau0, long K, double *z)
+{
+    long Kf = K - 1;
+    for (long k = 0; k < Kf; k++)
+        z[k] = (x[(k + 1) * m] - x[k * m]) / ((double)m * tau0);
+    igea__ksum s = {0, 0};
+    for (long k = 0; k < Kf; k++)
+        igea__ksum_add(&s, z[k]);
+    double mu = igea__ksum_get(&s) / (double)Kf;
+    igea__ksum v = {0, 0}, av = {0, 0};
+    for (long k = 0; k < Kf; k++) {
+        igea__ksum_add(&v, (z[k] - mu) * (z[k] - mu));
+        if (k + 1 < Kf)
+            igea__ksum_add(&av, (z[k + 1] - z[k]) * (z[k + 1] - z[k]));
+    }
+    double avar = igea__ksum_get(&av) / (2.0 * (double)(Kf - 1));
+    double b1 = avar > 0.0 ? igea__ksum_get(&v) / (double)(Kf - 1) / avar : 1.0;
+    for (int u = 1; u >= -1; u--)
+        if (b1 > sqrt(b1_theory((double)Kf, u) * b1_theory((double)Kf, u - 1)))
+            return -u - 1;
+    /* white or flicker PM: R(n) = MVAR / AVAR against 1/m and Greenhall's FPM value */
+    if (N - 3 * m + 1 < 1 || m == 1)
+        return IGEA_STABILITY_NOISE_WPM;
+    double tau = (double)m * tau0, md = dev_mod(N, x, m, tau), oa = dev_diff(N, x, m, 1, 2, tau);
+    double rn = oa > 0.0 ? md * md / (oa * oa) : 0.0;
+    const double pi = 3.14159265358979323846;
+    double rf = (3.0 * log(256.0 / 27.0) / (8.0 * pi * pi)) /
+                ((1.038 + 3.0 * log(pi * (double)m)) / (4.0 * pi * pi));
+    return rn > sqrt(rf / (double)m) ? IGEA_STABILITY_NOISE_FPM : IGEA_STABILITY_NOISE_WPM;
+}
+
+/* Remove the least-squares line in k from z[K]. */
+static void detrend1(long K, double *z)
+{
+    double c = 0.5 * (double)(K - 1), Kd = (double)K;
+    igea__ksum s0 = {0, 0}, s1 = {0, 0}, n1 = {0, 0};
+    for (long k = 0; k < K; k++) {
+        double t = (double)k - c;
+        igea__ksum_add(&s0, z[k]);
+        igea__ksum_add(&s1, z[k] * t);
+        igea__ksum_add(&n1, t * t);
+    }
+    double b0 = igea__ksum_get(&s0) / Kd, b1 = igea__ksum_get(&s1) / igea__ksum_get(&n1);
+    for (long k = 0; k < K; k++)
+        z[k] -= b0 + b1 * ((double)k - c);
+}
+
+/* Noise exponent alpha at averaging factor m (z: N doubles of workspace).
+ * Frequency data: the m-sample means, linear trend removed, alpha = -2
+ * (delta + d); phase data: the phase decimated by m, quadratic trend
+ * removed, alpha = 2 - 2 (delta + d) (allantools' autocorr_noise_id). */
+static int noise_at(long N, const double *x, long m, double tau0, int phase, double *z)
+{
+    long K = (N - 1) / m + 1;
+    if (K < 31) /* fewer than 30 means (or 31 phase points) */
+        return K - 1 >= 4 ? noise_b1(N, x, m, tau0, K, z) : IGEA_STABILITY_NOISE_WFM;
+    if (phase) {
+        for (long k = 0; k < K; k++)
+            z[k] = x[k * m];
+        detrend2(K, z);
+    } else {
+        for (long k = 0; k + 1 < K; k++)
+            z[k] = x[(k + 1) * m] - x[k * m];
+        detrend1(--K, z);
+    }
+    for (int d = 0;; d++) {
+        double r1 = lag1(K - d, z), delta = r1 / (1.0 + r1);
+        if (delta < 0.25 || d == 2) {
+            long a = (phase ? 2 : 0) - 2 * d - lround(2.0 * delta);
+            return (int)IGEA_MAX(-2, IGEA_MIN(2, a));
+        }
+        for (long k = 0; k + 1 < K - d; k++)
+            z[k] = z[k + 1] - z[k];
+    }
+}
+
+/* ---- the entry points ---- */
+
+/* Mean of Htotvar / Hvar by noise type (Howe et al.; Stable32 divides it
+ * out): white, flicker, random-walk FM 0.995, 0.851, 0.771; the white-FM
+ * value for white and flicker PM [D]. */
+static double htot_bias(int a)
+{
+    return a == IGEA_STABILITY_NOISE_FFM ? 0.851 : a == IGEA_STABILITY_NOISE_RWFM ? 0.771 : 0.995;
+}
+
+/* Phase points of the record (N of them): phase data less its first value;
+ * frequency data integrated (mean removed unless raw). */
+static double *to_phase(int n, const double *v, double fs, int type, int raw, long *N)
+{
+    long Np = type == IGEA_STABILITY_DATA_PHASE ? n : (long)n + 1;
+    double *x = igea__dalloc((size_t)Np);
+    if (!x)
+        return NULL;
+    if (type == IGEA_STABILITY_DATA_PHASE) {
+        for (long i = 0; i < Np; i++)
+            x[i] = v[i] - v[0];
+    } else {
+        igea__ksum mu = {0, 0}, k = {0, 0};
+        for (int i = 0; i < n && !raw; i++)
+            igea__ksum_add(&mu, v[i]);
+        double mm = raw ? 0.0 : igea__ksum_get(&mu) / (double)n;
+        x[0] = 0.0;
+        for (int i = 0; i < n; i++) {
+            igea__ksum_add(&k, v[i] - mm);
+            x[i + 1] = igea__ksum_get(&k) / fs;
+        }
+    }
+    *N = Np;
+    return x;
+}
+
+static int dev_check(int n, const double *x, double fs, int data_type, int ntau,
+                     const double *tau, int kind, int noise, double conf, const double *dev,
+                     const double *lo, const double *hi, const double *edf)
+{
+    if (n < 2)
+        return -1;
+    if (!x)
+        return -2;
+    if (!(isfinite(fs) && fs > 0.0))
+        return -3;
+    if (data_type != IGEA_STABILITY_DATA_FREQ && data_type != IGEA_STABILITY_DATA_PHASE)
+        return -4;
+    if (ntau < 1)
+        return -5;
+    if (!tau)
+        return -6;
+    if (kind < K_FIRST || kind > K_LAST)
+        return -7;
+    long N = data_type == IGEA_STABILITY_DATA_PHASE ? n : (long)n + 1;
+    for (int j = 0; j < ntau; j++) {
+        long m = dev_factor(kind, tau[j], fs, N);
+        if (m < 1 || dev_terms(kind, N, m) < 1)
+            return -6;
+    }
+    if (!(noise == IGEA_STABILITY_NOISE_AUTO ||
+          (noise >= IGEA_STABILITY_NOISE_RWFM && noise <= IGEA_STABILITY_NOISE_WPM)))
+        return -8;
+    if (!(conf > 0.0 && conf < 1.0))
+        return -9;
+    if (!dev)
+        return -10;
+    int noci = kind >= IGEA_STABILITY_ALLAN_HTOTDEV;
+    if (noci && lo)
+        return -11;
+    if (noci && hi)
+        return -12;
+    if (noci && edf)
+        return -13;
+    return 0;
+}
+
+/* EDF and interval of every tau (alpha already set). */
+static int dev_intervals(int kind, long N, int ntau, const long *m, const int *al, double conf,
+                         const double *d, double *l, double *h, double *e)
+{
+    for (int j = 0; j < ntau; j++) {
+        double ev = dev_edf(kind, al[j], (double)N, (double)m[j]);
+        if (!(ev >= 1.0))
+            ev = 1.0;
+        if (ev > IGEA_STATS_DOF_MAX)
+            ev = IGEA_STATS_DOF_MAX;
+        double qh, ql;
+        int s1 = igea_stats_chi2_quantile(0.5 * (1.0 + conf), ev, &qh);
+        int s2 = igea_stats_chi2_quantile(0.5 * (1.0 - conf), ev, &ql);
+        if (s1 || s2 || !(ql > 0.0))
+            return IGEA_ENOCONV;
+        e[j] = ev;
+        l[j] = d[j] * sqrt(ev / qh);
+        h[j] = d[j] * sqrt(ev / ql);
+    }
+    return 0;
+}
+
+/* Workspace: phase x, frequency y (HTOTDEV), 9 m_max doubles, N doubles
+ * for the identification, 2N longs (MTIE); per tau: m, alpha, and 4 ntau
+ * doubles of results. */
+typedef struct {
+    double *x, *y, *w, *z, *r;
+    long *q, *m;
+    int *al;
+} dev_ws;
+
+static void ws_free(dev_ws *s)
+{
+    free(s->x);
+    free(s->y);
+    free(s->w);
+    free(s->z);
+    free(s->r);
+    free(s->q);
+    free(s->m);
+    free(s->al);
+}
+
+static int ws_alloc(dev_ws *s, int kind, long N, int ntau, long mmax, int need_id)
+{
+    int tot = kind >= IGEA_STABILITY_ALLAN_MTOTDEV && kind <= IGEA_STABILITY_ALLAN_HTOTDEV;
+    s->w = tot ? igea__dalloc(9 * (size_t)mmax) : NULL;
+    s->y = kind == IGEA_STABILITY_ALLAN_HTOTDEV ? igea__dalloc((size_t)N) : NULL;
+    s->z = need_id ? igea__dalloc((size_t)N) : NULL;
+    s->q = kind == IGEA_STABILITY_ALLAN_MTIE ? malloc(2 * (size_t)N * sizeof(long)) : NULL;
+    s->r = igea__dalloc(4 * (size_t)ntau);
+    s->m = malloc((size_t)ntau * sizeof(long));
+    s->al = igea__ialloc((size_t)ntau);
+    if ((tot && !s->w) || (kind == IGEA_STABILITY_ALLAN_HTOTDEV && !s->y) || (need_id && !s->z) ||
+        (kind == IGEA_STABILITY_ALLAN_MTIE && !s->q) || !s->r || !s->m || !s->al)
+        return IGEA_ENOMEM;
+    return 0;
+}
+
+int igea_stability_dev(int n, const double *x, double fs, int data_type, int ntau,
+                       const double *tau, int kind, int noise, double conf, double *dev,
+                       double *lo, double *hi, double *edf, int *alpha, int *count,
+                       double *tau_used)
+{
+    int st = dev_check(n, x, fs, data_type, ntau, tau, kind, noise, conf, dev, lo, hi, edf);
+    if (st)
+        return st;
+    if (!igea__finite_vec(n, x, 1))
+        return IGEA_ENONFINITE;
+    dev_ws s = {0};
+    long N = 0, mmax = 1;
+    int raw = kind == IGEA_STABILITY_ALLAN_MTIE || kind == IGEA_STABILITY_ALLAN_TIERMS;
+    int htot = kind == IGEA_STABILITY_ALLAN_HTOTDEV, need_ci = lo || hi || edf;
+    int need_id = (need_ci || alpha || htot) && noise == IGEA_STABILITY_NOISE_AUTO;
+    s.x = to_phase(n, x, fs, data_type, raw, &N);
+    if (!s.x) {
+        ws_free(&s);
+        return IGEA_ENOMEM;
+    }
+    for (int j = 0; j < ntau; j++)
+        mmax = IGEA_MAX(mmax, dev_factor(kind, tau[j], fs, N));
+    if ((st = ws_alloc(&s, kind, N, ntau, mmax, need_id))) {
+        ws_free(&s);
+        return st;
+    }
+    double tau0 = 1.0 / fs, *d = s.r, *l = d + ntau, *h = l + ntau, *e = h + ntau;
+    if (s.y)
+        for (long i = 0; i + 1 < N; i++)
+            s.y[i] = (s.x[i + 1] - s.x[i]) * fs;
+    for (int j = 0; j < ntau; j++) {
+        s.m[j] = dev_factor(kind, tau[j], fs, N);
+        d[j] = dev_one(kind, N, s.x, s.y, s.m[j], tau0, s.w, s.q);
+        s.al[j] = need_id ? noise_at(N, s.x, s.m[j], tau0, data_type, s.z) : noise;
+        if (htot && s.m[j] > 1)
+            d[j] /= sqrt(htot_bias(s.al[j]));
+    }
+    if (need_ci)
+        st = dev_intervals(kind, N, ntau, s.m, s.al, conf, d, l, h, e);
+    for (int j = 0; j < ntau && !st; j++)
+        if (!isfinite(d[j]))
+            st = IGEA_ENOCONV;
+    if (!st) {
+        size_t sz = (size_t)ntau * sizeof(double);
+        memcpy(dev, d, sz);
+        if (lo)
+            memcpy(lo, l, sz);
+        if (hi)
+            memcpy(hi, h, sz);
+        if (edf)
+            memcpy(edf, e, sz);
+        for (int j = 0; j < ntau; j++) {
+            if (alpha)
+                alpha[j] = s.al[j];
+            if (count)
+                count[j] = (int)dev_terms(kind, N, s.m[j]);
+            if (tau_used)
+                tau_used[j] = (double)s.m[j] * tau0 * (kind == IGEA_STABILITY_ALLAN_THEO1 ? 0.75 : 1.0);
+        }
+    }
+    ws_free(&s);
+    return st;
+}
+
+/* Next averaging factor of the spacing after m. */
+static long next_factor(long m, int spacing, int even)
+{
+    if (spacing == IGEA_STABILITY_TAUS_ALL)
+        return m + (even ? 2 : 1);
+    if (spacing == IGEA_STABILITY_TAUS_OCTAVE)
+        return 2 * m;
+    long p = 1;
+    while (p * 10 <= m)
+        p *= 10;
+    long lead = m / p; /* 1, 2, 4 */
+    return lead == 1 ? 2 * p : lead == 2 ? 4 * p : 10 * p;
+}
+
+int igea_stability_taus(int n, double fs, int data_type, int kind, int spacing, int ntau_max,
+                        double *tau, int *ntau)
+{
+    if (n < 2)
+        return -1;
+    if (!(isfinite(fs) && fs > 0.0))
+        return -2;
+    if (data_type != IGEA_STABILITY_DATA_FREQ && data_type != IGEA_STABILITY_DATA_PHASE)
+        return -3;
+    if (kind < IGEA_STABILITY_ALLAN_OVERLAPPING || kind > K_LAST)
+        return -4;
+    if (spacing < IGEA_STABILITY_TAUS_OCTAVE || spacing > IGEA_STABILITY_TAUS_ALL)
+        return -5;
+    if (ntau_max < 1)
+        return -6;
+    if (!tau)
+        return -7;
+    if (!ntau)
+        return -8;
+    int theo = kind == IGEA_STABILITY_ALLAN_THEO1, k = 0;
+    long N = data_type == IGEA_STABILITY_DATA_PHASE ? n : (long)n + 1;
+    for (long m = theo ? 2 : 1; k < ntau_max && m <= N; m = next_factor(m, spacing, theo)) {
+        long M;
+        if (kind <= IGEA_STABILITY_ALLAN_NONOVERLAPPING) {
+            long nr = N - 1; /* rate samples */
+            M = kind == IGEA_STABILITY_ALLAN_OVERLAPPING ? nr - 2 * m + 1
+                : kind == IGEA_STABILITY_ALLAN_MODIFIED  ? nr - 3 * m + 2
+                                                         : nr / m - 1;
+            if (data_type == IGEA_STABILITY_DATA_PHASE)
+                M = -1; /* the rate-data kinds take no phase */
+        } else {
+            M = theo && m % 2 ? 0 : dev_terms(kind, N, m);
+        }
+        if (M < 1)
+            break;
+        tau[k++] = (double)m / fs * (theo ? 0.75 : 1.0);
+    }
+    *ntau = k;
+    return 0;
+}
