@@ -12,4 +12,6 @@
 #include "igea/redund.h"
 #include "igea/stability.h"
 #include "igea/rls.h"
+#include "igea/nav.h"
+#include "igea/dw.h"
 #endif

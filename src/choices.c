@@ -55,6 +55,10 @@ static const choice sigmaw_flag[] = {
 static const choice stats_verdict[] = {
     {IGEA_STATS_VERDICT_SEED, "seed"}, {IGEA_STATS_VERDICT_CHI2, "chi2"},
     {IGEA_STATS_VERDICT_EXACT, "exact"}, {IGEA_STATS_VERDICT_SIDAK, "sidak"}, END};
+static const choice nav_frame[] = {
+    {IGEA_NAV_ECEF, "ecef"}, {IGEA_NAV_LE, "le"}, {IGEA_NAV_LI, "li"}, END};
+static const choice nav_gravity[] = {
+    {IGEA_NAV_GRAVITY_POINT_MASS, "point_mass"}, {IGEA_NAV_GRAVITY_J2, "j2"}, END};
 static const choice redund_rbd[] = {
     {IGEA_REDUND_RBD_SERIES, "series"}, {IGEA_REDUND_RBD_PARALLEL, "parallel"},
     {IGEA_REDUND_RBD_KOFN, "kofn"}, END};
@@ -80,6 +84,8 @@ static const choice *table(int kind)
     case IGEA_CHOICE_STATS_SIGMAW_FLAG: return sigmaw_flag;
     case IGEA_CHOICE_REDUND_RBD: return redund_rbd;
     case IGEA_CHOICE_STATS_VERDICT: return stats_verdict;
+    case IGEA_CHOICE_NAV_FRAME: return nav_frame;
+    case IGEA_CHOICE_NAV_GRAVITY: return nav_gravity;
     default: return NULL;
     }
 }

@@ -32,6 +32,9 @@ const char *igea_strerror(int status)
     case IGEA_EOVERFLOW:
         return "a result overflowed or underflowed the double range although the inputs "
                "are finite: rescale the inputs (units?)";
+    case IGEA_DW_ESPAN: return "a tracking epoch is outside the telemetry span";
+    case IGEA_DW_ETRACK: return "tracking epochs are not strictly increasing";
+    case IGEA_DW_ETELEMETRY: return "telemetry times are not strictly increasing";
     default: break;
     }
     if (status > 0)

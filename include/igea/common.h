@@ -64,6 +64,9 @@ extern "C" {
 #define IGEA_EEMPTY (-1020)       /* no data (zero rows or zero terms) */
 #define IGEA_ERANGE (-1021)       /* a sigma is below IGEA_SIGMA_MIN (1/sigma^2 overflows) */
 #define IGEA_EOVERFLOW (-1022)    /* a result overflowed or underflowed: rescale */
+#define IGEA_DW_ESPAN (-1031)     /* a tracking epoch is outside the telemetry span */
+#define IGEA_DW_ETRACK (-1032)    /* tracking epochs are not strictly increasing */
+#define IGEA_DW_ETELEMETRY (-1033) /* telemetry times are not strictly increasing */
 
 /* Smallest standard deviation (a sigma whose inverse square weights the
  * data) accepted: 2^-511, about 1.5e-154, where 1/sigma^2 = 2^1022 is still
@@ -127,6 +130,8 @@ IGEA_API const char *igea_opt_name(int module, int slot);
                                           * kofn */
 #define IGEA_CHOICE_STATS_VERDICT 17     /* igea/stats.h IGEA_STATS_VERDICT_*: seed chi2
                                           * exact sidak */
+#define IGEA_CHOICE_NAV_FRAME 26         /* igea/nav.h IGEA_NAV_ECEF, _LE, _LI: ecef le li */
+#define IGEA_CHOICE_NAV_GRAVITY 27       /* igea/nav.h IGEA_NAV_GRAVITY_*: point_mass j2 */
 
 /* Static name of code `code` of enumeration `kind` (IGEA_CHOICE_*): "svd"
  * for (IGEA_CHOICE_EQERR_ROUTE, IGEA_EQERR_ROUTE_SVD). "" for an unknown
