@@ -391,9 +391,22 @@ static void strapdown_increment(const double *s, const double *dv, const double 
     const double *pth = s + IGEA_NAV_STATE_DTH, *pdv = s + IGEA_NAV_STATE_DV;
     double C[9], rot[3], a[3], b[3], u[3], phi[3];
     igea__quat_dcm(s + IGEA_NAV_STATE_Q, C);
+    /* rotation compensation, exact for constant rates over the record
+     * (Savage 2000, 7.2.2.2): (1 - cos a)/a^2 dth x dv + (1 - sin a / a)/a^2
+     * dth x (dth x dv), a = |dth| */
+    double a2 = dth[0] * dth[0] + dth[1] * dth[1] + dth[2] * dth[2], c1, c2, rr[3];
+    if (a2 < 1e-6) {
+        c1 = 0.5 - a2 / 24.0 + a2 * a2 / 720.0;
+        c2 = 1.0 / 6.0 - a2 / 120.0 + a2 * a2 / 5040.0;
+    } else {
+        double al = sqrt(a2);
+        c1 = (1.0 - cos(al)) / a2;
+        c2 = (1.0 - sin(al) / al) / a2;
+    }
     igea__cross(dth, dv, rot);
+    igea__cross(dth, rot, rr);
     for (int i = 0; i < 3; i++)
-        u[i] = dv[i] + 0.5 * rot[i];
+        u[i] = dv[i] + c1 * rot[i] + c2 * rr[i];
     if (!(flags & IGEA_NAV_NO_SCULLING)) {
         igea__cross(pth, dv, a);
         igea__cross(pdv, dth, b);

@@ -43,7 +43,7 @@ extern "C" {
 
 /* WGS-84 (NIMA TR8350.2, 3rd edition, 2000, tables 3.1 and 3.3). */
 #define IGEA_NAV_A 6378137.0                  /* semi-major axis, m */
-#define IGEA_NAV_F (1.0 / 298.257223563)      /* flattening */
+#define IGEA_NAV_F 3.3528106647474805e-3     /* flattening, 1 / 298.257223563 */
 #define IGEA_NAV_GM 3.986004418e14            /* m^3/s^2, atmosphere included */
 #define IGEA_NAV_OMEGA 7.292115e-5            /* Earth rate, rad/s */
 #define IGEA_NAV_J2 1.082629821313e-3         /* -sqrt(5) C20, C20 = -4.84166774985e-4 */
@@ -176,8 +176,10 @@ IGEA_API int igea_nav_init(int system, const double *site, int gravity, int flag
  * One telemetry record: the increments over (t_prev, t], t_prev the state's
  * time. Strapdown (body axes, Savage's two-sample algorithm with the
  * previous record): rotation vector phi = dth + (dth_prev x dth) / 12,
- * q <- q exp(phi / 2); velocity increment in LI C(t_prev) (dv + dth x dv /
- * 2 + (dth_prev x dv + dv_prev x dth) / 12). Platform: dv is along LI
+ * q <- q exp(phi / 2); velocity increment in LI C(t_prev) (dv + c1 dth x
+ * dv + c2 dth x (dth x dv) + (dth_prev x dv + dv_prev x dth) / 12), with
+ * c1 = (1 - cos a) / a^2, c2 = (1 - sin a / a) / a^2, a = |dth| (the
+ * rotation compensation exact for constant rates). Platform: dv is along LI
  * axes. Then W += that increment, v += it + g(r_mid) (t - t_prev) (gravity
  * at the predicted mid-interval position), r += (v_prev + v) (t -
  * t_prev) / 2 (trapezoid).
