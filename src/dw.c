@@ -232,7 +232,7 @@ static void li_cov(const dw_in *a, int e, double ts, double *out)
     out[3] = R[4], out[4] = 0.5 * (R[5] + R[7]), out[5] = R[8];
 }
 
-/* dW, cov and f of every epoch into res (12 per epoch). */
+/* dW and cov of every epoch into res (12 per epoch; slots 9-11 free). */
 static int epochs(const dw_in *a, const double *W, double *res)
 {
     const double *trk = a->trk, *tel = a->tel, zero[3] = {0.0, 0.0, 0.0};
@@ -256,10 +256,8 @@ static int epochs(const dw_in *a, const double *W, double *res)
         }
         telemetry_at(tel, W, a->ntel, te - a->tau, w, f);
         double *o = res + 12 * (size_t)e;
-        for (int i = 0; i < 3; i++) {
+        for (int i = 0; i < 3; i++)
             o[i] = w[i] - (vl[i] - vpad[i] - ig[i]);
-            o[9 + i] = f[i];
-        }
         if (a->trk_cols > 7)
             li_cov(a, e, te - tl, o + 3);
         memcpy(rp, rl, sizeof rp);
@@ -267,6 +265,31 @@ static int epochs(const dw_in *a, const double *W, double *res)
         tp = te;
     }
     return 0;
+}
+
+/* dW/dtau of a remaining offset tau (the data's clock minus the given
+ * time_offset): minus the derivative in time_offset, by central
+ * differences of the whole map (step DW_DTAU_STEP), the exact partial of
+ * the implemented dW, whose leading term is f. */
+#define DW_DTAU_STEP 1e-3
+static int offset_column(const dw_in *a, const double *W, double *res)
+{
+    double *tmp = igea__dalloc(24 * (size_t)a->ntrk);
+    if (!tmp)
+        return IGEA_ENOMEM;
+    dw_in p = *a, m = *a;
+    p.tau += DW_DTAU_STEP;
+    m.tau -= DW_DTAU_STEP;
+    int s = epochs(&p, W, tmp);
+    if (!s)
+        s = epochs(&m, W, tmp + 12 * (size_t)a->ntrk);
+    for (int e = 0; !s && e < a->ntrk; e++)
+        for (int i = 0; i < 3; i++)
+            res[12 * (size_t)e + 9 + i] =
+                (tmp[12 * ((size_t)a->ntrk + e) + i] - tmp[12 * (size_t)e + i]) /
+                (2.0 * DW_DTAU_STEP);
+    free(tmp);
+    return s;
 }
 
 int igea_dw_compute(const double *site, int system, const double *q0, double time_offset,
@@ -295,6 +318,8 @@ int igea_dw_compute(const double *site, int system, const double *q0, double tim
     s = telemetry_w(&a, W);
     if (!s)
         s = epochs(&a, W, res);
+    if (!s && dw_dtau)
+        s = offset_column(&a, W, res);
     if (!s && !igea__finite_vec(12 * ntrk, res, 1))
         s = IGEA_ENONFINITE;
     if (!s) {
