@@ -20,10 +20,14 @@
  * the column dW/dtau of the clock offset.
  *
  * Clock offset tau: the telemetry record stamped s was taken at tracking
- * time s + tau. A given time_offset shifts the telemetry clock by it; the
- * first-order effect of a remaining offset is dW = f tau (the dw_dtau
- * output, m/s per s), an estimable column to append to S (term
- * time_offset).
+ * time s + tau (lift-off, the first record, is at tracking time t_0 +
+ * tau). A given time_offset is applied; the first-order effect of a
+ * remaining offset tau is dW = dw_dtau tau, dw_dtau = f(t) - f_pad - w x
+ * W(t) to first order (f_pad the specific force at rest on the pad, w the
+ * Earth rate: the offset also moves lift-off and so turns LI), whose
+ * leading term is f: an estimable column to append to S (term
+ * time_offset). It is computed as the exact partial of this map, by
+ * central differences in time_offset with a 1 ms step.
  *
  * Telemetry array (column-major ntel x tel_cols, leading dimension ldtel):
  * row k holds t_k (s, strictly increasing) and the increments over
@@ -72,8 +76,8 @@ extern "C" {
  * 15 cov         output, 6 ntrk: the LI covariance of epoch e at cov[6 e ..
  *                6 e + 5] as c_xx c_xy c_xz c_yy c_yz c_zz; may be NULL
  *                (and must be NULL when trk_cols is 7)
- * 16 dw_dtau     output, 3 ntrk, epoch-major: dW / dtau = f (m/s^2); may be
- *                NULL
+ * 16 dw_dtau     output, 3 ntrk, epoch-major: dW / dtau (m/s^2, see above);
+ *                may be NULL
  * 17 bad         output, 1 int: on IGEA_DW_ESPAN or IGEA_DW_ETRACK the
  *                offending tracking row (0-based), on IGEA_DW_ETELEMETRY the
  *                telemetry row; -1 on success

@@ -17,3 +17,5 @@ from .envfun import envfun, term_table  # noqa: E402
 from .rls import RLS, RlsEpoch, RlsResult, rls_run  # noqa: E402
 from .sim import Flight, MonteCarloPool, MonteCarloResult, montecarlo, reference_trajectory, simulate  # noqa: E402,E501
 from .accel import AccelDesignInfo, AccelFit, AccelRefine, accel_analyze, accel_combinations, accel_design, accel_fit, accel_merge, accel_refine, accel_schedule, accel_simulate, accel_to_g  # noqa: E402,E501
+from .nav import NavResult, nav_ecef_to_geodetic, nav_geodetic_to_ecef, nav_gravity, nav_navigate, nav_site, nav_transform  # noqa: E402,E501
+from .dw import DwResult, dw  # noqa: E402

@@ -329,5 +329,6 @@ int cmd_montecarlo(int argc, char **argv);
 int cmd_rls(int argc, char **argv);
 int cmd_redund(int argc, char **argv);
 int cmd_stability(int argc, char **argv);
+int cmd_dw(int argc, char **argv);
 
 #endif
