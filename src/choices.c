@@ -59,6 +59,8 @@ static const choice nav_frame[] = {
     {IGEA_NAV_ECEF, "ecef"}, {IGEA_NAV_LE, "le"}, {IGEA_NAV_LI, "li"}, END};
 static const choice nav_gravity[] = {
     {IGEA_NAV_GRAVITY_POINT_MASS, "point_mass"}, {IGEA_NAV_GRAVITY_J2, "j2"}, END};
+static const choice dw_kind[] = {
+    {IGEA_DW_APPARENT, "apparent"}, {IGEA_DW_NAVIGATED, "navigated"}, END};
 static const choice redund_rbd[] = {
     {IGEA_REDUND_RBD_SERIES, "series"}, {IGEA_REDUND_RBD_PARALLEL, "parallel"},
     {IGEA_REDUND_RBD_KOFN, "kofn"}, END};
@@ -86,6 +88,7 @@ static const choice *table(int kind)
     case IGEA_CHOICE_STATS_VERDICT: return stats_verdict;
     case IGEA_CHOICE_NAV_FRAME: return nav_frame;
     case IGEA_CHOICE_NAV_GRAVITY: return nav_gravity;
+    case IGEA_CHOICE_DW_KIND: return dw_kind;
     default: return NULL;
     }
 }

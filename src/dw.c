@@ -15,7 +15,7 @@
 typedef struct {
     const double *site, *q0, *tel, *trk;
     double tau;
-    int system, ntel, ldtel, tel_cols, frame, ntrk, ldtrk, trk_cols;
+    int system, kind, ntel, ldtel, tel_cols, frame, ntrk, ldtrk, trk_cols;
 } dw_in;
 
 static int check_args(const dw_in *a, const double *dw, const double *cov, const int *bad)
@@ -26,40 +26,42 @@ static int check_args(const dw_in *a, const double *dw, const double *cov, const
     int sd = a->system == IGEA_ENVFUN_STRAPDOWN;
     if (!sd && a->system != IGEA_ENVFUN_PLATFORM)
         return -2;
+    if (a->kind != IGEA_DW_APPARENT && a->kind != IGEA_DW_NAVIGATED)
+        return -3;
     if (sd && a->q0) {
         double n = 0.0;
         for (int i = 0; i < 4; i++)
             n += a->q0[i] * a->q0[i];
         if (!isfinite(n) || !(n > 1e-200))
-            return -3;
+            return -4;
     }
     if (!(fabs(a->tau) < 1e3))
-        return -4;
-    if (a->ntel < 2)
         return -5;
-    if (!a->tel)
+    if (a->ntel < 2)
         return -6;
-    if (a->ldtel < a->ntel)
+    if (!a->tel)
         return -7;
-    if (a->tel_cols != 7 && (sd || a->tel_cols != 4))
+    if (a->ldtel < a->ntel)
         return -8;
-    if (a->frame != IGEA_NAV_LE && a->frame != IGEA_NAV_ECEF)
+    if (a->tel_cols != 7 && (sd || a->tel_cols != 4))
         return -9;
-    if (a->ntrk < 1)
+    if (a->frame != IGEA_NAV_LE && a->frame != IGEA_NAV_ECEF)
         return -10;
-    if (!a->trk)
+    if (a->ntrk < 1)
         return -11;
-    if (a->ldtrk < a->ntrk)
+    if (!a->trk)
         return -12;
+    if (a->ldtrk < a->ntrk)
+        return -13;
     int tc = a->trk_cols;
     if (tc != 7 && tc != 8 && tc != 10 && tc != 13)
-        return -13;
-    if (!dw)
         return -14;
-    if (cov && tc == 7)
+    if (!dw)
         return -15;
+    if (cov && tc == 7)
+        return -16;
     if (!bad)
-        return -17;
+        return -18;
     return 0;
 }
 
@@ -114,7 +116,8 @@ static int check_times(const dw_in *a, int *bad)
     return 0;
 }
 
-/* W at every telemetry record (3 ntel, record-major). */
+/* W and the navigated v at every telemetry record (6 ntel: W, v per
+ * record). */
 static int telemetry_w(const dw_in *a, double *W)
 {
     double st[IGEA_NAV_STATE_LEN], dv[3], dth[3];
@@ -124,7 +127,8 @@ static int telemetry_w(const dw_in *a, double *W)
                           st);
     if (s)
         return s < 0 ? IGEA_ENONFINITE : s;
-    W[0] = W[1] = W[2] = 0.0;
+    memcpy(W, st + IGEA_NAV_STATE_W, 3 * sizeof *W);
+    memcpy(W + 3, st + IGEA_NAV_STATE_V, 3 * sizeof *W);
     for (int k = 1; k < a->ntel; k++) {
         for (int i = 0; i < 3; i++) {
             dv[i] = TEL(k, 1 + i);
@@ -133,12 +137,14 @@ static int telemetry_w(const dw_in *a, double *W)
         s = igea_nav_step(st, T(k), dv, dth);
         if (s)
             return IGEA_ENONFINITE;
-        memcpy(W + 3 * (size_t)k, st + IGEA_NAV_STATE_W, 3 * sizeof *W);
+        memcpy(W + 6 * (size_t)k, st + IGEA_NAV_STATE_W, 3 * sizeof *W);
+        memcpy(W + 6 * (size_t)k + 3, st + IGEA_NAV_STATE_V, 3 * sizeof *W);
     }
     return 0;
 }
 
-/* The telemetry's W and f = dW/dt at time x (telemetry clock). */
+/* A telemetry quantity (3 values per record at W[6 k + 0..2]) and its rate
+ * at time x (telemetry clock). */
 static void telemetry_at(const double *tel, const double *W, int n, double x, double *w,
                          double *f)
 {
@@ -167,8 +173,8 @@ static void telemetry_at(const double *tel, const double *W, int n, double x, do
             l *= (x - T(m)) / den;
         }
         for (int i = 0; i < 3; i++) {
-            w[i] += l * W[3 * (size_t)j + i];
-            f[i] += dl * W[3 * (size_t)j + i];
+            w[i] += l * W[6 * (size_t)j + i];
+            f[i] += dl * W[6 * (size_t)j + i];
         }
     }
 }
@@ -248,16 +254,22 @@ static int epochs(const dw_in *a, const double *W, double *res)
         }
         if (igea_nav_transform(a->site, a->frame, IGEA_NAV_LI, te - tl, r, v, rl, vl))
             return IGEA_ENONFINITE;
-        if (te > tp) {
+        if (te > tp && a->kind == IGEA_DW_APPARENT) {
             if (gravity_integral(a->site, te - tp, rp, vp, rl, vl, dig))
                 return IGEA_ENONFINITE;
             for (int i = 0; i < 3; i++)
                 ig[i] += dig[i];
         }
-        telemetry_at(tel, W, a->ntel, te - a->tau, w, f);
         double *o = res + 12 * (size_t)e;
-        for (int i = 0; i < 3; i++)
-            o[i] = w[i] - (vl[i] - vpad[i] - ig[i]);
+        if (a->kind == IGEA_DW_APPARENT) {
+            telemetry_at(tel, W, a->ntel, te - a->tau, w, f);
+            for (int i = 0; i < 3; i++)
+                o[i] = w[i] - (vl[i] - vpad[i] - ig[i]);
+        } else {
+            telemetry_at(tel, W + 3, a->ntel, te - a->tau, w, f);
+            for (int i = 0; i < 3; i++)
+                o[i] = w[i] - vl[i];
+        }
         if (a->trk_cols > 7)
             li_cov(a, e, te - tl, o + 3);
         memcpy(rp, rl, sizeof rp);
@@ -292,12 +304,12 @@ static int offset_column(const dw_in *a, const double *W, double *res)
     return s;
 }
 
-int igea_dw_compute(const double *site, int system, const double *q0, double time_offset,
-                    int ntel, const double *tel, int ldtel, int tel_cols, int frame, int ntrk,
+int igea_dw_compute(const double *site, int system, int kind, const double *q0,
+                    double time_offset, int ntel, const double *tel, int ldtel, int tel_cols, int frame, int ntrk,
                     const double *trk, int ldtrk, int trk_cols, double *dw, double *cov,
                     double *dw_dtau, int *bad)
 {
-    dw_in a = {site, q0, tel, trk, time_offset, system, ntel, ldtel, tel_cols, frame,
+    dw_in a = {site, q0, tel, trk, time_offset, system, kind, ntel, ldtel, tel_cols, frame,
                ntrk, ldtrk, trk_cols};
     int s = check_args(&a, dw, cov, bad);
     if (s)
@@ -309,7 +321,7 @@ int igea_dw_compute(const double *site, int system, const double *q0, double tim
         *bad = where;
         return s;
     }
-    double *W = igea__dalloc(3 * (size_t)ntel), *res = igea__dalloc(12 * (size_t)ntrk);
+    double *W = igea__dalloc(6 * (size_t)ntel), *res = igea__dalloc(12 * (size_t)ntrk);
     if (!W || !res) {
         free(W);
         free(res);

@@ -132,6 +132,8 @@ IGEA_API const char *igea_opt_name(int module, int slot);
                                           * exact sidak */
 #define IGEA_CHOICE_NAV_FRAME 26         /* igea/nav.h IGEA_NAV_ECEF, _LE, _LI: ecef le li */
 #define IGEA_CHOICE_NAV_GRAVITY 27       /* igea/nav.h IGEA_NAV_GRAVITY_*: point_mass j2 */
+#define IGEA_CHOICE_DW_KIND 28           /* igea/dw.h IGEA_DW_APPARENT, _NAVIGATED: apparent
+                                          * navigated */
 
 /* Static name of code `code` of enumeration `kind` (IGEA_CHOICE_*): "svd"
  * for (IGEA_CHOICE_EQERR_ROUTE, IGEA_EQERR_ROUTE_SVD). "" for an unknown

@@ -16,8 +16,13 @@
  * spacing are allowed, a long gap costs accuracy). The telemetry's W is
  * summed exactly at its record times and interpolated between them by the
  * cubic Lagrange polynomial through the four nearest records (fewer when
- * the record has fewer); its derivative there is the specific force f,
- * the column dW/dtau of the clock offset.
+ * the record has fewer).
+ *
+ * Navigated kind: dV(t) = v_nav(t) - v_LI(t), the telemetry's navigated
+ * LI velocity (igea_nav_step with J2 gravity from the pad state at
+ * lift-off; cubic Lagrange between records) minus the tracked one; its
+ * error model is the velocity with the gravity-gradient coupling of
+ * METHODS 5.4 (envfun's IGEA_ENVFUN_VELOCITY_G).
  *
  * Clock offset tau: the telemetry record stamped s was taken at tracking
  * time s + tau (lift-off, the first record, is at tracking time t_0 +
@@ -54,31 +59,36 @@
 extern "C" {
 #endif
 
+/* Kinds of velocity difference (IGEA_CHOICE_DW_KIND: apparent navigated). */
+#define IGEA_DW_APPARENT 0  /* W_tel - W_trk (METHODS 1.1; envfun's velocity S) */
+#define IGEA_DW_NAVIGATED 1 /* v_nav - v_trk (envfun's velocity_g S) */
+
 /*
  * Velocity differences at the tracking epochs.
  * Arguments (1-based positions, as the -i status names them):
  *  1 site        IGEA_NAV_SITE_LEN values (igea_nav_site)
  *  2 system      IGEA_ENVFUN_STRAPDOWN or IGEA_ENVFUN_PLATFORM
- *  3 q0          4 values, the attitude body -> LI at lift-off (normalised
+ *  3 kind        IGEA_DW_APPARENT or IGEA_DW_NAVIGATED (see above)
+ *  4 q0          4 values, the attitude body -> LI at lift-off (normalised
  *                here); may be NULL: 1 0 0 0; platform: ignored
- *  4 time_offset tau (s, finite, |tau| < 1e3)
- *  5 ntel        telemetry records, >= 2
- *  6 tel         ntel x tel_cols (see above)
- *  7 ldtel       >= ntel
- *  8 tel_cols    7 (strapdown) or 4 or 7 (platform)
- *  9 frame       IGEA_NAV_LE or IGEA_NAV_ECEF, the tracking's frame
- * 10 ntrk        tracking epochs, >= 1
- * 11 trk         ntrk x trk_cols (see above)
- * 12 ldtrk       >= ntrk
- * 13 trk_cols    7, 8, 10 or 13
- * 14 dw          output, 3 ntrk: dW epoch-major (x, y, z of epoch 0, ...),
+ *  5 time_offset tau (s, finite, |tau| < 1e3)
+ *  6 ntel        telemetry records, >= 2
+ *  7 tel         ntel x tel_cols (see above)
+ *  8 ldtel       >= ntel
+ *  9 tel_cols    7 (strapdown) or 4 or 7 (platform)
+ * 10 frame       IGEA_NAV_LE or IGEA_NAV_ECEF, the tracking's frame
+ * 11 ntrk        tracking epochs, >= 1
+ * 12 trk         ntrk x trk_cols (see above)
+ * 13 ldtrk       >= ntrk
+ * 14 trk_cols    7, 8, 10 or 13
+ * 15 dw          output, 3 ntrk: dW epoch-major (x, y, z of epoch 0, ...),
  *                m/s, LI axes: the rows igea_eqerr_run reads
- * 15 cov         output, 6 ntrk: the LI covariance of epoch e at cov[6 e ..
+ * 16 cov         output, 6 ntrk: the LI covariance of epoch e at cov[6 e ..
  *                6 e + 5] as c_xx c_xy c_xz c_yy c_yz c_zz; may be NULL
  *                (and must be NULL when trk_cols is 7)
- * 16 dw_dtau     output, 3 ntrk, epoch-major: dW / dtau (m/s^2, see above);
+ * 17 dw_dtau     output, 3 ntrk, epoch-major: dW / dtau (m/s^2, see above);
  *                may be NULL
- * 17 bad         output, 1 int: on IGEA_DW_ESPAN or IGEA_DW_ETRACK the
+ * 18 bad         output, 1 int: on IGEA_DW_ESPAN or IGEA_DW_ETRACK the
  *                offending tracking row (0-based), on IGEA_DW_ETELEMETRY the
  *                telemetry row; -1 on success
  * Returns 0, -i (outputs untouched), IGEA_ENOMEM, IGEA_ENONFINITE (an input
@@ -86,7 +96,7 @@ extern "C" {
  * not positive definite), IGEA_DW_ESPAN, IGEA_DW_ETRACK,
  * IGEA_DW_ETELEMETRY (those three write only bad; other outputs untouched).
  */
-IGEA_API int igea_dw_compute(const double *site, int system, const double *q0,
+IGEA_API int igea_dw_compute(const double *site, int system, int kind, const double *q0,
                              double time_offset, int ntel, const double *tel, int ldtel,
                              int tel_cols, int frame, int ntrk, const double *trk, int ldtrk,
                              int trk_cols, double *dw, double *cov, double *dw_dtau,

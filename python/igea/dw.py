@@ -26,13 +26,15 @@ class DwResult:
 
 
 def dw(telemetry, tracking, *, lat, lon, height=0.0, azimuth, frame="le", system="strapdown",
-       q0=(1.0, 0.0, 0.0, 0.0), time_offset=0.0):
+       kind="apparent", q0=(1.0, 0.0, 0.0, 0.0), time_offset=0.0):
     """dW from a telemetry record (rows t dvx dvy dvz [dthx dthy dthz]) and a
     tracking record (rows t x y z vx vy vz [sigma | sx sy sz | c_xx c_xy
     c_xz c_yy c_yz c_zz]) in frame "le" or "ecef"; lat, lon, azimuth in
-    degrees (as the driver's --lat, --lon, --azimuth), height in m."""
+    degrees (as the driver's --lat, --lon, --azimuth), height in m; kind
+    "apparent" (W_tel - W_trk) or "navigated" (v_nav - v_trk)."""
     sc = _lib.choice(_capi.CHOICE_ENVFUN_SYSTEM, system, "igea.dw", "system")
     fc = _lib.choice(_capi.CHOICE_NAV_FRAME, frame, "igea.dw", "frame")
+    kc_ = _lib.choice(_capi.CHOICE_DW_KIND, kind, "igea.dw", "kind")
     tel = _lib.as_f64(telemetry, "telemetry", ndim=2)
     trk = _lib.as_f64(tracking, "tracking", ndim=2)
     site = nav_site(np.radians(lat), np.radians(lon), height, np.radians(azimuth))
@@ -44,7 +46,7 @@ def dw(telemetry, tracking, *, lat, lon, height=0.0, azimuth, frame="le", system
     cov = np.zeros(6 * ne) if kc > 7 else None
     col = np.zeros(3 * ne)
     bad = ctypes.c_int(-1)
-    st = _lib.lib.igea_dw_compute(_lib.dptr(site), sc, _lib.dptr(q), float(time_offset),
+    st = _lib.lib.igea_dw_compute(_lib.dptr(site), sc, kc_, _lib.dptr(q), float(time_offset),
                                   tel.shape[0], _lib.dptr(tel), tel.shape[0], tel.shape[1], fc,
                                   ne, _lib.dptr(trk), ne, kc, _lib.dptr(out), _lib.dptr(cov),
                                   _lib.dptr(col), ctypes.byref(bad))

@@ -13,7 +13,7 @@
 typedef struct {
     const char *telemetry, *tracking, *q0, *out, *cov_out, *sigma_out, *offset_out;
     double lat, lon, height, azimuth, time_offset;
-    int frame, system, json, given_lat, given_lon, given_az;
+    int frame, system, kind, json, given_lat, given_lon, given_az;
 } dw_args;
 
 static dw_args A;
@@ -27,6 +27,7 @@ static const cli_opt options[] = {
     {"--azimuth", CLI_OPT_NUM, &A.azimuth, NULL, "DEG", "firing azimuth, from north toward east (required)", &A.given_az},
     {"--frame", CLI_OPT_CHOICE, &A.frame, "le", CLI_CHOICES(IGEA_CHOICE_NAV_FRAME), "the tracking's frame: le (launch-site Earth-fixed)\nor ecef", NULL},
     {"--system", CLI_OPT_CHOICE, &A.system, "strapdown", CLI_CHOICES(IGEA_CHOICE_ENVFUN_SYSTEM), "the inertial system", NULL},
+    {"--kind", CLI_OPT_CHOICE, &A.kind, "apparent", CLI_CHOICES(IGEA_CHOICE_DW_KIND), "apparent: W_tel - W_trk (S from envfun --output\nvelocity); navigated: v_nav - v_trk (--output\nvelocity_g)", NULL},
     {"--q0", CLI_OPT_STR, &A.q0, "1,0,0,0", "Q0,Q1,Q2,Q3", "strapdown attitude body -> launch-inertial at\nlift-off (scalar first)", NULL},
     {"--time-offset", CLI_OPT_NUM, &A.time_offset, "0", "TAU", "telemetry clock offset (s): the record stamped s\nwas taken at tracking time s + TAU", NULL},
     {"--out", CLI_OPT_STR, &A.out, NULL, "FILE", "write dW there (3 rows per epoch, x y z; '-' is\nstandard output)", NULL},
@@ -131,7 +132,7 @@ static int read_inputs(const dw_args *a, dw_run *r)
 static int compute(const dw_args *a, dw_run *r)
 {
     int bad = -1, kc = r->trk.cols;
-    int st = igea_dw_compute(r->site, a->system, r->q0, a->time_offset, (int)r->tel.rows, r->telc,
+    int st = igea_dw_compute(r->site, a->system, a->kind, r->q0, a->time_offset, (int)r->tel.rows, r->telc,
                              (int)r->tel.rows, r->tel.cols, a->frame, r->ntrk, r->trkc, r->ntrk,
                              kc, r->dw, kc > 7 ? r->cov : NULL, r->col, &bad);
     const double *t = r->telc, *k = r->trkc;
@@ -150,13 +151,16 @@ static int compute(const dw_args *a, dw_run *r)
         cli_error("%s: data row %d: t = %.17g s does not follow %.17g s", a->telemetry, bad + 1,
                   t[bad], t[bad - 1]);
         return CLI_DATAERR;
-    case -9:
+    case -10:
         cli_error("--frame: the tracking is in le or ecef");
         return CLI_USAGE;
-    case -4:
+    case -5:
         cli_error("--time-offset: |TAU| < 1000 s");
         return CLI_USAGE;
-    case -3:
+    case -6:
+        cli_error("%s: a lift-off row and at least one record are needed", a->telemetry);
+        return CLI_DATAERR;
+    case -4:
         cli_error("--q0: a non-zero quaternion");
         return CLI_USAGE;
     case IGEA_ENONPOSITIVE:

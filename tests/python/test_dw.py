@@ -117,6 +117,13 @@ def test_closed_loop_strapdown(flight, frame):
     assert res.samples == flight["tel"].shape[0]
 
 
+@pytest.mark.parametrize("system", ["strapdown", "platform"])
+def test_closed_loop_navigated(flight, system):
+    tel = flight["tel"] if system == "strapdown" else flight["plat"]
+    res = igea.dw(tel, flight["le"], frame="le", system=system, kind="navigated", q0=Q0, **KW)
+    assert res.max_abs < 1e-6
+
+
 def test_closed_loop_platform(flight):
     res = igea.dw(flight["plat"], flight["ecef"], frame="ecef", system="platform", **KW)
     assert res.max_abs < 1e-6
