@@ -211,3 +211,21 @@ def test_driver_refuses_epoch_outside(flight, tmp_path):
                 "--azimuth", "3", "--out", "dw.txt", cwd=tmp_path)
     assert p.returncode == 65
     assert "outside the telemetry span" in p.stderr and "epoch %d" % (trk.shape[0] - 1) in p.stderr
+
+
+def test_driver_navigated_and_usage(flight, tmp_path):
+    np.savetxt(tmp_path / "tel.txt", flight["plat"], fmt="%.17g")
+    np.savetxt(tmp_path / "trk.txt", flight["ecef"], fmt="%.17g")
+    base = ["--telemetry", "tel.txt", "--tracking", "trk.txt", "--lat", str(LAT), "--lon",
+            str(LON), "--height", str(HGT), "--azimuth", str(AZ), "--system", "platform",
+            "--out", "dv.txt"]
+    p = _driver(*base, "--frame", "ecef", "--kind", "navigated", cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    res = igea.dw(flight["plat"], flight["ecef"], frame="ecef", system="platform",
+                  kind="navigated", **KW)
+    np.testing.assert_array_equal(np.loadtxt(tmp_path / "dv.txt"), res.dw)
+    assert res.max_abs < 1e-6
+    p = _driver(*base, "--frame", "li", cwd=tmp_path)
+    assert p.returncode == 64 and "--frame" in p.stderr
+    p = _driver(*base[:-2], cwd=tmp_path)  # no --out
+    assert p.returncode == 64 and "--out" in p.stderr
