@@ -332,8 +332,9 @@ int igea_dw_compute(const double *site, int system, int kind, const double *q0,
         s = epochs(&a, W, res);
     if (!s && dw_dtau)
         s = offset_column(&a, W, res);
-    if (!s && !igea__finite_vec(12 * ntrk, res, 1))
-        s = IGEA_ENONFINITE;
+    for (size_t i = 0; !s && i < 12 * (size_t)ntrk; i++)
+        if (!isfinite(res[i]))
+            s = IGEA_ENONFINITE;
     if (!s) {
         for (int e = 0; e < ntrk; e++) {
             const double *o = res + 12 * (size_t)e;
