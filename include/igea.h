@@ -15,4 +15,6 @@
 #include "igea/impact.h"
 #include "igea/triad.h"
 #include "igea/io.h"
+#include "igea/nav.h"
+#include "igea/dw.h"
 #endif

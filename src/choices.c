@@ -72,6 +72,12 @@ static const choice sigmaw_flag[] = {
 static const choice stats_verdict[] = {
     {IGEA_STATS_VERDICT_SEED, "seed"}, {IGEA_STATS_VERDICT_CHI2, "chi2"},
     {IGEA_STATS_VERDICT_EXACT, "exact"}, {IGEA_STATS_VERDICT_SIDAK, "sidak"}, END};
+static const choice nav_frame[] = {
+    {IGEA_NAV_ECEF, "ecef"}, {IGEA_NAV_LE, "le"}, {IGEA_NAV_LI, "li"}, END};
+static const choice nav_gravity[] = {
+    {IGEA_NAV_GRAVITY_POINT_MASS, "point_mass"}, {IGEA_NAV_GRAVITY_J2, "j2"}, END};
+static const choice dw_kind[] = {
+    {IGEA_DW_APPARENT, "apparent"}, {IGEA_DW_NAVIGATED, "navigated"}, END};
 static const choice redund_rbd[] = {
     {IGEA_REDUND_RBD_SERIES, "series"}, {IGEA_REDUND_RBD_PARALLEL, "parallel"},
     {IGEA_REDUND_RBD_KOFN, "kofn"}, END};
@@ -102,6 +108,9 @@ static const choice *table(int kind)
     case IGEA_CHOICE_STATS_VERDICT: return stats_verdict;
     case IGEA_CHOICE_STABILITY_DATA: return stability_data;
     case IGEA_CHOICE_STABILITY_TAUS: return stability_taus;
+    case IGEA_CHOICE_NAV_FRAME: return nav_frame;
+    case IGEA_CHOICE_NAV_GRAVITY: return nav_gravity;
+    case IGEA_CHOICE_DW_KIND: return dw_kind;
     default: return NULL;
     }
 }

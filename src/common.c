@@ -38,6 +38,9 @@ const char *igea_strerror(int status)
     case IGEA_EREAD: return "an input file cannot be opened or read";
     case IGEA_ETEMPFILE:
         return "a temporary copy of an input (for a second pass) cannot be written";
+    case IGEA_DW_ESPAN: return "a tracking epoch is outside the telemetry span";
+    case IGEA_DW_ETRACK: return "tracking epochs are not strictly increasing";
+    case IGEA_DW_ETELEMETRY: return "telemetry times are not strictly increasing";
     default: break;
     }
     if (status > 0)

@@ -67,6 +67,9 @@ extern "C" {
 #define IGEA_EFORMAT (-1023)      /* an input file is not what its format says (igea/io.h) */
 #define IGEA_EREAD (-1024)        /* an input file cannot be opened or read (igea/io.h) */
 #define IGEA_ETEMPFILE (-1025)    /* a temporary copy of an input cannot be written */
+#define IGEA_DW_ESPAN (-1031)     /* a tracking epoch is outside the telemetry span */
+#define IGEA_DW_ETRACK (-1032)    /* tracking epochs are not strictly increasing */
+#define IGEA_DW_ETELEMETRY (-1033) /* telemetry times are not strictly increasing */
 
 /* Smallest standard deviation (a sigma whose inverse square weights the
  * data) accepted: 2^-511, about 1.5e-154, where 1/sigma^2 = 2^1022 is still
@@ -140,6 +143,10 @@ IGEA_API const char *igea_opt_name(int module, int slot);
 #define IGEA_CHOICE_STABILITY_DATA 35    /* igea/stability.h IGEA_STABILITY_DATA_*: freq phase */
 #define IGEA_CHOICE_STABILITY_TAUS 36    /* igea/stability.h IGEA_STABILITY_TAUS_*: octave
                                           * decade all */
+#define IGEA_CHOICE_NAV_FRAME 26         /* igea/nav.h IGEA_NAV_ECEF, _LE, _LI: ecef le li */
+#define IGEA_CHOICE_NAV_GRAVITY 27       /* igea/nav.h IGEA_NAV_GRAVITY_*: point_mass j2 */
+#define IGEA_CHOICE_DW_KIND 28           /* igea/dw.h IGEA_DW_APPARENT, _NAVIGATED: apparent
+                                          * navigated */
 
 /* Static name of code `code` of enumeration `kind` (IGEA_CHOICE_*): "svd"
  * for (IGEA_CHOICE_EQERR_ROUTE, IGEA_EQERR_ROUTE_SVD). "" for an unknown

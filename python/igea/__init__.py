@@ -25,3 +25,5 @@ from .accel import AccelDesignInfo, AccelFit, AccelRefine, accel_analyze, accel_
 from .impact import ImpactBudget, ImpactResult, cep, cep_approx, circle_prob, impact, impact_budget  # noqa: E402,E501
 from .triad import TriadResult, triad_apply, triad_calibrate, triad_fit, triad_static  # noqa: E402,E501
 from .io import MatrixFile, read_matrix  # noqa: E402
+from .nav import NavResult, nav_ecef_to_geodetic, nav_geodetic_to_ecef, nav_gravity, nav_navigate, nav_site, nav_transform  # noqa: E402,E501
+from .dw import DwResult, dw  # noqa: E402

@@ -73,6 +73,9 @@ EOVERFLOW = -1022
 EFORMAT = -1023
 EREAD = -1024
 ETEMPFILE = -1025
+DW_ESPAN = -1031
+DW_ETRACK = -1032
+DW_ETELEMETRY = -1033
 SIGMA_MIN = 1.4916681462400413e-154
 MODULE_EQERR = 1
 MODULE_SIM = 2
@@ -98,6 +101,15 @@ CHOICE_STABILITY_NOISE = 14
 CHOICE_STATS_SIGMAW_FLAG = 15
 CHOICE_REDUND_RBD = 16
 CHOICE_STATS_VERDICT = 17
+CHOICE_STABILITY_DATA = 35
+CHOICE_STABILITY_TAUS = 36
+CHOICE_NAV_FRAME = 26
+CHOICE_NAV_GRAVITY = 27
+CHOICE_DW_KIND = 28
+
+# igea/dw.h
+DW_APPARENT = 0
+DW_NAVIGATED = 1
 
 # igea/envfun.h
 ENVFUN_STRAPDOWN = 0
@@ -195,6 +207,39 @@ IO_INFO_NPY = 7
 IO_INFO_NPY_ROWS = 8
 IO_INFO_CHECKED = 9
 IO_INFO_LEN = 16
+
+# igea/nav.h
+NAV_A = 6378137.0
+NAV_F = 0.0033528106647474805
+NAV_GM = 398600441800000.0
+NAV_OMEGA = 7.292115e-05
+NAV_J2 = 0.001082629821313
+NAV_ECEF = 0
+NAV_LE = 1
+NAV_LI = 2
+NAV_GRAVITY_POINT_MASS = 0
+NAV_GRAVITY_J2 = 1
+NAV_NO_CONING = 1
+NAV_NO_SCULLING = 2
+NAV_SITE_LAT = 0
+NAV_SITE_LON = 1
+NAV_SITE_H = 2
+NAV_SITE_AZ = 3
+NAV_SITE_R0 = 4
+NAV_SITE_C = 7
+NAV_SITE_LEN = 16
+NAV_STATE_SYSTEM = 0
+NAV_STATE_GRAVITY = 1
+NAV_STATE_FLAGS = 2
+NAV_STATE_T = 3
+NAV_STATE_R = 4
+NAV_STATE_V = 7
+NAV_STATE_Q = 10
+NAV_STATE_W = 14
+NAV_STATE_DTH = 17
+NAV_STATE_DV = 20
+NAV_STATE_SITE = 23
+NAV_STATE_LEN = 40
 
 # igea/redund.h
 REDUND_RBD_SERIES = 0
@@ -319,6 +364,30 @@ STABILITY_NOISEID_K_TAU = 5
 STABILITY_NOISEID_Q = 6
 STABILITY_NOISEID_Q_TAU = 7
 STABILITY_NOISEID_LEN = 8
+STABILITY_ALLAN_ADEV = 3
+STABILITY_ALLAN_OADEV = 4
+STABILITY_ALLAN_MDEV = 5
+STABILITY_ALLAN_TDEV = 6
+STABILITY_ALLAN_HDEV = 7
+STABILITY_ALLAN_OHDEV = 8
+STABILITY_ALLAN_TOTDEV = 9
+STABILITY_ALLAN_MTOTDEV = 10
+STABILITY_ALLAN_TTOTDEV = 11
+STABILITY_ALLAN_HTOTDEV = 12
+STABILITY_ALLAN_THEO1 = 13
+STABILITY_ALLAN_MTIE = 14
+STABILITY_ALLAN_TIERMS = 15
+STABILITY_DATA_FREQ = 0
+STABILITY_DATA_PHASE = 1
+STABILITY_TAUS_OCTAVE = 0
+STABILITY_TAUS_DECADE = 1
+STABILITY_TAUS_ALL = 2
+STABILITY_FIT_Q = 0
+STABILITY_FIT_N = 1
+STABILITY_FIT_B = 2
+STABILITY_FIT_K = 3
+STABILITY_FIT_R = 4
+STABILITY_FIT_LEN = 5
 
 # igea/stats.h
 STATS_DOF_MAX = 100000.0
@@ -412,6 +481,11 @@ PROTOTYPES = {
     "igea_version": (c_char_p, ()),
     "igea_version_number": (c_int, ()),
     "igea_init": (c_int, ()),
+    # igea/dw.h
+    "igea_dw_compute": (c_int, (("site", _PD), ("system", c_int), ("kind", c_int), ("q0", _PD),
+        ("time_offset", c_double), ("ntel", c_int), ("tel", _PD), ("ldtel", c_int),
+        ("tel_cols", c_int), ("frame", c_int), ("ntrk", c_int), ("trk", _PD), ("ldtrk", c_int),
+        ("trk_cols", c_int), ("dw", _PD), ("cov", _PD), ("dw_dtau", _PD), ("bad", _PI),)),
     # igea/envfun.h
     "igea_envfun_term_valid": (c_int, (("system", c_int), ("term", c_int),)),
     "igea_envfun_term_name": (c_char_p, (("term", c_int),)),
@@ -482,6 +556,23 @@ PROTOTYPES = {
     "igea_io_reader_info": (c_int, (("r", c_void_p), ("info", _PD),)),
     "igea_io_reader_message": (c_char_p, (("r", c_void_p),)),
     "igea_io_parse_number": (c_int, (("s", c_char_p), ("x", _PD),)),
+    # igea/nav.h
+    "igea_nav_geodetic_to_ecef": (c_int, (("lat", c_double), ("lon", c_double), ("h", c_double),
+        ("r", _PD),)),
+    "igea_nav_ecef_to_geodetic": (c_int, (("r", _PD), ("geo", _PD),)),
+    "igea_nav_site": (c_int, (("lat", c_double), ("lon", c_double), ("h", c_double),
+        ("azimuth", c_double), ("site", _PD),)),
+    "igea_nav_transform": (c_int, (("site", _PD), ("from", c_int), ("to", c_int), ("t", c_double),
+        ("r_in", _PD), ("v_in", _PD), ("r_out", _PD), ("v_out", _PD),)),
+    "igea_nav_rotation": (c_int, (("site", _PD), ("from", c_int), ("to", c_int), ("t", c_double),
+        ("M", _PD),)),
+    "igea_nav_gravity": (c_int, (("model", c_int), ("r", _PD), ("g", _PD), ("G", _PD),)),
+    "igea_nav_gravity_li": (c_int, (("site", _PD), ("model", c_int), ("r_li", _PD), ("g", _PD),
+        ("G", _PD),)),
+    "igea_nav_init": (c_int, (("system", c_int), ("site", _PD), ("gravity", c_int),
+        ("flags", c_int), ("t0", c_double), ("q0", _PD), ("r0", _PD), ("v0", _PD), ("state", _PD),
+        )),
+    "igea_nav_step": (c_int, (("state", _PD), ("t", c_double), ("dv", _PD), ("dth", _PD),)),
     # igea/normal.h
     "igea_normal_accumulate": (c_int, (("layout", c_int), ("m", c_int), ("N", c_int), ("S", _PD),
         ("lds", c_int), ("dw", _PD), ("track_sigma", _PD), ("sigma_inc", c_int),
@@ -633,6 +724,14 @@ PROTOTYPES = {
         ("ntau_max", c_int), ("tau", _PD), ("ntau", _PI),)),
     "igea_stability_noise_id": (c_int, (("ntau", c_int), ("tau", _PD), ("adev", _PD), ("out", _PD),
         )),
+    "igea_stability_dev": (c_int, (("n", c_int), ("x", _PD), ("fs", c_double),
+        ("data_type", c_int), ("ntau", c_int), ("tau", _PD), ("kind", c_int), ("noise", c_int),
+        ("conf", c_double), ("dev", _PD), ("lo", _PD), ("hi", _PD), ("edf", _PD), ("alpha", _PI),
+        ("count", _PI), ("tau_used", _PD),)),
+    "igea_stability_taus": (c_int, (("n", c_int), ("fs", c_double), ("data_type", c_int),
+        ("kind", c_int), ("spacing", c_int), ("ntau_max", c_int), ("tau", _PD), ("ntau", _PI),)),
+    "igea_stability_fit": (c_int, (("ntau", c_int), ("tau", _PD), ("adev", _PD), ("edf", _PD),
+        ("coef", _PD), ("se", _PD), ("supported", _PI), ("chi2", _PD),)),
     # igea/stats.h
     "igea_stats_normal_cdf": (c_int, (("x", c_double), ("p", _PD),)),
     "igea_stats_erfinv": (c_int, (("y", c_double), ("x", _PD),)),
@@ -678,6 +777,7 @@ INPUTS = {
     "igea_accel_refine": ("theta_deg", "ya", "yb", "coef0",),
     "igea_accel_simulate": ("theta_deg", "truth",),
     "igea_choice_code": ("name",),
+    "igea_dw_compute": ("site", "q0", "tel", "trk",),
     "igea_envfun_term_code": ("name",),
     "igea_envfun_compute": ("traj", "terms", "axes", "epochs", "spec",),
     "igea_envfun_compute_user": ("traj", "terms", "axes", "user_kind", "user", "epochs", "spec",),
@@ -699,6 +799,13 @@ INPUTS = {
     "igea_io_reader_open": ("path", "tmpdir",),
     "igea_io_reader_open_fd": ("name", "tmpdir",),
     "igea_io_parse_number": ("s",),
+    "igea_nav_ecef_to_geodetic": ("r",),
+    "igea_nav_transform": ("site", "r_in", "v_in",),
+    "igea_nav_rotation": ("site",),
+    "igea_nav_gravity": ("r",),
+    "igea_nav_gravity_li": ("site", "r_li",),
+    "igea_nav_init": ("site", "q0", "r0", "v0",),
+    "igea_nav_step": ("dv", "dth",),
     "igea_normal_accumulate": ("S", "dw", "track_sigma", "spec_sigma",),
     "igea_normal_qr_accumulate": ("S", "dw", "track_sigma", "spec_sigma",),
     "igea_redund_reliability_series": ("R",),
@@ -744,6 +851,8 @@ INPUTS = {
     "igea_stability_block": ("y",),
     "igea_stability_allan": ("y", "tau",),
     "igea_stability_noise_id": ("tau", "adev",),
+    "igea_stability_dev": ("x", "tau",),
+    "igea_stability_fit": ("tau", "adev", "edf",),
     "igea_stats_accuracy_test": ("equiv_err", "lambda",),
     "igea_stats_pool": ("chi2", "dof", "n_reject", "unit_id",),
     "igea_triad_check_opts": ("opts",),

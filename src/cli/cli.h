@@ -336,5 +336,6 @@ int cmd_rls(int argc, char **argv);
 int cmd_redund(int argc, char **argv);
 int cmd_stability(int argc, char **argv);
 int cmd_impact(int argc, char **argv);
+int cmd_dw(int argc, char **argv);
 
 #endif

@@ -21,6 +21,7 @@ static const command commands[] = {
     {"stability", cmd_stability, "block 3-sigma (100-s variance) and Allan deviation of a record"},
     {"accel", cmd_accel, "dividing-head accelerometer calibration, single and dual g^2 models (seed 003)"},
     {"envfun", cmd_envfun, "environment-function matrix S of a trajectory and error terms"},
+    {"dw", cmd_dw, "telemetry minus tracking: dW at the tracking epochs from raw records"},
     {"simulate", cmd_simulate, "a synthetic flight test with known truth: S, dw, sigma, spec, X files"},
     {"montecarlo", cmd_montecarlo, "size and power of the accuracy test over many simulated flights"},
     {"impact", cmd_impact, "impact point of a free flight, miss per burnout error, budget and CEP"},

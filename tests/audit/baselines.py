@@ -89,6 +89,16 @@ THETA30 = 'c:30.0 * (double)i'
 YA_DUAL = 'c:asind(30.0 * (double)i) + 1e-4 * au(i)'
 YB_DUAL = 'c:acosd(30.0 * (double)i) + 1e-4 * au(i + 500)'
 
+NAV_SITE = 'set:igea_nav_site(0.7, 1.7, 100.0, 0.5, b_);'
+NAV_STATE = ('set:{ double s_[IGEA_NAV_SITE_LEN]; igea_nav_site(0.7, 1.7, 100.0, 0.5, s_); '
+             'igea_nav_init(IGEA_ENVFUN_STRAPDOWN, s_, IGEA_NAV_GRAVITY_J2, 0, 0.0, NULL, NULL, '
+             'NULL, b_); }')
+# 101 telemetry records at 100 Hz (t dv3 dth3), 5 tracking epochs (t r3 v3 sigma)
+DW_TEL = ('set:for (int k = 0; k < 101; k++) { b_[k] = 0.01 * k; for (int c = 1; c < 7; c++) '
+          'b_[k + 101 * c] = k ? (c < 4 ? 0.2 : 1e-4) : 0.0; }')
+DW_TRK = ('set:for (int e = 0; e < 5; e++) { b_[e] = 0.2 * (e + 1); for (int c = 1; c < 7; c++) '
+          'b_[e + 5 * c] = 0.1 * c * (e + 1); b_[e + 35] = 0.01; }')
+
 BASE = {
     # ---- common
     'igea_strerror': dict(status='IGEA_ENOMEM', _int=dict(status='free'),
@@ -253,6 +263,27 @@ BASE = {
                                   _int=dict(nerr='size'),
                                   _extra=[('nerr', 'IGEA_ENVFUN_TERM_COUNT - 1', 'fail'),
                                           ('nerr', 'IGEA_ENVFUN_TERM_END + 1', 'fail')]),
+    # ---- nav, dw
+    'igea_nav_geodetic_to_ecef': dict(lat='0.7', lon='1.7', h='100.0'),
+    'igea_nav_ecef_to_geodetic': dict(r='[4.0e6, 3.0e6, 3.5e6]'),
+    'igea_nav_site': dict(lat='0.7', lon='1.7', h='100.0', azimuth='0.5'),
+    'igea_nav_transform': dict(site=NAV_SITE, **{'from': 'IGEA_NAV_LE'}, to='IGEA_NAV_LI',
+                               t='10.0', r_in='u', v_in='u', _int={'from': 'enum', 'to': 'enum'}),
+    'igea_nav_rotation': dict(site=NAV_SITE, **{'from': 'IGEA_NAV_ECEF'}, to='IGEA_NAV_LI',
+                              t='10.0', _int={'from': 'enum', 'to': 'enum'}),
+    'igea_nav_gravity': dict(model='IGEA_NAV_GRAVITY_J2', r='[4.0e6, 3.0e6, 3.5e6]'),
+    'igea_nav_gravity_li': dict(site=NAV_SITE, model='IGEA_NAV_GRAVITY_J2', r_li='u'),
+    'igea_nav_init': dict(system='IGEA_ENVFUN_STRAPDOWN', site=NAV_SITE,
+                          gravity='IGEA_NAV_GRAVITY_J2', flags='0', t0='0.0',
+                          q0='[0.9, 0.1, 0.3, 0.2]', r0='u', v0='u',
+                          _int=dict(gravity='enum', flags='enum')),
+    'igea_nav_step': dict(state=NAV_STATE, t='0.01', dv='u', dth='u'),
+    'igea_dw_compute': dict(site=NAV_SITE, system='IGEA_ENVFUN_STRAPDOWN', kind='IGEA_DW_APPARENT',
+                            q0='[1.0, 0.0, 0.0, 0.0]', time_offset='0.0', ntel='101', tel=DW_TEL, ldtel='ntel', tel_cols='7',
+                            frame='IGEA_NAV_LE', ntrk='5', trk=DW_TRK, ldtrk='ntrk', trk_cols='8',
+                            _int=dict(ntel='size', ntrk='size', tel_cols='enum', trk_cols='enum',
+                                      frame='enum'),
+                            _opt=['dw_dtau'], _progress=['bad']),
     # ---- sim
     'igea_sim_trajectory_length': dict(duration='10.0', rate='10.0'),
     'igea_sim_trajectory': dict(system='IGEA_ENVFUN_STRAPDOWN', duration='10.0', rate='10.0',

@@ -1,0 +1,108 @@
+/*
+ * igea/dw.h - telemetry minus tracking: the apparent-velocity differences
+ * dW of seed 000 (METHODS 1.1, model dW = S X + e) at the tracking epochs,
+ * in the launch-inertial frame LI, from the raw records (docs/pipeline.md).
+ *
+ *   dW(t) = W_tel(t) - W_trk(t),
+ *   W_trk(t) = v_LI(t) - v_LI(0) - int_0^t g_J2(r_LI) dt  (tracking),
+ *   W_tel(t) = int_0^t f dt (telemetry navigation, igea/nav.h),
+ *
+ * t = 0 being lift-off, where the vehicle is at the launch point at rest on
+ * the Earth (v_LI(0) = w x r0 in LI) and W = 0. The gravity integral
+ * follows the tracked path: between consecutive epochs (and from lift-off
+ * to the first) the path is the cubic Hermite interpolant of the tracked
+ * LI positions and velocities, integrated with 4-point Gauss-Legendre
+ * (error O(h^4) in the position, h the epoch spacing: gaps and unequal
+ * spacing are allowed, a long gap costs accuracy). The telemetry's W is
+ * summed exactly at its record times and interpolated between them by the
+ * cubic Lagrange polynomial through the four nearest records (fewer when
+ * the record has fewer).
+ *
+ * Navigated kind: dV(t) = v_nav(t) - v_LI(t), the telemetry's navigated
+ * LI velocity (igea_nav_step with J2 gravity from the pad state at
+ * lift-off; cubic Lagrange between records) minus the tracked one; its
+ * error model is the velocity with the gravity-gradient coupling of
+ * METHODS 5.4 (envfun's IGEA_ENVFUN_VELOCITY_G).
+ *
+ * Clock offset tau: the telemetry record stamped s was taken at tracking
+ * time s + tau (lift-off, the first record, is at tracking time t_0 +
+ * tau). A given time_offset is applied; the first-order effect of a
+ * remaining offset tau is dW = dw_dtau tau, dw_dtau = f(t) - f_pad - w x
+ * W(t) to first order (f_pad the specific force at rest on the pad, w the
+ * Earth rate: the offset also moves lift-off and so turns LI), whose
+ * leading term is f: an estimable column to append to S (term
+ * time_offset). It is computed as the exact partial of this map, by
+ * central differences in time_offset with a 1 ms step.
+ *
+ * Telemetry array (column-major ntel x tel_cols, leading dimension ldtel):
+ * row k holds t_k (s, strictly increasing) and the increments over
+ * (t_{k-1}, t_k]; row 0 is lift-off (its increments are not used).
+ * Strapdown: tel_cols = 7, t dvx dvy dvz (body, m/s) dthx dthy dthz (body,
+ * rad). Platform: tel_cols = 4 or 7, t dvx dvy dvz along LI (= platform)
+ * axes; columns 4-6 are not read.
+ *
+ * Tracking array (column-major ntrk x trk_cols, leading dimension ldtrk):
+ * t x y z vx vy vz (s, m, m/s; frame IGEA_NAV_LE or IGEA_NAV_ECEF; t
+ * strictly increasing, inside the telemetry span [t_0 + tau, t_last + tau]),
+ * then the velocity accuracy: trk_cols 7 none; 8 one sigma (all axes);
+ * 10 sigma_x sigma_y sigma_z; 13 the covariance c_xx c_xy c_xz c_yy c_yz
+ * c_zz (m^2/s^2, positive definite). The covariance is rotated into LI
+ * (the velocity part of the frame change; the position's contribution
+ * through w x r and the gravity integral, below 1e-4 of it, is left out).
+ */
+#ifndef IGEA_DW_H
+#define IGEA_DW_H
+
+#include "igea/common.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Kinds of velocity difference (IGEA_CHOICE_DW_KIND: apparent navigated). */
+#define IGEA_DW_APPARENT 0  /* W_tel - W_trk (METHODS 1.1; envfun's velocity S) */
+#define IGEA_DW_NAVIGATED 1 /* v_nav - v_trk (envfun's velocity_g S) */
+
+/*
+ * Velocity differences at the tracking epochs.
+ * Arguments (1-based positions, as the -i status names them):
+ *  1 site        IGEA_NAV_SITE_LEN values (igea_nav_site)
+ *  2 system      IGEA_ENVFUN_STRAPDOWN or IGEA_ENVFUN_PLATFORM
+ *  3 kind        IGEA_DW_APPARENT or IGEA_DW_NAVIGATED (see above)
+ *  4 q0          4 values, the attitude body -> LI at lift-off (normalised
+ *                here); may be NULL: 1 0 0 0; platform: ignored
+ *  5 time_offset tau (s, finite, |tau| < 1e3)
+ *  6 ntel        telemetry records, >= 2
+ *  7 tel         ntel x tel_cols (see above)
+ *  8 ldtel       >= ntel
+ *  9 tel_cols    7 (strapdown) or 4 or 7 (platform)
+ * 10 frame       IGEA_NAV_LE or IGEA_NAV_ECEF, the tracking's frame
+ * 11 ntrk        tracking epochs, >= 1
+ * 12 trk         ntrk x trk_cols (see above)
+ * 13 ldtrk       >= ntrk
+ * 14 trk_cols    7, 8, 10 or 13
+ * 15 dw          output, 3 ntrk: dW epoch-major (x, y, z of epoch 0, ...),
+ *                m/s, LI axes: the rows igea_eqerr_run reads
+ * 16 cov         output, 6 ntrk: the LI covariance of epoch e at cov[6 e ..
+ *                6 e + 5] as c_xx c_xy c_xz c_yy c_yz c_zz; may be NULL
+ *                (and must be NULL when trk_cols is 7)
+ * 17 dw_dtau     output, 3 ntrk, epoch-major: dW / dtau (m/s^2, see above);
+ *                may be NULL
+ * 18 bad         output, 1 int: on IGEA_DW_ESPAN or IGEA_DW_ETRACK the
+ *                offending tracking row (0-based), on IGEA_DW_ETELEMETRY the
+ *                telemetry row; -1 on success
+ * Returns 0, -i (outputs untouched), IGEA_ENOMEM, IGEA_ENONFINITE (an input
+ * or a result not finite), IGEA_ENONPOSITIVE (a sigma <= 0 or a covariance
+ * not positive definite), IGEA_DW_ESPAN, IGEA_DW_ETRACK,
+ * IGEA_DW_ETELEMETRY (those three write only bad; other outputs untouched).
+ */
+IGEA_API int igea_dw_compute(const double *site, int system, int kind, const double *q0,
+                             double time_offset, int ntel, const double *tel, int ldtel,
+                             int tel_cols, int frame, int ntrk, const double *trk, int ldtrk,
+                             int trk_cols, double *dw, double *cov, double *dw_dtau,
+                             int *bad);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,66 @@
+"""Telemetry minus tracking (igea/dw.h): the apparent-velocity differences
+dW at the tracking epochs in the launch-inertial frame, the rows that
+igea.eqerr reads, with the tracking covariance rotated into LI and the
+clock-offset column. Same names as `igea dw`.
+"""
+import ctypes
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _capi, _lib
+from .nav import nav_site
+
+
+@dataclass(frozen=True)
+class DwResult:
+    dw: np.ndarray           # (3 n_epochs,) epoch-major x, y, z, m/s
+    cov: np.ndarray          # (n_epochs, 6) c_xx c_xy c_xz c_yy c_yz c_zz in LI, or None
+    sigma: np.ndarray        # (3 n_epochs,) sqrt of the diagonal, or None
+    dw_dtau: np.ndarray      # (3 n_epochs,) dW / dtau, m/s^2 (the time_offset term's column)
+    n_epochs: int
+    rows: int
+    samples: int
+    max_abs: float
+    rms: np.ndarray          # (3,) per axis
+
+
+def dw(telemetry, tracking, *, lat, lon, height=0.0, azimuth, frame="le", system="strapdown",
+       kind="apparent", q0=(1.0, 0.0, 0.0, 0.0), time_offset=0.0):
+    """dW from a telemetry record (rows t dvx dvy dvz [dthx dthy dthz]) and a
+    tracking record (rows t x y z vx vy vz [sigma | sx sy sz | c_xx c_xy
+    c_xz c_yy c_yz c_zz]) in frame "le" or "ecef"; lat, lon, azimuth in
+    degrees (as the driver's --lat, --lon, --azimuth), height in m; kind
+    "apparent" (W_tel - W_trk) or "navigated" (v_nav - v_trk)."""
+    sc = _lib.choice(_capi.CHOICE_ENVFUN_SYSTEM, system, "igea.dw", "system")
+    fc = _lib.choice(_capi.CHOICE_NAV_FRAME, frame, "igea.dw", "frame")
+    kc_ = _lib.choice(_capi.CHOICE_DW_KIND, kind, "igea.dw", "kind")
+    tel = _lib.as_f64(telemetry, "telemetry", ndim=2)
+    trk = _lib.as_f64(tracking, "tracking", ndim=2)
+    site = nav_site(np.radians(lat), np.radians(lon), height, np.radians(azimuth))
+    q = np.ascontiguousarray(_lib.as_f64(q0, "q0", ndim=1, shape=(4,)))
+    ne, kc = trk.shape
+    if ne < 1:
+        raise ValueError("tracking: no epochs")
+    out = np.zeros(3 * ne)
+    cov = np.zeros(6 * ne) if kc > 7 else None
+    col = np.zeros(3 * ne)
+    bad = ctypes.c_int(-1)
+    st = _lib.lib.igea_dw_compute(_lib.dptr(site), sc, kc_, _lib.dptr(q), float(time_offset),
+                                  tel.shape[0], _lib.dptr(tel), tel.shape[0], tel.shape[1], fc,
+                                  ne, _lib.dptr(trk), ne, kc, _lib.dptr(out), _lib.dptr(cov),
+                                  _lib.dptr(col), ctypes.byref(bad))
+    where = {_capi.DW_ESPAN: "tracking: epoch %d (t = %r s) is outside the telemetry span",
+             _capi.DW_ETRACK: "tracking: epoch %d (t = %r s) does not follow the one before",
+             _capi.DW_ETELEMETRY: "telemetry: row %d (t = %r s) does not follow the one before"}
+    if st in where:
+        arr = tel if st == _capi.DW_ETELEMETRY else trk
+        raise _lib.IgeaError(st, where[st] % (bad.value, float(arr[bad.value, 0])), "igea.dw",
+                             "igea_dw_compute")
+    _lib.check(st, "igea.dw", "igea_dw_compute")
+    c = None if cov is None else cov.reshape(ne, 6)
+    sig = None if c is None else np.sqrt(c[:, [0, 3, 5]]).ravel()
+    d3 = out.reshape(ne, 3)
+    return DwResult(dw=out, cov=c, sigma=sig, dw_dtau=col, n_epochs=ne, rows=3 * ne,
+                    samples=tel.shape[0], max_abs=float(np.max(np.abs(out))),
+                    rms=np.sqrt(np.mean(d3 * d3, axis=0)))
