@@ -103,8 +103,20 @@ def _lines(head, items, tail, indent, width=100):
     return "\n".join(out) + "\n"
 
 
+def _distinct(params):
+    """Fortran names are case-insensitive: an argument whose name equals an
+    earlier one but for case (nav_gravity's g and G) gets the suffix _2."""
+    seen, out = set(), []
+    for pt, pn in params:
+        fn = pn + "_2" if pn.lower() in seen else pn
+        seen.add(fn.lower())
+        out.append((pt, fn))
+    return out
+
+
 def interface(fn, ret, name, params):
     where = "%s: %s" % (fn, name)
+    params = _distinct(params)
     decls, kinds = [], set()
     for pt, pn in params:
         d, k = fortran_arg(name, pt, pn)
