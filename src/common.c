@@ -32,6 +32,9 @@ const char *igea_strerror(int status)
     case IGEA_EOVERFLOW:
         return "a result overflowed or underflowed the double range although the inputs "
                "are finite: rescale the inputs (units?)";
+    case IGEA_EVERDICT:
+        return "the verdict rule cannot be evaluated for this many tested components "
+               "(more than IGEA_STATS_UNION_N_MAX = 200)";
     default: break;
     }
     if (status > 0)
@@ -54,6 +57,8 @@ const char *igea_opt_name(int module, int slot)
         [IGEA_EQERR_OPT_CLAMP] = "clamp",
         [IGEA_EQERR_OPT_Z_CRIT] = "z_crit",
         [IGEA_EQERR_OPT_ROUTE] = "route",
+        [IGEA_EQERR_OPT_VERDICT] = "verdict",
+        [IGEA_EQERR_OPT_OVERALL_SIZE] = "overall_size",
     };
     static const char *const sim[IGEA_SIM_OPT_LEN] = {
         [IGEA_SIM_OPT_SIGMA_W] = "sigma_w",

@@ -44,6 +44,79 @@ int igea_eqerr_check_opts(const double *o)
     if (o[IGEA_EQERR_OPT_CLAMP] != 0 && o[IGEA_EQERR_OPT_CLAMP] != 1) return 1 + IGEA_EQERR_OPT_CLAMP;
     if (!(o[IGEA_EQERR_OPT_Z_CRIT] >= 0)) return 1 + IGEA_EQERR_OPT_Z_CRIT;
     if (o[IGEA_EQERR_OPT_ROUTE] != IGEA_EQERR_ROUTE_EIG && o[IGEA_EQERR_OPT_ROUTE] != IGEA_EQERR_ROUTE_SVD) return 1 + IGEA_EQERR_OPT_ROUTE;
+    const double v = o[IGEA_EQERR_OPT_VERDICT];
+    if (!(v == IGEA_STATS_VERDICT_SEED || v == IGEA_STATS_VERDICT_CHI2 || v == IGEA_STATS_VERDICT_EXACT || v == IGEA_STATS_VERDICT_SIDAK)) return 1 + IGEA_EQERR_OPT_VERDICT;
+    if (v != IGEA_STATS_VERDICT_SEED && o[IGEA_EQERR_OPT_Z_CRIT] != 0) return 1 + IGEA_EQERR_OPT_VERDICT;
+    if (o[IGEA_EQERR_OPT_OVERALL_SIZE] != 0 && o[IGEA_EQERR_OPT_OVERALL_SIZE] != 1) return 1 + IGEA_EQERR_OPT_OVERALL_SIZE;
+    return 0;
+}
+
+/*
+ * Thresholds a (on |z_i|; +Inf: none), b (on T) and the overall size
+ * (0: not computed) of rule o[OPT_VERDICT] for n tested components; zc and
+ * c2 are the level-alpha z_crit and chi2_alpha(n) of the accuracy test.
+ * vc (4 doubles per n = 1..nv: computed flag, a, b, size; NULL: none) is a
+ * caller's cache, read and filled here.
+ */
+static int verdict_rule(const double *o, int n, double zc, double c2, double *vc, int nv,
+                        double *a, double *b, double *size)
+{
+    const int rule = (int)o[IGEA_EQERR_OPT_VERDICT];
+    const double alpha = o[IGEA_EQERR_OPT_ALPHA];
+    double *e = vc && n >= 1 && n <= nv ? vc + 4 * (size_t)(n - 1) : NULL;
+    if (e && e[0] == 1.0) {
+        *a = e[1], *b = e[2], *size = e[3];
+        return 0;
+    }
+    int st = 0;
+    *size = 0.0;
+    *a = zc;
+    *b = c2;
+    if (rule == IGEA_STATS_VERDICT_CHI2) {
+        *a = HUGE_VAL;
+        *size = alpha;
+    } else if (rule == IGEA_STATS_VERDICT_EXACT) {
+        if (n > IGEA_STATS_UNION_N_MAX)
+            return IGEA_EVERDICT;
+        st = igea_stats_verdict_thresholds(rule, n, alpha, a, b, size);
+    } else {
+        if (rule == IGEA_STATS_VERDICT_SIDAK) {
+            st = igea_stats_normal_quantile(-0.5 * expm1(log1p(-alpha) / n), a);
+            *a = -*a;
+        }
+        if (st == 0 && o[IGEA_EQERR_OPT_OVERALL_SIZE] == 1 && n <= IGEA_STATS_UNION_N_MAX)
+            st = igea_stats_union_size(n, *a, *b, size);
+    }
+    if (st < 0 && st > -1000)
+        st = IGEA_ENOCONV; /* a quantile out of reach: cannot happen for valid alpha */
+    if (st == 0 && e) {
+        e[0] = 1.0, e[1] = *a, e[2] = *b, e[3] = *size;
+    }
+    return st;
+}
+
+/* The verdict of the rule on the accuracy test's z[0..n_test) and info:
+ * reject[], N_REJECT, PASSED and the VERDICT slots rewritten. */
+static int apply_verdict(const double *o, const double *z, int *reject, double *info,
+                         double *vc, int nv)
+{
+    int n = (int)info[IGEA_STATS_INFO_N_TEST];
+    double a, b, size;
+    int st = verdict_rule(o, n, info[IGEA_STATS_INFO_Z_CRIT], info[IGEA_STATS_INFO_CHI2_CRIT],
+                          vc, nv, &a, &b, &size);
+    if (st)
+        return st;
+    int nrej = 0;
+    for (int i = 0; i < n; i++) {
+        reject[i] = fabs(z[i]) > a;
+        nrej += reject[i];
+    }
+    info[IGEA_STATS_INFO_N_REJECT] = nrej;
+    info[IGEA_STATS_INFO_PASSED] = nrej == 0 && info[IGEA_STATS_INFO_CHI2] < b;
+    info[IGEA_STATS_INFO_VERDICT] = o[IGEA_EQERR_OPT_VERDICT];
+    info[IGEA_STATS_INFO_VERDICT_Z_CRIT] = isfinite(a) ? a : 0.0;
+    info[IGEA_STATS_INFO_VERDICT_CHI2_CRIT] = b;
+    info[IGEA_STATS_INFO_OVERALL_SIZE] = size;
     return 0;
 }
 
@@ -54,8 +127,8 @@ int igea_eqerr_check_opts(const double *o)
  * outputs are then scratch owned by the caller, who discards them).
  */
 static int sigmaw_and_test(int N, int r, const double *lam0, const double *g0,
-                           const double *xhat, const double *o, double *lambda,
-                           double *z, int *reject, double *info)
+                           const double *xhat, const double *o, double *vc,
+                           double *lambda, double *z, int *reject, double *info)
 {
     double c = 1.0;
     int flag = IGEA_STATS_SIGMAW_OFF, iters = 0, nsmall = 0;
@@ -123,7 +196,8 @@ static int sigmaw_and_test(int N, int r, const double *lam0, const double *g0,
     info[IGEA_STATS_INFO_FLAG] = flag;
     for (int k = IGEA_STATS_INFO_FLAG + 1; k < IGEA_STATS_INFO_LEN; k++)
         info[k] = 0.0;
-    return 0;
+    info[IGEA_STATS_INFO_SIGMA_W] = sqrt(c);
+    return apply_verdict(o, z, reject, info, vc, N);
 }
 
 /* Scratch results, copied to the caller's arrays only on success. */
@@ -197,7 +271,7 @@ static int scratch_finish(scratch *s, int st, int N, double *lambda, double *P,
 
 /* Eig route from normal equations into the scratch. */
 static int solve_eig(int N, const double *A, int lda, const double *b,
-                     const double *o, scratch *s)
+                     const double *o, double *vc, scratch *s)
 {
     int st = igea__syev_desc(N, A, lda, s->lam0, s->V, N);
     if (st != 0)
@@ -210,7 +284,7 @@ static int solve_eig(int N, const double *A, int lda, const double *b,
         s->xhat[i] = pb / s->lam0[i];
         s->g0[i] = pb / sqrt(s->lam0[i]);
     }
-    return sigmaw_and_test(N, r, s->lam0, s->g0, s->xhat, o, s->lambda, s->z,
+    return sigmaw_and_test(N, r, s->lam0, s->g0, s->xhat, o, vc, s->lambda, s->z,
                            s->reject, s->info);
 }
 
@@ -240,6 +314,15 @@ int igea_eqerr_solve(int N, const double *A, int lda, const double *b,
                      const double *opts, double *lambda, double *P, int ldp,
                      double *equiv_err, double *z, int *reject, double *info)
 {
+    return igea__eqerr_solve_cached(N, A, lda, b, opts, NULL, lambda, P, ldp, equiv_err,
+                                    z, reject, info);
+}
+
+int igea__eqerr_solve_cached(int N, const double *A, int lda, const double *b,
+                             const double *opts, double *vcache, double *lambda, double *P,
+                             int ldp, double *equiv_err, double *z, int *reject,
+                             double *info)
+{
     double dflt[IGEA_EQERR_OPT_LEN];
     if (N < 1) return -1;
     if (!A) return -2;
@@ -256,7 +339,7 @@ int igea_eqerr_solve(int N, const double *A, int lda, const double *b,
     scratch s;
     if (scratch_alloc(&s, N))
         return IGEA_ENOMEM;
-    st = solve_eig(N, A, lda, b, opts, &s);
+    st = solve_eig(N, A, lda, b, opts, vcache, &s);
     return scratch_finish(&s, st, N, lambda, P, ldp, equiv_err, z, reject, info);
 }
 
@@ -297,7 +380,7 @@ static int solve_qr(int N, const double *R, int ldr, double rows, const double *
             if (!isfinite(s->lam0[i]) || (i < r && !(s->lam0[i] >= DBL_MIN)))
                 st = IGEA_EOVERFLOW;
         if (st == 0)
-            st = sigmaw_and_test(N, r, s->lam0, s->g0, s->xhat, o, s->lambda, s->z,
+            st = sigmaw_and_test(N, r, s->lam0, s->g0, s->xhat, o, NULL, s->lambda, s->z,
                                  s->reject, s->info);
     }
     free(Rc);
@@ -454,7 +537,7 @@ static int run_eig(int m, int N, const double *S, int lds, const double *dw,
     if (st < 0 && st > -1000)
         st = IGEA_EDOMAIN; /* cannot happen: arguments checked above */
     if (st == 0)
-        st = solve_eig(N, A, N, b, opts, s);
+        st = solve_eig(N, A, N, b, opts, NULL, s);
     free(A);
     return st;
 }
@@ -531,4 +614,88 @@ int igea_eqerr_run(int m, int N, const double *S, int lds, const double *dw,
     free(e);
     scratch_free(&s);
     return st;
+}
+
+/* ---- pooled verdict, report quantities ------------------------------------ */
+
+int igea_eqerr_pool(int nflights, const double *chi2, const int *dof, const double *z,
+                    const int *unit_id, const double *opts, int *reject, double *info)
+{
+    double dflt[IGEA_EQERR_OPT_LEN];
+    if (nflights < 1) return -1;
+    if (!chi2) return -2;
+    if (!dof) return -3;
+    if (!z) return -4;
+    if (!opts) {
+        igea_eqerr_defaults(dflt);
+        opts = dflt;
+    } else if (igea_eqerr_check_opts(opts))
+        return -6;
+    if (!info) return -8;
+    double ntot = 0.0;
+    for (int f = 0; f < nflights; f++) {
+        if (dof[f] < 1) return -3;
+        ntot += dof[f];
+    }
+    if (ntot > IGEA_STATS_DOF_MAX) return -3;
+    if (!igea__finite_vec((int)ntot, z, 1))
+        return IGEA_ENONFINITE;
+    int *nrej0 = igea__ialloc((size_t)nflights);
+    if (!nrej0)
+        return IGEA_ENOMEM;
+    memset(nrej0, 0, (size_t)nflights * sizeof(int));
+    double t[IGEA_STATS_INFO_LEN];
+    int st = igea_stats_pool(nflights, chi2, dof, nrej0, unit_id,
+                             opts[IGEA_EQERR_OPT_ALPHA], t);
+    free(nrej0);
+    if (st < 0 && st > -1000)
+        return st == -4 ? IGEA_EDOMAIN : st; /* -1, -2 (chi2 < 0), -3, -5 as ours */
+    if (st)
+        return st;
+    if (opts[IGEA_EQERR_OPT_Z_CRIT] > 0)
+        t[IGEA_STATS_INFO_Z_CRIT] = opts[IGEA_EQERR_OPT_Z_CRIT];
+    int n = (int)ntot;
+    int *rej = igea__ialloc((size_t)n);
+    if (!rej)
+        return IGEA_ENOMEM;
+    st = apply_verdict(opts, z, rej, t, NULL, 0);
+    if (st == 0 && reject)
+        memcpy(reject, rej, (size_t)n * sizeof(int));
+    free(rej);
+    if (st)
+        return st;
+    memcpy(info, t, sizeof t);
+    return 0;
+}
+
+int igea_eqerr_limits(int n, const double *lambda, double z_crit, double *threshold,
+                      double *precision)
+{
+    if (n < 1) return -1;
+    if (!lambda) return -2;
+    if (!(z_crit >= 0) || !isfinite(z_crit)) return -3;
+    for (int i = 0; i < n; i++)
+        if (!(lambda[i] > 0) || !isfinite(lambda[i]))
+            return isfinite(lambda[i]) ? IGEA_ENONPOSITIVE : IGEA_ENONFINITE;
+    for (int i = 0; i < n; i++) {
+        if (threshold)
+            threshold[i] = sqrt(1.0 + 1.0 / lambda[i]) * z_crit;
+        if (precision)
+            precision[i] = 1.0 / sqrt(lambda[i]);
+    }
+    return 0;
+}
+
+int igea_eqerr_axis_rms(const double *axis_ss, double *rms)
+{
+    if (!axis_ss) return -1;
+    if (!rms) return -2;
+    if (!igea__finite_vec(6, axis_ss, 1))
+        return IGEA_ENONFINITE;
+    for (int a = 0; a < 6; a++)
+        if (axis_ss[a] < 0)
+            return -1;
+    for (int a = 0; a < 3; a++)
+        rms[a] = axis_ss[3 + a] > 0 ? sqrt(axis_ss[a] / axis_ss[3 + a]) : 0.0;
+    return 0;
 }

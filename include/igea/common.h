@@ -64,6 +64,8 @@ extern "C" {
 #define IGEA_EEMPTY (-1020)       /* no data (zero rows or zero terms) */
 #define IGEA_ERANGE (-1021)       /* a sigma is below IGEA_SIGMA_MIN (1/sigma^2 overflows) */
 #define IGEA_EOVERFLOW (-1022)    /* a result overflowed or underflowed: rescale */
+#define IGEA_EVERDICT (-1027)     /* the verdict rule cannot be evaluated for this many
+                                   * tested components (> IGEA_STATS_UNION_N_MAX) */
 
 /* Smallest standard deviation (a sigma whose inverse square weights the
  * data) accepted: 2^-511, about 1.5e-154, where 1/sigma^2 = 2^1022 is still

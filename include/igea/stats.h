@@ -167,6 +167,16 @@ IGEA_API int igea_stats_union_size(int n, double a, double b, double *size);
 IGEA_API int igea_stats_verdict_thresholds(int rule, int n, double alpha, double *a,
                                            double *b, double *size);
 
+/* ---- Overall verdict of igea_eqerr_* and residual diagnostics ---------- */
+
+/* info[] slots of the overall verdict rule (IGEA_EQERR_OPT_VERDICT) that
+ * igea_eqerr_solve, _solve_qr, _run and igea_eqerr_pool fill. */
+#define IGEA_STATS_INFO_VERDICT 14           /* the rule, IGEA_STATS_VERDICT_* */
+#define IGEA_STATS_INFO_VERDICT_Z_CRIT 15    /* its threshold a on |z_i| (0: none, CHI2) */
+#define IGEA_STATS_INFO_VERDICT_CHI2_CRIT 16 /* its threshold b on T */
+#define IGEA_STATS_INFO_OVERALL_SIZE 17      /* P(out of spec | H0) (0: not computed) */
+#define IGEA_STATS_INFO_SIGMA_W 18           /* sqrt(SCALE): the tracking-scale estimate */
+
 #ifdef __cplusplus
 }
 #endif

@@ -10,13 +10,52 @@ from . import _lib
 
 def _test_fields(info):
     """The fields of a TestResult held in an info array (igea/stats.h)."""
-    return _lib.fields(info, "STATS_INFO_", n_test=int, chi2=float, dof=int, chi2_crit=float,
-                       z_crit=float, p_value=float, passed=bool)
+    f = _lib.fields(info, "STATS_INFO_", n_test=int, chi2=float, dof=int, chi2_crit=float,
+                    z_crit=float, p_value=float, passed=bool, verdict_z_crit=float,
+                    verdict_chi2_crit=float, overall_size=float)
+    f["verdict"] = _lib.choice_name(_capi.CHOICE_STATS_VERDICT, info[_capi.STATS_INFO_VERDICT])
+    # 0 in the info array: no component test (chi2 rule), size not computed
+    for k in ("verdict_z_crit", "overall_size"):
+        if f[k] == 0:
+            f[k] = None
+    return f
 
 
-def _verdict_lines(n_test, chi2, dof, chi2_crit, p_value, n_reject, passed, alpha):
-    lines = ["chi-square: T = %.4f with %d dof; chi2_%g(%d) = %.3f; p-value %.4g -> %s"
-             % (chi2, dof, alpha, dof, chi2_crit, p_value, "pass" if chi2 < chi2_crit else "REJECT")]
+def _verdict_opts(where, function, alpha, z_crit, verdict):
+    """eqerr options carrying alpha, z_crit and the verdict rule."""
+    code = _lib.choice(_capi.CHOICE_STATS_VERDICT, verdict, where, "verdict")
+    return _lib.options("eqerr", where, (function, "opts"), alpha=alpha, z_crit=z_crit,
+                        verdict=code, overall_size=1)
+
+
+def _limits(lam, z_crit):
+    """(threshold, precision) of each component (igea_eqerr_limits)."""
+    lam = _lib.as_f64(lam, "eigenvalues", ndim=1)
+    thr, prec = np.empty(len(lam)), np.empty(len(lam))
+    if len(lam):
+        _lib.call("igea.summary", "igea_eqerr_limits", len(lam), _lib.dptr(lam),
+                  float(z_crit or 0.0), _lib.dptr(thr), _lib.dptr(prec))
+    return thr, prec
+
+
+def _verdict_lines(n_test, chi2, dof, chi2_crit, p_value, n_reject, passed, alpha,
+                   verdict="seed", verdict_z_crit=None, overall_size=None):
+    if verdict == "seed":
+        lines = ["chi-square: T = %.4f with %d dof; chi2_%g(%d) = %.3f; p-value %.4g -> %s"
+                 % (chi2, dof, alpha, dof, chi2_crit, p_value,
+                    "pass" if chi2 < chi2_crit else "REJECT")]
+    else:
+        lines = ["chi-square: T = %.4f with %d dof; threshold %.3f (rule %s); p-value %.4g -> %s"
+                 % (chi2, dof, chi2_crit, verdict, p_value,
+                    "pass" if chi2 < chi2_crit else "REJECT")]
+    zt = "none" if verdict_z_crit is None else "%.4f" % verdict_z_crit
+    if overall_size is not None:
+        lines.append("overall verdict rule %s: |z| threshold %s, chi-square threshold %.3f; "
+                     "overall size %.6f at alpha = %g" % (verdict, zt, chi2_crit, overall_size,
+                                                          alpha))
+    else:
+        lines.append("overall verdict rule %s: overall size not computed (more than %d tested "
+                     "components)" % (verdict, _capi.STATS_UNION_N_MAX))
     if passed:
         lines.append("verdict: ACCEPTED - no component rejected and T < chi2 critical value "
                      "(alpha = %g)" % alpha)
@@ -29,10 +68,15 @@ def _verdict_lines(n_test, chi2, dof, chi2_crit, p_value, n_reject, passed, alph
 def _component_table(xhat, lam, z, reject, z_crit):
     rows = ["%5s %13s %13s %11s %10s %9s  %s" % ("comp", "eigenvalue", "equiv_error",
                                                  "precision", "threshold", "z", "verdict")]
+    thr, prec = _limits(np.asarray(lam, dtype=float)[:len(z)], z_crit)
     for i in range(len(z)):
-        rows.append("%5d %13.6e %13.6f %11.4e %10.4f %9.4f  %s"
-                    % (i, lam[i], xhat[i], lam[i] ** -0.5,
-                       np.sqrt(1 + 1 / lam[i]) * z_crit, z[i], "REJECT" if reject[i] else "pass"))
+        if z_crit is None:
+            rows.append("%5d %13.6e %13.6f %11.4e %10s %9.4f  %s"
+                        % (i, lam[i], xhat[i], prec[i], "-", z[i], "-"))
+        else:
+            rows.append("%5d %13.6e %13.6f %11.4e %10.4f %9.4f  %s"
+                        % (i, lam[i], xhat[i], prec[i], thr[i], z[i],
+                           "REJECT" if reject[i] else "pass"))
     return rows
 
 
@@ -52,8 +96,10 @@ class _Verdict:
         return int(np.count_nonzero(self.reject))
 
     def _verdict(self):
-        return _verdict_lines(self.n_test, self.chi2, self.dof, self.chi2_crit, self.p_value,
-                              self.n_reject, self.passed, getattr(self, "_alpha", 0.01))
+        return _verdict_lines(self.n_test, self.chi2, self.dof, self.verdict_chi2_crit,
+                              self.p_value, self.n_reject, self.passed,
+                              getattr(self, "_alpha", 0.01), self.verdict, self.verdict_z_crit,
+                              self.overall_size)
 
 
 @dataclass(frozen=True)
@@ -68,12 +114,17 @@ class TestResult(_Verdict):
     z_crit: float
     p_value: float
     passed: bool
+    verdict: str               # the overall verdict rule: seed, chi2, exact, sidak
+    verdict_z_crit: float      # its threshold on |z| (None: no component test)
+    verdict_chi2_crit: float   # its threshold on T
+    overall_size: float        # its false-alarm probability (None: not computed)
 
     def summary(self):
         lines = []
         xhat = getattr(self, "_equiv_err", None)
         if xhat is not None:
-            lines += _component_table(xhat, self._eigenvalues, self.z, self.reject, self.z_crit)
+            lines += _component_table(xhat, self._eigenvalues, self.z, self.reject,
+                                      self.verdict_z_crit)
             lines.append("")
         return "\n".join(lines + self._verdict())
 
@@ -100,21 +151,29 @@ class EqerrResult(_Verdict):
     passed: bool
     residual: np.ndarray
     rms: np.ndarray
+    verdict: str               # the overall verdict rule: seed, chi2, exact, sidak
+    verdict_z_crit: float      # its threshold on |z| (None: no component test)
+    verdict_chi2_crit: float   # its threshold on T
+    overall_size: float        # its false-alarm probability (None: not computed)
 
     def summary(self):
         lines = ["rank %d of %d; lambda_1 = %.6e; %d component(s) tested"
                  % (self.rank, len(self.eigenvalues), self.eigenvalues[0], self.n_test), ""]
         lines += _component_table(self.equiv_err, self.eigenvalues, self.z, self.reject,
-                                  self.z_crit)
-        lines.append("(threshold = sqrt(1 + 1/lambda) z_crit, z_crit = %.6f; precision = "
-                     "lambda^-1/2)" % self.z_crit)
+                                  self.verdict_z_crit)
+        if self.verdict_z_crit is not None:
+            lines.append("(threshold = sqrt(1 + 1/lambda) z_crit, z_crit = %.6f; precision = "
+                         "lambda^-1/2)" % self.verdict_z_crit)
+        else:
+            lines.append("(no component test under the chi2 rule; precision = lambda^-1/2)")
         lines.append("")
         if self.flag == "off":
             lines.append("tracking-accuracy correction: off (c = 1)")
         else:
             lines.append("tracking-accuracy correction: c = %.6g (sigma_w = %.4f), %d iteration(s), "
                          "%d small eigenvalue(s) <= %g, %s"
-                         % (self.scale, np.sqrt(self.scale), self.iterations, self.n_small,
+                         % (self.scale, getattr(self, "_sigma_w", np.sqrt(self.scale)),
+                            self.iterations, self.n_small,
                             getattr(self, "_lambda_small", 0.1), self.flag))
         lines.append("residual RMS per axis (x, y, z): %.6g %.6g %.6g" % tuple(self.rms))
         return "\n".join(lines + self._verdict())
@@ -122,15 +181,17 @@ class EqerrResult(_Verdict):
 
 def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small=None,
           correction=None, route="eig", n_min=None, tol=None, max_iter=None,
-          bias_correct=None, clamp=None, z_crit=None, rank_tol=None):
+          bias_correct=None, clamp=None, z_crit=None, rank_tol=None, verdict="seed"):
     """Equivalent-error accuracy assessment of one flight (METHODS 1.2).
 
     S: (m, N) environment functions (rows epoch-major x, y, z), dw: (m,)
     velocity differences, sigma: tracking 1-sigma, a number or (m,) per row,
     spec: (N,) 1-sigma specs scaling S's columns, or None. The options are
     the slots of igea/eqerr.h (as IGEA_EQERR_OPT_* in lower case); one left
-    None keeps the library's default (igea_eqerr_defaults).
-    Returns an EqerrResult."""
+    None keeps the library's default (igea_eqerr_defaults). verdict: the
+    overall verdict rule, "seed" (the seed's), "chi2", "exact" (overall size
+    alpha) or "sidak"; the result states the rule's thresholds and overall
+    size. Returns an EqerrResult."""
     S = _lib.as_f64(S, "S", ndim=2)
     m, N = S.shape
     if m < 1 or N < 1:
@@ -152,7 +213,9 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
                         lambda_test=lambda_test, lambda_small=lambda_small, n_min=n_min, tol=tol,
                         max_iter=max_iter, correction=correction, rank_tol=rank_tol,
                         bias_correct=bias_correct, clamp=clamp, z_crit=z_crit,
-                        route=route)
+                        route=route, overall_size=1,
+                        verdict=_lib.choice(_capi.CHOICE_STATS_VERDICT, verdict, "igea.eqerr",
+                                            "verdict"))
     lam = np.empty(N)
     P = np.empty((N, N), order="F")
     xhat = np.empty(N)
@@ -174,12 +237,15 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
         residual=res,
         rms=rms, **test, **_lib.fields(info, "STATS_INFO_", rank=int, scale=float,
                                         iterations=int, n_small=int)),
-        alpha=opts[_capi.EQERR_OPT_ALPHA], lambda_small=opts[_capi.EQERR_OPT_LAMBDA_SMALL])
+        alpha=opts[_capi.EQERR_OPT_ALPHA], lambda_small=opts[_capi.EQERR_OPT_LAMBDA_SMALL],
+        sigma_w=info[_capi.STATS_INFO_SIGMA_W])
 
 
-def accuracy_test(equiv_err, eigenvalues, *, alpha=0.01, lambda_test=10.0, z_crit=None):
+def accuracy_test(equiv_err, eigenvalues, *, alpha=0.01, lambda_test=10.0, z_crit=None,
+                  verdict="seed"):
     """Per-component normal tests and the chi-square test of published
-    (equivalent error, eigenvalue) pairs, e.g. the seed's Table 1.
+    (equivalent error, eigenvalue) pairs, e.g. the seed's Table 1, judged
+    by the overall verdict rule `verdict` (as igea.eqerr's).
 
     Only components with eigenvalue >= lambda_test are tested; z and reject
     list those, in input order."""
@@ -195,16 +261,26 @@ def accuracy_test(equiv_err, eigenvalues, *, alpha=0.01, lambda_test=10.0, z_cri
               float(alpha), float(lambda_test), 0.0 if z_crit is None else float(z_crit),
               _lib.dptr(z), _lib.iptr(rej), _lib.dptr(info))
     tested = rej >= 0
-    return _attach(TestResult(z=z[tested], reject=rej[tested] == 1, **_test_fields(info)),
+    zt = np.ascontiguousarray(z[tested])
+    opts = _verdict_opts("igea.accuracy_test", "igea_eqerr_pool", alpha, z_crit, verdict)
+    T = np.array([info[_capi.STATS_INFO_CHI2]])
+    dof = np.array([int(info[_capi.STATS_INFO_N_TEST])], dtype=np.intc)
+    rt = np.empty(len(zt), dtype=np.intc)
+    _lib.call("igea.accuracy_test", "igea_eqerr_pool", 1, _lib.dptr(T), _lib.iptr(dof),
+              _lib.dptr(zt), None, _lib.dptr(opts), _lib.iptr(rt), _lib.dptr(info))
+    return _attach(TestResult(z=zt, reject=rt == 1, **_test_fields(info)),
                    alpha=float(alpha), equiv_err=x[tested], eigenvalues=lam[tested])
 
 
-def pool(results, *, alpha=0.01, unit_ids=None):
+def pool(results, *, alpha=0.01, unit_ids=None, verdict="seed"):
     """Pool independent flights (METHODS 1.2 step 6): T_tot = sum of T,
     dof_tot = sum of dof; passed iff no component of any flight is rejected
     and T_tot < chi2_alpha(dof_tot). results: EqerrResult/TestResult objects
     (or dicts from 'igea eqerr --json'). unit_ids: the inertial unit of each
-    flight; a unit flown twice raises IgeaError (flights not independent)."""
+    flight; a unit flown twice raises IgeaError (flights not independent).
+    verdict: "seed" (the flights' own rejections, as above), or "chi2",
+    "exact", "sidak": the rule for dof_tot components applied to all the
+    flights' z (igea_eqerr_pool), as 'igea test --results --verdict'."""
     results = list(results)
     if not results:
         raise ValueError("results: no flights to pool")
@@ -221,8 +297,25 @@ def pool(results, *, alpha=0.01, unit_ids=None):
         if uid.shape != (len(results),):
             raise ValueError("unit_ids: expected %d ids, got shape %s" % (len(results), uid.shape))
     info = np.empty(_capi.STATS_INFO_LEN)
-    _lib.call("igea.pool", "igea_stats_pool", len(results), _lib.dptr(chi2), _lib.iptr(dof),
-              _lib.iptr(nrej), _lib.iptr(uid), float(alpha), _lib.dptr(info))
+    opts = _verdict_opts("igea.pool", "igea_eqerr_pool", alpha, None, verdict)
     z = np.concatenate([np.asarray(get(r, "z"), dtype=float) for r in results])
-    rej = np.concatenate([np.asarray(get(r, "reject"), dtype=bool) for r in results])
+    if verdict == "seed":
+        _lib.call("igea.pool", "igea_stats_pool", len(results), _lib.dptr(chi2), _lib.iptr(dof),
+                  _lib.iptr(nrej), _lib.iptr(uid), float(alpha), _lib.dptr(info))
+        rej = np.concatenate([np.asarray(get(r, "reject"), dtype=bool) for r in results])
+        info[_capi.STATS_INFO_VERDICT] = _capi.STATS_VERDICT_SEED
+        info[_capi.STATS_INFO_VERDICT_Z_CRIT] = info[_capi.STATS_INFO_Z_CRIT]
+        info[_capi.STATS_INFO_VERDICT_CHI2_CRIT] = info[_capi.STATS_INFO_CHI2_CRIT]
+        n = int(info[_capi.STATS_INFO_DOF])
+        if n <= _capi.STATS_UNION_N_MAX:
+            from .stats import verdict_thresholds
+            info[_capi.STATS_INFO_OVERALL_SIZE] = verdict_thresholds("seed", n, alpha)[2]
+    else:
+        if z.shape != (int(dof.sum()),):
+            raise ValueError("results: the flights' z hold %d values, their dof sum to %d"
+                             % (z.size, int(dof.sum())))
+        r = np.empty(z.size, dtype=np.intc)
+        _lib.call("igea.pool", "igea_eqerr_pool", len(results), _lib.dptr(chi2), _lib.iptr(dof),
+                  _lib.dptr(z), _lib.iptr(uid), _lib.dptr(opts), _lib.iptr(r), _lib.dptr(info))
+        rej = r == 1
     return _attach(TestResult(z=z, reject=rej, **_test_fields(info)), alpha=float(alpha))

@@ -12,29 +12,55 @@ static const char *flag_name(int flag)
     return igea_choice_name(IGEA_CHOICE_STATS_SIGMAW_FLAG, flag);
 }
 
-/* The seed's Tables 1-2 plus the chi-square line (shared by both commands). */
+static const char *verdict_name(const double *info)
+{
+    return igea_choice_name(IGEA_CHOICE_STATS_VERDICT, (int)info[IGEA_STATS_INFO_VERDICT]);
+}
+
+/* The seed's Tables 1-2 (shared by both commands): the tested components
+ * (reject[i] >= 0) of n, thresholds at the verdict rule's z threshold. */
 static void report_components(FILE *f, int n, const double *xhat,
                               const double *lambda, const double *z,
-                              const int *reject, double zc)
+                              const int *reject, const double *info)
 {
+    double zc = info[IGEA_STATS_INFO_VERDICT_Z_CRIT], thr, prec;
     fprintf(f, "%5s %13s %13s %11s %10s %9s  %s\n", "comp", "eigenvalue",
             "equiv_error", "precision", "threshold", "z", "verdict");
     for (int i = 0; i < n; i++) {
-        if (reject[i] < 0)
+        if (reject[i] < 0 || igea_eqerr_limits(1, &lambda[i], zc, &thr, &prec) != 0)
             continue;
-        double thr = sqrt(1.0 + 1.0 / lambda[i]) * zc;
-        fprintf(f, "%5d %13.6e %13.6f %11.4e %10.4f %9.4f  %s\n", i, lambda[i],
-                xhat[i], 1.0 / sqrt(lambda[i]), thr, z[i],
-                reject[i] ? "REJECT" : "pass");
+        if (zc > 0)
+            fprintf(f, "%5d %13.6e %13.6f %11.4e %10.4f %9.4f  %s\n", i, lambda[i],
+                    xhat[i], prec, thr, z[i], reject[i] ? "REJECT" : "pass");
+        else
+            fprintf(f, "%5d %13.6e %13.6f %11.4e %10s %9.4f  %s\n", i, lambda[i], xhat[i],
+                    prec, "-", z[i], "-");
     }
 }
 
 static void report_chi2(FILE *f, const double *info, double alpha)
 {
-    double T = info[IGEA_STATS_INFO_CHI2], crit = info[IGEA_STATS_INFO_CHI2_CRIT];
-    fprintf(f, "chi-square: T = %.4f with %d dof; chi2_%g(%d) = %.3f; p-value %.4g -> %s\n",
-            T, (int)info[IGEA_STATS_INFO_DOF], alpha, (int)info[IGEA_STATS_INFO_DOF], crit,
-            info[IGEA_STATS_INFO_P_VALUE], T < crit ? "pass" : "REJECT");
+    double T = info[IGEA_STATS_INFO_CHI2], crit = info[IGEA_STATS_INFO_VERDICT_CHI2_CRIT];
+    int rule = (int)info[IGEA_STATS_INFO_VERDICT], dof = (int)info[IGEA_STATS_INFO_DOF];
+    if (rule == IGEA_STATS_VERDICT_SEED)
+        fprintf(f, "chi-square: T = %.4f with %d dof; chi2_%g(%d) = %.3f; p-value %.4g -> %s\n",
+                T, dof, alpha, dof, crit, info[IGEA_STATS_INFO_P_VALUE],
+                T < crit ? "pass" : "REJECT");
+    else
+        fprintf(f, "chi-square: T = %.4f with %d dof; threshold %.3f (rule %s); p-value %.4g "
+                   "-> %s\n", T, dof, crit, verdict_name(info), info[IGEA_STATS_INFO_P_VALUE],
+                T < crit ? "pass" : "REJECT");
+    double size = info[IGEA_STATS_INFO_OVERALL_SIZE];
+    char zt[32] = "none";
+    if (info[IGEA_STATS_INFO_VERDICT_Z_CRIT] > 0)
+        snprintf(zt, sizeof zt, "%.4f", info[IGEA_STATS_INFO_VERDICT_Z_CRIT]);
+    if (size > 0)
+        fprintf(f, "overall verdict rule %s: |z| threshold %s, chi-square threshold %.3f; "
+                   "overall size %.6f at alpha = %g\n", verdict_name(info), zt, crit, size,
+                alpha);
+    else
+        fprintf(f, "overall verdict rule %s: overall size not computed (more than %d tested "
+                   "components)\n", verdict_name(info), IGEA_STATS_UNION_N_MAX);
     int nrej = (int)info[IGEA_STATS_INFO_N_REJECT];
     if (info[IGEA_STATS_INFO_PASSED] == 1.0)
         fprintf(f, "verdict: ACCEPTED - no component rejected and T < chi2 critical value "
@@ -54,6 +80,16 @@ static void json_test_fields(cli_json *j, const double *info)
     cli_jnum(j, "p_value", info[IGEA_STATS_INFO_P_VALUE]);
     cli_jint(j, "n_reject", (long)info[IGEA_STATS_INFO_N_REJECT]);
     cli_jbool(j, "passed", info[IGEA_STATS_INFO_PASSED] == 1.0);
+    cli_jstr(j, "verdict", verdict_name(info));
+    if (info[IGEA_STATS_INFO_VERDICT_Z_CRIT] > 0)
+        cli_jnum(j, "verdict_z_crit", info[IGEA_STATS_INFO_VERDICT_Z_CRIT]);
+    else
+        cli_jstr(j, "verdict_z_crit", NULL);
+    cli_jnum(j, "verdict_chi2_crit", info[IGEA_STATS_INFO_VERDICT_CHI2_CRIT]);
+    if (info[IGEA_STATS_INFO_OVERALL_SIZE] > 0)
+        cli_jnum(j, "overall_size", info[IGEA_STATS_INFO_OVERALL_SIZE]);
+    else
+        cli_jstr(j, "overall_size", NULL);
 }
 
 static void json_verdicts(cli_json *j, const double *z, const int *reject, int n)
@@ -70,7 +106,16 @@ typedef struct {
     double sigma_value;
     int sigma_is_number, json, route;
     double opts[IGEA_EQERR_OPT_LEN];
+    int verdict; /* IGEA_STATS_VERDICT_* */
 } eqerr_args;
+
+/* The overall verdict rule, the same option in eqerr and test. */
+#define CLI_VERDICT_OPT(t)                                                                  \
+    {"--verdict", CLI_OPT_CHOICE, t, "seed", CLI_CHOICES(IGEA_CHOICE_STATS_VERDICT),         \
+     "overall verdict: the seed's (any |z| > z_{1-alpha/2} or\n"                           \
+     "T >= chi2_alpha), the chi-square test alone, both at one\n"                          \
+     "level so that the overall size is alpha (exact), or\n"                               \
+     "Sidak components plus chi-square; the report states\nthe overall size", NULL}
 
 static eqerr_args EA;
 #define EQ_OPT(slot) (&EA.opts[IGEA_EQERR_OPT_##slot])
@@ -93,6 +138,7 @@ static const cli_opt eqerr_options[] = {
      "S through its streamed QR factor (dtpqrt): resolves\neigenvalues down to eps^2 lambda_1 instead of eps\n"
      "lambda_1, at about twice the cost", NULL},
     {"--residuals", CLI_OPT_STR, &EA.residuals, NULL, "FILE", "write the per-row residuals dw - S D P_t Xhat_t", NULL},
+    CLI_VERDICT_OPT(&EA.verdict),
     {"--json", CLI_OPT_FLAG, &EA.json, NULL, NULL, "machine-readable output (field names as igea.eqerr)", NULL},
     CLI_OUT_OPT(&EA.out),
     CLI_END};
@@ -146,6 +192,8 @@ static int parse_eqerr(int argc, char **argv, eqerr_args *a)
     if ((ec = cli_file_or_positive("--sigma", a->sigma, &a->sigma_is_number, &a->sigma_value)))
         return ec;
     a->opts[IGEA_EQERR_OPT_ROUTE] = a->route;
+    a->opts[IGEA_EQERR_OPT_VERDICT] = a->verdict;
+    a->opts[IGEA_EQERR_OPT_OVERALL_SIZE] = 1;
     return cli_check_opts("eqerr", IGEA_MODULE_EQERR, igea_eqerr_check_opts(a->opts));
 }
 
@@ -336,16 +384,19 @@ static void text_report(FILE *f, const flight *r, const eqerr_args *a)
             igea_choice_name(IGEA_CHOICE_EQERR_ROUTE, (int)a->opts[IGEA_EQERR_OPT_ROUTE]),
             (int)info[IGEA_STATS_INFO_RANK], r->N, r->lambda[0], (int)info[IGEA_STATS_INFO_N_TEST],
             a->opts[IGEA_EQERR_OPT_LAMBDA_TEST]);
-    report_components(f, r->N, r->xhat, r->lambda, r->z, r->reject, info[IGEA_STATS_INFO_Z_CRIT]);
-    fprintf(f, "(threshold = sqrt(1 + 1/lambda) z_crit, z_crit = %.6f; precision = "
-               "lambda^-1/2)\n\n", info[IGEA_STATS_INFO_Z_CRIT]);
+    report_components(f, r->N, r->xhat, r->lambda, r->z, r->reject, info);
+    if (info[IGEA_STATS_INFO_VERDICT_Z_CRIT] > 0)
+        fprintf(f, "(threshold = sqrt(1 + 1/lambda) z_crit, z_crit = %.6f; precision = "
+                   "lambda^-1/2)\n\n", info[IGEA_STATS_INFO_VERDICT_Z_CRIT]);
+    else
+        fprintf(f, "(no component test under the chi2 rule; precision = lambda^-1/2)\n\n");
     int flag = (int)info[IGEA_STATS_INFO_FLAG];
     if (flag == IGEA_STATS_SIGMAW_OFF)
         fprintf(f, "tracking-accuracy correction: off (c = 1)\n");
     else
         fprintf(f, "tracking-accuracy correction: c = %.6g (sigma_w = %.4f), %d iteration(s), "
                    "%d small eigenvalue(s) <= %g, %s\n",
-                info[IGEA_STATS_INFO_SCALE], sqrt(info[IGEA_STATS_INFO_SCALE]),
+                info[IGEA_STATS_INFO_SCALE], info[IGEA_STATS_INFO_SIGMA_W],
                 (int)info[IGEA_STATS_INFO_ITERATIONS], (int)info[IGEA_STATS_INFO_N_SMALL],
                 a->opts[IGEA_EQERR_OPT_LAMBDA_SMALL], flag_name(flag));
     fprintf(f, "residual RMS per axis (x, y, z): %.6g %.6g %.6g\n", r->rms[0], r->rms[1],
@@ -430,8 +481,8 @@ static int pass_residuals(const eqerr_args *a, streams *s, flight *r, FILE *res,
         }
         row0 += n;
     }
-    for (int k = 0; k < 3; k++)
-        r->rms[k] = ss[3 + k] > 0 ? sqrt(ss[k] / ss[3 + k]) : 0.0;
+    if (!ec)
+        ec = cli_status(igea_eqerr_axis_rms(ss, r->rms), "eqerr residuals");
     free(coef);
     free(e);
     return ec;
@@ -632,6 +683,7 @@ typedef struct {
     const char *table, *results, *units, *out;
     double alpha, lambda_test, zcrit;
     int json;
+    int verdict; /* IGEA_STATS_VERDICT_* */
 } test_args;
 
 static test_args TA;
@@ -642,6 +694,7 @@ static const cli_opt test_options[] = {
     {"--alpha", CLI_OPT_NUM, &TA.alpha, "0.01", "A", "significance level", NULL},
     {"--lambda-test", CLI_OPT_NUM, &TA.lambda_test, "10", "L", "(--table) test components with lambda >= L", NULL},
     {"--z-crit", CLI_OPT_NUM, &TA.zcrit, NULL, "Z", "(--table) impose z_crit, e.g. 2.58 as the seed's tables", NULL},
+    CLI_VERDICT_OPT(&TA.verdict),
     CLI_JSON_OPT(&TA.json),
     CLI_OUT_OPT(&TA.out),
     CLI_END};
@@ -677,8 +730,42 @@ test_options,
 typedef struct {
     int n, nfiles, *rej, *dof, *nrej, *uid;
     double *x, *lam, *z, *chi2;
+    double *zall; /* the pooled flights' z (--verdict other than seed) */
+    int nz;
     char **files;
 } test_run;
+
+/* The eqerr options of the test command (alpha, z_crit, verdict). */
+static void test_opts(const test_args *a, double *opts)
+{
+    igea_eqerr_defaults(opts);
+    opts[IGEA_EQERR_OPT_ALPHA] = a->alpha;
+    opts[IGEA_EQERR_OPT_Z_CRIT] = a->zcrit;
+    opts[IGEA_EQERR_OPT_VERDICT] = a->verdict;
+    opts[IGEA_EQERR_OPT_OVERALL_SIZE] = 1;
+}
+
+/* The verdict rule on the table's tested components (a pool of one). */
+static int test_table_verdict(const test_args *a, test_run *r, double *info)
+{
+    double opts[IGEA_EQERR_OPT_LEN], T = info[IGEA_STATS_INFO_CHI2];
+    int k = 0, dof = (int)info[IGEA_STATS_INFO_N_TEST];
+    test_opts(a, opts);
+    double *zt = malloc(sizeof(double) * r->n);
+    int *rt = malloc(sizeof(int) * r->n);
+    int ec = zt && rt ? CLI_OK : cli_oom("the table");
+    for (int i = 0; !ec && i < r->n; i++)
+        if (r->rej[i] >= 0)
+            zt[k++] = r->z[i];
+    if (!ec)
+        ec = cli_status(igea_eqerr_pool(1, &T, &dof, zt, NULL, opts, rt, info), "test");
+    for (int i = 0, q = 0; !ec && i < r->n; i++)
+        if (r->rej[i] >= 0)
+            r->rej[i] = rt[q++];
+    free(zt);
+    free(rt);
+    return ec;
+}
 
 /* --table: the accuracy test of a table of (Xhat, lambda). */
 static int test_table(const test_args *a, test_run *r, double *info)
@@ -710,12 +797,89 @@ static int test_table(const test_args *a, test_run *r, double *info)
     cli_matrix_free(&t);
     if (ec)
         return ec;
-    return cli_status(igea_stats_accuracy_test(n, r->x, r->lam, a->alpha, a->lambda_test,
-                                               a->zcrit, r->z, r->rej, info), "test");
+    ec = cli_status(igea_stats_accuracy_test(n, r->x, r->lam, a->alpha, a->lambda_test,
+                                             a->zcrit, r->z, r->rej, info), "test");
+    return ec ? ec : test_table_verdict(a, r, info);
 }
 
-/* chi2, dof and n_reject of one saved result. */
-static int read_result(const char *path, double *chi2, int *dof, int *nrej)
+/* The numbers of the top-level array "key" of our own JSON output: *z
+ * (malloc'd), *n of them; -1 when absent or not an array of numbers. */
+static int json_numbers(const char *doc, const char *key, double **z, int *n)
+{
+    char pat[64];
+    snprintf(pat, sizeof pat, "\"%s\":", key);
+    const char *p = strstr(doc, pat);
+    if (!p)
+        return -1;
+    p += strlen(pat);
+    while (*p == ' ')
+        p++;
+    if (*p++ != '[')
+        return -1;
+    int cap = 16, k = 0;
+    double *v = malloc(sizeof(double) * cap);
+    while (v) {
+        while (*p == ' ' || *p == '\n')
+            p++;
+        if (*p == ']' && k == 0)
+            break;
+        char *end;
+        double x = strtod(p, &end);
+        if (end == p)
+            break;
+        if (k == cap) {
+            double *nv = cap < (1 << 24) ? realloc(v, sizeof(double) * (cap *= 2)) : NULL;
+            if (!nv) {
+                free(v);
+                return -2;
+            }
+            v = nv;
+        }
+        v[k++] = x;
+        for (p = end; *p == ' ' || *p == '\n'; p++)
+            ;
+        if (*p != ',')
+            break;
+        p++;
+    }
+    if (!v)
+        return -2;
+    if (*p != ']') {
+        free(v);
+        return -1;
+    }
+    *z = v;
+    *n = k;
+    return 0;
+}
+
+/* The "z" array of a saved result (dof values) appended to r->zall. */
+static int read_result_z(const char *path, const char *doc, int dof, test_run *r)
+{
+    double *z = NULL;
+    int n = 0, st = json_numbers(doc, "z", &z, &n);
+    if (st == -2)
+        return cli_oom(path);
+    if (st || n != dof) {
+        cli_error("%s: no \"z\" array of %d numbers (needed by --verdict other than seed)",
+                  path, dof);
+        free(z);
+        return CLI_DATAERR;
+    }
+    double *nz = realloc(r->zall, sizeof(double) * ((size_t)r->nz + n + 1));
+    if (!nz) {
+        free(z);
+        return cli_oom(path);
+    }
+    r->zall = nz;
+    memcpy(r->zall + r->nz, z, sizeof(double) * n);
+    r->nz += n;
+    free(z);
+    return CLI_OK;
+}
+
+/* chi2, dof and n_reject of one saved result (and its z when r). */
+static int read_result(const char *path, double *chi2, int *dof, int *nrej, test_run *run)
 {
     int ec = CLI_OK;
     char *doc = slurp(path, &ec);
@@ -737,6 +901,8 @@ static int read_result(const char *path, double *chi2, int *dof, int *nrej)
         *chi2 = T;
         *dof = (int)d;
         *nrej = (int)r;
+        if (run)
+            ec = read_result_z(path, doc, *dof, run);
     }
     free(doc);
     return ec;
@@ -776,12 +942,30 @@ static int test_pool(const test_args *a, test_run *r, double *info)
                                                                     : CLI_OK;
     if (!ec && a->units)
         ec = read_unit_ids(a->units, nf, r->uid);
+    const int seed = a->verdict == IGEA_STATS_VERDICT_SEED;
     for (int f = 0; !ec && f < nf; f++)
-        ec = read_result(r->files[f], &r->chi2[f], &r->dof[f], &r->nrej[f]);
+        ec = read_result(r->files[f], &r->chi2[f], &r->dof[f], &r->nrej[f], seed ? NULL : r);
     if (ec)
         return ec;
-    return cli_status(igea_stats_pool(nf, r->chi2, r->dof, r->nrej, r->uid, a->alpha, info),
-                      "test");
+    if (!seed) {
+        double opts[IGEA_EQERR_OPT_LEN];
+        test_opts(a, opts);
+        return cli_status(igea_eqerr_pool(nf, r->chi2, r->dof, r->zall, r->uid, opts, NULL,
+                                          info), "test");
+    }
+    /* the seed's pooling of the flights' own rejections, and its overall size */
+    ec = cli_status(igea_stats_pool(nf, r->chi2, r->dof, r->nrej, r->uid, a->alpha, info),
+                    "test");
+    int n = (int)info[IGEA_STATS_INFO_DOF];
+    double ta, tb, size = 0.0;
+    if (!ec && n <= IGEA_STATS_UNION_N_MAX)
+        ec = cli_status(igea_stats_verdict_thresholds(IGEA_STATS_VERDICT_SEED, n, a->alpha, &ta,
+                                                      &tb, &size), "test");
+    info[IGEA_STATS_INFO_VERDICT] = IGEA_STATS_VERDICT_SEED;
+    info[IGEA_STATS_INFO_VERDICT_Z_CRIT] = info[IGEA_STATS_INFO_Z_CRIT];
+    info[IGEA_STATS_INFO_VERDICT_CHI2_CRIT] = info[IGEA_STATS_INFO_CHI2_CRIT];
+    info[IGEA_STATS_INFO_OVERALL_SIZE] = size;
+    return ec;
 }
 
 static void test_report(FILE *f, const test_args *a, test_run *r, const double *info)
@@ -805,9 +989,9 @@ static void test_report(FILE *f, const test_args *a, test_run *r, const double *
     if (a->table) {
         fprintf(f, "igea test: %s, %d component(s), %d with lambda >= %g tested\n\n", a->table,
                 r->n, (int)info[IGEA_STATS_INFO_N_TEST], a->lambda_test);
-        report_components(f, r->n, r->x, r->lam, r->z, r->rej, info[IGEA_STATS_INFO_Z_CRIT]);
+        report_components(f, r->n, r->x, r->lam, r->z, r->rej, info);
         fprintf(f, "(threshold = sqrt(1 + 1/lambda) z_crit, z_crit = %.6f)\n\n",
-                info[IGEA_STATS_INFO_Z_CRIT]);
+                info[IGEA_STATS_INFO_VERDICT_Z_CRIT]);
     } else {
         fprintf(f, "igea test: %d flight(s) pooled\n", r->nfiles);
         for (int k = 0; k < r->nfiles; k++)
@@ -825,6 +1009,9 @@ int cmd_test(int argc, char **argv)
         return ec == CLI_HELP ? CLI_OK : ec;
     if (!(a.alpha > 0 && a.alpha < 1) || !(a.lambda_test > 0) || a.zcrit < 0)
         return cli_usage("test: --alpha must be in (0, 1), --lambda-test > 0, --z-crit > 0");
+    if (a.zcrit > 0 && a.verdict != IGEA_STATS_VERDICT_SEED)
+        return cli_usage("test: --z-crit imposes the seed's component threshold: only with "
+                         "--verdict seed");
     if ((a.table != NULL) == (a.results != NULL))
         return cli_usage("test: give either --table FILE or --results LIST (see igea test --help)");
     double info[IGEA_STATS_INFO_LEN];
@@ -845,5 +1032,6 @@ int cmd_test(int argc, char **argv)
     free(r.nrej);
     free(r.uid);
     free(r.files);
+    free(r.zall);
     return ec ? ec : info[IGEA_STATS_INFO_PASSED] == 1.0 ? CLI_OK : CLI_REJECT;
 }
