@@ -699,3 +699,117 @@ int igea_eqerr_axis_rms(const double *axis_ss, double *rms)
         rms[a] = axis_ss[3 + a] > 0 ? sqrt(axis_ss[a] / axis_ss[3 + a]) : 0.0;
     return 0;
 }
+
+/* ---- residual diagnostics per axis ------------------------------------------ */
+
+int igea_eqerr_axis_sums(int layout, int m, int N, const double *S, int lds,
+                         const double *dw, int row0, double *sums)
+{
+    if (layout != IGEA_COLMAJOR && layout != IGEA_ROWMAJOR) return -1;
+    if (m < 0) return -2;
+    if (N < 1) return -3;
+    if (!S && m > 0) return -4;
+    if (lds < IGEA_MAX(1, layout == IGEA_COLMAJOR ? m : N)) return -5;
+    if (!dw && m > 0) return -6;
+    if (row0 < 0) return -7;
+    if (!sums) return -8;
+    const size_t w = (size_t)N + 2;
+    if (!igea__finite_vec(3 * (int)w, sums, 1) || !igea__finite_vec(m, dw, 1) ||
+        !(layout == IGEA_COLMAJOR ? igea__finite_mat(m, N, S, lds)
+                                  : igea__finite_mat(N, m, S, lds)))
+        return IGEA_ENONFINITE;
+    for (int a = 0; a < 3; a++)
+        if (!(sums[a * w] >= 0))
+            return -8;
+    double *t = igea__dalloc(3 * w);
+    if (!t)
+        return IGEA_ENOMEM;
+    memcpy(t, sums, 3 * w * sizeof(double));
+    for (int i = 0; i < m; i++) {
+        double *u = t + (size_t)(((long long)row0 + i) % 3) * w;
+        u[0] += 1.0;
+        u[1] += dw[i];
+        for (int j = 0; j < N; j++)
+            u[2 + j] += layout == IGEA_COLMAJOR ? IGEA_AT(S, lds, i, j) : IGEA_AT(S, lds, j, i);
+    }
+    int st = igea__finite_vec(3 * (int)w, t, 1) ? 0 : IGEA_EOVERFLOW;
+    if (st == 0)
+        memcpy(sums, t, 3 * w * sizeof(double));
+    free(t);
+    return st;
+}
+
+int igea_eqerr_residual_mean(int N, const double *sums, const double *coef, double *mean)
+{
+    if (N < 1) return -1;
+    if (!sums) return -2;
+    if (!coef) return -3;
+    if (!mean) return -4;
+    const size_t w = (size_t)N + 2;
+    if (!igea__finite_vec(3 * (int)w, sums, 1) || !igea__finite_vec(N, coef, 1))
+        return IGEA_ENONFINITE;
+    double mu[3];
+    for (int a = 0; a < 3; a++) {
+        const double *u = sums + a * w;
+        if (!(u[0] >= 0))
+            return -2;
+        igea__ksum acc = {0, 0};
+        igea__ksum_add(&acc, u[1]);
+        for (int j = 0; j < N; j++)
+            igea__ksum_add(&acc, -u[2 + j] * coef[j]);
+        mu[a] = u[0] > 0 ? igea__ksum_get(&acc) / u[0] : 0.0;
+        if (!isfinite(mu[a]))
+            return IGEA_EOVERFLOW;
+    }
+    memcpy(mean, mu, sizeof mu);
+    return 0;
+}
+
+int igea_eqerr_diag_add(int m, const double *residual, int row0, double *state)
+{
+    if (m < 0) return -1;
+    if (!residual && m > 0) return -2;
+    if (row0 < 0) return -3;
+    if (!state) return -4;
+    double t[3 * IGEA_STATS_DIAG_STATE_LEN];
+    memcpy(t, state, sizeof t);
+    for (int a = 0; a < 3; a++) {
+        int off = (int)((3 - (long long)row0 % 3 + a) % 3);
+        int cnt = m > off ? (m - off + 2) / 3 : 0;
+        int st = igea_stats_diag_add(cnt, cnt ? residual + off : residual, 3,
+                                     t + a * IGEA_STATS_DIAG_STATE_LEN);
+        if (st)
+            return st == -4 ? -4 : st < 0 && st > -1000 ? IGEA_EDOMAIN : st;
+    }
+    memcpy(state, t, sizeof t);
+    return 0;
+}
+
+int igea_eqerr_diag(int m, const double *residual, int lags, double *out, int *axis_status)
+{
+    if (m < 1) return -1;
+    if (!residual) return -2;
+    if (lags < 1 || lags > IGEA_STATS_DIAG_LAGS_MAX) return -3;
+    if (!out) return -4;
+    if (!axis_status) return -5;
+    double t[3 * IGEA_STATS_DIAG_LEN];
+    int ast[3];
+    memset(t, 0, sizeof t);
+    for (int a = 0; a < 3; a++) {
+        int cnt = m > a ? (m - a + 2) / 3 : 0;
+        int st = cnt ? igea_stats_whiteness(cnt, residual + a, 3, lags,
+                                            t + a * IGEA_STATS_DIAG_LEN)
+                     : IGEA_EEMPTY;
+        if (st == IGEA_EEMPTY || st == IGEA_EDOMAIN) {
+            ast[a] = st;
+            t[a * IGEA_STATS_DIAG_LEN + IGEA_STATS_DIAG_N] = cnt;
+        } else if (st) {
+            return st < 0 && st > -1000 ? IGEA_EDOMAIN : st;
+        } else {
+            ast[a] = 0;
+        }
+    }
+    memcpy(out, t, sizeof t);
+    memcpy(axis_status, ast, sizeof ast);
+    return 0;
+}

@@ -225,6 +225,53 @@ IGEA_API int igea_eqerr_limits(int n, const double *lambda, double z_crit,
  */
 IGEA_API int igea_eqerr_axis_rms(const double *axis_ss, double *rms);
 
+/*
+ * Residual whiteness per axis (x, y, z of epoch-major rows: axis = row %
+ * 3): Ljung-Box Q over L lags and the runs test on the signs about the
+ * axis's mean (igea/stats.h, igea_stats_diag_*). In memory:
+ * igea_eqerr_diag. Streamed over a flight read twice: pass 1
+ * igea_eqerr_axis_sums on each block; after the solve, coef
+ * (igea_eqerr_coef) and igea_eqerr_residual_mean give each axis's residual
+ * mean; igea_stats_diag_init per axis about it; pass 2
+ * igea_eqerr_diag_add on each block of residuals; igea_stats_diag_result
+ * per axis.
+ */
+
+/* Pass-1 sums per axis of a block of rows: for axis a, sums[a (N + 2)] +=
+ * rows, [a (N + 2) + 1] += sum of dw, [a (N + 2) + 2 + j] += sum of S_j.
+ * Arguments: 1 layout, 2 m >= 0, 3 N >= 1, 4 S, 5 lds, 6 dw (m), 7 row0 >=
+ * 0 (the block's first row in the flight), 8 sums[3 (N + 2)] (input-output,
+ * zeros at first; counts >= 0). Returns 0, -i, IGEA_ENONFINITE,
+ * IGEA_EOVERFLOW, IGEA_ENOMEM; sums untouched on failure. */
+IGEA_API int igea_eqerr_axis_sums(int layout, int m, int N, const double *S, int lds,
+                                  const double *dw, int row0, double *sums);
+
+/* Mean residual per axis from those sums and the coefficients coef[N]:
+ * mean[a] = (sum dw - sum_j (sum S_j) coef_j) / rows, 0 for an axis
+ * without rows. Arguments: 1 N, 2 sums[3 (N + 2)], 3 coef[N], 4 mean[3].
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_EOVERFLOW. */
+IGEA_API int igea_eqerr_residual_mean(int N, const double *sums, const double *coef,
+                                      double *mean);
+
+/* Pass 2: a block of m residuals (rows row0 .. row0 + m - 1) into the three
+ * states, state[3 IGEA_STATS_DIAG_STATE_LEN] (axis a's at a
+ * IGEA_STATS_DIAG_STATE_LEN, each from igea_stats_diag_init; -4
+ * otherwise). Arguments: 1 m >= 0, 2 residual, 3 row0 >= 0, 4 state.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_EOVERFLOW; state untouched on
+ * failure. */
+IGEA_API int igea_eqerr_diag_add(int m, const double *residual, int row0, double *state);
+
+/* Both tests per axis of m residuals in memory (row 0 is axis x), each
+ * about its axis's mean: out[3 IGEA_STATS_DIAG_LEN], axis a's at a
+ * IGEA_STATS_DIAG_LEN; axis_status[3]: 0, or IGEA_EEMPTY (fewer than lags
+ * + 2 values on that axis) or IGEA_EDOMAIN (the axis constant), whose out
+ * block is then zeros but for its count N. Arguments: 1 m >= 1, 2
+ * residual, 3 lags (1 .. IGEA_STATS_DIAG_LAGS_MAX), 4 out, 5 axis_status.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_EOVERFLOW; out and axis_status are
+ * written only on success. */
+IGEA_API int igea_eqerr_diag(int m, const double *residual, int lags, double *out,
+                             int *axis_status);
+
 #ifdef __cplusplus
 }
 #endif

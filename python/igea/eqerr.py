@@ -80,6 +80,45 @@ def _component_table(xhat, lam, z, reject, z_crit):
     return rows
 
 
+_DIAG_KEYS = dict(n="N", lags="LB_LAGS", ljung_box="LB_Q", ljung_box_p="LB_P", runs="RUNS",
+                  n_above="N_ABOVE", n_below="N_BELOW", runs_z="RUNS_Z", runs_p="RUNS_P")
+_DIAG_INT = {"n", "lags", "runs", "n_above", "n_below"}
+
+
+def _whiteness(res, lags):
+    """Ljung-Box and runs tests per axis of the residuals (igea_eqerr_diag):
+    a list of 3 dicts (None for an axis where they are not defined)."""
+    out = np.empty(3 * _capi.STATS_DIAG_LEN)
+    st = np.empty(3, dtype=np.intc)
+    _lib.call("igea.eqerr", "igea_eqerr_diag", len(res), _lib.dptr(res), int(lags),
+              _lib.dptr(out), _lib.iptr(st))
+    w = []
+    for a in range(3):
+        if st[a]:
+            w.append(None)
+            continue
+        d = out[a * _capi.STATS_DIAG_LEN:(a + 1) * _capi.STATS_DIAG_LEN]
+        e = {"axis": a}
+        for k, slot in _DIAG_KEYS.items():
+            v = d[getattr(_capi, "STATS_DIAG_" + slot)]
+            e[k] = int(v) if k in _DIAG_INT else float(v)
+        w.append(e)
+    return w
+
+
+def _whiteness_lines(w, lags):
+    lines = ["residual whiteness per axis (Ljung-Box over %d lags; runs test on the signs "
+             "about the axis mean):" % lags]
+    for a, e in enumerate(w):
+        if e is None:
+            lines.append("  %s: not computed" % "xyz"[a])
+        else:
+            lines.append("  %s: Q = %.4g, p-value %.4g; %d runs (%d above, %d below), z = %.3f, "
+                         "p-value %.4g" % ("xyz"[a], e["ljung_box"], e["ljung_box_p"], e["runs"],
+                                          e["n_above"], e["n_below"], e["runs_z"], e["runs_p"]))
+    return lines
+
+
 def _attach(obj, **private):
     """Context for .summary() kept off the dataclass fields (the fields are
     exactly those of the documented result)."""
@@ -155,6 +194,8 @@ class EqerrResult(_Verdict):
     verdict_z_crit: float      # its threshold on |z| (None: no component test)
     verdict_chi2_crit: float   # its threshold on T
     overall_size: float        # its false-alarm probability (None: not computed)
+    whiteness: list            # per axis x, y, z: dict(axis n lags ljung_box ljung_box_p
+                               # runs n_above n_below runs_z runs_p), None if not computed
 
     def summary(self):
         lines = ["rank %d of %d; lambda_1 = %.6e; %d component(s) tested"
@@ -176,12 +217,14 @@ class EqerrResult(_Verdict):
                             self.iterations, self.n_small,
                             getattr(self, "_lambda_small", 0.1), self.flag))
         lines.append("residual RMS per axis (x, y, z): %.6g %.6g %.6g" % tuple(self.rms))
+        lines += _whiteness_lines(self.whiteness, getattr(self, "_lags", 20))
         return "\n".join(lines + self._verdict())
 
 
 def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small=None,
           correction=None, route="eig", n_min=None, tol=None, max_iter=None,
-          bias_correct=None, clamp=None, z_crit=None, rank_tol=None, verdict="seed"):
+          bias_correct=None, clamp=None, z_crit=None, rank_tol=None, verdict="seed",
+          lags=20):
     """Equivalent-error accuracy assessment of one flight (METHODS 1.2).
 
     S: (m, N) environment functions (rows epoch-major x, y, z), dw: (m,)
@@ -191,7 +234,9 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
     None keeps the library's default (igea_eqerr_defaults). verdict: the
     overall verdict rule, "seed" (the seed's), "chi2", "exact" (overall size
     alpha) or "sidak"; the result states the rule's thresholds and overall
-    size. Returns an EqerrResult."""
+    size. lags: the Ljung-Box lags of the residual whiteness per axis (the
+    result's `whiteness`, with the runs test about each axis's mean).
+    Returns an EqerrResult."""
     S = _lib.as_f64(S, "S", ndim=2)
     m, N = S.shape
     if m < 1 or N < 1:
@@ -234,11 +279,11 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
         eigenvalues=lam, eigenvectors=np.ascontiguousarray(P), equiv_err=xhat, z=z[:nt].copy(),
         reject=rej[:nt] == 1,
         flag=_lib.choice_name(_capi.CHOICE_STATS_SIGMAW_FLAG, info[_capi.STATS_INFO_FLAG]),
-        residual=res,
+        residual=res, whiteness=_whiteness(res, lags),
         rms=rms, **test, **_lib.fields(info, "STATS_INFO_", rank=int, scale=float,
                                         iterations=int, n_small=int)),
         alpha=opts[_capi.EQERR_OPT_ALPHA], lambda_small=opts[_capi.EQERR_OPT_LAMBDA_SMALL],
-        sigma_w=info[_capi.STATS_INFO_SIGMA_W])
+        sigma_w=info[_capi.STATS_INFO_SIGMA_W], lags=int(lags))
 
 
 def accuracy_test(equiv_err, eigenvalues, *, alpha=0.01, lambda_test=10.0, z_crit=None,

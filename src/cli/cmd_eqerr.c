@@ -107,6 +107,7 @@ typedef struct {
     int sigma_is_number, json, route;
     double opts[IGEA_EQERR_OPT_LEN];
     int verdict; /* IGEA_STATS_VERDICT_* */
+    int lags;    /* residual diagnostics: Ljung-Box lags */
 } eqerr_args;
 
 /* The overall verdict rule, the same option in eqerr and test. */
@@ -139,6 +140,8 @@ static const cli_opt eqerr_options[] = {
      "lambda_1, at about twice the cost", NULL},
     {"--residuals", CLI_OPT_STR, &EA.residuals, NULL, "FILE", "write the per-row residuals dw - S D P_t Xhat_t", NULL},
     CLI_VERDICT_OPT(&EA.verdict),
+    {"--lags", CLI_OPT_INT, &EA.lags, "20", "L", "residual whiteness per axis: Ljung-Box Q over L lags\n"
+     "(and the runs test on the signs about the axis mean)", NULL},
     {"--json", CLI_OPT_FLAG, &EA.json, NULL, NULL, "machine-readable output (field names as igea.eqerr)", NULL},
     CLI_OUT_OPT(&EA.out),
     CLI_END};
@@ -194,6 +197,10 @@ static int parse_eqerr(int argc, char **argv, eqerr_args *a)
     a->opts[IGEA_EQERR_OPT_ROUTE] = a->route;
     a->opts[IGEA_EQERR_OPT_VERDICT] = a->verdict;
     a->opts[IGEA_EQERR_OPT_OVERALL_SIZE] = 1;
+    if (a->lags < 1 || a->lags > IGEA_STATS_DIAG_LAGS_MAX) {
+        cli_error("eqerr: --lags %d: from 1 to %d", a->lags, IGEA_STATS_DIAG_LAGS_MAX);
+        return CLI_USAGE;
+    }
     return cli_check_opts("eqerr", IGEA_MODULE_EQERR, igea_eqerr_check_opts(a->opts));
 }
 
@@ -330,6 +337,10 @@ typedef struct {
     int m, N;
     double *lambda, *P, *xhat, *z, *spec, info[IGEA_STATS_INFO_LEN], rms[3];
     int *reject;
+    /* residual diagnostics: pass-1 sums per axis, the three streamed states,
+     * their results and statuses (0: computed) */
+    double *sums, *dstate, diag[3 * IGEA_STATS_DIAG_LEN];
+    int diag_st[3];
 } flight;
 
 static void flight_free(flight *r)
@@ -337,6 +348,7 @@ static void flight_free(flight *r)
     free(r->lambda); /* P, xhat and z are in its block */
     free(r->spec);
     free(r->reject);
+    free(r->sums);
 }
 
 static int flight_alloc(flight *r, int N)
@@ -345,10 +357,57 @@ static int flight_alloc(flight *r, int N)
     r->N = N;
     r->lambda = malloc((n * n + 3 * n) * sizeof(double));
     r->reject = malloc(n * sizeof(int));
-    if (!r->lambda || !r->reject)
+    r->sums = calloc(3 * (n + 2) + 3 * IGEA_STATS_DIAG_STATE_LEN, sizeof(double));
+    if (!r->lambda || !r->reject || !r->sums)
         return cli_oom("the results");
+    r->dstate = r->sums + 3 * (n + 2);
     r->P = r->lambda + n, r->xhat = r->P + n * n, r->z = r->xhat + n;
     return CLI_OK;
+}
+
+/* Residual whiteness per axis, text. */
+static void text_whiteness(FILE *f, const flight *r, int lags)
+{
+    fprintf(f, "residual whiteness per axis (Ljung-Box over %d lags; runs test on the signs "
+               "about the axis mean):\n", lags);
+    for (int k = 0; k < 3; k++) {
+        const double *d = r->diag + k * IGEA_STATS_DIAG_LEN;
+        if (r->diag_st[k]) {
+            fprintf(f, "  %c: not computed (%s)\n", "xyz"[k], igea_strerror(r->diag_st[k]));
+            continue;
+        }
+        fprintf(f, "  %c: Q = %.4g, p-value %.4g; %d runs (%d above, %d below), z = %.3f, "
+                   "p-value %.4g\n", "xyz"[k], d[IGEA_STATS_DIAG_LB_Q], d[IGEA_STATS_DIAG_LB_P],
+                (int)d[IGEA_STATS_DIAG_RUNS], (int)d[IGEA_STATS_DIAG_N_ABOVE],
+                (int)d[IGEA_STATS_DIAG_N_BELOW], d[IGEA_STATS_DIAG_RUNS_Z],
+                d[IGEA_STATS_DIAG_RUNS_P]);
+    }
+}
+
+/* Residual whiteness per axis, JSON: "whiteness": [{...} or null per axis]. */
+static void json_whiteness(cli_json *j, const flight *r)
+{
+    cli_json_open(j, "whiteness", '[');
+    for (int k = 0; k < 3; k++) {
+        const double *d = r->diag + k * IGEA_STATS_DIAG_LEN;
+        if (r->diag_st[k]) {
+            cli_jstr(j, NULL, NULL);
+            continue;
+        }
+        cli_json_open(j, NULL, '{');
+        cli_jint(j, "axis", k);
+        cli_jint(j, "n", (long)d[IGEA_STATS_DIAG_N]);
+        cli_jint(j, "lags", (long)d[IGEA_STATS_DIAG_LB_LAGS]);
+        cli_jnum(j, "ljung_box", d[IGEA_STATS_DIAG_LB_Q]);
+        cli_jnum(j, "ljung_box_p", d[IGEA_STATS_DIAG_LB_P]);
+        cli_jint(j, "runs", (long)d[IGEA_STATS_DIAG_RUNS]);
+        cli_jint(j, "n_above", (long)d[IGEA_STATS_DIAG_N_ABOVE]);
+        cli_jint(j, "n_below", (long)d[IGEA_STATS_DIAG_N_BELOW]);
+        cli_jnum(j, "runs_z", d[IGEA_STATS_DIAG_RUNS_Z]);
+        cli_jnum(j, "runs_p", d[IGEA_STATS_DIAG_RUNS_P]);
+        cli_json_close(j);
+    }
+    cli_json_close(j);
 }
 
 /* The document up to the residuals, whose array is left open. */
@@ -401,6 +460,7 @@ static void text_report(FILE *f, const flight *r, const eqerr_args *a)
                 a->opts[IGEA_EQERR_OPT_LAMBDA_SMALL], flag_name(flag));
     fprintf(f, "residual RMS per axis (x, y, z): %.6g %.6g %.6g\n", r->rms[0], r->rms[1],
             r->rms[2]);
+    text_whiteness(f, r, a->lags);
     report_chi2(f, info, a->opts[IGEA_EQERR_OPT_ALPHA]);
 }
 
@@ -423,6 +483,9 @@ static int pass_solve(const eqerr_args *a, streams *s, flight *r)
                                                  s->gbuf, 1, r->spec, A, N + 1, &qrows)
                      : igea_normal_accumulate(IGEA_ROWMAJOR, (int)n, N, s->sbuf, N, s->dbuf,
                                               s->gbuf, 1, r->spec, A, N, b, wtw);
+        if (!st)
+            st = igea_eqerr_axis_sums(IGEA_ROWMAJOR, (int)n, N, s->sbuf, N, s->dbuf, (int)rows,
+                                      r->sums);
         if (st) {
             ec = cli_status(st, st == IGEA_ENONFINITE ? "eqerr: rows with NaN/Inf" : "eqerr");
             break;
@@ -449,6 +512,16 @@ static int pass_solve(const eqerr_args *a, streams *s, flight *r)
     return ec;
 }
 
+/* The residual diagnostics' states, about each axis's residual mean. */
+static int diag_start(const eqerr_args *a, flight *r, const double *coef)
+{
+    double mean[3];
+    int st = igea_eqerr_residual_mean(r->N, r->sums, coef, mean);
+    for (int k = 0; !st && k < 3; k++)
+        st = igea_stats_diag_init(a->lags, mean[k], r->dstate + k * IGEA_STATS_DIAG_STATE_LEN);
+    return cli_status(st, "eqerr residual diagnostics");
+}
+
 /* Pass 2: the residuals, to the residuals file and into the JSON document. */
 static int pass_residuals(const eqerr_args *a, streams *s, flight *r, FILE *res, cli_json *j)
 {
@@ -462,6 +535,11 @@ static int pass_residuals(const eqerr_args *a, streams *s, flight *r, FILE *res,
         return CLI_SOFTWARE;
     }
     igea_eqerr_coef(N, r->P, N, r->xhat, (int)r->info[IGEA_STATS_INFO_N_TEST], r->spec, coef);
+    if ((ec = diag_start(a, r, coef))) {
+        free(coef);
+        free(e);
+        return ec;
+    }
     double ss[6] = {0, 0, 0, 0, 0, 0};
     long row0 = 0, n;
     if (j)
@@ -469,6 +547,8 @@ static int pass_residuals(const eqerr_args *a, streams *s, flight *r, FILE *res,
     while (!(ec = streams_next(a, s, &n)) && n > 0) {
         int st = igea_eqerr_residual(IGEA_ROWMAJOR, (int)n, N, s->sbuf, N, s->dbuf, coef,
                                      (int)row0, e, ss);
+        if (!st)
+            st = igea_eqerr_diag_add((int)n, e, (int)row0, r->dstate);
         if (st) {
             ec = cli_status(st, "eqerr residuals");
             break;
@@ -483,6 +563,9 @@ static int pass_residuals(const eqerr_args *a, streams *s, flight *r, FILE *res,
     }
     if (!ec)
         ec = cli_status(igea_eqerr_axis_rms(ss, r->rms), "eqerr residuals");
+    for (int k = 0; !ec && k < 3; k++)
+        r->diag_st[k] = igea_stats_diag_result(r->dstate + k * IGEA_STATS_DIAG_STATE_LEN,
+                                               r->diag + k * IGEA_STATS_DIAG_LEN);
     free(coef);
     free(e);
     return ec;
@@ -553,6 +636,7 @@ static int eqerr_report(const eqerr_args *a, flight *r, cli_out *out, cli_out *r
     if (!ec && jf) {
         cli_json_close(&j);
         cli_jnums(&j, "rms", r->rms, 3);
+        json_whiteness(&j, r);
         cli_json_end(&j);
         ec = json_copy(jf, out->f);
     } else if (!ec) {
