@@ -813,3 +813,46 @@ int igea_eqerr_diag(int m, const double *residual, int lags, double *out, int *a
     memcpy(axis_status, ast, sizeof ast);
     return 0;
 }
+
+/* ---- named components -------------------------------------------------------- */
+
+int igea_eqerr_components(int N, const double *P, int ldp, int ncomp,
+                          const double *spec_sigma, double *share, double *loading,
+                          int *order)
+{
+    if (N < 1) return -1;
+    if (!P) return -2;
+    if (ldp < N) return -3;
+    if (ncomp < 0 || ncomp > N) return -4;
+    if (!share) return -6;
+    if (!igea__finite_mat(N, ncomp, P, ldp))
+        return IGEA_ENONFINITE;
+    if (spec_sigma) {
+        int st = igea__sigma_vec(N, spec_sigma);
+        if (st)
+            return st;
+    }
+    for (int i = 0; i < ncomp; i++)
+        for (int j = 0; j < N; j++)
+            if (!isfinite(IGEA_AT(P, ldp, j, i) * (spec_sigma ? spec_sigma[j] : 1.0)))
+                return IGEA_EOVERFLOW;
+    for (int i = 0; i < ncomp; i++) {
+        double *sh = share + (size_t)i * N;
+        for (int j = 0; j < N; j++) {
+            double p = IGEA_AT(P, ldp, j, i);
+            sh[j] = p * p;
+            if (loading)
+                loading[j + (size_t)i * N] = p * (spec_sigma ? spec_sigma[j] : 1.0);
+        }
+        if (!order)
+            continue;
+        int *o = order + (size_t)i * N;
+        for (int j = 0; j < N; j++) { /* insertion sort: descending share, then index */
+            int k = j;
+            while (k > 0 && sh[o[k - 1]] < sh[j])
+                o[k] = o[k - 1], k--;
+            o[k] = j;
+        }
+    }
+    return 0;
+}

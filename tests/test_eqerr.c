@@ -905,6 +905,36 @@ static void test_eqerr_diag_streamed(void **state)
     assert_int_equal(ast[0], IGEA_EEMPTY);
 }
 
+/* Components of a rotation: p_0 = (0.6, 0.8, 0), p_1 = (0.8, -0.6, 0):
+ * shares 0.36, 0.64, 0; loadings spec_j p_ij. */
+static void test_components_closed_form(void **state)
+{
+    (void)state;
+    double P[9] = {0.6, 0.8, 0, 0.8, -0.6, 0, 0, 0, 1}, spec[3] = {2, 0.5, 1};
+    double share[6], load[6];
+    int order[6];
+    assert_int_equal(igea_eqerr_components(3, P, 3, 2, spec, share, load, order), 0);
+    assert_close(share[0], 0.36, 1e-15);
+    assert_close(share[1], 0.64, 1e-15);
+    assert_true(share[2] == 0.0);
+    assert_close(share[3], 0.64, 1e-15);
+    assert_close(load[0], 1.2, 1e-15);
+    assert_close(load[1], 0.4, 1e-15);
+    assert_close(load[4], -0.3, 1e-15);
+    assert_int_equal(order[0], 1);
+    assert_int_equal(order[1], 0);
+    assert_int_equal(order[2], 2);
+    assert_int_equal(order[3], 0);
+    assert_int_equal(order[4], 1);
+    assert_int_equal(igea_eqerr_components(3, P, 3, 2, NULL, share, NULL, NULL), 0);
+    spec[1] = 0;
+    share[0] = -1;
+    assert_int_equal(igea_eqerr_components(3, P, 3, 2, spec, share, load, order),
+                     IGEA_ENONPOSITIVE);
+    assert_true(share[0] == -1);
+    assert_int_equal(igea_eqerr_components(3, P, 3, 4, NULL, share, NULL, NULL), -4);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -926,6 +956,7 @@ int main(void)
         cmocka_unit_test(test_limits_and_rms),
         cmocka_unit_test(test_diag_closed_form),
         cmocka_unit_test(test_eqerr_diag_streamed),
+        cmocka_unit_test(test_components_closed_form),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -192,7 +192,7 @@ IGEA_API int igea_eqerr_residual(int layout, int m, int N, const double *S,
  *    that appears twice returns IGEA_EDEPENDENT
  *  6 opts  IGEA_EQERR_OPT_LEN values or NULL (defaults): alpha, z_crit,
  *    verdict and overall_size are read
- *  7 reject[sum of dof] or NULL: 1 where |z| > a, else 0
+ *  7 reject: one flag per z (1 where |z| > a, else 0), or NULL
  *  8 info[IGEA_STATS_INFO_LEN]: as igea_stats_pool, N_REJECT the
  *    components beyond a, PASSED the rule's, VERDICT, VERDICT_Z_CRIT,
  *    VERDICT_CHI2_CRIT and OVERALL_SIZE for n = dof_tot.
@@ -271,6 +271,28 @@ IGEA_API int igea_eqerr_diag_add(int m, const double *residual, int row0, double
  * written only on success. */
 IGEA_API int igea_eqerr_diag(int m, const double *residual, int lags, double *out,
                              int *axis_status);
+
+/*
+ * Named components [D]: component i (eigenvector p_i of the spec-scaled
+ * normal matrix) as a pattern of the N error terms. share[j + i N] =
+ * p_ij^2, the share of term j in component i (the shares of a component
+ * sum to 1: p_i has unit norm); loading[j + i N] = spec_j p_ij, the
+ * physical error of term j (in its own units) that one unit of the
+ * equivalent error Xhat_i stands for (p_ij when spec_sigma is NULL);
+ * order[k + i N] = the term of the k-th largest share (ties by index).
+ * The terms with share >= IGEA_EQERR_CANDIDATE_SHARE are the candidate
+ * causes a rejected component is traced to.
+ * Arguments: 1 N >= 1, 2 P (N x N, the eigenvectors of igea_eqerr_*),
+ * 3 ldp >= N, 4 ncomp (0..N, e.g. n_test), 5 spec_sigma[N] or NULL,
+ * 6 share[N ncomp], 7 loading[N ncomp] or NULL, 8 order[N ncomp] or NULL.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ERANGE (a spec),
+ * IGEA_EOVERFLOW (a loading beyond the double range); nothing is written
+ * on failure.
+ */
+#define IGEA_EQERR_CANDIDATE_SHARE 0.10
+IGEA_API int igea_eqerr_components(int N, const double *P, int ldp, int ncomp,
+                                   const double *spec_sigma, double *share,
+                                   double *loading, int *order);
 
 #ifdef __cplusplus
 }

@@ -106,6 +106,44 @@ def _whiteness(res, lags):
     return w
 
 
+def _components(P, nt, spec, names, lam, z, reject):
+    """The tested components as named patterns of the terms
+    (igea_eqerr_components): shares p_ij^2, loadings spec_j p_ij, the
+    candidate terms (share >= IGEA_EQERR_CANDIDATE_SHARE)."""
+    N = P.shape[0]
+    Pf = np.asfortranarray(P)
+    share = np.empty((max(nt, 1), N))
+    load = np.empty((max(nt, 1), N))
+    order = np.empty((max(nt, 1), N), dtype=np.intc)
+    _lib.call("igea.eqerr", "igea_eqerr_components", N, _lib.dptr(Pf), N, nt, _lib.dptr(spec),
+              _lib.dptr(share), _lib.dptr(load), _lib.iptr(order))
+    out = []
+    for i in range(nt):
+        o = order[i]
+        out.append(dict(index=i, **{"lambda": float(lam[i])}, z=float(z[i]),
+                        reject=bool(reject[i]),
+                        terms=[(names[j], float(share[i, j])) for j in o],
+                        loading=load[i].copy(),
+                        candidates=[names[j] for j in o
+                                    if share[i, j] >= _capi.EQERR_CANDIDATE_SHARE]))
+    return out
+
+
+def _component_lines(components, names):
+    lines = ["named components (share p_ij^2 of each term >= 1%; loading spec_j p_ij in the "
+             "term's units per unit of equiv_error):"]
+    col = {}
+    for j, n in enumerate(names):
+        col.setdefault(n, j)
+    for c in components:
+        floor = _capi.EQERR_CANDIDATE_SHARE if c["reject"] else 0.01
+        parts = ["%s %s %.2f (%+.4g)" % ("," if k else "", n, sh, c["loading"][col[n]])
+                 for k, (n, sh) in enumerate(t for t in c["terms"] if t[1] >= floor)]
+        lines.append("%5d %s%s" % (c["index"], "REJECT candidates:" if c["reject"] else "terms:",
+                                   "".join(parts)))
+    return lines
+
+
 def _whiteness_lines(w, lags):
     lines = ["residual whiteness per axis (Ljung-Box over %d lags; runs test on the signs "
              "about the axis mean):" % lags]
@@ -196,6 +234,8 @@ class EqerrResult(_Verdict):
     overall_size: float        # its false-alarm probability (None: not computed)
     whiteness: list            # per axis x, y, z: dict(axis n lags ljung_box ljung_box_p
                                # runs n_above n_below runs_z runs_p), None if not computed
+    components: list           # per tested component: dict(index lambda z reject terms
+                               # [(name, share), ...] descending, loading, candidates)
 
     def summary(self):
         lines = ["rank %d of %d; lambda_1 = %.6e; %d component(s) tested"
@@ -207,6 +247,8 @@ class EqerrResult(_Verdict):
                          "lambda^-1/2)" % self.verdict_z_crit)
         else:
             lines.append("(no component test under the chi2 rule; precision = lambda^-1/2)")
+        lines.append("")
+        lines += _component_lines(self.components, getattr(self, "_names", []))
         lines.append("")
         if self.flag == "off":
             lines.append("tracking-accuracy correction: off (c = 1)")
@@ -224,7 +266,7 @@ class EqerrResult(_Verdict):
 def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small=None,
           correction=None, route="eig", n_min=None, tol=None, max_iter=None,
           bias_correct=None, clamp=None, z_crit=None, rank_tol=None, verdict="seed",
-          lags=20):
+          lags=20, names=None):
     """Equivalent-error accuracy assessment of one flight (METHODS 1.2).
 
     S: (m, N) environment functions (rows epoch-major x, y, z), dw: (m,)
@@ -236,7 +278,8 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
     alpha) or "sidak"; the result states the rule's thresholds and overall
     size. lags: the Ljung-Box lags of the residual whiteness per axis (the
     result's `whiteness`, with the runs test about each axis's mean).
-    Returns an EqerrResult."""
+    names: the N term names (e.g. igea.envfun's terms; default column_j),
+    which the result's `components` use. Returns an EqerrResult."""
     S = _lib.as_f64(S, "S", ndim=2)
     m, N = S.shape
     if m < 1 or N < 1:
@@ -253,6 +296,9 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
         raise ValueError("sigma: expected a number or shape (%d,), got %s" % (m, sig.shape))
     if spec is not None:
         spec = _lib.as_f64(spec, "spec", ndim=1, shape=(N,))
+    names = ["column_%d" % j for j in range(N)] if names is None else [str(n) for n in names]
+    if len(names) != N:
+        raise ValueError("names: %d names, but S has %d columns" % (len(names), N))
     route = _lib.choice(_capi.CHOICE_EQERR_ROUTE, route, "igea.eqerr", "route")
     opts = _lib.options("eqerr", "igea.eqerr", ("igea_eqerr_run", "opts"), alpha=alpha,
                         lambda_test=lambda_test, lambda_small=lambda_small, n_min=n_min, tol=tol,
@@ -275,15 +321,16 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
               _lib.dptr(res), _lib.dptr(rms))
     test = _test_fields(info)
     nt = test["n_test"]
+    comps = _components(P, nt, spec, names, lam, z, rej == 1)
     return _attach(EqerrResult(
         eigenvalues=lam, eigenvectors=np.ascontiguousarray(P), equiv_err=xhat, z=z[:nt].copy(),
         reject=rej[:nt] == 1,
         flag=_lib.choice_name(_capi.CHOICE_STATS_SIGMAW_FLAG, info[_capi.STATS_INFO_FLAG]),
-        residual=res, whiteness=_whiteness(res, lags),
+        residual=res, whiteness=_whiteness(res, lags), components=comps,
         rms=rms, **test, **_lib.fields(info, "STATS_INFO_", rank=int, scale=float,
                                         iterations=int, n_small=int)),
         alpha=opts[_capi.EQERR_OPT_ALPHA], lambda_small=opts[_capi.EQERR_OPT_LAMBDA_SMALL],
-        sigma_w=info[_capi.STATS_INFO_SIGMA_W], lags=int(lags))
+        sigma_w=info[_capi.STATS_INFO_SIGMA_W], lags=int(lags), names=names)
 
 
 def accuracy_test(equiv_err, eigenvalues, *, alpha=0.01, lambda_test=10.0, z_crit=None,

@@ -1,5 +1,6 @@
 /* igea eqerr, igea test - the equivalent-error accuracy assessment
  * (seed 000, METHODS 1.2) from files, and judging saved results. */
+#include <ctype.h>
 #include <errno.h>
 #include <limits.h>
 #include <stdlib.h>
@@ -108,6 +109,7 @@ typedef struct {
     double opts[IGEA_EQERR_OPT_LEN];
     int verdict; /* IGEA_STATS_VERDICT_* */
     int lags;    /* residual diagnostics: Ljung-Box lags */
+    const char *names; /* --names LIST */
 } eqerr_args;
 
 /* The overall verdict rule, the same option in eqerr and test. */
@@ -140,6 +142,8 @@ static const cli_opt eqerr_options[] = {
      "lambda_1, at about twice the cost", NULL},
     {"--residuals", CLI_OPT_STR, &EA.residuals, NULL, "FILE", "write the per-row residuals dw - S D P_t Xhat_t", NULL},
     CLI_VERDICT_OPT(&EA.verdict),
+    {"--names", CLI_OPT_STR, &EA.names, NULL, "LIST", "comma-separated term names, one per column of S\n"
+     "(default: the '# name name ...' header of a text S, as\nigea envfun and simulate write it)", NULL},
     {"--lags", CLI_OPT_INT, &EA.lags, "20", "L", "residual whiteness per axis: Ljung-Box Q over L lags\n"
      "(and the runs test on the signs about the axis mean)", NULL},
     {"--json", CLI_OPT_FLAG, &EA.json, NULL, NULL, "machine-readable output (field names as igea.eqerr)", NULL},
@@ -341,6 +345,11 @@ typedef struct {
      * their results and statuses (0: computed) */
     double *sums, *dstate, diag[3 * IGEA_STATS_DIAG_LEN];
     int diag_st[3];
+    /* named components: term names (NULL: column_j), shares, loadings and
+     * the terms by descending share of the tested components */
+    char **names;
+    double *share, *loading;
+    int *order;
 } flight;
 
 static void flight_free(flight *r)
@@ -349,6 +358,8 @@ static void flight_free(flight *r)
     free(r->spec);
     free(r->reject);
     free(r->sums);
+    free(r->names);
+    free(r->share); /* loading and order are in its block */
 }
 
 static int flight_alloc(flight *r, int N)
@@ -365,6 +376,146 @@ static int flight_alloc(flight *r, int N)
     return CLI_OK;
 }
 
+/* A '#' line of S naming its N columns: N identifiers (names into the
+ * block *out, as cli_split_list's), or 0. */
+static int names_from_line(const char *line, int N, char ***out)
+{
+    size_t len = strlen(line);
+    char **v = malloc(sizeof(char *) * (size_t)N + len + 1);
+    if (!v)
+        return cli_oom("the term names");
+    char *text = (char *)(v + N);
+    memcpy(text, line, len + 1);
+    int k = 0;
+    for (char *t = strtok(text, " \t,\r\n"); t; t = strtok(NULL, " \t,\r\n")) {
+        int ok = k < N && (isalpha((unsigned char)t[0]) || t[0] == '_');
+        for (const char *c = t; ok && *c; c++)
+            ok = isalnum((unsigned char)*c) || *c == '_';
+        if (!ok) {
+            k = -1;
+            break;
+        }
+        v[k++] = t;
+    }
+    if (k != N) {
+        free(v);
+        return CLI_OK;
+    }
+    *out = v;
+    return CLI_OK;
+}
+
+/* The term names: --names, else the header of a text S, else none. */
+static int read_names(const eqerr_args *a, int N, char ***names)
+{
+    *names = NULL;
+    if (a->names) {
+        int n, ec = cli_split_list(a->names, names, &n);
+        if (!ec && n != N) {
+            cli_error("--names: %d names, but %s has %d columns", n, a->S, N);
+            free(*names);
+            *names = NULL;
+            ec = CLI_USAGE;
+        }
+        return ec;
+    }
+    size_t ls = strlen(a->S);
+    if (!strcmp(a->S, "-") || (ls >= 4 && !strcmp(a->S + ls - 4, ".npy")))
+        return CLI_OK;
+    FILE *f = fopen(a->S, "r");
+    if (!f)
+        return CLI_OK; /* a pipe already consumed: no header names */
+    char *line = NULL;
+    size_t cap = 0;
+    int ec = CLI_OK;
+    while (!ec && !*names && getline(&line, &cap, f) > 0 && line[0] == '#')
+        ec = names_from_line(line + 1, N, names);
+    free(line);
+    fclose(f);
+    return ec;
+}
+
+/* The shares, loadings and order of the tested components, and the names. */
+static int components_compute(const eqerr_args *a, flight *r)
+{
+    int N = r->N, nt = (int)r->info[IGEA_STATS_INFO_N_TEST];
+    size_t n = (size_t)N * (nt > 0 ? nt : 1);
+    int ec = read_names(a, N, &r->names);
+    if (ec)
+        return ec;
+    r->share = malloc(2 * n * sizeof(double) + n * sizeof(int));
+    if (!r->share)
+        return cli_oom("the components");
+    r->loading = r->share + n;
+    r->order = (int *)(r->loading + n);
+    return cli_status(igea_eqerr_components(N, r->P, N, nt, r->spec, r->share, r->loading,
+                                            r->order), "eqerr components");
+}
+
+static void term_name(const flight *r, int j, char *buf, size_t size)
+{
+    if (r->names)
+        snprintf(buf, size, "%s", r->names[j]);
+    else
+        snprintf(buf, size, "column_%d", j);
+}
+
+/* Named components, text: the terms with a share >= 1 % per tested
+ * component, the candidates (share >= 10 %) of a rejected one. */
+static void text_components(FILE *f, const flight *r)
+{
+    int N = r->N, nt = (int)r->info[IGEA_STATS_INFO_N_TEST];
+    char nm[128];
+    fprintf(f, "named components (share p_ij^2 of each term >= 1%%; loading spec_j p_ij in the "
+               "term's units per unit of equiv_error):\n");
+    for (int i = 0; i < nt; i++) {
+        const double *sh = r->share + (size_t)i * N, *ld = r->loading + (size_t)i * N;
+        const int *o = r->order + (size_t)i * N;
+        fprintf(f, "%5d %s", i, r->reject[i] == 1 ? "REJECT candidates:" : "terms:");
+        for (int k = 0; k < N && sh[o[k]] >= (r->reject[i] == 1 ? IGEA_EQERR_CANDIDATE_SHARE : 0.01); k++) {
+            term_name(r, o[k], nm, sizeof nm);
+            fprintf(f, "%s %s %.2f (%+.4g)", k ? "," : "", nm, sh[o[k]], ld[o[k]]);
+        }
+        fputc('\n', f);
+    }
+}
+
+/* Named components, JSON: components [{index lambda z reject terms
+ * [[name, share], ...] (descending) loading [per column] candidates}]. */
+static void json_components(cli_json *j, const flight *r)
+{
+    int N = r->N, nt = (int)r->info[IGEA_STATS_INFO_N_TEST];
+    char nm[128];
+    cli_json_open(j, "components", '[');
+    for (int i = 0; i < nt; i++) {
+        const double *sh = r->share + (size_t)i * N;
+        const int *o = r->order + (size_t)i * N;
+        cli_json_open(j, NULL, '{');
+        cli_jint(j, "index", i);
+        cli_jnum(j, "lambda", r->lambda[i]);
+        cli_jnum(j, "z", r->z[i]);
+        cli_jbool(j, "reject", r->reject[i] == 1);
+        cli_json_open(j, "terms", '[');
+        for (int k = 0; k < N; k++) {
+            term_name(r, o[k], nm, sizeof nm);
+            cli_json_open(j, NULL, '[');
+            cli_jstr(j, NULL, nm);
+            cli_jnum(j, NULL, sh[o[k]]);
+            cli_json_close(j);
+        }
+        cli_json_close(j);
+        cli_jnums(j, "loading", r->loading + (size_t)i * N, N);
+        cli_json_open(j, "candidates", '[');
+        for (int k = 0; k < N && sh[o[k]] >= IGEA_EQERR_CANDIDATE_SHARE; k++) {
+            term_name(r, o[k], nm, sizeof nm);
+            cli_jstr(j, NULL, nm);
+        }
+        cli_json_close(j);
+        cli_json_close(j);
+    }
+    cli_json_close(j);
+}
+
 /* Residual whiteness per axis, text. */
 static void text_whiteness(FILE *f, const flight *r, int lags)
 {
@@ -373,7 +524,9 @@ static void text_whiteness(FILE *f, const flight *r, int lags)
     for (int k = 0; k < 3; k++) {
         const double *d = r->diag + k * IGEA_STATS_DIAG_LEN;
         if (r->diag_st[k]) {
-            fprintf(f, "  %c: not computed (%s)\n", "xyz"[k], igea_strerror(r->diag_st[k]));
+            fprintf(f, "  %c: not computed (%s)\n", "xyz"[k],
+                    r->diag_st[k] == IGEA_EEMPTY ? "fewer than lags + 2 epochs"
+                                                 : "constant residuals");
             continue;
         }
         fprintf(f, "  %c: Q = %.4g, p-value %.4g; %d runs (%d above, %d below), z = %.3f, "
@@ -449,6 +602,8 @@ static void text_report(FILE *f, const flight *r, const eqerr_args *a)
                    "lambda^-1/2)\n\n", info[IGEA_STATS_INFO_VERDICT_Z_CRIT]);
     else
         fprintf(f, "(no component test under the chi2 rule; precision = lambda^-1/2)\n\n");
+    text_components(f, r);
+    fputc('\n', f);
     int flag = (int)info[IGEA_STATS_INFO_FLAG];
     if (flag == IGEA_STATS_SIGMAW_OFF)
         fprintf(f, "tracking-accuracy correction: off (c = 1)\n");
@@ -633,10 +788,13 @@ static int eqerr_report(const eqerr_args *a, flight *r, cli_out *out, cli_out *r
         cli_json_begin(&j, jf);
     if (!ec)
         ec = run_streamed(a, r, a->residuals ? res->f : NULL, jf ? &j : NULL);
+    if (!ec)
+        ec = components_compute(a, r);
     if (!ec && jf) {
         cli_json_close(&j);
         cli_jnums(&j, "rms", r->rms, 3);
         json_whiteness(&j, r);
+        json_components(&j, r);
         cli_json_end(&j);
         ec = json_copy(jf, out->f);
     } else if (!ec) {

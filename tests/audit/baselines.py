@@ -137,6 +137,8 @@ BASE = {
                                 state='set:igea_stats_diag_init(2, 0.1, b_);', _zero_ok=['n'],
                                 _int={'incx': 'size'}),
     'igea_stats_diag_result': dict(state='set:igea_stats_diag_init(1, 0.0, b_); { double v[5] = {1, -2, 3, 0.5, -1}; igea_stats_diag_add(5, v, 1, b_); }'),
+    'igea_eqerr_components': dict(P='u', ldp='N', ncomp='2', _int={'ncomp': 'size'},
+                                  _zero_ok=['ncomp']),
     'igea_stats_whiteness': dict(n='10', x='u', incx='1', lags='3',
                                  _int={'lags': 'size', 'incx': 'size'}),
     # ---- regress
