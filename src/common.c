@@ -59,6 +59,10 @@ const char *igea_opt_name(int module, int slot)
         [IGEA_EQERR_OPT_ROUTE] = "route",
         [IGEA_EQERR_OPT_VERDICT] = "verdict",
         [IGEA_EQERR_OPT_OVERALL_SIZE] = "overall_size",
+        [IGEA_EQERR_OPT_VERDICT_N] = "verdict_n",
+        [IGEA_EQERR_OPT_VERDICT_A] = "verdict_a",
+        [IGEA_EQERR_OPT_VERDICT_B] = "verdict_b",
+        [IGEA_EQERR_OPT_VERDICT_SIZE] = "verdict_size",
     };
     static const char *const sim[IGEA_SIM_OPT_LEN] = {
         [IGEA_SIM_OPT_SIGMA_W] = "sigma_w",

@@ -48,6 +48,13 @@ int igea_eqerr_check_opts(const double *o)
     if (!(v == IGEA_STATS_VERDICT_SEED || v == IGEA_STATS_VERDICT_CHI2 || v == IGEA_STATS_VERDICT_EXACT || v == IGEA_STATS_VERDICT_SIDAK)) return 1 + IGEA_EQERR_OPT_VERDICT;
     if (v != IGEA_STATS_VERDICT_SEED && o[IGEA_EQERR_OPT_Z_CRIT] != 0) return 1 + IGEA_EQERR_OPT_VERDICT;
     if (o[IGEA_EQERR_OPT_OVERALL_SIZE] != 0 && o[IGEA_EQERR_OPT_OVERALL_SIZE] != 1) return 1 + IGEA_EQERR_OPT_OVERALL_SIZE;
+    const double vn = o[IGEA_EQERR_OPT_VERDICT_N];
+    if (!(vn >= 0 && vn <= IGEA_STATS_DOF_MAX && vn == floor(vn))) return 1 + IGEA_EQERR_OPT_VERDICT_N;
+    if (vn > 0) {
+        if (!(o[IGEA_EQERR_OPT_VERDICT_A] >= 0)) return 1 + IGEA_EQERR_OPT_VERDICT_A;
+        if (!(o[IGEA_EQERR_OPT_VERDICT_B] > 0)) return 1 + IGEA_EQERR_OPT_VERDICT_B;
+        if (!(o[IGEA_EQERR_OPT_VERDICT_SIZE] >= 0 && o[IGEA_EQERR_OPT_VERDICT_SIZE] <= 1)) return 1 + IGEA_EQERR_OPT_VERDICT_SIZE;
+    }
     return 0;
 }
 
@@ -66,6 +73,12 @@ static int verdict_rule(const double *o, int n, double zc, double c2, double *vc
     double *e = vc && n >= 1 && n <= nv ? vc + 4 * (size_t)(n - 1) : NULL;
     if (e && e[0] == 1.0) {
         *a = e[1], *b = e[2], *size = e[3];
+        return 0;
+    }
+    if (n >= 1 && o[IGEA_EQERR_OPT_VERDICT_N] == n) { /* the caller's precomputed values */
+        *a = o[IGEA_EQERR_OPT_VERDICT_A] > 0 ? o[IGEA_EQERR_OPT_VERDICT_A] : HUGE_VAL;
+        *b = o[IGEA_EQERR_OPT_VERDICT_B];
+        *size = o[IGEA_EQERR_OPT_VERDICT_SIZE];
         return 0;
     }
     int st = 0;

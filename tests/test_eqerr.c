@@ -758,6 +758,34 @@ static void test_verdict_limits_and_cache(void **state)
         assert_memory_equal(i1, i2, sizeof i1);
     }
     assert_true(cache[4 * 2] == 1.0 && cache[0] == 0.0);
+    /* the caller's precomputed thresholds for n = 5 are used as given */
+    double z5[NV], info5[IGEA_STATS_INFO_LEN], A5[NV * NV] = {0}, b5[NV], l5[NV], P5[NV * NV];
+    double x5[NV];
+    int r5[NV];
+    for (int i = 0; i < NV; i++) {
+        A5[i + i * NV] = lamv[i];
+        b5[i] = (i < 5 ? zv[i] : 0.3) * sqrt(1 + 1 / lamv[i]) * lamv[i];
+    }
+    igea_eqerr_defaults(o);
+    o[IGEA_EQERR_OPT_CORRECTION] = 0;
+    o[IGEA_EQERR_OPT_VERDICT] = IGEA_STATS_VERDICT_EXACT;
+    o[IGEA_EQERR_OPT_VERDICT_N] = 5;
+    o[IGEA_EQERR_OPT_VERDICT_A] = 2.9;
+    o[IGEA_EQERR_OPT_VERDICT_B] = 100.0;
+    o[IGEA_EQERR_OPT_VERDICT_SIZE] = 0.25;
+    assert_int_equal(igea_eqerr_solve(NV, A5, NV, b5, o, l5, P5, NV, x5, z5, r5, info5), 0);
+    assert_int_equal((int)info5[IGEA_STATS_INFO_N_REJECT], 1); /* only |z| = 3.0 > 2.9 */
+    assert_true(info5[IGEA_STATS_INFO_OVERALL_SIZE] == 0.25);
+    o[IGEA_EQERR_OPT_VERDICT_N] = 4; /* for another n: ignored, the rule's own */
+    assert_int_equal(igea_eqerr_solve(NV, A5, NV, b5, o, l5, P5, NV, x5, z5, r5, info5), 0);
+    assert_close(info5[IGEA_STATS_INFO_OVERALL_SIZE], 0.01, 1e-10);
+    o[IGEA_EQERR_OPT_VERDICT_N] = 2.5;
+    assert_int_equal(igea_eqerr_check_opts(o), 1 + IGEA_EQERR_OPT_VERDICT_N);
+    o[IGEA_EQERR_OPT_VERDICT_N] = 3;
+    o[IGEA_EQERR_OPT_VERDICT_B] = 0;
+    assert_int_equal(igea_eqerr_check_opts(o), 1 + IGEA_EQERR_OPT_VERDICT_B);
+    assert_string_equal(igea_opt_name(IGEA_MODULE_EQERR, IGEA_EQERR_OPT_VERDICT_SIZE),
+                        "verdict_size");
 }
 
 static void test_pool_rule(void **state)

@@ -44,7 +44,11 @@ extern "C" {
 #define IGEA_EQERR_OPT_ROUTE 11       /* IGEA_EQERR_ROUTE_EIG or IGEA_EQERR_ROUTE_SVD */
 #define IGEA_EQERR_OPT_VERDICT 12      /* overall verdict rule IGEA_STATS_VERDICT_*: 0 (SEED) */
 #define IGEA_EQERR_OPT_OVERALL_SIZE 13 /* 1: also compute the rule's overall size, 0 (see below) */
-#define IGEA_EQERR_OPT_LEN 32 /* slots 14.. reserved for additions (0) */
+#define IGEA_EQERR_OPT_VERDICT_N 14    /* n >= 1: slots 15-17 hold the rule's values for n */
+#define IGEA_EQERR_OPT_VERDICT_A 15    /* precomputed threshold a on |z_i| (0: none) */
+#define IGEA_EQERR_OPT_VERDICT_B 16    /* precomputed threshold b on T */
+#define IGEA_EQERR_OPT_VERDICT_SIZE 17 /* precomputed overall size (0: not computed) */
+#define IGEA_EQERR_OPT_LEN 32 /* slots 18.. reserved for additions (0) */
 
 /*
  * The overall verdict (docs/eqerr.md, "Overall size of the verdict").
@@ -66,6 +70,10 @@ extern "C" {
  * 0, "not computed"; also 0 when n > IGEA_STATS_UNION_N_MAX). EXACT with n
  * > IGEA_STATS_UNION_N_MAX returns IGEA_EVERDICT. igea_sim_montecarlo
  * computes a rule's thresholds once per n_test and thread, not per flight.
+ * A caller that judges many flights or pools of one n can do the same:
+ * OPT_VERDICT_N = n and OPT_VERDICT_A, _B, _SIZE the values that
+ * igea_stats_verdict_thresholds gives for this rule and alpha (a = 0 for
+ * CHI2) are used, unchecked, whenever n_test = n (0: none, the default).
  */
 
 #define IGEA_EQERR_ROUTE_EIG 0 /* normal matrix + dsyevd (streamable) */
@@ -83,7 +91,9 @@ IGEA_API int igea_eqerr_defaults(double *opts);
  * bias_correct and clamp 0 or 1, 0 <= rank_tol < 1, z_crit >= 0, route
  * IGEA_EQERR_ROUTE_EIG or IGEA_EQERR_ROUTE_SVD, verdict an
  * IGEA_STATS_VERDICT_* code (and z_crit 0 unless it is SEED: the slot
- * named is then verdict), overall_size 0 or 1. Returns 0 when they are
+ * named is then verdict), overall_size 0 or 1, verdict_n a whole number
+ * 0 .. IGEA_STATS_DOF_MAX, verdict_a >= 0, verdict_b > 0 and 0 <=
+ * verdict_size <= 1 when verdict_n > 0. Returns 0 when they are
  * valid, else 1 + the first invalid slot (name it with
  * igea_opt_name(IGEA_MODULE_EQERR, status - 1)); -1 for opts NULL.
  */

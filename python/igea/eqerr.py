@@ -21,11 +21,26 @@ def _test_fields(info):
     return f
 
 
-def _verdict_opts(where, function, alpha, z_crit, verdict):
-    """eqerr options carrying alpha, z_crit and the verdict rule."""
+# (rule, n, alpha) -> (a, b, size) of igea_stats_verdict_thresholds: pooling
+# many groups of the same dof_tot computes a rule's thresholds once.
+_THRESHOLDS = {}
+
+
+def _verdict_opts(where, function, alpha, z_crit, verdict, n=None):
+    """eqerr options carrying alpha, z_crit and the verdict rule (and, for n
+    tested components, the rule's thresholds: IGEA_EQERR_OPT_VERDICT_N ..)."""
     code = _lib.choice(_capi.CHOICE_STATS_VERDICT, verdict, where, "verdict")
+    pre = {}
+    if n is not None and z_crit is None and 1 <= n <= _capi.STATS_UNION_N_MAX:
+        key = (verdict, int(n), float(alpha))
+        if key not in _THRESHOLDS:
+            from .stats import verdict_thresholds
+            _THRESHOLDS[key] = verdict_thresholds(verdict, int(n), float(alpha))
+        a, b, size = _THRESHOLDS[key]
+        pre = dict(verdict_n=int(n), verdict_a=a if np.isfinite(a) else 0.0, verdict_b=b,
+                   verdict_size=size)
     return _lib.options("eqerr", where, (function, "opts"), alpha=alpha, z_crit=z_crit,
-                        verdict=code, overall_size=1)
+                        verdict=code, overall_size=1, **pre)
 
 
 def _limits(lam, z_crit):
@@ -389,7 +404,7 @@ def pool(results, *, alpha=0.01, unit_ids=None, verdict="seed"):
         if uid.shape != (len(results),):
             raise ValueError("unit_ids: expected %d ids, got shape %s" % (len(results), uid.shape))
     info = np.empty(_capi.STATS_INFO_LEN)
-    opts = _verdict_opts("igea.pool", "igea_eqerr_pool", alpha, None, verdict)
+    opts = _verdict_opts("igea.pool", "igea_eqerr_pool", alpha, None, verdict, int(dof.sum()))
     z = np.concatenate([np.asarray(get(r, "z"), dtype=float) for r in results])
     if verdict == "seed":
         _lib.call("igea.pool", "igea_stats_pool", len(results), _lib.dptr(chi2), _lib.iptr(dof),
@@ -398,10 +413,8 @@ def pool(results, *, alpha=0.01, unit_ids=None, verdict="seed"):
         info[_capi.STATS_INFO_VERDICT] = _capi.STATS_VERDICT_SEED
         info[_capi.STATS_INFO_VERDICT_Z_CRIT] = info[_capi.STATS_INFO_Z_CRIT]
         info[_capi.STATS_INFO_VERDICT_CHI2_CRIT] = info[_capi.STATS_INFO_CHI2_CRIT]
-        n = int(info[_capi.STATS_INFO_DOF])
-        if n <= _capi.STATS_UNION_N_MAX:
-            from .stats import verdict_thresholds
-            info[_capi.STATS_INFO_OVERALL_SIZE] = verdict_thresholds("seed", n, alpha)[2]
+        if int(info[_capi.STATS_INFO_DOF]) <= _capi.STATS_UNION_N_MAX:
+            info[_capi.STATS_INFO_OVERALL_SIZE] = opts[_capi.EQERR_OPT_VERDICT_SIZE]
     else:
         if z.shape != (int(dof.sum()),):
             raise ValueError("results: the flights' z hold %d values, their dof sum to %d"
