@@ -55,6 +55,7 @@ def single(flights):
     print("| n_test | exact, correction off: 'out of spec' [99 % CP] | exact, correction on | "
           "seed, correction on | seed's size(n, z_0.995, chi2_0.01(n)) |")
     print("|---|---|---|---|---|")
+    tot = [0, 0]
     for n in range(1, 21):
         S, sigma = geometry(n, seed=100 + n)
         run = dict(seed=4000 + n, threads=1)
@@ -65,6 +66,9 @@ def single(flights):
         print("| %d | %s | %s | %.4f | %.4f |" % (n, cell(ex.failed, flights),
                                                   cell(ec.failed, flights),
                                                   sd.failed / flights, sd.mean_size))
+        tot[0] += ex.failed
+        tot[1] += ec.failed
+    print("| all 20 | %s | %s | | |" % (cell(tot[0], 20 * flights), cell(tot[1], 20 * flights)))
 
 
 def pooled(pools, per_pool, n, correction):

@@ -105,6 +105,16 @@ def test_rules_change_the_verdict():
     assert exact.verdict_chi2_crit > seed.verdict_chi2_crit
 
 
+@pytest.mark.parametrize("rule", ["exact", "sidak"])
+def test_svd_route_same_verdict(rule):
+    S, dw, sigma, spec, _ = flight(6, x=[3.1, -2.9, 0.5] + [0.0] * 11)
+    e = igea.eqerr(S, dw, sigma, spec, verdict=rule)
+    s = igea.eqerr(S, dw, sigma, spec, verdict=rule, route="svd")
+    assert (s.n_test, s.passed, list(s.reject)) == (e.n_test, e.passed, list(e.reject))
+    for k in ("verdict_z_crit", "verdict_chi2_crit", "overall_size"):
+        assert getattr(s, k) == pytest.approx(getattr(e, k), rel=1e-12)
+
+
 def test_options_checked():
     S, dw, sigma, spec, _ = flight(2)
     with pytest.raises(ValueError):
@@ -214,6 +224,8 @@ def test_montecarlo_counts_the_rule():
     assert c.returncode == 64
     r = igea.montecarlo(*_example_geometry(), 300, verdict="exact", threads=1)
     assert r.verdict == "exact" and r.mean_size == pytest.approx(0.01, rel=1e-9)
+    with pytest.raises(ValueError, match="pool"):
+        igea.montecarlo(*_example_geometry(), 30, verdict="exact", pool=3)
 
 
 def _example_geometry():
