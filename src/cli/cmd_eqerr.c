@@ -144,8 +144,8 @@ static const cli_opt eqerr_options[] = {
     CLI_VERDICT_OPT(&EA.verdict),
     {"--names", CLI_OPT_STR, &EA.names, NULL, "LIST", "comma-separated term names, one per column of S\n"
      "(default: the '# name name ...' header of a text S, as\nigea envfun and simulate write it)", NULL},
-    {"--lags", CLI_OPT_INT, &EA.lags, "20", "L", "residual whiteness per axis: Ljung-Box Q over L lags\n"
-     "(and the runs test on the signs about the axis mean)", NULL},
+    {"--lags", CLI_OPT_INT, &EA.lags, "20", "L", "residual whiteness per axis: Ljung-Box Q over L\n"
+     "lags, and the runs test on the signs about the mean", NULL},
     {"--json", CLI_OPT_FLAG, &EA.json, NULL, NULL, "machine-readable output (field names as igea.eqerr)", NULL},
     CLI_OUT_OPT(&EA.out),
     CLI_END};
