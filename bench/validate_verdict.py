@@ -90,11 +90,37 @@ def pooled(pools, per_pool, n, correction):
              igea.verdict_thresholds("seed", ntot, ALPHA)[2]))
 
 
+def naming(flights, term="gyro_bias_y", k=4.0):
+    """Flights of the 21-term reference model with term at k x spec (the
+    others N(0, 1)): how often the component that carries the term most
+    (largest share) is rejected, and how often the term is then among
+    that component's candidates (share >= 10 %)."""
+    rej = named = any_named = any_rej = 0
+    for f in range(flights):
+        fl = igea.simulate(x={term: k}, seed=5, flight=f)
+        r = igea.eqerr(fl.S, fl.dw, fl.sigma, fl.spec, names=list(fl.terms))
+        main = max(r.components, key=lambda c: dict(c["terms"])[term])
+        if main["reject"]:
+            rej += 1
+            named += term in main["candidates"]
+        rc = [c for c in r.components if c["reject"]]
+        if rc:
+            any_rej += 1
+            any_named += any(term in c["candidates"] for c in rc)
+    share = dict(main["terms"])[term]
+    print("| %s = %g x spec | %d / %d flights | its main component (share %.3f) rejected in %s; "
+          "named among its candidates in %s | named by some rejected component in %s |"
+          % (term, k, flights, flights, share, cell(rej, flights).split(" [")[0],
+             cell(named, rej).split(" **")[0] if rej else "-",
+             cell(any_named, any_rej).split(" **")[0] if any_rej else "-"))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--flights", type=int, default=10000, help="flights per n_test cell")
     ap.add_argument("--pools", type=int, default=4000, help="pooled groups per cell")
+    ap.add_argument("--naming", type=int, default=2000, help="flights of the naming study")
     a = ap.parse_args()
     t0 = time.time()
     single(a.flights)
@@ -104,6 +130,8 @@ def main():
     print("|---|---|---|---|")
     pooled(a.pools, 3, 4, correction=False)
     pooled(a.pools, 2, 3, correction=False)
+    print()
+    naming(a.naming)
     print("\n(%.0f s; ** marks an interval that misses alpha = %g)" % (time.time() - t0, ALPHA))
 
 

@@ -123,7 +123,7 @@ BASE = {
                             _req=['coef']),
     'igea_eqerr_residual': dict(coef='u', row0='0', axis_ss='0', _zero_ok=['m']),
     'igea_eqerr_pool': dict(nflights='3', chi2='[2.0, 3.0, 1.5]', dof='[2, 3, 2]', z='u',
-                            unit_id='[1, 2, 3]', opts=EQ_OPTS),
+                            unit_id='[1, 2, 3]', opts=EQ_OPTS, _req=['z'], _opt=['reject']),
     'igea_eqerr_limits': dict(n='3', **{'lambda': 'c:20.0 + (double)i'}, z_crit='2.58'),
     'igea_eqerr_axis_rms': dict(axis_ss='[1.0, 2.0, 3.0, 4.0, 5.0, 6.0]'),
     'igea_eqerr_axis_sums': dict(row0='1', sums='0', _zero_ok=['m'], _neg_bad={'sums': [0]}),
