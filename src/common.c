@@ -41,6 +41,9 @@ const char *igea_strerror(int status)
     case IGEA_DW_ESPAN: return "a tracking epoch is outside the telemetry span";
     case IGEA_DW_ETRACK: return "tracking epochs are not strictly increasing";
     case IGEA_DW_ETELEMETRY: return "telemetry times are not strictly increasing";
+    case IGEA_EVERDICT:
+        return "the verdict rule cannot be evaluated for this many tested components "
+               "(more than IGEA_STATS_UNION_N_MAX = 200)";
     default: break;
     }
     if (status > 0)
@@ -63,6 +66,12 @@ const char *igea_opt_name(int module, int slot)
         [IGEA_EQERR_OPT_CLAMP] = "clamp",
         [IGEA_EQERR_OPT_Z_CRIT] = "z_crit",
         [IGEA_EQERR_OPT_ROUTE] = "route",
+        [IGEA_EQERR_OPT_VERDICT] = "verdict",
+        [IGEA_EQERR_OPT_OVERALL_SIZE] = "overall_size",
+        [IGEA_EQERR_OPT_VERDICT_N] = "verdict_n",
+        [IGEA_EQERR_OPT_VERDICT_A] = "verdict_a",
+        [IGEA_EQERR_OPT_VERDICT_B] = "verdict_b",
+        [IGEA_EQERR_OPT_VERDICT_SIZE] = "verdict_size",
     };
     static const char *const sim[IGEA_SIM_OPT_LEN] = {
         [IGEA_SIM_OPT_SIGMA_W] = "sigma_w",

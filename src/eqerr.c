@@ -44,6 +44,92 @@ int igea_eqerr_check_opts(const double *o)
     if (o[IGEA_EQERR_OPT_CLAMP] != 0 && o[IGEA_EQERR_OPT_CLAMP] != 1) return 1 + IGEA_EQERR_OPT_CLAMP;
     if (!(o[IGEA_EQERR_OPT_Z_CRIT] >= 0)) return 1 + IGEA_EQERR_OPT_Z_CRIT;
     if (o[IGEA_EQERR_OPT_ROUTE] != IGEA_EQERR_ROUTE_EIG && o[IGEA_EQERR_OPT_ROUTE] != IGEA_EQERR_ROUTE_SVD) return 1 + IGEA_EQERR_OPT_ROUTE;
+    const double v = o[IGEA_EQERR_OPT_VERDICT];
+    if (!(v == IGEA_STATS_VERDICT_SEED || v == IGEA_STATS_VERDICT_CHI2 || v == IGEA_STATS_VERDICT_EXACT || v == IGEA_STATS_VERDICT_SIDAK)) return 1 + IGEA_EQERR_OPT_VERDICT;
+    if (v != IGEA_STATS_VERDICT_SEED && o[IGEA_EQERR_OPT_Z_CRIT] != 0) return 1 + IGEA_EQERR_OPT_VERDICT;
+    if (o[IGEA_EQERR_OPT_OVERALL_SIZE] != 0 && o[IGEA_EQERR_OPT_OVERALL_SIZE] != 1) return 1 + IGEA_EQERR_OPT_OVERALL_SIZE;
+    const double vn = o[IGEA_EQERR_OPT_VERDICT_N];
+    if (!(vn >= 0 && vn <= IGEA_STATS_DOF_MAX && vn == floor(vn))) return 1 + IGEA_EQERR_OPT_VERDICT_N;
+    if (vn > 0) {
+        if (!(o[IGEA_EQERR_OPT_VERDICT_A] >= 0)) return 1 + IGEA_EQERR_OPT_VERDICT_A;
+        if (!(o[IGEA_EQERR_OPT_VERDICT_B] > 0)) return 1 + IGEA_EQERR_OPT_VERDICT_B;
+        if (!(o[IGEA_EQERR_OPT_VERDICT_SIZE] >= 0 && o[IGEA_EQERR_OPT_VERDICT_SIZE] <= 1)) return 1 + IGEA_EQERR_OPT_VERDICT_SIZE;
+    }
+    return 0;
+}
+
+/*
+ * Thresholds a (on |z_i|; +Inf: none), b (on T) and the overall size
+ * (0: not computed) of rule o[OPT_VERDICT] for n tested components; zc and
+ * c2 are the level-alpha z_crit and chi2_alpha(n) of the accuracy test.
+ * vc (4 doubles per n = 1..nv: computed flag, a, b, size; NULL: none) is a
+ * caller's cache, read and filled here.
+ */
+static int verdict_rule(const double *o, int n, double zc, double c2, double *vc, int nv,
+                        double *a, double *b, double *size)
+{
+    const int rule = (int)o[IGEA_EQERR_OPT_VERDICT];
+    const double alpha = o[IGEA_EQERR_OPT_ALPHA];
+    double *e = vc && n >= 1 && n <= nv ? vc + 4 * (size_t)(n - 1) : NULL;
+    if (e && e[0] == 1.0) {
+        *a = e[1], *b = e[2], *size = e[3];
+        return 0;
+    }
+    if (n >= 1 && o[IGEA_EQERR_OPT_VERDICT_N] == n) { /* the caller's precomputed values */
+        *a = o[IGEA_EQERR_OPT_VERDICT_A] > 0 ? o[IGEA_EQERR_OPT_VERDICT_A] : HUGE_VAL;
+        *b = o[IGEA_EQERR_OPT_VERDICT_B];
+        *size = o[IGEA_EQERR_OPT_VERDICT_SIZE];
+        return 0;
+    }
+    int st = 0;
+    *size = 0.0;
+    *a = zc;
+    *b = c2;
+    if (rule == IGEA_STATS_VERDICT_CHI2) {
+        *a = HUGE_VAL;
+        *size = alpha;
+    } else if (rule == IGEA_STATS_VERDICT_EXACT) {
+        if (n > IGEA_STATS_UNION_N_MAX)
+            return IGEA_EVERDICT;
+        st = igea_stats_verdict_thresholds(rule, n, alpha, a, b, size);
+    } else {
+        if (rule == IGEA_STATS_VERDICT_SIDAK) {
+            st = igea_stats_normal_quantile(-0.5 * expm1(log1p(-alpha) / n), a);
+            *a = -*a;
+        }
+        if (st == 0 && o[IGEA_EQERR_OPT_OVERALL_SIZE] == 1 && n <= IGEA_STATS_UNION_N_MAX)
+            st = igea_stats_union_size(n, *a, *b, size);
+    }
+    if (st < 0 && st > -1000)
+        st = IGEA_ENOCONV; /* a quantile out of reach: cannot happen for valid alpha */
+    if (st == 0 && e) {
+        e[0] = 1.0, e[1] = *a, e[2] = *b, e[3] = *size;
+    }
+    return st;
+}
+
+/* The verdict of the rule on the accuracy test's z[0..n_test) and info:
+ * reject[], N_REJECT, PASSED and the VERDICT slots rewritten. */
+static int apply_verdict(const double *o, const double *z, int *reject, double *info,
+                         double *vc, int nv)
+{
+    int n = (int)info[IGEA_STATS_INFO_N_TEST];
+    double a, b, size;
+    int st = verdict_rule(o, n, info[IGEA_STATS_INFO_Z_CRIT], info[IGEA_STATS_INFO_CHI2_CRIT],
+                          vc, nv, &a, &b, &size);
+    if (st)
+        return st;
+    int nrej = 0;
+    for (int i = 0; i < n; i++) {
+        reject[i] = fabs(z[i]) > a;
+        nrej += reject[i];
+    }
+    info[IGEA_STATS_INFO_N_REJECT] = nrej;
+    info[IGEA_STATS_INFO_PASSED] = nrej == 0 && info[IGEA_STATS_INFO_CHI2] < b;
+    info[IGEA_STATS_INFO_VERDICT] = o[IGEA_EQERR_OPT_VERDICT];
+    info[IGEA_STATS_INFO_VERDICT_Z_CRIT] = isfinite(a) ? a : 0.0;
+    info[IGEA_STATS_INFO_VERDICT_CHI2_CRIT] = b;
+    info[IGEA_STATS_INFO_OVERALL_SIZE] = size;
     return 0;
 }
 
@@ -54,8 +140,8 @@ int igea_eqerr_check_opts(const double *o)
  * outputs are then scratch owned by the caller, who discards them).
  */
 static int sigmaw_and_test(int N, int r, const double *lam0, const double *g0,
-                           const double *xhat, const double *o, double *lambda,
-                           double *z, int *reject, double *info)
+                           const double *xhat, const double *o, double *vc,
+                           double *lambda, double *z, int *reject, double *info)
 {
     double c = 1.0;
     int flag = IGEA_STATS_SIGMAW_OFF, iters = 0, nsmall = 0;
@@ -123,7 +209,8 @@ static int sigmaw_and_test(int N, int r, const double *lam0, const double *g0,
     info[IGEA_STATS_INFO_FLAG] = flag;
     for (int k = IGEA_STATS_INFO_FLAG + 1; k < IGEA_STATS_INFO_LEN; k++)
         info[k] = 0.0;
-    return 0;
+    info[IGEA_STATS_INFO_SIGMA_W] = sqrt(c);
+    return apply_verdict(o, z, reject, info, vc, N);
 }
 
 /* Scratch results, copied to the caller's arrays only on success. */
@@ -197,7 +284,7 @@ static int scratch_finish(scratch *s, int st, int N, double *lambda, double *P,
 
 /* Eig route from normal equations into the scratch. */
 static int solve_eig(int N, const double *A, int lda, const double *b,
-                     const double *o, scratch *s)
+                     const double *o, double *vc, scratch *s)
 {
     int st = igea__syev_desc(N, A, lda, s->lam0, s->V, N);
     if (st != 0)
@@ -210,7 +297,7 @@ static int solve_eig(int N, const double *A, int lda, const double *b,
         s->xhat[i] = pb / s->lam0[i];
         s->g0[i] = pb / sqrt(s->lam0[i]);
     }
-    return sigmaw_and_test(N, r, s->lam0, s->g0, s->xhat, o, s->lambda, s->z,
+    return sigmaw_and_test(N, r, s->lam0, s->g0, s->xhat, o, vc, s->lambda, s->z,
                            s->reject, s->info);
 }
 
@@ -240,6 +327,15 @@ int igea_eqerr_solve(int N, const double *A, int lda, const double *b,
                      const double *opts, double *lambda, double *P, int ldp,
                      double *equiv_err, double *z, int *reject, double *info)
 {
+    return igea__eqerr_solve_cached(N, A, lda, b, opts, NULL, lambda, P, ldp, equiv_err,
+                                    z, reject, info);
+}
+
+int igea__eqerr_solve_cached(int N, const double *A, int lda, const double *b,
+                             const double *opts, double *vcache, double *lambda, double *P,
+                             int ldp, double *equiv_err, double *z, int *reject,
+                             double *info)
+{
     double dflt[IGEA_EQERR_OPT_LEN];
     if (N < 1) return -1;
     if (!A) return -2;
@@ -256,7 +352,7 @@ int igea_eqerr_solve(int N, const double *A, int lda, const double *b,
     scratch s;
     if (scratch_alloc(&s, N))
         return IGEA_ENOMEM;
-    st = solve_eig(N, A, lda, b, opts, &s);
+    st = solve_eig(N, A, lda, b, opts, vcache, &s);
     return scratch_finish(&s, st, N, lambda, P, ldp, equiv_err, z, reject, info);
 }
 
@@ -297,7 +393,7 @@ static int solve_qr(int N, const double *R, int ldr, double rows, const double *
             if (!isfinite(s->lam0[i]) || (i < r && !(s->lam0[i] >= DBL_MIN)))
                 st = IGEA_EOVERFLOW;
         if (st == 0)
-            st = sigmaw_and_test(N, r, s->lam0, s->g0, s->xhat, o, s->lambda, s->z,
+            st = sigmaw_and_test(N, r, s->lam0, s->g0, s->xhat, o, NULL, s->lambda, s->z,
                                  s->reject, s->info);
     }
     free(Rc);
@@ -454,7 +550,7 @@ static int run_eig(int m, int N, const double *S, int lds, const double *dw,
     if (st < 0 && st > -1000)
         st = IGEA_EDOMAIN; /* cannot happen: arguments checked above */
     if (st == 0)
-        st = solve_eig(N, A, N, b, opts, s);
+        st = solve_eig(N, A, N, b, opts, NULL, s);
     free(A);
     return st;
 }
@@ -531,4 +627,245 @@ int igea_eqerr_run(int m, int N, const double *S, int lds, const double *dw,
     free(e);
     scratch_free(&s);
     return st;
+}
+
+/* ---- pooled verdict, report quantities ------------------------------------ */
+
+int igea_eqerr_pool(int nflights, const double *chi2, const int *dof, const double *z,
+                    const int *unit_id, const double *opts, int *reject, double *info)
+{
+    double dflt[IGEA_EQERR_OPT_LEN];
+    if (nflights < 1) return -1;
+    if (!chi2) return -2;
+    if (!dof) return -3;
+    if (!z) return -4;
+    if (!opts) {
+        igea_eqerr_defaults(dflt);
+        opts = dflt;
+    } else if (igea_eqerr_check_opts(opts))
+        return -6;
+    if (!info) return -8;
+    double ntot = 0.0;
+    for (int f = 0; f < nflights; f++) {
+        if (dof[f] < 1) return -3;
+        ntot += dof[f];
+    }
+    if (ntot > IGEA_STATS_DOF_MAX) return -3;
+    if (!igea__finite_vec((int)ntot, z, 1))
+        return IGEA_ENONFINITE;
+    int *nrej0 = igea__ialloc((size_t)nflights);
+    if (!nrej0)
+        return IGEA_ENOMEM;
+    memset(nrej0, 0, (size_t)nflights * sizeof(int));
+    double t[IGEA_STATS_INFO_LEN];
+    int st = igea_stats_pool(nflights, chi2, dof, nrej0, unit_id,
+                             opts[IGEA_EQERR_OPT_ALPHA], t);
+    free(nrej0);
+    if (st < 0 && st > -1000)
+        return st == -4 ? IGEA_EDOMAIN : st; /* -1, -2 (chi2 < 0), -3, -5 as ours */
+    if (st)
+        return st;
+    if (opts[IGEA_EQERR_OPT_Z_CRIT] > 0)
+        t[IGEA_STATS_INFO_Z_CRIT] = opts[IGEA_EQERR_OPT_Z_CRIT];
+    int n = (int)ntot;
+    int *rej = igea__ialloc((size_t)n);
+    if (!rej)
+        return IGEA_ENOMEM;
+    st = apply_verdict(opts, z, rej, t, NULL, 0);
+    if (st == 0 && reject)
+        memcpy(reject, rej, (size_t)n * sizeof(int));
+    free(rej);
+    if (st)
+        return st;
+    memcpy(info, t, sizeof t);
+    return 0;
+}
+
+int igea_eqerr_limits(int n, const double *lambda, double z_crit, double *threshold,
+                      double *precision)
+{
+    if (n < 1) return -1;
+    if (!lambda) return -2;
+    if (!(z_crit >= 0) || !isfinite(z_crit)) return -3;
+    for (int i = 0; i < n; i++)
+        if (!(lambda[i] > 0) || !isfinite(lambda[i]))
+            return isfinite(lambda[i]) ? IGEA_ENONPOSITIVE : IGEA_ENONFINITE;
+    for (int i = 0; i < n; i++) {
+        if (threshold)
+            threshold[i] = sqrt(1.0 + 1.0 / lambda[i]) * z_crit;
+        if (precision)
+            precision[i] = 1.0 / sqrt(lambda[i]);
+    }
+    return 0;
+}
+
+int igea_eqerr_axis_rms(const double *axis_ss, double *rms)
+{
+    if (!axis_ss) return -1;
+    if (!rms) return -2;
+    if (!igea__finite_vec(6, axis_ss, 1))
+        return IGEA_ENONFINITE;
+    for (int a = 0; a < 6; a++)
+        if (axis_ss[a] < 0)
+            return -1;
+    for (int a = 0; a < 3; a++)
+        rms[a] = axis_ss[3 + a] > 0 ? sqrt(axis_ss[a] / axis_ss[3 + a]) : 0.0;
+    return 0;
+}
+
+/* ---- residual diagnostics per axis ------------------------------------------ */
+
+int igea_eqerr_axis_sums(int layout, int m, int N, const double *S, int lds,
+                         const double *dw, int row0, double *sums)
+{
+    if (layout != IGEA_COLMAJOR && layout != IGEA_ROWMAJOR) return -1;
+    if (m < 0) return -2;
+    if (N < 1) return -3;
+    if (!S && m > 0) return -4;
+    if (lds < IGEA_MAX(1, layout == IGEA_COLMAJOR ? m : N)) return -5;
+    if (!dw && m > 0) return -6;
+    if (row0 < 0) return -7;
+    if (!sums) return -8;
+    const size_t w = (size_t)N + 2;
+    if (!igea__finite_vec(3 * (int)w, sums, 1) || !igea__finite_vec(m, dw, 1) ||
+        !(layout == IGEA_COLMAJOR ? igea__finite_mat(m, N, S, lds)
+                                  : igea__finite_mat(N, m, S, lds)))
+        return IGEA_ENONFINITE;
+    for (int a = 0; a < 3; a++)
+        if (!(sums[a * w] >= 0))
+            return -8;
+    double *t = igea__dalloc(3 * w);
+    if (!t)
+        return IGEA_ENOMEM;
+    memcpy(t, sums, 3 * w * sizeof(double));
+    for (int i = 0; i < m; i++) {
+        double *u = t + (size_t)(((long long)row0 + i) % 3) * w;
+        u[0] += 1.0;
+        u[1] += dw[i];
+        for (int j = 0; j < N; j++)
+            u[2 + j] += layout == IGEA_COLMAJOR ? IGEA_AT(S, lds, i, j) : IGEA_AT(S, lds, j, i);
+    }
+    int st = igea__finite_vec(3 * (int)w, t, 1) ? 0 : IGEA_EOVERFLOW;
+    if (st == 0)
+        memcpy(sums, t, 3 * w * sizeof(double));
+    free(t);
+    return st;
+}
+
+int igea_eqerr_residual_mean(int N, const double *sums, const double *coef, double *mean)
+{
+    if (N < 1) return -1;
+    if (!sums) return -2;
+    if (!coef) return -3;
+    if (!mean) return -4;
+    const size_t w = (size_t)N + 2;
+    if (!igea__finite_vec(3 * (int)w, sums, 1) || !igea__finite_vec(N, coef, 1))
+        return IGEA_ENONFINITE;
+    double mu[3];
+    for (int a = 0; a < 3; a++) {
+        const double *u = sums + a * w;
+        if (!(u[0] >= 0))
+            return -2;
+        igea__ksum acc = {0, 0};
+        igea__ksum_add(&acc, u[1]);
+        for (int j = 0; j < N; j++)
+            igea__ksum_add(&acc, -u[2 + j] * coef[j]);
+        mu[a] = u[0] > 0 ? igea__ksum_get(&acc) / u[0] : 0.0;
+        if (!isfinite(mu[a]))
+            return IGEA_EOVERFLOW;
+    }
+    memcpy(mean, mu, sizeof mu);
+    return 0;
+}
+
+int igea_eqerr_diag_add(int m, const double *residual, int row0, double *state)
+{
+    if (m < 0) return -1;
+    if (!residual && m > 0) return -2;
+    if (row0 < 0) return -3;
+    if (!state) return -4;
+    double t[3 * IGEA_STATS_DIAG_STATE_LEN];
+    memcpy(t, state, sizeof t);
+    for (int a = 0; a < 3; a++) {
+        int off = (int)((3 - (long long)row0 % 3 + a) % 3);
+        int cnt = m > off ? (m - off + 2) / 3 : 0;
+        int st = igea_stats_diag_add(cnt, cnt ? residual + off : residual, 3,
+                                     t + a * IGEA_STATS_DIAG_STATE_LEN);
+        if (st)
+            return st == -4 ? -4 : st < 0 && st > -1000 ? IGEA_EDOMAIN : st;
+    }
+    memcpy(state, t, sizeof t);
+    return 0;
+}
+
+int igea_eqerr_diag(int m, const double *residual, int lags, double *out, int *axis_status)
+{
+    if (m < 1) return -1;
+    if (!residual) return -2;
+    if (lags < 1 || lags > IGEA_STATS_DIAG_LAGS_MAX) return -3;
+    if (!out) return -4;
+    if (!axis_status) return -5;
+    double t[3 * IGEA_STATS_DIAG_LEN];
+    int ast[3];
+    memset(t, 0, sizeof t);
+    for (int a = 0; a < 3; a++) {
+        int cnt = m > a ? (m - a + 2) / 3 : 0;
+        int st = cnt ? igea_stats_whiteness(cnt, residual + a, 3, lags,
+                                            t + a * IGEA_STATS_DIAG_LEN)
+                     : IGEA_EEMPTY;
+        if (st == IGEA_EEMPTY || st == IGEA_EDOMAIN) {
+            ast[a] = st;
+            t[a * IGEA_STATS_DIAG_LEN + IGEA_STATS_DIAG_N] = cnt;
+        } else if (st) {
+            return st < 0 && st > -1000 ? IGEA_EDOMAIN : st;
+        } else {
+            ast[a] = 0;
+        }
+    }
+    memcpy(out, t, sizeof t);
+    memcpy(axis_status, ast, sizeof ast);
+    return 0;
+}
+
+/* ---- named components -------------------------------------------------------- */
+
+int igea_eqerr_components(int N, const double *P, int ldp, int ncomp,
+                          const double *spec_sigma, double *share, double *loading,
+                          int *order)
+{
+    if (N < 1) return -1;
+    if (!P) return -2;
+    if (ldp < N) return -3;
+    if (ncomp < 0 || ncomp > N) return -4;
+    if (!share) return -6;
+    if (!igea__finite_mat(N, ncomp, P, ldp))
+        return IGEA_ENONFINITE;
+    if (spec_sigma) {
+        int st = igea__sigma_vec(N, spec_sigma);
+        if (st)
+            return st;
+    }
+    for (int i = 0; i < ncomp; i++)
+        for (int j = 0; j < N; j++)
+            if (!isfinite(IGEA_AT(P, ldp, j, i) * (spec_sigma ? spec_sigma[j] : 1.0)))
+                return IGEA_EOVERFLOW;
+    for (int i = 0; i < ncomp; i++) {
+        double *sh = share + (size_t)i * N;
+        for (int j = 0; j < N; j++) {
+            double p = IGEA_AT(P, ldp, j, i);
+            sh[j] = p * p;
+            if (loading)
+                loading[j + (size_t)i * N] = p * (spec_sigma ? spec_sigma[j] : 1.0);
+        }
+        if (!order)
+            continue;
+        int *o = order + (size_t)i * N;
+        for (int j = 0; j < N; j++) { /* insertion sort: descending share, then index */
+            int k = j;
+            while (k > 0 && sh[o[k - 1]] < sh[j])
+                o[k] = o[k - 1], k--;
+            o[k] = j;
+        }
+    }
+    return 0;
 }

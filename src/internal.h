@@ -102,4 +102,12 @@ static inline void igea__ksum_add(igea__ksum *k, double x)
 }
 static inline double igea__ksum_get(const igea__ksum *k) { return k->s + k->c; }
 
+/* igea_eqerr_solve with a cache of the verdict rule's thresholds (eqerr.c):
+ * vcache NULL, or 4 N doubles, zeros at first, kept between the calls of
+ * one thread with the same options (igea_sim_montecarlo). */
+int igea__eqerr_solve_cached(int N, const double *A, int lda, const double *b,
+                             const double *opts, double *vcache, double *lambda, double *P,
+                             int ldp, double *equiv_err, double *z, int *reject,
+                             double *info);
+
 #endif

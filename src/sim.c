@@ -561,6 +561,8 @@ typedef struct {
     /* per-thread component counts */
     int *tested, *rejected;
     int fail; /* a status < 0 other than ENOTESTABLE */
+    double *vcache;   /* the verdict rule's thresholds by n_test (eqerr.c) */
+    double size_sum;  /* sum of info OVERALL_SIZE over the testable flights */
 } mc_job;
 
 /* Judge flight f of a job from its dw; scratch w (m + 5 N + N^2 +
@@ -580,8 +582,8 @@ static int mc_judge(mc_job *jb, int f, const double *dw, double *w, int *rej)
             acc += col[i] * wdw[i];
         b[j] = acc;
     }
-    int st = igea_eqerr_solve(N, jb->A, N, b, jb->eq_opts, lam, P, N, xhat, z,
-                              rej, info);
+    int st = igea__eqerr_solve_cached(N, jb->A, N, b, jb->eq_opts, jb->vcache, lam, P,
+                                      N, xhat, z, rej, info);
     jb->status[f] = st;
     if (st == IGEA_ENOTESTABLE) {
         jb->chi2[f] = 0.0;
@@ -596,8 +598,9 @@ static int mc_judge(mc_job *jb, int f, const double *dw, double *w, int *rej)
     jb->dof[f] = (int)info[IGEA_STATS_INFO_DOF];
     jb->nrej[f] = (int)info[IGEA_STATS_INFO_N_REJECT];
     jb->scale[f] = info[IGEA_STATS_INFO_SCALE];
-    jb->status[f] = info[IGEA_STATS_INFO_CHI2] >= info[IGEA_STATS_INFO_CHI2_CRIT]
-                        ? 1 : 0; /* chi-square rejected */
+    jb->status[f] = info[IGEA_STATS_INFO_CHI2] >= info[IGEA_STATS_INFO_VERDICT_CHI2_CRIT]
+                        ? 1 : 0; /* chi-square rejected (by the verdict rule) */
+    jb->size_sum += info[IGEA_STATS_INFO_OVERALL_SIZE];
     for (int i = 0; i < N; i++) {
         if (rej[i] >= 0)
             jb->tested[i]++;
@@ -613,10 +616,14 @@ static void *mc_worker(void *arg)
     const igea_sim_model *c = jb->c;
     int m = c->m, N = c->N;
     size_t nn = (size_t)N * N;
-    double *w = igea__dalloc(3 * (size_t)m + 7 * (size_t)N + nn +
+    double *w = igea__dalloc(3 * (size_t)m + 11 * (size_t)N + nn +
                              IGEA_STATS_INFO_LEN);
     int *rej = igea__ialloc((size_t)N);
     gsl_rng *r = (w && rej) ? igea__rng_new(rng_type(c), 0) : NULL;
+    if (w) {
+        jb->vcache = w + 3 * (size_t)m + 7 * (size_t)N + nn + IGEA_STATS_INFO_LEN;
+        memset(jb->vcache, 0, 4 * (size_t)N * sizeof(double));
+    }
     if (!r) {
         free(w);
         free(rej);
@@ -720,6 +727,10 @@ static void mc_write(const mc_job *jobs, int nthreads, int N, int nflights,
     const mc_job *j0 = &jobs[0];
     double res[IGEA_SIM_MC_LEN], rt[IGEA_SIM_MC_RATES_LEN];
     mc_counts(nflights, j0->status, j0->nrej, j0->dof, j0->scale, res, rt);
+    double size_sum = 0.0, ntestable = nflights - res[IGEA_SIM_MC_NOT_TESTABLE];
+    for (int t = 0; t < nthreads; t++)
+        size_sum += jobs[t].size_sum;
+    res[IGEA_SIM_MC_MEAN_SIZE] = ntestable > 0 ? size_sum / ntestable : 0.0;
     memcpy(counts, res, sizeof res);
     if (rates)
         memcpy(rates, rt, sizeof rt);

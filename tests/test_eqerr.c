@@ -630,6 +630,339 @@ static void test_check_opts_and_names(void **state)
     assert_string_equal(igea_opt_name(3, 0), "");
 }
 
+/* ---- overall verdict rules ----------------------------------------------- */
+/* Diagonal normal equations: lambda = A_ii, P = I, z_i = b_i / lambda_i /
+ * sqrt(1 + 1/lambda_i); b is chosen for the z below. Reference values
+ * (scipy 1.17): z_0.995 = norm.isf(0.005) = 2.575829303548901 (the seed's
+ * 2.58), chi2_0.01(5) = chi2.isf(0.01, 5) = 15.086272469388991 (Abramowitz
+ * & Stegun Table 26.8: 15.086), Sidak level g = 1 - 0.99^(1/5) =
+ * 0.002008048338574153 and norm.isf(g / 2) = 3.089039359975515. */
+enum { NV = 6 };
+static const double lamv[NV] = {1e4, 1e3, 100, 50, 20, 1};
+static const double zv[5] = {2.7, -1.0, 0.5, -3.0, 0.2};
+
+static int solve_rule(int rule, double *z, int *rej, double *info)
+{
+    double A[NV * NV] = {0}, b[NV], o[IGEA_EQERR_OPT_LEN], lam[NV], P[NV * NV], xh[NV];
+    for (int i = 0; i < NV; i++) {
+        A[i + i * NV] = lamv[i];
+        b[i] = (i < 5 ? zv[i] : 0.3) * sqrt(1 + 1 / lamv[i]) * lamv[i];
+    }
+    igea_eqerr_defaults(o);
+    o[IGEA_EQERR_OPT_CORRECTION] = 0;
+    o[IGEA_EQERR_OPT_VERDICT] = rule;
+    o[IGEA_EQERR_OPT_OVERALL_SIZE] = 1;
+    return igea_eqerr_solve(NV, A, NV, b, o, lam, P, NV, xh, z, rej, info);
+}
+
+static void test_verdict_rules(void **state)
+{
+    (void)state;
+    double z[NV], info[IGEA_STATS_INFO_LEN];
+    int rej[NV];
+    const double zc = 2.575829303548901, c5 = 15.086272469388991, T = 2.7 * 2.7 + 1 + 0.25 + 9 + 0.04;
+    /* seed: components 0 and 3 beyond 2.5758 */
+    assert_int_equal(solve_rule(IGEA_STATS_VERDICT_SEED, z, rej, info), 0);
+    assert_int_equal((int)info[IGEA_STATS_INFO_N_TEST], 5);
+    for (int i = 0; i < 5; i++)
+        assert_close(z[i], zv[i], 1e-12);
+    assert_close(info[IGEA_STATS_INFO_CHI2], T, 1e-12);
+    assert_int_equal(rej[0] + rej[3], 2);
+    assert_int_equal(rej[1] + rej[2] + rej[4], 0);
+    assert_int_equal(rej[5], -1);
+    assert_int_equal((int)info[IGEA_STATS_INFO_PASSED], 0);
+    assert_int_equal((int)info[IGEA_STATS_INFO_VERDICT], IGEA_STATS_VERDICT_SEED);
+    assert_close(info[IGEA_STATS_INFO_VERDICT_Z_CRIT], zc, 1e-12);
+    assert_close(info[IGEA_STATS_INFO_VERDICT_CHI2_CRIT], c5, 1e-10);
+    /* the seed's size for n = 5 lies between its two parts' and their sum */
+    double g = info[IGEA_STATS_INFO_OVERALL_SIZE], cube = 1 - pow(1 - 0.01, 5);
+    assert_true(g > cube && g < cube + 0.01);
+    /* chi2 alone: no component test, T = 17.54 >= 15.086 rejects */
+    assert_int_equal(solve_rule(IGEA_STATS_VERDICT_CHI2, z, rej, info), 0);
+    for (int i = 0; i < 5; i++)
+        assert_int_equal(rej[i], 0);
+    assert_int_equal((int)info[IGEA_STATS_INFO_N_REJECT], 0);
+    assert_int_equal((int)info[IGEA_STATS_INFO_PASSED], T < c5);
+    assert_true(info[IGEA_STATS_INFO_VERDICT_Z_CRIT] == 0.0);
+    assert_close(info[IGEA_STATS_INFO_OVERALL_SIZE], 0.01, 1e-15);
+    /* Sidak: no component beyond 3.089 (|z| = 3.0 passes); T >= 15.086 rejects */
+    assert_int_equal(solve_rule(IGEA_STATS_VERDICT_SIDAK, z, rej, info), 0);
+    assert_close(info[IGEA_STATS_INFO_VERDICT_Z_CRIT], 3.089039359975515, 1e-10);
+    assert_close(info[IGEA_STATS_INFO_VERDICT_CHI2_CRIT], c5, 1e-10);
+    assert_int_equal((int)info[IGEA_STATS_INFO_N_REJECT], 0);
+    assert_int_equal((int)info[IGEA_STATS_INFO_PASSED], 0); /* T >= 15.086 */
+    /* exact: size alpha, both thresholds at one level g */
+    assert_int_equal(solve_rule(IGEA_STATS_VERDICT_EXACT, z, rej, info), 0);
+    assert_close(info[IGEA_STATS_INFO_OVERALL_SIZE], 0.01, 1e-10);
+    double a = info[IGEA_STATS_INFO_VERDICT_Z_CRIT], b = info[IGEA_STATS_INFO_VERDICT_CHI2_CRIT];
+    double pa, qb;
+    igea_stats_normal_cdf(-a, &pa);
+    igea_stats_chi2_sf(b, 5, &qb);
+    assert_close(2 * pa, qb, 1e-9);
+    assert_true(a > zc && b > c5 && 2 * pa > 0.01 / 6 && 2 * pa < 0.01);
+    assert_int_equal((int)info[IGEA_STATS_INFO_PASSED], !(3.0 > a) && T < b);
+}
+
+static void test_verdict_limits_and_cache(void **state)
+{
+    (void)state;
+    double o[IGEA_EQERR_OPT_LEN];
+    igea_eqerr_defaults(o);
+    o[IGEA_EQERR_OPT_VERDICT] = IGEA_STATS_VERDICT_EXACT;
+    assert_int_equal(igea_eqerr_check_opts(o), 0);
+    o[IGEA_EQERR_OPT_Z_CRIT] = 2.58; /* an imposed z_crit is the seed's rule only */
+    assert_int_equal(igea_eqerr_check_opts(o), 1 + IGEA_EQERR_OPT_VERDICT);
+    o[IGEA_EQERR_OPT_Z_CRIT] = 0;
+    o[IGEA_EQERR_OPT_VERDICT] = 4;
+    assert_int_equal(igea_eqerr_check_opts(o), 1 + IGEA_EQERR_OPT_VERDICT);
+    o[IGEA_EQERR_OPT_VERDICT] = 0;
+    o[IGEA_EQERR_OPT_OVERALL_SIZE] = 0.5;
+    assert_int_equal(igea_eqerr_check_opts(o), 1 + IGEA_EQERR_OPT_OVERALL_SIZE);
+    assert_string_equal(igea_opt_name(IGEA_MODULE_EQERR, IGEA_EQERR_OPT_VERDICT), "verdict");
+    assert_string_equal(igea_opt_name(IGEA_MODULE_EQERR, IGEA_EQERR_OPT_OVERALL_SIZE),
+                        "overall_size");
+    /* 201 tested components: beyond the union-size quadrature */
+    enum { NB = 201 };
+    double *A = calloc(NB * NB, sizeof(double)), *P = malloc(NB * NB * sizeof(double));
+    double b[NB], lam[NB], xh[NB], z[NB], info[IGEA_STATS_INFO_LEN], info2[IGEA_STATS_INFO_LEN];
+    int rej[NB];
+    for (int i = 0; i < NB; i++) {
+        A[i + i * NB] = 100.0 + i;
+        b[i] = 0.1 * (i % 7) - 0.3;
+    }
+    igea_eqerr_defaults(o);
+    o[IGEA_EQERR_OPT_CORRECTION] = 0;
+    o[IGEA_EQERR_OPT_OVERALL_SIZE] = 1;
+    assert_int_equal(igea_eqerr_solve(NB, A, NB, b, o, lam, P, NB, xh, z, rej, info), 0);
+    assert_true(info[IGEA_STATS_INFO_OVERALL_SIZE] == 0.0); /* not computed */
+    assert_close(info[IGEA_STATS_INFO_SIGMA_W], 1.0, 0);
+    o[IGEA_EQERR_OPT_VERDICT] = IGEA_STATS_VERDICT_EXACT;
+    info2[0] = -7;
+    assert_int_equal(igea_eqerr_solve(NB, A, NB, b, o, lam, P, NB, xh, z, rej, info2),
+                     IGEA_EVERDICT);
+    assert_true(info2[0] == -7);
+    assert_true(strlen(igea_strerror(IGEA_EVERDICT)) > 20);
+    free(A);
+    free(P);
+    /* the thread cache gives the uncached answer */
+    double A3[9] = {400, 0, 0, 0, 90, 0, 0, 0, 30}, b3[3] = {900, -150, 40}, cache[12] = {0};
+    double l3[3], P3[9], x3[3], z3[3], i1[IGEA_STATS_INFO_LEN], i2[IGEA_STATS_INFO_LEN];
+    int r3[3];
+    igea_eqerr_defaults(o);
+    o[IGEA_EQERR_OPT_CORRECTION] = 0;
+    o[IGEA_EQERR_OPT_VERDICT] = IGEA_STATS_VERDICT_EXACT;
+    assert_int_equal(igea_eqerr_solve(3, A3, 3, b3, o, l3, P3, 3, x3, z3, r3, i1), 0);
+    for (int rep = 0; rep < 2; rep++) {
+        assert_int_equal(igea__eqerr_solve_cached(3, A3, 3, b3, o, cache, l3, P3, 3, x3, z3, r3,
+                                                  i2), 0);
+        assert_memory_equal(i1, i2, sizeof i1);
+    }
+    assert_true(cache[4 * 2] == 1.0 && cache[0] == 0.0);
+    /* the caller's precomputed thresholds for n = 5 are used as given */
+    double z5[NV], info5[IGEA_STATS_INFO_LEN], A5[NV * NV] = {0}, b5[NV], l5[NV], P5[NV * NV];
+    double x5[NV];
+    int r5[NV];
+    for (int i = 0; i < NV; i++) {
+        A5[i + i * NV] = lamv[i];
+        b5[i] = (i < 5 ? zv[i] : 0.3) * sqrt(1 + 1 / lamv[i]) * lamv[i];
+    }
+    igea_eqerr_defaults(o);
+    o[IGEA_EQERR_OPT_CORRECTION] = 0;
+    o[IGEA_EQERR_OPT_VERDICT] = IGEA_STATS_VERDICT_EXACT;
+    o[IGEA_EQERR_OPT_VERDICT_N] = 5;
+    o[IGEA_EQERR_OPT_VERDICT_A] = 2.9;
+    o[IGEA_EQERR_OPT_VERDICT_B] = 100.0;
+    o[IGEA_EQERR_OPT_VERDICT_SIZE] = 0.25;
+    assert_int_equal(igea_eqerr_solve(NV, A5, NV, b5, o, l5, P5, NV, x5, z5, r5, info5), 0);
+    assert_int_equal((int)info5[IGEA_STATS_INFO_N_REJECT], 1); /* only |z| = 3.0 > 2.9 */
+    assert_true(info5[IGEA_STATS_INFO_OVERALL_SIZE] == 0.25);
+    o[IGEA_EQERR_OPT_VERDICT_N] = 4; /* for another n: ignored, the rule's own */
+    assert_int_equal(igea_eqerr_solve(NV, A5, NV, b5, o, l5, P5, NV, x5, z5, r5, info5), 0);
+    assert_close(info5[IGEA_STATS_INFO_OVERALL_SIZE], 0.01, 1e-10);
+    o[IGEA_EQERR_OPT_VERDICT_N] = 2.5;
+    assert_int_equal(igea_eqerr_check_opts(o), 1 + IGEA_EQERR_OPT_VERDICT_N);
+    o[IGEA_EQERR_OPT_VERDICT_N] = 3;
+    o[IGEA_EQERR_OPT_VERDICT_B] = 0;
+    assert_int_equal(igea_eqerr_check_opts(o), 1 + IGEA_EQERR_OPT_VERDICT_B);
+    assert_string_equal(igea_opt_name(IGEA_MODULE_EQERR, IGEA_EQERR_OPT_VERDICT_SIZE),
+                        "verdict_size");
+}
+
+static void test_pool_rule(void **state)
+{
+    (void)state;
+    /* two flights of 2 and 3 components */
+    double chi2[2] = {2.7 * 2.7 + 1.0, 0.25 + 9.0 + 0.04}, zall[5] = {2.7, -1, 0.5, -3, 0.2};
+    int dof[2] = {2, 3}, rej[5], uid[2] = {4, 4};
+    double o[IGEA_EQERR_OPT_LEN], info[IGEA_STATS_INFO_LEN];
+    igea_eqerr_defaults(o);
+    o[IGEA_EQERR_OPT_OVERALL_SIZE] = 1;
+    assert_int_equal(igea_eqerr_pool(2, chi2, dof, zall, NULL, o, rej, info), 0);
+    assert_int_equal((int)info[IGEA_STATS_INFO_DOF], 5);
+    assert_close(info[IGEA_STATS_INFO_CHI2], chi2[0] + chi2[1], 1e-15);
+    assert_close(info[IGEA_STATS_INFO_VERDICT_CHI2_CRIT], 15.086272469388991, 1e-10);
+    assert_int_equal((int)info[IGEA_STATS_INFO_N_REJECT], 2);
+    assert_int_equal(rej[0] + rej[3], 2);
+    assert_int_equal((int)info[IGEA_STATS_INFO_N_FLIGHTS], 2);
+    /* the same as the seed's pooling of the flights' own rejections */
+    int nrej[2] = {1, 1};
+    double i0[IGEA_STATS_INFO_LEN];
+    assert_int_equal(igea_stats_pool(2, chi2, dof, nrej, NULL, 0.01, i0), 0);
+    assert_true(i0[IGEA_STATS_INFO_PASSED] == info[IGEA_STATS_INFO_PASSED]);
+    /* the same as one flight of 5 with the same z (a diagonal solve) */
+    double z[NV], i5[IGEA_STATS_INFO_LEN];
+    int r5[NV];
+    assert_int_equal(solve_rule(IGEA_STATS_VERDICT_SEED, z, r5, i5), 0);
+    assert_close(info[IGEA_STATS_INFO_OVERALL_SIZE], i5[IGEA_STATS_INFO_OVERALL_SIZE], 1e-12);
+    o[IGEA_EQERR_OPT_VERDICT] = IGEA_STATS_VERDICT_SIDAK;
+    assert_int_equal(igea_eqerr_pool(2, chi2, dof, zall, NULL, o, NULL, info), 0);
+    assert_close(info[IGEA_STATS_INFO_VERDICT_Z_CRIT], 3.089039359975515, 1e-10);
+    assert_int_equal((int)info[IGEA_STATS_INFO_N_REJECT], 0);
+    assert_int_equal(igea_eqerr_pool(2, chi2, dof, zall, uid, o, NULL, info), IGEA_EDEPENDENT);
+    zall[4] = NAN;
+    assert_int_equal(igea_eqerr_pool(2, chi2, dof, zall, NULL, o, NULL, info), IGEA_ENONFINITE);
+    dof[1] = 0;
+    assert_int_equal(igea_eqerr_pool(2, chi2, dof, zall, NULL, o, NULL, info), -3);
+}
+
+static void test_limits_and_rms(void **state)
+{
+    (void)state;
+    double lam[2] = {3.0, 0.25}, thr[2], prec[2];
+    assert_int_equal(igea_eqerr_limits(2, lam, 2.0, thr, prec), 0);
+    assert_close(thr[0], 2.0 * sqrt(4.0 / 3.0), 1e-15);
+    assert_close(thr[1], 2.0 * sqrt(5.0), 1e-15);
+    assert_close(prec[0], 1 / sqrt(3.0), 1e-15);
+    assert_close(prec[1], 2.0, 1e-15);
+    lam[1] = 0;
+    assert_int_equal(igea_eqerr_limits(2, lam, 2.0, thr, NULL), IGEA_ENONPOSITIVE);
+    double ss[6] = {8, 27, 0, 2, 3, 0}, rms[3];
+    assert_int_equal(igea_eqerr_axis_rms(ss, rms), 0);
+    assert_close(rms[0], 2.0, 1e-15);
+    assert_close(rms[1], 3.0, 1e-15);
+    assert_true(rms[2] == 0.0);
+    ss[0] = -1;
+    assert_int_equal(igea_eqerr_axis_rms(ss, rms), -1);
+}
+
+/* ---- residual diagnostics ------------------------------------------------- */
+/* x_t = (-1)^t, n = 10, centre 0: r_k = (-1)^k (n - k) / n, so Ljung-Box
+ * over L = 3 lags is Q = (n + 2)/n sum_{k<=3} (n - k) = 1.2 * 24 = 28.8;
+ * 10 runs of 5 + 5 signs: mean 6, variance 2*25*40/(100*9) = 20/9,
+ * z = 4 / sqrt(20/9) = 2.6832815729997477. */
+static void test_diag_closed_form(void **state)
+{
+    (void)state;
+    double x[10], s[IGEA_STATS_DIAG_STATE_LEN], out[IGEA_STATS_DIAG_LEN], q;
+    for (int t = 0; t < 10; t++)
+        x[t] = t % 2 ? -1.0 : 1.0;
+    assert_int_equal(igea_stats_diag_init(3, 0.0, s), 0);
+    assert_int_equal(igea_stats_diag_add(4, x, 1, s), 0);  /* in two blocks */
+    assert_int_equal(igea_stats_diag_add(6, x + 4, 1, s), 0);
+    assert_int_equal(igea_stats_diag_result(s, out), 0);
+    assert_close(out[IGEA_STATS_DIAG_LB_Q], 28.8, 1e-14);
+    igea_stats_chi2_sf(28.8, 3, &q);
+    assert_close(out[IGEA_STATS_DIAG_LB_P], q, 1e-14);
+    assert_int_equal((int)out[IGEA_STATS_DIAG_RUNS], 10);
+    assert_int_equal((int)out[IGEA_STATS_DIAG_N_ABOVE], 5);
+    assert_int_equal((int)out[IGEA_STATS_DIAG_N_BELOW], 5);
+    assert_close(out[IGEA_STATS_DIAG_RUNS_Z], 2.6832815729997477, 1e-14);
+    assert_close(out[IGEA_STATS_DIAG_RUNS_P], erfc(2.6832815729997477 / sqrt(2.0)), 1e-13);
+    /* about its own mean (0 here) in one call: the same */
+    double o2[IGEA_STATS_DIAG_LEN];
+    assert_int_equal(igea_stats_whiteness(10, x, 1, 3, o2), 0);
+    assert_memory_equal(out, o2, sizeof out);
+    /* too short, constant, NaN, a state never initialised */
+    assert_int_equal(igea_stats_whiteness(4, x, 1, 3, o2), IGEA_EEMPTY);
+    double c[6] = {2, 2, 2, 2, 2, 2};
+    assert_int_equal(igea_stats_whiteness(6, c, 1, 2, o2), IGEA_EDOMAIN);
+    x[3] = NAN;
+    assert_int_equal(igea_stats_diag_add(10, x, 1, s), IGEA_ENONFINITE);
+    double junk[IGEA_STATS_DIAG_STATE_LEN] = {0};
+    assert_int_equal(igea_stats_diag_add(1, c, 1, junk), -4);
+    assert_int_equal(igea_stats_diag_init(IGEA_STATS_DIAG_LAGS_MAX + 1, 0, s), -1);
+}
+
+/* The per-axis routing: rows epoch-major x, y, z in blocks starting at any
+ * row give the in-memory per-axis results; the residual mean from the
+ * pass-1 sums is the mean of the residuals. */
+static void test_eqerr_diag_streamed(void **state)
+{
+    (void)state;
+    enum { MR = 300, NR = 2 };
+    double S[MR * NR], dw[MR], coef[NR] = {0.7, -0.2}, e[MR], sums[3 * (NR + 2)] = {0};
+    for (int i = 0; i < MR; i++) {
+        S[i] = 1.0 + (i % 3);
+        S[i + MR] = sin(0.1 * i);
+        dw[i] = 0.7 * S[i] - 0.2 * S[i + MR] + 0.01 * cos(1.3 * i * i) + 0.001 * (i % 3);
+    }
+    assert_int_equal(igea_eqerr_residual(IGEA_COLMAJOR, MR, NR, S, MR, dw, coef, 0, e, NULL), 0);
+    double out[3 * IGEA_STATS_DIAG_LEN], mean[3], st[3 * IGEA_STATS_DIAG_STATE_LEN];
+    int ast[3];
+    assert_int_equal(igea_eqerr_diag(MR, e, 7, out, ast), 0);
+    assert_int_equal(ast[0] + ast[1] + ast[2], 0);
+    /* pass 1 in two blocks of 101 and 199 rows (row-major copies) */
+    double Sr[MR * NR];
+    for (int i = 0; i < MR; i++)
+        for (int j = 0; j < NR; j++)
+            Sr[j + i * NR] = S[i + j * MR];
+    assert_int_equal(igea_eqerr_axis_sums(IGEA_ROWMAJOR, 101, NR, Sr, NR, dw, 0, sums), 0);
+    assert_int_equal(igea_eqerr_axis_sums(IGEA_ROWMAJOR, 199, NR, Sr + 101 * NR, NR, dw + 101,
+                                          101, sums), 0);
+    assert_int_equal(igea_eqerr_residual_mean(NR, sums, coef, mean), 0);
+    for (int a = 0; a < 3; a++) {
+        double m = 0;
+        for (int i = a; i < MR; i += 3)
+            m += e[i] / 100;
+        assert_close_abs(mean[a], m, 1e-9, 1e-15);
+        igea_stats_diag_init(7, mean[a], st + a * IGEA_STATS_DIAG_STATE_LEN);
+    }
+    assert_int_equal(igea_eqerr_diag_add(101, e, 0, st), 0);
+    assert_int_equal(igea_eqerr_diag_add(98, e + 101, 101, st), 0);
+    assert_int_equal(igea_eqerr_diag_add(101, e + 199, 199, st), 0);
+    for (int a = 0; a < 3; a++) {
+        double r[IGEA_STATS_DIAG_LEN];
+        const double *w = out + a * IGEA_STATS_DIAG_LEN;
+        assert_int_equal(igea_stats_diag_result(st + a * IGEA_STATS_DIAG_STATE_LEN, r), 0);
+        assert_int_equal((int)r[IGEA_STATS_DIAG_N], 100);
+        assert_close(r[IGEA_STATS_DIAG_LB_Q], w[IGEA_STATS_DIAG_LB_Q], 1e-9);
+        assert_true(r[IGEA_STATS_DIAG_RUNS] == w[IGEA_STATS_DIAG_RUNS]);
+    }
+    /* an axis with too few values is reported, not an error */
+    assert_int_equal(igea_eqerr_diag(20, e, 7, out, ast), 0);
+    assert_int_equal(ast[0], IGEA_EEMPTY);
+}
+
+/* Components of a rotation: p_0 = (0.6, 0.8, 0), p_1 = (0.8, -0.6, 0):
+ * shares 0.36, 0.64, 0; loadings spec_j p_ij. */
+static void test_components_closed_form(void **state)
+{
+    (void)state;
+    double P[9] = {0.6, 0.8, 0, 0.8, -0.6, 0, 0, 0, 1}, spec[3] = {2, 0.5, 1};
+    double share[6], load[6];
+    int order[6];
+    assert_int_equal(igea_eqerr_components(3, P, 3, 2, spec, share, load, order), 0);
+    assert_close(share[0], 0.36, 1e-15);
+    assert_close(share[1], 0.64, 1e-15);
+    assert_true(share[2] == 0.0);
+    assert_close(share[3], 0.64, 1e-15);
+    assert_close(load[0], 1.2, 1e-15);
+    assert_close(load[1], 0.4, 1e-15);
+    assert_close(load[4], -0.3, 1e-15);
+    assert_int_equal(order[0], 1);
+    assert_int_equal(order[1], 0);
+    assert_int_equal(order[2], 2);
+    assert_int_equal(order[3], 0);
+    assert_int_equal(order[4], 1);
+    assert_int_equal(igea_eqerr_components(3, P, 3, 2, NULL, share, NULL, NULL), 0);
+    spec[1] = 0;
+    share[0] = -1;
+    assert_int_equal(igea_eqerr_components(3, P, 3, 2, spec, share, load, order),
+                     IGEA_ENONPOSITIVE);
+    assert_true(share[0] == -1);
+    assert_int_equal(igea_eqerr_components(3, P, 3, 4, NULL, share, NULL, NULL), -4);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -645,6 +978,13 @@ int main(void)
         cmocka_unit_test(test_overflow_is_not_nonfinite),
         cmocka_unit_test(test_sigma_range),
         cmocka_unit_test(test_check_opts_and_names),
+        cmocka_unit_test(test_verdict_rules),
+        cmocka_unit_test(test_verdict_limits_and_cache),
+        cmocka_unit_test(test_pool_rule),
+        cmocka_unit_test(test_limits_and_rms),
+        cmocka_unit_test(test_diag_closed_form),
+        cmocka_unit_test(test_eqerr_diag_streamed),
+        cmocka_unit_test(test_components_closed_form),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

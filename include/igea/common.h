@@ -70,6 +70,8 @@ extern "C" {
 #define IGEA_DW_ESPAN (-1031)     /* a tracking epoch is outside the telemetry span */
 #define IGEA_DW_ETRACK (-1032)    /* tracking epochs are not strictly increasing */
 #define IGEA_DW_ETELEMETRY (-1033) /* telemetry times are not strictly increasing */
+#define IGEA_EVERDICT (-1027)     /* the verdict rule cannot be evaluated for this many
+                                   * tested components (> IGEA_STATS_UNION_N_MAX) */
 
 /* Smallest standard deviation (a sigma whose inverse square weights the
  * data) accepted: 2^-511, about 1.5e-154, where 1/sigma^2 = 2^1022 is still

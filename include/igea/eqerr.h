@@ -42,7 +42,39 @@ extern "C" {
 #define IGEA_EQERR_OPT_CLAMP 9        /* 1: never let c fall below 1 [D] */
 #define IGEA_EQERR_OPT_Z_CRIT 10      /* > 0: impose z_crit (2.58); 0 exact */
 #define IGEA_EQERR_OPT_ROUTE 11       /* IGEA_EQERR_ROUTE_EIG or IGEA_EQERR_ROUTE_SVD */
-#define IGEA_EQERR_OPT_LEN 32 /* slots 12.. reserved for additions (0) */
+#define IGEA_EQERR_OPT_VERDICT 12      /* overall verdict rule IGEA_STATS_VERDICT_*: 0 (SEED) */
+#define IGEA_EQERR_OPT_OVERALL_SIZE 13 /* 1: also compute the rule's overall size, 0 (see below) */
+#define IGEA_EQERR_OPT_VERDICT_N 14    /* n >= 1: slots 15-17 hold the rule's values for n */
+#define IGEA_EQERR_OPT_VERDICT_A 15    /* precomputed threshold a on |z_i| (0: none) */
+#define IGEA_EQERR_OPT_VERDICT_B 16    /* precomputed threshold b on T */
+#define IGEA_EQERR_OPT_VERDICT_SIZE 17 /* precomputed overall size (0: not computed) */
+#define IGEA_EQERR_OPT_LEN 32 /* slots 18.. reserved for additions (0) */
+
+/*
+ * The overall verdict (docs/eqerr.md, "Overall size of the verdict").
+ * With n = n_test tested components the rule OPT_VERDICT gives a threshold
+ * a on |z_i| and b on T = sum z_i^2 (igea_stats_verdict_thresholds): a
+ * component is rejected when |z_i| > a, and the flight passes when none is
+ * and T < b. SEED (the default): a = z_crit (z_{1-alpha/2} or OPT_Z_CRIT),
+ * b = chi2_alpha(n), exactly the seed's test; CHI2: no component test (a =
+ * +Inf, reject[] all 0), b = chi2_alpha(n); EXACT: both at one common level
+ * so that the overall false-alarm probability is alpha; SIDAK: a at the
+ * Sidak level 1 - (1 - alpha)^(1/n), b = chi2_alpha(n). OPT_Z_CRIT > 0 is
+ * allowed with SEED only. reject[], info N_REJECT and PASSED are those of
+ * the rule; info Z_CRIT and CHI2_CRIT keep their level-alpha meaning, and
+ * info VERDICT, VERDICT_Z_CRIT, VERDICT_CHI2_CRIT and OVERALL_SIZE
+ * (igea/stats.h) report the rule. The overall size needs the union-size
+ * quadrature (5 ms for n = 7, 0.06 s for n = 20, 3 s for n = 100): EXACT
+ * gets it from its thresholds and CHI2 has size alpha; for SEED and SIDAK
+ * it is computed only with OPT_OVERALL_SIZE = 1 (else info OVERALL_SIZE is
+ * 0, "not computed"; also 0 when n > IGEA_STATS_UNION_N_MAX). EXACT with n
+ * > IGEA_STATS_UNION_N_MAX returns IGEA_EVERDICT. igea_sim_montecarlo
+ * computes a rule's thresholds once per n_test and thread, not per flight.
+ * A caller that judges many flights or pools of one n can do the same:
+ * OPT_VERDICT_N = n and OPT_VERDICT_A, _B, _SIZE the values that
+ * igea_stats_verdict_thresholds gives for this rule and alpha (a = 0 for
+ * CHI2) are used, unchecked, whenever n_test = n (0: none, the default).
+ */
 
 #define IGEA_EQERR_ROUTE_EIG 0 /* normal matrix + dsyevd (streamable) */
 #define IGEA_EQERR_ROUTE_SVD 1 /* SVD of the weighted S through its QR factor (dtpqrt
@@ -57,7 +89,11 @@ IGEA_API int igea_eqerr_defaults(double *opts);
  * reserved ones included), 0 < alpha < 1, lambda_test > 0,
  * lambda_small > 0, n_min >= 1, tol > 0, 1 <= max_iter <= 1000, correct,
  * bias_correct and clamp 0 or 1, 0 <= rank_tol < 1, z_crit >= 0, route
- * IGEA_EQERR_ROUTE_EIG or IGEA_EQERR_ROUTE_SVD. Returns 0 when they are
+ * IGEA_EQERR_ROUTE_EIG or IGEA_EQERR_ROUTE_SVD, verdict an
+ * IGEA_STATS_VERDICT_* code (and z_crit 0 unless it is SEED: the slot
+ * named is then verdict), overall_size 0 or 1, verdict_n a whole number
+ * 0 .. IGEA_STATS_DOF_MAX, verdict_a >= 0, verdict_b > 0 and 0 <=
+ * verdict_size <= 1 when verdict_n > 0. Returns 0 when they are
  * valid, else 1 + the first invalid slot (name it with
  * igea_opt_name(IGEA_MODULE_EQERR, status - 1)); -1 for opts NULL.
  */
@@ -75,7 +111,8 @@ IGEA_API int igea_eqerr_check_opts(const double *opts);
  * 11 reject[N]: 1 rejected, 0 accepted, -1 not tested
  * 12 info[IGEA_STATS_INFO_LEN]: see igea/stats.h (rank, c, iterations, ...)
  * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENOTESTABLE (no lambda >= lambda_test;
- * nothing is written), IGEA_EOVERFLOW (a result, e.g. lambda = s^2 on the
+ * nothing is written), IGEA_EVERDICT (the rule cannot be evaluated for
+ * n_test components), IGEA_ENOCONV (the rule's thresholds), IGEA_EOVERFLOW (a result, e.g. lambda = s^2 on the
  * SVD route, is not a finite double: rescale the inputs), IGEA_ENOMEM,
  * IGEA_ELAPACK. Every output is finite on success.
  */
@@ -148,6 +185,124 @@ IGEA_API int igea_eqerr_coef(int N, const double *P, int ldp,
 IGEA_API int igea_eqerr_residual(int layout, int m, int N, const double *S,
                                  int lds, const double *dw, const double *coef,
                                  int row0, double *residual, double *axis_ss);
+
+/*
+ * Pooled verdict of independent flights (METHODS 1.2 step 6) by the rule
+ * IGEA_EQERR_OPT_VERDICT: under H0 the z of all the flights' tested
+ * components are independent N(0, 1), so the pooled test is the rule for
+ * n = dof_tot = sum of dof[f] components: out of spec when some |z| > a
+ * or T_tot = sum of chi2[f] >= b (a, b the rule's thresholds for n; SEED:
+ * a = z_{1-alpha/2} or OPT_Z_CRIT, b = chi2_alpha(dof_tot), igea_stats_pool's
+ * verdict).
+ *  1 nflights >= 1
+ *  2 chi2[nflights]  T of each flight, finite, >= 0
+ *  3 dof[nflights]   its tested components, >= 1 (sum <= IGEA_STATS_DOF_MAX)
+ *  4 z[sum of dof]   the flights' z, flight after flight, finite
+ *  5 unit_id[nflights] or NULL: the inertial unit of each flight; a unit
+ *    that appears twice returns IGEA_EDEPENDENT
+ *  6 opts  IGEA_EQERR_OPT_LEN values or NULL (defaults): alpha, z_crit,
+ *    verdict and overall_size are read
+ *  7 reject: one flag per z (1 where |z| > a, else 0), or NULL
+ *  8 info[IGEA_STATS_INFO_LEN]: as igea_stats_pool, N_REJECT the
+ *    components beyond a, PASSED the rule's, VERDICT, VERDICT_Z_CRIT,
+ *    VERDICT_CHI2_CRIT and OVERALL_SIZE for n = dof_tot.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_EDEPENDENT, IGEA_EVERDICT, IGEA_ENOCONV,
+ * IGEA_ENOMEM; reject and info are written only on success. With
+ * nflights = 1 it is the rule's verdict on one table of tested z.
+ */
+IGEA_API int igea_eqerr_pool(int nflights, const double *chi2, const int *dof,
+                             const double *z, const int *unit_id, const double *opts,
+                             int *reject, double *info);
+
+/*
+ * The seed's Table 1 columns of n components: threshold[i] = sqrt(1 +
+ * 1/lambda_i) z_crit, the bound on |Xhat_i| (z_crit: the seed's, or the
+ * rule's info VERDICT_Z_CRIT), and precision[i] = lambda_i^-1/2, the
+ * standard deviation of Xhat_i from the tracking noise alone.
+ * Arguments: 1 n >= 1, 2 lambda[n] (> 0), 3 z_crit (finite, >= 0),
+ * 4 threshold[n] or NULL, 5 precision[n] or NULL.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE (a lambda <= 0).
+ */
+IGEA_API int igea_eqerr_limits(int n, const double *lambda, double z_crit,
+                               double *threshold, double *precision);
+
+/*
+ * Per-axis residual RMS from the sums axis_ss[6] that igea_eqerr_residual
+ * accumulates (sums of squares [0..2], row counts [3..5]): rms[a] =
+ * sqrt(axis_ss[a] / axis_ss[3 + a]), 0 for an axis without rows.
+ * Arguments: 1 axis_ss (6 finite values >= 0), 2 rms[3].
+ * Returns 0, -i, IGEA_ENONFINITE.
+ */
+IGEA_API int igea_eqerr_axis_rms(const double *axis_ss, double *rms);
+
+/*
+ * Residual whiteness per axis (x, y, z of epoch-major rows: axis = row %
+ * 3): Ljung-Box Q over L lags and the runs test on the signs about the
+ * axis's mean (igea/stats.h, igea_stats_diag_*). In memory:
+ * igea_eqerr_diag. Streamed over a flight read twice: pass 1
+ * igea_eqerr_axis_sums on each block; after the solve, coef
+ * (igea_eqerr_coef) and igea_eqerr_residual_mean give each axis's residual
+ * mean; igea_stats_diag_init per axis about it; pass 2
+ * igea_eqerr_diag_add on each block of residuals; igea_stats_diag_result
+ * per axis.
+ */
+
+/* Pass-1 sums per axis of a block of rows: for axis a, sums[a (N + 2)] +=
+ * rows, [a (N + 2) + 1] += sum of dw, [a (N + 2) + 2 + j] += sum of S_j.
+ * Arguments: 1 layout, 2 m >= 0, 3 N >= 1, 4 S, 5 lds, 6 dw (m), 7 row0 >=
+ * 0 (the block's first row in the flight), 8 sums[3 (N + 2)] (input-output,
+ * zeros at first; counts >= 0). Returns 0, -i, IGEA_ENONFINITE,
+ * IGEA_EOVERFLOW, IGEA_ENOMEM; sums untouched on failure. */
+IGEA_API int igea_eqerr_axis_sums(int layout, int m, int N, const double *S, int lds,
+                                  const double *dw, int row0, double *sums);
+
+/* Mean residual per axis from those sums and the coefficients coef[N]:
+ * mean[a] = (sum dw - sum_j (sum S_j) coef_j) / rows, 0 for an axis
+ * without rows. Arguments: 1 N, 2 sums[3 (N + 2)], 3 coef[N], 4 mean[3].
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_EOVERFLOW. */
+IGEA_API int igea_eqerr_residual_mean(int N, const double *sums, const double *coef,
+                                      double *mean);
+
+/* Pass 2: a block of m residuals (rows row0 .. row0 + m - 1) into the three
+ * states, state[3 IGEA_STATS_DIAG_STATE_LEN] (axis a's at a
+ * IGEA_STATS_DIAG_STATE_LEN, each from igea_stats_diag_init; -4
+ * otherwise). Arguments: 1 m >= 0, 2 residual, 3 row0 >= 0, 4 state.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_EOVERFLOW; state untouched on
+ * failure. */
+IGEA_API int igea_eqerr_diag_add(int m, const double *residual, int row0, double *state);
+
+/* Both tests per axis of m residuals in memory (row 0 is axis x), each
+ * about its axis's mean: out[3 IGEA_STATS_DIAG_LEN], axis a's at a
+ * IGEA_STATS_DIAG_LEN; axis_status[3]: 0, or IGEA_EEMPTY (fewer than lags
+ * + 2 values on that axis) or IGEA_EDOMAIN (the axis constant), whose out
+ * block is then zeros but for its count N. Arguments: 1 m >= 1, 2
+ * residual, 3 lags (1 .. IGEA_STATS_DIAG_LAGS_MAX), 4 out, 5 axis_status.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_EOVERFLOW; out and axis_status are
+ * written only on success. */
+IGEA_API int igea_eqerr_diag(int m, const double *residual, int lags, double *out,
+                             int *axis_status);
+
+/*
+ * Named components [D]: component i (eigenvector p_i of the spec-scaled
+ * normal matrix) as a pattern of the N error terms. share[j + i N] =
+ * p_ij^2, the share of term j in component i (the shares of a component
+ * sum to 1: p_i has unit norm); loading[j + i N] = spec_j p_ij, the
+ * physical error of term j (in its own units) that one unit of the
+ * equivalent error Xhat_i stands for (p_ij when spec_sigma is NULL);
+ * order[k + i N] = the term of the k-th largest share (ties by index).
+ * The terms with share >= IGEA_EQERR_CANDIDATE_SHARE are the candidate
+ * causes a rejected component is traced to.
+ * Arguments: 1 N >= 1, 2 P (N x N, the eigenvectors of igea_eqerr_*),
+ * 3 ldp >= N, 4 ncomp (0..N, e.g. n_test), 5 spec_sigma[N] or NULL,
+ * 6 share[N ncomp], 7 loading[N ncomp] or NULL, 8 order[N ncomp] or NULL.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ERANGE (a spec),
+ * IGEA_EOVERFLOW (a loading beyond the double range); nothing is written
+ * on failure.
+ */
+#define IGEA_EQERR_CANDIDATE_SHARE 0.10
+IGEA_API int igea_eqerr_components(int N, const double *P, int ldp, int ncomp,
+                                   const double *spec_sigma, double *share,
+                                   double *loading, int *order);
 
 #ifdef __cplusplus
 }

@@ -254,7 +254,9 @@ IGEA_API int igea_sim_nonlinear(int system, int nsamp, const double *traj,
 #define IGEA_SIM_MC_NOT_TESTABLE 4 /* no component with lambda >= lambda_test */
 #define IGEA_SIM_MC_MEAN_SCALE 5   /* mean of the final scale c (sigma_w^2) */
 #define IGEA_SIM_MC_MEAN_TESTED 6  /* mean |I_t| */
-#define IGEA_SIM_MC_LEN 16 /* slots 7.. reserved for additions */
+#define IGEA_SIM_MC_MEAN_SIZE 7    /* mean overall size of the verdict rule (info
+                                    * OVERALL_SIZE; 0 if not computed) */
+#define IGEA_SIM_MC_LEN 16 /* slots 8.. reserved for additions */
 
 /* rates[IGEA_SIM_MC_RATES_LEN]: for each count k of IGEA_SIM_MC_FAILED ..
  * IGEA_SIM_MC_NOT_TESTABLE, rates[3 (k - 1)] = count / flights and

@@ -167,6 +167,70 @@ IGEA_API int igea_stats_union_size(int n, double a, double b, double *size);
 IGEA_API int igea_stats_verdict_thresholds(int rule, int n, double alpha, double *a,
                                            double *b, double *size);
 
+/* ---- Overall verdict of igea_eqerr_* and residual diagnostics ---------- */
+
+/* info[] slots of the overall verdict rule (IGEA_EQERR_OPT_VERDICT) that
+ * igea_eqerr_solve, _solve_qr, _run and igea_eqerr_pool fill. */
+#define IGEA_STATS_INFO_VERDICT 14           /* the rule, IGEA_STATS_VERDICT_* */
+#define IGEA_STATS_INFO_VERDICT_Z_CRIT 15    /* its threshold a on |z_i| (0: none, CHI2) */
+#define IGEA_STATS_INFO_VERDICT_CHI2_CRIT 16 /* its threshold b on T */
+#define IGEA_STATS_INFO_OVERALL_SIZE 17      /* P(out of spec | H0) (0: not computed) */
+#define IGEA_STATS_INFO_SIGMA_W 18           /* sqrt(SCALE): the tracking-scale estimate */
+
+/*
+ * Whiteness of a residual series x_1..x_n about a centre c (its mean):
+ * d_t = x_t - c,
+ *  - Ljung-Box Q = n (n + 2) sum_{k=1..L} r_k^2 / (n - k), r_k = sum_t
+ *    d_t d_{t+k} / sum_t d_t^2, against chi-square with L dof (p-value
+ *    Q(Q; L); no degrees of freedom are removed for the fitted terms);
+ *  - Wald-Wolfowitz runs test on the signs of d_t (about the mean; values
+ *    equal to c are dropped): R runs among n1 above and n2 below, mean
+ *    2 n1 n2 / (n1 + n2) + 1, variance 2 n1 n2 (2 n1 n2 - n') / (n'^2 (n' - 1)),
+ *    n' = n1 + n2, z = (R - mean) / sd and the two-sided normal p-value
+ *    (too few runs: positive serial correlation, z < 0). z = 0, p = 1 when
+ *    one sign is missing.
+ * Streamed: igea_stats_diag_init, then igea_stats_diag_add over the series'
+ * blocks in order, then igea_stats_diag_result; igea_stats_whiteness does
+ * all three about the series' own mean.
+ */
+#define IGEA_STATS_DIAG_LAGS_MAX 100
+#define IGEA_STATS_DIAG_STATE_LEN (10 + 2 * IGEA_STATS_DIAG_LAGS_MAX)
+
+/* Indices into out[IGEA_STATS_DIAG_LEN] of igea_stats_diag_result. */
+#define IGEA_STATS_DIAG_N 0        /* values in the series */
+#define IGEA_STATS_DIAG_LB_Q 1     /* Ljung-Box Q */
+#define IGEA_STATS_DIAG_LB_LAGS 2  /* L, its degrees of freedom */
+#define IGEA_STATS_DIAG_LB_P 3     /* Q(Q; L) */
+#define IGEA_STATS_DIAG_RUNS 4     /* R */
+#define IGEA_STATS_DIAG_N_ABOVE 5  /* n1: values above the centre */
+#define IGEA_STATS_DIAG_N_BELOW 6  /* n2: values below */
+#define IGEA_STATS_DIAG_RUNS_Z 7   /* z of R */
+#define IGEA_STATS_DIAG_RUNS_P 8   /* two-sided p-value of z */
+#define IGEA_STATS_DIAG_CENTER 9   /* c */
+#define IGEA_STATS_DIAG_LEN 12
+
+/* Start a streamed diagnostic: 1 lags L (1 .. IGEA_STATS_DIAG_LAGS_MAX),
+ * 2 center c (finite; the series' mean), 3 state[IGEA_STATS_DIAG_STATE_LEN]
+ * (written). Returns 0, -i. */
+IGEA_API int igea_stats_diag_init(int lags, double center, double *state);
+
+/* Add the next n values x[0], x[incx], ... of the series. 1 n >= 0,
+ * 2 x (n values), 3 incx >= 1, 4 state (of igea_stats_diag_init; -4 for
+ * one it did not write). Returns 0, -i, IGEA_ENONFINITE, IGEA_EOVERFLOW;
+ * state is untouched on failure. */
+IGEA_API int igea_stats_diag_add(int n, const double *x, int incx, double *state);
+
+/* The statistics of the values added so far: 1 state, 2 out[IGEA_STATS_DIAG_LEN]
+ * (above; the unnamed slots 0). Returns 0, -i, IGEA_EEMPTY (fewer than L + 2
+ * values), IGEA_EDOMAIN (every value at the centre), IGEA_EOVERFLOW; out
+ * is written only on success. */
+IGEA_API int igea_stats_diag_result(const double *state, double *out);
+
+/* Both tests of n values x[0], x[incx], ... about their mean: 1 n >= 1,
+ * 2 x, 3 incx >= 1, 4 lags (1 .. IGEA_STATS_DIAG_LAGS_MAX), 5 out[IGEA_STATS_DIAG_LEN].
+ * Returns those of igea_stats_diag_add and _result. */
+IGEA_API int igea_stats_whiteness(int n, const double *x, int incx, int lags, double *out);
+
 #ifdef __cplusplus
 }
 #endif

@@ -76,6 +76,7 @@ ETEMPFILE = -1025
 DW_ESPAN = -1031
 DW_ETRACK = -1032
 DW_ETELEMETRY = -1033
+EVERDICT = -1027
 SIGMA_MIN = 1.4916681462400413e-154
 MODULE_EQERR = 1
 MODULE_SIM = 2
@@ -171,9 +172,16 @@ EQERR_OPT_BIAS_CORRECT = 8
 EQERR_OPT_CLAMP = 9
 EQERR_OPT_Z_CRIT = 10
 EQERR_OPT_ROUTE = 11
+EQERR_OPT_VERDICT = 12
+EQERR_OPT_OVERALL_SIZE = 13
+EQERR_OPT_VERDICT_N = 14
+EQERR_OPT_VERDICT_A = 15
+EQERR_OPT_VERDICT_B = 16
+EQERR_OPT_VERDICT_SIZE = 17
 EQERR_OPT_LEN = 32
 EQERR_ROUTE_EIG = 0
 EQERR_ROUTE_SVD = 1
+EQERR_CANDIDATE_SHARE = 0.1
 
 # igea/impact.h
 IMPACT_KEPLER = 0
@@ -324,6 +332,7 @@ SIM_MC_ANY_REJECT = 3
 SIM_MC_NOT_TESTABLE = 4
 SIM_MC_MEAN_SCALE = 5
 SIM_MC_MEAN_TESTED = 6
+SIM_MC_MEAN_SIZE = 7
 SIM_MC_LEN = 16
 SIM_MC_RATES_LEN = 12
 SIM_MC_TABLE_CHI2 = 0
@@ -415,6 +424,24 @@ STATS_VERDICT_SEED = 0
 STATS_VERDICT_CHI2 = 1
 STATS_VERDICT_EXACT = 2
 STATS_VERDICT_SIDAK = 3
+STATS_INFO_VERDICT = 14
+STATS_INFO_VERDICT_Z_CRIT = 15
+STATS_INFO_VERDICT_CHI2_CRIT = 16
+STATS_INFO_OVERALL_SIZE = 17
+STATS_INFO_SIGMA_W = 18
+STATS_DIAG_LAGS_MAX = 100
+STATS_DIAG_STATE_LEN = 210
+STATS_DIAG_N = 0
+STATS_DIAG_LB_Q = 1
+STATS_DIAG_LB_LAGS = 2
+STATS_DIAG_LB_P = 3
+STATS_DIAG_RUNS = 4
+STATS_DIAG_N_ABOVE = 5
+STATS_DIAG_N_BELOW = 6
+STATS_DIAG_RUNS_Z = 7
+STATS_DIAG_RUNS_P = 8
+STATS_DIAG_CENTER = 9
+STATS_DIAG_LEN = 12
 
 # igea/triad.h
 TRIAD_BX = 0
@@ -526,6 +553,21 @@ PROTOTYPES = {
     "igea_eqerr_residual": (c_int, (("layout", c_int), ("m", c_int), ("N", c_int), ("S", _PD),
         ("lds", c_int), ("dw", _PD), ("coef", _PD), ("row0", c_int), ("residual", _PD),
         ("axis_ss", _PD),)),
+    "igea_eqerr_pool": (c_int, (("nflights", c_int), ("chi2", _PD), ("dof", _PI), ("z", _PD),
+        ("unit_id", _PI), ("opts", _PD), ("reject", _PI), ("info", _PD),)),
+    "igea_eqerr_limits": (c_int, (("n", c_int), ("lambda", _PD), ("z_crit", c_double),
+        ("threshold", _PD), ("precision", _PD),)),
+    "igea_eqerr_axis_rms": (c_int, (("axis_ss", _PD), ("rms", _PD),)),
+    "igea_eqerr_axis_sums": (c_int, (("layout", c_int), ("m", c_int), ("N", c_int), ("S", _PD),
+        ("lds", c_int), ("dw", _PD), ("row0", c_int), ("sums", _PD),)),
+    "igea_eqerr_residual_mean": (c_int, (("N", c_int), ("sums", _PD), ("coef", _PD), ("mean", _PD),
+        )),
+    "igea_eqerr_diag_add": (c_int, (("m", c_int), ("residual", _PD), ("row0", c_int),
+        ("state", _PD),)),
+    "igea_eqerr_diag": (c_int, (("m", c_int), ("residual", _PD), ("lags", c_int), ("out", _PD),
+        ("axis_status", _PI),)),
+    "igea_eqerr_components": (c_int, (("N", c_int), ("P", _PD), ("ldp", c_int), ("ncomp", c_int),
+        ("spec_sigma", _PD), ("share", _PD), ("loading", _PD), ("order", _PI),)),
     # igea/impact.h
     "igea_impact_defaults": (c_int, (("opts", _PD),)),
     "igea_impact_check_opts": (c_int, (("opts", _PD),)),
@@ -749,6 +791,11 @@ PROTOTYPES = {
         ("size", _PD),)),
     "igea_stats_verdict_thresholds": (c_int, (("rule", c_int), ("n", c_int), ("alpha", c_double),
         ("a", _PD), ("b", _PD), ("size", _PD),)),
+    "igea_stats_diag_init": (c_int, (("lags", c_int), ("center", c_double), ("state", _PD),)),
+    "igea_stats_diag_add": (c_int, (("n", c_int), ("x", _PD), ("incx", c_int), ("state", _PD),)),
+    "igea_stats_diag_result": (c_int, (("state", _PD), ("out", _PD),)),
+    "igea_stats_whiteness": (c_int, (("n", c_int), ("x", _PD), ("incx", c_int), ("lags", c_int),
+        ("out", _PD),)),
     # igea/triad.h
     "igea_triad_defaults": (c_int, (("opts", _PD),)),
     "igea_triad_check_opts": (c_int, (("opts", _PD),)),
@@ -788,6 +835,14 @@ INPUTS = {
     "igea_eqerr_run": ("S", "dw", "track_sigma", "spec_sigma", "opts",),
     "igea_eqerr_coef": ("P", "equiv_err", "spec_sigma",),
     "igea_eqerr_residual": ("S", "dw", "coef",),
+    "igea_eqerr_pool": ("chi2", "dof", "z", "unit_id", "opts",),
+    "igea_eqerr_limits": ("lambda",),
+    "igea_eqerr_axis_rms": ("axis_ss",),
+    "igea_eqerr_axis_sums": ("S", "dw",),
+    "igea_eqerr_residual_mean": ("sums", "coef",),
+    "igea_eqerr_diag_add": ("residual",),
+    "igea_eqerr_diag": ("residual",),
+    "igea_eqerr_components": ("P", "spec_sigma",),
     "igea_impact_check_opts": ("opts",),
     "igea_impact_point": ("opts", "r0", "v0",),
     "igea_impact_axes": ("rf", "vf",),
@@ -855,6 +910,9 @@ INPUTS = {
     "igea_stability_fit": ("tau", "adev", "edf",),
     "igea_stats_accuracy_test": ("equiv_err", "lambda",),
     "igea_stats_pool": ("chi2", "dof", "n_reject", "unit_id",),
+    "igea_stats_diag_add": ("x",),
+    "igea_stats_diag_result": ("state",),
+    "igea_stats_whiteness": ("x",),
     "igea_triad_check_opts": ("opts",),
     "igea_triad_static": ("acc",),
     "igea_triad_fit": ("means", "theta0",),

@@ -10,13 +10,67 @@ from . import _lib
 
 def _test_fields(info):
     """The fields of a TestResult held in an info array (igea/stats.h)."""
-    return _lib.fields(info, "STATS_INFO_", n_test=int, chi2=float, dof=int, chi2_crit=float,
-                       z_crit=float, p_value=float, passed=bool)
+    f = _lib.fields(info, "STATS_INFO_", n_test=int, chi2=float, dof=int, chi2_crit=float,
+                    z_crit=float, p_value=float, passed=bool, verdict_z_crit=float,
+                    verdict_chi2_crit=float, overall_size=float)
+    f["verdict"] = _lib.choice_name(_capi.CHOICE_STATS_VERDICT, info[_capi.STATS_INFO_VERDICT])
+    # 0 in the info array: no component test (chi2 rule), size not computed
+    for k in ("verdict_z_crit", "overall_size"):
+        if f[k] == 0:
+            f[k] = None
+    return f
 
 
-def _verdict_lines(n_test, chi2, dof, chi2_crit, p_value, n_reject, passed, alpha):
-    lines = ["chi-square: T = %.4f with %d dof; chi2_%g(%d) = %.3f; p-value %.4g -> %s"
-             % (chi2, dof, alpha, dof, chi2_crit, p_value, "pass" if chi2 < chi2_crit else "REJECT")]
+# (rule, n, alpha) -> (a, b, size) of igea_stats_verdict_thresholds: pooling
+# many groups of the same dof_tot computes a rule's thresholds once.
+_THRESHOLDS = {}
+
+
+def _verdict_opts(where, function, alpha, z_crit, verdict, n=None):
+    """eqerr options carrying alpha, z_crit and the verdict rule (and, for n
+    tested components, the rule's thresholds: IGEA_EQERR_OPT_VERDICT_N ..)."""
+    code = _lib.choice(_capi.CHOICE_STATS_VERDICT, verdict, where, "verdict")
+    pre = {}
+    if n is not None and z_crit is None and 1 <= n <= _capi.STATS_UNION_N_MAX:
+        key = (verdict, int(n), float(alpha))
+        if key not in _THRESHOLDS:
+            from .stats import verdict_thresholds
+            _THRESHOLDS[key] = verdict_thresholds(verdict, int(n), float(alpha))
+        a, b, size = _THRESHOLDS[key]
+        pre = dict(verdict_n=int(n), verdict_a=a if np.isfinite(a) else 0.0, verdict_b=b,
+                   verdict_size=size)
+    return _lib.options("eqerr", where, (function, "opts"), alpha=alpha, z_crit=z_crit,
+                        verdict=code, overall_size=1, **pre)
+
+
+def _limits(lam, z_crit):
+    """(threshold, precision) of each component (igea_eqerr_limits)."""
+    lam = _lib.as_f64(lam, "eigenvalues", ndim=1)
+    thr, prec = np.empty(len(lam)), np.empty(len(lam))
+    if len(lam):
+        _lib.call("igea.summary", "igea_eqerr_limits", len(lam), _lib.dptr(lam),
+                  float(z_crit or 0.0), _lib.dptr(thr), _lib.dptr(prec))
+    return thr, prec
+
+
+def _verdict_lines(n_test, chi2, dof, chi2_crit, p_value, n_reject, passed, alpha,
+                   verdict="seed", verdict_z_crit=None, overall_size=None):
+    if verdict == "seed":
+        lines = ["chi-square: T = %.4f with %d dof; chi2_%g(%d) = %.3f; p-value %.4g -> %s"
+                 % (chi2, dof, alpha, dof, chi2_crit, p_value,
+                    "pass" if chi2 < chi2_crit else "REJECT")]
+    else:
+        lines = ["chi-square: T = %.4f with %d dof; threshold %.3f (rule %s); p-value %.4g -> %s"
+                 % (chi2, dof, chi2_crit, verdict, p_value,
+                    "pass" if chi2 < chi2_crit else "REJECT")]
+    zt = "none" if verdict_z_crit is None else "%.4f" % verdict_z_crit
+    if overall_size is not None:
+        lines.append("overall verdict rule %s: |z| threshold %s, chi-square threshold %.3f; "
+                     "overall size %.6f at alpha = %g" % (verdict, zt, chi2_crit, overall_size,
+                                                          alpha))
+    else:
+        lines.append("overall verdict rule %s: overall size not computed (more than %d tested "
+                     "components)" % (verdict, _capi.STATS_UNION_N_MAX))
     if passed:
         lines.append("verdict: ACCEPTED - no component rejected and T < chi2 critical value "
                      "(alpha = %g)" % alpha)
@@ -29,11 +83,93 @@ def _verdict_lines(n_test, chi2, dof, chi2_crit, p_value, n_reject, passed, alph
 def _component_table(xhat, lam, z, reject, z_crit):
     rows = ["%5s %13s %13s %11s %10s %9s  %s" % ("comp", "eigenvalue", "equiv_error",
                                                  "precision", "threshold", "z", "verdict")]
+    thr, prec = _limits(np.asarray(lam, dtype=float)[:len(z)], z_crit)
     for i in range(len(z)):
-        rows.append("%5d %13.6e %13.6f %11.4e %10.4f %9.4f  %s"
-                    % (i, lam[i], xhat[i], lam[i] ** -0.5,
-                       np.sqrt(1 + 1 / lam[i]) * z_crit, z[i], "REJECT" if reject[i] else "pass"))
+        if z_crit is None:
+            rows.append("%5d %13.6e %13.6f %11.4e %10s %9.4f  %s"
+                        % (i, lam[i], xhat[i], prec[i], "-", z[i], "-"))
+        else:
+            rows.append("%5d %13.6e %13.6f %11.4e %10.4f %9.4f  %s"
+                        % (i, lam[i], xhat[i], prec[i], thr[i], z[i],
+                           "REJECT" if reject[i] else "pass"))
     return rows
+
+
+_DIAG_KEYS = dict(n="N", lags="LB_LAGS", ljung_box="LB_Q", ljung_box_p="LB_P", runs="RUNS",
+                  n_above="N_ABOVE", n_below="N_BELOW", runs_z="RUNS_Z", runs_p="RUNS_P")
+_DIAG_INT = {"n", "lags", "runs", "n_above", "n_below"}
+
+
+def _whiteness(res, lags):
+    """Ljung-Box and runs tests per axis of the residuals (igea_eqerr_diag):
+    a list of 3 dicts (None for an axis where they are not defined)."""
+    out = np.empty(3 * _capi.STATS_DIAG_LEN)
+    st = np.empty(3, dtype=np.intc)
+    _lib.call("igea.eqerr", "igea_eqerr_diag", len(res), _lib.dptr(res), int(lags),
+              _lib.dptr(out), _lib.iptr(st))
+    w = []
+    for a in range(3):
+        if st[a]:
+            w.append(None)
+            continue
+        d = out[a * _capi.STATS_DIAG_LEN:(a + 1) * _capi.STATS_DIAG_LEN]
+        e = {"axis": a}
+        for k, slot in _DIAG_KEYS.items():
+            v = d[getattr(_capi, "STATS_DIAG_" + slot)]
+            e[k] = int(v) if k in _DIAG_INT else float(v)
+        w.append(e)
+    return w
+
+
+def _components(P, nt, spec, names, lam, z, reject):
+    """The tested components as named patterns of the terms
+    (igea_eqerr_components): shares p_ij^2, loadings spec_j p_ij, the
+    candidate terms (share >= IGEA_EQERR_CANDIDATE_SHARE)."""
+    N = P.shape[0]
+    Pf = np.asfortranarray(P)
+    share = np.empty((max(nt, 1), N))
+    load = np.empty((max(nt, 1), N))
+    order = np.empty((max(nt, 1), N), dtype=np.intc)
+    _lib.call("igea.eqerr", "igea_eqerr_components", N, _lib.dptr(Pf), N, nt, _lib.dptr(spec),
+              _lib.dptr(share), _lib.dptr(load), _lib.iptr(order))
+    out = []
+    for i in range(nt):
+        o = order[i]
+        out.append(dict(index=i, **{"lambda": float(lam[i])}, z=float(z[i]),
+                        reject=bool(reject[i]),
+                        terms=[(names[j], float(share[i, j])) for j in o],
+                        loading=load[i].copy(),
+                        candidates=[names[j] for j in o
+                                    if share[i, j] >= _capi.EQERR_CANDIDATE_SHARE]))
+    return out
+
+
+def _component_lines(components, names):
+    lines = ["named components (share p_ij^2 of each term >= 1%; loading spec_j p_ij in the "
+             "term's units per unit of equiv_error):"]
+    col = {}
+    for j, n in enumerate(names):
+        col.setdefault(n, j)
+    for c in components:
+        floor = _capi.EQERR_CANDIDATE_SHARE if c["reject"] else 0.01
+        parts = ["%s %s %.2f (%+.4g)" % ("," if k else "", n, sh, c["loading"][col[n]])
+                 for k, (n, sh) in enumerate(t for t in c["terms"] if t[1] >= floor)]
+        lines.append("%5d %s%s" % (c["index"], "REJECT candidates:" if c["reject"] else "terms:",
+                                   "".join(parts)))
+    return lines
+
+
+def _whiteness_lines(w, lags):
+    lines = ["residual whiteness per axis (Ljung-Box over %d lags; runs test on the signs "
+             "about the axis mean):" % lags]
+    for a, e in enumerate(w):
+        if e is None:
+            lines.append("  %s: not computed" % "xyz"[a])
+        else:
+            lines.append("  %s: Q = %.4g, p-value %.4g; %d runs (%d above, %d below), z = %.3f, "
+                         "p-value %.4g" % ("xyz"[a], e["ljung_box"], e["ljung_box_p"], e["runs"],
+                                          e["n_above"], e["n_below"], e["runs_z"], e["runs_p"]))
+    return lines
 
 
 def _attach(obj, **private):
@@ -52,8 +188,10 @@ class _Verdict:
         return int(np.count_nonzero(self.reject))
 
     def _verdict(self):
-        return _verdict_lines(self.n_test, self.chi2, self.dof, self.chi2_crit, self.p_value,
-                              self.n_reject, self.passed, getattr(self, "_alpha", 0.01))
+        return _verdict_lines(self.n_test, self.chi2, self.dof, self.verdict_chi2_crit,
+                              self.p_value, self.n_reject, self.passed,
+                              getattr(self, "_alpha", 0.01), self.verdict, self.verdict_z_crit,
+                              self.overall_size)
 
 
 @dataclass(frozen=True)
@@ -68,12 +206,17 @@ class TestResult(_Verdict):
     z_crit: float
     p_value: float
     passed: bool
+    verdict: str               # the overall verdict rule: seed, chi2, exact, sidak
+    verdict_z_crit: float      # its threshold on |z| (None: no component test)
+    verdict_chi2_crit: float   # its threshold on T
+    overall_size: float        # its false-alarm probability (None: not computed)
 
     def summary(self):
         lines = []
         xhat = getattr(self, "_equiv_err", None)
         if xhat is not None:
-            lines += _component_table(xhat, self._eigenvalues, self.z, self.reject, self.z_crit)
+            lines += _component_table(xhat, self._eigenvalues, self.z, self.reject,
+                                      self.verdict_z_crit)
             lines.append("")
         return "\n".join(lines + self._verdict())
 
@@ -100,37 +243,58 @@ class EqerrResult(_Verdict):
     passed: bool
     residual: np.ndarray
     rms: np.ndarray
+    verdict: str               # the overall verdict rule: seed, chi2, exact, sidak
+    verdict_z_crit: float      # its threshold on |z| (None: no component test)
+    verdict_chi2_crit: float   # its threshold on T
+    overall_size: float        # its false-alarm probability (None: not computed)
+    whiteness: list            # per axis x, y, z: dict(axis n lags ljung_box ljung_box_p
+                               # runs n_above n_below runs_z runs_p), None if not computed
+    components: list           # per tested component: dict(index lambda z reject terms
+                               # [(name, share), ...] descending, loading, candidates)
 
     def summary(self):
         lines = ["rank %d of %d; lambda_1 = %.6e; %d component(s) tested"
                  % (self.rank, len(self.eigenvalues), self.eigenvalues[0], self.n_test), ""]
         lines += _component_table(self.equiv_err, self.eigenvalues, self.z, self.reject,
-                                  self.z_crit)
-        lines.append("(threshold = sqrt(1 + 1/lambda) z_crit, z_crit = %.6f; precision = "
-                     "lambda^-1/2)" % self.z_crit)
+                                  self.verdict_z_crit)
+        if self.verdict_z_crit is not None:
+            lines.append("(threshold = sqrt(1 + 1/lambda) z_crit, z_crit = %.6f; precision = "
+                         "lambda^-1/2)" % self.verdict_z_crit)
+        else:
+            lines.append("(no component test under the chi2 rule; precision = lambda^-1/2)")
+        lines.append("")
+        lines += _component_lines(self.components, getattr(self, "_names", []))
         lines.append("")
         if self.flag == "off":
             lines.append("tracking-accuracy correction: off (c = 1)")
         else:
             lines.append("tracking-accuracy correction: c = %.6g (sigma_w = %.4f), %d iteration(s), "
                          "%d small eigenvalue(s) <= %g, %s"
-                         % (self.scale, np.sqrt(self.scale), self.iterations, self.n_small,
+                         % (self.scale, getattr(self, "_sigma_w", np.sqrt(self.scale)),
+                            self.iterations, self.n_small,
                             getattr(self, "_lambda_small", 0.1), self.flag))
         lines.append("residual RMS per axis (x, y, z): %.6g %.6g %.6g" % tuple(self.rms))
+        lines += _whiteness_lines(self.whiteness, getattr(self, "_lags", 20))
         return "\n".join(lines + self._verdict())
 
 
 def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small=None,
           correction=None, route="eig", n_min=None, tol=None, max_iter=None,
-          bias_correct=None, clamp=None, z_crit=None, rank_tol=None):
+          bias_correct=None, clamp=None, z_crit=None, rank_tol=None, verdict="seed",
+          lags=20, names=None):
     """Equivalent-error accuracy assessment of one flight (METHODS 1.2).
 
     S: (m, N) environment functions (rows epoch-major x, y, z), dw: (m,)
     velocity differences, sigma: tracking 1-sigma, a number or (m,) per row,
     spec: (N,) 1-sigma specs scaling S's columns, or None. The options are
     the slots of igea/eqerr.h (as IGEA_EQERR_OPT_* in lower case); one left
-    None keeps the library's default (igea_eqerr_defaults).
-    Returns an EqerrResult."""
+    None keeps the library's default (igea_eqerr_defaults). verdict: the
+    overall verdict rule, "seed" (the seed's), "chi2", "exact" (overall size
+    alpha) or "sidak"; the result states the rule's thresholds and overall
+    size. lags: the Ljung-Box lags of the residual whiteness per axis (the
+    result's `whiteness`, with the runs test about each axis's mean).
+    names: the N term names (e.g. igea.envfun's terms; default column_j),
+    which the result's `components` use. Returns an EqerrResult."""
     S = _lib.as_f64(S, "S", ndim=2)
     m, N = S.shape
     if m < 1 or N < 1:
@@ -147,12 +311,17 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
         raise ValueError("sigma: expected a number or shape (%d,), got %s" % (m, sig.shape))
     if spec is not None:
         spec = _lib.as_f64(spec, "spec", ndim=1, shape=(N,))
+    names = ["column_%d" % j for j in range(N)] if names is None else [str(n) for n in names]
+    if len(names) != N:
+        raise ValueError("names: %d names, but S has %d columns" % (len(names), N))
     route = _lib.choice(_capi.CHOICE_EQERR_ROUTE, route, "igea.eqerr", "route")
     opts = _lib.options("eqerr", "igea.eqerr", ("igea_eqerr_run", "opts"), alpha=alpha,
                         lambda_test=lambda_test, lambda_small=lambda_small, n_min=n_min, tol=tol,
                         max_iter=max_iter, correction=correction, rank_tol=rank_tol,
                         bias_correct=bias_correct, clamp=clamp, z_crit=z_crit,
-                        route=route)
+                        route=route, overall_size=1,
+                        verdict=_lib.choice(_capi.CHOICE_STATS_VERDICT, verdict, "igea.eqerr",
+                                            "verdict"))
     lam = np.empty(N)
     P = np.empty((N, N), order="F")
     xhat = np.empty(N)
@@ -167,19 +336,23 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
               _lib.dptr(res), _lib.dptr(rms))
     test = _test_fields(info)
     nt = test["n_test"]
+    comps = _components(P, nt, spec, names, lam, z, rej == 1)
     return _attach(EqerrResult(
         eigenvalues=lam, eigenvectors=np.ascontiguousarray(P), equiv_err=xhat, z=z[:nt].copy(),
         reject=rej[:nt] == 1,
         flag=_lib.choice_name(_capi.CHOICE_STATS_SIGMAW_FLAG, info[_capi.STATS_INFO_FLAG]),
-        residual=res,
+        residual=res, whiteness=_whiteness(res, lags), components=comps,
         rms=rms, **test, **_lib.fields(info, "STATS_INFO_", rank=int, scale=float,
                                         iterations=int, n_small=int)),
-        alpha=opts[_capi.EQERR_OPT_ALPHA], lambda_small=opts[_capi.EQERR_OPT_LAMBDA_SMALL])
+        alpha=opts[_capi.EQERR_OPT_ALPHA], lambda_small=opts[_capi.EQERR_OPT_LAMBDA_SMALL],
+        sigma_w=info[_capi.STATS_INFO_SIGMA_W], lags=int(lags), names=names)
 
 
-def accuracy_test(equiv_err, eigenvalues, *, alpha=0.01, lambda_test=10.0, z_crit=None):
+def accuracy_test(equiv_err, eigenvalues, *, alpha=0.01, lambda_test=10.0, z_crit=None,
+                  verdict="seed"):
     """Per-component normal tests and the chi-square test of published
-    (equivalent error, eigenvalue) pairs, e.g. the seed's Table 1.
+    (equivalent error, eigenvalue) pairs, e.g. the seed's Table 1, judged
+    by the overall verdict rule `verdict` (as igea.eqerr's).
 
     Only components with eigenvalue >= lambda_test are tested; z and reject
     list those, in input order."""
@@ -195,16 +368,26 @@ def accuracy_test(equiv_err, eigenvalues, *, alpha=0.01, lambda_test=10.0, z_cri
               float(alpha), float(lambda_test), 0.0 if z_crit is None else float(z_crit),
               _lib.dptr(z), _lib.iptr(rej), _lib.dptr(info))
     tested = rej >= 0
-    return _attach(TestResult(z=z[tested], reject=rej[tested] == 1, **_test_fields(info)),
+    zt = np.ascontiguousarray(z[tested])
+    opts = _verdict_opts("igea.accuracy_test", "igea_eqerr_pool", alpha, z_crit, verdict)
+    T = np.array([info[_capi.STATS_INFO_CHI2]])
+    dof = np.array([int(info[_capi.STATS_INFO_N_TEST])], dtype=np.intc)
+    rt = np.empty(len(zt), dtype=np.intc)
+    _lib.call("igea.accuracy_test", "igea_eqerr_pool", 1, _lib.dptr(T), _lib.iptr(dof),
+              _lib.dptr(zt), None, _lib.dptr(opts), _lib.iptr(rt), _lib.dptr(info))
+    return _attach(TestResult(z=zt, reject=rt == 1, **_test_fields(info)),
                    alpha=float(alpha), equiv_err=x[tested], eigenvalues=lam[tested])
 
 
-def pool(results, *, alpha=0.01, unit_ids=None):
+def pool(results, *, alpha=0.01, unit_ids=None, verdict="seed"):
     """Pool independent flights (METHODS 1.2 step 6): T_tot = sum of T,
     dof_tot = sum of dof; passed iff no component of any flight is rejected
     and T_tot < chi2_alpha(dof_tot). results: EqerrResult/TestResult objects
     (or dicts from 'igea eqerr --json'). unit_ids: the inertial unit of each
-    flight; a unit flown twice raises IgeaError (flights not independent)."""
+    flight; a unit flown twice raises IgeaError (flights not independent).
+    verdict: "seed" (the flights' own rejections, as above), or "chi2",
+    "exact", "sidak": the rule for dof_tot components applied to all the
+    flights' z (igea_eqerr_pool), as 'igea test --results --verdict'."""
     results = list(results)
     if not results:
         raise ValueError("results: no flights to pool")
@@ -221,8 +404,23 @@ def pool(results, *, alpha=0.01, unit_ids=None):
         if uid.shape != (len(results),):
             raise ValueError("unit_ids: expected %d ids, got shape %s" % (len(results), uid.shape))
     info = np.empty(_capi.STATS_INFO_LEN)
-    _lib.call("igea.pool", "igea_stats_pool", len(results), _lib.dptr(chi2), _lib.iptr(dof),
-              _lib.iptr(nrej), _lib.iptr(uid), float(alpha), _lib.dptr(info))
+    opts = _verdict_opts("igea.pool", "igea_eqerr_pool", alpha, None, verdict, int(dof.sum()))
     z = np.concatenate([np.asarray(get(r, "z"), dtype=float) for r in results])
-    rej = np.concatenate([np.asarray(get(r, "reject"), dtype=bool) for r in results])
+    if verdict == "seed":
+        _lib.call("igea.pool", "igea_stats_pool", len(results), _lib.dptr(chi2), _lib.iptr(dof),
+                  _lib.iptr(nrej), _lib.iptr(uid), float(alpha), _lib.dptr(info))
+        rej = np.concatenate([np.asarray(get(r, "reject"), dtype=bool) for r in results])
+        info[_capi.STATS_INFO_VERDICT] = _capi.STATS_VERDICT_SEED
+        info[_capi.STATS_INFO_VERDICT_Z_CRIT] = info[_capi.STATS_INFO_Z_CRIT]
+        info[_capi.STATS_INFO_VERDICT_CHI2_CRIT] = info[_capi.STATS_INFO_CHI2_CRIT]
+        if int(info[_capi.STATS_INFO_DOF]) <= _capi.STATS_UNION_N_MAX:
+            info[_capi.STATS_INFO_OVERALL_SIZE] = opts[_capi.EQERR_OPT_VERDICT_SIZE]
+    else:
+        if z.shape != (int(dof.sum()),):
+            raise ValueError("results: the flights' z hold %d values, their dof sum to %d"
+                             % (z.size, int(dof.sum())))
+        r = np.empty(z.size, dtype=np.intc)
+        _lib.call("igea.pool", "igea_eqerr_pool", len(results), _lib.dptr(chi2), _lib.iptr(dof),
+                  _lib.dptr(z), _lib.iptr(uid), _lib.dptr(opts), _lib.iptr(r), _lib.dptr(info))
+        rej = r == 1
     return _attach(TestResult(z=z, reject=rej, **_test_fields(info)), alpha=float(alpha))

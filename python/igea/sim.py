@@ -200,6 +200,8 @@ class MonteCarloResult:
     rates: dict = None   # {"failed": count / flights, ...} of the four counts
     ci99: dict = None    # {"failed": (lo, hi), ...}: their 99 % Wilson intervals
     pool: MonteCarloPool = None  # with pool=F: the pooled verdicts of groups of F flights
+    verdict: str = "seed"  # the overall verdict rule counted in `failed`
+    mean_size: float = 0.0  # its overall size, mean over the testable flights
 
     def rate(self, what="failed"):
         return self.rates[what]
@@ -216,13 +218,14 @@ class MonteCarloResult:
 def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None, ar1=None,
                growth=None, outlier_prob=None, outlier_scale=None, generator="mt19937",
                seed=0, first_flight=0, threads=0, alpha=None, lambda_test=None,
-               correction=None, bias_correct=None, clamp=None, pool=None):
+               correction=None, bias_correct=None, clamp=None, pool=None, verdict="seed"):
     """Run flights first_flight .. first_flight + flights - 1 and judge each
     with the seed-000 test; results do not depend on threads (0: one per
     online processor). Options left None keep the library's defaults
     (igea_sim_defaults, igea_eqerr_defaults). pool=F (> 0; None or 0: no
     pooling) also pools consecutive groups of F flights at the same alpha
-    (igea_sim_pool): the result's `pool`."""
+    (igea_sim_pool): the result's `pool` (seed's verdict only). verdict:
+    the overall verdict rule counted in `failed` (as igea.eqerr's)."""
     S = _lib.as_f64(S, "S", ndim=2)
     m, N = S.shape
     sig, inc = _sigma(sigma, m)
@@ -236,7 +239,10 @@ def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None
     where = "igea.montecarlo"
     eq = _lib.options("eqerr", where, ("igea_sim_montecarlo", "eq_opts"), alpha=alpha,
                       lambda_test=lambda_test, correction=correction, bias_correct=bias_correct,
-                      clamp=clamp)
+                      clamp=clamp, overall_size=1,
+                      verdict=_lib.choice(_capi.CHOICE_STATS_VERDICT, verdict, where, "verdict"))
+    if pool and verdict != "seed":
+        raise ValueError("pool: pools the seed's verdicts; only with verdict='seed'")
     counts, rates = np.zeros(_capi.SIM_MC_LEN), np.zeros(_capi.SIM_MC_RATES_LEN)
     ct, cr = np.zeros(N, dtype=np.intc), np.zeros(N, dtype=np.intc)
     table = np.zeros((nflights, _capi.SIM_MC_TABLE_COLS), order="F")
@@ -268,5 +274,6 @@ def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None
         n_reject=col.pop("n_reject").astype(int), **col,
         rates={k: float(rates[i]) for k, i in at.items()},
         ci99={k: (float(rates[i + 1]), float(rates[i + 2])) for k, i in at.items()}, pool=pooled,
+        verdict=verdict, mean_size=float(counts[_capi.SIM_MC_MEAN_SIZE]),
         **_lib.fields(counts, "SIM_MC_", flights=int, failed=int, chi2_reject=int,
                       any_reject=int, not_testable=int, mean_scale=float, mean_tested=float))

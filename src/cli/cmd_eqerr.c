@@ -1,5 +1,6 @@
 /* igea eqerr, igea test - the equivalent-error accuracy assessment
  * (seed 000, METHODS 1.2) from files, and judging saved results. */
+#include <ctype.h>
 #include <errno.h>
 #include <limits.h>
 #include <stdlib.h>
@@ -12,29 +13,55 @@ static const char *flag_name(int flag)
     return igea_choice_name(IGEA_CHOICE_STATS_SIGMAW_FLAG, flag);
 }
 
-/* The seed's Tables 1-2 plus the chi-square line (shared by both commands). */
+static const char *verdict_name(const double *info)
+{
+    return igea_choice_name(IGEA_CHOICE_STATS_VERDICT, (int)info[IGEA_STATS_INFO_VERDICT]);
+}
+
+/* The seed's Tables 1-2 (shared by both commands): the tested components
+ * (reject[i] >= 0) of n, thresholds at the verdict rule's z threshold. */
 static void report_components(FILE *f, int n, const double *xhat,
                               const double *lambda, const double *z,
-                              const int *reject, double zc)
+                              const int *reject, const double *info)
 {
+    double zc = info[IGEA_STATS_INFO_VERDICT_Z_CRIT], thr, prec;
     fprintf(f, "%5s %13s %13s %11s %10s %9s  %s\n", "comp", "eigenvalue",
             "equiv_error", "precision", "threshold", "z", "verdict");
     for (int i = 0; i < n; i++) {
-        if (reject[i] < 0)
+        if (reject[i] < 0 || igea_eqerr_limits(1, &lambda[i], zc, &thr, &prec) != 0)
             continue;
-        double thr = sqrt(1.0 + 1.0 / lambda[i]) * zc;
-        fprintf(f, "%5d %13.6e %13.6f %11.4e %10.4f %9.4f  %s\n", i, lambda[i],
-                xhat[i], 1.0 / sqrt(lambda[i]), thr, z[i],
-                reject[i] ? "REJECT" : "pass");
+        if (zc > 0)
+            fprintf(f, "%5d %13.6e %13.6f %11.4e %10.4f %9.4f  %s\n", i, lambda[i],
+                    xhat[i], prec, thr, z[i], reject[i] ? "REJECT" : "pass");
+        else
+            fprintf(f, "%5d %13.6e %13.6f %11.4e %10s %9.4f  %s\n", i, lambda[i], xhat[i],
+                    prec, "-", z[i], "-");
     }
 }
 
 static void report_chi2(FILE *f, const double *info, double alpha)
 {
-    double T = info[IGEA_STATS_INFO_CHI2], crit = info[IGEA_STATS_INFO_CHI2_CRIT];
-    fprintf(f, "chi-square: T = %.4f with %d dof; chi2_%g(%d) = %.3f; p-value %.4g -> %s\n",
-            T, (int)info[IGEA_STATS_INFO_DOF], alpha, (int)info[IGEA_STATS_INFO_DOF], crit,
-            info[IGEA_STATS_INFO_P_VALUE], T < crit ? "pass" : "REJECT");
+    double T = info[IGEA_STATS_INFO_CHI2], crit = info[IGEA_STATS_INFO_VERDICT_CHI2_CRIT];
+    int rule = (int)info[IGEA_STATS_INFO_VERDICT], dof = (int)info[IGEA_STATS_INFO_DOF];
+    if (rule == IGEA_STATS_VERDICT_SEED)
+        fprintf(f, "chi-square: T = %.4f with %d dof; chi2_%g(%d) = %.3f; p-value %.4g -> %s\n",
+                T, dof, alpha, dof, crit, info[IGEA_STATS_INFO_P_VALUE],
+                T < crit ? "pass" : "REJECT");
+    else
+        fprintf(f, "chi-square: T = %.4f with %d dof; threshold %.3f (rule %s); p-value %.4g "
+                   "-> %s\n", T, dof, crit, verdict_name(info), info[IGEA_STATS_INFO_P_VALUE],
+                T < crit ? "pass" : "REJECT");
+    double size = info[IGEA_STATS_INFO_OVERALL_SIZE];
+    char zt[32] = "none";
+    if (info[IGEA_STATS_INFO_VERDICT_Z_CRIT] > 0)
+        snprintf(zt, sizeof zt, "%.4f", info[IGEA_STATS_INFO_VERDICT_Z_CRIT]);
+    if (size > 0)
+        fprintf(f, "overall verdict rule %s: |z| threshold %s, chi-square threshold %.3f; "
+                   "overall size %.6f at alpha = %g\n", verdict_name(info), zt, crit, size,
+                alpha);
+    else
+        fprintf(f, "overall verdict rule %s: overall size not computed (more than %d tested "
+                   "components)\n", verdict_name(info), IGEA_STATS_UNION_N_MAX);
     int nrej = (int)info[IGEA_STATS_INFO_N_REJECT];
     if (info[IGEA_STATS_INFO_PASSED] == 1.0)
         fprintf(f, "verdict: ACCEPTED - no component rejected and T < chi2 critical value "
@@ -54,6 +81,16 @@ static void json_test_fields(cli_json *j, const double *info)
     cli_jnum(j, "p_value", info[IGEA_STATS_INFO_P_VALUE]);
     cli_jint(j, "n_reject", (long)info[IGEA_STATS_INFO_N_REJECT]);
     cli_jbool(j, "passed", info[IGEA_STATS_INFO_PASSED] == 1.0);
+    cli_jstr(j, "verdict", verdict_name(info));
+    if (info[IGEA_STATS_INFO_VERDICT_Z_CRIT] > 0)
+        cli_jnum(j, "verdict_z_crit", info[IGEA_STATS_INFO_VERDICT_Z_CRIT]);
+    else
+        cli_jstr(j, "verdict_z_crit", NULL);
+    cli_jnum(j, "verdict_chi2_crit", info[IGEA_STATS_INFO_VERDICT_CHI2_CRIT]);
+    if (info[IGEA_STATS_INFO_OVERALL_SIZE] > 0)
+        cli_jnum(j, "overall_size", info[IGEA_STATS_INFO_OVERALL_SIZE]);
+    else
+        cli_jstr(j, "overall_size", NULL);
 }
 
 static void json_verdicts(cli_json *j, const double *z, const int *reject, int n)
@@ -70,7 +107,18 @@ typedef struct {
     double sigma_value;
     int sigma_is_number, json, route;
     double opts[IGEA_EQERR_OPT_LEN];
+    int verdict; /* IGEA_STATS_VERDICT_* */
+    int lags;    /* residual diagnostics: Ljung-Box lags */
+    const char *names; /* --names LIST */
 } eqerr_args;
+
+/* The overall verdict rule, the same option in eqerr and test. */
+#define CLI_VERDICT_OPT(t)                                                                  \
+    {"--verdict", CLI_OPT_CHOICE, t, "seed", CLI_CHOICES(IGEA_CHOICE_STATS_VERDICT),         \
+     "overall verdict: the seed's (any |z| > z_{1-alpha/2} or\n"                           \
+     "T >= chi2_alpha), the chi-square test alone, both at one\n"                          \
+     "level so that the overall size is alpha (exact), or\n"                               \
+     "Sidak components plus chi-square; the report states\nthe overall size", NULL}
 
 static eqerr_args EA;
 #define EQ_OPT(slot) (&EA.opts[IGEA_EQERR_OPT_##slot])
@@ -93,6 +141,11 @@ static const cli_opt eqerr_options[] = {
      "S through its streamed QR factor (dtpqrt): resolves\neigenvalues down to eps^2 lambda_1 instead of eps\n"
      "lambda_1, at about twice the cost", NULL},
     {"--residuals", CLI_OPT_STR, &EA.residuals, NULL, "FILE", "write the per-row residuals dw - S D P_t Xhat_t", NULL},
+    CLI_VERDICT_OPT(&EA.verdict),
+    {"--names", CLI_OPT_STR, &EA.names, NULL, "LIST", "comma-separated term names, one per column of S\n"
+     "(default: the '# name name ...' header of a text S, as\nigea envfun and simulate write it)", NULL},
+    {"--lags", CLI_OPT_INT, &EA.lags, "20", "L", "residual whiteness per axis: Ljung-Box Q over L\n"
+     "lags, and the runs test on the signs about the mean", NULL},
     {"--json", CLI_OPT_FLAG, &EA.json, NULL, NULL, "machine-readable output (field names as igea.eqerr)", NULL},
     CLI_OUT_OPT(&EA.out),
     CLI_END};
@@ -114,6 +167,10 @@ static const cli_command eqerr_command = {"eqerr",
 "first corrected from the small eigenvalues (sigma_w, METHODS 1.2 step 3).\n"
 "Each component is tested against z_{1-alpha/2} sqrt(1 + 1/lambda_i), and all\n"
 "together by T = sum Xhat_i^2/(1 + 1/lambda_i) against chi2_alpha(n_test).\n"
+"--verdict chooses the overall rule (exact: both tests at one level, overall\n"
+"false-alarm probability alpha); the report states the rule's overall size,\n"
+"the terms behind each tested component (named by --names or the S header)\n"
+"and the residuals' whiteness per axis (Ljung-Box, runs test).\n"
 "\n"
 "Inputs: text (whitespace or commas, '#' comments) or .npy (float64), read in\n"
 "row blocks twice (the decomposition, then the residuals): either route needs\n"
@@ -146,6 +203,12 @@ static int parse_eqerr(int argc, char **argv, eqerr_args *a)
     if ((ec = cli_file_or_positive("--sigma", a->sigma, &a->sigma_is_number, &a->sigma_value)))
         return ec;
     a->opts[IGEA_EQERR_OPT_ROUTE] = a->route;
+    a->opts[IGEA_EQERR_OPT_VERDICT] = a->verdict;
+    a->opts[IGEA_EQERR_OPT_OVERALL_SIZE] = 1;
+    if (a->lags < 1 || a->lags > IGEA_STATS_DIAG_LAGS_MAX) {
+        cli_error("eqerr: --lags %d: from 1 to %d", a->lags, IGEA_STATS_DIAG_LAGS_MAX);
+        return CLI_USAGE;
+    }
     return cli_check_opts("eqerr", IGEA_MODULE_EQERR, igea_eqerr_check_opts(a->opts));
 }
 
@@ -282,6 +345,15 @@ typedef struct {
     int m, N;
     double *lambda, *P, *xhat, *z, *spec, info[IGEA_STATS_INFO_LEN], rms[3];
     int *reject;
+    /* residual diagnostics: pass-1 sums per axis, the three streamed states,
+     * their results and statuses (0: computed) */
+    double *sums, *dstate, diag[3 * IGEA_STATS_DIAG_LEN];
+    int diag_st[3];
+    /* named components: term names (NULL: column_j), shares, loadings and
+     * the terms by descending share of the tested components */
+    char **names;
+    double *share, *loading;
+    int *order;
 } flight;
 
 static void flight_free(flight *r)
@@ -289,6 +361,9 @@ static void flight_free(flight *r)
     free(r->lambda); /* P, xhat and z are in its block */
     free(r->spec);
     free(r->reject);
+    free(r->sums);
+    free(r->names);
+    free(r->share); /* loading and order are in its block */
 }
 
 static int flight_alloc(flight *r, int N)
@@ -297,10 +372,199 @@ static int flight_alloc(flight *r, int N)
     r->N = N;
     r->lambda = malloc((n * n + 3 * n) * sizeof(double));
     r->reject = malloc(n * sizeof(int));
-    if (!r->lambda || !r->reject)
+    r->sums = calloc(3 * (n + 2) + 3 * IGEA_STATS_DIAG_STATE_LEN, sizeof(double));
+    if (!r->lambda || !r->reject || !r->sums)
         return cli_oom("the results");
+    r->dstate = r->sums + 3 * (n + 2);
     r->P = r->lambda + n, r->xhat = r->P + n * n, r->z = r->xhat + n;
     return CLI_OK;
+}
+
+/* A '#' line of S naming its N columns: N identifiers (names into the
+ * block *out, as cli_split_list's), or 0. */
+static int names_from_line(const char *line, int N, char ***out)
+{
+    size_t len = strlen(line);
+    char **v = malloc(sizeof(char *) * (size_t)N + len + 1);
+    if (!v)
+        return cli_oom("the term names");
+    char *text = (char *)(v + N);
+    memcpy(text, line, len + 1);
+    int k = 0;
+    for (char *t = strtok(text, " \t,\r\n"); t; t = strtok(NULL, " \t,\r\n")) {
+        int ok = k < N && (isalpha((unsigned char)t[0]) || t[0] == '_');
+        for (const char *c = t; ok && *c; c++)
+            ok = isalnum((unsigned char)*c) || *c == '_';
+        if (!ok) {
+            k = -1;
+            break;
+        }
+        v[k++] = t;
+    }
+    if (k != N) {
+        free(v);
+        return CLI_OK;
+    }
+    *out = v;
+    return CLI_OK;
+}
+
+/* The term names: --names, else the header of a text S, else none. */
+static int read_names(const eqerr_args *a, int N, char ***names)
+{
+    *names = NULL;
+    if (a->names) {
+        int n, ec = cli_split_list(a->names, names, &n);
+        if (!ec && n != N) {
+            cli_error("--names: %d names, but %s has %d columns", n, a->S, N);
+            free(*names);
+            *names = NULL;
+            ec = CLI_USAGE;
+        }
+        return ec;
+    }
+    size_t ls = strlen(a->S);
+    if (!strcmp(a->S, "-") || (ls >= 4 && !strcmp(a->S + ls - 4, ".npy")))
+        return CLI_OK;
+    FILE *f = fopen(a->S, "r");
+    if (!f)
+        return CLI_OK; /* a pipe already consumed: no header names */
+    char *line = NULL;
+    size_t cap = 0;
+    int ec = CLI_OK;
+    while (!ec && !*names && getline(&line, &cap, f) > 0 && line[0] == '#')
+        ec = names_from_line(line + 1, N, names);
+    free(line);
+    fclose(f);
+    return ec;
+}
+
+/* The shares, loadings and order of the tested components, and the names. */
+static int components_compute(const eqerr_args *a, flight *r)
+{
+    int N = r->N, nt = (int)r->info[IGEA_STATS_INFO_N_TEST];
+    size_t n = (size_t)N * (nt > 0 ? nt : 1);
+    int ec = read_names(a, N, &r->names);
+    if (ec)
+        return ec;
+    r->share = malloc(2 * n * sizeof(double) + n * sizeof(int));
+    if (!r->share)
+        return cli_oom("the components");
+    r->loading = r->share + n;
+    r->order = (int *)(r->loading + n);
+    return cli_status(igea_eqerr_components(N, r->P, N, nt, r->spec, r->share, r->loading,
+                                            r->order), "eqerr components");
+}
+
+static void term_name(const flight *r, int j, char *buf, size_t size)
+{
+    if (r->names)
+        snprintf(buf, size, "%s", r->names[j]);
+    else
+        snprintf(buf, size, "column_%d", j);
+}
+
+/* Named components, text: the terms with a share >= 1 % per tested
+ * component, the candidates (share >= 10 %) of a rejected one. */
+static void text_components(FILE *f, const flight *r)
+{
+    int N = r->N, nt = (int)r->info[IGEA_STATS_INFO_N_TEST];
+    char nm[128];
+    fprintf(f, "named components (share p_ij^2 of each term >= 1%%; loading spec_j p_ij in the "
+               "term's units per unit of equiv_error):\n");
+    for (int i = 0; i < nt; i++) {
+        const double *sh = r->share + (size_t)i * N, *ld = r->loading + (size_t)i * N;
+        const int *o = r->order + (size_t)i * N;
+        fprintf(f, "%5d %s", i, r->reject[i] == 1 ? "REJECT candidates:" : "terms:");
+        for (int k = 0; k < N && sh[o[k]] >= (r->reject[i] == 1 ? IGEA_EQERR_CANDIDATE_SHARE : 0.01); k++) {
+            term_name(r, o[k], nm, sizeof nm);
+            fprintf(f, "%s %s %.2f (%+.4g)", k ? "," : "", nm, sh[o[k]], ld[o[k]]);
+        }
+        fputc('\n', f);
+    }
+}
+
+/* Named components, JSON: components [{index lambda z reject terms
+ * [[name, share], ...] (descending) loading [per column] candidates}]. */
+static void json_components(cli_json *j, const flight *r)
+{
+    int N = r->N, nt = (int)r->info[IGEA_STATS_INFO_N_TEST];
+    char nm[128];
+    cli_json_open(j, "components", '[');
+    for (int i = 0; i < nt; i++) {
+        const double *sh = r->share + (size_t)i * N;
+        const int *o = r->order + (size_t)i * N;
+        cli_json_open(j, NULL, '{');
+        cli_jint(j, "index", i);
+        cli_jnum(j, "lambda", r->lambda[i]);
+        cli_jnum(j, "z", r->z[i]);
+        cli_jbool(j, "reject", r->reject[i] == 1);
+        cli_json_open(j, "terms", '[');
+        for (int k = 0; k < N; k++) {
+            term_name(r, o[k], nm, sizeof nm);
+            cli_json_open(j, NULL, '[');
+            cli_jstr(j, NULL, nm);
+            cli_jnum(j, NULL, sh[o[k]]);
+            cli_json_close(j);
+        }
+        cli_json_close(j);
+        cli_jnums(j, "loading", r->loading + (size_t)i * N, N);
+        cli_json_open(j, "candidates", '[');
+        for (int k = 0; k < N && sh[o[k]] >= IGEA_EQERR_CANDIDATE_SHARE; k++) {
+            term_name(r, o[k], nm, sizeof nm);
+            cli_jstr(j, NULL, nm);
+        }
+        cli_json_close(j);
+        cli_json_close(j);
+    }
+    cli_json_close(j);
+}
+
+/* Residual whiteness per axis, text. */
+static void text_whiteness(FILE *f, const flight *r, int lags)
+{
+    fprintf(f, "residual whiteness per axis (Ljung-Box over %d lags; runs test on the signs "
+               "about the axis mean):\n", lags);
+    for (int k = 0; k < 3; k++) {
+        const double *d = r->diag + k * IGEA_STATS_DIAG_LEN;
+        if (r->diag_st[k]) {
+            fprintf(f, "  %c: not computed (%s)\n", "xyz"[k],
+                    r->diag_st[k] == IGEA_EEMPTY ? "fewer than lags + 2 epochs"
+                                                 : "constant residuals");
+            continue;
+        }
+        fprintf(f, "  %c: Q = %.4g, p-value %.4g; %d runs (%d above, %d below), z = %.3f, "
+                   "p-value %.4g\n", "xyz"[k], d[IGEA_STATS_DIAG_LB_Q], d[IGEA_STATS_DIAG_LB_P],
+                (int)d[IGEA_STATS_DIAG_RUNS], (int)d[IGEA_STATS_DIAG_N_ABOVE],
+                (int)d[IGEA_STATS_DIAG_N_BELOW], d[IGEA_STATS_DIAG_RUNS_Z],
+                d[IGEA_STATS_DIAG_RUNS_P]);
+    }
+}
+
+/* Residual whiteness per axis, JSON: "whiteness": [{...} or null per axis]. */
+static void json_whiteness(cli_json *j, const flight *r)
+{
+    cli_json_open(j, "whiteness", '[');
+    for (int k = 0; k < 3; k++) {
+        const double *d = r->diag + k * IGEA_STATS_DIAG_LEN;
+        if (r->diag_st[k]) {
+            cli_jstr(j, NULL, NULL);
+            continue;
+        }
+        cli_json_open(j, NULL, '{');
+        cli_jint(j, "axis", k);
+        cli_jint(j, "n", (long)d[IGEA_STATS_DIAG_N]);
+        cli_jint(j, "lags", (long)d[IGEA_STATS_DIAG_LB_LAGS]);
+        cli_jnum(j, "ljung_box", d[IGEA_STATS_DIAG_LB_Q]);
+        cli_jnum(j, "ljung_box_p", d[IGEA_STATS_DIAG_LB_P]);
+        cli_jint(j, "runs", (long)d[IGEA_STATS_DIAG_RUNS]);
+        cli_jint(j, "n_above", (long)d[IGEA_STATS_DIAG_N_ABOVE]);
+        cli_jint(j, "n_below", (long)d[IGEA_STATS_DIAG_N_BELOW]);
+        cli_jnum(j, "runs_z", d[IGEA_STATS_DIAG_RUNS_Z]);
+        cli_jnum(j, "runs_p", d[IGEA_STATS_DIAG_RUNS_P]);
+        cli_json_close(j);
+    }
+    cli_json_close(j);
 }
 
 /* The document up to the residuals, whose array is left open. */
@@ -336,20 +600,26 @@ static void text_report(FILE *f, const flight *r, const eqerr_args *a)
             igea_choice_name(IGEA_CHOICE_EQERR_ROUTE, (int)a->opts[IGEA_EQERR_OPT_ROUTE]),
             (int)info[IGEA_STATS_INFO_RANK], r->N, r->lambda[0], (int)info[IGEA_STATS_INFO_N_TEST],
             a->opts[IGEA_EQERR_OPT_LAMBDA_TEST]);
-    report_components(f, r->N, r->xhat, r->lambda, r->z, r->reject, info[IGEA_STATS_INFO_Z_CRIT]);
-    fprintf(f, "(threshold = sqrt(1 + 1/lambda) z_crit, z_crit = %.6f; precision = "
-               "lambda^-1/2)\n\n", info[IGEA_STATS_INFO_Z_CRIT]);
+    report_components(f, r->N, r->xhat, r->lambda, r->z, r->reject, info);
+    if (info[IGEA_STATS_INFO_VERDICT_Z_CRIT] > 0)
+        fprintf(f, "(threshold = sqrt(1 + 1/lambda) z_crit, z_crit = %.6f; precision = "
+                   "lambda^-1/2)\n\n", info[IGEA_STATS_INFO_VERDICT_Z_CRIT]);
+    else
+        fprintf(f, "(no component test under the chi2 rule; precision = lambda^-1/2)\n\n");
+    text_components(f, r);
+    fputc('\n', f);
     int flag = (int)info[IGEA_STATS_INFO_FLAG];
     if (flag == IGEA_STATS_SIGMAW_OFF)
         fprintf(f, "tracking-accuracy correction: off (c = 1)\n");
     else
         fprintf(f, "tracking-accuracy correction: c = %.6g (sigma_w = %.4f), %d iteration(s), "
                    "%d small eigenvalue(s) <= %g, %s\n",
-                info[IGEA_STATS_INFO_SCALE], sqrt(info[IGEA_STATS_INFO_SCALE]),
+                info[IGEA_STATS_INFO_SCALE], info[IGEA_STATS_INFO_SIGMA_W],
                 (int)info[IGEA_STATS_INFO_ITERATIONS], (int)info[IGEA_STATS_INFO_N_SMALL],
                 a->opts[IGEA_EQERR_OPT_LAMBDA_SMALL], flag_name(flag));
     fprintf(f, "residual RMS per axis (x, y, z): %.6g %.6g %.6g\n", r->rms[0], r->rms[1],
             r->rms[2]);
+    text_whiteness(f, r, a->lags);
     report_chi2(f, info, a->opts[IGEA_EQERR_OPT_ALPHA]);
 }
 
@@ -372,6 +642,9 @@ static int pass_solve(const eqerr_args *a, streams *s, flight *r)
                                                  s->gbuf, 1, r->spec, A, N + 1, &qrows)
                      : igea_normal_accumulate(IGEA_ROWMAJOR, (int)n, N, s->sbuf, N, s->dbuf,
                                               s->gbuf, 1, r->spec, A, N, b, wtw);
+        if (!st)
+            st = igea_eqerr_axis_sums(IGEA_ROWMAJOR, (int)n, N, s->sbuf, N, s->dbuf, (int)rows,
+                                      r->sums);
         if (st) {
             ec = cli_status(st, st == IGEA_ENONFINITE ? "eqerr: rows with NaN/Inf" : "eqerr");
             break;
@@ -398,6 +671,16 @@ static int pass_solve(const eqerr_args *a, streams *s, flight *r)
     return ec;
 }
 
+/* The residual diagnostics' states, about each axis's residual mean. */
+static int diag_start(const eqerr_args *a, flight *r, const double *coef)
+{
+    double mean[3];
+    int st = igea_eqerr_residual_mean(r->N, r->sums, coef, mean);
+    for (int k = 0; !st && k < 3; k++)
+        st = igea_stats_diag_init(a->lags, mean[k], r->dstate + k * IGEA_STATS_DIAG_STATE_LEN);
+    return cli_status(st, "eqerr residual diagnostics");
+}
+
 /* Pass 2: the residuals, to the residuals file and into the JSON document. */
 static int pass_residuals(const eqerr_args *a, streams *s, flight *r, FILE *res, cli_json *j)
 {
@@ -411,6 +694,11 @@ static int pass_residuals(const eqerr_args *a, streams *s, flight *r, FILE *res,
         return CLI_SOFTWARE;
     }
     igea_eqerr_coef(N, r->P, N, r->xhat, (int)r->info[IGEA_STATS_INFO_N_TEST], r->spec, coef);
+    if ((ec = diag_start(a, r, coef))) {
+        free(coef);
+        free(e);
+        return ec;
+    }
     double ss[6] = {0, 0, 0, 0, 0, 0};
     long row0 = 0, n;
     if (j)
@@ -418,6 +706,8 @@ static int pass_residuals(const eqerr_args *a, streams *s, flight *r, FILE *res,
     while (!(ec = streams_next(a, s, &n)) && n > 0) {
         int st = igea_eqerr_residual(IGEA_ROWMAJOR, (int)n, N, s->sbuf, N, s->dbuf, coef,
                                      (int)row0, e, ss);
+        if (!st)
+            st = igea_eqerr_diag_add((int)n, e, (int)row0, r->dstate);
         if (st) {
             ec = cli_status(st, "eqerr residuals");
             break;
@@ -430,8 +720,11 @@ static int pass_residuals(const eqerr_args *a, streams *s, flight *r, FILE *res,
         }
         row0 += n;
     }
-    for (int k = 0; k < 3; k++)
-        r->rms[k] = ss[3 + k] > 0 ? sqrt(ss[k] / ss[3 + k]) : 0.0;
+    if (!ec)
+        ec = cli_status(igea_eqerr_axis_rms(ss, r->rms), "eqerr residuals");
+    for (int k = 0; !ec && k < 3; k++)
+        r->diag_st[k] = igea_stats_diag_result(r->dstate + k * IGEA_STATS_DIAG_STATE_LEN,
+                                               r->diag + k * IGEA_STATS_DIAG_LEN);
     free(coef);
     free(e);
     return ec;
@@ -499,9 +792,13 @@ static int eqerr_report(const eqerr_args *a, flight *r, cli_out *out, cli_out *r
         cli_json_begin(&j, jf);
     if (!ec)
         ec = run_streamed(a, r, a->residuals ? res->f : NULL, jf ? &j : NULL);
+    if (!ec)
+        ec = components_compute(a, r);
     if (!ec && jf) {
         cli_json_close(&j);
         cli_jnums(&j, "rms", r->rms, 3);
+        json_whiteness(&j, r);
+        json_components(&j, r);
         cli_json_end(&j);
         ec = json_copy(jf, out->f);
     } else if (!ec) {
@@ -632,6 +929,7 @@ typedef struct {
     const char *table, *results, *units, *out;
     double alpha, lambda_test, zcrit;
     int json;
+    int verdict; /* IGEA_STATS_VERDICT_* */
 } test_args;
 
 static test_args TA;
@@ -642,6 +940,7 @@ static const cli_opt test_options[] = {
     {"--alpha", CLI_OPT_NUM, &TA.alpha, "0.01", "A", "significance level", NULL},
     {"--lambda-test", CLI_OPT_NUM, &TA.lambda_test, "10", "L", "(--table) test components with lambda >= L", NULL},
     {"--z-crit", CLI_OPT_NUM, &TA.zcrit, NULL, "Z", "(--table) impose z_crit, e.g. 2.58 as the seed's tables", NULL},
+    CLI_VERDICT_OPT(&TA.verdict),
     CLI_JSON_OPT(&TA.json),
     CLI_OUT_OPT(&TA.out),
     CLI_END};
@@ -677,8 +976,42 @@ test_options,
 typedef struct {
     int n, nfiles, *rej, *dof, *nrej, *uid;
     double *x, *lam, *z, *chi2;
+    double *zall; /* the pooled flights' z (--verdict other than seed) */
+    int nz;
     char **files;
 } test_run;
+
+/* The eqerr options of the test command (alpha, z_crit, verdict). */
+static void test_opts(const test_args *a, double *opts)
+{
+    igea_eqerr_defaults(opts);
+    opts[IGEA_EQERR_OPT_ALPHA] = a->alpha;
+    opts[IGEA_EQERR_OPT_Z_CRIT] = a->zcrit;
+    opts[IGEA_EQERR_OPT_VERDICT] = a->verdict;
+    opts[IGEA_EQERR_OPT_OVERALL_SIZE] = 1;
+}
+
+/* The verdict rule on the table's tested components (a pool of one). */
+static int test_table_verdict(const test_args *a, test_run *r, double *info)
+{
+    double opts[IGEA_EQERR_OPT_LEN], T = info[IGEA_STATS_INFO_CHI2];
+    int k = 0, dof = (int)info[IGEA_STATS_INFO_N_TEST];
+    test_opts(a, opts);
+    double *zt = malloc(sizeof(double) * r->n);
+    int *rt = malloc(sizeof(int) * r->n);
+    int ec = zt && rt ? CLI_OK : cli_oom("the table");
+    for (int i = 0; !ec && i < r->n; i++)
+        if (r->rej[i] >= 0)
+            zt[k++] = r->z[i];
+    if (!ec)
+        ec = cli_status(igea_eqerr_pool(1, &T, &dof, zt, NULL, opts, rt, info), "test");
+    for (int i = 0, q = 0; !ec && i < r->n; i++)
+        if (r->rej[i] >= 0)
+            r->rej[i] = rt[q++];
+    free(zt);
+    free(rt);
+    return ec;
+}
 
 /* --table: the accuracy test of a table of (Xhat, lambda). */
 static int test_table(const test_args *a, test_run *r, double *info)
@@ -710,12 +1043,89 @@ static int test_table(const test_args *a, test_run *r, double *info)
     cli_matrix_free(&t);
     if (ec)
         return ec;
-    return cli_status(igea_stats_accuracy_test(n, r->x, r->lam, a->alpha, a->lambda_test,
-                                               a->zcrit, r->z, r->rej, info), "test");
+    ec = cli_status(igea_stats_accuracy_test(n, r->x, r->lam, a->alpha, a->lambda_test,
+                                             a->zcrit, r->z, r->rej, info), "test");
+    return ec ? ec : test_table_verdict(a, r, info);
 }
 
-/* chi2, dof and n_reject of one saved result. */
-static int read_result(const char *path, double *chi2, int *dof, int *nrej)
+/* The numbers of the top-level array "key" of our own JSON output: *z
+ * (malloc'd), *n of them; -1 when absent or not an array of numbers. */
+static int json_numbers(const char *doc, const char *key, double **z, int *n)
+{
+    char pat[64];
+    snprintf(pat, sizeof pat, "\"%s\":", key);
+    const char *p = strstr(doc, pat);
+    if (!p)
+        return -1;
+    p += strlen(pat);
+    while (*p == ' ')
+        p++;
+    if (*p++ != '[')
+        return -1;
+    int cap = 16, k = 0;
+    double *v = malloc(sizeof(double) * cap);
+    while (v) {
+        while (*p == ' ' || *p == '\n')
+            p++;
+        if (*p == ']' && k == 0)
+            break;
+        char *end;
+        double x = strtod(p, &end);
+        if (end == p)
+            break;
+        if (k == cap) {
+            double *nv = cap < (1 << 24) ? realloc(v, sizeof(double) * (cap *= 2)) : NULL;
+            if (!nv) {
+                free(v);
+                return -2;
+            }
+            v = nv;
+        }
+        v[k++] = x;
+        for (p = end; *p == ' ' || *p == '\n'; p++)
+            ;
+        if (*p != ',')
+            break;
+        p++;
+    }
+    if (!v)
+        return -2;
+    if (*p != ']') {
+        free(v);
+        return -1;
+    }
+    *z = v;
+    *n = k;
+    return 0;
+}
+
+/* The "z" array of a saved result (dof values) appended to r->zall. */
+static int read_result_z(const char *path, const char *doc, int dof, test_run *r)
+{
+    double *z = NULL;
+    int n = 0, st = json_numbers(doc, "z", &z, &n);
+    if (st == -2)
+        return cli_oom(path);
+    if (st || n != dof) {
+        cli_error("%s: no \"z\" array of %d numbers (needed by --verdict other than seed)",
+                  path, dof);
+        free(z);
+        return CLI_DATAERR;
+    }
+    double *nz = realloc(r->zall, sizeof(double) * ((size_t)r->nz + n + 1));
+    if (!nz) {
+        free(z);
+        return cli_oom(path);
+    }
+    r->zall = nz;
+    memcpy(r->zall + r->nz, z, sizeof(double) * n);
+    r->nz += n;
+    free(z);
+    return CLI_OK;
+}
+
+/* chi2, dof and n_reject of one saved result (and its z when r). */
+static int read_result(const char *path, double *chi2, int *dof, int *nrej, test_run *run)
 {
     int ec = CLI_OK;
     char *doc = slurp(path, &ec);
@@ -737,6 +1147,8 @@ static int read_result(const char *path, double *chi2, int *dof, int *nrej)
         *chi2 = T;
         *dof = (int)d;
         *nrej = (int)r;
+        if (run)
+            ec = read_result_z(path, doc, *dof, run);
     }
     free(doc);
     return ec;
@@ -776,12 +1188,30 @@ static int test_pool(const test_args *a, test_run *r, double *info)
                                                                     : CLI_OK;
     if (!ec && a->units)
         ec = read_unit_ids(a->units, nf, r->uid);
+    const int seed = a->verdict == IGEA_STATS_VERDICT_SEED;
     for (int f = 0; !ec && f < nf; f++)
-        ec = read_result(r->files[f], &r->chi2[f], &r->dof[f], &r->nrej[f]);
+        ec = read_result(r->files[f], &r->chi2[f], &r->dof[f], &r->nrej[f], seed ? NULL : r);
     if (ec)
         return ec;
-    return cli_status(igea_stats_pool(nf, r->chi2, r->dof, r->nrej, r->uid, a->alpha, info),
-                      "test");
+    if (!seed) {
+        double opts[IGEA_EQERR_OPT_LEN];
+        test_opts(a, opts);
+        return cli_status(igea_eqerr_pool(nf, r->chi2, r->dof, r->zall, r->uid, opts, NULL,
+                                          info), "test");
+    }
+    /* the seed's pooling of the flights' own rejections, and its overall size */
+    ec = cli_status(igea_stats_pool(nf, r->chi2, r->dof, r->nrej, r->uid, a->alpha, info),
+                    "test");
+    int n = (int)info[IGEA_STATS_INFO_DOF];
+    double ta, tb, size = 0.0;
+    if (!ec && n <= IGEA_STATS_UNION_N_MAX)
+        ec = cli_status(igea_stats_verdict_thresholds(IGEA_STATS_VERDICT_SEED, n, a->alpha, &ta,
+                                                      &tb, &size), "test");
+    info[IGEA_STATS_INFO_VERDICT] = IGEA_STATS_VERDICT_SEED;
+    info[IGEA_STATS_INFO_VERDICT_Z_CRIT] = info[IGEA_STATS_INFO_Z_CRIT];
+    info[IGEA_STATS_INFO_VERDICT_CHI2_CRIT] = info[IGEA_STATS_INFO_CHI2_CRIT];
+    info[IGEA_STATS_INFO_OVERALL_SIZE] = size;
+    return ec;
 }
 
 static void test_report(FILE *f, const test_args *a, test_run *r, const double *info)
@@ -805,9 +1235,9 @@ static void test_report(FILE *f, const test_args *a, test_run *r, const double *
     if (a->table) {
         fprintf(f, "igea test: %s, %d component(s), %d with lambda >= %g tested\n\n", a->table,
                 r->n, (int)info[IGEA_STATS_INFO_N_TEST], a->lambda_test);
-        report_components(f, r->n, r->x, r->lam, r->z, r->rej, info[IGEA_STATS_INFO_Z_CRIT]);
+        report_components(f, r->n, r->x, r->lam, r->z, r->rej, info);
         fprintf(f, "(threshold = sqrt(1 + 1/lambda) z_crit, z_crit = %.6f)\n\n",
-                info[IGEA_STATS_INFO_Z_CRIT]);
+                info[IGEA_STATS_INFO_VERDICT_Z_CRIT]);
     } else {
         fprintf(f, "igea test: %d flight(s) pooled\n", r->nfiles);
         for (int k = 0; k < r->nfiles; k++)
@@ -825,6 +1255,9 @@ int cmd_test(int argc, char **argv)
         return ec == CLI_HELP ? CLI_OK : ec;
     if (!(a.alpha > 0 && a.alpha < 1) || !(a.lambda_test > 0) || a.zcrit < 0)
         return cli_usage("test: --alpha must be in (0, 1), --lambda-test > 0, --z-crit > 0");
+    if (a.zcrit > 0 && a.verdict != IGEA_STATS_VERDICT_SEED)
+        return cli_usage("test: --z-crit imposes the seed's component threshold: only with "
+                         "--verdict seed");
     if ((a.table != NULL) == (a.results != NULL))
         return cli_usage("test: give either --table FILE or --results LIST (see igea test --help)");
     double info[IGEA_STATS_INFO_LEN];
@@ -845,5 +1278,6 @@ int cmd_test(int argc, char **argv)
     free(r.nrej);
     free(r.uid);
     free(r.files);
+    free(r.zall);
     return ec ? ec : info[IGEA_STATS_INFO_PASSED] == 1.0 ? CLI_OK : CLI_REJECT;
 }

@@ -12,6 +12,7 @@ typedef struct {
     const char *S, *out;
     int flights, first, threads, pool, json;
     double eqo[IGEA_EQERR_OPT_LEN];
+    int verdict; /* IGEA_STATS_VERDICT_* */
 } mc_args;
 
 static mc_args A;
@@ -31,6 +32,8 @@ static const cli_opt options[] = {
     {"--bias-correct", CLI_OPT_DSET, &A.eqo[IGEA_EQERR_OPT_BIAS_CORRECT], NULL, NULL, "sigma_w^2 = mean(g^2 - lambda) [D]", NULL},
     {"--pool", CLI_OPT_INT, &A.pool, "0", "F", "also pool consecutive groups of F flights (METHODS\n"
      "1.2 step 6) and report the pooled verdict rate", NULL},
+    {"--verdict", CLI_OPT_CHOICE, &A.verdict, "seed", CLI_CHOICES(IGEA_CHOICE_STATS_VERDICT),
+     "overall verdict rule counted as 'out of spec' (as igea\neqerr --verdict); --pool needs seed", NULL},
     CLI_HEAD("output:"),
     {"--out", CLI_OPT_STR, &A.out, NULL, "FILE", "per-flight table: flight chi2 dof n_reject scale", NULL},
     {"--json", CLI_OPT_FLAG, &A.json, NULL, NULL, "machine-readable summary", NULL},
@@ -111,7 +114,7 @@ static int run_flights(const mc_args *a, const cli_flight_args *fa, const cli_fl
     int *ct1 = malloc((size_t)N * sizeof(int)), *cr1 = malloc((size_t)N * sizeof(int));
     if (!ct1 || !cr1)
         ec = cli_oom("the component counts");
-    double *c = r->counts, sum_scale = 0, sum_tested = 0;
+    double *c = r->counts, sum_scale = 0, sum_tested = 0, sum_size = 0;
     for (int done = 0; !ec && done < a->flights; done += chunk) {
         int n = a->flights - done < chunk ? a->flights - done : chunk;
         double c1[IGEA_SIM_MC_LEN];
@@ -125,6 +128,7 @@ static int run_flights(const mc_args *a, const cli_flight_args *fa, const cli_fl
         if (testable > 0) {
             sum_scale += testable * c1[IGEA_SIM_MC_MEAN_SCALE];
             sum_tested += testable * c1[IGEA_SIM_MC_MEAN_TESTED];
+            sum_size += testable * c1[IGEA_SIM_MC_MEAN_SIZE];
         }
         for (int j = 0; j < N; j++)
             r->ct[j] += ct1[j], r->cr[j] += cr1[j];
@@ -138,6 +142,7 @@ static int run_flights(const mc_args *a, const cli_flight_args *fa, const cli_fl
     double testable = c[IGEA_SIM_MC_FLIGHTS] - c[IGEA_SIM_MC_NOT_TESTABLE];
     c[IGEA_SIM_MC_MEAN_SCALE] = testable > 0 ? sum_scale / testable : NAN;
     c[IGEA_SIM_MC_MEAN_TESTED] = testable > 0 ? sum_tested / testable : 0;
+    c[IGEA_SIM_MC_MEAN_SIZE] = testable > 0 ? sum_size / testable : 0;
     for (int k = 0; !ec && k < 4; k++) {
         r->rates[3 * k] = c[IGEA_SIM_MC_FAILED + k] / c[IGEA_SIM_MC_FLIGHTS];
         ec = cli_status(igea_sim_interval(c[IGEA_SIM_MC_FAILED + k], c[IGEA_SIM_MC_FLIGHTS],
@@ -171,6 +176,8 @@ static void json_report(FILE *out, const mc_args *a, const cli_flight_args *fa,
     cli_jint(&j, "first_flight", a->first);
     cli_jnum(&j, "alpha", a->eqo[IGEA_EQERR_OPT_ALPHA]);
     cli_jbool(&j, "correction", a->eqo[IGEA_EQERR_OPT_CORRECTION] != 0);
+    cli_jstr(&j, "verdict", igea_choice_name(IGEA_CHOICE_STATS_VERDICT, a->verdict));
+    cli_jnum(&j, "mean_size", r->counts[IGEA_SIM_MC_MEAN_SIZE]);
     cli_jnum(&j, "sigma_w", opts[IGEA_SIM_OPT_SIGMA_W]);
     for (int k = 0; k < 4; k++) {
         cli_json_open(&j, rate_keys[k], '{');
@@ -230,8 +237,11 @@ static void text_report(FILE *out, const mc_args *a, const cli_flight_args *fa,
         fprintf(out, "%-26s %7d %8.4f   [%.4f, %.4f]\n", names[k],
                 (int)r->counts[IGEA_SIM_MC_FAILED + k], r->rates[3 * k], r->rates[3 * k + 1],
                 r->rates[3 * k + 2]);
-    fprintf(out, "mean c (sigma_w^2 estimate) %.4f; mean components tested %.2f\n\n",
+    fprintf(out, "mean c (sigma_w^2 estimate) %.4f; mean components tested %.2f\n",
             r->counts[IGEA_SIM_MC_MEAN_SCALE], r->counts[IGEA_SIM_MC_MEAN_TESTED]);
+    fprintf(out, "verdict rule %s: mean overall size over the testable flights %.6f\n\n",
+            igea_choice_name(IGEA_CHOICE_STATS_VERDICT, a->verdict),
+            r->counts[IGEA_SIM_MC_MEAN_SIZE]);
     text_components(out, f, r);
     if (a->pool > 0 && p[IGEA_SIM_POOL_POOLS] > 0)
         fprintf(out, "\npooled over %d flights: %d of %d pools 'out of spec' (%.4f, 99%% "
@@ -253,6 +263,12 @@ static int parse(int argc, char **argv, mc_args *a, cli_flight_args *fa)
         cli_error("montecarlo: --flights >= 1, --first-flight >= 0, --threads >= 0, --pool >= 0");
         return CLI_USAGE;
     }
+    if (a->pool > 0 && a->verdict != IGEA_STATS_VERDICT_SEED) {
+        cli_error("montecarlo: --pool pools the seed's verdicts: only with --verdict seed");
+        return CLI_USAGE;
+    }
+    a->eqo[IGEA_EQERR_OPT_VERDICT] = a->verdict;
+    a->eqo[IGEA_EQERR_OPT_OVERALL_SIZE] = 1;
     return cli_check_opts("montecarlo", IGEA_MODULE_EQERR, igea_eqerr_check_opts(a->eqo));
 }
 

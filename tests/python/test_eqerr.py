@@ -357,14 +357,19 @@ def test_driver_npy_layouts_and_faults(tmp_path):
     assert json.loads(c.stdout)["chi2"] == ja["chi2"]
 
 
+EXTRA = ["whiteness", "components"]  # fields after the verdict's
+
+
 def test_result_fields_are_the_documented_ones():
     import dataclasses
     want = ["eigenvalues", "eigenvectors", "rank", "equiv_err", "n_test", "z", "reject", "chi2",
             "dof", "chi2_crit", "z_crit", "p_value", "scale", "iterations", "n_small", "flag",
             "passed", "residual", "rms"]
-    assert [f.name for f in dataclasses.fields(igea.EqerrResult)] == want
+    # the overall verdict rule's fields follow the seed's
+    verdict = ["verdict", "verdict_z_crit", "verdict_chi2_crit", "overall_size"]
+    assert [f.name for f in dataclasses.fields(igea.EqerrResult)] == want + verdict + EXTRA
     assert [f.name for f in dataclasses.fields(igea.TestResult)] == [
-        "n_test", "z", "reject", "chi2", "dof", "chi2_crit", "z_crit", "p_value", "passed"]
+        "n_test", "z", "reject", "chi2", "dof", "chi2_crit", "z_crit", "p_value", "passed"] + verdict
     r = igea.eqerr(*flight(2)[:4], alpha=0.05)
     assert "alpha = 0.05" in r.summary()
     with pytest.raises(dataclasses.FrozenInstanceError):

@@ -1,0 +1,160 @@
+/* stats_diag.c - whiteness diagnostics of a residual series: Ljung-Box Q
+ * and the Wald-Wolfowitz runs test, streamed (docs/eqerr.md, "Residual
+ * diagnostics"). */
+#include <float.h>
+
+#include "igea/stats.h"
+#include "internal.h"
+
+/* Layout of state[IGEA_STATS_DIAG_STATE_LEN]. */
+enum {
+    ST_LAGS, ST_CENTER, ST_N, ST_SS, ST_ABOVE, ST_BELOW, ST_RUNS, ST_LAST, ST_MAGIC,
+    ST_CROSS = 10 /* then the ring of the last lags deviations */
+};
+#define DIAG_MAGIC 7.0e7 /* marks an initialised state */
+
+int igea_stats_diag_init(int lags, double center, double *state)
+{
+    if (lags < 1 || lags > IGEA_STATS_DIAG_LAGS_MAX) return -1;
+    if (!isfinite(center)) return -2;
+    if (!state) return -3;
+    for (int k = 0; k < IGEA_STATS_DIAG_STATE_LEN; k++)
+        state[k] = 0.0;
+    state[ST_LAGS] = lags;
+    state[ST_CENTER] = center;
+    state[ST_MAGIC] = DIAG_MAGIC;
+    return 0;
+}
+
+/* 1 when state looks like one igea_stats_diag_init wrote. */
+static int state_ok(const double *s)
+{
+    if (s[ST_MAGIC] != DIAG_MAGIC || !isfinite(s[ST_CENTER]))
+        return 0;
+    double L = s[ST_LAGS];
+    if (!(L >= 1 && L <= IGEA_STATS_DIAG_LAGS_MAX && L == floor(L)))
+        return 0;
+    if (!(s[ST_N] >= 0 && s[ST_N] == floor(s[ST_N]) && s[ST_N] < 9e15))
+        return 0;
+    if (!(s[ST_LAST] == 0 || s[ST_LAST] == 1 || s[ST_LAST] == -1))
+        return 0;
+    return igea__finite_vec(IGEA_STATS_DIAG_STATE_LEN, s, 1);
+}
+
+int igea_stats_diag_add(int n, const double *x, int incx, double *state)
+{
+    if (n < 0) return -1;
+    if (!x && n > 0) return -2;
+    if (incx < 1) return -3;
+    if (!state) return -4;
+    if (!state_ok(state)) return -4;
+    for (int i = 0; i < n; i++)
+        if (!isfinite(x[(size_t)i * incx]))
+            return IGEA_ENONFINITE;
+    double t[IGEA_STATS_DIAG_STATE_LEN];
+    memcpy(t, state, sizeof t);
+    const int L = (int)t[ST_LAGS];
+    const double c = t[ST_CENTER];
+    double *cross = t + ST_CROSS, *ring = cross + L;
+    for (int i = 0; i < n; i++) {
+        double d = x[(size_t)i * incx] - c;
+        long long cnt = (long long)t[ST_N];
+        /* the deviation of element k sits at ring[k % L] */
+        int kmax = cnt < L ? (int)cnt : L;
+        for (int k = 1; k <= kmax; k++)
+            cross[k - 1] += d * ring[(cnt - k) % L];
+        ring[cnt % L] = d;
+        t[ST_N] += 1;
+        t[ST_SS] += d * d;
+        int sg = d > 0 ? 1 : d < 0 ? -1 : 0; /* a value at the centre is dropped */
+        if (sg) {
+            t[sg > 0 ? ST_ABOVE : ST_BELOW] += 1;
+            if (sg != (int)t[ST_LAST])
+                t[ST_RUNS] += 1;
+            t[ST_LAST] = sg;
+        }
+    }
+    if (!igea__finite_vec(IGEA_STATS_DIAG_STATE_LEN, t, 1))
+        return IGEA_EOVERFLOW;
+    memcpy(state, t, sizeof t);
+    return 0;
+}
+
+/* The runs test of a state: z and its two-sided p-value (normal
+ * approximation to the Wald-Wolfowitz distribution). */
+static void runs_z(double n1, double n2, double runs, double *z, double *p)
+{
+    double n = n1 + n2;
+    *z = 0.0;
+    *p = 1.0;
+    if (n1 < 1 || n2 < 1)
+        return; /* one sign only: no test, one run */
+    double mu = 2.0 * n1 * n2 / n + 1.0;
+    double var = 2.0 * n1 * n2 * (2.0 * n1 * n2 - n) / (n * n * (n - 1.0));
+    if (!(var > 0))
+        return;
+    *z = (runs - mu) / sqrt(var);
+    *p = erfc(fabs(*z) / sqrt(2.0));
+}
+
+int igea_stats_diag_result(const double *state, double *out)
+{
+    if (!state || !state_ok(state)) return -1;
+    if (!out) return -2;
+    const int L = (int)state[ST_LAGS];
+    const double n = state[ST_N], ss = state[ST_SS];
+    if (n < L + 2.0)
+        return IGEA_EEMPTY;
+    if (!(ss > 0))
+        return IGEA_EDOMAIN; /* a constant series: no autocorrelation */
+    double Q = 0.0;
+    for (int k = 1; k <= L; k++) {
+        double r = state[ST_CROSS + k - 1] / ss;
+        Q += r * r / (n - k);
+    }
+    Q *= n * (n + 2.0);
+    double p;
+    int st = igea_stats_chi2_sf(Q, (double)L, &p);
+    if (st != 0)
+        return st < 0 && st > -1000 ? IGEA_EOVERFLOW : st;
+    double z, pr;
+    runs_z(state[ST_ABOVE], state[ST_BELOW], state[ST_RUNS], &z, &pr);
+    if (!isfinite(Q) || !isfinite(z))
+        return IGEA_EOVERFLOW;
+    for (int k = 0; k < IGEA_STATS_DIAG_LEN; k++)
+        out[k] = 0.0;
+    out[IGEA_STATS_DIAG_N] = n;
+    out[IGEA_STATS_DIAG_LB_Q] = Q;
+    out[IGEA_STATS_DIAG_LB_LAGS] = L;
+    out[IGEA_STATS_DIAG_LB_P] = p;
+    out[IGEA_STATS_DIAG_RUNS] = state[ST_RUNS];
+    out[IGEA_STATS_DIAG_N_ABOVE] = state[ST_ABOVE];
+    out[IGEA_STATS_DIAG_N_BELOW] = state[ST_BELOW];
+    out[IGEA_STATS_DIAG_RUNS_Z] = z;
+    out[IGEA_STATS_DIAG_RUNS_P] = pr;
+    out[IGEA_STATS_DIAG_CENTER] = state[ST_CENTER];
+    return 0;
+}
+
+int igea_stats_whiteness(int n, const double *x, int incx, int lags, double *out)
+{
+    if (n < 1) return -1;
+    if (!x) return -2;
+    if (incx < 1) return -3;
+    if (lags < 1 || lags > IGEA_STATS_DIAG_LAGS_MAX) return -4;
+    if (!out) return -5;
+    igea__ksum acc = {0, 0};
+    for (int i = 0; i < n; i++) {
+        double v = x[(size_t)i * incx];
+        if (!isfinite(v))
+            return IGEA_ENONFINITE;
+        igea__ksum_add(&acc, v / n);
+    }
+    double mean = igea__ksum_get(&acc);
+    if (!isfinite(mean))
+        return IGEA_EOVERFLOW;
+    double s[IGEA_STATS_DIAG_STATE_LEN];
+    igea_stats_diag_init(lags, mean, s);
+    int st = igea_stats_diag_add(n, x, incx, s);
+    return st ? st : igea_stats_diag_result(s, out);
+}
