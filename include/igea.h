@@ -12,4 +12,5 @@
 #include "igea/redund.h"
 #include "igea/stability.h"
 #include "igea/rls.h"
+#include "igea/noise.h"
 #endif
