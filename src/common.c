@@ -5,6 +5,7 @@
 #include <lapacke.h>
 
 #include "igea/eqerr.h"
+#include "igea/noise.h"
 #include "igea/sim.h"
 #include "internal.h"
 
@@ -54,6 +55,14 @@ const char *igea_opt_name(int module, int slot)
         [IGEA_EQERR_OPT_CLAMP] = "clamp",
         [IGEA_EQERR_OPT_Z_CRIT] = "z_crit",
         [IGEA_EQERR_OPT_ROUTE] = "route",
+        [IGEA_EQERR_OPT_AR_ORDER] = "ar_order", /* igea/noise.h, 20..27 */
+        [IGEA_EQERR_OPT_AR_ESTIMATE] = "ar_estimate",
+        [IGEA_EQERR_OPT_ROBUST] = "robust",
+        [IGEA_EQERR_OPT_ROBUST_ALPHA] = "robust_alpha",
+        [IGEA_EQERR_OPT_NOISE_TOL] = "noise_tol",
+        [IGEA_EQERR_OPT_NOISE_MAX_ITER] = "noise_max_iter",
+        [IGEA_EQERR_OPT_GROUP_BIAS] = "group_bias",
+        [IGEA_EQERR_OPT_ROBUST_MAX] = "robust_max",
     };
     static const char *const sim[IGEA_SIM_OPT_LEN] = {
         [IGEA_SIM_OPT_SIGMA_W] = "sigma_w",

@@ -330,4 +330,16 @@ int cmd_rls(int argc, char **argv);
 int cmd_redund(int argc, char **argv);
 int cmd_stability(int argc, char **argv);
 
+/* igea eqerr with the noise models (eqerr_noise.c): --cov, --ar, --ar-phi,
+ * --groups, --robust, --group-bias read the whole flight and call
+ * igea_noise_eqerr. */
+typedef struct {
+    const char *S, *dw, *sigma, *spec, *cov, *groups;
+    int json, p_given;
+    double phi[9];
+    const double *opts;
+} cli_noise_args;
+int cli_noise_parse_phi(const char *arg, double *phi, int *p);
+int cli_eqerr_noise(const cli_noise_args *a, FILE *out, int *passed);
+
 #endif
