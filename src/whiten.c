@@ -124,6 +124,16 @@ void igea_whiten_free(igea_whiten *w)
     free(w);
 }
 
+int igea_whiten_get_state(const igea_whiten *w, double *epochs, int *group)
+{
+    if (!w) return -1;
+    if (!epochs) return -2;
+    if (!group) return -3;
+    *epochs = w->epoch;
+    *group = w->group;
+    return 0;
+}
+
 int igea_whiten_reset(igea_whiten *w)
 {
     if (!w)

@@ -92,6 +92,10 @@ IGEA_API int igea_whiten_create(int N, int p, const double *phi, int ngroups,
 /* Release a whitener (NULL is a no-op). */
 IGEA_API void igea_whiten_free(igea_whiten *w);
 
+/* The epochs whitened since the last reset (*epochs) and the group of the
+ * last one (*group, -1 before the first). Returns 0, -i. */
+IGEA_API int igea_whiten_get_state(const igea_whiten *w, double *epochs, int *group);
+
 /* Forget the carried rows: the next block starts a new flight (epoch 0).
  * Returns 0, -1. */
 IGEA_API int igea_whiten_reset(igea_whiten *w);

@@ -30,7 +30,7 @@
 #define AUDIT_BAD_HANDLE ((igea_rls *)(uintptr_t)0x5a5a5a50u)
 
 /* Handle kinds. */
-enum { AUDIT_HK_RLS, AUDIT_HK_SIM };
+enum { AUDIT_HK_RLS, AUDIT_HK_SIM, AUDIT_HK_WHITEN };
 /* Argument types. */
 enum { AT_INT, AT_DBL, AT_PD, AT_PI, AT_H, AT_HO };
 /* Mutation kinds. */
@@ -209,9 +209,42 @@ static inline void audit_sim_model_state(const igea_sim_model *h, double st[64])
     igea_sim_model_get_spec(h, st + 47);
 }
 
+/* A whitener of N = 3 columns, AR(1) with phi 0.5, 0.3, -0.2, two groups,
+ * after one block of two epochs (so that it carries rows). NULL on failure. */
+static inline igea_whiten *audit_whiten_new(void)
+{
+    double phi[3] = {0.5, 0.3, -0.2}, S[18], dw[6], sg = 0.5, A[18] = {0}, b[6] = {0};
+    double wtw[4] = {0};
+    igea_whiten *h = NULL;
+    for (int i = 0; i < 18; i++)
+        S[i] = au(i + 700);
+    for (int i = 0; i < 6; i++)
+        dw[i] = au(i + 720);
+    if (igea_whiten_create(3, 1, phi, 2, &h) != 0)
+        return NULL;
+    if (igea_whiten_accumulate(h, IGEA_COLMAJOR, 6, S, 6, dw, &sg, 0, NULL, NULL, NULL, NULL,
+                               A, 3, b, wtw, NULL, NULL) != 0) {
+        igea_whiten_free(h);
+        return NULL;
+    }
+    return h;
+}
+
+/* The observable state of a whitener: epochs carried and current group. */
+static inline void audit_whiten_state(const igea_whiten *h, double st[64])
+{
+    int g = 0;
+    for (int i = 0; i < 64; i++)
+        st[i] = 0;
+    if (h && igea_whiten_get_state(h, st, &g) == 0)
+        st[1] = g;
+}
+
 static inline void audit_hfree(int kind, void *h)
 {
-    if (kind == AUDIT_HK_SIM)
+    if (kind == AUDIT_HK_WHITEN)
+        igea_whiten_free((igea_whiten *)h);
+    else if (kind == AUDIT_HK_SIM)
         igea_sim_model_free((igea_sim_model *)h);
     else
         igea_rls_free((igea_rls *)h);
@@ -219,7 +252,9 @@ static inline void audit_hfree(int kind, void *h)
 
 static inline void audit_hstate(int kind, const void *h, double st[64])
 {
-    if (kind == AUDIT_HK_SIM)
+    if (kind == AUDIT_HK_WHITEN)
+        audit_whiten_state((const igea_whiten *)h, st);
+    else if (kind == AUDIT_HK_SIM)
         audit_sim_model_state((const igea_sim_model *)h, st);
     else
         audit_rls_state((const igea_rls *)h, st);

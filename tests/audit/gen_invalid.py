@@ -56,9 +56,11 @@ class Param:
         self.at = {'int': 'AT_INT', 'double': 'AT_DBL', 'double*': 'AT_PD', 'int*': 'AT_PI',
                    'igea_rls*': 'AT_H', 'igea_rls**': 'AT_HO',
                    'igea_sim_model*': 'AT_H', 'igea_sim_model**': 'AT_HO',
+                   'igea_whiten*': 'AT_H', 'igea_whiten**': 'AT_HO',
                    'char*': 'AT_PI' if self.const else None}.get(base)
         # the handle's kind (audit.h AUDIT_HK_*)
-        self.hkind = 'AUDIT_HK_SIM' if base.startswith('igea_sim_model') else 'AUDIT_HK_RLS'
+        self.hkind = ('AUDIT_HK_SIM' if base.startswith('igea_sim_model') else
+                      'AUDIT_HK_WHITEN' if base.startswith('igea_whiten') else 'AUDIT_HK_RLS')
         if self.at is None:
             raise SystemExit('gen_invalid: unsupported parameter type %r (%s)' % (ctype, name))
         self.isptr = self.at not in ('AT_INT', 'AT_DBL')
@@ -126,7 +128,9 @@ def fill_code(p, val, idx):
                'hpoly': 'audit_rls_new_ex(3, 2, 2, IGEA_RLS_POLYNOMIAL, 3, IGEA_RLS_ANOMALY_NONE)',
                'hiso': 'audit_rls_new_ex(3, 2, 2, IGEA_RLS_STANDARD, 1, IGEA_RLS_ANOMALY_ISOLATE)',
                'm': 'audit_sim_model_new(0)', 'mtraj': 'audit_sim_model_new(1)',
-               'mnl': 'audit_sim_model_new(2)'}
+               'mnl': 'audit_sim_model_new(2)', 'w': 'audit_whiten_new()'}
+        if (val == 'w') != (p.hkind == 'AUDIT_HK_WHITEN'):
+            raise SystemExit('gen_invalid: handle %s: %s is not of its type' % (p.name, val))
         if (val in ('m', 'mtraj', 'mnl')) != (p.hkind == 'AUDIT_HK_SIM'):
             raise SystemExit('gen_invalid: handle %s: %s is not of its type' % (p.name, val))
         if val not in new:
@@ -181,7 +185,8 @@ def resolve(func):
         if p.name in entry:
             v = entry[p.name]
         elif p.at in ('AT_H', 'AT_HO'):
-            v = ('m' if p.hkind == 'AUDIT_HK_SIM' else 'h') if p.at == 'AT_H' else 'ho'
+            v = ({'AUDIT_HK_SIM': 'm', 'AUDIT_HK_WHITEN': 'w'}.get(p.hkind, 'h')
+                 if p.at == 'AT_H' else 'ho')
         elif p.isptr and not p.const:
             v = 'out'
         elif p.name in baselines.NAME_DEFAULTS and p.isptr == is_fill(
