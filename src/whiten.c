@@ -155,47 +155,77 @@ typedef struct {
     int rb, nb, bg; /* buffer rows, rows held, their group */
 } wjob;
 
-/* Add the buffered rows to their group's sums. */
+/* Add the buffered rows (row-major, n1 = N + 1 per row: [s~_i, w~_i]) to
+ * their group's sums. */
 static void flush(wjob *j)
 {
-    int N = j->h->N, n = j->nb;
+    int N = j->h->N, n = j->nb, n1 = N + 1;
     if (n == 0)
         return;
     double *Al = j->Al + (size_t)j->bg * N * N, *bl = j->bl + (size_t)j->bg * N;
-    const double *wv = j->buf + (size_t)N * j->rb;
-    cblas_dsyrk(CblasColMajor, CblasLower, CblasTrans, N, n, 1.0, j->buf, j->rb, 1.0, Al, N);
-    cblas_dgemv(CblasColMajor, CblasTrans, n, N, 1.0, j->buf, j->rb, wv, 1, 1.0, bl, 1);
-    for (int i = 0; i < n; i++)
-        igea__ksum_add(&j->ww[j->bg], wv[i] * wv[i]);
+    cblas_dsyrk(CblasColMajor, CblasLower, CblasNoTrans, N, n, 1.0, j->buf, n1, 1.0, Al, N);
+    cblas_dgemv(CblasColMajor, CblasNoTrans, N, n, 1.0, j->buf, n1, j->buf + N, n1, 1.0, bl, 1);
+    for (int i = 0; i < n; i++) {
+        double wv = j->buf[(size_t)i * n1 + N];
+        igea__ksum_add(&j->ww[j->bg], wv * wv);
+    }
     j->nrows[j->bg] += n;
     j->nb = 0;
 }
 
-/* Stage 1 of epoch e: y (3 rows of N + 1) whitened into u by the Cholesky
- * factor of its covariance (6 values) or by the row sigmas. Returns 0,
- * IGEA_ESINGULAR, IGEA_ENONFINITE. */
-static int stage1(int N, const double *c6, const double *sig, double *y, double *u)
+/* Stage 1 of epoch e: its three raw rows [S_i D, dw_i] whitened by the
+ * Cholesky factor of its covariance (6 values) or by the row sigmas, into
+ * u0, u1, u2 (N + 1 each). Returns 0, IGEA_ESINGULAR, IGEA_ENONFINITE. */
+static int stage1(int layout, int e, int N, const double *S, int lds, const double *dw,
+                  const double *spec, const double *c6, const double *sig, double *u0,
+                  double *u1, double *u2)
 {
-    int n1 = N + 1;
-    if (!c6) {
-        for (int a = 0; a < 3; a++)
-            for (int l = 0; l < n1; l++)
-                u[a * n1 + l] = y[a * n1 + l] / sig[a];
-        return 0;
+    double l00, l10, l11, l20, l21, l22;
+    if (c6) {
+        if (!igea__finite_vec(6, c6, 1))
+            return IGEA_ENONFINITE;
+        double d0 = c6[0];
+        if (!(d0 > 0))
+            return IGEA_ESINGULAR;
+        l00 = sqrt(d0);
+        l10 = c6[1] / l00;
+        l20 = c6[3] / l00;
+        double d1 = c6[2] - l10 * l10;
+        if (!(d1 > 0))
+            return IGEA_ESINGULAR;
+        l11 = sqrt(d1);
+        l21 = (c6[4] - l20 * l10) / l11;
+        double d2 = c6[5] - l20 * l20 - l21 * l21;
+        if (!(d2 > 0))
+            return IGEA_ESINGULAR;
+        l22 = sqrt(d2);
+        if (!(l00 >= IGEA_SIGMA_MIN && l11 >= IGEA_SIGMA_MIN && l22 >= IGEA_SIGMA_MIN))
+            return IGEA_ESINGULAR;
+    } else {
+        l00 = sig[0], l11 = sig[1], l22 = sig[2];
+        l10 = l20 = l21 = 0.0;
     }
-    if (!igea__finite_vec(6, c6, 1))
-        return IGEA_ENONFINITE;
-    double L[9] = {c6[0], c6[1], c6[3], 0, c6[2], c6[4], 0, 0, c6[5]}; /* col-major lower */
-    if (igea__chol_lower(3, L, 3, 0.0) != 0 || !(L[0] >= IGEA_SIGMA_MIN) ||
-        !(L[4] >= IGEA_SIGMA_MIN) || !(L[8] >= IGEA_SIGMA_MIN))
-        return IGEA_ESINGULAR;
-    for (int l = 0; l < n1; l++) {
-        double u0 = y[l] / L[0];
-        double u1 = (y[n1 + l] - L[1] * u0) / L[4];
-        double u2 = (y[2 * n1 + l] - L[2] * u0 - L[5] * u1) / L[8];
-        u[l] = u0;
-        u[n1 + l] = u1;
-        u[2 * n1 + l] = u2;
+    const double r0 = 1.0 / l00, r1 = 1.0 / l11, r2 = 1.0 / l22;
+    const size_t i0 = 3 * (size_t)e;
+    for (int c = 0; c <= N; c++) {
+        double y0, y1, y2;
+        if (c == N) {
+            y0 = dw[i0], y1 = dw[i0 + 1], y2 = dw[i0 + 2];
+        } else {
+            double sc = spec ? spec[c] : 1.0;
+            if (layout == IGEA_COLMAJOR) {
+                const double *col = S + (size_t)c * lds + i0;
+                y0 = col[0] * sc, y1 = col[1] * sc, y2 = col[2] * sc;
+            } else {
+                const double *row = S + i0 * lds + c;
+                y0 = row[0] * sc, y1 = row[lds] * sc, y2 = row[2 * (size_t)lds] * sc;
+            }
+        }
+        double v0 = y0 * r0;
+        double v1 = (y1 - l10 * v0) * r1;
+        u0[c] = v0;
+        u1[c] = v1;
+        u2[c] = (y2 - l20 * v0 - l21 * v1) * r2;
     }
     return 0;
 }
@@ -231,22 +261,6 @@ static void stage2(wjob *j, int a, const double *u, double *v)
     memcpy(hs, u, (size_t)n1 * sizeof(double));
 }
 
-/* The raw rows [S_i D, dw_i] of epoch e into y (3 x (N + 1)). */
-static void epoch_rows(int layout, int e, int N, const double *S, int lds,
-                       const double *dw, const double *spec, double *y)
-{
-    for (int a = 0; a < 3; a++) {
-        int i = 3 * e + a;
-        double *ya = y + (size_t)a * (N + 1);
-        for (int c = 0; c < N; c++) {
-            double s = layout == IGEA_COLMAJOR ? S[i + (size_t)c * lds]
-                                               : S[(size_t)i * lds + c];
-            ya[c] = s * (spec ? spec[c] : 1.0);
-        }
-        ya[N] = dw[i];
-    }
-}
-
 /* Every epoch of the block through both stages into the job's sums (and
  * white). Returns 0 or a failure with *bad the epoch. */
 static int run_block(wjob *j, int layout, int m, const double *S, int lds,
@@ -255,36 +269,47 @@ static int run_block(wjob *j, int layout, int m, const double *S, int lds,
                      double *white, int *bad)
 {
     int N = j->h->N, n1 = N + 1;
-    double *vr = j->y; /* y, read by stage1, then holds the v row */
+    double *vr = j->y; /* y, read by stage1, then holds a masked v row */
     for (int e = 0; e < m / 3; e++) {
         int g = group ? group[e] : 0;
         double s3[3];
         for (int a = 0; a < 3; a++)
             s3[a] = sig ? sig[inc ? 3 * e + a : 0] : 1.0;
-        epoch_rows(layout, e, N, S, lds, dw, spec, j->y);
-        int st = stage1(N, cov ? cov + 6 * (size_t)e : NULL, s3, j->y, j->u);
+        const int i0 = 3 * e;
+        /* p = 0, whole epoch kept, same group, room: straight into the buffer */
+        int direct = j->h->p == 0 && !white && !(mask && (mask[i0] | mask[i0 + 1] | mask[i0 + 2]));
+        if (direct && j->nb > 0 && (j->bg != g || j->nb + 3 > j->rb))
+            flush(j);
+        double *u = direct ? j->buf + (size_t)j->nb * n1 : j->u;
+        int st = stage1(layout, e, N, S, lds, dw, spec, cov ? cov + 6 * (size_t)e : NULL, s3,
+                        u, u + n1, u + 2 * (size_t)n1);
         if (st) {
             *bad = (int)(j->epoch + e);
             return st;
+        }
+        if (direct) {
+            j->bg = g;
+            j->nb += 3;
+            j->group = g;
+            continue;
         }
         if (g != j->group) {
             j->group = g;
             j->k = 0;
         }
         for (int a = 0; a < 3; a++) {
-            int i = 3 * e + a;
-            stage2(j, a, j->u + (size_t)a * n1, vr);
+            int i = 3 * e + a, keep = !(mask && mask[i]);
+            if (keep && j->nb > 0 && (j->bg != g || j->nb == j->rb))
+                flush(j);
+            double *dst = keep ? j->buf + (size_t)j->nb * n1 : vr;
+            stage2(j, a, j->u + (size_t)a * n1, dst);
             if (white)
                 for (int c = 0; c < n1; c++)
-                    white[i + (size_t)c * m] = vr[c];
-            if (mask && mask[i])
-                continue;
-            if (j->nb > 0 && (j->bg != g || j->nb == j->rb))
-                flush(j);
-            j->bg = g;
-            for (int c = 0; c < n1; c++)
-                j->buf[j->nb + (size_t)c * j->rb] = vr[c];
-            j->nb++;
+                    white[i + (size_t)c * m] = dst[c];
+            if (keep) {
+                j->bg = g;
+                j->nb++;
+            }
         }
         j->k++;
     }
@@ -394,7 +419,6 @@ int igea_whiten_accumulate(igea_whiten *w, int layout, int m, const double *S, i
         free(ww);
         return IGEA_ENOMEM;
     }
-    memset(work, 0, nd * sizeof(double));
     wjob j = {w, w->epoch, w->group, w->k, work, NULL, NULL, NULL, NULL, NULL, NULL, ww,
               NULL, rb, 0, 0};
     memcpy(j.hist, w->hist, nh * sizeof(double));
@@ -405,6 +429,8 @@ int igea_whiten_accumulate(igea_whiten *w, int layout, int m, const double *S, i
     j.u = j.y + 3 * (size_t)n1;
     j.nrows = j.u + 3 * (size_t)n1;
     j.white = white ? j.nrows + G : NULL;
+    memset(j.Al, 0, ((size_t)G * N * N + (size_t)G * N) * sizeof(double));
+    memset(j.nrows, 0, (size_t)G * sizeof(double));
     int bad = -1;
     st = run_block(&j, layout, m, S, lds, dw, track_sigma, sigma_inc, cov, group, mask,
                    spec_sigma, j.white, &bad);
