@@ -248,6 +248,14 @@ static void stage2(wjob *j, int a, const double *u, double *v)
                 s += h->linv[a][k][l] * hs[(size_t)(k - 1 - l) * n1 + c];
             v[c] = s;
         }
+    } else if (p == 1) { /* the common case: one pass, history updated in place */
+        const double f = h->phi[a], sc = h->su[a];
+        for (int c = 0; c < n1; c++) {
+            double uc = u[c];
+            v[c] = (uc - f * hs[c]) * sc;
+            hs[c] = uc;
+        }
+        return;
     } else {
         const double *ph = h->phi + a * p;
         for (int c = 0; c < n1; c++) {
