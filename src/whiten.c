@@ -23,8 +23,8 @@ struct igea_whiten {
 /* Yule-Walker of a unit-variance AR(p): rho_1..rho_p, the Cholesky factor of
  * the (p+1) x (p+1) autocorrelation matrix (positive definite iff
  * stationary), Gamma_p^-1/2 and 1/sigma_u. Returns 0 or 1 (not stationary). */
-static int ar_setup(int p, const double *phi, double linv[][IGEA_NOISE_AR_MAX],
-                    double *su)
+int igea__ar_setup(int p, const double *phi, double linv[][IGEA_NOISE_AR_MAX], double *su);
+int igea__ar_setup(int p, const double *phi, double linv[][IGEA_NOISE_AR_MAX], double *su)
 {
     double M[IGEA_NOISE_AR_MAX][IGEA_NOISE_AR_MAX + 1], rho[IGEA_NOISE_AR_MAX + 1];
     for (int k = 1; k <= p; k++) {
@@ -101,7 +101,7 @@ int igea_whiten_create(int N, int p, const double *phi, int ngroups, igea_whiten
         h->su[a] = 1.0;
         for (int k = 0; k < p; k++)
             h->phi[a * p + k] = phi[a * p + k];
-        if (p > 0 && ar_setup(p, phi + a * p, h->linv[a], &h->su[a])) {
+        if (p > 0 && igea__ar_setup(p, phi + a * p, h->linv[a], &h->su[a])) {
             free(h);
             return -3;
         }
