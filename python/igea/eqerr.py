@@ -122,7 +122,8 @@ class EqerrResult(_Verdict):
 
 def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small=None,
           correction=None, route="eig", n_min=None, tol=None, max_iter=None,
-          bias_correct=None, clamp=None, z_crit=None, rank_tol=None):
+          bias_correct=None, clamp=None, z_crit=None, rank_tol=None, cov=None, ar=None,
+          ar_phi=None, groups=None, group_bias=None, robust=None, robust_alpha=None):
     """Equivalent-error accuracy assessment of one flight (METHODS 1.2).
 
     S: (m, N) environment functions (rows epoch-major x, y, z), dw: (m,)
@@ -130,7 +131,15 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
     spec: (N,) 1-sigma specs scaling S's columns, or None. The options are
     the slots of igea/eqerr.h (as IGEA_EQERR_OPT_* in lower case); one left
     None keeps the library's default (igea_eqerr_defaults).
-    Returns an EqerrResult."""
+    Returns an EqerrResult. With a noise model (cov=(M, 3, 3) instead of
+    sigma, ar=p, ar_phi=, groups=(M,) labels, group_bias=, robust=,
+    robust_alpha=) the job is igea_noise_eqerr: see igea.noise."""
+    if any(v is not None for v in (cov, ar, ar_phi, groups, group_bias, robust, robust_alpha)):
+        return _noise(S, dw, sigma, spec, cov, ar, ar_phi, groups, group_bias, robust,
+                      robust_alpha, alpha=alpha, lambda_test=lambda_test,
+                      lambda_small=lambda_small, n_min=n_min, tol=tol, max_iter=max_iter,
+                      correction=correction, bias_correct=bias_correct, clamp=clamp,
+                      z_crit=z_crit, rank_tol=rank_tol)
     S = _lib.as_f64(S, "S", ndim=2)
     m, N = S.shape
     if m < 1 or N < 1:
@@ -175,6 +184,17 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
         rms=rms, **test, **_lib.fields(info, "STATS_INFO_", rank=int, scale=float,
                                         iterations=int, n_small=int)),
         alpha=opts[_capi.EQERR_OPT_ALPHA], lambda_small=opts[_capi.EQERR_OPT_LAMBDA_SMALL])
+
+
+def _noise(S, dw, sigma, spec, cov, ar, ar_phi, groups, group_bias, robust, robust_alpha,
+           **slots):
+    """igea.eqerr with the noise models (igea/noise.h; python/igea/noise.py)."""
+    from .noise import noise_eqerr
+    opts = _lib.options("eqerr", "igea.eqerr", ("igea_noise_eqerr", "opts"),
+                        group_bias=None if group_bias is None else int(bool(group_bias)),
+                        robust=None if robust is None else int(bool(robust)),
+                        robust_alpha=robust_alpha, **slots)
+    return noise_eqerr(S, dw, sigma, spec, cov, ar, ar_phi, groups, opts)
 
 
 def accuracy_test(equiv_err, eigenvalues, *, alpha=0.01, lambda_test=10.0, z_crit=None):

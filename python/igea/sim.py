@@ -121,7 +121,8 @@ class Flight:
 def simulate(traj=None, terms=None, epochs=None, *, system="strapdown", spec="default",
              sigma=0.01, sigma_growth=0.0, sigma_w=None, ar1=None, growth=None,
              outlier_prob=None, outlier_scale=None, x=None, seed=0, flight=0,
-             generator="mt19937", nonlinear_truth=False):
+             generator="mt19937", nonlinear_truth=False, ar2=None, ar3=None, corr=None,
+             group_split=None, sigma_w2=None, bias0=None, bias1=None):
     """One synthetic flight dw = S diag(spec) X + noise.
 
     traj: None (the reference boost, 120 s at 50 Hz) or (samples x 11);
@@ -156,7 +157,9 @@ def simulate(traj=None, terms=None, epochs=None, *, system="strapdown", spec="de
         elif spec != "default":
             raise ValueError("spec: 'default' or an array")
         model.noise(generator, sigma_w=sigma_w, ar1=ar1, growth=growth,
-                    outlier_prob=outlier_prob, outlier_scale=outlier_scale)
+                    outlier_prob=outlier_prob, outlier_scale=outlier_scale, ar2=ar2, ar3=ar3,
+                    corr=corr, group_split=group_split, sigma_w2=sigma_w2, bias0=bias0,
+                    bias1=bias1)
         xv, xf = _x_spec(x, terms, N)
         model.set("truth", _lib.dptr(xv), _lib.iptr(xf))
         model.set("nonlinear", int(bool(nonlinear_truth)))
@@ -198,6 +201,9 @@ class MonteCarloResult:
     rates: dict = None   # {"failed": count / flights, ...} of the four counts
     ci99: dict = None    # {"failed": (lo, hi), ...}: their 99 % Wilson intervals
     pool: MonteCarloPool = None  # with pool=F: the pooled verdicts of groups of F flights
+    scale_covered: int = 0  # judged with the noise model: flights whose group scales are
+                            # within 3 standard errors of the truth
+    mean_outliers: float = 0.0  # mean rows rejected by the robust route
 
     def rate(self, what="failed"):
         return self.rates[what]
@@ -214,13 +220,20 @@ class MonteCarloResult:
 def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None, ar1=None,
                growth=None, outlier_prob=None, outlier_scale=None, generator="mt19937",
                seed=0, first_flight=0, threads=0, alpha=None, lambda_test=None,
-               correction=None, bias_correct=None, clamp=None, pool=None):
+               correction=None, bias_correct=None, clamp=None, pool=None, ar2=None, ar3=None,
+               corr=None, group_split=None, sigma_w2=None, bias0=None, bias1=None,
+               judge_noise=None, ar=None, ar_given=False, robust=None, robust_alpha=None,
+               group_bias=None):
     """Run flights first_flight .. first_flight + flights - 1 and judge each
     with the seed-000 test; results do not depend on threads (0: one per
     online processor). Options left None keep the library's defaults
     (igea_sim_defaults, igea_eqerr_defaults). pool=F (> 0; None or 0: no
     pooling) also pools consecutive groups of F flights at the same alpha
-    (igea_sim_pool): the result's `pool`."""
+    (igea_sim_pool): the result's `pool`. Noise models (igea/sim.h
+    IGEA_SIM_OPT_AR2 .. JUDGE_NOISE): ar2, ar3, corr, group_split, sigma_w2,
+    bias0, bias1, judge_noise; the judge's (igea/noise.h): ar (phi
+    estimated, or the true one with ar_given=True), robust, robust_alpha,
+    group_bias."""
     S = _lib.as_f64(S, "S", ndim=2)
     m, N = S.shape
     sig, inc = _sigma(sigma, m)
@@ -234,7 +247,7 @@ def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None
     where = "igea.montecarlo"
     eq = _lib.options("eqerr", where, ("igea_sim_montecarlo", "eq_opts"), alpha=alpha,
                       lambda_test=lambda_test, correction=correction, bias_correct=bias_correct,
-                      clamp=clamp)
+                      clamp=clamp, **_judge_slots(ar, ar_given, robust, robust_alpha, group_bias))
     counts, rates = np.zeros(_capi.SIM_MC_LEN), np.zeros(_capi.SIM_MC_RATES_LEN)
     ct, cr = np.zeros(N, dtype=np.intc), np.zeros(N, dtype=np.intc)
     table = np.zeros((nflights, _capi.SIM_MC_TABLE_COLS), order="F")
@@ -242,7 +255,9 @@ def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None
         model.set("sigma", _lib.dptr(sig), inc, 0.0)
         model.set("spec", _lib.dptr(sp))
         model.noise(generator, sigma_w=sigma_w, ar1=ar1, growth=growth,
-                    outlier_prob=outlier_prob, outlier_scale=outlier_scale)
+                    outlier_prob=outlier_prob, outlier_scale=outlier_scale, ar2=ar2, ar3=ar3,
+                    corr=corr, group_split=group_split, sigma_w2=sigma_w2, bias0=bias0,
+                    bias1=bias1, judge_noise=None if judge_noise is None else int(bool(judge_noise)))
         model.set("truth", _lib.dptr(xv), _lib.iptr(xf))
         _lib.call(where, "igea_sim_montecarlo", model.h, _lib.dptr(eq), int(seed),
                   int(first_flight), nflights, int(threads), _lib.dptr(counts), _lib.dptr(rates),
@@ -267,4 +282,14 @@ def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None
         rates={k: float(rates[i]) for k, i in at.items()},
         ci99={k: (float(rates[i + 1]), float(rates[i + 2])) for k, i in at.items()}, pool=pooled,
         **_lib.fields(counts, "SIM_MC_", flights=int, failed=int, chi2_reject=int,
-                      any_reject=int, not_testable=int, mean_scale=float, mean_tested=float))
+                      any_reject=int, not_testable=int, mean_scale=float, mean_tested=float,
+                      scale_covered=int, mean_outliers=float))
+
+
+def _judge_slots(ar, ar_given, robust, robust_alpha, group_bias):
+    """The eqerr option slots of the noise judge (igea/noise.h)."""
+    out = dict(robust=None if robust is None else int(bool(robust)), robust_alpha=robust_alpha,
+               group_bias=None if group_bias is None else int(bool(group_bias)))
+    if ar:
+        out.update(ar_order=int(ar), ar_estimate=0 if ar_given else 1)
+    return out

@@ -199,6 +199,10 @@ static void report_json(FILE *f, const noise_in *d, const noise_out *r)
     cli_jnums(&j, "eigenvalues", r->lambda, d->N);
     cli_jnums(&j, "equiv_err", r->xhat, d->N);
     cli_jnums(&j, "z", r->z, nt);
+    cli_json_open(&j, "reject", '[');
+    for (int i = 0; i < nt; i++)
+        cli_jbool(&j, NULL, r->reject[i] == 1);
+    cli_json_close(&j);
     cli_jint(&j, "n_test", nt);
     cli_jnum(&j, "chi2", info[IGEA_STATS_INFO_CHI2]);
     cli_jint(&j, "dof", (long)info[IGEA_STATS_INFO_DOF]);

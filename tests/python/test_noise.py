@@ -337,3 +337,47 @@ def test_eqerr_run_refuses_the_noise_options():
     assert lib.igea_eqerr_check_opts(_lib.dptr(opts)) == 0
     opts[_capi.EQERR_OPT_AR_ORDER] = 4
     assert lib.igea_eqerr_check_opts(_lib.dptr(opts)) == 1 + _capi.EQERR_OPT_AR_ORDER
+
+
+def test_python_and_driver_cov_equal_numpy_gls(tmp_path):
+    import json
+    import os
+    import subprocess
+
+    import igea
+    rng = np.random.default_rng(9)
+    M, N = 50, 4
+    m = 3 * M
+    S = rng.normal(size=(m, N)) * 10
+    dw = rng.normal(size=m)
+    cov6, full = random_cov(rng, M)
+    r = igea.eqerr(S, dw, None, cov=full, correction=False, lambda_test=1e-3)
+    Ki = np.linalg.inv(linalg.block_diag(*full))
+    lam = np.linalg.eigvalsh(S.T @ Ki @ S)[::-1]
+    np.testing.assert_allclose(r.eigenvalues, lam, rtol=1e-10)
+    np.savetxt(tmp_path / "S.txt", S)
+    np.savetxt(tmp_path / "dw.txt", dw)
+    np.savetxt(tmp_path / "cov.txt", cov6)
+    out = subprocess.run([os.environ.get("IGEA_DRIVER", "build/bin/igea"), "eqerr", "--S",
+                          str(tmp_path / "S.txt"), "--dw", str(tmp_path / "dw.txt"), "--cov",
+                          str(tmp_path / "cov.txt"), "--no-correction", "--lambda-test", "1e-3",
+                          "--json"], capture_output=True, text=True)
+    assert out.returncode in (0, 1), out.stderr
+    doc = json.loads(out.stdout)
+    np.testing.assert_allclose(doc["eigenvalues"], lam, rtol=1e-10)
+    assert doc["passed"] == r.passed and doc["n_test"] == r.n_test
+    with pytest.raises(ValueError, match="sigma, cov"):
+        igea.eqerr(S, dw, 0.01, cov=full)
+
+
+def test_montecarlo_two_stations_judged_with_groups():
+    import igea
+    rng = np.random.default_rng(10)
+    m, N = 300, 3
+    S = rng.normal(size=(m, N)) * 50
+    r = igea.montecarlo(S, 0.01, 200, group_split=0.5, sigma_w=1.0, sigma_w2=3.0,
+                        judge_noise=True, threads=1)
+    # each flight: two scales, each within 3 se with probability ~0.997;
+    # 99 % Wilson interval of 200 flights at p = 0.995 reaches below 0.97
+    assert r.scale_covered >= 0.95 * 200
+    assert r.flights == 200
