@@ -130,6 +130,8 @@ static int run_flights(const mc_args *a, const cli_flight_args *fa, const cli_fl
             break;
         for (int k = IGEA_SIM_MC_FLIGHTS; k <= IGEA_SIM_MC_NOT_TESTABLE; k++)
             c[k] += c1[k];
+        c[IGEA_SIM_MC_SCALE_COVERED] += c1[IGEA_SIM_MC_SCALE_COVERED]; /* noise judge */
+        c[IGEA_SIM_MC_MEAN_OUTLIERS] += c1[IGEA_SIM_MC_MEAN_OUTLIERS] * n / a->flights;
         double testable = c1[IGEA_SIM_MC_FLIGHTS] - c1[IGEA_SIM_MC_NOT_TESTABLE];
         if (testable > 0) {
             sum_scale += testable * c1[IGEA_SIM_MC_MEAN_SCALE];
