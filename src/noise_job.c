@@ -209,6 +209,13 @@ static int ar_update(njob *j, double *d)
     int st = igea_noise_ar_fit(j->M, j->p, r, j->group, j->mask, ph, se);
     if (st)
         return st;
+    if (j->p == 1) /* Kendall's small-sample correction, kept inside |phi| <= 0.995 */
+        for (int a = 0; a < 3; a++) {
+            double n = j->M - 1.0;
+            if (n > 3)
+                ph[a] += (1.0 + 3.0 * ph[a]) / n;
+            ph[a] = fmax(-0.995, fmin(0.995, ph[a]));
+        }
     *d = 0.0;
     for (int k = 0; k < 3 * j->p; k++) {
         *d = fmax(*d, fabs(ph[k] - j->phi[k]));
