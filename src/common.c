@@ -55,7 +55,7 @@ const char *igea_opt_name(int module, int slot)
         [IGEA_EQERR_OPT_CLAMP] = "clamp",
         [IGEA_EQERR_OPT_Z_CRIT] = "z_crit",
         [IGEA_EQERR_OPT_ROUTE] = "route",
-        [IGEA_EQERR_OPT_AR_ORDER] = "ar_order", /* igea/noise.h, 20..27 */
+        [IGEA_EQERR_OPT_AR] = "ar", /* igea/noise.h, 20..27 */
         [IGEA_EQERR_OPT_AR_ESTIMATE] = "ar_estimate",
         [IGEA_EQERR_OPT_ROBUST] = "robust",
         [IGEA_EQERR_OPT_ROBUST_ALPHA] = "robust_alpha",
@@ -71,6 +71,14 @@ const char *igea_opt_name(int module, int slot)
         [IGEA_SIM_OPT_OUTLIER_PROB] = "outlier_prob",
         [IGEA_SIM_OPT_OUTLIER_SCALE] = "outlier_scale",
         [IGEA_SIM_OPT_GENERATOR] = "generator",
+        [IGEA_SIM_OPT_AR2] = "ar2", /* noise models, 6..13 */
+        [IGEA_SIM_OPT_AR3] = "ar3",
+        [IGEA_SIM_OPT_CORR] = "corr",
+        [IGEA_SIM_OPT_GROUP_SPLIT] = "group_split",
+        [IGEA_SIM_OPT_SIGMA_W2] = "sigma_w2",
+        [IGEA_SIM_OPT_BIAS0] = "bias0",
+        [IGEA_SIM_OPT_BIAS1] = "bias1",
+        [IGEA_SIM_OPT_JUDGE_NOISE] = "judge_noise",
     };
     const char *const *names;
     int len;

@@ -12,8 +12,8 @@
 int igea__noise_check_opts(const double *o);
 int igea__noise_check_opts(const double *o)
 {
-    double p = o[IGEA_EQERR_OPT_AR_ORDER];
-    if (!(p >= 0 && p <= IGEA_NOISE_AR_MAX && p == floor(p))) return 1 + IGEA_EQERR_OPT_AR_ORDER;
+    double p = o[IGEA_EQERR_OPT_AR];
+    if (!(p >= 0 && p <= IGEA_NOISE_AR_MAX && p == floor(p))) return 1 + IGEA_EQERR_OPT_AR;
     if (o[IGEA_EQERR_OPT_AR_ESTIMATE] != 0 && o[IGEA_EQERR_OPT_AR_ESTIMATE] != 1) return 1 + IGEA_EQERR_OPT_AR_ESTIMATE;
     if (o[IGEA_EQERR_OPT_ROBUST] != 0 && o[IGEA_EQERR_OPT_ROBUST] != 1) return 1 + IGEA_EQERR_OPT_ROBUST;
     if (!(o[IGEA_EQERR_OPT_ROBUST_ALPHA] >= 0 && o[IGEA_EQERR_OPT_ROBUST_ALPHA] < 0.5)) return 1 + IGEA_EQERR_OPT_ROBUST_ALPHA;
@@ -29,7 +29,7 @@ int igea__noise_check_opts(const double *o)
 int igea__noise_opts_set(const double *o);
 int igea__noise_opts_set(const double *o)
 {
-    return o[IGEA_EQERR_OPT_AR_ORDER] != 0 || o[IGEA_EQERR_OPT_ROBUST] != 0 ||
+    return o[IGEA_EQERR_OPT_AR] != 0 || o[IGEA_EQERR_OPT_ROBUST] != 0 ||
            o[IGEA_EQERR_OPT_GROUP_BIAS] != 0;
 }
 

@@ -451,7 +451,7 @@ int igea_noise_eqerr(int m, int N, const double *S, int lds, const double *dw,
     j.M = m / 3;
     j.G = ngroups;
     j.group = group;
-    j.p = (int)opts[IGEA_EQERR_OPT_AR_ORDER];
+    j.p = (int)opts[IGEA_EQERR_OPT_AR];
     j.nb = opts[IGEA_EQERR_OPT_GROUP_BIAS] == 1 ? 3 * ngroups : 0;
     j.Nt = N + j.nb;
     if (j.p > 0 && phi && !igea__finite_vec(3 * j.p, phi, 1))

@@ -579,7 +579,7 @@ static int mc_judge_noise(mc_job *jb, int f, const double *dw, double *lam, doub
 {
     const igea_sim_model *c = jb->c;
     double go[2 * IGEA_NOISE_GROUP_COLS];
-    int p = (int)jb->eq_opts[IGEA_EQERR_OPT_AR_ORDER];
+    int p = (int)jb->eq_opts[IGEA_EQERR_OPT_AR];
     int given = p > 0 && jb->eq_opts[IGEA_EQERR_OPT_AR_ESTIMATE] != 1;
     int st = igea_noise_eqerr(c->m, c->N, c->S, c->m, dw, jb->cov ? NULL : c->sigma, 1,
                               jb->cov, jb->group, jb->ngroups, c->spec, given ? jb->phi : NULL,

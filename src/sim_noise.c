@@ -132,7 +132,7 @@ void igea__sim_noise_rows(const double *o, const double *sigma, int m, gsl_rng *
 
 int igea__sim_noise_judged(const double *so, const double *eqo)
 {
-    return so[IGEA_SIM_OPT_JUDGE_NOISE] == 1 || eqo[IGEA_EQERR_OPT_AR_ORDER] != 0 ||
+    return so[IGEA_SIM_OPT_JUDGE_NOISE] == 1 || eqo[IGEA_EQERR_OPT_AR] != 0 ||
            eqo[IGEA_EQERR_OPT_ROBUST] != 0 || eqo[IGEA_EQERR_OPT_GROUP_BIAS] != 0;
 }
 
@@ -158,7 +158,7 @@ int igea__sim_judge_stated(const double *so, const double *eqo, int m, const dou
         double *c6 = cov + 6 * (size_t)e;
         c6[0] = C[0], c6[1] = C[3], c6[2] = C[4], c6[3] = C[6], c6[4] = C[7], c6[5] = C[8];
     }
-    int p = (int)eqo[IGEA_EQERR_OPT_AR_ORDER];
+    int p = (int)eqo[IGEA_EQERR_OPT_AR];
     double tphi[3] = {so[IGEA_SIM_OPT_AR1], so[IGEA_SIM_OPT_AR2], so[IGEA_SIM_OPT_AR3]};
     for (int a = 0; a < 3; a++)
         for (int l = 0; l < p; l++)

@@ -39,7 +39,7 @@ extern "C" {
  * igea_eqerr_check_opts checks them; igea_eqerr_run refuses (-9) options
  * that ask for AR, robust or bias columns, which only igea_noise_eqerr
  * and igea_sim_montecarlo do. */
-#define IGEA_EQERR_OPT_AR_ORDER 20     /* p = 0..3: AR(p) per axis, 0 white */
+#define IGEA_EQERR_OPT_AR 20     /* p = 0..3: AR(p) per axis, 0 white */
 #define IGEA_EQERR_OPT_AR_ESTIMATE 21  /* 1: phi estimated from the residuals
                                           (Cochrane-Orcutt), 0: phi given */
 #define IGEA_EQERR_OPT_ROBUST 22       /* 1: data snooping on the whitened residuals */

@@ -79,7 +79,7 @@ def noise_eqerr(S, dw, sigma, spec, cov, ar, ar_phi, groups, opts, where="igea.e
     phi, p = (None, int(ar or 0)) if ar_phi is None else _phi(ar_phi)
     if ar_phi is not None and ar not in (None, p):
         raise ValueError("ar=%r but ar_phi holds %d lags" % (ar, p))
-    opts[_capi.EQERR_OPT_AR_ORDER] = p
+    opts[_capi.EQERR_OPT_AR] = p
     opts[_capi.EQERR_OPT_AR_ESTIMATE] = 1 if p > 0 and ar_phi is None else 0
     grp, G = (None, 1) if groups is None else _groups(groups, M)
     lam, P, xh, z = np.empty(N), np.empty((N, N), order="F"), np.empty(N), np.empty(N)

@@ -291,5 +291,5 @@ def _judge_slots(ar, ar_given, robust, robust_alpha, group_bias):
     out = dict(robust=None if robust is None else int(bool(robust)), robust_alpha=robust_alpha,
                group_bias=None if group_bias is None else int(bool(group_bias)))
     if ar:
-        out.update(ar_order=int(ar), ar_estimate=0 if ar_given else 1)
+        out.update(ar=int(ar), ar_estimate=0 if ar_given else 1)
     return out

@@ -95,7 +95,7 @@ static const cli_opt eqerr_options[] = {
      "lambda_1, at about twice the cost", NULL},
     {"--cov", CLI_OPT_STR, &EA.cov, NULL, "FILE", "3x3 tracking covariance per epoch instead of --sigma:\n"
      "one line of 6 lower-triangle entries (xx yx yy zx zy zz)", NULL},
-    {"--ar", CLI_OPT_NUM, EQ_OPT(AR_ORDER), NULL, "P", "AR(P) tracking noise per axis (P <= 3), phi estimated\n"
+    {"--ar", CLI_OPT_NUM, EQ_OPT(AR), NULL, "P", "AR(P) tracking noise per axis (P <= 3), phi estimated\n"
      "from the residuals and iterated with the group scales", NULL},
     {"--ar-phi", CLI_OPT_STR, &EA.ar_phi, NULL, "a,b,c", "AR coefficients given (lags 1.., every axis)", NULL},
     {"--groups", CLI_OPT_STR, &EA.groups, NULL, "FILE", "group label 0..G-1 per epoch (station, phase): one\n"
@@ -160,7 +160,7 @@ static int parse_eqerr(int argc, char **argv, eqerr_args *a)
     }
     if (a->sigma && (ec = cli_file_or_positive("--sigma", a->sigma, &a->sigma_is_number, &a->sigma_value)))
         return ec;
-    if (a->opts[IGEA_EQERR_OPT_AR_ORDER] != 0 && !a->ar_phi)
+    if (a->opts[IGEA_EQERR_OPT_AR] != 0 && !a->ar_phi)
         a->opts[IGEA_EQERR_OPT_AR_ESTIMATE] = 1;
     a->opts[IGEA_EQERR_OPT_ROUTE] = a->route;
     return cli_check_opts("eqerr", IGEA_MODULE_EQERR, igea_eqerr_check_opts(a->opts));
@@ -544,12 +544,12 @@ int cmd_eqerr(int argc, char **argv)
     }
     flight r;
     memset(&r, 0, sizeof r);
-    if (a.cov || a.groups || a.ar_phi || a.opts[IGEA_EQERR_OPT_AR_ORDER] != 0 ||
+    if (a.cov || a.groups || a.ar_phi || a.opts[IGEA_EQERR_OPT_AR] != 0 ||
         a.opts[IGEA_EQERR_OPT_ROBUST] != 0 || a.opts[IGEA_EQERR_OPT_GROUP_BIAS] != 0) {
         cli_noise_args na = {a.S, a.dw, a.sigma, a.spec, a.cov, a.groups, a.json, 0, {0}, a.opts};
         int p = 0, passed = 0;
         if (a.ar_phi && !(ec = cli_noise_parse_phi(a.ar_phi, na.phi, &p)))
-            a.opts[IGEA_EQERR_OPT_AR_ORDER] = p, na.p_given = 1;
+            a.opts[IGEA_EQERR_OPT_AR] = p, na.p_given = 1;
         if (!ec && a.residuals)
             cli_error("eqerr: --residuals is not written with the noise models"), ec = CLI_USAGE;
         if (!ec)

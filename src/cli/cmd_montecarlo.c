@@ -22,7 +22,7 @@ static const cli_opt options[] = {
     CLI_FLIGHT_NOISE_OPTIONS,
     CLI_HEAD("judged with the noise models:"),
     {"--judge-noise", CLI_OPT_DSET, &cli_flight_opts.opts[IGEA_SIM_OPT_JUDGE_NOISE], NULL, NULL, "tell the judge the covariance and the groups\n(igea eqerr --cov --groups)", NULL},
-    {"--ar", CLI_OPT_NUM, &A.eqo[IGEA_EQERR_OPT_AR_ORDER], NULL, "P", "judge with AR(P), phi estimated (igea eqerr --ar)", NULL},
+    {"--ar", CLI_OPT_NUM, &A.eqo[IGEA_EQERR_OPT_AR], NULL, "P", "judge with AR(P), phi estimated (igea eqerr --ar)", NULL},
     {"--ar-given", CLI_OPT_FLAG, &A.ar_given, NULL, NULL, "with --ar: phi given (the true one)", NULL},
     {"--robust", CLI_OPT_DSET, &A.eqo[IGEA_EQERR_OPT_ROBUST], NULL, NULL, "judge with the robust route (igea eqerr --robust)", NULL},
     {"--robust-alpha", CLI_OPT_NUM, &A.eqo[IGEA_EQERR_OPT_ROBUST_ALPHA], NULL, "A", "level of the w-test per row (0: 0.001)", NULL},
@@ -258,7 +258,7 @@ static int parse(int argc, char **argv, mc_args *a, cli_flight_args *fa)
     cli_flight_defaults();
     igea_eqerr_defaults(A.eqo);
     int ec = cli_parse(&command, argc, argv);
-    if (A.eqo[IGEA_EQERR_OPT_AR_ORDER] != 0 && !A.ar_given)
+    if (A.eqo[IGEA_EQERR_OPT_AR] != 0 && !A.ar_given)
         A.eqo[IGEA_EQERR_OPT_AR_ESTIMATE] = 1;
     *a = A;
     *fa = cli_flight_opts;

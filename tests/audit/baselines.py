@@ -275,7 +275,7 @@ BASE = {
                              track_sigma='c:0.05',
                              sigma_inc='1', cov='NULL', group='[0, 0, 1, 1]', ngroups='2',
                              phi='[0.3, 0.2, 0.1]',
-                             opts='set:igea_eqerr_defaults(b_); b_[IGEA_EQERR_OPT_AR_ORDER] = 1;'
+                             opts='set:igea_eqerr_defaults(b_); b_[IGEA_EQERR_OPT_AR] = 1;'
                                   ' b_[IGEA_EQERR_OPT_ROBUST] = 1;',
                              _req=['S', 'dw', 'z', 'track_sigma', 'group'],
                              _int=dict(ngroups='size'), _intarr=dict(group='code')),
@@ -362,7 +362,7 @@ VARIANTS = {
                                           '{0.01, 0.002, 0.01, 0.001, 0.003, 0.01}; '
                                           'for (int k = 0; k < 6; k++) b_[6 * e + k] = c6[k]; }'),
                              estimate=dict(opts='set:igea_eqerr_defaults(b_);'
-                                                ' b_[IGEA_EQERR_OPT_AR_ORDER] = 1;'
+                                                ' b_[IGEA_EQERR_OPT_AR] = 1;'
                                                 ' b_[IGEA_EQERR_OPT_AR_ESTIMATE] = 1;'
                                                 ' b_[IGEA_EQERR_OPT_GROUP_BIAS] = 0;',
                                            m='24', group='[0, 0, 0, 0, 1, 1, 1, 1]')),

@@ -322,21 +322,21 @@ def test_noise_eqerr_estimates_phi():
     for t in range(1, M):
         e[t] = 0.9 * e[t - 1] + np.sqrt(1 - 0.81) * e[t]
     dw = S @ rng.normal(size=N) + e.ravel()
-    r = noise_eqerr(S, dw, sigma=np.ones(m), ar_order=1, ar_estimate=1)
+    r = noise_eqerr(S, dw, sigma=np.ones(m), ar=1, ar_estimate=1)
     phi, se = r["ar"][[0, 3, 6]], r["ar"][[9, 12, 15]]
     assert np.all(np.abs(phi - 0.9) < 4 * se) and np.all(se < 0.02)
     assert r["info"][_capi.STATS_INFO_NOISE_CONVERGED] == 1
     # the same job with phi given as the estimate: the same whitening
     given = noise_eqerr(S, dw, sigma=np.ones(m), phi=np.array([phi[0], phi[1], phi[2]]),
-                        ar_order=1)
+                        ar=1)
     np.testing.assert_allclose(given["lam"], r["lam"], rtol=1e-3)
 
 
 def test_eqerr_run_refuses_the_noise_options():
-    opts = _lib.options("eqerr", "t", ("igea_eqerr_run", "opts"), ar_order=1)
+    opts = _lib.options("eqerr", "t", ("igea_eqerr_run", "opts"), ar=1)
     assert lib.igea_eqerr_check_opts(_lib.dptr(opts)) == 0
-    opts[_capi.EQERR_OPT_AR_ORDER] = 4
-    assert lib.igea_eqerr_check_opts(_lib.dptr(opts)) == 1 + _capi.EQERR_OPT_AR_ORDER
+    opts[_capi.EQERR_OPT_AR] = 4
+    assert lib.igea_eqerr_check_opts(_lib.dptr(opts)) == 1 + _capi.EQERR_OPT_AR
 
 
 def test_python_and_driver_cov_equal_numpy_gls(tmp_path):
