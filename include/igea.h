@@ -17,4 +17,5 @@
 #include "igea/io.h"
 #include "igea/nav.h"
 #include "igea/dw.h"
+#include "igea/noise.h"
 #endif

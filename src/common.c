@@ -7,6 +7,7 @@
 #include "igea/eqerr.h"
 #include "igea/impact.h"
 #include "igea/triad.h"
+#include "igea/noise.h"
 #include "igea/sim.h"
 #include "internal.h"
 
@@ -72,6 +73,14 @@ const char *igea_opt_name(int module, int slot)
         [IGEA_EQERR_OPT_VERDICT_A] = "verdict_a",
         [IGEA_EQERR_OPT_VERDICT_B] = "verdict_b",
         [IGEA_EQERR_OPT_VERDICT_SIZE] = "verdict_size",
+        [IGEA_EQERR_OPT_AR] = "ar", /* igea/noise.h, 20..27 */
+        [IGEA_EQERR_OPT_AR_ESTIMATE] = "ar_estimate",
+        [IGEA_EQERR_OPT_ROBUST] = "robust",
+        [IGEA_EQERR_OPT_ROBUST_ALPHA] = "robust_alpha",
+        [IGEA_EQERR_OPT_NOISE_TOL] = "noise_tol",
+        [IGEA_EQERR_OPT_NOISE_MAX_ITER] = "noise_max_iter",
+        [IGEA_EQERR_OPT_GROUP_BIAS] = "group_bias",
+        [IGEA_EQERR_OPT_ROBUST_MAX] = "robust_max",
     };
     static const char *const sim[IGEA_SIM_OPT_LEN] = {
         [IGEA_SIM_OPT_SIGMA_W] = "sigma_w",
@@ -80,6 +89,14 @@ const char *igea_opt_name(int module, int slot)
         [IGEA_SIM_OPT_OUTLIER_PROB] = "outlier_prob",
         [IGEA_SIM_OPT_OUTLIER_SCALE] = "outlier_scale",
         [IGEA_SIM_OPT_GENERATOR] = "generator",
+        [IGEA_SIM_OPT_AR2] = "ar2", /* noise models, 6..13 */
+        [IGEA_SIM_OPT_AR3] = "ar3",
+        [IGEA_SIM_OPT_CORR] = "corr",
+        [IGEA_SIM_OPT_GROUP_SPLIT] = "group_split",
+        [IGEA_SIM_OPT_SIGMA_W2] = "sigma_w2",
+        [IGEA_SIM_OPT_BIAS0] = "bias0",
+        [IGEA_SIM_OPT_BIAS1] = "bias1",
+        [IGEA_SIM_OPT_JUDGE_NOISE] = "judge_noise",
     };
     static const char *const impact[IGEA_IMPACT_OPT_LEN] = {
         [IGEA_IMPACT_OPT_MU] = "mu",         [IGEA_IMPACT_OPT_RADIUS] = "radius",

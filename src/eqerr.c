@@ -8,6 +8,9 @@
 #include "igea/eqerr.h"
 #include "internal.h"
 
+int igea__noise_check_opts(const double *o); /* noise.c */
+int igea__noise_opts_set(const double *o);   /* noise.c */
+
 int igea_eqerr_defaults(double *opts)
 {
     if (!opts)
@@ -55,7 +58,7 @@ int igea_eqerr_check_opts(const double *o)
         if (!(o[IGEA_EQERR_OPT_VERDICT_B] > 0)) return 1 + IGEA_EQERR_OPT_VERDICT_B;
         if (!(o[IGEA_EQERR_OPT_VERDICT_SIZE] >= 0 && o[IGEA_EQERR_OPT_VERDICT_SIZE] <= 1)) return 1 + IGEA_EQERR_OPT_VERDICT_SIZE;
     }
-    return 0;
+    return igea__noise_check_opts(o); /* slots 20..27, igea/noise.h */
 }
 
 /*
@@ -585,8 +588,8 @@ int igea_eqerr_run(int m, int N, const double *S, int lds, const double *dw,
     if (!opts) {
         igea_eqerr_defaults(dflt);
         opts = dflt;
-    } else if (igea_eqerr_check_opts(opts))
-        return -9;
+    } else if (igea_eqerr_check_opts(opts) || igea__noise_opts_set(opts))
+        return -9; /* AR, robust, bias columns: igea_noise_eqerr */
     if (!lambda) return -10;
     if (!P) return -11;
     if (ldp < N) return -12;

@@ -16,6 +16,8 @@
 #include "internal.h"
 #include "rotation.h"
 #include "envfun_terms.h"
+#include "igea/noise.h"
+#include "sim_noise.h"
 
 #define SIM_PI 3.14159265358979323846
 
@@ -156,7 +158,7 @@ int igea_sim_check_opts(const double *opts)
     if (opts[IGEA_SIM_OPT_GENERATOR] != IGEA_SIM_MT19937 &&
         opts[IGEA_SIM_OPT_GENERATOR] != IGEA_SIM_RANLXD2)
         return 1 + IGEA_SIM_OPT_GENERATOR;
-    return 0;
+    return igea__sim_noise_check(opts); /* slots 6..13, sim_noise.c */
 }
 
 void igea_sim_model_free(igea_sim_model *model)
@@ -480,6 +482,10 @@ static int gen_flight(const igea_sim_model *c, gsl_rng *r, int seed, int flight,
         for (int i = 0; i < m; i++)
             dw[i] += col[i] * xs[j];
     }
+    if (!igea__sim_noise_plain(c->opts)) { /* AR(p), correlation, groups: sim_noise.c */
+        igea__sim_noise_rows(c->opts, c->sigma, m, r, dw);
+        return c->nonlinear ? nonlinear_swap(c, x, nl, dw) : 0;
+    }
     for (int i = 0; i < m; i++) {
         int e = i / 3, a = i % 3;
         double g = gsl_ran_gaussian_ziggurat(r, 1.0);
@@ -563,7 +569,41 @@ typedef struct {
     int fail; /* a status < 0 other than ENOTESTABLE */
     double *vcache;   /* the verdict rule's thresholds by n_test (eqerr.c) */
     double size_sum;  /* sum of info OVERALL_SIZE over the testable flights */
+    /* judged by igea_noise_eqerr (sim_noise.c): what the judge is told */
+    int noise, ngroups;
+    const double *cov; /* 6 per epoch, or NULL: the stated sigmas */
+    const int *group;
+    double phi[9];
+    int *covered, *nout; /* per flight */
 } mc_job;
+
+/* igea_noise_eqerr on flight f; the rest as mc_judge. */
+static int mc_judge_noise(mc_job *jb, int f, const double *dw, double *lam, double *P,
+                          double *xhat, double *z, int *rej, double *info)
+{
+    const igea_sim_model *c = jb->c;
+    double go[2 * IGEA_NOISE_GROUP_COLS];
+    int p = (int)jb->eq_opts[IGEA_EQERR_OPT_AR];
+    int given = p > 0 && jb->eq_opts[IGEA_EQERR_OPT_AR_ESTIMATE] != 1;
+    int st = igea_noise_eqerr(c->m, c->N, c->S, c->m, dw, jb->cov ? NULL : c->sigma, 1,
+                              jb->cov, jb->group, jb->ngroups, c->spec, given ? jb->phi : NULL,
+                              jb->eq_opts, lam, P, c->N, xhat, z, rej, info, NULL, go, NULL);
+    jb->covered[f] = 0;
+    jb->nout[f] = 0;
+    if (st == 0) {
+        double sw[2] = {c->opts[IGEA_SIM_OPT_SIGMA_W], c->opts[IGEA_SIM_OPT_SIGMA_W2] > 0
+                                                           ? c->opts[IGEA_SIM_OPT_SIGMA_W2]
+                                                           : c->opts[IGEA_SIM_OPT_SIGMA_W]};
+        int ok = 1;
+        for (int g = 0; g < jb->ngroups; g++) {
+            const double *o = go + g * IGEA_NOISE_GROUP_COLS;
+            ok = ok && fabs(o[IGEA_NOISE_GROUP_SCALE] - sw[g] * sw[g]) <= 3 * o[IGEA_NOISE_GROUP_SE];
+        }
+        jb->covered[f] = ok;
+        jb->nout[f] = (int)info[IGEA_STATS_INFO_N_OUTLIERS];
+    }
+    return st;
+}
 
 /* Judge flight f of a job from its dw; scratch w (m + 5 N + N^2 +
  * IGEA_STATS_INFO_LEN doubles), rej (N ints). Returns 0 or the failure. */
@@ -573,17 +613,22 @@ static int mc_judge(mc_job *jb, int f, const double *dw, double *w, int *rej)
     int m = c->m, N = c->N;
     double *wdw = w, *b = wdw + m, *lam = b + N, *xhat = lam + N, *P = xhat + N;
     double *z = P + (size_t)N * N, *info = z + N;
-    for (int i = 0; i < m; i++)
-        wdw[i] = dw[i] / c->sigma[i];
-    for (int j = 0; j < N; j++) {
-        const double *col = jb->Sw + (size_t)j * (size_t)m;
-        double acc = 0.0;
+    int st;
+    if (jb->noise) {
+        st = mc_judge_noise(jb, f, dw, lam, P, xhat, z, rej, info);
+    } else {
         for (int i = 0; i < m; i++)
-            acc += col[i] * wdw[i];
-        b[j] = acc;
+            wdw[i] = dw[i] / c->sigma[i];
+        for (int j = 0; j < N; j++) {
+            const double *col = jb->Sw + (size_t)j * (size_t)m;
+            double acc = 0.0;
+            for (int i = 0; i < m; i++)
+                acc += col[i] * wdw[i];
+            b[j] = acc;
+        }
+        st = igea__eqerr_solve_cached(N, jb->A, N, b, jb->eq_opts, jb->vcache, lam, P, N, xhat,
+                                      z, rej, info);
     }
-    int st = igea__eqerr_solve_cached(N, jb->A, N, b, jb->eq_opts, jb->vcache, lam, P,
-                                      N, xhat, z, rej, info);
     jb->status[f] = st;
     if (st == IGEA_ENOTESTABLE) {
         jb->chi2[f] = 0.0;
@@ -731,6 +776,15 @@ static void mc_write(const mc_job *jobs, int nthreads, int N, int nflights,
     for (int t = 0; t < nthreads; t++)
         size_sum += jobs[t].size_sum;
     res[IGEA_SIM_MC_MEAN_SIZE] = ntestable > 0 ? size_sum / ntestable : 0.0;
+    if (j0->noise) {
+        double cov_n = 0, out_n = 0;
+        for (int f = 0; f < nflights; f++) {
+            cov_n += j0->covered[f];
+            out_n += j0->nout[f];
+        }
+        res[IGEA_SIM_MC_SCALE_COVERED] = cov_n;
+        res[IGEA_SIM_MC_MEAN_OUTLIERS] = out_n / nflights;
+    }
     memcpy(counts, res, sizeof res);
     if (rates)
         memcpy(rates, rt, sizeof rt);
@@ -762,8 +816,8 @@ static int mc_main(const igea_sim_model *c, const double *eqo, int seed,
 {
     int m = c->m, N = c->N;
     size_t nn = (size_t)N * N, nf = (size_t)nflights;
-    double *dwork = igea__dalloc((size_t)m * N + nn + (size_t)m + N + 2 * nf);
-    int *iwork = igea__ialloc(3 * nf + 2 * (size_t)N * nthreads);
+    double *dwork = igea__dalloc((size_t)m * N + nn + (size_t)m + N + 2 * nf + 2 * (size_t)m);
+    int *iwork = igea__ialloc(5 * nf + 2 * (size_t)N * nthreads + (size_t)m / 3);
     mc_job *jobs = calloc((size_t)nthreads, sizeof *jobs);
     pthread_t *tid = calloc((size_t)nthreads, sizeof *tid);
     int st = IGEA_ENOMEM;
@@ -773,6 +827,10 @@ static int mc_main(const igea_sim_model *c, const double *eqo, int seed,
         int *f_dof = iwork, *f_nrej = f_dof + nf, *f_status = f_nrej + nf;
         int *cnt = f_status + nf;
         memset(cnt, 0, 2 * (size_t)N * nthreads * sizeof(int));
+        int *f_cov = cnt + 2 * (size_t)N * nthreads, *f_nout = f_cov + nf, *grp = f_nout + nf;
+        double *cov6 = f_scale + nf, phi[9] = {0};
+        int noise = igea__sim_noise_judged(c->opts, eqo), ngroups = 1;
+        int usecov = igea__sim_judge_stated(c->opts, eqo, m, c->sigma, cov6, grp, &ngroups, phi);
         st = mc_normal(c, Sw, A, zeros);
         for (int t = 0; t < nthreads && st == 0; t++) {
             mc_job *jb = &jobs[t];
@@ -793,6 +851,13 @@ static int mc_main(const igea_sim_model *c, const double *eqo, int seed,
             jb->tested = cnt + 2 * (size_t)N * t;
             jb->rejected = jb->tested + N;
             jb->fail = 0;
+            jb->noise = noise;
+            jb->ngroups = ngroups;
+            jb->cov = usecov ? cov6 : NULL;
+            jb->group = grp;
+            memcpy(jb->phi, phi, sizeof phi);
+            jb->covered = f_cov;
+            jb->nout = f_nout;
         }
         if (st == 0)
             st = mc_run(jobs, tid, nthreads);

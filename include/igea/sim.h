@@ -49,7 +49,23 @@ extern "C" {
 #define IGEA_SIM_OPT_OUTLIER_PROB 3  /* probability of an outlier per row, 0 */
 #define IGEA_SIM_OPT_OUTLIER_SCALE 4 /* outlier sd / row sd, 10 */
 #define IGEA_SIM_OPT_GENERATOR 5     /* IGEA_SIM_MT19937 or IGEA_SIM_RANLXD2 */
-#define IGEA_SIM_OPT_LEN 32 /* slots 6.. reserved for additions (0) */
+/* Noise models beyond white (docs/eqerr.md, "Tracking noise beyond a
+ * diagonal K"; all 0 by default, which leaves every flight unchanged): */
+#define IGEA_SIM_OPT_AR2 6          /* AR lag-2 coefficient (lag 1: AR1), 0 */
+#define IGEA_SIM_OPT_AR3 7          /* AR lag-3 coefficient, 0; (ar1, ar2, ar3) stationary */
+#define IGEA_SIM_OPT_CORR 8         /* |r| < 1: per-epoch 3x3 correlation [[1 r r^2][r 1 r]
+                                       [r^2 r 1]] with r ramping 0 .. CORR along the epochs */
+#define IGEA_SIM_OPT_GROUP_SPLIT 9  /* 0: one group; in (0, 1): epochs e < SPLIT M are group
+                                       0, the others group 1 (the AR restarts there) */
+#define IGEA_SIM_OPT_SIGMA_W2 10    /* true sigma_w of group 1 (0: SIGMA_W) */
+#define IGEA_SIM_OPT_BIAS0 11       /* bias of group 0 rows, in stated sigmas, 0 */
+#define IGEA_SIM_OPT_BIAS1 12       /* bias of group 1 rows, in stated sigmas, 0 */
+#define IGEA_SIM_OPT_JUDGE_NOISE 13 /* 1: the Monte Carlo judges with the noise model
+                                       stated (igea_noise_eqerr with the per-epoch
+                                       covariance and the groups); 0: the seed's diagonal K
+                                       (the eqerr options AR_ORDER, ROBUST, GROUP_BIAS also
+                                       select igea_noise_eqerr) */
+#define IGEA_SIM_OPT_LEN 32 /* slots 14.. reserved for additions (0) */
 
 #define IGEA_SIM_MT19937 0 /* gsl_rng_mt19937 (default) */
 #define IGEA_SIM_RANLXD2 1 /* gsl_rng_ranlxd2 (slower, luxury) */
@@ -85,7 +101,8 @@ IGEA_API int igea_sim_trajectory(int system, double duration, double rate,
  * Check opts[IGEA_SIM_OPT_LEN] as the model does: every slot finite (the
  * reserved ones included), sigma_w > 0, |ar1| < 1, growth >= 0, 0 <=
  * outlier_prob <= 1, outlier_scale >= 0, generator IGEA_SIM_MT19937 or
- * IGEA_SIM_RANLXD2. Returns 0 when they are valid, else 1 + the first
+ * IGEA_SIM_RANLXD2, (ar1, ar2, ar3) stationary, |corr| < 1, 0 <= group_split
+ * < 1, sigma_w2 >= 0, judge_noise 0 or 1. Returns 0 when they are valid, else 1 + the first
  * invalid slot (igea_opt_name(IGEA_MODULE_SIM, status - 1) names it); -1
  * for opts NULL.
  */
@@ -256,7 +273,11 @@ IGEA_API int igea_sim_nonlinear(int system, int nsamp, const double *traj,
 #define IGEA_SIM_MC_MEAN_TESTED 6  /* mean |I_t| */
 #define IGEA_SIM_MC_MEAN_SIZE 7    /* mean overall size of the verdict rule (info
                                     * OVERALL_SIZE; 0 if not computed) */
-#define IGEA_SIM_MC_LEN 16 /* slots 8.. reserved for additions */
+#define IGEA_SIM_MC_SCALE_COVERED 12 /* judged by igea_noise_eqerr: flights whose every
+                                        group scale c_g is within 3 standard errors of
+                                        its truth sigma_w,g^2 */
+#define IGEA_SIM_MC_MEAN_OUTLIERS 13 /* mean rows rejected by the robust route */
+#define IGEA_SIM_MC_LEN 16 /* slots 8..11, 14.. reserved for additions */
 
 /* rates[IGEA_SIM_MC_RATES_LEN]: for each count k of IGEA_SIM_MC_FAILED ..
  * IGEA_SIM_MC_NOT_TESTABLE, rates[3 (k - 1)] = count / flights and

@@ -249,6 +249,31 @@ NAV_STATE_DV = 20
 NAV_STATE_SITE = 23
 NAV_STATE_LEN = 40
 
+# igea/noise.h
+NOISE_AR_MAX = 3
+EQERR_OPT_AR = 20
+EQERR_OPT_AR_ESTIMATE = 21
+EQERR_OPT_ROBUST = 22
+EQERR_OPT_ROBUST_ALPHA = 23
+EQERR_OPT_NOISE_TOL = 24
+EQERR_OPT_NOISE_MAX_ITER = 25
+EQERR_OPT_GROUP_BIAS = 26
+EQERR_OPT_ROBUST_MAX = 27
+STATS_INFO_NOISE_ITERATIONS = 22
+STATS_INFO_NOISE_CONVERGED = 23
+STATS_INFO_N_OUTLIERS = 24
+STATS_INFO_N_GROUPS = 25
+STATS_INFO_N_NUISANCE = 26
+STATS_INFO_AR_ORDER = 27
+STATS_INFO_ROBUST_CRIT = 28
+NOISE_AR_OUT_LEN = 18
+NOISE_GROUP_SCALE = 0
+NOISE_GROUP_SE = 1
+NOISE_GROUP_REDUND = 2
+NOISE_GROUP_ROWS = 3
+NOISE_GROUP_BIAS = 4
+NOISE_GROUP_COLS = 8
+
 # igea/redund.h
 REDUND_RBD_SERIES = 0
 REDUND_RBD_PARALLEL = 1
@@ -322,6 +347,14 @@ SIM_OPT_GROWTH = 2
 SIM_OPT_OUTLIER_PROB = 3
 SIM_OPT_OUTLIER_SCALE = 4
 SIM_OPT_GENERATOR = 5
+SIM_OPT_AR2 = 6
+SIM_OPT_AR3 = 7
+SIM_OPT_CORR = 8
+SIM_OPT_GROUP_SPLIT = 9
+SIM_OPT_SIGMA_W2 = 10
+SIM_OPT_BIAS0 = 11
+SIM_OPT_BIAS1 = 12
+SIM_OPT_JUDGE_NOISE = 13
 SIM_OPT_LEN = 32
 SIM_MT19937 = 0
 SIM_RANLXD2 = 1
@@ -333,6 +366,8 @@ SIM_MC_NOT_TESTABLE = 4
 SIM_MC_MEAN_SCALE = 5
 SIM_MC_MEAN_TESTED = 6
 SIM_MC_MEAN_SIZE = 7
+SIM_MC_SCALE_COVERED = 12
+SIM_MC_MEAN_OUTLIERS = 13
 SIM_MC_LEN = 16
 SIM_MC_RATES_LEN = 12
 SIM_MC_TABLE_CHI2 = 0
@@ -615,6 +650,26 @@ PROTOTYPES = {
         ("flags", c_int), ("t0", c_double), ("q0", _PD), ("r0", _PD), ("v0", _PD), ("state", _PD),
         )),
     "igea_nav_step": (c_int, (("state", _PD), ("t", c_double), ("dv", _PD), ("dth", _PD),)),
+    # igea/noise.h
+    "igea_whiten_create": (c_int, (("N", c_int), ("p", c_int), ("phi", _PD), ("ngroups", c_int),
+        ("w", _PH),)),
+    "igea_whiten_free": (None, (("w", c_void_p),)),
+    "igea_whiten_get_state": (c_int, (("w", c_void_p), ("epochs", _PD), ("group", _PI),)),
+    "igea_whiten_reset": (c_int, (("w", c_void_p),)),
+    "igea_whiten_accumulate": (c_int, (("w", c_void_p), ("layout", c_int), ("m", c_int),
+        ("S", _PD), ("lds", c_int), ("dw", _PD), ("track_sigma", _PD), ("sigma_inc", c_int),
+        ("cov", _PD), ("group", _PI), ("mask", _PI), ("spec_sigma", _PD), ("A", _PD),
+        ("lda", c_int), ("b", _PD), ("wtw", _PD), ("white", _PD), ("bad_epoch", _PI),)),
+    "igea_noise_ar_fit": (c_int, (("M", c_int), ("p", c_int), ("resid", _PD), ("group", _PI),
+        ("mask", _PI), ("phi", _PD), ("se", _PD),)),
+    "igea_noise_vce": (c_int, (("N", c_int), ("G", c_int), ("A", _PD), ("lda", c_int), ("b", _PD),
+        ("wtw", _PD), ("tol", c_double), ("max_iter", c_int), ("scale", _PD), ("se", _PD),
+        ("redund", _PD), ("x", _PD), ("iterations", _PI),)),
+    "igea_noise_eqerr": (c_int, (("m", c_int), ("N", c_int), ("S", _PD), ("lds", c_int),
+        ("dw", _PD), ("track_sigma", _PD), ("sigma_inc", c_int), ("cov", _PD), ("group", _PI),
+        ("ngroups", c_int), ("spec_sigma", _PD), ("phi", _PD), ("opts", _PD), ("lambda", _PD),
+        ("P", _PD), ("ldp", c_int), ("equiv_err", _PD), ("z", _PD), ("reject", _PI), ("info", _PD),
+        ("ar_out", _PD), ("group_out", _PD), ("row_w", _PD),)),
     # igea/normal.h
     "igea_normal_accumulate": (c_int, (("layout", c_int), ("m", c_int), ("N", c_int), ("S", _PD),
         ("lds", c_int), ("dw", _PD), ("track_sigma", _PD), ("sigma_inc", c_int),
@@ -861,6 +916,11 @@ INPUTS = {
     "igea_nav_gravity_li": ("site", "r_li",),
     "igea_nav_init": ("site", "q0", "r0", "v0",),
     "igea_nav_step": ("dv", "dth",),
+    "igea_whiten_create": ("phi",),
+    "igea_whiten_accumulate": ("S", "dw", "track_sigma", "cov", "group", "mask", "spec_sigma",),
+    "igea_noise_ar_fit": ("resid", "group", "mask",),
+    "igea_noise_vce": ("A", "b", "wtw",),
+    "igea_noise_eqerr": ("S", "dw", "track_sigma", "cov", "group", "spec_sigma", "phi", "opts",),
     "igea_normal_accumulate": ("S", "dw", "track_sigma", "spec_sigma",),
     "igea_normal_qr_accumulate": ("S", "dw", "track_sigma", "spec_sigma",),
     "igea_redund_reliability_series": ("R",),

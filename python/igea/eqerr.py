@@ -281,7 +281,8 @@ class EqerrResult(_Verdict):
 def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small=None,
           correction=None, route="eig", n_min=None, tol=None, max_iter=None,
           bias_correct=None, clamp=None, z_crit=None, rank_tol=None, verdict="seed",
-          lags=20, names=None):
+          lags=20, names=None, cov=None, ar=None, ar_phi=None, groups=None, group_bias=None,
+          robust=None, robust_alpha=None):
     """Equivalent-error accuracy assessment of one flight (METHODS 1.2).
 
     S: (m, N) environment functions (rows epoch-major x, y, z), dw: (m,)
@@ -294,7 +295,18 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
     size. lags: the Ljung-Box lags of the residual whiteness per axis (the
     result's `whiteness`, with the runs test about each axis's mean).
     names: the N term names (e.g. igea.envfun's terms; default column_j),
-    which the result's `components` use. Returns an EqerrResult."""
+    which the result's `components` use. Returns an EqerrResult.
+    With a noise model (cov=(M, 3, 3) instead of sigma, ar=p, ar_phi=,
+    groups=(M,) labels, group_bias=, robust=, robust_alpha=) the job is
+    igea_noise_eqerr (see igea.noise), judged by the same verdict rule."""
+    if any(v is not None for v in (cov, ar, ar_phi, groups, group_bias, robust, robust_alpha)):
+        return _noise(S, dw, sigma, spec, cov, ar, ar_phi, groups, group_bias, robust,
+                      robust_alpha, alpha=alpha, lambda_test=lambda_test,
+                      lambda_small=lambda_small, n_min=n_min, tol=tol, max_iter=max_iter,
+                      correction=correction, bias_correct=bias_correct, clamp=clamp,
+                      z_crit=z_crit, rank_tol=rank_tol, overall_size=1,
+                      verdict=_lib.choice(_capi.CHOICE_STATS_VERDICT, verdict, "igea.eqerr",
+                                          "verdict"))
     S = _lib.as_f64(S, "S", ndim=2)
     m, N = S.shape
     if m < 1 or N < 1:
@@ -346,6 +358,17 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
                                         iterations=int, n_small=int)),
         alpha=opts[_capi.EQERR_OPT_ALPHA], lambda_small=opts[_capi.EQERR_OPT_LAMBDA_SMALL],
         sigma_w=info[_capi.STATS_INFO_SIGMA_W], lags=int(lags), names=names)
+
+
+def _noise(S, dw, sigma, spec, cov, ar, ar_phi, groups, group_bias, robust, robust_alpha,
+           **slots):
+    """igea.eqerr with the noise models (igea/noise.h; python/igea/noise.py)."""
+    from .noise import noise_eqerr
+    opts = _lib.options("eqerr", "igea.eqerr", ("igea_noise_eqerr", "opts"),
+                        group_bias=None if group_bias is None else int(bool(group_bias)),
+                        robust=None if robust is None else int(bool(robust)),
+                        robust_alpha=robust_alpha, **slots)
+    return noise_eqerr(S, dw, sigma, spec, cov, ar, ar_phi, groups, opts)
 
 
 def accuracy_test(equiv_err, eigenvalues, *, alpha=0.01, lambda_test=10.0, z_crit=None,

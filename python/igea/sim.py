@@ -123,7 +123,8 @@ class Flight:
 def simulate(traj=None, terms=None, epochs=None, *, system="strapdown", spec="default",
              sigma=0.01, sigma_growth=0.0, sigma_w=None, ar1=None, growth=None,
              outlier_prob=None, outlier_scale=None, x=None, seed=0, flight=0,
-             generator="mt19937", nonlinear_truth=False):
+             generator="mt19937", nonlinear_truth=False, ar2=None, ar3=None, corr=None,
+             group_split=None, sigma_w2=None, bias0=None, bias1=None):
     """One synthetic flight dw = S diag(spec) X + noise.
 
     traj: None (the reference boost, 120 s at 50 Hz) or (samples x 11);
@@ -158,7 +159,9 @@ def simulate(traj=None, terms=None, epochs=None, *, system="strapdown", spec="de
         elif spec != "default":
             raise ValueError("spec: 'default' or an array")
         model.noise(generator, sigma_w=sigma_w, ar1=ar1, growth=growth,
-                    outlier_prob=outlier_prob, outlier_scale=outlier_scale)
+                    outlier_prob=outlier_prob, outlier_scale=outlier_scale, ar2=ar2, ar3=ar3,
+                    corr=corr, group_split=group_split, sigma_w2=sigma_w2, bias0=bias0,
+                    bias1=bias1)
         xv, xf = _x_spec(x, terms, N)
         model.set("truth", _lib.dptr(xv), _lib.iptr(xf))
         model.set("nonlinear", int(bool(nonlinear_truth)))
@@ -202,6 +205,9 @@ class MonteCarloResult:
     pool: MonteCarloPool = None  # with pool=F: the pooled verdicts of groups of F flights
     verdict: str = "seed"  # the overall verdict rule counted in `failed`
     mean_size: float = 0.0  # its overall size, mean over the testable flights
+    scale_covered: int = 0  # judged with the noise model: flights whose group scales are
+                            # within 3 standard errors of the truth
+    mean_outliers: float = 0.0  # mean rows rejected by the robust route
 
     def rate(self, what="failed"):
         return self.rates[what]
@@ -218,14 +224,21 @@ class MonteCarloResult:
 def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None, ar1=None,
                growth=None, outlier_prob=None, outlier_scale=None, generator="mt19937",
                seed=0, first_flight=0, threads=0, alpha=None, lambda_test=None,
-               correction=None, bias_correct=None, clamp=None, pool=None, verdict="seed"):
+               correction=None, bias_correct=None, clamp=None, pool=None, verdict="seed", ar2=None,
+               ar3=None, corr=None, group_split=None, sigma_w2=None, bias0=None, bias1=None,
+               judge_noise=None, ar=None, ar_given=False, robust=None, robust_alpha=None,
+               group_bias=None):
     """Run flights first_flight .. first_flight + flights - 1 and judge each
     with the seed-000 test; results do not depend on threads (0: one per
     online processor). Options left None keep the library's defaults
     (igea_sim_defaults, igea_eqerr_defaults). pool=F (> 0; None or 0: no
     pooling) also pools consecutive groups of F flights at the same alpha
     (igea_sim_pool): the result's `pool` (seed's verdict only). verdict:
-    the overall verdict rule counted in `failed` (as igea.eqerr's)."""
+    the overall verdict rule counted in `failed` (as igea.eqerr's). Noise models (igea/sim.h
+    IGEA_SIM_OPT_AR2 .. JUDGE_NOISE): ar2, ar3, corr, group_split, sigma_w2,
+    bias0, bias1, judge_noise; the judge's (igea/noise.h): ar (phi
+    estimated, or the true one with ar_given=True), robust, robust_alpha,
+    group_bias."""
     S = _lib.as_f64(S, "S", ndim=2)
     m, N = S.shape
     sig, inc = _sigma(sigma, m)
@@ -240,7 +253,8 @@ def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None
     eq = _lib.options("eqerr", where, ("igea_sim_montecarlo", "eq_opts"), alpha=alpha,
                       lambda_test=lambda_test, correction=correction, bias_correct=bias_correct,
                       clamp=clamp, overall_size=1,
-                      verdict=_lib.choice(_capi.CHOICE_STATS_VERDICT, verdict, where, "verdict"))
+                      verdict=_lib.choice(_capi.CHOICE_STATS_VERDICT, verdict, where, "verdict"),
+                      **_judge_slots(ar, ar_given, robust, robust_alpha, group_bias))
     if pool and verdict != "seed":
         raise ValueError("pool: pools the seed's verdicts; only with verdict='seed'")
     counts, rates = np.zeros(_capi.SIM_MC_LEN), np.zeros(_capi.SIM_MC_RATES_LEN)
@@ -250,7 +264,9 @@ def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None
         model.set("sigma", _lib.dptr(sig), inc, 0.0)
         model.set("spec", _lib.dptr(sp))
         model.noise(generator, sigma_w=sigma_w, ar1=ar1, growth=growth,
-                    outlier_prob=outlier_prob, outlier_scale=outlier_scale)
+                    outlier_prob=outlier_prob, outlier_scale=outlier_scale, ar2=ar2, ar3=ar3,
+                    corr=corr, group_split=group_split, sigma_w2=sigma_w2, bias0=bias0,
+                    bias1=bias1, judge_noise=None if judge_noise is None else int(bool(judge_noise)))
         model.set("truth", _lib.dptr(xv), _lib.iptr(xf))
         _lib.call(where, "igea_sim_montecarlo", model.h, _lib.dptr(eq), int(seed),
                   int(first_flight), nflights, int(threads), _lib.dptr(counts), _lib.dptr(rates),
@@ -276,4 +292,14 @@ def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None
         ci99={k: (float(rates[i + 1]), float(rates[i + 2])) for k, i in at.items()}, pool=pooled,
         verdict=verdict, mean_size=float(counts[_capi.SIM_MC_MEAN_SIZE]),
         **_lib.fields(counts, "SIM_MC_", flights=int, failed=int, chi2_reject=int,
-                      any_reject=int, not_testable=int, mean_scale=float, mean_tested=float))
+                      any_reject=int, not_testable=int, mean_scale=float, mean_tested=float,
+                      scale_covered=int, mean_outliers=float))
+
+
+def _judge_slots(ar, ar_given, robust, robust_alpha, group_bias):
+    """The eqerr option slots of the noise judge (igea/noise.h)."""
+    out = dict(robust=None if robust is None else int(bool(robust)), robust_alpha=robust_alpha,
+               group_bias=None if group_bias is None else int(bool(group_bias)))
+    if ar:
+        out.update(ar=int(ar), ar_estimate=0 if ar_given else 1)
+    return out

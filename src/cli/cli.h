@@ -283,6 +283,19 @@ void cli_flight_defaults(void);
     {"--seed", CLI_OPT_INT, &cli_flight_opts.seed, "0", "N", "random seed", NULL},          \
     {"--generator", CLI_OPT_CHOICE, &cli_flight_opts.generator, "mt19937", CLI_CHOICES(IGEA_CHOICE_SIM_GENERATOR), "random number generator", NULL}
 
+/* The noise models beyond white (IGEA_SIM_OPT_AR2 .. JUDGE_NOISE), for
+ * igea simulate and igea montecarlo. */
+#define CLI_FLIGHT_NOISE_OPTIONS                                                               \
+    CLI_HEAD("noise models:"),                                                                 \
+    {"--ar2", CLI_OPT_NUM, &cli_flight_opts.opts[IGEA_SIM_OPT_AR2], CLI_DEF_LIB, "PHI", "AR lag-2 coefficient (with --ar1: AR(2))", NULL}, \
+    {"--ar3", CLI_OPT_NUM, &cli_flight_opts.opts[IGEA_SIM_OPT_AR3], CLI_DEF_LIB, "PHI", "AR lag-3 coefficient", NULL}, \
+    {"--corr", CLI_OPT_NUM, &cli_flight_opts.opts[IGEA_SIM_OPT_CORR], CLI_DEF_LIB, "R", "per-epoch x-y-z correlation [[1 r r^2][r 1 r][r^2 r 1]],\n" \
+     "r ramping 0 .. R along the epochs", NULL},                                                \
+    {"--group-split", CLI_OPT_NUM, &cli_flight_opts.opts[IGEA_SIM_OPT_GROUP_SPLIT], CLI_DEF_LIB, "F", "two stations: epochs before F M are group 0", NULL}, \
+    {"--sigma-w2", CLI_OPT_NUM, &cli_flight_opts.opts[IGEA_SIM_OPT_SIGMA_W2], CLI_DEF_LIB, "W", "true sigma_w of group 1 (0: --sigma-w)", NULL}, \
+    {"--bias0", CLI_OPT_NUM, &cli_flight_opts.opts[IGEA_SIM_OPT_BIAS0], CLI_DEF_LIB, "B", "bias of group 0 rows, in stated sigmas", NULL}, \
+    {"--bias1", CLI_OPT_NUM, &cli_flight_opts.opts[IGEA_SIM_OPT_BIAS1], CLI_DEF_LIB, "B", "bias of group 1 rows, in stated sigmas", NULL}
+
 /* A flight model built from the options: trajectory, terms, epochs, specs,
  * true X settings and the library's model. */
 typedef struct {
@@ -337,5 +350,17 @@ int cmd_redund(int argc, char **argv);
 int cmd_stability(int argc, char **argv);
 int cmd_impact(int argc, char **argv);
 int cmd_dw(int argc, char **argv);
+
+/* igea eqerr with the noise models (eqerr_noise.c): --cov, --ar, --ar-phi,
+ * --groups, --robust, --group-bias read the whole flight and call
+ * igea_noise_eqerr. */
+typedef struct {
+    const char *S, *dw, *sigma, *spec, *cov, *groups;
+    int json, p_given;
+    double phi[9];
+    const double *opts;
+} cli_noise_args;
+int cli_noise_parse_phi(const char *arg, double *phi, int *p);
+int cli_eqerr_noise(const cli_noise_args *a, FILE *out, int *passed);
 
 #endif

@@ -110,6 +110,7 @@ typedef struct {
     int verdict; /* IGEA_STATS_VERDICT_* */
     int lags;    /* residual diagnostics: Ljung-Box lags */
     const char *names; /* --names LIST */
+    const char *cov, *groups, *ar_phi; /* the noise models (eqerr_noise.c) */
 } eqerr_args;
 
 /* The overall verdict rule, the same option in eqerr and test. */
@@ -140,6 +141,16 @@ static const cli_opt eqerr_options[] = {
     {"--route", CLI_OPT_CHOICE, &EA.route, "eig", CLI_CHOICES(IGEA_CHOICE_EQERR_ROUTE), "normal matrix + dsyevd, or the SVD of the weighted\n"
      "S through its streamed QR factor (dtpqrt): resolves\neigenvalues down to eps^2 lambda_1 instead of eps\n"
      "lambda_1, at about twice the cost", NULL},
+    {"--cov", CLI_OPT_STR, &EA.cov, NULL, "FILE", "3x3 tracking covariance per epoch instead of --sigma:\n"
+     "one line of 6 lower-triangle entries (xx yx yy zx zy zz)", NULL},
+    {"--ar", CLI_OPT_NUM, EQ_OPT(AR), NULL, "P", "AR(P) tracking noise per axis (P <= 3), phi estimated\n"
+     "from the residuals and iterated with the group scales", NULL},
+    {"--ar-phi", CLI_OPT_STR, &EA.ar_phi, NULL, "a,b,c", "AR coefficients given (lags 1.., every axis)", NULL},
+    {"--groups", CLI_OPT_STR, &EA.groups, NULL, "FILE", "group label 0..G-1 per epoch (station, phase): one\n"
+     "sigma_w per group (Helmert variance components)", NULL},
+    {"--group-bias", CLI_OPT_DSET, EQ_OPT(GROUP_BIAS), NULL, NULL, "per-group x, y, z bias columns (nuisance, not tested)", NULL},
+    {"--robust", CLI_OPT_DSET, EQ_OPT(ROBUST), NULL, NULL, "reject outlying rows by data snooping (w-test)", NULL},
+    {"--robust-alpha", CLI_OPT_NUM, EQ_OPT(ROBUST_ALPHA), NULL, "A", "level of the w-test per row (0: 0.001)", NULL},
     {"--residuals", CLI_OPT_STR, &EA.residuals, NULL, "FILE", "write the per-row residuals dw - S D P_t Xhat_t", NULL},
     CLI_VERDICT_OPT(&EA.verdict),
     {"--names", CLI_OPT_STR, &EA.names, NULL, "LIST", "comma-separated term names, one per column of S\n"
@@ -196,12 +207,18 @@ static int parse_eqerr(int argc, char **argv, eqerr_args *a)
     *a = EA;
     if (ec)
         return ec;
-    if (!a->S || !a->dw || !a->sigma) {
+    if (!a->S || !a->dw || (!a->sigma && !a->cov)) {
         cli_error("eqerr: --S, --dw and --sigma are required (see igea eqerr --help)");
         return CLI_USAGE;
     }
-    if ((ec = cli_file_or_positive("--sigma", a->sigma, &a->sigma_is_number, &a->sigma_value)))
+    if (a->cov && a->sigma) {
+        cli_error("eqerr: --cov and --sigma are alternatives");
+        return CLI_USAGE;
+    }
+    if (a->sigma && (ec = cli_file_or_positive("--sigma", a->sigma, &a->sigma_is_number, &a->sigma_value)))
         return ec;
+    if (a->opts[IGEA_EQERR_OPT_AR] != 0 && !a->ar_phi)
+        a->opts[IGEA_EQERR_OPT_AR_ESTIMATE] = 1;
     a->opts[IGEA_EQERR_OPT_ROUTE] = a->route;
     a->opts[IGEA_EQERR_OPT_VERDICT] = a->verdict;
     a->opts[IGEA_EQERR_OPT_OVERALL_SIZE] = 1;
@@ -824,6 +841,23 @@ int cmd_eqerr(int argc, char **argv)
     }
     flight r;
     memset(&r, 0, sizeof r);
+    if (a.cov || a.groups || a.ar_phi || a.opts[IGEA_EQERR_OPT_AR] != 0 ||
+        a.opts[IGEA_EQERR_OPT_ROBUST] != 0 || a.opts[IGEA_EQERR_OPT_GROUP_BIAS] != 0) {
+        cli_noise_args na = {a.S, a.dw, a.sigma, a.spec, a.cov, a.groups, a.json, 0, {0}, a.opts};
+        int p = 0, passed = 0;
+        if (a.ar_phi && !(ec = cli_noise_parse_phi(a.ar_phi, na.phi, &p)))
+            a.opts[IGEA_EQERR_OPT_AR] = p, na.p_given = 1;
+        if (!ec && a.residuals)
+            cli_error("eqerr: --residuals is not written with the noise models"), ec = CLI_USAGE;
+        if (!ec)
+            ec = cli_eqerr_noise(&na, both[0].f, &passed);
+        if (!ec)
+            ec = cli_out_commit_all(both, 1);
+        if (ec)
+            cli_out_abort(&both[0]);
+        cli_out_abort(&both[1]);
+        return ec ? ec : passed ? CLI_OK : CLI_REJECT;
+    }
     ec = eqerr_report(&a, &r, &both[0], &both[1]);
     /* the report and the residuals replace their old files together */
     if (!ec)

@@ -13,12 +13,21 @@ typedef struct {
     int flights, first, threads, pool, json;
     double eqo[IGEA_EQERR_OPT_LEN];
     int verdict; /* IGEA_STATS_VERDICT_* */
+    int ar_given; /* --ar-given: the judge is told the true phi */
 } mc_args;
 
 static mc_args A;
 static const cli_opt options[] = {
     CLI_FLIGHT_MODEL_OPTIONS,
     CLI_FLIGHT_TRUTH_OPTIONS,
+    CLI_FLIGHT_NOISE_OPTIONS,
+    CLI_HEAD("judged with the noise models:"),
+    {"--judge-noise", CLI_OPT_DSET, &cli_flight_opts.opts[IGEA_SIM_OPT_JUDGE_NOISE], NULL, NULL, "tell the judge the covariance and the groups\n(igea eqerr --cov --groups)", NULL},
+    {"--ar", CLI_OPT_NUM, &A.eqo[IGEA_EQERR_OPT_AR], NULL, "P", "judge with AR(P), phi estimated (igea eqerr --ar)", NULL},
+    {"--ar-given", CLI_OPT_FLAG, &A.ar_given, NULL, NULL, "with --ar: phi given (the true one)", NULL},
+    {"--robust", CLI_OPT_DSET, &A.eqo[IGEA_EQERR_OPT_ROBUST], NULL, NULL, "judge with the robust route (igea eqerr --robust)", NULL},
+    {"--robust-alpha", CLI_OPT_NUM, &A.eqo[IGEA_EQERR_OPT_ROBUST_ALPHA], NULL, "A", "level of the w-test per row (0: 0.001)", NULL},
+    {"--group-bias", CLI_OPT_DSET, &A.eqo[IGEA_EQERR_OPT_GROUP_BIAS], NULL, NULL, "judge with per-group bias columns", NULL},
     CLI_HEAD("your own flight geometry (instead of the model above):"),
     {"--S", CLI_OPT_STR, &A.S, NULL, "FILE", "S (rows epoch-major, one column per term), as igea\n"
      "eqerr, with --sigma FILE|NUM and --spec FILE (X ~\nN(0, I); --x does not apply)", NULL},
@@ -124,6 +133,8 @@ static int run_flights(const mc_args *a, const cli_flight_args *fa, const cli_fl
             break;
         for (int k = IGEA_SIM_MC_FLIGHTS; k <= IGEA_SIM_MC_NOT_TESTABLE; k++)
             c[k] += c1[k];
+        c[IGEA_SIM_MC_SCALE_COVERED] += c1[IGEA_SIM_MC_SCALE_COVERED]; /* noise judge */
+        c[IGEA_SIM_MC_MEAN_OUTLIERS] += c1[IGEA_SIM_MC_MEAN_OUTLIERS] * n / a->flights;
         double testable = c1[IGEA_SIM_MC_FLIGHTS] - c1[IGEA_SIM_MC_NOT_TESTABLE];
         if (testable > 0) {
             sum_scale += testable * c1[IGEA_SIM_MC_MEAN_SCALE];
@@ -188,6 +199,8 @@ static void json_report(FILE *out, const mc_args *a, const cli_flight_args *fa,
     }
     cli_jnum(&j, "mean_scale", r->counts[IGEA_SIM_MC_MEAN_SCALE]);
     cli_jnum(&j, "mean_tested", r->counts[IGEA_SIM_MC_MEAN_TESTED]);
+    cli_jint(&j, "scale_covered", (long)r->counts[IGEA_SIM_MC_SCALE_COVERED]);
+    cli_jnum(&j, "mean_outliers", r->counts[IGEA_SIM_MC_MEAN_OUTLIERS]);
     cli_jints(&j, "comp_tested", r->ct, f->N);
     cli_jints(&j, "comp_reject", r->cr, f->N);
     if (a->pool > 0) {
@@ -255,6 +268,8 @@ static int parse(int argc, char **argv, mc_args *a, cli_flight_args *fa)
     cli_flight_defaults();
     igea_eqerr_defaults(A.eqo);
     int ec = cli_parse(&command, argc, argv);
+    if (A.eqo[IGEA_EQERR_OPT_AR] != 0 && !A.ar_given)
+        A.eqo[IGEA_EQERR_OPT_AR_ESTIMATE] = 1;
     *a = A;
     *fa = cli_flight_opts;
     if (ec)

@@ -15,6 +15,7 @@ static sm_args A;
 static const cli_opt options[] = {
     CLI_FLIGHT_MODEL_OPTIONS,
     CLI_FLIGHT_TRUTH_OPTIONS,
+    CLI_FLIGHT_NOISE_OPTIONS,
     {"--flight", CLI_OPT_INT, &A.flight, "0", "F", "flight index within the seed", NULL},
     {"--nonlinear-truth", CLI_OPT_FLAG, &A.nonlinear, NULL, NULL, "dw from the full nonlinear navigation error with\n"
      "the true X (igea_sim_nonlinear) instead of\nS diag(spec) X", NULL},

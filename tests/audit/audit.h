@@ -32,7 +32,7 @@
 #define AUDIT_BAD_HANDLE ((igea_rls *)(uintptr_t)0x5a5a5a50u)
 
 /* Handle kinds. */
-enum { AUDIT_HK_RLS, AUDIT_HK_SIM, AUDIT_HK_IO };
+enum { AUDIT_HK_RLS, AUDIT_HK_SIM, AUDIT_HK_IO, AUDIT_HK_WHITEN };
 /* Argument types. */
 enum { AT_INT, AT_DBL, AT_PD, AT_PI, AT_H, AT_HO };
 /* Mutation kinds. */
@@ -289,10 +289,43 @@ static inline void audit_io_state(const igea_io_reader *h, double st[64])
     st[3] = info[IGEA_IO_INFO_NPY];
 }
 
+/* A whitener of N = 3 columns, AR(1) with phi 0.5, 0.3, -0.2, two groups,
+ * after one block of two epochs (so that it carries rows). NULL on failure. */
+static inline igea_whiten *audit_whiten_new(void)
+{
+    double phi[3] = {0.5, 0.3, -0.2}, S[18], dw[6], sg = 0.5, A[18] = {0}, b[6] = {0};
+    double wtw[4] = {0};
+    igea_whiten *h = NULL;
+    for (int i = 0; i < 18; i++)
+        S[i] = au(i + 700);
+    for (int i = 0; i < 6; i++)
+        dw[i] = au(i + 720);
+    if (igea_whiten_create(3, 1, phi, 2, &h) != 0)
+        return NULL;
+    if (igea_whiten_accumulate(h, IGEA_COLMAJOR, 6, S, 6, dw, &sg, 0, NULL, NULL, NULL, NULL,
+                               A, 3, b, wtw, NULL, NULL) != 0) {
+        igea_whiten_free(h);
+        return NULL;
+    }
+    return h;
+}
+
+/* The observable state of a whitener: epochs carried and current group. */
+static inline void audit_whiten_state(const igea_whiten *h, double st[64])
+{
+    int g = 0;
+    for (int i = 0; i < 64; i++)
+        st[i] = 0;
+    if (h && igea_whiten_get_state(h, st, &g) == 0)
+        st[1] = g;
+}
+
 static inline void audit_hfree(int kind, void *h)
 {
     if (kind == AUDIT_HK_IO)
         igea_io_reader_free((igea_io_reader *)h);
+    else if (kind == AUDIT_HK_WHITEN)
+        igea_whiten_free((igea_whiten *)h);
     else if (kind == AUDIT_HK_SIM)
         igea_sim_model_free((igea_sim_model *)h);
     else
@@ -303,6 +336,8 @@ static inline void audit_hstate(int kind, const void *h, double st[64])
 {
     if (kind == AUDIT_HK_IO)
         audit_io_state((const igea_io_reader *)h, st);
+    else if (kind == AUDIT_HK_WHITEN)
+        audit_whiten_state((const igea_whiten *)h, st);
     else if (kind == AUDIT_HK_SIM)
         audit_sim_model_state((const igea_sim_model *)h, st);
     else

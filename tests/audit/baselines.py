@@ -395,6 +395,33 @@ BASE = {
                                adev='c:1e-3 / sqrt(0.1 * pow(2.0, (double)i)) * (1.0 + 0.05 * (double)(i % 3))',
                                edf='c:200.0 / pow(2.0, (double)i) + 1.0', _opt=['se', 'supported', 'chi2']),
     # ---- rls (handles: m = 3 coefficients, k = 2 rows)
+    # ---- noise (igea/noise.h)
+    'igea_whiten_create': dict(N='3', p='1', phi='[0.5, 0.3, -0.2]', ngroups='2',
+                               _req=['phi', 'w'], _int=dict(p='nonneg', ngroups='size')),
+    'igea_whiten_free': dict(w='w'),
+    'igea_whiten_reset': dict(w='w'),
+    'igea_whiten_get_state': dict(w='w'),
+    'igea_whiten_accumulate': dict(w='w', m='6', S='u', lds='m', dw='u', track_sigma='pos',
+                                   sigma_inc='1', cov='NULL', group='[0, 1]',
+                                   mask='[0, 0, 1, 0, 0, 0]', A='0', lda='3', b='0', wtw='0',
+                                   _zero_ok=['m'], _req=['track_sigma'],
+                                   _intarr=dict(group='code', mask='flag'),
+                                   _neg_bad={'wtw': [0, 1, 2, 3]}),
+    'igea_noise_ar_fit': dict(M='8', p='1', resid='u', group='NULL', mask='NULL',
+                              _int=dict(M='size', p='size'),
+                              _intarr=dict(group='code', mask='flag')),
+    'igea_noise_vce': dict(N='3', G='2', A='set:audit_spd(b_, 3, 3, 10.0); '
+                           'audit_spd(b_ + 9, 3, 3, 5.0);', lda='N', b='c:0.1 * au(i)',
+                           wtw='[5.0, 6.0, 4.0, 6.0]', tol='1e-8', max_iter='200',
+                           _int=dict(G='size', max_iter='size')),
+    'igea_noise_eqerr': dict(m='12', N='3', S='u', lds='m', dw='c:au(i + 5000)',
+                             track_sigma='c:0.05',
+                             sigma_inc='1', cov='NULL', group='[0, 0, 1, 1]', ngroups='2',
+                             phi='[0.3, 0.2, 0.1]',
+                             opts='set:igea_eqerr_defaults(b_); b_[IGEA_EQERR_OPT_AR] = 1;'
+                                  ' b_[IGEA_EQERR_OPT_ROBUST] = 1;',
+                             _req=['S', 'dw', 'z', 'track_sigma', 'group'],
+                             _int=dict(ngroups='size'), _intarr=dict(group='code')),
     'igea_rls_create': dict(m='3', k='2', x0='u', gamma0='set:audit_spd(b_, 3, 3, 1.0);',
                             ldg='m'),
     'igea_rls_set_variant': dict(variant='IGEA_RLS_POLYNOMIAL', p='3'),
@@ -489,6 +516,19 @@ VARIANTS = {
     # large or tiny finite data: a verdict, or a clean refusal, never NaN
     'igea_stats_accuracy_test': dict(huge=dict(equiv_err='c:i == 0 ? 1e300 : au(i)')),
     'igea_stats_pool': dict(huge=dict(chi2='[1e308, 1e308, 1.5]')),
+    'igea_whiten_accumulate': dict(cov=dict(track_sigma='NULL', _req=['cov'],
+                                            cov='set:for (int e = 0; e < 2; e++) { double c6[6] = '
+                                                '{1.0, 0.2, 1.0, 0.1, 0.3, 1.0}; '
+                                                'for (int k = 0; k < 6; k++) b_[6 * e + k] = c6[k]; }')),
+    'igea_noise_eqerr': dict(cov=dict(track_sigma='NULL', _req=['S', 'dw', 'z', 'cov', 'group'],
+                                      cov='set:for (int e = 0; e < 4; e++) { double c6[6] = '
+                                          '{0.01, 0.002, 0.01, 0.001, 0.003, 0.01}; '
+                                          'for (int k = 0; k < 6; k++) b_[6 * e + k] = c6[k]; }'),
+                             estimate=dict(opts='set:igea_eqerr_defaults(b_);'
+                                                ' b_[IGEA_EQERR_OPT_AR] = 1;'
+                                                ' b_[IGEA_EQERR_OPT_AR_ESTIMATE] = 1;'
+                                                ' b_[IGEA_EQERR_OPT_GROUP_BIAS] = 0;',
+                                           m='24', group='[0, 0, 0, 0, 1, 1, 1, 1]')),
     'igea_normal_accumulate': dict(rowmajor=dict(layout='IGEA_ROWMAJOR', lds='N'),
                                    huge=dict(S='c:1e200 * au(i)', _expect='any')),
     'igea_stability_allan': dict(modified=dict(kind='IGEA_STABILITY_ALLAN_MODIFIED', noise='IGEA_STABILITY_NOISE_WFM'),

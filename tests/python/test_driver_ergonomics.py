@@ -95,7 +95,8 @@ def test_bash_completion(tmp_path):
     _, script = _docs(tmp_path)
     assert _complete(script, "eq") == {"eqerr"}
     assert _complete(script, "help", "montec") == {"montecarlo"}
-    assert _complete(script, "eqerr", "--ro") == {"--route"}
+    assert _complete(script, "eqerr", "--rou") == {"--route"}
+    assert _complete(script, "eqerr", "--rob") == {"--robust", "--robust-alpha"}
     assert _complete(script, "eqerr", "--route", "") == {"eig", "svd"}
     assert _complete(script, "redund", "f") == {"fuse", "fdi"}
     assert "--pfa" in _complete(script, "redund", "fdi", "--")

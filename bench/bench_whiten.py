@@ -1,0 +1,112 @@
+#!/usr/bin/env python3
+"""Streamed cost of whitening (igea/noise.h) against today's accumulation.
+
+On the same rows (default 60,000 rows x 21 terms, epoch-major, streamed in
+blocks of 6,000 rows), best of 25:
+  floor    one bare OpenBLAS dsyrk of the raw block (S^T S), the least any
+           accumulation must do
+  today    igea_normal_accumulate with per-row sigmas (the seed's diagonal K)
+  today1   igea_normal_accumulate with one sigma for all rows (its fastest
+           path: no copy, dsyrk on the caller's rows)
+  cov      igea_whiten_accumulate with a 3x3 covariance per epoch
+  cov+ar1  the same with AR(1) per axis (Prais-Winsten)
+  ar3+grp  AR(3) per axis, two groups
+and prints each time and its ratio to today's and to the floor.
+
+    python bench/bench_whiten.py [--rows N] [--terms N] [--block N]
+"""
+import argparse
+import ctypes
+import ctypes.util
+import os
+import sys
+import time
+
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "python"))
+from igea import _capi, _lib  # noqa: E402
+
+
+def best(f, repeat=25):
+    ts = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        f()
+        ts.append(time.perf_counter() - t0)
+    return min(ts)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--rows", type=int, default=60000)
+    ap.add_argument("--terms", type=int, default=21)
+    ap.add_argument("--block", type=int, default=6000)
+    a = ap.parse_args()
+    m, N, blk = a.rows - a.rows % 3, a.terms, a.block - a.block % 3
+    rng = np.random.default_rng(0)
+    S = np.asfortranarray(rng.normal(size=(m, N)))
+    dw = rng.normal(size=m)
+    sig = rng.uniform(0.5, 1.5, m)
+    spec = np.ones(N)
+    M = m // 3
+    cov = np.tile([1.0, 0.3, 1.0, 0.2, 0.4, 1.0], (M, 1)).ravel()
+    group = (np.arange(M) >= M // 2).astype(np.int32)
+    blocks = [(r0, min(r0 + blk, m)) for r0 in range(0, m, blk)]
+    Sb = [np.asfortranarray(S[r0:r1]) for r0, r1 in blocks]
+    lib = _lib.lib
+    blas = ctypes.CDLL(ctypes.util.find_library("openblas") or "libopenblas.so.0")
+    C = np.zeros((N, N), order="F")
+
+    def floor():
+        for (r0, r1), s in zip(blocks, Sb):
+            blas.cblas_dsyrk(102, 122, 112, N, r1 - r0, ctypes.c_double(1.0), _lib.dptr(s),
+                             r1 - r0, ctypes.c_double(1.0), _lib.dptr(C), N)
+
+    def today():
+        A = np.zeros((N, N)); b = np.zeros(N); w = np.zeros(2)
+        for (r0, r1), s in zip(blocks, Sb):
+            _lib.call("b", "igea_normal_accumulate", 0, r1 - r0, N, _lib.dptr(s), r1 - r0,
+                      _lib.dptr(dw[r0:r1]), _lib.dptr(sig[r0:r1]), 1, _lib.dptr(spec),
+                      _lib.dptr(A), N, _lib.dptr(b), _lib.dptr(w))
+
+    def today1():
+        A = np.zeros((N, N)); b = np.zeros(N); w = np.zeros(2); one = np.ones(1)
+        for (r0, r1), s in zip(blocks, Sb):
+            _lib.call("b", "igea_normal_accumulate", 0, r1 - r0, N, _lib.dptr(s), r1 - r0,
+                      _lib.dptr(dw[r0:r1]), _lib.dptr(one), 0, _lib.dptr(spec),
+                      _lib.dptr(A), N, _lib.dptr(b), _lib.dptr(w))
+
+    def whitened(p, G, use_cov):
+        phi = np.tile([0.5, 0.2, 0.1][:p], 3) if p else None
+        h = ctypes.c_void_p()
+        _lib.call("b", "igea_whiten_create", N, p, _lib.dptr(phi), G, ctypes.byref(h))
+        A = np.zeros((G, N, N)); b = np.zeros((G, N)); w = np.zeros(2 * G)
+
+        def run():
+            lib.igea_whiten_reset(h)
+            for (r0, r1), s in zip(blocks, Sb):
+                cv = cov[2 * r0:2 * r1] if use_cov else None
+                sg = None if use_cov else sig[r0:r1]
+                gr = group[r0 // 3:r1 // 3] if G > 1 else None
+                _lib.call("b", "igea_whiten_accumulate", h, 0, r1 - r0, _lib.dptr(s), r1 - r0,
+                          _lib.dptr(dw[r0:r1]), _lib.dptr(sg), 1, _lib.dptr(cv), _lib.iptr(gr),
+                          None, _lib.dptr(spec), _lib.dptr(A), N, _lib.dptr(b), _lib.dptr(w),
+                          None, None)
+        t = best(run)
+        lib.igea_whiten_free(h)
+        return t
+
+    t_floor, t_today = best(floor), best(today)
+    rows = [("floor (dsyrk)", t_floor), ("today (normal_accumulate)", t_today),
+            ("today, one sigma", best(today1)),
+            ("cov 3x3", whitened(0, 1, True)), ("cov 3x3 + AR(1)", whitened(1, 1, True)),
+            ("sigma + AR(3), 2 groups", whitened(3, 2, False))]
+    print(f"whitened accumulation, {m} rows x {N} terms, blocks of {blk} rows")
+    print(f"{'':28s} {'seconds':>9s} {'/today':>8s} {'/floor':>8s}")
+    for name, t in rows:
+        print(f"{name:28s} {t:9.4f} {t / t_today:8.2f} {t / t_floor:8.2f}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,227 @@
+/*
+ * igea/noise.h - tracking noise beyond a diagonal K for the equivalent-error
+ * job (docs/eqerr.md, "Tracking noise beyond a diagonal K" [D]):
+ *
+ *  - igea_whiten_*: a small handle that whitens row blocks while they are
+ *    streamed and adds them to the normal equations: each epoch's three
+ *    rows (epoch-major x, y, z) by the Cholesky factor of its 3 x 3
+ *    covariance (or by the row sigmas), then AR(p) serial correlation per
+ *    axis (p <= 3) by the exact Prais-Winsten transform, whose state (the
+ *    last p rows of each axis) the handle carries from one block to the
+ *    next. Epochs carry a group label (a station, a flight phase); each
+ *    group has its own normal equations, and a change of group restarts
+ *    the AR filter (segments are independent).
+ *  - igea_noise_ar_fit: phi per axis, with standard errors, by least
+ *    squares of the residuals on their p lags.
+ *  - igea_noise_vce: one scale c_g (sigma_w,g^2) per group by Helmert's
+ *    variance-component estimation on the full-rank residuals.
+ *  - igea_noise_eqerr: the whole job in memory: whitening, phi estimated
+ *    and iterated with the group scales until both settle (Cochrane-Orcutt),
+ *    optional per-group bias columns eliminated as nuisance terms, an
+ *    optional robust route (iterated data snooping on the whitened
+ *    residuals), then igea_eqerr_solve on the cleaned weighted normal
+ *    equations.
+ */
+#ifndef IGEA_NOISE_H
+#define IGEA_NOISE_H
+
+#include "igea/common.h"
+#include "igea/eqerr.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define IGEA_NOISE_AR_MAX 3 /* highest AR order */
+
+/* Options of igea_noise_eqerr in the eqerr options array (slots 20..27 of
+ * opts[IGEA_EQERR_OPT_LEN]; 0 in every slot is the seed's white noise).
+ * igea_eqerr_check_opts checks them; igea_eqerr_run refuses (-9) options
+ * that ask for AR, robust or bias columns, which only igea_noise_eqerr
+ * and igea_sim_montecarlo do. */
+#define IGEA_EQERR_OPT_AR 20     /* p = 0..3: AR(p) per axis, 0 white */
+#define IGEA_EQERR_OPT_AR_ESTIMATE 21  /* 1: phi estimated from the residuals
+                                          (Cochrane-Orcutt), 0: phi given */
+#define IGEA_EQERR_OPT_ROBUST 22       /* 1: data snooping on the whitened residuals */
+#define IGEA_EQERR_OPT_ROBUST_ALPHA 23 /* alpha_0 of the w-test, 0 < a < 0.5; 0: 0.001 */
+#define IGEA_EQERR_OPT_NOISE_TOL 24    /* phi and c_g settle: |d phi|, |dc/c| <= tol; 0: 1e-3 */
+#define IGEA_EQERR_OPT_NOISE_MAX_ITER 25 /* outer iterations, 0..1000; 0: 50 */
+#define IGEA_EQERR_OPT_GROUP_BIAS 26   /* 1: per-group, per-axis bias columns (nuisance) */
+#define IGEA_EQERR_OPT_ROBUST_MAX 27   /* most rows rejected, a fraction of m; 0: 0.05 */
+
+/* Entries of info[IGEA_STATS_INFO_LEN] that igea_noise_eqerr adds. */
+#define IGEA_STATS_INFO_NOISE_ITERATIONS 22 /* outer (phi, c_g, snooping) iterations */
+#define IGEA_STATS_INFO_NOISE_CONVERGED 23  /* 1: phi and c_g settled */
+#define IGEA_STATS_INFO_N_OUTLIERS 24       /* rows rejected by the robust route */
+#define IGEA_STATS_INFO_N_GROUPS 25         /* groups */
+#define IGEA_STATS_INFO_N_NUISANCE 26       /* bias columns eliminated */
+#define IGEA_STATS_INFO_AR_ORDER 27         /* p */
+#define IGEA_STATS_INFO_ROBUST_CRIT 28      /* w-test critical value z_{1-alpha_0/2} */
+
+/* Layout of ar_out of igea_noise_eqerr: phi of lag k + 1 of axis a at
+ * ar_out[3 a + k], its standard error at ar_out[9 + 3 a + k] (k < p; the
+ * other entries 0). */
+#define IGEA_NOISE_AR_OUT_LEN 18
+/* Columns of group_out (ngroups x IGEA_NOISE_GROUP_COLS, row-major: group g
+ * at group_out + g IGEA_NOISE_GROUP_COLS). */
+#define IGEA_NOISE_GROUP_SCALE 0  /* c_g = sigma_w,g^2 (Helmert) */
+#define IGEA_NOISE_GROUP_SE 1     /* its standard error, c_g sqrt(2 / r_g) */
+#define IGEA_NOISE_GROUP_REDUND 2 /* r_g = n_g - tr(N^+ N_g) / c_g */
+#define IGEA_NOISE_GROUP_ROWS 3   /* rows of the group used (after rejections) */
+#define IGEA_NOISE_GROUP_BIAS 4   /* 4..6: bias x, y, z (dw units; 0 without bias columns) */
+#define IGEA_NOISE_GROUP_COLS 8
+
+typedef struct igea_whiten igea_whiten;
+
+/*
+ * A whitener for N columns, AR order p and ngroups groups.
+ *  1 N        columns of S, >= 1
+ *  2 p        AR order 0..IGEA_NOISE_AR_MAX (0: no serial correlation)
+ *  3 phi      3 p coefficients, axis-major (phi[a p + k]: lag k + 1 of
+ *             axis a), each axis stationary (the roots of 1 - sum phi_k z^k
+ *             outside the unit circle, checked by a positive definite
+ *             Toeplitz autocorrelation matrix); may be NULL when p = 0
+ *  4 ngroups  >= 1
+ *  5 w        output: the new handle (NULL on failure)
+ * Returns 0, -i (-3 also for a phi that is not stationary),
+ * IGEA_ENONFINITE (phi NaN/Inf), IGEA_ENOMEM.
+ */
+IGEA_API int igea_whiten_create(int N, int p, const double *phi, int ngroups,
+                                igea_whiten **w);
+
+/* Release a whitener (NULL is a no-op). */
+IGEA_API void igea_whiten_free(igea_whiten *w);
+
+/* The epochs whitened since the last reset (*epochs) and the group of the
+ * last one (*group, -1 before the first). Returns 0, -i. */
+IGEA_API int igea_whiten_get_state(const igea_whiten *w, double *epochs, int *group);
+
+/* Forget the carried rows: the next block starts a new flight (epoch 0).
+ * Returns 0, -1. */
+IGEA_API int igea_whiten_reset(igea_whiten *w);
+
+/*
+ * Whiten a block of whole epochs and add it to the group normal equations.
+ * Row i of the flight is [S_i D, dw_i]; epoch e (rows 3e, 3e+1, 3e+2, axes
+ * x, y, z) is whitened by L_e^-1 with C_e = L_e L_e' its covariance (or by
+ * 1/sigma_i per row), then each axis a by the Prais-Winsten transform of
+ * its AR(p): the first p epochs of a segment by the inverse Cholesky factor
+ * of the p x p autocorrelation matrix, later ones by (u_t - sum_k phi_ak
+ * u_(t-k)) / sigma_u,a, sigma_u,a^2 = 1 - sum_k phi_ak rho_ak (unit
+ * stationary variance, so K is the covariance of the noise).
+ *  1 w            the handle
+ *  2 layout       IGEA_COLMAJOR or IGEA_ROWMAJOR (as igea/normal.h)
+ *  3 m            rows in this block, a multiple of 3, >= 0 (0: no-op)
+ *  4 S, 5 lds     the block (m x N), see layout
+ *  6 dw           m velocity differences
+ *  7 track_sigma  m row sigmas (sigma_inc 1) or one (sigma_inc 0), > 0 and
+ *                 >= IGEA_SIGMA_MIN; must be NULL when cov is given
+ *  8 sigma_inc    0 or 1
+ *  9 cov          6 m / 3 values or NULL: per epoch the lower triangle of
+ *                 its 3 x 3 covariance row by row (c_xx, c_yx, c_yy, c_zx,
+ *                 c_zy, c_zz), dw units squared
+ * 10 group        m / 3 group labels 0 .. ngroups - 1 per epoch, or NULL
+ *                 (all 0)
+ * 11 mask         m ints or NULL: 1 leaves the whitened row out of the
+ *                 sums (a rejected row; the filter still carries it), 0
+ *                 keeps it
+ * 12 spec_sigma   N specs (> 0, >= IGEA_SIGMA_MIN), or NULL (D = I)
+ * 13 A, 14 lda    ngroups blocks N x N (block g at A + g lda N), lda >= N,
+ *                 updated in place (both triangles)
+ * 15 b            ngroups x N (group g at b + g N), updated
+ * 16 wtw          2 ngroups: w'w and the row count per group, updated
+ *                 (finite, >= 0)
+ * 17 white        m x (N + 1) column-major (ld m) outputs or NULL: the
+ *                 whitened rows [S~ w~] of the block, masked ones included
+ * 18 bad_epoch    output or NULL: on IGEA_ESINGULAR, the epoch (counted
+ *                 from the last reset) whose covariance is not positive
+ *                 definite
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ERANGE,
+ * IGEA_ESINGULAR (a covariance not positive definite), IGEA_EOVERFLOW,
+ * IGEA_ENOMEM. On failure A, b, wtw, white and the handle's state are
+ * untouched.
+ */
+IGEA_API int igea_whiten_accumulate(igea_whiten *w, int layout, int m,
+                                    const double *S, int lds, const double *dw,
+                                    const double *track_sigma, int sigma_inc,
+                                    const double *cov, const int *group,
+                                    const int *mask, const double *spec_sigma,
+                                    double *A, int lda, double *b, double *wtw,
+                                    double *white, int *bad_epoch);
+
+/*
+ * AR(p) coefficients per axis from residuals by least squares on their
+ * lags: for axis a, y_t = u_(3t+a) regressed on y_(t-1) .. y_(t-p) over the
+ * epochs t whose p predecessors are in the same segment (same group, no
+ * change between) and none masked; phi = (X'X)^-1 X'y, s^2 = RSS / (n -
+ * p), se_k = s sqrt((X'X)^-1_kk).
+ *  1 M       epochs, >= 1
+ *  2 p       1 .. IGEA_NOISE_AR_MAX
+ *  3 resid   3 M residuals (epoch-major x, y, z) in units of the first
+ *            whitening stage (covariance or sigma, not AR)
+ *  4 group   M labels or NULL, 5 mask 3 M ints or NULL (1: left out)
+ *  6 phi     3 p outputs (axis-major), 7 se 3 p outputs
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ERANK (an axis with n <= p usable
+ * epochs or singular X'X); outputs untouched on failure.
+ */
+IGEA_API int igea_noise_ar_fit(int M, int p, const double *resid,
+                               const int *group, const int *mask, double *phi,
+                               double *se);
+
+/*
+ * Helmert variance components of G groups from their normal equations
+ * (as igea_whiten_accumulate leaves them): c_g <- Omega_g / r_g with
+ * Omega_g = w_g'w_g - 2 x'b_g + x'N_g x and r_g = n_g - tr(N^+ N_g)/c_g,
+ * x = N^+ sum b_g/c_g, N = sum N_g/c_g (pseudo-inverse at rank tolerance
+ * N 10 eps), iterated from c = 1 until max |c_new/c - 1| <= tol.
+ *  1 N, 2 G >= 1, 3 A (G blocks N x N, lower triangles read), 4 lda >= N,
+ *  5 b (G x N), 6 wtw (2 G), 7 tol > 0, 8 max_iter 1..1000
+ *  9 scale  G outputs c_g, 10 se G outputs (c_g sqrt(2 / r_g)), 11 redund
+ *  G outputs r_g, 12 x N outputs (the last N^+ b), 13 iterations (output)
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ERANK (a group with r_g <= 0),
+ * IGEA_EDOMAIN (Omega_g <= 0), IGEA_ENOCONV, IGEA_ENOMEM, IGEA_ELAPACK;
+ * outputs untouched on failure.
+ */
+IGEA_API int igea_noise_vce(int N, int G, const double *A, int lda,
+                            const double *b, const double *wtw, double tol,
+                            int max_iter, double *scale, double *se,
+                            double *redund, double *x, int *iterations);
+
+/*
+ * The equivalent-error job with the noise models, in memory.
+ *  1 m (a multiple of 3, >= 3), 2 N >= 1, 3 S (m x N column-major), 4 lds
+ *  >= m, 5 dw (m), 6 track_sigma, 7 sigma_inc, 8 cov (as
+ *  igea_whiten_accumulate: one of track_sigma and cov is NULL), 9 group
+ *  (m / 3 labels or NULL), 10 ngroups >= 1 (groups with no epoch are
+ *  refused, -9), 11 spec_sigma (N or NULL), 12 phi (3 p given
+ *  coefficients, axis-major, or NULL: 0; the start when phi is estimated),
+ *  13 opts (IGEA_EQERR_OPT_LEN or NULL; slots 20..27 above).
+ * Outputs as igea_eqerr_solve: 14 lambda, 15 P, 16 ldp, 17 equiv_err,
+ * 18 z, 19 reject, 20 info (with the entries above), and
+ * 21 ar_out   IGEA_NOISE_AR_OUT_LEN or NULL (layout above; se 0 when phi
+ *             is given)
+ * 22 group_out ngroups x IGEA_NOISE_GROUP_COLS or NULL (above)
+ * 23 row_w    m or NULL: the w-statistic of each row the robust route
+ *             rejected (|w| > z_{1-alpha_0/2}, info ROBUST_CRIT), 0 for
+ *             kept rows
+ * With one group its scale is reported but the weights are the seed's
+ * (the sigma_w correction of opts); with two or more the groups are
+ * weighted by 1/c_g and the seed's correction runs on top.
+ * Returns those of igea_whiten_accumulate, igea_noise_ar_fit (IGEA_EDOMAIN:
+ * an estimated phi not stationary), igea_noise_vce, igea_eqerr_solve;
+ * outputs untouched on failure.
+ */
+IGEA_API int igea_noise_eqerr(int m, int N, const double *S, int lds,
+                              const double *dw, const double *track_sigma,
+                              int sigma_inc, const double *cov,
+                              const int *group, int ngroups,
+                              const double *spec_sigma, const double *phi,
+                              const double *opts, double *lambda, double *P,
+                              int ldp, double *equiv_err, double *z,
+                              int *reject, double *info, double *ar_out,
+                              double *group_out, double *row_w);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

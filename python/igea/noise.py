@@ -1,0 +1,111 @@
+"""The equivalent-error job with the noise models (igea/noise.h): per-epoch
+3x3 tracking covariance, AR(p) per axis, groups with one sigma_w each,
+per-group bias columns and the robust route. Reached through igea.eqerr
+(cov=, ar=, ar_phi=, groups=, group_bias=, robust=, robust_alpha=)."""
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _capi
+from . import _lib
+
+
+@dataclass(frozen=True)
+class NoiseEqerrResult:
+    """Result of igea.eqerr with a noise model; fields match
+    'igea eqerr --cov/--ar/--groups/--robust --json'."""
+    eigenvalues: np.ndarray
+    equiv_err: np.ndarray
+    z: np.ndarray
+    reject: np.ndarray
+    n_test: int
+    chi2: float
+    dof: int
+    chi2_crit: float
+    p_value: float
+    n_reject: int
+    passed: bool
+    scale: float
+    ar_order: int
+    ar_phi: np.ndarray       # (3, p): phi of lag k + 1 of axis a
+    ar_se: np.ndarray        # (3, p): standard errors (0 when phi was given)
+    groups: list             # [{"scale", "scale_se", "redundancy", "rows", "bias"}]
+    robust_crit: float
+    rejected_rows: list      # [{"row": i, "w": w}] of the robust route
+    noise_iterations: int
+    noise_converged: bool
+
+
+def _cov6(cov, M):
+    c = _lib.as_f64(cov, "cov", ndim=3, shape=(M, 3, 3))
+    if not np.allclose(c, np.transpose(c, (0, 2, 1)), rtol=1e-12, atol=0):
+        raise ValueError("cov: each epoch's 3x3 block must be symmetric")
+    return np.ascontiguousarray(np.stack([c[:, 0, 0], c[:, 1, 0], c[:, 1, 1], c[:, 2, 0],
+                                          c[:, 2, 1], c[:, 2, 2]], axis=1).ravel())
+
+
+def _phi(ar_phi):
+    a = np.asarray(ar_phi, dtype=float)
+    if a.ndim == 1 and 1 <= a.size <= 3:
+        a = np.tile(a, (3, 1))
+    if a.ndim != 2 or a.shape[0] != 3 or not 1 <= a.shape[1] <= 3:
+        raise ValueError("ar_phi: expected p (1..3) coefficients or shape (3, p), got %s"
+                         % (np.shape(ar_phi),))
+    return np.ascontiguousarray(a.ravel()), a.shape[1]
+
+
+def _groups(groups, M):
+    g = np.asarray(groups)
+    if g.shape != (M,) or not np.issubdtype(g.dtype, np.integer) or (g < 0).any():
+        raise ValueError("groups: expected %d integer labels 0..G-1 (one per epoch)" % M)
+    return np.ascontiguousarray(g, dtype=np.intc), int(g.max()) + 1
+
+
+def noise_eqerr(S, dw, sigma, spec, cov, ar, ar_phi, groups, opts, where="igea.eqerr"):
+    """igea_noise_eqerr on whole arrays; opts from _lib.options (slots set)."""
+    S = _lib.as_f64(S, "S", ndim=2)
+    m, N = S.shape
+    if m < 3 or m % 3:
+        raise ValueError("S: rows are epoch-major x, y, z: a multiple of 3, got %d" % m)
+    M = m // 3
+    dw = _lib.as_f64(dw, "dw", ndim=1, shape=(m,))
+    if (cov is None) == (sigma is None):
+        raise ValueError("sigma, cov: give exactly one of them")
+    sig = None
+    if sigma is not None:
+        sig = np.broadcast_to(_lib.as_f64(sigma, "sigma"), (m,)).copy()
+    c6 = None if cov is None else _cov6(cov, M)
+    sp = None if spec is None else _lib.as_f64(spec, "spec", ndim=1, shape=(N,))
+    phi, p = (None, int(ar or 0)) if ar_phi is None else _phi(ar_phi)
+    if ar_phi is not None and ar not in (None, p):
+        raise ValueError("ar=%r but ar_phi holds %d lags" % (ar, p))
+    opts[_capi.EQERR_OPT_AR] = p
+    opts[_capi.EQERR_OPT_AR_ESTIMATE] = 1 if p > 0 and ar_phi is None else 0
+    grp, G = (None, 1) if groups is None else _groups(groups, M)
+    lam, P, xh, z = np.empty(N), np.empty((N, N), order="F"), np.empty(N), np.empty(N)
+    rej, info = np.empty(N, dtype=np.intc), np.empty(_capi.STATS_INFO_LEN)
+    ar_out = np.zeros(_capi.NOISE_AR_OUT_LEN)
+    go = np.zeros((G, _capi.NOISE_GROUP_COLS))
+    row_w = np.zeros(m)
+    _lib.call(where, "igea_noise_eqerr", m, N, _lib.dptr(S), m, _lib.dptr(dw), _lib.dptr(sig), 1,
+              _lib.dptr(c6), _lib.iptr(grp), G, _lib.dptr(sp), _lib.dptr(phi), _lib.dptr(opts),
+              _lib.dptr(lam), _lib.dptr(P), N, _lib.dptr(xh), _lib.dptr(z), _lib.iptr(rej),
+              _lib.dptr(info), _lib.dptr(ar_out), _lib.dptr(go), _lib.dptr(row_w))
+    nt = int(info[_capi.STATS_INFO_N_TEST])
+    gs = [{"scale": float(r[_capi.NOISE_GROUP_SCALE]), "scale_se": float(r[_capi.NOISE_GROUP_SE]),
+           "redundancy": float(r[_capi.NOISE_GROUP_REDUND]),
+           "rows": int(r[_capi.NOISE_GROUP_ROWS]),
+           "bias": r[_capi.NOISE_GROUP_BIAS:_capi.NOISE_GROUP_BIAS + 3].copy()} for r in go]
+    return NoiseEqerrResult(
+        eigenvalues=lam, equiv_err=xh, z=z[:nt].copy(), reject=rej[:nt] == 1, n_test=nt,
+        chi2=float(info[_capi.STATS_INFO_CHI2]), dof=int(info[_capi.STATS_INFO_DOF]),
+        chi2_crit=float(info[_capi.STATS_INFO_CHI2_CRIT]),
+        p_value=float(info[_capi.STATS_INFO_P_VALUE]),
+        n_reject=int(info[_capi.STATS_INFO_N_REJECT]),
+        passed=bool(info[_capi.STATS_INFO_PASSED] == 1), scale=float(info[_capi.STATS_INFO_SCALE]),
+        ar_order=p, ar_phi=ar_out[:9].reshape(3, 3)[:, :p].copy(),
+        ar_se=ar_out[9:].reshape(3, 3)[:, :p].copy(), groups=gs,
+        robust_crit=float(info[_capi.STATS_INFO_ROBUST_CRIT]),
+        rejected_rows=[{"row": int(i), "w": float(row_w[i])} for i in np.flatnonzero(row_w)],
+        noise_iterations=int(info[_capi.STATS_INFO_NOISE_ITERATIONS]),
+        noise_converged=bool(info[_capi.STATS_INFO_NOISE_CONVERGED] == 1))

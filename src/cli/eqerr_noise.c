@@ -1,0 +1,290 @@
+/* igea eqerr with the noise models (--cov, --ar, --ar-phi, --groups,
+ * --robust, --group-bias): the flight read into memory, one call of
+ * igea_noise_eqerr, the report. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+
+typedef struct {
+    cli_matrix S, dw, cov, grp;
+    double *Sc, *sig, *spec, *phi;
+    int *group, G, m, N;
+} noise_in;
+
+static void in_free(noise_in *d)
+{
+    cli_matrix_free(&d->S);
+    cli_matrix_free(&d->dw);
+    cli_matrix_free(&d->cov);
+    cli_matrix_free(&d->grp);
+    free(d->Sc);
+    free(d->sig);
+    free(d->spec);
+    free(d->group);
+}
+
+/* --ar-phi a,b,c: p = the count, the same lags for every axis. */
+int cli_noise_parse_phi(const char *arg, double *phi, int *p)
+{
+    char *end;
+    const char *s = arg;
+    int n = 0;
+    while (*s && n < 3) {
+        double v = strtod(s, &end);
+        if (end == s || !isfinite(v))
+            break;
+        phi[n++] = v;
+        s = end;
+        if (*s == ',')
+            s++;
+        else
+            break;
+    }
+    if (n == 0 || *s) {
+        cli_error("--ar-phi: expected 1 to 3 comma-separated numbers, got '%s'", arg);
+        return CLI_USAGE;
+    }
+    for (int a = 2; a >= 0; a--)
+        for (int k = 0; k < n; k++)
+            phi[a * n + k] = phi[k];
+    *p = n;
+    return CLI_OK;
+}
+
+static int read_groups(const char *path, noise_in *d)
+{
+    int M = d->m / 3, ec = cli_read_matrix(path, &d->grp);
+    if (ec)
+        return ec;
+    if (d->grp.rows * d->grp.cols != M) {
+        cli_error("%s: %ld labels, but the flight has %d epochs (one label per epoch)", path,
+                  d->grp.rows * d->grp.cols, M);
+        return CLI_DATAERR;
+    }
+    d->group = malloc((size_t)M * sizeof(int));
+    if (!d->group)
+        return cli_oom("the group labels");
+    d->G = 0;
+    for (int e = 0; e < M; e++) {
+        double v = d->grp.v[e];
+        if (!(v >= 0 && v < 64 && v == floor(v))) {
+            cli_error("%s: epoch %d: group label %g must be an integer 0..63", path, e, v);
+            return CLI_DATAERR;
+        }
+        d->group[e] = (int)v;
+        d->G = d->group[e] + 1 > d->G ? d->group[e] + 1 : d->G;
+    }
+    for (int g = 0; g < d->G; g++) {
+        int n = 0;
+        for (int e = 0; e < M && !n; e++)
+            n = d->group[e] == g;
+        if (!n) {
+            cli_error("%s: group %d has no epoch (labels are 0 .. G-1, each used)", path, g);
+            return CLI_DATAERR;
+        }
+    }
+    return CLI_OK;
+}
+
+static int read_inputs(const cli_noise_args *a, noise_in *d)
+{
+    int ec = cli_read_matrix(a->S, &d->S);
+    if (!ec)
+        ec = cli_read_matrix(a->dw, &d->dw);
+    if (ec)
+        return ec;
+    d->m = (int)d->S.rows;
+    d->N = d->S.cols;
+    if (d->dw.rows * d->dw.cols != d->m || d->m % 3) {
+        cli_error("%s: %ld values for the %d rows of %s (epoch-major x, y, z: a multiple of 3)",
+                  a->dw, d->dw.rows * d->dw.cols, d->m, a->S);
+        return CLI_DATAERR;
+    }
+    d->Sc = malloc((size_t)d->m * d->N * sizeof(double));
+    if (!d->Sc)
+        return cli_oom("the environment functions");
+    for (int i = 0; i < d->m; i++)
+        for (int c = 0; c < d->N; c++)
+            d->Sc[i + (size_t)c * d->m] = d->S.v[(size_t)i * d->N + c];
+    if (a->cov) {
+        if ((ec = cli_read_matrix(a->cov, &d->cov)))
+            return ec;
+        if (d->cov.cols != 6 || d->cov.rows != d->m / 3) {
+            cli_error("%s: %ld rows x %d columns, but --cov needs one line of 6 lower-triangle "
+                      "entries (c_xx c_yx c_yy c_zx c_zy c_zz) per epoch (%d epochs)",
+                      a->cov, d->cov.rows, d->cov.cols, d->m / 3);
+            return CLI_DATAERR;
+        }
+    } else if ((ec = cli_read_values(a->sigma, d->m, "--sigma (one per row)", &d->sig, NULL)))
+        return ec;
+    if (a->spec && (ec = cli_read_vector(a->spec, d->N, "--spec (one per column of S)",
+                                         &d->spec, NULL)))
+        return ec;
+    d->G = 1;
+    return a->groups ? read_groups(a->groups, d) : CLI_OK;
+}
+
+/* The epoch of a covariance that is not positive definite, for the message. */
+static void name_bad_epoch(const cli_noise_args *a, const noise_in *d)
+{
+    igea_whiten *w = NULL;
+    int bad = -1, N = d->N;
+    double *A = calloc((size_t)N * N + N + 2, sizeof(double));
+    if (A && igea_whiten_create(N, 0, NULL, 1, &w) == 0 &&
+        igea_whiten_accumulate(w, IGEA_COLMAJOR, d->m, d->Sc, d->m, d->dw.v, NULL, 1, d->cov.v,
+                               NULL, NULL, NULL, A, N, A + (size_t)N * N,
+                               A + (size_t)N * N + N, NULL, &bad) == IGEA_ESINGULAR)
+        cli_error("%s:%d: the covariance of epoch %d is not positive definite", a->cov,
+                  bad + 1, bad);
+    igea_whiten_free(w);
+    free(A);
+}
+
+typedef struct {
+    double *lambda, *P, *xhat, *z, info[IGEA_STATS_INFO_LEN], ar[IGEA_NOISE_AR_OUT_LEN];
+    double *gout, *row_w;
+    int *reject;
+} noise_out;
+
+static void report_text(FILE *f, const cli_noise_args *a, const noise_in *d, const noise_out *r)
+{
+    const double *info = r->info;
+    int p = (int)info[IGEA_STATS_INFO_AR_ORDER];
+    fprintf(f, "igea eqerr: %s (%d rows x %d terms), %s%s\n", a->S, d->m, d->N,
+            a->cov ? "3x3 covariance per epoch from " : "tracking sigma ", a->cov ? a->cov : a->sigma);
+    fprintf(f, "%5s %13s %13s %9s  %s\n", "comp", "eigenvalue", "equiv_error", "z", "verdict");
+    for (int i = 0; i < d->N; i++)
+        if (r->reject[i] >= 0)
+            fprintf(f, "%5d %13.6e %13.6f %9.4f  %s\n", i, r->lambda[i], r->xhat[i], r->z[i],
+                    r->reject[i] ? "REJECT" : "pass");
+    for (int ax = 0; ax < 3 && p > 0; ax++) {
+        fprintf(f, "AR(%d) axis %c: phi", p, "xyz"[ax]);
+        for (int k = 0; k < p; k++)
+            fprintf(f, " %.5f (se %.5f)", r->ar[3 * ax + k], r->ar[9 + 3 * ax + k]);
+        fprintf(f, "\n");
+    }
+    for (int g = 0; g < d->G; g++) {
+        const double *o = r->gout + (size_t)g * IGEA_NOISE_GROUP_COLS;
+        fprintf(f, "group %d: c = %.6g (se %.3g, sigma_w = %.4f), redundancy %.1f, %g rows, "
+                   "bias %.4g %.4g %.4g\n", g, o[IGEA_NOISE_GROUP_SCALE], o[IGEA_NOISE_GROUP_SE],
+                sqrt(o[IGEA_NOISE_GROUP_SCALE]), o[IGEA_NOISE_GROUP_REDUND],
+                o[IGEA_NOISE_GROUP_ROWS], o[IGEA_NOISE_GROUP_BIAS], o[IGEA_NOISE_GROUP_BIAS + 1],
+                o[IGEA_NOISE_GROUP_BIAS + 2]);
+    }
+    if (a->opts[IGEA_EQERR_OPT_ROBUST] == 1) {
+        fprintf(f, "robust: %d row(s) rejected by data snooping, |w| > %.4f:",
+                (int)info[IGEA_STATS_INFO_N_OUTLIERS], info[IGEA_STATS_INFO_ROBUST_CRIT]);
+        for (int i = 0; i < d->m; i++)
+            if (r->row_w[i] != 0)
+                fprintf(f, " row %d (w = %.2f)", i, r->row_w[i]);
+        fprintf(f, "\n");
+    }
+    fprintf(f, "noise iterations %d, %s; tracking-accuracy c = %.6g\n",
+            (int)info[IGEA_STATS_INFO_NOISE_ITERATIONS],
+            info[IGEA_STATS_INFO_NOISE_CONVERGED] == 1 ? "settled" : "NOT settled",
+            info[IGEA_STATS_INFO_SCALE]);
+    fprintf(f, "chi-square: T = %.4f with %d dof; critical %.3f; p-value %.4g\nverdict: %s\n",
+            info[IGEA_STATS_INFO_CHI2], (int)info[IGEA_STATS_INFO_DOF],
+            info[IGEA_STATS_INFO_CHI2_CRIT], info[IGEA_STATS_INFO_P_VALUE],
+            info[IGEA_STATS_INFO_PASSED] == 1 ? "ACCEPTED" : "REJECTED");
+}
+
+static void report_json(FILE *f, const noise_in *d, const noise_out *r)
+{
+    cli_json j;
+    const double *info = r->info;
+    int p = (int)info[IGEA_STATS_INFO_AR_ORDER], nt = (int)info[IGEA_STATS_INFO_N_TEST];
+    cli_json_begin(&j, f);
+    cli_jnums(&j, "eigenvalues", r->lambda, d->N);
+    cli_jnums(&j, "equiv_err", r->xhat, d->N);
+    cli_jnums(&j, "z", r->z, nt);
+    cli_json_open(&j, "reject", '[');
+    for (int i = 0; i < nt; i++)
+        cli_jbool(&j, NULL, r->reject[i] == 1);
+    cli_json_close(&j);
+    cli_jint(&j, "n_test", nt);
+    cli_jnum(&j, "chi2", info[IGEA_STATS_INFO_CHI2]);
+    cli_jint(&j, "dof", (long)info[IGEA_STATS_INFO_DOF]);
+    cli_jnum(&j, "chi2_crit", info[IGEA_STATS_INFO_CHI2_CRIT]);
+    cli_jnum(&j, "p_value", info[IGEA_STATS_INFO_P_VALUE]);
+    cli_jint(&j, "n_reject", (long)info[IGEA_STATS_INFO_N_REJECT]);
+    cli_jbool(&j, "passed", info[IGEA_STATS_INFO_PASSED] == 1.0);
+    cli_jnum(&j, "scale", info[IGEA_STATS_INFO_SCALE]);
+    cli_jint(&j, "ar_order", p);
+    cli_json_open(&j, "ar_phi", '[');
+    for (int ax = 0; ax < 3 && p > 0; ax++)
+        cli_jnums(&j, NULL, r->ar + 3 * ax, p);
+    cli_json_close(&j);
+    cli_json_open(&j, "ar_se", '[');
+    for (int ax = 0; ax < 3 && p > 0; ax++)
+        cli_jnums(&j, NULL, r->ar + 9 + 3 * ax, p);
+    cli_json_close(&j);
+    cli_json_open(&j, "groups", '[');
+    for (int g = 0; g < d->G; g++) {
+        const double *o = r->gout + (size_t)g * IGEA_NOISE_GROUP_COLS;
+        cli_json_open(&j, NULL, '{');
+        cli_jnum(&j, "scale", o[IGEA_NOISE_GROUP_SCALE]);
+        cli_jnum(&j, "scale_se", o[IGEA_NOISE_GROUP_SE]);
+        cli_jnum(&j, "redundancy", o[IGEA_NOISE_GROUP_REDUND]);
+        cli_jint(&j, "rows", (long)o[IGEA_NOISE_GROUP_ROWS]);
+        cli_jnums(&j, "bias", o + IGEA_NOISE_GROUP_BIAS, 3);
+        cli_json_close(&j);
+    }
+    cli_json_close(&j);
+    cli_jnum(&j, "robust_crit", info[IGEA_STATS_INFO_ROBUST_CRIT]);
+    cli_json_open(&j, "rejected_rows", '[');
+    for (int i = 0; i < d->m; i++)
+        if (r->row_w[i] != 0) {
+            cli_json_open(&j, NULL, '{');
+            cli_jint(&j, "row", i);
+            cli_jnum(&j, "w", r->row_w[i]);
+            cli_json_close(&j);
+        }
+    cli_json_close(&j);
+    cli_jint(&j, "noise_iterations", (long)info[IGEA_STATS_INFO_NOISE_ITERATIONS]);
+    cli_jbool(&j, "noise_converged", info[IGEA_STATS_INFO_NOISE_CONVERGED] == 1);
+    cli_json_end(&j);
+}
+
+int cli_eqerr_noise(const cli_noise_args *a, FILE *out, int *passed)
+{
+    noise_in d;
+    noise_out r;
+    memset(&d, 0, sizeof d);
+    memset(&r, 0, sizeof r);
+    int ec = read_inputs(a, &d);
+    size_t N = (size_t)d.N;
+    if (!ec) {
+        r.lambda = malloc((N * N + 3 * N + (size_t)d.G * IGEA_NOISE_GROUP_COLS + d.m) *
+                          sizeof(double));
+        r.reject = malloc(N * sizeof(int));
+        if (!r.lambda || !r.reject)
+            ec = cli_oom("the results");
+    }
+    if (!ec) {
+        r.P = r.lambda + N;
+        r.xhat = r.P + N * N;
+        r.z = r.xhat + N;
+        r.gout = r.z + N;
+        r.row_w = r.gout + (size_t)d.G * IGEA_NOISE_GROUP_COLS;
+        int st = igea_noise_eqerr(d.m, d.N, d.Sc, d.m, d.dw.v, a->cov ? NULL : d.sig, 1,
+                                  a->cov ? d.cov.v : NULL, d.group, d.G, d.spec,
+                                  a->p_given ? a->phi : NULL, a->opts, r.lambda, r.P, d.N,
+                                  r.xhat, r.z, r.reject, r.info, r.ar, r.gout, r.row_w);
+        if (st == IGEA_ESINGULAR && a->cov)
+            name_bad_epoch(a, &d);
+        ec = cli_status(st, "eqerr");
+    }
+    if (!ec) {
+        if (a->json)
+            report_json(out, &d, &r);
+        else
+            report_text(out, a, &d, &r);
+        *passed = r.info[IGEA_STATS_INFO_PASSED] == 1.0;
+    }
+    free(r.lambda);
+    free(r.reject);
+    in_free(&d);
+    return ec;
+}
