@@ -15,13 +15,19 @@ def normal_cdf(x):
     return _scalar("igea_stats_normal_cdf", "igea.normal_cdf", float(x))
 
 
+def normal_sf(x):
+    """Upper tail Q(x) = 1 - Phi(x), relatively accurate down to the
+    smallest positive double (x about 38.5); igea_stats_normal_sf."""
+    return _scalar("igea_stats_normal_sf", "igea.normal_sf", float(x))
+
+
 def normal_quantile(p):
     """Lower quantile Phi^-1(p), 0 < p < 1."""
     return _scalar("igea_stats_normal_quantile", "igea.normal_quantile", float(p))
 
 
 def chi2_cdf(x, dof):
-    """P(x; dof)."""
+    """P(x; dof), 0 < dof <= 1e7 (relative error below 1e-14 up to dof 1e5)."""
     return _scalar("igea_stats_chi2_cdf", "igea.chi2_cdf", float(x), float(dof))
 
 
