@@ -257,6 +257,131 @@ static int fit_out(int m, int N, const double *spec, double s2, double *xs,
     return 0;
 }
 
+/* ---- iterative refinement ---------------------------------------------- */
+
+/* Compensated (Neumaier) accumulation in long double of exact products:
+ * a v for a double a and a long double v = vh + vl (vh its double
+ * rounding), a vh = p + e exactly (fma), a vl to 2^-64 relative; the
+ * sum keeps about 2^-120 relative to its terms, so the cancellation of
+ * y - A x and A^T r at the least-squares solution costs nothing. */
+typedef struct {
+    long double s, c;
+} xacc;
+
+static void xacc_add(xacc *a, long double v)
+{
+    long double t = a->s + v;
+    a->c += fabsl(a->s) >= fabsl(v) ? (a->s - t) + v : (v - t) + a->s;
+    a->s = t;
+}
+
+static void xacc_prod(xacc *a, double x, long double v)
+{
+    double vh = (double)v, p = x * vh;
+    xacc_add(a, p);
+    xacc_add(a, fma(x, vh, -p));
+    xacc_add(a, (long double)x * (v - vh));
+}
+
+/* y_i - sum_j A_ij x_j in extended precision (row i, x in long double),
+ * unevaluated as s + c. */
+static xacc row_resid(int N, const double *A, int lda, int i, double yi, const long double *x)
+{
+    xacc a = {yi, 0.0L};
+    for (int j = 0; j < N; j++)
+        xacc_prod(&a, -IGEA_AT(A, lda, i, j), x[j]);
+    return a;
+}
+
+/* One correction of the augmented system [I B; B^T 0] [r; x'] = [yw; 0]
+ * (Bjorck 1967), B = diag(1/sigma) A diag(cs) = U S V^T (full rank, k = N):
+ * from the extended-precision residuals f = yw - r - B x', g = -B^T r,
+ * dx' = V (S^-1 U^T f - S^-2 V^T g) and dr = f - U (U^T f - S^-1 V^T g).
+ * Updates xl (A's units) and rl; returns max |dx'_j| / max |x'_j|. */
+static double refine_step(int m, int N, const double *A, int lda, const double *y,
+                          const double *sigma, const canon *c, const double *cs,
+                          long double *xl, xacc *rl, double *wk)
+{
+    double *f = wk, *g = f + m, *u = g + N, *w = u + N, *t = w + N;
+    for (int i = 0; i < m; i++) {
+        xacc e = row_resid(N, A, lda, i, y[i], xl);
+        long double w = sigma ? 1.0L / sigma[i] : 1.0L;
+        f[i] = (double)(((e.s * w - rl[i].s) + e.c * w) - rl[i].c);
+    }
+    for (int j = 0; j < N; j++) {
+        xacc a = {0.0L, 0.0L};
+        for (int i = 0; i < m; i++) {
+            long double w = sigma ? 1.0L / sigma[i] : 1.0L;
+            xacc_prod(&a, IGEA_AT(A, lda, i, j), rl[i].s * w);
+            xacc_prod(&a, IGEA_AT(A, lda, i, j), rl[i].c * w);
+        }
+        g[j] = (double)(-(a.s + a.c) * cs[j]);
+    }
+    cblas_dgemv(CblasColMajor, CblasTrans, m, N, 1.0, c->U, m, f, 1, 0.0, u, 1);
+    cblas_dgemv(CblasColMajor, CblasTrans, N, N, 1.0, c->V, N, g, 1, 0.0, w, 1);
+    for (int i = 0; i < N; i++) {
+        w[i] /= c->s[i];
+        t[i] = (u[i] - w[i]) / c->s[i];
+        u[i] -= w[i];
+    }
+    double dmax = 0.0, xmax = 0.0;
+    for (int j = 0; j < N; j++) {
+        double dxs = cblas_ddot(N, c->V + j, N, t, 1);
+        xl[j] += (long double)dxs * cs[j];
+        dmax = IGEA_MAX(dmax, fabs(dxs));
+        xmax = IGEA_MAX(xmax, fabs((double)(xl[j] / cs[j])));
+    }
+    for (int i = 0; i < m; i++)
+        xacc_add(&rl[i], f[i] - cblas_ddot(N, c->U + i, m, u, 1));
+    return xmax > 0.0 ? dmax / xmax : 0.0;
+}
+
+/* Iterative refinement of the full-rank LS solution x (A's units, in
+ * place) with residuals in extended precision, until a correction is below
+ * 2^-60 of x' or stops shrinking (at most IGEA_REGRESS_REFINE_MAX steps).
+ * res[m] receives y - A x of the returned x, in extended precision and
+ * rounded once. Returns the number of steps, or IGEA_ENOMEM. */
+#define IGEA_REGRESS_REFINE_MAX 10
+static int ls_refine(int m, int N, const double *A, int lda, const double *y,
+                     const double *sigma, const canon *c, const double *cs, double *x,
+                     double *res)
+{
+    double *mem = igea__dalloc(2 * (size_t)N + 4 * (size_t)m + (size_t)m + 4 * (size_t)N);
+    if (!mem)
+        return IGEA_ENOMEM;
+    long double *xl = (long double *)(void *)mem;
+    xacc *rl = (xacc *)(void *)(mem + 2 * (size_t)N);
+    double *wk = mem + 2 * (size_t)N + 4 * (size_t)m;
+    for (int j = 0; j < N; j++)
+        xl[j] = x[j];
+    for (int i = 0; i < m; i++) {
+        rl[i] = row_resid(N, A, lda, i, y[i], xl);
+        if (sigma) {
+            rl[i].s /= sigma[i];
+            rl[i].c /= sigma[i];
+        }
+    }
+    int it = 0;
+    double prev = HUGE_VAL;
+    while (it < IGEA_REGRESS_REFINE_MAX) {
+        double d = refine_step(m, N, A, lda, y, sigma, c, cs, xl, rl, wk);
+        it++;
+        if (!(d > 0x1p-60) || d > 0.5 * prev)
+            break;
+        prev = d;
+    }
+    for (int j = 0; j < N; j++)
+        x[j] = (double)xl[j];
+    for (int j = 0; j < N; j++)
+        xl[j] = x[j];
+    for (int i = 0; i < m; i++) {
+        xacc e = row_resid(N, A, lda, i, y[i], xl);
+        res[i] = (double)(e.s + e.c);
+    }
+    free(mem);
+    return it;
+}
+
 /* ---- least squares ----------------------------------------------------- */
 
 /* cs[j] = 1 / ||column j of diag(1/sigma) A||, without forming a norm
@@ -281,12 +406,69 @@ static void equilibrate(int m, int N, const double *A, int lda, const double *si
     }
 }
 
+/* Options and extra outputs of ls_core (NULL sd/info: none). */
+typedef struct {
+    int refine;
+    double *sd, *info;
+} ls_extra;
+
+/* Standard deviations sqrt(diag(cov)) in the caller's units. */
+static void ls_sd(const canon *c, int r, const double *g, double s2, const double *D,
+                  const double *spec, double *sd)
+{
+    canon_sd(c, r, g, s2, D, sd);
+    if (spec)
+        for (int j = 0; j < c->N; j++)
+            sd[j] *= spec[j];
+}
+
+/* The info[] entries of least squares. */
+static void ls_info(const canon *c, double rcond, int scaled, int steps, double *info)
+{
+    for (int i = 0; i < IGEA_REGRESS_INFO_LEN; i++)
+        info[i] = 0.0;
+    double rc = rcond > 0 ? rcond : IGEA_MAX(c->m, c->N) * DBL_EPSILON;
+    info[IGEA_REGRESS_INFO_RANK] = c->r;
+    info[IGEA_REGRESS_INFO_RCOND] = rc;
+    info[IGEA_REGRESS_INFO_TOL] = rc * c->s[0];
+    info[IGEA_REGRESS_INFO_SCALED] = scaled;
+    info[IGEA_REGRESS_INFO_REFINE_STEPS] = steps;
+    info[IGEA_REGRESS_INFO_COND] = c->r > 0 && c->s[c->r - 1] > 0 ? c->s[0] / c->s[c->r - 1] : 0.0;
+}
+
+/* x, the residuals and s^2 of LS from the canonical form; at full rank
+ * refined in extended precision when ex->refine (steps in *steps). */
+static int ls_solve(int m, int N, const double *A, int lda, const double *y,
+                    const double *sigma, const canon *c, const double *D, int refine,
+                    double *g, double *xs, double *res, double *s2, int *steps)
+{
+    int r = c->r;
+    for (int i = 0; i < r; i++)
+        g[i] = 1.0 / c->s[i];
+    canon_coef(c, r, g, D, xs);
+    *steps = 0;
+    if (refine && D && r == N) {
+        int it = ls_refine(m, N, A, lda, y, sigma, c, D, xs, res);
+        if (it < 0)
+            return it;
+        *steps = it;
+    } else
+        residual_of(m, N, A, lda, y, xs, res);
+    igea__ksum acc = {0.0, 0.0};
+    for (int i = 0; i < m; i++) {
+        double e = res[i] / (sigma ? sigma[i] : 1.0);
+        igea__ksum_add(&acc, e * e);
+    }
+    *s2 = m > r ? igea__ksum_get(&acc) / (m - r) : 0.0;
+    return 0;
+}
+
 /* Least squares on the (scaled) design A; spec only takes x and cov back to
  * the caller's units. */
 static int ls_core(int m, int N, const double *A, int lda, const double *y,
                    const double *sigma, const double *spec, double rcond,
                    double *x, double *cov, int ldc, int *rank, double *sigma2,
-                   double *residual)
+                   double *residual, const ls_extra *ex)
 {
     int st;
     /* [D] Column equilibration: the rank is judged and, at full rank, the
@@ -294,10 +476,10 @@ static int ls_core(int m, int N, const double *A, int lda, const double *y,
      * (scale-invariant rank; this keeps NIST Filip at ~8 digits). At rank
      * deficiency the unscaled SVD gives the minimum-norm solution. */
     size_t nn = cov ? (size_t)N * (size_t)N : 0;
-    double *cs = igea__dalloc((size_t)N + (size_t)N + (size_t)m + (size_t)N + nn);
+    double *cs = igea__dalloc(4 * (size_t)N + (size_t)m + nn);
     if (!cs)
         return IGEA_ENOMEM;
-    double *xs = cs + N, *res = xs + N, *g = res + m, *cv = g + N;
+    double *xs = cs + N, *res = xs + N, *g = res + m, *sdt = g + N, *cv = sdt + N;
     equilibrate(m, N, A, lda, sigma, cs);
     canon c;
     st = canon_make(m, N, A, lda, y, sigma, cs, rcond, &c);
@@ -315,36 +497,36 @@ static int ls_core(int m, int N, const double *A, int lda, const double *y,
         }
         D = NULL;
     }
-    int r = c.r;
-    for (int i = 0; i < r; i++)
-        g[i] = 1.0 / c.s[i];
-    canon_coef(&c, r, g, D, xs);
-    residual_of(m, N, A, lda, y, xs, res);
-    igea__ksum acc = {0.0, 0.0};
-    for (int i = 0; i < m; i++) {
-        double e = res[i] / (sigma ? sigma[i] : 1.0);
-        igea__ksum_add(&acc, e * e);
-    }
-    double s2 = m > r ? igea__ksum_get(&acc) / (m - r) : 0.0;
-    if (cov) {
+    int r = c.r, steps;
+    double s2;
+    st = ls_solve(m, N, A, lda, y, sigma, &c, D, ex->refine, g, xs, res, &s2, &steps);
+    if (st == 0) {
         for (int i = 0; i < r; i++)
             g[i] = 1.0 / c.s[i] / c.s[i];
-        canon_cov(&c, r, g, s2, D, cv, N);
+        if (cov)
+            canon_cov(&c, r, g, s2, D, cv, N);
+        ls_sd(&c, r, g, s2, D, spec, sdt);
+        st = igea__finite_vec(N, sdt, 1) ? 0 : IGEA_EOVERFLOW;
     }
-    st = fit_out(m, N, spec, s2, xs, cv, res, x, cov, ldc, residual);
+    if (st == 0)
+        st = fit_out(m, N, spec, s2, xs, cv, res, x, cov, ldc, residual);
     if (st == 0) {
         *rank = r;
         *sigma2 = s2;
+        if (ex->sd)
+            memcpy(ex->sd, sdt, (size_t)N * sizeof(double));
+        if (ex->info)
+            ls_info(&c, rcond, D != NULL, steps, ex->info);
     }
     canon_free(&c);
     free(cs);
     return st;
 }
 
-int igea_regress_ls(int m, int N, const double *A, int lda, const double *y,
-                    const double *sigma, const double *spec_sigma, double rcond,
-                    double *x, double *cov, int ldc, int *rank, double *sigma2,
-                    double *residual)
+/* Checks common to igea_regress_ls and igea_regress_ls_ex (positions of
+ * igea_regress_ls; the caller shifts them). */
+static int ls_check(int m, int N, const double *A, int lda, const double *y, double rcond,
+                    const double *x, const double *cov, int ldc)
 {
     int st = check_args(m, N, A, lda, y, 0);
     if (st)
@@ -355,6 +537,17 @@ int igea_regress_ls(int m, int N, const double *A, int lda, const double *y,
         return -9;
     if (cov && ldc < N)
         return -11;
+    return 0;
+}
+
+int igea_regress_ls(int m, int N, const double *A, int lda, const double *y,
+                    const double *sigma, const double *spec_sigma, double rcond,
+                    double *x, double *cov, int ldc, int *rank, double *sigma2,
+                    double *residual)
+{
+    int st = ls_check(m, N, A, lda, y, rcond, x, cov, ldc);
+    if (st)
+        return st;
     if (!rank)
         return -12;
     if (!sigma2)
@@ -365,8 +558,37 @@ int igea_regress_ls(int m, int N, const double *A, int lda, const double *y,
     double *own;
     if (scaled_design(m, N, &A, &lda, spec_sigma, &own))
         return IGEA_ENOMEM;
+    const ls_extra ex = {1, NULL, NULL};
     st = ls_core(m, N, A, lda, y, sigma, spec_sigma, rcond, x, cov, ldc, rank,
-                 sigma2, residual);
+                 sigma2, residual, &ex);
+    free(own);
+    return st;
+}
+
+int igea_regress_ls_ex(int m, int N, const double *A, int lda, const double *y,
+                       const double *sigma, const double *spec_sigma, double rcond,
+                       int flags, double *x, double *cov, int ldc, double *sd,
+                       double *sigma2, double *residual, double *info)
+{
+    int st = ls_check(m, N, A, lda, y, rcond, x, cov, ldc);
+    if (st)
+        return st < -8 ? st - 1 : st;
+    if (flags & ~IGEA_REGRESS_NO_REFINE)
+        return -9;
+    if (!sigma2)
+        return -14;
+    if (!info)
+        return -16;
+    st = check_values(m, N, A, lda, y, sigma, spec_sigma);
+    if (st)
+        return st;
+    double *own;
+    if (scaled_design(m, N, &A, &lda, spec_sigma, &own))
+        return IGEA_ENOMEM;
+    const ls_extra ex = {!(flags & IGEA_REGRESS_NO_REFINE), sd, info};
+    int rank;
+    st = ls_core(m, N, A, lda, y, sigma, spec_sigma, rcond, x, cov, ldc, &rank,
+                 sigma2, residual, &ex);
     free(own);
     return st;
 }

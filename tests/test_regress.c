@@ -168,6 +168,129 @@ static void test_ls_filip(void **state)
     }
 }
 
+/* ---- NIST StRD linear regression: all 11 problems ---- */
+
+/* The files in tests/data/strd/ are NIST's Statistical Reference Datasets
+ * for linear least squares (https://www.itl.nist.gov/div898/strd/lls/,
+ * a US Government work, public domain): the certified B_j and their
+ * standard deviations (NIST: 500-digit arithmetic) in the lines
+ * "B<j> estimate sd", the data after the last line starting "Data:". */
+typedef struct {
+    int n, p;
+    double b[11], sd[11], y[100], x[100][6];
+} strd;
+
+static int strd_read(const char *name, int npred, strd *d)
+{
+    char path[256], line[512];
+    snprintf(path, sizeof path, "tests/data/strd/%s.dat", name);
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return -1;
+    long data_at = -1;
+    d->n = d->p = 0;
+    while (fgets(line, sizeof line, f)) {
+        int j;
+        double b, s;
+        if (sscanf(line, " B%d %lf %lf", &j, &b, &s) == 3 && d->p < 11) {
+            d->b[d->p] = b;
+            d->sd[d->p++] = s;
+        }
+        if (strncmp(line, "Data:", 5) == 0)
+            data_at = ftell(f);
+    }
+    fseek(f, data_at, SEEK_SET);
+    while (d->n < 100 && fscanf(f, "%lf", &d->y[d->n]) == 1) {
+        for (int k = 0; k < npred; k++)
+            if (fscanf(f, "%lf", &d->x[d->n][k]) != 1)
+                return fclose(f), -1;
+        d->n++;
+    }
+    fclose(f);
+    return data_at < 0 ? -1 : 0;
+}
+
+/* Log relative error, capped at 15 (absolute when the certified value is 0). */
+static double lre(double got, double cert)
+{
+    double e = cert != 0.0 ? fabs(got - cert) / fabs(cert) : fabs(got);
+    return e > 0 ? IGEA_MIN(15.0, -log10(e)) : 15.0;
+}
+
+/* kind 0: polynomial in x of degree p - 1; 1: y = B1 x (no intercept);
+ * 2: intercept and npred columns. Minimum LRE over coefficients and sds. */
+static void strd_fit(const char *name, int kind, int npred, int flags, double *lre_b,
+                     double *lre_sd)
+{
+    strd d;
+    assert_int_equal(strd_read(name, npred, &d), 0);
+    int n = d.n, p = d.p;
+    double *A = malloc(sizeof(double) * (size_t)n * (size_t)p), x[11], sd[11], s2, info[16];
+    assert_non_null(A);
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < p; j++)
+            A[i + (size_t)j * n] = kind == 1 ? d.x[i][0] : kind == 2 ? (j ? d.x[i][j - 1] : 1.0)
+                                                                     : pow(d.x[i][0], j);
+    assert_int_equal(igea_regress_ls_ex(n, p, A, n, d.y, NULL, NULL, 0.0, flags, x, NULL, 0, sd,
+                                        &s2, NULL, info), 0);
+    assert_true(info[IGEA_REGRESS_INFO_RANK] == p);
+    *lre_b = *lre_sd = 15.0;
+    for (int j = 0; j < p; j++) {
+        *lre_b = IGEA_MIN(*lre_b, lre(x[j], d.b[j]));
+        *lre_sd = IGEA_MIN(*lre_sd, lre(sd[j], d.sd[j]));
+    }
+    free(A);
+}
+
+static void test_ls_strd(void **state)
+{
+    (void)state;
+    static const struct { const char *name; int kind, npred; double min_b, min_sd; } P[] = {
+        {"Norris", 0, 1, 9, 9},   {"Pontius", 0, 1, 9, 9},  {"NoInt1", 1, 1, 9, 9},
+        {"NoInt2", 1, 1, 9, 9},   {"Filip", 0, 1, 7, 7},    {"Longley", 2, 6, 9, 9},
+        {"Wampler1", 0, 1, 9, 9}, {"Wampler2", 0, 1, 9, 9}, {"Wampler3", 0, 1, 9, 9},
+        {"Wampler4", 0, 1, 9, 9}, {"Wampler5", 0, 1, 9, 9}};
+    for (size_t k = 0; k < sizeof P / sizeof P[0]; k++) {
+        double lb, ls, lb0, ls0;
+        strd_fit(P[k].name, P[k].kind, P[k].npred, 0, &lb, &ls);
+        strd_fit(P[k].name, P[k].kind, P[k].npred, IGEA_REGRESS_NO_REFINE, &lb0, &ls0);
+        print_message("%-9s LRE coef %5.2f sd %5.2f (unrefined %5.2f %5.2f)\n", P[k].name, lb, ls,
+                      lb0, ls0);
+        assert_true(lb >= P[k].min_b);
+        assert_true(ls >= P[k].min_sd);
+    }
+}
+
+/* Filip: the exact least-squares solution of the double-precision design
+ * (pow(x, j) of the doubles read from Filip.dat) and y, by mpmath 1.3.0
+ * at 80 digits (normal equations in exact binary inputs:
+ *   M = mpmath.matrix([[mpmath.mpf(math.pow(v, j)) for j in range(11)] for v in x])
+ *   b = mpmath.lu_solve(M.T * M, M.T * Y)).
+ * It agrees with NIST's certified values (exact decimal data) to LRE 7.61
+ * only: the rounding of the data to doubles moves the solution that far
+ * (scaled condition number 5.2e9). igea must reproduce it to 13 digits. */
+static const double filip_exact[11] = {
+    -1467.4896406575195, -2772.1796428402328, -2316.3711251051091, -1127.973962693167,
+    -354.47824071352111, -75.124203269885366, -10.875318264388821, -1.0622150090377793,
+    -0.067019116975598725, -0.0024678108408518231, -4.0296253497222846e-5};
+
+static void test_ls_filip_exact(void **state)
+{
+    (void)state;
+    strd d;
+    assert_int_equal(strd_read("Filip", 1, &d), 0);
+    double A[82 * 11], x[11], s2, info[16];
+    for (int i = 0; i < 82; i++)
+        for (int j = 0; j < 11; j++)
+            A[i + 82 * j] = pow(d.x[i][0], j);
+    assert_int_equal(igea_regress_ls_ex(82, 11, A, 82, d.y, NULL, NULL, 0.0, 0, x, NULL, 0, NULL,
+                                        &s2, NULL, info), 0);
+    for (int j = 0; j < 11; j++)
+        assert_close(x[j], filip_exact[j], 1e-13);
+    assert_true(info[IGEA_REGRESS_INFO_REFINE_STEPS] >= 1);
+    assert_true(info[IGEA_REGRESS_INFO_SCALED] == 1.0);
+}
+
 /* ---- EBR ---- */
 
 static void test_ebr_vector(void **state)
@@ -1792,6 +1915,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_ls_longley),
         cmocka_unit_test(test_ls_filip),
+        cmocka_unit_test(test_ls_strd),
+        cmocka_unit_test(test_ls_filip_exact),
         cmocka_unit_test(test_ls_weighted_line),
         cmocka_unit_test(test_ls_rank_deficient),
         cmocka_unit_test(test_ls_errors),

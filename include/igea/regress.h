@@ -70,7 +70,8 @@ extern "C" {
  * The rank is judged, and a full-rank solution computed, on the columns of
  * diag(1/sigma) A scaled to unit norm (scale-free rank; NIST Filip keeps
  * 8 digits); a rank-deficient problem is solved on the unscaled SVD, which
- * gives the true minimum-norm solution.
+ * gives the true minimum-norm solution. A full-rank solution is refined in
+ * extended precision (igea_regress_ls_ex).
  * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE (a sigma <= 0),
  * IGEA_ERANGE, IGEA_EOVERFLOW, IGEA_ENOMEM, IGEA_ELAPACK.
  */
@@ -79,6 +80,52 @@ IGEA_API int igea_regress_ls(int m, int N, const double *A, int lda,
                              const double *spec_sigma, double rcond, double *x,
                              double *cov, int ldc, int *rank, double *sigma2,
                              double *residual);
+
+/* Flags of igea_regress_ls_ex. */
+#define IGEA_REGRESS_NO_REFINE 1 /* skip the extended-precision refinement */
+
+/* Indices into info[IGEA_REGRESS_INFO_LEN] of igea_regress_ls_ex (doubles;
+ * counts and flags are whole numbers). */
+#define IGEA_REGRESS_INFO_RANK 0          /* numerical rank r */
+#define IGEA_REGRESS_INFO_RCOND 1         /* relative cut used: s_i > rcond s_1 */
+#define IGEA_REGRESS_INFO_TOL 2           /* absolute cut rcond * s_1 on the singular values */
+#define IGEA_REGRESS_INFO_SCALED 3        /* 1: columns scaled internally to unit norm */
+#define IGEA_REGRESS_INFO_REFINE_STEPS 4  /* refinement steps run (0: none) */
+#define IGEA_REGRESS_INFO_COND 5          /* s_1 / s_r of the design the rank was judged on */
+#define IGEA_REGRESS_INFO_LEN 16 /* slots 6.. reserved for additions */
+
+/*
+ * Weighted least squares as igea_regress_ls, with iterative refinement and
+ * the rank information. At full rank the SVD solution is refined on the
+ * augmented system [I B; B^T 0] [r; x'] = [y_w; 0] (Bjorck 1967), B the
+ * column-equilibrated weighted design, with the residuals y_w - r - B x'
+ * and B^T r accumulated in x86 extended precision (64-bit significand)
+ * from the caller's A and y, until a correction is below 2^-60 of x' or
+ * stops shrinking (at most 10 steps): x is then the least-squares
+ * solution of the double-precision data to nearly the last digit
+ * (docs/regress.md, "Least squares to the last digit"). igea_regress_ls
+ * refines the same way. A rank-deficient problem is not refined.
+ *  1 m >= 1, 2 N >= 1, 3 A (m x N), 4 lda >= m, 5 y (m), 6 sigma (m or
+ *  NULL), 7 spec_sigma (N or NULL), 8 rcond (as igea_regress_ls);
+ *  9 flags: 0 or IGEA_REGRESS_NO_REFINE;
+ * Outputs:
+ * 10 x[N]; 11 cov (N x N, may be NULL), 12 ldc >= N (ignored when cov is
+ *    NULL), as igea_regress_ls;
+ * 13 sd[N] (may be NULL): standard deviations sqrt(diag(cov));
+ * 14 sigma2: RSS_w / (m - r) (0 if m == r);
+ * 15 residual[m] (may be NULL): y - A x, unweighted (with refinement:
+ *    computed in extended precision and rounded once);
+ * 16 info[IGEA_REGRESS_INFO_LEN]: the IGEA_REGRESS_INFO_* entries, 0 in the
+ *    reserved slots.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ERANGE,
+ * IGEA_EOVERFLOW, IGEA_ENOMEM, IGEA_ELAPACK; outputs are written only on
+ * success.
+ */
+IGEA_API int igea_regress_ls_ex(int m, int N, const double *A, int lda,
+                                const double *y, const double *sigma,
+                                const double *spec_sigma, double rcond, int flags,
+                                double *x, double *cov, int ldc, double *sd,
+                                double *sigma2, double *residual, double *info);
 
 /*
  * Empirical-Bayes ridge exactly as METHODS 4.3 on the whitened rows
