@@ -38,7 +38,7 @@ IGEA_API int igea_stats_normal_cdf(double x, double *p);
  * relative error below 1e-15 wherever Q(x) is a normal double, the
  * correctly rounded subnormal down to the smallest positive double (x
  * about 38.5), 0 beyond. x may be +-Inf (Q 0, 1). Writes *q.
- * Returns 0, -1 (x NaN) or -2 (q NULL). */
+ * Returns 0, -1 (x NaN) or -2 (q missing). */
 IGEA_API int igea_stats_normal_sf(double x, double *q);
 
 /* Inverse error function, -1 < y < 1 (Giles' start + Newton steps on C99
@@ -50,7 +50,7 @@ IGEA_API int igea_stats_normal_quantile(double p, double *z);
 /* Chi-square cdf P(x; dof) and survival Q(x; dof) = 1 - P (the p-value
  * of a statistic x), x >= 0 (+Inf allowed), 0 < dof <= IGEA_STATS_CHI2_DOF_MAX
  * (accuracy above). Return 0, -1 (x NaN or negative), -2 (dof), -3 (output
- * NULL). */
+ * pointer missing). */
 IGEA_API int igea_stats_chi2_cdf(double x, double dof, double *p);
 IGEA_API int igea_stats_chi2_sf(double x, double dof, double *q);
 /* Lower quantile: P(x; dof) = p, 0 < p < 1. A quantile below the smallest

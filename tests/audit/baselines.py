@@ -96,6 +96,7 @@ BASE = {
     # ---- stats
     'igea_stats_normal_cdf': dict(x='0.5', _valid=['x=+Inf', 'x=-Inf']),
     'igea_stats_normal_quantile': dict(p='0.3'),
+    'igea_stats_normal_sf': dict(x='0.5', _valid=['x=+Inf', 'x=-Inf']),
     'igea_stats_chi2_cdf': dict(x='2.0', dof='3.0', _valid=['x=+Inf']),
     'igea_stats_chi2_sf': dict(x='2.0', dof='3.0', _valid=['x=+Inf']),
     'igea_stats_chi2_quantile': dict(p='0.3', dof='3.0'),
@@ -125,6 +126,7 @@ BASE = {
     # ---- regress
     'igea_regress_ebr': dict(m='8', rule='IGEA_REGRESS_EBR_SC', lam_floor='0.0', _req=['x']),
     'igea_regress_ls': dict(_req=['x'], _inf_ok=['rcond-']),
+    'igea_regress_ls_ex': dict(flags='0', _int=dict(flags='enum'), _req=['x', 'info'], _inf_ok=['rcond-']),
     'igea_regress_ridge': dict(rule='IGEA_REGRESS_RIDGE_FIXED', k='0.1', _req=['A', 'x', 'y']),
     'igea_regress_ridge_trace': dict(nk='3', k='[0.0, 0.1, 1.0]', ldx='N', _req=['k']),
     'igea_regress_pce': dict(ncomp='0', eig_min='0.01', _zero_ok=['ncomp']),
@@ -298,6 +300,9 @@ VARIANTS = {
                              wide=dict(m='4', N='6', _expect='any')),
     'igea_regress_ls': dict(wide=WIDE, one_row=dict(m='1', N='4'),
                             tiny=dict(A='c:1e-300 * au(i)', _expect='any')),
+    'igea_regress_ls_ex': dict(wide=WIDE, one_row=dict(m='1', N='4'),
+                               norefine=dict(flags='IGEA_REGRESS_NO_REFINE'),
+                               tiny=dict(A='c:1e-300 * au(i)', _expect='any')),
     'igea_accel_fit': dict(ls=dict(method='IGEA_ACCEL_LS',
                                    _ignored=['prior_scale', 'rule', 'lam_floor']),
                            few=dict(method='IGEA_ACCEL_LS', n='4', theta_deg='c:90.0 * (double)i',
