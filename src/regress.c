@@ -593,6 +593,28 @@ int igea_regress_ls_ex(int m, int N, const double *A, int lda, const double *y,
     return st;
 }
 
+int igea_regress_sd(int N, const double *cov, int ldc, double *sd)
+{
+    if (N < 1)
+        return -1;
+    if (!cov)
+        return -2;
+    if (ldc < N)
+        return -3;
+    if (!sd)
+        return -4;
+    for (int j = 0; j < N; j++) {
+        double v = cov[j + (size_t)j * ldc];
+        if (!isfinite(v))
+            return IGEA_ENONFINITE;
+        if (v < 0.0)
+            return IGEA_EDOMAIN;
+    }
+    for (int j = 0; j < N; j++)
+        sd[j] = sqrt(cov[j + (size_t)j * ldc]);
+    return 0;
+}
+
 /* ---- scalar root finding and minimisation ------------------------------ */
 
 typedef double (*scalar_fn)(double, const void *);

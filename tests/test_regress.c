@@ -291,6 +291,25 @@ static void test_ls_filip_exact(void **state)
     assert_true(info[IGEA_REGRESS_INFO_SCALED] == 1.0);
 }
 
+/* igea_regress_sd: sqrt of the diagonal (ldc > N), refusals. */
+static void test_regress_sd(void **state)
+{
+    (void)state;
+    double cov[3 * 2] = {4.0, 1.0, NAN, 1.0, 2.25, NAN}, sd[2] = {-1, -1};
+    assert_int_equal(igea_regress_sd(2, cov, 3, sd), 0);
+    assert_true(sd[0] == 2.0 && sd[1] == 1.5);
+    cov[4] = -1e-30;
+    sd[0] = sd[1] = -1;
+    assert_int_equal(igea_regress_sd(2, cov, 3, sd), IGEA_EDOMAIN);
+    cov[4] = INFINITY;
+    assert_int_equal(igea_regress_sd(2, cov, 3, sd), IGEA_ENONFINITE);
+    assert_true(sd[0] == -1 && sd[1] == -1);
+    assert_int_equal(igea_regress_sd(0, cov, 3, sd), -1);
+    assert_int_equal(igea_regress_sd(2, NULL, 3, sd), -2);
+    assert_int_equal(igea_regress_sd(2, cov, 1, sd), -3);
+    assert_int_equal(igea_regress_sd(2, cov, 3, NULL), -4);
+}
+
 /* ---- EBR ---- */
 
 static void test_ebr_vector(void **state)
@@ -1917,6 +1936,7 @@ int main(void)
         cmocka_unit_test(test_ls_filip),
         cmocka_unit_test(test_ls_strd),
         cmocka_unit_test(test_ls_filip_exact),
+        cmocka_unit_test(test_regress_sd),
         cmocka_unit_test(test_ls_weighted_line),
         cmocka_unit_test(test_ls_rank_deficient),
         cmocka_unit_test(test_ls_errors),

@@ -128,6 +128,15 @@ IGEA_API int igea_regress_ls_ex(int m, int N, const double *A, int lda,
                                 double *sigma2, double *residual, double *info);
 
 /*
+ * Standard deviations sd[j] = sqrt(cov[j][j]) of an estimator's covariance
+ * (N x N, column-major, leading dimension ldc >= N; only the diagonal is
+ * read). 1 N >= 1, 2 cov, 3 ldc, 4 sd[N] (output, written only on success).
+ * Returns 0, -i, IGEA_ENONFINITE (a diagonal entry NaN or Inf) or
+ * IGEA_EDOMAIN (a negative diagonal entry).
+ */
+IGEA_API int igea_regress_sd(int N, const double *cov, int ldc, double *sd);
+
+/*
  * Empirical-Bayes ridge exactly as METHODS 4.3 on the whitened rows
  * diag(1/sigma) A, y / sigma: canonical form of diag(1/sigma) A D (thin
  * SVD, rank r with the default cut of METHODS 0.3), lambda* from the rule's

@@ -70,13 +70,19 @@ class _Estimate:
 
 @dataclass(frozen=True)
 class LsResult(_Estimate):
-    """Weighted least squares (minimum norm when rank-deficient)."""
+    """Weighted least squares (minimum norm when rank-deficient), refined in
+    extended precision at full rank; sd = sqrt(diag(cov)) from the library,
+    rank_tol the singular-value cut of the column-scaled design, refine_steps
+    the refinement steps run."""
     x: np.ndarray
     cov: np.ndarray
     rank: int
     sigma2: float
     residual: np.ndarray
     names: tuple = None
+    sd: np.ndarray = None
+    rank_tol: float = 0.0
+    refine_steps: int = 0
 
     def summary(self):
         N = len(self.x)
@@ -233,18 +239,20 @@ def ls(A, y, sigma=None, *, spec=None, rcond=0.0, names=None):
     or (N,) column scales (the 1-sigma specs: every estimator then works on
     A diag(spec) and returns x, cov in A's units); rcond <= 0 for the
     default rank cut max(m, N) eps. Returns LsResult(x, cov, rank,
-    sigma2, residual)."""
+    sigma2, residual, sd, rank_tol, refine_steps); igea_regress_ls_ex."""
     A, m, N, y, sg, sp = _design(A, y, sigma, spec)
-    x = np.empty(N)
+    x, sd = np.empty(N), np.empty(N)
     cov = np.empty((N, N), order="F")
-    rank = np.zeros(1, dtype=np.intc)
     s2 = np.zeros(1)
     res = np.empty(m)
-    _lib.call("igea.ls", "igea_regress_ls", m, N, _lib.dptr(A), m, _lib.dptr(y), _lib.dptr(sg),
-              _lib.dptr(sp), float(rcond), _lib.dptr(x), _lib.dptr(cov), N, _lib.iptr(rank),
-              _lib.dptr(s2), _lib.dptr(res))
-    return LsResult(x=x, cov=np.ascontiguousarray(cov), rank=int(rank[0]), sigma2=float(s2[0]),
-                    residual=res, names=_given(N, names))
+    info = np.zeros(_capi.REGRESS_INFO_LEN)
+    _lib.call("igea.ls", "igea_regress_ls_ex", m, N, _lib.dptr(A), m, _lib.dptr(y), _lib.dptr(sg),
+              _lib.dptr(sp), float(rcond), 0, _lib.dptr(x), _lib.dptr(cov), N, _lib.dptr(sd),
+              _lib.dptr(s2), _lib.dptr(res), _lib.dptr(info))
+    return LsResult(x=x, cov=np.ascontiguousarray(cov), rank=int(info[_capi.REGRESS_INFO_RANK]),
+                    sigma2=float(s2[0]), residual=res, names=_given(N, names), sd=sd,
+                    rank_tol=float(info[_capi.REGRESS_INFO_TOL]),
+                    refine_steps=int(info[_capi.REGRESS_INFO_REFINE_STEPS]))
 
 
 def ebr(A, y, sigma=None, *, spec=None, rule="sc", lam_floor=0.0, names=None):

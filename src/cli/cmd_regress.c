@@ -178,19 +178,21 @@ static int read_inputs(const rg_args *a, rg_in *in)
 typedef struct {
     int rank, count, *pd;
     double *x, *sd, *cov, *sdf, *shrink, *eig, *vif, *sdc;
-    double scalar, sigma2, cond[IGEA_REGRESS_COND_LEN];
+    double scalar, sigma2, cond[IGEA_REGRESS_COND_LEN], info[IGEA_REGRESS_INFO_LEN];
     const char *count_name, *scalar_name;
 } rg_out;
 
-/* The estimator chosen, then sd = sqrt(diag(cov)). */
+/* The estimator chosen, then sd = sqrt(diag(cov)) (least squares returns
+ * it with the rank information). */
 static int estimate(const rg_args *a, const rg_in *in, rg_out *r)
 {
     int m = in->m, N = in->N, st;
     const double *A = in->A, *y = in->y, *sig = in->sig, *sp = in->spec;
     switch (a->method) {
     case M_LS:
-        st = igea_regress_ls(m, N, A, m, y, sig, sp, a->rcond, r->x, r->cov, N, &r->rank,
-                             &r->sigma2, NULL);
+        st = igea_regress_ls_ex(m, N, A, m, y, sig, sp, a->rcond, 0, r->x, r->cov, N, r->sd,
+                                &r->sigma2, NULL, r->info);
+        r->rank = (int)r->info[IGEA_REGRESS_INFO_RANK];
         break;
     case M_RIDGE:
         st = igea_regress_ridge(m, N, A, m, y, sig, sp, a->rule_code, a->k, r->x, r->cov, N,
@@ -213,10 +215,10 @@ static int estimate(const rg_args *a, const rg_in *in, rg_out *r)
         r->scalar_name = "lam";
         break;
     }
+    if (st == 0 && a->method != M_LS)
+        st = igea_regress_sd(N, r->cov, N, r->sd);
     if (st)
         return cli_status(st, method_names[a->method]);
-    for (int j = 0; j < N; j++)
-        r->sd[j] = sqrt(r->cov[j + (size_t)j * N]);
     return CLI_OK;
 }
 
@@ -240,6 +242,10 @@ static void json_report(FILE *f, const rg_args *a, const rg_in *in, const rg_out
         cli_jnums(&j, "shrink", r->shrink, N);
     }
     cli_jnum(&j, "sigma2", r->sigma2);
+    if (a->method == M_LS) {
+        cli_jnum(&j, "rank_tol", r->info[IGEA_REGRESS_INFO_TOL]);
+        cli_jint(&j, "refine_steps", (int)r->info[IGEA_REGRESS_INFO_REFINE_STEPS]);
+    }
     cli_jnum(&j, "cond", r->cond[IGEA_REGRESS_COND_ALL]);
     cli_jnum(&j, "cond_estimable", r->cond[IGEA_REGRESS_COND_ESTIMABLE]);
     cli_jnums(&j, "eigenvalues", r->eig, N);
@@ -280,6 +286,10 @@ static void text_report(FILE *f, const rg_args *a, const rg_in *in, const rg_out
     fprintf(f, "rank %d of %d; condition number %.4e (estimable part %.4e); residual "
                "variance %.6g\n", r->rank, N, r->cond[IGEA_REGRESS_COND_ALL],
                r->cond[IGEA_REGRESS_COND_ESTIMABLE], r->sigma2);
+    if (a->method == M_LS)
+        fprintf(f, "rank cut: singular values of the column-scaled design above %.3e; "
+                   "%d refinement steps in extended precision\n",
+                r->info[IGEA_REGRESS_INFO_TOL], (int)r->info[IGEA_REGRESS_INFO_REFINE_STEPS]);
     if (r->scalar_name)
         fprintf(f, "%s = %.10g\n", r->scalar_name, r->scalar);
     if (r->count_name)
