@@ -1073,7 +1073,7 @@ static int ridge_rule_rk(const canon *c, int rule, double rss, double s2,
 static int ridge_core(int m, int N, const double *A, int lda, const double *y,
                       const double *sigma, const double *spec, int rule,
                       double k, double *x, double *cov, int ldc,
-                      double *k_used, double *sigma2, double *residual)
+                      double *k_used, double *sigma2, double *residual, double *info)
 {
     canon c;
     int st = canon_make(m, N, A, lda, y, sigma, NULL, 0.0, &c);
@@ -1115,17 +1115,18 @@ static int ridge_core(int m, int N, const double *A, int lda, const double *y,
     if (st == 0) {
         *k_used = kk;
         *sigma2 = s2;
+        if (info)
+            ls_info(&c, 0.0, 0, 0, info);
     }
     free(w);
     canon_free(&c);
     return st;
 }
 
-int igea_regress_ridge(int m, int N, const double *A, int lda,
-                       const double *y, const double *sigma,
-                       const double *spec_sigma, int rule, double k, double *x,
-                       double *cov, int ldc, double *k_used, double *sigma2,
-                       double *residual)
+/* Argument checks of igea_regress_ridge (and _ex). */
+static int ridge_check(int m, int N, const double *A, int lda, const double *y, int rule,
+                       double k, const double *x, const double *cov, int ldc,
+                       const double *k_used, const double *sigma2)
 {
     int st = check_args(m, N, A, lda, y, 0);
     if (st)
@@ -1142,6 +1143,18 @@ int igea_regress_ridge(int m, int N, const double *A, int lda,
         return -13;
     if (!sigma2)
         return -14;
+    return 0;
+}
+
+int igea_regress_ridge(int m, int N, const double *A, int lda,
+                       const double *y, const double *sigma,
+                       const double *spec_sigma, int rule, double k, double *x,
+                       double *cov, int ldc, double *k_used, double *sigma2,
+                       double *residual)
+{
+    int st = ridge_check(m, N, A, lda, y, rule, k, x, cov, ldc, k_used, sigma2);
+    if (st)
+        return st;
     st = check_values(m, N, A, lda, y, sigma, spec_sigma);
     if (st)
         return st;
@@ -1149,7 +1162,7 @@ int igea_regress_ridge(int m, int N, const double *A, int lda,
     if (scaled_design(m, N, &A, &lda, spec_sigma, &own))
         return IGEA_ENOMEM;
     st = ridge_core(m, N, A, lda, y, sigma, spec_sigma, rule, k, x, cov, ldc,
-                    k_used, sigma2, residual);
+                    k_used, sigma2, residual, NULL);
     free(own);
     return st;
 }
@@ -1218,7 +1231,7 @@ int igea_regress_ridge_trace(int m, int N, const double *A, int lda,
 static int pce_core(int m, int N, const double *A, int lda, const double *y,
                     const double *sigma, const double *spec, int ncomp,
                     double eig_min, double *x, double *cov, int ldc,
-                    int *nused, double *sigma2, double *residual)
+                    int *nused, double *sigma2, double *residual, double *info)
 {
     canon c;
     int st = canon_make(m, N, A, lda, y, sigma, NULL, 0.0, &c);
@@ -1253,16 +1266,18 @@ static int pce_core(int m, int N, const double *A, int lda, const double *y,
     if (st == 0) {
         *nused = n;
         *sigma2 = s2;
+        if (info)
+            ls_info(&c, 0.0, 0, 0, info);
     }
     free(w);
     canon_free(&c);
     return st;
 }
 
-int igea_regress_pce(int m, int N, const double *A, int lda, const double *y,
-                     const double *sigma, const double *spec_sigma, int ncomp,
-                     double eig_min, double *x, double *cov, int ldc,
-                     int *nused, double *sigma2, double *residual)
+/* Argument checks of igea_regress_pce (and _ex). */
+static int pce_check(int m, int N, const double *A, int lda, const double *y, int ncomp,
+                     double eig_min, const double *x, const double *cov, int ldc,
+                     const int *nused, const double *sigma2)
 {
     int st = check_args(m, N, A, lda, y, 0);
     if (st)
@@ -1279,6 +1294,17 @@ int igea_regress_pce(int m, int N, const double *A, int lda, const double *y,
         return -13;
     if (!sigma2)
         return -14;
+    return 0;
+}
+
+int igea_regress_pce(int m, int N, const double *A, int lda, const double *y,
+                     const double *sigma, const double *spec_sigma, int ncomp,
+                     double eig_min, double *x, double *cov, int ldc,
+                     int *nused, double *sigma2, double *residual)
+{
+    int st = pce_check(m, N, A, lda, y, ncomp, eig_min, x, cov, ldc, nused, sigma2);
+    if (st)
+        return st;
     st = check_values(m, N, A, lda, y, sigma, spec_sigma);
     if (st)
         return st;
@@ -1286,10 +1312,113 @@ int igea_regress_pce(int m, int N, const double *A, int lda, const double *y,
     if (scaled_design(m, N, &A, &lda, spec_sigma, &own))
         return IGEA_ENOMEM;
     st = pce_core(m, N, A, lda, y, sigma, spec_sigma, ncomp, eig_min, x, cov,
-                  ldc, nused, sigma2, residual);
+                  ldc, nused, sigma2, residual, NULL);
     free(own);
     return st;
 }
+
+/* ---- automatic column scaling (ridge_ex, pce_ex) ----------------------- */
+
+/* The scales the _ex estimators work with: spec (or 1) times, when the
+ * column norms of diag(1/sigma) A diag(spec) differ by more than
+ * IGEA_REGRESS_SCALE_RATIO, 1 / norm (a column of norm 0 has scale 1,
+ * equilibrate). *sp then points to an igea-owned array (*own_sp, to
+ * free), else to spec. */
+static int auto_scale(int m, int N, const double *A, int lda, const double *sigma,
+                      const double *spec, const double **sp, double **own_sp, int *scaled)
+{
+    double *cs = igea__dalloc((size_t)N);
+    const double *Ad = A;
+    int ld = lda;
+    double *own;
+    *own_sp = NULL;
+    *sp = spec;
+    *scaled = 0;
+    if (!cs || scaled_design(m, N, &Ad, &ld, spec, &own)) {
+        free(cs);
+        return IGEA_ENOMEM;
+    }
+    equilibrate(m, N, Ad, ld, sigma, cs);
+    free(own);
+    double lo = HUGE_VAL, hi = 0.0;
+    for (int j = 0; j < N; j++) {
+        lo = IGEA_MIN(lo, cs[j]);
+        hi = IGEA_MAX(hi, cs[j]);
+    }
+    if (hi > IGEA_REGRESS_SCALE_RATIO * lo) {
+        for (int j = 0; j < N; j++)
+            cs[j] *= spec ? spec[j] : 1.0;
+        *own_sp = cs;
+        *sp = cs;
+        *scaled = 1;
+        return 0;
+    }
+    free(cs);
+    return 0;
+}
+
+int igea_regress_ridge_ex(int m, int N, const double *A, int lda, const double *y,
+                          const double *sigma, const double *spec_sigma, int rule, double k,
+                          double *x, double *cov, int ldc, double *k_used, double *sigma2,
+                          double *residual, double *info)
+{
+    int st = ridge_check(m, N, A, lda, y, rule, k, x, cov, ldc, k_used, sigma2);
+    if (st)
+        return st;
+    if (!info)
+        return -16;
+    st = check_values(m, N, A, lda, y, sigma, spec_sigma);
+    if (st)
+        return st;
+    const double *sp;
+    double *own_sp, *own;
+    int scaled;
+    if (auto_scale(m, N, A, lda, sigma, spec_sigma, &sp, &own_sp, &scaled))
+        return IGEA_ENOMEM;
+    if (scaled_design(m, N, &A, &lda, sp, &own)) {
+        free(own_sp);
+        return IGEA_ENOMEM;
+    }
+    st = ridge_core(m, N, A, lda, y, sigma, sp, rule, k, x, cov, ldc, k_used, sigma2,
+                    residual, info);
+    if (st == 0)
+        info[IGEA_REGRESS_INFO_SCALED] = scaled;
+    free(own);
+    free(own_sp);
+    return st;
+}
+
+int igea_regress_pce_ex(int m, int N, const double *A, int lda, const double *y,
+                        const double *sigma, const double *spec_sigma, int ncomp,
+                        double eig_min, double *x, double *cov, int ldc, int *nused,
+                        double *sigma2, double *residual, double *info)
+{
+    int st = pce_check(m, N, A, lda, y, ncomp, eig_min, x, cov, ldc, nused, sigma2);
+    if (st)
+        return st;
+    if (!info)
+        return -16;
+    st = check_values(m, N, A, lda, y, sigma, spec_sigma);
+    if (st)
+        return st;
+    const double *sp;
+    double *own_sp, *own;
+    int scaled;
+    if (auto_scale(m, N, A, lda, sigma, spec_sigma, &sp, &own_sp, &scaled))
+        return IGEA_ENOMEM;
+    if (scaled_design(m, N, &A, &lda, sp, &own)) {
+        free(own_sp);
+        return IGEA_ENOMEM;
+    }
+    st = pce_core(m, N, A, lda, y, sigma, sp, ncomp, eig_min, x, cov, ldc, nused, sigma2,
+                  residual, info);
+    if (st == 0)
+        info[IGEA_REGRESS_INFO_SCALED] = scaled;
+    free(own);
+    free(own_sp);
+    return st;
+}
+
 
 /* ---- Bayes --------------------------------------------------------------- */
 

@@ -2,6 +2,8 @@
  * References: METHODS 4.2 (20-position design) and 4.3 (EBR test vector);
  * NIST StRD Longley and Filip certified values (computed by NIST in
  * 500-digit arithmetic); closed forms derived in the comments. */
+#include <float.h>
+
 #include "testutil.h"
 
 #include "igea/regress.h"
@@ -308,6 +310,55 @@ static void test_regress_sd(void **state)
     assert_int_equal(igea_regress_sd(2, NULL, 3, sd), -2);
     assert_int_equal(igea_regress_sd(2, cov, 1, sd), -3);
     assert_int_equal(igea_regress_sd(2, cov, 3, NULL), -4);
+}
+
+/* Ridge and PCE on a design whose third column is 1e-15 of the others:
+ * unscaled, its singular value falls below the rank cut and the component
+ * is dropped (x_3 = 0); the _ex functions scale the columns, keep rank 3
+ * and recover the exact-fit coefficients (y = A x_true, k = 0 and all
+ * components: least squares, x = x_true). */
+static void test_ridge_pce_autoscale(void **state)
+{
+    (void)state;
+    enum { M = 12, NC = 3 };
+    double A[M * NC], y[M], x[NC], s2, ku, info[IGEA_REGRESS_INFO_LEN];
+    const double xt[NC] = {1.5, -0.75, 2e15};
+    for (int i = 0; i < M; i++) {
+        double t = (double)i / (M - 1);
+        A[i] = 1.0;
+        A[i + M] = t;
+        A[i + 2 * M] = 1e-15 * t * t;
+        y[i] = xt[0] + xt[1] * t + 2.0 * t * t; /* = A xt up to rounding */
+    }
+    assert_int_equal(igea_regress_ridge(M, NC, A, M, y, NULL, NULL, IGEA_REGRESS_RIDGE_FIXED,
+                                        0.0, x, NULL, 0, &ku, &s2, NULL), 0);
+    assert_true(fabs(x[2]) < 1.0); /* x_3 = 2e15 lost: what the _ex functions avoid */
+    assert_int_equal(igea_regress_ridge_ex(M, NC, A, M, y, NULL, NULL, IGEA_REGRESS_RIDGE_FIXED,
+                                           0.0, x, NULL, 0, &ku, &s2, NULL, info), 0);
+    assert_true(info[IGEA_REGRESS_INFO_RANK] == 3.0 && info[IGEA_REGRESS_INFO_SCALED] == 1.0);
+    for (int j = 0; j < NC; j++)
+        assert_close(x[j], xt[j], 1e-12);
+    int nused;
+    assert_int_equal(igea_regress_pce_ex(M, NC, A, M, y, NULL, NULL, 0, 1e-6, x, NULL, 0,
+                                         &nused, &s2, NULL, info), 0);
+    assert_int_equal(nused, 3);
+    assert_true(info[IGEA_REGRESS_INFO_SCALED] == 1.0);
+    for (int j = 0; j < NC; j++)
+        assert_close(x[j], xt[j], 1e-12);
+    /* A well-scaled design is left as it is: the same numbers as ridge. */
+    double x2[NC], ku2;
+    for (int i = 0; i < M; i++)
+        A[i + 2 * M] = ((double)i / (M - 1)) * ((double)i / (M - 1));
+    assert_int_equal(igea_regress_ridge(M, NC, A, M, y, NULL, NULL, IGEA_REGRESS_RIDGE_HKB, 0.0,
+                                        x2, NULL, 0, &ku2, &s2, NULL), 0);
+    assert_int_equal(igea_regress_ridge_ex(M, NC, A, M, y, NULL, NULL, IGEA_REGRESS_RIDGE_HKB,
+                                           0.0, x, NULL, 0, &ku, &s2, NULL, info), 0);
+    assert_true(info[IGEA_REGRESS_INFO_SCALED] == 0.0 && ku == ku2);
+    for (int j = 0; j < NC; j++)
+        assert_true(x[j] == x2[j]);
+    assert_true(info[IGEA_REGRESS_INFO_RCOND] == M * DBL_EPSILON);
+    assert_int_equal(igea_regress_ridge_ex(M, NC, A, M, y, NULL, NULL, 0, 0.0, x, NULL, 0, &ku,
+                                           &s2, NULL, NULL), -16);
 }
 
 /* ---- EBR ---- */
@@ -1937,6 +1988,7 @@ int main(void)
         cmocka_unit_test(test_ls_strd),
         cmocka_unit_test(test_ls_filip_exact),
         cmocka_unit_test(test_regress_sd),
+        cmocka_unit_test(test_ridge_pce_autoscale),
         cmocka_unit_test(test_ls_weighted_line),
         cmocka_unit_test(test_ls_rank_deficient),
         cmocka_unit_test(test_ls_errors),

@@ -250,6 +250,53 @@ IGEA_API int igea_regress_pce(int m, int N, const double *A, int lda,
                               double eig_min, double *x, double *cov, int ldc,
                               int *nused, double *sigma2, double *residual);
 
+/* Column-norm ratio above which igea_regress_ridge_ex and
+ * igea_regress_pce_ex scale the columns internally [D]. */
+#define IGEA_REGRESS_SCALE_RATIO 1e8
+
+/*
+ * igea_regress_ridge with the rank information and automatic column
+ * scaling. When the column norms of diag(1/sigma) A D (D = diag(spec_sigma)
+ * or I) differ by more than IGEA_REGRESS_SCALE_RATIO, the estimator works
+ * on the columns scaled to unit norm (D' = D diag(1/||column||), as if
+ * spec_sigma were D'), so that the numerical rank is not lost to the
+ * scales (an unscaled design with norms 1 and 1e-9 drops the second
+ * direction at the rank cut); info[IGEA_REGRESS_INFO_SCALED] is then 1 and
+ * k, k_used and the ridge penalty are those of the scaled problem. x, cov
+ * and residual are in the caller's units as always.
+ *  1 m, 2 N, 3 A, 4 lda >= m, 5 y (m), 6 sigma (m, may be NULL), 7 spec_sigma
+ *  (N, may be NULL), 8 rule, 9 k (read for IGEA_REGRESS_RIDGE_FIXED only),
+ *  as igea_regress_ridge;
+ * Outputs: 10 x[N]; 11 cov (N x N, may be NULL), 12 ldc; 13 k_used;
+ *  14 sigma2; 15 residual[m] (may be NULL), as igea_regress_ridge;
+ * 16 info[IGEA_REGRESS_INFO_LEN] (output): RANK, RCOND (the default cut
+ *    max(m, N) eps), TOL (the absolute cut on the singular values of the
+ *    design worked on), SCALED, COND (s_1 / s_r); REFINE_STEPS 0.
+ * Returns as igea_regress_ridge, and -16 when info is NULL.
+ */
+IGEA_API int igea_regress_ridge_ex(int m, int N, const double *A, int lda,
+                                   const double *y, const double *sigma,
+                                   const double *spec_sigma, int rule, double k,
+                                   double *x, double *cov, int ldc, double *k_used,
+                                   double *sigma2, double *residual, double *info);
+
+/*
+ * igea_regress_pce with the rank information and the automatic column
+ * scaling of igea_regress_ridge_ex (eig_min and the components are then
+ * those of the scaled design).
+ *  1 m, 2 N, 3 A, 4 lda >= m, 5 y (m), 6 sigma (m, may be NULL), 7 spec_sigma
+ *  (N, may be NULL), 8 ncomp >= 0, 9 eig_min (read when ncomp == 0), as
+ *  igea_regress_pce;
+ * Outputs: 10 x[N]; 11 cov (N x N, may be NULL), 12 ldc; 13 nused;
+ *  14 sigma2; 15 residual[m] (may be NULL), as igea_regress_pce;
+ * 16 info[IGEA_REGRESS_INFO_LEN] (output) as igea_regress_ridge_ex.
+ * Returns as igea_regress_pce, and -16 when info is NULL.
+ */
+IGEA_API int igea_regress_pce_ex(int m, int N, const double *A, int lda, const double *y,
+                                 const double *sigma, const double *spec_sigma, int ncomp,
+                                 double eig_min, double *x, double *cov, int ldc, int *nused,
+                                 double *sigma2, double *residual, double *info);
+
 /*
  * Bayesian estimation with a normal prior x ~ N(mu, P) (e.g. from ground
  * calibration) and known noise: y = A x + e, e ~ N(0, diag(sigma^2))
