@@ -40,6 +40,12 @@ def _names(N, names):
     return names
 
 
+def _rank_fields(info):
+    return dict(rank=int(info[_capi.REGRESS_INFO_RANK]),
+                rank_tol=float(info[_capi.REGRESS_INFO_TOL]),
+                scaled=bool(info[_capi.REGRESS_INFO_SCALED]))
+
+
 def _given(N, names):
     return None if names is None else tuple(_names(N, names))
 
@@ -124,7 +130,9 @@ class EbrResult(_Estimate):
 
 @dataclass(frozen=True)
 class RidgeResult(_Estimate):
-    """Ridge regression x(k) = (A^T W A + k I)^-1 A^T W y."""
+    """Ridge regression x(k) = (A^T W A + k I)^-1 A^T W y; rank and rank_tol
+    of the design worked on, scaled: its columns were scaled to unit norm
+    internally (norms more than 1e8 apart; k is then of the scaled design)."""
     x: np.ndarray
     cov: np.ndarray
     k: float
@@ -132,6 +140,9 @@ class RidgeResult(_Estimate):
     sigma2: float
     residual: np.ndarray
     names: tuple = None
+    rank: int = 0
+    rank_tol: float = 0.0
+    scaled: bool = False
 
     def summary(self):
         lines = ["ridge (%s): k = %.6e, least-squares residual variance %.6e"
@@ -157,13 +168,17 @@ class RidgeTrace:
 
 @dataclass(frozen=True)
 class PceResult(_Estimate):
-    """Principal-component estimate (truncated SVD)."""
+    """Principal-component estimate (truncated SVD); rank, rank_tol and
+    scaled as RidgeResult (eig_min is then of the scaled design)."""
     x: np.ndarray
     cov: np.ndarray
     ncomp: int
     sigma2: float
     residual: np.ndarray
     names: tuple = None
+    rank: int = 0
+    rank_tol: float = 0.0
+    scaled: bool = False
 
     def summary(self):
         lines = ["principal-component estimate: %d component(s) kept, least-squares residual "
@@ -294,12 +309,14 @@ def ridge(A, y, sigma=None, *, spec=None, k=None, rule=None, names=None):
     ku = np.zeros(1)
     s2 = np.zeros(1)
     res = np.empty(m)
-    _lib.call("igea.ridge", "igea_regress_ridge", m, N, _lib.dptr(A), m, _lib.dptr(y),
+    info = np.zeros(_capi.REGRESS_INFO_LEN)
+    _lib.call("igea.ridge", "igea_regress_ridge_ex", m, N, _lib.dptr(A), m, _lib.dptr(y),
               _lib.dptr(sg), _lib.dptr(sp), rule_code, float(k) if k is not None else 0.0,
-              _lib.dptr(x), _lib.dptr(cov), N, _lib.dptr(ku), _lib.dptr(s2), _lib.dptr(res))
+              _lib.dptr(x), _lib.dptr(cov), N, _lib.dptr(ku), _lib.dptr(s2), _lib.dptr(res),
+              _lib.dptr(info))
     return RidgeResult(x=x, cov=np.ascontiguousarray(cov), k=float(ku[0]), rule=rule,
                        sigma2=float(s2[0]), residual=res,
-                       names=_given(N, names))
+                       names=_given(N, names), **_rank_fields(info))
 
 
 def ridge_trace(A, y, k, sigma=None, *, spec=None):
@@ -329,12 +346,13 @@ def pce(A, y, sigma=None, *, spec=None, ncomp=None, eig_min=None, names=None):
     nu = np.zeros(1, dtype=np.intc)
     s2 = np.zeros(1)
     res = np.empty(m)
-    _lib.call("igea.pce", "igea_regress_pce", m, N, _lib.dptr(A), m, _lib.dptr(y), _lib.dptr(sg),
-              _lib.dptr(sp), int(ncomp) if ncomp is not None else 0,
+    info = np.zeros(_capi.REGRESS_INFO_LEN)
+    _lib.call("igea.pce", "igea_regress_pce_ex", m, N, _lib.dptr(A), m, _lib.dptr(y),
+              _lib.dptr(sg), _lib.dptr(sp), int(ncomp) if ncomp is not None else 0,
               float(eig_min) if eig_min is not None else 0.0, _lib.dptr(x), _lib.dptr(cov), N,
-              _lib.iptr(nu), _lib.dptr(s2), _lib.dptr(res))
+              _lib.iptr(nu), _lib.dptr(s2), _lib.dptr(res), _lib.dptr(info))
     return PceResult(x=x, cov=np.ascontiguousarray(cov), ncomp=int(nu[0]), sigma2=float(s2[0]),
-                     residual=res, names=_given(N, names))
+                     residual=res, names=_given(N, names), **_rank_fields(info))
 
 
 def bayes(A, y, prior_cov, prior_mean=None, sigma=None, *, spec=None, names=None):

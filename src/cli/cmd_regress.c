@@ -195,14 +195,16 @@ static int estimate(const rg_args *a, const rg_in *in, rg_out *r)
         r->rank = (int)r->info[IGEA_REGRESS_INFO_RANK];
         break;
     case M_RIDGE:
-        st = igea_regress_ridge(m, N, A, m, y, sig, sp, a->rule_code, a->k, r->x, r->cov, N,
-                                &r->scalar, &r->sigma2, NULL);
+        st = igea_regress_ridge_ex(m, N, A, m, y, sig, sp, a->rule_code, a->k, r->x, r->cov, N,
+                                   &r->scalar, &r->sigma2, NULL, r->info);
+        r->rank = (int)r->info[IGEA_REGRESS_INFO_RANK];
         r->scalar_name = "k";
         break;
     case M_PCE:
-        st = igea_regress_pce(m, N, A, m, y, sig, sp, a->have_ncomp ? a->ncomp : 0,
-                              a->have_eig_min ? a->eig_min : 1.0, r->x, r->cov, N, &r->count,
-                              &r->sigma2, NULL);
+        st = igea_regress_pce_ex(m, N, A, m, y, sig, sp, a->have_ncomp ? a->ncomp : 0,
+                                 a->have_eig_min ? a->eig_min : 1.0, r->x, r->cov, N, &r->count,
+                                 &r->sigma2, NULL, r->info);
+        r->rank = (int)r->info[IGEA_REGRESS_INFO_RANK];
         r->count_name = "ncomp";
         break;
     case M_BAYES:
@@ -242,10 +244,12 @@ static void json_report(FILE *f, const rg_args *a, const rg_in *in, const rg_out
         cli_jnums(&j, "shrink", r->shrink, N);
     }
     cli_jnum(&j, "sigma2", r->sigma2);
-    if (a->method == M_LS) {
+    if (a->method == M_LS || a->method == M_RIDGE || a->method == M_PCE)
         cli_jnum(&j, "rank_tol", r->info[IGEA_REGRESS_INFO_TOL]);
+    if (a->method == M_LS)
         cli_jint(&j, "refine_steps", (int)r->info[IGEA_REGRESS_INFO_REFINE_STEPS]);
-    }
+    if (a->method == M_RIDGE || a->method == M_PCE)
+        cli_jint(&j, "scaled", (int)r->info[IGEA_REGRESS_INFO_SCALED]);
     cli_jnum(&j, "cond", r->cond[IGEA_REGRESS_COND_ALL]);
     cli_jnum(&j, "cond_estimable", r->cond[IGEA_REGRESS_COND_ESTIMABLE]);
     cli_jnums(&j, "eigenvalues", r->eig, N);
@@ -290,6 +294,12 @@ static void text_report(FILE *f, const rg_args *a, const rg_in *in, const rg_out
         fprintf(f, "rank cut: singular values of the column-scaled design above %.3e; "
                    "%d refinement steps in extended precision\n",
                 r->info[IGEA_REGRESS_INFO_TOL], (int)r->info[IGEA_REGRESS_INFO_REFINE_STEPS]);
+    if ((a->method == M_RIDGE || a->method == M_PCE) && r->info[IGEA_REGRESS_INFO_SCALED])
+        fprintf(f, "column norms differ by more than %.0e: columns scaled to unit norm "
+                   "internally (the tuning constant is that of the scaled design)\n",
+                IGEA_REGRESS_SCALE_RATIO);
+    if (a->method == M_RIDGE || a->method == M_PCE)
+        fprintf(f, "rank cut: singular values above %.3e\n", r->info[IGEA_REGRESS_INFO_TOL]);
     if (r->scalar_name)
         fprintf(f, "%s = %.10g\n", r->scalar_name, r->scalar);
     if (r->count_name)

@@ -39,3 +39,24 @@ def test_ls_wampler1_exact():
     r = igea.ls(A, y)
     np.testing.assert_array_equal(r.x, np.ones(6))
     np.testing.assert_array_equal(r.residual, np.zeros(21))
+
+
+def test_ridge_pce_scale_and_rank():
+    """Columns 1e-15 apart: scaled internally, rank kept, exact fit recovered
+    (k = 0 and all components are least squares)."""
+    t = np.linspace(0, 1, 12)
+    A = np.column_stack([np.ones(12), t, 1e-15 * t * t])
+    y = 1.5 - 0.75 * t + 2.0 * t * t
+    xt = np.array([1.5, -0.75, 2e15])
+    r = igea.ridge(A, y, k=0.0)
+    assert r.scaled and r.rank == 3
+    np.testing.assert_allclose(r.x, xt, rtol=1e-12)
+    p = igea.pce(A, y, eig_min=1e-6)
+    assert p.scaled and p.rank == 3 and p.ncomp == 3
+    np.testing.assert_allclose(p.x, xt, rtol=1e-12)
+    # a well-scaled design: not scaled; the cut is max(m, N) eps s_1
+    A2 = np.column_stack([np.ones(12), t, t * t])
+    r2 = igea.ridge(A2, y, k=0.0)
+    s1 = np.linalg.svd(A2, compute_uv=False)[0]
+    assert not r2.scaled and r2.rank == 3
+    assert abs(r2.rank_tol / (12 * np.finfo(float).eps * s1) - 1) < 1e-12
