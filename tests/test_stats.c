@@ -273,6 +273,64 @@ static void test_normal_sf(void **state)
     assert_int_equal(igea_stats_normal_sf(1.0, NULL), -2);
 }
 
+/* Student's t and F tails, t quantiles: mpmath 1.3.0, dps 50, through
+ *   I_x(a, b) = x^a (1-x)^b / (a B(a, b)) 2F1(a + b, 1; a + 1; x)
+ * (the symmetry 1 - I_{1-x}(b, a) for x > a / (a + b)),
+ * Q_t(t; n) = I_{n/(n+t^2)}(n/2, 1/2) / 2, Q_F(f; d1, d2) =
+ * I_{d2/(d2+d1 f)}(d2/2, d1/2); quantiles by mpmath.findroot to 1e-45.
+ * Closed forms among them: Q_F(3; 2, 10) = 1.6^-5, Q_t(0.3; 1) =
+ * 1/2 - atan(0.3)/pi (Cauchy). */
+static const double t_ref[][3] = { /* t, dof, Q */
+    {2.0, 10, 3.6694017385370183e-2},
+    {-1.5, 3, 8.8470806737758847e-1},
+    {30, 100, 4.1901662793441461e-52},
+    {5, 1000.0, 3.3836281823243152e-7},
+    {1e10, 10, 1.23046875e-96},
+    {0.3, 1, 4.0722642092225766e-1},
+    {3, 100000.0, 1.3502304420323596e-3},
+};
+static const double f_ref[][4] = { /* f, d1, d2, Q */
+    {3.0, 2, 10, 9.5367431640625e-2},
+    {0.5, 5, 30, 7.7373359370359489e-1},
+    {50, 3, 37, 4.2874370267657257e-13},
+    {1.2, 10, 100000.0, 2.8507256166706787e-1},
+    {1e4, 1, 1000, 0.0}, /* 5.3228217077566136e-523 */
+};
+static const double tq_ref[][3] = { /* p, dof, t */
+    {0.975, 10, 2.2281388519862742},
+    {0.975, 1, 1.2706204736174693e+1},
+    {0.995, 3, 5.8409093097333554},
+    {0.025, 30, -2.0422724563012383},
+    {0.975, 100000.0, 1.9599877075346093},
+};
+
+static void test_t_f_mpmath(void **state)
+{
+    double q;
+    for (size_t i = 0; i < sizeof t_ref / sizeof t_ref[0]; i++) {
+        assert_int_equal(igea_stats_t_sf(t_ref[i][0], t_ref[i][1], &q), 0);
+        assert_close(q, t_ref[i][2], 1e-13);
+    }
+    for (size_t i = 0; i < sizeof f_ref / sizeof f_ref[0]; i++) {
+        assert_int_equal(igea_stats_f_sf(f_ref[i][0], f_ref[i][1], f_ref[i][2], &q), 0);
+        check_rel(q, f_ref[i][3], 1e-13);
+    }
+    for (size_t i = 0; i < sizeof tq_ref / sizeof tq_ref[0]; i++) {
+        assert_int_equal(igea_stats_t_quantile(tq_ref[i][0], tq_ref[i][1], &q), 0);
+        assert_close(q, tq_ref[i][2], 1e-14);
+    }
+    assert_close(0.5 - atan(0.3) / 3.14159265358979323846, t_ref[5][2], 1e-15);
+    assert_int_equal(igea_stats_t_sf(INFINITY, 3, &q), 0);
+    assert_true(q == 0.0);
+    q = SENTINEL;
+    assert_int_equal(igea_stats_t_sf(NAN, 3, &q), -1);
+    assert_int_equal(igea_stats_t_sf(1, 0, &q), -2);
+    assert_int_equal(igea_stats_f_sf(-1, 1, 1, &q), -1);
+    assert_int_equal(igea_stats_f_sf(1, 1, 0, &q), -3);
+    assert_int_equal(igea_stats_t_quantile(1.0, 3, &q), -1);
+    assert_true(q == SENTINEL);
+}
+
 /* Seed 000, Table 1 -> Table 2 with the tabulated z = 2.58, and eq. (10). */
 static const double tab_x[11] = {0.2833, -1.0819, 0.8138, 0.4933, 0.0526, 0.1372,
                                  0.8714, -0.8370, 2.5527, 1.7403, -0.3456};
@@ -648,6 +706,7 @@ int main(void)
         cmocka_unit_test(test_chi2_no_abort_grid),
         cmocka_unit_test(test_chi2_mpmath),
         cmocka_unit_test(test_normal_sf),
+        cmocka_unit_test(test_t_f_mpmath),
         cmocka_unit_test(test_accuracy_seed_table),
         cmocka_unit_test(test_accuracy_invalid),
         cmocka_unit_test(test_pool),
