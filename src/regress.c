@@ -8,6 +8,7 @@
 #include <lapacke.h>
 
 #include "igea/regress.h"
+#include "igea/stats.h"
 #include "internal.h"
 
 /* ---- the canonical form ------------------------------------------------ */
@@ -613,6 +614,198 @@ int igea_regress_sd(int N, const double *cov, int ldc, double *sd)
     for (int j = 0; j < N; j++)
         sd[j] = sqrt(cov[j + (size_t)j * ldc]);
     return 0;
+}
+
+/* ---- regression diagnostics -------------------------------------------- */
+
+/* 1 when some column of A is constant and nonzero (a model intercept). */
+static int has_constant(int m, int N, const double *A, int lda)
+{
+    for (int j = 0; j < N; j++) {
+        double v = IGEA_AT(A, lda, 0, j);
+        int same = v != 0.0;
+        for (int i = 1; same && i < m; i++)
+            same = IGEA_AT(A, lda, i, j) == v;
+        if (same)
+            return 1;
+    }
+    return 0;
+}
+
+/* Leverages h_i = sum_{k<r} U_ik^2 of the weighted design, the rank
+ * judged as igea_regress_ls does (column-equilibrated at full rank). */
+static int leverages(int m, int N, const double *A, int lda, const double *sigma, int r,
+                     double *h)
+{
+    double *cs = igea__dalloc((size_t)N);
+    if (!cs)
+        return IGEA_ENOMEM;
+    equilibrate(m, N, A, lda, sigma, cs);
+    canon c;
+    int st = canon_make(m, N, A, lda, NULL, sigma, r == N ? cs : NULL, 0.0, &c);
+    free(cs);
+    if (st)
+        return st;
+    int rr = IGEA_MIN(r, c.k);
+    for (int i = 0; i < m; i++) {
+        double a = 0.0;
+        for (int k = 0; k < rr; k++)
+            a += c.U[i + (size_t)k * m] * c.U[i + (size_t)k * m];
+        h[i] = a;
+    }
+    canon_free(&c);
+    return 0;
+}
+
+/* The scalar diagnostics from the weighted residuals e, the weights, the
+ * leverages h (statsmodels' OLS/WLS conventions, docs/regress.md). */
+static int diag_scalars(int m, const double *y, const double *sigma, const double *e,
+                        const double *h, int r, int kc, double *d)
+{
+    long double sw = 0, swy = 0, ssr = 0, tss = 0, lw = 0, dw = 0, press = 0;
+    for (int i = 0; i < m; i++) {
+        long double w = sigma ? 1.0L / ((long double)sigma[i] * sigma[i]) : 1.0L;
+        sw += w;
+        swy += w * y[i];
+        ssr += (long double)e[i] * e[i];
+        lw += logl(w);
+        if (i > 0)
+            dw += ((long double)e[i] - e[i - 1]) * ((long double)e[i] - e[i - 1]);
+        press += ((long double)e[i] / (1.0L - h[i])) * ((long double)e[i] / (1.0L - h[i]));
+    }
+    long double ybar = kc ? swy / sw : 0.0L;
+    for (int i = 0; i < m; i++) {
+        long double w = sigma ? 1.0L / ((long double)sigma[i] * sigma[i]) : 1.0L;
+        tss += w * (y[i] - ybar) * (y[i] - ybar);
+    }
+    if (!(tss > 0) || !(ssr > 0))
+        return IGEA_EDOMAIN;
+    int dfm = r - kc, dfr = m - r;
+    long double ess = tss > ssr ? tss - ssr : 0.0L, n = m;
+    double F = dfm > 0 ? (double)((ess / dfm) / (ssr / dfr)) : 0.0, pf = 1.0;
+    if (dfm > 0 && igea_stats_f_sf(F, dfm, dfr, &pf))
+        return IGEA_EDOMAIN;
+    long double llf = -0.5L * n * (logl(2.0L * 3.14159265358979323846264338327950288L * ssr / n)
+                                   + 1.0L) + 0.5L * lw;
+    d[IGEA_REGRESS_DIAG_R2] = (double)(1.0L - ssr / tss);
+    d[IGEA_REGRESS_DIAG_R2_ADJ] = (double)(1.0L - (n - kc) / dfr * (ssr / tss));
+    d[IGEA_REGRESS_DIAG_FVALUE] = F;
+    d[IGEA_REGRESS_DIAG_F_PVALUE] = pf;
+    d[IGEA_REGRESS_DIAG_LLF] = (double)llf;
+    d[IGEA_REGRESS_DIAG_AIC] = (double)(-2.0L * llf + 2.0L * r);
+    d[IGEA_REGRESS_DIAG_BIC] = (double)(-2.0L * llf + logl(n) * r);
+    d[IGEA_REGRESS_DIAG_PRESS] = (double)press;
+    d[IGEA_REGRESS_DIAG_DURBIN_WATSON] = (double)(dw / ssr);
+    d[IGEA_REGRESS_DIAG_DF_MODEL] = dfm;
+    d[IGEA_REGRESS_DIAG_DF_RESID] = dfr;
+    d[IGEA_REGRESS_DIAG_CONSTANT] = kc;
+    d[IGEA_REGRESS_DIAG_SSR] = (double)ssr;
+    d[IGEA_REGRESS_DIAG_TSS] = (double)tss;
+    return 0;
+}
+
+/* t, p, confidence limits per coefficient and Cook's distances. */
+static int diag_coef(int m, int N, const double *x, const double *sd, const double *e,
+                     const double *h, double s2, int dfr, double alpha, double *w, double *d)
+{
+    double tc;
+    if (igea_stats_t_quantile(1.0 - 0.5 * alpha, dfr, &tc))
+        return IGEA_EDOMAIN;
+    double *t = w, *p = t + N, *lo = p + N, *hi = lo + N, *cd = hi + N;
+    for (int j = 0; j < N; j++) {
+        t[j] = sd[j] > 0 ? x[j] / sd[j] : 0.0;
+        double q = 0.5;
+        if (sd[j] > 0 && igea_stats_t_sf(fabs(t[j]), dfr, &q))
+            return IGEA_EDOMAIN;
+        p[j] = 2.0 * q;
+        lo[j] = x[j] - tc * sd[j];
+        hi[j] = x[j] + tc * sd[j];
+    }
+    for (int i = 0; i < m; i++) {
+        double ri2 = e[i] * e[i] / (s2 * (1.0 - h[i]));
+        cd[i] = ri2 / N * h[i] / (1.0 - h[i]);
+    }
+    d[IGEA_REGRESS_DIAG_T_CRIT] = tc;
+    return igea__finite_vec(4 * N + m, w, 1) ? 0 : IGEA_EOVERFLOW;
+}
+
+/* The diagnostics into scratch (x, sd, e, h, coefficient and observation
+ * arrays w, dg); the caller copies them out. */
+static int diag_run(int m, int N, const double *A, int lda, const double *y,
+                    const double *sigma, double rcond, double alpha, double *xs, double *sd,
+                    double *e, double *h, double *w, double *dg)
+{
+    double s2, info[IGEA_REGRESS_INFO_LEN];
+    const ls_extra ex = {1, sd, info};
+    int rank;
+    int st = ls_core(m, N, A, lda, y, sigma, NULL, rcond, xs, NULL, 0, &rank, &s2, e, &ex);
+    if (st)
+        return st;
+    if (m - rank < 1 || !(s2 > 0.0))
+        return IGEA_EDOMAIN;
+    for (int i = 0; i < m; i++)
+        e[i] = sigma ? e[i] / sigma[i] : e[i];
+    if ((st = leverages(m, N, A, lda, sigma, rank, h)))
+        return st;
+    for (int i = 0; i < m; i++)
+        if (!(h[i] < 1.0 - 1e-10))
+            return IGEA_EDOMAIN;
+    for (int i = 0; i < IGEA_REGRESS_DIAG_LEN; i++)
+        dg[i] = 0.0;
+    st = diag_scalars(m, y, sigma, e, h, rank, has_constant(m, N, A, lda), dg);
+    if (st == 0)
+        st = diag_coef(m, N, xs, sd, e, h, s2, m - rank, alpha, w, dg);
+    dg[IGEA_REGRESS_DIAG_RANK] = rank;
+    return st;
+}
+
+static void copy_opt(double *dst, const double *src, int n)
+{
+    if (dst)
+        memcpy(dst, src, (size_t)n * sizeof(double));
+}
+
+int igea_regress_ls_diag(int m, int N, const double *A, int lda, const double *y,
+                         const double *sigma, double rcond, double alpha, double *x,
+                         double *sd, double *tvalues, double *pvalues, double *ci_lower,
+                         double *ci_upper, double *leverage, double *cooks_d, double *diag)
+{
+    int st = check_args(m, N, A, lda, y, 0);
+    if (st)
+        return st;
+    if (isnan(rcond) || rcond >= 1.0)
+        return -7;
+    if (!(alpha > 0.0 && alpha < 1.0))
+        return -8;
+    if (!x)
+        return -9;
+    if (!sd)
+        return -10;
+    if (!diag)
+        return -17;
+    if ((st = check_values(m, N, A, lda, y, sigma, NULL)))
+        return st;
+    double *mem = igea__dalloc(6 * (size_t)N + 3 * (size_t)m + IGEA_REGRESS_DIAG_LEN);
+    if (!mem)
+        return IGEA_ENOMEM;
+    double *xs = mem, *sds = xs + N, *e = sds + N, *h = e + m, *w = h + m;
+    double *dg = w + 4 * (size_t)N + m;
+    st = diag_run(m, N, A, lda, y, sigma, rcond, alpha, xs, sds, e, h, w, dg);
+    if (st == 0 && !igea__finite_vec(IGEA_REGRESS_DIAG_LEN, dg, 1))
+        st = IGEA_EOVERFLOW;
+    if (st == 0) {
+        memcpy(x, xs, (size_t)N * sizeof(double));
+        memcpy(sd, sds, (size_t)N * sizeof(double));
+        copy_opt(tvalues, w, N);
+        copy_opt(pvalues, w + N, N);
+        copy_opt(ci_lower, w + 2 * N, N);
+        copy_opt(ci_upper, w + 3 * N, N);
+        copy_opt(leverage, h, m);
+        copy_opt(cooks_d, w + 4 * N, m);
+        memcpy(diag, dg, IGEA_REGRESS_DIAG_LEN * sizeof(double));
+    }
+    free(mem);
+    return st;
 }
 
 /* ---- scalar root finding and minimisation ------------------------------ */

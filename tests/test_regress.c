@@ -361,6 +361,57 @@ static void test_ridge_pce_autoscale(void **state)
                                            &s2, NULL, NULL), -16);
 }
 
+/* R^2 and the ANOVA F statistic against NIST's certified values (the
+ * "Certified Analysis of Variance Table" of each StRD file; R^2 is
+ * uncentred for the no-intercept NoInt1, as statsmodels has it). */
+static void test_ls_diag_strd(void **state)
+{
+    (void)state;
+    static const struct { const char *name; int kind, npred; double r2, F, rsd; } P[] = {
+        {"Norris", 0, 1, 0.999993745883712, 5436385.54079785, 0.884796396144373},
+        {"Pontius", 0, 1, 0.999999900178537, 185330865.995752, 0.205177424076185E-03},
+        {"NoInt1", 1, 1, 0.999365492298663, 15750.2500000000, 3.56753034006338},
+        {"Longley", 2, 6, 0.995479004577296, 330.285339234588, 304.854073561965}};
+    for (size_t k = 0; k < sizeof P / sizeof P[0]; k++) {
+        strd d;
+        assert_int_equal(strd_read(P[k].name, P[k].npred, &d), 0);
+        int n = d.n, p = d.p;
+        double *A = malloc(sizeof(double) * (size_t)n * (size_t)p), x[11], sd[11];
+        double dg[IGEA_REGRESS_DIAG_LEN], lev[100];
+        assert_non_null(A);
+        for (int i = 0; i < n; i++)
+            for (int j = 0; j < p; j++)
+                A[i + (size_t)j * n] = P[k].kind == 1 ? d.x[i][0]
+                                       : P[k].kind == 2 ? (j ? d.x[i][j - 1] : 1.0)
+                                                        : pow(d.x[i][0], j);
+        assert_int_equal(igea_regress_ls_diag(n, p, A, n, d.y, NULL, 0.0, 0.05, x, sd, NULL,
+                                              NULL, NULL, NULL, lev, NULL, dg), 0);
+        assert_close(dg[IGEA_REGRESS_DIAG_R2], P[k].r2, 1e-13);
+        assert_close(dg[IGEA_REGRESS_DIAG_FVALUE], P[k].F, 1e-10);
+        assert_close(sqrt(dg[IGEA_REGRESS_DIAG_SSR] / dg[IGEA_REGRESS_DIAG_DF_RESID]), P[k].rsd,
+                     1e-11);
+        assert_true(dg[IGEA_REGRESS_DIAG_CONSTANT] == (P[k].kind == 1 ? 0.0 : 1.0));
+        double tr = 0.0; /* trace of the hat matrix = rank */
+        for (int i = 0; i < n; i++)
+            tr += lev[i];
+        assert_close(tr, p, 1e-12);
+        for (int j = 0; j < p; j++)
+            assert_close(x[j], d.b[j], 1e-9);
+        free(A);
+    }
+    /* an exact fit has no residual to test against */
+    strd d;
+    assert_int_equal(strd_read("Wampler1", 1, &d), 0);
+    double A[21 * 6], x[6], sd[6], dg[IGEA_REGRESS_DIAG_LEN];
+    for (int i = 0; i < 21; i++)
+        for (int j = 0; j < 6; j++)
+            A[i + 21 * j] = pow(d.x[i][0], j);
+    assert_int_equal(igea_regress_ls_diag(21, 6, A, 21, d.y, NULL, 0.0, 0.05, x, sd, NULL, NULL,
+                                          NULL, NULL, NULL, NULL, dg), IGEA_EDOMAIN);
+    assert_int_equal(igea_regress_ls_diag(21, 6, A, 21, d.y, NULL, 0.0, 1.0, x, sd, NULL, NULL,
+                                          NULL, NULL, NULL, NULL, dg), -8);
+}
+
 /* ---- EBR ---- */
 
 static void test_ebr_vector(void **state)
@@ -1989,6 +2040,7 @@ int main(void)
         cmocka_unit_test(test_ls_filip_exact),
         cmocka_unit_test(test_regress_sd),
         cmocka_unit_test(test_ridge_pce_autoscale),
+        cmocka_unit_test(test_ls_diag_strd),
         cmocka_unit_test(test_ls_weighted_line),
         cmocka_unit_test(test_ls_rank_deficient),
         cmocka_unit_test(test_ls_errors),

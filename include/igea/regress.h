@@ -136,6 +136,58 @@ IGEA_API int igea_regress_ls_ex(int m, int N, const double *A, int lda,
  */
 IGEA_API int igea_regress_sd(int N, const double *cov, int ldc, double *sd);
 
+/* Indices into diag[IGEA_REGRESS_DIAG_LEN] of igea_regress_ls_diag. */
+#define IGEA_REGRESS_DIAG_R2 0             /* 1 - SSR / TSS */
+#define IGEA_REGRESS_DIAG_R2_ADJ 1         /* 1 - (m - c) / (m - r) (1 - R2) */
+#define IGEA_REGRESS_DIAG_FVALUE 2         /* (ESS / df_model) / (SSR / df_resid) */
+#define IGEA_REGRESS_DIAG_F_PVALUE 3       /* P(F(df_model, df_resid) > F) */
+#define IGEA_REGRESS_DIAG_AIC 4            /* -2 llf + 2 r */
+#define IGEA_REGRESS_DIAG_BIC 5            /* -2 llf + log(m) r */
+#define IGEA_REGRESS_DIAG_LLF 6            /* Gaussian log-likelihood */
+#define IGEA_REGRESS_DIAG_PRESS 7          /* sum (e_i / (1 - h_i))^2 */
+#define IGEA_REGRESS_DIAG_DURBIN_WATSON 8  /* sum (e_i - e_{i-1})^2 / SSR */
+#define IGEA_REGRESS_DIAG_DF_MODEL 9       /* r - c */
+#define IGEA_REGRESS_DIAG_DF_RESID 10      /* m - r */
+#define IGEA_REGRESS_DIAG_CONSTANT 11      /* c: 1 when a column is constant (intercept) */
+#define IGEA_REGRESS_DIAG_T_CRIT 12        /* t_{1 - alpha/2}(df_resid) */
+#define IGEA_REGRESS_DIAG_SSR 13           /* sum of squared weighted residuals */
+#define IGEA_REGRESS_DIAG_TSS 14           /* total sum of squares (centred when c = 1) */
+#define IGEA_REGRESS_DIAG_RANK 15          /* r */
+#define IGEA_REGRESS_DIAG_LEN 24 /* slots 16.. reserved for additions */
+
+/*
+ * Weighted least squares (igea_regress_ls, refined) with the regression
+ * diagnostics statsmodels' OLS and WLS report, on the caller's design
+ * (docs/regress.md, "Regression diagnostics"). With weights w_i =
+ * 1/sigma_i^2 (1 without sigma) and the weighted residuals
+ * e_i = (y_i - A_i x) / sigma_i: SSR = sum e_i^2; c = 1 when some column
+ * of A is constant and nonzero, and then TSS = sum w_i (y_i - ybar_w)^2
+ * (ybar_w the weighted mean), else TSS = sum w_i y_i^2 (uncentred);
+ * ESS = TSS - SSR; r the rank; llf = -m/2 (log(2 pi SSR / m) + 1) +
+ * (1/2) sum log w_i; the leverages h_i = diag of the hat matrix of
+ * diag(1/sigma) A; t_j = x_j / sd_j with p_j = 2 Q_t(|t_j|; m - r);
+ * confidence limits x_j -+ t_{1-alpha/2}(m - r) sd_j; Cook's distance
+ * D_i = e_i^2 / (s^2 (1 - h_i)) h_i / (1 - h_i) / N, s^2 = SSR / (m - r).
+ * A coefficient with sd 0 (a zero column) has t 0 and p 1; F is 0 and its
+ * p-value 1 when df_model = 0.
+ *  1 m, 2 N, 3 A (m x N), 4 lda >= m, 5 y (m), 6 sigma (m row sds > 0, may
+ *  be NULL), 7 rcond (as igea_regress_ls), 8 alpha in (0, 1) (0.05: 95 %
+ *  intervals);
+ * Outputs: 9 x[N]; 10 sd[N]; 11 tvalues[N], 12 pvalues[N], 13 ci_lower[N],
+ *  14 ci_upper[N], 15 leverage[m], 16 cooks_d[m] (each may be NULL);
+ *  17 diag[IGEA_REGRESS_DIAG_LEN] (the IGEA_REGRESS_DIAG_* entries).
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ERANGE,
+ * IGEA_EDOMAIN (no residual degrees of freedom, an exact fit SSR = 0, TSS
+ * = 0, an observation with leverage 1, or more than 1e7 degrees of
+ * freedom), IGEA_EOVERFLOW, IGEA_ENOMEM, IGEA_ELAPACK; outputs are written
+ * only on success.
+ */
+IGEA_API int igea_regress_ls_diag(int m, int N, const double *A, int lda, const double *y,
+                                  const double *sigma, double rcond, double alpha, double *x,
+                                  double *sd, double *tvalues, double *pvalues,
+                                  double *ci_lower, double *ci_upper, double *leverage,
+                                  double *cooks_d, double *diag);
+
 /*
  * Empirical-Bayes ridge exactly as METHODS 4.3 on the whitened rows
  * diag(1/sigma) A, y / sigma: canonical form of diag(1/sigma) A D (thin
