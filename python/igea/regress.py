@@ -89,6 +89,30 @@ class LsResult(_Estimate):
     sd: np.ndarray = None
     rank_tol: float = 0.0
     refine_steps: int = 0
+    # statsmodels-OLS diagnostics (igea_regress_ls_diag; None when they are
+    # not defined: no residual dof, an exact fit, a leverage of 1)
+    r2: float = None
+    r2_adj: float = None
+    fvalue: float = None
+    f_pvalue: float = None
+    tvalues: np.ndarray = None
+    pvalues: np.ndarray = None
+    conf_int_lower: np.ndarray = None
+    conf_int_upper: np.ndarray = None
+    alpha: float = 0.05
+    llf: float = None
+    aic: float = None
+    bic: float = None
+    leverage: np.ndarray = None
+    cooks_d: np.ndarray = None
+    press: float = None
+    durbin_watson: float = None
+    df_model: int = None
+    df_resid: int = None
+
+    def conf_int(self):
+        """(N, 2) array of the 1 - alpha confidence limits, as statsmodels."""
+        return np.column_stack([self.conf_int_lower, self.conf_int_upper])
 
     def summary(self):
         N = len(self.x)
@@ -247,14 +271,42 @@ class Collinearity:
         return "\n".join(lines)
 
 
-def ls(A, y, sigma=None, *, spec=None, rcond=0.0, names=None):
+def _ls_diag(A, m, N, y, sg, rcond, alpha):
+    """The diagnostics fields of LsResult (empty when not defined)."""
+    from ._lib import IgeaError
+    x, sd, t, pv, lo, hi = (np.empty(N) for _ in range(6))
+    lev, cd = np.empty(m), np.empty(m)
+    dg = np.zeros(_capi.REGRESS_DIAG_LEN)
+    try:
+        _lib.call("igea.ls", "igea_regress_ls_diag", m, N, _lib.dptr(A), m, _lib.dptr(y),
+                  _lib.dptr(sg), float(rcond), float(alpha), _lib.dptr(x), _lib.dptr(sd),
+                  _lib.dptr(t), _lib.dptr(pv), _lib.dptr(lo), _lib.dptr(hi), _lib.dptr(lev),
+                  _lib.dptr(cd), _lib.dptr(dg))
+    except IgeaError as e:
+        if e.code != _capi.EDOMAIN:
+            raise
+        return dict(alpha=float(alpha))
+    g = lambda k: float(dg[getattr(_capi, "REGRESS_DIAG_" + k)])  # noqa: E731
+    return dict(r2=g("R2"), r2_adj=g("R2_ADJ"), fvalue=g("FVALUE"), f_pvalue=g("F_PVALUE"),
+                tvalues=t, pvalues=pv, conf_int_lower=lo, conf_int_upper=hi,
+                alpha=float(alpha), llf=g("LLF"), aic=g("AIC"), bic=g("BIC"), leverage=lev,
+                cooks_d=cd, press=g("PRESS"), durbin_watson=g("DURBIN_WATSON"),
+                df_model=int(g("DF_MODEL")), df_resid=int(g("DF_RESID")))
+
+
+def ls(A, y, sigma=None, *, spec=None, rcond=0.0, names=None, alpha=0.05):
     """Weighted least squares by SVD; minimum-norm solution if rank-deficient.
 
     A: (m, N), y: (m,), sigma: None, a number or (m,) row sds; spec: None
     or (N,) column scales (the 1-sigma specs: every estimator then works on
     A diag(spec) and returns x, cov in A's units); rcond <= 0 for the
     default rank cut max(m, N) eps. Returns LsResult(x, cov, rank,
-    sigma2, residual, sd, rank_tol, refine_steps); igea_regress_ls_ex."""
+    sigma2, residual, sd, rank_tol, refine_steps; igea_regress_ls_ex) with
+    the statsmodels-OLS/WLS diagnostics of igea_regress_ls_diag on A as
+    given: r2, r2_adj, fvalue, f_pvalue, tvalues, pvalues, conf_int_lower,
+    conf_int_upper (level 1 - alpha; conf_int() stacks them), llf, aic, bic,
+    leverage, cooks_d, press, durbin_watson, df_model, df_resid (None where
+    they are not defined: no residual dof, an exact fit, a leverage 1)."""
     A, m, N, y, sg, sp = _design(A, y, sigma, spec)
     x, sd = np.empty(N), np.empty(N)
     cov = np.empty((N, N), order="F")
@@ -267,7 +319,8 @@ def ls(A, y, sigma=None, *, spec=None, rcond=0.0, names=None):
     return LsResult(x=x, cov=np.ascontiguousarray(cov), rank=int(info[_capi.REGRESS_INFO_RANK]),
                     sigma2=float(s2[0]), residual=res, names=_given(N, names), sd=sd,
                     rank_tol=float(info[_capi.REGRESS_INFO_TOL]),
-                    refine_steps=int(info[_capi.REGRESS_INFO_REFINE_STEPS]))
+                    refine_steps=int(info[_capi.REGRESS_INFO_REFINE_STEPS]),
+                    **_ls_diag(A, m, N, y, sg, rcond, alpha))
 
 
 def ebr(A, y, sigma=None, *, spec=None, rule="sc", lam_floor=0.0, names=None):
