@@ -594,6 +594,26 @@ int igea_regress_ls_ex(int m, int N, const double *A, int lda, const double *y,
     return st;
 }
 
+int igea_regress_rank_info(int m, int N, const double *A, int lda, const double *sigma,
+                           const double *spec_sigma, double rcond, double *info)
+{
+    int st = check_args(m, N, A, lda, NULL, 1);
+    if (st)
+        return st;
+    if (isnan(rcond) || rcond >= 1.0)
+        return -7;
+    if (!info)
+        return -8;
+    if ((st = check_values(m, N, A, lda, NULL, sigma, spec_sigma)))
+        return st;
+    canon c;
+    if ((st = canon_make(m, N, A, lda, NULL, sigma, spec_sigma, rcond, &c)))
+        return st;
+    ls_info(&c, rcond, 0, 0, info);
+    canon_free(&c);
+    return 0;
+}
+
 int igea_regress_sd(int N, const double *cov, int ldc, double *sd)
 {
     if (N < 1)

@@ -412,6 +412,23 @@ static void test_ls_diag_strd(void **state)
                                           NULL, NULL, NULL, NULL, dg), -8);
 }
 
+/* igea_regress_rank_info on a diagonal design (closed form: s = 3, 2,
+ * 1e-20 after the row weights 1/sigma = 1): r = 2, cut 4 eps * 3, s1/s2. */
+static void test_rank_info(void **state)
+{
+    (void)state;
+    double A[4 * 3] = {3, 0, 0, 0, 0, 2, 0, 0, 0, 0, 1e-20, 0}, info[IGEA_REGRESS_INFO_LEN];
+    assert_int_equal(igea_regress_rank_info(4, 3, A, 4, NULL, NULL, 0.0, info), 0);
+    assert_true(info[IGEA_REGRESS_INFO_RANK] == 2.0);
+    assert_close(info[IGEA_REGRESS_INFO_TOL], 4 * DBL_EPSILON * 3.0, 1e-15);
+    assert_close(info[IGEA_REGRESS_INFO_COND], 1.5, 1e-15);
+    const double spec[3] = {1, 1, 1e10}; /* 1e-10: now above the cut */
+    assert_int_equal(igea_regress_rank_info(4, 3, A, 4, NULL, spec, 0.0, info), 0);
+    assert_true(info[IGEA_REGRESS_INFO_RANK] == 3.0);
+    assert_int_equal(igea_regress_rank_info(4, 3, A, 4, NULL, NULL, 1.0, info), -7);
+    assert_int_equal(igea_regress_rank_info(4, 3, A, 4, NULL, NULL, 0.0, NULL), -8);
+}
+
 /* ---- EBR ---- */
 
 static void test_ebr_vector(void **state)
@@ -2041,6 +2058,7 @@ int main(void)
         cmocka_unit_test(test_regress_sd),
         cmocka_unit_test(test_ridge_pce_autoscale),
         cmocka_unit_test(test_ls_diag_strd),
+        cmocka_unit_test(test_rank_info),
         cmocka_unit_test(test_ls_weighted_line),
         cmocka_unit_test(test_ls_rank_deficient),
         cmocka_unit_test(test_ls_errors),

@@ -128,6 +128,22 @@ IGEA_API int igea_regress_ls_ex(int m, int N, const double *A, int lda,
                                 double *sigma2, double *residual, double *info);
 
 /*
+ * The rank information of diag(1/sigma) A D (D = diag(spec_sigma) or I),
+ * the design igea_regress_ebr, igea_regress_collinearity and (without
+ * automatic scaling) ridge and PCE judge the rank on: r = #{s_i > rcond
+ * s_1}. 1 m >= 1, 2 N >= 1, 3 A (m x N), 4 lda >= m, 5 sigma (m row sds,
+ * may be NULL), 6 spec_sigma (N scales, may be NULL), 7 rcond (< 1; <= 0
+ * for the default max(m, N) eps), 8 info[IGEA_REGRESS_INFO_LEN] (output):
+ * RANK, RCOND, TOL = rcond s_1, COND = s_1 / s_r; SCALED and REFINE_STEPS 0.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ERANGE,
+ * IGEA_EOVERFLOW, IGEA_ENOMEM, IGEA_ELAPACK; info is written only on
+ * success.
+ */
+IGEA_API int igea_regress_rank_info(int m, int N, const double *A, int lda,
+                                    const double *sigma, const double *spec_sigma,
+                                    double rcond, double *info);
+
+/*
  * Standard deviations sd[j] = sqrt(cov[j][j]) of an estimator's covariance
  * (N x N, column-major, leading dimension ldc >= N; only the diagonal is
  * read). 1 N >= 1, 2 cov, 3 ldc, 4 sd[N] (output, written only on success).

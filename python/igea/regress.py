@@ -138,6 +138,7 @@ class EbrResult(_Estimate):
     sd_frequentist: np.ndarray
     rule: str = "sc"
     names: tuple = None
+    rank_tol: float = 0.0
 
     def summary(self):
         N = len(self.x)
@@ -340,9 +341,12 @@ def ebr(A, y, sigma=None, *, spec=None, rule="sc", lam_floor=0.0, names=None):
               _lib.dptr(sp), rule_code, float(lam_floor), _lib.dptr(x), _lib.dptr(cov), N,
               _lib.dptr(lam), _lib.iptr(rank), _lib.dptr(s2), _lib.dptr(res), _lib.dptr(sh),
               _lib.dptr(sf))
+    info = np.zeros(_capi.REGRESS_INFO_LEN)
+    _lib.call("igea.ebr", "igea_regress_rank_info", m, N, _lib.dptr(A), m, _lib.dptr(sg),
+              _lib.dptr(sp), 0.0, _lib.dptr(info))
     return EbrResult(x=x, cov=np.ascontiguousarray(cov), lam=float(lam[0]), rank=int(rank[0]),
                      sigma2=float(s2[0]), residual=res, shrink=sh, sd_frequentist=sf, rule=rule,
-                     names=_given(N, names))
+                     names=_given(N, names), rank_tol=float(info[_capi.REGRESS_INFO_TOL]))
 
 
 def ridge(A, y, sigma=None, *, spec=None, k=None, rule=None, names=None):

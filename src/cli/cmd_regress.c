@@ -219,6 +219,8 @@ static int estimate(const rg_args *a, const rg_in *in, rg_out *r)
     default:
         st = igea_regress_ebr(m, N, A, m, y, sig, sp, a->rule_code, a->lam_floor, r->x, r->cov,
                               N, &r->scalar, &r->rank, &r->sigma2, NULL, r->shrink, r->sdf);
+        if (st == 0) /* the cut EBR applied to the same design */
+            st = igea_regress_rank_info(m, N, A, m, sig, sp, 0.0, r->info);
         r->scalar_name = "lam";
         break;
     }
@@ -283,7 +285,7 @@ static void json_report(FILE *f, const rg_args *a, const rg_in *in, const rg_out
     cli_jnum(&j, "sigma2", r->sigma2);
     if (r->have_diag)
         json_diag(&j, N, in->m, a->alpha, r);
-    if (a->method == M_LS || a->method == M_RIDGE || a->method == M_PCE)
+    if (a->method != M_BAYES)
         cli_jnum(&j, "rank_tol", r->info[IGEA_REGRESS_INFO_TOL]);
     if (a->method == M_LS)
         cli_jint(&j, "refine_steps", (int)r->info[IGEA_REGRESS_INFO_REFINE_STEPS]);
@@ -337,7 +339,7 @@ static void text_report(FILE *f, const rg_args *a, const rg_in *in, const rg_out
         fprintf(f, "column norms differ by more than %.0e: columns scaled to unit norm "
                    "internally (the tuning constant is that of the scaled design)\n",
                 IGEA_REGRESS_SCALE_RATIO);
-    if (a->method == M_RIDGE || a->method == M_PCE)
+    if (a->method == M_RIDGE || a->method == M_PCE || a->method == M_EBR)
         fprintf(f, "rank cut: singular values above %.3e\n", r->info[IGEA_REGRESS_INFO_TOL]);
     if (r->scalar_name)
         fprintf(f, "%s = %.10g\n", r->scalar_name, r->scalar);

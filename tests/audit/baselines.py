@@ -131,6 +131,7 @@ BASE = {
     'igea_regress_ls': dict(_req=['x'], _inf_ok=['rcond-']),
     'igea_regress_ls_diag': dict(m='8', alpha='0.05', _req=['x', 'sd', 'diag'], _inf_ok=['rcond-'],
                                  _opt=['tvalues', 'pvalues', 'ci_lower', 'ci_upper', 'leverage', 'cooks_d']),
+    'igea_regress_rank_info': dict(_inf_ok=['rcond-']),
     'igea_regress_sd': dict(cov='set:audit_spd(b_, 3, 3, 1.0);', ldc='N'),
     'igea_regress_ls_ex': dict(flags='0', _int=dict(flags='enum'), _req=['x', 'info'], _inf_ok=['rcond-']),
     'igea_regress_ridge': dict(rule='IGEA_REGRESS_RIDGE_FIXED', k='0.1', _req=['A', 'x', 'y']),

@@ -60,3 +60,17 @@ def test_ridge_pce_scale_and_rank():
     s1 = np.linalg.svd(A2, compute_uv=False)[0]
     assert not r2.scaled and r2.rank == 3
     assert abs(r2.rank_tol / (12 * np.finfo(float).eps * s1) - 1) < 1e-12
+
+
+def test_ebr_rank_tol():
+    """EBR's rank and the cut it applied: max(m, N) eps s_1 of diag(1/sigma) A D."""
+    rng = np.random.default_rng(5)
+    A = rng.standard_normal((20, 6))
+    A[:, 5] = A[:, 4] + A[:, 3]  # exactly dependent: rank 5
+    y = A @ rng.standard_normal(6) + 0.1 * rng.standard_normal(20)
+    spec = np.array([1, 2, 3, 1, 1, 1.0])
+    r = igea.ebr(A, y, 0.5, spec=spec)
+    s = np.linalg.svd(A * spec / 0.5, compute_uv=False)
+    assert r.rank == 5
+    assert abs(r.rank_tol / (20 * np.finfo(float).eps * s[0]) - 1) < 1e-12
+    assert s[4] > r.rank_tol > s[5]
