@@ -306,15 +306,32 @@ static double refine_step(int m, int N, const double *A, int lda, const double *
     double *f = wk, *g = f + m, *u = g + N, *w = u + N, *t = w + N;
     for (int i = 0; i < m; i++) {
         xacc e = row_resid(N, A, lda, i, y[i], xl);
-        long double w = sigma ? 1.0L / sigma[i] : 1.0L;
-        f[i] = (double)(((e.s * w - rl[i].s) + e.c * w) - rl[i].c);
+        long double es = e.s, ec = e.c;
+        if (sigma) { /* e / sigma to about 2^-128 (fmal remainder) */
+            es = e.s / sigma[i];
+            ec = (fmal(-es, sigma[i], e.s) + e.c) / sigma[i];
+        }
+        f[i] = (double)(((es - rl[i].s) + ec) - rl[i].c);
+    }
+    /* r_i / sigma_i as q + q2 to about 2^-128 (fmal remainder), so that the
+     * weights are not rounded where B^T r cancels */
+    size_t off = (size_t)m + 4 * (size_t)N; /* after t[N], padded to 16 bytes */
+    long double *q = (long double *)(void *)(wk + off + (off & 1));
+    for (int i = 0; i < m; i++) {
+        if (!sigma) {
+            q[2 * i] = rl[i].s;
+            q[2 * i + 1] = rl[i].c;
+            continue;
+        }
+        long double qi = rl[i].s / sigma[i];
+        q[2 * i] = qi;
+        q[2 * i + 1] = (fmal(-qi, sigma[i], rl[i].s) + rl[i].c) / sigma[i];
     }
     for (int j = 0; j < N; j++) {
         xacc a = {0.0L, 0.0L};
         for (int i = 0; i < m; i++) {
-            long double w = sigma ? 1.0L / sigma[i] : 1.0L;
-            xacc_prod(&a, IGEA_AT(A, lda, i, j), rl[i].s * w);
-            xacc_prod(&a, IGEA_AT(A, lda, i, j), rl[i].c * w);
+            xacc_prod(&a, IGEA_AT(A, lda, i, j), q[2 * i]);
+            xacc_prod(&a, IGEA_AT(A, lda, i, j), q[2 * i + 1]);
         }
         g[j] = (double)(-(a.s + a.c) * cs[j]);
     }
@@ -347,7 +364,11 @@ static int ls_refine(int m, int N, const double *A, int lda, const double *y,
                      const double *sigma, const canon *c, const double *cs, double *x,
                      double *res)
 {
-    double *mem = igea__dalloc(2 * (size_t)N + 4 * (size_t)m + (size_t)m + 4 * (size_t)N);
+    /* long doubles first (16-byte aligned): xl[N], rl[m] (two each), then
+     * the doubles f[m], g, u, w, t[N] and 2 m long doubles of refine_step */
+    size_t nd = 2 * (size_t)N + 4 * (size_t)m + (size_t)m + 4 * (size_t)N;
+    nd += nd & 1;
+    double *mem = igea__dalloc(nd + 4 * (size_t)m);
     if (!mem)
         return IGEA_ENOMEM;
     long double *xl = (long double *)(void *)mem;
@@ -358,8 +379,9 @@ static int ls_refine(int m, int N, const double *A, int lda, const double *y,
     for (int i = 0; i < m; i++) {
         rl[i] = row_resid(N, A, lda, i, y[i], xl);
         if (sigma) {
-            rl[i].s /= sigma[i];
-            rl[i].c /= sigma[i];
+            long double s0 = rl[i].s;
+            rl[i].s = s0 / sigma[i];
+            rl[i].c = (fmal(-rl[i].s, sigma[i], s0) + rl[i].c) / sigma[i];
         }
     }
     int it = 0;

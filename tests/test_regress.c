@@ -263,6 +263,28 @@ static void test_ls_strd(void **state)
     }
 }
 
+/* Row weights leave Wampler5's solution unchanged when they are equal;
+ * with sigma = 3 (1/3 not a double) the refinement keeps the weights
+ * exact (fmal remainders) and still returns x = 1 to 14 digits. */
+static void test_ls_strd_weighted(void **state)
+{
+    (void)state;
+    strd d;
+    assert_int_equal(strd_read("Wampler5", 1, &d), 0);
+    double A[21 * 6], x[6], sd[6], sig[21], s2, info[IGEA_REGRESS_INFO_LEN];
+    for (int i = 0; i < 21; i++) {
+        sig[i] = 3.0;
+        for (int j = 0; j < 6; j++)
+            A[i + 21 * j] = pow(d.x[i][0], j);
+    }
+    assert_int_equal(igea_regress_ls_ex(21, 6, A, 21, d.y, sig, NULL, 0.0, 0, x, NULL, 0, sd, &s2,
+                                        NULL, info), 0);
+    for (int j = 0; j < 6; j++) {
+        assert_true(lre(x[j], 1.0) >= 14.0);
+        assert_close(sd[j], d.sd[j], 1e-12); /* s^2 = RSS_w / (m - r) absorbs the scale */
+    }
+}
+
 /* Filip: the exact least-squares solution of the double-precision design
  * (pow(x, j) of the doubles read from Filip.dat) and y, by mpmath 1.3.0
  * at 80 digits (normal equations in exact binary inputs:
@@ -2055,6 +2077,7 @@ int main(void)
         cmocka_unit_test(test_ls_filip),
         cmocka_unit_test(test_ls_strd),
         cmocka_unit_test(test_ls_filip_exact),
+        cmocka_unit_test(test_ls_strd_weighted),
         cmocka_unit_test(test_regress_sd),
         cmocka_unit_test(test_ridge_pce_autoscale),
         cmocka_unit_test(test_ls_diag_strd),

@@ -99,8 +99,9 @@ IGEA_API int igea_regress_ls(int m, int N, const double *A, int lda,
  * the rank information. At full rank the SVD solution is refined on the
  * augmented system [I B; B^T 0] [r; x'] = [y_w; 0] (Bjorck 1967), B the
  * column-equilibrated weighted design, with the residuals y_w - r - B x'
- * and B^T r accumulated in x86 extended precision (64-bit significand)
- * from the caller's A and y, until a correction is below 2^-60 of x' or
+ * and B^T r accumulated in x86 extended precision (64-bit significand;
+ * exact products by fma, compensated sums, r/sigma with its fmal
+ * remainder) from the caller's A, y and sigma, until a correction is below 2^-60 of x' or
  * stops shrinking (at most 10 steps): x is then the least-squares
  * solution of the double-precision data to nearly the last digit
  * (docs/regress.md, "Least squares to the last digit"). igea_regress_ls
