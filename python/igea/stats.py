@@ -46,6 +46,21 @@ def chi2_upper(alpha, dof):
     return _scalar("igea_stats_chi2_upper", "igea.chi2_upper", float(alpha), float(dof))
 
 
+def t_sf(t, dof):
+    """Student's t upper tail P(T > t); igea_stats_t_sf."""
+    return _scalar("igea_stats_t_sf", "igea.t_sf", float(t), float(dof))
+
+
+def t_quantile(p, dof):
+    """Lower quantile of Student's t: P(T <= t) = p; igea_stats_t_quantile."""
+    return _scalar("igea_stats_t_quantile", "igea.t_quantile", float(p), float(dof))
+
+
+def f_sf(f, d1, d2):
+    """F distribution upper tail P(F > f; d1, d2); igea_stats_f_sf."""
+    return _scalar("igea_stats_f_sf", "igea.f_sf", float(f), float(d1), float(d2))
+
+
 def union_size(n, a, b):
     """P(max |z_i| > a or sum z_i^2 > b) for n independent N(0, 1): the
     true size of the overall verdict with thresholds a, b (either may be

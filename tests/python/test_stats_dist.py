@@ -34,3 +34,15 @@ def test_normal_sf():
     assert igea.normal_sf(math.inf) == 0.0
     with pytest.raises(igea.IgeaError):
         igea.normal_sf(math.nan)
+
+
+def test_t_f_against_scipy_and_mpmath():
+    """mpmath 1.3.0 values (tests/test_stats.c) and scipy.stats at moderate dof."""
+    from scipy import stats
+    assert igea.t_sf(2.0, 10) == pytest.approx(3.6694017385370183e-2, rel=1e-13)
+    assert igea.t_quantile(0.975, 10) == pytest.approx(2.2281388519862742, rel=1e-14)
+    assert igea.f_sf(3.0, 2, 10) == pytest.approx(1.6 ** -5, rel=1e-14)  # closed form
+    for t, n in [(-2.5, 3), (0.7, 17), (4.0, 250)]:
+        assert igea.t_sf(t, n) == pytest.approx(stats.t.sf(t, n), rel=1e-12)
+    for f, a, b in [(0.8, 4, 9), (2.5, 12, 40)]:
+        assert igea.f_sf(f, a, b) == pytest.approx(stats.f.sf(f, a, b), rel=1e-12)
