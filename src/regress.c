@@ -8,6 +8,7 @@
 #include <lapacke.h>
 
 #include "igea/regress.h"
+#include "igea/stats.h"
 #include "internal.h"
 
 /* ---- the canonical form ------------------------------------------------ */
@@ -257,6 +258,153 @@ static int fit_out(int m, int N, const double *spec, double s2, double *xs,
     return 0;
 }
 
+/* ---- iterative refinement ---------------------------------------------- */
+
+/* Compensated (Neumaier) accumulation in long double of exact products:
+ * a v for a double a and a long double v = vh + vl (vh its double
+ * rounding), a vh = p + e exactly (fma), a vl to 2^-64 relative; the
+ * sum keeps about 2^-120 relative to its terms, so the cancellation of
+ * y - A x and A^T r at the least-squares solution costs nothing. */
+typedef struct {
+    long double s, c;
+} xacc;
+
+static void xacc_add(xacc *a, long double v)
+{
+    long double t = a->s + v;
+    a->c += fabsl(a->s) >= fabsl(v) ? (a->s - t) + v : (v - t) + a->s;
+    a->s = t;
+}
+
+static void xacc_prod(xacc *a, double x, long double v)
+{
+    double vh = (double)v, p = x * vh;
+    xacc_add(a, p);
+    xacc_add(a, fma(x, vh, -p));
+    xacc_add(a, (long double)x * (v - vh));
+}
+
+/* y_i - sum_j A_ij x_j in extended precision (row i, x in long double),
+ * unevaluated as s + c. */
+static xacc row_resid(int N, const double *A, int lda, int i, double yi, const long double *x)
+{
+    xacc a = {yi, 0.0L};
+    for (int j = 0; j < N; j++)
+        xacc_prod(&a, -IGEA_AT(A, lda, i, j), x[j]);
+    return a;
+}
+
+/* One correction of the augmented system [I B; B^T 0] [r; x'] = [yw; 0]
+ * (Bjorck 1967), B = diag(1/sigma) A diag(cs) = U S V^T (full rank, k = N):
+ * from the extended-precision residuals f = yw - r - B x', g = -B^T r,
+ * dx' = V (S^-1 U^T f - S^-2 V^T g) and dr = f - U (U^T f - S^-1 V^T g).
+ * Updates xl (A's units) and rl; returns max |dx'_j| / max |x'_j|. */
+static double refine_step(int m, int N, const double *A, int lda, const double *y,
+                          const double *sigma, const canon *c, const double *cs,
+                          long double *xl, xacc *rl, double *wk)
+{
+    double *f = wk, *g = f + m, *u = g + N, *w = u + N, *t = w + N;
+    for (int i = 0; i < m; i++) {
+        xacc e = row_resid(N, A, lda, i, y[i], xl);
+        long double es = e.s, ec = e.c;
+        if (sigma) { /* e / sigma to about 2^-128 (fmal remainder) */
+            es = e.s / sigma[i];
+            ec = (fmal(-es, sigma[i], e.s) + e.c) / sigma[i];
+        }
+        f[i] = (double)(((es - rl[i].s) + ec) - rl[i].c);
+    }
+    /* r_i / sigma_i as q + q2 to about 2^-128 (fmal remainder), so that the
+     * weights are not rounded where B^T r cancels */
+    size_t off = (size_t)m + 4 * (size_t)N; /* after t[N], padded to 16 bytes */
+    long double *q = (long double *)(void *)(wk + off + (off & 1));
+    for (int i = 0; i < m; i++) {
+        if (!sigma) {
+            q[2 * i] = rl[i].s;
+            q[2 * i + 1] = rl[i].c;
+            continue;
+        }
+        long double qi = rl[i].s / sigma[i];
+        q[2 * i] = qi;
+        q[2 * i + 1] = (fmal(-qi, sigma[i], rl[i].s) + rl[i].c) / sigma[i];
+    }
+    for (int j = 0; j < N; j++) {
+        xacc a = {0.0L, 0.0L};
+        for (int i = 0; i < m; i++) {
+            xacc_prod(&a, IGEA_AT(A, lda, i, j), q[2 * i]);
+            xacc_prod(&a, IGEA_AT(A, lda, i, j), q[2 * i + 1]);
+        }
+        g[j] = (double)(-(a.s + a.c) * cs[j]);
+    }
+    cblas_dgemv(CblasColMajor, CblasTrans, m, N, 1.0, c->U, m, f, 1, 0.0, u, 1);
+    cblas_dgemv(CblasColMajor, CblasTrans, N, N, 1.0, c->V, N, g, 1, 0.0, w, 1);
+    for (int i = 0; i < N; i++) {
+        w[i] /= c->s[i];
+        t[i] = (u[i] - w[i]) / c->s[i];
+        u[i] -= w[i];
+    }
+    double dmax = 0.0, xmax = 0.0;
+    for (int j = 0; j < N; j++) {
+        double dxs = cblas_ddot(N, c->V + j, N, t, 1);
+        xl[j] += (long double)dxs * cs[j];
+        dmax = IGEA_MAX(dmax, fabs(dxs));
+        xmax = IGEA_MAX(xmax, fabs((double)(xl[j] / cs[j])));
+    }
+    for (int i = 0; i < m; i++)
+        xacc_add(&rl[i], f[i] - cblas_ddot(N, c->U + i, m, u, 1));
+    return xmax > 0.0 ? dmax / xmax : 0.0;
+}
+
+/* Iterative refinement of the full-rank LS solution x (A's units, in
+ * place) with residuals in extended precision, until a correction is below
+ * 2^-60 of x' or stops shrinking (at most IGEA_REGRESS_REFINE_MAX steps).
+ * res[m] receives y - A x of the returned x, in extended precision and
+ * rounded once. Returns the number of steps, or IGEA_ENOMEM. */
+#define IGEA_REGRESS_REFINE_MAX 10
+static int ls_refine(int m, int N, const double *A, int lda, const double *y,
+                     const double *sigma, const canon *c, const double *cs, double *x,
+                     double *res)
+{
+    /* long doubles first (16-byte aligned): xl[N], rl[m] (two each), then
+     * the doubles f[m], g, u, w, t[N] and 2 m long doubles of refine_step */
+    size_t nd = 2 * (size_t)N + 4 * (size_t)m + (size_t)m + 4 * (size_t)N;
+    nd += nd & 1;
+    double *mem = igea__dalloc(nd + 4 * (size_t)m);
+    if (!mem)
+        return IGEA_ENOMEM;
+    long double *xl = (long double *)(void *)mem;
+    xacc *rl = (xacc *)(void *)(mem + 2 * (size_t)N);
+    double *wk = mem + 2 * (size_t)N + 4 * (size_t)m;
+    for (int j = 0; j < N; j++)
+        xl[j] = x[j];
+    for (int i = 0; i < m; i++) {
+        rl[i] = row_resid(N, A, lda, i, y[i], xl);
+        if (sigma) {
+            long double s0 = rl[i].s;
+            rl[i].s = s0 / sigma[i];
+            rl[i].c = (fmal(-rl[i].s, sigma[i], s0) + rl[i].c) / sigma[i];
+        }
+    }
+    int it = 0;
+    double prev = HUGE_VAL;
+    while (it < IGEA_REGRESS_REFINE_MAX) {
+        double d = refine_step(m, N, A, lda, y, sigma, c, cs, xl, rl, wk);
+        it++;
+        if (!(d > 0x1p-60) || d > 0.5 * prev)
+            break;
+        prev = d;
+    }
+    for (int j = 0; j < N; j++)
+        x[j] = (double)xl[j];
+    for (int j = 0; j < N; j++)
+        xl[j] = x[j];
+    for (int i = 0; i < m; i++) {
+        xacc e = row_resid(N, A, lda, i, y[i], xl);
+        res[i] = (double)(e.s + e.c);
+    }
+    free(mem);
+    return it;
+}
+
 /* ---- least squares ----------------------------------------------------- */
 
 /* cs[j] = 1 / ||column j of diag(1/sigma) A||, without forming a norm
@@ -281,12 +429,69 @@ static void equilibrate(int m, int N, const double *A, int lda, const double *si
     }
 }
 
+/* Options and extra outputs of ls_core (NULL sd/info: none). */
+typedef struct {
+    int refine;
+    double *sd, *info;
+} ls_extra;
+
+/* Standard deviations sqrt(diag(cov)) in the caller's units. */
+static void ls_sd(const canon *c, int r, const double *g, double s2, const double *D,
+                  const double *spec, double *sd)
+{
+    canon_sd(c, r, g, s2, D, sd);
+    if (spec)
+        for (int j = 0; j < c->N; j++)
+            sd[j] *= spec[j];
+}
+
+/* The info[] entries of least squares. */
+static void ls_info(const canon *c, double rcond, int scaled, int steps, double *info)
+{
+    for (int i = 0; i < IGEA_REGRESS_INFO_LEN; i++)
+        info[i] = 0.0;
+    double rc = rcond > 0 ? rcond : IGEA_MAX(c->m, c->N) * DBL_EPSILON;
+    info[IGEA_REGRESS_INFO_RANK] = c->r;
+    info[IGEA_REGRESS_INFO_RCOND] = rc;
+    info[IGEA_REGRESS_INFO_TOL] = rc * c->s[0];
+    info[IGEA_REGRESS_INFO_SCALED] = scaled;
+    info[IGEA_REGRESS_INFO_REFINE_STEPS] = steps;
+    info[IGEA_REGRESS_INFO_COND] = c->r > 0 && c->s[c->r - 1] > 0 ? c->s[0] / c->s[c->r - 1] : 0.0;
+}
+
+/* x, the residuals and s^2 of LS from the canonical form; at full rank
+ * refined in extended precision when ex->refine (steps in *steps). */
+static int ls_solve(int m, int N, const double *A, int lda, const double *y,
+                    const double *sigma, const canon *c, const double *D, int refine,
+                    double *g, double *xs, double *res, double *s2, int *steps)
+{
+    int r = c->r;
+    for (int i = 0; i < r; i++)
+        g[i] = 1.0 / c->s[i];
+    canon_coef(c, r, g, D, xs);
+    *steps = 0;
+    if (refine && D && r == N) {
+        int it = ls_refine(m, N, A, lda, y, sigma, c, D, xs, res);
+        if (it < 0)
+            return it;
+        *steps = it;
+    } else
+        residual_of(m, N, A, lda, y, xs, res);
+    igea__ksum acc = {0.0, 0.0};
+    for (int i = 0; i < m; i++) {
+        double e = res[i] / (sigma ? sigma[i] : 1.0);
+        igea__ksum_add(&acc, e * e);
+    }
+    *s2 = m > r ? igea__ksum_get(&acc) / (m - r) : 0.0;
+    return 0;
+}
+
 /* Least squares on the (scaled) design A; spec only takes x and cov back to
  * the caller's units. */
 static int ls_core(int m, int N, const double *A, int lda, const double *y,
                    const double *sigma, const double *spec, double rcond,
                    double *x, double *cov, int ldc, int *rank, double *sigma2,
-                   double *residual)
+                   double *residual, const ls_extra *ex)
 {
     int st;
     /* [D] Column equilibration: the rank is judged and, at full rank, the
@@ -294,10 +499,10 @@ static int ls_core(int m, int N, const double *A, int lda, const double *y,
      * (scale-invariant rank; this keeps NIST Filip at ~8 digits). At rank
      * deficiency the unscaled SVD gives the minimum-norm solution. */
     size_t nn = cov ? (size_t)N * (size_t)N : 0;
-    double *cs = igea__dalloc((size_t)N + (size_t)N + (size_t)m + (size_t)N + nn);
+    double *cs = igea__dalloc(4 * (size_t)N + (size_t)m + nn);
     if (!cs)
         return IGEA_ENOMEM;
-    double *xs = cs + N, *res = xs + N, *g = res + m, *cv = g + N;
+    double *xs = cs + N, *res = xs + N, *g = res + m, *sdt = g + N, *cv = sdt + N;
     equilibrate(m, N, A, lda, sigma, cs);
     canon c;
     st = canon_make(m, N, A, lda, y, sigma, cs, rcond, &c);
@@ -315,36 +520,36 @@ static int ls_core(int m, int N, const double *A, int lda, const double *y,
         }
         D = NULL;
     }
-    int r = c.r;
-    for (int i = 0; i < r; i++)
-        g[i] = 1.0 / c.s[i];
-    canon_coef(&c, r, g, D, xs);
-    residual_of(m, N, A, lda, y, xs, res);
-    igea__ksum acc = {0.0, 0.0};
-    for (int i = 0; i < m; i++) {
-        double e = res[i] / (sigma ? sigma[i] : 1.0);
-        igea__ksum_add(&acc, e * e);
-    }
-    double s2 = m > r ? igea__ksum_get(&acc) / (m - r) : 0.0;
-    if (cov) {
+    int r = c.r, steps;
+    double s2;
+    st = ls_solve(m, N, A, lda, y, sigma, &c, D, ex->refine, g, xs, res, &s2, &steps);
+    if (st == 0) {
         for (int i = 0; i < r; i++)
             g[i] = 1.0 / c.s[i] / c.s[i];
-        canon_cov(&c, r, g, s2, D, cv, N);
+        if (cov)
+            canon_cov(&c, r, g, s2, D, cv, N);
+        ls_sd(&c, r, g, s2, D, spec, sdt);
+        st = igea__finite_vec(N, sdt, 1) ? 0 : IGEA_EOVERFLOW;
     }
-    st = fit_out(m, N, spec, s2, xs, cv, res, x, cov, ldc, residual);
+    if (st == 0)
+        st = fit_out(m, N, spec, s2, xs, cv, res, x, cov, ldc, residual);
     if (st == 0) {
         *rank = r;
         *sigma2 = s2;
+        if (ex->sd)
+            memcpy(ex->sd, sdt, (size_t)N * sizeof(double));
+        if (ex->info)
+            ls_info(&c, rcond, D != NULL, steps, ex->info);
     }
     canon_free(&c);
     free(cs);
     return st;
 }
 
-int igea_regress_ls(int m, int N, const double *A, int lda, const double *y,
-                    const double *sigma, const double *spec_sigma, double rcond,
-                    double *x, double *cov, int ldc, int *rank, double *sigma2,
-                    double *residual)
+/* Checks common to igea_regress_ls and igea_regress_ls_ex (positions of
+ * igea_regress_ls; the caller shifts them). */
+static int ls_check(int m, int N, const double *A, int lda, const double *y, double rcond,
+                    const double *x, const double *cov, int ldc)
 {
     int st = check_args(m, N, A, lda, y, 0);
     if (st)
@@ -355,6 +560,17 @@ int igea_regress_ls(int m, int N, const double *A, int lda, const double *y,
         return -9;
     if (cov && ldc < N)
         return -11;
+    return 0;
+}
+
+int igea_regress_ls(int m, int N, const double *A, int lda, const double *y,
+                    const double *sigma, const double *spec_sigma, double rcond,
+                    double *x, double *cov, int ldc, int *rank, double *sigma2,
+                    double *residual)
+{
+    int st = ls_check(m, N, A, lda, y, rcond, x, cov, ldc);
+    if (st)
+        return st;
     if (!rank)
         return -12;
     if (!sigma2)
@@ -365,9 +581,272 @@ int igea_regress_ls(int m, int N, const double *A, int lda, const double *y,
     double *own;
     if (scaled_design(m, N, &A, &lda, spec_sigma, &own))
         return IGEA_ENOMEM;
+    const ls_extra ex = {1, NULL, NULL};
     st = ls_core(m, N, A, lda, y, sigma, spec_sigma, rcond, x, cov, ldc, rank,
-                 sigma2, residual);
+                 sigma2, residual, &ex);
     free(own);
+    return st;
+}
+
+int igea_regress_ls_ex(int m, int N, const double *A, int lda, const double *y,
+                       const double *sigma, const double *spec_sigma, double rcond,
+                       int flags, double *x, double *cov, int ldc, double *sd,
+                       double *sigma2, double *residual, double *info)
+{
+    int st = ls_check(m, N, A, lda, y, rcond, x, cov, ldc);
+    if (st)
+        return st < -8 ? st - 1 : st;
+    if (flags & ~IGEA_REGRESS_NO_REFINE)
+        return -9;
+    if (!sigma2)
+        return -14;
+    if (!info)
+        return -16;
+    st = check_values(m, N, A, lda, y, sigma, spec_sigma);
+    if (st)
+        return st;
+    double *own;
+    if (scaled_design(m, N, &A, &lda, spec_sigma, &own))
+        return IGEA_ENOMEM;
+    const ls_extra ex = {!(flags & IGEA_REGRESS_NO_REFINE), sd, info};
+    int rank;
+    st = ls_core(m, N, A, lda, y, sigma, spec_sigma, rcond, x, cov, ldc, &rank,
+                 sigma2, residual, &ex);
+    free(own);
+    return st;
+}
+
+int igea_regress_rank_info(int m, int N, const double *A, int lda, const double *sigma,
+                           const double *spec_sigma, double rcond, double *info)
+{
+    int st = check_args(m, N, A, lda, NULL, 1);
+    if (st)
+        return st;
+    if (isnan(rcond) || rcond >= 1.0)
+        return -7;
+    if (!info)
+        return -8;
+    if ((st = check_values(m, N, A, lda, NULL, sigma, spec_sigma)))
+        return st;
+    canon c;
+    if ((st = canon_make(m, N, A, lda, NULL, sigma, spec_sigma, rcond, &c)))
+        return st;
+    ls_info(&c, rcond, 0, 0, info);
+    canon_free(&c);
+    return 0;
+}
+
+int igea_regress_sd(int N, const double *cov, int ldc, double *sd)
+{
+    if (N < 1)
+        return -1;
+    if (!cov)
+        return -2;
+    if (ldc < N)
+        return -3;
+    if (!sd)
+        return -4;
+    for (int j = 0; j < N; j++) {
+        double v = cov[j + (size_t)j * ldc];
+        if (!isfinite(v))
+            return IGEA_ENONFINITE;
+        if (v < 0.0)
+            return IGEA_EDOMAIN;
+    }
+    for (int j = 0; j < N; j++)
+        sd[j] = sqrt(cov[j + (size_t)j * ldc]);
+    return 0;
+}
+
+/* ---- regression diagnostics -------------------------------------------- */
+
+/* 1 when some column of A is constant and nonzero (a model intercept). */
+static int has_constant(int m, int N, const double *A, int lda)
+{
+    for (int j = 0; j < N; j++) {
+        double v = IGEA_AT(A, lda, 0, j);
+        int same = v != 0.0;
+        for (int i = 1; same && i < m; i++)
+            same = IGEA_AT(A, lda, i, j) == v;
+        if (same)
+            return 1;
+    }
+    return 0;
+}
+
+/* Leverages h_i = sum_{k<r} U_ik^2 of the weighted design, the rank
+ * judged as igea_regress_ls does (column-equilibrated at full rank). */
+static int leverages(int m, int N, const double *A, int lda, const double *sigma, int r,
+                     double *h)
+{
+    double *cs = igea__dalloc((size_t)N);
+    if (!cs)
+        return IGEA_ENOMEM;
+    equilibrate(m, N, A, lda, sigma, cs);
+    canon c;
+    int st = canon_make(m, N, A, lda, NULL, sigma, r == N ? cs : NULL, 0.0, &c);
+    free(cs);
+    if (st)
+        return st;
+    int rr = IGEA_MIN(r, c.k);
+    for (int i = 0; i < m; i++) {
+        double a = 0.0;
+        for (int k = 0; k < rr; k++)
+            a += c.U[i + (size_t)k * m] * c.U[i + (size_t)k * m];
+        h[i] = a;
+    }
+    canon_free(&c);
+    return 0;
+}
+
+/* The scalar diagnostics from the weighted residuals e, the weights, the
+ * leverages h (statsmodels' OLS/WLS conventions, docs/regress.md). */
+static int diag_scalars(int m, const double *y, const double *sigma, const double *e,
+                        const double *h, int r, int kc, double *d)
+{
+    long double sw = 0, swy = 0, ssr = 0, tss = 0, lw = 0, dw = 0, press = 0;
+    for (int i = 0; i < m; i++) {
+        long double w = sigma ? 1.0L / ((long double)sigma[i] * sigma[i]) : 1.0L;
+        sw += w;
+        swy += w * y[i];
+        ssr += (long double)e[i] * e[i];
+        lw += logl(w);
+        if (i > 0)
+            dw += ((long double)e[i] - e[i - 1]) * ((long double)e[i] - e[i - 1]);
+        press += ((long double)e[i] / (1.0L - h[i])) * ((long double)e[i] / (1.0L - h[i]));
+    }
+    long double ybar = kc ? swy / sw : 0.0L;
+    for (int i = 0; i < m; i++) {
+        long double w = sigma ? 1.0L / ((long double)sigma[i] * sigma[i]) : 1.0L;
+        tss += w * (y[i] - ybar) * (y[i] - ybar);
+    }
+    if (!(tss > 0) || !(ssr > 0))
+        return IGEA_EDOMAIN;
+    int dfm = r - kc, dfr = m - r;
+    long double ess = tss > ssr ? tss - ssr : 0.0L, n = m;
+    double F = dfm > 0 ? (double)((ess / dfm) / (ssr / dfr)) : 0.0, pf = 1.0;
+    if (dfm > 0 && igea_stats_f_sf(F, dfm, dfr, &pf))
+        return IGEA_EDOMAIN;
+    long double llf = -0.5L * n * (logl(2.0L * 3.14159265358979323846264338327950288L * ssr / n)
+                                   + 1.0L) + 0.5L * lw;
+    d[IGEA_REGRESS_DIAG_R2] = (double)(1.0L - ssr / tss);
+    d[IGEA_REGRESS_DIAG_R2_ADJ] = (double)(1.0L - (n - kc) / dfr * (ssr / tss));
+    d[IGEA_REGRESS_DIAG_FVALUE] = F;
+    d[IGEA_REGRESS_DIAG_F_PVALUE] = pf;
+    d[IGEA_REGRESS_DIAG_LLF] = (double)llf;
+    d[IGEA_REGRESS_DIAG_AIC] = (double)(-2.0L * llf + 2.0L * r);
+    d[IGEA_REGRESS_DIAG_BIC] = (double)(-2.0L * llf + logl(n) * r);
+    d[IGEA_REGRESS_DIAG_PRESS] = (double)press;
+    d[IGEA_REGRESS_DIAG_DURBIN_WATSON] = (double)(dw / ssr);
+    d[IGEA_REGRESS_DIAG_DF_MODEL] = dfm;
+    d[IGEA_REGRESS_DIAG_DF_RESID] = dfr;
+    d[IGEA_REGRESS_DIAG_CONSTANT] = kc;
+    d[IGEA_REGRESS_DIAG_SSR] = (double)ssr;
+    d[IGEA_REGRESS_DIAG_TSS] = (double)tss;
+    return 0;
+}
+
+/* t, p, confidence limits per coefficient and Cook's distances. */
+static int diag_coef(int m, int N, const double *x, const double *sd, const double *e,
+                     const double *h, double s2, int dfr, double alpha, double *w, double *d)
+{
+    double tc;
+    if (igea_stats_t_quantile(1.0 - 0.5 * alpha, dfr, &tc))
+        return IGEA_EDOMAIN;
+    double *t = w, *p = t + N, *lo = p + N, *hi = lo + N, *cd = hi + N;
+    for (int j = 0; j < N; j++) {
+        t[j] = sd[j] > 0 ? x[j] / sd[j] : 0.0;
+        double q = 0.5;
+        if (sd[j] > 0 && igea_stats_t_sf(fabs(t[j]), dfr, &q))
+            return IGEA_EDOMAIN;
+        p[j] = 2.0 * q;
+        lo[j] = x[j] - tc * sd[j];
+        hi[j] = x[j] + tc * sd[j];
+    }
+    for (int i = 0; i < m; i++) {
+        double ri2 = e[i] * e[i] / (s2 * (1.0 - h[i]));
+        cd[i] = ri2 / N * h[i] / (1.0 - h[i]);
+    }
+    d[IGEA_REGRESS_DIAG_T_CRIT] = tc;
+    return igea__finite_vec(4 * N + m, w, 1) ? 0 : IGEA_EOVERFLOW;
+}
+
+/* The diagnostics into scratch (x, sd, e, h, coefficient and observation
+ * arrays w, dg); the caller copies them out. */
+static int diag_run(int m, int N, const double *A, int lda, const double *y,
+                    const double *sigma, double rcond, double alpha, double *xs, double *sd,
+                    double *e, double *h, double *w, double *dg)
+{
+    double s2, info[IGEA_REGRESS_INFO_LEN];
+    const ls_extra ex = {1, sd, info};
+    int rank;
+    int st = ls_core(m, N, A, lda, y, sigma, NULL, rcond, xs, NULL, 0, &rank, &s2, e, &ex);
+    if (st)
+        return st;
+    if (m - rank < 1 || !(s2 > 0.0))
+        return IGEA_EDOMAIN;
+    for (int i = 0; i < m; i++)
+        e[i] = sigma ? e[i] / sigma[i] : e[i];
+    if ((st = leverages(m, N, A, lda, sigma, rank, h)))
+        return st;
+    for (int i = 0; i < m; i++)
+        if (!(h[i] < 1.0 - 1e-10))
+            return IGEA_EDOMAIN;
+    for (int i = 0; i < IGEA_REGRESS_DIAG_LEN; i++)
+        dg[i] = 0.0;
+    st = diag_scalars(m, y, sigma, e, h, rank, has_constant(m, N, A, lda), dg);
+    if (st == 0)
+        st = diag_coef(m, N, xs, sd, e, h, s2, m - rank, alpha, w, dg);
+    dg[IGEA_REGRESS_DIAG_RANK] = rank;
+    return st;
+}
+
+static void copy_opt(double *dst, const double *src, int n)
+{
+    if (dst)
+        memcpy(dst, src, (size_t)n * sizeof(double));
+}
+
+int igea_regress_ls_diag(int m, int N, const double *A, int lda, const double *y,
+                         const double *sigma, double rcond, double alpha, double *x,
+                         double *sd, double *tvalues, double *pvalues, double *ci_lower,
+                         double *ci_upper, double *leverage, double *cooks_d, double *diag)
+{
+    int st = check_args(m, N, A, lda, y, 0);
+    if (st)
+        return st;
+    if (isnan(rcond) || rcond >= 1.0)
+        return -7;
+    if (!(alpha > 0.0 && alpha < 1.0))
+        return -8;
+    if (!x)
+        return -9;
+    if (!sd)
+        return -10;
+    if (!diag)
+        return -17;
+    if ((st = check_values(m, N, A, lda, y, sigma, NULL)))
+        return st;
+    double *mem = igea__dalloc(6 * (size_t)N + 3 * (size_t)m + IGEA_REGRESS_DIAG_LEN);
+    if (!mem)
+        return IGEA_ENOMEM;
+    double *xs = mem, *sds = xs + N, *e = sds + N, *h = e + m, *w = h + m;
+    double *dg = w + 4 * (size_t)N + m;
+    st = diag_run(m, N, A, lda, y, sigma, rcond, alpha, xs, sds, e, h, w, dg);
+    if (st == 0 && !igea__finite_vec(IGEA_REGRESS_DIAG_LEN, dg, 1))
+        st = IGEA_EOVERFLOW;
+    if (st == 0) {
+        memcpy(x, xs, (size_t)N * sizeof(double));
+        memcpy(sd, sds, (size_t)N * sizeof(double));
+        copy_opt(tvalues, w, N);
+        copy_opt(pvalues, w + N, N);
+        copy_opt(ci_lower, w + 2 * N, N);
+        copy_opt(ci_upper, w + 3 * N, N);
+        copy_opt(leverage, h, m);
+        copy_opt(cooks_d, w + 4 * N, m);
+        memcpy(diag, dg, IGEA_REGRESS_DIAG_LEN * sizeof(double));
+    }
+    free(mem);
     return st;
 }
 
@@ -829,7 +1308,7 @@ static int ridge_rule_rk(const canon *c, int rule, double rss, double s2,
 static int ridge_core(int m, int N, const double *A, int lda, const double *y,
                       const double *sigma, const double *spec, int rule,
                       double k, double *x, double *cov, int ldc,
-                      double *k_used, double *sigma2, double *residual)
+                      double *k_used, double *sigma2, double *residual, double *info)
 {
     canon c;
     int st = canon_make(m, N, A, lda, y, sigma, NULL, 0.0, &c);
@@ -871,17 +1350,18 @@ static int ridge_core(int m, int N, const double *A, int lda, const double *y,
     if (st == 0) {
         *k_used = kk;
         *sigma2 = s2;
+        if (info)
+            ls_info(&c, 0.0, 0, 0, info);
     }
     free(w);
     canon_free(&c);
     return st;
 }
 
-int igea_regress_ridge(int m, int N, const double *A, int lda,
-                       const double *y, const double *sigma,
-                       const double *spec_sigma, int rule, double k, double *x,
-                       double *cov, int ldc, double *k_used, double *sigma2,
-                       double *residual)
+/* Argument checks of igea_regress_ridge (and _ex). */
+static int ridge_check(int m, int N, const double *A, int lda, const double *y, int rule,
+                       double k, const double *x, const double *cov, int ldc,
+                       const double *k_used, const double *sigma2)
 {
     int st = check_args(m, N, A, lda, y, 0);
     if (st)
@@ -898,6 +1378,18 @@ int igea_regress_ridge(int m, int N, const double *A, int lda,
         return -13;
     if (!sigma2)
         return -14;
+    return 0;
+}
+
+int igea_regress_ridge(int m, int N, const double *A, int lda,
+                       const double *y, const double *sigma,
+                       const double *spec_sigma, int rule, double k, double *x,
+                       double *cov, int ldc, double *k_used, double *sigma2,
+                       double *residual)
+{
+    int st = ridge_check(m, N, A, lda, y, rule, k, x, cov, ldc, k_used, sigma2);
+    if (st)
+        return st;
     st = check_values(m, N, A, lda, y, sigma, spec_sigma);
     if (st)
         return st;
@@ -905,7 +1397,7 @@ int igea_regress_ridge(int m, int N, const double *A, int lda,
     if (scaled_design(m, N, &A, &lda, spec_sigma, &own))
         return IGEA_ENOMEM;
     st = ridge_core(m, N, A, lda, y, sigma, spec_sigma, rule, k, x, cov, ldc,
-                    k_used, sigma2, residual);
+                    k_used, sigma2, residual, NULL);
     free(own);
     return st;
 }
@@ -974,7 +1466,7 @@ int igea_regress_ridge_trace(int m, int N, const double *A, int lda,
 static int pce_core(int m, int N, const double *A, int lda, const double *y,
                     const double *sigma, const double *spec, int ncomp,
                     double eig_min, double *x, double *cov, int ldc,
-                    int *nused, double *sigma2, double *residual)
+                    int *nused, double *sigma2, double *residual, double *info)
 {
     canon c;
     int st = canon_make(m, N, A, lda, y, sigma, NULL, 0.0, &c);
@@ -1009,16 +1501,18 @@ static int pce_core(int m, int N, const double *A, int lda, const double *y,
     if (st == 0) {
         *nused = n;
         *sigma2 = s2;
+        if (info)
+            ls_info(&c, 0.0, 0, 0, info);
     }
     free(w);
     canon_free(&c);
     return st;
 }
 
-int igea_regress_pce(int m, int N, const double *A, int lda, const double *y,
-                     const double *sigma, const double *spec_sigma, int ncomp,
-                     double eig_min, double *x, double *cov, int ldc,
-                     int *nused, double *sigma2, double *residual)
+/* Argument checks of igea_regress_pce (and _ex). */
+static int pce_check(int m, int N, const double *A, int lda, const double *y, int ncomp,
+                     double eig_min, const double *x, const double *cov, int ldc,
+                     const int *nused, const double *sigma2)
 {
     int st = check_args(m, N, A, lda, y, 0);
     if (st)
@@ -1035,6 +1529,17 @@ int igea_regress_pce(int m, int N, const double *A, int lda, const double *y,
         return -13;
     if (!sigma2)
         return -14;
+    return 0;
+}
+
+int igea_regress_pce(int m, int N, const double *A, int lda, const double *y,
+                     const double *sigma, const double *spec_sigma, int ncomp,
+                     double eig_min, double *x, double *cov, int ldc,
+                     int *nused, double *sigma2, double *residual)
+{
+    int st = pce_check(m, N, A, lda, y, ncomp, eig_min, x, cov, ldc, nused, sigma2);
+    if (st)
+        return st;
     st = check_values(m, N, A, lda, y, sigma, spec_sigma);
     if (st)
         return st;
@@ -1042,10 +1547,113 @@ int igea_regress_pce(int m, int N, const double *A, int lda, const double *y,
     if (scaled_design(m, N, &A, &lda, spec_sigma, &own))
         return IGEA_ENOMEM;
     st = pce_core(m, N, A, lda, y, sigma, spec_sigma, ncomp, eig_min, x, cov,
-                  ldc, nused, sigma2, residual);
+                  ldc, nused, sigma2, residual, NULL);
     free(own);
     return st;
 }
+
+/* ---- automatic column scaling (ridge_ex, pce_ex) ----------------------- */
+
+/* The scales the _ex estimators work with: spec (or 1) times, when the
+ * column norms of diag(1/sigma) A diag(spec) differ by more than
+ * IGEA_REGRESS_SCALE_RATIO, 1 / norm (a column of norm 0 has scale 1,
+ * equilibrate). *sp then points to an igea-owned array (*own_sp, to
+ * free), else to spec. */
+static int auto_scale(int m, int N, const double *A, int lda, const double *sigma,
+                      const double *spec, const double **sp, double **own_sp, int *scaled)
+{
+    double *cs = igea__dalloc((size_t)N);
+    const double *Ad = A;
+    int ld = lda;
+    double *own;
+    *own_sp = NULL;
+    *sp = spec;
+    *scaled = 0;
+    if (!cs || scaled_design(m, N, &Ad, &ld, spec, &own)) {
+        free(cs);
+        return IGEA_ENOMEM;
+    }
+    equilibrate(m, N, Ad, ld, sigma, cs);
+    free(own);
+    double lo = HUGE_VAL, hi = 0.0;
+    for (int j = 0; j < N; j++) {
+        lo = IGEA_MIN(lo, cs[j]);
+        hi = IGEA_MAX(hi, cs[j]);
+    }
+    if (hi > IGEA_REGRESS_SCALE_RATIO * lo) {
+        for (int j = 0; j < N; j++)
+            cs[j] *= spec ? spec[j] : 1.0;
+        *own_sp = cs;
+        *sp = cs;
+        *scaled = 1;
+        return 0;
+    }
+    free(cs);
+    return 0;
+}
+
+int igea_regress_ridge_ex(int m, int N, const double *A, int lda, const double *y,
+                          const double *sigma, const double *spec_sigma, int rule, double k,
+                          double *x, double *cov, int ldc, double *k_used, double *sigma2,
+                          double *residual, double *info)
+{
+    int st = ridge_check(m, N, A, lda, y, rule, k, x, cov, ldc, k_used, sigma2);
+    if (st)
+        return st;
+    if (!info)
+        return -16;
+    st = check_values(m, N, A, lda, y, sigma, spec_sigma);
+    if (st)
+        return st;
+    const double *sp;
+    double *own_sp, *own;
+    int scaled;
+    if (auto_scale(m, N, A, lda, sigma, spec_sigma, &sp, &own_sp, &scaled))
+        return IGEA_ENOMEM;
+    if (scaled_design(m, N, &A, &lda, sp, &own)) {
+        free(own_sp);
+        return IGEA_ENOMEM;
+    }
+    st = ridge_core(m, N, A, lda, y, sigma, sp, rule, k, x, cov, ldc, k_used, sigma2,
+                    residual, info);
+    if (st == 0)
+        info[IGEA_REGRESS_INFO_SCALED] = scaled;
+    free(own);
+    free(own_sp);
+    return st;
+}
+
+int igea_regress_pce_ex(int m, int N, const double *A, int lda, const double *y,
+                        const double *sigma, const double *spec_sigma, int ncomp,
+                        double eig_min, double *x, double *cov, int ldc, int *nused,
+                        double *sigma2, double *residual, double *info)
+{
+    int st = pce_check(m, N, A, lda, y, ncomp, eig_min, x, cov, ldc, nused, sigma2);
+    if (st)
+        return st;
+    if (!info)
+        return -16;
+    st = check_values(m, N, A, lda, y, sigma, spec_sigma);
+    if (st)
+        return st;
+    const double *sp;
+    double *own_sp, *own;
+    int scaled;
+    if (auto_scale(m, N, A, lda, sigma, spec_sigma, &sp, &own_sp, &scaled))
+        return IGEA_ENOMEM;
+    if (scaled_design(m, N, &A, &lda, sp, &own)) {
+        free(own_sp);
+        return IGEA_ENOMEM;
+    }
+    st = pce_core(m, N, A, lda, y, sigma, sp, ncomp, eig_min, x, cov, ldc, nused, sigma2,
+                  residual, info);
+    if (st == 0)
+        info[IGEA_REGRESS_INFO_SCALED] = scaled;
+    free(own);
+    free(own_sp);
+    return st;
+}
+
 
 /* ---- Bayes --------------------------------------------------------------- */
 

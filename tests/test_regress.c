@@ -2,6 +2,8 @@
  * References: METHODS 4.2 (20-position design) and 4.3 (EBR test vector);
  * NIST StRD Longley and Filip certified values (computed by NIST in
  * 500-digit arithmetic); closed forms derived in the comments. */
+#include <float.h>
+
 #include "testutil.h"
 
 #include "igea/regress.h"
@@ -166,6 +168,287 @@ static void test_ls_filip(void **state)
         assert_close(x[j], filip_b[j], 1e-7);
         assert_close(sqrt(cov[j + 11 * j]), filip_sd[j], 1e-7);
     }
+}
+
+/* ---- NIST StRD linear regression: all 11 problems ---- */
+
+/* The files in tests/data/strd/ are NIST's Statistical Reference Datasets
+ * for linear least squares (https://www.itl.nist.gov/div898/strd/lls/,
+ * a US Government work, public domain): the certified B_j and their
+ * standard deviations (NIST: 500-digit arithmetic) in the lines
+ * "B<j> estimate sd", the data after the last line starting "Data:". */
+typedef struct {
+    int n, p;
+    double b[11], sd[11], y[100], x[100][6];
+} strd;
+
+static int strd_read(const char *name, int npred, strd *d)
+{
+    char path[256], line[512];
+    snprintf(path, sizeof path, "tests/data/strd/%s.dat", name);
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return -1;
+    long data_at = -1;
+    d->n = d->p = 0;
+    while (fgets(line, sizeof line, f)) {
+        int j;
+        double b, s;
+        if (sscanf(line, " B%d %lf %lf", &j, &b, &s) == 3 && d->p < 11) {
+            d->b[d->p] = b;
+            d->sd[d->p++] = s;
+        }
+        if (strncmp(line, "Data:", 5) == 0)
+            data_at = ftell(f);
+    }
+    fseek(f, data_at, SEEK_SET);
+    while (d->n < 100 && fscanf(f, "%lf", &d->y[d->n]) == 1) {
+        for (int k = 0; k < npred; k++)
+            if (fscanf(f, "%lf", &d->x[d->n][k]) != 1)
+                return fclose(f), -1;
+        d->n++;
+    }
+    fclose(f);
+    return data_at < 0 ? -1 : 0;
+}
+
+/* Log relative error, capped at 15 (absolute when the certified value is 0). */
+static double lre(double got, double cert)
+{
+    double e = cert != 0.0 ? fabs(got - cert) / fabs(cert) : fabs(got);
+    return e > 0 ? IGEA_MIN(15.0, -log10(e)) : 15.0;
+}
+
+/* kind 0: polynomial in x of degree p - 1; 1: y = B1 x (no intercept);
+ * 2: intercept and npred columns. Minimum LRE over coefficients and sds. */
+static void strd_fit(const char *name, int kind, int npred, int flags, double *lre_b,
+                     double *lre_sd)
+{
+    strd d;
+    assert_int_equal(strd_read(name, npred, &d), 0);
+    int n = d.n, p = d.p;
+    double *A = malloc(sizeof(double) * (size_t)n * (size_t)p), x[11], sd[11], s2, info[16];
+    assert_non_null(A);
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < p; j++)
+            A[i + (size_t)j * n] = kind == 1 ? d.x[i][0] : kind == 2 ? (j ? d.x[i][j - 1] : 1.0)
+                                                                     : pow(d.x[i][0], j);
+    assert_int_equal(igea_regress_ls_ex(n, p, A, n, d.y, NULL, NULL, 0.0, flags, x, NULL, 0, sd,
+                                        &s2, NULL, info), 0);
+    assert_true(info[IGEA_REGRESS_INFO_RANK] == p);
+    *lre_b = *lre_sd = 15.0;
+    for (int j = 0; j < p; j++) {
+        *lre_b = IGEA_MIN(*lre_b, lre(x[j], d.b[j]));
+        *lre_sd = IGEA_MIN(*lre_sd, lre(sd[j], d.sd[j]));
+    }
+    free(A);
+}
+
+static void test_ls_strd(void **state)
+{
+    (void)state;
+    static const struct { const char *name; int kind, npred; double min_b, min_sd; } P[] = {
+        {"Norris", 0, 1, 9, 9},   {"Pontius", 0, 1, 9, 9},  {"NoInt1", 1, 1, 9, 9},
+        {"NoInt2", 1, 1, 9, 9},   {"Filip", 0, 1, 7, 7},    {"Longley", 2, 6, 9, 9},
+        {"Wampler1", 0, 1, 9, 9}, {"Wampler2", 0, 1, 9, 9}, {"Wampler3", 0, 1, 9, 9},
+        {"Wampler4", 0, 1, 9, 9}, {"Wampler5", 0, 1, 9, 9}};
+    for (size_t k = 0; k < sizeof P / sizeof P[0]; k++) {
+        double lb, ls, lb0, ls0;
+        strd_fit(P[k].name, P[k].kind, P[k].npred, 0, &lb, &ls);
+        strd_fit(P[k].name, P[k].kind, P[k].npred, IGEA_REGRESS_NO_REFINE, &lb0, &ls0);
+        print_message("%-9s LRE coef %5.2f sd %5.2f (unrefined %5.2f %5.2f)\n", P[k].name, lb, ls,
+                      lb0, ls0);
+        assert_true(lb >= P[k].min_b);
+        assert_true(ls >= P[k].min_sd);
+    }
+}
+
+/* Row weights leave Wampler5's solution unchanged when they are equal;
+ * with sigma = 3 (1/3 not a double) the refinement keeps the weights
+ * exact (fmal remainders) and still returns x = 1 to 14 digits. */
+static void test_ls_strd_weighted(void **state)
+{
+    (void)state;
+    strd d;
+    assert_int_equal(strd_read("Wampler5", 1, &d), 0);
+    double A[21 * 6], x[6], sd[6], sig[21], s2, info[IGEA_REGRESS_INFO_LEN];
+    for (int i = 0; i < 21; i++) {
+        sig[i] = 3.0;
+        for (int j = 0; j < 6; j++)
+            A[i + 21 * j] = pow(d.x[i][0], j);
+    }
+    assert_int_equal(igea_regress_ls_ex(21, 6, A, 21, d.y, sig, NULL, 0.0, 0, x, NULL, 0, sd, &s2,
+                                        NULL, info), 0);
+    for (int j = 0; j < 6; j++) {
+        assert_true(lre(x[j], 1.0) >= 14.0);
+        assert_close(sd[j], d.sd[j], 1e-12); /* s^2 = RSS_w / (m - r) absorbs the scale */
+    }
+}
+
+/* Filip: the exact least-squares solution of the double-precision design
+ * (pow(x, j) of the doubles read from Filip.dat) and y, by mpmath 1.3.0
+ * at 80 digits (normal equations in exact binary inputs:
+ *   M = mpmath.matrix([[mpmath.mpf(math.pow(v, j)) for j in range(11)] for v in x])
+ *   b = mpmath.lu_solve(M.T * M, M.T * Y)).
+ * It agrees with NIST's certified values (exact decimal data) to LRE 7.61
+ * only: the rounding of the data to doubles moves the solution that far
+ * (scaled condition number 5.2e9). igea must reproduce it to 13 digits. */
+static const double filip_exact[11] = {
+    -1467.4896406575195, -2772.1796428402328, -2316.3711251051091, -1127.973962693167,
+    -354.47824071352111, -75.124203269885366, -10.875318264388821, -1.0622150090377793,
+    -0.067019116975598725, -0.0024678108408518231, -4.0296253497222846e-5};
+
+static void test_ls_filip_exact(void **state)
+{
+    (void)state;
+    strd d;
+    assert_int_equal(strd_read("Filip", 1, &d), 0);
+    double A[82 * 11], x[11], s2, info[16];
+    for (int i = 0; i < 82; i++)
+        for (int j = 0; j < 11; j++)
+            A[i + 82 * j] = pow(d.x[i][0], j);
+    assert_int_equal(igea_regress_ls_ex(82, 11, A, 82, d.y, NULL, NULL, 0.0, 0, x, NULL, 0, NULL,
+                                        &s2, NULL, info), 0);
+    for (int j = 0; j < 11; j++)
+        assert_close(x[j], filip_exact[j], 1e-13);
+    assert_true(info[IGEA_REGRESS_INFO_REFINE_STEPS] >= 1);
+    assert_true(info[IGEA_REGRESS_INFO_SCALED] == 1.0);
+}
+
+/* igea_regress_sd: sqrt of the diagonal (ldc > N), refusals. */
+static void test_regress_sd(void **state)
+{
+    (void)state;
+    double cov[3 * 2] = {4.0, 1.0, NAN, 1.0, 2.25, NAN}, sd[2] = {-1, -1};
+    assert_int_equal(igea_regress_sd(2, cov, 3, sd), 0);
+    assert_true(sd[0] == 2.0 && sd[1] == 1.5);
+    cov[4] = -1e-30;
+    sd[0] = sd[1] = -1;
+    assert_int_equal(igea_regress_sd(2, cov, 3, sd), IGEA_EDOMAIN);
+    cov[4] = INFINITY;
+    assert_int_equal(igea_regress_sd(2, cov, 3, sd), IGEA_ENONFINITE);
+    assert_true(sd[0] == -1 && sd[1] == -1);
+    assert_int_equal(igea_regress_sd(0, cov, 3, sd), -1);
+    assert_int_equal(igea_regress_sd(2, NULL, 3, sd), -2);
+    assert_int_equal(igea_regress_sd(2, cov, 1, sd), -3);
+    assert_int_equal(igea_regress_sd(2, cov, 3, NULL), -4);
+}
+
+/* Ridge and PCE on a design whose third column is 1e-15 of the others:
+ * unscaled, its singular value falls below the rank cut and the component
+ * is dropped (x_3 = 0); the _ex functions scale the columns, keep rank 3
+ * and recover the exact-fit coefficients (y = A x_true, k = 0 and all
+ * components: least squares, x = x_true). */
+static void test_ridge_pce_autoscale(void **state)
+{
+    (void)state;
+    enum { M = 12, NC = 3 };
+    double A[M * NC], y[M], x[NC], s2, ku, info[IGEA_REGRESS_INFO_LEN];
+    const double xt[NC] = {1.5, -0.75, 2e15};
+    for (int i = 0; i < M; i++) {
+        double t = (double)i / (M - 1);
+        A[i] = 1.0;
+        A[i + M] = t;
+        A[i + 2 * M] = 1e-15 * t * t;
+        y[i] = xt[0] + xt[1] * t + 2.0 * t * t; /* = A xt up to rounding */
+    }
+    assert_int_equal(igea_regress_ridge(M, NC, A, M, y, NULL, NULL, IGEA_REGRESS_RIDGE_FIXED,
+                                        0.0, x, NULL, 0, &ku, &s2, NULL), 0);
+    assert_true(fabs(x[2]) < 1.0); /* x_3 = 2e15 lost: what the _ex functions avoid */
+    assert_int_equal(igea_regress_ridge_ex(M, NC, A, M, y, NULL, NULL, IGEA_REGRESS_RIDGE_FIXED,
+                                           0.0, x, NULL, 0, &ku, &s2, NULL, info), 0);
+    assert_true(info[IGEA_REGRESS_INFO_RANK] == 3.0 && info[IGEA_REGRESS_INFO_SCALED] == 1.0);
+    for (int j = 0; j < NC; j++)
+        assert_close(x[j], xt[j], 1e-12);
+    int nused;
+    assert_int_equal(igea_regress_pce_ex(M, NC, A, M, y, NULL, NULL, 0, 1e-6, x, NULL, 0,
+                                         &nused, &s2, NULL, info), 0);
+    assert_int_equal(nused, 3);
+    assert_true(info[IGEA_REGRESS_INFO_SCALED] == 1.0);
+    for (int j = 0; j < NC; j++)
+        assert_close(x[j], xt[j], 1e-12);
+    /* A well-scaled design is left as it is: the same numbers as ridge. */
+    double x2[NC], ku2;
+    for (int i = 0; i < M; i++)
+        A[i + 2 * M] = ((double)i / (M - 1)) * ((double)i / (M - 1));
+    assert_int_equal(igea_regress_ridge(M, NC, A, M, y, NULL, NULL, IGEA_REGRESS_RIDGE_HKB, 0.0,
+                                        x2, NULL, 0, &ku2, &s2, NULL), 0);
+    assert_int_equal(igea_regress_ridge_ex(M, NC, A, M, y, NULL, NULL, IGEA_REGRESS_RIDGE_HKB,
+                                           0.0, x, NULL, 0, &ku, &s2, NULL, info), 0);
+    assert_true(info[IGEA_REGRESS_INFO_SCALED] == 0.0 && ku == ku2);
+    for (int j = 0; j < NC; j++)
+        assert_true(x[j] == x2[j]);
+    assert_true(info[IGEA_REGRESS_INFO_RCOND] == M * DBL_EPSILON);
+    assert_int_equal(igea_regress_ridge_ex(M, NC, A, M, y, NULL, NULL, 0, 0.0, x, NULL, 0, &ku,
+                                           &s2, NULL, NULL), -16);
+}
+
+/* R^2 and the ANOVA F statistic against NIST's certified values (the
+ * "Certified Analysis of Variance Table" of each StRD file; R^2 is
+ * uncentred for the no-intercept NoInt1, as statsmodels has it). */
+static void test_ls_diag_strd(void **state)
+{
+    (void)state;
+    static const struct { const char *name; int kind, npred; double r2, F, rsd; } P[] = {
+        {"Norris", 0, 1, 0.999993745883712, 5436385.54079785, 0.884796396144373},
+        {"Pontius", 0, 1, 0.999999900178537, 185330865.995752, 0.205177424076185E-03},
+        {"NoInt1", 1, 1, 0.999365492298663, 15750.2500000000, 3.56753034006338},
+        {"Longley", 2, 6, 0.995479004577296, 330.285339234588, 304.854073561965}};
+    for (size_t k = 0; k < sizeof P / sizeof P[0]; k++) {
+        strd d;
+        assert_int_equal(strd_read(P[k].name, P[k].npred, &d), 0);
+        int n = d.n, p = d.p;
+        double *A = malloc(sizeof(double) * (size_t)n * (size_t)p), x[11], sd[11];
+        double dg[IGEA_REGRESS_DIAG_LEN], lev[100];
+        assert_non_null(A);
+        for (int i = 0; i < n; i++)
+            for (int j = 0; j < p; j++)
+                A[i + (size_t)j * n] = P[k].kind == 1 ? d.x[i][0]
+                                       : P[k].kind == 2 ? (j ? d.x[i][j - 1] : 1.0)
+                                                        : pow(d.x[i][0], j);
+        assert_int_equal(igea_regress_ls_diag(n, p, A, n, d.y, NULL, 0.0, 0.05, x, sd, NULL,
+                                              NULL, NULL, NULL, lev, NULL, dg), 0);
+        assert_close(dg[IGEA_REGRESS_DIAG_R2], P[k].r2, 1e-13);
+        assert_close(dg[IGEA_REGRESS_DIAG_FVALUE], P[k].F, 1e-10);
+        assert_close(sqrt(dg[IGEA_REGRESS_DIAG_SSR] / dg[IGEA_REGRESS_DIAG_DF_RESID]), P[k].rsd,
+                     1e-11);
+        assert_true(dg[IGEA_REGRESS_DIAG_CONSTANT] == (P[k].kind == 1 ? 0.0 : 1.0));
+        double tr = 0.0; /* trace of the hat matrix = rank */
+        for (int i = 0; i < n; i++)
+            tr += lev[i];
+        assert_close(tr, p, 1e-12);
+        for (int j = 0; j < p; j++)
+            assert_close(x[j], d.b[j], 1e-9);
+        free(A);
+    }
+    /* an exact fit has no residual to test against */
+    strd d;
+    assert_int_equal(strd_read("Wampler1", 1, &d), 0);
+    double A[21 * 6], x[6], sd[6], dg[IGEA_REGRESS_DIAG_LEN];
+    for (int i = 0; i < 21; i++)
+        for (int j = 0; j < 6; j++)
+            A[i + 21 * j] = pow(d.x[i][0], j);
+    assert_int_equal(igea_regress_ls_diag(21, 6, A, 21, d.y, NULL, 0.0, 0.05, x, sd, NULL, NULL,
+                                          NULL, NULL, NULL, NULL, dg), IGEA_EDOMAIN);
+    assert_int_equal(igea_regress_ls_diag(21, 6, A, 21, d.y, NULL, 0.0, 1.0, x, sd, NULL, NULL,
+                                          NULL, NULL, NULL, NULL, dg), -8);
+}
+
+/* igea_regress_rank_info on a diagonal design (closed form: s = 3, 2,
+ * 1e-20 after the row weights 1/sigma = 1): r = 2, cut 4 eps * 3, s1/s2. */
+static void test_rank_info(void **state)
+{
+    (void)state;
+    double A[4 * 3] = {3, 0, 0, 0, 0, 2, 0, 0, 0, 0, 1e-20, 0}, info[IGEA_REGRESS_INFO_LEN];
+    assert_int_equal(igea_regress_rank_info(4, 3, A, 4, NULL, NULL, 0.0, info), 0);
+    assert_true(info[IGEA_REGRESS_INFO_RANK] == 2.0);
+    assert_close(info[IGEA_REGRESS_INFO_TOL], 4 * DBL_EPSILON * 3.0, 1e-15);
+    assert_close(info[IGEA_REGRESS_INFO_COND], 1.5, 1e-15);
+    const double spec[3] = {1, 1, 1e10}; /* 1e-10: now above the cut */
+    assert_int_equal(igea_regress_rank_info(4, 3, A, 4, NULL, spec, 0.0, info), 0);
+    assert_true(info[IGEA_REGRESS_INFO_RANK] == 3.0);
+    assert_int_equal(igea_regress_rank_info(4, 3, A, 4, NULL, NULL, 1.0, info), -7);
+    assert_int_equal(igea_regress_rank_info(4, 3, A, 4, NULL, NULL, 0.0, NULL), -8);
 }
 
 /* ---- EBR ---- */
@@ -1792,6 +2075,13 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_ls_longley),
         cmocka_unit_test(test_ls_filip),
+        cmocka_unit_test(test_ls_strd),
+        cmocka_unit_test(test_ls_filip_exact),
+        cmocka_unit_test(test_ls_strd_weighted),
+        cmocka_unit_test(test_regress_sd),
+        cmocka_unit_test(test_ridge_pce_autoscale),
+        cmocka_unit_test(test_ls_diag_strd),
+        cmocka_unit_test(test_rank_info),
         cmocka_unit_test(test_ls_weighted_line),
         cmocka_unit_test(test_ls_rank_deficient),
         cmocka_unit_test(test_ls_errors),

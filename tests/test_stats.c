@@ -95,7 +95,7 @@ static void test_chi2_no_abort_grid(void **state)
     assert_int_equal(igea_stats_chi2_quantile(1.5, 3.0, &x), -1);
     assert_int_equal(igea_stats_chi2_quantile(0.5, -1.0, &x), -2);
     assert_int_equal(igea_stats_chi2_quantile(0.5, NAN, &x), -2);
-    assert_int_equal(igea_stats_chi2_quantile(0.5, 2e5, &x), -2);
+    assert_int_equal(igea_stats_chi2_quantile(0.5, 2e7, &x), -2);
     assert_int_equal(igea_stats_chi2_upper(0.0, 3.0, &x), -1);
     assert_int_equal(igea_stats_chi2_upper(0.5, 3.0, NULL), -3);
     assert_int_equal(igea_stats_chi2_quantile(0.5, 3.0, NULL), -3);
@@ -150,6 +150,185 @@ static void test_chi2_no_abort_grid(void **state)
     assert_int_equal(igea_stats_chi2_upper(0.01, IGEA_STATS_DOF_MAX, &x), 0);
     assert_int_equal(gsl_handler_calls, 0);
     gsl_set_error_handler(old);
+}
+
+/* Reference values: mpmath 1.3.0 at 50 significant digits, printed to 17,
+ * by this script (P through 1F1, Q through mpmath's own gammainc):
+ *   import mpmath; mpmath.mp.dps = 50
+ *   def P(x, k):
+ *       a = mpmath.mpf(k) / 2; z = mpmath.mpf(x) / 2
+ *       return z**a * mpmath.exp(-z) / mpmath.gamma(a + 1) * \
+ *              mpmath.hyp1f1(1, a + 1, z, maxterms=10**8)
+ *   def Q(x, k):
+ *       return mpmath.gammainc(mpmath.mpf(k) / 2, mpmath.mpf(x) / 2,
+ *                              mpmath.inf, regularized=True)
+ *   print(mpmath.nstr(P(9891, 1e4), 17), mpmath.nstr(Q(9891, 1e4), 17))
+ * Quantiles: mpmath.findroot(g, (t0, t0 + 1e-3), solver='secant',
+ * tol=1e-90) on g(t) = log(P(e^t, k) / p) (Q for the upper point), t0 the
+ * log of the Wilson-Hilferty start; normal tail: erfc(x / sqrt(2)) / 2. */
+static const double chi2_ref[][4] = { /* x, dof, P, Q */
+    {9891, 10000.0, 2.209922655604454e-1, 7.790077344395546e-1},
+    {10000.0, 10000.0, 5.0188063403381736e-1, 4.9811936596618264e-1},
+    {1.5, 0.001, 9.9982976056772074e-1, 1.7023943227925564e-4},
+    {0.7171067811865475, 0.01, 9.9610791489081295e-1, 3.8920851091870492e-3},
+    {1e-05, 1, 2.5231283168055979e-3, 9.974768716831944e-1},
+    {62, 2, 9.9999999999996558e-1, 3.4424771084699765e-14},
+    {3.0, 2.5, 6.9415037055418209e-1, 3.0584962944581791e-1},
+    {13.269943, 11, 7.2395113510791883e-1, 2.7604886489208117e-1},
+    {1e-20, 11, 7.675657150580713e-115, 1.0},
+    {57.88854381999832, 40, 9.6665049858359753e-1, 3.3349501416402474e-2},
+    {0.001, 0.1, 7.0242555337477799e-1, 2.9757444662522201e-1},
+    {85.85786437626905, 100, 1.5775804281463344e-1, 8.4224195718536656e-1},
+    {1200, 1000, 9.9998774405766938e-1, 1.2255942330622904e-5},
+    {27550.51025721682, 30000.0, 4.1959438220689115e-25, 1.0},
+    {101043.31473677837, 100000.0, 9.8999999999999993e-1, 1.000000000000007e-2},
+    {99000, 100000.0, 1.2478315638082799e-2, 9.875216843619172e-1},
+    {100000.0, 100000.0, 5.0059470810479331e-1, 4.9940529189520669e-1},
+    {98000.5, 100000.0, 3.402847285553807e-6, 9.9999659715271445e-1},
+    {103000, 100000.0, 9.9999999998471087e-1, 1.5289130117302352e-11},
+    {120000.0, 100000.0, 1.0, 0.0}, /* Q = 1.1684697671564152e-386 */
+    {80000.0, 100000.0, 0.0, 1.0}, /* P = 2.4796446433256449e-505 */
+    {992928.9321881345, 1000000.0, 2.7023027943305786e-7, 9.9999972976972057e-1},
+    {10000000.0, 10000000.0, 5.0005947080393784e-1, 4.9994052919606216e-1},
+    {9990000.0, 10000000.0, 1.2654131885775518e-2, 9.8734586811422448e-1},
+    {10134164.078649987, 10000000.0, 1.0, 2.6386611784143297e-196},
+};
+static const double chi2_qref[][4] = { /* p, dof, upper, x */
+    {0.01, 11, 1, 2.4724970311318283e+1},
+    {0.5, 1, 0, 4.5493642311957275e-1},
+    {1e-10, 10000.0, 0, 9.1265118024232567e+3},
+    {0.01, 100000.0, 1, 1.0104331473677837e+5},
+    {1e-12, 3, 1, 5.8919755683202153e+1},
+    {0.3, 0.01, 0, 2.9948907893113121e-105},
+    {0.05, 100000.0, 0, 9.9265537878160643e+4},
+    {1e-10, 100000.0, 1, 1.0287124188112092e+5},
+    {0.5, 100000.0, 0, 9.9999333334123463e+4},
+    {0.01, 1000000.0, 1, 1.0032928936864126e+6},
+    {0.5, 10000000.0, 0, 9.9999993333333412e+6},
+    {1e-06, 10000000.0, 1, 1.0021272358296907e+7},
+};
+static const double nsf_ref[][2] = { /* x, Q(x) */
+    {8.3, 5.205569744890254e-17},
+    {38, 2.8854283600687843e-316},
+    {1.0, 1.5865525393145705e-1},
+    {-1.5, 9.3319279873114193e-1},
+    {20, 2.7536241186062337e-89},
+    {37.5, 4.6053530095819548e-308},
+    {30, 4.9067139271481871e-198},
+};
+
+static void check_rel(double got, double want, double tol)
+{
+    if (want >= DBL_MIN)
+        assert_close(got, want, tol);
+    else /* a subnormal or 0: the correctly rounded double */
+        assert_true(got == want);
+}
+
+/* Relative error <= 1e-14 up to dof 1e5, documented 1e-13 up to 1e7. */
+static void test_chi2_mpmath(void **state)
+{
+    for (size_t i = 0; i < sizeof chi2_ref / sizeof chi2_ref[0]; i++) {
+        const double *r = chi2_ref[i];
+        double tol = r[1] <= 1e5 ? 1e-14 : 1e-13, p = -1, q = -1;
+        assert_int_equal(igea_stats_chi2_cdf(r[0], r[1], &p), 0);
+        assert_int_equal(igea_stats_chi2_sf(r[0], r[1], &q), 0);
+        check_rel(p, r[2], tol);
+        check_rel(q, r[3], tol);
+    }
+    for (size_t i = 0; i < sizeof chi2_qref / sizeof chi2_qref[0]; i++) {
+        const double *r = chi2_qref[i];
+        double tol = r[1] <= 1e5 ? 1e-14 : 1e-13, x = -1;
+        if (r[2] != 0.0)
+            assert_int_equal(igea_stats_chi2_upper(r[0], r[1], &x), 0);
+        else
+            assert_int_equal(igea_stats_chi2_quantile(r[0], r[1], &x), 0);
+        assert_close(x, r[3], tol);
+    }
+    double x = SENTINEL;
+    assert_int_equal(igea_stats_chi2_cdf(1.0, IGEA_STATS_CHI2_DOF_MAX * 1.5, &x), -2);
+    assert_true(x == SENTINEL);
+}
+
+static void test_normal_sf(void **state)
+{
+    for (size_t i = 0; i < sizeof nsf_ref / sizeof nsf_ref[0]; i++) {
+        double q = -1;
+        assert_int_equal(igea_stats_normal_sf(nsf_ref[i][0], &q), 0);
+        check_rel(q, nsf_ref[i][1], 1e-15);
+    }
+    double q = -1;
+    /* the smallest positive double 2^-1074 ~ 4.94e-324: Q(38.4674) ~ 4.95e-324 */
+    assert_int_equal(igea_stats_normal_sf(38.4674, &q), 0);
+    assert_true(q == 0x1p-1074);
+    assert_int_equal(igea_stats_normal_sf(38.6, &q), 0);
+    assert_true(q == 0.0);
+    assert_int_equal(igea_stats_normal_sf(-INFINITY, &q), 0);
+    assert_true(q == 1.0);
+    assert_int_equal(igea_stats_normal_sf(INFINITY, &q), 0);
+    assert_true(q == 0.0);
+    q = SENTINEL;
+    assert_int_equal(igea_stats_normal_sf(NAN, &q), -1);
+    assert_true(q == SENTINEL);
+    assert_int_equal(igea_stats_normal_sf(1.0, NULL), -2);
+}
+
+/* Student's t and F tails, t quantiles: mpmath 1.3.0, dps 50, through
+ *   I_x(a, b) = x^a (1-x)^b / (a B(a, b)) 2F1(a + b, 1; a + 1; x)
+ * (the symmetry 1 - I_{1-x}(b, a) for x > a / (a + b)),
+ * Q_t(t; n) = I_{n/(n+t^2)}(n/2, 1/2) / 2, Q_F(f; d1, d2) =
+ * I_{d2/(d2+d1 f)}(d2/2, d1/2); quantiles by mpmath.findroot to 1e-45.
+ * Closed forms among them: Q_F(3; 2, 10) = 1.6^-5, Q_t(0.3; 1) =
+ * 1/2 - atan(0.3)/pi (Cauchy). */
+static const double t_ref[][3] = { /* t, dof, Q */
+    {2.0, 10, 3.6694017385370183e-2},
+    {-1.5, 3, 8.8470806737758847e-1},
+    {30, 100, 4.1901662793441461e-52},
+    {5, 1000.0, 3.3836281823243152e-7},
+    {1e10, 10, 1.23046875e-96},
+    {0.3, 1, 4.0722642092225766e-1},
+    {3, 100000.0, 1.3502304420323596e-3},
+};
+static const double f_ref[][4] = { /* f, d1, d2, Q */
+    {3.0, 2, 10, 9.5367431640625e-2},
+    {0.5, 5, 30, 7.7373359370359489e-1},
+    {50, 3, 37, 4.2874370267657257e-13},
+    {1.2, 10, 100000.0, 2.8507256166706787e-1},
+    {1e4, 1, 1000, 0.0}, /* 5.3228217077566136e-523 */
+};
+static const double tq_ref[][3] = { /* p, dof, t */
+    {0.975, 10, 2.2281388519862742},
+    {0.975, 1, 1.2706204736174693e+1},
+    {0.995, 3, 5.8409093097333554},
+    {0.025, 30, -2.0422724563012383},
+    {0.975, 100000.0, 1.9599877075346093},
+};
+
+static void test_t_f_mpmath(void **state)
+{
+    double q;
+    for (size_t i = 0; i < sizeof t_ref / sizeof t_ref[0]; i++) {
+        assert_int_equal(igea_stats_t_sf(t_ref[i][0], t_ref[i][1], &q), 0);
+        assert_close(q, t_ref[i][2], 1e-13);
+    }
+    for (size_t i = 0; i < sizeof f_ref / sizeof f_ref[0]; i++) {
+        assert_int_equal(igea_stats_f_sf(f_ref[i][0], f_ref[i][1], f_ref[i][2], &q), 0);
+        check_rel(q, f_ref[i][3], 1e-13);
+    }
+    for (size_t i = 0; i < sizeof tq_ref / sizeof tq_ref[0]; i++) {
+        assert_int_equal(igea_stats_t_quantile(tq_ref[i][0], tq_ref[i][1], &q), 0);
+        assert_close(q, tq_ref[i][2], 1e-14);
+    }
+    assert_close(0.5 - atan(0.3) / 3.14159265358979323846, t_ref[5][2], 1e-15);
+    assert_int_equal(igea_stats_t_sf(INFINITY, 3, &q), 0);
+    assert_true(q == 0.0);
+    q = SENTINEL;
+    assert_int_equal(igea_stats_t_sf(NAN, 3, &q), -1);
+    assert_int_equal(igea_stats_t_sf(1, 0, &q), -2);
+    assert_int_equal(igea_stats_f_sf(-1, 1, 1, &q), -1);
+    assert_int_equal(igea_stats_f_sf(1, 1, 0, &q), -3);
+    assert_int_equal(igea_stats_t_quantile(1.0, 3, &q), -1);
+    assert_true(q == SENTINEL);
 }
 
 /* Seed 000, Table 1 -> Table 2 with the tabulated z = 2.58, and eq. (10). */
@@ -525,6 +704,9 @@ int main(void)
         cmocka_unit_test(test_normal),
         cmocka_unit_test(test_chi2_values),
         cmocka_unit_test(test_chi2_no_abort_grid),
+        cmocka_unit_test(test_chi2_mpmath),
+        cmocka_unit_test(test_normal_sf),
+        cmocka_unit_test(test_t_f_mpmath),
         cmocka_unit_test(test_accuracy_seed_table),
         cmocka_unit_test(test_accuracy_invalid),
         cmocka_unit_test(test_pool),

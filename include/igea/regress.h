@@ -70,7 +70,8 @@ extern "C" {
  * The rank is judged, and a full-rank solution computed, on the columns of
  * diag(1/sigma) A scaled to unit norm (scale-free rank; NIST Filip keeps
  * 8 digits); a rank-deficient problem is solved on the unscaled SVD, which
- * gives the true minimum-norm solution.
+ * gives the true minimum-norm solution. A full-rank solution is refined in
+ * extended precision (igea_regress_ls_ex).
  * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE (a sigma <= 0),
  * IGEA_ERANGE, IGEA_EOVERFLOW, IGEA_ENOMEM, IGEA_ELAPACK.
  */
@@ -79,6 +80,130 @@ IGEA_API int igea_regress_ls(int m, int N, const double *A, int lda,
                              const double *spec_sigma, double rcond, double *x,
                              double *cov, int ldc, int *rank, double *sigma2,
                              double *residual);
+
+/* Flags of igea_regress_ls_ex. */
+#define IGEA_REGRESS_NO_REFINE 1 /* skip the extended-precision refinement */
+
+/* Indices into info[IGEA_REGRESS_INFO_LEN] of igea_regress_ls_ex (doubles;
+ * counts and flags are whole numbers). */
+#define IGEA_REGRESS_INFO_RANK 0          /* numerical rank r */
+#define IGEA_REGRESS_INFO_RCOND 1         /* relative cut used: s_i > rcond s_1 */
+#define IGEA_REGRESS_INFO_TOL 2           /* absolute cut rcond * s_1 on the singular values */
+#define IGEA_REGRESS_INFO_SCALED 3        /* 1: columns scaled internally to unit norm */
+#define IGEA_REGRESS_INFO_REFINE_STEPS 4  /* refinement steps run (0: none) */
+#define IGEA_REGRESS_INFO_COND 5          /* s_1 / s_r of the design the rank was judged on */
+#define IGEA_REGRESS_INFO_LEN 16 /* slots 6.. reserved for additions */
+
+/*
+ * Weighted least squares as igea_regress_ls, with iterative refinement and
+ * the rank information. At full rank the SVD solution is refined on the
+ * augmented system [I B; B^T 0] [r; x'] = [y_w; 0] (Bjorck 1967), B the
+ * column-equilibrated weighted design, with the residuals y_w - r - B x'
+ * and B^T r accumulated in x86 extended precision (64-bit significand;
+ * exact products by fma, compensated sums, r/sigma with its fmal
+ * remainder) from the caller's A, y and sigma, until a correction is below 2^-60 of x' or
+ * stops shrinking (at most 10 steps): x is then the least-squares
+ * solution of the double-precision data to nearly the last digit
+ * (docs/regress.md, "Least squares to the last digit"). igea_regress_ls
+ * refines the same way. A rank-deficient problem is not refined.
+ *  1 m >= 1, 2 N >= 1, 3 A (m x N), 4 lda >= m, 5 y (m), 6 sigma (m or
+ *  NULL), 7 spec_sigma (N or NULL), 8 rcond (as igea_regress_ls);
+ *  9 flags: 0 or IGEA_REGRESS_NO_REFINE;
+ * Outputs:
+ * 10 x[N]; 11 cov (N x N, may be NULL), 12 ldc >= N (ignored when cov is
+ *    NULL), as igea_regress_ls;
+ * 13 sd[N] (may be NULL): standard deviations sqrt(diag(cov));
+ * 14 sigma2: RSS_w / (m - r) (0 if m == r);
+ * 15 residual[m] (may be NULL): y - A x, unweighted (with refinement:
+ *    computed in extended precision and rounded once);
+ * 16 info[IGEA_REGRESS_INFO_LEN]: the IGEA_REGRESS_INFO_* entries, 0 in the
+ *    reserved slots.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ERANGE,
+ * IGEA_EOVERFLOW, IGEA_ENOMEM, IGEA_ELAPACK; outputs are written only on
+ * success.
+ */
+IGEA_API int igea_regress_ls_ex(int m, int N, const double *A, int lda,
+                                const double *y, const double *sigma,
+                                const double *spec_sigma, double rcond, int flags,
+                                double *x, double *cov, int ldc, double *sd,
+                                double *sigma2, double *residual, double *info);
+
+/*
+ * The rank information of diag(1/sigma) A D (D = diag(spec_sigma) or I),
+ * the design igea_regress_ebr, igea_regress_collinearity and (without
+ * automatic scaling) ridge and PCE judge the rank on: r = #{s_i > rcond
+ * s_1}. 1 m >= 1, 2 N >= 1, 3 A (m x N), 4 lda >= m, 5 sigma (m row sds,
+ * may be NULL), 6 spec_sigma (N scales, may be NULL), 7 rcond (< 1; <= 0
+ * for the default max(m, N) eps), 8 info[IGEA_REGRESS_INFO_LEN] (output):
+ * RANK, RCOND, TOL = rcond s_1, COND = s_1 / s_r; SCALED and REFINE_STEPS 0.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ERANGE,
+ * IGEA_EOVERFLOW, IGEA_ENOMEM, IGEA_ELAPACK; info is written only on
+ * success.
+ */
+IGEA_API int igea_regress_rank_info(int m, int N, const double *A, int lda,
+                                    const double *sigma, const double *spec_sigma,
+                                    double rcond, double *info);
+
+/*
+ * Standard deviations sd[j] = sqrt(cov[j][j]) of an estimator's covariance
+ * (N x N, column-major, leading dimension ldc >= N; only the diagonal is
+ * read). 1 N >= 1, 2 cov, 3 ldc, 4 sd[N] (output, written only on success).
+ * Returns 0, -i, IGEA_ENONFINITE (a diagonal entry NaN or Inf) or
+ * IGEA_EDOMAIN (a negative diagonal entry).
+ */
+IGEA_API int igea_regress_sd(int N, const double *cov, int ldc, double *sd);
+
+/* Indices into diag[IGEA_REGRESS_DIAG_LEN] of igea_regress_ls_diag. */
+#define IGEA_REGRESS_DIAG_R2 0             /* 1 - SSR / TSS */
+#define IGEA_REGRESS_DIAG_R2_ADJ 1         /* 1 - (m - c) / (m - r) (1 - R2) */
+#define IGEA_REGRESS_DIAG_FVALUE 2         /* (ESS / df_model) / (SSR / df_resid) */
+#define IGEA_REGRESS_DIAG_F_PVALUE 3       /* P(F(df_model, df_resid) > F) */
+#define IGEA_REGRESS_DIAG_AIC 4            /* -2 llf + 2 r */
+#define IGEA_REGRESS_DIAG_BIC 5            /* -2 llf + log(m) r */
+#define IGEA_REGRESS_DIAG_LLF 6            /* Gaussian log-likelihood */
+#define IGEA_REGRESS_DIAG_PRESS 7          /* sum (e_i / (1 - h_i))^2 */
+#define IGEA_REGRESS_DIAG_DURBIN_WATSON 8  /* sum (e_i - e_{i-1})^2 / SSR */
+#define IGEA_REGRESS_DIAG_DF_MODEL 9       /* r - c */
+#define IGEA_REGRESS_DIAG_DF_RESID 10      /* m - r */
+#define IGEA_REGRESS_DIAG_CONSTANT 11      /* c: 1 when a column is constant (intercept) */
+#define IGEA_REGRESS_DIAG_T_CRIT 12        /* t_{1 - alpha/2}(df_resid) */
+#define IGEA_REGRESS_DIAG_SSR 13           /* sum of squared weighted residuals */
+#define IGEA_REGRESS_DIAG_TSS 14           /* total sum of squares (centred when c = 1) */
+#define IGEA_REGRESS_DIAG_RANK 15          /* r */
+#define IGEA_REGRESS_DIAG_LEN 24 /* slots 16.. reserved for additions */
+
+/*
+ * Weighted least squares (igea_regress_ls, refined) with the regression
+ * diagnostics statsmodels' OLS and WLS report, on the caller's design
+ * (docs/regress.md, "Regression diagnostics"). With weights w_i =
+ * 1/sigma_i^2 (1 without sigma) and the weighted residuals
+ * e_i = (y_i - A_i x) / sigma_i: SSR = sum e_i^2; c = 1 when some column
+ * of A is constant and nonzero, and then TSS = sum w_i (y_i - ybar_w)^2
+ * (ybar_w the weighted mean), else TSS = sum w_i y_i^2 (uncentred);
+ * ESS = TSS - SSR; r the rank; llf = -m/2 (log(2 pi SSR / m) + 1) +
+ * (1/2) sum log w_i; the leverages h_i = diag of the hat matrix of
+ * diag(1/sigma) A; t_j = x_j / sd_j with p_j = 2 Q_t(|t_j|; m - r);
+ * confidence limits x_j -+ t_{1-alpha/2}(m - r) sd_j; Cook's distance
+ * D_i = e_i^2 / (s^2 (1 - h_i)) h_i / (1 - h_i) / N, s^2 = SSR / (m - r).
+ * A coefficient with sd 0 (a zero column) has t 0 and p 1; F is 0 and its
+ * p-value 1 when df_model = 0.
+ *  1 m, 2 N, 3 A (m x N), 4 lda >= m, 5 y (m), 6 sigma (m row sds > 0, may
+ *  be NULL), 7 rcond (as igea_regress_ls), 8 alpha in (0, 1) (0.05: 95 %
+ *  intervals);
+ * Outputs: 9 x[N]; 10 sd[N]; 11 tvalues[N], 12 pvalues[N], 13 ci_lower[N],
+ *  14 ci_upper[N], 15 leverage[m], 16 cooks_d[m] (each may be NULL);
+ *  17 diag[IGEA_REGRESS_DIAG_LEN] (the IGEA_REGRESS_DIAG_* entries).
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ERANGE,
+ * IGEA_EDOMAIN (no residual degrees of freedom, an exact fit SSR = 0, TSS
+ * = 0, an observation with leverage 1, or more than 1e7 degrees of
+ * freedom), IGEA_EOVERFLOW, IGEA_ENOMEM, IGEA_ELAPACK; outputs are written
+ * only on success.
+ */
+IGEA_API int igea_regress_ls_diag(int m, int N, const double *A, int lda, const double *y,
+                                  const double *sigma, double rcond, double alpha, double *x,
+                                  double *sd, double *tvalues, double *pvalues,
+                                  double *ci_lower, double *ci_upper, double *leverage,
+                                  double *cooks_d, double *diag);
 
 /*
  * Empirical-Bayes ridge exactly as METHODS 4.3 on the whitened rows
@@ -193,6 +318,53 @@ IGEA_API int igea_regress_pce(int m, int N, const double *A, int lda,
                               const double *spec_sigma, int ncomp,
                               double eig_min, double *x, double *cov, int ldc,
                               int *nused, double *sigma2, double *residual);
+
+/* Column-norm ratio above which igea_regress_ridge_ex and
+ * igea_regress_pce_ex scale the columns internally [D]. */
+#define IGEA_REGRESS_SCALE_RATIO 1e8
+
+/*
+ * igea_regress_ridge with the rank information and automatic column
+ * scaling. When the column norms of diag(1/sigma) A D (D = diag(spec_sigma)
+ * or I) differ by more than IGEA_REGRESS_SCALE_RATIO, the estimator works
+ * on the columns scaled to unit norm (D' = D diag(1/||column||), as if
+ * spec_sigma were D'), so that the numerical rank is not lost to the
+ * scales (an unscaled design with norms 1 and 1e-9 drops the second
+ * direction at the rank cut); info[IGEA_REGRESS_INFO_SCALED] is then 1 and
+ * k, k_used and the ridge penalty are those of the scaled problem. x, cov
+ * and residual are in the caller's units as always.
+ *  1 m, 2 N, 3 A, 4 lda >= m, 5 y (m), 6 sigma (m, may be NULL), 7 spec_sigma
+ *  (N, may be NULL), 8 rule, 9 k (read for IGEA_REGRESS_RIDGE_FIXED only),
+ *  as igea_regress_ridge;
+ * Outputs: 10 x[N]; 11 cov (N x N, may be NULL), 12 ldc; 13 k_used;
+ *  14 sigma2; 15 residual[m] (may be NULL), as igea_regress_ridge;
+ * 16 info[IGEA_REGRESS_INFO_LEN] (output): RANK, RCOND (the default cut
+ *    max(m, N) eps), TOL (the absolute cut on the singular values of the
+ *    design worked on), SCALED, COND (s_1 / s_r); REFINE_STEPS 0.
+ * Returns as igea_regress_ridge, and -16 when info is NULL.
+ */
+IGEA_API int igea_regress_ridge_ex(int m, int N, const double *A, int lda,
+                                   const double *y, const double *sigma,
+                                   const double *spec_sigma, int rule, double k,
+                                   double *x, double *cov, int ldc, double *k_used,
+                                   double *sigma2, double *residual, double *info);
+
+/*
+ * igea_regress_pce with the rank information and the automatic column
+ * scaling of igea_regress_ridge_ex (eig_min and the components are then
+ * those of the scaled design).
+ *  1 m, 2 N, 3 A, 4 lda >= m, 5 y (m), 6 sigma (m, may be NULL), 7 spec_sigma
+ *  (N, may be NULL), 8 ncomp >= 0, 9 eig_min (read when ncomp == 0), as
+ *  igea_regress_pce;
+ * Outputs: 10 x[N]; 11 cov (N x N, may be NULL), 12 ldc; 13 nused;
+ *  14 sigma2; 15 residual[m] (may be NULL), as igea_regress_pce;
+ * 16 info[IGEA_REGRESS_INFO_LEN] (output) as igea_regress_ridge_ex.
+ * Returns as igea_regress_pce, and -16 when info is NULL.
+ */
+IGEA_API int igea_regress_pce_ex(int m, int N, const double *A, int lda, const double *y,
+                                 const double *sigma, const double *spec_sigma, int ncomp,
+                                 double eig_min, double *x, double *cov, int ldc, int *nused,
+                                 double *sigma2, double *residual, double *info);
 
 /*
  * Bayesian estimation with a normal prior x ~ N(mu, P) (e.g. from ground

@@ -16,14 +16,30 @@
 extern "C" {
 #endif
 
-/* Largest degrees of freedom accepted by the chi-square routines. Above it
- * GSL's incomplete gamma function loses accuracy (P + Q departs from 1 by
- * 1e-3 at dof 1e6) or reaches its error handler (dof > 2e6). Accuracy of
- * P and Q: about 1e-13 up to dof 1e4, 1e-8 at dof 1e5. */
+/* Largest number of tested components (igea_stats_accuracy_test) and of
+ * pooled degrees of freedom (igea_stats_pool). The distribution routines
+ * below accept dof up to IGEA_STATS_CHI2_DOF_MAX. */
 #define IGEA_STATS_DOF_MAX 1e5
+
+/* Largest degrees of freedom accepted by the chi-square routines. P and Q
+ * come from igea's own regularised incomplete gamma function in extended
+ * precision (series for x < a + 1, continued fraction above, a = dof / 2,
+ * the prefactor x^a e^-x / Gamma(a) from the deviation (x - a) / a and
+ * Stirling's series; docs/regress.md, "Distributions"). Relative error of P, Q and the
+ * quantiles against 50-digit references: below 1e-14 for dof <= 1e5
+ * wherever the value is a normal double, below 1e-13 up to dof 1e7. */
+#define IGEA_STATS_CHI2_DOF_MAX 1e7
 
 /* Standard normal cdf Phi(x); x may be +-Inf. -1: x is NaN. */
 IGEA_API int igea_stats_normal_cdf(double x, double *p);
+
+/* Standard normal upper tail Q(x) = 1 - Phi(x) = erfc(x / sqrt 2) / 2,
+ * with its relative accuracy in the far tail (extended-precision erfc):
+ * relative error below 1e-15 wherever Q(x) is a normal double, the
+ * correctly rounded subnormal down to the smallest positive double (x
+ * about 38.5), 0 beyond. x may be +-Inf (Q 0, 1). Writes *q.
+ * Returns 0, -1 (x NaN) or -2 (q missing). */
+IGEA_API int igea_stats_normal_sf(double x, double *q);
 
 /* Inverse error function, -1 < y < 1 (Giles' start + Newton steps on C99
  * erf; |erf(x) - y| at rounding level). -1: y outside (-1, 1). */
@@ -32,7 +48,9 @@ IGEA_API int igea_stats_erfinv(double y, double *x);
 IGEA_API int igea_stats_normal_quantile(double p, double *z);
 
 /* Chi-square cdf P(x; dof) and survival Q(x; dof) = 1 - P (the p-value
- * of a statistic x), x >= 0 (+Inf allowed), 0 < dof <= IGEA_STATS_DOF_MAX. */
+ * of a statistic x), x >= 0 (+Inf allowed), 0 < dof <= IGEA_STATS_CHI2_DOF_MAX
+ * (accuracy above). Return 0, -1 (x NaN or negative), -2 (dof), -3 (output
+ * pointer missing). */
 IGEA_API int igea_stats_chi2_cdf(double x, double dof, double *p);
 IGEA_API int igea_stats_chi2_sf(double x, double dof, double *q);
 /* Lower quantile: P(x; dof) = p, 0 < p < 1. A quantile below the smallest
@@ -41,6 +59,24 @@ IGEA_API int igea_stats_chi2_quantile(double p, double dof, double *x);
 /* Upper alpha point chi2_alpha(dof) (the seed's notation): Q(x; dof) =
  * alpha, 0 < alpha < 1. chi2_0.01(11) = 24.725. */
 IGEA_API int igea_stats_chi2_upper(double alpha, double dof, double *x);
+
+/* Student's t upper tail Q(t; dof) = P(T > t), t may be +-Inf,
+ * 0 < dof <= IGEA_STATS_CHI2_DOF_MAX: (1/2) I_{dof/(dof+t^2)}(dof/2, 1/2),
+ * igea's own regularised incomplete beta in extended precision
+ * (continued fraction; relative error about 1e-15 for dof <= 1e3, 1e-12
+ * at dof 1e6 where lgamma differences dominate). Writes *q.
+ * Returns 0, -1 (t NaN), -2 (dof), -3 (q missing), IGEA_ENOCONV. */
+IGEA_API int igea_stats_t_sf(double t, double dof, double *q);
+/* Lower quantile of Student's t: P(T <= t) = p, 0 < p < 1, dof as
+ * igea_stats_t_sf; bisection on the tail to 2 ulp. Writes *t.
+ * Returns 0, -1 (p), -2 (dof), -3 (t missing), IGEA_ENOCONV. */
+IGEA_API int igea_stats_t_quantile(double p, double dof, double *t);
+/* F distribution upper tail P(F > f; d1, d2) = I_{d2/(d2+d1 f)}(d2/2, d1/2),
+ * f >= 0 (+Inf allowed), 0 < d1, d2 <= IGEA_STATS_CHI2_DOF_MAX; accuracy as
+ * igea_stats_t_sf. Writes *q.
+ * Returns 0, -1 (f NaN or negative), -2 (d1), -3 (d2), -4 (q missing),
+ * IGEA_ENOCONV. */
+IGEA_API int igea_stats_f_sf(double f, double d1, double d2, double *q);
 
 /* Indices into the info[IGEA_STATS_INFO_LEN] array that the accuracy tests and
  * igea_eqerr_* fill (doubles; counts and flags are whole numbers). */

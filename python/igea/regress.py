@@ -40,6 +40,12 @@ def _names(N, names):
     return names
 
 
+def _rank_fields(info):
+    return dict(rank=int(info[_capi.REGRESS_INFO_RANK]),
+                rank_tol=float(info[_capi.REGRESS_INFO_TOL]),
+                scaled=bool(info[_capi.REGRESS_INFO_SCALED]))
+
+
 def _given(N, names):
     return None if names is None else tuple(_names(N, names))
 
@@ -70,13 +76,43 @@ class _Estimate:
 
 @dataclass(frozen=True)
 class LsResult(_Estimate):
-    """Weighted least squares (minimum norm when rank-deficient)."""
+    """Weighted least squares (minimum norm when rank-deficient), refined in
+    extended precision at full rank; sd = sqrt(diag(cov)) from the library,
+    rank_tol the singular-value cut of the column-scaled design, refine_steps
+    the refinement steps run."""
     x: np.ndarray
     cov: np.ndarray
     rank: int
     sigma2: float
     residual: np.ndarray
     names: tuple = None
+    sd: np.ndarray = None
+    rank_tol: float = 0.0
+    refine_steps: int = 0
+    # statsmodels-OLS diagnostics (igea_regress_ls_diag; None when they are
+    # not defined: no residual dof, an exact fit, a leverage of 1)
+    r2: float = None
+    r2_adj: float = None
+    fvalue: float = None
+    f_pvalue: float = None
+    tvalues: np.ndarray = None
+    pvalues: np.ndarray = None
+    conf_int_lower: np.ndarray = None
+    conf_int_upper: np.ndarray = None
+    alpha: float = 0.05
+    llf: float = None
+    aic: float = None
+    bic: float = None
+    leverage: np.ndarray = None
+    cooks_d: np.ndarray = None
+    press: float = None
+    durbin_watson: float = None
+    df_model: int = None
+    df_resid: int = None
+
+    def conf_int(self):
+        """(N, 2) array of the 1 - alpha confidence limits, as statsmodels."""
+        return np.column_stack([self.conf_int_lower, self.conf_int_upper])
 
     def summary(self):
         N = len(self.x)
@@ -102,6 +138,7 @@ class EbrResult(_Estimate):
     sd_frequentist: np.ndarray
     rule: str = "sc"
     names: tuple = None
+    rank_tol: float = 0.0
 
     def summary(self):
         N = len(self.x)
@@ -118,7 +155,9 @@ class EbrResult(_Estimate):
 
 @dataclass(frozen=True)
 class RidgeResult(_Estimate):
-    """Ridge regression x(k) = (A^T W A + k I)^-1 A^T W y."""
+    """Ridge regression x(k) = (A^T W A + k I)^-1 A^T W y; rank and rank_tol
+    of the design worked on, scaled: its columns were scaled to unit norm
+    internally (norms more than 1e8 apart; k is then of the scaled design)."""
     x: np.ndarray
     cov: np.ndarray
     k: float
@@ -126,6 +165,9 @@ class RidgeResult(_Estimate):
     sigma2: float
     residual: np.ndarray
     names: tuple = None
+    rank: int = 0
+    rank_tol: float = 0.0
+    scaled: bool = False
 
     def summary(self):
         lines = ["ridge (%s): k = %.6e, least-squares residual variance %.6e"
@@ -151,13 +193,17 @@ class RidgeTrace:
 
 @dataclass(frozen=True)
 class PceResult(_Estimate):
-    """Principal-component estimate (truncated SVD)."""
+    """Principal-component estimate (truncated SVD); rank, rank_tol and
+    scaled as RidgeResult (eig_min is then of the scaled design)."""
     x: np.ndarray
     cov: np.ndarray
     ncomp: int
     sigma2: float
     residual: np.ndarray
     names: tuple = None
+    rank: int = 0
+    rank_tol: float = 0.0
+    scaled: bool = False
 
     def summary(self):
         lines = ["principal-component estimate: %d component(s) kept, least-squares residual "
@@ -226,25 +272,56 @@ class Collinearity:
         return "\n".join(lines)
 
 
-def ls(A, y, sigma=None, *, spec=None, rcond=0.0, names=None):
+def _ls_diag(A, m, N, y, sg, rcond, alpha):
+    """The diagnostics fields of LsResult (empty when not defined)."""
+    from ._lib import IgeaError
+    x, sd, t, pv, lo, hi = (np.empty(N) for _ in range(6))
+    lev, cd = np.empty(m), np.empty(m)
+    dg = np.zeros(_capi.REGRESS_DIAG_LEN)
+    try:
+        _lib.call("igea.ls", "igea_regress_ls_diag", m, N, _lib.dptr(A), m, _lib.dptr(y),
+                  _lib.dptr(sg), float(rcond), float(alpha), _lib.dptr(x), _lib.dptr(sd),
+                  _lib.dptr(t), _lib.dptr(pv), _lib.dptr(lo), _lib.dptr(hi), _lib.dptr(lev),
+                  _lib.dptr(cd), _lib.dptr(dg))
+    except IgeaError as e:
+        if e.code != _capi.EDOMAIN:
+            raise
+        return dict(alpha=float(alpha))
+    g = lambda k: float(dg[getattr(_capi, "REGRESS_DIAG_" + k)])  # noqa: E731
+    return dict(r2=g("R2"), r2_adj=g("R2_ADJ"), fvalue=g("FVALUE"), f_pvalue=g("F_PVALUE"),
+                tvalues=t, pvalues=pv, conf_int_lower=lo, conf_int_upper=hi,
+                alpha=float(alpha), llf=g("LLF"), aic=g("AIC"), bic=g("BIC"), leverage=lev,
+                cooks_d=cd, press=g("PRESS"), durbin_watson=g("DURBIN_WATSON"),
+                df_model=int(g("DF_MODEL")), df_resid=int(g("DF_RESID")))
+
+
+def ls(A, y, sigma=None, *, spec=None, rcond=0.0, names=None, alpha=0.05):
     """Weighted least squares by SVD; minimum-norm solution if rank-deficient.
 
     A: (m, N), y: (m,), sigma: None, a number or (m,) row sds; spec: None
     or (N,) column scales (the 1-sigma specs: every estimator then works on
     A diag(spec) and returns x, cov in A's units); rcond <= 0 for the
     default rank cut max(m, N) eps. Returns LsResult(x, cov, rank,
-    sigma2, residual)."""
+    sigma2, residual, sd, rank_tol, refine_steps; igea_regress_ls_ex) with
+    the statsmodels-OLS/WLS diagnostics of igea_regress_ls_diag on A as
+    given: r2, r2_adj, fvalue, f_pvalue, tvalues, pvalues, conf_int_lower,
+    conf_int_upper (level 1 - alpha; conf_int() stacks them), llf, aic, bic,
+    leverage, cooks_d, press, durbin_watson, df_model, df_resid (None where
+    they are not defined: no residual dof, an exact fit, a leverage 1)."""
     A, m, N, y, sg, sp = _design(A, y, sigma, spec)
-    x = np.empty(N)
+    x, sd = np.empty(N), np.empty(N)
     cov = np.empty((N, N), order="F")
-    rank = np.zeros(1, dtype=np.intc)
     s2 = np.zeros(1)
     res = np.empty(m)
-    _lib.call("igea.ls", "igea_regress_ls", m, N, _lib.dptr(A), m, _lib.dptr(y), _lib.dptr(sg),
-              _lib.dptr(sp), float(rcond), _lib.dptr(x), _lib.dptr(cov), N, _lib.iptr(rank),
-              _lib.dptr(s2), _lib.dptr(res))
-    return LsResult(x=x, cov=np.ascontiguousarray(cov), rank=int(rank[0]), sigma2=float(s2[0]),
-                    residual=res, names=_given(N, names))
+    info = np.zeros(_capi.REGRESS_INFO_LEN)
+    _lib.call("igea.ls", "igea_regress_ls_ex", m, N, _lib.dptr(A), m, _lib.dptr(y), _lib.dptr(sg),
+              _lib.dptr(sp), float(rcond), 0, _lib.dptr(x), _lib.dptr(cov), N, _lib.dptr(sd),
+              _lib.dptr(s2), _lib.dptr(res), _lib.dptr(info))
+    return LsResult(x=x, cov=np.ascontiguousarray(cov), rank=int(info[_capi.REGRESS_INFO_RANK]),
+                    sigma2=float(s2[0]), residual=res, names=_given(N, names), sd=sd,
+                    rank_tol=float(info[_capi.REGRESS_INFO_TOL]),
+                    refine_steps=int(info[_capi.REGRESS_INFO_REFINE_STEPS]),
+                    **_ls_diag(A, m, N, y, sg, rcond, alpha))
 
 
 def ebr(A, y, sigma=None, *, spec=None, rule="sc", lam_floor=0.0, names=None):
@@ -264,9 +341,12 @@ def ebr(A, y, sigma=None, *, spec=None, rule="sc", lam_floor=0.0, names=None):
               _lib.dptr(sp), rule_code, float(lam_floor), _lib.dptr(x), _lib.dptr(cov), N,
               _lib.dptr(lam), _lib.iptr(rank), _lib.dptr(s2), _lib.dptr(res), _lib.dptr(sh),
               _lib.dptr(sf))
+    info = np.zeros(_capi.REGRESS_INFO_LEN)
+    _lib.call("igea.ebr", "igea_regress_rank_info", m, N, _lib.dptr(A), m, _lib.dptr(sg),
+              _lib.dptr(sp), 0.0, _lib.dptr(info))
     return EbrResult(x=x, cov=np.ascontiguousarray(cov), lam=float(lam[0]), rank=int(rank[0]),
                      sigma2=float(s2[0]), residual=res, shrink=sh, sd_frequentist=sf, rule=rule,
-                     names=_given(N, names))
+                     names=_given(N, names), rank_tol=float(info[_capi.REGRESS_INFO_TOL]))
 
 
 def ridge(A, y, sigma=None, *, spec=None, k=None, rule=None, names=None):
@@ -286,12 +366,14 @@ def ridge(A, y, sigma=None, *, spec=None, k=None, rule=None, names=None):
     ku = np.zeros(1)
     s2 = np.zeros(1)
     res = np.empty(m)
-    _lib.call("igea.ridge", "igea_regress_ridge", m, N, _lib.dptr(A), m, _lib.dptr(y),
+    info = np.zeros(_capi.REGRESS_INFO_LEN)
+    _lib.call("igea.ridge", "igea_regress_ridge_ex", m, N, _lib.dptr(A), m, _lib.dptr(y),
               _lib.dptr(sg), _lib.dptr(sp), rule_code, float(k) if k is not None else 0.0,
-              _lib.dptr(x), _lib.dptr(cov), N, _lib.dptr(ku), _lib.dptr(s2), _lib.dptr(res))
+              _lib.dptr(x), _lib.dptr(cov), N, _lib.dptr(ku), _lib.dptr(s2), _lib.dptr(res),
+              _lib.dptr(info))
     return RidgeResult(x=x, cov=np.ascontiguousarray(cov), k=float(ku[0]), rule=rule,
                        sigma2=float(s2[0]), residual=res,
-                       names=_given(N, names))
+                       names=_given(N, names), **_rank_fields(info))
 
 
 def ridge_trace(A, y, k, sigma=None, *, spec=None):
@@ -321,12 +403,13 @@ def pce(A, y, sigma=None, *, spec=None, ncomp=None, eig_min=None, names=None):
     nu = np.zeros(1, dtype=np.intc)
     s2 = np.zeros(1)
     res = np.empty(m)
-    _lib.call("igea.pce", "igea_regress_pce", m, N, _lib.dptr(A), m, _lib.dptr(y), _lib.dptr(sg),
-              _lib.dptr(sp), int(ncomp) if ncomp is not None else 0,
+    info = np.zeros(_capi.REGRESS_INFO_LEN)
+    _lib.call("igea.pce", "igea_regress_pce_ex", m, N, _lib.dptr(A), m, _lib.dptr(y),
+              _lib.dptr(sg), _lib.dptr(sp), int(ncomp) if ncomp is not None else 0,
               float(eig_min) if eig_min is not None else 0.0, _lib.dptr(x), _lib.dptr(cov), N,
-              _lib.iptr(nu), _lib.dptr(s2), _lib.dptr(res))
+              _lib.iptr(nu), _lib.dptr(s2), _lib.dptr(res), _lib.dptr(info))
     return PceResult(x=x, cov=np.ascontiguousarray(cov), ncomp=int(nu[0]), sigma2=float(s2[0]),
-                     residual=res, names=_given(N, names))
+                     residual=res, names=_given(N, names), **_rank_fields(info))
 
 
 def bayes(A, y, prior_cov, prior_mean=None, sigma=None, *, spec=None, names=None):

@@ -15,13 +15,19 @@ def normal_cdf(x):
     return _scalar("igea_stats_normal_cdf", "igea.normal_cdf", float(x))
 
 
+def normal_sf(x):
+    """Upper tail Q(x) = 1 - Phi(x), relatively accurate down to the
+    smallest positive double (x about 38.5); igea_stats_normal_sf."""
+    return _scalar("igea_stats_normal_sf", "igea.normal_sf", float(x))
+
+
 def normal_quantile(p):
     """Lower quantile Phi^-1(p), 0 < p < 1."""
     return _scalar("igea_stats_normal_quantile", "igea.normal_quantile", float(p))
 
 
 def chi2_cdf(x, dof):
-    """P(x; dof)."""
+    """P(x; dof), 0 < dof <= 1e7 (relative error below 1e-14 up to dof 1e5)."""
     return _scalar("igea_stats_chi2_cdf", "igea.chi2_cdf", float(x), float(dof))
 
 
@@ -38,6 +44,21 @@ def chi2_quantile(p, dof):
 def chi2_upper(alpha, dof):
     """Upper alpha point chi2_alpha(dof) (the seed's notation): Q(x; dof) = alpha."""
     return _scalar("igea_stats_chi2_upper", "igea.chi2_upper", float(alpha), float(dof))
+
+
+def t_sf(t, dof):
+    """Student's t upper tail P(T > t); igea_stats_t_sf."""
+    return _scalar("igea_stats_t_sf", "igea.t_sf", float(t), float(dof))
+
+
+def t_quantile(p, dof):
+    """Lower quantile of Student's t: P(T <= t) = p; igea_stats_t_quantile."""
+    return _scalar("igea_stats_t_quantile", "igea.t_quantile", float(p), float(dof))
+
+
+def f_sf(f, d1, d2):
+    """F distribution upper tail P(F > f; d1, d2); igea_stats_f_sf."""
+    return _scalar("igea_stats_f_sf", "igea.f_sf", float(f), float(d1), float(d2))
 
 
 def union_size(n, a, b):

@@ -11,7 +11,7 @@ static const char *const method_names[] = {"ls", "ridge", "pce", "bayes", "ebr"}
 
 typedef struct {
     const char *S, *dw, *sigma, *spec, *prior_mean, *prior_cov, *rule, *out;
-    double k, eig_min, lam_floor, rcond;
+    double k, eig_min, lam_floor, rcond, alpha;
     int method, json, ncomp, have_method, have_k, have_ncomp, have_eig_min, rule_code;
 } rg_args;
 
@@ -32,6 +32,7 @@ static const cli_opt options[] = {
     {"--prior-mean", CLI_OPT_STR, &A.prior_mean, NULL, "FILE", "bayes: prior mean, N values (default 0)", NULL},
     {"--prior-cov", CLI_OPT_STR, &A.prior_cov, NULL, "FILE", "bayes: prior covariance, N x N (default\ndiag(spec^2), needs --spec)", NULL},
     {"--lam-floor", CLI_OPT_NUM, &A.lam_floor, "0", "L", "ebr: lower bound on lambda", NULL},
+    {"--alpha", CLI_OPT_NUM, &A.alpha, "0.05", "A", "ls: level of the confidence intervals (1 - A)", NULL},
     CLI_JSON_OPT(&A.json),
     CLI_OUT_OPT(&A.out),
     CLI_END};
@@ -77,6 +78,8 @@ static const char *check_method(rg_args *a)
     static char msg[CLI_CHOICE_TEXT + 64];
     char names[CLI_CHOICE_TEXT];
     int k = 0;
+    if (!(a->alpha > 0 && a->alpha < 1))
+        return "regress: --alpha must be in (0, 1)";
     switch (a->method) {
     case M_RIDGE:
         if (a->have_k && a->rule)
@@ -178,29 +181,35 @@ static int read_inputs(const rg_args *a, rg_in *in)
 typedef struct {
     int rank, count, *pd;
     double *x, *sd, *cov, *sdf, *shrink, *eig, *vif, *sdc;
-    double scalar, sigma2, cond[IGEA_REGRESS_COND_LEN];
+    double scalar, sigma2, cond[IGEA_REGRESS_COND_LEN], info[IGEA_REGRESS_INFO_LEN];
+    double *tv, *pv, *lo, *hi, *lev, *cd, dg[IGEA_REGRESS_DIAG_LEN];
+    int have_diag;
     const char *count_name, *scalar_name;
 } rg_out;
 
-/* The estimator chosen, then sd = sqrt(diag(cov)). */
+/* The estimator chosen, then sd = sqrt(diag(cov)) (least squares returns
+ * it with the rank information). */
 static int estimate(const rg_args *a, const rg_in *in, rg_out *r)
 {
     int m = in->m, N = in->N, st;
     const double *A = in->A, *y = in->y, *sig = in->sig, *sp = in->spec;
     switch (a->method) {
     case M_LS:
-        st = igea_regress_ls(m, N, A, m, y, sig, sp, a->rcond, r->x, r->cov, N, &r->rank,
-                             &r->sigma2, NULL);
+        st = igea_regress_ls_ex(m, N, A, m, y, sig, sp, a->rcond, 0, r->x, r->cov, N, r->sd,
+                                &r->sigma2, NULL, r->info);
+        r->rank = (int)r->info[IGEA_REGRESS_INFO_RANK];
         break;
     case M_RIDGE:
-        st = igea_regress_ridge(m, N, A, m, y, sig, sp, a->rule_code, a->k, r->x, r->cov, N,
-                                &r->scalar, &r->sigma2, NULL);
+        st = igea_regress_ridge_ex(m, N, A, m, y, sig, sp, a->rule_code, a->k, r->x, r->cov, N,
+                                   &r->scalar, &r->sigma2, NULL, r->info);
+        r->rank = (int)r->info[IGEA_REGRESS_INFO_RANK];
         r->scalar_name = "k";
         break;
     case M_PCE:
-        st = igea_regress_pce(m, N, A, m, y, sig, sp, a->have_ncomp ? a->ncomp : 0,
-                              a->have_eig_min ? a->eig_min : 1.0, r->x, r->cov, N, &r->count,
-                              &r->sigma2, NULL);
+        st = igea_regress_pce_ex(m, N, A, m, y, sig, sp, a->have_ncomp ? a->ncomp : 0,
+                                 a->have_eig_min ? a->eig_min : 1.0, r->x, r->cov, N, &r->count,
+                                 &r->sigma2, NULL, r->info);
+        r->rank = (int)r->info[IGEA_REGRESS_INFO_RANK];
         r->count_name = "ncomp";
         break;
     case M_BAYES:
@@ -210,14 +219,48 @@ static int estimate(const rg_args *a, const rg_in *in, rg_out *r)
     default:
         st = igea_regress_ebr(m, N, A, m, y, sig, sp, a->rule_code, a->lam_floor, r->x, r->cov,
                               N, &r->scalar, &r->rank, &r->sigma2, NULL, r->shrink, r->sdf);
+        if (st == 0) /* the cut EBR applied to the same design */
+            st = igea_regress_rank_info(m, N, A, m, sig, sp, 0.0, r->info);
         r->scalar_name = "lam";
         break;
     }
+    if (st == 0 && a->method != M_LS)
+        st = igea_regress_sd(N, r->cov, N, r->sd);
     if (st)
         return cli_status(st, method_names[a->method]);
-    for (int j = 0; j < N; j++)
-        r->sd[j] = sqrt(r->cov[j + (size_t)j * N]);
+    if (a->method == M_LS) { /* the diagnostics, when they are defined */
+        /* x and sd again into unused scratch (shrink, sdf: EBR only) */
+        st = igea_regress_ls_diag(m, N, A, m, y, sig, a->rcond, a->alpha, r->shrink, r->sdf, r->tv,
+                                  r->pv, r->lo, r->hi, r->lev, r->cd, r->dg);
+        r->have_diag = st == 0;
+        if (st && st != IGEA_EDOMAIN)
+            return cli_status(st, "ls: diagnostics");
+    }
     return CLI_OK;
+}
+
+/* The statsmodels-OLS fields of least squares. */
+static void json_diag(cli_json *j, int N, int m, double alpha, const rg_out *r)
+{
+    const double *d = r->dg;
+    cli_jnum(j, "r2", d[IGEA_REGRESS_DIAG_R2]);
+    cli_jnum(j, "r2_adj", d[IGEA_REGRESS_DIAG_R2_ADJ]);
+    cli_jnum(j, "fvalue", d[IGEA_REGRESS_DIAG_FVALUE]);
+    cli_jnum(j, "f_pvalue", d[IGEA_REGRESS_DIAG_F_PVALUE]);
+    cli_jint(j, "df_model", (int)d[IGEA_REGRESS_DIAG_DF_MODEL]);
+    cli_jint(j, "df_resid", (int)d[IGEA_REGRESS_DIAG_DF_RESID]);
+    cli_jnums(j, "tvalues", r->tv, N);
+    cli_jnums(j, "pvalues", r->pv, N);
+    cli_jnum(j, "alpha", alpha);
+    cli_jnums(j, "conf_int_lower", r->lo, N);
+    cli_jnums(j, "conf_int_upper", r->hi, N);
+    cli_jnum(j, "llf", d[IGEA_REGRESS_DIAG_LLF]);
+    cli_jnum(j, "aic", d[IGEA_REGRESS_DIAG_AIC]);
+    cli_jnum(j, "bic", d[IGEA_REGRESS_DIAG_BIC]);
+    cli_jnums(j, "leverage", r->lev, m);
+    cli_jnums(j, "cooks_d", r->cd, m);
+    cli_jnum(j, "press", d[IGEA_REGRESS_DIAG_PRESS]);
+    cli_jnum(j, "durbin_watson", d[IGEA_REGRESS_DIAG_DURBIN_WATSON]);
 }
 
 static void json_report(FILE *f, const rg_args *a, const rg_in *in, const rg_out *r)
@@ -240,6 +283,14 @@ static void json_report(FILE *f, const rg_args *a, const rg_in *in, const rg_out
         cli_jnums(&j, "shrink", r->shrink, N);
     }
     cli_jnum(&j, "sigma2", r->sigma2);
+    if (r->have_diag)
+        json_diag(&j, N, in->m, a->alpha, r);
+    if (a->method != M_BAYES)
+        cli_jnum(&j, "rank_tol", r->info[IGEA_REGRESS_INFO_TOL]);
+    if (a->method == M_LS)
+        cli_jint(&j, "refine_steps", (int)r->info[IGEA_REGRESS_INFO_REFINE_STEPS]);
+    if (a->method == M_RIDGE || a->method == M_PCE)
+        cli_jint(&j, "scaled", (int)r->info[IGEA_REGRESS_INFO_SCALED]);
     cli_jnum(&j, "cond", r->cond[IGEA_REGRESS_COND_ALL]);
     cli_jnum(&j, "cond_estimable", r->cond[IGEA_REGRESS_COND_ESTIMABLE]);
     cli_jnums(&j, "eigenvalues", r->eig, N);
@@ -280,6 +331,16 @@ static void text_report(FILE *f, const rg_args *a, const rg_in *in, const rg_out
     fprintf(f, "rank %d of %d; condition number %.4e (estimable part %.4e); residual "
                "variance %.6g\n", r->rank, N, r->cond[IGEA_REGRESS_COND_ALL],
                r->cond[IGEA_REGRESS_COND_ESTIMABLE], r->sigma2);
+    if (a->method == M_LS)
+        fprintf(f, "rank cut: singular values of the column-scaled design above %.3e; "
+                   "%d refinement steps in extended precision\n",
+                r->info[IGEA_REGRESS_INFO_TOL], (int)r->info[IGEA_REGRESS_INFO_REFINE_STEPS]);
+    if ((a->method == M_RIDGE || a->method == M_PCE) && r->info[IGEA_REGRESS_INFO_SCALED])
+        fprintf(f, "column norms differ by more than %.0e: columns scaled to unit norm "
+                   "internally (the tuning constant is that of the scaled design)\n",
+                IGEA_REGRESS_SCALE_RATIO);
+    if (a->method == M_RIDGE || a->method == M_PCE || a->method == M_EBR)
+        fprintf(f, "rank cut: singular values above %.3e\n", r->info[IGEA_REGRESS_INFO_TOL]);
     if (r->scalar_name)
         fprintf(f, "%s = %.10g\n", r->scalar_name, r->scalar);
     if (r->count_name)
@@ -290,6 +351,22 @@ static void text_report(FILE *f, const rg_args *a, const rg_in *in, const rg_out
             fprintf(f, " %.5f", r->shrink[i]);
         fputc('\n', f);
     }
+    if (r->have_diag) {
+        const double *d = r->dg;
+        fprintf(f, "R2 %.6f, adjusted %.6f; F(%d, %d) = %.6g, p = %.4g; AIC %.6g, BIC %.6g; "
+                   "Durbin-Watson %.4f; PRESS %.6g\n", d[IGEA_REGRESS_DIAG_R2],
+                d[IGEA_REGRESS_DIAG_R2_ADJ], (int)d[IGEA_REGRESS_DIAG_DF_MODEL],
+                (int)d[IGEA_REGRESS_DIAG_DF_RESID], d[IGEA_REGRESS_DIAG_FVALUE],
+                d[IGEA_REGRESS_DIAG_F_PVALUE], d[IGEA_REGRESS_DIAG_AIC],
+                d[IGEA_REGRESS_DIAG_BIC], d[IGEA_REGRESS_DIAG_DURBIN_WATSON],
+                d[IGEA_REGRESS_DIAG_PRESS]);
+        fprintf(f, "%5s %12s %12s %16s %16s\n", "term", "t", "P>|t|", "lower", "upper");
+        for (int j = 0; j < N; j++)
+            fprintf(f, "%5d %12.4f %12.4g %16.8e %16.8e\n", j, r->tv[j], r->pv[j], r->lo[j],
+                    r->hi[j]);
+    } else if (a->method == M_LS)
+        fputs("R2, F, t tests: not defined (no residual degrees of freedom, an exact fit or "
+              "an observation of leverage 1)\n", f);
     fputc('\n', f);
     text_table(f, N, r, a->method == M_EBR);
     for (int j = 0; j < N; j++)
@@ -312,7 +389,7 @@ int cmd_regress(int argc, char **argv)
     if ((ec = read_inputs(&a, &in)))
         goto done;
     int N = in.N;
-    work = malloc(((size_t)N * N + 9 * (size_t)N) * sizeof(double));
+    work = malloc(((size_t)N * N + 13 * (size_t)N + 2 * (size_t)in.m) * sizeof(double));
     r.pd = malloc((size_t)N * sizeof(int));
     if (!work || !r.pd) {
         ec = cli_oom("the results");
@@ -320,6 +397,8 @@ int cmd_regress(int argc, char **argv)
     }
     r.cov = work, r.x = r.cov + (size_t)N * N, r.sd = r.x + N, r.sdf = r.sd + N;
     r.shrink = r.sdf + N, r.eig = r.shrink + N, r.vif = r.eig + N, r.sdc = r.vif + N;
+    r.tv = r.sdc + N, r.pv = r.tv + N, r.lo = r.pv + N, r.hi = r.lo + N, r.lev = r.hi + N;
+    r.cd = r.lev + in.m;
     int st = igea_regress_collinearity(in.m, N, in.A, in.m, in.y, in.sig, in.spec, a.rcond,
                                        r.cond, &r.rank, r.eig, NULL, 1, r.vif, r.sdc, r.pd);
     if ((ec = cli_status(st, "regress: diagnostics")) || (ec = estimate(&a, &in, &r)))
