@@ -307,11 +307,37 @@ REDUND_FDI_LEN = 8
 REGRESS_EBR_SC = 0
 REGRESS_EBR_MM = 1
 REGRESS_EBR_ML2 = 2
+REGRESS_NO_REFINE = 1
+REGRESS_INFO_RANK = 0
+REGRESS_INFO_RCOND = 1
+REGRESS_INFO_TOL = 2
+REGRESS_INFO_SCALED = 3
+REGRESS_INFO_REFINE_STEPS = 4
+REGRESS_INFO_COND = 5
+REGRESS_INFO_LEN = 16
+REGRESS_DIAG_R2 = 0
+REGRESS_DIAG_R2_ADJ = 1
+REGRESS_DIAG_FVALUE = 2
+REGRESS_DIAG_F_PVALUE = 3
+REGRESS_DIAG_AIC = 4
+REGRESS_DIAG_BIC = 5
+REGRESS_DIAG_LLF = 6
+REGRESS_DIAG_PRESS = 7
+REGRESS_DIAG_DURBIN_WATSON = 8
+REGRESS_DIAG_DF_MODEL = 9
+REGRESS_DIAG_DF_RESID = 10
+REGRESS_DIAG_CONSTANT = 11
+REGRESS_DIAG_T_CRIT = 12
+REGRESS_DIAG_SSR = 13
+REGRESS_DIAG_TSS = 14
+REGRESS_DIAG_RANK = 15
+REGRESS_DIAG_LEN = 24
 REGRESS_RIDGE_FIXED = 0
 REGRESS_RIDGE_HKB = 1
 REGRESS_RIDGE_LW = 2
 REGRESS_RIDGE_GCV = 3
 REGRESS_RIDGE_LOO = 4
+REGRESS_SCALE_RATIO = 100000000.0
 REGRESS_NULL_TOL = 1e-08
 REGRESS_COND_ALL = 0
 REGRESS_COND_ESTIMABLE = 1
@@ -435,6 +461,7 @@ STABILITY_FIT_LEN = 5
 
 # igea/stats.h
 STATS_DOF_MAX = 100000.0
+STATS_CHI2_DOF_MAX = 10000000.0
 STATS_INFO_N_TEST = 0
 STATS_INFO_CHI2 = 1
 STATS_INFO_DOF = 2
@@ -730,6 +757,17 @@ PROTOTYPES = {
     "igea_regress_ls": (c_int, (("m", c_int), ("N", c_int), ("A", _PD), ("lda", c_int), ("y", _PD),
         ("sigma", _PD), ("spec_sigma", _PD), ("rcond", c_double), ("x", _PD), ("cov", _PD),
         ("ldc", c_int), ("rank", _PI), ("sigma2", _PD), ("residual", _PD),)),
+    "igea_regress_ls_ex": (c_int, (("m", c_int), ("N", c_int), ("A", _PD), ("lda", c_int),
+        ("y", _PD), ("sigma", _PD), ("spec_sigma", _PD), ("rcond", c_double), ("flags", c_int),
+        ("x", _PD), ("cov", _PD), ("ldc", c_int), ("sd", _PD), ("sigma2", _PD), ("residual", _PD),
+        ("info", _PD),)),
+    "igea_regress_rank_info": (c_int, (("m", c_int), ("N", c_int), ("A", _PD), ("lda", c_int),
+        ("sigma", _PD), ("spec_sigma", _PD), ("rcond", c_double), ("info", _PD),)),
+    "igea_regress_sd": (c_int, (("N", c_int), ("cov", _PD), ("ldc", c_int), ("sd", _PD),)),
+    "igea_regress_ls_diag": (c_int, (("m", c_int), ("N", c_int), ("A", _PD), ("lda", c_int),
+        ("y", _PD), ("sigma", _PD), ("rcond", c_double), ("alpha", c_double), ("x", _PD),
+        ("sd", _PD), ("tvalues", _PD), ("pvalues", _PD), ("ci_lower", _PD), ("ci_upper", _PD),
+        ("leverage", _PD), ("cooks_d", _PD), ("diag", _PD),)),
     "igea_regress_ebr": (c_int, (("m", c_int), ("N", c_int), ("A", _PD), ("lda", c_int),
         ("y", _PD), ("sigma", _PD), ("spec_sigma", _PD), ("rule", c_int), ("lam_floor", c_double),
         ("x", _PD), ("cov", _PD), ("ldc", c_int), ("lam", _PD), ("rank", _PI), ("sigma2", _PD),
@@ -745,6 +783,14 @@ PROTOTYPES = {
         ("y", _PD), ("sigma", _PD), ("spec_sigma", _PD), ("ncomp", c_int), ("eig_min", c_double),
         ("x", _PD), ("cov", _PD), ("ldc", c_int), ("nused", _PI), ("sigma2", _PD),
         ("residual", _PD),)),
+    "igea_regress_ridge_ex": (c_int, (("m", c_int), ("N", c_int), ("A", _PD), ("lda", c_int),
+        ("y", _PD), ("sigma", _PD), ("spec_sigma", _PD), ("rule", c_int), ("k", c_double),
+        ("x", _PD), ("cov", _PD), ("ldc", c_int), ("k_used", _PD), ("sigma2", _PD),
+        ("residual", _PD), ("info", _PD),)),
+    "igea_regress_pce_ex": (c_int, (("m", c_int), ("N", c_int), ("A", _PD), ("lda", c_int),
+        ("y", _PD), ("sigma", _PD), ("spec_sigma", _PD), ("ncomp", c_int), ("eig_min", c_double),
+        ("x", _PD), ("cov", _PD), ("ldc", c_int), ("nused", _PI), ("sigma2", _PD),
+        ("residual", _PD), ("info", _PD),)),
     "igea_regress_bayes": (c_int, (("m", c_int), ("N", c_int), ("A", _PD), ("lda", c_int),
         ("y", _PD), ("sigma", _PD), ("spec_sigma", _PD), ("prior_mean", _PD), ("prior_cov", _PD),
         ("ldp", c_int), ("x", _PD), ("cov", _PD), ("ldc", c_int), ("residual", _PD),)),
@@ -831,12 +877,16 @@ PROTOTYPES = {
         ("coef", _PD), ("se", _PD), ("supported", _PI), ("chi2", _PD),)),
     # igea/stats.h
     "igea_stats_normal_cdf": (c_int, (("x", c_double), ("p", _PD),)),
+    "igea_stats_normal_sf": (c_int, (("x", c_double), ("q", _PD),)),
     "igea_stats_erfinv": (c_int, (("y", c_double), ("x", _PD),)),
     "igea_stats_normal_quantile": (c_int, (("p", c_double), ("z", _PD),)),
     "igea_stats_chi2_cdf": (c_int, (("x", c_double), ("dof", c_double), ("p", _PD),)),
     "igea_stats_chi2_sf": (c_int, (("x", c_double), ("dof", c_double), ("q", _PD),)),
     "igea_stats_chi2_quantile": (c_int, (("p", c_double), ("dof", c_double), ("x", _PD),)),
     "igea_stats_chi2_upper": (c_int, (("alpha", c_double), ("dof", c_double), ("x", _PD),)),
+    "igea_stats_t_sf": (c_int, (("t", c_double), ("dof", c_double), ("q", _PD),)),
+    "igea_stats_t_quantile": (c_int, (("p", c_double), ("dof", c_double), ("t", _PD),)),
+    "igea_stats_f_sf": (c_int, (("f", c_double), ("d1", c_double), ("d2", c_double), ("q", _PD),)),
     "igea_stats_accuracy_test": (c_int, (("n", c_int), ("equiv_err", _PD), ("lambda", _PD),
         ("alpha", c_double), ("lambda_test", c_double), ("z_crit", c_double), ("z", _PD),
         ("reject", _PI), ("info", _PD),)),
@@ -942,10 +992,16 @@ INPUTS = {
     "igea_redund_monitor_intervals": ("excluded",),
     "igea_redund_simulate": ("level", "noise",),
     "igea_regress_ls": ("A", "y", "sigma", "spec_sigma",),
+    "igea_regress_ls_ex": ("A", "y", "sigma", "spec_sigma",),
+    "igea_regress_rank_info": ("A", "sigma", "spec_sigma",),
+    "igea_regress_sd": ("cov",),
+    "igea_regress_ls_diag": ("A", "y", "sigma",),
     "igea_regress_ebr": ("A", "y", "sigma", "spec_sigma",),
     "igea_regress_ridge": ("A", "y", "sigma", "spec_sigma",),
     "igea_regress_ridge_trace": ("A", "y", "sigma", "spec_sigma", "k",),
     "igea_regress_pce": ("A", "y", "sigma", "spec_sigma",),
+    "igea_regress_ridge_ex": ("A", "y", "sigma", "spec_sigma",),
+    "igea_regress_pce_ex": ("A", "y", "sigma", "spec_sigma",),
     "igea_regress_bayes": ("A", "y", "sigma", "spec_sigma", "prior_mean", "prior_cov",),
     "igea_regress_collinearity": ("A", "y", "sigma", "spec_sigma",),
     "igea_rls_create": ("x0", "gamma0",),
