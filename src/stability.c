@@ -540,3 +540,23 @@ int igea_stability_noise_id(int ntau, const double *tau, const double *adev,
     memcpy(out, res, sizeof res);
     return 0;
 }
+
+int igea_stability_taus_used(double fs, int ntau, const double *tau, double *used)
+{
+    if (!(isfinite(fs) && fs > 0))
+        return -1;
+    if (ntau < 1)
+        return -2;
+    if (!tau)
+        return -3;
+    if (!used)
+        return -4;
+    for (int j = 0; j < ntau; j++) {
+        double v = tau[j] * fs;
+        if (!(v >= 0.5 && v < 2147483648.0))
+            return -3;
+    }
+    for (int j = 0; j < ntau; j++)
+        used[j] = (double)lround(tau[j] * fs) / fs;
+    return 0;
+}

@@ -84,6 +84,12 @@ IGEA_API int igea_stability_allan(int n, const double *y, double fs, int ntau,
                                   double conf, double *dev, double *lo,
                                   double *hi, double *edf, int *count);
 
+/* The averaging times igea_stability_allan uses for tau: m = lround(tau fs)
+ * samples (halves away from zero), used = m / fs.
+ *  1 fs > 0; 2 ntau >= 1; 3 tau[ntau], each with 0.5 <= tau fs < 2^31;
+ *  4 used[ntau] out (may be tau itself). Returns 0 or -i (used untouched). */
+IGEA_API int igea_stability_taus_used(double fs, int ntau, const double *tau, double *used);
+
 /* Octave averaging times tau = 2^k / fs, k = 0, 1, ... while the kind's
  * count stays >= 1 (and at most ntau_max of them).
  *  1 n >= 2, 2 fs > 0, 3 kind, 4 ntau_max >= 1, 5 tau out, 6 ntau out. */

@@ -19,13 +19,16 @@ def _record(y):
 
 @dataclass(frozen=True)
 class Block3Sigma:
-    """Block-mean statistic of METHODS 3.4."""
+    """Block-mean statistic of METHODS 3.4: the fields of the driver's JSON
+    `block` (seconds: the block length used, round(block fs) / fs) and
+    block_samples, the samples per block."""
     three_sigma: float
     sigma: float
     nblock: int
     block_samples: int
     mean: float
     adev: float   # Allan deviation at the block length from the block means
+    seconds: float = float("nan")
 
     def summary(self):
         return ("3 sigma = %.6g (sigma of %d block means of %d samples = %.6g); mean %.10g; "
@@ -42,6 +45,7 @@ def block_3sigma(y, fs, block=100.0):
               float(block), _lib.dptr(out))
     return Block3Sigma(three_sigma=float(out[_capi.STABILITY_BLOCK_3SIGMA]),
                        block_samples=int(out[_capi.STABILITY_BLOCK_NSAMP]),
+                       seconds=out[_capi.STABILITY_BLOCK_NSAMP] / float(fs),
                        **_lib.fields(out, "STABILITY_BLOCK_", sigma=float, nblock=int,
                                      mean=float, adev=float))
 
@@ -106,7 +110,9 @@ def allan(y, fs, taus=None, *, kind="overlapping", noise="auto", conf=0.683):
     _lib.call("igea.allan", "igea_stability_allan", a.size, _lib.dptr(a), float(fs), nt,
               _lib.dptr(t), kind_code, noise, float(conf), _lib.dptr(dev), _lib.dptr(lo),
               _lib.dptr(hi), _lib.dptr(edf), _lib.iptr(cnt))
-    used = np.floor(t * fs + 0.5) / fs   # the library's m = lround(tau fs)
+    used = np.empty(nt)
+    _lib.call("igea.allan", "igea_stability_taus_used", float(fs), nt, _lib.dptr(t),
+              _lib.dptr(used))
     return AllanResult(kind, used, dev, lo, hi, edf, cnt.astype(int), float(conf))
 
 

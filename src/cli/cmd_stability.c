@@ -315,11 +315,9 @@ static int compute(const st_args *a, const double *y, st_result *r)
     if (st && st != BLOCK_ARG_LENGTH)
         return cli_status(st, "stability: block statistic");
     if (kind <= IGEA_STABILITY_ALLAN_NONOVERLAPPING) {
-        for (int j = 0; j < r->ntau; j++) { /* the library's m = lround(tau fs), given to it */
-            double v = r->tau[j] * a->fs;
-            if (v >= 0.5 && v <= (double)r->n)
-                r->tau[j] = (double)lround(v) / a->fs;
-        }
+        /* the taus on the sample grid, as the library uses them (a tau off
+         * the record's range is left for igea_stability_allan to refuse) */
+        igea_stability_taus_used(a->fs, r->ntau, r->tau, r->tau);
         st = igea_stability_allan(r->n, y, a->fs, r->ntau, r->tau, kind, noise, a->conf, r->dev,
                                   r->lo, r->hi, r->edf, r->cnt);
     } else {

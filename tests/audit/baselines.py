@@ -390,6 +390,7 @@ BASE = {
     'igea_stability_allan': dict(n='200', fs='10.0', ntau='3', tau='[0.1, 0.2, 0.4]',
                                  kind='IGEA_STABILITY_ALLAN_OVERLAPPING', noise='IGEA_STABILITY_NOISE_AUTO',
                                  conf='0.683', _opt=['lo', 'hi']),
+    'igea_stability_taus_used': dict(fs='10.0', ntau='3', tau='[0.25, 0.35, 1.0]'),
     'igea_stability_octave_taus': dict(n='200', fs='10.0', kind='IGEA_STABILITY_ALLAN_OVERLAPPING',
                                        ntau_max='8'),
     'igea_stability_noise_id': dict(ntau='6', tau='c:0.1 * pow(2.0, (double)i)',

@@ -204,3 +204,28 @@ def test_driver_stability(tmp_path):
                               cwd=tmp_path).returncode == 64
     assert subprocess.run([drv, "stability", "--data", "none.npy", "--fs", "1"], capture_output=True,
                           cwd=tmp_path).returncode == 66
+
+
+def test_block_seconds_and_taus_used_are_the_drivers():
+    """Block3Sigma.seconds is the JSON block.seconds (round(block fs) / fs);
+    the taus reported are those on the sample grid, lround(tau fs) / fs,
+    for the driver and Python alike (a 2.5-sample tau is 3 samples)."""
+    import json
+    import subprocess
+    y = np.random.default_rng(8).standard_normal(4000)
+    b = igea.block_3sigma(y, 10.0, block=2.46)
+    assert b.block_samples == 25 and b.seconds == 2.5
+    r = igea.allan(y, 10.0, [0.25, 0.35, 1.0])
+    np.testing.assert_array_equal(r.taus, [0.3, 0.4, 1.0])
+    import os
+    import tempfile
+    with tempfile.TemporaryDirectory() as d:
+        np.savetxt(os.path.join(d, "y.txt"), y)
+        np.savetxt(os.path.join(d, "t.txt"), [0.25, 0.35, 1.0])
+        out = subprocess.run([os.environ["IGEA_DRIVER"], "stability", "--data",
+                              os.path.join(d, "y.txt"), "--fs", "10", "--block", "2.46",
+                              "--taus", os.path.join(d, "t.txt"), "--json"],
+                             capture_output=True, text=True, check=True).stdout
+    j = json.loads(out)
+    assert j["block"]["seconds"] == b.seconds
+    assert j["taus"] == list(r.taus)
