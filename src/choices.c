@@ -23,6 +23,10 @@ static const choice accel_model[] = {
     {IGEA_ACCEL_SINGLE, "single"}, {IGEA_ACCEL_DUAL, "dual"}, END};
 static const choice accel_method[] = {
     {IGEA_ACCEL_LS, "ls"}, {IGEA_ACCEL_EBR, "ebr"}, END};
+static const choice regress_method[] = {
+    {IGEA_REGRESS_METHOD_LS, "ls"}, {IGEA_REGRESS_METHOD_RIDGE, "ridge"},
+    {IGEA_REGRESS_METHOD_PCE, "pce"}, {IGEA_REGRESS_METHOD_BAYES, "bayes"},
+    {IGEA_REGRESS_METHOD_EBR, "ebr"}, END};
 static const choice accel_axis[] = {
     {IGEA_ACCEL_AXIS_PA, "pa"}, {IGEA_ACCEL_AXIS_OA, "oa"}, END};
 static const choice impact_model[] = {
@@ -92,6 +96,7 @@ static const choice *table(int kind)
     case IGEA_CHOICE_ACCEL_MODEL: return accel_model;
     case IGEA_CHOICE_ACCEL_METHOD: return accel_method;
     case IGEA_CHOICE_ACCEL_AXIS: return accel_axis;
+    case IGEA_CHOICE_REGRESS_METHOD: return regress_method;
     case IGEA_CHOICE_IMPACT_MODEL: return impact_model;
     case IGEA_CHOICE_IMPACT_CEP: return impact_cep;
     case IGEA_CHOICE_ENVFUN_SYSTEM: return envfun_system;

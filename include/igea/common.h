@@ -111,6 +111,8 @@ IGEA_API const char *igea_opt_name(int module, int slot);
 #define IGEA_CHOICE_REGRESS_EBR_RULE 3   /* igea/regress.h IGEA_REGRESS_EBR_*: sc mm ml2 */
 #define IGEA_CHOICE_ACCEL_MODEL 4        /* igea/accel.h IGEA_ACCEL_SINGLE, _DUAL: single dual */
 #define IGEA_CHOICE_ACCEL_METHOD 5       /* igea/accel.h IGEA_ACCEL_LS, _EBR: ls ebr */
+#define IGEA_CHOICE_REGRESS_METHOD 60    /* igea/regress.h IGEA_REGRESS_METHOD_*: ls ridge pce
+                                          * bayes ebr */
 #define IGEA_CHOICE_ACCEL_AXIS 41        /* igea/accel.h IGEA_ACCEL_AXIS_*: pa oa */
 #define IGEA_CHOICE_IMPACT_MODEL 42      /* igea/impact.h IGEA_IMPACT_KEPLER, _J2: kepler j2 */
 #define IGEA_CHOICE_IMPACT_CEP 43        /* igea/impact.h IGEA_IMPACT_CEP_*: sum rms */

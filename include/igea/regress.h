@@ -47,6 +47,14 @@ extern "C" {
 #endif
 
 /* EBR rules for the prior scale lambda (METHODS 4.3 steps 5-6). */
+/* The estimators by name, for front ends that pick one (IGEA_CHOICE_REGRESS_METHOD:
+ * ls ridge pce bayes ebr): igea_regress_ls, _ridge, _pce, _bayes, _ebr. */
+#define IGEA_REGRESS_METHOD_LS 0
+#define IGEA_REGRESS_METHOD_RIDGE 1
+#define IGEA_REGRESS_METHOD_PCE 2
+#define IGEA_REGRESS_METHOD_BAYES 3
+#define IGEA_REGRESS_METHOD_EBR 4
+
 #define IGEA_REGRESS_EBR_SC 0  /* Shinozaki-Chang rule, METHODS 4.3 eq. (17) */
 #define IGEA_REGRESS_EBR_MM 1  /* unbiased moments: sum z_i^2/(1+l d_i) = r S/(m-r) */
 #define IGEA_REGRESS_EBR_ML2 2 /* type-II maximum likelihood */

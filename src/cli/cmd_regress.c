@@ -6,8 +6,10 @@
 
 #include "cli.h"
 
-enum { M_LS, M_RIDGE, M_PCE, M_BAYES, M_EBR };
-static const char *const method_names[] = {"ls", "ridge", "pce", "bayes", "ebr"};
+enum { M_LS = IGEA_REGRESS_METHOD_LS, M_RIDGE = IGEA_REGRESS_METHOD_RIDGE,
+       M_PCE = IGEA_REGRESS_METHOD_PCE, M_BAYES = IGEA_REGRESS_METHOD_BAYES,
+       M_EBR = IGEA_REGRESS_METHOD_EBR };
+#define METHOD_NAME(m) igea_choice_name(IGEA_CHOICE_REGRESS_METHOD, (m))
 
 typedef struct {
     const char *S, *dw, *sigma, *spec, *prior_mean, *prior_cov, *rule, *out;
@@ -17,7 +19,7 @@ typedef struct {
 
 static rg_args A;
 static const cli_opt options[] = {
-    {"--method", CLI_OPT_CHOICE, &A.method, NULL, "ls|ridge|pce|bayes|ebr", "the estimator (required)", &A.have_method},
+    {"--method", CLI_OPT_CHOICE, &A.method, NULL, CLI_CHOICES(IGEA_CHOICE_REGRESS_METHOD), "the estimator (required)", &A.have_method},
     {"--S", CLI_OPT_STR, &A.S, NULL, "FILE", "environment functions, m rows x N columns", NULL},
     {"--dw", CLI_OPT_STR, &A.dw, NULL, "FILE", "velocity differences, m values", NULL},
     {"--sigma", CLI_OPT_STR, &A.sigma, NULL, "FILE|NUM", "row 1-sigma, m values or one number (default 1)", NULL},
@@ -227,7 +229,7 @@ static int estimate(const rg_args *a, const rg_in *in, rg_out *r)
     if (st == 0 && a->method != M_LS)
         st = igea_regress_sd(N, r->cov, N, r->sd);
     if (st)
-        return cli_status(st, method_names[a->method]);
+        return cli_status(st, METHOD_NAME(a->method));
     if (a->method == M_LS) { /* the diagnostics, when they are defined */
         /* x and sd again into unused scratch (shrink, sdf: EBR only) */
         st = igea_regress_ls_diag(m, N, A, m, y, sig, a->rcond, a->alpha, r->shrink, r->sdf, r->tv,
@@ -268,7 +270,7 @@ static void json_report(FILE *f, const rg_args *a, const rg_in *in, const rg_out
     int N = in->N;
     cli_json j;
     cli_json_begin(&j, f);
-    cli_jstr(&j, "method", method_names[a->method]);
+    cli_jstr(&j, "method", METHOD_NAME(a->method));
     cli_jint(&j, "rows", in->m);
     cli_jint(&j, "n_terms", N);
     cli_jint(&j, "rank", r->rank);
@@ -326,7 +328,7 @@ static void text_report(FILE *f, const rg_args *a, const rg_in *in, const rg_out
 {
     int N = in->N, npd = 0;
     fprintf(f, "igea regress --method %s: %s (%d rows x %d terms)%s%s\n",
-            method_names[a->method], a->S, in->m, N, a->spec ? ", spec-scaled by " : "",
+            METHOD_NAME(a->method), a->S, in->m, N, a->spec ? ", spec-scaled by " : "",
             a->spec ? a->spec : "");
     fprintf(f, "rank %d of %d; condition number %.4e (estimable part %.4e); residual "
                "variance %.6g\n", r->rank, N, r->cond[IGEA_REGRESS_COND_ALL],

@@ -38,6 +38,7 @@ DRIVER_OPTIONS = [
     ("accel", "--method", _capi.CHOICE_ACCEL_METHOD),
     ("accel", "--rule", _capi.CHOICE_REGRESS_EBR_RULE),
     ("accel", "--axis", _capi.CHOICE_ACCEL_AXIS),
+    ("regress", "--method", _capi.CHOICE_REGRESS_METHOD),
     ("envfun", "--system", _capi.CHOICE_ENVFUN_SYSTEM),
     ("envfun", "--output", _capi.CHOICE_ENVFUN_OUTPUT),
     ("simulate", "--system", _capi.CHOICE_ENVFUN_SYSTEM),
