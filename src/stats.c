@@ -924,6 +924,68 @@ static int verdict_level(int n, double g, double *a, double *b)
     return st < 0 && st > -10 ? IGEA_ENOCONV : st;
 }
 
+/* The exact rule's common level g: size(a(g), b(g)) = alpha; *pa, *pb,
+ * *ps its thresholds and size. */
+static int exact_level(int n, double alpha, double *pa, double *pb, double *ps)
+{
+    double ta, tb, ts;
+    int st;
+    /* size(g) increases from <= alpha at g = alpha / (n + 1) (the
+     * union bound) to >= alpha at g = alpha: false position (Illinois)
+     * on log g. */
+    double lo = log(alpha / (n + 1)), hi = log(alpha), flo, fhi, sa, sb, ss;
+    st = verdict_level(n, exp(lo), &sa, &sb);
+    if (st == 0)
+        st = igea_stats_union_size(n, sa, sb, &ss);
+    if (st != 0)
+        return st;
+    flo = ss - alpha;
+    st = verdict_level(n, exp(hi), &ta, &tb);
+    if (st == 0)
+        st = igea_stats_union_size(n, ta, tb, &ts);
+    if (st != 0)
+        return st;
+    fhi = ts - alpha;
+    if (n == 1 || fhi <= 0.0) {
+        /* n = 1: a^2 = b, the size is g */
+    } else if (flo >= 0.0) {
+        st = verdict_level(n, exp(lo), &ta, &tb);
+        ts = ss;
+    } else {
+        int side = 0;
+        for (int it = 0;; it++) {
+            if (it > 200)
+                return IGEA_ENOCONV;
+            double x = (lo * fhi - hi * flo) / (fhi - flo);
+            if (!(x > lo && x < hi) || it % 4 == 3)
+                x = 0.5 * (lo + hi); /* a bisection now and then bounds the count */
+            st = verdict_level(n, exp(x), &ta, &tb);
+            if (st == 0)
+                st = igea_stats_union_size(n, ta, tb, &ts);
+            if (st != 0)
+                return st;
+            double f = ts - alpha;
+            if (fabs(f) <= 1e-12 * alpha || hi - lo <= 1e-11)
+                break;
+            if (f < 0.0) {
+                lo = x;
+                flo = f;
+                if (side == -1)
+                    fhi *= 0.5;
+                side = -1;
+            } else {
+                hi = x;
+                fhi = f;
+                if (side == 1)
+                    flo *= 0.5;
+                side = 1;
+            }
+        }
+    }
+    *pa = ta, *pb = tb, *ps = ts;
+    return 0;
+}
+
 int igea_stats_verdict_thresholds(int rule, int n, double alpha, double *a, double *b,
                                   double *size)
 {
@@ -961,58 +1023,9 @@ int igea_stats_verdict_thresholds(int rule, int n, double alpha, double *a, doub
         if (st != 0)
             return st;
     } else {
-        /* size(g) increases from <= alpha at g = alpha / (n + 1) (the
-         * union bound) to >= alpha at g = alpha: false position (Illinois)
-         * on log g. */
-        double lo = log(alpha / (n + 1)), hi = log(alpha), flo, fhi, sa, sb, ss;
-        st = verdict_level(n, exp(lo), &sa, &sb);
-        if (st == 0)
-            st = igea_stats_union_size(n, sa, sb, &ss);
+        st = exact_level(n, alpha, &ta, &tb, &ts);
         if (st != 0)
             return st;
-        flo = ss - alpha;
-        st = verdict_level(n, exp(hi), &ta, &tb);
-        if (st == 0)
-            st = igea_stats_union_size(n, ta, tb, &ts);
-        if (st != 0)
-            return st;
-        fhi = ts - alpha;
-        if (n == 1 || fhi <= 0.0) {
-            /* n = 1: a^2 = b, the size is g */
-        } else if (flo >= 0.0) {
-            st = verdict_level(n, exp(lo), &ta, &tb);
-            ts = ss;
-        } else {
-            int side = 0;
-            for (int it = 0;; it++) {
-                if (it > 200)
-                    return IGEA_ENOCONV;
-                double x = (lo * fhi - hi * flo) / (fhi - flo);
-                if (!(x > lo && x < hi) || it % 4 == 3)
-                    x = 0.5 * (lo + hi); /* a bisection now and then bounds the count */
-                st = verdict_level(n, exp(x), &ta, &tb);
-                if (st == 0)
-                    st = igea_stats_union_size(n, ta, tb, &ts);
-                if (st != 0)
-                    return st;
-                double f = ts - alpha;
-                if (fabs(f) <= 1e-12 * alpha || hi - lo <= 1e-11)
-                    break;
-                if (f < 0.0) {
-                    lo = x;
-                    flo = f;
-                    if (side == -1)
-                        fhi *= 0.5;
-                    side = -1;
-                } else {
-                    hi = x;
-                    fhi = f;
-                    if (side == 1)
-                        flo *= 0.5;
-                    side = 1;
-                }
-            }
-        }
     }
     *a = ta;
     *b = tb;
