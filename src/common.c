@@ -52,6 +52,34 @@ const char *igea_strerror(int status)
     return "unknown status code";
 }
 
+int igea_status_class(int status)
+{
+    if (status >= 0)
+        return IGEA_STATUS_OK;
+    if (status > -1000)
+        return IGEA_STATUS_ARGUMENT;
+    switch (status) {
+    case IGEA_ENONFINITE:
+    case IGEA_ENONPOSITIVE:
+    case IGEA_ESINGULAR:
+    case IGEA_ERANK:
+    case IGEA_EDOMAIN:
+    case IGEA_ENOTESTABLE:
+    case IGEA_EDEPENDENT:
+    case IGEA_EEMPTY:
+    case IGEA_ERANGE:
+    case IGEA_EOVERFLOW:
+    case IGEA_EFORMAT:
+    case IGEA_DW_ESPAN:
+    case IGEA_DW_ETRACK:
+    case IGEA_DW_ETELEMETRY: return IGEA_STATUS_DATA;
+    case IGEA_EREAD: return IGEA_STATUS_INPUT;
+    case IGEA_ENOMEM:
+    case IGEA_ETEMPFILE: return IGEA_STATUS_RESOURCE;
+    default: return IGEA_STATUS_FAILURE;
+    }
+}
+
 const char *igea_opt_name(int module, int slot)
 {
     static const char *const eqerr[IGEA_EQERR_OPT_LEN] = {

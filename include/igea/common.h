@@ -83,6 +83,28 @@ extern "C" {
 /* Static English text for a status code; never NULL. */
 IGEA_API const char *igea_strerror(int status);
 
+/* What kind of failure a status is, for a front end that maps statuses to
+ * its own terms (the driver's exit codes, Python's exception classes):
+ *   IGEA_STATUS_OK        status >= 0 (a success; positive codes are results)
+ *   IGEA_STATUS_ARGUMENT  -999 .. -1: argument -status is invalid
+ *   IGEA_STATUS_DATA      the values passed cannot be used for the job: NaN
+ *                         or Inf, a sigma <= 0 or too small, a singular or
+ *                         rank-deficient design, nothing testable, empty or
+ *                         dependent data, a value outside its domain, a
+ *                         malformed input file, records out of order
+ *   IGEA_STATUS_INPUT     an input file cannot be opened or read
+ *   IGEA_STATUS_FAILURE   the computation failed on valid data: no
+ *                         convergence, LAPACK, a size the method cannot
+ *                         evaluate, or an unknown status
+ *   IGEA_STATUS_RESOURCE  memory or temporary storage ran out */
+#define IGEA_STATUS_OK 0
+#define IGEA_STATUS_ARGUMENT 1
+#define IGEA_STATUS_DATA 2
+#define IGEA_STATUS_INPUT 3
+#define IGEA_STATUS_FAILURE 4
+#define IGEA_STATUS_RESOURCE 5
+IGEA_API int igea_status_class(int status);
+
 /* Modules that take an options array (opts[IGEA_<MODULE>_OPT_LEN]), for
  * igea_opt_name. */
 #define IGEA_MODULE_EQERR 1 /* igea/eqerr.h, IGEA_EQERR_OPT_* */

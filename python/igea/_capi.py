@@ -78,6 +78,12 @@ DW_ETRACK = -1032
 DW_ETELEMETRY = -1033
 EVERDICT = -1027
 SIGMA_MIN = 1.4916681462400413e-154
+STATUS_OK = 0
+STATUS_ARGUMENT = 1
+STATUS_DATA = 2
+STATUS_INPUT = 3
+STATUS_FAILURE = 4
+STATUS_RESOURCE = 5
 MODULE_EQERR = 1
 MODULE_SIM = 2
 MODULE_IMPACT = 10
@@ -569,6 +575,7 @@ PROTOTYPES = {
         )),
     # igea/common.h
     "igea_strerror": (c_char_p, (("status", c_int),)),
+    "igea_status_class": (c_int, (("status", c_int),)),
     "igea_opt_name": (c_char_p, (("module", c_int), ("slot", c_int),)),
     "igea_choice_name": (c_char_p, (("kind", c_int), ("code", c_int),)),
     "igea_choice_code": (c_int, (("kind", c_int), ("name", c_char_p), ("code", _PI),)),

@@ -44,17 +44,17 @@ class IgeaError(Exception):
 class DataError(IgeaError, ValueError):
     """An IgeaError caused by the values passed (an invalid argument -i, or
     a data status: NaN, a non-positive sigma, rank, ...): also a ValueError,
-    so that 'except ValueError' catches bad data. Out of memory
-    (IGEA_ENOMEM), a failed iteration (IGEA_ENOCONV) or LAPACK failure
-    (IGEA_ELAPACK) raise a plain IgeaError."""
-
-
-_NOT_DATA = {_capi.ENOMEM, _capi.ENOCONV, _capi.ELAPACK}
+    so that 'except ValueError' catches bad data. Which statuses are data
+    is the library's igea_status_class (the driver's exit 65 is the same
+    class); out of memory, a failed iteration, LAPACK, an unreadable file
+    raise a plain IgeaError."""
 
 
 def error(code, message, where="", function=None, argument=None, detail=None):
-    """The exception for status `code`: DataError unless it is one of _NOT_DATA."""
-    cls = IgeaError if code in _NOT_DATA else DataError
+    """The exception for status `code`: DataError for an invalid argument or
+    bad data (igea_status_class ARGUMENT or DATA), else IgeaError."""
+    cls = (DataError if lib.igea_status_class(code) in (_capi.STATUS_ARGUMENT, _capi.STATUS_DATA)
+           else IgeaError)
     return cls(code, message, where, function, argument, detail)
 
 

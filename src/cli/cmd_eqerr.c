@@ -191,8 +191,9 @@ static const cli_command eqerr_command = {"eqerr",
 "options:\n",
 eqerr_options,
 "\n"
-"exit status: 0 accepted, 1 rejected, 64 usage, 65 bad input, 66 missing input,\n"
-"70 numerical failure (e.g. no component precise enough to test), 74 I/O error.\n"
+"exit status: 0 accepted, 1 rejected, 64 usage, 65 bad input (also data that\n"
+"cannot be judged, e.g. no component precise enough to test), 66 missing input,\n"
+"70 numerical failure (no convergence), 74 I/O error.\n"
 "\n"
 "example (the bundled flight):\n"
 "  cd examples/flight\n"

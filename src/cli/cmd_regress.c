@@ -66,8 +66,9 @@ static const cli_command command = {"regress",
 "options:\n",
 options,
 "\n"
-"exit status: 0 ok, 64 usage, 65 bad input, 66 missing input, 70 numerical\n"
-"failure (e.g. ebr with rank < 3), 74 I/O error.\n"
+"exit status: 0 ok, 64 usage, 65 bad input (also a design the method cannot\n"
+"use, e.g. ebr with rank < 3), 66 missing input, 70 numerical failure, 74 I/O\n"
+"error.\n"
 "\n"
 "example (the bundled flight):\n"
 "  cd examples/flight\n"

@@ -34,17 +34,10 @@ int cli_status(int status, const char *context)
     if (status == 0)
         return CLI_OK;
     cli_error("%s: %s (status %d)", context, igea_strerror(status), status);
-    switch (status) {
-    case IGEA_ENONFINITE:
-    case IGEA_ENONPOSITIVE:
-    case IGEA_EEMPTY:
-    case IGEA_EDEPENDENT:
-    case IGEA_EFORMAT:
-        return CLI_DATAERR;
-    case IGEA_EREAD:
-        return CLI_NOINPUT;
-    default:
-        return CLI_SOFTWARE;
+    switch (igea_status_class(status)) {
+    case IGEA_STATUS_DATA: return CLI_DATAERR;
+    case IGEA_STATUS_INPUT: return CLI_NOINPUT;
+    default: return CLI_SOFTWARE; /* an argument the driver passed, a failure, memory */
     }
 }
 

@@ -80,3 +80,20 @@ def test_library_directory_accepted():
                        env=env, capture_output=True, text=True, cwd="/")
     assert r.returncode == 0, r.stderr
     assert r.stdout.strip() == os.path.join(d, "libigea.so.1")
+
+
+def test_status_class_is_one_fact_for_the_driver_and_python(tmp_path):
+    """igea_status_class decides both: a DATA status is a DataError in Python
+    and exit 65 in the driver; a FAILURE or RESOURCE status is neither."""
+    lib = igea._lib.lib
+    data = [_capi.ENONFINITE, _capi.ENONPOSITIVE, _capi.ESINGULAR, _capi.ERANK, _capi.EDOMAIN,
+            _capi.ENOTESTABLE, _capi.EDEPENDENT, _capi.EEMPTY, _capi.ERANGE, _capi.EOVERFLOW,
+            _capi.EFORMAT]
+    for code in data:
+        assert lib.igea_status_class(code) == _capi.STATUS_DATA, code
+        assert isinstance(igea._lib.error(code, "x"), ValueError)
+    for code, cls in ((_capi.ENOMEM, _capi.STATUS_RESOURCE), (_capi.ENOCONV, _capi.STATUS_FAILURE),
+                      (_capi.ELAPACK, _capi.STATUS_FAILURE), (_capi.EREAD, _capi.STATUS_INPUT),
+                      (-1, _capi.STATUS_ARGUMENT), (0, _capi.STATUS_OK), (-5000, _capi.STATUS_FAILURE)):
+        assert lib.igea_status_class(code) == cls, code
+        assert isinstance(igea._lib.error(code, "x"), ValueError) == (cls == _capi.STATUS_ARGUMENT)

@@ -431,11 +431,11 @@ def test_driver_usage(tmp_path):
     r = subprocess.run([exe, "regress", "--method", "ls", "--S", str(tmp_path / "nope.txt"),
                         "--dw", str(tmp_path / "dw.txt")], capture_output=True, text=True)
     assert r.returncode == 66
-    # EBR on two terms: rank < 3 -> numerical failure (70)
+    # EBR on two terms: rank < 3 -> data that cannot be used (65, igea_status_class DATA)
     np.savetxt(tmp_path / "S2.txt", np.loadtxt(tmp_path / "S.txt")[:, :2])
     r = subprocess.run([exe, "regress", "--method", "ebr", "--S", str(tmp_path / "S2.txt"),
                         "--dw", str(tmp_path / "dw.txt")], capture_output=True, text=True)
-    assert r.returncode == 70
+    assert r.returncode == 65
 
 
 def test_ridge_published_mass_longley():

@@ -354,7 +354,7 @@ def test_driver_errors(tmp_path):
     (tmp_path / "ok.txt").write_text("1 1 0\n2 0 1\n")
     assert run("--data", str(tmp_path / "ok.txt"), "--k", "2").returncode == 65
     assert run("--data", str(tmp_path / "ok.txt"), "--k", "1", "--p", "0").returncode == 64
-    assert run("--data", str(tmp_path / "ok.txt"), "--k", "1", "--gamma0", "-1").returncode == 70
+    assert run("--data", str(tmp_path / "ok.txt"), "--k", "1", "--gamma0", "-1").returncode == 65
     out = tmp_path / "never.txt"
     assert run("--data", str(tmp_path / "ok.txt"), "--k", "1", "--sigma", "0",
                "--out", str(out)).returncode == 64
