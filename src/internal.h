@@ -84,6 +84,11 @@ void igea__transpose(int n, double *a, int lda);
  * IGEA_ENONFINITE (a pivot NaN or Inf). */
 int igea__chol_lower(int n, double *a, int lda, double shift);
 
+/* The chi-square interval of a deviation d with edf equivalent degrees of
+ * freedom (clamped to [1, IGEA_STATS_DOF_MAX]) at confidence conf:
+ * [d sqrt(e / chi2_{(1+conf)/2}), d sqrt(e / chi2_{(1-conf)/2})], *e the edf
+ * used (stability.c). 0 or IGEA_ENOCONV. */
+int igea__edf_interval(double d, double edf, double conf, double *lo, double *hi, double *e);
 /* erf^-1(y) of a validated y in (-1, 1) (stats.c; igea_stats_erfinv). */
 double igea__erfinv(double y);
 

@@ -1592,6 +1592,22 @@ static int auto_scale(int m, int N, const double *A, int lda, const double *sigm
     return 0;
 }
 
+/* The automatic column scaling and the scaled design of the _ex estimators:
+ * *sp the scales to use (spec_sigma or igea's), *A and *lda the design to pass;
+ * free(*own) and free(*own_sp) afterwards. 0 or IGEA_ENOMEM (nothing kept). */
+static int scaled_inputs(int m, int N, const double **A, int *lda, const double *sigma,
+                         const double *spec_sigma, const double **sp, double **own_sp,
+                         double **own, int *scaled)
+{
+    if (auto_scale(m, N, *A, *lda, sigma, spec_sigma, sp, own_sp, scaled))
+        return IGEA_ENOMEM;
+    if (scaled_design(m, N, A, lda, *sp, own)) {
+        free(*own_sp);
+        return IGEA_ENOMEM;
+    }
+    return 0;
+}
+
 int igea_regress_ridge_ex(int m, int N, const double *A, int lda, const double *y,
                           const double *sigma, const double *spec_sigma, int rule, double k,
                           double *x, double *cov, int ldc, double *k_used, double *sigma2,
@@ -1608,12 +1624,8 @@ int igea_regress_ridge_ex(int m, int N, const double *A, int lda, const double *
     const double *sp;
     double *own_sp, *own;
     int scaled;
-    if (auto_scale(m, N, A, lda, sigma, spec_sigma, &sp, &own_sp, &scaled))
+    if (scaled_inputs(m, N, &A, &lda, sigma, spec_sigma, &sp, &own_sp, &own, &scaled))
         return IGEA_ENOMEM;
-    if (scaled_design(m, N, &A, &lda, sp, &own)) {
-        free(own_sp);
-        return IGEA_ENOMEM;
-    }
     st = ridge_core(m, N, A, lda, y, sigma, sp, rule, k, x, cov, ldc, k_used, sigma2,
                     residual, info);
     if (st == 0)
@@ -1639,12 +1651,8 @@ int igea_regress_pce_ex(int m, int N, const double *A, int lda, const double *y,
     const double *sp;
     double *own_sp, *own;
     int scaled;
-    if (auto_scale(m, N, A, lda, sigma, spec_sigma, &sp, &own_sp, &scaled))
+    if (scaled_inputs(m, N, &A, &lda, sigma, spec_sigma, &sp, &own_sp, &own, &scaled))
         return IGEA_ENOMEM;
-    if (scaled_design(m, N, &A, &lda, sp, &own)) {
-        free(own_sp);
-        return IGEA_ENOMEM;
-    }
     st = pce_core(m, N, A, lda, y, sigma, sp, ncomp, eig_min, x, cov, ldc, nused, sigma2,
                   residual, info);
     if (st == 0)

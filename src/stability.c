@@ -371,19 +371,25 @@ static int allan_intervals(int n, const double *y, double fs, int ntau, const do
         /* the modified variance equals the overlapping one at m = 1 */
         double ev = kind == IGEA_STABILITY_ALLAN_MODIFIED && m > 1.0 ? edf_mdev(N, m, alpha)
                                                            : edf_oadev(N, m, alpha);
-        if (!(ev >= 1.0))
-            ev = 1.0;
-        if (ev > IGEA_STATS_DOF_MAX)
-            ev = IGEA_STATS_DOF_MAX;
-        double chi_hi, chi_lo;
-        int s1 = igea_stats_chi2_quantile(0.5 * (1.0 + conf), ev, &chi_hi);
-        int s2 = igea_stats_chi2_quantile(0.5 * (1.0 - conf), ev, &chi_lo);
-        if (s1 || s2 || !(chi_lo > 0.0))
+        if (igea__edf_interval(d[j], ev, conf, &l[j], &h[j], &e[j]))
             return IGEA_ENOCONV;
-        e[j] = ev;
-        l[j] = d[j] * sqrt(ev / chi_hi);
-        h[j] = d[j] * sqrt(ev / chi_lo);
     }
+    return 0;
+}
+
+int igea__edf_interval(double d, double edf, double conf, double *lo, double *hi, double *e)
+{
+    double ev = edf >= 1.0 ? edf : 1.0;
+    if (ev > IGEA_STATS_DOF_MAX)
+        ev = IGEA_STATS_DOF_MAX;
+    double chi_hi, chi_lo;
+    int s1 = igea_stats_chi2_quantile(0.5 * (1.0 + conf), ev, &chi_hi);
+    int s2 = igea_stats_chi2_quantile(0.5 * (1.0 - conf), ev, &chi_lo);
+    if (s1 || s2 || !(chi_lo > 0.0))
+        return IGEA_ENOCONV;
+    *e = ev;
+    *lo = d * sqrt(ev / chi_hi);
+    *hi = d * sqrt(ev / chi_lo);
     return 0;
 }
 

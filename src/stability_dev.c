@@ -597,18 +597,8 @@ static int dev_intervals(int kind, long N, int ntau, const long *m, const int *a
 {
     for (int j = 0; j < ntau; j++) {
         double ev = dev_edf(kind, al[j], (double)N, (double)m[j]);
-        if (!(ev >= 1.0))
-            ev = 1.0;
-        if (ev > IGEA_STATS_DOF_MAX)
-            ev = IGEA_STATS_DOF_MAX;
-        double qh, ql;
-        int s1 = igea_stats_chi2_quantile(0.5 * (1.0 + conf), ev, &qh);
-        int s2 = igea_stats_chi2_quantile(0.5 * (1.0 - conf), ev, &ql);
-        if (s1 || s2 || !(ql > 0.0))
+        if (igea__edf_interval(d[j], ev, conf, &l[j], &h[j], &e[j]))
             return IGEA_ENOCONV;
-        e[j] = ev;
-        l[j] = d[j] * sqrt(ev / qh);
-        h[j] = d[j] * sqrt(ev / ql);
     }
     return 0;
 }
