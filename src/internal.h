@@ -107,6 +107,29 @@ static inline void igea__ksum_add(igea__ksum *k, double x)
 }
 static inline double igea__ksum_get(const igea__ksum *k) { return k->s + k->c; }
 
+/* A sum of squares accumulated in blocks of 1024 plain sums, the block
+ * totals compensated (the stability statistics). */
+typedef struct {
+    igea__ksum tot;
+    double part;
+    int cnt;
+} igea__sqacc;
+static inline void igea__sqacc_add(igea__sqacc *a, double v)
+{
+    a->part += v * v;
+    if (++a->cnt == 1024) {
+        igea__ksum_add(&a->tot, a->part);
+        a->part = 0.0;
+        a->cnt = 0;
+    }
+}
+static inline double igea__sqacc_get(const igea__sqacc *a)
+{
+    igea__ksum t = a->tot;
+    igea__ksum_add(&t, a->part);
+    return igea__ksum_get(&t);
+}
+
 /* igea_eqerr_solve with a cache of the verdict rule's thresholds (eqerr.c):
  * vcache NULL, or 4 N doubles, zeros at first, kept between the calls of
  * one thread with the same options (igea_sim_montecarlo). */

@@ -37,27 +37,6 @@ static double mean_of(size_t n, const double *y)
     return igea__ksum_get(&k) / (double)n;
 }
 
-/* Sum of squares accumulated in blocks of plain sums. */
-typedef struct {
-    igea__ksum tot;
-    double part;
-    int cnt;
-} sqacc;
-static inline void sq_add(sqacc *a, double v)
-{
-    a->part += v * v;
-    if (++a->cnt == 1024) {
-        igea__ksum_add(&a->tot, a->part);
-        a->part = 0.0;
-        a->cnt = 0;
-    }
-}
-static inline double sq_get(sqacc *a)
-{
-    igea__ksum t = a->tot;
-    igea__ksum_add(&t, a->part);
-    return igea__ksum_get(&t);
-}
 
 int igea_stability_block(int n, const double *y, double fs, double block,
                          double *out)
@@ -121,9 +100,9 @@ static double oadev_var(size_t n, const double *y, size_t m, double mu,
                         long cnt)
 {
     wsum a = window_init(y, 0, m, mu), b = window_init(y, m, m, mu);
-    sqacc acc = {{0, 0}, 0.0, 0};
+    igea__sqacc acc = {{0, 0}, 0.0, 0};
     for (size_t i = 0; i < (size_t)cnt; i++) {
-        sq_add(&acc, ws_get(&b) - ws_get(&a));
+        igea__sqacc_add(&acc, ws_get(&b) - ws_get(&a));
         if (i + 1 < (size_t)cnt) {
             ws_add(&a, y[i + m] - y[i]);
             ws_add(&b, y[i + 2 * m] - y[i + m]);
@@ -131,7 +110,7 @@ static double oadev_var(size_t n, const double *y, size_t m, double mu,
     }
     (void)n;
     double md = (double)m;
-    return sq_get(&acc) / (2.0 * md * md * (double)cnt);
+    return igea__sqacc_get(&acc) / (2.0 * md * md * (double)cnt);
 }
 
 static double mdev_var(size_t n, const double *y, size_t m, double mu, long cnt)
@@ -152,9 +131,9 @@ static double mdev_var(size_t n, const double *y, size_t m, double mu, long cnt)
     wsum a2 = {0.0, 0.0};
     if (cnt > 1)
         a2 = window_init(y, 2 * m, m, mu);
-    sqacc acc = {{0, 0}, 0.0, 0};
+    igea__sqacc acc = {{0, 0}, 0.0, 0};
     for (size_t j = 0; j < (size_t)cnt; j++) {
-        sq_add(&acc, ws_get(&S));
+        igea__sqacc_add(&acc, ws_get(&S));
         if (j + 1 == (size_t)cnt)
             break;
         double g0 = ws_get(&a0), g1 = ws_get(&a1), g2 = ws_get(&a2);
@@ -166,7 +145,7 @@ static double mdev_var(size_t n, const double *y, size_t m, double mu, long cnt)
         }
     }
     double md = (double)m;
-    return sq_get(&acc) / (2.0 * md * md * md * md * (double)cnt);
+    return igea__sqacc_get(&acc) / (2.0 * md * md * md * md * (double)cnt);
 }
 
 static double nadev_var(size_t n, const double *y, size_t m, long cnt)

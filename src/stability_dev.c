@@ -7,27 +7,6 @@
 #include "igea/stats.h"
 #include "internal.h"
 
-/* Sum of squares accumulated in blocks of plain sums, compensated. */
-typedef struct {
-    igea__ksum tot;
-    double part;
-    int cnt;
-} sqa;
-static inline void sqa_add(sqa *a, double v)
-{
-    a->part += v * v;
-    if (++a->cnt == 512) {
-        igea__ksum_add(&a->tot, a->part);
-        a->part = 0.0;
-        a->cnt = 0;
-    }
-}
-static inline double sqa_get(const sqa *a)
-{
-    igea__ksum t = a->tot;
-    igea__ksum_add(&t, a->part);
-    return igea__ksum_get(&t);
-}
 
 #define K_FIRST IGEA_STABILITY_ALLAN_ADEV
 #define K_LAST IGEA_STABILITY_ALLAN_TIERMS
@@ -73,11 +52,11 @@ static inline double diff_at(const double *x, long i, long m, int d)
 /* Allan (d = 2) or Hadamard (d = 3) deviation, stride 1 or m. */
 static double dev_diff(long N, const double *x, long m, long stride, int d, double tau)
 {
-    sqa a = {{0, 0}, 0, 0};
+    igea__sqacc a = {{0, 0}, 0, 0};
     long c = 0;
     for (long i = 0; i + d * m < N; i += stride, c++)
-        sqa_add(&a, diff_at(x, i, m, d));
-    return sqrt(sqa_get(&a) / ((d == 2 ? 2.0 : 6.0) * (double)c)) / tau;
+        igea__sqacc_add(&a, diff_at(x, i, m, d));
+    return sqrt(igea__sqacc_get(&a) / ((d == 2 ? 2.0 : 6.0) * (double)c)) / tau;
 }
 
 /* Modified Allan deviation: running sums S_j of m second differences. */
@@ -87,17 +66,17 @@ static double dev_mod(long N, const double *x, long m, double tau)
     for (long i = 0; i < m; i++)
         igea__ksum_add(&S, diff_at(x, i, m, 2));
     long M = N - 3 * m + 1;
-    sqa a = {{0, 0}, 0, 0};
+    igea__sqacc a = {{0, 0}, 0, 0};
     for (long j = 0; j < M; j++) {
         double s = igea__ksum_get(&S);
-        sqa_add(&a, s);
+        igea__sqacc_add(&a, s);
         if (j + 1 < M) {
             igea__ksum_add(&S, diff_at(x, j + m, m, 2));
             igea__ksum_add(&S, -diff_at(x, j, m, 2));
         }
     }
     double md = (double)m;
-    return sqrt(sqa_get(&a) / (2.0 * md * md * (double)M)) / tau;
+    return sqrt(igea__sqacc_get(&a) / (2.0 * md * md * (double)M)) / tau;
 }
 
 /* Doubly reflected series of TOTDEV at index k in [-(N-2), 2N-3]. */
@@ -112,10 +91,10 @@ static inline double refl(long N, const double *x, long k)
 
 static double dev_tot(long N, const double *x, long m, double tau)
 {
-    sqa a = {{0, 0}, 0, 0};
+    igea__sqacc a = {{0, 0}, 0, 0};
     for (long i = 1; i <= N - 2; i++)
-        sqa_add(&a, (refl(N, x, i + m) - refl(N, x, i)) - (refl(N, x, i) - refl(N, x, i - m)));
-    return sqrt(sqa_get(&a) / (2.0 * (double)(N - 2))) / tau;
+        igea__sqacc_add(&a, (refl(N, x, i + m) - refl(N, x, i)) - (refl(N, x, i) - refl(N, x, i - m)));
+    return sqrt(igea__sqacc_get(&a) / (2.0 * (double)(N - 2))) / tau;
 }
 
 /* One 3m-point subsequence s (MTOTDEV: phase; HTOTDEV: frequency): the
@@ -144,7 +123,7 @@ static double tot_sub(const double *s, long m, double *w)
         igea__ksum_add(&s2, w[m + k]);
         igea__ksum_add(&s3, w[2 * m + k]);
     }
-    sqa acc = {{0, 0}, 0, 0};
+    igea__sqacc acc = {{0, 0}, 0, 0};
     for (long j = 0; j < 6 * m; j++) {
         if (j > 0) {
             igea__ksum_add(&s1, w[j + m - 1] - w[j - 1]);
@@ -152,9 +131,9 @@ static double tot_sub(const double *s, long m, double *w)
             igea__ksum_add(&s3, w[j + 3 * m - 1] - w[j + 2 * m - 1]);
         }
         double g1 = igea__ksum_get(&s1), g2 = igea__ksum_get(&s2), g3 = igea__ksum_get(&s3);
-        sqa_add(&acc, ((g3 - g2) - (g2 - g1)) / (double)m);
+        igea__sqacc_add(&acc, ((g3 - g2) - (g2 - g1)) / (double)m);
     }
-    return sqa_get(&acc) / (6.0 * (double)m);
+    return igea__sqacc_get(&acc) / (6.0 * (double)m);
 }
 
 /* MTOTDEV (hadamard = 0, x phase) or HTOTDEV (hadamard = 1, x frequency of
@@ -213,10 +192,10 @@ static double dev_mtie(long N, const double *x, long m, long *q)
 
 static double dev_tierms(long N, const double *x, long m)
 {
-    sqa a = {{0, 0}, 0, 0};
+    igea__sqacc a = {{0, 0}, 0, 0};
     for (long i = 0; i + m < N; i++)
-        sqa_add(&a, x[i + m] - x[i]);
-    return sqrt(sqa_get(&a) / (double)(N - m));
+        igea__sqacc_add(&a, x[i + m] - x[i]);
+    return sqrt(igea__sqacc_get(&a) / (double)(N - m));
 }
 
 /* The statistic at averaging factor m; y: the frequency (HTOTDEV), w: 9m
