@@ -10,8 +10,10 @@ import numpy as np
 
 from . import _capi, _lib
 from .nav import nav_site
+from ._result import result
 
 
+@result
 @dataclass(frozen=True)
 class DwResult:
     dw: np.ndarray           # (3 n_epochs,) epoch-major x, y, z, m/s

@@ -5,6 +5,7 @@ import numpy as np
 
 from . import _capi
 from . import _lib
+from ._result import result
 
 
 
@@ -187,6 +188,9 @@ class _Verdict:
     def n_reject(self):
         return int(np.count_nonzero(self.reject))
 
+    def _json_extra(self):
+        return {"n_reject": self.n_reject}    # a key of the driver's --json
+
     def _verdict(self):
         return _verdict_lines(self.n_test, self.chi2, self.dof, self.verdict_chi2_crit,
                               self.p_value, self.n_reject, self.passed,
@@ -194,6 +198,7 @@ class _Verdict:
                               self.overall_size)
 
 
+@result
 @dataclass(frozen=True)
 class TestResult(_Verdict):
     """Per-component and chi-square verdicts (igea.accuracy_test, igea.pool)."""
@@ -221,6 +226,7 @@ class TestResult(_Verdict):
         return "\n".join(lines + self._verdict())
 
 
+@result
 @dataclass(frozen=True)
 class EqerrResult(_Verdict):
     """Result of igea.eqerr; field names match 'igea eqerr --json'."""
@@ -276,6 +282,14 @@ class EqerrResult(_Verdict):
         lines.append("residual RMS per axis (x, y, z): %.6g %.6g %.6g" % tuple(self.rms))
         lines += _whiteness_lines(self.whiteness, getattr(self, "_lags", 20))
         return "\n".join(lines + self._verdict())
+
+    def _json_extra(self):
+        # The keys of 'igea eqerr --json' that are not fields: the options
+        # the flight was judged with and its sizes (None when not known).
+        return {"n_reject": self.n_reject, "alpha": getattr(self, "_alpha", None),
+                "lambda_test": getattr(self, "_lambda_test", None),
+                "route": getattr(self, "_route", None), "rows": len(self.residual),
+                "n_terms": len(self.eigenvalues)}
 
 
 def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small=None,
@@ -357,7 +371,9 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
         rms=rms, **test, **_lib.fields(info, "STATS_INFO_", rank=int, scale=float,
                                         iterations=int, n_small=int)),
         alpha=opts[_capi.EQERR_OPT_ALPHA], lambda_small=opts[_capi.EQERR_OPT_LAMBDA_SMALL],
-        sigma_w=info[_capi.STATS_INFO_SIGMA_W], lags=int(lags), names=names)
+        sigma_w=info[_capi.STATS_INFO_SIGMA_W], lags=int(lags), names=names,
+        lambda_test=opts[_capi.EQERR_OPT_LAMBDA_TEST],
+        route=_lib.choice_name(_capi.CHOICE_EQERR_ROUTE, route))
 
 
 def _noise(S, dw, sigma, spec, cov, ar, ar_phi, groups, group_bias, robust, robust_alpha,

@@ -11,8 +11,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _capi, _lib
+from ._result import result
 
 
+@result
 @dataclass(frozen=True)
 class ImpactResult:
     """igea.impact: the impact and its sensitivity to the burnout state.
@@ -69,6 +71,7 @@ def impact(burnout, *, model="kepler", mu=None, radius=None, omega=None, j2=None
                         np.ascontiguousarray(G))
 
 
+@result
 @dataclass(frozen=True)
 class ImpactBudget:
     """igea.impact_budget: the miss of each term (n, 2: downrange,

@@ -7,6 +7,7 @@ import numpy as np
 
 from . import _capi, _lib
 from .envfun import _system_code, default_terms, term_codes
+from ._result import result
 
 
 def reference_trajectory(duration=120.0, rate=50.0, *, system="strapdown"):
@@ -103,6 +104,7 @@ def _x_spec(x, terms, N):
     return val, np.ones(N, dtype=np.intc)
 
 
+@result
 @dataclass(frozen=True)
 class Flight:
     """A synthetic flight: what `igea simulate` writes."""
@@ -173,6 +175,7 @@ def simulate(traj=None, terms=None, epochs=None, *, system="strapdown", spec="de
         return Flight(S, dw, model.get("sigma", m), model.get("spec", N), xt, terms, ep)
 
 
+@result
 @dataclass(frozen=True)
 class MonteCarloPool:
     """Pooled verdicts of consecutive groups of `size` flights (igea_sim_pool,
@@ -184,6 +187,7 @@ class MonteCarloPool:
     ci99: tuple          # its 99 % Wilson interval (NaN, NaN without a group)
 
 
+@result
 @dataclass(frozen=True)
 class MonteCarloResult:
     """Rejection counts of many simulated flights (igea_sim_montecarlo)."""
@@ -208,6 +212,14 @@ class MonteCarloResult:
     scale_covered: int = 0  # judged with the noise model: flights whose group scales are
                             # within 3 standard errors of the truth
     mean_outliers: float = 0.0  # mean rows rejected by the robust route
+
+    _json_omit = ("rates", "ci99")    # in the driver's document, inside the counts
+
+    def _json_extra(self):
+        # 'igea montecarlo --json' writes each count with its rate and interval
+        return {k: {"count": getattr(self, k), "rate": (self.rates or {}).get(k),
+                    "ci99": (self.ci99 or {}).get(k)}
+                for k in ("failed", "chi2_reject", "any_reject", "not_testable")}
 
     def rate(self, what="failed"):
         return self.rates[what]
