@@ -292,6 +292,23 @@ class EqerrResult(_Verdict):
                 "n_terms": len(self.eigenvalues)}
 
 
+def _frame(S, names):
+    """S as an array and the names: a data frame's columns name the terms."""
+    if hasattr(S, "columns") and hasattr(S, "to_numpy"):
+        if names is None:
+            names = [str(c) for c in S.columns]
+        S = S.to_numpy()
+    return S, names
+
+
+def _orientation(S, dw):
+    """Refuse S transposed (N x m where dw says m rows) by naming it so."""
+    shape, n = np.shape(S), np.size(dw)
+    if len(shape) == 2 and np.ndim(dw) == 1 and n != shape[0] and n == shape[1]:
+        raise ValueError("S has %d rows and %d columns; dw has %d values: pass S.T?"
+                         % (shape[0], shape[1], n))
+
+
 def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small=None,
           correction=None, route="eig", n_min=None, tol=None, max_iter=None,
           bias_correct=None, clamp=None, z_crit=None, rank_tol=None, verdict="seed",
@@ -312,7 +329,11 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
     which the result's `components` use. Returns an EqerrResult.
     With a noise model (cov=(M, 3, 3) instead of sigma, ar=p, ar_phi=,
     groups=(M,) labels, group_bias=, robust=, robust_alpha=) the job is
-    igea_noise_eqerr (see igea.noise), judged by the same verdict rule."""
+    igea_noise_eqerr (see igea.noise), judged by the same verdict rule.
+    S may be a data frame (anything with .columns and .to_numpy(), e.g.
+    pandas): its columns are the term names unless names is given."""
+    S, names = _frame(S, names)
+    _orientation(S, dw)
     if any(v is not None for v in (cov, ar, ar_phi, groups, group_bias, robust, robust_alpha)):
         return _noise(S, dw, sigma, spec, cov, ar, ar_phi, groups, group_bias, robust,
                       robust_alpha, alpha=alpha, lambda_test=lambda_test,
