@@ -7,6 +7,7 @@ gap is listed here per command, so that closing or widening it is seen."""
 import dataclasses
 import json
 import math
+import re
 import os
 import subprocess
 import sys
@@ -205,3 +206,31 @@ def test_every_result_class_has_the_methods():
             continue
         assert "to_dict" in vars(c) and "to_json" in vars(c), c
         assert vars(c)["__repr__"].__module__ == "igea._result", c
+
+
+def _result_classes():
+    import importlib
+    import pkgutil
+    out = []
+    for mod in pkgutil.iter_modules(igea.__path__):
+        m = importlib.import_module("igea." + mod.name)
+        out += [c for c in vars(m).values() if isinstance(c, type)
+                and dataclasses.is_dataclass(c) and c.__module__ == m.__name__
+                and c.__name__ != "MatrixFile"]
+    return out
+
+
+def test_every_result_class_and_field_is_documented():
+    classes = _result_classes()
+    assert len(classes) >= 33, [c.__name__ for c in classes]
+    for c in classes:
+        doc = c.__doc__ or ""
+        head = doc.split("\n\nFields")[0]
+        assert head.strip() and not head.startswith(c.__name__ + "("), c   # its own words
+        described = dict(re.findall(r"(?m)^    (\w+): (\S.*)$", doc.split("\n\nFields")[-1]))
+        for f in dataclasses.fields(c):
+            assert len(described.get(f.name, "")) > 3, (c.__name__, f.name)
+        if "summary" in vars(c):
+            assert vars(c)["summary"].__doc__, (c.__name__, "summary")
+    assert "eigenvalues: eigenvalues lambda" in igea.EqerrResult.__doc__
+    assert "size: flights per group" in igea.sim.MonteCarloPool.__doc__
