@@ -110,6 +110,8 @@ def result(cls):
                         "above @dataclass)" % cls.__name__)
     cls.__repr__ = _repr
     _document(cls)
+    if cls.__name__ in PLOTS and "plot" not in cls.__dict__:
+        cls.plot = _plot
     if "to_dict" not in cls.__dict__:
         cls.to_dict = _to_dict
     if "to_json" not in cls.__dict__:
@@ -440,3 +442,59 @@ def _document(cls):
     fn = cls.__dict__.get("summary")
     if fn is not None and not fn.__doc__:
         fn.__doc__ = "A readable report of this %s: several lines of text." % cls.__name__
+
+
+# ---------------------------------------------------------------------------
+# r.plot(ax=None): matplotlib pictures of the results that have one (the
+# pictures the driver draws with --plot). matplotlib is an optional extra.
+
+def _pyplot():
+    try:
+        import matplotlib.pyplot as plt
+    except ImportError as e:
+        raise ImportError("plot() needs matplotlib, which is not installed: pip install "
+                          "matplotlib (or the extra: pip install 'igea[plots]'); to_dict() "
+                          "gives the numbers without it") from e
+    return plt
+
+
+def _plot_eqerr(r, ax):
+    """Residual curves per axis against the epoch (seed 000 Fig. 1)."""
+    res = np.asarray(r.residual).reshape(-1, 3)
+    for a in range(3):
+        ax.plot(np.arange(res.shape[0]), res[:, a], label="xyz"[a])
+    ax.set_xlabel("epoch")
+    ax.set_ylabel("residual dw - S x (units of dw)")
+    ax.set_title("eqerr: %s, T = %.4g (dof %d), c = %.4g"
+                 % ("passed" if r.passed else "out of spec", r.chi2, r.dof, r.scale))
+    ax.legend()
+
+
+def _plot_deviation(r, ax):
+    """The deviation against tau, log-log, with its confidence interval."""
+    taus, dev = np.asarray(r.taus, float), np.asarray(r.dev, float)
+    if r.lo is not None and r.hi is not None:
+        lo, hi = np.asarray(r.lo, float), np.asarray(r.hi, float)
+        ax.errorbar(taus, dev, yerr=[dev - lo, hi - dev], fmt="o-", capsize=2,
+                    label="%s (%g %% interval)" % (r.kind, 100 * r.conf))
+    else:
+        ax.plot(taus, dev, "o-", label=r.kind)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("tau (s)")
+    ax.set_ylabel("%s deviation (units of the data)" % r.kind)
+    ax.legend()
+
+
+PLOTS = {"EqerrResult": _plot_eqerr, "AllanResult": _plot_deviation,
+         "StabilityResult": _plot_deviation}
+
+
+def _plot(self, ax=None):
+    """Draw this result with matplotlib on ax (a new figure's axes when
+    None) and return ax. Raises ImportError naming the extra without
+    matplotlib."""
+    if ax is None:
+        ax = _pyplot().subplots()[1]
+    PLOTS[type(self).__name__](self, ax)
+    return ax
