@@ -20,7 +20,7 @@ import math
 
 import numpy as np
 
-__all__ = ["result", "to_json_value"]
+__all__ = ["attach", "result", "to_json_value"]
 
 _LIST_SHOWN = 6      # lists of at most this many scalars are shown whole
 _STR_SHOWN = 40      # longer strings are cut
@@ -101,6 +101,14 @@ def _to_dict(self):
 def _to_json(self, **kw):
     """json.dumps(self.to_dict(), **kw): the driver's --json document."""
     return json.dumps(self.to_dict(), allow_nan=False, **kw)
+
+
+def attach(obj, **private):
+    """obj with private attributes _name (context for to_dict and summary
+    kept off the dataclass fields); returns obj."""
+    for k, v in private.items():
+        object.__setattr__(obj, "_" + k, v)
+    return obj
 
 
 def result(cls):
