@@ -14,6 +14,7 @@ import numpy as np
 
 from . import _capi, _lib
 from ._compat import _UNSET, renamed
+from ._result import result
 
 _MODELS = _lib.choice_codes(_capi.CHOICE_ACCEL_MODEL)
 _NP = {m: getattr(_capi, "ACCEL_NP_" + m.upper()) for m in _MODELS}
@@ -126,6 +127,7 @@ def accel_combinations(model="dual"):
     return C
 
 
+@result
 @dataclass(frozen=True)
 class AccelDesignInfo:
     """Identifiability of a position schedule (igea.accel_analyze)."""
@@ -163,6 +165,7 @@ def accel_analyze(theta_deg, *, model="dual", axis="pa"):
                            coefficient_names(m, axis))
 
 
+@result
 @dataclass(frozen=True)
 class AccelFit:
     """A calibration fit (igea.accel_fit); field names match
@@ -242,6 +245,7 @@ def accel_fit(theta_deg, y_a, y_b=None, *, model="dual", method="ls", prior=_UNS
                                   dof=int))
 
 
+@result
 @dataclass(frozen=True)
 class AccelRefine:
     """Gauss-Newton refinement on the exact dual model (igea.accel_refine)."""

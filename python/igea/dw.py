@@ -10,10 +10,14 @@ import numpy as np
 
 from . import _capi, _lib
 from .nav import nav_site
+from ._result import result
 
 
+@result
 @dataclass(frozen=True)
 class DwResult:
+    """Velocity differences of a flight against its tracking (igea.dw), the dw
+    input of igea.eqerr."""
     dw: np.ndarray           # (3 n_epochs,) epoch-major x, y, z, m/s
     cov: np.ndarray          # (n_epochs, 6) c_xx c_xy c_xz c_yy c_yz c_zz in LI, or None
     sigma: np.ndarray        # (3 n_epochs,) sqrt of the diagonal, or None

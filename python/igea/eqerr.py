@@ -5,6 +5,7 @@ import numpy as np
 
 from . import _capi
 from . import _lib
+from ._result import result
 
 
 
@@ -187,6 +188,9 @@ class _Verdict:
     def n_reject(self):
         return int(np.count_nonzero(self.reject))
 
+    def _json_extra(self):
+        return {"n_reject": self.n_reject}    # a key of the driver's --json
+
     def _verdict(self):
         return _verdict_lines(self.n_test, self.chi2, self.dof, self.verdict_chi2_crit,
                               self.p_value, self.n_reject, self.passed,
@@ -194,6 +198,7 @@ class _Verdict:
                               self.overall_size)
 
 
+@result
 @dataclass(frozen=True)
 class TestResult(_Verdict):
     """Per-component and chi-square verdicts (igea.accuracy_test, igea.pool)."""
@@ -221,6 +226,7 @@ class TestResult(_Verdict):
         return "\n".join(lines + self._verdict())
 
 
+@result
 @dataclass(frozen=True)
 class EqerrResult(_Verdict):
     """Result of igea.eqerr; field names match 'igea eqerr --json'."""
@@ -277,6 +283,31 @@ class EqerrResult(_Verdict):
         lines += _whiteness_lines(self.whiteness, getattr(self, "_lags", 20))
         return "\n".join(lines + self._verdict())
 
+    def _json_extra(self):
+        # The keys of 'igea eqerr --json' that are not fields: the options
+        # the flight was judged with and its sizes (None when not known).
+        return {"n_reject": self.n_reject, "alpha": getattr(self, "_alpha", None),
+                "lambda_test": getattr(self, "_lambda_test", None),
+                "route": getattr(self, "_route", None), "rows": len(self.residual),
+                "n_terms": len(self.eigenvalues)}
+
+
+def _frame(S, names):
+    """S as an array and the names: a data frame's columns name the terms."""
+    if hasattr(S, "columns") and hasattr(S, "to_numpy"):
+        if names is None:
+            names = [str(c) for c in S.columns]
+        S = S.to_numpy()
+    return S, names
+
+
+def _orientation(S, dw):
+    """Refuse S transposed (N x m where dw says m rows) by naming it so."""
+    shape, n = np.shape(S), np.size(dw)
+    if len(shape) == 2 and np.ndim(dw) == 1 and n != shape[0] and n == shape[1]:
+        raise ValueError("S has %d rows and %d columns; dw has %d values: pass S.T?"
+                         % (shape[0], shape[1], n))
+
 
 def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small=None,
           correction=None, route="eig", n_min=None, tol=None, max_iter=None,
@@ -298,7 +329,11 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
     which the result's `components` use. Returns an EqerrResult.
     With a noise model (cov=(M, 3, 3) instead of sigma, ar=p, ar_phi=,
     groups=(M,) labels, group_bias=, robust=, robust_alpha=) the job is
-    igea_noise_eqerr (see igea.noise), judged by the same verdict rule."""
+    igea_noise_eqerr (see igea.noise), judged by the same verdict rule.
+    S may be a data frame (anything with .columns and .to_numpy(), e.g.
+    pandas): its columns are the term names unless names is given."""
+    S, names = _frame(S, names)
+    _orientation(S, dw)
     if any(v is not None for v in (cov, ar, ar_phi, groups, group_bias, robust, robust_alpha)):
         return _noise(S, dw, sigma, spec, cov, ar, ar_phi, groups, group_bias, robust,
                       robust_alpha, alpha=alpha, lambda_test=lambda_test,
@@ -357,7 +392,9 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
         rms=rms, **test, **_lib.fields(info, "STATS_INFO_", rank=int, scale=float,
                                         iterations=int, n_small=int)),
         alpha=opts[_capi.EQERR_OPT_ALPHA], lambda_small=opts[_capi.EQERR_OPT_LAMBDA_SMALL],
-        sigma_w=info[_capi.STATS_INFO_SIGMA_W], lags=int(lags), names=names)
+        sigma_w=info[_capi.STATS_INFO_SIGMA_W], lags=int(lags), names=names,
+        lambda_test=opts[_capi.EQERR_OPT_LAMBDA_TEST],
+        route=_lib.choice_name(_capi.CHOICE_EQERR_ROUTE, route))
 
 
 def _noise(S, dw, sigma, spec, cov, ar, ar_phi, groups, group_bias, robust, robust_alpha,

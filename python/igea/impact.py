@@ -11,8 +11,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _capi, _lib
+from ._result import attach, result
 
 
+@result
 @dataclass(frozen=True)
 class ImpactResult:
     """igea.impact: the impact and its sensitivity to the burnout state.
@@ -29,6 +31,10 @@ class ImpactResult:
     down: np.ndarray
     cross: np.ndarray
     miss_jacobian: np.ndarray
+
+    def _json_extra(self):
+        # 'igea impact --json' also writes the burnout state it started from
+        return {"burnout": getattr(self, "_burnout", None)}
 
     def summary(self):
         g = self.miss_jacobian
@@ -65,10 +71,11 @@ def impact(burnout, *, model="kepler", mu=None, radius=None, omega=None, j2=None
     G = np.zeros((2, 6), order="F")
     _lib.call(where, "igea_impact_miss_jacobian", _lib.dptr(jac), _capi.IMPACT_JAC_ROWS,
               _lib.dptr(rf), _lib.dptr(vf), _lib.dptr(G), 2)
-    return ImpactResult(model, rf, vf, tf.value, np.ascontiguousarray(jac), down, cross,
-                        np.ascontiguousarray(G))
+    return attach(ImpactResult(model, rf, vf, tf.value, np.ascontiguousarray(jac), down, cross,
+                               np.ascontiguousarray(G)), burnout=s.copy())
 
 
+@result
 @dataclass(frozen=True)
 class ImpactBudget:
     """igea.impact_budget: the miss of each term (n, 2: downrange,

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _capi, _lib
+from ._result import result
 
 ECEF, LE, LI = _capi.NAV_ECEF, _capi.NAV_LE, _capi.NAV_LI
 
@@ -76,6 +77,7 @@ def nav_gravity(r, *, model="j2", site=None):
     return g, G.reshape(3, 3)
 
 
+@result
 @dataclass(frozen=True)
 class NavResult:
     """States after each record (row k: after record k; row 0 the start)."""

@@ -8,8 +8,10 @@ import numpy as np
 
 from . import _capi
 from . import _lib
+from ._result import result
 
 
+@result
 @dataclass(frozen=True)
 class NoiseEqerrResult:
     """Result of igea.eqerr with a noise model; fields match

@@ -8,6 +8,7 @@ import numpy as np
 
 from . import _capi, _lib
 from ._compat import _UNSET, renamed
+from ._result import result
 
 
 
@@ -104,6 +105,7 @@ def reliability_diagram(R, blocks):
     return out
 
 
+@result
 @dataclass(frozen=True)
 class Seed002Reliability:
     """The figures of seed 002 (METHODS 3.1 table, 3.2)."""
@@ -136,6 +138,7 @@ def reliability_seed002(Re1=0.992, Re2=0.995):
         ("system_exact", "SYS_EXACT"), ("acc_exact", "ACC_EXACT"))})
 
 
+@result
 @dataclass(frozen=True)
 class GeometryReliability:
     """Exact reliability of a sensor geometry (METHODS 3.2)."""
@@ -308,6 +311,7 @@ def parity_matrix(H):
     return V
 
 
+@result
 @dataclass(frozen=True)
 class FdiResult:
     """Parity-space test of one epoch."""
@@ -352,6 +356,7 @@ def fdi(H, y, sigma, pfa=0.01):
                                    detected=bool, isolable=bool))
 
 
+@result
 @dataclass(frozen=True)
 class SkewCheck:
     """Skew-sensor check of the Y and Z pairs (METHODS 3.3)."""
@@ -393,6 +398,7 @@ def skew_check(ay, sy, az, sz, ad, sd, *, axis=(0.7071067811865476, 0.7071067811
 
 # ---- windowed check --------------------------------------------------------------
 
+@result
 @dataclass(frozen=True)
 class SeriesCheck:
     """Windowed consistency check of a record (nwin windows, nsens sensors)."""

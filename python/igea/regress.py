@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _capi, _lib
+from ._result import result
 
 
 
@@ -74,6 +75,7 @@ class _Estimate:
         return _coef_table(_names(len(self.x), self.names), self.x, self.sd, extra, sd_name)
 
 
+@result
 @dataclass(frozen=True)
 class LsResult(_Estimate):
     """Weighted least squares (minimum norm when rank-deficient), refined in
@@ -125,6 +127,7 @@ class LsResult(_Estimate):
         return "\n".join(lines)
 
 
+@result
 @dataclass(frozen=True)
 class EbrResult(_Estimate):
     """Empirical-Bayes ridge (METHODS 4.3); sd: the posterior sds."""
@@ -153,6 +156,7 @@ class EbrResult(_Estimate):
         return "\n".join(lines)
 
 
+@result
 @dataclass(frozen=True)
 class RidgeResult(_Estimate):
     """Ridge regression x(k) = (A^T W A + k I)^-1 A^T W y; rank and rank_tol
@@ -176,6 +180,7 @@ class RidgeResult(_Estimate):
         return "\n".join(lines)
 
 
+@result
 @dataclass(frozen=True)
 class RidgeTrace:
     """x(k) for a grid of k: X[:, j] = x(k[j])."""
@@ -191,6 +196,7 @@ class RidgeTrace:
         return "\n".join(rows)
 
 
+@result
 @dataclass(frozen=True)
 class PceResult(_Estimate):
     """Principal-component estimate (truncated SVD); rank, rank_tol and
@@ -212,6 +218,7 @@ class PceResult(_Estimate):
         return "\n".join(lines)
 
 
+@result
 @dataclass(frozen=True)
 class BayesResult(_Estimate):
     """Posterior mean and covariance with a normal prior and known noise."""
@@ -229,6 +236,7 @@ class BayesResult(_Estimate):
         return "\n".join(lines)
 
 
+@result
 @dataclass(frozen=True)
 class Collinearity:
     """Collinearity diagnostics of the weighted normal matrix B = A^T W A."""

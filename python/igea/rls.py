@@ -9,6 +9,7 @@ import numpy as np
 from . import _capi
 from . import _lib
 from ._compat import _UNSET, renamed
+from ._result import result
 
 VARIANTS = _lib.choice_codes(_capi.CHOICE_RLS_VARIANT)
 ACTIONS = {c: n for n, c in _lib.choice_codes(_capi.CHOICE_RLS_ACTION).items()}
@@ -23,6 +24,7 @@ def _flag_names(f):
     return "+".join(out) if out else "-"
 
 
+@result
 @dataclass(frozen=True)
 class RlsEpoch:
     """What RLS.update did at one epoch: action name and the per-row flag
@@ -34,6 +36,7 @@ class RlsEpoch:
         return "%s; rows: %s" % (self.action, ", ".join(_flag_names(f) for f in self.flags))
 
 
+@result
 @dataclass(frozen=True)
 class RlsResult:
     """Result of igea.rls_run.

@@ -7,6 +7,7 @@ import numpy as np
 
 from . import _capi, _lib
 from .envfun import _system_code, default_terms, term_codes
+from ._result import attach, result
 
 
 def reference_trajectory(duration=120.0, rate=50.0, *, system="strapdown"):
@@ -62,9 +63,10 @@ class _Model:
     def noise(self, generator, **slots):
         """The true noise: the library's defaults with the slots given."""
         generator = _lib.choice(_capi.CHOICE_SIM_GENERATOR, generator, self.where, "generator")
-        self.set("noise", _lib.dptr(_lib.options(
-            "sim", self.where, ("igea_sim_model_set_noise", "opts"),
-            generator=generator, **slots)))
+        opts = _lib.options("sim", self.where, ("igea_sim_model_set_noise", "opts"),
+                            generator=generator, **slots)
+        self.set("noise", _lib.dptr(opts))
+        return opts
 
     def get(self, what, n):
         out = np.zeros(n)
@@ -103,6 +105,7 @@ def _x_spec(x, terms, N):
     return val, np.ones(N, dtype=np.intc)
 
 
+@result
 @dataclass(frozen=True)
 class Flight:
     """A synthetic flight: what `igea simulate` writes."""
@@ -173,6 +176,7 @@ def simulate(traj=None, terms=None, epochs=None, *, system="strapdown", spec="de
         return Flight(S, dw, model.get("sigma", m), model.get("spec", N), xt, terms, ep)
 
 
+@result
 @dataclass(frozen=True)
 class MonteCarloPool:
     """Pooled verdicts of consecutive groups of `size` flights (igea_sim_pool,
@@ -184,6 +188,7 @@ class MonteCarloPool:
     ci99: tuple          # its 99 % Wilson interval (NaN, NaN without a group)
 
 
+@result
 @dataclass(frozen=True)
 class MonteCarloResult:
     """Rejection counts of many simulated flights (igea_sim_montecarlo)."""
@@ -208,6 +213,18 @@ class MonteCarloResult:
     scale_covered: int = 0  # judged with the noise model: flights whose group scales are
                             # within 3 standard errors of the truth
     mean_outliers: float = 0.0  # mean rows rejected by the robust route
+
+    _json_omit = ("rates", "ci99")    # in the driver's document, inside the counts
+
+    def _json_extra(self):
+        # 'igea montecarlo --json' writes each count with its rate and
+        # interval, and the inputs of the run (None when not known)
+        out = {k: {"count": getattr(self, k), "rate": (self.rates or {}).get(k),
+                   "ci99": (self.ci99 or {}).get(k)}
+               for k in ("failed", "chi2_reject", "any_reject", "not_testable")}
+        out.update({k: getattr(self, "_" + k, None)
+                    for k in ("seed", "first_flight", "alpha", "correction", "sigma_w")})
+        return out
 
     def rate(self, what="failed"):
         return self.rates[what]
@@ -263,7 +280,7 @@ def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None
     with _Model(where, "igea_sim_model_create", m, N, _lib.dptr(S), m) as model:
         model.set("sigma", _lib.dptr(sig), inc, 0.0)
         model.set("spec", _lib.dptr(sp))
-        model.noise(generator, sigma_w=sigma_w, ar1=ar1, growth=growth,
+        nopts = model.noise(generator, sigma_w=sigma_w, ar1=ar1, growth=growth,
                     outlier_prob=outlier_prob, outlier_scale=outlier_scale, ar2=ar2, ar3=ar3,
                     corr=corr, group_split=group_split, sigma_w2=sigma_w2, bias0=bias0,
                     bias1=bias1, judge_noise=None if judge_noise is None else int(bool(judge_noise)))
@@ -285,7 +302,7 @@ def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None
     # rates[3 (k - 1)] and its interval at [+1], [+2] for the counts k (igea/sim.h)
     at = {k: 3 * (getattr(_capi, "SIM_MC_" + k.upper()) - 1)
           for k in ("failed", "chi2_reject", "any_reject", "not_testable")}
-    return MonteCarloResult(
+    return attach(MonteCarloResult(
         comp_tested=ct, comp_reject=cr, dof=col.pop("dof").astype(int),
         n_reject=col.pop("n_reject").astype(int), **col,
         rates={k: float(rates[i]) for k, i in at.items()},
@@ -293,7 +310,9 @@ def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None
         verdict=verdict, mean_size=float(counts[_capi.SIM_MC_MEAN_SIZE]),
         **_lib.fields(counts, "SIM_MC_", flights=int, failed=int, chi2_reject=int,
                       any_reject=int, not_testable=int, mean_scale=float, mean_tested=float,
-                      scale_covered=int, mean_outliers=float))
+                      scale_covered=int, mean_outliers=float)),
+        seed=int(seed), first_flight=int(first_flight), alpha=eq[_capi.EQERR_OPT_ALPHA],
+        correction=bool(eq[_capi.EQERR_OPT_CORRECTION]), sigma_w=nopts[_capi.SIM_OPT_SIGMA_W])
 
 
 def _judge_slots(ar, ar_given, robust, robust_alpha, group_bias):

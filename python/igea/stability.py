@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _capi, _lib
+from ._result import result
 
 
 
@@ -17,6 +18,7 @@ def _record(y):
     return np.ascontiguousarray(a)
 
 
+@result
 @dataclass(frozen=True)
 class Block3Sigma:
     """Block-mean statistic of METHODS 3.4: the fields of the driver's JSON
@@ -68,6 +70,7 @@ _LEGACY = ("overlapping", "modified", "nonoverlapping")
 _NO_INTERVAL = ("htotdev", "theo1", "mtie", "tierms")
 
 
+@result
 @dataclass(frozen=True)
 class AllanResult:
     """Allan deviation with confidence intervals (field names as in
@@ -116,6 +119,7 @@ def allan(y, fs, taus=None, *, kind="overlapping", noise="auto", conf=0.683):
     return AllanResult(kind, used, dev, lo, hi, edf, cnt.astype(int), float(conf))
 
 
+@result
 @dataclass(frozen=True)
 class NoiseTerms:
     """Noise coefficients read from an Allan curve (NaN: not identified)."""
@@ -167,6 +171,7 @@ def stability_taus(n, fs, kind="oadev", *, data_type="freq", spacing="octave"):
     return tau[:nt.value].copy()
 
 
+@result
 @dataclass(frozen=True)
 class StabilityResult:
     """A Stable32 statistic at its averaging times (field names as in
@@ -231,6 +236,7 @@ def stability(data, fs, taus=None, *, kind="oadev", data_type="freq", noise="aut
 FIT_TERMS = ("quantization", "random_walk", "bias_instability", "rate_random_walk", "rate_ramp")
 
 
+@result
 @dataclass(frozen=True)
 class NoiseFit:
     """IEEE Std 952 noise model fitted to an Allan curve: value and se of

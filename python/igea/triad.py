@@ -9,10 +9,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _capi, _lib
+from ._result import result
 
 NAMES = ("b_x", "b_y", "b_z", "k_x", "k_y", "k_z", "t_yx", "t_zx", "t_zy")
 
 
+@result
 @dataclass(frozen=True)
 class TriadResult:
     """igea.triad_calibrate / triad_fit: theta (9,) in the order of NAMES,

@@ -235,7 +235,7 @@ typedef struct {
     cli_reader *S, *dw, *sig;
     int N;
     double *sbuf, *dbuf, *gbuf;
-    long block;
+    long block, seen; /* rows per block; rows read since the (re)start */
 } streams;
 
 static void streams_close(streams *s)
@@ -288,6 +288,7 @@ static int streams_open(const eqerr_args *a, streams *s)
 static int streams_rewind(streams *s)
 {
     int ec = cli_reader_rewind(s->S);
+    s->seen = 0;
     if (!ec)
         ec = cli_reader_rewind(s->dw);
     if (!ec && s->sig)
@@ -313,6 +314,11 @@ static int streams_next(const eqerr_args *a, streams *s, long *n)
         for (long i = 0; i < ns; i++)
             s->gbuf[i] = a->sigma_value;
     }
+    if (ns != nd && s->seen == 0 && ns < s->block && nd < s->block && nd == s->N) {
+        cli_error("%s has %ld rows and %d columns; %s has %ld values: transposed?", a->S, ns,
+                  s->N, a->dw, nd);
+        return CLI_DATAERR;
+    }
     if (ns != nd || ns != ng) {
         const char *shorter = nd < ns ? a->dw : (ng < ns ? a->sigma : a->S);
         cli_error("%s ends early: %s, %s%s%s must have the same number of rows", shorter,
@@ -320,6 +326,7 @@ static int streams_next(const eqerr_args *a, streams *s, long *n)
         return CLI_DATAERR;
     }
     *n = ns;
+    s->seen += ns;
     return CLI_OK;
 }
 

@@ -1,0 +1,508 @@
+"""What every result class shares: a concise repr, to_dict() and to_json().
+
+A result is a frozen dataclass whose fields are the JSON keys of the
+driver's command of the same name (docs/vocabulary.md). The decorator
+`result` gives it
+
+- a repr of one line: scalars and short strings shown, arrays as
+  <dtype shape>, nested results and long lists abbreviated;
+- to_dict(): the fields as JSON types, as the driver writes them (numpy
+  arrays as nested lists, numpy scalars as Python numbers, NaN and
+  +-Inf as None, which the driver writes as null; nested results as
+  their to_dict());
+- to_json(**kw): json.dumps(to_dict(), **kw).
+
+The decorator goes above @dataclass, which would otherwise write its own
+(field-by-field, array-printing) repr over the one given here."""
+import dataclasses
+import json
+import math
+
+import numpy as np
+
+__all__ = ["attach", "result", "to_json_value"]
+
+_LIST_SHOWN = 6      # lists of at most this many scalars are shown whole
+_STR_SHOWN = 40      # longer strings are cut
+
+
+def to_json_value(v):
+    """v as the value the driver's JSON writer gives it (see module doc)."""
+    if dataclasses.is_dataclass(v) and not isinstance(v, type):
+        return v.to_dict() if hasattr(v, "to_dict") else {
+            f.name: to_json_value(getattr(v, f.name)) for f in dataclasses.fields(v)}
+    if isinstance(v, np.ndarray):
+        return to_json_value(v.tolist())
+    if isinstance(v, (bool, np.bool_)):
+        return bool(v)
+    if isinstance(v, (int, np.integer)):
+        return int(v)
+    if isinstance(v, (float, np.floating)):
+        v = float(v)
+        return v if math.isfinite(v) else None
+    if isinstance(v, dict):
+        return {str(k): to_json_value(x) for k, x in v.items()}
+    if isinstance(v, (list, tuple)):
+        return [to_json_value(x) for x in v]
+    return v
+
+
+def _is_scalar(v):
+    return v is None or isinstance(v, (bool, int, float, str, np.bool_, np.number))
+
+
+def _short(v):
+    """The repr of one field value: at most a few dozen characters."""
+    if dataclasses.is_dataclass(v) and not isinstance(v, type):
+        return "<%s>" % type(v).__name__
+    if isinstance(v, np.ndarray):
+        if v.size == 1 and v.ndim <= 1:
+            return "<%s %s: %s>" % (v.dtype, v.shape, _short(v.reshape(-1)[0]))
+        return "<%s %s>" % (v.dtype, v.shape)
+    if isinstance(v, (bool, np.bool_)):
+        return repr(bool(v))
+    if isinstance(v, (float, np.floating)):
+        return "%.6g" % float(v)
+    if isinstance(v, (int, np.integer)):
+        return repr(int(v))
+    if isinstance(v, str):
+        return repr(v if len(v) <= _STR_SHOWN else v[:_STR_SHOWN - 3] + "...")
+    if isinstance(v, (list, tuple)):
+        if len(v) <= _LIST_SHOWN and all(_is_scalar(x) for x in v):
+            inner = ", ".join(_short(x) for x in v)
+            return ("[%s]" if isinstance(v, list) else "(%s)") % inner
+        kinds = sorted({type(x).__name__ for x in v})
+        return "[%d %s]" % (len(v), "/".join(kinds) if kinds else "items")
+    if isinstance(v, dict):
+        return "{%d keys}" % len(v)
+    if v is None:
+        return "None"
+    return "<%s>" % type(v).__name__
+
+
+def _repr(self):
+    parts = ["%s=%s" % (f.name, _short(getattr(self, f.name)))
+             for f in dataclasses.fields(self) if f.repr]
+    return "%s(%s)" % (type(self).__name__, ", ".join(parts))
+
+
+def _to_dict(self):
+    """The fields as JSON types: the driver's --json document of the same
+    command (arrays as lists, NaN/Inf as None = JSON null)."""
+    omit = getattr(self, "_json_omit", ())      # fields the driver writes elsewhere
+    d = {f.name: to_json_value(getattr(self, f.name)) for f in dataclasses.fields(self)
+         if f.name not in omit}
+    extra = getattr(self, "_json_extra", None)   # the driver's keys that are not fields
+    if extra is not None:
+        d.update({k: to_json_value(v) for k, v in extra().items()})
+    return d
+
+
+def _to_json(self, **kw):
+    """json.dumps(self.to_dict(), **kw): the driver's --json document."""
+    return json.dumps(self.to_dict(), allow_nan=False, **kw)
+
+
+def attach(obj, **private):
+    """obj with private attributes _name (context for to_dict and summary
+    kept off the dataclass fields); returns obj."""
+    for k, v in private.items():
+        object.__setattr__(obj, "_" + k, v)
+    return obj
+
+
+def result(cls):
+    """Class decorator (above @dataclass): concise repr, to_dict, to_json."""
+    if not dataclasses.is_dataclass(cls):
+        raise TypeError("igea._result.result: %s is not a dataclass (put the decorator "
+                        "above @dataclass)" % cls.__name__)
+    cls.__repr__ = _repr
+    _document(cls)
+    if cls.__name__ in PLOTS and "plot" not in cls.__dict__:
+        cls.plot = _plot
+    if "to_dict" not in cls.__dict__:
+        cls.to_dict = _to_dict
+    if "to_json" not in cls.__dict__:
+        cls.to_json = _to_json
+    return cls
+
+
+# ---------------------------------------------------------------------------
+# Field descriptions. A field name means the same in every result (the
+# vocabulary of docs/vocabulary.md), so most are described once under
+# SHARED; CLASS holds what a class means differently. `result` appends a
+# "Fields" section built from them to the class docstring.
+
+SHARED = {
+    "x": "the estimate, (N,)",
+    "cov": "its covariance, (N, N)",
+    "sd": "standard deviations: the square roots of the covariance's diagonal",
+    "rank": "numerical rank of the design (or normal matrix)",
+    "rank_tol": "the singular-value cut that decided the rank",
+    "sigma2": "residual variance factor: weighted residual sum of squares / residual dof",
+    "residual": "residuals y - A x per row, in the units of dw",
+    "names": "term (coefficient) names, one per column",
+    "eigenvalues": "eigenvalues lambda of the normal matrix, descending",
+    "eigenvectors": "its eigenvectors, column k for eigenvalue k, (N, N)",
+    "equiv_err": "equivalent errors: the estimate in the eigenvector basis, spec units",
+    "n_test": "number of components tested (eigenvalue >= lambda_test)",
+    "z": "normal statistic of each tested component, (n_test,)",
+    "reject": "per tested component, True where |z| exceeds its threshold",
+    "chi2": "chi-square statistic T = sum z^2 of the tested components",
+    "dof": "degrees of freedom of T",
+    "chi2_crit": "chi-square critical value at alpha for dof",
+    "z_crit": "normal critical value z_{1-alpha/2} of the component test",
+    "p_value": "upper-tail probability of T",
+    "passed": "True when the verdict is \"in spec\"",
+    "verdict": "the overall verdict rule: seed, chi2, exact or sidak",
+    "verdict_z_crit": "the rule's threshold on |z| (None: no component test)",
+    "verdict_chi2_crit": "the rule's threshold on T",
+    "overall_size": "the rule's false-alarm probability (None: not computed)",
+    "scale": "c, the sigma_w^2 estimate the tracking 1-sigma was corrected by (1: off)",
+    "iterations": "iterations run",
+    "n_small": "number of small eigenvalues (<= lambda_small) used for sigma_w",
+    "flag": "how sigma_w was found: ok, clamped, not_estimable, off, ...",
+    "rms": "residual RMS per axis x, y, z",
+    "whiteness": "per axis x, y, z: dict(axis, n, lags, ljung_box, ljung_box_p, runs, "
+                 "n_above, n_below, runs_z, runs_p) of the residuals; None if not computed",
+    "components": "per tested component: dict(index, lambda, z, reject, terms [(name, share), "
+                  "...] descending, loading, candidates)",
+    "n_reject": "number of rejected components",
+    "model": "the model name",
+    "method": "the estimation method (ls or ebr)",
+    "coef": "the coefficient estimates, in the order of names",
+    "comb_names": "names of the estimable combinations",
+    "comb": "the estimable combinations' estimates",
+    "comb_sd": "their standard deviations (NaN where a combination is not estimable)",
+    "sigma": "residual standard deviation of the observation equation",
+    "lam": "the empirical-Bayes ridge parameter lambda (0 for least squares)",
+    "positions": "observations (positions) used",
+    "flags": "per coefficient, \"data\" or \"prior\": what determined it",
+    "k": "the ridge parameter",
+    "rule": "the rule that chose the ridge parameter",
+    "kind": "the statistic (e.g. allan, modified, overlapping)",
+    "taus": "averaging times tau, s",
+    "dev": "the deviation at each tau",
+    "lo": "lower confidence limit of dev at each tau",
+    "hi": "upper confidence limit of dev at each tau",
+    "edf": "equivalent degrees of freedom at each tau",
+    "count": "number of terms averaged at each tau",
+    "conf": "confidence level of lo and hi",
+    "covariance": "covariance of the estimate",
+    "threshold": "the detection threshold",
+    "statistic": "the test statistic",
+    "terms": "term names",
+    "t": "times, s",
+    "epochs": "epoch times, s",
+    "flights": "flights simulated",
+    "failed": "flights whose verdict is \"out of spec\" (any component or chi-square)",
+    "window": "window length, s",
+    "share": "each term's share of the trace of the covariance",
+    "ncomp": "principal components kept",
+    "scaled": "True when the columns were scaled to unit norm internally (norms more than "
+              "1e8 apart)",
+    "prior_sd": "prior standard deviation of each coefficient",
+    "value": "fitted value of each noise term",
+    "se": "standard error of each noise term",
+    "supported": "per term, True where the data support it (likelihood ratio)",
+}
+
+CLASS = {
+    "AccelDesignInfo": {
+        "model": "accelerometer model: single or dual",
+        "singular_values": "singular values of the design, descending",
+        "null_space": "(np, np - rank): canonical orthonormal basis of the null space",
+        "loading": "per coefficient, the norm of its null-space part (0: data-determined)",
+        "comb_loading": "per estimable combination, its null-space loading (0: estimable)",
+        "names": "coefficient names"},
+    "AccelFit": {
+        "model": "accelerometer model: single or dual",
+        "sigma": "residual standard deviation of the observation equation, g",
+        "rms": "RMS of the residuals, g",
+        "positions": "observations used (IGEA_ACCEL_INFO_NOBS)",
+        "dof": "residual degrees of freedom"},
+    "AccelRefine": {
+        "phi_deg": "refined position angles, degrees",
+        "comb": "the estimable combinations at the refined angles",
+        "sigma": "residual standard deviation, g",
+        "rms": "RMS of the residuals, g",
+        "iterations": "Gauss-Newton iterations run",
+        "step": "norm of the last Gauss-Newton step"},
+    "DwResult": {
+        "dw": "(3 n_epochs,) velocity differences epoch-major x, y, z, m/s",
+        "cov": "(n_epochs, 6) c_xx c_xy c_xz c_yy c_yz c_zz in LI, or None",
+        "sigma": "(3 n_epochs,) square roots of the covariance's diagonal, or None",
+        "dw_dtau": "(3 n_epochs,) dW / dtau, m/s^2 (the time_offset term's column)",
+        "n_epochs": "epochs compared",
+        "rows": "rows of dw (3 n_epochs)",
+        "samples": "samples of the record used",
+        "max_abs": "largest |dw|, m/s",
+        "rms": "(3,) RMS of dw per axis, m/s"},
+    "NoiseEqerrResult": {
+        "scale": "c, the overall tracking-variance factor",
+        "ar_order": "p of the AR(p) whitening (0: none)",
+        "ar_phi": "(3, p): phi of lag k + 1 of axis a",
+        "ar_se": "(3, p): their standard errors (0 when phi was given)",
+        "groups": "per group: dict(scale, scale_se, redundancy, rows, bias)",
+        "robust_crit": "critical |w| of the robust route's data snooping",
+        "rejected_rows": "rows rejected by the robust route: [{\"row\": i, \"w\": w}]",
+        "noise_iterations": "iterations of the noise-model estimation",
+        "noise_converged": "True when the noise-model estimation converged"},
+    "ImpactResult": {
+        "model": "gravity model of the ballistic flight (e.g. point, j2)",
+        "point": "(3,) impact point, ECEF, m",
+        "velocity": "(3,) velocity at impact, ECEF, m/s",
+        "time": "time of flight, s",
+        "jacobian": "(7, 6): d(point, velocity, time) / d(burnout x y z vx vy vz)",
+        "down": "(3,) the downrange miss axis at the impact point",
+        "cross": "(3,) the crossrange miss axis at the impact point",
+        "miss_jacobian": "(2, 6): downrange and crossrange miss per unit of the burnout state"},
+    "ImpactBudget": {
+        "names": "the error terms' names",
+        "miss": "(n, 2): downrange and crossrange miss of each term, m",
+        "covariance": "(2, 2) impact covariance, m^2",
+        "cep": "circular error probable of that covariance (exact), m"},
+    "NavResult": {
+        "t": "(n,) time of each state, s",
+        "r": "(n, 3) LI position, m",
+        "v": "(n, 3) LI velocity, m/s",
+        "q": "(n, 4) attitude quaternion body -> LI (1 0 0 0 for a platform)",
+        "w": "(n, 3) apparent velocity (integral of f dt) in LI, m/s"},
+    "Seed002Reliability": {
+        "gyro": "reliability of the gyro subsystem",
+        "acc_eq7": "accelerometer subsystem reliability, seed 002 eq. (7)",
+        "system_eq7": "system reliability, seed 002 eq. (7)",
+        "system_without_skew": "system reliability without the skew sensor",
+        "non_redundant": "reliability of the non-redundant system",
+        "system_exact": "system reliability, exact enumeration",
+        "acc_exact": "accelerometer subsystem reliability, exact enumeration"},
+    "GeometryReliability": {
+        "span": "probability that the surviving axes span 3-D",
+        "detect": "... and a further single fault is detectable (NaN if not computed)",
+        "isolate": "... and isolable",
+        "classes": "number of direction classes"},
+    "FdiResult": {
+        "statistic": "parity detection statistic",
+        "threshold": "its chi-square threshold",
+        "dof": "its degrees of freedom (m - q)",
+        "p_value": "upper-tail probability of the statistic",
+        "detected": "True when the statistic exceeds the threshold",
+        "isolated": "0-based sensor isolated, -1 if none",
+        "isolation_statistic": "statistic of the isolated sensor",
+        "isolable": "True when the geometry can isolate any single fault",
+        "parity": "whitened parity vector (m - q)"},
+    "SkewCheck": {
+        "residual": "(ny, nz): a_D - (cy a_y,i + cz a_z,j)",
+        "faulty_y": "bool (ny,): Y sensors found faulty",
+        "faulty_z": "bool (nz,): Z sensors found faulty",
+        "faulty_d": "every pair failed: the skew sensor is the suspect"},
+    "SeriesCheck": {
+        "t": "window start times, s",
+        "means": "(nwin, nsens) window means",
+        "excluded": "(nwin, nsens) bool: sensors excluded per window",
+        "fused": "(nwin,) fused value per window",
+        "fused_sigma": "(nwin,) its 1-sigma",
+        "exclusions": "[(sensor, from, to)]: exclusion intervals, sensor 0-based"},
+    "LsResult": {
+        "refine_steps": "extended-precision refinement steps run",
+        "r2": "coefficient of determination (statsmodels OLS; None when not defined)",
+        "r2_adj": "adjusted R^2",
+        "fvalue": "F statistic of the regression",
+        "f_pvalue": "its p-value",
+        "tvalues": "t statistic x / sd per coefficient",
+        "pvalues": "two-sided p-value of each t statistic",
+        "conf_int_lower": "lower 1 - alpha confidence limit per coefficient",
+        "conf_int_upper": "upper 1 - alpha confidence limit per coefficient",
+        "alpha": "level of the confidence limits",
+        "llf": "Gaussian log-likelihood",
+        "aic": "Akaike information criterion",
+        "bic": "Bayesian information criterion",
+        "leverage": "diagonal of the hat matrix per row",
+        "cooks_d": "Cook's distance per row",
+        "press": "PRESS: sum of the squared leave-one-out residuals",
+        "durbin_watson": "Durbin-Watson statistic of the residuals",
+        "df_model": "model degrees of freedom",
+        "df_resid": "residual degrees of freedom"},
+    "EbrResult": {
+        "shrink": "lambda d_i / (1 + lambda d_i) of the first rank canonical components (d_i descending), 0 beyond",
+        "sd_frequentist": "frequentist standard deviations of x with lambda fixed (sd: the posterior ones)",
+        "rule": "the rule that chose lambda (e.g. sc, mm)"},
+    "RidgeTrace": {
+        "k": "the grid of ridge parameters",
+        "X": "(N, len(k)): X[:, j] = x(k[j])",
+        "edf": "effective degrees of freedom tr H(k) = sum d_i / (d_i + k) at each k"},
+    "Collinearity": {
+        "cond": "condition number of B",
+        "cond_estimable": "condition number over the estimable directions",
+        "eigenvalues": "eigenvalues of B, descending",
+        "eigenvectors": "its eigenvectors, column k for eigenvalue k",
+        "vif": "uncentred variance-inflation factor B_jj pinv(B)_jj per term (Inf: prior-determined)",
+        "sd_comb": "standard deviation s / s_i of the estimable combination v_i^T x for i < rank, Inf beyond",
+        "prior_determined": "per term, True where it has a null-space component: the data do not determine it"},
+    "RlsEpoch": {
+        "action": "what the update did (a name of ACTIONS)",
+        "flags": "per row, flag bits (FLAG_INNOVATION 1, FLAG_JUMP 2, FLAG_MISSING 4, "
+                 "FLAG_UNUSED 8)"},
+    "RlsResult": {
+        "x": "(epochs, m): the estimate after each epoch",
+        "gamma": "(m, m): the final Gamma",
+        "covariance": "(m, m): the honest covariance of x (Joseph form with the gain used)",
+        "sd": "(m,): square roots of its diagonal (None with covariance)",
+        "q": "Q_p, the a-posteriori whitened residual sum of squares (METHODS 2.6)",
+        "flags": "(epochs, k) per-row flag bits",
+        "actions": "(epochs,) action codes (ACTIONS)",
+        "residual": "(epochs, k): compensated telemetry y - c x after each epoch",
+        "variant": "the RLS variant run",
+        "p": "the order p of polynomial RLS (iterations of iterated RLS)",
+        "counts": "dict of counts: updates, anomalous, rows (summed into Q_p), ..."},
+    "Flight": {
+        "S": "(3M, N) raw environment functions (SI units)",
+        "dw": "(3M,) velocity differences, m/s",
+        "sigma": "(3M,) stated tracking 1-sigma, m/s",
+        "spec": "(N,) 1-sigma specs",
+        "x_true": "(N,) the true X in spec units",
+        "terms": "the N term names",
+        "epochs": "(M,) epoch times, s"},
+    "MonteCarloPool": {
+        "size": "flights per group; a last group of fewer is left out",
+        "pools": "groups judged",
+        "failed": "groups whose pooled verdict is \"out of spec\"",
+        "rate": "failed / pools (NaN without a group)",
+        "ci99": "its 99 % Wilson interval (NaN, NaN without a group)"},
+    "MonteCarloResult": {
+        "chi2_reject": "flights whose chi-square test rejects",
+        "any_reject": "flights with a rejected component",
+        "not_testable": "flights with no component precise enough to be tested",
+        "mean_scale": "mean final c (sigma_w^2 estimate)",
+        "mean_tested": "mean number of components tested",
+        "comp_tested": "per component, flights in which it was tested",
+        "comp_reject": "per component, flights in which it was rejected",
+        "chi2": "per flight, T",
+        "dof": "per flight, the dof of T",
+        "n_reject": "per flight, the rejected components",
+        "scale": "per flight, c (NaN for a flight with nothing testable)",
+        "rates": "{\"failed\": count / flights, ...} of the four counts",
+        "ci99": "{\"failed\": (lo, hi), ...}: their 99 % Wilson intervals",
+        "pool": "with pool=F: the pooled verdicts of groups of F flights (MonteCarloPool)",
+        "verdict": "the overall verdict rule counted in failed",
+        "mean_size": "its overall size, mean over the testable flights",
+        "scale_covered": "judged with the noise model: flights whose group scales are "
+                         "within 3 standard errors of the truth",
+        "mean_outliers": "mean rows rejected by the robust route"},
+    "Block3Sigma": {
+        "three_sigma": "3 sigma of the block means",
+        "sigma": "standard deviation of the block means",
+        "nblock": "blocks",
+        "block_samples": "samples per block",
+        "mean": "mean of the record",
+        "adev": "Allan deviation at the block length from the block means"},
+    "NoiseTerms": {
+        "random_walk": "N: sigma at 1 s of the -1/2 line (NaN: not identified)",
+        "random_walk_tau": "tau at which N was read, s",
+        "bias_instability": "B: min sigma / 0.6643",
+        "bias_instability_tau": "tau of that minimum, s",
+        "rate_random_walk": "K: sigma at 3 s of the +1/2 line",
+        "rate_random_walk_tau": "tau at which K was read, s",
+        "quantization": "Q: sigma at sqrt 3 s of the -1 line",
+        "quantization_tau": "tau at which Q was read, s"},
+    "StabilityResult": {
+        "data_type": "phase or frequency data",
+        "lo": "lower confidence limit at each tau (None for htotdev, theo1, mtie, tierms)",
+        "hi": "upper confidence limit at each tau (None as lo)",
+        "edf": "equivalent degrees of freedom at each tau (None as lo)",
+        "alpha": "the noise exponent used at each tau"},
+    "NoiseFit": {
+        "terms": "the IEEE Std 952 terms Q, N, B, K, R",
+        "value": "fitted value of each term (units of the data times s, sqrt(s), 1, "
+                 "1/sqrt(s), 1/s)",
+        "chi2": "chi-square of the fit"},
+    "TriadResult": {
+        "theta": "(9,) the calibration parameters in the order of NAMES",
+        "covariance": "(9, 9) their covariance",
+        "sd": "(9,) their standard deviations",
+        "k": "the threshold multiple used",
+        "threshold": "the static-interval threshold",
+        "intervals": "number of static intervals",
+        "rms_before": "RMS of |a| - g at the start values",
+        "rms_after": "RMS of |a| - g after the fit",
+        "sigma": "sqrt(sum r^2 / (n - 9))",
+        "iterations": "iterations run"},
+}
+
+
+def _field_docs(cls):
+    """The "Fields" section of cls's docstring, or "" when no field is known."""
+    own = CLASS.get(cls.__name__, {})
+    lines = []
+    for f in dataclasses.fields(cls):
+        text = own.get(f.name, SHARED.get(f.name))
+        if text:
+            lines.append("    %s: %s" % (f.name, text))
+    return "\n\nFields:\n" + "\n".join(lines) \
+        if lines else ""
+
+
+def _document(cls):
+    doc = (cls.__doc__ or "").rstrip()
+    if doc.startswith(cls.__name__ + "("):     # the signature @dataclass writes
+        doc = ""
+    cls.__doc__ = (doc or "Result %s." % cls.__name__) + _field_docs(cls)
+    fn = cls.__dict__.get("summary")
+    if fn is not None and not fn.__doc__:
+        fn.__doc__ = "A readable report of this %s: several lines of text." % cls.__name__
+
+
+# ---------------------------------------------------------------------------
+# r.plot(ax=None): matplotlib pictures of the results that have one (the
+# pictures the driver draws with --plot). matplotlib is an optional extra.
+
+def _pyplot():
+    try:
+        import matplotlib.pyplot as plt
+    except ImportError as e:
+        raise ImportError("plot() needs matplotlib, which is not installed: pip install "
+                          "matplotlib (or the extra: pip install 'igea[plots]'); to_dict() "
+                          "gives the numbers without it") from e
+    return plt
+
+
+def _plot_eqerr(r, ax):
+    """Residual curves per axis against the epoch (seed 000 Fig. 1)."""
+    res = np.asarray(r.residual).reshape(-1, 3)
+    for a in range(3):
+        ax.plot(np.arange(res.shape[0]), res[:, a], label="xyz"[a])
+    ax.set_xlabel("epoch")
+    ax.set_ylabel("residual dw - S x (units of dw)")
+    ax.set_title("eqerr: %s, T = %.4g (dof %d), c = %.4g"
+                 % ("passed" if r.passed else "out of spec", r.chi2, r.dof, r.scale))
+    ax.legend()
+
+
+def _plot_deviation(r, ax):
+    """The deviation against tau, log-log, with its confidence interval."""
+    taus, dev = np.asarray(r.taus, float), np.asarray(r.dev, float)
+    if r.lo is not None and r.hi is not None:
+        lo, hi = np.asarray(r.lo, float), np.asarray(r.hi, float)
+        ax.errorbar(taus, dev, yerr=[dev - lo, hi - dev], fmt="o-", capsize=2,
+                    label="%s (%g %% interval)" % (r.kind, 100 * r.conf))
+    else:
+        ax.plot(taus, dev, "o-", label=r.kind)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("tau (s)")
+    ax.set_ylabel("%s deviation (units of the data)" % r.kind)
+    ax.legend()
+
+
+PLOTS = {"EqerrResult": _plot_eqerr, "AllanResult": _plot_deviation,
+         "StabilityResult": _plot_deviation}
+
+
+def _plot(self, ax=None):
+    """Draw this result with matplotlib on ax (a new figure's axes when
+    None) and return ax. Raises ImportError naming the extra without
+    matplotlib."""
+    if ax is None:
+        ax = _pyplot().subplots()[1]
+    PLOTS[type(self).__name__](self, ax)
+    return ax
