@@ -394,6 +394,7 @@ CLASS = {
         "sigma": "standard deviation of the block means",
         "nblock": "blocks",
         "block_samples": "samples per block",
+        "seconds": "the block length used, round(block fs) / fs (s)",
         "mean": "mean of the record",
         "adev": "Allan deviation at the block length from the block means"},
     "NoiseTerms": {
