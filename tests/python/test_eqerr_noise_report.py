@@ -320,3 +320,54 @@ def test_pool_of_noise_flights_against_numpy(tmp_path):
         assert j["passed"] == want, rule
         p = igea.pool(py, verdict=rule)
         assert p.chi2 == pytest.approx(T, rel=1e-7) and p.dof == n and p.passed == want
+
+
+def helmert(Sw, ww, grp, G, iters=500):
+    """Helmert's variance components written here: c_g <- Omega_g / r_g,
+    Omega_g = |w_g - S_g x|^2, r_g = n_g - tr(N^-1 N_g) / c_g, N = sum N_g / c_g,
+    x = N^-1 sum S_g'w_g / c_g, from c = 1."""
+    c = np.ones(G)
+    for _ in range(iters):
+        Ng = [Sw[grp == g].T @ Sw[grp == g] for g in range(G)]
+        Nm = sum(Ng[g] / c[g] for g in range(G))
+        x = np.linalg.solve(Nm, sum(Sw[grp == g].T @ ww[grp == g] / c[g] for g in range(G)))
+        Ni = np.linalg.inv(Nm)
+        r = np.array([np.sum(grp == g) - np.trace(Ni @ Ng[g]) / c[g] for g in range(G)])
+        om = np.array([np.sum((ww[grp == g] - Sw[grp == g] @ x) ** 2) for g in range(G)])
+        cn = om / r
+        if np.max(np.abs(cn / c - 1)) < 1e-13:
+            c = cn
+            break
+        c = cn
+    return c, r, x
+
+
+def test_groups_scales_and_whitened_residuals_against_numpy(tmp_path):
+    S, dw, sigma, spec, _ = make_flight(17, M=120)
+    M = 120
+    labels = (np.arange(M) >= 50).astype(int)          # two stations
+    rows = np.repeat(labels, 3)
+    dw = dw + np.where(rows == 1, 2.0, 0.0) * sigma * np.random.default_rng(5).standard_normal(
+        3 * M)                                          # station 1 noisier (sd ~ sqrt 5)
+    write_flight(tmp_path, S, dw, sigma, spec)
+    np.savetxt(tmp_path / "groups.txt", labels, fmt="%d")
+    r = driver("eqerr", "--S", "S.txt", "--dw", "dw.txt", "--sigma", "sigma.txt", "--spec",
+               "spec.txt", "--groups", "groups.txt", "--json", "--residuals", "res.txt",
+               cwd=tmp_path)
+    assert r.returncode in (0, 1), r.stderr
+    j = json.loads(r.stdout)
+    Sw, ww = S * spec / sigma[:, None], dw / sigma
+    c, red, x = helmert(Sw, ww, rows, 2)
+    got = [g["scale"] for g in j["groups"]]
+    np.testing.assert_allclose(got, c, rtol=1e-5)      # the library settles at tol 1e-4
+    np.testing.assert_allclose([g["redundancy"] for g in j["groups"]], red, rtol=1e-6)
+    np.testing.assert_allclose([g["scale_se"] for g in j["groups"]], c * np.sqrt(2 / red),
+                               rtol=1e-5)
+    assert [g["rows"] for g in j["groups"]] == [150, 210]
+    # whitened residuals: (w - S x) / sqrt(c_g), at the scales that numpy finds
+    e = (ww - Sw @ x) / np.sqrt(c[rows])
+    np.testing.assert_allclose(j["residual"], e, rtol=1e-5, atol=1e-5 * np.abs(e).max())
+    np.testing.assert_allclose(np.loadtxt(tmp_path / "res.txt")[:, 2], j["residual"])
+    # the group scales divided out: both stations' residuals of unit scale
+    for g in range(2):
+        assert 0.7 < np.std(np.asarray(j["residual"])[rows == g]) < 1.3
