@@ -153,7 +153,7 @@ static const cli_opt eqerr_options[] = {
     {"--group-bias", CLI_OPT_DSET, EQ_OPT(GROUP_BIAS), NULL, NULL, "per-group x, y, z bias columns (nuisance, not tested)", NULL},
     {"--robust", CLI_OPT_DSET, EQ_OPT(ROBUST), NULL, NULL, "reject outlying rows by data snooping (w-test)", NULL},
     {"--robust-alpha", CLI_OPT_NUM, EQ_OPT(ROBUST_ALPHA), NULL, "A", "level of the w-test per row (0: 0.001)", NULL},
-    {"--residuals", CLI_OPT_STR, &EA.residuals, NULL, "FILE", "write the per-row residuals dw - S D P_t Xhat_t", NULL},
+    {"--residuals", CLI_OPT_STR, &EA.residuals, NULL, "FILE", "write epoch, axis, residual per row: dw - S D P_t Xhat_t\n(whitened, with the noise models)", NULL},
     CLI_VERDICT_OPT(&EA.verdict),
     {"--names", CLI_OPT_STR, &EA.names, NULL, "LIST", "comma-separated term names, one per column of S\n"
      "(default: the '# name name ...' header of a text S, as\nigea envfun and simulate write it)", NULL},

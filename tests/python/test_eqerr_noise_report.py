@@ -371,3 +371,13 @@ def test_groups_scales_and_whitened_residuals_against_numpy(tmp_path):
     # the group scales divided out: both stations' residuals of unit scale
     for g in range(2):
         assert 0.7 < np.std(np.asarray(j["residual"])[rows == g]) < 1.3
+
+
+def test_svd_route_refused_with_noise_models(tmp_path):
+    S, dw, sigma, spec, _ = make_flight(18, M=30)
+    write_flight(tmp_path, S, dw, sigma, spec)
+    r = driver("eqerr", "--S", "S.txt", "--dw", "dw.txt", "--sigma", "sigma.txt", "--ar", "1",
+               "--route", "svd", cwd=tmp_path)
+    assert r.returncode == 64 and "--route svd" in r.stderr
+    with pytest.raises(ValueError, match="route"):
+        igea.eqerr(S, dw, sigma, spec, ar=1, route="svd")
