@@ -422,12 +422,59 @@ static void job_out(const njob *j, int iters, int conv, double *info, double *ar
         memcpy(row_w, j->row_w, (size_t)j->m * sizeof(double));
 }
 
+/* The whitened residuals of the final full-rank fit: (w~_i - S~_i x) / sqrt(c_g)
+ * (c_g only with two or more groups), rejected rows included. */
+static void job_resid(const njob *j, double *resid)
+{
+    int m = j->m, Nt = j->Nt;
+    for (int i = 0; i < m; i++) {
+        double e = j->V[i + (size_t)Nt * m];
+        for (int c = 0; c < Nt; c++)
+            e -= j->V[i + (size_t)c * m] * j->x[c];
+        int g = j->group ? j->group[i / 3] : 0;
+        resid[i] = j->G > 1 ? e / sqrt(j->c[g]) : e;
+    }
+}
+
+static int noise_job(int m, int N, const double *S, int lds, const double *dw,
+                     const double *track_sigma, int sigma_inc, const double *cov,
+                     const int *group, int ngroups, const double *spec_sigma,
+                     const double *phi, const double *opts, double *lambda, double *P,
+                     int ldp, double *equiv_err, double *z, int *reject, double *info,
+                     double *ar_out, double *group_out, double *row_w, double *resid);
+
 int igea_noise_eqerr(int m, int N, const double *S, int lds, const double *dw,
                      const double *track_sigma, int sigma_inc, const double *cov,
                      const int *group, int ngroups, const double *spec_sigma,
                      const double *phi, const double *opts, double *lambda, double *P,
                      int ldp, double *equiv_err, double *z, int *reject, double *info,
                      double *ar_out, double *group_out, double *row_w)
+{
+    return noise_job(m, N, S, lds, dw, track_sigma, sigma_inc, cov, group, ngroups, spec_sigma,
+                     phi, opts, lambda, P, ldp, equiv_err, z, reject, info, ar_out, group_out,
+                     row_w, NULL);
+}
+
+int igea_noise_eqerr_resid(int m, int N, const double *S, int lds, const double *dw,
+                           const double *track_sigma, int sigma_inc, const double *cov,
+                           const int *group, int ngroups, const double *spec_sigma,
+                           const double *phi, const double *opts, double *lambda, double *P,
+                           int ldp, double *equiv_err, double *z, int *reject, double *info,
+                           double *ar_out, double *group_out, double *row_w, double *resid)
+{
+    if (!resid)
+        return -24;
+    return noise_job(m, N, S, lds, dw, track_sigma, sigma_inc, cov, group, ngroups, spec_sigma,
+                     phi, opts, lambda, P, ldp, equiv_err, z, reject, info, ar_out, group_out,
+                     row_w, resid);
+}
+
+static int noise_job(int m, int N, const double *S, int lds, const double *dw,
+                     const double *track_sigma, int sigma_inc, const double *cov,
+                     const int *group, int ngroups, const double *spec_sigma,
+                     const double *phi, const double *opts, double *lambda, double *P,
+                     int ldp, double *equiv_err, double *z, int *reject, double *info,
+                     double *ar_out, double *group_out, double *row_w, double *resid)
 {
     double dflt[IGEA_EQERR_OPT_LEN];
     int st = job_args(m, N, S, lds, dw, track_sigma, sigma_inc, cov, group, ngroups, opts);
@@ -489,6 +536,8 @@ int igea_noise_eqerr(int m, int N, const double *S, int lds, const double *dw,
         if (st == 0) {
             memcpy(info, inf, sizeof inf);
             job_out(&j, iters, conv, info, ar_out, group_out, row_w);
+            if (resid)
+                job_resid(&j, resid);
         }
     }
     free(Ar);

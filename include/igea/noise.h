@@ -221,6 +221,35 @@ IGEA_API int igea_noise_eqerr(int m, int N, const double *S, int lds,
                               int *reject, double *info, double *ar_out,
                               double *group_out, double *row_w);
 
+/*
+ * igea_noise_eqerr with the whitened residuals of the flight.
+ *  1 m .. 23 row_w  as igea_noise_eqerr: 1 m, 2 N, 3 S, 4 lds, 5 dw,
+ *  6 track_sigma, 7 sigma_inc, 8 cov, 9 group (may be NULL), 10 ngroups,
+ *  11 spec_sigma (may be NULL), 12 phi (may be NULL), 13 opts (may be
+ *  NULL), 14 lambda, 15 P, 16 ldp, 17 equiv_err, 18 z, 19 reject, 20 info,
+ *  21 ar_out (may be NULL), 22 group_out (may be NULL), 23 row_w (may be
+ *  NULL)
+ * 24 resid  m outputs: the whitened residuals of the final full-rank fit,
+ *           e~_i = (w~_i - S~_i x) / sqrt(c_g), with [S~ w~] the rows
+ *           whitened by the covariance (or sigmas) and the final AR filter,
+ *           x the generalised least-squares solution of all terms (bias
+ *           columns included) at the final phi, group scales and rejections,
+ *           c_g the scale of row i's group (1 with one group); rows the
+ *           robust route rejected are included (row_w != 0). Units: the
+ *           stated tracking 1-sigma (dimensionless).
+ * Returns those of igea_noise_eqerr, -24; outputs untouched on failure.
+ */
+IGEA_API int igea_noise_eqerr_resid(int m, int N, const double *S, int lds,
+                                    const double *dw, const double *track_sigma,
+                                    int sigma_inc, const double *cov,
+                                    const int *group, int ngroups,
+                                    const double *spec_sigma, const double *phi,
+                                    const double *opts, double *lambda,
+                                    double *P, int ldp, double *equiv_err,
+                                    double *z, int *reject, double *info,
+                                    double *ar_out, double *group_out,
+                                    double *row_w, double *resid);
+
 #ifdef __cplusplus
 }
 #endif

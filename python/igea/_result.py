@@ -168,6 +168,8 @@ SHARED = {
     "components": "per tested component: dict(index, lambda, z, reject, terms [(name, share), "
                   "...] descending, loading, candidates)",
     "n_reject": "number of rejected components",
+    "residual_whitened": "True when residual, rms and whiteness are of the whitened rows "
+                         "(the noise models)",
     "model": "the model name",
     "method": "the estimation method (ls or ebr)",
     "coef": "the coefficient estimates, in the order of names",

@@ -160,9 +160,11 @@ def _component_lines(components, names):
     return lines
 
 
-def _whiteness_lines(w, lags):
-    lines = ["residual whiteness per axis (Ljung-Box over %d lags; runs test on the signs "
-             "about the axis mean):" % lags]
+def _whiteness_lines(w, lags, whitened=False):
+    lines = ["residual whiteness per axis%s (Ljung-Box over %d lags; runs test on the signs "
+             "about the axis mean):"
+             % (" of the whitened residuals, epochs with a rejected row left out" if whitened
+                else "", lags)]
     for a, e in enumerate(w):
         if e is None:
             lines.append("  %s: not computed" % "xyz"[a])
@@ -257,6 +259,8 @@ class EqerrResult(_Verdict):
                                # runs n_above n_below runs_z runs_p), None if not computed
     components: list           # per tested component: dict(index lambda z reject terms
                                # [(name, share), ...] descending, loading, candidates)
+    residual_whitened: bool    # residual, rms and whiteness are of the whitened residuals
+                               # (the noise models) or of dw - S D P_t Xhat_t
 
     def summary(self):
         lines = ["rank %d of %d; lambda_1 = %.6e; %d component(s) tested"
@@ -279,8 +283,12 @@ class EqerrResult(_Verdict):
                          % (self.scale, getattr(self, "_sigma_w", np.sqrt(self.scale)),
                             self.iterations, self.n_small,
                             getattr(self, "_lambda_small", 0.1), self.flag))
-        lines.append("residual RMS per axis (x, y, z): %.6g %.6g %.6g" % tuple(self.rms))
-        lines += _whiteness_lines(self.whiteness, getattr(self, "_lags", 20))
+        lines.append("residual RMS per axis (x, y, z)%s: %.6g %.6g %.6g"
+                     % ((" of the whitened residuals" if self.residual_whitened else "",)
+                        + tuple(self.rms)))
+        lines += _whiteness_lines(self.whiteness, getattr(self, "_lags", 20),
+                                  self.residual_whitened)
+        lines += self._noise_lines()
         return "\n".join(lines + self._verdict())
 
     def _json_extra(self):
@@ -290,6 +298,9 @@ class EqerrResult(_Verdict):
                 "lambda_test": getattr(self, "_lambda_test", None),
                 "route": getattr(self, "_route", None), "rows": len(self.residual),
                 "n_terms": len(self.eigenvalues)}
+
+    def _noise_lines(self):
+        return []
 
 
 def _frame(S, names):
@@ -335,8 +346,11 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
     S, names = _frame(S, names)
     _orientation(S, dw)
     if any(v is not None for v in (cov, ar, ar_phi, groups, group_bias, robust, robust_alpha)):
+        if route not in (None, "eig"):
+            raise ValueError("route: %r is not available with the noise models (cov, ar, "
+                             "ar_phi, groups, group_bias, robust)" % (route,))
         return _noise(S, dw, sigma, spec, cov, ar, ar_phi, groups, group_bias, robust,
-                      robust_alpha, alpha=alpha, lambda_test=lambda_test,
+                      robust_alpha, lags, names, alpha=alpha, lambda_test=lambda_test,
                       lambda_small=lambda_small, n_min=n_min, tol=tol, max_iter=max_iter,
                       correction=correction, bias_correct=bias_correct, clamp=clamp,
                       z_crit=z_crit, rank_tol=rank_tol, overall_size=1,
@@ -388,7 +402,7 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
         eigenvalues=lam, eigenvectors=np.ascontiguousarray(P), equiv_err=xhat, z=z[:nt].copy(),
         reject=rej[:nt] == 1,
         flag=_lib.choice_name(_capi.CHOICE_STATS_SIGMAW_FLAG, info[_capi.STATS_INFO_FLAG]),
-        residual=res, whiteness=_whiteness(res, lags), components=comps,
+        residual=res, whiteness=_whiteness(res, lags), components=comps, residual_whitened=False,
         rms=rms, **test, **_lib.fields(info, "STATS_INFO_", rank=int, scale=float,
                                         iterations=int, n_small=int)),
         alpha=opts[_capi.EQERR_OPT_ALPHA], lambda_small=opts[_capi.EQERR_OPT_LAMBDA_SMALL],
@@ -398,14 +412,15 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
 
 
 def _noise(S, dw, sigma, spec, cov, ar, ar_phi, groups, group_bias, robust, robust_alpha,
-           **slots):
+           lags, names, **slots):
     """igea.eqerr with the noise models (igea/noise.h; python/igea/noise.py)."""
     from .noise import noise_eqerr
     opts = _lib.options("eqerr", "igea.eqerr", ("igea_noise_eqerr", "opts"),
                         group_bias=None if group_bias is None else int(bool(group_bias)),
                         robust=None if robust is None else int(bool(robust)),
                         robust_alpha=robust_alpha, **slots)
-    return noise_eqerr(S, dw, sigma, spec, cov, ar, ar_phi, groups, opts)
+    return noise_eqerr(S, dw, sigma, spec, cov, ar, ar_phi, groups, opts, lags=lags,
+                       names=names)
 
 
 def accuracy_test(equiv_err, eigenvalues, *, alpha=0.01, lambda_test=10.0, z_crit=None,

@@ -9,25 +9,16 @@ import numpy as np
 from . import _capi
 from . import _lib
 from ._result import result
+from .eqerr import EqerrResult, _attach, _components, _test_fields, _whiteness
 
 
 @result
 @dataclass(frozen=True)
-class NoiseEqerrResult:
-    """Result of igea.eqerr with a noise model; fields match
+class NoiseEqerrResult(EqerrResult):
+    """Result of igea.eqerr with a noise model: every field of EqerrResult
+    (residual, rms and whiteness of the whitened residuals,
+    residual_whitened True), then the noise models' own; fields match
     'igea eqerr --cov/--ar/--groups/--robust --json'."""
-    eigenvalues: np.ndarray
-    equiv_err: np.ndarray
-    z: np.ndarray
-    reject: np.ndarray
-    n_test: int
-    chi2: float
-    dof: int
-    chi2_crit: float
-    p_value: float
-    n_reject: int
-    passed: bool
-    scale: float
     ar_order: int
     ar_phi: np.ndarray       # (3, p): phi of lag k + 1 of axis a
     ar_se: np.ndarray        # (3, p): standard errors (0 when phi was given)
@@ -36,6 +27,42 @@ class NoiseEqerrResult:
     rejected_rows: list      # [{"row": i, "w": w}] of the robust route
     noise_iterations: int
     noise_converged: bool
+
+    def _noise_lines(self):
+        lines = []
+        for a in range(3 if self.ar_order else 0):
+            lines.append("AR(%d) axis %s: phi" % (self.ar_order, "xyz"[a]) + "".join(
+                " %.5f (se %.5f)" % (self.ar_phi[a, k], self.ar_se[a, k])
+                for k in range(self.ar_order)))
+        for g, o in enumerate(self.groups):
+            lines.append("group %d: c = %.6g (se %.3g, sigma_w = %.4f), redundancy %.1f, %g rows, "
+                         "bias %.4g %.4g %.4g" % ((g, o["scale"], o["scale_se"],
+                                                   np.sqrt(o["scale"]), o["redundancy"],
+                                                   o["rows"]) + tuple(o["bias"])))
+        if getattr(self, "_robust", False):
+            lines.append("robust: %d row(s) rejected by data snooping, |w| > %.4f:"
+                         % (len(self.rejected_rows), self.robust_crit)
+                         + "".join(" row %d (w = %.2f)" % (r["row"], r["w"])
+                                   for r in self.rejected_rows))
+        lines.append("noise iterations %d, %s" % (self.noise_iterations, "settled"
+                                                  if self.noise_converged else "NOT settled"))
+        return lines
+
+
+def _kept_epochs(res, row_w):
+    """The whitened residuals of the epochs without a rejected row (the
+    series closed up), as the driver's whiteness and RMS use them."""
+    keep = ~(row_w.reshape(-1, 3) != 0).any(axis=1)
+    return np.ascontiguousarray(res.reshape(-1, 3)[keep].ravel())
+
+
+def _rms(res):
+    """Per-axis RMS (igea_eqerr_axis_rms) of epoch-major residuals."""
+    r3 = res.reshape(-1, 3)
+    ss = np.concatenate([(r3 ** 2).sum(axis=0), np.full(3, float(r3.shape[0]))])
+    rms = np.empty(3)
+    _lib.call("igea.eqerr", "igea_eqerr_axis_rms", _lib.dptr(ss), _lib.dptr(rms))
+    return rms
 
 
 def _cov6(cov, M):
@@ -63,8 +90,9 @@ def _groups(groups, M):
     return np.ascontiguousarray(g, dtype=np.intc), int(g.max()) + 1
 
 
-def noise_eqerr(S, dw, sigma, spec, cov, ar, ar_phi, groups, opts, where="igea.eqerr"):
-    """igea_noise_eqerr on whole arrays; opts from _lib.options (slots set)."""
+def noise_eqerr(S, dw, sigma, spec, cov, ar, ar_phi, groups, opts, where="igea.eqerr",
+                lags=20, names=None):
+    """igea_noise_eqerr_resid on whole arrays; opts from _lib.options (slots set)."""
     S = _lib.as_f64(S, "S", ndim=2)
     m, N = S.shape
     if m < 3 or m % 3:
@@ -73,6 +101,9 @@ def noise_eqerr(S, dw, sigma, spec, cov, ar, ar_phi, groups, opts, where="igea.e
     dw = _lib.as_f64(dw, "dw", ndim=1, shape=(m,))
     if (cov is None) == (sigma is None):
         raise ValueError("sigma, cov: give exactly one of them")
+    names = ["column_%d" % j for j in range(N)] if names is None else [str(n) for n in names]
+    if len(names) != N:
+        raise ValueError("names: %d names, but S has %d columns" % (len(names), N))
     sig = None
     if sigma is not None:
         sig = np.broadcast_to(_lib.as_f64(sigma, "sigma"), (m,)).copy()
@@ -88,26 +119,35 @@ def noise_eqerr(S, dw, sigma, spec, cov, ar, ar_phi, groups, opts, where="igea.e
     rej, info = np.empty(N, dtype=np.intc), np.empty(_capi.STATS_INFO_LEN)
     ar_out = np.zeros(_capi.NOISE_AR_OUT_LEN)
     go = np.zeros((G, _capi.NOISE_GROUP_COLS))
-    row_w = np.zeros(m)
-    _lib.call(where, "igea_noise_eqerr", m, N, _lib.dptr(S), m, _lib.dptr(dw), _lib.dptr(sig), 1,
-              _lib.dptr(c6), _lib.iptr(grp), G, _lib.dptr(sp), _lib.dptr(phi), _lib.dptr(opts),
-              _lib.dptr(lam), _lib.dptr(P), N, _lib.dptr(xh), _lib.dptr(z), _lib.iptr(rej),
-              _lib.dptr(info), _lib.dptr(ar_out), _lib.dptr(go), _lib.dptr(row_w))
-    nt = int(info[_capi.STATS_INFO_N_TEST])
+    row_w, res = np.zeros(m), np.empty(m)
+    _lib.call(where, "igea_noise_eqerr_resid", m, N, _lib.dptr(S), m, _lib.dptr(dw),
+              _lib.dptr(sig), 1, _lib.dptr(c6), _lib.iptr(grp), G, _lib.dptr(sp),
+              _lib.dptr(phi), _lib.dptr(opts), _lib.dptr(lam), _lib.dptr(P), N, _lib.dptr(xh),
+              _lib.dptr(z), _lib.iptr(rej), _lib.dptr(info), _lib.dptr(ar_out), _lib.dptr(go),
+              _lib.dptr(row_w), _lib.dptr(res))
+    test = _test_fields(info)
+    nt = test["n_test"]
     gs = [{"scale": float(r[_capi.NOISE_GROUP_SCALE]), "scale_se": float(r[_capi.NOISE_GROUP_SE]),
            "redundancy": float(r[_capi.NOISE_GROUP_REDUND]),
            "rows": int(r[_capi.NOISE_GROUP_ROWS]),
            "bias": r[_capi.NOISE_GROUP_BIAS:_capi.NOISE_GROUP_BIAS + 3].copy()} for r in go]
-    return NoiseEqerrResult(
-        eigenvalues=lam, equiv_err=xh, z=z[:nt].copy(), reject=rej[:nt] == 1, n_test=nt,
-        chi2=float(info[_capi.STATS_INFO_CHI2]), dof=int(info[_capi.STATS_INFO_DOF]),
-        chi2_crit=float(info[_capi.STATS_INFO_CHI2_CRIT]),
-        p_value=float(info[_capi.STATS_INFO_P_VALUE]),
-        n_reject=int(info[_capi.STATS_INFO_N_REJECT]),
-        passed=bool(info[_capi.STATS_INFO_PASSED] == 1), scale=float(info[_capi.STATS_INFO_SCALE]),
+    kept = _kept_epochs(res, row_w)
+    whiteness = _whiteness(kept, lags) if kept.size else [None, None, None]
+    rms = _rms(kept) if kept.size else np.zeros(3)
+    return _attach(NoiseEqerrResult(
+        eigenvalues=lam, eigenvectors=np.ascontiguousarray(P), equiv_err=xh, z=z[:nt].copy(),
+        reject=rej[:nt] == 1,
+        flag=_lib.choice_name(_capi.CHOICE_STATS_SIGMAW_FLAG, info[_capi.STATS_INFO_FLAG]),
+        residual=res, rms=rms, whiteness=whiteness,
+        components=_components(P, nt, sp, names, lam, z, rej == 1), residual_whitened=True,
+        **test, **_lib.fields(info, "STATS_INFO_", rank=int, scale=float, iterations=int,
+                              n_small=int),
         ar_order=p, ar_phi=ar_out[:9].reshape(3, 3)[:, :p].copy(),
         ar_se=ar_out[9:].reshape(3, 3)[:, :p].copy(), groups=gs,
         robust_crit=float(info[_capi.STATS_INFO_ROBUST_CRIT]),
         rejected_rows=[{"row": int(i), "w": float(row_w[i])} for i in np.flatnonzero(row_w)],
         noise_iterations=int(info[_capi.STATS_INFO_NOISE_ITERATIONS]),
-        noise_converged=bool(info[_capi.STATS_INFO_NOISE_CONVERGED] == 1))
+        noise_converged=bool(info[_capi.STATS_INFO_NOISE_CONVERGED] == 1)),
+        alpha=opts[_capi.EQERR_OPT_ALPHA], lambda_small=opts[_capi.EQERR_OPT_LAMBDA_SMALL],
+        sigma_w=info[_capi.STATS_INFO_SIGMA_W], lags=int(lags), names=names,
+        robust=opts[_capi.EQERR_OPT_ROBUST] == 1)

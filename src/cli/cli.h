@@ -361,6 +361,19 @@ typedef struct {
     const double *opts;
 } cli_noise_args;
 int cli_noise_parse_phi(const char *arg, double *phi, int *p);
-int cli_eqerr_noise(const cli_noise_args *a, FILE *out, int *passed);
+/* The results of igea_noise_eqerr_resid (lambda's block holds P, xhat, z,
+ * the group table, the row w-statistics and the whitened residuals). */
+typedef struct {
+    int m, N, G;
+    double *lambda, *P, *xhat, *z, *gout, *row_w, *resid, *spec;
+    double info[IGEA_STATS_INFO_LEN], ar[IGEA_NOISE_AR_OUT_LEN];
+    int *reject;
+} cli_noise_result;
+int cli_eqerr_noise(const cli_noise_args *a, cli_noise_result *r);
+void cli_noise_result_free(cli_noise_result *r);
+/* The noise route's own lines (phi, group scales, rejected rows, the
+ * outer iteration) and JSON fields. */
+void cli_noise_text(FILE *f, const cli_noise_args *a, const cli_noise_result *r);
+void cli_noise_json(cli_json *j, const cli_noise_result *r);
 
 #endif

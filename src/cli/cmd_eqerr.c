@@ -111,6 +111,8 @@ typedef struct {
     int lags;    /* residual diagnostics: Ljung-Box lags */
     const char *names; /* --names LIST */
     const char *cov, *groups, *ar_phi; /* the noise models (eqerr_noise.c) */
+    int noise;                         /* 1: a noise option given */
+    cli_noise_args na;                 /* their arguments */
 } eqerr_args;
 
 /* The overall verdict rule, the same option in eqerr and test. */
@@ -151,7 +153,7 @@ static const cli_opt eqerr_options[] = {
     {"--group-bias", CLI_OPT_DSET, EQ_OPT(GROUP_BIAS), NULL, NULL, "per-group x, y, z bias columns (nuisance, not tested)", NULL},
     {"--robust", CLI_OPT_DSET, EQ_OPT(ROBUST), NULL, NULL, "reject outlying rows by data snooping (w-test)", NULL},
     {"--robust-alpha", CLI_OPT_NUM, EQ_OPT(ROBUST_ALPHA), NULL, "A", "level of the w-test per row (0: 0.001)", NULL},
-    {"--residuals", CLI_OPT_STR, &EA.residuals, NULL, "FILE", "write the per-row residuals dw - S D P_t Xhat_t", NULL},
+    {"--residuals", CLI_OPT_STR, &EA.residuals, NULL, "FILE", "write epoch, axis, residual per row: dw - S D P_t Xhat_t\n(whitened, with the noise models)", NULL},
     CLI_VERDICT_OPT(&EA.verdict),
     {"--names", CLI_OPT_STR, &EA.names, NULL, "LIST", "comma-separated term names, one per column of S\n"
      "(default: the '# name name ...' header of a text S, as\nigea envfun and simulate write it)", NULL},
@@ -200,6 +202,8 @@ eqerr_options,
 "  igea eqerr --S S.txt --dw dw.txt --sigma sigma.txt --spec spec.txt\n"
 "  igea eqerr --S S.txt --dw dw.txt --sigma 0.01 --spec spec.txt --json --out f1.json\n"};
 
+static int parse_noise(eqerr_args *a);
+
 static int parse_eqerr(int argc, char **argv, eqerr_args *a)
 {
     memset(&EA, 0, sizeof EA);
@@ -227,7 +231,33 @@ static int parse_eqerr(int argc, char **argv, eqerr_args *a)
         cli_error("eqerr: --lags %d: from 1 to %d", a->lags, IGEA_STATS_DIAG_LAGS_MAX);
         return CLI_USAGE;
     }
+    if ((ec = parse_noise(a)))
+        return ec;
     return cli_check_opts("eqerr", IGEA_MODULE_EQERR, igea_eqerr_check_opts(a->opts));
+}
+
+/* The noise models: any of their options takes the in-memory route
+ * (eqerr_noise.c), whose decomposition is the normal matrix's. */
+static int parse_noise(eqerr_args *a)
+{
+    a->noise = a->cov || a->groups || a->ar_phi || a->opts[IGEA_EQERR_OPT_AR] != 0 ||
+               a->opts[IGEA_EQERR_OPT_ROBUST] != 0 || a->opts[IGEA_EQERR_OPT_GROUP_BIAS] != 0;
+    if (!a->noise)
+        return CLI_OK;
+    if (a->route != IGEA_EQERR_ROUTE_EIG) {
+        cli_error("eqerr: --route svd is not available with the noise models (--cov, --ar, "
+                  "--ar-phi, --groups, --group-bias, --robust)");
+        return CLI_USAGE;
+    }
+    cli_noise_args na = {a->S, a->dw, a->sigma, a->spec, a->cov, a->groups, a->json, 0, {0},
+                         a->opts};
+    int p = 0, ec = CLI_OK;
+    if (a->ar_phi && !(ec = cli_noise_parse_phi(a->ar_phi, na.phi, &p))) {
+        a->opts[IGEA_EQERR_OPT_AR] = p;
+        na.p_given = 1;
+    }
+    a->na = na;
+    return ec;
 }
 
 /* Open the three streamed inputs in lockstep. */
@@ -379,6 +409,9 @@ typedef struct {
     char **names;
     double *share, *loading;
     int *order;
+    /* the noise models (eqerr_noise.c): their results, the whitened
+     * residuals in nr.resid; NULL nr.lambda for the plain route */
+    cli_noise_result nr;
 } flight;
 
 static void flight_free(flight *r)
@@ -389,6 +422,7 @@ static void flight_free(flight *r)
     free(r->sums);
     free(r->names);
     free(r->share); /* loading and order are in its block */
+    cli_noise_result_free(&r->nr);
 }
 
 static int flight_alloc(flight *r, int N)
@@ -548,8 +582,10 @@ static void json_components(cli_json *j, const flight *r)
 /* Residual whiteness per axis, text. */
 static void text_whiteness(FILE *f, const flight *r, int lags)
 {
-    fprintf(f, "residual whiteness per axis (Ljung-Box over %d lags; runs test on the signs "
-               "about the axis mean):\n", lags);
+    fprintf(f, "residual whiteness per axis%s (Ljung-Box over %d lags; runs test on the "
+               "signs about the axis mean):\n",
+            r->nr.lambda ? " of the whitened residuals, epochs with a rejected row left out"
+                         : "", lags);
     for (int k = 0; k < 3; k++) {
         const double *d = r->diag + k * IGEA_STATS_DIAG_LEN;
         if (r->diag_st[k]) {
@@ -611,14 +647,16 @@ static void json_head(cli_json *j, const flight *r, const eqerr_args *a)
     cli_jstr(j, "route", igea_choice_name(IGEA_CHOICE_EQERR_ROUTE, a->route));
     cli_jint(j, "rows", r->m);
     cli_jint(j, "n_terms", N);
+    cli_jbool(j, "residual_whitened", r->nr.lambda != NULL);
     cli_json_open(j, "residual", '[');
 }
 
 static void text_report(FILE *f, const flight *r, const eqerr_args *a)
 {
     const double *info = r->info;
-    fprintf(f, "igea eqerr: %s (%d rows x %d terms), tracking sigma %s%s%s\n", a->S, r->m,
-            r->N, a->sigma, a->spec ? ", specs " : ", S already in spec units",
+    fprintf(f, "igea eqerr: %s (%d rows x %d terms), %s %s%s%s\n", a->S, r->m, r->N,
+            a->cov ? "3x3 covariance per epoch from" : "tracking sigma",
+            a->cov ? a->cov : a->sigma, a->spec ? ", specs " : ", S already in spec units",
             a->spec ? a->spec : "");
     fprintf(f, "route %s: rank %d of %d; lambda_1 = %.6e; %d component(s) with lambda >= %g "
                "tested\n\n",
@@ -642,9 +680,11 @@ static void text_report(FILE *f, const flight *r, const eqerr_args *a)
                 info[IGEA_STATS_INFO_SCALE], info[IGEA_STATS_INFO_SIGMA_W],
                 (int)info[IGEA_STATS_INFO_ITERATIONS], (int)info[IGEA_STATS_INFO_N_SMALL],
                 a->opts[IGEA_EQERR_OPT_LAMBDA_SMALL], flag_name(flag));
-    fprintf(f, "residual RMS per axis (x, y, z): %.6g %.6g %.6g\n", r->rms[0], r->rms[1],
-            r->rms[2]);
+    fprintf(f, "residual RMS per axis (x, y, z)%s: %.6g %.6g %.6g\n",
+            r->nr.lambda ? " of the whitened residuals" : "", r->rms[0], r->rms[1], r->rms[2]);
     text_whiteness(f, r, a->lags);
+    if (r->nr.lambda)
+        cli_noise_text(f, &a->na, &r->nr);
     report_chi2(f, info, a->opts[IGEA_EQERR_OPT_ALPHA]);
 }
 
@@ -706,6 +746,22 @@ static int diag_start(const eqerr_args *a, flight *r, const double *coef)
     return cli_status(st, "eqerr residual diagnostics");
 }
 
+/* The residuals file, either route: one line per row, epoch, axis (0 x,
+ * 1 y, 2 z) and the residual, under a '#' header. */
+static void residual_header(FILE *res, int whitened)
+{
+    if (res)
+        fprintf(res, "# epoch axis %s\n", whitened ? "whitened_residual" : "residual");
+}
+
+static void residual_line(FILE *res, cli_json *j, long row, double e)
+{
+    if (res)
+        fprintf(res, "%ld %ld %.17g\n", row / 3, row % 3, e);
+    if (j)
+        cli_jnum(j, NULL, e);
+}
+
 /* Pass 2: the residuals, to the residuals file and into the JSON document. */
 static int pass_residuals(const eqerr_args *a, streams *s, flight *r, FILE *res, cli_json *j)
 {
@@ -728,6 +784,7 @@ static int pass_residuals(const eqerr_args *a, streams *s, flight *r, FILE *res,
     long row0 = 0, n;
     if (j)
         json_head(j, r, a);
+    residual_header(res, 0);
     while (!(ec = streams_next(a, s, &n)) && n > 0) {
         int st = igea_eqerr_residual(IGEA_ROWMAJOR, (int)n, N, s->sbuf, N, s->dbuf, coef,
                                      (int)row0, e, ss);
@@ -737,12 +794,8 @@ static int pass_residuals(const eqerr_args *a, streams *s, flight *r, FILE *res,
             ec = cli_status(st, "eqerr residuals");
             break;
         }
-        for (long i = 0; i < n; i++) {
-            if (res)
-                fprintf(res, "%.17g\n", e[i]);
-            if (j)
-                cli_jnum(j, NULL, e[i]);
-        }
+        for (long i = 0; i < n; i++)
+            residual_line(res, j, row0 + i, e[i]);
         row0 += n;
     }
     if (!ec)
@@ -772,6 +825,62 @@ static int run_streamed(const eqerr_args *a, flight *r, FILE *res, cli_json *j)
         ec = pass_residuals(a, &s, r, res, j);
     streams_close(&s);
     return ec;
+}
+
+/* The whiteness and RMS of the whitened residuals, the epochs holding a
+ * row the robust route rejected left out (the series closed up). */
+static int noise_diag(const eqerr_args *a, flight *r)
+{
+    const cli_noise_result *nr = &r->nr;
+    double *e = malloc((size_t)nr->m * sizeof(double)), ss[6] = {0, 0, 0, 0, 0, 0};
+    if (!e)
+        return cli_oom("the whitened residuals");
+    int k = 0, st = 0;
+    for (int ep = 0; ep < nr->m / 3; ep++) {
+        const double *w = nr->row_w + 3 * ep;
+        if (w[0] != 0 || w[1] != 0 || w[2] != 0)
+            continue;
+        for (int ax = 0; ax < 3; ax++, k++) {
+            e[k] = nr->resid[3 * ep + ax];
+            ss[ax] += e[k] * e[k];
+            ss[3 + ax] += 1;
+        }
+    }
+    st = igea_eqerr_axis_rms(ss, r->rms);
+    if (!st && k > 0)
+        st = igea_eqerr_diag(k, e, a->lags, r->diag, r->diag_st);
+    for (int ax = 0; ax < 3 && k == 0; ax++)
+        r->diag_st[ax] = IGEA_EEMPTY;
+    free(e);
+    return cli_status(st, "eqerr residual diagnostics");
+}
+
+/* The noise models: the flight in memory (eqerr_noise.c), its results
+ * into the flight that the plain route's report reads. */
+static int run_noise(const eqerr_args *a, flight *r, FILE *res, cli_json *j)
+{
+    int ec = cli_eqerr_noise(&a->na, &r->nr);
+    if (!ec)
+        ec = flight_alloc(r, r->nr.N);
+    size_t n = (size_t)r->nr.N;
+    if (!ec && r->nr.spec && !(r->spec = malloc(n * sizeof(double))))
+        ec = cli_oom("the specs");
+    if (ec)
+        return ec;
+    r->m = r->nr.m;
+    memcpy(r->lambda, r->nr.lambda, (n * n + 3 * n) * sizeof(double)); /* lambda P xhat z */
+    memcpy(r->reject, r->nr.reject, n * sizeof(int));
+    memcpy(r->info, r->nr.info, sizeof r->info);
+    if (r->spec)
+        memcpy(r->spec, r->nr.spec, n * sizeof(double));
+    if ((ec = noise_diag(a, r)))
+        return ec;
+    if (j)
+        json_head(j, r, a);
+    residual_header(res, 1);
+    for (long i = 0; i < r->m; i++)
+        residual_line(res, j, i, r->nr.resid[i]);
+    return CLI_OK;
 }
 
 /* With --json to standard output the document is written to a temporary
@@ -816,7 +925,8 @@ static int eqerr_report(const eqerr_args *a, flight *r, cli_out *out, cli_out *r
     if (jf)
         cli_json_begin(&j, jf);
     if (!ec)
-        ec = run_streamed(a, r, a->residuals ? res->f : NULL, jf ? &j : NULL);
+        ec = (a->noise ? run_noise : run_streamed)(a, r, a->residuals ? res->f : NULL,
+                                                   jf ? &j : NULL);
     if (!ec)
         ec = components_compute(a, r);
     if (!ec && jf) {
@@ -824,6 +934,8 @@ static int eqerr_report(const eqerr_args *a, flight *r, cli_out *out, cli_out *r
         cli_jnums(&j, "rms", r->rms, 3);
         json_whiteness(&j, r);
         json_components(&j, r);
+        if (r->nr.lambda)
+            cli_noise_json(&j, &r->nr);
         cli_json_end(&j);
         ec = json_copy(jf, out->f);
     } else if (!ec) {
@@ -849,23 +961,6 @@ int cmd_eqerr(int argc, char **argv)
     }
     flight r;
     memset(&r, 0, sizeof r);
-    if (a.cov || a.groups || a.ar_phi || a.opts[IGEA_EQERR_OPT_AR] != 0 ||
-        a.opts[IGEA_EQERR_OPT_ROBUST] != 0 || a.opts[IGEA_EQERR_OPT_GROUP_BIAS] != 0) {
-        cli_noise_args na = {a.S, a.dw, a.sigma, a.spec, a.cov, a.groups, a.json, 0, {0}, a.opts};
-        int p = 0, passed = 0;
-        if (a.ar_phi && !(ec = cli_noise_parse_phi(a.ar_phi, na.phi, &p)))
-            a.opts[IGEA_EQERR_OPT_AR] = p, na.p_given = 1;
-        if (!ec && a.residuals)
-            cli_error("eqerr: --residuals is not written with the noise models"), ec = CLI_USAGE;
-        if (!ec)
-            ec = cli_eqerr_noise(&na, both[0].f, &passed);
-        if (!ec)
-            ec = cli_out_commit_all(both, 1);
-        if (ec)
-            cli_out_abort(&both[0]);
-        cli_out_abort(&both[1]);
-        return ec ? ec : passed ? CLI_OK : CLI_REJECT;
-    }
     ec = eqerr_report(&a, &r, &both[0], &both[1]);
     /* the report and the residuals replace their old files together */
     if (!ec)

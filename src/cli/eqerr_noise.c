@@ -1,6 +1,7 @@
 /* igea eqerr with the noise models (--cov, --ar, --ar-phi, --groups,
  * --robust, --group-bias): the flight read into memory, one call of
- * igea_noise_eqerr, the report. */
+ * igea_noise_eqerr_resid; the report is cmd_eqerr.c's, with the noise
+ * route's own lines and fields from here. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -141,30 +142,19 @@ static void name_bad_epoch(const cli_noise_args *a, const noise_in *d)
     free(A);
 }
 
-typedef struct {
-    double *lambda, *P, *xhat, *z, info[IGEA_STATS_INFO_LEN], ar[IGEA_NOISE_AR_OUT_LEN];
-    double *gout, *row_w;
-    int *reject;
-} noise_out;
-
-static void report_text(FILE *f, const cli_noise_args *a, const noise_in *d, const noise_out *r)
+/* The noise route's own lines: phi per axis, the group scales, the rows
+ * the robust route rejected, the outer iteration. */
+void cli_noise_text(FILE *f, const cli_noise_args *a, const cli_noise_result *r)
 {
     const double *info = r->info;
     int p = (int)info[IGEA_STATS_INFO_AR_ORDER];
-    fprintf(f, "igea eqerr: %s (%d rows x %d terms), %s%s\n", a->S, d->m, d->N,
-            a->cov ? "3x3 covariance per epoch from " : "tracking sigma ", a->cov ? a->cov : a->sigma);
-    fprintf(f, "%5s %13s %13s %9s  %s\n", "comp", "eigenvalue", "equiv_error", "z", "verdict");
-    for (int i = 0; i < d->N; i++)
-        if (r->reject[i] >= 0)
-            fprintf(f, "%5d %13.6e %13.6f %9.4f  %s\n", i, r->lambda[i], r->xhat[i], r->z[i],
-                    r->reject[i] ? "REJECT" : "pass");
     for (int ax = 0; ax < 3 && p > 0; ax++) {
         fprintf(f, "AR(%d) axis %c: phi", p, "xyz"[ax]);
         for (int k = 0; k < p; k++)
             fprintf(f, " %.5f (se %.5f)", r->ar[3 * ax + k], r->ar[9 + 3 * ax + k]);
         fprintf(f, "\n");
     }
-    for (int g = 0; g < d->G; g++) {
+    for (int g = 0; g < r->G; g++) {
         const double *o = r->gout + (size_t)g * IGEA_NOISE_GROUP_COLS;
         fprintf(f, "group %d: c = %.6g (se %.3g, sigma_w = %.4f), redundancy %.1f, %g rows, "
                    "bias %.4g %.4g %.4g\n", g, o[IGEA_NOISE_GROUP_SCALE], o[IGEA_NOISE_GROUP_SE],
@@ -175,116 +165,102 @@ static void report_text(FILE *f, const cli_noise_args *a, const noise_in *d, con
     if (a->opts[IGEA_EQERR_OPT_ROBUST] == 1) {
         fprintf(f, "robust: %d row(s) rejected by data snooping, |w| > %.4f:",
                 (int)info[IGEA_STATS_INFO_N_OUTLIERS], info[IGEA_STATS_INFO_ROBUST_CRIT]);
-        for (int i = 0; i < d->m; i++)
+        for (int i = 0; i < r->m; i++)
             if (r->row_w[i] != 0)
                 fprintf(f, " row %d (w = %.2f)", i, r->row_w[i]);
         fprintf(f, "\n");
     }
-    fprintf(f, "noise iterations %d, %s; tracking-accuracy c = %.6g\n",
-            (int)info[IGEA_STATS_INFO_NOISE_ITERATIONS],
-            info[IGEA_STATS_INFO_NOISE_CONVERGED] == 1 ? "settled" : "NOT settled",
-            info[IGEA_STATS_INFO_SCALE]);
-    fprintf(f, "chi-square: T = %.4f with %d dof; critical %.3f; p-value %.4g\nverdict: %s\n",
-            info[IGEA_STATS_INFO_CHI2], (int)info[IGEA_STATS_INFO_DOF],
-            info[IGEA_STATS_INFO_CHI2_CRIT], info[IGEA_STATS_INFO_P_VALUE],
-            info[IGEA_STATS_INFO_PASSED] == 1 ? "ACCEPTED" : "REJECTED");
+    fprintf(f, "noise iterations %d, %s\n", (int)info[IGEA_STATS_INFO_NOISE_ITERATIONS],
+            info[IGEA_STATS_INFO_NOISE_CONVERGED] == 1 ? "settled" : "NOT settled");
 }
 
-static void report_json(FILE *f, const noise_in *d, const noise_out *r)
+/* The noise route's own JSON fields. */
+void cli_noise_json(cli_json *j, const cli_noise_result *r)
 {
-    cli_json j;
     const double *info = r->info;
-    int p = (int)info[IGEA_STATS_INFO_AR_ORDER], nt = (int)info[IGEA_STATS_INFO_N_TEST];
-    cli_json_begin(&j, f);
-    cli_jnums(&j, "eigenvalues", r->lambda, d->N);
-    cli_jnums(&j, "equiv_err", r->xhat, d->N);
-    cli_jnums(&j, "z", r->z, nt);
-    cli_json_open(&j, "reject", '[');
-    for (int i = 0; i < nt; i++)
-        cli_jbool(&j, NULL, r->reject[i] == 1);
-    cli_json_close(&j);
-    cli_jint(&j, "n_test", nt);
-    cli_jnum(&j, "chi2", info[IGEA_STATS_INFO_CHI2]);
-    cli_jint(&j, "dof", (long)info[IGEA_STATS_INFO_DOF]);
-    cli_jnum(&j, "chi2_crit", info[IGEA_STATS_INFO_CHI2_CRIT]);
-    cli_jnum(&j, "p_value", info[IGEA_STATS_INFO_P_VALUE]);
-    cli_jint(&j, "n_reject", (long)info[IGEA_STATS_INFO_N_REJECT]);
-    cli_jbool(&j, "passed", info[IGEA_STATS_INFO_PASSED] == 1.0);
-    cli_jnum(&j, "scale", info[IGEA_STATS_INFO_SCALE]);
-    cli_jint(&j, "ar_order", p);
-    cli_json_open(&j, "ar_phi", '[');
+    int p = (int)info[IGEA_STATS_INFO_AR_ORDER];
+    cli_jint(j, "ar_order", p);
+    cli_json_open(j, "ar_phi", '[');
     for (int ax = 0; ax < 3 && p > 0; ax++)
-        cli_jnums(&j, NULL, r->ar + 3 * ax, p);
-    cli_json_close(&j);
-    cli_json_open(&j, "ar_se", '[');
+        cli_jnums(j, NULL, r->ar + 3 * ax, p);
+    cli_json_close(j);
+    cli_json_open(j, "ar_se", '[');
     for (int ax = 0; ax < 3 && p > 0; ax++)
-        cli_jnums(&j, NULL, r->ar + 9 + 3 * ax, p);
-    cli_json_close(&j);
-    cli_json_open(&j, "groups", '[');
-    for (int g = 0; g < d->G; g++) {
+        cli_jnums(j, NULL, r->ar + 9 + 3 * ax, p);
+    cli_json_close(j);
+    cli_json_open(j, "groups", '[');
+    for (int g = 0; g < r->G; g++) {
         const double *o = r->gout + (size_t)g * IGEA_NOISE_GROUP_COLS;
-        cli_json_open(&j, NULL, '{');
-        cli_jnum(&j, "scale", o[IGEA_NOISE_GROUP_SCALE]);
-        cli_jnum(&j, "scale_se", o[IGEA_NOISE_GROUP_SE]);
-        cli_jnum(&j, "redundancy", o[IGEA_NOISE_GROUP_REDUND]);
-        cli_jint(&j, "rows", (long)o[IGEA_NOISE_GROUP_ROWS]);
-        cli_jnums(&j, "bias", o + IGEA_NOISE_GROUP_BIAS, 3);
-        cli_json_close(&j);
+        cli_json_open(j, NULL, '{');
+        cli_jnum(j, "scale", o[IGEA_NOISE_GROUP_SCALE]);
+        cli_jnum(j, "scale_se", o[IGEA_NOISE_GROUP_SE]);
+        cli_jnum(j, "redundancy", o[IGEA_NOISE_GROUP_REDUND]);
+        cli_jint(j, "rows", (long)o[IGEA_NOISE_GROUP_ROWS]);
+        cli_jnums(j, "bias", o + IGEA_NOISE_GROUP_BIAS, 3);
+        cli_json_close(j);
     }
-    cli_json_close(&j);
-    cli_jnum(&j, "robust_crit", info[IGEA_STATS_INFO_ROBUST_CRIT]);
-    cli_json_open(&j, "rejected_rows", '[');
-    for (int i = 0; i < d->m; i++)
+    cli_json_close(j);
+    cli_jnum(j, "robust_crit", info[IGEA_STATS_INFO_ROBUST_CRIT]);
+    cli_json_open(j, "rejected_rows", '[');
+    for (int i = 0; i < r->m; i++)
         if (r->row_w[i] != 0) {
-            cli_json_open(&j, NULL, '{');
-            cli_jint(&j, "row", i);
-            cli_jnum(&j, "w", r->row_w[i]);
-            cli_json_close(&j);
+            cli_json_open(j, NULL, '{');
+            cli_jint(j, "row", i);
+            cli_jnum(j, "w", r->row_w[i]);
+            cli_json_close(j);
         }
-    cli_json_close(&j);
-    cli_jint(&j, "noise_iterations", (long)info[IGEA_STATS_INFO_NOISE_ITERATIONS]);
-    cli_jbool(&j, "noise_converged", info[IGEA_STATS_INFO_NOISE_CONVERGED] == 1);
-    cli_json_end(&j);
+    cli_json_close(j);
+    cli_jint(j, "noise_iterations", (long)info[IGEA_STATS_INFO_NOISE_ITERATIONS]);
+    cli_jbool(j, "noise_converged", info[IGEA_STATS_INFO_NOISE_CONVERGED] == 1);
 }
 
-int cli_eqerr_noise(const cli_noise_args *a, FILE *out, int *passed)
+void cli_noise_result_free(cli_noise_result *r)
+{
+    free(r->lambda);
+    free(r->reject);
+    free(r->spec);
+    memset(r, 0, sizeof *r);
+}
+
+/* Read the flight and run igea_noise_eqerr_resid; the report is the
+ * caller's (cmd_eqerr.c, the same as the plain route's). */
+int cli_eqerr_noise(const cli_noise_args *a, cli_noise_result *r)
 {
     noise_in d;
-    noise_out r;
     memset(&d, 0, sizeof d);
-    memset(&r, 0, sizeof r);
+    memset(r, 0, sizeof *r);
     int ec = read_inputs(a, &d);
-    size_t N = (size_t)d.N;
+    size_t N = (size_t)d.N, m = (size_t)d.m;
     if (!ec) {
-        r.lambda = malloc((N * N + 3 * N + (size_t)d.G * IGEA_NOISE_GROUP_COLS + d.m) *
-                          sizeof(double));
-        r.reject = malloc(N * sizeof(int));
-        if (!r.lambda || !r.reject)
+        r->lambda = malloc((N * N + 3 * N + (size_t)d.G * IGEA_NOISE_GROUP_COLS + 2 * m) *
+                           sizeof(double));
+        r->reject = malloc(N * sizeof(int));
+        if (!r->lambda || !r->reject)
             ec = cli_oom("the results");
     }
     if (!ec) {
-        r.P = r.lambda + N;
-        r.xhat = r.P + N * N;
-        r.z = r.xhat + N;
-        r.gout = r.z + N;
-        r.row_w = r.gout + (size_t)d.G * IGEA_NOISE_GROUP_COLS;
-        int st = igea_noise_eqerr(d.m, d.N, d.Sc, d.m, d.dw.v, a->cov ? NULL : d.sig, 1,
-                                  a->cov ? d.cov.v : NULL, d.group, d.G, d.spec,
-                                  a->p_given ? a->phi : NULL, a->opts, r.lambda, r.P, d.N,
-                                  r.xhat, r.z, r.reject, r.info, r.ar, r.gout, r.row_w);
+        r->m = d.m, r->N = d.N, r->G = d.G;
+        r->P = r->lambda + N;
+        r->xhat = r->P + N * N;
+        r->z = r->xhat + N;
+        r->gout = r->z + N;
+        r->row_w = r->gout + (size_t)d.G * IGEA_NOISE_GROUP_COLS;
+        r->resid = r->row_w + m;
+        int st = igea_noise_eqerr_resid(d.m, d.N, d.Sc, d.m, d.dw.v, a->cov ? NULL : d.sig, 1,
+                                        a->cov ? d.cov.v : NULL, d.group, d.G, d.spec,
+                                        a->p_given ? a->phi : NULL, a->opts, r->lambda, r->P,
+                                        d.N, r->xhat, r->z, r->reject, r->info, r->ar, r->gout,
+                                        r->row_w, r->resid);
         if (st == IGEA_ESINGULAR && a->cov)
             name_bad_epoch(a, &d);
         ec = cli_status(st, "eqerr");
     }
     if (!ec) {
-        if (a->json)
-            report_json(out, &d, &r);
-        else
-            report_text(out, a, &d, &r);
-        *passed = r.info[IGEA_STATS_INFO_PASSED] == 1.0;
+        r->spec = d.spec; /* handed over */
+        d.spec = NULL;
+    } else {
+        cli_noise_result_free(r);
     }
-    free(r.lambda);
-    free(r.reject);
     in_free(&d);
     return ec;
 }
