@@ -96,8 +96,7 @@ IGEA_API int igea_inserr_check_opts(const double *opts);
  *  1 opts [IGEA_INSERR_OPT_LEN] (igea_inserr_check_opts); output 2 F
  *  (IGEA_INSERR_N x IGEA_INSERR_N = 225 values, row-major: dx_i/dt =
  *  sum_j F[i * 15 + j] x_j).
- * Returns 0, -1 (NULL or invalid opts) or -2 (NULL F); F untouched on
- * failure.
+ * Returns 0 or -i (opts invalid, F missing); F untouched on failure.
  */
 IGEA_API int igea_inserr_matrix(const double *opts, double *F);
 
