@@ -18,4 +18,5 @@
 #include "igea/nav.h"
 #include "igea/dw.h"
 #include "igea/noise.h"
+#include "igea/inserr.h"
 #endif

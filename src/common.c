@@ -6,6 +6,7 @@
 
 #include "igea/eqerr.h"
 #include "igea/impact.h"
+#include "igea/inserr.h"
 #include "igea/triad.h"
 #include "igea/noise.h"
 #include "igea/sim.h"
@@ -137,9 +138,16 @@ const char *igea_opt_name(int module, int slot)
         [IGEA_TRIAD_OPT_INIT] = "init",             [IGEA_TRIAD_OPT_MIN_STATIC] = "min_static",
         [IGEA_TRIAD_OPT_THRESHOLD] = "threshold",   [IGEA_TRIAD_OPT_MAX_ITER] = "max_iter",
     };
+    static const char *const inserr[IGEA_INSERR_OPT_LEN] = {
+        [IGEA_INSERR_OPT_RADIUS] = "radius", [IGEA_INSERR_OPT_G] = "g",
+        [IGEA_INSERR_OPT_OMEGA] = "omega",   [IGEA_INSERR_OPT_LAT] = "lat",
+        [IGEA_INSERR_OPT_VN] = "vn",         [IGEA_INSERR_OPT_VE] = "ve",
+        [IGEA_INSERR_OPT_STEP] = "step",     [IGEA_INSERR_OPT_VERTICAL] = "vertical",
+    };
     const char *const *names;
     int len;
     switch (module) {
+    case IGEA_MODULE_INSERR: names = inserr; len = IGEA_INSERR_OPT_LEN; break;
     case IGEA_MODULE_TRIAD: names = triad; len = IGEA_TRIAD_OPT_LEN; break;
     case IGEA_MODULE_IMPACT: names = impact; len = IGEA_IMPACT_OPT_LEN; break;
     case IGEA_MODULE_EQERR: names = eqerr; len = IGEA_EQERR_OPT_LEN; break;

@@ -111,6 +111,7 @@ IGEA_API int igea_status_class(int status);
 #define IGEA_MODULE_SIM 2   /* igea/sim.h, IGEA_SIM_OPT_* */
 #define IGEA_MODULE_IMPACT 10 /* igea/impact.h, IGEA_IMPACT_OPT_* */
 #define IGEA_MODULE_TRIAD 11  /* igea/triad.h, IGEA_TRIAD_OPT_* */
+#define IGEA_MODULE_INSERR 15 /* igea/inserr.h, IGEA_INSERR_OPT_* */
 
 /*
  * Static name of slot `slot` of module `module`'s options array, as the

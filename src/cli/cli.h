@@ -349,6 +349,7 @@ int cmd_rls(int argc, char **argv);
 int cmd_redund(int argc, char **argv);
 int cmd_stability(int argc, char **argv);
 int cmd_impact(int argc, char **argv);
+int cmd_nav(int argc, char **argv);
 int cmd_dw(int argc, char **argv);
 
 /* igea eqerr with the noise models (eqerr_noise.c): --cov, --ar, --ar-phi,

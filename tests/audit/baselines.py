@@ -71,6 +71,7 @@ NAME_DEFAULTS = {
 EQ_OPTS = 'set:igea_eqerr_defaults(b_);'
 SIM_OPTS = 'set:igea_sim_defaults(b_);'
 IMP_OPTS = 'set:igea_impact_defaults(b_);'
+INS_OPTS = 'set:igea_inserr_defaults(b_); b_[IGEA_INSERR_OPT_LAT] = 0.7;'
 TRIAD_OPTS = ('set:igea_triad_defaults(b_); b_[IGEA_TRIAD_OPT_WINDOW] = 0.5; '
               'b_[IGEA_TRIAD_OPT_INIT] = 3.0;')
 # 16 static means in different directions, |m| ~ 9.8 (a triad fit)
@@ -217,6 +218,15 @@ BASE = {
     'igea_accel_combine': dict(model='IGEA_ACCEL_DUAL', coef='c:1e-4 * au(i)'),
     'igea_accel_simulate': dict(n='12', theta_deg=THETA30, truth='c:1e-4 * au(i)',
                                 head_sd='1e-6', noise_sd='1e-5', seed='1'),
+    # ---- inserr
+    'igea_inserr_check_opts': dict(opts=INS_OPTS, _nan_ok=['opts'], _inf_ok=['opts'],
+                                   _req=['opts']),
+    'igea_inserr_matrix': dict(opts=INS_OPTS),
+    'igea_inserr_response': dict(opts=INS_OPTS, x0='[0.0, 0.0, 0.0, 0.1, 0.0, 0.0, 0.0, 0.0, '
+                                 '0.0, 1e-4, -2e-4, 0.0, 0.0, 5e-8, 0.0]', duration='600.0',
+                                 n='6'),
+    'igea_inserr_covariance': dict(opts=INS_OPTS, P0='0', q='c:1e-9 * (1.0 + (double)i)',
+                                   duration='600.0', n='6'),
     # ---- impact
     'igea_impact_check_opts': dict(opts=IMP_OPTS, _nan_ok=['opts'], _inf_ok=['opts'],
                                    _req=['opts']),

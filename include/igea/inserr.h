@@ -1,0 +1,143 @@
+/*
+ * igea/inserr.h - the linearised error model of an inertial navigation
+ * system in the local-level frame (docs/inserr.md): position, velocity and
+ * attitude errors driven by accelerometer biases and gyro drifts, with the
+ * gravity feedback (Schuler), the Earth-rate coupling (Foucault, the 24-h
+ * mode) and the Coriolis and transport-rate terms of a slowly moving
+ * vehicle; the deterministic response to given sensor errors and the
+ * covariance for white and random-walk sensor noise.
+ *
+ * Frame and Earth: local-level north-east-down (NED) axes on a spherical
+ * Earth of radius R (default the mean radius 6371008.8 m) with gravity g
+ * along down (default 9.80665 m/s^2: Schuler period 2 pi sqrt(R/g) =
+ * 5064 s = 84.4 min), Earth rate w, latitude L and a constant velocity
+ * (vn, ve) (0 for a stationary vehicle). The coefficients are frozen at
+ * those values (a vehicle that moves slowly compared with R: L and the
+ * velocity are taken constant over the run).
+ *
+ * The state (IGEA_INSERR_N = 15 values, in this order):
+ *   0..2  dr   position error N E D, m (computed minus true; dN = R dL,
+ *              dE = R cos L dlon, dD = -dh)
+ *   3..5  dv   velocity error N E D, m/s
+ *   6..8  phi  attitude error N E D, rad: the computed body-to-NED matrix
+ *              is (I - [phi x]) C (the phi-angle model)
+ *   9..11 b    accelerometer bias N E D, m/s^2 (measured minus true
+ *              specific force, resolved in NED; held constant, or a random
+ *              walk)
+ *   12..14 eps gyro drift N E D, rad/s (measured minus true rate, in NED)
+ * The model dx/dt = F x + G w (w white, spectral densities q) is
+ *   d(dr)/dt  = dv + (v_N dD, v_E tan L dN + v_E dD, 0) / R
+ *   d(dv)/dt  = f x phi + b - (2 W + rho) x dv - (2 dW + drho) x v + dg
+ *   d(phi)/dt = -(W + rho) x phi + dW + drho - eps
+ *   d(b)/dt = w_b, d(eps)/dt = w_eps
+ * with W = w (cos L, 0, -sin L), rho = (v_E, -v_N, -v_E tan L) / R, the
+ * specific force f = (2 W + rho) x v - (0, 0, g), dW = w dN / R (-sin L, 0,
+ * -cos L), drho = (dv_E + v_E dD / R, -dv_N - v_N dD / R, -dv_E tan L -
+ * v_E dN / (R cos^2 L) - v_E tan L dD / R) / R and dg = (0, 0, 2 g dD / R)
+ * (docs/inserr.md gives the derivation). The white noises w enter as:
+ * accelerometer white noise into d(dv)/dt (+1), gyro white noise into
+ * d(phi)/dt (-1), and the bias random walks into d(b)/dt and d(eps)/dt.
+ *
+ * Vertical channel (IGEA_INSERR_OPT_VERTICAL): 0 (default), aided: dD and
+ * dv_D are held at their initial values (their rows of F are zero and no
+ * noise enters them), the usual horizontal analysis; 1, free: the rows
+ * above with the gravity gradient 2 g / R, which diverges with the time
+ * constant sqrt(R / (2 g)) = 570 s.
+ *
+ * Integration: the classical fourth-order Runge-Kutta method of the linear
+ * system (and of the covariance equation dP/dt = F P + P F^T + G Q G^T) with
+ * a fixed step: each interval between output epochs is cut into the least
+ * number of equal steps not longer than IGEA_INSERR_OPT_STEP.
+ */
+#ifndef IGEA_INSERR_H
+#define IGEA_INSERR_H
+
+#include "igea/common.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define IGEA_INSERR_N 15  /* state size */
+#define IGEA_INSERR_NQ 12 /* white noises: acc N E D, gyro N E D, acc RW N E D, gyro RW N E D */
+
+/* State slots. */
+#define IGEA_INSERR_POS 0   /* position error N E D (3), m */
+#define IGEA_INSERR_VEL 3   /* velocity error N E D (3), m/s */
+#define IGEA_INSERR_ATT 6   /* attitude error N E D (3), rad */
+#define IGEA_INSERR_ACC 9   /* accelerometer bias N E D (3), m/s^2 */
+#define IGEA_INSERR_GYRO 12 /* gyro drift N E D (3), rad/s */
+
+/* Indices into opts[IGEA_INSERR_OPT_LEN]; igea_inserr_defaults fills them. */
+#define IGEA_INSERR_OPT_RADIUS 0   /* Earth radius R, m: 6371008.8 */
+#define IGEA_INSERR_OPT_G 1        /* gravity g, m/s^2: 9.80665 */
+#define IGEA_INSERR_OPT_OMEGA 2    /* Earth rate, rad/s: 7.292115e-5 (0: none) */
+#define IGEA_INSERR_OPT_LAT 3      /* latitude L, rad: 0 */
+#define IGEA_INSERR_OPT_VN 4       /* north velocity, m/s: 0 */
+#define IGEA_INSERR_OPT_VE 5       /* east velocity, m/s: 0 */
+#define IGEA_INSERR_OPT_STEP 6     /* longest integration step, s: 1 */
+#define IGEA_INSERR_OPT_VERTICAL 7 /* vertical channel: 0 aided (held), 1 free: 0 */
+#define IGEA_INSERR_OPT_LEN 16     /* slots 8.. reserved for additions (0) */
+
+/* Fill opts[IGEA_INSERR_OPT_LEN] with the defaults above. Returns 0, -1. */
+IGEA_API int igea_inserr_defaults(double *opts);
+
+/*
+ * Check opts[IGEA_INSERR_OPT_LEN]: every slot finite (the reserved ones
+ * included), radius >= 1e5, g > 0, omega >= 0, |lat| <= 1.5 rad (89.9 deg:
+ * tan L is used), 0 < step <= 60, vertical 0 or 1. Returns 0 when they are
+ * valid, -1 for a NULL opts, else 1 + the first bad slot
+ * (igea_opt_name(IGEA_MODULE_INSERR, slot) names it).
+ */
+IGEA_API int igea_inserr_check_opts(const double *opts);
+
+/*
+ * The system matrix of the model above.
+ *  1 opts [IGEA_INSERR_OPT_LEN] (igea_inserr_check_opts); output 2 F
+ *  (IGEA_INSERR_N x IGEA_INSERR_N = 225 values, row-major: dx_i/dt =
+ *  sum_j F[i * 15 + j] x_j).
+ * Returns 0 or -i (opts invalid, F missing); F untouched on failure.
+ */
+IGEA_API int igea_inserr_matrix(const double *opts, double *F);
+
+/*
+ * The deterministic error response from an initial state.
+ *  1 opts [IGEA_INSERR_OPT_LEN] (igea_inserr_check_opts); 2 x0
+ *  [IGEA_INSERR_N] the state at t = 0 (initial errors, the accelerometer
+ *  biases in slots 9..11 and the gyro drifts in slots 12..14); 3 duration
+ *  (s, > 0, duration / step <= 1e7); 4 n >= 2 output epochs t_k = k
+ *  duration / (n - 1), k = 0 .. n - 1; output 5 x (n x IGEA_INSERR_N,
+ *  row-major: the state at epoch k in x[15 k .. 15 k + 14]; x[0..14] = x0).
+ * Returns 0, -i, IGEA_ENONFINITE (x0 holds NaN or Inf), IGEA_ENOMEM or
+ * IGEA_EOVERFLOW (the response overflows, e.g. a free vertical channel
+ * over days); x untouched on failure.
+ */
+IGEA_API int igea_inserr_response(const double *opts, const double *x0, double duration,
+                                  int n, double *x);
+
+/*
+ * The error covariance for white and random-walk sensor noise:
+ * dP/dt = F P + P F^T + G diag(q) G^T from P(0) = P0.
+ *  1 opts [IGEA_INSERR_OPT_LEN]; 2 P0 (IGEA_INSERR_N x IGEA_INSERR_N,
+ *  symmetric to 1e-12 relative, non-negative diagonal; may be NULL: 0, or
+ *  e.g. diag with the variances of the constant biases in slots 9..14);
+ *  3 q [IGEA_INSERR_NQ] two-sided spectral densities, each >= 0:
+ *  accelerometer white noise N E D ((m/s^2)^2 s = (m/s)^2/s, the square
+ *  of the velocity random walk), gyro white noise N E D ((rad/s)^2 s, the
+ *  square of the angle random walk), accelerometer bias random walk N E D
+ *  ((m/s^2)^2 / s), gyro drift random walk N E D ((rad/s)^2 / s);
+ *  4 duration (s, > 0, duration / step <= 1e7); 5 n >= 2 epochs as
+ *  igea_inserr_response; output 6 P (n x 225 values, P(t_k) row-major at
+ *  P[225 k ..]).
+ * Returns 0, -i, IGEA_ENONFINITE (P0 or q holds NaN or Inf),
+ * IGEA_ENONPOSITIVE (a negative q or a negative diagonal of P0),
+ * IGEA_EDOMAIN (P0 not symmetric), IGEA_ENOMEM or IGEA_EOVERFLOW; P
+ * untouched on failure.
+ */
+IGEA_API int igea_inserr_covariance(const double *opts, const double *P0, const double *q,
+                                    double duration, int n, double *P);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,277 @@
+/* inserr.c - the linearised INS error model in local-level NED axes on a
+ * spherical Earth, its deterministic response and its covariance, by a
+ * fixed-step classical Runge-Kutta integration (include/igea/inserr.h,
+ * docs/inserr.md). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "igea/inserr.h"
+#include "internal.h"
+
+#define NS IGEA_INSERR_N
+#define NS2 (IGEA_INSERR_N * IGEA_INSERR_N)
+#define MAX_STEPS 1e7
+
+int igea_inserr_defaults(double *opts)
+{
+    if (!opts)
+        return -1;
+    for (int i = 0; i < IGEA_INSERR_OPT_LEN; i++)
+        opts[i] = 0.0;
+    opts[IGEA_INSERR_OPT_RADIUS] = 6371008.8;
+    opts[IGEA_INSERR_OPT_G] = 9.80665;
+    opts[IGEA_INSERR_OPT_OMEGA] = 7.292115e-5;
+    opts[IGEA_INSERR_OPT_STEP] = 1.0;
+    return 0;
+}
+
+int igea_inserr_check_opts(const double *o)
+{
+    if (!o)
+        return -1;
+    for (int i = 0; i < IGEA_INSERR_OPT_LEN; i++)
+        if (!isfinite(o[i]))
+            return 1 + i;
+    if (!(o[IGEA_INSERR_OPT_RADIUS] >= 1e5))
+        return 1 + IGEA_INSERR_OPT_RADIUS;
+    if (!(o[IGEA_INSERR_OPT_G] > 0))
+        return 1 + IGEA_INSERR_OPT_G;
+    if (!(o[IGEA_INSERR_OPT_OMEGA] >= 0))
+        return 1 + IGEA_INSERR_OPT_OMEGA;
+    if (!(fabs(o[IGEA_INSERR_OPT_LAT]) <= 1.5))
+        return 1 + IGEA_INSERR_OPT_LAT;
+    if (!(o[IGEA_INSERR_OPT_STEP] > 0 && o[IGEA_INSERR_OPT_STEP] <= 60))
+        return 1 + IGEA_INSERR_OPT_STEP;
+    if (o[IGEA_INSERR_OPT_VERTICAL] != 0 && o[IGEA_INSERR_OPT_VERTICAL] != 1)
+        return 1 + IGEA_INSERR_OPT_VERTICAL;
+    return 0;
+}
+
+static void cross(const double *a, const double *b, double *c)
+{
+    c[0] = a[1] * b[2] - a[2] * b[1];
+    c[1] = a[2] * b[0] - a[0] * b[2];
+    c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* The model's right-hand side for one state x (linear in x): the columns
+ * of F are its values at the unit vectors. */
+static void model_rhs(const double *o, const double *x, double *dx)
+{
+    const double R = o[IGEA_INSERR_OPT_RADIUS], g = o[IGEA_INSERR_OPT_G];
+    const double w = o[IGEA_INSERR_OPT_OMEGA], L = o[IGEA_INSERR_OPT_LAT];
+    const double vn = o[IGEA_INSERR_OPT_VN], ve = o[IGEA_INSERR_OPT_VE];
+    const double sl = sin(L), cl = cos(L), tl = tan(L);
+    const double *dr = x, *dv = x + 3, *phi = x + 6, *b = x + 9, *eps = x + 12;
+    const double v[3] = {vn, ve, 0.0};
+    const double W[3] = {w * cl, 0.0, -w * sl};
+    const double rho[3] = {ve / R, -vn / R, -ve * tl / R};
+    const double dW[3] = {-w * sl * dr[0] / R, 0.0, -w * cl * dr[0] / R};
+    const double drho[3] = {(dv[1] + ve * dr[2] / R) / R, (-dv[0] - vn * dr[2] / R) / R,
+                            (-dv[1] * tl - ve * dr[0] / (R * cl * cl) - ve * tl * dr[2] / R) / R};
+    double a[3], c1[3], c2[3], c3[3], f[3];
+    for (int i = 0; i < 3; i++)
+        a[i] = 2.0 * W[i] + rho[i];
+    cross(a, v, f);
+    f[2] -= g;
+    dx[0] = dv[0] + vn * dr[2] / R;
+    dx[1] = dv[1] + (ve * tl * dr[0] + ve * dr[2]) / R;
+    dx[2] = dv[2];
+    cross(f, phi, c1);
+    cross(a, dv, c2);
+    for (int i = 0; i < 3; i++)
+        c3[i] = 2.0 * dW[i] + drho[i];
+    double c4[3];
+    cross(c3, v, c4);
+    for (int i = 0; i < 3; i++)
+        dx[3 + i] = c1[i] + b[i] - c2[i] - c4[i];
+    dx[5] += 2.0 * g * dr[2] / R;
+    for (int i = 0; i < 3; i++)
+        a[i] = W[i] + rho[i];
+    cross(a, phi, c1);
+    for (int i = 0; i < 3; i++)
+        dx[6 + i] = -c1[i] + dW[i] + drho[i] - eps[i];
+    for (int i = 9; i < NS; i++)
+        dx[i] = 0.0;
+    if (o[IGEA_INSERR_OPT_VERTICAL] == 0)
+        dx[2] = dx[5] = 0.0;
+}
+
+static void build_matrix(const double *o, double *F)
+{
+    double e[NS], col[NS];
+    for (int j = 0; j < NS; j++) {
+        memset(e, 0, sizeof e);
+        e[j] = 1.0;
+        model_rhs(o, e, col);
+        for (int i = 0; i < NS; i++)
+            F[i * NS + j] = col[i];
+    }
+}
+
+int igea_inserr_matrix(const double *opts, double *F)
+{
+    if (!opts || igea_inserr_check_opts(opts))
+        return -1;
+    if (!F)
+        return -2;
+    build_matrix(opts, F);
+    return 0;
+}
+
+/* out = F x (n-vector) */
+static void matvec(const double *F, const double *x, double *out)
+{
+    for (int i = 0; i < NS; i++) {
+        double s = 0.0;
+        for (int j = 0; j < NS; j++)
+            s += F[i * NS + j] * x[j];
+        out[i] = s;
+    }
+}
+
+/* out = F P + P F^T + Qd (Qd diagonal), P symmetric */
+static void lyap(const double *F, const double *P, const double *qd, double *out)
+{
+    double M[NS2];
+    for (int i = 0; i < NS; i++)
+        for (int j = 0; j < NS; j++) {
+            double s = 0.0;
+            for (int k = 0; k < NS; k++)
+                s += F[i * NS + k] * P[k * NS + j];
+            M[i * NS + j] = s;
+        }
+    for (int i = 0; i < NS; i++)
+        for (int j = 0; j < NS; j++)
+            out[i * NS + j] = M[i * NS + j] + M[j * NS + i] + (i == j ? qd[i] : 0.0);
+}
+
+/* One RK4 step of dy/dt = A(y) for a vector of m values (m = NS: the
+ * state, A = F y; m = NS2: the covariance, A = lyap). */
+static void rk4(const double *F, const double *qd, int m, double h, double *y)
+{
+    double k[4][NS2], t[NS2];
+    static const double c[3] = {0.5, 0.5, 1.0};
+    const double *in = y;
+    for (int s = 0; s < 4; s++) {
+        if (m == NS)
+            matvec(F, in, k[s]);
+        else
+            lyap(F, in, qd, k[s]);
+        if (s < 3) {
+            for (int i = 0; i < m; i++)
+                t[i] = y[i] + c[s] * h * k[s][i];
+            in = t;
+        }
+    }
+    for (int i = 0; i < m; i++)
+        y[i] += h / 6.0 * (k[0][i] + 2.0 * k[1][i] + 2.0 * k[2][i] + k[3][i]);
+}
+
+/* Integrate y (m values) over n - 1 equal intervals of the duration into
+ * out (n x m), through a scratch copy; IGEA_EOVERFLOW on a non-finite
+ * value. */
+static int propagate(const double *o, const double *qd, int m, const double *y0,
+                     double duration, int n, double *out)
+{
+    double F[NS2], y[NS2];
+    build_matrix(o, F);
+    double dt = duration / (n - 1), step = o[IGEA_INSERR_OPT_STEP];
+    double sub = ceil(dt / step * (1.0 - 1e-12));
+    int ms = sub < 1 ? 1 : (int)sub;
+    double h = dt / ms;
+    double *buf = igea__dalloc((size_t)n * (size_t)m);
+    if (!buf)
+        return IGEA_ENOMEM;
+    memcpy(y, y0, sizeof(double) * (size_t)m);
+    memcpy(buf, y, sizeof(double) * (size_t)m);
+    for (int k = 1; k < n; k++) {
+        for (int s = 0; s < ms; s++)
+            rk4(F, qd, m, h, y);
+        if (!igea__finite_vec(m, y, 1)) {
+            free(buf);
+            return IGEA_EOVERFLOW;
+        }
+        memcpy(buf + (size_t)k * (size_t)m, y, sizeof(double) * (size_t)m);
+    }
+    memcpy(out, buf, sizeof(double) * (size_t)n * (size_t)m);
+    free(buf);
+    return 0;
+}
+
+static int check_span(const double *o, double duration, int n, int iarg_d, int iarg_n)
+{
+    if (!(isfinite(duration) && duration > 0) || duration / o[IGEA_INSERR_OPT_STEP] > MAX_STEPS)
+        return -iarg_d;
+    if (n < 2)
+        return -iarg_n;
+    return 0;
+}
+
+int igea_inserr_response(const double *opts, const double *x0, double duration, int n,
+                         double *x)
+{
+    if (!opts || igea_inserr_check_opts(opts))
+        return -1;
+    if (!x0)
+        return -2;
+    int st = check_span(opts, duration, n, 3, 4);
+    if (st)
+        return st;
+    if (!x)
+        return -5;
+    if (!igea__finite_vec(NS, x0, 1))
+        return IGEA_ENONFINITE;
+    return propagate(opts, NULL, NS, x0, duration, n, x);
+}
+
+static int check_p0(const double *P0)
+{
+    if (!igea__finite_vec(NS2, P0, 1))
+        return IGEA_ENONFINITE;
+    for (int i = 0; i < NS; i++) {
+        if (P0[i * NS + i] < 0)
+            return IGEA_ENONPOSITIVE;
+        for (int j = 0; j < i; j++) {
+            double a = P0[i * NS + j], b = P0[j * NS + i];
+            if (fabs(a - b) > 1e-12 * fmax(fabs(a), fabs(b)))
+                return IGEA_EDOMAIN;
+        }
+    }
+    return 0;
+}
+
+int igea_inserr_covariance(const double *opts, const double *P0, const double *q,
+                           double duration, int n, double *P)
+{
+    if (!opts || igea_inserr_check_opts(opts))
+        return -1;
+    if (!q)
+        return -3;
+    int st = check_span(opts, duration, n, 4, 5);
+    if (st)
+        return st;
+    if (!P)
+        return -6;
+    if (P0 && (st = check_p0(P0)))
+        return st;
+    if (!igea__finite_vec(IGEA_INSERR_NQ, q, 1))
+        return IGEA_ENONFINITE;
+    double qd[NS] = {0}, p[NS2];
+    for (int i = 0; i < IGEA_INSERR_NQ; i++) {
+        if (q[i] < 0)
+            return IGEA_ENONPOSITIVE;
+        qd[3 + i] = q[i];
+    }
+    if (opts[IGEA_INSERR_OPT_VERTICAL] == 0)
+        qd[5] = 0.0;
+    if (P0) {
+        for (int i = 0; i < NS; i++)
+            for (int j = 0; j < NS; j++)
+                p[i * NS + j] = 0.5 * (P0[i * NS + j] + P0[j * NS + i]);
+    } else {
+        memset(p, 0, sizeof p);
+    }
+    return propagate(opts, qd, NS2, p, duration, n, P);
+}
