@@ -872,3 +872,25 @@ int igea_eqerr_components(int N, const double *P, int ldp, int ncomp,
     }
     return 0;
 }
+
+int igea__eqerr_solve_projected(int N, const double *lam0, const double *pb,
+                                const double *opts, double *vcache, double *work,
+                                double *z, int *reject, double *info)
+{
+    double *g0 = work, *xhat = g0 + N, *lambda = xhat + N;
+    double tol = opts[IGEA_EQERR_OPT_RANK_TOL] > 0 ? opts[IGEA_EQERR_OPT_RANK_TOL]
+                                                    : N * 10.0 * DBL_EPSILON;
+    int r = igea__rank_cut(N, lam0, tol);
+    if (!igea__finite_vec(N, pb, 1))
+        return IGEA_ENONFINITE;
+    for (int i = 0; i < N; i++) {
+        xhat[i] = i < r ? pb[i] / lam0[i] : 0.0;
+        g0[i] = i < r ? pb[i] / sqrt(lam0[i]) : 0.0;
+    }
+    int st = sigmaw_and_test(N, r, lam0, g0, xhat, opts, vcache, lambda, z, reject, info);
+    if (st == 0 && !(igea__finite_vec(N, lambda, 1) && igea__finite_vec(N, xhat, 1) &&
+                     igea__finite_vec(N, z, 1) &&
+                     igea__finite_vec(IGEA_STATS_INFO_LEN, info, 1)))
+        st = IGEA_EOVERFLOW;
+    return st;
+}

@@ -110,4 +110,12 @@ int igea__eqerr_solve_cached(int N, const double *A, int lda, const double *b,
                              int ldp, double *equiv_err, double *z, int *reject,
                              double *info);
 
+/* Steps 3-5 of igea__eqerr_solve_cached from a decomposition done once
+ * (eqerr.c): lam0 (N, descending, the rank cut of the eig route) and pb
+ * (N) the projections p_i^T b; work 3 N doubles; writes z, reject (N) and
+ * info; the same statuses (IGEA_ENONFINITE for a non-finite pb). */
+int igea__eqerr_solve_projected(int N, const double *lam0, const double *pb,
+                                const double *opts, double *vcache, double *work,
+                                double *z, int *reject, double *info);
+
 #endif
