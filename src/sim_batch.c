@@ -66,7 +66,7 @@ static void mb_block(const mb_job *jb, gsl_rng *r, int f0, int nb, double *XS,
 }
 
 /* Flight f's verdict from its projections pb, recorded as mc_judge does
- * (sim.c); scratch w (4 N + IGEA_STATS_INFO_LEN), vc the rule's cache. */
+ * (sim.c); scratch w (4 N + IGEA_STATS_INFO_LEN), vc the caches (6 N). */
 static int mb_judge(mb_job *jb, int f, const double *pb, double *w, double *vc, int *rej)
 {
     int N = jb->c->N;
@@ -101,7 +101,7 @@ static void *mb_worker(void *arg)
     mb_job *jb = arg;
     const igea_sim_model *c = jb->c;
     size_t m = (size_t)c->m, N = (size_t)c->N, b = (size_t)jb->block;
-    double *w = igea__dalloc(b * (N + m + N) + 9 * N + IGEA_STATS_INFO_LEN);
+    double *w = igea__dalloc(b * (N + m + N) + 11 * N + IGEA_STATS_INFO_LEN);
     int *rej = igea__ialloc(N);
     gsl_rng *r = (w && rej) ? igea__rng_new(igea__sim_rng_type(c), 0) : NULL;
     if (!r) {
@@ -111,8 +111,8 @@ static void *mb_worker(void *arg)
         return NULL;
     }
     double *XS = w, *DW = XS + b * N, *PB = DW + b * m, *x = PB + b * N;
-    double *vc = x + N, *judge = vc + 4 * N;
-    memset(vc, 0, 4 * N * sizeof(double));
+    double *vc = x + N, *judge = vc + 6 * N;
+    memset(vc, 0, 6 * N * sizeof(double));
     for (int f0 = jb->thread * jb->block; f0 < jb->nflights && !jb->fail;
          f0 += jb->nthreads * jb->block) {
         int nb = IGEA_MIN(jb->block, jb->nflights - f0);
