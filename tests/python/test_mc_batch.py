@@ -119,3 +119,80 @@ def test_batch_slot_checked(bad):
     opts[_capi.SIM_OPT_BATCH] = bad
     assert lib.igea_sim_check_opts(_lib.dptr(opts)) == 1 + _capi.SIM_OPT_BATCH
     assert lib.igea_opt_name(_capi.MODULE_SIM, _capi.SIM_OPT_BATCH).decode() == "batch"
+
+
+# ---- campaigns: chunks by first_flight, merged (python/igea/campaign.py) ----
+
+class SerialClient:
+    """The two Client methods campaign_montecarlo uses, run here, in an
+    order that is not the flights' (the merge must not depend on it)."""
+
+    def __init__(self):
+        self.calls = 0
+
+    def submit(self, fn, *args, pure=True, retries=None, **kwargs):
+        self.calls += 1
+        return (fn, args, kwargs)
+
+    def gather(self, futures):
+        done = {i: f[0](*f[1], **f[2]) for i, f in reversed(list(enumerate(futures)))}
+        return [done[i] for i in range(len(futures))]
+
+
+def assert_same_result(a, b, size_rtol=1e-12):
+    for k, v in vars(a).items():
+        w = getattr(b, k)
+        if k == "mean_size":  # rebuilt from the chunks' means: to rounding
+            assert v == pytest.approx(w, rel=size_rtol, abs=0), k
+        elif isinstance(v, np.ndarray):
+            np.testing.assert_array_equal(v, w, err_msg=k)
+        elif isinstance(v, float) and np.isnan(v):
+            assert np.isnan(w), k
+        else:
+            assert v == w, k
+
+
+CAMPAIGN = dict(S=MODELS[0][1], sigma=0.01, flights=203, sigma_w=1.3, seed=4, first_flight=11)
+
+
+@pytest.mark.parametrize("chunk", [1000, 64, 50, 7])
+def test_campaign_equals_single_run(chunk):
+    import igea
+    whole = igea.montecarlo(**CAMPAIGN, pool=10)
+    client = SerialClient()
+    got = igea.campaign_montecarlo(client, chunk, **CAMPAIGN, pool=10)
+    assert client.calls == -(-203 // chunk)
+    assert 0 < whole.failed < whole.flights and got.pool.pools == 20
+    assert_same_result(got, whole)
+
+
+def test_campaign_noise_judge_and_not_testable():
+    import igea
+    kw = dict(S=MODELS[3][1], sigma=0.01, flights=60, robust=True, seed=2)
+    assert_same_result(igea.campaign_montecarlo(SerialClient(), 13, **kw), igea.montecarlo(**kw))
+    kw = dict(S=MODELS[4][1], sigma=1.0, flights=30)
+    got = igea.campaign_montecarlo(SerialClient(), 8, **kw)
+    assert got.not_testable == 30 and np.isnan(got.mean_scale)
+    assert_same_result(got, igea.montecarlo(**kw))
+
+
+def test_campaign_arguments():
+    import igea
+    with pytest.raises(ValueError, match="chunk"):
+        igea.campaign_montecarlo(SerialClient(), 0, **CAMPAIGN)
+    with pytest.raises(ValueError, match="client"):
+        igea.campaign_montecarlo(None, 10, **CAMPAIGN)
+    with pytest.raises(TypeError, match="client"):
+        igea.campaign_montecarlo(object(), 10, **CAMPAIGN)
+    with pytest.raises(ValueError, match="pool"):
+        igea.campaign_montecarlo(SerialClient(), 10, **CAMPAIGN, pool=5, verdict="chi2")
+
+
+def test_campaign_on_a_local_cluster():
+    distributed = pytest.importorskip("distributed")
+    import igea
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster:
+        with distributed.Client(cluster) as client:
+            got = igea.campaign_montecarlo(client, 40, **CAMPAIGN)
+    assert_same_result(got, igea.montecarlo(**CAMPAIGN))
