@@ -126,6 +126,7 @@ const char *igea_opt_name(int module, int slot)
         [IGEA_SIM_OPT_BIAS0] = "bias0",
         [IGEA_SIM_OPT_BIAS1] = "bias1",
         [IGEA_SIM_OPT_JUDGE_NOISE] = "judge_noise",
+        [IGEA_SIM_OPT_BATCH] = "batch",
     };
     static const char *const impact[IGEA_IMPACT_OPT_LEN] = {
         [IGEA_IMPACT_OPT_MU] = "mu",         [IGEA_IMPACT_OPT_RADIUS] = "radius",

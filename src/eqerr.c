@@ -143,7 +143,7 @@ static int apply_verdict(const double *o, const double *z, int *reject, double *
  * outputs are then scratch owned by the caller, who discards them).
  */
 static int sigmaw_and_test(int N, int r, const double *lam0, const double *g0,
-                           const double *xhat, const double *o, double *vc,
+                           const double *xhat, const double *o, double *vc, double *cc,
                            double *lambda, double *z, int *reject, double *info)
 {
     double c = 1.0;
@@ -196,9 +196,9 @@ static int sigmaw_and_test(int N, int r, const double *lam0, const double *g0,
         lambda[i] = lam0[i] / c;
     if (r == 0)
         return IGEA_ENOTESTABLE;
-    int st = igea_stats_accuracy_test(r, xhat, lambda, o[IGEA_EQERR_OPT_ALPHA],
-                                      o[IGEA_EQERR_OPT_LAMBDA_TEST],
-                                      o[IGEA_EQERR_OPT_Z_CRIT], z, reject, info);
+    int st = igea__stats_accuracy_cached(r, xhat, lambda, o[IGEA_EQERR_OPT_ALPHA],
+                                         o[IGEA_EQERR_OPT_LAMBDA_TEST],
+                                         o[IGEA_EQERR_OPT_Z_CRIT], cc, z, reject, info);
     if (st != 0)
         return st < 0 && st > -1000 ? IGEA_EDOMAIN : st;
     for (int i = r; i < N; i++) {
@@ -300,7 +300,7 @@ static int solve_eig(int N, const double *A, int lda, const double *b,
         s->xhat[i] = pb / s->lam0[i];
         s->g0[i] = pb / sqrt(s->lam0[i]);
     }
-    return sigmaw_and_test(N, r, s->lam0, s->g0, s->xhat, o, vc, s->lambda, s->z,
+    return sigmaw_and_test(N, r, s->lam0, s->g0, s->xhat, o, vc, NULL, s->lambda, s->z,
                            s->reject, s->info);
 }
 
@@ -396,8 +396,8 @@ static int solve_qr(int N, const double *R, int ldr, double rows, const double *
             if (!isfinite(s->lam0[i]) || (i < r && !(s->lam0[i] >= DBL_MIN)))
                 st = IGEA_EOVERFLOW;
         if (st == 0)
-            st = sigmaw_and_test(N, r, s->lam0, s->g0, s->xhat, o, NULL, s->lambda, s->z,
-                                 s->reject, s->info);
+            st = sigmaw_and_test(N, r, s->lam0, s->g0, s->xhat, o, NULL, NULL, s->lambda,
+                                 s->z, s->reject, s->info);
     }
     free(Rc);
     return st;
@@ -871,4 +871,27 @@ int igea_eqerr_components(int N, const double *P, int ldp, int ncomp,
         }
     }
     return 0;
+}
+
+int igea__eqerr_solve_projected(int N, const double *lam0, const double *pb,
+                                const double *opts, double *vcache, double *work,
+                                double *z, int *reject, double *info)
+{
+    double *g0 = work, *xhat = g0 + N, *lambda = xhat + N;
+    double tol = opts[IGEA_EQERR_OPT_RANK_TOL] > 0 ? opts[IGEA_EQERR_OPT_RANK_TOL]
+                                                    : N * 10.0 * DBL_EPSILON;
+    int r = igea__rank_cut(N, lam0, tol);
+    if (!igea__finite_vec(N, pb, 1))
+        return IGEA_ENONFINITE;
+    for (int i = 0; i < N; i++) {
+        xhat[i] = i < r ? pb[i] / lam0[i] : 0.0;
+        g0[i] = i < r ? pb[i] / sqrt(lam0[i]) : 0.0;
+    }
+    int st = sigmaw_and_test(N, r, lam0, g0, xhat, opts, vcache, vcache + 4 * (size_t)N,
+                             lambda, z, reject, info);
+    if (st == 0 && !(igea__finite_vec(N, lambda, 1) && igea__finite_vec(N, xhat, 1) &&
+                     igea__finite_vec(N, z, 1) &&
+                     igea__finite_vec(IGEA_STATS_INFO_LEN, info, 1)))
+        st = IGEA_EOVERFLOW;
+    return st;
 }

@@ -138,4 +138,21 @@ int igea__eqerr_solve_cached(int N, const double *A, int lda, const double *b,
                              int ldp, double *equiv_err, double *z, int *reject,
                              double *info);
 
+/* Steps 3-5 of igea__eqerr_solve_cached from a decomposition done once
+ * (eqerr.c): lam0 (N, descending, the rank cut of the eig route) and pb
+ * (N) the projections p_i^T b; work 3 N doubles; vcache 6 N doubles (the
+ * verdict rule's 4 N, then chi2_alpha's 2 N), zeros at first, kept between
+ * the calls of one thread; writes z, reject (N) and info; the same statuses
+ * (IGEA_ENONFINITE for a non-finite pb). */
+int igea__eqerr_solve_projected(int N, const double *lam0, const double *pb,
+                                const double *opts, double *vcache, double *work,
+                                double *z, int *reject, double *info);
+
+/* igea_stats_accuracy_test (stats.c) with a cache of chi2_alpha(n_test):
+ * cc NULL, or 2 n doubles, zeros at first, kept between the calls of one
+ * thread with the same alpha (the batched Monte Carlo). */
+int igea__stats_accuracy_cached(int n, const double *equiv_err, const double *lambda,
+                                double alpha, double lambda_test, double z_crit,
+                                double *cc, double *z, int *reject, double *info);
+
 #endif

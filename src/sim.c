@@ -18,6 +18,7 @@
 #include "envfun_terms.h"
 #include "igea/noise.h"
 #include "sim_noise.h"
+#include "sim_model.h"
 
 #define SIM_PI 3.14159265358979323846
 
@@ -120,21 +121,6 @@ int igea_sim_trajectory(int system, double duration, double rate, int nsamp,
 
 /* ---- the model ------------------------------------------------------------ */
 
-struct igea_sim_model {
-    int m, N;
-    double *S;     /* m x N, ld m */
-    double *sigma; /* m stated sigmas, growth applied */
-    double *spec;  /* N specs (1 where none) */
-    int has_spec;
-    double *x_value; /* N, with x_fixed: the fixed terms */
-    int *x_fixed;
-    int has_truth;
-    double opts[IGEA_SIM_OPT_LEN];
-    /* trajectory models: the nonlinear truth */
-    int system, nsamp, nepochs, has_axes, axes[6], nonlinear;
-    double *traj, *epochs; /* nsamp x 11 (ld nsamp), nepochs */
-    int *terms;            /* N codes */
-};
 
 #define SIM_SIGMA_DEFAULT 0.01
 
@@ -158,6 +144,9 @@ int igea_sim_check_opts(const double *opts)
     if (opts[IGEA_SIM_OPT_GENERATOR] != IGEA_SIM_MT19937 &&
         opts[IGEA_SIM_OPT_GENERATOR] != IGEA_SIM_RANLXD2)
         return 1 + IGEA_SIM_OPT_GENERATOR;
+    double bk = opts[IGEA_SIM_OPT_BATCH];
+    if (!(bk >= 0 && bk <= IGEA_SIM_BATCH_MAX && bk == floor(bk)))
+        return 1 + IGEA_SIM_OPT_BATCH;
     return igea__sim_noise_check(opts); /* slots 6..13, sim_noise.c */
 }
 
@@ -414,7 +403,7 @@ int igea_sim_model_get_spec(const igea_sim_model *model, double *spec_sigma)
 
 /* ---- flights ------------------------------------------------------------ */
 
-static unsigned long flight_seed(int seed, int flight)
+unsigned long igea__sim_flight_seed(int seed, int flight)
 {
     /* SplitMix64 of the pair (seed, flight) */
     uint64_t z = ((uint64_t)(unsigned)seed << 32) ^ (uint64_t)(unsigned)flight;
@@ -425,7 +414,7 @@ static unsigned long flight_seed(int seed, int flight)
     return (unsigned long)(z & 0xFFFFFFFFUL); /* GSL seeds are 32-bit safe */
 }
 
-static const gsl_rng_type *rng_type(const igea_sim_model *c)
+const gsl_rng_type *igea__sim_rng_type(const igea_sim_model *c)
 {
     return c->opts[IGEA_SIM_OPT_GENERATOR] == IGEA_SIM_RANLXD2
                ? gsl_rng_ranlxd2
@@ -456,35 +445,29 @@ static int nonlinear_swap(const igea_sim_model *c, const double *x, double *nl,
     return 0;
 }
 
-/* Generate flight `flight` into x (N) and dw (m); xs (N) is scratch, nl
- * (m) scratch of the nonlinear truth. */
-static int gen_flight(const igea_sim_model *c, gsl_rng *r, int seed, int flight,
-                      double *x, double *xs, double *nl, double *dw)
+void igea__sim_draw_truth(const igea_sim_model *c, gsl_rng *r, int seed, int flight,
+                          double *x, double *xs)
 {
-    int m = c->m, N = c->N, M = m / 3;
+    gsl_rng_set(r, igea__sim_flight_seed(seed, flight));
+    for (int j = 0; j < c->N; j++) {
+        double g = gsl_ran_gaussian_ziggurat(r, 1.0);
+        x[j] = c->x_fixed[j] ? c->x_value[j] : g;
+        xs[j] = x[j] * c->spec[j];
+    }
+}
+
+void igea__sim_draw_noise(const igea_sim_model *c, gsl_rng *r, double *dw)
+{
+    int m = c->m, M = m / 3;
     double sw = c->opts[IGEA_SIM_OPT_SIGMA_W];
     double phi = c->opts[IGEA_SIM_OPT_AR1];
     double growth = c->opts[IGEA_SIM_OPT_GROWTH];
     double p_out = c->opts[IGEA_SIM_OPT_OUTLIER_PROB];
     double out_scale = c->opts[IGEA_SIM_OPT_OUTLIER_SCALE];
     double innov = sqrt(1.0 - phi * phi), prev[3] = {0, 0, 0};
-
-    gsl_rng_set(r, flight_seed(seed, flight));
-    for (int j = 0; j < N; j++) {
-        double g = gsl_ran_gaussian_ziggurat(r, 1.0);
-        x[j] = c->x_fixed[j] ? c->x_value[j] : g;
-        xs[j] = x[j] * c->spec[j];
-    }
-    for (int i = 0; i < m; i++)
-        dw[i] = 0.0;
-    for (int j = 0; j < N; j++) {
-        const double *col = c->S + (size_t)j * (size_t)m;
-        for (int i = 0; i < m; i++)
-            dw[i] += col[i] * xs[j];
-    }
     if (!igea__sim_noise_plain(c->opts)) { /* AR(p), correlation, groups: sim_noise.c */
         igea__sim_noise_rows(c->opts, c->sigma, m, r, dw);
-        return c->nonlinear ? nonlinear_swap(c, x, nl, dw) : 0;
+        return;
     }
     for (int i = 0; i < m; i++) {
         int e = i / 3, a = i % 3;
@@ -499,6 +482,23 @@ static int gen_flight(const igea_sim_model *c, gsl_rng *r, int seed, int flight,
         if (u < p_out)
             dw[i] += out_scale * sd * go;
     }
+}
+
+/* Generate flight `flight` into x (N) and dw (m); xs (N) is scratch, nl
+ * (m) scratch of the nonlinear truth. */
+static int gen_flight(const igea_sim_model *c, gsl_rng *r, int seed, int flight,
+                      double *x, double *xs, double *nl, double *dw)
+{
+    int m = c->m, N = c->N;
+    igea__sim_draw_truth(c, r, seed, flight, x, xs);
+    for (int i = 0; i < m; i++)
+        dw[i] = 0.0;
+    for (int j = 0; j < N; j++) {
+        const double *col = c->S + (size_t)j * (size_t)m;
+        for (int i = 0; i < m; i++)
+            dw[i] += col[i] * xs[j];
+    }
+    igea__sim_draw_noise(c, r, dw);
     return c->nonlinear ? nonlinear_swap(c, x, nl, dw) : 0;
 }
 
@@ -517,7 +517,7 @@ int igea_sim_flight(const igea_sim_model *model, int seed, int flight,
     double *work = igea__dalloc(2 * (size_t)m + 2 * (size_t)N);
     if (!work)
         return IGEA_ENOMEM;
-    gsl_rng *r = igea__rng_new(rng_type(model), 0);
+    gsl_rng *r = igea__rng_new(igea__sim_rng_type(model), 0);
     if (!r) {
         free(work);
         return IGEA_ENOMEM;
@@ -664,7 +664,7 @@ static void *mc_worker(void *arg)
     double *w = igea__dalloc(3 * (size_t)m + 11 * (size_t)N + nn +
                              IGEA_STATS_INFO_LEN);
     int *rej = igea__ialloc((size_t)N);
-    gsl_rng *r = (w && rej) ? igea__rng_new(rng_type(c), 0) : NULL;
+    gsl_rng *r = (w && rej) ? igea__rng_new(igea__sim_rng_type(c), 0) : NULL;
     if (w) {
         jb->vcache = w + 3 * (size_t)m + 7 * (size_t)N + nn + IGEA_STATS_INFO_LEN;
         memset(jb->vcache, 0, 4 * (size_t)N * sizeof(double));
@@ -859,7 +859,12 @@ static int mc_main(const igea_sim_model *c, const double *eqo, int seed,
             jb->covered = f_cov;
             jb->nout = f_nout;
         }
-        if (st == 0)
+        int block = (int)c->opts[IGEA_SIM_OPT_BATCH];
+        if (st == 0 && !noise && !c->nonlinear && block != 1) /* batched: sim_batch.c */
+            st = igea__sim_mc_batch(c, Sw, A, eqo, seed, first, nflights, nthreads,
+                                    block ? block : IGEA_SIM_BATCH_DEFAULT, f_chi2, f_scale,
+                                    f_dof, f_nrej, f_status, cnt, &jobs[0].size_sum);
+        else if (st == 0)
             st = mc_run(jobs, tid, nthreads);
         if (st == 0)
             mc_write(jobs, nthreads, N, nflights, counts, rates, comp_tested,

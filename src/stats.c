@@ -493,6 +493,14 @@ int igea_stats_accuracy_test(int n, const double *equiv_err,
                              double lambda_test, double z_crit, double *z,
                              int *reject, double *info)
 {
+    return igea__stats_accuracy_cached(n, equiv_err, lambda, alpha, lambda_test, z_crit,
+                                       NULL, z, reject, info);
+}
+
+int igea__stats_accuracy_cached(int n, const double *equiv_err, const double *lambda,
+                                double alpha, double lambda_test, double z_crit,
+                                double *cc, double *z, int *reject, double *info)
+{
     if (n < 1) return -1;
     if (!equiv_err) return -2;
     if (!lambda) return -3;
@@ -516,9 +524,16 @@ int igea_stats_accuracy_test(int n, const double *equiv_err,
     double zc = z_crit, crit, pval;
     if (zc == 0.0)
         zc = gsl_cdf_ugaussian_Qinv(0.5 * alpha);
-    int st = igea_stats_chi2_upper(alpha, (double)ntest, &crit);
+    double *e = cc && ntest <= n ? cc + 2 * (size_t)(ntest - 1) : NULL;
+    int st = 0;
+    if (e && e[0] == 1.0)
+        crit = e[1];
+    else
+        st = igea_stats_chi2_upper(alpha, (double)ntest, &crit);
     if (st != 0)
         return st;
+    if (e)
+        e[0] = 1.0, e[1] = crit;
     /* First pass: the statistic only; z_i = e_i / sqrt(1 + 1/lambda_i) is
      * finite (|z_i| <= |e_i|), z_i^2 and T may exceed the double range. */
     sat_sum t = {{0, 0}, 0};

@@ -65,7 +65,17 @@ extern "C" {
                                        covariance and the groups); 0: the seed's diagonal K
                                        (the eqerr options AR_ORDER, ROBUST, GROUP_BIAS also
                                        select igea_noise_eqerr) */
-#define IGEA_SIM_OPT_LEN 32 /* slots 14.. reserved for additions (0) */
+#define IGEA_SIM_OPT_BATCH 14 /* Monte Carlo flights per block when S and the stated K
+                                 are common to the flights (igea_sim_montecarlo judging
+                                 with the seed's diagonal K, linear truth): 0 automatic
+                                 (IGEA_SIM_BATCH_DEFAULT), 1 flight by flight, 2 ..
+                                 IGEA_SIM_BATCH_MAX (rounded up to a multiple of 32);
+                                 the batched results do not depend on it nor on the
+                                 threads, and equal the flight-by-flight ones to
+                                 rounding (docs/validation.md) */
+#define IGEA_SIM_BATCH_DEFAULT 64
+#define IGEA_SIM_BATCH_MAX 4096
+#define IGEA_SIM_OPT_LEN 32 /* slots 15.. reserved for additions (0) */
 
 #define IGEA_SIM_MT19937 0 /* gsl_rng_mt19937 (default) */
 #define IGEA_SIM_RANLXD2 1 /* gsl_rng_ranlxd2 (slower, luxury) */

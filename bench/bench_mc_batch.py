@@ -1,0 +1,156 @@
+"""Batched Monte Carlo (IGEA_SIM_OPT_BATCH) against the flight-by-flight
+path, a numpy peer vectorised over flights and the dgemm floor.
+
+  python bench/bench_mc_batch.py            120x21, 120x74, 3000x74
+  python bench/bench_mc_batch.py --scale 4  4x the flights (steadier)
+
+Per-flight times (min of 3 repeats) of the whole study: truths and noises
+drawn, right-hand sides formed, sigma_w loop and tests. The floor is the
+two products of the batched path, S X (m x N x F) and Q^T W (N x m x F),
+timed as numpy matmuls on the same shapes. OPENBLAS_NUM_THREADS=1 is set
+here before numpy loads (the library's own threads are igea's nthreads;
+the numpy peer and the floor run on one thread). Run with the
+repository's venv, PYTHONPATH=python and IGEA_LIBRARY set (`make bench`
+does).
+"""
+import os
+
+os.environ["OPENBLAS_NUM_THREADS"] = "1"
+os.environ["OMP_NUM_THREADS"] = "1"
+
+import argparse  # noqa: E402
+import ctypes  # noqa: E402
+import time  # noqa: E402
+
+import numpy as np  # noqa: E402
+from scipy import stats  # noqa: E402
+
+from igea import _capi, _lib  # noqa: E402
+
+lib = _lib.lib
+ALPHA, LAM_TEST, LAM_SMALL, N_MIN, TOL, MAX_ITER = 0.01, 10.0, 0.1, 5, 0.05, 10
+
+
+def model(M, N, seed=1):
+    """A 3M x N design whose column norms span two decades, sigma 0.01."""
+    rng = np.random.default_rng(seed)
+    S = rng.standard_normal((3 * M, N)) * np.logspace(-1, 1, N) * 0.05
+    return np.asfortranarray(S), 0.01
+
+
+def igea_study(S, sigma, nflights, threads, batch, sigma_w=1.2):
+    m, N = S.shape
+    h = ctypes.c_void_p()
+    _lib.call("b", "igea_sim_model_create", m, N, _lib.dptr(S), m, ctypes.byref(h))
+    _lib.call("b", "igea_sim_model_set_sigma", h, _lib.dptr(np.array([sigma])), 0, 0.0)
+    opts = np.zeros(_capi.SIM_OPT_LEN)
+    lib.igea_sim_defaults(_lib.dptr(opts))
+    opts[_capi.SIM_OPT_SIGMA_W] = sigma_w
+    opts[_capi.SIM_OPT_BATCH] = batch
+    _lib.call("b", "igea_sim_model_set_noise", h, _lib.dptr(opts))
+    counts = np.zeros(_capi.SIM_MC_LEN)
+    t0, c0 = time.perf_counter(), time.process_time()
+    _lib.call("b", "igea_sim_montecarlo", h, None, 1, 0, nflights, threads,
+              _lib.dptr(counts), None, None, None, None, 0)
+    t, c = time.perf_counter() - t0, time.process_time() - c0
+    lib.igea_sim_model_free(h)
+    return (t, c), counts[_capi.SIM_MC_FAILED] / nflights
+
+
+def numpy_study(S, sigma, nflights, sigma_w=1.2, seed=1, block=256):
+    """The same study in numpy, vectorised over blocks of flights: one eigh,
+    the blocks' truths and noises, the two products, the sigma_w iteration
+    and the seed's tests on every flight of the block at once."""
+    t0, c0 = time.perf_counter(), time.process_time()
+    rng = np.random.default_rng(seed)
+    m, N = S.shape
+    Sw = S / sigma
+    lam0, V = np.linalg.eigh(Sw.T @ Sw)
+    lam0, V = lam0[::-1], V[:, ::-1]
+    r = int(np.sum(lam0 > N * 10 * np.finfo(float).eps * lam0[0]))
+    lam0, Q = lam0[:r], (Sw @ V)[:, :r]
+    zc = stats.norm.ppf(1 - ALPHA / 2)
+    crit = stats.chi2.isf(ALPHA, np.arange(1, r + 1))
+    failed = 0
+    for f0 in range(0, nflights, block):
+        b = min(block, nflights - f0)
+        X = rng.standard_normal((N, b))
+        W = (S @ X + sigma_w * sigma * rng.standard_normal((m, b))) / sigma
+        PB = Q.T @ W
+        g0 = PB / np.sqrt(lam0)[:, None]
+        c = np.ones(b)
+        active = np.ones(b, bool)
+        prev = np.full(b, -1)
+        for it in range(MAX_ITER):
+            small = lam0[:, None] / c[None, :] <= LAM_SMALL
+            ns = small.sum(0)
+            active &= ns >= N_MIN
+            sw2 = np.where(active, (small * g0 ** 2 / c).sum(0) / np.maximum(ns, 1), 1.0)
+            lo = r - ns
+            done = (np.abs(sw2 - 1) <= TOL) & ((it == 0) | (lo == prev))
+            active &= ~done
+            c = np.where(active, c * sw2, c)
+            prev = lo
+            if not active.any():
+                break
+        lam = lam0[:, None] / c[None, :]
+        tested = lam >= LAM_TEST
+        z = (PB / lam0[:, None]) / np.sqrt(1 + 1 / lam)
+        k = tested.sum(0)
+        T = (np.where(tested, z, 0.0) ** 2).sum(0)
+        anyz = (np.abs(np.where(tested, z, 0.0)) > zc).any(0)
+        fail = (k > 0) & (anyz | (T >= crit[np.maximum(k, 1) - 1]))
+        failed += int(fail.sum())
+    return (time.perf_counter() - t0, time.process_time() - c0), failed / nflights
+
+
+def floor(S, nflights, reps=3):
+    """The two products of the batched path over all flights (numpy BLAS)."""
+    m, N = S.shape
+    F = min(nflights, 4096)
+    X, W = np.ones((N, F)), np.ones((m, F))
+    Q = np.asfortranarray(S)
+    best = np.inf
+    for _ in range(reps):
+        c0 = time.process_time()
+        S @ X
+        Q.T @ W
+        best = min(best, time.process_time() - c0)
+    return best / F
+
+
+def best(fn, reps=3):
+    """(min wall, min CPU) over reps, and the run's failed rate."""
+    out = [fn() for _ in range(reps)]
+    return min(t[0] for t, _ in out), min(t[1] for t, _ in out), out[0][1]
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--scale", type=float, default=1.0)
+    a = ap.parse_args()
+    print("OPENBLAS_NUM_THREADS=1 (numpy peer and floor on 1 thread); igea at 1 and 2 "
+          "threads; per-flight times in microseconds, min of 3; batch 0 = automatic "
+          "(64 flights); load average %.1f on %d cores" % (os.getloadavg()[0], os.cpu_count()))
+    print("1-thread columns are CPU times (process_time: steady on a shared machine); "
+          "'wall' columns are elapsed (the 2-thread speed-up needs them, and idle cores)")
+    print(f"{'M x N':>9} {'flights':>7} {'floor':>7} {'numpy':>7} {'per-fl':>8} "
+          f"{'batch':>7} {'wall 1t':>8} {'wall 2t':>8} {'numpy/b':>8} {'b/floor':>8} "
+          f"{'per-fl/b':>8} {'2t gain':>7}")
+    for M, N, F, Fone in ((120, 21, 20000, 2000), (120, 74, 10000, 600), (3000, 74, 600, 60)):
+        F, Fone = int(F * a.scale), int(Fone * a.scale)
+        S, sigma = model(M, N)
+        tf = floor(S, F)
+        _, cn, rn = best(lambda: numpy_study(S, sigma, F))
+        _, co, _ = best(lambda: igea_study(S, sigma, Fone, 1, 1))
+        w1, c1, r1 = best(lambda: igea_study(S, sigma, F, 1, 0))
+        w2, _, _ = best(lambda: igea_study(S, sigma, F, 2, 0))
+        us = lambda t, n: 1e6 * t / n  # noqa: E731
+        cn, co, c1, w1, w2 = us(cn, F), us(co, Fone), us(c1, F), us(w1, F), us(w2, F)
+        tf *= 1e6
+        print(f"{M:>4} x {N:<3} {F:>7} {tf:>7.2f} {cn:>7.2f} {co:>8.1f} {c1:>7.2f} {w1:>8.2f} "
+              f"{w2:>8.2f} {cn / c1:>8.2f} {c1 / tf:>8.2f} {co / c1:>8.1f} {w1 / w2:>7.2f}"
+              f"   (failed rate numpy {rn:.3f}, igea {r1:.3f})")
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,194 @@
+/* src/sim_batch.c - the Monte Carlo in blocks of flights when S and the
+ * stated K are common to them (igea_sim_montecarlo judging with the seed's
+ * diagonal K): the normal matrix is decomposed once, A = V diag(lam0) V^T,
+ * Q = Sw V; a block of b flights draws its truths X and noises E from the
+ * flights' own streams (those of igea_sim_flight), forms
+ * W = diag(sigma)^-1 (E + S D X) and the projections Q^T W with two dgemm,
+ * then each flight's sigma_w loop and tests run on its column
+ * (igea__eqerr_solve_projected, with the verdict rule's cache). Every
+ * dgemm has MB_CHUNK columns (a short block padded with zero columns), so
+ * that a flight's result does not depend on the block it falls in, nor on
+ * the thread that runs it. */
+#include <pthread.h>
+
+#include <cblas.h>
+
+#include "igea/eqerr.h"
+#include "igea/stats.h"
+#include "internal.h"
+#include "sim_model.h"
+
+/* The width of every dgemm: a BLAS may treat the columns of a product
+ * differently by their number (its kernels' tails), never by their values;
+ * one shape for every call keeps a flight's result independent of the
+ * block size, the thread and first_flight. A multiple of the column
+ * unrolls of the common kernels (4, 8). */
+#define MB_CHUNK 32
+
+typedef struct {
+    const igea_sim_model *c;
+    const double *Q, *lam0, *eqo;
+    int seed, first, nflights, block, thread, nthreads;
+    double *chi2, *scale, *fsize;
+    int *dof, *nrej, *status;
+    int *cnt; /* this thread's: tested, rejected (N each) */
+    int fail;
+} mb_job;
+
+/* The block's truths (XS, N x b) and noises (DW, m x b), zero columns past
+ * nb flights, then DW = diag(sigma)^-1 (DW + S XS) and PB = Q^T DW, by
+ * dgemm calls of MB_CHUNK columns each (b a multiple of it). */
+static void mb_block(const mb_job *jb, gsl_rng *r, int f0, int nb, double *XS,
+                     double *DW, double *PB, double *x)
+{
+    const igea_sim_model *c = jb->c;
+    int m = c->m, N = c->N, b = jb->block;
+    for (int j = 0; j < b; j++) {
+        double *xs = XS + (size_t)j * N, *dw = DW + (size_t)j * m;
+        memset(dw, 0, (size_t)m * sizeof(double));
+        if (j >= nb) {
+            memset(xs, 0, (size_t)N * sizeof(double));
+            continue;
+        }
+        igea__sim_draw_truth(c, r, jb->seed, jb->first + f0 + j, x, xs);
+        igea__sim_draw_noise(c, r, dw);
+    }
+    for (int j0 = 0; j0 < b; j0 += MB_CHUNK) {
+        double *xs = XS + (size_t)j0 * N, *dw = DW + (size_t)j0 * m;
+        cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, m, MB_CHUNK, N, 1.0, c->S, m,
+                    xs, N, 1.0, dw, m);
+        for (int j = 0; j < MB_CHUNK; j++)
+            for (int i = 0; i < m; i++)
+                dw[(size_t)j * m + i] /= c->sigma[i];
+        cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, N, MB_CHUNK, m, 1.0, jb->Q, m,
+                    dw, m, 0.0, PB + (size_t)j0 * N, N);
+    }
+}
+
+/* Flight f's verdict from its projections pb, recorded as mc_judge does
+ * (sim.c); scratch w (4 N + IGEA_STATS_INFO_LEN), vc the caches (6 N). */
+static int mb_judge(mb_job *jb, int f, const double *pb, double *w, double *vc, int *rej)
+{
+    int N = jb->c->N;
+    double *z = w + 3 * (size_t)N, *info = z + N;
+    int st = igea__eqerr_solve_projected(N, jb->lam0, pb, jb->eqo, vc, w, z, rej, info);
+    jb->status[f] = st;
+    jb->fsize[f] = 0.0;
+    if (st == IGEA_ENOTESTABLE) {
+        jb->chi2[f] = 0.0;
+        jb->dof[f] = 0;
+        jb->nrej[f] = 0;
+        jb->scale[f] = NAN;
+        return 0;
+    }
+    if (st < 0)
+        return (st > -1000) ? -2 : st;
+    jb->chi2[f] = info[IGEA_STATS_INFO_CHI2];
+    jb->dof[f] = (int)info[IGEA_STATS_INFO_DOF];
+    jb->nrej[f] = (int)info[IGEA_STATS_INFO_N_REJECT];
+    jb->scale[f] = info[IGEA_STATS_INFO_SCALE];
+    jb->status[f] = info[IGEA_STATS_INFO_CHI2] >= info[IGEA_STATS_INFO_VERDICT_CHI2_CRIT];
+    jb->fsize[f] = info[IGEA_STATS_INFO_OVERALL_SIZE];
+    for (int i = 0; i < N; i++) {
+        jb->cnt[i] += rej[i] >= 0;
+        jb->cnt[N + i] += rej[i] == 1;
+    }
+    return 0;
+}
+
+static void *mb_worker(void *arg)
+{
+    mb_job *jb = arg;
+    const igea_sim_model *c = jb->c;
+    size_t m = (size_t)c->m, N = (size_t)c->N, b = (size_t)jb->block;
+    double *w = igea__dalloc(b * (N + m + N) + 11 * N + IGEA_STATS_INFO_LEN);
+    int *rej = igea__ialloc(N);
+    gsl_rng *r = (w && rej) ? igea__rng_new(igea__sim_rng_type(c), 0) : NULL;
+    if (!r) {
+        free(w);
+        free(rej);
+        jb->fail = IGEA_ENOMEM;
+        return NULL;
+    }
+    double *XS = w, *DW = XS + b * N, *PB = DW + b * m, *x = PB + b * N;
+    double *vc = x + N, *judge = vc + 6 * N;
+    memset(vc, 0, 6 * N * sizeof(double));
+    for (int f0 = jb->thread * jb->block; f0 < jb->nflights && !jb->fail;
+         f0 += jb->nthreads * jb->block) {
+        int nb = IGEA_MIN(jb->block, jb->nflights - f0);
+        mb_block(jb, r, f0, nb, XS, DW, PB, x);
+        for (int j = 0; j < nb && !jb->fail; j++)
+            jb->fail = mb_judge(jb, f0 + j, PB + (size_t)j * N, judge, vc, rej);
+    }
+    igea__rng_free(r);
+    free(w);
+    free(rej);
+    return NULL;
+}
+
+/* Run the jobs on their threads (a thread that cannot start: its share
+ * runs here); the first failure, or 0. */
+static int mb_run(mb_job *jobs, int nthreads)
+{
+    pthread_t *tid = calloc((size_t)nthreads, sizeof *tid);
+    int nstarted = 0, st = 0;
+    for (int t = 1; tid && t < nthreads; t++) {
+        if (pthread_create(&tid[t], NULL, mb_worker, &jobs[t]) != 0)
+            break;
+        nstarted = t;
+    }
+    mb_worker(&jobs[0]);
+    for (int t = 1; t <= nstarted; t++)
+        pthread_join(tid[t], NULL);
+    for (int t = nstarted + 1; t < nthreads; t++)
+        mb_worker(&jobs[t]);
+    free(tid);
+    for (int t = 0; t < nthreads; t++)
+        if (jobs[t].fail && !st)
+            st = jobs[t].fail;
+    return st;
+}
+
+int igea__sim_mc_batch(const igea_sim_model *c, const double *Sw, const double *A,
+                       const double *eqo, int seed, int first, int nflights,
+                       int nthreads, int block, double *chi2, double *scale, int *dof,
+                       int *nrej, int *status, int *cnt, double *size_sum)
+{
+    int m = c->m, N = c->N;
+    size_t nn = (size_t)N * N;
+    double *d = igea__dalloc(nn + (size_t)N + (size_t)m * N + (size_t)nflights);
+    int *ic = igea__ialloc(2 * (size_t)N * nthreads);
+    mb_job *jobs = calloc((size_t)nthreads, sizeof *jobs);
+    int st = IGEA_ENOMEM;
+    block = (block + MB_CHUNK - 1) / MB_CHUNK * MB_CHUNK;
+    if (d && ic && jobs) {
+        double *V = d, *lam0 = V + nn, *Q = lam0 + N, *fsize = Q + (size_t)m * N;
+        st = igea__syev_desc(N, A, N, lam0, V, N);
+        if (st < 0 && st > -1000)
+            st = -2;
+        if (st == 0)
+            cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, m, N, N, 1.0, Sw, m, V,
+                        N, 0.0, Q, m);
+        memset(ic, 0, 2 * (size_t)N * nthreads * sizeof(int));
+        for (int t = 0; t < nthreads; t++) {
+            mb_job j = {c, Q, lam0, eqo, seed, first, nflights, block, t, nthreads,
+                        chi2, scale, fsize, dof, nrej, status, ic + 2 * (size_t)N * t, 0};
+            jobs[t] = j;
+        }
+        if (st == 0)
+            st = mb_run(jobs, nthreads);
+        if (st == 0) {
+            double s = 0.0;
+            for (int f = 0; f < nflights; f++)
+                s += fsize[f];
+            *size_sum = s;
+            for (int t = 0; t < nthreads; t++)
+                for (int i = 0; i < 2 * N; i++)
+                    cnt[i] += ic[2 * (size_t)N * t + i];
+        }
+    }
+    free(d);
+    free(ic);
+    free(jobs);
+    return st;
+}

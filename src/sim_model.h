@@ -1,0 +1,49 @@
+/* sim_model.h - the simulation model and the flight generator's parts
+ * (sim.c), shared with the batched Monte Carlo (sim_batch.c). */
+#ifndef IGEA_SIM_MODEL_H
+#define IGEA_SIM_MODEL_H
+
+#include <gsl/gsl_rng.h>
+
+#include "igea/sim.h"
+
+struct igea_sim_model {
+    int m, N;
+    double *S;     /* m x N, ld m */
+    double *sigma; /* m stated sigmas, growth applied */
+    double *spec;  /* N specs (1 where none) */
+    int has_spec;
+    double *x_value; /* N, with x_fixed: the fixed terms */
+    int *x_fixed;
+    int has_truth;
+    double opts[IGEA_SIM_OPT_LEN];
+    /* trajectory models: the nonlinear truth */
+    int system, nsamp, nepochs, has_axes, axes[6], nonlinear;
+    double *traj, *epochs; /* nsamp x 11 (ld nsamp), nepochs */
+    int *terms;            /* N codes */
+};
+
+/* The 32-bit GSL seed of flight `flight` of stream `seed` (SplitMix64). */
+unsigned long igea__sim_flight_seed(int seed, int flight);
+/* The model's generator type (IGEA_SIM_OPT_GENERATOR). */
+const gsl_rng_type *igea__sim_rng_type(const igea_sim_model *c);
+/* Seed r for the flight and draw its truth: x (N, fixed terms kept) and
+ * xs = x * spec (N). The first draws of the flight's stream. */
+void igea__sim_draw_truth(const igea_sim_model *c, gsl_rng *r, int seed, int flight,
+                          double *x, double *xs);
+/* Add the flight's tracking noise to dw (m): the draws after the truth. */
+void igea__sim_draw_noise(const igea_sim_model *c, gsl_rng *r, double *dw);
+
+/* The batched Monte Carlo (sim_batch.c): flights first .. first + nflights
+ * - 1 judged on the stated K common to them, in blocks of `block` flights
+ * (rounded up to a multiple of 32), on nthreads threads. Sw, A as mc_normal gives them (m x N, N x N); the
+ * per-flight outputs chi2, scale, dof, nrej, status (nflights each, as
+ * mc_judge writes them), the component counts cnt (tested then rejected,
+ * N each) and *size_sum (summed in flight order). Returns 0 or a failure as
+ * mc_judge's. */
+int igea__sim_mc_batch(const igea_sim_model *c, const double *Sw, const double *A,
+                       const double *eqo, int seed, int first, int nflights,
+                       int nthreads, int block, double *chi2, double *scale, int *dof,
+                       int *nrej, int *status, int *cnt, double *size_sum);
+
+#endif
