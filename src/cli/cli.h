@@ -363,4 +363,76 @@ typedef struct {
 int cli_noise_parse_phi(const char *arg, double *phi, int *p);
 int cli_eqerr_noise(const cli_noise_args *a, FILE *out, int *passed);
 
+/* ---- SVG pictures (svg.c) ------------------------------------------------ */
+/* A self-contained SVG writer for --plot FILE.svg: panels with linear or
+ * log10 axes (ticks, labels with units), series as polylines, markers,
+ * error bars, bands, marker lines and a legend. Text is escaped for XML
+ * (control characters and invalid UTF-8 become '?'); a NaN or Inf (and, on
+ * a log axis, a value <= 0) is never written: the point is left out.
+ * Series carry class="series", markers class="marker", bands
+ * class="band", error bars class="errbar", marker lines class="hline" or
+ * "vline", the legend class="legend", the axes class="axes". Colours are
+ * indices into a fixed palette. */
+#define CLI_SVG_LEGEND_MAX 12
+typedef struct {
+    double lo, hi;     /* data range (cli_svg_range; empty: lo > hi) */
+    int log;           /* 1: log10 axis */
+    const char *label; /* the quantity and its unit, "tau (s)" */
+} cli_svg_axis;
+typedef struct {
+    FILE *f;
+    int panel;                    /* panels drawn so far */
+    double px, py, pw, ph;        /* the current panel's plot area (pixels) */
+    double x0, x1, y0, y1;        /* its data range (log10 on a log axis) */
+    int xlog, ylog;
+    int nleg;                     /* legend entries of the current panel */
+    const char *leg[CLI_SVG_LEGEND_MAX];
+    int legcolor[CLI_SVG_LEGEND_MAX], legkind[CLI_SVG_LEGEND_MAX];
+} cli_svg;
+#define CLI_SVG_AXIS_EMPTY(log, label) {HUGE_VAL, -HUGE_VAL, log, label}
+/* The document of width x height pixels with a title (may be NULL). */
+void cli_svg_begin(cli_svg *s, FILE *f, double width, double height, const char *title);
+/* The legend of the last panel, its group's and the closing tag. */
+void cli_svg_end(cli_svg *s);
+/* Widen ax's range to the finite values v[0], v[stride], ... (n of them;
+ * on a log axis the positive ones). */
+void cli_svg_range(cli_svg_axis *ax, const double *v, long n, long stride);
+/* A panel at (left, top), width x height pixels (the axes inside it): the
+ * frame, ticks, tick labels, axis labels and the title (may be NULL); an
+ * empty range becomes [0, 1] ([1, 10] on a log axis), a single value is
+ * widened. Draws the previous panel's legend first. */
+void cli_svg_panel(cli_svg *s, double left, double top, double width, double height,
+                   const cli_svg_axis *x, const cli_svg_axis *y, const char *title);
+/* A polyline through (x[i xs], y[i ys]), i < n (x NULL: x = i). label (may
+ * be NULL) goes into the legend. Nothing is drawn for no valid point. */
+void cli_svg_line(cli_svg *s, const double *x, long xs, const double *y, long ys, long n,
+                  int color, const char *label);
+/* Circles at the points. */
+void cli_svg_points(cli_svg *s, const double *x, long xs, const double *y, long ys, long n,
+                    int color, const char *label);
+/* Vertical bars from lo[i] to hi[i] at x[i] (x NULL: i). */
+void cli_svg_errbars(cli_svg *s, const double *x, const double *lo, const double *hi, long n,
+                     int color);
+/* A filled band between lo and hi along x (x NULL: i); one polygon per run
+ * of valid points. */
+void cli_svg_band(cli_svg *s, const double *x, long xs, const double *lo, const double *hi,
+                  long bs, long n, int color, const char *label);
+/* A dashed line across the panel at y (hline) or x (vline). */
+void cli_svg_hline(cli_svg *s, double y, int color, const char *label);
+void cli_svg_vline(cli_svg *s, double x, int color, const char *label);
+/* XML-escaped text at (x, y) pixels; anchor "start", "middle" or "end". */
+void cli_svg_text(cli_svg *s, double x, double y, const char *anchor, const char *text);
+/* The plots of the commands (each opens, writes and commits path through
+ * cli_out; returns an exit code). */
+int cli_svg_stability(const char *path, const char *kind, int ntau, const double *tau,
+                      const double *dev, const double *lo, const double *hi,
+                      const double *fit, const int *fit_sup);
+/* The residuals (one number a line, epoch-major rows x y z) read back
+ * from res, an output being written (its temporary, or a temporary file of
+ * the driver's own: f set, path NULL; nothing drawn for standard output, a
+ * device or f NULL), and the N eigenvalues with lambda_test and
+ * lambda_small. */
+int cli_svg_eqerr(const char *path, const cli_out *res, int N, const double *lambda,
+                  double lambda_test, double lambda_small);
+
 #endif

@@ -10,7 +10,7 @@
 #include "cli.h"
 
 typedef struct {
-    const char *file, *taus, *out;
+    const char *file, *taus, *out, *plot;
     double fs, block, conf;
     int column, column_given, kind, noise, json, phase, spacing, fit;
 } st_args;
@@ -35,6 +35,7 @@ static const cli_opt options[] = {
     {"--conf", CLI_OPT_NUM, &A.conf, "0.683", "C", "confidence of the intervals, in (0, 1)", NULL},
     CLI_JSON_OPT(&A.json),
     CLI_OUT_OPT(&A.out),
+    {"--plot", CLI_OPT_STR, &A.plot, NULL, "FILE.svg", "draw the deviation with its intervals on log-log\naxes (and the --fit terms) into an SVG picture", NULL},
     CLI_END};
 
 static const cli_command command = {"stability",
@@ -363,6 +364,13 @@ int cmd_stability(int argc, char **argv)
     if ((ec = cli_out_open(&o, a.out)))
         goto done;
     (a.json ? json_report : text_report)(o.f, &a, &r);
+    if (a.plot && (ec = cli_svg_stability(a.plot, igea_choice_name(IGEA_CHOICE_STABILITY_KIND, a.kind),
+                                          r.ntau, r.tau, r.dev, has_ci(a.kind) ? r.lo : NULL,
+                                          has_ci(a.kind) ? r.hi : NULL, a.fit && r.have_fit ? r.fit : NULL,
+                                          r.fit_sup))) {
+        cli_out_abort(&o);
+        goto done;
+    }
     ec = cli_out_commit(&o);
 done:
     free(y);
