@@ -424,7 +424,7 @@ void cli_svg_vline(cli_svg *s, double x, int color, const char *label);
 void cli_svg_text(cli_svg *s, double x, double y, const char *anchor, const char *text);
 /* The plots of the commands (each opens, writes and commits path through
  * cli_out; returns an exit code). */
-int cli_svg_stability(const char *path, const char *kind, int ntau, const double *tau,
+int cli_svg_stability(const char *path, const char *file, const char *kind, int ntau, const double *tau,
                       const double *dev, const double *lo, const double *hi,
                       const double *fit, const int *fit_sup);
 /* The residuals (one number a line, epoch-major rows x y z) read back

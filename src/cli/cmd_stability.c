@@ -363,14 +363,15 @@ int cmd_stability(int argc, char **argv)
     cli_out o;
     if ((ec = cli_out_open(&o, a.out)))
         goto done;
-    (a.json ? json_report : text_report)(o.f, &a, &r);
-    if (a.plot && (ec = cli_svg_stability(a.plot, igea_choice_name(IGEA_CHOICE_STABILITY_KIND, a.kind),
-                                          r.ntau, r.tau, r.dev, has_ci(a.kind) ? r.lo : NULL,
-                                          has_ci(a.kind) ? r.hi : NULL, a.fit && r.have_fit ? r.fit : NULL,
-                                          r.fit_sup))) {
+    int ci = has_ci(a.kind); /* the picture first: on its failure no report */
+    if (a.plot && (ec = cli_svg_stability(a.plot, a.file,
+                                          igea_choice_name(IGEA_CHOICE_STABILITY_KIND, a.kind),
+                                          r.ntau, r.tau, r.dev, ci ? r.lo : NULL, ci ? r.hi : NULL,
+                                          a.fit && r.have_fit ? r.fit : NULL, r.fit_sup))) {
         cli_out_abort(&o);
         goto done;
     }
+    (a.json ? json_report : text_report)(o.f, &a, &r);
     ec = cli_out_commit(&o);
 done:
     free(y);

@@ -359,7 +359,7 @@ void cli_svg_vline(cli_svg *s, double x, int color, const char *label)
 
 /* ---- the commands' pictures ---------------------------------------------- */
 
-int cli_svg_stability(const char *path, const char *kind, int ntau, const double *tau,
+int cli_svg_stability(const char *path, const char *file, const char *kind, int ntau, const double *tau,
                       const double *dev, const double *lo, const double *hi,
                       const double *fit, const int *fit_sup)
 {
@@ -374,10 +374,16 @@ int cli_svg_stability(const char *path, const char *kind, int ntau, const double
     cli_svg_range(&y, dev, ntau, 1);
     cli_svg_range(&y, lo, lo ? ntau : 0, 1);
     cli_svg_range(&y, hi, hi ? ntau : 0, 1);
-    char title[96];
-    snprintf(title, sizeof title, "%s deviation", kind);
+    size_t tn = strlen(file) + strlen(kind) + 16;
+    char *title = malloc(tn);
+    if (!title) {
+        cli_out_abort(&o);
+        return cli_oom("the picture's title");
+    }
+    snprintf(title, tn, "%s: %s deviation", file, kind);
     cli_svg_begin(&s, o.f, 720, 480, title);
     cli_svg_panel(&s, 0, 0, 720, 480, &x, &y, title);
+    free(title);
     if (lo && hi)
         cli_svg_errbars(&s, tau, lo, hi, ntau, 0);
     cli_svg_line(&s, tau, 1, dev, 1, ntau, 0, lo && hi ? "deviation, with its interval" : "deviation");

@@ -1,0 +1,224 @@
+"""--plot FILE.svg: the driver's SVG pictures are well-formed XML with axes, a
+legend and one polyline / marker per datum fed, their pixel coordinates map
+the data monotonically (linearly in the value or its log10), text is escaped
+for XML, NaN and Inf are never written, and a broken path is exit 74 with
+no file left behind. Rendered to PNG with rsvg-convert when it is installed
+(the tests that need it are skipped otherwise)."""
+import json
+import os
+import shutil
+import subprocess
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import pytest
+
+DRIVER = os.environ["IGEA_DRIVER"]
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+FLIGHT = os.path.join(REPO, "examples", "flight")
+NS = "{http://www.w3.org/2000/svg}"
+EQ = ["eqerr", "--S", "S.txt", "--dw", "dw.txt", "--sigma", "sigma.txt", "--spec", "spec.txt"]
+
+
+def run(cwd, *args):
+    return subprocess.run([DRIVER, *args], cwd=cwd, capture_output=True, text=True, timeout=120)
+
+
+def parse(path):
+    text = open(path, encoding="utf-8").read()
+    low = text.lower()
+    assert "nan" not in low and "inf" not in low.replace("information", "")
+    return ET.fromstring(text)
+
+
+def by_class(root, cls):
+    return [e for e in root.iter() if e.get("class") == cls]
+
+
+def points(poly):
+    return np.array([[float(v) for v in p.split(",")] for p in poly.get("points").split()])
+
+
+def assert_linear(u, p, tol=0.02):
+    """Pixels p are an affine map of the values u (rounded to 0.01 px)."""
+    u, p = np.asarray(u, float), np.asarray(p, float)
+    A = np.column_stack([u, np.ones_like(u)])
+    coef, *_ = np.linalg.lstsq(A, p, rcond=None)
+    assert np.max(np.abs(A @ coef - p)) < tol, np.max(np.abs(A @ coef - p))
+    return coef[0]
+
+
+def tick_map(axes, vertical, log):
+    """The tick labels' values (log10 on a log axis) and their pixels."""
+    kids, out = list(axes), []
+    for i, e in enumerate(kids):
+        if e.get("class") != "tick":
+            continue
+        horiz = e.get("y1") == e.get("y2")
+        if horiz == vertical:
+            v = float(kids[i + 1].text)
+            out.append((np.log10(v) if log else v, float(e.get("y1" if vertical else "x1"))))
+    assert len(out) >= 2
+    return np.array(out)
+
+
+def predict(axes, vertical, log, values):
+    """Pixels of values read off the axis's own tick labels."""
+    t = tick_map(axes, vertical, log)
+    slope, icpt = np.polyfit(t[:, 0], t[:, 1], 1)
+    assert np.max(np.abs(slope * t[:, 0] + icpt - t[:, 1])) < 0.02  # ticks on one map
+    v = np.log10(values) if log else np.asarray(values, float)
+    return slope * v + icpt
+
+
+def oadev(y, fs, m):
+    """Overlapping Allan deviation of rate samples y at tau = m / fs (IEEE
+    Std 952 / NIST SP 1065 eq. 14 on the phase x = cumsum(y) / fs)."""
+    x = np.concatenate([[0.0], np.cumsum(y)]) / fs
+    d = x[2 * m:] - 2 * x[m:-m] + x[:-2 * m]
+    tau = m / fs
+    return np.sqrt(np.sum(d ** 2) / (2 * tau ** 2 * d.size))
+
+
+@pytest.fixture
+def record(tmp_path):
+    rng = np.random.default_rng(7)
+    y = rng.standard_normal(4096)
+    np.savetxt(tmp_path / "y.txt", y)
+    ms = np.array([1, 2, 4, 8, 16, 32, 64])
+    np.savetxt(tmp_path / "taus.txt", ms / 10.0)
+    return tmp_path, y, ms
+
+
+def test_stability_plot_log_log(record):
+    d, y, ms = record
+    r = run(d, "stability", "--data", "y.txt", "--fs", "10", "--taus", "taus.txt", "--plot",
+            "a.svg")
+    assert r.returncode == 0, r.stderr
+    root = parse(d / "a.svg")
+    assert root.tag == NS + "svg"
+    assert len(by_class(root, "axes")) == 1 and len(by_class(root, "legend")) == 1
+    (line,) = by_class(root, "series")
+    pts = points(line)
+    assert len(pts) == len(ms) and len(by_class(root, "marker")) == len(ms)
+    assert len(by_class(root, "errbar")) == len(ms)
+    # x: linear in log10(tau), increasing; y: linear in log10 of the deviation
+    # computed here, decreasing upwards (SVG y grows downwards)
+    assert assert_linear(np.log10(ms / 10.0), pts[:, 0]) > 0
+    dev = [oadev(y, 10.0, m) for m in ms]
+    assert assert_linear(np.log10(dev), pts[:, 1], tol=0.05) < 0
+    # and where the tick labels say: tau and the deviation in absolute terms
+    (axes,) = by_class(root, "axes")
+    np.testing.assert_allclose(pts[:, 0], predict(axes, False, True, ms / 10.0), atol=0.05)
+    np.testing.assert_allclose(pts[:, 1], predict(axes, True, True, dev), atol=0.05)
+    texts = "".join(t.text or "" for t in root.iter(NS + "text"))
+    assert "tau (s)" in texts and "y.txt" in texts
+
+
+def test_stability_fit_terms_shown(record):
+    d, _, _ = record
+    r = run(d, "stability", "--data", "y.txt", "--fs", "10", "--kind", "adev", "--fit", "--plot",
+            "f.svg")
+    assert r.returncode == 0, r.stderr
+    texts = [t.text for t in parse(d / "f.svg").iter(NS + "text")]
+    assert sum(1 for t in texts if t and t.startswith("IEEE 952 ")) == 5
+
+
+def test_text_escaped_and_utf8_kept(record):
+    d, y, _ = record
+    name = "a&b<c>\"'\u00e9.txt"
+    shutil.copy(d / "y.txt", d / name)
+    r = run(d, "stability", "--data", name, "--fs", "10", "--plot", "e.svg")
+    assert r.returncode == 0, r.stderr
+    root = parse(d / "e.svg")
+    assert root.find(NS + "title").text.startswith(name + ":")
+    raw = b"bad\xff.txt"
+    with open(os.path.join(os.fsencode(str(d)), raw), "wb") as f:
+        f.write(open(d / "y.txt", "rb").read())
+    r = subprocess.run([os.fsencode(DRIVER), b"stability", b"--data", raw, b"--fs", b"10",
+                        b"--plot", b"u.svg"], cwd=d, capture_output=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert parse(d / "u.svg").find(NS + "title").text.startswith("bad?.txt:")
+
+
+@pytest.mark.parametrize("target", ["missing_dir/p.svg", "."])
+def test_broken_path_is_74_and_no_file(record, target):
+    d, _, _ = record
+    r = run(d, "stability", "--data", "y.txt", "--fs", "10", "--out", "rep.txt", "--plot", target)
+    assert r.returncode == 74, r.stderr
+    assert not (d / "rep.txt").exists() and not (d / "missing_dir").exists()
+    assert [p for p in os.listdir(d) if ".tmp." in p] == []
+
+
+def eqerr_plot(tmp_path, *extra):
+    for f in ("S.txt", "dw.txt", "sigma.txt", "spec.txt"):
+        shutil.copy(os.path.join(FLIGHT, f), tmp_path / f)
+    r = run(tmp_path, *EQ, "--json", "--out", "r.json", "--plot", "e.svg", *extra)
+    assert r.returncode in (0, 1), r.stderr
+    return parse(tmp_path / "e.svg"), json.load(open(tmp_path / "r.json"))
+
+
+@pytest.mark.parametrize("with_file", [False, True])
+def test_eqerr_residuals_and_spectrum(tmp_path, with_file):
+    root, res = eqerr_plot(tmp_path, *(["--residuals", "res.txt"] if with_file else []))
+    m = np.loadtxt(tmp_path / "dw.txt").size
+    assert len(by_class(root, "axes")) == 2 and len(by_class(root, "legend")) == 2
+    series = by_class(root, "series")
+    assert len(series) == 3
+    e = np.asarray(res["residual"], float)
+    assert e.size == m
+    for k, s in enumerate(series):
+        pts = points(s)
+        assert len(pts) == len(e[k::3])
+        assert assert_linear(np.arange(len(pts)), pts[:, 0]) > 0
+        assert assert_linear(e[k::3], pts[:, 1]) < 0
+        np.testing.assert_allclose(pts[:, 1], predict(by_class(root, "axes")[0], True, False,
+                                                      e[k::3]), atol=0.05)
+    if with_file:
+        np.testing.assert_array_equal(np.loadtxt(tmp_path / "res.txt"), e)
+    # the spectrum: one marker per positive eigenvalue, linear in log10
+    lam = np.asarray(res["eigenvalues"], float)
+    pos = lam > 0
+    marks = by_class(root, "marker")
+    assert len(marks) == pos.sum()
+    cy = np.array([float(c.get("cy")) for c in marks])
+    cx = np.array([float(c.get("cx")) for c in marks])
+    slope = assert_linear(np.log10(lam[pos]), cy)
+    np.testing.assert_allclose(cy, predict(by_class(root, "axes")[1], True, True, lam[pos]),
+                               atol=0.05)
+    assert slope < 0 and assert_linear(np.flatnonzero(pos), cx) > 0
+    # lambda_test = 10 and lambda_small = 0.1 (the library's defaults) on the same map
+    hl = by_class(root, "hline")
+    assert len(hl) == 2
+    hy = [float(h.get("y1")) for h in hl]
+    assert_linear(np.concatenate([np.log10(lam[pos]), [1.0, -1.0]]), np.concatenate([cy, hy]))
+    texts = " ".join(t.text or "" for t in root.iter(NS + "text"))
+    assert "lambda_test = 10" in texts and "lambda_small = 0.1" in texts
+
+
+def test_eqerr_plot_refused_with_noise_models(tmp_path):
+    for f in ("S.txt", "dw.txt", "sigma.txt", "spec.txt"):
+        shutil.copy(os.path.join(FLIGHT, f), tmp_path / f)
+    r = run(tmp_path, *EQ, "--robust", "--plot", "e.svg")
+    assert r.returncode == 64 and "--plot" in r.stderr
+    assert not (tmp_path / "e.svg").exists()
+
+
+def test_eqerr_broken_plot_path(tmp_path):
+    for f in ("S.txt", "dw.txt", "sigma.txt", "spec.txt"):
+        shutil.copy(os.path.join(FLIGHT, f), tmp_path / f)
+    r = run(tmp_path, *EQ, "--out", "rep.txt", "--residuals", "res.txt", "--plot", "no/e.svg")
+    assert r.returncode == 74, r.stderr
+    assert sorted(os.listdir(tmp_path)) == ["S.txt", "dw.txt", "sigma.txt", "spec.txt"]
+
+
+@pytest.mark.skipif(shutil.which("rsvg-convert") is None, reason="rsvg-convert not installed")
+def test_renders_to_png(record, tmp_path):
+    d, _, _ = record
+    assert run(d, "stability", "--data", "y.txt", "--fs", "10", "--plot", "a.svg").returncode == 0
+    root, _ = eqerr_plot(tmp_path)
+    for svg in (d / "a.svg", tmp_path / "e.svg"):
+        png = str(svg) + ".png"
+        r = subprocess.run(["rsvg-convert", "-o", png, str(svg)], capture_output=True, timeout=60)
+        assert r.returncode == 0, r.stderr
+        assert open(png, "rb").read(8) == b"\x89PNG\r\n\x1a\n"
