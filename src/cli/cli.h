@@ -434,5 +434,10 @@ int cli_svg_stability(const char *path, const char *file, const char *kind, int 
  * lambda_small. */
 int cli_svg_eqerr(const char *path, const cli_out *res, int N, const double *lambda,
                   double lambda_test, double lambda_small);
+/* The rejection rate of each component over the flights that tested it
+ * (tested[N], rejected[N]) with its 99 % interval (igea_sim_interval), and
+ * the level alpha; a component never tested is not drawn. */
+int cli_svg_montecarlo(const char *path, int flights, int N, const int *tested,
+                       const int *rejected, double alpha);
 
 #endif

@@ -502,3 +502,40 @@ int cli_svg_eqerr(const char *path, const cli_out *resout, int N, const double *
     free(e);
     return cli_out_commit(&o);
 }
+
+int cli_svg_montecarlo(const char *path, int flights, int N, const int *tested,
+                       const int *rejected, double alpha)
+{
+    double *v = malloc(sizeof(double) * 3 * (size_t)(N > 0 ? N : 1));
+    if (!v)
+        return cli_oom("the rates to plot");
+    double *rate = v, *lo = v + N, *hi = lo + N, lohi[2];
+    for (int j = 0; j < N; j++) {
+        rate[j] = lo[j] = hi[j] = NAN; /* not tested: not drawn */
+        if (tested[j] > 0 && !igea_sim_interval(rejected[j], tested[j], lohi))
+            rate[j] = (double)rejected[j] / tested[j], lo[j] = lohi[0], hi[j] = lohi[1];
+    }
+    cli_out o;
+    int ec = cli_out_open(&o, path);
+    if (ec) {
+        free(v);
+        return ec;
+    }
+    cli_svg s;
+    cli_svg_axis x = CLI_SVG_AXIS_EMPTY(0, "component i (from 0)");
+    cli_svg_axis y = CLI_SVG_AXIS_EMPTY(0, "rejection rate (fraction of the flights testing it)");
+    x.lo = 0, x.hi = N > 1 ? N - 1 : 1;
+    y.lo = 0, y.hi = alpha;
+    cli_svg_range(&y, hi, N, 1);
+    char title[96], a[48];
+    snprintf(title, sizeof title, "per-component rejection rates, %d flights", flights);
+    snprintf(a, sizeof a, "alpha = %g", alpha);
+    cli_svg_begin(&s, o.f, 720, 480, title);
+    cli_svg_panel(&s, 0, 0, 720, 480, &x, &y, title);
+    cli_svg_errbars(&s, NULL, lo, hi, N, 0);
+    cli_svg_points(&s, NULL, 1, rate, 1, N, 0, "rate, 99 % Wilson interval");
+    cli_svg_hline(&s, alpha, 1, a);
+    cli_svg_end(&s);
+    free(v);
+    return cli_out_commit(&o);
+}

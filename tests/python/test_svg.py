@@ -6,6 +6,7 @@ no file left behind. Rendered to PNG with rsvg-convert when it is installed
 (the tests that need it are skipped otherwise)."""
 import json
 import os
+import re
 import shutil
 import subprocess
 import xml.etree.ElementTree as ET
@@ -222,3 +223,35 @@ def test_renders_to_png(record, tmp_path):
         r = subprocess.run(["rsvg-convert", "-o", png, str(svg)], capture_output=True, timeout=60)
         assert r.returncode == 0, r.stderr
         assert open(png, "rb").read(8) == b"\x89PNG\r\n\x1a\n"
+
+
+def wilson99(k, n):
+    """The 99 % Wilson score interval (z = Phi^-1(0.995) = 2.5758293035489004)."""
+    z, p = 2.5758293035489004, k / n
+    c = (p + z * z / (2 * n)) / (1 + z * z / n)
+    h = z / (1 + z * z / n) * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n))
+    return max(c - h, 0.0), min(c + h, 1.0)
+
+
+def test_montecarlo_component_rates(tmp_path):
+    r = run(tmp_path, "montecarlo", "--flights", "60", "--json", "--plot", "m.svg")
+    assert r.returncode == 0, r.stderr
+    res = json.loads(r.stdout)
+    ct, cr = np.array(res["comp_tested"]), np.array(res["comp_reject"])
+    root = parse(tmp_path / "m.svg")
+    (axes,) = by_class(root, "axes")
+    assert len(by_class(root, "legend")) == 1
+    tested = np.flatnonzero(ct > 0)
+    marks, bars = by_class(root, "marker"), by_class(root, "errbar")
+    assert len(marks) == len(bars) == len(tested) > 0
+    cx = np.array([float(c.get("cx")) for c in marks])
+    cy = np.array([float(c.get("cy")) for c in marks])
+    np.testing.assert_allclose(cx, predict(axes, False, False, tested), atol=0.05)
+    np.testing.assert_allclose(cy, predict(axes, True, False, cr[tested] / ct[tested]), atol=0.05)
+    for b, j in zip(bars, tested):
+        _, y_lo, y_hi = map(float, re.match(r"M(\S+) (\S+)V(\S+)", b.get("d")).groups())
+        lo, hi = wilson99(cr[j], ct[j])
+        np.testing.assert_allclose([y_lo, y_hi], predict(axes, True, False, [lo, hi]), atol=0.05)
+    (hl,) = by_class(root, "hline")  # alpha = 0.01, the library's default
+    np.testing.assert_allclose(float(hl.get("y1")), predict(axes, True, False, [0.01])[0],
+                               atol=0.05)
