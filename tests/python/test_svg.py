@@ -249,7 +249,7 @@ def test_montecarlo_component_rates(tmp_path):
     np.testing.assert_allclose(cx, predict(axes, False, False, tested), atol=0.05)
     np.testing.assert_allclose(cy, predict(axes, True, False, cr[tested] / ct[tested]), atol=0.05)
     for b, j in zip(bars, tested):
-        _, y_lo, y_hi = map(float, re.match(r"M(\S+) (\S+)V(\S+)", b.get("d")).groups())
+        _, y_lo, y_hi = map(float, re.match(r"M([-\d.]+) ([-\d.]+)V([-\d.]+)", b.get("d")).groups())
         lo, hi = wilson99(cr[j], ct[j])
         np.testing.assert_allclose([y_lo, y_hi], predict(axes, True, False, [lo, hi]), atol=0.05)
     (hl,) = by_class(root, "hline")  # alpha = 0.01, the library's default
