@@ -439,5 +439,11 @@ int cli_svg_eqerr(const char *path, const cli_out *res, int N, const double *lam
  * the level alpha; a component never tested is not drawn. */
 int cli_svg_montecarlo(const char *path, int flights, int N, const int *tested,
                        const int *rejected, double alpha);
+/* redund fuse: the fused output of nwin windows of step seconds with its
+ * +- sigma band, and the niv exclusion intervals (sensor[k] from t0[k] to
+ * t1[k] s, igea_redund_monitor_intervals) of the nc sensors. */
+int cli_svg_fuse(const char *path, int nwin, double step, const double *fused,
+                 const double *fsig, int nc, int niv, const int *sensor, const double *t0,
+                 const double *t1);
 
 #endif

@@ -539,3 +539,55 @@ int cli_svg_montecarlo(const char *path, int flights, int N, const int *tested,
     free(v);
     return cli_out_commit(&o);
 }
+
+/* The exclusion intervals as bars, one row per sensor. */
+static void fuse_timeline(cli_svg *s, int nwin, double step, int nc, int niv, const int *sensor,
+                          const double *t0, const double *t1)
+{
+    cli_svg_axis x = CLI_SVG_AXIS_EMPTY(0, "time (s)");
+    cli_svg_axis y = CLI_SVG_AXIS_EMPTY(0, "sensor (from 0)");
+    x.lo = 0, x.hi = nwin * step;
+    y.lo = 0, y.hi = nc > 1 ? nc - 1 : 1;
+    cli_svg_panel(s, 0, 300, 720, 300, &x, &y, "sensors excluded from the fusion set");
+    double h = s->ph / (s->y1 - s->y0) * 0.6, a, b, c;
+    for (int k = 0; k < niv; k++)
+        if (map_x(s, t0[k], &a) && map_x(s, t1[k], &b) && map_y(s, sensor[k], &c))
+            fprintf(s->f, "<rect class=\"interval\" clip-path=\"url(#clip%d)\" x=\"%.2f\" "
+                          "y=\"%.2f\" width=\"%.2f\" height=\"%.2f\" fill=\"%s\"/>\n",
+                    s->panel, a, c - h / 2, b - a, h, col(1));
+    add_legend(s, "excluded", 1, LEG_BAND);
+    if (!niv)
+        cli_svg_text(s, s->px + s->pw / 2, s->py + s->ph / 2, "middle", "no sensor excluded");
+}
+
+int cli_svg_fuse(const char *path, int nwin, double step, const double *fused,
+                 const double *fsig, int nc, int niv, const int *sensor, const double *t0,
+                 const double *t1)
+{
+    double *v = malloc(sizeof(double) * 3 * (size_t)(nwin > 0 ? nwin : 1));
+    if (!v)
+        return cli_oom("the fused output to plot");
+    double *t = v, *lo = v + nwin, *hi = lo + nwin;
+    for (int w = 0; w < nwin; w++) /* the window's start, as in the report */
+        t[w] = w * step, lo[w] = fused[w] - fsig[w], hi[w] = fused[w] + fsig[w];
+    cli_out o;
+    int ec = cli_out_open(&o, path);
+    if (ec) {
+        free(v);
+        return ec;
+    }
+    cli_svg s;
+    cli_svg_axis x = CLI_SVG_AXIS_EMPTY(0, "time (s)");
+    cli_svg_axis y = CLI_SVG_AXIS_EMPTY(0, "fused output (units of the data)");
+    x.lo = 0, x.hi = nwin * step;
+    cli_svg_range(&y, lo, nwin, 1);
+    cli_svg_range(&y, hi, nwin, 1);
+    cli_svg_begin(&s, o.f, 720, 600, "igea redund fuse");
+    cli_svg_panel(&s, 0, 0, 720, 300, &x, &y, "fused output per window");
+    cli_svg_band(&s, t, 1, lo, hi, 1, nwin, 0, "fused +- sigma");
+    cli_svg_line(&s, t, 1, fused, 1, nwin, 0, "fused");
+    fuse_timeline(&s, nwin, step, nc, niv, sensor, t0, t1);
+    cli_svg_end(&s);
+    free(v);
+    return cli_out_commit(&o);
+}

@@ -255,3 +255,38 @@ def test_montecarlo_component_rates(tmp_path):
     (hl,) = by_class(root, "hline")  # alpha = 0.01, the library's default
     np.testing.assert_allclose(float(hl.get("y1")), predict(axes, True, False, [0.01])[0],
                                atol=0.05)
+
+
+def test_redund_fuse_timeline(tmp_path):
+    # sensor 2 carries a 0.5 bias from 3 s to 6 s: excluded exactly then
+    rng = np.random.default_rng(3)
+    y = rng.normal(0, 1e-3, (1000, 3))
+    y[300:600, 2] += 0.5
+    np.savetxt(tmp_path / "r.txt", y)
+    r = run(tmp_path, "redund", "fuse", "--data", "r.txt", "--fs", "100", "--sigma", "0.01",
+            "--json", "--plot", "f.svg")
+    assert r.returncode == 0, r.stderr
+    res = json.loads(r.stdout)
+    root = parse(tmp_path / "f.svg")
+    axes = by_class(root, "axes")
+    assert len(axes) == 2 and len(by_class(root, "legend")) == 2
+    (bar,) = by_class(root, "interval")
+    x0, w = float(bar.get("x")), float(bar.get("width"))
+    np.testing.assert_allclose([x0, x0 + w], predict(axes[1], False, False, [3.0, 6.0]), atol=0.05)
+    yc = float(bar.get("y")) + float(bar.get("height")) / 2
+    np.testing.assert_allclose(yc, predict(axes[1], True, False, [2.0])[0], atol=0.05)
+    (line,) = by_class(root, "series")
+    pts = points(line)
+    assert len(pts) == 10 and len(by_class(root, "band")) == 1
+    np.testing.assert_allclose(pts[:, 0], predict(axes[0], False, False, np.arange(10.0)),
+                               atol=0.05)
+    # the fused value of a window without exclusion: the mean of its 3 x 100 samples
+    want = [y[100 * w:100 * w + 100].mean() for w in (0, 1, 2, 6, 7, 8, 9)]
+    np.testing.assert_allclose(pts[[0, 1, 2, 6, 7, 8, 9], 1],
+                               predict(axes[0], True, False, want), atol=0.05)
+    assert res["exclusions"] == [{"sensor": 2, "from": 3, "to": 6}]
+
+
+def test_redund_plot_only_for_fuse(tmp_path):
+    r = run(tmp_path, "redund", "reliability", "--plot", "x.svg")
+    assert r.returncode == 64 and "--plot" in r.stderr and not (tmp_path / "x.svg").exists()
