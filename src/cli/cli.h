@@ -445,5 +445,16 @@ int cli_svg_montecarlo(const char *path, int flights, int N, const int *tested,
 int cli_svg_fuse(const char *path, int nwin, double step, const double *fused,
                  const double *fsig, int nc, int niv, const int *sensor, const double *t0,
                  const double *t1);
+/* rls: the estimates and their honest sd, epoch by epoch (rows of 2 m:
+ * x then sd, appended by cli_svg_rls_add after each update; free(v)), and
+ * the picture of the first CLI_SVG_RLS_PANELS coefficients, each with its
+ * 3 sigma band (none at epochs where igea_rls_get_sd has no honest P). */
+#define CLI_SVG_RLS_PANELS 8
+typedef struct {
+    double *v;
+    long n, cap;
+} cli_svg_rows;
+int cli_svg_rls_add(cli_svg_rows *r, const igea_rls *h, int m);
+int cli_svg_rls(const char *path, const cli_svg_rows *r, int m);
 
 #endif

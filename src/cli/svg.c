@@ -591,3 +591,71 @@ int cli_svg_fuse(const char *path, int nwin, double step, const double *fused,
     free(v);
     return cli_out_commit(&o);
 }
+
+int cli_svg_rls_add(cli_svg_rows *r, const igea_rls *h, int m)
+{
+    if (r->n == r->cap) {
+        long cap = r->cap ? 2 * r->cap : 256;
+        double *v = realloc(r->v, sizeof(double) * 2 * (size_t)m * (size_t)cap);
+        if (!v)
+            return cli_oom("the estimates to plot");
+        r->v = v, r->cap = cap;
+    }
+    double *x = r->v + 2 * (size_t)m * (size_t)r->n, *sd = x + m;
+    int st = igea_rls_get_x(h, x);
+    if (st)
+        return cli_status(st, "rls --plot");
+    if (igea_rls_get_sd(h, sd)) /* P no longer tracked: no band at this epoch */
+        for (int i = 0; i < m; i++)
+            sd[i] = NAN;
+    r->n++;
+    return CLI_OK;
+}
+
+/* Panel i of the estimates: x_i and its 3 sigma band against the epoch. */
+static void rls_panel(cli_svg *s, const cli_svg_rows *r, int m, int i, double top, double *band)
+{
+    long n = r->n, w = 2 * (long)m;
+    double *lo = band, *hi = band + n;
+    for (long e = 0; e < n; e++) {
+        double x = r->v[e * w + i], sd = r->v[e * w + m + i];
+        lo[e] = x - 3 * sd, hi[e] = x + 3 * sd;
+    }
+    char title[48];
+    snprintf(title, sizeof title, "coefficient x%d", i);
+    cli_svg_axis xa = CLI_SVG_AXIS_EMPTY(0, "epoch (from 0)");
+    cli_svg_axis ya = CLI_SVG_AXIS_EMPTY(0, "estimate (units of X)");
+    xa.lo = 0, xa.hi = n > 1 ? n - 1 : 1;
+    cli_svg_range(&ya, r->v + i, n, w);
+    cli_svg_range(&ya, lo, n, 1);
+    cli_svg_range(&ya, hi, n, 1);
+    cli_svg_panel(s, 0, top, 720, 260, &xa, &ya, title);
+    cli_svg_band(s, NULL, 1, lo, hi, 1, n, i, "3 sigma (honest)");
+    cli_svg_line(s, NULL, 1, r->v + i, w, n, i, "estimate");
+}
+
+int cli_svg_rls(const char *path, const cli_svg_rows *r, int m)
+{
+    int np = m < CLI_SVG_RLS_PANELS ? m : CLI_SVG_RLS_PANELS;
+    double *band = malloc(sizeof(double) * 2 * (size_t)(r->n > 0 ? r->n : 1));
+    if (!band)
+        return cli_oom("the bands to plot");
+    cli_out o;
+    int ec = cli_out_open(&o, path);
+    if (ec) {
+        free(band);
+        return ec;
+    }
+    cli_svg s;
+    cli_svg_begin(&s, o.f, 720, 260.0 * np + (m > np ? 24 : 0), "igea rls");
+    for (int i = 0; i < np; i++)
+        rls_panel(&s, r, m, i, 260.0 * i, band);
+    if (m > np) {
+        char note[80];
+        snprintf(note, sizeof note, "coefficients x0 .. x%d drawn of %d", np - 1, m);
+        cli_svg_text(&s, 360, 260.0 * np + 16, "middle", note);
+    }
+    cli_svg_end(&s);
+    free(band);
+    return cli_out_commit(&o);
+}

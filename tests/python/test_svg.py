@@ -290,3 +290,50 @@ def test_redund_fuse_timeline(tmp_path):
 def test_redund_plot_only_for_fuse(tmp_path):
     r = run(tmp_path, "redund", "reliability", "--plot", "x.svg")
     assert r.returncode == 64 and "--plot" in r.stderr and not (tmp_path / "x.svg").exists()
+
+
+def test_rls_estimates_and_bands(tmp_path):
+    # standard RLS from a diffuse start is batch least squares on the epochs so
+    # far (METHODS 2): x_e and its sd from numpy at every epoch
+    rng = np.random.default_rng(5)
+    ne, k, sig = 40, 3, 0.1
+    S = rng.standard_normal((ne * k, 2))
+    dw = S @ np.array([1.0, -2.0]) + sig * rng.standard_normal(ne * k)
+    np.savetxt(tmp_path / "S.txt", S)
+    np.savetxt(tmp_path / "dw.txt", dw)
+    r = run(tmp_path, "rls", "--S", "S.txt", "--dw", "dw.txt", "--sigma", str(sig), "--every",
+            "0", "--plot", "r.svg")
+    assert r.returncode == 0, r.stderr
+    root = parse(tmp_path / "r.svg")
+    axes = by_class(root, "axes")
+    assert len(axes) == 2 and len(by_class(root, "legend")) == 2
+    series, bands = by_class(root, "series"), by_class(root, "band")
+    assert len(series) == 2 and len(bands) == 2
+    est, sd = [], []
+    for e in range(ne):
+        A, b = S[:k * (e + 1)] / sig, dw[:k * (e + 1)] / sig
+        N = A.T @ A + np.eye(2) / 1e6  # the prior Gamma0 = 1e6 I (whitened)
+        est.append(np.linalg.solve(N, A.T @ b))
+        sd.append(np.sqrt(np.diag(np.linalg.inv(N))))
+    est, sd = np.array(est), np.array(sd)
+    for i in range(2):
+        pts = points(series[i])
+        assert len(pts) == ne
+        np.testing.assert_allclose(pts[:, 0], predict(axes[i], False, False, np.arange(ne)),
+                                   atol=0.05)
+        np.testing.assert_allclose(pts[:, 1], predict(axes[i], True, False, est[:, i]), atol=0.05)
+        poly = points(bands[i])
+        assert len(poly) == 2 * ne
+        np.testing.assert_allclose(poly[:ne, 1], predict(axes[i], True, False,
+                                                         est[:, i] + 3 * sd[:, i]), atol=0.05)
+        np.testing.assert_allclose(poly[ne:, 1], predict(axes[i], True, False,
+                                                         (est[:, i] - 3 * sd[:, i])[::-1]),
+                                   atol=0.05)
+
+
+def test_rls_broken_plot_path(tmp_path):
+    np.savetxt(tmp_path / "S.txt", np.eye(3))
+    np.savetxt(tmp_path / "dw.txt", np.ones(3))
+    r = run(tmp_path, "rls", "--S", "S.txt", "--dw", "dw.txt", "--out", "o.txt", "--plot",
+            "no/r.svg")
+    assert r.returncode == 74 and sorted(os.listdir(tmp_path)) == ["S.txt", "dw.txt"]
