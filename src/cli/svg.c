@@ -483,7 +483,7 @@ int cli_svg_eqerr(const char *path, const cli_out *resout, int N, const double *
         return ec;
     }
     cli_svg s;
-    cli_svg_begin(&s, o.f, 720, res ? 720 : 360, "igea eqerr");
+    cli_svg_begin(&s, o.f, 720, res ? 720 : 380, "igea eqerr");
     double top = 0;
     if (res) {
         static const char *const axis[3] = {"x", "y", "z"};
@@ -498,6 +498,9 @@ int cli_svg_eqerr(const char *path, const cli_out *resout, int N, const double *
         top = 360;
     }
     eqerr_spectrum(&s, top, N, lambda, lambda_test, lambda_small);
+    if (!res)
+        cli_svg_text(&s, 360, 374, "middle", "residuals not drawn: --residuals is standard "
+                                            "output or a device");
     cli_svg_end(&s);
     free(e);
     return cli_out_commit(&o);

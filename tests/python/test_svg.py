@@ -337,3 +337,13 @@ def test_rls_broken_plot_path(tmp_path):
     r = run(tmp_path, "rls", "--S", "S.txt", "--dw", "dw.txt", "--out", "o.txt", "--plot",
             "no/r.svg")
     assert r.returncode == 74 and sorted(os.listdir(tmp_path)) == ["S.txt", "dw.txt"]
+
+
+def test_eqerr_residuals_to_stdout_not_drawn(tmp_path):
+    for f in ("S.txt", "dw.txt", "sigma.txt", "spec.txt"):
+        shutil.copy(os.path.join(FLIGHT, f), tmp_path / f)
+    r = run(tmp_path, *EQ, "--out", "rep.txt", "--residuals", "-", "--plot", "e.svg")
+    assert r.returncode in (0, 1), r.stderr
+    root = parse(tmp_path / "e.svg")
+    assert len(by_class(root, "axes")) == 1 and by_class(root, "series") == []
+    assert any("residuals not drawn" in (t.text or "") for t in root.iter(NS + "text"))
