@@ -347,3 +347,15 @@ def test_eqerr_residuals_to_stdout_not_drawn(tmp_path):
     root = parse(tmp_path / "e.svg")
     assert len(by_class(root, "axes")) == 1 and by_class(root, "series") == []
     assert any("residuals not drawn" in (t.text or "") for t in root.iter(NS + "text"))
+
+
+def test_montecarlo_nothing_tested_is_an_empty_picture(tmp_path):
+    # lambda_test = 1e30: no component is ever tested, every rate is missing
+    r = run(tmp_path, "montecarlo", "--flights", "3", "--lambda-test", "1e30", "--json",
+            "--plot", "m.svg")
+    assert r.returncode == 0, r.stderr
+    assert sum(json.loads(r.stdout)["comp_tested"]) == 0
+    root = parse(tmp_path / "m.svg")
+    assert len(by_class(root, "axes")) == 1 and len(by_class(root, "legend")) == 1
+    assert by_class(root, "marker") == [] and by_class(root, "errbar") == []
+    assert len(by_class(root, "hline")) == 1
