@@ -88,6 +88,7 @@ MODULE_EQERR = 1
 MODULE_SIM = 2
 MODULE_IMPACT = 10
 MODULE_TRIAD = 11
+MODULE_INSERR = 15
 CHOICE_EQERR_ROUTE = 1
 CHOICE_REGRESS_RIDGE_RULE = 2
 CHOICE_REGRESS_EBR_RULE = 3
@@ -207,6 +208,24 @@ IMPACT_JAC_TIME = 6
 IMPACT_JAC_ROWS = 7
 IMPACT_CEP_SUM = 0
 IMPACT_CEP_RMS = 1
+
+# igea/inserr.h
+INSERR_N = 15
+INSERR_NQ = 12
+INSERR_POS = 0
+INSERR_VEL = 3
+INSERR_ATT = 6
+INSERR_ACC = 9
+INSERR_GYRO = 12
+INSERR_OPT_RADIUS = 0
+INSERR_OPT_G = 1
+INSERR_OPT_OMEGA = 2
+INSERR_OPT_LAT = 3
+INSERR_OPT_VN = 4
+INSERR_OPT_VE = 5
+INSERR_OPT_STEP = 6
+INSERR_OPT_VERTICAL = 7
+INSERR_OPT_LEN = 16
 
 # igea/io.h
 IO_LINE_MAX = 1048576
@@ -393,6 +412,9 @@ SIM_OPT_SIGMA_W2 = 10
 SIM_OPT_BIAS0 = 11
 SIM_OPT_BIAS1 = 12
 SIM_OPT_JUDGE_NOISE = 13
+SIM_OPT_BATCH = 14
+SIM_BATCH_DEFAULT = 64
+SIM_BATCH_MAX = 4096
 SIM_OPT_LEN = 32
 SIM_MT19937 = 0
 SIM_RANLXD2 = 1
@@ -656,6 +678,14 @@ PROTOTYPES = {
     "igea_impact_circle_prob": (c_int, (("cov", _PD), ("r", c_double), ("prob", _PD),)),
     "igea_impact_cep": (c_int, (("cov", _PD), ("prob", c_double), ("radius", _PD),)),
     "igea_impact_cep_approx": (c_int, (("cov", _PD), ("rule", c_int), ("radius", _PD),)),
+    # igea/inserr.h
+    "igea_inserr_defaults": (c_int, (("opts", _PD),)),
+    "igea_inserr_check_opts": (c_int, (("opts", _PD),)),
+    "igea_inserr_matrix": (c_int, (("opts", _PD), ("F", _PD),)),
+    "igea_inserr_response": (c_int, (("opts", _PD), ("x0", _PD), ("duration", c_double),
+        ("n", c_int), ("x", _PD),)),
+    "igea_inserr_covariance": (c_int, (("opts", _PD), ("P0", _PD), ("q", _PD),
+        ("duration", c_double), ("n", c_int), ("P", _PD),)),
     # igea/io.h
     "igea_io_reader_create": (c_int, (("out", _PH),)),
     "igea_io_reader_free": (None, (("r", c_void_p),)),
@@ -976,6 +1006,10 @@ INPUTS = {
     "igea_impact_circle_prob": ("cov",),
     "igea_impact_cep": ("cov",),
     "igea_impact_cep_approx": ("cov",),
+    "igea_inserr_check_opts": ("opts",),
+    "igea_inserr_matrix": ("opts",),
+    "igea_inserr_response": ("opts", "x0",),
+    "igea_inserr_covariance": ("opts", "P0", "q",),
     "igea_io_reader_open": ("path", "tmpdir",),
     "igea_io_reader_open_fd": ("name", "tmpdir",),
     "igea_io_parse_number": ("s",),

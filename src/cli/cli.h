@@ -377,4 +377,98 @@ void cli_noise_result_free(cli_noise_result *r);
 void cli_noise_text(FILE *f, const cli_noise_args *a, const cli_noise_result *r);
 void cli_noise_json(cli_json *j, const cli_noise_result *r);
 
+/* ---- SVG pictures (svg.c) ------------------------------------------------ */
+/* A self-contained SVG writer for --plot FILE.svg: panels with linear or
+ * log10 axes (ticks, labels with units), series as polylines, markers,
+ * error bars, bands, marker lines and a legend. Text is escaped for XML
+ * (control characters and invalid UTF-8 become '?'); a NaN or Inf (and, on
+ * a log axis, a value <= 0) is never written: the point is left out.
+ * Series carry class="series", markers class="marker", bands
+ * class="band", error bars class="errbar", marker lines class="hline" or
+ * "vline", the legend class="legend", the axes class="axes". Colours are
+ * indices into a fixed palette. */
+#define CLI_SVG_LEGEND_MAX 12
+typedef struct {
+    double lo, hi;     /* data range (cli_svg_range; empty: lo > hi) */
+    int log;           /* 1: log10 axis */
+    const char *label; /* the quantity and its unit, "tau (s)" */
+} cli_svg_axis;
+typedef struct {
+    FILE *f;
+    int panel;                    /* panels drawn so far */
+    double px, py, pw, ph;        /* the current panel's plot area (pixels) */
+    double x0, x1, y0, y1;        /* its data range (log10 on a log axis) */
+    int xlog, ylog;
+    int nleg;                     /* legend entries of the current panel */
+    const char *leg[CLI_SVG_LEGEND_MAX];
+    int legcolor[CLI_SVG_LEGEND_MAX], legkind[CLI_SVG_LEGEND_MAX];
+} cli_svg;
+#define CLI_SVG_AXIS_EMPTY(log, label) {HUGE_VAL, -HUGE_VAL, log, label}
+/* The document of width x height pixels with a title (may be NULL). */
+void cli_svg_begin(cli_svg *s, FILE *f, double width, double height, const char *title);
+/* The legend of the last panel, its group's and the closing tag. */
+void cli_svg_end(cli_svg *s);
+/* Widen ax's range to the finite values v[0], v[stride], ... (n of them;
+ * on a log axis the positive ones). */
+void cli_svg_range(cli_svg_axis *ax, const double *v, long n, long stride);
+/* A panel at (left, top), width x height pixels (the axes inside it): the
+ * frame, ticks, tick labels, axis labels and the title (may be NULL); an
+ * empty range becomes [0, 1] ([1, 10] on a log axis), a single value is
+ * widened. Draws the previous panel's legend first. */
+void cli_svg_panel(cli_svg *s, double left, double top, double width, double height,
+                   const cli_svg_axis *x, const cli_svg_axis *y, const char *title);
+/* A polyline through (x[i xs], y[i ys]), i < n (x NULL: x = i). label (may
+ * be NULL) goes into the legend. Nothing is drawn for no valid point. */
+void cli_svg_line(cli_svg *s, const double *x, long xs, const double *y, long ys, long n,
+                  int color, const char *label);
+/* Circles at the points. */
+void cli_svg_points(cli_svg *s, const double *x, long xs, const double *y, long ys, long n,
+                    int color, const char *label);
+/* Vertical bars from lo[i] to hi[i] at x[i] (x NULL: i). */
+void cli_svg_errbars(cli_svg *s, const double *x, const double *lo, const double *hi, long n,
+                     int color);
+/* A filled band between lo and hi along x (x NULL: i); one polygon per run
+ * of valid points. */
+void cli_svg_band(cli_svg *s, const double *x, long xs, const double *lo, const double *hi,
+                  long bs, long n, int color, const char *label);
+/* A dashed line across the panel at y (hline) or x (vline). */
+void cli_svg_hline(cli_svg *s, double y, int color, const char *label);
+void cli_svg_vline(cli_svg *s, double x, int color, const char *label);
+/* XML-escaped text at (x, y) pixels; anchor "start", "middle" or "end". */
+void cli_svg_text(cli_svg *s, double x, double y, const char *anchor, const char *text);
+/* The plots of the commands (each opens, writes and commits path through
+ * cli_out; returns an exit code). */
+int cli_svg_stability(const char *path, const char *file, const char *kind, int ntau, const double *tau,
+                      const double *dev, const double *lo, const double *hi,
+                      const double *fit, const int *fit_sup);
+/* The residuals (one number a line, epoch-major rows x y z) read back
+ * from res, an output being written (its temporary, or a temporary file of
+ * the driver's own: f set, path NULL; nothing drawn for standard output, a
+ * device or f NULL), and the N eigenvalues with lambda_test and
+ * lambda_small. */
+int cli_svg_eqerr(const char *path, const cli_out *res, int N, const double *lambda,
+                  double lambda_test, double lambda_small);
+/* The rejection rate of each component over the flights that tested it
+ * (tested[N], rejected[N]) with its 99 % interval (igea_sim_interval), and
+ * the level alpha; a component never tested is not drawn. */
+int cli_svg_montecarlo(const char *path, int flights, int N, const int *tested,
+                       const int *rejected, double alpha);
+/* redund fuse: the fused output of nwin windows of step seconds with its
+ * +- sigma band, and the niv exclusion intervals (sensor[k] from t0[k] to
+ * t1[k] s, igea_redund_monitor_intervals) of the nc sensors. */
+int cli_svg_fuse(const char *path, int nwin, double step, const double *fused,
+                 const double *fsig, int nc, int niv, const int *sensor, const double *t0,
+                 const double *t1);
+/* rls: the estimates and their honest sd, epoch by epoch (rows of 2 m:
+ * x then sd, appended by cli_svg_rls_add after each update; free(v)), and
+ * the picture of the first CLI_SVG_RLS_PANELS coefficients, each with its
+ * 3 sigma band (none at epochs where igea_rls_get_sd has no honest P). */
+#define CLI_SVG_RLS_PANELS 8
+typedef struct {
+    double *v;
+    long n, cap;
+} cli_svg_rows;
+int cli_svg_rls_add(cli_svg_rows *r, const igea_rls *h, int m);
+int cli_svg_rls(const char *path, const cli_svg_rows *r, int m);
+
 #endif

@@ -113,6 +113,7 @@ typedef struct {
     const char *cov, *groups, *ar_phi; /* the noise models (eqerr_noise.c) */
     int noise;                         /* 1: a noise option given */
     cli_noise_args na;                 /* their arguments */
+    const char *plot; /* --plot FILE.svg */
 } eqerr_args;
 
 /* The overall verdict rule, the same option in eqerr and test. */
@@ -161,6 +162,7 @@ static const cli_opt eqerr_options[] = {
      "lags, and the runs test on the signs about the mean", NULL},
     {"--json", CLI_OPT_FLAG, &EA.json, NULL, NULL, "machine-readable output (field names as igea.eqerr)", NULL},
     CLI_OUT_OPT(&EA.out),
+    {"--plot", CLI_OPT_STR, &EA.plot, NULL, "FILE.svg", "draw the residuals per axis against the epoch and\nthe eigenvalue spectrum with lambda_test and\nlambda_small into an SVG picture", NULL},
     CLI_END};
 
 static const cli_command eqerr_command = {"eqerr",
@@ -247,6 +249,10 @@ static int parse_noise(eqerr_args *a)
     if (a->route != IGEA_EQERR_ROUTE_EIG) {
         cli_error("eqerr: --route svd is not available with the noise models (--cov, --ar, "
                   "--ar-phi, --groups, --group-bias, --robust)");
+        return CLI_USAGE;
+    }
+    if (a->plot) {
+        cli_error("eqerr: --plot is not drawn with the noise models");
         return CLI_USAGE;
     }
     cli_noise_args na = {a->S, a->dw, a->sigma, a->spec, a->cov, a->groups, a->json, 0, {0},
@@ -925,8 +931,7 @@ static int eqerr_report(const eqerr_args *a, flight *r, cli_out *out, cli_out *r
     if (jf)
         cli_json_begin(&j, jf);
     if (!ec)
-        ec = (a->noise ? run_noise : run_streamed)(a, r, a->residuals ? res->f : NULL,
-                                                   jf ? &j : NULL);
+        ec = (a->noise ? run_noise : run_streamed)(a, r, res->f, jf ? &j : NULL); /* NULL: none */
     if (!ec)
         ec = components_compute(a, r);
     if (!ec && jf) {
@@ -959,9 +964,19 @@ int cmd_eqerr(int argc, char **argv)
         cli_out_abort(&both[0]);
         return ec;
     }
+    if (a.plot && !a.residuals && !(both[1].f = tmpfile())) { /* the residuals to draw */
+        cli_out_abort(&both[0]);
+        cli_error("eqerr: --plot: cannot create a temporary file");
+        return CLI_IOERR;
+    }
     flight r;
     memset(&r, 0, sizeof r);
     ec = eqerr_report(&a, &r, &both[0], &both[1]);
+    if (!ec && a.plot)
+        ec = cli_svg_eqerr(a.plot, &both[1], r.N, r.lambda, a.opts[IGEA_EQERR_OPT_LAMBDA_TEST],
+                           a.opts[IGEA_EQERR_OPT_LAMBDA_SMALL]);
+    if (a.plot && !a.residuals)
+        cli_out_abort(&both[1]);
     /* the report and the residuals replace their old files together */
     if (!ec)
         ec = cli_out_commit_all(both, a.residuals ? 2 : 1);

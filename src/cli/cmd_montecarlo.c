@@ -14,6 +14,7 @@ typedef struct {
     double eqo[IGEA_EQERR_OPT_LEN];
     int verdict; /* IGEA_STATS_VERDICT_* */
     int ar_given; /* --ar-given: the judge is told the true phi */
+    const char *plot; /* --plot FILE.svg */
 } mc_args;
 
 static mc_args A;
@@ -46,6 +47,7 @@ static const cli_opt options[] = {
     CLI_HEAD("output:"),
     {"--out", CLI_OPT_STR, &A.out, NULL, "FILE", "per-flight table: flight chi2 dof n_reject scale", NULL},
     {"--json", CLI_OPT_FLAG, &A.json, NULL, NULL, "machine-readable summary", NULL},
+    {"--plot", CLI_OPT_STR, &A.plot, NULL, "FILE.svg", "draw the per-component rejection rates with their\n99% intervals into an SVG picture", NULL},
     CLI_END};
 
 static const cli_command command = {"montecarlo",
@@ -320,6 +322,9 @@ int cmd_montecarlo(int argc, char **argv)
     if (a.pool > 0 && (ec = cli_status(igea_sim_pool(a.flights, r.table, a.flights, a.pool,
                                                      a.eqo[IGEA_EQERR_OPT_ALPHA], r.pooled),
                                        "montecarlo")))
+        goto done;
+    if (a.plot && (ec = cli_svg_montecarlo(a.plot, a.flights, f.N, r.ct, r.cr,
+                                           a.eqo[IGEA_EQERR_OPT_ALPHA])))
         goto done;
     if (a.out) {
         write_table(table.f, &a, &fa, &r);

@@ -11,6 +11,7 @@ typedef struct {
     const char *axes, *R, *x, *sigma, *data, *H, *y, *out;
     double re1, re2, alpha, fs, window, pfa;
     int json, one_shot, average;
+    const char *plot; /* --plot FILE.svg (fuse) */
 } rd_args;
 
 static rd_args A;
@@ -34,6 +35,7 @@ static const cli_opt options[] = {
     {"--pfa", CLI_OPT_NUM, &A.pfa, "0.01", "P", "fdi: false-alarm probability", NULL},
     CLI_JSON_OPT(&A.json),
     CLI_OUT_OPT(&A.out),
+    {"--plot", CLI_OPT_STR, &A.plot, NULL, "FILE.svg", "fuse: draw the fused output and the sensor-exclusion\ntimeline into an SVG picture", NULL},
     CLI_END};
 
 static const cli_command command = {"redund",
@@ -87,6 +89,8 @@ static const char *check_sub(int sub, const rd_args *a)
         return "redund consistency: --x and --sigma are required";
     if (sub == FUSE && (!a->data || !a->sigma || !(a->fs > 0)))
         return "redund fuse: --data, --fs (> 0) and --sigma are required";
+    if (sub != FUSE && a->plot)
+        return "redund: --plot draws redund fuse only";
     if (sub == FDI && (!a->H || !a->y || !a->sigma))
         return "redund fdi: --H, --y and --sigma are required";
     return NULL;
@@ -352,7 +356,10 @@ static int do_fuse(const rd_args *a, FILE *f)
     }
     if (!ec && !(ec = run_fuse(a, y, ns, s, &r))) {
         igea_redund_window_length(a->fs, a->window, NULL, &r.step);
-        report_fuse(a, f, &r);
+        int m = r.nc * ((r.nwin + 1) / 2); /* the picture first: on its failure no report */
+        if (!a->plot || !(ec = cli_svg_fuse(a->plot, r.nwin, r.step, r.fused, r.fsig, r.nc,
+                                            r.niv, r.iv, r.t, r.t + m)))
+            report_fuse(a, f, &r);
     }
     free(r.means);
     free(y);

@@ -10,6 +10,7 @@ typedef struct {
     const char *data, *S, *dw, *sigma, *x0, *gamma0, *out;
     int k, p, variant, policy, every, json;
     double kappa, jump, forget;
+    const char *plot; /* --plot FILE.svg */
 } rls_args;
 
 static rls_args A;
@@ -44,6 +45,7 @@ static const cli_opt options[] = {
     {"--every", CLI_OPT_INT, &A.every, "1", "N", "print every N-th epoch only (0: the final summary\nonly)", NULL},
     {"--json", CLI_OPT_FLAG, &A.json, NULL, NULL, "machine-readable output (same content)", NULL},
     CLI_OUT_OPT(&A.out),
+    {"--plot", CLI_OPT_STR, &A.plot, NULL, "FILE.svg", "draw the estimates and their 3-sigma bands against\nthe epoch into an SVG picture", NULL},
     CLI_END};
 
 static const cli_command command = {"rls",
@@ -259,6 +261,7 @@ typedef struct {
     FILE *f;
     cli_json j;
     int json, m, k, every;
+    cli_svg_rows *plot; /* --plot: every epoch's estimate and sd, or NULL */
 } printer;
 
 static void print_header(printer *pr, const rls_args *a)
@@ -398,6 +401,8 @@ static int run_stream(const rls_args *a, rls_in *in, igea_rls *h, printer *pr, d
             igea_rls_get_x(h, x);
             igea_rls_compensate(h, c, k, y, comp);
             print_epoch(pr, e, act, fl, x, comp);
+            if (pr->plot && (ec = cli_svg_rls_add(pr->plot, h, pr->m)))
+                break;
         }
     }
     free(fl);
@@ -418,6 +423,7 @@ int cmd_rls(int argc, char **argv)
     double *work = NULL;
     igea_rls *h = NULL;
     cli_out out = CLI_OUT_INIT;
+    cli_svg_rows rows = {NULL, 0, 0}; /* --plot */
     int out_open = 0;
     long m, ne = 0;
     if ((ec = open_inputs(&a, &in)) || (ec = read_priors(&a, &in)))
@@ -433,6 +439,7 @@ int cmd_rls(int argc, char **argv)
     out_open = 1;
     printer pr;
     pr.f = out.f, pr.json = a.json, pr.m = (int)m, pr.k = k, pr.every = a.every;
+    pr.plot = a.plot ? &rows : NULL;
     print_header(&pr, &a);
     if ((ec = run_stream(&a, &in, h, &pr, work, work + k, &ne)))
         goto done;
@@ -443,9 +450,12 @@ int cmd_rls(int argc, char **argv)
     }
     /* sd in the first m of the k m values of c, free after the last epoch */
     print_summary(&pr, h, work + 3 * k, work + 3 * k + m, work + 3 * k + m + k * m);
+    if (a.plot && (ec = cli_svg_rls(a.plot, &rows, (int)m)))
+        goto done;
     ec = cli_out_commit(&out);
     out_open = 0;
 done:
+    free(rows.v);
     if (out_open)
         cli_out_abort(&out);
     igea_rls_free(h);

@@ -10,7 +10,7 @@
 #include "cli.h"
 
 typedef struct {
-    const char *file, *taus, *out;
+    const char *file, *taus, *out, *plot;
     double fs, block, conf;
     int column, column_given, kind, noise, json, phase, spacing, fit;
 } st_args;
@@ -35,6 +35,7 @@ static const cli_opt options[] = {
     {"--conf", CLI_OPT_NUM, &A.conf, "0.683", "C", "confidence of the intervals, in (0, 1)", NULL},
     CLI_JSON_OPT(&A.json),
     CLI_OUT_OPT(&A.out),
+    {"--plot", CLI_OPT_STR, &A.plot, NULL, "FILE.svg", "draw the deviation with its intervals on log-log\naxes (and the --fit terms) into an SVG picture", NULL},
     CLI_END};
 
 static const cli_command command = {"stability",
@@ -360,6 +361,14 @@ int cmd_stability(int argc, char **argv)
     cli_out o;
     if ((ec = cli_out_open(&o, a.out)))
         goto done;
+    int ci = has_ci(a.kind); /* the picture first: on its failure no report */
+    if (a.plot && (ec = cli_svg_stability(a.plot, a.file,
+                                          igea_choice_name(IGEA_CHOICE_STABILITY_KIND, a.kind),
+                                          r.ntau, r.tau, r.dev, ci ? r.lo : NULL, ci ? r.hi : NULL,
+                                          a.fit && r.have_fit ? r.fit : NULL, r.fit_sup))) {
+        cli_out_abort(&o);
+        goto done;
+    }
     (a.json ? json_report : text_report)(o.f, &a, &r);
     ec = cli_out_commit(&o);
 done:

@@ -1,0 +1,667 @@
+/* src/cli/svg.c - self-contained SVG pictures for --plot FILE.svg: panels
+ * with linear or log10 axes, series, markers, error bars, bands, marker
+ * lines and legends; the plots of the commands. Only presentation: every
+ * number drawn is one a command already computed. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+
+static const char *const palette[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd",
+                                      "#ff7f0e", "#8c564b", "#e377c2", "#7f7f7f"};
+#define NPAL ((int)(sizeof palette / sizeof palette[0]))
+static const char *col(int c) { return palette[((c % NPAL) + NPAL) % NPAL]; }
+
+enum { LEG_LINE, LEG_POINT, LEG_BAND, LEG_DASH };
+
+/* Length of the valid UTF-8 sequence at p (0: invalid). */
+static int utf8_len(const unsigned char *p)
+{
+    int n = p[0] >= 0xF0 && p[0] <= 0xF4 ? 4 : p[0] >= 0xE0 ? 3 : p[0] >= 0xC2 && p[0] < 0xE0 ? 2 : 0;
+    for (int k = 1; k < n; k++)
+        if ((p[k] & 0xC0) != 0x80)
+            return 0;
+    return n;
+}
+
+static void put_escaped(FILE *f, const char *text)
+{
+    const unsigned char *p = (const unsigned char *)(text ? text : "");
+    while (*p) {
+        int n;
+        if (*p == '&')
+            fputs("&amp;", f);
+        else if (*p == '<')
+            fputs("&lt;", f);
+        else if (*p == '>')
+            fputs("&gt;", f);
+        else if (*p == '"')
+            fputs("&quot;", f);
+        else if (*p == '\'')
+            fputs("&apos;", f);
+        else if (*p < 0x80)
+            fputc(*p < 0x20 && *p != '\t' && *p != '\n' ? '?' : *p, f);
+        else if ((n = utf8_len(p)) > 0) {
+            fwrite(p, 1, (size_t)n, f);
+            p += n;
+            continue;
+        } else
+            fputc('?', f);
+        p++;
+    }
+}
+
+void cli_svg_text(cli_svg *s, double x, double y, const char *anchor, const char *text)
+{
+    fprintf(s->f, "<text x=\"%.2f\" y=\"%.2f\" text-anchor=\"%s\">", x, y, anchor);
+    put_escaped(s->f, text);
+    fputs("</text>\n", s->f);
+}
+
+void cli_svg_begin(cli_svg *s, FILE *f, double width, double height, const char *title)
+{
+    memset(s, 0, sizeof *s);
+    s->f = f;
+    fprintf(f, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+               "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"%.0f\" "
+               "height=\"%.0f\" viewBox=\"0 0 %.0f %.0f\" font-family=\"sans-serif\" "
+               "font-size=\"12\">\n<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n",
+            width, height, width, height);
+    if (title) {
+        fputs("<title>", f);
+        put_escaped(f, title);
+        fputs("</title>\n", f);
+    }
+}
+
+static void legend(cli_svg *s)
+{
+    if (!s->panel || !s->nleg)
+        return;
+    double w = 170, h = 8 + 16.0 * s->nleg, x = s->px + s->pw - w - 6, y = s->py + 6;
+    fprintf(s->f, "<g class=\"legend\">\n<rect x=\"%.2f\" y=\"%.2f\" width=\"%.2f\" "
+                  "height=\"%.2f\" fill=\"white\" fill-opacity=\"0.85\" stroke=\"#999\"/>\n",
+            x, y, w, h);
+    for (int k = 0; k < s->nleg; k++) {
+        double ly = y + 14 + 16.0 * k;
+        const char *c = col(s->legcolor[k]);
+        if (s->legkind[k] == LEG_POINT)
+            fprintf(s->f, "<circle cx=\"%.2f\" cy=\"%.2f\" r=\"3\" fill=\"%s\"/>\n", x + 16, ly - 4, c);
+        else if (s->legkind[k] == LEG_BAND)
+            fprintf(s->f, "<rect x=\"%.2f\" y=\"%.2f\" width=\"20\" height=\"8\" fill=\"%s\" "
+                          "fill-opacity=\"0.25\"/>\n", x + 6, ly - 8, c);
+        else
+            fprintf(s->f, "<line x1=\"%.2f\" y1=\"%.2f\" x2=\"%.2f\" y2=\"%.2f\" stroke=\"%s\" "
+                          "stroke-width=\"1.5\"%s/>\n", x + 6, ly - 4, x + 26, ly - 4, c,
+                    s->legkind[k] == LEG_DASH ? " stroke-dasharray=\"5,3\"" : "");
+        cli_svg_text(s, x + 32, ly, "start", s->leg[k]);
+    }
+    fputs("</g>\n", s->f);
+    s->nleg = 0;
+}
+
+void cli_svg_end(cli_svg *s)
+{
+    legend(s);
+    if (s->panel)
+        fputs("</g>\n", s->f);
+    s->panel = 0;
+    fputs("</svg>\n", s->f);
+}
+
+void cli_svg_range(cli_svg_axis *ax, const double *v, long n, long stride)
+{
+    for (long i = 0; v && i < n; i++) {
+        double x = v[i * stride];
+        if (!isfinite(x) || (ax->log && !(x > 0)))
+            continue;
+        if (x < ax->lo)
+            ax->lo = x;
+        if (x > ax->hi)
+            ax->hi = x;
+    }
+}
+
+/* The axis range in plotting units (log10 on a log axis), never empty. */
+static void plot_range(const cli_svg_axis *ax, double *a, double *b)
+{
+    double lo = ax->lo, hi = ax->hi;
+    if (ax->log) {
+        if (!(lo > 0 && lo <= hi && isfinite(hi)))
+            lo = 1, hi = 10;
+        lo = log10(lo), hi = log10(hi);
+        if (hi - lo < 1e-9)
+            lo -= 0.5, hi += 0.5;
+        double pad = 0.04 * (hi - lo);
+        lo -= pad, hi += pad;
+    } else {
+        if (!(lo <= hi && isfinite(lo) && isfinite(hi)))
+            lo = 0, hi = 1;
+        if (hi - lo <= 1e-12 * (fabs(lo) + fabs(hi)) || hi == lo) {
+            double d = lo == 0 ? 1 : 0.5 * fabs(lo);
+            lo -= d, hi += d;
+        }
+        double pad = 0.04 * (hi - lo);
+        lo -= pad, hi += pad;
+    }
+    *a = lo, *b = hi;
+}
+
+/* Pixel of a data value; 0 when it cannot be drawn. */
+static int map_x(const cli_svg *s, double v, double *px)
+{
+    if (!isfinite(v) || (s->xlog && !(v > 0)))
+        return 0;
+    double u = s->xlog ? log10(v) : v;
+    *px = s->px + (u - s->x0) / (s->x1 - s->x0) * s->pw;
+    return isfinite(*px) && fabs(*px) < 1e7;
+}
+
+static int map_y(const cli_svg *s, double v, double *py)
+{
+    if (!isfinite(v) || (s->ylog && !(v > 0)))
+        return 0;
+    double u = s->ylog ? log10(v) : v;
+    *py = s->py + s->ph - (u - s->y0) / (s->y1 - s->y0) * s->ph;
+    return isfinite(*py) && fabs(*py) < 1e7;
+}
+
+/* Tick values in plotting units between a and b (at most max). */
+static int ticks(double a, double b, int log, double *t, int max)
+{
+    int n = 0;
+    if (log && b - a >= 1.5) {
+        double step = ceil((b - a) / 8);
+        for (double k = ceil(a / step) * step; k <= b && n < max; k += step)
+            t[n++] = k;
+        return n;
+    }
+    if (log) { /* mantissas 1, 2, 5 */
+        static const double m[3] = {1, 2, 5};
+        for (double d = floor(a); d <= b && n < max; d++)
+            for (int k = 0; k < 3 && n < max; k++) {
+                double u = d + log10(m[k]);
+                if (u >= a && u <= b)
+                    t[n++] = u;
+            }
+        return n;
+    }
+    double raw = (b - a) / 6, p = pow(10, floor(log10(raw))), r = raw / p;
+    double step = (r < 1.5 ? 1 : r < 3.5 ? 2 : r < 7.5 ? 5 : 10) * p;
+    for (double k = ceil(a / step); k * step <= b && n < max; k++)
+        t[n++] = fabs(k * step) < 1e-9 * step ? 0 : k * step;
+    return n;
+}
+
+static void tick_label(char *buf, size_t size, double u, int log)
+{
+    snprintf(buf, size, "%.4g", log ? pow(10, u) : u);
+}
+
+/* Ticks, tick labels and grid of one axis (vertical: the y axis). */
+static void axis_ticks(cli_svg *s, int vertical)
+{
+    double t[40], a = vertical ? s->y0 : s->x0, b = vertical ? s->y1 : s->x1;
+    int log = vertical ? s->ylog : s->xlog, n = ticks(a, b, log, t, 40);
+    char buf[32];
+    for (int k = 0; k < n; k++) {
+        double p = vertical ? s->py + s->ph - (t[k] - a) / (b - a) * s->ph
+                            : s->px + (t[k] - a) / (b - a) * s->pw;
+        tick_label(buf, sizeof buf, t[k], log);
+        if (vertical) {
+            fprintf(s->f, "<line x1=\"%.2f\" y1=\"%.2f\" x2=\"%.2f\" y2=\"%.2f\" stroke=\"#ddd\"/>\n"
+                          "<line class=\"tick\" x1=\"%.2f\" y1=\"%.2f\" x2=\"%.2f\" y2=\"%.2f\" "
+                          "stroke=\"black\"/>\n",
+                    s->px, p, s->px + s->pw, p, s->px - 5, p, s->px, p);
+            cli_svg_text(s, s->px - 8, p + 4, "end", buf);
+        } else {
+            fprintf(s->f, "<line x1=\"%.2f\" y1=\"%.2f\" x2=\"%.2f\" y2=\"%.2f\" stroke=\"#ddd\"/>\n"
+                          "<line class=\"tick\" x1=\"%.2f\" y1=\"%.2f\" x2=\"%.2f\" y2=\"%.2f\" "
+                          "stroke=\"black\"/>\n",
+                    p, s->py, p, s->py + s->ph, p, s->py + s->ph, p, s->py + s->ph + 5);
+            cli_svg_text(s, p, s->py + s->ph + 18, "middle", buf);
+        }
+    }
+}
+
+void cli_svg_panel(cli_svg *s, double left, double top, double width, double height,
+                   const cli_svg_axis *x, const cli_svg_axis *y, const char *title)
+{
+    legend(s);
+    if (s->panel)
+        fputs("</g>\n", s->f);
+    s->panel++;
+    s->px = left + 70, s->py = top + 28, s->pw = width - 90, s->ph = height - 72;
+    s->xlog = x->log, s->ylog = y->log;
+    plot_range(x, &s->x0, &s->x1);
+    plot_range(y, &s->y0, &s->y1);
+    fprintf(s->f, "<g class=\"axes\" id=\"axes%d\" data-xlog=\"%d\" data-ylog=\"%d\">\n"
+                  "<clipPath id=\"clip%d\"><rect x=\"%.2f\" y=\"%.2f\" width=\"%.2f\" "
+                  "height=\"%.2f\"/></clipPath>\n",
+            s->panel, s->xlog, s->ylog, s->panel, s->px, s->py, s->pw, s->ph);
+    axis_ticks(s, 0);
+    axis_ticks(s, 1);
+    fprintf(s->f, "<rect class=\"frame\" x=\"%.2f\" y=\"%.2f\" width=\"%.2f\" height=\"%.2f\" "
+                  "fill=\"none\" stroke=\"black\"/>\n", s->px, s->py, s->pw, s->ph);
+    cli_svg_text(s, s->px + s->pw / 2, s->py + s->ph + 38, "middle", x->label);
+    fprintf(s->f, "<g transform=\"translate(%.2f %.2f) rotate(-90)\">", left + 16,
+            s->py + s->ph / 2);
+    cli_svg_text(s, 0, 0, "middle", y->label);
+    fputs("</g>\n", s->f);
+    if (title)
+        cli_svg_text(s, s->px + s->pw / 2, top + 18, "middle", title);
+}
+
+static void add_legend(cli_svg *s, const char *label, int color, int kind)
+{
+    if (!label || s->nleg >= CLI_SVG_LEGEND_MAX)
+        return;
+    s->leg[s->nleg] = label, s->legcolor[s->nleg] = color, s->legkind[s->nleg] = kind;
+    s->nleg++;
+}
+
+static double xval(const double *x, long xs, long i) { return x ? x[i * xs] : (double)i; }
+
+void cli_svg_line(cli_svg *s, const double *x, long xs, const double *y, long ys, long n,
+                  int color, const char *label)
+{
+    long drawn = 0;
+    double px, py;
+    for (long i = 0; y && i < n; i++) {
+        if (!map_x(s, xval(x, xs, i), &px) || !map_y(s, y[i * ys], &py))
+            continue;
+        if (!drawn++)
+            fprintf(s->f, "<polyline class=\"series\" clip-path=\"url(#clip%d)\" fill=\"none\" "
+                          "stroke=\"%s\" stroke-width=\"1.2\" points=\"", s->panel, col(color));
+        fprintf(s->f, "%s%.2f,%.2f", drawn > 1 ? " " : "", px, py);
+    }
+    if (drawn)
+        fputs("\"/>\n", s->f);
+    add_legend(s, label, color, LEG_LINE);
+}
+
+void cli_svg_points(cli_svg *s, const double *x, long xs, const double *y, long ys, long n,
+                    int color, const char *label)
+{
+    double px, py;
+    for (long i = 0; y && i < n; i++)
+        if (map_x(s, xval(x, xs, i), &px) && map_y(s, y[i * ys], &py))
+            fprintf(s->f, "<circle class=\"marker\" clip-path=\"url(#clip%d)\" cx=\"%.2f\" "
+                          "cy=\"%.2f\" r=\"3\" fill=\"%s\"/>\n", s->panel, px, py, col(color));
+    add_legend(s, label, color, LEG_POINT);
+}
+
+void cli_svg_errbars(cli_svg *s, const double *x, const double *lo, const double *hi, long n,
+                     int color)
+{
+    double px, a, b;
+    for (long i = 0; lo && hi && i < n; i++)
+        if (map_x(s, xval(x, 1, i), &px) && map_y(s, lo[i], &a) && map_y(s, hi[i], &b))
+            fprintf(s->f, "<path class=\"errbar\" clip-path=\"url(#clip%d)\" stroke=\"%s\" "
+                          "fill=\"none\" d=\"M%.2f %.2fV%.2fM%.2f %.2fH%.2fM%.2f %.2fH%.2f\"/>\n",
+                    s->panel, col(color), px, a, b, px - 3, a, px + 3, px - 3, b, px + 3);
+}
+
+/* One polygon over the valid points i0 .. i1 - 1 of a band. */
+static void band_run(cli_svg *s, const double *x, long xs, const double *lo, const double *hi,
+                     long bs, long i0, long i1, int color)
+{
+    double px, py;
+    fprintf(s->f, "<polygon class=\"band\" clip-path=\"url(#clip%d)\" fill=\"%s\" "
+                  "fill-opacity=\"0.25\" stroke=\"none\" points=\"", s->panel, col(color));
+    for (long i = i0; i < i1; i++)
+        if (map_x(s, xval(x, xs, i), &px) && map_y(s, hi[i * bs], &py))
+            fprintf(s->f, "%s%.2f,%.2f", i > i0 ? " " : "", px, py);
+    for (long i = i1 - 1; i >= i0; i--)
+        if (map_x(s, xval(x, xs, i), &px) && map_y(s, lo[i * bs], &py))
+            fprintf(s->f, " %.2f,%.2f", px, py);
+    fputs("\"/>\n", s->f);
+}
+
+void cli_svg_band(cli_svg *s, const double *x, long xs, const double *lo, const double *hi,
+                  long bs, long n, int color, const char *label)
+{
+    double p;
+    long start = -1;
+    for (long i = 0; lo && hi && i <= n; i++) {
+        int ok = i < n && map_x(s, xval(x, xs, i), &p) && map_y(s, lo[i * bs], &p) &&
+                 map_y(s, hi[i * bs], &p);
+        if (ok && start < 0)
+            start = i;
+        else if (!ok && start >= 0) {
+            band_run(s, x, xs, lo, hi, bs, start, i, color);
+            start = -1;
+        }
+    }
+    add_legend(s, label, color, LEG_BAND);
+}
+
+void cli_svg_hline(cli_svg *s, double y, int color, const char *label)
+{
+    double py;
+    if (map_y(s, y, &py) && py >= s->py && py <= s->py + s->ph)
+        fprintf(s->f, "<line class=\"hline\" x1=\"%.2f\" y1=\"%.2f\" x2=\"%.2f\" y2=\"%.2f\" "
+                      "stroke=\"%s\" stroke-dasharray=\"5,3\"/>\n",
+                s->px, py, s->px + s->pw, py, col(color));
+    add_legend(s, label, color, LEG_DASH);
+}
+
+void cli_svg_vline(cli_svg *s, double x, int color, const char *label)
+{
+    double px;
+    if (map_x(s, x, &px) && px >= s->px && px <= s->px + s->pw)
+        fprintf(s->f, "<line class=\"vline\" x1=\"%.2f\" y1=\"%.2f\" x2=\"%.2f\" y2=\"%.2f\" "
+                      "stroke=\"%s\" stroke-dasharray=\"5,3\"/>\n",
+                px, s->py, px, s->py + s->ph, col(color));
+    add_legend(s, label, color, LEG_DASH);
+}
+
+/* ---- the commands' pictures ---------------------------------------------- */
+
+int cli_svg_stability(const char *path, const char *file, const char *kind, int ntau, const double *tau,
+                      const double *dev, const double *lo, const double *hi,
+                      const double *fit, const int *fit_sup)
+{
+    cli_out o;
+    int ec = cli_out_open(&o, path);
+    if (ec)
+        return ec;
+    cli_svg s;
+    cli_svg_axis x = CLI_SVG_AXIS_EMPTY(1, "averaging time tau (s)");
+    cli_svg_axis y = CLI_SVG_AXIS_EMPTY(1, "deviation (units of the data)");
+    cli_svg_range(&x, tau, ntau, 1);
+    cli_svg_range(&y, dev, ntau, 1);
+    cli_svg_range(&y, lo, lo ? ntau : 0, 1);
+    cli_svg_range(&y, hi, hi ? ntau : 0, 1);
+    size_t tn = strlen(file) + strlen(kind) + 16;
+    char *title = malloc(tn);
+    if (!title) {
+        cli_out_abort(&o);
+        return cli_oom("the picture's title");
+    }
+    snprintf(title, tn, "%s: %s deviation", file, kind);
+    cli_svg_begin(&s, o.f, 720, 480, title);
+    cli_svg_panel(&s, 0, 0, 720, 480, &x, &y, title);
+    free(title);
+    if (lo && hi)
+        cli_svg_errbars(&s, tau, lo, hi, ntau, 0);
+    cli_svg_line(&s, tau, 1, dev, 1, ntau, 0, lo && hi ? "deviation, with its interval" : "deviation");
+    cli_svg_points(&s, tau, 1, dev, 1, ntau, 0, NULL);
+    if (fit) {
+        static const char *const name[IGEA_STABILITY_FIT_LEN] = {"Q", "N", "B", "K", "R"};
+        char line[IGEA_STABILITY_FIT_LEN][48];
+        int row = 0;
+        for (int k = 0; k < IGEA_STABILITY_FIT_LEN; k++) {
+            if (fit_sup && !fit_sup[k])
+                snprintf(line[k], sizeof line[k], "IEEE 952 %s: -", name[k]);
+            else
+                snprintf(line[k], sizeof line[k], "IEEE 952 %s = %.4g", name[k], fit[k]);
+            cli_svg_text(&s, s.px + 8, s.py + s.ph - 8 - 14.0 * (IGEA_STABILITY_FIT_LEN - 1 - row++),
+                         "start", line[k]);
+        }
+    }
+    cli_svg_end(&s);
+    return cli_out_commit(&o);
+}
+
+/* The residuals of res (one number a line) from its start, malloc'd. */
+static int read_residuals(FILE *res, double **e, long *m)
+{
+    long cap = 1024, n = 0;
+    double v, *buf = malloc(sizeof(double) * (size_t)cap);
+    if (!buf)
+        return cli_oom("the residuals to plot");
+    if (fflush(res) != 0 || fseek(res, 0, SEEK_SET) != 0) {
+        free(buf);
+        cli_error("--plot: cannot read the residuals back");
+        return CLI_IOERR;
+    }
+    char line[256];
+    while (fgets(line, sizeof line, res)) { /* "epoch axis residual" rows under '#' */
+        if (line[0] == '#' || sscanf(line, "%*f %*f %lf", &v) != 1)
+            continue;
+        if (n == cap) {
+            double *nb = realloc(buf, sizeof(double) * (size_t)(cap *= 2));
+            if (!nb) {
+                free(buf);
+                return cli_oom("the residuals to plot");
+            }
+            buf = nb;
+        }
+        buf[n++] = v;
+    }
+    *e = buf, *m = n;
+    return CLI_OK;
+}
+
+static void eqerr_spectrum(cli_svg *s, double top, int N, const double *lambda, double lt,
+                           double ls)
+{
+    cli_svg_axis x = CLI_SVG_AXIS_EMPTY(0, "component i (from 0)");
+    cli_svg_axis y = CLI_SVG_AXIS_EMPTY(1, "eigenvalue lambda_i");
+    x.lo = 0, x.hi = N > 1 ? N - 1 : 1;
+    cli_svg_range(&y, lambda, N, 1);
+    cli_svg_range(&y, &lt, 1, 1);
+    cli_svg_range(&y, &ls, 1, 1);
+    cli_svg_panel(s, 0, top, 720, 360, &x, &y, "eigenvalue spectrum");
+    cli_svg_points(s, NULL, 1, lambda, 1, N, 0, "lambda_i");
+    char a[48], b[48];
+    snprintf(a, sizeof a, "lambda_test = %g", lt);
+    snprintf(b, sizeof b, "lambda_small = %g", ls);
+    cli_svg_hline(s, lt, 1, a);
+    cli_svg_hline(s, ls, 2, b);
+    int nonpos = 0;
+    for (int i = 0; i < N; i++)
+        nonpos += !(lambda[i] > 0);
+    if (nonpos) {
+        char note[64];
+        snprintf(note, sizeof note, "%d eigenvalue(s) <= 0 not drawn", nonpos);
+        cli_svg_text(s, s->px + 8, s->py + s->ph - 8, "start", note);
+    }
+}
+
+int cli_svg_eqerr(const char *path, const cli_out *resout, int N, const double *lambda,
+                  double lambda_test, double lambda_small)
+{
+    double *e = NULL;
+    long m = 0;
+    FILE *res = NULL;
+    int ec = CLI_OK;
+    if (resout->f && resout->tmp) { /* --residuals FILE: its temporary, read back */
+        if (fflush(resout->f) != 0 || !(res = fopen(resout->tmp, "r"))) {
+            cli_error("--plot: cannot read the residuals back from %s", resout->tmp);
+            return CLI_IOERR;
+        }
+    } else if (resout->f && resout->f != stdout && !resout->path) {
+        res = resout->f; /* a temporary file of the driver's own */
+    }
+    if (res)
+        ec = read_residuals(res, &e, &m);
+    if (res && res != resout->f)
+        fclose(res);
+    cli_out o;
+    if (ec || (ec = cli_out_open(&o, path))) {
+        free(e);
+        return ec;
+    }
+    cli_svg s;
+    cli_svg_begin(&s, o.f, 720, res ? 720 : 380, "igea eqerr");
+    double top = 0;
+    if (res) {
+        static const char *const axis[3] = {"x", "y", "z"};
+        long ne = (m + 2) / 3;
+        cli_svg_axis x = CLI_SVG_AXIS_EMPTY(0, "epoch (from 0)");
+        cli_svg_axis y = CLI_SVG_AXIS_EMPTY(0, "residual (units of dw)");
+        x.lo = 0, x.hi = ne > 1 ? ne - 1 : 1;
+        cli_svg_range(&y, e, m, 1);
+        cli_svg_panel(&s, 0, 0, 720, 360, &x, &y, "residuals per axis");
+        for (int k = 0; k < 3; k++)
+            cli_svg_line(&s, NULL, 1, e + k, 3, m > k ? (m - k + 2) / 3 : 0, k, axis[k]);
+        top = 360;
+    }
+    eqerr_spectrum(&s, top, N, lambda, lambda_test, lambda_small);
+    if (!res)
+        cli_svg_text(&s, 360, 374, "middle", "residuals not drawn: --residuals is standard "
+                                            "output or a device");
+    cli_svg_end(&s);
+    free(e);
+    return cli_out_commit(&o);
+}
+
+int cli_svg_montecarlo(const char *path, int flights, int N, const int *tested,
+                       const int *rejected, double alpha)
+{
+    double *v = malloc(sizeof(double) * 3 * (size_t)(N > 0 ? N : 1));
+    if (!v)
+        return cli_oom("the rates to plot");
+    double *rate = v, *lo = v + N, *hi = lo + N, lohi[2];
+    for (int j = 0; j < N; j++) {
+        rate[j] = lo[j] = hi[j] = NAN; /* not tested: not drawn */
+        if (tested[j] > 0 && !igea_sim_interval(rejected[j], tested[j], lohi))
+            rate[j] = (double)rejected[j] / tested[j], lo[j] = lohi[0], hi[j] = lohi[1];
+    }
+    cli_out o;
+    int ec = cli_out_open(&o, path);
+    if (ec) {
+        free(v);
+        return ec;
+    }
+    cli_svg s;
+    cli_svg_axis x = CLI_SVG_AXIS_EMPTY(0, "component i (from 0)");
+    cli_svg_axis y = CLI_SVG_AXIS_EMPTY(0, "rejection rate (fraction of the flights testing it)");
+    x.lo = 0, x.hi = N > 1 ? N - 1 : 1;
+    y.lo = 0, y.hi = alpha;
+    cli_svg_range(&y, hi, N, 1);
+    char title[96], a[48];
+    snprintf(title, sizeof title, "per-component rejection rates, %d flights", flights);
+    snprintf(a, sizeof a, "alpha = %g", alpha);
+    cli_svg_begin(&s, o.f, 720, 480, title);
+    cli_svg_panel(&s, 0, 0, 720, 480, &x, &y, title);
+    cli_svg_errbars(&s, NULL, lo, hi, N, 0);
+    cli_svg_points(&s, NULL, 1, rate, 1, N, 0, "rate, 99 % Wilson interval");
+    cli_svg_hline(&s, alpha, 1, a);
+    cli_svg_end(&s);
+    free(v);
+    return cli_out_commit(&o);
+}
+
+/* The exclusion intervals as bars, one row per sensor. */
+static void fuse_timeline(cli_svg *s, int nwin, double step, int nc, int niv, const int *sensor,
+                          const double *t0, const double *t1)
+{
+    cli_svg_axis x = CLI_SVG_AXIS_EMPTY(0, "time (s)");
+    cli_svg_axis y = CLI_SVG_AXIS_EMPTY(0, "sensor (from 0)");
+    x.lo = 0, x.hi = nwin * step;
+    y.lo = 0, y.hi = nc > 1 ? nc - 1 : 1;
+    cli_svg_panel(s, 0, 300, 720, 300, &x, &y, "sensors excluded from the fusion set");
+    double h = s->ph / (s->y1 - s->y0) * 0.6, a, b, c;
+    for (int k = 0; k < niv; k++)
+        if (map_x(s, t0[k], &a) && map_x(s, t1[k], &b) && map_y(s, sensor[k], &c))
+            fprintf(s->f, "<rect class=\"interval\" clip-path=\"url(#clip%d)\" x=\"%.2f\" "
+                          "y=\"%.2f\" width=\"%.2f\" height=\"%.2f\" fill=\"%s\"/>\n",
+                    s->panel, a, c - h / 2, b - a, h, col(1));
+    add_legend(s, "excluded", 1, LEG_BAND);
+    if (!niv)
+        cli_svg_text(s, s->px + s->pw / 2, s->py + s->ph / 2, "middle", "no sensor excluded");
+}
+
+int cli_svg_fuse(const char *path, int nwin, double step, const double *fused,
+                 const double *fsig, int nc, int niv, const int *sensor, const double *t0,
+                 const double *t1)
+{
+    double *v = malloc(sizeof(double) * 3 * (size_t)(nwin > 0 ? nwin : 1));
+    if (!v)
+        return cli_oom("the fused output to plot");
+    double *t = v, *lo = v + nwin, *hi = lo + nwin;
+    for (int w = 0; w < nwin; w++) /* the window's start, as in the report */
+        t[w] = w * step, lo[w] = fused[w] - fsig[w], hi[w] = fused[w] + fsig[w];
+    cli_out o;
+    int ec = cli_out_open(&o, path);
+    if (ec) {
+        free(v);
+        return ec;
+    }
+    cli_svg s;
+    cli_svg_axis x = CLI_SVG_AXIS_EMPTY(0, "time (s)");
+    cli_svg_axis y = CLI_SVG_AXIS_EMPTY(0, "fused output (units of the data)");
+    x.lo = 0, x.hi = nwin * step;
+    cli_svg_range(&y, lo, nwin, 1);
+    cli_svg_range(&y, hi, nwin, 1);
+    cli_svg_begin(&s, o.f, 720, 600, "igea redund fuse");
+    cli_svg_panel(&s, 0, 0, 720, 300, &x, &y, "fused output per window");
+    cli_svg_band(&s, t, 1, lo, hi, 1, nwin, 0, "fused +- sigma");
+    cli_svg_line(&s, t, 1, fused, 1, nwin, 0, "fused");
+    fuse_timeline(&s, nwin, step, nc, niv, sensor, t0, t1);
+    cli_svg_end(&s);
+    free(v);
+    return cli_out_commit(&o);
+}
+
+int cli_svg_rls_add(cli_svg_rows *r, const igea_rls *h, int m)
+{
+    if (r->n == r->cap) {
+        long cap = r->cap ? 2 * r->cap : 256;
+        double *v = realloc(r->v, sizeof(double) * 2 * (size_t)m * (size_t)cap);
+        if (!v)
+            return cli_oom("the estimates to plot");
+        r->v = v, r->cap = cap;
+    }
+    double *x = r->v + 2 * (size_t)m * (size_t)r->n, *sd = x + m;
+    int st = igea_rls_get_x(h, x);
+    if (st)
+        return cli_status(st, "rls --plot");
+    if (igea_rls_get_sd(h, sd)) /* P no longer tracked: no band at this epoch */
+        for (int i = 0; i < m; i++)
+            sd[i] = NAN;
+    r->n++;
+    return CLI_OK;
+}
+
+/* Panel i of the estimates: x_i and its 3 sigma band against the epoch. */
+static void rls_panel(cli_svg *s, const cli_svg_rows *r, int m, int i, double top, double *band)
+{
+    long n = r->n, w = 2 * (long)m;
+    double *lo = band, *hi = band + n;
+    for (long e = 0; e < n; e++) {
+        double x = r->v[e * w + i], sd = r->v[e * w + m + i];
+        lo[e] = x - 3 * sd, hi[e] = x + 3 * sd;
+    }
+    char title[48];
+    snprintf(title, sizeof title, "coefficient x%d", i);
+    cli_svg_axis xa = CLI_SVG_AXIS_EMPTY(0, "epoch (from 0)");
+    cli_svg_axis ya = CLI_SVG_AXIS_EMPTY(0, "estimate (units of X)");
+    xa.lo = 0, xa.hi = n > 1 ? n - 1 : 1;
+    cli_svg_range(&ya, r->v + i, n, w);
+    cli_svg_range(&ya, lo, n, 1);
+    cli_svg_range(&ya, hi, n, 1);
+    cli_svg_panel(s, 0, top, 720, 260, &xa, &ya, title);
+    cli_svg_band(s, NULL, 1, lo, hi, 1, n, i, "3 sigma (honest)");
+    cli_svg_line(s, NULL, 1, r->v + i, w, n, i, "estimate");
+}
+
+int cli_svg_rls(const char *path, const cli_svg_rows *r, int m)
+{
+    int np = m < CLI_SVG_RLS_PANELS ? m : CLI_SVG_RLS_PANELS;
+    double *band = malloc(sizeof(double) * 2 * (size_t)(r->n > 0 ? r->n : 1));
+    if (!band)
+        return cli_oom("the bands to plot");
+    cli_out o;
+    int ec = cli_out_open(&o, path);
+    if (ec) {
+        free(band);
+        return ec;
+    }
+    cli_svg s;
+    cli_svg_begin(&s, o.f, 720, 260.0 * np + (m > np ? 24 : 0), "igea rls");
+    for (int i = 0; i < np; i++)
+        rls_panel(&s, r, m, i, 260.0 * i, band);
+    if (m > np) {
+        char note[80];
+        snprintf(note, sizeof note, "coefficients x0 .. x%d drawn of %d", np - 1, m);
+        cli_svg_text(&s, 360, 260.0 * np + 16, "middle", note);
+    }
+    cli_svg_end(&s);
+    free(band);
+    return cli_out_commit(&o);
+}
