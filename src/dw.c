@@ -327,6 +327,9 @@ int igea_dw_compute(const double *site, int system, int kind, const double *q0,
         free(res);
         return IGEA_ENOMEM;
     }
+    /* the covariance and clock slots are written only when asked for: zero
+     * them so that the finiteness check below never reads garbage */
+    memset(res, 0, 12 * (size_t)ntrk * sizeof *res);
     s = telemetry_w(&a, W);
     if (!s)
         s = epochs(&a, W, res);

@@ -250,6 +250,16 @@ CLASS = {
         "rejected_rows": "rows rejected by the robust route: [{\"row\": i, \"w\": w}]",
         "noise_iterations": "iterations of the noise-model estimation",
         "noise_converged": "True when the noise-model estimation converged"},
+    "NavErrors": {
+        "lat": "latitude, degrees",
+        "duration": "propagation time, s",
+        "acc_bias": "(3,) accelerometer biases north, east, down, m/s^2",
+        "gyro_drift": "(3,) gyro drifts north, east, down, rad/s",
+        "time": "(n,) epochs, s",
+        "position": "(n, 3) position errors north, east, down, m",
+        "velocity": "(n, 3) velocity errors north, east, down, m/s",
+        "attitude": "(n, 3) attitude errors about north, east, down, rad",
+        "covariance": "(n, 15, 15) covariance of the whole error state, or None"},
     "ImpactResult": {
         "model": "gravity model of the ballistic flight (e.g. point, j2)",
         "point": "(3,) impact point, ECEF, m",

@@ -9,8 +9,10 @@ from typing import Optional
 import numpy as np
 
 from . import _capi, _lib
+from ._result import result
 
 
+@result
 @dataclass(frozen=True)
 class NavErrors:
     """igea.nav_errors: the errors at the epochs time (n,): position (n, 3)
