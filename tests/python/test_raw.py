@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import igea
-from igea.sim import simulate_raw
+from igea import simulate_raw
 
 DRIVER = os.environ["IGEA_DRIVER"]
 
