@@ -378,6 +378,66 @@ IGEA_API int igea_sim_montecarlo(const igea_sim_model *model,
 IGEA_API int igea_sim_pool(int nflights, const double *table, int ldt,
                            int size, double alpha, double *pooled);
 
+/* ---- raw range records of a simulated flight (src/sim_raw.c) ------------ */
+
+/* Columns of the raw records of igea_sim_raw. */
+#define IGEA_SIM_RAW_TEL_STRAPDOWN 7 /* t dvx dvy dvz dthx dthy dthz (body axes) */
+#define IGEA_SIM_RAW_TEL_PLATFORM 4  /* t dvx dvy dvz (stabilised = LI axes) */
+#define IGEA_SIM_RAW_TRK_COLS 7      /* t x y z vx vy vz */
+
+/*
+ * The two raw records a range hands over for a simulated flight
+ * (docs/pipeline.md, section 8): the telemetry (the instruments' increments
+ * at the trajectory rate, with the instrument errors err applied) and the
+ * tracking (the true vehicle, or its tracked point, in frame at the
+ * epochs, minus the velocity noise given), plus the launch point and the
+ * lift-off attitude as the range states them (with the launch-point and
+ * initial-attitude errors of err). The true vehicle is the navigation
+ * (igea_nav_step, J2) of the error-free increments from the true site; so
+ * igea_dw_compute of the records without errors and noise gives dW = 0 up
+ * to its own gravity-integral and interpolation error.
+ * Increments over (t_{k-1}, t_k]: trapezoids of the sampled instrument
+ * outputs, dv = h (f^_{k-1} + f^_k) / 2, dth = h (w^_{k-1} + w^_k) / 2;
+ * f^, w^ the trajectory's f, w with the errors of igea_envfun_nonlinear
+ * (igea__term_unit of every code whose err is not 0; the size effect's
+ * tangential part as r (dw_k x e_k)_j; a platform's force read in its
+ * drifting axes P, P_0 = exp([alpha0 x]), P' = P [eps x] by the same
+ * trapezoid-exponential step, eps from the platform-axis force).
+ * Launch-point errors pos0_x, pos0_z (m) move the stated launch point by
+ * that much downrange and cross-range at the same height, the stated
+ * azimuth keeping the true downrange direction; the lever arm l (body, m)
+ * puts the tracked point at r + C(q) l, v + C(q) (w x l).
+ * Arguments:
+ *  1 system   IGEA_ENVFUN_STRAPDOWN or IGEA_ENVFUN_PLATFORM
+ *  2 nsamp    >= 2; 3 traj (nsamp x 11, igea/envfun.h, t_0 = 0 the
+ *             lift-off); 4 ldt >= nsamp
+ *  5 nerr     IGEA_ENVFUN_TERM_COUNT <= nerr <= igea_envfun_term_count()
+ *  6 err      nerr values: the true error of each code, SI units (codes
+ *             not valid for the system must be 0); may be NULL: none
+ *  7 axes     platform gyro axes as igea_envfun_compute, or NULL
+ *  8 site     the true launch point (IGEA_NAV_SITE_LEN, igea_nav_site)
+ *  9 frame    IGEA_NAV_ECEF or IGEA_NAV_LE, the tracking's frame
+ * 10 nepochs  >= 1; 11 epochs: increasing, each a sample time of traj
+ *             (within 1e-9 s)
+ * 12 noise    3 nepochs values: the velocity noise of dW in LI, epoch-major
+ *             (the tracking velocity gets -noise, rotated into frame); may
+ *             be NULL: none
+ * 13 tel      output, nsamp x IGEA_SIM_RAW_TEL_* column-major (row 0: t_0,
+ *             zero increments); 14 ldtel >= nsamp
+ * 15 trk      output, nepochs x IGEA_SIM_RAW_TRK_COLS column-major;
+ *             16 ldtrk >= nepochs
+ * 17 q0       output, 4: the stated attitude body -> LI at lift-off
+ *             (strapdown, with att0; platform 1 0 0 0)
+ * 18 site_out output, IGEA_NAV_SITE_LEN: the stated launch point
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_EDOMAIN (a zero quaternion),
+ * IGEA_ENOMEM; outputs untouched on failure.
+ */
+IGEA_API int igea_sim_raw(int system, int nsamp, const double *traj, int ldt, int nerr,
+                          const double *err, const int *axes, const double *site,
+                          int frame, int nepochs, const double *epochs,
+                          const double *noise, double *tel, int ldtel, double *trk,
+                          int ldtrk, double *q0, double *site_out);
+
 #ifdef __cplusplus
 }
 #endif

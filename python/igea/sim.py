@@ -322,3 +322,68 @@ def _judge_slots(ar, ar_given, robust, robust_alpha, group_bias):
     if ar:
         out.update(ar=int(ar), ar_estimate=0 if ar_given else 1)
     return out
+
+
+# ---- raw range records of a simulated flight (igea_sim_raw) ----------------
+
+@dataclass(frozen=True)
+class RawFlight:
+    """The raw records of a simulated flight: what `igea simulate --raw`
+    writes (telemetry.txt, tracking.txt, dw_args.txt) and its Flight."""
+    telemetry: np.ndarray  # (samples, 7 or 4) t dvx dvy dvz [dthx dthy dthz]
+    tracking: np.ndarray   # (epochs, 8) t x y z vx vy vz sigma (m, m/s, in frame)
+    lat: float             # the stated launch point, degrees (with pos0 errors)
+    lon: float
+    height: float          # m
+    azimuth: float         # degrees
+    q0: np.ndarray         # (4,) stated attitude body -> LI at lift-off
+    frame: str
+    system: str
+    flight: Flight         # the simulator's own S, dw, sigma, spec, x_true
+
+    def dw_kwargs(self):
+        """The keywords of igea.dw for these records."""
+        return dict(lat=self.lat, lon=self.lon, height=self.height, azimuth=self.azimuth,
+                    frame=self.frame, system=self.system, q0=self.q0)
+
+
+def simulate_raw(traj=None, terms=None, epochs=None, *, system="strapdown", lat=40.96,
+                 lon=100.29, height=1000.0, azimuth=30.0, frame="ecef", noise=True,
+                 **flight_kw):
+    """The raw telemetry and tracking records of the flight that
+    igea.simulate(traj, terms, epochs, system=system, **flight_kw) makes
+    (same seed and flight: the same true X and the same tracking noise),
+    launched from lat, lon (degrees), height (m) at azimuth (degrees), the
+    tracking in frame "ecef" or "le"; noise=False leaves the noise out.
+    The sigma column is the stated 1-sigma of the epoch's x row (the three
+    rows of an epoch have the same stated sigma unless a per-row sigma is
+    given). igea_sim_raw, docs/pipeline.md section 8."""
+    if traj is None:
+        traj = reference_trajectory(system=system)
+    tr = _lib.as_f64(traj, "traj", ndim=2)
+    fl = simulate(tr, terms, epochs, system=system, **flight_kw)
+    m = fl.dw.size
+    nz = None
+    if noise:
+        kw = dict(flight_kw, x=np.zeros(len(fl.terms)), nonlinear_truth=False)
+        nz = np.ascontiguousarray(simulate(tr, fl.terms, fl.epochs, system=system, **kw).dw)
+    sc = _system_code(system)
+    fc = _lib.choice(_capi.CHOICE_NAV_FRAME, frame, "igea.simulate_raw", "frame")
+    err = np.zeros(_lib.lib.igea_envfun_term_count())
+    err[term_codes(list(fl.terms), system)] = fl.x_true * fl.spec
+    from .nav import nav_site
+    site = nav_site(np.radians(lat), np.radians(lon), height, np.radians(azimuth))
+    ns, ne = tr.shape[0], m // 3
+    cols = _capi.SIM_RAW_TEL_STRAPDOWN if sc == _capi.ENVFUN_STRAPDOWN else _capi.SIM_RAW_TEL_PLATFORM
+    tel = np.zeros((ns, cols), order="F")
+    trk = np.zeros((ne, _capi.SIM_RAW_TRK_COLS), order="F")
+    q0, so = np.zeros(4), np.zeros(_capi.NAV_SITE_LEN)
+    ep = np.ascontiguousarray(fl.epochs, dtype=float)
+    _lib.call("igea.simulate_raw", "igea_sim_raw", sc, ns, _lib.dptr(tr), ns, err.size,
+              _lib.dptr(err), None, _lib.dptr(site), fc, ne, _lib.dptr(ep), _lib.dptr(nz),
+              _lib.dptr(tel), ns, _lib.dptr(trk), ne, _lib.dptr(q0), _lib.dptr(so))
+    track = np.column_stack([trk, fl.sigma[0::3]])
+    return RawFlight(telemetry=tel, tracking=track, lat=float(np.degrees(so[0])),
+                     lon=float(np.degrees(so[1])), height=float(so[2]),
+                     azimuth=float(np.degrees(so[3])), q0=q0, frame=frame, system=system,
+                     flight=fl)

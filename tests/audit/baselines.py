@@ -350,6 +350,13 @@ BASE = {
                                ldt='nsamp', err='set:b_[0] = 1e-3; b_[15] = 1e-6;'
                                ' for (long i = 1; i < AUDIT_NB; i++) if (i != 15) b_[i] = 0;',
                                axes='NULL', nepochs='5', epochs='c:2.0 * (double)i'),
+    'igea_sim_raw': dict(system='IGEA_ENVFUN_STRAPDOWN', nsamp='101', traj=TRAJ, ldt='nsamp',
+                         nerr='IGEA_ENVFUN_TERM_END',
+                         err='set:for (long i = 0; i < AUDIT_NB; i++) { b_[i] = 0; } b_[0] = 1e-3;'
+                             ' b_[15] = 1e-6;',
+                         axes='NULL', site=NAV_SITE, frame='IGEA_NAV_ECEF', nepochs='5',
+                         epochs='c:2.0 * (double)i', noise='u', ldtel='nsamp', ldtrk='nepochs',
+                         _int=dict(frame='enum', nerr='enum'), _opt=['err', 'noise']),
     'igea_sim_montecarlo': dict(eq_opts=EQ_OPTS, seed='1', first_flight='0', nflights='4',
                                 nthreads='1', ldt='nflights', _zero_ok=['nthreads'],
                                 _int=dict(nthreads='nonneg'), _nan_out=['counts', 'table']),
