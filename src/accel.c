@@ -1004,3 +1004,136 @@ int igea_accel_simulate(int n, const double *theta_deg, const double *truth,
     free(buf);
     return 0;
 }
+
+/* ---------------------------------------------------------------------- */
+/* Applying a calibration. */
+
+#define APPLY_MAXIT 50
+
+/* Single model: solve y = K0 + (1 + k1) u + d0 v + K2 u^2 + Kix u v for u
+ * by Newton from u = y. Returns 0 or IGEA_ENOCONV. */
+static int apply_single(const double *K, double y, double v, double *u_out)
+{
+    double u = y;
+    for (int it = 0; it < APPLY_MAXIT; it++) {
+        double f = K[IGEA_ACCEL_K0] + (1.0 + K[IGEA_ACCEL_K1]) * u +
+                   K[IGEA_ACCEL_DELTA0] * v + K[IGEA_ACCEL_K2] * u * u +
+                   K[IGEA_ACCEL_KIX] * u * v - y;
+        double df = 1.0 + K[IGEA_ACCEL_K1] + 2.0 * K[IGEA_ACCEL_K2] * u +
+                    K[IGEA_ACCEL_KIX] * v;
+        if (!(fabs(df) > 0.0) || !isfinite(f))
+            return IGEA_ENOCONV;
+        double du = f / df;
+        u -= du;
+        if (!isfinite(u))
+            return IGEA_ENOCONV;
+        if (fabs(du) <= 4.0 * DBL_EPSILON * fmax(1.0, fmax(fabs(u), fabs(v)))) {
+            *u_out = u;
+            return 0;
+        }
+    }
+    return IGEA_ENOCONV;
+}
+
+/* Dual pair: the exact models (1)-(2) as functions of the in-plane
+ * acceleration (u along A's input axis, v perpendicular towards B), and
+ * their Jacobian. */
+static void apply_dual_eval(const double *K, double ce, double se, double u, double v,
+                            double *fa, double *fb, double *J)
+{
+    double b = v * ce - u * se, w = u * ce + v * se;
+    *fa = K[IGEA_ACCEL_KA0] + (1.0 + K[IGEA_ACCEL_KA1]) * u + K[IGEA_ACCEL_KA2] * u * u +
+          K[IGEA_ACCEL_KAIX] * u * v;
+    *fb = K[IGEA_ACCEL_KB0] + (1.0 + K[IGEA_ACCEL_KB1]) * b + K[IGEA_ACCEL_KB2] * b * b -
+          K[IGEA_ACCEL_KBIX] * b * w;
+    double dfb_db = 1.0 + K[IGEA_ACCEL_KB1] + 2.0 * K[IGEA_ACCEL_KB2] * b -
+                    K[IGEA_ACCEL_KBIX] * w;
+    double dfb_dw = -K[IGEA_ACCEL_KBIX] * b;
+    J[0] = 1.0 + K[IGEA_ACCEL_KA1] + 2.0 * K[IGEA_ACCEL_KA2] * u + K[IGEA_ACCEL_KAIX] * v;
+    J[1] = K[IGEA_ACCEL_KAIX] * u;
+    J[2] = -dfb_db * se + dfb_dw * ce; /* d fb / du */
+    J[3] = dfb_db * ce + dfb_dw * se;  /* d fb / dv */
+}
+
+static int apply_dual(const double *K, double ya, double yb, double *u_out, double *v_out)
+{
+    double ce = cos(K[IGEA_ACCEL_ETA]), se = sin(K[IGEA_ACCEL_ETA]);
+    double u = ya, v = yb;
+    for (int it = 0; it < APPLY_MAXIT; it++) {
+        double fa, fb, J[4];
+        apply_dual_eval(K, ce, se, u, v, &fa, &fb, J);
+        fa -= ya;
+        fb -= yb;
+        double det = J[0] * J[3] - J[1] * J[2];
+        if (!(fabs(det) > 0.0) || !isfinite(det) || !isfinite(fa) || !isfinite(fb))
+            return IGEA_ENOCONV;
+        double du = (J[3] * fa - J[1] * fb) / det;
+        double dv = (J[0] * fb - J[2] * fa) / det;
+        u -= du;
+        v -= dv;
+        if (!isfinite(u) || !isfinite(v))
+            return IGEA_ENOCONV;
+        double big = fmax(1.0, fmax(fabs(u), fabs(v)));
+        if (fmax(fabs(du), fabs(dv)) <= 4.0 * DBL_EPSILON * big) {
+            *u_out = u;
+            *v_out = v;
+            return 0;
+        }
+    }
+    return IGEA_ENOCONV;
+}
+
+static int apply_check(int model, int n, const double *raw_a, const double *raw_b,
+                       double scale_a, double scale_b, const double *coef,
+                       const double *cross, const double *u)
+{
+    if (!model_ok(model))
+        return -1;
+    if (n < 1)
+        return -2;
+    if (!raw_a)
+        return -3;
+    int dual = model == IGEA_ACCEL_DUAL;
+    if (dual && !raw_b)
+        return -4;
+    if (!isfinite(scale_a) || scale_a == 0.0)
+        return -5;
+    if (dual && (!isfinite(scale_b) || scale_b == 0.0))
+        return -6;
+    if (!coef)
+        return -7;
+    if (!u)
+        return -9;
+    if (!igea__finite_vec(n, raw_a, 1) || (dual && !igea__finite_vec(n, raw_b, 1)) ||
+        !igea__finite_vec(model_np(model), coef, 1) ||
+        (!dual && cross && !igea__finite_vec(n, cross, 1)))
+        return IGEA_ENONFINITE;
+    return 0;
+}
+
+int igea_accel_apply(int model, int n, const double *raw_a, const double *raw_b,
+                     double scale_a, double scale_b, const double *coef,
+                     const double *cross, double *u, double *v)
+{
+    int st = apply_check(model, n, raw_a, raw_b, scale_a, scale_b, coef, cross, u);
+    if (st)
+        return st;
+    int dual = model == IGEA_ACCEL_DUAL;
+    double *buf = igea__dalloc(2 * (size_t)n);
+    if (!buf)
+        return IGEA_ENOMEM;
+    for (int i = 0; i < n && st == 0; i++) {
+        double ya = raw_a[i] / scale_a;
+        if (dual)
+            st = apply_dual(coef, ya, raw_b[i] / scale_b, buf + i, buf + n + i);
+        else
+            st = apply_single(coef, ya, cross ? cross[i] : 0.0, buf + i);
+    }
+    if (st == 0) {
+        memcpy(u, buf, (size_t)n * sizeof(double));
+        if (dual && v)
+            memcpy(v, buf + n, (size_t)n * sizeof(double));
+    }
+    free(buf);
+    return st;
+}

@@ -982,6 +982,112 @@ static void test_fit_prior_scale_range(void **state)
     assert_true(all_sentinel(coef, 9));
 }
 
+/* ---- apply ------------------------------------------------------------- */
+/* The exact models (1)-(2) of METHODS 4.2, written here independently of
+ * the library: A at phi, B at phi + eta. */
+static void exact_pair(const double *K, double phi, double *ya, double *yb)
+{
+    double sa = sin(phi), ca = cos(phi), sb = sin(phi + K[4]), cb = cos(phi + K[4]);
+    *ya = K[0] + (1.0 + K[2]) * sa + K[5] * sa * sa + K[7] * sa * ca;
+    *yb = K[1] + (1.0 + K[3]) * cb + K[6] * cb * cb - K[8] * cb * sb;
+}
+
+/* Round trip: the simulator's noise-free outputs (checked against the
+ * models above) in volts, applied, give back sin(phi), cos(phi). With
+ * mg-level coefficients, so that every compensated term matters. */
+static void test_apply_dual_round_trip(void **state)
+{
+    (void)state;
+    enum { N = 24 };
+    double th[N], truth[IGEA_ACCEL_NP_SIM], ya[N], yb[N], va[N], vb[N], u[N + 1], v[N + 1];
+    assert_int_equal(igea_accel_schedule(N, 3.0, th), 0);
+    const double K[10] = {2e-3, -1.5e-3, 3e-3, -2e-3, 5e-3, 2e-3, -1e-3, 1e-3, -2e-3, 4e-3};
+    memcpy(truth, K, sizeof K);
+    assert_int_equal(igea_accel_simulate(N, th, truth, 0.0, 0.0, 1, ya, yb), 0);
+    for (int i = 0; i < N; i++) {
+        double phi = th[i] * DEG + K[9], ea, eb;
+        exact_pair(K, phi, &ea, &eb);
+        assert_close_abs(ya[i], ea, 0, 1e-15);
+        assert_close_abs(yb[i], eb, 0, 1e-15);
+        va[i] = 2.5 * ya[i];  /* volts, 2.5 V/g */
+        vb[i] = -1.25 * yb[i]; /* reversed polarity */
+    }
+    u[N] = v[N] = SENTINEL;
+    assert_int_equal(igea_accel_apply(IGEA_ACCEL_DUAL, N, va, vb, 2.5, -1.25, K, NULL, u, v), 0);
+    for (int i = 0; i < N; i++) {
+        double phi = th[i] * DEG + K[9];
+        assert_close_abs(u[i], sin(phi), 0, 2e-15);
+        assert_close_abs(v[i], cos(phi), 0, 2e-15);
+    }
+    assert_true(u[N] == SENTINEL && v[N] == SENTINEL);
+    /* v may be NULL. */
+    assert_int_equal(igea_accel_apply(IGEA_ACCEL_DUAL, N, va, vb, 2.5, -1.25, K, NULL, u, NULL), 0);
+    assert_close_abs(u[5], sin(th[5] * DEG + K[9]), 0, 2e-15);
+}
+
+/* Single model: y = K0 + (1 + k1) u + delta0 v + K2 u^2 + Kix u v written
+ * here; the simulator's A output with delta0 = 0 is this model at
+ * u = sin(theta), v = cos(theta). */
+static void test_apply_single_round_trip(void **state)
+{
+    (void)state;
+    enum { N = 18 };
+    double th[N], truth[IGEA_ACCEL_NP_SIM] = {0}, ya[N], raw[N], cross[N], u[N];
+    assert_int_equal(igea_accel_schedule(N, 7.0, th), 0);
+    const double K[5] = {1e-3, -2e-3, 3e-4, 4e-3, -3e-3};
+    for (int i = 0; i < N; i++) {
+        double s = sin(th[i] * DEG), c = cos(th[i] * DEG);
+        raw[i] = 1000.0 * (K[0] + (1 + K[1]) * s + K[2] * c + K[3] * s * s + K[4] * s * c);
+        cross[i] = c;
+    }
+    assert_int_equal(igea_accel_apply(IGEA_ACCEL_SINGLE, N, raw, NULL, 1000.0, 0.0, K, cross,
+                                      u, NULL), 0);
+    for (int i = 0; i < N; i++)
+        assert_close_abs(u[i], sin(th[i] * DEG), 0, 2e-15);
+    /* Against the simulator: A's exact model (1) with delta0 = 0. */
+    truth[IGEA_ACCEL_KA0] = K[0];
+    truth[IGEA_ACCEL_KA1] = K[1];
+    truth[IGEA_ACCEL_KA2] = K[3];
+    truth[IGEA_ACCEL_KAIX] = K[4];
+    assert_int_equal(igea_accel_simulate(N, th, truth, 0.0, 0.0, 3, ya, NULL), 0);
+    const double Ks[5] = {K[0], K[1], 0.0, K[3], K[4]};
+    assert_int_equal(igea_accel_apply(IGEA_ACCEL_SINGLE, N, ya, NULL, 1.0, 1.0, Ks, cross, u,
+                                      NULL), 0);
+    for (int i = 0; i < N; i++)
+        assert_close_abs(u[i], sin(th[i] * DEG), 0, 2e-15);
+    /* Without the cross-axis input, only bias, scale and K2 are removed:
+     * the residual error is delta0 v + Kix u v over the local slope. */
+    assert_int_equal(igea_accel_apply(IGEA_ACCEL_SINGLE, N, raw, NULL, 1000.0, 0.0, K, NULL, u,
+                                      NULL), 0);
+    double s = sin(th[1] * DEG), c = cos(th[1] * DEG);
+    double slope = 1 + K[1] + 2 * K[3] * s;
+    assert_close(u[1] - s, (K[2] * c + K[4] * s * c) / slope, 2e-3);
+}
+
+static void test_apply_invalid(void **state)
+{
+    (void)state;
+    double ra[3] = {0.1, 0.2, 0.3}, rb[3] = {0.9, 0.8, 0.7}, K[9] = {0}, u[3], v[3];
+    fill_sentinel(u, 3);
+    fill_sentinel(v, 3);
+    assert_int_equal(igea_accel_apply(7, 3, ra, rb, 1, 1, K, NULL, u, v), -1);
+    assert_int_equal(igea_accel_apply(IGEA_ACCEL_DUAL, 0, ra, rb, 1, 1, K, NULL, u, v), -2);
+    assert_int_equal(igea_accel_apply(IGEA_ACCEL_DUAL, 3, NULL, rb, 1, 1, K, NULL, u, v), -3);
+    assert_int_equal(igea_accel_apply(IGEA_ACCEL_DUAL, 3, ra, NULL, 1, 1, K, NULL, u, v), -4);
+    assert_int_equal(igea_accel_apply(IGEA_ACCEL_DUAL, 3, ra, rb, 0, 1, K, NULL, u, v), -5);
+    assert_int_equal(igea_accel_apply(IGEA_ACCEL_DUAL, 3, ra, rb, 1, NAN, K, NULL, u, v), -6);
+    assert_int_equal(igea_accel_apply(IGEA_ACCEL_DUAL, 3, ra, rb, 1, 1, NULL, NULL, u, v), -7);
+    assert_int_equal(igea_accel_apply(IGEA_ACCEL_DUAL, 3, ra, rb, 1, 1, K, NULL, NULL, v), -9);
+    rb[1] = NAN;
+    assert_int_equal(igea_accel_apply(IGEA_ACCEL_DUAL, 3, ra, rb, 1, 1, K, NULL, u, v),
+                     IGEA_ENONFINITE);
+    /* K2 = 1: y = u + u^2 has no real root for y < -1/4. */
+    double Ks[5] = {0, 0, 0, 1.0, 0}, neg[1] = {-1.0};
+    assert_int_equal(igea_accel_apply(IGEA_ACCEL_SINGLE, 1, neg, NULL, 1, 0, Ks, NULL, u, NULL),
+                     IGEA_ENOCONV);
+    assert_true(all_sentinel(u, 3) && all_sentinel(v, 3));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1007,6 +1113,9 @@ int main(void)
         cmocka_unit_test(test_refine_invalid),
         cmocka_unit_test(test_fit_out_of_memory),
         cmocka_unit_test(test_fit_prior_scale_range),
+        cmocka_unit_test(test_apply_dual_round_trip),
+        cmocka_unit_test(test_apply_single_round_trip),
+        cmocka_unit_test(test_apply_invalid),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -304,3 +304,39 @@ def accel_simulate(theta_deg, truth, *, head_sd_arcsec=1.0, noise_sd=1e-6, seed=
               float(head_sd_arcsec) * ARCSEC, float(noise_sd), int(seed), _lib.dptr(ya),
               _lib.dptr(yb))
     return ya, yb
+
+
+@dataclass(frozen=True)
+class AccelApplied:
+    """Compensated accelerations of igea.accel_apply (g): u along the
+    reference (single) or A's (dual) input axis, v the in-plane
+    perpendicular towards B (dual; None for single)."""
+    u: np.ndarray
+    v: np.ndarray = None
+
+
+def accel_apply(raw_a, coef, raw_b=None, *, model="dual", scale_a=1.0, scale_b=1.0,
+                cross=None):
+    """Apply a calibration to raw outputs: raw / scale in g, then the fitted
+    model (bias, scale, misalignment, cross-coupling, K2) inverted.
+
+    single: coef = (K0, k1, delta0, K2, Kix); cross = the acceleration along
+    the cross axis (g, per reading; None: 0). dual: coef = the 9 dual
+    coefficients, raw_b the B outputs."""
+    m = _model(model)
+    ra = _lib.as_f64(raw_a, "raw_a", ndim=1)
+    n = ra.shape[0]
+    if n < 1:
+        raise ValueError("raw_a: expected at least one value")
+    c = _vec(coef, "coef", _NP[m])
+    dual = m == "dual"
+    if dual and raw_b is None:
+        raise ValueError("raw_b: the dual model needs the B outputs")
+    rb = _vec(raw_b, "raw_b", n) if dual else None
+    cr = _vec(cross, "cross", n) if (cross is not None and not dual) else None
+    u = np.zeros(n)
+    v = np.zeros(n) if dual else None
+    _lib.call("igea.accel_apply", "igea_accel_apply", _MODELS[m], n, _lib.dptr(ra),
+              _lib.dptr(rb), float(scale_a), float(scale_b), _lib.dptr(c), _lib.dptr(cr),
+              _lib.dptr(u), _lib.dptr(v))
+    return AccelApplied(u, v)
