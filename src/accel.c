@@ -3,6 +3,7 @@
  * estimators, exact-model refinement, simulation (METHODS 4.1-4.3). */
 #include <float.h>
 
+#include <gsl/gsl_cdf.h>
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
 #include <lapacke.h>
@@ -1135,5 +1136,188 @@ int igea_accel_apply(int model, int n, const double *raw_a, const double *raw_b,
             memcpy(v, buf + n, (size_t)n * sizeof(double));
     }
     free(buf);
+    return st;
+}
+
+/* ---------------------------------------------------------------------- */
+/* Hysteresis: clockwise minus counter-clockwise per position. */
+
+/* Directions from the row order (see the header): +1 clockwise (angle
+ * decreasing), -1 counter-clockwise. Rows within tol of the previous row
+ * form a block; a block takes the direction of the step into it (the first
+ * block: out of it); a block where the direction reverses is split, its
+ * first ceil(len / 2) rows going with the incoming run. Returns 0 or
+ * IGEA_EDOMAIN (no change of angle at all). */
+static int hyst_directions(int n, const double *ang, double tol, int *d)
+{
+    int any = 0;
+    for (int b = 0, din = 0; b < n;) {
+        int e = b + 1, dout = 0;
+        while (e < n && fabs(remainder(ang[e] - ang[e - 1], 360.0)) <= tol)
+            e++;
+        if (e < n)
+            dout = remainder(ang[e] - ang[e - 1], 360.0) > 0.0 ? -1 : 1;
+        int len = e - b, first = din ? din : dout;
+        int split = (din && dout && din != dout) ? (len + 1) / 2 : len;
+        for (int i = b; i < e; i++)
+            d[i] = i - b < split ? first : dout;
+        any |= dout != 0;
+        din = dout;
+        b = e;
+    }
+    return any ? 0 : IGEA_EDOMAIN;
+}
+
+typedef struct {
+    double t, d, sd;
+    int ncw, nccw;
+} hyst_pos;
+
+/* Group sorted readings into positions; per position the cell means and
+ * the within-cell sum of squares (added to *ss). Returns the number of
+ * positions or IGEA_EDOMAIN (a position lacking a direction). */
+static int hyst_group(int n, const angle_idx *ai, const int *d, const double *y, double tol,
+                      hyst_pos *pos, double *ss)
+{
+    int np = 0;
+    igea__ksum acc = {0, 0};
+    for (int k = 0; k < n;) {
+        int e = k + 1;
+        while (e < n && ai[e].a - ai[k].a <= tol)
+            e++;
+        double sa = 0.0, sum[2] = {0, 0};
+        int cnt[2] = {0, 0};
+        for (int q = k; q < e; q++) {
+            int c = d[ai[q].idx] > 0 ? 0 : 1;
+            sa += ai[q].a;
+            sum[c] += y[ai[q].idx];
+            cnt[c]++;
+        }
+        if (!cnt[0] || !cnt[1])
+            return IGEA_EDOMAIN;
+        double m0 = sum[0] / cnt[0], m1 = sum[1] / cnt[1];
+        for (int q = k; q < e; q++) {
+            double r = y[ai[q].idx] - (d[ai[q].idx] > 0 ? m0 : m1);
+            igea__ksum_add(&acc, r * r);
+        }
+        pos[np].t = sa / (double)(e - k);
+        pos[np].d = m0 - m1;
+        pos[np].ncw = cnt[0];
+        pos[np].nccw = cnt[1];
+        np++;
+        k = e;
+    }
+    *ss = igea__ksum_get(&acc);
+    return np;
+}
+
+static int hyst_check(int nrows, const double *angle_deg, const int *dir, const double *y,
+                      double tol_deg, const double *theta_deg, const double *diff,
+                      const int *npos)
+{
+    if (nrows < 1)
+        return -1;
+    if (!angle_deg)
+        return -2;
+    if (!y)
+        return -4;
+    if (!(tol_deg >= 0.0 && tol_deg < 45.0))
+        return -5;
+    if (!theta_deg)
+        return -6;
+    if (!diff)
+        return -7;
+    if (!npos)
+        return -11;
+    if (dir)
+        for (int i = 0; i < nrows; i++)
+            if (dir[i] == 0)
+                return -3;
+    if (!igea__finite_vec(nrows, angle_deg, 1) || !igea__finite_vec(nrows, y, 1))
+        return IGEA_ENONFINITE;
+    return 0;
+}
+
+/* The test of zero hysteresis from the positions and the pooled sum of
+ * squares; fills pos[].sd. Returns 0 or IGEA_EDOMAIN. */
+static int hyst_test(int nrows, int np, double ss, hyst_pos *pos, double *tst)
+{
+    int df2 = nrows - 2 * np;
+    if (df2 < 1)
+        return IGEA_EDOMAIN;
+    double s2 = ss / df2, chi = 0.0;
+    if (!(s2 > 0.0) || !isfinite(s2))
+        return IGEA_EDOMAIN;
+    for (int k = 0; k < np; k++) {
+        pos[k].sd = sqrt(s2 * (1.0 / pos[k].ncw + 1.0 / pos[k].nccw));
+        double z = pos[k].d / pos[k].sd;
+        chi += z * z;
+    }
+    double F = chi / np;
+    if (!isfinite(F))
+        return IGEA_EDOMAIN;
+    tst[IGEA_ACCEL_HYST_F] = F;
+    tst[IGEA_ACCEL_HYST_DF1] = np;
+    tst[IGEA_ACCEL_HYST_DF2] = df2;
+    tst[IGEA_ACCEL_HYST_P] = gsl_cdf_fdist_Q(F, np, df2);
+    tst[IGEA_ACCEL_HYST_SIGMA] = sqrt(s2);
+    return 0;
+}
+
+int igea_accel_hysteresis(int nrows, const double *angle_deg, const int *dir,
+                          const double *y, double tol_deg, double *theta_deg,
+                          double *diff, double *diff_sd, int *n_cw, int *n_ccw,
+                          int *npos, double *test)
+{
+    int st = hyst_check(nrows, angle_deg, dir, y, tol_deg, theta_deg, diff, npos);
+    if (st)
+        return st;
+    angle_idx *ai = malloc((size_t)nrows * sizeof *ai);
+    hyst_pos *pos = malloc((size_t)nrows * sizeof *pos);
+    int *d = igea__ialloc((size_t)nrows);
+    if (!ai || !pos || !d) {
+        st = IGEA_ENOMEM;
+        goto done;
+    }
+    if (dir)
+        for (int i = 0; i < nrows; i++)
+            d[i] = dir[i] > 0 ? 1 : -1;
+    else if ((st = hyst_directions(nrows, angle_deg, tol_deg, d)) != 0)
+        goto done;
+    for (int i = 0; i < nrows; i++) {
+        double a = fmod(angle_deg[i], 360.0);
+        if (a < 0.0)
+            a += 360.0;
+        if (a >= 360.0 - tol_deg && a > 0.0)
+            a -= 360.0;
+        ai[i].a = a;
+        ai[i].idx = i;
+    }
+    qsort(ai, (size_t)nrows, sizeof *ai, cmp_angle);
+    double ss = 0.0, tst[IGEA_ACCEL_HYST_LEN];
+    int np = hyst_group(nrows, ai, d, y, tol_deg, pos, &ss);
+    if (np < 0) {
+        st = np;
+        goto done;
+    }
+    if ((st = hyst_test(nrows, np, ss, pos, tst)) != 0)
+        goto done;
+    for (int k = 0; k < np; k++) {
+        theta_deg[k] = pos[k].t;
+        diff[k] = pos[k].d;
+        if (diff_sd)
+            diff_sd[k] = pos[k].sd;
+        if (n_cw)
+            n_cw[k] = pos[k].ncw;
+        if (n_ccw)
+            n_ccw[k] = pos[k].nccw;
+    }
+    *npos = np;
+    if (test)
+        memcpy(test, tst, sizeof tst);
+done:
+    free(ai);
+    free(pos);
+    free(d);
     return st;
 }

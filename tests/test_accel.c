@@ -1088,6 +1088,123 @@ static void test_apply_invalid(void **state)
     assert_true(all_sentinel(u, 3) && all_sentinel(v, 3));
 }
 
+/* ---- hysteresis -------------------------------------------------------- */
+/* Closed form: position 0: cw {1, 3}, ccw {0, 2}; position 90: cw {5, 7},
+ * ccw {5, 5}. d = 1, 1; SS = 6, N - 2P = 4, s^2 = 1.5, sd_k = sqrt(1.5);
+ * F = (2/3) * 2 / 2 = 2/3; Q_F(F; 2, d2) = (1 + 2F/d2)^(-d2/2) = 9/16. */
+static void test_hysteresis_closed_form(void **state)
+{
+    (void)state;
+    const double ang[8] = {0, 0, 90, 90, 0, 0, 90, 90};
+    const double y[8] = {1, 3, 5, 7, 0, 2, 5, 5};
+    const int dir[8] = {1, 1, 1, 1, -1, -1, -1, -1};
+    double th[8], d[8], sd[8], t[IGEA_ACCEL_HYST_LEN];
+    int ncw[8], nccw[8], np = 0;
+    assert_int_equal(igea_accel_hysteresis(8, ang, dir, y, 1e-6, th, d, sd, ncw, nccw, &np, t),
+                     0);
+    assert_int_equal(np, 2);
+    assert_close_abs(th[0], 0, 0, 0);
+    assert_close(th[1], 90, 0);
+    assert_close(d[0], 1, 1e-15);
+    assert_close(d[1], 1, 1e-15);
+    assert_close(sd[0], sqrt(1.5), 1e-15);
+    assert_int_equal(ncw[1], 2);
+    assert_int_equal(nccw[1], 2);
+    assert_close(t[IGEA_ACCEL_HYST_F], 2.0 / 3.0, 1e-14);
+    assert_close(t[IGEA_ACCEL_HYST_DF1], 2, 0);
+    assert_close(t[IGEA_ACCEL_HYST_DF2], 4, 0);
+    assert_close(t[IGEA_ACCEL_HYST_P], 9.0 / 16.0, 1e-12);
+    assert_close(t[IGEA_ACCEL_HYST_SIGMA], sqrt(1.5), 1e-15);
+    /* Directions from the row order: 0 90 180 270 360 | 360 270 180 90 0
+     * (the turnaround block 360 360 is split: one reading per run). */
+    const double a2[10] = {0, 90, 180, 270, 360, 360, 270, 180, 90, 0};
+    const double y2[10] = {0, 1, 2, 3, 4, 4.5, 3.5, 2.5, 1.5, 0.5};
+    assert_int_equal(igea_accel_hysteresis(10, a2, NULL, y2, 1e-6, th, d, NULL, ncw, nccw, &np,
+                                           NULL), 0);
+    assert_int_equal(np, 4);
+    assert_int_equal(ncw[0], 2);  /* second 360, final 0 */
+    assert_int_equal(nccw[0], 2); /* 0, first 360 */
+    assert_close(d[1], 0.5, 1e-15);
+    assert_close(d[0], (4.5 + 0.5) / 2 - (0 + 4) / 2.0, 1e-15);
+    /* Four readings at the turnaround: two per run. */
+    const double a3[8] = {300, 330, 360, 360, 360, 360, 330, 300};
+    const double y3[8] = {1, 2, 3, 3.5, 4, 4.5, 5, 6};
+    assert_int_equal(igea_accel_hysteresis(8, a3, NULL, y3, 1e-6, th, d, NULL, ncw, nccw, &np,
+                                           t), 0);
+    assert_int_equal(np, 3);
+    assert_int_equal(ncw[0], 2);
+    assert_int_equal(nccw[0], 2);
+    assert_close(d[0], 1.0, 1e-15);
+}
+
+/* Size and power by simulation: 10 positions, 3 readings per direction,
+ * 1 micro-g noise, R = 400 runs at alpha = 0.05. Without hysteresis the
+ * rejections are Binomial(400, 0.05): 99.9 % interval [7, 36] (scipy
+ * binom.ppf(0.0005, 0.9995; 400, 0.05)). With 3 micro-g injected at every
+ * position (3.67 sd of d_k, noncentrality 135) the noncentral F(10, 40)
+ * rejects with probability 1 - 1e-11 (scipy ncf.sf(f.isf(0.05, 10, 40),
+ * 10, 40, 135)): all 400 runs. */
+static void test_hysteresis_size_power(void **state)
+{
+    (void)state;
+    enum { P = 10, M = 3, N = 2 * P * M, R = 400 };
+    double ang[N], y[N], th[N], d[N], t[IGEA_ACCEL_HYST_LEN], truth[IGEA_ACCEL_NP_SIM] = {0};
+    int dir[N], np, rej0 = 0, rej1 = 0;
+    for (int i = 0; i < N; i++) {
+        ang[i] = 36.0 * ((i / M) % P);
+        dir[i] = i < P * M ? 1 : -1;
+    }
+    for (int r = 0; r < R; r++) {
+        assert_int_equal(igea_accel_simulate(N, ang, truth, 0.0, 1e-6, 1000 + r, y, NULL), 0);
+        assert_int_equal(igea_accel_hysteresis(N, ang, dir, y, 1e-6, th, d, NULL, NULL, NULL,
+                                               &np, t), 0);
+        assert_int_equal(np, P);
+        rej0 += t[IGEA_ACCEL_HYST_P] < 0.05;
+        for (int i = 0; i < P * M; i++)
+            y[i] += 3e-6;
+        assert_int_equal(igea_accel_hysteresis(N, ang, dir, y, 1e-6, th, d, NULL, NULL, NULL,
+                                               &np, t), 0);
+        rej1 += t[IGEA_ACCEL_HYST_P] < 0.05;
+    }
+    assert_in_range(rej0, 7, 36);
+    assert_int_equal(rej1, R);
+}
+
+static void test_hysteresis_invalid(void **state)
+{
+    (void)state;
+    const double ang[4] = {0, 90, 0, 90}, y[4] = {1, 2, 3, 4};
+    int dir[4] = {1, 1, -1, -1}, np = -7;
+    double th[4], d[4];
+    fill_sentinel(d, 4);
+    assert_int_equal(igea_accel_hysteresis(0, ang, dir, y, 0, th, d, NULL, NULL, NULL, &np, NULL), -1);
+    assert_int_equal(igea_accel_hysteresis(4, NULL, dir, y, 0, th, d, NULL, NULL, NULL, &np, NULL), -2);
+    dir[2] = 0;
+    assert_int_equal(igea_accel_hysteresis(4, ang, dir, y, 0, th, d, NULL, NULL, NULL, &np, NULL), -3);
+    dir[2] = -1;
+    assert_int_equal(igea_accel_hysteresis(4, ang, dir, NULL, 0, th, d, NULL, NULL, NULL, &np, NULL), -4);
+    assert_int_equal(igea_accel_hysteresis(4, ang, dir, y, 45, th, d, NULL, NULL, NULL, &np, NULL), -5);
+    assert_int_equal(igea_accel_hysteresis(4, ang, dir, y, 0, NULL, d, NULL, NULL, NULL, &np, NULL), -6);
+    assert_int_equal(igea_accel_hysteresis(4, ang, dir, y, 0, th, NULL, NULL, NULL, NULL, &np, NULL), -7);
+    assert_int_equal(igea_accel_hysteresis(4, ang, dir, y, 0, th, d, NULL, NULL, NULL, NULL, NULL), -11);
+    /* one reading per cell: no repeated readings, N - 2P = 0 */
+    assert_int_equal(igea_accel_hysteresis(4, ang, dir, y, 0, th, d, NULL, NULL, NULL, &np, NULL),
+                     IGEA_EDOMAIN);
+    /* a position seen in one direction only */
+    const int one[4] = {1, 1, 1, -1};
+    assert_int_equal(igea_accel_hysteresis(4, ang, one, y, 0, th, d, NULL, NULL, NULL, &np, NULL),
+                     IGEA_EDOMAIN);
+    /* no change of angle with dir NULL */
+    const double same[4] = {5, 5, 5, 5};
+    assert_int_equal(igea_accel_hysteresis(4, same, NULL, y, 0, th, d, NULL, NULL, NULL, &np, NULL),
+                     IGEA_EDOMAIN);
+    const double bad[4] = {1, NAN, 3, 4};
+    assert_int_equal(igea_accel_hysteresis(4, ang, dir, bad, 0, th, d, NULL, NULL, NULL, &np, NULL),
+                     IGEA_ENONFINITE);
+    assert_true(all_sentinel(d, 4));
+    assert_int_equal(np, -7);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1116,6 +1233,9 @@ int main(void)
         cmocka_unit_test(test_apply_dual_round_trip),
         cmocka_unit_test(test_apply_single_round_trip),
         cmocka_unit_test(test_apply_invalid),
+        cmocka_unit_test(test_hysteresis_closed_form),
+        cmocka_unit_test(test_hysteresis_size_power),
+        cmocka_unit_test(test_hysteresis_invalid),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -359,11 +359,12 @@ IGEA_API int igea_accel_apply(int model, int n, const double *raw_a,
  * variance; P F -> chi-square(P) as N - 2P grows).
  *  1 nrows >= 1; 2 angle_deg[nrows]; 3 dir[nrows]: > 0 clockwise, < 0
  *  counter-clockwise, 0 invalid; NULL: from the row order, the
- *  convention of the seed's runs (angles increase counter-clockwise): a
- *  row whose angle exceeds the previous row's by more than tol_deg
- *  (modulo 360, the shorter way) is counter-clockwise, one below it
- *  clockwise, one within tol_deg repeats the previous row's direction; the
- *  first row takes the direction of the first change;
+ *  convention of the seed's runs (angles increase counter-clockwise):
+ *  rows within tol_deg of the previous row (modulo 360) form a block; a
+ *  block takes the direction of the step into it (the shorter way round;
+ *  the first block: of the step out of it), and a block where the
+ *  direction reverses (the 360 deg turnaround) is split, its first
+ *  ceil(len/2) rows going with the incoming run, the rest with the next;
  *  4 y[nrows] outputs (any unit); 5 tol_deg: 0 <= tol_deg < 45;
  * Outputs (capacity nrows each; positions in ascending angle):
  *  6 theta_deg, 7 diff, 8 diff_sd (may be NULL), 9 n_cw, 10 n_ccw (may be

@@ -340,3 +340,60 @@ def accel_apply(raw_a, coef, raw_b=None, *, model="dual", scale_a=1.0, scale_b=1
               _lib.dptr(rb), float(scale_a), float(scale_b), _lib.dptr(c), _lib.dptr(cr),
               _lib.dptr(u), _lib.dptr(v))
     return AccelApplied(u, v)
+
+
+@dataclass(frozen=True)
+class AccelHysteresis:
+    """Clockwise minus counter-clockwise mean per position and the F test of
+    zero hysteresis (igea.accel_hysteresis); the driver's JSON keys."""
+    theta_deg: np.ndarray
+    diff: np.ndarray
+    diff_sd: np.ndarray
+    n_cw: np.ndarray
+    n_ccw: np.ndarray
+    f: float
+    df1: int
+    df2: int
+    p: float
+    sigma: float
+
+    def summary(self):
+        lines = ["hysteresis (cw - ccw): F = %.4g on (%d, %d), p = %.4g; pooled sd %.3e"
+                 % (self.f, self.df1, self.df2, self.p, self.sigma)]
+        for k in range(len(self.theta_deg)):
+            lines.append("%9.3f %14.6e %12.3e %4d %4d" % (self.theta_deg[k], self.diff[k],
+                                                        self.diff_sd[k], self.n_cw[k],
+                                                        self.n_ccw[k]))
+        return "\n".join(lines)
+
+
+def accel_hysteresis(angle_deg, y, direction=None, *, tol_deg=1e-6):
+    """CW - CCW per position with its sd from the repeated readings and the
+    F test of zero hysteresis. direction: per reading > 0 clockwise, < 0
+    counter-clockwise; None: from the row order (angles increasing =
+    counter-clockwise)."""
+    ang = _lib.as_f64(angle_deg, "angle_deg", ndim=1)
+    n = ang.shape[0]
+    if n < 1:
+        raise ValueError("angle_deg: expected at least one reading")
+    yy = _vec(y, "y", n)
+    d = None
+    if direction is not None:
+        d = np.ascontiguousarray(np.asarray(direction), dtype=np.intc)
+        if d.shape != (n,):
+            raise ValueError(f"direction: expected {n} values, got shape {d.shape}")
+    t, df, sd = np.zeros(n), np.zeros(n), np.zeros(n)
+    ncw, nccw = np.zeros(n, dtype=np.intc), np.zeros(n, dtype=np.intc)
+    test = np.zeros(_capi.ACCEL_HYST_LEN)
+    npos = ctypes.c_int()
+    _lib.call("igea.accel_hysteresis", "igea_accel_hysteresis", n, _lib.dptr(ang),
+              _lib.iptr(d), _lib.dptr(yy), float(tol_deg), _lib.dptr(t), _lib.dptr(df),
+              _lib.dptr(sd), _lib.iptr(ncw), _lib.iptr(nccw), ctypes.byref(npos),
+              _lib.dptr(test))
+    k = npos.value
+    return AccelHysteresis(t[:k].copy(), df[:k].copy(), sd[:k].copy(), ncw[:k].copy(),
+                           nccw[:k].copy(), f=float(test[_capi.ACCEL_HYST_F]),
+                           df1=int(test[_capi.ACCEL_HYST_DF1]),
+                           df2=int(test[_capi.ACCEL_HYST_DF2]),
+                           p=float(test[_capi.ACCEL_HYST_P]),
+                           sigma=float(test[_capi.ACCEL_HYST_SIGMA]))

@@ -6,7 +6,7 @@
 
 typedef struct {
     const char *data, *prior, *out;
-    int model, method, rule, axis, json, refine;
+    int model, method, rule, axis, json, refine, hyst;
     double lam_floor, scale_a, scale_b, tol;
 } ac_args;
 
@@ -27,6 +27,10 @@ static const cli_opt options[] = {
      "(pa, the door position) or Kip (oa)", NULL},
     {"--refine", CLI_OPT_FLAG, &A.refine, NULL, NULL, "dual: Gauss-Newton on the exact models (1)-(2)\n"
      "after the linear fit (for mg-level biases); the\nnull-space part of the fit is kept", NULL},
+    {"--hysteresis", CLI_OPT_FLAG, &A.hyst, NULL, NULL, "also clockwise minus counter-clockwise per position\n"
+     "with its sd from the repeated readings and the F test\n"
+     "of zero hysteresis (directions from the row order:\n"
+     "increasing angles = counter-clockwise)", NULL},
     CLI_JSON_OPT(&A.json),
     CLI_OUT_OPT(&A.out),
     CLI_END};
@@ -87,6 +91,9 @@ typedef struct {
     double tau[9], coef[9], sd[9], cmb[7], csd[7], info[IGEA_ACCEL_INFO_LEN];
     double rcoef[9], rsd[9], rcmb[7], rinfo[IGEA_ACCEL_INFO_LEN];
     int flag[9];
+    /* hysteresis of A and B: angle, diff, sd (nr each), counts, test */
+    double *h_th, *h_d[2], *h_sd[2], h_test[2][IGEA_ACCEL_HYST_LEN];
+    int *h_ncw[2], *h_nccw[2], h_npos;
 } ac_run;
 
 static void setup(const ac_args *a, ac_run *r)
@@ -144,13 +151,39 @@ static int read_inputs(const ac_args *a, ac_run *r)
     return CLI_OK;
 }
 
+/* CW - CCW per position of each output (outputs in g). */
+static int hysteresis(const ac_args *a, ac_run *r)
+{
+    int nr = r->nr, no = r->dual ? 2 : 1;
+    size_t nn = (size_t)nr;
+    if (!(r->h_th = malloc(nn * 5 * sizeof(double))) ||
+        !(r->h_ncw[0] = malloc(nn * 4 * sizeof(int))))
+        return cli_oom("the hysteresis");
+    r->h_d[0] = r->h_th + nn, r->h_d[1] = r->h_d[0] + nn;
+    r->h_sd[0] = r->h_d[1] + nn, r->h_sd[1] = r->h_sd[0] + nn;
+    r->h_ncw[1] = r->h_ncw[0] + nn, r->h_nccw[0] = r->h_ncw[1] + nn;
+    r->h_nccw[1] = r->h_nccw[0] + nn;
+    for (int o = 0; o < no; o++) {
+        int st = igea_accel_hysteresis(nr, r->ang, NULL, o ? r->yb : r->ya, a->tol, r->h_th,
+                                       r->h_d[o], r->h_sd[o], r->h_ncw[o], r->h_nccw[o],
+                                       &r->h_npos, r->h_test[o]);
+        if (st)
+            return cli_status(st, "accel --hysteresis");
+    }
+    return CLI_OK;
+}
+
 /* Scale to g, merge the positions, fit, and refine. */
 static int compute(const ac_args *a, ac_run *r)
 {
-    int nr = r->nr;
+    int nr = r->nr, ec;
     int st = igea_accel_to_g(nr, r->ya, a->scale_a, r->ya);
     if (!st && r->dual)
         st = igea_accel_to_g(nr, r->yb, a->scale_b, r->yb);
+    if (st)
+        return cli_status(st, "accel");
+    if (a->hyst && (ec = hysteresis(a, r)))
+        return ec;
     if (!st)
         st = igea_accel_merge(nr, r->ang, r->ya, r->dual ? r->yb : NULL, a->tol, r->th, r->ma,
                               r->dual ? r->mb : NULL, r->cnt, &r->npos);
@@ -194,6 +227,22 @@ static void json_report(FILE *f, const ac_args *a, const ac_run *r)
     cli_jnum(&j, "sigma", r->info[IGEA_ACCEL_INFO_SIGMA]);
     cli_jnum(&j, "rms", r->info[IGEA_ACCEL_INFO_RMS]);
     cli_jnum(&j, "lam", r->info[IGEA_ACCEL_INFO_LAMBDA]);
+    if (a->hyst)
+        for (int o = 0; o < (r->dual ? 2 : 1); o++) {
+            const double *t = r->h_test[o];
+            cli_json_open(&j, o ? "hysteresis_b" : "hysteresis_a", '{');
+            cli_jnums(&j, "theta_deg", r->h_th, r->h_npos);
+            cli_jnums(&j, "diff", r->h_d[o], r->h_npos);
+            cli_jnums(&j, "diff_sd", r->h_sd[o], r->h_npos);
+            cli_jints(&j, "n_cw", r->h_ncw[o], r->h_npos);
+            cli_jints(&j, "n_ccw", r->h_nccw[o], r->h_npos);
+            cli_jnum(&j, "f", t[IGEA_ACCEL_HYST_F]);
+            cli_jint(&j, "df1", (long)t[IGEA_ACCEL_HYST_DF1]);
+            cli_jint(&j, "df2", (long)t[IGEA_ACCEL_HYST_DF2]);
+            cli_jnum(&j, "p", t[IGEA_ACCEL_HYST_P]);
+            cli_jnum(&j, "sigma", t[IGEA_ACCEL_HYST_SIGMA]);
+            cli_json_close(&j);
+        }
     if (a->refine) {
         cli_json_open(&j, "refined", '{');
         cli_jnums(&j, "coef", r->rcoef, r->np);
@@ -215,6 +264,21 @@ static void text_refined(FILE *f, const ac_run *r)
                 r->flag[j] ? "null part kept from the fit" : "data");
     for (int k = 0; k < r->nc; k++)
         fprintf(f, "%-9s %15.6e\n", r->cnames[k], r->rcmb[k]);
+}
+
+static void text_hysteresis(FILE *f, const ac_run *r)
+{
+    for (int o = 0; o < (r->dual ? 2 : 1); o++) {
+        const double *t = r->h_test[o];
+        fprintf(f, "\nhysteresis of %c (clockwise - counter-clockwise): F = %.4g on (%d, %d), "
+                   "p = %.4g; pooled sd %.3e g\n%9s %14s %12s %4s %4s\n",
+                o ? 'B' : 'A', t[IGEA_ACCEL_HYST_F], (int)t[IGEA_ACCEL_HYST_DF1],
+                (int)t[IGEA_ACCEL_HYST_DF2], t[IGEA_ACCEL_HYST_P], t[IGEA_ACCEL_HYST_SIGMA],
+                "theta", "cw - ccw", "sd", "ncw", "nccw");
+        for (int k = 0; k < r->h_npos; k++)
+            fprintf(f, "%9.3f %14.6e %12.3e %4d %4d\n", r->h_th[k], r->h_d[o][k],
+                    r->h_sd[o][k], r->h_ncw[o][k], r->h_nccw[o][k]);
+    }
 }
 
 static void text_report(FILE *f, const ac_args *a, const ac_run *r)
@@ -245,6 +309,8 @@ static void text_report(FILE *f, const ac_args *a, const ac_run *r)
     fprintf(f, "\n%-9s %15s %12s\n", "estimable", "estimate", "sd");
     for (int k = 0; k < r->nc; k++)
         fprintf(f, "%-9s %15.6e %12.3e\n", r->cnames[k], r->cmb[k], r->csd[k]);
+    if (a->hyst)
+        text_hysteresis(f, r);
     if (a->refine)
         text_refined(f, r);
 }
@@ -264,5 +330,7 @@ int cmd_accel(int argc, char **argv)
     }
     free(r.ang);
     free(r.cnt);
+    free(r.h_th);
+    free(r.h_ncw[0]);
     return ec;
 }
