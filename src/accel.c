@@ -1321,3 +1321,195 @@ done:
     free(d);
     return st;
 }
+
+/* ---------------------------------------------------------------------- */
+/* The joint model: radial (g^2) and tangential equations stacked. */
+
+/* Tangential row at one angle: z = c r_A - s r_B (docs/accel.md). */
+static void tangential_row(double deg, double *row)
+{
+    double s, c;
+    sincosd(deg, &s, &c);
+    row[IGEA_ACCEL_KA0] = c;
+    row[IGEA_ACCEL_KB0] = -s;
+    row[IGEA_ACCEL_KA1] = s * c;
+    row[IGEA_ACCEL_KB1] = -s * c;
+    row[IGEA_ACCEL_ETA] = s * s;
+    row[IGEA_ACCEL_KA2] = s * s * c;
+    row[IGEA_ACCEL_KB2] = -s * c * c;
+    row[IGEA_ACCEL_KAIX] = s * c * c;
+    row[IGEA_ACCEL_KBIX] = s * s * c;
+    row[IGEA_ACCEL_SIM_DELTA0] = 1.0;
+}
+
+/* Stacked design J (2n x 10, ld 2n) and observations z (2n): rows 0..n-1
+ * radial, n..2n-1 tangential. */
+static void joint_system(int n, const double *theta, const double *ya, const double *yb,
+                         double *J, double *z)
+{
+    size_t m = 2 * (size_t)n;
+    double row[IGEA_ACCEL_NP_JOINT];
+    observe(IGEA_ACCEL_DUAL, n, theta, ya, yb, z);
+    for (int i = 0; i < n; i++) {
+        double s, c;
+        design_row(IGEA_ACCEL_DUAL, theta[i], row);
+        row[IGEA_ACCEL_SIM_DELTA0] = 0.0;
+        for (int j = 0; j < IGEA_ACCEL_NP_JOINT; j++)
+            J[i + j * m] = row[j];
+        tangential_row(theta[i], row);
+        for (int j = 0; j < IGEA_ACCEL_NP_JOINT; j++)
+            J[n + i + j * m] = row[j];
+        sincosd(theta[i], &s, &c);
+        z[n + i] = c * (ya[i] - s) - s * (yb[i] - c);
+    }
+}
+
+/* Residual variance of one block (rows off..off+n-1 of J, z) by LS.
+ * Returns 0, IGEA_EDOMAIN (no residual or zero variance) or a status of
+ * igea_regress_ls. */
+static int joint_block_var(int n, const double *J, int ldj, const double *z, double *work,
+                           double *var)
+{
+    const int np = IGEA_ACCEL_NP_JOINT;
+    double x[IGEA_ACCEL_NP_JOINT];
+    int rank = 0;
+    for (int j = 0; j < np; j++)
+        memcpy(work + (size_t)j * n, J + (size_t)j * ldj, (size_t)n * sizeof(double));
+    int st = igea_regress_ls(n, np, work, n, z, NULL, NULL, 0.0, x, NULL, 1, &rank, var,
+                             NULL);
+    if (st)
+        return st;
+    if (rank >= n || !(*var > 0.0) || !isfinite(*var))
+        return IGEA_EDOMAIN;
+    return 0;
+}
+
+static int joint_check(int n, const double *theta_deg, const double *ya, const double *yb,
+                       const double *coef, const double *cov, int ldc)
+{
+    if (n < 1)
+        return -1;
+    if (!theta_deg)
+        return -2;
+    if (!ya)
+        return -3;
+    if (!yb)
+        return -4;
+    if (!coef)
+        return -5;
+    if (cov ? ldc < IGEA_ACCEL_NP_JOINT : ldc < 1)
+        return -8;
+    if (!igea__finite_vec(n, theta_deg, 1) || !igea__finite_vec(n, ya, 1) ||
+        !igea__finite_vec(n, yb, 1))
+        return IGEA_ENONFINITE;
+    return 0;
+}
+
+/* The weighted stacked solve: x, the unscaled covariance cv = (J^T W J)^-1,
+ * info. */
+static int joint_solve(int n, const double *J, const double *z, const double *vars,
+                       double *w, double *x, double *cv, double *inf)
+{
+    const int np = IGEA_ACCEL_NP_JOINT;
+    size_t m = 2 * (size_t)n;
+    double *sig = w, *res = w + m;
+    for (size_t i = 0; i < m; i++)
+        sig[i] = sqrt(vars[i < (size_t)n ? 0 : 1]);
+    int rank = 0;
+    double s2 = 0.0;
+    int st = igea_regress_ls((int)m, np, J, (int)m, z, sig, NULL, 0.0, x, cv, np, &rank, &s2,
+                             res);
+    if (st)
+        return st;
+    if (rank < np)
+        return IGEA_ERANK;
+    if (!(s2 > 0.0) || !isfinite(s2))
+        return IGEA_EDOMAIN;
+    for (int i = 0; i < np * np; i++)
+        cv[i] /= s2;
+    igea__ksum rss = {0, 0};
+    for (size_t i = 0; i < m; i++)
+        igea__ksum_add(&rss, res[i] * res[i] / (sig[i] * sig[i]));
+    for (int k = 0; k < IGEA_ACCEL_INFO_LEN; k++)
+        inf[k] = 0.0;
+    inf[IGEA_ACCEL_INFO_RANK] = rank;
+    inf[IGEA_ACCEL_INFO_SIGMA] = sqrt(s2);
+    inf[IGEA_ACCEL_INFO_RMS] = sqrt(igea__ksum_get(&rss) / (double)m);
+    inf[IGEA_ACCEL_INFO_NOBS] = (double)m;
+    inf[IGEA_ACCEL_INFO_DOF] = (double)m - rank;
+    return 0;
+}
+
+/* Combinations C^T x and their sds sqrt(c^T cv c) (cv 10 x 10, ld 10; the
+ * combinations involve the 9 dual coefficients only). */
+static void joint_combinations(const double *x, const double *cv, double *comb,
+                               double *comb_sd)
+{
+    const int np = IGEA_ACCEL_NP_DUAL, ld = IGEA_ACCEL_NP_JOINT;
+    double C[IGEA_ACCEL_NP_DUAL * IGEA_ACCEL_NC_DUAL];
+    fill_combinations(IGEA_ACCEL_DUAL, C, np);
+    for (int k = 0; k < IGEA_ACCEL_NC_DUAL; k++) {
+        const double *c = C + (size_t)k * np;
+        double v = 0.0, var = 0.0;
+        for (int i = 0; i < np; i++) {
+            v += c[i] * x[i];
+            for (int j = 0; j < np; j++)
+                var += c[i] * cv[i + j * ld] * c[j];
+        }
+        if (comb)
+            comb[k] = v;
+        if (comb_sd)
+            comb_sd[k] = sqrt(fmax(var, 0.0));
+    }
+}
+
+int igea_accel_joint(int n, const double *theta_deg, const double *ya, const double *yb,
+                     double *coef, double *sd, double *cov, int ldc, double *comp_sd,
+                     double *comb, double *comb_sd, double *info)
+{
+    const int np = IGEA_ACCEL_NP_JOINT;
+    int st = joint_check(n, theta_deg, ya, yb, coef, cov, ldc);
+    if (st)
+        return st;
+    if (n < np)
+        return IGEA_ERANK;
+    size_t m = 2 * (size_t)n;
+    double *J = igea__dalloc(m * np + m + (size_t)n * np + 2 * m);
+    if (!J)
+        return IGEA_ENOMEM;
+    double *z = J + m * np, *work = z + m, *w = work + (size_t)n * np;
+    double vars[2], x[IGEA_ACCEL_NP_JOINT], cv[IGEA_ACCEL_NP_JOINT * IGEA_ACCEL_NP_JOINT];
+    double inf[IGEA_ACCEL_INFO_LEN], sdv[IGEA_ACCEL_NP_JOINT];
+    joint_system(n, theta_deg, ya, yb, J, z);
+    st = joint_block_var(n, J, (int)m, z, work, &vars[0]);
+    if (!st)
+        st = joint_block_var(n, J + n, (int)m, z + n, work, &vars[1]);
+    if (!st)
+        st = joint_solve(n, J, z, vars, w, x, cv, inf);
+    if (st)
+        goto done;
+    for (int j = 0; j < np; j++)
+        sdv[j] = sqrt(fmax(cv[j + j * np], 0.0));
+    if (!igea__finite_vec(np, x, 1) || !igea__finite_vec(np, sdv, 1) ||
+        !igea__finite_vec(np * np, cv, 1) || !igea__finite_vec(IGEA_ACCEL_INFO_LEN, inf, 1)) {
+        st = IGEA_EOVERFLOW;
+        goto done;
+    }
+    memcpy(coef, x, sizeof x);
+    if (sd)
+        memcpy(sd, sdv, sizeof sdv);
+    if (cov)
+        for (int j = 0; j < np; j++)
+            memcpy(cov + (size_t)j * ldc, cv + (size_t)j * np, np * sizeof(double));
+    if (comp_sd) {
+        comp_sd[IGEA_ACCEL_JOINT_SD_RADIAL] = sqrt(vars[0]);
+        comp_sd[IGEA_ACCEL_JOINT_SD_ANGLE] = sqrt(vars[1]);
+    }
+    if (comb || comb_sd)
+        joint_combinations(x, cv, comb, comb_sd);
+    if (info)
+        memcpy(info, inf, sizeof inf);
+done:
+    free(J);
+    return st;
+}

@@ -22,7 +22,7 @@ static const choice ebr_rule[] = {
 static const choice accel_model[] = {
     {IGEA_ACCEL_SINGLE, "single"}, {IGEA_ACCEL_DUAL, "dual"}, END};
 static const choice accel_method[] = {
-    {IGEA_ACCEL_LS, "ls"}, {IGEA_ACCEL_EBR, "ebr"}, END};
+    {IGEA_ACCEL_LS, "ls"}, {IGEA_ACCEL_EBR, "ebr"}, {IGEA_ACCEL_JOINT, "joint"}, END};
 static const choice accel_axis[] = {
     {IGEA_ACCEL_AXIS_PA, "pa"}, {IGEA_ACCEL_AXIS_OA, "oa"}, END};
 static const choice impact_model[] = {

@@ -78,6 +78,8 @@ extern "C" {
 /* Fit methods. */
 #define IGEA_ACCEL_LS 0  /* least squares (minimum norm if rank-deficient) */
 #define IGEA_ACCEL_EBR 1 /* empirical-Bayes ridge (METHODS 4.3) */
+#define IGEA_ACCEL_JOINT 2 /* joint radial + tangential fit (igea_accel_joint;
+                              not a method of igea_accel_fit) */
 
 /* Flags per coefficient. */
 #define IGEA_ACCEL_DATA 0  /* determined by the data */
@@ -406,8 +408,10 @@ IGEA_API int igea_accel_hysteresis(int nrows, const double *angle_deg,
  * NULL): sqrt(diag((A^T W A)^-1)) with the estimated weights; 7 cov
  * (10 x 10, may be NULL), 8 ldc >= 10 (>= 1 when cov is NULL); 9
  * comp_sd[IGEA_ACCEL_JOINT_NCOMP] (may be NULL): the two equations' sds
- * (g); 10 info (may be NULL): rank, sigma = sqrt(weighted RSS / dof), -,
- * rms (weighted), nobs = 2n, dof = 2n - rank.
+ * (g); 10 comb[7], 11 comb_sd[7] (may be NULL each): the estimable
+ * combinations of igea_accel_combinations and their sds sqrt(c^T cov c),
+ * for comparison with the dual fit; 12 info (may be NULL): rank, sigma =
+ * sqrt(weighted RSS / dof), -, rms (weighted), nobs = 2n, dof = 2n - rank.
  * Returns 0, -i, IGEA_ENONFINITE, IGEA_ERANK (rank < 10), IGEA_EDOMAIN (an
  * equation without residual, or a zero residual variance), IGEA_EOVERFLOW,
  * IGEA_ENOMEM, IGEA_ELAPACK.
@@ -415,7 +419,8 @@ IGEA_API int igea_accel_hysteresis(int nrows, const double *angle_deg,
 IGEA_API int igea_accel_joint(int n, const double *theta_deg,
                               const double *ya, const double *yb,
                               double *coef, double *sd, double *cov, int ldc,
-                              double *comp_sd, double *info);
+                              double *comp_sd, double *comb, double *comb_sd,
+                              double *info);
 
 #ifdef __cplusplus
 }

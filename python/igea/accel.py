@@ -397,3 +397,52 @@ def accel_hysteresis(angle_deg, y, direction=None, *, tol_deg=1e-6):
                            df2=int(test[_capi.ACCEL_HYST_DF2]),
                            p=float(test[_capi.ACCEL_HYST_P]),
                            sigma=float(test[_capi.ACCEL_HYST_SIGMA]))
+
+
+@dataclass(frozen=True)
+class AccelJoint:
+    """Joint fit of an orthogonal pair (igea.accel_joint): the 9 dual
+    coefficients and delta0, all determined by the data (rank 10)."""
+    names: list
+    coef: np.ndarray
+    sd: np.ndarray
+    cov: np.ndarray
+    comb: np.ndarray
+    comb_sd: np.ndarray
+    sd_radial: float
+    sd_angle: float
+    rank: int
+    sigma: float
+    rms: float
+    dof: int
+
+    def summary(self):
+        lines = ["joint fit (radial g^2 + tangential equations): rank %d, dof %d; "
+                 "sd radial %.3e g, tangential %.3e g" % (self.rank, self.dof, self.sd_radial,
+                                                         self.sd_angle)]
+        for j, name in enumerate(self.names):
+            lines.append("%-10s %15.6e %12.3e" % (name, self.coef[j], self.sd[j]))
+        return "\n".join(lines)
+
+
+def accel_joint(theta_deg, y_a, y_b, *, axis="pa"):
+    """Joint fit: single A, single B and the dual g^2 equation stacked with
+    the head-angle errors as random nuisance effects (docs/accel.md)."""
+    t = _theta(theta_deg)
+    n = t.shape[0]
+    ya, yb = _vec(y_a, "y_a", n), _vec(y_b, "y_b", n)
+    npar = _capi.ACCEL_NP_JOINT
+    coef, sd = np.zeros(npar), np.zeros(npar)
+    cov = np.zeros((npar, npar), order="F")
+    comp = np.zeros(_capi.ACCEL_JOINT_NCOMP)
+    info = np.zeros(_capi.ACCEL_INFO_LEN)
+    comb, csd = np.zeros(_capi.ACCEL_NC_DUAL), np.zeros(_capi.ACCEL_NC_DUAL)
+    _lib.call("igea.accel_joint", "igea_accel_joint", n, _lib.dptr(t), _lib.dptr(ya),
+              _lib.dptr(yb), _lib.dptr(coef), _lib.dptr(sd), _lib.dptr(cov), npar,
+              _lib.dptr(comp), _lib.dptr(comb), _lib.dptr(csd), _lib.dptr(info))
+    names = coefficient_names("dual", axis) + ["delta0"]
+    return AccelJoint(names, coef, sd, np.ascontiguousarray(cov), comb, csd,
+                      sd_radial=float(comp[_capi.ACCEL_JOINT_SD_RADIAL]),
+                      sd_angle=float(comp[_capi.ACCEL_JOINT_SD_ANGLE]),
+                      **_lib.fields(info, "ACCEL_INFO_", rank=int, sigma=float, rms=float,
+                                    dof=int))

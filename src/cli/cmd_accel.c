@@ -15,7 +15,9 @@ static ac_args A;
 static const cli_opt options[] = {
     {"--data", CLI_OPT_STR, &A.data, NULL, "FILE", "the readings: angle (deg), A output, B output", NULL},
     {"--model", CLI_OPT_CHOICE, &A.model, "dual", CLI_CHOICES(IGEA_CHOICE_ACCEL_MODEL), "single reads the first two columns", NULL},
-    {"--method", CLI_OPT_CHOICE, &A.method, "ls", CLI_CHOICES(IGEA_CHOICE_ACCEL_METHOD), "least squares or empirical-Bayes ridge", NULL},
+    {"--method", CLI_OPT_CHOICE, &A.method, "ls", CLI_CHOICES(IGEA_CHOICE_ACCEL_METHOD), "least squares, empirical-Bayes ridge, or joint\n"
+     "(dual: radial g^2 and tangential equations with the\n"
+     "head errors as nuisance, rank 10: K2 from the data)", NULL},
     {"--prior", CLI_OPT_STR, &A.prior, NULL, "FILE", "EBR prior scales tau_j, one per coefficient (9\n"
      "dual, 5 single), e.g. historical spreads", NULL},
     {"--rule", CLI_OPT_CHOICE, &A.rule, "sc", CLI_CHOICES(IGEA_CHOICE_REGRESS_EBR_RULE), "EBR rule for lambda (METHODS 4.3 eq. 17)", NULL},
@@ -63,6 +65,7 @@ options,
 "  igea accel --data examples/accel_dual.txt\n"
 "  igea accel --method ebr --prior examples/accel_prior.txt --data examples/accel_dual.txt\n"
 "  igea accel --model single --json --data examples/accel_dual.txt\n"
+"  igea accel --method joint --data examples/accel_dual.txt\n"
 "\n"
 "exit status: 0 ok, 64 usage, 65 bad input, 66 missing input, 70 numerical\n"
 "failure, 74 output error.\n"};
@@ -80,17 +83,22 @@ static int parse(int argc, char **argv, ac_args *a)
                      : a->refine && a->model != IGEA_ACCEL_DUAL
                          ? "accel: --refine needs the dual model"
                      : a->prior && a->method != IGEA_ACCEL_EBR
-                         ? "accel: --prior needs --method ebr" : NULL);
+                         ? "accel: --prior needs --method ebr"
+                     : a->method == IGEA_ACCEL_JOINT && a->model != IGEA_ACCEL_DUAL
+                         ? "accel: --method joint needs the dual model"
+                     : a->method == IGEA_ACCEL_JOINT && a->refine
+                         ? "accel: --refine keeps the null-space part of a dual fit; it does not "
+                           "combine with --method joint" : NULL);
 }
 
 typedef struct {
     int dual, np, nc, nr, npos;
-    const char *names[9], *cnames[7], *units[9];
+    const char *names[10], *cnames[7], *units[10];
     double *ang, *ya, *yb, *th, *ma, *mb, *phi; /* nr each */
     int *cnt;
-    double tau[9], coef[9], sd[9], cmb[7], csd[7], info[IGEA_ACCEL_INFO_LEN];
+    double tau[9], coef[10], sd[10], cmb[7], csd[7], info[IGEA_ACCEL_INFO_LEN], comp[2];
     double rcoef[9], rsd[9], rcmb[7], rinfo[IGEA_ACCEL_INFO_LEN];
-    int flag[9];
+    int flag[10];
     /* hysteresis of A and B: angle, diff, sd (nr each), counts, test */
     double *h_th, *h_d[2], *h_sd[2], h_test[2][IGEA_ACCEL_HYST_LEN];
     int *h_ncw[2], *h_nccw[2], h_npos;
@@ -107,6 +115,11 @@ static void setup(const ac_args *a, ac_run *r)
     }
     for (int k = 0; k < r->nc; k++)
         r->cnames[k] = igea_accel_comb_name(a->model, a->axis, k);
+    if (a->method == IGEA_ACCEL_JOINT) { /* the 9 dual coefficients and delta0 */
+        r->np = IGEA_ACCEL_NP_JOINT;
+        r->names[9] = igea_accel_coef_name(IGEA_ACCEL_SINGLE, a->axis, IGEA_ACCEL_DELTA0);
+        r->units[9] = igea_accel_coef_unit(IGEA_ACCEL_SINGLE, IGEA_ACCEL_DELTA0);
+    }
 }
 
 /* The readings (angle, A[, B]) and the prior scales. */
@@ -187,7 +200,11 @@ static int compute(const ac_args *a, ac_run *r)
     if (!st)
         st = igea_accel_merge(nr, r->ang, r->ya, r->dual ? r->yb : NULL, a->tol, r->th, r->ma,
                               r->dual ? r->mb : NULL, r->cnt, &r->npos);
-    if (!st)
+    if (!st && a->method == IGEA_ACCEL_JOINT) {
+        st = igea_accel_joint(r->npos, r->th, r->ma, r->mb, r->coef, r->sd, NULL, 1, r->comp,
+                              r->cmb, r->csd, r->info);
+        memset(r->flag, 0, sizeof r->flag);
+    } else if (!st)
         st = igea_accel_fit(a->model, a->method, r->npos, r->th,
                             r->ma, r->mb, a->prior ? r->tau : NULL, a->rule,
                             a->lam_floor, r->coef, r->sd, r->flag, r->cmb, r->csd, r->info);
@@ -227,6 +244,10 @@ static void json_report(FILE *f, const ac_args *a, const ac_run *r)
     cli_jnum(&j, "sigma", r->info[IGEA_ACCEL_INFO_SIGMA]);
     cli_jnum(&j, "rms", r->info[IGEA_ACCEL_INFO_RMS]);
     cli_jnum(&j, "lam", r->info[IGEA_ACCEL_INFO_LAMBDA]);
+    if (a->method == IGEA_ACCEL_JOINT) {
+        cli_jnum(&j, "sd_radial", r->comp[IGEA_ACCEL_JOINT_SD_RADIAL]);
+        cli_jnum(&j, "sd_angle", r->comp[IGEA_ACCEL_JOINT_SD_ANGLE]);
+    }
     if (a->hyst)
         for (int o = 0; o < (r->dual ? 2 : 1); o++) {
             const double *t = r->h_test[o];
@@ -245,8 +266,8 @@ static void json_report(FILE *f, const ac_args *a, const ac_run *r)
         }
     if (a->refine) {
         cli_json_open(&j, "refined", '{');
-        cli_jnums(&j, "coef", r->rcoef, r->np);
-        cli_jnums(&j, "sd", r->rsd, r->np);
+        cli_jnums(&j, "coef", r->rcoef, IGEA_ACCEL_NP_DUAL);
+        cli_jnums(&j, "sd", r->rsd, IGEA_ACCEL_NP_DUAL);
         cli_jnums(&j, "comb", r->rcmb, r->nc);
         cli_jnums(&j, "phi_deg", r->phi, r->npos);
         cli_jint(&j, "iterations", (long)r->rinfo[IGEA_ACCEL_INFO_ITER]);
@@ -259,7 +280,7 @@ static void text_refined(FILE *f, const ac_run *r)
 {
     fprintf(f, "\nexact-model refinement (%d iterations, residual sd %.3e g per output):\n",
             (int)r->rinfo[IGEA_ACCEL_INFO_ITER], r->rinfo[IGEA_ACCEL_INFO_SIGMA]);
-    for (int j = 0; j < r->np; j++)
+    for (int j = 0; j < IGEA_ACCEL_NP_DUAL; j++)
         fprintf(f, "%-9s %15.6e %12.3e  %s\n", r->names[j], r->rcoef[j], r->rsd[j],
                 r->flag[j] ? "null part kept from the fit" : "data");
     for (int k = 0; k < r->nc; k++)
@@ -283,14 +304,20 @@ static void text_hysteresis(FILE *f, const ac_run *r)
 
 static void text_report(FILE *f, const ac_args *a, const ac_run *r)
 {
-    int ls = a->method == IGEA_ACCEL_LS;
+    int ls = a->method == IGEA_ACCEL_LS, joint = a->method == IGEA_ACCEL_JOINT;
     fprintf(f, "igea accel: %s model, %s; %d readings -> %d positions; rank %d, dof %d\n",
             igea_choice_name(IGEA_CHOICE_ACCEL_MODEL, a->model),
-            ls ? "least squares" : "empirical-Bayes ridge", r->nr,
+            ls ? "least squares" : joint ? "joint radial + tangential fit"
+                                         : "empirical-Bayes ridge", r->nr,
             r->npos, (int)r->info[IGEA_ACCEL_INFO_RANK], (int)r->info[IGEA_ACCEL_INFO_DOF]);
-    fprintf(f, "residual sd %.3e g, rms %.3e g", r->info[IGEA_ACCEL_INFO_SIGMA],
-            r->info[IGEA_ACCEL_INFO_RMS]);
-    if (!ls)
+    if (joint)
+        fprintf(f, "equation sds: radial (g^2) %.3e g, tangential %.3e g; weighted residual "
+                   "sd %.4f", r->comp[IGEA_ACCEL_JOINT_SD_RADIAL],
+                r->comp[IGEA_ACCEL_JOINT_SD_ANGLE], r->info[IGEA_ACCEL_INFO_SIGMA]);
+    else
+        fprintf(f, "residual sd %.3e g, rms %.3e g", r->info[IGEA_ACCEL_INFO_SIGMA],
+                r->info[IGEA_ACCEL_INFO_RMS]);
+    if (!ls && !joint)
         fprintf(f, ", lambda %.6g%s", r->info[IGEA_ACCEL_INFO_LAMBDA],
                 a->prior ? " (prior-scaled)" : " (isotropic prior)");
     fprintf(f, "\n\n%-9s %-6s %15s %12s  %s\n", "coef", "unit", "estimate", "sd", "determined by");
