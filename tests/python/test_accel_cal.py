@@ -107,3 +107,71 @@ def test_hysteresis_driver(tmp_path):
         assert js[key]["df2"] == h.df2 == ang.size - 2 * 12
         np.testing.assert_allclose(js[key]["p"], h.p, rtol=1e-12)
     assert js["hysteresis_a"]["p"] < 1e-3 < js["hysteresis_b"]["p"]
+
+
+TRUTH = np.array([2e-4, -1.5e-4, 3e-4, -2e-4, 5e-5, 2e-5, -1e-5, 1e-5, -2e-5])
+
+
+def ref_joint(theta, ya, yb):
+    """The joint estimator written from docs/accel.md: the radial (g^2)
+    equation on the dual design and the tangential equation
+    z = c (y_A - s) - s (y_B - c), each with its residual variance from its
+    own least squares, stacked by weighted least squares."""
+    t = np.deg2rad(theta)
+    s, c = np.sin(t), np.cos(t)
+    z0 = np.zeros_like(s)
+    A1 = np.column_stack([s, c, s * s, c * c, -s * c, s ** 3, c ** 3, s * s * c, -s * c * c, z0])
+    A2 = np.column_stack([c, -s, s * c, -s * c, s * s, s * s * c, -s * c * c, s * c * c,
+                          s * s * c, np.ones_like(s)])
+    y1 = (ya ** 2 + yb ** 2 - 1) / 2
+    y2 = c * (ya - s) - s * (yb - c)
+
+    def var(A, y):
+        x, _, r, _ = np.linalg.lstsq(A, y, rcond=None)
+        return np.sum((y - A @ x) ** 2) / (len(y) - r)
+    v1, v2 = var(A1, y1), var(A2, y2)
+    A = np.vstack([A1 / np.sqrt(v1), A2 / np.sqrt(v2)])
+    y = np.concatenate([y1 / np.sqrt(v1), y2 / np.sqrt(v2)])
+    assert np.linalg.matrix_rank(A) == 10
+    x = np.linalg.solve(A.T @ A, A.T @ y)
+    return x, np.linalg.inv(A.T @ A), np.sqrt([v1, v2])
+
+
+def test_joint_against_numpy():
+    th = igea.accel_schedule(20)
+    ya, yb = igea.accel_simulate(th, np.append(TRUTH, 2e-4), head_sd_arcsec=1, noise_sd=1e-6,
+                                 seed=11)
+    j = igea.accel_joint(th, ya, yb)
+    x, cov, comp = ref_joint(th, ya, yb)
+    np.testing.assert_allclose(j.coef, x, rtol=1e-6, atol=1e-13)
+    np.testing.assert_allclose(j.cov, cov, rtol=1e-6, atol=1e-22)
+    np.testing.assert_allclose(j.sd, np.sqrt(np.diag(cov)), rtol=1e-6)
+    np.testing.assert_allclose([j.sd_radial, j.sd_angle], comp, rtol=1e-8)
+    assert j.rank == 10 and j.dof == 30
+    assert j.names[-1] == "delta0"
+    # the combinations: C^T x with the dual fit's C
+    C = igea.accel_combinations("dual")
+    np.testing.assert_allclose(j.comb, C.T @ x[:9], rtol=1e-6, atol=1e-13)
+    np.testing.assert_allclose(j.comb_sd, np.sqrt(np.diag(C.T @ cov[:9, :9] @ C)), rtol=1e-6)
+
+
+def test_joint_driver(tmp_path):
+    th = igea.accel_schedule(20)
+    ya, yb = igea.accel_simulate(th, np.append(TRUTH, 0), head_sd_arcsec=1, noise_sd=1e-6, seed=4)
+    f = tmp_path / "d.txt"
+    np.savetxt(f, np.column_stack([th, 2.5 * ya, 2.5 * yb]))
+    drv = os.environ.get("IGEA_DRIVER", "igea")
+    out = subprocess.run([drv, "accel", "--method", "joint", "--scale-a", "2.5", "--scale-b",
+                          "2.5", "--json", "--data", str(f)], capture_output=True, text=True,
+                         check=True)
+    js = json.loads(out.stdout)
+    j = igea.accel_joint(th, ya, yb)
+    np.testing.assert_allclose(js["coef"], j.coef, rtol=1e-9, atol=1e-15)  # volts: rounding
+    np.testing.assert_allclose(js["sd"], j.sd, rtol=1e-9)
+    assert js["flags"] == ["data"] * 10 and js["rank"] == 10
+    assert js["names"] == j.names
+    np.testing.assert_allclose([js["sd_radial"], js["sd_angle"]], [j.sd_radial, j.sd_angle],
+                               rtol=1e-8)
+    bad = subprocess.run([drv, "accel", "--method", "joint", "--model", "single", "--data",
+                          str(f)], capture_output=True, text=True)
+    assert bad.returncode == 64 and "joint" in bad.stderr
