@@ -369,8 +369,9 @@ IGEA_API int igea_accel_apply(int model, int n, const double *raw_a,
  *  ceil(len/2) rows going with the incoming run, the rest with the next;
  *  4 y[nrows] outputs (any unit); 5 tol_deg: 0 <= tol_deg < 45;
  * Outputs (capacity nrows each; positions in ascending angle):
- *  6 theta_deg, 7 diff, 8 diff_sd (may be NULL), 9 n_cw, 10 n_ccw (may be
- *  NULL each), 11 npos, 12 test[IGEA_ACCEL_HYST_LEN] (may be NULL).
+ *  6 theta_deg, 7 diff, 8 diff_sd (may be NULL), 9 n_cw (may be NULL),
+ *  10 n_ccw (may be NULL), 11 npos, 12 test[IGEA_ACCEL_HYST_LEN] (may be
+ *  NULL).
  * Returns 0, -i, IGEA_ENONFINITE, IGEA_EDOMAIN (a position without
  * readings in both directions, no change of angle with dir NULL, or
  * N - 2P < 1: no repeated readings to estimate the sd from), IGEA_ENOMEM.
@@ -408,7 +409,7 @@ IGEA_API int igea_accel_hysteresis(int nrows, const double *angle_deg,
  * NULL): sqrt(diag((A^T W A)^-1)) with the estimated weights; 7 cov
  * (10 x 10, may be NULL), 8 ldc >= 10 (>= 1 when cov is NULL); 9
  * comp_sd[IGEA_ACCEL_JOINT_NCOMP] (may be NULL): the two equations' sds
- * (g); 10 comb[7], 11 comb_sd[7] (may be NULL each): the estimable
+ * (g); 10 comb[7] (may be NULL), 11 comb_sd[7] (may be NULL): the estimable
  * combinations of igea_accel_combinations and their sds sqrt(c^T cov c),
  * for comparison with the dual fit; 12 info (may be NULL): rank, sigma =
  * sqrt(weighted RSS / dof), -, rms (weighted), nobs = 2n, dof = 2n - rank.

@@ -8,18 +8,18 @@
 
 #include "audit_gen.c"
 
-enum { NTHREADS = 8 };
+enum { NTHREADS = 8, MAX_FNS = 1024 };
 
 static int reps = 20;
-static int ref_status[256];
-static unsigned char *ref_res[256];
-static size_t ref_len[256];
+static int ref_status[MAX_FNS];
+static unsigned char *ref_res[MAX_FNS];
+static size_t ref_len[MAX_FNS];
 
 typedef struct {
     int t;
     long calls;
-    int bad[256];     /* calls of function fi that differed */
-    int first_rep[256];
+    int bad[MAX_FNS];     /* calls of function fi that differed */
+    int first_rep[MAX_FNS];
 } job_t;
 
 static void *worker(void *arg)
@@ -60,8 +60,11 @@ int main(int argc, char **argv)
     setvbuf(stdout, NULL, _IOLBF, 0);
     if (argc > 2)
         reps = atoi(argv[2]);
-    if (audit_nfns > 256 || reps < 1)
+    if (audit_nfns > MAX_FNS || reps < 1) {
+        printf("test_threads: %d baselines (at most %d) or repetitions %d < 1\n", audit_nfns,
+               MAX_FNS, reps);
         return 2;
+    }
     for (int fi = 0; fi < audit_nfns; fi++) {
         audit_call c;
         if (!audit_fns[fi].threads)
