@@ -209,7 +209,7 @@ def accel_fit(theta_deg, y_a, y_b=None, *, model="dual", method="ls", prior=_UNS
     method "ls" (minimum-norm least squares) or "ebr" (empirical-Bayes
     ridge with the prior scales tau_j `prior`, one per coefficient, the
     driver's --prior (prior_scale= is its old name), rule "sc"/"mm"/"ml2"
-    and lam_floor)."""
+    and lam_floor), or "joint" (dual: returns accel_joint's AccelJoint)."""
     prior = renamed("igea.accel_fit", "prior", prior, "prior_scale", prior_scale)
     m = _model(model)
     method_code = _lib.choice(_capi.CHOICE_ACCEL_METHOD, method, "igea.accel_fit", "method")
@@ -226,6 +226,12 @@ def accel_fit(theta_deg, y_a, y_b=None, *, model="dual", method="ls", prior=_UNS
         yb = _vec(y_b, "y_b", n)
         if scale_b is not None:
             yb = accel_to_g(yb, scale_b)
+    if method == "joint":  # the driver's --method joint: a different estimator
+        if m != "dual":
+            raise ValueError("method: 'joint' needs model='dual'")
+        if prior is not None:
+            raise ValueError("prior: only for method='ebr'")
+        return accel_joint(t, ya, yb, axis=axis)
     ps = None if prior is None else _vec(prior, "prior", npar)
     coef, sd, flag = np.zeros(npar), np.zeros(npar), np.zeros(npar, dtype=np.intc)
     comb, csd, info = np.zeros(nc), np.zeros(nc), np.zeros(_capi.ACCEL_INFO_LEN)
