@@ -38,7 +38,7 @@ import gen_capi  # noqa: E402
 # every other pointer is an array. A new function's scalar output that is
 # not listed here is an array of one element for Fortran callers.
 SCALARS = {
-    "igea_accel_merge": "npos", "igea_accel_analyze": "rank",
+    "igea_accel_merge": "npos", "igea_accel_hysteresis": "npos", "igea_accel_analyze": "rank",
     "igea_choice_code": "code",
     "igea_envfun_default_spec": "spec", "igea_envfun_default_terms": "n",
     "igea_normal_qr_accumulate": "rows",

@@ -3,6 +3,7 @@
  * estimators, exact-model refinement, simulation (METHODS 4.1-4.3). */
 #include <float.h>
 
+#include <gsl/gsl_cdf.h>
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
 #include <lapacke.h>
@@ -1003,4 +1004,512 @@ int igea_accel_simulate(int n, const double *theta_deg, const double *truth,
         memcpy(yb, buf + n, (size_t)n * sizeof(double));
     free(buf);
     return 0;
+}
+
+/* ---------------------------------------------------------------------- */
+/* Applying a calibration. */
+
+#define APPLY_MAXIT 50
+
+/* Single model: solve y = K0 + (1 + k1) u + d0 v + K2 u^2 + Kix u v for u
+ * by Newton from u = y. Returns 0 or IGEA_ENOCONV. */
+static int apply_single(const double *K, double y, double v, double *u_out)
+{
+    double u = y;
+    for (int it = 0; it < APPLY_MAXIT; it++) {
+        double f = K[IGEA_ACCEL_K0] + (1.0 + K[IGEA_ACCEL_K1]) * u +
+                   K[IGEA_ACCEL_DELTA0] * v + K[IGEA_ACCEL_K2] * u * u +
+                   K[IGEA_ACCEL_KIX] * u * v - y;
+        double df = 1.0 + K[IGEA_ACCEL_K1] + 2.0 * K[IGEA_ACCEL_K2] * u +
+                    K[IGEA_ACCEL_KIX] * v;
+        if (!(fabs(df) > 0.0) || !isfinite(f))
+            return IGEA_ENOCONV;
+        double du = f / df;
+        u -= du;
+        if (!isfinite(u))
+            return IGEA_ENOCONV;
+        if (fabs(du) <= 4.0 * DBL_EPSILON * fmax(1.0, fmax(fabs(u), fabs(v)))) {
+            *u_out = u;
+            return 0;
+        }
+    }
+    return IGEA_ENOCONV;
+}
+
+/* Dual pair: the exact models (1)-(2) as functions of the in-plane
+ * acceleration (u along A's input axis, v perpendicular towards B), and
+ * their Jacobian. */
+static void apply_dual_eval(const double *K, double ce, double se, double u, double v,
+                            double *fa, double *fb, double *J)
+{
+    double b = v * ce - u * se, w = u * ce + v * se;
+    *fa = K[IGEA_ACCEL_KA0] + (1.0 + K[IGEA_ACCEL_KA1]) * u + K[IGEA_ACCEL_KA2] * u * u +
+          K[IGEA_ACCEL_KAIX] * u * v;
+    *fb = K[IGEA_ACCEL_KB0] + (1.0 + K[IGEA_ACCEL_KB1]) * b + K[IGEA_ACCEL_KB2] * b * b -
+          K[IGEA_ACCEL_KBIX] * b * w;
+    double dfb_db = 1.0 + K[IGEA_ACCEL_KB1] + 2.0 * K[IGEA_ACCEL_KB2] * b -
+                    K[IGEA_ACCEL_KBIX] * w;
+    double dfb_dw = -K[IGEA_ACCEL_KBIX] * b;
+    J[0] = 1.0 + K[IGEA_ACCEL_KA1] + 2.0 * K[IGEA_ACCEL_KA2] * u + K[IGEA_ACCEL_KAIX] * v;
+    J[1] = K[IGEA_ACCEL_KAIX] * u;
+    J[2] = -dfb_db * se + dfb_dw * ce; /* d fb / du */
+    J[3] = dfb_db * ce + dfb_dw * se;  /* d fb / dv */
+}
+
+static int apply_dual(const double *K, double ya, double yb, double *u_out, double *v_out)
+{
+    double ce = cos(K[IGEA_ACCEL_ETA]), se = sin(K[IGEA_ACCEL_ETA]);
+    double u = ya, v = yb;
+    for (int it = 0; it < APPLY_MAXIT; it++) {
+        double fa, fb, J[4];
+        apply_dual_eval(K, ce, se, u, v, &fa, &fb, J);
+        fa -= ya;
+        fb -= yb;
+        double det = J[0] * J[3] - J[1] * J[2];
+        if (!(fabs(det) > 0.0) || !isfinite(det) || !isfinite(fa) || !isfinite(fb))
+            return IGEA_ENOCONV;
+        double du = (J[3] * fa - J[1] * fb) / det;
+        double dv = (J[0] * fb - J[2] * fa) / det;
+        u -= du;
+        v -= dv;
+        if (!isfinite(u) || !isfinite(v))
+            return IGEA_ENOCONV;
+        double big = fmax(1.0, fmax(fabs(u), fabs(v)));
+        if (fmax(fabs(du), fabs(dv)) <= 4.0 * DBL_EPSILON * big) {
+            *u_out = u;
+            *v_out = v;
+            return 0;
+        }
+    }
+    return IGEA_ENOCONV;
+}
+
+static int apply_check(int model, int n, const double *raw_a, const double *raw_b,
+                       double scale_a, double scale_b, const double *coef,
+                       const double *cross, const double *u)
+{
+    if (!model_ok(model))
+        return -1;
+    if (n < 1)
+        return -2;
+    if (!raw_a)
+        return -3;
+    int dual = model == IGEA_ACCEL_DUAL;
+    if (dual && !raw_b)
+        return -4;
+    if (!isfinite(scale_a) || scale_a == 0.0)
+        return -5;
+    if (dual && (!isfinite(scale_b) || scale_b == 0.0))
+        return -6;
+    if (!coef)
+        return -7;
+    if (!u)
+        return -9;
+    if (!igea__finite_vec(n, raw_a, 1) || (dual && !igea__finite_vec(n, raw_b, 1)) ||
+        !igea__finite_vec(model_np(model), coef, 1) ||
+        (!dual && cross && !igea__finite_vec(n, cross, 1)))
+        return IGEA_ENONFINITE;
+    return 0;
+}
+
+int igea_accel_apply(int model, int n, const double *raw_a, const double *raw_b,
+                     double scale_a, double scale_b, const double *coef,
+                     const double *cross, double *u, double *v)
+{
+    int st = apply_check(model, n, raw_a, raw_b, scale_a, scale_b, coef, cross, u);
+    if (st)
+        return st;
+    int dual = model == IGEA_ACCEL_DUAL;
+    double *buf = igea__dalloc(2 * (size_t)n);
+    if (!buf)
+        return IGEA_ENOMEM;
+    for (int i = 0; i < n && st == 0; i++) {
+        double ya = raw_a[i] / scale_a;
+        if (dual)
+            st = apply_dual(coef, ya, raw_b[i] / scale_b, buf + i, buf + n + i);
+        else
+            st = apply_single(coef, ya, cross ? cross[i] : 0.0, buf + i);
+    }
+    if (st == 0) {
+        memcpy(u, buf, (size_t)n * sizeof(double));
+        if (dual && v)
+            memcpy(v, buf + n, (size_t)n * sizeof(double));
+    }
+    free(buf);
+    return st;
+}
+
+/* ---------------------------------------------------------------------- */
+/* Hysteresis: clockwise minus counter-clockwise per position. */
+
+/* Directions from the row order (see the header): +1 clockwise (angle
+ * decreasing), -1 counter-clockwise. Rows within tol of the previous row
+ * form a block; a block takes the direction of the step into it (the first
+ * block: out of it); a block where the direction reverses is split, its
+ * first ceil(len / 2) rows going with the incoming run. Returns 0 or
+ * IGEA_EDOMAIN (no change of angle at all). */
+static int hyst_directions(int n, const double *ang, double tol, int *d)
+{
+    int any = 0;
+    for (int b = 0, din = 0; b < n;) {
+        int e = b + 1, dout = 0;
+        while (e < n && fabs(remainder(ang[e] - ang[e - 1], 360.0)) <= tol)
+            e++;
+        if (e < n)
+            dout = remainder(ang[e] - ang[e - 1], 360.0) > 0.0 ? -1 : 1;
+        int len = e - b, first = din ? din : dout;
+        int split = (din && dout && din != dout) ? (len + 1) / 2 : len;
+        for (int i = b; i < e; i++)
+            d[i] = i - b < split ? first : dout;
+        any |= dout != 0;
+        din = dout;
+        b = e;
+    }
+    return any ? 0 : IGEA_EDOMAIN;
+}
+
+typedef struct {
+    double t, d, sd;
+    int ncw, nccw;
+} hyst_pos;
+
+/* Group sorted readings into positions; per position the cell means and
+ * the within-cell sum of squares (added to *ss). Returns the number of
+ * positions or IGEA_EDOMAIN (a position lacking a direction). */
+static int hyst_group(int n, const angle_idx *ai, const int *d, const double *y, double tol,
+                      hyst_pos *pos, double *ss)
+{
+    int np = 0;
+    igea__ksum acc = {0, 0};
+    for (int k = 0; k < n;) {
+        int e = k + 1;
+        while (e < n && ai[e].a - ai[k].a <= tol)
+            e++;
+        double sa = 0.0, sum[2] = {0, 0};
+        int cnt[2] = {0, 0};
+        for (int q = k; q < e; q++) {
+            int c = d[ai[q].idx] > 0 ? 0 : 1;
+            sa += ai[q].a;
+            sum[c] += y[ai[q].idx];
+            cnt[c]++;
+        }
+        if (!cnt[0] || !cnt[1])
+            return IGEA_EDOMAIN;
+        double m0 = sum[0] / cnt[0], m1 = sum[1] / cnt[1];
+        for (int q = k; q < e; q++) {
+            double r = y[ai[q].idx] - (d[ai[q].idx] > 0 ? m0 : m1);
+            igea__ksum_add(&acc, r * r);
+        }
+        pos[np].t = sa / (double)(e - k);
+        pos[np].d = m0 - m1;
+        pos[np].ncw = cnt[0];
+        pos[np].nccw = cnt[1];
+        np++;
+        k = e;
+    }
+    *ss = igea__ksum_get(&acc);
+    return np;
+}
+
+static int hyst_check(int nrows, const double *angle_deg, const int *dir, const double *y,
+                      double tol_deg, const double *theta_deg, const double *diff,
+                      const int *npos)
+{
+    if (nrows < 1)
+        return -1;
+    if (!angle_deg)
+        return -2;
+    if (!y)
+        return -4;
+    if (!(tol_deg >= 0.0 && tol_deg < 45.0))
+        return -5;
+    if (!theta_deg)
+        return -6;
+    if (!diff)
+        return -7;
+    if (!npos)
+        return -11;
+    if (dir)
+        for (int i = 0; i < nrows; i++)
+            if (dir[i] == 0)
+                return -3;
+    if (!igea__finite_vec(nrows, angle_deg, 1) || !igea__finite_vec(nrows, y, 1))
+        return IGEA_ENONFINITE;
+    return 0;
+}
+
+/* The test of zero hysteresis from the positions and the pooled sum of
+ * squares; fills pos[].sd. Returns 0 or IGEA_EDOMAIN. */
+static int hyst_test(int nrows, int np, double ss, hyst_pos *pos, double *tst)
+{
+    int df2 = nrows - 2 * np;
+    if (df2 < 1)
+        return IGEA_EDOMAIN;
+    double s2 = ss / df2, chi = 0.0;
+    if (!(s2 > 0.0) || !isfinite(s2))
+        return IGEA_EDOMAIN;
+    for (int k = 0; k < np; k++) {
+        pos[k].sd = sqrt(s2 * (1.0 / pos[k].ncw + 1.0 / pos[k].nccw));
+        double z = pos[k].d / pos[k].sd;
+        chi += z * z;
+    }
+    double F = chi / np;
+    if (!isfinite(F))
+        return IGEA_EDOMAIN;
+    tst[IGEA_ACCEL_HYST_F] = F;
+    tst[IGEA_ACCEL_HYST_DF1] = np;
+    tst[IGEA_ACCEL_HYST_DF2] = df2;
+    tst[IGEA_ACCEL_HYST_P] = gsl_cdf_fdist_Q(F, np, df2);
+    tst[IGEA_ACCEL_HYST_SIGMA] = sqrt(s2);
+    return 0;
+}
+
+int igea_accel_hysteresis(int nrows, const double *angle_deg, const int *dir,
+                          const double *y, double tol_deg, double *theta_deg,
+                          double *diff, double *diff_sd, int *n_cw, int *n_ccw,
+                          int *npos, double *test)
+{
+    int st = hyst_check(nrows, angle_deg, dir, y, tol_deg, theta_deg, diff, npos);
+    if (st)
+        return st;
+    angle_idx *ai = malloc((size_t)nrows * sizeof *ai);
+    hyst_pos *pos = malloc((size_t)nrows * sizeof *pos);
+    int *d = igea__ialloc((size_t)nrows);
+    if (!ai || !pos || !d) {
+        st = IGEA_ENOMEM;
+        goto done;
+    }
+    if (dir)
+        for (int i = 0; i < nrows; i++)
+            d[i] = dir[i] > 0 ? 1 : -1;
+    else if ((st = hyst_directions(nrows, angle_deg, tol_deg, d)) != 0)
+        goto done;
+    for (int i = 0; i < nrows; i++) {
+        double a = fmod(angle_deg[i], 360.0);
+        if (a < 0.0)
+            a += 360.0;
+        if (a >= 360.0 - tol_deg && a > 0.0)
+            a -= 360.0;
+        ai[i].a = a;
+        ai[i].idx = i;
+    }
+    qsort(ai, (size_t)nrows, sizeof *ai, cmp_angle);
+    double ss = 0.0, tst[IGEA_ACCEL_HYST_LEN];
+    int np = hyst_group(nrows, ai, d, y, tol_deg, pos, &ss);
+    if (np < 0) {
+        st = np;
+        goto done;
+    }
+    if ((st = hyst_test(nrows, np, ss, pos, tst)) != 0)
+        goto done;
+    for (int k = 0; k < np; k++) {
+        theta_deg[k] = pos[k].t;
+        diff[k] = pos[k].d;
+        if (diff_sd)
+            diff_sd[k] = pos[k].sd;
+        if (n_cw)
+            n_cw[k] = pos[k].ncw;
+        if (n_ccw)
+            n_ccw[k] = pos[k].nccw;
+    }
+    *npos = np;
+    if (test)
+        memcpy(test, tst, sizeof tst);
+done:
+    free(ai);
+    free(pos);
+    free(d);
+    return st;
+}
+
+/* ---------------------------------------------------------------------- */
+/* The joint model: radial (g^2) and tangential equations stacked. */
+
+/* Tangential row at one angle: z = c r_A - s r_B (docs/accel.md). */
+static void tangential_row(double deg, double *row)
+{
+    double s, c;
+    sincosd(deg, &s, &c);
+    row[IGEA_ACCEL_KA0] = c;
+    row[IGEA_ACCEL_KB0] = -s;
+    row[IGEA_ACCEL_KA1] = s * c;
+    row[IGEA_ACCEL_KB1] = -s * c;
+    row[IGEA_ACCEL_ETA] = s * s;
+    row[IGEA_ACCEL_KA2] = s * s * c;
+    row[IGEA_ACCEL_KB2] = -s * c * c;
+    row[IGEA_ACCEL_KAIX] = s * c * c;
+    row[IGEA_ACCEL_KBIX] = s * s * c;
+    row[IGEA_ACCEL_SIM_DELTA0] = 1.0;
+}
+
+/* Stacked design J (2n x 10, ld 2n) and observations z (2n): rows 0..n-1
+ * radial, n..2n-1 tangential. */
+static void joint_system(int n, const double *theta, const double *ya, const double *yb,
+                         double *J, double *z)
+{
+    size_t m = 2 * (size_t)n;
+    double row[IGEA_ACCEL_NP_JOINT];
+    observe(IGEA_ACCEL_DUAL, n, theta, ya, yb, z);
+    for (int i = 0; i < n; i++) {
+        double s, c;
+        design_row(IGEA_ACCEL_DUAL, theta[i], row);
+        row[IGEA_ACCEL_SIM_DELTA0] = 0.0;
+        for (int j = 0; j < IGEA_ACCEL_NP_JOINT; j++)
+            J[i + j * m] = row[j];
+        tangential_row(theta[i], row);
+        for (int j = 0; j < IGEA_ACCEL_NP_JOINT; j++)
+            J[n + i + j * m] = row[j];
+        sincosd(theta[i], &s, &c);
+        z[n + i] = c * (ya[i] - s) - s * (yb[i] - c);
+    }
+}
+
+/* Residual variance of one block (rows off..off+n-1 of J, z) by LS.
+ * Returns 0, IGEA_EDOMAIN (no residual or zero variance) or a status of
+ * igea_regress_ls. */
+static int joint_block_var(int n, const double *J, int ldj, const double *z, double *work,
+                           double *var)
+{
+    const int np = IGEA_ACCEL_NP_JOINT;
+    double x[IGEA_ACCEL_NP_JOINT];
+    int rank = 0;
+    for (int j = 0; j < np; j++)
+        memcpy(work + (size_t)j * n, J + (size_t)j * ldj, (size_t)n * sizeof(double));
+    int st = igea_regress_ls(n, np, work, n, z, NULL, NULL, 0.0, x, NULL, 1, &rank, var,
+                             NULL);
+    if (st)
+        return st;
+    if (rank >= n || !(*var > 0.0) || !isfinite(*var))
+        return IGEA_EDOMAIN;
+    return 0;
+}
+
+static int joint_check(int n, const double *theta_deg, const double *ya, const double *yb,
+                       const double *coef, const double *cov, int ldc)
+{
+    if (n < 1)
+        return -1;
+    if (!theta_deg)
+        return -2;
+    if (!ya)
+        return -3;
+    if (!yb)
+        return -4;
+    if (!coef)
+        return -5;
+    if (cov ? ldc < IGEA_ACCEL_NP_JOINT : ldc < 1)
+        return -8;
+    if (!igea__finite_vec(n, theta_deg, 1) || !igea__finite_vec(n, ya, 1) ||
+        !igea__finite_vec(n, yb, 1))
+        return IGEA_ENONFINITE;
+    return 0;
+}
+
+/* The weighted stacked solve: x, the unscaled covariance cv = (J^T W J)^-1,
+ * info. */
+static int joint_solve(int n, const double *J, const double *z, const double *vars,
+                       double *w, double *x, double *cv, double *inf)
+{
+    const int np = IGEA_ACCEL_NP_JOINT;
+    size_t m = 2 * (size_t)n;
+    double *sig = w, *res = w + m;
+    for (size_t i = 0; i < m; i++)
+        sig[i] = sqrt(vars[i < (size_t)n ? 0 : 1]);
+    int rank = 0;
+    double s2 = 0.0;
+    int st = igea_regress_ls((int)m, np, J, (int)m, z, sig, NULL, 0.0, x, cv, np, &rank, &s2,
+                             res);
+    if (st)
+        return st;
+    if (rank < np)
+        return IGEA_ERANK;
+    if (!(s2 > 0.0) || !isfinite(s2))
+        return IGEA_EDOMAIN;
+    for (int i = 0; i < np * np; i++)
+        cv[i] /= s2;
+    igea__ksum rss = {0, 0};
+    for (size_t i = 0; i < m; i++)
+        igea__ksum_add(&rss, res[i] * res[i] / (sig[i] * sig[i]));
+    for (int k = 0; k < IGEA_ACCEL_INFO_LEN; k++)
+        inf[k] = 0.0;
+    inf[IGEA_ACCEL_INFO_RANK] = rank;
+    inf[IGEA_ACCEL_INFO_SIGMA] = sqrt(s2);
+    inf[IGEA_ACCEL_INFO_RMS] = sqrt(igea__ksum_get(&rss) / (double)m);
+    inf[IGEA_ACCEL_INFO_NOBS] = (double)m;
+    inf[IGEA_ACCEL_INFO_DOF] = (double)m - rank;
+    return 0;
+}
+
+/* Combinations C^T x and their sds sqrt(c^T cv c) (cv 10 x 10, ld 10; the
+ * combinations involve the 9 dual coefficients only). */
+static void joint_combinations(const double *x, const double *cv, double *comb,
+                               double *comb_sd)
+{
+    const int np = IGEA_ACCEL_NP_DUAL, ld = IGEA_ACCEL_NP_JOINT;
+    double C[IGEA_ACCEL_NP_DUAL * IGEA_ACCEL_NC_DUAL];
+    fill_combinations(IGEA_ACCEL_DUAL, C, np);
+    for (int k = 0; k < IGEA_ACCEL_NC_DUAL; k++) {
+        const double *c = C + (size_t)k * np;
+        double v = 0.0, var = 0.0;
+        for (int i = 0; i < np; i++) {
+            v += c[i] * x[i];
+            for (int j = 0; j < np; j++)
+                var += c[i] * cv[i + j * ld] * c[j];
+        }
+        if (comb)
+            comb[k] = v;
+        if (comb_sd)
+            comb_sd[k] = sqrt(fmax(var, 0.0));
+    }
+}
+
+int igea_accel_joint(int n, const double *theta_deg, const double *ya, const double *yb,
+                     double *coef, double *sd, double *cov, int ldc, double *comp_sd,
+                     double *comb, double *comb_sd, double *info)
+{
+    const int np = IGEA_ACCEL_NP_JOINT;
+    int st = joint_check(n, theta_deg, ya, yb, coef, cov, ldc);
+    if (st)
+        return st;
+    if (n < np)
+        return IGEA_ERANK;
+    size_t m = 2 * (size_t)n;
+    double *J = igea__dalloc(m * np + m + (size_t)n * np + 2 * m);
+    if (!J)
+        return IGEA_ENOMEM;
+    double *z = J + m * np, *work = z + m, *w = work + (size_t)n * np;
+    double vars[2], x[IGEA_ACCEL_NP_JOINT], cv[IGEA_ACCEL_NP_JOINT * IGEA_ACCEL_NP_JOINT];
+    double inf[IGEA_ACCEL_INFO_LEN], sdv[IGEA_ACCEL_NP_JOINT];
+    joint_system(n, theta_deg, ya, yb, J, z);
+    st = joint_block_var(n, J, (int)m, z, work, &vars[0]);
+    if (!st)
+        st = joint_block_var(n, J + n, (int)m, z + n, work, &vars[1]);
+    if (!st)
+        st = joint_solve(n, J, z, vars, w, x, cv, inf);
+    if (st)
+        goto done;
+    for (int j = 0; j < np; j++)
+        sdv[j] = sqrt(fmax(cv[j + j * np], 0.0));
+    if (!igea__finite_vec(np, x, 1) || !igea__finite_vec(np, sdv, 1) ||
+        !igea__finite_vec(np * np, cv, 1) || !igea__finite_vec(IGEA_ACCEL_INFO_LEN, inf, 1)) {
+        st = IGEA_EOVERFLOW;
+        goto done;
+    }
+    memcpy(coef, x, sizeof x);
+    if (sd)
+        memcpy(sd, sdv, sizeof sdv);
+    if (cov)
+        for (int j = 0; j < np; j++)
+            memcpy(cov + (size_t)j * ldc, cv + (size_t)j * np, np * sizeof(double));
+    if (comp_sd) {
+        comp_sd[IGEA_ACCEL_JOINT_SD_RADIAL] = sqrt(vars[0]);
+        comp_sd[IGEA_ACCEL_JOINT_SD_ANGLE] = sqrt(vars[1]);
+    }
+    if (comb || comb_sd)
+        joint_combinations(x, cv, comb, comb_sd);
+    if (info)
+        memcpy(info, inf, sizeof inf);
+done:
+    free(J);
+    return st;
 }

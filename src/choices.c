@@ -22,7 +22,7 @@ static const choice ebr_rule[] = {
 static const choice accel_model[] = {
     {IGEA_ACCEL_SINGLE, "single"}, {IGEA_ACCEL_DUAL, "dual"}, END};
 static const choice accel_method[] = {
-    {IGEA_ACCEL_LS, "ls"}, {IGEA_ACCEL_EBR, "ebr"}, END};
+    {IGEA_ACCEL_LS, "ls"}, {IGEA_ACCEL_EBR, "ebr"}, {IGEA_ACCEL_JOINT, "joint"}, END};
 static const choice regress_method[] = {
     {IGEA_REGRESS_METHOD_LS, "ls"}, {IGEA_REGRESS_METHOD_RIDGE, "ridge"},
     {IGEA_REGRESS_METHOD_PCE, "pce"}, {IGEA_REGRESS_METHOD_BAYES, "bayes"},

@@ -78,6 +78,8 @@ extern "C" {
 /* Fit methods. */
 #define IGEA_ACCEL_LS 0  /* least squares (minimum norm if rank-deficient) */
 #define IGEA_ACCEL_EBR 1 /* empirical-Bayes ridge (METHODS 4.3) */
+#define IGEA_ACCEL_JOINT 2 /* joint radial + tangential fit (igea_accel_joint;
+                              not a method of igea_accel_fit) */
 
 /* Flags per coefficient. */
 #define IGEA_ACCEL_DATA 0  /* determined by the data */
@@ -300,6 +302,126 @@ IGEA_API int igea_accel_simulate(int n, const double *theta_deg,
                                  const double *truth, double head_sd,
                                  double noise_sd, int seed, double *ya,
                                  double *yb);
+
+/* ---------------------------------------------------------------------- */
+/* Applying a calibration, hysteresis, and the joint model. */
+
+/*
+ * Apply a calibration to raw outputs: the outputs are converted to g with
+ * the nominal scale factors (y = raw / scale, as igea_accel_to_g), and the
+ * calibrated model is inverted for the acceleration [D].
+ *  Single model (coef[5] = K0, k1, delta0, K2, Kix of igea_accel_fit):
+ *    y_A = K0 + (1 + k1) u + delta0 v + K2 u^2 + Kix u v
+ *  is solved for u, the acceleration (g) along the reference input axis,
+ *  given v, the acceleration along the reference cross axis (cross[n], g;
+ *  NULL: v = 0, which leaves the delta0 and Kix terms uncompensated).
+ *  Dual model (coef[9] in the dual column order; delta0 is not part of
+ *  the pair's model): the exact models (1)-(2) of METHODS 4.2,
+ *    y_A = KA0 + (1 + kA1) u + KA2 u^2 + KAix u v,
+ *    y_B = KB0 + (1 + kB1) b + KB2 b^2 - KBix b w,
+ *    b = v cos(eta) - u sin(eta), w = u cos(eta) + v sin(eta),
+ *  are solved together for (u, v), the in-plane acceleration along A's
+ *  input axis and along the perpendicular towards B (at theta:
+ *  u = sin(phi), v = cos(phi)).
+ *  Newton's method from u = y_A, v = y_B (single: v given), at most 50
+ *  steps, until a step is <= 4 eps max(1, |u|, |v|).
+ *  1 model; 2 n >= 1; 3 raw_a[n] A outputs; 4 raw_b[n] B outputs (dual;
+ *  ignored and may be NULL for single); 5 scale_a, 6 scale_b: nominal
+ *  scale factors (output units per g, finite, != 0; 1 for outputs in g;
+ *  scale_b ignored for single); 7 coef[np]; 8 cross[n] (single; may be
+ *  NULL; ignored for dual);
+ * Outputs: 9 u[n]; 10 v[n] (dual; may be NULL; ignored for single).
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENOCONV (no solution near the
+ * outputs: a singular Jacobian or no convergence, e.g. K2 so large that the
+ * quadratic has no real root there).
+ */
+IGEA_API int igea_accel_apply(int model, int n, const double *raw_a,
+                              const double *raw_b, double scale_a,
+                              double scale_b, const double *coef,
+                              const double *cross, double *u, double *v);
+
+/* Indices into the test[IGEA_ACCEL_HYST_LEN] output of
+ * igea_accel_hysteresis (doubles). */
+#define IGEA_ACCEL_HYST_F 0     /* F = sum_k (d_k / sd_k)^2 / P */
+#define IGEA_ACCEL_HYST_DF1 1   /* P, the positions */
+#define IGEA_ACCEL_HYST_DF2 2   /* N - 2P, dof of the pooled variance */
+#define IGEA_ACCEL_HYST_P 3     /* p-value, Q_F(F; P, N - 2P) */
+#define IGEA_ACCEL_HYST_SIGMA 4 /* pooled within-position sd s_p (output units) */
+#define IGEA_ACCEL_HYST_LEN 5
+
+/*
+ * Hysteresis: clockwise minus counter-clockwise mean per position, with its
+ * sd from the repeated readings, and the test of zero hysteresis [D].
+ * Readings are grouped into positions as igea_accel_merge does; within
+ * each position the clockwise and counter-clockwise readings form two
+ * cells. d_k = mean_cw - mean_ccw; the within-cell variance is pooled over
+ * all cells, s_p^2 = sum (y - cell mean)^2 / (N - 2P), and
+ * sd_k = s_p sqrt(1/n_cw + 1/n_ccw). Test: F = sum_k (d_k / sd_k)^2 / P,
+ * referred to F(P, N - 2P) (exact for independent normal readings of equal
+ * variance; P F -> chi-square(P) as N - 2P grows).
+ *  1 nrows >= 1; 2 angle_deg[nrows]; 3 dir[nrows]: > 0 clockwise, < 0
+ *  counter-clockwise, 0 invalid; NULL: from the row order, the
+ *  convention of the seed's runs (angles increase counter-clockwise):
+ *  rows within tol_deg of the previous row (modulo 360) form a block; a
+ *  block takes the direction of the step into it (the shorter way round;
+ *  the first block: of the step out of it), and a block where the
+ *  direction reverses (the 360 deg turnaround) is split, its first
+ *  ceil(len/2) rows going with the incoming run, the rest with the next;
+ *  4 y[nrows] outputs (any unit); 5 tol_deg: 0 <= tol_deg < 45;
+ * Outputs (capacity nrows each; positions in ascending angle):
+ *  6 theta_deg, 7 diff, 8 diff_sd (may be NULL), 9 n_cw (may be NULL),
+ *  10 n_ccw (may be NULL), 11 npos, 12 test[IGEA_ACCEL_HYST_LEN] (may be
+ *  NULL).
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_EDOMAIN (a position without
+ * readings in both directions, no change of angle with dir NULL, or
+ * N - 2P < 1: no repeated readings to estimate the sd from), IGEA_ENOMEM.
+ */
+IGEA_API int igea_accel_hysteresis(int nrows, const double *angle_deg,
+                                   const int *dir, const double *y,
+                                   double tol_deg, double *theta_deg,
+                                   double *diff, double *diff_sd, int *n_cw,
+                                   int *n_ccw, int *npos, double *test);
+
+/* Coefficients of the joint model: the 9 dual coefficients, then delta0. */
+#define IGEA_ACCEL_NP_JOINT 10
+/* Indices into comp_sd[IGEA_ACCEL_JOINT_NCOMP] of igea_accel_joint. */
+#define IGEA_ACCEL_JOINT_SD_RADIAL 0  /* sd of the g^2 (radial) equation */
+#define IGEA_ACCEL_JOINT_SD_ANGLE 1   /* sd of the tangential equation */
+#define IGEA_ACCEL_JOINT_NCOMP 2
+
+/*
+ * Joint fit of an orthogonal pair [D]: single model A, single model B and
+ * the dual g^2 equation stacked, with the head-angle error of each position
+ * as a random nuisance effect (docs/accel.md, "The joint model"). Per
+ * position, with r_A = y_A - s, r_B = y_B - c, the readings are rotated
+ * into the radial equation (the g^2 observation (y_A^2 + y_B^2 - 1)/2,
+ * free of head errors, noise variance sigma^2) and the tangential
+ * equation z = c r_A - s r_B (the head error enters as itself: variance
+ * sigma^2 + sigma_head^2); the two are independent. The variances are
+ * estimated from each equation's own least-squares residual, and the
+ * stacked weighted least squares has rank 10 for 7 or more distinct
+ * equispaced positions: every coefficient, K2 included, is determined by
+ * the data.
+ *  1 n >= 1 positions (n >= 10 and a residual in each equation); 2
+ *  theta_deg[n]; 3 ya[n], 4 yb[n] outputs in g (one per position, e.g.
+ *  igea_accel_merge);
+ * Outputs: 5 coef[10] (dual order, then delta0 in rad); 6 sd[10] (may be
+ * NULL): sqrt(diag((A^T W A)^-1)) with the estimated weights; 7 cov
+ * (10 x 10, may be NULL), 8 ldc >= 10 (>= 1 when cov is NULL); 9
+ * comp_sd[IGEA_ACCEL_JOINT_NCOMP] (may be NULL): the two equations' sds
+ * (g); 10 comb[7] (may be NULL), 11 comb_sd[7] (may be NULL): the estimable
+ * combinations of igea_accel_combinations and their sds sqrt(c^T cov c),
+ * for comparison with the dual fit; 12 info (may be NULL): rank, sigma =
+ * sqrt(weighted RSS / dof), -, rms (weighted), nobs = 2n, dof = 2n - rank.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ERANK (rank < 10), IGEA_EDOMAIN (an
+ * equation without residual, or a zero residual variance), IGEA_EOVERFLOW,
+ * IGEA_ENOMEM, IGEA_ELAPACK.
+ */
+IGEA_API int igea_accel_joint(int n, const double *theta_deg,
+                              const double *ya, const double *yb,
+                              double *coef, double *sd, double *cov, int ldc,
+                              double *comp_sd, double *comb, double *comb_sd,
+                              double *info);
 
 #ifdef __cplusplus
 }

@@ -212,7 +212,7 @@ def accel_fit(theta_deg, y_a, y_b=None, *, model="dual", method="ls", prior=_UNS
     method "ls" (minimum-norm least squares) or "ebr" (empirical-Bayes
     ridge with the prior scales tau_j `prior`, one per coefficient, the
     driver's --prior (prior_scale= is its old name), rule "sc"/"mm"/"ml2"
-    and lam_floor)."""
+    and lam_floor), or "joint" (dual: returns accel_joint's AccelJoint)."""
     prior = renamed("igea.accel_fit", "prior", prior, "prior_scale", prior_scale)
     m = _model(model)
     method_code = _lib.choice(_capi.CHOICE_ACCEL_METHOD, method, "igea.accel_fit", "method")
@@ -229,6 +229,12 @@ def accel_fit(theta_deg, y_a, y_b=None, *, model="dual", method="ls", prior=_UNS
         yb = _vec(y_b, "y_b", n)
         if scale_b is not None:
             yb = accel_to_g(yb, scale_b)
+    if method == "joint":  # the driver's --method joint: a different estimator
+        if m != "dual":
+            raise ValueError("method: 'joint' needs model='dual'")
+        if prior is not None:
+            raise ValueError("prior: only for method='ebr'")
+        return accel_joint(t, ya, yb, axis=axis)
     ps = None if prior is None else _vec(prior, "prior", npar)
     coef, sd, flag = np.zeros(npar), np.zeros(npar), np.zeros(npar, dtype=np.intc)
     comb, csd, info = np.zeros(nc), np.zeros(nc), np.zeros(_capi.ACCEL_INFO_LEN)
@@ -308,3 +314,145 @@ def accel_simulate(theta_deg, truth, *, head_sd_arcsec=1.0, noise_sd=1e-6, seed=
               float(head_sd_arcsec) * ARCSEC, float(noise_sd), int(seed), _lib.dptr(ya),
               _lib.dptr(yb))
     return ya, yb
+
+
+@dataclass(frozen=True)
+class AccelApplied:
+    """Compensated accelerations of igea.accel_apply (g): u along the
+    reference (single) or A's (dual) input axis, v the in-plane
+    perpendicular towards B (dual; None for single)."""
+    u: np.ndarray
+    v: np.ndarray = None
+
+
+def accel_apply(raw_a, coef, raw_b=None, *, model="dual", scale_a=1.0, scale_b=1.0,
+                cross=None):
+    """Apply a calibration to raw outputs: raw / scale in g, then the fitted
+    model (bias, scale, misalignment, cross-coupling, K2) inverted.
+
+    single: coef = (K0, k1, delta0, K2, Kix); cross = the acceleration along
+    the cross axis (g, per reading; None: 0). dual: coef = the 9 dual
+    coefficients, raw_b the B outputs."""
+    m = _model(model)
+    ra = _lib.as_f64(raw_a, "raw_a", ndim=1)
+    n = ra.shape[0]
+    if n < 1:
+        raise ValueError("raw_a: expected at least one value")
+    c = _vec(coef, "coef", _NP[m])
+    dual = m == "dual"
+    if dual and raw_b is None:
+        raise ValueError("raw_b: the dual model needs the B outputs")
+    rb = _vec(raw_b, "raw_b", n) if dual else None
+    cr = _vec(cross, "cross", n) if (cross is not None and not dual) else None
+    u = np.zeros(n)
+    v = np.zeros(n) if dual else None
+    _lib.call("igea.accel_apply", "igea_accel_apply", _MODELS[m], n, _lib.dptr(ra),
+              _lib.dptr(rb), float(scale_a), float(scale_b), _lib.dptr(c), _lib.dptr(cr),
+              _lib.dptr(u), _lib.dptr(v))
+    return AccelApplied(u, v)
+
+
+@dataclass(frozen=True)
+class AccelHysteresis:
+    """Clockwise minus counter-clockwise mean per position and the F test of
+    zero hysteresis (igea.accel_hysteresis); the driver's JSON keys."""
+    theta_deg: np.ndarray
+    diff: np.ndarray
+    diff_sd: np.ndarray
+    n_cw: np.ndarray
+    n_ccw: np.ndarray
+    f: float
+    df1: int
+    df2: int
+    p: float
+    sigma: float
+
+    def summary(self):
+        lines = ["hysteresis (cw - ccw): F = %.4g on (%d, %d), p = %.4g; pooled sd %.3e"
+                 % (self.f, self.df1, self.df2, self.p, self.sigma)]
+        for k in range(len(self.theta_deg)):
+            lines.append("%9.3f %14.6e %12.3e %4d %4d" % (self.theta_deg[k], self.diff[k],
+                                                        self.diff_sd[k], self.n_cw[k],
+                                                        self.n_ccw[k]))
+        return "\n".join(lines)
+
+
+def accel_hysteresis(angle_deg, y, direction=None, *, tol_deg=1e-6):
+    """CW - CCW per position with its sd from the repeated readings and the
+    F test of zero hysteresis. direction: per reading > 0 clockwise, < 0
+    counter-clockwise; None: from the row order (angles increasing =
+    counter-clockwise)."""
+    ang = _lib.as_f64(angle_deg, "angle_deg", ndim=1)
+    n = ang.shape[0]
+    if n < 1:
+        raise ValueError("angle_deg: expected at least one reading")
+    yy = _vec(y, "y", n)
+    d = None
+    if direction is not None:
+        d = np.ascontiguousarray(np.asarray(direction), dtype=np.intc)
+        if d.shape != (n,):
+            raise ValueError(f"direction: expected {n} values, got shape {d.shape}")
+    t, df, sd = np.zeros(n), np.zeros(n), np.zeros(n)
+    ncw, nccw = np.zeros(n, dtype=np.intc), np.zeros(n, dtype=np.intc)
+    test = np.zeros(_capi.ACCEL_HYST_LEN)
+    npos = ctypes.c_int()
+    _lib.call("igea.accel_hysteresis", "igea_accel_hysteresis", n, _lib.dptr(ang),
+              _lib.iptr(d), _lib.dptr(yy), float(tol_deg), _lib.dptr(t), _lib.dptr(df),
+              _lib.dptr(sd), _lib.iptr(ncw), _lib.iptr(nccw), ctypes.byref(npos),
+              _lib.dptr(test))
+    k = npos.value
+    return AccelHysteresis(t[:k].copy(), df[:k].copy(), sd[:k].copy(), ncw[:k].copy(),
+                           nccw[:k].copy(), f=float(test[_capi.ACCEL_HYST_F]),
+                           df1=int(test[_capi.ACCEL_HYST_DF1]),
+                           df2=int(test[_capi.ACCEL_HYST_DF2]),
+                           p=float(test[_capi.ACCEL_HYST_P]),
+                           sigma=float(test[_capi.ACCEL_HYST_SIGMA]))
+
+
+@dataclass(frozen=True)
+class AccelJoint:
+    """Joint fit of an orthogonal pair (igea.accel_joint): the 9 dual
+    coefficients and delta0, all determined by the data (rank 10)."""
+    names: list
+    coef: np.ndarray
+    sd: np.ndarray
+    cov: np.ndarray
+    comb: np.ndarray
+    comb_sd: np.ndarray
+    sd_radial: float
+    sd_angle: float
+    rank: int
+    sigma: float
+    rms: float
+    dof: int
+
+    def summary(self):
+        lines = ["joint fit (radial g^2 + tangential equations): rank %d, dof %d; "
+                 "sd radial %.3e g, tangential %.3e g" % (self.rank, self.dof, self.sd_radial,
+                                                         self.sd_angle)]
+        for j, name in enumerate(self.names):
+            lines.append("%-10s %15.6e %12.3e" % (name, self.coef[j], self.sd[j]))
+        return "\n".join(lines)
+
+
+def accel_joint(theta_deg, y_a, y_b, *, axis="pa"):
+    """Joint fit: single A, single B and the dual g^2 equation stacked with
+    the head-angle errors as random nuisance effects (docs/accel.md)."""
+    t = _theta(theta_deg)
+    n = t.shape[0]
+    ya, yb = _vec(y_a, "y_a", n), _vec(y_b, "y_b", n)
+    npar = _capi.ACCEL_NP_JOINT
+    coef, sd = np.zeros(npar), np.zeros(npar)
+    cov = np.zeros((npar, npar), order="F")
+    comp = np.zeros(_capi.ACCEL_JOINT_NCOMP)
+    info = np.zeros(_capi.ACCEL_INFO_LEN)
+    comb, csd = np.zeros(_capi.ACCEL_NC_DUAL), np.zeros(_capi.ACCEL_NC_DUAL)
+    _lib.call("igea.accel_joint", "igea_accel_joint", n, _lib.dptr(t), _lib.dptr(ya),
+              _lib.dptr(yb), _lib.dptr(coef), _lib.dptr(sd), _lib.dptr(cov), npar,
+              _lib.dptr(comp), _lib.dptr(comb), _lib.dptr(csd), _lib.dptr(info))
+    names = coefficient_names("dual", axis) + ["delta0"]
+    return AccelJoint(names, coef, sd, np.ascontiguousarray(cov), comb, csd,
+                      sd_radial=float(comp[_capi.ACCEL_JOINT_SD_RADIAL]),
+                      sd_angle=float(comp[_capi.ACCEL_JOINT_SD_ANGLE]),
+                      **_lib.fields(info, "ACCEL_INFO_", rank=int, sigma=float, rms=float,
+                                    dof=int))

@@ -6,7 +6,7 @@
 
 typedef struct {
     const char *data, *prior, *out;
-    int model, method, rule, axis, json, refine;
+    int model, method, rule, axis, json, refine, hyst;
     double lam_floor, scale_a, scale_b, tol;
 } ac_args;
 
@@ -15,7 +15,9 @@ static ac_args A;
 static const cli_opt options[] = {
     {"--data", CLI_OPT_STR, &A.data, NULL, "FILE", "the readings: angle (deg), A output, B output", NULL},
     {"--model", CLI_OPT_CHOICE, &A.model, "dual", CLI_CHOICES(IGEA_CHOICE_ACCEL_MODEL), "single reads the first two columns", NULL},
-    {"--method", CLI_OPT_CHOICE, &A.method, "ls", CLI_CHOICES(IGEA_CHOICE_ACCEL_METHOD), "least squares or empirical-Bayes ridge", NULL},
+    {"--method", CLI_OPT_CHOICE, &A.method, "ls", CLI_CHOICES(IGEA_CHOICE_ACCEL_METHOD), "least squares, empirical-Bayes ridge, or joint\n"
+     "(dual: radial g^2 and tangential equations with the\n"
+     "head errors as nuisance, rank 10: K2 from the data)", NULL},
     {"--prior", CLI_OPT_STR, &A.prior, NULL, "FILE", "EBR prior scales tau_j, one per coefficient (9\n"
      "dual, 5 single), e.g. historical spreads", NULL},
     {"--rule", CLI_OPT_CHOICE, &A.rule, "sc", CLI_CHOICES(IGEA_CHOICE_REGRESS_EBR_RULE), "EBR rule for lambda (METHODS 4.3 eq. 17)", NULL},
@@ -27,6 +29,10 @@ static const cli_opt options[] = {
      "(pa, the door position) or Kip (oa)", NULL},
     {"--refine", CLI_OPT_FLAG, &A.refine, NULL, NULL, "dual: Gauss-Newton on the exact models (1)-(2)\n"
      "after the linear fit (for mg-level biases); the\nnull-space part of the fit is kept", NULL},
+    {"--hysteresis", CLI_OPT_FLAG, &A.hyst, NULL, NULL, "also clockwise minus counter-clockwise per position\n"
+     "with its sd from the repeated readings and the F test\n"
+     "of zero hysteresis (directions from the row order:\n"
+     "increasing angles = counter-clockwise)", NULL},
     CLI_JSON_OPT(&A.json),
     CLI_OUT_OPT(&A.out),
     CLI_END};
@@ -59,6 +65,7 @@ options,
 "  igea accel --data examples/accel_dual.txt\n"
 "  igea accel --method ebr --prior examples/accel_prior.txt --data examples/accel_dual.txt\n"
 "  igea accel --model single --json --data examples/accel_dual.txt\n"
+"  igea accel --method joint --data examples/accel_dual.txt\n"
 "\n"
 "exit status: 0 ok, 64 usage, 65 bad input, 66 missing input, 70 numerical\n"
 "failure, 74 output error.\n"};
@@ -76,17 +83,25 @@ static int parse(int argc, char **argv, ac_args *a)
                      : a->refine && a->model != IGEA_ACCEL_DUAL
                          ? "accel: --refine needs the dual model"
                      : a->prior && a->method != IGEA_ACCEL_EBR
-                         ? "accel: --prior needs --method ebr" : NULL);
+                         ? "accel: --prior needs --method ebr"
+                     : a->method == IGEA_ACCEL_JOINT && a->model != IGEA_ACCEL_DUAL
+                         ? "accel: --method joint needs the dual model"
+                     : a->method == IGEA_ACCEL_JOINT && a->refine
+                         ? "accel: --refine keeps the null-space part of a dual fit; it does not "
+                           "combine with --method joint" : NULL);
 }
 
 typedef struct {
     int dual, np, nc, nr, npos;
-    const char *names[9], *cnames[7], *units[9];
+    const char *names[10], *cnames[7], *units[10];
     double *ang, *ya, *yb, *th, *ma, *mb, *phi; /* nr each */
     int *cnt;
-    double tau[9], coef[9], sd[9], cmb[7], csd[7], info[IGEA_ACCEL_INFO_LEN];
+    double tau[9], coef[10], sd[10], cmb[7], csd[7], info[IGEA_ACCEL_INFO_LEN], comp[2];
     double rcoef[9], rsd[9], rcmb[7], rinfo[IGEA_ACCEL_INFO_LEN];
-    int flag[9];
+    int flag[10];
+    /* hysteresis of A and B: angle, diff, sd (nr each), counts, test */
+    double *h_th, *h_d[2], *h_sd[2], h_test[2][IGEA_ACCEL_HYST_LEN];
+    int *h_ncw[2], *h_nccw[2], h_npos;
 } ac_run;
 
 static void setup(const ac_args *a, ac_run *r)
@@ -100,6 +115,11 @@ static void setup(const ac_args *a, ac_run *r)
     }
     for (int k = 0; k < r->nc; k++)
         r->cnames[k] = igea_accel_comb_name(a->model, a->axis, k);
+    if (a->method == IGEA_ACCEL_JOINT) { /* the 9 dual coefficients and delta0 */
+        r->np = IGEA_ACCEL_NP_JOINT;
+        r->names[9] = igea_accel_coef_name(IGEA_ACCEL_SINGLE, a->axis, IGEA_ACCEL_DELTA0);
+        r->units[9] = igea_accel_coef_unit(IGEA_ACCEL_SINGLE, IGEA_ACCEL_DELTA0);
+    }
 }
 
 /* The readings (angle, A[, B]) and the prior scales. */
@@ -144,17 +164,47 @@ static int read_inputs(const ac_args *a, ac_run *r)
     return CLI_OK;
 }
 
+/* CW - CCW per position of each output (outputs in g). */
+static int hysteresis(const ac_args *a, ac_run *r)
+{
+    int nr = r->nr, no = r->dual ? 2 : 1;
+    size_t nn = (size_t)nr;
+    if (!(r->h_th = malloc(nn * 5 * sizeof(double))) ||
+        !(r->h_ncw[0] = malloc(nn * 4 * sizeof(int))))
+        return cli_oom("the hysteresis");
+    r->h_d[0] = r->h_th + nn, r->h_d[1] = r->h_d[0] + nn;
+    r->h_sd[0] = r->h_d[1] + nn, r->h_sd[1] = r->h_sd[0] + nn;
+    r->h_ncw[1] = r->h_ncw[0] + nn, r->h_nccw[0] = r->h_ncw[1] + nn;
+    r->h_nccw[1] = r->h_nccw[0] + nn;
+    for (int o = 0; o < no; o++) {
+        int st = igea_accel_hysteresis(nr, r->ang, NULL, o ? r->yb : r->ya, a->tol, r->h_th,
+                                       r->h_d[o], r->h_sd[o], r->h_ncw[o], r->h_nccw[o],
+                                       &r->h_npos, r->h_test[o]);
+        if (st)
+            return cli_status(st, "accel --hysteresis");
+    }
+    return CLI_OK;
+}
+
 /* Scale to g, merge the positions, fit, and refine. */
 static int compute(const ac_args *a, ac_run *r)
 {
-    int nr = r->nr;
+    int nr = r->nr, ec;
     int st = igea_accel_to_g(nr, r->ya, a->scale_a, r->ya);
     if (!st && r->dual)
         st = igea_accel_to_g(nr, r->yb, a->scale_b, r->yb);
+    if (st)
+        return cli_status(st, "accel");
+    if (a->hyst && (ec = hysteresis(a, r)))
+        return ec;
     if (!st)
         st = igea_accel_merge(nr, r->ang, r->ya, r->dual ? r->yb : NULL, a->tol, r->th, r->ma,
                               r->dual ? r->mb : NULL, r->cnt, &r->npos);
-    if (!st)
+    if (!st && a->method == IGEA_ACCEL_JOINT) {
+        st = igea_accel_joint(r->npos, r->th, r->ma, r->mb, r->coef, r->sd, NULL, 1, r->comp,
+                              r->cmb, r->csd, r->info);
+        memset(r->flag, 0, sizeof r->flag);
+    } else if (!st)
         st = igea_accel_fit(a->model, a->method, r->npos, r->th,
                             r->ma, r->mb, a->prior ? r->tau : NULL, a->rule,
                             a->lam_floor, r->coef, r->sd, r->flag, r->cmb, r->csd, r->info);
@@ -194,10 +244,30 @@ static void json_report(FILE *f, const ac_args *a, const ac_run *r)
     cli_jnum(&j, "sigma", r->info[IGEA_ACCEL_INFO_SIGMA]);
     cli_jnum(&j, "rms", r->info[IGEA_ACCEL_INFO_RMS]);
     cli_jnum(&j, "lam", r->info[IGEA_ACCEL_INFO_LAMBDA]);
+    if (a->method == IGEA_ACCEL_JOINT) {
+        cli_jnum(&j, "sd_radial", r->comp[IGEA_ACCEL_JOINT_SD_RADIAL]);
+        cli_jnum(&j, "sd_angle", r->comp[IGEA_ACCEL_JOINT_SD_ANGLE]);
+    }
+    if (a->hyst)
+        for (int o = 0; o < (r->dual ? 2 : 1); o++) {
+            const double *t = r->h_test[o];
+            cli_json_open(&j, o ? "hysteresis_b" : "hysteresis_a", '{');
+            cli_jnums(&j, "theta_deg", r->h_th, r->h_npos);
+            cli_jnums(&j, "diff", r->h_d[o], r->h_npos);
+            cli_jnums(&j, "diff_sd", r->h_sd[o], r->h_npos);
+            cli_jints(&j, "n_cw", r->h_ncw[o], r->h_npos);
+            cli_jints(&j, "n_ccw", r->h_nccw[o], r->h_npos);
+            cli_jnum(&j, "f", t[IGEA_ACCEL_HYST_F]);
+            cli_jint(&j, "df1", (long)t[IGEA_ACCEL_HYST_DF1]);
+            cli_jint(&j, "df2", (long)t[IGEA_ACCEL_HYST_DF2]);
+            cli_jnum(&j, "p", t[IGEA_ACCEL_HYST_P]);
+            cli_jnum(&j, "sigma", t[IGEA_ACCEL_HYST_SIGMA]);
+            cli_json_close(&j);
+        }
     if (a->refine) {
         cli_json_open(&j, "refined", '{');
-        cli_jnums(&j, "coef", r->rcoef, r->np);
-        cli_jnums(&j, "sd", r->rsd, r->np);
+        cli_jnums(&j, "coef", r->rcoef, IGEA_ACCEL_NP_DUAL);
+        cli_jnums(&j, "sd", r->rsd, IGEA_ACCEL_NP_DUAL);
         cli_jnums(&j, "comb", r->rcmb, r->nc);
         cli_jnums(&j, "phi_deg", r->phi, r->npos);
         cli_jint(&j, "iterations", (long)r->rinfo[IGEA_ACCEL_INFO_ITER]);
@@ -210,23 +280,44 @@ static void text_refined(FILE *f, const ac_run *r)
 {
     fprintf(f, "\nexact-model refinement (%d iterations, residual sd %.3e g per output):\n",
             (int)r->rinfo[IGEA_ACCEL_INFO_ITER], r->rinfo[IGEA_ACCEL_INFO_SIGMA]);
-    for (int j = 0; j < r->np; j++)
+    for (int j = 0; j < IGEA_ACCEL_NP_DUAL; j++)
         fprintf(f, "%-9s %15.6e %12.3e  %s\n", r->names[j], r->rcoef[j], r->rsd[j],
                 r->flag[j] ? "null part kept from the fit" : "data");
     for (int k = 0; k < r->nc; k++)
         fprintf(f, "%-9s %15.6e\n", r->cnames[k], r->rcmb[k]);
 }
 
+static void text_hysteresis(FILE *f, const ac_run *r)
+{
+    for (int o = 0; o < (r->dual ? 2 : 1); o++) {
+        const double *t = r->h_test[o];
+        fprintf(f, "\nhysteresis of %c (clockwise - counter-clockwise): F = %.4g on (%d, %d), "
+                   "p = %.4g; pooled sd %.3e g\n%9s %14s %12s %4s %4s\n",
+                o ? 'B' : 'A', t[IGEA_ACCEL_HYST_F], (int)t[IGEA_ACCEL_HYST_DF1],
+                (int)t[IGEA_ACCEL_HYST_DF2], t[IGEA_ACCEL_HYST_P], t[IGEA_ACCEL_HYST_SIGMA],
+                "theta", "cw - ccw", "sd", "ncw", "nccw");
+        for (int k = 0; k < r->h_npos; k++)
+            fprintf(f, "%9.3f %14.6e %12.3e %4d %4d\n", r->h_th[k], r->h_d[o][k],
+                    r->h_sd[o][k], r->h_ncw[o][k], r->h_nccw[o][k]);
+    }
+}
+
 static void text_report(FILE *f, const ac_args *a, const ac_run *r)
 {
-    int ls = a->method == IGEA_ACCEL_LS;
+    int ls = a->method == IGEA_ACCEL_LS, joint = a->method == IGEA_ACCEL_JOINT;
     fprintf(f, "igea accel: %s model, %s; %d readings -> %d positions; rank %d, dof %d\n",
             igea_choice_name(IGEA_CHOICE_ACCEL_MODEL, a->model),
-            ls ? "least squares" : "empirical-Bayes ridge", r->nr,
+            ls ? "least squares" : joint ? "joint radial + tangential fit"
+                                         : "empirical-Bayes ridge", r->nr,
             r->npos, (int)r->info[IGEA_ACCEL_INFO_RANK], (int)r->info[IGEA_ACCEL_INFO_DOF]);
-    fprintf(f, "residual sd %.3e g, rms %.3e g", r->info[IGEA_ACCEL_INFO_SIGMA],
-            r->info[IGEA_ACCEL_INFO_RMS]);
-    if (!ls)
+    if (joint)
+        fprintf(f, "equation sds: radial (g^2) %.3e g, tangential %.3e g; weighted residual "
+                   "sd %.4f", r->comp[IGEA_ACCEL_JOINT_SD_RADIAL],
+                r->comp[IGEA_ACCEL_JOINT_SD_ANGLE], r->info[IGEA_ACCEL_INFO_SIGMA]);
+    else
+        fprintf(f, "residual sd %.3e g, rms %.3e g", r->info[IGEA_ACCEL_INFO_SIGMA],
+                r->info[IGEA_ACCEL_INFO_RMS]);
+    if (!ls && !joint)
         fprintf(f, ", lambda %.6g%s", r->info[IGEA_ACCEL_INFO_LAMBDA],
                 a->prior ? " (prior-scaled)" : " (isotropic prior)");
     fprintf(f, "\n\n%-9s %-6s %15s %12s  %s\n", "coef", "unit", "estimate", "sd", "determined by");
@@ -245,6 +336,8 @@ static void text_report(FILE *f, const ac_args *a, const ac_run *r)
     fprintf(f, "\n%-9s %15s %12s\n", "estimable", "estimate", "sd");
     for (int k = 0; k < r->nc; k++)
         fprintf(f, "%-9s %15.6e %12.3e\n", r->cnames[k], r->cmb[k], r->csd[k]);
+    if (a->hyst)
+        text_hysteresis(f, r);
     if (a->refine)
         text_refined(f, r);
 }
@@ -264,5 +357,7 @@ int cmd_accel(int argc, char **argv)
     }
     free(r.ang);
     free(r.cnt);
+    free(r.h_th);
+    free(r.h_ncw[0]);
     return ec;
 }
