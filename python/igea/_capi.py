@@ -33,6 +33,7 @@ ACCEL_SIM_DELTA0 = 9
 ACCEL_NP_SIM = 10
 ACCEL_LS = 0
 ACCEL_EBR = 1
+ACCEL_JOINT = 2
 ACCEL_DATA = 0
 ACCEL_PRIOR = 1
 ACCEL_LOADING_TOL = 1e-06
@@ -47,6 +48,16 @@ ACCEL_INFO_STEP = 7
 ACCEL_INFO_LEN = 8
 ACCEL_AXIS_PA = 0
 ACCEL_AXIS_OA = 1
+ACCEL_HYST_F = 0
+ACCEL_HYST_DF1 = 1
+ACCEL_HYST_DF2 = 2
+ACCEL_HYST_P = 3
+ACCEL_HYST_SIGMA = 4
+ACCEL_HYST_LEN = 5
+ACCEL_NP_JOINT = 10
+ACCEL_JOINT_SD_RADIAL = 0
+ACCEL_JOINT_SD_ANGLE = 1
+ACCEL_JOINT_NCOMP = 2
 
 # igea/common.h
 VERSION_MAJOR = 1
@@ -441,6 +452,9 @@ SIM_POOL_RATE = 2
 SIM_POOL_CI99_LO = 3
 SIM_POOL_CI99_HI = 4
 SIM_POOL_LEN = 8
+SIM_RAW_TEL_STRAPDOWN = 7
+SIM_RAW_TEL_PLATFORM = 4
+SIM_RAW_TRK_COLS = 7
 
 # igea/stability.h
 STABILITY_BLOCK_3SIGMA = 0
@@ -595,6 +609,15 @@ PROTOTYPES = {
     "igea_accel_simulate": (c_int, (("n", c_int), ("theta_deg", _PD), ("truth", _PD),
         ("head_sd", c_double), ("noise_sd", c_double), ("seed", c_int), ("ya", _PD), ("yb", _PD),
         )),
+    "igea_accel_apply": (c_int, (("model", c_int), ("n", c_int), ("raw_a", _PD), ("raw_b", _PD),
+        ("scale_a", c_double), ("scale_b", c_double), ("coef", _PD), ("cross", _PD), ("u", _PD),
+        ("v", _PD),)),
+    "igea_accel_hysteresis": (c_int, (("nrows", c_int), ("angle_deg", _PD), ("dir", _PI),
+        ("y", _PD), ("tol_deg", c_double), ("theta_deg", _PD), ("diff", _PD), ("diff_sd", _PD),
+        ("n_cw", _PI), ("n_ccw", _PI), ("npos", _PI), ("test", _PD),)),
+    "igea_accel_joint": (c_int, (("n", c_int), ("theta_deg", _PD), ("ya", _PD), ("yb", _PD),
+        ("coef", _PD), ("sd", _PD), ("cov", _PD), ("ldc", c_int), ("comp_sd", _PD), ("comb", _PD),
+        ("comb_sd", _PD), ("info", _PD),)),
     # igea/common.h
     "igea_strerror": (c_char_p, (("status", c_int),)),
     "igea_status_class": (c_int, (("status", c_int),)),
@@ -905,6 +928,10 @@ PROTOTYPES = {
         )),
     "igea_sim_pool": (c_int, (("nflights", c_int), ("table", _PD), ("ldt", c_int), ("size", c_int),
         ("alpha", c_double), ("pooled", _PD),)),
+    "igea_sim_raw": (c_int, (("system", c_int), ("nsamp", c_int), ("traj", _PD), ("ldt", c_int),
+        ("nerr", c_int), ("err", _PD), ("axes", _PI), ("site", _PD), ("frame", c_int),
+        ("nepochs", c_int), ("epochs", _PD), ("noise", _PD), ("tel", _PD), ("ldtel", c_int),
+        ("trk", _PD), ("ldtrk", c_int), ("q0", _PD), ("site_out", _PD),)),
     # igea/stability.h
     "igea_stability_block": (c_int, (("n", c_int), ("y", _PD), ("fs", c_double),
         ("block", c_double), ("out", _PD),)),
@@ -978,6 +1005,9 @@ INPUTS = {
     "igea_accel_fit": ("theta_deg", "ya", "yb", "prior_scale",),
     "igea_accel_refine": ("theta_deg", "ya", "yb", "coef0",),
     "igea_accel_simulate": ("theta_deg", "truth",),
+    "igea_accel_apply": ("raw_a", "raw_b", "coef", "cross",),
+    "igea_accel_hysteresis": ("angle_deg", "dir", "y",),
+    "igea_accel_joint": ("theta_deg", "ya", "yb",),
     "igea_choice_code": ("name",),
     "igea_dw_compute": ("site", "q0", "tel", "trk",),
     "igea_envfun_term_code": ("name",),
@@ -1075,6 +1105,7 @@ INPUTS = {
     "igea_sim_nonlinear": ("traj", "err", "axes", "epochs",),
     "igea_sim_montecarlo": ("eq_opts",),
     "igea_sim_pool": ("table",),
+    "igea_sim_raw": ("traj", "err", "axes", "site", "epochs", "noise",),
     "igea_stability_block": ("y",),
     "igea_stability_allan": ("y", "tau",),
     "igea_stability_taus_used": ("tau",),
