@@ -250,6 +250,32 @@ CLASS = {
         "rejected_rows": "rows rejected by the robust route: [{\"row\": i, \"w\": w}]",
         "noise_iterations": "iterations of the noise-model estimation",
         "noise_converged": "True when the noise-model estimation converged"},
+    "AccelApplied": {
+        "u": "compensated acceleration along the reference (single) or A's (dual) axis, g",
+        "v": "the in-plane perpendicular towards B (dual; None for single), g"},
+    "AccelHysteresis": {
+        "theta_deg": "(P,) head angle of each position, degrees",
+        "diff": "(P,) clockwise minus counter-clockwise mean output, g",
+        "diff_sd": "(P,) its standard deviation from the repeated readings, g",
+        "n_cw": "(P,) clockwise readings", "n_ccw": "(P,) counter-clockwise readings",
+        "f": "F = sum (diff/diff_sd)^2 / P, the test of zero hysteresis",
+        "df1": "numerator degrees of freedom (P)", "df2": "denominator degrees of freedom",
+        "p": "P(F(df1, df2) > f)", "sigma": "pooled sd of one reading, g"},
+    "AccelJoint": {
+        "names": "the 9 dual coefficients and delta0", "coef": "(10,) the estimates",
+        "sd": "(10,) their standard deviations", "cov": "(10, 10) their covariance",
+        "comb": "the estimable combinations", "comb_sd": "their standard deviations",
+        "sd_radial": "residual sd of the radial (dual g^2) equation, g",
+        "sd_angle": "residual sd of the tangential equation (noise and head error), g",
+        "rank": "rank of the joint design (10)", "sigma": "overall residual sd, g",
+        "rms": "rms residual, g", "dof": "residual degrees of freedom"},
+    "RawFlight": {
+        "telemetry": "(samples, 7 or 4): t dvx dvy dvz [dthx dthy dthz] increments",
+        "tracking": "(epochs, 8): t x y z vx vy vz sigma (m, m/s) in the frame",
+        "lat": "stated launch latitude, degrees", "lon": "stated launch longitude, degrees",
+        "height": "stated launch height, m", "azimuth": "stated firing azimuth, degrees",
+        "q0": "(4,) stated attitude body -> LI at lift-off", "frame": "tracking frame (le, ecef)",
+        "system": "inertial system", "flight": "the simulator's own Flight (S, dw, sigma, spec, x_true)"},
     "NavErrors": {
         "lat": "latitude, degrees",
         "duration": "propagation time, s",

@@ -316,6 +316,7 @@ def accel_simulate(theta_deg, truth, *, head_sd_arcsec=1.0, noise_sd=1e-6, seed=
     return ya, yb
 
 
+@result
 @dataclass(frozen=True)
 class AccelApplied:
     """Compensated accelerations of igea.accel_apply (g): u along the
@@ -352,6 +353,7 @@ def accel_apply(raw_a, coef, raw_b=None, *, model="dual", scale_a=1.0, scale_b=1
     return AccelApplied(u, v)
 
 
+@result
 @dataclass(frozen=True)
 class AccelHysteresis:
     """Clockwise minus counter-clockwise mean per position and the F test of
@@ -409,6 +411,7 @@ def accel_hysteresis(angle_deg, y, direction=None, *, tol_deg=1e-6):
                            sigma=float(test[_capi.ACCEL_HYST_SIGMA]))
 
 
+@result
 @dataclass(frozen=True)
 class AccelJoint:
     """Joint fit of an orthogonal pair (igea.accel_joint): the 9 dual

@@ -326,6 +326,7 @@ def _judge_slots(ar, ar_given, robust, robust_alpha, group_bias):
 
 # ---- raw range records of a simulated flight (igea_sim_raw) ----------------
 
+@result
 @dataclass(frozen=True)
 class RawFlight:
     """The raw records of a simulated flight: what `igea simulate --raw`
