@@ -257,6 +257,22 @@ static int cmp_angle(const void *p, const void *q)
     return x->idx < y->idx ? -1 : x->idx > y->idx;
 }
 
+/* The readings' angles in [0, 360) (within tol of 360 counted as 0), sorted
+ * with their row indices (ties by row). */
+static void sort_angles(int nrows, const double *angle_deg, double tol_deg, angle_idx *ai)
+{
+    for (int i = 0; i < nrows; i++) {
+        double a = fmod(angle_deg[i], 360.0);
+        if (a < 0.0)
+            a += 360.0;
+        if (a >= 360.0 - tol_deg && a > 0.0)
+            a -= 360.0;
+        ai[i].a = a;
+        ai[i].idx = i;
+    }
+    qsort(ai, (size_t)nrows, sizeof *ai, cmp_angle);
+}
+
 int igea_accel_merge(int nrows, const double *angle_deg, const double *ya,
                      const double *yb, double tol_deg, double *theta_deg,
                      double *ya_mean, double *yb_mean, int *count, int *npos)
@@ -289,16 +305,7 @@ int igea_accel_merge(int nrows, const double *angle_deg, const double *ya,
         free(cnt);
         return IGEA_ENOMEM;
     }
-    for (int i = 0; i < nrows; i++) {
-        double a = fmod(angle_deg[i], 360.0);
-        if (a < 0.0)
-            a += 360.0;
-        if (a >= 360.0 - tol_deg && a > 0.0)
-            a -= 360.0;
-        ai[i].a = a;
-        ai[i].idx = i;
-    }
-    qsort(ai, (size_t)nrows, sizeof *ai, cmp_angle);
+    sort_angles(nrows, angle_deg, tol_deg, ai);
     double *t = tmp, *ma = tmp + nrows, *mb = tmp + 2 * (size_t)nrows;
     int np = 0;
     for (int k = 0; k < nrows;) {
@@ -1284,16 +1291,7 @@ int igea_accel_hysteresis(int nrows, const double *angle_deg, const int *dir,
             d[i] = dir[i] > 0 ? 1 : -1;
     else if ((st = hyst_directions(nrows, angle_deg, tol_deg, d)) != 0)
         goto done;
-    for (int i = 0; i < nrows; i++) {
-        double a = fmod(angle_deg[i], 360.0);
-        if (a < 0.0)
-            a += 360.0;
-        if (a >= 360.0 - tol_deg && a > 0.0)
-            a -= 360.0;
-        ai[i].a = a;
-        ai[i].idx = i;
-    }
-    qsort(ai, (size_t)nrows, sizeof *ai, cmp_angle);
+    sort_angles(nrows, angle_deg, tol_deg, ai);
     double ss = 0.0, tst[IGEA_ACCEL_HYST_LEN];
     int np = hyst_group(nrows, ai, d, y, tol_deg, pos, &ss);
     if (np < 0) {
