@@ -61,6 +61,7 @@ SCALARS = {
     "igea_impact_point": "tf", "igea_impact_circle_prob": "prob", "igea_impact_cep": "radius",
     "igea_impact_cep_approx": "radius", "igea_triad_static": "nint",
     "igea_io_reader_next": "nread", "igea_io_parse_number": "x",
+    "igea_dw_summary": "max_abs",
 }
 
 _KIND = {"int": "integer(c_int)", "double": "real(c_double)"}

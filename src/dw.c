@@ -353,3 +353,37 @@ int igea_dw_compute(const double *site, int system, int kind, const double *q0,
     free(res);
     return s;
 }
+
+int igea_dw_summary(int ntrk, const double *dw, const double *cov, double *sigma,
+                    double *max_abs, double *rms)
+{
+    if (ntrk < 1)
+        return -1;
+    if (!dw)
+        return -2;
+    if (!igea__finite_vec(3 * ntrk, dw, 1) || (cov && !igea__finite_vec(6 * ntrk, cov, 1)))
+        return IGEA_ENONFINITE;
+    static const int diag[3] = {0, 3, 5};
+    for (int e = 0; cov && e < ntrk; e++)
+        for (int i = 0; i < 3; i++)
+            if (cov[6 * (size_t)e + diag[i]] < 0)
+                return IGEA_ENONPOSITIVE;
+    double mx = 0.0;
+    igea__ksum ss[3] = {{0.0, 0.0}, {0.0, 0.0}, {0.0, 0.0}};
+    for (int e = 0; e < ntrk; e++)
+        for (int i = 0; i < 3; i++) {
+            double d = dw[3 * (size_t)e + i];
+            mx = fmax(mx, fabs(d));
+            igea__ksum_add(&ss[i], d * d);
+        }
+    if (sigma && cov)
+        for (int e = 0; e < ntrk; e++)
+            for (int i = 0; i < 3; i++)
+                sigma[3 * (size_t)e + i] = sqrt(cov[6 * (size_t)e + diag[i]]);
+    if (max_abs)
+        *max_abs = mx;
+    if (rms)
+        for (int i = 0; i < 3; i++)
+            rms[i] = sqrt(igea__ksum_get(&ss[i]) / ntrk);
+    return 0;
+}

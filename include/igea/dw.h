@@ -102,6 +102,19 @@ IGEA_API int igea_dw_compute(const double *site, int system, int kind, const dou
                              int trk_cols, double *dw, double *cov, double *dw_dtau,
                              int *bad);
 
+/*
+ * The summary of a result of igea_dw_compute:
+ *  1 ntrk >= 1 epochs; 2 dw (3 ntrk, epoch-major); 3 cov (6 ntrk, as
+ *  igea_dw_compute writes them: xx yx zx yy zy zz per epoch; may be NULL).
+ * Outputs: 4 sigma (3 ntrk: the square roots of each epoch's xx, yy, zz;
+ *  may be NULL; not written without cov); 5 max_abs, the largest |dW| (may
+ *  be NULL); 6 rms[3], the rms of dW per axis (compensated sums; may be NULL).
+ * Returns 0, -i, IGEA_ENONFINITE (NaN or Inf in dw or cov) or
+ * IGEA_ENONPOSITIVE (a negative variance); outputs untouched on failure.
+ */
+IGEA_API int igea_dw_summary(int ntrk, const double *dw, const double *cov, double *sigma,
+                             double *max_abs, double *rms);
+
 #ifdef __cplusplus
 }
 #endif

@@ -633,6 +633,8 @@ PROTOTYPES = {
         ("time_offset", c_double), ("ntel", c_int), ("tel", _PD), ("ldtel", c_int),
         ("tel_cols", c_int), ("frame", c_int), ("ntrk", c_int), ("trk", _PD), ("ldtrk", c_int),
         ("trk_cols", c_int), ("dw", _PD), ("cov", _PD), ("dw_dtau", _PD), ("bad", _PI),)),
+    "igea_dw_summary": (c_int, (("ntrk", c_int), ("dw", _PD), ("cov", _PD), ("sigma", _PD),
+        ("max_abs", _PD), ("rms", _PD),)),
     # igea/envfun.h
     "igea_envfun_term_valid": (c_int, (("system", c_int), ("term", c_int),)),
     "igea_envfun_term_name": (c_char_p, (("term", c_int),)),
@@ -1010,6 +1012,7 @@ INPUTS = {
     "igea_accel_joint": ("theta_deg", "ya", "yb",),
     "igea_choice_code": ("name",),
     "igea_dw_compute": ("site", "q0", "tel", "trk",),
+    "igea_dw_summary": ("dw", "cov",),
     "igea_envfun_term_code": ("name",),
     "igea_envfun_compute": ("traj", "terms", "axes", "epochs", "spec",),
     "igea_envfun_compute_user": ("traj", "terms", "axes", "user_kind", "user", "epochs", "spec",),

@@ -63,8 +63,9 @@ def dw(telemetry, tracking, *, lat, lon, height=0.0, azimuth, frame="le", system
                              "igea_dw_compute")
     _lib.check(st, "igea.dw", "igea_dw_compute")
     c = None if cov is None else cov.reshape(ne, 6)
-    sig = None if c is None else np.sqrt(c[:, [0, 3, 5]]).ravel()
-    d3 = out.reshape(ne, 3)
+    sig = None if cov is None else np.empty(3 * ne)
+    mx, rms = ctypes.c_double(), np.empty(3)
+    _lib.call("igea.dw", "igea_dw_summary", ne, _lib.dptr(out), _lib.dptr(cov), _lib.dptr(sig),
+              ctypes.byref(mx), _lib.dptr(rms))
     return DwResult(dw=out, cov=c, sigma=sig, dw_dtau=col, n_epochs=ne, rows=3 * ne,
-                    samples=tel.shape[0], max_abs=float(np.max(np.abs(out))),
-                    rms=np.sqrt(np.mean(d3 * d3, axis=0)))
+                    samples=tel.shape[0], max_abs=mx.value, rms=rms)

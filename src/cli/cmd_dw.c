@@ -174,10 +174,8 @@ static int compute(const dw_args *a, dw_run *r)
         cli_error("%s, %s: NaN or Inf in the records or the result", a->telemetry, a->tracking);
     if (st == IGEA_ENONFINITE)
         return CLI_DATAERR;
-    for (int e = 0; kc > 7 && !st && e < r->ntrk; e++) {
-        const double *c = r->cov + 6 * (size_t)e;
-        r->sigma[3 * e] = sqrt(c[0]), r->sigma[3 * e + 1] = sqrt(c[3]), r->sigma[3 * e + 2] = sqrt(c[5]);
-    }
+    if (!st && kc > 7)
+        st = igea_dw_summary(r->ntrk, r->dw, r->cov, r->sigma, NULL, NULL);
     return cli_status(st, "dw");
 }
 
@@ -185,14 +183,7 @@ static int compute(const dw_args *a, dw_run *r)
 static void summary(FILE *f, const dw_args *a, const dw_run *r)
 {
     double mx = 0.0, rms[3] = {0.0, 0.0, 0.0};
-    for (int e = 0; e < r->ntrk; e++)
-        for (int i = 0; i < 3; i++) {
-            double d = r->dw[3 * e + i];
-            mx = fmax(mx, fabs(d));
-            rms[i] += d * d / r->ntrk;
-        }
-    for (int i = 0; i < 3; i++)
-        rms[i] = sqrt(rms[i]);
+    igea_dw_summary(r->ntrk, r->dw, NULL, NULL, &mx, rms); /* dw checked finite */
     if (a->json) {
         cli_json j;
         cli_json_begin(&j, f);

@@ -329,6 +329,8 @@ BASE = {
                           q0='[0.9, 0.1, 0.3, 0.2]', r0='u', v0='u',
                           _int=dict(gravity='enum', flags='enum')),
     'igea_nav_step': dict(state=NAV_STATE, t='0.01', dv='u', dth='u'),
+    'igea_dw_summary': dict(ntrk='4', _int=dict(ntrk='size'), _opt=['cov', 'sigma', 'max_abs', 'rms'], dw='u', cov='c:(i % 6 == 0 || i % 6 == 3 || i % 6 == 5) ? 1.0 + 0.1 * (double)i : 0.01'),
+
     'igea_dw_compute': dict(site=NAV_SITE, system='IGEA_ENVFUN_STRAPDOWN', kind='IGEA_DW_APPARENT',
                             q0='[1.0, 0.0, 0.0, 0.0]', time_offset='0.0', ntel='101', tel=DW_TEL, ldtel='ntel', tel_cols='7',
                             frame='IGEA_NAV_LE', ntrk='5', trk=DW_TRK, ldtrk='ntrk', trk_cols='8',

@@ -229,3 +229,27 @@ def test_driver_navigated_and_usage(flight, tmp_path):
     assert p.returncode == 64 and "--frame" in p.stderr
     p = _driver(*base[:-2], cwd=tmp_path)  # no --out
     assert p.returncode == 64 and "--out" in p.stderr
+
+
+def test_summary_is_the_librarys_and_equals_numpy():
+    """igea_dw_summary (the driver's and Python's one summary): sigma the
+    square roots of each epoch's xx, yy, zz, the largest |dW| and the rms
+    per axis, against numpy."""
+    import ctypes
+    from igea import _lib
+    rng = np.random.default_rng(12)
+    dw = rng.normal(size=12) * 1e-3
+    cov = np.zeros((4, 6))
+    cov[:, [0, 3, 5]] = rng.uniform(1e-6, 4e-6, size=(4, 3))
+    sig, mx, rms = np.empty(12), ctypes.c_double(), np.empty(3)
+    _lib.call("t", "igea_dw_summary", 4, _lib.dptr(dw), _lib.dptr(cov.ravel()), _lib.dptr(sig),
+              ctypes.byref(mx), _lib.dptr(rms))
+    np.testing.assert_allclose(sig, np.sqrt(cov[:, [0, 3, 5]]).ravel(), rtol=1e-15)
+    assert mx.value == np.max(np.abs(dw))
+    np.testing.assert_allclose(rms, np.sqrt(np.mean(dw.reshape(4, 3) ** 2, axis=0)), rtol=1e-14)
+    bad = cov.copy()
+    bad[2, 3] = -1e-9
+    with pytest.raises(igea.IgeaError) as e:
+        _lib.call("t", "igea_dw_summary", 4, _lib.dptr(dw), _lib.dptr(bad.ravel()), _lib.dptr(sig),
+                  None, None)
+    assert e.value.code == -1012
