@@ -67,11 +67,11 @@ extern "C" {
 #define IGEA_EFORMAT (-1023)      /* an input file is not what its format says (igea/io.h) */
 #define IGEA_EREAD (-1024)        /* an input file cannot be opened or read (igea/io.h) */
 #define IGEA_ETEMPFILE (-1025)    /* a temporary copy of an input cannot be written */
+#define IGEA_EVERDICT (-1027)     /* the verdict rule cannot be evaluated for this many
+                                   * tested components (> IGEA_STATS_UNION_N_MAX) */
 #define IGEA_DW_ESPAN (-1031)     /* a tracking epoch is outside the telemetry span */
 #define IGEA_DW_ETRACK (-1032)    /* tracking epochs are not strictly increasing */
 #define IGEA_DW_ETELEMETRY (-1033) /* telemetry times are not strictly increasing */
-#define IGEA_EVERDICT (-1027)     /* the verdict rule cannot be evaluated for this many
-                                   * tested components (> IGEA_STATS_UNION_N_MAX) */
 
 /* Smallest standard deviation (a sigma whose inverse square weights the
  * data) accepted: 2^-511, about 1.5e-154, where 1/sigma^2 = 2^1022 is still
@@ -133,7 +133,8 @@ IGEA_API const char *igea_opt_name(int module, int slot);
                                           * gcv loo */
 #define IGEA_CHOICE_REGRESS_EBR_RULE 3   /* igea/regress.h IGEA_REGRESS_EBR_*: sc mm ml2 */
 #define IGEA_CHOICE_ACCEL_MODEL 4        /* igea/accel.h IGEA_ACCEL_SINGLE, _DUAL: single dual */
-#define IGEA_CHOICE_ACCEL_METHOD 5       /* igea/accel.h IGEA_ACCEL_LS, _EBR: ls ebr */
+#define IGEA_CHOICE_ACCEL_METHOD 5       /* igea/accel.h IGEA_ACCEL_LS, _EBR, _JOINT: ls ebr
+                                          * joint */
 #define IGEA_CHOICE_REGRESS_METHOD 60    /* igea/regress.h IGEA_REGRESS_METHOD_*: ls ridge pce
                                           * bayes ebr */
 #define IGEA_CHOICE_ACCEL_AXIS 41        /* igea/accel.h IGEA_ACCEL_AXIS_*: pa oa */
