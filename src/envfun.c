@@ -269,6 +269,28 @@ int igea__term_uses_out(int term)
            (d->m[0] == F_O || d->m[1] == F_O || d->m[2] == F_O);
 }
 
+int igea__term_lists(int system, int nerr, const double *err, int *acc, int *nacc, int *size,
+                     int *nsize, int *gyro, int *ngyro, int *lever, int *uses_out)
+{
+    *nacc = *nsize = *ngyro = *lever = *uses_out = 0;
+    for (int k = 0; err && k < nerr; k++) {
+        if (err[k] == 0.0)
+            continue;
+        if (!igea_envfun_term_valid(system, k))
+            return -1;
+        int fam = igea__term_family(k);
+        if (fam == IGEA__FAM_ACC || fam == IGEA__FAM_SIZE)
+            acc[(*nacc)++] = k;
+        if (fam == IGEA__FAM_SIZE)
+            size[(*nsize)++] = k;
+        if (fam == IGEA__FAM_GYRO)
+            gyro[(*ngyro)++] = k;
+        *lever |= fam == IGEA__FAM_LEVER;
+        *uses_out |= igea__term_uses_out(k);
+    }
+    return 0;
+}
+
 int igea__out_axes(const int *in, const int *spin, int *out)
 {
     int st = 0;

@@ -29,6 +29,14 @@ int igea__term_axis(int term, int *k);
 /* 1 if code `term` reads gyro j's output axis O(j). */
 int igea__term_uses_out(int term);
 
+/* The nonzero entries of err[nerr] (by term code) sorted into the lists the
+ * error simulations apply: acc (ACC and SIZE codes), size (SIZE), gyro
+ * (GYRO), each of room IGEA_ENVFUN_TERM_END; *lever 1 if a LEVER code is
+ * set; *uses_out 1 if a set code reads a gyro's output axis. Returns 0, or
+ * -1 for a set code not valid for system (the lists are then partial). */
+int igea__term_lists(int system, int nerr, const double *err, int *acc, int *nacc, int *size,
+                     int *nsize, int *gyro, int *ngyro, int *lever, int *uses_out);
+
 /* Unit instrument error u (3) of an ACC or GYRO code from f, w in
  * instrument axes; in/spin/out the gyro axes I(j), S(j), O(j). For SIZE
  * the centripetal part e_j (w x (w x e_k))_j. */

@@ -1078,22 +1078,9 @@ static int nonlinear_check(int system, int nsamp, const double *traj, int ldt,
         return -5;
     if (!err)
         return -6;
-    n->nacc = n->ngyro = n->nsize = n->lever = 0;
-    for (int k = 0; k < nerr; k++) {
-        if (err[k] == 0.0)
-            continue;
-        if (!igea_envfun_term_valid(system, k))
-            return -6;
-        int fam = igea__term_family(k);
-        if (fam == IGEA__FAM_ACC || fam == IGEA__FAM_SIZE)
-            n->acc[n->nacc++] = k;
-        if (fam == IGEA__FAM_SIZE)
-            n->size[n->nsize++] = k;
-        if (fam == IGEA__FAM_GYRO)
-            n->gyro[n->ngyro++] = k;
-        n->lever |= fam == IGEA__FAM_LEVER;
-        uses_out |= igea__term_uses_out(k);
-    }
+    if (igea__term_lists(system, nerr, err, n->acc, &n->nacc, n->size, &n->nsize, n->gyro,
+                         &n->ngyro, &n->lever, &uses_out))
+        return -6;
     if (system == IGEA_ENVFUN_PLATFORM && igea__platform_axes(axes, n->in_ax, n->spin_ax))
         return -7;
     if (igea__out_axes(n->in_ax, n->spin_ax, n->out_ax) && uses_out)

@@ -51,22 +51,9 @@ static int inst_init(raw_inst *r, int system, int nerr, const double *err, const
     r->system = system;
     r->nerr = nerr;
     r->err = err;
-    r->nacc = r->ngyro = r->nsize = r->lever = 0;
-    for (int k = 0; err && k < nerr; k++) {
-        if (err[k] == 0.0)
-            continue;
-        if (!igea_envfun_term_valid(system, k))
-            return -6;
-        int fam = igea__term_family(k);
-        if (fam == IGEA__FAM_ACC || fam == IGEA__FAM_SIZE)
-            r->acc[r->nacc++] = k;
-        if (fam == IGEA__FAM_SIZE)
-            r->size[r->nsize++] = k;
-        if (fam == IGEA__FAM_GYRO)
-            r->gyro[r->ngyro++] = k;
-        r->lever |= fam == IGEA__FAM_LEVER;
-        uses_out |= igea__term_uses_out(k);
-    }
+    if (igea__term_lists(system, nerr, err, r->acc, &r->nacc, r->size, &r->nsize, r->gyro,
+                         &r->ngyro, &r->lever, &uses_out))
+        return -6;
     igea__platform_axes(NULL, r->in_ax, r->spin_ax);
     if (system == IGEA_ENVFUN_PLATFORM && igea__platform_axes(axes, r->in_ax, r->spin_ax))
         return -7;
