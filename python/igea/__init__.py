@@ -22,7 +22,7 @@ from .regress import BayesResult, Collinearity, EbrResult, LsResult, PceResult, 
 from .envfun import envfun, term_table  # noqa: E402
 from .rls import RLS, RlsEpoch, RlsResult, rls_run  # noqa: E402
 from .sim import Flight, MonteCarloPool, MonteCarloResult, montecarlo, reference_trajectory, simulate  # noqa: E402,E501
-from .campaign import campaign_montecarlo  # noqa: E402
+from .campaign import campaign, campaign_montecarlo  # noqa: E402
 from .noise import NoiseEqerrResult  # noqa: E402
 from .accel import AccelApplied, AccelDesignInfo, AccelFit, AccelHysteresis, AccelJoint, AccelRefine, accel_analyze, accel_apply, accel_hysteresis, accel_joint, accel_combinations, accel_design, accel_fit, accel_merge, accel_refine, accel_schedule, accel_simulate, accel_to_g  # noqa: E402,E501
 from .impact import ImpactBudget, ImpactResult, cep, cep_approx, circle_prob, impact, impact_budget  # noqa: E402,E501

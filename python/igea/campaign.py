@@ -11,20 +11,43 @@ equals the single-process run for any chunking and any number of workers:
 bit for bit, except mean_size, which the library sums over the flights
 and a merge can only rebuild from the chunks' means (to rounding).
 
+Each task runs with BLAS on one thread (igea.blas_threads(1)), as Dask's
+workers do by default and as the driver runs its own threads: OpenBLAS's
+results depend on its thread count in the last digits (1e-10 relative in
+T on a 360 x 21 model), so the single-process run a campaign equals is
+igea.montecarlo under igea.blas_threads(1). A chunk whose worker dies is
+recomputed by the scheduler (and retried up to three times on an error);
+since a chunk's flights are a function of (seed, flight index) only, a
+recomputed chunk is the same chunk and the result cannot change.
+
+igea.campaign(grid, ...) runs a grid of studies (the operating
+characteristic over error magnitudes and flight counts, say): every
+chunk of every study is submitted at once, so the workers stay busy
+across studies, and each study is merged as above.
+
 dask.distributed is an optional dependency (pip install ./python[dask]);
 any object with the Client's submit(fn, *args, **kwargs) -> future and
 gather(futures) works as `client`.
 """
+import itertools
+
 import numpy as np
 
 from . import _capi, _lib
 from .sim import MonteCarloPool, MonteCarloResult, montecarlo
+from .threads import blas_threads
 
 _COUNTS = ("failed", "chi2_reject", "any_reject", "not_testable")
 
 
 def _chunks(first, flights, chunk):
     return [(f, min(chunk, first + flights - f)) for f in range(first, first + flights, chunk)]
+
+
+def _task(S, sigma, flights, first_flight, kw):
+    """One chunk, on a worker: BLAS on one thread (see the module)."""
+    with blas_threads(1):
+        return montecarlo(S, sigma, flights, first_flight=first_flight, **kw)
 
 
 def _interval(k, n):
@@ -72,27 +95,41 @@ def _merge(parts, pool, alpha, verdict):
         scale_covered=sum(p.scale_covered for p in parts), mean_outliers=outliers / n)
 
 
-def campaign_montecarlo(client, chunk, **montecarlo_kwargs):
-    """igea.montecarlo(**montecarlo_kwargs) run on a Dask client in chunks
-    of `chunk` flights (>= 1): flights first_flight .. first_flight +
-    flights - 1 split by flight index, one task per chunk (the model's
-    arrays travel, nothing else), the results merged as described in the
-    module. threads (default 1 here: one task per worker core) is each
-    task's. Returns the MonteCarloResult of the single-process run."""
+def _check_client(client):
+    """The client: a dask.distributed Client (or any object with its
+    submit and gather), or a scheduler address to connect to."""
     if client is None:
         raise ValueError("client: a dask.distributed Client (pip install ./python[dask])")
+    if isinstance(client, str):
+        try:
+            from distributed import Client
+        except ImportError as e:
+            raise ImportError(f"client={client!r}: connecting to a Dask scheduler needs dask "
+                              "and distributed (pip install ./python[dask])") from e
+        return Client(client)
     if not (hasattr(client, "submit") and hasattr(client, "gather")):
         raise TypeError("client: needs submit() and gather(), as dask.distributed.Client")
-    if isinstance(chunk, bool) or int(chunk) != chunk or chunk < 1:
-        raise ValueError("chunk: flights per task, an integer >= 1")
+    return client
+
+
+def _check_chunk(chunk):
+    if isinstance(chunk, bool) or not isinstance(chunk, (int, np.integer)) or chunk < 1:
+        raise ValueError(f"chunk: flights per task, an integer >= 1, got {chunk!r}")
+    return int(chunk)
+
+
+def _study(where, montecarlo_kwargs):
+    """(S, sigma, flights, first, pool, alpha, verdict, kw) of one study,
+    its arguments checked by a one-flight run here."""
     kw = dict(montecarlo_kwargs)
-    args = [kw.pop(k) for k in ("S", "sigma", "flights") if k in kw]
-    if len(args) != 3:
-        raise TypeError("campaign_montecarlo: S, sigma and flights are keywords here")
-    S, sigma, flights = args
+    missing = [k for k in ("S", "sigma", "flights") if k not in kw]
+    if missing:
+        raise TypeError(f"{where}: S, sigma and flights are keywords here (missing: "
+                        f"{', '.join(missing)})")
+    S, sigma, flights = kw.pop("S"), kw.pop("sigma"), kw.pop("flights")
+    if isinstance(flights, bool) or int(flights) != flights or flights < 1:
+        raise ValueError(f"flights: must be an integer >= 1, got {flights!r}")
     flights, first = int(flights), int(kw.pop("first_flight", 0))
-    if flights < 1:
-        raise ValueError("flights: must be >= 1")
     if first < 0:
         raise ValueError("first_flight: must be >= 0")
     pool, verdict = kw.pop("pool", None), kw.get("verdict", "seed")
@@ -105,7 +142,73 @@ def campaign_montecarlo(client, chunk, **montecarlo_kwargs):
         alpha = eq[_capi.EQERR_OPT_ALPHA]
     kw.setdefault("threads", 1)
     montecarlo(S, sigma, 1, first_flight=first, **kw)  # the arguments checked here first
-    futures = [client.submit(montecarlo, S, sigma, n, first_flight=f, pure=False, retries=3,
-                             **kw)
-               for f, n in _chunks(first, flights, int(chunk))]
-    return _merge(client.gather(futures), pool, alpha, verdict)
+    return S, sigma, flights, first, pool, alpha, verdict, kw
+
+
+def _submit(client, study, chunk):
+    S, sigma, flights, first, _, _, _, kw = study
+    return [client.submit(_task, S, sigma, n, f, kw, pure=False, retries=3)
+            for f, n in _chunks(first, flights, chunk)]
+
+
+def campaign_montecarlo(client, chunk, **montecarlo_kwargs):
+    """igea.montecarlo(**montecarlo_kwargs) run on a Dask client in chunks
+    of `chunk` flights (>= 1): flights first_flight .. first_flight +
+    flights - 1 split by flight index, one task per chunk (the model's
+    arrays travel, nothing else), the results merged as described in the
+    module. client: a dask.distributed Client, or a scheduler address
+    ("tcp://host:8786"). threads (default 1 here: one task per worker
+    core) is each task's. Returns the MonteCarloResult of the
+    single-process run (with BLAS on one thread)."""
+    client = _check_client(client)
+    chunk = _check_chunk(chunk)
+    study = _study("campaign_montecarlo", montecarlo_kwargs)
+    futures = _submit(client, study, chunk)
+    return _merge(client.gather(futures), study[4], study[5], study[6])
+
+
+def _grid(grid):
+    """The studies of a grid: a list of dicts as given, or a dict of
+    name -> list of values expanded as the Cartesian product (the last
+    name varying fastest)."""
+    if isinstance(grid, dict):
+        names = list(grid)
+        for k in names:
+            if isinstance(grid[k], (str, bytes)) or not hasattr(grid[k], "__iter__"):
+                raise TypeError(f"grid[{k!r}]: a list of values")
+        return [dict(zip(names, v)) for v in itertools.product(*(list(grid[k]) for k in names))]
+    studies = list(grid)
+    for i, g in enumerate(studies):
+        if not isinstance(g, dict):
+            raise TypeError(f"grid[{i}]: a dict of igea.montecarlo keywords")
+    return studies
+
+
+def campaign(grid, client=None, chunk=1000, **common):
+    """A grid of Monte Carlo studies: each study is igea.montecarlo with the
+    keywords `common` updated by one entry of `grid` (a list of dicts, or a
+    dict of name -> values expanded as their Cartesian product, e.g.
+    {"x": [[0, 2e-3], [0, 4e-3]], "flights": [1000, 4000]}). With a Dask
+    `client`, every chunk of every study is submitted at once and each
+    study merged as campaign_montecarlo does; without one, the studies run
+    here in turn (the same results). Returns a list of (study, result): the
+    grid entry (a dict) and its MonteCarloResult, in grid order."""
+    studies = _grid(grid)
+    if not studies:
+        raise ValueError("grid: no study")
+    if client is not None:
+        client = _check_client(client)
+    chunk = _check_chunk(chunk)
+    checked = [_study(f"campaign: grid[{i}]", {**common, **g}) for i, g in enumerate(studies)]
+    if client is None:
+        futures = None
+        parts = [[_task(*st[:2], n, f, st[7]) for f, n in _chunks(st[3], st[2], chunk)]
+                 for st in checked]
+    else:
+        futures = [_submit(client, st, chunk) for st in checked]
+        flat = client.gather([f for fs in futures for f in fs])
+        parts, k = [], 0
+        for fs in futures:
+            parts.append(flat[k:k + len(fs)])
+            k += len(fs)
+    return [(g, _merge(p, st[4], st[5], st[6])) for g, p, st in zip(studies, parts, checked)]
