@@ -236,6 +236,30 @@ int cli_blas_threads(int n);
  * *n non-empty items. */
 int cli_split_list(const char *list, char ***items, int *n);
 
+/* ---- progress on stderr (progress.c) ------------------------------------ */
+/* The long commands (montecarlo, stability) put CLI_PROGRESS_OPTIONS in
+ * their table and report their chunks of work: a line updated in place when
+ * stderr is a terminal, one line per 10 % (percentage, elapsed time, ETA)
+ * with --progress, nothing with --quiet. Only stderr is written: results
+ * never depend on it. */
+extern int cli_progress_opt, cli_quiet_opt;
+#define CLI_PROGRESS_OPTIONS                                                                   \
+    {"--progress", CLI_OPT_FLAG, &cli_progress_opt, NULL, NULL, "progress and ETA on stderr, a line per 10 %\n"  \
+     "(automatic, updated in place, when stderr is a\nterminal)", NULL},                        \
+    {"--quiet", CLI_OPT_FLAG, &cli_quiet_opt, NULL, NULL, "no progress on stderr", NULL}
+typedef struct {
+    const char *cmd, *unit;
+    double total, t0;
+    int mode; /* 0 silent, 1 terminal (in place), 2 a line per 10 % */
+    int decile, shown;
+} cli_progress;
+/* Start counting total units (flights, taus) of command cmd: CLI_OK, or a
+ * message and CLI_USAGE for --progress with --quiet. */
+int cli_progress_start(cli_progress *p, const char *cmd, const char *unit, double total);
+/* done units of the total are finished. */
+void cli_progress_update(cli_progress *p, double done);
+void cli_progress_end(cli_progress *p);
+
 /* ---- flights (flight.c) ------------------------------------------------ */
 /* --terms LIST ('default', 'all' or names) into term codes (malloc'd). */
 int cli_parse_terms(int system, const char *list, int **codes, int *n);
