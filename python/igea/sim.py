@@ -5,7 +5,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _capi, _lib
+from . import _capi, _frames, _lib
 from .envfun import _system_code, default_terms, term_codes
 from ._result import attach, result
 
@@ -251,7 +251,9 @@ def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None
     the chunks depend on flights only): progress=True shows them on stderr
     (tqdm when installed, else a line per 10 % with the elapsed time and
     ETA), progress=f calls f(done, flights) after each chunk; the result is
-    the same with or without progress. Options left None keep the library's defaults
+    the same with or without progress. S may be a data frame: its columns
+    are the terms (unless terms is given), sigma a Series on its index and
+    spec one on its columns (igea/_frames.py). Options left None keep the library's defaults
     (igea_sim_defaults, igea_eqerr_defaults). pool=F (> 0; None or 0: no
     pooling) also pools consecutive groups of F flights at the same alpha
     (igea_sim_pool): the result's `pool` (seed's verdict only). verdict:
@@ -260,6 +262,8 @@ def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None
     bias0, bias1, judge_noise; the judge's (igea/noise.h): ar (phi
     estimated, or the true one with ar_given=True), robust, robust_alpha,
     group_bias."""
+    S, terms, v = _frames.inputs(S, terms, rows=(("sigma", sigma),), cols=(("spec", spec),))
+    sigma, spec = v["sigma"], v["spec"]
     S = _lib.as_f64(S, "S", ndim=2)
     m, N = S.shape
     sig, inc = _sigma(sigma, m)
