@@ -416,6 +416,7 @@ typedef struct {
     double lo, hi;     /* data range (cli_svg_range; empty: lo > hi) */
     int log;           /* 1: log10 axis */
     const char *label; /* the quantity and its unit, "tau (s)" */
+    int integer;       /* 1: ticks at integers only (indices) */
 } cli_svg_axis;
 typedef struct {
     FILE *f;
@@ -423,11 +424,12 @@ typedef struct {
     double px, py, pw, ph;        /* the current panel's plot area (pixels) */
     double x0, x1, y0, y1;        /* its data range (log10 on a log axis) */
     int xlog, ylog;
+    int xint, yint;               /* integer ticks */
     int nleg;                     /* legend entries of the current panel */
     const char *leg[CLI_SVG_LEGEND_MAX];
     int legcolor[CLI_SVG_LEGEND_MAX], legkind[CLI_SVG_LEGEND_MAX];
 } cli_svg;
-#define CLI_SVG_AXIS_EMPTY(log, label) {HUGE_VAL, -HUGE_VAL, log, label}
+#define CLI_SVG_AXIS_EMPTY(log, label) {HUGE_VAL, -HUGE_VAL, log, label, 0}
 /* The document of width x height pixels with a title (may be NULL). */
 void cli_svg_begin(cli_svg *s, FILE *f, double width, double height, const char *title);
 /* The legend of the last panel, its group's and the closing tag. */
