@@ -237,7 +237,7 @@ int cli_blas_threads(int n);
 int cli_split_list(const char *list, char ***items, int *n);
 
 /* ---- progress on stderr (progress.c) ------------------------------------ */
-/* The long commands (montecarlo, stability) put CLI_PROGRESS_OPTIONS in
+/* The long commands (montecarlo, stability, eqerr) put CLI_PROGRESS_OPTIONS in
  * their table and report their chunks of work: a line updated in place when
  * stderr is a terminal, one line per 10 % (percentage, elapsed time, ETA)
  * with --progress, nothing with --quiet. Only stderr is written: results
@@ -252,12 +252,19 @@ typedef struct {
     double total, t0;
     int mode; /* 0 silent, 1 terminal (in place), 2 a line per 10 % */
     int decile, shown;
+    double last; /* cli_progress_count's last count shown */
 } cli_progress;
+/* The total of a count not known in advance (cli_progress_count). */
+#define CLI_PROGRESS_UNKNOWN (-1.0)
 /* Start counting total units (flights, taus) of command cmd: CLI_OK, or a
  * message and CLI_USAGE for --progress with --quiet. */
 int cli_progress_start(cli_progress *p, const char *cmd, const char *unit, double total);
 /* done units of the total are finished. */
 void cli_progress_update(cli_progress *p, double done);
+/* done units so far of a total not known (started with
+ * CLI_PROGRESS_UNKNOWN): the count and the elapsed time, in place on a
+ * terminal, with --progress a line each time the count has doubled. */
+void cli_progress_count(cli_progress *p, double done);
 void cli_progress_end(cli_progress *p);
 
 /* ---- flights (flight.c) ------------------------------------------------ */

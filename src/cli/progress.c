@@ -44,7 +44,7 @@ int cli_progress_start(cli_progress *p, const char *cmd, const char *unit, doubl
         return CLI_USAGE;
     }
     p->mode = cli_quiet_opt ? 0 : cli_progress_opt ? 2 : isatty(2) ? 1 : 0;
-    if (!(total > 0))
+    if (!(total > 0) && total != CLI_PROGRESS_UNKNOWN)
         p->mode = 0;
     p->t0 = now();
     return CLI_OK;
@@ -70,6 +70,20 @@ void cli_progress_update(cli_progress *p, double done)
     fprintf(stderr, "%sigea %s: %3d %% (%.0f of %.0f %s), %s elapsed, %s%s",
             p->mode == 1 ? "\r" : "", p->cmd, pct, done, p->total, p->unit, el, eta,
             p->mode == 1 ? "    " : "\n");
+    p->shown = 1;
+    fflush(stderr);
+}
+
+void cli_progress_count(cli_progress *p, double done)
+{
+    if (!p->mode || !(done > 0))
+        return;
+    if (p->mode == 2 && done < 2 * p->last)
+        return; /* batch: when the count has doubled */
+    p->last = done;
+    char el[32];
+    fprintf(stderr, "%sigea %s: %.0f %s, %s elapsed%s", p->mode == 1 ? "\r" : "", p->cmd,
+            done, p->unit, duration(now() - p->t0, el, sizeof el), p->mode == 1 ? "    " : "\n");
     p->shown = 1;
     fflush(stderr);
 }

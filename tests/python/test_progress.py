@@ -1,4 +1,5 @@
-"""Progress on stderr for the long jobs: igea montecarlo and igea stability
+"""Progress on stderr for the long jobs: igea montecarlo, igea stability
+and the streamed igea eqerr
 (--progress: a line per 10 %; in place on a terminal; --quiet: nothing) and
 igea.montecarlo(progress=...). The work is split into chunks the library
 supports; the results must be the same, bit for bit, with and without the
@@ -109,13 +110,41 @@ def test_progress_on_a_terminal_is_updated_in_place():
 
 
 @needs_driver
+def test_streamed_eqerr_progress_and_same_result(tmp_path):
+    """Pass 1 (the rows are not known yet): the count read; pass 2: the
+    percentage of the rows, a line per 10 % passed. Three row blocks."""
+    rng = np.random.default_rng(2)
+    m, N = 3 * 12000, 30
+    S = rng.standard_normal((m, N))
+    np.save(tmp_path / "S.npy", S)
+    np.save(tmp_path / "dw.npy", S @ (0.01 * rng.standard_normal(N)) +
+            0.01 * rng.standard_normal(m))
+    args = ("eqerr", "--S", "S.npy", "--dw", "dw.npy", "--sigma", 0.01, "--json")
+    a = run(*args, "--quiet", "--residuals", "a.txt", cwd=tmp_path)
+    b = run(*args, "--progress", "--residuals", "b.txt", cwd=tmp_path)
+    c = run(*args, "--residuals", "c.txt", cwd=tmp_path)
+    assert a.returncode == b.returncode == c.returncode and a.returncode in (0, 1), b.stderr
+    assert a.stdout == b.stdout == c.stdout and a.stderr == c.stderr == ""
+    assert (tmp_path / "a.txt").read_bytes() == (tmp_path / "b.txt").read_bytes()
+    lines = b.stderr.splitlines()
+    first = [x for x in lines if "pass 1 of 2" in x]
+    counts = [int(re.match(r"^igea eqerr: (\d+) rows read \(pass 1 of 2\), [0-9.]+ s elapsed$",
+                           x).group(1)) for x in first]
+    assert counts and counts[0] > 0 and all(b >= 2 * a for a, b in zip(counts, counts[1:]))
+    second = "\n".join(x for x in lines if "pass 1 of 2" not in x)
+    second = second.replace("rows, pass 2 of 2", "rows")
+    pct = batch_lines(second, "eqerr", m, "rows")
+    assert len(pct) >= 2   # more than one block
+
+
+@needs_driver
 def test_progress_and_quiet_exclude_each_other():
     r = run(*MC, "--progress", "--quiet")
     assert r.returncode == 64 and "--progress and --quiet" in r.stderr and r.stdout == ""
 
 
 @needs_driver
-@pytest.mark.parametrize("cmd", ["montecarlo", "stability"])
+@pytest.mark.parametrize("cmd", ["montecarlo", "stability", "eqerr"])
 def test_options_in_help_man_page_and_completion(cmd):
     h = run(cmd, "--help").stdout
     assert re.search(r"^  --progress +progress and ETA", h, re.M)
@@ -127,7 +156,8 @@ def test_options_in_help_man_page_and_completion(cmd):
     sec = page[page.index(".SS %s\n" % cmd):]
     sec = sec[:sec.index(".SS ", 4)]
     assert "\\-\\-progress" in sec and "\\-\\-quiet" in sec
-    comp = [x for x in open(os.path.join(share, "igea.bash")) if "--fs" in x or "--flights" in x]
+    comp = [x for x in open(os.path.join(share, "igea.bash"))
+            if {"stability": "--fs", "montecarlo": "--flights", "eqerr": "--lags"}[cmd] in x]
     assert any("--progress --quiet" in x for x in comp)
 
 
