@@ -361,8 +361,8 @@ static int compute(const st_args *a, const double *y, st_result *r)
         st = deviations(a, y, r, 0, r->ntau);
     for (int j = 0, nt; pr.mode && !st && j < r->ntau; j += nt) {
         nt = group(a, r, j);
-        st = deviations(a, y, r, j, nt);
-        cli_progress_update(&pr, j + nt);
+        if (!(st = deviations(a, y, r, j, nt)))
+            cli_progress_update(&pr, j + nt);
     }
     cli_progress_end(&pr);
     if (st)
