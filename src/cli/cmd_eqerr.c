@@ -879,7 +879,11 @@ static int noise_diag(const eqerr_args *a, flight *r)
  * into the flight that the plain route's report reads. */
 static int run_noise(const eqerr_args *a, flight *r, FILE *res, cli_json *j)
 {
-    int ec = cli_eqerr_noise(&a->na, &r->nr);
+    cli_progress pr; /* one library call: no progress, but the options are checked */
+    int ec = cli_progress_start(&pr, "eqerr", "rows", 0);
+    if (ec)
+        return ec;
+    ec = cli_eqerr_noise(&a->na, &r->nr);
     if (!ec)
         ec = flight_alloc(r, r->nr.N);
     size_t n = (size_t)r->nr.N;

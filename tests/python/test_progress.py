@@ -141,6 +141,13 @@ def test_streamed_eqerr_progress_and_same_result(tmp_path):
 def test_progress_and_quiet_exclude_each_other():
     r = run(*MC, "--progress", "--quiet")
     assert r.returncode == 64 and "--progress and --quiet" in r.stderr and r.stdout == ""
+    flight = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(
+        os.path.abspath(__file__)))), "examples", "flight")
+    eq = ("eqerr", "--S", "S.txt", "--dw", "dw.txt", "--sigma", "sigma.txt", "--progress",
+          "--quiet")
+    for extra in ((), ("--robust",)):   # streamed, and the whole-flight noise route
+        r = run(*eq, *extra, cwd=flight)
+        assert r.returncode == 64 and "--progress and --quiet" in r.stderr, (extra, r.stderr)
 
 
 @needs_driver
