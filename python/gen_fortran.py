@@ -62,6 +62,15 @@ SCALARS = {
     "igea_impact_cep_approx": "radius", "igea_triad_static": "nint",
     "igea_io_reader_next": "nread", "igea_io_parse_number": "x",
     "igea_dw_summary": "max_abs",
+    # one value each in their header comments, found missing by
+    # tests/python/test_fortran_scalars.py
+    "igea_dw_compute": "bad", "igea_envfun_all_terms": "n",
+    "igea_whiten_get_state": "epochs group", "igea_whiten_accumulate": "bad_epoch",
+    "igea_regress_ls_ex": "sigma2", "igea_regress_ridge_ex": "k_used sigma2",
+    "igea_regress_pce_ex": "nused sigma2", "igea_rls_get_q": "q",
+    "igea_stability_taus": "ntau", "igea_stability_fit": "chi2",
+    "igea_stats_normal_sf": "q", "igea_stats_t_sf": "q", "igea_stats_t_quantile": "t",
+    "igea_stats_f_sf": "q",
 }
 
 _KIND = {"int": "integer(c_int)", "double": "real(c_double)"}

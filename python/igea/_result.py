@@ -533,15 +533,39 @@ def _plot_deviation(r, ax):
     ax.legend()
 
 
+def _plot_montecarlo(r, ax):
+    """The rejection rate of each component over the flights that tested
+    it, with its 99 % Wilson interval (igea_sim_interval), and the level
+    alpha (as igea montecarlo --plot); a component never tested is left out."""
+    from . import _lib
+    ct, cr = np.asarray(r.comp_tested), np.asarray(r.comp_reject)
+    idx = np.flatnonzero(ct > 0)
+    rate = cr[idx] / ct[idx]
+    lohi = np.zeros((idx.size, 2))
+    for k, j in enumerate(idx):
+        _lib.call("plot", "igea_sim_interval", float(cr[j]), float(ct[j]), _lib.dptr(lohi[k]))
+    ax.errorbar(idx, rate, yerr=[rate - lohi[:, 0], lohi[:, 1] - rate], fmt="o", capsize=2,
+                label="rate, 99 % Wilson interval")
+    alpha = getattr(r, "_alpha", None)
+    if alpha is not None:
+        ax.axhline(alpha, linestyle="--", color="C3", label="alpha = %g" % alpha)
+    ax.set_xlim(-0.5, ct.size - 0.5)
+    ax.set_xlabel("component i (from 0)")
+    ax.set_ylabel("rejection rate (fraction of the flights testing it)")
+    ax.set_title("per-component rejection rates, %d flights" % r.flights)
+    ax.legend()
+
+
 PLOTS = {"EqerrResult": _plot_eqerr, "AllanResult": _plot_deviation,
-         "StabilityResult": _plot_deviation}
+         "StabilityResult": _plot_deviation, "MonteCarloResult": _plot_montecarlo}
 
 
 def _plot(self, ax=None):
     """Draw this result with matplotlib on ax (a new figure's axes when
     None) and return ax. Raises ImportError naming the extra without
     matplotlib."""
-    if ax is None:
+    draw = next(PLOTS[c.__name__] for c in type(self).__mro__ if c.__name__ in PLOTS)
+    if ax is None:   # (a subclass, NoiseEqerrResult, draws as its base)
         ax = _pyplot().subplots()[1]
-    PLOTS[type(self).__name__](self, ax)
+    draw(self, ax)
     return ax

@@ -4,6 +4,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _capi
+from . import _frames
 from . import _lib
 from ._result import result
 
@@ -303,15 +304,6 @@ class EqerrResult(_Verdict):
         return []
 
 
-def _frame(S, names):
-    """S as an array and the names: a data frame's columns name the terms."""
-    if hasattr(S, "columns") and hasattr(S, "to_numpy"):
-        if names is None:
-            names = [str(c) for c in S.columns]
-        S = S.to_numpy()
-    return S, names
-
-
 def _orientation(S, dw):
     """Refuse S transposed (N x m where dw says m rows) by naming it so."""
     shape, n = np.shape(S), np.size(dw)
@@ -342,8 +334,12 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
     groups=(M,) labels, group_bias=, robust=, robust_alpha=) the job is
     igea_noise_eqerr (see igea.noise), judged by the same verdict rule.
     S may be a data frame (anything with .columns and .to_numpy(), e.g.
-    pandas): its columns are the term names unless names is given."""
-    S, names = _frame(S, names)
+    pandas): its columns are the term names unless names is given; dw and
+    sigma may then be Series on S's index and spec a Series on its columns
+    (put in S's order; other labels refused: igea/_frames.py)."""
+    S, names, v = _frames.inputs(S, names, rows=(("dw", dw), ("sigma", sigma)),
+                                 cols=(("spec", spec),))
+    dw, sigma, spec = v["dw"], v["sigma"], v["spec"]
     _orientation(S, dw)
     if any(v is not None for v in (cov, ar, ar_phi, groups, group_bias, robust, robust_alpha)):
         if route not in (None, "eig"):

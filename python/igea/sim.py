@@ -5,7 +5,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _capi, _lib
+from . import _capi, _frames, _lib
 from .envfun import _system_code, default_terms, term_codes
 from ._result import attach, result
 
@@ -244,10 +244,16 @@ def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None
                correction=None, bias_correct=None, clamp=None, pool=None, verdict="seed", ar2=None,
                ar3=None, corr=None, group_split=None, sigma_w2=None, bias0=None, bias1=None,
                judge_noise=None, ar=None, ar_given=False, robust=None, robust_alpha=None,
-               group_bias=None):
+               group_bias=None, progress=False):
     """Run flights first_flight .. first_flight + flights - 1 and judge each
     with the seed-000 test; results do not depend on threads (0: one per
-    online processor). Options left None keep the library's defaults
+    online processor). The flights run in chunks of a tenth (at most 1000;
+    the chunks depend on flights only): progress=True shows them on stderr
+    (tqdm when installed, else a line per 10 % with the elapsed time and
+    ETA), progress=f calls f(done, flights) after each chunk; the result is
+    the same with or without progress. S may be a data frame: its columns
+    are the terms (unless terms is given), sigma a Series on its index and
+    spec one on its columns (igea/_frames.py). Options left None keep the library's defaults
     (igea_sim_defaults, igea_eqerr_defaults). pool=F (> 0; None or 0: no
     pooling) also pools consecutive groups of F flights at the same alpha
     (igea_sim_pool): the result's `pool` (seed's verdict only). verdict:
@@ -256,6 +262,8 @@ def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None
     bias0, bias1, judge_noise; the judge's (igea/noise.h): ar (phi
     estimated, or the true one with ar_given=True), robust, robust_alpha,
     group_bias."""
+    S, terms, v = _frames.inputs(S, terms, rows=(("sigma", sigma),), cols=(("spec", spec),))
+    sigma, spec = v["sigma"], v["spec"]
     S = _lib.as_f64(S, "S", ndim=2)
     m, N = S.shape
     sig, inc = _sigma(sigma, m)
@@ -285,9 +293,8 @@ def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None
                     corr=corr, group_split=group_split, sigma_w2=sigma_w2, bias0=bias0,
                     bias1=bias1, judge_noise=None if judge_noise is None else int(bool(judge_noise)))
         model.set("truth", _lib.dptr(xv), _lib.iptr(xf))
-        _lib.call(where, "igea_sim_montecarlo", model.h, _lib.dptr(eq), int(seed),
-                  int(first_flight), nflights, int(threads), _lib.dptr(counts), _lib.dptr(rates),
-                  _lib.iptr(ct), _lib.iptr(cr), _lib.dptr(table), nflights)
+        _mc_chunks(where, model.h, eq, int(seed), int(first_flight), nflights, int(threads),
+                   counts, rates, ct, cr, table, _progress(progress, nflights))
     pooled = None
     if pool:
         out = np.zeros(_capi.SIM_POOL_LEN)
@@ -313,6 +320,95 @@ def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None
                       scale_covered=int, mean_outliers=float)),
         seed=int(seed), first_flight=int(first_flight), alpha=eq[_capi.EQERR_OPT_ALPHA],
         correction=bool(eq[_capi.EQERR_OPT_CORRECTION]), sigma_w=nopts[_capi.SIM_OPT_SIGMA_W])
+
+
+def _mc_chunk(flights):
+    """Flights per library call: a tenth, at most 1000 (as igea montecarlo)."""
+    return min(1000, -(-flights // 10))
+
+
+class _Lines:
+    """The progress without tqdm: a line on stderr per 10 %."""
+
+    def __init__(self, total):
+        import time
+        self.total, self.clock, self.t0, self.decile = total, time.monotonic, time.monotonic(), 0
+
+    def __call__(self, done):
+        import sys
+        pct = 100 if done >= self.total else int(100 * done / self.total)
+        if pct // 10 <= self.decile:
+            return
+        self.decile = pct // 10
+        t = self.clock() - self.t0
+        eta = "done" if done >= self.total else "ETA %.1f s" % (t * (self.total - done) / done)
+        sys.stderr.write("igea.montecarlo: %3d %% (%d of %d flights), %.1f s elapsed, %s\n"
+                         % (pct, done, self.total, t, eta))
+        sys.stderr.flush()
+
+
+def _progress(progress, total):
+    """A function of the flights done (None: no progress)."""
+    if progress is None or progress is False:
+        return None
+    if callable(progress):
+        return lambda done: progress(done, total)
+    if progress is not True:
+        raise TypeError("progress: True, False or a function f(done, flights)")
+    try:
+        from tqdm import tqdm
+    except ImportError:
+        return _Lines(total)
+    bar, last = tqdm(total=total, unit="flight", desc="igea.montecarlo"), [0]
+
+    def update(done):
+        bar.update(done - last[0])
+        last[0] = done
+        if done >= total:
+            bar.close()
+    return update
+
+
+def _mc_chunks(where, h, eq, seed, first, nflights, threads, counts, rates, ct, cr, table,
+               report):
+    """igea_sim_montecarlo over the flights in chunks (_mc_chunk): the counts
+    added, the means over the testable flights summed flight by flight from
+    the table as the library does (mean_size from the chunks' means, to
+    rounding: the library sums it per thread), the rates and intervals of
+    the totals."""
+    N = ct.size
+    c1, r1 = np.zeros(_capi.SIM_MC_LEN), np.zeros(_capi.SIM_MC_RATES_LEN)
+    ct1, cr1 = np.zeros(N, dtype=np.intc), np.zeros(N, dtype=np.intc)
+    chunk, size, outliers = _mc_chunk(nflights), 0.0, 0
+    for done in range(0, nflights, chunk):
+        n = min(chunk, nflights - done)
+        _lib.call(where, "igea_sim_montecarlo", h, _lib.dptr(eq), seed, first + done, n,
+                  threads, _lib.dptr(c1), _lib.dptr(r1), _lib.iptr(ct1), _lib.iptr(cr1),
+                  _lib.dptr(table[done:]), nflights)
+        for k in ("FLIGHTS", "FAILED", "CHI2_REJECT", "ANY_REJECT", "NOT_TESTABLE",
+                  "SCALE_COVERED"):
+            counts[getattr(_capi, "SIM_MC_" + k)] += c1[getattr(_capi, "SIM_MC_" + k)]
+        outliers += int(round(c1[_capi.SIM_MC_MEAN_OUTLIERS] * n))
+        size += ((c1[_capi.SIM_MC_FLIGHTS] - c1[_capi.SIM_MC_NOT_TESTABLE])
+                 * c1[_capi.SIM_MC_MEAN_SIZE])
+        ct += ct1
+        cr += cr1
+        if report:
+            report(done + n)
+    scale = table[:, _capi.SIM_MC_TABLE_SCALE]
+    ok = np.isfinite(scale)
+    nt = int(ok.sum())
+    # np.cumsum adds in order, as the library's loop over the flights
+    counts[_capi.SIM_MC_MEAN_SCALE] = np.cumsum(scale[ok])[-1] / nt if nt else np.nan
+    counts[_capi.SIM_MC_MEAN_TESTED] = float(table[ok, _capi.SIM_MC_TABLE_DOF].sum()) / nt \
+        if nt else 0.0
+    counts[_capi.SIM_MC_MEAN_SIZE] = size / nt if nt else 0.0
+    counts[_capi.SIM_MC_MEAN_OUTLIERS] = outliers / nflights
+    for i, k in enumerate(("FAILED", "CHI2_REJECT", "ANY_REJECT", "NOT_TESTABLE")):
+        c = counts[getattr(_capi, "SIM_MC_" + k)]
+        rates[3 * i] = c / nflights
+        _lib.call(where, "igea_sim_interval", float(c), float(nflights),
+                  _lib.dptr(rates[3 * i + 1:]))
 
 
 def _judge_slots(ar, ar_given, robust, robust_alpha, group_bias):

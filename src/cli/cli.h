@@ -236,6 +236,37 @@ int cli_blas_threads(int n);
  * *n non-empty items. */
 int cli_split_list(const char *list, char ***items, int *n);
 
+/* ---- progress on stderr (progress.c) ------------------------------------ */
+/* The long commands (montecarlo, stability, eqerr) put CLI_PROGRESS_OPTIONS in
+ * their table and report their chunks of work: a line updated in place when
+ * stderr is a terminal, one line per 10 % (percentage, elapsed time, ETA)
+ * with --progress, nothing with --quiet. Only stderr is written: results
+ * never depend on it. */
+extern int cli_progress_opt, cli_quiet_opt;
+#define CLI_PROGRESS_OPTIONS                                                                   \
+    {"--progress", CLI_OPT_FLAG, &cli_progress_opt, NULL, NULL, "progress and ETA on stderr, a line per 10 %\n"  \
+     "(automatic, updated in place, when stderr is a\nterminal)", NULL},                        \
+    {"--quiet", CLI_OPT_FLAG, &cli_quiet_opt, NULL, NULL, "no progress on stderr", NULL}
+typedef struct {
+    const char *cmd, *unit;
+    double total, t0;
+    int mode; /* 0 silent, 1 terminal (in place), 2 a line per 10 % */
+    int decile, shown;
+    double last; /* cli_progress_count's last count shown */
+} cli_progress;
+/* The total of a count not known in advance (cli_progress_count). */
+#define CLI_PROGRESS_UNKNOWN (-1.0)
+/* Start counting total units (flights, taus) of command cmd: CLI_OK, or a
+ * message and CLI_USAGE for --progress with --quiet. */
+int cli_progress_start(cli_progress *p, const char *cmd, const char *unit, double total);
+/* done units of the total are finished. */
+void cli_progress_update(cli_progress *p, double done);
+/* done units so far of a total not known (started with
+ * CLI_PROGRESS_UNKNOWN): the count and the elapsed time, in place on a
+ * terminal, with --progress a line each time the count has doubled. */
+void cli_progress_count(cli_progress *p, double done);
+void cli_progress_end(cli_progress *p);
+
 /* ---- flights (flight.c) ------------------------------------------------ */
 /* --terms LIST ('default', 'all' or names) into term codes (malloc'd). */
 int cli_parse_terms(int system, const char *list, int **codes, int *n);
@@ -392,6 +423,7 @@ typedef struct {
     double lo, hi;     /* data range (cli_svg_range; empty: lo > hi) */
     int log;           /* 1: log10 axis */
     const char *label; /* the quantity and its unit, "tau (s)" */
+    int integer;       /* 1: ticks at integers only (indices) */
 } cli_svg_axis;
 typedef struct {
     FILE *f;
@@ -399,11 +431,12 @@ typedef struct {
     double px, py, pw, ph;        /* the current panel's plot area (pixels) */
     double x0, x1, y0, y1;        /* its data range (log10 on a log axis) */
     int xlog, ylog;
+    int xint, yint;               /* integer ticks */
     int nleg;                     /* legend entries of the current panel */
     const char *leg[CLI_SVG_LEGEND_MAX];
     int legcolor[CLI_SVG_LEGEND_MAX], legkind[CLI_SVG_LEGEND_MAX];
 } cli_svg;
-#define CLI_SVG_AXIS_EMPTY(log, label) {HUGE_VAL, -HUGE_VAL, log, label}
+#define CLI_SVG_AXIS_EMPTY(log, label) {HUGE_VAL, -HUGE_VAL, log, label, 0}
 /* The document of width x height pixels with a title (may be NULL). */
 void cli_svg_begin(cli_svg *s, FILE *f, double width, double height, const char *title);
 /* The legend of the last panel, its group's and the closing tag. */

@@ -161,6 +161,7 @@ static const cli_opt eqerr_options[] = {
     {"--lags", CLI_OPT_INT, &EA.lags, "20", "L", "residual whiteness per axis: Ljung-Box Q over L\n"
      "lags, and the runs test on the signs about the mean", NULL},
     {"--json", CLI_OPT_FLAG, &EA.json, NULL, NULL, "machine-readable output (field names as igea.eqerr)", NULL},
+    CLI_PROGRESS_OPTIONS,
     CLI_OUT_OPT(&EA.out),
     {"--plot", CLI_OPT_STR, &EA.plot, NULL, "FILE.svg", "draw the residuals per axis against the epoch and\nthe eigenvalue spectrum with lambda_test and\nlambda_small into an SVG picture", NULL},
     CLI_END};
@@ -191,6 +192,8 @@ static const cli_command eqerr_command = {"eqerr",
 "row blocks twice (the decomposition, then the residuals): either route needs\n"
 "O(N^2) memory whatever the flight length. One input may be '-', standard\n"
 "input; a pipe or FIFO is copied to a temporary file for the second pass.\n"
+"Progress (rows read in the first pass; in the second a percentage, elapsed\n"
+"time and ETA) goes to stderr when it is a terminal, or with --progress.\n"
 "\n"
 "options:\n",
 eqerr_options,
@@ -706,7 +709,13 @@ static int pass_solve(const eqerr_args *a, streams *s, flight *r)
         return cli_oom("the normal matrix");
     double *b = A + (size_t)N * N, *wtw = b + N, qrows = 0.0;
     long rows = 0, n;
+    cli_progress pr;
+    if ((ec = cli_progress_start(&pr, "eqerr", "rows read (pass 1 of 2)", CLI_PROGRESS_UNKNOWN))) {
+        free(A);
+        return ec;
+    }
     while (!(ec = streams_next(a, s, &n)) && n > 0) {
+        cli_progress_count(&pr, (double)(rows + n));
         if ((ec = check_sigma_block(a, s->gbuf, n, rows)))
             break;
         int st = svd ? igea_normal_qr_accumulate(IGEA_ROWMAJOR, (int)n, N, s->sbuf, N, s->dbuf,
@@ -726,6 +735,7 @@ static int pass_solve(const eqerr_args *a, streams *s, flight *r)
             break;
         }
     }
+    cli_progress_end(&pr);
     if (!ec && rows == 0) {
         cli_error("%s: no rows", a->S);
         ec = CLI_DATAERR;
@@ -791,7 +801,10 @@ static int pass_residuals(const eqerr_args *a, streams *s, flight *r, FILE *res,
     if (j)
         json_head(j, r, a);
     residual_header(res, 0);
+    cli_progress pr; /* (--progress with --quiet was refused in pass 1) */
+    cli_progress_start(&pr, "eqerr", "rows, pass 2 of 2", r->m);
     while (!(ec = streams_next(a, s, &n)) && n > 0) {
+        cli_progress_update(&pr, (double)(row0 + n));
         int st = igea_eqerr_residual(IGEA_ROWMAJOR, (int)n, N, s->sbuf, N, s->dbuf, coef,
                                      (int)row0, e, ss);
         if (!st)
@@ -804,6 +817,7 @@ static int pass_residuals(const eqerr_args *a, streams *s, flight *r, FILE *res,
             residual_line(res, j, row0 + i, e[i]);
         row0 += n;
     }
+    cli_progress_end(&pr);
     if (!ec)
         ec = cli_status(igea_eqerr_axis_rms(ss, r->rms), "eqerr residuals");
     for (int k = 0; !ec && k < 3; k++)
@@ -865,7 +879,11 @@ static int noise_diag(const eqerr_args *a, flight *r)
  * into the flight that the plain route's report reads. */
 static int run_noise(const eqerr_args *a, flight *r, FILE *res, cli_json *j)
 {
-    int ec = cli_eqerr_noise(&a->na, &r->nr);
+    cli_progress pr; /* one library call: no progress, but the options are checked */
+    int ec = cli_progress_start(&pr, "eqerr", "rows", 0);
+    if (ec)
+        return ec;
+    ec = cli_eqerr_noise(&a->na, &r->nr);
     if (!ec)
         ec = flight_alloc(r, r->nr.N);
     size_t n = (size_t)r->nr.N;

@@ -4,7 +4,6 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "cli.h"
 
@@ -36,6 +35,7 @@ static const cli_opt options[] = {
     {"--flights", CLI_OPT_INT, &A.flights, "2000", "N", "number of flights", NULL},
     {"--first-flight", CLI_OPT_INT, &A.first, "0", "F", "index of the first flight", NULL},
     {"--threads", CLI_OPT_INT, &A.threads, "0", "T", "worker threads, 0 = all processors", NULL},
+    CLI_PROGRESS_OPTIONS,
     {"--alpha", CLI_OPT_NUM, &A.eqo[IGEA_EQERR_OPT_ALPHA], CLI_DEF_LIB, "A", "significance level", NULL},
     {"--lambda-test", CLI_OPT_NUM, &A.eqo[IGEA_EQERR_OPT_LAMBDA_TEST], CLI_DEF_LIB, "L", "test components with lambda >= L", NULL},
     {"--no-correction", CLI_OPT_DCLEAR, &A.eqo[IGEA_EQERR_OPT_CORRECTION], NULL, NULL, "no tracking-accuracy (sigma_w) correction", NULL},
@@ -63,7 +63,8 @@ static const cli_command command = {"montecarlo",
 "do not depend on --threads.\n"
 "\n",
 options,
-"Progress goes to stderr when it is a terminal.\n"
+"Progress (flights done, elapsed time, ETA) goes to stderr when it is a\n"
+"terminal, or a line per 10 % with --progress; --quiet silences it.\n"
 "\n"
 "example:\n"
 "  igea montecarlo --flights 2000 --seed 1                       # size\n"
@@ -116,46 +117,53 @@ typedef struct {
     int *ct, *cr;
 } mc_result;
 
-/* One call per chunk of flights, for the progress line; the counts and
- * means of the chunks are combined, the intervals are the library's. */
+/* The flights in chunks of a tenth (at most 1000 flights; the chunks
+ * depend on --flights only, never on the progress shown): one library call
+ * per chunk, its counts added; the means over the testable flights are
+ * those of one call over all flights, summed flight by flight from the
+ * table (mean_size to rounding: the library sums it per thread). */
 static int run_flights(const mc_args *a, const cli_flight_args *fa, const cli_flight *f,
                        mc_result *r)
 {
-    int N = f->N, chunk = 1000, tty = isatty(2), ec = CLI_OK;
+    int N = f->N, nf = a->flights, chunk = nf / 10 + (nf % 10 != 0), ec = CLI_OK;
+    chunk = chunk > 1000 ? 1000 : chunk;
     int *ct1 = malloc((size_t)N * sizeof(int)), *cr1 = malloc((size_t)N * sizeof(int));
-    if (!ct1 || !cr1)
+    cli_progress pr;
+    ec = cli_progress_start(&pr, "montecarlo", "flights", nf);
+    if (!ec && (!ct1 || !cr1))
         ec = cli_oom("the component counts");
-    double *c = r->counts, sum_scale = 0, sum_tested = 0, sum_size = 0;
-    for (int done = 0; !ec && done < a->flights; done += chunk) {
-        int n = a->flights - done < chunk ? a->flights - done : chunk;
+    double *c = r->counts, sum_size = 0, outliers = 0;
+    for (int done = 0; !ec && done < nf; done += chunk) {
+        int n = nf - done < chunk ? nf - done : chunk;
         double c1[IGEA_SIM_MC_LEN];
         int st = igea_sim_montecarlo(f->model, a->eqo, fa->seed, a->first + done, n, a->threads,
-                                     c1, NULL, ct1, cr1, r->table + done, a->flights);
+                                     c1, NULL, ct1, cr1, r->table + done, nf);
         if ((ec = cli_status(st, "montecarlo")))
             break;
         for (int k = IGEA_SIM_MC_FLIGHTS; k <= IGEA_SIM_MC_NOT_TESTABLE; k++)
             c[k] += c1[k];
         c[IGEA_SIM_MC_SCALE_COVERED] += c1[IGEA_SIM_MC_SCALE_COVERED]; /* noise judge */
-        c[IGEA_SIM_MC_MEAN_OUTLIERS] += c1[IGEA_SIM_MC_MEAN_OUTLIERS] * n / a->flights;
-        double testable = c1[IGEA_SIM_MC_FLIGHTS] - c1[IGEA_SIM_MC_NOT_TESTABLE];
-        if (testable > 0) {
-            sum_scale += testable * c1[IGEA_SIM_MC_MEAN_SCALE];
-            sum_tested += testable * c1[IGEA_SIM_MC_MEAN_TESTED];
-            sum_size += testable * c1[IGEA_SIM_MC_MEAN_SIZE];
-        }
+        outliers += floor(c1[IGEA_SIM_MC_MEAN_OUTLIERS] * n + 0.5);  /* a count per chunk */
+        sum_size += (c1[IGEA_SIM_MC_FLIGHTS] - c1[IGEA_SIM_MC_NOT_TESTABLE]) *
+                    c1[IGEA_SIM_MC_MEAN_SIZE];
         for (int j = 0; j < N; j++)
             r->ct[j] += ct1[j], r->cr[j] += cr1[j];
-        if (tty && a->flights > chunk)
-            fprintf(stderr, "\rigea montecarlo: %d / %d flights", done + n, a->flights);
+        cli_progress_update(&pr, done + n);
     }
-    if (tty && a->flights > chunk)
-        fputc('\n', stderr);
+    cli_progress_end(&pr);
     free(ct1);
     free(cr1);
-    double testable = c[IGEA_SIM_MC_FLIGHTS] - c[IGEA_SIM_MC_NOT_TESTABLE];
-    c[IGEA_SIM_MC_MEAN_SCALE] = testable > 0 ? sum_scale / testable : NAN;
-    c[IGEA_SIM_MC_MEAN_TESTED] = testable > 0 ? sum_tested / testable : 0;
-    c[IGEA_SIM_MC_MEAN_SIZE] = testable > 0 ? sum_size / testable : 0;
+    double sum_scale = 0, sum_tested = 0, nt = 0;
+    for (int i = 0; i < nf; i++) /* the library's order: flight by flight */
+        if (isfinite(r->table[i + IGEA_SIM_MC_TABLE_SCALE * (size_t)nf])) {
+            sum_scale += r->table[i + IGEA_SIM_MC_TABLE_SCALE * (size_t)nf];
+            sum_tested += r->table[i + IGEA_SIM_MC_TABLE_DOF * (size_t)nf];
+            nt++;
+        }
+    c[IGEA_SIM_MC_MEAN_SCALE] = nt > 0 ? sum_scale / nt : NAN;
+    c[IGEA_SIM_MC_MEAN_TESTED] = nt > 0 ? sum_tested / nt : 0;
+    c[IGEA_SIM_MC_MEAN_SIZE] = nt > 0 ? sum_size / nt : 0;
+    c[IGEA_SIM_MC_MEAN_OUTLIERS] = outliers / nf;
     for (int k = 0; !ec && k < 4; k++) {
         r->rates[3 * k] = c[IGEA_SIM_MC_FAILED + k] / c[IGEA_SIM_MC_FLIGHTS];
         ec = cli_status(igea_sim_interval(c[IGEA_SIM_MC_FAILED + k], c[IGEA_SIM_MC_FLIGHTS],

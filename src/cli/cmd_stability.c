@@ -33,6 +33,7 @@ static const cli_opt options[] = {
     {"--noise", CLI_OPT_CHOICE, &A.noise, "auto", CLI_CHOICES(IGEA_CHOICE_STABILITY_NOISE),
      "noise type for the intervals (auto: per tau\nfrom the lag-1 autocorrelation)", NULL},
     {"--conf", CLI_OPT_NUM, &A.conf, "0.683", "C", "confidence of the intervals, in (0, 1)", NULL},
+    CLI_PROGRESS_OPTIONS,
     CLI_JSON_OPT(&A.json),
     CLI_OUT_OPT(&A.out),
     {"--plot", CLI_OPT_STR, &A.plot, NULL, "FILE.svg", "draw the deviation with its intervals on log-log\naxes (and the --fit terms) into an SVG picture", NULL},
@@ -62,6 +63,8 @@ static const cli_command command = {"stability",
 "                   random walk N, bias instability B, rate random walk K,\n"
 "                   rate ramp R; '-' for a term the data do not support.\n"
 "All sums are compensated and the Allan routines need O(1) extra memory.\n"
+"Progress (averaging times done, elapsed time, ETA) goes to stderr when it\n"
+"is a terminal, or a line per 10 % with --progress; --quiet silences it.\n"
 "\n"
 "options:\n",
 options,
@@ -308,25 +311,60 @@ static int fit_curve(const st_args *a, st_result *r)
     return CLI_OK;
 }
 
+/* The deviations at taus j0 .. j0 + nt - 1. */
+static int deviations(const st_args *a, const double *y, st_result *r, int j0, int nt)
+{
+    int kind = a->kind, ci = has_ci(kind);
+    if (kind <= IGEA_STABILITY_ALLAN_NONOVERLAPPING)
+        return igea_stability_allan(r->n, y, a->fs, nt, r->tau + j0, kind, a->noise, a->conf,
+                                    r->dev + j0, r->lo + j0, r->hi + j0, r->edf + j0,
+                                    r->cnt + j0);
+    return igea_stability_dev(r->n, y, a->fs, a->phase, nt, r->tau + j0, kind, a->noise, a->conf,
+                              r->dev + j0, ci ? r->lo + j0 : NULL, ci ? r->hi + j0 : NULL,
+                              ci ? r->edf + j0 : NULL, r->alpha + j0, r->cnt + j0, r->tau + j0);
+}
+
+/* With progress shown, the taus from j on computed in one call: one, or for
+ * the rate-data kinds with the noise type identified (auto) also the taus
+ * after it with fewer than 32 tau-averages, which keep the type of the tau
+ * before them (igea/stability.h): the same numbers as one call for all. */
+static int group(const st_args *a, const st_result *r, int j)
+{
+    int nt = 1;
+    if (a->kind > IGEA_STABILITY_ALLAN_NONOVERLAPPING || a->noise != IGEA_STABILITY_NOISE_AUTO)
+        return nt;
+    for (; j + nt < r->ntau; nt++) {
+        double m = floor(r->tau[j + nt] * a->fs + 0.5);
+        if (!(m >= 1) || floor(r->n / m) >= 32)
+            break;
+    }
+    return nt;
+}
+
 static int compute(const st_args *a, const double *y, st_result *r)
 {
-    int kind = a->kind, noise = a->noise;
+    int kind = a->kind;
     int st = igea_stability_block(r->n, y, a->fs, a->block, r->blk);
     r->have_block = st == 0;
     if (st && st != BLOCK_ARG_LENGTH)
         return cli_status(st, "stability: block statistic");
-    if (kind <= IGEA_STABILITY_ALLAN_NONOVERLAPPING) {
-        /* the taus on the sample grid, as the library uses them (a tau off
-         * the record's range is left for igea_stability_allan to refuse) */
+    /* the taus on the sample grid, as the library uses them (a tau off
+     * the record's range is left for igea_stability_allan to refuse) */
+    if (kind <= IGEA_STABILITY_ALLAN_NONOVERLAPPING)
         igea_stability_taus_used(a->fs, r->ntau, r->tau, r->tau);
-        st = igea_stability_allan(r->n, y, a->fs, r->ntau, r->tau, kind, noise, a->conf, r->dev,
-                                  r->lo, r->hi, r->edf, r->cnt);
-    } else {
-        int ci = has_ci(kind);
-        st = igea_stability_dev(r->n, y, a->fs, a->phase, r->ntau, r->tau, kind, noise, a->conf,
-                                r->dev, ci ? r->lo : NULL, ci ? r->hi : NULL, ci ? r->edf : NULL,
-                                r->alpha, r->cnt, r->tau);
+    /* with progress shown, the taus in groups (group()) */
+    cli_progress pr;
+    int ec = cli_progress_start(&pr, "stability", "averaging times", r->ntau);
+    if (ec)
+        return ec;
+    if (!pr.mode || r->ntau < 1)
+        st = deviations(a, y, r, 0, r->ntau);
+    for (int j = 0, nt; pr.mode && !st && j < r->ntau; j += nt) {
+        nt = group(a, r, j);
+        if (!(st = deviations(a, y, r, j, nt)))
+            cli_progress_update(&pr, j + nt);
     }
+    cli_progress_end(&pr);
     if (st)
         return cli_status(st, st == DEV_ARG_TAUS || (st == ALLAN_ARG_TAUS &&
                                                      kind <= IGEA_STABILITY_ALLAN_NONOVERLAPPING)

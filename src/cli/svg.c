@@ -13,7 +13,7 @@ static const char *const palette[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd"
 #define NPAL ((int)(sizeof palette / sizeof palette[0]))
 static const char *col(int c) { return palette[((c % NPAL) + NPAL) % NPAL]; }
 
-enum { LEG_LINE, LEG_POINT, LEG_BAND, LEG_DASH };
+enum { LEG_LINE, LEG_POINT, LEG_BAND, LEG_DASH, LEG_BAR };
 
 /* Length of the valid UTF-8 sequence at p (0: invalid). */
 static int utf8_len(const unsigned char *p)
@@ -79,7 +79,18 @@ static void legend(cli_svg *s)
 {
     if (!s->panel || !s->nleg)
         return;
-    double w = 170, h = 8 + 16.0 * s->nleg, x = s->px + s->pw - w - 6, y = s->py + 6;
+    /* wide enough for the longest label: 7 px a character at 12 px sans
+     * (a generous mean width), at most the panel's width */
+    size_t chars = 0;
+    for (int k = 0; k < s->nleg; k++) {
+        size_t c = 0;
+        for (const unsigned char *p = (const unsigned char *)s->leg[k]; *p; p++)
+            c += (*p & 0xC0) != 0x80; /* UTF-8 lead bytes */
+        chars = c > chars ? c : chars;
+    }
+    double w = 40 + 7.0 * (double)chars, h = 8 + 16.0 * s->nleg;
+    w = w < 120 ? 120 : w > s->pw - 12 ? s->pw - 12 : w;
+    double x = s->px + s->pw - w - 6, y = s->py + 6;
     fprintf(s->f, "<g class=\"legend\">\n<rect x=\"%.2f\" y=\"%.2f\" width=\"%.2f\" "
                   "height=\"%.2f\" fill=\"white\" fill-opacity=\"0.85\" stroke=\"#999\"/>\n",
             x, y, w, h);
@@ -88,9 +99,10 @@ static void legend(cli_svg *s)
         const char *c = col(s->legcolor[k]);
         if (s->legkind[k] == LEG_POINT)
             fprintf(s->f, "<circle cx=\"%.2f\" cy=\"%.2f\" r=\"3\" fill=\"%s\"/>\n", x + 16, ly - 4, c);
-        else if (s->legkind[k] == LEG_BAND)
+        else if (s->legkind[k] == LEG_BAND || s->legkind[k] == LEG_BAR)
             fprintf(s->f, "<rect x=\"%.2f\" y=\"%.2f\" width=\"20\" height=\"8\" fill=\"%s\" "
-                          "fill-opacity=\"0.25\"/>\n", x + 6, ly - 8, c);
+                          "fill-opacity=\"%s\"/>\n", x + 6, ly - 8, c,
+                    s->legkind[k] == LEG_BAND ? "0.25" : "1");
         else
             fprintf(s->f, "<line x1=\"%.2f\" y1=\"%.2f\" x2=\"%.2f\" y2=\"%.2f\" stroke=\"%s\" "
                           "stroke-width=\"1.5\"%s/>\n", x + 6, ly - 4, x + 26, ly - 4, c,
@@ -168,7 +180,7 @@ static int map_y(const cli_svg *s, double v, double *py)
 }
 
 /* Tick values in plotting units between a and b (at most max). */
-static int ticks(double a, double b, int log, double *t, int max)
+static int ticks(double a, double b, int log, int integer, double *t, int max)
 {
     int n = 0;
     if (log && b - a >= 1.5) {
@@ -189,6 +201,8 @@ static int ticks(double a, double b, int log, double *t, int max)
     }
     double raw = (b - a) / 6, p = pow(10, floor(log10(raw))), r = raw / p;
     double step = (r < 1.5 ? 1 : r < 3.5 ? 2 : r < 7.5 ? 5 : 10) * p;
+    if (integer && step < 1)
+        step = 1;
     for (double k = ceil(a / step); k * step <= b && n < max; k++)
         t[n++] = fabs(k * step) < 1e-9 * step ? 0 : k * step;
     return n;
@@ -203,7 +217,8 @@ static void tick_label(char *buf, size_t size, double u, int log)
 static void axis_ticks(cli_svg *s, int vertical)
 {
     double t[40], a = vertical ? s->y0 : s->x0, b = vertical ? s->y1 : s->x1;
-    int log = vertical ? s->ylog : s->xlog, n = ticks(a, b, log, t, 40);
+    int log = vertical ? s->ylog : s->xlog;
+    int n = ticks(a, b, log, vertical ? s->yint : s->xint, t, 40);
     char buf[32];
     for (int k = 0; k < n; k++) {
         double p = vertical ? s->py + s->ph - (t[k] - a) / (b - a) * s->ph
@@ -234,6 +249,7 @@ void cli_svg_panel(cli_svg *s, double left, double top, double width, double hei
     s->panel++;
     s->px = left + 70, s->py = top + 28, s->pw = width - 90, s->ph = height - 72;
     s->xlog = x->log, s->ylog = y->log;
+    s->xint = x->integer, s->yint = y->integer;
     plot_range(x, &s->x0, &s->x1);
     plot_range(y, &s->y0, &s->y1);
     fprintf(s->f, "<g class=\"axes\" id=\"axes%d\" data-xlog=\"%d\" data-ylog=\"%d\">\n"
@@ -359,6 +375,62 @@ void cli_svg_vline(cli_svg *s, double x, int color, const char *label)
 
 /* ---- the commands' pictures ---------------------------------------------- */
 
+/* The model's term k (or for k < 0 the sum of the supported ones) at tau. */
+static double fit_dev(int k, double t, const double *fit, const int *sup)
+{
+    double f[IGEA_STABILITY_FIT_LEN] = {3 / (t * t), 1 / t,
+                                        2 * log(2.0) / 3.14159265358979323846, t / 3, t * t / 2};
+    double v = 0;
+    for (int i = 0; i < IGEA_STABILITY_FIT_LEN; i++)
+        if (k < 0 ? !sup || sup[i] : i == k)
+            v += fit[i] * fit[i] * f[i];
+    return sqrt(v);
+}
+
+/* Widen the deviation axis to the fitted terms where they come within a
+ * factor 10 of the data (a term far below the data stays clipped). */
+static void fit_range(cli_svg_axis *y, int ntau, const double *tau, const double *fit,
+                      const int *sup)
+{
+    double lo = y->lo, hi = y->hi;
+    for (int k = 0; fit && lo <= hi && k < IGEA_STABILITY_FIT_LEN; k++)
+        for (int j = 0; (!sup || sup[k]) && j < ntau; j++) {
+            double v = fit_dev(k, tau[j], fit, sup);
+            if (v >= lo / 10 && v <= hi * 10)
+                cli_svg_range(y, &v, 1, 1);
+        }
+}
+
+/* The IEEE 952 model's terms (3Q^2/tau^2, N^2/tau, (2 ln2/pi) B^2, K^2
+ * tau/3, R^2 tau^2/2: igea/stability.h) as deviations at the taus, dashed,
+ * and their sum; the terms without support are not drawn. */
+static void fit_lines(cli_svg *s, int ntau, const double *tau, const double *fit,
+                      const int *sup)
+{
+    static const char *const label[IGEA_STABILITY_FIT_LEN] = {
+        "fit: Q, slope -1", "fit: N, slope -1/2", "fit: B, flat", "fit: K, slope +1/2",
+        "fit: R, slope +1"};
+    for (int k = -1; k < IGEA_STABILITY_FIT_LEN; k++) { /* -1: the sum */
+        if (k >= 0 && sup && !sup[k])
+            continue;
+        long drawn = 0;
+        double px, py;
+        for (int j = 0; j < ntau; j++) {
+            if (!map_x(s, tau[j], &px) || !map_y(s, fit_dev(k, tau[j], fit, sup), &py))
+                continue;
+            if (!drawn++)
+                fprintf(s->f, "<polyline class=\"fit\" clip-path=\"url(#clip%d)\" fill=\"none\" "
+                              "stroke=\"%s\" stroke-width=\"1.2\"%s points=\"", s->panel,
+                        col(k + 2), k < 0 ? "" : " stroke-dasharray=\"5,3\"");
+            fprintf(s->f, "%s%.2f,%.2f", drawn > 1 ? " " : "", px, py);
+        }
+        if (drawn)
+            fputs("\"/>\n", s->f);
+        add_legend(s, k < 0 ? "fit: the sum of the terms" : label[k], k + 2,
+                   k < 0 ? LEG_LINE : LEG_DASH);
+    }
+}
+
 int cli_svg_stability(const char *path, const char *file, const char *kind, int ntau, const double *tau,
                       const double *dev, const double *lo, const double *hi,
                       const double *fit, const int *fit_sup)
@@ -374,6 +446,7 @@ int cli_svg_stability(const char *path, const char *file, const char *kind, int 
     cli_svg_range(&y, dev, ntau, 1);
     cli_svg_range(&y, lo, lo ? ntau : 0, 1);
     cli_svg_range(&y, hi, hi ? ntau : 0, 1);
+    fit_range(&y, ntau, tau, fit, fit_sup);
     size_t tn = strlen(file) + strlen(kind) + 16;
     char *title = malloc(tn);
     if (!title) {
@@ -388,6 +461,8 @@ int cli_svg_stability(const char *path, const char *file, const char *kind, int 
         cli_svg_errbars(&s, tau, lo, hi, ntau, 0);
     cli_svg_line(&s, tau, 1, dev, 1, ntau, 0, lo && hi ? "deviation, with its interval" : "deviation");
     cli_svg_points(&s, tau, 1, dev, 1, ntau, 0, NULL);
+    if (fit)
+        fit_lines(&s, ntau, tau, fit, fit_sup);
     if (fit) {
         static const char *const name[IGEA_STABILITY_FIT_LEN] = {"Q", "N", "B", "K", "R"};
         char line[IGEA_STABILITY_FIT_LEN][48];
@@ -439,6 +514,7 @@ static void eqerr_spectrum(cli_svg *s, double top, int N, const double *lambda, 
                            double ls)
 {
     cli_svg_axis x = CLI_SVG_AXIS_EMPTY(0, "component i (from 0)");
+    x.integer = 1;
     cli_svg_axis y = CLI_SVG_AXIS_EMPTY(1, "eigenvalue lambda_i");
     x.lo = 0, x.hi = N > 1 ? N - 1 : 1;
     cli_svg_range(&y, lambda, N, 1);
@@ -492,6 +568,7 @@ int cli_svg_eqerr(const char *path, const cli_out *resout, int N, const double *
         static const char *const axis[3] = {"x", "y", "z"};
         long ne = (m + 2) / 3;
         cli_svg_axis x = CLI_SVG_AXIS_EMPTY(0, "epoch (from 0)");
+        x.integer = 1;
         cli_svg_axis y = CLI_SVG_AXIS_EMPTY(0, "residual (units of dw)");
         x.lo = 0, x.hi = ne > 1 ? ne - 1 : 1;
         cli_svg_range(&y, e, m, 1);
@@ -529,6 +606,7 @@ int cli_svg_montecarlo(const char *path, int flights, int N, const int *tested,
     }
     cli_svg s;
     cli_svg_axis x = CLI_SVG_AXIS_EMPTY(0, "component i (from 0)");
+    x.integer = 1;
     cli_svg_axis y = CLI_SVG_AXIS_EMPTY(0, "rejection rate (fraction of the flights testing it)");
     x.lo = 0, x.hi = N > 1 ? N - 1 : 1;
     y.lo = 0, y.hi = alpha;
@@ -553,7 +631,8 @@ static void fuse_timeline(cli_svg *s, int nwin, double step, int nc, int niv, co
     cli_svg_axis x = CLI_SVG_AXIS_EMPTY(0, "time (s)");
     cli_svg_axis y = CLI_SVG_AXIS_EMPTY(0, "sensor (from 0)");
     x.lo = 0, x.hi = nwin * step;
-    y.lo = 0, y.hi = nc > 1 ? nc - 1 : 1;
+    /* one row per sensor, its bar inside the panel; ticks at the sensors */
+    y.lo = -0.5, y.hi = (nc > 1 ? nc : 1) - 0.5, y.integer = 1;
     cli_svg_panel(s, 0, 300, 720, 300, &x, &y, "sensors excluded from the fusion set");
     double h = s->ph / (s->y1 - s->y0) * 0.6, a, b, c;
     for (int k = 0; k < niv; k++)
@@ -561,7 +640,7 @@ static void fuse_timeline(cli_svg *s, int nwin, double step, int nc, int niv, co
             fprintf(s->f, "<rect class=\"interval\" clip-path=\"url(#clip%d)\" x=\"%.2f\" "
                           "y=\"%.2f\" width=\"%.2f\" height=\"%.2f\" fill=\"%s\"/>\n",
                     s->panel, a, c - h / 2, b - a, h, col(1));
-    add_legend(s, "excluded", 1, LEG_BAND);
+    add_legend(s, "excluded", 1, LEG_BAR);
     if (!niv)
         cli_svg_text(s, s->px + s->pw / 2, s->py + s->ph / 2, "middle", "no sensor excluded");
 }
@@ -630,6 +709,7 @@ static void rls_panel(cli_svg *s, const cli_svg_rows *r, int m, int i, double to
     char title[48];
     snprintf(title, sizeof title, "coefficient x%d", i);
     cli_svg_axis xa = CLI_SVG_AXIS_EMPTY(0, "epoch (from 0)");
+    xa.integer = 1;
     cli_svg_axis ya = CLI_SVG_AXIS_EMPTY(0, "estimate (units of X)");
     xa.lo = 0, xa.hi = n > 1 ? n - 1 : 1;
     cli_svg_range(&ya, r->v + i, n, w);

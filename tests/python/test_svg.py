@@ -213,16 +213,110 @@ def test_eqerr_broken_plot_path(tmp_path):
     assert sorted(os.listdir(tmp_path)) == ["S.txt", "dw.txt", "sigma.txt", "spec.txt"]
 
 
+def _plot_inputs(d):
+    """The inputs of one picture of every --plot kind in d."""
+    rng = np.random.default_rng(7)
+    np.savetxt(d / "y.txt", rng.standard_normal(20000) * 1e-3
+               + np.cumsum(rng.standard_normal(20000)) * 2e-6)
+    for f in ("S.txt", "dw.txt", "sigma.txt", "spec.txt"):
+        shutil.copy(os.path.join(FLIGHT, f), d / f)
+    r = rng.normal(0, 1e-3, (1000, 3))
+    r[300:600, 2] += 0.5
+    np.savetxt(d / "r.txt", r)
+    S = rng.standard_normal((60, 2))
+    np.savetxt(d / "Sr.txt", S)
+    np.savetxt(d / "dwr.txt", S @ [1.0, -2.0] + 0.1 * rng.standard_normal(60))
+
+
+PLOTS = {
+    "stability": ["stability", "--data", "y.txt", "--fs", "100"],
+    "stability_fit": ["stability", "--data", "y.txt", "--fs", "100", "--kind", "oadev", "--fit"],
+    "eqerr": EQ + ["--residuals", "res.txt"],
+    "montecarlo": ["montecarlo", "--flights", "40"],
+    "rls": ["rls", "--S", "Sr.txt", "--dw", "dwr.txt", "--sigma", "0.1", "--every", "0"],
+    "fuse": ["redund", "fuse", "--data", "r.txt", "--fs", "100", "--sigma", "0.01"],
+}
+
+
+def png_size(path):
+    """Width and height from the PNG's IHDR chunk."""
+    head = open(path, "rb").read(24)
+    assert head[:8] == b"\x89PNG\r\n\x1a\n" and head[12:16] == b"IHDR"
+    return int.from_bytes(head[16:20], "big"), int.from_bytes(head[20:24], "big")
+
+
 @pytest.mark.skipif(shutil.which("rsvg-convert") is None, reason="rsvg-convert not installed")
-def test_renders_to_png(record, tmp_path):
-    d, _, _ = record
-    assert run(d, "stability", "--data", "y.txt", "--fs", "10", "--plot", "a.svg").returncode == 0
-    root, _ = eqerr_plot(tmp_path)
-    for svg in (d / "a.svg", tmp_path / "e.svg"):
-        png = str(svg) + ".png"
-        r = subprocess.run(["rsvg-convert", "-o", png, str(svg)], capture_output=True, timeout=60)
-        assert r.returncode == 0, r.stderr
-        assert open(png, "rb").read(8) == b"\x89PNG\r\n\x1a\n"
+@pytest.mark.parametrize("kind", sorted(PLOTS))
+def test_renders_to_png(tmp_path, kind):
+    _plot_inputs(tmp_path)
+    r = run(tmp_path, *PLOTS[kind], "--plot", "p.svg")
+    assert r.returncode in (0, 1), r.stderr
+    root = parse(tmp_path / "p.svg")
+    png = str(tmp_path / "p.png")
+    r = subprocess.run(["rsvg-convert", "-o", png, str(tmp_path / "p.svg")], capture_output=True,
+                       timeout=60)
+    assert r.returncode == 0 and r.stderr == b"", r.stderr
+    assert png_size(png) == (int(root.get("width")), int(root.get("height")))
+    try:
+        from matplotlib.image import imread
+    except ImportError:
+        return
+    img = imread(png)[:, :, :3]
+    ink = np.any(img < 0.9, axis=2)
+    assert 0.01 < ink.mean() < 0.6          # drawn, and not a filled page
+    for axes in by_class(root, "axes"):      # the legend box is inside its panel
+        (frame,) = [e for e in axes if e.get("class") == "frame"]
+        fx, fw = float(frame.get("x")), float(frame.get("width"))
+        for leg in (e for e in root.iter() if e.get("class") == "legend"):
+            box = leg.find(NS + "rect")
+            if abs(float(box.get("y")) - float(frame.get("y")) - 6) < 1e-6:
+                assert fx <= float(box.get("x")) and \
+                    float(box.get("x")) + float(box.get("width")) <= fx + fw
+
+
+def test_legend_is_wide_enough_for_its_labels(tmp_path):
+    """Every label fits in its box at 6.5 px a character (DejaVu Sans at
+    12 px averages about 6.2 px on lower-case text)."""
+    _plot_inputs(tmp_path)
+    for kind in ("stability_fit", "montecarlo"):
+        assert run(tmp_path, *PLOTS[kind], "--plot", kind + ".svg").returncode == 0
+        for leg in by_class(parse(tmp_path / (kind + ".svg")), "legend"):
+            box = leg.find(NS + "rect")
+            right = float(box.get("x")) + float(box.get("width"))
+            for t in leg.iter(NS + "text"):
+                assert float(t.get("x")) + 6.5 * len(t.text) <= right, t.text
+
+
+def test_stability_fit_lines(tmp_path):
+    """--fit draws each supported IEEE Std 952 term, sigma_k(tau) =
+    sqrt(c_k f_k(tau)) with f = 3Q^2/tau^2, N^2/tau, (2 ln 2/pi) B^2,
+    K^2 tau/3, R^2 tau^2/2 (IEEE Std 952-1997 Annex C), and their sum."""
+    rng = np.random.default_rng(7)   # white noise and a random walk: N, B and K supported
+    np.save(tmp_path / "y.npy", rng.standard_normal(200000) * 1e-3
+            + np.cumsum(rng.standard_normal(200000)) * 2e-6)
+    r = run(tmp_path, "stability", "--data", "y.npy", "--fs", "100", "--kind", "oadev", "--fit",
+            "--json", "--plot", "f.svg")
+    assert r.returncode == 0, r.stderr
+    res = json.loads(r.stdout)
+    tau = np.asarray(res["taus"])
+    val, sup = np.asarray(res["fit"]["value"]), np.asarray(res["fit"]["supported"])
+    f = np.array([3 / tau ** 2, 1 / tau, np.full_like(tau, 2 * np.log(2) / np.pi), tau / 3,
+                  tau ** 2 / 2])
+    terms = (val[:, None] ** 2) * f
+    root = parse(tmp_path / "f.svg")
+    (axes,) = by_class(root, "axes")
+    lines = by_class(root, "fit")
+    assert len(lines) == 1 + sup.sum() and sup.sum() >= 2
+    want = [np.sqrt(terms[sup].sum(axis=0))] + [np.sqrt(terms[k]) for k in np.flatnonzero(sup)]
+    for line, w in zip(lines, want):
+        pts = points(line)
+        py = predict(axes, True, True, w)
+        keep = np.isfinite(py) & (np.abs(py) < 1e7)
+        assert len(pts) == keep.sum()
+        np.testing.assert_allclose(pts[:, 1], py[keep], atol=0.05)
+        np.testing.assert_allclose(pts[:, 0], predict(axes, False, True, tau[keep]), atol=0.05)
+    legend = [t.text for t in by_class(root, "legend")[0].iter(NS + "text")]
+    assert "fit: the sum of the terms" in legend
 
 
 def wilson99(k, n):
@@ -285,6 +379,14 @@ def test_redund_fuse_timeline(tmp_path):
     np.testing.assert_allclose(pts[[0, 1, 2, 6, 7, 8, 9], 1],
                                predict(axes[0], True, False, want), atol=0.05)
     assert res["exclusions"] == [{"sensor": 2, "from": 3, "to": 6}]
+    # the sensor axis: a tick at each sensor, no fractional ones, and the
+    # bar of the last sensor inside the panel
+    t = tick_map(axes[1], True, False)
+    assert list(t[:, 0]) == [0.0, 1.0, 2.0]
+    (frame,) = [e for e in axes[1] if e.get("class") == "frame"]
+    top = float(frame.get("y"))
+    assert top < float(bar.get("y")) and \
+        float(bar.get("y")) + float(bar.get("height")) < top + float(frame.get("height"))
 
 
 def test_redund_plot_only_for_fuse(tmp_path):
