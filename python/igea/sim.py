@@ -244,7 +244,7 @@ def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None
                correction=None, bias_correct=None, clamp=None, pool=None, verdict="seed", ar2=None,
                ar3=None, corr=None, group_split=None, sigma_w2=None, bias0=None, bias1=None,
                judge_noise=None, ar=None, ar_given=False, robust=None, robust_alpha=None,
-               group_bias=None, progress=False):
+               group_bias=None, progress=False, client=None, chunk=None):
     """Run flights first_flight .. first_flight + flights - 1 and judge each
     with the seed-000 test; results do not depend on threads (0: one per
     online processor). The flights run in chunks of a tenth (at most 1000;
@@ -261,7 +261,20 @@ def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None
     IGEA_SIM_OPT_AR2 .. JUDGE_NOISE): ar2, ar3, corr, group_split, sigma_w2,
     bias0, bias1, judge_noise; the judge's (igea/noise.h): ar (phi
     estimated, or the true one with ar_given=True), robust, robust_alpha,
-    group_bias."""
+    group_bias. client: a dask.distributed Client or a scheduler address:
+    the flights run there in chunks of `chunk` flights (default 10000; see
+    igea.campaign_montecarlo and docs/campaign.md), with the same result
+    as this process running them with BLAS on one thread."""
+    if client is not None:
+        if progress is not False and progress is not None:
+            raise ValueError("progress: not with client= (Dask shows its own: "
+                             "distributed.progress)")
+        kw = {k: v for k, v in locals().items() if k not in ("client", "chunk", "progress")}
+        from .campaign import campaign_montecarlo
+        kw["threads"] = kw["threads"] or 1  # one task per worker thread
+        return campaign_montecarlo(client, 10000 if chunk is None else chunk, **kw)
+    if chunk is not None:
+        raise ValueError("chunk: flights per Dask task, only with client=")
     S, terms, v = _frames.inputs(S, terms, rows=(("sigma", sigma),), cols=(("spec", spec),))
     sigma, spec = v["sigma"], v["spec"]
     S = _lib.as_f64(S, "S", ndim=2)

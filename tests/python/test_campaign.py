@@ -56,6 +56,14 @@ def test_cluster_equals_single_run(client, chunk):
     same(got, whole)
 
 
+def test_montecarlo_with_a_client(client):
+    same(igea.montecarlo(**STUDY, client=client, chunk=100), single(**STUDY))
+    with pytest.raises(ValueError, match="chunk: .*only with client"):
+        igea.montecarlo(**STUDY, chunk=100)
+    with pytest.raises(ValueError, match="progress: not with client"):
+        igea.montecarlo(**STUDY, client=client, progress=True)
+
+
 def test_cluster_small_chunks(client):
     kw = dict(STUDY, flights=45)
     same(igea.campaign_montecarlo(client, 7, **kw), single(**kw))
