@@ -46,6 +46,9 @@ static int teardown(void **state)
 
 /* dW of the raw records of system s with errors err (by code, may be NULL)
  * and noise (may be NULL), tracking in frame. */
+static int KIND = IGEA_DW_APPARENT;
+static double STATED[IGEA_NAV_SITE_LEN]; /* the stated site of the last raw_dw */
+
 static void raw_dw(int s, int frame, const double *err, const double *noise, double *dw)
 {
     int cols = s == IGEA_ENVFUN_STRAPDOWN ? IGEA_SIM_RAW_TEL_STRAPDOWN : IGEA_SIM_RAW_TEL_PLATFORM;
@@ -59,8 +62,9 @@ static void raw_dw(int s, int frame, const double *err, const double *noise, dou
     memcpy(tk, trk, sizeof trk);
     for (int e = 0; e < NEP; e++)
         tk[7 * NEP + e] = 0.01;
-    assert_int_equal(igea_dw_compute(so, s, IGEA_DW_APPARENT, q0, 0.0, NS, tel, NS, cols,
+    assert_int_equal(igea_dw_compute(so, s, KIND, q0, 0.0, NS, tel, NS, cols,
                                      frame, NEP, tk, NEP, 8, dw, cov, col, &bad), 0);
+    memcpy(STATED, so, sizeof so);
     free(tel);
 }
 
@@ -138,6 +142,73 @@ static void test_errors_second_order(void **state)
     }
 }
 
+/* max |dW(err) - S X| of the launch-point errors (dx, dz) (m): S of
+ * igea_envfun_compute_site with the stated site (site 1) or without
+ * (igea_envfun_compute_user, site 0), the output kind of KIND. */
+static double pos0_discrepancy(int s, double dx, double dz, int site)
+{
+    static const int codes[2] = {IGEA_ENVFUN_TERM_POS0_X, IGEA_ENVFUN_TERM_POS0_Z};
+    double err[IGEA_ENVFUN_TERM_END] = {0}, dw[3 * NEP], S[3 * NEP * 2], d = 0.0;
+    int out = KIND == IGEA_DW_APPARENT ? IGEA_ENVFUN_VELOCITY : IGEA_ENVFUN_VELOCITY_G;
+    err[codes[0]] = dx;
+    err[codes[1]] = dz;
+    raw_dw(s, IGEA_NAV_ECEF, err, NULL, dw);
+    assert_int_equal(igea_envfun_compute_site(s, NS, TRAJ[s], NS, 2, codes, NULL, 0, NULL,
+                                              NULL, NS, NEP, EP, NULL, out,
+                                              site ? STATED : NULL, S, 3 * NEP), 0);
+    for (int i = 0; i < 3 * NEP; i++)
+        d = fmax(d, fabs(dw[i] - S[i] * dx - S[i + 3 * NEP] * dz));
+    return d;
+}
+
+/* The launch point off by 50 m downrange and -30 m cross-range (5 and 3
+ * times the 10 m spec), the raw records against the linear model. Without
+ * the site the stated pad velocity's error w_L x d (|w_E| 58 m ~ 4e-3 m/s)
+ * is left out of S: measured 2.4e-3 m/s apparent, 1.06e-2 navigated (the
+ * initial position error d under gravity too), first order (halving the
+ * errors halves it). With it (and the ellipsoid's frame rotation, the J2
+ * gradient): 1.3e-7 and 2.2e-6 m/s, a first-order rest of 5e-5 and 2e-4
+ * of the term, below dw's own 1e-6 floor (apparent). */
+static void test_launch_point(void **state)
+{
+    (void)state;
+    for (int kind = 0; kind < 2; kind++)
+        for (int s = 0; s < 2; s++) {
+            KIND = kind ? IGEA_DW_NAVIGATED : IGEA_DW_APPARENT;
+            double b1 = pos0_discrepancy(s, 50.0, -30.0, 0);
+            double b2 = pos0_discrepancy(s, 25.0, -15.0, 0);
+            double a1 = pos0_discrepancy(s, 50.0, -30.0, 1);
+            double a2 = pos0_discrepancy(s, 25.0, -15.0, 1);
+            print_message("kind %d system %d: without site %.3g, %.3g (ratio %.3f); with "
+                          "site %.3g, %.3g (ratio %.3f)\n",
+                          kind, s, b1, b2, b1 / b2, a1, a2, a1 / a2);
+            assert_true(b1 > 2e-3 && b1 / b2 > 1.9 && b1 / b2 < 2.1);
+            assert_true(a1 < 1e-3 * b1 && a1 < 3e-6);
+        }
+    KIND = IGEA_DW_APPARENT;
+    /* refusals of the site, S and lds positions (16-18); S untouched */
+    static const int c1 = IGEA_ENVFUN_TERM_POS0_X;
+    double bad[IGEA_NAV_SITE_LEN], S[3] = {7, 7, 7};
+    for (int i = 0; i < IGEA_NAV_SITE_LEN; i++)
+        bad[i] = NAN;
+    assert_int_equal(igea_envfun_compute_site(0, NS, TRAJ[0], NS, 1, &c1, NULL, 0, NULL, NULL,
+                                              NS, 1, EP, NULL, 0, bad, S, 3), -16);
+    assert_int_equal(igea_envfun_compute_site(0, NS, TRAJ[0], NS, 1, &c1, NULL, 0, NULL, NULL,
+                                              NS, 1, EP, NULL, 0, SITE, NULL, 3), -17);
+    assert_int_equal(igea_envfun_compute_site(0, NS, TRAJ[0], NS, 1, &c1, NULL, 0, NULL, NULL,
+                                              NS, 1, EP, NULL, 0, SITE, S, 2), -18);
+    assert_int_equal(igea_envfun_compute_site(0, NS, TRAJ[0], NS, 1, &c1, NULL, 0, NULL, NULL,
+                                              NS, 1, EP, NULL, 9, SITE, S, 3), -15);
+    assert_true(S[0] == 7 && S[1] == 7 && S[2] == 7);
+    /* a NULL site is igea_envfun_compute_user */
+    double a[3], b[3];
+    assert_int_equal(igea_envfun_compute_site(0, NS, TRAJ[0], NS, 1, &c1, NULL, 0, NULL, NULL,
+                                              NS, 1, EP, NULL, 0, NULL, a, 3), 0);
+    assert_int_equal(igea_envfun_compute_user(0, NS, TRAJ[0], NS, 1, &c1, NULL, 0, NULL, NULL,
+                                              NS, 1, EP, NULL, 0, b, 3), 0);
+    assert_memory_equal(a, b, sizeof a);
+}
+
 static void test_refusals(void **state)
 {
     (void)state;
@@ -177,6 +248,7 @@ int main(void)
         cmocka_unit_test(test_ideal),
         cmocka_unit_test(test_noise),
         cmocka_unit_test(test_errors_second_order),
+        cmocka_unit_test(test_launch_point),
         cmocka_unit_test(test_refusals),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
