@@ -204,8 +204,8 @@ demo: deps
 	@cat $(BUILD)/demoraw/dw_args.txt
 	@cd $(BUILD)/demoraw && $(CURDIR)/$(DRIVER) dw $$(cat dw_args.txt) --telemetry telemetry.txt \
 	  --tracking tracking.txt --out dw_raw.txt --sigma-out sigma_raw.txt
-	@echo "== igea envfun: the same flight's trajectory -> S of the 74 terms"
-	@cd $(BUILD)/demoraw && $(CURDIR)/$(DRIVER) envfun --traj traj.txt --terms all --system platform \
+	@echo "== igea envfun: the same flight's trajectory and stated launch point (site_args.txt) -> S of the 74 terms"
+	@cd $(BUILD)/demoraw && $(CURDIR)/$(DRIVER) envfun $$(cat site_args.txt) --traj traj.txt --terms all --system platform \
 	  --out S_raw.txt
 	@echo "== igea eqerr: the verdict from the raw records"
 	@cd $(BUILD)/demoraw && $(CURDIR)/$(DRIVER) eqerr --S S_raw.txt --dw dw_raw.txt --sigma sigma_raw.txt \

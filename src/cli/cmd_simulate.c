@@ -57,6 +57,8 @@ static const cli_command command = {"simulate",
 "                 the epochs (each a trajectory sample time), noise added\n"
 "  dw_args.txt    the stated launch point, frame, system and lift-off\n"
 "                 attitude as igea dw options: igea dw $(cat dw_args.txt) ...\n"
+"  site_args.txt  the stated launch point alone, for igea envfun (its pos0_*\n"
+"                 terms): igea envfun $(cat site_args.txt) ...\n"
 "exactly the files 'igea eqerr' reads. The same --seed gives the same flight on\n"
 "every machine; --flight F picks another flight of the same seed.\n"
 "\n",
@@ -221,6 +223,9 @@ static void write_raw(cli_out *outs, const sm_args *a, const cli_flight_args *fa
             r->site[IGEA_NAV_SITE_H], r->site[IGEA_NAV_SITE_AZ] / DEG,
             a->frame == IGEA_NAV_ECEF ? "ecef" : "le", sd ? "strapdown" : "platform",
             r->q0[0], r->q0[1], r->q0[2], r->q0[3]);
+    fprintf(outs[3].f, "--lat %.17g --lon %.17g --height %.17g --azimuth %.17g\n",
+            r->site[IGEA_NAV_SITE_LAT] / DEG, r->site[IGEA_NAV_SITE_LON] / DEG,
+            r->site[IGEA_NAV_SITE_H], r->site[IGEA_NAV_SITE_AZ] / DEG);
 }
 
 static void write_files(cli_out *outs, const sm_args *a, const cli_flight_args *fa,
@@ -267,11 +272,11 @@ static void json_summary(FILE *out, const sm_args *a, const cli_flight_args *fa,
 static int commit_files(const sm_args *a, const cli_flight_args *fa, const cli_flight *f,
                         const sm_run *r)
 {
-    static const char *const names[9] = {"S.txt", "dw.txt", "sigma.txt", "spec.txt", "X.txt",
-                                         "traj.txt", "telemetry.txt", "tracking.txt",
-                                         "dw_args.txt"};
-    cli_out outs[9];
-    int nout = a->raw ? 9 : a->save_traj ? 6 : 5, nopen = 0, ec = CLI_OK;
+    static const char *const names[10] = {"S.txt", "dw.txt", "sigma.txt", "spec.txt", "X.txt",
+                                          "traj.txt", "telemetry.txt", "tracking.txt",
+                                          "dw_args.txt", "site_args.txt"};
+    cli_out outs[10];
+    int nout = a->raw ? 10 : a->save_traj ? 6 : 5, nopen = 0, ec = CLI_OK;
     for (int k = 0; !ec && k < nout; k++) {
         char *path = join(a->dir, names[k]);
         outs[k] = (cli_out)CLI_OUT_INIT;
@@ -314,7 +319,7 @@ int cmd_simulate(int argc, char **argv)
         !(ec = commit_files(&a, &fa, &f, &r)) && !a.json)
         fprintf(stderr, "igea simulate: %d epochs x 3 axes, %d terms, seed %d flight %d -> "
                 "%s/{S,dw,sigma,spec,X%s}.txt\n", f.nep, f.N, fa.seed, a.flight, a.dir,
-                a.raw ? ",traj,telemetry,tracking,dw_args" : a.save_traj ? ",traj" : "");
+                a.raw ? ",traj,telemetry,tracking,dw_args,site_args" : a.save_traj ? ",traj" : "");
     free(r.x);
     free(r.dw);
     free(r.S);
