@@ -138,62 +138,105 @@ static void telemetry(raw_inst *r, int nsamp, const double *traj, int ldt, doubl
     }
 }
 
-/* The lever arm's offsets at sample k: C l (position), C (w x l). */
-static void lever(const raw_inst *r, const double *traj, int ldt, int k, double *dr,
-                  double *dv)
+/* The lever arm's offsets at time t in sample k's interval (s its
+ * fraction from sample k - 1, 1 at k): C l (position), C (w x l), the
+ * quaternion (normalised) and the rate linearly interpolated. */
+static void lever(const raw_inst *r, const double *traj, int ldt, int k, double s,
+                  double *dr, double *dv)
 {
     double q[4], C[9], l[3], w[3], wl[3];
+    int kp = k > 0 ? k - 1 : 0;
     for (int a = 0; a < 3; a++) {
         l[a] = err_of(r, IGEA_ENVFUN_TERM_LEVER_X + a);
-        w[a] = IGEA_AT(traj, ldt, k, 4 + a);
+        w[a] = (1.0 - s) * IGEA_AT(traj, ldt, kp, 4 + a) + s * IGEA_AT(traj, ldt, k, 4 + a);
     }
     for (int i = 0; i < 4; i++)
-        q[i] = IGEA_AT(traj, ldt, k, 7 + i);
+        q[i] = (1.0 - s) * IGEA_AT(traj, ldt, kp, 7 + i) + s * IGEA_AT(traj, ldt, k, 7 + i);
     igea__quat_dcm_unit(q, C);
     igea__cross(w, l, wl);
     igea__m3_vec(C, l, dr, 0);
     igea__m3_vec(C, wl, dv, 0);
 }
 
-/* The true vehicle: the navigation of the error-free increments (the
- * trapezoids of f, w) from the true site; at each epoch its tracked point
- * (the lever arm's velocity counted from lift-off, where the vehicle is at
- * rest on the pad) minus the noise, in frame. ep[e] the sample of epoch e. */
-static int tracking(const raw_inst *r, int nsamp, const double *traj, int ldt,
-                    const double *site, int frame, int nepochs, const int *ep,
-                    const double *noise, double *trk)
+/* The true state at epoch time te in (t_{k-1}, t_k]: at t_k the state st
+ * itself, else a partial step from the state prev at t_{k-1} with the
+ * increments of the linear interpolants of f and w (what the trapezoid
+ * increments integrate) over (t_{k-1}, te]; *s the fraction. */
+static int state_at(const raw_inst *r, const double *traj, int ldt, int k, double te,
+                    const double *prev, const double *st, double *out, double *s)
 {
-    double st[IGEA_NAV_STATE_LEN], q[4], f_p[3], w_p[3], dr0[3] = {0, 0, 0}, dl0[3] = {0, 0, 0};
+    double tk = IGEA_AT(traj, ldt, k, 0);
+    memcpy(out, st, IGEA_NAV_STATE_LEN * sizeof(double));
+    *s = 1.0;
+    if (k == 0 || fabs(te - tk) <= 1e-9)
+        return 0;
+    double tp = IGEA_AT(traj, ldt, k - 1, 0), h = te - tp, dv[3], dth[3];
+    *s = h / (tk - tp);
+    for (int a = 0; a < 3; a++) {
+        double f0 = IGEA_AT(traj, ldt, k - 1, 1 + a), f1 = IGEA_AT(traj, ldt, k, 1 + a);
+        double w0 = IGEA_AT(traj, ldt, k - 1, 4 + a), w1 = IGEA_AT(traj, ldt, k, 4 + a);
+        dv[a] = 0.5 * h * (2.0 * f0 + *s * (f1 - f0));
+        dth[a] = 0.5 * h * (2.0 * w0 + *s * (w1 - w0));
+    }
+    memcpy(out, prev, IGEA_NAV_STATE_LEN * sizeof(double));
+    return igea_nav_step(out, te, dv, r->system == IGEA_ENVFUN_STRAPDOWN ? dth : NULL);
+}
+
+/* The tracked point of epoch e (true state sx, fraction s of sample k's
+ * interval) minus the noise, in frame, into row e of trk. */
+static int track_row(const raw_inst *r, const double *traj, int ldt, const double *site,
+                     int frame, int nepochs, int e, double te, int k, double s,
+                     const double *sx, const double *dl0, const double *noise, double *trk)
+{
+    double rr[3], vv[3], dr[3] = {0, 0, 0}, dl[3] = {0, 0, 0};
     if (r->lever)
-        lever(r, traj, ldt, 0, dr0, dl0);
+        lever(r, traj, ldt, k, s, dr, dl);
+    for (int a = 0; a < 3; a++) {
+        rr[a] = sx[IGEA_NAV_STATE_R + a] + dr[a];
+        vv[a] = sx[IGEA_NAV_STATE_V + a] + dl[a] - dl0[a] - (noise ? noise[3 * e + a] : 0.0);
+    }
+    int st = igea_nav_transform(site, IGEA_NAV_LI, frame, te, rr, vv, rr, vv);
+    IGEA_AT(trk, nepochs, e, 0) = te;
+    for (int a = 0; a < 3; a++) {
+        IGEA_AT(trk, nepochs, e, 1 + a) = rr[a];
+        IGEA_AT(trk, nepochs, e, 4 + a) = vv[a];
+    }
+    return st;
+}
+
+/* The true vehicle: the navigation of the error-free increments (the
+ * trapezoids of f, w) from the true site; at each epoch (any time in the
+ * trajectory's span: ep[e] the sample k with t_{k-1} < t_e <= t_k, 0 at
+ * t_0) its tracked point (the lever arm's velocity counted from lift-off,
+ * where the vehicle is at rest on the pad) minus the noise, in frame. */
+static int tracking(const raw_inst *r, int nsamp, const double *traj, int ldt,
+                    const double *site, int frame, int nepochs, const double *epochs,
+                    const int *ep, const double *noise, double *trk)
+{
+    double st[IGEA_NAV_STATE_LEN], prev[IGEA_NAV_STATE_LEN], sx[IGEA_NAV_STATE_LEN], q[4];
+    double f_p[3], w_p[3], dr0[3] = {0, 0, 0}, dl0[3] = {0, 0, 0};
+    if (r->lever)
+        lever(r, traj, ldt, 0, 1.0, dr0, dl0);
     for (int i = 0; i < 4; i++)
         q[i] = IGEA_AT(traj, ldt, 0, 7 + i);
     int s = igea_nav_init(r->system, site, IGEA_NAV_GRAVITY_J2, 0, 0.0, q, NULL, NULL, st);
     sample(traj, ldt, 0, f_p, w_p);
     for (int k = 0, e = 0; !s && k < nsamp && e < nepochs; k++) {
-        double f[3], w[3], dv[3], dth[3], t = sample(traj, ldt, k, f, w);
+        double f[3], w[3], dv[3], dth[3], t = sample(traj, ldt, k, f, w), fr;
         for (int a = 0; k && a < 3; a++) {
             dv[a] = 0.5 * (t - st[IGEA_NAV_STATE_T]) * (f_p[a] + f[a]);
             dth[a] = 0.5 * (t - st[IGEA_NAV_STATE_T]) * (w_p[a] + w[a]);
         }
+        memcpy(prev, st, sizeof st);
         if (k)
             s = igea_nav_step(st, t, dv, r->system == IGEA_ENVFUN_STRAPDOWN ? dth : NULL);
         memcpy(f_p, f, sizeof f);
         memcpy(w_p, w, sizeof w);
         for (; !s && e < nepochs && ep[e] == k; e++) {
-            double rr[3], vv[3], dr[3] = {0, 0, 0}, dl[3] = {0, 0, 0};
-            if (r->lever)
-                lever(r, traj, ldt, k, dr, dl);
-            for (int a = 0; a < 3; a++) {
-                rr[a] = st[IGEA_NAV_STATE_R + a] + dr[a];
-                vv[a] = st[IGEA_NAV_STATE_V + a] + dl[a] - dl0[a] - (noise ? noise[3 * e + a] : 0.0);
-            }
-            s = igea_nav_transform(site, IGEA_NAV_LI, frame, t, rr, vv, rr, vv);
-            IGEA_AT(trk, nepochs, e, 0) = t;
-            for (int a = 0; a < 3; a++) {
-                IGEA_AT(trk, nepochs, e, 1 + a) = rr[a];
-                IGEA_AT(trk, nepochs, e, 4 + a) = vv[a];
-            }
+            s = state_at(r, traj, ldt, k, epochs[e], prev, st, sx, &fr);
+            if (!s) /* a time within 1e-9 s of a sample is the sample's */
+                s = track_row(r, traj, ldt, site, frame, nepochs, e, fr < 1.0 ? epochs[e] : t,
+                              k, fr, sx, dl0, noise, trk);
         }
     }
     return s == 0 ? 0 : (s == IGEA_ENONFINITE ? s : IGEA_EDOMAIN);
@@ -256,7 +299,9 @@ static int raw_args(int system, int nsamp, const double *traj, int ldt, int nerr
     return !q0 ? -17 : !site_out ? -18 : 0;
 }
 
-/* The sample of every epoch (0, IGEA_ENONFINITE or -11). */
+/* The sample of every epoch: k with t_{k-1} < t_e <= t_k (0 at t_0; a
+ * time within 1e-9 s of a sample is that sample's); 0, IGEA_ENONFINITE or
+ * -11 (not increasing, or outside [t_0, t_last]). */
 static int epoch_samples(int nsamp, const double *traj, int ldt, int nepochs,
                          const double *epochs, int *ep)
 {
@@ -265,9 +310,11 @@ static int epoch_samples(int nsamp, const double *traj, int ldt, int nepochs,
     for (int e = 0, k = 0; e < nepochs; e++) {
         if (e > 0 && !(epochs[e] > epochs[e - 1]))
             return -11;
+        if (epochs[e] < IGEA_AT(traj, ldt, 0, 0) - 1e-9)
+            return -11;
         while (k < nsamp && IGEA_AT(traj, ldt, k, 0) < epochs[e] - 1e-9)
             k++;
-        if (k == nsamp || fabs(IGEA_AT(traj, ldt, k, 0) - epochs[e]) > 1e-9)
+        if (k == nsamp)
             return -11;
         ep[e] = k;
     }
@@ -316,7 +363,7 @@ int igea_sim_raw(int system, int nsamp, const double *traj, int ldt, int nerr,
         st = raw_data(r, system, nsamp, traj, ldt, nerr, err, axes, nepochs, epochs, noise, ep);
     if (!st) {
         telemetry(r, nsamp, traj, ldt, tb);
-        st = tracking(r, nsamp, traj, ldt, site, frame, nepochs, ep, noise, kb);
+        st = tracking(r, nsamp, traj, ldt, site, frame, nepochs, epochs, ep, noise, kb);
     }
     if (!st)
         st = stated_site(r, site, so);

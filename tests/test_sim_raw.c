@@ -142,6 +142,88 @@ static void test_errors_second_order(void **state)
     }
 }
 
+/* dW (3 nep) of the raw records of system s on trajectory traj (ns
+ * samples) at epochs ep, errors err (may be NULL), no noise, in frame. */
+static void raw_dw_at(int s, const double *traj, int ns, int frame, const double *err,
+                      int nep, const double *ep, double *dw)
+{
+    int cols = s == IGEA_ENVFUN_STRAPDOWN ? IGEA_SIM_RAW_TEL_STRAPDOWN : IGEA_SIM_RAW_TEL_PLATFORM;
+    double *tel = malloc(sizeof(double) * (size_t)ns * 7), *trk = malloc(sizeof(double) * 7 * nep);
+    double q0[4], so[IGEA_NAV_SITE_LEN];
+    int bad = -1;
+    assert_non_null(tel);
+    assert_non_null(trk);
+    assert_int_equal(igea_sim_raw(s, ns, traj, ns, IGEA_ENVFUN_TERM_END, err, NULL, SITE, frame,
+                                  nep, ep, NULL, tel, ns, trk, nep, q0, so), 0);
+    assert_int_equal(igea_dw_compute(so, s, IGEA_DW_APPARENT, q0, 0.0, ns, tel, ns, cols, frame,
+                                     nep, trk, nep, 7, dw, NULL, NULL, &bad), 0);
+    free(tel);
+    free(trk);
+}
+
+/* Tracking at its own rate (0.7 s, about 1.43 Hz) from an offset start
+ * (0.37 s), no epoch on a telemetry sample (50 Hz): the raw records of an
+ * ideal 300-s flight close the loop, |dW| < 1e-6 m/s in both frames and
+ * systems; with the instrument errors of test_errors_second_order, dW - S X
+ * (envfun at the same epochs) stays second order. */
+static void test_epochs_between_samples(void **state)
+{
+    (void)state;
+    int ns, nep = 0;
+    assert_int_equal(igea_sim_trajectory_length(300.0, RATE, &ns), 0);
+    double *traj = malloc(sizeof(double) * (size_t)ns * IGEA_ENVFUN_TRAJ_COLS);
+    double ep[430], *dw = malloc(sizeof(double) * 3 * 430);
+    assert_non_null(traj);
+    assert_non_null(dw);
+    while (0.37 + 0.7 * nep <= 299.5)
+        ep[nep] = 0.37 + 0.7 * nep, nep++;
+    for (int s = 0; s < 2; s++) {
+        assert_int_equal(igea_sim_trajectory(s, 300.0, RATE, ns, traj, ns), 0);
+        for (int fr = 0; fr < 2; fr++) {
+            raw_dw_at(s, traj, ns, fr ? IGEA_NAV_LE : IGEA_NAV_ECEF, NULL, nep, ep, dw);
+            double m = max_abs(3 * nep, dw);
+            print_message("system %d frame %d: %d epochs over 300 s, max |dW| %.3g m/s\n", s,
+                          fr, nep, m);
+            assert_true(m < 1e-6);
+        }
+    }
+    /* instrument errors (5 x spec) on the 120-s flight, the same epochs */
+    static const int pf[4] = {IGEA_ENVFUN_TERM_ACC_BIAS_X + 1, IGEA_ENVFUN_TERM_ACC_SCALE_X,
+                              IGEA_ENVFUN_TERM_GYRO_BIAS_X + 2, IGEA_ENVFUN_TERM_ALIGN0_X};
+    static const int sd[4] = {IGEA_ENVFUN_TERM_ACC_BIAS_X, IGEA_ENVFUN_TERM_ACC_MIS_XY,
+                              IGEA_ENVFUN_TERM_GYRO_BIAS_X + 1, IGEA_ENVFUN_TERM_ATT0_X + 2};
+    static const double xv[4] = {5e-2, 5e-4, 1.2e-5, 5e-4};
+    int n2 = 0;
+    while (n2 < nep && ep[n2] <= DUR - 0.5)
+        n2++;
+    double *S = malloc(sizeof(double) * 3 * (size_t)n2 * 4), d[2];
+    assert_non_null(S);
+    for (int s = 0; s < 2; s++) {
+        const int *c = s == IGEA_ENVFUN_PLATFORM ? pf : sd;
+        assert_int_equal(igea_envfun_compute(s, NS, TRAJ[s], NS, 4, c, NULL, n2, ep, NULL,
+                                             IGEA_ENVFUN_VELOCITY, S, 3 * n2), 0);
+        for (int h = 0; h < 2; h++) {
+            double err[IGEA_ENVFUN_TERM_END] = {0};
+            for (int j = 0; j < 4; j++)
+                err[c[j]] = (h ? 0.5 : 1.0) * xv[j];
+            raw_dw_at(s, TRAJ[s], NS, IGEA_NAV_ECEF, err, n2, ep, dw);
+            d[h] = 0.0;
+            for (int i = 0; i < 3 * n2; i++) {
+                double sx = 0.0;
+                for (int j = 0; j < 4; j++)
+                    sx += S[i + 3 * (size_t)n2 * j] * err[c[j]];
+                d[h] = fmax(d[h], fabs(dw[i] - sx));
+            }
+        }
+        print_message("system %d, %d epochs off the samples: |dW - SX| %.3g (X), %.3g (X/2), "
+                      "ratio %.3f\n", s, n2, d[0], d[1], d[0] / d[1]);
+        assert_true(d[0] / d[1] > 3.5 && d[0] / d[1] < 4.5 && d[0] < 0.05);
+    }
+    free(S);
+    free(traj);
+    free(dw);
+}
+
 /* max |dW(err) - S X| of the launch-point errors (dx, dz) (m): S of
  * igea_envfun_compute_site with the stated site (site 1) or without
  * (igea_envfun_compute_user, site 0), the output kind of KIND. */
@@ -226,12 +308,17 @@ static void test_refusals(void **state)
                                   IGEA_NAV_LI, 1, &ep, NULL, tel, NS, trk, 1, q0, so), -9);
     assert_int_equal(igea_sim_raw(P, NS, T, NS, IGEA_ENVFUN_TERM_END, NULL, NULL, SITE, E, 1,
                                   &ep, NULL, tel, 9, trk, 1, q0, so), -14);
-    /* an epoch between samples; an error on a strapdown-only term */
-    double *big = malloc(sizeof(double) * (size_t)NS * 4);
+    /* epochs outside the trajectory, not increasing; an error on a
+     * strapdown-only term */
+    double *big = malloc(sizeof(double) * (size_t)NS * 4), trk2[14];
     assert_non_null(big);
-    double ep2 = 0.011;
+    double ep2 = DUR + 0.011, ep3 = -0.01, ep4[2] = {2.0, 2.0};
     assert_int_equal(igea_sim_raw(P, NS, T, NS, IGEA_ENVFUN_TERM_END, NULL, NULL, SITE, E, 1,
                                   &ep2, NULL, big, NS, trk, 1, q0, so), -11);
+    assert_int_equal(igea_sim_raw(P, NS, T, NS, IGEA_ENVFUN_TERM_END, NULL, NULL, SITE, E, 1,
+                                  &ep3, NULL, big, NS, trk, 1, q0, so), -11);
+    assert_int_equal(igea_sim_raw(P, NS, T, NS, IGEA_ENVFUN_TERM_END, NULL, NULL, SITE, E, 2,
+                                  ep4, NULL, big, NS, trk2, 2, q0, so), -11);
     err[IGEA_ENVFUN_TERM_ATT0_X] = 1e-4;
     assert_int_equal(igea_sim_raw(P, NS, T, NS, IGEA_ENVFUN_TERM_END, err, NULL, SITE, E, 1,
                                   &half, NULL, big, NS, trk, 1, q0, so), -6);
@@ -249,6 +336,7 @@ int main(void)
         cmocka_unit_test(test_noise),
         cmocka_unit_test(test_errors_second_order),
         cmocka_unit_test(test_launch_point),
+        cmocka_unit_test(test_epochs_between_samples),
         cmocka_unit_test(test_refusals),
     };
     return cmocka_run_group_tests(tests, setup, teardown);

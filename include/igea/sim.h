@@ -417,8 +417,12 @@ IGEA_API int igea_sim_pool(int nflights, const double *table, int ldt,
  *  7 axes     platform gyro axes as igea_envfun_compute, or NULL
  *  8 site     the true launch point (IGEA_NAV_SITE_LEN, igea_nav_site)
  *  9 frame    IGEA_NAV_ECEF or IGEA_NAV_LE, the tracking's frame
- * 10 nepochs  >= 1; 11 epochs: increasing, each a sample time of traj
- *             (within 1e-9 s)
+ * 10 nepochs  >= 1; 11 epochs: increasing, inside [t_0, t_last] (any
+ *             times: between samples t_{k-1} < t_e < t_k the true state is
+ *             a partial navigation step from t_{k-1} with the increments of
+ *             the linear interpolants of f and w over (t_{k-1}, t_e], the
+ *             lever arm's attitude and rate interpolated linearly; a time
+ *             within 1e-9 s of a sample is the sample's)
  * 12 noise    3 nepochs values: the velocity noise of dW in LI, epoch-major
  *             (the tracking velocity gets -noise, rotated into frame); may
  *             be NULL: none

@@ -54,7 +54,7 @@ static const cli_command command = {"simulate",
 "  telemetry.txt  t dvx dvy dvz [dthx dthy dthz]: increments with the\n"
 "                 instrument errors (strapdown body axes, platform axes)\n"
 "  tracking.txt   t x y z vx vy vz sigma of the true vehicle in --frame at\n"
-"                 the epochs (each a trajectory sample time), noise added\n"
+"                 the epochs (any times in the trajectory), noise added\n"
 "  dw_args.txt    the stated launch point, frame, system and lift-off\n"
 "                 attitude as igea dw options: igea dw $(cat dw_args.txt) ...\n"
 "  site_args.txt  the stated launch point alone, for igea envfun (its pos0_*\n"
@@ -188,7 +188,8 @@ static int run_raw(const sm_args *a, const cli_flight_args *fa, cli_flight *f, s
         st = igea_sim_raw(fa->system, ns, f->traj, ns, ne, err, NULL, site, a->frame, f->nep,
                           f->ep, noise, tel, ns, trk, f->nep, r->q0, r->site);
         if (st == -11)
-            cli_error("simulate --raw: every tracking epoch must be a trajectory sample time");
+            cli_error("simulate --raw: the tracking epochs must increase and lie inside the "
+                      "trajectory");
         ec = st == -11 ? CLI_DATAERR : cli_status(st, "simulate --raw");
     }
     r->tel_rows = ns;

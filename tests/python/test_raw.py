@@ -152,8 +152,8 @@ def test_driver_refusals(tmp_path):
     d = str(tmp_path)
     r = run("simulate", "--raw", "--frame", "li", "--dir", ".", cwd=d)
     assert r.returncode == 64 and "--frame" in r.stderr
-    r = run("simulate", "--raw", "--epoch-step", "1.01", "--dir", ".", cwd=d)
-    assert r.returncode == 65 and "sample time" in r.stderr
+    r = run("simulate", "--raw", "--lat", "95", "--dir", ".", cwd=d)
+    assert r.returncode == 64 and "--lat" in r.stderr
     assert not os.path.exists(os.path.join(d, "telemetry.txt"))
 
 
