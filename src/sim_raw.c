@@ -396,3 +396,44 @@ int igea_sim_raw(int system, int nsamp, const double *traj, int ldt, int nerr,
     free(kb);
     return st;
 }
+
+int igea_sim_raw_track(int system, int nsamp, const double *traj, int ldt, int nerr,
+                       const double *err, const int *axes, const double *site, int frame,
+                       int nepochs, const double *epochs, const double *trk_err, int acc_cols,
+                       const double *acc, double *tel, int ldtel, double *trk, int ldtrk,
+                       double *q0, double *site_out)
+{
+    if (acc_cols != 0 && acc_cols != 1 && acc_cols != 3 && acc_cols != 6 && acc_cols != 21)
+        return -13;
+    if (acc_cols > 0 && !acc)
+        return -14;
+    if (!trk)
+        return -17;
+    if (nepochs >= 1 && ldtrk < nepochs)
+        return -18;
+    if (nepochs >= 1 && nepochs <= INT_MAX / 21) {
+        if (trk_err && !igea__finite_vec(6 * nepochs, trk_err, 1))
+            return -12;
+        if (acc_cols > 0 && !igea__finite_vec(acc_cols * nepochs, acc, 1))
+            return -14;
+    }
+    double *kb = nepochs >= 1 && nepochs <= INT_MAX / 21 ? igea__dalloc((size_t)nepochs * 7) : NULL;
+    if (!kb && nepochs >= 1 && nepochs <= INT_MAX / 21)
+        return IGEA_ENOMEM;
+    int st = igea_sim_raw(system, nsamp, traj, ldt, nerr, err, axes, site, frame, nepochs,
+                          epochs, NULL, tel, ldtel, kb, nepochs, q0, site_out);
+    if (st == 0) {
+        for (int e = 0; e < nepochs; e++) {
+            IGEA_AT(trk, ldtrk, e, 0) = IGEA_AT(kb, nepochs, e, 0);
+            for (int c = 1; c < 7; c++)
+                IGEA_AT(trk, ldtrk, e, c) =
+                    IGEA_AT(kb, nepochs, e, c) + (trk_err ? trk_err[6 * (size_t)e + c - 1] : 0.0);
+            for (int c = 0; c < acc_cols; c++)
+                IGEA_AT(trk, ldtrk, e, 7 + c) = acc[(size_t)acc_cols * e + c];
+        }
+    }
+    free(kb);
+    if (st == -13 || st == -14)
+        return st - 2;
+    return st == -17 || st == -18 ? st - 2 : st;
+}

@@ -442,6 +442,36 @@ IGEA_API int igea_sim_raw(int system, int nsamp, const double *traj, int ldt, in
                           const double *noise, double *tel, int ldtel, double *trk,
                           int ldtrk, double *q0, double *site_out);
 
+/*
+ * igea_sim_raw with the tracking's own errors and accuracy columns
+ * (docs/pipeline.md section 8): the tracked position and velocity of
+ * epoch e get the errors trk_err[6 e .. 6 e + 5] (dx dy dz dvx dvy dvz,
+ * m and m/s, in the tracking's frame: what a tracking system measures
+ * wrong) and row e's accuracy columns are acc[acc_cols e .. acc_cols e +
+ * acc_cols - 1] as igea_dw_compute reads them after t x y z vx vy vz (1: one
+ * sigma; 3: sigma_x sigma_y sigma_z; 6: the velocity covariance c_xx c_xy
+ * c_xz c_yy c_yz c_zz; 21: the 6 x 6 position-velocity covariance, upper
+ * triangle row by row), copied as given (the caller states them; they
+ * are not checked against the errors).
+ * Arguments: 1-11 as igea_sim_raw (positions 1-11)
+ * 12 trk_err  6 nepochs values (finite), epoch-major; may be NULL: none
+ * 13 acc_cols 0, 1, 3, 6 or 21
+ * 14 acc      acc_cols nepochs values (finite), epoch-major; may be NULL
+ *             only when acc_cols is 0
+ * 15 tel, 16 ldtel  as igea_sim_raw
+ * 17 trk      output, nepochs x (IGEA_SIM_RAW_TRK_COLS + acc_cols)
+ *             column-major; 18 ldtrk >= nepochs
+ * 19 q0, 20 site_out as igea_sim_raw
+ * Returns as igea_sim_raw (-12 also a non-finite trk_err, -14 a
+ * non-finite acc); outputs untouched on failure.
+ */
+IGEA_API int igea_sim_raw_track(int system, int nsamp, const double *traj, int ldt, int nerr,
+                                const double *err, const int *axes, const double *site,
+                                int frame, int nepochs, const double *epochs,
+                                const double *trk_err, int acc_cols, const double *acc,
+                                double *tel, int ldtel, double *trk, int ldtrk, double *q0,
+                                double *site_out);
+
 #ifdef __cplusplus
 }
 #endif
