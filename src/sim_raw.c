@@ -6,12 +6,16 @@
  * igea_nav_*'s. */
 #include <limits.h>
 
+#include <gsl/gsl_randist.h>
+#include <gsl/gsl_rng.h>
+
 #include "igea/envfun.h"
 #include "igea/nav.h"
 #include "igea/sim.h"
 #include "internal.h"
 #include "rotation.h"
 #include "envfun_terms.h"
+#include "sim_model.h"
 
 /* The erroneous instruments: codes with errors by family, gyro axes, the
  * platform's attitude P (C_p^a) and drift at the previous sample. */
@@ -436,4 +440,94 @@ int igea_sim_raw_track(int system, int nsamp, const double *traj, int ldt, int n
     if (st == -13 || st == -14)
         return st - 2;
     return st == -17 || st == -18 ? st - 2 : st;
+}
+
+/* P (6 x 6 row-major) of igea_sim_track_errors with velocity sigma sv. */
+static void track_cov(double sr, double sv, double rho, double c, double *P)
+{
+    double R[9] = {1, rho, rho * rho, rho, 1, rho, rho * rho, rho, 1}, s[2] = {sr, sv};
+    for (int bi = 0; bi < 2; bi++)
+        for (int bj = 0; bj < 2; bj++)
+            for (int i = 0; i < 3; i++)
+                for (int j = 0; j < 3; j++)
+                    P[6 * (3 * bi + i) + 3 * bj + j] =
+                        (bi == bj ? 1.0 : c) * s[bi] * s[bj] * R[3 * i + j];
+}
+
+/* Lower Cholesky factor L of the 6 x 6 P (0, or -1 if not positive). */
+static int chol6(const double *P, double *L)
+{
+    memset(L, 0, 36 * sizeof *L);
+    for (int j = 0; j < 6; j++) {
+        double d = P[7 * j];
+        for (int k = 0; k < j; k++)
+            d -= L[6 * j + k] * L[6 * j + k];
+        if (!(d > 0.0))
+            return -1;
+        L[7 * j] = sqrt(d);
+        for (int i = j + 1; i < 6; i++) {
+            double v = P[6 * i + j];
+            for (int k = 0; k < j; k++)
+                v -= L[6 * i + k] * L[6 * j + k];
+            L[6 * i + j] = v / L[7 * j];
+        }
+    }
+    return 0;
+}
+
+int igea_sim_track_errors(int nepochs, const double *sigma_v, double sigma_r, double rho,
+                          double cross, int seed, int flight, double *acc, double *err)
+{
+    if (nepochs < 1 || nepochs > INT_MAX / 21)
+        return -1;
+    if (!sigma_v)
+        return -2;
+    if (!(sigma_r > 0.0) || !isfinite(sigma_r))
+        return isnan(sigma_r) || isinf(sigma_r) ? IGEA_ENONFINITE : -3;
+    if (!(fabs(rho) < 1.0))
+        return isnan(rho) ? IGEA_ENONFINITE : -4;
+    if (!(fabs(cross) < 1.0))
+        return isnan(cross) ? IGEA_ENONFINITE : -5;
+    if (seed < 0)
+        return -6;
+    if (flight < 0)
+        return -7;
+    if (!acc)
+        return -8;
+    if (!igea__finite_vec(nepochs, sigma_v, 1))
+        return IGEA_ENONFINITE;
+    for (int e = 0; e < nepochs; e++)
+        if (!(sigma_v[e] > 0.0))
+            return -2;
+    double *a = igea__dalloc(27 * (size_t)nepochs), P[36], L[36];
+    gsl_rng *g = igea__rng_new(gsl_rng_mt19937, igea__sim_flight_seed(seed, flight) ^ 0x5EEDUL);
+    int st = !a || !g ? IGEA_ENOMEM : 0;
+    for (int e = 0; !st && e < nepochs; e++) {
+        track_cov(sigma_r, sigma_v[e], rho, cross, P);
+        if (chol6(P, L)) {
+            st = IGEA_ENONFINITE; /* underflow of a tiny sigma product */
+            break;
+        }
+        double z[6], *ae = a + 21 * (size_t)e, *ee = a + 21 * (size_t)nepochs + 6 * (size_t)e;
+        for (int i = 0, c = 0; i < 6; i++)
+            for (int j = i; j < 6; j++)
+                ae[c++] = P[6 * i + j];
+        for (int i = 0; i < 6; i++)
+            z[i] = gsl_ran_gaussian(g, 1.0);
+        for (int i = 0; i < 6; i++) {
+            ee[i] = 0.0;
+            for (int k = 0; k <= i; k++)
+                ee[i] += L[6 * i + k] * z[k];
+        }
+    }
+    if (!st && !igea__finite_vec(27 * nepochs, a, 1))
+        st = IGEA_ENONFINITE;
+    if (!st) {
+        memcpy(acc, a, 21 * (size_t)nepochs * sizeof *acc);
+        if (err)
+            memcpy(err, a + 21 * (size_t)nepochs, 6 * (size_t)nepochs * sizeof *err);
+    }
+    free(a);
+    igea__rng_free(g);
+    return st;
 }

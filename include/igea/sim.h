@@ -472,6 +472,34 @@ IGEA_API int igea_sim_raw_track(int system, int nsamp, const double *traj, int l
                                 double *tel, int ldtel, double *trk, int ldtrk, double *q0,
                                 double *site_out);
 
+/*
+ * A tracking error model for igea_sim_raw_track (docs/pipeline.md section
+ * 8) [D]: per epoch the 6 x 6 covariance of the position and velocity
+ * errors in the tracking axes,
+ *   P_e = [[s_r^2 R, c s_r s_v,e R], [c s_r s_v,e R, s_v,e^2 R]],
+ *   R = [[1 r r^2], [r 1 r], [r^2 r 1]]
+ * (positive definite for |r| < 1, |c| < 1), and a draw err_e = L_e z, L_e
+ * its Cholesky factor, z standard normal from the MT19937 generator of
+ * (seed, flight) (a stream of its own, not the flight's noise).
+ * Arguments:
+ *  1 nepochs  >= 1
+ *  2 sigma_v  nepochs values > 0: the velocity 1-sigma per axis, m/s
+ *  3 sigma_r  > 0, the position 1-sigma per axis, m
+ *  4 rho      |rho| < 1, the correlation between neighbouring axes
+ *  5 cross    |cross| < 1, the position-velocity correlation per axis pair
+ *  6 seed, 7 flight   >= 0 (as igea_sim_flight)
+ *  8 acc      output, 21 nepochs: P_e's upper triangle row by row (x y z
+ *             vx vy vz), epoch-major: igea_sim_raw_track's acc with
+ *             acc_cols 21
+ *  9 err      output, 6 nepochs: the draws dx dy dz dvx dvy dvz, epoch-major;
+ *             may be NULL
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENOMEM; outputs untouched on
+ * failure.
+ */
+IGEA_API int igea_sim_track_errors(int nepochs, const double *sigma_v, double sigma_r,
+                                   double rho, double cross, int seed, int flight,
+                                   double *acc, double *err);
+
 #ifdef __cplusplus
 }
 #endif

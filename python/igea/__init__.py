@@ -31,4 +31,4 @@ from .io import MatrixFile, read_matrix  # noqa: E402
 from .nav import NavResult, nav_ecef_to_geodetic, nav_geodetic_to_ecef, nav_gravity, nav_navigate, nav_site, nav_transform  # noqa: E402,E501
 from .dw import DwResult, dw  # noqa: E402
 from .inserr import NavErrors, nav_errors  # noqa: E402
-from .sim import RawFlight, simulate_raw  # noqa: E402
+from .sim import RawFlight, simulate_raw, track_errors  # noqa: E402

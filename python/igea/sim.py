@@ -408,3 +408,23 @@ def simulate_raw(traj=None, terms=None, epochs=None, *, system="strapdown", lat=
                      lon=float(np.degrees(so[1])), height=float(so[2]),
                      azimuth=float(np.degrees(so[3])), q0=q0, frame=frame, system=system,
                      flight=fl)
+
+
+def track_errors(sigma_v, sigma_r, *, corr=0.0, cross=0.0, seed=0, flight=0):
+    """A tracking error model for simulate_raw(trk_err=, acc=): per epoch the
+    6 x 6 covariance of the position and velocity errors (x y z vx vy vz,
+    tracking axes) [[s_r^2 R, c s_r s_v R], [c s_r s_v R, s_v^2 R]], R =
+    [[1 r r^2], [r 1 r], [r^2 r 1]] (r = corr, c = cross: simulate --raw's
+    --track-corr, --track-cross), and one draw of them
+    (igea_sim_track_errors; the generator of (seed, flight)).
+    sigma_v: (epochs,) velocity 1-sigma per axis (m/s); sigma_r: position
+    1-sigma (m). Returns (acc (epochs, 21) the upper triangles row by row,
+    err (epochs, 6))."""
+    sv = np.ascontiguousarray(_lib.as_f64(sigma_v, "sigma_v", ndim=1))
+    ne = sv.size
+    if ne < 1:
+        raise ValueError("sigma_v: empty")
+    acc, err = np.zeros((ne, 21)), np.zeros((ne, 6))
+    _lib.call("igea.track_errors", "igea_sim_track_errors", ne, _lib.dptr(sv), float(sigma_r),
+              float(corr), float(cross), int(seed), int(flight), _lib.dptr(acc), _lib.dptr(err))
+    return acc, err

@@ -110,3 +110,61 @@ def test_chi2_size_correlated_tracking():
     lo, hi = stats.binom.ppf([0.005, 0.995], FLIGHTS, 0.2)
     print(f"chi2 rejections at alpha 0.2: {rej}/{FLIGHTS} (99 % band {lo:.0f}..{hi:.0f})")
     assert lo <= rej <= hi
+
+
+def test_track_errors_model():
+    """igea.track_errors: acc holds the covariance written here (cov6 with
+    constant sigmas), and 6000 draws have that covariance (each entry within
+    5 of its standard errors, (P_ii P_jj + P_ij^2) / n)."""
+    n = 6000
+    acc, err = igea.track_errors(np.full(n, 0.02), 40.0, corr=0.5, cross=-0.4, seed=5, flight=2)
+    P = cov6(0, 1, sr=40.0, sv=0.02, rho=0.5, c=-0.4)
+    np.testing.assert_allclose(acc, np.tile(upper(P), (n, 1)), rtol=1e-14)
+    emp = err.T @ err / n
+    se = np.sqrt((np.outer(np.diag(P), np.diag(P)) + P ** 2) / n)
+    assert np.all(np.abs(emp - P) < 5 * se)
+    a2, e2 = igea.track_errors(np.full(n, 0.02), 40.0, corr=0.5, cross=-0.4, seed=5, flight=2)
+    np.testing.assert_array_equal(e2, err)                       # the same stream
+    _, e3 = igea.track_errors(np.full(n, 0.02), 40.0, corr=0.5, cross=-0.4, seed=5, flight=3)
+    assert not np.array_equal(e3, err)
+    for kw in (dict(corr=1.0), dict(cross=-1.0)):
+        with pytest.raises(igea.IgeaError):
+            igea.track_errors(np.full(3, 0.02), 40.0, **kw)
+    with pytest.raises(igea.IgeaError):
+        igea.track_errors(np.array([0.02, 0.0]), 40.0)
+
+
+@pytest.mark.skipif(not DRIVER, reason="the driver")
+def test_driver_track_pipeline(tmp_path):
+    """simulate --raw --track-sigma-r: tracking.txt holds 28 columns whose
+    covariance columns are cov6's with the stated sigma; dw --k-out writes K
+    in eqerr --cov's order (xx yx yy zx zy zz), the transpose-free
+    rearrangement of --cov-out; eqerr --cov K judges the flight."""
+    d = str(tmp_path)
+
+    def run(*a):
+        return subprocess.run([DRIVER, *a], cwd=d, capture_output=True, text=True)
+    r = run("simulate", "--raw", "--system", "platform", "--seed", "7", "--track-sigma-r", "50",
+            "--track-corr", "0.6", "--track-cross", "0.3", "--dir", ".")
+    assert r.returncode == 0, r.stderr
+    trk = np.loadtxt(os.path.join(d, "tracking.txt"), ndmin=2)
+    sig = np.loadtxt(os.path.join(d, "sigma.txt"))[0::3]
+    assert trk.shape[1] == 28
+    for e in (0, len(trk) - 1):
+        P = cov6(0, 1, sr=50.0, sv=sig[e], rho=0.6, c=0.3)
+        np.testing.assert_allclose(trk[e, 7:], upper(P), rtol=1e-14)
+    args = open(os.path.join(d, "dw_args.txt")).read().split()
+    r = run("dw", *args, "--telemetry", "telemetry.txt", "--tracking", "tracking.txt",
+            "--out", "dw_raw.txt", "--cov-out", "cov.txt", "--k-out", "K.txt")
+    assert r.returncode == 0, r.stderr
+    cov, K = np.loadtxt(os.path.join(d, "cov.txt")), np.loadtxt(os.path.join(d, "K.txt"))
+    np.testing.assert_array_equal(K, cov[:, [0, 1, 3, 2, 4, 5]])
+    sa = open(os.path.join(d, "site_args.txt")).read().split()
+    r = run("envfun", *sa, "--traj", "traj.txt", "--terms", "default", "--system", "platform",
+            "--out", "S_raw.txt")
+    assert r.returncode == 0, r.stderr
+    r = run("eqerr", "--json", "--S", "S_raw.txt", "--dw", "dw_raw.txt", "--cov", "K.txt",
+            "--spec", "spec.txt")
+    assert r.returncode in (0, 1), r.stderr
+    r = run("simulate", "--raw", "--track-sigma-r", "5", "--track-corr", "1", "--dir", ".")
+    assert r.returncode == 64 and "--track-corr" in r.stderr
