@@ -120,19 +120,33 @@ def _cov(cov):
     return _lib.as_f64(cov, "cov", ndim=2, shape=(2, 2))
 
 
-def circle_prob(cov, radius):
-    """Probability that a zero-mean normal 2-vector of covariance cov lies
-    within radius of its mean (exact)."""
+def circle_prob(cov, radius, mean=None):
+    """Probability that a normal 2-vector of covariance cov lies within
+    radius of its mean (exact); with mean=(m1, m2), within radius of the
+    origin (the aim point) when its mean is there (igea_impact_circle_prob_offset)."""
     p = ctypes.c_double()
-    _lib.call("igea.circle_prob", "igea_impact_circle_prob", _lib.dptr(_cov(cov)),
-              float(radius), ctypes.byref(p))
+    if mean is None:
+        _lib.call("igea.circle_prob", "igea_impact_circle_prob", _lib.dptr(_cov(cov)),
+                  float(radius), ctypes.byref(p))
+    else:
+        m = np.ascontiguousarray(_lib.as_f64(mean, "mean", ndim=1, shape=(2,)))
+        _lib.call("igea.circle_prob", "igea_impact_circle_prob_offset", _lib.dptr(_cov(cov)),
+                  _lib.dptr(m), float(radius), ctypes.byref(p))
     return p.value
 
 
-def cep(cov, prob=0.5):
-    """The radius about the mean holding probability prob (0.5: the CEP)."""
+def cep(cov, prob=0.5, mean=None):
+    """The radius about the mean holding probability prob (0.5: the CEP);
+    with mean=(m1, m2) the miss's mean offset, the radius about the origin
+    (the aim point): the biased CEP (igea_impact_cep_offset)."""
     r = ctypes.c_double()
-    _lib.call("igea.cep", "igea_impact_cep", _lib.dptr(_cov(cov)), float(prob), ctypes.byref(r))
+    if mean is None:
+        _lib.call("igea.cep", "igea_impact_cep", _lib.dptr(_cov(cov)), float(prob),
+                  ctypes.byref(r))
+    else:
+        m = np.ascontiguousarray(_lib.as_f64(mean, "mean", ndim=1, shape=(2,)))
+        _lib.call("igea.cep", "igea_impact_cep_offset", _lib.dptr(_cov(cov)), _lib.dptr(m),
+                  float(prob), ctypes.byref(r))
     return r.value
 
 

@@ -251,6 +251,9 @@ BASE = {
     'igea_impact_circle_prob': dict(cov='[4.0, 1.0, 1.0, 2.0]', r='1.5'),
     'igea_impact_cep': dict(cov='[4.0, 1.0, 1.0, 2.0]', prob='0.5'),
     'igea_impact_cep_approx': dict(cov='[4.0, 1.0, 1.0, 2.0]', rule='IGEA_IMPACT_CEP_SUM'),
+    'igea_impact_circle_prob_offset': dict(cov='[4.0, 1.0, 1.0, 2.0]', mean='[1.0, -0.5]',
+                                           r='1.5'),
+    'igea_impact_cep_offset': dict(cov='[4.0, 1.0, 1.0, 2.0]', mean='[1.0, -0.5]', prob='0.5'),
     # ---- triad
     'igea_triad_check_opts': dict(opts=TRIAD_OPTS, _nan_ok=['opts'], _inf_ok=['opts'],
                                   _req=['opts']),
