@@ -798,3 +798,61 @@ int igea_impact_cep_offset(const double *cov, const double *mean, double prob,
     *radius = 0.5 * (lo + hi);
     return 0;
 }
+
+/* ---- the miss of the equivalent-error components ---------------------- */
+
+int igea_impact_component_miss(int N, int n, const double *G, int ldg, const double *E,
+                               int lde, const double *P, int ldp, const double *equiv,
+                               double *miss)
+{
+    if (N < 1)
+        return -1;
+    if (n < 1)
+        return -2;
+    if (!G)
+        return -3;
+    if (ldg < 2)
+        return -4;
+    if (!E)
+        return -5;
+    if (lde < 6)
+        return -6;
+    if (!P)
+        return -7;
+    if (ldp < N)
+        return -8;
+    if (!equiv)
+        return -9;
+    if (!miss)
+        return -10;
+    for (int k = 0; k < 6; k++)
+        if (!isfinite(IGEA_AT(G, ldg, 0, k)) || !isfinite(IGEA_AT(G, ldg, 1, k)))
+            return IGEA_ENONFINITE;
+    for (int j = 0; j < N; j++)
+        if (!finite_n(E + (size_t)j * lde, 6))
+            return IGEA_ENONFINITE;
+    for (int i = 0; i < n; i++)
+        if (!finite_n(P + (size_t)i * ldp, N) || !isfinite(equiv[i]))
+            return IGEA_ENONFINITE;
+    double *out = igea__dalloc(2 * (size_t)n);
+    if (!out)
+        return IGEA_ENOMEM;
+    for (int i = 0; i < n; i++) {
+        double md = 0.0, mc = 0.0;
+        for (int j = 0; j < N; j++) { /* (G E)_j p_ji */
+            double pj = IGEA_AT(P, ldp, j, i), gd = 0.0, gc = 0.0;
+            for (int k = 0; k < 6; k++) {
+                gd += IGEA_AT(G, ldg, 0, k) * IGEA_AT(E, lde, k, j);
+                gc += IGEA_AT(G, ldg, 1, k) * IGEA_AT(E, lde, k, j);
+            }
+            md += gd * pj, mc += gc * pj;
+        }
+        out[2 * i] = md * equiv[i];
+        out[2 * i + 1] = mc * equiv[i];
+    }
+    int st = finite_n(out, 2 * n) ? 0 : IGEA_ENONFINITE;
+    if (!st)
+        memcpy(miss, out, 2 * (size_t)n * sizeof *miss);
+    free(out);
+    return st;
+}

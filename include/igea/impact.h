@@ -189,6 +189,28 @@ IGEA_API int igea_impact_circle_prob_offset(const double *cov, const double *mea
 IGEA_API int igea_impact_cep_offset(const double *cov, const double *mean, double prob,
                                     double *radius);
 
+/*
+ * The miss distance that each equivalent-error component corresponds to
+ * (docs/impact.md): component i of the accuracy test (igea/eqerr.h: the
+ * direction p_i, an eigenvector of the normal matrix, and its equivalent
+ * error x_i, both in the units of S's columns) is the error vector p_i x_i
+ * of the terms, whose burnout state error is E p_i x_i and whose miss is
+ *   miss_i = G E p_i x_i   (downrange, crossrange; m).
+ *  1 N >= 1 terms (S's columns); 2 n >= 1 components
+ *  3 G (2 x 6, igea_impact_miss_jacobian), 4 ldg >= 2
+ *  5 E (6 x N column-major): the burnout state error (x y z vx vy vz, ECEF
+ *    at burnout) per unit of each column of S (e.g. envfun's position and
+ *    velocity functions at the burnout time, turned into ECEF), 6 lde >= 6
+ *  7 P (N x n column-major): the components' directions, 8 ldp >= N
+ *  9 equiv[n]: their equivalent errors
+ * 10 miss (output, 2 x n, ld 2): downrange and crossrange miss of each
+ * Returns 0, -i, IGEA_ENONFINITE (an input or a result), IGEA_ENOMEM; miss
+ * untouched on failure.
+ */
+IGEA_API int igea_impact_component_miss(int N, int n, const double *G, int ldg,
+                                        const double *E, int lde, const double *P, int ldp,
+                                        const double *equiv, double *miss);
+
 #ifdef __cplusplus
 }
 #endif

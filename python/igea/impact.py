@@ -158,3 +158,26 @@ def cep_approx(cov, rule="sum"):
     _lib.call("igea.cep_approx", "igea_impact_cep_approx", _lib.dptr(_cov(cov)), code,
               ctypes.byref(r))
     return r.value
+
+
+def component_miss(miss_jacobian, E, directions, equiv_err):
+    """The miss (n, 2: downrange, crossrange, m) that each equivalent-error
+    component corresponds to: G E p_i x_i, with miss_jacobian G (2, 6) of
+    igea.impact, E (6, N) the burnout state error (x y z vx vy vz, ECEF) per
+    unit of each of S's N columns, directions (N, n) the components'
+    eigenvectors and equiv_err (n,) their equivalent errors (as
+    igea.eqerr's eigenvectors[:, :n] and equiv_err[:n]);
+    igea_impact_component_miss."""
+    where = "igea.component_miss"
+    G = np.asfortranarray(_lib.as_f64(miss_jacobian, "miss_jacobian", ndim=2, shape=(2, 6)))
+    e = np.asfortranarray(_lib.as_f64(E, "E", ndim=2, shape=(6, None)))
+    N = e.shape[1]
+    P = np.asfortranarray(_lib.as_f64(directions, "directions", ndim=2, shape=(N, None)))
+    n = P.shape[1]
+    x = np.ascontiguousarray(_lib.as_f64(equiv_err, "equiv_err", ndim=1, shape=(n,)))
+    if N < 1 or n < 1:
+        raise ValueError("E, directions: at least one term and one component")
+    miss = np.zeros((n, 2))
+    _lib.call(where, "igea_impact_component_miss", N, n, _lib.dptr(G), 2, _lib.dptr(e), 6,
+              _lib.dptr(P), N, _lib.dptr(x), _lib.dptr(miss))
+    return miss

@@ -254,6 +254,8 @@ BASE = {
     'igea_impact_circle_prob_offset': dict(cov='[4.0, 1.0, 1.0, 2.0]', mean='[1.0, -0.5]',
                                            r='1.5'),
     'igea_impact_cep_offset': dict(cov='[4.0, 1.0, 1.0, 2.0]', mean='[1.0, -0.5]', prob='0.5'),
+    'igea_impact_component_miss': dict(N='3', n='2', G='u', ldg='2', E='u', lde='6', P='u',
+                                       ldp='N', equiv='u'),
     # ---- triad
     'igea_triad_check_opts': dict(opts=TRIAD_OPTS, _nan_ok=['opts'], _inf_ok=['opts'],
                                   _req=['opts']),
