@@ -41,7 +41,7 @@ static const cli_opt options[] = {
 static const cli_command command = {"dw",
 "usage: igea dw --telemetry FILE --tracking FILE --lat DEG --lon DEG --azimuth DEG\n"
 "               [--height M] [--frame le|ecef] [--system strapdown|platform]\n"
-"               --out FILE [--cov-out FILE] [--sigma-out FILE] [options]\n"
+"               --out FILE [--cov-out FILE] [--k-out FILE] [--sigma-out FILE] [options]\n"
 "\n"
 "Telemetry minus tracking (docs/pipeline.md): the apparent-velocity\n"
 "differences dW = W_telemetry - W_tracking at the tracking epochs, in the\n"
@@ -55,7 +55,9 @@ static const cli_command command = {"dw",
 "or t dvx dvy dvz (platform, along LI); each row holds the increments since\n"
 "the row before; the first row is lift-off (vehicle at rest on the pad).\n"
 "Tracking: t x y z vx vy vz (m, m/s, in --frame) and the velocity accuracy:\n"
-"nothing, one sigma, sigma_x sigma_y sigma_z, or c_xx c_xy c_xz c_yy c_yz c_zz.\n"
+"nothing, one sigma, sigma_x sigma_y sigma_z, c_xx c_xy c_xz c_yy c_yz c_zz, or\n"
+"the 6 x 6 covariance of x y z vx vy vz (21 values, its upper triangle row by\n"
+"row; the position's part enters K through the Earth rate).\n"
 "Epochs may be unequally spaced, with gaps; each must lie in the telemetry span.\n"
 "\n"
 "options:\n",

@@ -168,3 +168,9 @@ def test_driver_track_pipeline(tmp_path):
     assert r.returncode in (0, 1), r.stderr
     r = run("simulate", "--raw", "--track-sigma-r", "5", "--track-corr", "1", "--dir", ".")
     assert r.returncode == 64 and "--track-corr" in r.stderr
+    bad = trk.copy()
+    bad[5, 7] = -1.0                                   # c_x_x < 0: not positive definite
+    np.savetxt(os.path.join(d, "bad.txt"), bad)
+    r = run("dw", *args, "--telemetry", "telemetry.txt", "--tracking", "bad.txt", "--out", "x.txt")
+    assert r.returncode == 65 and "bad.txt" in r.stderr and "positive definite" in r.stderr
+    assert not os.path.exists(os.path.join(d, "x.txt"))
