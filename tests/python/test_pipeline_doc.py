@@ -6,7 +6,7 @@ each command must exit 0, or 1 when it is an igea verdict), console ("$
 command" lines run the same way; the lines under a command must appear in
 its output, "..." standing for lines left out), python (run in the same
 directory with the package and library under test), text (not run). The
-helpers follow tests/python/test_readme.py's."""
+block reading and running follow tests/python/test_readme.py's."""
 import os
 import re
 import subprocess
