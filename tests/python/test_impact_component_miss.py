@@ -63,3 +63,37 @@ def test_component_miss_refusals():
     E[2, 1] = np.inf
     with pytest.raises(igea.IgeaError):
         igea.component_miss(G, E, np.ones((3, 1)), [1.0])
+
+
+def test_eqerr_report_component_miss(tmp_path):
+    """igea eqerr --burnout --burnout-errors (opt-in): the JSON component_miss
+    of each tested component equals numpy's G E p_i x_i, G the Kepler miss
+    Jacobian of igea.impact, p_i and x_i of igea.eqerr on the same files;
+    the text report prints the lines; one option alone is refused."""
+    import json
+    import os
+    import subprocess
+    driver = os.environ["IGEA_DRIVER"]
+    d = str(tmp_path)
+    fl = igea.simulate(system="platform", seed=7)
+    for name, a in (("S", fl.S), ("dw", fl.dw), ("sigma", fl.sigma), ("spec", fl.spec)):
+        np.savetxt(os.path.join(d, name + ".txt"), a)
+    E = burnout_errors(fl, 100.0, "platform")
+    np.savetxt(os.path.join(d, "E.txt"), E)
+    b = ",".join(repr(v) for v in BURNOUT)
+    args = [driver, "eqerr", "--S", "S.txt", "--dw", "dw.txt", "--sigma", "sigma.txt", "--spec",
+            "spec.txt", "--burnout", b, "--burnout-errors", "E.txt"]
+    r = subprocess.run(args + ["--json"], cwd=d, capture_output=True, text=True)
+    assert r.returncode in (0, 1), r.stderr
+    got = np.array(json.loads(r.stdout)["component_miss"])
+    res = igea.eqerr(fl.S, fl.dw, fl.sigma, fl.spec)
+    n = res.n_test
+    G = igea.impact(BURNOUT).miss_jacobian
+    want = (G @ np.loadtxt(os.path.join(d, "E.txt")) @ res.eigenvectors[:, :n]
+            * res.equiv_err[:n]).T
+    assert got.shape == (n, 2)
+    np.testing.assert_allclose(got, want, rtol=1e-9, atol=1e-9 * np.abs(want).max())
+    t = subprocess.run(args, cwd=d, capture_output=True, text=True)
+    assert "m downrange" in t.stdout and "m crossrange" in t.stdout
+    r = subprocess.run(args[:-2], cwd=d, capture_output=True, text=True)
+    assert r.returncode == 64 and "--burnout-errors" in r.stderr
