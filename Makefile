@@ -196,19 +196,21 @@ demo: deps
 	@echo "== the seed's Table 1 judged again (examples/seed000_table1.txt)"
 	@$(DRIVER) test --table examples/seed000_table1.txt --z-crit 2.58; [ $$? -le 1 ]
 	@echo "== from raw range records (docs/pipeline.md section 8): a 74-term platform flight,"
-	@echo "   igea simulate --raw writes the telemetry increments and the tracking (ECEF)"
+	@echo "   igea simulate --raw writes the telemetry increments and the tracking (ECEF, with"
+	@echo "   correlated position and velocity errors and their 6 x 6 covariance per epoch)"
 	@rm -rf $(BUILD)/demoraw && mkdir -p $(BUILD)/demoraw
-	@$(DRIVER) simulate --raw --system platform --terms all --seed 7 --dir $(BUILD)/demoraw
+	@$(DRIVER) simulate --raw --system platform --terms all --seed 7 --track-sigma-r 10 \
+	  --track-corr 0.5 --track-cross 0.2 --dir $(BUILD)/demoraw
 	@head -4 $(BUILD)/demoraw/telemetry.txt; head -3 $(BUILD)/demoraw/tracking.txt
 	@echo "== igea dw: telemetry minus tracking, with the stated launch point of dw_args.txt:"
 	@cat $(BUILD)/demoraw/dw_args.txt
 	@cd $(BUILD)/demoraw && $(CURDIR)/$(DRIVER) dw $$(cat dw_args.txt) --telemetry telemetry.txt \
-	  --tracking tracking.txt --out dw_raw.txt --sigma-out sigma_raw.txt
-	@echo "== igea envfun: the same flight's trajectory -> S of the 74 terms"
-	@cd $(BUILD)/demoraw && $(CURDIR)/$(DRIVER) envfun --traj traj.txt --terms all --system platform \
+	  --tracking tracking.txt --out dw_raw.txt --sigma-out sigma_raw.txt --k-out K_raw.txt
+	@echo "== igea envfun: the same flight's trajectory and stated launch point (site_args.txt) -> S of the 74 terms"
+	@cd $(BUILD)/demoraw && $(CURDIR)/$(DRIVER) envfun $$(cat site_args.txt) --traj traj.txt --terms all --system platform \
 	  --out S_raw.txt
-	@echo "== igea eqerr: the verdict from the raw records"
-	@cd $(BUILD)/demoraw && $(CURDIR)/$(DRIVER) eqerr --S S_raw.txt --dw dw_raw.txt --sigma sigma_raw.txt \
+	@echo "== igea eqerr: the verdict from the raw records (the block covariance K of dw --k-out)"
+	@cd $(BUILD)/demoraw && $(CURDIR)/$(DRIVER) eqerr --S S_raw.txt --dw dw_raw.txt --cov K_raw.txt \
 	  --spec spec.txt; st=$$?; echo "(exit status $$st: 0 accepted, 1 rejected)"; [ $$st -le 1 ]
 
 asan: deps

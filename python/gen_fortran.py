@@ -59,7 +59,8 @@ SCALARS = {
     "igea_stats_verdict_thresholds": "a b size",
     "igea_redund_window_length": "samples seconds",
     "igea_impact_point": "tf", "igea_impact_circle_prob": "prob", "igea_impact_cep": "radius",
-    "igea_impact_cep_approx": "radius", "igea_triad_static": "nint",
+    "igea_impact_cep_approx": "radius", "igea_impact_circle_prob_offset": "prob",
+    "igea_impact_cep_offset": "radius", "igea_triad_static": "nint",
     "igea_io_reader_next": "nread", "igea_io_parse_number": "x",
     "igea_dw_summary": "max_abs",
     # one value each in their header comments, found missing by

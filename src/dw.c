@@ -54,7 +54,7 @@ static int check_args(const dw_in *a, const double *dw, const double *cov, const
     if (a->ldtrk < a->ntrk)
         return -13;
     int tc = a->trk_cols;
-    if (tc != 7 && tc != 8 && tc != 10 && tc != 13)
+    if (tc != 7 && tc != 8 && tc != 10 && tc != 13 && tc != 28)
         return -14;
     if (!dw)
         return -15;
@@ -63,6 +63,38 @@ static int check_args(const dw_in *a, const double *dw, const double *cov, const
     if (!bad)
         return -18;
     return 0;
+}
+
+/* The 6 x 6 position-velocity covariance of a 28-column tracking row e
+ * (columns 7..27: the upper triangle row by row of x y z vx vy vz). */
+static void trk_cov6(const dw_in *a, int e, double *P)
+{
+    const double *trk = a->trk;
+    int ldtrk = a->ldtrk, c = 7;
+    for (int i = 0; i < 6; i++)
+        for (int j = i; j < 6; j++, c++)
+            P[6 * i + j] = P[6 * j + i] = TRK(e, c);
+}
+
+/* 1 if the symmetric 6 x 6 P is positive definite (Cholesky). */
+static int chol_ok(const double *P)
+{
+    double L[36] = {0};
+    for (int j = 0; j < 6; j++) {
+        double d = P[7 * j];
+        for (int k = 0; k < j; k++)
+            d -= L[6 * j + k] * L[6 * j + k];
+        if (!(d > 0.0))
+            return 0;
+        L[7 * j] = sqrt(d);
+        for (int i = j + 1; i < 6; i++) {
+            double v = P[6 * i + j];
+            for (int k = 0; k < j; k++)
+                v -= L[6 * i + k] * L[6 * j + k];
+            L[6 * i + j] = v / L[7 * j];
+        }
+    }
+    return 1;
 }
 
 /* Finite data, sigmas positive, covariances positive definite. */
@@ -86,6 +118,11 @@ static int check_data(const dw_in *a)
             double m3 = xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) +
                         xz * (xy * yz - yy * xz);
             if (!(xx > 0.0) || !(m2 > 0.0) || !(m3 > 0.0))
+                return IGEA_ENONPOSITIVE;
+        } else if (a->trk_cols == 28) {
+            double P[36];
+            trk_cov6(a, e, P);
+            if (!chol_ok(P))
                 return IGEA_ENONPOSITIVE;
         }
     }
@@ -221,19 +258,53 @@ static void trk_cov(const dw_in *a, int e, double *P)
     }
 }
 
-/* LI covariance (upper triangle, 6) of row e at time since lift-off ts. */
+/* LI covariance (upper triangle, 6) of row e at time since lift-off ts:
+ * A P A^T, A the velocity rows of the frame change (affine in r and v):
+ * dv_LI = M dv + M [w_f x] dr, w_f the Earth rate in the tracking axes;
+ * A = M with a velocity covariance, [M [w_f x], M] with the 6 x 6. */
 static void li_cov(const dw_in *a, int e, double ts, double *out)
 {
-    double M[9], P[9], MP[9], R[9];
+    double M[9], P[36], A[18] = {0}, AP[18], R[9];
+    int n = a->trk_cols == 28 ? 6 : 3;
     igea_nav_rotation(a->site, a->frame, IGEA_NAV_LI, ts, M);
-    trk_cov(a, e, P);
+    if (n == 6) {
+        const double *C = a->site + IGEA_NAV_SITE_C;
+        double w[3];
+        for (int i = 0; i < 3; i++)
+            w[i] = a->frame == IGEA_NAV_ECEF ? (i == 2) * IGEA_NAV_OMEGA : C[3 * i + 2] * IGEA_NAV_OMEGA;
+        trk_cov6(a, e, P);
+        for (int i = 0; i < 3; i++) { /* column j of M [w x] is M (w x e_j) */
+            for (int j = 0; j < 3; j++) {
+                double ej[3] = {0, 0, 0}, wx[3];
+                ej[j] = 1.0;
+                wx[0] = w[1] * ej[2] - w[2] * ej[1];
+                wx[1] = w[2] * ej[0] - w[0] * ej[2];
+                wx[2] = w[0] * ej[1] - w[1] * ej[0];
+                A[6 * i + j] = M[3 * i] * wx[0] + M[3 * i + 1] * wx[1] + M[3 * i + 2] * wx[2];
+                A[6 * i + 3 + j] = M[3 * i + j];
+            }
+        }
+    } else {
+        double P3[9];
+        trk_cov(a, e, P3);
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++) {
+                A[3 * i + j] = M[3 * i + j];
+                P[3 * i + j] = P3[3 * i + j];
+            }
+    }
     for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++)
-            MP[3 * i + j] = M[3 * i] * P[j] + M[3 * i + 1] * P[3 + j] + M[3 * i + 2] * P[6 + j];
+        for (int j = 0; j < n; j++) {
+            AP[n * i + j] = 0.0;
+            for (int k = 0; k < n; k++)
+                AP[n * i + j] += A[n * i + k] * P[n * k + j];
+        }
     for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++)
-            R[3 * i + j] = MP[3 * i] * M[3 * j] + MP[3 * i + 1] * M[3 * j + 1] +
-                           MP[3 * i + 2] * M[3 * j + 2];
+        for (int j = 0; j < 3; j++) {
+            R[3 * i + j] = 0.0;
+            for (int k = 0; k < n; k++)
+                R[3 * i + j] += AP[n * i + k] * A[n * j + k];
+        }
     out[0] = R[0], out[1] = 0.5 * (R[1] + R[3]), out[2] = 0.5 * (R[2] + R[6]);
     out[3] = R[4], out[4] = 0.5 * (R[5] + R[7]), out[5] = R[8];
 }

@@ -5,6 +5,7 @@
 #include "rotation.h"
 
 #include "igea/envfun.h"
+#include "igea/nav.h"
 
 #define EARTH_RADIUS 6371000.0
 #define EARTH_MU 3.986004418e14
@@ -391,7 +392,21 @@ typedef struct {
     double *val_prev; /* output value at t_{k-1} */
     double *vel_prev;
     double Wv[3], rn[3], vn[3], gacc_prev[3], Gm[9];
+    const double *site; /* the launch point (igea_nav_site) or NULL */
+    double pad[6];      /* pad-velocity parts w_L x e_x, w_L x e_z of pos0_x, pos0_z */
+    double theta[6];    /* their frame rotations per metre on the ellipsoid */
+    double Gpad[9];     /* the J2 gravity gradient at the pad, LI axes */
 } integ;
+
+/* Gravity and its gradient at launch-frame r: with a site the J2 field of
+ * the site in LI (dw's and the navigation's), else the point mass above. */
+static void grav_at(const integ *g, const double *r, double *ga, double *G)
+{
+    double tmp[3];
+    if (g->site && !igea_nav_gravity_li(g->site, IGEA_NAV_GRAVITY_J2, r, ga ? ga : tmp, G))
+        return;
+    gravity(r, ga, G);
+}
 
 static void load_sample(const integ *g, const double *traj, int ldt, int k,
                         sample *s)
@@ -544,17 +559,17 @@ static void gravity_step(integ *g, const sample *prev, const sample *cur, double
     for (int a = 0; a < 3; a++)
         rp[a] = g->rn[a] + h * g->vn[a] +
                 0.5 * h * h * (prev->fa[a] + g->gacc_prev[a]);
-    gravity(rp, gnew, NULL);
+    grav_at(g, rp, gnew, NULL);
     for (int a = 0; a < 3; a++) {
         vnew[a] = g->vn[a] + 0.5 * h * (prev->fa[a] + g->gacc_prev[a] +
                                         cur->fa[a] + gnew[a]);
         rp[a] = g->rn[a] + 0.5 * h * (g->vn[a] + vnew[a]);
         rmid[a] = 0.5 * (g->rn[a] + rp[a]);
     }
-    gravity(rmid, NULL, g->Gm);
+    grav_at(g, rmid, NULL, g->Gm);
     memcpy(g->rn, rp, sizeof g->rn);
     memcpy(g->vn, vnew, sizeof g->vn);
-    gravity(g->rn, g->gacc_prev, NULL);
+    grav_at(g, g->rn, g->gacc_prev, NULL);
 }
 
 /* Velocity function of a column that is a function of the sample (ATT:
@@ -567,8 +582,13 @@ static void direct_step(integ *g, int j, int fam, const sample *cur, double *vj)
         v[ax] = 1.0;
         igea__cross(g->Wv, v, vj);
     } else if (fam == IGEA__FAM_POS0) {
-        igea__pos0_rotation(g->terms[j], v);
+        if (g->site)
+            memcpy(v, g->theta + 3 * (ax == 2), sizeof v);
+        else
+            igea__pos0_rotation(g->terms[j], v);
         igea__cross(v, g->Wv, vj);
+        for (int a = 0; g->site && a < 3; a++)
+            vj[a] += g->pad[3 * (ax == 2) + a];
     } else {
         lever_rate(cur, ax, v);
         for (int a = 0; a < 3; a++)
@@ -658,7 +678,8 @@ static void output_step(integ *g, double h)
 }
 
 /* Epoch interpolation: rows of the epochs e.. in (t0, t1] (weight of val),
- * zero at t_0 when h = 0; returns the next epoch. */
+ * val (the value at t_0: zero but for a launch-point term with a site)
+ * when h = 0; returns the next epoch. */
 static int interpolate(const integ *g, int e, int nepochs, const double *epochs,
                        double t0, double t1, double *out, size_t mrows)
 {
@@ -668,11 +689,56 @@ static int interpolate(const integ *g, int e, int nepochs, const double *epochs,
             for (int a = 0; a < 3; a++) {
                 size_t i = 3 * (size_t)j + a;
                 IGEA_AT(out, mrows, 3 * (size_t)e + a, j) =
-                    t1 > t0 ? (1.0 - wgt) * g->val_prev[i] + wgt * g->val[i] : 0.0;
+                    t1 > t0 ? (1.0 - wgt) * g->val_prev[i] + wgt * g->val[i] : g->val[i];
             }
         e++;
     }
     return e;
+}
+
+/* With a site, the launch-point columns start at their pad velocity
+ * w_L x e_k (the velocity function, the gravity-coupled velocity) and at
+ * e_k (the gravity-coupled position: the navigation starts at the stated
+ * point); the value at t_0 of the output kind. */
+static void pad_start(integ *g)
+{
+    for (int j = 0; g->site && j < g->nb; j++) {
+        if (igea__term_family(g->terms[j]) != IGEA__FAM_POS0)
+            continue;
+        int k, ax = igea__term_axis(g->terms[j], &k);
+        double *vj = g->vel + 3 * (size_t)j;
+        for (int a = 0; a < 3; a++) {
+            vj[a] = g->pad[3 * (ax == 2) + a];
+            g->sv[3 * (size_t)j + a] = vj[a];
+            g->pos[3 * (size_t)j + a] = g->grav && a == ax ? 1.0 : 0.0;
+        }
+        const double *v0 = g->output == IGEA_ENVFUN_VELOCITY || g->output == IGEA_ENVFUN_VELOCITY_G
+                               ? vj : g->pos + 3 * (size_t)j;
+        memcpy(g->val + 3 * (size_t)j, v0, 3 * sizeof(double));
+    }
+}
+
+/* With a site, the velocity kind's launch-point columns also hold the
+ * gravity that the tracking's first interval integrates along a path
+ * started at the stated point (igea/dw.h: the cubic Hermite path from the
+ * pad at lift-off to the first epoch t_1; the vehicle was at -e_k in the
+ * stated frame): int_0^1 h00 = 1/2, so (t_1 - t_0) G e_k / 2 at every
+ * epoch, G the J2 gravity gradient at the pad (dw's gravity). */
+static void first_interval(const integ *g, const double *traj, const double *epochs,
+                           int nepochs, double *out, size_t mrows)
+{
+    double G[9], h = epochs[0] - traj[0];
+    if (!g->site || g->output != IGEA_ENVFUN_VELOCITY || !(h > 0.0))
+        return;
+    memcpy(G, g->Gpad, sizeof G);
+    for (int j = 0; j < g->nb; j++) {
+        if (igea__term_family(g->terms[j]) != IGEA__FAM_POS0)
+            continue;
+        int k, ax = igea__term_axis(g->terms[j], &k);
+        for (int e = 0; e < nepochs; e++)
+            for (int a = 0; a < 3; a++)
+                IGEA_AT(out, mrows, 3 * (size_t)e + a, j) += 0.5 * h * G[3 * a + ax];
+    }
 }
 
 /* Scale the columns by spec into S: IGEA_ENONFINITE (S untouched) if a
@@ -723,8 +789,9 @@ static int run(integ *g, int nsamp, const double *traj, int ldt, int nepochs,
 
     sample cur, prev;
     load_sample(g, traj, ldt, 0, &cur);
-    gravity(g->rn, g->gacc_prev, NULL);
+    grav_at(g, g->rn, g->gacc_prev, NULL);
     init_integrands(g, &cur);
+    pad_start(g);
     /* epochs at t_0: everything is zero */
     int e = interpolate(g, 0, nepochs, epochs, cur.t, cur.t, out, mrows);
     for (int k = 1; k < nsamp && e < nepochs; k++) {
@@ -741,21 +808,54 @@ static int run(integ *g, int nsamp, const double *traj, int ldt, int nepochs,
         /* epochs in (t_{k-1}, t_k]: linear interpolation */
         e = interpolate(g, e, nepochs, epochs, prev.t, cur.t, out, mrows);
     }
+    first_interval(g, traj, epochs, nepochs, out, mrows);
     int st = scale_out(nterms, spec, out, mrows, S, lds);
     free(work);
     return st;
 }
 
-int igea_envfun_compute_user(int system, int nsamp, const double *traj, int ldt,
-                             int nterms, const int *terms, const int *axes,
-                             int nuser, const int *user_kind, const double *user,
-                             int ldu, int nepochs, const double *epochs,
-                             const double *spec, int output, double *S, int lds)
+/* The launch-point terms' parts that the site gives (0, or -16): pad
+ * velocities w_L x e_k and frame rotations theta = (b, 0, -a) per metre,
+ * a x + b z the normal's change du = (d_n / (M + h)) n + (d_e / (N + h)) e
+ * for a displacement e_k (d_n, d_e its north and east parts; M, N the
+ * WGS-84 radii of curvature at the site's latitude). */
+static int site_parts(const double *site, integ *g)
+{
+    double M[9], wl[3], zero[3] = {0.0, 0.0, 0.0}, g0[3];
+    if (igea_nav_rotation(site, IGEA_NAV_ECEF, IGEA_NAV_LI, 0.0, M) ||
+        igea_nav_gravity_li(site, IGEA_NAV_GRAVITY_J2, zero, g0, g->Gpad))
+        return -16;
+    for (int a = 0; a < 3; a++)
+        wl[a] = M[3 * a + 2] * IGEA_NAV_OMEGA;
+    double e2 = IGEA_NAV_F * (2.0 - IGEA_NAV_F), sl = sin(site[IGEA_NAV_SITE_LAT]);
+    double w = sqrt(1.0 - e2 * sl * sl), h = site[IGEA_NAV_SITE_H];
+    double im = 1.0 / (IGEA_NAV_A * (1.0 - e2) / (w * w * w) + h), in = 1.0 / (IGEA_NAV_A / w + h);
+    double ca = cos(site[IGEA_NAV_SITE_AZ]), sa = sin(site[IGEA_NAV_SITE_AZ]);
+    for (int k = 0; k < 2; k++) { /* e_x: (d_n, d_e) = (ca, sa); e_z: (-sa, ca) */
+        double dn = k ? -sa : ca, de = k ? ca : sa, ek[3] = {k ? 0.0 : 1.0, 0.0, k ? 1.0 : 0.0};
+        double a = ca * dn * im + sa * de * in, b = ca * de * in - sa * dn * im;
+        igea__cross(wl, ek, g->pad + 3 * k);
+        g->theta[3 * k] = b;
+        g->theta[3 * k + 1] = 0.0;
+        g->theta[3 * k + 2] = -a;
+    }
+    return 0;
+}
+
+/* igea_envfun_compute_user with a site (may be NULL): check_args'
+ * positions up to 15, then site 16, S 17, lds 18. */
+static int compute(int system, int nsamp, const double *traj, int ldt, int nterms,
+                   const int *terms, const int *axes, int nuser, const int *user_kind,
+                   const double *user, int ldu, int nepochs, const double *epochs,
+                   const double *spec, int output, const double *site, double *S, int lds)
 {
     integ g;
     int st = check_args(system, nsamp, traj, ldt, nterms, terms, axes, nuser,
                         user_kind, user, ldu, nepochs, epochs, output, S, lds, &g);
     if (st)
+        return (st == -16 || st == -17) ? st - 1 : st;
+    g.site = site;
+    if (site && (st = site_parts(site, &g)) != 0)
         return st;
     g.system = system;
     g.nb = nterms;
@@ -768,6 +868,28 @@ int igea_envfun_compute_user(int system, int nsamp, const double *traj, int ldt,
     if ((st = check_data(&g, nsamp, traj, ldt, spec, nepochs, epochs)) != 0)
         return st;
     return run(&g, nsamp, traj, ldt, nepochs, epochs, spec, S, lds);
+}
+
+int igea_envfun_compute_user(int system, int nsamp, const double *traj, int ldt,
+                             int nterms, const int *terms, const int *axes,
+                             int nuser, const int *user_kind, const double *user,
+                             int ldu, int nepochs, const double *epochs,
+                             const double *spec, int output, double *S, int lds)
+{
+    int st = compute(system, nsamp, traj, ldt, nterms, terms, axes, nuser, user_kind, user,
+                     ldu, nepochs, epochs, spec, output, NULL, S, lds);
+    return (st == -17 || st == -18) ? st + 1 : st;
+}
+
+int igea_envfun_compute_site(int system, int nsamp, const double *traj, int ldt,
+                             int nterms, const int *terms, const int *axes,
+                             int nuser, const int *user_kind, const double *user,
+                             int ldu, int nepochs, const double *epochs,
+                             const double *spec, int output, const double *site,
+                             double *S, int lds)
+{
+    return compute(system, nsamp, traj, ldt, nterms, terms, axes, nuser, user_kind, user,
+                   ldu, nepochs, epochs, spec, output, site, S, lds);
 }
 
 int igea_envfun_compute(int system, int nsamp, const double *traj, int ldt,

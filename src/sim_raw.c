@@ -6,12 +6,16 @@
  * igea_nav_*'s. */
 #include <limits.h>
 
+#include <gsl/gsl_randist.h>
+#include <gsl/gsl_rng.h>
+
 #include "igea/envfun.h"
 #include "igea/nav.h"
 #include "igea/sim.h"
 #include "internal.h"
 #include "rotation.h"
 #include "envfun_terms.h"
+#include "sim_model.h"
 
 /* The erroneous instruments: codes with errors by family, gyro axes, the
  * platform's attitude P (C_p^a) and drift at the previous sample. */
@@ -138,62 +142,105 @@ static void telemetry(raw_inst *r, int nsamp, const double *traj, int ldt, doubl
     }
 }
 
-/* The lever arm's offsets at sample k: C l (position), C (w x l). */
-static void lever(const raw_inst *r, const double *traj, int ldt, int k, double *dr,
-                  double *dv)
+/* The lever arm's offsets at time t in sample k's interval (s its
+ * fraction from sample k - 1, 1 at k): C l (position), C (w x l), the
+ * quaternion (normalised) and the rate linearly interpolated. */
+static void lever(const raw_inst *r, const double *traj, int ldt, int k, double s,
+                  double *dr, double *dv)
 {
     double q[4], C[9], l[3], w[3], wl[3];
+    int kp = k > 0 ? k - 1 : 0;
     for (int a = 0; a < 3; a++) {
         l[a] = err_of(r, IGEA_ENVFUN_TERM_LEVER_X + a);
-        w[a] = IGEA_AT(traj, ldt, k, 4 + a);
+        w[a] = (1.0 - s) * IGEA_AT(traj, ldt, kp, 4 + a) + s * IGEA_AT(traj, ldt, k, 4 + a);
     }
     for (int i = 0; i < 4; i++)
-        q[i] = IGEA_AT(traj, ldt, k, 7 + i);
+        q[i] = (1.0 - s) * IGEA_AT(traj, ldt, kp, 7 + i) + s * IGEA_AT(traj, ldt, k, 7 + i);
     igea__quat_dcm_unit(q, C);
     igea__cross(w, l, wl);
     igea__m3_vec(C, l, dr, 0);
     igea__m3_vec(C, wl, dv, 0);
 }
 
-/* The true vehicle: the navigation of the error-free increments (the
- * trapezoids of f, w) from the true site; at each epoch its tracked point
- * (the lever arm's velocity counted from lift-off, where the vehicle is at
- * rest on the pad) minus the noise, in frame. ep[e] the sample of epoch e. */
-static int tracking(const raw_inst *r, int nsamp, const double *traj, int ldt,
-                    const double *site, int frame, int nepochs, const int *ep,
-                    const double *noise, double *trk)
+/* The true state at epoch time te in (t_{k-1}, t_k]: at t_k the state st
+ * itself, else a partial step from the state prev at t_{k-1} with the
+ * increments of the linear interpolants of f and w (what the trapezoid
+ * increments integrate) over (t_{k-1}, te]; *s the fraction. */
+static int state_at(const raw_inst *r, const double *traj, int ldt, int k, double te,
+                    const double *prev, const double *st, double *out, double *s)
 {
-    double st[IGEA_NAV_STATE_LEN], q[4], f_p[3], w_p[3], dr0[3] = {0, 0, 0}, dl0[3] = {0, 0, 0};
+    double tk = IGEA_AT(traj, ldt, k, 0);
+    memcpy(out, st, IGEA_NAV_STATE_LEN * sizeof(double));
+    *s = 1.0;
+    if (k == 0 || fabs(te - tk) <= 1e-9)
+        return 0;
+    double tp = IGEA_AT(traj, ldt, k - 1, 0), h = te - tp, dv[3], dth[3];
+    *s = h / (tk - tp);
+    for (int a = 0; a < 3; a++) {
+        double f0 = IGEA_AT(traj, ldt, k - 1, 1 + a), f1 = IGEA_AT(traj, ldt, k, 1 + a);
+        double w0 = IGEA_AT(traj, ldt, k - 1, 4 + a), w1 = IGEA_AT(traj, ldt, k, 4 + a);
+        dv[a] = 0.5 * h * (2.0 * f0 + *s * (f1 - f0));
+        dth[a] = 0.5 * h * (2.0 * w0 + *s * (w1 - w0));
+    }
+    memcpy(out, prev, IGEA_NAV_STATE_LEN * sizeof(double));
+    return igea_nav_step(out, te, dv, r->system == IGEA_ENVFUN_STRAPDOWN ? dth : NULL);
+}
+
+/* The tracked point of epoch e (true state sx, fraction s of sample k's
+ * interval) minus the noise, in frame, into row e of trk. */
+static int track_row(const raw_inst *r, const double *traj, int ldt, const double *site,
+                     int frame, int nepochs, int e, double te, int k, double s,
+                     const double *sx, const double *dl0, const double *noise, double *trk)
+{
+    double rr[3], vv[3], dr[3] = {0, 0, 0}, dl[3] = {0, 0, 0};
     if (r->lever)
-        lever(r, traj, ldt, 0, dr0, dl0);
+        lever(r, traj, ldt, k, s, dr, dl);
+    for (int a = 0; a < 3; a++) {
+        rr[a] = sx[IGEA_NAV_STATE_R + a] + dr[a];
+        vv[a] = sx[IGEA_NAV_STATE_V + a] + dl[a] - dl0[a] - (noise ? noise[3 * e + a] : 0.0);
+    }
+    int st = igea_nav_transform(site, IGEA_NAV_LI, frame, te, rr, vv, rr, vv);
+    IGEA_AT(trk, nepochs, e, 0) = te;
+    for (int a = 0; a < 3; a++) {
+        IGEA_AT(trk, nepochs, e, 1 + a) = rr[a];
+        IGEA_AT(trk, nepochs, e, 4 + a) = vv[a];
+    }
+    return st;
+}
+
+/* The true vehicle: the navigation of the error-free increments (the
+ * trapezoids of f, w) from the true site; at each epoch (any time in the
+ * trajectory's span: ep[e] the sample k with t_{k-1} < t_e <= t_k, 0 at
+ * t_0) its tracked point (the lever arm's velocity counted from lift-off,
+ * where the vehicle is at rest on the pad) minus the noise, in frame. */
+static int tracking(const raw_inst *r, int nsamp, const double *traj, int ldt,
+                    const double *site, int frame, int nepochs, const double *epochs,
+                    const int *ep, const double *noise, double *trk)
+{
+    double st[IGEA_NAV_STATE_LEN], prev[IGEA_NAV_STATE_LEN], sx[IGEA_NAV_STATE_LEN], q[4];
+    double f_p[3], w_p[3], dr0[3] = {0, 0, 0}, dl0[3] = {0, 0, 0};
+    if (r->lever)
+        lever(r, traj, ldt, 0, 1.0, dr0, dl0);
     for (int i = 0; i < 4; i++)
         q[i] = IGEA_AT(traj, ldt, 0, 7 + i);
     int s = igea_nav_init(r->system, site, IGEA_NAV_GRAVITY_J2, 0, 0.0, q, NULL, NULL, st);
     sample(traj, ldt, 0, f_p, w_p);
     for (int k = 0, e = 0; !s && k < nsamp && e < nepochs; k++) {
-        double f[3], w[3], dv[3], dth[3], t = sample(traj, ldt, k, f, w);
+        double f[3], w[3], dv[3], dth[3], t = sample(traj, ldt, k, f, w), fr;
         for (int a = 0; k && a < 3; a++) {
             dv[a] = 0.5 * (t - st[IGEA_NAV_STATE_T]) * (f_p[a] + f[a]);
             dth[a] = 0.5 * (t - st[IGEA_NAV_STATE_T]) * (w_p[a] + w[a]);
         }
+        memcpy(prev, st, sizeof st);
         if (k)
             s = igea_nav_step(st, t, dv, r->system == IGEA_ENVFUN_STRAPDOWN ? dth : NULL);
         memcpy(f_p, f, sizeof f);
         memcpy(w_p, w, sizeof w);
         for (; !s && e < nepochs && ep[e] == k; e++) {
-            double rr[3], vv[3], dr[3] = {0, 0, 0}, dl[3] = {0, 0, 0};
-            if (r->lever)
-                lever(r, traj, ldt, k, dr, dl);
-            for (int a = 0; a < 3; a++) {
-                rr[a] = st[IGEA_NAV_STATE_R + a] + dr[a];
-                vv[a] = st[IGEA_NAV_STATE_V + a] + dl[a] - dl0[a] - (noise ? noise[3 * e + a] : 0.0);
-            }
-            s = igea_nav_transform(site, IGEA_NAV_LI, frame, t, rr, vv, rr, vv);
-            IGEA_AT(trk, nepochs, e, 0) = t;
-            for (int a = 0; a < 3; a++) {
-                IGEA_AT(trk, nepochs, e, 1 + a) = rr[a];
-                IGEA_AT(trk, nepochs, e, 4 + a) = vv[a];
-            }
+            s = state_at(r, traj, ldt, k, epochs[e], prev, st, sx, &fr);
+            if (!s) /* a time within 1e-9 s of a sample is the sample's */
+                s = track_row(r, traj, ldt, site, frame, nepochs, e, fr < 1.0 ? epochs[e] : t,
+                              k, fr, sx, dl0, noise, trk);
         }
     }
     return s == 0 ? 0 : (s == IGEA_ENONFINITE ? s : IGEA_EDOMAIN);
@@ -256,7 +303,9 @@ static int raw_args(int system, int nsamp, const double *traj, int ldt, int nerr
     return !q0 ? -17 : !site_out ? -18 : 0;
 }
 
-/* The sample of every epoch (0, IGEA_ENONFINITE or -11). */
+/* The sample of every epoch: k with t_{k-1} < t_e <= t_k (0 at t_0; a
+ * time within 1e-9 s of a sample is that sample's); 0, IGEA_ENONFINITE or
+ * -11 (not increasing, or outside [t_0, t_last]). */
 static int epoch_samples(int nsamp, const double *traj, int ldt, int nepochs,
                          const double *epochs, int *ep)
 {
@@ -265,9 +314,11 @@ static int epoch_samples(int nsamp, const double *traj, int ldt, int nepochs,
     for (int e = 0, k = 0; e < nepochs; e++) {
         if (e > 0 && !(epochs[e] > epochs[e - 1]))
             return -11;
+        if (epochs[e] < IGEA_AT(traj, ldt, 0, 0) - 1e-9)
+            return -11;
         while (k < nsamp && IGEA_AT(traj, ldt, k, 0) < epochs[e] - 1e-9)
             k++;
-        if (k == nsamp || fabs(IGEA_AT(traj, ldt, k, 0) - epochs[e]) > 1e-9)
+        if (k == nsamp)
             return -11;
         ep[e] = k;
     }
@@ -316,7 +367,7 @@ int igea_sim_raw(int system, int nsamp, const double *traj, int ldt, int nerr,
         st = raw_data(r, system, nsamp, traj, ldt, nerr, err, axes, nepochs, epochs, noise, ep);
     if (!st) {
         telemetry(r, nsamp, traj, ldt, tb);
-        st = tracking(r, nsamp, traj, ldt, site, frame, nepochs, ep, noise, kb);
+        st = tracking(r, nsamp, traj, ldt, site, frame, nepochs, epochs, ep, noise, kb);
     }
     if (!st)
         st = stated_site(r, site, so);
@@ -347,5 +398,136 @@ int igea_sim_raw(int system, int nsamp, const double *traj, int ldt, int nerr,
     free(ep);
     free(tb);
     free(kb);
+    return st;
+}
+
+int igea_sim_raw_track(int system, int nsamp, const double *traj, int ldt, int nerr,
+                       const double *err, const int *axes, const double *site, int frame,
+                       int nepochs, const double *epochs, const double *trk_err, int acc_cols,
+                       const double *acc, double *tel, int ldtel, double *trk, int ldtrk,
+                       double *q0, double *site_out)
+{
+    if (acc_cols != 0 && acc_cols != 1 && acc_cols != 3 && acc_cols != 6 && acc_cols != 21)
+        return -13;
+    if (acc_cols > 0 && !acc)
+        return -14;
+    if (!trk)
+        return -17;
+    if (nepochs >= 1 && ldtrk < nepochs)
+        return -18;
+    if (nepochs >= 1 && nepochs <= INT_MAX / 21) {
+        if (trk_err && !igea__finite_vec(6 * nepochs, trk_err, 1))
+            return -12;
+        if (acc_cols > 0 && !igea__finite_vec(acc_cols * nepochs, acc, 1))
+            return -14;
+    }
+    double *kb = nepochs >= 1 && nepochs <= INT_MAX / 21 ? igea__dalloc((size_t)nepochs * 7) : NULL;
+    if (!kb && nepochs >= 1 && nepochs <= INT_MAX / 21)
+        return IGEA_ENOMEM;
+    int st = igea_sim_raw(system, nsamp, traj, ldt, nerr, err, axes, site, frame, nepochs,
+                          epochs, NULL, tel, ldtel, kb, nepochs, q0, site_out);
+    if (st == 0) {
+        for (int e = 0; e < nepochs; e++) {
+            IGEA_AT(trk, ldtrk, e, 0) = IGEA_AT(kb, nepochs, e, 0);
+            for (int c = 1; c < 7; c++)
+                IGEA_AT(trk, ldtrk, e, c) =
+                    IGEA_AT(kb, nepochs, e, c) + (trk_err ? trk_err[6 * (size_t)e + c - 1] : 0.0);
+            for (int c = 0; c < acc_cols; c++)
+                IGEA_AT(trk, ldtrk, e, 7 + c) = acc[(size_t)acc_cols * e + c];
+        }
+    }
+    free(kb);
+    if (st == -13 || st == -14)
+        return st - 2;
+    return st == -17 || st == -18 ? st - 2 : st;
+}
+
+/* P (6 x 6 row-major) of igea_sim_track_errors with velocity sigma sv. */
+static void track_cov(double sr, double sv, double rho, double c, double *P)
+{
+    double R[9] = {1, rho, rho * rho, rho, 1, rho, rho * rho, rho, 1}, s[2] = {sr, sv};
+    for (int bi = 0; bi < 2; bi++)
+        for (int bj = 0; bj < 2; bj++)
+            for (int i = 0; i < 3; i++)
+                for (int j = 0; j < 3; j++)
+                    P[6 * (3 * bi + i) + 3 * bj + j] =
+                        (bi == bj ? 1.0 : c) * s[bi] * s[bj] * R[3 * i + j];
+}
+
+/* Lower Cholesky factor L of the 6 x 6 P (0, or -1 if not positive). */
+static int chol6(const double *P, double *L)
+{
+    memset(L, 0, 36 * sizeof *L);
+    for (int j = 0; j < 6; j++) {
+        double d = P[7 * j];
+        for (int k = 0; k < j; k++)
+            d -= L[6 * j + k] * L[6 * j + k];
+        if (!(d > 0.0))
+            return -1;
+        L[7 * j] = sqrt(d);
+        for (int i = j + 1; i < 6; i++) {
+            double v = P[6 * i + j];
+            for (int k = 0; k < j; k++)
+                v -= L[6 * i + k] * L[6 * j + k];
+            L[6 * i + j] = v / L[7 * j];
+        }
+    }
+    return 0;
+}
+
+int igea_sim_track_errors(int nepochs, const double *sigma_v, double sigma_r, double rho,
+                          double cross, int seed, int flight, double *acc, double *err)
+{
+    if (nepochs < 1 || nepochs > INT_MAX / 21)
+        return -1;
+    if (!sigma_v)
+        return -2;
+    if (!(sigma_r > 0.0) || !isfinite(sigma_r))
+        return isnan(sigma_r) || isinf(sigma_r) ? IGEA_ENONFINITE : -3;
+    if (!(fabs(rho) < 1.0))
+        return isnan(rho) ? IGEA_ENONFINITE : -4;
+    if (!(fabs(cross) < 1.0))
+        return isnan(cross) ? IGEA_ENONFINITE : -5;
+    if (seed < 0)
+        return -6;
+    if (flight < 0)
+        return -7;
+    if (!acc)
+        return -8;
+    if (!igea__finite_vec(nepochs, sigma_v, 1))
+        return IGEA_ENONFINITE;
+    for (int e = 0; e < nepochs; e++)
+        if (!(sigma_v[e] > 0.0))
+            return -2;
+    double *a = igea__dalloc(27 * (size_t)nepochs), P[36], L[36];
+    gsl_rng *g = igea__rng_new(gsl_rng_mt19937, igea__sim_flight_seed(seed, flight) ^ 0x5EEDUL);
+    int st = !a || !g ? IGEA_ENOMEM : 0;
+    for (int e = 0; !st && e < nepochs; e++) {
+        track_cov(sigma_r, sigma_v[e], rho, cross, P);
+        if (chol6(P, L)) {
+            st = IGEA_ENONFINITE; /* underflow of a tiny sigma product */
+            break;
+        }
+        double z[6], *ae = a + 21 * (size_t)e, *ee = a + 21 * (size_t)nepochs + 6 * (size_t)e;
+        for (int i = 0, c = 0; i < 6; i++)
+            for (int j = i; j < 6; j++)
+                ae[c++] = P[6 * i + j];
+        for (int i = 0; i < 6; i++)
+            z[i] = gsl_ran_gaussian(g, 1.0);
+        for (int i = 0; i < 6; i++) {
+            ee[i] = 0.0;
+            for (int k = 0; k <= i; k++)
+                ee[i] += L[6 * i + k] * z[k];
+        }
+    }
+    if (!st && !igea__finite_vec(27 * nepochs, a, 1))
+        st = IGEA_ENONFINITE;
+    if (!st) {
+        memcpy(acc, a, 21 * (size_t)nepochs * sizeof *acc);
+        if (err)
+            memcpy(err, a + 21 * (size_t)nepochs, 6 * (size_t)nepochs * sizeof *err);
+    }
+    free(a);
+    igea__rng_free(g);
     return st;
 }

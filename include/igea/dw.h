@@ -46,9 +46,14 @@
  * strictly increasing, inside the telemetry span [t_0 + tau, t_last + tau]),
  * then the velocity accuracy: trk_cols 7 none; 8 one sigma (all axes);
  * 10 sigma_x sigma_y sigma_z; 13 the covariance c_xx c_xy c_xz c_yy c_yz
- * c_zz (m^2/s^2, positive definite). The covariance is rotated into LI
- * (the velocity part of the frame change; the position's contribution
- * through w x r and the gravity integral, below 1e-4 of it, is left out).
+ * c_zz (m^2/s^2, positive definite); 28 the 6 x 6 covariance of the
+ * position and velocity (x y z vx vy vz; m^2, m^2/s, m^2/s^2), its upper
+ * triangle row by row (21 values: c_x_x c_x_y .. c_x_vz c_y_y .. c_vz_vz),
+ * positive definite. The covariance is rotated into LI (the velocity part
+ * of the frame change; with 28 columns also the position's through the
+ * Earth rate, dv_LI = M (dv + w_f x dr), w_f the Earth rate in the
+ * tracking axes; the position's contribution through the gravity
+ * integral, below 1e-4 of it, is left out).
  */
 #ifndef IGEA_DW_H
 #define IGEA_DW_H
@@ -80,7 +85,7 @@ extern "C" {
  * 11 ntrk        tracking epochs, >= 1
  * 12 trk         ntrk x trk_cols (see above)
  * 13 ldtrk       >= ntrk
- * 14 trk_cols    7, 8, 10 or 13
+ * 14 trk_cols    7, 8, 10, 13 or 28
  * 15 dw          output, 3 ntrk: dW epoch-major (x, y, z of epoch 0, ...),
  *                m/s, LI axes: the rows igea_eqerr_run reads
  * 16 cov         output, 6 ntrk: the LI covariance of epoch e at cov[6 e ..

@@ -269,6 +269,33 @@ IGEA_API int igea_envfun_compute_user(int system, int nsamp, const double *traj,
                                       int lds);
 
 /*
+ * igea_envfun_compute_user with the launch point (docs/envfun.md, "Launch
+ * point" [D]): the launch-point columns pos0_x, pos0_z then also hold the
+ * stated pad velocity's error w_L x e_k per metre (w_L the Earth rate in
+ * launch axes, e_k downrange or cross-range): the range's tracking counts
+ * W from the pad velocity w x r0 of the stated point, the vehicle left the
+ * true one. A constant in the velocity kinds (also at t_0), c t in the
+ * position, and in the gravity-coupled kinds the initial velocity error
+ * w_L x e_k with the initial position error e_k. The other columns are
+ * those of igea_envfun_compute_user.
+ * Arguments (1-based positions, as the -i status names them):
+ *  1-15        as igea_envfun_compute_user (positions 1-15)
+ * 16 site      IGEA_NAV_SITE_LEN values (igea_nav_site, igea/nav.h): the
+ *              stated launch point; may be NULL: igea_envfun_compute_user
+ * 17 S         output, 3 nepochs x (nterms + nuser) column-major
+ * 18 lds       >= 3 nepochs
+ * Returns as igea_envfun_compute_user (-16 a site that igea_nav_rotation
+ * refuses). S is untouched on failure.
+ */
+IGEA_API int igea_envfun_compute_site(int system, int nsamp, const double *traj,
+                                      int ldt, int nterms, const int *terms,
+                                      const int *axes, int nuser,
+                                      const int *user_kind, const double *user,
+                                      int ldu, int nepochs, const double *epochs,
+                                      const double *spec, int output,
+                                      const double *site, double *S, int lds);
+
+/*
  * The nonlinear truth model of the whole catalogue: igea_sim_nonlinear
  * (igea/sim.h) with the errors of every code below nerr (METHODS 5.6; the
  * new families as documented in docs/envfun.md: launch-point errors read

@@ -161,6 +161,56 @@ IGEA_API int igea_impact_cep(const double *cov, double prob, double *radius);
  */
 IGEA_API int igea_impact_cep_approx(const double *cov, int rule, double *radius);
 
+/*
+ * The probability that a normal 2-vector of covariance cov and mean `mean`
+ * (the miss's offset, e.g. its mean downrange and crossrange) lies within
+ * the circle of radius r about the origin (the aim point) [D]: in the
+ * principal axes (variances s1 >= s2, the mean (m1, m2)), with x1 = r cos t,
+ *   P(r) = int_0^pi phi(r cos t; m1, s1) P(|x2| <= r sin t) r sin t dt,
+ * whose even periodic extension is smooth: the trapezoidal rule, refined
+ * until two successive values agree to 4 ulp (docs/impact.md). A zero mean
+ * gives igea_impact_circle_prob's value.
+ *  1 cov[4] as igea_impact_circle_prob; 2 mean[2] (finite); 3 r >= 0;
+ *  output 4 prob.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_EDOMAIN (as
+ * igea_impact_circle_prob), IGEA_ENOCONV (outputs untouched on failure).
+ */
+IGEA_API int igea_impact_circle_prob_offset(const double *cov, const double *mean, double r,
+                                            double *prob);
+
+/*
+ * The radius of the circle about the origin (the aim point) holding
+ * probability prob of a miss of covariance cov and mean `mean`: the biased
+ * CEP (prob 0.5), the root of igea_impact_circle_prob_offset to full
+ * precision (bisection in [0, |mean| + sqrt(-2 s1 ln(1 - prob))]).
+ *  1 cov[4]; 2 mean[2]; 3 0 < prob < 1; output 4 radius (|mean| when cov
+ *  is zero). Returns as igea_impact_circle_prob_offset.
+ */
+IGEA_API int igea_impact_cep_offset(const double *cov, const double *mean, double prob,
+                                    double *radius);
+
+/*
+ * The miss distance that each equivalent-error component corresponds to
+ * (docs/impact.md): component i of the accuracy test (igea/eqerr.h: the
+ * direction p_i, an eigenvector of the normal matrix, and its equivalent
+ * error x_i, both in the units of S's columns) is the error vector p_i x_i
+ * of the terms, whose burnout state error is E p_i x_i and whose miss is
+ *   miss_i = G E p_i x_i   (downrange, crossrange; m).
+ *  1 N >= 1 terms (S's columns); 2 n >= 1 components
+ *  3 G (2 x 6, igea_impact_miss_jacobian), 4 ldg >= 2
+ *  5 E (6 x N column-major): the burnout state error (x y z vx vy vz, ECEF
+ *    at burnout) per unit of each column of S (e.g. envfun's position and
+ *    velocity functions at the burnout time, turned into ECEF), 6 lde >= 6
+ *  7 P (N x n column-major): the components' directions, 8 ldp >= N
+ *  9 equiv[n]: their equivalent errors
+ * 10 miss (output, 2 x n, ld 2): downrange and crossrange miss of each
+ * Returns 0, -i, IGEA_ENONFINITE (an input or a result), IGEA_ENOMEM; miss
+ * untouched on failure.
+ */
+IGEA_API int igea_impact_component_miss(int N, int n, const double *G, int ldg,
+                                        const double *E, int lde, const double *P, int ldp,
+                                        const double *equiv, double *miss);
+
 #ifdef __cplusplus
 }
 #endif

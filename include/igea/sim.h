@@ -417,8 +417,12 @@ IGEA_API int igea_sim_pool(int nflights, const double *table, int ldt,
  *  7 axes     platform gyro axes as igea_envfun_compute, or NULL
  *  8 site     the true launch point (IGEA_NAV_SITE_LEN, igea_nav_site)
  *  9 frame    IGEA_NAV_ECEF or IGEA_NAV_LE, the tracking's frame
- * 10 nepochs  >= 1; 11 epochs: increasing, each a sample time of traj
- *             (within 1e-9 s)
+ * 10 nepochs  >= 1; 11 epochs: increasing, inside [t_0, t_last] (any
+ *             times: between samples t_{k-1} < t_e < t_k the true state is
+ *             a partial navigation step from t_{k-1} with the increments of
+ *             the linear interpolants of f and w over (t_{k-1}, t_e], the
+ *             lever arm's attitude and rate interpolated linearly; a time
+ *             within 1e-9 s of a sample is the sample's)
  * 12 noise    3 nepochs values: the velocity noise of dW in LI, epoch-major
  *             (the tracking velocity gets -noise, rotated into frame); may
  *             be NULL: none
@@ -437,6 +441,64 @@ IGEA_API int igea_sim_raw(int system, int nsamp, const double *traj, int ldt, in
                           int frame, int nepochs, const double *epochs,
                           const double *noise, double *tel, int ldtel, double *trk,
                           int ldtrk, double *q0, double *site_out);
+
+/*
+ * igea_sim_raw with the tracking's own errors and accuracy columns
+ * (docs/pipeline.md section 8): the tracked position and velocity of
+ * epoch e get the errors trk_err[6 e .. 6 e + 5] (dx dy dz dvx dvy dvz,
+ * m and m/s, in the tracking's frame: what a tracking system measures
+ * wrong) and row e's accuracy columns are acc[acc_cols e .. acc_cols e +
+ * acc_cols - 1] as igea_dw_compute reads them after t x y z vx vy vz (1: one
+ * sigma; 3: sigma_x sigma_y sigma_z; 6: the velocity covariance c_xx c_xy
+ * c_xz c_yy c_yz c_zz; 21: the 6 x 6 position-velocity covariance, upper
+ * triangle row by row), copied as given (the caller states them; they
+ * are not checked against the errors).
+ * Arguments: 1-11 as igea_sim_raw (positions 1-11)
+ * 12 trk_err  6 nepochs values (finite), epoch-major; may be NULL: none
+ * 13 acc_cols 0, 1, 3, 6 or 21
+ * 14 acc      acc_cols nepochs values (finite), epoch-major; may be NULL
+ *             only when acc_cols is 0
+ * 15 tel, 16 ldtel  as igea_sim_raw
+ * 17 trk      output, nepochs x (IGEA_SIM_RAW_TRK_COLS + acc_cols)
+ *             column-major; 18 ldtrk >= nepochs
+ * 19 q0, 20 site_out as igea_sim_raw
+ * Returns as igea_sim_raw (-12 also a non-finite trk_err, -14 a
+ * non-finite acc); outputs untouched on failure.
+ */
+IGEA_API int igea_sim_raw_track(int system, int nsamp, const double *traj, int ldt, int nerr,
+                                const double *err, const int *axes, const double *site,
+                                int frame, int nepochs, const double *epochs,
+                                const double *trk_err, int acc_cols, const double *acc,
+                                double *tel, int ldtel, double *trk, int ldtrk, double *q0,
+                                double *site_out);
+
+/*
+ * A tracking error model for igea_sim_raw_track (docs/pipeline.md section
+ * 8) [D]: per epoch the 6 x 6 covariance of the position and velocity
+ * errors in the tracking axes,
+ *   P_e = [[s_r^2 R, c s_r s_v,e R], [c s_r s_v,e R, s_v,e^2 R]],
+ *   R = [[1 r r^2], [r 1 r], [r^2 r 1]]
+ * (positive definite for |r| < 1, |c| < 1), and a draw err_e = L_e z, L_e
+ * its Cholesky factor, z standard normal from the MT19937 generator of
+ * (seed, flight) (a stream of its own, not the flight's noise).
+ * Arguments:
+ *  1 nepochs  >= 1
+ *  2 sigma_v  nepochs values > 0: the velocity 1-sigma per axis, m/s
+ *  3 sigma_r  > 0, the position 1-sigma per axis, m
+ *  4 rho      |rho| < 1, the correlation between neighbouring axes
+ *  5 cross    |cross| < 1, the position-velocity correlation per axis pair
+ *  6 seed, 7 flight   >= 0 (as igea_sim_flight)
+ *  8 acc      output, 21 nepochs: P_e's upper triangle row by row (x y z
+ *             vx vy vz), epoch-major: igea_sim_raw_track's acc with
+ *             acc_cols 21
+ *  9 err      output, 6 nepochs: the draws dx dy dz dvx dvy dvz, epoch-major;
+ *             may be NULL
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENOMEM; outputs untouched on
+ * failure.
+ */
+IGEA_API int igea_sim_track_errors(int nepochs, const double *sigma_v, double sigma_r,
+                                   double rho, double cross, int seed, int flight,
+                                   double *acc, double *err);
 
 #ifdef __cplusplus
 }

@@ -33,7 +33,8 @@ def dw(telemetry, tracking, *, lat, lon, height=0.0, azimuth, frame="le", system
        kind="apparent", q0=(1.0, 0.0, 0.0, 0.0), time_offset=0.0):
     """dW from a telemetry record (rows t dvx dvy dvz [dthx dthy dthz]) and a
     tracking record (rows t x y z vx vy vz [sigma | sx sy sz | c_xx c_xy
-    c_xz c_yy c_yz c_zz]) in frame "le" or "ecef"; lat, lon, azimuth in
+    c_xz c_yy c_yz c_zz | the 21 upper-triangle values of the 6 x 6
+    position-velocity covariance]) in frame "le" or "ecef"; lat, lon, azimuth in
     degrees (as the driver's --lat, --lon, --azimuth), height in m; kind
     "apparent" (W_tel - W_trk) or "navigated" (v_nav - v_trk)."""
     sc = _lib.choice(_capi.CHOICE_ENVFUN_SYSTEM, system, "igea.dw", "system")

@@ -103,7 +103,7 @@ def _user_terms(user_terms, nsamp, system):
 
 
 def envfun(traj, terms, epochs, *, system="strapdown", spec=None, axes=None,
-           output="velocity", user_terms=None):
+           output="velocity", user_terms=None, lat=None, lon=None, height=0.0, azimuth=None):
     """Environment-function matrix S (3 len(epochs) x (len(terms) + len(user_terms))).
 
     traj: (samples x 11) array t, f_x f_y f_z, w_x w_y w_z, q0 q1 q2 q3
@@ -117,6 +117,10 @@ def envfun(traj, terms, epochs, *, system="strapdown", spec=None, axes=None,
     (samples x 3) unit error at the trajectory's samples in instrument axes},
     name acc_* a specific-force error (m/s^2), gyro_* a rate or drift error
     (rad/s); their columns follow the terms'.
+    lat, lon, height, azimuth: the stated launch point (degrees, m, as
+    igea.dw's), all of lat, lon, azimuth or none: the launch-point terms
+    pos0_* then hold the stated pad velocity's error too and the _g kinds
+    use the site's J2 gravity (igea_envfun_compute_site, docs/envfun.md).
     Rows are epoch-major (x, y, z of epoch 0, then epoch 1, ...).
     """
     sys_code = _system_code(system)
@@ -148,10 +152,17 @@ def envfun(traj, terms, epochs, *, system="strapdown", spec=None, axes=None,
         if ax.shape != (6,):
             raise ValueError(f"axes: expected 6 ints, got shape {ax.shape}")
     output_code = _lib.choice(_capi.CHOICE_ENVFUN_OUTPUT, output, "igea.envfun", "output")
+    site = None
+    given = [v is not None for v in (lat, lon, azimuth)]
+    if any(given):
+        if not all(given):
+            raise ValueError("lat, lon, azimuth: give all three (the stated launch point) or none")
+        from .nav import nav_site
+        site = nav_site(np.radians(lat), np.radians(lon), height, np.radians(azimuth))
     n, m = tr.shape[0], 3 * ep.size
     S = np.zeros((m, len(codes) + nu), order="F")
-    _lib.call("igea.envfun", "igea_envfun_compute_user", sys_code, n, _lib.dptr(tr), n,
+    _lib.call("igea.envfun", "igea_envfun_compute_site", sys_code, n, _lib.dptr(tr), n,
               len(codes), _lib.iptr(codes) if len(codes) else None, _lib.iptr(ax), nu,
               _lib.iptr(user[1]) if user else None, _lib.dptr(user[2]) if user else None, n,
-              ep.size, _lib.dptr(ep), _lib.dptr(sp), output_code, _lib.dptr(S), m)
+              ep.size, _lib.dptr(ep), _lib.dptr(sp), output_code, _lib.dptr(site), _lib.dptr(S), m)
     return S

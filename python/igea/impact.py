@@ -120,19 +120,33 @@ def _cov(cov):
     return _lib.as_f64(cov, "cov", ndim=2, shape=(2, 2))
 
 
-def circle_prob(cov, radius):
-    """Probability that a zero-mean normal 2-vector of covariance cov lies
-    within radius of its mean (exact)."""
+def circle_prob(cov, radius, mean=None):
+    """Probability that a normal 2-vector of covariance cov lies within
+    radius of its mean (exact); with mean=(m1, m2), within radius of the
+    origin (the aim point) when its mean is there (igea_impact_circle_prob_offset)."""
     p = ctypes.c_double()
-    _lib.call("igea.circle_prob", "igea_impact_circle_prob", _lib.dptr(_cov(cov)),
-              float(radius), ctypes.byref(p))
+    if mean is None:
+        _lib.call("igea.circle_prob", "igea_impact_circle_prob", _lib.dptr(_cov(cov)),
+                  float(radius), ctypes.byref(p))
+    else:
+        m = np.ascontiguousarray(_lib.as_f64(mean, "mean", ndim=1, shape=(2,)))
+        _lib.call("igea.circle_prob", "igea_impact_circle_prob_offset", _lib.dptr(_cov(cov)),
+                  _lib.dptr(m), float(radius), ctypes.byref(p))
     return p.value
 
 
-def cep(cov, prob=0.5):
-    """The radius about the mean holding probability prob (0.5: the CEP)."""
+def cep(cov, prob=0.5, mean=None):
+    """The radius about the mean holding probability prob (0.5: the CEP);
+    with mean=(m1, m2) the miss's mean offset, the radius about the origin
+    (the aim point): the biased CEP (igea_impact_cep_offset)."""
     r = ctypes.c_double()
-    _lib.call("igea.cep", "igea_impact_cep", _lib.dptr(_cov(cov)), float(prob), ctypes.byref(r))
+    if mean is None:
+        _lib.call("igea.cep", "igea_impact_cep", _lib.dptr(_cov(cov)), float(prob),
+                  ctypes.byref(r))
+    else:
+        m = np.ascontiguousarray(_lib.as_f64(mean, "mean", ndim=1, shape=(2,)))
+        _lib.call("igea.cep", "igea_impact_cep_offset", _lib.dptr(_cov(cov)), _lib.dptr(m),
+                  float(prob), ctypes.byref(r))
     return r.value
 
 
@@ -144,3 +158,26 @@ def cep_approx(cov, rule="sum"):
     _lib.call("igea.cep_approx", "igea_impact_cep_approx", _lib.dptr(_cov(cov)), code,
               ctypes.byref(r))
     return r.value
+
+
+def component_miss(miss_jacobian, E, directions, equiv_err):
+    """The miss (n, 2: downrange, crossrange, m) that each equivalent-error
+    component corresponds to: G E p_i x_i, with miss_jacobian G (2, 6) of
+    igea.impact, E (6, N) the burnout state error (x y z vx vy vz, ECEF) per
+    unit of each of S's N columns, directions (N, n) the components'
+    eigenvectors and equiv_err (n,) their equivalent errors (as
+    igea.eqerr's eigenvectors[:, :n] and equiv_err[:n]);
+    igea_impact_component_miss."""
+    where = "igea.component_miss"
+    G = np.asfortranarray(_lib.as_f64(miss_jacobian, "miss_jacobian", ndim=2, shape=(2, 6)))
+    e = np.asfortranarray(_lib.as_f64(E, "E", ndim=2, shape=(6, None)))
+    N = e.shape[1]
+    P = np.asfortranarray(_lib.as_f64(directions, "directions", ndim=2, shape=(N, None)))
+    n = P.shape[1]
+    x = np.ascontiguousarray(_lib.as_f64(equiv_err, "equiv_err", ndim=1, shape=(n,)))
+    if N < 1 or n < 1:
+        raise ValueError("E, directions: at least one term and one component")
+    miss = np.zeros((n, 2))
+    _lib.call(where, "igea_impact_component_miss", N, n, _lib.dptr(G), 2, _lib.dptr(e), 6,
+              _lib.dptr(P), N, _lib.dptr(x), _lib.dptr(miss))
+    return miss

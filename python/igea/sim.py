@@ -459,7 +459,7 @@ class RawFlight:
 
 def simulate_raw(traj=None, terms=None, epochs=None, *, system="strapdown", lat=40.96,
                  lon=100.29, height=1000.0, azimuth=30.0, frame="ecef", noise=True,
-                 **flight_kw):
+                 trk_err=None, acc=None, **flight_kw):
     """The raw telemetry and tracking records of the flight that
     igea.simulate(traj, terms, epochs, system=system, **flight_kw) makes
     (same seed and flight: the same true X and the same tracking noise),
@@ -467,7 +467,13 @@ def simulate_raw(traj=None, terms=None, epochs=None, *, system="strapdown", lat=
     tracking in frame "ecef" or "le"; noise=False leaves the noise out.
     The sigma column is the stated 1-sigma of the epoch's x row (the three
     rows of an epoch have the same stated sigma unless a per-row sigma is
-    given). igea_sim_raw, docs/pipeline.md section 8."""
+    given). igea_sim_raw, docs/pipeline.md section 8.
+    trk_err: (epochs, 6) the tracking's own errors dx dy dz dvx dvy dvz (m,
+    m/s, in frame) instead of the simulator's noise; acc: (epochs, k) the
+    accuracy columns written after t x y z vx vy vz instead of the sigma
+    column, k = 1, 3, 6 (the velocity covariance c_xx c_xy c_xz c_yy c_yz
+    c_zz) or 21 (the 6 x 6 position-velocity covariance, upper triangle
+    row by row), as igea.dw reads them (igea_sim_raw_track)."""
     if traj is None:
         traj = reference_trajectory(system=system)
     tr = _lib.as_f64(traj, "traj", ndim=2)
@@ -489,11 +495,45 @@ def simulate_raw(traj=None, terms=None, epochs=None, *, system="strapdown", lat=
     trk = np.zeros((ne, _capi.SIM_RAW_TRK_COLS), order="F")
     q0, so = np.zeros(4), np.zeros(_capi.NAV_SITE_LEN)
     ep = np.ascontiguousarray(fl.epochs, dtype=float)
-    _lib.call("igea.simulate_raw", "igea_sim_raw", sc, ns, _lib.dptr(tr), ns, err.size,
-              _lib.dptr(err), None, _lib.dptr(site), fc, ne, _lib.dptr(ep), _lib.dptr(nz),
-              _lib.dptr(tel), ns, _lib.dptr(trk), ne, _lib.dptr(q0), _lib.dptr(so))
-    track = np.column_stack([trk, fl.sigma[0::3]])
+    if trk_err is None and acc is None:
+        _lib.call("igea.simulate_raw", "igea_sim_raw", sc, ns, _lib.dptr(tr), ns, err.size,
+                  _lib.dptr(err), None, _lib.dptr(site), fc, ne, _lib.dptr(ep), _lib.dptr(nz),
+                  _lib.dptr(tel), ns, _lib.dptr(trk), ne, _lib.dptr(q0), _lib.dptr(so))
+        track = np.column_stack([trk, fl.sigma[0::3]])
+    else:
+        te = None if trk_err is None else np.ascontiguousarray(
+            _lib.as_f64(trk_err, "trk_err", ndim=2, shape=(ne, 6)))
+        ac = None if acc is None else np.ascontiguousarray(_lib.as_f64(acc, "acc", ndim=2))
+        k = 0 if ac is None else ac.shape[1]
+        if ac is not None and ac.shape[0] != ne:
+            raise ValueError(f"acc: expected {ne} rows (one per epoch), got {ac.shape[0]}")
+        track = np.zeros((ne, _capi.SIM_RAW_TRK_COLS + k), order="F")
+        _lib.call("igea.simulate_raw", "igea_sim_raw_track", sc, ns, _lib.dptr(tr), ns, err.size,
+                  _lib.dptr(err), None, _lib.dptr(site), fc, ne, _lib.dptr(ep), _lib.dptr(te), k,
+                  _lib.dptr(ac), _lib.dptr(tel), ns, _lib.dptr(track), ne, _lib.dptr(q0),
+                  _lib.dptr(so))
+        track = np.ascontiguousarray(track)
     return RawFlight(telemetry=tel, tracking=track, lat=float(np.degrees(so[0])),
                      lon=float(np.degrees(so[1])), height=float(so[2]),
                      azimuth=float(np.degrees(so[3])), q0=q0, frame=frame, system=system,
                      flight=fl)
+
+
+def track_errors(sigma_v, sigma_r, *, corr=0.0, cross=0.0, seed=0, flight=0):
+    """A tracking error model for simulate_raw(trk_err=, acc=): per epoch the
+    6 x 6 covariance of the position and velocity errors (x y z vx vy vz,
+    tracking axes) [[s_r^2 R, c s_r s_v R], [c s_r s_v R, s_v^2 R]], R =
+    [[1 r r^2], [r 1 r], [r^2 r 1]] (r = corr, c = cross: simulate --raw's
+    --track-corr, --track-cross), and one draw of them
+    (igea_sim_track_errors; the generator of (seed, flight)).
+    sigma_v: (epochs,) velocity 1-sigma per axis (m/s); sigma_r: position
+    1-sigma (m). Returns (acc (epochs, 21) the upper triangles row by row,
+    err (epochs, 6))."""
+    sv = np.ascontiguousarray(_lib.as_f64(sigma_v, "sigma_v", ndim=1))
+    ne = sv.size
+    if ne < 1:
+        raise ValueError("sigma_v: empty")
+    acc, err = np.zeros((ne, 21)), np.zeros((ne, 6))
+    _lib.call("igea.track_errors", "igea_sim_track_errors", ne, _lib.dptr(sv), float(sigma_r),
+              float(corr), float(cross), int(seed), int(flight), _lib.dptr(acc), _lib.dptr(err))
+    return acc, err

@@ -11,7 +11,7 @@
 #define DEG (3.14159265358979323846 / 180.0)
 
 typedef struct {
-    const char *telemetry, *tracking, *q0, *out, *cov_out, *sigma_out, *offset_out;
+    const char *telemetry, *tracking, *q0, *out, *cov_out, *sigma_out, *offset_out, *k_out;
     double lat, lon, height, azimuth, time_offset;
     int frame, system, kind, json, given_lat, given_lon, given_az;
 } dw_args;
@@ -32,6 +32,7 @@ static const cli_opt options[] = {
     {"--time-offset", CLI_OPT_NUM, &A.time_offset, "0", "TAU", "telemetry clock offset (s): the record stamped s\nwas taken at tracking time s + TAU", NULL},
     {"--out", CLI_OPT_STR, &A.out, NULL, "FILE", "write dW there (3 rows per epoch, x y z; '-' is\nstandard output)", NULL},
     {"--cov-out", CLI_OPT_STR, &A.cov_out, NULL, "FILE", "the tracking covariance in LI, one row per epoch:\nc_xx c_xy c_xz c_yy c_yz c_zz", NULL},
+    {"--k-out", CLI_OPT_STR, &A.k_out, NULL, "FILE", "the same covariance as igea eqerr --cov reads it (the\nblock K): one row per epoch, xx yx yy zx zy zz", NULL},
     {"--sigma-out", CLI_OPT_STR, &A.sigma_out, NULL, "FILE", "its per-row 1-sigma (for igea eqerr --sigma)", NULL},
     {"--time-offset-out", CLI_OPT_STR, &A.offset_out, NULL, "FILE", "the column dW/dtau of a remaining clock offset\n(term time_offset, to append to S)", NULL},
     {"--json", CLI_OPT_FLAG, &A.json, NULL, NULL, "machine-readable summary (field names as igea.dw)", NULL},
@@ -40,7 +41,7 @@ static const cli_opt options[] = {
 static const cli_command command = {"dw",
 "usage: igea dw --telemetry FILE --tracking FILE --lat DEG --lon DEG --azimuth DEG\n"
 "               [--height M] [--frame le|ecef] [--system strapdown|platform]\n"
-"               --out FILE [--cov-out FILE] [--sigma-out FILE] [options]\n"
+"               --out FILE [--cov-out FILE] [--k-out FILE] [--sigma-out FILE] [options]\n"
 "\n"
 "Telemetry minus tracking (docs/pipeline.md): the apparent-velocity\n"
 "differences dW = W_telemetry - W_tracking at the tracking epochs, in the\n"
@@ -54,7 +55,9 @@ static const cli_command command = {"dw",
 "or t dvx dvy dvz (platform, along LI); each row holds the increments since\n"
 "the row before; the first row is lift-off (vehicle at rest on the pad).\n"
 "Tracking: t x y z vx vy vz (m, m/s, in --frame) and the velocity accuracy:\n"
-"nothing, one sigma, sigma_x sigma_y sigma_z, or c_xx c_xy c_xz c_yy c_yz c_zz.\n"
+"nothing, one sigma, sigma_x sigma_y sigma_z, c_xx c_xy c_xz c_yy c_yz c_zz, or\n"
+"the 6 x 6 covariance of x y z vx vy vz (21 values, its upper triangle row by\n"
+"row; the position's part enters K through the Earth rate).\n"
 "Epochs may be unequally spaced, with gaps; each must lie in the telemetry span.\n"
 "\n"
 "options:\n",
@@ -70,7 +73,7 @@ options,
 
 typedef struct {
     cli_matrix tel, trk;
-    double *telc, *trkc, *dw, *cov, *sigma, *col, q0[4], site[IGEA_NAV_SITE_LEN];
+    double *telc, *trkc, *dw, *cov, *sigma, *col, *klow, q0[4], site[IGEA_NAV_SITE_LEN];
     int ntrk;
 } dw_run;
 
@@ -105,13 +108,13 @@ static int read_inputs(const dw_args *a, dw_run *r)
                   a->system == IGEA_ENVFUN_STRAPDOWN ? "7 (t dv3 dth3)" : "4 (t dv3)");
         return CLI_DATAERR;
     }
-    if (kc != 7 && kc != 8 && kc != 10 && kc != 13) {
-        cli_error("%s: %d columns; tracking has 7 (t r3 v3), 8 (+ sigma), 10 (+ 3 sigmas) "
-                  "or 13 (+ covariance)", a->tracking, kc);
+    if (kc != 7 && kc != 8 && kc != 10 && kc != 13 && kc != 28) {
+        cli_error("%s: %d columns; tracking has 7 (t r3 v3), 8 (+ sigma), 10 (+ 3 sigmas), "
+                  "13 (+ velocity covariance) or 28 (+ 6 x 6 covariance)", a->tracking, kc);
         return CLI_DATAERR;
     }
-    if (kc == 7 && (a->cov_out || a->sigma_out)) {
-        cli_error("--cov-out, --sigma-out: %s holds no accuracy columns", a->tracking);
+    if (kc == 7 && (a->cov_out || a->sigma_out || a->k_out)) {
+        cli_error("--cov-out, --k-out, --sigma-out: %s holds no accuracy columns", a->tracking);
         return CLI_USAGE;
     }
     if (r->tel.rows > 2147483647L || r->trk.rows > 715827882L)
@@ -123,8 +126,9 @@ static int read_inputs(const dw_args *a, dw_run *r)
     r->dw = malloc(sizeof(double) * m);
     r->col = malloc(sizeof(double) * m);
     r->cov = malloc(sizeof(double) * 2 * m);
+    r->klow = malloc(sizeof(double) * 2 * m);
     r->sigma = malloc(sizeof(double) * m);
-    if (!r->telc || !r->trkc || !r->dw || !r->col || !r->cov || !r->sigma)
+    if (!r->telc || !r->trkc || !r->dw || !r->col || !r->cov || !r->sigma || !r->klow)
         return cli_oom("the records");
     return CLI_OK;
 }
@@ -203,30 +207,37 @@ static void summary(FILE *f, const dw_args *a, const dw_run *r)
 
 static int write_outputs(const dw_args *a, const dw_run *r)
 {
-    cli_out o[4] = {CLI_OUT_INIT, CLI_OUT_INIT, CLI_OUT_INIT, CLI_OUT_INIT};
-    const char *paths[4] = {a->out, a->cov_out, a->sigma_out, a->offset_out};
-    const double *data[4] = {r->dw, r->cov, r->sigma, r->col};
-    const int cols[4] = {1, 6, 1, 1};
-    const char *head[4] = {
+    cli_out o[5] = {CLI_OUT_INIT, CLI_OUT_INIT, CLI_OUT_INIT, CLI_OUT_INIT, CLI_OUT_INIT};
+    const char *paths[5] = {a->out, a->cov_out, a->sigma_out, a->offset_out, a->k_out};
+    const double *data[5] = {r->dw, r->cov, r->sigma, r->col, r->klow};
+    const int cols[5] = {1, 6, 1, 1, 6};
+    const char *head[5] = {
         "names dw\n# units m/s\n# rows epoch-major x y z, launch-inertial axes",
         "names c_xx c_xy c_xz c_yy c_yz c_zz\n# units m^2/s^2\n# one row per epoch, launch-inertial axes",
         "names sigma\n# units m/s\n# rows epoch-major x y z",
-        "names time_offset\n# units m/s^2 (dW per s of clock offset)\n# rows epoch-major x y z"};
+        "names time_offset\n# units m/s^2 (dW per s of clock offset)\n# rows epoch-major x y z",
+        "names c_xx c_yx c_yy c_zx c_zy c_zz\n# units m^2/s^2\n# one row per epoch, launch-inertial "
+        "axes: the block K of igea eqerr --cov"};
+    for (int e = 0; a->k_out && e < r->ntrk; e++) { /* xx xy xz yy yz zz -> xx yx yy zx zy zz */
+        static const int perm[6] = {0, 1, 3, 2, 4, 5};
+        for (int i = 0; i < 6; i++)
+            r->klow[6 * (size_t)e + i] = r->cov[6 * (size_t)e + perm[i]];
+    }
     int n = 0, ec = CLI_OK;
-    for (int i = 0; i < 4 && !ec; i++) {
+    for (int i = 0; i < 5 && !ec; i++) {
         if (!paths[i])
             continue;
         if ((ec = cli_out_open(&o[n], paths[i])))
             break;
         size_t len = strlen(paths[i]);
         int npy = o[n].f != stdout && len >= 4 && !strcmp(paths[i] + len - 4, ".npy");
-        long rows = i == 1 ? r->ntrk : 3L * r->ntrk;
+        long rows = i == 1 || i == 4 ? r->ntrk : 3L * r->ntrk;
         cli_write_matrix_body(o[n].f, npy, data[i], rows, cols[i], head[i]);
         n++;
     }
     if (!ec) {
         int to_stdout = 0;
-        for (int i = 0; i < 4; i++)
+        for (int i = 0; i < 5; i++)
             to_stdout |= paths[i] && !strcmp(paths[i], "-");
         summary(to_stdout ? stderr : stdout, a, r);
         ec = cli_stdout_check();
@@ -261,6 +272,7 @@ int cmd_dw(int argc, char **argv)
     free(r.trkc);
     free(r.dw);
     free(r.cov);
+    free(r.klow);
     free(r.sigma);
     free(r.col);
     return ec;

@@ -8,8 +8,8 @@
 
 typedef struct {
     const char *traj, *terms, *epochs, *spec, *axes, *out, *term_file;
-    double step;
-    int system, output, json, list;
+    double step, lat, lon, height, azimuth;
+    int system, output, json, list, given_lat, given_lon, given_h, given_az;
 } ef_args;
 
 static ef_args A;
@@ -25,7 +25,11 @@ static const cli_opt options[] = {
     {"--spec", CLI_OPT_STR, &A.spec, NULL, "default|FILE", "multiply the columns by 1-sigma specs (default: raw S)", NULL},
     {"--axes", CLI_OPT_STR, &A.axes, NULL, "I,I,I,S,S,S", "platform gyro input and spin axes (0..2; default\n0,1,2,1,2,0)", NULL},
     {"--output", CLI_OPT_CHOICE, &A.output, "velocity", CLI_CHOICES(IGEA_CHOICE_ENVFUN_OUTPUT),
-     "the quantity (_g: with the point-mass gravity-gradient\ncoupling)", NULL},
+     "the quantity (_g: with the gravity-gradient coupling,\npoint mass; J2 with --lat, --lon, --azimuth)", NULL},
+    {"--lat", CLI_OPT_NUM, &A.lat, NULL, "DEG", "the stated launch point (as igea dw's): latitude;\nwith --lon, --azimuth the launch-point terms pos0_*\nalso hold the pad velocity's error (docs/envfun.md)", &A.given_lat},
+    {"--lon", CLI_OPT_NUM, &A.lon, NULL, "DEG", "its longitude", &A.given_lon},
+    {"--height", CLI_OPT_NUM, &A.height, "0", "M", "its ellipsoidal height", &A.given_h},
+    {"--azimuth", CLI_OPT_NUM, &A.azimuth, NULL, "DEG", "the firing azimuth, from north toward east", &A.given_az},
     {"--out", CLI_OPT_STR, &A.out, NULL, "FILE", "write S there (text with a '# names' header, or .npy)", NULL},
     {"--json", CLI_OPT_FLAG, &A.json, NULL, NULL, "machine-readable summary (with --out) or S as JSON", NULL},
     CLI_END};
@@ -87,6 +91,8 @@ typedef struct {
     int *codes, nt, nsamp, nep, m, axes[6], nu, *ukind;
     double *traj, *ep, *spec, *S; /* S row-major */
     double *user;                 /* nsamp x 3 nu column-major */
+    double site[IGEA_NAV_SITE_LEN];
+    int has_site;
     char *header, *ubuf;          /* ubuf: the NAME=FILE list, split */
     const char **names;           /* nt + nu column names */
 } ef_run;
@@ -201,6 +207,26 @@ static char *column_header(const ef_run *r)
     return h;
 }
 
+/* The stated launch point of --lat, --lon, --height, --azimuth (all or
+ * none of lat, lon, azimuth). */
+static int read_site(const ef_args *a, ef_run *r)
+{
+    const double deg = 3.14159265358979323846 / 180.0;
+    int n = a->given_lat + a->given_lon + a->given_az;
+    r->has_site = n == 3;
+    if (n == 0 && !a->given_h)
+        return CLI_OK;
+    if (n != 3) {
+        cli_error("--lat, --lon, --azimuth: give all three (the stated launch point) or none");
+        return CLI_USAGE;
+    }
+    if (igea_nav_site(a->lat * deg, a->lon * deg, a->height, a->azimuth * deg, r->site)) {
+        cli_error("--lat, --lon, --height, --azimuth: |lat| < 90, height > -6e6 m");
+        return CLI_USAGE;
+    }
+    return CLI_OK;
+}
+
 static int read_inputs(const ef_args *a, ef_run *r)
 {
     int ec;
@@ -217,6 +243,8 @@ static int read_inputs(const ef_args *a, ef_run *r)
         return ec;
     if (a->spec && (ec = read_specs(a, r)))
         return ec;
+    if ((ec = read_site(a, r)))
+        return ec;
     r->m = 3 * r->nep;
     if (!(r->header = column_header(r)))
         return cli_oom("the header");
@@ -229,9 +257,10 @@ static int compute(const ef_args *a, ef_run *r)
     double *S = malloc(sizeof(double) * (size_t)m * nt);
     if (!S)
         return cli_oom("S");
-    int st = igea_envfun_compute_user(a->system, r->nsamp, r->traj, r->nsamp, r->nt, r->codes,
+    int st = igea_envfun_compute_site(a->system, r->nsamp, r->traj, r->nsamp, r->nt, r->codes,
                                       a->axes ? r->axes : NULL, r->nu, r->ukind, r->user,
-                                      r->nsamp, r->nep, r->ep, r->spec, a->output, S, m);
+                                      r->nsamp, r->nep, r->ep, r->spec, a->output,
+                                      r->has_site ? r->site : NULL, S, m);
     int ec = CLI_OK;
     if (st == ARG_EPOCHS) {
         cli_error("envfun: the epochs must be non-decreasing and inside [%g, %g] s", r->traj[0],

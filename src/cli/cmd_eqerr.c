@@ -114,6 +114,7 @@ typedef struct {
     int noise;                         /* 1: a noise option given */
     cli_noise_args na;                 /* their arguments */
     const char *plot; /* --plot FILE.svg */
+    const char *burnout, *burnout_errors; /* --burnout, --burnout-errors: component miss */
 } eqerr_args;
 
 /* The overall verdict rule, the same option in eqerr and test. */
@@ -155,6 +156,10 @@ static const cli_opt eqerr_options[] = {
     {"--robust", CLI_OPT_DSET, EQ_OPT(ROBUST), NULL, NULL, "reject outlying rows by data snooping (w-test)", NULL},
     {"--robust-alpha", CLI_OPT_NUM, EQ_OPT(ROBUST_ALPHA), NULL, "A", "level of the w-test per row (0: 0.001)", NULL},
     {"--residuals", CLI_OPT_STR, &EA.residuals, NULL, "FILE", "write epoch, axis, residual per row: dw - S D P_t Xhat_t\n(whitened, with the noise models)", NULL},
+    {"--burnout", CLI_OPT_STR, &EA.burnout, NULL, "X,Y,Z,VX,VY,VZ", "with --burnout-errors: the nominal burnout state\n"
+     "(ECEF, m and m/s, as igea impact); the report adds the\nmiss (Kepler) of each tested component", NULL},
+    {"--burnout-errors", CLI_OPT_STR, &EA.burnout_errors, NULL, "FILE", "6 rows (x y z vx vy vz, ECEF) by N columns: the\n"
+     "burnout state error per unit of each column of S as\njudged (times its spec with --spec)", NULL},
     CLI_VERDICT_OPT(&EA.verdict),
     {"--names", CLI_OPT_STR, &EA.names, NULL, "LIST", "comma-separated term names, one per column of S\n"
      "(default: the '# name name ...' header of a text S, as\nigea envfun and simulate write it)", NULL},
@@ -421,6 +426,7 @@ typedef struct {
     /* the noise models (eqerr_noise.c): their results, the whitened
      * residuals in nr.resid; NULL nr.lambda for the plain route */
     cli_noise_result nr;
+    double *cmiss; /* --burnout: 2 x n_test miss of the tested components (m) */
 } flight;
 
 static void flight_free(flight *r)
@@ -432,6 +438,7 @@ static void flight_free(flight *r)
     free(r->names);
     free(r->share); /* loading and order are in its block */
     cli_noise_result_free(&r->nr);
+    free(r->cmiss);
 }
 
 static int flight_alloc(flight *r, int N)
@@ -660,6 +667,8 @@ static void json_head(cli_json *j, const flight *r, const eqerr_args *a)
     cli_json_open(j, "residual", '[');
 }
 
+static void text_component_miss(FILE *f, const flight *r);
+
 static void text_report(FILE *f, const flight *r, const eqerr_args *a)
 {
     const double *info = r->info;
@@ -679,6 +688,8 @@ static void text_report(FILE *f, const flight *r, const eqerr_args *a)
     else
         fprintf(f, "(no component test under the chi2 rule; precision = lambda^-1/2)\n\n");
     text_components(f, r);
+    if (r->cmiss)
+        text_component_miss(f, r);
     fputc('\n', f);
     int flag = (int)info[IGEA_STATS_INFO_FLAG];
     if (flag == IGEA_STATS_SIGMAW_OFF)
@@ -940,6 +951,70 @@ static int json_copy(FILE *jf, FILE *out)
     return CLI_OK;
 }
 
+/* --burnout with --burnout-errors: the downrange and crossrange miss of
+ * each tested component (igea_impact_component_miss, Kepler impact). */
+static int component_miss(const eqerr_args *a, flight *r)
+{
+    int nt = (int)r->info[IGEA_STATS_INFO_N_TEST], rows = 0, cols = 0, n = 0, ec;
+    double s[6], opts[IGEA_IMPACT_OPT_LEN], rf[3], vf[3], jac[IGEA_IMPACT_JAC_ROWS * 6], G[12];
+    double *E = NULL;
+    char **items = NULL;
+    if (!a->burnout != !a->burnout_errors) {
+        cli_error("--burnout, --burnout-errors: give both (the component miss) or neither");
+        return CLI_USAGE;
+    }
+    if ((ec = cli_split_list(a->burnout, &items, &n)))
+        return ec;
+    if (n != 6) {
+        cli_error("--burnout: %d numbers; six are needed (x,y,z,vx,vy,vz)", n);
+        ec = CLI_USAGE;
+    }
+    for (int i = 0; !ec && i < 6; i++)
+        ec = cli_parse_double("--burnout", items[i], &s[i]);
+    free(items);
+    if (!ec && !(ec = cli_read_colmajor(a->burnout_errors, &E, &rows, &cols)) &&
+        (rows != 6 || cols != r->N)) {
+        cli_error("%s: %d x %d; the burnout errors are 6 rows (x y z vx vy vz) by the %d "
+                  "columns of S", a->burnout_errors, rows, cols, r->N);
+        ec = CLI_DATAERR;
+    }
+    if (!ec && nt > 0 && !(r->cmiss = malloc(sizeof(double) * 2 * (size_t)nt)))
+        ec = cli_oom("the component miss");
+    if (!ec && nt > 0) {
+        igea_impact_defaults(opts);
+        int st = igea_impact_point(IGEA_IMPACT_KEPLER, opts, s, s + 3, rf, vf, NULL, jac,
+                                   IGEA_IMPACT_JAC_ROWS);
+        if (!st)
+            st = igea_impact_miss_jacobian(jac, IGEA_IMPACT_JAC_ROWS, rf, vf, G, 2);
+        if (!st)
+            st = igea_impact_component_miss(r->N, nt, G, 2, E, 6, r->P, r->N, r->xhat, r->cmiss);
+        if (st == IGEA_EDOMAIN)
+            cli_error("--burnout: the flight does not come down to the Earth");
+        ec = st == IGEA_EDOMAIN ? CLI_DATAERR : cli_status(st, "eqerr: the component miss");
+    }
+    free(E);
+    return ec;
+}
+
+static void text_component_miss(FILE *f, const flight *r)
+{
+    int nt = (int)r->info[IGEA_STATS_INFO_N_TEST];
+    fprintf(f, "miss at impact of each tested component at its equivalent error (Kepler, from "
+               "--burnout):\n");
+    for (int i = 0; i < nt; i++)
+        fprintf(f, "  %3d  %10.4g m downrange  %10.4g m crossrange%s\n", i, r->cmiss[2 * i],
+                r->cmiss[2 * i + 1], r->reject[i] == 1 ? "  (rejected)" : "");
+}
+
+/* "component_miss": [[downrange, crossrange] per tested component]. */
+static void json_component_miss(cli_json *j, const flight *r)
+{
+    cli_json_open(j, "component_miss", '[');
+    for (int i = 0; i < (int)r->info[IGEA_STATS_INFO_N_TEST]; i++)
+        cli_jnums(j, NULL, r->cmiss + 2 * i, 2);
+    cli_json_close(j);
+}
+
 /* The report (and the residuals) from the two passes. */
 static int eqerr_report(const eqerr_args *a, flight *r, cli_out *out, cli_out *res)
 {
@@ -952,11 +1027,15 @@ static int eqerr_report(const eqerr_args *a, flight *r, cli_out *out, cli_out *r
         ec = (a->noise ? run_noise : run_streamed)(a, r, res->f, jf ? &j : NULL); /* NULL: none */
     if (!ec)
         ec = components_compute(a, r);
+    if (!ec && (a->burnout || a->burnout_errors))
+        ec = component_miss(a, r);
     if (!ec && jf) {
         cli_json_close(&j);
         cli_jnums(&j, "rms", r->rms, 3);
         json_whiteness(&j, r);
         json_components(&j, r);
+        if (r->cmiss)
+            json_component_miss(&j, r);
         if (r->nr.lambda)
             cli_noise_json(&j, &r->nr);
         cli_json_end(&j);

@@ -11,7 +11,7 @@
 typedef struct {
     const char *dir;
     int flight, save_traj, json, nonlinear, raw, frame;
-    double lat, lon, height, azimuth;
+    double lat, lon, height, azimuth, track_sigma_r, track_corr, track_cross;
 } sm_args;
 
 static sm_args A;
@@ -30,6 +30,11 @@ static const cli_opt options[] = {
     {"--height", CLI_OPT_NUM, &A.height, "1000", "M", "its ellipsoidal height", NULL},
     {"--azimuth", CLI_OPT_NUM, &A.azimuth, "30", "DEG", "firing azimuth, from north toward east", NULL},
     {"--frame", CLI_OPT_CHOICE, &A.frame, "ecef", CLI_CHOICES(IGEA_CHOICE_NAV_FRAME), "the tracking's frame: ecef or le", NULL},
+    {"--track-sigma-r", CLI_OPT_NUM, &A.track_sigma_r, "0", "M", "> 0: the tracking's own position and velocity errors\n"
+     "(igea_sim_track_errors) instead of the flight's noise:\nposition 1-sigma M per axis, velocity the stated sigma;\n"
+     "tracking.txt then holds the 6 x 6 covariance (28 columns)", NULL},
+    {"--track-corr", CLI_OPT_NUM, &A.track_corr, "0", "R", "their correlation between neighbouring axes", NULL},
+    {"--track-cross", CLI_OPT_NUM, &A.track_cross, "0", "C", "their position-velocity correlation", NULL},
     CLI_HEAD("output:"),
     {"--dir", CLI_OPT_STR, &A.dir, ".", "DIR", "output directory (must exist)", NULL},
     {"--save-traj", CLI_OPT_FLAG, &A.save_traj, NULL, NULL, "also write DIR/traj.txt", NULL},
@@ -54,9 +59,11 @@ static const cli_command command = {"simulate",
 "  telemetry.txt  t dvx dvy dvz [dthx dthy dthz]: increments with the\n"
 "                 instrument errors (strapdown body axes, platform axes)\n"
 "  tracking.txt   t x y z vx vy vz sigma of the true vehicle in --frame at\n"
-"                 the epochs (each a trajectory sample time), noise added\n"
+"                 the epochs (any times in the trajectory), noise added\n"
 "  dw_args.txt    the stated launch point, frame, system and lift-off\n"
 "                 attitude as igea dw options: igea dw $(cat dw_args.txt) ...\n"
+"  site_args.txt  the stated launch point alone, for igea envfun (its pos0_*\n"
+"                 terms): igea envfun $(cat site_args.txt) ...\n"
 "exactly the files 'igea eqerr' reads. The same --seed gives the same flight on\n"
 "every machine; --flight F picks another flight of the same seed.\n"
 "\n",
@@ -159,6 +166,45 @@ static int tracking_rows(const cli_flight *f, const double *trk, sm_run *r)
     return CLI_OK;
 }
 
+/* --raw with --track-sigma-r: the tracking's own errors and its 6 x 6
+ * covariance (igea_sim_track_errors, igea_sim_raw_track); tel the
+ * telemetry buffer (ns x tel_cols), r->trk the 28-column rows. */
+static int raw_track(const sm_args *a, const cli_flight_args *fa, const cli_flight *f,
+                     sm_run *r, const double *err, const double *site, double *tel)
+{
+    int ne = f->nep, ns = f->nsamp, st;
+    double *sv = malloc(sizeof(double) * ne), *acc = malloc(sizeof(double) * 21 * ne);
+    double *te = malloc(sizeof(double) * 6 * ne), *trk = malloc(sizeof(double) * 28 * ne);
+    int ec = !sv || !acc || !te || !trk ? cli_oom("the tracking errors") : CLI_OK;
+    for (int e = 0; !ec && e < ne; e++)
+        sv[e] = r->sigma[3 * e];
+    if (!ec) {
+        st = igea_sim_track_errors(ne, sv, a->track_sigma_r, a->track_corr, a->track_cross,
+                                   fa->seed, a->flight, acc, te);
+        if (st == -3 || st == -4 || st == -5)
+            cli_error("--track-%s: %s", st == -3 ? "sigma-r" : st == -4 ? "corr" : "cross",
+                      st == -3 ? "a position sigma > 0 (m)" : "a correlation in (-1, 1)");
+        ec = st == -3 || st == -4 || st == -5 ? CLI_USAGE : cli_status(st, "simulate --raw");
+    }
+    if (!ec) {
+        st = igea_sim_raw_track(fa->system, ns, f->traj, ns, igea_envfun_term_count(), err, NULL,
+                                site, a->frame, ne, f->ep, te, 21, acc, tel, ns, trk, ne,
+                                r->q0, r->site);
+        if (st == -11)
+            cli_error("simulate --raw: the tracking epochs must increase and lie inside the "
+                      "trajectory");
+        ec = st == -11 ? CLI_DATAERR : cli_status(st, "simulate --raw");
+    }
+    r->trk_cols = 28;
+    if (!ec && !(r->trk = cli_rowmajor(trk, ne, 28)))
+        ec = cli_oom("the tracking record");
+    free(sv);
+    free(acc);
+    free(te);
+    free(trk);
+    return ec;
+}
+
 /* --raw: the records of the flight just run (x true, in spec units). */
 static int run_raw(const sm_args *a, const cli_flight_args *fa, cli_flight *f, sm_run *r)
 {
@@ -182,18 +228,22 @@ static int run_raw(const sm_args *a, const cli_flight_args *fa, cli_flight *f, s
         ec = flight_noise(fa, a, f, noise);
     for (int j = 0; !ec && j < f->N; j++)
         err[f->codes[j]] = r->x[j] * f->spec[j];
-    if (!ec) {
+    int tracked = !ec && a->track_sigma_r > 0.0;
+    if (tracked)
+        ec = raw_track(a, fa, f, r, err, site, tel);
+    if (!ec && !tracked) {
         st = igea_sim_raw(fa->system, ns, f->traj, ns, ne, err, NULL, site, a->frame, f->nep,
                           f->ep, noise, tel, ns, trk, f->nep, r->q0, r->site);
         if (st == -11)
-            cli_error("simulate --raw: every tracking epoch must be a trajectory sample time");
+            cli_error("simulate --raw: the tracking epochs must increase and lie inside the "
+                      "trajectory");
         ec = st == -11 ? CLI_DATAERR : cli_status(st, "simulate --raw");
     }
     r->tel_rows = ns;
     r->ntrk = f->nep;
     if (!ec && !(r->tel = cli_rowmajor(tel, ns, r->tel_cols)))
         ec = cli_oom("the telemetry record");
-    if (!ec)
+    if (!ec && !tracked)
         ec = tracking_rows(f, trk, r);
     free(err);
     free(noise);
@@ -212,8 +262,18 @@ static void write_raw(cli_out *outs, const sm_args *a, const cli_flight_args *fa
     fprintf(outs[0].f, "# names t dvx dvy dvz%s\n# units s m/s m/s m/s%s\n",
             sd ? " dthx dthy dthz" : "", sd ? " rad rad rad" : "");
     cli_write_matrix_body(outs[0].f, 0, r->tel, r->tel_rows, r->tel_cols, NULL);
-    fprintf(outs[1].f, "# names t x y z vx vy vz %s\n# units s m m m m/s m/s m/s %s\n",
-            sg[three], su[three]);
+    if (r->trk_cols == 28) {
+        static const char *const v[6] = {"x", "y", "z", "vx", "vy", "vz"};
+        fputs("# names t x y z vx vy vz", outs[1].f);
+        for (int i = 0; i < 6; i++)
+            for (int j = i; j < 6; j++)
+                fprintf(outs[1].f, " c_%s_%s", v[i], v[j]);
+        fputs("\n# units s m m m m/s m/s m/s (the 6 x 6 position-velocity covariance: m^2, "
+              "m^2/s, m^2/s^2)\n", outs[1].f);
+    } else {
+        fprintf(outs[1].f, "# names t x y z vx vy vz %s\n# units s m m m m/s m/s m/s %s\n",
+                sg[three], su[three]);
+    }
     cli_write_matrix_body(outs[1].f, 0, r->trk, r->ntrk, r->trk_cols, NULL);
     fprintf(outs[2].f, "--lat %.17g --lon %.17g --height %.17g --azimuth %.17g --frame %s "
             "--system %s --q0 %.17g,%.17g,%.17g,%.17g\n",
@@ -221,6 +281,9 @@ static void write_raw(cli_out *outs, const sm_args *a, const cli_flight_args *fa
             r->site[IGEA_NAV_SITE_H], r->site[IGEA_NAV_SITE_AZ] / DEG,
             a->frame == IGEA_NAV_ECEF ? "ecef" : "le", sd ? "strapdown" : "platform",
             r->q0[0], r->q0[1], r->q0[2], r->q0[3]);
+    fprintf(outs[3].f, "--lat %.17g --lon %.17g --height %.17g --azimuth %.17g\n",
+            r->site[IGEA_NAV_SITE_LAT] / DEG, r->site[IGEA_NAV_SITE_LON] / DEG,
+            r->site[IGEA_NAV_SITE_H], r->site[IGEA_NAV_SITE_AZ] / DEG);
 }
 
 static void write_files(cli_out *outs, const sm_args *a, const cli_flight_args *fa,
@@ -267,11 +330,11 @@ static void json_summary(FILE *out, const sm_args *a, const cli_flight_args *fa,
 static int commit_files(const sm_args *a, const cli_flight_args *fa, const cli_flight *f,
                         const sm_run *r)
 {
-    static const char *const names[9] = {"S.txt", "dw.txt", "sigma.txt", "spec.txt", "X.txt",
-                                         "traj.txt", "telemetry.txt", "tracking.txt",
-                                         "dw_args.txt"};
-    cli_out outs[9];
-    int nout = a->raw ? 9 : a->save_traj ? 6 : 5, nopen = 0, ec = CLI_OK;
+    static const char *const names[10] = {"S.txt", "dw.txt", "sigma.txt", "spec.txt", "X.txt",
+                                          "traj.txt", "telemetry.txt", "tracking.txt",
+                                          "dw_args.txt", "site_args.txt"};
+    cli_out outs[10];
+    int nout = a->raw ? 10 : a->save_traj ? 6 : 5, nopen = 0, ec = CLI_OK;
     for (int k = 0; !ec && k < nout; k++) {
         char *path = join(a->dir, names[k]);
         outs[k] = (cli_out)CLI_OUT_INIT;
@@ -314,7 +377,7 @@ int cmd_simulate(int argc, char **argv)
         !(ec = commit_files(&a, &fa, &f, &r)) && !a.json)
         fprintf(stderr, "igea simulate: %d epochs x 3 axes, %d terms, seed %d flight %d -> "
                 "%s/{S,dw,sigma,spec,X%s}.txt\n", f.nep, f.N, fa.seed, a.flight, a.dir,
-                a.raw ? ",traj,telemetry,tracking,dw_args" : a.save_traj ? ",traj" : "");
+                a.raw ? ",traj,telemetry,tracking,dw_args,site_args" : a.save_traj ? ",traj" : "");
     free(r.x);
     free(r.dw);
     free(r.S);

@@ -35,8 +35,9 @@ def component_changes(S, spec, sigma, dw_a, dw_b):
     return U.T @ ((dw_a - dw_b) / sigma)
 
 
-def raw_pipeline(d, system, *extra):
-    """simulate --raw (all terms, seed 7) -> dw -> envfun in directory d:
+def raw_pipeline(d, system, *extra, site=False):
+    """simulate --raw (all terms, seed 7) -> dw -> envfun in directory d
+    (with site: envfun given the stated launch point of site_args.txt):
     (S, S_raw, spec, sigma, sigma_raw, dw, dw_raw, X true in spec units)."""
     r = run("simulate", "--raw", "--system", system, "--terms", "all", "--seed", "7",
             "--dir", ".", *extra, cwd=d)
@@ -45,7 +46,8 @@ def raw_pipeline(d, system, *extra):
     r = run("dw", *args, "--telemetry", "telemetry.txt", "--tracking", "tracking.txt",
             "--out", "dw_raw.txt", "--sigma-out", "sigma_raw.txt", cwd=d)
     assert r.returncode == 0, r.stderr
-    r = run("envfun", "--traj", "traj.txt", "--terms", "all", "--system", system,
+    sa = open(os.path.join(d, "site_args.txt")).read().split() if site else []
+    r = run("envfun", "--traj", "traj.txt", "--terms", "all", "--system", system, *sa,
             "--out", "S_raw.txt", cwd=d)
     assert r.returncode == 0, r.stderr
     t = {k: table(os.path.join(d, k + ".txt")) for k in
@@ -88,14 +90,20 @@ def test_driver_pipeline_equals_simulator(tmp_path, system):
 def test_launch_point_error_pad_velocity(tmp_path):
     """All 74 platform terms: the launch-point errors pos0_x, pos0_z (10 m
     spec) also shift the stated pad velocity, w x (r0' - r0): a constant
-    C (w_E x C^T (dx, 0, dz)) in dW that the envfun model (a rotation of the
-    launch frame only) leaves out; the rest agrees to 5e-5 m/s, and no
-    estimated component moves by more than its standard error."""
+    C (w_E x C^T (dx, 0, dz)) in dW. The simulator's own S and truth (a
+    rotation of the launch frame only) leave it out; envfun given the
+    stated launch point (site_args.txt) holds it: its pos0 columns exceed
+    the simulator's by w_L x e_k (numpy closed form here, within 5 %: the
+    rest is the ellipsoid's frame rotation and the tracking's first gravity
+    interval), and dW_raw - dW = (S_raw - S) X to 5e-5 m/s; no estimated
+    component moves by more than its standard error."""
     d = str(tmp_path)
-    S, _, spec, sig, _, dw, dw_raw, x = raw_pipeline(d, "platform", "--nonlinear-truth")
+    S, S_raw, spec, sig, _, dw, dw_raw, x = raw_pipeline(d, "platform", "--nonlinear-truth",
+                                                         site=True)
     names = [line.split("#")[1].strip() for line in open(os.path.join(d, "X.txt"))
              if not line.startswith("#")]
-    dx, dz = (x[names.index(n)] * spec[names.index(n)] for n in ("pos0_x", "pos0_z"))
+    ix, iz = (names.index(n) for n in ("pos0_x", "pos0_z"))
+    dx, dz = x[ix] * spec[ix], x[iz] * spec[iz]
     lat, lon, az = np.radians([40.96, 100.29, 30.0])
     n_ = np.array([-np.sin(lat) * np.cos(lon), -np.sin(lat) * np.sin(lon), np.cos(lat)])
     e_ = np.array([-np.sin(lon), np.cos(lon), 0.0])
@@ -106,8 +114,15 @@ def test_launch_point_error_pad_velocity(tmp_path):
     offset = C @ np.cross(w, C.T @ np.array([dx, 0.0, dz]))
     diff = (dw_raw - dw).reshape(-1, 3)
     assert np.linalg.norm(offset) > 3e-4          # the flight has a sizeable error
-    assert np.max(np.abs(diff - offset)) < 5e-5
-    assert np.max(np.abs(component_changes(S, spec, sig, dw_raw, dw))) < 1.0
+    assert np.max(np.abs(diff - offset)) < 5e-5   # the simulator's S lacks the offset
+    wl = C @ w
+    for i, ek in ((ix, [1.0, 0, 0]), (iz, [0, 0, 1.0])):
+        extra = (S_raw[:, i] - S[:, i]).reshape(-1, 3)
+        np.testing.assert_allclose(extra, np.tile(np.cross(wl, ek), (len(extra), 1)),
+                                   rtol=0, atol=0.05 * np.linalg.norm(wl))
+    xs = x * spec
+    assert np.max(np.abs((dw_raw - dw) - (S_raw - S) @ xs)) < 5e-5
+    assert np.max(np.abs(component_changes(S_raw, spec, sig, dw_raw, dw + (S_raw - S) @ xs))) < 1.0
 
 
 @pytest.mark.parametrize("system", ["platform", "strapdown"])
@@ -137,6 +152,29 @@ def test_driver_refusals(tmp_path):
     d = str(tmp_path)
     r = run("simulate", "--raw", "--frame", "li", "--dir", ".", cwd=d)
     assert r.returncode == 64 and "--frame" in r.stderr
-    r = run("simulate", "--raw", "--epoch-step", "1.01", "--dir", ".", cwd=d)
-    assert r.returncode == 65 and "sample time" in r.stderr
+    r = run("simulate", "--raw", "--lat", "95", "--dir", ".", cwd=d)
+    assert r.returncode == 64 and "--lat" in r.stderr
     assert not os.path.exists(os.path.join(d, "telemetry.txt"))
+
+
+@pytest.mark.parametrize("system", ["platform", "strapdown"])
+def test_envfun_site_python(system):
+    """igea.envfun with the stated launch point (lat, lon, height, azimuth
+    of the records): the raw records of a launch point off by 2 x spec
+    downrange and -1.5 x spec cross-range (no other error, no noise) give
+    dW = S X to 1e-6 m/s (dw's floor); without the site the pad velocity's
+    error w_L x d (9.5e-4 m/s measured) is left."""
+    terms = ["pos0_x", "pos0_z"]
+    x = np.array([2.0, -1.5])
+    raw = simulate_raw(system=system, terms=terms, x=x, noise=False)
+    fl = raw.flight
+    d = igea.dw(raw.telemetry, raw.tracking, **raw.dw_kwargs())
+    traj = igea.reference_trajectory(system=system)
+    site = dict(lat=raw.lat, lon=raw.lon, height=raw.height, azimuth=raw.azimuth)
+    S = igea.envfun(traj, terms, fl.epochs, system=system, **site)
+    S0 = igea.envfun(traj, terms, fl.epochs, system=system)
+    xs = x * fl.spec
+    assert np.max(np.abs(d.dw - S @ xs)) < 1e-6
+    assert np.max(np.abs(d.dw - S0 @ xs)) > 5e-4
+    with pytest.raises(ValueError, match="lat, lon, azimuth"):
+        igea.envfun(traj, terms, fl.epochs, system=system, lat=raw.lat)
