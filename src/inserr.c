@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "igea/inserr.h"
+#include "inserr_int.h"
 #include "internal.h"
 
 #define NS IGEA_INSERR_N
@@ -226,7 +227,7 @@ int igea_inserr_response(const double *opts, const double *x0, double duration, 
     return propagate(opts, NULL, NS, x0, duration, n, x);
 }
 
-static int check_p0(const double *P0)
+int igea__inserr_check_p0(const double *P0)
 {
     if (!igea__finite_vec(NS2, P0, 1))
         return IGEA_ENONFINITE;
@@ -254,7 +255,7 @@ int igea_inserr_covariance(const double *opts, const double *P0, const double *q
         return st;
     if (!P)
         return -6;
-    if (P0 && (st = check_p0(P0)))
+    if (P0 && (st = igea__inserr_check_p0(P0)))
         return st;
     if (!igea__finite_vec(IGEA_INSERR_NQ, q, 1))
         return IGEA_ENONFINITE;
