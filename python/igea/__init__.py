@@ -30,5 +30,5 @@ from .triad import TriadResult, triad_apply, triad_calibrate, triad_fit, triad_s
 from .io import MatrixFile, read_matrix  # noqa: E402
 from .nav import NavResult, nav_ecef_to_geodetic, nav_geodetic_to_ecef, nav_gravity, nav_navigate, nav_site, nav_transform  # noqa: E402,E501
 from .dw import DwResult, dw  # noqa: E402
-from .inserr import NavErrors, nav_errors  # noqa: E402
+from .inserr import NavErrors, NavErrorsLI, nav_errors, nav_errors_li  # noqa: E402
 from .sim import RawFlight, simulate_raw  # noqa: E402
