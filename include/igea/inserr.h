@@ -77,7 +77,15 @@ extern "C" {
 #define IGEA_INSERR_OPT_VE 5       /* east velocity, m/s: 0 */
 #define IGEA_INSERR_OPT_STEP 6     /* longest integration step, s: 1 */
 #define IGEA_INSERR_OPT_VERTICAL 7 /* vertical channel: 0 aided (held), 1 free: 0 */
-#define IGEA_INSERR_OPT_LEN 16     /* slots 8.. reserved for additions (0) */
+#define IGEA_INSERR_OPT_ACC_TC 8   /* accelerometer bias correlation time, s: 0 (none) */
+#define IGEA_INSERR_OPT_GYRO_TC 9  /* gyro drift correlation time, s: 0 (none) */
+#define IGEA_INSERR_OPT_LEN 16     /* slots 10.. reserved for additions (0) */
+
+/* Correlation times (IGEA_INSERR_OPT_ACC_TC, _GYRO_TC): 0 (the default)
+ * keeps the bias states constant or random walks as above; T > 0 makes
+ * them first-order Gauss-Markov processes, d(b)/dt = -b / T + w_b (the
+ * row of F gets -1 / T), whose stationary variance is q T / 2 for a
+ * driving density q. */
 
 /* Fill opts[IGEA_INSERR_OPT_LEN] with the defaults above. Returns 0, -1. */
 IGEA_API int igea_inserr_defaults(double *opts);
@@ -85,7 +93,8 @@ IGEA_API int igea_inserr_defaults(double *opts);
 /*
  * Check opts[IGEA_INSERR_OPT_LEN]: every slot finite (the reserved ones
  * included), radius >= 1e5, g > 0, omega >= 0, |lat| <= 1.5 rad (89.9 deg:
- * tan L is used), 0 < step <= 60, vertical 0 or 1. Returns 0 when they are
+ * tan L is used), 0 < step <= 60, vertical 0 or 1, acc_tc and gyro_tc 0 or
+ * in [1, 1e9] s. Returns 0 when they are
  * valid, -1 for a NULL opts, else 1 + the first bad slot
  * (igea_opt_name(IGEA_MODULE_INSERR, slot) names it).
  */
@@ -136,6 +145,44 @@ IGEA_API int igea_inserr_response(const double *opts, const double *x0, double d
  */
 IGEA_API int igea_inserr_covariance(const double *opts, const double *P0, const double *q,
                                     double duration, int n, double *P);
+
+/* Layout of the noise arrays of igea_inserr_noise_covariance: per
+ * instrument triad (accelerometers or gyros) the IEEE Std 952 coefficients
+ * of igea_stability_fit for each axis N E D, in SI units. */
+#define IGEA_INSERR_NOISE_N 0 /* random walk N (3): m/s/sqrt(s) (VRW), rad/sqrt(s) (ARW) */
+#define IGEA_INSERR_NOISE_B 3 /* bias instability B (3): m/s^2, rad/s */
+#define IGEA_INSERR_NOISE_K 6 /* rate random walk K (3): m/s^2/sqrt(s), rad/s/sqrt(s) */
+#define IGEA_INSERR_NOISE_LEN 9
+
+/*
+ * The error covariance for sensor noise given as IEEE Std 952 coefficients
+ * (docs/inserr.md, "Noise from an Allan fit"). Each instrument axis is the
+ * sum of three independent processes: white noise of density N^2, a
+ * random-walk bias of density K^2, and for bias instability a stationary
+ * first-order Gauss-Markov bias of correlation time T (the slot
+ * IGEA_INSERR_OPT_ACC_TC or _GYRO_TC of opts) and standard deviation
+ * s = B sqrt(2 ln2 / pi) / 0.61736 = 1.07600 B (its Allan deviation peaks at
+ * 0.61736 s at tau = 1.8926 T, matched to the flicker floor B sqrt(2 ln 2 /
+ * pi) of B) [D]. The model being linear, P is the sum of two runs of
+ * igea_inserr_covariance: one with the white and random-walk densities
+ * (q = N^2, K^2, both correlation times 0) from P0, one with the
+ * Gauss-Markov driving densities 2 s^2 / T from the stationary P0 = diag(s^2)
+ * on the bias states.
+ *  1 opts [IGEA_INSERR_OPT_LEN] (igea_inserr_check_opts; the correlation
+ *  times are read here only, > 0 where a B is > 0); 2 P0 (15 x 15 as
+ *  igea_inserr_covariance, e.g. the random constant biases; may be NULL:
+ *  0); 3 acc [IGEA_INSERR_NOISE_LEN] the accelerometers' N, B, K along N E
+ *  D; 4 gyro [IGEA_INSERR_NOISE_LEN] the gyros' (about N E D), each >= 0;
+ *  5 duration (s, > 0, duration / step <= 1e7); 6 n >= 2 epochs as
+ *  igea_inserr_response; output 7 P (n x 225 values).
+ * Returns 0, -i, IGEA_ENONFINITE (NaN or Inf in P0, acc or gyro),
+ * IGEA_ENONPOSITIVE (a negative coefficient or diagonal of P0),
+ * IGEA_EDOMAIN (P0 not symmetric, or a B > 0 whose correlation time is
+ * 0), IGEA_ENOMEM or IGEA_EOVERFLOW; P untouched on failure.
+ */
+IGEA_API int igea_inserr_noise_covariance(const double *opts, const double *P0,
+                                          const double *acc, const double *gyro,
+                                          double duration, int n, double *P);
 
 /* ---- along a trajectory, in the launch-inertial frame (src/inserr_li.c) --
  *
@@ -200,7 +247,9 @@ IGEA_API int igea_inserr_li_response(int system, const double *site, int gravity
 /*
  * The error covariance along a trajectory: dP/dt = A P + P A^T + B diag(q)
  * B^T over each interval, from P(t_0) = P0.
- *  1-9 as igea_inserr_li_response; 10 P0 (IGEA_INSERR_N x IGEA_INSERR_N,
+ *  1 system, 2 site, 3 gravity, 4 nsamp, 5 tel, 6 ldtel as
+ *  igea_inserr_li_response; 7 q0 [4] (may be NULL); 8 r0 [3] m (may be
+ *  NULL); 9 v0 [3] m/s (may be NULL); 10 P0 (IGEA_INSERR_N x IGEA_INSERR_N,
  *  symmetric to 1e-12 relative, non-negative diagonal; may be NULL: 0);
  *  11 q [IGEA_INSERR_NQ] two-sided spectral densities, each >= 0, per axis
  *  of the instruments (body or platform axes): accelerometer white noise

@@ -36,9 +36,29 @@ def _triple(v, name):
     return np.ascontiguousarray(_lib.as_f64(v, name, ndim=1, shape=(3,)))
 
 
+def _noise(v, name):
+    """N, B, K of a triad as (9,): a NoiseFit (its N, B, K for every axis),
+    a (3,) sequence N, B, K for every axis, or (3, 3) rows N, B, K by axis."""
+    if v is None:
+        return np.zeros(_capi.INSERR_NOISE_LEN)
+    if hasattr(v, "terms") and hasattr(v, "value"):
+        val = np.asarray(v.value, dtype=float)
+        nbk = val[[_capi.STABILITY_FIT_N, _capi.STABILITY_FIT_B, _capi.STABILITY_FIT_K]]
+        a = np.repeat(nbk[:, None], 3, axis=1)
+    else:
+        a = np.asarray(v, dtype=float)
+        if a.shape == (3,):
+            a = np.repeat(a[:, None], 3, axis=1)
+        elif a.shape != (3, 3):
+            raise ValueError(f"{name}: expected N, B, K (3,) or rows N, B, K by axis (3, 3), "
+                             f"got shape {a.shape}")
+    return np.ascontiguousarray(a.reshape(-1))
+
+
 def nav_errors(*, lat=0.0, duration=21600.0, epochs=361, step=None, acc_bias=None,
                gyro_drift=None, radius=None, g=None, omega=None, vn=None, ve=None,
-               vertical=None, q=None, p0=None):
+               vertical=None, q=None, p0=None, acc_noise=None, gyro_noise=None, acc_tc=None,
+               gyro_tc=None):
     """The INS errors over duration (s) at epochs equally spaced epochs from
     constant accelerometer biases acc_bias (3,) and gyro drifts gyro_drift
     (3,) at latitude lat (degrees). With q (12,): the covariance for white
@@ -46,7 +66,15 @@ def nav_errors(*, lat=0.0, duration=21600.0, epochs=361, step=None, acc_bias=Non
     accelerometer-bias and gyro-drift random walks, N E D each; see
     igea_inserr_covariance) from p0 (15, 15; None: 0). Options left None keep
     the library's defaults (R 6371008.8 m, g 9.80665 m/s^2, Earth rate
-    7.292115e-5 rad/s, step 1 s, vertical channel aided)."""
+    7.292115e-5 rad/s, step 1 s, vertical channel aided).
+    With acc_noise or gyro_noise instead of q: the covariance for noise given
+    by its IEEE Std 952 coefficients (igea_inserr_noise_covariance): each a
+    NoiseFit of igea.noise_fit (data in SI units, m/s^2 or rad/s: N in m/s
+    /sqrt(s) or rad/sqrt(s), B in m/s^2 or rad/s, K in m/s^2/sqrt(s) or
+    rad/s/sqrt(s); scale a fit of deg/h data by pi / 648000), N, B, K for
+    every axis, or a (3, 3) array of rows N, B, K by axis N E D; bias
+    instability B is a Gauss-Markov bias of correlation time acc_tc or
+    gyro_tc (s), which a B > 0 needs."""
     where = "igea.nav_errors"
     lat = float(lat)
     if not abs(lat) <= 85.9:
@@ -54,7 +82,7 @@ def nav_errors(*, lat=0.0, duration=21600.0, epochs=361, step=None, acc_bias=Non
                          "igea_inserr_response", "opts")
     o = _lib.options("inserr", where, ("igea_inserr_response", "opts"), radius=radius, g=g,
                      omega=omega, lat=math.radians(lat), vn=vn, ve=ve, step=step,
-                     vertical=vertical)
+                     vertical=vertical, acc_tc=acc_tc, gyro_tc=gyro_tc)
     n = int(epochs)
     acc, gyro = _triple(acc_bias, "acc_bias"), _triple(gyro_drift, "gyro_drift")
     x0 = np.zeros(_capi.INSERR_N)
@@ -64,15 +92,23 @@ def nav_errors(*, lat=0.0, duration=21600.0, epochs=361, step=None, acc_bias=Non
     _lib.call(where, "igea_inserr_response", _lib.dptr(o), _lib.dptr(x0), float(duration), n,
               _lib.dptr(x))
     cov = None
+    by_fit = acc_noise is not None or gyro_noise is not None
+    if q is not None and by_fit:
+        raise ValueError(f"{where}: give q or acc_noise/gyro_noise, not both")
+    P0 = None
+    if p0 is not None:
+        P0 = np.ascontiguousarray(_lib.as_f64(p0, "p0", ndim=2,
+                                              shape=(_capi.INSERR_N, _capi.INSERR_N)))
     if q is not None:
         qv = np.ascontiguousarray(_lib.as_f64(q, "q", ndim=1, shape=(_capi.INSERR_NQ,)))
-        P0 = None
-        if p0 is not None:
-            P0 = np.ascontiguousarray(_lib.as_f64(p0, "p0", ndim=2,
-                                                  shape=(_capi.INSERR_N, _capi.INSERR_N)))
         cov = np.zeros((n, _capi.INSERR_N, _capi.INSERR_N))
         _lib.call(where, "igea_inserr_covariance", _lib.dptr(o), _lib.dptr(P0), _lib.dptr(qv),
                   float(duration), n, _lib.dptr(cov))
+    elif by_fit:
+        an, gn = _noise(acc_noise, "acc_noise"), _noise(gyro_noise, "gyro_noise")
+        cov = np.zeros((n, _capi.INSERR_N, _capi.INSERR_N))
+        _lib.call(where, "igea_inserr_noise_covariance", _lib.dptr(o), _lib.dptr(P0),
+                  _lib.dptr(an), _lib.dptr(gn), float(duration), n, _lib.dptr(cov))
     t = np.arange(n) * (float(duration) / (n - 1))
     return NavErrors(lat, float(duration), acc, gyro, t, x[:, 0:3].copy(), x[:, 3:6].copy(),
                      x[:, 6:9].copy(), cov)

@@ -227,6 +227,11 @@ BASE = {
                                  n='6'),
     'igea_inserr_covariance': dict(opts=INS_OPTS, P0='0', q='c:1e-9 * (1.0 + (double)i)',
                                    duration='600.0', n='6'),
+    'igea_inserr_noise_covariance': dict(opts='set:igea_inserr_defaults(b_); b_[IGEA_INSERR_OPT_LAT] '
+                                         '= 0.7; b_[IGEA_INSERR_OPT_ACC_TC] = 100.0; b_[IGEA_INSERR_OPT_GYRO_TC] = 300.0;', P0='0',
+                                         acc='c:1e-4 * (1.0 + (double)i)',
+                                         gyro='c:1e-7 * (1.0 + (double)i)', duration='600.0',
+                                         n='6'),
     'igea_inserr_li_response': dict(system='IGEA_ENVFUN_STRAPDOWN', site=NAV_SITE,
                                     gravity='IGEA_NAV_GRAVITY_J2', nsamp='101', tel=DW_TEL,
                                     ldtel='nsamp', q0='[0.9, 0.1, 0.3, 0.2]', r0='u', v0='u',
