@@ -286,6 +286,15 @@ CLASS = {
         "velocity": "(n, 3) velocity errors north, east, down, m/s",
         "attitude": "(n, 3) attitude errors about north, east, down, rad",
         "covariance": "(n, 15, 15) covariance of the whole error state, or None"},
+    "NavErrorsLI": {
+        "system": "inertial system (strapdown, platform)",
+        "time": "(n,) epochs, s since the record's start",
+        "position": "(n, 3) position errors in the launch-inertial frame, m",
+        "velocity": "(n, 3) velocity errors in the launch-inertial frame, m/s",
+        "attitude": "(n, 3) attitude errors phi in the launch-inertial frame, rad",
+        "acc_bias": "(n, 3) accelerometer biases in instrument axes, m/s^2",
+        "gyro_drift": "(n, 3) gyro drifts in instrument axes, rad/s",
+        "covariance": "(n, 15, 15) covariance of the whole error state, or None"},
     "ImpactResult": {
         "model": "gravity model of the ballistic flight (e.g. point, j2)",
         "point": "(3,) impact point, ECEF, m",

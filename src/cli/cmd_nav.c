@@ -10,7 +10,7 @@
 #define NS IGEA_INSERR_N
 
 typedef struct {
-    const char *acc, *gyro, *out;
+    const char *acc, *gyro, *out, *noise[6]; /* acc N B K, gyro N B K */
     double lat, duration, opts[IGEA_INSERR_OPT_LEN];
     int epochs, json;
 } nv_args;
@@ -30,6 +30,16 @@ static const cli_opt options[] = {
     {"--vn", CLI_OPT_NUM, &A.opts[IGEA_INSERR_OPT_VN], CLI_DEF_LIB, "V", "north velocity of the vehicle (m/s)", NULL},
     {"--ve", CLI_OPT_NUM, &A.opts[IGEA_INSERR_OPT_VE], CLI_DEF_LIB, "V", "east velocity of the vehicle (m/s)", NULL},
     {"--vertical", CLI_OPT_NUM, &A.opts[IGEA_INSERR_OPT_VERTICAL], CLI_DEF_LIB, "0|1", "vertical channel: 0 aided (held), 1 free", NULL},
+    CLI_HEAD("sensor noise (IEEE Std 952 coefficients, as igea stability --fit gives\n"
+             "them for SI data; any of these adds the covariance to the report):"),
+    {"--acc-vrw", CLI_OPT_STR, &A.noise[0], NULL, "N,E,D", "accelerometer white noise N, the velocity random\nwalk (m/s/sqrt(s))", NULL},
+    {"--acc-bi", CLI_OPT_STR, &A.noise[1], NULL, "N,E,D", "accelerometer bias instability B (m/s^2): a\nGauss-Markov bias of correlation time --acc-tc", NULL},
+    {"--acc-rrw", CLI_OPT_STR, &A.noise[2], NULL, "N,E,D", "accelerometer rate random walk K (m/s^2/sqrt(s))", NULL},
+    {"--gyro-arw", CLI_OPT_STR, &A.noise[3], NULL, "N,E,D", "gyro white noise N, the angle random walk\n(rad/sqrt(s))", NULL},
+    {"--gyro-bi", CLI_OPT_STR, &A.noise[4], NULL, "N,E,D", "gyro bias instability B (rad/s): a Gauss-Markov\ndrift of correlation time --gyro-tc", NULL},
+    {"--gyro-rrw", CLI_OPT_STR, &A.noise[5], NULL, "N,E,D", "gyro rate random walk K (rad/s/sqrt(s))", NULL},
+    {"--acc-tc", CLI_OPT_NUM, &A.opts[IGEA_INSERR_OPT_ACC_TC], CLI_DEF_LIB, "S", "accelerometer bias correlation time (s; 0: a\nconstant bias, which --acc-bi cannot use)", NULL},
+    {"--gyro-tc", CLI_OPT_NUM, &A.opts[IGEA_INSERR_OPT_GYRO_TC], CLI_DEF_LIB, "S", "gyro drift correlation time (s; 0: constant)", NULL},
     CLI_JSON_OPT(&A.json),
     CLI_OUT_OPT(&A.out),
     CLI_END};
@@ -50,7 +60,10 @@ options,
 "example (a north accelerometer bias of 1e-4 m/s^2 and an east gyro drift of\n"
 "0.01 deg/h at 45 N, over 6 h):\n"
 "  igea nav --lat 45 --acc-bias 1e-4,0,0 --gyro-drift 0,4.85e-8,0\n"
-"  igea nav --lat 45 --acc-bias 1e-4,0,0 --json --out nav.json\n"};
+"  igea nav --lat 45 --acc-bias 1e-4,0,0 --json --out nav.json\n"
+"and with gyro noise (ARW 1e-6 rad/sqrt(s), bias instability 5e-8 rad/s with\n"
+"a 600-s correlation time):\n"
+"  igea nav --lat 45 --gyro-arw 1e-6,1e-6,1e-6 --gyro-bi 5e-8,5e-8,5e-8 --gyro-tc 600\n"};
 
 static int read_triple(const char *opt, const char *arg, double *v)
 {
@@ -70,7 +83,8 @@ static int read_triple(const char *opt, const char *arg, double *v)
     return ec;
 }
 
-static void json_report(FILE *f, const nv_args *a, const double *x0, const double *x)
+static void json_report(FILE *f, const nv_args *a, const double *x0, const double *x,
+                        const double *P)
 {
     cli_json j;
     cli_json_begin(&j, f);
@@ -85,10 +99,31 @@ static void json_report(FILE *f, const nv_args *a, const double *x0, const doubl
     cli_jmatrix(&j, "position", x + IGEA_INSERR_POS, NULL, a->epochs, 3, NS, 1);
     cli_jmatrix(&j, "velocity", x + IGEA_INSERR_VEL, NULL, a->epochs, 3, NS, 1);
     cli_jmatrix(&j, "attitude", x + IGEA_INSERR_ATT, NULL, a->epochs, 3, NS, 1);
+    if (P) {
+        cli_json_open(&j, "covariance", '[');
+        for (int k = 0; k < a->epochs; k++)
+            cli_jmatrix(&j, NULL, P + (size_t)k * NS * NS, NULL, NS, NS, NS, 1);
+        cli_json_close(&j);
+    }
     cli_json_end(&j);
 }
 
-static void text_report(FILE *f, const nv_args *a, const double *x)
+static void text_variances(FILE *f, const nv_args *a, const double *P)
+{
+    fprintf(f, "# variances of the errors from the sensor noise (NED; m^2, (m/s)^2, rad^2)\n");
+    fprintf(f, "# %10s %14s %14s %14s %12s %12s %12s %12s %12s %12s\n", "t", "var_dN",
+            "var_dE", "var_dD", "var_dvN", "var_dvE", "var_dvD", "var_phiN", "var_phiE",
+            "var_phiD");
+    for (int k = 0; k < a->epochs; k++) {
+        const double *Pk = P + (size_t)k * NS * NS;
+        fprintf(f, "%12.3f", k * a->duration / (a->epochs - 1));
+        for (int i = 0; i < 9; i++)
+            fprintf(f, i < 3 ? " %14.6g" : " %12.5g", Pk[i * NS + i]);
+        fprintf(f, "\n");
+    }
+}
+
+static void text_report(FILE *f, const nv_args *a, const double *x, const double *P)
 {
     fprintf(f, "# INS errors at latitude %g deg (NED; m, m/s, rad)\n", a->lat);
     fprintf(f, "# %10s %14s %14s %14s %12s %12s %12s %12s %12s %12s\n", "t", "dN", "dE",
@@ -100,6 +135,37 @@ static void text_report(FILE *f, const nv_args *a, const double *x)
             fprintf(f, i < 3 ? " %14.6g" : " %12.5g", xk[i]);
         fprintf(f, "\n");
     }
+    if (P)
+        text_variances(f, a, P);
+}
+
+/* The noise triples: 0 and *any = 1 when one was given. */
+static int read_noise(const nv_args *a, double *acc, double *gyro, int *any)
+{
+    static const char *const names[6] = {"--acc-vrw", "--acc-bi", "--acc-rrw",
+                                         "--gyro-arw", "--gyro-bi", "--gyro-rrw"};
+    static const int slot[3] = {IGEA_INSERR_NOISE_N, IGEA_INSERR_NOISE_B, IGEA_INSERR_NOISE_K};
+    int ec = CLI_OK;
+    *any = 0;
+    for (int i = 0; i < 6 && !ec; i++) {
+        *any |= a->noise[i] != NULL;
+        ec = read_triple(names[i], a->noise[i], (i < 3 ? acc : gyro) + slot[i % 3]);
+    }
+    for (int i = 0; i < 6 && !ec; i++)
+        for (int k = 0; k < 3; k++)
+            if (((i < 3 ? acc : gyro)[slot[i % 3] + k]) < 0) {
+                cli_error("%s: the coefficients must not be negative", names[i]);
+                return CLI_USAGE;
+            }
+    if (!ec && (a->noise[1] && !(a->opts[IGEA_INSERR_OPT_ACC_TC] > 0))) {
+        cli_error("--acc-bi: needs --acc-tc (the correlation time of the Gauss-Markov bias)");
+        ec = CLI_USAGE;
+    }
+    if (!ec && (a->noise[4] && !(a->opts[IGEA_INSERR_OPT_GYRO_TC] > 0))) {
+        cli_error("--gyro-bi: needs --gyro-tc (the correlation time of the Gauss-Markov drift)");
+        ec = CLI_USAGE;
+    }
+    return ec;
 }
 
 int cmd_nav(int argc, char **argv)
@@ -122,10 +188,20 @@ int cmd_nav(int argc, char **argv)
     if ((ec = read_triple("--acc-bias", a.acc, x0 + IGEA_INSERR_ACC)) ||
         (ec = read_triple("--gyro-drift", a.gyro, x0 + IGEA_INSERR_GYRO)))
         return ec;
-    double *x = malloc(sizeof(double) * NS * (size_t)a.epochs);
+    double acc[IGEA_INSERR_NOISE_LEN] = {0}, gyro[IGEA_INSERR_NOISE_LEN] = {0};
+    int noisy;
+    if ((ec = read_noise(&a, acc, gyro, &noisy)))
+        return ec;
+    double *x = malloc(sizeof(double) * NS * (size_t)a.epochs), *P = NULL;
+    if (noisy && x && !(P = malloc(sizeof(double) * NS * NS * (size_t)a.epochs))) {
+        free(x);
+        x = NULL;
+    }
     if (!x)
         return cli_oom("the error history");
     int st = igea_inserr_response(a.opts, x0, a.duration, a.epochs, x);
+    if (!st && P)
+        st = igea_inserr_noise_covariance(a.opts, NULL, acc, gyro, a.duration, a.epochs, P);
     if (st == -3) {
         cli_error("nav: --duration / --step exceeds 1e7 steps");
         ec = CLI_USAGE;
@@ -139,12 +215,13 @@ int cmd_nav(int argc, char **argv)
         cli_out o;
         if (!(ec = cli_out_open(&o, a.out))) {
             if (a.json)
-                json_report(o.f, &a, x0, x);
+                json_report(o.f, &a, x0, x, P);
             else
-                text_report(o.f, &a, x);
+                text_report(o.f, &a, x, P);
             ec = cli_out_commit(&o);
         }
     }
+    free(P);
     free(x);
     return ec;
 }

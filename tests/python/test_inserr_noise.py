@@ -133,3 +133,26 @@ def test_noise_fit_object_and_refusals():
         igea.nav_errors(duration=600.0, epochs=3, acc_noise=[1e-4, 0, 0], q=np.zeros(12))
     with pytest.raises(igea.IgeaError, match="acc_tc"):
         igea.nav_errors(duration=600.0, epochs=3, acc_tc=0.5)
+
+
+def test_driver_noise_options():
+    """igea nav --gyro-arw/--gyro-bi/--gyro-tc/--acc-vrw: the JSON covariance
+    is the one igea.nav_errors gives for the same coefficients; a bias
+    instability without its correlation time is refused naming the option."""
+    import json
+    import os
+    import subprocess
+    drv = os.environ["IGEA_DRIVER"]
+    out = subprocess.run([drv, "nav", "--lat", "30", "--duration", "1800", "--epochs", "4",
+                          "--acc-vrw", "1e-4,2e-4,0", "--gyro-arw", "1e-6,1e-6,2e-6",
+                          "--gyro-bi", "5e-8,5e-8,5e-8", "--gyro-tc", "600", "--json"],
+                         capture_output=True, text=True, check=True)
+    js = json.loads(out.stdout)
+    r = igea.nav_errors(lat=30.0, duration=1800.0, epochs=4,
+                        acc_noise=[[1e-4, 2e-4, 0], [0, 0, 0], [0, 0, 0]],
+                        gyro_noise=[[1e-6, 1e-6, 2e-6], [5e-8] * 3, [0, 0, 0]], gyro_tc=600.0)
+    np.testing.assert_allclose(np.array(js["covariance"]), r.covariance, rtol=1e-12, atol=0)
+    bad = subprocess.run([drv, "nav", "--gyro-bi", "1e-8,0,0"], capture_output=True, text=True)
+    assert bad.returncode == 64 and "--gyro-bi" in bad.stderr and "--gyro-tc" in bad.stderr
+    bad = subprocess.run([drv, "nav", "--acc-rrw", "1e-6,-1,0"], capture_output=True, text=True)
+    assert bad.returncode == 64 and "--acc-rrw" in bad.stderr
