@@ -286,6 +286,13 @@ CLASS = {
         "velocity": "(n, 3) velocity errors north, east, down, m/s",
         "attitude": "(n, 3) attitude errors about north, east, down, rad",
         "covariance": "(n, 15, 15) covariance of the whole error state, or None"},
+    "RedundGroup": {
+        "fusion": "fusion rule (average, weighted, gls)",
+        "frames": "(g, 3, 3) C_g: group g's frame to the body frame (group 0's)",
+        "group_out": "(g, 3) each group's compensated output in the body frame",
+        "fused": "(3,) fused output in the body frame",
+        "cov": "(3, 3) covariance of fused, each shared sensor counted once",
+        "cov_indep": "(3, 3) the covariance stated if the groups were independent"},
     "NavErrorsLI": {
         "system": "inertial system (strapdown, platform)",
         "time": "(n,) epochs, s since the record's start",

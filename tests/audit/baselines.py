@@ -218,6 +218,12 @@ BASE = {
     'igea_accel_combine': dict(model='IGEA_ACCEL_DUAL', coef='c:1e-4 * au(i)'),
     'igea_accel_simulate': dict(n='12', theta_deg=THETA30, truth='c:1e-4 * au(i)',
                                 head_sd='1e-6', noise_sd='1e-5', seed='1'),
+    'igea_redund_group': dict(nsens='8', ngroup='4',
+                              axes='set:for (int i = 0; i < 8; i++) { int k = i < 4 ? 0 : (i < 6 ? 1 : 2); '
+                                   'for (int j = 0; j < 3; j++) b_[3 * i + j] = j == k ? 1.0 + 1e-3 * i '
+                                   ': 1e-3 * (double)(i - j); }',
+                              sigma='pos', member='[0, 4, 6, 1, 5, 7, 2, 4, 6, 3, 5, 7]', y='u',
+                              fusion='IGEA_REDUND_GROUP_WEIGHTED', _int=dict(fusion='enum')),
     # ---- inserr
     'igea_inserr_check_opts': dict(opts=INS_OPTS, _nan_ok=['opts'], _inf_ok=['opts'],
                                    _req=['opts']),
