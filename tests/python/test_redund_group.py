@@ -121,3 +121,31 @@ def test_refusals():
         igea.redund_group(axes, np.r_[sigma[:7], 0.0], y)
     with pytest.raises(ValueError, match="fusion"):
         igea.redund_group(axes, sigma, y, fusion="median")
+
+
+def test_driver(tmp_path):
+    """igea redund group: the JSON equals igea.redund_group of the same
+    inputs (axes as rows of a text file); bad groups are refused naming
+    --groups."""
+    import json
+    import os
+    import subprocess
+    rng = np.random.default_rng(7)
+    axes = seed002_sensors(rng)
+    y = axes @ np.array([0.2, 9.8, -0.1]) + 1e-4 * rng.standard_normal(8)
+    np.savetxt(tmp_path / "axes.txt", axes, fmt="%.17g")
+    np.savetxt(tmp_path / "y.txt", y, fmt="%.17g")
+    drv = os.environ["IGEA_DRIVER"]
+    base = [drv, "redund", "group", "--axes", str(tmp_path / "axes.txt"), "--y",
+            str(tmp_path / "y.txt"), "--sigma", "1e-4"]
+    for extra, fusion in (([], "weighted"), (["--gls"], "gls"), (["--average"], "average")):
+        js = json.loads(subprocess.run(base + extra + ["--json"], capture_output=True, text=True,
+                                       check=True).stdout)
+        r = igea.redund_group(axes, np.full(8, 1e-4), y, fusion=fusion)
+        assert js["fusion"] == fusion
+        for key in ("frames", "group_out", "fused", "cov", "cov_indep"):
+            np.testing.assert_allclose(np.array(js[key]), getattr(r, key), rtol=1e-12, atol=1e-300)
+    bad = subprocess.run(base + ["--groups", "0,4,6;1,5"], capture_output=True, text=True)
+    assert bad.returncode == 64 and "--groups" in bad.stderr
+    bad = subprocess.run(base + ["--groups", "0,4,8"], capture_output=True, text=True)
+    assert bad.returncode == 64 and "--groups" in bad.stderr
