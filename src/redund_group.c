@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "igea/redund.h"
+#include "igea/stability.h"
 #include "internal.h"
 
 /* 3 x 3 row-major inverse by cofactors; 1 when |det| <= 1e-12 times the
@@ -260,5 +261,95 @@ done:
     free(C);
     free(W);
     free(used);
+    return st;
+}
+
+/* ---- Table 1: block statistics per sensor and per fused channel -------- */
+
+static int stab_args(int nsamp, int nsens, const double *y, int ldy, double fs, double block,
+                     const int *channel, int nchan, int weighted)
+{
+    if (nsamp < 2)
+        return -1;
+    if (nsens < 1)
+        return -2;
+    if (!y)
+        return -3;
+    if (ldy < nsamp)
+        return -4;
+    if (!(fs > 0) || !isfinite(fs))
+        return -5;
+    if (!(block > 0) || !isfinite(block) || !(floor(block * fs + 0.5) >= 1) ||
+        !(floor(nsamp / floor(block * fs + 0.5)) >= 2))
+        return -6;
+    if (!channel)
+        return -7;
+    if (nchan < 1)
+        return -8;
+    for (int i = 0; i < nsens; i++)
+        if (channel[i] < -1 || channel[i] >= nchan)
+            return -7;
+    for (int c = 0; c < nchan; c++) {
+        int any = 0;
+        for (int i = 0; i < nsens; i++)
+            any |= channel[i] == c;
+        if (!any)
+            return -8;
+    }
+    if (weighted != 0 && weighted != 1)
+        return -9;
+    return igea__finite_mat(nsamp, nsens, y, ldy) ? 0 : IGEA_ENONFINITE;
+}
+
+int igea_redund_stability(int nsamp, int nsens, const double *y, int ldy, double fs,
+                          double block, const int *channel, int nchan, int weighted,
+                          double *sens_out, double *fused_out, double *fused)
+{
+    int st = stab_args(nsamp, nsens, y, ldy, fs, block, channel, nchan, weighted);
+    if (st)
+        return st;
+    if (!sens_out)
+        return -10;
+    if (!fused_out)
+        return -11;
+    const int L = IGEA_STABILITY_BLOCK_LEN;
+    double *so = igea__dalloc((size_t)L * nsens), *fo = igea__dalloc((size_t)L * nchan);
+    double *fs_ = igea__dalloc((size_t)nsamp * nchan), *w = igea__dalloc((size_t)nsens);
+    if (!so || !fo || !fs_ || !w) {
+        st = IGEA_ENOMEM;
+        goto done;
+    }
+    for (int i = 0; i < nsens && !st; i++)
+        st = igea_stability_block(nsamp, y + (size_t)i * ldy, fs, block, so + (size_t)L * i);
+    for (int i = 0; i < nsens && !st; i++) {
+        double sb = so[(size_t)L * i + IGEA_STABILITY_BLOCK_SIGMA];
+        if (weighted && channel[i] >= 0 && !(sb > 0))
+            st = IGEA_EDOMAIN;
+        w[i] = weighted ? 1.0 / (sb * sb) : 1.0;
+    }
+    for (int c = 0; c < nchan && !st; c++) {
+        double tot = 0.0, *col = fs_ + (size_t)c * nsamp;
+        for (int i = 0; i < nsens; i++)
+            tot += channel[i] == c ? w[i] : 0.0;
+        for (int k = 0; k < nsamp; k++) {
+            double s = 0.0;
+            for (int i = 0; i < nsens; i++)
+                if (channel[i] == c)
+                    s += w[i] / tot * y[(size_t)i * ldy + k];
+            col[k] = s;
+        }
+        st = igea_stability_block(nsamp, col, fs, block, fo + (size_t)L * c);
+    }
+    if (!st) {
+        memcpy(sens_out, so, sizeof(double) * L * (size_t)nsens);
+        memcpy(fused_out, fo, sizeof(double) * L * (size_t)nchan);
+        if (fused)
+            memcpy(fused, fs_, sizeof(double) * (size_t)nsamp * nchan);
+    }
+done:
+    free(so);
+    free(fo);
+    free(fs_);
+    free(w);
     return st;
 }

@@ -307,10 +307,12 @@ IGEA_API int igea_redund_skew_check(int ny, const double *ay, const double *sy,
  *  1 nsens >= 3; 2 axes (3 x nsens column-major, finite); 3 sigma[nsens]
  *  (> 0); 4 ngroup >= 1; 5 member (3 x ngroup ints, column-major: sensor
  *  indices 0 .. nsens - 1, distinct within a group); 6 y[nsens] the
- *  readings (finite); 7 fusion IGEA_REDUND_GROUP_*; outputs 8 frames (9 x
- *  ngroup: C_g column-major, group g's frame to the body frame; may be
- *  NULL), 9 group_out (3 x ngroup: u_g; may be NULL), 10 fused [3], 11 cov
- *  [9] (3 x 3), 12 cov_indep [9] (may be NULL).
+ *  readings (finite); 7 fusion IGEA_REDUND_GROUP_*; outputs:
+ *  8 frames (may be NULL): 9 x ngroup, C_g column-major, group g's frame
+ *    to the body frame;
+ *  9 group_out (may be NULL): 3 x ngroup, u_g;
+ *  10 fused [3]; 11 cov [9] (3 x 3);
+ *  12 cov_indep [9] (may be NULL).
  * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ERANGE (a sigma
  * below IGEA_SIGMA_MIN), IGEA_ESINGULAR (a group's axes not independent:
  * |det A_g| <= 1e-12 |a_x| |a_y| |a_z|), IGEA_ENOMEM; outputs untouched on
@@ -320,6 +322,29 @@ IGEA_API int igea_redund_group(int nsens, const double *axes, const double *sigm
                                const int *member, const double *y, int fusion, double *frames,
                                double *group_out, double *fused, double *cov,
                                double *cov_indep);
+
+/*
+ * Table 1 of seed 002 ("100-s variance, 3 sigma"): the block statistic of
+ * igea_stability_block for every sensor of a multi-sensor record and for
+ * every fused channel (docs/redundancy.md, "Table 1").
+ * The fused series of channel c is, sample by sample, the mean of the
+ * sensors with channel[i] == c (weighted 0), or their weighted mean with
+ * w_i = 1 / sigma_b,i^2, sigma_b,i each sensor's own block sigma (weighted
+ * 1) [D].
+ *  1 nsamp >= 2; 2 nsens >= 1; 3 y (nsamp x nsens column-major, finite);
+ *  4 ldy >= nsamp; 5 fs > 0 (Hz); 6 block > 0 (s, at least two whole
+ *  blocks); 7 channel[nsens]: each sensor's channel 0 .. nchan - 1, or -1
+ *  (not fused); 8 nchan >= 1 (each channel with a sensor); 9 weighted 0 or
+ *  1; outputs 10 sens_out (IGEA_STABILITY_BLOCK_LEN x nsens, sensor i at
+ *  sens_out[6 i ..]), 11 fused_out (IGEA_STABILITY_BLOCK_LEN x nchan),
+ *  12 fused (nsamp x nchan column-major, leading dimension nsamp: the
+ *  fused series; may be NULL).
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_EDOMAIN (weighted: a fused
+ * sensor's block sigma is 0), IGEA_ENOMEM; outputs untouched on failure.
+ */
+IGEA_API int igea_redund_stability(int nsamp, int nsens, const double *y, int ldy, double fs,
+                                   double block, const int *channel, int nchan, int weighted,
+                                   double *sens_out, double *fused_out, double *fused);
 
 /* ---- windowed check of a record ---------------------------------------- */
 

@@ -286,6 +286,14 @@ CLASS = {
         "velocity": "(n, 3) velocity errors north, east, down, m/s",
         "attitude": "(n, 3) attitude errors about north, east, down, rad",
         "covariance": "(n, 15, 15) covariance of the whole error state, or None"},
+    "RedundStability": {
+        "block_seconds": "length of one block, s",
+        "channel": "(nsens,) each sensor's fused channel (-1: not fused)",
+        "three_sigma": "(nsens,) 3 sigma of each sensor's block means",
+        "sigma": "(nsens,) sample sd of each sensor's block means",
+        "fused_three_sigma": "(nchan,) 3 sigma of each fused channel's block means",
+        "fused_sigma": "(nchan,) sample sd of each fused channel's block means",
+        "fused": "(nsamp, nchan) the fused series"},
     "RedundGroup": {
         "fusion": "fusion rule (average, weighted, gls)",
         "frames": "(g, 3, 3) C_g: group g's frame to the body frame (group 0's)",

@@ -538,3 +538,44 @@ def redund_group(axes, sigma, y, groups=SEED002_GROUPS, *, fusion="weighted"):
     # column-major 3 x 3 blocks read as row-major are transposed
     return RedundGroup(fusion, np.ascontiguousarray(np.transpose(frames, (0, 2, 1))), gout,
                        fused, cov.T.copy(), ci.T.copy())
+
+
+@result
+@dataclass(frozen=True)
+class RedundStability:
+    """igea.redund_stability: seed 002's Table 1, the block statistic
+    (block_seconds blocks, 3 sigma of the block means) of every sensor and
+    of every fused channel."""
+    block_seconds: float
+    channel: np.ndarray
+    three_sigma: np.ndarray
+    sigma: np.ndarray
+    fused_three_sigma: np.ndarray
+    fused_sigma: np.ndarray
+    fused: np.ndarray
+
+
+def redund_stability(y, fs, channel, *, block=100.0, average=False):
+    """Table 1 of seed 002 (igea_redund_stability): y (nsamp, nsens) a
+    multi-sensor record at fs Hz, channel (nsens,) each sensor's channel
+    0 .. nchan - 1 (-1: not fused), block seconds; the fused channel is the
+    weighted mean of its sensors (weights 1 / each sensor's block variance)
+    or, average=True, their plain mean."""
+    where = "igea.redund_stability"
+    a = np.asfortranarray(_lib.as_f64(y, "y", ndim=2))
+    n, ns = a.shape
+    ch = np.ascontiguousarray(np.asarray(channel), dtype=np.intc)
+    if ch.shape != (ns,):
+        raise ValueError(f"{where}: channel: expected shape ({ns},), got {ch.shape}")
+    nc = int(ch.max()) + 1 if ch.size else 0
+    L = _capi.STABILITY_BLOCK_LEN
+    so, fo = np.zeros((max(ns, 1), L)), np.zeros((max(nc, 1), L))
+    fused = np.zeros((max(nc, 1), n))
+    _lib.call(where, "igea_redund_stability", n, ns, _lib.dptr(a), n, float(fs), float(block),
+              _lib.iptr(ch), nc, 0 if average else 1, _lib.dptr(so), _lib.dptr(fo),
+              _lib.dptr(fused))
+    sec = so[0, _capi.STABILITY_BLOCK_NSAMP] / float(fs)
+    return RedundStability(sec, ch.astype(int), so[:, _capi.STABILITY_BLOCK_3SIGMA].copy(),
+                           so[:, _capi.STABILITY_BLOCK_SIGMA].copy(),
+                           fo[:, _capi.STABILITY_BLOCK_3SIGMA].copy(),
+                           fo[:, _capi.STABILITY_BLOCK_SIGMA].copy(), fused.T.copy())
