@@ -117,3 +117,37 @@ def test_refusals():
     bad[3, 2] = np.nan
     with pytest.raises(ValueError):
         igea.nav_errors_li(site, bad)
+
+
+def test_driver_trajectory(tmp_path):
+    """igea nav --telemetry: the JSON is igea.nav_errors_li's for the same
+    record, site, errors and noise; refusals name the option."""
+    import json
+    import os
+    import subprocess
+    tel, q0 = powered_record(10.0, 20.0), q_pitch(20 * DEG)
+    np.savetxt(tmp_path / "tel.txt", tel, fmt="%.17g")
+    drv = os.environ["IGEA_DRIVER"]
+    base = [drv, "nav", "--telemetry", str(tmp_path / "tel.txt"), "--lat", "30", "--lon", "110",
+            "--azimuth", "80", "--q0", ",".join("%.17g" % v for v in q0)]
+    out = subprocess.run(base + ["--acc-bias", "1e-3,-2e-3,0", "--gyro-drift", "0,1e-5,0",
+                                 "--pos0", "1,2,3", "--att0", "1e-4,0,0", "--every", "40",
+                                 "--gyro-arw", "1e-5,1e-5,2e-5", "--acc-rrw", "1e-5,0,0",
+                                 "--json"], capture_output=True, text=True, check=True)
+    js = json.loads(out.stdout)
+    site = igea.nav_site(30 * DEG, 110 * DEG, 0.0, 80 * DEG)
+    x0 = np.zeros(15)
+    x0[0:3], x0[6] = [1, 2, 3], 1e-4
+    q = np.zeros(12)
+    q[3:6] = [1e-10, 1e-10, 4e-10]
+    q[6] = 1e-10
+    r = igea.nav_errors_li(site, tel, q0=q0, epochs=tel[::40, 0], x0=x0,
+                           acc_bias=[1e-3, -2e-3, 0], gyro_drift=[0, 1e-5, 0], q=q)
+    np.testing.assert_allclose(js["time"], r.time)
+    for key in ("position", "velocity", "attitude", "covariance"):
+        np.testing.assert_allclose(np.array(js[key]), getattr(r, key), rtol=1e-12, atol=1e-300)
+    bad = subprocess.run(base + ["--gyro-bi", "1e-8,0,0", "--gyro-tc", "100"],
+                         capture_output=True, text=True)
+    assert bad.returncode == 64 and "--gyro-bi" in bad.stderr
+    bad = subprocess.run(base + ["--system", "platform"], capture_output=True, text=True)
+    assert bad.returncode == 65 and "columns" in bad.stderr
