@@ -226,7 +226,7 @@ BASE = {
                               fusion='IGEA_REDUND_GROUP_WEIGHTED', _int=dict(fusion='enum')),
     'igea_redund_stability': dict(nsamp='400', nsens='4', ldy='nsamp', fs='10.0', block='5.0',
                                   channel='[0, 0, 1, -1]', nchan='2', weighted='1',
-                                  _int=dict(weighted='enum'), _opt=['fused'],
+                                  _int=dict(weighted='enum', nchan='size'), _opt=['fused'],
                                   _intarr=dict(channel='free')),
     # ---- inserr
     'igea_inserr_check_opts': dict(opts=INS_OPTS, _nan_ok=['opts'], _inf_ok=['opts'],
