@@ -144,6 +144,7 @@ const char *igea_opt_name(int module, int slot)
         [IGEA_INSERR_OPT_OMEGA] = "omega",   [IGEA_INSERR_OPT_LAT] = "lat",
         [IGEA_INSERR_OPT_VN] = "vn",         [IGEA_INSERR_OPT_VE] = "ve",
         [IGEA_INSERR_OPT_STEP] = "step",     [IGEA_INSERR_OPT_VERTICAL] = "vertical",
+        [IGEA_INSERR_OPT_ACC_TC] = "acc_tc", [IGEA_INSERR_OPT_GYRO_TC] = "gyro_tc",
     };
     const char *const *names;
     int len;

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "igea/inserr.h"
+#include "inserr_int.h"
 #include "internal.h"
 
 #define NS IGEA_INSERR_N
@@ -45,6 +46,9 @@ int igea_inserr_check_opts(const double *o)
         return 1 + IGEA_INSERR_OPT_STEP;
     if (o[IGEA_INSERR_OPT_VERTICAL] != 0 && o[IGEA_INSERR_OPT_VERTICAL] != 1)
         return 1 + IGEA_INSERR_OPT_VERTICAL;
+    for (int i = IGEA_INSERR_OPT_ACC_TC; i <= IGEA_INSERR_OPT_GYRO_TC; i++)
+        if (o[i] != 0 && !(o[i] >= 1 && o[i] <= 1e9))
+            return 1 + i;
     return 0;
 }
 
@@ -92,8 +96,11 @@ static void model_rhs(const double *o, const double *x, double *dx)
     cross(a, phi, c1);
     for (int i = 0; i < 3; i++)
         dx[6 + i] = -c1[i] + dW[i] + drho[i] - eps[i];
-    for (int i = 9; i < NS; i++)
-        dx[i] = 0.0;
+    const double ta = o[IGEA_INSERR_OPT_ACC_TC], tg = o[IGEA_INSERR_OPT_GYRO_TC];
+    for (int i = 0; i < 3; i++) {
+        dx[9 + i] = ta > 0 ? -b[i] / ta : 0.0;
+        dx[12 + i] = tg > 0 ? -eps[i] / tg : 0.0;
+    }
     if (o[IGEA_INSERR_OPT_VERTICAL] == 0)
         dx[2] = dx[5] = 0.0;
 }
@@ -226,7 +233,7 @@ int igea_inserr_response(const double *opts, const double *x0, double duration, 
     return propagate(opts, NULL, NS, x0, duration, n, x);
 }
 
-static int check_p0(const double *P0)
+int igea__inserr_check_p0(const double *P0)
 {
     if (!igea__finite_vec(NS2, P0, 1))
         return IGEA_ENONFINITE;
@@ -254,7 +261,7 @@ int igea_inserr_covariance(const double *opts, const double *P0, const double *q
         return st;
     if (!P)
         return -6;
-    if (P0 && (st = check_p0(P0)))
+    if (P0 && (st = igea__inserr_check_p0(P0)))
         return st;
     if (!igea__finite_vec(IGEA_INSERR_NQ, q, 1))
         return IGEA_ENONFINITE;
@@ -274,4 +281,96 @@ int igea_inserr_covariance(const double *opts, const double *P0, const double *q
         memset(p, 0, sizeof p);
     }
     return propagate(opts, qd, NS2, p, duration, n, P);
+}
+
+/* The stationary standard deviation of the Gauss-Markov bias whose Allan
+ * deviation peaks at the flicker floor of bias instability B [D]:
+ * sqrt(2 ln 2 / pi) over the peak of a unit-variance GM's Allan deviation,
+ * max over x = tau / T of sqrt((2 / x^2)(x - (3 - 4 e^-x + e^-2x) / 2)) =
+ * 0.6173642831 at x = 1.8926 (scipy's bounded Brent minimisation). */
+#define GM_OF_B (0.6642824702679601 / 0.6173642831444414)
+
+static int noise_args(const double *acc, const double *gyro)
+{
+    if (!igea__finite_vec(IGEA_INSERR_NOISE_LEN, acc, 1) ||
+        !igea__finite_vec(IGEA_INSERR_NOISE_LEN, gyro, 1))
+        return IGEA_ENONFINITE;
+    for (int i = 0; i < IGEA_INSERR_NOISE_LEN; i++)
+        if (acc[i] < 0 || gyro[i] < 0)
+            return IGEA_ENONPOSITIVE;
+    return 0;
+}
+
+/* The Gauss-Markov run's densities, stationary P0 and whether any B > 0;
+ * IGEA_EDOMAIN for a B > 0 without its correlation time. */
+static int gm_terms(const double *o, const double *acc, const double *gyro, double *q,
+                    double *P0, int *any)
+{
+    const double *tri[2] = {acc, gyro};
+    const double tc[2] = {o[IGEA_INSERR_OPT_ACC_TC], o[IGEA_INSERR_OPT_GYRO_TC]};
+    *any = 0;
+    for (int s = 0; s < 2; s++)
+        for (int i = 0; i < 3; i++) {
+            double sd = GM_OF_B * tri[s][IGEA_INSERR_NOISE_B + i];
+            if (sd == 0)
+                continue;
+            if (!(tc[s] > 0))
+                return IGEA_EDOMAIN;
+            q[6 + 3 * s + i] = 2.0 * sd * sd / tc[s];
+            P0[(9 + 3 * s + i) * (NS + 1)] = sd * sd;
+            *any = 1;
+        }
+    return 0;
+}
+
+int igea_inserr_noise_covariance(const double *opts, const double *P0, const double *acc,
+                                 const double *gyro, double duration, int n, double *P)
+{
+    if (!opts || igea_inserr_check_opts(opts))
+        return -1;
+    if (!acc)
+        return -3;
+    if (!gyro)
+        return -4;
+    int st = check_span(opts, duration, n, 5, 6);
+    if (st)
+        return st;
+    if (!P)
+        return -7;
+    if ((P0 && (st = igea__inserr_check_p0(P0))) || (st = noise_args(acc, gyro)))
+        return st;
+    double qw[IGEA_INSERR_NQ] = {0}, qg[IGEA_INSERR_NQ] = {0}, o0[IGEA_INSERR_OPT_LEN];
+    double *pg = calloc(NS2, sizeof *pg);
+    if (!pg)
+        return IGEA_ENOMEM;
+    int any;
+    if ((st = gm_terms(opts, acc, gyro, qg, pg, &any))) {
+        free(pg);
+        return st;
+    }
+    for (int i = 0; i < 3; i++) {
+        qw[i] = acc[IGEA_INSERR_NOISE_N + i] * acc[IGEA_INSERR_NOISE_N + i];
+        qw[3 + i] = gyro[IGEA_INSERR_NOISE_N + i] * gyro[IGEA_INSERR_NOISE_N + i];
+        qw[6 + i] = acc[IGEA_INSERR_NOISE_K + i] * acc[IGEA_INSERR_NOISE_K + i];
+        qw[9 + i] = gyro[IGEA_INSERR_NOISE_K + i] * gyro[IGEA_INSERR_NOISE_K + i];
+    }
+    memcpy(o0, opts, sizeof o0);
+    o0[IGEA_INSERR_OPT_ACC_TC] = o0[IGEA_INSERR_OPT_GYRO_TC] = 0.0;
+    size_t m = (size_t)n * NS2;
+    double *buf = igea__dalloc(2 * m);
+    if (!buf) {
+        free(pg);
+        return IGEA_ENOMEM;
+    }
+    st = igea_inserr_covariance(o0, P0, qw, duration, n, buf);
+    if (!st && any)
+        st = igea_inserr_covariance(opts, pg, qg, duration, n, buf + m);
+    if (!st) {
+        for (size_t i = 0; i < m; i++)
+            buf[i] += any ? buf[m + i] : 0.0;
+        memcpy(P, buf, sizeof(double) * m);
+    }
+    free(buf);
+    free(pg);
+    return st;
 }

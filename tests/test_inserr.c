@@ -184,12 +184,54 @@ static void test_vertical_free(void **s)
     assert_true(x[10 * NS + 2] == 1.0 && x[10 * NS + 5] == 0.0);
 }
 
+/* IEEE 952 coefficients: white noise N alone equals igea_inserr_covariance
+ * with q = N^2 (the closed form of test_white_noise_covariance covers
+ * that); a stationary Gauss-Markov bias of an east gyro, B > 0 with T:
+ * var eps_E stays s^2 = (1.07600 B)^2 (sqrt(2 ln 2 / pi) / 0.6173643,
+ * tabulated from the maximisation in docs/inserr.md); the refusals. */
+static void test_noise_covariance(void **s)
+{
+    (void)s;
+    double o[IGEA_INSERR_OPT_LEN], acc[IGEA_INSERR_NOISE_LEN] = {0};
+    double gyro[IGEA_INSERR_NOISE_LEN] = {0}, P[3 * NS * NS], Q[3 * NS * NS];
+    double q[IGEA_INSERR_NQ] = {0};
+    schuler_opts(o);
+    acc[IGEA_INSERR_NOISE_N] = 1e-4;
+    q[0] = 1e-8;
+    assert_int_equal(igea_inserr_noise_covariance(o, NULL, acc, gyro, 600.0, 3, P), 0);
+    assert_int_equal(igea_inserr_covariance(o, NULL, q, 600.0, 3, Q), 0);
+    for (int i = 0; i < 3 * NS * NS; i++)
+        assert_close_abs(P[i], Q[i], 1e-12, 1e-300);
+    gyro[IGEA_INSERR_NOISE_B + 1] = 1e-7;
+    fill_sentinel(P, 3 * NS * NS);
+    assert_int_equal(igea_inserr_noise_covariance(o, NULL, acc, gyro, 600.0, 3, P), IGEA_EDOMAIN);
+    assert_true(all_sentinel(P, 3 * NS * NS));
+    o[IGEA_INSERR_OPT_GYRO_TC] = 0.5;
+    assert_int_equal(igea_inserr_check_opts(o), 1 + IGEA_INSERR_OPT_GYRO_TC);
+    o[IGEA_INSERR_OPT_GYRO_TC] = 300.0;
+    assert_int_equal(igea_inserr_noise_covariance(o, NULL, acc, gyro, 600.0, 3, P), 0);
+    const double sd = 1.07600 * 1e-7;
+    for (int k = 0; k < 3; k++)
+        assert_close(P[k * NS * NS + 13 * NS + 13], sd * sd, 1e-4);
+    assert_int_equal(igea_inserr_noise_covariance(NULL, NULL, acc, gyro, 600.0, 3, P), -1);
+    assert_int_equal(igea_inserr_noise_covariance(o, NULL, NULL, gyro, 600.0, 3, P), -3);
+    assert_int_equal(igea_inserr_noise_covariance(o, NULL, acc, NULL, 600.0, 3, P), -4);
+    assert_int_equal(igea_inserr_noise_covariance(o, NULL, acc, gyro, 0.0, 3, P), -5);
+    assert_int_equal(igea_inserr_noise_covariance(o, NULL, acc, gyro, 600.0, 1, P), -6);
+    assert_int_equal(igea_inserr_noise_covariance(o, NULL, acc, gyro, 600.0, 3, NULL), -7);
+    acc[7] = -1.0;
+    assert_int_equal(igea_inserr_noise_covariance(o, NULL, acc, gyro, 600.0, 3, Q), IGEA_ENONPOSITIVE);
+    acc[7] = NAN;
+    assert_int_equal(igea_inserr_noise_covariance(o, NULL, acc, gyro, 600.0, 3, Q), IGEA_ENONFINITE);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_schuler_period),  cmocka_unit_test(test_north_acc_bias),
         cmocka_unit_test(test_east_gyro_drift), cmocka_unit_test(test_white_noise_covariance),
         cmocka_unit_test(test_invalid),         cmocka_unit_test(test_vertical_free),
+        cmocka_unit_test(test_noise_covariance),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -77,7 +77,15 @@ extern "C" {
 #define IGEA_INSERR_OPT_VE 5       /* east velocity, m/s: 0 */
 #define IGEA_INSERR_OPT_STEP 6     /* longest integration step, s: 1 */
 #define IGEA_INSERR_OPT_VERTICAL 7 /* vertical channel: 0 aided (held), 1 free: 0 */
-#define IGEA_INSERR_OPT_LEN 16     /* slots 8.. reserved for additions (0) */
+#define IGEA_INSERR_OPT_ACC_TC 8   /* accelerometer bias correlation time, s: 0 (none) */
+#define IGEA_INSERR_OPT_GYRO_TC 9  /* gyro drift correlation time, s: 0 (none) */
+#define IGEA_INSERR_OPT_LEN 16     /* slots 10.. reserved for additions (0) */
+
+/* Correlation times (IGEA_INSERR_OPT_ACC_TC, _GYRO_TC): 0 (the default)
+ * keeps the bias states constant or random walks as above; T > 0 makes
+ * them first-order Gauss-Markov processes, d(b)/dt = -b / T + w_b (the
+ * row of F gets -1 / T), whose stationary variance is q T / 2 for a
+ * driving density q. */
 
 /* Fill opts[IGEA_INSERR_OPT_LEN] with the defaults above. Returns 0, -1. */
 IGEA_API int igea_inserr_defaults(double *opts);
@@ -85,7 +93,8 @@ IGEA_API int igea_inserr_defaults(double *opts);
 /*
  * Check opts[IGEA_INSERR_OPT_LEN]: every slot finite (the reserved ones
  * included), radius >= 1e5, g > 0, omega >= 0, |lat| <= 1.5 rad (89.9 deg:
- * tan L is used), 0 < step <= 60, vertical 0 or 1. Returns 0 when they are
+ * tan L is used), 0 < step <= 60, vertical 0 or 1, acc_tc and gyro_tc 0 or
+ * in [1, 1e9] s. Returns 0 when they are
  * valid, -1 for a NULL opts, else 1 + the first bad slot
  * (igea_opt_name(IGEA_MODULE_INSERR, slot) names it).
  */
@@ -136,6 +145,129 @@ IGEA_API int igea_inserr_response(const double *opts, const double *x0, double d
  */
 IGEA_API int igea_inserr_covariance(const double *opts, const double *P0, const double *q,
                                     double duration, int n, double *P);
+
+/* Layout of the noise arrays of igea_inserr_noise_covariance: per
+ * instrument triad (accelerometers or gyros) the IEEE Std 952 coefficients
+ * of igea_stability_fit for each axis N E D, in SI units. */
+#define IGEA_INSERR_NOISE_N 0 /* random walk N (3): m/s/sqrt(s) (VRW), rad/sqrt(s) (ARW) */
+#define IGEA_INSERR_NOISE_B 3 /* bias instability B (3): m/s^2, rad/s */
+#define IGEA_INSERR_NOISE_K 6 /* rate random walk K (3): m/s^2/sqrt(s), rad/s/sqrt(s) */
+#define IGEA_INSERR_NOISE_LEN 9
+
+/*
+ * The error covariance for sensor noise given as IEEE Std 952 coefficients
+ * (docs/inserr.md, "Noise from an Allan fit"). Each instrument axis is the
+ * sum of three independent processes: white noise of density N^2, a
+ * random-walk bias of density K^2, and for bias instability a stationary
+ * first-order Gauss-Markov bias of correlation time T (the slot
+ * IGEA_INSERR_OPT_ACC_TC or _GYRO_TC of opts) and standard deviation
+ * s = B sqrt(2 ln2 / pi) / 0.61736 = 1.07600 B (its Allan deviation peaks at
+ * 0.61736 s at tau = 1.8926 T, matched to the flicker floor B sqrt(2 ln 2 /
+ * pi) of B) [D]. The model being linear, P is the sum of two runs of
+ * igea_inserr_covariance: one with the white and random-walk densities
+ * (q = N^2, K^2, both correlation times 0) from P0, one with the
+ * Gauss-Markov driving densities 2 s^2 / T from the stationary P0 = diag(s^2)
+ * on the bias states.
+ *  1 opts [IGEA_INSERR_OPT_LEN] (igea_inserr_check_opts; the correlation
+ *  times are read here only, > 0 where a B is > 0); 2 P0 (15 x 15 as
+ *  igea_inserr_covariance, e.g. the random constant biases; may be NULL:
+ *  0); 3 acc [IGEA_INSERR_NOISE_LEN] the accelerometers' N, B, K along N E
+ *  D; 4 gyro [IGEA_INSERR_NOISE_LEN] the gyros' (about N E D), each >= 0;
+ *  5 duration (s, > 0, duration / step <= 1e7); 6 n >= 2 epochs as
+ *  igea_inserr_response; output 7 P (n x 225 values).
+ * Returns 0, -i, IGEA_ENONFINITE (NaN or Inf in P0, acc or gyro),
+ * IGEA_ENONPOSITIVE (a negative coefficient or diagonal of P0),
+ * IGEA_EDOMAIN (P0 not symmetric, or a B > 0 whose correlation time is
+ * 0), IGEA_ENOMEM or IGEA_EOVERFLOW; P untouched on failure.
+ */
+IGEA_API int igea_inserr_noise_covariance(const double *opts, const double *P0,
+                                          const double *acc, const double *gyro,
+                                          double duration, int n, double *P);
+
+/* ---- along a trajectory, in the launch-inertial frame (src/inserr_li.c) --
+ *
+ * The same 15 states resolved in the launch-inertial frame LI of
+ * igea/nav.h, propagated along the reference trajectory that the nav core
+ * (igea_nav_init, igea_nav_step, the full algorithm) computes from an
+ * error-free telemetry record (docs/inserr.md, "Along a trajectory"):
+ *   0..2  dr   position error in LI, m (computed minus true)
+ *   3..5  dv   velocity error in LI, m/s
+ *   6..8  phi  attitude error in LI, rad: the computed body-to-LI matrix is
+ *              (I - [phi x]) C (platform: phi is the platform's rotation
+ *              away from the LI axes)
+ *   9..11 b    accelerometer bias, m/s^2: body axes (strapdown) or
+ *              platform axes (platform); constant or a random walk
+ *   12..14 eps gyro drift, rad/s, the same axes (measured minus true rate;
+ *              platform: the platform's drift rate)
+ * The model, with C(t) the reference body-to-LI matrix (platform: I), f(t)
+ * the reference specific force in LI and G(t) the gravity gradient
+ * (igea_nav_gravity_li, the point-mass or J2 model of the navigation) at
+ * the reference position:
+ *   d(dr)/dt = dv
+ *   d(dv)/dt = f x phi + C b + G dr
+ *   d(phi)/dt = -C eps (strapdown), +eps (platform)
+ *   d(b)/dt = w_b, d(eps)/dt = w_eps
+ * Over each telemetry interval (t_{k-1}, t_k] the coefficients are frozen
+ * at the interval's values: f = (W_k - W_{k-1}) / h from the nav core's
+ * apparent velocity, C from the normalised mean of the two quaternions, G
+ * at the mean position; one classical Runge-Kutta step per interval.
+ * White noises (q below) enter d(dv)/dt through C (accelerometer), d(phi)/dt
+ * through -C (strapdown gyro) or I (platform gyro), and d(b)/dt, d(eps)/dt.
+ *
+ * The telemetry record tel (column-major nsamp x 7 strapdown: t dvx dvy dvz
+ * dthx dthy dthz in body axes, or nsamp x 4 platform: t dvx dvy dvz along
+ * platform axes; the layout of igea_sim_raw, leading dimension ldtel >=
+ * nsamp; row 0 holds t_0, its increments are ignored; times strictly
+ * increasing) and the initial state (q0 body -> LI, may be NULL: 1 0 0 0,
+ * platform ignored; r0 LI position, may be NULL: the launch point; v0 LI
+ * velocity, may be NULL: the launch point's inertial velocity; as
+ * igea_nav_init at t_0) give the reference. Output epochs: nepochs >= 1
+ * increasing times, each within 1e-9 s of a sample time of tel.
+ */
+
+/*
+ * The deterministic error response along a trajectory.
+ *  1 system (IGEA_ENVFUN_STRAPDOWN 0 or IGEA_ENVFUN_PLATFORM 1); 2 site
+ *  (IGEA_NAV_SITE_LEN, igea_nav_site); 3 gravity (IGEA_NAV_GRAVITY_POINT_MASS
+ *  or IGEA_NAV_GRAVITY_J2); 4 nsamp >= 2; 5 tel (see above); 6 ldtel >=
+ *  nsamp; 7 q0 [4] (may be NULL); 8 r0 [3] m (may be NULL); 9 v0 [3] m/s
+ *  (may be NULL); 10 x0 [IGEA_INSERR_N] the state at t_0 (initial errors,
+ *  the biases and drifts); 11 nepochs >= 1; 12 epochs [nepochs] s; output
+ *  13 x (nepochs x IGEA_INSERR_N row-major: the state at epoch j in
+ *  x[15 j .. 15 j + 14]).
+ * Returns 0, -i, IGEA_ENONFINITE (tel, q0, r0, v0 or x0 holds NaN or Inf,
+ * or the reference navigation would), IGEA_ENOMEM or IGEA_EOVERFLOW; x
+ * untouched on failure.
+ */
+IGEA_API int igea_inserr_li_response(int system, const double *site, int gravity, int nsamp,
+                                     const double *tel, int ldtel, const double *q0,
+                                     const double *r0, const double *v0, const double *x0,
+                                     int nepochs, const double *epochs, double *x);
+
+/*
+ * The error covariance along a trajectory: dP/dt = A P + P A^T + B diag(q)
+ * B^T over each interval, from P(t_0) = P0.
+ *  1 system, 2 site, 3 gravity, 4 nsamp, 5 tel, 6 ldtel as
+ *  igea_inserr_li_response; 7 q0 [4] (may be NULL); 8 r0 [3] m (may be
+ *  NULL); 9 v0 [3] m/s (may be NULL); 10 P0 (IGEA_INSERR_N x IGEA_INSERR_N,
+ *  symmetric to 1e-12 relative, non-negative diagonal; may be NULL: 0);
+ *  11 q [IGEA_INSERR_NQ] two-sided spectral densities, each >= 0, per axis
+ *  of the instruments (body or platform axes): accelerometer white noise
+ *  x y z ((m/s^2)^2 s = (m/s)^2/s, the square of the velocity random walk
+ *  N), gyro white noise x y z ((rad/s)^2 s, the square of the angle random
+ *  walk N), accelerometer bias random walk x y z ((m/s^2)^2 / s, K^2), gyro
+ *  drift random walk x y z ((rad/s)^2 / s, K^2); 12 nepochs >= 1; 13 epochs
+ *  [nepochs] s; output 14 P (nepochs x 225 values, P at epoch j row-major
+ *  at P[225 j ..]).
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE (a negative q or a
+ * negative diagonal of P0), IGEA_EDOMAIN (P0 not symmetric), IGEA_ENOMEM
+ * or IGEA_EOVERFLOW; P untouched on failure.
+ */
+IGEA_API int igea_inserr_li_covariance(int system, const double *site, int gravity, int nsamp,
+                                       const double *tel, int ldtel, const double *q0,
+                                       const double *r0, const double *v0, const double *P0,
+                                       const double *q, int nepochs, const double *epochs,
+                                       double *P);
 
 #ifdef __cplusplus
 }

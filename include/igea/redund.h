@@ -278,6 +278,74 @@ IGEA_API int igea_redund_skew_check(int ny, const double *ay, const double *sy,
                                     double kappa, double *resid, int *faulty_y,
                                     int *faulty_z, int *faulty_d);
 
+/* ---- virtual IMUs (seed 002; src/redund_group.c) ----------------------- */
+
+/* Fusion rules of igea_redund_group. */
+#define IGEA_REDUND_GROUP_AVERAGE 0  /* the mean of the groups' outputs */
+#define IGEA_REDUND_GROUP_WEIGHTED 1 /* per body axis, weights 1 / variance of
+                                      * each group's output on that axis (the
+                                      * weights w of seed 002 eq. 16) */
+#define IGEA_REDUND_GROUP_GLS 2      /* generalised least squares of the
+                                      * distinct sensors of all groups [D] */
+
+/*
+ * Virtual IMUs made of single-axis sensors (one kind: accelerometers or
+ * gyros), as seed 002 groups Ax1..Ax4 with the shared Ay, Az (docs/
+ * redundancy.md, "Virtual IMUs"). Sensor i reads y_i = a_i . f + noise_i
+ * (noise sd sigma_i, independent) with a_i its input axis from the
+ * calibration, in the calibration's reference frame R (its length the
+ * scale factor). Group g is the triad member[3g + 0..2] (its x, y, z
+ * sensors); its frame F_g (rows: axes in R) is the triad's orthogonalised
+ * frame: x along a_x, y in the plane of a_x and a_y, z = x cross y; its
+ * compensated output in its own frame is v_g = M_g^-1 y_g, M_g = A_g F_g^T
+ * (A_g the rows a_x, a_y, a_z); the body frame is group 0's (the seed
+ * takes group 1's), reached by C_g = F_0 F_g^T: u_g = C_g v_g = F_0 A_g^-1 y_g.
+ * The fused value is L y (L 3 x nsens by the rule), its covariance
+ * L diag(sigma^2) L^T, which counts a sensor that several groups share
+ * once; cov_indep is what treating the groups' outputs as independent
+ * would state: sum_g W_g Cov(u_g) W_g^T (GLS: equal to cov).
+ *  1 nsens >= 3; 2 axes (3 x nsens column-major, finite); 3 sigma[nsens]
+ *  (> 0); 4 ngroup >= 1; 5 member (3 x ngroup ints, column-major: sensor
+ *  indices 0 .. nsens - 1, distinct within a group); 6 y[nsens] the
+ *  readings (finite); 7 fusion IGEA_REDUND_GROUP_*; outputs:
+ *  8 frames (may be NULL): 9 x ngroup, C_g column-major, group g's frame
+ *    to the body frame;
+ *  9 group_out (may be NULL): 3 x ngroup, u_g;
+ *  10 fused [3]; 11 cov [9] (3 x 3);
+ *  12 cov_indep [9] (may be NULL).
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ERANGE (a sigma
+ * below IGEA_SIGMA_MIN), IGEA_ESINGULAR (a group's axes not independent:
+ * |det A_g| <= 1e-12 |a_x| |a_y| |a_z|), IGEA_ENOMEM; outputs untouched on
+ * failure.
+ */
+IGEA_API int igea_redund_group(int nsens, const double *axes, const double *sigma, int ngroup,
+                               const int *member, const double *y, int fusion, double *frames,
+                               double *group_out, double *fused, double *cov,
+                               double *cov_indep);
+
+/*
+ * Table 1 of seed 002 ("100-s variance, 3 sigma"): the block statistic of
+ * igea_stability_block for every sensor of a multi-sensor record and for
+ * every fused channel (docs/redundancy.md, "Table 1").
+ * The fused series of channel c is, sample by sample, the mean of the
+ * sensors with channel[i] == c (weighted 0), or their weighted mean with
+ * w_i = 1 / sigma_b,i^2, sigma_b,i each sensor's own block sigma (weighted
+ * 1) [D].
+ *  1 nsamp >= 2; 2 nsens >= 1; 3 y (nsamp x nsens column-major, finite);
+ *  4 ldy >= nsamp; 5 fs > 0 (Hz); 6 block > 0 (s, at least two whole
+ *  blocks); 7 channel[nsens]: each sensor's channel 0 .. nchan - 1, or -1
+ *  (not fused); 8 nchan >= 1 (each channel with a sensor); 9 weighted 0 or
+ *  1; outputs 10 sens_out (IGEA_STABILITY_BLOCK_LEN x nsens, sensor i at
+ *  sens_out[6 i ..]), 11 fused_out (IGEA_STABILITY_BLOCK_LEN x nchan),
+ *  12 fused (nsamp x nchan column-major, leading dimension nsamp: the
+ *  fused series; may be NULL).
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_EDOMAIN (weighted: a fused
+ * sensor's block sigma is 0), IGEA_ENOMEM; outputs untouched on failure.
+ */
+IGEA_API int igea_redund_stability(int nsamp, int nsens, const double *y, int ldy, double fs,
+                                   double block, const int *channel, int nchan, int weighted,
+                                   double *sens_out, double *fused_out, double *fused);
+
 /* ---- windowed check of a record ---------------------------------------- */
 
 /* Number of windows: floor(nsamp / round(window fs)); -i on bad input

@@ -15,6 +15,7 @@ from .eqerr import EqerrResult, TestResult, accuracy_test, eqerr, pool  # noqa: 
 from .stats import chi2_cdf, chi2_quantile, chi2_sf, chi2_upper, normal_cdf, normal_quantile, union_size, verdict_thresholds  # noqa: E402,E501
 from .stats import f_sf, normal_sf, t_quantile, t_sf  # noqa: E402
 # -- further modules: one import line each, below --
+from .redund import RedundGroup, RedundStability, redund_group, redund_stability  # noqa: E402
 from .redund import FdiResult, GeometryReliability, Seed002Reliability, SeriesCheck, SkewCheck, confidence_distance, erfinv, false_alarm, fdi, fuse, fusion_set, parity_matrix, relation, reliability_diagram, reliability_exponential, reliability_geometry, reliability_kofn, reliability_parallel, reliability_seed002, reliability_series, series_check, simulate_redundant, skew_check, support, thresholds, transform  # noqa: E402,E501
 from .stability import AllanResult, Block3Sigma, NoiseTerms, allan, block_3sigma, noise_id, octave_taus  # noqa: E402,E501
 from .stability import NoiseFit, StabilityResult, noise_fit, stability, stability_taus  # noqa: E402,E501
@@ -30,5 +31,5 @@ from .triad import TriadResult, triad_apply, triad_calibrate, triad_fit, triad_s
 from .io import MatrixFile, read_matrix  # noqa: E402
 from .nav import NavResult, nav_ecef_to_geodetic, nav_geodetic_to_ecef, nav_gravity, nav_navigate, nav_site, nav_transform  # noqa: E402,E501
 from .dw import DwResult, dw  # noqa: E402
-from .inserr import NavErrors, nav_errors  # noqa: E402
+from .inserr import NavErrors, NavErrorsLI, nav_errors, nav_errors_li  # noqa: E402
 from .sim import RawFlight, simulate_raw, track_errors  # noqa: E402

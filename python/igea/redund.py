@@ -483,3 +483,99 @@ def simulate_redundant(nsamp, fs, level, noise, *, fault_sensor=-1, t0=0.0, t1=0
               _lib.dptr(lv), _lib.dptr(nz), int(fault_sensor), float(t0), float(t1), float(bias),
               int(seed), _lib.dptr(y), max(1, int(nsamp)))
     return y
+
+
+# ---- virtual IMUs ----------------------------------------------------------
+
+GROUP_FUSIONS = {"average": _capi.REDUND_GROUP_AVERAGE, "weighted": _capi.REDUND_GROUP_WEIGHTED,
+                 "gls": _capi.REDUND_GROUP_GLS}
+# seed 002: Ax1..Ax4 (sensors 0..3), Ay1, Ay2 (4, 5), Az1, Az2 (6, 7)
+SEED002_GROUPS = ((0, 4, 6), (1, 5, 7), (2, 4, 6), (3, 5, 7))
+
+
+@result
+@dataclass(frozen=True)
+class RedundGroup:
+    """igea.redund_group: virtual IMUs unified into group 0's body frame and
+    fused; cov counts a sensor that several groups share once, cov_indep is
+    what treating the groups as independent would state."""
+    fusion: str
+    frames: np.ndarray
+    group_out: np.ndarray
+    fused: np.ndarray
+    cov: np.ndarray
+    cov_indep: np.ndarray
+
+
+def redund_group(axes, sigma, y, groups=SEED002_GROUPS, *, fusion="weighted"):
+    """Virtual IMUs of single-axis sensors (igea_redund_group): axes (n, 3)
+    each sensor's calibrated input axis in the calibration's reference frame
+    (its length the scale factor), sigma (n,) noise sd, y (n,) readings,
+    groups (g, 3) the x, y, z sensor of each group (default: seed 002's four
+    groups of 8 sensors Ax1..Ax4, Ay1, Ay2, Az1, Az2), fusion "average",
+    "weighted" (per axis, inverse variance of the groups' outputs) or "gls"
+    (generalised least squares of the distinct sensors). Returns frames
+    (g, 3, 3) C_g (group g frame -> body frame), group_out (g, 3), fused (3,),
+    cov (3, 3), cov_indep (3, 3)."""
+    where = "igea.redund_group"
+    if fusion not in GROUP_FUSIONS:
+        raise ValueError(f"{where}: fusion: expected one of {sorted(GROUP_FUSIONS)}, got {fusion!r}")
+    a = _lib.as_f64(axes, "axes", ndim=2, shape=(None, 3))
+    n = a.shape[0]
+    af = np.ascontiguousarray(a)          # row i = axis i: the 3 x n column-major layout
+    s = _vec(sigma, "sigma", n)
+    yy = _vec(y, "y", n)
+    gm = np.asarray(groups)
+    if gm.ndim != 2 or gm.shape[1] != 3 or gm.shape[0] < 1:
+        raise ValueError(f"{where}: groups: expected shape (g, 3), got {gm.shape}")
+    mem = np.ascontiguousarray(gm, dtype=np.intc)
+    g = mem.shape[0]
+    frames, gout = np.zeros((g, 3, 3)), np.zeros((g, 3))
+    fused, cov, ci = np.zeros(3), np.zeros((3, 3)), np.zeros((3, 3))
+    _lib.call(where, "igea_redund_group", n, _lib.dptr(af), _lib.dptr(s), g, _lib.iptr(mem),
+              _lib.dptr(yy), GROUP_FUSIONS[fusion], _lib.dptr(frames), _lib.dptr(gout),
+              _lib.dptr(fused), _lib.dptr(cov), _lib.dptr(ci))
+    # column-major 3 x 3 blocks read as row-major are transposed
+    return RedundGroup(fusion, np.ascontiguousarray(np.transpose(frames, (0, 2, 1))), gout,
+                       fused, cov.T.copy(), ci.T.copy())
+
+
+@result
+@dataclass(frozen=True)
+class RedundStability:
+    """igea.redund_stability: seed 002's Table 1, the block statistic
+    (block_seconds blocks, 3 sigma of the block means) of every sensor and
+    of every fused channel."""
+    block_seconds: float
+    channel: np.ndarray
+    three_sigma: np.ndarray
+    sigma: np.ndarray
+    fused_three_sigma: np.ndarray
+    fused_sigma: np.ndarray
+    fused: np.ndarray
+
+
+def redund_stability(y, fs, channel, *, block=100.0, average=False):
+    """Table 1 of seed 002 (igea_redund_stability): y (nsamp, nsens) a
+    multi-sensor record at fs Hz, channel (nsens,) each sensor's channel
+    0 .. nchan - 1 (-1: not fused), block seconds; the fused channel is the
+    weighted mean of its sensors (weights 1 / each sensor's block variance)
+    or, average=True, their plain mean."""
+    where = "igea.redund_stability"
+    a = np.asfortranarray(_lib.as_f64(y, "y", ndim=2))
+    n, ns = a.shape
+    ch = np.ascontiguousarray(np.asarray(channel), dtype=np.intc)
+    if ch.shape != (ns,):
+        raise ValueError(f"{where}: channel: expected shape ({ns},), got {ch.shape}")
+    nc = int(ch.max()) + 1 if ch.size else 0
+    L = _capi.STABILITY_BLOCK_LEN
+    so, fo = np.zeros((max(ns, 1), L)), np.zeros((max(nc, 1), L))
+    fused = np.zeros((max(nc, 1), n))
+    _lib.call(where, "igea_redund_stability", n, ns, _lib.dptr(a), n, float(fs), float(block),
+              _lib.iptr(ch), nc, 0 if average else 1, _lib.dptr(so), _lib.dptr(fo),
+              _lib.dptr(fused))
+    sec = so[0, _capi.STABILITY_BLOCK_NSAMP] / float(fs)
+    return RedundStability(sec, ch.astype(int), so[:, _capi.STABILITY_BLOCK_3SIGMA].copy(),
+                           so[:, _capi.STABILITY_BLOCK_SIGMA].copy(),
+                           fo[:, _capi.STABILITY_BLOCK_3SIGMA].copy(),
+                           fo[:, _capi.STABILITY_BLOCK_SIGMA].copy(), fused.T.copy())

@@ -10,9 +10,10 @@
 #define NS IGEA_INSERR_N
 
 typedef struct {
-    const char *acc, *gyro, *out;
-    double lat, duration, opts[IGEA_INSERR_OPT_LEN];
-    int epochs, json;
+    const char *acc, *gyro, *out, *noise[6]; /* acc N B K, gyro N B K */
+    const char *telemetry, *q0, *pos0, *vel0, *att0;
+    double lat, duration, opts[IGEA_INSERR_OPT_LEN], lon, height, azimuth;
+    int epochs, json, system, gravity, every;
 } nv_args;
 
 static nv_args A;
@@ -30,12 +31,36 @@ static const cli_opt options[] = {
     {"--vn", CLI_OPT_NUM, &A.opts[IGEA_INSERR_OPT_VN], CLI_DEF_LIB, "V", "north velocity of the vehicle (m/s)", NULL},
     {"--ve", CLI_OPT_NUM, &A.opts[IGEA_INSERR_OPT_VE], CLI_DEF_LIB, "V", "east velocity of the vehicle (m/s)", NULL},
     {"--vertical", CLI_OPT_NUM, &A.opts[IGEA_INSERR_OPT_VERTICAL], CLI_DEF_LIB, "0|1", "vertical channel: 0 aided (held), 1 free", NULL},
+    CLI_HEAD("sensor noise (IEEE Std 952 coefficients, as igea stability --fit gives\n"
+             "them for SI data; any of these adds the covariance to the report):"),
+    {"--acc-vrw", CLI_OPT_STR, &A.noise[0], NULL, "N,E,D", "accelerometer white noise N, the velocity random\nwalk (m/s/sqrt(s))", NULL},
+    {"--acc-bi", CLI_OPT_STR, &A.noise[1], NULL, "N,E,D", "accelerometer bias instability B (m/s^2): a\nGauss-Markov bias of correlation time --acc-tc", NULL},
+    {"--acc-rrw", CLI_OPT_STR, &A.noise[2], NULL, "N,E,D", "accelerometer rate random walk K (m/s^2/sqrt(s))", NULL},
+    {"--gyro-arw", CLI_OPT_STR, &A.noise[3], NULL, "N,E,D", "gyro white noise N, the angle random walk\n(rad/sqrt(s))", NULL},
+    {"--gyro-bi", CLI_OPT_STR, &A.noise[4], NULL, "N,E,D", "gyro bias instability B (rad/s): a Gauss-Markov\ndrift of correlation time --gyro-tc", NULL},
+    {"--gyro-rrw", CLI_OPT_STR, &A.noise[5], NULL, "N,E,D", "gyro rate random walk K (rad/s/sqrt(s))", NULL},
+    {"--acc-tc", CLI_OPT_NUM, &A.opts[IGEA_INSERR_OPT_ACC_TC], CLI_DEF_LIB, "S", "accelerometer bias correlation time (s; 0: a\nconstant bias, which --acc-bi cannot use)", NULL},
+    {"--gyro-tc", CLI_OPT_NUM, &A.opts[IGEA_INSERR_OPT_GYRO_TC], CLI_DEF_LIB, "S", "gyro drift correlation time (s; 0: constant)", NULL},
+    CLI_HEAD("along a trajectory (launch-inertial frame; --lat is the launch latitude,\n"
+             "--acc-bias and --gyro-drift are in instrument axes):"),
+    {"--telemetry", CLI_OPT_STR, &A.telemetry, NULL, "FILE", "error-free telemetry rows t dvx dvy dvz [dthx dthy\ndthz]: the reference trajectory the nav core flies", NULL},
+    {"--lon", CLI_OPT_NUM, &A.lon, "0", "DEG", "longitude of the launch point", NULL},
+    {"--height", CLI_OPT_NUM, &A.height, "0", "M", "ellipsoidal height of the launch point", NULL},
+    {"--azimuth", CLI_OPT_NUM, &A.azimuth, "0", "DEG", "firing azimuth, from north toward east", NULL},
+    {"--system", CLI_OPT_CHOICE, &A.system, "strapdown", CLI_CHOICES(IGEA_CHOICE_ENVFUN_SYSTEM), "the inertial system", NULL},
+    {"--gravity", CLI_OPT_CHOICE, &A.gravity, "j2", CLI_CHOICES(IGEA_CHOICE_NAV_GRAVITY), "the navigation's gravity model", NULL},
+    {"--q0", CLI_OPT_STR, &A.q0, "1,0,0,0", "Q0,Q1,Q2,Q3", "strapdown attitude body -> launch-inertial at the\nrecord's start (scalar first)", NULL},
+    {"--pos0", CLI_OPT_STR, &A.pos0, NULL, "X,Y,Z", "initial position error in LI (m)", NULL},
+    {"--vel0", CLI_OPT_STR, &A.vel0, NULL, "X,Y,Z", "initial velocity error in LI (m/s)", NULL},
+    {"--att0", CLI_OPT_STR, &A.att0, NULL, "X,Y,Z", "initial attitude error in LI (rad)", NULL},
+    {"--every", CLI_OPT_INT, &A.every, "1", "K", "output every K-th record (and the last)", NULL},
     CLI_JSON_OPT(&A.json),
     CLI_OUT_OPT(&A.out),
     CLI_END};
 
 static const cli_command command = {"nav",
 "usage: igea nav [--lat DEG] [--duration S] [--acc-bias N,E,D] [--gyro-drift N,E,D] [options]\n"
+"       igea nav --telemetry FILE --lat DEG --lon DEG --azimuth DEG [--acc-bias X,Y,Z] [options]\n"
 "\n"
 "The position, velocity and attitude errors of an inertial navigation system\n"
 "at rest (or moving slowly at --vn, --ve) on a spherical Earth, from constant\n"
@@ -50,7 +75,12 @@ options,
 "example (a north accelerometer bias of 1e-4 m/s^2 and an east gyro drift of\n"
 "0.01 deg/h at 45 N, over 6 h):\n"
 "  igea nav --lat 45 --acc-bias 1e-4,0,0 --gyro-drift 0,4.85e-8,0\n"
-"  igea nav --lat 45 --acc-bias 1e-4,0,0 --json --out nav.json\n"};
+"  igea nav --lat 45 --acc-bias 1e-4,0,0 --json --out nav.json\n"
+"along a trajectory (telemetry rows t dv dth of the error-free flight):\n"
+"  igea nav --telemetry tel.txt --lat 40 --lon 100 --azimuth 60 --acc-bias 1e-4,0,0\n"
+"and with gyro noise (ARW 1e-6 rad/sqrt(s), bias instability 5e-8 rad/s with\n"
+"a 600-s correlation time):\n"
+"  igea nav --lat 45 --gyro-arw 1e-6,1e-6,1e-6 --gyro-bi 5e-8,5e-8,5e-8 --gyro-tc 600\n"};
 
 static int read_triple(const char *opt, const char *arg, double *v)
 {
@@ -61,7 +91,7 @@ static int read_triple(const char *opt, const char *arg, double *v)
     if (ec)
         return ec;
     if (n != 3) {
-        cli_error("%s: %d numbers; three are needed (north,east,down)", opt, n);
+        cli_error("%s: %d numbers; three are needed", opt, n);
         ec = CLI_USAGE;
     }
     for (int i = 0; i < n && !ec; i++)
@@ -70,7 +100,8 @@ static int read_triple(const char *opt, const char *arg, double *v)
     return ec;
 }
 
-static void json_report(FILE *f, const nv_args *a, const double *x0, const double *x)
+static void json_report(FILE *f, const nv_args *a, const double *x0, const double *x,
+                        const double *P)
 {
     cli_json j;
     cli_json_begin(&j, f);
@@ -85,10 +116,31 @@ static void json_report(FILE *f, const nv_args *a, const double *x0, const doubl
     cli_jmatrix(&j, "position", x + IGEA_INSERR_POS, NULL, a->epochs, 3, NS, 1);
     cli_jmatrix(&j, "velocity", x + IGEA_INSERR_VEL, NULL, a->epochs, 3, NS, 1);
     cli_jmatrix(&j, "attitude", x + IGEA_INSERR_ATT, NULL, a->epochs, 3, NS, 1);
+    if (P) {
+        cli_json_open(&j, "covariance", '[');
+        for (int k = 0; k < a->epochs; k++)
+            cli_jmatrix(&j, NULL, P + (size_t)k * NS * NS, NULL, NS, NS, NS, 1);
+        cli_json_close(&j);
+    }
     cli_json_end(&j);
 }
 
-static void text_report(FILE *f, const nv_args *a, const double *x)
+static void text_variances(FILE *f, const nv_args *a, const double *P)
+{
+    fprintf(f, "# variances of the errors from the sensor noise (NED; m^2, (m/s)^2, rad^2)\n");
+    fprintf(f, "# %10s %14s %14s %14s %12s %12s %12s %12s %12s %12s\n", "t", "var_dN",
+            "var_dE", "var_dD", "var_dvN", "var_dvE", "var_dvD", "var_phiN", "var_phiE",
+            "var_phiD");
+    for (int k = 0; k < a->epochs; k++) {
+        const double *Pk = P + (size_t)k * NS * NS;
+        fprintf(f, "%12.3f", k * a->duration / (a->epochs - 1));
+        for (int i = 0; i < 9; i++)
+            fprintf(f, i < 3 ? " %14.6g" : " %12.5g", Pk[i * NS + i]);
+        fprintf(f, "\n");
+    }
+}
+
+static void text_report(FILE *f, const nv_args *a, const double *x, const double *P)
 {
     fprintf(f, "# INS errors at latitude %g deg (NED; m, m/s, rad)\n", a->lat);
     fprintf(f, "# %10s %14s %14s %14s %12s %12s %12s %12s %12s %12s\n", "t", "dN", "dE",
@@ -100,6 +152,177 @@ static void text_report(FILE *f, const nv_args *a, const double *x)
             fprintf(f, i < 3 ? " %14.6g" : " %12.5g", xk[i]);
         fprintf(f, "\n");
     }
+    if (P)
+        text_variances(f, a, P);
+}
+
+/* The noise triples: 0 and *any = 1 when one was given. */
+static int read_noise(const nv_args *a, double *acc, double *gyro, int *any)
+{
+    static const char *const names[6] = {"--acc-vrw", "--acc-bi", "--acc-rrw",
+                                         "--gyro-arw", "--gyro-bi", "--gyro-rrw"};
+    static const int slot[3] = {IGEA_INSERR_NOISE_N, IGEA_INSERR_NOISE_B, IGEA_INSERR_NOISE_K};
+    int ec = CLI_OK;
+    *any = 0;
+    for (int i = 0; i < 6 && !ec; i++) {
+        *any |= a->noise[i] != NULL;
+        ec = read_triple(names[i], a->noise[i], (i < 3 ? acc : gyro) + slot[i % 3]);
+    }
+    for (int i = 0; i < 6 && !ec; i++)
+        for (int k = 0; k < 3; k++)
+            if (((i < 3 ? acc : gyro)[slot[i % 3] + k]) < 0) {
+                cli_error("%s: the coefficients must not be negative", names[i]);
+                return CLI_USAGE;
+            }
+    if (!ec && (a->noise[1] && !(a->opts[IGEA_INSERR_OPT_ACC_TC] > 0))) {
+        cli_error("--acc-bi: needs --acc-tc (the correlation time of the Gauss-Markov bias)");
+        ec = CLI_USAGE;
+    }
+    if (!ec && (a->noise[4] && !(a->opts[IGEA_INSERR_OPT_GYRO_TC] > 0))) {
+        cli_error("--gyro-bi: needs --gyro-tc (the correlation time of the Gauss-Markov drift)");
+        ec = CLI_USAGE;
+    }
+    return ec;
+}
+
+/* ---- along a trajectory ------------------------------------------------ */
+
+typedef struct {
+    double *tel, *ep, *x, *P, site[IGEA_NAV_SITE_LEN], q0[4], x0[NS], q[IGEA_INSERR_NQ];
+    int n, cols, ne, noisy;
+} nv_traj;
+
+static void traj_json(FILE *f, const nv_args *a, const nv_traj *r)
+{
+    cli_json j;
+    cli_json_begin(&j, f);
+    cli_jstr(&j, "system", a->system == IGEA_ENVFUN_STRAPDOWN ? "strapdown" : "platform");
+    cli_jnums(&j, "time", r->ep, r->ne);
+    cli_jmatrix(&j, "position", r->x + IGEA_INSERR_POS, NULL, r->ne, 3, NS, 1);
+    cli_jmatrix(&j, "velocity", r->x + IGEA_INSERR_VEL, NULL, r->ne, 3, NS, 1);
+    cli_jmatrix(&j, "attitude", r->x + IGEA_INSERR_ATT, NULL, r->ne, 3, NS, 1);
+    if (r->P) {
+        cli_json_open(&j, "covariance", '[');
+        for (int k = 0; k < r->ne; k++)
+            cli_jmatrix(&j, NULL, r->P + (size_t)k * NS * NS, NULL, NS, NS, NS, 1);
+        cli_json_close(&j);
+    }
+    cli_json_end(&j);
+}
+
+static void traj_text(FILE *f, const nv_traj *r)
+{
+    fprintf(f, "# INS errors along the trajectory (launch-inertial x y z; m, m/s, rad)\n");
+    fprintf(f, "# %10s %14s %14s %14s %12s %12s %12s %12s %12s %12s\n", "t", "dx", "dy", "dz",
+            "dvx", "dvy", "dvz", "phix", "phiy", "phiz");
+    for (int k = 0; k < r->ne; k++) {
+        fprintf(f, "%12.3f", r->ep[k]);
+        for (int i = 0; i < 9; i++)
+            fprintf(f, i < 3 ? " %14.6g" : " %12.5g", r->x[(size_t)k * NS + i]);
+        fprintf(f, "\n");
+    }
+    for (int k = 0; r->P && k < r->ne; k++) {
+        if (!k)
+            fprintf(f, "# variances of the errors from the sensor noise\n# %10s %14s %14s "
+                       "%14s %12s %12s %12s %12s %12s %12s\n", "t", "var_dx", "var_dy",
+                    "var_dz", "var_dvx", "var_dvy", "var_dvz", "var_phix", "var_phiy",
+                    "var_phiz");
+        fprintf(f, "%12.3f", r->ep[k]);
+        for (int i = 0; i < 9; i++)
+            fprintf(f, i < 3 ? " %14.6g" : " %12.5g", r->P[(size_t)k * NS * NS + i * (NS + 1)]);
+        fprintf(f, "\n");
+    }
+}
+
+/* The inputs of the trajectory mode: site, q0, the errors, the noise
+ * densities (bias instability refused: no Markov states here), epochs. */
+static int traj_inputs(const nv_args *a, nv_traj *r)
+{
+    int ec;
+    if (a->noise[1] || a->noise[4])
+        return cli_usage("nav --telemetry: --acc-bi and --gyro-bi need the static model (the "
+                         "launch-inertial model has no Gauss-Markov states)");
+    if (a->every < 1)
+        return cli_usage("nav: --every must be at least 1");
+    if (igea_nav_site(a->lat * DEG, a->lon * DEG, a->height, a->azimuth * DEG, r->site))
+        return cli_usage("nav: --lat, --lon, --height or --azimuth out of range");
+    if (sscanf(a->q0, "%lf,%lf,%lf,%lf", &r->q0[0], &r->q0[1], &r->q0[2], &r->q0[3]) != 4)
+        return cli_usage("--q0: four comma-separated numbers");
+    if ((ec = read_triple("--pos0", a->pos0, r->x0)) ||
+        (ec = read_triple("--vel0", a->vel0, r->x0 + 3)) ||
+        (ec = read_triple("--att0", a->att0, r->x0 + 6)) ||
+        (ec = read_triple("--acc-bias", a->acc, r->x0 + IGEA_INSERR_ACC)) ||
+        (ec = read_triple("--gyro-drift", a->gyro, r->x0 + IGEA_INSERR_GYRO)))
+        return ec;
+    double acc[IGEA_INSERR_NOISE_LEN] = {0}, gyro[IGEA_INSERR_NOISE_LEN] = {0};
+    if ((ec = read_noise(a, acc, gyro, &r->noisy)))
+        return ec;
+    for (int i = 0; i < 3; i++) {
+        r->q[i] = acc[IGEA_INSERR_NOISE_N + i] * acc[IGEA_INSERR_NOISE_N + i];
+        r->q[3 + i] = gyro[IGEA_INSERR_NOISE_N + i] * gyro[IGEA_INSERR_NOISE_N + i];
+        r->q[6 + i] = acc[IGEA_INSERR_NOISE_K + i] * acc[IGEA_INSERR_NOISE_K + i];
+        r->q[9 + i] = gyro[IGEA_INSERR_NOISE_K + i] * gyro[IGEA_INSERR_NOISE_K + i];
+    }
+    if ((ec = cli_read_colmajor(a->telemetry, &r->tel, &r->n, &r->cols)))
+        return ec;
+    int need = a->system == IGEA_ENVFUN_STRAPDOWN ? 7 : 4;
+    if (r->cols != need || r->n < 2) {
+        cli_error("%s: %d columns; the %s telemetry has %d (t dv%s), at least 2 rows",
+                  a->telemetry, r->cols, need == 7 ? "strapdown" : "platform", need,
+                  need == 7 ? " dth" : "");
+        return CLI_DATAERR;
+    }
+    r->ne = (r->n - 1) / a->every + 1 + ((r->n - 1) % a->every ? 1 : 0);
+    if (!(r->ep = malloc(sizeof(double) * (size_t)r->ne)))
+        return cli_oom("the epochs");
+    for (int k = 0; k < r->ne; k++)
+        r->ep[k] = r->tel[k == r->ne - 1 ? (size_t)r->n - 1 : (size_t)k * a->every];
+    return CLI_OK;
+}
+
+static int traj_run(const nv_args *a, nv_traj *r)
+{
+    if (!(r->x = malloc(sizeof(double) * NS * (size_t)r->ne)) ||
+        (r->noisy && !(r->P = malloc(sizeof(double) * NS * NS * (size_t)r->ne))))
+        return cli_oom("the error history");
+    int st = igea_inserr_li_response(a->system, r->site, a->gravity, r->n, r->tel, r->n, r->q0,
+                                     NULL, NULL, r->x0, r->ne, r->ep, r->x);
+    if (!st && r->P)
+        st = igea_inserr_li_covariance(a->system, r->site, a->gravity, r->n, r->tel, r->n,
+                                       r->q0, NULL, NULL, NULL, r->q, r->ne, r->ep, r->P);
+    if (st == -5) {
+        cli_error("%s: the times must increase strictly", a->telemetry);
+        return CLI_DATAERR;
+    }
+    if (st == -7) {
+        cli_error("--q0: a non-zero quaternion");
+        return CLI_USAGE;
+    }
+    return cli_status(st, "nav --telemetry");
+}
+
+static int nav_trajectory(const nv_args *a)
+{
+    nv_traj r;
+    memset(&r, 0, sizeof r);
+    int ec = traj_inputs(a, &r);
+    if (!ec)
+        ec = traj_run(a, &r);
+    if (!ec) {
+        cli_out o;
+        if (!(ec = cli_out_open(&o, a->out))) {
+            if (a->json)
+                traj_json(o.f, a, &r);
+            else
+                traj_text(o.f, &r);
+            ec = cli_out_commit(&o);
+        }
+    }
+    free(r.tel);
+    free(r.ep);
+    free(r.x);
+    free(r.P);
+    return ec;
 }
 
 int cmd_nav(int argc, char **argv)
@@ -109,6 +332,8 @@ int cmd_nav(int argc, char **argv)
     if (ec)
         return ec == CLI_HELP ? CLI_OK : ec;
     nv_args a = A;
+    if (a.telemetry)
+        return nav_trajectory(&a);
     if (!(fabs(a.lat) <= 85.9))
         return cli_usage("nav: --lat must lie in [-85.9, 85.9] degrees");
     if (!(a.duration > 0))
@@ -122,10 +347,20 @@ int cmd_nav(int argc, char **argv)
     if ((ec = read_triple("--acc-bias", a.acc, x0 + IGEA_INSERR_ACC)) ||
         (ec = read_triple("--gyro-drift", a.gyro, x0 + IGEA_INSERR_GYRO)))
         return ec;
-    double *x = malloc(sizeof(double) * NS * (size_t)a.epochs);
+    double acc[IGEA_INSERR_NOISE_LEN] = {0}, gyro[IGEA_INSERR_NOISE_LEN] = {0};
+    int noisy;
+    if ((ec = read_noise(&a, acc, gyro, &noisy)))
+        return ec;
+    double *x = malloc(sizeof(double) * NS * (size_t)a.epochs), *P = NULL;
+    if (noisy && x && !(P = malloc(sizeof(double) * NS * NS * (size_t)a.epochs))) {
+        free(x);
+        x = NULL;
+    }
     if (!x)
         return cli_oom("the error history");
     int st = igea_inserr_response(a.opts, x0, a.duration, a.epochs, x);
+    if (!st && P)
+        st = igea_inserr_noise_covariance(a.opts, NULL, acc, gyro, a.duration, a.epochs, P);
     if (st == -3) {
         cli_error("nav: --duration / --step exceeds 1e7 steps");
         ec = CLI_USAGE;
@@ -139,12 +374,13 @@ int cmd_nav(int argc, char **argv)
         cli_out o;
         if (!(ec = cli_out_open(&o, a.out))) {
             if (a.json)
-                json_report(o.f, &a, x0, x);
+                json_report(o.f, &a, x0, x, P);
             else
-                text_report(o.f, &a, x);
+                text_report(o.f, &a, x, P);
             ec = cli_out_commit(&o);
         }
     }
+    free(P);
     free(x);
     return ec;
 }

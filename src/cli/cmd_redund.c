@@ -8,9 +8,9 @@
 #include "cli.h"
 
 typedef struct {
-    const char *axes, *R, *x, *sigma, *data, *H, *y, *out;
-    double re1, re2, alpha, fs, window, pfa;
-    int json, one_shot, average;
+    const char *axes, *R, *x, *sigma, *data, *H, *y, *out, *groups, *channels;
+    double re1, re2, alpha, fs, window, pfa, block;
+    int json, one_shot, average, gls;
     const char *plot; /* --plot FILE.svg (fuse) */
 } rd_args;
 
@@ -33,6 +33,13 @@ static const cli_opt options[] = {
     {"--one-shot", CLI_OPT_FLAG, &A.one_shot, NULL, NULL, "one-shot fusion set instead of the iterative majority", NULL},
     {"--average", CLI_OPT_FLAG, &A.average, NULL, NULL, "fuse: plain mean instead of the weighted one", NULL},
     {"--pfa", CLI_OPT_NUM, &A.pfa, "0.01", "P", "fdi: false-alarm probability", NULL},
+    CLI_HEAD("group (virtual IMUs; --axes: the calibrated input axes, --y: one reading\n"
+             "per sensor, --sigma: their noise sds, --average: the plain mean):"),
+    {"--groups", CLI_OPT_STR, &A.groups, "0,4,6;1,5,7;2,4,6;3,5,7", "X,Y,Z;...", "group: the x, y, z sensor of each group (default:\nseed 002's Ax1..Ax4 = 0..3, Ay1 Ay2 = 4 5, Az1 Az2 = 6 7)", NULL},
+    {"--gls", CLI_OPT_FLAG, &A.gls, NULL, NULL, "group: generalised least squares of the distinct\nsensors instead of the per-axis weighted mean", NULL},
+    CLI_HEAD("stability (Table 1: --data the record, --fs, --average the plain mean):"),
+    {"--channels", CLI_OPT_STR, &A.channels, NULL, "C,C,...", "stability: each column's fused channel (from 0;\n-1: not fused)", NULL},
+    {"--block", CLI_OPT_NUM, &A.block, "100", "S", "stability: block length (s)", NULL},
     CLI_JSON_OPT(&A.json),
     CLI_OUT_OPT(&A.out),
     {"--plot", CLI_OPT_STR, &A.plot, NULL, "FILE.svg", "fuse: draw the fused output and the sensor-exclusion\ntimeline into an SVG picture", NULL},
@@ -44,6 +51,10 @@ static const cli_command command = {"redund",
 "       igea redund fuse --data FILE --fs HZ --sigma FILE|NUMBER [--window S]\n"
 "                        [--alpha A] [--one-shot] [--average]\n"
 "       igea redund fdi --H FILE --y FILE --sigma FILE|NUMBER [--pfa P]\n"
+"       igea redund group --axes FILE --y FILE --sigma FILE|NUMBER [--groups LIST]\n"
+"                         [--average | --gls]\n"
+"       igea redund stability --data FILE --fs HZ --channels C,C,... [--block S]\n"
+"                             [--average]\n"
 "       (every form takes --json and --out FILE)\n"
 "\n"
 "Redundant inertial sensors (METHODS 3). Sensors are numbered from 0.\n"
@@ -65,6 +76,15 @@ static const cli_command command = {"redund",
 "             when, and the fused output (weighted; --average for the mean).\n"
 "fdi          Parity-space test of one epoch y = H x + e: chi-square detection\n"
 "             at false-alarm probability --pfa and the isolated sensor.\n"
+"group        Virtual IMUs (seed 002): each group's frame from its sensors'\n"
+"             calibrated axes, unified into group 0's frame, each group's output\n"
+"             and the fused one, with the covariance that counts a sensor shared\n"
+"             by several groups once (cov) beside the one independent groups\n"
+"             would state (cov_indep).\n"
+"stability    Table 1 of seed 002: the 100-s variance (3 sigma of the means of\n"
+"             --block-second blocks) of every column of --data and of every\n"
+"             fused channel (the weighted mean of its columns, weights 1 / each\n"
+"             column's block variance; --average: the plain mean).\n"
 "\n"
 "options:\n",
 options,
@@ -78,7 +98,7 @@ options,
 "  igea redund consistency --x x.txt --sigma 20e-6 --alpha 0.7\n"
 "  igea redund fuse --data ax.npy --fs 100 --window 1 --sigma 20e-6 --json\n"};
 
-enum { RELIABILITY, CONSISTENCY, FUSE, FDI };
+enum { RELIABILITY, CONSISTENCY, FUSE, FDI, GROUP, STABILITY };
 
 /* The subcommand's inputs, present. */
 static const char *check_sub(int sub, const rd_args *a)
@@ -93,6 +113,12 @@ static const char *check_sub(int sub, const rd_args *a)
         return "redund: --plot draws redund fuse only";
     if (sub == FDI && (!a->H || !a->y || !a->sigma))
         return "redund fdi: --H, --y and --sigma are required";
+    if (sub == GROUP && (!a->axes || !a->y || !a->sigma))
+        return "redund group: --axes, --y and --sigma are required";
+    if (sub == STABILITY && (!a->data || !a->channels || !(a->fs > 0) || !(a->block > 0)))
+        return "redund stability: --data, --fs (> 0) and --channels are required, --block > 0";
+    if (sub == GROUP && a->average && a->gls)
+        return "redund group: --average and --gls exclude each other";
     return NULL;
 }
 
@@ -103,10 +129,10 @@ static int parse(int argc, char **argv, rd_args *a, int *sub)
         return CLI_HELP;
     }
     if (argc < 2 || argv[1][0] == '-') {
-        cli_error("redund: a subcommand is required: reliability, consistency, fuse or fdi");
+        cli_error("redund: a subcommand is required: reliability, consistency, fuse, fdi, group or stability");
         return CLI_USAGE;
     }
-    if (cli_pick("redund", argv[1], "reliability|consistency|fuse|fdi", sub))
+    if (cli_pick("redund", argv[1], "reliability|consistency|fuse|fdi|group|stability", sub))
         return CLI_USAGE;
     int ec = cli_parse(&command, argc - 1, argv + 1);
     *a = A;
@@ -421,6 +447,185 @@ static int do_fdi(const rd_args *a, FILE *f)
     return ec;
 }
 
+/* --groups "x,y,z;x,y,z;...": 3 ngroup sensor indices (checked by the
+ * library against the number of sensors). */
+static int read_groups(const char *arg, int **member, int *ngroup)
+{
+    int n = 1;
+    for (const char *p = arg; *p; p++)
+        n += *p == ';';
+    int *m = malloc(sizeof(int) * 3 * (size_t)n), g = 0;
+    if (!m)
+        return cli_oom("the groups");
+    const char *p = arg;
+    for (g = 0; g < n; g++)
+        for (int k = 0; k < 3; k++) {
+            char *end;
+            long v = strtol(p, &end, 10);
+            char want = k < 2 ? ',' : (g < n - 1 ? ';' : '\0');
+            if (end == p || v < 0 || v > 100000 || *end != want) {
+                free(m);
+                cli_error("--groups '%s': expected x,y,z sensor indices (from 0) per group, "
+                          "groups separated by ';'", arg);
+                return CLI_USAGE;
+            }
+            m[3 * g + k] = (int)v;
+            p = end + 1;
+        }
+    *member = m;
+    *ngroup = n;
+    return CLI_OK;
+}
+
+static void report_group(const rd_args *a, FILE *f, int ng, const double *fr, const double *u,
+                         const double *fu, const double *cov, const double *ci)
+{
+    const char *rule = a->gls ? "gls" : a->average ? "average" : "weighted";
+    if (a->json) {
+        cli_json j;
+        cli_json_begin(&j, f);
+        cli_jstr(&j, "fusion", rule);
+        cli_json_open(&j, "frames", '[');
+        for (int g = 0; g < ng; g++)
+            cli_jmatrix(&j, NULL, fr + 9 * g, NULL, 3, 3, 1, 3);
+        cli_json_close(&j);
+        cli_jmatrix(&j, "group_out", u, NULL, ng, 3, 3, 1);
+        cli_jnums(&j, "fused", fu, 3);
+        cli_jmatrix(&j, "cov", cov, NULL, 3, 3, 1, 3);
+        cli_jmatrix(&j, "cov_indep", ci, NULL, 3, 3, 1, 3);
+        cli_json_end(&j);
+        return;
+    }
+    fprintf(f, "# virtual IMUs in group 0's frame (fusion %s)\n", rule);
+    for (int g = 0; g < ng; g++)
+        fprintf(f, "group %d: %.10g %.10g %.10g\n", g, u[3 * g], u[3 * g + 1], u[3 * g + 2]);
+    fprintf(f, "fused:   %.10g %.10g %.10g\n", fu[0], fu[1], fu[2]);
+    fprintf(f, "# variances of the fused axes: shared sensors counted once, and as if\n"
+               "# the groups were independent\n");
+    for (int i = 0; i < 3; i++)
+        fprintf(f, "var %c: %.6g (independent: %.6g)\n", "xyz"[i], cov[4 * i], ci[4 * i]);
+}
+
+static int do_group(const rd_args *a, FILE *f)
+{
+    double *ax = NULL, *y = NULL, *s = NULL, *buf = NULL;
+    int *mem = NULL, n = 0, cols = 0, ng = 0, ec = cli_read_colmajor(a->axes, &ax, &n, &cols);
+    if (!ec && (cols != 3 || n < 3)) {
+        cli_error("%s: the axes need 3 columns and at least 3 rows", a->axes);
+        ec = CLI_DATAERR;
+    }
+    if (!ec)
+        ec = read_groups(a->groups, &mem, &ng);
+    if (!ec && !(ec = cli_read_values(a->y, n, "--y", &y, NULL)))
+        ec = cli_read_values(a->sigma, n, "--sigma", &s, NULL);
+    if (!ec && !(buf = malloc(sizeof(double) * (12 * (size_t)ng + 3 * (size_t)n + 21))))
+        ec = cli_oom("the group results");
+    if (!ec) {
+        double *axr = buf + 12 * (size_t)ng + 21; /* row i = axis i: 3 x n column-major */
+        for (int i = 0; i < n; i++)
+            for (int j = 0; j < 3; j++)
+                axr[3 * i + j] = ax[(size_t)j * n + i];
+        int rule = a->gls ? IGEA_REDUND_GROUP_GLS
+                          : a->average ? IGEA_REDUND_GROUP_AVERAGE : IGEA_REDUND_GROUP_WEIGHTED;
+        int st = igea_redund_group(n, axr, s, ng, mem, y, rule, buf, buf + 9 * ng,
+                                   buf + 12 * ng, buf + 12 * ng + 3, buf + 12 * ng + 12);
+        if (st == -5)
+            ec = cli_usage("--groups: a sensor index beyond the --axes rows, or a sensor twice "
+                           "in a group");
+        else if (st == IGEA_ESINGULAR)
+            ec = (cli_error("redund group: a group's three axes are not independent"),
+                  CLI_DATAERR);
+        else
+            ec = cli_status(st, "redund group");
+    }
+    if (!ec)
+        report_group(a, f, ng, buf, buf + 9 * ng, buf + 12 * ng, buf + 12 * ng + 3,
+                     buf + 12 * ng + 12);
+    free(ax);
+    free(y);
+    free(s);
+    free(mem);
+    free(buf);
+    return ec;
+}
+
+static void json_blocks(cli_json *j, const char *key, const double *o, int n)
+{
+    cli_json_open(j, key, '[');
+    for (int i = 0; i < n; i++)
+        cli_jnum(j, NULL, o[(size_t)i * IGEA_STABILITY_BLOCK_LEN]);
+    cli_json_close(j);
+}
+
+static void report_stability(const rd_args *a, FILE *f, int ns, const int *ch, int nc,
+                             const double *so, const double *fo)
+{
+    const int L = IGEA_STABILITY_BLOCK_LEN;
+    double sec = so[IGEA_STABILITY_BLOCK_NSAMP] / a->fs;
+    if (a->json) {
+        cli_json j;
+        cli_json_begin(&j, f);
+        cli_jnum(&j, "block_seconds", sec);
+        cli_jints(&j, "channel", ch, ns);
+        json_blocks(&j, "three_sigma", so + IGEA_STABILITY_BLOCK_3SIGMA, ns);
+        json_blocks(&j, "sigma", so + IGEA_STABILITY_BLOCK_SIGMA, ns);
+        json_blocks(&j, "fused_three_sigma", fo + IGEA_STABILITY_BLOCK_3SIGMA, nc);
+        json_blocks(&j, "fused_sigma", fo + IGEA_STABILITY_BLOCK_SIGMA, nc);
+        cli_json_end(&j);
+        return;
+    }
+    fprintf(f, "# %g-s variance (3 sigma of the block means, %d blocks; fused: %s mean)\n", sec,
+            (int)so[IGEA_STABILITY_BLOCK_NBLOCK], a->average ? "plain" : "weighted");
+    for (int i = 0; i < ns; i++)
+        fprintf(f, "column %d (channel %d): %.6g\n", i, ch[i], so[(size_t)L * i]);
+    for (int c = 0; c < nc; c++)
+        fprintf(f, "fused channel %d: %.6g\n", c, fo[(size_t)L * c]);
+}
+
+static int do_stability(const rd_args *a, FILE *f)
+{
+    double *y = NULL, *so = NULL;
+    int n = 0, ns = 0, nc = 0, *ch = NULL, ec = cli_read_colmajor(a->data, &y, &n, &ns);
+    char **items = NULL;
+    int ni = 0;
+    if (!ec && !(ec = cli_split_list(a->channels, &items, &ni)) && ni != ns) {
+        cli_error("--channels: %d values for the %d columns of %s", ni, ns, a->data);
+        ec = CLI_USAGE;
+    }
+    if (!ec && !(ch = malloc(sizeof(int) * (size_t)ns)))
+        ec = cli_oom("the channels");
+    for (int i = 0; i < ni && !ec; i++) {
+        char *end;
+        long v = strtol(items[i], &end, 10);
+        if (*end || end == items[i] || v < -1 || v >= ns)
+            ec = cli_usage("--channels: each value a channel number from 0, or -1");
+        else
+            ch[i] = (int)v, nc = v + 1 > nc ? (int)v + 1 : nc;
+    }
+    if (!ec && !(so = malloc(sizeof(double) * IGEA_STABILITY_BLOCK_LEN * (size_t)(ns + nc))))
+        ec = cli_oom("the block statistics");
+    if (!ec) {
+        int st = igea_redund_stability(n, ns, y, n, a->fs, a->block, ch, nc, !a->average, so,
+                                       so + (size_t)IGEA_STABILITY_BLOCK_LEN * ns, NULL);
+        if (st == -8)
+            ec = cli_usage("--channels: every channel from 0 to the largest needs a column");
+        else if (st == -6)
+            ec = cli_usage("redund stability: the record holds fewer than two whole --block blocks");
+        else if (st == IGEA_EDOMAIN)
+            ec = (cli_error("redund stability: a constant column cannot be weighted (use "
+                            "--average)"), CLI_DATAERR);
+        else
+            ec = cli_status(st, "redund stability");
+    }
+    if (!ec)
+        report_stability(a, f, ns, ch, nc, so, so + (size_t)IGEA_STABILITY_BLOCK_LEN * ns);
+    free(items);
+    free(y);
+    free(ch);
+    free(so);
+    return ec;
+}
+
 int cmd_redund(int argc, char **argv)
 {
     rd_args a;
@@ -428,7 +633,8 @@ int cmd_redund(int argc, char **argv)
     if (ec)
         return ec == CLI_HELP ? CLI_OK : ec;
     static int (*const run[])(const rd_args *, FILE *) = {do_reliability, do_consistency,
-                                                          do_fuse, do_fdi};
+                                                          do_fuse, do_fdi, do_group,
+                                                          do_stability};
     /* the report goes to a temporary first: a failed run leaves no part */
     cli_out o;
     if ((ec = cli_out_open(&o, a.out)))

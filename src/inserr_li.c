@@ -1,0 +1,277 @@
+/* inserr_li.c - the linearised INS error model in the launch-inertial
+ * frame along the reference trajectory of the nav core: its deterministic
+ * response and its covariance, one Runge-Kutta step per telemetry interval
+ * with the coefficients frozen at the interval's values
+ * (include/igea/inserr.h, docs/inserr.md). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "igea/envfun.h"
+#include "igea/inserr.h"
+#include "igea/nav.h"
+#include "igea/sim.h"
+#include "inserr_int.h"
+#include "internal.h"
+#include "rotation.h"
+
+#define NS IGEA_INSERR_N
+#define NS2 (IGEA_INSERR_N * IGEA_INSERR_N)
+
+/* The reference navigation and the telemetry it reads. */
+typedef struct {
+    int sd, nsamp, ldtel;
+    const double *tel;
+    double st[IGEA_NAV_STATE_LEN];
+} li_ref;
+
+static double tel_at(const li_ref *r, int k, int col) { return r->tel[(size_t)col * (size_t)r->ldtel + (size_t)k]; }
+
+/* Arguments 1-9 (system .. v0): 0 or -i; IGEA_ENONFINITE for a non-finite
+ * telemetry value. On success r holds the reference at t_0. */
+static int ref_init(li_ref *r, int system, const double *site, int gravity, int nsamp,
+                    const double *tel, int ldtel, const double *q0, const double *r0,
+                    const double *v0)
+{
+    if (system != IGEA_ENVFUN_STRAPDOWN && system != IGEA_ENVFUN_PLATFORM)
+        return -1;
+    if (nsamp < 2)
+        return -4;
+    if (!tel)
+        return -5;
+    if (ldtel < nsamp)
+        return -6;
+    r->sd = system == IGEA_ENVFUN_STRAPDOWN;
+    r->nsamp = nsamp;
+    r->ldtel = ldtel;
+    r->tel = tel;
+    int cols = r->sd ? IGEA_SIM_RAW_TEL_STRAPDOWN : IGEA_SIM_RAW_TEL_PLATFORM;
+    if (!igea__finite_mat(nsamp, cols, tel, ldtel))
+        return IGEA_ENONFINITE;
+    for (int k = 1; k < nsamp; k++)
+        if (!(tel_at(r, k, 0) > tel_at(r, k - 1, 0)))
+            return -5;
+    if (!site)
+        return -2;
+    int st = igea_nav_init(system, site, gravity, 0, tel_at(r, 0, 0), q0, r0, v0, r->st);
+    static const int arg[10] = {0, 1, 2, 3, 0, 5, 7, 8, 9, 0};
+    if (st < 0 && st >= -9 && arg[-st])
+        return -arg[-st];
+    return st ? -2 : 0;
+}
+
+/* Advance the reference over interval k (t_{k-1}, t_k] and build its system
+ * matrix A (15 x 15 row-major) and noise input B (the 3 x 3 blocks: Ca for
+ * the accelerometer noise into dv, Cg for the gyro noise into phi). */
+static int ref_step(li_ref *r, int k, double *A, double *Ca, double *Cg)
+{
+    double prev[IGEA_NAV_STATE_LEN], dv[3], dth[3], qm[4], G[9], g[3], rm[3];
+    memcpy(prev, r->st, sizeof prev);
+    for (int i = 0; i < 3; i++) {
+        dv[i] = tel_at(r, k, 1 + i);
+        dth[i] = r->sd ? tel_at(r, k, 4 + i) : 0.0;
+    }
+    double h = tel_at(r, k, 0) - tel_at(r, k - 1, 0);
+    int st = igea_nav_step(r->st, tel_at(r, k, 0), dv, r->sd ? dth : NULL);
+    if (st)
+        return st == IGEA_ENONFINITE ? st : -5;
+    for (int i = 0; i < 4; i++)
+        qm[i] = prev[IGEA_NAV_STATE_Q + i] + r->st[IGEA_NAV_STATE_Q + i];
+    for (int i = 0; i < 3; i++)
+        rm[i] = 0.5 * (prev[IGEA_NAV_STATE_R + i] + r->st[IGEA_NAV_STATE_R + i]);
+    if (igea_nav_gravity_li(r->st + IGEA_NAV_STATE_SITE, (int)r->st[IGEA_NAV_STATE_GRAVITY], rm,
+                            g, G))
+        return IGEA_ENONFINITE;
+    igea__quat_dcm_unit(qm, Ca);
+    memset(A, 0, sizeof(double) * NS2);
+    double f[3];
+    for (int i = 0; i < 3; i++)
+        f[i] = (r->st[IGEA_NAV_STATE_W + i] - prev[IGEA_NAV_STATE_W + i]) / h;
+    for (int i = 0; i < 3; i++) {
+        A[i * NS + 3 + i] = 1.0;
+        for (int j = 0; j < 3; j++) {
+            A[(3 + i) * NS + j] = G[i * 3 + j];
+            A[(3 + i) * NS + 9 + j] = Ca[i * 3 + j];
+            Cg[i * 3 + j] = r->sd ? -Ca[i * 3 + j] : (i == j ? 1.0 : 0.0);
+            A[(6 + i) * NS + 12 + j] = Cg[i * 3 + j];
+        }
+    }
+    /* f x phi = [f x] phi */
+    A[3 * NS + 7] = -f[2];
+    A[3 * NS + 8] = f[1];
+    A[4 * NS + 6] = f[2];
+    A[4 * NS + 8] = -f[0];
+    A[5 * NS + 6] = -f[1];
+    A[5 * NS + 7] = f[0];
+    return 0;
+}
+
+/* out = A P + P A^T + Q, P and Q symmetric */
+static void lyap(const double *A, const double *P, const double *Q, double *out)
+{
+    double M[NS2];
+    for (int i = 0; i < NS; i++)
+        for (int j = 0; j < NS; j++) {
+            double s = 0.0;
+            for (int k = 0; k < NS; k++)
+                if (A[i * NS + k] != 0.0)
+                    s += A[i * NS + k] * P[k * NS + j];
+            M[i * NS + j] = s;
+        }
+    for (int i = 0; i < NS; i++)
+        for (int j = 0; j < NS; j++)
+            out[i * NS + j] = M[i * NS + j] + M[j * NS + i] + Q[i * NS + j];
+}
+
+static void matvec(const double *A, const double *x, double *out)
+{
+    for (int i = 0; i < NS; i++) {
+        double s = 0.0;
+        for (int j = 0; j < NS; j++)
+            s += A[i * NS + j] * x[j];
+        out[i] = s;
+    }
+}
+
+/* One classical RK4 step of y' = A y (m = NS) or of the covariance
+ * equation (m = NS2, Q the noise term) over h. */
+static void rk4(const double *A, const double *Q, int m, double h, double *y)
+{
+    double k[4][NS2], t[NS2];
+    static const double c[3] = {0.5, 0.5, 1.0};
+    const double *in = y;
+    for (int s = 0; s < 4; s++) {
+        if (m == NS)
+            matvec(A, in, k[s]);
+        else
+            lyap(A, in, Q, k[s]);
+        if (s < 3) {
+            for (int i = 0; i < m; i++)
+                t[i] = y[i] + c[s] * h * k[s][i];
+            in = t;
+        }
+    }
+    for (int i = 0; i < m; i++)
+        y[i] += h / 6.0 * (k[0][i] + 2.0 * k[1][i] + 2.0 * k[2][i] + k[3][i]);
+}
+
+/* Q = B diag(q) B^T: the blocks C diag(q_a) C^T (dv), Cg diag(q_g) Cg^T
+ * (phi), diag(q_ba), diag(q_bg). */
+static void noise_matrix(const double *q, const double *Ca, const double *Cg, double *Q)
+{
+    memset(Q, 0, sizeof(double) * NS2);
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            for (int l = 0; l < 3; l++) {
+                Q[(3 + i) * NS + 3 + j] += Ca[i * 3 + l] * q[l] * Ca[j * 3 + l];
+                Q[(6 + i) * NS + 6 + j] += Cg[i * 3 + l] * q[3 + l] * Cg[j * 3 + l];
+            }
+    for (int i = 0; i < 6; i++)
+        Q[(9 + i) * NS + 9 + i] = q[6 + i];
+}
+
+/* The sample index of each epoch (increasing, each within 1e-9 s of a
+ * sample time): 0 or 1 (an epoch that is not). */
+static int epoch_index(const li_ref *r, int nepochs, const double *epochs, int *idx)
+{
+    int k = 0;
+    for (int j = 0; j < nepochs; j++) {
+        if (!isfinite(epochs[j]) || (j > 0 && !(epochs[j] > epochs[j - 1])))
+            return 1;
+        while (k < r->nsamp && tel_at(r, k, 0) < epochs[j] - 1e-9)
+            k++;
+        if (k == r->nsamp || fabs(tel_at(r, k, 0) - epochs[j]) > 1e-9)
+            return 1;
+        idx[j] = k;
+    }
+    return 0;
+}
+
+/* Propagate y (m values: the state or the covariance) along the record,
+ * storing it at the epochs' samples into out (nepochs x m). */
+static int propagate(li_ref *r, const double *q, int m, double *y, int nepochs,
+                     const int *idx, double *out)
+{
+    double A[NS2], Q[NS2], Ca[9], Cg[9];
+    double *buf = igea__dalloc((size_t)nepochs * (size_t)m);
+    if (!buf)
+        return IGEA_ENOMEM;
+    int j = 0, st = 0;
+    for (int k = 0; k < r->nsamp && j < nepochs && !st; k++) {
+        if (k > 0 && !(st = ref_step(r, k, A, Ca, Cg))) {
+            if (q)
+                noise_matrix(q, Ca, Cg, Q);
+            rk4(A, Q, m, tel_at(r, k, 0) - tel_at(r, k - 1, 0), y);
+            if (!igea__finite_vec(m, y, 1))
+                st = IGEA_EOVERFLOW;
+        }
+        if (!st && idx[j] == k)
+            memcpy(buf + (size_t)j++ * (size_t)m, y, sizeof(double) * (size_t)m);
+    }
+    if (!st)
+        memcpy(out, buf, sizeof(double) * (size_t)nepochs * (size_t)m);
+    free(buf);
+    return st;
+}
+
+/* The checks of the epochs (arguments ie, ie + 1) and the run. */
+static int run(li_ref *r, const double *q, int m, double *y, int nepochs, const double *epochs,
+               double *out, int ie)
+{
+    if (nepochs < 1)
+        return -ie;
+    if (!epochs)
+        return -(ie + 1);
+    if (!out)
+        return -(ie + 2);
+    int *idx = igea__ialloc((size_t)nepochs);
+    if (!idx)
+        return IGEA_ENOMEM;
+    int st = epoch_index(r, nepochs, epochs, idx) ? -(ie + 1) : 0;
+    if (!st)
+        st = propagate(r, q, m, y, nepochs, idx, out);
+    free(idx);
+    return st;
+}
+
+int igea_inserr_li_response(int system, const double *site, int gravity, int nsamp,
+                            const double *tel, int ldtel, const double *q0, const double *r0,
+                            const double *v0, const double *x0, int nepochs,
+                            const double *epochs, double *x)
+{
+    li_ref r;
+    int st = ref_init(&r, system, site, gravity, nsamp, tel, ldtel, q0, r0, v0);
+    if (st)
+        return st;
+    if (!x0)
+        return -10;
+    if (!igea__finite_vec(NS, x0, 1))
+        return IGEA_ENONFINITE;
+    double y[NS];
+    memcpy(y, x0, sizeof y);
+    return run(&r, NULL, NS, y, nepochs, epochs, x, 11);
+}
+
+int igea_inserr_li_covariance(int system, const double *site, int gravity, int nsamp,
+                              const double *tel, int ldtel, const double *q0,
+                              const double *r0, const double *v0, const double *P0,
+                              const double *q, int nepochs, const double *epochs, double *P)
+{
+    li_ref r;
+    int st = ref_init(&r, system, site, gravity, nsamp, tel, ldtel, q0, r0, v0);
+    if (st)
+        return st;
+    if (!q)
+        return -11;
+    if (P0 && (st = igea__inserr_check_p0(P0)))
+        return st;
+    if (!igea__finite_vec(IGEA_INSERR_NQ, q, 1))
+        return IGEA_ENONFINITE;
+    for (int i = 0; i < IGEA_INSERR_NQ; i++)
+        if (q[i] < 0)
+            return IGEA_ENONPOSITIVE;
+    double p[NS2];
+    for (int i = 0; i < NS2; i++)
+        p[i] = P0 ? 0.5 * (P0[i] + P0[(i % NS) * NS + i / NS]) : 0.0;
+    return run(&r, q, NS2, p, nepochs, epochs, P, 12);
+}
