@@ -236,7 +236,13 @@ INSERR_OPT_VN = 4
 INSERR_OPT_VE = 5
 INSERR_OPT_STEP = 6
 INSERR_OPT_VERTICAL = 7
+INSERR_OPT_ACC_TC = 8
+INSERR_OPT_GYRO_TC = 9
 INSERR_OPT_LEN = 16
+INSERR_NOISE_N = 0
+INSERR_NOISE_B = 3
+INSERR_NOISE_K = 6
+INSERR_NOISE_LEN = 9
 
 # igea/io.h
 IO_LINE_MAX = 1048576
@@ -339,6 +345,9 @@ REDUND_FDI_ISOLATED = 5
 REDUND_FDI_ISO_STAT = 6
 REDUND_FDI_ISOLABLE = 7
 REDUND_FDI_LEN = 8
+REDUND_GROUP_AVERAGE = 0
+REDUND_GROUP_WEIGHTED = 1
+REDUND_GROUP_GLS = 2
 
 # igea/regress.h
 REGRESS_METHOD_LS = 0
@@ -654,6 +663,10 @@ PROTOTYPES = {
         ("ldt", c_int), ("nterms", c_int), ("terms", _PI), ("axes", _PI), ("nuser", c_int),
         ("user_kind", _PI), ("user", _PD), ("ldu", c_int), ("nepochs", c_int), ("epochs", _PD),
         ("spec", _PD), ("output", c_int), ("S", _PD), ("lds", c_int),)),
+    "igea_envfun_compute_site": (c_int, (("system", c_int), ("nsamp", c_int), ("traj", _PD),
+        ("ldt", c_int), ("nterms", c_int), ("terms", _PI), ("axes", _PI), ("nuser", c_int),
+        ("user_kind", _PI), ("user", _PD), ("ldu", c_int), ("nepochs", c_int), ("epochs", _PD),
+        ("spec", _PD), ("output", c_int), ("site", _PD), ("S", _PD), ("lds", c_int),)),
     "igea_envfun_nonlinear": (c_int, (("system", c_int), ("nsamp", c_int), ("traj", _PD),
         ("ldt", c_int), ("nerr", c_int), ("err", _PD), ("axes", _PI), ("nepochs", c_int),
         ("epochs", _PD), ("dW", _PD),)),
@@ -703,6 +716,12 @@ PROTOTYPES = {
     "igea_impact_circle_prob": (c_int, (("cov", _PD), ("r", c_double), ("prob", _PD),)),
     "igea_impact_cep": (c_int, (("cov", _PD), ("prob", c_double), ("radius", _PD),)),
     "igea_impact_cep_approx": (c_int, (("cov", _PD), ("rule", c_int), ("radius", _PD),)),
+    "igea_impact_circle_prob_offset": (c_int, (("cov", _PD), ("mean", _PD), ("r", c_double),
+        ("prob", _PD),)),
+    "igea_impact_cep_offset": (c_int, (("cov", _PD), ("mean", _PD), ("prob", c_double),
+        ("radius", _PD),)),
+    "igea_impact_component_miss": (c_int, (("N", c_int), ("n", c_int), ("G", _PD), ("ldg", c_int),
+        ("E", _PD), ("lde", c_int), ("P", _PD), ("ldp", c_int), ("equiv", _PD), ("miss", _PD),)),
     # igea/inserr.h
     "igea_inserr_defaults": (c_int, (("opts", _PD),)),
     "igea_inserr_check_opts": (c_int, (("opts", _PD),)),
@@ -711,6 +730,14 @@ PROTOTYPES = {
         ("n", c_int), ("x", _PD),)),
     "igea_inserr_covariance": (c_int, (("opts", _PD), ("P0", _PD), ("q", _PD),
         ("duration", c_double), ("n", c_int), ("P", _PD),)),
+    "igea_inserr_noise_covariance": (c_int, (("opts", _PD), ("P0", _PD), ("acc", _PD),
+        ("gyro", _PD), ("duration", c_double), ("n", c_int), ("P", _PD),)),
+    "igea_inserr_li_response": (c_int, (("system", c_int), ("site", _PD), ("gravity", c_int),
+        ("nsamp", c_int), ("tel", _PD), ("ldtel", c_int), ("q0", _PD), ("r0", _PD), ("v0", _PD),
+        ("x0", _PD), ("nepochs", c_int), ("epochs", _PD), ("x", _PD),)),
+    "igea_inserr_li_covariance": (c_int, (("system", c_int), ("site", _PD), ("gravity", c_int),
+        ("nsamp", c_int), ("tel", _PD), ("ldtel", c_int), ("q0", _PD), ("r0", _PD), ("v0", _PD),
+        ("P0", _PD), ("q", _PD), ("nepochs", c_int), ("epochs", _PD), ("P", _PD),)),
     # igea/io.h
     "igea_io_reader_create": (c_int, (("out", _PH),)),
     "igea_io_reader_free": (None, (("r", c_void_p),)),
@@ -812,6 +839,12 @@ PROTOTYPES = {
         ("az", _PD), ("sz", _PD), ("ad", c_double), ("sd", c_double), ("cy", c_double),
         ("cz", c_double), ("kappa", c_double), ("resid", _PD), ("faulty_y", _PI),
         ("faulty_z", _PI), ("faulty_d", _PI),)),
+    "igea_redund_group": (c_int, (("nsens", c_int), ("axes", _PD), ("sigma", _PD),
+        ("ngroup", c_int), ("member", _PI), ("y", _PD), ("fusion", c_int), ("frames", _PD),
+        ("group_out", _PD), ("fused", _PD), ("cov", _PD), ("cov_indep", _PD),)),
+    "igea_redund_stability": (c_int, (("nsamp", c_int), ("nsens", c_int), ("y", _PD),
+        ("ldy", c_int), ("fs", c_double), ("block", c_double), ("channel", _PI), ("nchan", c_int),
+        ("weighted", c_int), ("sens_out", _PD), ("fused_out", _PD), ("fused", _PD),)),
     "igea_redund_window_count": (c_int, (("nsamp", c_int), ("fs", c_double), ("window", c_double),
         ("nwin", _PI),)),
     "igea_redund_window_length": (c_int, (("fs", c_double), ("window", c_double), ("samples", _PI),
@@ -934,6 +967,14 @@ PROTOTYPES = {
         ("nerr", c_int), ("err", _PD), ("axes", _PI), ("site", _PD), ("frame", c_int),
         ("nepochs", c_int), ("epochs", _PD), ("noise", _PD), ("tel", _PD), ("ldtel", c_int),
         ("trk", _PD), ("ldtrk", c_int), ("q0", _PD), ("site_out", _PD),)),
+    "igea_sim_raw_track": (c_int, (("system", c_int), ("nsamp", c_int), ("traj", _PD),
+        ("ldt", c_int), ("nerr", c_int), ("err", _PD), ("axes", _PI), ("site", _PD),
+        ("frame", c_int), ("nepochs", c_int), ("epochs", _PD), ("trk_err", _PD),
+        ("acc_cols", c_int), ("acc", _PD), ("tel", _PD), ("ldtel", c_int), ("trk", _PD),
+        ("ldtrk", c_int), ("q0", _PD), ("site_out", _PD),)),
+    "igea_sim_track_errors": (c_int, (("nepochs", c_int), ("sigma_v", _PD), ("sigma_r", c_double),
+        ("rho", c_double), ("cross", c_double), ("seed", c_int), ("flight", c_int), ("acc", _PD),
+        ("err", _PD),)),
     # igea/stability.h
     "igea_stability_block": (c_int, (("n", c_int), ("y", _PD), ("fs", c_double),
         ("block", c_double), ("out", _PD),)),
@@ -1016,6 +1057,8 @@ INPUTS = {
     "igea_envfun_term_code": ("name",),
     "igea_envfun_compute": ("traj", "terms", "axes", "epochs", "spec",),
     "igea_envfun_compute_user": ("traj", "terms", "axes", "user_kind", "user", "epochs", "spec",),
+    "igea_envfun_compute_site": ("traj", "terms", "axes", "user_kind", "user", "epochs", "spec",
+        "site",),
     "igea_envfun_nonlinear": ("traj", "err", "axes", "epochs",),
     "igea_eqerr_check_opts": ("opts",),
     "igea_eqerr_solve": ("A", "b", "opts",),
@@ -1039,10 +1082,16 @@ INPUTS = {
     "igea_impact_circle_prob": ("cov",),
     "igea_impact_cep": ("cov",),
     "igea_impact_cep_approx": ("cov",),
+    "igea_impact_circle_prob_offset": ("cov", "mean",),
+    "igea_impact_cep_offset": ("cov", "mean",),
+    "igea_impact_component_miss": ("G", "E", "P", "equiv",),
     "igea_inserr_check_opts": ("opts",),
     "igea_inserr_matrix": ("opts",),
     "igea_inserr_response": ("opts", "x0",),
     "igea_inserr_covariance": ("opts", "P0", "q",),
+    "igea_inserr_noise_covariance": ("opts", "P0", "acc", "gyro",),
+    "igea_inserr_li_response": ("site", "tel", "q0", "r0", "v0", "x0", "epochs",),
+    "igea_inserr_li_covariance": ("site", "tel", "q0", "r0", "v0", "P0", "q", "epochs",),
     "igea_io_reader_open": ("path", "tmpdir",),
     "igea_io_reader_open_fd": ("name", "tmpdir",),
     "igea_io_parse_number": ("s",),
@@ -1077,6 +1126,8 @@ INPUTS = {
     "igea_redund_parity": ("H",),
     "igea_redund_fdi": ("H", "y", "sigma",),
     "igea_redund_skew_check": ("ay", "sy", "az", "sz",),
+    "igea_redund_group": ("axes", "sigma", "member", "y",),
+    "igea_redund_stability": ("y", "channel",),
     "igea_redund_monitor": ("y", "sigma", "alpha",),
     "igea_redund_monitor_intervals": ("excluded",),
     "igea_redund_simulate": ("level", "noise",),
@@ -1109,6 +1160,8 @@ INPUTS = {
     "igea_sim_montecarlo": ("eq_opts",),
     "igea_sim_pool": ("table",),
     "igea_sim_raw": ("traj", "err", "axes", "site", "epochs", "noise",),
+    "igea_sim_raw_track": ("traj", "err", "axes", "site", "epochs", "trk_err", "acc",),
+    "igea_sim_track_errors": ("sigma_v",),
     "igea_stability_block": ("y",),
     "igea_stability_allan": ("y", "tau",),
     "igea_stability_taus_used": ("tau",),
