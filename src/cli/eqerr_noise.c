@@ -2,6 +2,7 @@
  * --robust, --group-bias): the flight read into memory, one call of
  * igea_noise_eqerr_resid; the report is cmd_eqerr.c's, with the noise
  * route's own lines and fields from here. */
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -23,6 +24,74 @@ static void in_free(noise_in *d)
     free(d->sig);
     free(d->spec);
     free(d->group);
+}
+
+/* The position of a covariance entry named c_ab or ab (a, b of x y z) in
+ * the lower-triangle order xx yx yy zx zy zz, or -1 for another name. */
+static int cov_entry(const char *name, size_t len)
+{
+    if (len == 4 && (name[0] == 'c' || name[0] == 'C') && name[1] == '_') {
+        name += 2;
+        len = 2;
+    }
+    if (len != 2 || !strchr("xyz", name[0]) || !strchr("xyz", name[1]))
+        return -1;
+    int a = name[0] - 'x', b = name[1] - 'x';
+    int r = a > b ? a : b, c = a > b ? b : a;
+    return r * (r + 1) / 2 + c;
+}
+
+/* The positions of the six entries named on a '#' line ('# names c_xx ...'
+ * as igea writes it, or the names alone); 1 when the line names six
+ * covariance entries, else 0. */
+static int cov_line(const char *line, int pos[6])
+{
+    int k = 0;
+    const char *p = line + strspn(line, "# \t");
+    if (!strncmp(p, "names", 5) && (p[5] == ' ' || p[5] == '\t'))
+        p += 5;
+    for (;;) {
+        p += strspn(p, " \t,");
+        size_t len = strcspn(p, " \t,\r\n");
+        if (!len)
+            break;
+        if (k == 6 || (pos[k++] = cov_entry(p, len)) < 0)
+            return 0;
+        p += len;
+    }
+    return k == 6;
+}
+
+/* A --cov file whose header names its columns as covariance entries in
+ * another order (igea dw --cov-out writes xx xy xz yy yz zz) is refused:
+ * read by position it would swap entries silently. Other names pass. */
+static int check_cov_names(const char *path)
+{
+    size_t lp = strlen(path);
+    if (!strcmp(path, "-") || (lp >= 4 && !strcmp(path + lp - 4, ".npy")))
+        return CLI_OK; /* stdin is consumed; .npy has no names */
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return CLI_OK; /* a pipe already consumed */
+    char *line = NULL;
+    size_t cap = 0;
+    int pos[6], named = 0;
+    while (getline(&line, &cap, f) > 0 && line[strspn(line, " \t")] == '#')
+        if (cov_line(line, pos))
+            named = 1;
+    free(line);
+    fclose(f);
+    int ok = 1;
+    for (int i = 0; i < 6 && named; i++)
+        ok = ok && pos[i] == i;
+    if (named && !ok) {
+        cli_error("%s: its columns are named in another order than --cov reads (c_xx c_yx "
+                  "c_yy c_zx c_zy c_zz, the lower triangle by rows)%s", path,
+                  pos[1] == 1 && pos[2] == 3 ? ": igea dw --cov-out's file? give --cov the "
+                  "file of igea dw --k-out" : "");
+        return CLI_DATAERR;
+    }
+    return CLI_OK;
 }
 
 /* --ar-phi a,b,c: p = the count, the same lags for every axis. */
@@ -117,6 +186,8 @@ static int read_inputs(const cli_noise_args *a, noise_in *d)
                       a->cov, d->cov.rows, d->cov.cols, d->m / 3);
             return CLI_DATAERR;
         }
+        if ((ec = check_cov_names(a->cov)))
+            return ec;
     } else if ((ec = cli_read_values(a->sigma, d->m, "--sigma (one per row)", &d->sig, NULL)))
         return ec;
     if (a->spec && (ec = cli_read_vector(a->spec, d->N, "--spec (one per column of S)",
