@@ -44,9 +44,9 @@ static int cov_entry(const char *name, size_t len)
 /* The positions of the six entries named on a '#' line ('# names c_xx ...'
  * as igea writes it, or the names alone); 1 when the line names six
  * covariance entries, else 0. */
-static int cov_line(const char *line, int pos[6])
+static int cov_line(const char *line, int out[6])
 {
-    int k = 0;
+    int k = 0, pos[6];
     const char *p = line + strspn(line, "# \t");
     if (!strncmp(p, "names", 5) && (p[5] == ' ' || p[5] == '\t'))
         p += 5;
@@ -59,6 +59,8 @@ static int cov_line(const char *line, int pos[6])
             return 0;
         p += len;
     }
+    if (k == 6)
+        memcpy(out, pos, sizeof pos);
     return k == 6;
 }
 

@@ -32,6 +32,8 @@ def run(d, cov):
                                     "xx yx yy zx zy zz", "names a b c d e f", None])
 def test_right_order_or_no_covariance_names(flight, header):
     d, c = flight
+    if header:  # igea's header: names, then more comment lines
+        header += "\nunits m^2/s^2\none row per epoch, launch-inertial axes"
     np.savetxt(d / "k.txt", c, **({"header": header} if header else {}))
     r = run(d, "k.txt")
     assert r.returncode == 0, r.stderr
@@ -41,7 +43,7 @@ def test_right_order_or_no_covariance_names(flight, header):
                                          ("c_zz c_yx c_yy c_zx c_zy c_xx", False)])
 def test_another_order_refused(flight, header, hint):
     d, c = flight
-    np.savetxt(d / "c.txt", c, header=header)
+    np.savetxt(d / "c.txt", c, header=header + "\nunits m^2/s^2")
     r = run(d, "c.txt")
     assert r.returncode == 65 and r.stdout == ""
     assert "c.txt: its columns are named in another order" in r.stderr
