@@ -819,6 +819,26 @@ static void add_sandwich(const double *G, const double *V, int nc, double *C)
         }
 }
 
+/* 1 when the rotations span the three axes: W = sum_k d_k d_k^T, d_k the
+ * bias-free raw rate summed over rotation k, has its smallest eigenvalue
+ * above 1e-4 trace(W) (random attitudes: 0.1 to 0.3; rotations about one
+ * axis: the noise, 1e-7). */
+static int rotations_span(const gyro_problem *g)
+{
+    double W[9] = {0.0};
+    for (int k = 0; k < g->m; k++) {
+        double d[3] = {0.0, 0.0, 0.0};
+        for (int i = g->end[k] - 1; i <= g->start[k + 1]; i++)
+            for (int j = 0; j < 3; j++)
+                d[j] += at(&g->r, i, j) - g->b[j];
+        for (int a = 0; a < 3; a++)
+            for (int b = 0; b < 3; b++)
+                W[a + 3 * b] += d[a] * d[b];
+    }
+    double tr = W[0] + W[4] + W[8];
+    return tr > 0 && !igea__chol_lower(3, W, 3, -1e-4 * tr);
+}
+
 /* Assemble the 12 x 12 covariance (b, then p) from C_pp, G_b and V_b. */
 static void gyro_cov_out(const double *Cpp, const double *Gb, const double *vb, double *cov,
                          int ldc)
@@ -856,6 +876,8 @@ static int gyro_run(gyro_problem *g, int nint, const double *means, const double
     int N = gyro_bias(g, nint, g->b, s2);
     for (int j = 0; j < 3; j++)
         vb[j] = s2[j] / N;
+    if (!rotations_span(g))
+        return IGEA_ERANK;
     lm_state lm;
     for (int j = 0; j < NP; j++)
         lm.theta[j] = j < 3 ? 1.0 : 0.0;

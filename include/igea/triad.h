@@ -193,8 +193,10 @@ IGEA_API int igea_triad_apply(int layout, int n, const double *raw, int ldr,
  *  >= 9 (when cov_a); 13 max_iter >= 1. Outputs: 14 theta[12] (b, k, m);
  *  15 cov (12 x 12, ldc; may be NULL); 16 ldc >= 12 (when cov); 17
  *  info[IGEA_TRIAD_GYRO_INFO_LEN] (may be NULL).
- * Returns 0, -i, IGEA_ENONFINITE, IGEA_ERANK (the rotations do not
- * determine the 9 parameters), IGEA_ENOCONV, IGEA_ENOMEM.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ERANK (the rotations do not span
+ * the three axes: the smallest eigenvalue of sum_k d_k d_k^T, d_k the
+ * bias-free raw rate summed over rotation k, below 1e-4 of its trace; or
+ * they do not determine the 9 parameters), IGEA_ENOCONV, IGEA_ENOMEM.
  */
 IGEA_API int igea_triad_gyro_fit(int layout, int n, const double *gyro, int ldg, double fs,
                                  int nint, const int *start, const int *end, const double *means,
