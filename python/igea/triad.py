@@ -6,6 +6,7 @@ K = diag(k), unit lower-triangular non-orthogonality T (t_yx, t_zx, t_zy).
 The gyroscope: w = M K (r - b), M unit-diagonal (6 misalignments), fitted
 to the rotations between the static intervals."""
 import ctypes
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -133,15 +134,20 @@ def triad_fit(means, *, g=9.80665, theta0=None, max_iter=200):
     return _result(theta, np.ascontiguousarray(cov), info)
 
 
-def triad_calibrate(acc, fs, *, gyro=None, g=None, window=None, init=None, min_static=None,
-                    threshold=None, max_iter=None):
+def triad_calibrate(acc, fs, *, gyro=None, acc_scale=1.0, gyro_scale=1.0, g=None, window=None,
+                    init=None, min_static=None, threshold=None, max_iter=None):
     """The whole calibration from a raw record (n, 3) sampled at fs Hz:
     static intervals at threshold k zeta_init (k scanned 1..10 unless
     threshold= gives it), then the fit; with gyro (n, 3, the same instants)
-    also the gyroscope (the result's gyro). Options left None keep the
-    library's defaults (g 9.80665, window 2 s, init 30 s, min_static 1 s)."""
+    also the gyroscope (the result's gyro). acc_scale and gyro_scale (> 0)
+    are nominal scale factors the raw outputs are multiplied by first.
+    Options left None keep the library's defaults (g 9.80665, window 2 s,
+    init 30 s, min_static 1 s)."""
     where = "igea.triad_calibrate"
-    a = _record(acc)
+    for name, v in (("acc_scale", acc_scale), ("gyro_scale", gyro_scale)):
+        if not (isinstance(v, (int, float)) and v > 0 and math.isfinite(v)):
+            raise ValueError(f"{name}: expected a positive number, got {v!r}")
+    a = _record(acc) * float(acc_scale)
     o = _lib.options("triad", where, ("igea_triad_calibrate", "opts"), g=g, window=window,
                      init=init, min_static=min_static, threshold=threshold, max_iter=max_iter)
     theta, cov, info = np.zeros(9), np.zeros((9, 9), order="F"), np.zeros(_capi.TRIAD_INFO_LEN)
@@ -150,7 +156,7 @@ def triad_calibrate(acc, fs, *, gyro=None, g=None, window=None, init=None, min_s
                   float(fs), _lib.dptr(o), _lib.dptr(theta), _lib.dptr(cov), 9, _lib.dptr(info))
         gres = None
     else:
-        w = _record(gyro, "gyro")
+        w = _record(gyro, "gyro") * float(gyro_scale)
         if w.shape != a.shape:
             raise ValueError("gyro: %d samples, but acc has %d" % (w.shape[0], a.shape[0]))
         tg, cg = np.zeros(12), np.zeros((12, 12), order="F")

@@ -158,8 +158,13 @@ static int compute(const tr_args *a, tr_run *r)
     else
         st = igea_triad_calibrate(IGEA_ROWMAJOR, r->n, r->acc, 3, r->fs, a->opts, r->theta_a,
                                   r->cov_a, IGEA_TRIAD_NP, r->info_a);
+    if (st == IGEA_EEMPTY)
+        cli_error("triad: fewer than 12 static intervals at %s (or the record is shorter "
+                  "than --init, or intervals of one sample): see --threshold, --window, "
+                  "--min-static", a->opts[IGEA_TRIAD_OPT_THRESHOLD] > 0 ? "this --threshold"
+                                                                : "every threshold 1..10");
     if (st)
-        return cli_status(st, "triad");
+        return st == IGEA_EEMPTY ? CLI_DATAERR : cli_status(st, "triad");
     /* the static intervals at the threshold chosen, for the report */
     double thr = r->info_a[IGEA_TRIAD_INFO_THRESHOLD], win = a->opts[IGEA_TRIAD_OPT_WINDOW];
     double ms = a->opts[IGEA_TRIAD_OPT_MIN_STATIC];

@@ -238,3 +238,91 @@ def test_bad_gyro_inputs_are_refused():
         igea.triad_gyro_fit(raw_g, FS, iv[:11], means[:11], acc.theta)
     with pytest.raises(igea.IgeaError, match="fs"):
         igea.triad_gyro_fit(raw_g, -1.0, iv, means, acc.theta)
+
+
+# ---- the driver ------------------------------------------------------------------
+import json  # noqa: E402
+import os  # noqa: E402
+import subprocess  # noqa: E402
+
+DRIVER = os.environ.get("IGEA_DRIVER")
+needs_driver = pytest.mark.skipif(not DRIVER or not os.path.exists(DRIVER),
+                                  reason="IGEA_DRIVER not set")
+
+
+def write_records(tmp_path, rng, acc_scale=1.0, gyro_scale=1.0, **kw):
+    raw_a, raw_g, w = simulate(rng, **kw)
+    t = np.arange(len(raw_a)) / FS
+    fa, fg = tmp_path / "acc.txt", tmp_path / "gyro.npy"
+    np.savetxt(fa, np.c_[t, raw_a / acc_scale])  # "counts"
+    np.save(fg, np.c_[t, raw_g / gyro_scale])
+    return fa, fg, raw_a, raw_g, w
+
+
+@needs_driver
+def test_driver_json_is_the_python_result(tmp_path):
+    """igea triad --json gives the fields of igea.triad_calibrate on the same
+    numbers (the records written as counts with nominal scale factors)."""
+    rng = np.random.default_rng(16)
+    sa, sg = 0.01, 0.002  # m/s^2 and rad/s per count
+    fa, fg, raw_a, raw_g, w = write_records(tmp_path, rng, sa, sg, attitudes=16)
+    out = subprocess.run([DRIVER, "triad", "--acc", str(fa), "--gyro", str(fg), "--acc-scale",
+                          str(sa), "--gyro-scale", str(sg), "--json", "--calibrated",
+                          str(tmp_path / "cal.npy")], capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    d = json.loads(out.stdout)
+    acc = np.loadtxt(fa)[:, 1:]
+    gyro = np.load(fg)[:, 1:]
+    r = igea.triad_calibrate(acc, FS, gyro=gyro, acc_scale=sa, gyro_scale=sg).to_dict()
+    assert set(d) == set(r) and set(d["gyro"]) == set(r["gyro"])
+    for key in ("theta", "sd", "covariance"):
+        np.testing.assert_allclose(d[key], r[key], rtol=1e-9, atol=1e-300)
+        np.testing.assert_allclose(d["gyro"][key], r["gyro"][key], rtol=1e-9, atol=1e-300)
+    for key in ("k", "threshold", "intervals", "iterations"):
+        assert d[key] == pytest.approx(r[key], rel=1e-12)
+    assert d["static_intervals"] == [list(iv) for iv in r["static_intervals"]]
+    assert d["gyro"]["pairs"] == 16
+    # the scaled parameters are those of the physical record
+    np.testing.assert_allclose(d["gyro"]["theta"][3:6], GYR[3:6], atol=5 * max(d["gyro"]["sd"]))
+    cal = np.load(tmp_path / "cal.npy")
+    assert cal.shape == (len(acc), 7)
+    np.testing.assert_allclose(cal[:, 4:], igea.triad_gyro_apply(gyro * sg, d["gyro"]["theta"]),
+                               rtol=1e-12, atol=1e-15)
+    text = subprocess.run([DRIVER, "triad", "--acc", str(fa), "--acc-scale", str(sa)],
+                          capture_output=True, text=True)
+    assert text.returncode == 0, text.stderr
+    assert "17 static intervals" in text.stdout and "gyro" not in text.stdout
+
+
+@needs_driver
+def test_driver_refuses_bad_records(tmp_path):
+    rng = np.random.default_rng(17)
+    fa, fg, raw_a, raw_g, _ = write_records(tmp_path, rng, attitudes=12)
+    t = np.arange(len(raw_a)) / FS
+
+    def run(*args):
+        return subprocess.run([DRIVER, "triad", *args], capture_output=True, text=True)
+
+    r = run("--gyro", str(fg))
+    assert r.returncode == 64 and "--acc" in r.stderr
+    shifted = tmp_path / "shifted.npy"
+    np.save(shifted, np.c_[t + 0.5 / FS, raw_g])
+    r = run("--acc", str(fa), "--gyro", str(shifted))
+    assert r.returncode == 65 and "row 1" in r.stderr and "instants" in r.stderr
+    gap = tmp_path / "gap.txt"
+    tg = t.copy()
+    tg[1000:] += 0.5
+    np.savetxt(gap, np.c_[tg, raw_a])
+    r = run("--acc", str(gap))
+    assert r.returncode == 65 and "row 1001" in r.stderr and "uniformly" in r.stderr
+    three = tmp_path / "three.txt"
+    np.savetxt(three, raw_a)
+    r = run("--acc", str(three))
+    assert r.returncode == 65 and "3 column(s)" in r.stderr
+    r = run("--acc", str(fa), "--window", "-1")
+    assert r.returncode == 64 and "window" in r.stderr
+    r = run("--acc", str(fa), "--gyro-scale", "0")
+    assert r.returncode == 64 and "gyro-scale" in r.stderr
+    # a threshold that merges the attitudes into one interval: refused, and said so
+    r = run("--acc", str(fa), "--gyro", str(fg), "--threshold", "1e9")
+    assert r.returncode == 65 and "12 static intervals" in r.stderr
