@@ -425,7 +425,7 @@ static int fit(int nint, const double *m, double g, const double *theta0, int ma
         for (int i = 0; i < IGEA_TRIAD_INFO_LEN; i++)
             info[i] = 0.0;
         info[IGEA_TRIAD_INFO_K] = info[IGEA_TRIAD_INFO_THRESHOLD] = NAN;
-        info[IGEA_TRIAD_INFO_ZETA_INIT] = NAN;
+        info[IGEA_TRIAD_INFO_ZETA_INIT] = info[IGEA_TRIAD_INFO_MISFIT] = NAN;
         info[IGEA_TRIAD_INFO_INTERVALS] = nint;
         info[IGEA_TRIAD_INFO_RMS_BEFORE] = lm.rms0;
         info[IGEA_TRIAD_INFO_RMS_AFTER] = sqrt(lm.cost / nint);
@@ -493,6 +493,51 @@ static int try_threshold(const record *r, const double *zeta, double z0, double 
     return 1;
 }
 
+/* Per-axis sample variances of samples [i0, i1). */
+static void variances(const record *r, int i0, int i1, double *v)
+{
+    for (int j = 0; j < 3; j++) {
+        igea__ksum s = {0.0, 0.0}, q = {0.0, 0.0};
+        for (int i = i0; i < i1; i++)
+            igea__ksum_add(&s, at(r, i, j));
+        double mean = igea__ksum_get(&s) / (i1 - i0);
+        for (int i = i0; i < i1; i++) {
+            double d = at(r, i, j) - mean;
+            igea__ksum_add(&q, d * d);
+        }
+        v[j] = igea__ksum_get(&q) / (i1 - i0 - 1);
+    }
+}
+
+/* The residual sd over the one the noise of the first `ninit` samples
+ * predicts for the interval means: sd^2 = mean_k sum_j e_kj^2 k_j^2 var_j /
+ * N_k (e_k the calibrated direction, N_k the interval's samples). */
+static int acc_misfit(const record *r, const double *zeta, int ninit, int minlen, int maxint,
+                      double *means, triad_result *best)
+{
+    int *se = igea__ialloc(2 * (size_t)maxint);
+    if (!se)
+        return IGEA_ENOMEM;
+    int nint = IGEA_MIN(maxint, runs(r, zeta, best->info[IGEA_TRIAD_INFO_THRESHOLD], minlen,
+                                     maxint, se, se + maxint, means));
+    double v[3], p2 = 0.0, *th = best->theta;
+    variances(r, 0, ninit, v);
+    for (int k = 0; k < nint; k++) {
+        double w[3], c[3];
+        for (int j = 0; j < 3; j++)
+            w[j] = th[IGEA_TRIAD_KX + j] * (means[3 * (size_t)k + j] - th[IGEA_TRIAD_BX + j]);
+        c[0] = w[0], c[1] = th[IGEA_TRIAD_TYX] * w[0] + w[1];
+        c[2] = th[IGEA_TRIAD_TZX] * w[0] + th[IGEA_TRIAD_TZY] * w[1] + w[2];
+        double nc2 = c[0] * c[0] + c[1] * c[1] + c[2] * c[2], s = 0.0;
+        for (int j = 0; j < 3; j++)
+            s += c[j] * c[j] / nc2 * th[IGEA_TRIAD_KX + j] * th[IGEA_TRIAD_KX + j] * v[j];
+        p2 += s / (se[maxint + k] - se[k]) / nint;
+    }
+    free(se);
+    best->info[IGEA_TRIAD_INFO_MISFIT] = best->info[IGEA_TRIAD_INFO_SIGMA] / sqrt(p2);
+    return 0;
+}
+
 int igea_triad_calibrate(int layout, int n, const double *acc, int lda, double fs,
                          const double *opts, double *theta, double *cov, int ldc, double *info)
 {
@@ -528,6 +573,8 @@ int igea_triad_calibrate(int layout, int n, const double *acc, int lda, double f
         if (k0 == 0 || k == 1)
             st = try_threshold(&r, zeta, z0, k0 > 0 ? k0 : (double)k, minlen, opts, means,
                                maxint, &best, &have, &err);
+    if (st >= 0 && have)
+        st = acc_misfit(&r, zeta, (int)lround(ninit), minlen, maxint, means, &best);
     free(zeta);
     if (st < 0)
         return st;
@@ -839,6 +886,19 @@ static int rotations_span(const gyro_problem *g)
     return tr > 0 && !igea__chol_lower(3, W, 3, -1e-4 * tr);
 }
 
+/* The residual sd the gyro noise of the first static interval predicts:
+ * sd^2 = mean_k L_k dt^2 mean_j k_j^2 var_j, L_k the steps of rotation k. */
+static double gyro_predicted_sd(const gyro_problem *g, const double *p)
+{
+    double v[3], p2 = 0.0, kv = 0.0;
+    variances(&g->r, g->start[0], g->end[0], v);
+    for (int j = 0; j < 3; j++)
+        kv += p[j] * p[j] * v[j] / 3.0;
+    for (int k = 0; k < g->m; k++)
+        p2 += (g->start[k + 1] - g->end[k] + 1) * g->h * g->h * kv / g->m;
+    return sqrt(p2);
+}
+
 /* Assemble the 12 x 12 covariance (b, then p) from C_pp, G_b and V_b. */
 static void gyro_cov_out(const double *Cpp, const double *Gb, const double *vb, double *cov,
                          int ldc)
@@ -918,6 +978,7 @@ static int gyro_run(gyro_problem *g, int nint, const double *means, const double
     f[IGEA_TRIAD_GYRO_INFO_STATIC_SAMPLES] = N;
     for (int j = 0; j < 3; j++)
         f[IGEA_TRIAD_GYRO_INFO_NOISE_X + j] = sqrt(s2[j]);
+    f[IGEA_TRIAD_GYRO_INFO_MISFIT] = sqrt(s2f) / gyro_predicted_sd(g, lm.theta);
     for (int i = 0; i < GP; i++)
         if (!isfinite(out->theta[i]) || !isfinite(out->cov[i + GP * i]))
             return IGEA_ENOCONV;

@@ -57,6 +57,11 @@ extern "C" {
 #define IGEA_TRIAD_INFO_SIGMA 5      /* sqrt(sum r^2 / (intervals - 9)) */
 #define IGEA_TRIAD_INFO_ITERATIONS 6 /* Levenberg-Marquardt iterations */
 #define IGEA_TRIAD_INFO_ZETA_INIT 7  /* variance magnitude of the first static period */
+#define IGEA_TRIAD_INFO_MISFIT 8     /* sigma over the sd the noise of the first static
+                                        period predicts for the interval means (about 1;
+                                        well above 1: intervals holding motion, a threshold
+                                        too high, or a model that does not hold);
+                                        igea_triad_calibrate only (NaN from igea_triad_fit) */
 #define IGEA_TRIAD_INFO_LEN 16
 
 /* Fill opts[IGEA_TRIAD_OPT_LEN] with the defaults above. Returns 0, -1. */
@@ -96,7 +101,7 @@ IGEA_API int igea_triad_static(int layout, int n, const double *acc, int lda, do
  * zero biases and non-orthogonality, every scale g / median |m_k|); 5
  * max_iter >= 1. Outputs: 6 theta[9]; 7 cov (9 x 9, ldc) the covariance
  * sigma^2 (J^T J)^-1 (may be NULL); 8 ldc >= 9; 9 info[IGEA_TRIAD_INFO_LEN]
- * (may be NULL; slots K, THRESHOLD and ZETA_INIT set to NaN).
+ * (may be NULL; slots K, THRESHOLD, ZETA_INIT and MISFIT set to NaN).
  * Returns 0, -i, IGEA_ENONFINITE, IGEA_ERANK (the attitudes do not
  * determine the 9 parameters: J^T J singular), IGEA_ENOCONV, IGEA_ENOMEM.
  */
@@ -178,6 +183,11 @@ IGEA_API int igea_triad_apply(int layout, int n, const double *raw, int ldr,
 #define IGEA_TRIAD_GYRO_INFO_NOISE_X 6        /* pooled within-interval sd per axis (raw units) */
 #define IGEA_TRIAD_GYRO_INFO_NOISE_Y 7
 #define IGEA_TRIAD_GYRO_INFO_NOISE_Z 8
+#define IGEA_TRIAD_GYRO_INFO_MISFIT 9         /* sigma over the sd the gyro noise of the first
+                                                 interval predicts (mean over the rotations of
+                                                 steps dt^2 mean_j k_j^2 var_j); about 1, well
+                                                 above: motion in the intervals or a model that
+                                                 does not hold */
 #define IGEA_TRIAD_GYRO_INFO_LEN 16
 
 /*

@@ -26,8 +26,11 @@ class GyroResult:
     (12,) in the order of GYRO_NAMES, its covariance (12, 12) and sd (12,);
     the rotations fitted (pairs), the rms of |v_{k+1} - R_k^T v_k| (rad)
     before (K = I, M = I) and after the fit, sigma = sqrt(sum r^2 / (2
-    pairs - 9)), iterations, the static samples the biases average and the
-    pooled within-interval sd per axis (noise, raw units)."""
+    pairs - 9)), iterations, the static samples the biases average, the
+    pooled within-interval sd per axis (noise, raw units), and misfit:
+    sigma over the sd the gyro noise of the first interval predicts (about
+    1; well above: motion in the intervals or a model that does not
+    hold)."""
     theta: np.ndarray
     covariance: np.ndarray
     sd: np.ndarray
@@ -38,6 +41,7 @@ class GyroResult:
     iterations: int
     static_samples: int
     noise: np.ndarray
+    misfit: float
 
     def summary(self):
         lines = ["gyro: %d rotations, rms gravity-direction mismatch %.3e -> %.3e rad"
@@ -58,7 +62,10 @@ class TriadResult:
     its covariance (9, 9) and sd (9,); the threshold multiple k used and the
     threshold; the number of static intervals; the rms of |a| - g before
     (start values) and after the fit; sigma = sqrt(sum r^2 / (n - 9));
-    iterations."""
+    iterations; misfit, sigma over the sd the noise of the first static
+    period predicts (about 1; well above: intervals holding motion, a
+    threshold too high; NaN from triad_fit); the static intervals [(start,
+    end)] and the gyro's GyroResult (triad_calibrate with gyro=)."""
     theta: np.ndarray
     covariance: np.ndarray
     sd: np.ndarray
@@ -69,6 +76,7 @@ class TriadResult:
     rms_after: float
     sigma: float
     iterations: int
+    misfit: float = float("nan")
     static_intervals: list = None
     gyro: GyroResult = None
 
@@ -95,14 +103,15 @@ def _record(acc, name="acc"):
 
 def _result(theta, cov, info, **more):
     f = _lib.fields(info, "TRIAD_INFO_", k=float, threshold=float, intervals=int,
-                    rms_before=float, rms_after=float, sigma=float, iterations=int)
+                    rms_before=float, rms_after=float, sigma=float, iterations=int,
+                    misfit=float)
     return TriadResult(theta, cov, np.sqrt(np.diag(cov)), **f, **more)
 
 
 def _gyro_result(theta, cov, info):
     cov = np.ascontiguousarray(cov)
     f = _lib.fields(info, "TRIAD_GYRO_INFO_", pairs=int, rms_before=float, rms_after=float,
-                    sigma=float, iterations=int, static_samples=int)
+                    sigma=float, iterations=int, static_samples=int, misfit=float)
     noise = info[[_capi.TRIAD_GYRO_INFO_NOISE_X, _capi.TRIAD_GYRO_INFO_NOISE_Y,
                   _capi.TRIAD_GYRO_INFO_NOISE_Z]].copy()
     return GyroResult(theta, cov, np.sqrt(np.diag(cov)), noise=noise, **f)

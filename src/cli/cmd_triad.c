@@ -226,6 +226,7 @@ static void json_report(FILE *f, const tr_run *r)
     cli_jnum(&j, "rms_after", ia[IGEA_TRIAD_INFO_RMS_AFTER]);
     cli_jnum(&j, "sigma", ia[IGEA_TRIAD_INFO_SIGMA]);
     cli_jint(&j, "iterations", (long)ia[IGEA_TRIAD_INFO_ITERATIONS]);
+    cli_jnum(&j, "misfit", ia[IGEA_TRIAD_INFO_MISFIT]);
     cli_json_open(&j, "static_intervals", '[');
     for (int k = 0; k < r->nint; k++) {
         int se[2] = {r->start[k], r->end[k]};
@@ -242,6 +243,7 @@ static void json_report(FILE *f, const tr_run *r)
         cli_jint(&j, "iterations", (long)ig[IGEA_TRIAD_GYRO_INFO_ITERATIONS]);
         cli_jint(&j, "static_samples", (long)ig[IGEA_TRIAD_GYRO_INFO_STATIC_SAMPLES]);
         cli_jnums(&j, "noise", ig + IGEA_TRIAD_GYRO_INFO_NOISE_X, 3);
+        cli_jnum(&j, "misfit", ig[IGEA_TRIAD_GYRO_INFO_MISFIT]);
         cli_json_close(&j);
     } else {
         cli_jstr(&j, "gyro", NULL);
@@ -257,6 +259,15 @@ static void text_params(FILE *f, int np, const char *const *names, const double 
         fprintf(f, "%-6s %18.10g %12.3e\n", names[i], theta[i], sqrt(cov[i + (size_t)np * i]));
 }
 
+/* A misfit well above 1 (3: the residual variance 9 times the noise's). */
+static void text_misfit(FILE *f, const char *what, double misfit)
+{
+    fprintf(f, "%s residual sd / noise-predicted sd: %.3g%s\n", what, misfit,
+            misfit > 3.0 ? "  WARNING: the residuals are well above the noise: the static "
+                           "intervals\nmay hold motion (see the threshold), or the model does "
+                           "not hold; the sds do not cover the errors" : "");
+}
+
 static void text_report(FILE *f, const tr_run *r)
 {
     const double *ia = r->info_a, *ig = r->info_g;
@@ -270,6 +281,7 @@ static void text_report(FILE *f, const tr_run *r)
                "%d iterations\n", ia[IGEA_TRIAD_INFO_RMS_BEFORE], ia[IGEA_TRIAD_INFO_RMS_AFTER],
             ia[IGEA_TRIAD_INFO_SIGMA], (int)ia[IGEA_TRIAD_INFO_ITERATIONS]);
     text_params(f, IGEA_TRIAD_NP, acc_names, r->theta_a, r->cov_a);
+    text_misfit(f, "accelerometer", ia[IGEA_TRIAD_INFO_MISFIT]);
     if (!r->has_gyro)
         return;
     fprintf(f, "\ngyro: w = M K (r - b); %d rotations, rms gravity-direction mismatch %.3e -> "
@@ -280,6 +292,7 @@ static void text_report(FILE *f, const tr_run *r)
             (int)ig[IGEA_TRIAD_GYRO_INFO_STATIC_SAMPLES], ig[IGEA_TRIAD_GYRO_INFO_NOISE_X],
             ig[IGEA_TRIAD_GYRO_INFO_NOISE_Y], ig[IGEA_TRIAD_GYRO_INFO_NOISE_Z]);
     text_params(f, IGEA_TRIAD_GYRO_NP, gyro_names, r->theta_g, r->cov_g);
+    text_misfit(f, "gyro", ig[IGEA_TRIAD_GYRO_INFO_MISFIT]);
 }
 
 int cmd_triad(int argc, char **argv)

@@ -326,3 +326,37 @@ def test_driver_refuses_bad_records(tmp_path):
     # a threshold that merges the attitudes into one interval: refused, and said so
     r = run("--acc", str(fa), "--gyro", str(fg), "--threshold", "1e9")
     assert r.returncode == 65 and "12 static intervals" in r.stderr
+
+
+def test_a_threshold_too_high_is_reported():
+    """A threshold of 5e4 zeta_init lets the static intervals reach into the
+    slow ends of the turns: the fits are then wrong by many sds (on this
+    record the gyro by 4.5), and the residual sds are well above what the
+    noise of the first static period predicts (misfit > 3) where a good
+    threshold gives about 1."""
+    rng = np.random.default_rng(5)
+    raw_a, raw_g, _ = simulate(rng)
+    good = igea.triad_calibrate(raw_a, FS, gyro=raw_g)
+    assert 0.6 < good.misfit < 1.5 and 0.7 < good.gyro.misfit < 1.4
+    bad = igea.triad_calibrate(raw_a, FS, gyro=raw_g, threshold=5e4)
+    assert bad.intervals == 31 and bad.k == 5e4
+    assert np.max(np.abs((bad.gyro.theta - GYR) / bad.gyro.sd)) > 3
+    assert bad.misfit > 3 and bad.gyro.misfit > 3
+    # the accelerometer alone: the same report
+    assert igea.triad_calibrate(raw_a, FS, threshold=5e4).misfit == pytest.approx(bad.misfit)
+    assert math.isnan(igea.triad_fit(igea.triad_static(raw_a, FS, threshold=good.threshold)[1])
+                      .misfit)
+
+
+@needs_driver
+def test_driver_warns_of_a_misfit(tmp_path):
+    rng = np.random.default_rng(5)
+    fa, fg, *_ = write_records(tmp_path, rng)
+    ok = subprocess.run([DRIVER, "triad", "--acc", str(fa), "--gyro", str(fg)],
+                        capture_output=True, text=True)
+    assert ok.returncode == 0 and "WARNING" not in ok.stdout
+    assert "noise-predicted sd" in ok.stdout
+    bad = subprocess.run([DRIVER, "triad", "--acc", str(fa), "--gyro", str(fg), "--threshold",
+                          "5e4"], capture_output=True, text=True)
+    assert bad.returncode == 0
+    assert bad.stdout.count("WARNING: the residuals are well above the noise") == 2
