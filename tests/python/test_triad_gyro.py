@@ -360,3 +360,46 @@ def test_driver_warns_of_a_misfit(tmp_path):
                           "5e4"], capture_output=True, text=True)
     assert bad.returncode == 0
     assert bad.stdout.count("WARNING: the residuals are well above the noise") == 2
+
+
+@needs_driver
+def test_the_walk_through_of_docs_calibration_md(tmp_path, monkeypatch):
+    """Every command of the triad walk-through in docs/calibration.md, on a
+    record written by the simulator as counts of 0.01 m/s^2 and 0.002 rad/s
+    under the names the page uses; the Python block's numbers equal the
+    driver's."""
+    import re
+    here = os.path.dirname(os.path.abspath(__file__))
+    page = open(os.path.join(here, "..", "..", "docs", "calibration.md")).read()
+    part = page[page.index("## From a raw IMU record to compensated outputs"):
+                page.index("# From a raw tumble file")]
+    shells = re.findall(r"```sh\n(.*?)```", part, re.S)
+    pys = re.findall(r"```python\n(.*?)```", part, re.S)
+    assert len(shells) == 3 and len(pys) == 1
+    rng = np.random.default_rng(18)
+    raw_a, raw_g, _ = simulate(rng, attitudes=20)
+    t = np.arange(len(raw_a)) / FS
+    np.savetxt(tmp_path / "imu_acc.txt", np.c_[t, raw_a / 0.01])
+    np.savetxt(tmp_path / "imu_gyro.txt", np.c_[t, raw_g / 0.002])
+    monkeypatch.chdir(tmp_path)
+    outs = []
+    for block in shells:
+        for line in block.strip().splitlines():
+            args = line.split()
+            assert args[0] == "igea"
+            r = subprocess.run([DRIVER] + args[1:], capture_output=True, text=True)
+            assert r.returncode == 0, (line, r.stderr)
+            outs.append(r.stdout)
+    assert "21 static intervals" in outs[0] and "WARNING" not in outs[0]
+    cal = json.load(open("imu_cal.json"))
+    comp = np.load("imu_compensated.npy")
+    assert comp.shape == (len(t), 7)
+    ns = {}
+    exec(compile(pys[0], "calibration.md", "exec"), ns)
+    np.testing.assert_allclose(ns["a"], comp[:, 1:4], rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(ns["w"], comp[:, 4:], rtol=1e-12, atol=1e-14)
+    np.testing.assert_allclose(ns["r"].gyro.theta, cal["gyro"]["theta"], rtol=1e-9)
+    # the compensated static means have |a| = g to the noise of the means
+    iv = cal["static_intervals"]
+    mags = [np.linalg.norm(comp[s:e, 1:4].mean(axis=0)) for s, e in iv]
+    assert np.max(np.abs(np.array(mags) - G)) < 2e-3
