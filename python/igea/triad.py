@@ -19,6 +19,11 @@ GYRO_NAMES = ("b_x", "b_y", "b_z", "k_x", "k_y", "k_z",
               "m_xy", "m_xz", "m_yx", "m_yz", "m_zx", "m_zy")
 
 
+def _warn(misfit):
+    """The driver's warning for a misfit above 3."""
+    return " (WARNING: residuals well above the noise)" if misfit > 3 else ""
+
+
 @result
 @dataclass(frozen=True)
 class GyroResult:
@@ -44,8 +49,9 @@ class GyroResult:
     misfit: float
 
     def summary(self):
-        lines = ["gyro: %d rotations, rms gravity-direction mismatch %.3e -> %.3e rad"
-                 % (self.pairs, self.rms_before, self.rms_after)]
+        lines = ["gyro: %d rotations, rms gravity-direction mismatch %.3e -> %.3e rad, "
+                 "misfit %.3g%s" % (self.pairs, self.rms_before, self.rms_after, self.misfit,
+                                    _warn(self.misfit))]
         for name, v, s in zip(GYRO_NAMES, self.theta, self.sd):
             lines.append("%-6s %16.9g %12.3e" % (name, v, s))
         return "\n".join(lines)
@@ -82,7 +88,8 @@ class TriadResult:
 
     def summary(self):
         lines = ["triad: %d static intervals (threshold %g x zeta_init), rms |a| - g %.3e -> %.3e"
-                 % (self.intervals, self.k, self.rms_before, self.rms_after)]
+                 ", misfit %.3g%s" % (self.intervals, self.k, self.rms_before, self.rms_after,
+                                      self.misfit, _warn(self.misfit))]
         for name, v, s in zip(NAMES, self.theta, self.sd):
             lines.append("%-6s %16.9g %12.3e" % (name, v, s))
         if self.gyro is not None:
