@@ -61,9 +61,10 @@ options,
 "  igea triad --acc acc.npy --gyro gyro.npy --acc-scale 0.000598 --gyro-scale 0.000266 --json --out cal.json\n"
 "  igea triad --acc acc.txt --gyro gyro.txt --calibrated compensated.npy\n"
 "\n"
-"exit status: 0 ok, 64 usage, 65 bad input, 66 missing input, 70 numerical\n"
-"failure (too few static intervals, attitudes or rotations that do not\n"
-"determine the parameters), 74 output error.\n"};
+"exit status: 0 ok, 64 usage, 65 bad input (also fewer than 12 static\n"
+"intervals, or attitudes or rotations that do not determine the parameters),\n"
+"66 missing input, 70 numerical failure (no convergence), 74 output error. A\n"
+"misfit above 3 is a warning in the text report, not a failure.\n"};
 
 static int parse(int argc, char **argv, tr_args *a)
 {
