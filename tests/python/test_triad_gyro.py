@@ -326,6 +326,11 @@ def test_driver_refuses_bad_records(tmp_path):
     # a threshold that merges the attitudes into one interval: refused, and said so
     r = run("--acc", str(fa), "--gyro", str(fg), "--threshold", "1e9")
     assert r.returncode == 65 and "12 static intervals" in r.stderr
+    # attitudes that differ by turns about one axis only: not determined (65)
+    (tmp_path / "z").mkdir()
+    fz, gz, *_ = write_records(tmp_path / "z", rng, attitudes=12, axis=np.array([0.0, 0.0, 1.0]))
+    r = run("--acc", str(fz), "--gyro", str(gz))
+    assert r.returncode == 65 and ("rank" in r.stderr or "12 static intervals" in r.stderr)
 
 
 def test_a_threshold_too_high_is_reported():
