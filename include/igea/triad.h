@@ -1,6 +1,7 @@
 /*
- * igea/triad.h - turntable-free calibration of an accelerometer triad from
- * a raw record of static attitudes (docs/calibration.md, "Triad").
+ * igea/triad.h - turntable-free calibration of an IMU's accelerometer triad
+ * from a raw record of static attitudes, and of its gyro triad from the
+ * rotations between them (docs/calibration.md; the gyro below).
  *
  * The record is held still in a dozen or more different attitudes (a few
  * seconds each, in any order, the orientations unknown), after a first
