@@ -308,16 +308,37 @@ typedef struct {
     int iter;
 } lm_state;
 
-/* Levenberg-Marquardt from lm->theta; work: nint (r) + nint (r2) + 9 nint (J). */
-static int lm_run(int nint, const double *m, double g, int max_iter, lm_state *lm, double *work)
+/* Residuals r (rows) at theta and, when J is not NULL, their Jacobian J
+ * (rows x 9); 0, or IGEA_ENOMEM. */
+typedef int (*lm_residuals)(const void *ctx, const double *theta, double *r, double *J);
+
+typedef struct {
+    int nint;
+    const double *m;
+    double g;
+} acc_problem;
+
+static int acc_residuals(const void *ctx, const double *th, double *r, double *J)
 {
-    double *r = work, *r2 = r + nint, *J = r2 + nint, grad[NP], step[NP], trial[NP];
-    residuals(nint, m, g, lm->theta, r, J);
-    lm->cost = sumsq(nint, r);
-    lm->rms0 = sqrt(lm->cost / nint);
+    const acc_problem *p = ctx;
+    residuals(p->nint, p->m, p->g, th, r, J);
+    return 0;
+}
+
+/* Levenberg-Marquardt from lm->theta on `rows` residuals; work: 2 rows (r,
+ * r2) + 9 rows (J). */
+static int lm_run(int rows, lm_residuals f, const void *ctx, int max_iter, lm_state *lm,
+                  double *work)
+{
+    double *r = work, *r2 = r + rows, *J = r2 + rows, grad[NP], step[NP], trial[NP];
+    int st = f(ctx, lm->theta, r, J);
+    if (st)
+        return st;
+    lm->cost = sumsq(rows, r);
+    lm->rms0 = sqrt(lm->cost / rows);
     double lam = 1e-3;
     for (lm->iter = 0; lm->iter < max_iter; lm->iter++) {
-        normal_eq(nint, J, r, lm->A, grad);
+        normal_eq(rows, J, r, lm->A, grad);
         if (lm->cost == 0.0)
             return 0;
         for (int i = 0; i < NP; i++)
@@ -332,17 +353,19 @@ static int lm_run(int nint, const double *m, double g, int max_iter, lm_state *l
             }
             for (int i = 0; i < NP; i++)
                 trial[i] = lm->theta[i] + step[i];
-            residuals(nint, m, g, trial, r2, NULL);
-            double c2 = sumsq(nint, r2);
+            if ((st = f(ctx, trial, r2, NULL)))
+                return st;
+            double c2 = sumsq(rows, r2);
             if (isfinite(c2) && c2 < lm->cost) {
                 double drop = lm->cost - c2;
                 memcpy(lm->theta, trial, sizeof trial);
                 lm->cost = c2;
-                residuals(nint, m, g, lm->theta, r, J);
+                if ((st = f(ctx, lm->theta, r, J)))
+                    return st;
                 lam = fmax(lam / 10.0, 1e-12);
                 accepted = 1;
                 if (drop <= 1e-14 * c2) {
-                    normal_eq(nint, J, r, lm->A, grad);
+                    normal_eq(rows, J, r, lm->A, grad);
                     return 0;
                 }
             } else {
@@ -380,7 +403,8 @@ static int fit(int nint, const double *m, double g, const double *theta0, int ma
         memcpy(lm.theta, theta0, sizeof lm.theta);
     else
         start_values(nint, m, g, lm.theta, work);
-    int st = lm_run(nint, m, g, max_iter, &lm, work);
+    acc_problem p = {nint, m, g};
+    int st = lm_run(nint, acc_residuals, &p, max_iter, &lm, work);
     free(work);
     if ((!st || st == IGEA_ENOCONV) && !identifiable(lm.A))
         st = IGEA_ERANK; /* a wandering iteration on an undetermined problem */
@@ -401,7 +425,7 @@ static int fit(int nint, const double *m, double g, const double *theta0, int ma
         for (int i = 0; i < IGEA_TRIAD_INFO_LEN; i++)
             info[i] = 0.0;
         info[IGEA_TRIAD_INFO_K] = info[IGEA_TRIAD_INFO_THRESHOLD] = NAN;
-        info[IGEA_TRIAD_INFO_ZETA_INIT] = NAN;
+        info[IGEA_TRIAD_INFO_ZETA_INIT] = info[IGEA_TRIAD_INFO_MISFIT] = NAN;
         info[IGEA_TRIAD_INFO_INTERVALS] = nint;
         info[IGEA_TRIAD_INFO_RMS_BEFORE] = lm.rms0;
         info[IGEA_TRIAD_INFO_RMS_AFTER] = sqrt(lm.cost / nint);
@@ -469,6 +493,51 @@ static int try_threshold(const record *r, const double *zeta, double z0, double 
     return 1;
 }
 
+/* Per-axis sample variances of samples [i0, i1). */
+static void variances(const record *r, int i0, int i1, double *v)
+{
+    for (int j = 0; j < 3; j++) {
+        igea__ksum s = {0.0, 0.0}, q = {0.0, 0.0};
+        for (int i = i0; i < i1; i++)
+            igea__ksum_add(&s, at(r, i, j));
+        double mean = igea__ksum_get(&s) / (i1 - i0);
+        for (int i = i0; i < i1; i++) {
+            double d = at(r, i, j) - mean;
+            igea__ksum_add(&q, d * d);
+        }
+        v[j] = igea__ksum_get(&q) / (i1 - i0 - 1);
+    }
+}
+
+/* The residual sd over the one the noise of the first `ninit` samples
+ * predicts for the interval means: sd^2 = mean_k sum_j e_kj^2 k_j^2 var_j /
+ * N_k (e_k the calibrated direction, N_k the interval's samples). */
+static int acc_misfit(const record *r, const double *zeta, int ninit, int minlen, int maxint,
+                      double *means, triad_result *best)
+{
+    int *se = igea__ialloc(2 * (size_t)maxint);
+    if (!se)
+        return IGEA_ENOMEM;
+    int nint = IGEA_MIN(maxint, runs(r, zeta, best->info[IGEA_TRIAD_INFO_THRESHOLD], minlen,
+                                     maxint, se, se + maxint, means));
+    double v[3], p2 = 0.0, *th = best->theta;
+    variances(r, 0, ninit, v);
+    for (int k = 0; k < nint; k++) {
+        double w[3], c[3];
+        for (int j = 0; j < 3; j++)
+            w[j] = th[IGEA_TRIAD_KX + j] * (means[3 * (size_t)k + j] - th[IGEA_TRIAD_BX + j]);
+        c[0] = w[0], c[1] = th[IGEA_TRIAD_TYX] * w[0] + w[1];
+        c[2] = th[IGEA_TRIAD_TZX] * w[0] + th[IGEA_TRIAD_TZY] * w[1] + w[2];
+        double nc2 = c[0] * c[0] + c[1] * c[1] + c[2] * c[2], s = 0.0;
+        for (int j = 0; j < 3; j++)
+            s += c[j] * c[j] / nc2 * th[IGEA_TRIAD_KX + j] * th[IGEA_TRIAD_KX + j] * v[j];
+        p2 += s / (se[maxint + k] - se[k]) / nint;
+    }
+    free(se);
+    best->info[IGEA_TRIAD_INFO_MISFIT] = best->info[IGEA_TRIAD_INFO_SIGMA] / sqrt(p2);
+    return 0;
+}
+
 int igea_triad_calibrate(int layout, int n, const double *acc, int lda, double fs,
                          const double *opts, double *theta, double *cov, int ldc, double *info)
 {
@@ -504,6 +573,8 @@ int igea_triad_calibrate(int layout, int n, const double *acc, int lda, double f
         if (k0 == 0 || k == 1)
             st = try_threshold(&r, zeta, z0, k0 > 0 ? k0 : (double)k, minlen, opts, means,
                                maxint, &best, &have, &err);
+    if (st >= 0 && have)
+        st = acc_misfit(&r, zeta, (int)lround(ninit), minlen, maxint, means, &best);
     free(zeta);
     if (st < 0)
         return st;
@@ -546,6 +617,563 @@ int igea_triad_apply(int layout, int n, const double *raw, int ldr, const double
                 cal[(size_t)i * ldc + j] = c[j];
             else
                 cal[i + (size_t)j * ldc] = c[j];
+        }
+    }
+    return 0;
+}
+
+/* ---- the gyroscope ------------------------------------------------------------- */
+#define GP IGEA_TRIAD_GYRO_NP
+
+/* S = M K from p = (k_x, k_y, k_z, m_xy, m_xz, m_yx, m_yz, m_zx, m_zy). */
+static void gyro_matrix(const double *p, double S[3][3])
+{
+    const double M[3][3] = {{1.0, p[3], p[4]}, {p[5], 1.0, p[6]}, {p[7], p[8], 1.0}};
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            S[i][j] = M[i][j] * p[j];
+}
+
+typedef struct {
+    record r;               /* the gyro record */
+    double h;               /* the sample interval 1 / fs */
+    int m;                  /* rotations: the pairs of consecutive intervals */
+    const int *start, *end; /* the static intervals (m + 1) */
+    const double *v;        /* their unit gravity directions, 3 x (m + 1) */
+    double b[3];            /* the gyro biases */
+    double *R;              /* NULL, or 9 m: the rotations of the last residuals */
+} gyro_problem;
+
+/* d = q (x) (0, w) / 2 */
+static void qdot(const double *q, const double *w, double *d)
+{
+    d[0] = 0.5 * (-q[1] * w[0] - q[2] * w[1] - q[3] * w[2]);
+    d[1] = 0.5 * (q[0] * w[0] + q[2] * w[2] - q[3] * w[1]);
+    d[2] = 0.5 * (q[0] * w[1] + q[3] * w[0] - q[1] * w[2]);
+    d[3] = 0.5 * (q[0] * w[2] + q[1] * w[1] - q[2] * w[0]);
+}
+
+static void rate(const gyro_problem *g, double S[3][3], const double *b, int i, double *w)
+{
+    double u[3];
+    for (int j = 0; j < 3; j++)
+        u[j] = at(&g->r, i, j) - b[j];
+    for (int j = 0; j < 3; j++)
+        w[j] = S[j][0] * u[0] + S[j][1] * u[1] + S[j][2] * u[2];
+}
+
+/* The attitude of the body at the first static sample of interval k + 1 in
+ * the body at the last sample of interval k: RK4 on q' = q (x) (0, w) / 2
+ * with w linear between samples; R (row-major 3 x 3) maps the later body
+ * axes into the earlier ones. */
+static void rotation(const gyro_problem *g, double S[3][3], const double *b, int k, double *R)
+{
+    double q[4] = {1.0, 0.0, 0.0, 0.0}, w0[3], w1[3], wm[3], k1[4], k2[4], k3[4], k4[4], t[4];
+    double h = g->h;
+    int i0 = g->end[k] - 1, i1 = g->start[k + 1];
+    rate(g, S, b, i0, w1);
+    for (int i = i0; i < i1; i++) {
+        memcpy(w0, w1, sizeof w0);
+        rate(g, S, b, i + 1, w1);
+        for (int j = 0; j < 3; j++)
+            wm[j] = 0.5 * (w0[j] + w1[j]);
+        qdot(q, w0, k1);
+        for (int j = 0; j < 4; j++)
+            t[j] = q[j] + 0.5 * h * k1[j];
+        qdot(t, wm, k2);
+        for (int j = 0; j < 4; j++)
+            t[j] = q[j] + 0.5 * h * k2[j];
+        qdot(t, wm, k3);
+        for (int j = 0; j < 4; j++)
+            t[j] = q[j] + h * k3[j];
+        qdot(t, w1, k4);
+        double nq = 0.0;
+        for (int j = 0; j < 4; j++) {
+            q[j] += h / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]);
+            nq += q[j] * q[j];
+        }
+        nq = sqrt(nq);
+        for (int j = 0; j < 4; j++)
+            q[j] /= nq;
+    }
+    double a = q[0], x = q[1], y = q[2], z = q[3];
+    R[0] = 1 - 2 * (y * y + z * z), R[1] = 2 * (x * y - a * z), R[2] = 2 * (x * z + a * y);
+    R[3] = 2 * (x * y + a * z), R[4] = 1 - 2 * (x * x + z * z), R[5] = 2 * (y * z - a * x);
+    R[6] = 2 * (x * z - a * y), R[7] = 2 * (y * z + a * x), R[8] = 1 - 2 * (x * x + y * y);
+}
+
+/* r = v_{k+1} - R^T v_k for pair k (R stored when R is not NULL). */
+static void pair_residual(const gyro_problem *g, const double *p, const double *b, int k,
+                          double *r, double *Rout)
+{
+    double S[3][3], R[9];
+    gyro_matrix(p, S);
+    rotation(g, S, b, k, R);
+    const double *v0 = g->v + 3 * (size_t)k, *v1 = v0 + 3;
+    for (int i = 0; i < 3; i++)
+        r[i] = v1[i] - (R[i] * v0[0] + R[3 + i] * v0[1] + R[6 + i] * v0[2]);
+    if (Rout)
+        memcpy(Rout, R, sizeof R);
+}
+
+/* The steps of the central differences: 1e-6 of each scale factor, 1e-6
+ * for the misalignments (rad). */
+static double gyro_step(const double *p, int j)
+{
+    return j < 3 ? 1e-6 * fmax(fabs(p[j]), 1e-300) : 1e-6;
+}
+
+static int gyro_residuals(const void *ctx, const double *p, double *r, double *J)
+{
+    const gyro_problem *g = ctx;
+    int rows = 3 * g->m;
+    for (int k = 0; k < g->m; k++) {
+        pair_residual(g, p, g->b, k, r + 3 * (size_t)k, g->R ? g->R + 9 * (size_t)k : NULL);
+        for (int j = 0; J && j < NP; j++) {
+            double pp[NP], rp[3], rm[3], hj = gyro_step(p, j);
+            memcpy(pp, p, sizeof pp);
+            pp[j] = p[j] + hj;
+            pair_residual(g, pp, g->b, k, rp, NULL);
+            pp[j] = p[j] - hj;
+            pair_residual(g, pp, g->b, k, rm, NULL);
+            for (int i = 0; i < 3; i++)
+                IGEA_AT(J, rows, 3 * k + i, j) = (rp[i] - rm[i]) / (2.0 * hj);
+        }
+    }
+    return 0;
+}
+
+/* The unit gravity directions v_k = c_k / |c_k|, c_k = T K (m_k - b), and,
+ * when D is not NULL, dv_k / dtheta_a (D + 27 k: 3 x 9 column-major). */
+static void directions(int nint, const double *m, const double *th, double *v, double *D)
+{
+    double tyx = th[IGEA_TRIAD_TYX], tzx = th[IGEA_TRIAD_TZX], tzy = th[IGEA_TRIAD_TZY];
+    const double T[3][3] = {{1.0, 0.0, 0.0}, {tyx, 1.0, 0.0}, {tzx, tzy, 1.0}};
+    for (int k = 0; k < nint; k++) {
+        double u[3], w[3], c[3], dc[3][NP] = {{0.0}};
+        for (int i = 0; i < 3; i++)
+            u[i] = m[3 * (size_t)k + i] - th[IGEA_TRIAD_BX + i], w[i] = th[IGEA_TRIAD_KX + i] * u[i];
+        for (int i = 0; i < 3; i++)
+            c[i] = T[i][0] * w[0] + T[i][1] * w[1] + T[i][2] * w[2];
+        double nc = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]), *vk = v + 3 * (size_t)k;
+        for (int i = 0; i < 3; i++)
+            vk[i] = c[i] / nc;
+        if (!D)
+            continue;
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++) {
+                dc[i][IGEA_TRIAD_BX + j] = -T[i][j] * th[IGEA_TRIAD_KX + j];
+                dc[i][IGEA_TRIAD_KX + j] = T[i][j] * u[j];
+            }
+        dc[1][IGEA_TRIAD_TYX] = w[0], dc[2][IGEA_TRIAD_TZX] = w[0], dc[2][IGEA_TRIAD_TZY] = w[1];
+        double *Dk = D + 27 * (size_t)k;
+        for (int j = 0; j < NP; j++) /* (I - v v^T) dc / |c| */
+            for (int i = 0; i < 3; i++) {
+                double vd = vk[0] * dc[0][j] + vk[1] * dc[1][j] + vk[2] * dc[2][j];
+                Dk[i + 3 * j] = (dc[i][j] - vk[i] * vd) / nc;
+            }
+    }
+}
+
+/* The biases: the mean over every static sample; s2[3] the pooled
+ * within-interval variances; returns the number of static samples. */
+static int gyro_bias(const gyro_problem *g, int nint, double *b, double *s2)
+{
+    int N = 0;
+    igea__ksum tot[3] = {{0.0, 0.0}, {0.0, 0.0}, {0.0, 0.0}}, ss[3] = {{0.0, 0.0}, {0.0, 0.0}, {0.0, 0.0}};
+    for (int k = 0; k < nint; k++) {
+        int a = g->start[k], e = g->end[k];
+        for (int j = 0; j < 3; j++) {
+            igea__ksum s = {0.0, 0.0};
+            for (int i = a; i < e; i++)
+                igea__ksum_add(&s, at(&g->r, i, j));
+            double mean = igea__ksum_get(&s) / (e - a);
+            igea__ksum_add(&tot[j], igea__ksum_get(&s));
+            for (int i = a; i < e; i++) {
+                double d = at(&g->r, i, j) - mean;
+                igea__ksum_add(&ss[j], d * d);
+            }
+        }
+        N += e - a;
+    }
+    for (int j = 0; j < 3; j++)
+        b[j] = igea__ksum_get(&tot[j]) / N, s2[j] = igea__ksum_get(&ss[j]) / (N - nint);
+    return N;
+}
+
+/* dr/db (rows x 3) by central differences of 1e-6 rad/s in the calibrated rate. */
+static void bias_jacobian(const gyro_problem *g, const double *p, double *Jb)
+{
+    int rows = 3 * g->m;
+    for (int j = 0; j < 3; j++) {
+        double bp[3], rp[3], rm[3], hj = 1e-6 / fmax(fabs(p[j]), 1e-300);
+        for (int k = 0; k < g->m; k++) {
+            memcpy(bp, g->b, sizeof bp);
+            bp[j] = g->b[j] + hj;
+            pair_residual(g, p, bp, k, rp, NULL);
+            bp[j] = g->b[j] - hj;
+            pair_residual(g, p, bp, k, rm, NULL);
+            for (int i = 0; i < 3; i++)
+                IGEA_AT(Jb, rows, 3 * k + i, j) = (rp[i] - rm[i]) / (2.0 * hj);
+        }
+    }
+}
+
+/* dr/dtheta_a (rows x 9) from the direction derivatives D and the
+ * rotations R: dr_k = dv_{k+1} - R_k^T dv_k. */
+static void accel_jacobian(const gyro_problem *g, const double *D, double *Ja)
+{
+    int rows = 3 * g->m;
+    for (int k = 0; k < g->m; k++) {
+        const double *R = g->R + 9 * (size_t)k, *D0 = D + 27 * (size_t)k, *D1 = D0 + 27;
+        for (int j = 0; j < NP; j++)
+            for (int i = 0; i < 3; i++)
+                IGEA_AT(Ja, rows, 3 * k + i, j) =
+                    D1[i + 3 * j] -
+                    (R[i] * D0[3 * j] + R[3 + i] * D0[1 + 3 * j] + R[6 + i] * D0[2 + 3 * j]);
+    }
+}
+
+/* G = -(J^T J)^-1 J^T X for X (rows x nc): G (9 x nc, ld 9). */
+static int sensitivity(int rows, const double *J, const double *A, const double *X, int nc,
+                       double *G)
+{
+    for (int c = 0; c < nc; c++) {
+        double rhs[NP], x[NP];
+        for (int a = 0; a < NP; a++) {
+            double s = 0.0;
+            for (int k = 0; k < rows; k++)
+                s += IGEA_AT(J, rows, k, a) * IGEA_AT(X, rows, k, c);
+            rhs[a] = -s;
+        }
+        if (damped_solve(A, 0.0, rhs, x))
+            return IGEA_ERANK;
+        memcpy(G + NP * (size_t)c, x, sizeof x);
+    }
+    return 0;
+}
+
+/* C (9 x 9) += G V G^T for G (9 x nc) and V (nc x nc, ld nc). */
+static void add_sandwich(const double *G, const double *V, int nc, double *C)
+{
+    for (int a = 0; a < NP; a++)
+        for (int b = 0; b < NP; b++) {
+            double s = 0.0;
+            for (int i = 0; i < nc; i++)
+                for (int j = 0; j < nc; j++)
+                    s += G[a + NP * i] * V[i + nc * j] * G[b + NP * j];
+            C[a + NP * b] += s;
+        }
+}
+
+/* 1 when the rotations span the three axes: W = sum_k d_k d_k^T, d_k the
+ * bias-free raw rate summed over rotation k, has its smallest eigenvalue
+ * above 1e-4 trace(W) (random attitudes: 0.1 to 0.3; rotations about one
+ * axis: the noise, 1e-7). */
+static int rotations_span(const gyro_problem *g)
+{
+    double W[9] = {0.0};
+    for (int k = 0; k < g->m; k++) {
+        double d[3] = {0.0, 0.0, 0.0};
+        for (int i = g->end[k] - 1; i <= g->start[k + 1]; i++)
+            for (int j = 0; j < 3; j++)
+                d[j] += at(&g->r, i, j) - g->b[j];
+        for (int a = 0; a < 3; a++)
+            for (int b = 0; b < 3; b++)
+                W[a + 3 * b] += d[a] * d[b];
+    }
+    double tr = W[0] + W[4] + W[8];
+    return tr > 0 && !igea__chol_lower(3, W, 3, -1e-4 * tr);
+}
+
+/* The residual sd the gyro noise of the first static interval predicts:
+ * sd^2 = mean_k L_k dt^2 mean_j k_j^2 var_j, L_k the steps of rotation k. */
+static double gyro_predicted_sd(const gyro_problem *g, const double *p)
+{
+    double v[3], p2 = 0.0, kv = 0.0;
+    variances(&g->r, g->start[0], g->end[0], v);
+    for (int j = 0; j < 3; j++)
+        kv += p[j] * p[j] * v[j] / 3.0;
+    for (int k = 0; k < g->m; k++)
+        p2 += (g->start[k + 1] - g->end[k] + 1) * g->h * g->h * kv / g->m;
+    return sqrt(p2);
+}
+
+/* Assemble the 12 x 12 covariance (b, then p) from C_pp, G_b and V_b. */
+static void gyro_cov_out(const double *Cpp, const double *Gb, const double *vb, double *cov,
+                         int ldc)
+{
+    for (int j = 0; j < GP; j++)
+        for (int i = 0; i < GP; i++) {
+            double c;
+            if (i < 3 && j < 3)
+                c = i == j ? vb[i] : 0.0;
+            else if (i >= 3 && j >= 3)
+                c = Cpp[(i - 3) + NP * (j - 3)];
+            else if (i >= 3)
+                c = Gb[(i - 3) + NP * j] * vb[j];
+            else
+                c = Gb[(j - 3) + NP * i] * vb[i];
+            IGEA_AT(cov, ldc, i, j) = c;
+        }
+}
+
+typedef struct {
+    double theta[GP], cov[GP * GP], info[IGEA_TRIAD_GYRO_INFO_LEN];
+} gyro_result;
+
+/* The fit on a validated problem; the workspace: 3 nint (v) + 27 nint (D)
+ * + 9 m (R) + 23 rows (LM, J_a, J_b), rows = 3 m. */
+static int gyro_run(gyro_problem *g, int nint, const double *means, const double *theta_a,
+                    const double *cov_a, int max_iter, double *work, gyro_result *out)
+{
+    int m = nint - 1, rows = 3 * m, st;
+    double *v = work, *D = v + 3 * (size_t)nint, *R = D + 27 * (size_t)nint;
+    double *lw = R + 9 * (size_t)m, *Ja = lw + 11 * (size_t)rows, *Jb = Ja + 9 * (size_t)rows;
+    double *r = lw, *J = lw + 2 * (size_t)rows, s2[3], vb[3];
+    directions(nint, means, theta_a, v, D);
+    g->v = v, g->m = m, g->R = NULL;
+    int N = gyro_bias(g, nint, g->b, s2);
+    for (int j = 0; j < 3; j++)
+        vb[j] = s2[j] / N;
+    if (!rotations_span(g))
+        return IGEA_ERANK;
+    lm_state lm;
+    for (int j = 0; j < NP; j++)
+        lm.theta[j] = j < 3 ? 1.0 : 0.0;
+    st = lm_run(rows, gyro_residuals, g, max_iter, &lm, lw);
+    if ((!st || st == IGEA_ENOCONV) && !identifiable(lm.A))
+        st = IGEA_ERANK;
+    if (st)
+        return st;
+    double rms0 = sqrt(lm.rms0 * lm.rms0 * 3.0), s2f = lm.cost / (2 * m - NP);
+    double Cpp[NP * NP], Gb[NP * 3], Ga[NP * NP];
+    g->R = R;
+    gyro_residuals(g, lm.theta, r, J);
+    double grad[NP], Vb[9] = {vb[0], 0.0, 0.0, 0.0, vb[1], 0.0, 0.0, 0.0, vb[2]};
+    normal_eq(rows, J, r, lm.A, grad);
+    if ((st = covariance(lm.A, s2f, Cpp, NP)))
+        return st;
+    bias_jacobian(g, lm.theta, Jb);
+    if ((st = sensitivity(rows, J, lm.A, Jb, 3, Gb)))
+        return st;
+    add_sandwich(Gb, Vb, 3, Cpp);
+    if (cov_a) {
+        accel_jacobian(g, D, Ja);
+        if ((st = sensitivity(rows, J, lm.A, Ja, NP, Ga)))
+            return st;
+        add_sandwich(Ga, cov_a, NP, Cpp);
+    }
+    memcpy(out->theta, g->b, sizeof g->b);
+    memcpy(out->theta + 3, lm.theta, sizeof lm.theta);
+    gyro_cov_out(Cpp, Gb, vb, out->cov, GP);
+    double *f = out->info;
+    for (int i = 0; i < IGEA_TRIAD_GYRO_INFO_LEN; i++)
+        f[i] = 0.0;
+    f[IGEA_TRIAD_GYRO_INFO_PAIRS] = m;
+    f[IGEA_TRIAD_GYRO_INFO_RMS_BEFORE] = rms0;
+    f[IGEA_TRIAD_GYRO_INFO_RMS_AFTER] = sqrt(lm.cost / m);
+    f[IGEA_TRIAD_GYRO_INFO_SIGMA] = sqrt(s2f);
+    f[IGEA_TRIAD_GYRO_INFO_ITERATIONS] = lm.iter;
+    f[IGEA_TRIAD_GYRO_INFO_STATIC_SAMPLES] = N;
+    for (int j = 0; j < 3; j++)
+        f[IGEA_TRIAD_GYRO_INFO_NOISE_X + j] = sqrt(s2[j]);
+    f[IGEA_TRIAD_GYRO_INFO_MISFIT] = sqrt(s2f) / gyro_predicted_sd(g, lm.theta);
+    for (int i = 0; i < GP; i++)
+        if (!isfinite(out->theta[i]) || !isfinite(out->cov[i + GP * i]))
+            return IGEA_ENOCONV;
+    return 0;
+}
+
+/* 0, or -7 / -8 for static intervals that are not increasing ranges of at
+ * least 2 samples inside n samples. */
+static int check_intervals(int n, int nint, const int *start, const int *end)
+{
+    for (int k = 0; k < nint; k++) {
+        if (start[k] < (k ? end[k - 1] : 0))
+            return -7;
+        if (end[k] < start[k] + 2 || end[k] > n)
+            return -8;
+    }
+    return 0;
+}
+
+static double *gyro_work(int nint)
+{
+    size_t m = (size_t)nint - 1;
+    return igea__dalloc(30 * (size_t)nint + 9 * m + 23 * 3 * m);
+}
+
+int igea_triad_gyro_fit(int layout, int n, const double *gyro, int ldg, double fs, int nint,
+                        const int *start, const int *end, const double *means,
+                        const double *theta_a, const double *cov_a, int ldca, int max_iter,
+                        double *theta, double *cov, int ldc, double *info)
+{
+    gyro_problem g;
+    int st = record_check(layout, n, gyro, ldg, &g.r);
+    if (st < 0 && st != IGEA_ENONFINITE)
+        return st;
+    if (!(isfinite(fs) && fs > 0))
+        return -5;
+    if (nint < MIN_INTERVALS)
+        return -6;
+    if (!start)
+        return -7;
+    if (!end)
+        return -8;
+    int ci = check_intervals(n, nint, start, end);
+    if (ci)
+        return ci;
+    if (!means)
+        return -9;
+    if (!theta_a)
+        return -10;
+    if (cov_a && ldca < NP)
+        return -12;
+    if (max_iter < 1)
+        return -13;
+    if (!theta)
+        return -14;
+    if (cov && ldc < GP)
+        return -16;
+    if (st || !igea__finite_vec(3 * nint, means, 1) || !igea__finite_vec(NP, theta_a, 1) ||
+        (cov_a && !igea__finite_mat(NP, NP, cov_a, ldca)))
+        return IGEA_ENONFINITE;
+    double ca[NP * NP];
+    for (int j = 0; cov_a && j < NP; j++)
+        for (int i = 0; i < NP; i++)
+            ca[i + NP * j] = IGEA_AT(cov_a, ldca, i, j);
+    double *work = gyro_work(nint);
+    gyro_result *res = malloc(sizeof *res);
+    if (!work || !res) {
+        free(work), free(res);
+        return IGEA_ENOMEM;
+    }
+    g.h = 1.0 / fs, g.start = start, g.end = end;
+    st = gyro_run(&g, nint, means, theta_a, cov_a ? ca : NULL, max_iter, work, res);
+    if (!st) {
+        memcpy(theta, res->theta, sizeof res->theta);
+        for (int j = 0; cov && j < GP; j++)
+            for (int i = 0; i < GP; i++)
+                IGEA_AT(cov, ldc, i, j) = res->cov[i + GP * j];
+        if (info)
+            memcpy(info, res->info, sizeof res->info);
+    }
+    free(work), free(res);
+    return st;
+}
+
+/* The static intervals and means at the threshold the accelerometer fit
+ * chose; *nint their count. */
+static int imu_intervals(int layout, int n, const double *acc, int lda, double fs,
+                         const double *opts, double threshold, int *nint, int **se,
+                         double **means)
+{
+    int cnt = 0;
+    int st = igea_triad_static(layout, n, acc, lda, fs, opts[IGEA_TRIAD_OPT_WINDOW], threshold,
+                               opts[IGEA_TRIAD_OPT_MIN_STATIC], 0, &cnt, NULL, NULL, NULL);
+    if (st)
+        return st;
+    *se = igea__ialloc(2 * (size_t)cnt + 1);
+    *means = igea__dalloc(3 * (size_t)cnt + 1);
+    if (!*se || !*means)
+        return IGEA_ENOMEM;
+    *nint = cnt;
+    return igea_triad_static(layout, n, acc, lda, fs, opts[IGEA_TRIAD_OPT_WINDOW], threshold,
+                             opts[IGEA_TRIAD_OPT_MIN_STATIC], cnt, &cnt, *se, *se + cnt,
+                             *means);
+}
+
+int igea_triad_calibrate_imu(int layout, int n, const double *acc, int lda, const double *gyro,
+                             int ldg, double fs, const double *opts, double *theta_a,
+                             double *cov_a, int ldca, double *theta_g, double *cov_g, int ldcg,
+                             double *info_a, double *info_g)
+{
+    record ra, rg;
+    int sa = record_check(layout, n, acc, lda, &ra), sg;
+    if (sa < 0 && sa != IGEA_ENONFINITE)
+        return sa;
+    sg = record_check(layout, n, gyro, ldg, &rg);
+    if (sg == -3)
+        return -5;
+    if (sg == -4)
+        return -6;
+    if (!(isfinite(fs) && fs > 0))
+        return -7;
+    if (igea_triad_check_opts(opts))
+        return -8;
+    if (!theta_a)
+        return -9;
+    if (cov_a && ldca < NP)
+        return -11;
+    if (!theta_g)
+        return -12;
+    if (cov_g && ldcg < GP)
+        return -14;
+    if (sa || sg)
+        return IGEA_ENONFINITE;
+    double ta[NP], ca[NP * NP], ia[IGEA_TRIAD_INFO_LEN], *means = NULL;
+    int *se = NULL, nint = 0;
+    int st = igea_triad_calibrate(layout, n, acc, lda, fs, opts, ta, ca, NP, ia);
+    if (!st)
+        st = imu_intervals(layout, n, acc, lda, fs, opts, ia[IGEA_TRIAD_INFO_THRESHOLD], &nint,
+                           &se, &means);
+    if (!st && check_intervals(n, nint, se, se + nint))
+        st = IGEA_EEMPTY; /* single-sample intervals: no gyro noise estimate */
+    gyro_result *res = st ? NULL : malloc(sizeof *res);
+    double *work = st ? NULL : gyro_work(nint);
+    if (!st && (!res || !work))
+        st = IGEA_ENOMEM;
+    if (!st) {
+        gyro_problem g = {rg, 1.0 / fs, 0, se, se + nint, NULL, {0.0, 0.0, 0.0}, NULL};
+        st = gyro_run(&g, nint, means, ta, ca, (int)opts[IGEA_TRIAD_OPT_MAX_ITER], work, res);
+    }
+    if (!st) {
+        memcpy(theta_a, ta, sizeof ta);
+        memcpy(theta_g, res->theta, sizeof res->theta);
+        for (int j = 0; cov_a && j < NP; j++)
+            for (int i = 0; i < NP; i++)
+                IGEA_AT(cov_a, ldca, i, j) = ca[i + NP * j];
+        for (int j = 0; cov_g && j < GP; j++)
+            for (int i = 0; i < GP; i++)
+                IGEA_AT(cov_g, ldcg, i, j) = res->cov[i + GP * j];
+        if (info_a)
+            memcpy(info_a, ia, sizeof ia);
+        if (info_g)
+            memcpy(info_g, res->info, sizeof res->info);
+    }
+    free(se), free(means), free(res), free(work);
+    return st;
+}
+
+int igea_triad_gyro_apply(int layout, int n, const double *raw, int ldr, const double *theta,
+                          double *cal, int ldc)
+{
+    record r;
+    int st = record_check(layout, n, raw, ldr, &r);
+    if (st < 0 && st != IGEA_ENONFINITE)
+        return st;
+    if (!theta)
+        return -5;
+    if (!cal)
+        return -6;
+    if (layout == IGEA_ROWMAJOR ? ldc < 3 : ldc < n)
+        return -7;
+    if (st || !igea__finite_vec(GP, theta, 1))
+        return IGEA_ENONFINITE;
+    double S[3][3];
+    gyro_matrix(theta + 3, S);
+    for (int i = 0; i < n; i++) {
+        double u[3], w[3];
+        for (int j = 0; j < 3; j++)
+            u[j] = at(&r, i, j) - theta[j];
+        for (int j = 0; j < 3; j++)
+            w[j] = S[j][0] * u[0] + S[j][1] * u[1] + S[j][2] * u[2];
+        for (int j = 0; j < 3; j++) {
+            if (layout == IGEA_ROWMAJOR)
+                cal[(size_t)i * ldc + j] = w[j];
+            else
+                cal[i + (size_t)j * ldc] = w[j];
         }
     }
     return 0;

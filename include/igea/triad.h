@@ -1,6 +1,7 @@
 /*
- * igea/triad.h - turntable-free calibration of an accelerometer triad from
- * a raw record of static attitudes (docs/calibration.md, "Triad").
+ * igea/triad.h - turntable-free calibration of an IMU's accelerometer triad
+ * from a raw record of static attitudes, and of its gyro triad from the
+ * rotations between them (docs/calibration.md; the gyro below).
  *
  * The record is held still in a dozen or more different attitudes (a few
  * seconds each, in any order, the orientations unknown), after a first
@@ -57,6 +58,11 @@ extern "C" {
 #define IGEA_TRIAD_INFO_SIGMA 5      /* sqrt(sum r^2 / (intervals - 9)) */
 #define IGEA_TRIAD_INFO_ITERATIONS 6 /* Levenberg-Marquardt iterations */
 #define IGEA_TRIAD_INFO_ZETA_INIT 7  /* variance magnitude of the first static period */
+#define IGEA_TRIAD_INFO_MISFIT 8     /* sigma over the sd the noise of the first static
+                                        period predicts for the interval means (about 1;
+                                        well above 1: intervals holding motion, a threshold
+                                        too high, or a model that does not hold);
+                                        igea_triad_calibrate only (NaN from igea_triad_fit) */
 #define IGEA_TRIAD_INFO_LEN 16
 
 /* Fill opts[IGEA_TRIAD_OPT_LEN] with the defaults above. Returns 0, -1. */
@@ -96,7 +102,7 @@ IGEA_API int igea_triad_static(int layout, int n, const double *acc, int lda, do
  * zero biases and non-orthogonality, every scale g / median |m_k|); 5
  * max_iter >= 1. Outputs: 6 theta[9]; 7 cov (9 x 9, ldc) the covariance
  * sigma^2 (J^T J)^-1 (may be NULL); 8 ldc >= 9; 9 info[IGEA_TRIAD_INFO_LEN]
- * (may be NULL; slots K, THRESHOLD and ZETA_INIT set to NaN).
+ * (may be NULL; slots K, THRESHOLD, ZETA_INIT and MISFIT set to NaN).
  * Returns 0, -i, IGEA_ENONFINITE, IGEA_ERANK (the attitudes do not
  * determine the 9 parameters: J^T J singular), IGEA_ENOCONV, IGEA_ENOMEM.
  */
@@ -131,6 +137,109 @@ IGEA_API int igea_triad_calibrate(int layout, int n, const double *acc, int lda,
  */
 IGEA_API int igea_triad_apply(int layout, int n, const double *raw, int ldr,
                               const double *theta, double *cal, int ldc);
+
+
+/* ---- the gyroscope triad ---------------------------------------------------
+ * The calibrated rate is w = M K (r - b): b the biases (raw units), K =
+ * diag(k_x, k_y, k_z) the scale factors (rad/s, or the unit of the rate,
+ * per raw unit), M the unit-diagonal misalignment [1 m_xy m_xz; m_yx 1 m_yz;
+ * m_zx m_zy 1] (rad, small) referred to the calibrated accelerometer axes:
+ * scale + 6 misalignments, the same as a full 3 x 3 matrix S = M K (k_j =
+ * S_jj, m_ij = S_ij / S_jj). b is the mean of the gyro over every static
+ * interval (the earth's rate, 7.3e-5 rad/s at most, is taken as bias and
+ * noise); the 9 others are fitted by Levenberg-Marquardt so that the
+ * rotation integrated (quaternion RK4, w linear between samples) from the
+ * last sample of each static interval to the first of the next carries
+ * the gravity direction seen by the calibrated accelerometer in the first
+ * onto that of the second: residuals v_{k+1} - R_k^T v_k (3 per rotation).
+ * The covariance: sigma^2 (J^T J)^-1, sigma^2 = sum r^2 / (2 m - 9) (m
+ * rotations; two of the three components of each residual are free), plus
+ * the accelerometer's and the biases' covariances carried through the
+ * fit's linearisation (docs/calibration.md). The gyro record must be in
+ * units where the scale factors are near 1 (the fit starts at K = I, M = I):
+ * raw counts times a nominal scale factor. */
+
+/* The gyro parameter vector theta_g[IGEA_TRIAD_GYRO_NP]. */
+#define IGEA_TRIAD_GYRO_BX 0 /* biases b_x, b_y, b_z (raw units) */
+#define IGEA_TRIAD_GYRO_BY 1
+#define IGEA_TRIAD_GYRO_BZ 2
+#define IGEA_TRIAD_GYRO_KX 3 /* scale factors k_x, k_y, k_z */
+#define IGEA_TRIAD_GYRO_KY 4
+#define IGEA_TRIAD_GYRO_KZ 5
+#define IGEA_TRIAD_GYRO_MXY 6 /* misalignments m_xy, m_xz, m_yx, m_yz, m_zx, m_zy (rad) */
+#define IGEA_TRIAD_GYRO_MXZ 7
+#define IGEA_TRIAD_GYRO_MYX 8
+#define IGEA_TRIAD_GYRO_MYZ 9
+#define IGEA_TRIAD_GYRO_MZX 10
+#define IGEA_TRIAD_GYRO_MZY 11
+#define IGEA_TRIAD_GYRO_NP 12
+
+/* Indices into info_g[IGEA_TRIAD_GYRO_INFO_LEN]. */
+#define IGEA_TRIAD_GYRO_INFO_PAIRS 0          /* rotations fitted (intervals - 1) */
+#define IGEA_TRIAD_GYRO_INFO_RMS_BEFORE 1     /* rms |v_{k+1} - R_k^T v_k| at K = I, M = I (rad) */
+#define IGEA_TRIAD_GYRO_INFO_RMS_AFTER 2      /* the same after the fit (rad) */
+#define IGEA_TRIAD_GYRO_INFO_SIGMA 3          /* sqrt(sum r^2 / (2 m - 9)) (rad) */
+#define IGEA_TRIAD_GYRO_INFO_ITERATIONS 4     /* Levenberg-Marquardt iterations */
+#define IGEA_TRIAD_GYRO_INFO_STATIC_SAMPLES 5 /* samples the biases are the mean of */
+#define IGEA_TRIAD_GYRO_INFO_NOISE_X 6        /* pooled within-interval sd per axis (raw units) */
+#define IGEA_TRIAD_GYRO_INFO_NOISE_Y 7
+#define IGEA_TRIAD_GYRO_INFO_NOISE_Z 8
+#define IGEA_TRIAD_GYRO_INFO_MISFIT 9         /* sigma over the sd the gyro noise of the first
+                                                 interval predicts (mean over the rotations of
+                                                 steps dt^2 mean_j k_j^2 var_j); about 1, well
+                                                 above: motion in the intervals or a model that
+                                                 does not hold */
+#define IGEA_TRIAD_GYRO_INFO_LEN 16
+
+/*
+ * Fit the gyro parameters to a record and its static intervals.
+ *  1 layout IGEA_ROWMAJOR or IGEA_COLMAJOR, 2 n samples >= 1, 3 gyro (n x
+ *  3 raw rates, as acc of igea_triad_static), 4 ldg; 5 fs > 0 (Hz): the
+ *  rate samples are 1/fs apart; 6 nint >= 12 static intervals, 7 start
+ *  [nint] and 8 end[nint]: sample ranges start <= i < end, increasing,
+ *  each at least 2 samples, end <= n (igea_triad_static's); 9 means (3 x
+ *  nint, ld 3): the mean raw accelerometer output of each interval; 10
+ *  theta_a[9] the accelerometer calibration (igea_triad_fit's); 11 cov_a (9
+ *  x 9, ldca) its covariance (may be NULL: not carried into cov); 12 ldca
+ *  >= 9 (when cov_a); 13 max_iter >= 1. Outputs: 14 theta[12] (b, k, m);
+ *  15 cov (12 x 12, ldc; may be NULL); 16 ldc >= 12 (when cov); 17
+ *  info[IGEA_TRIAD_GYRO_INFO_LEN] (may be NULL).
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ERANK (the rotations do not span
+ * the three axes: the smallest eigenvalue of sum_k d_k d_k^T, d_k the
+ * bias-free raw rate summed over rotation k, below 1e-4 of its trace; or
+ * they do not determine the 9 parameters), IGEA_ENOCONV, IGEA_ENOMEM.
+ */
+IGEA_API int igea_triad_gyro_fit(int layout, int n, const double *gyro, int ldg, double fs,
+                                 int nint, const int *start, const int *end, const double *means,
+                                 const double *theta_a, const double *cov_a, int ldca,
+                                 int max_iter, double *theta, double *cov, int ldc, double *info);
+
+/*
+ * The whole IMU from one record: igea_triad_calibrate on acc, the static
+ * intervals at the threshold it chose, then igea_triad_gyro_fit with the
+ * accelerometer's covariance.
+ *  1 layout, 2 n, 3 acc, 4 lda as igea_triad_static; 5 gyro (n x 3, the
+ *  same instants and layout), 6 ldg; 7 fs > 0; 8 opts[IGEA_TRIAD_OPT_LEN].
+ *  Outputs: 9 theta_a[9]; 10 cov_a (9 x 9, ldca; may be NULL); 11 ldca >= 9
+ *  (when cov_a); 12 theta_g[12]; 13 cov_g (12 x 12, ldcg; may be NULL); 14
+ *  ldcg >= 12 (when cov_g); 15 info_a[IGEA_TRIAD_INFO_LEN] (may be NULL);
+ *  16 info_g[IGEA_TRIAD_GYRO_INFO_LEN] (may be NULL).
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_EEMPTY (as igea_triad_calibrate, or
+ * intervals of one sample), IGEA_ERANK, IGEA_ENOCONV, IGEA_ENOMEM.
+ */
+IGEA_API int igea_triad_calibrate_imu(int layout, int n, const double *acc, int lda,
+                                      const double *gyro, int ldg, double fs, const double *opts,
+                                      double *theta_a, double *cov_a, int ldca, double *theta_g,
+                                      double *cov_g, int ldcg, double *info_a, double *info_g);
+
+/*
+ * Apply a gyro calibration: w_i = M K (raw_i - b) for n samples.
+ *  1 layout, 2 n >= 1, 3 raw, 4 ldr (as igea_triad_static); 5 theta[12];
+ *  outputs 6 cal, 7 ldc (the same layout; cal may be raw with ldc = ldr).
+ * Returns 0, -i, IGEA_ENONFINITE.
+ */
+IGEA_API int igea_triad_gyro_apply(int layout, int n, const double *raw, int ldr,
+                                   const double *theta, double *cal, int ldc);
 
 #ifdef __cplusplus
 }

@@ -28,6 +28,7 @@ from .noise import NoiseEqerrResult  # noqa: E402
 from .accel import AccelApplied, AccelDesignInfo, AccelFit, AccelHysteresis, AccelJoint, AccelRefine, accel_analyze, accel_apply, accel_hysteresis, accel_joint, accel_combinations, accel_design, accel_fit, accel_merge, accel_refine, accel_schedule, accel_simulate, accel_to_g  # noqa: E402,E501
 from .impact import ImpactBudget, ImpactResult, cep, cep_approx, circle_prob, component_miss, impact, impact_budget  # noqa: E402,E501
 from .triad import TriadResult, triad_apply, triad_calibrate, triad_fit, triad_static  # noqa: E402,E501
+from .triad import GyroResult, triad_gyro_apply, triad_gyro_fit  # noqa: E402
 from .io import MatrixFile, read_matrix  # noqa: E402
 from .nav import NavResult, nav_ecef_to_geodetic, nav_geodetic_to_ecef, nav_gravity, nav_navigate, nav_site, nav_transform  # noqa: E402,E501
 from .dw import DwResult, dw  # noqa: E402

@@ -489,7 +489,23 @@ CLASS = {
         "rms_before": "RMS of |a| - g at the start values",
         "rms_after": "RMS of |a| - g after the fit",
         "sigma": "sqrt(sum r^2 / (n - 9))",
-        "iterations": "iterations run"},
+        "iterations": "iterations run",
+        "misfit": "sigma over the sd the noise of the first static period predicts (about 1; "
+                  "NaN from triad_fit)",
+        "static_intervals": "[(start, end)] sample ranges of the static intervals, from 0",
+        "gyro": "the gyro's GyroResult (triad_calibrate with gyro=; else None)"},
+    "GyroResult": {
+        "theta": "(12,) the gyro parameters in the order of GYRO_NAMES",
+        "covariance": "(12, 12) their covariance",
+        "sd": "(12,) their standard deviations",
+        "pairs": "number of rotations fitted (static intervals - 1)",
+        "rms_before": "RMS of |v_{k+1} - R_k^T v_k| (rad) at K = I, M = I",
+        "rms_after": "the same after the fit",
+        "sigma": "sqrt(sum r^2 / (2 pairs - 9)) (rad)",
+        "iterations": "iterations run",
+        "static_samples": "samples the biases are the mean of",
+        "noise": "(3,) pooled within-interval sd per axis (raw units)",
+        "misfit": "sigma over the sd the gyro noise of the first interval predicts (about 1)"},
 }
 
 

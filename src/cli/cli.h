@@ -372,6 +372,7 @@ int cmd_eqerr(int argc, char **argv);
 int cmd_test(int argc, char **argv);
 int cmd_version(int argc, char **argv);
 int cmd_accel(int argc, char **argv);
+int cmd_triad(int argc, char **argv);
 int cmd_regress(int argc, char **argv);
 int cmd_envfun(int argc, char **argv);
 int cmd_simulate(int argc, char **argv);

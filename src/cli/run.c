@@ -25,6 +25,7 @@ static const command commands[] = {
     {"simulate", cmd_simulate, "a synthetic flight test with known truth: S, dw, sigma, spec, X files"},
     {"montecarlo", cmd_montecarlo, "size and power of the accuracy test over many simulated flights"},
     {"impact", cmd_impact, "impact point of a free flight, miss per burnout error, budget and CEP"},
+    {"triad", cmd_triad, "IMU calibration without a turntable: accelerometer and gyro triads from static attitudes"},
     {"nav", cmd_nav, "INS error propagation: position, velocity, attitude errors from sensor errors"},
     {"version", cmd_version, "print the library and driver version"},
 };

@@ -85,6 +85,27 @@ TRIAD_RECORD = ('set:for (int i = 0; i < 480; i++) { int k = i < 30 ? 0 : 1 + (i
                 'b_[3 * i] = 9.8 * cos(a) * sin(e) + w * sin(1.3 * i); '
                 'b_[3 * i + 1] = 9.81 * sin(a) * sin(e) + w * sin(2.9 * i); '
                 'b_[3 * i + 2] = 9.79 * cos(e) + w * sin(5.7 * i); }')
+# a gyro record at 10 Hz: 12 static intervals of 2 s joined by 1-s turns of 90 deg
+# about x, y, z in turn, and the gravity directions those turns give (a triad gyro fit)
+TRIAD_GYRO = ('set:for (int i = 0; i < 350; i++) for (int j = 0; j < 3; j++) b_[3 * i + j] = '
+              '(i % 30 >= 20 && j == (i / 30) % 3 ? 1.5707963267948966 : 0.0) '
+              '+ 1e-4 * sin(1.3 * i + j);')
+TRIAD_GMEANS = ('set:double v[3] = {0, 0, 1}; for (int k = 0; k < 12; k++) { '
+                'for (int j = 0; j < 3; j++) b_[3 * k + j] = 9.8 * v[j]; '
+                'double x = v[0], y = v[1], z = v[2]; if (k % 3 == 0) { v[1] = z; v[2] = -y; } '
+                'else if (k % 3 == 1) { v[0] = -z; v[2] = x; } else { v[0] = y; v[1] = -x; } }')
+# the gyro of TRIAD_RECORD: during each 1-s move, the rate turning the gravity
+# direction of attitude k into that of k + 1 about their common normal
+TRIAD_RECORD_GYRO = ('set:for (int i = 0; i < 480; i++) { int k = i < 30 ? 0 : 1 + (i - 30) / 30; '
+                     'int moving = i >= 30 && (i - 30) % 30 >= 20 && k < 15; double u[2][3]; '
+                     'for (int q = 0; q < 2; q++) { double a = 0.7 * (k + q), e = 0.4 + 0.37 * (k + q); '
+                     'u[q][0] = cos(a) * sin(e); u[q][1] = sin(a) * sin(e); u[q][2] = cos(e); } '
+                     'double c[3] = {u[0][1] * u[1][2] - u[0][2] * u[1][1], '
+                     'u[0][2] * u[1][0] - u[0][0] * u[1][2], u[0][0] * u[1][1] - u[0][1] * u[1][0]}; '
+                     'double sn = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]), '
+                     'cs = u[0][0] * u[1][0] + u[0][1] * u[1][1] + u[0][2] * u[1][2], '
+                     'phi = atan2(sn, cs); for (int j = 0; j < 3; j++) b_[3 * i + j] = '
+                     '(moving ? -phi * c[j] / sn : 0.0) + 1e-4 * sin(1.7 * i + j); }')
 TRAJ = 'set:igea_sim_trajectory(IGEA_ENVFUN_STRAPDOWN, 10.0, 10.0, 101, b_, 101);'
 THETA30 = 'c:30.0 * (double)i'
 YA_DUAL = 'c:asind(30.0 * (double)i) + 1e-4 * au(i)'
@@ -295,6 +316,20 @@ BASE = {
     'igea_triad_apply': dict(layout='IGEA_ROWMAJOR', n='5', raw='u', ldr='3',
                              theta='[0.01, 0.02, 0.03, 1.0, 1.01, 0.99, 0.001, 0.002, 0.003]',
                              ldc='3'),
+    'igea_triad_gyro_fit': dict(layout='IGEA_ROWMAJOR', n='350', gyro=TRIAD_GYRO, ldg='3',
+                                fs='10.0', nint='12', start='c:30 * i', end='c:30 * i + 20',
+                                means=TRIAD_GMEANS,
+                                theta_a='[0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0]',
+                                cov_a='c:i % 10 == 0 ? 1e-8 : 0.0', ldca='9', max_iter='200',
+                                ldc='12', _int=dict(nint='size', ldg='ld', ldca='ld'),
+                                _intarr=dict(start='code', end='code')),
+    'igea_triad_calibrate_imu': dict(layout='IGEA_ROWMAJOR', n='480', acc=TRIAD_RECORD, lda='3',
+                                     gyro=TRIAD_RECORD_GYRO, ldg='3', fs='10.0', opts=TRIAD_OPTS,
+                                     ldca='9', ldcg='12', _int=dict(ldg='ld', ldca='ld',
+                                                                    ldcg='ld')),
+    'igea_triad_gyro_apply': dict(layout='IGEA_ROWMAJOR', n='5', raw='u', ldr='3',
+                                  theta='[0.01, 0.02, 0.03, 1.0, 1.01, 0.99, 0.001, 0.002, '
+                                        '0.003, -0.001, -0.002, 0.0015]', ldc='3'),
     # ---- envfun
     'igea_envfun_term_valid': dict(system='IGEA_ENVFUN_STRAPDOWN', term='IGEA_ENVFUN_TERM_ACC_BIAS_X',
                                    _ret='bool'),
