@@ -588,7 +588,32 @@ TRIAD_INFO_RMS_AFTER = 4
 TRIAD_INFO_SIGMA = 5
 TRIAD_INFO_ITERATIONS = 6
 TRIAD_INFO_ZETA_INIT = 7
+TRIAD_INFO_MISFIT = 8
 TRIAD_INFO_LEN = 16
+TRIAD_GYRO_BX = 0
+TRIAD_GYRO_BY = 1
+TRIAD_GYRO_BZ = 2
+TRIAD_GYRO_KX = 3
+TRIAD_GYRO_KY = 4
+TRIAD_GYRO_KZ = 5
+TRIAD_GYRO_MXY = 6
+TRIAD_GYRO_MXZ = 7
+TRIAD_GYRO_MYX = 8
+TRIAD_GYRO_MYZ = 9
+TRIAD_GYRO_MZX = 10
+TRIAD_GYRO_MZY = 11
+TRIAD_GYRO_NP = 12
+TRIAD_GYRO_INFO_PAIRS = 0
+TRIAD_GYRO_INFO_RMS_BEFORE = 1
+TRIAD_GYRO_INFO_RMS_AFTER = 2
+TRIAD_GYRO_INFO_SIGMA = 3
+TRIAD_GYRO_INFO_ITERATIONS = 4
+TRIAD_GYRO_INFO_STATIC_SAMPLES = 5
+TRIAD_GYRO_INFO_NOISE_X = 6
+TRIAD_GYRO_INFO_NOISE_Y = 7
+TRIAD_GYRO_INFO_NOISE_Z = 8
+TRIAD_GYRO_INFO_MISFIT = 9
+TRIAD_GYRO_INFO_LEN = 16
 
 PROTOTYPES = {
     # igea/accel.h
@@ -1034,6 +1059,16 @@ PROTOTYPES = {
         ("info", _PD),)),
     "igea_triad_apply": (c_int, (("layout", c_int), ("n", c_int), ("raw", _PD), ("ldr", c_int),
         ("theta", _PD), ("cal", _PD), ("ldc", c_int),)),
+    "igea_triad_gyro_fit": (c_int, (("layout", c_int), ("n", c_int), ("gyro", _PD), ("ldg", c_int),
+        ("fs", c_double), ("nint", c_int), ("start", _PI), ("end", _PI), ("means", _PD),
+        ("theta_a", _PD), ("cov_a", _PD), ("ldca", c_int), ("max_iter", c_int), ("theta", _PD),
+        ("cov", _PD), ("ldc", c_int), ("info", _PD),)),
+    "igea_triad_calibrate_imu": (c_int, (("layout", c_int), ("n", c_int), ("acc", _PD),
+        ("lda", c_int), ("gyro", _PD), ("ldg", c_int), ("fs", c_double), ("opts", _PD),
+        ("theta_a", _PD), ("cov_a", _PD), ("ldca", c_int), ("theta_g", _PD), ("cov_g", _PD),
+        ("ldcg", c_int), ("info_a", _PD), ("info_g", _PD),)),
+    "igea_triad_gyro_apply": (c_int, (("layout", c_int), ("n", c_int), ("raw", _PD),
+        ("ldr", c_int), ("theta", _PD), ("cal", _PD), ("ldc", c_int),)),
 }
 
 # The pointer arguments each function only reads (const in the header),
@@ -1178,4 +1213,7 @@ INPUTS = {
     "igea_triad_fit": ("means", "theta0",),
     "igea_triad_calibrate": ("acc", "opts",),
     "igea_triad_apply": ("raw", "theta",),
+    "igea_triad_gyro_fit": ("gyro", "start", "end", "means", "theta_a", "cov_a",),
+    "igea_triad_calibrate_imu": ("acc", "gyro", "opts",),
+    "igea_triad_gyro_apply": ("raw", "theta",),
 }
