@@ -22,6 +22,15 @@ import gen_fortran  # noqa: E402
 # named together, "2 outputs", a layout by reference to another
 # function, an options or state array); each was read in its header.
 ARRAYS = {
+    ('igea_envfun_compute_site', 'S'),
+    ('igea_impact_component_miss', 'miss'),
+    ('igea_sim_raw_track', 'q0'),
+    ('igea_sim_raw_track', 'site_out'),
+    ('igea_sim_raw_track', 'tel'),
+    ('igea_sim_raw_track', 'trk'),
+    ('igea_sim_track_errors', 'acc'),
+    ('igea_sim_track_errors', 'err'),
+    ('igea_triad_gyro_apply', 'cal'),
     ('igea_accel_merge', 'theta_deg'),
     ('igea_accel_merge', 'ya_mean'),
     ('igea_accel_design', 'A'),

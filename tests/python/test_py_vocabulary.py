@@ -46,7 +46,7 @@ def fields(cls):
 @pytest.mark.parametrize("fn, cmds, python_only", [
     (igea.eqerr, ["eqerr"], {"rank_tol"}),
     (igea.simulate, ["simulate"], set()),
-    (igea.montecarlo, ["montecarlo", "simulate", "eqerr"], set()),
+    (igea.montecarlo, ["montecarlo", "simulate", "eqerr"], {"client", "chunk"}),
     (igea.accuracy_test, ["test"], {"equiv_err", "eigenvalues"}),
 ])
 def test_keywords_are_option_names(fn, cmds, python_only):
