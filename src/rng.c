@@ -1,5 +1,5 @@
 /* src/rng.c - xoshiro256++ keyed per flight, and its ziggurat normal
- * (docs/speed.md, "Random streams").
+ * (docs/validation.md, "Keyed streams: generator xoshiro").
  *
  * xoshiro256++: D. Blackman, S. Vigna, "Scrambled linear pseudorandom
  * number generators", ACM TOMS 47 (2021), the reference code of

@@ -18,6 +18,7 @@
 #include "internal.h"
 #include "sim_model.h"
 #include "rng.h"
+#include "sim_noise.h"
 
 /* The width of every dgemm: a BLAS may treat the columns of a product
  * differently by their number (its kernels' tails), never by their values;
@@ -87,7 +88,8 @@ void igea__sim_noise_xoshiro(const igea_sim_model *c, void *st, double *dw)
 }
 
 /* A block on the keyed streams: the truths X (N x b, unscaled) and the
- * whitened noises E (m x b), then PB = L^T X + Q^T E with L = V diag(lam0)
+ * whitened noises E (m x b; the noise models of sim_noise.c drawn as
+ * igea__sim_draw_noise draws them, then divided by sigma), then PB = L^T X + Q^T E with L = V diag(lam0)
  * (Q^T Sw = V^T A = diag(lam0) V^T: the product with S is not formed). */
 static void mb_block_xoshiro(const mb_job *jb, gsl_rng *r, int f0, int nb, double *X,
                              double *E, double *PB, double *xs)
@@ -102,7 +104,14 @@ static void mb_block_xoshiro(const mb_job *jb, gsl_rng *r, int f0, int nb, doubl
             continue;
         }
         igea__sim_truth_xoshiro(c, r->state, jb->seed, jb->first + f0 + j, x, xs);
-        noise_xoshiro(c, r->state, 1, e);
+        if (igea__sim_noise_plain(c->opts)) {
+            noise_xoshiro(c, r->state, 1, e);
+            continue;
+        }
+        memset(e, 0, (size_t)m * sizeof(double)); /* AR(p), correlation, groups */
+        igea__sim_draw_noise(c, r, e);
+        for (int i = 0; i < m; i++)
+            e[i] /= c->sigma[i];
     }
     for (int j0 = 0; j0 < b; j0 += MB_CHUNK) {
         double *pb = PB + (size_t)j0 * N;

@@ -83,7 +83,7 @@ extern "C" {
                               ziggurat normal, one normal per row (and the
                               outlier's two draws only when outlier_prob > 0):
                               the fast streams of the Monte Carlo
-                              (docs/speed.md) */
+                              (docs/validation.md) */
 
 /* Fill opts[IGEA_SIM_OPT_LEN] with the defaults above. Returns 0, -1. */
 IGEA_API int igea_sim_defaults(double *opts);
