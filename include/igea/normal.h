@@ -61,9 +61,9 @@ IGEA_API int igea_normal_accumulate(int layout, int m, int N, const double *S,
  * igea_normal_accumulate itself. The BLAS calls run on the threads made
  * here: a threaded BLAS should be set to one thread by the host (the library
  * never sets it).
- * Arguments 1-13 as igea_normal_accumulate; 14 nthreads, 0 ..
- * IGEA_NORMAL_THREADS_MAX (a thread that cannot start: its segments run on
- * the calling thread).
+ * Arguments 1-13 as igea_normal_accumulate (9 spec_sigma may be NULL: no
+ * column scaling); 14 nthreads, 0 .. IGEA_NORMAL_THREADS_MAX (a thread that
+ * cannot start: its segments run on the calling thread).
  * Returns igea_normal_accumulate's statuses (a failing segment: the first
  * one's), -14; on failure A, b, wtw are untouched.
  */
