@@ -5,7 +5,9 @@ x 74 terms; a 1,800,000-row flight through the driver in < 64 MB).
 One run measures, on the same matrix:
   floor   one bare OpenBLAS cblas_dsyrk (S^T S) - the least any method must do
   igea    igea.eqerr through Python (normal equations, dsyevd, sigma_w loop,
-          tests, residuals)
+          tests, residuals, the verdict rule's overall size), 1 and 2 threads
+  run     igea_eqerr_run alone (no overall size), 1 and 2 threads: the
+          normal equations' share (IGEA_EQERR_OPT_THREADS)
   driver  'igea eqerr' on .npy files (reads 107 MB from disk)
   numpy   the same steps written with numpy/scipy
 and prints the ratios. Then it writes a 1.8M-row .npy flight (1.07 GB) and
@@ -13,18 +15,23 @@ reports the driver's peak resident memory.
 
     make bench            (or: python bench/bench_eqerr.py [--rows N] [--skip-big])
 """
-import argparse
-import ctypes
-import ctypes.util
 import os
-import shutil
-import subprocess
-import sys
-import tempfile
-import time
 
-import numpy as np
-from scipy import stats
+# One BLAS thread (before numpy loads): the floor is one thread's dsyrk and
+# igea's threads=2 runs its own threads, each with a one-thread dsyrk.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+import argparse  # noqa: E402
+import ctypes  # noqa: E402
+import ctypes.util  # noqa: E402
+import shutil  # noqa: E402
+import subprocess  # noqa: E402
+import sys  # noqa: E402
+import tempfile  # noqa: E402
+import time  # noqa: E402
+
+import numpy as np  # noqa: E402
+from scipy import stats  # noqa: E402
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "python"))
 import igea  # noqa: E402
@@ -38,6 +45,32 @@ def best(f, repeat=5):
         t0 = time.perf_counter()
         f()
         ts.append(time.perf_counter() - t0)
+    return min(ts)
+
+
+def eqerr_run(S, dw, sigma, spec, threads):
+    """igea_eqerr_run itself, without the overall size of the verdict rule
+    that igea.eqerr also asks for (IGEA_EQERR_OPT_OVERALL_SIZE: ~1.8 s for
+    74 tested components, the rule's size, not the normal equations)."""
+    from igea import _capi, _lib
+    m, N = S.shape
+    opts = np.zeros(_capi.EQERR_OPT_LEN)
+    _lib.lib.igea_eqerr_defaults(_lib.dptr(opts))
+    opts[_capi.EQERR_OPT_THREADS] = threads
+    out = [np.empty(N), np.empty((N, N), order="F"), np.empty(N), np.empty(N),
+           np.empty(N, dtype=np.intc), np.empty(_capi.STATS_INFO_LEN), np.empty(m), np.empty(3)]
+    ptr = [_lib.iptr(a) if a.dtype == np.intc else _lib.dptr(a) for a in out]
+    _lib.call("bench", "igea_eqerr_run", m, N, _lib.dptr(S), m, _lib.dptr(dw), _lib.dptr(sigma),
+              1, _lib.dptr(spec), _lib.dptr(opts), ptr[0], ptr[1], N, *ptr[2:])
+
+
+def best_cpu(f, repeat=3):
+    """Min CPU time (process_time, all threads) over repeats."""
+    ts = []
+    for _ in range(repeat):
+        c0 = time.process_time()
+        f()
+        ts.append(time.process_time() - c0)
     return min(ts)
 
 
@@ -105,6 +138,11 @@ def main():
 
     t_floor = best(floor)
     t_igea = best(lambda: igea.eqerr(S, dw, sigma, spec))
+    t_igea2 = best(lambda: igea.eqerr(S, dw, sigma, spec, threads=2))
+    t_run = {t: best(lambda: eqerr_run(S, dw, sigma, spec, t)) for t in (1, 2)}
+    c_floor = best_cpu(floor)
+    c_igea = best_cpu(lambda: igea.eqerr(S, dw, sigma, spec))
+    c_igea2 = best_cpu(lambda: igea.eqerr(S, dw, sigma, spec, threads=2))
     t_numpy = best(lambda: numpy_eqerr(S, dw, sigma, spec), repeat=3)
     with tempfile.TemporaryDirectory() as d:
         Sc = np.ascontiguousarray(S)
@@ -117,6 +155,19 @@ def main():
     print(f"eqerr, {m} rows x {N} terms (best of several runs, this machine):")
     print(f"  floor  (one cblas_dsyrk)      {t_floor * 1e3:8.1f} ms")
     print(f"  igea   (Python, whole job)    {t_igea * 1e3:8.1f} ms   {t_igea / t_floor:5.2f} x floor")
+    print(f"  igea   threads=2 (wall)       {t_igea2 * 1e3:8.1f} ms   {t_igea2 / t_floor:5.2f} x floor"
+          f"  (target <= 0.6 x floor: {'met' if t_igea2 <= 0.6 * t_floor else 'NOT met'})")
+    print(f"  igea_eqerr_run (C: normal equations, eig, sigma_w loop, tests, residuals; "
+          f"no overall size)")
+    print(f"         1 thread               {t_run[1] * 1e3:8.1f} ms   {t_run[1] / t_floor:5.2f} x floor")
+    print(f"         threads=2              {t_run[2] * 1e3:8.1f} ms   {t_run[2] / t_floor:5.2f} x floor"
+          f"  (target <= 0.6 x floor: {'met' if t_run[2] <= 0.6 * t_floor else 'NOT met'}; "
+          f"{t_run[1] / t_run[2]:.2f} x one thread)")
+    print(f"  CPU time: floor {c_floor * 1e3:.1f} ms, igea {c_igea * 1e3:.1f} ms "
+          f"({c_igea / c_floor:.2f} x), igea threads=2 {c_igea2 * 1e3:.1f} ms "
+          f"({c_igea2 / c_igea:.2f} x one thread's CPU); BLAS threads: "
+          f"OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS', 'unset')}; "
+          f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
     print(f"  driver (.npy files, whole job){t_drv * 1e3:8.1f} ms   {t_drv / t_floor:5.2f} x floor")
     print(f"  numpy/scipy (same steps)      {t_numpy * 1e3:8.1f} ms   {t_numpy / t_igea:5.2f} x igea")
     print(f"  targets: igea <= 1.3 x floor ({'met' if t_igea <= 1.3 * t_floor else 'NOT met'}), "

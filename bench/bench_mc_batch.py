@@ -1,17 +1,22 @@
 """Batched Monte Carlo (IGEA_SIM_OPT_BATCH) against the flight-by-flight
-path, a numpy peer vectorised over flights and the dgemm floor.
+path, a numpy peer vectorised over flights and the dgemm floor, with the
+default streams (mt19937) and igea's keyed streams (generator xoshiro).
 
   python bench/bench_mc_batch.py            120x21, 120x74, 3000x74
   python bench/bench_mc_batch.py --scale 4  4x the flights (steadier)
 
 Per-flight times (min of 3 repeats) of the whole study: truths and noises
 drawn, right-hand sides formed, sigma_w loop and tests. The floor is the
-two products of the batched path, S X (m x N x F) and Q^T W (N x m x F),
-timed as numpy matmuls on the same shapes. OPENBLAS_NUM_THREADS=1 is set
-here before numpy loads (the library's own threads are igea's nthreads;
-the numpy peer and the floor run on one thread). Run with the
-repository's venv, PYTHONPATH=python and IGEA_LIBRARY set (`make bench`
-does).
+product the study cannot avoid, Q^T W (N x m x F), timed as a numpy matmul
+on the same shape; 'floor2' adds S X (m x N x F), the other product of the
+default batched path and of the numpy peer (the keyed path forms
+diag(lam0) V^T X instead, N x N x F). OPENBLAS_NUM_THREADS=1 is set here
+before numpy loads (the library's own threads are igea's nthreads; the
+numpy peer and the floor run on one thread). CPU columns are process
+times (steady on a loaded machine); the 2-thread speed-up is the wall
+ratio, meaningful only with the load average (printed) below the cores.
+Run with the repository's venv, PYTHONPATH=python and IGEA_LIBRARY set
+(`make bench` does).
 """
 import os
 
@@ -38,7 +43,7 @@ def model(M, N, seed=1):
     return np.asfortranarray(S), 0.01
 
 
-def igea_study(S, sigma, nflights, threads, batch, sigma_w=1.2):
+def igea_study(S, sigma, nflights, threads, batch, sigma_w=1.2, generator=0):
     m, N = S.shape
     h = ctypes.c_void_p()
     _lib.call("b", "igea_sim_model_create", m, N, _lib.dptr(S), m, ctypes.byref(h))
@@ -47,6 +52,7 @@ def igea_study(S, sigma, nflights, threads, batch, sigma_w=1.2):
     lib.igea_sim_defaults(_lib.dptr(opts))
     opts[_capi.SIM_OPT_SIGMA_W] = sigma_w
     opts[_capi.SIM_OPT_BATCH] = batch
+    opts[_capi.SIM_OPT_GENERATOR] = generator
     _lib.call("b", "igea_sim_model_set_noise", h, _lib.dptr(opts))
     counts = np.zeros(_capi.SIM_MC_LEN)
     t0, c0 = time.perf_counter(), time.process_time()
@@ -105,18 +111,20 @@ def numpy_study(S, sigma, nflights, sigma_w=1.2, seed=1, block=256):
 
 
 def floor(S, nflights, reps=3):
-    """The two products of the batched path over all flights (numpy BLAS)."""
+    """Q^T W alone and with S X over all flights (numpy BLAS, CPU time)."""
     m, N = S.shape
     F = min(nflights, 4096)
     X, W = np.ones((N, F)), np.ones((m, F))
     Q = np.asfortranarray(S)
-    best = np.inf
+    one = two = np.inf
     for _ in range(reps):
         c0 = time.process_time()
-        S @ X
         Q.T @ W
-        best = min(best, time.process_time() - c0)
-    return best / F
+        c1 = time.process_time()
+        S @ X
+        c2 = time.process_time()
+        one, two = min(one, c1 - c0), min(two, c2 - c0)
+    return one / F, two / F
 
 
 def best(fn, reps=3):
@@ -132,25 +140,31 @@ def main():
     print("OPENBLAS_NUM_THREADS=1 (numpy peer and floor on 1 thread); igea at 1 and 2 "
           "threads; per-flight times in microseconds, min of 3; batch 0 = automatic "
           "(64 flights); load average %.1f on %d cores" % (os.getloadavg()[0], os.cpu_count()))
-    print("1-thread columns are CPU times (process_time: steady on a shared machine); "
-          "'wall' columns are elapsed (the 2-thread speed-up needs them, and idle cores)")
-    print(f"{'M x N':>9} {'flights':>7} {'floor':>7} {'numpy':>7} {'per-fl':>8} "
-          f"{'batch':>7} {'wall 1t':>8} {'wall 2t':>8} {'numpy/b':>8} {'b/floor':>8} "
-          f"{'per-fl/b':>8} {'2t gain':>7}")
+    print("CPU columns: floor, floor2, numpy, per-fl (mt19937 flight by flight), mt "
+          "(batched, default streams), xo (batched, xoshiro), xo 2t (CPU per flight on 2 "
+          "threads); wall 1t / wall 2t: xoshiro elapsed; 2t gain = wall 1t / wall 2t")
+    print(f"{'M x N':>9} {'flights':>7} {'floor':>7} {'floor2':>7} {'numpy':>7} "
+          f"{'per-fl':>8} {'mt':>7} {'xo':>7} {'xo 2t':>7} {'wall 1t':>8} {'wall 2t':>8} "
+          f"{'numpy/xo':>8} {'xo/floor':>8} {'numpy/mt':>8} {'2t gain':>7}")
     for M, N, F, Fone in ((120, 21, 20000, 2000), (120, 74, 10000, 600), (3000, 74, 600, 60)):
         F, Fone = int(F * a.scale), int(Fone * a.scale)
         S, sigma = model(M, N)
-        tf = floor(S, F)
+        tf, tf2 = floor(S, F)
         _, cn, rn = best(lambda: numpy_study(S, sigma, F))
         _, co, _ = best(lambda: igea_study(S, sigma, Fone, 1, 1))
-        w1, c1, r1 = best(lambda: igea_study(S, sigma, F, 1, 0))
-        w2, _, _ = best(lambda: igea_study(S, sigma, F, 2, 0))
+        _, cm, rm = best(lambda: igea_study(S, sigma, F, 1, 0))
+        w1, c1, r1 = best(lambda: igea_study(S, sigma, F, 1, 0, generator=2))
+        w2, c2, _ = best(lambda: igea_study(S, sigma, F, 2, 0, generator=2))
         us = lambda t, n: 1e6 * t / n  # noqa: E731
-        cn, co, c1, w1, w2 = us(cn, F), us(co, Fone), us(c1, F), us(w1, F), us(w2, F)
-        tf *= 1e6
-        print(f"{M:>4} x {N:<3} {F:>7} {tf:>7.2f} {cn:>7.2f} {co:>8.1f} {c1:>7.2f} {w1:>8.2f} "
-              f"{w2:>8.2f} {cn / c1:>8.2f} {c1 / tf:>8.2f} {co / c1:>8.1f} {w1 / w2:>7.2f}"
-              f"   (failed rate numpy {rn:.3f}, igea {r1:.3f})")
+        cn, co, cm, c1, c2, w1, w2 = (us(cn, F), us(co, Fone), us(cm, F), us(c1, F),
+                                      us(c2, F), us(w1, F), us(w2, F))
+        tf, tf2 = 1e6 * tf, 1e6 * tf2
+        print(f"{M:>4} x {N:<3} {F:>7} {tf:>7.2f} {tf2:>7.2f} {cn:>7.2f} {co:>8.1f} "
+              f"{cm:>7.2f} {c1:>7.2f} {c2:>7.2f} {w1:>8.2f} {w2:>8.2f} {cn / c1:>8.2f} "
+              f"{c1 / tf:>8.2f} {cn / cm:>8.2f} {w1 / w2:>7.2f}"
+              f"   (failed rate numpy {rn:.3f}, mt {rm:.3f}, xoshiro {r1:.3f})")
+    print("load average after the run %.1f" % os.getloadavg()[0])
+
 
 if __name__ == "__main__":
     main()

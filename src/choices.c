@@ -39,7 +39,8 @@ static const choice envfun_output[] = {
     {IGEA_ENVFUN_VELOCITY, "velocity"}, {IGEA_ENVFUN_POSITION, "position"},
     {IGEA_ENVFUN_VELOCITY_G, "velocity_g"}, {IGEA_ENVFUN_POSITION_G, "position_g"}, END};
 static const choice sim_generator[] = {
-    {IGEA_SIM_MT19937, "mt19937"}, {IGEA_SIM_RANLXD2, "ranlxd2"}, END};
+    {IGEA_SIM_MT19937, "mt19937"}, {IGEA_SIM_RANLXD2, "ranlxd2"},
+    {IGEA_SIM_XOSHIRO, "xoshiro"}, END};
 static const choice rls_variant[] = {
     {IGEA_RLS_STANDARD, "standard"}, {IGEA_RLS_ITERATED, "iterated"},
     {IGEA_RLS_POLYNOMIAL, "polynomial"}, END};

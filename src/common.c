@@ -102,6 +102,7 @@ const char *igea_opt_name(int module, int slot)
         [IGEA_EQERR_OPT_VERDICT_A] = "verdict_a",
         [IGEA_EQERR_OPT_VERDICT_B] = "verdict_b",
         [IGEA_EQERR_OPT_VERDICT_SIZE] = "verdict_size",
+        [IGEA_EQERR_OPT_THREADS] = "threads",
         [IGEA_EQERR_OPT_AR] = "ar", /* igea/noise.h, 20..27 */
         [IGEA_EQERR_OPT_AR_ESTIMATE] = "ar_estimate",
         [IGEA_EQERR_OPT_ROBUST] = "robust",

@@ -58,6 +58,8 @@ int igea_eqerr_check_opts(const double *o)
         if (!(o[IGEA_EQERR_OPT_VERDICT_B] > 0)) return 1 + IGEA_EQERR_OPT_VERDICT_B;
         if (!(o[IGEA_EQERR_OPT_VERDICT_SIZE] >= 0 && o[IGEA_EQERR_OPT_VERDICT_SIZE] <= 1)) return 1 + IGEA_EQERR_OPT_VERDICT_SIZE;
     }
+    const double nt = o[IGEA_EQERR_OPT_THREADS];
+    if (!(nt >= 0 && nt <= IGEA_EQERR_THREADS_MAX && nt == floor(nt))) return 1 + IGEA_EQERR_OPT_THREADS;
     return igea__noise_check_opts(o); /* slots 20..27, igea/noise.h */
 }
 
@@ -548,8 +550,9 @@ static int run_eig(int m, int N, const double *S, int lds, const double *dw,
         return IGEA_ENOMEM;
     double *b = A + nn, *wtw = b + N;
     memset(A, 0, (nn + N + 2) * sizeof(double));
-    int st = igea_normal_accumulate(IGEA_COLMAJOR, m, N, S, lds, dw, track_sigma,
-                                    sigma_inc, spec_sigma, A, N, b, wtw);
+    int st = igea_normal_accumulate_threads(IGEA_COLMAJOR, m, N, S, lds, dw, track_sigma,
+                                            sigma_inc, spec_sigma, A, N, b, wtw,
+                                            (int)opts[IGEA_EQERR_OPT_THREADS]);
     if (st < 0 && st > -1000)
         st = IGEA_EDOMAIN; /* cannot happen: arguments checked above */
     if (st == 0)

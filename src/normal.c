@@ -1,6 +1,7 @@
 /* normal.c - weighted normal equations (one dsyrk pass over the data) and
  * the streamed QR factor of the same weighted data (dtpqrt). */
 #include <float.h>
+#include <pthread.h>
 
 #include <cblas.h>
 #include <lapacke.h>
@@ -172,10 +173,11 @@ static int add_running(int m, int N, const double *Al, const double *bl, double 
     return 0;
 }
 
-int igea_normal_accumulate(int layout, int m, int N, const double *S, int lds,
-                           const double *dw, const double *track_sigma,
-                           int sigma_inc, const double *spec_sigma, double *A,
-                           int lda, double *b, double *wtw)
+/* Every argument of igea_normal_accumulate (and of the threaded form). */
+static int check_accumulate(int layout, int m, int N, const double *S, int lds,
+                            const double *dw, const double *track_sigma, int sigma_inc,
+                            const double *spec_sigma, const double *A, int lda,
+                            const double *b, const double *wtw)
 {
     int st = check_dims(layout, m, N, S, lds, dw, track_sigma, sigma_inc);
     if (st) return st;
@@ -185,10 +187,18 @@ int igea_normal_accumulate(int layout, int m, int N, const double *S, int lds,
     if (!wtw || !(wtw[0] >= 0.0 && wtw[0] <= DBL_MAX) ||
         !(wtw[1] >= 0.0 && wtw[1] < 0x1p53))
         return -13;
-    if ((st = check_weights(m, N, track_sigma, sigma_inc, spec_sigma)))
+    return check_weights(m, N, track_sigma, sigma_inc, spec_sigma);
+}
+
+int igea_normal_accumulate(int layout, int m, int N, const double *S, int lds,
+                           const double *dw, const double *track_sigma,
+                           int sigma_inc, const double *spec_sigma, double *A,
+                           int lda, double *b, double *wtw)
+{
+    int st = check_accumulate(layout, m, N, S, lds, dw, track_sigma, sigma_inc, spec_sigma,
+                              A, lda, b, wtw);
+    if (st || m == 0)
         return st;
-    if (m == 0)
-        return 0;
 
     /* One tracking sigma for every row (the common case), or rows weighted
      * in cache-sized blocks. */
@@ -272,5 +282,113 @@ int igea_normal_qr_accumulate(int layout, int m, int N, const double *S,
         *rows += m;
     }
     free(work);
+    return st;
+}
+
+/* ---- the normal equations on several threads ---------------------------- */
+
+/* Rows per segment: each segment has its own sums, whatever thread runs
+ * it, so that the result does not depend on the thread count. */
+#define MT_SEGMENT IGEA_NORMAL_SEGMENT
+
+typedef struct {
+    int layout, m, N, lds, sigma_inc, nseg, thread, nthreads;
+    const double *S, *dw, *track_sigma, *spec_sigma;
+    double *part; /* nseg x (N N + N + 2): each segment's A, b, wtw */
+    int *status;  /* nseg */
+} mt_job;
+
+static void *mt_worker(void *arg)
+{
+    const mt_job *jb = arg;
+    size_t N = (size_t)jb->N, stride = N * N + N + 2;
+    for (int k = jb->thread; k < jb->nseg; k += jb->nthreads) {
+        int r0 = k * MT_SEGMENT, nr = IGEA_MIN(MT_SEGMENT, jb->m - r0);
+        const double *Sk = jb->layout == IGEA_COLMAJOR ? jb->S + r0
+                                                        : jb->S + (size_t)r0 * jb->lds;
+        double *Ak = jb->part + (size_t)k * stride;
+        jb->status[k] = igea_normal_accumulate(
+            jb->layout, nr, jb->N, Sk, jb->lds, jb->dw + r0,
+            jb->track_sigma + (jb->sigma_inc ? r0 : 0), jb->sigma_inc, jb->spec_sigma, Ak,
+            jb->N, Ak + N * N, Ak + N * N + N);
+    }
+    return NULL;
+}
+
+/* The segments' sums in segment order into Al (lower), bl, *ww; the first
+ * failing segment's status, or 0. */
+static int mt_sum(const mt_job *jb, double *Al, double *bl, double *ww)
+{
+    size_t N = (size_t)jb->N, stride = N * N + N + 2;
+    for (int k = 0; k < jb->nseg; k++)
+        if (jb->status[k])
+            return jb->status[k];
+    memset(Al, 0, (N * N + N) * sizeof(double));
+    *ww = 0.0;
+    for (int k = 0; k < jb->nseg; k++) {
+        const double *Ak = jb->part + (size_t)k * stride;
+        for (size_t j = 0; j < N; j++)
+            for (size_t i = j; i < N; i++)
+                Al[i + j * N] += Ak[i + j * N];
+        for (size_t j = 0; j < N; j++)
+            bl[j] += Ak[N * N + j];
+        *ww += Ak[N * N + N];
+    }
+    return 0;
+}
+
+static void mt_run(mt_job *jobs, int nthreads)
+{
+    pthread_t tid[IGEA_NORMAL_THREADS_MAX];
+    int nstarted = 0;
+    for (int t = 1; t < nthreads; t++) {
+        if (pthread_create(&tid[t], NULL, mt_worker, &jobs[t]) != 0)
+            break;
+        nstarted = t;
+    }
+    mt_worker(&jobs[0]);
+    for (int t = 1; t <= nstarted; t++)
+        pthread_join(tid[t], NULL);
+    for (int t = nstarted + 1; t < nthreads; t++) /* a thread that did not start */
+        mt_worker(&jobs[t]);
+}
+
+int igea_normal_accumulate_threads(int layout, int m, int N, const double *S, int lds,
+                                   const double *dw, const double *track_sigma, int sigma_inc,
+                                   const double *spec_sigma, double *A, int lda, double *b,
+                                   double *wtw, int nthreads)
+{
+    int st = check_accumulate(layout, m, N, S, lds, dw, track_sigma, sigma_inc, spec_sigma,
+                              A, lda, b, wtw);
+    if (st)
+        return st;
+    if (nthreads < 0 || nthreads > IGEA_NORMAL_THREADS_MAX)
+        return -14;
+    if (nthreads <= 1)
+        return igea_normal_accumulate(layout, m, N, S, lds, dw, track_sigma, sigma_inc,
+                                      spec_sigma, A, lda, b, wtw);
+    if (m == 0)
+        return 0;
+    int nseg = (m + MT_SEGMENT - 1) / MT_SEGMENT;
+    size_t nn = (size_t)N * N, stride = nn + (size_t)N + 2;
+    double *part = igea__dalloc((size_t)nseg * stride + nn + (size_t)N);
+    int *status = igea__ialloc((size_t)nseg);
+    mt_job jobs[IGEA_NORMAL_THREADS_MAX];
+    st = IGEA_ENOMEM;
+    if (part && status) {
+        memset(part, 0, (size_t)nseg * stride * sizeof(double));
+        for (int t = 0; t < nthreads; t++) {
+            mt_job j = {layout, m, N, lds, sigma_inc, nseg, t, nthreads, S, dw, track_sigma,
+                        spec_sigma, part, status};
+            jobs[t] = j;
+        }
+        mt_run(jobs, nthreads);
+        double *Al = part + (size_t)nseg * stride, ww;
+        st = mt_sum(&jobs[0], Al, Al + nn, &ww);
+        if (st == 0)
+            st = add_running(m, N, Al, Al + nn, ww, A, lda, b, wtw);
+    }
+    free(part);
+    free(status);
     return st;
 }

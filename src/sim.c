@@ -19,6 +19,7 @@
 #include "igea/noise.h"
 #include "sim_noise.h"
 #include "sim_model.h"
+#include "rng.h"
 
 #define SIM_PI 3.14159265358979323846
 
@@ -142,7 +143,8 @@ int igea_sim_check_opts(const double *opts)
     if (!(opts[IGEA_SIM_OPT_OUTLIER_SCALE] >= 0.0))
         return 1 + IGEA_SIM_OPT_OUTLIER_SCALE;
     if (opts[IGEA_SIM_OPT_GENERATOR] != IGEA_SIM_MT19937 &&
-        opts[IGEA_SIM_OPT_GENERATOR] != IGEA_SIM_RANLXD2)
+        opts[IGEA_SIM_OPT_GENERATOR] != IGEA_SIM_RANLXD2 &&
+        opts[IGEA_SIM_OPT_GENERATOR] != IGEA_SIM_XOSHIRO)
         return 1 + IGEA_SIM_OPT_GENERATOR;
     double bk = opts[IGEA_SIM_OPT_BATCH];
     if (!(bk >= 0 && bk <= IGEA_SIM_BATCH_MAX && bk == floor(bk)))
@@ -416,6 +418,8 @@ unsigned long igea__sim_flight_seed(int seed, int flight)
 
 const gsl_rng_type *igea__sim_rng_type(const igea_sim_model *c)
 {
+    if (c->opts[IGEA_SIM_OPT_GENERATOR] == IGEA_SIM_XOSHIRO)
+        return igea__xoshiro_type; /* rng.c */
     return c->opts[IGEA_SIM_OPT_GENERATOR] == IGEA_SIM_RANLXD2
                ? gsl_rng_ranlxd2
                : gsl_rng_mt19937;
@@ -448,6 +452,10 @@ static int nonlinear_swap(const igea_sim_model *c, const double *x, double *nl,
 void igea__sim_draw_truth(const igea_sim_model *c, gsl_rng *r, int seed, int flight,
                           double *x, double *xs)
 {
+    if (r->type == igea__xoshiro_type) { /* keyed streams: sim_batch.c */
+        igea__sim_truth_xoshiro(c, r->state, seed, flight, x, xs);
+        return;
+    }
     gsl_rng_set(r, igea__sim_flight_seed(seed, flight));
     for (int j = 0; j < c->N; j++) {
         double g = gsl_ran_gaussian_ziggurat(r, 1.0);
@@ -467,6 +475,10 @@ void igea__sim_draw_noise(const igea_sim_model *c, gsl_rng *r, double *dw)
     double innov = sqrt(1.0 - phi * phi), prev[3] = {0, 0, 0};
     if (!igea__sim_noise_plain(c->opts)) { /* AR(p), correlation, groups: sim_noise.c */
         igea__sim_noise_rows(c->opts, c->sigma, m, r, dw);
+        return;
+    }
+    if (r->type == igea__xoshiro_type) { /* one normal per row: sim_batch.c */
+        igea__sim_noise_xoshiro(c, r->state, dw);
         return;
     }
     for (int i = 0; i < m; i++) {

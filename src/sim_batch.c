@@ -17,6 +17,8 @@
 #include "igea/stats.h"
 #include "internal.h"
 #include "sim_model.h"
+#include "rng.h"
+#include "sim_noise.h"
 
 /* The width of every dgemm: a BLAS may treat the columns of a product
  * differently by their number (its kernels' tails), never by their values;
@@ -27,13 +29,98 @@
 
 typedef struct {
     const igea_sim_model *c;
-    const double *Q, *lam0, *eqo;
+    const double *Q, *lam0, *eqo, *L; /* L = V diag(lam0), N x N */
     int seed, first, nflights, block, thread, nthreads;
     double *chi2, *scale, *fsize;
     int *dof, *nrej, *status;
     int *cnt; /* this thread's: tested, rejected (N each) */
     int fail;
 } mb_job;
+
+/* ---- igea's keyed streams (IGEA_SIM_XOSHIRO) --------------------------- */
+
+void igea__sim_truth_xoshiro(const igea_sim_model *c, void *st, int seed, int flight,
+                             double *x, double *xs)
+{
+    igea__xoshiro_key(st, seed, flight);
+    for (int j = 0; j < c->N; j++) {
+        double g = igea__xoshiro_normal(st);
+        x[j] = c->x_fixed[j] ? c->x_value[j] : g;
+        xs[j] = x[j] * c->spec[j];
+    }
+}
+
+/* The plain noise on the keyed stream: dw[i] += sd_i eps_i, or with
+ * whiten dw[i] = (sd_i / sigma_i) eps_i (the same draws, in stated
+ * sigmas: the batched path's rows), sd_i = sigma_w sigma_i (1 + g e/(M-1)). */
+static void noise_xoshiro(const igea_sim_model *c, igea__xoshiro *st, int whiten, double *dw)
+{
+    int M = c->m / 3;
+    double sw = c->opts[IGEA_SIM_OPT_SIGMA_W], phi = c->opts[IGEA_SIM_OPT_AR1];
+    double growth = c->opts[IGEA_SIM_OPT_GROWTH], p_out = c->opts[IGEA_SIM_OPT_OUTLIER_PROB];
+    double out_scale = c->opts[IGEA_SIM_OPT_OUTLIER_SCALE];
+    double innov = sqrt(1.0 - phi * phi), prev[3] = {0, 0, 0};
+    if (whiten && phi == 0.0 && growth == 0.0 && p_out == 0.0) { /* white: the same values */
+        igea__xoshiro s = *st;
+        for (int i = 0; i < c->m; i++)
+            dw[i] = sw * igea__xoshiro_normal(&s);
+        *st = s;
+        return;
+    }
+    for (int e = 0; e < M; e++) {
+        double ge = sw * (1.0 + (M > 1 ? growth * e / (double)(M - 1) : 0.0));
+        for (int a = 0; a < 3; a++) {
+            int i = 3 * e + a;
+            double g = igea__xoshiro_normal(st);
+            double eps = (e == 0) ? g : phi * prev[a] + innov * g;
+            double sd = whiten ? ge : ge * c->sigma[i], v = sd * eps;
+            prev[a] = eps;
+            if (p_out > 0.0 && igea__xoshiro_uniform(st) < p_out)
+                v += out_scale * sd * igea__xoshiro_normal(st);
+            dw[i] = whiten ? v : dw[i] + v;
+        }
+    }
+}
+
+void igea__sim_noise_xoshiro(const igea_sim_model *c, void *st, double *dw)
+{
+    noise_xoshiro(c, st, 0, dw);
+}
+
+/* A block on the keyed streams: the truths X (N x b, unscaled) and the
+ * whitened noises E (m x b; the noise models of sim_noise.c drawn as
+ * igea__sim_draw_noise draws them, then divided by sigma), then PB = L^T X + Q^T E with L = V diag(lam0)
+ * (Q^T Sw = V^T A = diag(lam0) V^T: the product with S is not formed). */
+static void mb_block_xoshiro(const mb_job *jb, gsl_rng *r, int f0, int nb, double *X,
+                             double *E, double *PB, double *xs)
+{
+    const igea_sim_model *c = jb->c;
+    int m = c->m, N = c->N, b = jb->block;
+    for (int j = 0; j < b; j++) {
+        double *x = X + (size_t)j * N, *e = E + (size_t)j * m;
+        if (j >= nb) {
+            memset(x, 0, (size_t)N * sizeof(double));
+            memset(e, 0, (size_t)m * sizeof(double));
+            continue;
+        }
+        igea__sim_truth_xoshiro(c, r->state, jb->seed, jb->first + f0 + j, x, xs);
+        if (igea__sim_noise_plain(c->opts)) {
+            noise_xoshiro(c, r->state, 1, e);
+            continue;
+        }
+        memset(e, 0, (size_t)m * sizeof(double)); /* AR(p), correlation, groups */
+        igea__sim_draw_noise(c, r, e);
+        for (int i = 0; i < m; i++)
+            e[i] /= c->sigma[i];
+    }
+    for (int j0 = 0; j0 < b; j0 += MB_CHUNK) {
+        double *pb = PB + (size_t)j0 * N;
+        cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, N, MB_CHUNK, N, 1.0, jb->L, N,
+                    X + (size_t)j0 * N, N, 0.0, pb, N);
+        cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, N, MB_CHUNK, m, 1.0, jb->Q, m,
+                    E + (size_t)j0 * m, m, 1.0, pb, N);
+    }
+}
 
 /* The block's truths (XS, N x b) and noises (DW, m x b), zero columns past
  * nb flights, then DW = diag(sigma)^-1 (DW + S XS) and PB = Q^T DW, by
@@ -116,7 +203,10 @@ static void *mb_worker(void *arg)
     for (int f0 = jb->thread * jb->block; f0 < jb->nflights && !jb->fail;
          f0 += jb->nthreads * jb->block) {
         int nb = IGEA_MIN(jb->block, jb->nflights - f0);
-        mb_block(jb, r, f0, nb, XS, DW, PB, x);
+        if (r->type == igea__xoshiro_type)
+            mb_block_xoshiro(jb, r, f0, nb, XS, DW, PB, x);
+        else
+            mb_block(jb, r, f0, nb, XS, DW, PB, x);
         for (int j = 0; j < nb && !jb->fail; j++)
             jb->fail = mb_judge(jb, f0 + j, PB + (size_t)j * N, judge, vc, rej);
     }
@@ -156,22 +246,25 @@ int igea__sim_mc_batch(const igea_sim_model *c, const double *Sw, const double *
 {
     int m = c->m, N = c->N;
     size_t nn = (size_t)N * N;
-    double *d = igea__dalloc(nn + (size_t)N + (size_t)m * N + (size_t)nflights);
+    double *d = igea__dalloc(2 * nn + (size_t)N + (size_t)m * N + (size_t)nflights);
     int *ic = igea__ialloc(2 * (size_t)N * nthreads);
     mb_job *jobs = calloc((size_t)nthreads, sizeof *jobs);
     int st = IGEA_ENOMEM;
     block = (block + MB_CHUNK - 1) / MB_CHUNK * MB_CHUNK;
     if (d && ic && jobs) {
         double *V = d, *lam0 = V + nn, *Q = lam0 + N, *fsize = Q + (size_t)m * N;
+        double *L = fsize + nflights;
         st = igea__syev_desc(N, A, N, lam0, V, N);
         if (st < 0 && st > -1000)
             st = -2;
         if (st == 0)
             cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, m, N, N, 1.0, Sw, m, V,
                         N, 0.0, Q, m);
+        for (size_t k = 0; st == 0 && k < nn; k++)
+            L[k] = V[k] * lam0[k / (size_t)N];
         memset(ic, 0, 2 * (size_t)N * nthreads * sizeof(int));
         for (int t = 0; t < nthreads; t++) {
-            mb_job j = {c, Q, lam0, eqo, seed, first, nflights, block, t, nthreads,
+            mb_job j = {c, Q, lam0, eqo, L, seed, first, nflights, block, t, nthreads,
                         chi2, scale, fsize, dof, nrej, status, ic + 2 * (size_t)N * t, 0};
             jobs[t] = j;
         }

@@ -34,6 +34,15 @@ void igea__sim_draw_truth(const igea_sim_model *c, gsl_rng *r, int seed, int fli
 /* Add the flight's tracking noise to dw (m): the draws after the truth. */
 void igea__sim_draw_noise(const igea_sim_model *c, gsl_rng *r, double *dw);
 
+/* The draws on igea's keyed streams (IGEA_SIM_XOSHIRO, sim_batch.c): the
+ * truth as igea__sim_draw_truth, st keyed by (seed, flight); the plain
+ * noise (white, AR(1), growth, outliers) added to dw: one normal per row,
+ * then a uniform and a normal per row only when outlier_prob > 0. The
+ * state is a gsl_rng's of type igea__xoshiro_type (void * here). */
+void igea__sim_truth_xoshiro(const igea_sim_model *c, void *st, int seed, int flight,
+                             double *x, double *xs);
+void igea__sim_noise_xoshiro(const igea_sim_model *c, void *st, double *dw);
+
 /* The batched Monte Carlo (sim_batch.c): flights first .. first + nflights
  * - 1 judged on the stated K common to them, in blocks of `block` flights
  * (rounded up to a multiple of 32), on nthreads threads. Sw, A as mc_normal gives them (m x N, N x N); the

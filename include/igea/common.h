@@ -145,8 +145,8 @@ IGEA_API const char *igea_opt_name(int module, int slot);
 #define IGEA_CHOICE_ENVFUN_OUTPUT 7      /* igea/envfun.h IGEA_ENVFUN_VELOCITY, _POSITION,
                                           * _VELOCITY_G, _POSITION_G: velocity position
                                           * velocity_g position_g */
-#define IGEA_CHOICE_SIM_GENERATOR 8      /* igea/sim.h IGEA_SIM_MT19937, _RANLXD2: mt19937
-                                          * ranlxd2 */
+#define IGEA_CHOICE_SIM_GENERATOR 8      /* igea/sim.h IGEA_SIM_MT19937, _RANLXD2, _XOSHIRO:
+                                          * mt19937 ranlxd2 xoshiro */
 #define IGEA_CHOICE_RLS_VARIANT 9        /* igea/rls.h IGEA_RLS_STANDARD, _ITERATED,
                                           * _POLYNOMIAL: standard iterated polynomial */
 #define IGEA_CHOICE_RLS_ANOMALY 10       /* igea/rls.h IGEA_RLS_ANOMALY_*: none replace skip

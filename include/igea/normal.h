@@ -52,6 +52,30 @@ IGEA_API int igea_normal_accumulate(int layout, int m, int N, const double *S,
                                     int lda, double *b, double *wtw);
 
 /*
+ * igea_normal_accumulate on several threads: the m rows in segments of
+ * IGEA_NORMAL_SEGMENT rows, each accumulated by igea_normal_accumulate into
+ * its own zeroed sums on one of nthreads threads, the segments' sums added
+ * in segment order, then to A, b, wtw. The result is the same for every
+ * nthreads >= 2 (for the same m rows per call) and equals
+ * igea_normal_accumulate's to rounding; nthreads 0 or 1 is
+ * igea_normal_accumulate itself. The BLAS calls run on the threads made
+ * here: a threaded BLAS should be set to one thread by the host (the library
+ * never sets it).
+ * Arguments 1-13 as igea_normal_accumulate (9 spec_sigma may be NULL: no
+ * column scaling); 14 nthreads, 0 .. IGEA_NORMAL_THREADS_MAX (a thread that
+ * cannot start: its segments run on the calling thread).
+ * Returns igea_normal_accumulate's statuses (a failing segment: the first
+ * one's), -14; on failure A, b, wtw are untouched.
+ */
+#define IGEA_NORMAL_SEGMENT 16384
+#define IGEA_NORMAL_THREADS_MAX 256
+IGEA_API int igea_normal_accumulate_threads(int layout, int m, int N, const double *S,
+                                            int lds, const double *dw,
+                                            const double *track_sigma, int sigma_inc,
+                                            const double *spec_sigma, double *A, int lda,
+                                            double *b, double *wtw, int nthreads);
+
+/*
  * The same data as an orthogonal factorisation, for the accuracy (SVD)
  * route of METHODS 1.2-1.3 on flights of any length (TSQR): R is the
  * (N+1) x (N+1) upper-triangular factor of the weighted, spec-scaled

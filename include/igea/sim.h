@@ -48,7 +48,7 @@ extern "C" {
 #define IGEA_SIM_OPT_GROWTH 2        /* true sd x (1 + g e/(M-1)), 0 [D] */
 #define IGEA_SIM_OPT_OUTLIER_PROB 3  /* probability of an outlier per row, 0 */
 #define IGEA_SIM_OPT_OUTLIER_SCALE 4 /* outlier sd / row sd, 10 */
-#define IGEA_SIM_OPT_GENERATOR 5     /* IGEA_SIM_MT19937 or IGEA_SIM_RANLXD2 */
+#define IGEA_SIM_OPT_GENERATOR 5     /* IGEA_SIM_MT19937, IGEA_SIM_RANLXD2 or IGEA_SIM_XOSHIRO */
 /* Noise models beyond white (docs/eqerr.md, "Tracking noise beyond a
  * diagonal K"; all 0 by default, which leaves every flight unchanged): */
 #define IGEA_SIM_OPT_AR2 6          /* AR lag-2 coefficient (lag 1: AR1), 0 */
@@ -79,6 +79,11 @@ extern "C" {
 
 #define IGEA_SIM_MT19937 0 /* gsl_rng_mt19937 (default) */
 #define IGEA_SIM_RANLXD2 1 /* gsl_rng_ranlxd2 (slower, luxury) */
+#define IGEA_SIM_XOSHIRO 2 /* igea's xoshiro256++ keyed by (seed, flight), a
+                              ziggurat normal, one normal per row (and the
+                              outlier's two draws only when outlier_prob > 0):
+                              the fast streams of the Monte Carlo
+                              (docs/validation.md) */
 
 /* Fill opts[IGEA_SIM_OPT_LEN] with the defaults above. Returns 0, -1. */
 IGEA_API int igea_sim_defaults(double *opts);
@@ -110,8 +115,8 @@ IGEA_API int igea_sim_trajectory(int system, double duration, double rate,
 /*
  * Check opts[IGEA_SIM_OPT_LEN] as the model does: every slot finite (the
  * reserved ones included), sigma_w > 0, |ar1| < 1, growth >= 0, 0 <=
- * outlier_prob <= 1, outlier_scale >= 0, generator IGEA_SIM_MT19937 or
- * IGEA_SIM_RANLXD2, (ar1, ar2, ar3) stationary, |corr| < 1, 0 <= group_split
+ * outlier_prob <= 1, outlier_scale >= 0, generator IGEA_SIM_MT19937,
+ * IGEA_SIM_RANLXD2 or IGEA_SIM_XOSHIRO, (ar1, ar2, ar3) stationary, |corr| < 1, 0 <= group_split
  * < 1, sigma_w2 >= 0, judge_noise 0 or 1. Returns 0 when they are valid, else 1 + the first
  * invalid slot (igea_opt_name(IGEA_MODULE_SIM, status - 1) names it); -1
  * for opts NULL.

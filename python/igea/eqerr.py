@@ -316,7 +316,7 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
           correction=None, route="eig", n_min=None, tol=None, max_iter=None,
           bias_correct=None, clamp=None, z_crit=None, rank_tol=None, verdict="seed",
           lags=20, names=None, cov=None, ar=None, ar_phi=None, groups=None, group_bias=None,
-          robust=None, robust_alpha=None):
+          robust=None, robust_alpha=None, threads=None):
     """Equivalent-error accuracy assessment of one flight (METHODS 1.2).
 
     S: (m, N) environment functions (rows epoch-major x, y, z), dw: (m,)
@@ -329,7 +329,10 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
     size. lags: the Ljung-Box lags of the residual whiteness per axis (the
     result's `whiteness`, with the runs test about each axis's mean).
     names: the N term names (e.g. igea.envfun's terms; default column_j),
-    which the result's `components` use. Returns an EqerrResult.
+    which the result's `components` use. threads: the normal equations on
+    that many threads (IGEA_EQERR_OPT_THREADS; None or 1: one, the sums as
+    before; 2 or more: the same result for any count, equal to one thread's
+    to rounding; route "eig" without a noise model). Returns an EqerrResult.
     With a noise model (cov=(M, 3, 3) instead of sigma, ar=p, ar_phi=,
     groups=(M,) labels, group_bias=, robust=, robust_alpha=) the job is
     igea_noise_eqerr (see igea.noise), judged by the same verdict rule.
@@ -376,7 +379,7 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
                         lambda_test=lambda_test, lambda_small=lambda_small, n_min=n_min, tol=tol,
                         max_iter=max_iter, correction=correction, rank_tol=rank_tol,
                         bias_correct=bias_correct, clamp=clamp, z_crit=z_crit,
-                        route=route, overall_size=1,
+                        route=route, overall_size=1, threads=threads,
                         verdict=_lib.choice(_capi.CHOICE_STATS_VERDICT, verdict, "igea.eqerr",
                                             "verdict"))
     lam = np.empty(N)

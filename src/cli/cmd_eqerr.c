@@ -155,6 +155,7 @@ static const cli_opt eqerr_options[] = {
     {"--group-bias", CLI_OPT_DSET, EQ_OPT(GROUP_BIAS), NULL, NULL, "per-group x, y, z bias columns (nuisance, not tested)", NULL},
     {"--robust", CLI_OPT_DSET, EQ_OPT(ROBUST), NULL, NULL, "reject outlying rows by data snooping (w-test)", NULL},
     {"--robust-alpha", CLI_OPT_NUM, EQ_OPT(ROBUST_ALPHA), NULL, "A", "level of the w-test per row (0: 0.001)", NULL},
+    {"--threads", CLI_OPT_NUM, EQ_OPT(THREADS), NULL, "T", "normal equations on T threads (route eig; 0 or 1:\none; the driver's blocks keep two busy); results\nequal for T >= 2 and to one thread's to rounding", NULL},
     {"--residuals", CLI_OPT_STR, &EA.residuals, NULL, "FILE", "write epoch, axis, residual per row: dw - S D P_t Xhat_t\n(whitened, with the noise models)", NULL},
     {"--burnout", CLI_OPT_STR, &EA.burnout, NULL, "X,Y,Z,VX,VY,VZ", "with --burnout-errors: the nominal burnout state\n"
      "(ECEF, m and m/s, as igea impact); the report adds the\nmiss (Kepler) of each tested component", NULL},
@@ -312,6 +313,12 @@ static int streams_open(const eqerr_args *a, streams *s)
     if (!ec) {
         s->N = cli_reader_cols(s->S);
         s->block = 1 + (4L << 20) / (8L * (s->N + 2)); /* about 4 MB of rows */
+        /* --threads T >= 2: blocks of two segments whatever T (the same sums
+         * for every T; two threads busy per block) */
+        long seg2 = 2L * IGEA_NORMAL_SEGMENT;
+        if (a->opts[IGEA_EQERR_OPT_THREADS] > 1 && a->route == IGEA_EQERR_ROUTE_EIG &&
+            s->block < seg2)
+            s->block = seg2;
         s->block -= s->block % 3;
         if (s->block < 3)
             s->block = 3;
@@ -731,8 +738,9 @@ static int pass_solve(const eqerr_args *a, streams *s, flight *r)
             break;
         int st = svd ? igea_normal_qr_accumulate(IGEA_ROWMAJOR, (int)n, N, s->sbuf, N, s->dbuf,
                                                  s->gbuf, 1, r->spec, A, N + 1, &qrows)
-                     : igea_normal_accumulate(IGEA_ROWMAJOR, (int)n, N, s->sbuf, N, s->dbuf,
-                                              s->gbuf, 1, r->spec, A, N, b, wtw);
+                     : igea_normal_accumulate_threads(IGEA_ROWMAJOR, (int)n, N, s->sbuf, N,
+                                                      s->dbuf, s->gbuf, 1, r->spec, A, N, b,
+                                                      wtw, (int)a->opts[IGEA_EQERR_OPT_THREADS]);
         if (!st)
             st = igea_eqerr_axis_sums(IGEA_ROWMAJOR, (int)n, N, s->sbuf, N, s->dbuf, (int)rows,
                                       r->sums);
@@ -848,8 +856,11 @@ static int run_streamed(const eqerr_args *a, flight *r, FILE *res, cli_json *j)
         ec = flight_alloc(r, s.N);
     if (!ec && a->spec)
         ec = read_spec(a->spec, a->S, s.N, &r->spec);
-    if (!ec)
+    if (!ec) { /* the library's threads, each with a one-thread BLAS */
+        int blas = a->opts[IGEA_EQERR_OPT_THREADS] > 1 ? cli_blas_threads(1) : 0;
         ec = pass_solve(a, &s, r);
+        cli_blas_threads(blas);
+    }
     if (!ec)
         ec = streams_rewind(&s);
     if (!ec)

@@ -163,6 +163,9 @@ BASE = {
     # ---- normal
     'igea_normal_accumulate': dict(lda='N', A='0', b='0', wtw='0', _zero_ok=['m'],
                                    _neg_bad={'wtw': [0, 1]}),
+    'igea_normal_accumulate_threads': dict(lda='N', A='0', b='0', wtw='0', nthreads='2',
+                                           _zero_ok=['m'], _opt=['spec_sigma'],
+                                           _neg_bad={'wtw': [0, 1]}),
     'igea_normal_qr_accumulate': dict(R='0', ldr='N + 1', rows='0', _zero_ok=['m'],
                                       _opt=['spec_sigma'], _neg_bad={'rows': [0]}),
     # ---- eqerr
