@@ -197,6 +197,8 @@ EQERR_OPT_VERDICT_N = 14
 EQERR_OPT_VERDICT_A = 15
 EQERR_OPT_VERDICT_B = 16
 EQERR_OPT_VERDICT_SIZE = 17
+EQERR_OPT_THREADS = 18
+EQERR_THREADS_MAX = 256
 EQERR_OPT_LEN = 32
 EQERR_ROUTE_EIG = 0
 EQERR_ROUTE_SVD = 1
@@ -316,6 +318,10 @@ NOISE_GROUP_REDUND = 2
 NOISE_GROUP_ROWS = 3
 NOISE_GROUP_BIAS = 4
 NOISE_GROUP_COLS = 8
+
+# igea/normal.h
+NORMAL_SEGMENT = 16384
+NORMAL_THREADS_MAX = 256
 
 # igea/redund.h
 REDUND_RBD_SERIES = 0
@@ -438,6 +444,7 @@ SIM_BATCH_MAX = 4096
 SIM_OPT_LEN = 32
 SIM_MT19937 = 0
 SIM_RANLXD2 = 1
+SIM_XOSHIRO = 2
 SIM_MC_FLIGHTS = 0
 SIM_MC_FAILED = 1
 SIM_MC_CHI2_REJECT = 2
@@ -826,6 +833,10 @@ PROTOTYPES = {
     "igea_normal_accumulate": (c_int, (("layout", c_int), ("m", c_int), ("N", c_int), ("S", _PD),
         ("lds", c_int), ("dw", _PD), ("track_sigma", _PD), ("sigma_inc", c_int),
         ("spec_sigma", _PD), ("A", _PD), ("lda", c_int), ("b", _PD), ("wtw", _PD),)),
+    "igea_normal_accumulate_threads": (c_int, (("layout", c_int), ("m", c_int), ("N", c_int),
+        ("S", _PD), ("lds", c_int), ("dw", _PD), ("track_sigma", _PD), ("sigma_inc", c_int),
+        ("spec_sigma", _PD), ("A", _PD), ("lda", c_int), ("b", _PD), ("wtw", _PD),
+        ("nthreads", c_int),)),
     "igea_normal_qr_accumulate": (c_int, (("layout", c_int), ("m", c_int), ("N", c_int),
         ("S", _PD), ("lds", c_int), ("dw", _PD), ("track_sigma", _PD), ("sigma_inc", c_int),
         ("spec_sigma", _PD), ("R", _PD), ("ldr", c_int), ("rows", _PD),)),
@@ -1145,6 +1156,7 @@ INPUTS = {
     "igea_noise_eqerr_resid": ("S", "dw", "track_sigma", "cov", "group", "spec_sigma", "phi",
         "opts",),
     "igea_normal_accumulate": ("S", "dw", "track_sigma", "spec_sigma",),
+    "igea_normal_accumulate_threads": ("S", "dw", "track_sigma", "spec_sigma",),
     "igea_normal_qr_accumulate": ("S", "dw", "track_sigma", "spec_sigma",),
     "igea_redund_reliability_series": ("R",),
     "igea_redund_reliability_parallel": ("R",),
