@@ -20,9 +20,10 @@ static const choice ridge_rule[] = {
 static const choice ebr_rule[] = {
     {IGEA_REGRESS_EBR_SC, "sc"}, {IGEA_REGRESS_EBR_MM, "mm"}, {IGEA_REGRESS_EBR_ML2, "ml2"}, END};
 static const choice accel_model[] = {
-    {IGEA_ACCEL_SINGLE, "single"}, {IGEA_ACCEL_DUAL, "dual"}, END};
+    {IGEA_ACCEL_SINGLE, "single"}, {IGEA_ACCEL_DUAL, "dual"}, {IGEA_ACCEL_IEEE, "ieee"}, END};
 static const choice accel_method[] = {
-    {IGEA_ACCEL_LS, "ls"}, {IGEA_ACCEL_EBR, "ebr"}, {IGEA_ACCEL_JOINT, "joint"}, END};
+    {IGEA_ACCEL_LS, "ls"}, {IGEA_ACCEL_EBR, "ebr"}, {IGEA_ACCEL_JOINT, "joint"},
+    {IGEA_ACCEL_HARMONIC, "harmonic"}, END};
 static const choice regress_method[] = {
     {IGEA_REGRESS_METHOD_LS, "ls"}, {IGEA_REGRESS_METHOD_RIDGE, "ridge"},
     {IGEA_REGRESS_METHOD_PCE, "pce"}, {IGEA_REGRESS_METHOD_BAYES, "bayes"},

@@ -181,7 +181,10 @@ IGEA_API int igea_accel_combinations(int model, double *C, int ldc);
  * rotation axis `axis` ("KA0", ..., "KAio"); combination k (0 <= k < nc,
  * the columns of igea_accel_combinations: "KA0+KA2", ...); the unit of
  * coefficient j ("g", "" for a scale factor, "rad", "g/g^2"). "" for an
- * unknown model, axis or index.
+ * unknown model, axis or index. igea_accel_coef_name and
+ * igea_accel_coef_unit also name the IEEE Std 1293 model's coefficients
+ * (model IGEA_ACCEL_IEEE, below; any axis): "K0", "K1", "K2", "K3", "Kip",
+ * "Kio", "delta_o", "delta_p"; K1's unit is "out/g" (output units per g).
  */
 IGEA_API const char *igea_accel_coef_name(int model, int axis, int j);
 IGEA_API const char *igea_accel_comb_name(int model, int axis, int k);
@@ -422,6 +425,102 @@ IGEA_API int igea_accel_joint(int n, const double *theta_deg,
                               double *coef, double *sd, double *cov, int ldc,
                               double *comp_sd, double *comb, double *comb_sd,
                               double *info);
+
+/* ---------------------------------------------------------------------- */
+/* The IEEE Std 1293 single-axis model and the design criterion. */
+
+/* The model for igea_accel_ieee_fit and igea_accel_criterion (not a model
+ * of igea_accel_fit). */
+#define IGEA_ACCEL_IEEE 2
+/* The harmonic (Fourier) method of IEEE Std 1293's tumble-test annex
+ * (igea_accel_ieee_fit; a method of IGEA_CHOICE_ACCEL_METHOD). */
+#define IGEA_ACCEL_HARMONIC 3
+
+/* Coefficients of the IEEE Std 1293 model, in this order: the output is
+ *   E = K1 (K0 + a_i + K2 a_i^2 + K3 a_i^3 + Kip a_i a_p + Kio a_i a_o
+ *           + delta_o a_p - delta_p a_o)
+ * (a_i, a_p, a_o: acceleration along the input, pendulous and output axes,
+ * in g; K1 in output units per g; K0 g; K2 g/g^2; K3 g/g^3; Kip, Kio
+ * g/g^2; delta_o, delta_p rad: the input axis's misalignment towards PA
+ * and OA). */
+#define IGEA_ACCEL_NP_IEEE 8
+#define IGEA_ACCEL_IEEE_K0 0
+#define IGEA_ACCEL_IEEE_K1 1
+#define IGEA_ACCEL_IEEE_K2 2
+#define IGEA_ACCEL_IEEE_K3 3
+#define IGEA_ACCEL_IEEE_KIP 4
+#define IGEA_ACCEL_IEEE_KIO 5
+#define IGEA_ACCEL_IEEE_DO 6
+#define IGEA_ACCEL_IEEE_DP 7
+
+/* The two standard tumble orientations (plane[] of igea_accel_ieee_fit):
+ * at head angle theta, a_i = sin theta and
+ *  IA-PA plane (head axis along OA): a_p = cos theta, a_o = 0;
+ *  IA-OA plane (head axis along PA): a_o = cos theta, a_p = 0. */
+#define IGEA_ACCEL_PLANE_IAPA 0
+#define IGEA_ACCEL_PLANE_IAOA 1
+
+/*
+ * Fit the IEEE Std 1293 model to tumble readings in one or both standard
+ * planes (docs/accel.md, "The IEEE Std 1293 model") [D]. The model is
+ * linear in b = K1 (K0, 1, K2, K3, Kip, Kio, delta_o, -delta_p), design
+ * row [1, s, s^2, s^3, sc, sc, c, c] with the sc and c columns of the
+ * other plane zero (s = sin theta, c = cos theta); b is estimated, then
+ * K1 = b_1, K_j = +-b_j / b_1, covariance J Cov(b) J^T (J = dK/db).
+ *  1 method: IGEA_ACCEL_LS (least squares, igea_regress_ls, minimum norm
+ *    when rank-deficient) or IGEA_ACCEL_HARMONIC (the Fourier
+ *    coefficients B0, S1, C1, S2, C2, S3 of each plane, pooled over the
+ *    planes by their number of positions; needs, in each plane with
+ *    readings, one reading per position at N >= 7 distinct equispaced
+ *    positions; then it equals least squares);
+ *  2 n >= 1 readings; 3 theta_deg[n] head angles; 4 plane[n]:
+ *    IGEA_ACCEL_PLANE_IAPA or IGEA_ACCEL_PLANE_IAOA per reading;
+ *  5 e[n] outputs (any unit; K1 comes out in that unit per g);
+ * Outputs: 6 coef[8] in the order above; 7 sd[8] (may be NULL); 8 cov
+ *  (8 x 8, may be NULL), 9 ldc >= 8 (>= 1 when cov is NULL): delta-method
+ *  covariance with sigma^2 = RSS / (n - rank); sd and cov NaN when
+ *  n == rank; 10 flag[8] (may be NULL): IGEA_ACCEL_DATA, or
+ *  IGEA_ACCEL_PRIOR for a coefficient the schedule does not determine
+ *  (its loading on the design's null space > IGEA_ACCEL_LOADING_TOL; its
+ *  value is the minimum-norm convention's, e.g. 0 for Kio and delta_p
+ *  without IA-OA readings); 11 info[IGEA_ACCEL_INFO_LEN] (may be NULL):
+ *  rank, sigma (output units), -, rms, nobs = n, dof = n - rank.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_EDOMAIN (harmonic: a plane not
+ * equispaced or with fewer than 7 positions; K1 estimated as 0),
+ * IGEA_EOVERFLOW, IGEA_ENOMEM, IGEA_ELAPACK.
+ */
+IGEA_API int igea_accel_ieee_fit(int method, int n, const double *theta_deg,
+                                 const int *plane, const double *e, double *coef,
+                                 double *sd, double *cov, int ldc, int *flag,
+                                 double *info);
+
+/*
+ * D-criterion of a position schedule [D]: the information matrix
+ * M = A^T W A of the model's linear design for unit noise (sigma = 1),
+ * normalised per reading, logdet = (1/r) sum_{i<r} log(lambda_i(M / n))
+ * (r = rank; for a full-rank schedule (1/np) log det(M / n), the log of the
+ * geometric-mean eigenvalue; a schedule of lower rank has det 0, and its
+ * logdet is that of the estimable part only: compare ranks first), and
+ * the per-reading variance factors varfac_j = n [M^+]_jj, so that
+ * sd_j = sigma sqrt(varfac_j / n).
+ *  1 model: IGEA_ACCEL_SINGLE (5), IGEA_ACCEL_DUAL (9), IGEA_ACCEL_IEEE (8);
+ *  2 method: IGEA_ACCEL_LS or IGEA_ACCEL_EBR (the data's information);
+ *    IGEA_ACCEL_JOINT (dual only: the radial rows plus the tangential rows
+ *    weighted 1 / (1 + head_ratio^2), 10 coefficients with delta0);
+ *    IGEA_ACCEL_HARMONIC (IEEE only; the same information as LS);
+ *  3 n >= 1 readings; 4 theta_deg[n]; 5 plane[n] (IEEE; ignored and may
+ *    be NULL otherwise);
+ *  6 head_ratio >= 0: sigma_head / sigma (joint; ignored otherwise);
+ * Outputs: 7 logdet; 8 varfac[np] (may be NULL); for a coefficient flagged
+ *  IGEA_ACCEL_PRIOR it is the minimum-norm spread, not an uncertainty;
+ *  9 flag[np] (may be NULL): IGEA_ACCEL_DATA / IGEA_ACCEL_PRIOR as in
+ *  igea_accel_fit; 10 rank.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ERANK (rank 0), IGEA_EOVERFLOW,
+ * IGEA_ENOMEM, IGEA_ELAPACK.
+ */
+IGEA_API int igea_accel_criterion(int model, int method, int n, const double *theta_deg,
+                                  const int *plane, double head_ratio, double *logdet,
+                                  double *varfac, int *flag, int *rank);
 
 #ifdef __cplusplus
 }

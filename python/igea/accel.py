@@ -18,7 +18,7 @@ from ._result import result
 
 _MODELS = _lib.choice_codes(_capi.CHOICE_ACCEL_MODEL)
 _NP = {m: getattr(_capi, "ACCEL_NP_" + m.upper()) for m in _MODELS}
-_NC = {m: getattr(_capi, "ACCEL_NC_" + m.upper()) for m in _MODELS}
+_NC = {m: getattr(_capi, "ACCEL_NC_" + m.upper(), 0) for m in _MODELS}
 LOADING_TOL = _capi.ACCEL_LOADING_TOL
 ARCSEC = np.pi / 180.0 / 3600.0
 
@@ -459,3 +459,130 @@ def accel_joint(theta_deg, y_a, y_b, *, axis="pa"):
                       sd_angle=float(comp[_capi.ACCEL_JOINT_SD_ANGLE]),
                       **_lib.fields(info, "ACCEL_INFO_", rank=int, sigma=float, rms=float,
                                     dof=int))
+
+
+# ---- the IEEE Std 1293 model and the design criterion ----------------------
+
+_PLANES = {"ia-pa": _capi.ACCEL_PLANE_IAPA, "ia-oa": _capi.ACCEL_PLANE_IAOA}
+
+
+def _planes(plane, n):
+    """plane: one of "ia-pa"/"ia-oa" for every reading, or a sequence of
+    those names or of the codes 0 (IA-PA) / 1 (IA-OA) per reading."""
+    if isinstance(plane, str):
+        plane = [plane] * n
+    codes = []
+    for p in plane:
+        if isinstance(p, str):
+            if p.lower() not in _PLANES:
+                raise ValueError("plane: %r is not ia-pa or ia-oa" % (p,))
+            codes.append(_PLANES[p.lower()])
+        else:
+            codes.append(int(p))
+    out = np.ascontiguousarray(codes, dtype=np.intc)
+    if out.shape != (n,):
+        raise ValueError("plane: expected %d entries, got %d" % (n, out.shape[0]))
+    return out
+
+
+@result
+@dataclass(frozen=True)
+class AccelIeeeFit:
+    """IEEE Std 1293 single-axis model fitted to tumble readings
+    (igea.accel_ieee_fit): K0, K1, K2, K3, Kip, Kio, delta_o, delta_p."""
+    names: list
+    units: list
+    coef: np.ndarray
+    sd: np.ndarray
+    cov: np.ndarray
+    flag: list
+    method: str
+    rank: int
+    sigma: float
+    rms: float
+    dof: int
+
+    def summary(self):
+        lines = ["IEEE Std 1293 model, %s: rank %d of 8, dof %d, sigma %.3e"
+                 % (self.method, self.rank, self.dof, self.sigma)]
+        for j, name in enumerate(self.names):
+            lines.append("%-8s %15.6e %12.3e %-6s %s" % (name, self.coef[j], self.sd[j],
+                                                      self.units[j], self.flag[j]))
+        return "\n".join(lines)
+
+
+def accel_ieee_fit(theta_deg, e, plane, *, method="ls"):
+    """Fit the IEEE Std 1293 model E = K1 (K0 + a_i + K2 a_i^2 + K3 a_i^3 +
+    Kip a_i a_p + Kio a_i a_o + delta_o a_p - delta_p a_o) to tumble readings
+    e (any unit; K1 in that unit per g) at head angles theta_deg in the
+    IA-PA plane (a_i = sin, a_p = cos) and/or the IA-OA plane (a_i = sin,
+    a_o = cos). method "ls" (least squares) or "harmonic" (the Fourier
+    method: one reading per position, N >= 7 equispaced positions per
+    plane). Coefficients the schedule does not determine are flagged
+    "prior" (docs/accel.md)."""
+    t = _theta(theta_deg)
+    n = t.shape[0]
+    y = _vec(e, "e", n)
+    pl = _planes(plane, n)
+    m = _lib.choice(_capi.CHOICE_ACCEL_METHOD, method, "igea.accel_ieee_fit", "method")
+    npar = _capi.ACCEL_NP_IEEE
+    coef, sd = np.zeros(npar), np.zeros(npar)
+    cov = np.zeros((npar, npar), order="F")
+    flag = np.zeros(npar, dtype=np.intc)
+    info = np.zeros(_capi.ACCEL_INFO_LEN)
+    _lib.call("igea.accel_ieee_fit", "igea_accel_ieee_fit", m, n, _lib.dptr(t),
+              _lib.iptr(pl), _lib.dptr(y), _lib.dptr(coef), _lib.dptr(sd), _lib.dptr(cov),
+              npar, _lib.iptr(flag), _lib.dptr(info))
+    return AccelIeeeFit(coefficient_names("ieee"), coefficient_units("ieee"), coef, sd,
+                        np.ascontiguousarray(cov),
+                        ["prior" if f == _capi.ACCEL_PRIOR else "data" for f in flag],
+                        method, **_lib.fields(info, "ACCEL_INFO_", rank=int, sigma=float,
+                                              rms=float, dof=int))
+
+
+@result
+@dataclass(frozen=True)
+class AccelCriterion:
+    """D-criterion of a position schedule (igea.accel_criterion): logdet =
+    (1/r) sum log eig(M / n) of the information matrix per reading, and the
+    per-reading variance factors (sd_j = sigma sqrt(varfac_j / n))."""
+    names: list
+    logdet: float
+    varfac: np.ndarray
+    flag: list
+    rank: int
+    nobs: int
+
+    def summary(self):
+        lines = ["D-criterion: logdet %.6f (rank %d of %d, %d readings)"
+                 % (self.logdet, self.rank, len(self.names), self.nobs)]
+        for j, name in enumerate(self.names):
+            lines.append("%-8s varfac %12.6g %s" % (name, self.varfac[j], self.flag[j]))
+        return "\n".join(lines)
+
+
+def accel_criterion(theta_deg, *, model="single", method="ls", plane=None, head_ratio=0.0,
+                    axis="pa"):
+    """D-criterion and variance factors of a schedule for a model: "single",
+    "dual" (method "joint": the joint model with head_ratio = sigma_head /
+    sigma), or "ieee" (plane per reading as for accel_ieee_fit)."""
+    t = _theta(theta_deg)
+    n = t.shape[0]
+    mod = _lib.choice(_capi.CHOICE_ACCEL_MODEL, model, "igea.accel_criterion", "model")
+    m = _lib.choice(_capi.CHOICE_ACCEL_METHOD, method, "igea.accel_criterion", "method")
+    pl = _planes(plane, n) if model == "ieee" else None
+    if model == "ieee":
+        names = coefficient_names("ieee")
+    elif model == "dual" and method == "joint":
+        names = coefficient_names("dual", axis) + ["delta0"]
+    else:
+        names = coefficient_names(model, axis)
+    npar = len(names)
+    ld, rank = ctypes.c_double(0.0), ctypes.c_int(0)
+    vf, flag = np.zeros(npar), np.zeros(npar, dtype=np.intc)
+    _lib.call("igea.accel_criterion", "igea_accel_criterion", mod, m, n, _lib.dptr(t),
+              None if pl is None else _lib.iptr(pl), float(head_ratio), ctypes.byref(ld),
+              _lib.dptr(vf), _lib.iptr(flag), ctypes.byref(rank))
+    return AccelCriterion(names, float(ld.value), vf,
+                          ["prior" if f == _capi.ACCEL_PRIOR else "data" for f in flag],
+                          int(rank.value), n)
