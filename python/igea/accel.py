@@ -489,25 +489,28 @@ def _planes(plane, n):
 @dataclass(frozen=True)
 class AccelIeeeFit:
     """IEEE Std 1293 single-axis model fitted to tumble readings
-    (igea.accel_ieee_fit): K0, K1, K2, K3, Kip, Kio, delta_o, delta_p."""
+    (igea.accel_ieee_fit): K0, K1, K2, K3, Kip, Kio, delta_o, delta_p; field
+    names match 'igea accel --model ieee --json'."""
+    model: str
+    method: str
+    positions: int
     names: list
     units: list
     coef: np.ndarray
     sd: np.ndarray
     cov: np.ndarray
-    flag: list
-    method: str
+    flags: list                 # "data", or "prior": not determined by the schedule
     rank: int
+    dof: int
     sigma: float
     rms: float
-    dof: int
 
     def summary(self):
-        lines = ["IEEE Std 1293 model, %s: rank %d of 8, dof %d, sigma %.3e"
-                 % (self.method, self.rank, self.dof, self.sigma)]
+        lines = ["IEEE Std 1293 model, %s: %d positions, rank %d of 8, dof %d, sigma %.3e"
+                 % (self.method, self.positions, self.rank, self.dof, self.sigma)]
         for j, name in enumerate(self.names):
             lines.append("%-8s %15.6e %12.3e %-6s %s" % (name, self.coef[j], self.sd[j],
-                                                      self.units[j], self.flag[j]))
+                                                      self.units[j], self.flags[j]))
         return "\n".join(lines)
 
 
@@ -516,7 +519,8 @@ def accel_ieee_fit(theta_deg, e, plane, *, method="ls"):
     Kip a_i a_p + Kio a_i a_o + delta_o a_p - delta_p a_o) to tumble readings
     e (any unit; K1 in that unit per g) at head angles theta_deg in the
     IA-PA plane (a_i = sin, a_p = cos) and/or the IA-OA plane (a_i = sin,
-    a_o = cos). method "ls" (least squares) or "harmonic" (the Fourier
+    a_o = cos); plane: "ia-pa", "ia-oa", or one name or code (0, 1) per
+    reading. method "ls" (least squares) or "harmonic" (the Fourier
     method: one reading per position, N >= 7 equispaced positions per
     plane). Coefficients the schedule does not determine are flagged
     "prior" (docs/accel.md)."""
@@ -533,35 +537,41 @@ def accel_ieee_fit(theta_deg, e, plane, *, method="ls"):
     _lib.call("igea.accel_ieee_fit", "igea_accel_ieee_fit", m, n, _lib.dptr(t),
               _lib.iptr(pl), _lib.dptr(y), _lib.dptr(coef), _lib.dptr(sd), _lib.dptr(cov),
               npar, _lib.iptr(flag), _lib.dptr(info))
-    return AccelIeeeFit(coefficient_names("ieee"), coefficient_units("ieee"), coef, sd,
-                        np.ascontiguousarray(cov),
+    return AccelIeeeFit("ieee", method, n, coefficient_names("ieee"), coefficient_units("ieee"),
+                        coef, sd, np.ascontiguousarray(cov),
                         ["prior" if f == _capi.ACCEL_PRIOR else "data" for f in flag],
-                        method, **_lib.fields(info, "ACCEL_INFO_", rank=int, sigma=float,
-                                              rms=float, dof=int))
+                        **_lib.fields(info, "ACCEL_INFO_", rank=int, dof=int, sigma=float,
+                                      rms=float))
 
 
 @result
 @dataclass(frozen=True)
 class AccelCriterion:
     """D-criterion of a position schedule (igea.accel_criterion): logdet =
-    (1/r) sum log eig(M / n) of the information matrix per reading, and the
-    per-reading variance factors (sd_j = sigma sqrt(varfac_j / n))."""
+    (1/r) sum log eig(M / n) of the information matrix per reading, det =
+    det(M / n) (0 when rank-deficient), and the per-reading variance
+    factors varfac (sd_j = sigma sqrt(varfac_j / n)); field names match
+    'igea accel --design --json'."""
+    model: str
+    method: str
+    readings: int
+    head_ratio: float
     names: list
     logdet: float
+    det: float
     varfac: np.ndarray
-    flag: list
+    flags: list
     rank: int
-    nobs: int
 
     def summary(self):
-        lines = ["D-criterion: logdet %.6f (rank %d of %d, %d readings)"
-                 % (self.logdet, self.rank, len(self.names), self.nobs)]
+        lines = ["D-criterion: logdet %.6f, det %.6g (rank %d of %d, %d readings)"
+                 % (self.logdet, self.det, self.rank, len(self.names), self.readings)]
         for j, name in enumerate(self.names):
-            lines.append("%-8s varfac %12.6g %s" % (name, self.varfac[j], self.flag[j]))
+            lines.append("%-8s varfac %12.6g %s" % (name, self.varfac[j], self.flags[j]))
         return "\n".join(lines)
 
 
-def accel_criterion(theta_deg, *, model="single", method="ls", plane=None, head_ratio=0.0,
+def accel_criterion(theta_deg, *, model="dual", method="ls", plane=None, head_ratio=0.0,
                     axis="pa"):
     """D-criterion and variance factors of a schedule for a model: "single",
     "dual" (method "joint": the joint model with head_ratio = sigma_head /
@@ -583,6 +593,7 @@ def accel_criterion(theta_deg, *, model="single", method="ls", plane=None, head_
     _lib.call("igea.accel_criterion", "igea_accel_criterion", mod, m, n, _lib.dptr(t),
               None if pl is None else _lib.iptr(pl), float(head_ratio), ctypes.byref(ld),
               _lib.dptr(vf), _lib.iptr(flag), ctypes.byref(rank))
-    return AccelCriterion(names, float(ld.value), vf,
-                          ["prior" if f == _capi.ACCEL_PRIOR else "data" for f in flag],
-                          int(rank.value), n)
+    r = int(rank.value)
+    det = float(np.exp(npar * ld.value)) if r == npar else 0.0
+    return AccelCriterion(model, method, n, float(head_ratio), names, float(ld.value), det, vf,
+                          ["prior" if f == _capi.ACCEL_PRIOR else "data" for f in flag], r)

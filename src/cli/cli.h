@@ -341,6 +341,14 @@ int cmd_eqerr(int argc, char **argv);
 int cmd_test(int argc, char **argv);
 int cmd_version(int argc, char **argv);
 int cmd_accel(int argc, char **argv);
+/* igea accel --model ieee and --design (cmd_accel_ieee.c). */
+typedef struct {
+    const char *data, *out;
+    int model, method, axis, json;
+    double tol, head_ratio;
+} cli_accel_args;
+int cli_accel_ieee(const cli_accel_args *a);
+int cli_accel_design(const cli_accel_args *a);
 int cmd_regress(int argc, char **argv);
 int cmd_envfun(int argc, char **argv);
 int cmd_simulate(int argc, char **argv);
