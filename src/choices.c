@@ -20,10 +20,9 @@ static const choice ridge_rule[] = {
 static const choice ebr_rule[] = {
     {IGEA_REGRESS_EBR_SC, "sc"}, {IGEA_REGRESS_EBR_MM, "mm"}, {IGEA_REGRESS_EBR_ML2, "ml2"}, END};
 static const choice accel_model[] = {
-    {IGEA_ACCEL_SINGLE, "single"}, {IGEA_ACCEL_DUAL, "dual"}, {IGEA_ACCEL_IEEE, "ieee"}, END};
+    {IGEA_ACCEL_SINGLE, "single"}, {IGEA_ACCEL_DUAL, "dual"}, END};
 static const choice accel_method[] = {
-    {IGEA_ACCEL_LS, "ls"}, {IGEA_ACCEL_EBR, "ebr"}, {IGEA_ACCEL_JOINT, "joint"},
-    {IGEA_ACCEL_HARMONIC, "harmonic"}, END};
+    {IGEA_ACCEL_LS, "ls"}, {IGEA_ACCEL_EBR, "ebr"}, {IGEA_ACCEL_JOINT, "joint"}, END};
 static const choice regress_method[] = {
     {IGEA_REGRESS_METHOD_LS, "ls"}, {IGEA_REGRESS_METHOD_RIDGE, "ridge"},
     {IGEA_REGRESS_METHOD_PCE, "pce"}, {IGEA_REGRESS_METHOD_BAYES, "bayes"},
@@ -87,6 +86,11 @@ static const choice redund_rbd[] = {
     {IGEA_REDUND_RBD_SERIES, "series"}, {IGEA_REDUND_RBD_PARALLEL, "parallel"},
     {IGEA_REDUND_RBD_KOFN, "kofn"}, END};
 
+static const choice accel_ieee_method[] = {
+    {IGEA_ACCEL_LS, "ls"}, {IGEA_ACCEL_HARMONIC, "harmonic"}, END};
+static const choice accel_crit_model[] = {
+    {IGEA_ACCEL_SINGLE, "single"}, {IGEA_ACCEL_DUAL, "dual"}, {IGEA_ACCEL_IEEE, "ieee"}, END};
+
 /* The table of a kind, or NULL. */
 static const choice *table(int kind)
 {
@@ -117,6 +121,8 @@ static const choice *table(int kind)
     case IGEA_CHOICE_NAV_FRAME: return nav_frame;
     case IGEA_CHOICE_NAV_GRAVITY: return nav_gravity;
     case IGEA_CHOICE_DW_KIND: return dw_kind;
+    case IGEA_CHOICE_ACCEL_IEEE_METHOD: return accel_ieee_method;
+    case IGEA_CHOICE_ACCEL_CRIT_MODEL: return accel_crit_model;
     default: return NULL;
     }
 }

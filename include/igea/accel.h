@@ -430,10 +430,10 @@ IGEA_API int igea_accel_joint(int n, const double *theta_deg,
 /* The IEEE Std 1293 single-axis model and the design criterion. */
 
 /* The model for igea_accel_ieee_fit and igea_accel_criterion (not a model
- * of igea_accel_fit). */
+ * of igea_accel_fit; IGEA_CHOICE_ACCEL_CRIT_MODEL: single dual ieee). */
 #define IGEA_ACCEL_IEEE 2
 /* The harmonic (Fourier) method of IEEE Std 1293's tumble-test annex
- * (igea_accel_ieee_fit; a method of IGEA_CHOICE_ACCEL_METHOD). */
+ * (igea_accel_ieee_fit; IGEA_CHOICE_ACCEL_IEEE_METHOD: ls harmonic). */
 #define IGEA_ACCEL_HARMONIC 3
 
 /* Coefficients of the IEEE Std 1293 model, in this order: the output is

@@ -18,7 +18,7 @@ from ._result import result
 
 _MODELS = _lib.choice_codes(_capi.CHOICE_ACCEL_MODEL)
 _NP = {m: getattr(_capi, "ACCEL_NP_" + m.upper()) for m in _MODELS}
-_NC = {m: getattr(_capi, "ACCEL_NC_" + m.upper(), 0) for m in _MODELS}
+_NC = {m: getattr(_capi, "ACCEL_NC_" + m.upper()) for m in _MODELS}
 LOADING_TOL = _capi.ACCEL_LOADING_TOL
 ARCSEC = np.pi / 180.0 / 3600.0
 
@@ -466,6 +466,13 @@ def accel_joint(theta_deg, y_a, y_b, *, axis="pa"):
 _PLANES = {"ia-pa": _capi.ACCEL_PLANE_IAPA, "ia-oa": _capi.ACCEL_PLANE_IAOA}
 
 
+def _ieee_names():
+    """Names and units of the IEEE Std 1293 coefficients (the library's)."""
+    m = _capi.ACCEL_IEEE
+    return ([_lib.lib.igea_accel_coef_name(m, 0, j).decode() for j in range(_capi.ACCEL_NP_IEEE)],
+            [_lib.lib.igea_accel_coef_unit(m, j).decode() for j in range(_capi.ACCEL_NP_IEEE)])
+
+
 def _planes(plane, n):
     """plane: one of "ia-pa"/"ia-oa" for every reading, or a sequence of
     those names or of the codes 0 (IA-PA) / 1 (IA-OA) per reading."""
@@ -528,7 +535,7 @@ def accel_ieee_fit(theta_deg, e, plane, *, method="ls"):
     n = t.shape[0]
     y = _vec(e, "e", n)
     pl = _planes(plane, n)
-    m = _lib.choice(_capi.CHOICE_ACCEL_METHOD, method, "igea.accel_ieee_fit", "method")
+    m = _lib.choice(_capi.CHOICE_ACCEL_IEEE_METHOD, method, "igea.accel_ieee_fit", "method")
     npar = _capi.ACCEL_NP_IEEE
     coef, sd = np.zeros(npar), np.zeros(npar)
     cov = np.zeros((npar, npar), order="F")
@@ -537,7 +544,7 @@ def accel_ieee_fit(theta_deg, e, plane, *, method="ls"):
     _lib.call("igea.accel_ieee_fit", "igea_accel_ieee_fit", m, n, _lib.dptr(t),
               _lib.iptr(pl), _lib.dptr(y), _lib.dptr(coef), _lib.dptr(sd), _lib.dptr(cov),
               npar, _lib.iptr(flag), _lib.dptr(info))
-    return AccelIeeeFit("ieee", method, n, coefficient_names("ieee"), coefficient_units("ieee"),
+    return AccelIeeeFit("ieee", method, n, *_ieee_names(),
                         coef, sd, np.ascontiguousarray(cov),
                         ["prior" if f == _capi.ACCEL_PRIOR else "data" for f in flag],
                         **_lib.fields(info, "ACCEL_INFO_", rank=int, dof=int, sigma=float,
@@ -578,11 +585,13 @@ def accel_criterion(theta_deg, *, model="dual", method="ls", plane=None, head_ra
     sigma), or "ieee" (plane per reading as for accel_ieee_fit)."""
     t = _theta(theta_deg)
     n = t.shape[0]
-    mod = _lib.choice(_capi.CHOICE_ACCEL_MODEL, model, "igea.accel_criterion", "model")
+    if model == "ieee" and method == "harmonic":    # the same information as least squares
+        method = "ls"
+    mod = _lib.choice(_capi.CHOICE_ACCEL_CRIT_MODEL, model, "igea.accel_criterion", "model")
     m = _lib.choice(_capi.CHOICE_ACCEL_METHOD, method, "igea.accel_criterion", "method")
     pl = _planes(plane, n) if model == "ieee" else None
     if model == "ieee":
-        names = coefficient_names("ieee")
+        names = _ieee_names()[0]
     elif model == "dual" and method == "joint":
         names = coefficient_names("dual", axis) + ["delta0"]
     else:

@@ -6,7 +6,7 @@
 
 typedef struct {
     const char *data, *prior, *out;
-    int model, method, rule, axis, json, refine, hyst, design;
+    int model, method, rule, axis, json, refine, hyst, design, ieee, have_ieee;
     double lam_floor, scale_a, scale_b, tol, head_ratio;
 } ac_args;
 
@@ -33,9 +33,13 @@ static const cli_opt options[] = {
      "with its sd from the repeated readings and the F test\n"
      "of zero hysteresis (directions from the row order:\n"
      "increasing angles = counter-clockwise)", NULL},
+    {"--ieee", CLI_OPT_CHOICE, &A.ieee, NULL, CLI_CHOICES(IGEA_CHOICE_ACCEL_IEEE_METHOD),
+     "fit the IEEE Std 1293 model instead (rows: angle,\n"
+     "plane 0 IA-PA / 1 IA-OA, output), by least squares or\n"
+     "the harmonic method (N >= 7 equispaced per plane)", &A.have_ieee},
     {"--design", CLI_OPT_FLAG, &A.design, NULL, NULL, "no fit: the D-criterion of the positions in --data\n"
-     "(angle per row; ieee: angle, plane) for --model and\n"
-     "--method: (1/p) log det(M/n) of the information per\n"
+     "(angle per row; with --ieee: angle, plane) for --model\n"
+     "and --method: (1/p) log det(M/n) of the information per\n"
      "reading, rank, per-coefficient variance factors", NULL},
     {"--head-ratio", CLI_OPT_NUM, &A.head_ratio, "0", "R", "--design --method joint: head-angle error sd over\n"
      "the output noise sd (1 arcsec / 1 ug: 4.85)", NULL},
@@ -62,11 +66,11 @@ static const cli_command command = {"accel",
 "          they come from the minimum-norm convention (ls) or the prior (ebr),\n"
 "          not from the data. The estimable combinations are reported with sds.\n"
 "  single  accelerometer A alone, y_A - sin(theta) on [1, s, c, s^2, sc]: all\n"
-"          five coefficients identifiable, head errors enter as noise.\n""  ieee    the IEEE Std 1293 model E = K1 (K0 + a_i + K2 a_i^2 + K3 a_i^3 +\n"
+"          five coefficients identifiable, head errors enter as noise.\n""  --ieee  the IEEE Std 1293 model E = K1 (K0 + a_i + K2 a_i^2 + K3 a_i^3 +\n"
 "          Kip a_i a_p + Kio a_i a_o + delta_o a_p - delta_p a_o) of one\n"
 "          accelerometer; rows: angle, plane (0: IA-PA, head axis along OA;\n"
-"          1: IA-OA, head axis along PA), output (any unit); --method ls or\n"
-"          harmonic (Fourier, N >= 7 equispaced positions per plane).\n"
+"          1: IA-OA, head axis along PA), output (any unit); ls or harmonic\n"
+"          (Fourier, N >= 7 equispaced positions per plane).\n"
 "\n"
 "options:\n",
 options,
@@ -75,7 +79,7 @@ options,
 "  igea accel --data examples/accel_dual.txt\n"
 "  igea accel --method ebr --prior examples/accel_prior.txt --data examples/accel_dual.txt\n"
 "  igea accel --model single --json --data examples/accel_dual.txt\n"
-"  igea accel --method joint --data examples/accel_dual.txt\n""  igea accel --model ieee --method harmonic --data tumble.txt\n"
+"  igea accel --method joint --data examples/accel_dual.txt\n""  igea accel --ieee harmonic --data tumble.txt\n"
 "  igea accel --design --model single --data positions.txt\n"
 "\n"
 "exit status: 0 ok, 64 usage, 65 bad input, 66 missing input, 70 numerical\n"
@@ -97,15 +101,12 @@ static int parse(int argc, char **argv, ac_args *a)
                          ? "accel: --prior needs --method ebr"
                      : a->method == IGEA_ACCEL_JOINT && a->model != IGEA_ACCEL_DUAL
                          ? "accel: --method joint needs the dual model"
-                     : a->method == IGEA_ACCEL_HARMONIC && a->model != IGEA_ACCEL_IEEE
-                         ? "accel: --method harmonic needs --model ieee"
-                     : a->model == IGEA_ACCEL_IEEE && a->method != IGEA_ACCEL_LS &&
-                       a->method != IGEA_ACCEL_HARMONIC && !a->design
-                         ? "accel: --model ieee takes --method ls or harmonic"
-                     : (a->model == IGEA_ACCEL_IEEE || a->design) &&
-                       (a->refine || a->hyst || a->prior)
+                     : a->have_ieee && a->method != IGEA_ACCEL_LS
+                         ? "accel: --ieee takes its method as its value (ls or harmonic), "
+                           "not --method"
+                     : (a->have_ieee || a->design) && (a->refine || a->hyst || a->prior)
                          ? "accel: --refine, --hysteresis and --prior do not combine with "
-                           "--model ieee or --design"
+                           "--ieee or --design"
                      : !(a->head_ratio >= 0.0) ? "accel: --head-ratio must be >= 0"
                      : a->method == IGEA_ACCEL_JOINT && a->refine
                          ? "accel: --refine keeps the null-space part of a dual fit; it does not "
@@ -369,8 +370,9 @@ int cmd_accel(int argc, char **argv)
     int ec = parse(argc, argv, &a);
     if (ec)
         return ec == CLI_HELP ? CLI_OK : ec;
-    if (a.design || a.model == IGEA_ACCEL_IEEE) {
-        cli_accel_args x = {a.data, a.out, a.model, a.method, a.axis, a.json, a.tol,
+    if (a.design || a.have_ieee) {
+        cli_accel_args x = {a.data, a.out, a.have_ieee ? IGEA_ACCEL_IEEE : a.model,
+                            a.have_ieee ? a.ieee : a.method, a.axis, a.json, a.tol,
                             a.head_ratio};
         return a.design ? cli_accel_design(&x) : cli_accel_ieee(&x);
     }

@@ -81,7 +81,7 @@ static int ai_merge(const cli_accel_args *a, ai_data *d, int *npos)
                                   d->cnt + tot, &m);
         if (st) {
             free(ang);
-            return cli_status(st, "accel --model ieee");
+            return cli_status(st, "accel --ieee");
         }
         for (int i = 0; i < m; i++)
             d->mpl[tot + i] = p;
@@ -124,7 +124,7 @@ static void ieee_report(FILE *f, const cli_accel_args *a, const ai_data *d, int 
         cli_json j;
         cli_json_begin(&j, f);
         cli_jstr(&j, "model", "ieee");
-        cli_jstr(&j, "method", igea_choice_name(IGEA_CHOICE_ACCEL_METHOD, a->method));
+        cli_jstr(&j, "method", igea_choice_name(IGEA_CHOICE_ACCEL_IEEE_METHOD, a->method));
         cli_jint(&j, "positions", npos);
         cli_jint(&j, "readings", d->n);
         cli_jnums(&j, "theta_deg", d->th, npos);
@@ -168,9 +168,9 @@ int cli_accel_ieee(const cli_accel_args *a)
         int st = igea_accel_ieee_fit(a->method, npos, d.th, d.mpl, d.me, coef, sd, cov, 8,
                                      flag, info);
         if (st == IGEA_EDOMAIN && a->method == IGEA_ACCEL_HARMONIC)
-            cli_error("accel --method harmonic: each plane needs one position per angle at "
-                      "N >= 7 equispaced angles (use --method ls otherwise)");
-        ec = cli_status(st, "accel --model ieee");
+            cli_error("accel --ieee harmonic: each plane needs N >= 7 equispaced positions "
+                      "(use --ieee ls otherwise)");
+        ec = cli_status(st, "accel --ieee");
     }
     cli_out o;
     if (!ec && !(ec = cli_out_open(&o, a->out))) {
@@ -191,8 +191,10 @@ static void design_report(FILE *f, const cli_accel_args *a, int n, double ld,
     if (a->json) {
         cli_json j;
         cli_json_begin(&j, f);
-        cli_jstr(&j, "model", igea_choice_name(IGEA_CHOICE_ACCEL_MODEL, a->model));
-        cli_jstr(&j, "method", igea_choice_name(IGEA_CHOICE_ACCEL_METHOD, a->method));
+        cli_jstr(&j, "model", igea_choice_name(IGEA_CHOICE_ACCEL_CRIT_MODEL, a->model));
+        cli_jstr(&j, "method", igea_choice_name(a->model == IGEA_ACCEL_IEEE
+                                                    ? IGEA_CHOICE_ACCEL_IEEE_METHOD
+                                                    : IGEA_CHOICE_ACCEL_METHOD, a->method));
         cli_jint(&j, "readings", n);
         cli_jnum(&j, "head_ratio", a->head_ratio);
         cli_jstrs(&j, "names", nm, np);
@@ -206,7 +208,7 @@ static void design_report(FILE *f, const cli_accel_args *a, int n, double ld,
     }
     fprintf(f, "igea accel --design: %s model%s, %d readings; rank %d of %d\n"
                "D-criterion (1/%d) log det(M/n) = %.6f, det(M/n) = %.6g%s\n\n%-9s %12s %12s  %s\n",
-            igea_choice_name(IGEA_CHOICE_ACCEL_MODEL, a->model),
+            igea_choice_name(IGEA_CHOICE_ACCEL_CRIT_MODEL, a->model),
             a->method == IGEA_ACCEL_JOINT ? " (joint)" : "", n, rank, np, rank, ld, det,
             rank < np ? " (rank-deficient: logdet of the estimable part)" : "", "coef",
             "varfac", "sd/sigma", "determined");
