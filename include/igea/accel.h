@@ -522,6 +522,69 @@ IGEA_API int igea_accel_criterion(int model, int method, int n, const double *th
                                   const int *plane, double head_ratio, double *logdet,
                                   double *varfac, int *flag, int *rank);
 
+/* ---------------------------------------------------------------------- */
+/* Priors from the calibration history. */
+
+/* Indices into info[IGEA_ACCEL_HIST_LEN] of igea_accel_history. */
+#define IGEA_ACCEL_HIST_LOGLIK 0 /* restricted log-likelihood at the estimate
+                                    (without the constant -(m - 1) p log(2 pi) / 2) */
+#define IGEA_ACCEL_HIST_ITER 1   /* EM iterations */
+#define IGEA_ACCEL_HIST_LEN 2
+
+/*
+ * Prior of an instrument type from the calibration history [D]: m earlier
+ * calibrations of instruments of the type, estimates b_i with covariances
+ * V_i, under the random-effects model
+ *     b_i = beta0 + u_i + e_i,  u_i ~ N(0, Sigma),  e_i ~ N(0, V_i),
+ * Sigma = diag(tau^2) (instrument-to-instrument spread), fitted by
+ * restricted maximum likelihood (REML; beta0 integrated out) with the EM
+ * algorithm (docs/accel.md, "Priors from the calibration history"). Every
+ * coefficient must be determined by each calibration (e.g. joint fits, or
+ * single-model fits): a minimum-norm value of a coefficient flagged
+ * IGEA_ACCEL_PRIOR is not an estimate of it.
+ *  1 m >= 2 calibrations; 2 p: 1 <= p <= 10 coefficients;
+ *  3 b (p x m, column i = calibration i), 4 ldb >= p;
+ *  5 V: m covariance blocks, block i at V + i ldv p (p x p, column-major,
+ *    ld ldv), each symmetric positive semi-definite; 6 ldv >= p;
+ *  7 max_iter >= 1 EM iterations (e.g. 20000); 8 tol in (0, 1): stop when
+ *    every |change of tau_j| <= tol sqrt(mean_i V_i,jj) (e.g. 1e-8);
+ * Outputs: 9 beta0[p] (the generalised-least-squares mean at the estimate);
+ *  10 tau[p] (prior sds, sqrt of Sigma's diagonal); 11 prior_cov (p x p,
+ *  may be NULL), 12 ldc >= p (>= 1 when prior_cov is NULL): the prior for
+ *  a new instrument of the type, Sigma + Cov(beta0 hat), Cov(beta0 hat) =
+ *  (sum_i (Sigma + V_i)^-1)^-1; 13 info[IGEA_ACCEL_HIST_LEN] (may be NULL).
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ESINGULAR (Sigma + V_i not positive
+ * definite), IGEA_ENOCONV (max_iter reached), IGEA_EOVERFLOW, IGEA_ENOMEM.
+ */
+IGEA_API int igea_accel_history(int m, int p, const double *b, int ldb, const double *V,
+                                int ldv, int max_iter, double tol, double *beta0, double *tau,
+                                double *prior_cov, int ldc, double *info);
+
+/*
+ * A calibration fit with a normal prior N(prior_mean, prior_cov) on the
+ * coefficients (e.g. from igea_accel_history) [D]: sigma^2 = RSS / (n - r)
+ * of the least-squares fit, then the posterior of igea_regress_bayes,
+ *     cov = (A^T A / sigma^2 + P^-1)^-1,  coef = cov (A^T y / sigma^2 + P^-1 mu).
+ * The prior fixes the directions the data do not determine (the dual
+ * model's null space) and shrinks the others.
+ *  1 model: IGEA_ACCEL_SINGLE or IGEA_ACCEL_DUAL; 2 n >= 1 positions (n >
+ *  rank); 3 theta_deg[n]; 4 ya[n]; 5 yb[n] (dual; ignored and may be NULL
+ *  for single); 6 prior_mean[np]; 7 prior_cov (np x np, positive definite,
+ *  lower triangle read), 8 ldp >= np;
+ * Outputs: 9 coef[np]; 10 sd[np] (may be NULL): posterior sds; 11 cov
+ *  (np x np, may be NULL), 12 ldc >= np (>= 1 when cov is NULL);
+ *  13 info[IGEA_ACCEL_INFO_LEN] (may be NULL): rank (of the design),
+ *  sigma (least squares), -, rms of the posterior residual, nobs, dof.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_EDOMAIN (no residual to estimate
+ * sigma), IGEA_ESINGULAR (prior_cov not positive definite),
+ * IGEA_EOVERFLOW, IGEA_ENOMEM, IGEA_ELAPACK.
+ */
+IGEA_API int igea_accel_fit_prior(int model, int n, const double *theta_deg,
+                                  const double *ya, const double *yb,
+                                  const double *prior_mean, const double *prior_cov, int ldp,
+                                  double *coef, double *sd, double *cov, int ldc,
+                                  double *info);
+
 #ifdef __cplusplus
 }
 #endif

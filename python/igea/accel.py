@@ -203,7 +203,7 @@ class AccelFit:
 
 def accel_fit(theta_deg, y_a, y_b=None, *, model="dual", method="ls", prior=_UNSET,
               rule="sc", lam_floor=0.0, scale_a=None, scale_b=None, axis="pa",
-              prior_scale=_UNSET):
+              prior_scale=_UNSET, history=None):
     """Fit one calibration.
 
     theta_deg: head angles (one per position; see accel_merge); y_a, y_b:
@@ -212,7 +212,10 @@ def accel_fit(theta_deg, y_a, y_b=None, *, model="dual", method="ls", prior=_UNS
     method "ls" (minimum-norm least squares) or "ebr" (empirical-Bayes
     ridge with the prior scales tau_j `prior`, one per coefficient, the
     driver's --prior (prior_scale= is its old name), rule "sc"/"mm"/"ml2"
-    and lam_floor), or "joint" (dual: returns accel_joint's AccelJoint)."""
+    and lam_floor), or "joint" (dual: returns accel_joint's AccelJoint).
+    method "ebr" with history (earlier calibrations of the type, see
+    accel_history) fits with the prior estimated from them and returns
+    accel_fit_history's AccelHistoryFit."""
     prior = renamed("igea.accel_fit", "prior", prior, "prior_scale", prior_scale)
     m = _model(model)
     method_code = _lib.choice(_capi.CHOICE_ACCEL_METHOD, method, "igea.accel_fit", "method")
@@ -235,6 +238,10 @@ def accel_fit(theta_deg, y_a, y_b=None, *, model="dual", method="ls", prior=_UNS
         if prior is not None:
             raise ValueError("prior: only for method='ebr'")
         return accel_joint(t, ya, yb, axis=axis)
+    if history is not None:
+        if method != "ebr" or prior is not None:
+            raise ValueError("history: needs method='ebr' and no prior")
+        return accel_fit_history(t, ya, yb, history, model=m, axis=axis)
     ps = None if prior is None else _vec(prior, "prior", npar)
     coef, sd, flag = np.zeros(npar), np.zeros(npar), np.zeros(npar, dtype=np.intc)
     comb, csd, info = np.zeros(nc), np.zeros(nc), np.zeros(_capi.ACCEL_INFO_LEN)
@@ -606,3 +613,122 @@ def accel_criterion(theta_deg, *, model="dual", method="ls", plane=None, head_ra
     det = float(np.exp(npar * ld.value)) if r == npar else 0.0
     return AccelCriterion(model, method, n, float(head_ratio), names, float(ld.value), det, vf,
                           ["prior" if f == _capi.ACCEL_PRIOR else "data" for f in flag], r)
+
+
+# ---- priors from the calibration history --------------------------------
+
+
+def _history_entry(h, npar, k):
+    """(coef, cov) of one earlier calibration: an AccelJoint/AccelFit-like
+    object or dict with coef and cov (or sd), or the path of a JSON file
+    written by 'igea accel --json'. The first npar coefficients are used
+    (a joint fit's delta0 is not a dual coefficient)."""
+    import json
+    import os
+    src = h
+    if isinstance(h, (str, bytes, os.PathLike)):
+        with open(h) as f:
+            h = json.load(f)
+    get = h.get if isinstance(h, dict) else (lambda key, d=None: getattr(h, key, d))
+    coef, cov, sd, flags = get("coef"), get("cov"), get("sd"), get("flags")
+    if coef is None or (cov is None and sd is None):
+        raise ValueError("history[%d] (%s): needs coef and cov (or sd)" % (k, str(src)[:60]))
+    if flags is not None and any(f != "data" for f in list(flags)[:npar]):
+        raise ValueError("history[%d]: coefficients flagged prior are not estimates of the "
+                         "coefficients (use joint or single-model fits)" % k)
+    coef = np.asarray(coef, dtype=float)
+    cov = np.diag(np.asarray(sd, dtype=float) ** 2) if cov is None else np.asarray(cov, float)
+    if coef.shape[0] < npar or cov.shape[0] < npar:
+        raise ValueError("history[%d]: %d coefficients, the model has %d"
+                         % (k, coef.shape[0], npar))
+    return coef[:npar], cov[:npar, :npar]
+
+
+@result
+@dataclass(frozen=True)
+class AccelHistory:
+    """Prior of an instrument type from earlier calibrations
+    (igea.accel_history): REML fit of b_i = beta0 + u_i + e_i."""
+    beta0: np.ndarray
+    tau: np.ndarray
+    prior_cov: np.ndarray
+    loglik: float
+    iterations: int
+    calibrations: int
+
+
+def accel_history(history, *, model="dual", max_iter=20000, tol=1e-8):
+    """REML estimate of the prior mean beta0 and the instrument-to-instrument
+    sds tau (diagonal Sigma) from earlier calibrations (see _history_entry
+    for the forms an entry may take); prior_cov = diag(tau^2) + Cov(beta0)
+    is the prior of a new instrument of the type."""
+    m = _model(model)
+    npar = _NP[m]
+    entries = [_history_entry(h, npar, k) for k, h in enumerate(history)]
+    mcal = len(entries)
+    if mcal < 2:
+        raise ValueError("history: needs at least two calibrations")
+    b = np.asfortranarray(np.array([e[0] for e in entries]).T)
+    V = np.asfortranarray(np.concatenate([np.asfortranarray(e[1]).ravel(order="F")
+                                          for e in entries]))
+    beta0, tau = np.zeros(npar), np.zeros(npar)
+    pc = np.zeros((npar, npar), order="F")
+    info = np.zeros(_capi.ACCEL_HIST_LEN)
+    _lib.call("igea.accel_history", "igea_accel_history", mcal, npar, _lib.dptr(b), npar,
+              _lib.dptr(V), npar, int(max_iter), float(tol), _lib.dptr(beta0), _lib.dptr(tau),
+              _lib.dptr(pc), npar, _lib.dptr(info))
+    return AccelHistory(beta0, tau, np.ascontiguousarray(pc),
+                        float(info[_capi.ACCEL_HIST_LOGLIK]),
+                        int(info[_capi.ACCEL_HIST_ITER]), mcal)
+
+
+@result
+@dataclass(frozen=True)
+class AccelHistoryFit:
+    """A calibration fitted with the prior from the calibration history
+    (igea.accel_fit_history)."""
+    model: str
+    method: str
+    names: list
+    coef: np.ndarray
+    sd: np.ndarray
+    cov: np.ndarray
+    prior_mean: np.ndarray
+    prior_sd: np.ndarray
+    rank: int
+    sigma: float
+    rms: float
+    positions: int
+    dof: int
+
+    def summary(self):
+        lines = ["%s model, EBR with the history prior: %d positions, data rank %d"
+                 % (self.model, self.positions, self.rank)]
+        for j, name in enumerate(self.names):
+            lines.append("%-8s %15.6e %12.3e   prior %12.4e +- %.3e" % (
+                name, self.coef[j], self.sd[j], self.prior_mean[j], self.prior_sd[j]))
+        return "\n".join(lines)
+
+
+def accel_fit_history(theta_deg, y_a, y_b, history, *, model="dual", axis="pa"):
+    """Fit one calibration with the prior N(beta0, prior_cov) estimated from
+    the history (accel_history, or the list of earlier calibrations)."""
+    m = _model(model)
+    h = history if isinstance(history, AccelHistory) else accel_history(history, model=m)
+    t = _theta(theta_deg)
+    n, npar = t.shape[0], _NP[m]
+    ya = _vec(y_a, "y_a", n)
+    yb = _vec(y_b, "y_b", n) if m == "dual" else None
+    coef, sd = np.zeros(npar), np.zeros(npar)
+    cov = np.zeros((npar, npar), order="F")
+    info = np.zeros(_capi.ACCEL_INFO_LEN)
+    pc = np.asfortranarray(h.prior_cov)
+    _lib.call("igea.accel_fit_history", "igea_accel_fit_prior", _MODELS[m], n, _lib.dptr(t),
+              _lib.dptr(ya), _lib.dptr(yb), _lib.dptr(h.beta0), _lib.dptr(pc), npar,
+              _lib.dptr(coef), _lib.dptr(sd), _lib.dptr(cov), npar, _lib.dptr(info))
+    return AccelHistoryFit(m, "ebr", coefficient_names(m, axis), coef, sd,
+                           np.ascontiguousarray(cov), h.beta0.copy(),
+                           np.sqrt(np.diag(h.prior_cov)),
+                           positions=int(info[_capi.ACCEL_INFO_NOBS]),
+                           **_lib.fields(info, "ACCEL_INFO_", rank=int, sigma=float, rms=float,
+                                         dof=int))
