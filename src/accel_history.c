@@ -186,11 +186,19 @@ int igea_accel_history(int m, int p, const double *b, int ldb, const double *V, 
         return IGEA_ENOMEM;
     double t2[HP_MAXP], nt[HP_MAXP], vbar[HP_MAXP];
     int it = 0, done = 0;
+    double prev = -HUGE_VAL;
     hp_start(&h, t2, vbar);
     while (!st && !done && it < max_iter) {
         st = hp_weights(&h, t2);
         if (st)
             break;
+        /* EM increases the likelihood monotonically; near tau_j = 0 it
+         * creeps: stop when an iteration gains less than tol */
+        if (h.loglik - prev < tol) {
+            done = 1;
+            break;
+        }
+        prev = h.loglik;
         hp_em(&h, t2, nt);
         it++;
         done = 1;

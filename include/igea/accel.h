@@ -547,7 +547,9 @@ IGEA_API int igea_accel_criterion(int model, int method, int n, const double *th
  *  5 V: m covariance blocks, block i at V + i ldv p (p x p, column-major,
  *    ld ldv), each symmetric positive semi-definite; 6 ldv >= p;
  *  7 max_iter >= 1 EM iterations (e.g. 20000); 8 tol in (0, 1): stop when
- *    every |change of tau_j| <= tol sqrt(mean_i V_i,jj) (e.g. 1e-8);
+ *    every |change of tau_j| <= tol sqrt(mean_i V_i,jj), or when an
+ *    iteration raises the restricted log-likelihood by less than tol (EM
+ *    creeps towards an estimate tau_j = 0 on the boundary) (e.g. 1e-8);
  * Outputs: 9 beta0[p] (the generalised-least-squares mean at the estimate);
  *  10 tau[p] (prior sds, sqrt of Sigma's diagonal); 11 prior_cov (p x p,
  *  may be NULL), 12 ldc >= p (>= 1 when prior_cov is NULL): the prior for

@@ -283,6 +283,22 @@ CLASS = {
         "varfac": "n [M^+]_jj: sd_j = sigma sqrt(varfac_j / n)",
         "flags": "per coefficient, \"data\" or \"prior\" (not determined by the schedule)",
         "rank": "rank of the information matrix"},
+    "AccelHistory": {
+        "beta0": "(p,) prior mean: the GLS mean of the earlier calibrations",
+        "tau": "(p,) instrument-to-instrument sds (REML, diagonal Sigma)",
+        "prior_cov": "(p, p) prior of a new instrument: diag(tau^2) + Cov(beta0)",
+        "loglik": "restricted log-likelihood at the estimate (without its constant)",
+        "iterations": "EM iterations", "calibrations": "earlier calibrations used"},
+    "AccelHistoryFit": {
+        "model": "single or dual", "method": "\"ebr\" (with the history prior)",
+        "names": "coefficient names", "coef": "posterior means",
+        "sd": "posterior standard deviations", "cov": "posterior covariance",
+        "prior_mean": "the prior mean used (beta0)",
+        "prior_sd": "the prior sds used (sqrt of prior_cov's diagonal)",
+        "rank": "rank of the calibration's own design",
+        "sigma": "residual sd of the least-squares fit, g",
+        "rms": "RMS of the posterior residuals, g", "positions": "observations used",
+        "dof": "residual degrees of freedom of the least-squares fit"},
     "AccelJoint": {
         "names": "the 9 dual coefficients and delta0", "coef": "(10,) the estimates",
         "sd": "(10,) their standard deviations", "cov": "(10, 10) their covariance",

@@ -119,6 +119,7 @@ typedef struct {
     double *ang, *ya, *yb, *th, *ma, *mb, *phi; /* nr each */
     int *cnt;
     double tau[9], coef[10], sd[10], cmb[7], csd[7], info[IGEA_ACCEL_INFO_LEN], comp[2];
+    double cov[100]; /* joint: the 10 x 10 covariance */
     double rcoef[9], rsd[9], rcmb[7], rinfo[IGEA_ACCEL_INFO_LEN];
     int flag[10];
     /* hysteresis of A and B: angle, diff, sd (nr each), counts, test */
@@ -223,7 +224,7 @@ static int compute(const ac_args *a, ac_run *r)
         st = igea_accel_merge(nr, r->ang, r->ya, r->dual ? r->yb : NULL, a->tol, r->th, r->ma,
                               r->dual ? r->mb : NULL, r->cnt, &r->npos);
     if (!st && a->method == IGEA_ACCEL_JOINT) {
-        st = igea_accel_joint(r->npos, r->th, r->ma, r->mb, r->coef, r->sd, NULL, 1, r->comp,
+        st = igea_accel_joint(r->npos, r->th, r->ma, r->mb, r->coef, r->sd, r->cov, 10, r->comp,
                               r->cmb, r->csd, r->info);
         memset(r->flag, 0, sizeof r->flag);
     } else if (!st)
@@ -269,6 +270,7 @@ static void json_report(FILE *f, const ac_args *a, const ac_run *r)
     if (a->method == IGEA_ACCEL_JOINT) {
         cli_jnum(&j, "sd_radial", r->comp[IGEA_ACCEL_JOINT_SD_RADIAL]);
         cli_jnum(&j, "sd_angle", r->comp[IGEA_ACCEL_JOINT_SD_ANGLE]);
+        cli_jrows(&j, "cov", r->cov, IGEA_ACCEL_NP_JOINT, IGEA_ACCEL_NP_JOINT);
     }
     if (a->hyst)
         for (int o = 0; o < (r->dual ? 2 : 1); o++) {

@@ -121,3 +121,31 @@ def test_coverage_with_a_long_history():
     assert (lo, hi) == (271, 296)
     prior_dir = [0, 1, 5, 6, 7, 8]
     assert np.all((hits[prior_dir] >= lo) & (hits[prior_dir] <= hi)), hits
+
+
+DRIVER = __import__("os").environ.get("IGEA_DRIVER")
+
+
+@pytest.mark.skipif(not DRIVER, reason="IGEA_DRIVER not set")
+def test_driver_joint_json_is_a_history_entry(tmp_path):
+    """'igea accel --method joint --json' writes coef, cov and flags: the
+    files are history entries, equal to the Python fits they come from."""
+    import subprocess
+    rng = np.random.default_rng(8)
+    files, fits = [], []
+    for i in range(4):
+        beta = BETA0 + TAU * rng.standard_normal(9)
+        ya, yb = igea.accel_simulate(TH, np.append(beta, 0.0), head_sd_arcsec=1,
+                                     noise_sd=1e-6, seed=50 + i)
+        data = tmp_path / ("run%d.txt" % i)
+        np.savetxt(data, np.c_[TH, ya, yb], fmt="%.17g")
+        out = tmp_path / ("cal%d.json" % i)
+        p = subprocess.run([DRIVER, "accel", "--method", "joint", "--json", "--data", str(data),
+                            "--out", str(out)], capture_output=True, text=True)
+        assert p.returncode == 0, p.stderr
+        files.append(str(out))
+        fits.append(igea.accel_joint(TH, ya, yb))
+    np.testing.assert_allclose(json.load(open(files[0]))["cov"], fits[0].cov, rtol=1e-9)
+    a, b = igea.accel_history(files), igea.accel_history(fits)
+    np.testing.assert_allclose(a.tau, b.tau, rtol=1e-6)
+    np.testing.assert_allclose(a.beta0, b.beta0, rtol=1e-9, atol=1e-15)
