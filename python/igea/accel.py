@@ -656,6 +656,14 @@ class AccelHistory:
     iterations: int
     calibrations: int
 
+    def summary(self):
+        lines = ["prior from %d calibrations (REML, %d EM iterations)"
+                 % (self.calibrations, self.iterations)]
+        for j in range(self.beta0.shape[0]):
+            lines.append("%2d  beta0 %14.6e  tau %11.3e  prior sd %11.3e" % (
+                j, self.beta0[j], self.tau[j], np.sqrt(self.prior_cov[j, j])))
+        return "\n".join(lines)
+
 
 def accel_history(history, *, model="dual", max_iter=20000, tol=1e-8):
     """REML estimate of the prior mean beta0 and the instrument-to-instrument
