@@ -251,7 +251,7 @@ BASE = {
                                  yb=YB_DUAL, prior_mean='c:1e-4 * au(i)', ldp='9', ldc='9',
                                  prior_cov='set:for (int i = 0; i < 81; i++) '
                                            'b_[i] = i % 10 == 0 ? 1e-8 : 0.0;',
-                                 _int=dict(ldp='ld', ldc='ld')),
+                                 _int=dict(ldp='ld', ldc='ld'), _req=['yb']),
     'igea_accel_criterion': dict(model='IGEA_ACCEL_DUAL', method='IGEA_ACCEL_JOINT', n='12',
                                  theta_deg=THETA30, plane='NULL', head_ratio='4.85',
                                  _ignored=['plane']),
@@ -577,7 +577,9 @@ VARIANTS = {
                                few=dict(n='4', theta_deg='c:90.0 * (double)i')),
     'igea_accel_design': dict(single=dict(model='IGEA_ACCEL_SINGLE')),
     'igea_accel_fit_prior': dict(single=dict(model='IGEA_ACCEL_SINGLE', yb='NULL', ldp='5',
-                                             ldc='5', _ignored=['yb'])),
+                                             ldc='5', _ignored=['yb'], _req=[],
+                                             prior_cov='set:for (int i = 0; i < 25; i++) '
+                                                       'b_[i] = i % 6 == 0 ? 1e-8 : 0.0;')),
     'igea_accel_ieee_fit': dict(harmonic=dict(method='IGEA_ACCEL_HARMONIC'),
                                 one_plane=dict(plane='0'),
                                 few=dict(n='6', _nan_out=['sd', 'cov'])),
