@@ -51,8 +51,9 @@ typedef struct {
     double loglik;
 } hp_state;
 
-/* W_i, S = sum W_i, beta0 = S^-1 sum W_i b_i, the REML log-likelihood. */
-static int hp_weights(hp_state *h, const double *tau2)
+/* W_i = (Sigma + V_i)^-1 (Sig p x p), S = sum W_i, beta0 = S^-1 sum W_i
+ * b_i, the REML log-likelihood. */
+static int hp_weights(hp_state *h, const double *Sig)
 {
     int p = h->p;
     double a[HP_MAXP * HP_MAXP], r[HP_MAXP] = {0}, ld, ldS, q = 0.0, lsum = 0.0;
@@ -62,7 +63,7 @@ static int hp_weights(hp_state *h, const double *tau2)
         double *Wi = h->W + (size_t)i * p * p;
         for (int c = 0; c < p; c++)
             for (int k = 0; k < p; k++)
-                a[k + c * p] = Vi[k + (size_t)c * h->ldv] + (k == c ? tau2[k] : 0.0);
+                a[k + c * p] = Vi[k + (size_t)c * h->ldv] + Sig[k + c * p];
         if (spd_inverse(p, a, Wi, &ld))
             return IGEA_ESINGULAR;
         lsum += ld;
@@ -92,32 +93,51 @@ static int hp_weights(hp_state *h, const double *tau2)
     return 0;
 }
 
-/* One EM step: tau2_new_j = mean_i (uhat_ij^2 + C_i,jj), uhat_i =
- * Sigma W_i (b_i - beta0), C_i = Sigma - Sigma W_i Sigma + Sigma W_i S^-1
- * W_i Sigma. */
-static void hp_em(const hp_state *h, const double *tau2, double *out)
+/* One EM step (beta0 integrated out): out = mean_i (uhat_i uhat_i^T + C_i),
+ * uhat_i = Sigma W_i (b_i - beta0), C_i = Sigma - G_i Sigma + G_i S^-1 G_i^T,
+ * G_i = Sigma W_i (all p x p). */
+static void hp_em(const hp_state *h, const double *Sig, double *out)
 {
     int p = h->p;
-    for (int k = 0; k < p; k++)
-        out[k] = 0.0;
+    double G[HP_MAXP * HP_MAXP], T[HP_MAXP * HP_MAXP], u[HP_MAXP], r[HP_MAXP];
+    memset(out, 0, sizeof(double) * p * p);
     for (int i = 0; i < h->m; i++) {
         const double *bi = h->b + (size_t)i * h->ldb, *Wi = h->W + (size_t)i * p * p;
-        for (int k = 0; k < p; k++) {
-            double u = 0.0, g[HP_MAXP], q = 0.0;
+        for (int k = 0; k < p; k++)
+            r[k] = bi[k] - h->beta[k];
+        for (int k = 0; k < p; k++)
             for (int c = 0; c < p; c++) {
-                u += Wi[k + c * p] * (bi[c] - h->beta[c]);
-                g[c] = Wi[c + k * p]; /* row k of W_i (symmetric) */
-            }
-            u *= tau2[k];
-            for (int c = 0; c < p; c++)
+                double t = 0.0;
                 for (int d = 0; d < p; d++)
-                    q += g[c] * h->Sinv[c + d * p] * g[d];
-            double cv = tau2[k] - tau2[k] * Wi[k + k * p] * tau2[k] + tau2[k] * q * tau2[k];
-            out[k] += u * u + cv;
+                    t += Sig[k + d * p] * Wi[d + c * p];
+                G[k + c * p] = t;
+            }
+        for (int k = 0; k < p; k++) {
+            double t = 0.0;
+            for (int c = 0; c < p; c++)
+                t += G[k + c * p] * r[c];
+            u[k] = t;
         }
+        for (int k = 0; k < p; k++) /* T = G S^-1 - Sigma... row k of G (S^-1 G^T - Sigma) */
+            for (int c = 0; c < p; c++) {
+                double t = 0.0;
+                for (int d = 0; d < p; d++)
+                    t += h->Sinv[k + d * p] * G[c + d * p];
+                T[k + c * p] = t - Sig[k + c * p]; /* (S^-1 G^T - Sigma)_kc */
+            }
+        for (int k = 0; k < p; k++)
+            for (int c = 0; c < p; c++) {
+                double t = 0.0;
+                for (int d = 0; d < p; d++)
+                    t += G[k + d * p] * T[d + c * p];
+                out[k + c * p] += u[k] * u[c] + Sig[k + c * p] + t;
+            }
     }
-    for (int k = 0; k < p; k++)
+    for (int k = 0; k < p * p; k++)
         out[k] /= h->m;
+    for (int k = 0; k < p; k++) /* symmetric to rounding */
+        for (int c = 0; c < k; c++)
+            out[k + c * p] = out[c + k * p] = 0.5 * (out[k + c * p] + out[c + k * p]);
 }
 
 static int hist_check(int m, int p, const double *b, int ldb, const double *V, int ldv,
@@ -174,52 +194,72 @@ static void hp_start(const hp_state *h, double *tau2, double *vbar)
     }
 }
 
-int igea_accel_history(int m, int p, const double *b, int ldb, const double *V, int ldv,
-                       int max_iter, double tol, double *beta0, double *tau, double *cov0,
-                       int ldc, double *info)
+/* EM from the start of hp_start until converged (full: Sigma p x p, else
+ * diagonal); h->beta, h->Sinv, h->loglik at the result. Returns 0,
+ * IGEA_ESINGULAR, IGEA_ENOCONV. */
+static int hp_run(hp_state *h, int full, int max_iter, double tol, double *Sig, int *iters)
 {
-    int st = hist_check(m, p, b, ldb, V, ldv, max_iter, tol, beta0, tau, cov0, ldc);
-    if (st)
-        return st;
+    int p = h->p, it = 0, done = 0, st = 0;
+    double t2[HP_MAXP], vbar[HP_MAXP], nw[HP_MAXP * HP_MAXP], prev = -HUGE_VAL;
+    hp_start(h, t2, vbar);
+    memset(Sig, 0, sizeof(double) * p * p);
+    for (int k = 0; k < p; k++)
+        Sig[k + k * p] = t2[k];
+    while (!done && it < max_iter) {
+        if ((st = hp_weights(h, Sig)))
+            return st;
+        /* EM raises the likelihood monotonically; towards a boundary
+         * estimate (tau_j = 0) it creeps: stop when a step gains < tol */
+        if (h->loglik - prev < tol)
+            break;
+        prev = h->loglik;
+        hp_em(h, Sig, nw);
+        it++;
+        done = 1;
+        for (int k = 0; k < p; k++)
+            for (int c = 0; c < p; c++) {
+                double *o = Sig + k + c * p, x = k == c || full ? nw[k + c * p] : 0.0;
+                if (k == c) {
+                    x = x > 0.0 ? x : DBL_MIN;
+                    if (fabs(sqrt(x) - sqrt(*o)) > tol * sqrt(vbar[k]))
+                        done = 0;
+                } else if (fabs(x - *o) > tol * sqrt(vbar[k] * vbar[c])) {
+                    done = 0;
+                }
+                *o = x;
+            }
+    }
+    *iters = it;
+    if (it >= max_iter && !done)
+        return IGEA_ENOCONV;
+    return hp_weights(h, Sig);
+}
+
+/* Both entry points: Sig_out (p x p, lds) or tau (p) of the estimate. */
+static int hp_fit(int m, int p, const double *b, int ldb, const double *V, int ldv,
+                  int max_iter, double tol, int full, double *beta0, double *tau,
+                  double *Sig_out, int lds, double *prior_cov, int ldc, double *info)
+{
     hp_state h = {m, p, ldb, ldv, b, V, igea__dalloc((size_t)m * p * p), {0}, {0}, {0}, 0.0};
     if (!h.W)
         return IGEA_ENOMEM;
-    double t2[HP_MAXP], nt[HP_MAXP], vbar[HP_MAXP];
-    int it = 0, done = 0;
-    double prev = -HUGE_VAL;
-    hp_start(&h, t2, vbar);
-    while (!st && !done && it < max_iter) {
-        st = hp_weights(&h, t2);
-        if (st)
-            break;
-        /* EM increases the likelihood monotonically; near tau_j = 0 it
-         * creeps: stop when an iteration gains less than tol */
-        if (h.loglik - prev < tol) {
-            done = 1;
-            break;
-        }
-        prev = h.loglik;
-        hp_em(&h, t2, nt);
-        it++;
-        done = 1;
-        for (int k = 0; k < p; k++) {
-            if (fabs(sqrt(nt[k]) - sqrt(t2[k])) > tol * sqrt(vbar[k]))
-                done = 0;
-            t2[k] = nt[k] > 0.0 ? nt[k] : DBL_MIN;
-        }
-    }
-    if (!st)
-        st = done ? hp_weights(&h, t2) : IGEA_ENOCONV;
-    if (!st && (!igea__finite_vec(p, h.beta, 1) || !isfinite(h.loglik)))
+    double Sig[HP_MAXP * HP_MAXP];
+    int it = 0;
+    int st = hp_run(&h, full, max_iter, tol, Sig, &it);
+    if (!st && (!igea__finite_vec(p, h.beta, 1) || !isfinite(h.loglik) ||
+                !igea__finite_vec(p * p, Sig, 1)))
         st = IGEA_EOVERFLOW;
     if (!st) {
         memcpy(beta0, h.beta, (size_t)p * sizeof(double));
-        for (int k = 0; k < p; k++)
-            tau[k] = sqrt(t2[k]);
-        if (cov0) /* the prior of a new instrument: Sigma + Cov(beta0 hat) */
-            for (int c = 0; c < p; c++)
+        for (int c = 0; c < p; c++) {
+            if (tau)
+                tau[c] = sqrt(Sig[c + c * p]);
+            if (Sig_out)
+                memcpy(Sig_out + (size_t)c * lds, Sig + c * p, (size_t)p * sizeof(double));
+            if (prior_cov) /* the prior of a new instrument: Sigma + Cov(beta0 hat) */
                 for (int k = 0; k < p; k++)
-                    cov0[k + (size_t)c * ldc] = h.Sinv[k + c * p] + (k == c ? t2[k] : 0.0);
+                    prior_cov[k + (size_t)c * ldc] = h.Sinv[k + c * p] + Sig[k + c * p];
+        }
         if (info) {
             info[IGEA_ACCEL_HIST_LOGLIK] = h.loglik;
             info[IGEA_ACCEL_HIST_ITER] = it;
@@ -227,6 +267,30 @@ int igea_accel_history(int m, int p, const double *b, int ldb, const double *V, 
     }
     free(h.W);
     return st;
+}
+
+int igea_accel_history(int m, int p, const double *b, int ldb, const double *V, int ldv,
+                       int max_iter, double tol, double *beta0, double *tau, double *cov0,
+                       int ldc, double *info)
+{
+    int st = hist_check(m, p, b, ldb, V, ldv, max_iter, tol, beta0, tau, cov0, ldc);
+    if (st)
+        return st;
+    return hp_fit(m, p, b, ldb, V, ldv, max_iter, tol, 0, beta0, tau, NULL, 1, cov0, ldc,
+                  info);
+}
+
+int igea_accel_history_full(int m, int p, const double *b, int ldb, const double *V, int ldv,
+                            int max_iter, double tol, double *beta0, double *sigma_u,
+                            int lds, double *prior_cov, int ldc, double *info)
+{
+    int st = hist_check(m, p, b, ldb, V, ldv, max_iter, tol, beta0, sigma_u, prior_cov, ldc);
+    if (st)
+        return st == -12 ? -13 : st;
+    if (lds < p)
+        return -11;
+    return hp_fit(m, p, b, ldb, V, ldv, max_iter, tol, 1, beta0, NULL, sigma_u, lds, prior_cov,
+                  ldc, info);
 }
 
 /* ---------------------------------------------------------------------- */

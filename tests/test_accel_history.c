@@ -59,6 +59,41 @@ static void test_history_two_coefficients(void **state)
     assert_close_abs(pc[1], 0.0, 0, 1e-12);
 }
 
+/* Full Sigma, balanced: with equal V_i = V the REML estimate of Sigma + V
+ * is the sample covariance S (divisor m - 1), Sigma = S - V when that is
+ * positive semi-definite. */
+static void test_history_full_balanced(void **state)
+{
+    (void)state;
+    enum { M = 9 };
+    double b[2 * M], V[4 * M], beta0[2], Sg[4], pc[4], info[IGEA_ACCEL_HIST_LEN];
+    const double v[4] = {0.02, 0.005, 0.005, 0.03};
+    double mean[2] = {0, 0}, S[4] = {0, 0, 0, 0};
+    for (int i = 0; i < M; i++) {
+        double z1 = sin(1.3 * i + 0.2), z2 = cos(2.1 * i);
+        b[2 * i] = 1.0 + z1, b[2 * i + 1] = -1.0 + 0.8 * z1 + 0.6 * z2;
+        for (int k = 0; k < 4; k++)
+            V[4 * i + k] = v[k];
+        mean[0] += b[2 * i] / M, mean[1] += b[2 * i + 1] / M;
+    }
+    for (int i = 0; i < M; i++)
+        for (int k = 0; k < 2; k++)
+            for (int c = 0; c < 2; c++)
+                S[k + 2 * c] += (b[2 * i + k] - mean[k]) * (b[2 * i + c] - mean[c]) / (M - 1);
+    assert_int_equal(igea_accel_history_full(M, 2, b, 2, V, 2, 200000, 1e-13, beta0, Sg, 2, pc,
+                                             2, info), 0);
+    for (int k = 0; k < 4; k++)
+        assert_close(Sg[k], S[k] - v[k], 1e-6);
+    assert_close(beta0[0], mean[0], 1e-10);
+    assert_close(pc[1], S[1] - v[1] + S[1] / M, 1e-6);
+    assert_int_equal(igea_accel_history_full(M, 2, b, 2, V, 2, 10, 1e-8, beta0, Sg, 1, pc, 2,
+                                             info), -11);
+    assert_int_equal(igea_accel_history_full(M, 2, b, 2, V, 2, 10, 1e-8, beta0, Sg, 2, pc, 1,
+                                             info), -13);
+    assert_int_equal(igea_accel_history_full(M, 2, b, 2, V, 2, 10, 1e-8, beta0, NULL, 2, pc, 2,
+                                             info), -10);
+}
+
 static void test_history_invalid(void **state)
 {
     (void)state;
@@ -174,6 +209,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_history_balanced_closed_form),
         cmocka_unit_test(test_history_two_coefficients),
+        cmocka_unit_test(test_history_full_balanced),
         cmocka_unit_test(test_history_invalid),
         cmocka_unit_test(test_fit_prior_single),
     };

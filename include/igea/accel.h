@@ -563,6 +563,21 @@ IGEA_API int igea_accel_history(int m, int p, const double *b, int ldb, const do
                                 double *prior_cov, int ldc, double *info);
 
 /*
+ * The same with a full (p x p) Sigma: the EM's M-step keeps the whole
+ * mean of uhat_i uhat_i^T + C_i (docs/accel.md) [D]. Arguments 1-9 as
+ * igea_accel_history; outputs 10 sigma_u (p x p, Sigma, symmetric), 11 lds
+ * >= p; 12 prior_cov (p x p, may be NULL): Sigma + Cov(beta0 hat), 13 ldc
+ * >= p (>= 1 when prior_cov is NULL); 14 info[IGEA_ACCEL_HIST_LEN] (may be
+ * NULL). The stopping rule compares every entry's change with tol
+ * sqrt(mean V_jj mean V_kk) (the diagonal's sds as in igea_accel_history).
+ * Returns as igea_accel_history.
+ */
+IGEA_API int igea_accel_history_full(int m, int p, const double *b, int ldb, const double *V,
+                                     int ldv, int max_iter, double tol, double *beta0,
+                                     double *sigma_u, int lds, double *prior_cov, int ldc,
+                                     double *info);
+
+/*
  * A calibration fit with a normal prior N(prior_mean, prior_cov) on the
  * coefficients (e.g. from igea_accel_history) [D]: sigma^2 = RSS / (n - r)
  * of the least-squares fit, then the posterior of igea_regress_bayes,

@@ -285,7 +285,9 @@ CLASS = {
         "rank": "rank of the information matrix"},
     "AccelHistory": {
         "beta0": "(p,) prior mean: the GLS mean of the earlier calibrations",
-        "tau": "(p,) instrument-to-instrument sds (REML, diagonal Sigma)",
+        "tau": "(p,) instrument-to-instrument sds (REML; sqrt of sigma_u's diagonal)",
+        "sigma_u": "(p, p) instrument-to-instrument covariance Sigma (diagonal unless full)",
+        "full": "True when Sigma was estimated as a full matrix",
         "prior_cov": "(p, p) prior of a new instrument: diag(tau^2) + Cov(beta0)",
         "loglik": "restricted log-likelihood at the estimate (without its constant)",
         "iterations": "EM iterations", "calibrations": "earlier calibrations used"},

@@ -651,25 +651,28 @@ class AccelHistory:
     (igea.accel_history): REML fit of b_i = beta0 + u_i + e_i."""
     beta0: np.ndarray
     tau: np.ndarray
+    sigma_u: np.ndarray
     prior_cov: np.ndarray
+    full: bool
     loglik: float
     iterations: int
     calibrations: int
 
     def summary(self):
-        lines = ["prior from %d calibrations (REML, %d EM iterations)"
-                 % (self.calibrations, self.iterations)]
+        lines = ["prior from %d calibrations (REML, %s Sigma, %d EM iterations)"
+                 % (self.calibrations, "full" if self.full else "diagonal", self.iterations)]
         for j in range(self.beta0.shape[0]):
             lines.append("%2d  beta0 %14.6e  tau %11.3e  prior sd %11.3e" % (
                 j, self.beta0[j], self.tau[j], np.sqrt(self.prior_cov[j, j])))
         return "\n".join(lines)
 
 
-def accel_history(history, *, model="dual", max_iter=20000, tol=1e-8):
+def accel_history(history, *, model="dual", full=False, max_iter=20000, tol=1e-8):
     """REML estimate of the prior mean beta0 and the instrument-to-instrument
-    sds tau (diagonal Sigma) from earlier calibrations (see _history_entry
-    for the forms an entry may take); prior_cov = diag(tau^2) + Cov(beta0)
-    is the prior of a new instrument of the type."""
+    covariance sigma_u (diagonal, sds tau; full=True: the whole matrix) from
+    earlier calibrations (see _history_entry for the forms an entry may
+    take); prior_cov = sigma_u + Cov(beta0) is the prior of a new
+    instrument of the type."""
     m = _model(model)
     npar = _NP[m]
     entries = [_history_entry(h, npar, k) for k, h in enumerate(history)]
@@ -682,11 +685,19 @@ def accel_history(history, *, model="dual", max_iter=20000, tol=1e-8):
     beta0, tau = np.zeros(npar), np.zeros(npar)
     pc = np.zeros((npar, npar), order="F")
     info = np.zeros(_capi.ACCEL_HIST_LEN)
-    _lib.call("igea.accel_history", "igea_accel_history", mcal, npar, _lib.dptr(b), npar,
-              _lib.dptr(V), npar, int(max_iter), float(tol), _lib.dptr(beta0), _lib.dptr(tau),
-              _lib.dptr(pc), npar, _lib.dptr(info))
-    return AccelHistory(beta0, tau, np.ascontiguousarray(pc),
-                        float(info[_capi.ACCEL_HIST_LOGLIK]),
+    su = np.zeros((npar, npar), order="F")
+    if full:
+        _lib.call("igea.accel_history", "igea_accel_history_full", mcal, npar, _lib.dptr(b),
+                  npar, _lib.dptr(V), npar, int(max_iter), float(tol), _lib.dptr(beta0),
+                  _lib.dptr(su), npar, _lib.dptr(pc), npar, _lib.dptr(info))
+        tau = np.sqrt(np.diag(su))
+    else:
+        _lib.call("igea.accel_history", "igea_accel_history", mcal, npar, _lib.dptr(b), npar,
+                  _lib.dptr(V), npar, int(max_iter), float(tol), _lib.dptr(beta0),
+                  _lib.dptr(tau), _lib.dptr(pc), npar, _lib.dptr(info))
+        su = np.diag(tau ** 2)
+    return AccelHistory(beta0, tau, np.ascontiguousarray(su), np.ascontiguousarray(pc),
+                        bool(full), float(info[_capi.ACCEL_HIST_LOGLIK]),
                         int(info[_capi.ACCEL_HIST_ITER]), mcal)
 
 

@@ -247,6 +247,13 @@ BASE = {
                                  'b_[4 * i + 1] = b_[4 * i + 2] = 0.01; '
                                  'b_[4 * i + 3] = 0.2 + 0.01 * i; }',
                                _int=dict(ldb='ld', ldv='ld', ldc='ld')),
+    'igea_accel_history_full': dict(m='6', p='2', b='c:1.0 + (double)(i % 2) + 0.3 * au(i)',
+                                    ldb='2', ldv='2', max_iter='100000', tol='1e-8', lds='2',
+                                    ldc='2',
+                                    V='set:for (int i = 0; i < 6; i++) { b_[4 * i] = 0.1; '
+                                      'b_[4 * i + 1] = b_[4 * i + 2] = 0.01; '
+                                      'b_[4 * i + 3] = 0.2 + 0.01 * i; }',
+                                    _int=dict(ldb='ld', ldv='ld', lds='ld', ldc='ld')),
     'igea_accel_fit_prior': dict(model='IGEA_ACCEL_DUAL', n='12', theta_deg=THETA30, ya=YA_DUAL,
                                  yb=YB_DUAL, prior_mean='c:1e-4 * au(i)', ldp='9', ldc='9',
                                  prior_cov='set:for (int i = 0; i < 81; i++) '

@@ -58,6 +58,39 @@ def test_reml_against_scipy():
     np.testing.assert_allclose(pc, np.diag(rt ** 2) + rcov, rtol=5e-5)
 
 
+def test_full_sigma_against_scipy():
+    """Full Sigma (p = 2, unequal V_i): the REML written here over the
+    Cholesky factor of Sigma, against igea.accel_history(full=True) through
+    the C function directly (p = 2 is no accel model)."""
+    from igea import _capi, _lib
+    rng = np.random.default_rng(21)
+    m, p = 40, 2       # an interior optimum (with few, noisy calibrations it is often
+    L = np.array([[1.0, 0.0], [0.7, 0.5]])   # singular, where EM creeps)
+    V = [random_psd(rng, p, s) for s in rng.uniform(0.1, 0.3, m)]
+    b = np.array([np.array([1.0, -1.0]) + L @ rng.standard_normal(p)
+                  + rng.multivariate_normal(np.zeros(p), Vi) for Vi in V])
+
+    def nll(x):
+        Lc = np.array([[np.exp(x[0]), 0.0], [x[1], np.exp(x[2])]])
+        S = Lc @ Lc.T
+        W = [np.linalg.inv(S + Vi) for Vi in V]
+        Ssum = sum(W)
+        beta = np.linalg.solve(Ssum, sum(Wi @ bi for Wi, bi in zip(W, b)))
+        return (sum(np.linalg.slogdet(S + Vi)[1] for Vi in V) + np.linalg.slogdet(Ssum)[1]
+                + sum((bi - beta) @ Wi @ (bi - beta) for Wi, bi in zip(W, b)))
+
+    r = optimize.minimize(nll, np.zeros(3), method="Nelder-Mead",
+                          options=dict(xatol=1e-11, fatol=1e-14, maxiter=40000, maxfev=80000))
+    Lc = np.array([[np.exp(r.x[0]), 0.0], [r.x[1], np.exp(r.x[2])]])
+    B = np.asfortranarray(b.T)
+    VV = np.concatenate([np.asfortranarray(Vi).ravel(order="F") for Vi in V])
+    beta0, Sg, pc = np.zeros(p), np.zeros((p, p), order="F"), np.zeros((p, p), order="F")
+    _lib.call("t", "igea_accel_history_full", m, p, _lib.dptr(B), p, _lib.dptr(VV), p, 500000,
+              1e-10, _lib.dptr(beta0), _lib.dptr(Sg), p, _lib.dptr(pc), p, None)
+    assert np.linalg.eigvalsh(Lc @ Lc.T).min() > 0.05      # interior
+    np.testing.assert_allclose(Sg, Lc @ Lc.T, rtol=1e-5, atol=1e-7)
+
+
 TH = igea.accel_schedule(20)
 BETA0 = np.array([2e-4, -1.5e-4, 3e-4, -2e-4, 5e-5, 2e-5, -1e-5, 1e-5, -2e-5])
 TAU = np.array([2e-5, 2e-5, 2e-5, 2e-5, 1e-5, 4e-6, 4e-6, 4e-6, 4e-6])
@@ -148,4 +181,5 @@ def test_driver_joint_json_is_a_history_entry(tmp_path):
     np.testing.assert_allclose(json.load(open(files[0]))["cov"], fits[0].cov, rtol=1e-9)
     a, b = igea.accel_history(files), igea.accel_history(fits)
     np.testing.assert_allclose(a.tau, b.tau, rtol=1e-6)
+
     np.testing.assert_allclose(a.beta0, b.beta0, rtol=1e-9, atol=1e-15)
