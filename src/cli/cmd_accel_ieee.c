@@ -235,3 +235,116 @@ int cli_accel_design(const cli_accel_args *a)
     ai_free(&d);
     return ec;
 }
+
+/* ---- --history: earlier 'igea accel --json' results --------------------- */
+
+/* The whole file (malloc'd, NUL-terminated) or NULL with a message. */
+static char *slurp(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        cli_error("%s: cannot be read", path);
+        return NULL;
+    }
+    size_t cap = 4096, len = 0;
+    char *buf = malloc(cap);
+    while (buf) {
+        size_t got = fread(buf + len, 1, cap - 1 - len, f);
+        len += got;
+        if (len < cap - 1)
+            break;
+        char *nb = cap < ((size_t)64 << 20) ? realloc(buf, cap * 2) : NULL;
+        if (!nb) {
+            free(buf);
+            buf = NULL;
+            break;
+        }
+        buf = nb, cap *= 2;
+    }
+    fclose(f);
+    if (!buf)
+        cli_error("%s: out of memory or larger than 64 MB", path);
+    else
+        buf[len] = 0;
+    return buf;
+}
+
+/* n numbers of the top-level array "key": [..] (nested brackets skipped
+ * over), into x. Returns the count read, -1 when the key is absent or a
+ * value is not a number. */
+static int json_numbers(const char *text, const char *key, double *x, int n)
+{
+    char pat[32];
+    snprintf(pat, sizeof pat, "\n  \"%s\": [", key);
+    const char *p = strstr(text, pat);
+    if (!p)
+        return -1;
+    p += strlen(pat);
+    int k = 0;
+    while (*p && k < n) {
+        while (*p == ' ' || *p == '[' || *p == ',' || *p == '\n' || *p == ']')
+            p++;
+        char *end;
+        double v = strtod(p, &end);
+        if (end == p || !isfinite(v))
+            return -1;
+        x[k++] = v;
+        p = end;
+    }
+    return k;
+}
+
+/* One history file: coef[np] and cov (np x np of the file's nf x nf). */
+static int history_file(const char *path, int np, double *coef, double *cov)
+{
+    char *t = slurp(path);
+    if (!t)
+        return CLI_NOINPUT;
+    int ec = CLI_OK, nf = strstr(t, "\"method\": \"joint\"") ? IGEA_ACCEL_NP_JOINT : np;
+    double c[IGEA_ACCEL_NP_JOINT], v[IGEA_ACCEL_NP_JOINT * IGEA_ACCEL_NP_JOINT];
+    const char *fl = strstr(t, "\n  \"flags\": [");
+    const char *fe = fl ? strchr(fl, ']') : NULL;
+    const char *pr = fl ? strstr(fl, "\"prior\"") : NULL;
+    if (!fl || !fe || (pr && pr < fe)) {
+        cli_error("%s: %s", path, fl ? "a coefficient is flagged prior (a minimum-norm or prior "
+                                       "value, not an estimate): use joint or single fits"
+                                     : "no \"flags\" (not an 'igea accel --json' result)");
+        ec = CLI_DATAERR;
+    } else if (json_numbers(t, "coef", c, nf) != nf || json_numbers(t, "cov", v, nf * nf) != nf * nf) {
+        cli_error("%s: needs \"coef\" (%d numbers) and \"cov\" (%d x %d), as 'igea accel "
+                  "--method joint --json' writes", path, nf, nf, nf);
+        ec = CLI_DATAERR;
+    }
+    for (int i = 0; !ec && i < np; i++) {
+        coef[i] = c[i];
+        for (int j = 0; j < np; j++) /* the rows of the file, column-major here */
+            cov[i + j * np] = v[i * nf + j];
+    }
+    free(t);
+    return ec;
+}
+
+int cli_accel_history(const char *list, int np, double *beta0, double *prior_cov, int *m)
+{
+    char **items;
+    int n = 0, ec = cli_split_list(list, &items, &n);
+    if (ec)
+        return ec;
+    double *b = malloc(sizeof(double) * (size_t)(n * np + n * np * np + 1));
+    if (!b) {
+        free(items);
+        return cli_oom("the history");
+    }
+    double *V = b + (size_t)n * np, tau[IGEA_ACCEL_NP_DUAL];
+    for (int i = 0; !ec && i < n; i++)
+        ec = history_file(items[i], np, b + (size_t)i * np, V + (size_t)i * np * np);
+    if (!ec && n < 2)
+        ec = cli_usage("accel: --history needs at least two result files");
+    if (!ec)
+        ec = cli_status(igea_accel_history(n, np, b, np, V, np, 20000, 1e-8, beta0, tau,
+                                           prior_cov, np, NULL), "accel --history");
+    *m = n;
+    free(b);
+    free(items);
+    return ec;
+}

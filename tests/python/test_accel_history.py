@@ -183,3 +183,42 @@ def test_driver_joint_json_is_a_history_entry(tmp_path):
     np.testing.assert_allclose(a.tau, b.tau, rtol=1e-6)
 
     np.testing.assert_allclose(a.beta0, b.beta0, rtol=1e-9, atol=1e-15)
+
+
+@pytest.mark.skipif(not DRIVER, reason="IGEA_DRIVER not set")
+def test_driver_method_ebr_history(tmp_path):
+    """'igea accel --method ebr --history LIST' equals
+    igea.accel_fit(method="ebr", history=files); a dual LS result is refused
+    with its file named; --history needs --method ebr."""
+    import subprocess
+    rng = np.random.default_rng(3)
+    files = []
+    for i in range(6):
+        beta = BETA0 + TAU * rng.standard_normal(9)
+        ya, yb = igea.accel_simulate(TH, np.append(beta, 0.0), noise_sd=1e-6, seed=i)
+        data = tmp_path / ("h%d.txt" % i)
+        np.savetxt(data, np.c_[TH, ya, yb], fmt="%.17g")
+        out = tmp_path / ("h%d.json" % i)
+        subprocess.run([DRIVER, "accel", "--method", "joint", "--json", "--data", str(data),
+                        "--out", str(out)], check=True)
+        files.append(str(out))
+    ya, yb = igea.accel_simulate(TH, np.append(BETA0, 0.0), noise_sd=1e-6, seed=77)
+    new = tmp_path / "new.txt"
+    np.savetxt(new, np.c_[TH, ya, yb], fmt="%.17g")
+    p = subprocess.run([DRIVER, "accel", "--method", "ebr", "--history", ",".join(files),
+                        "--json", "--data", str(new)], capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr
+    out = json.loads(p.stdout)
+    fit = igea.accel_fit(TH, ya, yb, method="ebr", history=files)
+    np.testing.assert_allclose(out["coef"], fit.coef, rtol=1e-12, atol=1e-18)
+    np.testing.assert_allclose(out["sd"], fit.sd, rtol=1e-12)
+    np.testing.assert_allclose(out["prior_mean"], fit.prior_mean, rtol=1e-12)
+    assert out["history"] == 6 and out["flags"][2] == "data" and out["flags"][5] == "prior"
+    ls = tmp_path / "ls.json"
+    subprocess.run([DRIVER, "accel", "--json", "--data", str(new), "--out", str(ls)], check=True)
+    p = subprocess.run([DRIVER, "accel", "--method", "ebr", "--history", "%s,%s" % (ls, files[0]),
+                        "--data", str(new)], capture_output=True, text=True)
+    assert p.returncode == 65 and "ls.json" in p.stderr and "flagged prior" in p.stderr
+    p = subprocess.run([DRIVER, "accel", "--history", ",".join(files), "--data", str(new)],
+                       capture_output=True, text=True)
+    assert p.returncode == 64 and "--method ebr" in p.stderr
