@@ -619,9 +619,9 @@ def accel_criterion(theta_deg, *, model="dual", method="ls", plane=None, head_ra
 
 
 def _history_entry(h, npar, k):
-    """(coef, cov) of one earlier calibration: an AccelJoint/AccelFit-like
-    object or dict with coef and cov (or sd), or the path of a JSON file
-    written by 'igea accel --json'. The first npar coefficients are used
+    """(coef, cov) of one earlier calibration: an AccelJoint-like object or
+    dict with coef and cov, or the path of a JSON file written by
+    'igea accel --method joint --json'. The first npar coefficients are used
     (a joint fit's delta0 is not a dual coefficient)."""
     import json
     import os
@@ -630,15 +630,15 @@ def _history_entry(h, npar, k):
         with open(h) as f:
             h = json.load(f)
     get = h.get if isinstance(h, dict) else (lambda key, d=None: getattr(h, key, d))
-    coef, cov, sd, flags = get("coef"), get("cov"), get("sd"), get("flags")
-    if coef is None or (cov is None and sd is None):
-        raise ValueError("history[%d] (%s): needs coef and cov (or sd)" % (k, str(src)[:60]))
+    coef, cov, flags = get("coef"), get("cov"), get("flags")
     if flags is not None and any(f != "data" for f in list(flags)[:npar]):
         raise ValueError("history[%d]: coefficients flagged prior are not estimates of the "
-                         "coefficients (use joint or single-model fits)" % k)
-    coef = np.asarray(coef, dtype=float)
-    cov = np.diag(np.asarray(sd, dtype=float) ** 2) if cov is None else np.asarray(cov, float)
-    if coef.shape[0] < npar or cov.shape[0] < npar:
+                         "coefficients (use joint fits)" % k)
+    if coef is None or cov is None:    # sds alone would drop the correlations
+        raise ValueError("history[%d] (%s): needs coef and cov (joint fits, or dicts with "
+                         "both)" % (k, str(src)[:60]))
+    coef, cov = np.asarray(coef, dtype=float), np.asarray(cov, dtype=float)
+    if coef.ndim != 1 or cov.ndim != 2 or coef.shape[0] < npar or min(cov.shape) < npar:
         raise ValueError("history[%d]: %d coefficients, the model has %d"
                          % (k, coef.shape[0], npar))
     return coef[:npar], cov[:npar, :npar]

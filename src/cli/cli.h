@@ -350,7 +350,7 @@ typedef struct {
 int cli_accel_ieee(const cli_accel_args *a);
 int cli_accel_design(const cli_accel_args *a);
 /* --history LIST: the prior (beta0[np], prior_cov np x np) from earlier
- * 'igea accel --json' results (joint or single fits), m of them. */
+ * 'igea accel --method joint --json' results (coef, cov, flags), m of them. */
 int cli_accel_history(const char *list, int np, double *beta0, double *prior_cov, int *m);
 int cmd_regress(int argc, char **argv);
 int cmd_envfun(int argc, char **argv);

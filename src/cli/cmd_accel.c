@@ -21,8 +21,8 @@ static const cli_opt options[] = {
     {"--prior", CLI_OPT_STR, &A.prior, NULL, "FILE", "EBR prior scales tau_j, one per coefficient (9\n"
      "dual, 5 single), e.g. historical spreads", NULL},
     {"--history", CLI_OPT_STR, &A.history, NULL, "LIST", "--method ebr with the prior from earlier\n"
-     "'igea accel --json' results of the same instrument\n"
-     "type (joint or single fits; comma-separated files):\n"
+     "'igea accel --method joint --json' results of the\n"
+     "same instrument type (comma-separated files):\n"
      "REML mean and spread, then the posterior", NULL},
     {"--rule", CLI_OPT_CHOICE, &A.rule, "sc", CLI_CHOICES(IGEA_CHOICE_REGRESS_EBR_RULE), "EBR rule for lambda (METHODS 4.3 eq. 17)", NULL},
     {"--lam-floor", CLI_OPT_NUM, &A.lam_floor, "0", "X", "EBR lower bound on lambda", NULL},

@@ -307,7 +307,7 @@ static int history_file(const char *path, int np, double *coef, double *cov)
     const char *pr = fl ? strstr(fl, "\"prior\"") : NULL;
     if (!fl || !fe || (pr && pr < fe)) {
         cli_error("%s: %s", path, fl ? "a coefficient is flagged prior (a minimum-norm or prior "
-                                       "value, not an estimate): use joint or single fits"
+                                       "value, not an estimate): use joint fits"
                                      : "no \"flags\" (not an 'igea accel --json' result)");
         ec = CLI_DATAERR;
     } else if (json_numbers(t, "coef", c, nf) != nf || json_numbers(t, "cov", v, nf * nf) != nf * nf) {
