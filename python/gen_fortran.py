@@ -39,6 +39,7 @@ import gen_capi  # noqa: E402
 # not listed here is an array of one element for Fortran callers.
 SCALARS = {
     "igea_accel_merge": "npos", "igea_accel_hysteresis": "npos", "igea_accel_analyze": "rank",
+    "igea_accel_criterion": "logdet rank",
     "igea_choice_code": "code",
     "igea_envfun_default_spec": "spec", "igea_envfun_default_terms": "n",
     "igea_normal_qr_accumulate": "rows",

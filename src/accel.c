@@ -11,9 +11,10 @@
 #include "igea/accel.h"
 #include "igea/regress.h"
 #include "internal.h"
+#include "accel_internal.h"
 
 #define ACCEL_PI 3.14159265358979323846
-#define ACCEL_MAXP 9
+#define ACCEL_MAXP 10 /* the joint model (10); the null basis works up to this */
 
 static int model_np(int model)
 {
@@ -75,6 +76,8 @@ static void design_row(int model, double deg, double *row)
         row[8] = -s * c * c;
     }
 }
+
+static void tangential_row(double deg, double *row);
 
 static void fill_design(int model, int n, const double *theta, double *A,
                         int lda)
@@ -225,6 +228,25 @@ static double null_loading(int N, int r, const double *V, const double *c)
         ss += d * d;
     }
     return sqrt(ss);
+}
+
+/* The helpers above for the other accel_*.c files (accel_internal.h). */
+void igea__accel_sincosd(double deg, double *s, double *c) { sincosd(deg, s, c); }
+void igea__accel_row(int model, double deg, double *row)
+{
+    if (model == IGEA_ACCEL_JOINT) /* the tangential row of the joint model */
+        tangential_row(deg, row);
+    else
+        design_row(model, deg, row);
+}
+int igea__accel_svd(int m, int N, const double *A, int lda, double *s, double *V, int *rank)
+{
+    return svd_v(m, N, A, lda, s, V, rank);
+}
+void igea__accel_null(int N, int r, const double *V, double *nb) { null_canonical(N, r, V, nb); }
+double igea__accel_loading(int N, int r, const double *V, const double *c)
+{
+    return null_loading(N, r, V, c);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -441,8 +463,15 @@ static const char *const unit_single[5] = {"g", "", "rad", "g/g^2", "g/g^2"};
 
 static int axis_ok(int axis) { return axis == IGEA_ACCEL_AXIS_PA || axis == IGEA_ACCEL_AXIS_OA; }
 
+static const char *const coef_ieee[IGEA_ACCEL_NP_IEEE] = {
+    "K0", "K1", "K2", "K3", "Kip", "Kio", "delta_o", "delta_p"};
+static const char *const unit_ieee[IGEA_ACCEL_NP_IEEE] = {
+    "g", "out/g", "g/g^2", "g/g^3", "g/g^2", "g/g^2", "rad", "rad"};
+
 const char *igea_accel_coef_name(int model, int axis, int j)
 {
+    if (model == IGEA_ACCEL_IEEE) /* both planes: the names do not depend on axis */
+        return axis_ok(axis) && j >= 0 && j < IGEA_ACCEL_NP_IEEE ? coef_ieee[j] : "";
     if (!model_ok(model) || !axis_ok(axis) || j < 0 || j >= model_np(model))
         return "";
     return model == IGEA_ACCEL_DUAL ? coef_dual[axis][j] : coef_single[axis][j];
@@ -459,6 +488,8 @@ const char *igea_accel_comb_name(int model, int axis, int k)
 
 const char *igea_accel_coef_unit(int model, int j)
 {
+    if (model == IGEA_ACCEL_IEEE)
+        return j >= 0 && j < IGEA_ACCEL_NP_IEEE ? unit_ieee[j] : "";
     if (!model_ok(model) || j < 0 || j >= model_np(model))
         return "";
     return model == IGEA_ACCEL_DUAL ? unit_dual[j] : unit_single[j];

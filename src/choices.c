@@ -87,6 +87,11 @@ static const choice redund_rbd[] = {
     {IGEA_REDUND_RBD_SERIES, "series"}, {IGEA_REDUND_RBD_PARALLEL, "parallel"},
     {IGEA_REDUND_RBD_KOFN, "kofn"}, END};
 
+static const choice accel_ieee_method[] = {
+    {IGEA_ACCEL_LS, "ls"}, {IGEA_ACCEL_HARMONIC, "harmonic"}, END};
+static const choice accel_crit_model[] = {
+    {IGEA_ACCEL_SINGLE, "single"}, {IGEA_ACCEL_DUAL, "dual"}, {IGEA_ACCEL_IEEE, "ieee"}, END};
+
 /* The table of a kind, or NULL. */
 static const choice *table(int kind)
 {
@@ -117,6 +122,8 @@ static const choice *table(int kind)
     case IGEA_CHOICE_NAV_FRAME: return nav_frame;
     case IGEA_CHOICE_NAV_GRAVITY: return nav_gravity;
     case IGEA_CHOICE_DW_KIND: return dw_kind;
+    case IGEA_CHOICE_ACCEL_IEEE_METHOD: return accel_ieee_method;
+    case IGEA_CHOICE_ACCEL_CRIT_MODEL: return accel_crit_model;
     default: return NULL;
     }
 }

@@ -110,6 +110,11 @@ static const pair expected[] = {
     {IGEA_CHOICE_NAV_GRAVITY, IGEA_NAV_GRAVITY_J2, "j2"},
     {IGEA_CHOICE_DW_KIND, IGEA_DW_APPARENT, "apparent"},
     {IGEA_CHOICE_DW_KIND, IGEA_DW_NAVIGATED, "navigated"},
+    {IGEA_CHOICE_ACCEL_IEEE_METHOD, IGEA_ACCEL_LS, "ls"},
+    {IGEA_CHOICE_ACCEL_IEEE_METHOD, IGEA_ACCEL_HARMONIC, "harmonic"},
+    {IGEA_CHOICE_ACCEL_CRIT_MODEL, IGEA_ACCEL_SINGLE, "single"},
+    {IGEA_CHOICE_ACCEL_CRIT_MODEL, IGEA_ACCEL_DUAL, "dual"},
+    {IGEA_CHOICE_ACCEL_CRIT_MODEL, IGEA_ACCEL_IEEE, "ieee"},
 };
 /* Kinds are numbered from 1, not necessarily without gaps, below KIND_MAX;
  * UNKNOWN_KIND is none. */

@@ -181,7 +181,10 @@ IGEA_API int igea_accel_combinations(int model, double *C, int ldc);
  * rotation axis `axis` ("KA0", ..., "KAio"); combination k (0 <= k < nc,
  * the columns of igea_accel_combinations: "KA0+KA2", ...); the unit of
  * coefficient j ("g", "" for a scale factor, "rad", "g/g^2"). "" for an
- * unknown model, axis or index.
+ * unknown model, axis or index. igea_accel_coef_name and
+ * igea_accel_coef_unit also name the IEEE Std 1293 model's coefficients
+ * (model IGEA_ACCEL_IEEE, below; any axis): "K0", "K1", "K2", "K3", "Kip",
+ * "Kio", "delta_o", "delta_p"; K1's unit is "out/g" (output units per g).
  */
 IGEA_API const char *igea_accel_coef_name(int model, int axis, int j);
 IGEA_API const char *igea_accel_comb_name(int model, int axis, int k);
@@ -422,6 +425,182 @@ IGEA_API int igea_accel_joint(int n, const double *theta_deg,
                               double *coef, double *sd, double *cov, int ldc,
                               double *comp_sd, double *comb, double *comb_sd,
                               double *info);
+
+/* ---------------------------------------------------------------------- */
+/* The IEEE Std 1293 single-axis model and the design criterion. */
+
+/* The model for igea_accel_ieee_fit and igea_accel_criterion (not a model
+ * of igea_accel_fit; IGEA_CHOICE_ACCEL_CRIT_MODEL: single dual ieee). */
+#define IGEA_ACCEL_IEEE 2
+/* The harmonic (Fourier) method of IEEE Std 1293's tumble-test annex
+ * (igea_accel_ieee_fit; IGEA_CHOICE_ACCEL_IEEE_METHOD: ls harmonic). */
+#define IGEA_ACCEL_HARMONIC 3
+
+/* Coefficients of the IEEE Std 1293 model, in this order: the output is
+ *   E = K1 (K0 + a_i + K2 a_i^2 + K3 a_i^3 + Kip a_i a_p + Kio a_i a_o
+ *           + delta_o a_p - delta_p a_o)
+ * (a_i, a_p, a_o: acceleration along the input, pendulous and output axes,
+ * in g; K1 in output units per g; K0 g; K2 g/g^2; K3 g/g^3; Kip, Kio
+ * g/g^2; delta_o, delta_p rad: the input axis's misalignment towards PA
+ * and OA). */
+#define IGEA_ACCEL_NP_IEEE 8
+#define IGEA_ACCEL_IEEE_K0 0
+#define IGEA_ACCEL_IEEE_K1 1
+#define IGEA_ACCEL_IEEE_K2 2
+#define IGEA_ACCEL_IEEE_K3 3
+#define IGEA_ACCEL_IEEE_KIP 4
+#define IGEA_ACCEL_IEEE_KIO 5
+#define IGEA_ACCEL_IEEE_DO 6
+#define IGEA_ACCEL_IEEE_DP 7
+
+/* The two standard tumble orientations (plane[] of igea_accel_ieee_fit):
+ * at head angle theta, a_i = sin theta and
+ *  IA-PA plane (head axis along OA): a_p = cos theta, a_o = 0;
+ *  IA-OA plane (head axis along PA): a_o = cos theta, a_p = 0. */
+#define IGEA_ACCEL_PLANE_IAPA 0
+#define IGEA_ACCEL_PLANE_IAOA 1
+
+/*
+ * Fit the IEEE Std 1293 model to tumble readings in one or both standard
+ * planes (docs/accel.md, "The IEEE Std 1293 model") [D]. The model is
+ * linear in b = K1 (K0, 1, K2, K3, Kip, Kio, delta_o, -delta_p), design
+ * row [1, s, s^2, s^3, sc, sc, c, c] with the sc and c columns of the
+ * other plane zero (s = sin theta, c = cos theta); b is estimated, then
+ * K1 = b_1, K_j = +-b_j / b_1, covariance J Cov(b) J^T (J = dK/db).
+ *  1 method: IGEA_ACCEL_LS (least squares, igea_regress_ls, minimum norm
+ *    when rank-deficient) or IGEA_ACCEL_HARMONIC (the Fourier
+ *    coefficients B0, S1, C1, S2, C2, S3 of each plane, pooled over the
+ *    planes by their number of positions; needs, in each plane with
+ *    readings, one reading per position at N >= 7 distinct equispaced
+ *    positions; then it equals least squares);
+ *  2 n >= 1 readings; 3 theta_deg[n] head angles; 4 plane[n]:
+ *    IGEA_ACCEL_PLANE_IAPA or IGEA_ACCEL_PLANE_IAOA per reading;
+ *  5 e[n] outputs (any unit; K1 comes out in that unit per g);
+ * Outputs: 6 coef[8] in the order above; 7 sd[8] (may be NULL); 8 cov
+ *  (8 x 8, may be NULL), 9 ldc >= 8 (>= 1 when cov is NULL): delta-method
+ *  covariance with sigma^2 = RSS / (n - rank); sd and cov NaN when
+ *  n == rank; 10 flag[8] (may be NULL): IGEA_ACCEL_DATA, or
+ *  IGEA_ACCEL_PRIOR for a coefficient the schedule does not determine
+ *  (its loading on the design's null space > IGEA_ACCEL_LOADING_TOL; its
+ *  value is the minimum-norm convention's, e.g. 0 for Kio and delta_p
+ *  without IA-OA readings); 11 info[IGEA_ACCEL_INFO_LEN] (may be NULL):
+ *  rank, sigma (output units), -, rms, nobs = n, dof = n - rank.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_EDOMAIN (harmonic: a plane not
+ * equispaced or with fewer than 7 positions; K1 estimated as 0),
+ * IGEA_EOVERFLOW, IGEA_ENOMEM, IGEA_ELAPACK.
+ */
+IGEA_API int igea_accel_ieee_fit(int method, int n, const double *theta_deg,
+                                 const int *plane, const double *e, double *coef,
+                                 double *sd, double *cov, int ldc, int *flag,
+                                 double *info);
+
+/*
+ * D-criterion of a position schedule [D]: the information matrix
+ * M = A^T W A of the model's linear design for unit noise (sigma = 1),
+ * normalised per reading, logdet = (1/r) sum_{i<r} log(lambda_i(M / n))
+ * (r = rank; for a full-rank schedule (1/np) log det(M / n), the log of the
+ * geometric-mean eigenvalue; a schedule of lower rank has det 0, and its
+ * logdet is that of the estimable part only: compare ranks first), and
+ * the per-reading variance factors varfac_j = n [M^+]_jj, so that
+ * sd_j = sigma sqrt(varfac_j / n).
+ *  1 model: IGEA_ACCEL_SINGLE (5), IGEA_ACCEL_DUAL (9), IGEA_ACCEL_IEEE (8);
+ *  2 method: IGEA_ACCEL_LS or IGEA_ACCEL_EBR (the data's information);
+ *    IGEA_ACCEL_JOINT (dual only: the radial rows plus the tangential rows
+ *    weighted 1 / (1 + head_ratio^2), 10 coefficients with delta0);
+ *    IGEA_ACCEL_HARMONIC (IEEE only; the same information as LS);
+ *  3 n >= 1 readings; 4 theta_deg[n]; 5 plane[n] (IEEE; ignored and may
+ *    be NULL otherwise);
+ *  6 head_ratio >= 0: sigma_head / sigma (joint; ignored otherwise);
+ * Outputs: 7 logdet; 8 varfac[np] (may be NULL); for a coefficient flagged
+ *  IGEA_ACCEL_PRIOR it is the minimum-norm spread, not an uncertainty;
+ *  9 flag[np] (may be NULL): IGEA_ACCEL_DATA / IGEA_ACCEL_PRIOR as in
+ *  igea_accel_fit; 10 rank.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ERANK (rank 0), IGEA_EOVERFLOW,
+ * IGEA_ENOMEM, IGEA_ELAPACK.
+ */
+IGEA_API int igea_accel_criterion(int model, int method, int n, const double *theta_deg,
+                                  const int *plane, double head_ratio, double *logdet,
+                                  double *varfac, int *flag, int *rank);
+
+/* ---------------------------------------------------------------------- */
+/* Priors from the calibration history. */
+
+/* Indices into info[IGEA_ACCEL_HIST_LEN] of igea_accel_history. */
+#define IGEA_ACCEL_HIST_LOGLIK 0 /* restricted log-likelihood at the estimate
+                                    (without the constant -(m - 1) p log(2 pi) / 2) */
+#define IGEA_ACCEL_HIST_ITER 1   /* EM iterations */
+#define IGEA_ACCEL_HIST_LEN 2
+
+/*
+ * Prior of an instrument type from the calibration history [D]: m earlier
+ * calibrations of instruments of the type, estimates b_i with covariances
+ * V_i, under the random-effects model
+ *     b_i = beta0 + u_i + e_i,  u_i ~ N(0, Sigma),  e_i ~ N(0, V_i),
+ * Sigma = diag(tau^2) (instrument-to-instrument spread), fitted by
+ * restricted maximum likelihood (REML; beta0 integrated out) with the EM
+ * algorithm (docs/accel.md, "Priors from the calibration history"). Every
+ * coefficient must be determined by each calibration (e.g. joint fits, or
+ * single-model fits): a minimum-norm value of a coefficient flagged
+ * IGEA_ACCEL_PRIOR is not an estimate of it.
+ *  1 m >= 2 calibrations; 2 p: 1 <= p <= 10 coefficients;
+ *  3 b (p x m, column i = calibration i), 4 ldb >= p;
+ *  5 V: m covariance blocks, block i at V + i ldv p (p x p, column-major,
+ *    ld ldv), each symmetric positive semi-definite; 6 ldv >= p;
+ *  7 max_iter >= 1 EM iterations (e.g. 20000); 8 tol in (0, 1): stop when
+ *    every |change of tau_j| <= tol sqrt(mean_i V_i,jj), or when an
+ *    iteration raises the restricted log-likelihood by less than tol (EM
+ *    creeps towards an estimate tau_j = 0 on the boundary) (e.g. 1e-8);
+ * Outputs: 9 beta0[p] (the generalised-least-squares mean at the estimate);
+ *  10 tau[p] (prior sds, sqrt of Sigma's diagonal); 11 prior_cov (p x p,
+ *  may be NULL), 12 ldc >= p (>= 1 when prior_cov is NULL): the prior for
+ *  a new instrument of the type, Sigma + Cov(beta0 hat), Cov(beta0 hat) =
+ *  (sum_i (Sigma + V_i)^-1)^-1; 13 info[IGEA_ACCEL_HIST_LEN] (may be NULL).
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ESINGULAR (Sigma + V_i not positive
+ * definite), IGEA_ENOCONV (max_iter reached), IGEA_EOVERFLOW, IGEA_ENOMEM.
+ */
+IGEA_API int igea_accel_history(int m, int p, const double *b, int ldb, const double *V,
+                                int ldv, int max_iter, double tol, double *beta0, double *tau,
+                                double *prior_cov, int ldc, double *info);
+
+/*
+ * The same with a full (p x p) Sigma: the EM's M-step keeps the whole
+ * mean of uhat_i uhat_i^T + C_i (docs/accel.md) [D]. Arguments 1-9 as
+ * igea_accel_history; outputs 10 sigma_u (p x p, Sigma, symmetric), 11 lds
+ * >= p; 12 prior_cov (p x p, may be NULL): Sigma + Cov(beta0 hat), 13 ldc
+ * >= p (>= 1 when prior_cov is NULL); 14 info[IGEA_ACCEL_HIST_LEN] (may be
+ * NULL). The stopping rule compares every entry's change with tol
+ * sqrt(mean V_jj mean V_kk) (the diagonal's sds as in igea_accel_history).
+ * Returns as igea_accel_history.
+ */
+IGEA_API int igea_accel_history_full(int m, int p, const double *b, int ldb, const double *V,
+                                     int ldv, int max_iter, double tol, double *beta0,
+                                     double *sigma_u, int lds, double *prior_cov, int ldc,
+                                     double *info);
+
+/*
+ * A calibration fit with a normal prior N(prior_mean, prior_cov) on the
+ * coefficients (e.g. from igea_accel_history) [D]: sigma^2 = RSS / (n - r)
+ * of the least-squares fit, then the posterior of igea_regress_bayes,
+ *     cov = (A^T A / sigma^2 + P^-1)^-1,  coef = cov (A^T y / sigma^2 + P^-1 mu).
+ * The prior fixes the directions the data do not determine (the dual
+ * model's null space) and shrinks the others.
+ *  1 model: IGEA_ACCEL_SINGLE or IGEA_ACCEL_DUAL; 2 n >= 1 positions (n >
+ *  rank); 3 theta_deg[n]; 4 ya[n]; 5 yb[n] (dual; ignored and may be NULL
+ *  for single); 6 prior_mean[np]; 7 prior_cov (np x np, positive definite,
+ *  lower triangle read), 8 ldp >= np;
+ * Outputs: 9 coef[np]; 10 sd[np] (may be NULL): posterior sds; 11 cov
+ *  (np x np, may be NULL), 12 ldc >= np (>= 1 when cov is NULL);
+ *  13 info[IGEA_ACCEL_INFO_LEN] (may be NULL): rank (of the design),
+ *  sigma (least squares), -, rms of the posterior residual, nobs, dof.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_EDOMAIN (no residual to estimate
+ * sigma), IGEA_ESINGULAR (prior_cov not positive definite),
+ * IGEA_EOVERFLOW, IGEA_ENOMEM, IGEA_ELAPACK.
+ */
+IGEA_API int igea_accel_fit_prior(int model, int n, const double *theta_deg,
+                                  const double *ya, const double *yb,
+                                  const double *prior_mean, const double *prior_cov, int ldp,
+                                  double *coef, double *sd, double *cov, int ldc,
+                                  double *info);
 
 #ifdef __cplusplus
 }

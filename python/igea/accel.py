@@ -203,7 +203,7 @@ class AccelFit:
 
 def accel_fit(theta_deg, y_a, y_b=None, *, model="dual", method="ls", prior=_UNSET,
               rule="sc", lam_floor=0.0, scale_a=None, scale_b=None, axis="pa",
-              prior_scale=_UNSET):
+              prior_scale=_UNSET, history=None):
     """Fit one calibration.
 
     theta_deg: head angles (one per position; see accel_merge); y_a, y_b:
@@ -212,7 +212,10 @@ def accel_fit(theta_deg, y_a, y_b=None, *, model="dual", method="ls", prior=_UNS
     method "ls" (minimum-norm least squares) or "ebr" (empirical-Bayes
     ridge with the prior scales tau_j `prior`, one per coefficient, the
     driver's --prior (prior_scale= is its old name), rule "sc"/"mm"/"ml2"
-    and lam_floor), or "joint" (dual: returns accel_joint's AccelJoint)."""
+    and lam_floor), or "joint" (dual: returns accel_joint's AccelJoint).
+    method "ebr" with history (earlier calibrations of the type, see
+    accel_history) fits with the prior estimated from them and returns
+    accel_fit_history's AccelHistoryFit."""
     prior = renamed("igea.accel_fit", "prior", prior, "prior_scale", prior_scale)
     m = _model(model)
     method_code = _lib.choice(_capi.CHOICE_ACCEL_METHOD, method, "igea.accel_fit", "method")
@@ -235,6 +238,10 @@ def accel_fit(theta_deg, y_a, y_b=None, *, model="dual", method="ls", prior=_UNS
         if prior is not None:
             raise ValueError("prior: only for method='ebr'")
         return accel_joint(t, ya, yb, axis=axis)
+    if history is not None:
+        if method != "ebr" or prior is not None:
+            raise ValueError("history: needs method='ebr' and no prior")
+        return accel_fit_history(t, ya, yb, history, model=m, axis=axis)
     ps = None if prior is None else _vec(prior, "prior", npar)
     coef, sd, flag = np.zeros(npar), np.zeros(npar), np.zeros(npar, dtype=np.intc)
     comb, csd, info = np.zeros(nc), np.zeros(nc), np.zeros(_capi.ACCEL_INFO_LEN)
@@ -459,3 +466,288 @@ def accel_joint(theta_deg, y_a, y_b, *, axis="pa"):
                       sd_angle=float(comp[_capi.ACCEL_JOINT_SD_ANGLE]),
                       **_lib.fields(info, "ACCEL_INFO_", rank=int, sigma=float, rms=float,
                                     dof=int))
+
+
+# ---- the IEEE Std 1293 model and the design criterion ----------------------
+
+_PLANES = {"ia-pa": _capi.ACCEL_PLANE_IAPA, "ia-oa": _capi.ACCEL_PLANE_IAOA}
+
+
+def _ieee_names():
+    """Names and units of the IEEE Std 1293 coefficients (the library's)."""
+    m = _capi.ACCEL_IEEE
+    return ([_lib.lib.igea_accel_coef_name(m, 0, j).decode() for j in range(_capi.ACCEL_NP_IEEE)],
+            [_lib.lib.igea_accel_coef_unit(m, j).decode() for j in range(_capi.ACCEL_NP_IEEE)])
+
+
+def _planes(plane, n):
+    """plane: one of "ia-pa"/"ia-oa" for every reading, or a sequence of
+    those names or of the codes 0 (IA-PA) / 1 (IA-OA) per reading."""
+    if isinstance(plane, str):
+        plane = [plane] * n
+    codes = []
+    for p in plane:
+        if isinstance(p, str):
+            if p.lower() not in _PLANES:
+                raise ValueError("plane: %r is not ia-pa or ia-oa" % (p,))
+            codes.append(_PLANES[p.lower()])
+        else:
+            codes.append(int(p))
+    out = np.ascontiguousarray(codes, dtype=np.intc)
+    if out.shape != (n,):
+        raise ValueError("plane: expected %d entries, got %d" % (n, out.shape[0]))
+    return out
+
+
+@result
+@dataclass(frozen=True)
+class AccelIeeeFit:
+    """IEEE Std 1293 single-axis model fitted to tumble readings
+    (igea.accel_ieee_fit): K0, K1, K2, K3, Kip, Kio, delta_o, delta_p; field
+    names match 'igea accel --model ieee --json'."""
+    model: str
+    method: str
+    positions: int
+    names: list
+    units: list
+    coef: np.ndarray
+    sd: np.ndarray
+    cov: np.ndarray
+    flags: list                 # "data", or "prior": not determined by the schedule
+    rank: int
+    dof: int
+    sigma: float
+    rms: float
+
+    def summary(self):
+        lines = ["IEEE Std 1293 model, %s: %d positions, rank %d of 8, dof %d, sigma %.3e"
+                 % (self.method, self.positions, self.rank, self.dof, self.sigma)]
+        for j, name in enumerate(self.names):
+            lines.append("%-8s %15.6e %12.3e %-6s %s" % (name, self.coef[j], self.sd[j],
+                                                      self.units[j], self.flags[j]))
+        return "\n".join(lines)
+
+
+def accel_ieee_fit(theta_deg, e, plane, *, method="ls"):
+    """Fit the IEEE Std 1293 model E = K1 (K0 + a_i + K2 a_i^2 + K3 a_i^3 +
+    Kip a_i a_p + Kio a_i a_o + delta_o a_p - delta_p a_o) to tumble readings
+    e (any unit; K1 in that unit per g) at head angles theta_deg in the
+    IA-PA plane (a_i = sin, a_p = cos) and/or the IA-OA plane (a_i = sin,
+    a_o = cos); plane: "ia-pa", "ia-oa", or one name or code (0, 1) per
+    reading. method "ls" (least squares) or "harmonic" (the Fourier
+    method: one reading per position, N >= 7 equispaced positions per
+    plane). Coefficients the schedule does not determine are flagged
+    "prior" (docs/accel.md)."""
+    t = _theta(theta_deg)
+    n = t.shape[0]
+    y = _vec(e, "e", n)
+    pl = _planes(plane, n)
+    m = _lib.choice(_capi.CHOICE_ACCEL_IEEE_METHOD, method, "igea.accel_ieee_fit", "method")
+    npar = _capi.ACCEL_NP_IEEE
+    coef, sd = np.zeros(npar), np.zeros(npar)
+    cov = np.zeros((npar, npar), order="F")
+    flag = np.zeros(npar, dtype=np.intc)
+    info = np.zeros(_capi.ACCEL_INFO_LEN)
+    _lib.call("igea.accel_ieee_fit", "igea_accel_ieee_fit", m, n, _lib.dptr(t),
+              _lib.iptr(pl), _lib.dptr(y), _lib.dptr(coef), _lib.dptr(sd), _lib.dptr(cov),
+              npar, _lib.iptr(flag), _lib.dptr(info))
+    return AccelIeeeFit("ieee", method, n, *_ieee_names(),
+                        coef, sd, np.ascontiguousarray(cov),
+                        ["prior" if f == _capi.ACCEL_PRIOR else "data" for f in flag],
+                        **_lib.fields(info, "ACCEL_INFO_", rank=int, dof=int, sigma=float,
+                                      rms=float))
+
+
+@result
+@dataclass(frozen=True)
+class AccelCriterion:
+    """D-criterion of a position schedule (igea.accel_criterion): logdet =
+    (1/r) sum log eig(M / n) of the information matrix per reading, det =
+    det(M / n) (0 when rank-deficient), and the per-reading variance
+    factors varfac (sd_j = sigma sqrt(varfac_j / n)); field names match
+    'igea accel --design --json'."""
+    model: str
+    method: str
+    readings: int
+    head_ratio: float
+    names: list
+    logdet: float
+    det: float
+    varfac: np.ndarray
+    flags: list
+    rank: int
+
+    def summary(self):
+        lines = ["D-criterion: logdet %.6f, det %.6g (rank %d of %d, %d readings)"
+                 % (self.logdet, self.det, self.rank, len(self.names), self.readings)]
+        for j, name in enumerate(self.names):
+            lines.append("%-8s varfac %12.6g %s" % (name, self.varfac[j], self.flags[j]))
+        return "\n".join(lines)
+
+
+def accel_criterion(theta_deg, *, model="dual", method="ls", plane=None, head_ratio=0.0,
+                    axis="pa"):
+    """D-criterion and variance factors of a schedule for a model: "single",
+    "dual" (method "joint": the joint model with head_ratio = sigma_head /
+    sigma), or "ieee" (plane per reading as for accel_ieee_fit)."""
+    t = _theta(theta_deg)
+    n = t.shape[0]
+    if model == "ieee" and method == "harmonic":    # the same information as least squares
+        method = "ls"
+    mod = _lib.choice(_capi.CHOICE_ACCEL_CRIT_MODEL, model, "igea.accel_criterion", "model")
+    m = _lib.choice(_capi.CHOICE_ACCEL_METHOD, method, "igea.accel_criterion", "method")
+    pl = _planes(plane, n) if model == "ieee" else None
+    if model == "ieee":
+        names = _ieee_names()[0]
+    elif model == "dual" and method == "joint":
+        names = coefficient_names("dual", axis) + ["delta0"]
+    else:
+        names = coefficient_names(model, axis)
+    npar = len(names)
+    ld, rank = ctypes.c_double(0.0), ctypes.c_int(0)
+    vf, flag = np.zeros(npar), np.zeros(npar, dtype=np.intc)
+    _lib.call("igea.accel_criterion", "igea_accel_criterion", mod, m, n, _lib.dptr(t),
+              None if pl is None else _lib.iptr(pl), float(head_ratio), ctypes.byref(ld),
+              _lib.dptr(vf), _lib.iptr(flag), ctypes.byref(rank))
+    r = int(rank.value)
+    det = float(np.exp(npar * ld.value)) if r == npar else 0.0
+    return AccelCriterion(model, method, n, float(head_ratio), names, float(ld.value), det, vf,
+                          ["prior" if f == _capi.ACCEL_PRIOR else "data" for f in flag], r)
+
+
+# ---- priors from the calibration history --------------------------------
+
+
+def _history_entry(h, npar, k):
+    """(coef, cov) of one earlier calibration: an AccelJoint-like object or
+    dict with coef and cov, or the path of a JSON file written by
+    'igea accel --method joint --json'. The first npar coefficients are used
+    (a joint fit's delta0 is not a dual coefficient)."""
+    import json
+    import os
+    src = h
+    if isinstance(h, (str, bytes, os.PathLike)):
+        with open(h) as f:
+            h = json.load(f)
+    get = h.get if isinstance(h, dict) else (lambda key, d=None: getattr(h, key, d))
+    coef, cov, flags = get("coef"), get("cov"), get("flags")
+    if flags is not None and any(f != "data" for f in list(flags)[:npar]):
+        raise ValueError("history[%d]: coefficients flagged prior are not estimates of the "
+                         "coefficients (use joint fits)" % k)
+    if coef is None or cov is None:    # sds alone would drop the correlations
+        raise ValueError("history[%d] (%s): needs coef and cov (joint fits, or dicts with "
+                         "both)" % (k, str(src)[:60]))
+    coef, cov = np.asarray(coef, dtype=float), np.asarray(cov, dtype=float)
+    if coef.ndim != 1 or cov.ndim != 2 or coef.shape[0] < npar or min(cov.shape) < npar:
+        raise ValueError("history[%d]: %d coefficients, the model has %d"
+                         % (k, coef.shape[0], npar))
+    return coef[:npar], cov[:npar, :npar]
+
+
+@result
+@dataclass(frozen=True)
+class AccelHistory:
+    """Prior of an instrument type from earlier calibrations
+    (igea.accel_history): REML fit of b_i = beta0 + u_i + e_i."""
+    beta0: np.ndarray
+    tau: np.ndarray
+    sigma_u: np.ndarray
+    prior_cov: np.ndarray
+    full: bool
+    loglik: float
+    iterations: int
+    calibrations: int
+
+    def summary(self):
+        lines = ["prior from %d calibrations (REML, %s Sigma, %d EM iterations)"
+                 % (self.calibrations, "full" if self.full else "diagonal", self.iterations)]
+        for j in range(self.beta0.shape[0]):
+            lines.append("%2d  beta0 %14.6e  tau %11.3e  prior sd %11.3e" % (
+                j, self.beta0[j], self.tau[j], np.sqrt(self.prior_cov[j, j])))
+        return "\n".join(lines)
+
+
+def accel_history(history, *, model="dual", full=False, max_iter=20000, tol=1e-8):
+    """REML estimate of the prior mean beta0 and the instrument-to-instrument
+    covariance sigma_u (diagonal, sds tau; full=True: the whole matrix) from
+    earlier calibrations (see _history_entry for the forms an entry may
+    take); prior_cov = sigma_u + Cov(beta0) is the prior of a new
+    instrument of the type."""
+    m = _model(model)
+    npar = _NP[m]
+    entries = [_history_entry(h, npar, k) for k, h in enumerate(history)]
+    mcal = len(entries)
+    if mcal < 2:
+        raise ValueError("history: needs at least two calibrations")
+    b = np.asfortranarray(np.array([e[0] for e in entries]).T)
+    V = np.asfortranarray(np.concatenate([np.asfortranarray(e[1]).ravel(order="F")
+                                          for e in entries]))
+    beta0, tau = np.zeros(npar), np.zeros(npar)
+    pc = np.zeros((npar, npar), order="F")
+    info = np.zeros(_capi.ACCEL_HIST_LEN)
+    su = np.zeros((npar, npar), order="F")
+    if full:
+        _lib.call("igea.accel_history", "igea_accel_history_full", mcal, npar, _lib.dptr(b),
+                  npar, _lib.dptr(V), npar, int(max_iter), float(tol), _lib.dptr(beta0),
+                  _lib.dptr(su), npar, _lib.dptr(pc), npar, _lib.dptr(info))
+        tau = np.sqrt(np.diag(su))
+    else:
+        _lib.call("igea.accel_history", "igea_accel_history", mcal, npar, _lib.dptr(b), npar,
+                  _lib.dptr(V), npar, int(max_iter), float(tol), _lib.dptr(beta0),
+                  _lib.dptr(tau), _lib.dptr(pc), npar, _lib.dptr(info))
+        su = np.diag(tau ** 2)
+    return AccelHistory(beta0, tau, np.ascontiguousarray(su), np.ascontiguousarray(pc),
+                        bool(full), float(info[_capi.ACCEL_HIST_LOGLIK]),
+                        int(info[_capi.ACCEL_HIST_ITER]), mcal)
+
+
+@result
+@dataclass(frozen=True)
+class AccelHistoryFit:
+    """A calibration fitted with the prior from the calibration history
+    (igea.accel_fit_history)."""
+    model: str
+    method: str
+    names: list
+    coef: np.ndarray
+    sd: np.ndarray
+    cov: np.ndarray
+    prior_mean: np.ndarray
+    prior_sd: np.ndarray
+    rank: int
+    sigma: float
+    rms: float
+    positions: int
+    dof: int
+
+    def summary(self):
+        lines = ["%s model, EBR with the history prior: %d positions, data rank %d"
+                 % (self.model, self.positions, self.rank)]
+        for j, name in enumerate(self.names):
+            lines.append("%-8s %15.6e %12.3e   prior %12.4e +- %.3e" % (
+                name, self.coef[j], self.sd[j], self.prior_mean[j], self.prior_sd[j]))
+        return "\n".join(lines)
+
+
+def accel_fit_history(theta_deg, y_a, y_b, history, *, model="dual", axis="pa"):
+    """Fit one calibration with the prior N(beta0, prior_cov) estimated from
+    the history (accel_history, or the list of earlier calibrations)."""
+    m = _model(model)
+    h = history if isinstance(history, AccelHistory) else accel_history(history, model=m)
+    t = _theta(theta_deg)
+    n, npar = t.shape[0], _NP[m]
+    ya = _vec(y_a, "y_a", n)
+    yb = _vec(y_b, "y_b", n) if m == "dual" else None
+    coef, sd = np.zeros(npar), np.zeros(npar)
+    cov = np.zeros((npar, npar), order="F")
+    info = np.zeros(_capi.ACCEL_INFO_LEN)
+    pc = np.asfortranarray(h.prior_cov)
+    _lib.call("igea.accel_fit_history", "igea_accel_fit_prior", _MODELS[m], n, _lib.dptr(t),
+              _lib.dptr(ya), _lib.dptr(yb), _lib.dptr(h.beta0), _lib.dptr(pc), npar,
+              _lib.dptr(coef), _lib.dptr(sd), _lib.dptr(cov), npar, _lib.dptr(info))
+    return AccelHistoryFit(m, "ebr", coefficient_names(m, axis), coef, sd,
+                           np.ascontiguousarray(cov), h.beta0.copy(),
+                           np.sqrt(np.diag(h.prior_cov)),
+                           positions=int(info[_capi.ACCEL_INFO_NOBS]),
+                           **_lib.fields(info, "ACCEL_INFO_", rank=int, sigma=float, rms=float,
+                                         dof=int))

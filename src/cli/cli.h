@@ -373,6 +373,17 @@ int cmd_test(int argc, char **argv);
 int cmd_version(int argc, char **argv);
 int cmd_accel(int argc, char **argv);
 int cmd_triad(int argc, char **argv);
+/* igea accel --model ieee and --design (cmd_accel_ieee.c). */
+typedef struct {
+    const char *data, *out;
+    int model, method, axis, json;
+    double tol, head_ratio;
+} cli_accel_args;
+int cli_accel_ieee(const cli_accel_args *a);
+int cli_accel_design(const cli_accel_args *a);
+/* --history LIST: the prior (beta0[np], prior_cov np x np) from earlier
+ * 'igea accel --method joint --json' results (coef, cov, flags), m of them. */
+int cli_accel_history(const char *list, int np, double *beta0, double *prior_cov, int *m);
 int cmd_regress(int argc, char **argv);
 int cmd_envfun(int argc, char **argv);
 int cmd_simulate(int argc, char **argv);

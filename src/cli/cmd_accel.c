@@ -5,9 +5,9 @@
 #include "cli.h"
 
 typedef struct {
-    const char *data, *prior, *out;
-    int model, method, rule, axis, json, refine, hyst;
-    double lam_floor, scale_a, scale_b, tol;
+    const char *data, *prior, *out, *history;
+    int model, method, rule, axis, json, refine, hyst, design, ieee, have_ieee;
+    double lam_floor, scale_a, scale_b, tol, head_ratio;
 } ac_args;
 
 static ac_args A;
@@ -20,6 +20,10 @@ static const cli_opt options[] = {
      "head errors as nuisance, rank 10: K2 from the data)", NULL},
     {"--prior", CLI_OPT_STR, &A.prior, NULL, "FILE", "EBR prior scales tau_j, one per coefficient (9\n"
      "dual, 5 single), e.g. historical spreads", NULL},
+    {"--history", CLI_OPT_STR, &A.history, NULL, "LIST", "--method ebr with the prior from earlier\n"
+     "'igea accel --method joint --json' results of the\n"
+     "same instrument type (comma-separated files):\n"
+     "REML mean and spread, then the posterior", NULL},
     {"--rule", CLI_OPT_CHOICE, &A.rule, "sc", CLI_CHOICES(IGEA_CHOICE_REGRESS_EBR_RULE), "EBR rule for lambda (METHODS 4.3 eq. 17)", NULL},
     {"--lam-floor", CLI_OPT_NUM, &A.lam_floor, "0", "X", "EBR lower bound on lambda", NULL},
     {"--scale-a", CLI_OPT_NUM, &A.scale_a, "1", "K", "nominal scale factor of A (1: outputs in g)", NULL},
@@ -33,6 +37,16 @@ static const cli_opt options[] = {
      "with its sd from the repeated readings and the F test\n"
      "of zero hysteresis (directions from the row order:\n"
      "increasing angles = counter-clockwise)", NULL},
+    {"--ieee", CLI_OPT_CHOICE, &A.ieee, NULL, CLI_CHOICES(IGEA_CHOICE_ACCEL_IEEE_METHOD),
+     "fit the IEEE Std 1293 model instead (rows: angle,\n"
+     "plane 0 IA-PA / 1 IA-OA, output), by least squares or\n"
+     "the harmonic method (N >= 7 equispaced per plane)", &A.have_ieee},
+    {"--design", CLI_OPT_FLAG, &A.design, NULL, NULL, "no fit: the D-criterion of the positions in --data\n"
+     "(angle per row; with --ieee: angle, plane) for --model\n"
+     "and --method: (1/p) log det(M/n) of the information per\n"
+     "reading, rank, per-coefficient variance factors", NULL},
+    {"--head-ratio", CLI_OPT_NUM, &A.head_ratio, "0", "R", "--design --method joint: head-angle error sd over\n"
+     "the output noise sd (1 arcsec / 1 ug: 4.85)", NULL},
     CLI_JSON_OPT(&A.json),
     CLI_OUT_OPT(&A.out),
     CLI_END};
@@ -56,7 +70,11 @@ static const cli_command command = {"accel",
 "          they come from the minimum-norm convention (ls) or the prior (ebr),\n"
 "          not from the data. The estimable combinations are reported with sds.\n"
 "  single  accelerometer A alone, y_A - sin(theta) on [1, s, c, s^2, sc]: all\n"
-"          five coefficients identifiable, head errors enter as noise.\n"
+"          five coefficients identifiable, head errors enter as noise.\n""  --ieee  the IEEE Std 1293 model E = K1 (K0 + a_i + K2 a_i^2 + K3 a_i^3 +\n"
+"          Kip a_i a_p + Kio a_i a_o + delta_o a_p - delta_p a_o) of one\n"
+"          accelerometer; rows: angle, plane (0: IA-PA, head axis along OA;\n"
+"          1: IA-OA, head axis along PA), output (any unit); ls or harmonic\n"
+"          (Fourier, N >= 7 equispaced positions per plane).\n"
 "\n"
 "options:\n",
 options,
@@ -65,7 +83,8 @@ options,
 "  igea accel --data examples/accel_dual.txt\n"
 "  igea accel --method ebr --prior examples/accel_prior.txt --data examples/accel_dual.txt\n"
 "  igea accel --model single --json --data examples/accel_dual.txt\n"
-"  igea accel --method joint --data examples/accel_dual.txt\n"
+"  igea accel --method joint --data examples/accel_dual.txt\n""  igea accel --ieee harmonic --data tumble.txt\n"
+"  igea accel --design --model single --data positions.txt\n"
 "\n"
 "exit status: 0 ok, 64 usage, 65 bad input, 66 missing input, 70 numerical\n"
 "failure, 74 output error.\n"};
@@ -84,8 +103,17 @@ static int parse(int argc, char **argv, ac_args *a)
                          ? "accel: --refine needs the dual model"
                      : a->prior && a->method != IGEA_ACCEL_EBR
                          ? "accel: --prior needs --method ebr"
+                     : a->history && (a->method != IGEA_ACCEL_EBR || a->prior || a->refine)
+                         ? "accel: --history needs --method ebr, without --prior or --refine"
                      : a->method == IGEA_ACCEL_JOINT && a->model != IGEA_ACCEL_DUAL
                          ? "accel: --method joint needs the dual model"
+                     : a->have_ieee && a->method != IGEA_ACCEL_LS
+                         ? "accel: --ieee takes its method as its value (ls or harmonic), "
+                           "not --method"
+                     : (a->have_ieee || a->design) && (a->refine || a->hyst || a->prior)
+                         ? "accel: --refine, --hysteresis and --prior do not combine with "
+                           "--ieee or --design"
+                     : !(a->head_ratio >= 0.0) ? "accel: --head-ratio must be >= 0"
                      : a->method == IGEA_ACCEL_JOINT && a->refine
                          ? "accel: --refine keeps the null-space part of a dual fit; it does not "
                            "combine with --method joint" : NULL);
@@ -97,6 +125,9 @@ typedef struct {
     double *ang, *ya, *yb, *th, *ma, *mb, *phi; /* nr each */
     int *cnt;
     double tau[9], coef[10], sd[10], cmb[7], csd[7], info[IGEA_ACCEL_INFO_LEN], comp[2];
+    double cov[100]; /* joint: the 10 x 10 covariance */
+    double pmean[9], pcov[81]; /* --history: the prior */
+    int nhist;
     double rcoef[9], rsd[9], rcmb[7], rinfo[IGEA_ACCEL_INFO_LEN];
     int flag[10];
     /* hysteresis of A and B: angle, diff, sd (nr each), counts, test */
@@ -186,6 +217,24 @@ static int hysteresis(const ac_args *a, ac_run *r)
     return CLI_OK;
 }
 
+/* --method ebr --history: the prior from the files, the posterior, and
+ * which coefficients the data determine (the others: from the prior). */
+static int history_fit(const ac_args *a, ac_run *r)
+{
+    double load[9], sv[9];
+    int rank, ec = cli_accel_history(a->history, r->np, r->pmean, r->pcov, &r->nhist);
+    if (ec)
+        return ec;
+    int st = igea_accel_fit_prior(a->model, r->npos, r->th, r->ma, r->dual ? r->mb : NULL,
+                                  r->pmean, r->pcov, r->np, r->coef, r->sd, NULL, 1, r->info);
+    if (!st)
+        st = igea_accel_analyze(a->model, r->npos, r->th, sv, NULL, 1, load, NULL, &rank);
+    for (int j = 0; !st && j < r->np; j++)
+        r->flag[j] = load[j] > IGEA_ACCEL_LOADING_TOL;
+    r->nc = 0; /* the posterior's combinations are not reported */
+    return cli_status(st, "accel --history");
+}
+
 /* Scale to g, merge the positions, fit, and refine. */
 static int compute(const ac_args *a, ac_run *r)
 {
@@ -201,9 +250,11 @@ static int compute(const ac_args *a, ac_run *r)
         st = igea_accel_merge(nr, r->ang, r->ya, r->dual ? r->yb : NULL, a->tol, r->th, r->ma,
                               r->dual ? r->mb : NULL, r->cnt, &r->npos);
     if (!st && a->method == IGEA_ACCEL_JOINT) {
-        st = igea_accel_joint(r->npos, r->th, r->ma, r->mb, r->coef, r->sd, NULL, 1, r->comp,
+        st = igea_accel_joint(r->npos, r->th, r->ma, r->mb, r->coef, r->sd, r->cov, 10, r->comp,
                               r->cmb, r->csd, r->info);
         memset(r->flag, 0, sizeof r->flag);
+    } else if (!st && a->history) {
+        return history_fit(a, r);
     } else if (!st)
         st = igea_accel_fit(a->model, a->method, r->npos, r->th,
                             r->ma, r->mb, a->prior ? r->tau : NULL, a->rule,
@@ -247,6 +298,12 @@ static void json_report(FILE *f, const ac_args *a, const ac_run *r)
     if (a->method == IGEA_ACCEL_JOINT) {
         cli_jnum(&j, "sd_radial", r->comp[IGEA_ACCEL_JOINT_SD_RADIAL]);
         cli_jnum(&j, "sd_angle", r->comp[IGEA_ACCEL_JOINT_SD_ANGLE]);
+        cli_jrows(&j, "cov", r->cov, IGEA_ACCEL_NP_JOINT, IGEA_ACCEL_NP_JOINT);
+    }
+    if (a->history) {
+        cli_jint(&j, "history", r->nhist);
+        cli_jnums(&j, "prior_mean", r->pmean, r->np);
+        cli_jrows(&j, "prior_cov", r->pcov, r->np, r->np);
     }
     if (a->hyst)
         for (int o = 0; o < (r->dual ? 2 : 1); o++) {
@@ -317,7 +374,9 @@ static void text_report(FILE *f, const ac_args *a, const ac_run *r)
     else
         fprintf(f, "residual sd %.3e g, rms %.3e g", r->info[IGEA_ACCEL_INFO_SIGMA],
                 r->info[IGEA_ACCEL_INFO_RMS]);
-    if (!ls && !joint)
+    if (a->history)
+        fprintf(f, "; prior from %d earlier calibrations (REML), posterior sds", r->nhist);
+    else if (!ls && !joint)
         fprintf(f, ", lambda %.6g%s", r->info[IGEA_ACCEL_INFO_LAMBDA],
                 a->prior ? " (prior-scaled)" : " (isotropic prior)");
     fprintf(f, "\n\n%-9s %-6s %15s %12s  %s\n", "coef", "unit", "estimate", "sd", "determined by");
@@ -328,12 +387,17 @@ static void text_report(FILE *f, const ac_args *a, const ac_run *r)
                                            : "PRIOR (not from the data)") : "data");
         anyprior |= r->flag[j];
     }
-    if (anyprior)
+    if (anyprior && a->history)
+        fprintf(f, "PRIOR: the calibration holds no information on these coefficients "
+                   "one by one;\ntheir values and sds combine it with the prior of the "
+                   "instrument type\n(REML from the --history files).\n");
+    else if (anyprior)
         fprintf(f, "PRIOR: the calibration holds no information on these coefficients "
                    "one by one;\ntheir values and sds follow the %s, not the instrument: "
                    "use the estimable\ncombinations below.\n",
                 ls ? "minimum-norm convention" : "prior");
-    fprintf(f, "\n%-9s %15s %12s\n", "estimable", "estimate", "sd");
+    if (r->nc)
+        fprintf(f, "\n%-9s %15s %12s\n", "estimable", "estimate", "sd");
     for (int k = 0; k < r->nc; k++)
         fprintf(f, "%-9s %15.6e %12.3e\n", r->cnames[k], r->cmb[k], r->csd[k]);
     if (a->hyst)
@@ -348,6 +412,12 @@ int cmd_accel(int argc, char **argv)
     int ec = parse(argc, argv, &a);
     if (ec)
         return ec == CLI_HELP ? CLI_OK : ec;
+    if (a.design || a.have_ieee) {
+        cli_accel_args x = {a.data, a.out, a.have_ieee ? IGEA_ACCEL_IEEE : a.model,
+                            a.have_ieee ? a.ieee : a.method, a.axis, a.json, a.tol,
+                            a.head_ratio};
+        return a.design ? cli_accel_design(&x) : cli_accel_ieee(&x);
+    }
     ac_run r = {0};
     setup(&a, &r);
     cli_out o;

@@ -109,6 +109,9 @@ TRIAD_RECORD_GYRO = ('set:for (int i = 0; i < 480; i++) { int k = i < 30 ? 0 : 1
 TRAJ = 'set:igea_sim_trajectory(IGEA_ENVFUN_STRAPDOWN, 10.0, 10.0, 101, b_, 101);'
 THETA30 = 'c:30.0 * (double)i'
 YA_DUAL = 'c:asind(30.0 * (double)i) + 1e-4 * au(i)'
+# two tumble planes of 8 equispaced positions each (the IEEE Std 1293 model)
+IEEE_THETA = 'c:45.0 * (double)(i % 8) + (i < 8 ? 0.0 : 10.0)'
+IEEE_E = 'c:2.5 * asind(45.0 * (double)(i % 8) + (i < 8 ? 0.0 : 10.0)) + 1e-4 * au(i)'
 YB_DUAL = 'c:acosd(30.0 * (double)i) + 1e-4 * au(i + 500)'
 
 NAV_SITE = 'set:igea_nav_site(0.7, 1.7, 100.0, 0.5, b_);'
@@ -284,6 +287,30 @@ BASE = {
                                   _intarr=dict(dir='free'), _null_any=['dir']),
     'igea_accel_joint': dict(n='12', theta_deg=THETA30, ya=YA_DUAL, yb=YB_DUAL, ldc='10',
                              _int=dict(ldc='ld')),
+    'igea_accel_ieee_fit': dict(method='IGEA_ACCEL_LS', n='16', theta_deg=IEEE_THETA,
+                                plane='c:i < 8 ? 0 : 1', e=IEEE_E, ldc='8',
+                                _int=dict(ldc='ld'), _intarr=dict(plane='code')),
+    'igea_accel_history': dict(m='6', p='2', b='c:1.0 + (double)(i % 2) + 0.3 * au(i)',
+                               ldb='2', ldv='2', max_iter='100000', tol='1e-8', ldc='2',
+                               V='set:for (int i = 0; i < 6; i++) { b_[4 * i] = 0.1; '
+                                 'b_[4 * i + 1] = b_[4 * i + 2] = 0.01; '
+                                 'b_[4 * i + 3] = 0.2 + 0.01 * i; }',
+                               _int=dict(ldb='ld', ldv='ld', ldc='ld')),
+    'igea_accel_history_full': dict(m='6', p='2', b='c:1.0 + (double)(i % 2) + 0.3 * au(i)',
+                                    ldb='2', ldv='2', max_iter='100000', tol='1e-8', lds='2',
+                                    ldc='2',
+                                    V='set:for (int i = 0; i < 6; i++) { b_[4 * i] = 0.1; '
+                                      'b_[4 * i + 1] = b_[4 * i + 2] = 0.01; '
+                                      'b_[4 * i + 3] = 0.2 + 0.01 * i; }',
+                                    _int=dict(ldb='ld', ldv='ld', lds='ld', ldc='ld')),
+    'igea_accel_fit_prior': dict(model='IGEA_ACCEL_DUAL', n='12', theta_deg=THETA30, ya=YA_DUAL,
+                                 yb=YB_DUAL, prior_mean='c:1e-4 * au(i)', ldp='9', ldc='9',
+                                 prior_cov='set:for (int i = 0; i < 81; i++) '
+                                           'b_[i] = i % 10 == 0 ? 1e-8 : 0.0;',
+                                 _int=dict(ldp='ld', ldc='ld'), _req=['yb']),
+    'igea_accel_criterion': dict(model='IGEA_ACCEL_DUAL', method='IGEA_ACCEL_JOINT', n='12',
+                                 theta_deg=THETA30, plane='NULL', head_ratio='4.85',
+                                 _ignored=['plane']),
     # ---- impact
     'igea_impact_check_opts': dict(opts=IMP_OPTS, _nan_ok=['opts'], _inf_ok=['opts'],
                                    _req=['opts']),
@@ -645,6 +672,19 @@ VARIANTS = {
     'igea_accel_analyze': dict(single=dict(model='IGEA_ACCEL_SINGLE', ldn='5'),
                                few=dict(n='4', theta_deg='c:90.0 * (double)i')),
     'igea_accel_design': dict(single=dict(model='IGEA_ACCEL_SINGLE')),
+    'igea_accel_fit_prior': dict(single=dict(model='IGEA_ACCEL_SINGLE', yb='NULL', ldp='5',
+                                             ldc='5', _ignored=['yb'], _req=[],
+                                             prior_cov='set:for (int i = 0; i < 25; i++) '
+                                                       'b_[i] = i % 6 == 0 ? 1e-8 : 0.0;')),
+    'igea_accel_ieee_fit': dict(harmonic=dict(method='IGEA_ACCEL_HARMONIC'),
+                                one_plane=dict(plane='0'),
+                                few=dict(n='6', _nan_out=['sd', 'cov'])),
+    'igea_accel_criterion': dict(ieee=dict(model='IGEA_ACCEL_IEEE', method='IGEA_ACCEL_LS',
+                                           n='16', theta_deg=IEEE_THETA, plane='c:i < 8 ? 0 : 1',
+                                           _req=['plane'], _ignored=['head_ratio'],
+                                           _intarr=dict(plane='code')),
+                                 single=dict(model='IGEA_ACCEL_SINGLE', method='IGEA_ACCEL_LS',
+                                             _ignored=['head_ratio', 'plane'])),
     'igea_accel_apply': dict(single=dict(model='IGEA_ACCEL_SINGLE', raw_b='NULL',
                                          cross='c:acosd(30.0 * (double)i)',
                                          _ignored=['scale_b', 'v'])),
