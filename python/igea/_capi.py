@@ -58,6 +58,22 @@ ACCEL_NP_JOINT = 10
 ACCEL_JOINT_SD_RADIAL = 0
 ACCEL_JOINT_SD_ANGLE = 1
 ACCEL_JOINT_NCOMP = 2
+ACCEL_IEEE = 2
+ACCEL_HARMONIC = 3
+ACCEL_NP_IEEE = 8
+ACCEL_IEEE_K0 = 0
+ACCEL_IEEE_K1 = 1
+ACCEL_IEEE_K2 = 2
+ACCEL_IEEE_K3 = 3
+ACCEL_IEEE_KIP = 4
+ACCEL_IEEE_KIO = 5
+ACCEL_IEEE_DO = 6
+ACCEL_IEEE_DP = 7
+ACCEL_PLANE_IAPA = 0
+ACCEL_PLANE_IAOA = 1
+ACCEL_HIST_LOGLIK = 0
+ACCEL_HIST_ITER = 1
+ACCEL_HIST_LEN = 2
 
 # igea/common.h
 VERSION_MAJOR = 1
@@ -126,6 +142,8 @@ CHOICE_STABILITY_TAUS = 36
 CHOICE_NAV_FRAME = 26
 CHOICE_NAV_GRAVITY = 27
 CHOICE_DW_KIND = 28
+CHOICE_ACCEL_IEEE_METHOD = 70
+CHOICE_ACCEL_CRIT_MODEL = 71
 
 # igea/dw.h
 DW_APPARENT = 0
@@ -659,6 +677,21 @@ PROTOTYPES = {
     "igea_accel_joint": (c_int, (("n", c_int), ("theta_deg", _PD), ("ya", _PD), ("yb", _PD),
         ("coef", _PD), ("sd", _PD), ("cov", _PD), ("ldc", c_int), ("comp_sd", _PD), ("comb", _PD),
         ("comb_sd", _PD), ("info", _PD),)),
+    "igea_accel_ieee_fit": (c_int, (("method", c_int), ("n", c_int), ("theta_deg", _PD),
+        ("plane", _PI), ("e", _PD), ("coef", _PD), ("sd", _PD), ("cov", _PD), ("ldc", c_int),
+        ("flag", _PI), ("info", _PD),)),
+    "igea_accel_criterion": (c_int, (("model", c_int), ("method", c_int), ("n", c_int),
+        ("theta_deg", _PD), ("plane", _PI), ("head_ratio", c_double), ("logdet", _PD),
+        ("varfac", _PD), ("flag", _PI), ("rank", _PI),)),
+    "igea_accel_history": (c_int, (("m", c_int), ("p", c_int), ("b", _PD), ("ldb", c_int),
+        ("V", _PD), ("ldv", c_int), ("max_iter", c_int), ("tol", c_double), ("beta0", _PD),
+        ("tau", _PD), ("prior_cov", _PD), ("ldc", c_int), ("info", _PD),)),
+    "igea_accel_history_full": (c_int, (("m", c_int), ("p", c_int), ("b", _PD), ("ldb", c_int),
+        ("V", _PD), ("ldv", c_int), ("max_iter", c_int), ("tol", c_double), ("beta0", _PD),
+        ("sigma_u", _PD), ("lds", c_int), ("prior_cov", _PD), ("ldc", c_int), ("info", _PD),)),
+    "igea_accel_fit_prior": (c_int, (("model", c_int), ("n", c_int), ("theta_deg", _PD),
+        ("ya", _PD), ("yb", _PD), ("prior_mean", _PD), ("prior_cov", _PD), ("ldp", c_int),
+        ("coef", _PD), ("sd", _PD), ("cov", _PD), ("ldc", c_int), ("info", _PD),)),
     # igea/common.h
     "igea_strerror": (c_char_p, (("status", c_int),)),
     "igea_status_class": (c_int, (("status", c_int),)),
@@ -1097,6 +1130,11 @@ INPUTS = {
     "igea_accel_apply": ("raw_a", "raw_b", "coef", "cross",),
     "igea_accel_hysteresis": ("angle_deg", "dir", "y",),
     "igea_accel_joint": ("theta_deg", "ya", "yb",),
+    "igea_accel_ieee_fit": ("theta_deg", "plane", "e",),
+    "igea_accel_criterion": ("theta_deg", "plane",),
+    "igea_accel_history": ("b", "V",),
+    "igea_accel_history_full": ("b", "V",),
+    "igea_accel_fit_prior": ("theta_deg", "ya", "yb", "prior_mean", "prior_cov",),
     "igea_choice_code": ("name",),
     "igea_dw_compute": ("site", "q0", "tel", "trk",),
     "igea_dw_summary": ("dw", "cov",),
