@@ -1,5 +1,7 @@
 /* stats.c - distributions and the equivalent-error accuracy tests. */
 #include <float.h>
+#include <pthread.h>
+#include <string.h>
 
 #include <gsl/gsl_cdf.h>
 #include <gsl/gsl_sf_gamma.h>
@@ -897,6 +899,47 @@ static int union_cross(int n, double a, double b, double *out)
     return 0;
 }
 
+/* The sizes computed by union_cross, kept for the process: the same
+ * (n, a, b) is asked for again and again (every eqerr call with the same
+ * number of tested components and rule, the Monte Carlo's noise judge),
+ * and one evaluation costs about 2 s of CPU at n = 74. Keyed by the exact
+ * bits of a and b, so a hit returns exactly what the computation returns;
+ * a mutex makes it thread-safe, a ring of UNION_MEMO entries bounds it. */
+#define UNION_MEMO 64
+static struct {
+    int n;
+    double a, b, q;
+} union_memo[UNION_MEMO];
+static int union_memo_len, union_memo_next;
+static pthread_mutex_t union_memo_lock = PTHREAD_MUTEX_INITIALIZER;
+
+static int union_memo_get(int n, double a, double b, double *q)
+{
+    int hit = 0;
+    pthread_mutex_lock(&union_memo_lock);
+    for (int i = 0; i < union_memo_len && !hit; i++)
+        if (union_memo[i].n == n && !memcmp(&union_memo[i].a, &a, sizeof a) &&
+            !memcmp(&union_memo[i].b, &b, sizeof b)) {
+            *q = union_memo[i].q;
+            hit = 1;
+        }
+    pthread_mutex_unlock(&union_memo_lock);
+    return hit;
+}
+
+static void union_memo_put(int n, double a, double b, double q)
+{
+    pthread_mutex_lock(&union_memo_lock);
+    union_memo[union_memo_next].n = n;
+    union_memo[union_memo_next].a = a;
+    union_memo[union_memo_next].b = b;
+    union_memo[union_memo_next].q = q;
+    union_memo_next = (union_memo_next + 1) % UNION_MEMO;
+    if (union_memo_len < UNION_MEMO)
+        union_memo_len++;
+    pthread_mutex_unlock(&union_memo_lock);
+}
+
 int igea_stats_union_size(int n, double a, double b, double *size)
 {
     if (n < 1 || n > IGEA_STATS_UNION_N_MAX)
@@ -916,9 +959,12 @@ int igea_stats_union_size(int n, double a, double b, double *size)
     } else if (a * a >= b) {
         v = chi2_tail(b, (double)n, 1);
     } else {
-        int st = union_cross(n, a, b, &q);
-        if (st != 0)
-            return st;
+        if (!union_memo_get(n, a, b, &q)) {
+            int st = union_cross(n, a, b, &q);
+            if (st != 0)
+                return st;
+            union_memo_put(n, a, b, q);
+        }
         v = chi2_tail(b, (double)n, 1) + q;
     }
     if (!isfinite(v))
