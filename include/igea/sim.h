@@ -283,11 +283,16 @@ IGEA_API int igea_sim_nonlinear(int system, int nsamp, const double *traj,
 #define IGEA_SIM_MC_MEAN_TESTED 6  /* mean |I_t| */
 #define IGEA_SIM_MC_MEAN_SIZE 7    /* mean overall size of the verdict rule (info
                                     * OVERALL_SIZE; 0 if not computed) */
+#define IGEA_SIM_MC_SIGMA_COVERED 8 /* judged by igea_noise_eqerr: flights whose every
+                                       group's sigma_w,g-hat = sqrt(c_g) is within 3
+                                       standard errors of its truth on the log scale,
+                                       |ln c_g - ln sigma_w,g^2| <= 3 se / c_g with se
+                                       the REML one (IGEA_NOISE_GROUP_SE_REML) [D] */
 #define IGEA_SIM_MC_SCALE_COVERED 12 /* judged by igea_noise_eqerr: flights whose every
                                         group scale c_g is within 3 standard errors of
                                         its truth sigma_w,g^2 */
 #define IGEA_SIM_MC_MEAN_OUTLIERS 13 /* mean rows rejected by the robust route */
-#define IGEA_SIM_MC_LEN 16 /* slots 8..11, 14.. reserved for additions */
+#define IGEA_SIM_MC_LEN 16 /* slots 9..11, 14.. reserved for additions */
 
 /* rates[IGEA_SIM_MC_RATES_LEN]: for each count k of IGEA_SIM_MC_FAILED ..
  * IGEA_SIM_MC_NOT_TESTABLE, rates[3 (k - 1)] = count / flights and

@@ -426,7 +426,9 @@ CLASS = {
         "mean_size": "its overall size, mean over the testable flights",
         "scale_covered": "judged with the noise model: flights whose group scales are "
                          "within 3 standard errors of the truth",
-        "mean_outliers": "mean rows rejected by the robust route"},
+        "mean_outliers": "mean rows rejected by the robust route",
+        "sigma_covered": "judged with the noise model: flights whose every sigma_w,g-hat is "
+                         "within 3 REML standard errors of the truth (log scale)"},
     "Block3Sigma": {
         "three_sigma": "3 sigma of the block means",
         "sigma": "standard deviation of the block means",

@@ -213,6 +213,8 @@ class MonteCarloResult:
     scale_covered: int = 0  # judged with the noise model: flights whose group scales are
                             # within 3 standard errors of the truth
     mean_outliers: float = 0.0  # mean rows rejected by the robust route
+    sigma_covered: int = 0  # judged with the noise model: flights whose every sigma_w,g-hat
+                            # is within 3 REML standard errors of the truth (log scale)
 
     _json_omit = ("rates", "ci99")    # in the driver's document, inside the counts
 
@@ -310,7 +312,7 @@ def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None
         verdict=verdict, mean_size=float(counts[_capi.SIM_MC_MEAN_SIZE]),
         **_lib.fields(counts, "SIM_MC_", flights=int, failed=int, chi2_reject=int,
                       any_reject=int, not_testable=int, mean_scale=float, mean_tested=float,
-                      scale_covered=int, mean_outliers=float)),
+                      scale_covered=int, mean_outliers=float, sigma_covered=int)),
         seed=int(seed), first_flight=int(first_flight), alpha=eq[_capi.EQERR_OPT_ALPHA],
         correction=bool(eq[_capi.EQERR_OPT_CORRECTION]), sigma_w=nopts[_capi.SIM_OPT_SIGMA_W])
 

@@ -136,6 +136,7 @@ static int run_flights(const mc_args *a, const cli_flight_args *fa, const cli_fl
         for (int k = IGEA_SIM_MC_FLIGHTS; k <= IGEA_SIM_MC_NOT_TESTABLE; k++)
             c[k] += c1[k];
         c[IGEA_SIM_MC_SCALE_COVERED] += c1[IGEA_SIM_MC_SCALE_COVERED]; /* noise judge */
+        c[IGEA_SIM_MC_SIGMA_COVERED] += c1[IGEA_SIM_MC_SIGMA_COVERED];
         c[IGEA_SIM_MC_MEAN_OUTLIERS] += c1[IGEA_SIM_MC_MEAN_OUTLIERS] * n / a->flights;
         double testable = c1[IGEA_SIM_MC_FLIGHTS] - c1[IGEA_SIM_MC_NOT_TESTABLE];
         if (testable > 0) {
@@ -202,6 +203,7 @@ static void json_report(FILE *out, const mc_args *a, const cli_flight_args *fa,
     cli_jnum(&j, "mean_scale", r->counts[IGEA_SIM_MC_MEAN_SCALE]);
     cli_jnum(&j, "mean_tested", r->counts[IGEA_SIM_MC_MEAN_TESTED]);
     cli_jint(&j, "scale_covered", (long)r->counts[IGEA_SIM_MC_SCALE_COVERED]);
+    cli_jint(&j, "sigma_covered", (long)r->counts[IGEA_SIM_MC_SIGMA_COVERED]);
     cli_jnum(&j, "mean_outliers", r->counts[IGEA_SIM_MC_MEAN_OUTLIERS]);
     cli_jints(&j, "comp_tested", r->ct, f->N);
     cli_jints(&j, "comp_reject", r->cr, f->N);

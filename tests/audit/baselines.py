@@ -456,6 +456,10 @@ BASE = {
                            'audit_spd(b_ + 9, 3, 3, 5.0);', lda='N', b='c:0.1 * au(i)',
                            wtw='[5.0, 6.0, 4.0, 6.0]', tol='1e-8', max_iter='200',
                            _int=dict(G='size', max_iter='size')),
+    'igea_noise_vce_cov': dict(N='3', G='2', A='set:audit_spd(b_, 3, 3, 10.0); '
+                               'audit_spd(b_ + 9, 3, 3, 5.0);', lda='N',
+                               wtw='[5.0, 6.0, 4.0, 6.0]', scale='[1.0, 2.0]',
+                               _int=dict(G='size')),
     'igea_noise_eqerr': dict(m='12', N='3', S='u', lds='m', dw='c:au(i + 5000)',
                              track_sigma='c:0.05',
                              sigma_inc='1', cov='NULL', group='[0, 0, 1, 1]', ngroups='2',
