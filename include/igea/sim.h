@@ -315,6 +315,22 @@ IGEA_API int igea_sim_nonlinear(int system, int nsamp, const double *traj,
 IGEA_API int igea_sim_interval(double k, double n, double *lohi);
 
 /*
+ * The exact (Clopper-Pearson) interval of a rate of k successes in n
+ * trials at confidence level: [B((1 - level)/2; k, n - k + 1),
+ * B((1 + level)/2; k + 1, n - k)] with B(p; a, b) the beta quantile (0 when
+ * k = 0, 1 when k = n), by bisection on igea's regularised incomplete beta
+ * (igea_stats_f_sf) to 4 ulp: relative accuracy about 1e-11 up to n = 1e5,
+ * 1e-9 near the largest n. igea_sim_interval (Wilson) is unchanged.
+ *  1 k      successes, a whole number, 0 <= k <= n
+ *  2 n      trials, a whole number, 1 <= n <= IGEA_SIM_INTERVAL_CP_NMAX
+ *  3 level  confidence, 0 < level < 1 (0.99: the 99 % interval)
+ *  4 lohi   2 outputs: the lower and the upper end
+ * Returns 0, -i, IGEA_ENOCONV; lohi untouched on failure.
+ */
+#define IGEA_SIM_INTERVAL_CP_NMAX 4999999.0
+IGEA_API int igea_sim_interval_cp(double k, double n, double level, double *lohi);
+
+/*
  * Monte Carlo: flights first_flight .. first_flight + nflights - 1 of
  * igea_sim_flight, each judged by igea_eqerr_solve on the normal equations
  * (igea_normal_accumulate) of the model's S, stated sigma and specs (eig

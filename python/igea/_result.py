@@ -421,6 +421,7 @@ CLASS = {
         "scale": "per flight, c (NaN for a flight with nothing testable)",
         "rates": "{\"failed\": count / flights, ...} of the four counts",
         "ci99": "{\"failed\": (lo, hi), ...}: their 99 % Wilson intervals",
+        "ci99_cp": "{\"failed\": (lo, hi), ...}: their exact 99 % Clopper-Pearson intervals",
         "pool": "with pool=F: the pooled verdicts of groups of F flights (MonteCarloPool)",
         "verdict": "the overall verdict rule counted in failed",
         "mean_size": "its overall size, mean over the testable flights",

@@ -356,6 +356,7 @@ BASE = {
     'igea_sim_model_get_s': dict(lds='6'),
     'igea_sim_flight': dict(seed='1', flight='0'),
     'igea_sim_interval': dict(k='3.0', n='10.0'),
+    'igea_sim_interval_cp': dict(k='3.0', n='10.0', level='0.99'),
     'igea_sim_nonlinear': dict(system='IGEA_ENVFUN_STRAPDOWN', nsamp='101', traj=TRAJ,
                                ldt='nsamp', err='set:b_[0] = 1e-3; b_[15] = 1e-6;'
                                ' for (long i = 1; i < AUDIT_NB; i++) if (i != 15) b_[i] = 0;',
