@@ -10,9 +10,11 @@ Prints, per cell, the chi-square size (or the power) with its exact 99 %
 Clopper-Pearson interval (igea_sim_interval_cp; the Wilson one of
 igea_sim_interval is in the JSON lines), the cell's CPU time, and appends
 one JSON line per cell to --results. --cells NAME,... runs some cells only
-(names below; a prefix selects a family: "ar1_est", "power"); --plot-only
-draws noise_size_phi.png (size against phi) and noise_power.png (power with
-and without the robust route) into --outdir from the --results file.
+(names below; a prefix selects a family: "ar1_est", "power", "curve");
+--plot-only draws noise_size_phi.png (size against phi), noise_power.png
+(power at 4 x spec with and without the robust route) and
+noise_power_curve.png (power against the term's size) into --outdir from
+the --results files.
 
 The naming cell runs flight by flight through igea.simulate and
 igea.eqerr: among the flights where a component is rejected, how often
@@ -33,6 +35,7 @@ from igea.sim import interval_cp  # noqa: E402
 
 OUT = dict(outlier_prob=0.01, outlier_scale=30.0)
 PHIS = (0.0, 0.5, 0.9, 0.98)
+CURVE = (1, 2, 3, 4, 5)
 
 
 def cells():
@@ -58,6 +61,14 @@ def cells():
                 kw["robust"] = True
             c["power_%s_%s" % ("robust" if rob else "seed", "out" if o else "clean")] = (
                 "power gyro_bias_y 4x, %s, %s" % ("robust" if rob else "seed's judge",
+                                                  "1 % outliers" if o else "clean"), kw, "failed")
+    for k in CURVE:  # power curves: gyro_bias_y at k x spec
+        for rob, o in ((False, False), (False, True), (True, True)):
+            kw = dict(x={"gyro_bias_y": float(k)}, **(OUT if o else {}))
+            if rob:
+                kw["robust"] = True
+            c["curve_%s_%s_%g" % ("robust" if rob else "seed", "out" if o else "clean", k)] = (
+                "power gyro_bias_y %gx, %s, %s" % (k, "robust" if rob else "seed's judge",
                                                   "1 % outliers" if o else "clean"), kw, "failed")
     return c
 
@@ -124,10 +135,12 @@ def plots(results, outdir):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     by = {}
-    with open(results) as fh:
-        for line in fh:
-            d = json.loads(line)
-            by[d["cell"]] = d  # the last run of a cell
+    for path in results.split(","):  # several files: the run with most flights wins
+        with open(path) as fh:
+            for line in fh:
+                d = json.loads(line)
+                if d["flights"] >= by.get(d["cell"], {"flights": 0})["flights"]:
+                    by[d["cell"]] = d
     fig, ax = plt.subplots(figsize=(5.5, 3.8))
     for fam, lab, dx in (("ar1_seed_", "seed's judge (white K)", -0.004),
                          ("ar1_est_", "AR(1) judge, phi estimated", 0.004)):
@@ -138,14 +151,13 @@ def plots(results, outdir):
         v = np.array([d["rate"] for _, d in pts])
         lo = np.array([d["cp99"][0] for _, d in pts])
         hi = np.array([d["cp99"][1] for _, d in pts])
+        nf = sorted({d["flights"] for _, d in pts})
         ax.errorbar(x, 100 * v, yerr=[100 * (v - lo), 100 * (hi - v)], marker="o", capsize=3,
-                    label=lab)
+                    label="%s (%s flights)" % (lab, "/".join(map(str, nf))))
     ax.axhline(1.0, color="k", lw=0.8, ls="--")
-    n = next(iter(by.values()))["flights"]
     ax.set_xlabel("AR(1) coefficient phi of the tracking noise")
     ax.set_ylabel("chi-square size, % (alpha = 1 %)")
-    ax.set_title("Size against phi, %d flights per point, 99 %% Clopper-Pearson" % n,
-                 fontsize=9)
+    ax.set_title("chi-square size against phi, 99 % Clopper-Pearson intervals", fontsize=9)
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(os.path.join(outdir, "noise_size_phi.png"), dpi=120)
@@ -159,7 +171,9 @@ def plots(results, outdir):
         v = np.array([d["rate"] for _, d in pts])
         lo = np.array([d["cp99"][0] for _, d in pts])
         hi = np.array([d["cp99"][1] for _, d in pts])
-        ax.errorbar(x, v, yerr=[v - lo, hi - v], marker="o", capsize=3, label=lab)
+        nf = sorted({d["flights"] for _, d in pts})
+        ax.errorbar(x, v, yerr=[v - lo, hi - v], marker="o", capsize=3,
+                    label="%s (%s flights)" % (lab, "/".join(map(str, nf))))
     ax.axhline(0.90, color="k", lw=0.8, ls="--")
     ax.set_xticks([0, 1], ["no outliers", "1 % rows at 30 sigma"])
     ax.set_xlim(-0.5, 1.5)
@@ -168,6 +182,27 @@ def plots(results, outdir):
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(os.path.join(outdir, "noise_power.png"), dpi=120)
+    fig, ax = plt.subplots(figsize=(5.5, 3.8))
+    for fam, lab in (("curve_seed_clean_", "seed's judge, no outliers"),
+                     ("curve_seed_out_", "seed's judge, 1 % rows at 30 sigma"),
+                     ("curve_robust_out_", "robust route, 1 % rows at 30 sigma")):
+        pts = [(k, by[fam + "%g" % k]) for k in CURVE if fam + "%g" % k in by]
+        if not pts:
+            continue
+        x = np.array([k for k, _ in pts], dtype=float)
+        v = np.array([d["rate"] for _, d in pts])
+        lo = np.array([d["cp99"][0] for _, d in pts])
+        hi = np.array([d["cp99"][1] for _, d in pts])
+        nf = sorted({d["flights"] for _, d in pts})
+        ax.errorbar(x, v, yerr=[v - lo, hi - v], marker="o", capsize=3,
+                    label="%s (%s flights)" % (lab, "/".join(map(str, nf))))
+    ax.set_xlabel("true gyro_bias_y, multiples of its spec (other terms N(0, 1))")
+    ax.set_ylabel("P(verdict 'out of spec')")
+    ax.set_ylim(0, 1.02)
+    ax.set_title("Power curves, 99 % Clopper-Pearson intervals", fontsize=9)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(outdir, "noise_power_curve.png"), dpi=120)
 
 
 def main():
@@ -176,7 +211,8 @@ def main():
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--cells", default="", help="comma-separated names or prefixes; "
                     "empty: all, and naming")
-    ap.add_argument("--results", default="noise_validation.jsonl")
+    ap.add_argument("--results", default="noise_validation.jsonl",
+                    help="JSON lines file (appended); --plot-only: comma-separated files")
     ap.add_argument("--outdir", default="docs")
     ap.add_argument("--plot-only", action="store_true")
     ap.add_argument("--naming-flights", type=int, default=0, help="0: --flights")
