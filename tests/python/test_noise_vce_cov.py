@@ -152,3 +152,29 @@ def test_helmert_scales_spread_and_log_scale_cover_by_monte_carlo():
         k = int(cover[:, g].sum())
         lo = stats.beta.ppf(0.01, k, n - k + 1)
         assert lo > 0.99, (g, k, lo)
+
+
+def test_montecarlo_sigma_covered_driver_and_python():
+    """sigma_covered (IGEA_SIM_MC_SIGMA_COVERED) of two stations 3x apart on
+    the reference flight: the driver's JSON and Python's count agree, and
+    the rate is >= 285 / 300 (the chi-square approximation puts it near
+    99.3 %: P(X <= 284 | p = 0.993) < 1e-9, binomial)."""
+    import json
+    import os
+    import subprocess
+
+    import igea
+    fl = igea.simulate(seed=1)
+    r = igea.montecarlo(fl.S, fl.sigma, 300, spec=fl.spec, threads=1, seed=5, group_split=0.5,
+                        sigma_w2=3.0, judge_noise=True)
+    assert r.sigma_covered >= 285 and r.scale_covered <= r.flights
+    drv = os.environ.get("IGEA_DRIVER")
+    if not drv:
+        pytest.skip("IGEA_DRIVER not set")
+    d = json.loads(subprocess.run(
+        [drv, "montecarlo", "--flights", "40", "--seed", "5", "--threads", "1", "--group-split",
+         "0.5", "--sigma-w2", "3", "--judge-noise", "--json"], check=True, capture_output=True,
+        text=True).stdout)
+    r40 = igea.montecarlo(fl.S, fl.sigma, 40, spec=fl.spec, threads=1, seed=5, group_split=0.5,
+                          sigma_w2=3.0, judge_noise=True)
+    assert d["sigma_covered"] == r40.sigma_covered and d["scale_covered"] == r40.scale_covered
