@@ -4,94 +4,251 @@ diagonal K, and outliers") in one command, through igea.montecarlo on the
 reference flight (120 epochs, 21 terms, sigma 1 cm/s):
 
     OPENBLAS_NUM_THREADS=1 PYTHONPATH=python IGEA_LIBRARY=build/lib/libigea.so.1 \\
-      .venv/bin/python bench/noise_validation.py --flights 10000
+      .venv/bin/python bench/noise_validation.py --flights 10000 --threads 1
 
-Prints, per cell, the chi-square size (or the power) with its 99 % Wilson
-interval (the library's igea_sim_interval), and with matplotlib installed
-writes noise_size_phi.png and noise_power.png into --outdir.
+Prints, per cell, the chi-square size (or the power) with its exact 99 %
+Clopper-Pearson interval (igea_sim_interval_cp; the Wilson one of
+igea_sim_interval is in the JSON lines), the cell's CPU time, and appends
+one JSON line per cell to --results. --cells NAME,... runs some cells only
+(names below; a prefix selects a family: "ar1_est", "power", "curve");
+--plot-only draws noise_size_phi.png (size against phi), noise_power.png
+(power at 4 x spec with and without the robust route) and
+noise_power_curve.png (power against the term's size) into --outdir from
+the --results files.
+
+The naming cell runs flight by flight through igea.simulate and
+igea.eqerr: among the flights where a component is rejected, how often
+gyro_bias_y (true value 4 x spec) is one of that component's candidate
+terms (share >= 10 %).
 """
 import argparse
+import json
 import os
 import sys
+import time
 
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "python"))
 import igea  # noqa: E402
+from igea.sim import interval_cp  # noqa: E402
+
+OUT = dict(outlier_prob=0.01, outlier_scale=30.0)
+PHIS = (0.0, 0.5, 0.9, 0.98)
+CURVE = (1, 2, 3, 4, 5)
 
 
-def cell(name, r, what="chi2_reject"):
+def cells():
+    """name -> (label, montecarlo keywords, the count reported)."""
+    c = {}
+    for p in PHIS:
+        c["ar1_seed_%g" % p] = ("AR(1) phi=%g, seed's judge" % p, dict(ar1=p), "chi2_reject")
+        c["ar1_est_%g" % p] = ("AR(1) phi=%g, phi estimated" % p, dict(ar1=p, ar=1), "chi2_reject")
+    c["ar2_est"] = ("AR(2) phi=(0.6, 0.3), phi estimated", dict(ar1=0.6, ar2=0.3, ar=2),
+                    "chi2_reject")
+    c["ar3_est"] = ("AR(3) phi=(0.5, 0.2, 0.2), phi estimated",
+                    dict(ar1=0.5, ar2=0.2, ar3=0.2, ar=3), "chi2_reject")
+    c["corr_0.9"] = ("3x3 correlation up to 0.9, judge told", dict(corr=0.9, judge_noise=True),
+                     "chi2_reject")
+    c["stations"] = ("two stations, sigma_w 1 and 3, judge told",
+                     dict(group_split=0.5, sigma_w2=3.0, judge_noise=True), "chi2_reject")
+    c["outliers_robust"] = ("1 % rows at 30 sigma, robust", dict(robust=True, **OUT),
+                            "chi2_reject")
+    for rob in (False, True):
+        for o in (False, True):
+            kw = dict(x={"gyro_bias_y": 4.0}, **(OUT if o else {}))
+            if rob:
+                kw["robust"] = True
+            c["power_%s_%s" % ("robust" if rob else "seed", "out" if o else "clean")] = (
+                "power gyro_bias_y 4x, %s, %s" % ("robust" if rob else "seed's judge",
+                                                  "1 % outliers" if o else "clean"), kw, "failed")
+    for k in CURVE:  # power curves: gyro_bias_y at k x spec
+        for rob, o in ((False, False), (False, True), (True, True)):
+            kw = dict(x={"gyro_bias_y": float(k)}, **(OUT if o else {}))
+            if rob:
+                kw["robust"] = True
+            c["curve_%s_%s_%g" % ("robust" if rob else "seed", "out" if o else "clean", k)] = (
+                "power gyro_bias_y %gx, %s, %s" % (k, "robust" if rob else "seed's judge",
+                                                  "1 % outliers" if o else "clean"), kw, "failed")
+    return c
+
+
+def naming(n, seed=11):
+    """gyro_bias_y at 4 x spec, the other terms N(0, 1), flight by flight
+    (igea.simulate, igea.eqerr with the terms' names). Returns
+    (top_named, top_rejected, any_named, any_rejected): the flights where
+    the component carrying gyro_bias_y most (largest share) is rejected, and
+    those where gyro_bias_y is among its candidate terms; the flights with
+    any rejected component, and those where some rejected component names
+    gyro_bias_y."""
+    tn = tr = an = ar = 0
+    for f in range(n):
+        fl = igea.simulate(seed=seed, flight=f, x={"gyro_bias_y": 4.0})
+        r = igea.eqerr(fl.S, fl.dw, fl.sigma, fl.spec, names=list(fl.terms))
+        if not r.components:
+            continue
+        share = [dict(c["terms"]).get("gyro_bias_y", 0.0) for c in r.components]
+        top = r.components[int(np.argmax(share))]
+        if top["reject"]:
+            tr += 1
+            tn += "gyro_bias_y" in top["candidates"]
+        bad = [c for c in r.components if c["reject"]]
+        if bad:
+            ar += 1
+            an += any("gyro_bias_y" in c["candidates"] for c in bad)
+    return tn, tr, an, ar
+
+
+def run_cell(name, spec, fl, a):
+    label, kw, what = spec
+    t0 = time.process_time()
+    r = igea.montecarlo(fl.S, fl.sigma, a.flights, spec=fl.spec, terms=list(fl.terms),
+                        threads=a.threads, seed=11, **kw)
+    cpu = time.process_time() - t0
     k = getattr(r, what)
-    lo, hi = r.ci99[what]
+    row = dict(cell=name, label=label, what=what, count=int(k), flights=r.flights,
+               rate=k / r.flights, cp99=list(r.ci99_cp[what]), wilson99=list(r.ci99[what]),
+               cpu_s=cpu, overall=r.failed / r.flights, mean_scale=r.mean_scale)
     extra = ""
-    if r.scale_covered:
-        extra += "; scale covered %d / %d" % (r.scale_covered, r.flights)
+    if r.scale_covered or r.sigma_covered:
+        row.update(scale_covered=r.scale_covered, sigma_covered=r.sigma_covered,
+                   sigma_cp99=list(interval_cp(r.sigma_covered, r.flights)),
+                   scale_cp99=list(interval_cp(r.scale_covered, r.flights)))
+        extra += "; sigma_w-hat covered (log scale, REML se) %d / %d [%.4f, %.4f]" % (
+            r.sigma_covered, r.flights, *row["sigma_cp99"])
+        extra += "; c-hat covered (c scale, plug-in se) %d" % r.scale_covered
     if r.mean_outliers:
+        row["mean_outliers"] = r.mean_outliers
         extra += "; %.2f rows rejected per flight" % r.mean_outliers
-    print("| %s | %s | %d / %d = %.4f [%.4f, %.4f]%s |" % (name, what, k, r.flights,
-                                                         k / r.flights, lo, hi, extra))
-    return k / r.flights, lo, hi
+    return row, extra
+
+
+def report(row, extra):
+    lo, hi = row["cp99"]
+    print("| %s | %s | %d / %d = %.4f [%.4f, %.4f] | %.0f s%s |" % (
+        row["label"], row["what"], row["count"], row["flights"], row["rate"], lo, hi,
+        row["cpu_s"], extra), flush=True)
+
+
+def plots(results, outdir):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    by = {}
+    for path in results.split(","):  # several files: the run with most flights wins
+        with open(path) as fh:
+            for line in fh:
+                d = json.loads(line)
+                if d["flights"] >= by.get(d["cell"], {"flights": 0})["flights"]:
+                    by[d["cell"]] = d
+    fig, ax = plt.subplots(figsize=(5.5, 3.8))
+    for fam, lab, dx in (("ar1_seed_", "seed's judge (white K)", -0.004),
+                         ("ar1_est_", "AR(1) judge, phi estimated", 0.004)):
+        pts = [(p, by[fam + "%g" % p]) for p in PHIS if fam + "%g" % p in by]
+        if not pts:
+            continue
+        x = np.array([p for p, _ in pts]) + dx
+        v = np.array([d["rate"] for _, d in pts])
+        lo = np.array([d["cp99"][0] for _, d in pts])
+        hi = np.array([d["cp99"][1] for _, d in pts])
+        nf = sorted({d["flights"] for _, d in pts})
+        ax.errorbar(x, 100 * v, yerr=[100 * (v - lo), 100 * (hi - v)], marker="o", capsize=3,
+                    label="%s (%s flights)" % (lab, "/".join(map(str, nf))))
+    ax.axhline(1.0, color="k", lw=0.8, ls="--")
+    ax.set_xlabel("AR(1) coefficient phi of the tracking noise")
+    ax.set_ylabel("chi-square size, % (alpha = 1 %)")
+    ax.set_title("chi-square size against phi, 99 % Clopper-Pearson intervals", fontsize=9)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(outdir, "noise_size_phi.png"), dpi=120)
+    fig, ax = plt.subplots(figsize=(5.5, 3.8))
+    for rob, lab, dx in (("seed", "seed's judge", -0.03), ("robust", "robust route", 0.03)):
+        pts = [(i, by["power_%s_%s" % (rob, o)]) for i, o in enumerate(("clean", "out"))
+               if "power_%s_%s" % (rob, o) in by]
+        if not pts:
+            continue
+        x = np.array([i for i, _ in pts]) + dx
+        v = np.array([d["rate"] for _, d in pts])
+        lo = np.array([d["cp99"][0] for _, d in pts])
+        hi = np.array([d["cp99"][1] for _, d in pts])
+        nf = sorted({d["flights"] for _, d in pts})
+        ax.errorbar(x, v, yerr=[v - lo, hi - v], marker="o", capsize=3,
+                    label="%s (%s flights)" % (lab, "/".join(map(str, nf))))
+    ax.axhline(0.90, color="k", lw=0.8, ls="--")
+    ax.set_xticks([0, 1], ["no outliers", "1 % rows at 30 sigma"])
+    ax.set_xlim(-0.5, 1.5)
+    ax.set_ylabel("power, gyro_bias_y at 4 x spec")
+    ax.set_title("Power with and without the robust route, 99 % Clopper-Pearson", fontsize=9)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(outdir, "noise_power.png"), dpi=120)
+    fig, ax = plt.subplots(figsize=(5.5, 3.8))
+    for fam, lab in (("curve_seed_clean_", "seed's judge, no outliers"),
+                     ("curve_seed_out_", "seed's judge, 1 % rows at 30 sigma"),
+                     ("curve_robust_out_", "robust route, 1 % rows at 30 sigma")):
+        pts = [(k, by[fam + "%g" % k]) for k in CURVE if fam + "%g" % k in by]
+        if not pts:
+            continue
+        x = np.array([k for k, _ in pts], dtype=float)
+        v = np.array([d["rate"] for _, d in pts])
+        lo = np.array([d["cp99"][0] for _, d in pts])
+        hi = np.array([d["cp99"][1] for _, d in pts])
+        nf = sorted({d["flights"] for _, d in pts})
+        ax.errorbar(x, v, yerr=[v - lo, hi - v], marker="o", capsize=3,
+                    label="%s (%s flights)" % (lab, "/".join(map(str, nf))))
+    ax.set_xlabel("true gyro_bias_y, multiples of its spec (other terms N(0, 1))")
+    ax.set_ylabel("P(verdict 'out of spec')")
+    ax.set_ylim(0, 1.02)
+    ax.set_title("Power curves, 99 % Clopper-Pearson intervals", fontsize=9)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(outdir, "noise_power_curve.png"), dpi=120)
 
 
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--flights", type=int, default=2000)
-    ap.add_argument("--threads", type=int, default=0)
+    ap.add_argument("--threads", type=int, default=1)
+    ap.add_argument("--cells", default="", help="comma-separated names or prefixes; "
+                    "empty: all, and naming")
+    ap.add_argument("--results", default="noise_validation.jsonl",
+                    help="JSON lines file (appended); --plot-only: comma-separated files")
     ap.add_argument("--outdir", default="docs")
+    ap.add_argument("--plot-only", action="store_true")
+    ap.add_argument("--naming-flights", type=int, default=0, help="0: --flights")
     a = ap.parse_args()
-    fl = igea.simulate(seed=1)
-    S, sig, spec, terms = fl.S, fl.sigma, fl.spec, list(fl.terms)
-    n, th = a.flights, a.threads
-
-    def mc(**kw):
-        return igea.montecarlo(S, sig, n, spec=spec, terms=terms, threads=th, seed=11, **kw)
-
-    print("| cell | rate | value [99 % Wilson] |\n|---|---|---|")
-    phis = (0.0, 0.5, 0.9, 0.98)
-    seed_j = [cell("AR(1) phi=%g, seed's judge" % p, mc(ar1=p)) for p in phis]
-    ar_j = [cell("AR(1) phi=%g, phi estimated" % p, mc(ar1=p, ar=1)) for p in phis]
-    cell("3x3 correlation up to 0.9, judge told", mc(corr=0.9, judge_noise=True))
-    cell("two stations, sigma_w 1 and 3, judge told",
-         mc(group_split=0.5, sigma_w2=3.0, judge_noise=True))
-    out = dict(outlier_prob=0.01, outlier_scale=30.0)
-    cell("1 % rows at 30 sigma, robust", mc(robust=True, **out))
-    power = {}
-    for rob in (False, True):
-        for o in (False, True):
-            kw = dict(out) if o else {}
-            r = mc(x={"gyro_bias_y": 4.0}, robust=rob or None, **kw)
-            power[rob, o] = cell("power gyro_bias_y 4x, %s, %s" % (
-                "robust" if rob else "seed's judge", "1 % outliers" if o else "clean"), r,
-                "failed")
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        print("\n(matplotlib not installed: no plots)")
+    if a.plot_only:
+        plots(a.results, a.outdir)
         return
-    fig, ax = plt.subplots(figsize=(5, 3.5))
-    for rows, lab in ((seed_j, "seed's judge"), (ar_j, "AR(1), phi estimated")):
-        v = np.array(rows)
-        ax.errorbar(phis, v[:, 0], yerr=[v[:, 0] - v[:, 1], v[:, 2] - v[:, 0]], marker="o",
-                    capsize=3, label=lab)
-    ax.axhline(0.01, color="k", lw=0.8)
-    ax.set_xlabel("AR(1) phi")
-    ax.set_ylabel("chi-square size (alpha = 0.01)")
-    ax.legend()
-    fig.tight_layout()
-    fig.savefig(os.path.join(a.outdir, "noise_size_phi.png"), dpi=120)
-    fig, ax = plt.subplots(figsize=(5, 3.5))
-    labels = ["clean", "1 % outliers"]
-    for rob in (False, True):
-        v = np.array([power[rob, o] for o in (False, True)])
-        ax.errorbar([0, 1], v[:, 0], yerr=[v[:, 0] - v[:, 1], v[:, 2] - v[:, 0]], marker="o",
-                    capsize=3, label="robust" if rob else "seed's judge")
-    ax.set_xticks([0, 1], labels)
-    ax.set_ylabel("power, gyro_bias_y at 4 x spec")
-    ax.legend()
-    fig.tight_layout()
-    fig.savefig(os.path.join(a.outdir, "noise_power.png"), dpi=120)
+    want = [w for w in a.cells.split(",") if w]
+    fl = igea.simulate(seed=1)
+    print("| cell | rate | value [99 % Clopper-Pearson] | CPU, other |\n|---|---|---|---|")
+    allc = cells()
+    order = [n for w in want for n in allc if n.startswith(w)] if want else list(allc)
+    for name in dict.fromkeys(order):  # in the order asked for, each once
+        spec = allc[name]
+        row, extra = run_cell(name, spec, fl, a)
+        report(row, extra)
+        with open(a.results, "a") as fh:
+            fh.write(json.dumps(row) + "\n")
+    if not want or "naming" in want:
+        t0 = time.process_time()
+        tn, tr, an, ar = naming(a.naming_flights or a.flights)
+        cpu = time.process_time() - t0
+        for name, label, k, n in (
+                ("naming_top", "gyro_bias_y 4x named by its own component, when rejected", tn, tr),
+                ("naming_any", "gyro_bias_y 4x named by some rejected component", an, ar)):
+            row = dict(cell=name, label=label, what="named", count=k, flights=n,
+                       rate=k / max(n, 1), cp99=list(interval_cp(k, max(n, 1))), wilson99=[],
+                       cpu_s=cpu)
+            report(row, "; %d flights drawn" % (a.naming_flights or a.flights))
+            with open(a.results, "a") as fh:
+                fh.write(json.dumps(row) + "\n")
+    if not want:
+        try:
+            plots(a.results, a.outdir)
+        except ImportError:
+            print("\n(matplotlib not installed: no plots)")
 
 
 if __name__ == "__main__":

@@ -289,3 +289,102 @@ int igea_noise_vce(int N, int G, const double *A, int lda, const double *b,
     free(w);
     return st;
 }
+
+/* ---- REML covariance of the variance components --------------------------- */
+
+/* Inverse of the G x G SPD matrix in place (column-major), by its
+ * Cholesky factor; L (G^2) scratch. Returns 0 or IGEA_ERANK. */
+static int spd_inverse(int G, double *Im, double *L)
+{
+    memcpy(L, Im, (size_t)G * G * sizeof(double));
+    if (igea__chol_lower(G, L, G, 0.0) != 0)
+        return IGEA_ERANK;
+    for (int k = 0; k < G; k++) { /* column k: L L' x = e_k */
+        double *x = Im + (size_t)k * G;
+        for (int i = 0; i < G; i++) {
+            double s = (i == k);
+            for (int l = 0; l < i; l++)
+                s -= L[i + (size_t)l * G] * x[l];
+            x[i] = s / L[i + (size_t)i * G];
+        }
+        for (int i = G - 1; i >= 0; i--) {
+            double s = x[i];
+            for (int l = i + 1; l < G; l++)
+                s -= L[l + (size_t)i * G] * x[l];
+            x[i] = s / L[i + (size_t)i * G];
+        }
+    }
+    return 0;
+}
+
+/* The inverse REML information of the scales c (G) of the groups' normal
+ * equations A (G blocks, lower triangles, lda) and row counts wtw[2g + 1]:
+ * I_gh = (delta_gh (n_g - 2 tr(Q N_g) / c_g) / c_g^2 + tr(Q N_g Q N_h) /
+ * (c_g^2 c_h^2)) / 2, Q = (sum N_g / c_g)^+, into cov (G x G). */
+int igea__noise_vce_cov(int N, int G, const double *A, int lda, const double *wtw,
+                        const double *c, double *cov);
+int igea__noise_vce_cov(int N, int G, const double *A, int lda, const double *wtw,
+                        const double *c, double *cov)
+{
+    size_t nn = (size_t)N * N;
+    double *Nt = igea__dalloc((2 + (size_t)G) * nn + (size_t)N + 2 * (size_t)G * G + G);
+    if (!Nt)
+        return IGEA_ENOMEM;
+    double *F = Nt + nn, *K = F + nn, *lam = K + (size_t)G * nn, *Im = lam + N;
+    double *L = Im + (size_t)G * G, *tr = L + (size_t)G * G;
+    int r = pinv_factor(N, G, A, lda, c, Nt, lam, F), st = r < 0 ? r : 0;
+    for (int g = 0; st == 0 && g < G; g++) { /* K_g = F' N_g F (r x r), T in Nt */
+        double *Kg = K + (size_t)g * r * r;
+        if (r == 0)
+            break;
+        cblas_dsymm(CblasColMajor, CblasLeft, CblasLower, N, r, 1.0, A + (size_t)g * lda * N,
+                    lda, F, N, 0.0, Nt, N);
+        cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, r, r, N, 1.0, F, N, Nt, N, 0.0,
+                    Kg, r);
+        tr[g] = 0.0;
+        for (int k = 0; k < r; k++)
+            tr[g] += Kg[k + (size_t)k * r];
+    }
+    for (int g = 0; st == 0 && g < G; g++)
+        for (int h = 0; h < G; h++) {
+            double t = r ? cblas_ddot(r * r, K + (size_t)g * r * r, 1, K + (size_t)h * r * r, 1)
+                         : 0.0;
+            double v = t / (c[g] * c[g] * c[h] * c[h]);
+            if (g == h)
+                v += (wtw[2 * g + 1] - 2.0 * (r ? tr[g] : 0.0) / c[g]) / (c[g] * c[g]);
+            Im[g + (size_t)h * G] = 0.5 * v;
+        }
+    if (st == 0)
+        st = spd_inverse(G, Im, L);
+    if (st == 0 && !igea__finite_vec(G * G, Im, 1))
+        st = IGEA_EOVERFLOW;
+    if (st == 0)
+        memcpy(cov, Im, (size_t)G * G * sizeof(double));
+    free(Nt);
+    return st;
+}
+
+int igea_noise_vce_cov(int N, int G, const double *A, int lda, const double *wtw,
+                       const double *scale, double *cov)
+{
+    if (N < 1) return -1;
+    if (G < 1) return -2;
+    if (!A) return -3;
+    if (lda < N) return -4;
+    if (!wtw) return -5;
+    if (!scale) return -6;
+    if (!cov) return -7;
+    for (int g = 0; g < G; g++) {
+        const double *Ag = A + (size_t)g * lda * N;
+        for (int j = 0; j < N; j++)
+            if (!igea__finite_vec(N - j, &IGEA_AT(Ag, lda, j, j), 1))
+                return IGEA_ENONFINITE;
+    }
+    for (int g = 0; g < G; g++) {
+        if (!isfinite(wtw[2 * g]) || !isfinite(wtw[2 * g + 1]) || !isfinite(scale[g]))
+            return IGEA_ENONFINITE;
+        if (!(wtw[2 * g + 1] >= 0)) return -5;
+        if (!(scale[g] > 0)) return -6;
+    }
+    return igea__noise_vce_cov(N, G, A, lda, wtw, scale, cov);
+}

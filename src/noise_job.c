@@ -15,6 +15,8 @@
 int igea__noise_vce_iterate(int N, int G, const double *A, int lda, const double *b,
                             const double *wtw, double tol, int maxit, double *c,
                             double *red, double *x, int *iters, int *conv);
+int igea__noise_vce_cov(int N, int G, const double *A, int lda, const double *wtw,
+                        const double *c, double *cov);
 
 typedef struct {
     int m, N, Nt, G, p, nb, M;
@@ -388,8 +390,8 @@ static int job_alloc(njob *j)
 }
 
 /* Outputs of a successful job beyond those of igea_eqerr_solve. */
-static void job_out(const njob *j, int iters, int conv, double *info, double *ar_out,
-                    double *group_out, double *row_w)
+static void job_out(const njob *j, int iters, int conv, const double *ccov, double *info,
+                    double *ar_out, double *group_out, double *row_w)
 {
     info[IGEA_STATS_INFO_NOISE_ITERATIONS] = iters;
     info[IGEA_STATS_INFO_NOISE_CONVERGED] = conv;
@@ -414,6 +416,7 @@ static void job_out(const njob *j, int iters, int conv, double *info, double *ar
         o[IGEA_NOISE_GROUP_SCALE] = j->c[g];
         o[IGEA_NOISE_GROUP_SE] = j->c[g] * sqrt(2.0 / j->red[g]);
         o[IGEA_NOISE_GROUP_REDUND] = j->red[g];
+        o[IGEA_NOISE_GROUP_SE_REML] = sqrt(ccov[g + (size_t)g * j->G]);
         o[IGEA_NOISE_GROUP_ROWS] = j->wtw[2 * g + 1];
         for (int a = 0; a < 3 && j->nb; a++)
             o[IGEA_NOISE_GROUP_BIAS + a] = j->x[j->N + 3 * g + a];
@@ -521,12 +524,15 @@ static int noise_job(int m, int N, const double *S, int lds, const double *dw,
     j.maxrej = (int)floor(opt_or(opts, IGEA_EQERR_OPT_ROBUST_MAX, 0.05) * m);
     if ((st = job_alloc(&j)))
         return st;
-    double *Ar = igea__dalloc((size_t)N * N + (size_t)N);
+    double *Ar = igea__dalloc((size_t)N * N + (size_t)N + (size_t)ngroups * ngroups);
     int iters = 0, conv = 0;
     st = Ar ? stage1_rows(&j, S, lds, dw, track_sigma, sigma_inc, cov, spec_sigma)
             : IGEA_ENOMEM;
     if (st == 0)
         st = outer(&j, opts, &iters, &conv);
+    double *ccov = Ar ? Ar + (size_t)N * N + N : NULL;
+    if (st == 0) /* before reduce: j.A holds the groups' sums of the final fit */
+        st = igea__noise_vce_cov(j.Nt, j.G, j.A, j.Nt, j.wtw, j.c, ccov);
     if (st == 0)
         st = reduce(&j, Ar, Ar + (size_t)N * N);
     if (st == 0) {
@@ -535,7 +541,7 @@ static int noise_job(int m, int N, const double *S, int lds, const double *dw,
                               z, reject, inf);
         if (st == 0) {
             memcpy(info, inf, sizeof inf);
-            job_out(&j, iters, conv, info, ar_out, group_out, row_w);
+            job_out(&j, iters, conv, ccov, info, ar_out, group_out, row_w);
             if (resid)
                 job_resid(&j, resid);
         }

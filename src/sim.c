@@ -606,12 +606,14 @@ static int mc_judge_noise(mc_job *jb, int f, const double *dw, double *lam, doub
         double sw[2] = {c->opts[IGEA_SIM_OPT_SIGMA_W], c->opts[IGEA_SIM_OPT_SIGMA_W2] > 0
                                                            ? c->opts[IGEA_SIM_OPT_SIGMA_W2]
                                                            : c->opts[IGEA_SIM_OPT_SIGMA_W]};
-        int ok = 1;
+        int ok = 1, lok = 1; /* bit 1: the log-scale cover (IGEA_SIM_MC_SIGMA_COVERED) */
         for (int g = 0; g < jb->ngroups; g++) {
             const double *o = go + g * IGEA_NOISE_GROUP_COLS;
-            ok = ok && fabs(o[IGEA_NOISE_GROUP_SCALE] - sw[g] * sw[g]) <= 3 * o[IGEA_NOISE_GROUP_SE];
+            double cg = o[IGEA_NOISE_GROUP_SCALE], t = sw[g] * sw[g];
+            ok = ok && fabs(cg - t) <= 3 * o[IGEA_NOISE_GROUP_SE];
+            lok = lok && fabs(log(cg / t)) <= 3 * o[IGEA_NOISE_GROUP_SE_REML] / cg;
         }
-        jb->covered[f] = ok;
+        jb->covered[f] = ok | (lok << 1);
         jb->nout[f] = (int)info[IGEA_STATS_INFO_N_OUTLIERS];
     }
     return st;
@@ -789,12 +791,14 @@ static void mc_write(const mc_job *jobs, int nthreads, int N, int nflights,
         size_sum += jobs[t].size_sum;
     res[IGEA_SIM_MC_MEAN_SIZE] = ntestable > 0 ? size_sum / ntestable : 0.0;
     if (j0->noise) {
-        double cov_n = 0, out_n = 0;
+        double cov_n = 0, out_n = 0, sig_n = 0;
         for (int f = 0; f < nflights; f++) {
-            cov_n += j0->covered[f];
+            cov_n += j0->covered[f] & 1;
+            sig_n += j0->covered[f] >> 1;
             out_n += j0->nout[f];
         }
         res[IGEA_SIM_MC_SCALE_COVERED] = cov_n;
+        res[IGEA_SIM_MC_SIGMA_COVERED] = sig_n;
         res[IGEA_SIM_MC_MEAN_OUTLIERS] = out_n / nflights;
     }
     memcpy(counts, res, sizeof res);

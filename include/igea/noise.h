@@ -69,6 +69,10 @@ extern "C" {
 #define IGEA_NOISE_GROUP_REDUND 2 /* r_g = n_g - tr(N^+ N_g) / c_g */
 #define IGEA_NOISE_GROUP_ROWS 3   /* rows of the group used (after rejections) */
 #define IGEA_NOISE_GROUP_BIAS 4   /* 4..6: bias x, y, z (dw units; 0 without bias columns) */
+#define IGEA_NOISE_GROUP_SE_REML 7 /* standard error of c_g from the inverse REML
+                                      information of all the scales
+                                      (igea_noise_vce_cov), the covariance
+                                      between groups included [D] */
 #define IGEA_NOISE_GROUP_COLS 8
 
 typedef struct igea_whiten igea_whiten;
@@ -186,6 +190,28 @@ IGEA_API int igea_noise_vce(int N, int G, const double *A, int lda,
                             const double *b, const double *wtw, double tol,
                             int max_iter, double *scale, double *se,
                             double *redund, double *x, int *iterations);
+
+/*
+ * The covariance of the variance components: the inverse of the REML
+ * (Fisher) information of the scales c of G groups at the given scales,
+ * I_gh = (delta_gh (n_g - 2 tr(Q N_g) / c_g) / c_g^2
+ *         + tr(Q N_g Q N_h) / (c_g^2 c_h^2)) / 2,
+ * Q = (sum_g N_g / c_g)^+ (pseudo-inverse at rank tolerance N 10 eps), N_g
+ * the group's normal matrix, n_g its rows; with one group 2 c^2 / r. The
+ * standard error of c_g is sqrt(cov[g + g G]) [D] (docs/eqerr.md).
+ *  1 N >= 1, 2 G >= 1
+ *  3 A       G blocks N x N (block g at A + g lda N), lower triangles read
+ *  4 lda     >= N
+ *  5 wtw     2 G: only the row counts wtw[2 g + 1] (>= 0) are read
+ *  6 scale   G scales c_g > 0 (as igea_noise_vce returns them)
+ *  7 cov     G x G output (symmetric, column-major), units c^2
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ERANK (information not positive
+ * definite), IGEA_EOVERFLOW, IGEA_ENOMEM, IGEA_ELAPACK; cov untouched on
+ * failure.
+ */
+IGEA_API int igea_noise_vce_cov(int N, int G, const double *A, int lda,
+                                const double *wtw, const double *scale,
+                                double *cov);
 
 /*
  * The equivalent-error job with the noise models, in memory.

@@ -288,11 +288,16 @@ IGEA_API int igea_sim_nonlinear(int system, int nsamp, const double *traj,
 #define IGEA_SIM_MC_MEAN_TESTED 6  /* mean |I_t| */
 #define IGEA_SIM_MC_MEAN_SIZE 7    /* mean overall size of the verdict rule (info
                                     * OVERALL_SIZE; 0 if not computed) */
+#define IGEA_SIM_MC_SIGMA_COVERED 8 /* judged by igea_noise_eqerr: flights whose every
+                                       group's sigma_w,g-hat = sqrt(c_g) is within 3
+                                       standard errors of its truth on the log scale,
+                                       |ln c_g - ln sigma_w,g^2| <= 3 se / c_g with se
+                                       the REML one (IGEA_NOISE_GROUP_SE_REML) [D] */
 #define IGEA_SIM_MC_SCALE_COVERED 12 /* judged by igea_noise_eqerr: flights whose every
                                         group scale c_g is within 3 standard errors of
                                         its truth sigma_w,g^2 */
 #define IGEA_SIM_MC_MEAN_OUTLIERS 13 /* mean rows rejected by the robust route */
-#define IGEA_SIM_MC_LEN 16 /* slots 8..11, 14.. reserved for additions */
+#define IGEA_SIM_MC_LEN 16 /* slots 9..11, 14.. reserved for additions */
 
 /* rates[IGEA_SIM_MC_RATES_LEN]: for each count k of IGEA_SIM_MC_FAILED ..
  * IGEA_SIM_MC_NOT_TESTABLE, rates[3 (k - 1)] = count / flights and
@@ -313,6 +318,22 @@ IGEA_API int igea_sim_nonlinear(int system, int nsamp, const double *traj,
  * outputs). Returns 0, -i.
  */
 IGEA_API int igea_sim_interval(double k, double n, double *lohi);
+
+/*
+ * The exact (Clopper-Pearson) interval of a rate of k successes in n
+ * trials at confidence level: [B((1 - level)/2; k, n - k + 1),
+ * B((1 + level)/2; k + 1, n - k)] with B(p; a, b) the beta quantile (0 when
+ * k = 0, 1 when k = n), by bisection on igea's regularised incomplete beta
+ * (igea_stats_f_sf) to 4 ulp: relative accuracy about 1e-11 up to n = 1e5,
+ * 1e-9 near the largest n. igea_sim_interval (Wilson) is unchanged.
+ *  1 k      successes, a whole number, 0 <= k <= n
+ *  2 n      trials, a whole number, 1 <= n <= IGEA_SIM_INTERVAL_CP_NMAX
+ *  3 level  confidence, 0 < level < 1 (0.99: the 99 % interval)
+ *  4 lohi   2 outputs: the lower and the upper end
+ * Returns 0, -i, IGEA_ENOCONV; lohi untouched on failure.
+ */
+#define IGEA_SIM_INTERVAL_CP_NMAX 4999999.0
+IGEA_API int igea_sim_interval_cp(double k, double n, double level, double *lohi);
 
 /*
  * Monte Carlo: flights first_flight .. first_flight + nflights - 1 of

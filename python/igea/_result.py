@@ -485,12 +485,15 @@ CLASS = {
         "scale": "per flight, c (NaN for a flight with nothing testable)",
         "rates": "{\"failed\": count / flights, ...} of the four counts",
         "ci99": "{\"failed\": (lo, hi), ...}: their 99 % Wilson intervals",
+        "ci99_cp": "{\"failed\": (lo, hi), ...}: their exact 99 % Clopper-Pearson intervals",
         "pool": "with pool=F: the pooled verdicts of groups of F flights (MonteCarloPool)",
         "verdict": "the overall verdict rule counted in failed",
         "mean_size": "its overall size, mean over the testable flights",
         "scale_covered": "judged with the noise model: flights whose group scales are "
                          "within 3 standard errors of the truth",
-        "mean_outliers": "mean rows rejected by the robust route"},
+        "mean_outliers": "mean rows rejected by the robust route",
+        "sigma_covered": "judged with the noise model: flights whose every sigma_w,g-hat is "
+                         "within 3 REML standard errors of the truth (log scale)"},
     "Block3Sigma": {
         "three_sigma": "3 sigma of the block means",
         "sigma": "standard deviation of the block means",

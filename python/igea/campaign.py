@@ -34,7 +34,7 @@ import itertools
 import numpy as np
 
 from . import _capi, _lib
-from .sim import MonteCarloPool, MonteCarloResult, montecarlo
+from .sim import MonteCarloPool, MonteCarloResult, interval_cp, montecarlo
 from .threads import blas_threads
 
 _COUNTS = ("failed", "chi2_reject", "any_reject", "not_testable")
@@ -92,7 +92,9 @@ def _merge(parts, pool, alpha, verdict):
         rates={k: cnt[k] / n for k in _COUNTS}, ci99={k: _interval(cnt[k], n) for k in _COUNTS},
         pool=_pool(table, pool, alpha) if pool else None, verdict=verdict,
         mean_size=size / nt if nt else 0.0,
-        scale_covered=sum(p.scale_covered for p in parts), mean_outliers=outliers / n)
+        scale_covered=sum(p.scale_covered for p in parts), mean_outliers=outliers / n,
+        sigma_covered=sum(p.sigma_covered for p in parts),
+        ci99_cp={k: interval_cp(cnt[k], n) for k in _COUNTS})
 
 
 def _check_client(client):

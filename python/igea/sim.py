@@ -213,14 +213,17 @@ class MonteCarloResult:
     scale_covered: int = 0  # judged with the noise model: flights whose group scales are
                             # within 3 standard errors of the truth
     mean_outliers: float = 0.0  # mean rows rejected by the robust route
+    ci99_cp: dict = None  # {"failed": (lo, hi), ...}: the exact 99 % Clopper-Pearson intervals
+    sigma_covered: int = 0  # judged with the noise model: flights whose every sigma_w,g-hat
+                            # is within 3 REML standard errors of the truth (log scale)
 
-    _json_omit = ("rates", "ci99")    # in the driver's document, inside the counts
+    _json_omit = ("rates", "ci99", "ci99_cp")  # in the driver's document, inside the counts
 
     def _json_extra(self):
         # 'igea montecarlo --json' writes each count with its rate and
         # interval, and the inputs of the run (None when not known)
         out = {k: {"count": getattr(self, k), "rate": (self.rates or {}).get(k),
-                   "ci99": (self.ci99 or {}).get(k)}
+                   "ci99": (self.ci99 or {}).get(k), "ci99_cp": (self.ci99_cp or {}).get(k)}
                for k in ("failed", "chi2_reject", "any_reject", "not_testable")}
         out.update({k: getattr(self, "_" + k, None)
                     for k in ("seed", "first_flight", "alpha", "correction", "sigma_w")})
@@ -327,10 +330,12 @@ def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None
         n_reject=col.pop("n_reject").astype(int), **col,
         rates={k: float(rates[i]) for k, i in at.items()},
         ci99={k: (float(rates[i + 1]), float(rates[i + 2])) for k, i in at.items()}, pool=pooled,
+        ci99_cp={k: interval_cp(counts[getattr(_capi, "SIM_MC_" + k.upper())], nflights)
+                 for k in at},
         verdict=verdict, mean_size=float(counts[_capi.SIM_MC_MEAN_SIZE]),
         **_lib.fields(counts, "SIM_MC_", flights=int, failed=int, chi2_reject=int,
                       any_reject=int, not_testable=int, mean_scale=float, mean_tested=float,
-                      scale_covered=int, mean_outliers=float)),
+                      scale_covered=int, mean_outliers=float, sigma_covered=int)),
         seed=int(seed), first_flight=int(first_flight), alpha=eq[_capi.EQERR_OPT_ALPHA],
         correction=bool(eq[_capi.EQERR_OPT_CORRECTION]), sigma_w=nopts[_capi.SIM_OPT_SIGMA_W])
 
@@ -399,7 +404,7 @@ def _mc_chunks(where, h, eq, seed, first, nflights, threads, counts, rates, ct, 
                   threads, _lib.dptr(c1), _lib.dptr(r1), _lib.iptr(ct1), _lib.iptr(cr1),
                   _lib.dptr(table[done:]), nflights)
         for k in ("FLIGHTS", "FAILED", "CHI2_REJECT", "ANY_REJECT", "NOT_TESTABLE",
-                  "SCALE_COVERED"):
+                  "SCALE_COVERED", "SIGMA_COVERED"):
             counts[getattr(_capi, "SIM_MC_" + k)] += c1[getattr(_capi, "SIM_MC_" + k)]
         outliers += int(round(c1[_capi.SIM_MC_MEAN_OUTLIERS] * n))
         size += ((c1[_capi.SIM_MC_FLIGHTS] - c1[_capi.SIM_MC_NOT_TESTABLE])
@@ -422,6 +427,15 @@ def _mc_chunks(where, h, eq, seed, first, nflights, threads, counts, rates, ct, 
         rates[3 * i] = c / nflights
         _lib.call(where, "igea_sim_interval", float(c), float(nflights),
                   _lib.dptr(rates[3 * i + 1:]))
+
+
+def interval_cp(k, n, level=0.99):
+    """The exact (Clopper-Pearson) interval of k successes in n trials at
+    confidence level (igea_sim_interval_cp): (lo, hi)."""
+    out = np.zeros(2)
+    _lib.call("igea.interval_cp", "igea_sim_interval_cp", float(k), float(n), float(level),
+              _lib.dptr(out))
+    return float(out[0]), float(out[1])
 
 
 def _judge_slots(ar, ar_given, robust, robust_alpha, group_bias):

@@ -57,7 +57,7 @@ static const cli_command command = {"montecarlo",
 "flights with known truth (as 'igea simulate') and judges each with the test\n"
 "of 'igea eqerr' (eig route), reporting how often the verdict is 'out of\n"
 "spec', the chi-square and per-component rejection rates with 99% (Wilson)\n"
-"intervals, and the mean sigma_w^2 estimate. With the truth in spec (X ~ N(0,\n"
+"intervals (the four rates also with their exact Clopper-Pearson ones), and the mean sigma_w^2 estimate. With the truth in spec (X ~ N(0,\n"
 "I), sigma_w = 1) the rates are the test's size; with a term set to K x spec\n"
 "(--x) they are its power. Flight f uses the random stream (seed, f): results\n"
 "do not depend on --threads.\n"
@@ -115,6 +115,7 @@ typedef struct {
     double counts[IGEA_SIM_MC_LEN], rates[IGEA_SIM_MC_RATES_LEN], *table;
     double pooled[IGEA_SIM_POOL_LEN];
     int *ct, *cr;
+    double cp99[8]; /* the four counts' exact 99 % intervals (igea_sim_interval_cp) */
 } mc_result;
 
 /* The flights in chunks of a tenth (at most 1000 flights; the chunks
@@ -143,6 +144,7 @@ static int run_flights(const mc_args *a, const cli_flight_args *fa, const cli_fl
         for (int k = IGEA_SIM_MC_FLIGHTS; k <= IGEA_SIM_MC_NOT_TESTABLE; k++)
             c[k] += c1[k];
         c[IGEA_SIM_MC_SCALE_COVERED] += c1[IGEA_SIM_MC_SCALE_COVERED]; /* noise judge */
+        c[IGEA_SIM_MC_SIGMA_COVERED] += c1[IGEA_SIM_MC_SIGMA_COVERED];
         outliers += floor(c1[IGEA_SIM_MC_MEAN_OUTLIERS] * n + 0.5);  /* a count per chunk */
         sum_size += (c1[IGEA_SIM_MC_FLIGHTS] - c1[IGEA_SIM_MC_NOT_TESTABLE]) *
                     c1[IGEA_SIM_MC_MEAN_SIZE];
@@ -169,6 +171,9 @@ static int run_flights(const mc_args *a, const cli_flight_args *fa, const cli_fl
         ec = cli_status(igea_sim_interval(c[IGEA_SIM_MC_FAILED + k], c[IGEA_SIM_MC_FLIGHTS],
                                           r->rates + 3 * k + 1), "montecarlo");
     }
+    for (int k = 0; !ec && k < 4; k++) /* the exact Clopper-Pearson interval beside Wilson's */
+        ec = cli_status(igea_sim_interval_cp(c[IGEA_SIM_MC_FAILED + k], c[IGEA_SIM_MC_FLIGHTS],
+                                             0.99, r->cp99 + 2 * k), "montecarlo");
     return ec;
 }
 
@@ -205,11 +210,13 @@ static void json_report(FILE *out, const mc_args *a, const cli_flight_args *fa,
         cli_jint(&j, "count", (long)r->counts[IGEA_SIM_MC_FAILED + k]);
         cli_jnum(&j, "rate", r->rates[3 * k]);
         cli_jnums(&j, "ci99", r->rates + 3 * k + 1, 2);
+        cli_jnums(&j, "ci99_cp", r->cp99 + 2 * k, 2);
         cli_json_close(&j);
     }
     cli_jnum(&j, "mean_scale", r->counts[IGEA_SIM_MC_MEAN_SCALE]);
     cli_jnum(&j, "mean_tested", r->counts[IGEA_SIM_MC_MEAN_TESTED]);
     cli_jint(&j, "scale_covered", (long)r->counts[IGEA_SIM_MC_SCALE_COVERED]);
+    cli_jint(&j, "sigma_covered", (long)r->counts[IGEA_SIM_MC_SIGMA_COVERED]);
     cli_jnum(&j, "mean_outliers", r->counts[IGEA_SIM_MC_MEAN_OUTLIERS]);
     cli_jints(&j, "comp_tested", r->ct, f->N);
     cli_jints(&j, "comp_reject", r->cr, f->N);
@@ -253,13 +260,14 @@ static void text_report(FILE *out, const mc_args *a, const cli_flight_args *fa,
             fprintf(out, ", %s = %g x spec", igea_envfun_term_name(f->codes[j]), f->xval[j]);
     fprintf(out, "; test: alpha %g, sigma_w correction %s\n\n", a->eqo[IGEA_EQERR_OPT_ALPHA],
             a->eqo[IGEA_EQERR_OPT_CORRECTION] != 0 ? "on" : "off");
-    fprintf(out, "%-26s %7s %8s   %s\n", "", "count", "rate", "99% interval");
+    fprintf(out, "%-26s %7s %8s   %-18s   %s\n", "", "count", "rate", "99% interval",
+            "99% exact (Clopper-Pearson)");
     static const char *const names[4] = {"verdict 'out of spec'", "chi-square rejected",
                                          "a component rejected", "nothing testable"};
     for (int k = 0; k < 4; k++)
-        fprintf(out, "%-26s %7d %8.4f   [%.4f, %.4f]\n", names[k],
+        fprintf(out, "%-26s %7d %8.4f   [%.4f, %.4f]   [%.4f, %.4f]\n", names[k],
                 (int)r->counts[IGEA_SIM_MC_FAILED + k], r->rates[3 * k], r->rates[3 * k + 1],
-                r->rates[3 * k + 2]);
+                r->rates[3 * k + 2], r->cp99[2 * k], r->cp99[2 * k + 1]);
     fprintf(out, "mean c (sigma_w^2 estimate) %.4f; mean components tested %.2f\n",
             r->counts[IGEA_SIM_MC_MEAN_SCALE], r->counts[IGEA_SIM_MC_MEAN_TESTED]);
     fprintf(out, "verdict rule %s: mean overall size over the testable flights %.6f\n\n",

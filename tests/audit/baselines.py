@@ -461,6 +461,7 @@ BASE = {
     'igea_sim_model_get_s': dict(lds='6'),
     'igea_sim_flight': dict(seed='1', flight='0'),
     'igea_sim_interval': dict(k='3.0', n='10.0'),
+    'igea_sim_interval_cp': dict(k='3.0', n='10.0', level='0.99'),
     'igea_sim_nonlinear': dict(system='IGEA_ENVFUN_STRAPDOWN', nsamp='101', traj=TRAJ,
                                ldt='nsamp', err='set:b_[0] = 1e-3; b_[15] = 1e-6;'
                                ' for (long i = 1; i < AUDIT_NB; i++) if (i != 15) b_[i] = 0;',
@@ -572,6 +573,10 @@ BASE = {
                            'audit_spd(b_ + 9, 3, 3, 5.0);', lda='N', b='c:0.1 * au(i)',
                            wtw='[5.0, 6.0, 4.0, 6.0]', tol='1e-8', max_iter='200',
                            _int=dict(G='size', max_iter='size')),
+    'igea_noise_vce_cov': dict(N='3', G='2', A='set:audit_spd(b_, 3, 3, 10.0); '
+                               'audit_spd(b_ + 9, 3, 3, 5.0);', lda='N',
+                               wtw='[5.0, 6.0, 4.0, 6.0]', scale='[1.0, 2.0]',
+                               _int=dict(G='size')),
     'igea_noise_eqerr': dict(m='12', N='3', S='u', lds='m', dw='c:au(i + 5000)',
                              track_sigma='c:0.05',
                              sigma_inc='1', cov='NULL', group='[0, 0, 1, 1]', ngroups='2',
