@@ -335,6 +335,7 @@ NOISE_GROUP_SE = 1
 NOISE_GROUP_REDUND = 2
 NOISE_GROUP_ROWS = 3
 NOISE_GROUP_BIAS = 4
+NOISE_GROUP_SE_REML = 7
 NOISE_GROUP_COLS = 8
 
 # igea/normal.h
@@ -471,6 +472,7 @@ SIM_MC_NOT_TESTABLE = 4
 SIM_MC_MEAN_SCALE = 5
 SIM_MC_MEAN_TESTED = 6
 SIM_MC_MEAN_SIZE = 7
+SIM_MC_SIGMA_COVERED = 8
 SIM_MC_SCALE_COVERED = 12
 SIM_MC_MEAN_OUTLIERS = 13
 SIM_MC_LEN = 16
@@ -480,6 +482,7 @@ SIM_MC_TABLE_DOF = 1
 SIM_MC_TABLE_N_REJECT = 2
 SIM_MC_TABLE_SCALE = 3
 SIM_MC_TABLE_COLS = 4
+SIM_INTERVAL_CP_NMAX = 4999999.0
 SIM_POOL_POOLS = 0
 SIM_POOL_FAILED = 1
 SIM_POOL_RATE = 2
@@ -852,6 +855,8 @@ PROTOTYPES = {
     "igea_noise_vce": (c_int, (("N", c_int), ("G", c_int), ("A", _PD), ("lda", c_int), ("b", _PD),
         ("wtw", _PD), ("tol", c_double), ("max_iter", c_int), ("scale", _PD), ("se", _PD),
         ("redund", _PD), ("x", _PD), ("iterations", _PI),)),
+    "igea_noise_vce_cov": (c_int, (("N", c_int), ("G", c_int), ("A", _PD), ("lda", c_int),
+        ("wtw", _PD), ("scale", _PD), ("cov", _PD),)),
     "igea_noise_eqerr": (c_int, (("m", c_int), ("N", c_int), ("S", _PD), ("lds", c_int),
         ("dw", _PD), ("track_sigma", _PD), ("sigma_inc", c_int), ("cov", _PD), ("group", _PI),
         ("ngroups", c_int), ("spec_sigma", _PD), ("phi", _PD), ("opts", _PD), ("lambda", _PD),
@@ -1026,6 +1031,8 @@ PROTOTYPES = {
         ("ldt", c_int), ("err", _PD), ("axes", _PI), ("nepochs", c_int), ("epochs", _PD),
         ("dW", _PD),)),
     "igea_sim_interval": (c_int, (("k", c_double), ("n", c_double), ("lohi", _PD),)),
+    "igea_sim_interval_cp": (c_int, (("k", c_double), ("n", c_double), ("level", c_double),
+        ("lohi", _PD),)),
     "igea_sim_montecarlo": (c_int, (("model", c_void_p), ("eq_opts", _PD), ("seed", c_int),
         ("first_flight", c_int), ("nflights", c_int), ("nthreads", c_int), ("counts", _PD),
         ("rates", _PD), ("comp_tested", _PI), ("comp_reject", _PI), ("table", _PD), ("ldt", c_int),
@@ -1190,6 +1197,7 @@ INPUTS = {
     "igea_whiten_accumulate": ("S", "dw", "track_sigma", "cov", "group", "mask", "spec_sigma",),
     "igea_noise_ar_fit": ("resid", "group", "mask",),
     "igea_noise_vce": ("A", "b", "wtw",),
+    "igea_noise_vce_cov": ("A", "wtw", "scale",),
     "igea_noise_eqerr": ("S", "dw", "track_sigma", "cov", "group", "spec_sigma", "phi", "opts",),
     "igea_noise_eqerr_resid": ("S", "dw", "track_sigma", "cov", "group", "spec_sigma", "phi",
         "opts",),
