@@ -5,6 +5,7 @@
 #include "igea/stability.h"
 #include "igea/stats.h"
 #include "internal.h"
+#include "stability_internal.h"
 
 /* Running window sum with a branch-free compensation (Knuth's TwoSum). */
 typedef struct {
@@ -331,7 +332,7 @@ static void allan_devs(int n, const double *y, double fs, int ntau, const double
  * tau). Returns 0 or IGEA_ENOCONV. */
 static int allan_intervals(int n, const double *y, double fs, int ntau, const double *tau,
                            int kind, int noise, double conf, double mu, const double *d,
-                           const int *cw, double *l, double *h, double *e)
+                           double *l, double *h, double *e)
 {
     int last_alpha = IGEA_STABILITY_NOISE_WFM;
     for (int j = 0; j < ntau; j++) {
@@ -342,14 +343,12 @@ static int allan_intervals(int n, const double *y, double fs, int ntau, const do
                 alpha = last_alpha; /* too few means: keep the last type */
             last_alpha = alpha;
         }
-        double m = (double)lround(tau[j] * fs), N = (double)n + 1.0;
-        if (kind == IGEA_STABILITY_ALLAN_NONOVERLAPPING) {
-            N = (double)(cw[j] + 2); /* B + 1 phase points of the means */
-            m = 1.0;
-        }
-        /* the modified variance equals the overlapping one at m = 1 */
-        double ev = kind == IGEA_STABILITY_ALLAN_MODIFIED && m > 1.0 ? edf_mdev(N, m, alpha)
-                                                           : edf_oadev(N, m, alpha);
+        double m = (double)lround(tau[j] * fs), N = (double)n + 1.0, ev;
+        if (kind == IGEA_STABILITY_ALLAN_NONOVERLAPPING) /* Greenhall's, as kind ADEV */
+            ev = igea__stability_edf_greenhall(alpha, 2, m, N, 0, 0);
+        else /* the modified variance equals the overlapping one at m = 1 */
+            ev = kind == IGEA_STABILITY_ALLAN_MODIFIED && m > 1.0 ? edf_mdev(N, m, alpha)
+                                                                : edf_oadev(N, m, alpha);
         if (igea__edf_interval(d[j], ev, conf, &l[j], &h[j], &e[j]))
             return IGEA_ENOCONV;
     }
@@ -415,7 +414,7 @@ int igea_stability_allan(int n, const double *y, double fs, int ntau,
     double *d = w, *l = w + ntau, *h = l + ntau, *e = h + ntau;
     double mu = mean_of((size_t)n, y);
     allan_devs(n, y, fs, ntau, tau, kind, mu, d, cw);
-    int status = allan_intervals(n, y, fs, ntau, tau, kind, noise, conf, mu, d, cw, l, h, e);
+    int status = allan_intervals(n, y, fs, ntau, tau, kind, noise, conf, mu, d, l, h, e);
     if (status == 0) {
         size_t sz = (size_t)ntau * sizeof(double);
         memcpy(dev, d, sz);

@@ -6,6 +6,7 @@
 #include "igea/stability.h"
 #include "igea/stats.h"
 #include "internal.h"
+#include "stability_internal.h"
 
 
 #define K_FIRST IGEA_STABILITY_ALLAN_ADEV
@@ -289,7 +290,8 @@ static double edf_wpm_short(int d, double m, double S, double M)
     return M * M / den;
 }
 
-static double edf_greenhall(int a, int d, double m, double N, int overlapping, int modified)
+double igea__stability_edf_greenhall(int a, int d, double m, double N, int overlapping,
+                                     int modified)
 {
     static const double t1[7][3][2] = {
         {{2. / 3, 1. / 3}, {7. / 9, 0.5}, {22. / 25, 2. / 3}}, {{0.840, 0.345}, {0.997, 0.616}, {1.141, 0.843}},
@@ -347,15 +349,15 @@ static double dev_edf(int kind, int a, double N, double m)
     static const double t7[3][2] = {{1.50, 0.0}, {1.17, 0.22}, {0.93, 0.36}};
     static const double t8[5][2] = {{1.90, 2.1}, {1.20, 1.40}, {1.10, 1.2}, {0.85, 0.50}, {0.75, 0.31}};
     switch (kind) {
-    case IGEA_STABILITY_ALLAN_ADEV: return edf_greenhall(a, 2, m, N, 0, 0);
-    case IGEA_STABILITY_ALLAN_OADEV: return edf_greenhall(a, 2, m, N, 1, 0);
+    case IGEA_STABILITY_ALLAN_ADEV: return igea__stability_edf_greenhall(a, 2, m, N, 0, 0);
+    case IGEA_STABILITY_ALLAN_OADEV: return igea__stability_edf_greenhall(a, 2, m, N, 1, 0);
     case IGEA_STABILITY_ALLAN_MDEV:
-    case IGEA_STABILITY_ALLAN_TDEV: return edf_greenhall(a, 2, m, N, 1, 1);
-    case IGEA_STABILITY_ALLAN_HDEV: return edf_greenhall(a, 3, m, N, 0, 0);
-    case IGEA_STABILITY_ALLAN_OHDEV: return edf_greenhall(a, 3, m, N, 1, 0);
+    case IGEA_STABILITY_ALLAN_TDEV: return igea__stability_edf_greenhall(a, 2, m, N, 1, 1);
+    case IGEA_STABILITY_ALLAN_HDEV: return igea__stability_edf_greenhall(a, 3, m, N, 0, 0);
+    case IGEA_STABILITY_ALLAN_OHDEV: return igea__stability_edf_greenhall(a, 3, m, N, 1, 0);
     case IGEA_STABILITY_ALLAN_TOTDEV:
         if (a > 0)
-            return edf_greenhall(a, 2, m, N, 1, 0);
+            return igea__stability_edf_greenhall(a, 2, m, N, 1, 0);
         return t7[-a][0] * N / m - t7[-a][1];
     case IGEA_STABILITY_ALLAN_MTOTDEV:
     case IGEA_STABILITY_ALLAN_TTOTDEV: return t8[2 - a][0] * N / m - t8[2 - a][1];

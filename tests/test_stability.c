@@ -216,11 +216,14 @@ static void test_allan_edf(void **state)
     assert_int_equal(igea_stability_allan(1000, y, 1.0, 1, tau + 1, 0, IGEA_STABILITY_NOISE_RWFM, 0.683,
                                           dev, NULL, NULL, &e, NULL), 0);
     assert_close(e, (N - 2) / (m * (N - 3) * (N - 3)) * ((N - 1) * (N - 1) - 3 * m * (N - 1) + 4 * m * m), 1e-14);
-    /* non-overlapping: the formula on the B + 1 = 11 phase points of the
-     * 100-s means, m = 1 (B = 10 at tau 100) */
+    /* non-overlapping: Greenhall and Riley's EDF (PTTI 2003; d = 2, F = m,
+     * S = 1) on N = 1001 phase points at m = 100, white FM: 6.230769230769231,
+     * from the independent Python port of the published algorithm
+     * (gh_edf(0, 2, 100, 1001, False, False) in
+     * tests/python/test_stability_dev.py) */
     assert_int_equal(igea_stability_allan(1000, y, 1.0, 1, tau + 2, IGEA_STABILITY_ALLAN_NONOVERLAPPING,
                                           IGEA_STABILITY_NOISE_WFM, 0.683, dev, NULL, NULL, &e, NULL), 0);
-    assert_close(e, (3.0 * 10 / 2 - 2.0 * 9 / 11) * 4.0 / 9.0, 1e-14);
+    assert_close(e, 6.230769230769231, 1e-12);
     /* modified: Greenhall's EDF against the exact EDF tr(C)^2 / |C|_F^2 of
      * the estimator's quadratic form (C its covariance), computed for n =
      * 300 white FM / white PM samples by direct matrix algebra (numpy) */

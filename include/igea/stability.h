@@ -67,8 +67,10 @@ IGEA_API int igea_stability_block(int n, const double *y, double fs,
  *  NONOVERLAPPING: block means of m samples, s^2 = sum (m_{b+1} - m_b)^2 /
  *    (2 (B - 1))                                        (count B - 1)
  * EDF: the approximations of NIST SP 1065 (Table 5, Howe et al.) for the
- * overlapping ADEV with N = n + 1 phase points; NONOVERLAPPING uses them
- * with N = B + 1, m = 1; MODIFIED uses Greenhall and Riley's algorithm
+ * overlapping ADEV with N = n + 1 phase points; NONOVERLAPPING uses
+ * Greenhall and Riley's algorithm (F = m, S = 1, d = 2, N = n + 1, as
+ * IGEA_STABILITY_ALLAN_ADEV of igea_stability_dev; earlier versions used
+ * the Table 5 formulas with N = B + 1, m = 1); MODIFIED uses Greenhall and Riley's algorithm
  * (PTTI 2003, F = 1, S = m, d = 2, their Table 1 beyond J = 100), and the
  * overlapping formula at m = 1 where the two estimators coincide. An EDF
  * below 1 is raised to 1. The interval is

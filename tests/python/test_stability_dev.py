@@ -294,6 +294,29 @@ def test_greenhall_nonoverlapping_adev_case():
                                      rel=1e-12)
 
 
+def test_nonoverlapping_allan_uses_greenhall_edf():
+    # the rate-data non-overlapping ADEV has the EDF of kind adev:
+    # Greenhall's 7.21 and Stable32's Min/Max Sigma 0.816, 1.416 (68.27 %)
+    # on 19982 samples at tau = 2048, random-walk FM
+    y = np.random.default_rng(0).standard_normal(19982)
+    conf = math.erf(1 / math.sqrt(2))
+    r = igea.allan(y, 1.0, [2048], kind="nonoverlapping", noise="rwfm", conf=conf)
+    assert r.edf[0] == pytest.approx(gh_edf(-2, 2, 2048, 19983, False, False), rel=1e-12)
+    assert r.edf[0] == pytest.approx(7.21, abs=0.005)
+    assert r.lo[0] / r.dev[0] == pytest.approx(0.816, abs=5e-4)
+    assert r.hi[0] / r.dev[0] == pytest.approx(1.416, abs=5e-4)
+    # every noise type, short and long averaging, against the port above
+    n = 20000
+    y = np.random.default_rng(1).standard_normal(n)
+    for noise, a in NOISES.items():
+        for m in (1, 4, 64, 1024, 4096):
+            got = igea.allan(y, 1.0, [m], kind="nonoverlapping", noise=noise).edf[0]
+            want = gh_edf(a, 2, m, n + 1, False, False)
+            if want is None:     # white PM, case 4.1: the exact value of kind adev
+                want = igea.stability(y, 1.0, [m], kind="adev", noise=noise).edf[0]
+            assert got == pytest.approx(max(1.0, want), rel=1e-12), (noise, m)
+
+
 def test_noise_type_independent_of_other_taus():
     y = np.random.default_rng(0).standard_normal(2 ** 17)
     alone = igea.stability(y, 1.0, [4096], kind="oadev")
