@@ -787,6 +787,59 @@ static void test_fit(void **state)
     assert_true(all_sentinel(c, 5));
 }
 
+static void test_fit_boot(void **state)
+{
+    /* an exact white-rate curve on 4096 samples at 10 Hz: the point fit is
+     * igea_stability_fit's; the bootstrap is a function of its arguments;
+     * se of N near the sampling sd of N from the octave ADEV (checked
+     * against independent records in tests/python/test_stability_dev.py) */
+    const int n = 4096;
+    const double fs = 10.0, N = 2e-3;
+    double tau[12], ad[12], edf[12], c[5], c0[5], se[5], se2[5], lo[5], hi[5], chi2;
+    int sup[5], ntau = 0;
+    assert_int_equal(igea_stability_taus(n, fs, 0, IGEA_STABILITY_ALLAN_ADEV, 0, 12, tau, &ntau), 0);
+    assert_true(ntau == 12);
+    for (int j = 0; j < ntau; j++) {
+        ad[j] = N / sqrt(tau[j]);
+        edf[j] = (double)n / (tau[j] * fs) - 1.0;
+    }
+    assert_int_equal(igea_stability_fit(ntau, tau, ad, edf, c0, NULL, NULL, NULL), 0);
+    assert_int_equal(igea_stability_fit_boot(n, fs, IGEA_STABILITY_ALLAN_ADEV, ntau, tau, ad, edf,
+                                             50, 7, 0.9, c, se, lo, hi, sup, &chi2), 0);
+    for (int k = 0; k < 5; k++)
+        assert_true(c[k] == c0[k]);
+    assert_true(se[1] > 0.0 && lo[1] < N && N < hi[1]);
+    assert_true(se[1] < 0.1 * N); /* about 1.6 % here */
+    assert_int_equal(igea_stability_fit_boot(n, fs, IGEA_STABILITY_ALLAN_ADEV, ntau, tau, ad, edf,
+                                             50, 7, 0.9, c, se2, NULL, NULL, NULL, NULL), 0);
+    for (int k = 0; k < 5; k++)
+        assert_true(se2[k] == se[k]);
+    assert_int_equal(igea_stability_fit_boot(n, fs, IGEA_STABILITY_ALLAN_ADEV, ntau, tau, ad, edf,
+                                             50, 8, 0.9, c, se2, NULL, NULL, NULL, NULL), 0);
+    assert_true(se2[1] != se[1]);
+    /* invalid */
+    fill_sentinel(c, 5);
+    fill_sentinel(se, 5);
+    const int K = IGEA_STABILITY_ALLAN_ADEV;
+    assert_int_equal(igea_stability_fit_boot(1, fs, K, ntau, tau, ad, edf, 50, 7, 0.9, c, se, lo, hi, sup, NULL), -1);
+    assert_int_equal(igea_stability_fit_boot(n, 0.0, K, ntau, tau, ad, edf, 50, 7, 0.9, c, se, lo, hi, sup, NULL), -2);
+    assert_int_equal(igea_stability_fit_boot(n, fs, IGEA_STABILITY_ALLAN_MDEV, ntau, tau, ad, edf, 50, 7, 0.9, c, se, lo, hi, sup, NULL), -3);
+    assert_int_equal(igea_stability_fit_boot(n, fs, K, 4, tau, ad, edf, 50, 7, 0.9, c, se, lo, hi, sup, NULL), -4);
+    assert_int_equal(igea_stability_fit_boot(n, fs, K, ntau, NULL, ad, edf, 50, 7, 0.9, c, se, lo, hi, sup, NULL), -5);
+    assert_int_equal(igea_stability_fit_boot(100, fs, K, ntau, tau, ad, edf, 50, 7, 0.9, c, se, lo, hi, sup, NULL), -5);
+    assert_int_equal(igea_stability_fit_boot(n, fs, K, ntau, tau, NULL, edf, 50, 7, 0.9, c, se, lo, hi, sup, NULL), -6);
+    assert_int_equal(igea_stability_fit_boot(n, fs, K, ntau, tau, ad, NULL, 50, 7, 0.9, c, se, lo, hi, sup, NULL), -7);
+    assert_int_equal(igea_stability_fit_boot(n, fs, K, ntau, tau, ad, edf, 1, 7, 0.9, c, se, lo, hi, sup, NULL), -8);
+    assert_int_equal(igea_stability_fit_boot(n, fs, K, ntau, tau, ad, edf, 50, -1, 0.9, c, se, lo, hi, sup, NULL), -9);
+    assert_int_equal(igea_stability_fit_boot(n, fs, K, ntau, tau, ad, edf, 50, 7, 1.0, c, se, lo, hi, sup, NULL), -10);
+    assert_int_equal(igea_stability_fit_boot(n, fs, K, ntau, tau, ad, edf, 50, 7, 0.9, NULL, se, lo, hi, sup, NULL), -11);
+    ad[3] = -1.0;
+    assert_int_equal(igea_stability_fit_boot(n, fs, K, ntau, tau, ad, edf, 50, 7, 0.9, c, se, lo, hi, sup, NULL), -6);
+    ad[3] = NAN;
+    assert_int_equal(igea_stability_fit_boot(n, fs, K, ntau, tau, ad, edf, 50, 7, 0.9, c, se, lo, hi, sup, NULL), IGEA_ENONFINITE);
+    assert_true(all_sentinel(c, 5) && all_sentinel(se, 5));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -804,6 +857,7 @@ int main(void)
         cmocka_unit_test(test_dev_args),
         cmocka_unit_test(test_dev_taus),
         cmocka_unit_test(test_fit),
+        cmocka_unit_test(test_fit_boot),
 #ifndef OOM_DISABLED
         cmocka_unit_test(test_oom),
         cmocka_unit_test(test_dev_oom),

@@ -267,6 +267,40 @@ IGEA_API int igea_stability_fit(int ntau, const double *tau, const double *adev,
                                 const double *edf, double *coef, double *se, int *supported,
                                 double *chi2);
 
+/*
+ * igea_stability_fit of the curve adev[j] (edf[j]) at tau[j] of a rate
+ * record of n samples at fs, with standard errors and intervals from a
+ * parametric bootstrap [D]: nboot records of n samples are simulated from
+ * the fitted model (white phase Q, white rate N, Kasdin and Walter's
+ * flicker rate B, random walk K, ramp R; GSL's MT19937 seeded with seed, so
+ * the result is a function of the arguments), the same statistic `kind` is
+ * computed on each at the same tau and fitted with the same edf. se is the
+ * sample standard deviation of the nboot fitted coefficients; [lo, hi] the
+ * interval at confidence conf from the ratio coefficient / truth taken as
+ * pivotal: est^2 / q_{(1+conf)/2}, est^2 / q_{(1-conf)/2} with q the
+ * replicas' quantiles (hi = INFINITY when q_{(1-conf)/2} = 0; [0,
+ * q_{(1+conf)/2}] for est = 0). Both carry the correlation of the
+ * estimates at different tau, which igea_stability_fit's se (independent
+ * points) leaves out. coef, supported and chi2 are igea_stability_fit's.
+ * Cost: nboot times the statistic on n samples, plus two FFTs of the next
+ * power of 2 >= 2n per record when B > 0.
+ *  1 n >= 2 (the record's samples), 2 fs > 0 (samples per second), 3 kind:
+ *  IGEA_STABILITY_ALLAN_OVERLAPPING, _NONOVERLAPPING, _ADEV, _OADEV or
+ *  _TOTDEV (frequency data), 4 ntau >= 5, 5 tau[ntau] (s; > 0, distinct,
+ *  round(tau fs) with at least one term on n samples), 6 adev[ntau] (> 0),
+ *  7 edf[ntau] (>= 1), 8 nboot (2 .. 1e6; >= 200 for 95 % intervals), 9
+ *  seed >= 0, 10 conf in (0, 1), 11 coef[IGEA_STABILITY_FIT_LEN] out, 12
+ *  se, 13 lo, 14 hi (each IGEA_STABILITY_FIT_LEN out, may be NULL), 15
+ *  supported[IGEA_STABILITY_FIT_LEN] out (may be NULL), 16 chi2 out (may be
+ *  NULL).
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENOMEM, IGEA_ENOCONV (a simulated
+ * curve had a zero deviation); outputs untouched on failure.
+ */
+IGEA_API int igea_stability_fit_boot(int n, double fs, int kind, int ntau, const double *tau,
+                                     const double *adev, const double *edf, int nboot, int seed,
+                                     double conf, double *coef, double *se, double *lo,
+                                     double *hi, int *supported, double *chi2);
+
 #ifdef __cplusplus
 }
 #endif
