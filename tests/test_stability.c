@@ -668,10 +668,24 @@ static void test_dev_args(void **state)
     fill_sentinel(d, 2);
     fill_sentinel(lo, 2);
     al[0] = -7;
-    y[3] = NAN;
+    /* an infinity is refused; a NaN is a gap for the Allan and Hadamard
+     * kinds only (tests/python/test_stability_dev.py checks the gap values) */
+    y[3] = INFINITY;
     assert_int_equal(igea_stability_dev(100, y, 1, 0, 2, tau, K, 0, 0.9, d, lo, NULL, NULL, al, NULL, NULL),
                      IGEA_ENONFINITE);
+    y[3] = NAN;
+    assert_int_equal(igea_stability_dev(100, y, 1, 0, 2, tau, IGEA_STABILITY_ALLAN_TOTDEV, 0, 0.9, d, lo,
+                                        NULL, NULL, al, NULL, NULL), IGEA_ENONFINITE);
     assert_true(all_sentinel(d, 2) && all_sentinel(lo, 2) && al[0] == -7);
+    int cg[2];
+    assert_int_equal(igea_stability_dev(100, y, 1, 0, 2, tau, IGEA_STABILITY_ALLAN_OADEV, 0, 0.9, d, lo,
+                                        NULL, NULL, al, cg, NULL), 0);
+    assert_true(isfinite(d[0]) && isfinite(d[1]) && lo[0] < d[0]);
+    assert_int_equal(cg[0], 101 - 2 - 2); /* m = 1: y_3 is in the terms at i = 2 and 3 */
+    for (int k = 0; k < 100; k++)
+        y[k] = NAN;
+    assert_int_equal(igea_stability_dev(100, y, 1, 0, 2, tau, IGEA_STABILITY_ALLAN_OADEV, 0, 0.9, d, lo,
+                                        NULL, NULL, al, cg, NULL), IGEA_ENONFINITE);
     /* a linear phase (constant frequency) has zero Allan deviation, and the
      * quadratic phase of a frequency ramp R gives R tau / sqrt 2 */
     double x[200];

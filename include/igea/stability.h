@@ -195,13 +195,21 @@ IGEA_API int igea_stability_noise_id(int ntau, const double *tau,
  * THEO1, HTOTDEV, MTIE and TIERMS have no interval here: lo, hi and edf must
  * be NULL for them. The interval is [s sqrt(edf / chi2_{(1+conf)/2}),
  * s sqrt(edf / chi2_{(1-conf)/2})].
- *  1 n >= 2, 2 x[n] finite, 3 fs > 0 (samples per second), 4 data_type
+ * Gaps: for ADEV, OADEV, MDEV, TDEV, HDEV and OHDEV a NaN in x is a gap
+ * (allantools' gradev): a term that holds one (phase data: one of its
+ * points; frequency data: one of the samples it spans, a gap counted as
+ * the mean of the others when integrating) is left out, count is the
+ * number of terms used, and the EDF is that of a record without gaps with
+ * as many terms [D]; the noise identification sees gaps filled (frequency:
+ * the mean; phase: the line between neighbours) [D]. A tau whose terms all
+ * hold a gap, or a NaN for another kind, is IGEA_ENONFINITE.
+ *  1 n >= 2, 2 x[n] finite (NaN: a gap, see above), 3 fs > 0 (samples per second), 4 data_type
  *  IGEA_STABILITY_DATA_*, 5 ntau >= 1, 6 tau[ntau] > 0 each with M >= 1
  *  (THEO1: m even), 7 kind IGEA_STABILITY_ALLAN_ADEV .. _TIERMS, 8 noise
  *  IGEA_STABILITY_NOISE_*, 9 0 < conf < 1, 10 dev[ntau] out, 11 lo, 12 hi,
  *  13 edf (each ntau, may be NULL; NULL for THEO1, HTOTDEV, MTIE, TIERMS),
  *  14 alpha (ntau ints: the noise exponent used at each tau, may be NULL),
- *  15 count (ntau ints: M, the terms, may be NULL), 16 tau_used (ntau: m
+ *  15 count (ntau ints: M, the terms used, may be NULL), 16 tau_used (ntau: m
  *  tau0, THEO1 0.75 m tau0, may be NULL).
  * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENOMEM, IGEA_ENOCONV (a chi-square
  * quantile failed); outputs untouched on failure.

@@ -317,6 +317,87 @@ def test_nonoverlapping_allan_uses_greenhall_edf():
             assert got == pytest.approx(max(1.0, want), rel=1e-12), (noise, m)
 
 
+def _gap_dev(x, m, kind):
+    """Gap-resistant deviations written here from SP 1065's sums: a term
+    holding a NaN phase point is left out, the mean over the others."""
+    N = x.size
+    if kind in ("adev", "oadev"):
+        d = x[2 * m:] - 2 * x[m:N - m] + x[:N - 2 * m]
+        d = d[::m] if kind == "adev" else d
+        d = d[np.isfinite(d)]
+        return math.sqrt(np.mean(d ** 2) / 2) / m, d.size
+    if kind in ("hdev", "ohdev"):
+        d = x[3 * m:] - 3 * x[2 * m:N - m] + 3 * x[m:N - 2 * m] - x[:N - 3 * m]
+        d = d[::m] if kind == "hdev" else d
+        d = d[np.isfinite(d)]
+        return math.sqrt(np.mean(d ** 2) / 6) / m, d.size
+    d2 = x[2 * m:] - 2 * x[m:N - m] + x[:N - 2 * m]           # mdev
+    s = np.array([d2[j:j + m].sum() for j in range(N - 3 * m + 1)])
+    s = s[np.isfinite(s)]
+    return math.sqrt(np.mean(s ** 2) / (2 * m * m)) / m, s.size
+
+
+def test_gaps_phase_and_frequency():
+    rng = np.random.default_rng(21)
+    n = 3000
+    x = np.cumsum(rng.standard_normal(n))             # phase (tau0 = 1 s), white FM
+    xg = x.copy()
+    xg[[5, 6, 400, 1999]] = np.nan
+    xg[2500:2560] = np.nan
+    taus = [1, 2, 5, 16, 64]
+    for kind in ("adev", "oadev", "mdev", "hdev", "ohdev"):
+        r = igea.stability(xg, 1.0, taus, kind=kind, data_type="phase", noise="wfm")
+        for j, m in enumerate(taus):
+            dev, used = _gap_dev(xg - xg[0], m, kind)
+            assert r.dev[j] == pytest.approx(dev, rel=1e-10), (kind, m)
+            assert r.count[j] == used, (kind, m)
+        assert np.all((r.lo < r.dev) & (r.dev < r.hi))
+    t = igea.stability(xg, 1.0, taus, kind="tdev", data_type="phase", noise="wfm")
+    m_ = igea.stability(xg, 1.0, taus, kind="mdev", data_type="phase", noise="wfm")
+    np.testing.assert_allclose(t.dev, np.array(taus) * m_.dev / math.sqrt(3), rtol=1e-14)
+    # EDF: that of the record without gaps with as many terms
+    full = igea.stability(x[:n - 400], 1.0, [16], kind="oadev", data_type="phase", noise="wfm")
+    g = igea.stability(np.concatenate([x[:n - 400], np.full(400, np.nan)]), 1.0, [16],
+                       kind="oadev", data_type="phase", noise="wfm")
+    assert g.edf[0] == pytest.approx(full.edf[0], rel=1e-14) and g.count[0] == full.count[0]
+    # frequency data: a term is kept when its samples y_i .. y_{i+dm-1} hold no NaN
+    y = rng.standard_normal(n)
+    yg = y.copy()
+    yg[[10, 700, 701]] = np.nan
+    for kind in ("adev", "oadev", "mdev", "hdev", "ohdev"):
+        r = igea.stability(yg, 1.0, taus, kind=kind, noise="wfm")
+        xs = np.concatenate([[0.0], np.cumsum(np.where(np.isnan(yg), 0.0, yg - np.nanmean(yg)))])
+        bad = np.concatenate([[0], np.cumsum(np.isnan(yg))])
+        for j, m in enumerate(taus):
+            d = 2 if kind in ("adev", "oadev", "mdev") else 3
+            c = [1, -2, 1] if d == 2 else [-1, 3, -3, 1]
+            N = xs.size
+            terms = sum(c[k] * xs[k * m:N - (d - k) * m] for k in range(d + 1))
+            ok = bad[d * m:] == bad[:N - d * m]
+            if kind == "mdev":
+                terms = np.where(ok, terms, np.nan)
+                s_ = np.array([terms[i:i + m].sum() for i in range(N - 3 * m + 1)])
+                s_ = s_[np.isfinite(s_)]
+                dev, used = math.sqrt(np.mean(s_ ** 2) / (2 * m * m)) / m, s_.size
+            else:
+                keep = ok[::m] if kind in ("adev", "hdev") else ok
+                tt = (terms[::m] if kind in ("adev", "hdev") else terms)[keep]
+                dev, used = math.sqrt(np.mean(tt ** 2) / (2 if d == 2 else 6)) / m, tt.size
+            assert r.dev[j] == pytest.approx(dev, rel=1e-10), (kind, m)
+            assert r.count[j] == used
+    # kinds without a gap-resistant estimator refuse NaN; an infinity is refused
+    with pytest.raises(igea.IgeaError):
+        igea.stability(yg, 1.0, taus, kind="totdev")
+    yg[5] = np.inf
+    with pytest.raises(igea.IgeaError):
+        igea.stability(yg, 1.0, taus, kind="oadev")
+    # allantools' gap-resistant overlapping ADEV (gradev) on the same phase
+    allantools = pytest.importorskip("allantools")
+    at, ad, _, an = allantools.gradev(xg, 1.0, "phase", taus)
+    np.testing.assert_allclose(igea.stability(xg, 1.0, at, kind="oadev", data_type="phase").dev,
+                               ad, rtol=1e-10)
+
+
 def test_noise_type_independent_of_other_taus():
     y = np.random.default_rng(0).standard_normal(2 ** 17)
     alone = igea.stability(y, 1.0, [4096], kind="oadev")
