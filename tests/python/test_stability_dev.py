@@ -522,6 +522,26 @@ def test_fit_bootstrap_se_covers_known_terms():
     assert np.all(np.mean(fis, axis=0) < ses.mean(axis=0))
 
 
+def test_driver_fit_boot(tmp_path):
+    drv = os.environ["IGEA_DRIVER"]
+    y = np.random.default_rng(4).normal(0, 0.01, 2 ** 13)
+    np.save(tmp_path / "w.npy", y)
+    r = subprocess.run([drv, "stability", "--data", "w.npy", "--fs", "100", "--kind", "adev",
+                        "--fit", "--boot", "20", "--seed", "3", "--conf", "0.9", "--json"],
+                       capture_output=True, text=True, cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)["fit"]
+    s = igea.stability(y, 100.0, kind="adev", conf=0.9)
+    f = igea.noise_fit(s.taus, s.dev, s.edf, n=y.size, fs=100.0, kind="adev", boot=20, seed=3,
+                       conf=0.9)
+    assert d["boot"] == 20
+    np.testing.assert_allclose(d["se"], f.se, rtol=1e-14)
+    np.testing.assert_allclose(d["lo"], f.lo, rtol=1e-14)
+    r = subprocess.run([drv, "stability", "--data", "w.npy", "--fs", "100", "--fit", "--boot", "1"],
+                       capture_output=True, text=True, cwd=tmp_path)
+    assert r.returncode == 64 and "--boot" in r.stderr
+
+
 def test_driver_stability_kinds(tmp_path):
     drv = os.environ["IGEA_DRIVER"]
     rng = np.random.default_rng(3)
