@@ -31,7 +31,7 @@ static const cli_opt options[] = {
     {"--spacing", CLI_OPT_CHOICE, &A.spacing, "octave", CLI_CHOICES(IGEA_CHOICE_STABILITY_TAUS),
      "generated averaging times (Stable32 kinds;\nthe rate-data kinds use octaves)", NULL},
     {"--fit", CLI_OPT_FLAG, &A.fit, NULL, NULL, "report the IEEE 952 fit in full (standard\nerrors, support)", NULL},
-    {"--boot", CLI_OPT_INT, &A.boot, "100", "B", "--fit standard errors from B records simulated\nfrom the fitted model (0: from the fit's\nweights, the points taken as independent)", NULL},
+    {"--boot", CLI_OPT_INT, &A.boot, "100", "B", "--fit standard errors from B records simulated\nfrom the fitted model, each as long as the\nrecord (0: from the fit's weights, the points\ntaken as independent: faster, optimistic)", NULL},
     {"--seed", CLI_OPT_INT, &A.seed, "0", "N", "seed of the --boot records", NULL},
     {"--noise", CLI_OPT_CHOICE, &A.noise, "auto", CLI_CHOICES(IGEA_CHOICE_STABILITY_NOISE),
      "noise type for the intervals (auto: per tau\nfrom the lag-1 autocorrelation)", NULL},
