@@ -54,6 +54,7 @@ SCALARS = {
     "igea_rls_run": "n_done", "igea_rls_get_size": "m k",
     "igea_sim_trajectory_length": "nsamp", "igea_sim_model_get_size": "m N",
     "igea_stability_octave_taus": "ntau",
+    "igea_stability_fit_boot": "chi2",
     "igea_stats_normal_cdf": "p", "igea_stats_erfinv": "x", "igea_stats_normal_quantile": "z",
     "igea_stats_chi2_cdf": "p", "igea_stats_chi2_sf": "q", "igea_stats_chi2_quantile": "x",
     "igea_stats_chi2_upper": "x", "igea_stats_union_size": "size",

@@ -5,6 +5,7 @@
 #include "igea/stability.h"
 #include "igea/stats.h"
 #include "internal.h"
+#include "stability_internal.h"
 
 /* Running window sum with a branch-free compensation (Knuth's TwoSum). */
 typedef struct {
@@ -96,12 +97,93 @@ static long term_count(long n, long m, int kind)
     }
 }
 
+/* Lag-1 autocorrelation noise identification (Riley and Greenhall, "Power
+ * law noise identification using the lag 1 autocorrelation", 2004) on the
+ * non-overlapping m-sample means of y (mean mu removed), differenced d =
+ * 0, 1, 2 times in one streaming pass: stop at the first d with delta =
+ * r1 / (1 + r1) < 0.25 (or d = 2); alpha = round(-2 (delta + d)) for
+ * frequency data. IGEA_STABILITY_NOISE_AUTO when fewer than 32 means exist.
+ * The means are pushed in order (lag1_push), by the deviation's own pass
+ * where its window holds them, the rest by lag1_rest. */
+typedef struct {
+    double n, s, ss, lag, first, last, prev;
+} acf1;
+
+typedef struct {
+    acf1 a[3];
+    double z0p, z1p;
+    size_t b; /* means pushed */
+} lag1_acc;
+
+static void acf_add(acf1 *a, double z)
+{
+    if (a->n == 0)
+        a->first = z;
+    else
+        a->lag += a->prev * z;
+    a->n += 1;
+    a->s += z;
+    a->ss += z * z;
+    a->prev = a->last = z;
+}
+
+static double acf_r1(const acf1 *a)
+{
+    double N = a->n, zb = a->s / N;
+    double den = a->ss - N * zb * zb;
+    double num = a->lag - zb * (a->s - a->last) - zb * (a->s - a->first) + (N - 1) * zb * zb;
+    return den > 0.0 ? num / den : 0.0;
+}
+
+static void lag1_push(lag1_acc *L, double z0)
+{
+    acf_add(&L->a[0], z0);
+    if (L->b >= 1) {
+        double z1 = z0 - L->z0p;
+        acf_add(&L->a[1], z1);
+        if (L->b >= 2)
+            acf_add(&L->a[2], z1 - L->z1p);
+        L->z1p = z1;
+    }
+    L->z0p = z0;
+    L->b++;
+}
+
+/* The means after the ones pushed, from the record (compensated sums). */
+static void lag1_rest(lag1_acc *L, size_t n, const double *y, size_t m, double mu)
+{
+    for (size_t b = L->b; b < n / m; b++) {
+        igea__ksum k = {0.0, 0.0};
+        for (size_t i = 0; i < m; i++)
+            igea__ksum_add(&k, y[b * m + i] - mu);
+        lag1_push(L, igea__ksum_get(&k) / (double)m);
+    }
+}
+
+static int lag1_alpha(const lag1_acc *L)
+{
+    if (L->b < 32)
+        return IGEA_STABILITY_NOISE_AUTO;
+    for (int d = 0; d <= 2; d++) {
+        double r1 = acf_r1(&L->a[d]), delta = r1 / (1.0 + r1);
+        if (delta < 0.25 || d == 2) {
+            long alpha = lround(-2.0 * (delta + d));
+            return (int)IGEA_MAX(IGEA_STABILITY_NOISE_RWFM, IGEA_MIN(IGEA_STABILITY_NOISE_WPM, alpha));
+        }
+    }
+    return IGEA_STABILITY_NOISE_WFM; /* not reached */
+}
+
 static double oadev_var(size_t n, const double *y, size_t m, double mu,
-                        long cnt)
+                        long cnt, lag1_acc *L)
 {
     wsum a = window_init(y, 0, m, mu), b = window_init(y, m, m, mu);
     igea__sqacc acc = {{0, 0}, 0.0, 0};
-    for (size_t i = 0; i < (size_t)cnt; i++) {
+    for (size_t i = 0, next = 0; i < (size_t)cnt; i++) {
+        if (L && i == next) { /* window a holds the mean of block i / m */
+            lag1_push(L, ws_get(&a) / (double)m);
+            next += m;
+        }
         igea__sqacc_add(&acc, ws_get(&b) - ws_get(&a));
         if (i + 1 < (size_t)cnt) {
             ws_add(&a, y[i + m] - y[i]);
@@ -113,7 +195,7 @@ static double oadev_var(size_t n, const double *y, size_t m, double mu,
     return igea__sqacc_get(&acc) / (2.0 * md * md * (double)cnt);
 }
 
-static double mdev_var(size_t n, const double *y, size_t m, double mu, long cnt)
+static double mdev_var(size_t n, const double *y, size_t m, double mu, long cnt, lag1_acc *L)
 {
     (void)n;
     /* S_0 = sum_{i<m} (A(i+m) - A(i)) with two running windows. */
@@ -132,7 +214,11 @@ static double mdev_var(size_t n, const double *y, size_t m, double mu, long cnt)
     if (cnt > 1)
         a2 = window_init(y, 2 * m, m, mu);
     igea__sqacc acc = {{0, 0}, 0.0, 0};
-    for (size_t j = 0; j < (size_t)cnt; j++) {
+    for (size_t j = 0, next = 0; j < (size_t)cnt; j++) {
+        if (L && j == next && j + 2 <= (size_t)cnt) { /* a0: block j / m */
+            lag1_push(L, ws_get(&a0) / (double)m);
+            next += m;
+        }
         igea__sqacc_add(&acc, ws_get(&S));
         if (j + 1 == (size_t)cnt)
             break;
@@ -244,83 +330,28 @@ static double edf_mdev(double N, double m, int alpha)
     return z0 * z0 * Jmax / gh_basic_sum(Jmax, Jmax, Jmax / r, 1.0, alpha);
 }
 
-/* Lag-1 autocorrelation noise identification (Riley and Greenhall, "Power
- * law noise identification using the lag 1 autocorrelation", 2004) on the
- * non-overlapping m-sample means of y (mean mu removed), differenced d =
- * 0, 1, 2 times in one streaming pass: stop at the first d with delta =
- * r1 / (1 + r1) < 0.25 (or d = 2); alpha = round(-2 (delta + d)) for
- * frequency data. Returns IGEA_STABILITY_NOISE_AUTO when fewer than 32 means exist. */
-typedef struct {
-    double n, s, ss, lag, first, last, prev;
-} acf1;
-
-static void acf_add(acf1 *a, double z)
-{
-    if (a->n == 0)
-        a->first = z;
-    else
-        a->lag += a->prev * z;
-    a->n += 1;
-    a->s += z;
-    a->ss += z * z;
-    a->prev = a->last = z;
-}
-
-static double acf_r1(const acf1 *a)
-{
-    double N = a->n, zb = a->s / N;
-    double den = a->ss - N * zb * zb;
-    double num = a->lag - zb * (a->s - a->last) - zb * (a->s - a->first) + (N - 1) * zb * zb;
-    return den > 0.0 ? num / den : 0.0;
-}
-
-static int noise_lag1(size_t n, const double *y, size_t m, double mu)
-{
-    size_t B = n / m;
-    if (B < 32)
-        return IGEA_STABILITY_NOISE_AUTO;
-    acf1 a[3];
-    memset(a, 0, sizeof a);
-    double z0p = 0.0, z1p = 0.0;
-    for (size_t b = 0; b < B; b++) {
-        igea__ksum k = {0.0, 0.0};
-        for (size_t i = 0; i < m; i++)
-            igea__ksum_add(&k, y[b * m + i] - mu);
-        double z0 = igea__ksum_get(&k) / (double)m;
-        acf_add(&a[0], z0);
-        if (b >= 1) {
-            double z1 = z0 - z0p;
-            acf_add(&a[1], z1);
-            if (b >= 2)
-                acf_add(&a[2], z1 - z1p);
-            z1p = z1;
-        }
-        z0p = z0;
-    }
-    for (int d = 0; d <= 2; d++) {
-        double r1 = acf_r1(&a[d]), delta = r1 / (1.0 + r1);
-        if (delta < 0.25 || d == 2) {
-            long alpha = lround(-2.0 * (delta + d));
-            return (int)IGEA_MAX(IGEA_STABILITY_NOISE_RWFM, IGEA_MIN(IGEA_STABILITY_NOISE_WPM, alpha));
-        }
-    }
-    return IGEA_STABILITY_NOISE_WFM; /* not reached */
-}
-
-/* The deviations d and term counts cw of the kind at every tau. */
+/* The deviations d and term counts cw of the kind at every tau; with al
+ * (not NULL) the lag-1 noise type at every tau (IGEA_STABILITY_NOISE_AUTO:
+ * too few means), from the deviation's own pass where it holds the means. */
 static void allan_devs(int n, const double *y, double fs, int ntau, const double *tau,
-                       int kind, double mu, double *d, int *cw)
+                       int kind, double mu, double *d, int *cw, int *al)
 {
     for (int j = 0; j < ntau; j++) {
         size_t m = (size_t)lround(tau[j] * fs);
         long cnt = term_count(n, (long)m, kind);
         double var;
+        lag1_acc L, *lp = al && (size_t)n / m >= 32 ? &L : NULL;
+        memset(&L, 0, sizeof L);
         if (kind == IGEA_STABILITY_ALLAN_OVERLAPPING)
-            var = oadev_var((size_t)n, y, m, mu, cnt);
+            var = oadev_var((size_t)n, y, m, mu, cnt, lp);
         else if (kind == IGEA_STABILITY_ALLAN_MODIFIED)
-            var = mdev_var((size_t)n, y, m, mu, cnt);
+            var = mdev_var((size_t)n, y, m, mu, cnt, lp);
         else
             var = nadev_var((size_t)n, y, m, cnt);
+        if (lp)
+            lag1_rest(lp, (size_t)n, y, m, mu);
+        if (al)
+            al[j] = lp ? lag1_alpha(lp) : IGEA_STABILITY_NOISE_AUTO;
         d[j] = sqrt(var);
         cw[j] = (int)cnt;
     }
@@ -330,26 +361,25 @@ static void allan_devs(int n, const double *y, double fs, int ntau, const double
  * every deviation d at confidence conf (noise type given or identified per
  * tau). Returns 0 or IGEA_ENOCONV. */
 static int allan_intervals(int n, const double *y, double fs, int ntau, const double *tau,
-                           int kind, int noise, double conf, double mu, const double *d,
-                           const int *cw, double *l, double *h, double *e)
+                           int kind, int noise, double conf, const int *al, const double *d,
+                           double *l, double *h, double *e)
 {
+    (void)y;
     int last_alpha = IGEA_STABILITY_NOISE_WFM;
     for (int j = 0; j < ntau; j++) {
         int alpha = noise;
         if (noise == IGEA_STABILITY_NOISE_AUTO) {
-            alpha = noise_lag1((size_t)n, y, (size_t)lround(tau[j] * fs), mu);
+            alpha = al[j];
             if (alpha == IGEA_STABILITY_NOISE_AUTO)
                 alpha = last_alpha; /* too few means: keep the last type */
             last_alpha = alpha;
         }
-        double m = (double)lround(tau[j] * fs), N = (double)n + 1.0;
-        if (kind == IGEA_STABILITY_ALLAN_NONOVERLAPPING) {
-            N = (double)(cw[j] + 2); /* B + 1 phase points of the means */
-            m = 1.0;
-        }
-        /* the modified variance equals the overlapping one at m = 1 */
-        double ev = kind == IGEA_STABILITY_ALLAN_MODIFIED && m > 1.0 ? edf_mdev(N, m, alpha)
-                                                           : edf_oadev(N, m, alpha);
+        double m = (double)lround(tau[j] * fs), N = (double)n + 1.0, ev;
+        if (kind == IGEA_STABILITY_ALLAN_NONOVERLAPPING) /* Greenhall's, as kind ADEV */
+            ev = igea__stability_edf_greenhall(alpha, 2, m, N, 0, 0);
+        else /* the modified variance equals the overlapping one at m = 1 */
+            ev = kind == IGEA_STABILITY_ALLAN_MODIFIED && m > 1.0 ? edf_mdev(N, m, alpha)
+                                                                : edf_oadev(N, m, alpha);
         if (igea__edf_interval(d[j], ev, conf, &l[j], &h[j], &e[j]))
             return IGEA_ENOCONV;
     }
@@ -406,7 +436,7 @@ int igea_stability_allan(int n, const double *y, double fs, int ntau,
     if (!igea__finite_vec(n, y, 1))
         return IGEA_ENONFINITE;
     double *w = igea__dalloc(4 * (size_t)ntau);
-    int *cw = igea__ialloc((size_t)ntau);
+    int *cw = igea__ialloc(2 * (size_t)ntau), *al = cw + ntau;
     if (!w || !cw) {
         free(w);
         free(cw);
@@ -414,8 +444,8 @@ int igea_stability_allan(int n, const double *y, double fs, int ntau,
     }
     double *d = w, *l = w + ntau, *h = l + ntau, *e = h + ntau;
     double mu = mean_of((size_t)n, y);
-    allan_devs(n, y, fs, ntau, tau, kind, mu, d, cw);
-    int status = allan_intervals(n, y, fs, ntau, tau, kind, noise, conf, mu, d, cw, l, h, e);
+    allan_devs(n, y, fs, ntau, tau, kind, mu, d, cw, noise == IGEA_STABILITY_NOISE_AUTO ? al : NULL);
+    int status = allan_intervals(n, y, fs, ntau, tau, kind, noise, conf, al, d, l, h, e);
     if (status == 0) {
         size_t sz = (size_t)ntau * sizeof(double);
         memcpy(dev, d, sz);

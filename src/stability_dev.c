@@ -6,6 +6,7 @@
 #include "igea/stability.h"
 #include "igea/stats.h"
 #include "internal.h"
+#include "stability_internal.h"
 
 
 #define K_FIRST IGEA_STABILITY_ALLAN_ADEV
@@ -289,7 +290,8 @@ static double edf_wpm_short(int d, double m, double S, double M)
     return M * M / den;
 }
 
-static double edf_greenhall(int a, int d, double m, double N, int overlapping, int modified)
+double igea__stability_edf_greenhall(int a, int d, double m, double N, int overlapping,
+                                     int modified)
 {
     static const double t1[7][3][2] = {
         {{2. / 3, 1. / 3}, {7. / 9, 0.5}, {22. / 25, 2. / 3}}, {{0.840, 0.345}, {0.997, 0.616}, {1.141, 0.843}},
@@ -347,15 +349,15 @@ static double dev_edf(int kind, int a, double N, double m)
     static const double t7[3][2] = {{1.50, 0.0}, {1.17, 0.22}, {0.93, 0.36}};
     static const double t8[5][2] = {{1.90, 2.1}, {1.20, 1.40}, {1.10, 1.2}, {0.85, 0.50}, {0.75, 0.31}};
     switch (kind) {
-    case IGEA_STABILITY_ALLAN_ADEV: return edf_greenhall(a, 2, m, N, 0, 0);
-    case IGEA_STABILITY_ALLAN_OADEV: return edf_greenhall(a, 2, m, N, 1, 0);
+    case IGEA_STABILITY_ALLAN_ADEV: return igea__stability_edf_greenhall(a, 2, m, N, 0, 0);
+    case IGEA_STABILITY_ALLAN_OADEV: return igea__stability_edf_greenhall(a, 2, m, N, 1, 0);
     case IGEA_STABILITY_ALLAN_MDEV:
-    case IGEA_STABILITY_ALLAN_TDEV: return edf_greenhall(a, 2, m, N, 1, 1);
-    case IGEA_STABILITY_ALLAN_HDEV: return edf_greenhall(a, 3, m, N, 0, 0);
-    case IGEA_STABILITY_ALLAN_OHDEV: return edf_greenhall(a, 3, m, N, 1, 0);
+    case IGEA_STABILITY_ALLAN_TDEV: return igea__stability_edf_greenhall(a, 2, m, N, 1, 1);
+    case IGEA_STABILITY_ALLAN_HDEV: return igea__stability_edf_greenhall(a, 3, m, N, 0, 0);
+    case IGEA_STABILITY_ALLAN_OHDEV: return igea__stability_edf_greenhall(a, 3, m, N, 1, 0);
     case IGEA_STABILITY_ALLAN_TOTDEV:
         if (a > 0)
-            return edf_greenhall(a, 2, m, N, 1, 0);
+            return igea__stability_edf_greenhall(a, 2, m, N, 1, 0);
         return t7[-a][0] * N / m - t7[-a][1];
     case IGEA_STABILITY_ALLAN_MTOTDEV:
     case IGEA_STABILITY_ALLAN_TTOTDEV: return t8[2 - a][0] * N / m - t8[2 - a][1];
@@ -493,6 +495,164 @@ static int noise_at(long N, const double *x, long m, double tau0, int phase, dou
     }
 }
 
+/* ---- gaps (NaN) in ADEV, OADEV, MDEV, TDEV, HDEV, OHDEV ---- */
+
+static int gap_kind(int kind)
+{
+    return kind >= IGEA_STABILITY_ALLAN_ADEV && kind <= IGEA_STABILITY_ALLAN_OHDEV;
+}
+
+/* P[k]: the gaps among the first k samples (frequency data: y_0 .. y_{k-1},
+ * phase data: x_0 .. x_{k-1}). */
+typedef struct {
+    const long *P;
+    int phase;
+} gap_map;
+
+/* 1 when the difference of order d at phase point i, spacing m, uses no gap:
+ * frequency data, no gap among y_i .. y_{i+dm-1}; phase data, none of its d
+ * + 1 points. */
+static inline int gap_term_ok(const gap_map *g, long i, long m, int d)
+{
+    if (!g->phase)
+        return g->P[i + d * m] == g->P[i];
+    for (int k = 0; k <= d; k++)
+        if (g->P[i + k * m + 1] != g->P[i + k * m])
+            return 0;
+    return 1;
+}
+
+/* Gap-resistant Allan (d = 2) or Hadamard (d = 3) deviation: the terms
+ * holding a gap are skipped; *used, the terms summed. */
+static double gap_diff(long N, const double *x, long m, long stride, int d, double tau,
+                       const gap_map *g, long *used)
+{
+    igea__sqacc a = {{0, 0}, 0, 0};
+    long c = 0;
+    for (long i = 0; i + d * m < N; i += stride)
+        if (gap_term_ok(g, i, m, d)) {
+            igea__sqacc_add(&a, diff_at(x, i, m, d));
+            c++;
+        }
+    *used = c;
+    return c ? sqrt(igea__sqacc_get(&a) / ((d == 2 ? 2.0 : 6.0) * (double)c)) / tau : NAN;
+}
+
+/* Gap-resistant MDEV: term j (m second differences, samples j .. j + 3m -
+ * 1 of either data type) skipped when it holds a gap. */
+static double gap_mod(long N, const double *x, long m, double tau, const gap_map *g, long *used)
+{
+    igea__ksum S = {0, 0};
+    for (long i = 0; i < m; i++)
+        igea__ksum_add(&S, gap_term_ok(g, i, m, 2) ? diff_at(x, i, m, 2) : 0.0);
+    long M = N - 3 * m + 1, c = 0, span = g->phase ? 3 * m : 3 * m - 1;
+    igea__sqacc a = {{0, 0}, 0, 0};
+    for (long j = 0; j < M; j++) {
+        if (g->P[j + span] == g->P[j]) {
+            igea__sqacc_add(&a, igea__ksum_get(&S));
+            c++;
+        }
+        if (j + 1 < M) {
+            if (gap_term_ok(g, j + m, m, 2))
+                igea__ksum_add(&S, diff_at(x, j + m, m, 2));
+            if (gap_term_ok(g, j, m, 2))
+                igea__ksum_add(&S, -diff_at(x, j, m, 2));
+        }
+    }
+    *used = c;
+    double md = (double)m;
+    return c ? sqrt(igea__sqacc_get(&a) / (2.0 * md * md * (double)c)) / tau : NAN;
+}
+
+static double gap_one(int kind, long N, const double *x, long m, double tau0, const gap_map *g,
+                      long *used)
+{
+    double tau = (double)m * tau0;
+    switch (kind) {
+    case IGEA_STABILITY_ALLAN_ADEV: return gap_diff(N, x, m, m, 2, tau, g, used);
+    case IGEA_STABILITY_ALLAN_OADEV: return gap_diff(N, x, m, 1, 2, tau, g, used);
+    case IGEA_STABILITY_ALLAN_MDEV: return gap_mod(N, x, m, tau, g, used);
+    case IGEA_STABILITY_ALLAN_TDEV: return tau * gap_mod(N, x, m, tau, g, used) / sqrt(3.0);
+    case IGEA_STABILITY_ALLAN_HDEV: return gap_diff(N, x, m, m, 3, tau, g, used);
+    default: return gap_diff(N, x, m, 1, 3, tau, g, used); /* OHDEV */
+    }
+}
+
+/* The phase points N' whose record without gaps has `used` terms (the
+ * inverse of dev_terms), for the EDF [D]. */
+static long gap_points(int kind, long used, long m)
+{
+    switch (kind) {
+    case IGEA_STABILITY_ALLAN_ADEV: return (used + 1) * m + 1;
+    case IGEA_STABILITY_ALLAN_OADEV: return used + 2 * m;
+    case IGEA_STABILITY_ALLAN_HDEV: return (used + 2) * m + 1;
+    case IGEA_STABILITY_ALLAN_OHDEV: return used + 3 * m;
+    default: return used + 3 * m - 1; /* MDEV, TDEV */
+    }
+}
+
+/* Scan of the record: IGEA_ENONFINITE for an infinity, for a NaN when the
+ * kind takes no gaps, or when every sample is NaN; *gaps, the NaNs. */
+static int gap_scan(int n, const double *x, int kind, long *gaps)
+{
+    long c = 0;
+    for (int i = 0; i < n; i++) {
+        if (isinf(x[i]))
+            return IGEA_ENONFINITE;
+        c += isnan(x[i]) != 0;
+    }
+    if (c && (!gap_kind(kind) || c == n))
+        return IGEA_ENONFINITE;
+    *gaps = c;
+    return 0;
+}
+
+/* Phase points of a record with gaps, and the gap counts P (n + 1 longs):
+ * frequency data integrated with a gap counted as the mean of the others
+ * (it enters no term that is kept); phase data less its first value, a gap
+ * filled by the line between its neighbours (only the noise
+ * identification sees the filled values) [D]. */
+static double *gap_phase(int n, const double *v, double fs, int type, long *P, long *N)
+{
+    long Np = type == IGEA_STABILITY_DATA_PHASE ? n : (long)n + 1;
+    double *x = igea__dalloc((size_t)Np);
+    if (!x)
+        return NULL;
+    P[0] = 0;
+    for (int i = 0; i < n; i++)
+        P[i + 1] = P[i] + (isnan(v[i]) != 0);
+    if (type == IGEA_STABILITY_DATA_PHASE) {
+        long a = -1; /* the last finite point */
+        for (long i = 0; i < Np; i++) {
+            if (isnan(v[i]))
+                continue;
+            double base = v[i], va = a < 0 ? v[i] : v[a];
+            for (long k = a + 1; k <= i; k++)
+                x[k] = a < 0 ? v[i] : va + (base - va) * (double)(k - a) / (double)(i - a);
+            a = i;
+        }
+        for (long k = a + 1; k < Np; k++)
+            x[k] = v[a];
+        double x0 = x[0];
+        for (long i = 0; i < Np; i++)
+            x[i] -= x0;
+    } else {
+        igea__ksum mu = {0, 0}, k = {0, 0};
+        for (int i = 0; i < n; i++)
+            if (!isnan(v[i]))
+                igea__ksum_add(&mu, v[i]);
+        double mm = igea__ksum_get(&mu) / (double)(n - P[n]);
+        x[0] = 0.0;
+        for (int i = 0; i < n; i++) {
+            if (!isnan(v[i]))
+                igea__ksum_add(&k, v[i] - mm);
+            x[i + 1] = igea__ksum_get(&k) / fs;
+        }
+    }
+    *N = Np;
+    return x;
+}
+
 /* ---- the entry points ---- */
 
 /* Mean of Htotvar / Hvar by noise type (Howe et al.; Stable32 divides it
@@ -570,12 +730,15 @@ static int dev_check(int n, const double *x, double fs, int data_type, int ntau,
     return 0;
 }
 
-/* EDF and interval of every tau (alpha already set). */
+/* EDF and interval of every tau (alpha already set); with gaps, the EDF of
+ * the record without gaps that has the terms used. */
 static int dev_intervals(int kind, long N, int ntau, const long *m, const int *al, double conf,
-                         const double *d, double *l, double *h, double *e)
+                         int gaps, const long *used, const double *d, double *l, double *h,
+                         double *e)
 {
     for (int j = 0; j < ntau; j++) {
-        double ev = dev_edf(kind, al[j], (double)N, (double)m[j]);
+        double Nj = (double)(gaps ? gap_points(kind, used[j], m[j]) : N);
+        double ev = dev_edf(kind, al[j], Nj, (double)m[j]);
         if (igea__edf_interval(d[j], ev, conf, &l[j], &h[j], &e[j]))
             return IGEA_ENOCONV;
     }
@@ -583,11 +746,11 @@ static int dev_intervals(int kind, long N, int ntau, const long *m, const int *a
 }
 
 /* Workspace: phase x, frequency y (HTOTDEV), 9 m_max doubles, N doubles
- * for the identification, 2N longs (MTIE); per tau: m, alpha, and 4 ntau
- * doubles of results. */
+ * for the identification, 2N longs (MTIE), n + 1 gap counts (gaps); per
+ * tau: m, the terms used, alpha, and 4 ntau doubles of results. */
 typedef struct {
     double *x, *y, *w, *z, *r;
-    long *q, *m;
+    long *q, *m, *P, *used;
     int *al;
 } dev_ws;
 
@@ -600,6 +763,8 @@ static void ws_free(dev_ws *s)
     free(s->r);
     free(s->q);
     free(s->m);
+    free(s->P);
+    free(s->used);
     free(s->al);
 }
 
@@ -612,11 +777,49 @@ static int ws_alloc(dev_ws *s, int kind, long N, int ntau, long mmax, int need_i
     s->q = kind == IGEA_STABILITY_ALLAN_MTIE ? malloc(2 * (size_t)N * sizeof(long)) : NULL;
     s->r = igea__dalloc(4 * (size_t)ntau);
     s->m = malloc((size_t)ntau * sizeof(long));
+    s->used = malloc((size_t)ntau * sizeof(long));
     s->al = igea__ialloc((size_t)ntau);
     if ((tot && !s->w) || (kind == IGEA_STABILITY_ALLAN_HTOTDEV && !s->y) || (need_id && !s->z) ||
-        (kind == IGEA_STABILITY_ALLAN_MTIE && !s->q) || !s->r || !s->m || !s->al)
+        (kind == IGEA_STABILITY_ALLAN_MTIE && !s->q) || !s->r || !s->m || !s->used || !s->al)
         return IGEA_ENOMEM;
     return 0;
+}
+
+/* The phase points of the record (with gaps: and their counts in s->P). */
+static int dev_phase(int n, const double *x, double fs, int data_type, int kind, long gaps,
+                     dev_ws *s, long *N)
+{
+    int raw = kind == IGEA_STABILITY_ALLAN_MTIE || kind == IGEA_STABILITY_ALLAN_TIERMS;
+    if (gaps) {
+        s->P = malloc(((size_t)n + 1) * sizeof(long));
+        s->x = s->P ? gap_phase(n, x, fs, data_type, s->P, N) : NULL;
+    } else {
+        s->x = to_phase(n, x, fs, data_type, raw, N);
+    }
+    return s->x ? 0 : IGEA_ENOMEM;
+}
+
+/* Copy the results of ntau taus out (the arguments of igea_stability_dev). */
+static void dev_output(const dev_ws *s, int kind, int ntau, double tau0, double *dev, double *lo,
+                       double *hi, double *edf, int *alpha, int *count, double *tau_used)
+{
+    size_t sz = (size_t)ntau * sizeof(double);
+    const double *d = s->r, *l = d + ntau, *h = l + ntau, *e = h + ntau;
+    memcpy(dev, d, sz);
+    if (lo)
+        memcpy(lo, l, sz);
+    if (hi)
+        memcpy(hi, h, sz);
+    if (edf)
+        memcpy(edf, e, sz);
+    for (int j = 0; j < ntau; j++) {
+        if (alpha)
+            alpha[j] = s->al[j];
+        if (count)
+            count[j] = (int)s->used[j];
+        if (tau_used)
+            tau_used[j] = (double)s->m[j] * tau0 * (kind == IGEA_STABILITY_ALLAN_THEO1 ? 0.75 : 1.0);
+    }
 }
 
 int igea_stability_dev(int n, const double *x, double fs, int data_type, int ntau,
@@ -625,19 +828,15 @@ int igea_stability_dev(int n, const double *x, double fs, int data_type, int nta
                        double *tau_used)
 {
     int st = dev_check(n, x, fs, data_type, ntau, tau, kind, noise, conf, dev, lo, hi, edf);
-    if (st)
+    long N = 0, mmax = 1, gaps = 0;
+    if (st || (st = gap_scan(n, x, kind, &gaps)))
         return st;
-    if (!igea__finite_vec(n, x, 1))
-        return IGEA_ENONFINITE;
     dev_ws s = {0};
-    long N = 0, mmax = 1;
-    int raw = kind == IGEA_STABILITY_ALLAN_MTIE || kind == IGEA_STABILITY_ALLAN_TIERMS;
     int htot = kind == IGEA_STABILITY_ALLAN_HTOTDEV, need_ci = lo || hi || edf;
     int need_id = (need_ci || alpha || htot) && noise == IGEA_STABILITY_NOISE_AUTO;
-    s.x = to_phase(n, x, fs, data_type, raw, &N);
-    if (!s.x) {
+    if ((st = dev_phase(n, x, fs, data_type, kind, gaps, &s, &N))) {
         ws_free(&s);
-        return IGEA_ENOMEM;
+        return st;
     }
     for (int j = 0; j < ntau; j++)
         mmax = IGEA_MAX(mmax, dev_factor(kind, tau[j], fs, N));
@@ -646,39 +845,28 @@ int igea_stability_dev(int n, const double *x, double fs, int data_type, int nta
         return st;
     }
     double tau0 = 1.0 / fs, *d = s.r, *l = d + ntau, *h = l + ntau, *e = h + ntau;
+    gap_map g = {s.P, data_type == IGEA_STABILITY_DATA_PHASE};
     if (s.y)
         for (long i = 0; i + 1 < N; i++)
             s.y[i] = (s.x[i + 1] - s.x[i]) * fs;
     for (int j = 0; j < ntau; j++) {
         s.m[j] = dev_factor(kind, tau[j], fs, N);
-        d[j] = dev_one(kind, N, s.x, s.y, s.m[j], tau0, s.w, s.q);
+        s.used[j] = dev_terms(kind, N, s.m[j]);
+        d[j] = gaps ? gap_one(kind, N, s.x, s.m[j], tau0, &g, &s.used[j])
+                    : dev_one(kind, N, s.x, s.y, s.m[j], tau0, s.w, s.q);
+        if (gaps && s.used[j] < 1)
+            st = IGEA_ENONFINITE; /* every term of this tau holds a gap */
         s.al[j] = need_id ? noise_at(N, s.x, s.m[j], tau0, data_type, s.z) : noise;
         if (htot && s.m[j] > 1)
             d[j] /= sqrt(htot_bias(s.al[j]));
     }
-    if (need_ci)
-        st = dev_intervals(kind, N, ntau, s.m, s.al, conf, d, l, h, e);
+    if (need_ci && !st)
+        st = dev_intervals(kind, N, ntau, s.m, s.al, conf, gaps != 0, s.used, d, l, h, e);
     for (int j = 0; j < ntau && !st; j++)
         if (!isfinite(d[j]))
             st = IGEA_ENOCONV;
-    if (!st) {
-        size_t sz = (size_t)ntau * sizeof(double);
-        memcpy(dev, d, sz);
-        if (lo)
-            memcpy(lo, l, sz);
-        if (hi)
-            memcpy(hi, h, sz);
-        if (edf)
-            memcpy(edf, e, sz);
-        for (int j = 0; j < ntau; j++) {
-            if (alpha)
-                alpha[j] = s.al[j];
-            if (count)
-                count[j] = (int)dev_terms(kind, N, s.m[j]);
-            if (tau_used)
-                tau_used[j] = (double)s.m[j] * tau0 * (kind == IGEA_STABILITY_ALLAN_THEO1 ? 0.75 : 1.0);
-        }
-    }
+    if (!st)
+        dev_output(&s, kind, ntau, tau0, dev, lo, hi, edf, alpha, count, tau_used);
     ws_free(&s);
     return st;
 }

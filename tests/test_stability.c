@@ -216,11 +216,14 @@ static void test_allan_edf(void **state)
     assert_int_equal(igea_stability_allan(1000, y, 1.0, 1, tau + 1, 0, IGEA_STABILITY_NOISE_RWFM, 0.683,
                                           dev, NULL, NULL, &e, NULL), 0);
     assert_close(e, (N - 2) / (m * (N - 3) * (N - 3)) * ((N - 1) * (N - 1) - 3 * m * (N - 1) + 4 * m * m), 1e-14);
-    /* non-overlapping: the formula on the B + 1 = 11 phase points of the
-     * 100-s means, m = 1 (B = 10 at tau 100) */
+    /* non-overlapping: Greenhall and Riley's EDF (PTTI 2003; d = 2, F = m,
+     * S = 1) on N = 1001 phase points at m = 100, white FM: 6.230769230769231,
+     * from the independent Python port of the published algorithm
+     * (gh_edf(0, 2, 100, 1001, False, False) in
+     * tests/python/test_stability_dev.py) */
     assert_int_equal(igea_stability_allan(1000, y, 1.0, 1, tau + 2, IGEA_STABILITY_ALLAN_NONOVERLAPPING,
                                           IGEA_STABILITY_NOISE_WFM, 0.683, dev, NULL, NULL, &e, NULL), 0);
-    assert_close(e, (3.0 * 10 / 2 - 2.0 * 9 / 11) * 4.0 / 9.0, 1e-14);
+    assert_close(e, 6.230769230769231, 1e-12);
     /* modified: Greenhall's EDF against the exact EDF tr(C)^2 / |C|_F^2 of
      * the estimator's quadratic form (C its covariance), computed for n =
      * 300 white FM / white PM samples by direct matrix algebra (numpy) */
@@ -665,10 +668,24 @@ static void test_dev_args(void **state)
     fill_sentinel(d, 2);
     fill_sentinel(lo, 2);
     al[0] = -7;
-    y[3] = NAN;
+    /* an infinity is refused; a NaN is a gap for the Allan and Hadamard
+     * kinds only (tests/python/test_stability_dev.py checks the gap values) */
+    y[3] = INFINITY;
     assert_int_equal(igea_stability_dev(100, y, 1, 0, 2, tau, K, 0, 0.9, d, lo, NULL, NULL, al, NULL, NULL),
                      IGEA_ENONFINITE);
+    y[3] = NAN;
+    assert_int_equal(igea_stability_dev(100, y, 1, 0, 2, tau, IGEA_STABILITY_ALLAN_TOTDEV, 0, 0.9, d, lo,
+                                        NULL, NULL, al, NULL, NULL), IGEA_ENONFINITE);
     assert_true(all_sentinel(d, 2) && all_sentinel(lo, 2) && al[0] == -7);
+    int cg[2];
+    assert_int_equal(igea_stability_dev(100, y, 1, 0, 2, tau, IGEA_STABILITY_ALLAN_OADEV, 0, 0.9, d, lo,
+                                        NULL, NULL, al, cg, NULL), 0);
+    assert_true(isfinite(d[0]) && isfinite(d[1]) && lo[0] < d[0]);
+    assert_int_equal(cg[0], 101 - 2 - 2); /* m = 1: y_3 is in the terms at i = 2 and 3 */
+    for (int k = 0; k < 100; k++)
+        y[k] = NAN;
+    assert_int_equal(igea_stability_dev(100, y, 1, 0, 2, tau, IGEA_STABILITY_ALLAN_OADEV, 0, 0.9, d, lo,
+                                        NULL, NULL, al, cg, NULL), IGEA_ENONFINITE);
     /* a linear phase (constant frequency) has zero Allan deviation, and the
      * quadratic phase of a frequency ramp R gives R tau / sqrt 2 */
     double x[200];
@@ -784,6 +801,59 @@ static void test_fit(void **state)
     assert_true(all_sentinel(c, 5));
 }
 
+static void test_fit_boot(void **state)
+{
+    /* an exact white-rate curve on 4096 samples at 10 Hz: the point fit is
+     * igea_stability_fit's; the bootstrap is a function of its arguments;
+     * se of N near the sampling sd of N from the octave ADEV (checked
+     * against independent records in tests/python/test_stability_dev.py) */
+    const int n = 4096;
+    const double fs = 10.0, N = 2e-3;
+    double tau[12], ad[12], edf[12], c[5], c0[5], se[5], se2[5], lo[5], hi[5], chi2;
+    int sup[5], ntau = 0;
+    assert_int_equal(igea_stability_taus(n, fs, 0, IGEA_STABILITY_ALLAN_ADEV, 0, 12, tau, &ntau), 0);
+    assert_true(ntau == 12);
+    for (int j = 0; j < ntau; j++) {
+        ad[j] = N / sqrt(tau[j]);
+        edf[j] = (double)n / (tau[j] * fs) - 1.0;
+    }
+    assert_int_equal(igea_stability_fit(ntau, tau, ad, edf, c0, NULL, NULL, NULL), 0);
+    assert_int_equal(igea_stability_fit_boot(n, fs, IGEA_STABILITY_ALLAN_ADEV, ntau, tau, ad, edf,
+                                             50, 7, 0.9, c, se, lo, hi, sup, &chi2), 0);
+    for (int k = 0; k < 5; k++)
+        assert_true(c[k] == c0[k]);
+    assert_true(se[1] > 0.0 && lo[1] < N && N < hi[1]);
+    assert_true(se[1] < 0.1 * N); /* about 1.6 % here */
+    assert_int_equal(igea_stability_fit_boot(n, fs, IGEA_STABILITY_ALLAN_ADEV, ntau, tau, ad, edf,
+                                             50, 7, 0.9, c, se2, NULL, NULL, NULL, NULL), 0);
+    for (int k = 0; k < 5; k++)
+        assert_true(se2[k] == se[k]);
+    assert_int_equal(igea_stability_fit_boot(n, fs, IGEA_STABILITY_ALLAN_ADEV, ntau, tau, ad, edf,
+                                             50, 8, 0.9, c, se2, NULL, NULL, NULL, NULL), 0);
+    assert_true(se2[1] != se[1]);
+    /* invalid */
+    fill_sentinel(c, 5);
+    fill_sentinel(se, 5);
+    const int K = IGEA_STABILITY_ALLAN_ADEV;
+    assert_int_equal(igea_stability_fit_boot(1, fs, K, ntau, tau, ad, edf, 50, 7, 0.9, c, se, lo, hi, sup, NULL), -1);
+    assert_int_equal(igea_stability_fit_boot(n, 0.0, K, ntau, tau, ad, edf, 50, 7, 0.9, c, se, lo, hi, sup, NULL), -2);
+    assert_int_equal(igea_stability_fit_boot(n, fs, IGEA_STABILITY_ALLAN_MDEV, ntau, tau, ad, edf, 50, 7, 0.9, c, se, lo, hi, sup, NULL), -3);
+    assert_int_equal(igea_stability_fit_boot(n, fs, K, 4, tau, ad, edf, 50, 7, 0.9, c, se, lo, hi, sup, NULL), -4);
+    assert_int_equal(igea_stability_fit_boot(n, fs, K, ntau, NULL, ad, edf, 50, 7, 0.9, c, se, lo, hi, sup, NULL), -5);
+    assert_int_equal(igea_stability_fit_boot(100, fs, K, ntau, tau, ad, edf, 50, 7, 0.9, c, se, lo, hi, sup, NULL), -5);
+    assert_int_equal(igea_stability_fit_boot(n, fs, K, ntau, tau, NULL, edf, 50, 7, 0.9, c, se, lo, hi, sup, NULL), -6);
+    assert_int_equal(igea_stability_fit_boot(n, fs, K, ntau, tau, ad, NULL, 50, 7, 0.9, c, se, lo, hi, sup, NULL), -7);
+    assert_int_equal(igea_stability_fit_boot(n, fs, K, ntau, tau, ad, edf, 1, 7, 0.9, c, se, lo, hi, sup, NULL), -8);
+    assert_int_equal(igea_stability_fit_boot(n, fs, K, ntau, tau, ad, edf, 50, -1, 0.9, c, se, lo, hi, sup, NULL), -9);
+    assert_int_equal(igea_stability_fit_boot(n, fs, K, ntau, tau, ad, edf, 50, 7, 1.0, c, se, lo, hi, sup, NULL), -10);
+    assert_int_equal(igea_stability_fit_boot(n, fs, K, ntau, tau, ad, edf, 50, 7, 0.9, NULL, se, lo, hi, sup, NULL), -11);
+    ad[3] = -1.0;
+    assert_int_equal(igea_stability_fit_boot(n, fs, K, ntau, tau, ad, edf, 50, 7, 0.9, c, se, lo, hi, sup, NULL), -6);
+    ad[3] = NAN;
+    assert_int_equal(igea_stability_fit_boot(n, fs, K, ntau, tau, ad, edf, 50, 7, 0.9, c, se, lo, hi, sup, NULL), IGEA_ENONFINITE);
+    assert_true(all_sentinel(c, 5) && all_sentinel(se, 5));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -801,6 +871,7 @@ int main(void)
         cmocka_unit_test(test_dev_args),
         cmocka_unit_test(test_dev_taus),
         cmocka_unit_test(test_fit),
+        cmocka_unit_test(test_fit_boot),
 #ifndef OOM_DISABLED
         cmocka_unit_test(test_oom),
         cmocka_unit_test(test_dev_oom),

@@ -67,8 +67,10 @@ IGEA_API int igea_stability_block(int n, const double *y, double fs,
  *  NONOVERLAPPING: block means of m samples, s^2 = sum (m_{b+1} - m_b)^2 /
  *    (2 (B - 1))                                        (count B - 1)
  * EDF: the approximations of NIST SP 1065 (Table 5, Howe et al.) for the
- * overlapping ADEV with N = n + 1 phase points; NONOVERLAPPING uses them
- * with N = B + 1, m = 1; MODIFIED uses Greenhall and Riley's algorithm
+ * overlapping ADEV with N = n + 1 phase points; NONOVERLAPPING uses
+ * Greenhall and Riley's algorithm (F = m, S = 1, d = 2, N = n + 1, as
+ * IGEA_STABILITY_ALLAN_ADEV of igea_stability_dev; earlier versions used
+ * the Table 5 formulas with N = B + 1, m = 1); MODIFIED uses Greenhall and Riley's algorithm
  * (PTTI 2003, F = 1, S = m, d = 2, their Table 1 beyond J = 100), and the
  * overlapping formula at m = 1 where the two estimators coincide. An EDF
  * below 1 is raised to 1. The interval is
@@ -193,13 +195,21 @@ IGEA_API int igea_stability_noise_id(int ntau, const double *tau,
  * THEO1, HTOTDEV, MTIE and TIERMS have no interval here: lo, hi and edf must
  * be NULL for them. The interval is [s sqrt(edf / chi2_{(1+conf)/2}),
  * s sqrt(edf / chi2_{(1-conf)/2})].
- *  1 n >= 2, 2 x[n] finite, 3 fs > 0 (samples per second), 4 data_type
+ * Gaps: for ADEV, OADEV, MDEV, TDEV, HDEV and OHDEV a NaN in x is a gap
+ * (allantools' gradev): a term that holds one (phase data: one of its
+ * points; frequency data: one of the samples it spans, a gap counted as
+ * the mean of the others when integrating) is left out, count is the
+ * number of terms used, and the EDF is that of a record without gaps with
+ * as many terms [D]; the noise identification sees gaps filled (frequency:
+ * the mean; phase: the line between neighbours) [D]. A tau whose terms all
+ * hold a gap, or a NaN for another kind, is IGEA_ENONFINITE.
+ *  1 n >= 2, 2 x[n] finite (NaN: a gap, see above), 3 fs > 0 (samples per second), 4 data_type
  *  IGEA_STABILITY_DATA_*, 5 ntau >= 1, 6 tau[ntau] > 0 each with M >= 1
  *  (THEO1: m even), 7 kind IGEA_STABILITY_ALLAN_ADEV .. _TIERMS, 8 noise
  *  IGEA_STABILITY_NOISE_*, 9 0 < conf < 1, 10 dev[ntau] out, 11 lo, 12 hi,
  *  13 edf (each ntau, may be NULL; NULL for THEO1, HTOTDEV, MTIE, TIERMS),
  *  14 alpha (ntau ints: the noise exponent used at each tau, may be NULL),
- *  15 count (ntau ints: M, the terms, may be NULL), 16 tau_used (ntau: m
+ *  15 count (ntau ints: M, the terms used, may be NULL), 16 tau_used (ntau: m
  *  tau0, THEO1 0.75 m tau0, may be NULL).
  * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENOMEM, IGEA_ENOCONV (a chi-square
  * quantile failed); outputs untouched on failure.
@@ -264,6 +274,40 @@ IGEA_API int igea_stability_taus(int n, double fs, int data_type, int kind, int 
 IGEA_API int igea_stability_fit(int ntau, const double *tau, const double *adev,
                                 const double *edf, double *coef, double *se, int *supported,
                                 double *chi2);
+
+/*
+ * igea_stability_fit of the curve adev[j] (edf[j]) at tau[j] of a rate
+ * record of n samples at fs, with standard errors and intervals from a
+ * parametric bootstrap [D]: nboot records of n samples are simulated from
+ * the fitted model (white phase Q, white rate N, Kasdin and Walter's
+ * flicker rate B, random walk K, ramp R; GSL's MT19937 seeded with seed, so
+ * the result is a function of the arguments), the same statistic `kind` is
+ * computed on each at the same tau and fitted with the same edf. se is the
+ * sample standard deviation of the nboot fitted coefficients; [lo, hi] the
+ * interval at confidence conf from the ratio coefficient / truth taken as
+ * pivotal: est^2 / q_{(1+conf)/2}, est^2 / q_{(1-conf)/2} with q the
+ * replicas' quantiles (hi = INFINITY when q_{(1-conf)/2} = 0; [0,
+ * q_{(1+conf)/2}] for est = 0). Both carry the correlation of the
+ * estimates at different tau, which igea_stability_fit's se (independent
+ * points) leaves out. coef, supported and chi2 are igea_stability_fit's.
+ * Cost: nboot times the statistic on n samples, plus two FFTs of the next
+ * power of 2 >= 2n per record when B > 0.
+ *  1 n >= 2 (the record's samples), 2 fs > 0 (samples per second), 3 kind:
+ *  IGEA_STABILITY_ALLAN_OVERLAPPING, _NONOVERLAPPING, _ADEV, _OADEV or
+ *  _TOTDEV (frequency data), 4 ntau >= 5, 5 tau[ntau] (s; > 0, distinct,
+ *  round(tau fs) with at least one term on n samples), 6 adev[ntau] (> 0),
+ *  7 edf[ntau] (>= 1), 8 nboot (2 .. 1e6; >= 200 for 95 % intervals), 9
+ *  seed >= 0, 10 conf in (0, 1), 11 coef[IGEA_STABILITY_FIT_LEN] out, 12
+ *  se, 13 lo, 14 hi (each IGEA_STABILITY_FIT_LEN out, may be NULL), 15
+ *  supported[IGEA_STABILITY_FIT_LEN] out (may be NULL), 16 chi2 out (may be
+ *  NULL).
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENOMEM, IGEA_ENOCONV (a simulated
+ * curve had a zero deviation); outputs untouched on failure.
+ */
+IGEA_API int igea_stability_fit_boot(int n, double fs, int kind, int ntau, const double *tau,
+                                     const double *adev, const double *edf, int nboot, int seed,
+                                     double conf, double *coef, double *se, double *lo,
+                                     double *hi, int *supported, double *chi2);
 
 #ifdef __cplusplus
 }

@@ -521,7 +521,12 @@ CLASS = {
         "terms": "the IEEE Std 952 terms Q, N, B, K, R",
         "value": "fitted value of each term (units of the data times s, sqrt(s), 1, "
                  "1/sqrt(s), 1/s)",
-        "chi2": "chi-square of the fit"},
+        "chi2": "chi-square of the fit",
+        "boot": "bootstrap records behind se, lo, hi (0: se from the fit's weights, the "
+                "points taken as independent)",
+        "lo": "lower bootstrap confidence limit of each term (None without the bootstrap)",
+        "hi": "upper bootstrap confidence limit of each term (inf: unbounded; None as lo)",
+        "conf": "confidence level of lo and hi (NaN without the bootstrap)"},
     "TriadResult": {
         "theta": "(9,) the calibration parameters in the order of NAMES",
         "covariance": "(9, 9) their covariance",

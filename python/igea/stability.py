@@ -247,27 +247,50 @@ class NoiseFit:
     se: np.ndarray
     supported: np.ndarray
     chi2: float
+    boot: int = 0   # bootstrap records behind se (0: the fit's independent-point se)
+    lo: object = None   # bootstrap interval at conf (None without the bootstrap)
+    hi: object = None
+    conf: float = float("nan")
 
     def summary(self):
         return "\n".join("%-18s %12.6g +- %-12.3g %s" % (t, v, e, "" if s else "(not supported)")
                          for t, v, e, s in zip(self.terms, self.value, self.se, self.supported))
 
 
-def noise_fit(taus, adev, edf):
+_BOOT_KINDS = ("overlapping", "nonoverlapping", "adev", "oadev", "totdev")
+
+
+def noise_fit(taus, adev, edf, *, n=None, fs=None, kind="adev", boot=200, seed=0, conf=0.95):
     """Weighted least-squares fit (non-negative coefficients) of the whole
     Allan variance curve adev(taus)^2 with equivalent degrees of freedom
     edf to quantisation, random walk, bias instability, rate random walk
-    and rate ramp."""
+    and rate ramp. With n and fs (the rate record's samples and rate behind
+    the curve, of `kind`), se comes from `boot` records simulated from the
+    fitted model (igea_stability_fit_boot), which carries the correlation of
+    the points, with the interval [lo, hi] at confidence conf; without them,
+    from the fit's weights (independent points, optimistic)."""
     where = "igea.noise_fit"
+    if (n is None) != (fs is None):
+        raise ValueError(f"{where}: n and fs go together (the record behind the curve)")
     t = np.ascontiguousarray(_lib.as_f64(taus, "taus", ndim=1))
     d = np.ascontiguousarray(_lib.as_f64(adev, "adev", ndim=1, shape=(t.size,)))
     e = np.ascontiguousarray(_lib.as_f64(edf, "edf", ndim=1, shape=(t.size,)))
     if t.size < 5:
         raise ValueError(f"{where}: taus: at least 5 points are needed, got {t.size}")
-    n = _capi.STABILITY_FIT_LEN
-    v, se = np.empty(n), np.empty(n)
-    sup = np.empty(n, dtype=np.intc)
+    p = _capi.STABILITY_FIT_LEN
+    v, se = np.empty(p), np.empty(p)
+    sup = np.empty(p, dtype=np.intc)
     c2 = ctypes.c_double()
-    _lib.call(where, "igea_stability_fit", t.size, _lib.dptr(t), _lib.dptr(d), _lib.dptr(e),
-              _lib.dptr(v), _lib.dptr(se), _lib.iptr(sup), ctypes.byref(c2))
-    return NoiseFit(FIT_TERMS, v, se, sup.astype(bool), float(c2.value))
+    if n is None:
+        _lib.call(where, "igea_stability_fit", t.size, _lib.dptr(t), _lib.dptr(d), _lib.dptr(e),
+                  _lib.dptr(v), _lib.dptr(se), _lib.iptr(sup), ctypes.byref(c2))
+        return NoiseFit(FIT_TERMS, v, se, sup.astype(bool), float(c2.value))
+    if kind not in _BOOT_KINDS:
+        raise ValueError(f"{where}: kind: one of {', '.join(_BOOT_KINDS)}, got {kind!r}")
+    k = _lib.choice(_capi.CHOICE_STABILITY_KIND, kind, where, "kind")
+    lo, hi = np.empty(p), np.empty(p)
+    _lib.call(where, "igea_stability_fit_boot", int(n), float(fs), k, t.size, _lib.dptr(t),
+              _lib.dptr(d), _lib.dptr(e), int(boot), int(seed), float(conf), _lib.dptr(v),
+              _lib.dptr(se), _lib.dptr(lo), _lib.dptr(hi), _lib.iptr(sup), ctypes.byref(c2))
+    return NoiseFit(FIT_TERMS, v, se, sup.astype(bool), float(c2.value), int(boot), lo, hi,
+                    float(conf))

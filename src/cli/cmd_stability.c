@@ -13,6 +13,7 @@ typedef struct {
     const char *file, *taus, *out, *plot;
     double fs, block, conf;
     int column, column_given, kind, noise, json, phase, spacing, fit;
+    int boot, seed; /* the --fit standard errors: bootstrap records, seed */
 } st_args;
 
 static st_args A;
@@ -30,6 +31,8 @@ static const cli_opt options[] = {
     {"--spacing", CLI_OPT_CHOICE, &A.spacing, "octave", CLI_CHOICES(IGEA_CHOICE_STABILITY_TAUS),
      "generated averaging times (Stable32 kinds;\nthe rate-data kinds use octaves)", NULL},
     {"--fit", CLI_OPT_FLAG, &A.fit, NULL, NULL, "report the IEEE 952 fit in full (standard\nerrors, support)", NULL},
+    {"--boot", CLI_OPT_INT, &A.boot, "100", "B", "--fit standard errors from B records simulated\nfrom the fitted model, each as long as the\nrecord (0: from the fit's weights, the points\ntaken as independent: faster, optimistic)", NULL},
+    {"--seed", CLI_OPT_INT, &A.seed, "0", "N", "seed of the --boot records", NULL},
     {"--noise", CLI_OPT_CHOICE, &A.noise, "auto", CLI_CHOICES(IGEA_CHOICE_STABILITY_NOISE),
      "noise type for the intervals (auto: per tau\nfrom the lag-1 autocorrelation)", NULL},
     {"--conf", CLI_OPT_NUM, &A.conf, "0.683", "C", "confidence of the intervals, in (0, 1)", NULL},
@@ -102,6 +105,9 @@ static int parse(int argc, char **argv, st_args *a)
                      : a->phase && a->kind <= IGEA_STABILITY_ALLAN_NONOVERLAPPING
                          ? "stability: --phase needs a Stable32 kind (adev, oadev, mdev, ...); "
                            "overlapping, modified and nonoverlapping take rate data"
+                     : a->boot < 0 || a->boot == 1 || a->boot > 1000000
+                         ? "stability: --boot is 0 or 2 .. 1000000"
+                     : a->seed < 0 ? "stability: --seed must be >= 0"
                      : a->fit && !fit_kind(a->kind)
                          ? "stability: --fit needs an Allan-variance kind (overlapping, "
                            "nonoverlapping, adev, oadev, totdev)"
@@ -171,6 +177,8 @@ typedef struct {
     int *cnt, *alpha;
     double blk[IGEA_STABILITY_BLOCK_LEN], fit[IGEA_STABILITY_FIT_LEN], fit_se[IGEA_STABILITY_FIT_LEN];
     int fit_sup[IGEA_STABILITY_FIT_LEN];
+    double fit_lo[IGEA_STABILITY_FIT_LEN], fit_hi[IGEA_STABILITY_FIT_LEN]; /* --boot interval */
+    int have_boot;
     double fit_chi2;
 } st_result;
 
@@ -234,6 +242,11 @@ static void json_report(FILE *f, const st_args *a, const st_result *r)
         cli_jnums(&j, "se", r->fit_se, IGEA_STABILITY_FIT_LEN);
         cli_jbools(&j, "supported", r->fit_sup, IGEA_STABILITY_FIT_LEN);
         cli_jnum(&j, "chi2", r->fit_chi2);
+        cli_jint(&j, "boot", r->have_boot ? a->boot : 0);
+        if (r->have_boot) {
+            cli_jnums(&j, "lo", r->fit_lo, IGEA_STABILITY_FIT_LEN);
+            cli_jnums(&j, "hi", r->fit_hi, IGEA_STABILITY_FIT_LEN);
+        }
         cli_json_close(&j);
     } else {
         cli_jstr(&j, "fit", NULL);
@@ -285,6 +298,8 @@ static void text_report(FILE *f, const st_args *a, const st_result *r)
         num_or_dash(f, term_or_nan(r, k));
         if (a->fit)
             fprintf(f, "   fit %.6e +- %.3e", r->fit[k], r->fit_se[k]);
+        if (r->have_boot)
+            fprintf(f, "  [%.3e, %.3e]", r->fit_lo[k], r->fit_hi[k]);
         fprintf(f, "\n");
     }
 }
@@ -303,11 +318,19 @@ static int fit_curve(const st_args *a, st_result *r)
     r->have_fit = 0;
     if (!fit_kind(a->kind) || r->ntau < 5)
         return CLI_OK;
-    int st = igea_stability_fit(r->ntau, r->tau, r->dev, r->edf, r->fit, r->fit_se, r->fit_sup,
-                                &r->fit_chi2);
+    /* --fit: the standard errors by the bootstrap (on the rate samples
+     * behind phase data) */
+    int n = a->phase ? r->n - 1 : r->n;
+    int st = a->fit && a->boot > 0 && n >= 2
+                 ? igea_stability_fit_boot(n, a->fs, a->kind, r->ntau, r->tau, r->dev, r->edf,
+                                           a->boot, a->seed, a->conf, r->fit, r->fit_se,
+                                           r->fit_lo, r->fit_hi, r->fit_sup, &r->fit_chi2)
+                 : igea_stability_fit(r->ntau, r->tau, r->dev, r->edf, r->fit, r->fit_se,
+                                      r->fit_sup, &r->fit_chi2);
     if (st)
         return cli_status(st, "stability: IEEE 952 fit");
     r->have_fit = 1;
+    r->have_boot = a->fit && a->boot > 0 && n >= 2;
     return CLI_OK;
 }
 

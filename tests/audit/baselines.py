@@ -546,13 +546,20 @@ BASE = {
                                tau='[0.1, 0.2, 0.4]', kind='IGEA_STABILITY_ALLAN_OADEV',
                                noise='IGEA_STABILITY_NOISE_AUTO', conf='0.683',
                                _opt=['lo', 'hi', 'edf', 'alpha', 'count', 'tau_used'],
-                               _int=dict(data_type='enum'), _req=['tau']),
+                               _int=dict(data_type='enum'), _req=['tau'],
+                               _nan_ok=['x']),  # a NaN is a gap for OADEV (Inf is refused)
     'igea_stability_taus': dict(n='200', fs='10.0', data_type='IGEA_STABILITY_DATA_FREQ',
                                 kind='IGEA_STABILITY_ALLAN_OADEV', spacing='IGEA_STABILITY_TAUS_OCTAVE',
                                 ntau_max='8', _int=dict(data_type='enum', spacing='enum')),
     'igea_stability_fit': dict(ntau='8', tau='c:0.1 * pow(2.0, (double)i)',
                                adev='c:1e-3 / sqrt(0.1 * pow(2.0, (double)i)) * (1.0 + 0.05 * (double)(i % 3))',
                                edf='c:200.0 / pow(2.0, (double)i) + 1.0', _opt=['se', 'supported', 'chi2']),
+    'igea_stability_fit_boot': dict(n='4096', fs='10.0', kind='IGEA_STABILITY_ALLAN_ADEV', ntau='8',
+                                    tau='c:0.1 * pow(2.0, (double)i)',
+                                    adev='c:1e-3 / sqrt(0.1 * pow(2.0, (double)i)) * (1.0 + 0.05 * (double)(i % 3))',
+                                    edf='c:200.0 / pow(2.0, (double)i) + 1.0', nboot='4', seed='1',
+                                    conf='0.9', _opt=['se', 'lo', 'hi', 'supported', 'chi2'],
+                                    _int=dict(nboot='size')),
     # ---- rls (handles: m = 3 coefficients, k = 2 rows)
     # ---- noise (igea/noise.h)
     'igea_whiten_create': dict(N='3', p='1', phi='[0.5, 0.3, -0.2]', ngroups='2',

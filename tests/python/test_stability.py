@@ -229,3 +229,34 @@ def test_block_seconds_and_taus_used_are_the_drivers():
     j = json.loads(out)
     assert j["block"]["seconds"] == b.seconds
     assert j["taus"] == list(r.taus)
+
+
+def _lag1_alpha(y, m):
+    """Riley and Greenhall's lag-1 autocorrelation identification written
+    here: non-overlapping m-means, differenced until delta < 0.25."""
+    z = y[:y.size // m * m].reshape(-1, m).mean(axis=1)
+    for d in range(3):
+        u = z - z.mean()
+        r1 = np.dot(u[:-1], u[1:]) / np.dot(u, u)
+        delta = r1 / (1 + r1)
+        if delta < 0.25 or d == 2:
+            return int(max(-2, min(2, round(-2 * (delta + d)))))
+        z = np.diff(z)
+
+
+def test_auto_noise_from_the_deviation_pass():
+    # the noise type found inside the deviation's pass is the lag-1 type of
+    # the m-means (numpy above): the EDF equals that of the type given
+    rng = np.random.default_rng(5)
+    names = {2: "wpm", 1: "fpm", 0: "wfm", -1: "ffm", -2: "rwfm"}
+    n = 20000
+    for y in (rng.standard_normal(n), np.cumsum(rng.standard_normal(n)),
+              np.diff(rng.standard_normal(n + 1))):
+        for kind in ("overlapping", "modified", "nonoverlapping"):
+            t = igea.octave_taus(n, 1.0, kind)
+            t = t[n // np.round(t).astype(int) >= 32]
+            auto = igea.allan(y, 1.0, t, kind=kind)
+            for j, m in enumerate(np.round(t).astype(int)):
+                a = _lag1_alpha(y - y.mean(), m)
+                fixed = igea.allan(y, 1.0, [m], kind=kind, noise=names[a])
+                assert auto.edf[j] == pytest.approx(fixed.edf[0], rel=1e-14), (kind, m, a)
