@@ -1071,6 +1071,10 @@ PROTOTYPES = {
         ("kind", c_int), ("spacing", c_int), ("ntau_max", c_int), ("tau", _PD), ("ntau", _PI),)),
     "igea_stability_fit": (c_int, (("ntau", c_int), ("tau", _PD), ("adev", _PD), ("edf", _PD),
         ("coef", _PD), ("se", _PD), ("supported", _PI), ("chi2", _PD),)),
+    "igea_stability_fit_boot": (c_int, (("n", c_int), ("fs", c_double), ("kind", c_int),
+        ("ntau", c_int), ("tau", _PD), ("adev", _PD), ("edf", _PD), ("nboot", c_int),
+        ("seed", c_int), ("conf", c_double), ("coef", _PD), ("se", _PD), ("lo", _PD), ("hi", _PD),
+        ("supported", _PI), ("chi2", _PD),)),
     # igea/stats.h
     "igea_stats_normal_cdf": (c_int, (("x", c_double), ("p", _PD),)),
     "igea_stats_normal_sf": (c_int, (("x", c_double), ("q", _PD),)),
@@ -1261,6 +1265,7 @@ INPUTS = {
     "igea_stability_noise_id": ("tau", "adev",),
     "igea_stability_dev": ("x", "tau",),
     "igea_stability_fit": ("tau", "adev", "edf",),
+    "igea_stability_fit_boot": ("tau", "adev", "edf",),
     "igea_stats_accuracy_test": ("equiv_err", "lambda",),
     "igea_stats_pool": ("chi2", "dof", "n_reject", "unit_id",),
     "igea_stats_diag_add": ("x",),
