@@ -22,6 +22,11 @@ import gen_fortran  # noqa: E402
 # named together, "2 outputs", a layout by reference to another
 # function, an options or state array); each was read in its header.
 ARRAYS = {
+    ('igea_accel_history_full', 'beta0'),
+    ('igea_normal_accumulate_threads', 'A'),
+    ('igea_normal_accumulate_threads', 'b'),
+    ('igea_normal_accumulate_threads', 'wtw'),
+    ('igea_stability_fit_boot', 'lo'),
     ('igea_envfun_compute_site', 'S'),
     ('igea_impact_component_miss', 'miss'),
     ('igea_sim_raw_track', 'q0'),
