@@ -347,6 +347,19 @@ static int finite_n(const double *x, int n)
     return 1;
 }
 
+/* The miss Jacobian G (2 x 6) and n columns of burnout errors E (6 each)
+ * all finite. */
+static int finite_ge(const double *G, int ldg, const double *E, int lde, int n)
+{
+    for (int k = 0; k < 6; k++)
+        if (!isfinite(IGEA_AT(G, ldg, 0, k)) || !isfinite(IGEA_AT(G, ldg, 1, k)))
+            return 0;
+    for (int j = 0; j < n; j++)
+        if (!finite_n(E + (size_t)j * lde, 6))
+            return 0;
+    return 1;
+}
+
 static int kepler_impact(const double *o, const double *r0, const double *v0, double *out,
                          double *jac, int ldj)
 {
@@ -504,12 +517,8 @@ int igea_impact_budget(int n, const double *G, int ldg, const double *E, int lde
         return -6;
     if (!cov)
         return -7;
-    for (int k = 0; k < 6; k++)
-        if (!isfinite(IGEA_AT(G, ldg, 0, k)) || !isfinite(IGEA_AT(G, ldg, 1, k)))
-            return IGEA_ENONFINITE;
-    for (int j = 0; j < n; j++)
-        if (!finite_n(E + (size_t)j * lde, 6))
-            return IGEA_ENONFINITE;
+    if (!finite_ge(G, ldg, E, lde, n))
+        return IGEA_ENONFINITE;
     double s00 = 0.0, s01 = 0.0, s11 = 0.0;
     for (int j = 0; j < n; j++) {
         double md = 0.0, mc = 0.0;
@@ -825,12 +834,8 @@ int igea_impact_component_miss(int N, int n, const double *G, int ldg, const dou
         return -9;
     if (!miss)
         return -10;
-    for (int k = 0; k < 6; k++)
-        if (!isfinite(IGEA_AT(G, ldg, 0, k)) || !isfinite(IGEA_AT(G, ldg, 1, k)))
-            return IGEA_ENONFINITE;
-    for (int j = 0; j < N; j++)
-        if (!finite_n(E + (size_t)j * lde, 6))
-            return IGEA_ENONFINITE;
+    if (!finite_ge(G, ldg, E, lde, N))
+        return IGEA_ENONFINITE;
     for (int i = 0; i < n; i++)
         if (!finite_n(P + (size_t)i * ldp, N) || !isfinite(equiv[i]))
             return IGEA_ENONFINITE;
