@@ -63,7 +63,10 @@ def test_driver_names_from_header_and_option(tmp_path):
         assert [t[0] for t in cj["terms"]] == [t[0] for t in cp["terms"]]
         np.testing.assert_allclose([t[1] for t in cj["terms"]], [t[1] for t in cp["terms"]],
                                    atol=1e-12)
-        np.testing.assert_allclose(cj["loading"], cp["loading"], rtol=1e-9, atol=1e-300)
+        # eigenvector entries hold their digits relative to the vector, not each
+        # (the driver streams and runs BLAS on one thread; Python loads)
+        big = np.max(np.abs(cp["loading"]))
+        np.testing.assert_allclose(cj["loading"], cp["loading"], rtol=1e-9, atol=1e-12 * big)
         assert cj["candidates"] == cp["candidates"] and cj["reject"] == cp["reject"]
     # gyro_bias_y at 8 x spec: a rejected component names it
     rejected = [c for c in r.components if c["reject"]]
