@@ -4,6 +4,8 @@
 #include <string.h>
 
 #include <gsl/gsl_cdf.h>
+#include <gsl/gsl_fft_halfcomplex.h>
+#include <gsl/gsl_fft_real.h>
 #include <gsl/gsl_sf_gamma.h>
 
 #include "igea/stats.h"
@@ -899,6 +901,156 @@ static int union_cross(int n, double a, double b, double *out)
     return 0;
 }
 
+/* ---- The same second term by inclusion-exclusion over the components
+ * that exceed a [D] (docs/eqerr.md): with eps = P(|z| > a) and W_j the sum
+ * of j excesses z^2 - a^2 of components conditioned on |z| > a (density
+ * h(w) = exp(-(a^2 + w) / 2) / (eps sqrt(2 pi (a^2 + w))), smooth on w >= 0),
+ *   P(max |z_i| > a, sum z_i^2 <= b)
+ *     = sum_{j=1}^{J} (-1)^{j+1} C(n, j) eps^j E[F_{n-j}(b - j a^2 - W_j)],
+ * J = floor(b / a^2) (no more components can exceed a inside the ball),
+ * F_k the chi-square cdf. The densities of W_j are built by repeated
+ * convolution on a grid of step d (trapezoid rule, by FFT), each
+ * expectation by the trapezoid rule on the same grid, and the three grids
+ * d, 2d, 4d combined by Richardson's extrapolation (errors in d^2, d^4).
+ * Used where it is accurate: n - J >= 8 (F_{n-j} smooth where the
+ * integral ends) and the largest term C(n, j) eps^j <= 1e4 (cancellation
+ * costs at most 4 digits); elsewhere the recursion above. About 100 times
+ * faster than the recursion at n = 74 (tests compare the two). */
+#define IE_MIN_FREE 8
+#define IE_MAX_TERM 1e4
+#define IE_STEP 0.01
+
+/* FFT of the zero-padded x[0..K) in place in f[L] (GSL's halfcomplex). */
+static void ie_fft(const double *x, long K, double *f, size_t L)
+{
+    memcpy(f, x, (size_t)K * sizeof *f);
+    memset(f + K, 0, (L - (size_t)K) * sizeof *f);
+    gsl_fft_real_radix2_transform(f, 1, L);
+}
+
+/* g <- the trapezoid convolution d sum_{l<=k} w_l g_l h_{k-l}, k < K; hf
+ * the FFT of h; f scratch of L. */
+static void ie_conv(double *g, const double *h, const double *hf, long K, size_t L, double d,
+                    double *f)
+{
+    ie_fft(g, K, f, L);
+    f[0] *= hf[0];
+    f[L / 2] *= hf[L / 2];
+    for (size_t i = 1; i < L / 2; i++) {
+        double re = f[i] * hf[i] - f[L - i] * hf[L - i];
+        double im = f[i] * hf[L - i] + f[L - i] * hf[i];
+        f[i] = re, f[L - i] = im;
+    }
+    gsl_fft_halfcomplex_radix2_inverse(f, 1, L);
+    double g0 = g[0], h0 = h[0];
+    for (long k = 0; k < K; k++)
+        g[k] = d * (f[k] - 0.5 * (g0 * h[k] + g[k] * h0));
+}
+
+/* E_j = E[F_{n-j}(b - j a^2 - W_j)], j = 1..J, on the grid of step d
+ * (a^2 a multiple of d), into E[0..J). */
+static int ie_level(int n, double a, double b, double d, int J, double eps, double *E)
+{
+    double a2 = a * a;
+    long K = (long)floor((b - a2) / d) + 2, X = (long)floor(b / d) + 1;
+    long M = lround(a2 / d);
+    size_t L = 2;
+    while (L < 2 * (size_t)K)
+        L *= 2;
+    double *mem = igea__dalloc(3 * (size_t)K + 2 * L + 4 * (size_t)X);
+    if (!mem)
+        return IGEA_ENOMEM;
+    double *h = mem, *g = h + K, *w = g + K, *hf = w + K, *f = hf + L;
+    double *F[2] = {f + L, f + L + X}, *u[2] = {f + L + 2 * X, f + L + 3 * X};
+    for (long l = 0; l < K; l++) {
+        double y = a2 + l * d;
+        h[l] = g[l] = exp(-0.5 * y) / (eps * sqrt(2.0 * UNION_PI * y));
+    }
+    ie_fft(h, K, hf, L);
+    /* F_k and u_k = (x/2)^{k/2} e^{-x/2} / Gamma(k/2 + 1) at x_m = b - m d, for
+     * k = n-1 and n-2 directly, then down by F_k = F_{k+2} + u_k,
+     * u_k = u_{k+2} (k + 2) / x. */
+    for (int p = 0; p < 2; p++) {
+        double k = n - 1 - p, lg = gsl_sf_lngamma(0.5 * k + 1.0);
+        for (long m = 0; m < X; m++) {
+            double x = b - m * d;
+            F[p][m] = x > 0 ? chi2_tail(x, k, 0) : 0.0;
+            u[p][m] = x > 0 ? exp(0.5 * k * log(0.5 * x) - 0.5 * x - lg) : 0.0;
+        }
+    }
+    int st = 0;
+    for (int j = 1; j <= J && st == 0; j++) {
+        int k = n - j, p = (j - 1) % 2;
+        if (j > 2)
+            for (long m = 0; m < X; m++) {
+                double x = b - m * d;
+                u[p][m] = x > 0 ? u[p][m] * (k + 2) / x : 0.0;
+                F[p][m] += u[p][m];
+            }
+        double cj = b - j * a2, sum = 0.0;
+        long kmax = (long)floor(cj / d);
+        if (kmax >= K)
+            kmax = K - 1;
+        for (long l = 0; l <= kmax; l++) {
+            long m = j * M + l;
+            w[l] = g[l] * (m < X ? F[p][m] : 0.0);
+            sum += w[l];
+        }
+        sum = d * (sum - 0.5 * (w[0] + w[kmax]));
+        sum += 0.5 * (cj - kmax * d) * w[kmax]; /* to cj, where F_{n-j}(0) = 0 */
+        E[j - 1] = sum;
+        if (!isfinite(sum))
+            st = IGEA_ENOCONV;
+        if (j < J)
+            ie_conv(g, h, hf, K, L, d, f);
+    }
+    free(mem);
+    return st;
+}
+
+/* The second term by inclusion-exclusion; 1 (and *out) when it applies,
+ * 0 when the recursion must be used, or a status < 0. */
+static int union_ie(int n, double a, double b, double *out)
+{
+    double a2 = a * a;
+    int J = (int)floor(b / a2);
+    if (J < 1 || n - J < IE_MIN_FREE)
+        return 0;
+    double eps = erfc(a * UNION_SQRT1_2), leps = log(eps), big = 0.0;
+    double lgn = gsl_sf_lngamma(n + 1.0);
+    for (int j = 1; j <= J; j++) {
+        double t = lgn - gsl_sf_lngamma(j + 1.0) - gsl_sf_lngamma(n - j + 1.0) + j * leps;
+        big = t > big ? t : big;
+    }
+    if (big > log(IE_MAX_TERM))
+        return 0;
+    long q = lround(a2 / (4.0 * IE_STEP));
+    if (q < 1)
+        q = 1;
+    double d = a2 / (4.0 * (double)q);
+    double *E = igea__dalloc(3 * (size_t)J);
+    if (!E)
+        return IGEA_ENOMEM;
+    int st = 0;
+    for (int r = 0; r < 3 && st == 0; r++)
+        st = ie_level(n, a, b, d * (1 << r), J, eps, E + (size_t)r * J);
+    double sum = 0.0;
+    for (int j = 1; j <= J && st == 0; j++) {
+        double e1 = E[j - 1], e2 = E[J + j - 1], e4 = E[2 * J + j - 1];
+        double r1 = (4.0 * e1 - e2) / 3.0, r2 = (4.0 * e2 - e4) / 3.0;
+        double ej = (16.0 * r1 - r2) / 15.0;
+        double lt = lgn - gsl_sf_lngamma(j + 1.0) - gsl_sf_lngamma(n - j + 1.0) + j * leps;
+        sum += (j % 2 ? 1.0 : -1.0) * exp(lt) * ej;
+    }
+    free(E);
+    if (st)
+        return st;
+    if (!isfinite(sum))
+        return IGEA_ENOCONV;
+    *out = sum < 0.0 ? 0.0 : sum;
+    return 1;
+}
+
 /* The sizes computed by union_cross, kept for the process: the same
  * (n, a, b) is asked for again and again (every eqerr call with the same
  * number of tested components and rule, the Monte Carlo's noise judge),
@@ -960,7 +1112,11 @@ int igea_stats_union_size(int n, double a, double b, double *size)
         v = chi2_tail(b, (double)n, 1);
     } else {
         if (!union_memo_get(n, a, b, &q)) {
-            int st = union_cross(n, a, b, &q);
+            int st = union_ie(n, a, b, &q);
+            if (st == 0)
+                st = union_cross(n, a, b, &q);
+            else if (st == 1)
+                st = 0;
             if (st != 0)
                 return st;
             union_memo_put(n, a, b, q);

@@ -160,3 +160,39 @@ def test_sidak_and_chi2_rules():
         a, b, s = igea.verdict_thresholds("chi2", n, alpha)
         assert math.isinf(a) and s == alpha
         assert stats.chi2.sf(b, n) == pytest.approx(alpha, rel=1e-10)
+
+
+# Larger n, where igea_stats_union_size takes the inclusion-exclusion route
+# (n - floor(b / a^2) >= 8, docs/eqerr.md): values of the other algorithm,
+# the recursion over k of D_k(s) on Gauss-Legendre panels (the route of
+# every size before; itself checked above against scipy quadrature and
+# Monte Carlo), computed with it to its 1e-12 accuracy and tabulated here.
+RECURSION = [
+    (20, 3.0, 37.566, 0.056966125194669065),
+    (50, 2.5, 76.154, 0.464911253974377),
+    (74, 3.0, 105.202, 0.18445488632216792),
+    (74, 2.0, 105.202, 0.9681279406320181),
+    (100, 3.5, 135.807, 0.052831162124960945),
+    (150, 3.0, 193.208, 0.3354748426242239),
+    (200, 3.2, 249.445, 0.2441569172131647),
+]
+
+
+@pytest.mark.parametrize("n, a, b, size", RECURSION)
+def test_union_large_n_against_the_recursion(n, a, b, size):
+    assert igea.union_size(n, a, b) == pytest.approx(size, abs=1e-11, rel=0)
+
+
+def test_union_large_n_monte_carlo():
+    """n = 74 at the seed's thresholds (alpha 0.01, z 3): 200,000 draws of 74
+    independent N(0, 1); the size inside the 99.9 % binomial interval."""
+    n, a = 74, 3.0
+    b = stats.chi2.isf(0.01, n)
+    rng = np.random.default_rng(74)
+    hits = 0
+    for _ in range(20):
+        z = rng.standard_normal((10000, n))
+        hits += int(np.count_nonzero((np.abs(z).max(axis=1) > a) | ((z * z).sum(axis=1) > b)))
+    p = igea.union_size(n, a, b)
+    lo, hi = stats.binom.interval(0.999, 200000, p)
+    assert lo <= hits <= hi, (hits, 200000 * p)
