@@ -94,3 +94,30 @@ def test_driver_threads(tmp_path):
     assert d2["n_test"] == d1["n_test"] and d2["passed"] == d1["passed"]
     rc, _, err = run("--threads", "-1")
     assert rc == 64 and "--threads" in err
+
+
+@pytest.mark.parametrize("sigma_rows", [False, True])
+def test_residual_pass_on_threads(sigma_rows):
+    """The residual pass runs in the same segments on the same threads: the
+    residuals, the per-axis RMS and chi2 are the same bits for T = 2, 3, 4;
+    they equal one thread's to rounding; the RMS is that of the returned
+    residuals per axis (rows i with i mod 3 = a; 16384 mod 3 = 1, so the
+    axes rotate across the segment boundaries); and the residuals are dw
+    minus a fit in the column space of S (numpy's lstsq of the residuals on
+    S leaves them, to rounding, only in the untested directions)."""
+    S, dw, sigma, spec = flight(m=70001, sigma_rows=sigma_rows)  # 5 segments
+    runs = {t: igea.eqerr(S, dw, sigma, spec, threads=t) for t in (1, 2, 3, 4)}
+    for t in (3, 4):
+        for k in ("residual", "rms", "chi2"):
+            np.testing.assert_array_equal(getattr(runs[2], k), getattr(runs[t], k), err_msg=k)
+    one, two = runs[1], runs[2]
+    scale = np.max(np.abs(dw))
+    np.testing.assert_allclose(two.residual, one.residual, rtol=0, atol=1e-12 * scale)
+    np.testing.assert_allclose(two.rms, one.rms, rtol=1e-12)
+    for r in (one, two):
+        want = [np.sqrt(np.mean(r.residual[a::3] ** 2)) for a in range(3)]
+        np.testing.assert_allclose(r.rms, want, rtol=1e-12)
+        fit = dw - r.residual
+        coef, *_ = np.linalg.lstsq(S, fit, rcond=None)
+        np.testing.assert_allclose(S @ coef, fit, rtol=0, atol=1e-10 * scale)
+
