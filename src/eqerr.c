@@ -572,25 +572,26 @@ typedef struct {
     int m, N, lds, nseg, thread, nthreads;
     const double *S, *dw, *coef;
     double *e, *part; /* e: m; part: nseg x 6, each segment's axis_ss */
-    int *status;      /* nseg: 0, or 1 for a non-finite dw or residual */
 } rs_job;
 
+/* Segment k: its residuals, and per axis a (row r0 + i, (r0 + i) mod 3 =
+ * a) the sum of their squares in row order and their count. A non-finite
+ * dw or residual makes the sums non-finite: rs_sum finds out why. */
 static void rs_segment(const rs_job *jb, int k)
 {
     int r0 = k * IGEA_NORMAL_SEGMENT, nr = IGEA_MIN(IGEA_NORMAL_SEGMENT, jb->m - r0);
     double *e = jb->e + r0, *t = jb->part + 6 * (size_t)k;
-    if (!igea__finite_vec(nr, jb->dw + r0, 1)) {
-        jb->status[k] = 1;
-        return;
-    }
     memcpy(e, jb->dw + r0, (size_t)nr * sizeof(double));
     cblas_dgemv(CblasColMajor, CblasNoTrans, nr, jb->N, -1.0, jb->S + r0, jb->lds, jb->coef,
                 1, 1.0, e, 1);
-    for (int i = 0, a = r0 % 3; i < nr; i++, a = a == 2 ? 0 : a + 1) {
-        t[a] += e[i] * e[i];
-        t[3 + a] += 1.0;
+    for (int i0 = 0; i0 < 3 && i0 < nr; i0++) {
+        int a = (r0 + i0) % 3;
+        double acc = 0.0;
+        for (int i = i0; i < nr; i += 3)
+            acc += e[i] * e[i];
+        t[a] = acc;
+        t[3 + a] = (double)((nr - i0 + 2) / 3);
     }
-    jb->status[k] = !igea__finite_vec(nr, e, 1);
 }
 
 static void *rs_worker(void *arg)
@@ -617,25 +618,24 @@ static void rs_run(rs_job *jobs, int nthreads)
         rs_worker(&jobs[t]);
 }
 
-/* The statuses of igea_eqerr_residual from the segments' outcomes, and the
- * segments' sums added in segment order into ss. */
+/* The segments' sums added in segment order into ss; when they are not
+ * finite, igea_eqerr_residual's status: a non-finite dw, or a non-finite
+ * residual from a non-finite S: IGEA_ENONFINITE; else IGEA_EOVERFLOW. */
 static int rs_sum(const rs_job *jb, double *ss)
 {
-    for (int k = 0; k < jb->nseg; k++)
-        if (jb->status[k]) {
-            if (!igea__finite_vec(jb->m, jb->dw, 1))
-                return IGEA_ENONFINITE;
-            return igea__finite_mat(jb->m, jb->N, jb->S, jb->lds) ? IGEA_EOVERFLOW
-                                                                   : IGEA_ENONFINITE;
-        }
     double t[6] = {0, 0, 0, 0, 0, 0};
     for (int k = 0; k < jb->nseg; k++)
         for (int j = 0; j < 6; j++)
             t[j] += jb->part[6 * (size_t)k + j];
-    if (!igea__finite_vec(3, t, 1))
-        return IGEA_EOVERFLOW;
-    memcpy(ss, t, sizeof t);
-    return 0;
+    if (igea__finite_vec(3, t, 1)) {
+        memcpy(ss, t, sizeof t);
+        return 0;
+    }
+    if (!igea__finite_vec(jb->m, jb->dw, 1))
+        return IGEA_ENONFINITE;
+    if (!igea__finite_vec(jb->m, jb->e, 1) && !igea__finite_mat(jb->m, jb->N, jb->S, jb->lds))
+        return IGEA_ENONFINITE;
+    return IGEA_EOVERFLOW;
 }
 
 /* igea_eqerr_residual (column-major, row0 = 0, ss zero on entry) on
@@ -647,20 +647,18 @@ static int residual_threads(int m, int N, const double *S, int lds, const double
         return IGEA_ENONFINITE;
     int nseg = (m + IGEA_NORMAL_SEGMENT - 1) / IGEA_NORMAL_SEGMENT;
     double *part = igea__dalloc(6 * (size_t)nseg);
-    int *status = igea__ialloc((size_t)nseg);
     int st = IGEA_ENOMEM;
-    if (part && status) {
+    if (part) {
         rs_job jobs[IGEA_EQERR_THREADS_MAX];
         memset(part, 0, 6 * (size_t)nseg * sizeof(double));
         for (int t = 0; t < nthreads; t++) {
-            rs_job j = {m, N, lds, nseg, t, nthreads, S, dw, coef, e, part, status};
+            rs_job j = {m, N, lds, nseg, t, nthreads, S, dw, coef, e, part};
             jobs[t] = j;
         }
         rs_run(jobs, nthreads);
         st = rs_sum(&jobs[0], ss);
     }
     free(part);
-    free(status);
     return st;
 }
 
