@@ -6,6 +6,13 @@
  *   OPENBLAS_NUM_THREADS=1 valgrind --tool=callgrind --separate-threads=yes \
  *      build/eqerr_callgrind 65536 2
  *
+ *   callgrind_annotate --inclusive=yes callgrind.out.PID-01 | grep igea_eqerr_run
+ *
+ * The critical path on T >= 2 threads is igea_eqerr_run's inclusive count
+ * in the calling thread's file (-01; it runs its share of the segments of
+ * the normal equations and of the residual pass); the other threads'
+ * files (-02 ..) hold mt_worker and rs_worker.
+ *
  * Arguments: m rows, IGEA_EQERR_OPT_THREADS (default 1), any third
  * argument: also the verdict rule's overall size. Prints the status, chi2
  * and the CPU time of the call. docs/validation.md, "The normal equations

@@ -1,6 +1,7 @@
 /* eqerr.c - equivalent-error separation, sigma_w correction, tests
  * (METHODS 1.2). */
 #include <float.h>
+#include <pthread.h>
 
 #include <cblas.h>
 #include <lapacke.h>
@@ -561,14 +562,121 @@ static int run_eig(int m, int N, const double *S, int lds, const double *dw,
     return st;
 }
 
-/* Residuals e (m) and the per-axis sums ss of the fit in the scratch. */
+/* ---- the residual pass on several threads ---------------------------------- */
+
+/* The segments of igea_normal_accumulate_threads (IGEA_NORMAL_SEGMENT rows):
+ * each segment's residuals by its own dgemv and its per-axis sums into its
+ * own 6 slots, whatever thread runs it; the sums are added in segment order
+ * afterwards, so the result does not depend on the thread count. */
+typedef struct {
+    int m, N, lds, nseg, thread, nthreads;
+    const double *S, *dw, *coef;
+    double *e, *part; /* e: m; part: nseg x 6, each segment's axis_ss */
+} rs_job;
+
+/* Segment k: its residuals, and per axis a (row r0 + i, (r0 + i) mod 3 =
+ * a) the sum of their squares in row order and their count. A non-finite
+ * dw or residual makes the sums non-finite: rs_sum finds out why. */
+static void rs_segment(const rs_job *jb, int k)
+{
+    int r0 = k * IGEA_NORMAL_SEGMENT, nr = IGEA_MIN(IGEA_NORMAL_SEGMENT, jb->m - r0);
+    double *e = jb->e + r0, *t = jb->part + 6 * (size_t)k;
+    memcpy(e, jb->dw + r0, (size_t)nr * sizeof(double));
+    cblas_dgemv(CblasColMajor, CblasNoTrans, nr, jb->N, -1.0, jb->S + r0, jb->lds, jb->coef,
+                1, 1.0, e, 1);
+    for (int i0 = 0; i0 < 3 && i0 < nr; i0++) {
+        int a = (r0 + i0) % 3;
+        double acc = 0.0;
+        for (int i = i0; i < nr; i += 3)
+            acc += e[i] * e[i];
+        t[a] = acc;
+        t[3 + a] = (double)((nr - i0 + 2) / 3);
+    }
+}
+
+static void *rs_worker(void *arg)
+{
+    const rs_job *jb = arg;
+    for (int k = jb->thread; k < jb->nseg; k += jb->nthreads)
+        rs_segment(jb, k);
+    return NULL;
+}
+
+static void rs_run(rs_job *jobs, int nthreads)
+{
+    pthread_t tid[IGEA_EQERR_THREADS_MAX];
+    int nstarted = 0;
+    for (int t = 1; t < nthreads; t++) {
+        if (pthread_create(&tid[t], NULL, rs_worker, &jobs[t]) != 0)
+            break;
+        nstarted = t;
+    }
+    rs_worker(&jobs[0]);
+    for (int t = 1; t <= nstarted; t++)
+        pthread_join(tid[t], NULL);
+    for (int t = nstarted + 1; t < nthreads; t++) /* a thread that did not start */
+        rs_worker(&jobs[t]);
+}
+
+/* The segments' sums added in segment order into ss; when they are not
+ * finite, igea_eqerr_residual's status: a non-finite dw, or a non-finite
+ * residual from a non-finite S: IGEA_ENONFINITE; else IGEA_EOVERFLOW. */
+static int rs_sum(const rs_job *jb, double *ss)
+{
+    double t[6] = {0, 0, 0, 0, 0, 0};
+    for (int k = 0; k < jb->nseg; k++)
+        for (int j = 0; j < 6; j++)
+            t[j] += jb->part[6 * (size_t)k + j];
+    if (igea__finite_vec(3, t, 1)) {
+        memcpy(ss, t, sizeof t);
+        return 0;
+    }
+    if (!igea__finite_vec(jb->m, jb->dw, 1))
+        return IGEA_ENONFINITE;
+    if (!igea__finite_vec(jb->m, jb->e, 1) && !igea__finite_mat(jb->m, jb->N, jb->S, jb->lds))
+        return IGEA_ENONFINITE;
+    return IGEA_EOVERFLOW;
+}
+
+/* igea_eqerr_residual (column-major, row0 = 0, ss zero on entry) on
+ * nthreads >= 2 threads: e (m) and ss (6) written on success only. */
+static int residual_threads(int m, int N, const double *S, int lds, const double *dw,
+                            const double *coef, double *e, double *ss, int nthreads)
+{
+    if (!igea__finite_vec(N, coef, 1))
+        return IGEA_ENONFINITE;
+    int nseg = (m + IGEA_NORMAL_SEGMENT - 1) / IGEA_NORMAL_SEGMENT;
+    double *part = igea__dalloc(6 * (size_t)nseg);
+    int st = IGEA_ENOMEM;
+    if (part) {
+        rs_job jobs[IGEA_EQERR_THREADS_MAX];
+        memset(part, 0, 6 * (size_t)nseg * sizeof(double));
+        for (int t = 0; t < nthreads; t++) {
+            rs_job j = {m, N, lds, nseg, t, nthreads, S, dw, coef, e, part};
+            jobs[t] = j;
+        }
+        rs_run(jobs, nthreads);
+        st = rs_sum(&jobs[0], ss);
+    }
+    free(part);
+    return st;
+}
+
+/* Residuals e (m) and the per-axis sums ss of the fit in the scratch; the
+ * route eig's thread count (IGEA_EQERR_OPT_THREADS) >= 2: on that many
+ * threads, in the normal equations' segments. */
 static int run_residuals(int m, int N, const double *S, int lds, const double *dw,
-                         const double *spec_sigma, const scratch *s, double *coef,
-                         double *e, double *ss)
+                         const double *spec_sigma, const double *opts, const scratch *s,
+                         double *coef, double *e, double *ss)
 {
     int st = igea_eqerr_coef(N, s->V, N, s->xhat, (int)s->info[IGEA_STATS_INFO_N_TEST],
                              spec_sigma, coef);
-    if (st == 0)
+    int nthreads = opts[IGEA_EQERR_OPT_ROUTE] == IGEA_EQERR_ROUTE_SVD
+                       ? 1
+                       : (int)opts[IGEA_EQERR_OPT_THREADS];
+    if (st == 0 && nthreads >= 2)
+        st = residual_threads(m, N, S, lds, dw, coef, e, ss, nthreads);
+    else if (st == 0)
         st = igea_eqerr_residual(IGEA_COLMAJOR, m, N, S, lds, dw, coef, 0, e, ss);
     return st;
 }
@@ -619,7 +727,8 @@ int igea_eqerr_run(int m, int N, const double *S, int lds, const double *dw,
         coef = igea__dalloc((size_t)N);
         e = igea__dalloc((size_t)m);
         st = !coef || !e ? IGEA_ENOMEM
-                         : run_residuals(m, N, S, lds, dw, spec_sigma, &s, coef, e, ss);
+                         : run_residuals(m, N, S, lds, dw, spec_sigma, opts, &s, coef,
+                                         e, ss);
     }
     if (st == 0) {
         scratch_out(&s, N, lambda, P, ldp, equiv_err, z, reject, info);

@@ -647,7 +647,9 @@ VARIANTS = {
                                          ' b_[IGEA_EQERR_OPT_ROUTE] = IGEA_EQERR_ROUTE_SVD;'),
                            huge=dict(S='c:1e200 * au(i)', _expect='any'),
                            wide=dict(m='3', N='5', _expect='any'),
-                           tiny_sigma=dict(track_sigma='c:1e-310', _expect='any')),
+                           tiny_sigma=dict(track_sigma='c:1e-310', _expect='any'),
+                           threads=dict(opts='set:igea_eqerr_defaults(b_);'
+                                             ' b_[IGEA_EQERR_OPT_THREADS] = 2;')),
     'igea_regress_ridge': dict(wide=WIDE, hkb=dict(rule='IGEA_REGRESS_RIDGE_HKB', _ignored=['k']),
                                lw=dict(rule='IGEA_REGRESS_RIDGE_LW', _ignored=['k']),
                                gcv=dict(rule='IGEA_REGRESS_RIDGE_GCV', _ignored=['k']),

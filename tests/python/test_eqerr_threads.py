@@ -94,3 +94,69 @@ def test_driver_threads(tmp_path):
     assert d2["n_test"] == d1["n_test"] and d2["passed"] == d1["passed"]
     rc, _, err = run("--threads", "-1")
     assert rc == 64 and "--threads" in err
+
+
+@pytest.mark.parametrize("sigma_rows", [False, True])
+def test_residual_pass_on_threads(sigma_rows):
+    """The residual pass runs in the same segments on the same threads: the
+    residuals, the per-axis RMS and chi2 are the same bits for T = 2, 3, 4;
+    they equal one thread's to rounding; the RMS is that of the returned
+    residuals per axis (rows i with i mod 3 = a; 16384 mod 3 = 1, so the
+    axes rotate across the segment boundaries); and the residuals are dw
+    minus a fit in the column space of S (numpy's lstsq of the residuals on
+    S leaves them, to rounding, only in the untested directions)."""
+    S, dw, sigma, spec = flight(m=70001, sigma_rows=sigma_rows)  # 5 segments
+    runs = {t: igea.eqerr(S, dw, sigma, spec, threads=t) for t in (1, 2, 3, 4)}
+    for t in (3, 4):
+        for k in ("residual", "rms", "chi2"):
+            np.testing.assert_array_equal(getattr(runs[2], k), getattr(runs[t], k), err_msg=k)
+    one, two = runs[1], runs[2]
+    scale = np.max(np.abs(dw))
+    np.testing.assert_allclose(two.residual, one.residual, rtol=0, atol=1e-12 * scale)
+    np.testing.assert_allclose(two.rms, one.rms, rtol=1e-12)
+    for r in (one, two):
+        want = [np.sqrt(np.mean(r.residual[a::3] ** 2)) for a in range(3)]
+        np.testing.assert_allclose(r.rms, want, rtol=1e-12)
+        fit = dw - r.residual
+        coef, *_ = np.linalg.lstsq(S, fit, rcond=None)
+        np.testing.assert_allclose(S @ coef, fit, rtol=0, atol=1e-10 * scale)
+
+
+
+
+def run_status(S, dw, sigma, spec, threads):
+    """igea_eqerr_run's own status (no verdict size), and whether rms and
+    residual were left untouched."""
+    m, N = S.shape
+    opts = np.zeros(_capi.EQERR_OPT_LEN)
+    lib.igea_eqerr_defaults(_lib.dptr(opts))
+    opts[_capi.EQERR_OPT_THREADS] = threads
+    lam, P, xhat, z = np.empty(N), np.empty((N, N), order="F"), np.empty(N), np.empty(N)
+    rej, info = np.empty(N, dtype=np.intc), np.empty(_capi.STATS_INFO_LEN)
+    res, rms = np.full(m, 7.0), np.full(3, 7.0)
+    st = lib.igea_eqerr_run(m, N, _lib.dptr(S), m, _lib.dptr(dw), _lib.dptr(sigma), 1,
+                            _lib.dptr(spec), _lib.dptr(opts), _lib.dptr(lam), _lib.dptr(P), N,
+                            _lib.dptr(xhat), _lib.dptr(z), _lib.iptr(rej), _lib.dptr(info),
+                            _lib.dptr(res), _lib.dptr(rms))
+    return st, bool(np.all(res == 7.0) and np.all(rms == 7.0)), rms
+
+
+def test_residual_squares_overflow_on_every_thread_count():
+    """Residuals near 1.4e155 (dw scaled to 1e156, S and sigma by 1e150:
+    the weighted normal equations stay of order one) have squares beyond
+    DBL_MAX = 1.8e308, so the per-axis sums overflow: igea_eqerr_run says
+    IGEA_EOVERFLOW on 1, 2 and 3 threads alike and leaves residual and rms
+    untouched; scaled to 1e150 instead (squares near 2e298, sums below
+    1e304) every thread count succeeds."""
+    S, dw, sigma, spec = flight()
+    S = np.asfortranarray(S * 1e150)
+    big = np.full(len(dw), 1e150)
+    for scale, want in ((1e150, 0), (1e156, _capi.EOVERFLOW)):
+        d = dw / np.max(np.abs(dw)) * scale
+        for t in (1, 2, 3):
+            st, untouched, rms = run_status(S, d, big, spec, t)
+            assert st == want, (scale, t)
+            if want:
+                assert untouched
+            else:
+                assert np.all(np.isfinite(rms)) and np.all(rms > 1e148)
