@@ -48,10 +48,11 @@ extern "C" {
 #define IGEA_EQERR_OPT_VERDICT_A 15    /* precomputed threshold a on |z_i| (0: none) */
 #define IGEA_EQERR_OPT_VERDICT_B 16    /* precomputed threshold b on T */
 #define IGEA_EQERR_OPT_VERDICT_SIZE 17 /* precomputed overall size (0: not computed) */
-#define IGEA_EQERR_OPT_THREADS 18     /* igea_eqerr_run's normal equations (route eig): 0
-                                         or 1 one thread (the sums as before); n = 2 ..
-                                         IGEA_EQERR_THREADS_MAX: rows in segments of 16384,
-                                         each summed on its own, on n threads; the result
+#define IGEA_EQERR_OPT_THREADS 18     /* igea_eqerr_run's normal equations and residual
+                                         pass (route eig): 0 or 1 one thread (the sums as
+                                         before); n = 2 .. IGEA_EQERR_THREADS_MAX: rows in
+                                         segments of 16384, each summed on its own (its
+                                         sums added in segment order), on n threads; the result
                                          is the same for every n >= 2 and equals one
                                          thread's to rounding */
 #define IGEA_EQERR_THREADS_MAX 256
