@@ -13,6 +13,7 @@ import subprocess
 import sys
 
 import pytest
+from docblocks import commands, console
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
@@ -25,29 +26,6 @@ def blocks():
     text = open(PAGE).read()
     return [(m.group(1).strip(), m.group(2), text.count("\n", 0, m.start()) + 1)
             for m in _BLOCK.finditer(text)]
-
-
-def _commands(body):
-    out, cur = [], ""
-    for line in body.splitlines():
-        cur += line
-        if line.endswith("\\"):
-            cur = cur[:-1] + " "
-            continue
-        if cur.strip() and not cur.lstrip().startswith("#"):
-            out.append(cur)
-        cur = ""
-    return out
-
-
-def _console(body):
-    out = []
-    for line in body.splitlines():
-        if line.startswith("$ "):
-            out.append((line[2:], []))
-        elif out and line.strip() and line.strip() != "...":
-            out[-1][1].append(line.rstrip())
-    return out
 
 
 def _run_script(commands, cwd, env, where):
@@ -77,9 +55,9 @@ def test_tutorial_runs(tmp_path):
     for kind, body, line in blocks():
         where = "docs/pipeline.md:%d (%s)" % (line, kind)
         if kind == "sh":
-            _run_script(_commands(body), cwd, env, where)
+            _run_script(commands(body), cwd, env, where)
         elif kind == "console":
-            steps = _console(body)
+            steps = console(body)
             results = _run_script([c for c, _ in steps], cwd, env, where)
             for (cmd, expected), (_, output) in zip(steps, results):
                 have = {ln.rstrip() for ln in output.splitlines()}

@@ -25,6 +25,7 @@ import subprocess
 import sys
 
 import pytest
+from docblocks import commands, console
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
@@ -44,32 +45,6 @@ def test_every_block_says_what_it_is():
     assert found, "no fenced block in README.md"
     bad = [(line, kind) for kind, _, line in found if kind not in KINDS]
     assert not bad, "README.md blocks (line, info string) not in %s" % sorted(KINDS)
-
-
-def _commands(body):
-    """The commands of an sh block: continuation lines joined, comment-only
-    and blank lines dropped."""
-    out, cur = [], ""
-    for line in body.splitlines():
-        cur += line
-        if line.endswith("\\"):
-            cur = cur[:-1] + " "
-            continue
-        if cur.strip() and not cur.lstrip().startswith("#"):
-            out.append(cur)
-        cur = ""
-    return out
-
-
-def _console(body):
-    """[(command, [expected output lines])] of a console block."""
-    out = []
-    for line in body.splitlines():
-        if line.startswith("$ "):
-            out.append((line[2:], []))
-        elif out and line.strip() and line.strip() != "...":
-            out[-1][1].append(line.rstrip())
-    return out
 
 
 @pytest.fixture(scope="module")
@@ -115,9 +90,9 @@ def test_readme_blocks_run(scratch):
     for kind, body, line in blocks():
         where = "README.md:%d (%s)" % (line, kind)
         if kind == "sh":
-            _run_script(_commands(body), repo, env, where)
+            _run_script(commands(body), repo, env, where)
         elif kind == "console":
-            steps = _console(body)
+            steps = console(body)
             results = _run_script([c for c, _ in steps], repo, env, where)
             for (cmd, expected), (_, output) in zip(steps, results):
                 have = {ln.rstrip() for ln in output.splitlines()}
