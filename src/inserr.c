@@ -138,25 +138,24 @@ static void matvec(const double *F, const double *x, double *out)
     }
 }
 
-/* out = F P + P F^T + Qd (Qd diagonal), P symmetric */
-static void lyap(const double *F, const double *P, const double *qd, double *out)
+/* out = F P + P F^T + Q, P and Q symmetric (F's zeros skipped: F is sparse) */
+static void lyap(const double *F, const double *P, const double *Q, double *out)
 {
     double M[NS2];
     for (int i = 0; i < NS; i++)
         for (int j = 0; j < NS; j++) {
             double s = 0.0;
             for (int k = 0; k < NS; k++)
-                s += F[i * NS + k] * P[k * NS + j];
+                if (F[i * NS + k] != 0.0)
+                    s += F[i * NS + k] * P[k * NS + j];
             M[i * NS + j] = s;
         }
     for (int i = 0; i < NS; i++)
         for (int j = 0; j < NS; j++)
-            out[i * NS + j] = M[i * NS + j] + M[j * NS + i] + (i == j ? qd[i] : 0.0);
+            out[i * NS + j] = M[i * NS + j] + M[j * NS + i] + Q[i * NS + j];
 }
 
-/* One RK4 step of dy/dt = A(y) for a vector of m values (m = NS: the
- * state, A = F y; m = NS2: the covariance, A = lyap). */
-static void rk4(const double *F, const double *qd, int m, double h, double *y)
+void igea__inserr_rk4(const double *F, const double *Q, int m, double h, double *y)
 {
     double k[4][NS2], t[NS2];
     static const double c[3] = {0.5, 0.5, 1.0};
@@ -165,7 +164,7 @@ static void rk4(const double *F, const double *qd, int m, double h, double *y)
         if (m == NS)
             matvec(F, in, k[s]);
         else
-            lyap(F, in, qd, k[s]);
+            lyap(F, in, Q, k[s]);
         if (s < 3) {
             for (int i = 0; i < m; i++)
                 t[i] = y[i] + c[s] * h * k[s][i];
@@ -179,7 +178,7 @@ static void rk4(const double *F, const double *qd, int m, double h, double *y)
 /* Integrate y (m values) over n - 1 equal intervals of the duration into
  * out (n x m), through a scratch copy; IGEA_EOVERFLOW on a non-finite
  * value. */
-static int propagate(const double *o, const double *qd, int m, const double *y0,
+static int propagate(const double *o, const double *Q, int m, const double *y0,
                      double duration, int n, double *out)
 {
     double F[NS2], y[NS2];
@@ -195,7 +194,7 @@ static int propagate(const double *o, const double *qd, int m, const double *y0,
     memcpy(buf, y, sizeof(double) * (size_t)m);
     for (int k = 1; k < n; k++) {
         for (int s = 0; s < ms; s++)
-            rk4(F, qd, m, h, y);
+            igea__inserr_rk4(F, Q, m, h, y);
         if (!igea__finite_vec(m, y, 1)) {
             free(buf);
             return IGEA_EOVERFLOW;
@@ -280,7 +279,10 @@ int igea_inserr_covariance(const double *opts, const double *P0, const double *q
     } else {
         memset(p, 0, sizeof p);
     }
-    return propagate(opts, qd, NS2, p, duration, n, P);
+    double Q[NS2] = {0};
+    for (int i = 0; i < NS; i++)
+        Q[i * NS + i] = qd[i];
+    return propagate(opts, Q, NS2, p, duration, n, P);
 }
 
 /* The stationary standard deviation of the Gauss-Markov bias whose Allan

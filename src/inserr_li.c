@@ -106,55 +106,6 @@ static int ref_step(li_ref *r, int k, double *A, double *Ca, double *Cg)
     return 0;
 }
 
-/* out = A P + P A^T + Q, P and Q symmetric */
-static void lyap(const double *A, const double *P, const double *Q, double *out)
-{
-    double M[NS2];
-    for (int i = 0; i < NS; i++)
-        for (int j = 0; j < NS; j++) {
-            double s = 0.0;
-            for (int k = 0; k < NS; k++)
-                if (A[i * NS + k] != 0.0)
-                    s += A[i * NS + k] * P[k * NS + j];
-            M[i * NS + j] = s;
-        }
-    for (int i = 0; i < NS; i++)
-        for (int j = 0; j < NS; j++)
-            out[i * NS + j] = M[i * NS + j] + M[j * NS + i] + Q[i * NS + j];
-}
-
-static void matvec(const double *A, const double *x, double *out)
-{
-    for (int i = 0; i < NS; i++) {
-        double s = 0.0;
-        for (int j = 0; j < NS; j++)
-            s += A[i * NS + j] * x[j];
-        out[i] = s;
-    }
-}
-
-/* One classical RK4 step of y' = A y (m = NS) or of the covariance
- * equation (m = NS2, Q the noise term) over h. */
-static void rk4(const double *A, const double *Q, int m, double h, double *y)
-{
-    double k[4][NS2], t[NS2];
-    static const double c[3] = {0.5, 0.5, 1.0};
-    const double *in = y;
-    for (int s = 0; s < 4; s++) {
-        if (m == NS)
-            matvec(A, in, k[s]);
-        else
-            lyap(A, in, Q, k[s]);
-        if (s < 3) {
-            for (int i = 0; i < m; i++)
-                t[i] = y[i] + c[s] * h * k[s][i];
-            in = t;
-        }
-    }
-    for (int i = 0; i < m; i++)
-        y[i] += h / 6.0 * (k[0][i] + 2.0 * k[1][i] + 2.0 * k[2][i] + k[3][i]);
-}
-
 /* Q = B diag(q) B^T: the blocks C diag(q_a) C^T (dv), Cg diag(q_g) Cg^T
  * (phi), diag(q_ba), diag(q_bg). */
 static void noise_matrix(const double *q, const double *Ca, const double *Cg, double *Q)
@@ -201,7 +152,7 @@ static int propagate(li_ref *r, const double *q, int m, double *y, int nepochs,
         if (k > 0 && !(st = ref_step(r, k, A, Ca, Cg))) {
             if (q)
                 noise_matrix(q, Ca, Cg, Q);
-            rk4(A, Q, m, tel_at(r, k, 0) - tel_at(r, k - 1, 0), y);
+            igea__inserr_rk4(A, Q, m, tel_at(r, k, 0) - tel_at(r, k - 1, 0), y);
             if (!igea__finite_vec(m, y, 1))
                 st = IGEA_EOVERFLOW;
         }
