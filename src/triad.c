@@ -590,11 +590,12 @@ int igea_triad_calibrate(int layout, int n, const double *acc, int lda, double f
     return 0;
 }
 
-int igea_triad_apply(int layout, int n, const double *raw, int ldr, const double *theta,
-                     double *cal, int ldc)
+/* The arguments of the two apply functions (theta of np values): 0, -i or
+ * IGEA_ENONFINITE; the record in *r. */
+static int apply_args(int layout, int n, const double *raw, int ldr, const double *theta,
+                      int np, const double *cal, int ldc, record *r)
 {
-    record r;
-    int st = record_check(layout, n, raw, ldr, &r);
+    int st = record_check(layout, n, raw, ldr, r);
     if (st < 0 && st != IGEA_ENONFINITE)
         return st;
     if (!theta)
@@ -603,8 +604,29 @@ int igea_triad_apply(int layout, int n, const double *raw, int ldr, const double
         return -6;
     if (layout == IGEA_ROWMAJOR ? ldc < 3 : ldc < n)
         return -7;
-    if (st || !igea__finite_vec(NP, theta, 1))
+    if (st || !igea__finite_vec(np, theta, 1))
         return IGEA_ENONFINITE;
+    return 0;
+}
+
+/* Row i of the calibrated output. */
+static void put_row(int layout, double *cal, int ldc, int i, const double *c)
+{
+    for (int j = 0; j < 3; j++) {
+        if (layout == IGEA_ROWMAJOR)
+            cal[(size_t)i * ldc + j] = c[j];
+        else
+            cal[i + (size_t)j * ldc] = c[j];
+    }
+}
+
+int igea_triad_apply(int layout, int n, const double *raw, int ldr, const double *theta,
+                     double *cal, int ldc)
+{
+    record r;
+    int st = apply_args(layout, n, raw, ldr, theta, NP, cal, ldc, &r);
+    if (st)
+        return st;
     const double *t = theta;
     for (int i = 0; i < n; i++) {
         double w[3];
@@ -612,12 +634,7 @@ int igea_triad_apply(int layout, int n, const double *raw, int ldr, const double
             w[j] = t[IGEA_TRIAD_KX + j] * (at(&r, i, j) - t[IGEA_TRIAD_BX + j]);
         double c[3] = {w[0], t[IGEA_TRIAD_TYX] * w[0] + w[1],
                        t[IGEA_TRIAD_TZX] * w[0] + t[IGEA_TRIAD_TZY] * w[1] + w[2]};
-        for (int j = 0; j < 3; j++) {
-            if (layout == IGEA_ROWMAJOR)
-                cal[(size_t)i * ldc + j] = c[j];
-            else
-                cal[i + (size_t)j * ldc] = c[j];
-        }
+        put_row(layout, cal, ldc, i, c);
     }
     return 0;
 }
@@ -1150,17 +1167,9 @@ int igea_triad_gyro_apply(int layout, int n, const double *raw, int ldr, const d
                           double *cal, int ldc)
 {
     record r;
-    int st = record_check(layout, n, raw, ldr, &r);
-    if (st < 0 && st != IGEA_ENONFINITE)
+    int st = apply_args(layout, n, raw, ldr, theta, GP, cal, ldc, &r);
+    if (st)
         return st;
-    if (!theta)
-        return -5;
-    if (!cal)
-        return -6;
-    if (layout == IGEA_ROWMAJOR ? ldc < 3 : ldc < n)
-        return -7;
-    if (st || !igea__finite_vec(GP, theta, 1))
-        return IGEA_ENONFINITE;
     double S[3][3];
     gyro_matrix(theta + 3, S);
     for (int i = 0; i < n; i++) {
@@ -1169,12 +1178,7 @@ int igea_triad_gyro_apply(int layout, int n, const double *raw, int ldr, const d
             u[j] = at(&r, i, j) - theta[j];
         for (int j = 0; j < 3; j++)
             w[j] = S[j][0] * u[0] + S[j][1] * u[1] + S[j][2] * u[2];
-        for (int j = 0; j < 3; j++) {
-            if (layout == IGEA_ROWMAJOR)
-                cal[(size_t)i * ldc + j] = w[j];
-            else
-                cal[i + (size_t)j * ldc] = w[j];
-        }
+        put_row(layout, cal, ldc, i, w);
     }
     return 0;
 }
