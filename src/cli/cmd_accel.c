@@ -42,9 +42,11 @@ static const cli_opt options[] = {
      "plane 0 IA-PA / 1 IA-OA, output), by least squares or\n"
      "the harmonic method (N >= 7 equispaced per plane)", &A.have_ieee},
     {"--design", CLI_OPT_FLAG, &A.design, NULL, NULL, "no fit: the D-criterion of the positions in --data\n"
-     "(angle per row; with --ieee: angle, plane) for --model\n"
-     "and --method: (1/p) log det(M/n) of the information per\n"
-     "reading, rank, per-coefficient variance factors", NULL},
+     "(angle per row; with --ieee: angle, plane; the columns\n"
+     "after those, a data file's readings, are not used) for\n"
+     "--model and --method: (1/p) log det(M/n) of the\n"
+     "information per reading, rank, per-coefficient variance\n"
+     "factors", NULL},
     {"--head-ratio", CLI_OPT_NUM, &A.head_ratio, "0", "R", "--design --method joint: head-angle error sd over\n"
      "the output noise sd (1 arcsec / 1 ug: 4.85)", NULL},
     CLI_JSON_OPT(&A.json),
