@@ -1,5 +1,7 @@
 """Reading the shell blocks of a document (README.md, docs/*.md) for the
 tests that run them as written."""
+import re
+import subprocess
 
 
 def commands(body):
@@ -26,3 +28,21 @@ def console(body):
         elif out and line.strip() and line.strip() != "...":
             out[-1][1].append(line.rstrip())
     return out
+
+
+def run_script(commands, cwd, env, where, subshell=False):
+    """Run the commands in one bash in cwd; [(status, output)] of each. Each
+    must exit 0, or 1 when it is an igea verdict ("rejected"). subshell:
+    each command in ( ) so that a cd does not carry over."""
+    mark = "@@@doc-block-status"
+    form = "(%s)\necho \"%s $?\"\n" if subshell else "%s\necho \"%s $?\"\n"
+    script = "exec 2>&1\n" + "".join(form % (c, mark) for c in commands)
+    r = subprocess.run(["bash", "-c", script], cwd=str(cwd), env=env, capture_output=True,
+                       text=True, timeout=300)
+    parts = re.split(r"^%s (\d+)\n" % mark, r.stdout, flags=re.M)
+    results = [(int(parts[i + 1]), parts[i]) for i in range(0, len(parts) - 1, 2)]
+    assert len(results) == len(commands), "%s: the script stopped early:\n%s" % (where, r.stdout)
+    for cmd, (status, output) in zip(commands, results):
+        verdict = status == 1 and re.search(r"(^|[\s;&|(])igea\s", cmd)
+        assert status == 0 or verdict, "%s: '%s' exited %d:\n%s" % (where, cmd, status, output)
+    return results

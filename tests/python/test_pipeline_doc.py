@@ -13,7 +13,7 @@ import subprocess
 import sys
 
 import pytest
-from docblocks import commands, console
+from docblocks import commands, console, run_script
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
@@ -26,20 +26,6 @@ def blocks():
     text = open(PAGE).read()
     return [(m.group(1).strip(), m.group(2), text.count("\n", 0, m.start()) + 1)
             for m in _BLOCK.finditer(text)]
-
-
-def _run_script(commands, cwd, env, where):
-    mark = "@@@pipeline-status"
-    script = "exec 2>&1\n" + "".join("(%s)\necho \"%s $?\"\n" % (c, mark) for c in commands)
-    r = subprocess.run(["bash", "-c", script], cwd=cwd, env=env, capture_output=True,
-                       text=True, timeout=300)
-    parts = re.split(r"^%s (\d+)\n" % mark, r.stdout, flags=re.M)
-    results = [(int(parts[i + 1]), parts[i]) for i in range(0, len(parts) - 1, 2)]
-    assert len(results) == len(commands), "%s: the script stopped early:\n%s" % (where, r.stdout)
-    for cmd, (status, output) in zip(commands, results):
-        verdict = status == 1 and re.search(r"(^|[\s;&|(])igea\s", cmd)
-        assert status == 0 or verdict, "%s: '%s' exited %d:\n%s" % (where, cmd, status, output)
-    return results
 
 
 def test_every_block_says_what_it_is():
@@ -55,10 +41,10 @@ def test_tutorial_runs(tmp_path):
     for kind, body, line in blocks():
         where = "docs/pipeline.md:%d (%s)" % (line, kind)
         if kind == "sh":
-            _run_script(commands(body), cwd, env, where)
+            run_script(commands(body), cwd, env, where, subshell=True)
         elif kind == "console":
             steps = console(body)
-            results = _run_script([c for c, _ in steps], cwd, env, where)
+            results = run_script([c for c, _ in steps], cwd, env, where, subshell=True)
             for (cmd, expected), (_, output) in zip(steps, results):
                 have = {ln.rstrip() for ln in output.splitlines()}
                 missing = [e for e in expected if e not in have]

@@ -25,7 +25,7 @@ import subprocess
 import sys
 
 import pytest
-from docblocks import commands, console
+from docblocks import commands, console, run_script
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
@@ -69,31 +69,16 @@ def scratch(tmp_path_factory):
     return repo, env
 
 
-def _run_script(commands, repo, env, where):
-    """Run the commands in one bash at the repository root; [(status, output)]."""
-    mark = "@@@readme-status"
-    script = "exec 2>&1\n" + "".join("%s\necho \"%s $?\"\n" % (c, mark) for c in commands)
-    r = subprocess.run(["bash", "-c", script], cwd=str(repo), env=env, capture_output=True,
-                       text=True, timeout=300)
-    parts = re.split(r"^%s (\d+)\n" % mark, r.stdout, flags=re.M)
-    results = [(int(parts[i + 1]), parts[i]) for i in range(0, len(parts) - 1, 2)]
-    assert len(results) == len(commands), "%s: the script stopped early:\n%s" % (where, r.stdout)
-    for cmd, (status, output) in zip(commands, results):
-        verdict = status == 1 and re.search(r"(^|[\s;&|(])igea\s", cmd)
-        assert status == 0 or verdict, "%s: '%s' exited %d:\n%s" % (where, cmd, status, output)
-    return results
-
-
 def test_readme_blocks_run(scratch):
     repo, env = scratch
     ran = 0
     for kind, body, line in blocks():
         where = "README.md:%d (%s)" % (line, kind)
         if kind == "sh":
-            _run_script(commands(body), repo, env, where)
+            run_script(commands(body), repo, env, where)
         elif kind == "console":
             steps = console(body)
-            results = _run_script([c for c, _ in steps], repo, env, where)
+            results = run_script([c for c, _ in steps], repo, env, where)
             for (cmd, expected), (_, output) in zip(steps, results):
                 have = {ln.rstrip() for ln in output.splitlines()}
                 missing = [e for e in expected if e not in have]
