@@ -1,19 +1,27 @@
 """Classical error separation: least squares, ridge, principal-component,
 Bayesian and empirical-Bayes ridge estimators, collinearity diagnostics
 (seeds 000 and 003; METHODS 0.3, 4.3). All work on the SVD of the weighted
-design, never on the normal matrix."""
+design, never on the normal matrix. The design A may be a data frame: its
+columns name the terms, and y, sigma and spec given as Series are aligned
+to its labels as igea.eqerr aligns them (igea/_frames.py)."""
 from dataclasses import dataclass
 
 import numpy as np
 
-from . import _capi, _lib
+from . import _capi, _frames, _lib
 from ._result import result
 
 
 
-def _design(A, y, sigma=None, spec=None, y_optional=False):
-    """A, m, N, y, sigma (m,) or None, spec (N,) or None: the arrays of the
-    igea_regress_* arguments A, y, sigma and spec_sigma."""
+def _design(A, y, sigma=None, spec=None, y_optional=False, names=None):
+    """A, m, N, y, sigma (m,) or None, spec (N,) or None, names: the arrays
+    of the igea_regress_* arguments A, y, sigma and spec_sigma. A may be a
+    data frame (igea/_frames.py): its columns are the names unless names is
+    given, and y, sigma (Series on its index) and spec (a Series on its
+    columns) are aligned to it."""
+    A, names, v = _frames.inputs(A, names, rows=(("y", y), ("sigma", sigma)),
+                                 cols=(("spec", spec),))
+    y, sigma, spec = v["y"], v["sigma"], v["spec"]
     A = _lib.as_f64(A, "A", ndim=2)
     m, N = A.shape
     if m < 1 or N < 1:
@@ -29,7 +37,7 @@ def _design(A, y, sigma=None, spec=None, y_optional=False):
         else:
             sg = _lib.as_f64(sigma, "sigma", ndim=1, shape=(m,))
     sp = None if spec is None else _lib.as_f64(spec, "spec", ndim=1, shape=(N,))
-    return A, m, N, yv, sg, sp
+    return A, m, N, yv, sg, sp, names
 
 
 def _names(N, names):
@@ -316,7 +324,7 @@ def ls(A, y, sigma=None, *, spec=None, rcond=0.0, names=None, alpha=0.05):
     conf_int_upper (level 1 - alpha; conf_int() stacks them), llf, aic, bic,
     leverage, cooks_d, press, durbin_watson, df_model, df_resid (None where
     they are not defined: no residual dof, an exact fit, a leverage 1)."""
-    A, m, N, y, sg, sp = _design(A, y, sigma, spec)
+    A, m, N, y, sg, sp, names = _design(A, y, sigma, spec, names=names)
     x, sd = np.empty(N), np.empty(N)
     cov = np.empty((N, N), order="F")
     s2 = np.zeros(1)
@@ -339,7 +347,7 @@ def ebr(A, y, sigma=None, *, spec=None, rule="sc", lam_floor=0.0, names=None):
     1-sigma specs, D of METHODS 4.3) or None; rule: "sc" (Shinozaki-Chang,
     eq. 17), "mm" or "ml2"; lam_floor >= 0. Returns EbrResult(x, cov, lam,
     rank, sigma2, residual, shrink, sd_frequentist; sd the posterior sds)."""
-    A, m, N, y, sg, sp = _design(A, y, sigma, spec)
+    A, m, N, y, sg, sp, names = _design(A, y, sigma, spec, names=names)
     rule_code = _lib.choice(_capi.CHOICE_REGRESS_EBR_RULE, rule, "igea.ebr", "rule")
     x, cov = np.empty(N), np.empty((N, N), order="F")
     lam, s2 = np.zeros(1), np.zeros(1)
@@ -363,7 +371,7 @@ def ridge(A, y, sigma=None, *, spec=None, k=None, rule=None, names=None):
     Either k (a number >= 0) or rule in "hkb" (Hoerl-Kennard-Baldwin), "lw"
     (Lawless-Wang), "gcv", "loo". Returns RidgeResult(x, cov, k, rule,
     sigma2, residual)."""
-    A, m, N, y, sg, sp = _design(A, y, sigma, spec)
+    A, m, N, y, sg, sp, names = _design(A, y, sigma, spec, names=names)
     if (k is None) == (rule is None):
         raise ValueError("k, rule: give exactly one of them")
     if rule is None:
@@ -386,7 +394,7 @@ def ridge(A, y, sigma=None, *, spec=None, k=None, rule=None, names=None):
 
 def ridge_trace(A, y, k, sigma=None, *, spec=None):
     """The ridge trace: RidgeTrace(k, X (N, len(k)), edf)."""
-    A, m, N, y, sg, sp = _design(A, y, sigma, spec)
+    A, m, N, y, sg, sp, _ = _design(A, y, sigma, spec)
     kv = _lib.as_f64(k, "k", ndim=1)
     nk = kv.shape[0]
     if nk < 1:
@@ -401,7 +409,7 @@ def ridge_trace(A, y, k, sigma=None, *, spec=None):
 def pce(A, y, sigma=None, *, spec=None, ncomp=None, eig_min=None, names=None):
     """Principal-component estimation: keep the ncomp largest components, or
     those with eigenvalue >= eig_min. Returns PceResult."""
-    A, m, N, y, sg, sp = _design(A, y, sigma, spec)
+    A, m, N, y, sg, sp, names = _design(A, y, sigma, spec, names=names)
     if (ncomp is None) == (eig_min is None):
         raise ValueError("ncomp, eig_min: give exactly one of them")
     if ncomp is not None and int(ncomp) < 1:
@@ -423,7 +431,7 @@ def pce(A, y, sigma=None, *, spec=None, ncomp=None, eig_min=None, names=None):
 def bayes(A, y, prior_cov, prior_mean=None, sigma=None, *, spec=None, names=None):
     """Bayesian estimate with prior x ~ N(prior_mean, prior_cov) and known
     noise sds sigma (None: 1). prior_cov: (N, N) SPD. Returns BayesResult."""
-    A, m, N, y, sg, sp = _design(A, y, sigma, spec)
+    A, m, N, y, sg, sp, names = _design(A, y, sigma, spec, names=names)
     P = _lib.as_f64(prior_cov, "prior_cov", ndim=2, shape=(N, N))
     mu = None if prior_mean is None else _lib.as_f64(prior_mean, "prior_mean", ndim=1,
                                                      shape=(N,))
@@ -442,7 +450,7 @@ def collinearity(A, y=None, sigma=None, *, spec=None, rcond=0.0, names=None):
     """Condition number, eigenvalue table, VIFs, null space, estimable
     combinations with their sds (scaled by the residual sd when y is given)
     and the prior-determined flags. Returns Collinearity."""
-    A, m, N, y, sg, sp = _design(A, y, sigma, spec, y_optional=True)
+    A, m, N, y, sg, sp, names = _design(A, y, sigma, spec, y_optional=True, names=names)
     cond = np.empty(_capi.REGRESS_COND_LEN)
     rank = np.zeros(1, dtype=np.intc)
     eig = np.empty(N)

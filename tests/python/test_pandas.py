@@ -1,6 +1,6 @@
 """Real pandas inputs: S as a DataFrame (its columns the term names), dw
 and sigma as Series on its index, spec as a Series on its columns, in
-igea.eqerr (both routes) and igea.montecarlo. Labels in another order are
+igea.eqerr (both routes), igea.montecarlo and the estimators of igea.regress. Labels in another order are
 aligned as pandas aligns; other labels are refused naming the argument.
 The stand-in frame of test_py_results_input.py keeps the duck-typed path
 tested without pandas."""
@@ -95,3 +95,33 @@ def test_montecarlo_frame_terms(fl, frame):
     assert a.failed == b.failed and a.mean_scale == b.mean_scale
     with pytest.raises(ValueError, match="not one of the terms"):
         igea.montecarlo(frame, sigma, 3, spec=spec, x={"nope": 1.0})
+
+
+def test_regress_estimators_take_a_frame(fl, frame):
+    """ls, ridge, pce, ebr, bayes and collinearity name their terms from a
+    frame's columns and align Series as eqerr does; the estimate is the
+    weighted least-squares solution numpy gives on the same rows."""
+    rng = np.random.default_rng(3)
+    rows = rng.permutation(len(frame))
+    y = pd.Series(fl.dw, index=frame.index).iloc[rows]
+    sigma = pd.Series(fl.sigma, index=frame.index).iloc[rows[::-1]]
+    spec = pd.Series(fl.spec, index=list(fl.terms)).iloc[::-1]
+    r = igea.regress.ls(frame, y, sigma, spec=spec)
+    assert r.names == tuple(fl.terms)
+    w = 1.0 / fl.sigma
+    ref = np.linalg.lstsq(fl.S * w[:, None], fl.dw * w, rcond=None)[0]
+    np.testing.assert_allclose(r.x, ref, rtol=1e-8, atol=1e-12 * np.abs(ref).max())
+    assert r.summary().splitlines()[2].split()[0] == fl.terms[0]
+    N = len(fl.terms)
+    for f in (lambda a, y, s, p, **k: igea.regress.ridge(a, y, s, spec=p, rule="hkb", **k),
+              lambda a, y, s, p, **k: igea.regress.pce(a, y, s, spec=p, ncomp=5, **k),
+              lambda a, y, s, p, **k: igea.regress.ebr(a, y, s, spec=p, **k),
+              lambda a, y, s, p, **k: igea.regress.bayes(a, y, np.eye(N), sigma=s, spec=p, **k),
+              lambda a, y, s, p, **k: igea.regress.collinearity(a, y, s, spec=p, **k)):
+        a = f(frame, y, sigma, spec)
+        b = f(fl.S, fl.dw, fl.sigma, fl.spec, names=fl.terms)
+        assert a.names == tuple(fl.terms)
+        np.testing.assert_array_equal(getattr(a, "x", getattr(a, "vif", None)),
+                                      getattr(b, "x", getattr(b, "vif", None)))
+    with pytest.raises(ValueError, match=r"^y: its index .* is not S's index"):
+        igea.regress.ls(frame, pd.Series(fl.dw), fl.sigma)
