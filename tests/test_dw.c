@@ -581,6 +581,97 @@ static void test_covariance(void **state)
     free(trk);
 }
 
+/* The tracking position errors through the gravity integral
+ * (igea_dw_compute_k): 28-column tracking in ECEF, position sigma 20 m,
+ * velocity 1e-3 m/s, uncorrelated, epochs every second. The position
+ * error of epoch j moves the integral over the intervals on either side
+ * of it by about h G(r_j) dr_j, a step of a random walk that every later
+ * epoch shares: the block X_e = Cov(dW_e, dW_f > e) grows from e1 to e2
+ * by sigma_r^2 h^2 sum_j G_j^2 (the trace rotation-free: sum_j tr G_j^2),
+ * G here the central differences of this test's own J2 gravity at the
+ * reference flight's positions. dW is that of igea_dw_compute bit for
+ * bit; the navigated kind (no gravity integral) keeps igea_dw_compute's
+ * covariance and X = 0; the refusals of xcov without cov (-17) and of a
+ * NULL bad (-19). */
+static void test_covariance_gravity(void **state)
+{
+    (void)state;
+    enum { NE = 140 };
+    const double sr = 20.0, sv = 1e-3;
+    double ep[NE], dw0[3 * NE], dw[3 * NE], c0[6 * NE], c[6 * NE], x[9 * NE];
+    for (int e = 0; e < NE; e++)
+        ep[e] = e + 1.0;
+    double *tel = telemetry(0, NULL, NULL, 0.0), *trk = tracking(IGEA_NAV_ECEF, 28, ep, NE);
+    for (int e = 0; e < NE; e++)
+        for (int i = 0, col = 7; i < 6; i++)
+            for (int j = i; j < 6; j++, col++)
+                trk[e + (size_t)NE * col] = i != j ? 0.0 : i < 3 ? sr * sr : sv * sv;
+    int bad = 7, sd = IGEA_ENVFUN_STRAPDOWN;
+    for (int kind = 0; kind < 2; kind++) {
+        assert_int_equal(igea_dw_compute(FL.site, sd, kind, FL.q0, 0.0, NREC, tel, NREC, 7,
+                                         IGEA_NAV_ECEF, NE, trk, NE, 28, dw0, c0, NULL, &bad), 0);
+        assert_int_equal(igea_dw_compute_k(FL.site, sd, kind, FL.q0, 0.0, NREC, tel, NREC, 7,
+                                           IGEA_NAV_ECEF, NE, trk, NE, 28, dw, c, x, NULL, &bad),
+                         0);
+        assert_int_equal(bad, -1);
+        assert_memory_equal(dw, dw0, sizeof dw);
+        if (kind == IGEA_DW_NAVIGATED) {
+            assert_memory_equal(c, c0, sizeof c);
+            for (int i = 0; i < 9 * NE; i++)
+                assert_true(x[i] == 0.0);
+        }
+    }
+    /* the apparent kind */
+    assert_int_equal(igea_dw_compute(FL.site, sd, IGEA_DW_APPARENT, FL.q0, 0.0, NREC, tel, NREC,
+                                     7, IGEA_NAV_ECEF, NE, trk, NE, 28, dw0, c0, NULL, &bad), 0);
+    assert_int_equal(igea_dw_compute_k(FL.site, sd, IGEA_DW_APPARENT, FL.q0, 0.0, NREC, tel,
+                                       NREC, 7, IGEA_NAV_ECEF, NE, trk, NE, 28, dw, c, x, NULL,
+                                       &bad), 0);
+    const int e1 = 19, e2 = 119;
+    double sum = 0.0;
+    for (int j = e1 + 1; j <= e2; j++) { /* steps j = e1 + 1 .. e2 */
+        const double *xs = FL.X + (size_t)lround(ep[j] / H) * NX;
+        double G[9];
+        for (int k = 0; k < 3; k++) {
+            double rp[3] = {xs[0], xs[1], xs[2]}, rm[3] = {xs[0], xs[1], xs[2]}, gp[3], gm[3];
+            rp[k] += 1.0;
+            rm[k] -= 1.0;
+            grav(rp, gp);
+            grav(rm, gm);
+            for (int i = 0; i < 3; i++)
+                G[3 * i + k] = 0.5 * (gp[i] - gm[i]);
+        }
+        for (int i = 0; i < 9; i++)
+            sum += G[i] * G[(i % 3) * 3 + i / 3]; /* tr(G G^T) */
+    }
+    double want = sr * sr * sum, got = 0.0, grow = 0.0;
+    for (int i = 0; i < 3; i++)
+        got += x[9 * e2 + 4 * i] - x[9 * e1 + 4 * i];
+    for (int e = 1; e < NE; e++) /* the gravity part adds variance, growing */
+        grow = fmax(grow, (c[6 * e] + c[6 * e + 3] + c[6 * e + 5]) -
+                              (c0[6 * e] + c0[6 * e + 3] + c0[6 * e + 5]));
+    print_message("gravity integral in K: tr(X_%d - X_%d) %.6e m^2/s^2, sigma_r^2 sum tr G^2 "
+                  "%.6e (ratio %.5f); the diagonal blocks gain up to %.3e\n", e2, e1, got, want,
+                  got / want, grow);
+    assert_close(got, want, 2e-3);
+    assert_true(grow > 0.5 * want);
+    /* refusals; outputs untouched */
+    double keep[3 * NE];
+    memcpy(keep, dw, sizeof keep);
+    assert_int_equal(igea_dw_compute_k(FL.site, sd, IGEA_DW_APPARENT, FL.q0, 0.0, NREC, tel,
+                                       NREC, 7, IGEA_NAV_ECEF, NE, trk, NE, 28, dw, NULL, x,
+                                       NULL, &bad), -17);
+    assert_int_equal(igea_dw_compute_k(FL.site, sd, IGEA_DW_APPARENT, FL.q0, 0.0, NREC, tel,
+                                       NREC, 7, IGEA_NAV_ECEF, NE, trk, NE, 28, dw, c, x, NULL,
+                                       NULL), -19);
+    assert_int_equal(igea_dw_compute_k(FL.site, sd, IGEA_DW_APPARENT, FL.q0, 0.0, NREC, tel,
+                                       NREC, 7, IGEA_NAV_ECEF, NE, trk, NE, 7, dw, c, x, NULL,
+                                       &bad), -16);
+    assert_memory_equal(dw, keep, sizeof keep);
+    free(tel);
+    free(trk);
+}
+
 static void test_refusals(void **state)
 {
     (void)state;
@@ -627,6 +718,7 @@ int main(void)
         cmocka_unit_test(test_closed_loop_navigated),
         cmocka_unit_test(test_instrument_errors_navigated),
         cmocka_unit_test(test_clock_offset), cmocka_unit_test(test_covariance),
+        cmocka_unit_test(test_covariance_gravity),
         cmocka_unit_test(test_refusals),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
