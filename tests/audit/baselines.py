@@ -453,7 +453,8 @@ BASE = {
                               ldtrk='ntrk', trk_cols='28',
                               _int=dict(ntel='size', ntrk='size', tel_cols='enum', trk_cols='enum',
                                         frame='enum'),
-                              _opt=['dw_dtau', 'xcov'], _progress=['bad']),
+                              _opt=['dw_dtau', 'xcov', 'q0'], _null_any=['cov'],
+                              _progress=['bad']),
     # ---- sim
     'igea_sim_trajectory_length': dict(duration='10.0', rate='10.0'),
     'igea_sim_trajectory': dict(system='IGEA_ENVFUN_STRAPDOWN', duration='10.0', rate='10.0',
