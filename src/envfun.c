@@ -396,6 +396,7 @@ typedef struct {
     double pad[6];      /* pad-velocity parts w_L x e_x, w_L x e_z of pos0_x, pos0_z */
     double theta[6];    /* their frame rotations per metre on the ellipsoid */
     double Gpad[9];     /* the J2 gravity gradient at the pad, LI axes */
+    double vpad[3];     /* the pad's inertial velocity w x r0 in LI (the nominal path's start) */
 } integ;
 
 /* Gravity and its gradient at launch-frame r: with a site the J2 field of
@@ -782,8 +783,13 @@ static int run(integ *g, int nsamp, const double *traj, int ldt, int nepochs,
     g->val_prev = g->val + nt3;
     g->vel_prev = g->val_prev + nt3;
     double *out = g->vel_prev + nt3; /* 3 nepochs x nterms, ld = mrows */
-    for (int a = 0; a < 3; a++)
-        g->Wv[a] = g->rn[a] = g->vn[a] = 0.0;
+    /* the nominal path starts at the pad: with a site at its inertial
+     * velocity in LI (the flown path; docs/envfun.md, launch point step
+     * 5), else at rest */
+    for (int a = 0; a < 3; a++) {
+        g->Wv[a] = g->rn[a] = 0.0;
+        g->vn[a] = g->site ? g->vpad[a] : 0.0;
+    }
     for (int i = 0; i < 9; i++)
         g->Gm[i] = 0.0;
 
@@ -814,8 +820,9 @@ static int run(integ *g, int nsamp, const double *traj, int ldt, int nepochs,
     return st;
 }
 
-/* The launch-point terms' parts that the site gives (0, or -16): pad
- * velocities w_L x e_k and frame rotations theta = (b, 0, -a) per metre,
+/* The launch-point terms' parts that the site gives (0, or -16): the
+ * pad's inertial velocity in LI (the nominal path's start), pad-velocity
+ * errors w_L x e_k and frame rotations theta = (b, 0, -a) per metre,
  * a x + b z the normal's change du = (d_n / (M + h)) n + (d_e / (N + h)) e
  * for a displacement e_k (d_n, d_e its north and east parts; M, N the
  * WGS-84 radii of curvature at the site's latitude). */
@@ -827,6 +834,9 @@ static int site_parts(const double *site, integ *g)
         return -16;
     for (int a = 0; a < 3; a++)
         wl[a] = M[3 * a + 2] * IGEA_NAV_OMEGA;
+    double r[3];
+    if (igea_nav_transform(site, IGEA_NAV_LE, IGEA_NAV_LI, 0.0, zero, zero, r, g->vpad))
+        return -16;
     double e2 = IGEA_NAV_F * (2.0 - IGEA_NAV_F), sl = sin(site[IGEA_NAV_SITE_LAT]);
     double w = sqrt(1.0 - e2 * sl * sl), h = site[IGEA_NAV_SITE_H];
     double im = 1.0 / (IGEA_NAV_A * (1.0 - e2) / (w * w * w) + h), in = 1.0 / (IGEA_NAV_A / w + h);

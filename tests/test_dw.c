@@ -318,9 +318,10 @@ static void test_closed_loop(void **state)
 }
 
 /* ---- instrument errors: dW = S X to second order ------------------------ */
-/* The environment functions of the same flight (igea_envfun_compute on the
- * reference trajectory at the telemetry rate). */
-static void envfun_S(const int *terms, int nt, int output, double *S)
+/* The environment functions of the same flight (igea_envfun_compute_site
+ * on the reference trajectory at the telemetry rate; site NULL: without
+ * the launch point, igea_envfun_compute_user). */
+static void envfun_S(const int *terms, int nt, int output, const double *site, double *S)
 {
     double *traj = malloc((size_t)NREC * 11 * sizeof *traj);
     assert_non_null(traj);
@@ -337,9 +338,9 @@ static void envfun_S(const int *terms, int nt, int output, double *S)
         for (int i = 0; i < 4; i++)
             traj[k + (size_t)NREC * (7 + i)] = x[6 + i];
     }
-    assert_int_equal(igea_envfun_compute(IGEA_ENVFUN_STRAPDOWN, NREC, traj, NREC, nt, terms,
-                                         NULL, FL.nep, FL.ep, NULL, output, S,
-                                         3 * FL.nep), 0);
+    assert_int_equal(igea_envfun_compute_site(IGEA_ENVFUN_STRAPDOWN, NREC, traj, NREC, nt,
+                                              terms, NULL, 0, NULL, NULL, NREC, FL.nep, FL.ep,
+                                              NULL, output, site, S, 3 * FL.nep), 0);
     free(traj);
 }
 
@@ -355,8 +356,12 @@ static void dw_with_errors(double scale, const double *ab, const double *gb, dou
 }
 
 /* Apparent kind against envfun's velocity functions, navigated kind against
- * its velocity functions with the (point-mass) gravity-gradient coupling. */
-static void instrument_errors(int kind)
+ * its velocity functions with the gravity-gradient coupling, given the
+ * launch point (site: the J2 gradient along the nominal path that leaves
+ * the pad at its inertial velocity) or not (site NULL: a point-mass
+ * gradient along a path from rest at a 6371-km radius). Returns the odd
+ * part's departure from S X relative to max |S X|. */
+static double instrument_errors(int kind, const double *site)
 {
     KIND = kind;
     /* accelerometer biases ~0.1 mg, gyro drifts ~0.2 deg/h */
@@ -369,7 +374,7 @@ static void instrument_errors(int kind)
     assert_non_null(S);
     assert_non_null(buf);
     envfun_S(terms, 6, kind == IGEA_DW_APPARENT ? IGEA_ENVFUN_VELOCITY : IGEA_ENVFUN_VELOCITY_G,
-             S);
+             site, S);
     double *d1 = buf, *dm = buf + m, *d2 = buf + 2 * m, *dm2 = buf + 3 * m, *sx = buf + 4 * m;
     double X[6] = {ab[0], ab[1], ab[2], gb[0], gb[1], gb[2]};
     for (int r = 0; r < m; r++) {
@@ -391,36 +396,43 @@ static void instrument_errors(int kind)
         disc1 = fmax(disc1, fabs(d1[r] - sx[r]));
         disc2 = fmax(disc2, fabs(d2[r] - 0.5 * sx[r]));
     }
-    print_message("%s, errors: max |S X| %.4g m/s; odd part - S X %.3e; even part %.3e (X), %.3e "
-                  "(X/2), ratio %.3f; |dW - S X| %.3e (X), %.3e (X/2), ratio %.3f\n",
-                  kind == IGEA_DW_APPARENT ? "apparent" : "navigated", big, lin_err, q1, q2, q1 / q2, disc1, disc2, disc1 / disc2);
+    print_message("%s%s, errors: max |S X| %.4g m/s; odd part - S X %.3e; even part %.3e (X), "
+                  "%.3e (X/2), ratio %.3f; |dW - S X| %.3e (X), %.3e (X/2), ratio %.3f\n",
+                  kind == IGEA_DW_APPARENT ? "apparent" : "navigated",
+                  site ? " (site)" : "", big, lin_err, q1, q2, q1 / q2, disc1, disc2,
+                  disc1 / disc2);
     assert_true(big > 0.1);
     assert_true(q1 / q2 > 3.8 && q1 / q2 < 4.2); /* second order */
-    if (kind == IGEA_DW_APPARENT) {
+    if (kind == IGEA_DW_APPARENT || site) {
         assert_true(lin_err < 1e-4 * big); /* envfun's trapezoid sums agree with the flight */
-        assert_true(disc1 / disc2 > 3.0);  /* so the discrepancy is second order */
-    } else {
-        /* envfun's velocity_g couples through a point-mass gradient along a
-         * nominal path from a 6371-km radius, not J2 along the flown one:
-         * a linear model difference of 4e-4 (measured), above the second
-         * order terms here */
-        assert_true(lin_err < 1e-3 * big);
+        assert_true(disc1 / disc2 > 3.6 && disc1 / disc2 < 4.4); /* second order */
     }
     free(S);
     free(buf);
     KIND = IGEA_DW_APPARENT;
+    return lin_err / big;
 }
 
 static void test_instrument_errors(void **state)
 {
     (void)state;
-    instrument_errors(IGEA_DW_APPARENT);
+    instrument_errors(IGEA_DW_APPARENT, NULL);
 }
 
+/* The navigated kind couples the errors through gravity: with the launch
+ * point the linear model is complete (odd part - S X 1.3e-8 m/s of 0.78,
+ * measured; the discrepancy quarters when the errors halve). Without it
+ * envfun's point-mass gradient along a path from rest misses by 3.0e-4 m/s
+ * (3.9e-4 of the effect): the pad's 350 m/s in LI puts that path 105 km
+ * off the flown one after 300 s, turning the gradient by 1.6e-2 rad (with
+ * the site's J2 gradient but the path from rest, measured: 2.9e-4 m/s). */
 static void test_instrument_errors_navigated(void **state)
 {
     (void)state;
-    instrument_errors(IGEA_DW_NAVIGATED);
+    double with = instrument_errors(IGEA_DW_NAVIGATED, FL.site);
+    double without = instrument_errors(IGEA_DW_NAVIGATED, NULL);
+    assert_true(with < 1e-7);
+    assert_true(without > 1e-4 && without < 1e-3);
 }
 
 /* Navigated velocity from ideal records: v_nav - v_trk, limited by the
@@ -569,6 +581,97 @@ static void test_covariance(void **state)
     free(trk);
 }
 
+/* The tracking position errors through the gravity integral
+ * (igea_dw_compute_k): 28-column tracking in ECEF, position sigma 20 m,
+ * velocity 1e-3 m/s, uncorrelated, epochs every second. The position
+ * error of epoch j moves the integral over the intervals on either side
+ * of it by about h G(r_j) dr_j, a step of a random walk that every later
+ * epoch shares: the block X_e = Cov(dW_e, dW_f > e) grows from e1 to e2
+ * by sigma_r^2 h^2 sum_j G_j^2 (the trace rotation-free: sum_j tr G_j^2),
+ * G here the central differences of this test's own J2 gravity at the
+ * reference flight's positions. dW is that of igea_dw_compute bit for
+ * bit; the navigated kind (no gravity integral) keeps igea_dw_compute's
+ * covariance and X = 0; the refusals of xcov without cov (-17) and of a
+ * NULL bad (-19). */
+static void test_covariance_gravity(void **state)
+{
+    (void)state;
+    enum { NE = 140 };
+    const double sr = 20.0, sv = 1e-3;
+    double ep[NE], dw0[3 * NE], dw[3 * NE], c0[6 * NE], c[6 * NE], x[9 * NE];
+    for (int e = 0; e < NE; e++)
+        ep[e] = e + 1.0;
+    double *tel = telemetry(0, NULL, NULL, 0.0), *trk = tracking(IGEA_NAV_ECEF, 28, ep, NE);
+    for (int e = 0; e < NE; e++)
+        for (int i = 0, col = 7; i < 6; i++)
+            for (int j = i; j < 6; j++, col++)
+                trk[e + (size_t)NE * col] = i != j ? 0.0 : i < 3 ? sr * sr : sv * sv;
+    int bad = 7, sd = IGEA_ENVFUN_STRAPDOWN;
+    for (int kind = 0; kind < 2; kind++) {
+        assert_int_equal(igea_dw_compute(FL.site, sd, kind, FL.q0, 0.0, NREC, tel, NREC, 7,
+                                         IGEA_NAV_ECEF, NE, trk, NE, 28, dw0, c0, NULL, &bad), 0);
+        assert_int_equal(igea_dw_compute_k(FL.site, sd, kind, FL.q0, 0.0, NREC, tel, NREC, 7,
+                                           IGEA_NAV_ECEF, NE, trk, NE, 28, dw, c, x, NULL, &bad),
+                         0);
+        assert_int_equal(bad, -1);
+        assert_memory_equal(dw, dw0, sizeof dw);
+        if (kind == IGEA_DW_NAVIGATED) {
+            assert_memory_equal(c, c0, sizeof c);
+            for (int i = 0; i < 9 * NE; i++)
+                assert_true(x[i] == 0.0);
+        }
+    }
+    /* the apparent kind */
+    assert_int_equal(igea_dw_compute(FL.site, sd, IGEA_DW_APPARENT, FL.q0, 0.0, NREC, tel, NREC,
+                                     7, IGEA_NAV_ECEF, NE, trk, NE, 28, dw0, c0, NULL, &bad), 0);
+    assert_int_equal(igea_dw_compute_k(FL.site, sd, IGEA_DW_APPARENT, FL.q0, 0.0, NREC, tel,
+                                       NREC, 7, IGEA_NAV_ECEF, NE, trk, NE, 28, dw, c, x, NULL,
+                                       &bad), 0);
+    const int e1 = 19, e2 = 119;
+    double sum = 0.0;
+    for (int j = e1 + 1; j <= e2; j++) { /* steps j = e1 + 1 .. e2 */
+        const double *xs = FL.X + (size_t)lround(ep[j] / H) * NX;
+        double G[9];
+        for (int k = 0; k < 3; k++) {
+            double rp[3] = {xs[0], xs[1], xs[2]}, rm[3] = {xs[0], xs[1], xs[2]}, gp[3], gm[3];
+            rp[k] += 1.0;
+            rm[k] -= 1.0;
+            grav(rp, gp);
+            grav(rm, gm);
+            for (int i = 0; i < 3; i++)
+                G[3 * i + k] = 0.5 * (gp[i] - gm[i]);
+        }
+        for (int i = 0; i < 9; i++)
+            sum += G[i] * G[(i % 3) * 3 + i / 3]; /* tr(G G^T) */
+    }
+    double want = sr * sr * sum, got = 0.0, grow = 0.0;
+    for (int i = 0; i < 3; i++)
+        got += x[9 * e2 + 4 * i] - x[9 * e1 + 4 * i];
+    for (int e = 1; e < NE; e++) /* the gravity part adds variance, growing */
+        grow = fmax(grow, (c[6 * e] + c[6 * e + 3] + c[6 * e + 5]) -
+                              (c0[6 * e] + c0[6 * e + 3] + c0[6 * e + 5]));
+    print_message("gravity integral in K: tr(X_%d - X_%d) %.6e m^2/s^2, sigma_r^2 sum tr G^2 "
+                  "%.6e (ratio %.5f); the diagonal blocks gain up to %.3e\n", e2, e1, got, want,
+                  got / want, grow);
+    assert_close(got, want, 2e-3);
+    assert_true(grow > 0.5 * want);
+    /* refusals; outputs untouched */
+    double keep[3 * NE];
+    memcpy(keep, dw, sizeof keep);
+    assert_int_equal(igea_dw_compute_k(FL.site, sd, IGEA_DW_APPARENT, FL.q0, 0.0, NREC, tel,
+                                       NREC, 7, IGEA_NAV_ECEF, NE, trk, NE, 28, dw, NULL, x,
+                                       NULL, &bad), -17);
+    assert_int_equal(igea_dw_compute_k(FL.site, sd, IGEA_DW_APPARENT, FL.q0, 0.0, NREC, tel,
+                                       NREC, 7, IGEA_NAV_ECEF, NE, trk, NE, 28, dw, c, x, NULL,
+                                       NULL), -19);
+    assert_int_equal(igea_dw_compute_k(FL.site, sd, IGEA_DW_APPARENT, FL.q0, 0.0, NREC, tel,
+                                       NREC, 7, IGEA_NAV_ECEF, NE, trk, NE, 7, dw, c, x, NULL,
+                                       &bad), -16);
+    assert_memory_equal(dw, keep, sizeof keep);
+    free(tel);
+    free(trk);
+}
+
 static void test_refusals(void **state)
 {
     (void)state;
@@ -615,6 +718,7 @@ int main(void)
         cmocka_unit_test(test_closed_loop_navigated),
         cmocka_unit_test(test_instrument_errors_navigated),
         cmocka_unit_test(test_clock_offset), cmocka_unit_test(test_covariance),
+        cmocka_unit_test(test_covariance_gravity),
         cmocka_unit_test(test_refusals),
     };
     return cmocka_run_group_tests(tests, setup, teardown);

@@ -17,7 +17,7 @@
 #define RATE 50.0
 #define NEP 120
 
-static double *TRAJ[2];
+static double *TRAJ[2], *FLOWN; /* FLOWN: TRAJ[0] with the attitude its telemetry flies */
 static int NS;
 static double SITE[IGEA_NAV_SITE_LEN], EP[NEP];
 
@@ -33,7 +33,32 @@ static int setup(void **state)
     }
     for (int e = 0; e < NEP; e++)
         EP[e] = e + 1.0;
-    return igea_nav_site(40.96 * DEG, 100.29 * DEG, 1000.0, 30.0 * DEG, SITE);
+    if (igea_nav_site(40.96 * DEG, 100.29 * DEG, 1000.0, 30.0 * DEG, SITE))
+        return -1;
+    /* the strapdown trajectory with the quaternions that the navigation of
+     * its own ideal increments gives (what a range computes from the
+     * telemetry: docs/pipeline.md section 6, step 3) */
+    size_t n = (size_t)NS;
+    double *tel = malloc(sizeof(double) * n * 7), trk[NEP * 7], q0[4], so[IGEA_NAV_SITE_LEN];
+    double st[IGEA_NAV_STATE_LEN];
+    FLOWN = malloc(sizeof(double) * n * IGEA_ENVFUN_TRAJ_COLS);
+    if (!tel || !FLOWN ||
+        igea_sim_raw(IGEA_ENVFUN_STRAPDOWN, NS, TRAJ[0], NS, IGEA_ENVFUN_TERM_END, NULL, NULL,
+                     SITE, IGEA_NAV_ECEF, NEP, EP, NULL, tel, NS, trk, NEP, q0, so) ||
+        igea_nav_init(IGEA_ENVFUN_STRAPDOWN, SITE, IGEA_NAV_GRAVITY_J2, 0, 0.0, q0, NULL, NULL,
+                      st))
+        return -1;
+    memcpy(FLOWN, TRAJ[0], sizeof(double) * n * IGEA_ENVFUN_TRAJ_COLS);
+    for (size_t k = 1; k < n; k++) {
+        double dv[3] = {tel[k + n], tel[k + 2 * n], tel[k + 3 * n]};
+        double dth[3] = {tel[k + 4 * n], tel[k + 5 * n], tel[k + 6 * n]};
+        if (igea_nav_step(st, tel[k], dv, dth))
+            return -1;
+        for (int i = 0; i < 4; i++)
+            FLOWN[k + n * (7 + i)] = st[IGEA_NAV_STATE_Q + i];
+    }
+    free(tel);
+    return 0;
 }
 
 static int teardown(void **state)
@@ -41,6 +66,7 @@ static int teardown(void **state)
     (void)state;
     free(TRAJ[0]);
     free(TRAJ[1]);
+    free(FLOWN);
     return 0;
 }
 
@@ -224,10 +250,13 @@ static void test_epochs_between_samples(void **state)
     free(dw);
 }
 
-/* max |dW(err) - S X| of the launch-point errors (dx, dz) (m): S of
- * igea_envfun_compute_site with the stated site (site 1) or without
- * (igea_envfun_compute_user, site 0), the output kind of KIND. */
-static double pos0_discrepancy(int s, double dx, double dz, int site)
+/* max |dW(err) - dW0 - S X| of the launch-point errors (dx, dz) (m): S of
+ * igea_envfun_compute_site on trajectory traj with the stated site (site
+ * 1) or without (igea_envfun_compute_user, site 0), the output kind of
+ * KIND; dW0 (may be NULL: 0) the records' dW without errors, dw's own
+ * floor. */
+static double pos0_discrepancy(int s, const double *traj, double dx, double dz, int site,
+                               const double *dw0)
 {
     static const int codes[2] = {IGEA_ENVFUN_TERM_POS0_X, IGEA_ENVFUN_TERM_POS0_Z};
     double err[IGEA_ENVFUN_TERM_END] = {0}, dw[3 * NEP], S[3 * NEP * 2], d = 0.0;
@@ -235,37 +264,55 @@ static double pos0_discrepancy(int s, double dx, double dz, int site)
     err[codes[0]] = dx;
     err[codes[1]] = dz;
     raw_dw(s, IGEA_NAV_ECEF, err, NULL, dw);
-    assert_int_equal(igea_envfun_compute_site(s, NS, TRAJ[s], NS, 2, codes, NULL, 0, NULL,
+    assert_int_equal(igea_envfun_compute_site(s, NS, traj, NS, 2, codes, NULL, 0, NULL,
                                               NULL, NS, NEP, EP, NULL, out,
                                               site ? STATED : NULL, S, 3 * NEP), 0);
     for (int i = 0; i < 3 * NEP; i++)
-        d = fmax(d, fabs(dw[i] - S[i] * dx - S[i + 3 * NEP] * dz));
+        d = fmax(d, fabs(dw[i] - (dw0 ? dw0[i] : 0.0) - S[i] * dx - S[i + 3 * NEP] * dz));
     return d;
 }
 
 /* The launch point off by 50 m downrange and -30 m cross-range (5 and 3
- * times the 10 m spec), the raw records against the linear model. Without
- * the site the stated pad velocity's error w_L x d (|w_E| 58 m ~ 4e-3 m/s)
- * is left out of S: measured 2.4e-3 m/s apparent, 1.06e-2 navigated (the
- * initial position error d under gravity too), first order (halving the
- * errors halves it). With it (and the ellipsoid's frame rotation, the J2
- * gradient): 1.3e-7 and 2.2e-6 m/s, a first-order rest of 5e-5 and 2e-4
- * of the term, below dw's own 1e-6 floor (apparent). */
+ * times the 10 m spec), then by half and a quarter of that: the raw
+ * records against the linear model. Without the site the stated pad
+ * velocity's error w_L x d (|w_E| 58 m ~ 4e-3 m/s) is left out of S:
+ * measured 2.4e-3 m/s apparent, 1.06e-2 navigated (the initial position
+ * error d under gravity too), first order (halving the errors halves it).
+ * With the site (docs/envfun.md, "With the stated launch point", steps
+ * 1-5), less the records' dW without errors (dw's own floor, 3.6e-8 m/s
+ * apparent, 4e-13 navigated), the rest is second order: halving d quarters
+ * it, for both kinds and systems. The strapdown S is computed from the
+ * trajectory with the attitude its telemetry flies (FLOWN); with the
+ * trajectory's own quaternions theta x W carries their W's discretisation
+ * (about 1e-3 m/s), a first-order rest of 3e-10 m/s per metre, printed. */
 static void test_launch_point(void **state)
 {
     (void)state;
     for (int kind = 0; kind < 2; kind++)
         for (int s = 0; s < 2; s++) {
+            const double *traj = s == IGEA_ENVFUN_STRAPDOWN ? FLOWN : TRAJ[s];
+            double dw0[3 * NEP], a[3];
             KIND = kind ? IGEA_DW_NAVIGATED : IGEA_DW_APPARENT;
-            double b1 = pos0_discrepancy(s, 50.0, -30.0, 0);
-            double b2 = pos0_discrepancy(s, 25.0, -15.0, 0);
-            double a1 = pos0_discrepancy(s, 50.0, -30.0, 1);
-            double a2 = pos0_discrepancy(s, 25.0, -15.0, 1);
-            print_message("kind %d system %d: without site %.3g, %.3g (ratio %.3f); with "
-                          "site %.3g, %.3g (ratio %.3f)\n",
-                          kind, s, b1, b2, b1 / b2, a1, a2, a1 / a2);
+            raw_dw(s, IGEA_NAV_ECEF, NULL, NULL, dw0);
+            double b1 = pos0_discrepancy(s, traj, 50.0, -30.0, 0, NULL);
+            double b2 = pos0_discrepancy(s, traj, 25.0, -15.0, 0, NULL);
+            double raw1 = pos0_discrepancy(s, traj, 50.0, -30.0, 1, NULL);
+            for (int h = 0; h < 3; h++)
+                a[h] = pos0_discrepancy(s, traj, ldexp(50.0, -h), ldexp(-30.0, -h), 1, dw0);
+            print_message("kind %d system %d: without site %.3g, %.3g (ratio %.3f); with site "
+                          "%.3g (floor %.3g), less the floor %.3g, %.3g, %.3g (ratios %.3f "
+                          "%.3f)\n", kind, s, b1, b2, b1 / b2, raw1, max_abs(3 * NEP, dw0),
+                          a[0], a[1], a[2], a[0] / a[1], a[1] / a[2]);
             assert_true(b1 > 2e-3 && b1 / b2 > 1.9 && b1 / b2 < 2.1);
-            assert_true(a1 < 1e-3 * b1 && a1 < 3e-6);
+            assert_true(a[0] < 1e-4 * b1 && raw1 < 2e-7);
+            assert_true(a[0] / a[1] > 3.6 && a[0] / a[1] < 4.4);
+            assert_true(a[1] / a[2] > 3.6 && a[1] / a[2] < 4.4);
+            if (s == IGEA_ENVFUN_STRAPDOWN) {
+                double t1 = pos0_discrepancy(s, TRAJ[s], 50.0, -30.0, 1, dw0);
+                double t2 = pos0_discrepancy(s, TRAJ[s], 12.5, -7.5, 1, dw0);
+                print_message("  the trajectory's own quaternions: %.3g, %.3g (d / 4; ratio "
+                              "%.3f)\n", t1, t2, t1 / t2);
+            }
         }
     KIND = IGEA_DW_APPARENT;
     /* refusals of the site, S and lds positions (16-18); S untouched */

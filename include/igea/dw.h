@@ -52,8 +52,8 @@
  * positive definite. The covariance is rotated into LI (the velocity part
  * of the frame change; with 28 columns also the position's through the
  * Earth rate, dv_LI = M (dv + w_f x dr), w_f the Earth rate in the
- * tracking axes; the position's contribution through the gravity
- * integral, below 1e-4 of it, is left out).
+ * tracking axes; igea_dw_compute leaves out the position's contribution
+ * through the gravity integral, which igea_dw_compute_k adds).
  */
 #ifndef IGEA_DW_H
 #define IGEA_DW_H
@@ -106,6 +106,44 @@ IGEA_API int igea_dw_compute(const double *site, int system, int kind, const dou
                              int tel_cols, int frame, int ntrk, const double *trk, int ldtrk,
                              int trk_cols, double *dw, double *cov, double *dw_dtau,
                              int *bad);
+
+/*
+ * igea_dw_compute with the tracking position error's effect through the
+ * gravity integral in the covariance (docs/pipeline.md 4.2 [D]): in the
+ * apparent kind with a 6 x 6 tracking covariance (trk_cols 28), the
+ * position errors dr_j of every epoch j <= e move the integral of gravity
+ * along the tracked path up to epoch e by the partials of its cubic
+ * Hermite quadrature (about G dr h per interval, G the J2 gradient, h the
+ * epoch spacing), so dW_e's covariance gains a running sum over the
+ * earlier epochs and dW of different epochs are correlated: for e < f,
+ * Cov(dW_e, dW_f) = X_e, the same block for every later epoch f. The
+ * covariance of the stacked dW (3 ntrk) is then the matrix with diagonal
+ * blocks cov_e and blocks X_min(e,f) (transposed below the diagonal): not
+ * block-diagonal. Tracking errors of different epochs are taken as
+ * independent. Other kinds and tracking files: cov as igea_dw_compute and
+ * X_e = 0 (the navigated kind has no gravity integral; without the
+ * position covariance there is nothing to propagate).
+ * Arguments (1-based positions, as the -i status names them):
+ *  1-14        as igea_dw_compute
+ * 15 dw        output of 3 ntrk values: dW epoch-major, as igea_dw_compute
+ * 16 cov       output of 6 ntrk values: per epoch the whole 3 x 3
+ *              covariance of dW_e (c_xx c_xy c_xz c_yy c_yz c_zz, the
+ *              gravity integral's part included); may be NULL (and must be
+ *              NULL when trk_cols is 7)
+ * 17 xcov      output, 9 ntrk: X_e row-major at xcov[9 e .. 9 e + 8] (row
+ *              i the x, y, z of dW_e, column j those of dW_f, f > e, m^2/s^2);
+ *              the last epoch's is 0 (none later); may be NULL (and must be
+ *              NULL when cov is NULL)
+ * 18 dw_dtau   output of 3 ntrk values, epoch-major: dW / dtau as
+ *              igea_dw_compute's 17; may be NULL
+ * 19 bad       output, 1 int: as igea_dw_compute's 18
+ * Returns as igea_dw_compute (outputs untouched on failure).
+ */
+IGEA_API int igea_dw_compute_k(const double *site, int system, int kind, const double *q0,
+                               double time_offset, int ntel, const double *tel, int ldtel,
+                               int tel_cols, int frame, int ntrk, const double *trk, int ldtrk,
+                               int trk_cols, double *dw, double *cov, double *xcov,
+                               double *dw_dtau, int *bad);
 
 /*
  * The summary of a result of igea_dw_compute:

@@ -276,8 +276,14 @@ IGEA_API int igea_envfun_compute_user(int system, int nsamp, const double *traj,
  * W from the pad velocity w x r0 of the stated point, the vehicle left the
  * true one. A constant in the velocity kinds (also at t_0), c t in the
  * position, and in the gravity-coupled kinds the initial velocity error
- * w_L x e_k with the initial position error e_k. The other columns are
- * those of igea_envfun_compute_user.
+ * w_L x e_k with the initial position error e_k. Their frame rotation is
+ * the ellipsoid's at the site, and the velocity kind adds the tracking's
+ * first gravity interval (igea_dw_compute's path starts at the stated pad).
+ * In the gravity-coupled kinds every column couples through the site's J2
+ * gradient (igea_nav_gravity_li) along a nominal path that leaves the pad
+ * at its inertial velocity w x r0 in LI (the flown path: without the site
+ * the path starts at rest, a point-mass field). The other columns of the
+ * velocity and position kinds are those of igea_envfun_compute_user.
  * Arguments (1-based positions, as the -i status names them):
  *  1-15        as igea_envfun_compute_user (positions 1-15)
  * 16 site      IGEA_NAV_SITE_LEN values (igea_nav_site, igea/nav.h): the
@@ -302,6 +308,12 @@ IGEA_API int igea_envfun_compute_site(int system, int nsamp, const double *traj,
  * the reference velocity in the rotated launch frame exp(-[theta x]), the
  * lever arm adds -(C (w x l) - its value at t_0), the size effect adds
  * e_j (w' x r + w x (w x r))_j with w' dt the rate increment).
+ * The launch-point errors are the sphere model of the columns without a
+ * site (igea_envfun_compute_user: theta = -(dx / R) e_z + (dz / R) e_x,
+ * R = 6371 km, no Earth rate, no gravity): their truth, to which those
+ * columns agree to second order. With a site the launch point's truth is
+ * the raw records (igea_sim_raw, igea_dw_compute), against which
+ * igea_envfun_compute_site's columns agree to second order.
  *  1 system, 2 nsamp, 3 traj, 4 ldt   as igea_sim_nonlinear
  *  5 nerr       IGEA_ENVFUN_TERM_COUNT <= nerr <= igea_envfun_term_count()
  *  6 err        nerr values: the error of each code in SI units; codes not

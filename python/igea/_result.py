@@ -233,6 +233,7 @@ CLASS = {
     "DwResult": {
         "dw": "(3 n_epochs,) velocity differences epoch-major x, y, z, m/s",
         "cov": "(n_epochs, 6) c_xx c_xy c_xz c_yy c_yz c_zz in LI, or None",
+        "xcov": "(n_epochs, 3, 3) Cov(dW_e, dW_f) for every later epoch f, or None",
         "sigma": "(3 n_epochs,) square roots of the covariance's diagonal, or None",
         "dw_dtau": "(3 n_epochs,) dW / dtau, m/s^2 (the time_offset term's column)",
         "n_epochs": "epochs compared",

@@ -120,7 +120,9 @@ def envfun(traj, terms, epochs, *, system="strapdown", spec=None, axes=None,
     lat, lon, height, azimuth: the stated launch point (degrees, m, as
     igea.dw's), all of lat, lon, azimuth or none: the launch-point terms
     pos0_* then hold the stated pad velocity's error too and the _g kinds
-    use the site's J2 gravity (igea_envfun_compute_site, docs/envfun.md).
+    use the site's J2 gravity along the path that leaves the pad at its
+    inertial velocity, the flown one (igea_envfun_compute_site,
+    docs/envfun.md).
     Rows are epoch-major (x, y, z of epoch 0, then epoch 1, ...).
     """
     sys_code = _system_code(system)

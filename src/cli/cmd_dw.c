@@ -11,7 +11,8 @@
 #define DEG (3.14159265358979323846 / 180.0)
 
 typedef struct {
-    const char *telemetry, *tracking, *q0, *out, *cov_out, *sigma_out, *offset_out, *k_out;
+    const char *telemetry, *tracking, *q0, *out, *cov_out, *sigma_out, *offset_out, *k_out,
+        *xcov_out;
     double lat, lon, height, azimuth, time_offset;
     int frame, system, kind, json, given_lat, given_lon, given_az;
 } dw_args;
@@ -33,6 +34,7 @@ static const cli_opt options[] = {
     {"--out", CLI_OPT_STR, &A.out, NULL, "FILE", "write dW there (3 rows per epoch, x y z; '-' is\nstandard output)", NULL},
     {"--cov-out", CLI_OPT_STR, &A.cov_out, NULL, "FILE", "the tracking covariance in LI, one row per epoch:\nc_xx c_xy c_xz c_yy c_yz c_zz", NULL},
     {"--k-out", CLI_OPT_STR, &A.k_out, NULL, "FILE", "the same covariance as igea eqerr --cov reads it (the\nblock K): one row per epoch, xx yx yy zx zy zz", NULL},
+    {"--xcov-out", CLI_OPT_STR, &A.xcov_out, NULL, "FILE", "the covariance of each epoch's dW with every later\none's (the gravity integral's, 28-column tracking):\none row per epoch, x_xx x_xy x_xz x_yx .. x_zz", NULL},
     {"--sigma-out", CLI_OPT_STR, &A.sigma_out, NULL, "FILE", "its per-row 1-sigma (for igea eqerr --sigma)", NULL},
     {"--time-offset-out", CLI_OPT_STR, &A.offset_out, NULL, "FILE", "the column dW/dtau of a remaining clock offset\n(term time_offset, to append to S)", NULL},
     {"--json", CLI_OPT_FLAG, &A.json, NULL, NULL, "machine-readable summary (field names as igea.dw)", NULL},
@@ -57,7 +59,8 @@ static const cli_command command = {"dw",
 "Tracking: t x y z vx vy vz (m, m/s, in --frame) and the velocity accuracy:\n"
 "nothing, one sigma, sigma_x sigma_y sigma_z, c_xx c_xy c_xz c_yy c_yz c_zz, or\n"
 "the 6 x 6 covariance of x y z vx vy vz (21 values, its upper triangle row by\n"
-"row; the position's part enters K through the Earth rate).\n"
+"row; the position's part enters K through the Earth rate and, apparent kind,\n"
+"through the gravity integral, which also correlates the epochs: --xcov-out).\n"
 "Epochs may be unequally spaced, with gaps; each must lie in the telemetry span.\n"
 "\n"
 "options:\n",
@@ -73,7 +76,7 @@ options,
 
 typedef struct {
     cli_matrix tel, trk;
-    double *telc, *trkc, *dw, *cov, *sigma, *col, *klow, q0[4], site[IGEA_NAV_SITE_LEN];
+    double *telc, *trkc, *dw, *cov, *xcov, *sigma, *col, *klow, q0[4], site[IGEA_NAV_SITE_LEN];
     int ntrk;
 } dw_run;
 
@@ -113,8 +116,9 @@ static int read_inputs(const dw_args *a, dw_run *r)
                   "13 (+ velocity covariance) or 28 (+ 6 x 6 covariance)", a->tracking, kc);
         return CLI_DATAERR;
     }
-    if (kc == 7 && (a->cov_out || a->sigma_out || a->k_out)) {
-        cli_error("--cov-out, --k-out, --sigma-out: %s holds no accuracy columns", a->tracking);
+    if (kc == 7 && (a->cov_out || a->sigma_out || a->k_out || a->xcov_out)) {
+        cli_error("--cov-out, --k-out, --sigma-out, --xcov-out: %s holds no accuracy columns",
+                  a->tracking);
         return CLI_USAGE;
     }
     if (r->tel.rows > 2147483647L || r->trk.rows > 715827882L)
@@ -127,8 +131,10 @@ static int read_inputs(const dw_args *a, dw_run *r)
     r->col = malloc(sizeof(double) * m);
     r->cov = malloc(sizeof(double) * 2 * m);
     r->klow = malloc(sizeof(double) * 2 * m);
+    r->xcov = malloc(sizeof(double) * 3 * m);
     r->sigma = malloc(sizeof(double) * m);
-    if (!r->telc || !r->trkc || !r->dw || !r->col || !r->cov || !r->sigma || !r->klow)
+    if (!r->telc || !r->trkc || !r->dw || !r->col || !r->cov || !r->sigma || !r->klow ||
+        !r->xcov)
         return cli_oom("the records");
     return CLI_OK;
 }
@@ -136,9 +142,10 @@ static int read_inputs(const dw_args *a, dw_run *r)
 static int compute(const dw_args *a, dw_run *r)
 {
     int bad = -1, kc = r->trk.cols;
-    int st = igea_dw_compute(r->site, a->system, a->kind, r->q0, a->time_offset, (int)r->tel.rows, r->telc,
-                             (int)r->tel.rows, r->tel.cols, a->frame, r->ntrk, r->trkc, r->ntrk,
-                             kc, r->dw, kc > 7 ? r->cov : NULL, r->col, &bad);
+    int st = igea_dw_compute_k(r->site, a->system, a->kind, r->q0, a->time_offset,
+                               (int)r->tel.rows, r->telc, (int)r->tel.rows, r->tel.cols, a->frame,
+                               r->ntrk, r->trkc, r->ntrk, kc, r->dw, kc > 7 ? r->cov : NULL,
+                               kc > 7 ? r->xcov : NULL, r->col, &bad);
     const double *t = r->telc, *k = r->trkc;
     long nt = r->tel.rows;
     switch (st) {
@@ -207,37 +214,42 @@ static void summary(FILE *f, const dw_args *a, const dw_run *r)
 
 static int write_outputs(const dw_args *a, const dw_run *r)
 {
-    cli_out o[5] = {CLI_OUT_INIT, CLI_OUT_INIT, CLI_OUT_INIT, CLI_OUT_INIT, CLI_OUT_INIT};
-    const char *paths[5] = {a->out, a->cov_out, a->sigma_out, a->offset_out, a->k_out};
-    const double *data[5] = {r->dw, r->cov, r->sigma, r->col, r->klow};
-    const int cols[5] = {1, 6, 1, 1, 6};
-    const char *head[5] = {
+    cli_out o[6] = {CLI_OUT_INIT, CLI_OUT_INIT, CLI_OUT_INIT,
+                    CLI_OUT_INIT, CLI_OUT_INIT, CLI_OUT_INIT};
+    const char *paths[6] = {a->out, a->cov_out, a->sigma_out, a->offset_out, a->k_out,
+                            a->xcov_out};
+    const double *data[6] = {r->dw, r->cov, r->sigma, r->col, r->klow, r->xcov};
+    const int cols[6] = {1, 6, 1, 1, 6, 9};
+    const char *head[6] = {
         "names dw\n# units m/s\n# rows epoch-major x y z, launch-inertial axes",
         "names c_xx c_xy c_xz c_yy c_yz c_zz\n# units m^2/s^2\n# one row per epoch, launch-inertial axes",
         "names sigma\n# units m/s\n# rows epoch-major x y z",
         "names time_offset\n# units m/s^2 (dW per s of clock offset)\n# rows epoch-major x y z",
         "names c_xx c_yx c_yy c_zx c_zy c_zz\n# units m^2/s^2\n# one row per epoch, launch-inertial "
-        "axes: the block K of igea eqerr --cov"};
+        "axes: the block K of igea eqerr --cov",
+        "names x_xx x_xy x_xz x_yx x_yy x_yz x_zx x_zy x_zz\n# units m^2/s^2\n# row e: Cov(dW_e, "
+        "dW_f) for every later epoch f (row axis of dW_e, column axis of dW_f), launch-inertial "
+        "axes; 0 in the last row"};
     for (int e = 0; a->k_out && e < r->ntrk; e++) { /* xx xy xz yy yz zz -> xx yx yy zx zy zz */
         static const int perm[6] = {0, 1, 3, 2, 4, 5};
         for (int i = 0; i < 6; i++)
             r->klow[6 * (size_t)e + i] = r->cov[6 * (size_t)e + perm[i]];
     }
     int n = 0, ec = CLI_OK;
-    for (int i = 0; i < 5 && !ec; i++) {
+    for (int i = 0; i < 6 && !ec; i++) {
         if (!paths[i])
             continue;
         if ((ec = cli_out_open(&o[n], paths[i])))
             break;
         size_t len = strlen(paths[i]);
         int npy = o[n].f != stdout && len >= 4 && !strcmp(paths[i] + len - 4, ".npy");
-        long rows = i == 1 || i == 4 ? r->ntrk : 3L * r->ntrk;
+        long rows = i == 1 || i >= 4 ? r->ntrk : 3L * r->ntrk;
         cli_write_matrix_body(o[n].f, npy, data[i], rows, cols[i], head[i]);
         n++;
     }
     if (!ec) {
         int to_stdout = 0;
-        for (int i = 0; i < 5; i++)
+        for (int i = 0; i < 6; i++)
             to_stdout |= paths[i] && !strcmp(paths[i], "-");
         summary(to_stdout ? stderr : stdout, a, r);
         ec = cli_stdout_check();
@@ -273,6 +285,7 @@ int cmd_dw(int argc, char **argv)
     free(r.dw);
     free(r.cov);
     free(r.klow);
+    free(r.xcov);
     free(r.sigma);
     free(r.col);
     return ec;

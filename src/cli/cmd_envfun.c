@@ -25,7 +25,7 @@ static const cli_opt options[] = {
     {"--spec", CLI_OPT_STR, &A.spec, NULL, "default|FILE", "multiply the columns by 1-sigma specs (default: raw S)", NULL},
     {"--axes", CLI_OPT_STR, &A.axes, NULL, "I,I,I,S,S,S", "platform gyro input and spin axes (0..2; default\n0,1,2,1,2,0)", NULL},
     {"--output", CLI_OPT_CHOICE, &A.output, "velocity", CLI_CHOICES(IGEA_CHOICE_ENVFUN_OUTPUT),
-     "the quantity (_g: with the gravity-gradient coupling,\npoint mass; J2 with --lat, --lon, --azimuth)", NULL},
+     "the quantity (_g: with the gravity-gradient coupling,\npoint mass; J2 along the flown path with --lat,\n--lon, --azimuth)", NULL},
     {"--lat", CLI_OPT_NUM, &A.lat, NULL, "DEG", "the stated launch point (as igea dw's): latitude;\nwith --lon, --azimuth the launch-point terms pos0_*\nalso hold the pad velocity's error (docs/envfun.md)", &A.given_lat},
     {"--lon", CLI_OPT_NUM, &A.lon, NULL, "DEG", "its longitude", &A.given_lon},
     {"--height", CLI_OPT_NUM, &A.height, "0", "M", "its ellipsoidal height", &A.given_h},

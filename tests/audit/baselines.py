@@ -123,6 +123,11 @@ DW_TEL = ('set:for (int k = 0; k < 101; k++) { b_[k] = 0.01 * k; for (int c = 1;
           'b_[k + 101 * c] = k ? (c < 4 ? 0.2 : 1e-4) : 0.0; }')
 DW_TRK = ('set:for (int e = 0; e < 5; e++) { b_[e] = 0.2 * (e + 1); for (int c = 1; c < 7; c++) '
           'b_[e + 5 * c] = 0.1 * c * (e + 1); b_[e + 35] = 0.01; }')
+# the same 5 epochs with a 6 x 6 position-velocity covariance (28 columns: its upper
+# triangle row by row, 1 on the diagonal, 0.1 off it)
+DW_TRK28 = ('set:for (int e = 0; e < 5; e++) { b_[e] = 0.2 * (e + 1); for (int c = 1; c < 7; c++) '
+            'b_[e + 5 * c] = 0.1 * c * (e + 1); for (int i = 0, c = 7; i < 6; i++) '
+            'for (int j = i; j < 6; j++, c++) b_[e + 5 * c] = i == j ? 1.0 : 0.1; }')
 
 BASE = {
     # ---- common
@@ -442,6 +447,14 @@ BASE = {
                             _int=dict(ntel='size', ntrk='size', tel_cols='enum', trk_cols='enum',
                                       frame='enum'),
                             _opt=['dw_dtau'], _progress=['bad']),
+    'igea_dw_compute_k': dict(site=NAV_SITE, system='IGEA_ENVFUN_STRAPDOWN', kind='IGEA_DW_APPARENT',
+                              q0='[1.0, 0.0, 0.0, 0.0]', time_offset='0.0', ntel='101', tel=DW_TEL,
+                              ldtel='ntel', tel_cols='7', frame='IGEA_NAV_LE', ntrk='5', trk=DW_TRK28,
+                              ldtrk='ntrk', trk_cols='28',
+                              _int=dict(ntel='size', ntrk='size', tel_cols='enum', trk_cols='enum',
+                                        frame='enum'),
+                              _opt=['dw_dtau', 'xcov', 'q0'], _null_any=['cov'],
+                              _progress=['bad']),
     # ---- sim
     'igea_sim_trajectory_length': dict(duration='10.0', rate='10.0'),
     'igea_sim_trajectory': dict(system='IGEA_ENVFUN_STRAPDOWN', duration='10.0', rate='10.0',

@@ -57,9 +57,11 @@ def records(flight, ne_expected=None, seed=3, **kw):
 def test_covariance_propagation():
     """dw's LI velocity covariance of a 28-column record equals A P A^T,
     A = [M [w x], M], M = C R(w t) (ECEF), to 1e-12 relative; the velocity
-    block alone (13 columns) misses the position's w x dr part."""
+    block alone (13 columns) misses the position's w x dr part. The
+    navigated kind's (the frame change alone; the apparent kind adds the
+    gravity integral's part, tests/python/test_dw_k.py)."""
     raw, P = records(0)
-    d = igea.dw(raw.telemetry, raw.tracking, **raw.dw_kwargs())
+    d = igea.dw(raw.telemetry, raw.tracking, **dict(raw.dw_kwargs(), kind="navigated"))
     C = launch_axes(raw.lat, raw.lon, raw.azimuth)
     wx = np.array([[0, -W_E, 0], [W_E, 0, 0], [0, 0, 0]])
     for e in (0, 57, raw.tracking.shape[0] - 1):
