@@ -784,6 +784,10 @@ static int run(integ *g, int nsamp, const double *traj, int ldt, int nepochs,
     double *out = g->vel_prev + nt3; /* 3 nepochs x nterms, ld = mrows */
     for (int a = 0; a < 3; a++)
         g->Wv[a] = g->rn[a] = g->vn[a] = 0.0;
+    if (g->site) { /* the nominal path leaves the pad with its inertial velocity w x r0 */
+        double zero[3] = {0.0, 0.0, 0.0}, r0[3];
+        igea_nav_transform(g->site, IGEA_NAV_LE, IGEA_NAV_LI, 0.0, zero, zero, r0, g->vn);
+    }
     for (int i = 0; i < 9; i++)
         g->Gm[i] = 0.0;
 

@@ -277,7 +277,9 @@ IGEA_API int igea_envfun_compute_user(int system, int nsamp, const double *traj,
  * true one. A constant in the velocity kinds (also at t_0), c t in the
  * position, and in the gravity-coupled kinds the initial velocity error
  * w_L x e_k with the initial position error e_k. The other columns are
- * those of igea_envfun_compute_user.
+ * those of igea_envfun_compute_user, but for the gravity-coupled kinds'
+ * gradient: the site's J2 field along the nominal path that leaves the pad
+ * with its inertial velocity w x r0 (the navigation's start).
  * Arguments (1-based positions, as the -i status names them):
  *  1-15        as igea_envfun_compute_user (positions 1-15)
  * 16 site      IGEA_NAV_SITE_LEN values (igea_nav_site, igea/nav.h): the
