@@ -790,6 +790,9 @@ PROTOTYPES = {
         ("radius", _PD),)),
     "igea_impact_component_miss": (c_int, (("N", c_int), ("n", c_int), ("G", _PD), ("ldg", c_int),
         ("E", _PD), ("lde", c_int), ("P", _PD), ("ldp", c_int), ("equiv", _PD), ("miss", _PD),)),
+    "igea_impact_burnout": (c_int, (("system", c_int), ("nsamp", c_int), ("traj", _PD),
+        ("ldt", c_int), ("nterms", c_int), ("terms", _PI), ("axes", _PI), ("spec", _PD),
+        ("site", _PD), ("tb", c_double), ("state", _PD), ("E", _PD), ("lde", c_int),)),
     # igea/inserr.h
     "igea_inserr_defaults": (c_int, (("opts", _PD),)),
     "igea_inserr_check_opts": (c_int, (("opts", _PD),)),
@@ -1180,6 +1183,7 @@ INPUTS = {
     "igea_impact_circle_prob_offset": ("cov", "mean",),
     "igea_impact_cep_offset": ("cov", "mean",),
     "igea_impact_component_miss": ("G", "E", "P", "equiv",),
+    "igea_impact_burnout": ("traj", "terms", "axes", "spec", "site",),
     "igea_inserr_check_opts": ("opts",),
     "igea_inserr_matrix": ("opts",),
     "igea_inserr_response": ("opts", "x0",),

@@ -332,6 +332,11 @@ BASE = {
     'igea_impact_cep_offset': dict(cov='[4.0, 1.0, 1.0, 2.0]', mean='[1.0, -0.5]', prob='0.5'),
     'igea_impact_component_miss': dict(N='3', n='2', G='u', ldg='2', E='u', lde='6', P='u',
                                        ldp='N', equiv='u'),
+    'igea_impact_burnout': dict(system='IGEA_ENVFUN_STRAPDOWN', nsamp='101', traj=TRAJ,
+                                ldt='nsamp', nterms='3', terms='[0, 15, 24]', axes='NULL',
+                                spec='pos', site=NAV_SITE, tb='7.35', lde='6',
+                                _opt=['spec', 'axes'], _null_any=['E'], _zero_ok=['nterms'],
+                                _int=dict(nterms='nonneg', lde='ld')),
     # ---- triad
     'igea_triad_check_opts': dict(opts=TRIAD_OPTS, _nan_ok=['opts'], _inf_ok=['opts'],
                                   _req=['opts']),
