@@ -9,7 +9,7 @@
 typedef struct {
     const char *burnout, *errors, *names, *out, *terms, *spec;
     double prob, opts[IGEA_IMPACT_OPT_LEN];
-    int model, json;
+    int model, json, given_spec;
     cli_burnout_args bo; /* --burnout-time, --traj and the launch point */
 } im_args;
 
@@ -31,7 +31,7 @@ static const cli_opt options[] = {
     CLI_BURNOUT_OPTIONS(A.bo, "with --terms the\nburnout errors of the terms there: the budget"),
     {"--terms", CLI_OPT_STR, &A.terms, NULL, "LIST", "the error terms of the budget: names, 'default'\n"
      "(the 21-term model) or 'all' (see igea envfun --list)", NULL},
-    {"--spec", CLI_OPT_STR, &A.spec, "default", "default|FILE", "their 1-sigma specs: the catalogue's, or a file of\none per term", NULL},
+    {"--spec", CLI_OPT_STR, &A.spec, "default", "default|FILE", "their 1-sigma specs: the catalogue's, or a file of\none per term", &A.given_spec},
     CLI_HEAD("error budget:"),
     {"--errors", CLI_OPT_STR, &A.errors, NULL, "FILE", "6 rows (x y z vx vy vz) by n columns: the burnout\n"
      "state error of each independent term at 1 sigma", NULL},
@@ -267,6 +267,8 @@ int cmd_impact(int argc, char **argv)
     if (a.bo.given_time && a.errors)
         return cli_usage("impact: --errors and --burnout-time are alternatives (--terms gives "
                          "the errors there)");
+    if (!a.terms && a.given_spec)
+        return cli_usage("impact: --spec needs --terms (the specs of the budget's terms)");
     if (!a.bo.given_time && a.terms)
         return cli_usage("impact: --terms needs --burnout-time (the burnout from a trajectory)");
     if (a.terms && a.names)

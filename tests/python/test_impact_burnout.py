@@ -333,3 +333,6 @@ def test_impact_budget_from_burnout_time(tmp_path):
     assert r.returncode == 64 and "alternatives" in r.stderr
     r = drv("impact", "--terms", "default", "--burnout", "1,2,3,4,5,6")
     assert r.returncode == 64 and "--burnout-time" in r.stderr
+    r = drv("impact", "--burnout-time", 120, "--traj", d / "traj.txt", *SITE_ARGS, "--spec",
+            "default")
+    assert r.returncode == 64 and "--terms" in r.stderr
