@@ -66,7 +66,7 @@ options,
 "  igea impact --burnout 5561563.2,980653.6,3260504.4,-495.5,3461.9,4875.4\n"
 "  igea impact --burnout b.txt --model j2 --errors E.txt --names acc_bias_x,gyro_bias_y --json\n"
 "the budget of the 21-term model at 100 s of a simulated flight:\n"
-"  igea simulate --dir flight --save-traj\n"
+"  mkdir -p flight && igea simulate --dir flight --save-traj\n"
 "  igea impact --burnout-time 100 --traj flight/traj.txt --lat 40.96 --lon 100.29 \\\n"
 "      --height 1000 --azimuth 30 --terms default\n"};
 
