@@ -527,7 +527,7 @@ typedef struct {
 } cli_burnout_args;
 #define CLI_BURNOUT_OPTIONS(b, what)                                                           \
     {"--burnout-time", CLI_OPT_NUM, &(b).time, NULL, "T", "the burnout at T s of the trajectory --traj flown\n" \
-     "from the launch point by the nav core, and " what, &(b).given_time},                     \
+     "from the launch point by the nav core, and\n" what, &(b).given_time},                   \
     {"--traj", CLI_OPT_STR, &(b).traj, NULL, "FILE", "the trajectory (t f3 w3 q4 rows, as igea envfun\n"      \
      "reads it; t_0 the lift-off)", NULL},                                                     \
     {"--lat", CLI_OPT_NUM, &(b).lat, NULL, "DEG", "the launch point: latitude", &(b).given_lat}, \

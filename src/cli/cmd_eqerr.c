@@ -162,9 +162,9 @@ static const cli_opt eqerr_options[] = {
      "(ECEF, m and m/s, as igea impact); the report adds the\nmiss (Kepler) of each tested component", NULL},
     {"--burnout-errors", CLI_OPT_STR, &EA.burnout_errors, NULL, "FILE", "6 rows (x y z vx vy vz, ECEF) by N columns: the\n"
      "burnout state error per unit of each column of S as\njudged (times its spec with --spec)", NULL},
-    CLI_BURNOUT_OPTIONS(EA.bo, "the errors of S's terms\n"
-                        "(named by --names or its header) there: the miss of\n"
-                        "each tested component, instead of --burnout and\n--burnout-errors"),
+    CLI_BURNOUT_OPTIONS(EA.bo, "the errors of S's terms (named by --names or its\n"
+                        "header) there: the miss of each tested component,\n"
+                        "instead of --burnout and --burnout-errors"),
     CLI_VERDICT_OPT(&EA.verdict),
     {"--names", CLI_OPT_STR, &EA.names, NULL, "LIST", "comma-separated term names, one per column of S\n"
      "(default: the '# name name ...' header of a text S, as\nigea envfun and simulate write it)", NULL},

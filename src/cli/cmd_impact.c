@@ -28,7 +28,8 @@ static const cli_opt options[] = {
     {"--step", CLI_OPT_NUM, &A.opts[IGEA_IMPACT_OPT_STEP], CLI_DEF_LIB, "S", "J2 integration step (s)", NULL},
     {"--tmax", CLI_OPT_NUM, &A.opts[IGEA_IMPACT_OPT_TMAX], CLI_DEF_LIB, "S", "longest flight searched (s)", NULL},
     CLI_HEAD("or the burnout from a trajectory (instead of --burnout and --errors):"),
-    CLI_BURNOUT_OPTIONS(A.bo, "with --terms the\nburnout errors of the terms there: the budget"),
+    CLI_BURNOUT_OPTIONS(A.bo, "with --terms the burnout errors of the terms\n"
+                        "there: the budget"),
     {"--terms", CLI_OPT_STR, &A.terms, NULL, "LIST", "the error terms of the budget: names, 'default'\n"
      "(the 21-term model) or 'all' (see igea envfun --list)", NULL},
     {"--spec", CLI_OPT_STR, &A.spec, "default", "default|FILE", "their 1-sigma specs: the catalogue's, or a file of\none per term", &A.given_spec},
