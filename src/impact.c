@@ -2,10 +2,13 @@
  * form, J2 integrated), its Jacobian, the miss budget and the CEP
  * (include/igea/impact.h, docs/impact.md). */
 #include <float.h>
+#include <limits.h>
 #include <math.h>
 #include <string.h>
 
+#include "igea/envfun.h"
 #include "igea/impact.h"
+#include "igea/nav.h"
 #include "internal.h"
 
 #define IMPACT_PI 3.14159265358979323846
@@ -859,5 +862,158 @@ int igea_impact_component_miss(int N, int n, const double *G, int ldg, const dou
     if (!st)
         memcpy(miss, out, 2 * (size_t)n * sizeof *miss);
     free(out);
+    return st;
+}
+
+/* ---- the burnout state and its errors from a trajectory [D] --------------- */
+
+/* Sample k of traj: t, f, w. */
+static double traj_sample(const double *traj, int ldt, int k, double *f, double *w)
+{
+    for (int a = 0; a < 3; a++) {
+        f[a] = IGEA_AT(traj, ldt, k, 1 + a);
+        w[a] = IGEA_AT(traj, ldt, k, 4 + a);
+    }
+    return IGEA_AT(traj, ldt, k, 0);
+}
+
+/* The error-free navigation of the trajectory from the site to tb (checked
+ * to lie in [t_0, t_last]): the increments are the trapezoids of the
+ * sampled f and w over each interval (igea_sim_raw's telemetry), the last
+ * interval cut at tb with the linear interpolants; the LI state at tb into
+ * ECEF. 0 or IGEA_ENONFINITE. */
+static int burnout_state(int system, int nsamp, const double *traj, int ldt,
+                         const double *site, double tb, double *state)
+{
+    double st[IGEA_NAV_STATE_LEN], q[4], fp[3], wp[3], t0 = IGEA_AT(traj, ldt, 0, 0);
+    int sd = system == IGEA_ENVFUN_STRAPDOWN;
+    for (int i = 0; i < 4; i++)
+        q[i] = IGEA_AT(traj, ldt, 0, 7 + i);
+    if (igea_nav_init(system, site, IGEA_NAV_GRAVITY_J2, 0, t0, sd ? q : NULL, NULL, NULL, st))
+        return IGEA_ENONFINITE;
+    traj_sample(traj, ldt, 0, fp, wp);
+    for (int k = 1; k < nsamp && st[IGEA_NAV_STATE_T] < tb - 1e-9; k++) {
+        double f[3], w[3], dv[3], dth[3], tp = st[IGEA_NAV_STATE_T];
+        double t = traj_sample(traj, ldt, k, f, w), s = 1.0;
+        if (t > tb && fabs(t - tb) > 1e-9) { /* a partial step to tb */
+            s = (tb - tp) / (t - tp);
+            for (int a = 0; a < 3; a++) {
+                f[a] = fp[a] + s * (f[a] - fp[a]);
+                w[a] = wp[a] + s * (w[a] - wp[a]);
+            }
+            t = tb;
+        }
+        for (int a = 0; a < 3; a++) {
+            dv[a] = 0.5 * (t - tp) * (fp[a] + f[a]);
+            dth[a] = 0.5 * (t - tp) * (wp[a] + w[a]);
+        }
+        if (igea_nav_step(st, t, dv, sd ? dth : NULL))
+            return IGEA_ENONFINITE;
+        memcpy(fp, f, sizeof fp);
+        memcpy(wp, w, sizeof wp);
+    }
+    double r[3], v[3];
+    if (igea_nav_transform(site, IGEA_NAV_LI, IGEA_NAV_ECEF, st[IGEA_NAV_STATE_T] - t0,
+                           st + IGEA_NAV_STATE_R, st + IGEA_NAV_STATE_V, r, v))
+        return IGEA_ENONFINITE;
+    memcpy(state, r, sizeof r);
+    memcpy(state + 3, v, sizeof v);
+    return finite_n(state, 6) ? 0 : IGEA_ENONFINITE;
+}
+
+/* The gravity-coupled position and velocity functions at tb (LI) into
+ * ECEF (6 x nterms, ld 6): dr_E = M dr, dv_E = M dv - w x dr_E. The
+ * statuses of igea_envfun_compute_site in this function's positions. */
+static int burnout_errors(int system, int nsamp, const double *traj, int ldt, int nterms,
+                          const int *terms, const int *axes, const double *spec,
+                          const double *site, double tb, double *E)
+{
+    double *S = igea__dalloc(6 * (size_t)nterms), M[9];
+    if (!S)
+        return IGEA_ENOMEM;
+    int st = 0;
+    for (int kind = 0; kind < 2 && !st; kind++)
+        st = igea_envfun_compute_site(system, nsamp, traj, ldt, nterms, terms, axes, 0, NULL,
+                                      NULL, nsamp, 1, &tb, spec,
+                                      kind ? IGEA_ENVFUN_VELOCITY_G : IGEA_ENVFUN_POSITION_G,
+                                      site, S + 3 * (size_t)nterms * kind, 3);
+    if (st == -14 || st == -16) /* spec, site */
+        st = st == -14 ? -8 : -9;
+    else if (st == -13) /* the epoch: tb */
+        st = -10;
+    if (!st && igea_nav_rotation(site, IGEA_NAV_LI, IGEA_NAV_ECEF, tb - IGEA_AT(traj, ldt, 0, 0),
+                                 M))
+        st = -9;
+    for (int j = 0; j < nterms && !st; j++) {
+        const double *dr = S + 3 * (size_t)j, *dv = S + 3 * ((size_t)nterms + j);
+        double *e = E + 6 * (size_t)j;
+        for (int a = 0; a < 3; a++) {
+            e[a] = M[3 * a] * dr[0] + M[3 * a + 1] * dr[1] + M[3 * a + 2] * dr[2];
+            e[3 + a] = M[3 * a] * dv[0] + M[3 * a + 1] * dv[1] + M[3 * a + 2] * dv[2];
+        }
+        e[3] += IGEA_NAV_OMEGA * e[1]; /* - w x dr_E, w = (0, 0, omega) */
+        e[4] -= IGEA_NAV_OMEGA * e[0];
+        if (!finite_n(e, 6))
+            st = IGEA_ENONFINITE;
+    }
+    free(S);
+    return st;
+}
+
+int igea_impact_burnout(int system, int nsamp, const double *traj, int ldt, int nterms,
+                        const int *terms, const int *axes, const double *spec,
+                        const double *site, double tb, double *state, double *E, int lde)
+{
+    if (system != IGEA_ENVFUN_STRAPDOWN && system != IGEA_ENVFUN_PLATFORM)
+        return -1;
+    if (nsamp < 2)
+        return -2;
+    if (!traj)
+        return -3;
+    if (ldt < nsamp)
+        return -4;
+    if (nterms < 0 || nterms > INT_MAX / 6)
+        return -5;
+    if (nterms > 0 && !terms)
+        return -6;
+    double M[9];
+    if (igea_nav_rotation(site, IGEA_NAV_LI, IGEA_NAV_ECEF, 0.0, M))
+        return -9;
+    if (!state)
+        return -11;
+    if (nterms > 0 && !E)
+        return -12;
+    if (nterms > 0 && lde < 6)
+        return -13;
+    for (int j = 0; j < nterms; j++)
+        if (!igea_envfun_term_valid(system, terms[j]))
+            return -6;
+    if (!igea__finite_mat(nsamp, IGEA_ENVFUN_TRAJ_COLS, traj, ldt))
+        return IGEA_ENONFINITE;
+    for (int k = 1; k < nsamp; k++)
+        if (!(IGEA_AT(traj, ldt, k, 0) > IGEA_AT(traj, ldt, k - 1, 0)))
+            return -3;
+    if (!(tb >= IGEA_AT(traj, ldt, 0, 0) && tb <= IGEA_AT(traj, ldt, nsamp - 1, 0)))
+        return isnan(tb) ? IGEA_ENONFINITE : -10;
+    if (system == IGEA_ENVFUN_STRAPDOWN)
+        for (int k = 0; k < nsamp; k++) {
+            double n2 = 0.0;
+            for (int i = 0; i < 4; i++)
+                n2 += IGEA_AT(traj, ldt, k, 7 + i) * IGEA_AT(traj, ldt, k, 7 + i);
+            if (!(n2 > 1e-200))
+                return IGEA_EDOMAIN;
+        }
+    double s[6], *e = NULL;
+    if (nterms > 0 && !(e = igea__dalloc(6 * (size_t)nterms)))
+        return IGEA_ENOMEM;
+    int st = burnout_state(system, nsamp, traj, ldt, site, tb, s);
+    if (!st && nterms > 0)
+        st = burnout_errors(system, nsamp, traj, ldt, nterms, terms, axes, spec, site, tb, e);
+    if (!st) {
+        memcpy(state, s, sizeof s);
+        for (int j = 0; j < nterms; j++)
+            memcpy(E + (size_t)j * (size_t)lde, e + 6 * (size_t)j, 6 * sizeof(double));
+    }
+    free(e);
     return st;
 }

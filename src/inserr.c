@@ -285,14 +285,7 @@ int igea_inserr_covariance(const double *opts, const double *P0, const double *q
     return propagate(opts, Q, NS2, p, duration, n, P);
 }
 
-/* The stationary standard deviation of the Gauss-Markov bias whose Allan
- * deviation peaks at the flicker floor of bias instability B [D]:
- * sqrt(2 ln 2 / pi) over the peak of a unit-variance GM's Allan deviation,
- * max over x = tau / T of sqrt((2 / x^2)(x - (3 - 4 e^-x + e^-2x) / 2)) =
- * 0.6173642831 at x = 1.8926 (scipy's bounded Brent minimisation). */
-#define GM_OF_B (0.6642824702679601 / 0.6173642831444414)
-
-static int noise_args(const double *acc, const double *gyro)
+int igea__inserr_noise_args(const double *acc, const double *gyro)
 {
     if (!igea__finite_vec(IGEA_INSERR_NOISE_LEN, acc, 1) ||
         !igea__finite_vec(IGEA_INSERR_NOISE_LEN, gyro, 1))
@@ -303,23 +296,25 @@ static int noise_args(const double *acc, const double *gyro)
     return 0;
 }
 
-/* The Gauss-Markov run's densities, stationary P0 and whether any B > 0;
- * IGEA_EDOMAIN for a B > 0 without its correlation time. */
-static int gm_terms(const double *o, const double *acc, const double *gyro, double *q,
-                    double *P0, int *any)
+int igea__inserr_noise_split(const double *tc, const double *acc, const double *gyro,
+                             double *qw, double *qg, double *P0g, int *any)
 {
     const double *tri[2] = {acc, gyro};
-    const double tc[2] = {o[IGEA_INSERR_OPT_ACC_TC], o[IGEA_INSERR_OPT_GYRO_TC]};
     *any = 0;
+    for (int i = 0; i < IGEA_INSERR_NQ; i++)
+        qw[i] = qg[i] = 0.0;
     for (int s = 0; s < 2; s++)
         for (int i = 0; i < 3; i++) {
-            double sd = GM_OF_B * tri[s][IGEA_INSERR_NOISE_B + i];
+            double n = tri[s][IGEA_INSERR_NOISE_N + i], k = tri[s][IGEA_INSERR_NOISE_K + i];
+            qw[3 * s + i] = n * n;
+            qw[6 + 3 * s + i] = k * k;
+            double sd = IGEA__INSERR_GM_OF_B * tri[s][IGEA_INSERR_NOISE_B + i];
             if (sd == 0)
                 continue;
             if (!(tc[s] > 0))
                 return IGEA_EDOMAIN;
-            q[6 + 3 * s + i] = 2.0 * sd * sd / tc[s];
-            P0[(9 + 3 * s + i) * (NS + 1)] = sd * sd;
+            qg[6 + 3 * s + i] = 2.0 * sd * sd / tc[s];
+            P0g[(9 + 3 * s + i) * (NS + 1)] = sd * sd;
             *any = 1;
         }
     return 0;
@@ -339,22 +334,17 @@ int igea_inserr_noise_covariance(const double *opts, const double *P0, const dou
         return st;
     if (!P)
         return -7;
-    if ((P0 && (st = igea__inserr_check_p0(P0))) || (st = noise_args(acc, gyro)))
+    if ((P0 && (st = igea__inserr_check_p0(P0))) || (st = igea__inserr_noise_args(acc, gyro)))
         return st;
-    double qw[IGEA_INSERR_NQ] = {0}, qg[IGEA_INSERR_NQ] = {0}, o0[IGEA_INSERR_OPT_LEN];
+    double qw[IGEA_INSERR_NQ], qg[IGEA_INSERR_NQ], o0[IGEA_INSERR_OPT_LEN];
+    const double tc[2] = {opts[IGEA_INSERR_OPT_ACC_TC], opts[IGEA_INSERR_OPT_GYRO_TC]};
     double *pg = calloc(NS2, sizeof *pg);
     if (!pg)
         return IGEA_ENOMEM;
     int any;
-    if ((st = gm_terms(opts, acc, gyro, qg, pg, &any))) {
+    if ((st = igea__inserr_noise_split(tc, acc, gyro, qw, qg, pg, &any))) {
         free(pg);
         return st;
-    }
-    for (int i = 0; i < 3; i++) {
-        qw[i] = acc[IGEA_INSERR_NOISE_N + i] * acc[IGEA_INSERR_NOISE_N + i];
-        qw[3 + i] = gyro[IGEA_INSERR_NOISE_N + i] * gyro[IGEA_INSERR_NOISE_N + i];
-        qw[6 + i] = acc[IGEA_INSERR_NOISE_K + i] * acc[IGEA_INSERR_NOISE_K + i];
-        qw[9 + i] = gyro[IGEA_INSERR_NOISE_K + i] * gyro[IGEA_INSERR_NOISE_K + i];
     }
     memcpy(o0, opts, sizeof o0);
     o0[IGEA_INSERR_OPT_ACC_TC] = o0[IGEA_INSERR_OPT_GYRO_TC] = 0.0;

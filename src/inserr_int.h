@@ -12,4 +12,25 @@ int igea__inserr_check_p0(const double *P0);
  * symmetric), F and Q row-major; y updated in place. */
 void igea__inserr_rk4(const double *F, const double *Q, int m, double h, double *y);
 
+/* The stationary standard deviation s = GM_OF_B B of the Gauss-Markov bias
+ * whose Allan deviation peaks at the flicker floor of bias instability B
+ * [D]: sqrt(2 ln 2 / pi) over the peak of a unit-variance GM's Allan
+ * deviation, max over x = tau / T of sqrt((2 / x^2)(x - (3 - 4 e^-x +
+ * e^-2x) / 2)) = 0.6173642831 at x = 1.8926 (scipy's bounded Brent
+ * minimisation). */
+#define IGEA__INSERR_GM_OF_B (0.6642824702679601 / 0.6173642831444414)
+
+/* The coefficient arrays acc, gyro (IGEA_INSERR_NOISE_LEN each): 0,
+ * IGEA_ENONFINITE or IGEA_ENONPOSITIVE. */
+int igea__inserr_noise_args(const double *acc, const double *gyro);
+
+/* The split of IEEE Std 952 coefficients into the two runs of the noise
+ * covariance: qw (IGEA_INSERR_NQ) the white and random-walk densities N^2,
+ * K^2; qg the Gauss-Markov driving densities 2 s^2 / T in the bias slots
+ * and P0g (15 x 15, zeroed by the caller) its stationary diag(s^2) on the
+ * bias states; *any = 1 when some B > 0. tc[2] the accelerometer and gyro
+ * correlation times; IGEA_EDOMAIN for a B > 0 whose tc is 0. */
+int igea__inserr_noise_split(const double *tc, const double *acc, const double *gyro,
+                             double *qw, double *qg, double *P0g, int *any);
+
 #endif

@@ -23,6 +23,7 @@ typedef struct {
     int sd, nsamp, ldtel;
     const double *tel;
     double st[IGEA_NAV_STATE_LEN];
+    double tc[2]; /* correlation times of the accelerometer and gyro bias states (0: none) */
 } li_ref;
 
 static double tel_at(const li_ref *r, int k, int col) { return r->tel[(size_t)col * (size_t)r->ldtel + (size_t)k]; }
@@ -42,6 +43,7 @@ static int ref_init(li_ref *r, int system, const double *site, int gravity, int 
     if (ldtel < nsamp)
         return -6;
     r->sd = system == IGEA_ENVFUN_STRAPDOWN;
+    r->tc[0] = r->tc[1] = 0.0;
     r->nsamp = nsamp;
     r->ldtel = ldtel;
     r->tel = tel;
@@ -96,6 +98,9 @@ static int ref_step(li_ref *r, int k, double *A, double *Ca, double *Cg)
             A[(6 + i) * NS + 12 + j] = Cg[i * 3 + j];
         }
     }
+    /* Gauss-Markov bias states: d(b)/dt = -b / T */
+    for (int i = 0; i < 6; i++)
+        A[(9 + i) * NS + 9 + i] = r->tc[i / 3] > 0 ? -1.0 / r->tc[i / 3] : 0.0;
     /* f x phi = [f x] phi */
     A[3 * NS + 7] = -f[2];
     A[3 * NS + 8] = f[1];
@@ -225,4 +230,136 @@ int igea_inserr_li_covariance(int system, const double *site, int gravity, int n
     for (int i = 0; i < NS2; i++)
         p[i] = P0 ? 0.5 * (P0[i] + P0[(i % NS) * NS + i / NS]) : 0.0;
     return run(&r, q, NS2, p, nepochs, epochs, P, 12);
+}
+
+/* ---- Gauss-Markov bias states and the noise of an Allan fit [D] ---------- */
+
+/* ref_init for the functions with opts at position 4: the positions from 4
+ * on are one further; the correlation times from opts. */
+static int ref_init_opts(li_ref *r, int system, const double *site, int gravity,
+                         const double *opts, int nsamp, const double *tel, int ldtel,
+                         const double *q0, const double *r0, const double *v0)
+{
+    if (system != IGEA_ENVFUN_STRAPDOWN && system != IGEA_ENVFUN_PLATFORM)
+        return -1;
+    if (!site)
+        return -2;
+    if (gravity != IGEA_NAV_GRAVITY_POINT_MASS && gravity != IGEA_NAV_GRAVITY_J2)
+        return -3;
+    if (!opts || igea_inserr_check_opts(opts))
+        return -4;
+    int st = ref_init(r, system, site, gravity, nsamp, tel, ldtel, q0, r0, v0);
+    if (st <= -4 && st >= -9)
+        return st - 1;
+    if (st)
+        return st;
+    r->tc[0] = opts[IGEA_INSERR_OPT_ACC_TC];
+    r->tc[1] = opts[IGEA_INSERR_OPT_GYRO_TC];
+    return 0;
+}
+
+int igea_inserr_li_response_opts(int system, const double *site, int gravity,
+                                 const double *opts, int nsamp, const double *tel, int ldtel,
+                                 const double *q0, const double *r0, const double *v0,
+                                 const double *x0, int nepochs, const double *epochs,
+                                 double *x)
+{
+    li_ref r;
+    int st = ref_init_opts(&r, system, site, gravity, opts, nsamp, tel, ldtel, q0, r0, v0);
+    if (st)
+        return st;
+    if (!x0)
+        return -11;
+    if (!igea__finite_vec(NS, x0, 1))
+        return IGEA_ENONFINITE;
+    double y[NS];
+    memcpy(y, x0, sizeof y);
+    return run(&r, NULL, NS, y, nepochs, epochs, x, 12);
+}
+
+/* q (IGEA_INSERR_NQ) finite and >= 0: 0 or a status. */
+static int check_q(const double *q)
+{
+    if (!igea__finite_vec(IGEA_INSERR_NQ, q, 1))
+        return IGEA_ENONFINITE;
+    for (int i = 0; i < IGEA_INSERR_NQ; i++)
+        if (q[i] < 0)
+            return IGEA_ENONPOSITIVE;
+    return 0;
+}
+
+int igea_inserr_li_covariance_opts(int system, const double *site, int gravity,
+                                   const double *opts, int nsamp, const double *tel,
+                                   int ldtel, const double *q0, const double *r0,
+                                   const double *v0, const double *P0, const double *q,
+                                   int nepochs, const double *epochs, double *P)
+{
+    li_ref r;
+    int st = ref_init_opts(&r, system, site, gravity, opts, nsamp, tel, ldtel, q0, r0, v0);
+    if (st)
+        return st;
+    if (!q)
+        return -12;
+    if ((P0 && (st = igea__inserr_check_p0(P0))) || (st = check_q(q)))
+        return st;
+    double p[NS2];
+    for (int i = 0; i < NS2; i++)
+        p[i] = P0 ? 0.5 * (P0[i] + P0[(i % NS) * NS + i / NS]) : 0.0;
+    return run(&r, q, NS2, p, nepochs, epochs, P, 13);
+}
+
+int igea_inserr_li_noise_covariance(int system, const double *site, int gravity,
+                                    const double *opts, int nsamp, const double *tel,
+                                    int ldtel, const double *q0, const double *r0,
+                                    const double *v0, const double *P0, const double *acc,
+                                    const double *gyro, int nepochs, const double *epochs,
+                                    double *P)
+{
+    li_ref r;
+    int st = ref_init_opts(&r, system, site, gravity, opts, nsamp, tel, ldtel, q0, r0, v0);
+    if (st)
+        return st;
+    if (!acc)
+        return -12;
+    if (!gyro)
+        return -13;
+    if (nepochs < 1)
+        return -14;
+    if (!epochs)
+        return -15;
+    if (!P)
+        return -16;
+    if ((P0 && (st = igea__inserr_check_p0(P0))) || (st = igea__inserr_noise_args(acc, gyro)))
+        return st;
+    double qw[IGEA_INSERR_NQ], qg[IGEA_INSERR_NQ], *pg = calloc(NS2, sizeof *pg);
+    if (!pg)
+        return IGEA_ENOMEM;
+    int any;
+    if ((st = igea__inserr_noise_split(r.tc, acc, gyro, qw, qg, pg, &any))) {
+        free(pg);
+        return st;
+    }
+    size_t m = (size_t)nepochs * NS2;
+    double *buf = igea__dalloc(2 * m), p[NS2];
+    if (!buf) {
+        free(pg);
+        return IGEA_ENOMEM;
+    }
+    /* the white noises and random walks with the bias states held (T = 0),
+     * from P0; then the Gauss-Markov biases, stationary from the start */
+    li_ref w = r;
+    w.tc[0] = w.tc[1] = 0.0;
+    for (int i = 0; i < NS2; i++)
+        p[i] = P0 ? 0.5 * (P0[i] + P0[(i % NS) * NS + i / NS]) : 0.0;
+    st = run(&w, qw, NS2, p, nepochs, epochs, buf, 14);
+    if (!st && any)
+        st = run(&r, qg, NS2, pg, nepochs, epochs, buf + m, 14);
+    if (!st) {
+        for (size_t i = 0; any && i < m; i++)
+            buf[i] += buf[m + i];
+        memcpy(P, buf, sizeof(double) * m);
+    }
+    free(buf);
+    free(pg);
+    return st;
 }

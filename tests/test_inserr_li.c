@@ -63,9 +63,13 @@ static void qdcm(const double *q, double *C)
 }
 
 /* The nonlinear navigation with errors e (x0 layout) minus the one
- * without, at the epochs: dr, dv (LI) and phi from C_e C^T = I - [phi x]. */
-static void nonlinear(const double *site, int n, const double *tel, const double *q0,
-                      const double *e, const int *idx, double *d)
+ * without, at the epochs: dr, dv (LI) and phi from C_e C^T = I - [phi x].
+ * tc NULL: constant biases, b h per interval; else Gauss-Markov biases
+ * b(t) = b e^(-t / T) (T = tc[0] accelerometers, tc[1] gyros), each
+ * interval's increment getting the exact integral b T (e^(-t_{k-1} / T) -
+ * e^(-t_k / T)). */
+static void nonlinear_tc(const double *site, int n, const double *tel, const double *q0,
+                         const double *e, const double *tc, const int *idx, double *d)
 {
     double s0[IGEA_NAV_STATE_LEN], s1[IGEA_NAV_STATE_LEN], zero[3] = {0, 0, 0}, v0[3], r1[3], v1[3];
     double qe[4], q1[4], half = 0.0;
@@ -87,7 +91,12 @@ static void nonlinear(const double *site, int n, const double *tel, const double
             double dv[3], dth[3], dve[3], dthe[3], h = tel[k] - tel[k - 1];
             for (int i = 0; i < 3; i++) {
                 dv[i] = tel[(size_t)(1 + i) * n + k], dth[i] = tel[(size_t)(4 + i) * n + k];
-                dve[i] = dv[i] + e[9 + i] * h, dthe[i] = dth[i] + e[12 + i] * h;
+                double ia = h, ig = h;
+                if (tc) {
+                    ia = tc[0] * (exp(-tel[k - 1] / tc[0]) - exp(-tel[k] / tc[0]));
+                    ig = tc[1] * (exp(-tel[k - 1] / tc[1]) - exp(-tel[k] / tc[1]));
+                }
+                dve[i] = dv[i] + e[9 + i] * ia, dthe[i] = dth[i] + e[12 + i] * ig;
             }
             assert_int_equal(igea_nav_step(s0, tel[k], dv, dth), 0);
             assert_int_equal(igea_nav_step(s1, tel[k], dve, dthe), 0);
@@ -109,6 +118,12 @@ static void nonlinear(const double *site, int n, const double *tel, const double
         dj[6] = (M[5] - M[7]) / 2.0, dj[7] = (M[6] - M[2]) / 2.0, dj[8] = (M[1] - M[3]) / 2.0;
         j++;
     }
+}
+
+static void nonlinear(const double *site, int n, const double *tel, const double *q0,
+                      const double *e, const int *idx, double *d)
+{
+    nonlinear_tc(site, n, tel, q0, e, NULL, idx, d);
 }
 
 /* The largest |nonlinear - linear| of each block (position, velocity,
@@ -324,6 +339,146 @@ static void test_invalid(void **s)
     free(tel);
 }
 
+/* ---- Gauss-Markov bias states --------------------------------------------- */
+
+/* igea_inserr_li_response_opts with correlation times 40 s (accelerometers)
+ * and 25 s (gyros) against the nonlinear navigation with decaying biases:
+ * below 1 % of the response, second order (halving the errors quarters the
+ * mismatch); the bias states are b0 e^(-t / T) to the Runge-Kutta
+ * truncation (1e-10 relative). */
+static void test_gm_response_second_order(void **s)
+{
+    (void)s;
+    int n, idx[NEP];
+    double q0[4], site[IGEA_NAV_SITE_LEN], ep[NEP], opts[IGEA_INSERR_OPT_LEN];
+    double *tel = boost_tel(&n, q0);
+    assert_int_equal(igea_nav_site(40.0 * DEG, 100.0 * DEG, 1000.0, 60.0 * DEG, site), 0);
+    assert_int_equal(igea_inserr_defaults(opts), 0);
+    opts[IGEA_INSERR_OPT_ACC_TC] = 40.0;
+    opts[IGEA_INSERR_OPT_GYRO_TC] = 25.0;
+    const double tc[2] = {40.0, 25.0};
+    for (int j = 0; j < NEP; j++)
+        ep[j] = j * DUR / (NEP - 1), idx[j] = (int)(ep[j] * RATE + 0.5);
+    double e[NS] = {5.0, -3.0, 2.0, 0.1, -0.05, 0.08, 1e-4, -2e-4, 1.5e-4,
+                    4e-3, -2e-3, 3e-3, 3e-5, -4e-5, 3e-5};
+    double dmax[2][3], lmax[2][3];
+    for (int pass = 0; pass < 2; pass++) {
+        double x[NEP * NS], d[NEP * 9], es[NS];
+        for (int i = 0; i < NS; i++)
+            es[i] = pass ? e[i] / 2.0 : e[i];
+        assert_int_equal(igea_inserr_li_response_opts(0, site, IGEA_NAV_GRAVITY_J2, opts, n, tel,
+                                                      n, q0, NULL, NULL, es, NEP, ep, x), 0);
+        nonlinear_tc(site, n, tel, q0, es, tc, idx, d);
+        for (int b = 0; b < 3; b++)
+            dmax[pass][b] = lmax[pass][b] = 0.0;
+        for (int j = 0; j < NEP; j++) {
+            for (int i = 0; i < 9; i++) {
+                dmax[pass][i / 3] = fmax(dmax[pass][i / 3], fabs(d[j * 9 + i] - x[j * NS + i]));
+                lmax[pass][i / 3] = fmax(lmax[pass][i / 3], fabs(x[j * NS + i]));
+            }
+            for (int i = 9; i < 15; i++)
+                assert_close(x[j * NS + i], es[i] * exp(-ep[j] / tc[(i - 9) / 3]), 1e-10);
+        }
+    }
+    for (int b = 0; b < 3; b++) {
+        double ratio = dmax[0][b] / dmax[1][b];
+        if (getenv("IGEA_TEST_VERBOSE"))
+            fprintf(stderr, "block %d: response %.4g, mismatch %.4g, halved %.4g, ratio %.4f\n",
+                    b, lmax[0][b], dmax[0][b], dmax[1][b], ratio);
+        assert_true(dmax[0][b] < 1e-2 * lmax[0][b]);
+        assert_true(ratio > 3.8 && ratio < 4.2);
+    }
+    free(tel);
+}
+
+/* Closed forms of the bias block: a Gauss-Markov state from P0 = 0 driven
+ * by q has variance q T / 2 (1 - e^(-2 t / T)); the noise of an Allan fit
+ * has s^2 + K^2 t, s = 1.07600 B (stationary from the start); with B = 0
+ * the noise covariance is igea_inserr_li_covariance's with q = N^2, K^2
+ * bit for bit, and with every correlation time 0 the _opts functions are
+ * the plain ones. */
+static void test_gm_covariance_closed_forms(void **s)
+{
+    (void)s;
+    int n;
+    double q0[4], site[IGEA_NAV_SITE_LEN], ep[NEP], opts[IGEA_INSERR_OPT_LEN];
+    double *tel = boost_tel(&n, q0);
+    double *P = malloc(sizeof(double) * NEP * NS * NS), *P2 = malloc(sizeof(double) * NEP * NS * NS);
+    assert_int_equal(igea_nav_site(40.0 * DEG, 100.0 * DEG, 1000.0, 60.0 * DEG, site), 0);
+    assert_int_equal(igea_inserr_defaults(opts), 0);
+    for (int j = 0; j < NEP; j++)
+        ep[j] = j * DUR / (NEP - 1);
+    /* the plain functions are the _opts ones with both times 0 */
+    const double qn[IGEA_INSERR_NQ] = {1e-6, 2e-6, 0.5e-6, 1e-10, 0.5e-10, 2e-10,
+                                       1e-10, 2e-10, 1e-10, 1e-14, 1e-14, 2e-14};
+    double x0[NS] = {1, 2, 3, 0.1, 0.2, 0.3, 1e-4, 2e-4, 3e-4, 1e-3, 2e-3, 3e-3, 1e-5, 2e-5, 3e-5};
+    double x1[NEP * NS], x2[NEP * NS];
+    assert_int_equal(igea_inserr_li_response(0, site, 1, n, tel, n, q0, NULL, NULL, x0, NEP, ep, x1), 0);
+    assert_int_equal(igea_inserr_li_response_opts(0, site, 1, opts, n, tel, n, q0, NULL, NULL, x0, NEP, ep, x2), 0);
+    assert_memory_equal(x1, x2, sizeof x1);
+    assert_int_equal(igea_inserr_li_covariance(0, site, 1, n, tel, n, q0, NULL, NULL, NULL, qn, NEP, ep, P), 0);
+    assert_int_equal(igea_inserr_li_covariance_opts(0, site, 1, opts, n, tel, n, q0, NULL, NULL, NULL, qn, NEP, ep, P2), 0);
+    assert_memory_equal(P, P2, sizeof(double) * NEP * NS * NS);
+    /* N and K only: the noise covariance is the covariance of q = N^2, K^2 */
+    double acc[IGEA_INSERR_NOISE_LEN] = {0}, gyro[IGEA_INSERR_NOISE_LEN] = {0};
+    for (int i = 0; i < 3; i++) {
+        acc[IGEA_INSERR_NOISE_N + i] = sqrt(qn[i]), gyro[IGEA_INSERR_NOISE_N + i] = sqrt(qn[3 + i]);
+        acc[IGEA_INSERR_NOISE_K + i] = sqrt(qn[6 + i]), gyro[IGEA_INSERR_NOISE_K + i] = sqrt(qn[9 + i]);
+    }
+    double qs[IGEA_INSERR_NQ];
+    for (int i = 0; i < 3; i++) {
+        qs[i] = acc[i] * acc[i], qs[3 + i] = gyro[i] * gyro[i];
+        qs[6 + i] = acc[6 + i] * acc[6 + i], qs[9 + i] = gyro[6 + i] * gyro[6 + i];
+    }
+    assert_int_equal(igea_inserr_li_covariance(0, site, 1, n, tel, n, q0, NULL, NULL, NULL, qs, NEP, ep, P), 0);
+    assert_int_equal(igea_inserr_li_noise_covariance(0, site, 1, opts, n, tel, n, q0, NULL, NULL, NULL, acc, gyro, NEP, ep, P2), 0);
+    assert_memory_equal(P, P2, sizeof(double) * NEP * NS * NS);
+    /* a Gauss-Markov state from 0 */
+    opts[IGEA_INSERR_OPT_ACC_TC] = 30.0;
+    opts[IGEA_INSERR_OPT_GYRO_TC] = 70.0;
+    double qg[IGEA_INSERR_NQ] = {0};
+    qg[7] = 4e-9, qg[11] = 3e-15;
+    assert_int_equal(igea_inserr_li_covariance_opts(0, site, 1, opts, n, tel, n, q0, NULL, NULL, NULL, qg, NEP, ep, P), 0);
+    for (int j = 0; j < NEP; j++) {
+        const double *Pj = P + (size_t)j * NS * NS;
+        assert_close(Pj[10 * NS + 10], 4e-9 * 30.0 / 2.0 * (1.0 - exp(-2.0 * ep[j] / 30.0)), 1e-9);
+        assert_close(Pj[14 * NS + 14], 3e-15 * 70.0 / 2.0 * (1.0 - exp(-2.0 * ep[j] / 70.0)), 1e-9);
+        assert_true(Pj[9 * NS + 9] == 0.0 && (j == 0 || Pj[0] > 0.0));
+    }
+    /* bias instability: stationary s^2, plus K^2 t */
+    acc[IGEA_INSERR_NOISE_B + 1] = 5e-5, gyro[IGEA_INSERR_NOISE_B + 2] = 2e-7;
+    assert_int_equal(igea_inserr_li_noise_covariance(0, site, 1, opts, n, tel, n, q0, NULL, NULL, NULL, acc, gyro, NEP, ep, P), 0);
+    /* s = 1.07600 B (docs/inserr.md; tests/python/test_inserr_noise.py
+     * recomputes the Allan peak): s^2 to 1e-5 */
+    const double sa = 1.07600 * 5e-5, sg = 1.07600 * 2e-7;
+    for (int j = 0; j < NEP; j++) {
+        const double *Pj = P + (size_t)j * NS * NS;
+        assert_close(Pj[10 * NS + 10], sa * sa + qn[7] * ep[j], 1e-5);
+        assert_close(Pj[14 * NS + 14], sg * sg + qn[11] * ep[j], 1e-5);
+        assert_close(Pj[9 * NS + 9], qn[6] * ep[j], 1e-12);
+    }
+    /* a B > 0 without its correlation time */
+    opts[IGEA_INSERR_OPT_GYRO_TC] = 0.0;
+    fill_sentinel(P, NEP * NS * NS);
+    assert_int_equal(igea_inserr_li_noise_covariance(0, site, 1, opts, n, tel, n, q0, NULL, NULL, NULL, acc, gyro, NEP, ep, P), IGEA_EDOMAIN);
+    assert_true(all_sentinel(P, NEP * NS * NS));
+    /* arguments: opts at 4, the others one further */
+    opts[IGEA_INSERR_OPT_GYRO_TC] = 0.5; /* not 0 nor in [1, 1e9] */
+    assert_int_equal(igea_inserr_li_response_opts(0, site, 1, opts, n, tel, n, q0, NULL, NULL, x0, NEP, ep, x2), -4);
+    opts[IGEA_INSERR_OPT_GYRO_TC] = 70.0;
+    assert_int_equal(igea_inserr_li_response_opts(0, site, 1, opts, 1, tel, n, q0, NULL, NULL, x0, NEP, ep, x2), -5);
+    assert_int_equal(igea_inserr_li_response_opts(0, site, 1, opts, n, tel, n - 1, q0, NULL, NULL, x0, NEP, ep, x2), -7);
+    assert_int_equal(igea_inserr_li_response_opts(0, site, 1, opts, n, tel, n, q0, NULL, NULL, NULL, NEP, ep, x2), -11);
+    assert_int_equal(igea_inserr_li_covariance_opts(0, site, 1, opts, n, tel, n, q0, NULL, NULL, NULL, NULL, NEP, ep, P), -12);
+    assert_int_equal(igea_inserr_li_noise_covariance(0, site, 1, opts, n, tel, n, q0, NULL, NULL, NULL, acc, NULL, NEP, ep, P), -13);
+    assert_int_equal(igea_inserr_li_noise_covariance(0, site, 1, opts, n, tel, n, q0, NULL, NULL, NULL, acc, gyro, 0, ep, P), -14);
+    ep[1] = 1.01;
+    assert_int_equal(igea_inserr_li_noise_covariance(0, site, 1, opts, n, tel, n, q0, NULL, NULL, NULL, acc, gyro, NEP, ep, P), -15);
+    free(P);
+    free(P2);
+    free(tel);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -331,6 +486,8 @@ int main(void)
         cmocka_unit_test(test_gyro_white_noise),
         cmocka_unit_test(test_noise_montecarlo),
         cmocka_unit_test(test_invalid),
+        cmocka_unit_test(test_gm_response_second_order),
+        cmocka_unit_test(test_gm_covariance_closed_forms),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

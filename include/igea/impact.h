@@ -211,6 +211,54 @@ IGEA_API int igea_impact_component_miss(int N, int n, const double *G, int ldg,
                                         const double *E, int lde, const double *P, int ldp,
                                         const double *equiv, double *miss);
 
+/*
+ * The burnout state and the burnout state error of each error term, from a
+ * trajectory, its launch point and a burnout time [D] (docs/impact.md,
+ * "From a burnout time").
+ * The state: the nav core (igea/nav.h) flies the trajectory from the
+ * launch point (igea_nav_init at t_0, the lift-off: the pad's inertial
+ * velocity, J2 gravity, the attitude the trajectory's first quaternion)
+ * with the trapezoid increments of the sampled f and w (igea_sim_raw's
+ * telemetry), the interval holding tb cut there with the linear
+ * interpolants of f and w (a sample within 1e-9 s of tb is taken as tb);
+ * its LI position and velocity at tb are turned into ECEF at tb - t_0
+ * (igea_nav_transform: the Earth has turned by w (tb - t_0); the velocity
+ * relative to the Earth), the burnout of igea_impact_point.
+ * The errors: column j of E is the navigation's burnout error (computed
+ * minus true) per unit of term j (times spec_j): the gravity-coupled
+ * position and velocity environment functions of the term at tb
+ * (igea_envfun_compute_site, IGEA_ENVFUN_POSITION_G and _VELOCITY_G with
+ * the site: a navigation computes gravity at its erroneous position, so
+ * the burnout error holds G dr besides the integrated apparent velocity),
+ * turned into ECEF with M = igea_nav_rotation(site, LI, ECEF, tb - t_0):
+ *   dr_E = M dr_LI,   dv_E = M dv_LI - w x dr_E   (w = IGEA_NAV_OMEGA e_z).
+ * The miss of term j is then G E_j (igea_impact_budget,
+ * igea_impact_component_miss): the error of the impact point predicted
+ * from the navigated burnout state.
+ *  1 system (IGEA_ENVFUN_STRAPDOWN or IGEA_ENVFUN_PLATFORM), 2 nsamp >= 2,
+ *  3 traj (nsamp x 11 column-major, igea/envfun.h: finite, t strictly
+ *  increasing, t_0 the lift-off; strapdown quaternions of non-zero norm),
+ *  4 ldt >= nsamp: as igea_envfun_compute
+ *  5 nterms >= 0 (0: the state only)
+ *  6 terms: nterms codes valid for the system (may be NULL when nterms is 0)
+ *  7 axes: platform gyro axes as igea_envfun_compute, or NULL
+ *  8 spec: nterms 1-sigma specs (> 0) multiplying the columns, or NULL
+ *  9 site: IGEA_NAV_SITE_LEN values (igea_nav_site), the launch point
+ * 10 tb: the burnout time, s, in [t_0, t_last] of traj
+ * Outputs: 11 state[6]: x y z (m) vx vy vz (m/s, relative to the Earth),
+ *  ECEF at tb; 12 E (6 x nterms column-major, rows x y z vx vy vz; not
+ *  written when nterms is 0, may then be NULL); 13 lde >= 6 (read only
+ *  when nterms > 0).
+ * Returns 0, -i (-10: tb outside the trajectory), IGEA_ENONFINITE (traj
+ * or spec holds NaN or Inf, tb is NaN, or a result would), IGEA_ENONPOSITIVE
+ * (a spec <= 0), IGEA_EDOMAIN (a quaternion of zero norm where it is read),
+ * IGEA_ENOMEM; outputs untouched on failure.
+ */
+IGEA_API int igea_impact_burnout(int system, int nsamp, const double *traj, int ldt, int nterms,
+                                 const int *terms, const int *axes, const double *spec,
+                                 const double *site, double tb, double *state, double *E,
+                                 int lde);
+
 #ifdef __cplusplus
 }
 #endif

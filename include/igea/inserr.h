@@ -269,6 +269,96 @@ IGEA_API int igea_inserr_li_covariance(int system, const double *site, int gravi
                                        const double *q, int nepochs, const double *epochs,
                                        double *P);
 
+/*
+ * Gauss-Markov bias states along a trajectory [D] (docs/inserr.md, "Along
+ * a trajectory": bias instability). The functions below take the options
+ * array of the local-level model (argument 4, opts [IGEA_INSERR_OPT_LEN],
+ * checked by igea_inserr_check_opts) and read from it only the correlation
+ * times IGEA_INSERR_OPT_ACC_TC and _GYRO_TC (the Earth and the trajectory
+ * are the nav core's: radius, g, omega, lat, the velocities, step and
+ * vertical do not apply here). A correlation time T > 0 makes the three
+ * bias states of those instruments first-order Gauss-Markov processes,
+ *   d(b)/dt = -b / T + w_b   (the row of A gets -1 / T),
+ * whose driving density is the q slot of that bias random walk and whose
+ * stationary variance is q T / 2; 0 keeps them constant or random walks,
+ * as igea_inserr_li_response and _covariance (which equal the functions
+ * below with both times 0). The other arguments, one position further on,
+ * are those of igea_inserr_li_response and _covariance.
+ */
+
+/*
+ * The deterministic error response along a trajectory with Gauss-Markov
+ * bias states: an initial bias b0 of x0 decays as b0 e^(-t / T).
+ *  1 system, 2 site, 3 gravity as igea_inserr_li_response; 4 opts; 5 nsamp,
+ *  6 tel, 7 ldtel; 8 q0 [4] (may be NULL), 9 r0 [3] (may be NULL), 10 v0
+ *  [3] (may be NULL); 11 x0 [IGEA_INSERR_N]; 12 nepochs, 13 epochs; output
+ *  14 x (nepochs x IGEA_INSERR_N row-major): as igea_inserr_li_response's
+ *  arguments 4-13.
+ * Returns as igea_inserr_li_response (its positions from 4 on one further;
+ * -4 invalid opts); x untouched on failure.
+ */
+IGEA_API int igea_inserr_li_response_opts(int system, const double *site, int gravity,
+                                          const double *opts, int nsamp, const double *tel,
+                                          int ldtel, const double *q0, const double *r0,
+                                          const double *v0, const double *x0, int nepochs,
+                                          const double *epochs, double *x);
+
+/*
+ * The error covariance along a trajectory with Gauss-Markov bias states:
+ * dP/dt = A P + P A^T + B diag(q) B^T over each interval from P(t_0) = P0,
+ * the bias slots of q (6..11) the driving densities of the bias states
+ * whose correlation time is > 0.
+ *  1 system, 2 site, 3 gravity; 4 opts; 5 nsamp, 6 tel, 7 ldtel; 8 q0 [4]
+ *  (may be NULL), 9 r0 [3] (may be NULL), 10 v0 [3] (may be NULL); 11 P0
+ *  (may be NULL: 0); 12 q [IGEA_INSERR_NQ]; 13 nepochs, 14 epochs; output
+ *  15 P: as igea_inserr_li_covariance's arguments 4-14.
+ * Returns as igea_inserr_li_covariance (its positions from 4 on one
+ * further; -4 invalid opts); P untouched on failure.
+ */
+IGEA_API int igea_inserr_li_covariance_opts(int system, const double *site, int gravity,
+                                            const double *opts, int nsamp, const double *tel,
+                                            int ldtel, const double *q0, const double *r0,
+                                            const double *v0, const double *P0,
+                                            const double *q, int nepochs,
+                                            const double *epochs, double *P);
+
+/*
+ * The error covariance along a trajectory for sensor noise given as IEEE
+ * Std 952 coefficients per instrument axis (the stability module's noise
+ * fit), as igea_inserr_noise_covariance does for the local-level model:
+ * white noise of density N^2, a random-walk bias of density K^2, and for
+ * bias instability B a stationary Gauss-Markov bias of correlation time T
+ * (opts' ACC_TC or GYRO_TC) and standard deviation s = 1.07600 B (its Allan
+ * deviation peaks at the flicker floor B sqrt(2 ln 2 / pi)) [D]. The model
+ * being linear, P is the sum of two runs of igea_inserr_li_covariance_opts:
+ * the densities N^2, K^2 with both correlation times 0 from P0, and the
+ * Gauss-Markov driving densities 2 s^2 / T from the stationary
+ * P0 = diag(s^2) on the bias states.
+ *  1 system, 2 site, 3 gravity; 4 opts (the correlation times, > 0 where a
+ *  B is > 0); 5 nsamp, 6 tel, 7 ldtel, 8 q0 [4] (may be NULL), 9 r0 [3]
+ *  (may be NULL), 10 v0 [3] (may be NULL) as igea_inserr_li_response; 11 P0 (15 x 15 as
+ *  igea_inserr_li_covariance, e.g. random constant biases; may be NULL: 0);
+ *  12 acc [IGEA_INSERR_NOISE_LEN] the accelerometers' N (m/s/sqrt(s)),
+ *  B (m/s^2), K (m/s^2/sqrt(s)) for the instrument axes x y z (body axes
+ *  for a strapdown system, platform axes for a platform); 13 gyro
+ *  [IGEA_INSERR_NOISE_LEN] the gyros' N (rad/sqrt(s)), B (rad/s),
+ *  K (rad/s/sqrt(s)), each >= 0; 14 nepochs >= 1; 15 epochs [nepochs] as
+ *  igea_inserr_li_response; output 16 P (nepochs x 225 values, row-major
+ *  at P[225 j ..]).
+ * Returns 0, -i, IGEA_ENONFINITE (NaN or Inf in tel, q0, r0, v0, P0, acc
+ * or gyro, or the reference navigation), IGEA_ENONPOSITIVE (a negative
+ * coefficient or diagonal of P0), IGEA_EDOMAIN (P0 not symmetric, or a
+ * B > 0 whose correlation time is 0), IGEA_ENOMEM or IGEA_EOVERFLOW; P
+ * untouched on failure.
+ */
+IGEA_API int igea_inserr_li_noise_covariance(int system, const double *site, int gravity,
+                                             const double *opts, int nsamp,
+                                             const double *tel, int ldtel, const double *q0,
+                                             const double *r0, const double *v0,
+                                             const double *P0, const double *acc,
+                                             const double *gyro, int nepochs,
+                                             const double *epochs, double *P);
+
 #ifdef __cplusplus
 }
 #endif

@@ -26,7 +26,7 @@ from .sim import Flight, MonteCarloPool, MonteCarloResult, montecarlo, reference
 from .campaign import campaign, campaign_montecarlo  # noqa: E402
 from .noise import NoiseEqerrResult  # noqa: E402
 from .accel import AccelApplied, AccelCriterion, AccelHistory, AccelHistoryFit, AccelDesignInfo, AccelFit, AccelHysteresis, AccelIeeeFit, AccelJoint, AccelRefine, accel_analyze, accel_apply, accel_criterion, accel_fit_history, accel_history, accel_ieee_fit, accel_hysteresis, accel_joint, accel_combinations, accel_design, accel_fit, accel_merge, accel_refine, accel_schedule, accel_simulate, accel_to_g  # noqa: E402,E501
-from .impact import ImpactBudget, ImpactResult, cep, cep_approx, circle_prob, component_miss, impact, impact_budget  # noqa: E402,E501
+from .impact import Burnout, ImpactBudget, ImpactResult, burnout, cep, cep_approx, circle_prob, component_miss, impact, impact_budget  # noqa: E402,E501
 from .triad import TriadResult, triad_apply, triad_calibrate, triad_fit, triad_static  # noqa: E402,E501
 from .triad import GyroResult, triad_gyro_apply, triad_gyro_fit  # noqa: E402
 from .io import MatrixFile, read_matrix  # noqa: E402

@@ -168,6 +168,9 @@ SHARED = {
     "components": "per tested component: dict(index, lambda, z, reject, terms [(name, share), "
                   "...] descending, loading, candidates)",
     "n_reject": "number of rejected components",
+    "component_miss": "(n_test, 2) downrange and crossrange miss of each tested component "
+                      "at its equivalent error (Kepler impact from the burnout), m; None "
+                      "without the burnout options",
     "residual_whitened": "True when residual, rms and whiteness are of the whitened rows "
                          "(the noise models)",
     "model": "the model name",
@@ -360,6 +363,12 @@ CLASS = {
         "down": "(3,) the downrange miss axis at the impact point",
         "cross": "(3,) the crossrange miss axis at the impact point",
         "miss_jacobian": "(2, 6): downrange and crossrange miss per unit of the burnout state"},
+    "Burnout": {
+        "burnout_time": "the burnout time, s of the trajectory",
+        "burnout": "(6,) burnout state x y z (m), vx vy vz (m/s, relative to the Earth), ECEF",
+        "terms": "the error terms' names",
+        "burnout_errors": "(6, N) burnout state error (navigation computed minus true, ECEF) "
+                          "per unit of each term times its spec"},
     "ImpactBudget": {
         "names": "the error terms' names",
         "miss": "(n, 2): downrange and crossrange miss of each term, m",

@@ -1,5 +1,6 @@
 """Equivalent-error accuracy assessment (seed 000, METHODS 1.2)."""
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import Optional
 
 import numpy as np
 
@@ -262,6 +263,8 @@ class EqerrResult(_Verdict):
                                # [(name, share), ...] descending, loading, candidates)
     residual_whitened: bool    # residual, rms and whiteness are of the whitened residuals
                                # (the noise models) or of dw - S D P_t Xhat_t
+    # (n_test, 2) downrange, crossrange miss of each tested component (burnout options), m
+    component_miss: Optional[np.ndarray] = field(default=None, kw_only=True)
 
     def summary(self):
         lines = ["rank %d of %d; lambda_1 = %.6e; %d component(s) tested"
@@ -275,6 +278,7 @@ class EqerrResult(_Verdict):
             lines.append("(no component test under the chi2 rule; precision = lambda^-1/2)")
         lines.append("")
         lines += _component_lines(self.components, getattr(self, "_names", []))
+        lines += _miss_lines(self)
         lines.append("")
         if self.flag == "off":
             lines.append("tracking-accuracy correction: off (c = 1)")
@@ -294,14 +298,76 @@ class EqerrResult(_Verdict):
 
     def _json_extra(self):
         # The keys of 'igea eqerr --json' that are not fields: the options
-        # the flight was judged with and its sizes (None when not known).
-        return {"n_reject": self.n_reject, "alpha": getattr(self, "_alpha", None),
-                "lambda_test": getattr(self, "_lambda_test", None),
-                "route": getattr(self, "_route", None), "rows": len(self.residual),
-                "n_terms": len(self.eigenvalues)}
+        # the flight was judged with and its sizes (None when not known);
+        # with the burnout options the burnout state (and its time).
+        d = {"n_reject": self.n_reject, "alpha": getattr(self, "_alpha", None),
+             "lambda_test": getattr(self, "_lambda_test", None),
+             "route": getattr(self, "_route", None), "rows": len(self.residual),
+             "n_terms": len(self.eigenvalues)}
+        if self.component_miss is not None:
+            d["burnout"] = getattr(self, "_burnout", None)
+            if getattr(self, "_burnout_time", None) is not None:
+                d["burnout_time"] = self._burnout_time
+        return d
+
+    @property
+    def _json_omit(self):
+        # the driver writes component_miss only with the burnout options
+        return () if self.component_miss is not None else ("component_miss",)
 
     def _noise_lines(self):
         return []
+
+
+def _miss_lines(r):
+    """The miss of each tested component (the driver's lines)."""
+    if r.component_miss is None:
+        return []
+    b = getattr(r, "_burnout", None)
+    lines = [] if b is None else [
+        "burnout (ECEF): %.3f %.3f %.3f m, %.4f %.4f %.4f m/s" % tuple(b)]
+    lines.append("miss at impact of each tested component at its equivalent error (Kepler):")
+    for i, (d, c) in enumerate(r.component_miss):
+        lines.append("  %3d  %10.4g m downrange  %10.4g m crossrange%s"
+                     % (i, d, c, "  (rejected)" if r.reject[i] else ""))
+    return lines
+
+
+def _burnout_miss(res, names, spec, burnout, burnout_errors, burnout_time, traj, lat, lon,
+                  height, azimuth, system, axes):
+    """res with component_miss (and the burnout state as context): G E p_i
+    x_i, G the Kepler miss Jacobian of the burnout state, E given
+    (burnout_errors) or the burnout errors of S's named terms at burnout_time
+    (igea_impact_burnout, times spec); as 'igea eqerr --burnout-time'."""
+    from .impact import _burnout_call, _site, component_miss, impact
+    where = "igea.eqerr"
+    N = len(res.eigenvalues)
+    if burnout_time is not None:
+        if burnout is not None or burnout_errors is not None:
+            raise ValueError(f"{where}: burnout_time and burnout, burnout_errors are "
+                             "alternatives")
+        if traj is None:
+            raise ValueError(f"{where}: burnout_time needs traj (the trajectory)")
+        if names is None:
+            raise ValueError(f"{where}: burnout_time needs the term names of S's columns "
+                             "(names=, or a data frame's columns)")
+        from .envfun import term_codes
+        codes = term_codes(list(names), system)
+        site = _site(where, lat, lon, height, azimuth)
+        state, E = _burnout_call(where, traj, codes, burnout_time, site, system, spec, axes)
+    else:
+        if burnout is None or burnout_errors is None:
+            raise ValueError(f"{where}: burnout and burnout_errors: give both or neither")
+        state = np.asarray(_lib.as_f64(burnout, "burnout", ndim=1, shape=(6,)))
+        E = _lib.as_f64(burnout_errors, "burnout_errors", ndim=2, shape=(6, N))
+    nt = res.n_test
+    miss = np.zeros((0, 2))
+    if nt > 0:
+        G = impact(state).miss_jacobian
+        miss = component_miss(G, E, res.eigenvectors[:, :nt], res.equiv_err[:nt])
+    object.__setattr__(res, "component_miss", miss)
+    return _attach(res, burnout=np.array(state, dtype=float),
+                   burnout_time=None if burnout_time is None else float(burnout_time))
 
 
 def _orientation(S, dw):
@@ -316,7 +382,9 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
           correction=None, route="eig", n_min=None, tol=None, max_iter=None,
           bias_correct=None, clamp=None, z_crit=None, rank_tol=None, verdict="seed",
           lags=20, names=None, cov=None, ar=None, ar_phi=None, groups=None, group_bias=None,
-          robust=None, robust_alpha=None, threads=None):
+          robust=None, robust_alpha=None, threads=None, burnout=None, burnout_errors=None,
+          burnout_time=None, traj=None, lat=None, lon=None, height=0.0, azimuth=None,
+          system="strapdown", axes=None):
     """Equivalent-error accuracy assessment of one flight (METHODS 1.2).
 
     S: (m, N) environment functions (rows epoch-major x, y, z), dw: (m,)
@@ -339,10 +407,30 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
     S may be a data frame (anything with .columns and .to_numpy(), e.g.
     pandas): its columns are the term names unless names is given; dw and
     sigma may then be Series on S's index and spec a Series on its columns
-    (put in S's order; other labels refused: igea/_frames.py)."""
+    (put in S's order; other labels refused: igea/_frames.py).
+    The miss of each tested component (opt-in; the result's component_miss,
+    (n_test, 2) downrange and crossrange, m, Kepler impact): burnout (6,)
+    the burnout state (ECEF) with burnout_errors (6, N) the burnout state
+    error per unit of each column of S as judged (times its spec), or
+    burnout_time (s) of the trajectory traj (as igea.envfun reads it) flown
+    from the launch point lat, lon, height, azimuth (degrees, m), S's
+    columns named by names as terms of system (axes: platform gyro axes):
+    igea.burnout's state and errors of those terms at spec (docs/impact.md)."""
     S, names, v = _frames.inputs(S, names, rows=(("dw", dw), ("sigma", sigma)),
                                  cols=(("spec", spec),))
     dw, sigma, spec = v["dw"], v["sigma"], v["spec"]
+    miss_kw = dict(burnout=burnout, burnout_errors=burnout_errors, burnout_time=burnout_time,
+                   traj=traj, lat=lat, lon=lon, height=height, azimuth=azimuth, system=system,
+                   axes=axes)
+    if burnout is not None or burnout_errors is not None or burnout_time is not None:
+        res = eqerr(S, dw, sigma, spec, alpha=alpha, lambda_test=lambda_test,
+                    lambda_small=lambda_small, correction=correction, route=route, n_min=n_min,
+                    tol=tol, max_iter=max_iter, bias_correct=bias_correct, clamp=clamp,
+                    z_crit=z_crit, rank_tol=rank_tol, verdict=verdict, lags=lags, names=names,
+                    cov=cov, ar=ar, ar_phi=ar_phi, groups=groups, group_bias=group_bias,
+                    robust=robust, robust_alpha=robust_alpha, threads=threads)
+        sp = None if spec is None else _lib.as_f64(spec, "spec", ndim=1)
+        return _burnout_miss(res, names, sp, **miss_kw)
     _orientation(S, dw)
     if any(v is not None for v in (cov, ar, ar_phi, groups, group_bias, robust, robust_alpha)):
         if route not in (None, "eig"):

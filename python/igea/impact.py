@@ -181,3 +181,92 @@ def component_miss(miss_jacobian, E, directions, equiv_err):
     _lib.call(where, "igea_impact_component_miss", N, n, _lib.dptr(G), 2, _lib.dptr(e), 6,
               _lib.dptr(P), N, _lib.dptr(x), _lib.dptr(miss))
     return miss
+
+
+@result
+@dataclass(frozen=True)
+class Burnout:
+    """igea.burnout: the burnout state of a trajectory flown from its
+    launch point and the burnout state error of each error term
+    (igea_impact_burnout, docs/impact.md "From a burnout time")."""
+    burnout_time: float
+    burnout: np.ndarray
+    terms: list
+    burnout_errors: np.ndarray
+
+    def summary(self):
+        b = self.burnout
+        lines = ["burnout at %g s (ECEF): %.3f %.3f %.3f m, %.4f %.4f %.4f m/s"
+                 % (self.burnout_time, *b),
+                 "%-16s" % "term" + "".join("%11s" % c for c in
+                                            ("x", "y", "z", "vx", "vy", "vz"))]
+        for j, name in enumerate(self.terms):
+            lines.append("%-16s" % name + "".join("%11.4g" % v for v in self.burnout_errors[:, j]))
+        return "\n".join(lines)
+
+
+def _site(where, lat, lon, height, azimuth):
+    if lat is None or lon is None or azimuth is None:
+        raise ValueError(f"{where}: the launch point needs lat, lon and azimuth (degrees)")
+    from .nav import nav_site
+    return nav_site(np.radians(float(lat)), np.radians(float(lon)), float(height),
+                    np.radians(float(azimuth)))
+
+
+def _burnout_call(where, traj, codes, burnout_time, site, system, spec, axes):
+    """igea_impact_burnout: the state (6,) and E (6, N)."""
+    from .envfun import _system_code
+    sc = _system_code(system)
+    tr = np.asfortranarray(_lib.as_f64(traj, "traj", ndim=2))
+    if tr.shape[1] != _capi.ENVFUN_TRAJ_COLS or tr.shape[0] < 2:
+        raise ValueError(f"traj: expected shape (n >= 2, {_capi.ENVFUN_TRAJ_COLS}), "
+                         f"got {tr.shape}")
+    n = len(codes)
+    c = np.ascontiguousarray(codes, dtype=np.intc)
+    sp = None if spec is None else np.ascontiguousarray(
+        _lib.as_f64(spec, "spec", ndim=1, shape=(n,)))
+    ax = None
+    if axes is not None:
+        ax = np.ascontiguousarray(axes, dtype=np.intc)
+        if ax.shape != (6,):
+            raise ValueError(f"axes: expected 6 ints, got shape {ax.shape}")
+    state, E = np.zeros(6), np.zeros((6, max(n, 1)), order="F")
+    _lib.call(where, "igea_impact_burnout", sc, tr.shape[0], _lib.dptr(tr), tr.shape[0], n,
+              _lib.iptr(c) if n else None, _lib.iptr(ax),
+              _lib.dptr(sp), _lib.dptr(site), float(burnout_time), _lib.dptr(state),
+              _lib.dptr(E) if n else None, 6)
+    return state, np.ascontiguousarray(E[:, :n])
+
+
+def burnout(traj, terms, burnout_time, *, lat=None, lon=None, height=0.0, azimuth=None,
+            system="strapdown", spec=None, axes=None):
+    """The burnout at burnout_time (s) of the trajectory traj (samples x
+    11, as igea.envfun reads it; t_0 the lift-off) flown by the nav core
+    from the launch point lat, lon (degrees), height (m) at azimuth
+    (degrees): the state burnout (6,: x y z m, vx vy vz m/s relative to the
+    Earth, ECEF), and for the error terms (names, 'default' or 'all'; may be
+    empty) their burnout errors (6, N) in ECEF: the gravity-coupled position
+    and velocity environment functions at burnout_time per unit of each
+    term, times spec (None: per unit; "default": the catalogue's 1-sigma;
+    or one per term); axes: platform gyro axes as igea.envfun's.
+    igea.impact(b.burnout) and igea.impact_budget(miss_jacobian,
+    b.burnout_errors, b.terms) give the miss budget."""
+    where = "igea.burnout"
+    from .envfun import STRAPDOWN_21, PLATFORM_21, _system_code, default_spec, term_codes
+    sc = _system_code(system)
+    if isinstance(terms, str) and terms in ("default", "all"):
+        if terms == "default":
+            names = list(STRAPDOWN_21 if sc == _capi.ENVFUN_STRAPDOWN else PLATFORM_21)
+        else:
+            from .envfun import term_table
+            names = list(term_table(system))
+    else:
+        names = [str(t) for t in terms]
+    codes = term_codes(names, system) if names else np.zeros(0, dtype=np.intc)
+    if isinstance(spec, str):
+        if spec != "default":
+            raise ValueError(f"spec: None, 'default' or one 1-sigma per term, got {spec!r}")
+        spec = default_spec(names, system) if names else None
+    site = _site(where, lat, lon, height, azimuth)
+    state, E = _burnout_call(where, traj, codes, burnout_time, site, system, spec, axes)
+    return Burnout(float(burnout_time), state, names, E)

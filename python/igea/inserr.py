@@ -122,7 +122,7 @@ class NavErrorsLI:
     (n, 3) rad (the computed body-to-LI matrix is (I - [phi x]) C), the
     accelerometer biases acc_bias (n, 3) m/s^2 and gyro drifts gyro_drift
     (n, 3) rad/s in instrument axes; covariance (n, 15, 15) of the whole
-    state when noise q was given, else None."""
+    state when noise (q, acc_noise or gyro_noise) was given, else None."""
     system: str
     time: np.ndarray
     position: np.ndarray
@@ -134,7 +134,8 @@ class NavErrorsLI:
 
 
 def nav_errors_li(site, telemetry, *, epochs=None, system="strapdown", gravity="j2", q0=None,
-                  r0=None, v0=None, x0=None, acc_bias=None, gyro_drift=None, q=None, p0=None):
+                  r0=None, v0=None, x0=None, acc_bias=None, gyro_drift=None, q=None, p0=None,
+                  acc_noise=None, gyro_noise=None, acc_tc=None, gyro_tc=None):
     """The INS errors along the reference trajectory that the nav core
     computes from an error-free telemetry record (rows t dvx dvy dvz
     [dthx dthy dthz], row 0 the start; as igea.nav_navigate) from site
@@ -147,7 +148,15 @@ def nav_errors_li(site, telemetry, *, epochs=None, system="strapdown", gravity="
     instrument axis (accelerometer white (m/s)^2/s, gyro white rad^2/s,
     accelerometer-bias random walk (m/s^2)^2/s, gyro-drift random walk
     (rad/s)^2/s; see igea_inserr_li_covariance) from p0 (15, 15; None: 0).
-    epochs: sample times of the record (None: every sample)."""
+    epochs: sample times of the record (None: every sample).
+    acc_tc, gyro_tc (s; None or 0: none): correlation times that make the
+    bias states first-order Gauss-Markov (d(b)/dt = -b / T + w: an initial
+    bias decays, q's bias slots drive them; igea_inserr_li_response_opts,
+    _covariance_opts). acc_noise, gyro_noise instead of q: the noise as
+    IEEE Std 952 coefficients per instrument axis, as igea.nav_errors takes
+    them (a NoiseFit, N, B, K for every axis, or rows N, B, K by axis x y z;
+    bias instability B a stationary Gauss-Markov bias of correlation time
+    acc_tc or gyro_tc; igea_inserr_li_noise_covariance)."""
     where = "igea.nav_errors_li"
     sc = _lib.choice(_capi.CHOICE_ENVFUN_SYSTEM, system, where, "system")
     gc = _lib.choice(_capi.CHOICE_NAV_GRAVITY, gravity, where, "gravity")
@@ -167,18 +176,29 @@ def nav_errors_li(site, telemetry, *, epochs=None, system="strapdown", gravity="
         _lib.as_f64(x0, "x0", ndim=1, shape=(_capi.INSERR_N,)), dtype=float)
     x[_capi.INSERR_ACC:_capi.INSERR_ACC + 3] += _triple(acc_bias, "acc_bias")
     x[_capi.INSERR_GYRO:_capi.INSERR_GYRO + 3] += _triple(gyro_drift, "gyro_drift")
-    head = (sc, _lib.dptr(s), gc, n, _lib.dptr(tel), n, *[_lib.dptr(v) for v in opt])
+    by_fit = acc_noise is not None or gyro_noise is not None
+    if q is not None and by_fit:
+        raise ValueError(f"{where}: give q or acc_noise/gyro_noise, not both")
+    o = _lib.options("inserr", where, ("igea_inserr_li_response_opts", "opts"), acc_tc=acc_tc,
+                     gyro_tc=gyro_tc)
+    head = (sc, _lib.dptr(s), gc, _lib.dptr(o), n, _lib.dptr(tel), n,
+            *[_lib.dptr(v) for v in opt])
     out = np.zeros((max(ne, 1), _capi.INSERR_N))
-    _lib.call(where, "igea_inserr_li_response", *head, _lib.dptr(x), ne, _lib.dptr(ep),
+    _lib.call(where, "igea_inserr_li_response_opts", *head, _lib.dptr(x), ne, _lib.dptr(ep),
               _lib.dptr(out))
     cov = None
+    P0 = None if p0 is None else np.ascontiguousarray(
+        _lib.as_f64(p0, "p0", ndim=2, shape=(_capi.INSERR_N, _capi.INSERR_N)))
     if q is not None:
         qv = np.ascontiguousarray(_lib.as_f64(q, "q", ndim=1, shape=(_capi.INSERR_NQ,)))
-        P0 = None if p0 is None else np.ascontiguousarray(
-            _lib.as_f64(p0, "p0", ndim=2, shape=(_capi.INSERR_N, _capi.INSERR_N)))
         cov = np.zeros((ne, _capi.INSERR_N, _capi.INSERR_N))
-        _lib.call(where, "igea_inserr_li_covariance", *head, _lib.dptr(P0), _lib.dptr(qv), ne,
-                  _lib.dptr(ep), _lib.dptr(cov))
+        _lib.call(where, "igea_inserr_li_covariance_opts", *head, _lib.dptr(P0), _lib.dptr(qv),
+                  ne, _lib.dptr(ep), _lib.dptr(cov))
+    elif by_fit:
+        an, gn = _noise(acc_noise, "acc_noise"), _noise(gyro_noise, "gyro_noise")
+        cov = np.zeros((ne, _capi.INSERR_N, _capi.INSERR_N))
+        _lib.call(where, "igea_inserr_li_noise_covariance", *head, _lib.dptr(P0), _lib.dptr(an),
+                  _lib.dptr(gn), ne, _lib.dptr(ep), _lib.dptr(cov))
     sl = lambda a: out[:, a:a + 3].copy()  # noqa: E731
     name = "strapdown" if sc == _capi.ENVFUN_STRAPDOWN else "platform"
     return NavErrorsLI(name, ep.copy(), sl(0), sl(3), sl(6), sl(_capi.INSERR_ACC),

@@ -516,4 +516,34 @@ typedef struct {
 int cli_svg_rls_add(cli_svg_rows *r, const igea_rls *h, int m);
 int cli_svg_rls(const char *path, const cli_svg_rows *r, int m);
 
+/* ---- the burnout from a trajectory (burnout.c): igea eqerr and impact --- */
+/* --burnout-time T with --traj FILE, the launch point --lat --lon
+ * [--height] --azimuth (degrees, m; as igea envfun's), --system and the
+ * platform gyro --axes: igea_impact_burnout. */
+typedef struct {
+    const char *traj, *axes;
+    double time, lat, lon, height, azimuth;
+    int system, given_time, given_lat, given_lon, given_az;
+} cli_burnout_args;
+#define CLI_BURNOUT_OPTIONS(b, what)                                                           \
+    {"--burnout-time", CLI_OPT_NUM, &(b).time, NULL, "T", "the burnout at T s of the trajectory --traj flown\n" \
+     "from the launch point by the nav core, and\n" what, &(b).given_time},                   \
+    {"--traj", CLI_OPT_STR, &(b).traj, NULL, "FILE", "the trajectory (t f3 w3 q4 rows, as igea envfun\n"      \
+     "reads it; t_0 the lift-off)", NULL},                                                     \
+    {"--lat", CLI_OPT_NUM, &(b).lat, NULL, "DEG", "the launch point: latitude", &(b).given_lat}, \
+    {"--lon", CLI_OPT_NUM, &(b).lon, NULL, "DEG", "its longitude", &(b).given_lon},          \
+    {"--height", CLI_OPT_NUM, &(b).height, "0", "M", "its ellipsoidal height", NULL},        \
+    {"--azimuth", CLI_OPT_NUM, &(b).azimuth, NULL, "DEG", "the firing azimuth, from north toward east", &(b).given_az}, \
+    {"--system", CLI_OPT_CHOICE, &(b).system, "strapdown", CLI_CHOICES(IGEA_CHOICE_ENVFUN_SYSTEM), "the inertial system of the terms", NULL}, \
+    {"--axes", CLI_OPT_STR, &(b).axes, NULL, "I,I,I,S,S,S", "platform gyro input and spin axes (0..2; default\n0,1,2,1,2,0)", NULL}
+/* CLI_OK when --burnout-time was given with --traj, --lat, --lon and
+ * --azimuth (else a message naming the missing one and CLI_USAGE), or
+ * when none of these options was. */
+int cli_burnout_check(const char *cmd, const cli_burnout_args *b);
+/* The burnout state (6) and E (6 x n, column-major) of the n terms
+ * codes[] at spec (may be NULL) from the trajectory file: CLI_OK or a
+ * message (the time outside the trajectory, a bad file) and its code. */
+int cli_burnout_compute(const cli_burnout_args *b, int n, const int *codes, const double *spec,
+                        double *state, double *E);
+
 #endif

@@ -115,6 +115,7 @@ typedef struct {
     cli_noise_args na;                 /* their arguments */
     const char *plot; /* --plot FILE.svg */
     const char *burnout, *burnout_errors; /* --burnout, --burnout-errors: component miss */
+    cli_burnout_args bo;                  /* or --burnout-time with --traj and the site */
 } eqerr_args;
 
 /* The overall verdict rule, the same option in eqerr and test. */
@@ -161,6 +162,9 @@ static const cli_opt eqerr_options[] = {
      "(ECEF, m and m/s, as igea impact); the report adds the\nmiss (Kepler) of each tested component", NULL},
     {"--burnout-errors", CLI_OPT_STR, &EA.burnout_errors, NULL, "FILE", "6 rows (x y z vx vy vz, ECEF) by N columns: the\n"
      "burnout state error per unit of each column of S as\njudged (times its spec with --spec)", NULL},
+    CLI_BURNOUT_OPTIONS(EA.bo, "the errors of S's terms (named by --names or its\n"
+                        "header) there: the miss of each tested component,\n"
+                        "instead of --burnout and --burnout-errors"),
     CLI_VERDICT_OPT(&EA.verdict),
     {"--names", CLI_OPT_STR, &EA.names, NULL, "LIST", "comma-separated term names, one per column of S\n"
      "(default: the '# name name ...' header of a text S, as\nigea envfun and simulate write it)", NULL},
@@ -244,6 +248,12 @@ static int parse_eqerr(int argc, char **argv, eqerr_args *a)
     }
     if ((ec = parse_noise(a)))
         return ec;
+    if ((ec = cli_burnout_check("eqerr", &a->bo)))
+        return ec;
+    if (a->bo.given_time && (a->burnout || a->burnout_errors)) {
+        cli_error("eqerr: --burnout-time and --burnout, --burnout-errors are alternatives");
+        return CLI_USAGE;
+    }
     return cli_check_opts("eqerr", IGEA_MODULE_EQERR, igea_eqerr_check_opts(a->opts));
 }
 
@@ -434,6 +444,7 @@ typedef struct {
      * residuals in nr.resid; NULL nr.lambda for the plain route */
     cli_noise_result nr;
     double *cmiss; /* --burnout: 2 x n_test miss of the tested components (m) */
+    double burnout[6]; /* the burnout state of the miss (ECEF) */
 } flight;
 
 static void flight_free(flight *r)
@@ -674,7 +685,7 @@ static void json_head(cli_json *j, const flight *r, const eqerr_args *a)
     cli_json_open(j, "residual", '[');
 }
 
-static void text_component_miss(FILE *f, const flight *r);
+static void text_component_miss(FILE *f, const eqerr_args *a, const flight *r);
 
 static void text_report(FILE *f, const flight *r, const eqerr_args *a)
 {
@@ -696,7 +707,7 @@ static void text_report(FILE *f, const flight *r, const eqerr_args *a)
         fprintf(f, "(no component test under the chi2 rule; precision = lambda^-1/2)\n\n");
     text_components(f, r);
     if (r->cmiss)
-        text_component_miss(f, r);
+        text_component_miss(f, a, r);
     fputc('\n', f);
     int flag = (int)info[IGEA_STATS_INFO_FLAG];
     if (flag == IGEA_STATS_SIGMAW_OFF)
@@ -962,13 +973,10 @@ static int json_copy(FILE *jf, FILE *out)
     return CLI_OK;
 }
 
-/* --burnout with --burnout-errors: the downrange and crossrange miss of
- * each tested component (igea_impact_component_miss, Kepler impact). */
-static int component_miss(const eqerr_args *a, flight *r)
+/* --burnout with --burnout-errors: the state and E as given. */
+static int burnout_given(const eqerr_args *a, const flight *r, double *s, double **E)
 {
-    int nt = (int)r->info[IGEA_STATS_INFO_N_TEST], rows = 0, cols = 0, n = 0, ec;
-    double s[6], opts[IGEA_IMPACT_OPT_LEN], rf[3], vf[3], jac[IGEA_IMPACT_JAC_ROWS * 6], G[12];
-    double *E = NULL;
+    int rows = 0, cols = 0, n = 0, ec;
     char **items = NULL;
     if (!a->burnout != !a->burnout_errors) {
         cli_error("--burnout, --burnout-errors: give both (the component miss) or neither");
@@ -983,12 +991,47 @@ static int component_miss(const eqerr_args *a, flight *r)
     for (int i = 0; !ec && i < 6; i++)
         ec = cli_parse_double("--burnout", items[i], &s[i]);
     free(items);
-    if (!ec && !(ec = cli_read_colmajor(a->burnout_errors, &E, &rows, &cols)) &&
+    if (!ec && !(ec = cli_read_colmajor(a->burnout_errors, E, &rows, &cols)) &&
         (rows != 6 || cols != r->N)) {
         cli_error("%s: %d x %d; the burnout errors are 6 rows (x y z vx vy vz) by the %d "
                   "columns of S", a->burnout_errors, rows, cols, r->N);
         ec = CLI_DATAERR;
     }
+    return ec;
+}
+
+/* --burnout-time: the state and E of S's named terms at its specs
+ * (igea_impact_burnout). */
+static int burnout_traj(const eqerr_args *a, const flight *r, double *s, double **E)
+{
+    int *codes = malloc(sizeof(int) * (size_t)r->N);
+    if (!codes || !(*E = malloc(sizeof(double) * 6 * (size_t)r->N))) {
+        free(codes);
+        return cli_oom("the burnout errors");
+    }
+    int ec = r->names ? CLI_OK : cli_usage("--burnout-time: the columns of S need their term "
+                                           "names (--names, or the '# name ...' header of S)");
+    for (int j = 0; j < r->N && !ec; j++)
+        if ((codes[j] = igea_envfun_term_code(a->bo.system, r->names[j])) < 0) {
+            cli_error("--burnout-time: column %d of S is '%s', not a %s term of the catalogue "
+                      "(give --burnout and --burnout-errors)", j, r->names[j],
+                      igea_choice_name(IGEA_CHOICE_ENVFUN_SYSTEM, a->bo.system));
+            ec = CLI_USAGE;
+        }
+    if (!ec)
+        ec = cli_burnout_compute(&a->bo, r->N, codes, r->spec, s, *E);
+    free(codes);
+    return ec;
+}
+
+/* The downrange and crossrange miss of each tested component
+ * (igea_impact_component_miss, Kepler impact from the burnout). */
+static int component_miss(const eqerr_args *a, flight *r)
+{
+    int nt = (int)r->info[IGEA_STATS_INFO_N_TEST], ec;
+    double opts[IGEA_IMPACT_OPT_LEN], rf[3], vf[3], jac[IGEA_IMPACT_JAC_ROWS * 6], G[12];
+    double *E = NULL, *s = r->burnout;
+    ec = a->bo.given_time ? burnout_traj(a, r, s, &E) : burnout_given(a, r, s, &E);
     if (!ec && nt > 0 && !(r->cmiss = malloc(sizeof(double) * 2 * (size_t)nt)))
         ec = cli_oom("the component miss");
     if (!ec && nt > 0) {
@@ -1000,26 +1043,34 @@ static int component_miss(const eqerr_args *a, flight *r)
         if (!st)
             st = igea_impact_component_miss(r->N, nt, G, 2, E, 6, r->P, r->N, r->xhat, r->cmiss);
         if (st == IGEA_EDOMAIN)
-            cli_error("--burnout: the flight does not come down to the Earth");
+            cli_error("%s: the flight does not come down to the Earth",
+                      a->bo.given_time ? "--burnout-time" : "--burnout");
         ec = st == IGEA_EDOMAIN ? CLI_DATAERR : cli_status(st, "eqerr: the component miss");
     }
     free(E);
     return ec;
 }
 
-static void text_component_miss(FILE *f, const flight *r)
+static void text_component_miss(FILE *f, const eqerr_args *a, const flight *r)
 {
     int nt = (int)r->info[IGEA_STATS_INFO_N_TEST];
+    const double *b = r->burnout;
+    if (a->bo.given_time)
+        fprintf(f, "burnout at %g s of %s (ECEF): %.3f %.3f %.3f m, %.4f %.4f %.4f m/s\n",
+                a->bo.time, a->bo.traj, b[0], b[1], b[2], b[3], b[4], b[5]);
     fprintf(f, "miss at impact of each tested component at its equivalent error (Kepler, from "
-               "--burnout):\n");
+               "%s):\n", a->bo.given_time ? "--burnout-time" : "--burnout");
     for (int i = 0; i < nt; i++)
         fprintf(f, "  %3d  %10.4g m downrange  %10.4g m crossrange%s\n", i, r->cmiss[2 * i],
                 r->cmiss[2 * i + 1], r->reject[i] == 1 ? "  (rejected)" : "");
 }
 
 /* "component_miss": [[downrange, crossrange] per tested component]. */
-static void json_component_miss(cli_json *j, const flight *r)
+static void json_component_miss(cli_json *j, const eqerr_args *a, const flight *r)
 {
+    cli_jnums(j, "burnout", r->burnout, 6);
+    if (a->bo.given_time)
+        cli_jnum(j, "burnout_time", a->bo.time);
     cli_json_open(j, "component_miss", '[');
     for (int i = 0; i < (int)r->info[IGEA_STATS_INFO_N_TEST]; i++)
         cli_jnums(j, NULL, r->cmiss + 2 * i, 2);
@@ -1038,7 +1089,7 @@ static int eqerr_report(const eqerr_args *a, flight *r, cli_out *out, cli_out *r
         ec = (a->noise ? run_noise : run_streamed)(a, r, res->f, jf ? &j : NULL); /* NULL: none */
     if (!ec)
         ec = components_compute(a, r);
-    if (!ec && (a->burnout || a->burnout_errors))
+    if (!ec && (a->burnout || a->burnout_errors || a->bo.given_time))
         ec = component_miss(a, r);
     if (!ec && jf) {
         cli_json_close(&j);
@@ -1046,7 +1097,7 @@ static int eqerr_report(const eqerr_args *a, flight *r, cli_out *out, cli_out *r
         json_whiteness(&j, r);
         json_components(&j, r);
         if (r->cmiss)
-            json_component_miss(&j, r);
+            json_component_miss(&j, a, r);
         if (r->nr.lambda)
             cli_noise_json(&j, &r->nr);
         cli_json_end(&j);

@@ -42,7 +42,8 @@ static const cli_opt options[] = {
     {"--acc-tc", CLI_OPT_NUM, &A.opts[IGEA_INSERR_OPT_ACC_TC], CLI_DEF_LIB, "S", "accelerometer bias correlation time (s; 0: a\nconstant bias, which --acc-bi cannot use)", NULL},
     {"--gyro-tc", CLI_OPT_NUM, &A.opts[IGEA_INSERR_OPT_GYRO_TC], CLI_DEF_LIB, "S", "gyro drift correlation time (s; 0: constant)", NULL},
     CLI_HEAD("along a trajectory (launch-inertial frame; --lat is the launch latitude,\n"
-             "--acc-bias and --gyro-drift are in instrument axes):"),
+             "--acc-bias, --gyro-drift and the noise are in instrument axes; with\n"
+             "--acc-tc, --gyro-tc the bias states are Gauss-Markov):"),
     {"--telemetry", CLI_OPT_STR, &A.telemetry, NULL, "FILE", "error-free telemetry rows t dvx dvy dvz [dthx dthy\ndthz]: the reference trajectory the nav core flies", NULL},
     {"--lon", CLI_OPT_NUM, &A.lon, "0", "DEG", "longitude of the launch point", NULL},
     {"--height", CLI_OPT_NUM, &A.height, "0", "M", "ellipsoidal height of the launch point", NULL},
@@ -78,6 +79,8 @@ options,
 "  igea nav --lat 45 --acc-bias 1e-4,0,0 --json --out nav.json\n"
 "along a trajectory (telemetry rows t dv dth of the error-free flight):\n"
 "  igea nav --telemetry tel.txt --lat 40 --lon 100 --azimuth 60 --acc-bias 1e-4,0,0\n"
+"  igea nav --telemetry tel.txt --lat 40 --lon 100 --azimuth 60 --gyro-bi 5e-8,5e-8,5e-8 \\\n"
+"      --gyro-tc 600 --acc-vrw 1e-4,1e-4,1e-4\n"
 "and with gyro noise (ARW 1e-6 rad/sqrt(s), bias instability 5e-8 rad/s with\n"
 "a 600-s correlation time):\n"
 "  igea nav --lat 45 --gyro-arw 1e-6,1e-6,1e-6 --gyro-bi 5e-8,5e-8,5e-8 --gyro-tc 600\n"};
@@ -188,7 +191,8 @@ static int read_noise(const nv_args *a, double *acc, double *gyro, int *any)
 /* ---- along a trajectory ------------------------------------------------ */
 
 typedef struct {
-    double *tel, *ep, *x, *P, site[IGEA_NAV_SITE_LEN], q0[4], x0[NS], q[IGEA_INSERR_NQ];
+    double *tel, *ep, *x, *P, site[IGEA_NAV_SITE_LEN], q0[4], x0[NS];
+    double acc[IGEA_INSERR_NOISE_LEN], gyro[IGEA_INSERR_NOISE_LEN];
     int n, cols, ne, noisy;
 } nv_traj;
 
@@ -235,13 +239,13 @@ static void traj_text(FILE *f, const nv_traj *r)
 }
 
 /* The inputs of the trajectory mode: site, q0, the errors, the noise
- * densities (bias instability refused: no Markov states here), epochs. */
+ * coefficients (bias instability: the Gauss-Markov states of --acc-tc,
+ * --gyro-tc), epochs. */
 static int traj_inputs(const nv_args *a, nv_traj *r)
 {
     int ec;
-    if (a->noise[1] || a->noise[4])
-        return cli_usage("nav --telemetry: --acc-bi and --gyro-bi need the static model (the "
-                         "launch-inertial model has no Gauss-Markov states)");
+    if ((ec = cli_check_opts("nav", IGEA_MODULE_INSERR, igea_inserr_check_opts(a->opts))))
+        return ec;
     if (a->every < 1)
         return cli_usage("nav: --every must be at least 1");
     if (igea_nav_site(a->lat * DEG, a->lon * DEG, a->height, a->azimuth * DEG, r->site))
@@ -254,15 +258,8 @@ static int traj_inputs(const nv_args *a, nv_traj *r)
         (ec = read_triple("--acc-bias", a->acc, r->x0 + IGEA_INSERR_ACC)) ||
         (ec = read_triple("--gyro-drift", a->gyro, r->x0 + IGEA_INSERR_GYRO)))
         return ec;
-    double acc[IGEA_INSERR_NOISE_LEN] = {0}, gyro[IGEA_INSERR_NOISE_LEN] = {0};
-    if ((ec = read_noise(a, acc, gyro, &r->noisy)))
+    if ((ec = read_noise(a, r->acc, r->gyro, &r->noisy)))
         return ec;
-    for (int i = 0; i < 3; i++) {
-        r->q[i] = acc[IGEA_INSERR_NOISE_N + i] * acc[IGEA_INSERR_NOISE_N + i];
-        r->q[3 + i] = gyro[IGEA_INSERR_NOISE_N + i] * gyro[IGEA_INSERR_NOISE_N + i];
-        r->q[6 + i] = acc[IGEA_INSERR_NOISE_K + i] * acc[IGEA_INSERR_NOISE_K + i];
-        r->q[9 + i] = gyro[IGEA_INSERR_NOISE_K + i] * gyro[IGEA_INSERR_NOISE_K + i];
-    }
     if ((ec = cli_read_colmajor(a->telemetry, &r->tel, &r->n, &r->cols)))
         return ec;
     int need = a->system == IGEA_ENVFUN_STRAPDOWN ? 7 : 4;
@@ -285,16 +282,17 @@ static int traj_run(const nv_args *a, nv_traj *r)
     if (!(r->x = malloc(sizeof(double) * NS * (size_t)r->ne)) ||
         (r->noisy && !(r->P = malloc(sizeof(double) * NS * NS * (size_t)r->ne))))
         return cli_oom("the error history");
-    int st = igea_inserr_li_response(a->system, r->site, a->gravity, r->n, r->tel, r->n, r->q0,
-                                     NULL, NULL, r->x0, r->ne, r->ep, r->x);
+    int st = igea_inserr_li_response_opts(a->system, r->site, a->gravity, a->opts, r->n, r->tel,
+                                          r->n, r->q0, NULL, NULL, r->x0, r->ne, r->ep, r->x);
     if (!st && r->P)
-        st = igea_inserr_li_covariance(a->system, r->site, a->gravity, r->n, r->tel, r->n,
-                                       r->q0, NULL, NULL, NULL, r->q, r->ne, r->ep, r->P);
-    if (st == -5) {
+        st = igea_inserr_li_noise_covariance(a->system, r->site, a->gravity, a->opts, r->n,
+                                             r->tel, r->n, r->q0, NULL, NULL, NULL, r->acc,
+                                             r->gyro, r->ne, r->ep, r->P);
+    if (st == -6) {
         cli_error("%s: the times must increase strictly", a->telemetry);
         return CLI_DATAERR;
     }
-    if (st == -7) {
+    if (st == -8) {
         cli_error("--q0: a non-zero quaternion");
         return CLI_USAGE;
     }

@@ -72,6 +72,8 @@ EQ_OPTS = 'set:igea_eqerr_defaults(b_);'
 SIM_OPTS = 'set:igea_sim_defaults(b_);'
 IMP_OPTS = 'set:igea_impact_defaults(b_);'
 INS_OPTS = 'set:igea_inserr_defaults(b_); b_[IGEA_INSERR_OPT_LAT] = 0.7;'
+INS_TC_OPTS = ('set:igea_inserr_defaults(b_); b_[IGEA_INSERR_OPT_ACC_TC] = 100.0; '
+               'b_[IGEA_INSERR_OPT_GYRO_TC] = 300.0;')
 TRIAD_OPTS = ('set:igea_triad_defaults(b_); b_[IGEA_TRIAD_OPT_WINDOW] = 0.5; '
               'b_[IGEA_TRIAD_OPT_INIT] = 3.0;')
 # 16 static means in different directions, |m| ~ 9.8 (a triad fit)
@@ -284,6 +286,25 @@ BASE = {
                                       ldtel='nsamp', q0='[0.9, 0.1, 0.3, 0.2]', r0='u', v0='u',
                                       P0='0', q='c:1e-9 * (1.0 + (double)i)', nepochs='3',
                                       epochs='c:0.5 * (double)i', _int=dict(gravity='enum')),
+    'igea_inserr_li_response_opts': dict(system='IGEA_ENVFUN_STRAPDOWN', site=NAV_SITE,
+                                         gravity='IGEA_NAV_GRAVITY_J2', opts=INS_TC_OPTS,
+                                         nsamp='101', tel=DW_TEL, ldtel='nsamp',
+                                         q0='[0.9, 0.1, 0.3, 0.2]', r0='u', v0='u',
+                                         x0='c:1e-3 * au(i)', nepochs='3',
+                                         epochs='c:0.5 * (double)i', _int=dict(gravity='enum')),
+    'igea_inserr_li_covariance_opts': dict(system='IGEA_ENVFUN_STRAPDOWN', site=NAV_SITE,
+                                           gravity='IGEA_NAV_GRAVITY_J2', opts=INS_TC_OPTS,
+                                           nsamp='101', tel=DW_TEL, ldtel='nsamp',
+                                           q0='[0.9, 0.1, 0.3, 0.2]', r0='u', v0='u', P0='0',
+                                           q='c:1e-9 * (1.0 + (double)i)', nepochs='3',
+                                           epochs='c:0.5 * (double)i', _int=dict(gravity='enum')),
+    'igea_inserr_li_noise_covariance': dict(system='IGEA_ENVFUN_STRAPDOWN', site=NAV_SITE,
+                                            gravity='IGEA_NAV_GRAVITY_J2', opts=INS_TC_OPTS,
+                                            nsamp='101', tel=DW_TEL, ldtel='nsamp',
+                                            q0='[0.9, 0.1, 0.3, 0.2]', r0='u', v0='u', P0='0',
+                                            acc='c:1e-4 * (1.0 + (double)i)',
+                                            gyro='c:1e-7 * (1.0 + (double)i)', nepochs='3',
+                                            epochs='c:0.5 * (double)i', _int=dict(gravity='enum')),
     'igea_accel_apply': dict(model='IGEA_ACCEL_DUAL', n='12', raw_a=YA_DUAL, raw_b=YB_DUAL,
                              scale_a='1.0', scale_b='1.0', coef='c:1e-4 * au(i)',
                              cross='NULL', _ignored=['cross'], _req=['raw_b']),
@@ -337,6 +358,11 @@ BASE = {
     'igea_impact_cep_offset': dict(cov='[4.0, 1.0, 1.0, 2.0]', mean='[1.0, -0.5]', prob='0.5'),
     'igea_impact_component_miss': dict(N='3', n='2', G='u', ldg='2', E='u', lde='6', P='u',
                                        ldp='N', equiv='u'),
+    'igea_impact_burnout': dict(system='IGEA_ENVFUN_STRAPDOWN', nsamp='101', traj=TRAJ,
+                                ldt='nsamp', nterms='3', terms='[0, 15, 24]', axes='NULL',
+                                spec='pos', site=NAV_SITE, tb='7.35', lde='6',
+                                _opt=['spec', 'axes'], _null_any=['E'], _zero_ok=['nterms'],
+                                _int=dict(nterms='nonneg', lde='ld')),
     # ---- triad
     'igea_triad_check_opts': dict(opts=TRIAD_OPTS, _nan_ok=['opts'], _inf_ok=['opts'],
                                   _req=['opts']),

@@ -358,7 +358,7 @@ def test_driver_npy_layouts_and_faults(tmp_path):
     assert json.loads(c.stdout)["chi2"] == ja["chi2"]
 
 
-EXTRA = ["whiteness", "components", "residual_whitened"]  # fields after the verdict's
+EXTRA = ["whiteness", "components", "residual_whitened", "component_miss"]  # after the verdict's
 
 
 def test_result_fields_are_the_documented_ones():
