@@ -1,5 +1,6 @@
 /* src/sim.c - reference trajectory, synthetic flights, Monte Carlo of the
  * equivalent-error test (METHODS 1, 5.6). */
+#include <float.h>
 #include <limits.h>
 #include <pthread.h>
 #include <stdint.h>
@@ -574,7 +575,7 @@ typedef struct {
     const double *eq_opts;
     int seed, first, nflights, thread, nthreads;
     /* per-flight results (indexed from 0) */
-    double *chi2, *scale;
+    double *chi2, *scale, *zmax;
     int *dof, *nrej, *status;
     /* per-thread component counts */
     int *tested, *rejected;
@@ -644,6 +645,7 @@ static int mc_judge(mc_job *jb, int f, const double *dw, double *w, int *rej)
                                       z, rej, info);
     }
     jb->status[f] = st;
+    jb->zmax[f] = 0.0;
     if (st == IGEA_ENOTESTABLE) {
         jb->chi2[f] = 0.0;
         jb->dof[f] = 0;
@@ -653,6 +655,7 @@ static int mc_judge(mc_job *jb, int f, const double *dw, double *w, int *rej)
     }
     if (st < 0)
         return (st > -1000) ? -2 : st; /* -5: the eqerr options */
+    jb->zmax[f] = igea__sim_zmax(N, z, rej);
     jb->chi2[f] = info[IGEA_STATS_INFO_CHI2];
     jb->dof[f] = (int)info[IGEA_STATS_INFO_DOF];
     jb->nrej[f] = (int)info[IGEA_STATS_INFO_N_REJECT];
@@ -781,7 +784,7 @@ static int mc_normal(const igea_sim_model *c, double *Sw, double *A, double *zer
 /* The outputs of a successful run. */
 static void mc_write(const mc_job *jobs, int nthreads, int N, int nflights,
                      double *counts, double *rates, int *comp_tested,
-                     int *comp_reject, double *table, int ldt)
+                     int *comp_reject, double *table, int ldt, int ncols)
 {
     const mc_job *j0 = &jobs[0];
     double res[IGEA_SIM_MC_LEN], rt[IGEA_SIM_MC_RATES_LEN];
@@ -821,6 +824,8 @@ static void mc_write(const mc_job *jobs, int nthreads, int N, int nflights,
             IGEA_AT(table, ldt, f, IGEA_SIM_MC_TABLE_DOF) = j0->dof[f];
             IGEA_AT(table, ldt, f, IGEA_SIM_MC_TABLE_N_REJECT) = j0->nrej[f];
             IGEA_AT(table, ldt, f, IGEA_SIM_MC_TABLE_SCALE) = j0->scale[f];
+            if (ncols > IGEA_SIM_MC_TABLE_ZMAX)
+                IGEA_AT(table, ldt, f, IGEA_SIM_MC_TABLE_ZMAX) = j0->zmax[f];
         }
 }
 
@@ -828,11 +833,11 @@ static void mc_write(const mc_job *jobs, int nthreads, int N, int nflights,
 static int mc_main(const igea_sim_model *c, const double *eqo, int seed,
                    int first, int nflights, int nthreads, double *counts,
                    double *rates, int *comp_tested, int *comp_reject,
-                   double *table, int ldt)
+                   double *table, int ldt, int ncols)
 {
     int m = c->m, N = c->N;
     size_t nn = (size_t)N * N, nf = (size_t)nflights;
-    double *dwork = igea__dalloc((size_t)m * N + nn + (size_t)m + N + 2 * nf + 2 * (size_t)m);
+    double *dwork = igea__dalloc((size_t)m * N + nn + (size_t)m + N + 3 * nf + 2 * (size_t)m);
     int *iwork = igea__ialloc(5 * nf + 2 * (size_t)N * nthreads + (size_t)m / 3);
     mc_job *jobs = calloc((size_t)nthreads, sizeof *jobs);
     pthread_t *tid = calloc((size_t)nthreads, sizeof *tid);
@@ -844,7 +849,7 @@ static int mc_main(const igea_sim_model *c, const double *eqo, int seed,
         int *cnt = f_status + nf;
         memset(cnt, 0, 2 * (size_t)N * nthreads * sizeof(int));
         int *f_cov = cnt + 2 * (size_t)N * nthreads, *f_nout = f_cov + nf, *grp = f_nout + nf;
-        double *cov6 = f_scale + nf, phi[9] = {0};
+        double *cov6 = f_scale + nf, *f_zmax = cov6 + 2 * (size_t)m, phi[9] = {0};
         int noise = igea__sim_noise_judged(c->opts, eqo), ngroups = 1;
         int usecov = igea__sim_judge_stated(c->opts, eqo, m, c->sigma, cov6, grp, &ngroups, phi);
         st = mc_normal(c, Sw, A, zeros);
@@ -861,6 +866,7 @@ static int mc_main(const igea_sim_model *c, const double *eqo, int seed,
             jb->nthreads = nthreads;
             jb->chi2 = f_chi2;
             jb->scale = f_scale;
+            jb->zmax = f_zmax;
             jb->dof = f_dof;
             jb->nrej = f_nrej;
             jb->status = f_status;
@@ -879,12 +885,12 @@ static int mc_main(const igea_sim_model *c, const double *eqo, int seed,
         if (st == 0 && !noise && !c->nonlinear && block != 1) /* batched: sim_batch.c */
             st = igea__sim_mc_batch(c, Sw, A, eqo, seed, first, nflights, nthreads,
                                     block ? block : IGEA_SIM_BATCH_DEFAULT, f_chi2, f_scale,
-                                    f_dof, f_nrej, f_status, cnt, &jobs[0].size_sum);
+                                    f_zmax, f_dof, f_nrej, f_status, cnt, &jobs[0].size_sum);
         else if (st == 0)
             st = mc_run(jobs, tid, nthreads);
         if (st == 0)
             mc_write(jobs, nthreads, N, nflights, counts, rates, comp_tested,
-                     comp_reject, table, ldt);
+                     comp_reject, table, ldt, ncols);
     }
     free(dwork);
     free(iwork);
@@ -893,10 +899,11 @@ static int mc_main(const igea_sim_model *c, const double *eqo, int seed,
     return st;
 }
 
-int igea_sim_montecarlo(const igea_sim_model *model, const double *eq_opts,
-                        int seed, int first_flight, int nflights, int nthreads,
-                        double *counts, double *rates, int *comp_tested,
-                        int *comp_reject, double *table, int ldt)
+/* igea_sim_montecarlo and igea_sim_montecarlo_ex: checks, then mc_main. */
+static int mc_entry(const igea_sim_model *model, const double *eq_opts, int seed,
+                    int first_flight, int nflights, int nthreads, double *counts,
+                    double *rates, int *comp_tested, int *comp_reject, double *table,
+                    int ldt, int ncols)
 {
     double eqo[IGEA_EQERR_OPT_LEN];
     if (!model)
@@ -915,6 +922,8 @@ int igea_sim_montecarlo(const igea_sim_model *model, const double *eq_opts,
         return -7;
     if (table && ldt < nflights)
         return -12;
+    if (table && ncols != IGEA_SIM_MC_TABLE_COLS && ncols != IGEA_SIM_MC_TABLE_COLS_Z)
+        return -13;
     if (eq_opts)
         memcpy(eqo, eq_opts, sizeof eqo);
     else
@@ -925,15 +934,34 @@ int igea_sim_montecarlo(const igea_sim_model *model, const double *eq_opts,
     }
     nthreads = IGEA_MIN(IGEA_MIN(nthreads, nflights), 256);
     return mc_main(model, eqo, seed, first_flight, nflights, nthreads, counts,
-                   rates, comp_tested, comp_reject, table, ldt);
+                   rates, comp_tested, comp_reject, table, ldt, ncols);
+}
+
+int igea_sim_montecarlo(const igea_sim_model *model, const double *eq_opts,
+                        int seed, int first_flight, int nflights, int nthreads,
+                        double *counts, double *rates, int *comp_tested,
+                        int *comp_reject, double *table, int ldt)
+{
+    return mc_entry(model, eq_opts, seed, first_flight, nflights, nthreads, counts, rates,
+                    comp_tested, comp_reject, table, ldt, IGEA_SIM_MC_TABLE_COLS);
+}
+
+int igea_sim_montecarlo_ex(const igea_sim_model *model, const double *eq_opts, int seed,
+                           int first_flight, int nflights, int nthreads, double *counts,
+                           double *rates, int *comp_tested, int *comp_reject, double *table,
+                           int ldt, int ncols)
+{
+    return mc_entry(model, eq_opts, seed, first_flight, nflights, nthreads, counts, rates,
+                    comp_tested, comp_reject, table, ldt, ncols);
 }
 
 /* ---- pooled verdicts ------------------------------------------------------ */
 
-/* The table's CHI2, DOF and N_REJECT columns as igea_sim_pool reads them:
- * 0, IGEA_ENONFINITE or -2. */
+/* The table's CHI2, DOF and N_REJECT (igea_sim_pool) or ZMAX
+ * (igea_sim_pool_ex, zmax 1) columns as the pools read them: 0,
+ * IGEA_ENONFINITE or -2. */
 static int pool_check(int nflights, const double *T, const double *D,
-                      const double *R)
+                      const double *R, int zmax)
 {
     if (!igea__finite_vec(nflights, T, 1) || !igea__finite_vec(nflights, D, 1) ||
         !igea__finite_vec(nflights, R, 1))
@@ -941,7 +969,9 @@ static int pool_check(int nflights, const double *T, const double *D,
     for (int f = 0; f < nflights; f++) {
         if (!(D[f] >= 0.0 && D[f] <= IGEA_STATS_DOF_MAX && D[f] == floor(D[f])))
             return -2;
-        if (!(R[f] >= 0.0 && R[f] <= D[f] && R[f] == floor(R[f])))
+        if (!zmax && !(R[f] >= 0.0 && R[f] <= D[f] && R[f] == floor(R[f])))
+            return -2;
+        if (zmax && (!(R[f] >= 0.0) || (D[f] == 0.0 && R[f] != 0.0)))
             return -2;
         if (!(T[f] >= 0.0) || (D[f] == 0.0 && T[f] != 0.0))
             return -2;
@@ -995,7 +1025,7 @@ int igea_sim_pool(int nflights, const double *table, int ldt, int size,
     const double *T = table + (size_t)IGEA_SIM_MC_TABLE_CHI2 * (size_t)ldt;
     const double *D = table + (size_t)IGEA_SIM_MC_TABLE_DOF * (size_t)ldt;
     const double *R = table + (size_t)IGEA_SIM_MC_TABLE_N_REJECT * (size_t)ldt;
-    int st = pool_check(nflights, T, D, R);
+    int st = pool_check(nflights, T, D, R, 0);
     if (st)
         return st;
     int npools = nflights / size, nfail = 0;
@@ -1025,6 +1055,143 @@ int igea_sim_pool(int nflights, const double *table, int ldt, int size,
     pooled[IGEA_SIM_POOL_RATE] = npools > 0 ? (double)nfail / npools : NAN;
     pooled[IGEA_SIM_POOL_CI99_LO] = lohi[0];
     pooled[IGEA_SIM_POOL_CI99_HI] = lohi[1];
+    return 0;
+}
+
+/* The thresholds of the rule eqo for n pooled components as igea_eqerr_pool
+ * applies them: th[0] = a (HUGE_VAL: no component test), th[1] = b, th[2]
+ * = the overall size (0: not computed); zeros (n doubles of 0) are the z
+ * it is asked about. Returns 0 or igea_eqerr_pool's failure. */
+static int pool_rule(int n, const double *eqo, const double *zeros, double *th)
+{
+    double chi2 = 0.0, info[IGEA_STATS_INFO_LEN];
+    int dof = n;
+    int st = igea_eqerr_pool(1, &chi2, &dof, zeros, NULL, eqo, NULL, info);
+    if (st)
+        return st < 0 && st > -1000 ? IGEA_ENOCONV : st; /* arguments checked before */
+    th[0] = info[IGEA_STATS_INFO_VERDICT_Z_CRIT] > 0 ? info[IGEA_STATS_INFO_VERDICT_Z_CRIT]
+                                                   : HUGE_VAL;
+    th[1] = info[IGEA_STATS_INFO_VERDICT_CHI2_CRIT];
+    th[2] = info[IGEA_STATS_INFO_OVERALL_SIZE];
+    return 0;
+}
+
+/* The pooled components of the groups (their summed DOF), each group's
+ * in dsum[g]; the largest in *nmax. Returns 0 or -4 (above
+ * IGEA_STATS_DOF_MAX). */
+static int pool_dofs(int npools, int size, const double *D, int *dsum, int *nmax)
+{
+    *nmax = 0;
+    for (int g = 0; g < npools; g++) {
+        double d = 0.0;
+        for (int f = 0; f < size; f++)
+            d += D[(size_t)g * size + f];
+        if (d > IGEA_STATS_DOF_MAX)
+            return -4;
+        dsum[g] = (int)d;
+        *nmax = IGEA_MAX(*nmax, dsum[g]);
+    }
+    return 0;
+}
+
+/* The verdicts of the groups by the thresholds th (4 per n: computed
+ * flag, a, b, size; filled here on first use): *nfail groups out of spec,
+ * *size_sum their sizes, *size_ok 0 when a size is not computed. */
+static int pool_groups(int npools, int size, const double *T, const double *D,
+                       const double *Z, const int *dsum, const double *eqo,
+                       const double *zeros, double *th, int *nfail, int *ntest,
+                       double *size_sum, int *size_ok)
+{
+    for (int g = 0; g < npools; g++) {
+        int n = dsum[g];
+        if (n == 0)
+            continue; /* no testable flight: passes */
+        double *e = th + 4 * (size_t)(n - 1);
+        int st = e[0] == 1.0 ? 0 : pool_rule(n, eqo, zeros, e + 1);
+        if (st)
+            return st;
+        e[0] = 1.0;
+        igea__ksum t = {0, 0};
+        int sat = 0;
+        double zm = 0.0;
+        for (int f = 0; f < size; f++) { /* igea_stats_pool's saturating sum */
+            size_t k = (size_t)g * size + f;
+            if (D[k] == 0.0)
+                continue;
+            zm = fmax(zm, Z[k]);
+            if (!sat && isfinite(t.s + T[k]))
+                igea__ksum_add(&t, T[k]);
+            else
+                sat = 1;
+        }
+        double Tt = sat ? DBL_MAX : igea__ksum_get(&t);
+        if (!isfinite(Tt))
+            Tt = DBL_MAX;
+        *nfail += zm > e[1] || Tt >= e[2];
+        *ntest += 1;
+        *size_sum += e[3];
+        *size_ok = *size_ok && e[3] > 0.0;
+    }
+    return 0;
+}
+
+int igea_sim_pool_ex(int nflights, const double *table, int ldt, int size,
+                     const double *eq_opts, double *pooled)
+{
+    double eqo[IGEA_EQERR_OPT_LEN];
+    if (nflights < 1)
+        return -1;
+    if (!table)
+        return -2;
+    if (ldt < nflights)
+        return -3;
+    if (size < 1)
+        return -4;
+    if (eq_opts && igea_eqerr_check_opts(eq_opts) != 0)
+        return -5;
+    if (!pooled)
+        return -6;
+    if (eq_opts)
+        memcpy(eqo, eq_opts, sizeof eqo);
+    else
+        igea_eqerr_defaults(eqo);
+    eqo[IGEA_EQERR_OPT_VERDICT_N] = 0; /* the rule computed for each n */
+    const double *T = table + (size_t)IGEA_SIM_MC_TABLE_CHI2 * (size_t)ldt;
+    const double *D = table + (size_t)IGEA_SIM_MC_TABLE_DOF * (size_t)ldt;
+    const double *Z = table + (size_t)IGEA_SIM_MC_TABLE_ZMAX * (size_t)ldt;
+    int st = pool_check(nflights, T, D, Z, 1);
+    if (st)
+        return st;
+    int npools = nflights / size, nfail = 0, ntest = 0, size_ok = 1, nmax = 0;
+    double size_sum = 0.0;
+    if (npools > 0) {
+        int *dsum = igea__ialloc((size_t)npools);
+        st = dsum ? pool_dofs(npools, size, D, dsum, &nmax) : IGEA_ENOMEM;
+        double *th = st == 0 ? igea__dalloc(5 * (size_t)IGEA_MAX(nmax, 1)) : NULL;
+        if (st == 0 && !th)
+            st = IGEA_ENOMEM;
+        if (st == 0) {
+            memset(th, 0, 5 * (size_t)IGEA_MAX(nmax, 1) * sizeof(double));
+            st = pool_groups(npools, size, T, D, Z, dsum, eqo, th + 4 * (size_t)IGEA_MAX(nmax, 1),
+                             th, &nfail, &ntest, &size_sum, &size_ok);
+        }
+        free(dsum);
+        free(th);
+        if (st)
+            return st;
+    }
+    double lohi[2] = {NAN, NAN};
+    if (npools > 0)
+        igea_sim_interval(nfail, npools, lohi);
+    for (int k = 0; k < IGEA_SIM_POOL_LEN; k++)
+        pooled[k] = 0.0;
+    pooled[IGEA_SIM_POOL_POOLS] = npools;
+    pooled[IGEA_SIM_POOL_FAILED] = nfail;
+    pooled[IGEA_SIM_POOL_RATE] = npools > 0 ? (double)nfail / npools : NAN;
+    pooled[IGEA_SIM_POOL_CI99_LO] = lohi[0];
+    pooled[IGEA_SIM_POOL_CI99_HI] = lohi[1];
+    pooled[IGEA_SIM_POOL_MEAN_SIZE] =
+        npools == 0 ? NAN : (ntest > 0 && size_ok ? size_sum / ntest : 0.0);
     return 0;
 }
 

@@ -31,7 +31,7 @@ typedef struct {
     const igea_sim_model *c;
     const double *Q, *lam0, *eqo, *L; /* L = V diag(lam0), N x N */
     int seed, first, nflights, block, thread, nthreads;
-    double *chi2, *scale, *fsize;
+    double *chi2, *scale, *zmax, *fsize;
     int *dof, *nrej, *status;
     int *cnt; /* this thread's: tested, rejected (N each) */
     int fail;
@@ -161,6 +161,7 @@ static int mb_judge(mb_job *jb, int f, const double *pb, double *w, double *vc, 
     int st = igea__eqerr_solve_projected(N, jb->lam0, pb, jb->eqo, vc, w, z, rej, info);
     jb->status[f] = st;
     jb->fsize[f] = 0.0;
+    jb->zmax[f] = 0.0;
     if (st == IGEA_ENOTESTABLE) {
         jb->chi2[f] = 0.0;
         jb->dof[f] = 0;
@@ -176,6 +177,7 @@ static int mb_judge(mb_job *jb, int f, const double *pb, double *w, double *vc, 
     jb->scale[f] = info[IGEA_STATS_INFO_SCALE];
     jb->status[f] = info[IGEA_STATS_INFO_CHI2] >= info[IGEA_STATS_INFO_VERDICT_CHI2_CRIT];
     jb->fsize[f] = info[IGEA_STATS_INFO_OVERALL_SIZE];
+    jb->zmax[f] = igea__sim_zmax(N, z, rej);
     for (int i = 0; i < N; i++) {
         jb->cnt[i] += rej[i] >= 0;
         jb->cnt[N + i] += rej[i] == 1;
@@ -241,8 +243,8 @@ static int mb_run(mb_job *jobs, int nthreads)
 
 int igea__sim_mc_batch(const igea_sim_model *c, const double *Sw, const double *A,
                        const double *eqo, int seed, int first, int nflights,
-                       int nthreads, int block, double *chi2, double *scale, int *dof,
-                       int *nrej, int *status, int *cnt, double *size_sum)
+                       int nthreads, int block, double *chi2, double *scale, double *zmax,
+                       int *dof, int *nrej, int *status, int *cnt, double *size_sum)
 {
     int m = c->m, N = c->N;
     size_t nn = (size_t)N * N;
@@ -265,7 +267,7 @@ int igea__sim_mc_batch(const igea_sim_model *c, const double *Sw, const double *
         memset(ic, 0, 2 * (size_t)N * nthreads * sizeof(int));
         for (int t = 0; t < nthreads; t++) {
             mb_job j = {c, Q, lam0, eqo, L, seed, first, nflights, block, t, nthreads,
-                        chi2, scale, fsize, dof, nrej, status, ic + 2 * (size_t)N * t, 0};
+                        chi2, scale, zmax, fsize, dof, nrej, status, ic + 2 * (size_t)N * t, 0};
             jobs[t] = j;
         }
         if (st == 0)

@@ -3,6 +3,8 @@
 #ifndef IGEA_SIM_MODEL_H
 #define IGEA_SIM_MODEL_H
 
+#include <math.h>
+
 #include <gsl/gsl_rng.h>
 
 #include "igea/sim.h"
@@ -43,16 +45,27 @@ void igea__sim_truth_xoshiro(const igea_sim_model *c, void *st, int seed, int fl
                              double *x, double *xs);
 void igea__sim_noise_xoshiro(const igea_sim_model *c, void *st, double *dw);
 
+/* The largest |z_i| over the tested components (reject[i] >= 0) of a
+ * judged flight: IGEA_SIM_MC_TABLE_ZMAX. */
+static inline double igea__sim_zmax(int N, const double *z, const int *reject)
+{
+    double zm = 0.0;
+    for (int i = 0; i < N; i++)
+        if (reject[i] >= 0 && fabs(z[i]) > zm)
+            zm = fabs(z[i]);
+    return zm;
+}
+
 /* The batched Monte Carlo (sim_batch.c): flights first .. first + nflights
  * - 1 judged on the stated K common to them, in blocks of `block` flights
  * (rounded up to a multiple of 32), on nthreads threads. Sw, A as mc_normal gives them (m x N, N x N); the
- * per-flight outputs chi2, scale, dof, nrej, status (nflights each, as
+ * per-flight outputs chi2, scale, zmax, dof, nrej, status (nflights each, as
  * mc_judge writes them), the component counts cnt (tested then rejected,
  * N each) and *size_sum (summed in flight order). Returns 0 or a failure as
  * mc_judge's. */
 int igea__sim_mc_batch(const igea_sim_model *c, const double *Sw, const double *A,
                        const double *eqo, int seed, int first, int nflights,
-                       int nthreads, int block, double *chi2, double *scale, int *dof,
-                       int *nrej, int *status, int *cnt, double *size_sum);
+                       int nthreads, int block, double *chi2, double *scale, double *zmax,
+                       int *dof, int *nrej, int *status, int *cnt, double *size_sum);
 
 #endif
