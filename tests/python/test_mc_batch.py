@@ -16,8 +16,9 @@ lib = _lib.lib
 
 
 def run(S, sigma, spec=None, nflights=150, seed=3, first=5, threads=1, eq=None, **slots):
-    """igea_sim_montecarlo on the model S, sigma (one value), spec with the
-    simulation slots given: (counts, rates, comp_tested, comp_reject, table)."""
+    """igea_sim_montecarlo_ex on the model S, sigma (one value), spec with the
+    simulation slots given: (counts, rates, comp_tested, comp_reject, table
+    with the ZMAX column)."""
     S = np.asfortranarray(S, dtype=float)
     m, N = S.shape
     h = ctypes.c_void_p()
@@ -37,10 +38,10 @@ def run(S, sigma, spec=None, nflights=150, seed=3, first=5, threads=1, eq=None, 
             eqo[getattr(_capi, "EQERR_OPT_" + k.upper())] = v
         counts, rates = np.zeros(_capi.SIM_MC_LEN), np.zeros(_capi.SIM_MC_RATES_LEN)
         ct, cr = np.zeros(N, dtype=np.intc), np.zeros(N, dtype=np.intc)
-        table = np.zeros((nflights, _capi.SIM_MC_TABLE_COLS), order="F")
-        _lib.call("t", "igea_sim_montecarlo", h, _lib.dptr(eqo), seed, first, nflights,
+        table = np.zeros((nflights, _capi.SIM_MC_TABLE_COLS_Z), order="F")
+        _lib.call("t", "igea_sim_montecarlo_ex", h, _lib.dptr(eqo), seed, first, nflights,
                   threads, _lib.dptr(counts), _lib.dptr(rates), _lib.iptr(ct), _lib.iptr(cr),
-                  _lib.dptr(table), nflights)
+                  _lib.dptr(table), nflights, _capi.SIM_MC_TABLE_COLS_Z)
     finally:
         lib.igea_sim_model_free(h)
     return counts, rates, ct, cr, table
@@ -77,7 +78,7 @@ def assert_same_study(a, b, rtol):
     np.testing.assert_array_equal(cra, crb)
     for col in (_capi.SIM_MC_TABLE_DOF, _capi.SIM_MC_TABLE_N_REJECT):
         np.testing.assert_array_equal(ta[:, col], tb[:, col])
-    for col in (_capi.SIM_MC_TABLE_CHI2, _capi.SIM_MC_TABLE_SCALE):
+    for col in (_capi.SIM_MC_TABLE_CHI2, _capi.SIM_MC_TABLE_SCALE, _capi.SIM_MC_TABLE_ZMAX):
         np.testing.assert_allclose(ta[:, col], tb[:, col], rtol=rtol, atol=0)
 
 
@@ -188,5 +189,8 @@ def test_campaign_arguments():
         igea.campaign_montecarlo(None, 10, **CAMPAIGN)
     with pytest.raises(TypeError, match="client"):
         igea.campaign_montecarlo(object(), 10, **CAMPAIGN)
-    with pytest.raises(ValueError, match="pool"):
-        igea.campaign_montecarlo(SerialClient(), 10, **CAMPAIGN, pool=5, verdict="chi2")
+    # pooled by another rule than the seed's (igea_sim_pool_ex): merged alike
+    kw = dict(CAMPAIGN, pool=5, verdict="sidak")
+    with igea.blas_threads(1):
+        whole = igea.montecarlo(**kw)
+    assert_same_result(igea.campaign_montecarlo(SerialClient(), 10, **kw), whole)
