@@ -491,6 +491,8 @@ BASE = {
                                    nthreads='1', ldt='nflights', ncols='IGEA_SIM_MC_TABLE_COLS_Z',
                                    _zero_ok=['nthreads'],
                                    _int=dict(nthreads='nonneg', ncols='enum'),
+                                   _opt=['eq_opts', 'rates', 'comp_tested', 'comp_reject',
+                                         'table'],
                                    _nan_out=['counts', 'table']),
     # 7 flights (a partial last group), flight 2 not testable, flight 4 beyond z_0.995
     'igea_sim_pool_ex': dict(nflights='7', ldt='nflights', size='3', eq_opts=EQ_OPTS,
