@@ -568,20 +568,23 @@ int igea_sim_interval(double k, double n, double *lohi)
     return 0;
 }
 
+/* A Monte Carlo run as its threads share it (read only but for the queue
+ * and each flight's own outputs); each thread's counts and caches are its
+ * own (mc_worker), so nothing written per flight shares a cache line with
+ * another thread's. */
 typedef struct {
     const igea_sim_model *c;
     const double *Sw; /* K^-1/2 S D, m x N */
     const double *A;  /* Sw^T Sw, N x N */
     const double *eq_opts;
-    int seed, first, nflights, thread, nthreads;
-    /* per-flight results (indexed from 0) */
-    double *chi2, *scale, *zmax;
+    int seed, first;
+    /* per-flight results (indexed from 0); fsize: info OVERALL_SIZE (0 if
+     * not testable), summed in flight order */
+    double *chi2, *scale, *zmax, *fsize;
     int *dof, *nrej, *status;
-    /* per-thread component counts */
-    int *tested, *rejected;
-    int fail; /* a status < 0 other than ENOTESTABLE */
-    double *vcache;   /* the verdict rule's thresholds by n_test (eqerr.c) */
-    double size_sum;  /* sum of info OVERALL_SIZE over the testable flights */
+    int *cnt; /* tested, rejected (N each): the threads' counts added at their end */
+    pthread_mutex_t *cnt_lock;
+    igea__sim_queue *q;
     /* judged by igea_noise_eqerr (sim_noise.c): what the judge is told */
     int noise, ngroups;
     const double *cov; /* 6 per epoch, or NULL: the stated sigmas */
@@ -590,8 +593,11 @@ typedef struct {
     int *covered, *nout; /* per flight */
 } mc_job;
 
+/* Flights a thread takes at a time on the flight-by-flight path. */
+#define MC_PORTION 8
+
 /* igea_noise_eqerr on flight f; the rest as mc_judge. */
-static int mc_judge_noise(mc_job *jb, int f, const double *dw, double *lam, double *P,
+static int mc_judge_noise(const mc_job *jb, int f, const double *dw, double *lam, double *P,
                           double *xhat, double *z, int *rej, double *info)
 {
     const igea_sim_model *c = jb->c;
@@ -620,9 +626,12 @@ static int mc_judge_noise(mc_job *jb, int f, const double *dw, double *lam, doub
     return st;
 }
 
-/* Judge flight f of a job from its dw; scratch w (m + 5 N + N^2 +
- * IGEA_STATS_INFO_LEN doubles), rej (N ints). Returns 0 or the failure. */
-static int mc_judge(mc_job *jb, int f, const double *dw, double *w, int *rej)
+/* Judge flight f of a job from its dw, its components counted in cnt (the
+ * thread's own, 2 N); scratch w (m + 5 N + N^2 + IGEA_STATS_INFO_LEN
+ * doubles), rej (N ints), vcache the thread's cache of the verdict rule
+ * (4 N, eqerr.c). Returns 0 or the failure. */
+static int mc_judge(const mc_job *jb, int f, const double *dw, double *w, int *rej,
+                    double *vcache, int *cnt)
 {
     const igea_sim_model *c = jb->c;
     int m = c->m, N = c->N;
@@ -641,11 +650,12 @@ static int mc_judge(mc_job *jb, int f, const double *dw, double *w, int *rej)
                 acc += col[i] * wdw[i];
             b[j] = acc;
         }
-        st = igea__eqerr_solve_cached(N, jb->A, N, b, jb->eq_opts, jb->vcache, lam, P, N, xhat,
+        st = igea__eqerr_solve_cached(N, jb->A, N, b, jb->eq_opts, vcache, lam, P, N, xhat,
                                       z, rej, info);
     }
     jb->status[f] = st;
     jb->zmax[f] = 0.0;
+    jb->fsize[f] = 0.0;
     if (st == IGEA_ENOTESTABLE) {
         jb->chi2[f] = 0.0;
         jb->dof[f] = 0;
@@ -662,74 +672,70 @@ static int mc_judge(mc_job *jb, int f, const double *dw, double *w, int *rej)
     jb->scale[f] = info[IGEA_STATS_INFO_SCALE];
     jb->status[f] = info[IGEA_STATS_INFO_CHI2] >= info[IGEA_STATS_INFO_VERDICT_CHI2_CRIT]
                         ? 1 : 0; /* chi-square rejected (by the verdict rule) */
-    jb->size_sum += info[IGEA_STATS_INFO_OVERALL_SIZE];
+    jb->fsize[f] = info[IGEA_STATS_INFO_OVERALL_SIZE];
     for (int i = 0; i < N; i++) {
-        if (rej[i] >= 0)
-            jb->tested[i]++;
-        if (rej[i] == 1)
-            jb->rejected[i]++;
+        cnt[i] += rej[i] >= 0;
+        cnt[N + i] += rej[i] == 1;
     }
     return 0;
 }
 
 static void *mc_worker(void *arg)
 {
-    mc_job *jb = arg;
+    const mc_job *jb = arg;
     const igea_sim_model *c = jb->c;
-    int m = c->m, N = c->N;
+    int m = c->m, N = c->N, f0, n;
     size_t nn = (size_t)N * N;
     double *w = igea__dalloc(3 * (size_t)m + 11 * (size_t)N + nn +
                              IGEA_STATS_INFO_LEN);
-    int *rej = igea__ialloc((size_t)N);
+    int *rej = igea__ialloc(3 * (size_t)N);
     gsl_rng *r = (w && rej) ? igea__rng_new(igea__sim_rng_type(c), 0) : NULL;
-    if (w) {
-        jb->vcache = w + 3 * (size_t)m + 7 * (size_t)N + nn + IGEA_STATS_INFO_LEN;
-        memset(jb->vcache, 0, 4 * (size_t)N * sizeof(double));
-    }
     if (!r) {
         free(w);
         free(rej);
-        jb->fail = IGEA_ENOMEM;
+        igea__sim_queue_fail(jb->q, -1, IGEA_ENOMEM); /* before every flight */
         return NULL;
     }
     double *dw = w, *nl = dw + m, *x = nl + m, *xs = x + N, *judge = xs + N;
-    for (int f = jb->thread; f < jb->nflights; f += jb->nthreads) {
-        int st = gen_flight(c, r, jb->seed, jb->first + f, x, xs, nl, dw);
-        if (st == 0)
-            st = mc_judge(jb, f, dw, judge, rej);
-        if (st) {
-            jb->fail = st;
-            break;
+    double *vcache = w + 3 * (size_t)m + 7 * (size_t)N + nn + IGEA_STATS_INFO_LEN;
+    int *cnt = rej + N;
+    memset(vcache, 0, 4 * (size_t)N * sizeof(double));
+    memset(cnt, 0, 2 * (size_t)N * sizeof(int));
+    while ((n = igea__sim_queue_take(jb->q, MC_PORTION, 1, &f0)) > 0)
+        for (int f = f0; f < f0 + n; f++) {
+            int st = gen_flight(c, r, jb->seed, jb->first + f, x, xs, nl, dw);
+            if (st == 0)
+                st = mc_judge(jb, f, dw, judge, rej, vcache, cnt);
+            if (st) {
+                igea__sim_queue_fail(jb->q, f, st);
+                break;
+            }
         }
-    }
+    pthread_mutex_lock(jb->cnt_lock);
+    for (int i = 0; i < 2 * N; i++)
+        jb->cnt[i] += cnt[i];
+    pthread_mutex_unlock(jb->cnt_lock);
     igea__rng_free(r);
     free(w);
     free(rej);
     return NULL;
 }
 
-/* Run the jobs on nthreads threads (a thread that cannot start: its share
- * runs here). Returns the first failure of a job, or 0. */
-static int mc_run(mc_job *jobs, pthread_t *tid, int nthreads)
+/* Run the job on nthreads threads, the calling thread one of them (a
+ * thread that cannot start leaves its share to the others). */
+static void mc_run(mc_job *jb, int nthreads)
 {
-    int nstarted = 0, st = 0;
-    if (nthreads == 1) {
-        mc_worker(&jobs[0]);
-    } else {
-        for (int t = 0; t < nthreads; t++) {
-            if (pthread_create(&tid[t], NULL, mc_worker, &jobs[t]) != 0)
-                break;
-            nstarted++;
-        }
-        for (int t = 0; t < nstarted; t++)
-            pthread_join(tid[t], NULL);
-        for (int t = nstarted; t < nthreads; t++)
-            mc_worker(&jobs[t]);
+    pthread_t *tid = calloc((size_t)nthreads, sizeof *tid);
+    int nstarted = 0;
+    for (int t = 1; tid && t < nthreads; t++) {
+        if (pthread_create(&tid[t], NULL, mc_worker, jb) != 0)
+            break;
+        nstarted = t;
     }
-    for (int t = 0; t < nthreads; t++)
-        if (jobs[t].fail)
-            st = jobs[t].fail;
-    return st;
+    mc_worker(jb);
+    for (int t = 1; t <= nstarted; t++)
+        pthread_join(tid[t], NULL);
+    free(tid);
 }
 
 /* Counts, rates and the means from the per-flight results. */
@@ -782,23 +788,21 @@ static int mc_normal(const igea_sim_model *c, double *Sw, double *A, double *zer
 }
 
 /* The outputs of a successful run. */
-static void mc_write(const mc_job *jobs, int nthreads, int N, int nflights,
-                     double *counts, double *rates, int *comp_tested,
-                     int *comp_reject, double *table, int ldt, int ncols)
+static void mc_write(const mc_job *jb, int N, int nflights, double *counts, double *rates,
+                     int *comp_tested, int *comp_reject, double *table, int ldt, int ncols)
 {
-    const mc_job *j0 = &jobs[0];
     double res[IGEA_SIM_MC_LEN], rt[IGEA_SIM_MC_RATES_LEN];
-    mc_counts(nflights, j0->status, j0->nrej, j0->dof, j0->scale, res, rt);
+    mc_counts(nflights, jb->status, jb->nrej, jb->dof, jb->scale, res, rt);
     double size_sum = 0.0, ntestable = nflights - res[IGEA_SIM_MC_NOT_TESTABLE];
-    for (int t = 0; t < nthreads; t++)
-        size_sum += jobs[t].size_sum;
+    for (int f = 0; f < nflights; f++) /* in flight order: the same for every thread count */
+        size_sum += jb->fsize[f];
     res[IGEA_SIM_MC_MEAN_SIZE] = ntestable > 0 ? size_sum / ntestable : 0.0;
-    if (j0->noise) {
+    if (jb->noise) {
         double cov_n = 0, out_n = 0, sig_n = 0;
         for (int f = 0; f < nflights; f++) {
-            cov_n += j0->covered[f] & 1;
-            sig_n += j0->covered[f] >> 1;
-            out_n += j0->nout[f];
+            cov_n += jb->covered[f] & 1;
+            sig_n += jb->covered[f] >> 1;
+            out_n += jb->nout[f];
         }
         res[IGEA_SIM_MC_SCALE_COVERED] = cov_n;
         res[IGEA_SIM_MC_SIGMA_COVERED] = sig_n;
@@ -807,25 +811,18 @@ static void mc_write(const mc_job *jobs, int nthreads, int N, int nflights,
     memcpy(counts, res, sizeof res);
     if (rates)
         memcpy(rates, rt, sizeof rt);
-    for (int i = 0; i < N; i++) {
-        int te = 0, re = 0;
-        for (int t = 0; t < nthreads; t++) {
-            te += jobs[t].tested[i];
-            re += jobs[t].rejected[i];
-        }
-        if (comp_tested)
-            comp_tested[i] = te;
-        if (comp_reject)
-            comp_reject[i] = re;
-    }
+    if (comp_tested)
+        memcpy(comp_tested, jb->cnt, (size_t)N * sizeof(int));
+    if (comp_reject)
+        memcpy(comp_reject, jb->cnt + N, (size_t)N * sizeof(int));
     if (table)
         for (int f = 0; f < nflights; f++) {
-            IGEA_AT(table, ldt, f, IGEA_SIM_MC_TABLE_CHI2) = j0->chi2[f];
-            IGEA_AT(table, ldt, f, IGEA_SIM_MC_TABLE_DOF) = j0->dof[f];
-            IGEA_AT(table, ldt, f, IGEA_SIM_MC_TABLE_N_REJECT) = j0->nrej[f];
-            IGEA_AT(table, ldt, f, IGEA_SIM_MC_TABLE_SCALE) = j0->scale[f];
+            IGEA_AT(table, ldt, f, IGEA_SIM_MC_TABLE_CHI2) = jb->chi2[f];
+            IGEA_AT(table, ldt, f, IGEA_SIM_MC_TABLE_DOF) = jb->dof[f];
+            IGEA_AT(table, ldt, f, IGEA_SIM_MC_TABLE_N_REJECT) = jb->nrej[f];
+            IGEA_AT(table, ldt, f, IGEA_SIM_MC_TABLE_SCALE) = jb->scale[f];
             if (ncols > IGEA_SIM_MC_TABLE_ZMAX)
-                IGEA_AT(table, ldt, f, IGEA_SIM_MC_TABLE_ZMAX) = j0->zmax[f];
+                IGEA_AT(table, ldt, f, IGEA_SIM_MC_TABLE_ZMAX) = jb->zmax[f];
         }
 }
 
@@ -837,65 +834,48 @@ static int mc_main(const igea_sim_model *c, const double *eqo, int seed,
 {
     int m = c->m, N = c->N;
     size_t nn = (size_t)N * N, nf = (size_t)nflights;
-    double *dwork = igea__dalloc((size_t)m * N + nn + (size_t)m + N + 3 * nf + 2 * (size_t)m);
-    int *iwork = igea__ialloc(5 * nf + 2 * (size_t)N * nthreads + (size_t)m / 3);
-    mc_job *jobs = calloc((size_t)nthreads, sizeof *jobs);
-    pthread_t *tid = calloc((size_t)nthreads, sizeof *tid);
-    int st = IGEA_ENOMEM;
-    if (dwork && iwork && jobs && tid) {
+    double *dwork = igea__dalloc((size_t)m * N + nn + (size_t)m + N + 4 * nf + 2 * (size_t)m);
+    int *iwork = igea__ialloc(5 * nf + 2 * (size_t)N + (size_t)m / 3);
+    igea__sim_queue q;
+    pthread_mutex_t cnt_lock;
+    int st = dwork && iwork ? igea__sim_queue_init(&q, nflights, nthreads) : IGEA_ENOMEM;
+    if (st == 0 && pthread_mutex_init(&cnt_lock, NULL) != 0) {
+        igea__sim_queue_destroy(&q);
+        st = IGEA_ENOMEM;
+    }
+    if (st == 0) {
         double *Sw = dwork, *A = Sw + (size_t)m * N, *zeros = A + nn;
         double *f_chi2 = zeros + m + N, *f_scale = f_chi2 + nf;
         int *f_dof = iwork, *f_nrej = f_dof + nf, *f_status = f_nrej + nf;
         int *cnt = f_status + nf;
-        memset(cnt, 0, 2 * (size_t)N * nthreads * sizeof(int));
-        int *f_cov = cnt + 2 * (size_t)N * nthreads, *f_nout = f_cov + nf, *grp = f_nout + nf;
-        double *cov6 = f_scale + nf, *f_zmax = cov6 + 2 * (size_t)m, phi[9] = {0};
+        memset(cnt, 0, 2 * (size_t)N * sizeof(int));
+        int *f_cov = cnt + 2 * (size_t)N, *f_nout = f_cov + nf, *grp = f_nout + nf;
+        double *cov6 = f_scale + nf, *f_zmax = cov6 + 2 * (size_t)m, *f_size = f_zmax + nf;
+        double phi[9] = {0};
         int noise = igea__sim_noise_judged(c->opts, eqo), ngroups = 1;
         int usecov = igea__sim_judge_stated(c->opts, eqo, m, c->sigma, cov6, grp, &ngroups, phi);
+        mc_job jb = {c, Sw, A, eqo, seed, first, f_chi2, f_scale, f_zmax, f_size,
+                     f_dof, f_nrej, f_status, cnt, &cnt_lock, &q,
+                     noise, ngroups, usecov ? cov6 : NULL, grp, {0}, f_cov, f_nout};
+        memcpy(jb.phi, phi, sizeof phi);
         st = mc_normal(c, Sw, A, zeros);
-        for (int t = 0; t < nthreads && st == 0; t++) {
-            mc_job *jb = &jobs[t];
-            jb->c = c;
-            jb->Sw = Sw;
-            jb->A = A;
-            jb->eq_opts = eqo;
-            jb->seed = seed;
-            jb->first = first;
-            jb->nflights = nflights;
-            jb->thread = t;
-            jb->nthreads = nthreads;
-            jb->chi2 = f_chi2;
-            jb->scale = f_scale;
-            jb->zmax = f_zmax;
-            jb->dof = f_dof;
-            jb->nrej = f_nrej;
-            jb->status = f_status;
-            jb->tested = cnt + 2 * (size_t)N * t;
-            jb->rejected = jb->tested + N;
-            jb->fail = 0;
-            jb->noise = noise;
-            jb->ngroups = ngroups;
-            jb->cov = usecov ? cov6 : NULL;
-            jb->group = grp;
-            memcpy(jb->phi, phi, sizeof phi);
-            jb->covered = f_cov;
-            jb->nout = f_nout;
-        }
         int block = (int)c->opts[IGEA_SIM_OPT_BATCH];
         if (st == 0 && !noise && !c->nonlinear && block != 1) /* batched: sim_batch.c */
             st = igea__sim_mc_batch(c, Sw, A, eqo, seed, first, nflights, nthreads,
                                     block ? block : IGEA_SIM_BATCH_DEFAULT, f_chi2, f_scale,
-                                    f_zmax, f_dof, f_nrej, f_status, cnt, &jobs[0].size_sum);
-        else if (st == 0)
-            st = mc_run(jobs, tid, nthreads);
+                                    f_zmax, f_size, f_dof, f_nrej, f_status, cnt);
+        else if (st == 0) {
+            mc_run(&jb, nthreads);
+            st = q.fail;
+        }
         if (st == 0)
-            mc_write(jobs, nthreads, N, nflights, counts, rates, comp_tested,
-                     comp_reject, table, ldt, ncols);
+            mc_write(&jb, N, nflights, counts, rates, comp_tested, comp_reject, table, ldt,
+                     ncols);
+        pthread_mutex_destroy(&cnt_lock);
+        igea__sim_queue_destroy(&q);
     }
     free(dwork);
     free(iwork);
-    free(jobs);
-    free(tid);
     return st;
 }
 

@@ -4,6 +4,7 @@
 #define IGEA_SIM_MODEL_H
 
 #include <math.h>
+#include <pthread.h>
 
 #include <gsl/gsl_rng.h>
 
@@ -45,6 +46,30 @@ void igea__sim_truth_xoshiro(const igea_sim_model *c, void *st, int seed, int fl
                              double *x, double *xs);
 void igea__sim_noise_xoshiro(const igea_sim_model *c, void *st, double *dw);
 
+/* The flights of a Monte Carlo run shared out among its threads: each
+ * takes the next consecutive flights when it is free (so a thread slowed
+ * by others' load takes fewer), in portions that shrink towards the end
+ * (about remaining / (2 nthreads), a multiple of unit, at most max) so
+ * that the threads finish together. A flight's result depends on (seed,
+ * flight) only, never on the thread or portion that ran it. A failure
+ * stops the taking; the status returned is the one of the lowest failing
+ * flight, which every thread count finds (the portions are taken in
+ * flight order and each is run up to its own first failure). */
+typedef struct {
+    pthread_mutex_t lock;
+    int next, nflights, nthreads, stop;
+    int fail_flight, fail; /* the lowest failing flight and its status */
+} igea__sim_queue;
+
+/* Returns 0 or IGEA_ENOMEM (the mutex). */
+int igea__sim_queue_init(igea__sim_queue *q, int nflights, int nthreads);
+void igea__sim_queue_destroy(igea__sim_queue *q);
+/* The next portion: its first flight in *f0 and its length (0: none left,
+ * or a failure). */
+int igea__sim_queue_take(igea__sim_queue *q, int max, int unit, int *f0);
+/* Flight f failed with status st (< 0). */
+void igea__sim_queue_fail(igea__sim_queue *q, int f, int st);
+
 /* The largest |z_i| over the tested components (reject[i] >= 0) of a
  * judged flight: IGEA_SIM_MC_TABLE_ZMAX. */
 static inline double igea__sim_zmax(int N, const double *z, const int *reject)
@@ -57,15 +82,15 @@ static inline double igea__sim_zmax(int N, const double *z, const int *reject)
 }
 
 /* The batched Monte Carlo (sim_batch.c): flights first .. first + nflights
- * - 1 judged on the stated K common to them, in blocks of `block` flights
- * (rounded up to a multiple of 32), on nthreads threads. Sw, A as mc_normal gives them (m x N, N x N); the
- * per-flight outputs chi2, scale, zmax, dof, nrej, status (nflights each, as
- * mc_judge writes them), the component counts cnt (tested then rejected,
- * N each) and *size_sum (summed in flight order). Returns 0 or a failure as
- * mc_judge's. */
+ * - 1 judged on the stated K common to them, in blocks of at most `block`
+ * flights (rounded up to a multiple of 32), on nthreads threads. Sw, A as
+ * mc_normal gives them (m x N, N x N); the per-flight outputs chi2, scale,
+ * zmax, fsize (the overall size), dof, nrej, status (nflights each, as
+ * mc_judge writes them) and the component counts cnt (tested then
+ * rejected, N each, added to). Returns 0 or a failure as mc_judge's. */
 int igea__sim_mc_batch(const igea_sim_model *c, const double *Sw, const double *A,
                        const double *eqo, int seed, int first, int nflights,
                        int nthreads, int block, double *chi2, double *scale, double *zmax,
-                       int *dof, int *nrej, int *status, int *cnt, double *size_sum);
+                       double *fsize, int *dof, int *nrej, int *status, int *cnt);
 
 #endif

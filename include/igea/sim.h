@@ -352,7 +352,9 @@ IGEA_API int igea_sim_interval_cp(double k, double n, double level, double *lohi
  *  4 first_flight >= 0
  *  5 nflights     >= 1
  *  6 nthreads     >= 0 (0: the number of online processors); results do
- *                 not depend on it
+ *                 not depend on it (bit for bit: each thread takes the next
+ *                 flights when it is free, the means are summed in flight
+ *                 order, a failure is the lowest failing flight's)
  *  7 counts       IGEA_SIM_MC_LEN outputs (above); the means are over the
  *                 testable flights (IGEA_SIM_MC_MEAN_SCALE NaN if none)
  *  8 rates        IGEA_SIM_MC_RATES_LEN outputs (above), or NULL

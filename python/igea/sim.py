@@ -404,7 +404,8 @@ def _mc_chunks(where, h, eq, seed, first, nflights, threads, counts, rates, ct, 
     """igea_sim_montecarlo over the flights in chunks (_mc_chunk): the counts
     added, the means over the testable flights summed flight by flight from
     the table as the library does (mean_size from the chunks' means, to
-    rounding: the library sums it per thread), the rates and intervals of
+    rounding: the library sums it flight by flight within a call), the
+    rates and intervals of
     the totals."""
     N = ct.size
     c1, r1 = np.zeros(_capi.SIM_MC_LEN), np.zeros(_capi.SIM_MC_RATES_LEN)

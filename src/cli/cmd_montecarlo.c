@@ -123,7 +123,8 @@ typedef struct {
  * depend on --flights only, never on the progress shown): one library call
  * per chunk, its counts added; the means over the testable flights are
  * those of one call over all flights, summed flight by flight from the
- * table (mean_size to rounding: the library sums it per thread). */
+ * table (mean_size to rounding: the library sums it flight by flight within
+ * a call, the chunks add their means). */
 static int run_flights(const mc_args *a, const cli_flight_args *fa, const cli_flight *f,
                        mc_result *r)
 {
