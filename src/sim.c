@@ -165,7 +165,19 @@ void igea_sim_model_free(igea_sim_model *model)
     free(model->traj);
     free(model->epochs);
     free(model->terms);
+    if (model->mc) {
+        free(model->mc->data);
+        pthread_mutex_destroy(&model->mc->lock);
+        free(model->mc);
+    }
     free(model);
+}
+
+/* Drop the Monte Carlo's kept set-up (sigma or specs changed). */
+static void mc_cache_drop(igea_sim_model *model)
+{
+    free(model->mc->data);
+    model->mc->data = NULL;
 }
 
 /* A model of m x N with its arrays allocated and the defaults set. */
@@ -181,7 +193,12 @@ static igea_sim_model *model_new(int m, int N)
     md->spec = igea__dalloc((size_t)N);
     md->x_value = igea__dalloc((size_t)N);
     md->x_fixed = igea__ialloc((size_t)N);
-    if (!md->S || !md->sigma || !md->spec || !md->x_value || !md->x_fixed) {
+    igea__sim_cache *mc = calloc(1, sizeof *mc);
+    if (mc && pthread_mutex_init(&mc->lock, NULL) == 0)
+        md->mc = mc;
+    else
+        free(mc);
+    if (!md->S || !md->sigma || !md->spec || !md->x_value || !md->x_fixed || !md->mc) {
         igea_sim_model_free(md);
         return NULL;
     }
@@ -297,6 +314,7 @@ int igea_sim_model_set_sigma(igea_sim_model *model, const double *track_sigma,
         double g = 1.0 + (M > 1 ? growth * e / (double)(M - 1) : 0.0);
         model->sigma[i] = track_sigma[sigma_inc ? i : 0] * g;
     }
+    mc_cache_drop(model);
     return 0;
 }
 
@@ -310,6 +328,7 @@ int igea_sim_model_set_spec(igea_sim_model *model, const double *spec_sigma)
     for (int j = 0; j < model->N; j++)
         model->spec[j] = spec_sigma ? spec_sigma[j] : 1.0;
     model->has_spec = spec_sigma != NULL;
+    mc_cache_drop(model);
     return 0;
 }
 
@@ -787,6 +806,24 @@ static int mc_normal(const igea_sim_model *c, double *Sw, double *A, double *zer
                                   c->spec, A, N, zeros + m, wtw);
 }
 
+/* The set-up of the model into s (mapped on data, igea__sim_setup_map)
+ * but Q: Sw and A (mc_normal; zeros m + N scratch), V and lam0
+ * (igea__syev_desc, descending), L = V diag(lam0). */
+static int mc_setup(const igea_sim_model *c, const igea__sim_setup *s, double *zeros)
+{
+    int N = c->N;
+    size_t nn = (size_t)N * N;
+    int st = mc_normal(c, s->Sw, s->A, zeros);
+    if (st == 0) {
+        st = igea__syev_desc(N, s->A, N, s->lam0, s->V, N);
+        if (st < 0 && st > -1000)
+            st = -2;
+    }
+    for (size_t k = 0; st == 0 && k < nn; k++)
+        s->L[k] = s->V[k] * s->lam0[k / (size_t)N];
+    return st;
+}
+
 /* The outputs of a successful run. */
 static void mc_write(const mc_job *jb, int N, int nflights, double *counts, double *rates,
                      int *comp_tested, int *comp_reject, double *table, int ldt, int ncols)
@@ -826,7 +863,8 @@ static void mc_write(const mc_job *jb, int N, int nflights, double *counts, doub
         }
 }
 
-/* igea_sim_montecarlo after its argument checks. */
+/* igea_sim_montecarlo after its argument checks. The set-up is the one the
+ * model keeps (the first run that completes publishes its own). */
 static int mc_main(const igea_sim_model *c, const double *eqo, int seed,
                    int first, int nflights, int nthreads, double *counts,
                    double *rates, int *comp_tested, int *comp_reject,
@@ -834,18 +872,25 @@ static int mc_main(const igea_sim_model *c, const double *eqo, int seed,
 {
     int m = c->m, N = c->N;
     size_t nn = (size_t)N * N, nf = (size_t)nflights;
-    double *dwork = igea__dalloc((size_t)m * N + nn + (size_t)m + N + 4 * nf + 2 * (size_t)m);
+    size_t nsetup = 2 * (size_t)m * N + 3 * nn + (size_t)N;
+    pthread_mutex_lock(&c->mc->lock);
+    double *kept = c->mc->data;
+    pthread_mutex_unlock(&c->mc->lock);
+    double *own = kept ? NULL : igea__dalloc(nsetup);
+    double *dwork = igea__dalloc((size_t)m + N + 4 * nf + 2 * (size_t)m);
     int *iwork = igea__ialloc(5 * nf + 2 * (size_t)N + (size_t)m / 3);
     igea__sim_queue q;
     pthread_mutex_t cnt_lock;
-    int st = dwork && iwork ? igea__sim_queue_init(&q, nflights, nthreads) : IGEA_ENOMEM;
+    int st = dwork && iwork && (kept || own) ? igea__sim_queue_init(&q, nflights, nthreads)
+                                             : IGEA_ENOMEM;
     if (st == 0 && pthread_mutex_init(&cnt_lock, NULL) != 0) {
         igea__sim_queue_destroy(&q);
         st = IGEA_ENOMEM;
     }
     if (st == 0) {
-        double *Sw = dwork, *A = Sw + (size_t)m * N, *zeros = A + nn;
-        double *f_chi2 = zeros + m + N, *f_scale = f_chi2 + nf;
+        igea__sim_setup su;
+        igea__sim_setup_map(&su, kept ? kept : own, m, N);
+        double *zeros = dwork, *f_chi2 = zeros + m + N, *f_scale = f_chi2 + nf;
         int *f_dof = iwork, *f_nrej = f_dof + nf, *f_status = f_nrej + nf;
         int *cnt = f_status + nf;
         memset(cnt, 0, 2 * (size_t)N * sizeof(int));
@@ -854,17 +899,20 @@ static int mc_main(const igea_sim_model *c, const double *eqo, int seed,
         double phi[9] = {0};
         int noise = igea__sim_noise_judged(c->opts, eqo), ngroups = 1;
         int usecov = igea__sim_judge_stated(c->opts, eqo, m, c->sigma, cov6, grp, &ngroups, phi);
-        mc_job jb = {c, Sw, A, eqo, seed, first, f_chi2, f_scale, f_zmax, f_size,
+        mc_job jb = {c, su.Sw, su.A, eqo, seed, first, f_chi2, f_scale, f_zmax, f_size,
                      f_dof, f_nrej, f_status, cnt, &cnt_lock, &q,
                      noise, ngroups, usecov ? cov6 : NULL, grp, {0}, f_cov, f_nout};
         memcpy(jb.phi, phi, sizeof phi);
-        st = mc_normal(c, Sw, A, zeros);
+        if (own)
+            st = mc_setup(c, &su, zeros);
         int block = (int)c->opts[IGEA_SIM_OPT_BATCH];
-        if (st == 0 && !noise && !c->nonlinear && block != 1) /* batched: sim_batch.c */
-            st = igea__sim_mc_batch(c, Sw, A, eqo, seed, first, nflights, nthreads,
+        if (st == 0 && !noise && !c->nonlinear && block != 1) { /* batched: sim_batch.c */
+            st = igea__sim_mc_batch(c, &su, kept != NULL, eqo, seed, first, nflights, nthreads,
                                     block ? block : IGEA_SIM_BATCH_DEFAULT, f_chi2, f_scale,
                                     f_zmax, f_size, f_dof, f_nrej, f_status, cnt);
-        else if (st == 0) {
+        } else if (st == 0) {
+            if (own)
+                igea__sim_setup_q(&su, m, N);
             mc_run(&jb, nthreads);
             st = q.fail;
         }
@@ -874,6 +922,15 @@ static int mc_main(const igea_sim_model *c, const double *eqo, int seed,
         pthread_mutex_destroy(&cnt_lock);
         igea__sim_queue_destroy(&q);
     }
+    if (st == 0 && own) { /* kept for the later runs, unless another run's is */
+        pthread_mutex_lock(&c->mc->lock);
+        if (!c->mc->data) {
+            c->mc->data = own;
+            own = NULL;
+        }
+        pthread_mutex_unlock(&c->mc->lock);
+    }
+    free(own);
     free(dwork);
     free(iwork);
     return st;

@@ -86,7 +86,7 @@ typedef struct {
     const igea_sim_model *c;
     const double *Q, *lam0, *eqo, *L; /* L = V diag(lam0), N x N */
     /* Q = Sw V (m x N) in row segments before the flights (mb_rows) */
-    const double *Sw, *V;
+    const igea__sim_setup *s;
     igea__sim_queue *qrow;
     int *rows_done;
     pthread_cond_t *rows_cv;
@@ -249,16 +249,37 @@ static int mb_judge(const mb_job *jb, int f, const double *pb, double *w, double
     return 0;
 }
 
+void igea__sim_setup_map(igea__sim_setup *s, double *data, int m, int N)
+{
+    size_t mn = (size_t)m * N, nn = (size_t)N * N;
+    s->Sw = data;
+    s->A = s->Sw + mn;
+    s->V = s->A + nn;
+    s->lam0 = s->V + nn;
+    s->Q = s->lam0 + N;
+    s->L = s->Q + mn;
+}
+
+/* Rows r0 .. r0 + MB_ROWS - 1 (or to m) of Q = Sw V. */
+static void q_rows(const igea__sim_setup *s, int m, int N, int r0)
+{
+    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, IGEA_MIN(MB_ROWS, m - r0), N, N,
+                1.0, s->Sw + r0, m, s->V, N, 0.0, s->Q + r0, m);
+}
+
+void igea__sim_setup_q(const igea__sim_setup *s, int m, int N)
+{
+    for (int r0 = 0; r0 < m; r0 += MB_ROWS)
+        q_rows(s, m, N, r0);
+}
+
 /* The thread's share of Q = Sw V by segments of MB_ROWS rows, then the
  * wait for the others' (rows_done counts the segments, under qrow's lock). */
 static void mb_rows(const mb_job *jb)
 {
     int m = jb->c->m, N = jb->c->N, nseg = (m + MB_ROWS - 1) / MB_ROWS, s0;
-    double *Q = (double *)jb->Q;
     while (igea__sim_queue_take(jb->qrow, 1, 1, &s0) > 0) {
-        int r0 = s0 * MB_ROWS, nr = IGEA_MIN(MB_ROWS, m - r0);
-        cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, nr, N, N, 1.0, jb->Sw + r0, m,
-                    jb->V, N, 0.0, Q + r0, m);
+        q_rows(jb->s, m, N, s0 * MB_ROWS);
         pthread_mutex_lock(&jb->qrow->lock);
         if (++*jb->rows_done == nseg)
             pthread_cond_broadcast(jb->rows_cv);
@@ -330,35 +351,26 @@ static void mb_run(mb_job *jb, int nthreads)
     free(tid);
 }
 
-int igea__sim_mc_batch(const igea_sim_model *c, const double *Sw, const double *A,
+int igea__sim_mc_batch(const igea_sim_model *c, const igea__sim_setup *s, int have_q,
                        const double *eqo, int seed, int first, int nflights,
                        int nthreads, int block, double *chi2, double *scale, double *zmax,
                        double *fsize, int *dof, int *nrej, int *status, int *cnt)
 {
-    int m = c->m, N = c->N, nseg = (m + MB_ROWS - 1) / MB_ROWS, rows_done = 0, ok = 0;
-    size_t nn = (size_t)N * N;
-    double *d = igea__dalloc(2 * nn + (size_t)N + (size_t)m * N);
+    int m = c->m, nseg = (m + MB_ROWS - 1) / MB_ROWS, ok = 0;
+    int rows_done = have_q ? nseg : 0; /* a kept Q: nothing to do */
     igea__sim_queue q, qrow;
     pthread_mutex_t cnt_lock;
     pthread_cond_t rows_cv;
     /* ok counts what is initialised: the queues, the lock, the condition */
-    if (d && igea__sim_queue_init(&q, nflights, nthreads) == 0 && ++ok &&
-        igea__sim_queue_init(&qrow, nseg, nthreads) == 0 && ++ok &&
+    if (igea__sim_queue_init(&q, nflights, nthreads) == 0 && ++ok &&
+        igea__sim_queue_init(&qrow, have_q ? 0 : nseg, nthreads) == 0 && ++ok &&
         pthread_mutex_init(&cnt_lock, NULL) == 0 && ++ok && pthread_cond_init(&rows_cv, NULL) == 0)
         ++ok;
     int st = ok == 4 ? 0 : IGEA_ENOMEM;
     block = (block + MB_CHUNK - 1) / MB_CHUNK * MB_CHUNK;
-    double *V = d, *lam0 = V + nn, *Q = lam0 + N, *L = Q + (size_t)m * N;
     if (st == 0) {
-        st = igea__syev_desc(N, A, N, lam0, V, N);
-        if (st < 0 && st > -1000)
-            st = -2;
-    }
-    if (st == 0) {
-        for (size_t k = 0; k < nn; k++)
-            L[k] = V[k] * lam0[k / (size_t)N];
-        mb_job jb = {c, Q, lam0, eqo, L, Sw, V, &qrow, &rows_done, &rows_cv, seed, first, block,
-                     chi2, scale, zmax, fsize, dof, nrej, status, cnt, &cnt_lock, &q};
+        mb_job jb = {c, s->Q, s->lam0, eqo, s->L, s, &qrow, &rows_done, &rows_cv, seed, first,
+                     block, chi2, scale, zmax, fsize, dof, nrej, status, cnt, &cnt_lock, &q};
         mb_run(&jb, nthreads);
         st = q.fail;
     }
@@ -370,6 +382,5 @@ int igea__sim_mc_batch(const igea_sim_model *c, const double *Sw, const double *
         igea__sim_queue_destroy(&qrow);
     if (ok >= 1)
         igea__sim_queue_destroy(&q);
-    free(d);
     return st;
 }

@@ -10,6 +10,23 @@
 
 #include "igea/sim.h"
 
+/* The Monte Carlo's set-up of a model (sim.c mc_setup): Sw = K^-1/2 S D
+ * (m x N, K the stated sigmas squared, D the specs), A = Sw^T Sw (N x N),
+ * A = V diag(lam0) V^T (V N x N, lam0 N descending), Q = Sw V (m x N), L =
+ * V diag(lam0) (N x N): one allocation of (2 m + 3 N + 1) N doubles. */
+typedef struct {
+    double *Sw, *A, *V, *lam0, *Q, *L;
+} igea__sim_setup;
+
+/* The set-up kept by the first Monte Carlo run of a model that completed,
+ * for the later runs (data NULL until then; read and published under
+ * lock, never changed once published, dropped by the setters of sigma and
+ * specs, which no run may overlap). */
+typedef struct {
+    pthread_mutex_t lock;
+    double *data;
+} igea__sim_cache;
+
 struct igea_sim_model {
     int m, N;
     double *S;     /* m x N, ld m */
@@ -24,7 +41,11 @@ struct igea_sim_model {
     int system, nsamp, nepochs, has_axes, axes[6], nonlinear;
     double *traj, *epochs; /* nsamp x 11 (ld nsamp), nepochs */
     int *terms;            /* N codes */
+    igea__sim_cache *mc;   /* the Monte Carlo's set-up (above) */
 };
+
+/* Point s at the set-up of a model of m x N held in data. */
+void igea__sim_setup_map(igea__sim_setup *s, double *data, int m, int N);
 
 /* The 32-bit GSL seed of flight `flight` of stream `seed` (SplitMix64). */
 unsigned long igea__sim_flight_seed(int seed, int flight);
@@ -81,14 +102,19 @@ static inline double igea__sim_zmax(int N, const double *z, const int *reject)
     return zm;
 }
 
+/* Q = Sw V of a set-up by the calls of sim_batch.c (row segments of
+ * MB_ROWS), on the calling thread. */
+void igea__sim_setup_q(const igea__sim_setup *s, int m, int N);
+
 /* The batched Monte Carlo (sim_batch.c): flights first .. first + nflights
  * - 1 judged on the stated K common to them, in blocks of at most `block`
- * flights (rounded up to a multiple of 32), on nthreads threads. Sw, A as
- * mc_normal gives them (m x N, N x N); the per-flight outputs chi2, scale,
- * zmax, fsize (the overall size), dof, nrej, status (nflights each, as
- * mc_judge writes them) and the component counts cnt (tested then
- * rejected, N each, added to). Returns 0 or a failure as mc_judge's. */
-int igea__sim_mc_batch(const igea_sim_model *c, const double *Sw, const double *A,
+ * flights (rounded up to a multiple of 32), on nthreads threads, with the
+ * set-up s (its Q computed here on the threads first unless have_q); the
+ * per-flight outputs chi2, scale, zmax, fsize (the overall size), dof,
+ * nrej, status (nflights each, as mc_judge writes them) and the component
+ * counts cnt (tested then rejected, N each, added to). Returns 0 or a
+ * failure as mc_judge's. */
+int igea__sim_mc_batch(const igea_sim_model *c, const igea__sim_setup *s, int have_q,
                        const double *eqo, int seed, int first, int nflights,
                        int nthreads, int block, double *chi2, double *scale, double *zmax,
                        double *fsize, int *dof, int *nrej, int *status, int *cnt);

@@ -128,6 +128,67 @@ def test_flight_by_flight_bit_identical_threads(name, S, sigma, spec, slots, eq)
                 np.testing.assert_array_equal(a, b)
 
 
+def test_model_keeps_its_setup():
+    """A model's first run keeps its decomposition for the later runs (the
+    driver's and Python's chunks): runs on one model, in turn and from
+    four threads at once, equal runs on fresh models bit for bit, and a
+    new sigma or spec drops what was kept."""
+    import threading
+    S, sigma = MODELS[2][1], MODELS[2][2]
+    m, N = S.shape
+    S = np.asfortranarray(S)
+
+    def new_model(sig, spec=None):
+        h = ctypes.c_void_p()
+        _lib.call("t", "igea_sim_model_create", m, N, _lib.dptr(S), m, ctypes.byref(h))
+        _lib.call("t", "igea_sim_model_set_sigma", h, _lib.dptr(np.array([sig])), 0, 0.0)
+        if spec is not None:
+            _lib.call("t", "igea_sim_model_set_spec", h, _lib.dptr(spec))
+        return h
+
+    def mc(h, first, n, batch=0, threads=1):
+        opts = np.zeros(_capi.SIM_OPT_LEN)
+        lib.igea_sim_defaults(_lib.dptr(opts))
+        opts[_capi.SIM_OPT_SIGMA_W], opts[_capi.SIM_OPT_BATCH] = 1.1, batch
+        _lib.call("t", "igea_sim_model_set_noise", h, _lib.dptr(opts))
+        counts, table = np.zeros(_capi.SIM_MC_LEN), np.zeros((n, 5), order="F")
+        _lib.call("t", "igea_sim_montecarlo_ex", h, None, 3, first, n, threads,
+                  _lib.dptr(counts), None, None, None, _lib.dptr(table), n, 5)
+        return counts, table
+
+    spec = np.linspace(0.5, 1.5, N)
+    fresh = {}
+    for key, sig, sp, batch in (("a", sigma, None, 0), ("a1", sigma, None, 1),
+                                ("b", 2 * sigma, None, 0), ("c", 2 * sigma, spec, 0)):
+        h = new_model(sig, sp)
+        fresh[key] = mc(h, 0, 120, batch)[1]
+        lib.igea_sim_model_free(h)
+    h = new_model(sigma)
+    try:
+        for batch in (0, 1, 0):  # the flight-by-flight path reads the same set-up
+            got = np.vstack([mc(h, 0, 50, batch)[1], mc(h, 50, 70, batch, 2)[1]])
+            np.testing.assert_array_equal(got, fresh["a1" if batch else "a"])
+        out = [None] * 4
+
+        def work(i):
+            out[i] = mc(h, 0, 120, 0, 1 + i % 2)[1]
+        ths = [threading.Thread(target=work, args=(i,)) for i in range(4)]
+        for t in ths:
+            t.start()
+        for t in ths:
+            t.join()
+        for o in out:
+            np.testing.assert_array_equal(o, fresh["a"])
+        _lib.call("t", "igea_sim_model_set_sigma", h, _lib.dptr(np.array([2 * sigma])), 0, 0.0)
+        np.testing.assert_array_equal(mc(h, 0, 120)[1], fresh["b"])
+        _lib.call("t", "igea_sim_model_set_spec", h, _lib.dptr(spec))
+        np.testing.assert_array_equal(mc(h, 0, 120)[1], fresh["c"])
+        assert not np.array_equal(fresh["a"], fresh["b"])
+        assert not np.array_equal(fresh["b"], fresh["c"])
+    finally:
+        lib.igea_sim_model_free(h)
+
+
 @pytest.mark.parametrize("cut", [80, 37, 1])
 def test_sub_range_is_the_same_flights(cut):
     """Flights 5 .. 154 run as 5 .. 4 + cut and 5 + cut .. 154 (each flight
