@@ -95,6 +95,21 @@ def test_pool_rule_by_hand(model, rule, size):
         assert lo <= p.mean_size <= hi, (rule, size, p.mean_size, k / draws)
 
 
+@pytest.mark.parametrize("rule", ["exact", "sidak"])
+def test_pool_on_the_flight_by_flight_path(model, rule):
+    """The robust judge runs flight by flight: its zmax and pools are the
+    same bits on 1 and 2 threads and pool as by hand."""
+    kw = dict(spec=model.spec, seed=8, correction=False, terms=model.terms,
+              x={"gyro_bias_y": 2.5}, robust=True, verdict=rule, pool=3)
+    with igea.blas_threads(1):
+        one = igea.montecarlo(model.S, model.sigma, 60, threads=1, **kw)
+        two = igea.montecarlo(model.S, model.sigma, 60, threads=2, **kw)
+    np.testing.assert_array_equal(one.zmax, two.zmax)
+    assert one.pool == two.pool
+    assert (one.pool.pools, one.pool.failed) == pool_by_hand(one, 3, rule)
+    assert 0 < one.pool.failed < one.pool.pools
+
+
 def test_exact_thresholds_are_one_level_of_size_alpha():
     """The pooled exact rule's (a, b) at one common level g, its union size
     alpha by brute force (scipy and numpy only)."""
