@@ -30,8 +30,8 @@
 /* The rows of Q = Sw V in segments of MB_ROWS, taken by the threads in
  * turn: the same dgemm calls for every thread count (a row of a product
  * does not depend on the rows beside it in the call: OpenBLAS gives the
- * same bits as one call over all rows, checked on its Haswell and SkylakeX
- * kernels). */
+ * same bits as one call over all rows, checked with OpenBLAS 0.3.21 on its
+ * Haswell and Cooperlake kernels). */
 #define MB_ROWS 512
 
 /* ---- the flights shared out among the threads (sim_model.h) ------------ */
