@@ -1,5 +1,6 @@
 /* src/sim.c - reference trajectory, synthetic flights, Monte Carlo of the
  * equivalent-error test (METHODS 1, 5.6). */
+#include <float.h>
 #include <limits.h>
 #include <pthread.h>
 #include <stdint.h>
@@ -164,7 +165,19 @@ void igea_sim_model_free(igea_sim_model *model)
     free(model->traj);
     free(model->epochs);
     free(model->terms);
+    if (model->mc) {
+        free(model->mc->data);
+        pthread_mutex_destroy(&model->mc->lock);
+        free(model->mc);
+    }
     free(model);
+}
+
+/* Drop the Monte Carlo's kept set-up (sigma or specs changed). */
+static void mc_cache_drop(igea_sim_model *model)
+{
+    free(model->mc->data);
+    model->mc->data = NULL;
 }
 
 /* A model of m x N with its arrays allocated and the defaults set. */
@@ -180,7 +193,12 @@ static igea_sim_model *model_new(int m, int N)
     md->spec = igea__dalloc((size_t)N);
     md->x_value = igea__dalloc((size_t)N);
     md->x_fixed = igea__ialloc((size_t)N);
-    if (!md->S || !md->sigma || !md->spec || !md->x_value || !md->x_fixed) {
+    igea__sim_cache *mc = calloc(1, sizeof *mc);
+    if (mc && pthread_mutex_init(&mc->lock, NULL) == 0)
+        md->mc = mc;
+    else
+        free(mc);
+    if (!md->S || !md->sigma || !md->spec || !md->x_value || !md->x_fixed || !md->mc) {
         igea_sim_model_free(md);
         return NULL;
     }
@@ -296,6 +314,7 @@ int igea_sim_model_set_sigma(igea_sim_model *model, const double *track_sigma,
         double g = 1.0 + (M > 1 ? growth * e / (double)(M - 1) : 0.0);
         model->sigma[i] = track_sigma[sigma_inc ? i : 0] * g;
     }
+    mc_cache_drop(model);
     return 0;
 }
 
@@ -309,6 +328,7 @@ int igea_sim_model_set_spec(igea_sim_model *model, const double *spec_sigma)
     for (int j = 0; j < model->N; j++)
         model->spec[j] = spec_sigma ? spec_sigma[j] : 1.0;
     model->has_spec = spec_sigma != NULL;
+    mc_cache_drop(model);
     return 0;
 }
 
@@ -567,20 +587,23 @@ int igea_sim_interval(double k, double n, double *lohi)
     return 0;
 }
 
+/* A Monte Carlo run as its threads share it (read only but for the queue
+ * and each flight's own outputs); each thread's counts and caches are its
+ * own (mc_worker), so nothing written per flight shares a cache line with
+ * another thread's. */
 typedef struct {
     const igea_sim_model *c;
     const double *Sw; /* K^-1/2 S D, m x N */
     const double *A;  /* Sw^T Sw, N x N */
     const double *eq_opts;
-    int seed, first, nflights, thread, nthreads;
-    /* per-flight results (indexed from 0) */
-    double *chi2, *scale;
+    int seed, first;
+    /* per-flight results (indexed from 0); fsize: info OVERALL_SIZE (0 if
+     * not testable), summed in flight order */
+    double *chi2, *scale, *zmax, *fsize;
     int *dof, *nrej, *status;
-    /* per-thread component counts */
-    int *tested, *rejected;
-    int fail; /* a status < 0 other than ENOTESTABLE */
-    double *vcache;   /* the verdict rule's thresholds by n_test (eqerr.c) */
-    double size_sum;  /* sum of info OVERALL_SIZE over the testable flights */
+    int *cnt; /* tested, rejected (N each): the threads' counts added at their end */
+    pthread_mutex_t *cnt_lock;
+    igea__sim_queue *q;
     /* judged by igea_noise_eqerr (sim_noise.c): what the judge is told */
     int noise, ngroups;
     const double *cov; /* 6 per epoch, or NULL: the stated sigmas */
@@ -589,8 +612,11 @@ typedef struct {
     int *covered, *nout; /* per flight */
 } mc_job;
 
+/* Flights a thread takes at a time on the flight-by-flight path. */
+#define MC_PORTION 8
+
 /* igea_noise_eqerr on flight f; the rest as mc_judge. */
-static int mc_judge_noise(mc_job *jb, int f, const double *dw, double *lam, double *P,
+static int mc_judge_noise(const mc_job *jb, int f, const double *dw, double *lam, double *P,
                           double *xhat, double *z, int *rej, double *info)
 {
     const igea_sim_model *c = jb->c;
@@ -619,9 +645,12 @@ static int mc_judge_noise(mc_job *jb, int f, const double *dw, double *lam, doub
     return st;
 }
 
-/* Judge flight f of a job from its dw; scratch w (m + 5 N + N^2 +
- * IGEA_STATS_INFO_LEN doubles), rej (N ints). Returns 0 or the failure. */
-static int mc_judge(mc_job *jb, int f, const double *dw, double *w, int *rej)
+/* Judge flight f of a job from its dw, its components counted in cnt (the
+ * thread's own, 2 N); scratch w (m + 5 N + N^2 + IGEA_STATS_INFO_LEN
+ * doubles), rej (N ints), vcache the thread's cache of the verdict rule
+ * (4 N, eqerr.c). Returns 0 or the failure. */
+static int mc_judge(const mc_job *jb, int f, const double *dw, double *w, int *rej,
+                    double *vcache, int *cnt)
 {
     const igea_sim_model *c = jb->c;
     int m = c->m, N = c->N;
@@ -640,10 +669,12 @@ static int mc_judge(mc_job *jb, int f, const double *dw, double *w, int *rej)
                 acc += col[i] * wdw[i];
             b[j] = acc;
         }
-        st = igea__eqerr_solve_cached(N, jb->A, N, b, jb->eq_opts, jb->vcache, lam, P, N, xhat,
+        st = igea__eqerr_solve_cached(N, jb->A, N, b, jb->eq_opts, vcache, lam, P, N, xhat,
                                       z, rej, info);
     }
     jb->status[f] = st;
+    jb->zmax[f] = 0.0;
+    jb->fsize[f] = 0.0;
     if (st == IGEA_ENOTESTABLE) {
         jb->chi2[f] = 0.0;
         jb->dof[f] = 0;
@@ -653,80 +684,77 @@ static int mc_judge(mc_job *jb, int f, const double *dw, double *w, int *rej)
     }
     if (st < 0)
         return (st > -1000) ? -2 : st; /* -5: the eqerr options */
+    jb->zmax[f] = igea__sim_zmax(N, z, rej);
     jb->chi2[f] = info[IGEA_STATS_INFO_CHI2];
     jb->dof[f] = (int)info[IGEA_STATS_INFO_DOF];
     jb->nrej[f] = (int)info[IGEA_STATS_INFO_N_REJECT];
     jb->scale[f] = info[IGEA_STATS_INFO_SCALE];
     jb->status[f] = info[IGEA_STATS_INFO_CHI2] >= info[IGEA_STATS_INFO_VERDICT_CHI2_CRIT]
                         ? 1 : 0; /* chi-square rejected (by the verdict rule) */
-    jb->size_sum += info[IGEA_STATS_INFO_OVERALL_SIZE];
+    jb->fsize[f] = info[IGEA_STATS_INFO_OVERALL_SIZE];
     for (int i = 0; i < N; i++) {
-        if (rej[i] >= 0)
-            jb->tested[i]++;
-        if (rej[i] == 1)
-            jb->rejected[i]++;
+        cnt[i] += rej[i] >= 0;
+        cnt[N + i] += rej[i] == 1;
     }
     return 0;
 }
 
 static void *mc_worker(void *arg)
 {
-    mc_job *jb = arg;
+    const mc_job *jb = arg;
     const igea_sim_model *c = jb->c;
-    int m = c->m, N = c->N;
+    int m = c->m, N = c->N, f0, n;
     size_t nn = (size_t)N * N;
     double *w = igea__dalloc(3 * (size_t)m + 11 * (size_t)N + nn +
                              IGEA_STATS_INFO_LEN);
-    int *rej = igea__ialloc((size_t)N);
+    int *rej = igea__ialloc(3 * (size_t)N);
     gsl_rng *r = (w && rej) ? igea__rng_new(igea__sim_rng_type(c), 0) : NULL;
-    if (w) {
-        jb->vcache = w + 3 * (size_t)m + 7 * (size_t)N + nn + IGEA_STATS_INFO_LEN;
-        memset(jb->vcache, 0, 4 * (size_t)N * sizeof(double));
-    }
     if (!r) {
         free(w);
         free(rej);
-        jb->fail = IGEA_ENOMEM;
+        igea__sim_queue_fail(jb->q, -1, IGEA_ENOMEM); /* before every flight */
         return NULL;
     }
     double *dw = w, *nl = dw + m, *x = nl + m, *xs = x + N, *judge = xs + N;
-    for (int f = jb->thread; f < jb->nflights; f += jb->nthreads) {
-        int st = gen_flight(c, r, jb->seed, jb->first + f, x, xs, nl, dw);
-        if (st == 0)
-            st = mc_judge(jb, f, dw, judge, rej);
-        if (st) {
-            jb->fail = st;
-            break;
+    double *vcache = w + 3 * (size_t)m + 7 * (size_t)N + nn + IGEA_STATS_INFO_LEN;
+    int *cnt = rej + N;
+    memset(vcache, 0, 4 * (size_t)N * sizeof(double));
+    memset(cnt, 0, 2 * (size_t)N * sizeof(int));
+    while ((n = igea__sim_queue_take(jb->q, MC_PORTION, 1, &f0)) > 0)
+        for (int f = f0; f < f0 + n; f++) {
+            int st = gen_flight(c, r, jb->seed, jb->first + f, x, xs, nl, dw);
+            if (st == 0)
+                st = mc_judge(jb, f, dw, judge, rej, vcache, cnt);
+            if (st) {
+                igea__sim_queue_fail(jb->q, f, st);
+                break;
+            }
         }
-    }
+    pthread_mutex_lock(jb->cnt_lock);
+    for (int i = 0; i < 2 * N; i++)
+        jb->cnt[i] += cnt[i];
+    pthread_mutex_unlock(jb->cnt_lock);
     igea__rng_free(r);
     free(w);
     free(rej);
     return NULL;
 }
 
-/* Run the jobs on nthreads threads (a thread that cannot start: its share
- * runs here). Returns the first failure of a job, or 0. */
-static int mc_run(mc_job *jobs, pthread_t *tid, int nthreads)
+/* Run the job on nthreads threads, the calling thread one of them (a
+ * thread that cannot start leaves its share to the others). */
+static void mc_run(mc_job *jb, int nthreads)
 {
-    int nstarted = 0, st = 0;
-    if (nthreads == 1) {
-        mc_worker(&jobs[0]);
-    } else {
-        for (int t = 0; t < nthreads; t++) {
-            if (pthread_create(&tid[t], NULL, mc_worker, &jobs[t]) != 0)
-                break;
-            nstarted++;
-        }
-        for (int t = 0; t < nstarted; t++)
-            pthread_join(tid[t], NULL);
-        for (int t = nstarted; t < nthreads; t++)
-            mc_worker(&jobs[t]);
+    pthread_t *tid = calloc((size_t)nthreads, sizeof *tid);
+    int nstarted = 0;
+    for (int t = 1; tid && t < nthreads; t++) {
+        if (pthread_create(&tid[t], NULL, mc_worker, jb) != 0)
+            break;
+        nstarted = t;
     }
-    for (int t = 0; t < nthreads; t++)
-        if (jobs[t].fail)
-            st = jobs[t].fail;
-    return st;
+    mc_worker(jb);
+    for (int t = 1; t <= nstarted; t++)
+        pthread_join(tid[t], NULL);
+    free(tid);
 }
 
 /* Counts, rates and the means from the per-flight results. */
@@ -778,24 +806,40 @@ static int mc_normal(const igea_sim_model *c, double *Sw, double *A, double *zer
                                   c->spec, A, N, zeros + m, wtw);
 }
 
-/* The outputs of a successful run. */
-static void mc_write(const mc_job *jobs, int nthreads, int N, int nflights,
-                     double *counts, double *rates, int *comp_tested,
-                     int *comp_reject, double *table, int ldt)
+/* The set-up of the model into s (mapped on data, igea__sim_setup_map)
+ * but Q: Sw and A (mc_normal; zeros m + N scratch), V and lam0
+ * (igea__syev_desc, descending), L = V diag(lam0). */
+static int mc_setup(const igea_sim_model *c, const igea__sim_setup *s, double *zeros)
 {
-    const mc_job *j0 = &jobs[0];
+    int N = c->N;
+    size_t nn = (size_t)N * N;
+    int st = mc_normal(c, s->Sw, s->A, zeros);
+    if (st == 0) {
+        st = igea__syev_desc(N, s->A, N, s->lam0, s->V, N);
+        if (st < 0 && st > -1000)
+            st = -2;
+    }
+    for (size_t k = 0; st == 0 && k < nn; k++)
+        s->L[k] = s->V[k] * s->lam0[k / (size_t)N];
+    return st;
+}
+
+/* The outputs of a successful run. */
+static void mc_write(const mc_job *jb, int N, int nflights, double *counts, double *rates,
+                     int *comp_tested, int *comp_reject, double *table, int ldt, int ncols)
+{
     double res[IGEA_SIM_MC_LEN], rt[IGEA_SIM_MC_RATES_LEN];
-    mc_counts(nflights, j0->status, j0->nrej, j0->dof, j0->scale, res, rt);
+    mc_counts(nflights, jb->status, jb->nrej, jb->dof, jb->scale, res, rt);
     double size_sum = 0.0, ntestable = nflights - res[IGEA_SIM_MC_NOT_TESTABLE];
-    for (int t = 0; t < nthreads; t++)
-        size_sum += jobs[t].size_sum;
+    for (int f = 0; f < nflights; f++) /* in flight order: the same for every thread count */
+        size_sum += jb->fsize[f];
     res[IGEA_SIM_MC_MEAN_SIZE] = ntestable > 0 ? size_sum / ntestable : 0.0;
-    if (j0->noise) {
+    if (jb->noise) {
         double cov_n = 0, out_n = 0, sig_n = 0;
         for (int f = 0; f < nflights; f++) {
-            cov_n += j0->covered[f] & 1;
-            sig_n += j0->covered[f] >> 1;
-            out_n += j0->nout[f];
+            cov_n += jb->covered[f] & 1;
+            sig_n += jb->covered[f] >> 1;
+            out_n += jb->nout[f];
         }
         res[IGEA_SIM_MC_SCALE_COVERED] = cov_n;
         res[IGEA_SIM_MC_SIGMA_COVERED] = sig_n;
@@ -804,99 +848,99 @@ static void mc_write(const mc_job *jobs, int nthreads, int N, int nflights,
     memcpy(counts, res, sizeof res);
     if (rates)
         memcpy(rates, rt, sizeof rt);
-    for (int i = 0; i < N; i++) {
-        int te = 0, re = 0;
-        for (int t = 0; t < nthreads; t++) {
-            te += jobs[t].tested[i];
-            re += jobs[t].rejected[i];
-        }
-        if (comp_tested)
-            comp_tested[i] = te;
-        if (comp_reject)
-            comp_reject[i] = re;
-    }
+    if (comp_tested)
+        memcpy(comp_tested, jb->cnt, (size_t)N * sizeof(int));
+    if (comp_reject)
+        memcpy(comp_reject, jb->cnt + N, (size_t)N * sizeof(int));
     if (table)
         for (int f = 0; f < nflights; f++) {
-            IGEA_AT(table, ldt, f, IGEA_SIM_MC_TABLE_CHI2) = j0->chi2[f];
-            IGEA_AT(table, ldt, f, IGEA_SIM_MC_TABLE_DOF) = j0->dof[f];
-            IGEA_AT(table, ldt, f, IGEA_SIM_MC_TABLE_N_REJECT) = j0->nrej[f];
-            IGEA_AT(table, ldt, f, IGEA_SIM_MC_TABLE_SCALE) = j0->scale[f];
+            IGEA_AT(table, ldt, f, IGEA_SIM_MC_TABLE_CHI2) = jb->chi2[f];
+            IGEA_AT(table, ldt, f, IGEA_SIM_MC_TABLE_DOF) = jb->dof[f];
+            IGEA_AT(table, ldt, f, IGEA_SIM_MC_TABLE_N_REJECT) = jb->nrej[f];
+            IGEA_AT(table, ldt, f, IGEA_SIM_MC_TABLE_SCALE) = jb->scale[f];
+            if (ncols > IGEA_SIM_MC_TABLE_ZMAX)
+                IGEA_AT(table, ldt, f, IGEA_SIM_MC_TABLE_ZMAX) = jb->zmax[f];
         }
 }
 
-/* igea_sim_montecarlo after its argument checks. */
+/* igea_sim_montecarlo after its argument checks. The set-up is the one the
+ * model keeps (the first run that completes publishes its own). */
 static int mc_main(const igea_sim_model *c, const double *eqo, int seed,
                    int first, int nflights, int nthreads, double *counts,
                    double *rates, int *comp_tested, int *comp_reject,
-                   double *table, int ldt)
+                   double *table, int ldt, int ncols)
 {
     int m = c->m, N = c->N;
     size_t nn = (size_t)N * N, nf = (size_t)nflights;
-    double *dwork = igea__dalloc((size_t)m * N + nn + (size_t)m + N + 2 * nf + 2 * (size_t)m);
-    int *iwork = igea__ialloc(5 * nf + 2 * (size_t)N * nthreads + (size_t)m / 3);
-    mc_job *jobs = calloc((size_t)nthreads, sizeof *jobs);
-    pthread_t *tid = calloc((size_t)nthreads, sizeof *tid);
-    int st = IGEA_ENOMEM;
-    if (dwork && iwork && jobs && tid) {
-        double *Sw = dwork, *A = Sw + (size_t)m * N, *zeros = A + nn;
-        double *f_chi2 = zeros + m + N, *f_scale = f_chi2 + nf;
+    size_t nsetup = 2 * (size_t)m * N + 3 * nn + (size_t)N;
+    pthread_mutex_lock(&c->mc->lock);
+    double *kept = c->mc->data;
+    pthread_mutex_unlock(&c->mc->lock);
+    double *own = kept ? NULL : igea__dalloc(nsetup);
+    double *dwork = igea__dalloc((size_t)m + N + 4 * nf + 2 * (size_t)m);
+    int *iwork = igea__ialloc(5 * nf + 2 * (size_t)N + (size_t)m / 3);
+    igea__sim_queue q;
+    pthread_mutex_t cnt_lock;
+    int st = dwork && iwork && (kept || own) ? igea__sim_queue_init(&q, nflights, nthreads)
+                                             : IGEA_ENOMEM;
+    if (st == 0 && pthread_mutex_init(&cnt_lock, NULL) != 0) {
+        igea__sim_queue_destroy(&q);
+        st = IGEA_ENOMEM;
+    }
+    if (st == 0) {
+        igea__sim_setup su;
+        igea__sim_setup_map(&su, kept ? kept : own, m, N);
+        double *zeros = dwork, *f_chi2 = zeros + m + N, *f_scale = f_chi2 + nf;
         int *f_dof = iwork, *f_nrej = f_dof + nf, *f_status = f_nrej + nf;
         int *cnt = f_status + nf;
-        memset(cnt, 0, 2 * (size_t)N * nthreads * sizeof(int));
-        int *f_cov = cnt + 2 * (size_t)N * nthreads, *f_nout = f_cov + nf, *grp = f_nout + nf;
-        double *cov6 = f_scale + nf, phi[9] = {0};
+        memset(cnt, 0, 2 * (size_t)N * sizeof(int));
+        int *f_cov = cnt + 2 * (size_t)N, *f_nout = f_cov + nf, *grp = f_nout + nf;
+        double *cov6 = f_scale + nf, *f_zmax = cov6 + 2 * (size_t)m, *f_size = f_zmax + nf;
+        double phi[9] = {0};
         int noise = igea__sim_noise_judged(c->opts, eqo), ngroups = 1;
         int usecov = igea__sim_judge_stated(c->opts, eqo, m, c->sigma, cov6, grp, &ngroups, phi);
-        st = mc_normal(c, Sw, A, zeros);
-        for (int t = 0; t < nthreads && st == 0; t++) {
-            mc_job *jb = &jobs[t];
-            jb->c = c;
-            jb->Sw = Sw;
-            jb->A = A;
-            jb->eq_opts = eqo;
-            jb->seed = seed;
-            jb->first = first;
-            jb->nflights = nflights;
-            jb->thread = t;
-            jb->nthreads = nthreads;
-            jb->chi2 = f_chi2;
-            jb->scale = f_scale;
-            jb->dof = f_dof;
-            jb->nrej = f_nrej;
-            jb->status = f_status;
-            jb->tested = cnt + 2 * (size_t)N * t;
-            jb->rejected = jb->tested + N;
-            jb->fail = 0;
-            jb->noise = noise;
-            jb->ngroups = ngroups;
-            jb->cov = usecov ? cov6 : NULL;
-            jb->group = grp;
-            memcpy(jb->phi, phi, sizeof phi);
-            jb->covered = f_cov;
-            jb->nout = f_nout;
-        }
+        mc_job jb = {c, su.Sw, su.A, eqo, seed, first, f_chi2, f_scale, f_zmax, f_size,
+                     f_dof, f_nrej, f_status, cnt, &cnt_lock, &q,
+                     noise, ngroups, usecov ? cov6 : NULL, grp, {0}, f_cov, f_nout};
+        memcpy(jb.phi, phi, sizeof phi);
+        if (own)
+            st = mc_setup(c, &su, zeros);
         int block = (int)c->opts[IGEA_SIM_OPT_BATCH];
-        if (st == 0 && !noise && !c->nonlinear && block != 1) /* batched: sim_batch.c */
-            st = igea__sim_mc_batch(c, Sw, A, eqo, seed, first, nflights, nthreads,
+        if (st == 0 && !noise && !c->nonlinear && block != 1) { /* batched: sim_batch.c */
+            st = igea__sim_mc_batch(c, &su, kept != NULL, eqo, seed, first, nflights, nthreads,
                                     block ? block : IGEA_SIM_BATCH_DEFAULT, f_chi2, f_scale,
-                                    f_dof, f_nrej, f_status, cnt, &jobs[0].size_sum);
-        else if (st == 0)
-            st = mc_run(jobs, tid, nthreads);
+                                    f_zmax, f_size, f_dof, f_nrej, f_status, cnt);
+        } else if (st == 0) {
+            if (own)
+                igea__sim_setup_q(&su, m, N);
+            mc_run(&jb, nthreads);
+            st = q.fail;
+        }
         if (st == 0)
-            mc_write(jobs, nthreads, N, nflights, counts, rates, comp_tested,
-                     comp_reject, table, ldt);
+            mc_write(&jb, N, nflights, counts, rates, comp_tested, comp_reject, table, ldt,
+                     ncols);
+        pthread_mutex_destroy(&cnt_lock);
+        igea__sim_queue_destroy(&q);
     }
+    if (st == 0 && own) { /* kept for the later runs, unless another run's is */
+        pthread_mutex_lock(&c->mc->lock);
+        if (!c->mc->data) {
+            c->mc->data = own;
+            own = NULL;
+        }
+        pthread_mutex_unlock(&c->mc->lock);
+    }
+    free(own);
     free(dwork);
     free(iwork);
-    free(jobs);
-    free(tid);
     return st;
 }
 
-int igea_sim_montecarlo(const igea_sim_model *model, const double *eq_opts,
-                        int seed, int first_flight, int nflights, int nthreads,
-                        double *counts, double *rates, int *comp_tested,
-                        int *comp_reject, double *table, int ldt)
+/* igea_sim_montecarlo and igea_sim_montecarlo_ex: checks, then mc_main. */
+static int mc_entry(const igea_sim_model *model, const double *eq_opts, int seed,
+                    int first_flight, int nflights, int nthreads, double *counts,
+                    double *rates, int *comp_tested, int *comp_reject, double *table,
+                    int ldt, int ncols)
 {
     double eqo[IGEA_EQERR_OPT_LEN];
     if (!model)
@@ -915,6 +959,8 @@ int igea_sim_montecarlo(const igea_sim_model *model, const double *eq_opts,
         return -7;
     if (table && ldt < nflights)
         return -12;
+    if (table && ncols != IGEA_SIM_MC_TABLE_COLS && ncols != IGEA_SIM_MC_TABLE_COLS_Z)
+        return -13;
     if (eq_opts)
         memcpy(eqo, eq_opts, sizeof eqo);
     else
@@ -925,15 +971,34 @@ int igea_sim_montecarlo(const igea_sim_model *model, const double *eq_opts,
     }
     nthreads = IGEA_MIN(IGEA_MIN(nthreads, nflights), 256);
     return mc_main(model, eqo, seed, first_flight, nflights, nthreads, counts,
-                   rates, comp_tested, comp_reject, table, ldt);
+                   rates, comp_tested, comp_reject, table, ldt, ncols);
+}
+
+int igea_sim_montecarlo(const igea_sim_model *model, const double *eq_opts,
+                        int seed, int first_flight, int nflights, int nthreads,
+                        double *counts, double *rates, int *comp_tested,
+                        int *comp_reject, double *table, int ldt)
+{
+    return mc_entry(model, eq_opts, seed, first_flight, nflights, nthreads, counts, rates,
+                    comp_tested, comp_reject, table, ldt, IGEA_SIM_MC_TABLE_COLS);
+}
+
+int igea_sim_montecarlo_ex(const igea_sim_model *model, const double *eq_opts, int seed,
+                           int first_flight, int nflights, int nthreads, double *counts,
+                           double *rates, int *comp_tested, int *comp_reject, double *table,
+                           int ldt, int ncols)
+{
+    return mc_entry(model, eq_opts, seed, first_flight, nflights, nthreads, counts, rates,
+                    comp_tested, comp_reject, table, ldt, ncols);
 }
 
 /* ---- pooled verdicts ------------------------------------------------------ */
 
-/* The table's CHI2, DOF and N_REJECT columns as igea_sim_pool reads them:
- * 0, IGEA_ENONFINITE or -2. */
+/* The table's CHI2, DOF and N_REJECT (igea_sim_pool) or ZMAX
+ * (igea_sim_pool_ex, zmax 1) columns as the pools read them: 0,
+ * IGEA_ENONFINITE or -2. */
 static int pool_check(int nflights, const double *T, const double *D,
-                      const double *R)
+                      const double *R, int zmax)
 {
     if (!igea__finite_vec(nflights, T, 1) || !igea__finite_vec(nflights, D, 1) ||
         !igea__finite_vec(nflights, R, 1))
@@ -941,7 +1006,9 @@ static int pool_check(int nflights, const double *T, const double *D,
     for (int f = 0; f < nflights; f++) {
         if (!(D[f] >= 0.0 && D[f] <= IGEA_STATS_DOF_MAX && D[f] == floor(D[f])))
             return -2;
-        if (!(R[f] >= 0.0 && R[f] <= D[f] && R[f] == floor(R[f])))
+        if (!zmax && !(R[f] >= 0.0 && R[f] <= D[f] && R[f] == floor(R[f])))
+            return -2;
+        if (zmax && (!(R[f] >= 0.0) || (D[f] == 0.0 && R[f] != 0.0)))
             return -2;
         if (!(T[f] >= 0.0) || (D[f] == 0.0 && T[f] != 0.0))
             return -2;
@@ -995,7 +1062,7 @@ int igea_sim_pool(int nflights, const double *table, int ldt, int size,
     const double *T = table + (size_t)IGEA_SIM_MC_TABLE_CHI2 * (size_t)ldt;
     const double *D = table + (size_t)IGEA_SIM_MC_TABLE_DOF * (size_t)ldt;
     const double *R = table + (size_t)IGEA_SIM_MC_TABLE_N_REJECT * (size_t)ldt;
-    int st = pool_check(nflights, T, D, R);
+    int st = pool_check(nflights, T, D, R, 0);
     if (st)
         return st;
     int npools = nflights / size, nfail = 0;
@@ -1025,6 +1092,143 @@ int igea_sim_pool(int nflights, const double *table, int ldt, int size,
     pooled[IGEA_SIM_POOL_RATE] = npools > 0 ? (double)nfail / npools : NAN;
     pooled[IGEA_SIM_POOL_CI99_LO] = lohi[0];
     pooled[IGEA_SIM_POOL_CI99_HI] = lohi[1];
+    return 0;
+}
+
+/* The thresholds of the rule eqo for n pooled components as igea_eqerr_pool
+ * applies them: th[0] = a (HUGE_VAL: no component test), th[1] = b, th[2]
+ * = the overall size (0: not computed); zeros (n doubles of 0) are the z
+ * it is asked about. Returns 0 or igea_eqerr_pool's failure. */
+static int pool_rule(int n, const double *eqo, const double *zeros, double *th)
+{
+    double chi2 = 0.0, info[IGEA_STATS_INFO_LEN];
+    int dof = n;
+    int st = igea_eqerr_pool(1, &chi2, &dof, zeros, NULL, eqo, NULL, info);
+    if (st)
+        return st < 0 && st > -1000 ? IGEA_ENOCONV : st; /* arguments checked before */
+    th[0] = info[IGEA_STATS_INFO_VERDICT_Z_CRIT] > 0 ? info[IGEA_STATS_INFO_VERDICT_Z_CRIT]
+                                                   : HUGE_VAL;
+    th[1] = info[IGEA_STATS_INFO_VERDICT_CHI2_CRIT];
+    th[2] = info[IGEA_STATS_INFO_OVERALL_SIZE];
+    return 0;
+}
+
+/* The pooled components of the groups (their summed DOF), each group's
+ * in dsum[g]; the largest in *nmax. Returns 0 or -4 (above
+ * IGEA_STATS_DOF_MAX). */
+static int pool_dofs(int npools, int size, const double *D, int *dsum, int *nmax)
+{
+    *nmax = 0;
+    for (int g = 0; g < npools; g++) {
+        double d = 0.0;
+        for (int f = 0; f < size; f++)
+            d += D[(size_t)g * size + f];
+        if (d > IGEA_STATS_DOF_MAX)
+            return -4;
+        dsum[g] = (int)d;
+        *nmax = IGEA_MAX(*nmax, dsum[g]);
+    }
+    return 0;
+}
+
+/* The verdicts of the groups by the thresholds th (4 per n: computed
+ * flag, a, b, size; filled here on first use): *nfail groups out of spec,
+ * *size_sum their sizes, *size_ok 0 when a size is not computed. */
+static int pool_groups(int npools, int size, const double *T, const double *D,
+                       const double *Z, const int *dsum, const double *eqo,
+                       const double *zeros, double *th, int *nfail, int *ntest,
+                       double *size_sum, int *size_ok)
+{
+    for (int g = 0; g < npools; g++) {
+        int n = dsum[g];
+        if (n == 0)
+            continue; /* no testable flight: passes */
+        double *e = th + 4 * (size_t)(n - 1);
+        int st = e[0] == 1.0 ? 0 : pool_rule(n, eqo, zeros, e + 1);
+        if (st)
+            return st;
+        e[0] = 1.0;
+        igea__ksum t = {0, 0};
+        int sat = 0;
+        double zm = 0.0;
+        for (int f = 0; f < size; f++) { /* igea_stats_pool's saturating sum */
+            size_t k = (size_t)g * size + f;
+            if (D[k] == 0.0)
+                continue;
+            zm = fmax(zm, Z[k]);
+            if (!sat && isfinite(t.s + T[k]))
+                igea__ksum_add(&t, T[k]);
+            else
+                sat = 1;
+        }
+        double Tt = sat ? DBL_MAX : igea__ksum_get(&t);
+        if (!isfinite(Tt))
+            Tt = DBL_MAX;
+        *nfail += zm > e[1] || Tt >= e[2];
+        *ntest += 1;
+        *size_sum += e[3];
+        *size_ok = *size_ok && e[3] > 0.0;
+    }
+    return 0;
+}
+
+int igea_sim_pool_ex(int nflights, const double *table, int ldt, int size,
+                     const double *eq_opts, double *pooled)
+{
+    double eqo[IGEA_EQERR_OPT_LEN];
+    if (nflights < 1)
+        return -1;
+    if (!table)
+        return -2;
+    if (ldt < nflights)
+        return -3;
+    if (size < 1)
+        return -4;
+    if (eq_opts && igea_eqerr_check_opts(eq_opts) != 0)
+        return -5;
+    if (!pooled)
+        return -6;
+    if (eq_opts)
+        memcpy(eqo, eq_opts, sizeof eqo);
+    else
+        igea_eqerr_defaults(eqo);
+    eqo[IGEA_EQERR_OPT_VERDICT_N] = 0; /* the rule computed for each n */
+    const double *T = table + (size_t)IGEA_SIM_MC_TABLE_CHI2 * (size_t)ldt;
+    const double *D = table + (size_t)IGEA_SIM_MC_TABLE_DOF * (size_t)ldt;
+    const double *Z = table + (size_t)IGEA_SIM_MC_TABLE_ZMAX * (size_t)ldt;
+    int st = pool_check(nflights, T, D, Z, 1);
+    if (st)
+        return st;
+    int npools = nflights / size, nfail = 0, ntest = 0, size_ok = 1, nmax = 0;
+    double size_sum = 0.0;
+    if (npools > 0) {
+        int *dsum = igea__ialloc((size_t)npools);
+        st = dsum ? pool_dofs(npools, size, D, dsum, &nmax) : IGEA_ENOMEM;
+        double *th = st == 0 ? igea__dalloc(5 * (size_t)IGEA_MAX(nmax, 1)) : NULL;
+        if (st == 0 && !th)
+            st = IGEA_ENOMEM;
+        if (st == 0) {
+            memset(th, 0, 5 * (size_t)IGEA_MAX(nmax, 1) * sizeof(double));
+            st = pool_groups(npools, size, T, D, Z, dsum, eqo, th + 4 * (size_t)IGEA_MAX(nmax, 1),
+                             th, &nfail, &ntest, &size_sum, &size_ok);
+        }
+        free(dsum);
+        free(th);
+        if (st)
+            return st;
+    }
+    double lohi[2] = {NAN, NAN};
+    if (npools > 0)
+        igea_sim_interval(nfail, npools, lohi);
+    for (int k = 0; k < IGEA_SIM_POOL_LEN; k++)
+        pooled[k] = 0.0;
+    pooled[IGEA_SIM_POOL_POOLS] = npools;
+    pooled[IGEA_SIM_POOL_FAILED] = nfail;
+    pooled[IGEA_SIM_POOL_RATE] = npools > 0 ? (double)nfail / npools : NAN;
+    pooled[IGEA_SIM_POOL_CI99_LO] = lohi[0];
+    pooled[IGEA_SIM_POOL_CI99_HI] = lohi[1];
+    pooled[IGEA_SIM_POOL_MEAN_SIZE] =
+        npools == 0 ? NAN : (ntest > 0 && size_ok ? size_sum / ntest : 0.0);
     return 0;
 }
 

@@ -27,14 +27,75 @@
  * unrolls of the common kernels (4, 8). */
 #define MB_CHUNK 32
 
+/* The rows of Q = Sw V in segments of MB_ROWS, taken by the threads in
+ * turn: the same dgemm calls for every thread count (a row of a product
+ * does not depend on the rows beside it in the call: OpenBLAS gives the
+ * same bits as one call over all rows, checked with OpenBLAS 0.3.21 on its
+ * Haswell and Cooperlake kernels). */
+#define MB_ROWS 512
+
+/* ---- the flights shared out among the threads (sim_model.h) ------------ */
+
+int igea__sim_queue_init(igea__sim_queue *q, int nflights, int nthreads)
+{
+    q->next = 0;
+    q->nflights = nflights;
+    q->nthreads = nthreads;
+    q->stop = 0;
+    q->fail_flight = nflights;
+    q->fail = 0;
+    return pthread_mutex_init(&q->lock, NULL) ? IGEA_ENOMEM : 0;
+}
+
+void igea__sim_queue_destroy(igea__sim_queue *q)
+{
+    pthread_mutex_destroy(&q->lock);
+}
+
+int igea__sim_queue_take(igea__sim_queue *q, int max, int unit, int *f0)
+{
+    pthread_mutex_lock(&q->lock);
+    int left = q->stop ? 0 : q->nflights - q->next, n = 0;
+    if (left > 0) {
+        n = (left + 2 * q->nthreads - 1) / (2 * q->nthreads);
+        n = (n + unit - 1) / unit * unit;
+        n = IGEA_MIN(IGEA_MIN(IGEA_MAX(n, unit), max), left);
+        *f0 = q->next;
+        q->next += n;
+    }
+    pthread_mutex_unlock(&q->lock);
+    return n;
+}
+
+void igea__sim_queue_fail(igea__sim_queue *q, int f, int st)
+{
+    pthread_mutex_lock(&q->lock);
+    q->stop = 1;
+    if (f < q->fail_flight || !q->fail) {
+        q->fail_flight = f;
+        q->fail = st;
+    }
+    pthread_mutex_unlock(&q->lock);
+}
+
+/* What the threads share (read only but for the queue and each flight's
+ * own outputs); each thread's own state is on its stack and in its own
+ * allocation (mb_worker): nothing it writes per flight shares a cache line
+ * with another thread's. */
 typedef struct {
     const igea_sim_model *c;
     const double *Q, *lam0, *eqo, *L; /* L = V diag(lam0), N x N */
-    int seed, first, nflights, block, thread, nthreads;
-    double *chi2, *scale, *fsize;
+    /* Q = Sw V (m x N) in row segments before the flights (mb_rows) */
+    const igea__sim_setup *s;
+    igea__sim_queue *qrow;
+    int *rows_done;
+    pthread_cond_t *rows_cv;
+    int seed, first, block;
+    double *chi2, *scale, *zmax, *fsize;
     int *dof, *nrej, *status;
-    int *cnt; /* this thread's: tested, rejected (N each) */
-    int fail;
+    int *cnt; /* tested, rejected (N each): the threads' counts added at their end */
+    pthread_mutex_t *cnt_lock;
+    igea__sim_queue *q;
 } mb_job;
 
 /* ---- igea's keyed streams (IGEA_SIM_XOSHIRO) --------------------------- */
@@ -95,7 +156,7 @@ static void mb_block_xoshiro(const mb_job *jb, gsl_rng *r, int f0, int nb, doubl
                              double *E, double *PB, double *xs)
 {
     const igea_sim_model *c = jb->c;
-    int m = c->m, N = c->N, b = jb->block;
+    int m = c->m, N = c->N, b = (nb + MB_CHUNK - 1) / MB_CHUNK * MB_CHUNK;
     for (int j = 0; j < b; j++) {
         double *x = X + (size_t)j * N, *e = E + (size_t)j * m;
         if (j >= nb) {
@@ -123,13 +184,14 @@ static void mb_block_xoshiro(const mb_job *jb, gsl_rng *r, int f0, int nb, doubl
 }
 
 /* The block's truths (XS, N x b) and noises (DW, m x b), zero columns past
- * nb flights, then DW = diag(sigma)^-1 (DW + S XS) and PB = Q^T DW, by
- * dgemm calls of MB_CHUNK columns each (b a multiple of it). */
+ * nb flights up to b = nb rounded up to MB_CHUNK, then DW =
+ * diag(sigma)^-1 (DW + S XS) and PB = Q^T DW, by dgemm calls of MB_CHUNK
+ * columns each. */
 static void mb_block(const mb_job *jb, gsl_rng *r, int f0, int nb, double *XS,
                      double *DW, double *PB, double *x)
 {
     const igea_sim_model *c = jb->c;
-    int m = c->m, N = c->N, b = jb->block;
+    int m = c->m, N = c->N, b = (nb + MB_CHUNK - 1) / MB_CHUNK * MB_CHUNK;
     for (int j = 0; j < b; j++) {
         double *xs = XS + (size_t)j * N, *dw = DW + (size_t)j * m;
         memset(dw, 0, (size_t)m * sizeof(double));
@@ -153,14 +215,17 @@ static void mb_block(const mb_job *jb, gsl_rng *r, int f0, int nb, double *XS,
 }
 
 /* Flight f's verdict from its projections pb, recorded as mc_judge does
- * (sim.c); scratch w (4 N + IGEA_STATS_INFO_LEN), vc the caches (6 N). */
-static int mb_judge(mb_job *jb, int f, const double *pb, double *w, double *vc, int *rej)
+ * (sim.c), its components counted in cnt (the thread's own, 2 N); scratch
+ * w (4 N + IGEA_STATS_INFO_LEN), vc the caches (6 N). */
+static int mb_judge(const mb_job *jb, int f, const double *pb, double *w, double *vc,
+                    int *rej, int *cnt)
 {
     int N = jb->c->N;
     double *z = w + 3 * (size_t)N, *info = z + N;
     int st = igea__eqerr_solve_projected(N, jb->lam0, pb, jb->eqo, vc, w, z, rej, info);
     jb->status[f] = st;
     jb->fsize[f] = 0.0;
+    jb->zmax[f] = 0.0;
     if (st == IGEA_ENOTESTABLE) {
         jb->chi2[f] = 0.0;
         jb->dof[f] = 0;
@@ -176,112 +241,146 @@ static int mb_judge(mb_job *jb, int f, const double *pb, double *w, double *vc, 
     jb->scale[f] = info[IGEA_STATS_INFO_SCALE];
     jb->status[f] = info[IGEA_STATS_INFO_CHI2] >= info[IGEA_STATS_INFO_VERDICT_CHI2_CRIT];
     jb->fsize[f] = info[IGEA_STATS_INFO_OVERALL_SIZE];
+    jb->zmax[f] = igea__sim_zmax(N, z, rej);
     for (int i = 0; i < N; i++) {
-        jb->cnt[i] += rej[i] >= 0;
-        jb->cnt[N + i] += rej[i] == 1;
+        cnt[i] += rej[i] >= 0;
+        cnt[N + i] += rej[i] == 1;
     }
     return 0;
 }
 
+void igea__sim_setup_map(igea__sim_setup *s, double *data, int m, int N)
+{
+    size_t mn = (size_t)m * N, nn = (size_t)N * N;
+    s->Sw = data;
+    s->A = s->Sw + mn;
+    s->V = s->A + nn;
+    s->lam0 = s->V + nn;
+    s->Q = s->lam0 + N;
+    s->L = s->Q + mn;
+}
+
+/* Rows r0 .. r0 + MB_ROWS - 1 (or to m) of Q = Sw V. */
+static void q_rows(const igea__sim_setup *s, int m, int N, int r0)
+{
+    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, IGEA_MIN(MB_ROWS, m - r0), N, N,
+                1.0, s->Sw + r0, m, s->V, N, 0.0, s->Q + r0, m);
+}
+
+void igea__sim_setup_q(const igea__sim_setup *s, int m, int N)
+{
+    for (int r0 = 0; r0 < m; r0 += MB_ROWS)
+        q_rows(s, m, N, r0);
+}
+
+/* The thread's share of Q = Sw V by segments of MB_ROWS rows, then the
+ * wait for the others' (rows_done counts the segments, under qrow's lock). */
+static void mb_rows(const mb_job *jb)
+{
+    int m = jb->c->m, N = jb->c->N, nseg = (m + MB_ROWS - 1) / MB_ROWS, s0;
+    while (igea__sim_queue_take(jb->qrow, 1, 1, &s0) > 0) {
+        q_rows(jb->s, m, N, s0 * MB_ROWS);
+        pthread_mutex_lock(&jb->qrow->lock);
+        if (++*jb->rows_done == nseg)
+            pthread_cond_broadcast(jb->rows_cv);
+        pthread_mutex_unlock(&jb->qrow->lock);
+    }
+    pthread_mutex_lock(&jb->qrow->lock);
+    while (*jb->rows_done < nseg)
+        pthread_cond_wait(jb->rows_cv, &jb->qrow->lock);
+    pthread_mutex_unlock(&jb->qrow->lock);
+}
+
 static void *mb_worker(void *arg)
 {
-    mb_job *jb = arg;
+    const mb_job *jb = arg;
     const igea_sim_model *c = jb->c;
     size_t m = (size_t)c->m, N = (size_t)c->N, b = (size_t)jb->block;
+    mb_rows(jb);
     double *w = igea__dalloc(b * (N + m + N) + 11 * N + IGEA_STATS_INFO_LEN);
-    int *rej = igea__ialloc(N);
+    int *rej = igea__ialloc(3 * N);
     gsl_rng *r = (w && rej) ? igea__rng_new(igea__sim_rng_type(c), 0) : NULL;
     if (!r) {
         free(w);
         free(rej);
-        jb->fail = IGEA_ENOMEM;
+        igea__sim_queue_fail(jb->q, -1, IGEA_ENOMEM); /* before every flight */
         return NULL;
     }
     double *XS = w, *DW = XS + b * N, *PB = DW + b * m, *x = PB + b * N;
     double *vc = x + N, *judge = vc + 6 * N;
+    int *cnt = rej + N, f0, nb;
     memset(vc, 0, 6 * N * sizeof(double));
-    for (int f0 = jb->thread * jb->block; f0 < jb->nflights && !jb->fail;
-         f0 += jb->nthreads * jb->block) {
-        int nb = IGEA_MIN(jb->block, jb->nflights - f0);
+    memset(cnt, 0, 2 * N * sizeof(int));
+    while ((nb = igea__sim_queue_take(jb->q, jb->block, MB_CHUNK, &f0)) > 0) {
         if (r->type == igea__xoshiro_type)
             mb_block_xoshiro(jb, r, f0, nb, XS, DW, PB, x);
         else
             mb_block(jb, r, f0, nb, XS, DW, PB, x);
-        for (int j = 0; j < nb && !jb->fail; j++)
-            jb->fail = mb_judge(jb, f0 + j, PB + (size_t)j * N, judge, vc, rej);
+        for (int j = 0; j < nb; j++) {
+            int st = mb_judge(jb, f0 + j, PB + (size_t)j * N, judge, vc, rej, cnt);
+            if (st) {
+                igea__sim_queue_fail(jb->q, f0 + j, st);
+                break;
+            }
+        }
     }
+    pthread_mutex_lock(jb->cnt_lock);
+    for (size_t i = 0; i < 2 * N; i++)
+        jb->cnt[i] += cnt[i];
+    pthread_mutex_unlock(jb->cnt_lock);
     igea__rng_free(r);
     free(w);
     free(rej);
     return NULL;
 }
 
-/* Run the jobs on their threads (a thread that cannot start: its share
- * runs here); the first failure, or 0. */
-static int mb_run(mb_job *jobs, int nthreads)
+/* Run the job on nthreads threads, the calling thread one of them (a
+ * thread that cannot start leaves its share to the others). */
+static void mb_run(mb_job *jb, int nthreads)
 {
     pthread_t *tid = calloc((size_t)nthreads, sizeof *tid);
-    int nstarted = 0, st = 0;
+    int nstarted = 0;
     for (int t = 1; tid && t < nthreads; t++) {
-        if (pthread_create(&tid[t], NULL, mb_worker, &jobs[t]) != 0)
+        if (pthread_create(&tid[t], NULL, mb_worker, jb) != 0)
             break;
         nstarted = t;
     }
-    mb_worker(&jobs[0]);
+    mb_worker(jb);
     for (int t = 1; t <= nstarted; t++)
         pthread_join(tid[t], NULL);
-    for (int t = nstarted + 1; t < nthreads; t++)
-        mb_worker(&jobs[t]);
     free(tid);
-    for (int t = 0; t < nthreads; t++)
-        if (jobs[t].fail && !st)
-            st = jobs[t].fail;
-    return st;
 }
 
-int igea__sim_mc_batch(const igea_sim_model *c, const double *Sw, const double *A,
+int igea__sim_mc_batch(const igea_sim_model *c, const igea__sim_setup *s, int have_q,
                        const double *eqo, int seed, int first, int nflights,
-                       int nthreads, int block, double *chi2, double *scale, int *dof,
-                       int *nrej, int *status, int *cnt, double *size_sum)
+                       int nthreads, int block, double *chi2, double *scale, double *zmax,
+                       double *fsize, int *dof, int *nrej, int *status, int *cnt)
 {
-    int m = c->m, N = c->N;
-    size_t nn = (size_t)N * N;
-    double *d = igea__dalloc(2 * nn + (size_t)N + (size_t)m * N + (size_t)nflights);
-    int *ic = igea__ialloc(2 * (size_t)N * nthreads);
-    mb_job *jobs = calloc((size_t)nthreads, sizeof *jobs);
-    int st = IGEA_ENOMEM;
+    int m = c->m, nseg = (m + MB_ROWS - 1) / MB_ROWS, ok = 0;
+    int rows_done = have_q ? nseg : 0; /* a kept Q: nothing to do */
+    igea__sim_queue q, qrow;
+    pthread_mutex_t cnt_lock;
+    pthread_cond_t rows_cv;
+    /* ok counts what is initialised: the queues, the lock, the condition */
+    if (igea__sim_queue_init(&q, nflights, nthreads) == 0 && ++ok &&
+        igea__sim_queue_init(&qrow, have_q ? 0 : nseg, nthreads) == 0 && ++ok &&
+        pthread_mutex_init(&cnt_lock, NULL) == 0 && ++ok && pthread_cond_init(&rows_cv, NULL) == 0)
+        ++ok;
+    int st = ok == 4 ? 0 : IGEA_ENOMEM;
     block = (block + MB_CHUNK - 1) / MB_CHUNK * MB_CHUNK;
-    if (d && ic && jobs) {
-        double *V = d, *lam0 = V + nn, *Q = lam0 + N, *fsize = Q + (size_t)m * N;
-        double *L = fsize + nflights;
-        st = igea__syev_desc(N, A, N, lam0, V, N);
-        if (st < 0 && st > -1000)
-            st = -2;
-        if (st == 0)
-            cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, m, N, N, 1.0, Sw, m, V,
-                        N, 0.0, Q, m);
-        for (size_t k = 0; st == 0 && k < nn; k++)
-            L[k] = V[k] * lam0[k / (size_t)N];
-        memset(ic, 0, 2 * (size_t)N * nthreads * sizeof(int));
-        for (int t = 0; t < nthreads; t++) {
-            mb_job j = {c, Q, lam0, eqo, L, seed, first, nflights, block, t, nthreads,
-                        chi2, scale, fsize, dof, nrej, status, ic + 2 * (size_t)N * t, 0};
-            jobs[t] = j;
-        }
-        if (st == 0)
-            st = mb_run(jobs, nthreads);
-        if (st == 0) {
-            double s = 0.0;
-            for (int f = 0; f < nflights; f++)
-                s += fsize[f];
-            *size_sum = s;
-            for (int t = 0; t < nthreads; t++)
-                for (int i = 0; i < 2 * N; i++)
-                    cnt[i] += ic[2 * (size_t)N * t + i];
-        }
+    if (st == 0) {
+        mb_job jb = {c, s->Q, s->lam0, eqo, s->L, s, &qrow, &rows_done, &rows_cv, seed, first,
+                     block, chi2, scale, zmax, fsize, dof, nrej, status, cnt, &cnt_lock, &q};
+        mb_run(&jb, nthreads);
+        st = q.fail;
     }
-    free(d);
-    free(ic);
-    free(jobs);
+    if (ok >= 4)
+        pthread_cond_destroy(&rows_cv);
+    if (ok >= 3)
+        pthread_mutex_destroy(&cnt_lock);
+    if (ok >= 2)
+        igea__sim_queue_destroy(&qrow);
+    if (ok >= 1)
+        igea__sim_queue_destroy(&q);
     return st;
 }

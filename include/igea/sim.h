@@ -129,7 +129,12 @@ IGEA_API int igea_sim_check_opts(const double *opts);
  * the 1-sigma specs, the true noise (opts), the true X (fixed terms) and,
  * for a model made from a trajectory, the trajectory, terms and epochs of
  * the nonlinear truth. A handle is not shared between threads while a
- * setter runs; flights and Monte Carlo runs only read it.
+ * setter runs; flights and Monte Carlo runs only read it, but for one
+ * thing: the first Monte Carlo run that completes keeps its set-up in the
+ * handle (the weighted S, its normal matrix, their eigen-decomposition and
+ * product, (2 m + 3 N + 1) N doubles, under a lock), so that the later runs
+ * of the model (the chunks of a long study) skip it, with the same results
+ * bit for bit; setting the stated sigma or the specs drops it.
  *
  * Defaults: stated sigma 0.01 m/s on every row, no growth [D]; specs 1
  * (igea_sim_model_create) or the catalogue's (igea_envfun_default_spec,
@@ -310,6 +315,12 @@ IGEA_API int igea_sim_nonlinear(int system, int nsamp, const double *traj,
 #define IGEA_SIM_MC_TABLE_N_REJECT 2 /* rejected components */
 #define IGEA_SIM_MC_TABLE_SCALE 3    /* final c (NaN if not testable) */
 #define IGEA_SIM_MC_TABLE_COLS 4
+/* A fifth column, in the tables of IGEA_SIM_MC_TABLE_COLS_Z columns that
+ * igea_sim_montecarlo_ex writes and igea_sim_pool_ex reads: */
+#define IGEA_SIM_MC_TABLE_ZMAX 4 /* the largest |z_i| over the tested components
+                                    (0 if not testable): a component of the
+                                    flight is beyond a threshold a iff ZMAX > a */
+#define IGEA_SIM_MC_TABLE_COLS_Z 5
 
 /*
  * The 99 % Wilson score interval of a rate of k successes in n trials
@@ -346,7 +357,9 @@ IGEA_API int igea_sim_interval_cp(double k, double n, double level, double *lohi
  *  4 first_flight >= 0
  *  5 nflights     >= 1
  *  6 nthreads     >= 0 (0: the number of online processors); results do
- *                 not depend on it
+ *                 not depend on it (bit for bit: each thread takes the next
+ *                 flights when it is free, the means are summed in flight
+ *                 order, a failure is the lowest failing flight's)
  *  7 counts       IGEA_SIM_MC_LEN outputs (above); the means are over the
  *                 testable flights (IGEA_SIM_MC_MEAN_SCALE NaN if none)
  *  8 rates        IGEA_SIM_MC_RATES_LEN outputs (above), or NULL
@@ -368,12 +381,29 @@ IGEA_API int igea_sim_montecarlo(const igea_sim_model *model,
                                  int *comp_tested, int *comp_reject,
                                  double *table, int ldt);
 
+/*
+ * igea_sim_montecarlo with a wider per-flight table: arguments 1-12 as
+ * igea_sim_montecarlo's, and
+ * 13 ncols  IGEA_SIM_MC_TABLE_COLS (the table of igea_sim_montecarlo) or
+ *           IGEA_SIM_MC_TABLE_COLS_Z (also IGEA_SIM_MC_TABLE_ZMAX, what
+ *           igea_sim_pool_ex reads); ignored when table is NULL.
+ * Every other output, and the table's first four columns, are those of
+ * igea_sim_montecarlo bit for bit (the same paths, blocks and threads).
+ * Returns as igea_sim_montecarlo (-13 for another ncols).
+ */
+IGEA_API int igea_sim_montecarlo_ex(const igea_sim_model *model, const double *eq_opts,
+                                    int seed, int first_flight, int nflights, int nthreads,
+                                    double *counts, double *rates, int *comp_tested,
+                                    int *comp_reject, double *table, int ldt, int ncols);
+
 /* Indices into pooled[IGEA_SIM_POOL_LEN] of igea_sim_pool. */
 #define IGEA_SIM_POOL_POOLS 0   /* groups judged: floor(nflights / size) */
 #define IGEA_SIM_POOL_FAILED 1  /* groups whose pooled verdict is "out of spec" */
 #define IGEA_SIM_POOL_RATE 2    /* FAILED / POOLS */
 #define IGEA_SIM_POOL_CI99_LO 3 /* its 99 % interval (igea_sim_interval) */
 #define IGEA_SIM_POOL_CI99_HI 4
+#define IGEA_SIM_POOL_MEAN_SIZE 5 /* igea_sim_pool_ex: mean overall size of the pooled rule
+                                     (igea_sim_pool: 0) */
 #define IGEA_SIM_POOL_LEN 8
 
 /*
@@ -403,6 +433,49 @@ IGEA_API int igea_sim_montecarlo(const igea_sim_model *model,
  */
 IGEA_API int igea_sim_pool(int nflights, const double *table, int ldt,
                            int size, double alpha, double *pooled);
+
+/*
+ * Pooled verdicts by the overall verdict rule of eq_opts (docs/eqerr.md,
+ * "The rule in the main job"; igea_eqerr_pool's rule): the rows of a table
+ * of igea_sim_montecarlo_ex (IGEA_SIM_MC_TABLE_COLS_Z columns) in
+ * consecutive groups of size flights as igea_sim_pool takes them. A
+ * group's testable flights (DOF > 0) pool n = dof_tot = the sum of their
+ * DOF components: with a and b the rule's thresholds for n (those of
+ * igea_eqerr_pool: SEED a = z_{1-alpha/2} or OPT_Z_CRIT, b =
+ * chi2_alpha(n); CHI2 no a; EXACT both at the level that makes the
+ * union's size alpha; SIDAK a at the Sidak level of n), the group is "out
+ * of spec" when the largest ZMAX of its flights exceeds a or T_tot = the
+ * sum of their CHI2 (summed as igea_stats_pool sums it) reaches b: the
+ * verdict igea_eqerr_pool gives on the flights' z, which only the largest
+ * |z| of each flight decides. A group with no testable flight passes. With
+ * SEED it counts what igea_sim_pool counts on flights judged by SEED.
+ *  1 nflights  >= 1, rows of the table
+ *  2 table     nflights x IGEA_SIM_MC_TABLE_COLS_Z, column-major, as
+ *              igea_sim_montecarlo_ex writes it; read are CHI2 (finite, >=
+ *              0, 0 where DOF is 0), DOF (an integer, 0 ..
+ *              IGEA_STATS_DOF_MAX) and ZMAX (finite, >= 0, 0 where DOF is 0)
+ *  3 ldt       >= nflights
+ *  4 size      >= 1, flights per group
+ *  5 eq_opts   IGEA_EQERR_OPT_LEN values or NULL (igea_eqerr_defaults):
+ *              alpha, z_crit, verdict and overall_size are read (those of
+ *              the run: the flights' own rule)
+ *  6 pooled    IGEA_SIM_POOL_LEN outputs: as igea_sim_pool's, and
+ *              MEAN_SIZE the mean over the groups with a testable flight
+ *              of the rule's overall size for their n (info OVERALL_SIZE of
+ *              igea_eqerr_pool: CHI2 alpha, EXACT alpha to 1e-12, SEED and
+ *              SIDAK the union size when overall_size is 1; 0 when it is
+ *              not computed for some group: overall_size 0, or n >
+ *              IGEA_STATS_UNION_N_MAX). No group: POOLS and FAILED 0, RATE,
+ *              its interval and MEAN_SIZE NaN.
+ * The rule's thresholds are computed once per distinct n (EXACT about 12
+ * union sizes each). Returns 0, -i (-2 also for a table entry out of its
+ * range, -4 also when a group's summed dof exceeds IGEA_STATS_DOF_MAX, -5
+ * for options igea_eqerr_check_opts refuses), IGEA_ENONFINITE, IGEA_EVERDICT
+ * (EXACT for a group of more than IGEA_STATS_UNION_N_MAX components),
+ * IGEA_ENOCONV, IGEA_ENOMEM (outputs untouched on failure).
+ */
+IGEA_API int igea_sim_pool_ex(int nflights, const double *table, int ldt, int size,
+                              const double *eq_opts, double *pooled);
 
 /* ---- raw range records of a simulated flight (src/sim_raw.c) ------------ */
 

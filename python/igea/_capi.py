@@ -482,12 +482,15 @@ SIM_MC_TABLE_DOF = 1
 SIM_MC_TABLE_N_REJECT = 2
 SIM_MC_TABLE_SCALE = 3
 SIM_MC_TABLE_COLS = 4
+SIM_MC_TABLE_ZMAX = 4
+SIM_MC_TABLE_COLS_Z = 5
 SIM_INTERVAL_CP_NMAX = 4999999.0
 SIM_POOL_POOLS = 0
 SIM_POOL_FAILED = 1
 SIM_POOL_RATE = 2
 SIM_POOL_CI99_LO = 3
 SIM_POOL_CI99_HI = 4
+SIM_POOL_MEAN_SIZE = 5
 SIM_POOL_LEN = 8
 SIM_RAW_TEL_STRAPDOWN = 7
 SIM_RAW_TEL_PLATFORM = 4
@@ -1056,8 +1059,14 @@ PROTOTYPES = {
         ("first_flight", c_int), ("nflights", c_int), ("nthreads", c_int), ("counts", _PD),
         ("rates", _PD), ("comp_tested", _PI), ("comp_reject", _PI), ("table", _PD), ("ldt", c_int),
         )),
+    "igea_sim_montecarlo_ex": (c_int, (("model", c_void_p), ("eq_opts", _PD), ("seed", c_int),
+        ("first_flight", c_int), ("nflights", c_int), ("nthreads", c_int), ("counts", _PD),
+        ("rates", _PD), ("comp_tested", _PI), ("comp_reject", _PI), ("table", _PD), ("ldt", c_int),
+        ("ncols", c_int),)),
     "igea_sim_pool": (c_int, (("nflights", c_int), ("table", _PD), ("ldt", c_int), ("size", c_int),
         ("alpha", c_double), ("pooled", _PD),)),
+    "igea_sim_pool_ex": (c_int, (("nflights", c_int), ("table", _PD), ("ldt", c_int),
+        ("size", c_int), ("eq_opts", _PD), ("pooled", _PD),)),
     "igea_sim_raw": (c_int, (("system", c_int), ("nsamp", c_int), ("traj", _PD), ("ldt", c_int),
         ("nerr", c_int), ("err", _PD), ("axes", _PI), ("site", _PD), ("frame", c_int),
         ("nepochs", c_int), ("epochs", _PD), ("noise", _PD), ("tel", _PD), ("ldtel", c_int),
@@ -1281,7 +1290,9 @@ INPUTS = {
     "igea_sim_model_set_truth": ("x_value", "x_fixed",),
     "igea_sim_nonlinear": ("traj", "err", "axes", "epochs",),
     "igea_sim_montecarlo": ("eq_opts",),
+    "igea_sim_montecarlo_ex": ("eq_opts",),
     "igea_sim_pool": ("table",),
+    "igea_sim_pool_ex": ("table", "eq_opts",),
     "igea_sim_raw": ("traj", "err", "axes", "site", "epochs", "noise",),
     "igea_sim_raw_track": ("traj", "err", "axes", "site", "epochs", "trk_err", "acc",),
     "igea_sim_track_errors": ("sigma_v",),

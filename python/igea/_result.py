@@ -480,7 +480,11 @@ CLASS = {
         "pools": "groups judged",
         "failed": "groups whose pooled verdict is \"out of spec\"",
         "rate": "failed / pools (NaN without a group)",
-        "ci99": "its 99 % Wilson interval (NaN, NaN without a group)"},
+        "ci99": "its 99 % Wilson interval (NaN, NaN without a group)",
+        "ci99_cp": "its exact 99 % Clopper-Pearson interval (NaN, NaN without a group)",
+        "mean_size": "the overall size of the verdict rule for the pooled components, mean "
+                     "over the groups with a testable flight (0: not computed; NaN without a "
+                     "group)"},
     "MonteCarloResult": {
         "chi2_reject": "flights whose chi-square test rejects",
         "any_reject": "flights with a rejected component",
@@ -503,7 +507,9 @@ CLASS = {
                          "within 3 standard errors of the truth",
         "mean_outliers": "mean rows rejected by the robust route",
         "sigma_covered": "judged with the noise model: flights whose every sigma_w,g-hat is "
-                         "within 3 REML standard errors of the truth (log scale)"},
+                         "within 3 REML standard errors of the truth (log scale)",
+        "zmax": "per flight, the largest |z| of its tested components (0 for a flight with "
+                "nothing testable): what the pooled verdicts read"},
     "Block3Sigma": {
         "three_sigma": "3 sigma of the block means",
         "sigma": "standard deviation of the block means",

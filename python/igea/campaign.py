@@ -6,7 +6,7 @@ Every flight has its own random stream (seed, flight index), so a chunk
 computes exactly the rows the single-process run computes for its
 flights; the merge recomputes what depends on all of them from the merged
 table, in flight order, as igea_sim_montecarlo does (counts, means, rates
-with igea_sim_interval, pooled verdicts with igea_sim_pool). The result
+with igea_sim_interval, pooled verdicts with igea_sim_pool_ex). The result
 equals the single-process run for any chunking and any number of workers:
 bit for bit, except mean_size, which the library sums over the flights
 and a merge can only rebuild from the chunks' means (to rounding).
@@ -34,7 +34,7 @@ import itertools
 import numpy as np
 
 from . import _capi, _lib
-from .sim import MonteCarloPool, MonteCarloResult, interval_cp, montecarlo
+from .sim import MonteCarloResult, _pool as _sim_pool, interval_cp, montecarlo
 from .threads import blas_threads
 
 _COUNTS = ("failed", "chi2_reject", "any_reject", "not_testable")
@@ -57,22 +57,21 @@ def _interval(k, n):
     return float(lohi[0]), float(lohi[1])
 
 
-def _pool(table, size, alpha):
-    n = table.shape[0]
-    out = np.zeros(_capi.SIM_POOL_LEN)
-    _lib.call("igea.campaign_montecarlo", "igea_sim_pool", n, _lib.dptr(table), n, int(size),
-              float(alpha), _lib.dptr(out))
-    f = _lib.fields(out, "SIM_POOL_", pools=int, failed=int, rate=float, ci99_lo=float,
-                    ci99_hi=float)
-    return MonteCarloPool(size=int(size), pools=f["pools"], failed=f["failed"], rate=f["rate"],
-                          ci99=(f["ci99_lo"], f["ci99_hi"]))
+def _pool(table, size, alpha, verdict):
+    """The pooled verdicts by the study's rule (the eqerr options the
+    single-process run passes: alpha, verdict, overall_size)."""
+    where = "igea.campaign_montecarlo"
+    eq = _lib.options("eqerr", where, ("igea_sim_pool_ex", "eq_opts"), alpha=alpha,
+                      overall_size=1,
+                      verdict=_lib.choice(_capi.CHOICE_STATS_VERDICT, verdict, where, "verdict"))
+    return _sim_pool(where, table, size, eq)
 
 
 def _merge(parts, pool, alpha, verdict):
     """One MonteCarloResult from the chunks' results, in flight order."""
     n = sum(p.flights for p in parts)
     col = {k: np.concatenate([getattr(p, k) for p in parts])
-           for k in ("chi2", "dof", "n_reject", "scale")}
+           for k in ("chi2", "dof", "n_reject", "scale", "zmax")}
     cnt = {k: sum(getattr(p, k) for p in parts) for k in _COUNTS}
     testable = [f for f in range(n) if np.isfinite(col["scale"][f])]
     s = 0.0
@@ -81,7 +80,7 @@ def _merge(parts, pool, alpha, verdict):
     nt = len(testable)
     size = sum(p.mean_size * (p.flights - p.not_testable) for p in parts)
     outliers = sum(int(round(p.mean_outliers * p.flights)) for p in parts)
-    table = np.zeros((n, _capi.SIM_MC_TABLE_COLS), order="F")
+    table = np.zeros((n, _capi.SIM_MC_TABLE_COLS_Z), order="F")
     for k in col:
         table[:, getattr(_capi, "SIM_MC_TABLE_" + k.upper())] = col[k]
     return MonteCarloResult(
@@ -90,7 +89,7 @@ def _merge(parts, pool, alpha, verdict):
         comp_tested=sum(p.comp_tested for p in parts).astype(np.intc),
         comp_reject=sum(p.comp_reject for p in parts).astype(np.intc), **col,
         rates={k: cnt[k] / n for k in _COUNTS}, ci99={k: _interval(cnt[k], n) for k in _COUNTS},
-        pool=_pool(table, pool, alpha) if pool else None, verdict=verdict,
+        pool=_pool(table, pool, alpha, verdict) if pool else None, verdict=verdict,
         mean_size=size / nt if nt else 0.0,
         scale_covered=sum(p.scale_covered for p in parts), mean_outliers=outliers / n,
         sigma_covered=sum(p.sigma_covered for p in parts),
@@ -135,8 +134,6 @@ def _study(where, montecarlo_kwargs):
     if first < 0:
         raise ValueError("first_flight: must be >= 0")
     pool, verdict = kw.pop("pool", None), kw.get("verdict", "seed")
-    if pool and verdict != "seed":
-        raise ValueError("pool: pools the seed's verdicts; only with verdict='seed'")
     alpha = kw.get("alpha")
     if alpha is None:
         eq = np.zeros(_capi.EQERR_OPT_LEN)

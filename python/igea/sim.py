@@ -179,13 +179,17 @@ def simulate(traj=None, terms=None, epochs=None, *, system="strapdown", spec="de
 @result
 @dataclass(frozen=True)
 class MonteCarloPool:
-    """Pooled verdicts of consecutive groups of `size` flights (igea_sim_pool,
-    METHODS 1.2 step 6): the "pool" object of `igea montecarlo --pool --json`."""
+    """Pooled verdicts of consecutive groups of `size` flights (igea_sim_pool_ex,
+    METHODS 1.2 step 6), each group judged by the run's verdict rule for its
+    pooled components: the "pool" object of `igea montecarlo --pool --json`."""
     size: int            # flights per group; a last group of fewer is left out
     pools: int           # groups judged
     failed: int          # groups whose pooled verdict is "out of spec"
     rate: float          # failed / pools (NaN without a group)
     ci99: tuple          # its 99 % Wilson interval (NaN, NaN without a group)
+    ci99_cp: tuple = None  # its exact 99 % Clopper-Pearson interval (NaN, NaN without one)
+    mean_size: float = 0.0  # the pooled rule's overall size, mean over the groups with a
+                            # testable flight (0: not computed; NaN without a group)
 
 
 @result
@@ -216,6 +220,8 @@ class MonteCarloResult:
     ci99_cp: dict = None  # {"failed": (lo, hi), ...}: the exact 99 % Clopper-Pearson intervals
     sigma_covered: int = 0  # judged with the noise model: flights whose every sigma_w,g-hat
                             # is within 3 REML standard errors of the truth (log scale)
+    zmax: np.ndarray = None  # per flight the largest |z_i| of its tested components (0 if
+                             # none): what the pooled verdicts read
 
     _json_omit = ("rates", "ci99", "ci99_cp")  # in the driver's document, inside the counts
 
@@ -258,9 +264,10 @@ def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None
     are the terms (unless terms is given), sigma a Series on its index and
     spec one on its columns (igea/_frames.py). Options left None keep the library's defaults
     (igea_sim_defaults, igea_eqerr_defaults). pool=F (> 0; None or 0: no
-    pooling) also pools consecutive groups of F flights at the same alpha
-    (igea_sim_pool): the result's `pool` (seed's verdict only). verdict:
-    the overall verdict rule counted in `failed` (as igea.eqerr's). Noise models (igea/sim.h
+    pooling) also pools consecutive groups of F flights, each judged by the
+    verdict rule for its pooled components at the same alpha (igea_sim_pool_ex,
+    as igea.pool): the result's `pool`. verdict: the overall verdict rule
+    counted in `failed` and in the pools (as igea.eqerr's). Noise models (igea/sim.h
     IGEA_SIM_OPT_AR2 .. JUDGE_NOISE): ar2, ar3, corr, group_split, sigma_w2,
     bias0, bias1, judge_noise; the judge's (igea/noise.h): ar (phi
     estimated, or the true one with ar_given=True), robust, robust_alpha,
@@ -296,11 +303,9 @@ def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None
                       clamp=clamp, overall_size=1,
                       verdict=_lib.choice(_capi.CHOICE_STATS_VERDICT, verdict, where, "verdict"),
                       **_judge_slots(ar, ar_given, robust, robust_alpha, group_bias))
-    if pool and verdict != "seed":
-        raise ValueError("pool: pools the seed's verdicts; only with verdict='seed'")
     counts, rates = np.zeros(_capi.SIM_MC_LEN), np.zeros(_capi.SIM_MC_RATES_LEN)
     ct, cr = np.zeros(N, dtype=np.intc), np.zeros(N, dtype=np.intc)
-    table = np.zeros((nflights, _capi.SIM_MC_TABLE_COLS), order="F")
+    table = np.zeros((nflights, _capi.SIM_MC_TABLE_COLS_Z), order="F")
     with _Model(where, "igea_sim_model_create", m, N, _lib.dptr(S), m) as model:
         model.set("sigma", _lib.dptr(sig), inc, 0.0)
         model.set("spec", _lib.dptr(sp))
@@ -311,17 +316,9 @@ def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None
         model.set("truth", _lib.dptr(xv), _lib.iptr(xf))
         _mc_chunks(where, model.h, eq, int(seed), int(first_flight), nflights, int(threads),
                    counts, rates, ct, cr, table, _progress(progress, nflights))
-    pooled = None
-    if pool:
-        out = np.zeros(_capi.SIM_POOL_LEN)
-        _lib.call(where, "igea_sim_pool", nflights, _lib.dptr(table), nflights, int(pool),
-                  float(eq[_capi.EQERR_OPT_ALPHA]), _lib.dptr(out))
-        f = _lib.fields(out, "SIM_POOL_", pools=int, failed=int, rate=float, ci99_lo=float,
-                        ci99_hi=float)
-        pooled = MonteCarloPool(size=int(pool), pools=f["pools"], failed=f["failed"],
-                                rate=f["rate"], ci99=(f["ci99_lo"], f["ci99_hi"]))
+    pooled = _pool(where, table, pool, eq) if pool else None
     col = _lib.fields(table.T, "SIM_MC_TABLE_", chi2=np.array, dof=np.array, n_reject=np.array,
-                      scale=np.array)
+                      scale=np.array, zmax=np.array)
     # rates[3 (k - 1)] and its interval at [+1], [+2] for the counts k (igea/sim.h)
     at = {k: 3 * (getattr(_capi, "SIM_MC_" + k.upper()) - 1)
           for k in ("failed", "chi2_reject", "any_reject", "not_testable")}
@@ -338,6 +335,21 @@ def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None
                       scale_covered=int, mean_outliers=float, sigma_covered=int)),
         seed=int(seed), first_flight=int(first_flight), alpha=eq[_capi.EQERR_OPT_ALPHA],
         correction=bool(eq[_capi.EQERR_OPT_CORRECTION]), sigma_w=nopts[_capi.SIM_OPT_SIGMA_W])
+
+
+def _pool(where, table, size, eq):
+    """The pooled verdicts of the table's groups of `size` flights by the
+    rule of the eqerr options eq (igea_sim_pool_ex)."""
+    n = table.shape[0]
+    out = np.zeros(_capi.SIM_POOL_LEN)
+    _lib.call(where, "igea_sim_pool_ex", n, _lib.dptr(table), n, int(size), _lib.dptr(eq),
+              _lib.dptr(out))
+    f = _lib.fields(out, "SIM_POOL_", pools=int, failed=int, rate=float, ci99_lo=float,
+                    ci99_hi=float, mean_size=float)
+    cp = interval_cp(f["failed"], f["pools"]) if f["pools"] else (float("nan"),) * 2
+    return MonteCarloPool(size=int(size), pools=f["pools"], failed=f["failed"], rate=f["rate"],
+                          ci99=(f["ci99_lo"], f["ci99_hi"]), ci99_cp=cp,
+                          mean_size=f["mean_size"])
 
 
 def _mc_chunk(flights):
@@ -392,7 +404,8 @@ def _mc_chunks(where, h, eq, seed, first, nflights, threads, counts, rates, ct, 
     """igea_sim_montecarlo over the flights in chunks (_mc_chunk): the counts
     added, the means over the testable flights summed flight by flight from
     the table as the library does (mean_size from the chunks' means, to
-    rounding: the library sums it per thread), the rates and intervals of
+    rounding: the library sums it flight by flight within a call), the
+    rates and intervals of
     the totals."""
     N = ct.size
     c1, r1 = np.zeros(_capi.SIM_MC_LEN), np.zeros(_capi.SIM_MC_RATES_LEN)
@@ -400,9 +413,9 @@ def _mc_chunks(where, h, eq, seed, first, nflights, threads, counts, rates, ct, 
     chunk, size, outliers = _mc_chunk(nflights), 0.0, 0
     for done in range(0, nflights, chunk):
         n = min(chunk, nflights - done)
-        _lib.call(where, "igea_sim_montecarlo", h, _lib.dptr(eq), seed, first + done, n,
+        _lib.call(where, "igea_sim_montecarlo_ex", h, _lib.dptr(eq), seed, first + done, n,
                   threads, _lib.dptr(c1), _lib.dptr(r1), _lib.iptr(ct1), _lib.iptr(cr1),
-                  _lib.dptr(table[done:]), nflights)
+                  _lib.dptr(table[done:]), nflights, table.shape[1])
         for k in ("FLIGHTS", "FAILED", "CHI2_REJECT", "ANY_REJECT", "NOT_TESTABLE",
                   "SCALE_COVERED", "SIGMA_COVERED"):
             counts[getattr(_capi, "SIM_MC_" + k)] += c1[getattr(_capi, "SIM_MC_" + k)]

@@ -41,9 +41,10 @@ static const cli_opt options[] = {
     {"--no-correction", CLI_OPT_DCLEAR, &A.eqo[IGEA_EQERR_OPT_CORRECTION], NULL, NULL, "no tracking-accuracy (sigma_w) correction", NULL},
     {"--bias-correct", CLI_OPT_DSET, &A.eqo[IGEA_EQERR_OPT_BIAS_CORRECT], NULL, NULL, "sigma_w^2 = mean(g^2 - lambda) [D]", NULL},
     {"--pool", CLI_OPT_INT, &A.pool, "0", "F", "also pool consecutive groups of F flights (METHODS\n"
-     "1.2 step 6) and report the pooled verdict rate", NULL},
+     "1.2 step 6), each judged by the --verdict rule for its\npooled components (as igea test), "
+     "and report the\npooled verdict rate and the rule's overall size", NULL},
     {"--verdict", CLI_OPT_CHOICE, &A.verdict, "seed", CLI_CHOICES(IGEA_CHOICE_STATS_VERDICT),
-     "overall verdict rule counted as 'out of spec' (as igea\neqerr --verdict); --pool needs seed", NULL},
+     "overall verdict rule counted as 'out of spec' (as igea\neqerr --verdict), for the flights and the pools", NULL},
     CLI_HEAD("output:"),
     {"--out", CLI_OPT_STR, &A.out, NULL, "FILE", "per-flight table: flight chi2 dof n_reject scale", NULL},
     {"--json", CLI_OPT_FLAG, &A.json, NULL, NULL, "machine-readable summary", NULL},
@@ -113,7 +114,7 @@ static int own_geometry(const mc_args *a, const cli_flight_args *fa, cli_flight 
 
 typedef struct {
     double counts[IGEA_SIM_MC_LEN], rates[IGEA_SIM_MC_RATES_LEN], *table;
-    double pooled[IGEA_SIM_POOL_LEN];
+    double pooled[IGEA_SIM_POOL_LEN], pool_cp[2]; /* the pools' rate, its exact interval */
     int *ct, *cr;
     double cp99[8]; /* the four counts' exact 99 % intervals (igea_sim_interval_cp) */
 } mc_result;
@@ -122,7 +123,8 @@ typedef struct {
  * depend on --flights only, never on the progress shown): one library call
  * per chunk, its counts added; the means over the testable flights are
  * those of one call over all flights, summed flight by flight from the
- * table (mean_size to rounding: the library sums it per thread). */
+ * table (mean_size to rounding: the library sums it flight by flight within
+ * a call, the chunks add their means). */
 static int run_flights(const mc_args *a, const cli_flight_args *fa, const cli_flight *f,
                        mc_result *r)
 {
@@ -137,8 +139,9 @@ static int run_flights(const mc_args *a, const cli_flight_args *fa, const cli_fl
     for (int done = 0; !ec && done < nf; done += chunk) {
         int n = nf - done < chunk ? nf - done : chunk;
         double c1[IGEA_SIM_MC_LEN];
-        int st = igea_sim_montecarlo(f->model, a->eqo, fa->seed, a->first + done, n, a->threads,
-                                     c1, NULL, ct1, cr1, r->table + done, nf);
+        int st = igea_sim_montecarlo_ex(f->model, a->eqo, fa->seed, a->first + done, n,
+                                        a->threads, c1, NULL, ct1, cr1, r->table + done, nf,
+                                        IGEA_SIM_MC_TABLE_COLS_Z);
         if ((ec = cli_status(st, "montecarlo")))
             break;
         for (int k = IGEA_SIM_MC_FLIGHTS; k <= IGEA_SIM_MC_NOT_TESTABLE; k++)
@@ -227,6 +230,8 @@ static void json_report(FILE *out, const mc_args *a, const cli_flight_args *fa,
         cli_jint(&j, "failed", (long)r->pooled[IGEA_SIM_POOL_FAILED]);
         cli_jnum(&j, "rate", r->pooled[IGEA_SIM_POOL_RATE]);
         cli_jnums(&j, "ci99", r->pooled + IGEA_SIM_POOL_CI99_LO, 2);
+        cli_jnums(&j, "ci99_cp", r->pool_cp, 2);
+        cli_jnum(&j, "mean_size", r->pooled[IGEA_SIM_POOL_MEAN_SIZE]);
         cli_json_close(&j);
     }
     cli_json_end(&j);
@@ -276,9 +281,26 @@ static void text_report(FILE *out, const mc_args *a, const cli_flight_args *fa,
     text_components(out, f, r);
     if (a->pool > 0 && p[IGEA_SIM_POOL_POOLS] > 0)
         fprintf(out, "\npooled over %d flights: %d of %d pools 'out of spec' (%.4f, 99%% "
-                     "interval [%.4f, %.4f])\n", a->pool, (int)p[IGEA_SIM_POOL_FAILED],
-                (int)p[IGEA_SIM_POOL_POOLS], p[IGEA_SIM_POOL_RATE], p[IGEA_SIM_POOL_CI99_LO],
-                p[IGEA_SIM_POOL_CI99_HI]);
+                     "interval [%.4f, %.4f], exact [%.4f, %.4f]); verdict rule %s: mean "
+                     "overall size of the pooled rule %.6f\n", a->pool,
+                (int)p[IGEA_SIM_POOL_FAILED], (int)p[IGEA_SIM_POOL_POOLS], p[IGEA_SIM_POOL_RATE],
+                p[IGEA_SIM_POOL_CI99_LO], p[IGEA_SIM_POOL_CI99_HI], r->pool_cp[0], r->pool_cp[1],
+                igea_choice_name(IGEA_CHOICE_STATS_VERDICT, a->verdict),
+                p[IGEA_SIM_POOL_MEAN_SIZE]);
+}
+
+/* The pooled verdicts of --pool by the --verdict rule (igea_sim_pool_ex) and
+ * the exact interval of their rate. */
+static int pool_flights(const mc_args *a, mc_result *r)
+{
+    const double *p = r->pooled;
+    int ec = cli_status(igea_sim_pool_ex(a->flights, r->table, a->flights, a->pool, a->eqo,
+                                         r->pooled), "montecarlo");
+    r->pool_cp[0] = r->pool_cp[1] = NAN;
+    if (!ec && p[IGEA_SIM_POOL_POOLS] > 0)
+        ec = cli_status(igea_sim_interval_cp(p[IGEA_SIM_POOL_FAILED], p[IGEA_SIM_POOL_POOLS],
+                                             0.99, r->pool_cp), "montecarlo");
+    return ec;
 }
 
 static int parse(int argc, char **argv, mc_args *a, cli_flight_args *fa)
@@ -294,10 +316,6 @@ static int parse(int argc, char **argv, mc_args *a, cli_flight_args *fa)
         return ec;
     if (a->flights < 1 || a->first < 0 || a->threads < 0 || a->pool < 0) {
         cli_error("montecarlo: --flights >= 1, --first-flight >= 0, --threads >= 0, --pool >= 0");
-        return CLI_USAGE;
-    }
-    if (a->pool > 0 && a->verdict != IGEA_STATS_VERDICT_SEED) {
-        cli_error("montecarlo: --pool pools the seed's verdicts: only with --verdict seed");
         return CLI_USAGE;
     }
     a->eqo[IGEA_EQERR_OPT_VERDICT] = a->verdict;
@@ -318,7 +336,7 @@ int cmd_montecarlo(int argc, char **argv)
     cli_out table = CLI_OUT_INIT, rep = CLI_OUT_INIT;
     if ((ec = a.S ? own_geometry(&a, &fa, &f) : cli_flight_build(&fa, &f, "montecarlo")))
         goto done;
-    r.table = malloc(sizeof(double) * (size_t)a.flights * IGEA_SIM_MC_TABLE_COLS);
+    r.table = malloc(sizeof(double) * (size_t)a.flights * IGEA_SIM_MC_TABLE_COLS_Z);
     r.ct = calloc((size_t)f.N, sizeof(int));
     r.cr = calloc((size_t)f.N, sizeof(int));
     if (!r.table || !r.ct || !r.cr) {
@@ -335,9 +353,7 @@ int cmd_montecarlo(int argc, char **argv)
     cli_blas_threads(blas);
     if (ec)
         goto done;
-    if (a.pool > 0 && (ec = cli_status(igea_sim_pool(a.flights, r.table, a.flights, a.pool,
-                                                     a.eqo[IGEA_EQERR_OPT_ALPHA], r.pooled),
-                                       "montecarlo")))
+    if (a.pool > 0 && (ec = pool_flights(&a, &r)))
         goto done;
     if (a.plot && (ec = cli_svg_montecarlo(a.plot, a.flights, f.N, r.ct, r.cr,
                                            a.eqo[IGEA_EQERR_OPT_ALPHA])))

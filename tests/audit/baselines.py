@@ -526,6 +526,19 @@ BASE = {
     'igea_sim_montecarlo': dict(eq_opts=EQ_OPTS, seed='1', first_flight='0', nflights='4',
                                 nthreads='1', ldt='nflights', _zero_ok=['nthreads'],
                                 _int=dict(nthreads='nonneg'), _nan_out=['counts', 'table']),
+    'igea_sim_montecarlo_ex': dict(eq_opts=EQ_OPTS, seed='1', first_flight='0', nflights='4',
+                                   nthreads='1', ldt='nflights', ncols='IGEA_SIM_MC_TABLE_COLS_Z',
+                                   _zero_ok=['nthreads'],
+                                   _int=dict(nthreads='nonneg', ncols='enum'),
+                                   _opt=['eq_opts', 'rates', 'comp_tested', 'comp_reject',
+                                         'table'],
+                                   _nan_out=['counts', 'table']),
+    # 7 flights (a partial last group), flight 2 not testable, flight 4 beyond z_0.995
+    'igea_sim_pool_ex': dict(nflights='7', ldt='nflights', size='3', eq_opts=EQ_OPTS,
+                             _int=dict(size='size'),
+                             table='set:for (int i = 0; i < 7; i++) { b_[i] = i == 2 ? 0.0 : 1.0 + i;'
+                                   ' b_[7 + i] = i == 2 ? 0.0 : 3.0; b_[14 + i] = i == 4;'
+                                   ' b_[21 + i] = NAN; b_[28 + i] = i == 2 ? 0.0 : (i == 4 ? 3.1 : 1.2); }'),
     # 7 flights (a partial last group), flight 2 not testable, flight 4 a rejection
     'igea_sim_pool': dict(nflights='7', ldt='nflights', size='3', _int=dict(size='size'),
                           table='set:for (int i = 0; i < 7; i++) { b_[i] = i == 2 ? 0.0 : 1.0 + i;'
@@ -748,6 +761,7 @@ VARIANTS = {
     'igea_sim_trajectory': dict(platform=dict(system='IGEA_ENVFUN_PLATFORM')),
     'igea_sim_montecarlo': dict(threads=dict(nthreads='2'), traj=dict(model='mtraj'),
                                 nonlinear=dict(model='mnl')),
+    'igea_sim_montecarlo_ex': dict(threads=dict(nthreads='2'), traj=dict(model='mtraj')),
     'igea_sim_flight': dict(traj=dict(model='mtraj'), nonlinear=dict(model='mnl')),
     'igea_redund_geometry': dict(span=dict(fdi='0', _nan_out=['out'])),
     'igea_redund_fusion_set': dict(oneshot=dict(iterative='0')),

@@ -220,12 +220,14 @@ def test_montecarlo_counts_the_rule():
         lo, hi = clopper_pearson(k, 1500, 0.999)
         assert lo <= out[rule]["mean_size"] <= hi, (rule, k, out[rule]["mean_size"])
     assert out["exact"]["failed"]["count"] < out["seed"]["failed"]["count"]
-    c = driver(*base[:-1], "--verdict", "exact", "--pool", 3, cwd=FLIGHT)
-    assert c.returncode == 64
-    r = igea.montecarlo(*_example_geometry(), 300, verdict="exact", threads=1)
+    r = igea.montecarlo(*_example_geometry(), 300, verdict="exact", threads=1, pool=3)
     assert r.verdict == "exact" and r.mean_size == pytest.approx(0.01, rel=1e-9)
-    with pytest.raises(ValueError, match="pool"):
-        igea.montecarlo(*_example_geometry(), 30, verdict="exact", pool=3)
+    # pooled by the same rule (tests/python/test_mc_pool_rules.py): its size is alpha
+    assert r.pool.pools == 100 and r.pool.mean_size == pytest.approx(0.01, rel=1e-9)
+    c = driver("montecarlo", "--flights", 300, "--seed", 3, "--json", "--verdict", "exact",
+               "--pool", 3, cwd=FLIGHT)
+    assert c.returncode == 0, c.stderr
+    assert json.loads(c.stdout)["pool"]["mean_size"] == pytest.approx(0.01, rel=1e-9)
 
 
 def _example_geometry():

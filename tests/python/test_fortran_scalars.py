@@ -104,6 +104,11 @@ ARRAYS = {
     ('igea_sim_interval', 'lohi'),
     ('igea_sim_montecarlo', 'comp_tested'),
     ('igea_sim_montecarlo', 'comp_reject'),
+    ('igea_sim_montecarlo_ex', 'counts'),  # its arguments 1-12 are igea_sim_montecarlo's
+    ('igea_sim_montecarlo_ex', 'rates'),
+    ('igea_sim_montecarlo_ex', 'comp_tested'),
+    ('igea_sim_montecarlo_ex', 'comp_reject'),
+    ('igea_sim_montecarlo_ex', 'table'),
     ('igea_sim_raw', 'tel'),
     ('igea_sim_raw', 'trk'),
     ('igea_sim_raw', 'q0'),

@@ -16,8 +16,9 @@ lib = _lib.lib
 
 
 def run(S, sigma, spec=None, nflights=150, seed=3, first=5, threads=1, eq=None, **slots):
-    """igea_sim_montecarlo on the model S, sigma (one value), spec with the
-    simulation slots given: (counts, rates, comp_tested, comp_reject, table)."""
+    """igea_sim_montecarlo_ex on the model S, sigma (one value), spec with the
+    simulation slots given: (counts, rates, comp_tested, comp_reject, table
+    with the ZMAX column)."""
     S = np.asfortranarray(S, dtype=float)
     m, N = S.shape
     h = ctypes.c_void_p()
@@ -37,10 +38,10 @@ def run(S, sigma, spec=None, nflights=150, seed=3, first=5, threads=1, eq=None, 
             eqo[getattr(_capi, "EQERR_OPT_" + k.upper())] = v
         counts, rates = np.zeros(_capi.SIM_MC_LEN), np.zeros(_capi.SIM_MC_RATES_LEN)
         ct, cr = np.zeros(N, dtype=np.intc), np.zeros(N, dtype=np.intc)
-        table = np.zeros((nflights, _capi.SIM_MC_TABLE_COLS), order="F")
-        _lib.call("t", "igea_sim_montecarlo", h, _lib.dptr(eqo), seed, first, nflights,
+        table = np.zeros((nflights, _capi.SIM_MC_TABLE_COLS_Z), order="F")
+        _lib.call("t", "igea_sim_montecarlo_ex", h, _lib.dptr(eqo), seed, first, nflights,
                   threads, _lib.dptr(counts), _lib.dptr(rates), _lib.iptr(ct), _lib.iptr(cr),
-                  _lib.dptr(table), nflights)
+                  _lib.dptr(table), nflights, _capi.SIM_MC_TABLE_COLS_Z)
     finally:
         lib.igea_sim_model_free(h)
     return counts, rates, ct, cr, table
@@ -77,7 +78,7 @@ def assert_same_study(a, b, rtol):
     np.testing.assert_array_equal(cra, crb)
     for col in (_capi.SIM_MC_TABLE_DOF, _capi.SIM_MC_TABLE_N_REJECT):
         np.testing.assert_array_equal(ta[:, col], tb[:, col])
-    for col in (_capi.SIM_MC_TABLE_CHI2, _capi.SIM_MC_TABLE_SCALE):
+    for col in (_capi.SIM_MC_TABLE_CHI2, _capi.SIM_MC_TABLE_SCALE, _capi.SIM_MC_TABLE_ZMAX):
         np.testing.assert_allclose(ta[:, col], tb[:, col], rtol=rtol, atol=0)
 
 
@@ -99,6 +100,93 @@ def test_bit_identical_blocks_threads(name, S, sigma, spec, slots, eq):
         got = run(S, sigma, spec, eq=eq, batch=batch, threads=threads, **slots)
         for a, b in zip(ref, got):
             np.testing.assert_array_equal(a, b)
+
+
+@pytest.mark.parametrize("name,S,sigma,spec,slots,eq", [MODELS[2], MODELS[1]],
+                         ids=[MODELS[2][0], MODELS[1][0]])
+def test_flight_by_flight_bit_identical_threads(name, S, sigma, spec, slots, eq):
+    """The flight-by-flight path (batch 1; also the noise judge's) shares
+    its flights out among the threads as they come free: every output,
+    mean_size included (summed in flight order), is the same bits for
+    1 .. 5 threads (BLAS on one thread, as the driver runs them: each
+    flight's dsyevd would otherwise wake OpenBLAS's own pool from every
+    thread)."""
+    import igea
+    eq = dict(eq, overall_size=1)
+    with igea.blas_threads(1):
+        ref = run(S, sigma, spec, eq=eq, batch=1, threads=1, **slots)
+        assert ref[0][_capi.SIM_MC_MEAN_SIZE] > 0
+        for threads in (2, 3, 5):
+            got = run(S, sigma, spec, eq=eq, batch=1, threads=threads, **slots)
+            for a, b in zip(ref, got):
+                np.testing.assert_array_equal(a, b)
+        robust = dict(eq, robust=1)
+        ref = run(S, sigma, spec, eq=robust, nflights=40, threads=1, **slots)
+        for threads in (2, 4):
+            got = run(S, sigma, spec, eq=robust, nflights=40, threads=threads, **slots)
+            for a, b in zip(ref, got):
+                np.testing.assert_array_equal(a, b)
+
+
+def test_model_keeps_its_setup():
+    """A model's first run keeps its decomposition for the later runs (the
+    driver's and Python's chunks): runs on one model, in turn and from
+    four threads at once, equal runs on fresh models bit for bit, and a
+    new sigma or spec drops what was kept."""
+    import threading
+    S, sigma = MODELS[2][1], MODELS[2][2]
+    m, N = S.shape
+    S = np.asfortranarray(S)
+
+    def new_model(sig, spec=None):
+        h = ctypes.c_void_p()
+        _lib.call("t", "igea_sim_model_create", m, N, _lib.dptr(S), m, ctypes.byref(h))
+        _lib.call("t", "igea_sim_model_set_sigma", h, _lib.dptr(np.array([sig])), 0, 0.0)
+        if spec is not None:
+            _lib.call("t", "igea_sim_model_set_spec", h, _lib.dptr(spec))
+        return h
+
+    def mc(h, first, n, batch=0, threads=1):
+        opts = np.zeros(_capi.SIM_OPT_LEN)
+        lib.igea_sim_defaults(_lib.dptr(opts))
+        opts[_capi.SIM_OPT_SIGMA_W], opts[_capi.SIM_OPT_BATCH] = 1.1, batch
+        _lib.call("t", "igea_sim_model_set_noise", h, _lib.dptr(opts))
+        counts, table = np.zeros(_capi.SIM_MC_LEN), np.zeros((n, 5), order="F")
+        _lib.call("t", "igea_sim_montecarlo_ex", h, None, 3, first, n, threads,
+                  _lib.dptr(counts), None, None, None, _lib.dptr(table), n, 5)
+        return counts, table
+
+    spec = np.linspace(0.5, 1.5, N)
+    fresh = {}
+    for key, sig, sp, batch in (("a", sigma, None, 0), ("a1", sigma, None, 1),
+                                ("b", 2 * sigma, None, 0), ("c", 2 * sigma, spec, 0)):
+        h = new_model(sig, sp)
+        fresh[key] = mc(h, 0, 120, batch)[1]
+        lib.igea_sim_model_free(h)
+    h = new_model(sigma)
+    try:
+        for batch in (0, 1, 0):  # the flight-by-flight path reads the same set-up
+            got = np.vstack([mc(h, 0, 50, batch)[1], mc(h, 50, 70, batch, 2)[1]])
+            np.testing.assert_array_equal(got, fresh["a1" if batch else "a"])
+        out = [None] * 4
+
+        def work(i):
+            out[i] = mc(h, 0, 120, 0, 1 + i % 2)[1]
+        ths = [threading.Thread(target=work, args=(i,)) for i in range(4)]
+        for t in ths:
+            t.start()
+        for t in ths:
+            t.join()
+        for o in out:
+            np.testing.assert_array_equal(o, fresh["a"])
+        _lib.call("t", "igea_sim_model_set_sigma", h, _lib.dptr(np.array([2 * sigma])), 0, 0.0)
+        np.testing.assert_array_equal(mc(h, 0, 120)[1], fresh["b"])
+        _lib.call("t", "igea_sim_model_set_spec", h, _lib.dptr(spec))
+        np.testing.assert_array_equal(mc(h, 0, 120)[1], fresh["c"])
+        assert not np.array_equal(fresh["a"], fresh["b"])
+        assert not np.array_equal(fresh["b"], fresh["c"])
+    finally:
+        lib.igea_sim_model_free(h)
 
 
 @pytest.mark.parametrize("cut", [80, 37, 1])
@@ -188,5 +276,8 @@ def test_campaign_arguments():
         igea.campaign_montecarlo(None, 10, **CAMPAIGN)
     with pytest.raises(TypeError, match="client"):
         igea.campaign_montecarlo(object(), 10, **CAMPAIGN)
-    with pytest.raises(ValueError, match="pool"):
-        igea.campaign_montecarlo(SerialClient(), 10, **CAMPAIGN, pool=5, verdict="chi2")
+    # pooled by another rule than the seed's (igea_sim_pool_ex): merged alike
+    kw = dict(CAMPAIGN, pool=5, verdict="sidak")
+    with igea.blas_threads(1):
+        whole = igea.montecarlo(**kw)
+    assert_same_result(igea.campaign_montecarlo(SerialClient(), 10, **kw), whole)

@@ -1,7 +1,7 @@
 """igea.montecarlo(pool=F) and `igea montecarlo --pool F --json` report the
-same pooled verdicts (igea_sim_pool), and they equal the pooling of the
-per-flight table written out here with scipy.stats.chi2 and the Wilson
-score interval."""
+same pooled verdicts (igea_sim_pool_ex; the seed's rule here, the others in
+test_mc_pool_rules.py), and they equal the pooling of the per-flight table
+written out here with scipy.stats.chi2 and the Wilson score interval."""
 import json
 import math
 import os
@@ -59,6 +59,10 @@ def test_pool_against_scipy(model, size, alpha):
     assert (p.size, p.pools, p.failed) == (size, *pool_by_hand(r, size, alpha))
     assert p.rate == p.failed / p.pools
     np.testing.assert_allclose(p.ci99, wilson(p.failed, p.pools), rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(p.ci99_cp, [stats.beta.ppf(0.005, p.failed, p.pools - p.failed + 1)
+                                           if p.failed else 0.0,
+                                           stats.beta.ppf(0.995, p.failed + 1, p.pools - p.failed)
+                                           if p.failed < p.pools else 1.0], rtol=1e-9, atol=1e-15)
     if size == 1:  # one flight per group: the flight's own verdict
         assert p.failed == r.failed
     if size == 7:
@@ -72,9 +76,10 @@ def test_pool_none_and_no_group(model):
     p = igea.montecarlo(model.S, model.sigma, 20, spec=model.spec, seed=2, pool=21).pool
     assert (p.size, p.pools, p.failed) == (21, 0, 0)
     assert math.isnan(p.rate) and all(math.isnan(x) for x in p.ci99)
+    assert all(math.isnan(x) for x in p.ci99_cp) and math.isnan(p.mean_size)
     with pytest.raises(igea.IgeaError) as e:
         igea.montecarlo(model.S, model.sigma, 20, spec=model.spec, seed=2, pool=-1)
-    assert e.value.function == "igea_sim_pool" and e.value.argument == "size"
+    assert e.value.function == "igea_sim_pool_ex" and e.value.argument == "size"
 
 
 def _driver(*args):
@@ -86,7 +91,8 @@ def _driver(*args):
 def _as_json(p):
     nan = lambda x: None if math.isnan(x) else x  # noqa: E731 (JSON writes NaN as null)
     return {"size": p.size, "pools": p.pools, "failed": p.failed, "rate": nan(p.rate),
-            "ci99": [nan(x) for x in p.ci99]}
+            "ci99": [nan(x) for x in p.ci99], "ci99_cp": [nan(x) for x in p.ci99_cp],
+            "mean_size": nan(p.mean_size)}
 
 
 @pytest.mark.skipif(not DRIVER, reason="IGEA_DRIVER not set")
@@ -117,4 +123,6 @@ def test_driver_pool_text_and_chunks(model):
     assert t.returncode == 0, t.stderr
     lo, hi = r.pool.ci99
     assert ("pooled over 6 flights: %d of %d pools 'out of spec' (%.4f, 99%% interval "
-            "[%.4f, %.4f])" % (r.pool.failed, r.pool.pools, r.pool.rate, lo, hi)) in t.stdout
+            "[%.4f, %.4f], exact [%.4f, %.4f]); verdict rule seed: mean overall size of the "
+            "pooled rule %.6f" % (r.pool.failed, r.pool.pools, r.pool.rate, lo, hi,
+                                  *r.pool.ci99_cp, r.pool.mean_size)) in t.stdout
