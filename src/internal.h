@@ -20,6 +20,8 @@
 
 /* 1 if every x[i * inc], i < n, is finite. */
 int igea__finite_vec(int n, const double *x, int inc);
+/* 1 if every x[i], i < n, is finite (n may exceed INT_MAX). */
+int igea__finite_run(size_t n, const double *x);
 /* 1 if every element of the m x n column-major matrix is finite. */
 int igea__finite_mat(int m, int n, const double *a, int lda);
 /* 1 if every x[i] > 0 (and finite); sets *nonfinite if a NaN/Inf is met. */

@@ -267,6 +267,7 @@ INSERR_NOISE_LEN = 9
 # igea/io.h
 IO_LINE_MAX = 1048576
 IO_TWICE = 1
+IO_MAP = 2
 IO_INFO_STATUS = 0
 IO_INFO_LINE = 1
 IO_INFO_COLUMN = 2
@@ -817,6 +818,8 @@ PROTOTYPES = {
     "igea_io_reader_names": (c_char_p, (("r", c_void_p),)),
     "igea_io_reader_next": (c_int, (("r", c_void_p), ("maxrows", c_int), ("buf", _PD),
         ("nread", _PI),)),
+    "igea_io_reader_view": (c_int, (("r", c_void_p), ("maxrows", c_int), ("nread", _PI),)),
+    "igea_io_reader_view_rows": (_PD, (("r", c_void_p),)),
     "igea_io_reader_rewind": (c_int, (("r", c_void_p),)),
     "igea_io_reader_load": (c_int, (("r", c_void_p),)),
     "igea_io_reader_copy": (c_int, (("r", c_void_p), ("v", _PD), ("layout", c_int),)),

@@ -629,6 +629,8 @@ BASE = {
     'igea_io_reader_message': dict(_opt=['r']),
     'igea_io_reader_next': dict(maxrows='2', _int=dict(maxrows='size'), _progress=['buf'],
                                 _req=['r', 'buf', 'nread']),
+    'igea_io_reader_view': dict(maxrows='2', _int=dict(maxrows='size'), _req=['r', 'nread']),
+    'igea_io_reader_view_rows': dict(_opt=['r']),
     'igea_io_reader_rewind': dict(r='io2', _req=['r']),
     'igea_io_reader_load': dict(_req=['r']),
     'igea_io_reader_info': dict(_req=['r', 'info']),
