@@ -492,12 +492,17 @@ int igea_eqerr_residual(int layout, int m, int N, const double *S, int lds,
                                       : igea__finite_mat(N, m, S, lds))
                  ? IGEA_EOVERFLOW
                  : IGEA_ENONFINITE;
+    double t[6];
     if (st == 0 && axis_ss) {
-        double t[6];
+        /* per axis, its rows' squares in row order */
         memcpy(t, axis_ss, sizeof t);
-        for (int i = 0; i < m; i++) {
-            int a = (int)(((long long)row0 + i) % 3);
-            t[a] += e[i] * e[i];
+        for (int i0 = 0; i0 < 3 && i0 < m; i0++) {
+            int a = (int)(((long long)row0 + i0) % 3);
+            double acc = t[a];
+            for (int i = i0; i < m; i += 3)
+                acc += e[i] * e[i];
+            t[a] = acc;
+            t[3 + a] += (double)((m - i0 + 2) / 3);
         }
         if (!igea__finite_vec(3, t, 1))
             st = IGEA_EOVERFLOW;
@@ -506,13 +511,8 @@ int igea_eqerr_residual(int layout, int m, int N, const double *S, int lds,
         free(e);
         return st;
     }
-    if (axis_ss) {
-        for (int i = 0; i < m; i++) {
-            int a = (int)(((long long)row0 + i) % 3);
-            axis_ss[a] += e[i] * e[i];
-            axis_ss[3 + a] += 1.0;
-        }
-    }
+    if (axis_ss)
+        memcpy(axis_ss, t, sizeof t);
     if (residual)
         memcpy(residual, e, (size_t)m * sizeof(double));
     free(e);
@@ -830,6 +830,21 @@ int igea_eqerr_axis_rms(const double *axis_ss, double *rms)
 
 /* ---- residual diagnostics per axis ------------------------------------------ */
 
+/* u[j] += s[j], j < N, four at a time (vector registers where the
+ * compiler has them: each u[j] is its own sum). */
+static void axis_add_row(int N, const double *restrict s, double *restrict u)
+{
+    int j = 0;
+    for (; j + 4 <= N; j += 4) {
+        u[j] += s[j];
+        u[j + 1] += s[j + 1];
+        u[j + 2] += s[j + 2];
+        u[j + 3] += s[j + 3];
+    }
+    for (; j < N; j++)
+        u[j] += s[j];
+}
+
 int igea_eqerr_axis_sums(int layout, int m, int N, const double *S, int lds,
                          const double *dw, int row0, double *sums)
 {
@@ -842,9 +857,7 @@ int igea_eqerr_axis_sums(int layout, int m, int N, const double *S, int lds,
     if (row0 < 0) return -7;
     if (!sums) return -8;
     const size_t w = (size_t)N + 2;
-    if (!igea__finite_vec(3 * (int)w, sums, 1) || !igea__finite_vec(m, dw, 1) ||
-        !(layout == IGEA_COLMAJOR ? igea__finite_mat(m, N, S, lds)
-                                  : igea__finite_mat(N, m, S, lds)))
+    if (!igea__finite_vec(3 * (int)w, sums, 1) || !igea__finite_vec(m, dw, 1))
         return IGEA_ENONFINITE;
     for (int a = 0; a < 3; a++)
         if (!(sums[a * w] >= 0))
@@ -853,14 +866,28 @@ int igea_eqerr_axis_sums(int layout, int m, int N, const double *S, int lds,
     if (!t)
         return IGEA_ENOMEM;
     memcpy(t, sums, 3 * w * sizeof(double));
+    /* Each sum adds its rows in row order (the same bits however the loop
+     * is arranged); a NaN or Inf in S makes its sum non-finite, which is
+     * told apart from an overflow of finite data by a scan on that path
+     * only. */
+    int a = (int)((long long)row0 % 3);
     for (int i = 0; i < m; i++) {
-        double *u = t + (size_t)(((long long)row0 + i) % 3) * w;
+        double *u = t + (size_t)a * w;
         u[0] += 1.0;
         u[1] += dw[i];
-        for (int j = 0; j < N; j++)
-            u[2 + j] += layout == IGEA_COLMAJOR ? IGEA_AT(S, lds, i, j) : IGEA_AT(S, lds, j, i);
+        if (layout == IGEA_ROWMAJOR)
+            axis_add_row(N, S + (size_t)i * lds, u + 2);
+        else
+            for (int j = 0; j < N; j++)
+                u[2 + j] += IGEA_AT(S, lds, i, j);
+        a = a == 2 ? 0 : a + 1;
     }
-    int st = igea__finite_vec(3 * (int)w, t, 1) ? 0 : IGEA_EOVERFLOW;
+    int st = 0;
+    if (!igea__finite_vec(3 * (int)w, t, 1))
+        st = (layout == IGEA_COLMAJOR ? igea__finite_mat(m, N, S, lds)
+                                      : igea__finite_mat(N, m, S, lds))
+                 ? IGEA_EOVERFLOW
+                 : IGEA_ENONFINITE;
     if (st == 0)
         memcpy(sums, t, 3 * w * sizeof(double));
     free(t);
