@@ -933,6 +933,44 @@ static void test_eqerr_diag_streamed(void **state)
     assert_int_equal(ast[0], IGEA_EEMPTY);
 }
 
+/* Pass-1 axis sums of 7 columns (not a multiple of the four added at a
+ * time): both layouts the same bits and the sums of the definition; a NaN,
+ * or +Inf and -Inf in one column and axis, is IGEA_ENONFINITE, finite data
+ * whose sum overflows IGEA_EOVERFLOW, the sums untouched on failure. */
+static void test_axis_sums_statuses(void **state)
+{
+    (void)state;
+    enum { MS = 11, NS = 7 };
+    double S[MS * NS], Sr[MS * NS], dw[MS], a[3 * (NS + 2)] = {0}, b[3 * (NS + 2)] = {0};
+    for (int i = 0; i < MS; i++) {
+        dw[i] = 0.5 * i;
+        for (int j = 0; j < NS; j++)
+            S[i + j * MS] = Sr[j + i * NS] = 1.0 / (1 + i + 3 * j);
+    }
+    assert_int_equal(igea_eqerr_axis_sums(IGEA_COLMAJOR, MS, NS, S, MS, dw, 2, a), 0);
+    assert_int_equal(igea_eqerr_axis_sums(IGEA_ROWMAJOR, MS, NS, Sr, NS, dw, 2, b), 0);
+    assert_memory_equal(a, b, sizeof a);
+    for (int ax = 0; ax < 3; ax++) { /* row i has axis (2 + i) % 3 */
+        const double *u = a + ax * (NS + 2);
+        double cnt = 0, sd = 0, s6 = 0;
+        for (int i = 0; i < MS; i++)
+            if ((2 + i) % 3 == ax)
+                cnt += 1, sd += dw[i], s6 += S[i + 6 * MS];
+        assert_true(u[0] == cnt && u[1] == sd && u[2 + 6] == s6);
+    }
+    memcpy(b, a, sizeof a);
+    Sr[5 * NS + 6] = NAN;
+    assert_int_equal(igea_eqerr_axis_sums(IGEA_ROWMAJOR, MS, NS, Sr, NS, dw, 0, b),
+                     IGEA_ENONFINITE);
+    Sr[5 * NS + 6] = INFINITY, Sr[8 * NS + 6] = -INFINITY; /* rows 5 and 8: one axis */
+    assert_int_equal(igea_eqerr_axis_sums(IGEA_ROWMAJOR, MS, NS, Sr, NS, dw, 0, b),
+                     IGEA_ENONFINITE);
+    Sr[5 * NS + 6] = Sr[8 * NS + 6] = 1.5e308;
+    assert_int_equal(igea_eqerr_axis_sums(IGEA_ROWMAJOR, MS, NS, Sr, NS, dw, 0, b),
+                     IGEA_EOVERFLOW);
+    assert_memory_equal(a, b, sizeof a);
+}
+
 /* Components of a rotation: p_0 = (0.6, 0.8, 0), p_1 = (0.8, -0.6, 0):
  * shares 0.36, 0.64, 0; loadings spec_j p_ij. */
 static void test_components_closed_form(void **state)
@@ -984,6 +1022,7 @@ int main(void)
         cmocka_unit_test(test_limits_and_rms),
         cmocka_unit_test(test_diag_closed_form),
         cmocka_unit_test(test_eqerr_diag_streamed),
+        cmocka_unit_test(test_axis_sums_statuses),
         cmocka_unit_test(test_components_closed_form),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
