@@ -1,7 +1,6 @@
 /* eqerr.c - equivalent-error separation, sigma_w correction, tests
  * (METHODS 1.2). */
 #include <float.h>
-#include <pthread.h>
 
 #include <cblas.h>
 #include <lapacke.h>
@@ -551,9 +550,10 @@ static int run_eig(int m, int N, const double *S, int lds, const double *dw,
         return IGEA_ENOMEM;
     double *b = A + nn, *wtw = b + N;
     memset(A, 0, (nn + N + 2) * sizeof(double));
-    int st = igea_normal_accumulate_threads(IGEA_COLMAJOR, m, N, S, lds, dw, track_sigma,
-                                            sigma_inc, spec_sigma, A, N, b, wtw,
-                                            (int)opts[IGEA_EQERR_OPT_THREADS]);
+    /* the arguments and sigmas were checked by igea_eqerr_run */
+    int st = igea__normal_accumulate_threads(IGEA_COLMAJOR, m, N, S, lds, dw, track_sigma,
+                                             sigma_inc, spec_sigma, A, N, b, wtw,
+                                             (int)opts[IGEA_EQERR_OPT_THREADS]);
     if (st < 0 && st > -1000)
         st = IGEA_EDOMAIN; /* cannot happen: arguments checked above */
     if (st == 0)
@@ -569,7 +569,7 @@ static int run_eig(int m, int N, const double *S, int lds, const double *dw,
  * own 6 slots, whatever thread runs it; the sums are added in segment order
  * afterwards, so the result does not depend on the thread count. */
 typedef struct {
-    int m, N, lds, nseg, thread, nthreads;
+    int m, N, lds, nseg;
     const double *S, *dw, *coef;
     double *e, *part; /* e: m; part: nseg x 6, each segment's axis_ss */
 } rs_job;
@@ -577,8 +577,9 @@ typedef struct {
 /* Segment k: its residuals, and per axis a (row r0 + i, (r0 + i) mod 3 =
  * a) the sum of their squares in row order and their count. A non-finite
  * dw or residual makes the sums non-finite: rs_sum finds out why. */
-static void rs_segment(const rs_job *jb, int k)
+static void rs_segment(void *arg, int k)
 {
+    const rs_job *jb = arg;
     int r0 = k * IGEA_NORMAL_SEGMENT, nr = IGEA_MIN(IGEA_NORMAL_SEGMENT, jb->m - r0);
     double *e = jb->e + r0, *t = jb->part + 6 * (size_t)k;
     memcpy(e, jb->dw + r0, (size_t)nr * sizeof(double));
@@ -592,30 +593,6 @@ static void rs_segment(const rs_job *jb, int k)
         t[a] = acc;
         t[3 + a] = (double)((nr - i0 + 2) / 3);
     }
-}
-
-static void *rs_worker(void *arg)
-{
-    const rs_job *jb = arg;
-    for (int k = jb->thread; k < jb->nseg; k += jb->nthreads)
-        rs_segment(jb, k);
-    return NULL;
-}
-
-static void rs_run(rs_job *jobs, int nthreads)
-{
-    pthread_t tid[IGEA_EQERR_THREADS_MAX];
-    int nstarted = 0;
-    for (int t = 1; t < nthreads; t++) {
-        if (pthread_create(&tid[t], NULL, rs_worker, &jobs[t]) != 0)
-            break;
-        nstarted = t;
-    }
-    rs_worker(&jobs[0]);
-    for (int t = 1; t <= nstarted; t++)
-        pthread_join(tid[t], NULL);
-    for (int t = nstarted + 1; t < nthreads; t++) /* a thread that did not start */
-        rs_worker(&jobs[t]);
 }
 
 /* The segments' sums added in segment order into ss; when they are not
@@ -649,14 +626,10 @@ static int residual_threads(int m, int N, const double *S, int lds, const double
     double *part = igea__dalloc(6 * (size_t)nseg);
     int st = IGEA_ENOMEM;
     if (part) {
-        rs_job jobs[IGEA_EQERR_THREADS_MAX];
         memset(part, 0, 6 * (size_t)nseg * sizeof(double));
-        for (int t = 0; t < nthreads; t++) {
-            rs_job j = {m, N, lds, nseg, t, nthreads, S, dw, coef, e, part};
-            jobs[t] = j;
-        }
-        rs_run(jobs, nthreads);
-        st = rs_sum(&jobs[0], ss);
+        rs_job jb = {m, N, lds, nseg, S, dw, coef, e, part};
+        igea__parallel_for(nseg, nthreads, rs_segment, &jb);
+        st = rs_sum(&jb, ss);
     }
     free(part);
     return st;
