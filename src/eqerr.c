@@ -520,7 +520,7 @@ int igea_eqerr_residual(int layout, int m, int N, const double *S, int lds,
 
 /* igea_eqerr_run's SVD route: the QR factor of the weighted [S D, dw],
  * then solve_qr. */
-static int run_svd(int m, int N, const double *S, int lds, const double *dw,
+static int run_svd(int layout, int m, int N, const double *S, int lds, const double *dw,
                    const double *track_sigma, int sigma_inc,
                    const double *spec_sigma, const double *opts, scratch *s)
 {
@@ -529,7 +529,7 @@ static int run_svd(int m, int N, const double *S, int lds, const double *dw,
     if (!R)
         return IGEA_ENOMEM;
     memset(R, 0, n1 * n1 * sizeof(double));
-    int st = igea_normal_qr_accumulate(IGEA_COLMAJOR, m, N, S, lds, dw, track_sigma,
+    int st = igea_normal_qr_accumulate(layout, m, N, S, lds, dw, track_sigma,
                                        sigma_inc, spec_sigma, R, (int)n1, &rows);
     if (st < 0 && st > -1000)
         st = IGEA_EDOMAIN; /* cannot happen: arguments checked above */
@@ -540,7 +540,7 @@ static int run_svd(int m, int N, const double *S, int lds, const double *dw,
 }
 
 /* igea_eqerr_run's eig route: the normal equations, then solve_eig. */
-static int run_eig(int m, int N, const double *S, int lds, const double *dw,
+static int run_eig(int layout, int m, int N, const double *S, int lds, const double *dw,
                    const double *track_sigma, int sigma_inc,
                    const double *spec_sigma, const double *opts, scratch *s)
 {
@@ -551,7 +551,7 @@ static int run_eig(int m, int N, const double *S, int lds, const double *dw,
     double *b = A + nn, *wtw = b + N;
     memset(A, 0, (nn + N + 2) * sizeof(double));
     /* the arguments and sigmas were checked by igea_eqerr_run */
-    int st = igea__normal_accumulate_threads(IGEA_COLMAJOR, m, N, S, lds, dw, track_sigma,
+    int st = igea__normal_accumulate_threads(layout, m, N, S, lds, dw, track_sigma,
                                              sigma_inc, spec_sigma, A, N, b, wtw,
                                              (int)opts[IGEA_EQERR_OPT_THREADS]);
     if (st < 0 && st > -1000)
@@ -569,7 +569,7 @@ static int run_eig(int m, int N, const double *S, int lds, const double *dw,
  * own 6 slots, whatever thread runs it; the sums are added in segment order
  * afterwards, so the result does not depend on the thread count. */
 typedef struct {
-    int m, N, lds, nseg;
+    int layout, m, N, lds, nseg;
     const double *S, *dw, *coef;
     double *e, *part; /* e: m; part: nseg x 6, each segment's axis_ss */
 } rs_job;
@@ -583,8 +583,12 @@ static void rs_segment(void *arg, int k)
     int r0 = k * IGEA_NORMAL_SEGMENT, nr = IGEA_MIN(IGEA_NORMAL_SEGMENT, jb->m - r0);
     double *e = jb->e + r0, *t = jb->part + 6 * (size_t)k;
     memcpy(e, jb->dw + r0, (size_t)nr * sizeof(double));
-    cblas_dgemv(CblasColMajor, CblasNoTrans, nr, jb->N, -1.0, jb->S + r0, jb->lds, jb->coef,
-                1, 1.0, e, 1);
+    if (jb->layout == IGEA_COLMAJOR)
+        cblas_dgemv(CblasColMajor, CblasNoTrans, nr, jb->N, -1.0, jb->S + r0, jb->lds,
+                    jb->coef, 1, 1.0, e, 1);
+    else
+        cblas_dgemv(CblasColMajor, CblasTrans, jb->N, nr, -1.0, jb->S + (size_t)r0 * jb->lds,
+                    jb->lds, jb->coef, 1, 1.0, e, 1);
     for (int i0 = 0; i0 < 3 && i0 < nr; i0++) {
         int a = (r0 + i0) % 3;
         double acc = 0.0;
@@ -610,14 +614,17 @@ static int rs_sum(const rs_job *jb, double *ss)
     }
     if (!igea__finite_vec(jb->m, jb->dw, 1))
         return IGEA_ENONFINITE;
-    if (!igea__finite_vec(jb->m, jb->e, 1) && !igea__finite_mat(jb->m, jb->N, jb->S, jb->lds))
+    if (!igea__finite_vec(jb->m, jb->e, 1) &&
+        !(jb->layout == IGEA_COLMAJOR ? igea__finite_mat(jb->m, jb->N, jb->S, jb->lds)
+                                      : igea__finite_mat(jb->N, jb->m, jb->S, jb->lds)))
         return IGEA_ENONFINITE;
     return IGEA_EOVERFLOW;
 }
 
 /* igea_eqerr_residual (column-major, row0 = 0, ss zero on entry) on
  * nthreads >= 2 threads: e (m) and ss (6) written on success only. */
-static int residual_threads(int m, int N, const double *S, int lds, const double *dw,
+static int residual_threads(int layout, int m, int N, const double *S, int lds,
+                            const double *dw,
                             const double *coef, double *e, double *ss, int nthreads)
 {
     if (!igea__finite_vec(N, coef, 1))
@@ -627,7 +634,7 @@ static int residual_threads(int m, int N, const double *S, int lds, const double
     int st = IGEA_ENOMEM;
     if (part) {
         memset(part, 0, 6 * (size_t)nseg * sizeof(double));
-        rs_job jb = {m, N, lds, nseg, S, dw, coef, e, part};
+        rs_job jb = {layout, m, N, lds, nseg, S, dw, coef, e, part};
         igea__parallel_for(nseg, nthreads, rs_segment, &jb);
         st = rs_sum(&jb, ss);
     }
@@ -638,7 +645,7 @@ static int residual_threads(int m, int N, const double *S, int lds, const double
 /* Residuals e (m) and the per-axis sums ss of the fit in the scratch; the
  * route eig's thread count (IGEA_EQERR_OPT_THREADS) >= 2: on that many
  * threads, in the normal equations' segments. */
-static int run_residuals(int m, int N, const double *S, int lds, const double *dw,
+static int run_residuals(int layout, int m, int N, const double *S, int lds, const double *dw,
                          const double *spec_sigma, const double *opts, const scratch *s,
                          double *coef, double *e, double *ss)
 {
@@ -648,39 +655,41 @@ static int run_residuals(int m, int N, const double *S, int lds, const double *d
                        ? 1
                        : (int)opts[IGEA_EQERR_OPT_THREADS];
     if (st == 0 && nthreads >= 2)
-        st = residual_threads(m, N, S, lds, dw, coef, e, ss, nthreads);
+        st = residual_threads(layout, m, N, S, lds, dw, coef, e, ss, nthreads);
     else if (st == 0)
-        st = igea_eqerr_residual(IGEA_COLMAJOR, m, N, S, lds, dw, coef, 0, e, ss);
+        st = igea_eqerr_residual(layout, m, N, S, lds, dw, coef, 0, e, ss);
     return st;
 }
 
-int igea_eqerr_run(int m, int N, const double *S, int lds, const double *dw,
-                   const double *track_sigma, int sigma_inc,
-                   const double *spec_sigma, const double *opts,
-                   double *lambda, double *P, int ldp, double *equiv_err,
-                   double *z, int *reject, double *info, double *residual,
-                   double *rms)
+/* igea_eqerr_run in either layout; the statuses -i of its arguments are
+ * -(i + off) (off = 1 for igea_eqerr_run_layout, whose first argument is
+ * the layout). */
+static int run_layout(int layout, int off, int m, int N, const double *S, int lds,
+                      const double *dw, const double *track_sigma, int sigma_inc,
+                      const double *spec_sigma, const double *opts, double *lambda, double *P,
+                      int ldp, double *equiv_err, double *z, int *reject, double *info,
+                      double *residual, double *rms)
 {
     double dflt[IGEA_EQERR_OPT_LEN];
-    if (m < 1) return -1;
-    if (N < 1) return -2;
-    if (!S) return -3;
-    if (lds < m) return -4;
-    if (!dw) return -5;
-    if (!track_sigma) return -6;
-    if (sigma_inc != 0 && sigma_inc != 1) return -7;
+    if (m < 1) return -1 - off;
+    if (N < 1) return -2 - off;
+    if (!S) return -3 - off;
+    if (lds < (layout == IGEA_COLMAJOR ? m : N)) return -4 - off;
+    if (!dw) return -5 - off;
+    if (!track_sigma) return -6 - off;
+    if (sigma_inc != 0 && sigma_inc != 1) return -7 - off;
     if (!opts) {
         igea_eqerr_defaults(dflt);
         opts = dflt;
     } else if (igea_eqerr_check_opts(opts) || igea__noise_opts_set(opts))
-        return -9; /* AR, robust, bias columns: igea_noise_eqerr */
-    if (!lambda) return -10;
-    if (!P) return -11;
-    if (ldp < N) return -12;
-    if (!equiv_err) return -13;
-    if (!z) return -14;
-    if (!reject) return -15;
-    if (!info) return -16;
+        return -9 - off; /* AR, robust, bias columns: igea_noise_eqerr */
+    if (!lambda) return -10 - off;
+    if (!P) return -11 - off;
+    if (ldp < N) return -12 - off;
+    if (!equiv_err) return -13 - off;
+    if (!z) return -14 - off;
+    if (!reject) return -15 - off;
+    if (!info) return -16 - off;
     int st = igea__sigma_vec(sigma_inc ? m : 1, track_sigma);
     if (st == 0 && spec_sigma)
         st = igea__sigma_vec(N, spec_sigma);
@@ -691,8 +700,8 @@ int igea_eqerr_run(int m, int N, const double *S, int lds, const double *dw,
     if (scratch_alloc(&s, N))
         return IGEA_ENOMEM;
     st = opts[IGEA_EQERR_OPT_ROUTE] == IGEA_EQERR_ROUTE_SVD
-             ? run_svd(m, N, S, lds, dw, track_sigma, sigma_inc, spec_sigma, opts, &s)
-             : run_eig(m, N, S, lds, dw, track_sigma, sigma_inc, spec_sigma, opts, &s);
+             ? run_svd(layout, m, N, S, lds, dw, track_sigma, sigma_inc, spec_sigma, opts, &s)
+             : run_eig(layout, m, N, S, lds, dw, track_sigma, sigma_inc, spec_sigma, opts, &s);
     if (st == 0 && !scratch_finite(&s, N))
         st = IGEA_EOVERFLOW;
     double *coef = NULL, *e = NULL, ss[6] = {0, 0, 0, 0, 0, 0};
@@ -700,7 +709,7 @@ int igea_eqerr_run(int m, int N, const double *S, int lds, const double *dw,
         coef = igea__dalloc((size_t)N);
         e = igea__dalloc((size_t)m);
         st = !coef || !e ? IGEA_ENOMEM
-                         : run_residuals(m, N, S, lds, dw, spec_sigma, opts, &s, coef,
+                         : run_residuals(layout, m, N, S, lds, dw, spec_sigma, opts, &s, coef,
                                          e, ss);
     }
     if (st == 0) {
@@ -715,6 +724,29 @@ int igea_eqerr_run(int m, int N, const double *S, int lds, const double *dw,
     free(e);
     scratch_free(&s);
     return st;
+}
+
+int igea_eqerr_run(int m, int N, const double *S, int lds, const double *dw,
+                   const double *track_sigma, int sigma_inc,
+                   const double *spec_sigma, const double *opts,
+                   double *lambda, double *P, int ldp, double *equiv_err,
+                   double *z, int *reject, double *info, double *residual,
+                   double *rms)
+{
+    return run_layout(IGEA_COLMAJOR, 0, m, N, S, lds, dw, track_sigma, sigma_inc, spec_sigma,
+                      opts, lambda, P, ldp, equiv_err, z, reject, info, residual, rms);
+}
+
+int igea_eqerr_run_layout(int layout, int m, int N, const double *S, int lds,
+                          const double *dw, const double *track_sigma, int sigma_inc,
+                          const double *spec_sigma, const double *opts, double *lambda,
+                          double *P, int ldp, double *equiv_err, double *z, int *reject,
+                          double *info, double *residual, double *rms)
+{
+    if (layout != IGEA_COLMAJOR && layout != IGEA_ROWMAJOR)
+        return -1;
+    return run_layout(layout, 1, m, N, S, lds, dw, track_sigma, sigma_inc, spec_sigma, opts,
+                      lambda, P, ldp, equiv_err, z, reject, info, residual, rms);
 }
 
 /* ---- pooled verdict, report quantities ------------------------------------ */

@@ -59,7 +59,8 @@ int igea_stats_diag_add(int n, const double *x, int incx, double *state)
     double *cross = t + ST_CROSS, *ring = cross + L;
     long long cnt = (long long)t[ST_N];
     int last = (int)t[ST_LAST];
-    double ss = t[ST_SS], above = t[ST_ABOVE], below = t[ST_BELOW], runs = t[ST_RUNS];
+    double ss = t[ST_SS];
+    long long above = 0, below = 0, runs = 0; /* added to the state's counts at the end */
     /* The deviations in chunks, after the (up to L) deviations before
      * them in order in dev[]; each cross[k - 1] then gets d_i times the
      * deviation k before it for every element i of the chunk in element
@@ -77,16 +78,13 @@ int igea_stats_diag_add(int n, const double *x, int incx, double *state)
             double v = x[(size_t)(i0 + i) * incx] - c;
             d[i] = v;
             ss += v * v;
-            int sg = v > 0 ? 1 : v < 0 ? -1 : 0; /* a value at the centre is dropped */
-            if (sg) {
-                if (sg > 0)
-                    above += 1;
-                else
-                    below += 1;
-                if (sg != last)
-                    runs += 1;
-                last = sg;
-            }
+            /* without branches (the signs of residuals are unpredictable);
+             * a value at the centre is dropped */
+            int pos = v > 0, neg = v < 0, sg = pos - neg;
+            above += pos;
+            below += neg;
+            runs += (sg != 0) & (sg != last);
+            last = sg ? sg : last;
         }
         /* element i of the chunk reaches lag k when k <= H + i */
         int k = 1;
@@ -115,7 +113,8 @@ int igea_stats_diag_add(int n, const double *x, int incx, double *state)
         cnt += nc;
     }
     t[ST_N] = (double)cnt;
-    t[ST_SS] = ss, t[ST_ABOVE] = above, t[ST_BELOW] = below, t[ST_RUNS] = runs;
+    t[ST_SS] = ss;
+    t[ST_ABOVE] += (double)above, t[ST_BELOW] += (double)below, t[ST_RUNS] += (double)runs;
     t[ST_LAST] = last;
     if (!igea__finite_vec(IGEA_STATS_DIAG_STATE_LEN, t, 1))
         return IGEA_EOVERFLOW;
