@@ -314,7 +314,7 @@ static int streams_open(const eqerr_args *a, streams *s)
     }
     if (!ec) {
         s->N = cli_reader_cols(s->S);
-        s->block = 1 + (1L << 20) / (8L * (s->N + 2)); /* about 1 MB of rows */
+        s->block = 1 + (4L << 20) / (8L * (s->N + 2)); /* about 4 MB of rows */
         /* --threads T >= 2: blocks of two segments whatever T (the same sums
          * for every T; two threads busy per block) */
         long seg2 = 2L * IGEA_NORMAL_SEGMENT;

@@ -65,8 +65,8 @@ def test_whiteness_not_computed_on_short_axes():
         igea.eqerr(S, dw, sigma, spec, lags=0)
 
 
-# 70,001 rows of 14 terms are read in blocks of about 1 MB (8,193 rows per
-# block): the streamed states cross block boundaries mid-epoch.
+# 70,001 rows of 14 terms are read in three blocks of about 4 MB (rows
+# 32,769 per block): the streamed states cross block boundaries mid-epoch.
 @pytest.mark.parametrize("m", [1200, 70001])
 def test_driver_streams_the_same_diagnostics(tmp_path, m):
     S, dw, sigma, spec, _ = flight(9, m=m, ar=0.3)
