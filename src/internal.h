@@ -20,11 +20,11 @@
 
 /* 1 if every x[i * inc], i < n, is finite. */
 int igea__finite_vec(int n, const double *x, int inc);
-/* Tasks task(arg, k), k = 0..n-1, on up to nthreads threads (the calling
+/* Work items work(arg, k), k = 0..n-1, on up to nthreads threads (the calling
  * thread one of them; at most IGEA__THREADS_MAX): each thread takes the
- * next task not yet taken, so that a thread slowed by other work on its
- * core takes fewer; a thread that cannot start leaves its tasks to the
- * others. Tasks write only their own results, so what they compute does
+ * next item not yet taken, so that a thread slowed by other work on its
+ * core takes fewer; a thread that cannot start leaves its items to the
+ * others. Items write only their own results, so what they compute does
  * not depend on which thread ran them. */
 #define IGEA__THREADS_MAX 256
 /* igea_normal_accumulate_threads without its argument checks (normal.c),
@@ -33,7 +33,7 @@ int igea__normal_accumulate_threads(int layout, int m, int N, const double *S, i
                                     const double *dw, const double *track_sigma, int sigma_inc,
                                     const double *spec_sigma, double *A, int lda, double *b,
                                     double *wtw, int nthreads);
-void igea__parallel_for(int n, int nthreads, void (*task)(void *arg, int k), void *arg);
+void igea__parallel_for(int n, int nthreads, void (*work)(void *arg, int k), void *arg);
 /* 1 if every x[i], i < n, is finite (n may exceed INT_MAX). */
 int igea__finite_run(size_t n, const double *x);
 /* 1 if every element of the m x n column-major matrix is finite. */

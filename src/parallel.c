@@ -1,5 +1,5 @@
-/* parallel.c - the library's own threads: tasks 0..n-1 shared out to
- * threads that take the next one free (internal.h). */
+/* parallel.c - the library's own threads: work items 0..n-1 shared out
+ * to threads that take the next one free (internal.h). */
 #include <pthread.h>
 
 #include "internal.h"
@@ -7,7 +7,7 @@
 typedef struct {
     pthread_mutex_t lock;
     int next, n;
-    void (*task)(void *, int);
+    void (*work)(void *, int);
     void *arg;
 } pf_ctx;
 
@@ -20,21 +20,21 @@ static void *pf_worker(void *p)
         pthread_mutex_unlock(&c->lock);
         if (k < 0)
             return NULL;
-        c->task(c->arg, k);
+        c->work(c->arg, k);
     }
 }
 
-void igea__parallel_for(int n, int nthreads, void (*task)(void *arg, int k), void *arg)
+void igea__parallel_for(int n, int nthreads, void (*work)(void *arg, int k), void *arg)
 {
     pf_ctx c;
-    c.next = 0, c.n = n, c.task = task, c.arg = arg;
+    c.next = 0, c.n = n, c.work = work, c.arg = arg;
     if (nthreads > n)
         nthreads = n;
     if (nthreads > IGEA__THREADS_MAX)
         nthreads = IGEA__THREADS_MAX;
     if (nthreads < 2 || pthread_mutex_init(&c.lock, NULL) != 0) {
         for (int k = 0; k < n; k++)
-            task(arg, k);
+            work(arg, k);
         return;
     }
     pthread_t tid[IGEA__THREADS_MAX];
@@ -42,7 +42,7 @@ void igea__parallel_for(int n, int nthreads, void (*task)(void *arg, int k), voi
     while (started < nthreads - 1 && pthread_create(&tid[started], NULL, pf_worker, &c) == 0)
         started++;
     pf_worker(&c); /* the calling thread too; a thread that did not start
-                      leaves its tasks to the others */
+                      leaves its items to the others */
     for (int t = 0; t < started; t++)
         pthread_join(tid[t], NULL);
     pthread_mutex_destroy(&c.lock);
