@@ -2,16 +2,23 @@
 """Speed and memory of the equivalent-error assessment (issue: 180,000 rows
 x 74 terms; a 1,800,000-row flight through the driver in < 64 MB).
 
-One run measures, on the same matrix:
-  floor   one bare OpenBLAS cblas_dsyrk (S^T S) - the least any method must do
-  igea    igea.eqerr through Python (normal equations, dsyevd, sigma_w loop,
-          tests, residuals, the verdict rule's overall size), 1 and 2 threads
-  run     igea_eqerr_run alone (no overall size), 1 and 2 threads: the
-          normal equations' share (IGEA_EQERR_OPT_THREADS)
-  driver  'igea eqerr' on .npy files (reads 107 MB from disk)
+One run measures, on the same matrix, interleaved, with OPENBLAS_NUM_THREADS=1:
+  floor   one bare OpenBLAS cblas_dsyrk (S^T S) on one thread - the least any
+          method must do
+  run     igea_eqerr_run alone (normal equations, dsyevd, sigma_w loop,
+          tests, residuals; no overall size), 1 and 2 threads
+          (IGEA_EQERR_OPT_THREADS): wall time, and the CPU time of the
+          calling thread (getrusage RUSAGE_THREAD) and of the others
+  igea    igea.eqerr through Python (the whole job: + the verdict rule's
+          overall size, whiteness, named components), S in Fortran and in
+          C order (the latter read row by row, not copied)
+  driver  'igea eqerr' on .npy files (107 MB; both passes on a memory map),
+          wall and CPU, beside a bare process start ('igea version') and the
+          overall size at 74 tested components in a fresh process
   numpy   the same steps written with numpy/scipy
-and prints the ratios. Then it writes a 1.8M-row .npy flight (1.07 GB) and
-reports the driver's peak resident memory.
+and prints the ratios to the floor. Then it writes a 1.8M-row .npy flight
+(1.07 GB) and reports the driver's peak resident memory. Wall-clock ratios
+need a quiet machine; the CPU times are printed beside them.
 
     make bench            (or: python bench/bench_eqerr.py [--rows N] [--skip-big])
 """
@@ -23,6 +30,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import argparse  # noqa: E402
 import ctypes  # noqa: E402
+import resource  # noqa: E402
 import ctypes.util  # noqa: E402
 import shutil  # noqa: E402
 import subprocess  # noqa: E402
@@ -62,6 +70,37 @@ def eqerr_run(S, dw, sigma, spec, threads):
     ptr = [_lib.iptr(a) if a.dtype == np.intc else _lib.dptr(a) for a in out]
     _lib.call("bench", "igea_eqerr_run", m, N, _lib.dptr(S), m, _lib.dptr(dw), _lib.dptr(sigma),
               1, _lib.dptr(spec), _lib.dptr(opts), ptr[0], ptr[1], N, *ptr[2:])
+
+
+def thread_cpu():
+    r = resource.getrusage(resource.RUSAGE_THREAD)
+    return r.ru_utime + r.ru_stime
+
+
+def best_threads(f, repeat=5):
+    """(wall, calling thread's CPU, all threads' CPU) of the fastest of
+    repeat runs."""
+    out = []
+    for _ in range(repeat):
+        c0, t0, w0 = time.process_time(), thread_cpu(), time.perf_counter()
+        f()
+        out.append((time.perf_counter() - w0, thread_cpu() - t0, time.process_time() - c0))
+    return min(out)
+
+
+def children_cpu():
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
+def best_process(cmd, cwd, repeat=3):
+    """(wall, CPU) of the fastest of repeat runs of a subprocess."""
+    out = []
+    for _ in range(repeat):
+        c0, w0 = children_cpu(), time.perf_counter()
+        subprocess.run(cmd, cwd=cwd, check=False, stdout=subprocess.DEVNULL)
+        out.append((time.perf_counter() - w0, children_cpu() - c0))
+    return min(out)
 
 
 def best_cpu(f, repeat=3):
@@ -137,41 +176,61 @@ def main():
                          ctypes.c_double(0.0), C.ctypes.data_as(dp), N)
 
     t_floor = best(floor)
-    t_igea = best(lambda: igea.eqerr(S, dw, sigma, spec))
-    t_igea2 = best(lambda: igea.eqerr(S, dw, sigma, spec, threads=2))
-    t_run = {t: best(lambda: eqerr_run(S, dw, sigma, spec, t)) for t in (1, 2)}
     c_floor = best_cpu(floor)
+    Sc = np.ascontiguousarray(S)
+    t_igea = best(lambda: igea.eqerr(S, dw, sigma, spec))
+    t_igea_c = best(lambda: igea.eqerr(Sc, dw, sigma, spec))
+    t_igea2 = best(lambda: igea.eqerr(S, dw, sigma, spec, threads=2))
+    run = {t: best_threads(lambda: eqerr_run(S, dw, sigma, spec, t)) for t in (1, 2)}
     c_igea = best_cpu(lambda: igea.eqerr(S, dw, sigma, spec))
-    c_igea2 = best_cpu(lambda: igea.eqerr(S, dw, sigma, spec, threads=2))
     t_numpy = best(lambda: numpy_eqerr(S, dw, sigma, spec), repeat=3)
+    union = ("import ctypes, sys, time; from scipy import stats; "
+             "lib = ctypes.CDLL(sys.argv[1]); v = ctypes.c_double(); "
+             "f = lib.igea_stats_union_size; f.argtypes = [ctypes.c_int, ctypes.c_double, "
+             "ctypes.c_double, ctypes.POINTER(ctypes.c_double)]; "
+             "a, b = stats.norm.isf(0.005), stats.chi2.isf(0.01, 74); "
+             "c = time.process_time(); f(74, a, b, ctypes.byref(v)); "
+             "print(time.process_time() - c)")
+    from igea import _lib
+    t_union = min(float(subprocess.run([sys.executable, "-c", union, _lib.lib._name],
+                                       capture_output=True, text=True).stdout)
+                  for _ in range(3))
     with tempfile.TemporaryDirectory() as d:
-        Sc = np.ascontiguousarray(S)
         for name, arr in [("S", Sc), ("dw", dw), ("sigma", sigma), ("spec", spec)]:
             np.save(os.path.join(d, name + ".npy"), arr)
-        del Sc
         cmd = [DRIVER, "eqerr", "--S", "S.npy", "--dw", "dw.npy", "--sigma", "sigma.npy",
                "--spec", "spec.npy", "--out", "report.txt"]
-        t_drv = best(lambda: subprocess.run(cmd, cwd=d, check=False), repeat=3)
-    print(f"eqerr, {m} rows x {N} terms (best of several runs, this machine):")
-    print(f"  floor  (one cblas_dsyrk)      {t_floor * 1e3:8.1f} ms")
-    print(f"  igea   (Python, whole job)    {t_igea * 1e3:8.1f} ms   {t_igea / t_floor:5.2f} x floor")
-    print(f"  igea   threads=2 (wall)       {t_igea2 * 1e3:8.1f} ms   {t_igea2 / t_floor:5.2f} x floor"
-          f"  (target <= 0.6 x floor: {'met' if t_igea2 <= 0.6 * t_floor else 'NOT met'})")
-    print(f"  igea_eqerr_run (C: normal equations, eig, sigma_w loop, tests, residuals; "
-          f"no overall size)")
-    print(f"         1 thread               {t_run[1] * 1e3:8.1f} ms   {t_run[1] / t_floor:5.2f} x floor")
-    print(f"         threads=2              {t_run[2] * 1e3:8.1f} ms   {t_run[2] / t_floor:5.2f} x floor"
-          f"  (target <= 0.6 x floor: {'met' if t_run[2] <= 0.6 * t_floor else 'NOT met'}; "
-          f"{t_run[1] / t_run[2]:.2f} x one thread)")
-    print(f"  CPU time: floor {c_floor * 1e3:.1f} ms, igea {c_igea * 1e3:.1f} ms "
-          f"({c_igea / c_floor:.2f} x), igea threads=2 {c_igea2 * 1e3:.1f} ms "
-          f"({c_igea2 / c_igea:.2f} x one thread's CPU); BLAS threads: "
-          f"OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS', 'unset')}; "
-          f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
-    print(f"  driver (.npy files, whole job){t_drv * 1e3:8.1f} ms   {t_drv / t_floor:5.2f} x floor")
-    print(f"  numpy/scipy (same steps)      {t_numpy * 1e3:8.1f} ms   {t_numpy / t_igea:5.2f} x igea")
-    print(f"  targets: igea <= 1.3 x floor ({'met' if t_igea <= 1.3 * t_floor else 'NOT met'}), "
-          f"numpy >= 1.5 x igea ({'met' if t_numpy >= 1.5 * t_igea else 'NOT met'})")
+        t_drv, c_drv = best_process(cmd, d)
+        t_start, c_start = best_process([DRIVER, "version"], d, repeat=5)
+    del Sc
+    f = t_floor
+    print(f"eqerr, {m} rows x {N} terms (best of several runs; OPENBLAS_NUM_THREADS="
+          f"{os.environ.get('OPENBLAS_NUM_THREADS', 'unset')}; load average "
+          f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} cores):")
+    print(f"  floor  (one cblas_dsyrk, 1 thread) {t_floor * 1e3:8.1f} ms wall, {c_floor * 1e3:.1f} ms CPU")
+    print(f"  igea_eqerr_run (normal equations, eig, sigma_w loop, tests, residuals; "
+          f"no overall size):")
+    w1, m1, a1 = run[1]
+    w2, m2, a2 = run[2]
+    print(f"         1 thread                {w1 * 1e3:8.1f} ms   {w1 / f:5.2f} x floor "
+          f"(CPU {a1 * 1e3:.1f} ms, {a1 / c_floor:.2f} x the floor's)")
+    print(f"         threads=2               {w2 * 1e3:8.1f} ms   {w2 / f:5.2f} x the one-thread "
+          f"floor (target <= 0.6: {'met' if w2 <= 0.6 * f else 'NOT met'}); CPU: calling thread "
+          f"{m2 * 1e3:.1f} ms ({m2 / c_floor:.2f} x the floor's), other thread "
+          f"{(a2 - m2) * 1e3:.1f} ms")
+    print(f"  igea.eqerr (Python, whole job) {t_igea * 1e3:8.1f} ms   {t_igea / f:5.2f} x floor "
+          f"(target <= 1.3: {'met' if t_igea <= 1.3 * f else 'NOT met'}; CPU "
+          f"{c_igea * 1e3:.1f} ms, {c_igea / c_floor:.2f} x the floor's)")
+    print(f"         S in C order            {t_igea_c * 1e3:8.1f} ms   {t_igea_c / f:5.2f} x floor")
+    print(f"         threads=2               {t_igea2 * 1e3:8.1f} ms   {t_igea2 / f:5.2f} x floor")
+    print(f"  driver (.npy files, whole job) {t_drv * 1e3:8.1f} ms   {t_drv / f:5.2f} x floor "
+          f"(target <= 1.3: {'met' if t_drv <= 1.3 * f else 'NOT met'}; CPU {c_drv * 1e3:.1f} ms, "
+          f"{c_drv / c_floor:.2f} x the floor's)")
+    print(f"         of which a process start ('igea version') {t_start * 1e3:.1f} ms wall, "
+          f"{c_start * 1e3:.1f} ms CPU; the overall size at 74 tested components "
+          f"{t_union * 1e3:.1f} ms CPU")
+    print(f"  numpy/scipy (same steps)       {t_numpy * 1e3:8.1f} ms   {t_numpy / t_igea:5.2f} x igea "
+          f"(target >= 1.5: {'met' if t_numpy >= 1.5 * t_igea else 'NOT met'})")
     if a.skip_big:
         return
     mb = a.big_rows

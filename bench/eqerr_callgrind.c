@@ -4,14 +4,16 @@
  *   cc -O2 -Iinclude bench/eqerr_callgrind.c -o build/eqerr_callgrind -Lbuild/lib -ligea \
  *      -lm -Wl,-rpath,$PWD/build/lib
  *   OPENBLAS_NUM_THREADS=1 valgrind --tool=callgrind --separate-threads=yes \
- *      build/eqerr_callgrind 65536 2
+ *      --fair-sched=yes build/eqerr_callgrind 65536 2
  *
  *   callgrind_annotate --inclusive=yes callgrind.out.PID-01 | grep igea_eqerr_run
  *
  * The critical path on T >= 2 threads is igea_eqerr_run's inclusive count
  * in the calling thread's file (-01; it runs its share of the segments of
  * the normal equations and of the residual pass); the other threads'
- * files (-02 ..) hold mt_worker and rs_worker.
+ * files (-02 ..) hold pf_worker (mt_segment, rs_segment). The threads take
+ * the segments as they come: --fair-sched=yes lets valgrind, which runs
+ * one thread at a time, share them out as two cores would.
  *
  * Arguments: m rows, IGEA_EQERR_OPT_THREADS (default 1), any third
  * argument: also the verdict rule's overall size. Prints the status, chi2

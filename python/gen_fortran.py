@@ -16,8 +16,9 @@ arguments of interoperable procedures of TS 29113 / Fortran 2018) holds:
     passed as NULL (the library refuses NULL where its header does not
     allow it, with status -i); const char * arguments are
     character(kind=c_char) arrays (terminate them with c_null_char); a
-    const char * result and a handle (igea_rls *, igea_sim_model *) are
-    type(c_ptr); void functions are subroutines;
+    const char * or const double * result and a handle (igea_rls *,
+    igea_sim_model *) are type(c_ptr) (c_f_pointer makes an array of the
+    latter); void functions are subroutines;
   - a named parameter for every #define IGEA_X of the headers with its C
     value (a constant whose name is, case aside, a function's gets
     the suffix _CONST: IGEA_VERSION_NUMBER_CONST);
@@ -64,6 +65,7 @@ SCALARS = {
     "igea_impact_cep_approx": "radius", "igea_impact_circle_prob_offset": "prob",
     "igea_impact_cep_offset": "radius", "igea_triad_static": "nint",
     "igea_io_reader_next": "nread", "igea_io_parse_number": "x",
+    "igea_io_reader_view": "nread",
     "igea_dw_summary": "max_abs",
     # one value each in their header comments, found missing by
     # tests/python/test_fortran_scalars.py
@@ -144,7 +146,7 @@ def interface(fn, ret, name, params):
     elif r == "double":
         kw, res = "function", "real(c_double) :: igea_result"
         kinds.add("c_double")
-    elif r == "char*":
+    elif r in ("char*", "double*"):
         kw, res = "function", "type(c_ptr) :: igea_result"
         kinds.add("c_ptr")
     else:

@@ -171,8 +171,29 @@ int igea_init(void)
     return 0;
 }
 
+/* 1 when x[0..n) holds no NaN or Inf: x * 0 is NaN exactly for those, and
+ * eight such products summed pairwise are independent of each other (no
+ * chain of additions through one accumulator), one test per eight. */
+int igea__finite_run(size_t n, const double *x)
+{
+    size_t i = 0;
+    for (; i + 8 <= n; i += 8) {
+        const double *p = x + i;
+        double s = ((p[0] * 0.0 + p[1] * 0.0) + (p[2] * 0.0 + p[3] * 0.0)) +
+                   ((p[4] * 0.0 + p[5] * 0.0) + (p[6] * 0.0 + p[7] * 0.0));
+        if (s != 0.0)
+            return 0;
+    }
+    for (; i < n; i++)
+        if (!isfinite(x[i]))
+            return 0;
+    return 1;
+}
+
 int igea__finite_vec(int n, const double *x, int inc)
 {
+    if (inc == 1)
+        return n <= 0 || igea__finite_run((size_t)n, x);
     for (int i = 0; i < n; i++)
         if (!isfinite(x[(size_t)i * (size_t)inc]))
             return 0;
@@ -181,15 +202,13 @@ int igea__finite_vec(int n, const double *x, int inc)
 
 int igea__finite_mat(int m, int n, const double *a, int lda)
 {
-    for (int j = 0; j < n; j++) {
-        const double *col = a + (size_t)j * (size_t)lda;
-        double acc = 0.0;
-        /* x * 0 is NaN exactly when x is NaN or Inf: one test per column. */
-        for (int i = 0; i < m; i++)
-            acc += col[i] * 0.0;
-        if (acc != 0.0)
+    if (m <= 0 || n <= 0)
+        return 1;
+    if (lda == m) /* contiguous: one run */
+        return igea__finite_run((size_t)m * (size_t)n, a);
+    for (int j = 0; j < n; j++)
+        if (!igea__finite_run((size_t)m, a + (size_t)j * (size_t)lda))
             return 0;
-    }
     return 1;
 }
 

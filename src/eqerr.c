@@ -1,7 +1,6 @@
 /* eqerr.c - equivalent-error separation, sigma_w correction, tests
  * (METHODS 1.2). */
 #include <float.h>
-#include <pthread.h>
 
 #include <cblas.h>
 #include <lapacke.h>
@@ -492,12 +491,17 @@ int igea_eqerr_residual(int layout, int m, int N, const double *S, int lds,
                                       : igea__finite_mat(N, m, S, lds))
                  ? IGEA_EOVERFLOW
                  : IGEA_ENONFINITE;
+    double t[6];
     if (st == 0 && axis_ss) {
-        double t[6];
+        /* per axis, its rows' squares in row order */
         memcpy(t, axis_ss, sizeof t);
-        for (int i = 0; i < m; i++) {
-            int a = (int)(((long long)row0 + i) % 3);
-            t[a] += e[i] * e[i];
+        for (int i0 = 0; i0 < 3 && i0 < m; i0++) {
+            int a = (int)(((long long)row0 + i0) % 3);
+            double acc = t[a];
+            for (int i = i0; i < m; i += 3)
+                acc += e[i] * e[i];
+            t[a] = acc;
+            t[3 + a] += (double)((m - i0 + 2) / 3);
         }
         if (!igea__finite_vec(3, t, 1))
             st = IGEA_EOVERFLOW;
@@ -506,13 +510,8 @@ int igea_eqerr_residual(int layout, int m, int N, const double *S, int lds,
         free(e);
         return st;
     }
-    if (axis_ss) {
-        for (int i = 0; i < m; i++) {
-            int a = (int)(((long long)row0 + i) % 3);
-            axis_ss[a] += e[i] * e[i];
-            axis_ss[3 + a] += 1.0;
-        }
-    }
+    if (axis_ss)
+        memcpy(axis_ss, t, sizeof t);
     if (residual)
         memcpy(residual, e, (size_t)m * sizeof(double));
     free(e);
@@ -521,7 +520,7 @@ int igea_eqerr_residual(int layout, int m, int N, const double *S, int lds,
 
 /* igea_eqerr_run's SVD route: the QR factor of the weighted [S D, dw],
  * then solve_qr. */
-static int run_svd(int m, int N, const double *S, int lds, const double *dw,
+static int run_svd(int layout, int m, int N, const double *S, int lds, const double *dw,
                    const double *track_sigma, int sigma_inc,
                    const double *spec_sigma, const double *opts, scratch *s)
 {
@@ -530,7 +529,7 @@ static int run_svd(int m, int N, const double *S, int lds, const double *dw,
     if (!R)
         return IGEA_ENOMEM;
     memset(R, 0, n1 * n1 * sizeof(double));
-    int st = igea_normal_qr_accumulate(IGEA_COLMAJOR, m, N, S, lds, dw, track_sigma,
+    int st = igea_normal_qr_accumulate(layout, m, N, S, lds, dw, track_sigma,
                                        sigma_inc, spec_sigma, R, (int)n1, &rows);
     if (st < 0 && st > -1000)
         st = IGEA_EDOMAIN; /* cannot happen: arguments checked above */
@@ -541,7 +540,7 @@ static int run_svd(int m, int N, const double *S, int lds, const double *dw,
 }
 
 /* igea_eqerr_run's eig route: the normal equations, then solve_eig. */
-static int run_eig(int m, int N, const double *S, int lds, const double *dw,
+static int run_eig(int layout, int m, int N, const double *S, int lds, const double *dw,
                    const double *track_sigma, int sigma_inc,
                    const double *spec_sigma, const double *opts, scratch *s)
 {
@@ -551,9 +550,10 @@ static int run_eig(int m, int N, const double *S, int lds, const double *dw,
         return IGEA_ENOMEM;
     double *b = A + nn, *wtw = b + N;
     memset(A, 0, (nn + N + 2) * sizeof(double));
-    int st = igea_normal_accumulate_threads(IGEA_COLMAJOR, m, N, S, lds, dw, track_sigma,
-                                            sigma_inc, spec_sigma, A, N, b, wtw,
-                                            (int)opts[IGEA_EQERR_OPT_THREADS]);
+    /* the arguments and sigmas were checked by igea_eqerr_run */
+    int st = igea__normal_accumulate_threads(layout, m, N, S, lds, dw, track_sigma,
+                                             sigma_inc, spec_sigma, A, N, b, wtw,
+                                             (int)opts[IGEA_EQERR_OPT_THREADS]);
     if (st < 0 && st > -1000)
         st = IGEA_EDOMAIN; /* cannot happen: arguments checked above */
     if (st == 0)
@@ -569,7 +569,7 @@ static int run_eig(int m, int N, const double *S, int lds, const double *dw,
  * own 6 slots, whatever thread runs it; the sums are added in segment order
  * afterwards, so the result does not depend on the thread count. */
 typedef struct {
-    int m, N, lds, nseg, thread, nthreads;
+    int layout, m, N, lds, nseg;
     const double *S, *dw, *coef;
     double *e, *part; /* e: m; part: nseg x 6, each segment's axis_ss */
 } rs_job;
@@ -577,13 +577,18 @@ typedef struct {
 /* Segment k: its residuals, and per axis a (row r0 + i, (r0 + i) mod 3 =
  * a) the sum of their squares in row order and their count. A non-finite
  * dw or residual makes the sums non-finite: rs_sum finds out why. */
-static void rs_segment(const rs_job *jb, int k)
+static void rs_segment(void *arg, int k)
 {
+    const rs_job *jb = arg;
     int r0 = k * IGEA_NORMAL_SEGMENT, nr = IGEA_MIN(IGEA_NORMAL_SEGMENT, jb->m - r0);
     double *e = jb->e + r0, *t = jb->part + 6 * (size_t)k;
     memcpy(e, jb->dw + r0, (size_t)nr * sizeof(double));
-    cblas_dgemv(CblasColMajor, CblasNoTrans, nr, jb->N, -1.0, jb->S + r0, jb->lds, jb->coef,
-                1, 1.0, e, 1);
+    if (jb->layout == IGEA_COLMAJOR)
+        cblas_dgemv(CblasColMajor, CblasNoTrans, nr, jb->N, -1.0, jb->S + r0, jb->lds,
+                    jb->coef, 1, 1.0, e, 1);
+    else
+        cblas_dgemv(CblasColMajor, CblasTrans, jb->N, nr, -1.0, jb->S + (size_t)r0 * jb->lds,
+                    jb->lds, jb->coef, 1, 1.0, e, 1);
     for (int i0 = 0; i0 < 3 && i0 < nr; i0++) {
         int a = (r0 + i0) % 3;
         double acc = 0.0;
@@ -592,30 +597,6 @@ static void rs_segment(const rs_job *jb, int k)
         t[a] = acc;
         t[3 + a] = (double)((nr - i0 + 2) / 3);
     }
-}
-
-static void *rs_worker(void *arg)
-{
-    const rs_job *jb = arg;
-    for (int k = jb->thread; k < jb->nseg; k += jb->nthreads)
-        rs_segment(jb, k);
-    return NULL;
-}
-
-static void rs_run(rs_job *jobs, int nthreads)
-{
-    pthread_t tid[IGEA_EQERR_THREADS_MAX];
-    int nstarted = 0;
-    for (int t = 1; t < nthreads; t++) {
-        if (pthread_create(&tid[t], NULL, rs_worker, &jobs[t]) != 0)
-            break;
-        nstarted = t;
-    }
-    rs_worker(&jobs[0]);
-    for (int t = 1; t <= nstarted; t++)
-        pthread_join(tid[t], NULL);
-    for (int t = nstarted + 1; t < nthreads; t++) /* a thread that did not start */
-        rs_worker(&jobs[t]);
 }
 
 /* The segments' sums added in segment order into ss; when they are not
@@ -633,14 +614,17 @@ static int rs_sum(const rs_job *jb, double *ss)
     }
     if (!igea__finite_vec(jb->m, jb->dw, 1))
         return IGEA_ENONFINITE;
-    if (!igea__finite_vec(jb->m, jb->e, 1) && !igea__finite_mat(jb->m, jb->N, jb->S, jb->lds))
+    if (!igea__finite_vec(jb->m, jb->e, 1) &&
+        !(jb->layout == IGEA_COLMAJOR ? igea__finite_mat(jb->m, jb->N, jb->S, jb->lds)
+                                      : igea__finite_mat(jb->N, jb->m, jb->S, jb->lds)))
         return IGEA_ENONFINITE;
     return IGEA_EOVERFLOW;
 }
 
 /* igea_eqerr_residual (column-major, row0 = 0, ss zero on entry) on
  * nthreads >= 2 threads: e (m) and ss (6) written on success only. */
-static int residual_threads(int m, int N, const double *S, int lds, const double *dw,
+static int residual_threads(int layout, int m, int N, const double *S, int lds,
+                            const double *dw,
                             const double *coef, double *e, double *ss, int nthreads)
 {
     if (!igea__finite_vec(N, coef, 1))
@@ -649,14 +633,10 @@ static int residual_threads(int m, int N, const double *S, int lds, const double
     double *part = igea__dalloc(6 * (size_t)nseg);
     int st = IGEA_ENOMEM;
     if (part) {
-        rs_job jobs[IGEA_EQERR_THREADS_MAX];
         memset(part, 0, 6 * (size_t)nseg * sizeof(double));
-        for (int t = 0; t < nthreads; t++) {
-            rs_job j = {m, N, lds, nseg, t, nthreads, S, dw, coef, e, part};
-            jobs[t] = j;
-        }
-        rs_run(jobs, nthreads);
-        st = rs_sum(&jobs[0], ss);
+        rs_job jb = {layout, m, N, lds, nseg, S, dw, coef, e, part};
+        igea__parallel_for(nseg, nthreads, rs_segment, &jb);
+        st = rs_sum(&jb, ss);
     }
     free(part);
     return st;
@@ -665,7 +645,7 @@ static int residual_threads(int m, int N, const double *S, int lds, const double
 /* Residuals e (m) and the per-axis sums ss of the fit in the scratch; the
  * route eig's thread count (IGEA_EQERR_OPT_THREADS) >= 2: on that many
  * threads, in the normal equations' segments. */
-static int run_residuals(int m, int N, const double *S, int lds, const double *dw,
+static int run_residuals(int layout, int m, int N, const double *S, int lds, const double *dw,
                          const double *spec_sigma, const double *opts, const scratch *s,
                          double *coef, double *e, double *ss)
 {
@@ -675,39 +655,41 @@ static int run_residuals(int m, int N, const double *S, int lds, const double *d
                        ? 1
                        : (int)opts[IGEA_EQERR_OPT_THREADS];
     if (st == 0 && nthreads >= 2)
-        st = residual_threads(m, N, S, lds, dw, coef, e, ss, nthreads);
+        st = residual_threads(layout, m, N, S, lds, dw, coef, e, ss, nthreads);
     else if (st == 0)
-        st = igea_eqerr_residual(IGEA_COLMAJOR, m, N, S, lds, dw, coef, 0, e, ss);
+        st = igea_eqerr_residual(layout, m, N, S, lds, dw, coef, 0, e, ss);
     return st;
 }
 
-int igea_eqerr_run(int m, int N, const double *S, int lds, const double *dw,
-                   const double *track_sigma, int sigma_inc,
-                   const double *spec_sigma, const double *opts,
-                   double *lambda, double *P, int ldp, double *equiv_err,
-                   double *z, int *reject, double *info, double *residual,
-                   double *rms)
+/* igea_eqerr_run in either layout; the statuses -i of its arguments are
+ * -(i + off) (off = 1 for igea_eqerr_run_layout, whose first argument is
+ * the layout). */
+static int run_layout(int layout, int off, int m, int N, const double *S, int lds,
+                      const double *dw, const double *track_sigma, int sigma_inc,
+                      const double *spec_sigma, const double *opts, double *lambda, double *P,
+                      int ldp, double *equiv_err, double *z, int *reject, double *info,
+                      double *residual, double *rms)
 {
     double dflt[IGEA_EQERR_OPT_LEN];
-    if (m < 1) return -1;
-    if (N < 1) return -2;
-    if (!S) return -3;
-    if (lds < m) return -4;
-    if (!dw) return -5;
-    if (!track_sigma) return -6;
-    if (sigma_inc != 0 && sigma_inc != 1) return -7;
+    if (m < 1) return -1 - off;
+    if (N < 1) return -2 - off;
+    if (!S) return -3 - off;
+    if (lds < (layout == IGEA_COLMAJOR ? m : N)) return -4 - off;
+    if (!dw) return -5 - off;
+    if (!track_sigma) return -6 - off;
+    if (sigma_inc != 0 && sigma_inc != 1) return -7 - off;
     if (!opts) {
         igea_eqerr_defaults(dflt);
         opts = dflt;
     } else if (igea_eqerr_check_opts(opts) || igea__noise_opts_set(opts))
-        return -9; /* AR, robust, bias columns: igea_noise_eqerr */
-    if (!lambda) return -10;
-    if (!P) return -11;
-    if (ldp < N) return -12;
-    if (!equiv_err) return -13;
-    if (!z) return -14;
-    if (!reject) return -15;
-    if (!info) return -16;
+        return -9 - off; /* AR, robust, bias columns: igea_noise_eqerr */
+    if (!lambda) return -10 - off;
+    if (!P) return -11 - off;
+    if (ldp < N) return -12 - off;
+    if (!equiv_err) return -13 - off;
+    if (!z) return -14 - off;
+    if (!reject) return -15 - off;
+    if (!info) return -16 - off;
     int st = igea__sigma_vec(sigma_inc ? m : 1, track_sigma);
     if (st == 0 && spec_sigma)
         st = igea__sigma_vec(N, spec_sigma);
@@ -718,8 +700,8 @@ int igea_eqerr_run(int m, int N, const double *S, int lds, const double *dw,
     if (scratch_alloc(&s, N))
         return IGEA_ENOMEM;
     st = opts[IGEA_EQERR_OPT_ROUTE] == IGEA_EQERR_ROUTE_SVD
-             ? run_svd(m, N, S, lds, dw, track_sigma, sigma_inc, spec_sigma, opts, &s)
-             : run_eig(m, N, S, lds, dw, track_sigma, sigma_inc, spec_sigma, opts, &s);
+             ? run_svd(layout, m, N, S, lds, dw, track_sigma, sigma_inc, spec_sigma, opts, &s)
+             : run_eig(layout, m, N, S, lds, dw, track_sigma, sigma_inc, spec_sigma, opts, &s);
     if (st == 0 && !scratch_finite(&s, N))
         st = IGEA_EOVERFLOW;
     double *coef = NULL, *e = NULL, ss[6] = {0, 0, 0, 0, 0, 0};
@@ -727,7 +709,7 @@ int igea_eqerr_run(int m, int N, const double *S, int lds, const double *dw,
         coef = igea__dalloc((size_t)N);
         e = igea__dalloc((size_t)m);
         st = !coef || !e ? IGEA_ENOMEM
-                         : run_residuals(m, N, S, lds, dw, spec_sigma, opts, &s, coef,
+                         : run_residuals(layout, m, N, S, lds, dw, spec_sigma, opts, &s, coef,
                                          e, ss);
     }
     if (st == 0) {
@@ -742,6 +724,29 @@ int igea_eqerr_run(int m, int N, const double *S, int lds, const double *dw,
     free(e);
     scratch_free(&s);
     return st;
+}
+
+int igea_eqerr_run(int m, int N, const double *S, int lds, const double *dw,
+                   const double *track_sigma, int sigma_inc,
+                   const double *spec_sigma, const double *opts,
+                   double *lambda, double *P, int ldp, double *equiv_err,
+                   double *z, int *reject, double *info, double *residual,
+                   double *rms)
+{
+    return run_layout(IGEA_COLMAJOR, 0, m, N, S, lds, dw, track_sigma, sigma_inc, spec_sigma,
+                      opts, lambda, P, ldp, equiv_err, z, reject, info, residual, rms);
+}
+
+int igea_eqerr_run_layout(int layout, int m, int N, const double *S, int lds,
+                          const double *dw, const double *track_sigma, int sigma_inc,
+                          const double *spec_sigma, const double *opts, double *lambda,
+                          double *P, int ldp, double *equiv_err, double *z, int *reject,
+                          double *info, double *residual, double *rms)
+{
+    if (layout != IGEA_COLMAJOR && layout != IGEA_ROWMAJOR)
+        return -1;
+    return run_layout(layout, 1, m, N, S, lds, dw, track_sigma, sigma_inc, spec_sigma, opts,
+                      lambda, P, ldp, equiv_err, z, reject, info, residual, rms);
 }
 
 /* ---- pooled verdict, report quantities ------------------------------------ */
@@ -830,6 +835,21 @@ int igea_eqerr_axis_rms(const double *axis_ss, double *rms)
 
 /* ---- residual diagnostics per axis ------------------------------------------ */
 
+/* u[j] += s[j], j < N, four at a time (vector registers where the
+ * compiler has them: each u[j] is its own sum). */
+static void axis_add_row(int N, const double *restrict s, double *restrict u)
+{
+    int j = 0;
+    for (; j + 4 <= N; j += 4) {
+        u[j] += s[j];
+        u[j + 1] += s[j + 1];
+        u[j + 2] += s[j + 2];
+        u[j + 3] += s[j + 3];
+    }
+    for (; j < N; j++)
+        u[j] += s[j];
+}
+
 int igea_eqerr_axis_sums(int layout, int m, int N, const double *S, int lds,
                          const double *dw, int row0, double *sums)
 {
@@ -842,9 +862,7 @@ int igea_eqerr_axis_sums(int layout, int m, int N, const double *S, int lds,
     if (row0 < 0) return -7;
     if (!sums) return -8;
     const size_t w = (size_t)N + 2;
-    if (!igea__finite_vec(3 * (int)w, sums, 1) || !igea__finite_vec(m, dw, 1) ||
-        !(layout == IGEA_COLMAJOR ? igea__finite_mat(m, N, S, lds)
-                                  : igea__finite_mat(N, m, S, lds)))
+    if (!igea__finite_vec(3 * (int)w, sums, 1) || !igea__finite_vec(m, dw, 1))
         return IGEA_ENONFINITE;
     for (int a = 0; a < 3; a++)
         if (!(sums[a * w] >= 0))
@@ -853,14 +871,28 @@ int igea_eqerr_axis_sums(int layout, int m, int N, const double *S, int lds,
     if (!t)
         return IGEA_ENOMEM;
     memcpy(t, sums, 3 * w * sizeof(double));
+    /* Each sum adds its rows in row order (the same bits however the loop
+     * is arranged); a NaN or Inf in S makes its sum non-finite, which is
+     * told apart from an overflow of finite data by a scan on that path
+     * only. */
+    int a = (int)((long long)row0 % 3);
     for (int i = 0; i < m; i++) {
-        double *u = t + (size_t)(((long long)row0 + i) % 3) * w;
+        double *u = t + (size_t)a * w;
         u[0] += 1.0;
         u[1] += dw[i];
-        for (int j = 0; j < N; j++)
-            u[2 + j] += layout == IGEA_COLMAJOR ? IGEA_AT(S, lds, i, j) : IGEA_AT(S, lds, j, i);
+        if (layout == IGEA_ROWMAJOR)
+            axis_add_row(N, S + (size_t)i * lds, u + 2);
+        else
+            for (int j = 0; j < N; j++)
+                u[2 + j] += IGEA_AT(S, lds, i, j);
+        a = a == 2 ? 0 : a + 1;
     }
-    int st = igea__finite_vec(3 * (int)w, t, 1) ? 0 : IGEA_EOVERFLOW;
+    int st = 0;
+    if (!igea__finite_vec(3 * (int)w, t, 1))
+        st = (layout == IGEA_COLMAJOR ? igea__finite_mat(m, N, S, lds)
+                                      : igea__finite_mat(N, m, S, lds))
+                 ? IGEA_EOVERFLOW
+                 : IGEA_ENONFINITE;
     if (st == 0)
         memcpy(sums, t, 3 * w * sizeof(double));
     free(t);

@@ -20,6 +20,22 @@
 
 /* 1 if every x[i * inc], i < n, is finite. */
 int igea__finite_vec(int n, const double *x, int inc);
+/* Work items work(arg, k), k = 0..n-1, on up to nthreads threads (the calling
+ * thread one of them; at most IGEA__THREADS_MAX): each thread takes the
+ * next item not yet taken, so that a thread slowed by other work on its
+ * core takes fewer; a thread that cannot start leaves its items to the
+ * others. Items write only their own results, so what they compute does
+ * not depend on which thread ran them. */
+#define IGEA__THREADS_MAX 256
+/* igea_normal_accumulate_threads without its argument checks (normal.c),
+ * for a caller that made them. */
+int igea__normal_accumulate_threads(int layout, int m, int N, const double *S, int lds,
+                                    const double *dw, const double *track_sigma, int sigma_inc,
+                                    const double *spec_sigma, double *A, int lda, double *b,
+                                    double *wtw, int nthreads);
+void igea__parallel_for(int n, int nthreads, void (*work)(void *arg, int k), void *arg);
+/* 1 if every x[i], i < n, is finite (n may exceed INT_MAX). */
+int igea__finite_run(size_t n, const double *x);
 /* 1 if every element of the m x n column-major matrix is finite. */
 int igea__finite_mat(int m, int n, const double *a, int lda);
 /* 1 if every x[i] > 0 (and finite); sets *nonfinite if a NaN/Inf is met. */

@@ -386,6 +386,8 @@ static int text_row(igea_io_reader *r)
 /* ---- the reader ----------------------------------------------------------------- */
 static void reset(igea_io_reader *r)
 {
+    io_npy_unmap(r, 1);
+    free(r->vbuf);
     io_src_close(&r->s);
     free(r->tmpdir);
     free(r->line);
@@ -482,6 +484,7 @@ static int open_common(igea_io_reader *r, int fd, int own, const char *name, int
     r->s.fd = fd;
     r->s.own = own;
     r->twice = flags & IGEA_IO_TWICE;
+    r->map = (flags & IGEA_IO_MAP) != 0;
     int st = 0;
     if (tmpdir && !(r->tmpdir = strdup(tmpdir)))
         st = io_fail(r, IGEA_ENOMEM, 0, 0, 0, "out of memory (opening)");
@@ -517,7 +520,7 @@ int igea_io_reader_open(igea_io_reader *r, const char *path, int flags, const ch
         return -1;
     if (!path)
         return -2;
-    if (flags & ~IGEA_IO_TWICE)
+    if (flags & ~(IGEA_IO_TWICE | IGEA_IO_MAP))
         return -3;
     int fd;
     do
@@ -537,7 +540,7 @@ int igea_io_reader_open_fd(igea_io_reader *r, int fd, const char *name, int flag
         return -1;
     if (fd < 0)
         return -2;
-    if (flags & ~IGEA_IO_TWICE)
+    if (flags & ~(IGEA_IO_TWICE | IGEA_IO_MAP))
         return -4;
     return open_common(r, fd, 0, name, flags, tmpdir);
 }
@@ -628,10 +631,64 @@ int igea_io_reader_next(igea_io_reader *r, int maxrows, double *buf, int *nread)
     return 0;
 }
 
+int igea_io_reader_view(igea_io_reader *r, int maxrows, int *nread)
+{
+    if (!r || !r->open)
+        return -1;
+    if (maxrows < 1)
+        return -2;
+    if (!nread)
+        return -3;
+    io_npy_unmap(r, 0);
+    r->vrows = NULL;
+    long want = maxrows;
+    if (r->npy) {
+        want = r->rows - r->next_row < want ? r->rows - r->next_row : want;
+        if (want <= 0) {
+            *nread = 0;
+            return 0;
+        }
+        if (io_npy_mappable(r)) {
+            int st = io_npy_view(r, want);
+            if (st <= 0) {
+                if (st == 0)
+                    *nread = (int)want;
+                return st;
+            }
+            r->nomap = 1; /* the system refused: read from now on */
+        }
+    }
+    if (want > r->vrcap) {
+        double *nv = NULL;
+        if ((size_t)want <= SIZE_MAX / sizeof(double) / (size_t)r->cols) {
+            free(r->vbuf);
+            r->vbuf = NULL, r->vrcap = 0;
+            nv = malloc((size_t)want * (size_t)r->cols * sizeof(double));
+        }
+        if (!nv)
+            return io_fail(r, IGEA_ENOMEM, 0, 0, 0, "out of memory (%ld x %d values)", want,
+                           r->cols);
+        r->vbuf = nv, r->vrcap = want;
+    }
+    long n = next_rows(r, want, r->vbuf);
+    if (n < 0)
+        return (int)n;
+    r->vrows = n > 0 ? r->vbuf : NULL;
+    *nread = (int)n;
+    return 0;
+}
+
+const double *igea_io_reader_view_rows(const igea_io_reader *r)
+{
+    return r && r->open ? r->vrows : NULL;
+}
+
 int igea_io_reader_rewind(igea_io_reader *r)
 {
     if (!r || !r->open || !r->twice)
         return -1;
+    io_npy_unmap(r, 0);
+    r->vrows = NULL;
     int st = io_src_spool(r);
     if (st)
         return st;

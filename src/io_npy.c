@@ -6,7 +6,11 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
+#include "internal.h"
 #include "io_src.h"
 
 static int truncated(igea_io_reader *r, long long have)
@@ -179,6 +183,20 @@ static int fortran_block(igea_io_reader *r, long want, double *buf)
     return 0;
 }
 
+/* Rows row0 .. row0 + n - 1 at v finite, else IGEA_EFORMAT naming the
+ * first value that is not (row and column from 1). */
+static int check_rows(igea_io_reader *r, long row0, long n, const double *v)
+{
+    size_t k = (size_t)n * (size_t)r->cols;
+    if (igea__finite_run(k, v))
+        return 0;
+    size_t i = 0;
+    while (i < k && isfinite(v[i]))
+        i++;
+    return io_fail(r, IGEA_EFORMAT, 0, 0, 0, "row %ld, column %ld: NaN or Inf",
+                   row0 + (long)(i / (size_t)r->cols) + 1, (long)(i % (size_t)r->cols) + 1);
+}
+
 int io_npy_next(igea_io_reader *r, long want, double *buf)
 {
     int st;
@@ -188,12 +206,89 @@ int io_npy_next(igea_io_reader *r, long want, double *buf)
     } else {
         st = fortran_block(r, want, buf);
     }
-    if (st)
+    if (st || (st = check_rows(r, r->next_row, want, buf)))
         return st;
-    for (long k = 0; k < want * r->cols; k++)
-        if (!isfinite(buf[k]))
-            return io_fail(r, IGEA_EFORMAT, 0, 0, 0, "row %ld, column %ld: NaN or Inf",
-                           r->next_row + k / r->cols + 1, (long)(k % r->cols) + 1);
+    r->next_row += want;
+    return 0;
+}
+
+int io_npy_mappable(const igea_io_reader *r)
+{
+    return r->map && !r->nomap && r->npy && r->s.seekable &&
+           (!r->fortran || r->oned || r->cols == 1) &&
+           (r->s.delta + r->data_off) % (off_t)sizeof(double) == 0;
+}
+
+void io_npy_unmap(igea_io_reader *r, int all)
+{
+    if (r->mbase && (all || !r->mwhole))
+        munmap(r->mbase, r->mlen);
+    if (all || !r->mwhole) {
+        r->mbase = NULL;
+        r->mlen = 0;
+        r->mwhole = 0;
+    }
+}
+
+/* Map len bytes of the file from offset start (page-aligned down) into
+ * r->mbase, r->mlen; the address of start, or NULL when the system refuses. */
+static const char *map_range(igea_io_reader *r, off_t start, size_t len)
+{
+    long pg = sysconf(_SC_PAGESIZE);
+    off_t base = pg > 0 ? start - start % pg : start;
+    size_t mlen = len + (size_t)(start - base);
+    void *m = mmap(NULL, mlen, PROT_READ, MAP_PRIVATE, r->s.fd, base);
+    if (m == MAP_FAILED)
+        return NULL;
+    posix_madvise(m, mlen, POSIX_MADV_SEQUENTIAL);
+    r->mbase = m;
+    r->mlen = mlen;
+    return (const char *)m + (start - base);
+}
+
+int io_npy_view(igea_io_reader *r, long want)
+{
+    io_npy_unmap(r, 0);
+    r->vrows = NULL;
+    off_t first = r->s.delta + r->data_off; /* the data's offset in the file */
+    size_t row = (size_t)r->cols * 8, total = (size_t)r->rows * row;
+    off_t start = first + (off_t)r->next_row * (off_t)row;
+    size_t len = (size_t)want * row;
+    /* a file shortened since it was opened is refused, not mapped past its
+     * end (reading such pages would raise SIGBUS) */
+    struct stat sb;
+    if (fstat(r->s.fd, &sb) != 0)
+        return io_sysfail(r, IGEA_EREAD, errno, "read error");
+    if (sb.st_size - start < (off_t)len)
+        return truncated(r, (long long)(sb.st_size - first));
+    const double *v;
+    if (r->mwhole) {
+        v = (const double *)(r->mdata + (size_t)r->next_row * row);
+    } else if (total <= IO_MAP_WHOLE) { /* mapped once, kept for every pass */
+        const char *d = map_range(r, first, total);
+        if (!d)
+            return 1;
+        r->mwhole = 1;
+        r->mdata = d;
+        v = (const double *)(d + (size_t)r->next_row * row);
+    } else {
+        const char *d = map_range(r, start, len);
+        if (!d)
+            return 1;
+        v = (const double *)d;
+    }
+    /* rows a pass before this one checked are not checked again */
+    long from = r->checked > r->next_row ? r->checked : r->next_row;
+    if (from < r->next_row + want) {
+        int st = check_rows(r, from, r->next_row + want - from,
+                            v + (size_t)(from - r->next_row) * (size_t)r->cols);
+        if (st) {
+            io_npy_unmap(r, 0);
+            return st;
+        }
+        r->checked = r->next_row + want;
+    }
+    r->vrows = v;
     r->next_row += want;
     return 0;
 }

@@ -15,6 +15,10 @@
  * serves the second pass. */
 #define IO_BUF 65536
 #define IO_MSG 256
+/* A .npy viewed through a map (IGEA_IO_MAP) whose data take at most this
+ * many bytes is mapped whole once and kept over a rewind; a larger one
+ * block by block. */
+#define IO_MAP_WHOLE ((size_t)256 << 20)
 
 typedef struct {
     int fd;       /* -1: none */
@@ -53,6 +57,16 @@ struct igea_io_reader {
     /* load */
     double *data;
     long nloaded;
+    /* view (igea_io_reader_view) */
+    int map, nomap;       /* IGEA_IO_MAP asked; the system refused a map */
+    void *mbase;          /* the pages mapped for the views, NULL */
+    size_t mlen;
+    int mwhole;           /* 1: mbase maps all the data (mdata), for every pass */
+    const char *mdata;
+    const double *vrows;  /* the current view, NULL */
+    double *vbuf;         /* rows of an input that is not mapped */
+    long vrcap;           /* rows vbuf holds */
+    long checked;         /* mapped .npy: rows checked finite (kept by rewind) */
     /* the last failure */
     int st, eerrno;
     long eline, ecol;
@@ -82,5 +96,15 @@ void io_src_close(io_src *s);
 /* .npy (io_npy.c): the header (0 or a status), the next rows. */
 int io_npy_header(igea_io_reader *r);
 int io_npy_next(igea_io_reader *r, long want, double *buf);
+/* 1 when the rows of r may be viewed in place (IGEA_IO_MAP, a seekable
+ * .npy in C order or with one column, data aligned for doubles). */
+int io_npy_mappable(const igea_io_reader *r);
+/* The next want rows mapped in place (the previous map released) into
+ * r->vrows: 0, 1 when the system refused the map (nothing changed: read
+ * them instead), or a status < 0. */
+int io_npy_view(igea_io_reader *r, long want);
+/* Release the current map, if any: a block's, or (all) also the whole
+ * data's. */
+void io_npy_unmap(igea_io_reader *r, int all);
 
 #endif

@@ -1,7 +1,6 @@
 /* normal.c - weighted normal equations (one dsyrk pass over the data) and
  * the streamed QR factor of the same weighted data (dtpqrt). */
 #include <float.h>
-#include <pthread.h>
 
 #include <cblas.h>
 #include <lapacke.h>
@@ -292,27 +291,24 @@ int igea_normal_qr_accumulate(int layout, int m, int N, const double *S,
 #define MT_SEGMENT IGEA_NORMAL_SEGMENT
 
 typedef struct {
-    int layout, m, N, lds, sigma_inc, nseg, thread, nthreads;
+    int layout, m, N, lds, sigma_inc, nseg;
     const double *S, *dw, *track_sigma, *spec_sigma;
     double *part; /* nseg x (N N + N + 2): each segment's A, b, wtw */
     int *status;  /* nseg */
 } mt_job;
 
-static void *mt_worker(void *arg)
+/* Segment k into its own sums, whatever thread runs it. */
+static void mt_segment(void *arg, int k)
 {
     const mt_job *jb = arg;
     size_t N = (size_t)jb->N, stride = N * N + N + 2;
-    for (int k = jb->thread; k < jb->nseg; k += jb->nthreads) {
-        int r0 = k * MT_SEGMENT, nr = IGEA_MIN(MT_SEGMENT, jb->m - r0);
-        const double *Sk = jb->layout == IGEA_COLMAJOR ? jb->S + r0
-                                                        : jb->S + (size_t)r0 * jb->lds;
-        double *Ak = jb->part + (size_t)k * stride;
-        jb->status[k] = igea_normal_accumulate(
-            jb->layout, nr, jb->N, Sk, jb->lds, jb->dw + r0,
-            jb->track_sigma + (jb->sigma_inc ? r0 : 0), jb->sigma_inc, jb->spec_sigma, Ak,
-            jb->N, Ak + N * N, Ak + N * N + N);
-    }
-    return NULL;
+    int r0 = k * MT_SEGMENT, nr = IGEA_MIN(MT_SEGMENT, jb->m - r0);
+    const double *Sk = jb->layout == IGEA_COLMAJOR ? jb->S + r0 : jb->S + (size_t)r0 * jb->lds;
+    double *Ak = jb->part + (size_t)k * stride;
+    jb->status[k] = igea_normal_accumulate(jb->layout, nr, jb->N, Sk, jb->lds, jb->dw + r0,
+                                           jb->track_sigma + (jb->sigma_inc ? r0 : 0),
+                                           jb->sigma_inc, jb->spec_sigma, Ak, jb->N, Ak + N * N,
+                                           Ak + N * N + N);
 }
 
 /* The segments' sums in segment order into Al (lower), bl, *ww; the first
@@ -337,20 +333,36 @@ static int mt_sum(const mt_job *jb, double *Al, double *bl, double *ww)
     return 0;
 }
 
-static void mt_run(mt_job *jobs, int nthreads)
+/* igea_normal_accumulate_threads after its argument checks (the tracking
+ * sigmas are checked again per segment, on the threads). */
+int igea__normal_accumulate_threads(int layout, int m, int N, const double *S, int lds,
+                                    const double *dw, const double *track_sigma, int sigma_inc,
+                                    const double *spec_sigma, double *A, int lda, double *b,
+                                    double *wtw, int nthreads)
 {
-    pthread_t tid[IGEA_NORMAL_THREADS_MAX];
-    int nstarted = 0;
-    for (int t = 1; t < nthreads; t++) {
-        if (pthread_create(&tid[t], NULL, mt_worker, &jobs[t]) != 0)
-            break;
-        nstarted = t;
+    if (nthreads <= 1)
+        return igea_normal_accumulate(layout, m, N, S, lds, dw, track_sigma, sigma_inc,
+                                      spec_sigma, A, lda, b, wtw);
+    if (m == 0)
+        return 0;
+    int nseg = (m + MT_SEGMENT - 1) / MT_SEGMENT;
+    size_t nn = (size_t)N * N, stride = nn + (size_t)N + 2;
+    double *part = igea__dalloc((size_t)nseg * stride + nn + (size_t)N);
+    int *status = igea__ialloc((size_t)nseg);
+    int st = IGEA_ENOMEM;
+    if (part && status) {
+        memset(part, 0, (size_t)nseg * stride * sizeof(double));
+        mt_job jb = {layout, m, N, lds, sigma_inc, nseg, S, dw, track_sigma, spec_sigma,
+                     part, status};
+        igea__parallel_for(nseg, nthreads, mt_segment, &jb);
+        double *Al = part + (size_t)nseg * stride, ww;
+        st = mt_sum(&jb, Al, Al + nn, &ww);
+        if (st == 0)
+            st = add_running(m, N, Al, Al + nn, ww, A, lda, b, wtw);
     }
-    mt_worker(&jobs[0]);
-    for (int t = 1; t <= nstarted; t++)
-        pthread_join(tid[t], NULL);
-    for (int t = nstarted + 1; t < nthreads; t++) /* a thread that did not start */
-        mt_worker(&jobs[t]);
+    free(part);
+    free(status);
+    return st;
 }
 
 int igea_normal_accumulate_threads(int layout, int m, int N, const double *S, int lds,
@@ -364,31 +376,6 @@ int igea_normal_accumulate_threads(int layout, int m, int N, const double *S, in
         return st;
     if (nthreads < 0 || nthreads > IGEA_NORMAL_THREADS_MAX)
         return -14;
-    if (nthreads <= 1)
-        return igea_normal_accumulate(layout, m, N, S, lds, dw, track_sigma, sigma_inc,
-                                      spec_sigma, A, lda, b, wtw);
-    if (m == 0)
-        return 0;
-    int nseg = (m + MT_SEGMENT - 1) / MT_SEGMENT;
-    size_t nn = (size_t)N * N, stride = nn + (size_t)N + 2;
-    double *part = igea__dalloc((size_t)nseg * stride + nn + (size_t)N);
-    int *status = igea__ialloc((size_t)nseg);
-    mt_job jobs[IGEA_NORMAL_THREADS_MAX];
-    st = IGEA_ENOMEM;
-    if (part && status) {
-        memset(part, 0, (size_t)nseg * stride * sizeof(double));
-        for (int t = 0; t < nthreads; t++) {
-            mt_job j = {layout, m, N, lds, sigma_inc, nseg, t, nthreads, S, dw, track_sigma,
-                        spec_sigma, part, status};
-            jobs[t] = j;
-        }
-        mt_run(jobs, nthreads);
-        double *Al = part + (size_t)nseg * stride, ww;
-        st = mt_sum(&jobs[0], Al, Al + nn, &ww);
-        if (st == 0)
-            st = add_running(m, N, Al, Al + nn, ww, A, lda, b, wtw);
-    }
-    free(part);
-    free(status);
-    return st;
+    return igea__normal_accumulate_threads(layout, m, N, S, lds, dw, track_sigma, sigma_inc,
+                                           spec_sigma, A, lda, b, wtw, nthreads);
 }

@@ -7,6 +7,7 @@
 #include <cblas.h>
 #include <lapacke.h>
 
+#include "igea/normal.h"
 #include "igea/regress.h"
 #include "igea/stats.h"
 #include "internal.h"
@@ -20,6 +21,12 @@ typedef struct {
     int m, N, k, r;
     double *U, *s, *V, *yw, *z;
     double *mem;
+    /* qr: built from the QR factor of [Aw yw] (tall designs): U and yw are
+     * not formed (NULL), z = U^T yw comes from Q^T yw, and rho2 =
+     * ||yw - Q Q^T yw||^2, the part of yw outside the columns' span */
+    int qr;
+    double rho2;
+    const double *R; /* qr: the factor [R q; 0 rho], (N + 1) x (N + 1) */
 } canon;
 
 static void canon_free(canon *c)
@@ -87,9 +94,9 @@ static int rank_of(int k, const double *s, double rcond, int m, int N)
     return igea__rank_cut(k, s, rcond > 0 ? rcond : IGEA_MAX(m, N) * DBL_EPSILON);
 }
 
-static int canon_make(int m, int N, const double *A, int lda, const double *y,
-                      const double *sigma, const double *cs, double rcond,
-                      canon *c)
+static int canon_make_full(int m, int N, const double *A, int lda, const double *y,
+                           const double *sigma, const double *cs, double rcond,
+                           canon *c)
 {
     int k = IGEA_MIN(m, N);
     int ucols = m >= N ? N : m;
@@ -108,6 +115,9 @@ static int canon_make(int m, int N, const double *A, int lda, const double *y,
     c->m = m;
     c->N = N;
     c->k = k;
+    c->qr = 0;
+    c->rho2 = 0.0;
+    c->R = NULL;
     for (int j = 0; j < N; j++)
         for (int i = 0; i < m; i++)
             Aw[i + (size_t)j * m] = IGEA_AT(A, lda, i, j) *
@@ -133,10 +143,92 @@ static int canon_make(int m, int N, const double *A, int lda, const double *y,
     return 0;
 }
 
-/* ||yw - U_r z_r||^2: the weighted residual sum of squares of LS. */
+/* [D] A tall design (m >= IGEA__TALL N rows) through its QR factor first:
+ * [Aw yw] = Q [R q; 0 rho] by the streamed Householder updates of
+ * igea_normal_qr_accumulate (row blocks in cache: no m x N copy), then the
+ * SVD R = U_R diag(s) V^T of the N x N factor. Aw = (Q U_R) diag(s) V^T is
+ * then the thin SVD of Aw: the same s and V (Q has orthonormal columns),
+ * U = Q U_R, which is never formed; z = U^T yw = U_R^T q, and the LS
+ * residual outside the span of Q is rho (docs/regress.md, "Tall designs").
+ * Returns 1 (not built: the full SVD must be used) when the column scales
+ * are outside the range the streamed factor accepts. */
+#define IGEA__TALL 2
+static int canon_make_qr(int m, int N, const double *A, int lda, const double *y,
+                         const double *sigma, const double *cs, double rcond, canon *c)
+{
+    size_t n1 = (size_t)N + 1, nn = (size_t)N * N;
+    c->mem = igea__dalloc(n1 * n1 + 3 * nn + 2 * (size_t)N + (y ? 0 : (size_t)m));
+    if (!c->mem)
+        return IGEA_ENOMEM;
+    double *R = c->mem, *Rc = R + n1 * n1, *UR = Rc + nn;
+    c->V = UR + nn;
+    c->s = c->V + nn;
+    c->z = c->s + N;
+    double *zero = c->z + N, one = 1.0, rows = 0.0;
+    if (!y)
+        memset(zero, 0, (size_t)m * sizeof(double));
+    memset(R, 0, n1 * n1 * sizeof(double));
+    c->m = m, c->N = N, c->k = N, c->qr = 1;
+    c->U = c->yw = NULL;
+    c->R = R;
+    int st = igea_normal_qr_accumulate(IGEA_COLMAJOR, m, N, A, lda, y ? y : zero,
+                                       sigma ? sigma : &one, sigma ? 1 : 0, cs, R, (int)n1,
+                                       &rows);
+    if (st == IGEA_ERANGE) { /* a column scale below IGEA_SIGMA_MIN */
+        canon_free(c);
+        return 1;
+    }
+    if (st == 0) {
+        for (int j = 0; j < N; j++)
+            for (int i = 0; i < N; i++)
+                Rc[i + (size_t)j * N] = i <= j ? R[i + (size_t)j * n1] : 0.0;
+        st = igea__svd(N, N, Rc, c->s, UR, 0, c->V);
+    }
+    if (st == 0 && !igea__finite_vec(N, c->s, 1))
+        st = IGEA_ELAPACK;
+    if (st != 0) {
+        canon_free(c);
+        return st < 0 && st > -1000 ? IGEA_EDOMAIN : st; /* arguments: checked before */
+    }
+    c->r = rank_of(N, c->s, rcond, m, N);
+    const double *q = R + (size_t)N * n1;
+    for (int i = 0; i < N; i++)
+        c->z[i] = cblas_ddot(N, UR + (size_t)i * N, 1, q, 1);
+    c->rho2 = R[N + (size_t)N * n1] * R[N + (size_t)N * n1];
+    return 0;
+}
+
+/* The canonical form: through the QR factor for a tall design, unless the
+ * caller needs U's rows (need_u), else the SVD of the weighted copy. */
+static int canon_make_u(int m, int N, const double *A, int lda, const double *y,
+                        const double *sigma, const double *cs, double rcond, int need_u,
+                        canon *c)
+{
+    if (!need_u && m >= IGEA__TALL * N) {
+        int st = canon_make_qr(m, N, A, lda, y, sigma, cs, rcond, c);
+        if (st != 1)
+            return st;
+    }
+    return canon_make_full(m, N, A, lda, y, sigma, cs, rcond, c);
+}
+
+static int canon_make(int m, int N, const double *A, int lda, const double *y,
+                      const double *sigma, const double *cs, double rcond, canon *c)
+{
+    return canon_make_u(m, N, A, lda, y, sigma, cs, rcond, 0, c);
+}
+
+/* ||yw - U_r z_r||^2: the weighted residual sum of squares of LS (through
+ * the QR factor: rho^2 plus the components of Q^T yw beyond the rank). */
 static double canon_rss(const canon *c)
 {
     igea__ksum acc = {0.0, 0.0};
+    if (c->qr) {
+        igea__ksum_add(&acc, c->rho2);
+        for (int i = c->r; i < c->N; i++)
+            igea__ksum_add(&acc, c->z[i] * c->z[i]);
+        return igea__ksum_get(&acc);
+    }
     for (int i = 0; i < c->m; i++) {
         double e = c->yw[i];
         for (int j = 0; j < c->r; j++)
@@ -405,6 +497,251 @@ static int ls_refine(int m, int N, const double *A, int lda, const double *y,
     return it;
 }
 
+/* ---- refinement through the QR factor (tall designs) -------------------
+ * [D] The corrections of refine_step with U's products formed from the
+ * design itself: at full rank U = B V S^-1 (B = diag(1/sigma) A D), so
+ * U^T f = S^-1 V^T (B^T f) and U u = B (V S^-1 u), one pass over A each
+ * (dgemv) instead of an m x N U; and the extended precision as
+ * double-double sums in plain doubles (products split exactly by Dekker's
+ * method, sums compensated by Knuth's two-sum) instead of long double:
+ * y - A x and A^T r keep about 2^-104 of their terms (docs/regress.md,
+ * "Tall designs"). A product beyond about 2^996 cannot be split: the
+ * refinement then stops and the unrefined solution stands (a non-finite
+ * correction is never applied). */
+
+/* a = hi + lo, hi with 26 significant bits (Dekker's splitting). */
+static void dd_split(double a, double *hi, double *lo)
+{
+    double t = 134217729.0 * a; /* 2^27 + 1 */
+    *hi = t - (t - a);
+    *lo = a - *hi;
+}
+
+/* s + e = a + b exactly (Knuth). */
+static void dd_two_sum(double a, double b, double *s, double *e)
+{
+    double t = a + b, bb = t - a;
+    *e = (a - (t - bb)) + (b - bb);
+    *s = t;
+}
+
+/* a b = p + e exactly, b given as its split bh + bl. */
+static void dd_prod(double a, double b, double bh, double bl, double *p, double *e)
+{
+    double ah, al;
+    dd_split(a, &ah, &al);
+    *p = a * b;
+    *e = ((ah * bh - *p) + ah * bl + al * bh) + al * bl;
+}
+
+/* h + l += a b (b split as bh + bl; the a blo term to 2^-53 of itself):
+ * one row's step of dd_resid, written for two rows at a time below. */
+#define DD_ROW(a, h, l)                                                                     \
+    do {                                                                                    \
+        double t_ = 134217729.0 * (a), ah_ = t_ - (t_ - (a)), al_ = (a) - ah_;              \
+        double p_ = (a) * b, e_ = ((ah_ * bh - p_) + ah_ * bl + al_ * bh) + al_ * bl;       \
+        double s_ = (h) + p_, bb_ = s_ - (h);                                               \
+        (l) += (((h) - (s_ - bb_)) + (p_ - bb_) + e_) + (a) * blo;                          \
+        (h) = s_;                                                                           \
+    } while (0)
+
+/* (h[i], l[i]) -= A[i, :] (xh + xl) over the rows, column by column (each
+ * row's terms in column order), two independent rows per step (vector
+ * registers where the compiler has them; the same operations as one). */
+static void dd_resid(int m, int N, const double *A, int lda, const double *xh,
+                     const double *xl, double *restrict h, double *restrict l)
+{
+    for (int j = 0; j < N; j++) {
+        const double *restrict a = A + (size_t)j * lda;
+        double bh, bl, b = -xh[j], blo = -xl[j];
+        dd_split(b, &bh, &bl);
+        int i = 0;
+        for (; i + 2 <= m; i += 2) {
+            double a0 = a[i], a1 = a[i + 1], h0 = h[i], h1 = h[i + 1], l0 = l[i], l1 = l[i + 1];
+            DD_ROW(a0, h0, l0);
+            DD_ROW(a1, h1, l1);
+            h[i] = h0, h[i + 1] = h1, l[i] = l0, l[i + 1] = l1;
+        }
+        for (; i < m; i++)
+            DD_ROW(a[i], h[i], l[i]);
+    }
+}
+
+/* h + l divided by d as a double-double: (qh, ql). */
+static void dd_div(double h, double l, double d, double *qh, double *ql)
+{
+    double q = h / d, dh, dl, p, e;
+    dd_split(d, &dh, &dl);
+    dd_prod(q, d, dh, dl, &p, &e);
+    *qh = q;
+    *ql = (((h - p) - e) + l) / d;
+}
+
+/* sh + sl += a q (q = qh + ql, qh split as qsh + qsl): one row's term of
+ * dd_gradient. */
+#define DD_GRAD(a, qh, qsh, qsl, ql, sh, sl)                                                \
+    do {                                                                                    \
+        double t_ = 134217729.0 * (a), ah_ = t_ - (t_ - (a)), al_ = (a) - ah_;              \
+        double p_ = (a) * (qh), e_ = ((ah_ * (qsh) - p_) + ah_ * (qsl) + al_ * (qsh)) +     \
+                                     al_ * (qsl);                                           \
+        double s_ = (sh) + p_, bb_ = s_ - (sh);                                             \
+        (sl) += (((sh) - (s_ - bb_)) + (p_ - bb_) + e_) + (a) * (ql);                       \
+        (sh) = s_;                                                                          \
+    } while (0)
+
+/* g[j] = -cs[j] sum_i A_ij (qh_i + ql_i), four independent double-double
+ * sums per column (rows i mod 4), four rows per step; qh split as
+ * qsh + qsl. */
+static void dd_gradient(int m, int N, const double *A, int lda, const double *restrict qh,
+                        const double *restrict ql, const double *restrict qsh,
+                        const double *restrict qsl, const double *cs, double *g)
+{
+    for (int j = 0; j < N; j++) {
+        const double *restrict a = A + (size_t)j * lda;
+        double h0 = 0, h1 = 0, h2 = 0, h3 = 0, l0 = 0, l1 = 0, l2 = 0, l3 = 0;
+        int i = 0;
+        for (; i + 4 <= m; i += 4) {
+            double a0 = a[i], a1 = a[i + 1], a2 = a[i + 2], a3 = a[i + 3];
+            DD_GRAD(a0, qh[i], qsh[i], qsl[i], ql[i], h0, l0);
+            DD_GRAD(a1, qh[i + 1], qsh[i + 1], qsl[i + 1], ql[i + 1], h1, l1);
+            DD_GRAD(a2, qh[i + 2], qsh[i + 2], qsl[i + 2], ql[i + 2], h2, l2);
+            DD_GRAD(a3, qh[i + 3], qsh[i + 3], qsl[i + 3], ql[i + 3], h3, l3);
+        }
+        double sh[4] = {h0, h1, h2, h3}, sl[4] = {l0, l1, l2, l3};
+        for (; i < m; i++)
+            DD_GRAD(a[i], qh[i], qsh[i], qsl[i], ql[i], sh[i & 3], sl[i & 3]);
+        double hh = 0.0, ll = 0.0;
+        for (int k = 0; k < 4; k++) {
+            double s, t;
+            dd_two_sum(hh, sh[k], &s, &t);
+            ll += t + sl[k];
+            hh = s;
+        }
+        g[j] = -(hh + ll) * cs[j];
+    }
+}
+
+/* Iterative refinement of the full-rank LS solution x (A's units, in
+ * place) through the QR canonical form, as ls_refine. res[m] receives
+ * y - A x of the returned x, in double-double and rounded once. Returns the
+ * number of steps, or IGEA_ENOMEM. */
+static int ls_refine_qr(int m, int N, const double *A, int lda, const double *y,
+                        const double *sigma, const canon *c, const double *cs, double *x,
+                        double *res)
+{
+    /* rh, rl, qh, ql, f, h, l (m each), qs (2 m); xh, xl, u, w, t, v (N) */
+    double *mem = igea__dalloc(9 * (size_t)m + 6 * (size_t)N);
+    if (!mem)
+        return IGEA_ENOMEM;
+    double *rh = mem, *rl = rh + m, *qh = rl + m, *ql = qh + m, *f = ql + m, *h = f + m;
+    double *l = h + m, *qs = l + m, *xh = qs + 2 * (size_t)m, *xl = xh + N, *u = xl + N;
+    double *w = u + N, *t = w + N, *v = t + N;
+    for (int j = 0; j < N; j++)
+        xh[j] = x[j], xl[j] = 0.0;
+    /* r = (y - A x) / sigma, double-double */
+    memcpy(h, y, (size_t)m * sizeof(double));
+    memset(l, 0, (size_t)m * sizeof(double));
+    dd_resid(m, N, A, lda, xh, xl, h, l);
+    for (int i = 0; i < m; i++) {
+        if (sigma)
+            dd_div(h[i], l[i], sigma[i], &rh[i], &rl[i]);
+        else
+            dd_two_sum(h[i], l[i], &rh[i], &rl[i]);
+    }
+    int it = 0, ok = 1;
+    double prev = HUGE_VAL;
+    while (it < IGEA_REGRESS_REFINE_MAX && ok) {
+        /* f = (y - A x) / sigma - r: zero at the first step (r was just
+         * computed from the same x) */
+        if (it == 0) {
+            memset(f, 0, (size_t)m * sizeof(double));
+        } else {
+            memcpy(h, y, (size_t)m * sizeof(double));
+            memset(l, 0, (size_t)m * sizeof(double));
+            dd_resid(m, N, A, lda, xh, xl, h, l);
+            for (int i = 0; i < m; i++) {
+                double ah = h[i], al = l[i];
+                if (sigma)
+                    dd_div(h[i], l[i], sigma[i], &ah, &al);
+                f[i] = ((ah - rh[i]) + al) - rl[i];
+            }
+        }
+        /* g = -B^T r */
+        for (int i = 0; i < m; i++) {
+            if (sigma)
+                dd_div(rh[i], rl[i], sigma[i], &qh[i], &ql[i]);
+            else
+                qh[i] = rh[i], ql[i] = rl[i];
+            dd_split(qh[i], &qs[i], &qs[m + i]);
+        }
+        dd_gradient(m, N, A, lda, qh, ql, qs, qs + m, cs, w);
+        /* u = U^T f = S^-1 V^T D A^T (f / sigma) */
+        for (int i = 0; i < m; i++)
+            h[i] = sigma ? f[i] / sigma[i] : f[i];
+        cblas_dgemv(CblasColMajor, CblasTrans, m, N, 1.0, A, lda, h, 1, 0.0, v, 1);
+        for (int j = 0; j < N; j++)
+            v[j] *= cs[j];
+        cblas_dgemv(CblasColMajor, CblasTrans, N, N, 1.0, c->V, N, v, 1, 0.0, u, 1);
+        cblas_dgemv(CblasColMajor, CblasTrans, N, N, 1.0, c->V, N, w, 1, 0.0, t, 1);
+        for (int i = 0; i < N; i++) {
+            u[i] /= c->s[i];
+            double wi = t[i] / c->s[i];
+            t[i] = (u[i] - wi) / c->s[i];
+            u[i] -= wi;
+        }
+        /* dx' = V t; dr = f - U u, U u = diag(1/sigma) A D V S^-1 u */
+        double dmax = 0.0, xmax = 0.0;
+        for (int j = 0; j < N; j++) {
+            double dxs = cblas_ddot(N, c->V + j, N, t, 1);
+            ok = ok && isfinite(dxs);
+            dmax = IGEA_MAX(dmax, fabs(dxs));
+            w[j] = dxs;
+        }
+        for (int i = 0; i < N; i++)
+            u[i] /= c->s[i];
+        cblas_dgemv(CblasColMajor, CblasNoTrans, N, N, 1.0, c->V, N, u, 1, 0.0, v, 1);
+        for (int j = 0; j < N; j++)
+            v[j] *= cs[j];
+        cblas_dgemv(CblasColMajor, CblasNoTrans, m, N, 1.0, A, lda, v, 1, 0.0, h, 1);
+        for (int i = 0; i < m && ok; i++)
+            ok = isfinite(f[i]) && isfinite(h[i]);
+        if (!ok)
+            break; /* nothing applied: the solution of the last step stands */
+        for (int j = 0; j < N; j++) {
+            double p, e, s2, e2, ch, cl;
+            dd_split(cs[j], &ch, &cl);
+            dd_prod(w[j], cs[j], ch, cl, &p, &e);
+            dd_two_sum(xh[j], p, &s2, &e2);
+            dd_two_sum(s2, xl[j] + e2 + e, &xh[j], &xl[j]);
+            xmax = IGEA_MAX(xmax, fabs(xh[j] / cs[j]));
+        }
+        for (int i = 0; i < m; i++) {
+            double d = f[i] - (sigma ? h[i] / sigma[i] : h[i]), s2, e2;
+            dd_two_sum(rh[i], d, &s2, &e2);
+            rl[i] += e2;
+            rh[i] = s2;
+        }
+        it++;
+        double d = xmax > 0.0 ? dmax / xmax : 0.0;
+        if (!(d > 0x1p-60) || d > 0.5 * prev)
+            break;
+        prev = d;
+    }
+    for (int j = 0; j < N; j++)
+        x[j] = xh[j] + xl[j];
+    for (int j = 0; j < N; j++)
+        xh[j] = x[j], xl[j] = 0.0;
+    memcpy(h, y, (size_t)m * sizeof(double));
+    memset(l, 0, (size_t)m * sizeof(double));
+    dd_resid(m, N, A, lda, xh, xl, h, l);
+    for (int i = 0; i < m; i++)
+        res[i] = h[i] + l[i];
+    if (!igea__finite_vec(m, res, 1)) /* products beyond the splitting's range */
+        residual_of(m, N, A, lda, y, x, res);
+    free(mem);
+    return it;
+}
+
 /* ---- least squares ----------------------------------------------------- */
 
 /* cs[j] = 1 / ||column j of diag(1/sigma) A||, without forming a norm
@@ -429,10 +766,14 @@ static void equilibrate(int m, int N, const double *A, int lda, const double *si
     }
 }
 
-/* Options and extra outputs of ls_core (NULL sd/info: none). */
+static int canon_leverages(const canon *c, int m, int N, const double *A, int lda,
+                           const double *sigma, const double *D, int r, double *h);
+
+/* Options and extra outputs of ls_core (NULL sd/info/lev: none; lev: the
+ * leverages of the canonical form the solution came from, m). */
 typedef struct {
     int refine;
-    double *sd, *info;
+    double *sd, *info, *lev;
 } ls_extra;
 
 /* Standard deviations sqrt(diag(cov)) in the caller's units. */
@@ -471,7 +812,8 @@ static int ls_solve(int m, int N, const double *A, int lda, const double *y,
     canon_coef(c, r, g, D, xs);
     *steps = 0;
     if (refine && D && r == N) {
-        int it = ls_refine(m, N, A, lda, y, sigma, c, D, xs, res);
+        int it = c->qr ? ls_refine_qr(m, N, A, lda, y, sigma, c, D, xs, res)
+                       : ls_refine(m, N, A, lda, y, sigma, c, D, xs, res);
         if (it < 0)
             return it;
         *steps = it;
@@ -533,6 +875,8 @@ static int ls_core(int m, int N, const double *A, int lda, const double *y,
     }
     if (st == 0)
         st = fit_out(m, N, spec, s2, xs, cv, res, x, cov, ldc, residual);
+    if (st == 0 && ex->lev)
+        st = canon_leverages(&c, m, N, A, lda, sigma, D, r, ex->lev);
     if (st == 0) {
         *rank = r;
         *sigma2 = s2;
@@ -581,7 +925,7 @@ int igea_regress_ls(int m, int N, const double *A, int lda, const double *y,
     double *own;
     if (scaled_design(m, N, &A, &lda, spec_sigma, &own))
         return IGEA_ENOMEM;
-    const ls_extra ex = {1, NULL, NULL};
+    const ls_extra ex = {1, NULL, NULL, NULL};
     st = ls_core(m, N, A, lda, y, sigma, spec_sigma, rcond, x, cov, ldc, rank,
                  sigma2, residual, &ex);
     free(own);
@@ -608,7 +952,7 @@ int igea_regress_ls_ex(int m, int N, const double *A, int lda, const double *y,
     double *own;
     if (scaled_design(m, N, &A, &lda, spec_sigma, &own))
         return IGEA_ENOMEM;
-    const ls_extra ex = {!(flags & IGEA_REGRESS_NO_REFINE), sd, info};
+    const ls_extra ex = {!(flags & IGEA_REGRESS_NO_REFINE), sd, info, NULL};
     int rank;
     st = ls_core(m, N, A, lda, y, sigma, spec_sigma, rcond, x, cov, ldc, &rank,
                  sigma2, residual, &ex);
@@ -675,27 +1019,65 @@ static int has_constant(int m, int N, const double *A, int lda)
 }
 
 /* Leverages h_i = sum_{k<r} U_ik^2 of the weighted design, the rank
- * judged as igea_regress_ls does (column-equilibrated at full rank). */
-static int leverages(int m, int N, const double *A, int lda, const double *sigma, int r,
-                     double *h)
+ * judged as igea_regress_ls does (column-equilibrated at full rank). A
+ * tall design of full rank through its QR factor [D]: B = Q_1 R, so the
+ * leverages are the squared row norms of Q_1 = B R^-1, each row by a
+ * triangular solve with R (dtrsm over row blocks, no m x N U), whose
+ * relative error is about eps s_1 / s_N; this route is taken where
+ * s_1 / s_N <= IGEA__LEV_COND (h to about 1e-12), else U from the SVD of
+ * the weighted copy. */
+#define IGEA__LEV_COND 1e4
+#define IGEA__LEV_ROWS 1024
+static void leverages_qr(const canon *c, int m, int N, const double *A, int lda,
+                         const double *sigma, const double *cs, double *W, double *h)
 {
-    double *cs = igea__dalloc((size_t)N);
-    if (!cs)
-        return IGEA_ENOMEM;
-    equilibrate(m, N, A, lda, sigma, cs);
-    canon c;
-    int st = canon_make(m, N, A, lda, NULL, sigma, r == N ? cs : NULL, 0.0, &c);
-    free(cs);
-    if (st)
-        return st;
-    int rr = IGEA_MIN(r, c.k);
+    for (int i0 = 0; i0 < m; i0 += IGEA__LEV_ROWS) {
+        int nb = IGEA_MIN(IGEA__LEV_ROWS, m - i0);
+        for (int j = 0; j < N; j++)
+            for (int i = 0; i < nb; i++)
+                W[i + (size_t)j * nb] = IGEA_AT(A, lda, i0 + i, j) * (cs ? cs[j] : 1.0) /
+                                        (sigma ? sigma[i0 + i] : 1.0);
+        cblas_dtrsm(CblasColMajor, CblasRight, CblasUpper, CblasNoTrans, CblasNonUnit, nb, N,
+                    1.0, c->R, N + 1, W, nb);
+        for (int i = 0; i < nb; i++)
+            h[i0 + i] = 0.0;
+        for (int j = 0; j < N; j++)
+            for (int i = 0; i < nb; i++)
+                h[i0 + i] += W[i + (size_t)j * nb] * W[i + (size_t)j * nb];
+    }
+}
+
+/* The leverages of the first r columns of c's U into h (m): through the
+ * QR factor at full rank where the conditioning allows (leverages_qr), else from U,
+ * made by the SVD of the weighted copy when c has none (D the column scale
+ * c was made with). */
+static int canon_leverages(const canon *c, int m, int N, const double *A, int lda,
+                           const double *sigma, const double *D, int r, double *h)
+{
+    int rr = IGEA_MIN(r, c->k), st = 0;
+    if (c->qr && rr == N && c->s[0] <= IGEA__LEV_COND * c->s[N - 1]) {
+        double *W = igea__dalloc((size_t)IGEA__LEV_ROWS * N);
+        if (!W)
+            return IGEA_ENOMEM;
+        leverages_qr(c, m, N, A, lda, sigma, D, W, h);
+        free(W);
+        return 0;
+    }
+    canon u;
+    const canon *cu = c;
+    if (c->qr) {
+        if ((st = canon_make_u(m, N, A, lda, NULL, sigma, D, 0.0, 1, &u)))
+            return st;
+        cu = &u;
+    }
     for (int i = 0; i < m; i++) {
         double a = 0.0;
         for (int k = 0; k < rr; k++)
-            a += c.U[i + (size_t)k * m] * c.U[i + (size_t)k * m];
+            a += cu->U[i + (size_t)k * m] * cu->U[i + (size_t)k * m];
         h[i] = a;
     }
-    canon_free(&c);
+    if (cu == &u)
+        canon_free(&u);
     return 0;
 }
 
@@ -778,7 +1160,7 @@ static int diag_run(int m, int N, const double *A, int lda, const double *y,
                     double *e, double *h, double *w, double *dg)
 {
     double s2, info[IGEA_REGRESS_INFO_LEN];
-    const ls_extra ex = {1, sd, info};
+    const ls_extra ex = {1, sd, info, h}; /* the leverages of the fit's own form */
     int rank;
     int st = ls_core(m, N, A, lda, y, sigma, NULL, rcond, xs, NULL, 0, &rank, &s2, e, &ex);
     if (st)
@@ -787,8 +1169,6 @@ static int diag_run(int m, int N, const double *A, int lda, const double *y,
         return IGEA_EDOMAIN;
     for (int i = 0; i < m; i++)
         e[i] = sigma ? e[i] / sigma[i] : e[i];
-    if ((st = leverages(m, N, A, lda, sigma, rank, h)))
-        return st;
     for (int i = 0; i < m; i++)
         if (!(h[i] < 1.0 - 1e-10))
             return IGEA_EDOMAIN;
@@ -1310,8 +1690,8 @@ static int ridge_core(int m, int N, const double *A, int lda, const double *y,
                       double k, double *x, double *cov, int ldc,
                       double *k_used, double *sigma2, double *residual, double *info)
 {
-    canon c;
-    int st = canon_make(m, N, A, lda, y, sigma, NULL, 0.0, &c);
+    canon c; /* the LOO rule reads U's rows */
+    int st = canon_make_u(m, N, A, lda, y, sigma, NULL, 0.0, rule == IGEA_REGRESS_RIDGE_LOO, &c);
     if (st)
         return st;
     int r = c.r;

@@ -12,6 +12,7 @@ enum {
     ST_CROSS = 10 /* then the ring of the last lags deviations */
 };
 #define DIAG_MAGIC 7.0e7 /* marks an initialised state */
+#define DIAG_CHUNK 512   /* igea_stats_diag_add's values per chunk */
 
 int igea_stats_diag_init(int lags, double center, double *state)
 {
@@ -56,24 +57,65 @@ int igea_stats_diag_add(int n, const double *x, int incx, double *state)
     const int L = (int)t[ST_LAGS];
     const double c = t[ST_CENTER];
     double *cross = t + ST_CROSS, *ring = cross + L;
-    for (int i = 0; i < n; i++) {
-        double d = x[(size_t)i * incx] - c;
-        long long cnt = (long long)t[ST_N];
-        /* the deviation of element k sits at ring[k % L] */
-        int kmax = cnt < L ? (int)cnt : L;
-        for (int k = 1; k <= kmax; k++)
-            cross[k - 1] += d * ring[(cnt - k) % L];
-        ring[cnt % L] = d;
-        t[ST_N] += 1;
-        t[ST_SS] += d * d;
-        int sg = d > 0 ? 1 : d < 0 ? -1 : 0; /* a value at the centre is dropped */
-        if (sg) {
-            t[sg > 0 ? ST_ABOVE : ST_BELOW] += 1;
-            if (sg != (int)t[ST_LAST])
-                t[ST_RUNS] += 1;
-            t[ST_LAST] = sg;
+    long long cnt = (long long)t[ST_N];
+    int last = (int)t[ST_LAST];
+    double ss = t[ST_SS];
+    long long above = 0, below = 0, runs = 0; /* added to the state's counts at the end */
+    /* The deviations in chunks, after the (up to L) deviations before
+     * them in order in dev[]; each cross[k - 1] then gets d_i times the
+     * deviation k before it for every element i of the chunk in element
+     * order, as element by element, so the sums are the same; the lags
+     * four at a time (independent sums). The deviation of element k sits
+     * at ring[k % L] between calls. */
+    double dev[DIAG_CHUNK + IGEA_STATS_DIAG_LAGS_MAX];
+    for (int i0 = 0; i0 < n; i0 += DIAG_CHUNK) {
+        int nc = n - i0 < DIAG_CHUNK ? n - i0 : DIAG_CHUNK;
+        int H = cnt < L ? (int)cnt : L; /* deviations held before the chunk */
+        for (int h = 0; h < H; h++)
+            dev[h] = ring[(cnt - H + h) % L];
+        double *d = dev + H;
+        for (int i = 0; i < nc; i++) {
+            double v = x[(size_t)(i0 + i) * incx] - c;
+            d[i] = v;
+            ss += v * v;
+            /* without branches (the signs of residuals are unpredictable);
+             * a value at the centre is dropped */
+            int pos = v > 0, neg = v < 0, sg = pos - neg;
+            above += pos;
+            below += neg;
+            runs += (sg != 0) & (sg != last);
+            last = sg ? sg : last;
         }
+        /* element i of the chunk reaches lag k when k <= H + i */
+        int k = 1;
+        for (; k + 3 <= L; k += 4) {
+            int from = k + 3 - H > 0 ? k + 3 - H : 0;
+            for (int q = 0; q < 3; q++) /* the first elements of the shorter lags */
+                for (int i = k + q - H > 0 ? k + q - H : 0; i < from && i < nc; i++)
+                    cross[k + q - 1] += d[i] * d[i - k - q];
+            double s0 = cross[k - 1], s1 = cross[k], s2 = cross[k + 1], s3 = cross[k + 2];
+            for (int i = from; i < nc; i++) {
+                s0 += d[i] * d[i - k];
+                s1 += d[i] * d[i - k - 1];
+                s2 += d[i] * d[i - k - 2];
+                s3 += d[i] * d[i - k - 3];
+            }
+            cross[k - 1] = s0, cross[k] = s1, cross[k + 1] = s2, cross[k + 2] = s3;
+        }
+        for (; k <= L; k++) {
+            double s0 = cross[k - 1];
+            for (int i = k - H > 0 ? k - H : 0; i < nc; i++)
+                s0 += d[i] * d[i - k];
+            cross[k - 1] = s0;
+        }
+        for (int i = nc > L ? nc - L : 0; i < nc; i++)
+            ring[(cnt + i) % L] = d[i];
+        cnt += nc;
     }
+    t[ST_N] = (double)cnt;
+    t[ST_SS] = ss;
+    t[ST_ABOVE] += (double)above, t[ST_BELOW] += (double)below, t[ST_RUNS] += (double)runs;
+    t[ST_LAST] = last;
     if (!igea__finite_vec(IGEA_STATS_DIAG_STATE_LEN, t, 1))
         return IGEA_EOVERFLOW;
     memcpy(state, t, sizeof t);

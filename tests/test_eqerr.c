@@ -933,6 +933,125 @@ static void test_eqerr_diag_streamed(void **state)
     assert_int_equal(ast[0], IGEA_EEMPTY);
 }
 
+/* Pass-1 axis sums of 7 columns (not a multiple of the four added at a
+ * time): both layouts the same bits and the sums of the definition; a NaN,
+ * or +Inf and -Inf in one column and axis, is IGEA_ENONFINITE, finite data
+ * whose sum overflows IGEA_EOVERFLOW, the sums untouched on failure. */
+static void test_axis_sums_statuses(void **state)
+{
+    (void)state;
+    enum { MS = 11, NS = 7 };
+    double S[MS * NS], Sr[MS * NS], dw[MS], a[3 * (NS + 2)] = {0}, b[3 * (NS + 2)] = {0};
+    for (int i = 0; i < MS; i++) {
+        dw[i] = 0.5 * i;
+        for (int j = 0; j < NS; j++)
+            S[i + j * MS] = Sr[j + i * NS] = 1.0 / (1 + i + 3 * j);
+    }
+    assert_int_equal(igea_eqerr_axis_sums(IGEA_COLMAJOR, MS, NS, S, MS, dw, 2, a), 0);
+    assert_int_equal(igea_eqerr_axis_sums(IGEA_ROWMAJOR, MS, NS, Sr, NS, dw, 2, b), 0);
+    assert_memory_equal(a, b, sizeof a);
+    for (int ax = 0; ax < 3; ax++) { /* row i has axis (2 + i) % 3 */
+        const double *u = a + ax * (NS + 2);
+        double cnt = 0, sd = 0, s6 = 0;
+        for (int i = 0; i < MS; i++)
+            if ((2 + i) % 3 == ax)
+                cnt += 1, sd += dw[i], s6 += S[i + 6 * MS];
+        assert_true(u[0] == cnt && u[1] == sd && u[2 + 6] == s6);
+    }
+    memcpy(b, a, sizeof a);
+    Sr[5 * NS + 6] = NAN;
+    assert_int_equal(igea_eqerr_axis_sums(IGEA_ROWMAJOR, MS, NS, Sr, NS, dw, 0, b),
+                     IGEA_ENONFINITE);
+    Sr[5 * NS + 6] = INFINITY, Sr[8 * NS + 6] = -INFINITY; /* rows 5 and 8: one axis */
+    assert_int_equal(igea_eqerr_axis_sums(IGEA_ROWMAJOR, MS, NS, Sr, NS, dw, 0, b),
+                     IGEA_ENONFINITE);
+    Sr[5 * NS + 6] = Sr[8 * NS + 6] = 1.5e308;
+    assert_int_equal(igea_eqerr_axis_sums(IGEA_ROWMAJOR, MS, NS, Sr, NS, dw, 0, b),
+                     IGEA_EOVERFLOW);
+    assert_memory_equal(a, b, sizeof a);
+}
+
+/* igea_eqerr_run_layout: column-major is igea_eqerr_run itself (the same
+ * bits); the same flight stored row by row gives the same results to
+ * rounding on both routes and on 1 and 3 threads (segments of
+ * IGEA_NORMAL_SEGMENT rows: 40,000 rows are three); its statuses are
+ * igea_eqerr_run's shifted by the layout argument. */
+static void test_run_layout(void **state)
+{
+    (void)state;
+    enum { ML = 40000, NL = 6 };
+    double *S = malloc(sizeof(double) * ML * NL), *Sr = malloc(sizeof(double) * ML * NL);
+    double *dw = malloc(sizeof(double) * ML), *r1 = malloc(sizeof(double) * ML);
+    double *r2 = malloc(sizeof(double) * ML), sig = 0.02, spec[NL];
+    assert_non_null(S && Sr && dw && r1 && r2);
+    for (int j = 0; j < NL; j++)
+        spec[j] = 0.5 + 0.3 * j;
+    for (int i = 0; i < ML; i++) {
+        double t = (double)(i / 3) / (ML / 3);
+        dw[i] = 0.02 * sin(1e3 * i);
+        for (int j = 0; j < NL; j++) {
+            double v = cos((j + 1) * t + j) * pow(t, j % 3) + 1e-3 * sin(7.0 * i + j);
+            S[i + (size_t)j * ML] = Sr[(size_t)i * NL + j] = v;
+            dw[i] += v * spec[j] * (j % 2 ? 1 : -1);
+        }
+    }
+    double opts[IGEA_EQERR_OPT_LEN], lam[2][NL], P[2][NL * NL], xh[2][NL], z[2][NL];
+    double info[2][IGEA_STATS_INFO_LEN], rms[2][3];
+    int rej[2][NL];
+    igea_eqerr_defaults(opts);
+    for (int route = 0; route < 2; route++)
+        for (int th = 1; th <= 3; th += 2) {
+            opts[IGEA_EQERR_OPT_ROUTE] = route;
+            opts[IGEA_EQERR_OPT_THREADS] = th;
+            assert_int_equal(igea_eqerr_run(ML, NL, S, ML, dw, &sig, 0, spec, opts, lam[0], P[0],
+                                            NL, xh[0], z[0], rej[0], info[0], r1, rms[0]), 0);
+            assert_int_equal(igea_eqerr_run_layout(IGEA_COLMAJOR, ML, NL, S, ML, dw, &sig, 0, spec,
+                                                   opts, lam[1], P[1], NL, xh[1], z[1], rej[1],
+                                                   info[1], r2, rms[1]), 0);
+            assert_memory_equal(lam[0], lam[1], sizeof lam[0]);
+            assert_memory_equal(info[0], info[1], sizeof info[0]);
+            assert_memory_equal(r1, r2, sizeof(double) * ML);
+            assert_int_equal(igea_eqerr_run_layout(IGEA_ROWMAJOR, ML, NL, Sr, NL, dw, &sig, 0, spec,
+                                                   opts, lam[1], P[1], NL, xh[1], z[1], rej[1],
+                                                   info[1], r2, rms[1]), 0);
+            for (int k = 0; k < NL; k++) {
+                assert_close(lam[1][k], lam[0][k], 1e-9 * lam[0][0] / lam[0][k]);
+                assert_close_abs(z[1][k], z[0][k], 1e-6, 1e-6);
+            }
+            assert_close(info[1][IGEA_STATS_INFO_CHI2], info[0][IGEA_STATS_INFO_CHI2], 1e-6);
+            for (int i = 0; i < ML; i += 997)
+                assert_close_abs(r2[i], r1[i], 1e-9, 1e-12);
+            for (int a = 0; a < 3; a++)
+                assert_close(rms[1][a], rms[0][a], 1e-9);
+        }
+    opts[IGEA_EQERR_OPT_THREADS] = 1;
+    assert_int_equal(igea_eqerr_run_layout(7, ML, NL, Sr, NL, dw, &sig, 0, spec, opts, lam[1],
+                                           P[1], NL, xh[1], z[1], rej[1], info[1], r2, rms[1]),
+                     -1);
+    assert_int_equal(igea_eqerr_run_layout(IGEA_ROWMAJOR, 0, NL, Sr, NL, dw, &sig, 0, spec, opts,
+                                           lam[1], P[1], NL, xh[1], z[1], rej[1], info[1], r2,
+                                           rms[1]),
+                     -2);
+    assert_int_equal(igea_eqerr_run_layout(IGEA_ROWMAJOR, ML, NL, Sr, NL - 1, dw, &sig, 0, spec,
+                                           opts, lam[1], P[1], NL, xh[1], z[1], rej[1], info[1],
+                                           r2, rms[1]),
+                     -5);
+    assert_int_equal(igea_eqerr_run_layout(IGEA_COLMAJOR, ML, NL, S, NL, dw, &sig, 0, spec, opts,
+                                           lam[1], P[1], NL, xh[1], z[1], rej[1], info[1], r2,
+                                           rms[1]),
+                     -5);
+    assert_int_equal(igea_eqerr_run_layout(IGEA_ROWMAJOR, ML, NL, Sr, NL, dw, &sig, 0, spec, opts,
+                                           lam[1], P[1], NL, xh[1], z[1], rej[1], NULL, r2, rms[1]),
+                     -17);
+    Sr[(size_t)(ML - 5) * NL + 2] = NAN; /* in the last segment */
+    opts[IGEA_EQERR_OPT_THREADS] = 3;
+    assert_int_equal(igea_eqerr_run_layout(IGEA_ROWMAJOR, ML, NL, Sr, NL, dw, &sig, 0, spec, opts,
+                                           lam[1], P[1], NL, xh[1], z[1], rej[1], info[1], r2,
+                                           rms[1]),
+                     IGEA_ENONFINITE);
+    free(S), free(Sr), free(dw), free(r1), free(r2);
+}
+
 /* Components of a rotation: p_0 = (0.6, 0.8, 0), p_1 = (0.8, -0.6, 0):
  * shares 0.36, 0.64, 0; loadings spec_j p_ij. */
 static void test_components_closed_form(void **state)
@@ -984,6 +1103,8 @@ int main(void)
         cmocka_unit_test(test_limits_and_rms),
         cmocka_unit_test(test_diag_closed_form),
         cmocka_unit_test(test_eqerr_diag_streamed),
+        cmocka_unit_test(test_axis_sums_statuses),
+        cmocka_unit_test(test_run_layout),
         cmocka_unit_test(test_components_closed_form),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

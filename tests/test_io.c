@@ -412,6 +412,91 @@ static void test_offsets_tempfile_partial_load(void **state)
     igea_io_reader_free(r);
 }
 
+/* Views (igea_io_reader_view): a C-order .npy opened with IGEA_IO_MAP is
+ * handed out in place (the views of one pass lie one after the other in
+ * the map, and the second pass sees the same addresses); Fortran order,
+ * text and a reader without the flag are read into the reader's buffer;
+ * NaN is refused with its row and column; a file shortened after it was
+ * opened is refused, not read past its end. */
+static void test_views(void **state)
+{
+    (void)state;
+    double a[21], fo[21];
+    for (int i = 0; i < 7; i++)
+        for (int j = 0; j < 3; j++)
+            a[i * 3 + j] = fo[j * 7 + i] = 10.0 * i + j;
+    unsigned char buf[1024];
+    size_t n = npy(buf, a, 7, 3, 0, 0);
+    const char *p = put("v.npy", buf, n);
+    igea_io_reader *r;
+    const double *v, *first[3];
+    int got;
+    assert_int_equal(igea_io_reader_create(&r), 0);
+    assert_int_equal(igea_io_reader_open(r, p, IGEA_IO_TWICE | IGEA_IO_MAP, NULL), 0);
+    assert_null(igea_io_reader_view_rows(r));
+    for (int pass = 0; pass < 2; pass++) {
+        for (int b = 0; b < 3; b++) {
+            assert_int_equal(igea_io_reader_view(r, 3, &got), 0);
+            assert_int_equal(got, b < 2 ? 3 : 1);
+            v = igea_io_reader_view_rows(r);
+            assert_non_null(v);
+            for (int k = 0; k < got * 3; k++)
+                assert_close(v[k], a[b * 9 + k], 0);
+            if (pass == 0)
+                first[b] = v;
+            else
+                assert_ptr_equal(v, first[b]); /* the same pages both passes */
+            if (b > 0)
+                assert_ptr_equal(v, first[b - 1] + 9); /* in place, not copied */
+        }
+        assert_int_equal(igea_io_reader_view(r, 3, &got), 0);
+        assert_int_equal(got, 0);
+        assert_null(igea_io_reader_view_rows(r));
+        assert_int_equal(igea_io_reader_rewind(r), 0);
+        assert_null(igea_io_reader_view_rows(r));
+    }
+    /* arguments */
+    assert_int_equal(igea_io_reader_view(NULL, 3, &got), -1);
+    assert_int_equal(igea_io_reader_view(r, 0, &got), -2);
+    assert_int_equal(igea_io_reader_view(r, 3, NULL), -3);
+    assert_null(igea_io_reader_view_rows(NULL));
+    assert_int_equal(igea_io_reader_open(r, p, 4, NULL), -3);
+    /* without IGEA_IO_MAP, in Fortran order and as text: the same rows
+     * from the reader's own buffer */
+    const char *other[3] = {p, put("vf.npy", buf, npy(buf, fo, 7, 3, 1, 0)),
+                            puts_("v.txt", "0 1 2\n10 11 12\n20 21 22\n30 31 32\n40 41 42\n"
+                                           "50 51 52\n60 61 62\n")};
+    for (int k = 0; k < 3; k++) {
+        assert_int_equal(igea_io_reader_open(r, other[k], k ? IGEA_IO_MAP : 0, NULL), 0);
+        assert_int_equal(igea_io_reader_view(r, 4, &got), 0);
+        const double *v0 = igea_io_reader_view_rows(r);
+        assert_int_equal(got, 4);
+        for (int i = 0; i < 12; i++)
+            assert_close(v0[i], a[i], 0);
+        assert_int_equal(igea_io_reader_view(r, 4, &got), 0);
+        assert_int_equal(got, 3);
+        assert_ptr_equal(igea_io_reader_view_rows(r), v0); /* one buffer */
+        assert_close(igea_io_reader_view_rows(r)[8], a[20], 0);
+    }
+    /* NaN in row 5, column 2 (from 1): the view holding it is refused */
+    a[4 * 3 + 1] = NAN;
+    p = put("vn.npy", buf, npy(buf, a, 7, 3, 0, 0));
+    assert_int_equal(igea_io_reader_open(r, p, IGEA_IO_MAP, NULL), 0);
+    assert_int_equal(igea_io_reader_view(r, 3, &got), 0);
+    assert_int_equal(igea_io_reader_view(r, 3, &got), IGEA_EFORMAT);
+    expect_error(r, IGEA_EFORMAT, 0, 0, "row 5, column 2: NaN or Inf");
+    assert_null(igea_io_reader_view_rows(r));
+    /* shortened to 4 rows after the first view: the next view is refused */
+    a[4 * 3 + 1] = 41;
+    p = put("vt.npy", buf, n = npy(buf, a, 7, 3, 0, 0));
+    assert_int_equal(igea_io_reader_open(r, p, IGEA_IO_MAP, NULL), 0);
+    assert_int_equal(igea_io_reader_view(r, 3, &got), 0);
+    assert_int_equal(truncate(p, (off_t)(n - 3 * 3 * sizeof(double))), 0);
+    assert_int_equal(igea_io_reader_view(r, 3, &got), IGEA_EFORMAT);
+    expect_error(r, IGEA_EFORMAT, 0, 0, "truncated");
+    igea_io_reader_free(r);
+}
+
 static int setup(void **state)
 {
     (void)state;
@@ -435,6 +520,7 @@ int main(void)
         cmocka_unit_test(test_npy_orders),    cmocka_unit_test(test_pipe_rewind),
         cmocka_unit_test(test_fifo),          cmocka_unit_test(test_system_errors),
         cmocka_unit_test(test_offsets_tempfile_partial_load),
+        cmocka_unit_test(test_views),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -696,6 +696,63 @@ static void test_verdict_thresholds(void **state)
     assert_true(a == SENTINEL && b == SENTINEL && s == SENTINEL);
 }
 
+/* The streamed whiteness state does not depend on how the series is cut
+ * into calls (every lagged product is added in element order, whatever
+ * the chunks: the same bits), with a stride, and its Ljung-Box Q and runs
+ * count are those of the definitions written out here: Q = n (n + 2)
+ * sum_k r_k^2 / (n - k), r_k = sum_i d_i d_{i-k} / sum_i d_i^2, d about
+ * the centre; runs = 1 + sign changes of the nonzero deviations. */
+static void test_diag_chunks(void **state)
+{
+    (void)state;
+    enum { N = 3000 };
+    static double x[2 * N], d[N];
+    unsigned long long u = 12345;
+    double prev = 0.0;
+    for (int i = 0; i < N; i++) {
+        u = u * 6364136223846793005ULL + 1442695040888963407ULL;
+        prev = 0.6 * prev + (double)(u >> 11) / 9007199254740992.0 - 0.5; /* AR(1) */
+        x[2 * i] = prev;
+        x[2 * i + 1] = 1e9; /* every other value: skipped by incx = 2 */
+    }
+    const double c = 0.01;
+    const int lags[] = {1, 3, 20, 100}, cuts[] = {1, 2, 5, 511, 512, 513, 1500, N};
+    for (size_t l = 0; l < sizeof lags / sizeof *lags; l++) {
+        int L = lags[l];
+        double ref[IGEA_STATS_DIAG_LEN];
+        for (size_t k = 0; k < sizeof cuts / sizeof *cuts; k++) {
+            double st[IGEA_STATS_DIAG_STATE_LEN], out[IGEA_STATS_DIAG_LEN];
+            assert_int_equal(igea_stats_diag_init(L, c, st), 0);
+            for (int i0 = 0; i0 < N; i0 += cuts[k]) {
+                int nc = N - i0 < cuts[k] ? N - i0 : cuts[k];
+                assert_int_equal(igea_stats_diag_add(nc, x + 2 * i0, 2, st), 0);
+            }
+            assert_int_equal(igea_stats_diag_result(st, out), 0);
+            if (k == 0)
+                memcpy(ref, out, sizeof ref);
+            else
+                assert_memory_equal(out, ref, sizeof ref);
+        }
+        double ss = 0.0, q = 0.0;
+        int runs = 1;
+        for (int i = 0; i < N; i++) {
+            d[i] = x[2 * i] - c;
+            ss += d[i] * d[i];
+            runs += i > 0 && (d[i] > 0) != (d[i - 1] > 0);
+        }
+        for (int k = 1; k <= L; k++) {
+            double ck = 0.0;
+            for (int i = k; i < N; i++)
+                ck += d[i] * d[i - k];
+            q += (ck / ss) * (ck / ss) / (N - k);
+        }
+        q *= (double)N * (N + 2);
+        assert_close(ref[IGEA_STATS_DIAG_LB_Q], q, 1e-12 * q);
+        assert_int_equal((int)ref[IGEA_STATS_DIAG_RUNS], runs);
+        assert_int_equal((int)ref[IGEA_STATS_DIAG_N], N);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -714,6 +771,7 @@ int main(void)
         cmocka_unit_test(test_union_size),
         cmocka_unit_test(test_union_size_invalid),
         cmocka_unit_test(test_verdict_thresholds),
+        cmocka_unit_test(test_diag_chunks),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -72,7 +72,8 @@ extern "C" {
  * the rule; info Z_CRIT and CHI2_CRIT keep their level-alpha meaning, and
  * info VERDICT, VERDICT_Z_CRIT, VERDICT_CHI2_CRIT and OVERALL_SIZE
  * (igea/stats.h) report the rule. The overall size needs the union-size
- * quadrature (5 ms for n = 7, 0.06 s for n = 20, 3 s for n = 100): EXACT
+ * computation (5 ms for n = 7, 2 ms for n = 74 at alpha = 0.01; slower
+ * where the fast route does not apply: docs/eqerr.md): EXACT
  * gets it from its thresholds and CHI2 has size alpha; for SEED and SIDAK
  * it is computed only with OPT_OVERALL_SIZE = 1 (else info OVERALL_SIZE is
  * 0, "not computed"; also 0 when n > IGEA_STATS_UNION_N_MAX). EXACT with n
@@ -165,6 +166,26 @@ IGEA_API int igea_eqerr_run(int m, int N, const double *S, int lds,
                             const double *opts, double *lambda, double *P,
                             int ldp, double *equiv_err, double *z, int *reject,
                             double *info, double *residual, double *rms);
+
+/*
+ * igea_eqerr_run with S in either layout (igea/normal.h): 1 layout
+ * IGEA_COLMAJOR (S m x N, lds >= m: igea_eqerr_run itself, the same bits)
+ * or IGEA_ROWMAJOR (S stored row by row, as C and numpy keep an (m, N)
+ * array, lds >= N: no transposed copy is needed). The other arguments are
+ * igea_eqerr_run's, one place later: 2 m, 3 N, 4 S, 5 lds, 6 dw[m],
+ * 7 track_sigma (m values, or 1 with sigma_inc = 0), 8 sigma_inc,
+ * 9 spec_sigma[N] or NULL, 10 opts (or NULL: defaults), 11 lambda[N],
+ * 12 P (N x N), 13 ldp >= N, 14 equiv_err[N], 15 z[N], 16 reject[N],
+ * 17 info[IGEA_STATS_INFO_LEN], 18 residual[m] or NULL, 19 rms[3] or NULL.
+ * The two layouts accumulate the same sums in other orders: their results
+ * agree to rounding. Same returns (-1: the layout).
+ */
+IGEA_API int igea_eqerr_run_layout(int layout, int m, int N, const double *S, int lds,
+                                   const double *dw, const double *track_sigma, int sigma_inc,
+                                   const double *spec_sigma, const double *opts,
+                                   double *lambda, double *P, int ldp, double *equiv_err,
+                                   double *z, int *reject, double *info, double *residual,
+                                   double *rms);
 
 /*
  * The fitted coefficients in physical units of the raw S columns:

@@ -66,6 +66,8 @@ extern "C" {
 
 /* Flags of igea_io_reader_open. */
 #define IGEA_IO_TWICE 1 /* igea_io_reader_rewind will be called */
+#define IGEA_IO_MAP 2   /* igea_io_reader_view may hand out the rows of a .npy
+                           file in place, through a memory map */
 
 /* Slots of igea_io_reader_info (integers stored as exact doubles). */
 #define IGEA_IO_INFO_STATUS 0 /* status of the last failed call, 0 none */
@@ -93,7 +95,7 @@ IGEA_API void igea_io_reader_free(igea_io_reader *r);
 
 /* Open the file at path (NUL-terminated) for reading, check a .npy header
  * or read the first text row ahead (the columns are known after it).
- * flags: 0 or IGEA_IO_TWICE. tmpdir: directory of a temporary copy
+ * flags: 0, IGEA_IO_TWICE, IGEA_IO_MAP or both (|). tmpdir: directory of a temporary copy
  * (may be NULL: "/tmp"). A reader that is already open is closed first.
  * Returns 0, -1..-4 for an invalid argument (r NULL, path NULL, flags
  * unknown), IGEA_EREAD, IGEA_EFORMAT (an empty input: no data),
@@ -119,6 +121,33 @@ IGEA_API const char *igea_io_reader_names(const igea_io_reader *r);
  * IGEA_ETEMPFILE or IGEA_ENOMEM. On a failure *nread is untouched and buf
  * may hold part of the rows read. */
 IGEA_API int igea_io_reader_next(igea_io_reader *r, int maxrows, double *buf, int *nread);
+/*
+ * The next rows without a copy where the input allows it: up to maxrows
+ * (>= 1) rows, row-major (cols values each), are made available at
+ * igea_io_reader_view_rows(r); *nread = their number (0 at the end of the
+ * input). With IGEA_IO_MAP, a regular .npy file in C order (or with one
+ * column) whose data start at a multiple of 8 bytes is viewed where it
+ * lies, through a read-only memory map: data of up to 256 MiB mapped whole
+ * at the first view and kept until the reader is closed (both passes read
+ * the same pages; they count in the process's resident set once read),
+ * larger data block by block (each view's pages replace the last's). Any
+ * other input, or a map the system refuses, is read as
+ * igea_io_reader_next reads it into a buffer the reader owns. The rows are
+ * checked as igea_io_reader_next checks them (NaN and Inf refused with the
+ * row and column); on a mapped file the rows of a second pass that the
+ * first pass checked are not checked again, and the file's size is
+ * checked before each view. A mapped file that another process truncates
+ * while it is read raises SIGBUS in the reading process, as any memory map
+ * of a file does: a host that cannot accept that opens without
+ * IGEA_IO_MAP. Returns as igea_io_reader_next (-3: nread NULL); on a
+ * failure the view is empty.
+ */
+IGEA_API int igea_io_reader_view(igea_io_reader *r, int maxrows, int *nread);
+/* The rows of the last igea_io_reader_view (maxrows * cols doubles at
+ * most, *nread rows of them), valid until the next call on r; NULL when
+ * none (r NULL or not open, before a view, after a failure, a rewind or
+ * the end of the input). */
+IGEA_API const double *igea_io_reader_view_rows(const igea_io_reader *r);
 /* Start the input again (opened with IGEA_IO_TWICE): the next row is the
  * first. Returns 0, -1 (r NULL, not open or not opened for two passes),
  * IGEA_EREAD, IGEA_ETEMPFILE or IGEA_ENOMEM. */

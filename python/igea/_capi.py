@@ -267,6 +267,7 @@ INSERR_NOISE_LEN = 9
 # igea/io.h
 IO_LINE_MAX = 1048576
 IO_TWICE = 1
+IO_MAP = 2
 IO_INFO_STATUS = 0
 IO_INFO_LINE = 1
 IO_INFO_COLUMN = 2
@@ -759,6 +760,11 @@ PROTOTYPES = {
         ("track_sigma", _PD), ("sigma_inc", c_int), ("spec_sigma", _PD), ("opts", _PD),
         ("lambda", _PD), ("P", _PD), ("ldp", c_int), ("equiv_err", _PD), ("z", _PD),
         ("reject", _PI), ("info", _PD), ("residual", _PD), ("rms", _PD),)),
+    "igea_eqerr_run_layout": (c_int, (("layout", c_int), ("m", c_int), ("N", c_int), ("S", _PD),
+        ("lds", c_int), ("dw", _PD), ("track_sigma", _PD), ("sigma_inc", c_int),
+        ("spec_sigma", _PD), ("opts", _PD), ("lambda", _PD), ("P", _PD), ("ldp", c_int),
+        ("equiv_err", _PD), ("z", _PD), ("reject", _PI), ("info", _PD), ("residual", _PD),
+        ("rms", _PD),)),
     "igea_eqerr_coef": (c_int, (("N", c_int), ("P", _PD), ("ldp", c_int), ("equiv_err", _PD),
         ("n_test", c_int), ("spec_sigma", _PD), ("coef", _PD),)),
     "igea_eqerr_residual": (c_int, (("layout", c_int), ("m", c_int), ("N", c_int), ("S", _PD),
@@ -839,6 +845,8 @@ PROTOTYPES = {
     "igea_io_reader_names": (c_char_p, (("r", c_void_p),)),
     "igea_io_reader_next": (c_int, (("r", c_void_p), ("maxrows", c_int), ("buf", _PD),
         ("nread", _PI),)),
+    "igea_io_reader_view": (c_int, (("r", c_void_p), ("maxrows", c_int), ("nread", _PI),)),
+    "igea_io_reader_view_rows": (_PD, (("r", c_void_p),)),
     "igea_io_reader_rewind": (c_int, (("r", c_void_p),)),
     "igea_io_reader_load": (c_int, (("r", c_void_p),)),
     "igea_io_reader_copy": (c_int, (("r", c_void_p), ("v", _PD), ("layout", c_int),)),
@@ -1188,6 +1196,7 @@ INPUTS = {
     "igea_eqerr_solve": ("A", "b", "opts",),
     "igea_eqerr_solve_qr": ("R", "opts",),
     "igea_eqerr_run": ("S", "dw", "track_sigma", "spec_sigma", "opts",),
+    "igea_eqerr_run_layout": ("S", "dw", "track_sigma", "spec_sigma", "opts",),
     "igea_eqerr_coef": ("P", "equiv_err", "spec_sigma",),
     "igea_eqerr_residual": ("S", "dw", "coef",),
     "igea_eqerr_pool": ("chi2", "dof", "z", "unit_id", "opts",),

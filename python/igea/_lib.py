@@ -256,8 +256,10 @@ def iptr(a):
     return p
 
 
-def as_f64(x, name, ndim=None, shape=None):
-    """x as a finite-checked-later float64 array in Fortran order.
+def as_f64(x, name, ndim=None, shape=None, rows=False):
+    """x as a finite-checked-later float64 array in Fortran order (rows:
+    a C-contiguous 2-D array is returned as it is, not transposed into a
+    copy, for a function that takes IGEA_ROWMAJOR).
 
     Raises ValueError naming the argument for a wrong number of dimensions
     or a wrong shape (None entries in shape match anything)."""
@@ -271,4 +273,6 @@ def as_f64(x, name, ndim=None, shape=None):
         if len(shape) != a.ndim or any(s is not None and s != d for s, d in zip(shape, a.shape)):
             want = "(" + ", ".join("*" if s is None else str(s) for s in shape) + ")"
             raise ValueError(f"{name}: expected shape {want}, got {a.shape}")
+    if rows and a.ndim == 2 and a.flags.c_contiguous and not a.flags.f_contiguous:
+        return a
     return np.asfortranarray(a)

@@ -135,15 +135,18 @@ def _components(P, nt, spec, names, lam, z, reject):
     order = np.empty((max(nt, 1), N), dtype=np.intc)
     _lib.call("igea.eqerr", "igea_eqerr_components", N, _lib.dptr(Pf), N, nt, _lib.dptr(spec),
               _lib.dptr(share), _lib.dptr(load), _lib.iptr(order))
+    # the terms of each component in the library's order, built by numpy
+    # (nt x N pairs: 5,476 at 74 terms) rather than element by element
+    order = order[:nt].astype(np.intp)
+    names_o = np.array(names, dtype=object)[order]
+    share_o = np.take_along_axis(share[:nt], order, axis=1)
+    cand = share_o >= _capi.EQERR_CANDIDATE_SHARE
+    lam_l, z_l = np.asarray(lam[:nt], dtype=float).tolist(), np.asarray(z[:nt]).tolist()
     out = []
     for i in range(nt):
-        o = order[i]
-        out.append(dict(index=i, **{"lambda": float(lam[i])}, z=float(z[i]),
-                        reject=bool(reject[i]),
-                        terms=[(names[j], float(share[i, j])) for j in o],
-                        loading=load[i].copy(),
-                        candidates=[names[j] for j in o
-                                    if share[i, j] >= _capi.EQERR_CANDIDATE_SHARE]))
+        out.append(dict(index=i, **{"lambda": lam_l[i]}, z=z_l[i], reject=bool(reject[i]),
+                        terms=list(zip(names_o[i].tolist(), share_o[i].tolist())),
+                        loading=load[i].copy(), candidates=names_o[i][cand[i]].tolist()))
     return out
 
 
@@ -443,10 +446,13 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
                       z_crit=z_crit, rank_tol=rank_tol, overall_size=1,
                       verdict=_lib.choice(_capi.CHOICE_STATS_VERDICT, verdict, "igea.eqerr",
                                           "verdict"))
-    S = _lib.as_f64(S, "S", ndim=2)
+    # a C-order S (numpy's default, np.load of a C-order .npy) is read row
+    # by row where it lies (igea_eqerr_run_layout), not transposed into a copy
+    S = _lib.as_f64(S, "S", ndim=2, rows=True)
     m, N = S.shape
     if m < 1 or N < 1:
         raise ValueError("S: expected at least one row and one column, got shape %s" % (S.shape,))
+    rowmajor = not S.flags.f_contiguous
     dw = _lib.as_f64(dw, "dw", ndim=1, shape=(m,))
     scalar_sigma = np.ndim(sigma) == 0
     sig = _lib.as_f64(sigma, "sigma")
@@ -478,10 +484,15 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
     info = np.empty(_capi.STATS_INFO_LEN)
     res = np.empty(m)
     rms = np.empty(3)
-    _lib.call("igea.eqerr", "igea_eqerr_run", m, N, _lib.dptr(S), m, _lib.dptr(dw),
-              _lib.dptr(sig), sigma_inc, _lib.dptr(spec), _lib.dptr(opts), _lib.dptr(lam),
-              _lib.dptr(P), N, _lib.dptr(xhat), _lib.dptr(z), _lib.iptr(rej), _lib.dptr(info),
-              _lib.dptr(res), _lib.dptr(rms))
+    outs = (_lib.dptr(lam), _lib.dptr(P), N, _lib.dptr(xhat), _lib.dptr(z), _lib.iptr(rej),
+            _lib.dptr(info), _lib.dptr(res), _lib.dptr(rms))
+    if rowmajor:
+        _lib.call("igea.eqerr", "igea_eqerr_run_layout", _capi.ROWMAJOR, m, N, _lib.dptr(S), N,
+                  _lib.dptr(dw), _lib.dptr(sig), sigma_inc, _lib.dptr(spec), _lib.dptr(opts),
+                  *outs)
+    else:
+        _lib.call("igea.eqerr", "igea_eqerr_run", m, N, _lib.dptr(S), m, _lib.dptr(dw),
+                  _lib.dptr(sig), sigma_inc, _lib.dptr(spec), _lib.dptr(opts), *outs)
     test = _test_fields(info)
     nt = test["n_test"]
     comps = _components(P, nt, spec, names, lam, z, rej == 1)

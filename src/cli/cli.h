@@ -81,7 +81,8 @@ typedef struct cli_reader cli_reader;
 int cli_reader_open(const char *path, cli_reader **out);
 /* The same, for two passes: cli_reader_rewind starts the file again (a
  * non-seekable input is copied to an anonymous temporary file as it is read
- * and the second pass reads the copy). */
+ * and the second pass reads the copy); cli_reader_view may map a .npy file
+ * (a SIGBUS handler then turns a file shortened meanwhile into exit 66). */
 int cli_reader_open_twice(const char *path, cli_reader **out);
 int cli_reader_rewind(cli_reader *r);
 /* Columns of the file (known after open for .npy, after the first data row
@@ -90,6 +91,11 @@ int cli_reader_cols(const cli_reader *r);
 /* Read up to maxrows rows into buf (row-major, maxrows * cols doubles);
  * *nread = rows read, 0 at end of file. Returns an exit code. */
 int cli_reader_next(cli_reader *r, long maxrows, double *buf, long *nread);
+/* The next up to maxrows rows without a copy where the input allows it
+ * (igea_io_reader_view: a .npy file opened by cli_reader_open_twice is
+ * viewed through a memory map): *rows valid until the next call on r,
+ * *nread rows, 0 at the end. Returns an exit code. */
+int cli_reader_view(cli_reader *r, long maxrows, const double **rows, long *nread);
 const char *cli_reader_path(const cli_reader *r);
 /* The column names of the input, '\n'-separated, or "" (igea/io.h). */
 const char *cli_reader_names(const cli_reader *r);

@@ -285,11 +285,15 @@ static int parse_noise(eqerr_args *a)
     return ec;
 }
 
-/* Open the three streamed inputs in lockstep. */
+/* Open the three streamed inputs in lockstep. Each block is a view of
+ * the rows (cli_reader_view: a .npy file in place through a memory map,
+ * else the reader's own buffer), so that both passes read S where it
+ * lies. */
 typedef struct {
     cli_reader *S, *dw, *sig;
     int N;
-    double *sbuf, *dbuf, *gbuf;
+    const double *srows, *drows, *grows; /* the current block */
+    double *gbuf;                        /* --sigma given as a number */
     long block, seen; /* rows per block; rows read since the (re)start */
 } streams;
 
@@ -298,8 +302,6 @@ static void streams_close(streams *s)
     cli_reader_close(s->S);
     cli_reader_close(s->dw);
     cli_reader_close(s->sig);
-    free(s->sbuf);
-    free(s->dbuf);
     free(s->gbuf);
     memset(s, 0, sizeof *s);
 }
@@ -332,12 +334,13 @@ static int streams_open(const eqerr_args *a, streams *s)
         s->block -= s->block % 3;
         if (s->block < 3)
             s->block = 3;
-        s->sbuf = malloc((size_t)s->block * s->N * sizeof(double));
-        s->dbuf = malloc((size_t)s->block * sizeof(double));
-        s->gbuf = malloc((size_t)s->block * sizeof(double));
-        if (!s->sbuf || !s->dbuf || !s->gbuf) {
-            cli_error("out of memory (row blocks of %s)", a->S);
-            ec = CLI_SOFTWARE;
+        if (a->sigma_is_number) {
+            if (!(s->gbuf = malloc((size_t)s->block * sizeof(double)))) {
+                cli_error("out of memory (row blocks of %s)", a->S);
+                ec = CLI_SOFTWARE;
+            }
+            for (long i = 0; !ec && i < s->block; i++)
+                s->gbuf[i] = a->sigma_value;
         }
     }
     if (ec)
@@ -361,19 +364,18 @@ static int streams_rewind(streams *s)
 static int streams_next(const eqerr_args *a, streams *s, long *n)
 {
     long ns, nd, ng;
-    int ec = cli_reader_next(s->S, s->block, s->sbuf, &ns);
+    int ec = cli_reader_view(s->S, s->block, &s->srows, &ns);
     if (!ec)
-        ec = cli_reader_next(s->dw, s->block, s->dbuf, &nd);
+        ec = cli_reader_view(s->dw, s->block, &s->drows, &nd);
     if (ec)
         return ec;
     if (s->sig) {
-        ec = cli_reader_next(s->sig, s->block, s->gbuf, &ng);
+        ec = cli_reader_view(s->sig, s->block, &s->grows, &ng);
         if (ec)
             return ec;
     } else {
         ng = ns;
-        for (long i = 0; i < ns; i++)
-            s->gbuf[i] = a->sigma_value;
+        s->grows = s->gbuf;
     }
     if (ns != nd && s->seen == 0 && ns < s->block && nd < s->block && nd == s->N) {
         cli_error("%s has %ld rows and %d columns; %s has %ld values: transposed?", a->S, ns,
@@ -745,15 +747,15 @@ static int pass_solve(const eqerr_args *a, streams *s, flight *r)
     }
     while (!(ec = streams_next(a, s, &n)) && n > 0) {
         cli_progress_count(&pr, (double)(rows + n));
-        if ((ec = check_sigma_block(a, s->gbuf, n, rows)))
+        if ((ec = check_sigma_block(a, s->grows, n, rows)))
             break;
-        int st = svd ? igea_normal_qr_accumulate(IGEA_ROWMAJOR, (int)n, N, s->sbuf, N, s->dbuf,
-                                                 s->gbuf, 1, r->spec, A, N + 1, &qrows)
-                     : igea_normal_accumulate_threads(IGEA_ROWMAJOR, (int)n, N, s->sbuf, N,
-                                                      s->dbuf, s->gbuf, 1, r->spec, A, N, b,
+        int st = svd ? igea_normal_qr_accumulate(IGEA_ROWMAJOR, (int)n, N, s->srows, N, s->drows,
+                                                 s->grows, 1, r->spec, A, N + 1, &qrows)
+                     : igea_normal_accumulate_threads(IGEA_ROWMAJOR, (int)n, N, s->srows, N,
+                                                      s->drows, s->grows, 1, r->spec, A, N, b,
                                                       wtw, (int)a->opts[IGEA_EQERR_OPT_THREADS]);
         if (!st)
-            st = igea_eqerr_axis_sums(IGEA_ROWMAJOR, (int)n, N, s->sbuf, N, s->dbuf, (int)rows,
+            st = igea_eqerr_axis_sums(IGEA_ROWMAJOR, (int)n, N, s->srows, N, s->drows, (int)rows,
                                       r->sums);
         if (st) {
             ec = cli_status(st, st == IGEA_ENONFINITE ? "eqerr: rows with NaN/Inf" : "eqerr");
@@ -835,7 +837,7 @@ static int pass_residuals(const eqerr_args *a, streams *s, flight *r, FILE *res,
     cli_progress_start(&pr, "eqerr", "rows, pass 2 of 2", r->m);
     while (!(ec = streams_next(a, s, &n)) && n > 0) {
         cli_progress_update(&pr, (double)(row0 + n));
-        int st = igea_eqerr_residual(IGEA_ROWMAJOR, (int)n, N, s->sbuf, N, s->dbuf, coef,
+        int st = igea_eqerr_residual(IGEA_ROWMAJOR, (int)n, N, s->srows, N, s->drows, coef,
                                      (int)row0, e, ss);
         if (!st)
             st = igea_eqerr_diag_add((int)n, e, (int)row0, r->dstate);

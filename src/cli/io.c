@@ -152,10 +152,13 @@ static int reader_open(const char *path, int flags, cli_reader **out)
     return CLI_OK;
 }
 
+static void install_sigbus(void);
+
 int cli_reader_open(const char *path, cli_reader **out) { return reader_open(path, 0, out); }
 int cli_reader_open_twice(const char *path, cli_reader **out)
 {
-    return reader_open(path, IGEA_IO_TWICE, out);
+    install_sigbus(); /* a .npy viewed through a map (cli_reader_view) */
+    return reader_open(path, IGEA_IO_TWICE | IGEA_IO_MAP, out);
 }
 
 int cli_reader_rewind(cli_reader *r)
@@ -174,6 +177,17 @@ int cli_reader_next(cli_reader *r, long maxrows, double *buf, long *nread)
     int st = igea_io_reader_next(r->r, maxrows > INT_MAX ? INT_MAX : (int)maxrows, buf, &got);
     if (st)
         return reader_failed(r->path, r->r, st);
+    *nread = got;
+    return CLI_OK;
+}
+
+int cli_reader_view(cli_reader *r, long maxrows, const double **rows, long *nread)
+{
+    int got = 0;
+    int st = igea_io_reader_view(r->r, maxrows > INT_MAX ? INT_MAX : (int)maxrows, &got);
+    if (st)
+        return reader_failed(r->path, r->r, st);
+    *rows = igea_io_reader_view_rows(r->r);
     *nread = got;
     return CLI_OK;
 }
@@ -315,6 +329,34 @@ static void install_handlers(void)
         sa.sa_flags = SA_RESETHAND;
         sigaction(sigs[k], &sa, NULL);
     }
+}
+
+/* A file mapped by the reader (IGEA_IO_MAP) that another process shortens
+ * while a block of it is read raises SIGBUS: the temporary outputs are
+ * removed and the driver exits 66 with a message instead of a core dump. */
+static void on_sigbus(int sig)
+{
+    static const char msg[] = "igea: an input file was shortened while it was being read "
+                              "(SIGBUS)\n";
+    (void)sig;
+    for (int i = 0; i < TMP_SLOTS; i++)
+        if (tmp_used[i])
+            unlink(tmp_paths[i]);
+    if (write(2, msg, sizeof msg - 1) < 0) {
+        /* nothing more can be done in a signal handler */
+    }
+    _exit(CLI_NOINPUT);
+}
+
+static void install_sigbus(void)
+{
+    struct sigaction old, sa;
+    if (sigaction(SIGBUS, NULL, &old) != 0 || old.sa_handler != SIG_DFL)
+        return; /* a host program's own handler, or an inherited 'ignore' */
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_sigbus;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGBUS, &sa, NULL);
 }
 
 /* Slot + 1 of a registered path, 0 when the table is full. */

@@ -185,6 +185,8 @@ BASE = {
     'igea_eqerr_solve_qr': dict(R='set:audit_upper(b_, 4, 4, 10.0);', ldr='N + 1', rows='20.0',
                                 opts=EQ_OPTS),
     'igea_eqerr_run': dict(m='12', track_sigma='c:0.05', opts=EQ_OPTS, _req=['S', 'dw', 'z']),
+    'igea_eqerr_run_layout': dict(m='12', track_sigma='c:0.05', opts=EQ_OPTS,
+                                  _req=['S', 'dw', 'z']),
     'igea_eqerr_coef': dict(P='u', equiv_err='u', n_test='2', _int=dict(n_test='nonneg'),
                             _req=['coef']),
     'igea_eqerr_residual': dict(coef='u', row0='0', axis_ss='0', _zero_ok=['m']),
@@ -681,6 +683,8 @@ BASE = {
     'igea_io_reader_message': dict(_opt=['r']),
     'igea_io_reader_next': dict(maxrows='2', _int=dict(maxrows='size'), _progress=['buf'],
                                 _req=['r', 'buf', 'nread']),
+    'igea_io_reader_view': dict(maxrows='2', _int=dict(maxrows='size'), _req=['r', 'nread']),
+    'igea_io_reader_view_rows': dict(_opt=['r']),
     'igea_io_reader_rewind': dict(r='io2', _req=['r']),
     'igea_io_reader_load': dict(_req=['r']),
     'igea_io_reader_info': dict(_req=['r', 'info']),
@@ -702,6 +706,14 @@ VARIANTS = {
                            tiny_sigma=dict(track_sigma='c:1e-310', _expect='any'),
                            threads=dict(opts='set:igea_eqerr_defaults(b_);'
                                              ' b_[IGEA_EQERR_OPT_THREADS] = 2;')),
+    'igea_eqerr_run_layout': dict(rows=dict(layout='IGEA_ROWMAJOR', lds='N'),
+                                  rows_svd=dict(layout='IGEA_ROWMAJOR', lds='N',
+                                                opts='set:igea_eqerr_defaults(b_);'
+                                                     ' b_[IGEA_EQERR_OPT_ROUTE] = '
+                                                     'IGEA_EQERR_ROUTE_SVD;'),
+                                  rows_threads=dict(layout='IGEA_ROWMAJOR', lds='N',
+                                                    opts='set:igea_eqerr_defaults(b_);'
+                                                         ' b_[IGEA_EQERR_OPT_THREADS] = 3;')),
     'igea_regress_ridge': dict(wide=WIDE, hkb=dict(rule='IGEA_REGRESS_RIDGE_HKB', _ignored=['k']),
                                lw=dict(rule='IGEA_REGRESS_RIDGE_LW', _ignored=['k']),
                                gcv=dict(rule='IGEA_REGRESS_RIDGE_GCV', _ignored=['k']),

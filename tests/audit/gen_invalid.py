@@ -280,6 +280,8 @@ def generate(funcs):
             body += '    return 0;\n'
         elif f.ret == 'const char *':
             body = '    return %s != NULL ? 0 : -1;\n' % callexpr
+        elif f.ret == 'const double *':  # a view: NULL is a valid answer
+            body = '    (void)%s;\n    return 0;\n' % callexpr
         elif entry.get('_ret') == 'bool':
             body = '    int r = %s;\n    return r == 1 ? 0 : r == 0 ? -1 : -2;\n' % callexpr
         elif f.ret == 'int':

@@ -375,3 +375,30 @@ def test_result_fields_are_the_documented_ones():
     assert "alpha = 0.05" in r.summary()
     with pytest.raises(dataclasses.FrozenInstanceError):
         r.chi2 = 0.0
+
+
+@pytest.mark.parametrize("route, threads", [("eig", None), ("eig", 2), ("svd", None)])
+def test_c_order_S_is_read_in_place(route, threads):
+    """A C-order S (numpy's default) goes to igea_eqerr_run_layout row by
+    row: no transposed copy is made (tracemalloc sees numpy's allocations:
+    the peak stays far below S's size), and the result equals the
+    Fortran-order one (igea_eqerr_run) to rounding; the Fortran-order call
+    is the same bits whatever the input's order was before."""
+    import tracemalloc
+    S, dw, sigma, spec, _ = flight(21, m=30000, N=20)
+    Sc, Sf = np.ascontiguousarray(S), np.asfortranarray(S)
+    rf = igea.eqerr(Sf, dw, sigma, spec, route=route, threads=threads)
+    tracemalloc.start()
+    rc = igea.eqerr(Sc, dw, sigma, spec, route=route, threads=threads)
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    assert peak < Sc.nbytes / 4, (peak, Sc.nbytes)
+    lam = rf.eigenvalues
+    assert np.allclose(rc.eigenvalues, lam, rtol=0, atol=1e-11 * lam[0])
+    assert rc.rank == rf.rank and rc.n_test == rf.n_test and rc.passed == rf.passed
+    assert rc.chi2 == pytest.approx(rf.chi2, rel=1e-8)
+    assert np.allclose(rc.residual, rf.residual, rtol=0, atol=1e-9 * np.abs(dw).max())
+    assert np.allclose(rc.rms, rf.rms, rtol=1e-9)
+    # the same Fortran-order input gives the same bits again
+    again = igea.eqerr(np.asfortranarray(Sc), dw, sigma, spec, route=route, threads=threads)
+    assert np.array_equal(again.residual, rf.residual) and again.chi2 == rf.chi2

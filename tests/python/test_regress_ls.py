@@ -74,3 +74,46 @@ def test_ebr_rank_tol():
     assert r.rank == 5
     assert abs(r.rank_tol / (20 * np.finfo(float).eps * s[0]) - 1) < 1e-12
     assert s[4] > r.rank_tol > s[5]
+
+
+def test_tall_designs_through_the_qr_factor():
+    """m >= 2N rows go through the QR factor of the weighted design (no U,
+    docs/regress.md "Tall designs"): x, sd, residuals and the leverages
+    against numpy's QR of the whole weighted design, written here, for a
+    well-conditioned design (leverages from the factor, to 1e-12) and one
+    with s_1/s_r ~ 1e8 (leverages from U of the full SVD); the residual sum
+    of squares rho^2 + sum z_i^2 beyond the rank against numpy's."""
+    rng = np.random.default_rng(11)
+    m, N = 3000, 12
+    for scales in (np.ones(N), np.logspace(0, -7, N)):
+        Q0, _ = np.linalg.qr(rng.standard_normal((m, N)))
+        V0, _ = np.linalg.qr(rng.standard_normal((N, N)))
+        A = (Q0 * np.logspace(0, -1, N)) @ (V0 * scales).T * 50.0
+        sg = 0.5 + rng.random(m)
+        y = A @ rng.standard_normal(N) + sg * rng.standard_normal(m)
+        r = igea.ls(A, y, sg)
+        Aw, yw = A / sg[:, None], y / sg
+        Q, R = np.linalg.qr(Aw)
+        x = np.linalg.solve(R, Q.T @ yw)
+        e = y - A @ x
+        s2 = np.sum((e / sg) ** 2) / (m - N)
+        Ri = np.linalg.inv(R)
+        # numpy's own error grows with the conditioning: eps cond
+        tol = 1e-14 + 4 * np.finfo(float).eps * np.linalg.cond(Aw)
+        np.testing.assert_allclose(r.x, x, rtol=tol)
+        np.testing.assert_allclose(r.sigma2, s2, rtol=1e-12)
+        np.testing.assert_allclose(r.residual, e, rtol=0, atol=tol * np.abs(y).max())
+        np.testing.assert_allclose(r.sd, np.sqrt(s2 * np.sum(Ri ** 2, axis=1)), rtol=10 * tol)
+        # the leverages of an ill-conditioned design move by eps cond with the
+        # rounding of its columns' scaling (numpy's of the equilibrated
+        # design differ from its own as much)
+        np.testing.assert_allclose(r.leverage, np.sum(Q ** 2, axis=1), rtol=1e-12 + 10 * tol)
+        assert r.rank == N and r.refine_steps >= 1
+    # rank-deficient (two equal columns): minimum-norm solution, RSS from
+    # the components of Q^T y beyond the rank
+    A = np.column_stack([A[:, :N - 1], A[:, 0]])
+    r = igea.ls(A, y)
+    xs = np.linalg.pinv(A) @ y
+    np.testing.assert_allclose(r.x, xs, rtol=1e-8)
+    assert r.rank == N - 1
+    np.testing.assert_allclose(r.sigma2, np.sum((y - A @ xs) ** 2) / (m - N + 1), rtol=1e-10)
