@@ -2,11 +2,63 @@
 #ifndef IGEA_STABILITY_INTERNAL_H
 #define IGEA_STABILITY_INTERNAL_H
 
+#include "internal.h"
+
 /* Greenhall and Riley's EDF (PTTI 2003) of a difference variance: noise
  * exponent a (-2 .. 2), difference order d (2 Allan, 3 Hadamard), averaging
  * factor m, N phase points, overlapping (stride m) or not, modified (F = 1)
  * or not (F = m). stability_dev.c. */
 double igea__stability_edf_greenhall(int a, int d, double m, double N, int overlapping,
                                      int modified);
+
+/* ---- one pass over a record for every tau (stability_pass.c) ---- */
+
+#define IGEA__AP_BLOCK 1024 /* phase points per block */
+#define IGEA__AP_AV 2       /* second differences x_e - 2 x_{e-m} + x_{e-2m} */
+#define IGEA__AP_HV 3       /* third differences */
+#define IGEA__AP_MV 4       /* sums of m second differences (modified) */
+
+typedef struct {
+    double hi, lo;
+} igea__apdd;
+
+/* Lag-1 sums of one series less its first value sh. */
+typedef struct {
+    double n, sh, first, last, prev;
+    igea__ksum s, ss, lag;
+} igea__apacf;
+
+/* One averaging time: factor m, the difference (IGEA__AP_*), stride 1
+ * (overlapping) or 0 (the terms whose last point is a multiple of m), acf 1
+ * to push the m-sample means to the lag-1 noise identification. */
+typedef struct {
+    long m;
+    int type, stride, acf;
+} igea__aptau_spec;
+
+typedef struct igea__apass igea__apass;
+
+/* A pass over phase points (phase 1) or rate samples (phase 0: integrated,
+ * the mean of the first block removed) for ntau averaging times; nhint the
+ * points expected (0: unknown; the ring of blocks grows as needed). Returns
+ * 0 or IGEA_ENOMEM. */
+int igea__apass_new(int phase, int ntau, const igea__aptau_spec *spec, long nhint,
+                    igea__apass **out);
+/* n more values; 0, IGEA_ENOMEM (a ring that could not grow), -1 after end. */
+int igea__apass_feed(igea__apass *p, long n, const double *v);
+/* The end of the record: the last block's terms. 0 or IGEA_ENOMEM. */
+int igea__apass_end(igea__apass *p);
+/* Sum of the squared terms of tau j (phase units: the rate samples' sums)
+ * and their count. */
+void igea__apass_get(const igea__apass *p, int j, double *sumsq, long *count);
+/* The lag-1 noise type of tau j from its m-sample means (acf set), or
+ * IGEA_STABILITY_NOISE_AUTO with fewer than 32 means. */
+int igea__apass_alpha(const igea__apass *p, int j);
+/* Phase points seen; the offset removed from rate samples. */
+long igea__apass_points(const igea__apass *p);
+/* 1 when a fed value was NaN or infinite (the sums are then meaningless). */
+int igea__apass_nonfinite(const igea__apass *p);
+double igea__apass_offset(const igea__apass *p);
+void igea__apass_free(igea__apass *p);
 
 #endif

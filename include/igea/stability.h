@@ -7,8 +7,12 @@
  *
  * The record y holds rate-type samples (a gyro's rate, an accelerometer's
  * acceleration; in frequency-stability terms "frequency data") taken at fs
- * samples per second. All sums are compensated; the Allan routines need
- * no memory beyond their outputs (running window sums, O(n) per tau).
+ * samples per second. The Allan and Hadamard deviations of every tau of a
+ * call are computed in one pass over the record (the integrated phase kept
+ * block by block, each block as a double-double base and values relative
+ * to it, in a ring as long as the longest lag: about 2 m_max doubles, 3
+ * m_max for the modified kinds; sums of squares in blocks, the block totals
+ * compensated; docs/stability.md "One pass").
  */
 #ifndef IGEA_STABILITY_H
 #define IGEA_STABILITY_H
