@@ -653,6 +653,49 @@ static double *gap_phase(int n, const double *v, double fs, int type, long *P, l
     return x;
 }
 
+/* ---- one pass for the Allan and Hadamard kinds (stability_pass.c) ---- */
+
+/* The deviations d of ADEV .. OHDEV at the factors m[ntau] of the record v
+ * (n frequency samples or phase points) in one pass. 0 or IGEA_ENOMEM. */
+static int dev_pass(int n, const double *v, double fs, int data_type, int kind, int ntau,
+                    const long *m, double *d)
+{
+    igea__aptau_spec *sp = malloc((size_t)ntau * sizeof *sp);
+    igea__apass *p = NULL;
+    if (!sp)
+        return IGEA_ENOMEM;
+    int had = kind == IGEA_STABILITY_ALLAN_HDEV || kind == IGEA_STABILITY_ALLAN_OHDEV;
+    int mod = kind == IGEA_STABILITY_ALLAN_MDEV || kind == IGEA_STABILITY_ALLAN_TDEV;
+    for (int j = 0; j < ntau; j++) {
+        sp[j].m = m[j];
+        sp[j].type = mod ? IGEA__AP_MV : had ? IGEA__AP_HV : IGEA__AP_AV;
+        sp[j].stride = kind != IGEA_STABILITY_ALLAN_ADEV && kind != IGEA_STABILITY_ALLAN_HDEV;
+        sp[j].acf = 0;
+    }
+    int phase = data_type == IGEA_STABILITY_DATA_PHASE;
+    int st = igea__apass_new(phase, ntau, sp, phase ? (long)n : (long)n + 1, &p);
+    if (!st)
+        st = igea__apass_feed(p, n, v);
+    if (!st)
+        st = igea__apass_end(p);
+    for (int j = 0; j < ntau && !st; j++) {
+        double ss, md = (double)m[j], tau = md / fs;
+        long cnt;
+        igea__apass_get(p, j, &ss, &cnt);
+        /* phase data in seconds: / tau^2; frequency: the samples' sums / m^2 */
+        double sc = phase ? tau * tau : md * md;
+        double var = ss / ((had ? 6.0 : 2.0) * (double)cnt * sc);
+        if (mod)
+            var /= md * md;
+        d[j] = sqrt(var);
+        if (kind == IGEA_STABILITY_ALLAN_TDEV)
+            d[j] *= tau / sqrt(3.0);
+    }
+    igea__apass_free(p);
+    free(sp);
+    return st;
+}
+
 /* ---- the entry points ---- */
 
 /* Mean of Htotvar / Hvar by noise type (Howe et al.; Stable32 divides it
@@ -852,8 +895,14 @@ int igea_stability_dev(int n, const double *x, double fs, int data_type, int nta
     for (int j = 0; j < ntau; j++) {
         s.m[j] = dev_factor(kind, tau[j], fs, N);
         s.used[j] = dev_terms(kind, N, s.m[j]);
-        d[j] = gaps ? gap_one(kind, N, s.x, s.m[j], tau0, &g, &s.used[j])
-                    : dev_one(kind, N, s.x, s.y, s.m[j], tau0, s.w, s.q);
+    }
+    int pass = !gaps && gap_kind(kind); /* the Allan and Hadamard kinds: one pass */
+    if (pass && (st = dev_pass(n, x, fs, data_type, kind, ntau, s.m, d)))
+        goto out;
+    for (int j = 0; j < ntau; j++) {
+        if (!pass)
+            d[j] = gaps ? gap_one(kind, N, s.x, s.m[j], tau0, &g, &s.used[j])
+                        : dev_one(kind, N, s.x, s.y, s.m[j], tau0, s.w, s.q);
         if (gaps && s.used[j] < 1)
             st = IGEA_ENONFINITE; /* every term of this tau holds a gap */
         s.al[j] = need_id ? noise_at(N, s.x, s.m[j], tau0, data_type, s.z) : noise;
@@ -867,6 +916,7 @@ int igea_stability_dev(int n, const double *x, double fs, int data_type, int nta
             st = IGEA_ENOCONV;
     if (!st)
         dev_output(&s, kind, ntau, tau0, dev, lo, hi, edf, alpha, count, tau_used);
+out:
     ws_free(&s);
     return st;
 }
