@@ -61,4 +61,8 @@ int igea__apass_nonfinite(const igea__apass *p);
 double igea__apass_offset(const igea__apass *p);
 void igea__apass_free(igea__apass *p);
 
+/* Sum over len values of ((a - b) + (c - e))^2 (Theo1's terms). */
+double igea__ap_sumsq4(const double *a, const double *b, const double *c, const double *e,
+                       long len);
+
 #endif

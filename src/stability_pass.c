@@ -416,6 +416,22 @@ AP_CLONES static double seg_mv0(const double *v0, const double *v1, const double
 #undef AP_MV0_T
 }
 
+/* Sum over len values of ((a - b) + (c - e))^2 (Theo1's terms at one
+ * offset), eight lanes as the other kernels. */
+AP_CLONES double igea__ap_sumsq4(const double *a, const double *b, const double *c,
+                                 const double *e, long len)
+{
+#define AP_T1_T(l) ((a[i + l] - b[i + l]) + (c[i + l] - e[i + l]))
+#if AP_VEC
+#define AP_T1_V(l) ((AP_LD(a + i + l) - AP_LD(b + i + l)) + (AP_LD(c + i + l) - AP_LD(e + i + l)))
+    AP_VLANES8(AP_T1_V, AP_T1_T);
+#undef AP_T1_V
+#else
+    AP_LANES8(AP_T1_T);
+#endif
+#undef AP_T1_T
+}
+
 /* Coefficients of the difference at lags 0, m, 2m, 3m. */
 static const double cAV[4] = {1, -2, 1, 0}, cHV[4] = {1, -3, 3, -1};
 

@@ -169,6 +169,17 @@ IGEA_API int igea_stability_noise_id(int ntau, const double *tau,
 #define IGEA_STABILITY_ALLAN_THEO1 13
 #define IGEA_STABILITY_ALLAN_MTIE 14
 #define IGEA_STABILITY_ALLAN_TIERMS 15
+/* THEOBR  Theo1 with its bias relative to the Allan variance removed (Taylor
+ *          and Howe 2010): k Theo1(m), k = (1 / (n + 1)) sum_{i=0}^{n}
+ *          AVAR(9 + 3i) / Theo1(12 + 4i) (the overlapping Allan variance
+ *          and Theo1 at the same tau = (9 + 3i) tau0), n = floor(0.1 N / 3)
+ *          - 3 >= 0 (N >= 90 phase points); m even, tau = 0.75 m tau0
+ *                                                                M = N - m
+ *  THEOH   the hybrid (Howe, Taylor and Tasset 2006): the overlapping Allan
+ *          deviation at tau < k, THEOBR at tau >= k, k the largest tau0 2^j
+ *          <= 0.2 (N - 1) tau0 (N >= 90)                  M as OADEV, THEOBR */
+#define IGEA_STABILITY_ALLAN_THEOBR 16
+#define IGEA_STABILITY_ALLAN_THEOH 17
 
 /* Data types of igea_stability_dev (IGEA_CHOICE_STABILITY_DATA). */
 #define IGEA_STABILITY_DATA_FREQ 0  /* rate / fractional-frequency samples y_i */

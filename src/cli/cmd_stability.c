@@ -57,9 +57,10 @@ static const cli_command command = {"stability",
 "                   freedom (NIST SP 1065; the noise type per tau from the\n"
 "                   lag-1 autocorrelation, or fixed with --noise);\n"
 "  Stable32 kinds   adev oadev mdev tdev hdev ohdev totdev mtotdev ttotdev\n"
-"                   htotdev theo1 mtie tierms (NIST SP 1065) of frequency or,\n"
-"                   with --phase, phase data; Greenhall's EDF, the noise type\n"
-"                   identified at each tau on its own (alpha);\n"
+"                   htotdev theo1 theobr theoh mtie tierms (NIST SP 1065) of\n"
+"                   frequency or, with --phase, phase data; the kind's EDF\n"
+"                   (Greenhall's, Howe's total-family tables, Theo1's), the\n"
+"                   noise type identified at each tau on its own (alpha);\n"
 "  noise terms      the IEEE Std 952 model 3Q^2/tau^2 + N^2/tau + (2 ln2/pi) B^2\n"
 "                   + K^2 tau/3 + R^2 tau^2/2 fitted to the whole Allan curve\n"
 "                   (weights from the EDF, coefficients >= 0): quantisation Q,\n"
@@ -89,8 +90,8 @@ static int fit_kind(int k)
            k == IGEA_STABILITY_ALLAN_TOTDEV;
 }
 
-/* Kinds with an interval. */
-static int has_ci(int k) { return k < IGEA_STABILITY_ALLAN_HTOTDEV; }
+/* Kinds with an interval (all but MTIE and TIERMS). */
+static int has_ci(int k) { return k != IGEA_STABILITY_ALLAN_MTIE && k != IGEA_STABILITY_ALLAN_TIERMS; }
 
 static int parse(int argc, char **argv, st_args *a)
 {
@@ -392,7 +393,8 @@ static int compute(const st_args *a, const double *y, st_result *r)
         return cli_status(st, st == DEV_ARG_TAUS || (st == ALLAN_ARG_TAUS &&
                                                      kind <= IGEA_STABILITY_ALLAN_NONOVERLAPPING)
                                   ? "stability: a tau is shorter than 1 sample or too long for "
-                                    "the record (theo1: tau = 0.75 m / fs, m even)"
+                                    "the record (theo1, theobr: tau = 0.75 m / fs, m even; theobr and theoh "
+                                    "need 90 phase points)"
                                   : "stability: deviation");
     return fit_curve(a, r);
 }

@@ -739,8 +739,9 @@ VARIANTS = {
     'igea_stability_dev': dict(
         phase_mtotdev=dict(data_type='IGEA_STABILITY_DATA_PHASE', kind='IGEA_STABILITY_ALLAN_MTOTDEV',
                            noise='IGEA_STABILITY_NOISE_AUTO'),
-        theo1=dict(kind='IGEA_STABILITY_ALLAN_THEO1', tau='[0.15, 0.3, 1.5]', lo='NULL', hi='NULL',
-                   edf='NULL', _req=['tau', 'lo', 'hi', 'edf']),
+        theo1=dict(kind='IGEA_STABILITY_ALLAN_THEO1', tau='[0.15, 0.3, 1.5]'),
+        theobr=dict(kind='IGEA_STABILITY_ALLAN_THEOBR', tau='[0.15, 0.3, 1.5]'),
+        theoh=dict(kind='IGEA_STABILITY_ALLAN_THEOH', tau='[0.1, 0.2, 4.5]'),
         mtie=dict(kind='IGEA_STABILITY_ALLAN_MTIE', lo='NULL', hi='NULL', edf='NULL'),
-        htotdev=dict(kind='IGEA_STABILITY_ALLAN_HTOTDEV', lo='NULL', hi='NULL', edf='NULL')),
+        htotdev=dict(kind='IGEA_STABILITY_ALLAN_HTOTDEV')),
 }
