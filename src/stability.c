@@ -43,6 +43,13 @@ int igea_stability_block(int n, const double *y, double fs, double block,
         return IGEA_ENOMEM;
     for (long b = 0; b < B; b++)
         m[b] = mean_of((size_t)nb, y + (size_t)b * (size_t)nb);
+    igea__stability_block_stats(B, m, nb, out);
+    free(m);
+    return 0;
+}
+
+void igea__stability_block_stats(long B, const double *m, long nb, double *out)
+{
     double mm = mean_of((size_t)B, m);
     igea__ksum ss = {0, 0}, sd = {0, 0};
     for (long b = 0; b < B; b++) {
@@ -60,8 +67,6 @@ int igea_stability_block(int n, const double *y, double fs, double block,
     out[IGEA_STABILITY_BLOCK_NSAMP] = (double)nb;
     out[IGEA_STABILITY_BLOCK_MEAN] = mm;
     out[IGEA_STABILITY_BLOCK_ADEV] = sqrt(igea__ksum_get(&sd) / (2.0 * (double)(B - 1)));
-    free(m);
-    return 0;
 }
 
 /* Terms (count) of an estimator with averaging factor m; <= 0: none. */
@@ -168,12 +173,8 @@ static int allan_devs(int n, const double *y, double fs, int ntau, const double 
     igea__apass *p = NULL;
     if (!sp)
         return IGEA_ENOMEM;
-    for (int j = 0; j < ntau; j++) {
-        sp[j].m = lround(tau[j] * fs);
-        sp[j].type = kind == IGEA_STABILITY_ALLAN_MODIFIED ? IGEA__AP_MV : IGEA__AP_AV;
-        sp[j].stride = kind != IGEA_STABILITY_ALLAN_NONOVERLAPPING;
-        sp[j].acf = al != NULL;
-    }
+    for (int j = 0; j < ntau; j++)
+        igea__stability_pass_spec(kind, lround(tau[j] * fs), al != NULL, &sp[j]);
     int st = igea__apass_new(0, ntau, sp, (long)n + 1, &p);
     if (!st)
         st = igea__apass_feed(p, n, y);
@@ -182,12 +183,10 @@ static int allan_devs(int n, const double *y, double fs, int ntau, const double 
     if (!st && igea__apass_nonfinite(p))
         st = IGEA_ENONFINITE;
     for (int j = 0; j < ntau && !st; j++) {
-        double ss, md = (double)sp[j].m;
+        double ss;
         long cnt;
         igea__apass_get(p, j, &ss, &cnt);
-        double den = kind == IGEA_STABILITY_ALLAN_MODIFIED ? 2.0 * md * md * md * md
-                                                          : 2.0 * md * md;
-        d[j] = sqrt(ss / (den * (double)cnt));
+        d[j] = igea__stability_pass_dev(kind, 0, fs, sp[j].m, ss, cnt);
         cw[j] = (int)cnt;
         if (al)
             al[j] = igea__apass_alpha(p, j);
@@ -200,11 +199,10 @@ static int allan_devs(int n, const double *y, double fs, int ntau, const double 
 /* Equivalent degrees of freedom e and the chi-square interval [l, h] of
  * every deviation d at confidence conf (noise type given or identified per
  * tau). Returns 0 or IGEA_ENOCONV. */
-static int allan_intervals(int n, const double *y, double fs, int ntau, const double *tau,
-                           int kind, int noise, double conf, const int *al, const double *d,
-                           double *l, double *h, double *e)
+int igea__stability_allan_intervals(int n, double fs, int ntau, const double *tau, int kind,
+                                    int noise, double conf, const int *al, const double *d,
+                                    double *l, double *h, double *e)
 {
-    (void)y;
     int last_alpha = IGEA_STABILITY_NOISE_WFM;
     for (int j = 0; j < ntau; j++) {
         int alpha = noise;
@@ -284,7 +282,8 @@ int igea_stability_allan(int n, const double *y, double fs, int ntau,
     int status = allan_devs(n, y, fs, ntau, tau, kind, d, cw,
                             noise == IGEA_STABILITY_NOISE_AUTO ? al : NULL);
     if (!status)
-        status = allan_intervals(n, y, fs, ntau, tau, kind, noise, conf, al, d, l, h, e);
+        status = igea__stability_allan_intervals(n, fs, ntau, tau, kind, noise, conf, al, d, l,
+                                                 h, e);
     if (status == 0) {
         size_t sz = (size_t)ntau * sizeof(double);
         memcpy(dev, d, sz);

@@ -767,6 +767,47 @@ static double *gap_phase(int n, const double *v, double fs, int type, long *P, l
     return x;
 }
 
+/* ---- what the stream (stability_stream.c) shares ---- */
+
+long igea__stability_dev_factor(int kind, double tau, double fs, long N)
+{
+    return dev_factor(kind, tau, fs, N);
+}
+
+long igea__stability_dev_terms(int kind, long N, long m) { return dev_terms(kind, N, m); }
+
+double igea__stability_dev_edf(int kind, int alpha, double N, double m)
+{
+    return dev_edf(kind, alpha, N, m);
+}
+
+void igea__stability_pass_spec(int kind, long m, int acf, igea__aptau_spec *sp)
+{
+    int had = kind == IGEA_STABILITY_ALLAN_HDEV || kind == IGEA_STABILITY_ALLAN_OHDEV;
+    int mod = kind == IGEA_STABILITY_ALLAN_MDEV || kind == IGEA_STABILITY_ALLAN_TDEV ||
+              kind == IGEA_STABILITY_ALLAN_MODIFIED;
+    sp->m = m;
+    sp->type = mod ? IGEA__AP_MV : had ? IGEA__AP_HV : IGEA__AP_AV;
+    sp->stride = kind != IGEA_STABILITY_ALLAN_ADEV && kind != IGEA_STABILITY_ALLAN_HDEV &&
+                 kind != IGEA_STABILITY_ALLAN_NONOVERLAPPING;
+    sp->acf = acf;
+}
+
+double igea__stability_pass_dev(int kind, int phase, double fs, long m, double ss, long cnt)
+{
+    int had = kind == IGEA_STABILITY_ALLAN_HDEV || kind == IGEA_STABILITY_ALLAN_OHDEV;
+    int mod = kind == IGEA_STABILITY_ALLAN_MDEV || kind == IGEA_STABILITY_ALLAN_TDEV ||
+              kind == IGEA_STABILITY_ALLAN_MODIFIED;
+    double md = (double)m, tau = md / fs;
+    /* phase data in seconds: / tau^2; frequency: the samples' sums / m^2 */
+    double sc = phase ? tau * tau : md * md;
+    double var = ss / ((had ? 6.0 : 2.0) * (double)cnt * sc);
+    if (mod)
+        var /= md * md;
+    double d = sqrt(var);
+    return kind == IGEA_STABILITY_ALLAN_TDEV ? d * tau / sqrt(3.0) : d;
+}
+
 /* ---- one pass for the Allan and Hadamard kinds (stability_pass.c) ---- */
 
 /* The deviations d of ADEV .. OHDEV at the factors m[ntau] of the record v
@@ -778,14 +819,8 @@ static int dev_pass(int n, const double *v, double fs, int data_type, int kind, 
     igea__apass *p = NULL;
     if (!sp)
         return IGEA_ENOMEM;
-    int had = kind == IGEA_STABILITY_ALLAN_HDEV || kind == IGEA_STABILITY_ALLAN_OHDEV;
-    int mod = kind == IGEA_STABILITY_ALLAN_MDEV || kind == IGEA_STABILITY_ALLAN_TDEV;
-    for (int j = 0; j < ntau; j++) {
-        sp[j].m = m[j];
-        sp[j].type = mod ? IGEA__AP_MV : had ? IGEA__AP_HV : IGEA__AP_AV;
-        sp[j].stride = kind != IGEA_STABILITY_ALLAN_ADEV && kind != IGEA_STABILITY_ALLAN_HDEV;
-        sp[j].acf = 0;
-    }
+    for (int j = 0; j < ntau; j++)
+        igea__stability_pass_spec(kind, m[j], 0, &sp[j]);
     int phase = data_type == IGEA_STABILITY_DATA_PHASE;
     int st = igea__apass_new(phase, ntau, sp, phase ? (long)n : (long)n + 1, &p);
     if (!st)
@@ -793,17 +828,10 @@ static int dev_pass(int n, const double *v, double fs, int data_type, int kind, 
     if (!st)
         st = igea__apass_end(p);
     for (int j = 0; j < ntau && !st; j++) {
-        double ss, md = (double)m[j], tau = md / fs;
+        double ss;
         long cnt;
         igea__apass_get(p, j, &ss, &cnt);
-        /* phase data in seconds: / tau^2; frequency: the samples' sums / m^2 */
-        double sc = phase ? tau * tau : md * md;
-        double var = ss / ((had ? 6.0 : 2.0) * (double)cnt * sc);
-        if (mod)
-            var /= md * md;
-        d[j] = sqrt(var);
-        if (kind == IGEA_STABILITY_ALLAN_TDEV)
-            d[j] *= tau / sqrt(3.0);
+        d[j] = igea__stability_pass_dev(kind, phase, fs, m[j], ss, cnt);
     }
     igea__apass_free(p);
     free(sp);

@@ -65,4 +65,24 @@ void igea__apass_free(igea__apass *p);
 double igea__ap_sumsq4(const double *a, const double *b, const double *c, const double *e,
                        long len);
 
+/* ---- what stability.c, stability_dev.c and the stream share ---- */
+
+/* The block statistic of B >= 2 block means of nb samples into out
+ * (IGEA_STABILITY_BLOCK_LEN). stability.c. */
+void igea__stability_block_stats(long B, const double *means, long nb, double *out);
+/* EDF and intervals of the rate-data kinds (igea_stability_allan's rules,
+ * the noise type of a tau with too few means carried from the tau before).
+ * stability.c. 0 or IGEA_ENOCONV. */
+int igea__stability_allan_intervals(int n, double fs, int ntau, const double *tau, int kind,
+                                    int noise, double conf, const int *al, const double *d,
+                                    double *l, double *h, double *e);
+/* igea_stability_dev's factor of tau, term count and EDF (stability_dev.c). */
+long igea__stability_dev_factor(int kind, double tau, double fs, long N);
+long igea__stability_dev_terms(int kind, long N, long m);
+double igea__stability_dev_edf(int kind, int alpha, double N, double m);
+/* The pass's setting of tau of an Allan or Hadamard kind (rate-data or
+ * Stable32), and the deviation from its sum of squares and count. */
+void igea__stability_pass_spec(int kind, long m, int acf, igea__aptau_spec *sp);
+double igea__stability_pass_dev(int kind, int phase, double fs, long m, double ss, long cnt);
+
 #endif

@@ -418,8 +418,8 @@ AP_CLONES static double seg_mv0(const double *v0, const double *v1, const double
 
 /* Sum over len values of ((a - b) + (c - e))^2 (Theo1's terms at one
  * offset), eight lanes as the other kernels. */
-AP_CLONES double igea__ap_sumsq4(const double *a, const double *b, const double *c,
-                                 const double *e, long len)
+AP_CLONES static double seg_t1(const double *a, const double *b, const double *c,
+                               const double *e, long len)
 {
 #define AP_T1_T(l) ((a[i + l] - b[i + l]) + (c[i + l] - e[i + l]))
 #if AP_VEC
@@ -430,6 +430,14 @@ AP_CLONES double igea__ap_sumsq4(const double *a, const double *b, const double 
     AP_LANES8(AP_T1_T);
 #endif
 #undef AP_T1_T
+}
+
+/* (A cloned function with external linkage would be exported whatever its
+ * visibility: the clones stay static.) */
+double igea__ap_sumsq4(const double *a, const double *b, const double *c, const double *e,
+                       long len)
+{
+    return seg_t1(a, b, c, e, len);
 }
 
 /* Coefficients of the difference at lags 0, m, 2m, 3m. */

@@ -249,6 +249,68 @@ IGEA_API int igea_stability_dev(int n, const double *x, double fs, int data_type
 IGEA_API int igea_stability_taus(int n, double fs, int data_type, int kind, int spacing,
                                  int ntau_max, double *tau, int *ntau);
 
+/* ---- the record as a stream (a driver reading a file in blocks) ---- */
+
+typedef struct igea_stability_stream igea_stability_stream;
+
+/*
+ * A stream of samples for the Allan and Hadamard kinds, whose results equal
+ * those of igea_stability_allan (kind IGEA_STABILITY_ALLAN_OVERLAPPING,
+ * _MODIFIED, _NONOVERLAPPING: rate data) or igea_stability_dev (_ADEV,
+ * _OADEV, _MDEV, _TDEV, _HDEV, _OHDEV on data_type data) on the whole
+ * record, bit for bit (the same one pass), without holding the record:
+ * memory is a ring of about 2 m_max (3 m_max for the modified kinds)
+ * doubles plus the block means of the block statistic. The averaging times
+ * are tau[ntau] (ntau >= 1; an average with no term by the end of the
+ * record makes the result IGEA_EEMPTY), or with ntau = 0 and tau NULL the
+ * octave or decade spacing (IGEA_STABILITY_TAUS_OCTAVE, _DECADE; the rate
+ * kinds octaves only), every one that has a term at the end (the ring then
+ * grows with the record up to the longest lag). The noise type for the EDF
+ * is given, or IGEA_STABILITY_NOISE_AUTO for the rate kinds only (their
+ * lag-1 identification from the tau-means, in the pass; the Stable32 kinds
+ * identify it on the whole record: igea_stability_dev). block > 0 adds
+ * igea_stability_block's statistic of blocks of block seconds (0: none).
+ * NaN and infinity are refused (no gaps: igea_stability_dev takes them).
+ *  1 fs > 0, 2 data_type IGEA_STABILITY_DATA_* (PHASE only for the Stable32
+ *  kinds), 3 kind (above), 4 noise IGEA_STABILITY_NOISE_* (AUTO only for
+ *  the rate kinds), 5 0 < conf < 1, 6 ntau >= 0, 7 tau[ntau] > 0 with
+ *  round(tau fs) >= 1 (NULL with ntau = 0), 8 spacing (read when ntau = 0),
+ *  9 block >= 0 (seconds), 10 out: the new stream (NULL on failure).
+ * Returns 0, -i, IGEA_ENOMEM.
+ */
+IGEA_API int igea_stability_stream_create(double fs, int data_type, int kind, int noise,
+                                          double conf, int ntau, const double *tau, int spacing,
+                                          double block, igea_stability_stream **out);
+/* Release a stream (h may be NULL). */
+IGEA_API void igea_stability_stream_free(igea_stability_stream *h);
+/* The next n >= 0 samples v[n] (rate samples, or phase points for phase
+ * data; at most 2^31 - 1 in all). Returns 0, -1 (h NULL), -2 (n < 0), -3
+ * (v NULL with n > 0), IGEA_EEMPTY (the stream has ended: its results were
+ * asked for), IGEA_ENOMEM (the ring could not grow: the stream is then
+ * unusable, and every later call returns IGEA_ENOMEM). */
+IGEA_API int igea_stability_stream_feed(igea_stability_stream *h, int n, const double *v);
+/* The samples fed so far (*n, an exact integer). Returns 0, -1, -2. */
+IGEA_API int igea_stability_stream_samples(const igea_stability_stream *h, double *n);
+/*
+ * The results at the end of the record: *ntau averaging times (at most
+ * ntau_max) in tau (the tau used: m / fs), dev, lo, hi, edf (each may be
+ * NULL), alpha (the noise exponent used, may be NULL), count (the terms,
+ * may be NULL), and block (IGEA_STABILITY_BLOCK_LEN doubles, may be NULL:
+ * igea_stability_block's statistic; with fewer than 2 whole blocks
+ * block[IGEA_STABILITY_BLOCK_NBLOCK] holds their number, 0 or 1, and the
+ * other entries NaN). The record ends with the first call (later feeds
+ * are refused); the results may be asked for again.
+ *  1 h, 2 ntau_max >= 1, 3 ntau out, 4 tau out [ntau_max], 5 dev out
+ *  [ntau_max], 6 lo, 7 hi, 8 edf, 9 alpha, 10 count (each [ntau_max] or
+ *  NULL), 11 block (or NULL).
+ * Returns 0, -i, IGEA_EEMPTY (fewer than 2 samples, a given tau without a
+ * term, or more taus than ntau_max), IGEA_ENONFINITE (a NaN or infinity
+ * was fed), IGEA_ENOMEM, IGEA_ENOCONV; outputs untouched on failure.
+ */
+IGEA_API int igea_stability_stream_result(igea_stability_stream *h, int ntau_max, int *ntau,
+                                          double *tau, double *dev, double *lo, double *hi,
+                                          double *edf, int *alpha, int *count, double *block);
+
 /* Terms of igea_stability_fit: the Allan variance of IEEE Std 952 (Annex C)
  * sigma^2(tau) = 3 Q^2 / tau^2 + N^2 / tau + (2 ln2 / pi) B^2 + K^2 tau / 3
  * + R^2 tau^2 / 2. With y in u (deg/h, m/s^2, ...) and tau in s: Q in u s
