@@ -191,7 +191,7 @@ int io_npy_next(igea_io_reader *r, long want, double *buf)
     if (st)
         return st;
     for (long k = 0; k < want * r->cols; k++)
-        if (!isfinite(buf[k]))
+        if (isinf(buf[k]) || (isnan(buf[k]) && !r->nan_ok))
             return io_fail(r, IGEA_EFORMAT, 0, 0, 0, "row %ld, column %ld: NaN or Inf",
                            r->next_row + k / r->cols + 1, (long)(k % r->cols) + 1);
     r->next_row += want;

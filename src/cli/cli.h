@@ -79,6 +79,8 @@ int cli_read_values(const char *arg, long n, const char *what, double **out, lon
 /* Streaming reader: row blocks of a text or .npy file in O(block) memory. */
 typedef struct cli_reader cli_reader;
 int cli_reader_open(const char *path, cli_reader **out);
+/* The same, reading the token NaN (and a .npy NaN) as a gap (IGEA_IO_NAN). */
+int cli_reader_open_gaps(const char *path, cli_reader **out);
 /* The same, for two passes: cli_reader_rewind starts the file again (a
  * non-seekable input is copied to an anonymous temporary file as it is read
  * and the second pass reads the copy). */

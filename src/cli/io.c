@@ -153,6 +153,10 @@ static int reader_open(const char *path, int flags, cli_reader **out)
 }
 
 int cli_reader_open(const char *path, cli_reader **out) { return reader_open(path, 0, out); }
+int cli_reader_open_gaps(const char *path, cli_reader **out)
+{
+    return reader_open(path, IGEA_IO_NAN, out);
+}
 int cli_reader_open_twice(const char *path, cli_reader **out)
 {
     return reader_open(path, IGEA_IO_TWICE, out);
