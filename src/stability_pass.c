@@ -125,8 +125,12 @@ typedef struct {
     int acf;       /* lag-1 autocorrelation of the m-sample means */
     igea__ksum sum;
     long cnt;
-    long nmean;    /* means pushed */
-    double zc[3];  /* the last three means */
+    long nmean;    /* means pushed to the sums */
+    double zc[3];  /* the last three means pushed */
+    double *zb;    /* means waiting: zb[3 ..], zb[0 .. 2] the three before */
+    long nzb, next_e; /* means waiting; the last point of the next mean */
+    igea__ksum lag2;  /* sum of w_j w_{j+2} of the first differences (shifted) */
+    double dfirst[2], dlast[2]; /* the first two and the last two differences */
     igea__apacf a[3];
 } aptau;
 
@@ -180,6 +184,8 @@ void igea__apass_free(igea__apass *p)
     free(p->Xb);
     free(p->Wb);
     free(p->pend);
+    for (int j = 0; p->t && j < p->ntau; j++)
+        free(p->t[j].zb);
     free(p->t);
     free(p->z);
     free(p->lbuf);
@@ -252,6 +258,13 @@ int igea__apass_new(int phase, int ntau, const igea__aptau_spec *spec, long nhin
         t->stride = spec[j].stride;
         t->acf = spec[j].acf;
         t->span = (t->type == IGEA__AP_AV ? 2 : 3) * t->m;
+        if (t->acf) { /* the three means before, 255 waiting, a block's */
+            t->next_e = t->m;
+            if (!(t->zb = igea__dalloc(3 + 255 + AP_B / (size_t)t->m + 1))) {
+                igea__apass_free(p);
+                return IGEA_ENOMEM;
+            }
+        }
         if (t->span > span)
             span = t->span;
         if (t->type == IGEA__AP_MV)
@@ -601,16 +614,15 @@ static long means_of(const igea__apass *p, long m, long e0, long e1, double *z)
     return K;
 }
 
-/* Sums over i < K of the three series' shifted values w_r(i) = v_r(i) -
- * sh[r] (v_0 = z, v_1 = its first, v_2 = its second differences), their
- * squares and the products with the previous value: out[3 r + 0..2]. z[-3]
- * .. z[-1] hold the three means before z[0]. Four lanes in a fixed order. */
-AP_CLONES static void acf3_sums(const double *z, long K, const double *sh, double *out)
+/* Sums over i < K of the shifted means w0(i) = z(i) - sh0 and first
+ * differences w1(i) = (z(i) - z(i-1)) - sh1: out = {sum w0, sum w0^2, sum
+ * w0(i-1) w0(i), sum w1, sum w1^2, sum w1(i-1) w1(i), sum w1(i-2) w1(i)}
+ * (the second differences' sums follow from the last two, docs). z[-3] ..
+ * z[-1] hold the three means before z[0]. Four lanes in a fixed order. */
+AP_CLONES static void acf_sums(const double *z, long K, double h0, double h1, double *out)
 {
-    const double h0 = sh[0], h1 = sh[1], h2 = sh[2];
 #define AP_ACF_DECL(l)                                                                    \
-    double s0##l = 0, q0##l = 0, g0##l = 0, s1##l = 0, q1##l = 0, g1##l = 0, s2##l = 0,   \
-           q2##l = 0, g2##l = 0
+    double s0##l = 0, q0##l = 0, g0##l = 0, s1##l = 0, q1##l = 0, g1##l = 0, k1##l = 0
     AP_ACF_DECL(0);
     AP_ACF_DECL(1);
     AP_ACF_DECL(2);
@@ -618,43 +630,36 @@ AP_CLONES static void acf3_sums(const double *z, long K, const double *sh, doubl
 #define AP_ACF_LANE(l)                                                                    \
     {                                                                                     \
         double a = z[i + l], b = z[i + l - 1], c = z[i + l - 2], e = z[i + l - 3];        \
-        double d = a - b, dp = b - c, dpp = c - e;                                        \
-        double w0 = a - h0, u0 = b - h0, w1 = d - h1, u1 = dp - h1;                       \
-        double w2 = (d - dp) - h2, u2 = (dp - dpp) - h2;                                  \
+        double w0 = a - h0, u0 = b - h0;                                                  \
+        double w1 = (a - b) - h1, u1 = (b - c) - h1, v1 = (c - e) - h1;                   \
         s0##l += w0;                                                                      \
         q0##l += w0 * w0;                                                                 \
         g0##l += u0 * w0;                                                                 \
         s1##l += w1;                                                                      \
         q1##l += w1 * w1;                                                                 \
         g1##l += u1 * w1;                                                                 \
-        s2##l += w2;                                                                      \
-        q2##l += w2 * w2;                                                                 \
-        g2##l += u2 * w2;                                                                 \
+        k1##l += v1 * w1;                                                                 \
     }
     long i = 0;
 #if AP_VEC
     {
-        ap_v4 S0 = {0, 0, 0, 0}, Q0 = S0, G0 = S0, S1 = S0, Q1 = S0, G1 = S0, S2 = S0, Q2 = S0,
-              G2 = S0;
+        ap_v4 S0 = {0, 0, 0, 0}, Q0 = S0, G0 = S0, S1 = S0, Q1 = S0, G1 = S0, K1 = S0;
         for (; i + 4 <= K; i += 4) {
             ap_v4 a = AP_LD(z + i), b = AP_LD(z + i - 1), c = AP_LD(z + i - 2),
                   e = AP_LD(z + i - 3);
-            ap_v4 d = a - b, dp = b - c, dpp = c - e;
-            ap_v4 w0 = a - h0, u0 = b - h0, w1 = d - h1, u1 = dp - h1;
-            ap_v4 w2 = (d - dp) - h2, u2 = (dp - dpp) - h2;
+            ap_v4 w0 = a - h0, u0 = b - h0;
+            ap_v4 w1 = (a - b) - h1, u1 = (b - c) - h1, v1 = (c - e) - h1;
             S0 += w0;
             Q0 += w0 * w0;
             G0 += u0 * w0;
             S1 += w1;
             Q1 += w1 * w1;
             G1 += u1 * w1;
-            S2 += w2;
-            Q2 += w2 * w2;
-            G2 += u2 * w2;
+            K1 += v1 * w1;
         }
 #define AP_ACF_GET(l)                                                                     \
     s0##l = S0[l], q0##l = Q0[l], g0##l = G0[l], s1##l = S1[l], q1##l = Q1[l],            \
-    g1##l = G1[l], s2##l = S2[l], q2##l = Q2[l], g2##l = G2[l]
+    g1##l = G1[l], k1##l = K1[l]
         AP_ACF_GET(0);
         AP_ACF_GET(1);
         AP_ACF_GET(2);
@@ -674,25 +679,23 @@ AP_CLONES static void acf3_sums(const double *z, long K, const double *sh, doubl
 #define AP_ACF_SUM(v) ((v##0 + v##1) + (v##2 + v##3))
     out[0] = AP_ACF_SUM(s0), out[1] = AP_ACF_SUM(q0), out[2] = AP_ACF_SUM(g0);
     out[3] = AP_ACF_SUM(s1), out[4] = AP_ACF_SUM(q1), out[5] = AP_ACF_SUM(g1);
-    out[6] = AP_ACF_SUM(s2), out[7] = AP_ACF_SUM(q2), out[8] = AP_ACF_SUM(g2);
+    out[6] = AP_ACF_SUM(k1);
 #undef AP_ACF_DECL
 #undef AP_ACF_LANE
 #undef AP_ACF_SUM
 }
 
-/* The m-sample means whose last point is in [e0, e1) (one block): pushed
- * to the lag-1 accumulators of the series, its first and second
+/* The means waiting in t->zb to the sums of the series and of its first
  * differences. */
-static void means_push(igea__apass *p, aptau *t, long e0, long e1)
+static void means_flush(aptau *t)
 {
-    long m = t->m, e = e0 <= m ? m : (e0 + m - 1) / m * m;
-    if (e >= e1)
+    double *zz = t->zb, *z = zz + 3;
+    long K = t->nzb, i = 0;
+    if (K == 0)
         return;
-    double *zz = p->z, *z = zz + 3;
     zz[0] = t->zc[0];
     zz[1] = t->zc[1];
     zz[2] = t->zc[2];
-    long K = means_of(p, m, e, e1, z), i = 0;
     /* the first three means of the record start the series one by one */
     for (; i < K && t->nmean + i < 3; i++) {
         long g = t->nmean + i;
@@ -700,30 +703,45 @@ static void means_push(igea__apass *p, aptau *t, long e0, long e1)
         if (g >= 1) {
             double d = z[i] - z[i - 1];
             acf_block(&t->a[1], &d, 1);
-            if (g >= 2) {
-                double d2 = d - (z[i - 1] - z[i - 2]);
-                acf_block(&t->a[2], &d2, 1);
-            }
+            t->dfirst[g - 1] = d;
         }
     }
     if (i < K) {
-        double sh[3] = {t->a[0].sh, t->a[1].sh, t->a[2].sh}, o[9];
-        acf3_sums(z + i, K - i, sh, o);
-        for (int r = 0; r < 3; r++) {
+        double o[7];
+        acf_sums(z + i, K - i, t->a[0].sh, t->a[1].sh, o);
+        for (int r = 0; r < 2; r++) {
             igea__apacf *a = &t->a[r];
-            double zl = z[K - 1], z1 = z[K - 2], z2 = z[K - 3];
-            double last = r == 0 ? zl : r == 1 ? zl - z1 : (zl - z1) - (z1 - z2);
+            double zl = z[K - 1], z1 = z[K - 2];
             igea__ksum_add(&a->s, o[3 * r]);
             igea__ksum_add(&a->ss, o[3 * r + 1]);
             igea__ksum_add(&a->lag, o[3 * r + 2]);
             a->n += (double)(K - i);
-            a->prev = a->last = last - a->sh;
+            a->prev = a->last = (r == 0 ? zl : zl - z1) - a->sh;
         }
+        igea__ksum_add(&t->lag2, o[6]);
+    }
+    if (t->nmean + K >= 3) {
+        t->dlast[0] = z[K - 2] - z[K - 3];
+        t->dlast[1] = z[K - 1] - z[K - 2];
     }
     t->nmean += K;
     t->zc[0] = z[K - 3];
     t->zc[1] = z[K - 2];
     t->zc[2] = z[K - 1];
+    t->nzb = 0;
+}
+
+/* The m-sample means whose last point is in [.., e1) of the current block
+ * wait in t->zb; 256 or more go to the sums. */
+static void means_push(igea__apass *p, aptau *t, long e1)
+{
+    if (t->next_e >= e1)
+        return;
+    long K = means_of(p, t->m, t->next_e, e1, t->zb + 3 + t->nzb);
+    t->nzb += K;
+    t->next_e += K * t->m;
+    if (t->nzb >= 256)
+        means_flush(t);
 }
 
 /* The terms with current phase index in block k at offsets [x0, x1) and
@@ -743,13 +761,8 @@ static void block_terms(igea__apass *p, long k, long x0, long x1, long w0, long 
             else
                 terms_stride(p, t, lo, hi);
         }
-        if (t->acf) {
-            long a = base + x0, b = base + x1;
-            if (a < t->m)
-                a = t->m;
-            if (a < b)
-                means_push(p, t, a, b);
-        }
+        if (t->acf)
+            means_push(p, t, base + x1);
     }
 }
 
@@ -932,6 +945,8 @@ int igea__apass_feed(igea__apass *p, long n, const double *v)
     return i < n ? feed_raw(p, n - i, v + i) : 0;
 }
 
+static int apass_last(igea__apass *p);
+
 int igea__apass_end(igea__apass *p)
 {
     if (p->ended)
@@ -944,6 +959,16 @@ int igea__apass_end(igea__apass *p)
     p->ended = 1;
     if (!p->started || p->fill == 0)
         return 0;
+    int st = apass_last(p);
+    for (int j = 0; j < p->ntau; j++)
+        if (p->t[j].acf)
+            means_flush(&p->t[j]);
+    return st;
+}
+
+/* The last block's terms. */
+static int apass_last(igea__apass *p)
+{
     /* the last block: X indices up to fill - 1, running sums up to fill
      * (W_N; when the block is full, the first of an empty next block) */
     long f = p->fill;
@@ -988,8 +1013,26 @@ int igea__apass_alpha(const igea__apass *p, int j)
     const aptau *t = &p->t[j];
     if (!t->acf || t->nmean < 32)
         return IGEA_STABILITY_NOISE_AUTO;
+    /* the second differences e_j = w_j - w_{j-1} of the K - 1 first
+     * differences w_j (shifted, j = 1 .. K-1) from their sums D2 = sum w^2,
+     * L1 = sum w_j w_{j+1}, L2 = sum w_j w_{j+2} and the end values
+     * (docs/stability.md) */
+    igea__apacf e = {0};
+    {
+        double sh = t->a[1].sh, K = (double)t->nmean;
+        double w1 = t->dfirst[0] - sh, w2 = t->dfirst[1] - sh;
+        double wk1 = t->dlast[0] - sh, wk = t->dlast[1] - sh;
+        double D2 = igea__ksum_get(&t->a[1].ss), L1 = igea__ksum_get(&t->a[1].lag);
+        double L2 = igea__ksum_get(&t->lag2);
+        e.n = K - 2.0;
+        igea__ksum_add(&e.s, wk - w1);
+        igea__ksum_add(&e.ss, 2.0 * D2 - w1 * w1 - wk * wk - 2.0 * L1);
+        igea__ksum_add(&e.lag, 2.0 * L1 - w1 * w2 - wk1 * wk - D2 + w1 * w1 + wk * wk - L2);
+        e.first = w2 - w1;
+        e.last = wk - wk1;
+    }
     for (int d = 0; d <= 2; d++) {
-        double r1 = apacf_r1(&t->a[d]), delta = r1 / (1.0 + r1);
+        double r1 = apacf_r1(d == 2 ? &e : &t->a[d]), delta = r1 / (1.0 + r1);
         if (delta < 0.25 || d == 2) {
             long alpha = lround(-2.0 * (delta + d));
             return (int)IGEA_MAX(IGEA_STABILITY_NOISE_RWFM, IGEA_MIN(IGEA_STABILITY_NOISE_WPM, alpha));

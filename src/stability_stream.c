@@ -56,6 +56,8 @@ int igea_stability_stream_create(double fs, int data_type, int kind, int noise, 
                                  int ntau, const double *tau, int spacing, double block,
                                  igea_stability_stream **out)
 {
+    if (out)
+        *out = NULL;
     if (!(isfinite(fs) && fs > 0.0))
         return -1;
     if (data_type != IGEA_STABILITY_DATA_FREQ && data_type != IGEA_STABILITY_DATA_PHASE)
@@ -85,7 +87,6 @@ int igea_stability_stream_create(double fs, int data_type, int kind, int noise, 
         return -9;
     if (!out)
         return -10;
-    *out = NULL;
     igea_stability_stream *h = calloc(1, sizeof *h);
     if (!h)
         return IGEA_ENOMEM;

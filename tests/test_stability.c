@@ -757,6 +757,87 @@ static void test_dev_taus(void **state)
     assert_int_equal(igea_stability_taus(10, 1.0, 0, 4, 0, 64, tau, NULL), -8);
 }
 
+/* The stream: argument checks, the end of the record, and results equal to
+ * the whole-record call bit for bit (tests/python/test_stability_stream.py
+ * covers every kind and piece size). */
+static void test_stream(void **state)
+{
+    double y[2000], tau[16], dev[16], ref[16], lo[16], b[IGEA_STABILITY_BLOCK_LEN];
+    int nt = -1, cnt[16];
+    for (int k = 0; k < 2000; k++)
+        y[k] = sin(0.37 * k) + 0.2 * sin(0.011 * k * k);
+    igea_stability_stream *h = NULL;
+    const double t3[3] = {0.1, 1.0, 5.0};
+    assert_int_equal(igea_stability_stream_create(0, 0, 0, 0, 0.683, 0, NULL, 0, 0, &h), -1);
+    assert_int_equal(igea_stability_stream_create(10, 1, 0, 0, 0.683, 0, NULL, 0, 0, &h), -2);
+    assert_int_equal(igea_stability_stream_create(10, 0, 9, 0, 0.683, 0, NULL, 0, 0, &h), -3);
+    assert_int_equal(igea_stability_stream_create(10, 0, 4, 99, 0.683, 0, NULL, 0, 0, &h), -4);
+    assert_int_equal(igea_stability_stream_create(10, 0, 0, 0, 1.0, 0, NULL, 0, 0, &h), -5);
+    assert_int_equal(igea_stability_stream_create(10, 0, 0, 0, 0.683, -1, NULL, 0, 0, &h), -6);
+    assert_int_equal(igea_stability_stream_create(10, 0, 0, 0, 0.683, 3, NULL, 0, 0, &h), -7);
+    assert_int_equal(igea_stability_stream_create(10, 0, 0, 0, 0.683, 0, NULL, 2, 0, &h), -8);
+    assert_int_equal(igea_stability_stream_create(10, 0, 0, 0, 0.683, 0, NULL, 0, -1, &h), -9);
+    assert_int_equal(igea_stability_stream_create(10, 0, 0, 0, 0.683, 0, NULL, 0, 0, NULL), -10);
+    assert_null(h);
+    assert_int_equal(igea_stability_stream_create(10, 0, IGEA_STABILITY_ALLAN_OVERLAPPING,
+                                                  IGEA_STABILITY_NOISE_AUTO, 0.683, 3, t3, 0, 20.0, &h),
+                     0);
+    for (int k = 0; k < 2000; k += 300)
+        assert_int_equal(igea_stability_stream_feed(h, k + 300 <= 2000 ? 300 : 2000 - k, y + k), 0);
+    double ns = 0;
+    assert_int_equal(igea_stability_stream_samples(h, &ns), 0);
+    assert_true(ns == 2000);
+    assert_int_equal(igea_stability_stream_feed(h, -1, y), -2);
+    assert_int_equal(igea_stability_stream_feed(h, 3, NULL), -3);
+    assert_int_equal(igea_stability_stream_result(h, 2, &nt, tau, dev, NULL, NULL, NULL, NULL, cnt, b),
+                     IGEA_EEMPTY); /* 3 taus do not fit in 2 */
+    assert_int_equal(igea_stability_stream_result(h, 16, &nt, tau, dev, lo, NULL, NULL, NULL, cnt, b), 0);
+    assert_int_equal(nt, 3);
+    assert_int_equal(igea_stability_stream_feed(h, 1, y), IGEA_EEMPTY); /* ended */
+    assert_int_equal(igea_stability_allan(2000, y, 10, 3, t3, IGEA_STABILITY_ALLAN_OVERLAPPING,
+                                          IGEA_STABILITY_NOISE_AUTO, 0.683, ref, NULL, NULL, NULL, NULL),
+                     0);
+    for (int j = 0; j < 3; j++)
+        assert_true(dev[j] == ref[j] && lo[j] < dev[j]);
+    double blk[IGEA_STABILITY_BLOCK_LEN];
+    assert_int_equal(igea_stability_block(2000, y, 10, 20.0, blk), 0);
+    assert_memory_equal(b, blk, sizeof blk);
+    igea_stability_stream_free(h);
+    igea_stability_stream_free(NULL);
+}
+
+#ifndef OOM_DISABLED
+/* Allocation failures in the stream: refused cleanly, later calls too. */
+static void test_stream_oom(void **state)
+{
+    double y[3000], tau[16], dev[16];
+    int nt;
+    for (int k = 0; k < 3000; k++)
+        y[k] = cos(0.2 * k) + 1e-3 * k;
+    for (int k = 0; k < 40; k++) {
+        igea_stability_stream *h = NULL;
+        OOM_ARM(k);
+        int st = igea_stability_stream_create(1, 0, IGEA_STABILITY_ALLAN_MODIFIED, IGEA_STABILITY_NOISE_AUTO,
+                                              0.683, 0, NULL, 0, 5.0, &h), fed = 0;
+        for (int i = 0; !st && i < 3000; i += 500)
+            st = igea_stability_stream_feed(h, 500, y + i);
+        if (!st) {
+            fed = 1;
+            fill_sentinel(dev, 16);
+            st = igea_stability_stream_result(h, 16, &nt, tau, dev, NULL, NULL, NULL, NULL, NULL, NULL);
+            if (st)
+                assert_true(all_sentinel(dev, 16));
+        }
+        OOM_DISARM();
+        assert_true(st == 0 || st == IGEA_ENOMEM);
+        if (st && h && !fed) /* a stream whose feed failed stays failed */
+            assert_int_equal(igea_stability_stream_feed(h, 1, y), IGEA_ENOMEM);
+        assert_true(st || nt >= 5);
+        igea_stability_stream_free(h);
+    }
+}
+#endif
+
 #ifndef OOM_DISABLED
 static void test_dev_oom(void **state)
 {
@@ -905,9 +986,11 @@ int main(void)
         cmocka_unit_test(test_dev_taus),
         cmocka_unit_test(test_fit),
         cmocka_unit_test(test_fit_boot),
+        cmocka_unit_test(test_stream),
 #ifndef OOM_DISABLED
         cmocka_unit_test(test_oom),
         cmocka_unit_test(test_dev_oom),
+        cmocka_unit_test(test_stream_oom),
 #endif
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -275,7 +275,7 @@ typedef struct igea_stability_stream igea_stability_stream;
  *  kinds), 3 kind (above), 4 noise IGEA_STABILITY_NOISE_* (AUTO only for
  *  the rate kinds), 5 0 < conf < 1, 6 ntau >= 0, 7 tau[ntau] > 0 with
  *  round(tau fs) >= 1 (NULL with ntau = 0), 8 spacing (read when ntau = 0),
- *  9 block >= 0 (seconds), 10 out: the new stream (NULL on failure).
+ *  9 block >= 0 (seconds), 10 out: the new stream (*out NULL on failure).
  * Returns 0, -i, IGEA_ENOMEM.
  */
 IGEA_API int igea_stability_stream_create(double fs, int data_type, int kind, int noise,
@@ -300,9 +300,10 @@ IGEA_API int igea_stability_stream_samples(const igea_stability_stream *h, doubl
  * block[IGEA_STABILITY_BLOCK_NBLOCK] holds their number, 0 or 1, and the
  * other entries NaN). The record ends with the first call (later feeds
  * are refused); the results may be asked for again.
- *  1 h, 2 ntau_max >= 1, 3 ntau out, 4 tau out [ntau_max], 5 dev out
- *  [ntau_max], 6 lo, 7 hi, 8 edf, 9 alpha, 10 count (each [ntau_max] or
- *  NULL), 11 block (or NULL).
+ *  1 h, 2 ntau_max >= 1, 3 ntau out (one int), 4 tau[ntau_max] out, 5
+ *  dev[ntau_max] out, 6 lo[ntau_max], 7 hi[ntau_max], 8 edf[ntau_max], 9
+ *  alpha[ntau_max], 10 count[ntau_max] (each may be NULL), 11
+ *  block[IGEA_STABILITY_BLOCK_LEN] (may be NULL).
  * Returns 0, -i, IGEA_EEMPTY (fewer than 2 samples, a given tau without a
  * term, or more taus than ntau_max), IGEA_ENONFINITE (a NaN or infinity
  * was fed), IGEA_ENOMEM, IGEA_ENOCONV; outputs untouched on failure.
