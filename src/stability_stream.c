@@ -80,7 +80,7 @@ int igea_stability_stream_create(double fs, int data_type, int kind, int noise, 
         if (!(isfinite(tau[j]) && tau[j] > 0.0 && v >= 0.5 && v < 2147483648.0))
             return -7;
     }
-    if (ntau == 0 && spacing != IGEA_STABILITY_TAUS_OCTAVE && spacing != IGEA_STABILITY_TAUS_DECADE)
+    if (spacing != IGEA_STABILITY_TAUS_OCTAVE && spacing != IGEA_STABILITY_TAUS_DECADE)
         return -8;
     double nbv = block * fs;
     if (!(isfinite(block) && block >= 0.0) || (block > 0.0 && !(nbv >= 0.5 && nbv < 2147483648.0)))
@@ -144,6 +144,8 @@ int igea_stability_stream_feed(igea_stability_stream *h, int n, const double *v)
         return IGEA_ENOMEM;
     if (h->ended)
         return IGEA_EEMPTY;
+    if (!igea__finite_vec(n, v, 1))
+        return IGEA_ENONFINITE; /* nothing fed */
     if (h->nb > 0) { /* the block means (igea_stability_block's sums) */
         for (int i = 0; i < n; i++) {
             igea__ksum_add(&h->cur, v[i]);

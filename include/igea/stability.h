@@ -270,11 +270,13 @@ typedef struct igea_stability_stream igea_stability_stream;
  * lag-1 identification from the tau-means, in the pass; the Stable32 kinds
  * identify it on the whole record: igea_stability_dev). block > 0 adds
  * igea_stability_block's statistic of blocks of block seconds (0: none).
- * NaN and infinity are refused (no gaps: igea_stability_dev takes them).
+ * NaN and infinity are refused by the feed (no gaps: igea_stability_dev
+ * takes them).
  *  1 fs > 0, 2 data_type IGEA_STABILITY_DATA_* (PHASE only for the Stable32
  *  kinds), 3 kind (above), 4 noise IGEA_STABILITY_NOISE_* (AUTO only for
  *  the rate kinds), 5 0 < conf < 1, 6 ntau >= 0, 7 tau[ntau] > 0 with
- *  round(tau fs) >= 1 (NULL with ntau = 0), 8 spacing (read when ntau = 0),
+ *  round(tau fs) >= 1 (NULL with ntau = 0), 8 spacing IGEA_STABILITY_TAUS_OCTAVE or
+ *  _DECADE (used when ntau = 0),
  *  9 block >= 0 (seconds), 10 out: the new stream (*out NULL on failure).
  * Returns 0, -i, IGEA_ENOMEM.
  */
@@ -285,9 +287,10 @@ IGEA_API int igea_stability_stream_create(double fs, int data_type, int kind, in
 IGEA_API void igea_stability_stream_free(igea_stability_stream *h);
 /* The next n >= 0 samples v[n] (rate samples, or phase points for phase
  * data; at most 2^31 - 1 in all). Returns 0, -1 (h NULL), -2 (n < 0), -3
- * (v NULL with n > 0), IGEA_EEMPTY (the stream has ended: its results were
- * asked for), IGEA_ENOMEM (the ring could not grow: the stream is then
- * unusable, and every later call returns IGEA_ENOMEM). */
+ * (v NULL with n > 0), IGEA_ENONFINITE (a NaN or infinity in v: nothing of
+ * v is fed), IGEA_EEMPTY (the stream has ended: its results were asked
+ * for), IGEA_ENOMEM (the ring could not grow: the stream is then unusable,
+ * and every later call returns IGEA_ENOMEM). */
 IGEA_API int igea_stability_stream_feed(igea_stability_stream *h, int n, const double *v);
 /* The samples fed so far (*n, an exact integer). Returns 0, -1, -2. */
 IGEA_API int igea_stability_stream_samples(const igea_stability_stream *h, double *n);

@@ -45,7 +45,9 @@ def stream(y, fs, kind, noise, taus=None, piece=1000, data_type="freq", spacing=
     try:
         for a in range(0, y.size, piece):
             c = np.ascontiguousarray(y[a:a + piece])
-            assert lib.igea_stability_stream_feed(h, c.size, c.ctypes.data_as(D)) == 0
+            st = lib.igea_stability_stream_feed(h, c.size, c.ctypes.data_as(D))
+            if st:
+                return st
         K = 64
         out = [np.zeros(K) for _ in range(5)]
         al, cn = np.zeros(K, dtype=np.intc), np.zeros(K, dtype=np.intc)
@@ -123,10 +125,12 @@ def test_stream_refusals(record):
     assert mk(c(10.0), 0, 4, 99, c(0.683), 0, None, 0, c(0.0)) == -4
     assert mk(c(10.0), 0, 4, 0, c(0.683), 0, None, 2, c(0.0)) == -8
     assert mk(c(10.0), 0, 9, 0, c(0.683), 0, None, 0, c(0.0)) == -3     # totdev
-    # a NaN in the stream
+    # a NaN or an infinity in a piece: refused, nothing of it fed
     y = record.copy()
     y[1234] = np.nan
     assert stream(y, 10.0, "overlapping", "wfm") == _capi.ENONFINITE
+    y[1234] = -np.inf
+    assert stream(y, 10.0, "overlapping", "wfm", piece=5000) == _capi.ENONFINITE
     assert stream(y[:1], 10.0, "overlapping", "wfm") == _capi.EEMPTY  # one sample
 
 
