@@ -187,7 +187,8 @@ IGEA_API int igea_stability_noise_id(int ntau, const double *tau,
 
 /*
  * Stable32's statistic `kind` at averaging times tau[j]: m_j = round(tau[j]
- * fs) (THEO1: m_j = round(tau[j] fs / 0.75), even), with the noise type per
+ * fs) (THEO1, THEOBR and THEOH's THEOBR part: m_j = round(tau[j] fs /
+ * 0.75), even), with the noise type per
  * tau, the equivalent degrees of freedom and chi-square intervals.
  * Frequency data of n samples give N = n + 1 phase points (the mean rate is
  * removed first, which no statistic but MTIE and TIERMS sees; these two use
@@ -201,15 +202,22 @@ IGEA_API int igea_stability_noise_id(int ntau, const double *tau,
  * means, the B1 ratio (standard / Allan variance of the m-means) against
  * its power-law values (geometric-mean boundaries), white and flicker PM
  * told apart by R(n) = MVAR / AVAR (NIST SP 1065 section 5.6), and white
- * FM below 4 means [D]; clamped to
+ * FM below 4 means [D] (THEO1 with N >= 90: the type of THEOBR's factor
+ * there [D]); THEOBR (and THEOH's THEOBR part): one type for the record,
+ * its factor k against the mean nominal Theo1 bias (Howe, Tasset, Percival
+ * 2004) over the taus of k [D]; clamped to
  * -2 .. 2. EDF: Greenhall and Riley's algorithm (PTTI 2003; d = 2 for the
  * Allan kinds, d = 3 for the Hadamard kinds, F = 1 for MDEV/TDEV, stride m
  * for the overlapping ones); TOTDEV: SP 1065 Table 7, b N/m - c (white,
  * flicker, random-walk FM; the OADEV EDF for white and flicker PM, [D]);
- * MTOTDEV and TTOTDEV: SP 1065 Table 8. An EDF below 1 is raised to 1.
- * THEO1, HTOTDEV, MTIE and TIERMS have no interval here: lo, hi and edf must
- * be NULL for them. The interval is [s sqrt(edf / chi2_{(1+conf)/2}),
- * s sqrt(edf / chi2_{(1-conf)/2})].
+ * MTOTDEV and TTOTDEV: SP 1065 Table 8; HTOTDEV: (N / m) / (b0 + b1 m /
+ * N) (Howe et al. 2000, SP 1065) for m >= 16 and FM noise, OHDEV's below
+ * and for PM [D]; THEO1 and THEOBR: Theo1's EDF (Howe and Peppler 2003, SP
+ * 1065: r = 0.75 m, the factors r / (r + c) multiplying); THEOH: OADEV's
+ * and Theo1's by part. An EDF below 1 is raised to 1. MTIE and TIERMS have
+ * no interval: lo, hi and edf must be NULL for them (earlier versions also
+ * required it for THEO1 and HTOTDEV). The interval is [s sqrt(edf /
+ * chi2_{(1+conf)/2}), s sqrt(edf / chi2_{(1-conf)/2})].
  * Gaps: for ADEV, OADEV, MDEV, TDEV, HDEV and OHDEV a NaN in x is a gap
  * (allantools' gradev): a term that holds one (phase data: one of its
  * points; frequency data: one of the samples it spans, a gap counted as
@@ -218,14 +226,15 @@ IGEA_API int igea_stability_noise_id(int ntau, const double *tau,
  * as many terms [D]; the noise identification sees gaps filled (frequency:
  * the mean; phase: the line between neighbours) [D]. A tau whose terms all
  * hold a gap, or a NaN for another kind, is IGEA_ENONFINITE.
- *  1 n >= 2, 2 x[n] finite (NaN: a gap, see above), 3 fs > 0 (samples per second), 4 data_type
+ *  1 n >= 2 (THEOBR, THEOH: N >= 90 phase points), 2 x[n] finite (NaN: a
+ *  gap, see above), 3 fs > 0 (samples per second), 4 data_type
  *  IGEA_STABILITY_DATA_*, 5 ntau >= 1, 6 tau[ntau] > 0 each with M >= 1
- *  (THEO1: m even), 7 kind IGEA_STABILITY_ALLAN_ADEV .. _TIERMS, 8 noise
+ *  (THEO1, THEOBR: m even), 7 kind IGEA_STABILITY_ALLAN_ADEV .. _THEOH, 8 noise
  *  IGEA_STABILITY_NOISE_*, 9 0 < conf < 1, 10 dev[ntau] out, 11 lo, 12 hi,
- *  13 edf (each ntau, may be NULL; NULL for THEO1, HTOTDEV, MTIE, TIERMS),
+ *  13 edf (each ntau, may be NULL; NULL for MTIE, TIERMS),
  *  14 alpha (ntau ints: the noise exponent used at each tau, may be NULL),
  *  15 count (ntau ints: M, the terms used, may be NULL), 16 tau_used (ntau: m
- *  tau0, THEO1 0.75 m tau0, may be NULL).
+ *  tau0, THEO1 and THEOBR 0.75 m tau0, may be NULL).
  * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENOMEM, IGEA_ENOCONV (a chi-square
  * quantile failed); outputs untouched on failure.
  */

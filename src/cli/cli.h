@@ -218,7 +218,7 @@ void cli_help(FILE *f, const cli_command *c);
  * its code, or a message listing the library's names and CLI_USAGE. */
 int cli_choice(const char *opt, int kind, const char *value, int *code);
 /* The names of enumeration kind as "a|b|c" in buf (size bytes). */
-#define CLI_CHOICE_MAX 16
+#define CLI_CHOICE_MAX 32
 #define CLI_CHOICE_TEXT 256
 const char *cli_choice_names(int kind, char *buf, size_t size);
 /* value among the driver's own words "a|b|c" (a command's sub-command or
