@@ -192,9 +192,35 @@ void igea__apass_free(igea__apass *p)
     free(p);
 }
 
-/* Grow the ring to newcap blocks, keeping blocks k - cap + 1 .. k. */
+/* realloc of n items of size sz (NULL on overflow or failure, p kept). */
+static void *grow_array(void *p, size_t n, size_t sz)
+{
+    return n > (size_t)-1 / sz ? NULL : realloc(p, n * sz);
+}
+
+/* Grow the ring to newcap blocks, keeping blocks k - cap + 1 .. k. Before
+ * the ring has wrapped (block k in slot k) the arrays are extended in
+ * place (large ones by remapping, without a second copy). */
 static int ring_grow(igea__apass *p, long newcap)
 {
+    if (p->cap > 0 && p->k < p->cap && p->kbase == 0) {
+        dd *Xb = grow_array(p->Xb, (size_t)newcap, sizeof(dd));
+        if (Xb)
+            p->Xb = Xb;
+        dd *Wb = Xb ? grow_array(p->Wb, (size_t)newcap, sizeof(dd)) : NULL;
+        if (Wb)
+            p->Wb = Wb;
+        double *L = NULL, *V = NULL;
+        if (Wb && p->need_l && (L = grow_array(p->L, (size_t)newcap * AP_B, sizeof(double))))
+            p->L = L;
+        if (Wb && p->need_v &&
+            (V = grow_array(p->V, (size_t)newcap * (AP_B + 1), sizeof(double))))
+            p->V = V;
+        if (!Xb || !Wb || (p->need_l && !L) || (p->need_v && !V))
+            return IGEA_ENOMEM; /* the arrays kept their old size and content */
+        p->cap = newcap;
+        return 0;
+    }
     double *L = NULL, *V = NULL;
     dd *Xb = malloc((size_t)newcap * sizeof(dd)), *Wb = malloc((size_t)newcap * sizeof(dd));
     if (p->need_l)
@@ -874,7 +900,9 @@ static void block_finish(igea__apass *p, long x1, long w1)
 static int block_next(igea__apass *p)
 {
     if (p->k + 1 >= p->cap && p->cap < p->cap_max) {
-        long nc = 2 * p->cap < p->cap_max ? 2 * p->cap : p->cap_max;
+        long nc = p->cap + p->cap / 2 + 1; /* 1.5 x: at most a third unused */
+        if (nc > p->cap_max)
+            nc = p->cap_max;
         if (ring_grow(p, nc))
             return IGEA_ENOMEM;
     }

@@ -89,6 +89,9 @@ int cli_reader_rewind(cli_reader *r);
 /* Columns of the file (known after open for .npy, after the first data row
  * for text: cli_reader_open reads ahead one row). */
 int cli_reader_cols(const cli_reader *r);
+/* The rows of the input when known before reading them (a .npy file whose
+ * header was checked against its size), else -1. */
+long cli_reader_rows_known(const cli_reader *r);
 /* Read up to maxrows rows into buf (row-major, maxrows * cols doubles);
  * *nread = rows read, 0 at end of file. Returns an exit code. */
 int cli_reader_next(cli_reader *r, long maxrows, double *buf, long *nread);

@@ -506,11 +506,36 @@ static int stream_record(const st_args *a, st_result *r)
 {
     double *tin = NULL;
     int nin = 0, ec = CLI_OK, st;
+    cli_reader *rd = NULL;
     if (a->taus) {
         long cnt = 0;
         if ((ec = cli_read_vector(a->taus, -1, "the averaging times", &tin, &cnt)))
             return ec;
         nin = (int)cnt;
+    }
+    if ((ec = open_record(a, &rd))) {
+        free(tin);
+        return ec;
+    }
+    /* the samples known in advance (.npy): the generated taus exactly, so
+     * that the ring holds the longest lag that has a term, not the record */
+    long known = cli_reader_rows_known(rd);
+    if (!a->taus && known >= 2 && known <= 2147483647L) {
+        int cnt = 0;
+        if (!(tin = malloc(sizeof(double) * 64))) {
+            cli_reader_close(rd);
+            return cli_oom("the averaging times");
+        }
+        st = a->kind <= IGEA_STABILITY_ALLAN_NONOVERLAPPING
+                 ? igea_stability_octave_taus((int)known, a->fs, a->kind, 64, tin, &cnt)
+                 : igea_stability_taus((int)known, a->fs, a->phase, a->kind, a->spacing, 64, tin,
+                                       &cnt);
+        if (st || cnt < 1) {
+            free(tin);
+            tin = NULL;
+            cnt = 0;
+        }
+        nin = cnt;
     }
     int cap = nin > 64 ? nin : 64;
     r->tau = malloc(sizeof(double) * (size_t)cap);
@@ -518,12 +543,12 @@ static int stream_record(const st_args *a, st_result *r)
     r->cnt = malloc(sizeof(int) * 2 * (size_t)cap);
     if (!r->tau || !r->dev || !r->cnt) {
         free(tin);
+        cli_reader_close(rd);
         return cli_oom("the deviations");
     }
     r->lo = r->dev + cap, r->hi = r->lo + cap, r->edf = r->hi + cap;
     r->alpha = r->cnt + cap;
     igea_stability_stream *h = NULL;
-    cli_reader *rd = NULL;
     double *buf = NULL, *y = NULL;
     /* a block shorter than half a sample: no block statistic (as the
      * whole-record path, where igea_stability_block refuses it) */
@@ -531,13 +556,12 @@ static int stream_record(const st_args *a, st_result *r)
     st = igea_stability_stream_create(a->fs, a->phase, a->kind, a->noise, a->conf, nin, tin,
                                       a->spacing, blk, &h);
     free(tin);
-    if (st == -7)
-        return tau_range_error();
-    if (st)
-        return cli_status(st, "stability: stream");
     cli_progress pr;
-    if ((ec = open_record(a, &rd)) ||
-        (ec = cli_progress_start(&pr, "stability", "samples read", CLI_PROGRESS_UNKNOWN)))
+    if (st == -7)
+        ec = tau_range_error();
+    else if (st)
+        ec = cli_status(st, "stability: stream");
+    if (ec || (ec = cli_progress_start(&pr, "stability", "samples read", CLI_PROGRESS_UNKNOWN)))
         goto done;
     buf = malloc(sizeof(double) * ROWS * (size_t)cli_reader_cols(rd));
     y = malloc(sizeof(double) * ROWS);

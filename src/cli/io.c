@@ -169,6 +169,13 @@ int cli_reader_rewind(cli_reader *r)
 }
 
 int cli_reader_cols(const cli_reader *r) { return igea_io_reader_cols(r->r); }
+long cli_reader_rows_known(const cli_reader *r)
+{
+    double info[IGEA_IO_INFO_LEN];
+    igea_io_reader_info(r->r, info);
+    return info[IGEA_IO_INFO_NPY] != 0 && info[IGEA_IO_INFO_CHECKED] != 0
+               ? (long)info[IGEA_IO_INFO_NPY_ROWS] : -1;
+}
 const char *cli_reader_path(const cli_reader *r) { return r->path; }
 const char *cli_reader_names(const cli_reader *r) { return igea_io_reader_names(r->r); }
 
