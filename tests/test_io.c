@@ -407,7 +407,7 @@ static void test_nan_gaps(void **state)
         igea_io_reader_info(r, info);
         assert_int_equal((int)info[IGEA_IO_INFO_LINE], 1);
     }
-    assert_int_equal(igea_io_reader_open(r, p, 4, NULL), -3); /* an unknown flag */
+    assert_int_equal(igea_io_reader_open(r, p, 16, NULL), -3); /* an unknown flag */
     igea_io_reader_free(r);
 }
 

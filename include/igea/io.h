@@ -66,7 +66,7 @@ extern "C" {
 
 /* Flags of igea_io_reader_open. */
 #define IGEA_IO_TWICE 1 /* igea_io_reader_rewind will be called */
-#define IGEA_IO_NAN 2   /* a gap: the text token NaN (exactly these three
+#define IGEA_IO_NAN 4   /* a gap: the text token NaN (exactly these three
                            letters) and a .npy NaN are read as NaN; any other
                            spelling (nan, NAN, an empty field) and Inf stay
                            refused */
