@@ -76,6 +76,7 @@ SCALARS = {
     "igea_stability_taus": "ntau", "igea_stability_fit": "chi2",
     "igea_stats_normal_sf": "q", "igea_stats_t_sf": "q", "igea_stats_t_quantile": "t",
     "igea_stats_f_sf": "q",
+    "igea_stability_stream_samples": "n", "igea_stability_stream_result": "ntau",
 }
 
 _KIND = {"int": "integer(c_int)", "double": "real(c_double)"}

@@ -61,7 +61,8 @@ static const choice stability_kind[] = {
     {IGEA_STABILITY_ALLAN_OHDEV, "ohdev"}, {IGEA_STABILITY_ALLAN_TOTDEV, "totdev"},
     {IGEA_STABILITY_ALLAN_MTOTDEV, "mtotdev"}, {IGEA_STABILITY_ALLAN_TTOTDEV, "ttotdev"},
     {IGEA_STABILITY_ALLAN_HTOTDEV, "htotdev"}, {IGEA_STABILITY_ALLAN_THEO1, "theo1"},
-    {IGEA_STABILITY_ALLAN_MTIE, "mtie"}, {IGEA_STABILITY_ALLAN_TIERMS, "tierms"}, END};
+    {IGEA_STABILITY_ALLAN_MTIE, "mtie"}, {IGEA_STABILITY_ALLAN_TIERMS, "tierms"},
+    {IGEA_STABILITY_ALLAN_THEOBR, "theobr"}, {IGEA_STABILITY_ALLAN_THEOH, "theoh"}, END};
 static const choice stability_data[] = {
     {IGEA_STABILITY_DATA_FREQ, "freq"}, {IGEA_STABILITY_DATA_PHASE, "phase"}, END};
 static const choice stability_taus[] = {

@@ -258,9 +258,13 @@ static int parse_values(igea_io_reader *r, const char *p)
         const char *end;
         double v;
         int erange;
-        if (scan_number(p, &end, &v, &erange) || !ends_token(*end) || !isfinite(v) ||
-            (erange && fabs(v) > 1.0))
+        if (r->nan_ok && p[0] == 'N' && p[1] == 'a' && p[2] == 'N' && ends_token(p[3])) {
+            v = NAN; /* a gap (IGEA_IO_NAN) */
+            end = p + 3;
+        } else if (scan_number(p, &end, &v, &erange) || !ends_token(*end) || !isfinite(v) ||
+                   (erange && fabs(v) > 1.0)) {
             return bad_number(r, p);
+        }
         if ((st = push(r, n, v)))
             return st;
         n++;
@@ -485,6 +489,7 @@ static int open_common(igea_io_reader *r, int fd, int own, const char *name, int
     r->s.own = own;
     r->twice = flags & IGEA_IO_TWICE;
     r->map = (flags & IGEA_IO_MAP) != 0;
+    r->nan_ok = (flags & IGEA_IO_NAN) != 0;
     int st = 0;
     if (tmpdir && !(r->tmpdir = strdup(tmpdir)))
         st = io_fail(r, IGEA_ENOMEM, 0, 0, 0, "out of memory (opening)");
@@ -520,7 +525,7 @@ int igea_io_reader_open(igea_io_reader *r, const char *path, int flags, const ch
         return -1;
     if (!path)
         return -2;
-    if (flags & ~(IGEA_IO_TWICE | IGEA_IO_MAP))
+    if (flags & ~(IGEA_IO_TWICE | IGEA_IO_MAP | IGEA_IO_NAN))
         return -3;
     int fd;
     do
@@ -540,7 +545,7 @@ int igea_io_reader_open_fd(igea_io_reader *r, int fd, const char *name, int flag
         return -1;
     if (fd < 0)
         return -2;
-    if (flags & ~(IGEA_IO_TWICE | IGEA_IO_MAP))
+    if (flags & ~(IGEA_IO_TWICE | IGEA_IO_MAP | IGEA_IO_NAN))
         return -4;
     return open_common(r, fd, 0, name, flags, tmpdir);
 }

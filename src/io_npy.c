@@ -183,16 +183,19 @@ static int fortran_block(igea_io_reader *r, long want, double *buf)
     return 0;
 }
 
-/* Rows row0 .. row0 + n - 1 at v finite, else IGEA_EFORMAT naming the
- * first value that is not (row and column from 1). */
+/* Rows row0 .. row0 + n - 1 at v finite (or NaN, a gap, under IGEA_IO_NAN),
+ * else IGEA_EFORMAT naming the first value that is not (row and column
+ * from 1). */
 static int check_rows(igea_io_reader *r, long row0, long n, const double *v)
 {
     size_t k = (size_t)n * (size_t)r->cols;
     if (igea__finite_run(k, v))
         return 0;
-    size_t i = 0;
-    while (i < k && isfinite(v[i]))
+    size_t i = 0; /* the first entry that is not finite, nor a gap (IGEA_IO_NAN) */
+    while (i < k && (isfinite(v[i]) || (r->nan_ok && isnan(v[i]))))
         i++;
+    if (i == k)
+        return 0;
     return io_fail(r, IGEA_EFORMAT, 0, 0, 0, "row %ld, column %ld: NaN or Inf",
                    row0 + (long)(i / (size_t)r->cols) + 1, (long)(i % (size_t)r->cols) + 1);
 }

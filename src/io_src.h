@@ -36,6 +36,7 @@ typedef struct {
 struct igea_io_reader {
     io_src s;
     int open, npy, cols, twice;
+    int nan_ok; /* IGEA_IO_NAN: the token NaN (text) and NaN (.npy) are gaps */
     char *tmpdir;
     /* text */
     char *line;

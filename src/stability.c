@@ -7,29 +7,6 @@
 #include "internal.h"
 #include "stability_internal.h"
 
-/* Running window sum with a branch-free compensation (Knuth's TwoSum). */
-typedef struct {
-    double s, c;
-} wsum;
-
-static inline void ws_add(wsum *w, double x)
-{
-    double t = w->s + x;
-    double bp = t - w->s;
-    w->c += (w->s - (t - bp)) + (x - bp);
-    w->s = t;
-}
-static inline double ws_get(const wsum *w) { return w->s + w->c; }
-
-/* Compensated sum of (y[k] - mu), k = from .. from + len - 1, as a wsum. */
-static wsum window_init(const double *y, size_t from, size_t len, double mu)
-{
-    wsum w = {0.0, 0.0};
-    for (size_t k = 0; k < len; k++)
-        ws_add(&w, y[from + k] - mu);
-    return w;
-}
-
 static double mean_of(size_t n, const double *y)
 {
     igea__ksum k = {0.0, 0.0};
@@ -66,6 +43,13 @@ int igea_stability_block(int n, const double *y, double fs, double block,
         return IGEA_ENOMEM;
     for (long b = 0; b < B; b++)
         m[b] = mean_of((size_t)nb, y + (size_t)b * (size_t)nb);
+    igea__stability_block_stats(B, m, nb, out);
+    free(m);
+    return 0;
+}
+
+void igea__stability_block_stats(long B, const double *m, long nb, double *out)
+{
     double mm = mean_of((size_t)B, m);
     igea__ksum ss = {0, 0}, sd = {0, 0};
     for (long b = 0; b < B; b++) {
@@ -83,8 +67,6 @@ int igea_stability_block(int n, const double *y, double fs, double block,
     out[IGEA_STABILITY_BLOCK_NSAMP] = (double)nb;
     out[IGEA_STABILITY_BLOCK_MEAN] = mm;
     out[IGEA_STABILITY_BLOCK_ADEV] = sqrt(igea__ksum_get(&sd) / (2.0 * (double)(B - 1)));
-    free(m);
-    return 0;
 }
 
 /* Terms (count) of an estimator with averaging factor m; <= 0: none. */
@@ -95,156 +77,6 @@ static long term_count(long n, long m, int kind)
     case IGEA_STABILITY_ALLAN_MODIFIED: return n - 3 * m + 2;
     default: return n / m - 1;
     }
-}
-
-/* Lag-1 autocorrelation noise identification (Riley and Greenhall, "Power
- * law noise identification using the lag 1 autocorrelation", 2004) on the
- * non-overlapping m-sample means of y (mean mu removed), differenced d =
- * 0, 1, 2 times in one streaming pass: stop at the first d with delta =
- * r1 / (1 + r1) < 0.25 (or d = 2); alpha = round(-2 (delta + d)) for
- * frequency data. IGEA_STABILITY_NOISE_AUTO when fewer than 32 means exist.
- * The means are pushed in order (lag1_push), by the deviation's own pass
- * where its window holds them, the rest by lag1_rest. */
-typedef struct {
-    double n, s, ss, lag, first, last, prev;
-} acf1;
-
-typedef struct {
-    acf1 a[3];
-    double z0p, z1p;
-    size_t b; /* means pushed */
-} lag1_acc;
-
-static void acf_add(acf1 *a, double z)
-{
-    if (a->n == 0)
-        a->first = z;
-    else
-        a->lag += a->prev * z;
-    a->n += 1;
-    a->s += z;
-    a->ss += z * z;
-    a->prev = a->last = z;
-}
-
-static double acf_r1(const acf1 *a)
-{
-    double N = a->n, zb = a->s / N;
-    double den = a->ss - N * zb * zb;
-    double num = a->lag - zb * (a->s - a->last) - zb * (a->s - a->first) + (N - 1) * zb * zb;
-    return den > 0.0 ? num / den : 0.0;
-}
-
-static void lag1_push(lag1_acc *L, double z0)
-{
-    acf_add(&L->a[0], z0);
-    if (L->b >= 1) {
-        double z1 = z0 - L->z0p;
-        acf_add(&L->a[1], z1);
-        if (L->b >= 2)
-            acf_add(&L->a[2], z1 - L->z1p);
-        L->z1p = z1;
-    }
-    L->z0p = z0;
-    L->b++;
-}
-
-/* The means after the ones pushed, from the record (compensated sums). */
-static void lag1_rest(lag1_acc *L, size_t n, const double *y, size_t m, double mu)
-{
-    for (size_t b = L->b; b < n / m; b++) {
-        igea__ksum k = {0.0, 0.0};
-        for (size_t i = 0; i < m; i++)
-            igea__ksum_add(&k, y[b * m + i] - mu);
-        lag1_push(L, igea__ksum_get(&k) / (double)m);
-    }
-}
-
-static int lag1_alpha(const lag1_acc *L)
-{
-    if (L->b < 32)
-        return IGEA_STABILITY_NOISE_AUTO;
-    for (int d = 0; d <= 2; d++) {
-        double r1 = acf_r1(&L->a[d]), delta = r1 / (1.0 + r1);
-        if (delta < 0.25 || d == 2) {
-            long alpha = lround(-2.0 * (delta + d));
-            return (int)IGEA_MAX(IGEA_STABILITY_NOISE_RWFM, IGEA_MIN(IGEA_STABILITY_NOISE_WPM, alpha));
-        }
-    }
-    return IGEA_STABILITY_NOISE_WFM; /* not reached */
-}
-
-static double oadev_var(size_t n, const double *y, size_t m, double mu,
-                        long cnt, lag1_acc *L)
-{
-    wsum a = window_init(y, 0, m, mu), b = window_init(y, m, m, mu);
-    igea__sqacc acc = {{0, 0}, 0.0, 0};
-    for (size_t i = 0, next = 0; i < (size_t)cnt; i++) {
-        if (L && i == next) { /* window a holds the mean of block i / m */
-            lag1_push(L, ws_get(&a) / (double)m);
-            next += m;
-        }
-        igea__sqacc_add(&acc, ws_get(&b) - ws_get(&a));
-        if (i + 1 < (size_t)cnt) {
-            ws_add(&a, y[i + m] - y[i]);
-            ws_add(&b, y[i + 2 * m] - y[i + m]);
-        }
-    }
-    (void)n;
-    double md = (double)m;
-    return igea__sqacc_get(&acc) / (2.0 * md * md * (double)cnt);
-}
-
-static double mdev_var(size_t n, const double *y, size_t m, double mu, long cnt, lag1_acc *L)
-{
-    (void)n;
-    /* S_0 = sum_{i<m} (A(i+m) - A(i)) with two running windows. */
-    wsum p = window_init(y, 0, m, mu), q = window_init(y, m, m, mu);
-    wsum S = {0.0, 0.0};
-    for (size_t i = 0; i < m; i++) {
-        ws_add(&S, ws_get(&q) - ws_get(&p));
-        if (i + 1 < m) {
-            ws_add(&p, y[i + m] - y[i]);
-            ws_add(&q, y[i + 2 * m] - y[i + m]);
-        }
-    }
-    /* Windows A(j), A(j+m), A(j+2m); S_{j+1} = S_j + A(j+2m) - 2A(j+m) + A(j). */
-    wsum a0 = window_init(y, 0, m, mu), a1 = window_init(y, m, m, mu);
-    wsum a2 = {0.0, 0.0};
-    if (cnt > 1)
-        a2 = window_init(y, 2 * m, m, mu);
-    igea__sqacc acc = {{0, 0}, 0.0, 0};
-    for (size_t j = 0, next = 0; j < (size_t)cnt; j++) {
-        if (L && j == next && j + 2 <= (size_t)cnt) { /* a0: block j / m */
-            lag1_push(L, ws_get(&a0) / (double)m);
-            next += m;
-        }
-        igea__sqacc_add(&acc, ws_get(&S));
-        if (j + 1 == (size_t)cnt)
-            break;
-        double g0 = ws_get(&a0), g1 = ws_get(&a1), g2 = ws_get(&a2);
-        ws_add(&S, (g2 - g1) - (g1 - g0));
-        if (j + 2 < (size_t)cnt) {
-            ws_add(&a0, y[j + m] - y[j]);
-            ws_add(&a1, y[j + 2 * m] - y[j + m]);
-            ws_add(&a2, y[j + 3 * m] - y[j + 2 * m]);
-        }
-    }
-    double md = (double)m;
-    return igea__sqacc_get(&acc) / (2.0 * md * md * md * md * (double)cnt);
-}
-
-static double nadev_var(size_t n, const double *y, size_t m, long cnt)
-{
-    (void)n;
-    double prev = mean_of(m, y);
-    igea__ksum acc = {0, 0};
-    for (long b = 1; b <= cnt; b++) {
-        double cur = mean_of(m, y + (size_t)b * m);
-        igea__ksum_add(&acc, (cur - prev) * (cur - prev));
-        prev = cur;
-    }
-    return igea__ksum_get(&acc) / (2.0 * (double)cnt);
 }
 
 /* EDF of the overlapping Allan variance, NIST SP 1065 Table 5 (Howe, Allan
@@ -330,41 +162,47 @@ static double edf_mdev(double N, double m, int alpha)
     return z0 * z0 * Jmax / gh_basic_sum(Jmax, Jmax, Jmax / r, 1.0, alpha);
 }
 
-/* The deviations d and term counts cw of the kind at every tau; with al
- * (not NULL) the lag-1 noise type at every tau (IGEA_STABILITY_NOISE_AUTO:
- * too few means), from the deviation's own pass where it holds the means. */
-static void allan_devs(int n, const double *y, double fs, int ntau, const double *tau,
-                       int kind, double mu, double *d, int *cw, int *al)
+/* The deviations d and term counts cw of the kind at every tau in one pass
+ * over y (stability_pass.c); with al (not NULL) the lag-1 noise type at
+ * every tau (IGEA_STABILITY_NOISE_AUTO: fewer than 32 means). Returns 0 or
+ * IGEA_ENOMEM. */
+static int allan_devs(int n, const double *y, double fs, int ntau, const double *tau,
+                      int kind, double *d, int *cw, int *al)
 {
-    for (int j = 0; j < ntau; j++) {
-        size_t m = (size_t)lround(tau[j] * fs);
-        long cnt = term_count(n, (long)m, kind);
-        double var;
-        lag1_acc L, *lp = al && (size_t)n / m >= 32 ? &L : NULL;
-        memset(&L, 0, sizeof L);
-        if (kind == IGEA_STABILITY_ALLAN_OVERLAPPING)
-            var = oadev_var((size_t)n, y, m, mu, cnt, lp);
-        else if (kind == IGEA_STABILITY_ALLAN_MODIFIED)
-            var = mdev_var((size_t)n, y, m, mu, cnt, lp);
-        else
-            var = nadev_var((size_t)n, y, m, cnt);
-        if (lp)
-            lag1_rest(lp, (size_t)n, y, m, mu);
-        if (al)
-            al[j] = lp ? lag1_alpha(lp) : IGEA_STABILITY_NOISE_AUTO;
-        d[j] = sqrt(var);
+    igea__aptau_spec *sp = malloc((size_t)ntau * sizeof *sp);
+    igea__apass *p = NULL;
+    if (!sp)
+        return IGEA_ENOMEM;
+    for (int j = 0; j < ntau; j++)
+        igea__stability_pass_spec(kind, lround(tau[j] * fs), al != NULL, &sp[j]);
+    int st = igea__apass_new(0, ntau, sp, (long)n + 1, &p);
+    if (!st)
+        st = igea__apass_feed(p, n, y);
+    if (!st)
+        st = igea__apass_end(p);
+    if (!st && igea__apass_nonfinite(p))
+        st = IGEA_ENONFINITE;
+    for (int j = 0; j < ntau && !st; j++) {
+        double ss;
+        long cnt;
+        igea__apass_get(p, j, &ss, &cnt);
+        d[j] = igea__stability_pass_dev(kind, 0, fs, sp[j].m, ss, cnt);
         cw[j] = (int)cnt;
+        if (al)
+            al[j] = igea__apass_alpha(p, j);
     }
+    igea__apass_free(p);
+    free(sp);
+    return st;
 }
 
 /* Equivalent degrees of freedom e and the chi-square interval [l, h] of
  * every deviation d at confidence conf (noise type given or identified per
  * tau). Returns 0 or IGEA_ENOCONV. */
-static int allan_intervals(int n, const double *y, double fs, int ntau, const double *tau,
-                           int kind, int noise, double conf, const int *al, const double *d,
-                           double *l, double *h, double *e)
+int igea__stability_allan_intervals(int n, double fs, int ntau, const double *tau, int kind,
+                                    int noise, double conf, const int *al, const double *d,
+                                    double *l, double *h, double *e)
 {
-    (void)y;
     int last_alpha = IGEA_STABILITY_NOISE_WFM;
     for (int j = 0; j < ntau; j++) {
         int alpha = noise;
@@ -433,8 +271,6 @@ int igea_stability_allan(int n, const double *y, double fs, int ntau,
         if (term_count(n, lround(v), kind) < 1)
             return -5;
     }
-    if (!igea__finite_vec(n, y, 1))
-        return IGEA_ENONFINITE;
     double *w = igea__dalloc(4 * (size_t)ntau);
     int *cw = igea__ialloc(2 * (size_t)ntau), *al = cw + ntau;
     if (!w || !cw) {
@@ -443,9 +279,11 @@ int igea_stability_allan(int n, const double *y, double fs, int ntau,
         return IGEA_ENOMEM;
     }
     double *d = w, *l = w + ntau, *h = l + ntau, *e = h + ntau;
-    double mu = mean_of((size_t)n, y);
-    allan_devs(n, y, fs, ntau, tau, kind, mu, d, cw, noise == IGEA_STABILITY_NOISE_AUTO ? al : NULL);
-    int status = allan_intervals(n, y, fs, ntau, tau, kind, noise, conf, al, d, l, h, e);
+    int status = allan_devs(n, y, fs, ntau, tau, kind, d, cw,
+                            noise == IGEA_STABILITY_NOISE_AUTO ? al : NULL);
+    if (!status)
+        status = igea__stability_allan_intervals(n, fs, ntau, tau, kind, noise, conf, al, d, l,
+                                                 h, e);
     if (status == 0) {
         size_t sz = (size_t)ntau * sizeof(double);
         memcpy(dev, d, sz);

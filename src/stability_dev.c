@@ -10,7 +10,7 @@
 
 
 #define K_FIRST IGEA_STABILITY_ALLAN_ADEV
-#define K_LAST IGEA_STABILITY_ALLAN_TIERMS
+#define K_LAST IGEA_STABILITY_ALLAN_THEOH
 
 /* Terms M of the kind on N phase points at averaging factor m (<= 0: none). */
 static long dev_terms(int kind, long N, long m)
@@ -26,16 +26,43 @@ static long dev_terms(int kind, long N, long m)
     case IGEA_STABILITY_ALLAN_OHDEV:
     case IGEA_STABILITY_ALLAN_HTOTDEV: return N - 3 * m;
     case IGEA_STABILITY_ALLAN_TOTDEV: return m <= N - 1 ? N - 2 : 0;
-    case IGEA_STABILITY_ALLAN_THEO1: return m % 2 == 0 && m <= N - 1 ? N - m : 0;
+    case IGEA_STABILITY_ALLAN_THEO1:
+    case IGEA_STABILITY_ALLAN_THEOBR: return m % 2 == 0 && m <= N - 1 ? N - m : 0;
     default: return N - m; /* MTIE, TIERMS */
     }
 }
 
-/* Averaging factor of tau: round(tau fs), THEO1 round(tau fs / 0.75); 0
- * when out of range. */
+static int theo_kind(int kind)
+{
+    return kind == IGEA_STABILITY_ALLAN_THEO1 || kind == IGEA_STABILITY_ALLAN_THEOBR;
+}
+
+/* THEOH: the switch k (in samples) from the Allan to the bias-removed Theo1
+ * deviation, the largest power of 2 <= 0.2 (N - 1) (Howe 2006: the largest
+ * tau <= 20 % of the record; the octave grid of tau0 [D]). */
+static long theoh_switch(long N)
+{
+    long k = 1;
+    while ((double)(2 * k) <= 0.2 * (double)(N - 1))
+        k *= 2;
+    return k;
+}
+
+/* The statistic that gives tau: the kind itself, or for THEOH the Allan
+ * deviation (OADEV) below the switch and THEOBR from it on. */
+static int sub_kind(int kind, double tau, double fs, long N)
+{
+    if (kind != IGEA_STABILITY_ALLAN_THEOH)
+        return kind;
+    double v = tau * fs, k = (double)theoh_switch(N);
+    return v >= k * (1.0 - 1e-12) ? IGEA_STABILITY_ALLAN_THEOBR : IGEA_STABILITY_ALLAN_OADEV;
+}
+
+/* Averaging factor of tau: round(tau fs), THEO1 and THEOBR round(tau fs /
+ * 0.75); 0 when out of range (kind: a sub_kind). */
 static long dev_factor(int kind, double tau, double fs, long N)
 {
-    double v = tau * fs / (kind == IGEA_STABILITY_ALLAN_THEO1 ? 0.75 : 1.0);
+    double v = tau * fs / (theo_kind(kind) ? 0.75 : 1.0);
     if (!(isfinite(tau) && tau > 0.0 && v >= 0.5 && v <= (double)N))
         return 0;
     return lround(v);
@@ -149,20 +176,68 @@ static double dev_mtot(long N, const double *x, long m, double tau, int hadamard
     return hadamard ? sqrt(v / 6.0) : sqrt(v / 2.0) / tau;
 }
 
+/* Theo1 variance at even m: the terms summed offset by offset (d = 0 ..
+ * m/2 - 1, each over i with a vector kernel), weights 1 / (m/2 - d). */
+static double theo1_var(long N, const double *x, long m, double tau0)
+{
+    long h = m / 2, L = N - m;
+    igea__ksum acc = {0, 0};
+    for (long d = 0; d < h; d++)
+        igea__ksum_add(&acc, igea__ap_sumsq4(x, x + h - d, x + m, x + h + d, L) / (double)(h - d));
+    double mt = (double)m * tau0;
+    return igea__ksum_get(&acc) / (0.75 * (double)L * mt * mt);
+}
+
 static double dev_theo1(long N, const double *x, long m, double tau0)
 {
-    long h = m / 2;
-    igea__ksum acc = {0, 0};
-    for (long i = 0; i < N - m; i++) {
-        double s = 0.0;
-        for (long d = 0; d < h; d++) {
-            double t = (x[i] - x[i - d + h]) + (x[i + m] - x[i + d + h]);
-            s += t * t / (double)(h - d);
-        }
-        igea__ksum_add(&acc, s);
+    return sqrt(theo1_var(N, x, m, tau0));
+}
+
+/* TheoBR's bias factor (Taylor and Howe 2010): the mean over i = 0 .. n of
+ * AVAR(m = 9 + 3i) / Theo1(m = 12 + 4i), n = floor(0.1 N / 3) - 3 (N >= 90). */
+static double theobr_factor(long N, const double *x, double tau0, long *nrat)
+{
+    long n = (long)floor(0.1 * (double)N / 3.0) - 3;
+    igea__ksum k = {0, 0};
+    for (long i = 0; i <= n; i++) {
+        long ma = 9 + 3 * i, mt = 12 + 4 * i;
+        double a = dev_diff(N, x, ma, 1, 2, (double)ma * tau0);
+        igea__ksum_add(&k, a * a / theo1_var(N, x, mt, tau0));
     }
-    double mt = (double)m * tau0;
-    return sqrt(igea__ksum_get(&acc) / (0.75 * (double)(N - m) * mt * mt));
+    *nrat = n + 1;
+    return igea__ksum_get(&k) / (double)(n + 1);
+}
+
+/* Theo1's bias AVAR / Theo1 at tau = r tau0 by noise type (Howe, Tasset and
+ * Percival, "Theo1: characterization of very long-term frequency
+ * stability", EFTF 2004, Table 1): a + b / r^c. */
+static double theo1_bias(int a, double r)
+{
+    switch (a) {
+    case IGEA_STABILITY_NOISE_WPM: return 0.09 + 0.74 / pow(r, 0.40);
+    case IGEA_STABILITY_NOISE_FPM: return 0.14 + 0.82 / pow(r, 0.30);
+    case IGEA_STABILITY_NOISE_WFM: return 1.0;
+    case IGEA_STABILITY_NOISE_FFM: return 1.87 - 1.05 / pow(r, 0.79);
+    default: return 2.70 - 1.53 / pow(r, 0.85);
+    }
+}
+
+/* The noise type of TheoBR's factor kf: against the mean of the nominal bias
+ * over the same taus (9 + 3i) tau0, i = 0 .. n - 1, boundaries at the
+ * geometric means of neighbouring types [D]. */
+static int theobr_alpha(double kf, long nrat)
+{
+    double e[5];
+    for (int a = 2; a >= -2; a--) {
+        igea__ksum s = {0, 0};
+        for (long i = 0; i < nrat; i++)
+            igea__ksum_add(&s, theo1_bias(a, 9.0 + 3.0 * (double)i));
+        e[2 - a] = igea__ksum_get(&s) / (double)nrat;
+    }
+    for (int j = 0; j < 4; j++)
+        if (kf < sqrt(e[j] * e[j + 1]))
+            return 2 - j;
+    return IGEA_STABILITY_NOISE_RWFM;
 }
 
 /* MTIE with monotonic queues of indices (q: 2N longs). */
@@ -343,7 +418,43 @@ double igea__stability_edf_greenhall(int a, int d, double m, double N, int overl
     return 1.0 / ((a0 - 0.5 * d / r) / M);
 }
 
-/* EDF of the kind (NaN: no interval for this kind). */
+/* EDF of Theo1 (and of THEOBR, whose factor is taken as exact) at even m
+ * on N phase points (Howe and Peppler 2003; NIST SP 1065 section 5.5.4,
+ * with r = 0.75 m, the averaging factor of the tau Theo1 reports). */
+static double theo1_edf(int a, double N, double m)
+{
+    double r = 0.75 * m;
+    switch (a) {
+    case IGEA_STABILITY_NOISE_WPM:
+        return 0.86 * (N + 1.0) * (N - 4.0 * r / 3.0) / (N - r) * (r / (r + 1.14));
+    case IGEA_STABILITY_NOISE_FPM:
+        return (4.798 * N * N - 6.374 * N * r + 12.387 * r) / (sqrt(r + 36.6) * (N - r)) *
+               (r / (r + 0.3));
+    case IGEA_STABILITY_NOISE_WFM:
+        return ((4.1 * N + 0.8) / r - (3.1 * N + 6.5) / N) * (pow(r, 1.5) / (pow(r, 1.5) + 5.2));
+    case IGEA_STABILITY_NOISE_FFM:
+        return (2.0 * N * N - 1.3 * N * r - 3.5 * r) / (N * r) * (r * r * r / (r * r * r + 2.3));
+    default: {
+        double q = 4.4 * N - 1.0;
+        return (4.4 * N - 2.0) / (2.9 * r) * (q * q - 8.6 * r * q + 11.4 * r * r) /
+               ((4.4 * N - 3.0) * (4.4 * N - 3.0));
+    }
+    }
+}
+
+/* EDF of HTOTDEV (Howe et al., "A total estimator of the Hadamard function
+ * used for GPS operations", PTTI 2000; NIST SP 1065 section 5.5.5): (N / m)
+ * / (b0 + b1 m / N) for m >= 16 and white, flicker or random-walk FM; the
+ * OHDEV EDF (Greenhall's) below m = 16 (as Stable32) and for PM noise [D]. */
+static double htot_edf(int a, double N, double m)
+{
+    static const double b[3][2] = {{0.559, 1.004}, {0.868, 1.140}, {0.938, 1.696}};
+    if (m < 16.0 || a > 0)
+        return igea__stability_edf_greenhall(a, 3, m, N, 1, 0);
+    return (N / m) / (b[-a][0] + b[-a][1] * m / N);
+}
+
+/* EDF of the kind (a sub_kind; NaN: no interval for this kind). */
 static double dev_edf(int kind, int a, double N, double m)
 {
     static const double t7[3][2] = {{1.50, 0.0}, {1.17, 0.22}, {0.93, 0.36}};
@@ -361,6 +472,9 @@ static double dev_edf(int kind, int a, double N, double m)
         return t7[-a][0] * N / m - t7[-a][1];
     case IGEA_STABILITY_ALLAN_MTOTDEV:
     case IGEA_STABILITY_ALLAN_TTOTDEV: return t8[2 - a][0] * N / m - t8[2 - a][1];
+    case IGEA_STABILITY_ALLAN_HTOTDEV: return htot_edf(a, N, m);
+    case IGEA_STABILITY_ALLAN_THEO1:
+    case IGEA_STABILITY_ALLAN_THEOBR: return theo1_edf(a, N, m);
     default: return NAN;
     }
 }
@@ -653,6 +767,77 @@ static double *gap_phase(int n, const double *v, double fs, int type, long *P, l
     return x;
 }
 
+/* ---- what the stream (stability_stream.c) shares ---- */
+
+long igea__stability_dev_factor(int kind, double tau, double fs, long N)
+{
+    return dev_factor(kind, tau, fs, N);
+}
+
+long igea__stability_dev_terms(int kind, long N, long m) { return dev_terms(kind, N, m); }
+
+double igea__stability_dev_edf(int kind, int alpha, double N, double m)
+{
+    return dev_edf(kind, alpha, N, m);
+}
+
+void igea__stability_pass_spec(int kind, long m, int acf, igea__aptau_spec *sp)
+{
+    int had = kind == IGEA_STABILITY_ALLAN_HDEV || kind == IGEA_STABILITY_ALLAN_OHDEV;
+    int mod = kind == IGEA_STABILITY_ALLAN_MDEV || kind == IGEA_STABILITY_ALLAN_TDEV ||
+              kind == IGEA_STABILITY_ALLAN_MODIFIED;
+    sp->m = m;
+    sp->type = mod ? IGEA__AP_MV : had ? IGEA__AP_HV : IGEA__AP_AV;
+    sp->stride = kind != IGEA_STABILITY_ALLAN_ADEV && kind != IGEA_STABILITY_ALLAN_HDEV &&
+                 kind != IGEA_STABILITY_ALLAN_NONOVERLAPPING;
+    sp->acf = acf;
+}
+
+double igea__stability_pass_dev(int kind, int phase, double fs, long m, double ss, long cnt)
+{
+    int had = kind == IGEA_STABILITY_ALLAN_HDEV || kind == IGEA_STABILITY_ALLAN_OHDEV;
+    int mod = kind == IGEA_STABILITY_ALLAN_MDEV || kind == IGEA_STABILITY_ALLAN_TDEV ||
+              kind == IGEA_STABILITY_ALLAN_MODIFIED;
+    double md = (double)m, tau = md / fs;
+    /* phase data in seconds: / tau^2; frequency: the samples' sums / m^2 */
+    double sc = phase ? tau * tau : md * md;
+    double var = ss / ((had ? 6.0 : 2.0) * (double)cnt * sc);
+    if (mod)
+        var /= md * md;
+    double d = sqrt(var);
+    return kind == IGEA_STABILITY_ALLAN_TDEV ? d * tau / sqrt(3.0) : d;
+}
+
+/* ---- one pass for the Allan and Hadamard kinds (stability_pass.c) ---- */
+
+/* The deviations d of ADEV .. OHDEV at the factors m[ntau] of the record v
+ * (n frequency samples or phase points) in one pass. 0 or IGEA_ENOMEM. */
+static int dev_pass(int n, const double *v, double fs, int data_type, int kind, int ntau,
+                    const long *m, double *d)
+{
+    igea__aptau_spec *sp = malloc((size_t)ntau * sizeof *sp);
+    igea__apass *p = NULL;
+    if (!sp)
+        return IGEA_ENOMEM;
+    for (int j = 0; j < ntau; j++)
+        igea__stability_pass_spec(kind, m[j], 0, &sp[j]);
+    int phase = data_type == IGEA_STABILITY_DATA_PHASE;
+    int st = igea__apass_new(phase, ntau, sp, phase ? (long)n : (long)n + 1, &p);
+    if (!st)
+        st = igea__apass_feed(p, n, v);
+    if (!st)
+        st = igea__apass_end(p);
+    for (int j = 0; j < ntau && !st; j++) {
+        double ss;
+        long cnt;
+        igea__apass_get(p, j, &ss, &cnt);
+        d[j] = igea__stability_pass_dev(kind, phase, fs, m[j], ss, cnt);
+    }
+    igea__apass_free(p);
+    free(sp);
+    return st;
+}
+
 /* ---- the entry points ---- */
 
 /* Mean of Htotvar / Hvar by noise type (Howe et al.; Stable32 divides it
@@ -708,9 +893,12 @@ static int dev_check(int n, const double *x, double fs, int data_type, int ntau,
     if (kind < K_FIRST || kind > K_LAST)
         return -7;
     long N = data_type == IGEA_STABILITY_DATA_PHASE ? n : (long)n + 1;
+    if ((kind == IGEA_STABILITY_ALLAN_THEOBR || kind == IGEA_STABILITY_ALLAN_THEOH) && N < 90)
+        return -1; /* TheoBR's factor needs n = floor(0.1 N / 3) - 3 >= 0 */
     for (int j = 0; j < ntau; j++) {
-        long m = dev_factor(kind, tau[j], fs, N);
-        if (m < 1 || dev_terms(kind, N, m) < 1)
+        int sk = sub_kind(kind, tau[j], fs, N);
+        long m = dev_factor(sk, tau[j], fs, N);
+        if (m < 1 || dev_terms(sk, N, m) < 1)
             return -6;
     }
     if (!(noise == IGEA_STABILITY_NOISE_AUTO ||
@@ -720,7 +908,7 @@ static int dev_check(int n, const double *x, double fs, int data_type, int ntau,
         return -9;
     if (!dev)
         return -10;
-    int noci = kind >= IGEA_STABILITY_ALLAN_HTOTDEV;
+    int noci = kind == IGEA_STABILITY_ALLAN_MTIE || kind == IGEA_STABILITY_ALLAN_TIERMS;
     if (noci && lo)
         return -11;
     if (noci && hi)
@@ -730,15 +918,16 @@ static int dev_check(int n, const double *x, double fs, int data_type, int ntau,
     return 0;
 }
 
-/* EDF and interval of every tau (alpha already set); with gaps, the EDF of
- * the record without gaps that has the terms used. */
-static int dev_intervals(int kind, long N, int ntau, const long *m, const int *al, double conf,
-                         int gaps, const long *used, const double *d, double *l, double *h,
-                         double *e)
+/* EDF and interval of every tau (alpha already set; sk the statistic of
+ * each tau); with gaps, the EDF of the record without gaps that has the
+ * terms used. */
+static int dev_intervals(const int *sk, long N, int ntau, const long *m, const int *al,
+                         double conf, int gaps, const long *used, const double *d, double *l,
+                         double *h, double *e)
 {
     for (int j = 0; j < ntau; j++) {
-        double Nj = (double)(gaps ? gap_points(kind, used[j], m[j]) : N);
-        double ev = dev_edf(kind, al[j], Nj, (double)m[j]);
+        double Nj = (double)(gaps ? gap_points(sk[j], used[j], m[j]) : N);
+        double ev = dev_edf(sk[j], al[j], Nj, (double)m[j]);
         if (igea__edf_interval(d[j], ev, conf, &l[j], &h[j], &e[j]))
             return IGEA_ENOCONV;
     }
@@ -747,11 +936,12 @@ static int dev_intervals(int kind, long N, int ntau, const long *m, const int *a
 
 /* Workspace: phase x, frequency y (HTOTDEV), 9 m_max doubles, N doubles
  * for the identification, 2N longs (MTIE), n + 1 gap counts (gaps); per
- * tau: m, the terms used, alpha, and 4 ntau doubles of results. */
+ * tau: m, the terms used, alpha, the statistic (THEOH: OADEV or THEOBR),
+ * and 4 ntau doubles of results. */
 typedef struct {
     double *x, *y, *w, *z, *r;
     long *q, *m, *P, *used;
-    int *al;
+    int *al, *sk;
 } dev_ws;
 
 static void ws_free(dev_ws *s)
@@ -766,6 +956,7 @@ static void ws_free(dev_ws *s)
     free(s->P);
     free(s->used);
     free(s->al);
+    free(s->sk);
 }
 
 static int ws_alloc(dev_ws *s, int kind, long N, int ntau, long mmax, int need_id)
@@ -779,8 +970,10 @@ static int ws_alloc(dev_ws *s, int kind, long N, int ntau, long mmax, int need_i
     s->m = malloc((size_t)ntau * sizeof(long));
     s->used = malloc((size_t)ntau * sizeof(long));
     s->al = igea__ialloc((size_t)ntau);
+    s->sk = igea__ialloc((size_t)ntau);
     if ((tot && !s->w) || (kind == IGEA_STABILITY_ALLAN_HTOTDEV && !s->y) || (need_id && !s->z) ||
-        (kind == IGEA_STABILITY_ALLAN_MTIE && !s->q) || !s->r || !s->m || !s->used || !s->al)
+        (kind == IGEA_STABILITY_ALLAN_MTIE && !s->q) || !s->r || !s->m || !s->used || !s->al ||
+        !s->sk)
         return IGEA_ENOMEM;
     return 0;
 }
@@ -800,7 +993,7 @@ static int dev_phase(int n, const double *x, double fs, int data_type, int kind,
 }
 
 /* Copy the results of ntau taus out (the arguments of igea_stability_dev). */
-static void dev_output(const dev_ws *s, int kind, int ntau, double tau0, double *dev, double *lo,
+static void dev_output(const dev_ws *s, int ntau, double tau0, double *dev, double *lo,
                        double *hi, double *edf, int *alpha, int *count, double *tau_used)
 {
     size_t sz = (size_t)ntau * sizeof(double);
@@ -818,8 +1011,30 @@ static void dev_output(const dev_ws *s, int kind, int ntau, double tau0, double 
         if (count)
             count[j] = (int)s->used[j];
         if (tau_used)
-            tau_used[j] = (double)s->m[j] * tau0 * (kind == IGEA_STABILITY_ALLAN_THEO1 ? 0.75 : 1.0);
+            tau_used[j] = (double)s->m[j] * tau0 * (theo_kind(s->sk[j]) ? 0.75 : 1.0);
     }
+}
+
+/* The Allan parts of THEOH (the taus whose statistic is OADEV) in one pass. */
+static int theoh_avar(int n, const double *x, double fs, int data_type, int ntau, const dev_ws *s,
+                      double *d)
+{
+    long *m = malloc((size_t)ntau * sizeof(long));
+    double *v = igea__dalloc((size_t)ntau);
+    int k = 0, st = 0;
+    if (!m || !v)
+        st = IGEA_ENOMEM;
+    for (int j = 0; j < ntau && !st; j++)
+        if (s->sk[j] == IGEA_STABILITY_ALLAN_OADEV)
+            m[k++] = s->m[j];
+    if (!st && k)
+        st = dev_pass(n, x, fs, data_type, IGEA_STABILITY_ALLAN_OADEV, k, m, v);
+    for (int j = 0, i = 0; j < ntau && !st; j++)
+        if (s->sk[j] == IGEA_STABILITY_ALLAN_OADEV)
+            d[j] = v[i++];
+    free(m);
+    free(v);
+    return st;
 }
 
 int igea_stability_dev(int n, const double *x, double fs, int data_type, int ntau,
@@ -838,8 +1053,10 @@ int igea_stability_dev(int n, const double *x, double fs, int data_type, int nta
         ws_free(&s);
         return st;
     }
-    for (int j = 0; j < ntau; j++)
-        mmax = IGEA_MAX(mmax, dev_factor(kind, tau[j], fs, N));
+    for (int j = 0; j < ntau; j++) {
+        int sk = sub_kind(kind, tau[j], fs, N);
+        mmax = IGEA_MAX(mmax, dev_factor(sk, tau[j], fs, N));
+    }
     if ((st = ws_alloc(&s, kind, N, ntau, mmax, need_id))) {
         ws_free(&s);
         return st;
@@ -849,24 +1066,61 @@ int igea_stability_dev(int n, const double *x, double fs, int data_type, int nta
     if (s.y)
         for (long i = 0; i + 1 < N; i++)
             s.y[i] = (s.x[i + 1] - s.x[i]) * fs;
+    int br = 0, br_alpha = noise;
+    double kf = 1.0;
     for (int j = 0; j < ntau; j++) {
-        s.m[j] = dev_factor(kind, tau[j], fs, N);
-        s.used[j] = dev_terms(kind, N, s.m[j]);
-        d[j] = gaps ? gap_one(kind, N, s.x, s.m[j], tau0, &g, &s.used[j])
-                    : dev_one(kind, N, s.x, s.y, s.m[j], tau0, s.w, s.q);
+        s.sk[j] = sub_kind(kind, tau[j], fs, N);
+        s.m[j] = dev_factor(s.sk[j], tau[j], fs, N);
+        s.used[j] = dev_terms(s.sk[j], N, s.m[j]);
+        br = br || s.sk[j] == IGEA_STABILITY_ALLAN_THEOBR;
+    }
+    if (br) { /* TheoBR's factor, and its noise type */
+        long nrat;
+        kf = theobr_factor(N, s.x, tau0, &nrat);
+        if (noise == IGEA_STABILITY_NOISE_AUTO)
+            br_alpha = theobr_alpha(kf, nrat);
+    }
+    int pass = !gaps && gap_kind(kind); /* the Allan and Hadamard kinds: one pass */
+    if (pass && (st = dev_pass(n, x, fs, data_type, kind, ntau, s.m, d)))
+        goto out;
+    if (kind == IGEA_STABILITY_ALLAN_THEOH && (st = theoh_avar(n, x, fs, data_type, ntau, &s, d)))
+        goto out;
+    for (int j = 0; j < ntau; j++) {
+        int sk = s.sk[j];
+        if (sk == IGEA_STABILITY_ALLAN_THEOBR)
+            d[j] = sqrt(kf * theo1_var(N, s.x, s.m[j], tau0));
+        else if (!pass && kind != IGEA_STABILITY_ALLAN_THEOH)
+            d[j] = gaps ? gap_one(kind, N, s.x, s.m[j], tau0, &g, &s.used[j])
+                        : dev_one(kind, N, s.x, s.y, s.m[j], tau0, s.w, s.q);
         if (gaps && s.used[j] < 1)
             st = IGEA_ENONFINITE; /* every term of this tau holds a gap */
-        s.al[j] = need_id ? noise_at(N, s.x, s.m[j], tau0, data_type, s.z) : noise;
+        if (sk == IGEA_STABILITY_ALLAN_THEOBR)
+            s.al[j] = br_alpha;
+        else
+            s.al[j] = need_id ? noise_at(N, s.x, s.m[j], tau0, data_type, s.z) : noise;
+        if (need_id && kind == IGEA_STABILITY_ALLAN_THEO1 && (N - 1) / s.m[j] < 4 && N >= 90) {
+            /* Theo1 beyond a quarter of the record: fewer than 4 averages
+             * for the lag-1 or B1 methods; the type of TheoBR's bias factor
+             * [D] */
+            if (!br) {
+                long nrat;
+                kf = theobr_factor(N, s.x, tau0, &nrat);
+                br_alpha = theobr_alpha(kf, nrat);
+                br = 1;
+            }
+            s.al[j] = br_alpha;
+        }
         if (htot && s.m[j] > 1)
             d[j] /= sqrt(htot_bias(s.al[j]));
     }
     if (need_ci && !st)
-        st = dev_intervals(kind, N, ntau, s.m, s.al, conf, gaps != 0, s.used, d, l, h, e);
+        st = dev_intervals(s.sk, N, ntau, s.m, s.al, conf, gaps != 0, s.used, d, l, h, e);
     for (int j = 0; j < ntau && !st; j++)
         if (!isfinite(d[j]))
             st = IGEA_ENOCONV;
     if (!st)
-        dev_output(&s, kind, ntau, tau0, dev, lo, hi, edf, alpha, count, tau_used);
+        dev_output(&s, ntau, tau0, dev, lo, hi, edf, alpha, count, tau_used);
+out:
     ws_free(&s);
     return st;
 }
@@ -904,8 +1158,23 @@ int igea_stability_taus(int n, double fs, int data_type, int kind, int spacing, 
         return -7;
     if (!ntau)
         return -8;
-    int theo = kind == IGEA_STABILITY_ALLAN_THEO1, k = 0;
+    int theo = theo_kind(kind), k = 0;
     long N = data_type == IGEA_STABILITY_DATA_PHASE ? n : (long)n + 1;
+    if ((kind == IGEA_STABILITY_ALLAN_THEOBR || kind == IGEA_STABILITY_ALLAN_THEOH) && N < 90) {
+        *ntau = 0;
+        return 0;
+    }
+    if (kind == IGEA_STABILITY_ALLAN_THEOH) {
+        /* the Allan deviation below the switch, THEOBR from it on */
+        long ks = theoh_switch(N), m;
+        for (m = 1; k < ntau_max && m < ks && N - 2 * m >= 1; m = next_factor(m, spacing, 0))
+            tau[k++] = (double)m / fs;
+        for (m = 2 * (long)ceil((double)ks / 1.5); k < ntau_max && m <= N - 1;
+             m = next_factor(m, spacing, 1))
+            tau[k++] = (double)m / fs * 0.75;
+        *ntau = k;
+        return 0;
+    }
     for (long m = theo ? 2 : 1; k < ntau_max && m <= N; m = next_factor(m, spacing, theo)) {
         long M;
         if (kind <= IGEA_STABILITY_ALLAN_NONOVERLAPPING) {

@@ -377,6 +377,40 @@ static void test_system_errors(void **state)
     igea_io_reader_free(r);
 }
 
+/* IGEA_IO_NAN: the token NaN (and a .npy NaN) is a gap; other spellings
+ * and Inf stay refused, with the line and column. */
+static void test_nan_gaps(void **state)
+{
+    (void)state;
+    igea_io_reader *r;
+    double v[8], info[IGEA_IO_INFO_LEN];
+    int got = 0;
+    const char *p = puts_("gap.txt", "1 NaN\nNaN 4\n");
+    assert_int_equal(igea_io_reader_create(&r), 0);
+    int st = igea_io_reader_open(r, p, 0, NULL);
+    if (st == 0)
+        st = igea_io_reader_next(r, 4, v, &got);
+    assert_int_equal(st, IGEA_EFORMAT);
+    igea_io_reader_info(r, info);
+    assert_int_equal((int)info[IGEA_IO_INFO_LINE], 1);
+    assert_int_equal((int)info[IGEA_IO_INFO_COLUMN], 3);
+    assert_int_equal(igea_io_reader_open(r, p, IGEA_IO_NAN | IGEA_IO_TWICE, NULL), 0);
+    assert_int_equal(igea_io_reader_next(r, 4, v, &got), 0);
+    assert_int_equal(got, 2);
+    assert_true(v[0] == 1 && isnan(v[1]) && isnan(v[2]) && v[3] == 4);
+    static const char *const bad[] = {"1 nan\n", "1 NAN\n", "1 NaNa\n", "1 Inf\n", "1 -NaN\n"};
+    for (int i = 0; i < 5; i++) {
+        st = igea_io_reader_open(r, puts_("gap2.txt", bad[i]), IGEA_IO_NAN, NULL);
+        if (st == 0)
+            st = igea_io_reader_next(r, 4, v, &got);
+        assert_int_equal(st, IGEA_EFORMAT);
+        igea_io_reader_info(r, info);
+        assert_int_equal((int)info[IGEA_IO_INFO_LINE], 1);
+    }
+    assert_int_equal(igea_io_reader_open(r, p, 16, NULL), -3); /* an unknown flag */
+    igea_io_reader_free(r);
+}
+
 static void test_offsets_tempfile_partial_load(void **state)
 {
     (void)state;
@@ -460,7 +494,7 @@ static void test_views(void **state)
     assert_int_equal(igea_io_reader_view(r, 0, &got), -2);
     assert_int_equal(igea_io_reader_view(r, 3, NULL), -3);
     assert_null(igea_io_reader_view_rows(NULL));
-    assert_int_equal(igea_io_reader_open(r, p, 4, NULL), -3);
+    assert_int_equal(igea_io_reader_open(r, p, 8, NULL), -3); /* an unknown flag */
     /* without IGEA_IO_MAP, in Fortran order and as text: the same rows
      * from the reader's own buffer */
     const char *other[3] = {p, put("vf.npy", buf, npy(buf, fo, 7, 3, 1, 0)),
@@ -520,7 +554,7 @@ int main(void)
         cmocka_unit_test(test_npy_orders),    cmocka_unit_test(test_pipe_rewind),
         cmocka_unit_test(test_fifo),          cmocka_unit_test(test_system_errors),
         cmocka_unit_test(test_offsets_tempfile_partial_load),
-        cmocka_unit_test(test_views),
+        cmocka_unit_test(test_views), cmocka_unit_test(test_nan_gaps),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -564,15 +564,29 @@ static void test_dev_edf(void **state)
     assert_int_equal(igea_stability_dev(1000, y, 1.0, 0, 1, &t10, IGEA_STABILITY_ALLAN_MTOTDEV, IGEA_STABILITY_NOISE_WPM,
                                         0.9, &d, &lo, &hi, &e, NULL, NULL, NULL), 0);
     assert_close(e, 1.90 * 1001 / 10 - 2.1, 1e-14);
-    /* no interval for THEO1, HTOTDEV, MTIE, TIERMS: lo, hi, edf must be NULL */
+    /* THEO1: the EDF of Howe and Peppler (NIST SP 1065), r = 0.75 m, the
+     * formula written out here: white FM, N = 1001, m = 10 (tau 7.5) */
     assert_int_equal(igea_stability_dev(1000, y, 1.0, 0, 1, &t10, IGEA_STABILITY_ALLAN_THEO1, 0, 0.9, &d, &lo,
                                         NULL, NULL, NULL, NULL, NULL), -6); /* m = 13 odd */
     const double t75 = 7.5;
-    assert_int_equal(igea_stability_dev(1000, y, 1.0, 0, 1, &t75, IGEA_STABILITY_ALLAN_THEO1, 0, 0.9, &d, &lo,
+    assert_int_equal(igea_stability_dev(1000, y, 1.0, 0, 1, &t75, IGEA_STABILITY_ALLAN_THEO1,
+                                        IGEA_STABILITY_NOISE_WFM, 0.9, &d, &lo, &hi, &e, NULL, NULL, NULL), 0);
+    {
+        double N = 1001, r = 7.5;
+        assert_close(e, ((4.1 * N + 0.8) / r - (3.1 * N + 6.5) / N) * pow(r, 1.5) / (pow(r, 1.5) + 5.2),
+                     1e-13);
+    }
+    /* HTOTDEV, m = 20, flicker FM: (N / m) / (b0 + b1 m / N), (0.868, 1.140) */
+    const double t20 = 20;
+    assert_int_equal(igea_stability_dev(1000, y, 1.0, 0, 1, &t20, IGEA_STABILITY_ALLAN_HTOTDEV,
+                                        IGEA_STABILITY_NOISE_FFM, 0.9, &d, &lo, &hi, &e, NULL, NULL, NULL), 0);
+    assert_close(e, (1001.0 / 20) / (0.868 + 1.140 * 20 / 1001.0), 1e-13);
+    /* no interval for MTIE and TIERMS: lo, hi, edf must be NULL */
+    assert_int_equal(igea_stability_dev(1000, y, 1.0, 0, 1, &t10, IGEA_STABILITY_ALLAN_TIERMS, 0, 0.9, &d, &lo,
                                         NULL, NULL, NULL, NULL, NULL), -11);
     assert_int_equal(igea_stability_dev(1000, y, 1.0, 0, 1, &t10, IGEA_STABILITY_ALLAN_MTIE, 0, 0.9, &d, NULL,
                                         &hi, NULL, NULL, NULL, NULL), -12);
-    assert_int_equal(igea_stability_dev(1000, y, 1.0, 0, 1, &t10, IGEA_STABILITY_ALLAN_HTOTDEV, 0, 0.9, &d, NULL,
+    assert_int_equal(igea_stability_dev(1000, y, 1.0, 0, 1, &t10, IGEA_STABILITY_ALLAN_MTIE, 0, 0.9, &d, NULL,
                                         NULL, &e, NULL, NULL, NULL), -13);
     free(y);
 }
@@ -661,7 +675,15 @@ static void test_dev_args(void **state)
     assert_int_equal(igea_stability_dev(100, y, 1, 0, 1, tbig, K, 0, 0.9, d, lo, NULL, NULL, al, NULL, NULL), 0);
     assert_int_equal(igea_stability_dev(100, y, 1, 1, 1, tbig, K, 0, 0.9, d, lo, NULL, NULL, al, NULL, NULL), -6);
     assert_int_equal(igea_stability_dev(100, y, 1, 0, 2, tau, 2, 0, 0.9, d, lo, NULL, NULL, al, NULL, NULL), -7);
-    assert_int_equal(igea_stability_dev(100, y, 1, 0, 2, tau, 16, 0, 0.9, d, lo, NULL, NULL, al, NULL, NULL), -7);
+    assert_int_equal(igea_stability_dev(100, y, 1, 0, 2, tau, 18, 0, 0.9, d, lo, NULL, NULL, al, NULL, NULL), -7);
+    /* THEOBR and THEOH need N >= 90 phase points (TheoBR's factor) */
+    const double t3 = 3;
+    assert_int_equal(igea_stability_dev(88, y, 1, 0, 1, &t3, IGEA_STABILITY_ALLAN_THEOBR, 0, 0.9, d, lo, NULL,
+                                        NULL, al, NULL, NULL), -1);
+    assert_int_equal(igea_stability_dev(89, y, 1, 1, 1, &t3, IGEA_STABILITY_ALLAN_THEOH, 0, 0.9, d, lo, NULL,
+                                        NULL, al, NULL, NULL), -1);
+    assert_int_equal(igea_stability_dev(90, y, 1, 1, 1, &t3, IGEA_STABILITY_ALLAN_THEOH, 0, 0.9, d, lo, NULL,
+                                        NULL, al, NULL, NULL), 0);
     assert_int_equal(igea_stability_dev(100, y, 1, 0, 2, tau, K, 5, 0.9, d, lo, NULL, NULL, al, NULL, NULL), -8);
     assert_int_equal(igea_stability_dev(100, y, 1, 0, 2, tau, K, 0, 1.0, d, lo, NULL, NULL, al, NULL, NULL), -9);
     assert_int_equal(igea_stability_dev(100, y, 1, 0, 2, tau, K, 0, 0.9, NULL, lo, NULL, NULL, al, NULL, NULL), -10);
@@ -717,12 +739,104 @@ static void test_dev_taus(void **state)
     assert_int_equal(igea_stability_taus(1, 1.0, 0, 4, 0, 64, tau, &nt), -1);
     assert_int_equal(igea_stability_taus(10, 0.0, 0, 4, 0, 64, tau, &nt), -2);
     assert_int_equal(igea_stability_taus(10, 1.0, 3, 4, 0, 64, tau, &nt), -3);
-    assert_int_equal(igea_stability_taus(10, 1.0, 0, 16, 0, 64, tau, &nt), -4);
+    assert_int_equal(igea_stability_taus(10, 1.0, 0, 18, 0, 64, tau, &nt), -4);
+    /* THEOH: octave Allan taus below the switch k = 128 (0.2 (N - 1) = 200),
+     * then Theo taus 0.75 m from m = 2 ceil(128 / 1.5) = 172 */
+    assert_int_equal(igea_stability_taus(1000, 1.0, 0, IGEA_STABILITY_ALLAN_THEOH, IGEA_STABILITY_TAUS_OCTAVE,
+                                         64, tau, &nt), 0);
+    assert_int_equal(nt, 10); /* 1 .. 64, then m = 172, 344, 688 */
+    assert_close(tau[6], 64.0, 0);
+    assert_close(tau[7], 0.75 * 172, 1e-15);
+    assert_close(tau[9], 0.75 * 688, 1e-15);
+    assert_int_equal(igea_stability_taus(80, 1.0, 1, IGEA_STABILITY_ALLAN_THEOBR, IGEA_STABILITY_TAUS_OCTAVE,
+                                         64, tau, &nt), 0);
+    assert_int_equal(nt, 0); /* fewer than 90 points */
     assert_int_equal(igea_stability_taus(10, 1.0, 0, 4, 3, 64, tau, &nt), -5);
     assert_int_equal(igea_stability_taus(10, 1.0, 0, 4, 0, 0, tau, &nt), -6);
     assert_int_equal(igea_stability_taus(10, 1.0, 0, 4, 0, 64, NULL, &nt), -7);
     assert_int_equal(igea_stability_taus(10, 1.0, 0, 4, 0, 64, tau, NULL), -8);
 }
+
+/* The stream: argument checks, the end of the record, and results equal to
+ * the whole-record call bit for bit (tests/python/test_stability_stream.py
+ * covers every kind and piece size). */
+static void test_stream(void **state)
+{
+    double y[2000], tau[16], dev[16], ref[16], lo[16], b[IGEA_STABILITY_BLOCK_LEN];
+    int nt = -1, cnt[16];
+    for (int k = 0; k < 2000; k++)
+        y[k] = sin(0.37 * k) + 0.2 * sin(0.011 * k * k);
+    igea_stability_stream *h = NULL;
+    const double t3[3] = {0.1, 1.0, 5.0};
+    assert_int_equal(igea_stability_stream_create(0, 0, 0, 0, 0.683, 0, NULL, 0, 0, &h), -1);
+    assert_int_equal(igea_stability_stream_create(10, 1, 0, 0, 0.683, 0, NULL, 0, 0, &h), -2);
+    assert_int_equal(igea_stability_stream_create(10, 0, 9, 0, 0.683, 0, NULL, 0, 0, &h), -3);
+    assert_int_equal(igea_stability_stream_create(10, 0, 4, 99, 0.683, 0, NULL, 0, 0, &h), -4);
+    assert_int_equal(igea_stability_stream_create(10, 0, 0, 0, 1.0, 0, NULL, 0, 0, &h), -5);
+    assert_int_equal(igea_stability_stream_create(10, 0, 0, 0, 0.683, -1, NULL, 0, 0, &h), -6);
+    assert_int_equal(igea_stability_stream_create(10, 0, 0, 0, 0.683, 3, NULL, 0, 0, &h), -7);
+    assert_int_equal(igea_stability_stream_create(10, 0, 0, 0, 0.683, 0, NULL, 2, 0, &h), -8);
+    assert_int_equal(igea_stability_stream_create(10, 0, 0, 0, 0.683, 0, NULL, 0, -1, &h), -9);
+    assert_int_equal(igea_stability_stream_create(10, 0, 0, 0, 0.683, 0, NULL, 0, 0, NULL), -10);
+    assert_null(h);
+    assert_int_equal(igea_stability_stream_create(10, 0, IGEA_STABILITY_ALLAN_OVERLAPPING,
+                                                  IGEA_STABILITY_NOISE_AUTO, 0.683, 3, t3, 0, 20.0, &h),
+                     0);
+    for (int k = 0; k < 2000; k += 300)
+        assert_int_equal(igea_stability_stream_feed(h, k + 300 <= 2000 ? 300 : 2000 - k, y + k), 0);
+    double ns = 0;
+    assert_int_equal(igea_stability_stream_samples(h, &ns), 0);
+    assert_true(ns == 2000);
+    assert_int_equal(igea_stability_stream_feed(h, -1, y), -2);
+    assert_int_equal(igea_stability_stream_feed(h, 3, NULL), -3);
+    assert_int_equal(igea_stability_stream_result(h, 2, &nt, tau, dev, NULL, NULL, NULL, NULL, cnt, b),
+                     IGEA_EEMPTY); /* 3 taus do not fit in 2 */
+    assert_int_equal(igea_stability_stream_result(h, 16, &nt, tau, dev, lo, NULL, NULL, NULL, cnt, b), 0);
+    assert_int_equal(nt, 3);
+    assert_int_equal(igea_stability_stream_feed(h, 1, y), IGEA_EEMPTY); /* ended */
+    assert_int_equal(igea_stability_allan(2000, y, 10, 3, t3, IGEA_STABILITY_ALLAN_OVERLAPPING,
+                                          IGEA_STABILITY_NOISE_AUTO, 0.683, ref, NULL, NULL, NULL, NULL),
+                     0);
+    for (int j = 0; j < 3; j++)
+        assert_true(dev[j] == ref[j] && lo[j] < dev[j]);
+    double blk[IGEA_STABILITY_BLOCK_LEN];
+    assert_int_equal(igea_stability_block(2000, y, 10, 20.0, blk), 0);
+    assert_memory_equal(b, blk, sizeof blk);
+    igea_stability_stream_free(h);
+    igea_stability_stream_free(NULL);
+}
+
+#ifndef OOM_DISABLED
+/* Allocation failures in the stream: refused cleanly, later calls too. */
+static void test_stream_oom(void **state)
+{
+    double y[3000], tau[16], dev[16];
+    int nt;
+    for (int k = 0; k < 3000; k++)
+        y[k] = cos(0.2 * k) + 1e-3 * k;
+    for (int k = 0; k < 40; k++) {
+        igea_stability_stream *h = NULL;
+        OOM_ARM(k);
+        int st = igea_stability_stream_create(1, 0, IGEA_STABILITY_ALLAN_MODIFIED, IGEA_STABILITY_NOISE_AUTO,
+                                              0.683, 0, NULL, 0, 5.0, &h), fed = 0;
+        for (int i = 0; !st && i < 3000; i += 500)
+            st = igea_stability_stream_feed(h, 500, y + i);
+        if (!st) {
+            fed = 1;
+            fill_sentinel(dev, 16);
+            st = igea_stability_stream_result(h, 16, &nt, tau, dev, NULL, NULL, NULL, NULL, NULL, NULL);
+            if (st)
+                assert_true(all_sentinel(dev, 16));
+        }
+        OOM_DISARM();
+        assert_true(st == 0 || st == IGEA_ENOMEM);
+        if (st && h && !fed) /* a stream whose feed failed stays failed */
+            assert_int_equal(igea_stability_stream_feed(h, 1, y), IGEA_ENOMEM);
+        assert_true(st || nt >= 5);
+        igea_stability_stream_free(h);
+    }
+}
+#endif
 
 #ifndef OOM_DISABLED
 static void test_dev_oom(void **state)
@@ -872,9 +986,11 @@ int main(void)
         cmocka_unit_test(test_dev_taus),
         cmocka_unit_test(test_fit),
         cmocka_unit_test(test_fit_boot),
+        cmocka_unit_test(test_stream),
 #ifndef OOM_DISABLED
         cmocka_unit_test(test_oom),
         cmocka_unit_test(test_dev_oom),
+        cmocka_unit_test(test_stream_oom),
 #endif
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

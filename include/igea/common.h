@@ -159,7 +159,7 @@ IGEA_API const char *igea_opt_name(int module, int slot);
 #define IGEA_CHOICE_STABILITY_KIND 13    /* igea/stability.h IGEA_STABILITY_ALLAN_*:
                                           * overlapping modified nonoverlapping adev oadev
                                           * mdev tdev hdev ohdev totdev mtotdev ttotdev
-                                          * htotdev theo1 mtie tierms */
+                                          * htotdev theo1 mtie tierms theobr theoh */
 #define IGEA_CHOICE_STABILITY_NOISE 14   /* igea/stability.h IGEA_STABILITY_NOISE_* (-2 .. 2,
                                           * 99): rwfm ffm wfm fpm wpm auto */
 #define IGEA_CHOICE_STATS_SIGMAW_FLAG 15 /* igea/stats.h IGEA_STATS_SIGMAW_*: converged

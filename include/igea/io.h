@@ -68,6 +68,10 @@ extern "C" {
 #define IGEA_IO_TWICE 1 /* igea_io_reader_rewind will be called */
 #define IGEA_IO_MAP 2   /* igea_io_reader_view may hand out the rows of a .npy
                            file in place, through a memory map */
+#define IGEA_IO_NAN 4   /* a gap: the text token NaN (exactly these three
+                           letters) and a .npy NaN are read as NaN; any other
+                           spelling (nan, NAN, an empty field) and Inf stay
+                           refused */
 
 /* Slots of igea_io_reader_info (integers stored as exact doubles). */
 #define IGEA_IO_INFO_STATUS 0 /* status of the last failed call, 0 none */
@@ -95,7 +99,7 @@ IGEA_API void igea_io_reader_free(igea_io_reader *r);
 
 /* Open the file at path (NUL-terminated) for reading, check a .npy header
  * or read the first text row ahead (the columns are known after it).
- * flags: 0, IGEA_IO_TWICE, IGEA_IO_MAP or both (|). tmpdir: directory of a temporary copy
+ * flags: 0 or any of IGEA_IO_TWICE, IGEA_IO_MAP, IGEA_IO_NAN (|). tmpdir: directory of a temporary copy
  * (may be NULL: "/tmp"). A reader that is already open is closed first.
  * Returns 0, -1..-4 for an invalid argument (r NULL, path NULL, flags
  * unknown), IGEA_EREAD, IGEA_EFORMAT (an empty input: no data),

@@ -7,8 +7,12 @@
  *
  * The record y holds rate-type samples (a gyro's rate, an accelerometer's
  * acceleration; in frequency-stability terms "frequency data") taken at fs
- * samples per second. All sums are compensated; the Allan routines need
- * no memory beyond their outputs (running window sums, O(n) per tau).
+ * samples per second. The Allan and Hadamard deviations of every tau of a
+ * call are computed in one pass over the record (the integrated phase kept
+ * block by block, each block as a double-double base and values relative
+ * to it, in a ring as long as the longest lag: about 2 m_max doubles, 3
+ * m_max for the modified kinds; sums of squares in blocks, the block totals
+ * compensated; docs/stability.md "One pass").
  */
 #ifndef IGEA_STABILITY_H
 #define IGEA_STABILITY_H
@@ -165,6 +169,17 @@ IGEA_API int igea_stability_noise_id(int ntau, const double *tau,
 #define IGEA_STABILITY_ALLAN_THEO1 13
 #define IGEA_STABILITY_ALLAN_MTIE 14
 #define IGEA_STABILITY_ALLAN_TIERMS 15
+/* THEOBR  Theo1 with its bias relative to the Allan variance removed (Taylor
+ *          and Howe 2010): k Theo1(m), k = (1 / (n + 1)) sum_{i=0}^{n}
+ *          AVAR(9 + 3i) / Theo1(12 + 4i) (the overlapping Allan variance
+ *          and Theo1 at the same tau = (9 + 3i) tau0), n = floor(0.1 N / 3)
+ *          - 3 >= 0 (N >= 90 phase points); m even, tau = 0.75 m tau0
+ *                                                                M = N - m
+ *  THEOH   the hybrid (Howe, Taylor and Tasset 2006): the overlapping Allan
+ *          deviation at tau < k, THEOBR at tau >= k, k the largest tau0 2^j
+ *          <= 0.2 (N - 1) tau0 (N >= 90)                  M as OADEV, THEOBR */
+#define IGEA_STABILITY_ALLAN_THEOBR 16
+#define IGEA_STABILITY_ALLAN_THEOH 17
 
 /* Data types of igea_stability_dev (IGEA_CHOICE_STABILITY_DATA). */
 #define IGEA_STABILITY_DATA_FREQ 0  /* rate / fractional-frequency samples y_i */
@@ -172,7 +187,8 @@ IGEA_API int igea_stability_noise_id(int ntau, const double *tau,
 
 /*
  * Stable32's statistic `kind` at averaging times tau[j]: m_j = round(tau[j]
- * fs) (THEO1: m_j = round(tau[j] fs / 0.75), even), with the noise type per
+ * fs) (THEO1, THEOBR and THEOH's THEOBR part: m_j = round(tau[j] fs /
+ * 0.75), even), with the noise type per
  * tau, the equivalent degrees of freedom and chi-square intervals.
  * Frequency data of n samples give N = n + 1 phase points (the mean rate is
  * removed first, which no statistic but MTIE and TIERMS sees; these two use
@@ -186,15 +202,22 @@ IGEA_API int igea_stability_noise_id(int ntau, const double *tau,
  * means, the B1 ratio (standard / Allan variance of the m-means) against
  * its power-law values (geometric-mean boundaries), white and flicker PM
  * told apart by R(n) = MVAR / AVAR (NIST SP 1065 section 5.6), and white
- * FM below 4 means [D]; clamped to
+ * FM below 4 means [D] (THEO1 with N >= 90: the type of THEOBR's factor
+ * there [D]); THEOBR (and THEOH's THEOBR part): one type for the record,
+ * its factor k against the mean nominal Theo1 bias (Howe, Tasset, Percival
+ * 2004) over the taus of k [D]; clamped to
  * -2 .. 2. EDF: Greenhall and Riley's algorithm (PTTI 2003; d = 2 for the
  * Allan kinds, d = 3 for the Hadamard kinds, F = 1 for MDEV/TDEV, stride m
  * for the overlapping ones); TOTDEV: SP 1065 Table 7, b N/m - c (white,
  * flicker, random-walk FM; the OADEV EDF for white and flicker PM, [D]);
- * MTOTDEV and TTOTDEV: SP 1065 Table 8. An EDF below 1 is raised to 1.
- * THEO1, HTOTDEV, MTIE and TIERMS have no interval here: lo, hi and edf must
- * be NULL for them. The interval is [s sqrt(edf / chi2_{(1+conf)/2}),
- * s sqrt(edf / chi2_{(1-conf)/2})].
+ * MTOTDEV and TTOTDEV: SP 1065 Table 8; HTOTDEV: (N / m) / (b0 + b1 m /
+ * N) (Howe et al. 2000, SP 1065) for m >= 16 and FM noise, OHDEV's below
+ * and for PM [D]; THEO1 and THEOBR: Theo1's EDF (Howe and Peppler 2003, SP
+ * 1065: r = 0.75 m, the factors r / (r + c) multiplying); THEOH: OADEV's
+ * and Theo1's by part. An EDF below 1 is raised to 1. MTIE and TIERMS have
+ * no interval: lo, hi and edf must be NULL for them (earlier versions also
+ * required it for THEO1 and HTOTDEV). The interval is [s sqrt(edf /
+ * chi2_{(1+conf)/2}), s sqrt(edf / chi2_{(1-conf)/2})].
  * Gaps: for ADEV, OADEV, MDEV, TDEV, HDEV and OHDEV a NaN in x is a gap
  * (allantools' gradev): a term that holds one (phase data: one of its
  * points; frequency data: one of the samples it spans, a gap counted as
@@ -203,14 +226,15 @@ IGEA_API int igea_stability_noise_id(int ntau, const double *tau,
  * as many terms [D]; the noise identification sees gaps filled (frequency:
  * the mean; phase: the line between neighbours) [D]. A tau whose terms all
  * hold a gap, or a NaN for another kind, is IGEA_ENONFINITE.
- *  1 n >= 2, 2 x[n] finite (NaN: a gap, see above), 3 fs > 0 (samples per second), 4 data_type
+ *  1 n >= 2 (THEOBR, THEOH: N >= 90 phase points), 2 x[n] finite (NaN: a
+ *  gap, see above), 3 fs > 0 (samples per second), 4 data_type
  *  IGEA_STABILITY_DATA_*, 5 ntau >= 1, 6 tau[ntau] > 0 each with M >= 1
- *  (THEO1: m even), 7 kind IGEA_STABILITY_ALLAN_ADEV .. _TIERMS, 8 noise
+ *  (THEO1, THEOBR: m even), 7 kind IGEA_STABILITY_ALLAN_ADEV .. _THEOH, 8 noise
  *  IGEA_STABILITY_NOISE_*, 9 0 < conf < 1, 10 dev[ntau] out, 11 lo, 12 hi,
- *  13 edf (each ntau, may be NULL; NULL for THEO1, HTOTDEV, MTIE, TIERMS),
+ *  13 edf (each ntau, may be NULL; NULL for MTIE, TIERMS),
  *  14 alpha (ntau ints: the noise exponent used at each tau, may be NULL),
  *  15 count (ntau ints: M, the terms used, may be NULL), 16 tau_used (ntau: m
- *  tau0, THEO1 0.75 m tau0, may be NULL).
+ *  tau0, THEO1 and THEOBR 0.75 m tau0, may be NULL).
  * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENOMEM, IGEA_ENOCONV (a chi-square
  * quantile failed); outputs untouched on failure.
  */
@@ -233,6 +257,72 @@ IGEA_API int igea_stability_dev(int n, const double *x, double fs, int data_type
  *  ntau out (>= 0). Returns 0 or -i. */
 IGEA_API int igea_stability_taus(int n, double fs, int data_type, int kind, int spacing,
                                  int ntau_max, double *tau, int *ntau);
+
+/* ---- the record as a stream (a driver reading a file in blocks) ---- */
+
+typedef struct igea_stability_stream igea_stability_stream;
+
+/*
+ * A stream of samples for the Allan and Hadamard kinds, whose results equal
+ * those of igea_stability_allan (kind IGEA_STABILITY_ALLAN_OVERLAPPING,
+ * _MODIFIED, _NONOVERLAPPING: rate data) or igea_stability_dev (_ADEV,
+ * _OADEV, _MDEV, _TDEV, _HDEV, _OHDEV on data_type data) on the whole
+ * record, bit for bit (the same one pass), without holding the record:
+ * memory is a ring of about 2 m_max (3 m_max for the modified kinds)
+ * doubles plus the block means of the block statistic. The averaging times
+ * are tau[ntau] (ntau >= 1; an average with no term by the end of the
+ * record makes the result IGEA_EEMPTY), or with ntau = 0 and tau NULL the
+ * octave or decade spacing (IGEA_STABILITY_TAUS_OCTAVE, _DECADE; the rate
+ * kinds octaves only), every one that has a term at the end (the ring then
+ * grows with the record up to the longest lag). The noise type for the EDF
+ * is given, or IGEA_STABILITY_NOISE_AUTO for the rate kinds only (their
+ * lag-1 identification from the tau-means, in the pass; the Stable32 kinds
+ * identify it on the whole record: igea_stability_dev). block > 0 adds
+ * igea_stability_block's statistic of blocks of block seconds (0: none).
+ * NaN and infinity are refused by the feed (no gaps: igea_stability_dev
+ * takes them).
+ *  1 fs > 0, 2 data_type IGEA_STABILITY_DATA_* (PHASE only for the Stable32
+ *  kinds), 3 kind (above), 4 noise IGEA_STABILITY_NOISE_* (AUTO only for
+ *  the rate kinds), 5 0 < conf < 1, 6 ntau >= 0, 7 tau[ntau] > 0 with
+ *  round(tau fs) >= 1 (NULL with ntau = 0), 8 spacing IGEA_STABILITY_TAUS_OCTAVE or
+ *  _DECADE (used when ntau = 0),
+ *  9 block >= 0 (seconds), 10 out: the new stream (*out NULL on failure).
+ * Returns 0, -i, IGEA_ENOMEM.
+ */
+IGEA_API int igea_stability_stream_create(double fs, int data_type, int kind, int noise,
+                                          double conf, int ntau, const double *tau, int spacing,
+                                          double block, igea_stability_stream **out);
+/* Release a stream (h may be NULL). */
+IGEA_API void igea_stability_stream_free(igea_stability_stream *h);
+/* The next n >= 0 samples v[n] (rate samples, or phase points for phase
+ * data; at most 2^31 - 1 in all). Returns 0, -1 (h NULL), -2 (n < 0), -3
+ * (v NULL with n > 0), IGEA_ENONFINITE (a NaN or infinity in v: nothing of
+ * v is fed), IGEA_EEMPTY (the stream has ended: its results were asked
+ * for), IGEA_ENOMEM (the ring could not grow: the stream is then unusable,
+ * and every later call returns IGEA_ENOMEM). */
+IGEA_API int igea_stability_stream_feed(igea_stability_stream *h, int n, const double *v);
+/* The samples fed so far (*n, an exact integer). Returns 0, -1, -2. */
+IGEA_API int igea_stability_stream_samples(const igea_stability_stream *h, double *n);
+/*
+ * The results at the end of the record: *ntau averaging times (at most
+ * ntau_max) in tau (the tau used: m / fs), dev, lo, hi, edf (each may be
+ * NULL), alpha (the noise exponent used, may be NULL), count (the terms,
+ * may be NULL), and block (IGEA_STABILITY_BLOCK_LEN doubles, may be NULL:
+ * igea_stability_block's statistic; with fewer than 2 whole blocks
+ * block[IGEA_STABILITY_BLOCK_NBLOCK] holds their number, 0 or 1, and the
+ * other entries NaN). The record ends with the first call (later feeds
+ * are refused); the results may be asked for again.
+ *  1 h, 2 ntau_max >= 1, 3 ntau out (one int), 4 tau[ntau_max] out, 5
+ *  dev[ntau_max] out, 6 lo[ntau_max], 7 hi[ntau_max], 8 edf[ntau_max], 9
+ *  alpha[ntau_max], 10 count[ntau_max] (each may be NULL), 11
+ *  block[IGEA_STABILITY_BLOCK_LEN] (may be NULL).
+ * Returns 0, -i, IGEA_EEMPTY (fewer than 2 samples, a given tau without a
+ * term, or more taus than ntau_max), IGEA_ENONFINITE (a NaN or infinity
+ * was fed), IGEA_ENOMEM, IGEA_ENOCONV; outputs untouched on failure.
+ */
+IGEA_API int igea_stability_stream_result(igea_stability_stream *h, int ntau_max, int *ntau,
+                                          double *tau, double *dev, double *lo, double *hi,
+                                          double *edf, int *alpha, int *count, double *block);
 
 /* Terms of igea_stability_fit: the Allan variance of IEEE Std 952 (Annex C)
  * sigma^2(tau) = 3 Q^2 / tau^2 + N^2 / tau + (2 ln2 / pi) B^2 + K^2 tau / 3

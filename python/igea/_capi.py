@@ -268,6 +268,7 @@ INSERR_NOISE_LEN = 9
 IO_LINE_MAX = 1048576
 IO_TWICE = 1
 IO_MAP = 2
+IO_NAN = 4
 IO_INFO_STATUS = 0
 IO_INFO_LINE = 1
 IO_INFO_COLUMN = 2
@@ -536,6 +537,8 @@ STABILITY_ALLAN_HTOTDEV = 12
 STABILITY_ALLAN_THEO1 = 13
 STABILITY_ALLAN_MTIE = 14
 STABILITY_ALLAN_TIERMS = 15
+STABILITY_ALLAN_THEOBR = 16
+STABILITY_ALLAN_THEOH = 17
 STABILITY_DATA_FREQ = 0
 STABILITY_DATA_PHASE = 1
 STABILITY_TAUS_OCTAVE = 0
@@ -1105,6 +1108,15 @@ PROTOTYPES = {
         ("count", _PI), ("tau_used", _PD),)),
     "igea_stability_taus": (c_int, (("n", c_int), ("fs", c_double), ("data_type", c_int),
         ("kind", c_int), ("spacing", c_int), ("ntau_max", c_int), ("tau", _PD), ("ntau", _PI),)),
+    "igea_stability_stream_create": (c_int, (("fs", c_double), ("data_type", c_int),
+        ("kind", c_int), ("noise", c_int), ("conf", c_double), ("ntau", c_int), ("tau", _PD),
+        ("spacing", c_int), ("block", c_double), ("out", _PH),)),
+    "igea_stability_stream_free": (None, (("h", c_void_p),)),
+    "igea_stability_stream_feed": (c_int, (("h", c_void_p), ("n", c_int), ("v", _PD),)),
+    "igea_stability_stream_samples": (c_int, (("h", c_void_p), ("n", _PD),)),
+    "igea_stability_stream_result": (c_int, (("h", c_void_p), ("ntau_max", c_int), ("ntau", _PI),
+        ("tau", _PD), ("dev", _PD), ("lo", _PD), ("hi", _PD), ("edf", _PD), ("alpha", _PI),
+        ("count", _PI), ("block", _PD),)),
     "igea_stability_fit": (c_int, (("ntau", c_int), ("tau", _PD), ("adev", _PD), ("edf", _PD),
         ("coef", _PD), ("se", _PD), ("supported", _PI), ("chi2", _PD),)),
     "igea_stability_fit_boot": (c_int, (("n", c_int), ("fs", c_double), ("kind", c_int),
@@ -1310,6 +1322,8 @@ INPUTS = {
     "igea_stability_taus_used": ("tau",),
     "igea_stability_noise_id": ("tau", "adev",),
     "igea_stability_dev": ("x", "tau",),
+    "igea_stability_stream_create": ("tau",),
+    "igea_stability_stream_feed": ("v",),
     "igea_stability_fit": ("tau", "adev", "edf",),
     "igea_stability_fit_boot": ("tau", "adev", "edf",),
     "igea_stats_accuracy_test": ("equiv_err", "lambda",),

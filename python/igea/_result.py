@@ -529,7 +529,7 @@ CLASS = {
         "quantization_tau": "tau at which Q was read, s"},
     "StabilityResult": {
         "data_type": "phase or frequency data",
-        "lo": "lower confidence limit at each tau (None for htotdev, theo1, mtie, tierms)",
+        "lo": "lower confidence limit at each tau (None for mtie and tierms)",
         "hi": "upper confidence limit at each tau (None as lo)",
         "edf": "equivalent degrees of freedom at each tau (None as lo)",
         "alpha": "the noise exponent used at each tau"},

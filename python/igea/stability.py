@@ -67,7 +67,7 @@ def octave_taus(n, fs, kind="overlapping"):
 
 
 _LEGACY = ("overlapping", "modified", "nonoverlapping")
-_NO_INTERVAL = ("htotdev", "theo1", "mtie", "tierms")
+_NO_INTERVAL = ("mtie", "tierms")
 
 
 @result
@@ -97,7 +97,8 @@ def allan(y, fs, taus=None, *, kind="overlapping", noise="auto", conf=0.683):
     octaves). kind: overlapping, modified or nonoverlapping; noise: the
     power-law type for the EDF (wpm, fpm, wfm, ffm, rwfm) or auto. The
     other kinds (adev, oadev, mdev, tdev, hdev, ohdev, totdev, mtotdev,
-    ttotdev, htotdev, theo1, mtie, tierms) are those of `stability`."""
+    ttotdev, htotdev, theo1, theobr, theoh, mtie, tierms) are those of
+    `stability`."""
     if kind not in _LEGACY:
         return stability(y, fs, taus, kind=kind, noise=noise, conf=conf)
     a = _record(y)
@@ -175,8 +176,8 @@ def stability_taus(n, fs, kind="oadev", *, data_type="freq", spacing="octave"):
 @dataclass(frozen=True)
 class StabilityResult:
     """A Stable32 statistic at its averaging times (field names as in
-    'igea stability --json'); lo, hi, edf None for htotdev, theo1, mtie,
-    tierms; alpha: the noise exponent used at each tau."""
+    'igea stability --json'); lo, hi, edf None for mtie and tierms; alpha:
+    the noise exponent used at each tau."""
     kind: str
     data_type: str
     taus: np.ndarray
@@ -202,11 +203,14 @@ class StabilityResult:
 
 def stability(data, fs, taus=None, *, kind="oadev", data_type="freq", noise="auto", conf=0.683):
     """Stable32's statistic `kind` (adev oadev mdev tdev hdev ohdev totdev
-    mtotdev ttotdev htotdev theo1 mtie tierms) of phase (seconds) or
-    frequency data sampled at fs, at the averaging times taus (None or
-    'octave', 'decade', 'all': generated; THEO1: tau = 0.75 m / fs), with
-    Greenhall's EDF and chi-square intervals at confidence conf; noise
-    'auto' identifies the type at each tau on its own."""
+    mtotdev ttotdev htotdev theo1 theobr theoh mtie tierms) of phase
+    (seconds) or frequency data sampled at fs, at the averaging times taus
+    (None or 'octave', 'decade', 'all': generated; theo1 and theobr: tau =
+    0.75 m / fs, m even; theoh: the Allan deviation below its switch, theobr
+    from it on), with the kind's EDF (Greenhall's, Howe's total-family
+    tables, Theo1's) and chi-square intervals at confidence conf; noise
+    'auto' identifies the type at each tau on its own (theobr: from its bias
+    factor)."""
     where = "igea.stability"
     a = _record(data)
     k = _lib.choice(_capi.CHOICE_STABILITY_KIND, kind, where, "kind")

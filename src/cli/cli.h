@@ -79,6 +79,8 @@ int cli_read_values(const char *arg, long n, const char *what, double **out, lon
 /* Streaming reader: row blocks of a text or .npy file in O(block) memory. */
 typedef struct cli_reader cli_reader;
 int cli_reader_open(const char *path, cli_reader **out);
+/* The same, reading the token NaN (and a .npy NaN) as a gap (IGEA_IO_NAN). */
+int cli_reader_open_gaps(const char *path, cli_reader **out);
 /* The same, for two passes: cli_reader_rewind starts the file again (a
  * non-seekable input is copied to an anonymous temporary file as it is read
  * and the second pass reads the copy); cli_reader_view may map a .npy file
@@ -88,6 +90,9 @@ int cli_reader_rewind(cli_reader *r);
 /* Columns of the file (known after open for .npy, after the first data row
  * for text: cli_reader_open reads ahead one row). */
 int cli_reader_cols(const cli_reader *r);
+/* The rows of the input when known before reading them (a .npy file whose
+ * header was checked against its size), else -1. */
+long cli_reader_rows_known(const cli_reader *r);
 /* Read up to maxrows rows into buf (row-major, maxrows * cols doubles);
  * *nread = rows read, 0 at end of file. Returns an exit code. */
 int cli_reader_next(cli_reader *r, long maxrows, double *buf, long *nread);
@@ -222,7 +227,7 @@ void cli_help(FILE *f, const cli_command *c);
  * its code, or a message listing the library's names and CLI_USAGE. */
 int cli_choice(const char *opt, int kind, const char *value, int *code);
 /* The names of enumeration kind as "a|b|c" in buf (size bytes). */
-#define CLI_CHOICE_MAX 16
+#define CLI_CHOICE_MAX 32
 #define CLI_CHOICE_TEXT 256
 const char *cli_choice_names(int kind, char *buf, size_t size);
 /* value among the driver's own words "a|b|c" (a command's sub-command or

@@ -14,6 +14,7 @@ typedef struct {
     double fs, block, conf;
     int column, column_given, kind, noise, json, phase, spacing, fit;
     int boot, seed; /* the --fit standard errors: bootstrap records, seed */
+    int gaps;       /* NaN in the file is a gap */
 } st_args;
 
 static st_args A;
@@ -27,6 +28,7 @@ static const cli_opt options[] = {
     {"--kind", CLI_OPT_CHOICE, &A.kind, "overlapping", CLI_CHOICES(IGEA_CHOICE_STABILITY_KIND),
      "statistic: the rate-data Allan deviations\n(overlapping modified nonoverlapping) or\nStable32's (adev ... tierms)", NULL},
     {"--phase", CLI_OPT_FLAG, &A.phase, NULL, NULL, "the record is phase (time error, s), not\nfrequency (Stable32 kinds only)", NULL},
+    {"--gaps", CLI_OPT_FLAG, &A.gaps, NULL, NULL, "the token NaN in the file is a gap (adev oadev\nmdev tdev hdev ohdev leave out the terms that\nhold one; other kinds refuse it); without\n--gaps NaN is refused", NULL},
     {"--taus", CLI_OPT_STR, &A.taus, NULL, "FILE", "averaging times (default: --spacing)", NULL},
     {"--spacing", CLI_OPT_CHOICE, &A.spacing, "octave", CLI_CHOICES(IGEA_CHOICE_STABILITY_TAUS),
      "generated averaging times (Stable32 kinds;\nthe rate-data kinds use octaves)", NULL},
@@ -57,15 +59,19 @@ static const cli_command command = {"stability",
 "                   freedom (NIST SP 1065; the noise type per tau from the\n"
 "                   lag-1 autocorrelation, or fixed with --noise);\n"
 "  Stable32 kinds   adev oadev mdev tdev hdev ohdev totdev mtotdev ttotdev\n"
-"                   htotdev theo1 mtie tierms (NIST SP 1065) of frequency or,\n"
-"                   with --phase, phase data; Greenhall's EDF, the noise type\n"
-"                   identified at each tau on its own (alpha);\n"
+"                   htotdev theo1 theobr theoh mtie tierms (NIST SP 1065) of\n"
+"                   frequency or, with --phase, phase data; the kind's EDF\n"
+"                   (Greenhall's, Howe's total-family tables, Theo1's), the\n"
+"                   noise type identified at each tau on its own (alpha);\n"
 "  noise terms      the IEEE Std 952 model 3Q^2/tau^2 + N^2/tau + (2 ln2/pi) B^2\n"
 "                   + K^2 tau/3 + R^2 tau^2/2 fitted to the whole Allan curve\n"
 "                   (weights from the EDF, coefficients >= 0): quantisation Q,\n"
 "                   random walk N, bias instability B, rate random walk K,\n"
 "                   rate ramp R; '-' for a term the data do not support.\n"
-"All sums are compensated and the Allan routines need O(1) extra memory.\n"
+"The record is read as a stream for the Allan and Hadamard kinds (the\n"
+"rate-data kinds, and adev ... ohdev with --noise given): memory for the\n"
+"longest lag, not the record; the others load it (the total family, Theo1\n"
+"and MTIE need the whole record, the Stable32 noise identification too).\n"
 "Progress (averaging times done, elapsed time, ETA) goes to stderr when it\n"
 "is a terminal, or a line per 10 % with --progress; --quiet silences it.\n"
 "\n"
@@ -79,7 +85,8 @@ options,
 "  igea stability --data gyro_x.npy --fs 1000 --block 100\n"
 "  igea stability --data acc.txt --fs 10 --kind modified --json --out acc_stability.json\n"
 "  igea stability --data clock_phase.txt --fs 1 --phase --kind tdev --spacing decade\n"
-"  igea stability --data gyro_x.npy --fs 1000 --kind adev --fit\n"};
+"  igea stability --data gyro_x.npy --fs 1000 --kind adev --fit\n"
+"  igea stability --data clock_with_gaps.txt --fs 1 --phase --kind oadev --gaps\n"};
 
 /* Kinds whose curve is an Allan variance (the IEEE 952 model's). */
 static int fit_kind(int k)
@@ -89,8 +96,8 @@ static int fit_kind(int k)
            k == IGEA_STABILITY_ALLAN_TOTDEV;
 }
 
-/* Kinds with an interval. */
-static int has_ci(int k) { return k < IGEA_STABILITY_ALLAN_HTOTDEV; }
+/* Kinds with an interval (all but MTIE and TIERMS). */
+static int has_ci(int k) { return k != IGEA_STABILITY_ALLAN_MTIE && k != IGEA_STABILITY_ALLAN_TIERMS; }
 
 static int parse(int argc, char **argv, st_args *a)
 {
@@ -122,35 +129,81 @@ static void num_or_dash(FILE *f, double v)
         fprintf(f, "%14.6e", v);
 }
 
-/* The record: column a->column of the file, at least 2 samples. */
-static int read_record(const st_args *a, double **y, int *n)
+/* The file's reader (NaN a gap with --gaps) and the record's column. */
+static int open_record(const st_args *a, cli_reader **r)
 {
-    cli_matrix m = {0};
-    int ec = cli_read_matrix(a->file, &m);
+    int ec = a->gaps ? cli_reader_open_gaps(a->file, r) : cli_reader_open(a->file, r);
     if (ec)
         return ec;
-    if (m.cols > 1 && !a->column_given) {
-        cli_error("%s: %d columns; pick the record with --column K (0 to %d)", a->file, m.cols,
-                  m.cols - 1);
+    int cols = cli_reader_cols(*r);
+    if (cols > 1 && !a->column_given) {
+        cli_error("%s: %d columns; pick the record with --column K (0 to %d)", a->file, cols,
+                  cols - 1);
         ec = CLI_USAGE;
-    } else if (a->column >= m.cols) {
-        cli_error("%s: has %d column(s), --column %d", a->file, m.cols, a->column);
+    } else if (a->column >= cols) {
+        cli_error("%s: has %d column(s), --column %d", a->file, cols, a->column);
         ec = CLI_USAGE;
-    } else if (m.rows < 2 || m.rows > 2147483647L) {
+    }
+    if (ec) {
+        cli_reader_close(*r);
+        *r = NULL;
+    }
+    return ec;
+}
+
+/* The next rows of the record's column into y (at most ROWS): *got, 0 at
+ * the end. buf holds ROWS rows of the file. */
+enum { ROWS = 8192 };
+static int next_rows(const st_args *a, cli_reader *r, double *buf, double *y, long *got)
+{
+    int ec = cli_reader_next(r, ROWS, buf, got);
+    if (ec)
+        return ec;
+    int cols = cli_reader_cols(r);
+    for (long k = 0; k < *got; k++)
+        y[k] = buf[(size_t)k * cols + a->column];
+    return CLI_OK;
+}
+
+/* The whole record (the kinds that need it): *y, *n >= 2 samples. */
+static int read_record(const st_args *a, double **y, int *n)
+{
+    cli_reader *r = NULL;
+    int ec = open_record(a, &r);
+    if (ec)
+        return ec;
+    long cap = 0, rows = 0, got = 0;
+    double *buf = malloc(sizeof(double) * ROWS * (size_t)cli_reader_cols(r)), *v = NULL;
+    if (!buf)
+        ec = cli_oom("the record");
+    while (!ec) {
+        if (rows + ROWS > cap) {
+            long nc = cap ? 2 * cap : 4 * ROWS;
+            double *nv = nc <= 2147483647L + (long)ROWS ? realloc(v, sizeof(double) * (size_t)nc) : NULL;
+            if (!nv) {
+                ec = cli_oom("the record");
+                break;
+            }
+            v = nv;
+            cap = nc;
+        }
+        if ((ec = next_rows(a, r, buf, v + rows, &got)) || got == 0)
+            break;
+        rows += got;
+    }
+    if (!ec && (rows < 2 || rows > 2147483647L)) {
         cli_error("%s: needs at least 2 samples", a->file);
         ec = CLI_DATAERR;
-    } else if (m.cols == 1) {
-        *y = m.v;
-        m.v = NULL;
-    } else if (!(*y = malloc(sizeof(double) * (size_t)m.rows))) {
-        ec = cli_oom("the record");
-    } else {
-        for (long k = 0; k < m.rows; k++)
-            (*y)[k] = m.v[(size_t)k * m.cols + a->column];
     }
-    *n = (int)m.rows;
-    cli_matrix_free(&m);
-    return ec;
+    free(buf);
+    cli_reader_close(r);
+    if (ec) {
+        free(v);
+        return ec;
+    }
+    *y = v;
+    *n = (int)rows;
+    return CLI_OK;
 }
 
 /* The averaging times: --taus, or the octaves of the record. */
@@ -173,6 +226,7 @@ static int read_taus(const st_args *a, int n, int kind, double **tau, int *ntau)
 
 typedef struct {
     int n, ntau, have_block, have_fit;
+    long gaps; /* NaN samples (--gaps) */
     double *tau, *dev, *lo, *hi, *edf;
     int *cnt, *alpha;
     double blk[IGEA_STABILITY_BLOCK_LEN], fit[IGEA_STABILITY_FIT_LEN], fit_se[IGEA_STABILITY_FIT_LEN];
@@ -265,8 +319,13 @@ static void text_report(FILE *f, const st_args *a, const st_result *r)
                 b[IGEA_STABILITY_BLOCK_SIGMA], (int)b[IGEA_STABILITY_BLOCK_NBLOCK],
                 b[IGEA_STABILITY_BLOCK_MEAN], b[IGEA_STABILITY_BLOCK_NSAMP] / a->fs,
                 b[IGEA_STABILITY_BLOCK_ADEV]);
+    else if (r->gaps)
+        fprintf(f, "%g-s blocks: not computed (the record holds gaps)\n", a->block);
     else
         fprintf(f, "%g-s blocks: the record holds fewer than 2 blocks\n", a->block);
+    if (r->gaps)
+        fprintf(f, "gaps: %ld samples are NaN; the terms that hold one are left out (terms)\n",
+                r->gaps);
     int ci = has_ci(a->kind), legacy = a->kind <= IGEA_STABILITY_ALLAN_NONOVERLAPPING;
     const char *kn = igea_choice_name(IGEA_CHOICE_STABILITY_KIND, a->kind);
     if (legacy)
@@ -364,13 +423,38 @@ static int group(const st_args *a, const st_result *r, int j)
     return nt;
 }
 
+static const char *const kind_gaps =
+    "the gap-resistant kinds are adev oadev mdev tdev hdev ohdev";
+
+/* A tau out of the record's range (igea_stability_allan's argument 5,
+ * igea_stability_dev's 6, a stream's IGEA_EEMPTY). */
+static int tau_range_error(void)
+{
+    cli_error("stability: a tau is shorter than 1 sample or too long for the record (theo1, "
+              "theobr: tau = 0.75 m / fs, m even)");
+    return CLI_DATAERR;
+}
+
 static int compute(const st_args *a, const double *y, st_result *r)
 {
-    int kind = a->kind;
-    int st = igea_stability_block(r->n, y, a->fs, a->block, r->blk);
-    r->have_block = st == 0;
-    if (st && st != BLOCK_ARG_LENGTH)
-        return cli_status(st, "stability: block statistic");
+    int kind = a->kind, st = 0;
+    for (int i = 0; i < r->n; i++)
+        r->gaps += isnan(y[i]) != 0;
+    if (r->gaps && !(kind >= IGEA_STABILITY_ALLAN_ADEV && kind <= IGEA_STABILITY_ALLAN_OHDEV)) {
+        cli_error("%s: %ld gaps (NaN): --kind %s takes no gaps; %s", a->file, r->gaps,
+                  igea_choice_name(IGEA_CHOICE_STABILITY_KIND, kind), kind_gaps);
+        return CLI_DATAERR;
+    }
+    if (r->gaps == r->n) {
+        cli_error("%s: every sample is a gap (NaN)", a->file);
+        return CLI_DATAERR;
+    }
+    if (!r->gaps) { /* the block statistic takes no gaps: not computed then */
+        st = igea_stability_block(r->n, y, a->fs, a->block, r->blk);
+        r->have_block = st == 0;
+        if (st && st != BLOCK_ARG_LENGTH)
+            return cli_status(st, "stability: block statistic");
+    }
     /* the taus on the sample grid, as the library uses them (a tau off
      * the record's range is left for igea_stability_allan to refuse) */
     if (kind <= IGEA_STABILITY_ALLAN_NONOVERLAPPING)
@@ -380,6 +464,7 @@ static int compute(const st_args *a, const double *y, st_result *r)
     int ec = cli_progress_start(&pr, "stability", "averaging times", r->ntau);
     if (ec)
         return ec;
+    st = 0;
     if (!pr.mode || r->ntau < 1)
         st = deviations(a, y, r, 0, r->ntau);
     for (int j = 0, nt; pr.mode && !st && j < r->ntau; j += nt) {
@@ -388,13 +473,137 @@ static int compute(const st_args *a, const double *y, st_result *r)
             cli_progress_update(&pr, j + nt);
     }
     cli_progress_end(&pr);
+    if (st == DEV_ARG_TAUS || (st == ALLAN_ARG_TAUS && kind <= IGEA_STABILITY_ALLAN_NONOVERLAPPING))
+        return tau_range_error();
+    if (st == -1 && (kind == IGEA_STABILITY_ALLAN_THEOBR || kind == IGEA_STABILITY_ALLAN_THEOH)) {
+        cli_error("%s: --kind %s needs at least 90 phase points (TheoBR's bias factor)", a->file,
+                  igea_choice_name(IGEA_CHOICE_STABILITY_KIND, kind));
+        return CLI_DATAERR;
+    }
+    if (st == IGEA_ENONFINITE && r->gaps) {
+        cli_error("%s: a tau whose terms all hold a gap (NaN)", a->file);
+        return CLI_DATAERR;
+    }
     if (st)
-        return cli_status(st, st == DEV_ARG_TAUS || (st == ALLAN_ARG_TAUS &&
-                                                     kind <= IGEA_STABILITY_ALLAN_NONOVERLAPPING)
-                                  ? "stability: a tau is shorter than 1 sample or too long for "
-                                    "the record (theo1: tau = 0.75 m / fs, m even)"
-                                  : "stability: deviation");
+        return cli_status(st, "stability: deviation");
     return fit_curve(a, r);
+}
+
+/* The kinds the driver streams: the Allan and Hadamard ones whose noise
+ * type needs no whole record (the rate-data kinds identify it in their
+ * pass; the Stable32 kinds when it is given), no gaps, no 'all' spacing. */
+static int streamed(const st_args *a)
+{
+    int rate = a->kind <= IGEA_STABILITY_ALLAN_NONOVERLAPPING;
+    int pass = a->kind >= IGEA_STABILITY_ALLAN_ADEV && a->kind <= IGEA_STABILITY_ALLAN_OHDEV;
+    return !a->gaps && (rate || (pass && a->noise != IGEA_STABILITY_NOISE_AUTO)) &&
+           (a->taus || rate || a->spacing != IGEA_STABILITY_TAUS_ALL);
+}
+
+/* The record read in blocks and fed to a stream (igea_stability_stream_*):
+ * memory for the longest lag, not for the record. */
+static int stream_record(const st_args *a, st_result *r)
+{
+    double *tin = NULL;
+    int nin = 0, ec = CLI_OK, st;
+    cli_reader *rd = NULL;
+    if (a->taus) {
+        long cnt = 0;
+        if ((ec = cli_read_vector(a->taus, -1, "the averaging times", &tin, &cnt)))
+            return ec;
+        nin = (int)cnt;
+    }
+    if ((ec = open_record(a, &rd))) {
+        free(tin);
+        return ec;
+    }
+    /* the samples known in advance (.npy): the generated taus exactly, so
+     * that the ring holds the longest lag that has a term, not the record */
+    long known = cli_reader_rows_known(rd);
+    if (!a->taus && known >= 2 && known <= 2147483647L) {
+        int cnt = 0;
+        if (!(tin = malloc(sizeof(double) * 64))) {
+            cli_reader_close(rd);
+            return cli_oom("the averaging times");
+        }
+        st = a->kind <= IGEA_STABILITY_ALLAN_NONOVERLAPPING
+                 ? igea_stability_octave_taus((int)known, a->fs, a->kind, 64, tin, &cnt)
+                 : igea_stability_taus((int)known, a->fs, a->phase, a->kind, a->spacing, 64, tin,
+                                       &cnt);
+        if (st || cnt < 1) {
+            free(tin);
+            tin = NULL;
+            cnt = 0;
+        }
+        nin = cnt;
+    }
+    int cap = nin > 64 ? nin : 64;
+    r->tau = malloc(sizeof(double) * (size_t)cap);
+    r->dev = malloc(sizeof(double) * 4 * (size_t)cap);
+    r->cnt = malloc(sizeof(int) * 2 * (size_t)cap);
+    if (!r->tau || !r->dev || !r->cnt) {
+        free(tin);
+        cli_reader_close(rd);
+        return cli_oom("the deviations");
+    }
+    r->lo = r->dev + cap, r->hi = r->lo + cap, r->edf = r->hi + cap;
+    r->alpha = r->cnt + cap;
+    igea_stability_stream *h = NULL;
+    double *buf = NULL, *y = NULL;
+    /* a block shorter than half a sample: no block statistic (as the
+     * whole-record path, where igea_stability_block refuses it) */
+    double blk = a->block * a->fs >= 0.5 ? a->block : 0.0;
+    st = igea_stability_stream_create(a->fs, a->phase, a->kind, a->noise, a->conf, nin, tin,
+                                      a->spacing, blk, &h);
+    free(tin);
+    cli_progress pr;
+    if (st == -7)
+        ec = tau_range_error();
+    else if (st)
+        ec = cli_status(st, "stability: stream");
+    if (ec || (ec = cli_progress_start(&pr, "stability", "samples read", CLI_PROGRESS_UNKNOWN)))
+        goto done;
+    buf = malloc(sizeof(double) * ROWS * (size_t)cli_reader_cols(rd));
+    y = malloc(sizeof(double) * ROWS);
+    if (!buf || !y)
+        ec = cli_oom("the record");
+    double total = 0;
+    for (long got = 0; !ec;) {
+        if ((ec = next_rows(a, rd, buf, y, &got)) || got == 0)
+            break;
+        if ((st = igea_stability_stream_feed(h, (int)got, y)))
+            ec = cli_status(st, "stability: stream");
+        total += (double)got;
+        cli_progress_count(&pr, total);
+    }
+    cli_progress_end(&pr);
+    if (!ec && (total < 2 || total > 2147483647.0)) {
+        cli_error("%s: needs at least 2 samples", a->file);
+        ec = CLI_DATAERR;
+    }
+    if (!ec) {
+        r->n = (int)total;
+        st = igea_stability_stream_result(h, cap, &r->ntau, r->tau, r->dev, r->lo, r->hi, r->edf,
+                                          r->alpha, r->cnt, r->blk);
+        if (st == IGEA_ENONFINITE) {
+            cli_error("%s: NaN or Inf in the record", a->file);
+            ec = CLI_DATAERR;
+        } else if (st == IGEA_EEMPTY) {
+            ec = tau_range_error();
+        } else if (st) {
+            ec = cli_status(st, "stability: deviation");
+        }
+    }
+    if (!ec) {
+        r->have_block = r->blk[IGEA_STABILITY_BLOCK_NBLOCK] >= 2;
+        ec = fit_curve(a, r);
+    }
+done:
+    free(buf);
+    free(y);
+    cli_reader_close(rd);
+    igea_stability_stream_free(h);
+    return ec;
 }
 
 int cmd_stability(int argc, char **argv)
@@ -405,20 +614,25 @@ int cmd_stability(int argc, char **argv)
         return ec == CLI_HELP ? CLI_OK : ec;
     st_result r = {0};
     double *y = NULL;
-    if ((ec = read_record(&a, &y, &r.n)) || (ec = read_taus(&a, r.n, a.kind, &r.tau,
-                                                            &r.ntau)))
-        goto done;
-    size_t nt = (size_t)(r.ntau > 0 ? r.ntau : 1);
-    r.dev = malloc(sizeof(double) * 4 * nt);
-    r.cnt = malloc(sizeof(int) * 2 * nt);
-    if (!r.dev || !r.cnt) {
-        ec = cli_oom("the deviations");
-        goto done;
+    if (streamed(&a)) {
+        if ((ec = stream_record(&a, &r)))
+            goto done;
+    } else {
+        if ((ec = read_record(&a, &y, &r.n)) || (ec = read_taus(&a, r.n, a.kind, &r.tau,
+                                                                &r.ntau)))
+            goto done;
+        size_t nt = (size_t)(r.ntau > 0 ? r.ntau : 1);
+        r.dev = malloc(sizeof(double) * 4 * nt);
+        r.cnt = malloc(sizeof(int) * 2 * nt);
+        if (!r.dev || !r.cnt) {
+            ec = cli_oom("the deviations");
+            goto done;
+        }
+        r.lo = r.dev + r.ntau, r.hi = r.lo + r.ntau, r.edf = r.hi + r.ntau;
+        r.alpha = r.cnt + r.ntau;
+        if ((ec = compute(&a, y, &r)))
+            goto done;
     }
-    r.lo = r.dev + r.ntau, r.hi = r.lo + r.ntau, r.edf = r.hi + r.ntau;
-    r.alpha = r.cnt + r.ntau;
-    if ((ec = compute(&a, y, &r)))
-        goto done;
     cli_out o;
     if ((ec = cli_out_open(&o, a.out)))
         goto done;

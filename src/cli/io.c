@@ -155,6 +155,10 @@ static int reader_open(const char *path, int flags, cli_reader **out)
 static void install_sigbus(void);
 
 int cli_reader_open(const char *path, cli_reader **out) { return reader_open(path, 0, out); }
+int cli_reader_open_gaps(const char *path, cli_reader **out)
+{
+    return reader_open(path, IGEA_IO_NAN, out);
+}
 int cli_reader_open_twice(const char *path, cli_reader **out)
 {
     install_sigbus(); /* a .npy viewed through a map (cli_reader_view) */
@@ -168,6 +172,13 @@ int cli_reader_rewind(cli_reader *r)
 }
 
 int cli_reader_cols(const cli_reader *r) { return igea_io_reader_cols(r->r); }
+long cli_reader_rows_known(const cli_reader *r)
+{
+    double info[IGEA_IO_INFO_LEN];
+    igea_io_reader_info(r->r, info);
+    return info[IGEA_IO_INFO_NPY] != 0 && info[IGEA_IO_INFO_CHECKED] != 0
+               ? (long)info[IGEA_IO_INFO_NPY_ROWS] : -1;
+}
 const char *cli_reader_path(const cli_reader *r) { return r->path; }
 const char *cli_reader_names(const cli_reader *r) { return igea_io_reader_names(r->r); }
 

@@ -32,7 +32,7 @@
 #define AUDIT_BAD_HANDLE ((igea_rls *)(uintptr_t)0x5a5a5a50u)
 
 /* Handle kinds. */
-enum { AUDIT_HK_RLS, AUDIT_HK_SIM, AUDIT_HK_IO, AUDIT_HK_WHITEN };
+enum { AUDIT_HK_RLS, AUDIT_HK_SIM, AUDIT_HK_IO, AUDIT_HK_WHITEN, AUDIT_HK_STREAM };
 /* Argument types. */
 enum { AT_INT, AT_DBL, AT_PD, AT_PI, AT_H, AT_HO };
 /* Mutation kinds. */
@@ -320,9 +320,39 @@ static inline void audit_whiten_state(const igea_whiten *h, double st[64])
         st[1] = g;
 }
 
+/* A stability stream (overlapping Allan deviation, octave taus, noise
+ * identified, 100-sample blocks) fed 300 samples. NULL on failure. */
+static inline igea_stability_stream *audit_stream_new(void)
+{
+    double y[300];
+    igea_stability_stream *h = NULL;
+    for (int i = 0; i < 300; i++)
+        y[i] = au(i + 900);
+    if (igea_stability_stream_create(10.0, IGEA_STABILITY_DATA_FREQ, IGEA_STABILITY_ALLAN_OVERLAPPING,
+                                     IGEA_STABILITY_NOISE_AUTO, 0.683, 0, NULL,
+                                     IGEA_STABILITY_TAUS_OCTAVE, 10.0, &h) != 0)
+        return NULL;
+    if (igea_stability_stream_feed(h, 300, y) != 0) {
+        igea_stability_stream_free(h);
+        return NULL;
+    }
+    return h;
+}
+
+/* The observable state of a stream: the samples fed. */
+static inline void audit_stream_state(const igea_stability_stream *h, double st[64])
+{
+    for (int i = 0; i < 64; i++)
+        st[i] = 0;
+    if (h)
+        igea_stability_stream_samples(h, st);
+}
+
 static inline void audit_hfree(int kind, void *h)
 {
-    if (kind == AUDIT_HK_IO)
+    if (kind == AUDIT_HK_STREAM)
+        igea_stability_stream_free((igea_stability_stream *)h);
+    else if (kind == AUDIT_HK_IO)
         igea_io_reader_free((igea_io_reader *)h);
     else if (kind == AUDIT_HK_WHITEN)
         igea_whiten_free((igea_whiten *)h);
@@ -334,7 +364,9 @@ static inline void audit_hfree(int kind, void *h)
 
 static inline void audit_hstate(int kind, const void *h, double st[64])
 {
-    if (kind == AUDIT_HK_IO)
+    if (kind == AUDIT_HK_STREAM)
+        audit_stream_state((const igea_stability_stream *)h, st);
+    else if (kind == AUDIT_HK_IO)
         audit_io_state((const igea_io_reader *)h, st);
     else if (kind == AUDIT_HK_WHITEN)
         audit_whiten_state((const igea_whiten *)h, st);

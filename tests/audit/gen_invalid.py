@@ -58,11 +58,14 @@ class Param:
                    'igea_sim_model*': 'AT_H', 'igea_sim_model**': 'AT_HO',
                    'igea_io_reader*': 'AT_H', 'igea_io_reader**': 'AT_HO',
                    'igea_whiten*': 'AT_H', 'igea_whiten**': 'AT_HO',
+                   'igea_stability_stream*': 'AT_H', 'igea_stability_stream**': 'AT_HO',
                    'char*': 'AT_PI' if self.const else None}.get(base)
         # the handle's kind (audit.h AUDIT_HK_*)
         self.hkind = ('AUDIT_HK_SIM' if base.startswith('igea_sim_model') else
                       'AUDIT_HK_IO' if base.startswith('igea_io_reader') else
-                      'AUDIT_HK_WHITEN' if base.startswith('igea_whiten') else 'AUDIT_HK_RLS')
+                      'AUDIT_HK_WHITEN' if base.startswith('igea_whiten') else
+                      'AUDIT_HK_STREAM' if base.startswith('igea_stability_stream') else
+                      'AUDIT_HK_RLS')
         if self.at is None:
             raise SystemExit('gen_invalid: unsupported parameter type %r (%s)' % (ctype, name))
         self.isptr = self.at not in ('AT_INT', 'AT_DBL')
@@ -132,10 +135,11 @@ def fill_code(p, val, idx):
                'm': 'audit_sim_model_new(0)', 'mtraj': 'audit_sim_model_new(1)',
                'mnl': 'audit_sim_model_new(2)',
                'io0': 'audit_io_new(0)', 'io': 'audit_io_new(1)', 'io2': 'audit_io_new(2)',
-               'iol': 'audit_io_new(3)', 'w': 'audit_whiten_new()'}
+               'iol': 'audit_io_new(3)', 'w': 'audit_whiten_new()',
+               'st': 'audit_stream_new()'}
         kinds = {'m': 'AUDIT_HK_SIM', 'mtraj': 'AUDIT_HK_SIM', 'mnl': 'AUDIT_HK_SIM',
                  'io0': 'AUDIT_HK_IO', 'io': 'AUDIT_HK_IO', 'io2': 'AUDIT_HK_IO',
-                 'iol': 'AUDIT_HK_IO', 'w': 'AUDIT_HK_WHITEN'}
+                 'iol': 'AUDIT_HK_IO', 'w': 'AUDIT_HK_WHITEN', 'st': 'AUDIT_HK_STREAM'}
         if kinds.get(val, 'AUDIT_HK_RLS') != p.hkind:
             raise SystemExit('gen_invalid: handle %s: %s is not of its type' % (p.name, val))
         if val not in new:
@@ -190,7 +194,8 @@ def resolve(func):
         if p.name in entry:
             v = entry[p.name]
         elif p.at in ('AT_H', 'AT_HO'):
-            v = ({'AUDIT_HK_SIM': 'm', 'AUDIT_HK_IO': 'io', 'AUDIT_HK_WHITEN': 'w'}.get(p.hkind, 'h')
+            v = ({'AUDIT_HK_SIM': 'm', 'AUDIT_HK_IO': 'io', 'AUDIT_HK_WHITEN': 'w',
+                  'AUDIT_HK_STREAM': 'st'}.get(p.hkind, 'h')
                  if p.at == 'AT_H' else 'ho')
         elif p.isptr and not p.const:
             v = 'out'
