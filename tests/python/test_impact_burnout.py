@@ -298,6 +298,13 @@ def test_eqerr_burnout_time_refusals(tmp_path):
     r = drv("eqerr", "--S", "S2.txt", *base[3:], "--names", names, "--burnout-time", 100,
             "--traj", "traj.txt", *SITE_ARGS, cwd=d)
     assert r.returncode == 64 and "'time_offset'" in r.stderr
+    # a part of the burnout options alone is refused, not ignored
+    for part in (["--system", "platform"], ["--height", 1000], ["--axes", "0,1,2,1,2,0"]):
+        r = drv(*base, *part, cwd=d)
+        assert r.returncode == 64 and "--burnout-time is missing" in r.stderr, part
+        r = drv("impact", "--burnout", "5561563.2,980653.6,3260504.4,-495.5,3461.9,4875.4",
+                *part)
+        assert r.returncode == 64 and "--burnout-time is missing" in r.stderr, part
     fl = igea.simulate(seed=2)
     with pytest.raises(ValueError, match="names"):
         igea.eqerr(fl.S, fl.dw, fl.sigma, fl.spec, burnout_time=100.0,
