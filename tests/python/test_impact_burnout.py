@@ -306,6 +306,14 @@ def test_eqerr_burnout_time_refusals(tmp_path):
                 *part)
         assert r.returncode == 64 and "--burnout-time is missing" in r.stderr, part
     fl = igea.simulate(seed=2)
+    # as the driver's: the trajectory's options without burnout_time refused
+    for kw in (dict(system="platform"), dict(height=1000.0),
+               dict(traj=np.loadtxt(d / "traj.txt"), lat=LAT, lon=LON, azimuth=AZ)):
+        with pytest.raises(ValueError, match="only with burnout_time"):
+            igea.eqerr(fl.S, fl.dw, fl.sigma, fl.spec, **kw)
+    with pytest.raises(ValueError, match="only with burnout_time"):
+        igea.eqerr(fl.S, fl.dw, fl.sigma, fl.spec, burnout=np.ones(6),
+                   burnout_errors=np.ones((6, fl.S.shape[1])), lat=LAT)
     with pytest.raises(ValueError, match="names"):
         igea.eqerr(fl.S, fl.dw, fl.sigma, fl.spec, burnout_time=100.0,
                    traj=np.loadtxt(d / "traj.txt"), lat=LAT, lon=LON, azimuth=AZ)
