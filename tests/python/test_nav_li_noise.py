@@ -184,6 +184,19 @@ def test_driver_bias_instability(tmp_path):
         np.testing.assert_allclose(np.array(js[key]), getattr(r, key), rtol=1e-12, atol=1e-300)
     bad = subprocess.run(base + ["--acc-bi", "1e-4,0,0"], capture_output=True, text=True)
     assert bad.returncode == 64 and "--acc-bi" in bad.stderr and "--acc-tc" in bad.stderr
+    # each mode refuses the other's options rather than ignore them
+    for opt, val in (("--step", "5"), ("--duration", "60"), ("--epochs", "3"),
+                     ("--radius", "6.4e6"), ("--g", "9.8"), ("--omega", "0"), ("--vn", "1"),
+                     ("--ve", "1"), ("--vertical", "1")):
+        bad = subprocess.run(base + [opt, val], capture_output=True, text=True)
+        assert bad.returncode == 64 and opt in bad.stderr and "static" in bad.stderr, opt
+    for opt, val in (("--lon", "100"), ("--height", "10"), ("--azimuth", "30"),
+                     ("--system", "platform"), ("--gravity", "j2"), ("--q0", "1,0,0,0"),
+                     ("--every", "2"), ("--pos0", "1,0,0"), ("--vel0", "1,0,0"),
+                     ("--att0", "1e-4,0,0")):
+        bad = subprocess.run([drv, "nav", "--lat", "45", opt, val], capture_output=True,
+                             text=True)
+        assert bad.returncode == 64 and opt in bad.stderr and "--telemetry" in bad.stderr, opt
     with pytest.raises(ValueError, match="not both"):
         igea.nav_errors_li(site, tel, q0=q0, q=np.zeros(12), acc_noise=acc)
     with pytest.raises(igea.IgeaError):
