@@ -317,6 +317,9 @@ def test_eqerr_burnout_time_refusals(tmp_path):
     with pytest.raises(ValueError, match="names"):
         igea.eqerr(fl.S, fl.dw, fl.sigma, fl.spec, burnout_time=100.0,
                    traj=np.loadtxt(d / "traj.txt"), lat=LAT, lon=LON, azimuth=AZ)
+    with pytest.raises(ValueError, match="list of term names"):   # not its letters
+        igea.burnout(np.loadtxt(d / "traj.txt"), "acc_bias_x", 100.0, lat=LAT, lon=LON,
+                     azimuth=AZ)
     with pytest.raises(igea.IgeaError, match="tb"):
         igea.burnout(np.loadtxt(d / "traj.txt"), ["acc_bias_x"], 121.0, lat=LAT, lon=LON,
                      azimuth=AZ)
