@@ -354,3 +354,12 @@ def test_impact_budget_from_burnout_time(tmp_path):
     r = drv("impact", "--burnout-time", 120, "--traj", d / "traj.txt", *SITE_ARGS, "--spec",
             "default")
     assert r.returncode == 64 and "--terms" in r.stderr
+    # the budget's options without a budget are refused, not ignored
+    r = drv("impact", "--burnout-time", 120, "--traj", d / "traj.txt", *SITE_ARGS, "--names",
+            "a,b")
+    assert r.returncode == 64 and "--names" in r.stderr
+    r = drv("impact", "--burnout", "1,2,3,4,5,6", "--prob", 0.9)
+    assert r.returncode == 64 and "--prob" in r.stderr
+    r = drv("impact", "--burnout-time", 120, "--traj", d / "traj.txt", *SITE_ARGS, "--terms",
+            "default", "--prob", 0.9)
+    assert r.returncode == 0, r.stderr
