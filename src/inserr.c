@@ -155,6 +155,15 @@ static void lyap(const double *F, const double *P, const double *Q, double *out)
             out[i * NS + j] = M[i * NS + j] + M[j * NS + i] + Q[i * NS + j];
 }
 
+double igea__inserr_gm_step(const double *tc)
+{
+    double t = HUGE_VAL;
+    for (int i = 0; i < 2; i++)
+        if (tc[i] > 0)
+            t = fmin(t, tc[i]);
+    return t / 4.0;
+}
+
 void igea__inserr_rk4(const double *F, const double *Q, int m, double h, double *y)
 {
     double k[4][NS2], t[NS2];
@@ -175,6 +184,14 @@ void igea__inserr_rk4(const double *F, const double *Q, int m, double h, double 
         y[i] += h / 6.0 * (k[0][i] + 2.0 * k[1][i] + 2.0 * k[2][i] + k[3][i]);
 }
 
+/* The longest Runge-Kutta step: opts' STEP, cut to a quarter of the
+ * shortest correlation time of the Gauss-Markov bias states. */
+static double rk_step(const double *o)
+{
+    const double tc[2] = {o[IGEA_INSERR_OPT_ACC_TC], o[IGEA_INSERR_OPT_GYRO_TC]};
+    return fmin(o[IGEA_INSERR_OPT_STEP], igea__inserr_gm_step(tc));
+}
+
 /* Integrate y (m values) over n - 1 equal intervals of the duration into
  * out (n x m), through a scratch copy; IGEA_EOVERFLOW on a non-finite
  * value. */
@@ -183,7 +200,7 @@ static int propagate(const double *o, const double *Q, int m, const double *y0,
 {
     double F[NS2], y[NS2];
     build_matrix(o, F);
-    double dt = duration / (n - 1), step = o[IGEA_INSERR_OPT_STEP];
+    double dt = duration / (n - 1), step = rk_step(o);
     double sub = ceil(dt / step * (1.0 - 1e-12));
     int ms = sub < 1 ? 1 : (int)sub;
     double h = dt / ms;
@@ -208,7 +225,7 @@ static int propagate(const double *o, const double *Q, int m, const double *y0,
 
 static int check_span(const double *o, double duration, int n, int iarg_d, int iarg_n)
 {
-    if (!(isfinite(duration) && duration > 0) || duration / o[IGEA_INSERR_OPT_STEP] > MAX_STEPS)
+    if (!(isfinite(duration) && duration > 0) || duration / rk_step(o) > MAX_STEPS)
         return -iarg_d;
     if (n < 2)
         return -iarg_n;

@@ -20,6 +20,14 @@ void igea__inserr_rk4(const double *F, const double *Q, int m, double h, double 
  * minimisation). */
 #define IGEA__INSERR_GM_OF_B (0.6642824702679601 / 0.6173642831444414)
 
+/* The longest Runge-Kutta step that the Gauss-Markov bias states of
+ * correlation times tc[2] (0: none) allow: a quarter of the shortest
+ * positive one, HUGE_VAL without any [D]. RK4 on d(b)/dt = -b / T diverges
+ * for steps beyond 2.785 T and keeps e^(-h / T) to (h / T)^5 / 120 of it
+ * (8e-6 at T / 4); the steps of igea_inserr_* (opts' STEP) and of the
+ * telemetry intervals of igea_inserr_li_* are cut to it. */
+double igea__inserr_gm_step(const double *tc);
+
 /* The coefficient arrays acc, gyro (IGEA_INSERR_NOISE_LEN each): 0,
  * IGEA_ENONFINITE or IGEA_ENONPOSITIVE. */
 int igea__inserr_noise_args(const double *acc, const double *gyro);

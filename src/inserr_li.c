@@ -1,7 +1,8 @@
 /* inserr_li.c - the linearised INS error model in the launch-inertial
  * frame along the reference trajectory of the nav core: its deterministic
  * response and its covariance, one Runge-Kutta step per telemetry interval
- * with the coefficients frozen at the interval's values
+ * (several where Gauss-Markov bias states need a shorter one) with the
+ * coefficients frozen at the interval's values
  * (include/igea/inserr.h, docs/inserr.md). */
 #include <math.h>
 #include <stdlib.h>
@@ -17,6 +18,9 @@
 
 #define NS IGEA_INSERR_N
 #define NS2 (IGEA_INSERR_N * IGEA_INSERR_N)
+/* The most Runge-Kutta steps in one telemetry interval (its Gauss-Markov
+ * states' step, igea__inserr_gm_step: a gap of 2.5e6 T) */
+#define LI_MAX_SUB 1e7
 
 /* The reference navigation and the telemetry it reads. */
 typedef struct {
@@ -157,7 +161,12 @@ static int propagate(li_ref *r, const double *q, int m, double *y, int nepochs,
         if (k > 0 && !(st = ref_step(r, k, A, Ca, Cg))) {
             if (q)
                 noise_matrix(q, Ca, Cg, Q);
-            igea__inserr_rk4(A, Q, m, tel_at(r, k, 0) - tel_at(r, k - 1, 0), y);
+            /* one step per interval, cut to the Gauss-Markov states' step */
+            double h = tel_at(r, k, 0) - tel_at(r, k - 1, 0);
+            double sub = ceil(h / igea__inserr_gm_step(r->tc) * (1.0 - 1e-12));
+            int ns = sub > 1 ? (int)fmin(sub, LI_MAX_SUB) : 1;
+            for (int i = 0; i < ns; i++)
+                igea__inserr_rk4(A, Q, m, h / ns, y);
             if (!igea__finite_vec(m, y, 1))
                 st = IGEA_EOVERFLOW;
         }

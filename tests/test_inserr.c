@@ -225,13 +225,39 @@ static void test_noise_covariance(void **s)
     assert_int_equal(igea_inserr_noise_covariance(o, NULL, acc, gyro, 600.0, 3, Q), IGEA_ENONFINITE);
 }
 
+/* A north accelerometer bias that decays, Gauss-Markov of correlation
+ * time T = 2 s, integrated with the user's longest step of 10 s (five
+ * times T): b = b0 e^(-t/T); v' = g phi + b, phi' = -v / R give v'' +
+ * ws^2 v = b', v(0) = 0, v'(0) = b0: v = A (e^(-t/T) - cos ws t) + D sin
+ * ws t, A = -b0 T / (1 + ws^2 T^2), D = (b0 + A / T) / ws. The step is cut
+ * to T / 4 (RK4 diverges beyond 2.79 T: 1e46 m after 200 s). */
+static void test_gauss_markov_long_step(void **s)
+{
+    (void)s;
+    enum { NG = 31 };
+    double o[IGEA_INSERR_OPT_LEN], x0[NS] = {0}, x[NG * NS];
+    schuler_opts(o);
+    const double b0 = 1e-4, T = 2.0, ws = ws_of(o), dur = 600.0;
+    const double A = -b0 * T / (1.0 + ws * ws * T * T), D = (b0 + A / T) / ws;
+    o[IGEA_INSERR_OPT_ACC_TC] = T;
+    o[IGEA_INSERR_OPT_STEP] = 10.0;
+    x0[IGEA_INSERR_ACC] = b0;
+    assert_int_equal(igea_inserr_response(o, x0, dur, NG, x), 0);
+    for (int k = 0; k < NG; k++) {
+        double t = k * dur / (NG - 1), *xk = x + k * NS;
+        assert_close_abs(xk[IGEA_INSERR_ACC], b0 * exp(-t / T), 1e-4, 1e-6 * b0);
+        assert_close_abs(xk[3], A * (exp(-t / T) - cos(ws * t)) + D * sin(ws * t), 1e-4,
+                         1e-6 * b0 * T);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_schuler_period),  cmocka_unit_test(test_north_acc_bias),
         cmocka_unit_test(test_east_gyro_drift), cmocka_unit_test(test_white_noise_covariance),
         cmocka_unit_test(test_invalid),         cmocka_unit_test(test_vertical_free),
-        cmocka_unit_test(test_noise_covariance),
+        cmocka_unit_test(test_noise_covariance), cmocka_unit_test(test_gauss_markov_long_step),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -6,11 +6,13 @@
 #include "testutil.h"
 
 #include <limits.h>
+#include <pthread.h>
 
 #include <gsl/gsl_cdf.h>
 
 #include "igea/eqerr.h"
 #include "igea/envfun.h"
+#include "igea/noise.h"
 #include "igea/sim.h"
 
 /* Out-of-memory loop (as tests/test_oom.c): this program's malloc can fail
@@ -1057,6 +1059,118 @@ static void test_pool_invalid(void **state)
 #endif
 }
 
+/* ---- one model handle shared by concurrent Monte Carlo runs ------------- */
+
+/* A run of igea_sim_montecarlo_ex on a model that other threads use at the
+ * same time (the set-up the handle keeps: sim.h). */
+#define SH_NF 96
+#define SH_RUNS 4
+/* flights of a run: fewer with the robust judge (e = 1), which is slower */
+#define SH_NF_OF(e) ((e) ? 6 : SH_NF)
+typedef struct {
+    const igea_sim_model *md;
+    const double *eqo;
+    int nthreads, nf, st;
+    double counts[IGEA_SIM_MC_LEN], table[SH_NF * IGEA_SIM_MC_TABLE_COLS_Z];
+    int ct[NT], cr[NT];
+} sh_run;
+
+static void *sh_worker(void *arg)
+{
+    sh_run *r = arg;
+    r->st = igea_sim_montecarlo_ex(r->md, r->eqo, 31, 7, r->nf, r->nthreads, r->counts, NULL,
+                                   r->ct, r->cr, r->table, r->nf, IGEA_SIM_MC_TABLE_COLS_Z);
+    return NULL;
+}
+
+static void sh_assert_same(const sh_run *a, const sh_run *b)
+{
+    assert_int_equal(a->st, 0);
+    assert_int_equal(b->st, 0);
+    assert_memory_equal(a->counts, b->counts, sizeof a->counts);
+    assert_memory_equal(a->table, b->table, sizeof a->table);
+    assert_memory_equal(a->ct, b->ct, sizeof a->ct);
+    assert_memory_equal(a->cr, b->cr, sizeof a->cr);
+}
+
+/* A model of the 21-term S with the noise options and stated sigma sig. */
+static igea_sim_model *sh_model(int batch, double sig)
+{
+    double opts[IGEA_SIM_OPT_LEN];
+    igea_sim_model *md = NULL;
+    igea_sim_defaults(opts);
+    opts[IGEA_SIM_OPT_SIGMA_W] = 1.2;
+    opts[IGEA_SIM_OPT_BATCH] = batch;
+    int m = 3 * M_EP;
+    assert_int_equal(make_model(m, NT, S21, m, &sig, 0, SPEC21, NULL, NULL, opts, &md), 0);
+    return md;
+}
+
+/* DESIGN.md: every function is safe to call from many threads at once. Runs
+ * on one model handle from SH_RUNS threads at once, before anything is kept
+ * (every run computes its own set-up, the first to complete keeps it) and
+ * after, on the batched and the flight-by-flight paths (the robust judge,
+ * in the same rounds), equal bit for bit the same runs on fresh models one
+ * after the other; a new stated sigma then gives the fresh model's results
+ * of that sigma. */
+#ifdef __GNUC__
+extern void openblas_set_num_threads(int) __attribute__((weak));
+extern int openblas_get_num_threads(void) __attribute__((weak));
+#else
+static void (*openblas_set_num_threads)(int) = NULL;
+static int (*openblas_get_num_threads)(void) = NULL;
+#endif
+
+static void test_mc_shared_model(void **state)
+{
+    /* OpenBLAS on one thread, as the driver runs the Monte Carlo: its own
+     * pool, woken from several threads at once, spins on 2 cores */
+    int blas = openblas_get_num_threads ? openblas_get_num_threads() : 0;
+    if (blas && openblas_set_num_threads)
+        openblas_set_num_threads(1);
+    double eq_plain[IGEA_EQERR_OPT_LEN], eq_robust[IGEA_EQERR_OPT_LEN];
+    igea_eqerr_defaults(eq_plain);
+    igea_eqerr_defaults(eq_robust);
+    eq_robust[IGEA_EQERR_OPT_ROBUST] = 1;
+    const double *eqs[2] = {eq_plain, eq_robust};
+    static sh_run ref[2][2], run[SH_RUNS], ref2;
+    for (int batch = 0; batch < 2; batch++) /* 0: batched (default), 1: flight by flight */
+        for (int e = 0; e < 2; e++) {
+            igea_sim_model *md = sh_model(batch, SIG);
+            ref[batch][e] = (sh_run){md, eqs[e], 1, SH_NF_OF(e), -1, {0}, {0}, {0}, {0}};
+            sh_worker(&ref[batch][e]);
+            igea_sim_model_free(md);
+        }
+    for (int batch = 0; batch < 2; batch++) {
+        igea_sim_model *md = sh_model(batch, SIG);
+        for (int round = 0; round < 3; round++) { /* round 0: nothing kept yet */
+            pthread_t tid[SH_RUNS];
+            for (int k = 0; k < SH_RUNS; k++) {
+                run[k] = (sh_run){md, eqs[k % 2], 1 + (k / 2) % 2, SH_NF_OF(k % 2), -1, {0}, {0}, {0}, {0}};
+                assert_int_equal(pthread_create(&tid[k], NULL, sh_worker, &run[k]), 0);
+            }
+            for (int k = 0; k < SH_RUNS; k++)
+                pthread_join(tid[k], NULL);
+            for (int k = 0; k < SH_RUNS; k++)
+                sh_assert_same(&run[k], &ref[batch][k % 2]);
+        }
+        /* another stated sigma: what was kept is dropped */
+        double sig2 = 2 * SIG;
+        assert_int_equal(igea_sim_model_set_sigma(md, &sig2, 0, 0.0), 0);
+        igea_sim_model *fresh = sh_model(batch, sig2);
+        ref2 = (sh_run){fresh, eq_plain, 1, SH_NF, -1, {0}, {0}, {0}, {0}};
+        sh_worker(&ref2);
+        run[0] = (sh_run){md, eq_plain, 2, SH_NF, -1, {0}, {0}, {0}, {0}};
+        sh_worker(&run[0]);
+        sh_assert_same(&run[0], &ref2);
+        assert_memory_not_equal(ref2.table, ref[batch][0].table, sizeof ref2.table);
+        igea_sim_model_free(fresh);
+        igea_sim_model_free(md);
+    }
+    if (blas && openblas_set_num_threads)
+        openblas_set_num_threads(blas);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1078,6 +1192,7 @@ int main(void)
         cmocka_unit_test(test_model_trajectory),
         cmocka_unit_test(test_pool),
         cmocka_unit_test(test_pool_invalid),
+        cmocka_unit_test(test_mc_shared_model),
     };
     return cmocka_run_group_tests(tests, setup_model, NULL);
 }

@@ -47,7 +47,10 @@
  * Integration: the classical fourth-order Runge-Kutta method of the linear
  * system (and of the covariance equation dP/dt = F P + P F^T + G Q G^T) with
  * a fixed step: each interval between output epochs is cut into the least
- * number of equal steps not longer than IGEA_INSERR_OPT_STEP.
+ * number of equal steps not longer than IGEA_INSERR_OPT_STEP, nor than a
+ * quarter of the shortest correlation time > 0 (IGEA_INSERR_OPT_ACC_TC,
+ * _GYRO_TC: the Gauss-Markov bias states, on which a longer step is
+ * inaccurate and beyond 2.785 T diverges) [D]; "step" below is that step.
  */
 #ifndef IGEA_INSERR_H
 #define IGEA_INSERR_H
@@ -210,7 +213,9 @@ IGEA_API int igea_inserr_noise_covariance(const double *opts, const double *P0,
  * Over each telemetry interval (t_{k-1}, t_k] the coefficients are frozen
  * at the interval's values: f = (W_k - W_{k-1}) / h from the nav core's
  * apparent velocity, C from the normalised mean of the two quaternions, G
- * at the mean position; one classical Runge-Kutta step per interval.
+ * at the mean position; one classical Runge-Kutta step per interval
+ * (with the Gauss-Markov states below, equal steps not longer than a
+ * quarter of the shortest correlation time [D]).
  * White noises (q below) enter d(dv)/dt through C (accelerometer), d(phi)/dt
  * through -C (strapdown gyro) or I (platform gyro), and d(b)/dt, d(eps)/dt.
  *

@@ -386,8 +386,8 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
           bias_correct=None, clamp=None, z_crit=None, rank_tol=None, verdict="seed",
           lags=20, names=None, cov=None, ar=None, ar_phi=None, groups=None, group_bias=None,
           robust=None, robust_alpha=None, threads=None, burnout=None, burnout_errors=None,
-          burnout_time=None, traj=None, lat=None, lon=None, height=0.0, azimuth=None,
-          system="strapdown", axes=None):
+          burnout_time=None, traj=None, lat=None, lon=None, height=None, azimuth=None,
+          system=None, axes=None):
     """Equivalent-error accuracy assessment of one flight (METHODS 1.2).
 
     S: (m, N) environment functions (rows epoch-major x, y, z), dw: (m,)
@@ -416,15 +416,24 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
     the burnout state (ECEF) with burnout_errors (6, N) the burnout state
     error per unit of each column of S as judged (times its spec), or
     burnout_time (s) of the trajectory traj (as igea.envfun reads it) flown
-    from the launch point lat, lon, height, azimuth (degrees, m), S's
-    columns named by names as terms of system (axes: platform gyro axes):
-    igea.burnout's state and errors of those terms at spec (docs/impact.md)."""
+    from the launch point lat, lon, height, azimuth (degrees, m; height
+    None: 0), S's columns named by names as terms of system (None:
+    "strapdown"; axes: platform gyro axes): igea.burnout's state and errors
+    of those terms at spec (docs/impact.md). traj, lat, lon, height,
+    azimuth, system and axes are refused without burnout_time."""
     S, names, v = _frames.inputs(S, names, rows=(("dw", dw), ("sigma", sigma)),
                                  cols=(("spec", spec),))
     dw, sigma, spec = v["dw"], v["sigma"], v["spec"]
-    miss_kw = dict(burnout=burnout, burnout_errors=burnout_errors, burnout_time=burnout_time,
-                   traj=traj, lat=lat, lon=lon, height=height, azimuth=azimuth, system=system,
+    traj_kw = dict(traj=traj, lat=lat, lon=lon, height=height, azimuth=azimuth, system=system,
                    axes=axes)
+    given = [k for k, v in traj_kw.items() if v is not None]
+    if given and burnout_time is None:
+        raise ValueError("igea.eqerr: %s: only with burnout_time (the burnout from a "
+                         "trajectory)" % ", ".join(given))
+    miss_kw = dict(traj_kw, burnout=burnout, burnout_errors=burnout_errors,
+                   burnout_time=burnout_time,
+                   height=0.0 if height is None else height,
+                   system="strapdown" if system is None else system)
     if burnout is not None or burnout_errors is not None or burnout_time is not None:
         res = eqerr(S, dw, sigma, spec, alpha=alpha, lambda_test=lambda_test,
                     lambda_small=lambda_small, correction=correction, route=route, n_min=n_min,

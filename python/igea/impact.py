@@ -260,6 +260,9 @@ def burnout(traj, terms, burnout_time, *, lat=None, lon=None, height=0.0, azimut
         else:
             from .envfun import term_table
             names = list(term_table(system))
+    elif isinstance(terms, str):
+        raise ValueError(f"{where}: terms: 'default', 'all' or a list of term names, got "
+                         f"{terms!r}")
     else:
         names = [str(t) for t in terms]
     codes = term_codes(names, system) if names else np.zeros(0, dtype=np.intc)

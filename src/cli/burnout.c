@@ -10,7 +10,8 @@
 
 int cli_burnout_check(const char *cmd, const cli_burnout_args *b)
 {
-    int any = b->given_time || b->traj || b->given_lat || b->given_lon || b->given_az || b->axes;
+    int any = b->given_time || b->traj || b->given_lat || b->given_lon || b->given_az ||
+              b->given_height || b->given_system || b->axes;
     if (!any)
         return CLI_OK;
     const char *miss = !b->given_time ? "--burnout-time" : !b->traj ? "--traj"

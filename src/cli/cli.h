@@ -534,7 +534,7 @@ int cli_svg_rls(const char *path, const cli_svg_rows *r, int m);
 typedef struct {
     const char *traj, *axes;
     double time, lat, lon, height, azimuth;
-    int system, given_time, given_lat, given_lon, given_az;
+    int system, given_time, given_lat, given_lon, given_az, given_height, given_system;
 } cli_burnout_args;
 #define CLI_BURNOUT_OPTIONS(b, what)                                                           \
     {"--burnout-time", CLI_OPT_NUM, &(b).time, NULL, "T", "the burnout at T s of the trajectory --traj flown\n" \
@@ -543,13 +543,13 @@ typedef struct {
      "reads it; t_0 the lift-off)", NULL},                                                     \
     {"--lat", CLI_OPT_NUM, &(b).lat, NULL, "DEG", "the launch point: latitude", &(b).given_lat}, \
     {"--lon", CLI_OPT_NUM, &(b).lon, NULL, "DEG", "its longitude", &(b).given_lon},          \
-    {"--height", CLI_OPT_NUM, &(b).height, "0", "M", "its ellipsoidal height", NULL},        \
+    {"--height", CLI_OPT_NUM, &(b).height, "0", "M", "its ellipsoidal height", &(b).given_height}, \
     {"--azimuth", CLI_OPT_NUM, &(b).azimuth, NULL, "DEG", "the firing azimuth, from north toward east", &(b).given_az}, \
-    {"--system", CLI_OPT_CHOICE, &(b).system, "strapdown", CLI_CHOICES(IGEA_CHOICE_ENVFUN_SYSTEM), "the inertial system of the terms", NULL}, \
+    {"--system", CLI_OPT_CHOICE, &(b).system, "strapdown", CLI_CHOICES(IGEA_CHOICE_ENVFUN_SYSTEM), "the inertial system of the terms", &(b).given_system}, \
     {"--axes", CLI_OPT_STR, &(b).axes, NULL, "I,I,I,S,S,S", "platform gyro input and spin axes (0..2; default\n0,1,2,1,2,0)", NULL}
 /* CLI_OK when --burnout-time was given with --traj, --lat, --lon and
  * --azimuth (else a message naming the missing one and CLI_USAGE), or
- * when none of these options was. */
+ * when none of these options (nor --height, --system, --axes) was. */
 int cli_burnout_check(const char *cmd, const cli_burnout_args *b);
 /* The burnout state (6) and E (6 x n, column-major) of the n terms
  * codes[] at spec (may be NULL) from the trajectory file: CLI_OK or a

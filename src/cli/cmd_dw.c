@@ -32,7 +32,7 @@ static const cli_opt options[] = {
     {"--q0", CLI_OPT_STR, &A.q0, "1,0,0,0", "Q0,Q1,Q2,Q3", "strapdown attitude body -> launch-inertial at\nlift-off (scalar first)", NULL},
     {"--time-offset", CLI_OPT_NUM, &A.time_offset, "0", "TAU", "telemetry clock offset (s): the record stamped s\nwas taken at tracking time s + TAU", NULL},
     {"--out", CLI_OPT_STR, &A.out, NULL, "FILE", "write dW there (3 rows per epoch, x y z; '-' is\nstandard output)", NULL},
-    {"--cov-out", CLI_OPT_STR, &A.cov_out, NULL, "FILE", "the tracking covariance in LI, one row per epoch:\nc_xx c_xy c_xz c_yy c_yz c_zz", NULL},
+    {"--cov-out", CLI_OPT_STR, &A.cov_out, NULL, "FILE", "the covariance of each epoch's dW in LI (the block\nK_ee: the tracking's, with 28 columns also through\nthe gravity integral), one row per epoch: c_xx c_xy\nc_xz c_yy c_yz c_zz", NULL},
     {"--k-out", CLI_OPT_STR, &A.k_out, NULL, "FILE", "the same covariance as igea eqerr --cov reads it (the\nblock K): one row per epoch, xx yx yy zx zy zz", NULL},
     {"--xcov-out", CLI_OPT_STR, &A.xcov_out, NULL, "FILE", "the covariance of each epoch's dW with every later\none's (the gravity integral's, 28-column tracking):\none row per epoch, x_xx x_xy x_xz x_yx .. x_zz", NULL},
     {"--sigma-out", CLI_OPT_STR, &A.sigma_out, NULL, "FILE", "its per-row 1-sigma (for igea eqerr --sigma)", NULL},

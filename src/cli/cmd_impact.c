@@ -9,7 +9,7 @@
 typedef struct {
     const char *burnout, *errors, *names, *out, *terms, *spec;
     double prob, opts[IGEA_IMPACT_OPT_LEN];
-    int model, json, given_spec;
+    int model, json, given_spec, given_prob;
     cli_burnout_args bo; /* --burnout-time, --traj and the launch point */
 } im_args;
 
@@ -37,7 +37,7 @@ static const cli_opt options[] = {
     {"--errors", CLI_OPT_STR, &A.errors, NULL, "FILE", "6 rows (x y z vx vy vz) by n columns: the burnout\n"
      "state error of each independent term at 1 sigma", NULL},
     {"--names", CLI_OPT_STR, &A.names, NULL, "LIST", "names of the n terms (default term_0, ...)", NULL},
-    {"--prob", CLI_OPT_NUM, &A.prob, "0.5", "P", "probability of the circle (0.5: the CEP)", NULL},
+    {"--prob", CLI_OPT_NUM, &A.prob, "0.5", "P", "probability of the circle (0.5: the CEP)", &A.given_prob},
     CLI_JSON_OPT(&A.json),
     CLI_OUT_OPT(&A.out),
     CLI_END};
@@ -274,6 +274,11 @@ int cmd_impact(int argc, char **argv)
         return cli_usage("impact: --terms needs --burnout-time (the burnout from a trajectory)");
     if (a.terms && a.names)
         return cli_usage("impact: --names: the --terms name the budget's columns");
+    if (a.names && !a.errors)
+        return cli_usage("impact: --names names the columns of --errors");
+    if (a.given_prob && !a.errors && !a.terms)
+        return cli_usage("impact: --prob is of the budget (--errors, or --terms with "
+                         "--burnout-time)");
     if (!(a.prob > 0 && a.prob < 1))
         return cli_usage("impact: --prob must lie in (0, 1)");
     if ((ec = cli_check_opts("impact", IGEA_MODULE_IMPACT, igea_impact_check_opts(a.opts))))

@@ -14,23 +14,26 @@ typedef struct {
     const char *telemetry, *q0, *pos0, *vel0, *att0;
     double lat, duration, opts[IGEA_INSERR_OPT_LEN], lon, height, azimuth;
     int epochs, json, system, gravity, every;
+    /* given on the command line: the static model's options (STATIC_*) and
+     * the trajectory's (TRAJ_*), each refused in the other mode */
+    int given_static[9], given_traj[7];
 } nv_args;
 
 static nv_args A;
 
 static const cli_opt options[] = {
     {"--lat", CLI_OPT_NUM, &A.lat, "0", "DEG", "latitude (degrees, |lat| <= 85.9)", NULL},
-    {"--duration", CLI_OPT_NUM, &A.duration, "21600", "S", "length of the run (s)", NULL},
-    {"--epochs", CLI_OPT_INT, &A.epochs, "361", "N", "output epochs, equally spaced from 0 to --duration", NULL},
-    {"--step", CLI_OPT_NUM, &A.opts[IGEA_INSERR_OPT_STEP], CLI_DEF_LIB, "S", "longest Runge-Kutta step (s)", NULL},
+    {"--duration", CLI_OPT_NUM, &A.duration, "21600", "S", "length of the run (s)", &A.given_static[0]},
+    {"--epochs", CLI_OPT_INT, &A.epochs, "361", "N", "output epochs, equally spaced from 0 to --duration", &A.given_static[1]},
+    {"--step", CLI_OPT_NUM, &A.opts[IGEA_INSERR_OPT_STEP], CLI_DEF_LIB, "S", "longest Runge-Kutta step (s)", &A.given_static[2]},
     {"--acc-bias", CLI_OPT_STR, &A.acc, NULL, "N,E,D", "accelerometer biases along north, east, down\n(m/s^2, measured minus true; default 0)", NULL},
     {"--gyro-drift", CLI_OPT_STR, &A.gyro, NULL, "N,E,D", "gyro drifts about north, east, down (rad/s,\nmeasured minus true; default 0)", NULL},
-    {"--radius", CLI_OPT_NUM, &A.opts[IGEA_INSERR_OPT_RADIUS], CLI_DEF_LIB, "R", "Earth radius (m)", NULL},
-    {"--g", CLI_OPT_NUM, &A.opts[IGEA_INSERR_OPT_G], CLI_DEF_LIB, "G", "gravity (m/s^2)", NULL},
-    {"--omega", CLI_OPT_NUM, &A.opts[IGEA_INSERR_OPT_OMEGA], CLI_DEF_LIB, "W", "Earth rate (rad/s; 0: none)", NULL},
-    {"--vn", CLI_OPT_NUM, &A.opts[IGEA_INSERR_OPT_VN], CLI_DEF_LIB, "V", "north velocity of the vehicle (m/s)", NULL},
-    {"--ve", CLI_OPT_NUM, &A.opts[IGEA_INSERR_OPT_VE], CLI_DEF_LIB, "V", "east velocity of the vehicle (m/s)", NULL},
-    {"--vertical", CLI_OPT_NUM, &A.opts[IGEA_INSERR_OPT_VERTICAL], CLI_DEF_LIB, "0|1", "vertical channel: 0 aided (held), 1 free", NULL},
+    {"--radius", CLI_OPT_NUM, &A.opts[IGEA_INSERR_OPT_RADIUS], CLI_DEF_LIB, "R", "Earth radius (m)", &A.given_static[3]},
+    {"--g", CLI_OPT_NUM, &A.opts[IGEA_INSERR_OPT_G], CLI_DEF_LIB, "G", "gravity (m/s^2)", &A.given_static[4]},
+    {"--omega", CLI_OPT_NUM, &A.opts[IGEA_INSERR_OPT_OMEGA], CLI_DEF_LIB, "W", "Earth rate (rad/s; 0: none)", &A.given_static[5]},
+    {"--vn", CLI_OPT_NUM, &A.opts[IGEA_INSERR_OPT_VN], CLI_DEF_LIB, "V", "north velocity of the vehicle (m/s)", &A.given_static[6]},
+    {"--ve", CLI_OPT_NUM, &A.opts[IGEA_INSERR_OPT_VE], CLI_DEF_LIB, "V", "east velocity of the vehicle (m/s)", &A.given_static[7]},
+    {"--vertical", CLI_OPT_NUM, &A.opts[IGEA_INSERR_OPT_VERTICAL], CLI_DEF_LIB, "0|1", "vertical channel: 0 aided (held), 1 free", &A.given_static[8]},
     CLI_HEAD("sensor noise (IEEE Std 952 coefficients, as igea stability --fit gives\n"
              "them for SI data; any of these adds the covariance to the report):"),
     {"--acc-vrw", CLI_OPT_STR, &A.noise[0], NULL, "N,E,D", "accelerometer white noise N, the velocity random\nwalk (m/s/sqrt(s))", NULL},
@@ -45,16 +48,16 @@ static const cli_opt options[] = {
              "--acc-bias, --gyro-drift and the noise are in instrument axes; with\n"
              "--acc-tc, --gyro-tc the bias states are Gauss-Markov):"),
     {"--telemetry", CLI_OPT_STR, &A.telemetry, NULL, "FILE", "error-free telemetry rows t dvx dvy dvz [dthx dthy\ndthz]: the reference trajectory the nav core flies", NULL},
-    {"--lon", CLI_OPT_NUM, &A.lon, "0", "DEG", "longitude of the launch point", NULL},
-    {"--height", CLI_OPT_NUM, &A.height, "0", "M", "ellipsoidal height of the launch point", NULL},
-    {"--azimuth", CLI_OPT_NUM, &A.azimuth, "0", "DEG", "firing azimuth, from north toward east", NULL},
-    {"--system", CLI_OPT_CHOICE, &A.system, "strapdown", CLI_CHOICES(IGEA_CHOICE_ENVFUN_SYSTEM), "the inertial system", NULL},
-    {"--gravity", CLI_OPT_CHOICE, &A.gravity, "j2", CLI_CHOICES(IGEA_CHOICE_NAV_GRAVITY), "the navigation's gravity model", NULL},
-    {"--q0", CLI_OPT_STR, &A.q0, "1,0,0,0", "Q0,Q1,Q2,Q3", "strapdown attitude body -> launch-inertial at the\nrecord's start (scalar first)", NULL},
+    {"--lon", CLI_OPT_NUM, &A.lon, "0", "DEG", "longitude of the launch point", &A.given_traj[0]},
+    {"--height", CLI_OPT_NUM, &A.height, "0", "M", "ellipsoidal height of the launch point", &A.given_traj[1]},
+    {"--azimuth", CLI_OPT_NUM, &A.azimuth, "0", "DEG", "firing azimuth, from north toward east", &A.given_traj[2]},
+    {"--system", CLI_OPT_CHOICE, &A.system, "strapdown", CLI_CHOICES(IGEA_CHOICE_ENVFUN_SYSTEM), "the inertial system", &A.given_traj[3]},
+    {"--gravity", CLI_OPT_CHOICE, &A.gravity, "j2", CLI_CHOICES(IGEA_CHOICE_NAV_GRAVITY), "the navigation's gravity model", &A.given_traj[4]},
+    {"--q0", CLI_OPT_STR, &A.q0, "1,0,0,0", "Q0,Q1,Q2,Q3", "strapdown attitude body -> launch-inertial at the\nrecord's start (scalar first)", &A.given_traj[5]},
     {"--pos0", CLI_OPT_STR, &A.pos0, NULL, "X,Y,Z", "initial position error in LI (m)", NULL},
     {"--vel0", CLI_OPT_STR, &A.vel0, NULL, "X,Y,Z", "initial velocity error in LI (m/s)", NULL},
     {"--att0", CLI_OPT_STR, &A.att0, NULL, "X,Y,Z", "initial attitude error in LI (rad)", NULL},
-    {"--every", CLI_OPT_INT, &A.every, "1", "K", "output every K-th record (and the last)", NULL},
+    {"--every", CLI_OPT_INT, &A.every, "1", "K", "output every K-th record (and the last)", &A.given_traj[6]},
     CLI_JSON_OPT(&A.json),
     CLI_OUT_OPT(&A.out),
     CLI_END};
@@ -84,6 +87,36 @@ options,
 "and with gyro noise (ARW 1e-6 rad/sqrt(s), bias instability 5e-8 rad/s with\n"
 "a 600-s correlation time):\n"
 "  igea nav --lat 45 --gyro-arw 1e-6,1e-6,1e-6 --gyro-bi 5e-8,5e-8,5e-8 --gyro-tc 600\n"};
+
+/* The options of one mode given in the other, in the order of given_static
+ * and given_traj: refused (the mode would ignore them). */
+static const char *const static_names[9] = {"--duration", "--epochs", "--step", "--radius",
+                                            "--g", "--omega", "--vn", "--ve", "--vertical"};
+static const char *const traj_names[10] = {"--lon", "--height", "--azimuth", "--system",
+                                           "--gravity", "--q0", "--every", "--pos0",
+                                           "--vel0", "--att0"};
+
+static int check_mode(const nv_args *a)
+{
+    if (a->telemetry) {
+        for (int i = 0; i < 9; i++)
+            if (a->given_static[i]) {
+                cli_error("nav --telemetry: %s is of the static model (along a trajectory the "
+                          "Earth is the nav core's and the epochs are the record's)",
+                          static_names[i]);
+                return CLI_USAGE;
+            }
+        return CLI_OK;
+    }
+    const char *s3[3] = {a->pos0, a->vel0, a->att0};
+    for (int i = 0; i < 10; i++)
+        if (i < 7 ? a->given_traj[i] : s3[i - 7] != NULL) {
+            cli_error("nav: %s is of the model along a trajectory: it needs --telemetry",
+                      traj_names[i]);
+            return CLI_USAGE;
+        }
+    return CLI_OK;
+}
 
 static int read_triple(const char *opt, const char *arg, double *v)
 {
@@ -330,6 +363,8 @@ int cmd_nav(int argc, char **argv)
     if (ec)
         return ec == CLI_HELP ? CLI_OK : ec;
     nv_args a = A;
+    if ((ec = check_mode(&a)))
+        return ec;
     if (a.telemetry)
         return nav_trajectory(&a);
     if (!(fabs(a.lat) <= 85.9))

@@ -298,10 +298,28 @@ def test_eqerr_burnout_time_refusals(tmp_path):
     r = drv("eqerr", "--S", "S2.txt", *base[3:], "--names", names, "--burnout-time", 100,
             "--traj", "traj.txt", *SITE_ARGS, cwd=d)
     assert r.returncode == 64 and "'time_offset'" in r.stderr
+    # a part of the burnout options alone is refused, not ignored
+    for part in (["--system", "platform"], ["--height", 1000], ["--axes", "0,1,2,1,2,0"]):
+        r = drv(*base, *part, cwd=d)
+        assert r.returncode == 64 and "--burnout-time is missing" in r.stderr, part
+        r = drv("impact", "--burnout", "5561563.2,980653.6,3260504.4,-495.5,3461.9,4875.4",
+                *part)
+        assert r.returncode == 64 and "--burnout-time is missing" in r.stderr, part
     fl = igea.simulate(seed=2)
+    # as the driver's: the trajectory's options without burnout_time refused
+    for kw in (dict(system="platform"), dict(height=1000.0),
+               dict(traj=np.loadtxt(d / "traj.txt"), lat=LAT, lon=LON, azimuth=AZ)):
+        with pytest.raises(ValueError, match="only with burnout_time"):
+            igea.eqerr(fl.S, fl.dw, fl.sigma, fl.spec, **kw)
+    with pytest.raises(ValueError, match="only with burnout_time"):
+        igea.eqerr(fl.S, fl.dw, fl.sigma, fl.spec, burnout=np.ones(6),
+                   burnout_errors=np.ones((6, fl.S.shape[1])), lat=LAT)
     with pytest.raises(ValueError, match="names"):
         igea.eqerr(fl.S, fl.dw, fl.sigma, fl.spec, burnout_time=100.0,
                    traj=np.loadtxt(d / "traj.txt"), lat=LAT, lon=LON, azimuth=AZ)
+    with pytest.raises(ValueError, match="list of term names"):   # not its letters
+        igea.burnout(np.loadtxt(d / "traj.txt"), "acc_bias_x", 100.0, lat=LAT, lon=LON,
+                     azimuth=AZ)
     with pytest.raises(igea.IgeaError, match="tb"):
         igea.burnout(np.loadtxt(d / "traj.txt"), ["acc_bias_x"], 121.0, lat=LAT, lon=LON,
                      azimuth=AZ)
@@ -336,3 +354,12 @@ def test_impact_budget_from_burnout_time(tmp_path):
     r = drv("impact", "--burnout-time", 120, "--traj", d / "traj.txt", *SITE_ARGS, "--spec",
             "default")
     assert r.returncode == 64 and "--terms" in r.stderr
+    # the budget's options without a budget are refused, not ignored
+    r = drv("impact", "--burnout-time", 120, "--traj", d / "traj.txt", *SITE_ARGS, "--names",
+            "a,b")
+    assert r.returncode == 64 and "--names" in r.stderr
+    r = drv("impact", "--burnout", "1,2,3,4,5,6", "--prob", 0.9)
+    assert r.returncode == 64 and "--prob" in r.stderr
+    r = drv("impact", "--burnout-time", 120, "--traj", d / "traj.txt", *SITE_ARGS, "--terms",
+            "default", "--prob", 0.9)
+    assert r.returncode == 0, r.stderr

@@ -184,7 +184,52 @@ def test_driver_bias_instability(tmp_path):
         np.testing.assert_allclose(np.array(js[key]), getattr(r, key), rtol=1e-12, atol=1e-300)
     bad = subprocess.run(base + ["--acc-bi", "1e-4,0,0"], capture_output=True, text=True)
     assert bad.returncode == 64 and "--acc-bi" in bad.stderr and "--acc-tc" in bad.stderr
+    # each mode refuses the other's options rather than ignore them
+    for opt, val in (("--step", "5"), ("--duration", "60"), ("--epochs", "3"),
+                     ("--radius", "6.4e6"), ("--g", "9.8"), ("--omega", "0"), ("--vn", "1"),
+                     ("--ve", "1"), ("--vertical", "1")):
+        bad = subprocess.run(base + [opt, val], capture_output=True, text=True)
+        assert bad.returncode == 64 and opt in bad.stderr and "static" in bad.stderr, opt
+    for opt, val in (("--lon", "100"), ("--height", "10"), ("--azimuth", "30"),
+                     ("--system", "platform"), ("--gravity", "j2"), ("--q0", "1,0,0,0"),
+                     ("--every", "2"), ("--pos0", "1,0,0"), ("--vel0", "1,0,0"),
+                     ("--att0", "1e-4,0,0")):
+        bad = subprocess.run([drv, "nav", "--lat", "45", opt, val], capture_output=True,
+                             text=True)
+        assert bad.returncode == 64 and opt in bad.stderr and "--telemetry" in bad.stderr, opt
     with pytest.raises(ValueError, match="not both"):
         igea.nav_errors_li(site, tel, q0=q0, q=np.zeros(12), acc_noise=acc)
     with pytest.raises(igea.IgeaError):
         igea.nav_errors_li(site, tel, q0=q0, gyro_noise=gyro)      # B > 0 without gyro_tc
+
+
+def test_gauss_markov_long_telemetry_interval():
+    """A telemetry record at 2-s intervals (the 50-Hz record's increments
+    summed) with correlation times of 1 and 1.5 s: each interval is cut into
+    steps of a quarter of the shortest correlation time (one RK4 step of
+    2 s diverges on -b / T: the bias grew 6-fold per interval). The bias
+    states are b0 e^(-t / T) (closed form) and the navigation errors those
+    of the 50-Hz record at the same epochs to 2e-3 of their largest."""
+    traj = igea.reference_trajectory(40.0, 50.0, system="platform")
+    raw = igea.simulate_raw(traj, ["acc_bias_x"], np.arange(1.0, 40.0), system="platform",
+                            x=[0.0], noise=False)
+    site = igea.nav_site(math.radians(raw.lat), math.radians(raw.lon), raw.height,
+                         math.radians(raw.azimuth))
+    tel = raw.telemetry
+    idx = np.arange(0, len(tel), 100)
+    coarse = np.zeros((len(idx), tel.shape[1]))
+    coarse[:, 0] = tel[idx, 0]
+    coarse[1:, 1:] = np.diff(np.cumsum(tel[:, 1:], axis=0)[idx], axis=0)
+    ep = coarse[:, 0]
+    kw = dict(system="platform", acc_bias=[1e-3, 2e-3, 0.0], gyro_drift=[0.0, 0.0, 1e-5],
+              acc_tc=1.0, gyro_tc=1.5, epochs=ep)
+    fine = igea.nav_errors_li(site, tel, **kw)
+    got = igea.nav_errors_li(site, coarse, **kw)
+    t = ep - ep[0]
+    np.testing.assert_allclose(got.acc_bias[:, :2], np.outer(np.exp(-t), [1e-3, 2e-3]),
+                               rtol=1e-3, atol=1e-9)
+    np.testing.assert_allclose(got.gyro_drift[:, 2], 1e-5 * np.exp(-t / 1.5), rtol=1e-3,
+                               atol=1e-11)
+    for key in ("position", "velocity", "attitude"):
+        a, b = getattr(fine, key), getattr(got, key)
+        assert np.abs(a - b).max() < 2e-3 * np.abs(a).max(), key
