@@ -75,12 +75,25 @@ static long double igam_stirling(long double a)
     return s;
 }
 
+/* log Gamma(a) for a > 0, reentrant (lgammal writes the global signgam: a
+ * data race between the threads of a Monte Carlo): log tgammal(a) below 20
+ * (as accurate as lgammal there; Gamma(a) < 19! and the smallest dof / 2,
+ * 2.5e-324, gives 4e323: no overflow in long double), Stirling's series
+ * from 20. */
+static long double lgamma_pos(long double a)
+{
+    if (a < 20.0L)
+        return logl(tgammal(a));
+    return (a - 0.5L) * logl(a) - a + 0.918938533204672741780329736406L /* log(2 pi)/2 */
+           + igam_stirling(a);
+}
+
 /* x^a e^-x / Gamma(a), x > 0. For large a from the deviation d = (x - a)/a:
  * a log x - x - lgamma(a) = -a D(d) + log(a / 2 pi) / 2 - stirling(a). */
 static long double igam_prefix(long double a, long double x)
 {
     if (a < 20.0L)
-        return expl(a * logl(x) - x - lgammal(a));
+        return expl(a * logl(x) - x - lgamma_pos(a));
     long double d = (x - a) / a;
     /* far from x = a, log(x / a) directly (1 + d has lost digits) */
     long double D = fabsl(d) < 0.5L ? igam_log1pmx(d) : d - logl(x / a);
@@ -156,7 +169,7 @@ static double igam(double ad, double xd, int upper)
 static long double ibeta_cf(long double a, long double b, long double x, long double y)
 {
     const long double tiny = 1e-4000L;
-    long double lf = a * logl(x) + b * logl(y) - (lgammal(a) + lgammal(b) - lgammal(a + b));
+    long double lf = a * logl(x) + b * logl(y) - (lgamma_pos(a) + lgamma_pos(b) - lgamma_pos(a + b));
     long double c = 1.0L, d = 1.0L - (a + b) * x / (a + 1.0L), h;
     if (fabsl(d) < tiny) d = tiny;
     d = 1.0L / d;
