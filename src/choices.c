@@ -82,6 +82,7 @@ static const choice nav_frame[] = {
     {IGEA_NAV_ECEF, "ecef"}, {IGEA_NAV_LE, "le"}, {IGEA_NAV_LI, "li"}, END};
 static const choice nav_gravity[] = {
     {IGEA_NAV_GRAVITY_POINT_MASS, "point_mass"}, {IGEA_NAV_GRAVITY_J2, "j2"}, END};
+static const choice dw_frame[] = {{IGEA_NAV_ECEF, "ecef"}, {IGEA_NAV_LE, "le"}, END};
 static const choice dw_kind[] = {
     {IGEA_DW_APPARENT, "apparent"}, {IGEA_DW_NAVIGATED, "navigated"}, END};
 static const choice redund_rbd[] = {
@@ -123,6 +124,7 @@ static const choice *table(int kind)
     case IGEA_CHOICE_NAV_FRAME: return nav_frame;
     case IGEA_CHOICE_NAV_GRAVITY: return nav_gravity;
     case IGEA_CHOICE_DW_KIND: return dw_kind;
+    case IGEA_CHOICE_DW_FRAME: return dw_frame;
     case IGEA_CHOICE_ACCEL_IEEE_METHOD: return accel_ieee_method;
     case IGEA_CHOICE_ACCEL_CRIT_MODEL: return accel_crit_model;
     default: return NULL;

@@ -175,6 +175,8 @@ IGEA_API const char *igea_opt_name(int module, int slot);
 #define IGEA_CHOICE_NAV_GRAVITY 27       /* igea/nav.h IGEA_NAV_GRAVITY_*: point_mass j2 */
 #define IGEA_CHOICE_DW_KIND 28           /* igea/dw.h IGEA_DW_APPARENT, _NAVIGATED: apparent
                                           * navigated */
+#define IGEA_CHOICE_DW_FRAME 29          /* igea/nav.h IGEA_NAV_ECEF, _LE: ecef le (the
+                                          * frames a tracking record may be in) */
 #define IGEA_CHOICE_ACCEL_IEEE_METHOD 70 /* igea/accel.h IGEA_ACCEL_LS, _HARMONIC: ls harmonic
                                           * (igea_accel_ieee_fit) */
 #define IGEA_CHOICE_ACCEL_CRIT_MODEL 71  /* igea/accel.h IGEA_ACCEL_SINGLE, _DUAL, _IEEE: single

@@ -47,7 +47,7 @@ def dw(telemetry, tracking, *, lat, lon, height=0.0, azimuth, frame="le", system
     stacked dW has the cov blocks on its diagonal and xcov[min(e, f)] off
     it, transposed below (igea_dw_compute_k, docs/pipeline.md 4.2)."""
     sc = _lib.choice(_capi.CHOICE_ENVFUN_SYSTEM, system, "igea.dw", "system")
-    fc = _lib.choice(_capi.CHOICE_NAV_FRAME, frame, "igea.dw", "frame")
+    fc = _lib.choice(_capi.CHOICE_DW_FRAME, frame, "igea.dw", "frame")
     kc_ = _lib.choice(_capi.CHOICE_DW_KIND, kind, "igea.dw", "kind")
     tel = _lib.as_f64(telemetry, "telemetry", ndim=2)
     trk = _lib.as_f64(tracking, "tracking", ndim=2)

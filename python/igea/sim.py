@@ -339,8 +339,12 @@ def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None
 
 def _pool(where, table, size, eq):
     """The pooled verdicts of the table's groups of `size` flights by the
-    rule of the eqerr options eq (igea_sim_pool_ex)."""
+    rule of the eqerr options eq (igea_sim_pool_ex). A group larger than
+    the flights judged is refused (it would leave no pool, a NaN rate), as the
+    driver's --pool is."""
     n = table.shape[0]
+    if int(size) > n:
+        raise ValueError("%s: pool=%d pools more flights than the %d judged" % (where, int(size), n))
     out = np.zeros(_capi.SIM_POOL_LEN)
     _lib.call(where, "igea_sim_pool_ex", n, _lib.dptr(table), n, int(size), _lib.dptr(eq),
               _lib.dptr(out))
@@ -511,7 +515,7 @@ def simulate_raw(traj=None, terms=None, epochs=None, *, system="strapdown", lat=
         kw = dict(flight_kw, x=np.zeros(len(fl.terms)), nonlinear_truth=False)
         nz = np.ascontiguousarray(simulate(tr, fl.terms, fl.epochs, system=system, **kw).dw)
     sc = _system_code(system)
-    fc = _lib.choice(_capi.CHOICE_NAV_FRAME, frame, "igea.simulate_raw", "frame")
+    fc = _lib.choice(_capi.CHOICE_DW_FRAME, frame, "igea.simulate_raw", "frame")
     err = np.zeros(_lib.lib.igea_envfun_term_count())
     err[term_codes(list(fl.terms), system)] = fl.x_true * fl.spec
     from .nav import nav_site

@@ -26,7 +26,7 @@ static const cli_opt options[] = {
     {"--lon", CLI_OPT_NUM, &A.lon, NULL, "DEG", "longitude of the launch point (required)", &A.given_lon},
     {"--height", CLI_OPT_NUM, &A.height, "0", "M", "ellipsoidal height of the launch point", NULL},
     {"--azimuth", CLI_OPT_NUM, &A.azimuth, NULL, "DEG", "firing azimuth, from north toward east (required)", &A.given_az},
-    {"--frame", CLI_OPT_CHOICE, &A.frame, "le", CLI_CHOICES(IGEA_CHOICE_NAV_FRAME), "the tracking's frame: le (launch-site Earth-fixed)\nor ecef", NULL},
+    {"--frame", CLI_OPT_CHOICE, &A.frame, "le", CLI_CHOICES(IGEA_CHOICE_DW_FRAME), "the tracking's frame: le (launch-site Earth-fixed)\nor ecef", NULL},
     {"--system", CLI_OPT_CHOICE, &A.system, "strapdown", CLI_CHOICES(IGEA_CHOICE_ENVFUN_SYSTEM), "the inertial system", NULL},
     {"--kind", CLI_OPT_CHOICE, &A.kind, "apparent", CLI_CHOICES(IGEA_CHOICE_DW_KIND), "apparent: W_tel - W_trk (S from envfun --output\nvelocity); navigated: v_nav - v_trk (--output\nvelocity_g)", NULL},
     {"--q0", CLI_OPT_STR, &A.q0, "1,0,0,0", "Q0,Q1,Q2,Q3", "strapdown attitude body -> launch-inertial at\nlift-off (scalar first)", NULL},

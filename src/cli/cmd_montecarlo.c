@@ -318,6 +318,11 @@ static int parse(int argc, char **argv, mc_args *a, cli_flight_args *fa)
         cli_error("montecarlo: --flights >= 1, --first-flight >= 0, --threads >= 0, --pool >= 0");
         return CLI_USAGE;
     }
+    if (a->pool > a->flights) {
+        cli_error("montecarlo: --pool %d pools more flights than --flights %d gives", a->pool,
+                  a->flights);
+        return CLI_USAGE;
+    }
     a->eqo[IGEA_EQERR_OPT_VERDICT] = a->verdict;
     a->eqo[IGEA_EQERR_OPT_OVERALL_SIZE] = 1;
     return cli_check_opts("montecarlo", IGEA_MODULE_EQERR, igea_eqerr_check_opts(a->eqo));

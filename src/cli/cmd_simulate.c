@@ -29,7 +29,7 @@ static const cli_opt options[] = {
     {"--lon", CLI_OPT_NUM, &A.lon, "100.29", "DEG", "its longitude", NULL},
     {"--height", CLI_OPT_NUM, &A.height, "1000", "M", "its ellipsoidal height", NULL},
     {"--azimuth", CLI_OPT_NUM, &A.azimuth, "30", "DEG", "firing azimuth, from north toward east", NULL},
-    {"--frame", CLI_OPT_CHOICE, &A.frame, "ecef", CLI_CHOICES(IGEA_CHOICE_NAV_FRAME), "the tracking's frame: ecef or le", NULL},
+    {"--frame", CLI_OPT_CHOICE, &A.frame, "ecef", CLI_CHOICES(IGEA_CHOICE_DW_FRAME), "the tracking's frame: ecef or le", NULL},
     {"--track-sigma-r", CLI_OPT_NUM, &A.track_sigma_r, "0", "M", "> 0: the tracking's own position and velocity errors\n"
      "(igea_sim_track_errors) instead of the flight's noise:\nposition 1-sigma M per axis, velocity the stated sigma;\n"
      "tracking.txt then holds the 6 x 6 covariance (28 columns)", NULL},

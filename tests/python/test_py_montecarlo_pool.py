@@ -73,10 +73,16 @@ def test_pool_none_and_no_group(model):
     r = igea.montecarlo(model.S, model.sigma, 20, spec=model.spec, seed=2)
     assert r.pool is None
     assert igea.montecarlo(model.S, model.sigma, 20, spec=model.spec, seed=2, pool=0).pool is None
-    p = igea.montecarlo(model.S, model.sigma, 20, spec=model.spec, seed=2, pool=21).pool
-    assert (p.size, p.pools, p.failed) == (21, 0, 0)
-    assert math.isnan(p.rate) and all(math.isnan(x) for x in p.ci99)
-    assert all(math.isnan(x) for x in p.ci99_cp) and math.isnan(p.mean_size)
+    # a group larger than the flights leaves no pool (a NaN rate): refused, as by the driver
+    with pytest.raises(ValueError, match="pool=21 pools more flights than the 20 judged"):
+        igea.montecarlo(model.S, model.sigma, 20, spec=model.spec, seed=2, pool=21)
+    if DRIVER:
+        r = subprocess.run([DRIVER, "montecarlo", "--flights", "20", "--pool", "21"],
+                           capture_output=True, text=True)
+        assert r.returncode == 64 and "--pool 21 pools more flights than --flights 20" in r.stderr
+        assert r.stdout == ""
+    p = igea.montecarlo(model.S, model.sigma, 20, spec=model.spec, seed=2, pool=20).pool
+    assert (p.size, p.pools) == (20, 1)
     with pytest.raises(igea.IgeaError) as e:
         igea.montecarlo(model.S, model.sigma, 20, spec=model.spec, seed=2, pool=-1)
     assert e.value.function == "igea_sim_pool_ex" and e.value.argument == "size"
@@ -100,7 +106,7 @@ def _as_json(p):
     (150, 3, [], {}),
     (100, 7, ["--sigma-w", "1.3", "--no-correction"], dict(sigma_w=1.3, correction=False)),
     (60, 4, ["--alpha", "0.05", "--first-flight", "5"], dict(alpha=0.05, first_flight=5)),
-    (30, 31, [], {}),
+    (30, 30, [], {}),
 ])
 def test_pool_equals_driver(model, flights, size, extra, kw):
     d = _driver("--flights", str(flights), "--seed", "4", "--pool", str(size), *extra)
