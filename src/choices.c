@@ -78,7 +78,7 @@ static const choice stats_verdict[] = {
     {IGEA_STATS_VERDICT_SEED, "seed"}, {IGEA_STATS_VERDICT_CHI2, "chi2"},
     {IGEA_STATS_VERDICT_EXACT, "exact"}, {IGEA_STATS_VERDICT_SIDAK, "sidak"}, END};
 static const choice noise_ar_method[] = {
-    {IGEA_NOISE_AR_LS, "ls"}, {IGEA_NOISE_AR_REML, "reml"}, END};
+    {IGEA_NOISE_AR_REML, "reml"}, {IGEA_NOISE_AR_LS, "ls"}, END};
 static const choice nav_frame[] = {
     {IGEA_NAV_ECEF, "ecef"}, {IGEA_NAV_LE, "le"}, {IGEA_NAV_LI, "li"}, END};
 static const choice nav_gravity[] = {

@@ -23,7 +23,7 @@ int igea__noise_check_opts(const double *o)
     if (!(it >= 0 && it <= 1000 && it == floor(it))) return 1 + IGEA_EQERR_OPT_NOISE_MAX_ITER;
     if (o[IGEA_EQERR_OPT_GROUP_BIAS] != 0 && o[IGEA_EQERR_OPT_GROUP_BIAS] != 1) return 1 + IGEA_EQERR_OPT_GROUP_BIAS;
     if (!(o[IGEA_EQERR_OPT_ROBUST_MAX] >= 0 && o[IGEA_EQERR_OPT_ROBUST_MAX] <= 0.5)) return 1 + IGEA_EQERR_OPT_ROBUST_MAX;
-    if (o[IGEA_EQERR_OPT_AR_METHOD] != IGEA_NOISE_AR_LS && o[IGEA_EQERR_OPT_AR_METHOD] != IGEA_NOISE_AR_REML) return 1 + IGEA_EQERR_OPT_AR_METHOD;
+    if (o[IGEA_EQERR_OPT_AR_METHOD] != IGEA_NOISE_AR_REML && o[IGEA_EQERR_OPT_AR_METHOD] != IGEA_NOISE_AR_LS) return 1 + IGEA_EQERR_OPT_AR_METHOD;
     return 0;
 }
 

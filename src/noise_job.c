@@ -12,6 +12,8 @@
 #include "internal.h"
 #include "noise_job.h"
 
+/* whiten.c */
+int igea__ar_setup(int p, const double *phi, double linv[][IGEA_NOISE_AR_MAX], double *su);
 /* noise.c */
 int igea__noise_vce_iterate(int N, int G, const double *A, int lda, const double *b,
                             const double *wtw, double tol, int maxit, double *c,
@@ -196,7 +198,8 @@ static int snoop(njob *j, int *nnew)
 }
 
 /* phi re-estimated from the stage-1 residuals U_w - U_S x (for p = 1 with
- * Kendall's correction when kendall is 1); *d the largest change. */
+ * Kendall's correction when kendall is 1; kendall 0 is REML's start, made
+ * stationary); *d the largest change. */
 static int ar_update(njob *j, int kendall, double *d)
 {
     int m = j->m, Nt = j->Nt;
@@ -212,6 +215,13 @@ static int ar_update(njob *j, int kendall, double *d)
             if (n > 3)
                 ph[a] += (1.0 + 3.0 * ph[a]) / n;
             ph[a] = fmax(-0.995, fmin(0.995, ph[a]));
+        }
+    if (!kendall) /* the REML start: shrunk toward 0 into the stationary region */
+        for (int a = 0; a < 3; a++) {
+            double li[IGEA_NOISE_AR_MAX][IGEA_NOISE_AR_MAX], su;
+            for (int t = 0; t < 200 && igea__ar_setup(j->p, ph + a * j->p, li, &su); t++)
+                for (int k = 0; k < j->p; k++)
+                    ph[a * j->p + k] *= 0.95;
         }
     *d = 0.0;
     for (int k = 0; k < 3 * j->p; k++) {

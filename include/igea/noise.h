@@ -49,24 +49,26 @@ extern "C" {
 #define IGEA_EQERR_OPT_GROUP_BIAS 26   /* 1: per-group, per-axis bias columns (nuisance) */
 #define IGEA_EQERR_OPT_ROBUST_MAX 27   /* most rows rejected, a fraction of m; 0: 0.05 */
 #define IGEA_EQERR_OPT_AR_METHOD 28    /* how phi is estimated (AR_ESTIMATE 1):
-                                          IGEA_NOISE_AR_LS (0, the default) or
-                                          IGEA_NOISE_AR_REML */
+                                          IGEA_NOISE_AR_REML (0, the default) or
+                                          IGEA_NOISE_AR_LS */
 
 /* Estimators of phi (IGEA_EQERR_OPT_AR_METHOD; names IGEA_CHOICE_NOISE_AR_METHOD):
+ *  REML  (the default) the restricted (residual) maximum likelihood of phi
+ *        and the group scales together: the likelihood of the exactly
+ *        whitened (Prais-Winsten) rows with the N terms integrated out,
+ *        maximised by quasi-Newton steps from the LS start; its score has
+ *        expectation zero, so the fitted terms leave no O(N/M) bias [D].
+ *        ar_out's standard errors and group_out's IGEA_NOISE_GROUP_SE_REML
+ *        come from the inverse of the observed information of phi and the
+ *        scales together: a scale's standard error includes phi-hat's
+ *        uncertainty (docs/eqerr.md).
  *  LS    least squares of the stage-1 residuals on their p lags, alternated
  *        with the generalised least-squares fit (Cochrane-Orcutt); for p = 1
  *        Kendall's small-sample correction phi + (1 + 3 phi)/(M - 1). The
- *        residuals of a fit of N terms bias phi-hat low by O(N/M).
- *  REML  the restricted (residual) maximum likelihood of phi and the group
- *        scales together: the likelihood of the exactly whitened
- *        (Prais-Winsten) rows with the N terms integrated out, maximised by
- *        Fisher scoring from the LS start; removes the O(N/M) bias of the
- *        fitted terms [D]. ar_out's standard errors and group_out's
- *        IGEA_NOISE_GROUP_SE_REML then come from the inverse of the observed
- *        information of phi and the scales together, so that the scale's
- *        standard error includes phi-hat's uncertainty (docs/eqerr.md). */
-#define IGEA_NOISE_AR_LS 0
-#define IGEA_NOISE_AR_REML 1
+ *        residuals of a fit of N terms bias phi-hat low by O(N/M) (igea's
+ *        only estimator before REML). */
+#define IGEA_NOISE_AR_REML 0
+#define IGEA_NOISE_AR_LS 1
 
 /* Entries of info[IGEA_STATS_INFO_LEN] that igea_noise_eqerr adds. */
 #define IGEA_STATS_INFO_NOISE_ITERATIONS 22 /* outer (phi, c_g, snooping) iterations */

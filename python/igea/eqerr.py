@@ -336,7 +336,7 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
     With a noise model (cov=(M, 3, 3) instead of sigma, ar=p, ar_phi=,
     groups=(M,) labels, group_bias=, robust=, robust_alpha=) the job is
     igea_noise_eqerr (see igea.noise), judged by the same verdict rule;
-    ar_method ("ls", the default, or "reml"; with ar=p and no ar_phi) is
+    ar_method ("reml", the default, or "ls"; with ar=p and no ar_phi) is
     how phi is estimated (IGEA_EQERR_OPT_AR_METHOD).
     S may be a data frame (anything with .columns and .to_numpy(), e.g.
     pandas): its columns are the term names unless names is given; dw and
@@ -351,7 +351,7 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
         if route not in (None, "eig"):
             raise ValueError("route: %r is not available with the noise models (cov, ar, "
                              "ar_phi, groups, group_bias, robust)" % (route,))
-        if ar_method is not None and ar_method != "ls" and (not ar or ar_phi is not None):
+        if ar_method is not None and (not ar or ar_phi is not None):
             raise ValueError("ar_method: %r estimates phi: it needs ar=p (not ar_phi)"
                              % (ar_method,))
         return _noise(S, dw, sigma, spec, cov, ar, ar_phi, groups, group_bias, robust,

@@ -20,7 +20,7 @@ class NoiseEqerrResult(EqerrResult):
     residual_whitened True), then the noise models' own; fields match
     'igea eqerr --cov/--ar/--groups/--robust --json'."""
     ar_order: int
-    ar_method: object        # "ls" or "reml" (how phi was estimated); None: given or p = 0
+    ar_method: object        # "reml" or "ls" (how phi was estimated); None: given or p = 0
     ar_phi: np.ndarray       # (3, p): phi of lag k + 1 of axis a
     ar_se: np.ndarray        # (3, p): standard errors (0 when phi was given)
     groups: list             # [{"scale", "scale_se", "scale_se_reml", "redundancy", "rows",

@@ -263,8 +263,8 @@ def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None
     the overall verdict rule counted in `failed` (as igea.eqerr's). Noise models (igea/sim.h
     IGEA_SIM_OPT_AR2 .. JUDGE_NOISE): ar2, ar3, corr, group_split, sigma_w2,
     bias0, bias1, judge_noise; the judge's (igea/noise.h): ar (phi
-    estimated, or the true one with ar_given=True), ar_method ("ls", the
-    default, or "reml": how phi is estimated), robust, robust_alpha,
+    estimated, or the true one with ar_given=True), ar_method ("reml", the
+    default, or "ls": how phi is estimated), robust, robust_alpha,
     group_bias. client: a dask.distributed Client or a scheduler address:
     the flights run there in chunks of `chunk` flights (default 10000; see
     igea.campaign_montecarlo and docs/campaign.md), with the same result
@@ -448,7 +448,7 @@ def _judge_slots(ar, ar_given, robust, robust_alpha, group_bias, ar_method=None,
     if ar:
         out.update(ar=int(ar), ar_estimate=0 if ar_given else 1)
     if ar_method is not None:
-        if ar_method != "ls" and (not ar or ar_given):
+        if not ar or ar_given:
             raise ValueError("ar_method: %r estimates phi: it needs ar=p (not ar_given)"
                              % (ar_method,))
         out["ar_method"] = _lib.choice(_capi.CHOICE_NOISE_AR_METHOD, ar_method, where,

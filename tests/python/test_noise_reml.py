@@ -11,7 +11,7 @@ from scipy import linalg, optimize, signal
 from igea import _capi
 from test_noise import noise_eqerr
 
-REML = _capi.NOISE_AR_REML
+REML, LS = _capi.NOISE_AR_REML, _capi.NOISE_AR_LS
 
 
 def flight(rng, M, N, phi, groups=None, scale=(1.0, 1.0), dup=False):
@@ -138,7 +138,7 @@ def test_reml_removes_the_bias_of_the_fitted_terms():
     S = 30 * np.column_stack([(ax == a) * t ** k for k in range(3) for a in range(3)])
     K = ar_cov(np.tile(phi, (3, 1)), np.zeros(M, dtype=int))
     L = np.linalg.cholesky(K)
-    out = {0: [], REML: []}
+    out = {LS: [], REML: []}
     for _ in range(300):
         dw = L @ rng.normal(size=3 * M)
         for meth in out:
@@ -148,8 +148,8 @@ def test_reml_removes_the_bias_of_the_fitted_terms():
     for meth, v in out.items():
         v = np.array(v).reshape(-1, p).sum(axis=1)
         bias[meth], sem[meth] = v.mean() - phi.sum(), v.std() / np.sqrt(len(v))
-    assert bias[0] < -10 * sem[0], (bias, sem)
-    assert abs(bias[REML]) < 0.2 * abs(bias[0]), (bias, sem)
+    assert bias[LS] < -10 * sem[LS], (bias, sem)
+    assert abs(bias[REML]) < 0.2 * abs(bias[LS]), (bias, sem)
 
 
 def test_reml_choice_names_and_refusals():
@@ -158,18 +158,21 @@ def test_reml_choice_names_and_refusals():
     r = igea.eqerr(fl.S, fl.dw, fl.sigma, fl.spec, ar=1, ar_method="reml")
     assert r.ar_method == "reml" and r.ar_order == 1
     assert r.groups[0]["scale_se_reml"] > 0
-    assert igea.eqerr(fl.S, fl.dw, fl.sigma, fl.spec, ar=1).ar_method == "ls"
+    assert igea.eqerr(fl.S, fl.dw, fl.sigma, fl.spec, ar=1).ar_method == "reml"
+    assert igea.eqerr(fl.S, fl.dw, fl.sigma, fl.spec, ar=1, ar_method="ls").ar_method == "ls"
     assert igea.eqerr(fl.S, fl.dw, fl.sigma, fl.spec, ar_phi=[0.6]).ar_method is None
-    with pytest.raises(ValueError, match="ar_method"):
-        igea.eqerr(fl.S, fl.dw, fl.sigma, fl.spec, ar_phi=[0.6], ar_method="reml")
+    for meth in ("reml", "ls"):
+        with pytest.raises(ValueError, match="ar_method"):
+            igea.eqerr(fl.S, fl.dw, fl.sigma, fl.spec, ar_phi=[0.6], ar_method=meth)
     with pytest.raises(ValueError, match="ar_method"):
         igea.eqerr(fl.S, fl.dw, fl.sigma, fl.spec, ar=1, ar_method="ml")
 
 
 def test_driver_ar_method(tmp_path):
     """igea eqerr --ar-method reml: the JSON names the estimator and equals
-    igea.eqerr(..., ar_method="reml"); without an estimated phi it is
-    refused (exit 64); igea montecarlo refuses it with --ar-given."""
+    igea.eqerr(..., ar_method="reml"); reml is the default, ls the other;
+    without an estimated phi either is refused (exit 64); igea montecarlo
+    refuses it with --ar-given."""
     import json
 
     import igea
@@ -187,9 +190,13 @@ def test_driver_ar_method(tmp_path):
     np.testing.assert_allclose(np.ravel(j["ar_se"]), py.ar_se.ravel(), rtol=1e-6)
     assert j["groups"][0]["scale_se_reml"] == pytest.approx(py.groups[0]["scale_se_reml"],
                                                             rel=1e-6)
-    assert json.loads(driver(*base, "--ar", "1", "--json", cwd=tmp_path).stdout)["ar_method"] == "ls"
-    bad = driver(*base, "--ar-phi", "0.7", "--ar-method", "reml", cwd=tmp_path)
-    assert bad.returncode == 64 and "--ar-method" in bad.stderr
+    dflt = json.loads(driver(*base, "--ar", "1", "--json", cwd=tmp_path).stdout)
+    assert dflt["ar_method"] == "reml" and dflt["ar_phi"] == j["ar_phi"]
+    ls = json.loads(driver(*base, "--ar", "1", "--ar-method", "ls", "--json", cwd=tmp_path).stdout)
+    assert ls["ar_method"] == "ls" and ls["ar_phi"] != j["ar_phi"]
+    for meth in ("reml", "ls"):
+        bad = driver(*base, "--ar-phi", "0.7", "--ar-method", meth, cwd=tmp_path)
+        assert bad.returncode == 64 and "--ar-method" in bad.stderr
     bad = driver("montecarlo", "--flights", "2", "--ar1", "0.5", "--ar", "1", "--ar-given",
                  "--ar-method", "reml")
     assert bad.returncode == 64 and "--ar-method" in bad.stderr
