@@ -11,7 +11,8 @@ Clopper-Pearson interval (igea_sim_interval_cp; the Wilson one of
 igea_sim_interval is in the JSON lines), the cell's CPU time, and appends
 one JSON line per cell to --results. --cells NAME,... runs some cells only
 (names below; a name that is not a cell's selects the family it begins:
-"ar1_ls", "ar1_reml", "power", "curve");
+"ar1_ls", "ar1_reml", "power", "curve"); "naming" and "phi_bias" (phi-hat's
+bias by least squares and by REML, flight by flight) are asked by name;
 --plot-only draws noise_size_phi.png (size against phi), noise_power.png
 (power at 4 x spec with and without the robust route) and
 noise_power_curve.png (power against the term's size) into --outdir from
@@ -56,6 +57,18 @@ def cells():
                                                               ar_method="reml"), "chi2_reject")
     c["ar3_reml"] = ("AR(3) phi=(0.5, 0.2, 0.2), phi by REML",
                      dict(ar1=0.5, ar2=0.2, ar3=0.2, ar=3, ar_method="reml"), "chi2_reject")
+    for meth in ("ls", "reml"):  # phi estimated together with the other noise models
+        c["mixed_robust_%s" % meth] = (
+            "AR(1) phi=0.9 and 1 %% rows at 30 sigma, robust, phi by %s" % meth,
+            dict(ar1=0.9, ar=1, ar_method=meth, robust=True, **OUT), "chi2_reject")
+        c["mixed_stations_%s" % meth] = (
+            "AR(1) phi=0.9, two stations sigma_w 1 and 3, phi by %s" % meth,
+            dict(ar1=0.9, ar=1, ar_method=meth, group_split=0.5, sigma_w2=3.0,
+                 judge_noise=True), "chi2_reject")
+        c["mixed_corr_%s" % meth] = (
+            "AR(2) phi=(0.6, 0.3) and 3x3 correlation up to 0.9, phi by %s" % meth,
+            dict(ar1=0.6, ar2=0.3, ar=2, ar_method=meth, corr=0.9, judge_noise=True),
+            "chi2_reject")
     c["corr_0.9"] = ("3x3 correlation up to 0.9, judge told", dict(corr=0.9, judge_noise=True),
                      "chi2_reject")
     c["stations"] = ("two stations, sigma_w 1 and 3, judge told",
@@ -105,6 +118,40 @@ def naming(n, seed=11):
             ar += 1
             an += any("gyro_bias_y" in c["candidates"] for c in bad)
     return tn, tr, an, ar
+
+
+PHI_MODELS = (("AR(1) phi=0.5", (0.5,)), ("AR(1) phi=0.9", (0.9,)), ("AR(1) phi=0.98", (0.98,)),
+              ("AR(2) phi=(0.6, 0.3)", (0.6, 0.3)), ("AR(3) phi=(0.5, 0.2, 0.2)", (0.5, 0.2, 0.2)))
+
+
+def phi_bias(n, seed=11):
+    """phi-hat flight by flight (igea.simulate, igea.eqerr with ar=p) by
+    least squares and by REML: the mean error of each lag and of their sum
+    with its standard error, and for REML the standardised log scale
+    z = ln(c-hat / c) / (se(c-hat) / c-hat) (mean, sd, the fractions below
+    -3 and above 3): what the sigma_w cover counts. Yields one row per
+    model and method."""
+    for label, phi in PHI_MODELS:
+        kw = dict(zip(("ar1", "ar2", "ar3"), phi))
+        for meth in ("ls", "reml"):
+            t0 = time.process_time()
+            est, z = [], []
+            for f in range(n):
+                fl = igea.simulate(seed=seed, flight=f, **kw)
+                r = igea.eqerr(fl.S, fl.dw, fl.sigma, fl.spec, ar=len(phi), ar_method=meth)
+                est.append(r.ar_phi)
+                g = r.groups[0]
+                z.append(np.log(g["scale"]) / (g["scale_se_reml"] / g["scale"]))
+            est = np.array(est).reshape(-1, len(phi))  # flights x axes, lags
+            err, tot = est - np.array(phi), est.sum(axis=1) - sum(phi)
+            z = np.array(z)
+            yield dict(cell="phi_bias", label="%s, %s" % (label, meth), method=meth,
+                       phi=list(phi), flights=n, bias=list(err.mean(axis=0)),
+                       bias_se=list(err.std(axis=0) / np.sqrt(len(err))),
+                       sum_bias=float(tot.mean()), sum_bias_se=float(tot.std() / np.sqrt(len(tot))),
+                       z_mean=float(z.mean()), z_sd=float(z.std()),
+                       z_below=float(np.mean(z < -3)), z_above=float(np.mean(z > 3)),
+                       cpu_s=time.process_time() - t0)
 
 
 def run_cell(name, spec, fl, a):
@@ -239,6 +286,7 @@ def main():
     ap.add_argument("--outdir", default="docs")
     ap.add_argument("--plot-only", action="store_true")
     ap.add_argument("--naming-flights", type=int, default=0, help="0: --flights")
+    ap.add_argument("--phi-flights", type=int, default=0, help="phi_bias: 0: --flights")
     a = ap.parse_args()
     if a.plot_only:
         plots(a.results, a.outdir)
@@ -267,6 +315,16 @@ def main():
                        rate=k / max(n, 1), cp99=list(interval_cp(k, max(n, 1))), wilson99=[],
                        cpu_s=cpu)
             report(row, "; %d flights drawn" % (a.naming_flights or a.flights))
+            with open(a.results, "a") as fh:
+                fh.write(json.dumps(row) + "\n")
+    if "phi_bias" in want:
+        print("\n| model, estimator | mean phi-hat - phi per lag (se) | sum of the lags | "
+              "z = ln(c-hat/c) / se: mean, sd, P(z < -3), P(z > 3) | CPU |\n|---|---|---|---|---|")
+        for row in phi_bias(a.phi_flights or a.flights):
+            print("| %s | %s | %+.4f (%.4f) | %.2f, %.2f, %.4f, %.4f | %.0f s |" % (
+                row["label"], ", ".join("%+.4f (%.4f)" % b for b in zip(row["bias"], row["bias_se"])),
+                row["sum_bias"], row["sum_bias_se"], row["z_mean"], row["z_sd"], row["z_below"],
+                row["z_above"], row["cpu_s"]), flush=True)
             with open(a.results, "a") as fh:
                 fh.write(json.dumps(row) + "\n")
     if not want:

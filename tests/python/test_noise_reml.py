@@ -154,6 +154,14 @@ def test_reml_removes_the_bias_of_the_fitted_terms():
 
 def test_reml_choice_names_and_refusals():
     import igea
+    from igea import _lib
+    opts = _lib.options("eqerr", "t", ("igea_noise_eqerr", "opts"))
+    assert opts[_capi.EQERR_OPT_AR_METHOD] == REML == 0  # the default
+    for bad in (2.0, 0.5, -1.0, np.nan):
+        opts[_capi.EQERR_OPT_AR_METHOD] = bad
+        assert _lib.lib.igea_eqerr_check_opts(_lib.dptr(opts)) == 1 + _capi.EQERR_OPT_AR_METHOD
+    assert _lib.lib.igea_opt_name(_capi.MODULE_EQERR, _capi.EQERR_OPT_AR_METHOD) == b"ar_method"
+    assert [_lib.choice_name(_capi.CHOICE_NOISE_AR_METHOD, c) for c in (REML, LS)] == ["reml", "ls"]
     fl = igea.simulate(seed=2, ar1=0.6)
     r = igea.eqerr(fl.S, fl.dw, fl.sigma, fl.spec, ar=1, ar_method="reml")
     assert r.ar_method == "reml" and r.ar_order == 1
