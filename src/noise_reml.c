@@ -129,8 +129,8 @@ static int ar_coefs(int p, const double *phi, ar_coef *o)
 /* The scratch of one evaluation of the score. */
 typedef struct {
     double *V, *A, *b, *wtw; /* stage 2 at a trial phi */
-    double *Nt, *F, *lam;    /* pseudo-inverse of sum A_g / c_g */
-    double *Y, *Y2;          /* m x Nt: V_S F, V_S N^+ */
+    double *Nt, *F, *lam;    /* pseudo-inverse of sum A_g / c_g (Nt: then N^+ = F F') */
+    double *Y2;              /* m x Nt: V_S N^+ */
     double *x, *bb, *e, *v;  /* Nt, Nt, m (stage-1 residual), m (whitened residual) */
     double *H;               /* (p + 2) m: Y2.V_S, Y2.U_S at lags 0..p */
 } reml_ws;
@@ -138,7 +138,7 @@ typedef struct {
 static double *ws_alloc(const igea__njob *j, reml_ws *w)
 {
     size_t m = (size_t)j->m, Nt = (size_t)j->Nt, n1 = Nt + 1, G = (size_t)j->G;
-    size_t nd = m * n1 + G * Nt * Nt + G * Nt + 2 * G + 2 * Nt * Nt + Nt + 2 * m * Nt + 2 * Nt +
+    size_t nd = m * n1 + G * Nt * Nt + G * Nt + 2 * G + 2 * Nt * Nt + Nt + m * Nt + 2 * Nt +
                 2 * m + (size_t)(j->p + 2) * m;
     double *d = igea__dalloc(nd);
     if (!d)
@@ -150,8 +150,7 @@ static double *ws_alloc(const igea__njob *j, reml_ws *w)
     w->Nt = w->wtw + 2 * G;
     w->F = w->Nt + Nt * Nt;
     w->lam = w->F + Nt * Nt;
-    w->Y = w->lam + Nt;
-    w->Y2 = w->Y + m * Nt;
+    w->Y2 = w->lam + Nt;
     w->x = w->Y2 + m * Nt;
     w->bb = w->x + Nt;
     w->e = w->bb + Nt;
@@ -185,7 +184,7 @@ static int score(const igea__njob *j, const double *phi, const double *c, int fr
     int r = igea__noise_pinv_factor(Nt, G, A, Nt, c, w->Nt, w->lam, w->F);
     if (r < 0)
         return r;
-    /* x = F F' sum b_g / c_g; Y = V_S F; Y2 = Y F' = V_S N^+ */
+    /* x = F F' sum b_g / c_g; Y2 = V_S (F F') = V_S N^+ */
     for (int i = 0; i < Nt; i++) {
         double t = 0.0;
         for (int g = 0; g < G; g++)
@@ -196,10 +195,10 @@ static int score(const igea__njob *j, const double *phi, const double *c, int fr
     if (r > 0) {
         cblas_dgemv(CblasColMajor, CblasTrans, Nt, r, 1.0, w->F, Nt, w->bb, 1, 0.0, w->lam, 1);
         cblas_dgemv(CblasColMajor, CblasNoTrans, Nt, r, 1.0, w->F, Nt, w->lam, 1, 0.0, w->x, 1);
-        cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, m, r, Nt, 1.0, V, m, w->F, Nt,
-                    0.0, w->Y, m);
-        cblas_dgemm(CblasColMajor, CblasNoTrans, CblasTrans, m, Nt, r, 1.0, w->Y, m, w->F, Nt,
-                    0.0, w->Y2, m);
+        cblas_dsyrk(CblasColMajor, CblasLower, CblasNoTrans, Nt, r, 1.0, w->F, Nt, 0.0, w->Nt,
+                    Nt); /* N^+ = F F' over Nt's scratch, lower triangle */
+        cblas_dsymm(CblasColMajor, CblasRight, CblasLower, m, Nt, 1.0, w->Nt, Nt, V, m, 0.0,
+                    w->Y2, m);
     } else {
         memset(w->x, 0, (size_t)Nt * sizeof(double));
     }
