@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Streamed cost of whitening (igea/noise.h) against today's accumulation.
 
-On the same rows (default 60,000 rows x 21 terms, epoch-major, streamed in
-blocks of 6,000 rows), best of 25:
+On the same rows (epoch-major, streamed in blocks of a tenth of the rows),
+for each size (default 60,000 rows x 21 terms and 180,000 x 74):
   floor    one bare OpenBLAS dsyrk of the raw block (S^T S), the least any
            accumulation must do
   today    igea_normal_accumulate with per-row sigmas (the seed's diagonal K)
@@ -10,11 +10,15 @@ blocks of 6,000 rows), best of 25:
            path: no copy, dsyrk on the caller's rows)
   cov      igea_whiten_accumulate with a 3x3 covariance per epoch
   cov+ar1  the same with AR(1) per axis (Prais-Winsten)
-  ar3+grp  AR(3) per axis, two groups
-and prints each time (CPU seconds of this process, best of 25) and its
-ratio to today's (per-row sigma and one sigma) and to the floor.
+  ar3+grp  row sigmas, AR(3) per axis, two groups
+Each is timed by the CPU time of this process (not wall time: on a loaded
+machine the preemptions inflate the wall clock, not the CPU time), the
+variants interleaved (one run of each per round, --rounds rounds) and the
+best round kept, so that a change of load hits all of them alike. Prints
+each time and its ratio to today's (per-row sigma and one sigma) and to the
+floor. Run with OPENBLAS_NUM_THREADS=1 (one thread for every variant).
 
-    python bench/bench_whiten.py [--rows N] [--terms N] [--block N]
+    OPENBLAS_NUM_THREADS=1 python bench/bench_whiten.py [--sizes 60000x21,180000x74]
 """
 import argparse
 import ctypes
@@ -26,27 +30,11 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "python"))
-from igea import _capi, _lib  # noqa: E402
+from igea import _lib  # noqa: E402
 
 
-def best(f, repeat=25):
-    # CPU time of this process (not wall time): on a loaded machine the
-    # preemptions inflate the wall clock, not the CPU time
-    ts = []
-    for _ in range(repeat):
-        t0 = time.process_time()
-        f()
-        ts.append(time.process_time() - t0)
-    return min(ts)
-
-
-def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--rows", type=int, default=60000)
-    ap.add_argument("--terms", type=int, default=21)
-    ap.add_argument("--block", type=int, default=6000)
-    a = ap.parse_args()
-    m, N, blk = a.rows - a.rows % 3, a.terms, a.block - a.block % 3
+def variants(m, N, blk):
+    """The timed functions on one flight of m rows x N terms."""
     rng = np.random.default_rng(0)
     S = np.asfortranarray(rng.normal(size=(m, N)))
     dw = rng.normal(size=m)
@@ -66,24 +54,24 @@ def main():
             blas.cblas_dsyrk(102, 122, 112, N, r1 - r0, ctypes.c_double(1.0), _lib.dptr(s),
                              r1 - r0, ctypes.c_double(1.0), _lib.dptr(C), N)
 
-    def today():
-        A = np.zeros((N, N)); b = np.zeros(N); w = np.zeros(2)
-        for (r0, r1), s in zip(blocks, Sb):
-            _lib.call("b", "igea_normal_accumulate", 0, r1 - r0, N, _lib.dptr(s), r1 - r0,
-                      _lib.dptr(dw[r0:r1]), _lib.dptr(sig[r0:r1]), 1, _lib.dptr(spec),
-                      _lib.dptr(A), N, _lib.dptr(b), _lib.dptr(w))
+    def normal(one):
+        A = np.zeros((N, N)); b = np.zeros(N); w = np.zeros(2); o = np.ones(1)
 
-    def today1():
-        A = np.zeros((N, N)); b = np.zeros(N); w = np.zeros(2); one = np.ones(1)
-        for (r0, r1), s in zip(blocks, Sb):
-            _lib.call("b", "igea_normal_accumulate", 0, r1 - r0, N, _lib.dptr(s), r1 - r0,
-                      _lib.dptr(dw[r0:r1]), _lib.dptr(one), 0, _lib.dptr(spec),
-                      _lib.dptr(A), N, _lib.dptr(b), _lib.dptr(w))
+        def run():
+            for (r0, r1), s in zip(blocks, Sb):
+                _lib.call("b", "igea_normal_accumulate", 0, r1 - r0, N, _lib.dptr(s), r1 - r0,
+                          _lib.dptr(dw[r0:r1]), _lib.dptr(o if one else sig[r0:r1]),
+                          0 if one else 1, _lib.dptr(spec), _lib.dptr(A), N, _lib.dptr(b),
+                          _lib.dptr(w))
+        return run
+
+    handles = []
 
     def whitened(p, G, use_cov):
         phi = np.tile([0.5, 0.2, 0.1][:p], 3) if p else None
         h = ctypes.c_void_p()
         _lib.call("b", "igea_whiten_create", N, p, _lib.dptr(phi), G, ctypes.byref(h))
+        handles.append(h)
         A = np.zeros((G, N, N)); b = np.zeros((G, N)); w = np.zeros(2 * G)
 
         def run():
@@ -96,20 +84,43 @@ def main():
                           _lib.dptr(dw[r0:r1]), _lib.dptr(sg), 1, _lib.dptr(cv), _lib.iptr(gr),
                           None, _lib.dptr(spec), _lib.dptr(A), N, _lib.dptr(b), _lib.dptr(w),
                           None, None)
-        t = best(run)
-        lib.igea_whiten_free(h)
-        return t
+        return run
 
-    t_floor, t_today = best(floor), best(today)
-    rows = [("floor (dsyrk)", t_floor), ("today (normal_accumulate)", t_today),
-            ("today, one sigma", best(today1)),
-            ("cov 3x3", whitened(0, 1, True)), ("cov 3x3 + AR(1)", whitened(1, 1, True)),
-            ("sigma + AR(3), 2 groups", whitened(3, 2, False))]
-    print(f"whitened accumulation, {m} rows x {N} terms, blocks of {blk} rows")
-    t_one = rows[2][1]
-    print(f"{'':28s} {'seconds':>9s} {'/today':>8s} {'/today1':>8s} {'/floor':>8s}")
-    for name, t in rows:
-        print(f"{name:28s} {t:9.5f} {t / t_today:8.2f} {t / t_one:8.2f} {t / t_floor:8.2f}")
+    out = [("floor (dsyrk)", floor), ("today (per-row sigma)", normal(False)),
+           ("today, one sigma", normal(True)), ("cov 3x3", whitened(0, 1, True)),
+           ("cov 3x3 + AR(1)", whitened(1, 1, True)),
+           ("sigma + AR(3), 2 groups", whitened(3, 2, False))]
+    return out, lambda: [lib.igea_whiten_free(h) for h in handles]
+
+
+def cpu(f):
+    t0 = time.process_time()
+    f()
+    return time.process_time() - t0
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--sizes", default="60000x21,180000x74", help="ROWSxTERMS,...")
+    ap.add_argument("--rounds", type=int, default=0, help="0: 40 / 8 by size")
+    a = ap.parse_args()
+    for size in a.sizes.split(","):
+        m, N = (int(v) for v in size.lower().split("x"))
+        m -= m % 3
+        blk = max(3, (m // 10) - (m // 10) % 3)
+        vs, free = variants(m, N, blk)
+        rounds = a.rounds or (40 if m * N < 4e6 else 8)
+        best = [float("inf")] * len(vs)
+        for _ in range(rounds):  # interleaved: one run of each variant per round
+            for i, (_, f) in enumerate(vs):
+                best[i] = min(best[i], cpu(f))
+        free()
+        t_floor, t_today, t_one = best[0], best[1], best[2]
+        print(f"whitened accumulation, {m} rows x {N} terms, blocks of {blk} rows, "
+              f"best of {rounds} interleaved rounds (CPU time)")
+        print(f"{'':28s} {'seconds':>9s} {'/today':>8s} {'/today1':>8s} {'/floor':>8s}")
+        for (name, _), t in zip(vs, best):
+            print(f"{name:28s} {t:9.5f} {t / t_today:8.2f} {t / t_one:8.2f} {t / t_floor:8.2f}")
 
 
 if __name__ == "__main__":

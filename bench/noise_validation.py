@@ -10,7 +10,9 @@ Prints, per cell, the chi-square size (or the power) with its exact 99 %
 Clopper-Pearson interval (igea_sim_interval_cp; the Wilson one of
 igea_sim_interval is in the JSON lines), the cell's CPU time, and appends
 one JSON line per cell to --results. --cells NAME,... runs some cells only
-(names below; a prefix selects a family: "ar1_est", "power", "curve");
+(names below; a name that is not a cell's selects the family it begins:
+"ar1_ls", "ar1_reml", "power", "curve"); "naming" and "phi_bias" (phi-hat's
+bias by least squares and by REML, flight by flight) are asked by name;
 --plot-only draws noise_size_phi.png (size against phi), noise_power.png
 (power at 4 x spec with and without the robust route) and
 noise_power_curve.png (power against the term's size) into --outdir from
@@ -43,11 +45,30 @@ def cells():
     c = {}
     for p in PHIS:
         c["ar1_seed_%g" % p] = ("AR(1) phi=%g, seed's judge" % p, dict(ar1=p), "chi2_reject")
-        c["ar1_est_%g" % p] = ("AR(1) phi=%g, phi estimated" % p, dict(ar1=p, ar=1), "chi2_reject")
-    c["ar2_est"] = ("AR(2) phi=(0.6, 0.3), phi estimated", dict(ar1=0.6, ar2=0.3, ar=2),
-                    "chi2_reject")
-    c["ar3_est"] = ("AR(3) phi=(0.5, 0.2, 0.2), phi estimated",
-                    dict(ar1=0.5, ar2=0.2, ar3=0.2, ar=3), "chi2_reject")
+        c["ar1_ls_%g" % p] = ("AR(1) phi=%g, phi by least squares" % p,
+                              dict(ar1=p, ar=1, ar_method="ls"), "chi2_reject")
+        c["ar1_reml_%g" % p] = ("AR(1) phi=%g, phi by REML" % p,
+                                dict(ar1=p, ar=1, ar_method="reml"), "chi2_reject")
+    c["ar2_ls"] = ("AR(2) phi=(0.6, 0.3), phi by least squares",
+                   dict(ar1=0.6, ar2=0.3, ar=2, ar_method="ls"), "chi2_reject")
+    c["ar3_ls"] = ("AR(3) phi=(0.5, 0.2, 0.2), phi by least squares",
+                   dict(ar1=0.5, ar2=0.2, ar3=0.2, ar=3, ar_method="ls"), "chi2_reject")
+    c["ar2_reml"] = ("AR(2) phi=(0.6, 0.3), phi by REML", dict(ar1=0.6, ar2=0.3, ar=2,
+                                                              ar_method="reml"), "chi2_reject")
+    c["ar3_reml"] = ("AR(3) phi=(0.5, 0.2, 0.2), phi by REML",
+                     dict(ar1=0.5, ar2=0.2, ar3=0.2, ar=3, ar_method="reml"), "chi2_reject")
+    for meth in ("ls", "reml"):  # phi estimated together with the other noise models
+        c["mixed_robust_%s" % meth] = (
+            "AR(1) phi=0.9 and 1 %% rows at 30 sigma, robust, phi by %s" % meth,
+            dict(ar1=0.9, ar=1, ar_method=meth, robust=True, **OUT), "chi2_reject")
+        c["mixed_stations_%s" % meth] = (
+            "AR(1) phi=0.9, two stations sigma_w 1 and 3, phi by %s" % meth,
+            dict(ar1=0.9, ar=1, ar_method=meth, group_split=0.5, sigma_w2=3.0,
+                 judge_noise=True), "chi2_reject")
+        c["mixed_corr_%s" % meth] = (
+            "AR(2) phi=(0.6, 0.3) and 3x3 correlation up to 0.9, phi by %s" % meth,
+            dict(ar1=0.6, ar2=0.3, ar=2, ar_method=meth, corr=0.9, judge_noise=True),
+            "chi2_reject")
     c["corr_0.9"] = ("3x3 correlation up to 0.9, judge told", dict(corr=0.9, judge_noise=True),
                      "chi2_reject")
     c["stations"] = ("two stations, sigma_w 1 and 3, judge told",
@@ -99,6 +120,40 @@ def naming(n, seed=11):
     return tn, tr, an, ar
 
 
+PHI_MODELS = (("AR(1) phi=0.5", (0.5,)), ("AR(1) phi=0.9", (0.9,)), ("AR(1) phi=0.98", (0.98,)),
+              ("AR(2) phi=(0.6, 0.3)", (0.6, 0.3)), ("AR(3) phi=(0.5, 0.2, 0.2)", (0.5, 0.2, 0.2)))
+
+
+def phi_bias(n, seed=11):
+    """phi-hat flight by flight (igea.simulate, igea.eqerr with ar=p) by
+    least squares and by REML: the mean error of each lag and of their sum
+    with its standard error, and for REML the standardised log scale
+    z = ln(c-hat / c) / (se(c-hat) / c-hat) (mean, sd, the fractions below
+    -3 and above 3): what the sigma_w cover counts. Yields one row per
+    model and method."""
+    for label, phi in PHI_MODELS:
+        kw = dict(zip(("ar1", "ar2", "ar3"), phi))
+        for meth in ("ls", "reml"):
+            t0 = time.process_time()
+            est, z = [], []
+            for f in range(n):
+                fl = igea.simulate(seed=seed, flight=f, **kw)
+                r = igea.eqerr(fl.S, fl.dw, fl.sigma, fl.spec, ar=len(phi), ar_method=meth)
+                est.append(r.ar_phi)
+                g = r.groups[0]
+                z.append(np.log(g["scale"]) / (g["scale_se_reml"] / g["scale"]))
+            est = np.array(est).reshape(-1, len(phi))  # flights x axes, lags
+            err, tot = est - np.array(phi), est.sum(axis=1) - sum(phi)
+            z = np.array(z)
+            yield dict(cell="phi_bias", label="%s, %s" % (label, meth), method=meth,
+                       phi=list(phi), flights=n, bias=list(err.mean(axis=0)),
+                       bias_se=list(err.std(axis=0) / np.sqrt(len(err))),
+                       sum_bias=float(tot.mean()), sum_bias_se=float(tot.std() / np.sqrt(len(tot))),
+                       z_mean=float(z.mean()), z_sd=float(z.std()),
+                       z_below=float(np.mean(z < -3)), z_above=float(np.mean(z > 3)),
+                       cpu_s=time.process_time() - t0)
+
+
 def run_cell(name, spec, fl, a):
     label, kw, what = spec
     t0 = time.process_time()
@@ -117,9 +172,12 @@ def run_cell(name, spec, fl, a):
         extra += "; sigma_w-hat covered (log scale, REML se) %d / %d [%.4f, %.4f]" % (
             r.sigma_covered, r.flights, *row["sigma_cp99"])
         extra += "; c-hat covered (c scale, plug-in se) %d" % r.scale_covered
+    if what != "failed":
+        extra += "; overall 'out of spec' %.4f" % (r.failed / r.flights)
     if r.mean_outliers:
         row["mean_outliers"] = r.mean_outliers
         extra += "; %.2f rows rejected per flight" % r.mean_outliers
+    row["mean_tested"] = r.mean_tested
     return row, extra
 
 
@@ -141,12 +199,20 @@ def plots(results, outdir):
                 d = json.loads(line)
                 if d["flights"] >= by.get(d["cell"], {"flights": 0})["flights"]:
                     by[d["cell"]] = d
+    def save(fig, drawn, name):  # a figure without data is not written
+        if drawn:
+            fig.savefig(os.path.join(outdir, name), dpi=120)
+        plt.close(fig)
+
     fig, ax = plt.subplots(figsize=(5.5, 3.8))
-    for fam, lab, dx in (("ar1_seed_", "seed's judge (white K)", -0.004),
-                         ("ar1_est_", "AR(1) judge, phi estimated", 0.004)):
+    drawn = False
+    for fam, lab, dx in (("ar1_seed_", "seed's judge (white K)", -0.006),
+                         ("ar1_ls_", "AR(1) judge, phi by least squares", 0.0),
+                         ("ar1_reml_", "AR(1) judge, phi by REML", 0.006)):
         pts = [(p, by[fam + "%g" % p]) for p in PHIS if fam + "%g" % p in by]
         if not pts:
             continue
+        drawn = True
         x = np.array([p for p, _ in pts]) + dx
         v = np.array([d["rate"] for _, d in pts])
         lo = np.array([d["cp99"][0] for _, d in pts])
@@ -160,13 +226,15 @@ def plots(results, outdir):
     ax.set_title("chi-square size against phi, 99 % Clopper-Pearson intervals", fontsize=9)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(os.path.join(outdir, "noise_size_phi.png"), dpi=120)
+    save(fig, drawn, "noise_size_phi.png")
     fig, ax = plt.subplots(figsize=(5.5, 3.8))
+    drawn = False
     for rob, lab, dx in (("seed", "seed's judge", -0.03), ("robust", "robust route", 0.03)):
         pts = [(i, by["power_%s_%s" % (rob, o)]) for i, o in enumerate(("clean", "out"))
                if "power_%s_%s" % (rob, o) in by]
         if not pts:
             continue
+        drawn = True
         x = np.array([i for i, _ in pts]) + dx
         v = np.array([d["rate"] for _, d in pts])
         lo = np.array([d["cp99"][0] for _, d in pts])
@@ -181,14 +249,16 @@ def plots(results, outdir):
     ax.set_title("Power with and without the robust route, 99 % Clopper-Pearson", fontsize=9)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(os.path.join(outdir, "noise_power.png"), dpi=120)
+    save(fig, drawn, "noise_power.png")
     fig, ax = plt.subplots(figsize=(5.5, 3.8))
+    drawn = False
     for fam, lab in (("curve_seed_clean_", "seed's judge, no outliers"),
                      ("curve_seed_out_", "seed's judge, 1 % rows at 30 sigma"),
                      ("curve_robust_out_", "robust route, 1 % rows at 30 sigma")):
         pts = [(k, by[fam + "%g" % k]) for k in CURVE if fam + "%g" % k in by]
         if not pts:
             continue
+        drawn = True
         x = np.array([k for k, _ in pts], dtype=float)
         v = np.array([d["rate"] for _, d in pts])
         lo = np.array([d["cp99"][0] for _, d in pts])
@@ -202,7 +272,7 @@ def plots(results, outdir):
     ax.set_title("Power curves, 99 % Clopper-Pearson intervals", fontsize=9)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(os.path.join(outdir, "noise_power_curve.png"), dpi=120)
+    save(fig, drawn, "noise_power_curve.png")
 
 
 def main():
@@ -216,6 +286,7 @@ def main():
     ap.add_argument("--outdir", default="docs")
     ap.add_argument("--plot-only", action="store_true")
     ap.add_argument("--naming-flights", type=int, default=0, help="0: --flights")
+    ap.add_argument("--phi-flights", type=int, default=0, help="phi_bias: 0: --flights")
     a = ap.parse_args()
     if a.plot_only:
         plots(a.results, a.outdir)
@@ -224,7 +295,9 @@ def main():
     fl = igea.simulate(seed=1)
     print("| cell | rate | value [99 % Clopper-Pearson] | CPU, other |\n|---|---|---|---|")
     allc = cells()
-    order = [n for w in want for n in allc if n.startswith(w)] if want else list(allc)
+    order = ([n for w in want for n in ([w] if w in allc else
+                                        [k for k in allc if k.startswith(w)])]
+             if want else list(allc))
     for name in dict.fromkeys(order):  # in the order asked for, each once
         spec = allc[name]
         row, extra = run_cell(name, spec, fl, a)
@@ -242,6 +315,16 @@ def main():
                        rate=k / max(n, 1), cp99=list(interval_cp(k, max(n, 1))), wilson99=[],
                        cpu_s=cpu)
             report(row, "; %d flights drawn" % (a.naming_flights or a.flights))
+            with open(a.results, "a") as fh:
+                fh.write(json.dumps(row) + "\n")
+    if "phi_bias" in want:
+        print("\n| model, estimator | mean phi-hat - phi per lag (se) | sum of the lags | "
+              "z = ln(c-hat/c) / se: mean, sd, P(z < -3), P(z > 3) | CPU |\n|---|---|---|---|---|")
+        for row in phi_bias(a.phi_flights or a.flights):
+            print("| %s | %s | %+.4f (%.4f) | %.2f, %.2f, %.4f, %.4f | %.0f s |" % (
+                row["label"], ", ".join("%+.4f (%.4f)" % b for b in zip(row["bias"], row["bias_se"])),
+                row["sum_bias"], row["sum_bias_se"], row["z_mean"], row["z_sd"], row["z_below"],
+                row["z_above"], row["cpu_s"]), flush=True)
             with open(a.results, "a") as fh:
                 fh.write(json.dumps(row) + "\n")
     if not want:

@@ -78,6 +78,8 @@ static const choice sigmaw_flag[] = {
 static const choice stats_verdict[] = {
     {IGEA_STATS_VERDICT_SEED, "seed"}, {IGEA_STATS_VERDICT_CHI2, "chi2"},
     {IGEA_STATS_VERDICT_EXACT, "exact"}, {IGEA_STATS_VERDICT_SIDAK, "sidak"}, END};
+static const choice noise_ar_method[] = {
+    {IGEA_NOISE_AR_REML, "reml"}, {IGEA_NOISE_AR_LS, "ls"}, END};
 static const choice nav_frame[] = {
     {IGEA_NAV_ECEF, "ecef"}, {IGEA_NAV_LE, "le"}, {IGEA_NAV_LI, "li"}, END};
 static const choice nav_gravity[] = {
@@ -119,6 +121,7 @@ static const choice *table(int kind)
     case IGEA_CHOICE_STATS_SIGMAW_FLAG: return sigmaw_flag;
     case IGEA_CHOICE_REDUND_RBD: return redund_rbd;
     case IGEA_CHOICE_STATS_VERDICT: return stats_verdict;
+    case IGEA_CHOICE_NOISE_AR_METHOD: return noise_ar_method;
     case IGEA_CHOICE_STABILITY_DATA: return stability_data;
     case IGEA_CHOICE_STABILITY_TAUS: return stability_taus;
     case IGEA_CHOICE_NAV_FRAME: return nav_frame;

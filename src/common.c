@@ -103,7 +103,7 @@ const char *igea_opt_name(int module, int slot)
         [IGEA_EQERR_OPT_VERDICT_B] = "verdict_b",
         [IGEA_EQERR_OPT_VERDICT_SIZE] = "verdict_size",
         [IGEA_EQERR_OPT_THREADS] = "threads",
-        [IGEA_EQERR_OPT_AR] = "ar", /* igea/noise.h, 20..27 */
+        [IGEA_EQERR_OPT_AR] = "ar", /* igea/noise.h, 20..28 */
         [IGEA_EQERR_OPT_AR_ESTIMATE] = "ar_estimate",
         [IGEA_EQERR_OPT_ROBUST] = "robust",
         [IGEA_EQERR_OPT_ROBUST_ALPHA] = "robust_alpha",
@@ -111,6 +111,7 @@ const char *igea_opt_name(int module, int slot)
         [IGEA_EQERR_OPT_NOISE_MAX_ITER] = "noise_max_iter",
         [IGEA_EQERR_OPT_GROUP_BIAS] = "group_bias",
         [IGEA_EQERR_OPT_ROBUST_MAX] = "robust_max",
+        [IGEA_EQERR_OPT_AR_METHOD] = "ar_method",
     };
     static const char *const sim[IGEA_SIM_OPT_LEN] = {
         [IGEA_SIM_OPT_SIGMA_W] = "sigma_w",

@@ -7,8 +7,9 @@
 
 #include "igea/noise.h"
 #include "internal.h"
+#include "noise_job.h"
 
-/* The checks of slots 20..27 (igea_eqerr_check_opts): 0 or 1 + slot. */
+/* The checks of slots 20..28 (igea_eqerr_check_opts): 0 or 1 + slot. */
 int igea__noise_check_opts(const double *o);
 int igea__noise_check_opts(const double *o)
 {
@@ -22,6 +23,7 @@ int igea__noise_check_opts(const double *o)
     if (!(it >= 0 && it <= 1000 && it == floor(it))) return 1 + IGEA_EQERR_OPT_NOISE_MAX_ITER;
     if (o[IGEA_EQERR_OPT_GROUP_BIAS] != 0 && o[IGEA_EQERR_OPT_GROUP_BIAS] != 1) return 1 + IGEA_EQERR_OPT_GROUP_BIAS;
     if (!(o[IGEA_EQERR_OPT_ROBUST_MAX] >= 0 && o[IGEA_EQERR_OPT_ROBUST_MAX] <= 0.5)) return 1 + IGEA_EQERR_OPT_ROBUST_MAX;
+    if (o[IGEA_EQERR_OPT_AR_METHOD] != IGEA_NOISE_AR_REML && o[IGEA_EQERR_OPT_AR_METHOD] != IGEA_NOISE_AR_LS) return 1 + IGEA_EQERR_OPT_AR_METHOD;
     return 0;
 }
 
@@ -139,9 +141,10 @@ int igea_noise_ar_fit(int M, int p, const double *resid, const int *group,
 /* ---- Helmert variance components ---------------------------------------- */
 
 /* The pseudo-inverse factor of N = sum A_g / c_g: F (N x r) with N^+ = F
- * F'; V (N x N) and lam (N) scratch. Returns the rank or a failure < 0. */
-static int pinv_factor(int N, int G, const double *A, int lda, const double *c,
-                       double *Nt, double *lam, double *F)
+ * F'; V (N x N) and lam (N) scratch. Returns the rank or a failure < 0
+ * (noise_job.h). */
+int igea__noise_pinv_factor(int N, int G, const double *A, int lda, const double *c,
+                            double *Nt, double *lam, double *F)
 {
     for (int j = 0; j < N; j++)
         for (int i = j; i < N; i++) {
@@ -181,7 +184,7 @@ static int vce_step(int N, int G, const double *A, int lda, const double *b,
 {
     size_t nn = (size_t)N * N;
     double *Nt = work, *F = Nt + nn, *lam = F + nn, *t = lam + N, *Ax = t + N;
-    int r = pinv_factor(N, G, A, lda, c, Nt, lam, F);
+    int r = igea__noise_pinv_factor(N, G, A, lda, c, Nt, lam, F);
     if (r < 0)
         return r;
     pinv_apply(N, G, r, F, b, c, t, x);
@@ -332,7 +335,7 @@ int igea__noise_vce_cov(int N, int G, const double *A, int lda, const double *wt
         return IGEA_ENOMEM;
     double *F = Nt + nn, *K = F + nn, *lam = K + (size_t)G * nn, *Im = lam + N;
     double *L = Im + (size_t)G * G, *tr = L + (size_t)G * G;
-    int r = pinv_factor(N, G, A, lda, c, Nt, lam, F), st = r < 0 ? r : 0;
+    int r = igea__noise_pinv_factor(N, G, A, lda, c, Nt, lam, F), st = r < 0 ? r : 0;
     for (int g = 0; st == 0 && g < G; g++) { /* K_g = F' N_g F (r x r), T in Nt */
         double *Kg = K + (size_t)g * r * r;
         if (r == 0)

@@ -10,7 +10,10 @@
 #include "igea/noise.h"
 #include "igea/stats.h"
 #include "internal.h"
+#include "noise_job.h"
 
+/* whiten.c */
+int igea__ar_setup(int p, const double *phi, double linv[][IGEA_NOISE_AR_MAX], double *su);
 /* noise.c */
 int igea__noise_vce_iterate(int N, int G, const double *A, int lda, const double *b,
                             const double *wtw, double tol, int maxit, double *c,
@@ -18,20 +21,7 @@ int igea__noise_vce_iterate(int N, int G, const double *A, int lda, const double
 int igea__noise_vce_cov(int N, int G, const double *A, int lda, const double *wtw,
                         const double *c, double *cov);
 
-typedef struct {
-    int m, N, Nt, G, p, nb, M;
-    const int *group;
-    double *U, *V;       /* m x (Nt + 1): stage 1 and stage 2 whitened rows */
-    double *A, *b, *wtw; /* G x Nt^2, G x Nt, 2 G */
-    double *c, *red, *x; /* G, G, Nt */
-    double *work;        /* scratch of the snooping and VCE: 2 Nt^2 + 4 Nt + G */
-    double *T, *q;       /* m x Nt and m: snooping */
-    double phi[9], se[9];
-    int *mask;
-    double *row_w;
-    int nrej, maxrej;
-    double kcrit;
-} njob;
+typedef igea__njob njob; /* noise_job.h */
 
 static double opt_or(const double *o, int slot, double dflt)
 {
@@ -66,23 +56,30 @@ static int stage1_rows(njob *j, const double *S, int lds, const double *dw,
     return st;
 }
 
-/* Stage 2 with the current phi and mask into V and the group sums. */
-static int stage2_sums(njob *j)
+int igea__noise_stage2(const njob *j, const double *phi, double *V, double *A, double *b,
+                       double *wtw)
 {
     int m = j->m, Nt = j->Nt, G = j->G;
     igea_whiten *w = NULL;
-    int st = igea_whiten_create(Nt, j->p, j->phi, G, &w);
+    int st = igea_whiten_create(Nt, j->p, phi, G, &w);
     if (st == -3)
         return IGEA_EDOMAIN; /* an estimated phi that is not stationary */
     if (st)
         return st;
-    memset(j->A, 0, ((size_t)G * Nt * Nt + (size_t)G * Nt + 2 * (size_t)G) * sizeof(double));
+    memset(A, 0, (size_t)G * Nt * Nt * sizeof(double));
+    memset(b, 0, (size_t)G * Nt * sizeof(double));
+    memset(wtw, 0, 2 * (size_t)G * sizeof(double));
     double one = 1.0;
     st = igea_whiten_accumulate(w, IGEA_COLMAJOR, m, j->U, m, j->U + (size_t)Nt * m, &one,
-                                0, NULL, j->group, j->mask, NULL, j->A, Nt, j->b, j->wtw,
-                                j->V, NULL);
+                                0, NULL, j->group, j->mask, NULL, A, Nt, b, wtw, V, NULL);
     igea_whiten_free(w);
     return st;
+}
+
+/* Stage 2 with the current phi and mask into V and the group sums. */
+static int stage2_sums(njob *j)
+{
+    return igea__noise_stage2(j, j->phi, j->V, j->A, j->b, j->wtw);
 }
 
 static int cmp_abs(const void *a, const void *b)
@@ -200,9 +197,10 @@ static int snoop(njob *j, int *nnew)
     return 0;
 }
 
-/* phi re-estimated from the stage-1 residuals U_w - U_S x; *d the largest
- * change. */
-static int ar_update(njob *j, double *d)
+/* phi re-estimated from the stage-1 residuals U_w - U_S x (for p = 1 with
+ * Kendall's correction when kendall is 1; kendall 0 is REML's start, made
+ * stationary); *d the largest change. */
+static int ar_update(njob *j, int kendall, double *d)
 {
     int m = j->m, Nt = j->Nt;
     double *r = j->q, ph[9], se[9];
@@ -211,12 +209,19 @@ static int ar_update(njob *j, double *d)
     int st = igea_noise_ar_fit(j->M, j->p, r, j->group, j->mask, ph, se);
     if (st)
         return st;
-    if (j->p == 1) /* Kendall's small-sample correction, kept inside |phi| <= 0.995 */
+    if (j->p == 1 && kendall) /* Kendall's small-sample correction, kept inside |phi| <= 0.995 */
         for (int a = 0; a < 3; a++) {
             double n = j->M - 1.0;
             if (n > 3)
                 ph[a] += (1.0 + 3.0 * ph[a]) / n;
             ph[a] = fmax(-0.995, fmin(0.995, ph[a]));
+        }
+    if (!kendall) /* the REML start: shrunk toward 0 into the stationary region */
+        for (int a = 0; a < 3; a++) {
+            double li[IGEA_NOISE_AR_MAX][IGEA_NOISE_AR_MAX], su;
+            for (int t = 0; t < 200 && igea__ar_setup(j->p, ph + a * j->p, li, &su); t++)
+                for (int k = 0; k < j->p; k++)
+                    ph[a * j->p + k] *= 0.95;
         }
     *d = 0.0;
     for (int k = 0; k < 3 * j->p; k++) {
@@ -241,6 +246,7 @@ static int vce_settle(njob *j, double tol, int *conv)
 static int outer(njob *j, const double *o, int *iters, int *conv)
 {
     const int est = o[IGEA_EQERR_OPT_AR_ESTIMATE] == 1 && j->p > 0;
+    const int reml = est && o[IGEA_EQERR_OPT_AR_METHOD] == IGEA_NOISE_AR_REML;
     const int robust = o[IGEA_EQERR_OPT_ROBUST] == 1;
     const double tol = opt_or(o, IGEA_EQERR_OPT_NOISE_TOL, 1e-3);
     const int maxit = (int)opt_or(o, IGEA_EQERR_OPT_NOISE_MAX_ITER, 50);
@@ -259,11 +265,15 @@ static int outer(njob *j, const double *o, int *iters, int *conv)
             break;
         if (robust && (st = snoop(j, &nnew)))
             break;
+        if (nnew > 0) /* the likelihood changed: REML restarts its curvature */
+            j->reml_have = 0;
         if ((st = vce_settle(j, tol * 0.1, &vconv)))
             break;
         for (int g = 0; g < j->G && j->G > 1; g++)
             dc = fmax(dc, fabs(j->c[g] / cprev[g] - 1.0));
-        if (est && (st = ar_update(j, &dphi)))
+        /* REML: Fisher scoring from the least-squares start (docs/eqerr.md) */
+        if (est && (st = reml && it > 0 ? igea__noise_reml_step(j, &dphi)
+                                        : ar_update(j, !reml, &dphi)))
             break;
         if (dphi <= tol && dc <= tol && nnew == 0 && vconv) {
             *conv = 1;
@@ -276,6 +286,8 @@ static int outer(njob *j, const double *o, int *iters, int *conv)
         st = vce_settle(j, tol * 0.1, &vconv);
         *conv = *conv && vconv;
     }
+    if (st == 0 && reml) /* phi's and the scales' se from their joint information */
+        st = igea__noise_reml_se(j);
     return st;
 }
 
@@ -366,7 +378,7 @@ static int job_alloc(njob *j)
 {
     size_t m = (size_t)j->m, n1 = (size_t)j->Nt + 1, G = (size_t)j->G, Nt = (size_t)j->Nt;
     size_t nd = 2 * m * n1 + G * Nt * Nt + G * Nt + 4 * G + Nt + (2 * Nt * Nt + 3 * Nt) +
-                m * Nt + 2 * m;
+                m * Nt + 2 * m + G;
     j->U = igea__dalloc(nd);
     j->mask = igea__ialloc(m);
     if (!j->U || !j->mask) {
@@ -386,6 +398,7 @@ static int job_alloc(njob *j)
     j->T = j->work + 2 * Nt * Nt + 3 * Nt;
     j->q = j->T + m * Nt;
     j->row_w = j->q + m;
+    j->reml_se = NULL; /* set (row_w + m, G doubles) by igea__noise_reml_se */
     return 0;
 }
 
@@ -416,7 +429,7 @@ static void job_out(const njob *j, int iters, int conv, const double *ccov, doub
         o[IGEA_NOISE_GROUP_SCALE] = j->c[g];
         o[IGEA_NOISE_GROUP_SE] = j->c[g] * sqrt(2.0 / j->red[g]);
         o[IGEA_NOISE_GROUP_REDUND] = j->red[g];
-        o[IGEA_NOISE_GROUP_SE_REML] = sqrt(ccov[g + (size_t)g * j->G]);
+        o[IGEA_NOISE_GROUP_SE_REML] = j->reml_se ? j->reml_se[g] : sqrt(ccov[g + (size_t)g * j->G]);
         o[IGEA_NOISE_GROUP_ROWS] = j->wtw[2 * g + 1];
         for (int a = 0; a < 3 && j->nb; a++)
             o[IGEA_NOISE_GROUP_BIAS + a] = j->x[j->N + 3 * g + a];

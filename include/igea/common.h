@@ -168,6 +168,7 @@ IGEA_API const char *igea_opt_name(int module, int slot);
                                           * kofn */
 #define IGEA_CHOICE_STATS_VERDICT 17     /* igea/stats.h IGEA_STATS_VERDICT_*: seed chi2
                                           * exact sidak */
+#define IGEA_CHOICE_NOISE_AR_METHOD 18   /* igea/noise.h IGEA_NOISE_AR_*: reml ls */
 #define IGEA_CHOICE_STABILITY_DATA 35    /* igea/stability.h IGEA_STABILITY_DATA_*: freq phase */
 #define IGEA_CHOICE_STABILITY_TAUS 36    /* igea/stability.h IGEA_STABILITY_TAUS_*: octave
                                           * decade all */

@@ -34,7 +34,7 @@ extern "C" {
 
 #define IGEA_NOISE_AR_MAX 3 /* highest AR order */
 
-/* Options of igea_noise_eqerr in the eqerr options array (slots 20..27 of
+/* Options of igea_noise_eqerr in the eqerr options array (slots 20..28 of
  * opts[IGEA_EQERR_OPT_LEN]; 0 in every slot is the seed's white noise).
  * igea_eqerr_check_opts checks them; igea_eqerr_run refuses (-9) options
  * that ask for AR, robust or bias columns, which only igea_noise_eqerr
@@ -48,6 +48,27 @@ extern "C" {
 #define IGEA_EQERR_OPT_NOISE_MAX_ITER 25 /* outer iterations, 0..1000; 0: 50 */
 #define IGEA_EQERR_OPT_GROUP_BIAS 26   /* 1: per-group, per-axis bias columns (nuisance) */
 #define IGEA_EQERR_OPT_ROBUST_MAX 27   /* most rows rejected, a fraction of m; 0: 0.05 */
+#define IGEA_EQERR_OPT_AR_METHOD 28    /* how phi is estimated (AR_ESTIMATE 1):
+                                          IGEA_NOISE_AR_REML (0, the default) or
+                                          IGEA_NOISE_AR_LS */
+
+/* Estimators of phi (IGEA_EQERR_OPT_AR_METHOD; names IGEA_CHOICE_NOISE_AR_METHOD):
+ *  REML  (the default) the restricted (residual) maximum likelihood of phi
+ *        and the group scales together: the likelihood of the exactly
+ *        whitened (Prais-Winsten) rows with the N terms integrated out,
+ *        maximised by quasi-Newton steps from the LS start; its score has
+ *        expectation zero, so the fitted terms leave no O(N/M) bias [D].
+ *        ar_out's standard errors and group_out's IGEA_NOISE_GROUP_SE_REML
+ *        come from the inverse of the observed information of phi and the
+ *        scales together: a scale's standard error includes phi-hat's
+ *        uncertainty (docs/eqerr.md).
+ *  LS    least squares of the stage-1 residuals on their p lags, alternated
+ *        with the generalised least-squares fit (Cochrane-Orcutt); for p = 1
+ *        Kendall's small-sample correction phi + (1 + 3 phi)/(M - 1). The
+ *        residuals of a fit of N terms bias phi-hat low by O(N/M) (igea's
+ *        only estimator before REML). */
+#define IGEA_NOISE_AR_REML 0
+#define IGEA_NOISE_AR_LS 1
 
 /* Entries of info[IGEA_STATS_INFO_LEN] that igea_noise_eqerr adds. */
 #define IGEA_STATS_INFO_NOISE_ITERATIONS 22 /* outer (phi, c_g, snooping) iterations */
@@ -72,7 +93,9 @@ extern "C" {
 #define IGEA_NOISE_GROUP_SE_REML 7 /* standard error of c_g from the inverse REML
                                       information of all the scales
                                       (igea_noise_vce_cov), the covariance
-                                      between groups included [D] */
+                                      between groups included [D]; with phi
+                                      estimated by IGEA_NOISE_AR_REML, of the
+                                      scales and phi together */
 #define IGEA_NOISE_GROUP_COLS 8
 
 typedef struct igea_whiten igea_whiten;
@@ -221,7 +244,7 @@ IGEA_API int igea_noise_vce_cov(int N, int G, const double *A, int lda,
  *  (m / 3 labels or NULL), 10 ngroups >= 1 (groups with no epoch are
  *  refused, -9), 11 spec_sigma (N or NULL), 12 phi (3 p given
  *  coefficients, axis-major, or NULL: 0; the start when phi is estimated),
- *  13 opts (IGEA_EQERR_OPT_LEN or NULL; slots 20..27 above).
+ *  13 opts (IGEA_EQERR_OPT_LEN or NULL; slots 20..28 above).
  * Outputs as igea_eqerr_solve: 14 lambda, 15 P, 16 ldp, 17 equiv_err,
  * 18 z, 19 reject, 20 info (with the entries above), and
  * 21 ar_out   IGEA_NOISE_AR_OUT_LEN or NULL (layout above; se 0 when phi

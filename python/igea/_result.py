@@ -247,9 +247,10 @@ CLASS = {
     "NoiseEqerrResult": {
         "scale": "c, the overall tracking-variance factor",
         "ar_order": "p of the AR(p) whitening (0: none)",
+        "ar_method": "how phi was estimated, \"reml\" or \"ls\" (None: phi given or p = 0)",
         "ar_phi": "(3, p): phi of lag k + 1 of axis a",
         "ar_se": "(3, p): their standard errors (0 when phi was given)",
-        "groups": "per group: dict(scale, scale_se, redundancy, rows, bias)",
+        "groups": "per group: dict(scale, scale_se, scale_se_reml, redundancy, rows, bias)",
         "robust_crit": "critical |w| of the robust route's data snooping",
         "rejected_rows": "rows rejected by the robust route: [{\"row\": i, \"w\": w}]",
         "noise_iterations": "iterations of the noise-model estimation",

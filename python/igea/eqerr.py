@@ -385,9 +385,9 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
           correction=None, route="eig", n_min=None, tol=None, max_iter=None,
           bias_correct=None, clamp=None, z_crit=None, rank_tol=None, verdict="seed",
           lags=20, names=None, cov=None, ar=None, ar_phi=None, groups=None, group_bias=None,
-          robust=None, robust_alpha=None, threads=None, burnout=None, burnout_errors=None,
-          burnout_time=None, traj=None, lat=None, lon=None, height=None, azimuth=None,
-          system=None, axes=None):
+          robust=None, robust_alpha=None, threads=None, ar_method=None, burnout=None,
+          burnout_errors=None, burnout_time=None, traj=None, lat=None, lon=None, height=None,
+          azimuth=None, system=None, axes=None):
     """Equivalent-error accuracy assessment of one flight (METHODS 1.2).
 
     S: (m, N) environment functions (rows epoch-major x, y, z), dw: (m,)
@@ -406,7 +406,9 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
     to rounding; route "eig" without a noise model). Returns an EqerrResult.
     With a noise model (cov=(M, 3, 3) instead of sigma, ar=p, ar_phi=,
     groups=(M,) labels, group_bias=, robust=, robust_alpha=) the job is
-    igea_noise_eqerr (see igea.noise), judged by the same verdict rule.
+    igea_noise_eqerr (see igea.noise), judged by the same verdict rule;
+    ar_method ("reml", the default, or "ls"; with ar=p and no ar_phi) is
+    how phi is estimated (IGEA_EQERR_OPT_AR_METHOD).
     S may be a data frame (anything with .columns and .to_numpy(), e.g.
     pandas): its columns are the term names unless names is given; dw and
     sigma may then be Series on S's index and spec a Series on its columns
@@ -440,16 +442,23 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
                     tol=tol, max_iter=max_iter, bias_correct=bias_correct, clamp=clamp,
                     z_crit=z_crit, rank_tol=rank_tol, verdict=verdict, lags=lags, names=names,
                     cov=cov, ar=ar, ar_phi=ar_phi, groups=groups, group_bias=group_bias,
-                    robust=robust, robust_alpha=robust_alpha, threads=threads)
+                    robust=robust, robust_alpha=robust_alpha, threads=threads,
+                    ar_method=ar_method)
         sp = None if spec is None else _lib.as_f64(spec, "spec", ndim=1)
         return _burnout_miss(res, names, sp, **miss_kw)
     _orientation(S, dw)
-    if any(v is not None for v in (cov, ar, ar_phi, groups, group_bias, robust, robust_alpha)):
+    if any(v is not None for v in (cov, ar, ar_phi, groups, group_bias, robust, robust_alpha,
+                                   ar_method)):
         if route not in (None, "eig"):
             raise ValueError("route: %r is not available with the noise models (cov, ar, "
                              "ar_phi, groups, group_bias, robust)" % (route,))
+        if ar_method is not None and (not ar or ar_phi is not None):
+            raise ValueError("ar_method: %r estimates phi: it needs ar=p (not ar_phi)"
+                             % (ar_method,))
         return _noise(S, dw, sigma, spec, cov, ar, ar_phi, groups, group_bias, robust,
-                      robust_alpha, lags, names, alpha=alpha, lambda_test=lambda_test,
+                      robust_alpha, lags, names, ar_method=None if ar_method is None else
+                      _lib.choice(_capi.CHOICE_NOISE_AR_METHOD, ar_method, "igea.eqerr",
+                                  "ar_method"), alpha=alpha, lambda_test=lambda_test,
                       lambda_small=lambda_small, n_min=n_min, tol=tol, max_iter=max_iter,
                       correction=correction, bias_correct=bias_correct, clamp=clamp,
                       z_crit=z_crit, rank_tol=rank_tol, overall_size=1,

@@ -1,7 +1,7 @@
 """The equivalent-error job with the noise models (igea/noise.h): per-epoch
 3x3 tracking covariance, AR(p) per axis, groups with one sigma_w each,
 per-group bias columns and the robust route. Reached through igea.eqerr
-(cov=, ar=, ar_phi=, groups=, group_bias=, robust=, robust_alpha=)."""
+(cov=, ar=, ar_phi=, ar_method=, groups=, group_bias=, robust=, robust_alpha=)."""
 from dataclasses import dataclass
 
 import numpy as np
@@ -20,9 +20,11 @@ class NoiseEqerrResult(EqerrResult):
     residual_whitened True), then the noise models' own; fields match
     'igea eqerr --cov/--ar/--groups/--robust --json'."""
     ar_order: int
+    ar_method: object        # "reml" or "ls" (how phi was estimated); None: given or p = 0
     ar_phi: np.ndarray       # (3, p): phi of lag k + 1 of axis a
     ar_se: np.ndarray        # (3, p): standard errors (0 when phi was given)
-    groups: list             # [{"scale", "scale_se", "redundancy", "rows", "bias"}]
+    groups: list             # [{"scale", "scale_se", "scale_se_reml", "redundancy", "rows",
+                             #   "bias"}]
     robust_crit: float
     rejected_rows: list      # [{"row": i, "w": w}] of the robust route
     noise_iterations: int
@@ -31,14 +33,16 @@ class NoiseEqerrResult(EqerrResult):
     def _noise_lines(self):
         lines = []
         for a in range(3 if self.ar_order else 0):
-            lines.append("AR(%d) axis %s: phi" % (self.ar_order, "xyz"[a]) + "".join(
+            lines.append("AR(%d) axis %s%s: phi" % (self.ar_order, "xyz"[a],
+                                                   " (REML)" if self.ar_method == "reml" else "")
+                         + "".join(
                 " %.5f (se %.5f)" % (self.ar_phi[a, k], self.ar_se[a, k])
                 for k in range(self.ar_order)))
         for g, o in enumerate(self.groups):
-            lines.append("group %d: c = %.6g (se %.3g, sigma_w = %.4f), redundancy %.1f, %g rows, "
-                         "bias %.4g %.4g %.4g" % ((g, o["scale"], o["scale_se"],
-                                                   np.sqrt(o["scale"]), o["redundancy"],
-                                                   o["rows"]) + tuple(o["bias"])))
+            lines.append("group %d: c = %.6g (se %.3g, REML se %.3g, sigma_w = %.4f), redundancy "
+                         "%.1f, %g rows, bias %.4g %.4g %.4g"
+                         % ((g, o["scale"], o["scale_se"], o["scale_se_reml"],
+                             np.sqrt(o["scale"]), o["redundancy"], o["rows"]) + tuple(o["bias"])))
         if getattr(self, "_robust", False):
             lines.append("robust: %d row(s) rejected by data snooping, |w| > %.4f:"
                          % (len(self.rejected_rows), self.robust_crit)
@@ -128,6 +132,7 @@ def noise_eqerr(S, dw, sigma, spec, cov, ar, ar_phi, groups, opts, where="igea.e
     test = _test_fields(info)
     nt = test["n_test"]
     gs = [{"scale": float(r[_capi.NOISE_GROUP_SCALE]), "scale_se": float(r[_capi.NOISE_GROUP_SE]),
+           "scale_se_reml": float(r[_capi.NOISE_GROUP_SE_REML]),
            "redundancy": float(r[_capi.NOISE_GROUP_REDUND]),
            "rows": int(r[_capi.NOISE_GROUP_ROWS]),
            "bias": r[_capi.NOISE_GROUP_BIAS:_capi.NOISE_GROUP_BIAS + 3].copy()} for r in go]
@@ -142,7 +147,9 @@ def noise_eqerr(S, dw, sigma, spec, cov, ar, ar_phi, groups, opts, where="igea.e
         components=_components(P, nt, sp, names, lam, z, rej == 1), residual_whitened=True,
         **test, **_lib.fields(info, "STATS_INFO_", rank=int, scale=float, iterations=int,
                               n_small=int),
-        ar_order=p, ar_phi=ar_out[:9].reshape(3, 3)[:, :p].copy(),
+        ar_order=p, ar_method=_lib.choice_name(_capi.CHOICE_NOISE_AR_METHOD,
+                                               opts[_capi.EQERR_OPT_AR_METHOD])
+        if p > 0 and ar_phi is None else None, ar_phi=ar_out[:9].reshape(3, 3)[:, :p].copy(),
         ar_se=ar_out[9:].reshape(3, 3)[:, :p].copy(), groups=gs,
         robust_crit=float(info[_capi.STATS_INFO_ROBUST_CRIT]),
         rejected_rows=[{"row": int(i), "w": float(row_w[i])} for i in np.flatnonzero(row_w)],

@@ -253,7 +253,7 @@ def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None
                correction=None, bias_correct=None, clamp=None, pool=None, verdict="seed", ar2=None,
                ar3=None, corr=None, group_split=None, sigma_w2=None, bias0=None, bias1=None,
                judge_noise=None, ar=None, ar_given=False, robust=None, robust_alpha=None,
-               group_bias=None, progress=False, client=None, chunk=None):
+               group_bias=None, progress=False, client=None, chunk=None, ar_method=None):
     """Run flights first_flight .. first_flight + flights - 1 and judge each
     with the seed-000 test; results do not depend on threads (0: one per
     online processor). The flights run in chunks of a tenth (at most 1000;
@@ -270,7 +270,8 @@ def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None
     counted in `failed` and in the pools (as igea.eqerr's). Noise models (igea/sim.h
     IGEA_SIM_OPT_AR2 .. JUDGE_NOISE): ar2, ar3, corr, group_split, sigma_w2,
     bias0, bias1, judge_noise; the judge's (igea/noise.h): ar (phi
-    estimated, or the true one with ar_given=True), robust, robust_alpha,
+    estimated, or the true one with ar_given=True), ar_method ("reml", the
+    default, or "ls": how phi is estimated), robust, robust_alpha,
     group_bias. client: a dask.distributed Client or a scheduler address:
     the flights run there in chunks of `chunk` flights (default 10000; see
     igea.campaign_montecarlo and docs/campaign.md), with the same result
@@ -302,7 +303,8 @@ def montecarlo(S, sigma, flights, *, spec=None, terms=None, x=None, sigma_w=None
                       lambda_test=lambda_test, correction=correction, bias_correct=bias_correct,
                       clamp=clamp, overall_size=1,
                       verdict=_lib.choice(_capi.CHOICE_STATS_VERDICT, verdict, where, "verdict"),
-                      **_judge_slots(ar, ar_given, robust, robust_alpha, group_bias))
+                      **_judge_slots(ar, ar_given, robust, robust_alpha, group_bias,
+                                     ar_method, where))
     counts, rates = np.zeros(_capi.SIM_MC_LEN), np.zeros(_capi.SIM_MC_RATES_LEN)
     ct, cr = np.zeros(N, dtype=np.intc), np.zeros(N, dtype=np.intc)
     table = np.zeros((nflights, _capi.SIM_MC_TABLE_COLS_Z), order="F")
@@ -455,12 +457,19 @@ def interval_cp(k, n, level=0.99):
     return float(out[0]), float(out[1])
 
 
-def _judge_slots(ar, ar_given, robust, robust_alpha, group_bias):
+def _judge_slots(ar, ar_given, robust, robust_alpha, group_bias, ar_method=None,
+                 where="igea.montecarlo"):
     """The eqerr option slots of the noise judge (igea/noise.h)."""
     out = dict(robust=None if robust is None else int(bool(robust)), robust_alpha=robust_alpha,
                group_bias=None if group_bias is None else int(bool(group_bias)))
     if ar:
         out.update(ar=int(ar), ar_estimate=0 if ar_given else 1)
+    if ar_method is not None:
+        if not ar or ar_given:
+            raise ValueError("ar_method: %r estimates phi: it needs ar=p (not ar_given)"
+                             % (ar_method,))
+        out["ar_method"] = _lib.choice(_capi.CHOICE_NOISE_AR_METHOD, ar_method, where,
+                                       "ar_method")
     return out
 
 

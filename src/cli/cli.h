@@ -423,6 +423,7 @@ typedef struct {
     double *lambda, *P, *xhat, *z, *gout, *row_w, *resid, *spec;
     double info[IGEA_STATS_INFO_LEN], ar[IGEA_NOISE_AR_OUT_LEN];
     int *reject;
+    int ar_method; /* IGEA_NOISE_AR_* that estimated phi; -1: phi given or p = 0 */
 } cli_noise_result;
 int cli_eqerr_noise(const cli_noise_args *a, cli_noise_result *r);
 void cli_noise_result_free(cli_noise_result *r);

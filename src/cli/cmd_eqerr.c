@@ -108,6 +108,7 @@ typedef struct {
     int sigma_is_number, json, route;
     double opts[IGEA_EQERR_OPT_LEN];
     int verdict; /* IGEA_STATS_VERDICT_* */
+    int ar_method; /* IGEA_NOISE_AR_*: how phi is estimated */
     int lags;    /* residual diagnostics: Ljung-Box lags */
     const char *names; /* --names LIST */
     const char *cov, *groups, *ar_phi; /* the noise models (eqerr_noise.c) */
@@ -151,6 +152,9 @@ static const cli_opt eqerr_options[] = {
     {"--ar", CLI_OPT_NUM, EQ_OPT(AR), NULL, "P", "AR(P) tracking noise per axis (P <= 3), phi estimated\n"
      "from the residuals and iterated with the group scales", NULL},
     {"--ar-phi", CLI_OPT_STR, &EA.ar_phi, NULL, "a,b,c", "AR coefficients given (lags 1.., every axis)", NULL},
+    {"--ar-method", CLI_OPT_CHOICE, &EA.ar_method, NULL, CLI_CHOICES(IGEA_CHOICE_NOISE_AR_METHOD),
+     "with --ar: phi by restricted maximum likelihood\n(default; free of the bias of the fitted terms, and\n"
+     "each scale's se includes phi's) or by least squares\nof the residuals (Cochrane-Orcutt)", NULL},
     {"--groups", CLI_OPT_STR, &EA.groups, NULL, "FILE", "group label 0..G-1 per epoch (station, phase): one\n"
      "sigma_w per group (Helmert variance components)", NULL},
     {"--group-bias", CLI_OPT_DSET, EQ_OPT(GROUP_BIAS), NULL, NULL, "per-group x, y, z bias columns (nuisance, not tested)", NULL},
@@ -223,6 +227,7 @@ static int parse_eqerr(int argc, char **argv, eqerr_args *a)
 {
     memset(&EA, 0, sizeof EA);
     igea_eqerr_defaults(EA.opts);
+    EA.ar_method = -1; /* not given: the library's default */
     int ec = cli_parse(&eqerr_command, argc, argv);
     *a = EA;
     if (ec)
@@ -242,6 +247,13 @@ static int parse_eqerr(int argc, char **argv, eqerr_args *a)
     a->opts[IGEA_EQERR_OPT_ROUTE] = a->route;
     a->opts[IGEA_EQERR_OPT_VERDICT] = a->verdict;
     a->opts[IGEA_EQERR_OPT_OVERALL_SIZE] = 1;
+    if (a->ar_method >= 0 && (a->opts[IGEA_EQERR_OPT_AR] == 0 || a->ar_phi)) {
+        cli_error("eqerr: --ar-method %s estimates phi: it needs --ar P (not --ar-phi)",
+                  igea_choice_name(IGEA_CHOICE_NOISE_AR_METHOD, a->ar_method));
+        return CLI_USAGE;
+    }
+    if (a->ar_method >= 0)
+        a->opts[IGEA_EQERR_OPT_AR_METHOD] = a->ar_method;
     if (a->lags < 1 || a->lags > IGEA_STATS_DIAG_LAGS_MAX) {
         cli_error("eqerr: --lags %d: from 1 to %d", a->lags, IGEA_STATS_DIAG_LAGS_MAX);
         return CLI_USAGE;

@@ -13,6 +13,7 @@ typedef struct {
     double eqo[IGEA_EQERR_OPT_LEN];
     int verdict; /* IGEA_STATS_VERDICT_* */
     int ar_given; /* --ar-given: the judge is told the true phi */
+    int ar_method; /* --ar-method: IGEA_NOISE_AR_* */
     const char *plot; /* --plot FILE.svg */
 } mc_args;
 
@@ -25,6 +26,8 @@ static const cli_opt options[] = {
     {"--judge-noise", CLI_OPT_DSET, &cli_flight_opts.opts[IGEA_SIM_OPT_JUDGE_NOISE], NULL, NULL, "tell the judge the covariance and the groups\n(igea eqerr --cov --groups)", NULL},
     {"--ar", CLI_OPT_NUM, &A.eqo[IGEA_EQERR_OPT_AR], NULL, "P", "judge with AR(P), phi estimated (igea eqerr --ar)", NULL},
     {"--ar-given", CLI_OPT_FLAG, &A.ar_given, NULL, NULL, "with --ar: phi given (the true one)", NULL},
+    {"--ar-method", CLI_OPT_CHOICE, &A.ar_method, NULL, CLI_CHOICES(IGEA_CHOICE_NOISE_AR_METHOD),
+     "with --ar: how the judge estimates phi (igea eqerr\n--ar-method; default reml)", NULL},
     {"--robust", CLI_OPT_DSET, &A.eqo[IGEA_EQERR_OPT_ROBUST], NULL, NULL, "judge with the robust route (igea eqerr --robust)", NULL},
     {"--robust-alpha", CLI_OPT_NUM, &A.eqo[IGEA_EQERR_OPT_ROBUST_ALPHA], NULL, "A", "level of the w-test per row (0: 0.001)", NULL},
     {"--group-bias", CLI_OPT_DSET, &A.eqo[IGEA_EQERR_OPT_GROUP_BIAS], NULL, NULL, "judge with per-group bias columns", NULL},
@@ -307,9 +310,12 @@ static int parse(int argc, char **argv, mc_args *a, cli_flight_args *fa)
 {
     cli_flight_defaults();
     igea_eqerr_defaults(A.eqo);
+    A.ar_method = -1; /* not given: the library's default */
     int ec = cli_parse(&command, argc, argv);
     if (A.eqo[IGEA_EQERR_OPT_AR] != 0 && !A.ar_given)
         A.eqo[IGEA_EQERR_OPT_AR_ESTIMATE] = 1;
+    if (A.ar_method >= 0)
+        A.eqo[IGEA_EQERR_OPT_AR_METHOD] = A.ar_method;
     *a = A;
     *fa = cli_flight_opts;
     if (ec)
@@ -321,6 +327,11 @@ static int parse(int argc, char **argv, mc_args *a, cli_flight_args *fa)
     if (a->pool > a->flights) {
         cli_error("montecarlo: --pool %d pools more flights than --flights %d gives", a->pool,
                   a->flights);
+        return CLI_USAGE;
+    }
+    if (a->ar_method >= 0 && (a->eqo[IGEA_EQERR_OPT_AR] == 0 || a->ar_given)) {
+        cli_error("montecarlo: --ar-method %s estimates phi: it needs --ar P (not --ar-given)",
+                  igea_choice_name(IGEA_CHOICE_NOISE_AR_METHOD, a->ar_method));
         return CLI_USAGE;
     }
     a->eqo[IGEA_EQERR_OPT_VERDICT] = a->verdict;

@@ -222,15 +222,17 @@ void cli_noise_text(FILE *f, const cli_noise_args *a, const cli_noise_result *r)
     const double *info = r->info;
     int p = (int)info[IGEA_STATS_INFO_AR_ORDER];
     for (int ax = 0; ax < 3 && p > 0; ax++) {
-        fprintf(f, "AR(%d) axis %c: phi", p, "xyz"[ax]);
+        fprintf(f, "AR(%d) axis %c%s: phi", p, "xyz"[ax],
+                r->ar_method == IGEA_NOISE_AR_REML ? " (REML)" : "");
         for (int k = 0; k < p; k++)
             fprintf(f, " %.5f (se %.5f)", r->ar[3 * ax + k], r->ar[9 + 3 * ax + k]);
         fprintf(f, "\n");
     }
     for (int g = 0; g < r->G; g++) {
         const double *o = r->gout + (size_t)g * IGEA_NOISE_GROUP_COLS;
-        fprintf(f, "group %d: c = %.6g (se %.3g, sigma_w = %.4f), redundancy %.1f, %g rows, "
-                   "bias %.4g %.4g %.4g\n", g, o[IGEA_NOISE_GROUP_SCALE], o[IGEA_NOISE_GROUP_SE],
+        fprintf(f, "group %d: c = %.6g (se %.3g, REML se %.3g, sigma_w = %.4f), redundancy "
+                   "%.1f, %g rows, bias %.4g %.4g %.4g\n", g, o[IGEA_NOISE_GROUP_SCALE],
+                o[IGEA_NOISE_GROUP_SE], o[IGEA_NOISE_GROUP_SE_REML],
                 sqrt(o[IGEA_NOISE_GROUP_SCALE]), o[IGEA_NOISE_GROUP_REDUND],
                 o[IGEA_NOISE_GROUP_ROWS], o[IGEA_NOISE_GROUP_BIAS], o[IGEA_NOISE_GROUP_BIAS + 1],
                 o[IGEA_NOISE_GROUP_BIAS + 2]);
@@ -253,6 +255,8 @@ void cli_noise_json(cli_json *j, const cli_noise_result *r)
     const double *info = r->info;
     int p = (int)info[IGEA_STATS_INFO_AR_ORDER];
     cli_jint(j, "ar_order", p);
+    cli_jstr(j, "ar_method", r->ar_method < 0 ? NULL
+                             : igea_choice_name(IGEA_CHOICE_NOISE_AR_METHOD, r->ar_method));
     cli_json_open(j, "ar_phi", '[');
     for (int ax = 0; ax < 3 && p > 0; ax++)
         cli_jnums(j, NULL, r->ar + 3 * ax, p);
@@ -267,6 +271,7 @@ void cli_noise_json(cli_json *j, const cli_noise_result *r)
         cli_json_open(j, NULL, '{');
         cli_jnum(j, "scale", o[IGEA_NOISE_GROUP_SCALE]);
         cli_jnum(j, "scale_se", o[IGEA_NOISE_GROUP_SE]);
+        cli_jnum(j, "scale_se_reml", o[IGEA_NOISE_GROUP_SE_REML]);
         cli_jnum(j, "redundancy", o[IGEA_NOISE_GROUP_REDUND]);
         cli_jint(j, "rows", (long)o[IGEA_NOISE_GROUP_ROWS]);
         cli_jnums(j, "bias", o + IGEA_NOISE_GROUP_BIAS, 3);
@@ -329,6 +334,8 @@ int cli_eqerr_noise(const cli_noise_args *a, cli_noise_result *r)
         ec = cli_status(st, "eqerr");
     }
     if (!ec) {
+        r->ar_method = r->info[IGEA_STATS_INFO_AR_ORDER] > 0 && !a->p_given
+                           ? (int)a->opts[IGEA_EQERR_OPT_AR_METHOD] : -1;
         r->spec = d.spec; /* handed over */
         d.spec = NULL;
     } else {

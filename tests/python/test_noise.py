@@ -6,7 +6,7 @@ import ctypes
 
 import numpy as np
 import pytest
-from scipy import linalg, optimize
+from scipy import linalg, optimize, signal
 
 from igea import _capi, _lib
 
@@ -381,3 +381,88 @@ def test_montecarlo_two_stations_judged_with_groups():
     # 99 % Wilson interval of 200 flights at p = 0.995 reaches below 0.97
     assert r.scale_covered >= 0.95 * 200
     assert r.flights == 200
+
+
+def dense_whitening(S, dw, spec, sigma, cov6, group, phi, p):
+    """The whitened rows [S~ w~] written densely: stage 1 by each epoch's
+    inverse Cholesky factor (or 1/sigma), stage 2 per axis and segment (a
+    change of group) by the inverse Cholesky factor of the AR(p) Toeplitz
+    autocorrelation (from the MA(infinity) weights)."""
+    m = S.shape[0]
+    M = m // 3
+    Y = np.column_stack([S * spec, dw])
+    U = np.empty_like(Y)
+    for e in range(M):
+        r = slice(3 * e, 3 * e + 3)
+        if cov6 is not None:
+            c = cov6[e]
+            C = np.array([[c[0], c[1], c[3]], [c[1], c[2], c[4]], [c[3], c[4], c[5]]])
+            U[r] = np.linalg.solve(np.linalg.cholesky(C), Y[r])
+        else:
+            U[r] = Y[r] / sigma[r][:, None]
+    if p == 0:
+        return U
+    V = np.empty_like(U)
+    seg = np.concatenate([[0], np.cumsum(group[1:] != group[:-1])])
+    for a in range(3):
+        # MA(infinity) weights: the impulse response of 1 / (1 - sum phi_k B^k)
+        psi = signal.lfilter([1.0], np.r_[1.0, -phi[a]], np.r_[1.0, np.zeros(3999)])
+        rho = np.array([psi[:4000 - k] @ psi[k:] for k in range(M)])
+        rho /= rho[0]
+        for s in np.unique(seg):
+            e = np.flatnonzero(seg == s)
+            i = 3 * e + a
+            L = np.linalg.cholesky(linalg.toeplitz(rho[:len(e)]))
+            V[i] = np.linalg.solve(L, U[i])
+    return V
+
+
+def test_whitening_random_configurations_equal_dense():
+    """Streamed whitening over random configurations (layouts, sigma or 3x3
+    covariance, masks, groups coming back, p = 0..3, block splits, specs)
+    against the dense transform: sums per group and the whitened rows."""
+    rng = np.random.default_rng(42)
+    for trial in range(40):
+        M = int(rng.integers(2, 40))
+        m, N, p, G = 3 * M, int(rng.integers(1, 6)), trial % 4, int(rng.integers(1, 4))
+        layout = int(rng.integers(2))
+        S = rng.normal(size=(m, N))
+        dw = rng.normal(size=m)
+        spec = rng.uniform(0.5, 2, N) if rng.random() < 0.5 else None
+        use_cov = rng.random() < 0.5
+        cov6 = random_cov(rng, M)[0] if use_cov else None
+        sigma = None if use_cov else rng.uniform(0.5, 2, m)
+        group = np.minimum(np.cumsum(rng.random(M) < 0.1) % G, G - 1).astype(np.int32)
+        mask = (rng.random(m) < 0.1).astype(np.int32) if rng.random() < 0.5 else None
+        phi = np.array([[0.5, 0.3, -0.2][:p]] * 3) * np.array([[1.0], [0.8], [-0.6]])
+        V = dense_whitening(S, dw, np.ones(N) if spec is None else spec, sigma, cov6, group,
+                            phi, p)
+        h = whiten(N, p, phi.ravel() if p else None, G)
+        A = np.zeros((G, N, N)); b = np.zeros((G, N)); wtw = np.zeros(2 * G)
+        white = np.zeros((m, N + 1))
+        cuts = np.unique(np.r_[0, np.sort(rng.integers(0, M + 1, 3)), M]) * 3
+        for r0, r1 in zip(cuts[:-1], cuts[1:]):
+            n = r1 - r0
+            Sb = S[r0:r1]
+            Sb, lds = (np.asfortranarray(Sb), max(1, n)) if layout == 0 else \
+                (np.ascontiguousarray(Sb), N)
+            wb = np.zeros((N + 1, n))
+            _lib.call("t", "igea_whiten_accumulate", h, layout, n, _lib.dptr(Sb), lds,
+                      _lib.dptr(np.ascontiguousarray(dw[r0:r1])),
+                      _lib.dptr(None if sigma is None else np.ascontiguousarray(sigma[r0:r1])), 1,
+                      _lib.dptr(None if cov6 is None else np.ascontiguousarray(cov6[r0 // 3:r1 // 3].ravel())),
+                      _lib.iptr(np.ascontiguousarray(group[r0 // 3:r1 // 3])),
+                      _lib.iptr(None if mask is None else np.ascontiguousarray(mask[r0:r1])),
+                      _lib.dptr(spec), _lib.dptr(A), N, _lib.dptr(b), _lib.dptr(wtw),
+                      _lib.dptr(wb), None)
+            white[r0:r1] = wb.T
+        lib.igea_whiten_free(h)
+        np.testing.assert_allclose(white, V, rtol=1e-10, atol=1e-10, err_msg=str(trial))
+        keep = np.ones(m, bool) if mask is None else mask == 0
+        gr = np.repeat(group, 3)
+        for g in range(G):
+            r = keep & (gr == g)
+            np.testing.assert_allclose(A[g], V[r, :N].T @ V[r, :N], rtol=1e-10, atol=1e-10)
+            np.testing.assert_allclose(b[g], V[r, :N].T @ V[r, N], rtol=1e-10, atol=1e-10)
+            assert wtw[2 * g] == pytest.approx(V[r, N] @ V[r, N], rel=1e-10, abs=1e-12)
+            assert wtw[2 * g + 1] == r.sum()
