@@ -850,6 +850,33 @@ static void axis_add_row(int N, const double *restrict s, double *restrict u)
         u[j] += s[j];
 }
 
+void igea__axis_rows(int layout, int m, int N, const double *S, int lds, const double *dw,
+                     int a, double *t)
+{
+    const size_t w = (size_t)N + 2;
+    for (int i = 0; i < m; i++) {
+        double *u = t + (size_t)a * w;
+        u[0] += 1.0;
+        u[1] += dw[i];
+        if (layout == IGEA_ROWMAJOR)
+            axis_add_row(N, S + (size_t)i * lds, u + 2);
+        else
+            for (int j = 0; j < N; j++)
+                u[2 + j] += IGEA_AT(S, lds, i, j);
+        a = a == 2 ? 0 : a + 1;
+    }
+}
+
+int igea__axis_status(int layout, int m, int N, const double *S, int lds, const double *t)
+{
+    if (igea__finite_vec(3 * (N + 2), t, 1))
+        return 0;
+    return (layout == IGEA_COLMAJOR ? igea__finite_mat(m, N, S, lds)
+                                    : igea__finite_mat(N, m, S, lds))
+               ? IGEA_EOVERFLOW
+               : IGEA_ENONFINITE;
+}
+
 int igea_eqerr_axis_sums(int layout, int m, int N, const double *S, int lds,
                          const double *dw, int row0, double *sums)
 {
@@ -875,28 +902,35 @@ int igea_eqerr_axis_sums(int layout, int m, int N, const double *S, int lds,
      * is arranged); a NaN or Inf in S makes its sum non-finite, which is
      * told apart from an overflow of finite data by a scan on that path
      * only. */
-    int a = (int)((long long)row0 % 3);
-    for (int i = 0; i < m; i++) {
-        double *u = t + (size_t)a * w;
-        u[0] += 1.0;
-        u[1] += dw[i];
-        if (layout == IGEA_ROWMAJOR)
-            axis_add_row(N, S + (size_t)i * lds, u + 2);
-        else
-            for (int j = 0; j < N; j++)
-                u[2 + j] += IGEA_AT(S, lds, i, j);
-        a = a == 2 ? 0 : a + 1;
-    }
-    int st = 0;
-    if (!igea__finite_vec(3 * (int)w, t, 1))
-        st = (layout == IGEA_COLMAJOR ? igea__finite_mat(m, N, S, lds)
-                                      : igea__finite_mat(N, m, S, lds))
-                 ? IGEA_EOVERFLOW
-                 : IGEA_ENONFINITE;
+    igea__axis_rows(layout, m, N, S, lds, dw, (int)((long long)row0 % 3), t);
+    int st = igea__axis_status(layout, m, N, S, lds, t);
     if (st == 0)
         memcpy(sums, t, 3 * w * sizeof(double));
     free(t);
     return st;
+}
+
+int igea_eqerr_accumulate(int layout, int m, int N, const double *S, int lds,
+                          const double *dw, const double *track_sigma, int sigma_inc,
+                          const double *spec_sigma, double *A, int lda, double *b,
+                          double *wtw, int nthreads, int row0, double *sums)
+{
+    int st = igea__normal_check_threads(layout, m, N, S, lds, dw, track_sigma, sigma_inc,
+                                        spec_sigma, A, lda, b, wtw, nthreads);
+    if (st)
+        return st;
+    if (row0 < 0) return -15;
+    if (!sums) return -16;
+    const size_t w = (size_t)N + 2;
+    if (!igea__finite_vec(3 * (int)w, sums, 1))
+        return IGEA_ENONFINITE;
+    for (int a = 0; a < 3; a++)
+        if (!(sums[a * w] >= 0))
+            return -16;
+    if (m == 0)
+        return 0;
+    return igea__normal_accumulate_sums(layout, m, N, S, lds, dw, track_sigma, sigma_inc,
+                                        spec_sigma, A, lda, b, wtw, nthreads, row0, sums);
 }
 
 int igea_eqerr_residual_mean(int N, const double *sums, const double *coef, double *mean)

@@ -268,6 +268,7 @@ INSERR_NOISE_LEN = 9
 IO_LINE_MAX = 1048576
 IO_TWICE = 1
 IO_MAP = 2
+IO_UNCHECKED = 4
 IO_INFO_STATUS = 0
 IO_INFO_LINE = 1
 IO_INFO_COLUMN = 2
@@ -777,6 +778,10 @@ PROTOTYPES = {
     "igea_eqerr_axis_rms": (c_int, (("axis_ss", _PD), ("rms", _PD),)),
     "igea_eqerr_axis_sums": (c_int, (("layout", c_int), ("m", c_int), ("N", c_int), ("S", _PD),
         ("lds", c_int), ("dw", _PD), ("row0", c_int), ("sums", _PD),)),
+    "igea_eqerr_accumulate": (c_int, (("layout", c_int), ("m", c_int), ("N", c_int), ("S", _PD),
+        ("lds", c_int), ("dw", _PD), ("track_sigma", _PD), ("sigma_inc", c_int),
+        ("spec_sigma", _PD), ("A", _PD), ("lda", c_int), ("b", _PD), ("wtw", _PD),
+        ("nthreads", c_int), ("row0", c_int), ("sums", _PD),)),
     "igea_eqerr_residual_mean": (c_int, (("N", c_int), ("sums", _PD), ("coef", _PD), ("mean", _PD),
         )),
     "igea_eqerr_diag_add": (c_int, (("m", c_int), ("residual", _PD), ("row0", c_int),
@@ -847,6 +852,7 @@ PROTOTYPES = {
         ("nread", _PI),)),
     "igea_io_reader_view": (c_int, (("r", c_void_p), ("maxrows", c_int), ("nread", _PI),)),
     "igea_io_reader_view_rows": (_PD, (("r", c_void_p),)),
+    "igea_io_reader_view_check": (c_int, (("r", c_void_p),)),
     "igea_io_reader_rewind": (c_int, (("r", c_void_p),)),
     "igea_io_reader_load": (c_int, (("r", c_void_p),)),
     "igea_io_reader_copy": (c_int, (("r", c_void_p), ("v", _PD), ("layout", c_int),)),
@@ -1203,6 +1209,7 @@ INPUTS = {
     "igea_eqerr_limits": ("lambda",),
     "igea_eqerr_axis_rms": ("axis_ss",),
     "igea_eqerr_axis_sums": ("S", "dw",),
+    "igea_eqerr_accumulate": ("S", "dw", "track_sigma", "spec_sigma",),
     "igea_eqerr_residual_mean": ("sums", "coef",),
     "igea_eqerr_diag_add": ("residual",),
     "igea_eqerr_diag": ("residual",),
