@@ -459,6 +459,31 @@ int igea_eqerr_coef(int N, const double *P, int ldp, const double *equiv_err,
     return 0;
 }
 
+/* e (m) -= S coef for row-major S (m rows, lds apart) in pieces of a
+ * multiple of 64 rows, the next piece's cache lines prefetched while
+ * dgemv works on the current one [D]: row by row, dgemv's kernel reads
+ * too little at a time for the hardware to fetch ahead (1.6x the time of
+ * the same call on rows in cache). Each residual is its own dot product
+ * in dgemv, and the pieces keep the kernel's groups of rows (multiples of
+ * 64 from the block's first row), so the bits are those of one call. */
+static void rows_dot(int m, int N, const double *S, int lds, const double *coef, double *e)
+{
+    const int piece = IGEA_MAX(64, ((1 << 15) / lds) & ~63);
+    for (int i0 = 0; i0 < m; i0 += piece) {
+        int n = IGEA_MIN(piece, m - i0);
+#if defined(__GNUC__)
+        if (i0 + n < m) {
+            const char *p = (const char *)(S + (size_t)(i0 + n) * lds);
+            size_t len = (size_t)IGEA_MIN(piece, m - i0 - n) * (size_t)lds * sizeof(double);
+            for (size_t k = 0; k < len; k += 64)
+                __builtin_prefetch(p + k, 0, 3);
+        }
+#endif
+        cblas_dgemv(CblasColMajor, CblasTrans, N, n, -1.0, S + (size_t)i0 * lds, lds, coef, 1,
+                    1.0, e + i0, 1);
+    }
+}
+
 int igea_eqerr_residual(int layout, int m, int N, const double *S, int lds,
                         const double *dw, const double *coef, int row0,
                         double *residual, double *axis_ss)
@@ -483,8 +508,7 @@ int igea_eqerr_residual(int layout, int m, int N, const double *S, int lds,
         cblas_dgemv(CblasColMajor, CblasNoTrans, m, N, -1.0, S, lds, coef, 1,
                     1.0, e, 1);
     else
-        cblas_dgemv(CblasColMajor, CblasTrans, N, m, -1.0, S, lds, coef, 1,
-                    1.0, e, 1);
+        rows_dot(m, N, S, lds, coef, e);
     int st = 0;
     if (!igea__finite_vec(m, e, 1))
         st = (layout == IGEA_COLMAJOR ? igea__finite_mat(m, N, S, lds)
@@ -587,8 +611,7 @@ static void rs_segment(void *arg, int k)
         cblas_dgemv(CblasColMajor, CblasNoTrans, nr, jb->N, -1.0, jb->S + r0, jb->lds,
                     jb->coef, 1, 1.0, e, 1);
     else
-        cblas_dgemv(CblasColMajor, CblasTrans, jb->N, nr, -1.0, jb->S + (size_t)r0 * jb->lds,
-                    jb->lds, jb->coef, 1, 1.0, e, 1);
+        rows_dot(nr, jb->N, jb->S + (size_t)r0 * jb->lds, jb->lds, jb->coef, e);
     for (int i0 = 0; i0 < 3 && i0 < nr; i0++) {
         int a = (r0 + i0) % 3;
         double acc = 0.0;
