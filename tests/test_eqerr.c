@@ -1129,7 +1129,7 @@ static void test_accumulate_one_pass(void **state)
 /* igea_eqerr_run_layout: column-major is igea_eqerr_run itself (the same
  * bits); the same flight stored row by row gives the same results to
  * rounding on both routes and on 1 and 3 threads (segments of
- * IGEA_NORMAL_SEGMENT rows: 40,000 rows are three); its statuses are
+ * IGEA_NORMAL_SEGMENT rows: 40,000 rows are five); its statuses are
  * igea_eqerr_run's shifted by the layout argument. */
 static void test_run_layout(void **state)
 {

@@ -51,10 +51,11 @@ extern "C" {
 #define IGEA_EQERR_OPT_THREADS 18     /* igea_eqerr_run's normal equations and residual
                                          pass (route eig): 0 or 1 one thread (the sums as
                                          before); n = 2 .. IGEA_EQERR_THREADS_MAX: rows in
-                                         segments of 16384, each summed on its own (its
-                                         sums added in segment order), on n threads; the result
-                                         is the same for every n >= 2 and equals one
-                                         thread's to rounding */
+                                         segments of IGEA_NORMAL_SEGMENT (8192), each
+                                         summed on its own (its sums added in segment
+                                         order), on n threads; the result is the same
+                                         for every n >= 2 and equals one thread's to
+                                         rounding */
 #define IGEA_EQERR_THREADS_MAX 256
 #define IGEA_EQERR_OPT_LEN 32 /* slots 19.. reserved for additions (0) */
 

@@ -67,7 +67,7 @@ IGEA_API int igea_normal_accumulate(int layout, int m, int N, const double *S,
  * Returns igea_normal_accumulate's statuses (a failing segment: the first
  * one's), -14; on failure A, b, wtw are untouched.
  */
-#define IGEA_NORMAL_SEGMENT 16384
+#define IGEA_NORMAL_SEGMENT 8192
 #define IGEA_NORMAL_THREADS_MAX 256
 IGEA_API int igea_normal_accumulate_threads(int layout, int m, int N, const double *S,
                                             int lds, const double *dw,

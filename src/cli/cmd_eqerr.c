@@ -328,12 +328,12 @@ static int streams_open(const eqerr_args *a, streams *s)
     if (!ec) {
         s->N = cli_reader_cols(s->S);
         s->block = 1 + (4L << 20) / (8L * (s->N + 2)); /* about 4 MB of rows */
-        /* --threads T >= 2: blocks of two segments whatever T (the same sums
-         * for every T; two threads busy per block) */
-        long seg2 = 2L * IGEA_NORMAL_SEGMENT;
+        /* --threads T >= 2: blocks of four segments whatever T (the same
+         * sums for every T; the threads take the segments as they come) */
+        long seg4 = 4L * IGEA_NORMAL_SEGMENT;
         if (a->opts[IGEA_EQERR_OPT_THREADS] > 1 && a->route == IGEA_EQERR_ROUTE_EIG &&
-            s->block < seg2)
-            s->block = seg2;
+            s->block < seg4)
+            s->block = seg4;
         s->block -= s->block % 3;
         if (s->block < 3)
             s->block = 3;
