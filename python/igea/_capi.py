@@ -410,6 +410,7 @@ REGRESS_DIAG_SSR = 13
 REGRESS_DIAG_TSS = 14
 REGRESS_DIAG_RANK = 15
 REGRESS_DIAG_LEN = 24
+REGRESS_NO_DIAG = 1
 REGRESS_RIDGE_FIXED = 0
 REGRESS_RIDGE_HKB = 1
 REGRESS_RIDGE_LW = 2
@@ -984,6 +985,12 @@ PROTOTYPES = {
         ("y", _PD), ("sigma", _PD), ("rcond", c_double), ("alpha", c_double), ("x", _PD),
         ("sd", _PD), ("tvalues", _PD), ("pvalues", _PD), ("ci_lower", _PD), ("ci_upper", _PD),
         ("leverage", _PD), ("cooks_d", _PD), ("diag", _PD),)),
+    "igea_regress_ls_full": (c_int, (("m", c_int), ("N", c_int), ("A", _PD), ("lda", c_int),
+        ("y", _PD), ("sigma", _PD), ("spec_sigma", _PD), ("rcond", c_double), ("flags", c_int),
+        ("alpha", c_double), ("x", _PD), ("cov", _PD), ("ldc", c_int), ("sd", _PD),
+        ("sigma2", _PD), ("residual", _PD), ("info", _PD), ("tvalues", _PD), ("pvalues", _PD),
+        ("ci_lower", _PD), ("ci_upper", _PD), ("leverage", _PD), ("cooks_d", _PD), ("diag", _PD),
+        )),
     "igea_regress_ebr": (c_int, (("m", c_int), ("N", c_int), ("A", _PD), ("lda", c_int),
         ("y", _PD), ("sigma", _PD), ("spec_sigma", _PD), ("rule", c_int), ("lam_floor", c_double),
         ("x", _PD), ("cov", _PD), ("ldc", c_int), ("lam", _PD), ("rank", _PI), ("sigma2", _PD),
@@ -1284,6 +1291,7 @@ INPUTS = {
     "igea_regress_rank_info": ("A", "sigma", "spec_sigma",),
     "igea_regress_sd": ("cov",),
     "igea_regress_ls_diag": ("A", "y", "sigma",),
+    "igea_regress_ls_full": ("A", "y", "sigma", "spec_sigma",),
     "igea_regress_ebr": ("A", "y", "sigma", "spec_sigma",),
     "igea_regress_ridge": ("A", "y", "sigma", "spec_sigma",),
     "igea_regress_ridge_trace": ("A", "y", "sigma", "spec_sigma", "k",),
