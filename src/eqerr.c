@@ -484,6 +484,37 @@ static void rows_dot(int m, int N, const double *S, int lds, const double *coef,
     }
 }
 
+/* igea_eqerr_residual after its checks (m >= 1): the residuals into e (m),
+ * the per-axis sums added to t (NULL: none); 0 or the status (e and t
+ * then hold partial results). */
+static int residual_into(int layout, int m, int N, const double *S, int lds, const double *dw,
+                         const double *coef, int row0, double *e, double *t)
+{
+    memcpy(e, dw, (size_t)m * sizeof(double));
+    if (layout == IGEA_COLMAJOR)
+        cblas_dgemv(CblasColMajor, CblasNoTrans, m, N, -1.0, S, lds, coef, 1,
+                    1.0, e, 1);
+    else
+        rows_dot(m, N, S, lds, coef, e);
+    if (!igea__finite_vec(m, e, 1))
+        return (layout == IGEA_COLMAJOR ? igea__finite_mat(m, N, S, lds)
+                                        : igea__finite_mat(N, m, S, lds))
+                   ? IGEA_EOVERFLOW
+                   : IGEA_ENONFINITE;
+    if (!t)
+        return 0;
+    /* per axis, its rows' squares in row order */
+    for (int i0 = 0; i0 < 3 && i0 < m; i0++) {
+        int a = (int)(((long long)row0 + i0) % 3);
+        double acc = t[a];
+        for (int i = i0; i < m; i += 3)
+            acc += e[i] * e[i];
+        t[a] = acc;
+        t[3 + a] += (double)((m - i0 + 2) / 3);
+    }
+    return igea__finite_vec(3, t, 1) ? 0 : IGEA_EOVERFLOW;
+}
+
 int igea_eqerr_residual(int layout, int m, int N, const double *S, int lds,
                         const double *dw, const double *coef, int row0,
                         double *residual, double *axis_ss)
@@ -500,46 +531,18 @@ int igea_eqerr_residual(int layout, int m, int N, const double *S, int lds,
         return IGEA_ENONFINITE;
     if (m == 0)
         return 0;
-    double *e = igea__dalloc((size_t)m);
+    double *e = igea__dalloc((size_t)m), t[6];
     if (!e)
         return IGEA_ENOMEM;
-    memcpy(e, dw, (size_t)m * sizeof(double));
-    if (layout == IGEA_COLMAJOR)
-        cblas_dgemv(CblasColMajor, CblasNoTrans, m, N, -1.0, S, lds, coef, 1,
-                    1.0, e, 1);
-    else
-        rows_dot(m, N, S, lds, coef, e);
-    int st = 0;
-    if (!igea__finite_vec(m, e, 1))
-        st = (layout == IGEA_COLMAJOR ? igea__finite_mat(m, N, S, lds)
-                                      : igea__finite_mat(N, m, S, lds))
-                 ? IGEA_EOVERFLOW
-                 : IGEA_ENONFINITE;
-    double t[6];
-    if (st == 0 && axis_ss) {
-        /* per axis, its rows' squares in row order */
-        memcpy(t, axis_ss, sizeof t);
-        for (int i0 = 0; i0 < 3 && i0 < m; i0++) {
-            int a = (int)(((long long)row0 + i0) % 3);
-            double acc = t[a];
-            for (int i = i0; i < m; i += 3)
-                acc += e[i] * e[i];
-            t[a] = acc;
-            t[3 + a] += (double)((m - i0 + 2) / 3);
-        }
-        if (!igea__finite_vec(3, t, 1))
-            st = IGEA_EOVERFLOW;
-    }
-    if (st) {
-        free(e);
-        return st;
-    }
     if (axis_ss)
+        memcpy(t, axis_ss, sizeof t);
+    int st = residual_into(layout, m, N, S, lds, dw, coef, row0, e, axis_ss ? t : NULL);
+    if (st == 0 && axis_ss)
         memcpy(axis_ss, t, sizeof t);
-    if (residual)
+    if (st == 0 && residual)
         memcpy(residual, e, (size_t)m * sizeof(double));
     free(e);
-    return 0;
+    return st;
 }
 
 /* igea_eqerr_run's SVD route: the QR factor of the weighted [S D, dw],
@@ -679,8 +682,10 @@ static int run_residuals(int layout, int m, int N, const double *S, int lds, con
                        : (int)opts[IGEA_EQERR_OPT_THREADS];
     if (st == 0 && nthreads >= 2)
         st = residual_threads(layout, m, N, S, lds, dw, coef, e, ss, nthreads);
-    else if (st == 0)
-        st = igea_eqerr_residual(layout, m, N, S, lds, dw, coef, 0, e, ss);
+    else if (st == 0 && (!igea__finite_vec(N, coef, 1) || !igea__finite_vec(m, dw, 1)))
+        st = IGEA_ENONFINITE;
+    else if (st == 0) /* igea_eqerr_residual, into e itself */
+        st = residual_into(layout, m, N, S, lds, dw, coef, 0, e, ss);
     return st;
 }
 
