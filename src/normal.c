@@ -138,9 +138,13 @@ static void accumulate_uniform(int layout, int m, int N, const double *S, int ld
         int nr = IGEA_MIN(ub, m - r0);
         axis_block(layout, r0, nr, N, S, lds, dw, ax);
         if (layout == IGEA_COLMAJOR) {
+            /* dgemv first: it reads the columns from memory a little
+             * faster than dsyrk does, and dsyrk then finds them in cache
+             * (180,000 x 74: 36.8 ms against 37.8 ms); the two sums are
+             * apart, so the order changes no bit */
             const double *Sb = S + r0;
-            cblas_dsyrk(CblasColMajor, CblasLower, CblasTrans, N, nr, w * w, Sb, lds, 1.0, Al, N);
             cblas_dgemv(CblasColMajor, CblasTrans, nr, N, 1.0, Sb, lds, wb + r0, 1, 1.0, bl, 1);
+            cblas_dsyrk(CblasColMajor, CblasLower, CblasTrans, N, nr, w * w, Sb, lds, 1.0, Al, N);
         } else if (seg) {
             /* [D] Row-major rows in a segment: b by rows first, a loop that
              * streams the rows from memory at its speed, so that dsyrk,
