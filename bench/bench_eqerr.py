@@ -2,25 +2,32 @@
 """Speed and memory of the equivalent-error assessment (issue: 180,000 rows
 x 74 terms; a 1,800,000-row flight through the driver in < 64 MB).
 
-One run measures, on the same matrix, interleaved, with OPENBLAS_NUM_THREADS=1:
-  floor   one bare OpenBLAS cblas_dsyrk (S^T S) on one thread - the least any
-          method must do
+One run measures, on the same matrix, with OPENBLAS_NUM_THREADS=1, every
+item once per round over several rounds (interleaved, so that a change of
+the machine's load reaches all of them alike), keeping each one's fastest:
+  floor   one bare OpenBLAS cblas_dsyrk (S^T S, column-major) on one thread:
+          the least any method must do
   run     igea_eqerr_run alone (normal equations, dsyevd, sigma_w loop,
-          tests, residuals; no overall size), 1 and 2 threads
-          (IGEA_EQERR_OPT_THREADS): wall time, and the CPU time of the
-          calling thread (getrusage RUSAGE_THREAD) and of the others
+          tests, residuals; no overall size) on S in Fortran order and, by
+          igea_eqerr_run_layout, in C order, 1 and 2 threads
+          (IGEA_EQERR_OPT_THREADS): wall time, the CPU time of the calling
+          thread (getrusage RUSAGE_THREAD) and of the other, whose larger
+          one is the critical path two free cores would see
   igea    igea.eqerr through Python (the whole job: + the verdict rule's
           overall size, whiteness, named components), S in Fortran and in
-          C order (the latter read row by row, not copied)
+          C order (the latter read row by row, not copied), 2 threads
   driver  'igea eqerr' on .npy files (107 MB; both passes on a memory map),
-          wall and CPU, beside a bare process start ('igea version') and the
-          overall size at 74 tested components in a fresh process
+          1 and 2 threads, wall and CPU, beside a bare process start ('igea
+          version') and the overall size at 74 tested components in a fresh
+          process
   numpy   the same steps written with numpy/scipy
-and prints the ratios to the floor. Then it writes a 1.8M-row .npy flight
-(1.07 GB) and reports the driver's peak resident memory. Wall-clock ratios
-need a quiet machine; the CPU times are printed beside them.
+and prints every ratio to the floor twice: in CPU time (meaningful on a
+loaded machine) and in wall time (meaningful on a quiet one). Then it
+writes a 1.8M-row .npy flight (1.07 GB) and reports the driver's peak
+resident memory.
 
-    make bench            (or: python bench/bench_eqerr.py [--rows N] [--skip-big])
+    make bench            (or: python bench/bench_eqerr.py [--rows N] [--skip-big]
+                           [--rounds R])
 """
 import os
 
@@ -47,29 +54,42 @@ import igea  # noqa: E402
 DRIVER = os.environ.get("IGEA_DRIVER", os.path.join(os.path.dirname(__file__), "..", "build", "bin", "igea"))
 
 
-def best(f, repeat=5):
-    ts = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        f()
-        ts.append(time.perf_counter() - t0)
-    return min(ts)
+def other_library(path):
+    """Another build of libigea (ctypes, its own symbols), with the
+    prototypes of the two functions eqerr_run calls."""
+    from igea import _capi
+    lib = ctypes.CDLL(path)
+    for f in ("igea_eqerr_defaults", "igea_eqerr_run", "igea_eqerr_run_layout"):
+        res, args = _capi.PROTOTYPES[f]
+        getattr(lib, f).restype = res
+        getattr(lib, f).argtypes = [t for _, t in args]
+    return lib
 
 
-def eqerr_run(S, dw, sigma, spec, threads):
-    """igea_eqerr_run itself, without the overall size of the verdict rule
-    that igea.eqerr also asks for (IGEA_EQERR_OPT_OVERALL_SIZE: ~1.8 s for
-    74 tested components, the rule's size, not the normal equations)."""
+def eqerr_run(S, dw, sigma, spec, threads, lib=None):
+    """igea_eqerr_run itself (S in Fortran order; in C order
+    igea_eqerr_run_layout row by row), without the overall size of the
+    verdict rule that igea.eqerr also asks for (IGEA_EQERR_OPT_OVERALL_SIZE:
+    1.8 ms for 74 tested components, the rule's size, not the normal
+    equations)."""
     from igea import _capi, _lib
+    lib = lib or _lib.lib
     m, N = S.shape
     opts = np.zeros(_capi.EQERR_OPT_LEN)
-    _lib.lib.igea_eqerr_defaults(_lib.dptr(opts))
+    lib.igea_eqerr_defaults(_lib.dptr(opts))
     opts[_capi.EQERR_OPT_THREADS] = threads
     out = [np.empty(N), np.empty((N, N), order="F"), np.empty(N), np.empty(N),
            np.empty(N, dtype=np.intc), np.empty(_capi.STATS_INFO_LEN), np.empty(m), np.empty(3)]
     ptr = [_lib.iptr(a) if a.dtype == np.intc else _lib.dptr(a) for a in out]
-    _lib.call("bench", "igea_eqerr_run", m, N, _lib.dptr(S), m, _lib.dptr(dw), _lib.dptr(sigma),
-              1, _lib.dptr(spec), _lib.dptr(opts), ptr[0], ptr[1], N, *ptr[2:])
+    if S.flags.f_contiguous:
+        st = lib.igea_eqerr_run(m, N, _lib.dptr(S), m, _lib.dptr(dw), _lib.dptr(sigma), 1,
+                                _lib.dptr(spec), _lib.dptr(opts), ptr[0], ptr[1], N, *ptr[2:])
+    else:
+        st = lib.igea_eqerr_run_layout(_capi.ROWMAJOR, m, N, _lib.dptr(S), N, _lib.dptr(dw),
+                                       _lib.dptr(sigma), 1, _lib.dptr(spec), _lib.dptr(opts),
+                                       ptr[0], ptr[1], N, *ptr[2:])
+    if st != 0:
+        raise RuntimeError("igea_eqerr_run: status %d" % st)
 
 
 def thread_cpu():
@@ -77,40 +97,40 @@ def thread_cpu():
     return r.ru_utime + r.ru_stime
 
 
-def best_threads(f, repeat=5):
-    """(wall, calling thread's CPU, all threads' CPU) of the fastest of
-    repeat runs."""
-    out = []
-    for _ in range(repeat):
-        c0, t0, w0 = time.process_time(), thread_cpu(), time.perf_counter()
-        f()
-        out.append((time.perf_counter() - w0, thread_cpu() - t0, time.process_time() - c0))
-    return min(out)
-
-
 def children_cpu():
     r = resource.getrusage(resource.RUSAGE_CHILDREN)
     return r.ru_utime + r.ru_stime
 
 
-def best_process(cmd, cwd, repeat=3):
-    """(wall, CPU) of the fastest of repeat runs of a subprocess."""
-    out = []
-    for _ in range(repeat):
-        c0, w0 = children_cpu(), time.perf_counter()
-        subprocess.run(cmd, cwd=cwd, check=False, stdout=subprocess.DEVNULL)
-        out.append((time.perf_counter() - w0, children_cpu() - c0))
-    return min(out)
+def in_process(f):
+    """(wall, calling thread's CPU, all threads' CPU) of one call."""
+    c0, t0, w0 = time.process_time(), thread_cpu(), time.perf_counter()
+    f()
+    return time.perf_counter() - w0, thread_cpu() - t0, time.process_time() - c0
 
 
-def best_cpu(f, repeat=3):
-    """Min CPU time (process_time, all threads) over repeats."""
-    ts = []
-    for _ in range(repeat):
-        c0 = time.process_time()
-        f()
-        ts.append(time.process_time() - c0)
-    return min(ts)
+def child(cmd, cwd):
+    """(wall, CPU, CPU) of one run of a subprocess."""
+    c0, w0 = children_cpu(), time.perf_counter()
+    subprocess.run(cmd, cwd=cwd, check=False, stdout=subprocess.DEVNULL)
+    w, c = time.perf_counter() - w0, children_cpu() - c0
+    return w, c, c
+
+
+def interleaved(items, rounds):
+    """{name: (min wall, min calling-thread CPU, min CPU, min critical
+    path)} over rounds, each round running every item once in turn; the
+    critical path of a run is the larger of the calling thread's CPU and
+    the other threads' (CPU - calling thread)."""
+    got = {k: [] for k in items}
+    for _ in range(rounds):
+        for k, f in items.items():
+            got[k].append(f())
+    out = {}
+    for k, v in got.items():
+        out[k] = (min(x[0] for x in v), min(x[1] for x in v), min(x[2] for x in v),
+                  min(max(x[1], x[2] - x[1]) for x in v))
+    return out
 
 
 def numpy_eqerr(S, dw, sigma, spec, alpha=0.01, lambda_test=10.0, lambda_small=0.1, n_min=5,
@@ -163,6 +183,12 @@ def main():
     ap.add_argument("--terms", type=int, default=74)
     ap.add_argument("--big-rows", type=int, default=1800000)
     ap.add_argument("--skip-big", action="store_true")
+    ap.add_argument("--rounds", type=int, default=7)
+    ap.add_argument("--compare-library", metavar="LIBIGEA",
+                    help="another build of libigea.so.1: its igea_eqerr_run in the same rounds")
+    ap.add_argument("--compare-driver", metavar="IGEA",
+                    help="another build of the driver, run in the same rounds on the same "
+                         "files (a before/after comparison)")
     a = ap.parse_args()
     m, N = a.rows, a.terms
     S, dw, sigma, spec = make_flight(m, N)
@@ -175,15 +201,7 @@ def main():
         blas.cblas_dsyrk(102, 122, 112, N, m, ctypes.c_double(1.0), S.ctypes.data_as(dp), m,
                          ctypes.c_double(0.0), C.ctypes.data_as(dp), N)
 
-    t_floor = best(floor)
-    c_floor = best_cpu(floor)
     Sc = np.ascontiguousarray(S)
-    t_igea = best(lambda: igea.eqerr(S, dw, sigma, spec))
-    t_igea_c = best(lambda: igea.eqerr(Sc, dw, sigma, spec))
-    t_igea2 = best(lambda: igea.eqerr(S, dw, sigma, spec, threads=2))
-    run = {t: best_threads(lambda: eqerr_run(S, dw, sigma, spec, t)) for t in (1, 2)}
-    c_igea = best_cpu(lambda: igea.eqerr(S, dw, sigma, spec))
-    t_numpy = best(lambda: numpy_eqerr(S, dw, sigma, spec), repeat=3)
     union = ("import ctypes, sys, time; from scipy import stats; "
              "lib = ctypes.CDLL(sys.argv[1]); v = ctypes.c_double(); "
              "f = lib.igea_stats_union_size; f.argtypes = [ctypes.c_int, ctypes.c_double, "
@@ -200,37 +218,87 @@ def main():
             np.save(os.path.join(d, name + ".npy"), arr)
         cmd = [DRIVER, "eqerr", "--S", "S.npy", "--dw", "dw.npy", "--sigma", "sigma.npy",
                "--spec", "spec.npy", "--out", "report.txt"]
-        t_drv, c_drv = best_process(cmd, d)
-        t_start, c_start = best_process([DRIVER, "version"], d, repeat=5)
+        items = {
+            "floor": lambda: in_process(floor),
+            "run1": lambda: in_process(lambda: eqerr_run(S, dw, sigma, spec, 1)),
+            "run2": lambda: in_process(lambda: eqerr_run(S, dw, sigma, spec, 2)),
+            "runc1": lambda: in_process(lambda: eqerr_run(Sc, dw, sigma, spec, 1)),
+            "runc2": lambda: in_process(lambda: eqerr_run(Sc, dw, sigma, spec, 2)),
+            "py": lambda: in_process(lambda: igea.eqerr(S, dw, sigma, spec)),
+            "pyc": lambda: in_process(lambda: igea.eqerr(Sc, dw, sigma, spec)),
+            "py2": lambda: in_process(lambda: igea.eqerr(S, dw, sigma, spec, threads=2)),
+            "drv1": lambda: child(cmd, d),
+            "drv2": lambda: child(cmd + ["--threads", "2"], d),
+            "start": lambda: child([DRIVER, "version"], d),
+        }
+        if a.compare_library:
+            olib = other_library(a.compare_library)
+            for t in (1, 2):
+                items["olib%d" % t] = (lambda t: lambda: in_process(
+                    lambda: eqerr_run(S, dw, sigma, spec, t, olib)))(t)
+                items["olibc%d" % t] = (lambda t: lambda: in_process(
+                    lambda: eqerr_run(Sc, dw, sigma, spec, t, olib)))(t)
+        if a.compare_driver:
+            other = [a.compare_driver] + cmd[1:]
+            items["cmp1"] = lambda: child(other, d)
+            items["cmp2"] = lambda: child(other + ["--threads", "2"], d)
+        r = interleaved(items, a.rounds)
+    t_numpy = min(in_process(lambda: numpy_eqerr(S, dw, sigma, spec))[2] for _ in range(3))
     del Sc
-    f = t_floor
-    print(f"eqerr, {m} rows x {N} terms (best of several runs; OPENBLAS_NUM_THREADS="
-          f"{os.environ.get('OPENBLAS_NUM_THREADS', 'unset')}; load average "
-          f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} cores):")
-    print(f"  floor  (one cblas_dsyrk, 1 thread) {t_floor * 1e3:8.1f} ms wall, {c_floor * 1e3:.1f} ms CPU")
-    print(f"  igea_eqerr_run (normal equations, eig, sigma_w loop, tests, residuals; "
-          f"no overall size):")
-    w1, m1, a1 = run[1]
-    w2, m2, a2 = run[2]
-    print(f"         1 thread                {w1 * 1e3:8.1f} ms   {w1 / f:5.2f} x floor "
-          f"(CPU {a1 * 1e3:.1f} ms, {a1 / c_floor:.2f} x the floor's)")
-    print(f"         threads=2               {w2 * 1e3:8.1f} ms   {w2 / f:5.2f} x the one-thread "
-          f"floor (target <= 0.6: {'met' if w2 <= 0.6 * f else 'NOT met'}); CPU: calling thread "
-          f"{m2 * 1e3:.1f} ms ({m2 / c_floor:.2f} x the floor's), other thread "
-          f"{(a2 - m2) * 1e3:.1f} ms")
-    print(f"  igea.eqerr (Python, whole job) {t_igea * 1e3:8.1f} ms   {t_igea / f:5.2f} x floor "
-          f"(target <= 1.3: {'met' if t_igea <= 1.3 * f else 'NOT met'}; CPU "
-          f"{c_igea * 1e3:.1f} ms, {c_igea / c_floor:.2f} x the floor's)")
-    print(f"         S in C order            {t_igea_c * 1e3:8.1f} ms   {t_igea_c / f:5.2f} x floor")
-    print(f"         threads=2               {t_igea2 * 1e3:8.1f} ms   {t_igea2 / f:5.2f} x floor")
-    print(f"  driver (.npy files, whole job) {t_drv * 1e3:8.1f} ms   {t_drv / f:5.2f} x floor "
-          f"(target <= 1.3: {'met' if t_drv <= 1.3 * f else 'NOT met'}; CPU {c_drv * 1e3:.1f} ms, "
-          f"{c_drv / c_floor:.2f} x the floor's)")
-    print(f"         of which a process start ('igea version') {t_start * 1e3:.1f} ms wall, "
-          f"{c_start * 1e3:.1f} ms CPU; the overall size at 74 tested components "
+    fw, fc = r["floor"][0], r["floor"][2]
+    print(f"eqerr, {m} rows x {N} terms (fastest of {a.rounds} interleaved rounds; "
+          f"OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS', 'unset')}; load "
+          f"average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores). Ratios to the floor "
+          f"in CPU time (loaded machine) and in wall time (quiet machine):")
+    print(f"  floor: one cblas_dsyrk, 1 thread      {fc * 1e3:7.1f} ms CPU, {fw * 1e3:7.1f} ms wall")
+
+    def verdict(x, target):
+        return f"target <= {target}: {'met' if x <= target else 'NOT met'}"
+
+    def one(label, k, target=None):
+        w, _, c, _ = r[k]
+        t = f"  ({verdict(c / fc, target)} in CPU, {'met' if w / fw <= target else 'NOT met'} " \
+            f"in wall)" if target else ""
+        print(f"  {label:38s}{c * 1e3:7.1f} ms CPU = {c / fc:5.2f} x, {w * 1e3:7.1f} ms wall = "
+              f"{w / fw:5.2f} x{t}")
+
+    def two(label, k, target=None):
+        w, m1, c, crit = r[k]
+        t = f"; {verdict(crit / fc, target)} (critical path)" if target else ""
+        print(f"  {label:38s}calling thread {m1 * 1e3:6.1f} ms CPU = {m1 / fc:4.2f} x, critical "
+              f"path (the busier thread) {crit * 1e3:6.1f} ms = {crit / fc:4.2f} x, all threads "
+              f"{c * 1e3:6.1f} ms = {c / fc:4.2f} x; wall {w * 1e3:6.1f} ms = {w / fw:4.2f} x{t}")
+
+    print("  igea_eqerr_run (normal equations, eig, sigma_w loop, tests, residuals; no overall size):")
+    one("  S in Fortran order, 1 thread", "run1")
+    two("  S in Fortran order, threads=2", "run2", 0.6)
+    one("  S in C order, 1 thread", "runc1")
+    two("  S in C order, threads=2", "runc2", 0.6)
+    if a.compare_library:
+        print(f"  the other library's igea_eqerr_run ({a.compare_library}):")
+        one("  S in Fortran order, 1 thread", "olib1")
+        two("  S in Fortran order, threads=2", "olib2")
+        one("  S in C order, 1 thread", "olibc1")
+        two("  S in C order, threads=2", "olibc2")
+    print("  igea.eqerr (Python, the whole job):")
+    one("  S in Fortran order", "py", 1.3)
+    one("  S in C order", "pyc", 1.3)
+    two("  threads=2", "py2")
+    print("  igea eqerr driver on .npy files (the whole job, a process):")
+    one("  1 thread", "drv1", 1.3)
+    one("  --threads 2", "drv2", 1.3)
+    sw, _, sc, _ = r["start"]
+    print(f"    of which a process start ('igea version') {sc * 1e3:.1f} ms CPU = {sc / fc:.2f} x, "
+          f"{sw * 1e3:.1f} ms wall; the overall size at 74 tested components "
           f"{t_union * 1e3:.1f} ms CPU")
-    print(f"  numpy/scipy (same steps)       {t_numpy * 1e3:8.1f} ms   {t_numpy / t_igea:5.2f} x igea "
-          f"(target >= 1.5: {'met' if t_numpy >= 1.5 * t_igea else 'NOT met'})")
+    if a.compare_driver:
+        print(f"  the other driver ({a.compare_driver}), the same files and rounds:")
+        one("  1 thread", "cmp1")
+        one("  --threads 2", "cmp2")
+    tp = r["py"][2]
+    print(f"  numpy/scipy (same steps)              {t_numpy * 1e3:7.1f} ms CPU = "
+          f"{t_numpy / tp:5.2f} x igea.eqerr's CPU (target >= 1.5: "
+          f"{'met' if t_numpy >= 1.5 * tp else 'NOT met'})")
     if a.skip_big:
         return
     mb = a.big_rows

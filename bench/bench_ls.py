@@ -5,8 +5,8 @@
   peer   scipy.linalg.qr(A, mode='r') then numpy's SVD of the 74 x 74 R: the
          least a dense least-squares SVD must do (one Householder QR of A)
   igea   igea_regress_ls_ex (the default refinement in double-double, and
-         without it), igea.ls (with the diagnostics of igea_regress_ls_ex and
-         igea_regress_ls_diag: two fits and the leverages), igea.ebr,
+         without it), igea.ls (the fit and its diagnostics in one call,
+         igea_regress_ls_full: one fit and the leverages), igea.ebr,
          igea.ridge (fixed k), igea.pce, igea.collinearity
 
 CPU time (process_time, min of repeats) with OPENBLAS_NUM_THREADS=1, as a
@@ -74,7 +74,7 @@ def main():
         ("igea_regress_ls_ex (refined, the default)", lambda: ls_ex(A, dw, 0)),
         ("igea_regress_ls_ex (IGEA_REGRESS_NO_REFINE)",
          lambda: ls_ex(A, dw, _capi.REGRESS_NO_REFINE)),
-        ("igea.ls (+ diagnostics: two fits, leverages)", lambda: igea.ls(A, dw)),
+        ("igea.ls (+ diagnostics: one fit, leverages)", lambda: igea.ls(A, dw)),
         ("igea.ebr (rule sc)", lambda: igea.ebr(A, dw)),
         ("igea.ridge (k = 1)", lambda: igea.ridge(A, dw, k=1.0)),
         ("igea.pce (60 components)", lambda: igea.pce(A, dw, ncomp=60)),

@@ -33,6 +33,23 @@ int igea__normal_accumulate_threads(int layout, int m, int N, const double *S, i
                                     const double *dw, const double *track_sigma, int sigma_inc,
                                     const double *spec_sigma, double *A, int lda, double *b,
                                     double *wtw, int nthreads);
+/* Every argument of igea_normal_accumulate_threads (normal.c): 0 or its
+ * status. */
+int igea__normal_check_threads(int layout, int m, int N, const double *S, int lds,
+                               const double *dw, const double *track_sigma, int sigma_inc,
+                               const double *spec_sigma, const double *A, int lda,
+                               const double *b, const double *wtw, int nthreads);
+/* igea_eqerr_accumulate after its argument checks (normal.c). */
+int igea__normal_accumulate_sums(int layout, int m, int N, const double *S, int lds,
+                                 const double *dw, const double *track_sigma, int sigma_inc,
+                                 const double *spec_sigma, double *A, int lda, double *b,
+                                 double *wtw, int nthreads, int row0, double *sums);
+/* The per-axis sums of igea_eqerr_axis_sums over m rows into t (3 (N + 2)),
+ * the first row on axis a (eqerr.c); and their status: 0 when t is
+ * finite, else IGEA_ENONFINITE (S holds a NaN or Inf) or IGEA_EOVERFLOW. */
+void igea__axis_rows(int layout, int m, int N, const double *S, int lds, const double *dw,
+                     int a, double *t);
+int igea__axis_status(int layout, int m, int N, const double *S, int lds, const double *t);
 void igea__parallel_for(int n, int nthreads, void (*work)(void *arg, int k), void *arg);
 /* 1 if every x[i], i < n, is finite (n may exceed INT_MAX). */
 int igea__finite_run(size_t n, const double *x);

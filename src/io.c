@@ -490,6 +490,7 @@ static int open_common(igea_io_reader *r, int fd, int own, const char *name, int
     r->twice = flags & IGEA_IO_TWICE;
     r->map = (flags & IGEA_IO_MAP) != 0;
     r->nan_ok = (flags & IGEA_IO_NAN) != 0;
+    r->unchecked = (flags & IGEA_IO_UNCHECKED) != 0;
     int st = 0;
     if (tmpdir && !(r->tmpdir = strdup(tmpdir)))
         st = io_fail(r, IGEA_ENOMEM, 0, 0, 0, "out of memory (opening)");
@@ -525,7 +526,7 @@ int igea_io_reader_open(igea_io_reader *r, const char *path, int flags, const ch
         return -1;
     if (!path)
         return -2;
-    if (flags & ~(IGEA_IO_TWICE | IGEA_IO_MAP | IGEA_IO_NAN))
+    if (flags & ~(IGEA_IO_TWICE | IGEA_IO_MAP | IGEA_IO_NAN | IGEA_IO_UNCHECKED))
         return -3;
     int fd;
     do
@@ -545,7 +546,7 @@ int igea_io_reader_open_fd(igea_io_reader *r, int fd, const char *name, int flag
         return -1;
     if (fd < 0)
         return -2;
-    if (flags & ~(IGEA_IO_TWICE | IGEA_IO_MAP | IGEA_IO_NAN))
+    if (flags & ~(IGEA_IO_TWICE | IGEA_IO_MAP | IGEA_IO_NAN | IGEA_IO_UNCHECKED))
         return -4;
     return open_common(r, fd, 0, name, flags, tmpdir);
 }
@@ -603,8 +604,9 @@ static long text_next(igea_io_reader *r, long maxrows, double *buf)
     return n;
 }
 
-/* Up to maxrows rows of either format: the count or < 0 a status. */
-static long next_rows(igea_io_reader *r, long maxrows, double *buf)
+/* Up to maxrows rows of either format (a .npy's checked for NaN and Inf
+ * when check is 1): the count or < 0 a status. */
+static long next_rows(igea_io_reader *r, long maxrows, double *buf, int check)
 {
     if (!r->npy)
         return text_next(r, maxrows, buf);
@@ -612,7 +614,7 @@ static long next_rows(igea_io_reader *r, long maxrows, double *buf)
     if (want > maxrows)
         want = maxrows;
     if (want > 0) {
-        int st = io_npy_next(r, want, buf);
+        int st = io_npy_next(r, want, buf, check);
         if (st)
             return st;
     }
@@ -629,7 +631,7 @@ int igea_io_reader_next(igea_io_reader *r, int maxrows, double *buf, int *nread)
         return -3;
     if (!nread)
         return -4;
-    long n = next_rows(r, maxrows, buf);
+    long n = next_rows(r, maxrows, buf, 1);
     if (n < 0)
         return (int)n;
     *nread = (int)n;
@@ -675,10 +677,13 @@ int igea_io_reader_view(igea_io_reader *r, int maxrows, int *nread)
                            r->cols);
         r->vbuf = nv, r->vrcap = want;
     }
-    long n = next_rows(r, want, r->vbuf);
+    long row0 = r->next_row;
+    long n = next_rows(r, want, r->vbuf, !r->unchecked);
     if (n < 0)
         return (int)n;
     r->vrows = n > 0 ? r->vbuf : NULL;
+    r->vrow0 = row0;
+    r->vn = n;
     *nread = (int)n;
     return 0;
 }
@@ -686,6 +691,15 @@ int igea_io_reader_view(igea_io_reader *r, int maxrows, int *nread)
 const double *igea_io_reader_view_rows(const igea_io_reader *r)
 {
     return r && r->open ? r->vrows : NULL;
+}
+
+int igea_io_reader_view_check(igea_io_reader *r)
+{
+    if (!r || !r->open)
+        return -1;
+    if (!r->npy || !r->vrows)
+        return 0; /* text rows are refused at a non-finite number */
+    return io_npy_check_rows(r, r->vrow0, r->vn, r->vrows);
 }
 
 int igea_io_reader_rewind(igea_io_reader *r)
@@ -750,7 +764,7 @@ int igea_io_reader_load(igea_io_reader *r)
             if ((st = load_room(r, &v, &cap, rows + 1)))
                 break;
         }
-        long got = next_rows(r, cap - rows, v + rows * r->cols);
+        long got = next_rows(r, cap - rows, v + rows * r->cols, 1);
         if (got < 0)
             st = (int)got;
         else if (got == 0)

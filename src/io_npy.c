@@ -186,7 +186,7 @@ static int fortran_block(igea_io_reader *r, long want, double *buf)
 /* Rows row0 .. row0 + n - 1 at v finite (or NaN, a gap, under IGEA_IO_NAN),
  * else IGEA_EFORMAT naming the first value that is not (row and column
  * from 1). */
-static int check_rows(igea_io_reader *r, long row0, long n, const double *v)
+int io_npy_check_rows(igea_io_reader *r, long row0, long n, const double *v)
 {
     size_t k = (size_t)n * (size_t)r->cols;
     if (igea__finite_run(k, v))
@@ -200,7 +200,7 @@ static int check_rows(igea_io_reader *r, long row0, long n, const double *v)
                    row0 + (long)(i / (size_t)r->cols) + 1, (long)(i % (size_t)r->cols) + 1);
 }
 
-int io_npy_next(igea_io_reader *r, long want, double *buf)
+int io_npy_next(igea_io_reader *r, long want, double *buf, int check)
 {
     int st;
     if (!r->fortran || r->oned || r->cols == 1) {
@@ -209,7 +209,7 @@ int io_npy_next(igea_io_reader *r, long want, double *buf)
     } else {
         st = fortran_block(r, want, buf);
     }
-    if (st || (st = check_rows(r, r->next_row, want, buf)))
+    if (st || (check && (st = io_npy_check_rows(r, r->next_row, want, buf))))
         return st;
     r->next_row += want;
     return 0;
@@ -280,10 +280,11 @@ int io_npy_view(igea_io_reader *r, long want)
             return 1;
         v = (const double *)d;
     }
-    /* rows a pass before this one checked are not checked again */
+    /* rows a pass before this one checked are not checked again; with
+     * IGEA_IO_UNCHECKED the caller checks them */
     long from = r->checked > r->next_row ? r->checked : r->next_row;
-    if (from < r->next_row + want) {
-        int st = check_rows(r, from, r->next_row + want - from,
+    if (!r->unchecked && from < r->next_row + want) {
+        int st = io_npy_check_rows(r, from, r->next_row + want - from,
                             v + (size_t)(from - r->next_row) * (size_t)r->cols);
         if (st) {
             io_npy_unmap(r, 0);
@@ -292,6 +293,8 @@ int io_npy_view(igea_io_reader *r, long want)
         r->checked = r->next_row + want;
     }
     r->vrows = v;
+    r->vrow0 = r->next_row;
+    r->vn = want;
     r->next_row += want;
     return 0;
 }

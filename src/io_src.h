@@ -60,11 +60,13 @@ struct igea_io_reader {
     long nloaded;
     /* view (igea_io_reader_view) */
     int map, nomap;       /* IGEA_IO_MAP asked; the system refused a map */
+    int unchecked;        /* IGEA_IO_UNCHECKED: a .npy's views not checked */
     void *mbase;          /* the pages mapped for the views, NULL */
     size_t mlen;
     int mwhole;           /* 1: mbase maps all the data (mdata), for every pass */
     const char *mdata;
     const double *vrows;  /* the current view, NULL */
+    long vrow0, vn;       /* its first row (from 0) and its rows */
     double *vbuf;         /* rows of an input that is not mapped */
     long vrcap;           /* rows vbuf holds */
     long checked;         /* mapped .npy: rows checked finite (kept by rewind) */
@@ -94,9 +96,13 @@ int io_src_spool(igea_io_reader *r);
 int io_spool_new(igea_io_reader *r);
 void io_src_close(io_src *s);
 
-/* .npy (io_npy.c): the header (0 or a status), the next rows. */
+/* .npy (io_npy.c): the header (0 or a status), the next rows (checked
+ * for NaN and Inf when check is 1). */
 int io_npy_header(igea_io_reader *r);
-int io_npy_next(igea_io_reader *r, long want, double *buf);
+int io_npy_next(igea_io_reader *r, long want, double *buf, int check);
+/* Rows row0 .. row0 + n - 1 of a .npy at v finite: 0, else IGEA_EFORMAT
+ * naming the first value that is not (row and column from 1). */
+int io_npy_check_rows(igea_io_reader *r, long row0, long n, const double *v);
 /* 1 when the rows of r may be viewed in place (IGEA_IO_MAP, a seekable
  * .npy in C order or with one column, data aligned for doubles). */
 int io_npy_mappable(const igea_io_reader *r);

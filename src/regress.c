@@ -1153,6 +1153,33 @@ static int diag_coef(int m, int N, const double *x, const double *sd, const doub
     return igea__finite_vec(4 * N + m, w, 1) ? 0 : IGEA_EOVERFLOW;
 }
 
+/* The diagnostics of a fit: x, sd (the caller's units), res its unweighted
+ * residuals, h its leverages, rank, s2; e (m) receives the weighted
+ * residuals, w the coefficient and observation arrays, dg the scalars.
+ * IGEA_EDOMAIN when they are not defined. */
+static int diag_of_fit(int m, int N, const double *A, int lda, const double *y,
+                       const double *sigma, double alpha, const double *xs, const double *sd,
+                       const double *res, const double *h, int rank, double s2, double *e,
+                       double *w, double *dg)
+{
+    if (m - rank < 1 || !(s2 > 0.0))
+        return IGEA_EDOMAIN;
+    for (int i = 0; i < m; i++)
+        e[i] = sigma ? res[i] / sigma[i] : res[i];
+    for (int i = 0; i < m; i++)
+        if (!(h[i] < 1.0 - 1e-10))
+            return IGEA_EDOMAIN;
+    for (int i = 0; i < IGEA_REGRESS_DIAG_LEN; i++)
+        dg[i] = 0.0;
+    int st = diag_scalars(m, y, sigma, e, h, rank, has_constant(m, N, A, lda), dg);
+    if (st == 0)
+        st = diag_coef(m, N, xs, sd, e, h, s2, m - rank, alpha, w, dg);
+    dg[IGEA_REGRESS_DIAG_RANK] = rank;
+    if (st == 0 && !igea__finite_vec(IGEA_REGRESS_DIAG_LEN, dg, 1))
+        st = IGEA_EOVERFLOW;
+    return st;
+}
+
 /* The diagnostics into scratch (x, sd, e, h, coefficient and observation
  * arrays w, dg); the caller copies them out. */
 static int diag_run(int m, int N, const double *A, int lda, const double *y,
@@ -1165,20 +1192,7 @@ static int diag_run(int m, int N, const double *A, int lda, const double *y,
     int st = ls_core(m, N, A, lda, y, sigma, NULL, rcond, xs, NULL, 0, &rank, &s2, e, &ex);
     if (st)
         return st;
-    if (m - rank < 1 || !(s2 > 0.0))
-        return IGEA_EDOMAIN;
-    for (int i = 0; i < m; i++)
-        e[i] = sigma ? e[i] / sigma[i] : e[i];
-    for (int i = 0; i < m; i++)
-        if (!(h[i] < 1.0 - 1e-10))
-            return IGEA_EDOMAIN;
-    for (int i = 0; i < IGEA_REGRESS_DIAG_LEN; i++)
-        dg[i] = 0.0;
-    st = diag_scalars(m, y, sigma, e, h, rank, has_constant(m, N, A, lda), dg);
-    if (st == 0)
-        st = diag_coef(m, N, xs, sd, e, h, s2, m - rank, alpha, w, dg);
-    dg[IGEA_REGRESS_DIAG_RANK] = rank;
-    return st;
+    return diag_of_fit(m, N, A, lda, y, sigma, alpha, xs, sd, e, h, rank, s2, e, w, dg);
 }
 
 static void copy_opt(double *dst, const double *src, int n)
@@ -1213,8 +1227,6 @@ int igea_regress_ls_diag(int m, int N, const double *A, int lda, const double *y
     double *xs = mem, *sds = xs + N, *e = sds + N, *h = e + m, *w = h + m;
     double *dg = w + 4 * (size_t)N + m;
     st = diag_run(m, N, A, lda, y, sigma, rcond, alpha, xs, sds, e, h, w, dg);
-    if (st == 0 && !igea__finite_vec(IGEA_REGRESS_DIAG_LEN, dg, 1))
-        st = IGEA_EOVERFLOW;
     if (st == 0) {
         memcpy(x, xs, (size_t)N * sizeof(double));
         memcpy(sd, sds, (size_t)N * sizeof(double));
@@ -1224,6 +1236,74 @@ int igea_regress_ls_diag(int m, int N, const double *A, int lda, const double *y
         copy_opt(ci_upper, w + 3 * N, N);
         copy_opt(leverage, h, m);
         copy_opt(cooks_d, w + 4 * N, m);
+        memcpy(diag, dg, IGEA_REGRESS_DIAG_LEN * sizeof(double));
+    }
+    free(mem);
+    return st;
+}
+
+int igea_regress_ls_full(int m, int N, const double *A, int lda, const double *y,
+                         const double *sigma, const double *spec_sigma, double rcond, int flags,
+                         double alpha, double *x, double *cov, int ldc, double *sd,
+                         double *sigma2, double *residual, double *info, double *tvalues,
+                         double *pvalues, double *ci_lower, double *ci_upper, double *leverage,
+                         double *cooks_d, double *diag)
+{
+    int st = check_args(m, N, A, lda, y, 0);
+    if (st)
+        return st;
+    if (isnan(rcond) || rcond >= 1.0) return -8;
+    if (flags & ~IGEA_REGRESS_NO_REFINE) return -9;
+    if (!(alpha > 0.0 && alpha < 1.0)) return -10;
+    if (!x) return -11;
+    if (cov && ldc < N) return -13;
+    if (!sigma2) return -15;
+    if (!info) return -17;
+    if (!diag) return -24;
+    if ((st = check_values(m, N, A, lda, y, sigma, spec_sigma)))
+        return st;
+    const double *As = A;
+    int las = lda;
+    double *own;
+    if (scaled_design(m, N, &As, &las, spec_sigma, &own))
+        return IGEA_ENOMEM;
+    size_t n = (size_t)N, mm = (size_t)m;
+    /* the fit's x, cov, sd, residuals, leverages; the weighted residuals,
+     * the diagnostics' arrays (4 N + m) and scalars; info */
+    double *mem = igea__dalloc(3 * n + n * n + 3 * mm + 4 * n + mm + IGEA_REGRESS_DIAG_LEN +
+                               IGEA_REGRESS_INFO_LEN);
+    if (!mem) {
+        free(own);
+        return IGEA_ENOMEM;
+    }
+    double *xs = mem, *sds = xs + n, *cv = sds + n, *res = cv + n * n, *h = res + mm;
+    double *e = h + mm, *w = e + mm, *dg = w + 4 * n + mm, *inf = dg + IGEA_REGRESS_DIAG_LEN;
+    const ls_extra ex = {!(flags & IGEA_REGRESS_NO_REFINE), sds, inf, h};
+    int rank;
+    double s2;
+    st = ls_core(m, N, As, las, y, sigma, spec_sigma, rcond, xs, cov ? cv : NULL, N, &rank, &s2,
+                 res, &ex);
+    free(own);
+    if (st == 0) {
+        int ds = diag_of_fit(m, N, A, lda, y, sigma, alpha, xs, sds, res, h, rank, s2, e, w, dg);
+        st = ds == IGEA_EDOMAIN ? IGEA_REGRESS_NO_DIAG : ds;
+    }
+    if (st >= 0) {
+        memcpy(x, xs, n * sizeof(double));
+        for (int j = 0; cov && j < N; j++)
+            memcpy(cov + (size_t)j * ldc, cv + (size_t)j * n, n * sizeof(double));
+        copy_opt(sd, sds, N);
+        *sigma2 = s2;
+        copy_opt(residual, res, m);
+        memcpy(info, inf, IGEA_REGRESS_INFO_LEN * sizeof(double));
+    }
+    if (st == 0) {
+        copy_opt(tvalues, w, N);
+        copy_opt(pvalues, w + N, N);
+        copy_opt(ci_lower, w + 2 * n, N);
+        copy_opt(ci_upper, w + 3 * n, N);
+        copy_opt(leverage, h, m);
+        copy_opt(cooks_d, w + 4 * n, m);
         memcpy(diag, dg, IGEA_REGRESS_DIAG_LEN * sizeof(double));
     }
     free(mem);

@@ -971,10 +971,165 @@ static void test_axis_sums_statuses(void **state)
     assert_memory_equal(a, b, sizeof a);
 }
 
+/* igea_eqerr_accumulate: the normal equations and the axis sums of a block
+ * in one pass. On 0 and 1 threads it gives the bits of
+ * igea_normal_accumulate_threads followed by igea_eqerr_axis_sums, block
+ * by block (blocks of 7001 rows: the axis turns inside them), in both
+ * layouts, with one sigma, a per-row sigma equal everywhere and different
+ * ones; on 2, 3 and 5 threads (20,000 rows a block, in segments of
+ * IGEA_NORMAL_SEGMENT) one result, equal to those to rounding, the axis
+ * sums to 1e-13 of sums in long double in row order written here. A NaN
+ * or Inf anywhere, also where the weights underflow so that the normal
+ * equations cannot see it (sigma 1e170: (1/sigma)^2 = 0), is
+ * IGEA_ENONFINITE, an overflow IGEA_EOVERFLOW, everything untouched. */
+static void test_accumulate_one_pass(void **state)
+{
+    (void)state;
+    enum { MA = 20000, NA = 9, BA = 7001, W3 = 3 * (NA + 2) };
+    double *S = malloc(sizeof(double) * MA * NA), *Sr = malloc(sizeof(double) * MA * NA);
+    double *dw = malloc(sizeof(double) * MA), *sg = malloc(sizeof(double) * MA), spec[NA];
+    assert_non_null(S && Sr && dw && sg);
+    for (int j = 0; j < NA; j++)
+        spec[j] = 0.5 + 0.25 * j;
+    for (int i = 0; i < MA; i++) {
+        dw[i] = 0.01 * sin(3.0 * i);
+        for (int j = 0; j < NA; j++)
+            S[i + (size_t)j * MA] = Sr[(size_t)i * NA + j] =
+                cos(1e-3 * (j + 1) * i + j) + 1e-2 * sin(7.0 * i * (j + 1));
+    }
+    for (int kind = 0; kind < 3; kind++) { /* one sigma, per row equal, per row */
+        int inc = kind > 0;
+        for (int i = 0; i < MA; i++)
+            sg[i] = kind == 2 ? 0.01 * (1.0 + 0.5 * sin(0.1 * i)) : 0.01;
+        for (int lay = 0; lay < 2; lay++) {
+            int layout = lay ? IGEA_ROWMAJOR : IGEA_COLMAJOR, lds = lay ? NA : MA;
+            const double *X = lay ? Sr : S;
+            for (int th = 0; th <= 1; th++) {
+                double A[2][NA * NA], b[2][NA], w[2][2], u[2][W3];
+                memset(A, 0, sizeof A), memset(b, 0, sizeof b), memset(w, 0, sizeof w);
+                memset(u, 0, sizeof u);
+                for (int r0 = 0; r0 < MA; r0 += BA) {
+                    int n = MA - r0 < BA ? MA - r0 : BA;
+                    const double *Xb = lay ? X + (size_t)r0 * NA : X + r0;
+                    assert_int_equal(igea_normal_accumulate_threads(layout, n, NA, Xb, lds, dw + r0,
+                                                                    sg + (inc ? r0 : 0), inc,
+                                                                    spec, A[0], NA, b[0], w[0],
+                                                                    th), 0);
+                    assert_int_equal(igea_eqerr_axis_sums(layout, n, NA, Xb, lds, dw + r0, r0,
+                                                          u[0]), 0);
+                    assert_int_equal(igea_eqerr_accumulate(layout, n, NA, Xb, lds, dw + r0,
+                                                           sg + (inc ? r0 : 0), inc, spec, A[1],
+                                                           NA, b[1], w[1], th, r0, u[1]), 0);
+                }
+                assert_memory_equal(A[0], A[1], sizeof A[0]);
+                assert_memory_equal(b[0], b[1], sizeof b[0]);
+                assert_memory_equal(w[0], w[1], sizeof w[0]);
+                assert_memory_equal(u[0], u[1], sizeof u[0]);
+            }
+            /* threads: one block of 20,000 rows from row 2 of the flight */
+            double A1[NA * NA] = {0}, b1[NA] = {0}, w1[2] = {0}, u1[W3] = {0};
+            assert_int_equal(igea_eqerr_accumulate(layout, MA, NA, X, lds, dw, sg, inc, spec,
+                                                   A1, NA, b1, w1, 1, 2, u1), 0);
+            double At[NA * NA], bt[NA], wt[2], ut[W3];
+            for (int th = 2; th <= 5; th += th == 3 ? 2 : 1) {
+                double A2[NA * NA] = {0}, b2[NA] = {0}, w2[2] = {0}, u2[W3] = {0};
+                assert_int_equal(igea_eqerr_accumulate(layout, MA, NA, X, lds, dw, sg, inc, spec,
+                                                       A2, NA, b2, w2, th, 2, u2), 0);
+                if (th == 2) {
+                    memcpy(At, A2, sizeof At), memcpy(bt, b2, sizeof bt);
+                    memcpy(wt, w2, sizeof wt), memcpy(ut, u2, sizeof ut);
+                    for (int k = 0; k < NA * NA; k++)
+                        assert_close_abs(A2[k], A1[k], 1e-13, 1e-13 * A1[0]);
+                    for (int k = 0; k < NA; k++)
+                        assert_close_abs(b2[k], b1[k], 1e-12, 1e-12 * fabs(b1[0]));
+                    assert_close(w2[0], w1[0], 1e-13);
+                    assert_true(w2[1] == MA);
+                } else {
+                    assert_memory_equal(A2, At, sizeof At);
+                    assert_memory_equal(b2, bt, sizeof bt);
+                    assert_memory_equal(w2, wt, sizeof wt);
+                    assert_memory_equal(u2, ut, sizeof ut);
+                }
+            }
+            /* the axis sums against long double sums in row order (row 0
+             * of the block is row 2 of the flight: axis z) */
+            for (int a = 0; a < 3; a++) {
+                long double cnt = 0, sd = 0, sj[NA] = {0};
+                for (int i = 0; i < MA; i++) {
+                    if ((i + 2) % 3 != a)
+                        continue;
+                    cnt += 1, sd += dw[i];
+                    for (int j = 0; j < NA; j++)
+                        sj[j] += S[i + (size_t)j * MA];
+                }
+                const double *v = ut + a * (NA + 2);
+                assert_true(v[0] == (double)cnt);
+                assert_close_abs(v[1], (double)sd, 1e-13, 1e-15);
+                for (int j = 0; j < NA; j++) {
+                    assert_close_abs(v[2 + j], (double)sj[j], 1e-13, 1e-13 * cnt);
+                    assert_close_abs(u1[a * (NA + 2) + 2 + j], (double)sj[j], 1e-13, 1e-13 * cnt);
+                }
+            }
+        }
+    }
+    /* failures: untouched outputs */
+    double A[NA * NA], b[NA], w[2], u[W3], keep[NA * NA + NA + 2 + W3];
+    for (int k = 0; k < NA * NA; k++)
+        A[k] = 0.5 * k;
+    for (int k = 0; k < NA; k++)
+        b[k] = k;
+    w[0] = 3, w[1] = 7;
+    for (int k = 0; k < W3; k++)
+        u[k] = k % (NA + 2) == 0 ? 4.0 : 0.25 * k;
+    memcpy(keep, A, sizeof A), memcpy(keep + NA * NA, b, sizeof b);
+    memcpy(keep + NA * NA + NA, w, sizeof w), memcpy(keep + NA * NA + NA + 2, u, sizeof u);
+#define UNTOUCHED()                                                                          \
+    do {                                                                                     \
+        assert_memory_equal(A, keep, sizeof A);                                              \
+        assert_memory_equal(b, keep + NA * NA, sizeof b);                                    \
+        assert_memory_equal(w, keep + NA * NA + NA, sizeof w);                               \
+        assert_memory_equal(u, keep + NA * NA + NA + 2, sizeof u);                           \
+    } while (0)
+    double big = 1e170;
+    for (int th = 1; th <= 2; th++) {
+        Sr[(size_t)17000 * NA + 4] = NAN;
+        assert_int_equal(igea_eqerr_accumulate(IGEA_ROWMAJOR, MA, NA, Sr, NA, dw, sg, 1, spec, A,
+                                               NA, b, w, th, 0, u), IGEA_ENONFINITE);
+        UNTOUCHED();
+        assert_int_equal(igea_eqerr_accumulate(IGEA_ROWMAJOR, MA, NA, Sr, NA, dw, &big, 0, spec,
+                                               A, NA, b, w, th, 0, u), IGEA_ENONFINITE);
+        UNTOUCHED();
+        Sr[(size_t)17000 * NA + 4] = -INFINITY;
+        assert_int_equal(igea_eqerr_accumulate(IGEA_ROWMAJOR, MA, NA, Sr, NA, dw, &big, 0, spec,
+                                               A, NA, b, w, th, 0, u), IGEA_ENONFINITE);
+        UNTOUCHED();
+        Sr[(size_t)17000 * NA + 4] = 1e200; /* its square overflows */
+        assert_int_equal(igea_eqerr_accumulate(IGEA_ROWMAJOR, MA, NA, Sr, NA, dw, sg, 1, spec, A,
+                                               NA, b, w, th, 0, u), IGEA_EOVERFLOW);
+        UNTOUCHED();
+        Sr[(size_t)17000 * NA + 4] = 1.0;
+    }
+    /* arguments: 14 nthreads, 15 row0, 16 sums (finite, counts >= 0) */
+    assert_int_equal(igea_eqerr_accumulate(IGEA_ROWMAJOR, MA, NA, Sr, NA, dw, sg, 1, spec, A, NA,
+                                           b, w, -1, 0, u), -14);
+    assert_int_equal(igea_eqerr_accumulate(IGEA_ROWMAJOR, MA, NA, Sr, NA, dw, sg, 1, spec, A, NA,
+                                           b, w, 1, -1, u), -15);
+    assert_int_equal(igea_eqerr_accumulate(IGEA_ROWMAJOR, MA, NA, Sr, NA, dw, sg, 1, spec, A, NA,
+                                           b, w, 1, 0, NULL), -16);
+    u[NA + 2] = -1;
+    assert_int_equal(igea_eqerr_accumulate(IGEA_ROWMAJOR, MA, NA, Sr, NA, dw, sg, 1, spec, A, NA,
+                                           b, w, 1, 0, u), -16);
+    u[NA + 2] = NAN;
+    assert_int_equal(igea_eqerr_accumulate(IGEA_ROWMAJOR, MA, NA, Sr, NA, dw, sg, 1, spec, A, NA,
+                                           b, w, 1, 0, u), IGEA_ENONFINITE);
+#undef UNTOUCHED
+    free(S), free(Sr), free(dw), free(sg);
+}
+
 /* igea_eqerr_run_layout: column-major is igea_eqerr_run itself (the same
  * bits); the same flight stored row by row gives the same results to
  * rounding on both routes and on 1 and 3 threads (segments of
- * IGEA_NORMAL_SEGMENT rows: 40,000 rows are three); its statuses are
+ * IGEA_NORMAL_SEGMENT rows: 40,000 rows are five); its statuses are
  * igea_eqerr_run's shifted by the layout argument. */
 static void test_run_layout(void **state)
 {
@@ -1104,6 +1259,7 @@ int main(void)
         cmocka_unit_test(test_diag_closed_form),
         cmocka_unit_test(test_eqerr_diag_streamed),
         cmocka_unit_test(test_axis_sums_statuses),
+        cmocka_unit_test(test_accumulate_one_pass),
         cmocka_unit_test(test_run_layout),
         cmocka_unit_test(test_components_closed_form),
     };

@@ -371,7 +371,7 @@ static void test_system_errors(void **state)
     /* invalid arguments */
     assert_int_equal(igea_io_reader_next(NULL, 1, v, &got), -1);
     assert_int_equal(igea_io_reader_open(r, NULL, 0, NULL), -2);
-    assert_int_equal(igea_io_reader_open(r, p, 8, NULL), -3);
+    assert_int_equal(igea_io_reader_open(r, p, 16, NULL), -3);
     assert_int_equal(igea_io_reader_open_fd(r, -1, NULL, 0, NULL), -2);
     assert_int_equal(igea_io_reader_copy(r, v, IGEA_ROWMAJOR), -1);
     igea_io_reader_free(r);
@@ -494,7 +494,8 @@ static void test_views(void **state)
     assert_int_equal(igea_io_reader_view(r, 0, &got), -2);
     assert_int_equal(igea_io_reader_view(r, 3, NULL), -3);
     assert_null(igea_io_reader_view_rows(NULL));
-    assert_int_equal(igea_io_reader_open(r, p, 8, NULL), -3); /* an unknown flag */
+    assert_int_equal(igea_io_reader_open(r, p, 16, NULL), -3); /* an unknown flag */
+    assert_int_equal(igea_io_reader_open_fd(r, 0, "x.npy", 16, NULL), -4);
     /* without IGEA_IO_MAP, in Fortran order and as text: the same rows
      * from the reader's own buffer */
     const char *other[3] = {p, put("vf.npy", buf, npy(buf, fo, 7, 3, 1, 0)),
@@ -520,6 +521,35 @@ static void test_views(void **state)
     assert_int_equal(igea_io_reader_view(r, 3, &got), IGEA_EFORMAT);
     expect_error(r, IGEA_EFORMAT, 0, 0, "row 5, column 2: NaN or Inf");
     assert_null(igea_io_reader_view_rows(r));
+    /* IGEA_IO_UNCHECKED: the same views, handed out unchecked, mapped or
+     * read (Fortran order); igea_io_reader_view_check names the value as
+     * the checked view did, and only for the view that holds it */
+    fo[1 * 7 + 4] = NAN;
+    const char *un[2] = {p, put("vnf.npy", buf, npy(buf, fo, 7, 3, 1, 0))};
+    for (int k = 0; k < 2; k++) {
+        assert_int_equal(igea_io_reader_open(r, un[k], IGEA_IO_TWICE | IGEA_IO_MAP |
+                                             IGEA_IO_UNCHECKED, NULL), 0);
+        assert_int_equal(igea_io_reader_view_check(r), 0); /* no view yet */
+        assert_int_equal(igea_io_reader_view(r, 3, &got), 0);
+        assert_int_equal(igea_io_reader_view_check(r), 0);
+        assert_int_equal(igea_io_reader_view(r, 3, &got), 0);
+        assert_int_equal(got, 3);
+        v = igea_io_reader_view_rows(r);
+        assert_true(isnan(v[1 * 3 + 1])); /* row 5 is the view's second */
+        assert_int_equal(igea_io_reader_view_check(r), IGEA_EFORMAT);
+        expect_error(r, IGEA_EFORMAT, 0, 0, "row 5, column 2: NaN or Inf");
+        assert_ptr_equal(igea_io_reader_view_rows(r), v); /* the view stays */
+        assert_int_equal(igea_io_reader_view(r, 3, &got), 0);
+        assert_int_equal(igea_io_reader_view_check(r), 0);
+        assert_int_equal(igea_io_reader_rewind(r), 0);
+        assert_int_equal(igea_io_reader_view_check(r), 0); /* no view after a rewind */
+        /* igea_io_reader_next and _load check whatever the flag */
+        double rows[21];
+        assert_int_equal(igea_io_reader_next(r, 7, rows, &got), IGEA_EFORMAT);
+        expect_error(r, IGEA_EFORMAT, 0, 0, "row 5, column 2: NaN or Inf");
+    }
+    fo[1 * 7 + 4] = 41;
+    assert_int_equal(igea_io_reader_view_check(NULL), -1);
     /* shortened to 4 rows after the first view: the next view is refused */
     a[4 * 3 + 1] = 41;
     p = put("vt.npy", buf, n = npy(buf, a, 7, 3, 0, 0));

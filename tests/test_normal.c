@@ -355,6 +355,85 @@ static void test_overflow_and_range(void **state)
     assert_true(igea__finite_mat(N, N, A, N));
 }
 
+/* igea_normal_accumulate_threads as its header defines it: segments of
+ * IGEA_NORMAL_SEGMENT (8192) rows from the block's first, each summed as
+ * igea_normal_accumulate sums it into zeroed sums, the segments' sums
+ * added in segment order. With per-row sigmas (weighted copies) that is
+ * igea_normal_accumulate itself on each segment, bit for bit on 2, 3 and 4
+ * threads; with one sigma on row-major rows A and w'w are its bits and b,
+ * a plain sum over the rows, agrees with it to 1e-14 (and the same on 2, 3
+ * and 4 threads). Both against the long double definition to 1e-13. */
+static void test_threads_segments(void **state)
+{
+    (void)state;
+    enum { MT = 3 * 8192 + 1000, NT = 6 };
+    assert_int_equal(IGEA_NORMAL_SEGMENT, 8192);
+    double *St = malloc(sizeof(double) * MT * NT), *d = malloc(sizeof(double) * MT);
+    double *g = malloc(sizeof(double) * MT), sp[NT];
+    assert_non_null(St && d && g);
+    for (int j = 0; j < NT; j++)
+        sp[j] = 0.5 + 0.1 * j;
+    for (int i = 0; i < MT; i++) {
+        for (int j = 0; j < NT; j++)
+            St[(size_t)i * NT + j] = cos(1e-4 * (j + 1) * i + j) + 1e-3 * sin(5.0 * i);
+        d[i] = sin(0.01 * i);
+    }
+    for (int uni = 0; uni < 2; uni++) {
+        for (int i = 0; i < MT; i++)
+            g[i] = uni ? 0.01 : 0.01 * (1.0 + 0.25 * cos(0.3 * i));
+        /* the definition, segment by segment */
+        double Al[NT * NT] = {0}, bl[NT] = {0}, wl[2] = {0, 0}, b0[NT];
+        for (int r0 = 0; r0 < MT; r0 += IGEA_NORMAL_SEGMENT) {
+            int n = MT - r0 < IGEA_NORMAL_SEGMENT ? MT - r0 : IGEA_NORMAL_SEGMENT;
+            double Ak[NT * NT] = {0}, bk[NT] = {0}, wk[2] = {0, 0};
+            assert_int_equal(igea_normal_accumulate(IGEA_ROWMAJOR, n, NT, St + (size_t)r0 * NT,
+                                                    NT, d + r0, g + r0, 1, sp, Ak, NT, bk, wk),
+                             0);
+            for (int j = 0; j < NT; j++) {
+                for (int i = j; i < NT; i++)
+                    Al[i + j * NT] += Ak[i + j * NT];
+                bl[j] += bk[j];
+            }
+            wl[0] += wk[0];
+        }
+        for (int th = 2; th <= 4; th++) {
+            double A[NT * NT] = {0}, b[NT] = {0}, w[2] = {0, 0};
+            assert_int_equal(igea_normal_accumulate_threads(IGEA_ROWMAJOR, MT, NT, St, NT, d, g,
+                                                            1, sp, A, NT, b, w, th), 0);
+            for (int j = 0; j < NT; j++)
+                for (int i = j; i < NT; i++) {
+                    assert_true(A[i + j * NT] == Al[i + j * NT]);
+                    assert_true(A[j + i * NT] == Al[i + j * NT]);
+                }
+            if (uni) {
+                for (int j = 0; j < NT; j++)
+                    assert_close_abs(b[j], bl[j], 1e-14, 1e-14 * fabs(bl[0]));
+                if (th == 2)
+                    memcpy(b0, b, sizeof b0);
+                assert_memory_equal(b, b0, sizeof b0);
+            } else {
+                assert_memory_equal(b, bl, sizeof b);
+            }
+            assert_true(w[0] == wl[0] && w[1] == MT);
+            for (int j = 0; j < NT; j++) {
+                long double rb = 0;
+                for (int i = 0; i < MT; i++)
+                    rb += (long double)St[(size_t)i * NT + j] * d[i] / ((long double)g[i] * g[i]) *
+                          sp[j];
+                assert_close_abs(b[j], (double)rb, 1e-13, 1e-13 * fabs(b[0]));
+                for (int k = 0; k <= j; k++) {
+                    long double ref = 0;
+                    for (int i = 0; i < MT; i++)
+                        ref += (long double)St[(size_t)i * NT + j] * St[(size_t)i * NT + k] /
+                               ((long double)g[i] * g[i]) * sp[j] * sp[k];
+                    assert_close_abs(A[j + k * NT], (double)ref, 1e-13, 1e-13 * fabs(A[0]));
+                }
+            }
+        }
+    }
+    free(St), free(d), free(g);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -364,6 +443,7 @@ int main(void)
         cmocka_unit_test(test_long_flight),
         cmocka_unit_test(test_qr_factor),
         cmocka_unit_test(test_overflow_and_range),
+        cmocka_unit_test(test_threads_segments),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -51,10 +51,11 @@ extern "C" {
 #define IGEA_EQERR_OPT_THREADS 18     /* igea_eqerr_run's normal equations and residual
                                          pass (route eig): 0 or 1 one thread (the sums as
                                          before); n = 2 .. IGEA_EQERR_THREADS_MAX: rows in
-                                         segments of 16384, each summed on its own (its
-                                         sums added in segment order), on n threads; the result
-                                         is the same for every n >= 2 and equals one
-                                         thread's to rounding */
+                                         segments of IGEA_NORMAL_SEGMENT (8192), each
+                                         summed on its own (its sums added in segment
+                                         order), on n threads; the result is the same
+                                         for every n >= 2 and equals one thread's to
+                                         rounding */
 #define IGEA_EQERR_THREADS_MAX 256
 #define IGEA_EQERR_OPT_LEN 32 /* slots 19.. reserved for additions (0) */
 
@@ -284,6 +285,30 @@ IGEA_API int igea_eqerr_axis_rms(const double *axis_ss, double *rms);
  * IGEA_EOVERFLOW, IGEA_ENOMEM; sums untouched on failure. */
 IGEA_API int igea_eqerr_axis_sums(int layout, int m, int N, const double *S, int lds,
                                   const double *dw, int row0, double *sums);
+
+/*
+ * Pass 1 of a streamed flight in one pass over the block's rows [D]:
+ * igea_normal_accumulate_threads (arguments 1-14) and igea_eqerr_axis_sums
+ * (15 row0 >= 0, 16 sums[3 (N + 2)], as its 7 and 8) on the same m rows.
+ * Each piece of rows is summed per axis just before its dsyrk, which then
+ * reads it from cache, and the axis sums stand for a scan of S for NaN
+ * and Inf: a caller that hands S over unchecked (a .npy viewed with
+ * IGEA_IO_UNCHECKED, igea/io.h) learns of a non-finite value from
+ * IGEA_ENONFINITE. With nthreads 0 or 1 the results are those of the two
+ * functions called in turn, bit for bit; with nthreads >= 2 each segment of
+ * IGEA_NORMAL_SEGMENT rows has its own axis sums too, added in segment
+ * order, so they are the same for every nthreads >= 2 and equal the
+ * one-thread sums to rounding.
+ * Returns 0, -i, the statuses of the two (the normal equations' first:
+ * IGEA_ENONFINITE when S, dw or sigma holds a NaN or Inf, IGEA_ENONPOSITIVE,
+ * IGEA_ERANGE, IGEA_EOVERFLOW, IGEA_ENOMEM); A, b, wtw and sums are all
+ * untouched on failure.
+ */
+IGEA_API int igea_eqerr_accumulate(int layout, int m, int N, const double *S, int lds,
+                                   const double *dw, const double *track_sigma,
+                                   int sigma_inc, const double *spec_sigma, double *A,
+                                   int lda, double *b, double *wtw, int nthreads, int row0,
+                                   double *sums);
 
 /* Mean residual per axis from those sums and the coefficients coef[N]:
  * mean[a] = (sum dw - sum_j (sum S_j) coef_j) / rows, 0 for an axis

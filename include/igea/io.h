@@ -72,6 +72,9 @@ extern "C" {
                            letters) and a .npy NaN are read as NaN; any other
                            spelling (nan, NAN, an empty field) and Inf stay
                            refused */
+#define IGEA_IO_UNCHECKED 8 /* igea_io_reader_view hands out a .npy's rows
+                               without checking them for NaN and Inf: the
+                               caller does (igea_io_reader_view_check) */
 
 /* Slots of igea_io_reader_info (integers stored as exact doubles). */
 #define IGEA_IO_INFO_STATUS 0 /* status of the last failed call, 0 none */
@@ -99,7 +102,8 @@ IGEA_API void igea_io_reader_free(igea_io_reader *r);
 
 /* Open the file at path (NUL-terminated) for reading, check a .npy header
  * or read the first text row ahead (the columns are known after it).
- * flags: 0 or any of IGEA_IO_TWICE, IGEA_IO_MAP, IGEA_IO_NAN (|). tmpdir: directory of a temporary copy
+ * flags: 0 or any of IGEA_IO_TWICE, IGEA_IO_MAP, IGEA_IO_NAN, IGEA_IO_UNCHECKED (|).
+ * tmpdir: directory of a temporary copy
  * (may be NULL: "/tmp"). A reader that is already open is closed first.
  * Returns 0, -1..-4 for an invalid argument (r NULL, path NULL, flags
  * unknown), IGEA_EREAD, IGEA_EFORMAT (an empty input: no data),
@@ -152,6 +156,21 @@ IGEA_API int igea_io_reader_view(igea_io_reader *r, int maxrows, int *nread);
  * none (r NULL or not open, before a view, after a failure, a rewind or
  * the end of the input). */
 IGEA_API const double *igea_io_reader_view_rows(const igea_io_reader *r);
+/*
+ * Opened with IGEA_IO_UNCHECKED, the views of a .npy are not checked for
+ * NaN and Inf (the check reads every value once more: a caller that
+ * passes the rows to a function which reads them all anyway and refuses
+ * non-finite data, e.g. igea_eqerr_accumulate with its IGEA_ENONFINITE,
+ * saves that pass). The caller then checks each view before it relies on
+ * its values, and on such a refusal calls igea_io_reader_view_check:
+ * the rows of the current view are checked as igea_io_reader_view would
+ * have checked them. Returns 0 (every value finite; also for text, whose
+ * non-finite numbers are refused as they are read, and when there is no
+ * view), -1 (r NULL or not open) or IGEA_EFORMAT with the row and column
+ * of the first non-finite value in the message, as the view's own check
+ * words it.
+ */
+IGEA_API int igea_io_reader_view_check(igea_io_reader *r);
 /* Start the input again (opened with IGEA_IO_TWICE): the next row is the
  * first. Returns 0, -1 (r NULL, not open or not opened for two passes),
  * IGEA_EREAD, IGEA_ETEMPFILE or IGEA_ENOMEM. */

@@ -54,8 +54,10 @@ IGEA_API int igea_normal_accumulate(int layout, int m, int N, const double *S,
 /*
  * igea_normal_accumulate on several threads: the m rows in segments of
  * IGEA_NORMAL_SEGMENT rows, each accumulated by igea_normal_accumulate into
- * its own zeroed sums on one of nthreads threads, the segments' sums added
- * in segment order, then to A, b, wtw. The result is the same for every
+ * its own zeroed sums on one of nthreads threads (but for b of row-major
+ * rows with one tracking sigma, a plain sum over the rows in order instead
+ * of dgemv: the loop brings the rows into cache for dsyrk), the segments'
+ * sums added in segment order, then to A, b, wtw. The result is the same for every
  * nthreads >= 2 (for the same m rows per call) and equals
  * igea_normal_accumulate's to rounding; nthreads 0 or 1 is
  * igea_normal_accumulate itself. The BLAS calls run on the threads made
@@ -67,7 +69,7 @@ IGEA_API int igea_normal_accumulate(int layout, int m, int N, const double *S,
  * Returns igea_normal_accumulate's statuses (a failing segment: the first
  * one's), -14; on failure A, b, wtw are untouched.
  */
-#define IGEA_NORMAL_SEGMENT 16384
+#define IGEA_NORMAL_SEGMENT 8192
 #define IGEA_NORMAL_THREADS_MAX 256
 IGEA_API int igea_normal_accumulate_threads(int layout, int m, int N, const double *S,
                                             int lds, const double *dw,

@@ -214,6 +214,42 @@ IGEA_API int igea_regress_ls_diag(int m, int N, const double *A, int lda, const 
                                   double *cooks_d, double *diag);
 
 /*
+ * igea_regress_ls_ex and igea_regress_ls_diag in one fit [D]: the design is
+ * factored once (hosts that want both, e.g. Python's igea.ls, pay for one
+ * fit and the leverages instead of two fits). The fit's outputs (9 flags,
+ * 11-17) are those of igea_regress_ls_ex with the same arguments, bit for
+ * bit; the diagnostics (18-24) are igea_regress_ls_diag's, computed on
+ * that fit: with spec_sigma NULL and flags 0 bit for bit those of
+ * igea_regress_ls_diag (the same fit), with spec_sigma from the fit of
+ * A D mapped back to A's units (t = x / sd and the leverages do not depend
+ * on the columns' scale: equal to igea_regress_ls_diag's to rounding); with
+ * IGEA_REGRESS_NO_REFINE from the unrefined fit.
+ *  1 m, 2 N, 3 A (m x N), 4 lda >= m, 5 y (m), 6 sigma (m or NULL),
+ *  7 spec_sigma (N or NULL), 8 rcond, 9 flags (as igea_regress_ls_ex),
+ * 10 alpha in (0, 1) (as igea_regress_ls_diag);
+ * Outputs: 11 x[N]; 12 cov (N x N, may be NULL), 13 ldc >= N (ignored when
+ *  cov is NULL); 14 sd[N] (may be NULL); 15 sigma2; 16 residual[m] (may be
+ *  NULL); 17 info[IGEA_REGRESS_INFO_LEN]; 18 tvalues[N], 19 pvalues[N],
+ *  20 ci_lower[N], 21 ci_upper[N], 22 leverage[m], 23 cooks_d[m] (each may
+ *  be NULL); 24 diag[IGEA_REGRESS_DIAG_LEN].
+ * Returns 0 (everything written); IGEA_REGRESS_NO_DIAG (> 0) when the fit
+ * succeeded but the diagnostics are not defined (igea_regress_ls_diag's
+ * IGEA_EDOMAIN cases: no residual degrees of freedom, an exact fit, TSS =
+ * 0, a leverage 1, more than 1e7 degrees of freedom): the fit's outputs
+ * 11-17 are written, 18-24 untouched; or -i, IGEA_ENONFINITE,
+ * IGEA_ENONPOSITIVE, IGEA_ERANGE, IGEA_EOVERFLOW, IGEA_ENOMEM,
+ * IGEA_ELAPACK with nothing written.
+ */
+#define IGEA_REGRESS_NO_DIAG 1
+IGEA_API int igea_regress_ls_full(int m, int N, const double *A, int lda, const double *y,
+                                  const double *sigma, const double *spec_sigma, double rcond,
+                                  int flags, double alpha, double *x, double *cov, int ldc,
+                                  double *sd, double *sigma2, double *residual, double *info,
+                                  double *tvalues, double *pvalues, double *ci_lower,
+                                  double *ci_upper, double *leverage, double *cooks_d,
+                                  double *diag);
+
+/*
  * Empirical-Bayes ridge exactly as METHODS 4.3 on the whitened rows
  * diag(1/sigma) A, y / sigma: canonical form of diag(1/sigma) A D (thin
  * SVD, rank r with the default cut of METHODS 0.3), lambda* from the rule's

@@ -271,6 +271,7 @@ IO_LINE_MAX = 1048576
 IO_TWICE = 1
 IO_MAP = 2
 IO_NAN = 4
+IO_UNCHECKED = 8
 IO_INFO_STATUS = 0
 IO_INFO_LINE = 1
 IO_INFO_COLUMN = 2
@@ -346,7 +347,7 @@ NOISE_GROUP_SE_REML = 7
 NOISE_GROUP_COLS = 8
 
 # igea/normal.h
-NORMAL_SEGMENT = 16384
+NORMAL_SEGMENT = 8192
 NORMAL_THREADS_MAX = 256
 
 # igea/redund.h
@@ -415,6 +416,7 @@ REGRESS_DIAG_SSR = 13
 REGRESS_DIAG_TSS = 14
 REGRESS_DIAG_RANK = 15
 REGRESS_DIAG_LEN = 24
+REGRESS_NO_DIAG = 1
 REGRESS_RIDGE_FIXED = 0
 REGRESS_RIDGE_HKB = 1
 REGRESS_RIDGE_LW = 2
@@ -785,6 +787,10 @@ PROTOTYPES = {
     "igea_eqerr_axis_rms": (c_int, (("axis_ss", _PD), ("rms", _PD),)),
     "igea_eqerr_axis_sums": (c_int, (("layout", c_int), ("m", c_int), ("N", c_int), ("S", _PD),
         ("lds", c_int), ("dw", _PD), ("row0", c_int), ("sums", _PD),)),
+    "igea_eqerr_accumulate": (c_int, (("layout", c_int), ("m", c_int), ("N", c_int), ("S", _PD),
+        ("lds", c_int), ("dw", _PD), ("track_sigma", _PD), ("sigma_inc", c_int),
+        ("spec_sigma", _PD), ("A", _PD), ("lda", c_int), ("b", _PD), ("wtw", _PD),
+        ("nthreads", c_int), ("row0", c_int), ("sums", _PD),)),
     "igea_eqerr_residual_mean": (c_int, (("N", c_int), ("sums", _PD), ("coef", _PD), ("mean", _PD),
         )),
     "igea_eqerr_diag_add": (c_int, (("m", c_int), ("residual", _PD), ("row0", c_int),
@@ -855,6 +861,7 @@ PROTOTYPES = {
         ("nread", _PI),)),
     "igea_io_reader_view": (c_int, (("r", c_void_p), ("maxrows", c_int), ("nread", _PI),)),
     "igea_io_reader_view_rows": (_PD, (("r", c_void_p),)),
+    "igea_io_reader_view_check": (c_int, (("r", c_void_p),)),
     "igea_io_reader_rewind": (c_int, (("r", c_void_p),)),
     "igea_io_reader_load": (c_int, (("r", c_void_p),)),
     "igea_io_reader_copy": (c_int, (("r", c_void_p), ("v", _PD), ("layout", c_int),)),
@@ -986,6 +993,12 @@ PROTOTYPES = {
         ("y", _PD), ("sigma", _PD), ("rcond", c_double), ("alpha", c_double), ("x", _PD),
         ("sd", _PD), ("tvalues", _PD), ("pvalues", _PD), ("ci_lower", _PD), ("ci_upper", _PD),
         ("leverage", _PD), ("cooks_d", _PD), ("diag", _PD),)),
+    "igea_regress_ls_full": (c_int, (("m", c_int), ("N", c_int), ("A", _PD), ("lda", c_int),
+        ("y", _PD), ("sigma", _PD), ("spec_sigma", _PD), ("rcond", c_double), ("flags", c_int),
+        ("alpha", c_double), ("x", _PD), ("cov", _PD), ("ldc", c_int), ("sd", _PD),
+        ("sigma2", _PD), ("residual", _PD), ("info", _PD), ("tvalues", _PD), ("pvalues", _PD),
+        ("ci_lower", _PD), ("ci_upper", _PD), ("leverage", _PD), ("cooks_d", _PD), ("diag", _PD),
+        )),
     "igea_regress_ebr": (c_int, (("m", c_int), ("N", c_int), ("A", _PD), ("lda", c_int),
         ("y", _PD), ("sigma", _PD), ("spec_sigma", _PD), ("rule", c_int), ("lam_floor", c_double),
         ("x", _PD), ("cov", _PD), ("ldc", c_int), ("lam", _PD), ("rank", _PI), ("sigma2", _PD),
@@ -1220,6 +1233,7 @@ INPUTS = {
     "igea_eqerr_limits": ("lambda",),
     "igea_eqerr_axis_rms": ("axis_ss",),
     "igea_eqerr_axis_sums": ("S", "dw",),
+    "igea_eqerr_accumulate": ("S", "dw", "track_sigma", "spec_sigma",),
     "igea_eqerr_residual_mean": ("sums", "coef",),
     "igea_eqerr_diag_add": ("residual",),
     "igea_eqerr_diag": ("residual",),
@@ -1294,6 +1308,7 @@ INPUTS = {
     "igea_regress_rank_info": ("A", "sigma", "spec_sigma",),
     "igea_regress_sd": ("cov",),
     "igea_regress_ls_diag": ("A", "y", "sigma",),
+    "igea_regress_ls_full": ("A", "y", "sigma", "spec_sigma",),
     "igea_regress_ebr": ("A", "y", "sigma", "spec_sigma",),
     "igea_regress_ridge": ("A", "y", "sigma", "spec_sigma",),
     "igea_regress_ridge_trace": ("A", "y", "sigma", "spec_sigma", "k",),

@@ -288,20 +288,10 @@ class Collinearity:
         return "\n".join(lines)
 
 
-def _ls_diag(A, m, N, y, sg, rcond, alpha):
-    """The diagnostics fields of LsResult (empty when not defined)."""
-    from ._lib import IgeaError
-    x, sd, t, pv, lo, hi = (np.empty(N) for _ in range(6))
-    lev, cd = np.empty(m), np.empty(m)
-    dg = np.zeros(_capi.REGRESS_DIAG_LEN)
-    try:
-        _lib.call("igea.ls", "igea_regress_ls_diag", m, N, _lib.dptr(A), m, _lib.dptr(y),
-                  _lib.dptr(sg), float(rcond), float(alpha), _lib.dptr(x), _lib.dptr(sd),
-                  _lib.dptr(t), _lib.dptr(pv), _lib.dptr(lo), _lib.dptr(hi), _lib.dptr(lev),
-                  _lib.dptr(cd), _lib.dptr(dg))
-    except IgeaError as e:
-        if e.code != _capi.EDOMAIN:
-            raise
+def _ls_diag(status, alpha, t, pv, lo, hi, lev, cd, dg):
+    """The diagnostics fields of LsResult (empty when not defined:
+    igea_regress_ls_full's IGEA_REGRESS_NO_DIAG)."""
+    if status == _capi.REGRESS_NO_DIAG:
         return dict(alpha=float(alpha))
     g = lambda k: float(dg[getattr(_capi, "REGRESS_DIAG_" + k)])  # noqa: E731
     return dict(r2=g("R2"), r2_adj=g("R2_ADJ"), fvalue=g("FVALUE"), f_pvalue=g("F_PVALUE"),
@@ -318,9 +308,9 @@ def ls(A, y, sigma=None, *, spec=None, rcond=0.0, names=None, alpha=0.05):
     or (N,) column scales (the 1-sigma specs: every estimator then works on
     A diag(spec) and returns x, cov in A's units); rcond <= 0 for the
     default rank cut max(m, N) eps. Returns LsResult(x, cov, rank,
-    sigma2, residual, sd, rank_tol, refine_steps; igea_regress_ls_ex) with
-    the statsmodels-OLS/WLS diagnostics of igea_regress_ls_diag on A as
-    given: r2, r2_adj, fvalue, f_pvalue, tvalues, pvalues, conf_int_lower,
+    sigma2, residual, sd, rank_tol, refine_steps) with the statsmodels-OLS/WLS
+    diagnostics of that fit (one factorisation: igea_regress_ls_full): r2,
+    r2_adj, fvalue, f_pvalue, tvalues, pvalues, conf_int_lower,
     conf_int_upper (level 1 - alpha; conf_int() stacks them), llf, aic, bic,
     leverage, cooks_d, press, durbin_watson, df_model, df_resid (None where
     they are not defined: no residual dof, an exact fit, a leverage 1)."""
@@ -330,14 +320,19 @@ def ls(A, y, sigma=None, *, spec=None, rcond=0.0, names=None, alpha=0.05):
     s2 = np.zeros(1)
     res = np.empty(m)
     info = np.zeros(_capi.REGRESS_INFO_LEN)
-    _lib.call("igea.ls", "igea_regress_ls_ex", m, N, _lib.dptr(A), m, _lib.dptr(y), _lib.dptr(sg),
-              _lib.dptr(sp), float(rcond), 0, _lib.dptr(x), _lib.dptr(cov), N, _lib.dptr(sd),
-              _lib.dptr(s2), _lib.dptr(res), _lib.dptr(info))
+    t, pv, lo, hi = (np.empty(N) for _ in range(4))
+    lev, cd = np.empty(m), np.empty(m)
+    dg = np.zeros(_capi.REGRESS_DIAG_LEN)
+    st = _lib.call("igea.ls", "igea_regress_ls_full", m, N, _lib.dptr(A), m, _lib.dptr(y),
+                   _lib.dptr(sg), _lib.dptr(sp), float(rcond), 0, float(alpha), _lib.dptr(x),
+                   _lib.dptr(cov), N, _lib.dptr(sd), _lib.dptr(s2), _lib.dptr(res),
+                   _lib.dptr(info), _lib.dptr(t), _lib.dptr(pv), _lib.dptr(lo), _lib.dptr(hi),
+                   _lib.dptr(lev), _lib.dptr(cd), _lib.dptr(dg))
     return LsResult(x=x, cov=np.ascontiguousarray(cov), rank=int(info[_capi.REGRESS_INFO_RANK]),
                     sigma2=float(s2[0]), residual=res, names=_given(N, names), sd=sd,
                     rank_tol=float(info[_capi.REGRESS_INFO_TOL]),
                     refine_steps=int(info[_capi.REGRESS_INFO_REFINE_STEPS]),
-                    **_ls_diag(A, m, N, y, sg, rcond, alpha))
+                    **_ls_diag(st, alpha, t, pv, lo, hi, lev, cd, dg))
 
 
 def ebr(A, y, sigma=None, *, spec=None, rule="sc", lam_floor=0.0, names=None):

@@ -86,6 +86,11 @@ int cli_reader_open_gaps(const char *path, cli_reader **out);
  * and the second pass reads the copy); cli_reader_view may map a .npy file
  * (a SIGBUS handler then turns a file shortened meanwhile into exit 66). */
 int cli_reader_open_twice(const char *path, cli_reader **out);
+/* cli_reader_open_twice whose .npy views are not checked for NaN and Inf
+ * (IGEA_IO_UNCHECKED): the caller checks each view's values, and before it
+ * reports any failure met after the view, calls cli_reader_view_check, so
+ * that a NaN or Inf is reported first, as a checked view would have. */
+int cli_reader_open_unchecked(const char *path, cli_reader **out);
 int cli_reader_rewind(cli_reader *r);
 /* Columns of the file (known after open for .npy, after the first data row
  * for text: cli_reader_open reads ahead one row). */
@@ -101,6 +106,14 @@ int cli_reader_next(cli_reader *r, long maxrows, double *buf, long *nread);
  * viewed through a memory map): *rows valid until the next call on r,
  * *nread rows, 0 at the end. Returns an exit code. */
 int cli_reader_view(cli_reader *r, long maxrows, const double **rows, long *nread);
+/* The same; when it fails, the current view of `unchecked` (opened by
+ * cli_reader_open_unchecked, its block read before this one's; NULL: none)
+ * is checked first. */
+int cli_reader_view_after(cli_reader *r, long maxrows, const double **rows, long *nread,
+                          cli_reader *unchecked);
+/* The current view's values checked (igea_io_reader_view_check): CLI_OK,
+ * or the message "PATH: row R, column C: NaN or Inf" and its exit code. */
+int cli_reader_view_check(cli_reader *r);
 const char *cli_reader_path(const cli_reader *r);
 /* The column names of the input, '\n'-separated, or "" (igea/io.h). */
 const char *cli_reader_names(const cli_reader *r);

@@ -300,7 +300,10 @@ static int parse_noise(eqerr_args *a)
 /* Open the three streamed inputs in lockstep. Each block is a view of
  * the rows (cli_reader_view: a .npy file in place through a memory map,
  * else the reader's own buffer), so that both passes read S where it
- * lies. */
+ * lies. S's views are not scanned for NaN and Inf by the reader: the
+ * library's pass over the block refuses them (IGEA_ENONFINITE), and any
+ * failure met in a block checks S's view first (s_failed), so that the
+ * messages and their order are those of a checked view. */
 typedef struct {
     cli_reader *S, *dw, *sig;
     int N;
@@ -321,7 +324,7 @@ static void streams_close(streams *s)
 static int streams_open(const eqerr_args *a, streams *s)
 {
     memset(s, 0, sizeof *s);
-    int ec = cli_reader_open_twice(a->S, &s->S);
+    int ec = cli_reader_open_unchecked(a->S, &s->S);
     if (!ec)
         ec = cli_reader_open_twice(a->dw, &s->dw);
     if (!ec && !a->sigma_is_number)
@@ -337,12 +340,12 @@ static int streams_open(const eqerr_args *a, streams *s)
     if (!ec) {
         s->N = cli_reader_cols(s->S);
         s->block = 1 + (4L << 20) / (8L * (s->N + 2)); /* about 4 MB of rows */
-        /* --threads T >= 2: blocks of two segments whatever T (the same sums
-         * for every T; two threads busy per block) */
-        long seg2 = 2L * IGEA_NORMAL_SEGMENT;
+        /* --threads T >= 2: blocks of four segments whatever T (the same
+         * sums for every T; the threads take the segments as they come) */
+        long seg4 = 4L * IGEA_NORMAL_SEGMENT;
         if (a->opts[IGEA_EQERR_OPT_THREADS] > 1 && a->route == IGEA_EQERR_ROUTE_EIG &&
-            s->block < seg2)
-            s->block = seg2;
+            s->block < seg4)
+            s->block = seg4;
         s->block -= s->block % 3;
         if (s->block < 3)
             s->block = 3;
@@ -372,23 +375,33 @@ static int streams_rewind(streams *s)
     return ec;
 }
 
+/* Before a failure in the current block is reported: S's rows checked
+ * (a NaN or Inf in them is reported instead, as their reader would have
+ * when it handed them out). CLI_OK when they are finite. */
+static int s_failed(streams *s)
+{
+    return cli_reader_view_check(s->S);
+}
+
 /* Next block of all three; *n rows (0 at the end). */
 static int streams_next(const eqerr_args *a, streams *s, long *n)
 {
     long ns, nd, ng;
     int ec = cli_reader_view(s->S, s->block, &s->srows, &ns);
     if (!ec)
-        ec = cli_reader_view(s->dw, s->block, &s->drows, &nd);
+        ec = cli_reader_view_after(s->dw, s->block, &s->drows, &nd, s->S);
     if (ec)
         return ec;
     if (s->sig) {
-        ec = cli_reader_view(s->sig, s->block, &s->grows, &ng);
+        ec = cli_reader_view_after(s->sig, s->block, &s->grows, &ng, s->S);
         if (ec)
             return ec;
     } else {
         ng = ns;
         s->grows = s->gbuf;
     }
+    if ((ns != nd || ns != ng) && (ec = s_failed(s)))
+        return ec;
     if (ns != nd && s->seen == 0 && ns < s->block && nd < s->block && nd == s->N) {
         cli_error("%s has %ld rows and %d columns; %s has %ld values: transposed?", a->S, ns,
                   s->N, a->dw, nd);
@@ -428,12 +441,16 @@ static int read_spec(const char *path, const char *S, int N, double **spec)
     return CLI_OK;
 }
 
-static int check_sigma_block(const eqerr_args *a, const double *g, long n, long row0)
+static int check_sigma_block(const eqerr_args *a, streams *s, const double *g, long n,
+                             long row0)
 {
     if (a->sigma_is_number)
         return CLI_OK;
     for (long i = 0; i < n; i++)
         if (!(g[i] > 0)) {
+            int ec = s_failed(s);
+            if (ec)
+                return ec;
             cli_error("%s: row %ld: tracking sigma %g must be > 0", a->sigma, row0 + i + 1, g[i]);
             return CLI_DATAERR;
         }
@@ -759,16 +776,21 @@ static int pass_solve(const eqerr_args *a, streams *s, flight *r)
     }
     while (!(ec = streams_next(a, s, &n)) && n > 0) {
         cli_progress_count(&pr, (double)(rows + n));
-        if ((ec = check_sigma_block(a, s->grows, n, rows)))
+        if ((ec = check_sigma_block(a, s, s->grows, n, rows)))
             break;
+        /* eig: the normal equations and the axis sums in one pass over the
+         * block, which also refuses a NaN or Inf of S's unchecked view */
         int st = svd ? igea_normal_qr_accumulate(IGEA_ROWMAJOR, (int)n, N, s->srows, N, s->drows,
                                                  s->grows, 1, r->spec, A, N + 1, &qrows)
-                     : igea_normal_accumulate_threads(IGEA_ROWMAJOR, (int)n, N, s->srows, N,
-                                                      s->drows, s->grows, 1, r->spec, A, N, b,
-                                                      wtw, (int)a->opts[IGEA_EQERR_OPT_THREADS]);
-        if (!st)
+                     : igea_eqerr_accumulate(IGEA_ROWMAJOR, (int)n, N, s->srows, N, s->drows,
+                                             s->grows, 1, r->spec, A, N, b, wtw,
+                                             (int)a->opts[IGEA_EQERR_OPT_THREADS], (int)rows,
+                                             r->sums);
+        if (!st && svd)
             st = igea_eqerr_axis_sums(IGEA_ROWMAJOR, (int)n, N, s->srows, N, s->drows, (int)rows,
                                       r->sums);
+        if (st && (ec = s_failed(s)))
+            break;
         if (st) {
             ec = cli_status(st, st == IGEA_ENONFINITE ? "eqerr: rows with NaN/Inf" : "eqerr");
             break;
@@ -853,6 +875,8 @@ static int pass_residuals(const eqerr_args *a, streams *s, flight *r, FILE *res,
                                      (int)row0, e, ss);
         if (!st)
             st = igea_eqerr_diag_add((int)n, e, (int)row0, r->dstate);
+        if (st && (ec = s_failed(s)))
+            break;
         if (st) {
             ec = cli_status(st, "eqerr residuals");
             break;

@@ -165,6 +165,12 @@ int cli_reader_open_twice(const char *path, cli_reader **out)
     return reader_open(path, IGEA_IO_TWICE | IGEA_IO_MAP, out);
 }
 
+int cli_reader_open_unchecked(const char *path, cli_reader **out)
+{
+    install_sigbus();
+    return reader_open(path, IGEA_IO_TWICE | IGEA_IO_MAP | IGEA_IO_UNCHECKED, out);
+}
+
 int cli_reader_rewind(cli_reader *r)
 {
     int st = igea_io_reader_rewind(r->r);
@@ -192,15 +198,29 @@ int cli_reader_next(cli_reader *r, long maxrows, double *buf, long *nread)
     return CLI_OK;
 }
 
-int cli_reader_view(cli_reader *r, long maxrows, const double **rows, long *nread)
+int cli_reader_view_check(cli_reader *r)
+{
+    int st = r ? igea_io_reader_view_check(r->r) : 0;
+    return st ? reader_failed(r->path, r->r, st) : CLI_OK;
+}
+
+int cli_reader_view_after(cli_reader *r, long maxrows, const double **rows, long *nread,
+                          cli_reader *unchecked)
 {
     int got = 0;
     int st = igea_io_reader_view(r->r, maxrows > INT_MAX ? INT_MAX : (int)maxrows, &got);
-    if (st)
-        return reader_failed(r->path, r->r, st);
+    if (st) {
+        int ec = cli_reader_view_check(unchecked);
+        return ec ? ec : reader_failed(r->path, r->r, st);
+    }
     *rows = igea_io_reader_view_rows(r->r);
     *nread = got;
     return CLI_OK;
+}
+
+int cli_reader_view(cli_reader *r, long maxrows, const double **rows, long *nread)
+{
+    return cli_reader_view_after(r, maxrows, rows, nread, NULL);
 }
 
 void cli_reader_close(cli_reader *r)

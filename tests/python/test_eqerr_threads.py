@@ -1,5 +1,5 @@
 """igea_eqerr_run's normal equations on several threads
-(IGEA_EQERR_OPT_THREADS, igea.eqerr(threads=)): rows in segments of 16384,
+(IGEA_EQERR_OPT_THREADS, igea.eqerr(threads=)): rows in segments of 8192,
 each segment's sums its own, added in segment order. So the result is the
 same bit for bit for every thread count >= 2, and equals the one-thread
 sums to rounding: the eigenvalues agree with numpy's eigvalsh of the
@@ -24,7 +24,7 @@ def flight(m=70000, N=12, seed=3, sigma_rows=False):
 
 @pytest.mark.parametrize("sigma_rows", [False, True])
 def test_thread_counts_give_one_result(sigma_rows):
-    S, dw, sigma, spec = flight(sigma_rows=sigma_rows)  # 5 segments
+    S, dw, sigma, spec = flight(sigma_rows=sigma_rows)  # 9 segments
     ref = igea.eqerr(S, dw, sigma, spec, threads=2)
     for t in (3, 4, 7):
         got = igea.eqerr(S, dw, sigma, spec, threads=t)
@@ -69,7 +69,7 @@ def test_a_nan_in_a_late_segment():
 
 def test_driver_threads(tmp_path):
     """igea eqerr --threads T: the same JSON for T = 2 and 3 (the driver's
-    blocks of two segments whatever T), equal to --threads 1 to rounding; a
+    blocks of four segments whatever T), equal to --threads 1 to rounding; a
     bad T is refused naming the option."""
     import json
     import os
@@ -101,11 +101,11 @@ def test_residual_pass_on_threads(sigma_rows):
     """The residual pass runs in the same segments on the same threads: the
     residuals, the per-axis RMS and chi2 are the same bits for T = 2, 3, 4;
     they equal one thread's to rounding; the RMS is that of the returned
-    residuals per axis (rows i with i mod 3 = a; 16384 mod 3 = 1, so the
+    residuals per axis (rows i with i mod 3 = a; 8192 mod 3 = 2, so the
     axes rotate across the segment boundaries); and the residuals are dw
     minus a fit in the column space of S (numpy's lstsq of the residuals on
     S leaves them, to rounding, only in the untested directions)."""
-    S, dw, sigma, spec = flight(m=70001, sigma_rows=sigma_rows)  # 5 segments
+    S, dw, sigma, spec = flight(m=70001, sigma_rows=sigma_rows)  # 9 segments
     runs = {t: igea.eqerr(S, dw, sigma, spec, threads=t) for t in (1, 2, 3, 4)}
     for t in (3, 4):
         for k in ("residual", "rms", "chi2"):
