@@ -757,6 +757,11 @@ def _patches():
 _BARS = 15   # the terms drawn as bars; the rest summed (CLI_SVG_IMPACT_BARS)
 
 
+def _cut(name):
+    """A bar's label: at most 24 characters (21 and "...")."""
+    return name if len(name) <= 24 else name[:21] + "..."
+
+
 def _plot_budget(r, ax):
     """The miss budget (as igea impact --plot): the impact plane, crossrange
     right and downrange up, with the 1 and 3 sigma ellipses of the impact
@@ -804,7 +809,7 @@ def _plot_budget(r, ax):
     down = 100 * share * np.divide(miss[:, 0] ** 2, m2, out=np.zeros(n), where=m2 > 0)
     top = order[:_BARS]
     sh, dn = list(100 * share[top]), list(down[top])
-    labels = [str(r.names[j]) for j in top]
+    labels = [_cut(str(r.names[j])) for j in top]
     if n > _BARS:
         rest = order[_BARS:]
         sh.append(100 * share[rest].sum())

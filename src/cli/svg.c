@@ -1033,25 +1033,29 @@ static int by_share_desc(const void *pa, const void *pb)
 }
 
 /* A bar's label: the term's name (term_j without names), cut to 24
- * characters. */
+ * characters (21 and "..."). */
 static void bar_name(char *buf, size_t size, char *const *names, int j)
 {
     if (names)
         snprintf(buf, size, "%s", names[j]);
     else
         snprintf(buf, size, "term_%d", j);
-    size_t chars = 0, k = 0;
+    size_t chars = 0, cut = 0, k = 0;
     for (; buf[k]; k++)
-        if ((((unsigned char)buf[k]) & 0xC0) != 0x80 && ++chars > 24)
-            break;
-    if (buf[k] && k + 4 < size)
-        memcpy(buf + k - 1, "...", 4); /* 23 characters and the dots (k > 3) */
+        if ((((unsigned char)buf[k]) & 0xC0) != 0x80) { /* a character starts */
+            if (++chars == 22)
+                cut = k;
+            if (chars > 24)
+                break;
+        }
+    if (buf[k] && cut + 4 <= size)
+        memcpy(buf + cut, "...", 4);
 }
 
 /* The shares as horizontal bars, largest at the top, each split into its
  * downrange and crossrange parts (share_j m_d^2 / |m_j|^2 and the rest). */
 static void impact_bars(cli_svg *s, int n, char *const *names, const double *miss,
-                        const double *share, share_index *order, char (*label)[40])
+                        const double *share, share_index *order, char (*label)[112])
 {
     for (int j = 0; j < n; j++)
         order[j].share = share[j], order[j].j = j;
@@ -1126,7 +1130,7 @@ int cli_svg_impact(const char *path, int n, char *const *names, const double *mi
         free(order);
         return ec;
     }
-    char circle[64], label[CLI_SVG_IMPACT_BARS + 1][40];
+    char circle[64], label[CLI_SVG_IMPACT_BARS + 1][112];
     if (prob == 0.5)
         snprintf(circle, sizeof circle, "CEP %.4g m (50 %%)", radius);
     else

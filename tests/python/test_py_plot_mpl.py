@@ -314,6 +314,16 @@ def test_budget_ellipses_circle_and_bars(n):
     plt.close(plane.figure)
 
 
+def test_budget_long_names_are_cut():
+    r = budget()
+    long = "\u0394v_misalignment_\u00e0_la_pitch_axis"
+    r = type(r)([long, "b" * 24, "c"], r.miss, r.covariance, r.share, r.cep)
+    plane, bars = r.plot()
+    labels = {t.get_text() for t in bars.get_yticklabels()}
+    assert labels == {long[:21] + "...", "b" * 24, "c"}
+    plt.close(plane.figure)
+
+
 def test_budget_given_axes_and_without_matplotlib(monkeypatch):
     r = budget()
     fig, one = plt.subplots()

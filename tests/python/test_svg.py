@@ -774,7 +774,11 @@ def test_impact_plot_one_term_is_a_line(tmp_path):
     # one term: the covariance has rank 1, the ellipses are segments along
     # the miss, the circle still drawn
     np.savetxt(tmp_path / "E1.txt", E3[:, :1])
-    res, root = impact_json(tmp_path, ["impact", "--burnout", BURNOUT, "--errors", "E1.txt"])
+    name = "\u0394v_misalignment_\u00e0_la_pitch_axis"     # 34 characters, UTF-8
+    res, root = impact_json(tmp_path, ["impact", "--burnout", BURNOUT, "--errors", "E1.txt",
+                                       "--names", name])
+    texts = [t.text for t in by_class(root, "axes")[1].iter(NS + "text")]
+    assert name[:21] + "..." in texts                # cut to 24 characters
     plane = by_class(root, "axes")[0]
     miss = np.asarray(res["miss"])[0]
     x0, y0 = predict(plane, False, False, [0.0])[0], predict(plane, True, False, [0.0])[0]
