@@ -661,16 +661,201 @@ def _plot_montecarlo(r, ax):
     ax.legend()
 
 
+# The units of the nav picture, as igea nav --plot chooses them (src/cli/svg.c):
+# tick labels below 1e4 (and velocities above 1e-2 where mm/s exists).
+_ARCSEC = 206264.80624709636
+
+
+def _time_unit(tend):
+    """The factor from s and the axis label for a run ending at tend (s)."""
+    if tend >= 3 * 3600.0:
+        return 1 / 3600.0, "time (h)"
+    if tend >= 600:
+        return 1 / 60.0, "time (min)"
+    return 1.0, "time (s)"
+
+
+def _nav_unit(q, big):
+    """The factor from SI and the axis label of panel q (0 position, 1
+    velocity, 2 attitude) for errors up to big (SI)."""
+    if q == 0:
+        return (1.0, "position error (m)") if big < 1e4 else (1e-3, "position error (km)")
+    if q == 1:
+        return (1e3, "velocity error (mm/s)") if big < 1e-2 else (1.0, "velocity error (m/s)")
+    if big * _ARCSEC < 1e4:
+        return _ARCSEC, "attitude error phi (arcsec)"
+    return 180 / math.pi, "attitude error phi (deg)"
+
+
+_NAV_COLORS = ("C0", "C3", "C2")      # the driver's palette: blue, red, green
+_NAV_BAND = "shaded: \u00b11\u03c3 of the sensor noise"
+
+
+def _panels(ax, n):
+    """The n Axes to draw on: ax a sequence of n Axes, or one Axes (the
+    first panel only)."""
+    if hasattr(ax, "plot"):
+        return [ax] + [None] * (n - 1)
+    axes = list(np.ravel(np.asarray(ax, dtype=object)))
+    if len(axes) != n:
+        raise ValueError("plot: ax: one Axes or a sequence of %d, got %d" % (n, len(axes)))
+    return axes
+
+
+def _headroom(ax, frac):
+    """Room above the data for a legend row: the top frac of the panel."""
+    lo, hi = ax.get_ylim()
+    ax.set_ylim(lo, lo + (hi - lo) / (1 - frac))
+
+
+def _plot_nav(r, ax):
+    """The position, velocity and attitude errors against time, one panel
+    each (north east down, or launch-inertial x y z), with the +-1 sigma
+    band of each where the covariance was computed (as igea nav --plot)."""
+    li = type(r).__name__ == "NavErrorsLI"
+    names = ("x", "y", "z") if li else ("north", "east", "down")
+    what = ("along the trajectory, launch-inertial axes" if li
+            else "latitude %g deg, north east down" % r.lat)
+    t = np.asarray(r.time, float)
+    tf, tlabel = _time_unit(t[-1] if t.size else 0.0)
+    sd = None
+    if r.covariance is not None:
+        cov = np.asarray(r.covariance, float)
+        sd = np.sqrt(np.maximum(np.diagonal(cov, axis1=1, axis2=2)[:, :9], 0))
+    keys = ("position", "velocity", "attitude")
+    for q, a in enumerate(_panels(ax, 3)):
+        if a is None:
+            continue
+        e = np.asarray(getattr(r, keys[q]), float)
+        s = sd[:, 3 * q:3 * q + 3] if sd is not None else np.zeros_like(e)
+        f, label = _nav_unit(q, float(np.max(np.abs(e) + s)) if e.size else 0.0)
+        for k in range(3):
+            if sd is not None:
+                a.fill_between(t * tf, f * (e[:, k] - s[:, k]), f * (e[:, k] + s[:, k]),
+                               color=_NAV_COLORS[k], alpha=0.25, linewidth=0)
+            a.plot(t * tf, f * e[:, k], color=_NAV_COLORS[k], label=names[k])
+        if sd is not None:   # the legend's entry for the three bands
+            a.fill_between([], [], [], color="0.5", alpha=0.25, linewidth=0, label=_NAV_BAND)
+        a.set_xlabel(tlabel)
+        a.set_ylabel(label)
+        a.set_title(keys[q] + " error" + (", " + what if q == 0 else
+                                          ", launch-inertial axes" if li else ""))
+        _headroom(a, 0.2)
+        a.legend(loc="upper right", ncol=4, fontsize="small")
+
+
+def _nav_figure(plt):
+    return plt.subplots(3, 1, figsize=(7.2, 8.1), layout="constrained")[1]
+
+
+def _patches():
+    _pyplot()   # the ImportError that names the extra
+    import matplotlib.patches
+    return matplotlib.patches
+
+
+_BARS = 15   # the terms drawn as bars; the rest summed (CLI_SVG_IMPACT_BARS)
+
+
+def _cut(name):
+    """A bar's label: at most 24 characters (21 and "...")."""
+    return name if len(name) <= 24 else name[:21] + "..."
+
+
+def _plot_budget(r, ax):
+    """The miss budget (as igea impact --plot): the impact plane, crossrange
+    right and downrange up, with the 1 and 3 sigma ellipses of the impact
+    covariance and the CEP circle about the mean impact point; and each
+    term's share of the covariance's trace as a bar split into its
+    downrange and crossrange parts, largest first, the first 15 terms and
+    the rest summed."""
+    patches = _patches()
+    plane, bars = _panels(ax, 2)
+    C = np.asarray(r.covariance, float)
+    a, c, b = C[1, 1], C[0, 0], 0.5 * (C[0, 1] + C[1, 0])   # x crossrange, y downrange
+    h = math.hypot(0.5 * (a - c), b)
+    l1, l2 = 0.5 * (a + c) + h, max(0.5 * (a + c) - h, 0.0)
+    ang = 0.5 * math.atan2(2 * b, a - c)
+    hx = max(3 * math.sqrt(max(a, 0)), r.cep)
+    hy = max(3 * math.sqrt(max(c, 0)), r.cep)
+    if not (hx > 0 and hy > 0):
+        hx = hy = max(hx, hy, 1.0)
+    f = 1e-3 if max(hx, hy) >= 1e4 else 1.0
+    unit = "km" if f < 1 else "m"
+    if plane is not None:
+        for k, color in ((1, "C0"), (3, "C2")):
+            plane.add_patch(patches.Ellipse(
+                (0, 0), 2 * k * f * math.sqrt(l1), 2 * k * f * math.sqrt(l2),
+                angle=math.degrees(ang), fill=False, color=color, linewidth=1.5,
+                label="%d\u03c3 ellipse (%.1f %%)" % (k, 100 * (1 - math.exp(-k * k / 2)))))
+        plane.add_patch(patches.Circle((0, 0), f * r.cep, fill=False, color="C3", linewidth=1.5,
+                                       linestyle="--", label="CEP %.4g m (50 %%)" % r.cep))
+        plane.plot([0], [0], "k+")
+        # at least as wide as high (equal scales): the legend fits above the data
+        wx = max(1.05 * hx, 1.2 * hy)
+        plane.set_xlim(-f * wx, f * wx)
+        plane.set_ylim(-1.05 * f * hy, 1.35 * f * hy)
+        plane.set_aspect("equal", adjustable="box")
+        plane.set_xlabel("crossrange (%s, right of the flight)" % unit)
+        plane.set_ylabel("downrange (%s)" % unit)
+        plane.set_title("miss about the mean impact point")
+        plane.legend(loc="upper center", ncol=2, fontsize="small")
+    if bars is None:
+        return
+    share, miss = np.asarray(r.share, float), np.asarray(r.miss, float)
+    n = share.size
+    order = np.argsort(-share, kind="stable")
+    m2 = np.sum(miss ** 2, axis=1)
+    down = 100 * share * np.divide(miss[:, 0] ** 2, m2, out=np.zeros(n), where=m2 > 0)
+    top = order[:_BARS]
+    sh, dn = list(100 * share[top]), list(down[top])
+    labels = [_cut(str(r.names[j])) for j in top]
+    if n > _BARS:
+        rest = order[_BARS:]
+        sh.append(100 * share[rest].sum())
+        dn.append(down[rest].sum())
+        labels.append("the other %d terms" % rest.size)
+    sh, dn = np.array(sh), np.array(dn)
+    y = np.arange(sh.size)[::-1].astype(float)      # the largest at the top
+    bars.barh(y, dn, height=0.7, color="C0", label="downrange part")
+    bars.barh(y, sh - dn, left=dn, height=0.7, color="C3", label="crossrange part")
+    for yi, v in zip(y, sh):
+        bars.text(v, yi, " < 0.01 %" if 0 < v < 0.01 else " %.3g %%" % v, va="center",
+                  fontsize="small")
+    bars.set_yticks(y, labels)
+    bars.set_ylim(sh.size - 0.5 - max(sh.size, 8) - 1.0, sh.size - 0.5)
+    bars.set_xlim(0, 1.2 * max(float(sh.max()), 1e-300))
+    bars.set_xlabel("share of the trace of the impact covariance (%)")
+    bars.set_title("shares, largest first" + (": %d of %d terms and the rest" % (_BARS, n)
+                                               if n > _BARS else ""))
+    bars.legend(loc="lower right", ncol=2, fontsize="small")
+
+
+def _budget_figure(plt):
+    return plt.subplots(1, 2, figsize=(10.8, 5.0), layout="constrained",
+                        gridspec_kw={"width_ratios": [1, 1.2]})[1]
+
+
 PLOTS = {"EqerrResult": _plot_eqerr, "AllanResult": _plot_deviation,
-         "StabilityResult": _plot_deviation, "MonteCarloResult": _plot_montecarlo}
+         "StabilityResult": _plot_deviation, "MonteCarloResult": _plot_montecarlo,
+         "NavErrors": _plot_nav, "NavErrorsLI": _plot_nav, "ImpactBudget": _plot_budget}
+
+# ax=None: the axes of a new figure of several panels (one Axes otherwise)
+_FIGURES = {"NavErrors": _nav_figure, "NavErrorsLI": _nav_figure,
+            "ImpactBudget": _budget_figure}
 
 
 def _plot(self, ax=None):
     """Draw this result with matplotlib on ax (a new figure's axes when
     None) and return ax. Raises ImportError naming the extra without
-    matplotlib."""
-    draw = next(PLOTS[c.__name__] for c in type(self).__mro__ if c.__name__ in PLOTS)
+    matplotlib. A picture of several panels (NavErrors, NavErrorsLI: the
+    position, velocity and attitude errors; ImpactBudget: the impact plane
+    and the shares) takes a sequence of as many Axes, or one Axes for its
+    first panel alone; with ax None it returns the new figure's array of
+    Axes."""
+    name = next(c.__name__ for c in type(self).__mro__ if c.__name__ in PLOTS)
     if ax is None:   # (a subclass, NoiseEqerrResult, draws as its base)
-        ax = _pyplot().subplots()[1]
-    draw(self, ax)
+        make = _FIGURES.get(name)
+        ax = make(_pyplot()) if make else _pyplot().subplots()[1]
+    PLOTS[name](self, ax)
     return ax

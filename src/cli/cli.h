@@ -461,6 +461,7 @@ typedef struct {
     int log;           /* 1: log10 axis */
     const char *label; /* the quantity and its unit, "tau (s)" */
     int integer;       /* 1: ticks at integers only (indices) */
+    int noticks;       /* 1: no ticks, tick labels or grid (the caller labels it) */
 } cli_svg_axis;
 typedef struct {
     FILE *f;
@@ -469,11 +470,17 @@ typedef struct {
     double x0, x1, y0, y1;        /* its data range (log10 on a log axis) */
     int xlog, ylog;
     int xint, yint;               /* integer ticks */
+    int xnoticks, ynoticks;       /* no ticks */
+    int legrow;                   /* 1: the legend's entries side by side, in rows */
+    int legbottom;                /* 1: the legend in the bottom right corner */
     int nleg;                     /* legend entries of the current panel */
     const char *leg[CLI_SVG_LEGEND_MAX];
     int legcolor[CLI_SVG_LEGEND_MAX], legkind[CLI_SVG_LEGEND_MAX];
 } cli_svg;
-#define CLI_SVG_AXIS_EMPTY(log, label) {HUGE_VAL, -HUGE_VAL, log, label, 0}
+#define CLI_SVG_AXIS_EMPTY(log, label) {HUGE_VAL, -HUGE_VAL, log, label, 0, 0}
+/* After cli_svg_panel (which resets both to 0, the top right corner and
+ * one entry a line), s->legrow = 1 lays the panel's legend out in rows
+ * and s->legbottom = 1 puts it in the bottom right corner. */
 /* The document of width x height pixels with a title (may be NULL). */
 void cli_svg_begin(cli_svg *s, FILE *f, double width, double height, const char *title);
 /* The legend of the last panel, its group's and the closing tag. */
@@ -540,6 +547,24 @@ typedef struct {
 } cli_svg_rows;
 int cli_svg_rls_add(cli_svg_rows *r, const igea_rls *h, int m);
 int cli_svg_rls(const char *path, const cli_svg_rows *r, int m);
+/* nav: the position, velocity and attitude errors (rows of IGEA_INSERR_N
+ * values, x[k IGEA_INSERR_N + i]) at the n epochs t (t NULL: k dt), one
+ * panel each, north east down (li 0) or launch-inertial x y z (li 1), and
+ * with P (n blocks of IGEA_INSERR_N^2, or NULL) the +-1 sigma band of each;
+ * what (may be NULL) goes into the first panel's title. At most
+ * CLI_SVG_NAV_POINTS epochs are drawn (every k-th and the last). */
+#define CLI_SVG_NAV_POINTS 2000
+int cli_svg_nav(const char *path, const char *what, int li, int n, const double *t, double dt,
+                const double *x, const double *P);
+/* impact: the impact plane (crossrange right, downrange up) with the 1 and
+ * 3 sigma ellipses of cov (2 x 2, downrange first) and the circle of
+ * radius holding prob, and the n terms' shares (share[n], split into the
+ * downrange and crossrange parts of miss, rows of 2) as bars, largest
+ * first, the first CLI_SVG_IMPACT_BARS and the rest summed; names NULL:
+ * term_0, ... */
+#define CLI_SVG_IMPACT_BARS 15
+int cli_svg_impact(const char *path, int n, char *const *names, const double *miss,
+                   const double *share, const double *cov, double prob, double radius);
 
 /* ---- the burnout from a trajectory (burnout.c): igea eqerr and impact --- */
 /* --burnout-time T with --traj FILE, the launch point --lat --lon

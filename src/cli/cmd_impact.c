@@ -8,6 +8,7 @@
 
 typedef struct {
     const char *burnout, *errors, *names, *out, *terms, *spec;
+    const char *plot; /* --plot FILE.svg */
     double prob, opts[IGEA_IMPACT_OPT_LEN];
     int model, json, given_spec, given_prob;
     cli_burnout_args bo; /* --burnout-time, --traj and the launch point */
@@ -38,6 +39,7 @@ static const cli_opt options[] = {
      "state error of each independent term at 1 sigma", NULL},
     {"--names", CLI_OPT_STR, &A.names, NULL, "LIST", "names of the n terms (default term_0, ...)", NULL},
     {"--prob", CLI_OPT_NUM, &A.prob, "0.5", "P", "probability of the circle (0.5: the CEP)", &A.given_prob},
+    {"--plot", CLI_OPT_STR, &A.plot, NULL, "FILE.svg", "draw the budget: the impact plane with the 1 and 3\nsigma ellipses and the circle of --prob, and each\nterm's share as bars, into an SVG picture", NULL},
     CLI_JSON_OPT(&A.json),
     CLI_OUT_OPT(&A.out),
     CLI_END};
@@ -279,6 +281,9 @@ int cmd_impact(int argc, char **argv)
     if (a.given_prob && !a.errors && !a.terms)
         return cli_usage("impact: --prob is of the budget (--errors, or --terms with "
                          "--burnout-time)");
+    if (a.plot && !a.errors && !a.terms)
+        return cli_usage("impact: --plot draws the budget: it needs --errors, or --terms with "
+                         "--burnout-time");
     if (!(a.prob > 0 && a.prob < 1))
         return cli_usage("impact: --prob must lie in (0, 1)");
     if ((ec = cli_check_opts("impact", IGEA_MODULE_IMPACT, igea_impact_check_opts(a.opts))))
@@ -286,7 +291,9 @@ int cmd_impact(int argc, char **argv)
     im_run r;
     memset(&r, 0, sizeof r);
     ec = a.bo.given_time ? from_traj(&a, &r) : read_burnout(a.burnout, r.s);
-    if (!ec && !(ec = compute(&a, &r))) {
+    if (!ec && !(ec = compute(&a, &r)) && a.plot) /* the picture first: on its failure no report */
+        ec = cli_svg_impact(a.plot, r.n, r.names, r.miss, r.share, r.cov, a.prob, r.radius);
+    if (!ec) {
         cli_out o;
         if (!(ec = cli_out_open(&o, a.out))) {
             (a.json ? json_report : text_report)(o.f, &a, &r);

@@ -11,6 +11,7 @@
 
 typedef struct {
     const char *acc, *gyro, *out, *noise[6]; /* acc N B K, gyro N B K */
+    const char *plot;                        /* --plot FILE.svg */
     const char *telemetry, *q0, *pos0, *vel0, *att0;
     double lat, duration, opts[IGEA_INSERR_OPT_LEN], lon, height, azimuth;
     int epochs, json, system, gravity, every;
@@ -58,6 +59,7 @@ static const cli_opt options[] = {
     {"--vel0", CLI_OPT_STR, &A.vel0, NULL, "X,Y,Z", "initial velocity error in LI (m/s)", NULL},
     {"--att0", CLI_OPT_STR, &A.att0, NULL, "X,Y,Z", "initial attitude error in LI (rad)", NULL},
     {"--every", CLI_OPT_INT, &A.every, "1", "K", "output every K-th record (and the last)", &A.given_traj[6]},
+    {"--plot", CLI_OPT_STR, &A.plot, NULL, "FILE.svg", "draw the position, velocity and attitude errors\nagainst time (with the noise options their +-1\nsigma bands) into an SVG picture", NULL},
     CLI_JSON_OPT(&A.json),
     CLI_OUT_OPT(&A.out),
     CLI_END};
@@ -339,6 +341,11 @@ static int nav_trajectory(const nv_args *a)
     int ec = traj_inputs(a, &r);
     if (!ec)
         ec = traj_run(a, &r);
+    if (!ec && a->plot) { /* the picture first: on its failure no report */
+        char what[160];
+        snprintf(what, sizeof what, "along %s, launch-inertial axes", a->telemetry);
+        ec = cli_svg_nav(a->plot, what, 1, r.ne, r.ep, 0, r.x, r.P);
+    }
     if (!ec) {
         cli_out o;
         if (!(ec = cli_out_open(&o, a->out))) {
@@ -402,6 +409,11 @@ int cmd_nav(int argc, char **argv)
         ec = CLI_DATAERR;
     } else {
         ec = cli_status(st, "nav");
+    }
+    if (!ec && a.plot) { /* the picture first: on its failure no report */
+        char what[96];
+        snprintf(what, sizeof what, "latitude %g deg, north east down", a.lat);
+        ec = cli_svg_nav(a.plot, what, 0, a.epochs, NULL, a.duration / (a.epochs - 1), x, P);
     }
     if (!ec) {
         cli_out o;

@@ -75,39 +75,88 @@ void cli_svg_begin(cli_svg *s, FILE *f, double width, double height, const char 
     }
 }
 
+/* Characters of a label (UTF-8 lead bytes). */
+static double label_chars(const char *label)
+{
+    size_t c = 0;
+    for (const unsigned char *p = (const unsigned char *)label; *p; p++)
+        c += (*p & 0xC0) != 0x80;
+    return (double)c;
+}
+
+/* The width of legend entry k laid out in a row, its gap included: the
+ * symbol, the text at 7 px a character (a generous mean width at 12 px
+ * sans) and 14 px to the next entry. */
+static double row_entry_width(const char *label) { return 32 + 7.0 * label_chars(label) + 14; }
+
+/* The rows of a row legend of n labels no wider than maxw: for each entry
+ * its row and its offset in the row; returns the rows, *w the widest. */
+static int row_layout(const char *const *label, int n, double maxw, int *row, double *off,
+                      double *w)
+{
+    int rows = n > 0;
+    double x = 0;
+    *w = 0;
+    for (int k = 0; k < n; k++) {
+        double ew = row_entry_width(label[k]);
+        if (x > 0 && x + ew - 14 > maxw)
+            rows++, x = 0;
+        row[k] = rows - 1, off[k] = x;
+        x += ew;
+        *w = x - 14 > *w ? x - 14 : *w;
+    }
+    return rows;
+}
+
+/* The height of the row legend of these labels in a plot area pw wide. */
+static double row_legend_height(const char *const *label, int n, double pw)
+{
+    int row[CLI_SVG_LEGEND_MAX];
+    double off[CLI_SVG_LEGEND_MAX], w;
+    return 8 + 16.0 * row_layout(label, n < CLI_SVG_LEGEND_MAX ? n : CLI_SVG_LEGEND_MAX,
+                                 pw - 20, row, off, &w);
+}
+
 static void legend(cli_svg *s)
 {
     if (!s->panel || !s->nleg)
         return;
-    /* wide enough for the longest label: 7 px a character at 12 px sans
-     * (a generous mean width), at most the panel's width */
-    size_t chars = 0;
-    for (int k = 0; k < s->nleg; k++) {
-        size_t c = 0;
-        for (const unsigned char *p = (const unsigned char *)s->leg[k]; *p; p++)
-            c += (*p & 0xC0) != 0x80; /* UTF-8 lead bytes */
-        chars = c > chars ? c : chars;
+    double w, h, ex[CLI_SVG_LEGEND_MAX], ey[CLI_SVG_LEGEND_MAX];
+    if (s->legrow) {
+        int row[CLI_SVG_LEGEND_MAX];
+        double off[CLI_SVG_LEGEND_MAX];
+        int rows = row_layout(s->leg, s->nleg, s->pw - 20, row, off, &w);
+        w += 8, h = 8 + 16.0 * rows;
+        for (int k = 0; k < s->nleg; k++)
+            ex[k] = off[k], ey[k] = 14 + 16.0 * row[k];
+    } else {
+        /* wide enough for the longest label, at most the panel's width */
+        double chars = 0;
+        for (int k = 0; k < s->nleg; k++)
+            chars = label_chars(s->leg[k]) > chars ? label_chars(s->leg[k]) : chars;
+        w = 40 + 7.0 * chars, h = 8 + 16.0 * s->nleg;
+        w = w < 120 ? 120 : w > s->pw - 12 ? s->pw - 12 : w;
+        for (int k = 0; k < s->nleg; k++)
+            ex[k] = 0, ey[k] = 14 + 16.0 * k;
     }
-    double w = 40 + 7.0 * (double)chars, h = 8 + 16.0 * s->nleg;
-    w = w < 120 ? 120 : w > s->pw - 12 ? s->pw - 12 : w;
-    double x = s->px + s->pw - w - 6, y = s->py + 6;
+    double x = s->px + s->pw - w - 6, y = s->legbottom ? s->py + s->ph - h - 6 : s->py + 6;
     fprintf(s->f, "<g class=\"legend\">\n<rect x=\"%.2f\" y=\"%.2f\" width=\"%.2f\" "
                   "height=\"%.2f\" fill=\"white\" fill-opacity=\"0.85\" stroke=\"#999\"/>\n",
             x, y, w, h);
     for (int k = 0; k < s->nleg; k++) {
-        double ly = y + 14 + 16.0 * k;
+        double lx = x + ex[k], ly = y + ey[k];
         const char *c = col(s->legcolor[k]);
         if (s->legkind[k] == LEG_POINT)
-            fprintf(s->f, "<circle cx=\"%.2f\" cy=\"%.2f\" r=\"3\" fill=\"%s\"/>\n", x + 16, ly - 4, c);
+            fprintf(s->f, "<circle cx=\"%.2f\" cy=\"%.2f\" r=\"3\" fill=\"%s\"/>\n", lx + 16, ly - 4, c);
         else if (s->legkind[k] == LEG_BAND || s->legkind[k] == LEG_BAR)
             fprintf(s->f, "<rect x=\"%.2f\" y=\"%.2f\" width=\"20\" height=\"8\" fill=\"%s\" "
-                          "fill-opacity=\"%s\"/>\n", x + 6, ly - 8, c,
+                          "fill-opacity=\"%s\"/>\n", lx + 6, ly - 8, c,
                     s->legkind[k] == LEG_BAND ? "0.25" : "1");
         else
             fprintf(s->f, "<line x1=\"%.2f\" y1=\"%.2f\" x2=\"%.2f\" y2=\"%.2f\" stroke=\"%s\" "
-                          "stroke-width=\"1.5\"%s/>\n", x + 6, ly - 4, x + 26, ly - 4, c,
+                          "stroke-width=\"1.5\"%s/>\n", lx + 6, ly - 4, lx + 26, ly - 4, c,
                     s->legkind[k] == LEG_DASH ? " stroke-dasharray=\"5,3\"" : "");
-        cli_svg_text(s, x + 32, ly, "start", s->leg[k]);
+        cli_svg_text(s, lx + 32, ly, "start", s->leg[k]);
     }
     fputs("</g>\n", s->f);
     s->nleg = 0;
@@ -218,6 +267,8 @@ static void axis_ticks(cli_svg *s, int vertical)
 {
     double t[40], a = vertical ? s->y0 : s->x0, b = vertical ? s->y1 : s->x1;
     int log = vertical ? s->ylog : s->xlog;
+    if (vertical ? s->ynoticks : s->xnoticks)
+        return;
     int n = ticks(a, b, log, vertical ? s->yint : s->xint, t, 40);
     char buf[32];
     for (int k = 0; k < n; k++) {
@@ -250,6 +301,8 @@ void cli_svg_panel(cli_svg *s, double left, double top, double width, double hei
     s->px = left + 70, s->py = top + 28, s->pw = width - 90, s->ph = height - 72;
     s->xlog = x->log, s->ylog = y->log;
     s->xint = x->integer, s->yint = y->integer;
+    s->xnoticks = x->noticks, s->ynoticks = y->noticks;
+    s->legrow = s->legbottom = 0;
     plot_range(x, &s->x0, &s->x1);
     plot_range(y, &s->y0, &s->y1);
     fprintf(s->f, "<g class=\"axes\" id=\"axes%d\" data-xlog=\"%d\" data-ylog=\"%d\">\n"
@@ -743,5 +796,350 @@ int cli_svg_rls(const char *path, const cli_svg_rows *r, int m)
     }
     cli_svg_end(&s);
     free(band);
+    return cli_out_commit(&o);
+}
+
+/* ---- nav: the navigation errors against time ------------------------------ */
+
+#define NAV_PANEL_H 270.0
+#define ARCSEC_PER_RAD 206264.80624709636
+
+/* Widen a linear axis so that its data keep clear of gap pixels at the top
+ * (top 1) or the bottom of a plot area len pixels long: the legend's place
+ * (plot_range pads 4 % on each side: the old end lands gap / len from the
+ * edge). An empty or one-value range is left to plot_range. */
+static void make_room(cli_svg_axis *ax, double gap, double len, int top)
+{
+    if (!(ax->lo < ax->hi) || !(len > 0))
+        return;
+    double f = gap / len > 0.6 ? 0.6 : gap / len, d = (ax->hi - ax->lo) / (1.04 - 1.08 * f);
+    if (top)
+        ax->hi = ax->lo + d;
+    else
+        ax->lo = ax->hi - d;
+}
+
+/* The unit of time for a run ending at tend (s): its factor and label. */
+static double time_unit(double tend, const char **label)
+{
+    if (tend >= 3 * 3600.0)
+        return *label = "time (h)", 1 / 3600.0;
+    if (tend >= 600)
+        return *label = "time (min)", 1 / 60.0;
+    return *label = "time (s)", 1.0;
+}
+
+/* The unit of panel q (0 position, 1 velocity, 2 attitude) for errors up
+ * to big (SI): its factor from SI and the axis label, so that the tick
+ * labels stay below 1e4 and above 1e-2 where a smaller unit exists. */
+static double nav_unit(int q, double big, const char **label)
+{
+    if (q == 0)
+        return big < 1e4 ? (*label = "position error (m)", 1.0)
+                         : (*label = "position error (km)", 1e-3);
+    if (q == 1)
+        return big < 1e-2 ? (*label = "velocity error (mm/s)", 1e3)
+                          : (*label = "velocity error (m/s)", 1.0);
+    return big * ARCSEC_PER_RAD < 1e4 ? (*label = "attitude error phi (arcsec)", ARCSEC_PER_RAD)
+                                      : (*label = "attitude error phi (deg)",
+                                         180 / 3.14159265358979323846);
+}
+
+/* The epochs drawn: every k-th of n and the last, at most
+ * CLI_SVG_NAV_POINTS; returns how many, idx[] their indices. */
+static long nav_epochs(long n, long *idx)
+{
+    long k = (n + CLI_SVG_NAV_POINTS - 2) / (CLI_SVG_NAV_POINTS - 1), m = 0;
+    for (long i = 0; i < n; i += k)
+        idx[m++] = i;
+    if (n > 0 && idx[m - 1] != n - 1)
+        idx[m++] = n - 1;
+    return m;
+}
+
+/* Panel q of the nav picture: its three errors (and bands) from v, m
+ * epochs, rows of 9 (the response scaled) then 9 (sd scaled, or none). */
+static void nav_panel(cli_svg *s, double top, long m, const double *tt, double *v,
+                      int bands, int li, const char *unit_label, const char *title,
+                      const char *tlabel)
+{
+    static const char *const ned[3] = {"north", "east", "down"};
+    static const char *const xyz[3] = {"x", "y", "z"};
+    static const char *const band = "shaded: \xc2\xb1" "1\xcf\x83 of the sensor noise";
+    const char *const *axis = li ? xyz : ned;
+    double *y = v, *lo = v + 3 * m, *hi = v + 6 * m; /* y[a m + i] */
+    cli_svg_axis xa = CLI_SVG_AXIS_EMPTY(0, tlabel), ya = CLI_SVG_AXIS_EMPTY(0, unit_label);
+    cli_svg_range(&xa, tt, m, 1);
+    cli_svg_range(&ya, y, 3 * m, 1);
+    if (bands) {
+        cli_svg_range(&ya, lo, 3 * m, 1);
+        cli_svg_range(&ya, hi, 3 * m, 1);
+    }
+    const char *labels[4] = {axis[0], axis[1], axis[2], band};
+    make_room(&ya, row_legend_height(labels, bands ? 4 : 3, 720 - 90) + 12, NAV_PANEL_H - 72, 1);
+    cli_svg_panel(s, 0, top, 720, NAV_PANEL_H, &xa, &ya, title);
+    s->legrow = 1;
+    for (int a = 0; bands && a < 3; a++)
+        cli_svg_band(s, tt, 1, lo + a * m, hi + a * m, 1, m, a, NULL);
+    for (int a = 0; a < 3; a++)
+        cli_svg_line(s, tt, 1, y + a * m, 1, m, a, axis[a]);
+    if (bands)
+        add_legend(s, band, 7, LEG_BAND);
+}
+
+int cli_svg_nav(const char *path, const char *what, int li, int n, const double *t, double dt,
+                const double *x, const double *P)
+{
+    long *idx = malloc(sizeof(long) * (size_t)(n > 0 ? n : 1));
+    long m = idx ? nav_epochs(n, idx) : 0;
+    /* the epochs drawn (scaled), then per panel 9 m values: y, lo, hi */
+    double *v = idx ? malloc(sizeof(double) * 10 * (size_t)(m > 0 ? m : 1)) : NULL;
+    if (!v) {
+        free(idx);
+        return cli_oom("the errors to plot");
+    }
+    const char *tlabel;
+    double tend = n > 0 ? (t ? t[n - 1] : (n - 1) * dt) : 0, tf = time_unit(tend, &tlabel);
+    double *tt = v, *w = v + m;
+    for (long i = 0; i < m; i++)
+        tt[i] = (t ? t[idx[i]] : idx[i] * dt) * tf;
+    cli_out o;
+    int ec = cli_out_open(&o, path);
+    if (ec) {
+        free(v);
+        free(idx);
+        return ec;
+    }
+    static const char *const quantity[3] = {"position error", "velocity error",
+                                            "attitude error"};
+    char title[3][256];
+    for (int q = 0; q < 3; q++) { /* the frame in every title along a trajectory */
+        const char *tail = q == 0 && what ? what : li ? "launch-inertial axes" : NULL;
+        snprintf(title[q], sizeof title[q], "%s%s%s", quantity[q], tail ? ", " : "",
+                 tail ? tail : "");
+    }
+    cli_svg s;
+    cli_svg_begin(&s, o.f, 720, 3 * NAV_PANEL_H, "igea nav");
+    for (int q = 0; q < 3; q++) {
+        double big = 0;
+        for (long i = 0; i < m; i++)
+            for (int a = 0; a < 3; a++) {
+                size_t k = (size_t)idx[i], j = (size_t)(3 * q + a);
+                double e = x[k * IGEA_INSERR_N + j];
+                double sd = P ? sqrt(fmax(P[(k * IGEA_INSERR_N + j) * IGEA_INSERR_N + j], 0))
+                              : 0;
+                w[a * m + i] = e, w[(3 + a) * m + i] = e - sd, w[(6 + a) * m + i] = e + sd;
+                big = fmax(big, fabs(e) + sd);
+            }
+        const char *label;
+        double f = nav_unit(q, big, &label);
+        for (long i = 0; i < 9 * m; i++)
+            w[i] *= f;
+        nav_panel(&s, q * NAV_PANEL_H, m, tt, w, P != NULL, li, label,
+                  title[q], tlabel);
+    }
+    cli_svg_end(&s);
+    free(v);
+    free(idx);
+    return cli_out_commit(&o);
+}
+
+/* ---- impact: the impact plane and the budget's shares --------------------- */
+
+#define IMPACT_W 1080.0
+#define IMPACT_H 500.0
+#define PLANE_W 480.0
+#define ELLIPSE_POINTS 360
+
+/* The k-sigma ellipse of the covariance of eigenvalues l1 >= l2 >= 0, the
+ * first axis at angle a from x (radians), about the origin, f the unit's
+ * factor: a closed polygon through ELLIPSE_POINTS points from the end of
+ * the major axis. */
+static void impact_ellipse(cli_svg *s, double l1, double l2, double a, double k, double f,
+                           int color, const char *label)
+{
+    fprintf(s->f, "<polygon class=\"ellipse\" data-k=\"%g\" clip-path=\"url(#clip%d)\" "
+                  "fill=\"none\" stroke=\"%s\" stroke-width=\"1.5\" points=\"", k, s->panel,
+            col(color));
+    int first = 1;
+    for (int i = 0; i < ELLIPSE_POINTS; i++) {
+        double t = 2 * 3.14159265358979323846 * i / ELLIPSE_POINTS;
+        double u = k * sqrt(l1) * cos(t), w = k * sqrt(l2) * sin(t), px, py;
+        if (map_x(s, f * (u * cos(a) - w * sin(a)), &px) &&
+            map_y(s, f * (u * sin(a) + w * cos(a)), &py))
+            fprintf(s->f, "%s%.2f,%.2f", first ? "" : " ", px, py), first = 0;
+    }
+    fputs("\"/>\n", s->f);
+    add_legend(s, label, color, LEG_LINE);
+}
+
+/* The impact plane: x crossrange, y downrange (a map seen from above with
+ * the flight going up), equal scales, the ellipses and the circle. */
+static void impact_plane(cli_svg *s, const double *cov, double prob, double radius,
+                         const char *circle_label)
+{
+    /* k sigma holds 1 - exp(-k^2/2): 39.3 % and 98.9 % */
+    static const char *const e1 = "1\xcf\x83 ellipse (39.3 %)";
+    static const char *const e3 = "3\xcf\x83 ellipse (98.9 %)";
+    /* (x, y) = (crossrange, downrange): cov is downrange first */
+    double a = cov[3], c = cov[0], b = 0.5 * (cov[1] + cov[2]);
+    double h = hypot(0.5 * (a - c), b), l1 = 0.5 * (a + c) + h, l2 = fmax(0.5 * (a + c) - h, 0);
+    double ang = 0.5 * atan2(2 * b, a - c);
+    double hx = fmax(3 * sqrt(fmax(a, 0)), radius), hy = fmax(3 * sqrt(fmax(c, 0)), radius);
+    if (!(hx > 0 && hy > 0))
+        hx = hy = fmax(fmax(hx, hy), 1);
+    double f = fmax(hx, hy) >= 1e4 ? 1e-3 : 1; /* km beyond 10 km */
+    cli_svg_axis x = CLI_SVG_AXIS_EMPTY(0, f < 1 ? "crossrange (km, right of the flight)"
+                                                 : "crossrange (m, right of the flight)");
+    cli_svg_axis y = CLI_SVG_AXIS_EMPTY(0, f < 1 ? "downrange (km)" : "downrange (m)");
+    x.lo = -f * hx, x.hi = f * hx, y.lo = -f * hy, y.hi = f * hy;
+    double pw = PLANE_W - 90, ph = IMPACT_H - 72;
+    const char *labels[3] = {e1, e3, circle_label};
+    make_room(&y, row_legend_height(labels, 3, pw) + 12, ph, 1);
+    /* equal scales: widen the axis with fewer units a pixel (both get the
+     * same 4 % pad in plot_range) */
+    double ux = (x.hi - x.lo) / pw, uy = (y.hi - y.lo) / ph;
+    if (ux < uy)
+        x.lo = -0.5 * uy * pw, x.hi = 0.5 * uy * pw;
+    else {
+        double grow = 0.5 * (ux * ph - (y.hi - y.lo));
+        y.lo -= grow, y.hi += grow;
+    }
+    cli_svg_panel(s, 0, 0, PLANE_W, IMPACT_H, &x, &y, "miss about the mean impact point");
+    s->legrow = 1;
+    impact_ellipse(s, l1, l2, ang, 1, f, 0, e1);
+    impact_ellipse(s, l1, l2, ang, 3, f, 2, e3);
+    double cx, cy, rx;
+    if (map_x(s, 0, &cx) && map_y(s, 0, &cy) && map_x(s, f * radius, &rx))
+        fprintf(s->f, "<circle class=\"cep\" clip-path=\"url(#clip%d)\" cx=\"%.2f\" cy=\"%.2f\" "
+                      "r=\"%.2f\" fill=\"none\" stroke=\"%s\" stroke-width=\"1.5\" "
+                      "stroke-dasharray=\"5,3\"/>\n"
+                      "<path class=\"mean\" d=\"M%.2f %.2fH%.2fM%.2f %.2fV%.2f\" "
+                      "stroke=\"black\"/>\n",
+                s->panel, cx, cy, rx - cx, col(1), cx - 5, cy, cx + 5, cx, cy - 5, cy + 5);
+    add_legend(s, circle_label, 1, LEG_DASH);
+    (void)prob;
+}
+
+typedef struct {
+    double share;
+    int j;
+} share_index;
+
+static int by_share_desc(const void *pa, const void *pb)
+{
+    const share_index *a = pa, *b = pb;
+    return a->share > b->share ? -1 : a->share < b->share ? 1 : (a->j > b->j) - (a->j < b->j);
+}
+
+/* A bar's label: the term's name (term_j without names), cut to 24
+ * characters (21 and "..."). */
+static void bar_name(char *buf, size_t size, char *const *names, int j)
+{
+    if (names)
+        snprintf(buf, size, "%s", names[j]);
+    else
+        snprintf(buf, size, "term_%d", j);
+    size_t chars = 0, cut = 0, k = 0;
+    for (; buf[k]; k++)
+        if ((((unsigned char)buf[k]) & 0xC0) != 0x80) { /* a character starts */
+            if (++chars == 22)
+                cut = k;
+            if (chars > 24)
+                break;
+        }
+    if (buf[k] && cut + 4 <= size)
+        memcpy(buf + cut, "...", 4);
+}
+
+/* The shares as horizontal bars, largest at the top, each split into its
+ * downrange and crossrange parts (share_j m_d^2 / |m_j|^2 and the rest). */
+static void impact_bars(cli_svg *s, int n, char *const *names, const double *miss,
+                        const double *share, share_index *order, char (*label)[112])
+{
+    for (int j = 0; j < n; j++)
+        order[j].share = share[j], order[j].j = j;
+    qsort(order, (size_t)n, sizeof *order, by_share_desc);
+    int nb = n <= CLI_SVG_IMPACT_BARS ? n : CLI_SVG_IMPACT_BARS + 1;
+    double top = 0, chars = 0;
+    for (int i = 0; i < nb; i++) {
+        if (i < CLI_SVG_IMPACT_BARS)
+            bar_name(label[i], sizeof label[i], names, order[i].j);
+        else
+            snprintf(label[i], sizeof label[i], "the other %d terms", n - CLI_SVG_IMPACT_BARS);
+        chars = fmax(chars, label_chars(label[i]));
+    }
+    double sh[CLI_SVG_IMPACT_BARS + 1] = {0}, down[CLI_SVG_IMPACT_BARS + 1] = {0};
+    for (int k = 0; k < n; k++) {
+        int i = k < CLI_SVG_IMPACT_BARS ? k : CLI_SVG_IMPACT_BARS, j = order[k].j;
+        double md = miss[2 * j], mc = miss[2 * j + 1], m2 = md * md + mc * mc;
+        sh[i] += 100 * share[j];
+        down[i] += m2 > 0 ? 100 * share[j] * (md * md / m2) : 0;
+    }
+    for (int i = 0; i < nb; i++)
+        top = fmax(top, sh[i]);
+    double px = PLANE_W + 24 + 7 * chars, width = IMPACT_W - 20 - px + 90;
+    cli_svg_axis x = CLI_SVG_AXIS_EMPTY(0, "share of the trace of the impact covariance (%)");
+    cli_svg_axis y = CLI_SVG_AXIS_EMPTY(0, "");
+    x.lo = 0, x.hi = top > 0 ? top : 1;
+    /* at least 8 slots: a few bars stay slim, at the top */
+    y.lo = nb - 0.5 - (nb > 8 ? nb : 8), y.hi = nb - 0.5, y.noticks = 1;
+    make_room(&x, 60, width - 90, 1); /* the value beside the longest bar */
+    const char *leg[2] = {"downrange part", "crossrange part"};
+    make_room(&y, row_legend_height(leg, 2, width - 90) + 12, IMPACT_H - 72, 0);
+    char title[96];
+    if (n > CLI_SVG_IMPACT_BARS)
+        snprintf(title, sizeof title, "shares, largest first: %d of %d terms and the rest",
+                 CLI_SVG_IMPACT_BARS, n);
+    else
+        snprintf(title, sizeof title, "shares, largest first");
+    cli_svg_panel(s, px - 70, 0, width, IMPACT_H, &x, &y, title);
+    s->legrow = 1, s->legbottom = 1;
+    double bh = 0.7 * s->ph / (s->y1 - s->y0);
+    for (int i = 0; i < nb; i++) {
+        double c, x0, xd, xs;
+        if (!map_y(s, nb - 1 - i, &c) || !map_x(s, 0, &x0) || !map_x(s, down[i], &xd) ||
+            !map_x(s, sh[i], &xs))
+            continue;
+        fprintf(s->f, "<rect class=\"bar\" data-part=\"downrange\" x=\"%.2f\" y=\"%.2f\" "
+                      "width=\"%.2f\" height=\"%.2f\" fill=\"%s\"/>\n"
+                      "<rect class=\"bar\" data-part=\"crossrange\" x=\"%.2f\" y=\"%.2f\" "
+                      "width=\"%.2f\" height=\"%.2f\" fill=\"%s\"/>\n",
+                x0, c - bh / 2, xd - x0, bh, col(0), xd, c - bh / 2, xs - xd, bh, col(1));
+        char value[32];
+        if (sh[i] < 0.01 && sh[i] > 0)
+            snprintf(value, sizeof value, "< 0.01 %%");
+        else
+            snprintf(value, sizeof value, "%.3g %%", sh[i]);
+        cli_svg_text(s, s->px - 8, c + 4, "end", label[i]);
+        cli_svg_text(s, xs + 4, c + 4, "start", value);
+    }
+    add_legend(s, leg[0], 0, LEG_BAR);
+    add_legend(s, leg[1], 1, LEG_BAR);
+}
+
+int cli_svg_impact(const char *path, int n, char *const *names, const double *miss,
+                   const double *share, const double *cov, double prob, double radius)
+{
+    share_index *order = malloc(sizeof(share_index) * (size_t)(n > 0 ? n : 1));
+    if (!order)
+        return cli_oom("the shares to plot");
+    cli_out o;
+    int ec = cli_out_open(&o, path);
+    if (ec) {
+        free(order);
+        return ec;
+    }
+    char circle[64], label[CLI_SVG_IMPACT_BARS + 1][112];
+    if (prob == 0.5)
+        snprintf(circle, sizeof circle, "CEP %.4g m (50 %%)", radius);
+    else
+        snprintf(circle, sizeof circle, "circle of %g %%: %.4g m", 100 * prob, radius);
+    cli_svg s;
+    cli_svg_begin(&s, o.f, IMPACT_W, IMPACT_H, "igea impact: the miss budget");
+    impact_plane(&s, cov, prob, radius, circle);
+    impact_bars(&s, n, names, miss, share, order, label);
+    cli_svg_end(&s);
+    free(order);
     return cli_out_commit(&o);
 }

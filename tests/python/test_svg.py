@@ -226,6 +226,40 @@ def _plot_inputs(d):
     S = rng.standard_normal((60, 2))
     np.savetxt(d / "Sr.txt", S)
     np.savetxt(d / "dwr.txt", S @ [1.0, -2.0] + 0.1 * rng.standard_normal(60))
+    np.savetxt(d / "tel.txt", powered_record(), fmt="%.17g")
+    np.savetxt(d / "E.txt", E3)
+    (d / "fl").mkdir(exist_ok=True)
+    assert run(d, "simulate", "--seed", "7", "--save-traj", "--dir", "fl").returncode == 0
+
+
+def powered_record(duration=10.0, rate=20.0):
+    """Strapdown telemetry rows t dv dth of a vehicle climbing at 2 g along
+    body x and rolling at 0.05 rad/s (tests/python/test_inserr_li.py's)."""
+    n = int(duration * rate) + 1
+    tel = np.zeros((n, 7))
+    tel[:, 0] = np.arange(n) / rate
+    tel[1:, 1] = 2 * 9.80665 / rate
+    tel[1:, 4] = 0.05 / rate
+    tel[1:, 6] = 0.002 / rate
+    return tel
+
+
+# body x from LI y (up) tipped 20 deg toward LI x (scalar first)
+Q0 = "%.17g,0,0,%.17g" % (np.cos((np.pi / 2 - np.radians(20)) / 2),
+                          np.sin((np.pi / 2 - np.radians(20)) / 2))
+NAV = ["nav", "--lat", "45", "--acc-bias", "1e-4,0,0", "--gyro-drift", "0,4.85e-8,0",
+       "--gyro-arw", "2.9e-7,2.9e-7,2.9e-7", "--acc-vrw", "5e-5,5e-5,5e-5"]
+NAV_LI = ["nav", "--telemetry", "tel.txt", "--lat", "30", "--lon", "110", "--azimuth", "80",
+          "--q0", Q0, "--acc-bias", "1e-3,-2e-3,0", "--gyro-drift", "0,1e-5,0",
+          "--gyro-arw", "1e-5,1e-5,2e-5", "--acc-rrw", "1e-5,0,0"]
+BURNOUT = "5561563.2,980653.6,3260504.4,-495.5,3461.9,4875.4"
+# three 1-sigma burnout errors (x y z vx vy vz by term)
+E3 = np.array([[10, 0, 5], [0, 20, 3], [2, 4, 30], [0.01, 0, 0.002], [0, 0.02, 0.001],
+               [0.005, 0.001, 0.01]])
+IMPACT = ["impact", "--burnout", BURNOUT, "--model", "j2", "--errors", "E.txt", "--names",
+          "acc,gyro,align"]
+IMPACT_TERMS = ["impact", "--burnout-time", "120", "--traj", "fl/traj.txt", "--lat", "40.96",
+                "--lon", "100.29", "--height", "1000", "--azimuth", "30", "--terms", "default"]
 
 
 PLOTS = {
@@ -235,6 +269,10 @@ PLOTS = {
     "montecarlo": ["montecarlo", "--flights", "40"],
     "rls": ["rls", "--S", "Sr.txt", "--dw", "dwr.txt", "--sigma", "0.1", "--every", "0"],
     "fuse": ["redund", "fuse", "--data", "r.txt", "--fs", "100", "--sigma", "0.01"],
+    "nav": NAV,
+    "nav_li": NAV_LI,
+    "impact": IMPACT,
+    "impact_terms": IMPACT_TERMS,
 }
 
 
@@ -265,13 +303,20 @@ def test_renders_to_png(tmp_path, kind):
     ink = np.any(img < 0.9, axis=2)
     assert 0.01 < ink.mean() < 0.6          # drawn, and not a filled page
     for axes in by_class(root, "axes"):      # the legend box is inside its panel
-        (frame,) = [e for e in axes if e.get("class") == "frame"]
-        fx, fw = float(frame.get("x")), float(frame.get("width"))
-        for leg in (e for e in root.iter() if e.get("class") == "legend"):
-            box = leg.find(NS + "rect")
-            if abs(float(box.get("y")) - float(frame.get("y")) - 6) < 1e-6:
-                assert fx <= float(box.get("x")) and \
-                    float(box.get("x")) + float(box.get("width")) <= fx + fw
+        fx, fy, fw, fh = frame_box(axes)
+        for leg in (e for e in axes.iter() if e.get("class") == "legend"):
+            x, y, w, h = box_of(leg.find(NS + "rect"))
+            assert fx <= x and x + w <= fx + fw and fy <= y and y + h <= fy + fh
+
+
+def frame_box(axes):
+    """x, y, width, height of a panel's frame."""
+    (frame,) = [e for e in axes if e.get("class") == "frame"]
+    return box_of(frame)
+
+
+def box_of(rect):
+    return tuple(float(rect.get(k)) for k in ("x", "y", "width", "height"))
 
 
 def test_legend_is_wide_enough_for_its_labels(tmp_path):
@@ -461,3 +506,300 @@ def test_montecarlo_nothing_tested_is_an_empty_picture(tmp_path):
     assert len(by_class(root, "axes")) == 1 and len(by_class(root, "legend")) == 1
     assert by_class(root, "marker") == [] and by_class(root, "errbar") == []
     assert len(by_class(root, "hline")) == 1
+
+
+# ---- igea nav --plot and igea impact --plot --------------------------------
+
+# the factor from SI of each unit an axis label may name (1 rad = 180/pi deg)
+UNITS = {"m": 1.0, "km": 1e-3, "m/s": 1.0, "mm/s": 1e3, "arcsec": np.degrees(1.0) * 3600,
+         "deg": np.degrees(1.0), "h": 1 / 3600.0, "min": 1 / 60.0, "s": 1.0}
+
+
+def axis_labels(axes):
+    """The x and y axis labels of a panel: the text after the frame and
+    the text of the rotated group."""
+    kids = list(axes)
+    i = next(k for k, e in enumerate(kids) if e.get("class") == "frame")
+    assert kids[i + 1].tag == NS + "text" and kids[i + 2].tag == NS + "g"
+    return kids[i + 1].text, kids[i + 2].find(NS + "text").text
+
+
+def unit_of(label):
+    m = re.search(r"\(([^,()]+)(,[^()]*)?\)$", label)
+    return UNITS[m.group(1)]
+
+
+def in_axes(axes, cls):
+    return [e for e in axes.iter() if e.get("class") == cls]
+
+
+def inside(p, box):
+    x, y, w, h = box
+    return (p[:, 0] > x) & (p[:, 0] < x + w) & (p[:, 1] > y) & (p[:, 1] < y + h)
+
+
+def nav_json(tmp_path, args):
+    r = run(tmp_path, *args, "--json", "--plot", "n.svg")
+    assert r.returncode == 0, r.stderr
+    return json.loads(r.stdout), parse(tmp_path / "n.svg")
+
+
+def check_nav_panels(root, res, names):
+    """Each panel draws the result's errors (in the unit its label names)
+    against time, and with a covariance the band x -+ sqrt(P_ii); the
+    legend row covers no point of any curve or band."""
+    t = np.asarray(res["time"], float)
+    cov = np.asarray(res["covariance"]) if "covariance" in res else None
+    panels = by_class(root, "axes")
+    assert len(panels) == 3 and len(by_class(root, "legend")) == 3
+    for q, key in enumerate(("position", "velocity", "attitude")):
+        axes, e = panels[q], np.asarray(res[key], float)
+        xlab, ylab = axis_labels(axes)
+        assert key + " error" in ylab
+        tf, f = unit_of(xlab), unit_of(ylab)
+        series, bands = in_axes(axes, "series"), in_axes(axes, "band")
+        assert len(series) == 3 and len(bands) == (3 if cov is not None else 0)
+        for a in range(3):
+            pts = points(series[a])
+            assert len(pts) == len(t)
+            np.testing.assert_allclose(pts[:, 0], predict(axes, False, False, t * tf), atol=0.05)
+            np.testing.assert_allclose(pts[:, 1], predict(axes, True, False, f * e[:, a]),
+                                       atol=0.05)
+            if cov is not None:
+                sd = np.sqrt(cov[:, 3 * q + a, 3 * q + a])
+                poly = points(bands[a])
+                assert len(poly) == 2 * len(t)
+                np.testing.assert_allclose(poly[:len(t), 1],
+                                           predict(axes, True, False, f * (e[:, a] + sd)),
+                                           atol=0.05)
+                np.testing.assert_allclose(poly[len(t):, 1],
+                                           predict(axes, True, False, f * (e[:, a] - sd))[::-1],
+                                           atol=0.05)
+        legend = in_axes(axes, "legend")[0]
+        texts = [x.text for x in legend.iter(NS + "text")]
+        assert texts[:3] == names
+        assert ("shaded: \u00b11\u03c3 of the sensor noise" in texts) == (cov is not None)
+        box = box_of(legend.find(NS + "rect"))
+        for c in series + bands:
+            assert not inside(points(c), box).any()
+
+
+def test_nav_plot_static_with_noise(tmp_path):
+    res, root = nav_json(tmp_path, NAV)
+    check_nav_panels(root, res, ["north", "east", "down"])
+    assert axis_labels(by_class(root, "axes")[0])[0] == "time (h)"   # 6 h
+
+
+def test_nav_plot_trajectory(tmp_path):
+    np.savetxt(tmp_path / "tel.txt", powered_record(), fmt="%.17g")
+    res, root = nav_json(tmp_path, NAV_LI + ["--every", "4"])
+    check_nav_panels(root, res, ["x", "y", "z"])
+    texts = [t.text for t in root.iter(NS + "text")]
+    assert "position error, along tel.txt, launch-inertial axes" in texts and "time (s)" in texts
+    assert "attitude error, launch-inertial axes" in texts
+
+
+def test_nav_plot_units_follow_the_size(tmp_path):
+    # east and down drifts of 3e-6 rad/s without Earth rate: dN = -R eps (t -
+    # sin/ws) reaches 137 km and phi_D = -eps t 0.065 rad (13,400 arcsec): km
+    # and deg; no noise, no band
+    res, root = nav_json(tmp_path, ["nav", "--lat", "45", "--omega", "0", "--gyro-drift",
+                                    "0,3e-6,3e-6"])
+    assert "covariance" not in res
+    check_nav_panels(root, res, ["north", "east", "down"])
+    labels = [axis_labels(a)[1] for a in by_class(root, "axes")]
+    assert labels == ["position error (km)", "velocity error (m/s)", "attitude error phi (deg)"]
+    # noise alone over 10 min: mm/s and arcsec
+    res, root = nav_json(tmp_path, ["nav", "--lat", "45", "--duration", "600", "--gyro-arw",
+                                    "1e-7,1e-7,1e-7"])
+    check_nav_panels(root, res, ["north", "east", "down"])
+    labels = [axis_labels(a) for a in by_class(root, "axes")]
+    assert labels[0] == ("time (min)", "position error (m)")
+    assert labels[1][1] == "velocity error (mm/s)" and labels[2][1].endswith("(arcsec)")
+
+
+def test_nav_plot_shows_the_schuler_oscillation(tmp_path):
+    """A north accelerometer bias b at rest without Earth rate: dN = (b/g)
+    R (1 - cos ws t), dvN = (b/ws) sin ws t, phiE = -(b/g)(1 - cos ws t),
+    ws = sqrt(g/R) (docs/inserr.md, closed forms): the drawn curves are
+    these to the pixel's rounding, and the velocity's oscillation spans
+    most of its panel."""
+    b, g, R = 1e-4, 9.80665, 6371008.8
+    ws = np.sqrt(g / R)
+    r = run(tmp_path, "nav", "--lat", "45", "--omega", "0", "--acc-bias", "%g,0,0" % b,
+            "--plot", "s.svg")
+    assert r.returncode == 0, r.stderr
+    root = parse(tmp_path / "s.svg")
+    t = np.linspace(0, 21600, 361)
+    want = [(b / g) * R * (1 - np.cos(ws * t)), (b / ws) * np.sin(ws * t),
+            -(b / g) * (1 - np.cos(ws * t))]
+    for q, (axes, w) in enumerate(zip(by_class(root, "axes"), want)):
+        pts = points(in_axes(axes, "series")[0 if q < 2 else 1])   # north, north, east
+        f = unit_of(axis_labels(axes)[1])
+        np.testing.assert_allclose(pts[:, 1], predict(axes, True, False, f * w), atol=0.05)
+    vel = points(in_axes(by_class(root, "axes")[1], "series")[0])
+    _, _, _, fh = frame_box(by_class(root, "axes")[1])
+    assert np.ptp(vel[:, 1]) > 0.6 * fh
+    # four Schuler periods of 84.4 min in 6 h: the velocity changes sign 8 times
+    v = want[1][1:]
+    assert np.sum(np.diff(np.sign(v)) != 0) == 8
+
+
+def test_nav_plot_draws_at_most_2000_epochs(tmp_path):
+    tel = powered_record(duration=250.0, rate=20.0)       # 5001 records
+    np.savetxt(tmp_path / "tel.txt", tel, fmt="%.17g")
+    res, root = nav_json(tmp_path, NAV_LI[:15])      # no noise
+    t = np.asarray(res["time"])
+    assert t.size == 5001
+    axes = by_class(root, "axes")[0]
+    pts = points(in_axes(axes, "series")[0])
+    assert 1000 < len(pts) <= 2000
+    drawn_t = (pts[:, 0] - predict(axes, False, False, [0.0])[0]) / \
+        (predict(axes, False, False, [1.0])[0] - predict(axes, False, False, [0.0])[0])
+    k = np.searchsorted(t, drawn_t - 0.01)       # the epochs drawn, in order
+    np.testing.assert_allclose(t[k], drawn_t, atol=0.01)
+    assert k[0] == 0 and k[-1] == t.size - 1 and np.all(np.diff(k) > 0)
+    e = np.asarray(res["position"])[k, 0]
+    np.testing.assert_allclose(pts[:, 1], predict(axes, True, False,
+                                                  unit_of(axis_labels(axes)[1]) * e), atol=0.05)
+
+
+def impact_json(tmp_path, args):
+    r = run(tmp_path, *args, "--json", "--plot", "i.svg")
+    assert r.returncode == 0, r.stderr
+    return json.loads(r.stdout), parse(tmp_path / "i.svg")
+
+
+def check_impact(root, res):
+    """The plane: equal scales; every vertex of the k-sigma ellipse on
+    x^T C^-1 x = k^2 (C in crossrange, downrange order), its farthest and
+    nearest vertices k sqrt(lambda) along the eigenvectors of C (numpy);
+    the circle of radius cep about the mean. The bars: the shares from
+    the misses, largest first, the first 15 and the rest summed, split
+    into downrange and crossrange parts; names one a bar, not touching."""
+    plane, bars = by_class(root, "axes")
+    t = tick_map(plane, False, False)
+    sx = np.polyfit(t[:, 0], t[:, 1], 1)[0]
+    t = tick_map(plane, True, False)
+    sy = np.polyfit(t[:, 0], t[:, 1], 1)[0]
+    np.testing.assert_allclose(sy, -sx, rtol=1e-4)                  # equal scales
+    f = unit_of(axis_labels(plane)[1])
+    cd = np.asarray(res["covariance"], float)                        # downrange first
+    C = f * f * cd[::-1, ::-1]
+    lam, vec = np.linalg.eigh(C)
+    x0, y0 = predict(plane, False, False, [0.0])[0], predict(plane, True, False, [0.0])[0]
+    ellipses = in_axes(plane, "ellipse")
+    assert [float(e.get("data-k")) for e in ellipses] == [1.0, 3.0]
+    for e in ellipses:
+        k = float(e.get("data-k"))
+        p = points(e)
+        v = np.column_stack([(p[:, 0] - x0) / sx, (p[:, 1] - y0) / sy])
+        np.testing.assert_allclose(np.einsum("ij,jk,ik->i", v, np.linalg.inv(C), v), k * k,
+                                   rtol=2e-3)
+        d = np.hypot(v[:, 0], v[:, 1])
+        np.testing.assert_allclose([d.max(), d.min()], k * np.sqrt(lam[::-1]), rtol=1e-3)
+        assert abs(abs(v[d.argmax()] @ vec[:, 1]) / d.max() - 1) < 1e-6
+    (circle,) = in_axes(plane, "cep")
+    np.testing.assert_allclose([float(circle.get("cx")), float(circle.get("cy"))], [x0, y0],
+                               atol=0.01)
+    np.testing.assert_allclose(float(circle.get("r")) / sx, f * res["cep"], rtol=1e-4)
+    legend = in_axes(plane, "legend")[0]
+    box = box_of(legend.find(NS + "rect"))
+    for e in ellipses:
+        assert not inside(points(e), box).any()
+    a = np.linspace(0, 2 * np.pi, 721)
+    rr = float(circle.get("r"))
+    assert not inside(np.column_stack([x0 + rr * np.cos(a), y0 + rr * np.sin(a)]), box).any()
+    # the bars
+    miss = np.asarray(res["miss"], float)
+    m2 = np.sum(miss ** 2, axis=1)
+    share = 100 * m2 / m2.sum()
+    down = 100 * miss[:, 0] ** 2 / m2.sum()
+    order = np.argsort(-share, kind="stable")
+    n = len(share)
+    want = [(res["names"][j], share[j], down[j]) for j in order[:15]]
+    if n > 15:
+        rest = order[15:]
+        want.append(("the other %d terms" % (n - 15), share[rest].sum(),
+                     down[rest].sum()))
+    rects = in_axes(bars, "bar")
+    assert len(rects) == 2 * len(want)
+    x0 = predict(bars, False, False, [0.0])[0]
+    sb = predict(bars, False, False, [1.0])[0] - x0
+    fx, fy, fw, fh = frame_box(bars)
+    texts = [e for e in bars if e.tag == NS + "text"]
+    centres = []
+    for i, (name, sh, dn) in enumerate(want):
+        rd, rc = rects[2 * i], rects[2 * i + 1]
+        assert rd.get("data-part") == "downrange" and rc.get("data-part") == "crossrange"
+        xd, _, wd, h = box_of(rd)
+        xc, yc, wc, _ = box_of(rc)
+        np.testing.assert_allclose([xd, wd / sb, (xc + wc - x0) / sb], [x0, dn, sh],
+                                   atol=0.02 / sb + 1e-9 * sh)
+        centres.append(yc + h / 2)
+        (label,) = [e for e in texts if e.text == name]
+        assert float(label.get("x")) < fx and abs(float(label.get("y")) - 4 - yc - h / 2) < 0.02
+        assert fy < yc and yc + h < fy + fh
+    assert np.all(np.diff(centres) > 14)                    # names do not touch
+    box = box_of(in_axes(bars, "legend")[0].find(NS + "rect"))
+    for r_ in rects:                                        # the legend covers no bar
+        x, y, w, h = box_of(r_)
+        assert x + w <= box[0] or y + h <= box[1]
+    for e in texts:                                         # the values inside the panel
+        if e.text and e.text.endswith(" %"):
+            assert float(e.get("x")) + 6.5 * len(e.text) <= fx + fw
+
+
+def test_impact_plot_errors(tmp_path):
+    np.savetxt(tmp_path / "E.txt", E3)
+    res, root = impact_json(tmp_path, IMPACT)
+    assert res["names"] == ["acc", "gyro", "align"]
+    check_impact(root, res)
+    texts = [t.text for t in root.iter(NS + "text")]
+    assert "CEP %.4g m (50 %%)" % res["cep"] in texts
+
+
+def test_impact_plot_terms_top_15_and_the_rest(tmp_path):
+    (tmp_path / "fl").mkdir()
+    assert run(tmp_path, "simulate", "--seed", "7", "--save-traj", "--dir", "fl").returncode == 0
+    res, root = impact_json(tmp_path, IMPACT_TERMS + ["--prob", "0.9"])
+    assert len(res["names"]) == 21
+    check_impact(root, res)
+    texts = [t.text for t in root.iter(NS + "text")]
+    assert "circle of 90 %%: %.4g m" % res["cep"] in texts
+    assert "the other 6 terms" in texts
+
+
+def test_impact_plot_one_term_is_a_line(tmp_path):
+    # one term: the covariance has rank 1, the ellipses are segments along
+    # the miss, the circle still drawn
+    np.savetxt(tmp_path / "E1.txt", E3[:, :1])
+    name = "\u0394v_misalignment_\u00e0_la_pitch_axis"     # 34 characters, UTF-8
+    res, root = impact_json(tmp_path, ["impact", "--burnout", BURNOUT, "--errors", "E1.txt",
+                                       "--names", name])
+    texts = [t.text for t in by_class(root, "axes")[1].iter(NS + "text")]
+    assert name[:21] + "..." in texts                # cut to 24 characters
+    plane = by_class(root, "axes")[0]
+    miss = np.asarray(res["miss"])[0]
+    x0, y0 = predict(plane, False, False, [0.0])[0], predict(plane, True, False, [0.0])[0]
+    for e in in_axes(plane, "ellipse"):
+        p = points(e) - [x0, y0]
+        # on the line through the mean along (crossrange, -downrange) in pixels
+        np.testing.assert_allclose(p[:, 0] * miss[0] + p[:, 1] * miss[1], 0,
+                                   atol=0.02 * np.hypot(*miss))
+    assert len(in_axes(plane, "cep")) == 1 and len(in_axes(by_class(root, "axes")[1], "bar")) == 2
+
+
+def test_impact_plot_needs_a_budget(tmp_path):
+    r = run(tmp_path, "impact", "--burnout", BURNOUT, "--plot", "x.svg")
+    assert r.returncode == 64 and "--plot" in r.stderr and "--errors" in r.stderr
+    assert not (tmp_path / "x.svg").exists()
+
+
+@pytest.mark.parametrize("kind", ["nav", "impact"])
+def test_nav_impact_broken_plot_path(tmp_path, kind):
+    np.savetxt(tmp_path / "E.txt", E3)
+    args = NAV if kind == "nav" else IMPACT
+    r = run(tmp_path, *args, "--out", "rep.txt", "--plot", "no/p.svg")
+    assert r.returncode == 74, r.stderr
+    assert sorted(os.listdir(tmp_path)) == ["E.txt"]
