@@ -669,7 +669,8 @@ XC_INLINE int xcoef1(double *restrict x, const double *restrict k6, const double
 
 /* The chunk's rows [S D, dw] (epochs e0 .. e0 + n - 1 of the call) into
  * blk, row-major (row 3 q + a, ld j->xld: N + 1 rounded up to a multiple
- * of 4, the columns after dw zero): two columns at a time for a
+ * of 4; the columns after dw are zeroed once per call and stay 0): two
+ * columns at a time for a
  * column-major S, so that each pair of reads fills adjacent entries of a
  * row. */
 static void xfill(wjob *j, int layout, int e0, int n, const double *S, int lds,
@@ -678,9 +679,6 @@ static void xfill(wjob *j, int layout, int e0, int n, const double *S, int lds,
     const int N = j->h->N, ld = j->xld, R = 3 * n;
     const size_t i0 = 3 * (size_t)e0;
     double *T = j->blk;
-    for (int i = 0; i < R; i++)
-        for (int c = N + 1; c < ld; c++)
-            T[(size_t)i * ld + c] = 0.0;
     if (layout == IGEA_ROWMAJOR) {
         for (int i = 0; i < R; i++) {
             const double *x = S + (i0 + i) * lds;
@@ -890,6 +888,8 @@ int igea_whiten_accumulate_xcov(igea_whiten *w, int layout, int m, const double 
     double *jwhite = white ? j.xA + (size_t)n1 * n1 : NULL;
     memset(j.Al, 0, ((size_t)N * N + N + 1) * sizeof(double));
     memset(j.xA, 0, (size_t)n1 * n1 * sizeof(double));
+    for (int i = 0; i < 3 * E && ld > n1; i++) /* the padding: 0 through the recursion */
+        memset(j.blk + (size_t)i * ld + n1, 0, (size_t)(ld - n1) * sizeof(double));
     int bad = -1;
     st = xrun(&j, layout, m, S, lds, dw, cov, xcov, mask, spec_sigma, jwhite, &bad);
     for (int c = 0; c < N; c++) { /* A and b out of the sums of [S~ w~] */
