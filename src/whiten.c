@@ -607,8 +607,8 @@ int igea_whiten_accumulate(igea_whiten *w, int layout, int m, const double *S, i
  * holds three divisions and no square root (LDL' rather than L L'), so
  * that the processor overlaps it with the columns. Returns 0 or
  * IGEA_ESINGULAR: a pivot d_k <= IGEA_WHITEN_XCOV_RTOL x (K_ff,kk +
- * K_(f-1,f-1),kk), below IGEA_SIGMA_MIN^2 or not finite (the inputs are
- * checked finite beforehand). */
+ * K_(f-1,f-1),kk), below IGEA_SIGMA_MIN^2 or not finite (also when K_ee or
+ * the X_e before it holds NaN or Inf: xrun tells the two apart). */
 #if defined(__GNUC__)
 #define XC_INLINE static inline __attribute__((always_inline))
 #else
@@ -801,13 +801,16 @@ static int xrun(wjob *j, int layout, int m, const double *S, int lds, const doub
     for (int e0 = 0; e0 < M; e0 += j->E) {
         const int n = IGEA_MIN(j->E, M - e0), R = 3 * n;
         const size_t i0 = 3 * (size_t)e0;
-        if (!igea__finite_vec(6 * n, cov + 6 * (size_t)e0, 1) ||
-            !igea__finite_vec(9 * n, xcov + 9 * (size_t)e0, 1))
-            return IGEA_ENONFINITE;
         xfill(j, layout, e0, n, S, lds, dw, spec);
         double *T = j->blk;
         int st = xrec(j, n, T, cov + 6 * (size_t)e0, xcov + 9 * (size_t)e0, bad);
         if (st) {
+            /* a NaN or Inf in K_ee or the X_e before it makes the pivots of epoch e
+               fail (X of the call's last epoch is checked by the caller) */
+            const size_t e = (size_t)e0 + *bad;
+            if (!igea__finite_vec(6, cov + 6 * e, 1) ||
+                (e > 0 && !igea__finite_vec(9, xcov + 9 * (e - 1), 1)))
+                return IGEA_ENONFINITE;
             *bad += e0 + (int)j->epoch;
             return st;
         }
@@ -859,7 +862,7 @@ int igea_whiten_accumulate_xcov(igea_whiten *w, int layout, int m, const double 
     if (m == 0)
         return 0;
     const int N = w->N, n1 = N + 1, ld = (n1 + 3) / 4 * 4;
-    const int E = IGEA_MIN(IGEA_MAX(22, 65536 / (3 * ld)), m / 3);
+    const int E = IGEA_MIN(IGEA_MAX(22, 32768 / (3 * ld)), m / 3);
     const size_t nh = 3 * (size_t)ld; /* the carried predictions (0 in the padding) */
     size_t nd = nh + (size_t)N * N + (size_t)N + 1 + (size_t)3 * E * ld + 30 +
                 (size_t)n1 * n1 + (white ? (size_t)m * n1 : 0);
@@ -891,7 +894,10 @@ int igea_whiten_accumulate_xcov(igea_whiten *w, int layout, int m, const double 
     for (int i = 0; i < 3 * E && ld > n1; i++) /* the padding: 0 through the recursion */
         memset(j.blk + (size_t)i * ld + n1, 0, (size_t)(ld - n1) * sizeof(double));
     int bad = -1;
-    st = xrun(&j, layout, m, S, lds, dw, cov, xcov, mask, spec_sigma, jwhite, &bad);
+    /* the last epoch's X_e only reaches the next call's pivots: checked here */
+    st = igea__finite_vec(9, xcov + 9 * ((size_t)m / 3 - 1), 1) ? 0 : IGEA_ENONFINITE;
+    if (st == 0)
+        st = xrun(&j, layout, m, S, lds, dw, cov, xcov, mask, spec_sigma, jwhite, &bad);
     for (int c = 0; c < N; c++) { /* A and b out of the sums of [S~ w~] */
         memcpy(j.Al + (size_t)c * N + c, j.xA + (size_t)c * n1 + c,
                (size_t)(N - c) * sizeof(double));

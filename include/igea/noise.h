@@ -11,6 +11,10 @@
  *    next. Epochs carry a group label (a station, a flight phase); each
  *    group has its own normal equations, and a change of group restarts
  *    the AR filter (segments are independent).
+ *  - igea_whiten_accumulate_xcov: the same handle for the whole K of igea
+ *    dw, diagonal blocks and cross blocks between epochs (the rows
+ *    differenced between epochs, a streamed block-tridiagonal Cholesky
+ *    factor); igea_noise_eqerr_xcov the job on it.
  *  - igea_noise_ar_fit: phi per axis, with standard errors, by least
  *    squares of the residuals on their p lags.
  *  - igea_noise_vce: one scale c_g (sigma_w,g^2) per group by Helmert's
