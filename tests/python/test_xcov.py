@@ -234,9 +234,19 @@ def test_refusals(tmp_path):
         igea.eqerr(S, d.dw, None, cov=Kb, xcov=d.xcov, groups=np.zeros(d.n_epochs, int))
     with pytest.raises(ValueError, match="xcov"):
         igea.eqerr(S, d.dw, None, cov=Kb, xcov=d.xcov[:-1])
-    # robust and bias columns combine with the cross blocks
-    r = igea.eqerr(S, d.dw, None, cov=Kb, xcov=d.xcov, robust=True, group_bias=True)
+    # robust and bias columns combine with the cross blocks: a 30-sigma
+    # outlier planted in one row is rejected, with at most the later axes
+    # of its epoch (their innovations carry it through the axes'
+    # correlation, as with the diagonal blocks alone), no other epoch's
+    L = np.linalg.cholesky(full_k(d))
+    rng = np.random.default_rng(8)
+    dw = d.dw + L @ rng.standard_normal(L.shape[0])
+    i = 61
+    dw[i] += 30.0 * np.sqrt(Kb[i // 3, i % 3, i % 3])
+    r = igea.eqerr(S, dw, None, cov=Kb, xcov=d.xcov, robust=True, group_bias=True)
     assert r.ar_order == 0 and len(r.groups) == 1
+    rows = [o["row"] for o in r.rejected_rows]
+    assert rows[0] == i and set(rows) <= {i, i + 1} and r.rejected_rows[0]["w"] > 15
     np.savetxt(tmp_path / "S.txt", S, fmt="%.17g")
     np.savetxt(tmp_path / "dw.txt", d.dw, fmt="%.17g")
     np.savetxt(tmp_path / "K.txt", low6(Kb), fmt="%.17g")
