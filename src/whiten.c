@@ -586,7 +586,8 @@ int igea_whiten_accumulate(igea_whiten *w, int layout, int m, const double *S, i
 }
 
 /* ---- the whole K: diagonal blocks K_ee and cross blocks X_e ----------------
- * (docs/eqerr.md, "The whole K: cross blocks between epochs" [D]). The
+ * (docs/eqerr.md, "The whole K of igea dw: cross blocks between epochs"
+ * [D]). The
  * rows differenced between epochs, d_f = y_f - y_(f-1) (d_0 = y_0), have
  * the block-tridiagonal covariance C_ff = K_ff - X_(f-1) - X_(f-1)' +
  * K_(f-1,f-1), C_(f,f-1) = E_f = X_(f-1)' - K_(f-1,f-1); its block Cholesky
@@ -669,10 +670,9 @@ XC_INLINE int xcoef1(double *restrict x, const double *restrict k6, const double
 
 /* The chunk's rows [S D, dw] (epochs e0 .. e0 + n - 1 of the call) into
  * blk, row-major (row 3 q + a, ld j->xld: N + 1 rounded up to a multiple
- * of 4; the columns after dw are zeroed once per call and stay 0): two
- * columns at a time for a
- * column-major S, so that each pair of reads fills adjacent entries of a
- * row. */
+ * of 4; the columns after dw are zeroed once per call and stay 0); a
+ * column-major S two columns at a time, so that each pair of reads fills
+ * adjacent entries of a row. */
 static void xfill(wjob *j, int layout, int e0, int n, const double *S, int lds,
                   const double *dw, const double *spec)
 {
@@ -790,9 +790,9 @@ XC_CLONES static int xrec(wjob *j, int n, double *T, const double *cov, const do
 }
 
 /* Every epoch of the block through the streamed block Cholesky into the
- * job's sums (and white, m x (N + 1), ld m): per chunk the coefficients,
- * the rows transposed into blk, the recursion, then one dsyrk and one
- * dgemv as in igea_whiten_accumulate. */
+ * job's sums (and white, m x (N + 1), ld m): per chunk the rows transposed
+ * into blk, the recursion with the epochs' coefficients, then one dsyrk of
+ * [S~ w~] (A and b) and the compensated w'w. */
 static int xrun(wjob *j, int layout, int m, const double *S, int lds, const double *dw,
                 const double *cov, const double *xcov, const int *mask, const double *spec,
                 double *white, int *bad)
@@ -814,10 +814,9 @@ static int xrun(wjob *j, int layout, int m, const double *S, int lds, const doub
             *bad += e0 + (int)j->epoch;
             return st;
         }
-        if (white)
+        for (int c = 0; white && c < n1; c++)
             for (int i = 0; i < R; i++)
-                for (int c = 0; c < n1; c++)
-                    white[(size_t)c * m + i0 + i] = T[(size_t)i * ld + c];
+                white[(size_t)c * m + i0 + i] = T[(size_t)i * ld + c];
         int kept = R;
         for (int i = 0; mask && i < R; i++) /* a masked row adds nothing */
             if (mask[i0 + i]) {
