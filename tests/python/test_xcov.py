@@ -168,6 +168,12 @@ def test_raw_flight_verdict_equals_dense_gls(tmp_path):
     L = np.linalg.cholesky(K)
     rng = np.random.default_rng(5)
     dw = d.dw + L @ rng.standard_normal(L.shape[0]) + S @ (0.3 * rng.standard_normal(S.shape[1]))
+    # the whitened normal equations
+    A, b, wtw, _ = accumulate(S, dw, Kb, d.xcov, cuts=(5, 6, 20))
+    An, bn = S.T @ np.linalg.solve(K, S), S.T @ np.linalg.solve(K, dw)
+    np.testing.assert_allclose(A, An, rtol=1e-10, atol=1e-10 * np.abs(An).max())
+    np.testing.assert_allclose(b, bn, rtol=1e-10, atol=1e-10 * np.abs(bn).max())
+    assert wtw[0] == pytest.approx(dw @ np.linalg.solve(K, dw), rel=1e-10)
     lam, axh, az, T, passed = numpy_verdict(S, dw, K, 10.0, 0.01)
     r = igea.eqerr(S, dw, None, cov=Kb, xcov=d.xcov, correction=False)
     np.testing.assert_allclose(r.eigenvalues, lam, rtol=1e-10, atol=1e-10 * lam[0])
