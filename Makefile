@@ -205,12 +205,14 @@ demo: deps
 	@echo "== igea dw: telemetry minus tracking, with the stated launch point of dw_args.txt:"
 	@cat $(BUILD)/demoraw/dw_args.txt
 	@cd $(BUILD)/demoraw && $(CURDIR)/$(DRIVER) dw $$(cat dw_args.txt) --telemetry telemetry.txt \
-	  --tracking tracking.txt --out dw_raw.txt --sigma-out sigma_raw.txt --k-out K_raw.txt
+	  --tracking tracking.txt --out dw_raw.txt --sigma-out sigma_raw.txt --k-out K_raw.txt \
+	  --xcov-out X_raw.txt
 	@echo "== igea envfun: the same flight's trajectory and stated launch point (site_args.txt) -> S of the 74 terms"
 	@cd $(BUILD)/demoraw && $(CURDIR)/$(DRIVER) envfun $$(cat site_args.txt) --traj traj.txt --terms all --system platform \
 	  --out S_raw.txt
-	@echo "== igea eqerr: the verdict from the raw records (the block covariance K of dw --k-out)"
+	@echo "== igea eqerr: the verdict from the raw records (the whole K of dw --k-out --xcov-out)"
 	@cd $(BUILD)/demoraw && $(CURDIR)/$(DRIVER) eqerr --S S_raw.txt --dw dw_raw.txt --cov K_raw.txt \
+	  --xcov X_raw.txt \
 	  --spec spec.txt; st=$$?; echo "(exit status $$st: 0 accepted, 1 rejected)"; [ $$st -le 1 ]
 
 asan: deps

@@ -11,12 +11,15 @@ for each size (default 60,000 rows x 21 terms and 180,000 x 74):
   cov      igea_whiten_accumulate with a 3x3 covariance per epoch
   cov+ar1  the same with AR(1) per axis (Prais-Winsten)
   ar3+grp  row sigmas, AR(3) per axis, two groups
+  xcov     igea_whiten_accumulate_xcov: the 3x3 blocks K_ee with the cross
+           blocks X_e between epochs (the whole K of igea dw: a random walk
+           R_e = e r I on top of the 3x3 blocks, K_ee = C + R_e, X_e = R_e)
 Each is timed by the CPU time of this process (not wall time: on a loaded
 machine the preemptions inflate the wall clock, not the CPU time), the
 variants interleaved (one run of each per round, --rounds rounds) and the
 best round kept, so that a change of load hits all of them alike. Prints
-each time and its ratio to today's (per-row sigma and one sigma) and to the
-floor. Run with OPENBLAS_NUM_THREADS=1 (one thread for every variant).
+each time and its ratio to today's (per-row sigma and one sigma), to the
+floor and to the block-whitened accumulation (cov 3x3). Run with OPENBLAS_NUM_THREADS=1 (one thread for every variant).
 
     OPENBLAS_NUM_THREADS=1 python bench/bench_whiten.py [--sizes 60000x21,180000x74]
 """
@@ -42,6 +45,13 @@ def variants(m, N, blk):
     spec = np.ones(N)
     M = m // 3
     cov = np.tile([1.0, 0.3, 1.0, 0.2, 0.4, 1.0], (M, 1)).ravel()
+    walk = 1e-4 * np.arange(M)  # the random walk's variance R_e = e r I
+    kx = np.tile([1.0, 0.3, 1.0, 0.2, 0.4, 1.0], (M, 1))
+    kx[:, [0, 2, 5]] += walk[:, None]
+    kx = kx.ravel()
+    xcov = np.zeros((M, 9))
+    xcov[:, [0, 4, 8]] = walk[:, None]
+    xcov = xcov.ravel()
     group = (np.arange(M) >= M // 2).astype(np.int32)
     blocks = [(r0, min(r0 + blk, m)) for r0 in range(0, m, blk)]
     Sb = [np.asfortranarray(S[r0:r1]) for r0, r1 in blocks]
@@ -86,10 +96,26 @@ def variants(m, N, blk):
                           None, None)
         return run
 
+    def whitened_xcov():
+        h = ctypes.c_void_p()
+        _lib.call("b", "igea_whiten_create", N, 0, None, 1, ctypes.byref(h))
+        handles.append(h)
+        A = np.zeros((N, N)); b = np.zeros(N); w = np.zeros(2)
+
+        def run():
+            lib.igea_whiten_reset(h)
+            for (r0, r1), s in zip(blocks, Sb):
+                _lib.call("b", "igea_whiten_accumulate_xcov", h, 0, r1 - r0, _lib.dptr(s),
+                          r1 - r0, _lib.dptr(dw[r0:r1]), _lib.dptr(kx[2 * r0:2 * r1]),
+                          _lib.dptr(xcov[3 * r0:3 * r1]), None, _lib.dptr(spec), _lib.dptr(A),
+                          N, _lib.dptr(b), _lib.dptr(w), None, None)
+        return run
+
     out = [("floor (dsyrk)", floor), ("today (per-row sigma)", normal(False)),
            ("today, one sigma", normal(True)), ("cov 3x3", whitened(0, 1, True)),
            ("cov 3x3 + AR(1)", whitened(1, 1, True)),
-           ("sigma + AR(3), 2 groups", whitened(3, 2, False))]
+           ("sigma + AR(3), 2 groups", whitened(3, 2, False)),
+           ("cov 3x3 + xcov (whole K)", whitened_xcov())]
     return out, lambda: [lib.igea_whiten_free(h) for h in handles]
 
 
@@ -115,12 +141,14 @@ def main():
             for i, (_, f) in enumerate(vs):
                 best[i] = min(best[i], cpu(f))
         free()
-        t_floor, t_today, t_one = best[0], best[1], best[2]
+        t_floor, t_today, t_one, t_cov = best[0], best[1], best[2], best[3]
         print(f"whitened accumulation, {m} rows x {N} terms, blocks of {blk} rows, "
               f"best of {rounds} interleaved rounds (CPU time)")
-        print(f"{'':28s} {'seconds':>9s} {'/today':>8s} {'/today1':>8s} {'/floor':>8s}")
+        print(f"{'':28s} {'seconds':>9s} {'/today':>8s} {'/today1':>8s} {'/floor':>8s} "
+              f"{'/cov':>8s}")
         for (name, _), t in zip(vs, best):
-            print(f"{name:28s} {t:9.5f} {t / t_today:8.2f} {t / t_one:8.2f} {t / t_floor:8.2f}")
+            print(f"{name:28s} {t:9.5f} {t / t_today:8.2f} {t / t_one:8.2f} {t / t_floor:8.2f} "
+                  f"{t / t_cov:8.2f}")
 
 
 if __name__ == "__main__":

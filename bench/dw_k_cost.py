@@ -13,10 +13,19 @@ this prints, for the errors distributed with the full K:
     (igea_dw_compute's blocks) and with the full K: its mean tr(R K) and
     variance 2 tr((R K)^2), R the GLS residual maker of the judging K, and
     its size at 5 % and 1 % by Satterthwaite's c chi2(nu);
-  - the estimates' stated standard errors over their true ones.
+  - the estimates' stated standard errors over their true ones;
+  - a Monte Carlo of FLIGHTS flights (default 10,000; the terms drawn at
+    their specs, the tracking errors from the full K by numpy's Cholesky
+    factor) judged by igea.eqerr with the diagonal blocks (cov=, `eqerr
+    --cov`) and with the whole K (cov= and xcov=, `eqerr --cov --xcov`):
+    the rejection rate at 5 % of the residual chi-square (the whitened
+    residuals' sum of squares against chi2(m - rank)) and of eqerr's own
+    chi-square test (T of the tested components, the seed's correction
+    on), each with its 99 % Clopper-Pearson interval, and the mean
+    Helmert scale c of the tracking accuracy (1 when K is right).
 
     PYTHONPATH=python IGEA_LIBRARY=build/lib/libigea.so.1 \\
-        .venv/bin/python bench/dw_k_cost.py SIGMA_R SIGMA_V [CORR CROSS]
+        .venv/bin/python bench/dw_k_cost.py SIGMA_R SIGMA_V [CORR CROSS [FLIGHTS]]
 """
 import ctypes
 import sys
@@ -56,10 +65,38 @@ def judged(S, K, Kj):
     return m, v, size, ratio
 
 
+def clopper_pearson(k, n, conf=0.99):
+    a = 1 - conf
+    lo = stats.beta.ppf(a / 2, k, n - k + 1) if k > 0 else 0.0
+    hi = stats.beta.ppf(1 - a / 2, k + 1, n - k) if k < n else 1.0
+    return lo, hi
+
+
+def monte_carlo(S, d, K, flights, seed=20250612):
+    """Rejection counts of the residual chi-square and of eqerr's verdict
+    chi-square at 5 %, and the summed scale c, per route."""
+    Kb = blocks(d.cov)
+    L = np.linalg.cholesky(K)
+    m, N = S.shape
+    rng = np.random.default_rng(seed)
+    out = {w: [0, 0, 0.0] for w in ("diagonal blocks", "whole K")}
+    for _ in range(flights):
+        dw = S @ rng.standard_normal(N) + L @ rng.standard_normal(m)
+        for w in out:
+            r = igea.eqerr(S, dw, None, cov=Kb, xcov=d.xcov if w == "whole K" else None,
+                           alpha=0.05, verdict="chi2")
+            T = float(r.residual @ r.residual)
+            out[w][0] += T >= stats.chi2.ppf(0.95, m - r.rank)
+            out[w][1] += not r.passed
+            out[w][2] += r.groups[0]["scale"]
+    return out
+
+
 def main():
     sr, sv = float(sys.argv[1]), float(sys.argv[2])
     corr = float(sys.argv[3]) if len(sys.argv) > 3 else 0.5
     cross = float(sys.argv[4]) if len(sys.argv) > 4 else 0.2
+    flights = int(sys.argv[5]) if len(sys.argv) > 5 else 10000
     traj = igea.reference_trajectory(120.0, 50.0, system="platform")
     ep = np.arange(1.0, 121.0)
     n = ep.size
@@ -96,6 +133,17 @@ def main():
         print("  %-25s E T %.2f (dof %d), var %.2f; size at 5 %% %.4f, at 1 %% %.4f; stated/true "
               "sd %.4f..%.4f" % (name, m, S.shape[0] - S.shape[1], v, size[0], size[1],
                                  ratio.min(), ratio.max()))
+    if flights <= 0:
+        return
+    mc = monte_carlo(S, d, K, flights)
+    print("  Monte Carlo, %d flights (terms at their specs, tracking errors from the full K), "
+          "igea.eqerr; rejection rate at 5 %% [99 %% Clopper-Pearson]:" % flights)
+    for w, (kr, kv, cs) in mc.items():
+        lo, hi = clopper_pearson(kr, flights)
+        lov, hiv = clopper_pearson(kv, flights)
+        print("    %-16s residual chi-square %.4f [%.4f, %.4f]; eqerr's chi-square test %.4f "
+              "[%.4f, %.4f]; mean scale c %.4f" % (w, kr / flights, lo, hi, kv / flights, lov,
+                                                   hiv, cs / flights))
 
 
 if __name__ == "__main__":

@@ -9,7 +9,9 @@
  *
  * Variant 0: igea_normal_accumulate with per-row sigmas (today's); 1:
  * igea_whiten_accumulate with a 3 x 3 covariance per epoch; 2: the same
- * with AR(1) per axis; 3: row sigmas, AR(3) per axis, two groups.
+ * with AR(1) per axis; 3: row sigmas, AR(3) per axis, two groups; 4:
+ * igea_whiten_accumulate_xcov, the 3 x 3 blocks plus a random walk
+ * R_e = 1e-4 e I (K_ee = C + R_e, X_e = R_e).
  * Arguments: variant, rows m, terms N; the rows stream in blocks of a
  * tenth. The inclusive count of the accumulation (summed over its calls)
  * is the figure; the data generation is not in it. docs/validation.md,
@@ -30,10 +32,11 @@ int main(int argc, char **argv)
     int blk = m / 10 - (m / 10) % 3, M = m / 3, G = v == 3 ? 2 : 1, p = v == 2 ? 1 : v == 3 ? 3 : 0;
     double *S = malloc(sizeof(double) * (size_t)m * N), *dw = malloc(sizeof(double) * m);
     double *sig = malloc(sizeof(double) * m), *cov = malloc(sizeof(double) * 2 * (size_t)m);
+    double *xcov = calloc(3 * (size_t)m, sizeof(double));
     double *spec = malloc(sizeof(double) * N), *A = calloc((size_t)G * N * N, sizeof(double));
     double *b = calloc((size_t)G * N, sizeof(double)), wtw[4] = {0};
     int *grp = malloc(sizeof(int) * M);
-    if (!S || !dw || !sig || !cov || !spec || !A || !b || !grp)
+    if (!S || !dw || !sig || !cov || !xcov || !spec || !A || !b || !grp)
         return 2;
     unsigned s = 1;
     for (size_t i = 0; i < (size_t)m * N; i++) {
@@ -49,6 +52,11 @@ int main(int argc, char **argv)
         double c6[6] = {1, 0.3, 1, 0.2, 0.4, 1};
         memcpy(cov + 6 * (size_t)e, c6, sizeof c6);
         grp[e] = e >= M / 2;
+        if (v == 4) {
+            double r = 1e-4 * e;
+            cov[6 * (size_t)e] += r, cov[6 * (size_t)e + 2] += r, cov[6 * (size_t)e + 5] += r;
+            xcov[9 * (size_t)e] = xcov[9 * (size_t)e + 4] = xcov[9 * (size_t)e + 8] = r;
+        }
     }
     for (int j = 0; j < N; j++)
         spec[j] = 1.0;
@@ -62,7 +70,11 @@ int main(int argc, char **argv)
     int st = 0;
     for (int r0 = 0; r0 < m && st == 0; r0 += blk) {
         int nr = m - r0 < blk ? m - r0 : blk;
-        if (v == 0)
+        if (v == 4)
+            st = igea_whiten_accumulate_xcov(w, IGEA_COLMAJOR, nr, S + r0, m, dw + r0,
+                                             cov + 2 * r0, xcov + 3 * r0, NULL, spec, A, N, b,
+                                             wtw, NULL, NULL);
+        else if (v == 0)
             st = igea_normal_accumulate(IGEA_COLMAJOR, nr, N, S + r0, m, dw + r0, sig + r0, 1,
                                         spec, A, N, b, wtw);
         else
@@ -73,6 +85,6 @@ int main(int argc, char **argv)
     }
     printf("variant %d, %d x %d: status %d, A[1] %.17g\n", v, m, N, st, A[1]);
     igea_whiten_free(w);
-    free(S), free(dw), free(sig), free(cov), free(spec), free(A), free(b), free(grp);
+    free(S), free(dw), free(sig), free(cov), free(xcov), free(spec), free(A), free(b), free(grp);
     return st != 0;
 }

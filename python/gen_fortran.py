@@ -71,6 +71,7 @@ SCALARS = {
     # tests/python/test_fortran_scalars.py
     "igea_dw_compute": "bad", "igea_dw_compute_k": "bad", "igea_envfun_all_terms": "n",
     "igea_whiten_get_state": "epochs group", "igea_whiten_accumulate": "bad_epoch",
+    "igea_whiten_accumulate_xcov": "bad_epoch",
     "igea_regress_ls_ex": "sigma2", "igea_regress_ridge_ex": "k_used sigma2",
     "igea_regress_ls_full": "sigma2",
     "igea_regress_pce_ex": "nused sigma2", "igea_rls_get_q": "q",

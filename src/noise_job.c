@@ -30,7 +30,8 @@ static double opt_or(const double *o, int slot, double dflt)
 
 /* Stage 1: [S D | bias indicators | dw] whitened by cov or the sigmas. */
 static int stage1_rows(njob *j, const double *S, int lds, const double *dw,
-                       const double *sig, int inc, const double *cov, const double *spec)
+                       const double *sig, int inc, const double *cov, const double *xcov,
+                       const double *spec)
 {
     int m = j->m, N = j->N, Nt = j->Nt;
     double *Sx = igea__dalloc((size_t)m * Nt + (size_t)Nt * Nt + (size_t)Nt + 2);
@@ -48,8 +49,10 @@ static int stage1_rows(njob *j, const double *S, int lds, const double *dw,
         }
         double *A1 = Sx + (size_t)m * Nt, *b1 = A1 + (size_t)Nt * Nt, *w1 = b1 + Nt;
         memset(A1, 0, ((size_t)Nt * Nt + Nt + 2) * sizeof(double));
-        st = igea_whiten_accumulate(w, IGEA_COLMAJOR, m, Sx, m, dw, sig, inc, cov, NULL,
-                                    NULL, NULL, A1, Nt, b1, w1, j->U, NULL);
+        st = xcov ? igea_whiten_accumulate_xcov(w, IGEA_COLMAJOR, m, Sx, m, dw, cov, xcov,
+                                                NULL, NULL, A1, Nt, b1, w1, j->U, NULL)
+                  : igea_whiten_accumulate(w, IGEA_COLMAJOR, m, Sx, m, dw, sig, inc, cov, NULL,
+                                           NULL, NULL, A1, Nt, b1, w1, j->U, NULL);
     }
     igea_whiten_free(w);
     free(Sx);
@@ -454,10 +457,11 @@ static void job_resid(const njob *j, double *resid)
 
 static int noise_job(int m, int N, const double *S, int lds, const double *dw,
                      const double *track_sigma, int sigma_inc, const double *cov,
-                     const int *group, int ngroups, const double *spec_sigma,
-                     const double *phi, const double *opts, double *lambda, double *P,
-                     int ldp, double *equiv_err, double *z, int *reject, double *info,
-                     double *ar_out, double *group_out, double *row_w, double *resid);
+                     const double *xcov, const int *group, int ngroups,
+                     const double *spec_sigma, const double *phi, const double *opts,
+                     double *lambda, double *P, int ldp, double *equiv_err, double *z,
+                     int *reject, double *info, double *ar_out, double *group_out,
+                     double *row_w, double *resid);
 
 int igea_noise_eqerr(int m, int N, const double *S, int lds, const double *dw,
                      const double *track_sigma, int sigma_inc, const double *cov,
@@ -466,8 +470,8 @@ int igea_noise_eqerr(int m, int N, const double *S, int lds, const double *dw,
                      int ldp, double *equiv_err, double *z, int *reject, double *info,
                      double *ar_out, double *group_out, double *row_w)
 {
-    return noise_job(m, N, S, lds, dw, track_sigma, sigma_inc, cov, group, ngroups, spec_sigma,
-                     phi, opts, lambda, P, ldp, equiv_err, z, reject, info, ar_out, group_out,
+    return noise_job(m, N, S, lds, dw, track_sigma, sigma_inc, cov, NULL, group, ngroups,
+                     spec_sigma, phi, opts, lambda, P, ldp, equiv_err, z, reject, info, ar_out, group_out,
                      row_w, NULL);
 }
 
@@ -480,17 +484,18 @@ int igea_noise_eqerr_resid(int m, int N, const double *S, int lds, const double 
 {
     if (!resid)
         return -24;
-    return noise_job(m, N, S, lds, dw, track_sigma, sigma_inc, cov, group, ngroups, spec_sigma,
-                     phi, opts, lambda, P, ldp, equiv_err, z, reject, info, ar_out, group_out,
+    return noise_job(m, N, S, lds, dw, track_sigma, sigma_inc, cov, NULL, group, ngroups,
+                     spec_sigma, phi, opts, lambda, P, ldp, equiv_err, z, reject, info, ar_out, group_out,
                      row_w, resid);
 }
 
 static int noise_job(int m, int N, const double *S, int lds, const double *dw,
                      const double *track_sigma, int sigma_inc, const double *cov,
-                     const int *group, int ngroups, const double *spec_sigma,
-                     const double *phi, const double *opts, double *lambda, double *P,
-                     int ldp, double *equiv_err, double *z, int *reject, double *info,
-                     double *ar_out, double *group_out, double *row_w, double *resid)
+                     const double *xcov, const int *group, int ngroups,
+                     const double *spec_sigma, const double *phi, const double *opts,
+                     double *lambda, double *P, int ldp, double *equiv_err, double *z,
+                     int *reject, double *info, double *ar_out, double *group_out,
+                     double *row_w, double *resid)
 {
     double dflt[IGEA_EQERR_OPT_LEN];
     int st = job_args(m, N, S, lds, dw, track_sigma, sigma_inc, cov, group, ngroups, opts);
@@ -539,7 +544,7 @@ static int noise_job(int m, int N, const double *S, int lds, const double *dw,
         return st;
     double *Ar = igea__dalloc((size_t)N * N + (size_t)N + (size_t)ngroups * ngroups);
     int iters = 0, conv = 0;
-    st = Ar ? stage1_rows(&j, S, lds, dw, track_sigma, sigma_inc, cov, spec_sigma)
+    st = Ar ? stage1_rows(&j, S, lds, dw, track_sigma, sigma_inc, cov, xcov, spec_sigma)
             : IGEA_ENOMEM;
     if (st == 0)
         st = outer(&j, opts, &iters, &conv);
@@ -562,4 +567,29 @@ static int noise_job(int m, int N, const double *S, int lds, const double *dw,
     free(Ar);
     job_free(&j);
     return st;
+}
+
+int igea_noise_eqerr_xcov(int m, int N, const double *S, int lds, const double *dw,
+                          const double *cov, const double *xcov, const double *spec_sigma,
+                          const double *opts, double *lambda, double *P, int ldp,
+                          double *equiv_err, double *z, int *reject, double *info,
+                          double *group_out, double *row_w, double *resid)
+{
+    if (m < 3 || m % 3) return -1;
+    if (N < 1) return -2;
+    if (!S) return -3;
+    if (lds < m) return -4;
+    if (!dw) return -5;
+    if (!cov) return -6;
+    if (!xcov) return -7;
+    if (opts && (igea_eqerr_check_opts(opts) || opts[IGEA_EQERR_OPT_AR] != 0)) return -9;
+    if (!lambda) return -10;
+    if (!P) return -11;
+    if (ldp < N) return -12;
+    if (!equiv_err) return -13;
+    if (!z) return -14;
+    if (!reject) return -15;
+    if (!info) return -16;
+    return noise_job(m, N, S, lds, dw, NULL, 1, cov, xcov, NULL, 1, spec_sigma, NULL, opts,
+                     lambda, P, ldp, equiv_err, z, reject, info, NULL, group_out, row_w, resid);
 }

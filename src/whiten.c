@@ -19,6 +19,12 @@ struct igea_whiten {
     int group, k; /* current segment's group (-1: none) and its epochs */
     double *hist; /* 3 axes x (N + 1) columns x p: hist[(a (N + 1) + c) p + j] = stage 1 of
                      the segment's epoch k - p + j (oldest first), column c, axis a */
+    /* igea_whiten_accumulate_xcov's state (the whole K with its cross blocks) */
+    int xmode; /* since the reset: 0 no epoch, 1 igea_whiten_accumulate's, 2 the xcov one's */
+    double xs[21]; /* the last epoch's K_ee (lower, by rows), X_e (row-major) and
+                      M = E C~^-1 E' of the next (xcoef1) */
+    double *xprev; /* 3 x (N + 1 rounded up to 4): the predictions p of the next epoch's
+                      rows (row-major; 0 in the padding) */
 };
 
 /* Yule-Walker of a unit-variance AR(p): rho_1..rho_p, the Cholesky factor of
@@ -108,7 +114,10 @@ int igea_whiten_create(int N, int p, const double *phi, int ngroups, igea_whiten
         }
     }
     h->hist = igea__dalloc((size_t)3 * (p > 0 ? p : 1) * ((size_t)N + 1));
-    if (!h->hist) {
+    h->xprev = igea__dalloc((size_t)3 * (((size_t)N + 4) / 4 * 4));
+    if (!h->hist || !h->xprev) {
+        free(h->hist);
+        free(h->xprev);
         free(h);
         return IGEA_ENOMEM;
     }
@@ -122,6 +131,7 @@ void igea_whiten_free(igea_whiten *w)
     if (!w)
         return;
     free(w->hist);
+    free(w->xprev);
     free(w);
 }
 
@@ -142,6 +152,7 @@ int igea_whiten_reset(igea_whiten *w)
     w->epoch = 0;
     w->group = -1;
     w->k = 0;
+    w->xmode = 0;
     return 0;
 }
 
@@ -160,6 +171,11 @@ typedef struct {
     double *blk; /* 3 E x (N + 1) */
     double *co;  /* 6 E: stage-1 coefficients r0 r1 r2 l10 l20 l21 of each epoch */
     double *u;   /* 3 (p + E): stage 1 of one column, each axis after its p carried values */
+    /* igea_whiten_accumulate_xcov: blk holds the chunk's rows row-major (3 n x (N + 1)),
+       co 15 coefficients per epoch, hist the carried rows (6 (N + 1)) */
+    double xs[21];              /* the previous epoch's K_ee, X_e and M (xcoef1) */
+    int xld;                    /* the row length of blk: N + 1 rounded up to 4 */
+    double *xA;                 /* (N + 1) x (N + 1): the sums of [S~ w~]' [S~ w~] */
 } wjob;
 
 /* Stage-1 coefficients of the chunk's n epochs (from e0 of the call), in
@@ -431,7 +447,7 @@ static int whiten_args(const igea_whiten *w, int layout, int m, const double *S,
                        const int *group, const int *mask, const double *A, int lda,
                        const double *b, const double *wtw)
 {
-    if (!w) return -1;
+    if (!w || w->xmode == 2) return -1;
     if (layout != IGEA_COLMAJOR && layout != IGEA_ROWMAJOR) return -2;
     if (m < 0 || m % 3) return -3;
     if (!S && m > 0) return -4;
@@ -528,7 +544,10 @@ int igea_whiten_accumulate(igea_whiten *w, int layout, int m, const double *S, i
         free(ww);
         return IGEA_ENOMEM;
     }
-    wjob j = {w, w->epoch, w->group, w->k, work, NULL, NULL, NULL, ww, E, NULL, NULL, NULL};
+    wjob j;
+    memset(&j, 0, sizeof j);
+    j.h = w, j.epoch = w->epoch, j.group = w->group, j.k = w->k, j.hist = work, j.ww = ww;
+    j.E = E;
     memcpy(j.hist, w->hist, nh * sizeof(double));
     j.Al = j.hist + nh;
     j.bl = j.Al + (size_t)G * N * N;
@@ -558,6 +577,351 @@ int igea_whiten_accumulate(igea_whiten *w, int layout, int m, const double *S, i
         w->epoch = j.epoch;
         w->group = j.group;
         w->k = j.k;
+        w->xmode = 1;
+    } else if (st == IGEA_ESINGULAR && bad_epoch)
+        *bad_epoch = bad;
+    free(work);
+    free(ww);
+    return st;
+}
+
+/* ---- the whole K: diagonal blocks K_ee and cross blocks X_e ----------------
+ * (docs/eqerr.md, "The whole K of igea dw: cross blocks between epochs"
+ * [D]). The
+ * rows differenced between epochs, d_f = y_f - y_(f-1) (d_0 = y_0), have
+ * the block-tridiagonal covariance C_ff = K_ff - X_(f-1) - X_(f-1)' +
+ * K_(f-1,f-1), C_(f,f-1) = E_f = X_(f-1)' - K_(f-1,f-1); its block Cholesky
+ * factor: B_f = E_f L_(f-1)^-T, L_f L_f' = C_ff - B_f B_f'; the whitened
+ * rows w_f = L_f^-1 (d_f - B_f w_(f-1)). Streamed as w_f = L_f^-1 r_f with
+ * r_f = y_f - p_f and the prediction p_(f+1) = y_f + H_(f+1) r_f, H_(f+1) =
+ * B_(f+1) L_f^-1 (since B_f w_(f-1) = H_f r_(f-1)): one carried 3-vector
+ * per column. */
+
+/* One epoch's 15 coefficients into co, from its K_ee (k6) and X_e (x9)
+ * and the state x carried from the previous epoch (21 values: its K lower
+ * by rows, its X row-major, and M_f = E_f C~_(f-1)^-1 E_f' lower by rows;
+ * all 0 before the flight's first epoch), then replaced: with C~_f =
+ * L_f L_f' = U D U' (U unit lower triangular, D = diag(d_k)),
+ *   co[0..2] = 1 / sqrt(d_k), co[3..5] = u10 u20 u21 (w = D^-1/2 U^-1 r),
+ *   co[6..14] = H_(f+1) = E_(f+1) C~_f^-1 by rows, E_(f+1) = X_f' - K_ff,
+ * and M_(f+1) = H_(f+1) E_(f+1)'. The chain from one epoch to the next
+ * holds three divisions and no square root (LDL' rather than L L'), so
+ * that the processor overlaps it with the columns. Returns 0 or
+ * IGEA_ESINGULAR: a pivot d_k <= IGEA_WHITEN_XCOV_RTOL x (K_ff,kk +
+ * K_(f-1,f-1),kk), below IGEA_SIGMA_MIN^2 or not finite (also when K_ee or
+ * the X_e before it holds NaN or Inf: xrun tells the two apart). */
+#if defined(__GNUC__)
+#define XC_INLINE static inline __attribute__((always_inline))
+#else
+#define XC_INLINE static inline
+#endif
+XC_INLINE int xcoef1(double *restrict x, const double *restrict k6, const double *restrict x9,
+                     double *restrict co)
+{
+    const double K0 = k6[0], K1 = k6[1], K2 = k6[2], K3 = k6[3], K4 = k6[4], K5 = k6[5];
+    const double X0 = x9[0], X1 = x9[1], X2 = x9[2], X3 = x9[3], X4 = x9[4], X5 = x9[5],
+                 X6 = x9[6], X7 = x9[7], X8 = x9[8];
+    /* C~_f = K_ff - X_(f-1) - X_(f-1)' + K_(f-1,f-1) - M_f */
+    const double c00 = K0 + ((x[0] - 2.0 * x[6]) - x[15]);
+    const double c10 = K1 + ((x[1] - x[9] - x[7]) - x[16]);
+    const double c11 = K2 + ((x[2] - 2.0 * x[10]) - x[17]);
+    const double c20 = K3 + ((x[3] - x[12] - x[8]) - x[18]);
+    const double c21 = K4 + ((x[4] - x[13] - x[11]) - x[19]);
+    const double c22 = K5 + ((x[5] - 2.0 * x[14]) - x[20]);
+    const double f0 = K0 + x[0], f1 = K2 + x[2], f2 = K5 + x[5]; /* the pivots' magnitudes */
+    /* U D U' */
+    const double d0 = c00, i0 = 1.0 / d0, u10 = c10 * i0, u20 = c20 * i0;
+    const double d1 = c11 - u10 * c10, i1 = 1.0 / d1, t21 = c21 - u20 * c10, u21 = t21 * i1;
+    const double d2 = (c22 - u20 * c20) - u21 * t21, i2 = 1.0 / d2;
+    if (!(d0 > IGEA_WHITEN_XCOV_RTOL * f0 && d1 > IGEA_WHITEN_XCOV_RTOL * f1 &&
+          d2 > IGEA_WHITEN_XCOV_RTOL * f2))
+        return IGEA_ESINGULAR;
+    if (!(d0 >= IGEA_SIGMA_MIN * IGEA_SIGMA_MIN && d1 >= IGEA_SIGMA_MIN * IGEA_SIGMA_MIN &&
+          d2 >= IGEA_SIGMA_MIN * IGEA_SIGMA_MIN && d0 <= DBL_MAX && d1 <= DBL_MAX &&
+          d2 <= DBL_MAX))
+        return IGEA_ESINGULAR;
+    co[0] = sqrt(i0), co[1] = sqrt(i1), co[2] = sqrt(i2);
+    co[3] = u10, co[4] = u20, co[5] = u21;
+    /* E = X_f' - K_ff; V = E U^-T (row r: U v = e_r); Z = V D^-1; H = Z U^-1 (row r:
+       U' h = z_r); M = Z V' */
+#define XC_HROW(r, e0, e1, e2, Z0, Z1, Z2, V0, V1, V2)                                         \
+    const double V0 = (e0), V1 = (e1) - u10 * V0, V2 = ((e2) - u20 * V0) - u21 * V1;           \
+    const double Z0 = V0 * i0, Z1 = V1 * i1, Z2 = V2 * i2;                                     \
+    do {                                                                                       \
+        const double h1_ = Z1 - u21 * Z2;                                                      \
+        co[6 + 3 * (r)] = (Z0 - u10 * h1_) - u20 * Z2, co[7 + 3 * (r)] = h1_;                  \
+        co[8 + 3 * (r)] = Z2;                                                                  \
+    } while (0)
+    XC_HROW(0, X0 - K0, X3 - K1, X6 - K3, za0, za1, za2, va0, va1, va2);
+    XC_HROW(1, X1 - K1, X4 - K2, X7 - K4, zb0, zb1, zb2, vb0, vb1, vb2);
+    XC_HROW(2, X2 - K3, X5 - K4, X8 - K5, zc0, zc1, zc2, vc0, vc1, vc2);
+#undef XC_HROW
+    x[15] = za0 * va0 + za1 * va1 + za2 * va2;
+    x[16] = zb0 * va0 + zb1 * va1 + zb2 * va2;
+    x[17] = zb0 * vb0 + zb1 * vb1 + zb2 * vb2;
+    x[18] = zc0 * va0 + zc1 * va1 + zc2 * va2;
+    x[19] = zc0 * vb0 + zc1 * vb1 + zc2 * vb2;
+    x[20] = zc0 * vc0 + zc1 * vc1 + zc2 * vc2;
+    x[0] = K0, x[1] = K1, x[2] = K2, x[3] = K3, x[4] = K4, x[5] = K5;
+    x[6] = X0, x[7] = X1, x[8] = X2, x[9] = X3, x[10] = X4, x[11] = X5, x[12] = X6;
+    x[13] = X7, x[14] = X8;
+    return 0;
+}
+
+/* The chunk's rows [S D, dw] (epochs e0 .. e0 + n - 1 of the call) into
+ * blk, row-major (row 3 q + a, ld j->xld: N + 1 rounded up to a multiple
+ * of 4; the columns after dw are zeroed once per call and stay 0); a
+ * column-major S two columns at a time, so that each pair of reads fills
+ * adjacent entries of a row. */
+static void xfill(wjob *j, int layout, int e0, int n, const double *S, int lds,
+                  const double *dw, const double *spec)
+{
+    const int N = j->h->N, ld = j->xld, R = 3 * n;
+    const size_t i0 = 3 * (size_t)e0;
+    double *T = j->blk;
+    if (layout == IGEA_ROWMAJOR) {
+        for (int i = 0; i < R; i++) {
+            const double *x = S + (i0 + i) * lds;
+            double *t = T + (size_t)i * ld;
+            if (spec)
+                for (int c = 0; c < N; c++)
+                    t[c] = x[c] * spec[c];
+            else
+                memcpy(t, x, (size_t)N * sizeof(double));
+            t[N] = dw[i0 + i];
+        }
+        return;
+    }
+    int c = 0;
+    for (; c + 1 < N; c += 2) {
+        const double *xa = S + (size_t)c * lds + i0, *xb = xa + lds;
+        const double sa = spec ? spec[c] : 1.0, sb = spec ? spec[c + 1] : 1.0;
+        double *t = T + c;
+        for (int i = 0; i < R; i += 3, t += 3 * (size_t)ld) {
+            t[0] = xa[i] * sa, t[1] = xb[i] * sb;
+            t[ld] = xa[i + 1] * sa, t[ld + 1] = xb[i + 1] * sb;
+            t[2 * ld] = xa[i + 2] * sa, t[2 * ld + 1] = xb[i + 2] * sb;
+        }
+    }
+    for (; c <= N; c++) { /* the last column of S when N is odd, and dw */
+        const double *x = c == N ? dw + i0 : S + (size_t)c * lds + i0;
+        const double sc = c == N || !spec ? 1.0 : spec[c];
+        double *t = T + c;
+        for (int i = 0; i < R; i += 3, t += 3 * (size_t)ld) {
+            t[0] = x[i] * sc;
+            t[ld] = x[i + 1] * sc;
+            t[2 * ld] = x[i + 2] * sc;
+        }
+    }
+}
+
+/* The recursion over the chunk's n epochs, every column of a row at once:
+ * r = y - p, w = L^-1 r into y, p = y + H r (p the carried predictions,
+ * 3 x n1 row-major). Four columns per step in GCC's vector extension
+ * (built for AVX2 beside the baseline, as stability_pass.c's kernels; the
+ * same operations in the same order in every lane and in the scalar tail,
+ * no contraction into fused multiply-adds under ISO C: the results do not
+ * depend on the clone). */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) && \
+    !defined(IGEA_NO_CLONES)
+#define XC_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define XC_CLONES
+#endif
+#if defined(__GNUC__)
+typedef double xc_v4 __attribute__((vector_size(32), aligned(8)));
+#define XC_LD(p) (*(const xc_v4 *)(const void *)(p))
+#define XC_ST(p, v) (*(xc_v4 *)(void *)(p) = (v))
+#define XC_VEC 1
+#else
+#define XC_VEC 0
+#endif
+
+XC_CLONES static int xrec(wjob *j, int n, double *T, const double *cov, const double *xcov,
+                          int *bad)
+{
+    const int n1 = j->xld; /* the row length: the padding columns stay 0 */
+    double *p0 = j->hist, *p1 = p0 + n1, *p2 = p1 + n1;
+    double xs[21];
+    memcpy(xs, j->xs, sizeof xs);
+    int st = xcoef1(xs, cov, xcov, j->co);
+    *bad = 0;
+    for (int q = 0; q < n && st == 0; q++) {
+        const double *co = j->co + 15 * (q & 1);
+        double *y0 = T + 3 * (size_t)q * n1, *y1 = y0 + n1, *y2 = y1 + n1;
+        const double g0 = co[0], g1 = co[1], g2 = co[2], l10 = co[3], l20 = co[4],
+                     l21 = co[5], h00 = co[6], h01 = co[7], h02 = co[8], h10 = co[9],
+                     h11 = co[10], h12 = co[11], h20 = co[12], h21 = co[13], h22 = co[14];
+        /* the next epoch's coefficients, independent of this epoch's columns: the
+           processor overlaps their chain with the columns below */
+        if (q + 1 < n && (st = xcoef1(xs, cov + 6 * ((size_t)q + 1), xcov + 9 * ((size_t)q + 1),
+                                      j->co + 15 * ((q + 1) & 1))))
+            *bad = q + 1;
+        int c = 0;
+#if XC_VEC
+        for (; c + 4 <= n1; c += 4) {
+            const xc_v4 Y0 = XC_LD(y0 + c), Y1 = XC_LD(y1 + c), Y2 = XC_LD(y2 + c);
+            const xc_v4 R0 = Y0 - XC_LD(p0 + c), R1 = Y1 - XC_LD(p1 + c),
+                        R2 = Y2 - XC_LD(p2 + c);
+            const xc_v4 V1 = R1 - l10 * R0;
+            XC_ST(y0 + c, R0 * g0);
+            XC_ST(y1 + c, V1 * g1);
+            XC_ST(y2 + c, ((R2 - l20 * R0) - l21 * V1) * g2);
+            XC_ST(p0 + c, Y0 + h00 * R0 + h01 * R1 + h02 * R2);
+            XC_ST(p1 + c, Y1 + h10 * R0 + h11 * R1 + h12 * R2);
+            XC_ST(p2 + c, Y2 + h20 * R0 + h21 * R1 + h22 * R2);
+        }
+#endif
+        for (; c < n1; c++) {
+            const double Y0 = y0[c], Y1 = y1[c], Y2 = y2[c];
+            const double R0 = Y0 - p0[c], R1 = Y1 - p1[c], R2 = Y2 - p2[c];
+            const double V1 = R1 - l10 * R0;
+            y0[c] = R0 * g0;
+            y1[c] = V1 * g1;
+            y2[c] = ((R2 - l20 * R0) - l21 * V1) * g2;
+            p0[c] = Y0 + h00 * R0 + h01 * R1 + h02 * R2;
+            p1[c] = Y1 + h10 * R0 + h11 * R1 + h12 * R2;
+            p2[c] = Y2 + h20 * R0 + h21 * R1 + h22 * R2;
+        }
+    }
+    if (st == 0)
+        memcpy(j->xs, xs, sizeof xs);
+    return st;
+}
+
+/* Every epoch of the block through the streamed block Cholesky into the
+ * job's sums (and white, m x (N + 1), ld m): per chunk the rows transposed
+ * into blk, the recursion with the epochs' coefficients, then one dsyrk of
+ * [S~ w~] (A and b) and the compensated w'w. */
+static int xrun(wjob *j, int layout, int m, const double *S, int lds, const double *dw,
+                const double *cov, const double *xcov, const int *mask, const double *spec,
+                double *white, int *bad)
+{
+    const int N = j->h->N, n1 = N + 1, ld = j->xld, M = m / 3;
+    for (int e0 = 0; e0 < M; e0 += j->E) {
+        const int n = IGEA_MIN(j->E, M - e0), R = 3 * n;
+        const size_t i0 = 3 * (size_t)e0;
+        xfill(j, layout, e0, n, S, lds, dw, spec);
+        double *T = j->blk;
+        int st = xrec(j, n, T, cov + 6 * (size_t)e0, xcov + 9 * (size_t)e0, bad);
+        if (st) {
+            /* a NaN or Inf in K_ee or the X_e before it makes the pivots of epoch e
+               fail (X of the call's last epoch is checked by the caller) */
+            const size_t e = (size_t)e0 + *bad;
+            if (!igea__finite_vec(6, cov + 6 * e, 1) ||
+                (e > 0 && !igea__finite_vec(9, xcov + 9 * (e - 1), 1)))
+                return IGEA_ENONFINITE;
+            *bad += e0 + (int)j->epoch;
+            return st;
+        }
+        for (int c = 0; white && c < n1; c++)
+            for (int i = 0; i < R; i++)
+                white[(size_t)c * m + i0 + i] = T[(size_t)i * ld + c];
+        int kept = R;
+        for (int i = 0; mask && i < R; i++) /* a masked row adds nothing */
+            if (mask[i0 + i]) {
+                memset(T + (size_t)i * ld, 0, (size_t)n1 * sizeof(double));
+                kept--;
+            }
+        if (kept > 0) { /* [S~ w~]' [S~ w~]: A and, in its last row, b */
+            cblas_dsyrk(CblasColMajor, CblasLower, CblasNoTrans, n1, R, 1.0, T, ld, 1.0,
+                        j->xA, n1);
+            for (int i = 0; i < R; i++)
+                igea__ksum_add(&j->ww[0], T[(size_t)i * ld + N] * T[(size_t)i * ld + N]);
+            j->nrows[0] += kept;
+        }
+    }
+    j->epoch += M;
+    return 0;
+}
+
+int igea_whiten_accumulate_xcov(igea_whiten *w, int layout, int m, const double *S, int lds,
+                                const double *dw, const double *cov, const double *xcov,
+                                const int *mask, const double *spec_sigma, double *A, int lda,
+                                double *b, double *wtw, double *white, int *bad_epoch)
+{
+    if (!w || w->p != 0 || w->G != 1 || w->xmode == 1) return -1;
+    if (layout != IGEA_COLMAJOR && layout != IGEA_ROWMAJOR) return -2;
+    if (m < 0 || m % 3) return -3;
+    if (!S && m > 0) return -4;
+    if (lds < IGEA_MAX(1, layout == IGEA_COLMAJOR ? m : w->N)) return -5;
+    if (!dw && m > 0) return -6;
+    if (!cov && m > 0) return -7;
+    if (!xcov && m > 0) return -8;
+    for (int i = 0; mask && i < m; i++)
+        if (mask[i] != 0 && mask[i] != 1) return -9;
+    if (!A) return -11;
+    if (lda < w->N) return -12;
+    if (!b) return -13;
+    if (!wtw || !(wtw[0] >= 0.0 && wtw[0] <= DBL_MAX) || !(wtw[1] >= 0.0 && wtw[1] <= DBL_MAX))
+        return -14;
+    int st;
+    if (spec_sigma && (st = igea__sigma_vec(w->N, spec_sigma)))
+        return st;
+    if (m == 0)
+        return 0;
+    const int N = w->N, n1 = N + 1, ld = (n1 + 3) / 4 * 4;
+    const int E = IGEA_MIN(IGEA_MAX(22, 32768 / (3 * ld)), m / 3);
+    const size_t nh = 3 * (size_t)ld; /* the carried predictions (0 in the padding) */
+    size_t nd = nh + (size_t)N * N + (size_t)N + 1 + (size_t)3 * E * ld + 30 +
+                (size_t)n1 * n1 + (white ? (size_t)m * n1 : 0);
+    double *work = igea__dalloc(nd);
+    igea__ksum *ww = calloc(1, sizeof *ww);
+    if (!work || !ww) {
+        free(work);
+        free(ww);
+        return IGEA_ENOMEM;
+    }
+    wjob j;
+    memset(&j, 0, sizeof j);
+    j.h = w, j.epoch = w->epoch, j.group = 0, j.hist = work, j.ww = ww, j.E = E, j.xld = ld;
+    if (w->xmode == 0) { /* the flight's first epoch: nothing before it */
+        memset(j.hist, 0, nh * sizeof(double));
+    } else {
+        memcpy(j.hist, w->xprev, nh * sizeof(double));
+        memcpy(j.xs, w->xs, sizeof j.xs);
+    }
+    j.Al = j.hist + nh;
+    j.bl = j.Al + (size_t)N * N;
+    j.nrows = j.bl + N;
+    j.blk = j.nrows + 1;
+    j.co = j.blk + (size_t)3 * E * ld;
+    j.xA = j.co + 30;
+    double *jwhite = white ? j.xA + (size_t)n1 * n1 : NULL;
+    memset(j.Al, 0, ((size_t)N * N + N + 1) * sizeof(double));
+    memset(j.xA, 0, (size_t)n1 * n1 * sizeof(double));
+    for (int i = 0; i < 3 * E && ld > n1; i++) /* the padding: 0 through the recursion */
+        memset(j.blk + (size_t)i * ld + n1, 0, (size_t)(ld - n1) * sizeof(double));
+    int bad = -1;
+    /* the last epoch's X_e only reaches the next call's pivots: checked here */
+    st = igea__finite_vec(9, xcov + 9 * ((size_t)m / 3 - 1), 1) ? 0 : IGEA_ENONFINITE;
+    if (st == 0)
+        st = xrun(&j, layout, m, S, lds, dw, cov, xcov, mask, spec_sigma, jwhite, &bad);
+    for (int c = 0; c < N; c++) { /* A and b out of the sums of [S~ w~] */
+        memcpy(j.Al + (size_t)c * N + c, j.xA + (size_t)c * n1 + c,
+               (size_t)(N - c) * sizeof(double));
+        j.bl[c] = j.xA[(size_t)c * n1 + N];
+    }
+    if (st == IGEA_ENONFINITE || (st == 0 && !sums_finite(&j)))
+        st = (igea__finite_vec(m, dw, 1) &&
+              (layout == IGEA_COLMAJOR ? igea__finite_mat(m, N, S, lds)
+                                       : igea__finite_mat(N, m, S, lds)) &&
+              igea__finite_vec(2 * m, cov, 1) && igea__finite_vec(3 * m, xcov, 1))
+                 ? IGEA_EOVERFLOW
+                 : IGEA_ENONFINITE;
+    if (st == 0 && white && !igea__finite_mat(m, n1, jwhite, m))
+        st = IGEA_EOVERFLOW;
+    if (st == 0)
+        st = add_sums(&j, A, lda, b, wtw);
+    if (st == 0) {
+        if (white)
+            memcpy(white, jwhite, (size_t)m * n1 * sizeof(double));
+        memcpy(w->xprev, j.hist, nh * sizeof(double));
+        memcpy(w->xs, j.xs, sizeof j.xs);
+        w->epoch = j.epoch;
+        w->group = 0;
+        w->k = 0;
+        w->xmode = 2;
     } else if (st == IGEA_ESINGULAR && bad_epoch)
         *bad_epoch = bad;
     free(work);

@@ -11,6 +11,10 @@
  *    next. Epochs carry a group label (a station, a flight phase); each
  *    group has its own normal equations, and a change of group restarts
  *    the AR filter (segments are independent).
+ *  - igea_whiten_accumulate_xcov: the same handle for the whole K of igea
+ *    dw, diagonal blocks and cross blocks between epochs (the rows
+ *    differenced between epochs, a streamed block-tridiagonal Cholesky
+ *    factor); igea_noise_eqerr_xcov the job on it.
  *  - igea_noise_ar_fit: phi per axis, with standard errors, by least
  *    squares of the residuals on their p lags.
  *  - igea_noise_vce: one scale c_g (sigma_w,g^2) per group by Helmert's
@@ -163,7 +167,8 @@ IGEA_API int igea_whiten_reset(igea_whiten *w);
  * 18 bad_epoch    output or NULL: on IGEA_ESINGULAR, the epoch (counted
  *                 from the last reset) whose covariance is not positive
  *                 definite
- * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ERANGE,
+ * Returns 0, -i (-1 also for a handle igea_whiten_accumulate_xcov has used
+ * since its last reset), IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ERANGE,
  * IGEA_ESINGULAR (a covariance not positive definite), IGEA_EOVERFLOW,
  * IGEA_ENOMEM. On failure A, b, wtw, white and the handle's state are
  * untouched.
@@ -175,6 +180,64 @@ IGEA_API int igea_whiten_accumulate(igea_whiten *w, int layout, int m,
                                     const int *mask, const double *spec_sigma,
                                     double *A, int lda, double *b, double *wtw,
                                     double *white, int *bad_epoch);
+
+/*
+ * The whole covariance K of dW as igea_dw_compute_k gives it: the diagonal
+ * blocks K_ee and, for every pair of epochs e < f, Cov(dW_e, dW_f) = X_e
+ * (the same block for every later f; K_fe = X_e'), whitened exactly while
+ * streamed (docs/eqerr.md, "The whole K: cross blocks between epochs" [D]).
+ * The rows differenced between consecutive epochs, d_0 = y_0, d_f = y_f -
+ * y_(f-1) (y_f the epoch's three rows of [S D, dw]; the model stays d =
+ * (Delta S D) X + noise), have the block-tridiagonal covariance C_ff =
+ * K_ff - X_(f-1) - X_(f-1)' + K_(f-1,f-1), C_(f,f-1) = X_(f-1)' -
+ * K_(f-1,f-1); with its block Cholesky factor B_f = C_(f,f-1) L_(f-1)^-T,
+ * L_f L_f' = C_ff - B_f B_f', the whitened rows of epoch f are w_f = L_f^-1
+ * (d_f - B_f w_(f-1)): the standardised innovations of dW_f given every
+ * earlier epoch, so w'w = dW' K^-1 dW and the sums are S' K^-1 S etc. of the
+ * full K, in O(m N^2) time and O(N^2 + N E) memory whatever the flight's
+ * length. A pivot^2 of L_f at or below IGEA_WHITEN_XCOV_RTOL times
+ * K_ff,aa + K_(f-1,f-1),aa (the conditional variance of the epoch's axis a
+ * given the earlier epochs and axes, against the magnitudes it is computed
+ * from: rounding would dominate it) is refused as IGEA_ESINGULAR, naming
+ * the epoch (K singular or nearly so there, or the blocks not those of one
+ * positive definite K).
+ *  1 w           a handle of igea_whiten_create with p = 0 and ngroups = 1,
+ *                fresh or reset, or used only by this function since (-1
+ *                otherwise); its state carries the last epoch's rows, K_ee,
+ *                X_e and factor, so blocks of any size give the same sums
+ *  2 layout      IGEA_COLMAJOR or IGEA_ROWMAJOR (as igea/normal.h)
+ *  3 m           rows in this block, a multiple of 3, >= 0 (0: no-op)
+ *  4 S, 5 lds    the block (m x N), see layout
+ *  6 dw          m velocity differences
+ *  7 cov         6 m / 3 values: per epoch the lower triangle of K_ee row by
+ *                row (c_xx, c_yx, c_yy, c_zx, c_zy, c_zz; igea dw --k-out),
+ *                dw units squared
+ *  8 xcov        9 m / 3 values: per epoch X_e row-major (row i the axis of
+ *                dW_e, column j that of dW_f, f > e; igea dw --xcov-out,
+ *                igea_dw_compute_k's xcov); the flight's last epoch's is
+ *                not used (none later) but must be finite
+ *  9 mask        m ints or NULL: 1 leaves the whitened row out of the sums
+ *                (the recursion still carries it), 0 keeps it
+ * 10 spec_sigma  N specs (> 0, >= IGEA_SIGMA_MIN), or NULL (D = I)
+ * 11 A, 12 lda   N x N, lda >= N, updated in place (both triangles)
+ * 13 b           N, updated
+ * 14 wtw         2: w'w and the row count, updated (finite, >= 0)
+ * 15 white       m x (N + 1) column-major (ld m) outputs or NULL: the
+ *                whitened rows [S~ w~] of the block, masked ones included
+ * 16 bad_epoch   output or NULL: on IGEA_ESINGULAR, the epoch (counted from
+ *                the last reset) refused
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_ENONPOSITIVE, IGEA_ERANGE (specs),
+ * IGEA_ESINGULAR, IGEA_EOVERFLOW, IGEA_ENOMEM. On failure A, b, wtw, white
+ * and the handle's state are untouched. igea_whiten_accumulate refuses (-1)
+ * a handle this function has used since its last reset.
+ */
+#define IGEA_WHITEN_XCOV_RTOL 1e-10
+IGEA_API int igea_whiten_accumulate_xcov(igea_whiten *w, int layout, int m,
+                                         const double *S, int lds, const double *dw,
+                                         const double *cov, const double *xcov,
+                                         const int *mask, const double *spec_sigma,
+                                         double *A, int lda, double *b, double *wtw,
+                                         double *white, int *bad_epoch);
 
 /*
  * AR(p) coefficients per axis from residuals by least squares on their
@@ -298,6 +361,39 @@ IGEA_API int igea_noise_eqerr_resid(int m, int N, const double *S, int lds,
                                     double *z, int *reject, double *info,
                                     double *ar_out, double *group_out,
                                     double *row_w, double *resid);
+
+/*
+ * igea_noise_eqerr_resid with the whole K of igea dw: the diagonal blocks
+ * K_ee and the cross blocks X_e (igea_whiten_accumulate_xcov) instead of
+ * one 3 x 3 block per epoch. What combines with them: the seed's sigma_w
+ * correction (one scale of the whole K), the robust route (data snooping
+ * on the whitened rows, which are the standardised innovations of each
+ * epoch given the earlier ones), per-flight bias columns
+ * (IGEA_EQERR_OPT_GROUP_BIAS, one group). What does not: AR(p) on top
+ * (opts[IGEA_EQERR_OPT_AR] != 0: -9; K is already the noise's whole
+ * covariance) and groups (none here: a scale per station of a covariance
+ * whose random walk runs across the stations is not defined).
+ *  1 m (a multiple of 3, >= 3), 2 N >= 1, 3 S (m x N column-major), 4 lds
+ *  >= m, 5 dw (m), 6 cov (6 m / 3: K_ee, as igea_whiten_accumulate_xcov),
+ *  7 xcov (9 m / 3: X_e, as igea_whiten_accumulate_xcov), 8 spec_sigma (N
+ *  or NULL), 9 opts (IGEA_EQERR_OPT_LEN or NULL)
+ * Outputs as igea_noise_eqerr_resid: 10 lambda, 11 P, 12 ldp, 13 equiv_err,
+ * 14 z, 15 reject, 16 info, 17 group_out (1 x IGEA_NOISE_GROUP_COLS or
+ * NULL), 18 row_w (m or NULL: the w of each whitened row the robust route
+ * rejected), 19 resid (m or NULL: the whitened residuals of the final
+ * full-rank fit, (w~_i - S~_i x), w~ the innovations above).
+ * Returns those of igea_whiten_accumulate_xcov (IGEA_ESINGULAR: the
+ * differenced covariance not positive definite, or nearly so, at an epoch;
+ * igea_whiten_accumulate_xcov's bad_epoch names it) and of
+ * igea_noise_eqerr; outputs untouched on failure.
+ */
+IGEA_API int igea_noise_eqerr_xcov(int m, int N, const double *S, int lds,
+                                   const double *dw, const double *cov,
+                                   const double *xcov, const double *spec_sigma,
+                                   const double *opts, double *lambda, double *P,
+                                   int ldp, double *equiv_err, double *z,
+                                   int *reject, double *info, double *group_out,
+                                   double *row_w, double *resid);
 
 #ifdef __cplusplus
 }

@@ -345,6 +345,7 @@ NOISE_GROUP_ROWS = 3
 NOISE_GROUP_BIAS = 4
 NOISE_GROUP_SE_REML = 7
 NOISE_GROUP_COLS = 8
+WHITEN_XCOV_RTOL = 1e-10
 
 # igea/normal.h
 NORMAL_SEGMENT = 8192
@@ -895,6 +896,10 @@ PROTOTYPES = {
         ("S", _PD), ("lds", c_int), ("dw", _PD), ("track_sigma", _PD), ("sigma_inc", c_int),
         ("cov", _PD), ("group", _PI), ("mask", _PI), ("spec_sigma", _PD), ("A", _PD),
         ("lda", c_int), ("b", _PD), ("wtw", _PD), ("white", _PD), ("bad_epoch", _PI),)),
+    "igea_whiten_accumulate_xcov": (c_int, (("w", c_void_p), ("layout", c_int), ("m", c_int),
+        ("S", _PD), ("lds", c_int), ("dw", _PD), ("cov", _PD), ("xcov", _PD), ("mask", _PI),
+        ("spec_sigma", _PD), ("A", _PD), ("lda", c_int), ("b", _PD), ("wtw", _PD), ("white", _PD),
+        ("bad_epoch", _PI),)),
     "igea_noise_ar_fit": (c_int, (("M", c_int), ("p", c_int), ("resid", _PD), ("group", _PI),
         ("mask", _PI), ("phi", _PD), ("se", _PD),)),
     "igea_noise_vce": (c_int, (("N", c_int), ("G", c_int), ("A", _PD), ("lda", c_int), ("b", _PD),
@@ -912,6 +917,10 @@ PROTOTYPES = {
         ("ngroups", c_int), ("spec_sigma", _PD), ("phi", _PD), ("opts", _PD), ("lambda", _PD),
         ("P", _PD), ("ldp", c_int), ("equiv_err", _PD), ("z", _PD), ("reject", _PI), ("info", _PD),
         ("ar_out", _PD), ("group_out", _PD), ("row_w", _PD), ("resid", _PD),)),
+    "igea_noise_eqerr_xcov": (c_int, (("m", c_int), ("N", c_int), ("S", _PD), ("lds", c_int),
+        ("dw", _PD), ("cov", _PD), ("xcov", _PD), ("spec_sigma", _PD), ("opts", _PD),
+        ("lambda", _PD), ("P", _PD), ("ldp", c_int), ("equiv_err", _PD), ("z", _PD),
+        ("reject", _PI), ("info", _PD), ("group_out", _PD), ("row_w", _PD), ("resid", _PD),)),
     # igea/normal.h
     "igea_normal_accumulate": (c_int, (("layout", c_int), ("m", c_int), ("N", c_int), ("S", _PD),
         ("lds", c_int), ("dw", _PD), ("track_sigma", _PD), ("sigma_inc", c_int),
@@ -1274,12 +1283,14 @@ INPUTS = {
     "igea_nav_step": ("dv", "dth",),
     "igea_whiten_create": ("phi",),
     "igea_whiten_accumulate": ("S", "dw", "track_sigma", "cov", "group", "mask", "spec_sigma",),
+    "igea_whiten_accumulate_xcov": ("S", "dw", "cov", "xcov", "mask", "spec_sigma",),
     "igea_noise_ar_fit": ("resid", "group", "mask",),
     "igea_noise_vce": ("A", "b", "wtw",),
     "igea_noise_vce_cov": ("A", "wtw", "scale",),
     "igea_noise_eqerr": ("S", "dw", "track_sigma", "cov", "group", "spec_sigma", "phi", "opts",),
     "igea_noise_eqerr_resid": ("S", "dw", "track_sigma", "cov", "group", "spec_sigma", "phi",
         "opts",),
+    "igea_noise_eqerr_xcov": ("S", "dw", "cov", "xcov", "spec_sigma", "opts",),
     "igea_normal_accumulate": ("S", "dw", "track_sigma", "spec_sigma",),
     "igea_normal_accumulate_threads": ("S", "dw", "track_sigma", "spec_sigma",),
     "igea_normal_qr_accumulate": ("S", "dw", "track_sigma", "spec_sigma",),

@@ -384,7 +384,8 @@ def _orientation(S, dw):
 def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small=None,
           correction=None, route="eig", n_min=None, tol=None, max_iter=None,
           bias_correct=None, clamp=None, z_crit=None, rank_tol=None, verdict="seed",
-          lags=20, names=None, cov=None, ar=None, ar_phi=None, groups=None, group_bias=None,
+          lags=20, names=None, cov=None, xcov=None, ar=None, ar_phi=None, groups=None,
+          group_bias=None,
           robust=None, robust_alpha=None, threads=None, ar_method=None, burnout=None,
           burnout_errors=None, burnout_time=None, traj=None, lat=None, lon=None, height=None,
           azimuth=None, system=None, axes=None):
@@ -407,6 +408,10 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
     With a noise model (cov=(M, 3, 3) instead of sigma, ar=p, ar_phi=,
     groups=(M,) labels, group_bias=, robust=, robust_alpha=) the job is
     igea_noise_eqerr (see igea.noise), judged by the same verdict rule;
+    xcov=(M, 3, 3) with cov: the cross blocks X_e = Cov(dW_e, dW_f), f > e,
+    of igea.dw's result (its xcov; cov its blocks as 3 x 3 matrices): the
+    whole K, not block-diagonal (igea_noise_eqerr_xcov; with robust and
+    group_bias, not with ar, ar_phi or groups);
     ar_method ("reml", the default, or "ls"; with ar=p and no ar_phi) is
     how phi is estimated (IGEA_EQERR_OPT_AR_METHOD).
     S may be a data frame (anything with .columns and .to_numpy(), e.g.
@@ -441,14 +446,14 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
                     lambda_small=lambda_small, correction=correction, route=route, n_min=n_min,
                     tol=tol, max_iter=max_iter, bias_correct=bias_correct, clamp=clamp,
                     z_crit=z_crit, rank_tol=rank_tol, verdict=verdict, lags=lags, names=names,
-                    cov=cov, ar=ar, ar_phi=ar_phi, groups=groups, group_bias=group_bias,
-                    robust=robust, robust_alpha=robust_alpha, threads=threads,
-                    ar_method=ar_method)
+                    cov=cov, xcov=xcov, ar=ar, ar_phi=ar_phi, groups=groups,
+                    group_bias=group_bias, robust=robust, robust_alpha=robust_alpha,
+                    threads=threads, ar_method=ar_method)
         sp = None if spec is None else _lib.as_f64(spec, "spec", ndim=1)
         return _burnout_miss(res, names, sp, **miss_kw)
     _orientation(S, dw)
-    if any(v is not None for v in (cov, ar, ar_phi, groups, group_bias, robust, robust_alpha,
-                                   ar_method)):
+    if any(v is not None for v in (cov, xcov, ar, ar_phi, groups, group_bias, robust,
+                                   robust_alpha, ar_method)):
         if route not in (None, "eig"):
             raise ValueError("route: %r is not available with the noise models (cov, ar, "
                              "ar_phi, groups, group_bias, robust)" % (route,))
@@ -456,7 +461,7 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
             raise ValueError("ar_method: %r estimates phi: it needs ar=p (not ar_phi)"
                              % (ar_method,))
         return _noise(S, dw, sigma, spec, cov, ar, ar_phi, groups, group_bias, robust,
-                      robust_alpha, lags, names, ar_method=None if ar_method is None else
+                      robust_alpha, lags, names, xcov=xcov, ar_method=None if ar_method is None else
                       _lib.choice(_capi.CHOICE_NOISE_AR_METHOD, ar_method, "igea.eqerr",
                                   "ar_method"), alpha=alpha, lambda_test=lambda_test,
                       lambda_small=lambda_small, n_min=n_min, tol=tol, max_iter=max_iter,
@@ -528,7 +533,7 @@ def eqerr(S, dw, sigma, spec=None, *, alpha=None, lambda_test=None, lambda_small
 
 
 def _noise(S, dw, sigma, spec, cov, ar, ar_phi, groups, group_bias, robust, robust_alpha,
-           lags, names, **slots):
+           lags, names, xcov=None, **slots):
     """igea.eqerr with the noise models (igea/noise.h; python/igea/noise.py)."""
     from .noise import noise_eqerr
     opts = _lib.options("eqerr", "igea.eqerr", ("igea_noise_eqerr", "opts"),
@@ -536,7 +541,7 @@ def _noise(S, dw, sigma, spec, cov, ar, ar_phi, groups, group_bias, robust, robu
                         robust=None if robust is None else int(bool(robust)),
                         robust_alpha=robust_alpha, **slots)
     return noise_eqerr(S, dw, sigma, spec, cov, ar, ar_phi, groups, opts, lags=lags,
-                       names=names)
+                       names=names, xcov=xcov)
 
 
 def accuracy_test(equiv_err, eigenvalues, *, alpha=0.01, lambda_test=10.0, z_crit=None,

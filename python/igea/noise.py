@@ -1,7 +1,9 @@
 """The equivalent-error job with the noise models (igea/noise.h): per-epoch
 3x3 tracking covariance, AR(p) per axis, groups with one sigma_w each,
-per-group bias columns and the robust route. Reached through igea.eqerr
-(cov=, ar=, ar_phi=, ar_method=, groups=, group_bias=, robust=, robust_alpha=)."""
+per-group bias columns and the robust route; the whole K of igea.dw (its
+diagonal blocks and the cross blocks X_e between epochs). Reached through
+igea.eqerr (cov=, xcov=, ar=, ar_phi=, ar_method=, groups=, group_bias=,
+robust=, robust_alpha=)."""
 from dataclasses import dataclass
 
 import numpy as np
@@ -32,6 +34,10 @@ class NoiseEqerrResult(EqerrResult):
 
     def _noise_lines(self):
         lines = []
+        if getattr(self, "_xcov", False):
+            lines.append("the whole K: cross blocks between epochs from xcov (rows differenced "
+                         "between epochs, block-tridiagonal Cholesky; the whitened rows are "
+                         "each epoch's innovations)")
         for a in range(3 if self.ar_order else 0):
             lines.append("AR(%d) axis %s%s: phi" % (self.ar_order, "xyz"[a],
                                                    " (REML)" if self.ar_method == "reml" else "")
@@ -94,9 +100,15 @@ def _groups(groups, M):
     return np.ascontiguousarray(g, dtype=np.intc), int(g.max()) + 1
 
 
+def _xcov9(xcov, M):
+    x = _lib.as_f64(xcov, "xcov", ndim=3, shape=(M, 3, 3))
+    return np.ascontiguousarray(x.reshape(M, 9).ravel())
+
+
 def noise_eqerr(S, dw, sigma, spec, cov, ar, ar_phi, groups, opts, where="igea.eqerr",
-                lags=20, names=None):
-    """igea_noise_eqerr_resid on whole arrays; opts from _lib.options (slots set)."""
+                lags=20, names=None, xcov=None):
+    """igea_noise_eqerr_resid on whole arrays (igea_noise_eqerr_xcov with
+    xcov); opts from _lib.options (slots set)."""
     S = _lib.as_f64(S, "S", ndim=2)
     m, N = S.shape
     if m < 3 or m % 3:
@@ -105,6 +117,17 @@ def noise_eqerr(S, dw, sigma, spec, cov, ar, ar_phi, groups, opts, where="igea.e
     dw = _lib.as_f64(dw, "dw", ndim=1, shape=(m,))
     if (cov is None) == (sigma is None):
         raise ValueError("sigma, cov: give exactly one of them")
+    if xcov is not None:
+        if cov is None:
+            raise ValueError("xcov: the cross blocks need cov=, the diagonal blocks K_ee of "
+                             "the same K (igea.dw's cov as 3 x 3 matrices)")
+        if ar or ar_phi is not None:
+            raise ValueError("xcov: K with its cross blocks is the noise's whole covariance; "
+                             "AR noise on top of it (ar, ar_phi) is not supported")
+        if groups is not None:
+            raise ValueError("xcov: the cross blocks couple every epoch with every later one, "
+                             "across stations; one scale per group (groups) is not supported "
+                             "with them")
     names = ["column_%d" % j for j in range(N)] if names is None else [str(n) for n in names]
     if len(names) != N:
         raise ValueError("names: %d names, but S has %d columns" % (len(names), N))
@@ -124,11 +147,17 @@ def noise_eqerr(S, dw, sigma, spec, cov, ar, ar_phi, groups, opts, where="igea.e
     ar_out = np.zeros(_capi.NOISE_AR_OUT_LEN)
     go = np.zeros((G, _capi.NOISE_GROUP_COLS))
     row_w, res = np.zeros(m), np.empty(m)
-    _lib.call(where, "igea_noise_eqerr_resid", m, N, _lib.dptr(S), m, _lib.dptr(dw),
-              _lib.dptr(sig), 1, _lib.dptr(c6), _lib.iptr(grp), G, _lib.dptr(sp),
-              _lib.dptr(phi), _lib.dptr(opts), _lib.dptr(lam), _lib.dptr(P), N, _lib.dptr(xh),
-              _lib.dptr(z), _lib.iptr(rej), _lib.dptr(info), _lib.dptr(ar_out), _lib.dptr(go),
-              _lib.dptr(row_w), _lib.dptr(res))
+    if xcov is not None:
+        _lib.call(where, "igea_noise_eqerr_xcov", m, N, _lib.dptr(S), m, _lib.dptr(dw),
+                  _lib.dptr(c6), _lib.dptr(_xcov9(xcov, M)), _lib.dptr(sp), _lib.dptr(opts),
+                  _lib.dptr(lam), _lib.dptr(P), N, _lib.dptr(xh), _lib.dptr(z), _lib.iptr(rej),
+                  _lib.dptr(info), _lib.dptr(go), _lib.dptr(row_w), _lib.dptr(res))
+    else:
+        _lib.call(where, "igea_noise_eqerr_resid", m, N, _lib.dptr(S), m, _lib.dptr(dw),
+                  _lib.dptr(sig), 1, _lib.dptr(c6), _lib.iptr(grp), G, _lib.dptr(sp),
+                  _lib.dptr(phi), _lib.dptr(opts), _lib.dptr(lam), _lib.dptr(P), N,
+                  _lib.dptr(xh), _lib.dptr(z), _lib.iptr(rej), _lib.dptr(info),
+                  _lib.dptr(ar_out), _lib.dptr(go), _lib.dptr(row_w), _lib.dptr(res))
     test = _test_fields(info)
     nt = test["n_test"]
     gs = [{"scale": float(r[_capi.NOISE_GROUP_SCALE]), "scale_se": float(r[_capi.NOISE_GROUP_SE]),
@@ -157,4 +186,4 @@ def noise_eqerr(S, dw, sigma, spec, cov, ar, ar_phi, groups, opts, where="igea.e
         noise_converged=bool(info[_capi.STATS_INFO_NOISE_CONVERGED] == 1)),
         alpha=opts[_capi.EQERR_OPT_ALPHA], lambda_small=opts[_capi.EQERR_OPT_LAMBDA_SMALL],
         sigma_w=info[_capi.STATS_INFO_SIGMA_W], lags=int(lags), names=names,
-        robust=opts[_capi.EQERR_OPT_ROBUST] == 1)
+        robust=opts[_capi.EQERR_OPT_ROBUST] == 1, xcov=xcov is not None)

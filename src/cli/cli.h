@@ -419,14 +419,15 @@ int cmd_impact(int argc, char **argv);
 int cmd_nav(int argc, char **argv);
 int cmd_dw(int argc, char **argv);
 
-/* igea eqerr with the noise models (eqerr_noise.c): --cov, --ar, --ar-phi,
- * --groups, --robust, --group-bias read the whole flight and call
- * igea_noise_eqerr. */
+/* igea eqerr with the noise models (eqerr_noise.c): --cov, --xcov, --ar,
+ * --ar-phi, --groups, --robust, --group-bias read the whole flight and call
+ * igea_noise_eqerr (igea_noise_eqerr_xcov with --xcov). */
 typedef struct {
     const char *S, *dw, *sigma, *spec, *cov, *groups;
     int json, p_given;
     double phi[9];
     const double *opts;
+    const char *xcov; /* --xcov: the cross blocks X_e of igea dw --xcov-out */
 } cli_noise_args;
 int cli_noise_parse_phi(const char *arg, double *phi, int *p);
 /* The results of igea_noise_eqerr_resid (lambda's block holds P, xhat, z,

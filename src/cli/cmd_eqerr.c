@@ -111,7 +111,7 @@ typedef struct {
     int ar_method; /* IGEA_NOISE_AR_*: how phi is estimated */
     int lags;    /* residual diagnostics: Ljung-Box lags */
     const char *names; /* --names LIST */
-    const char *cov, *groups, *ar_phi; /* the noise models (eqerr_noise.c) */
+    const char *cov, *xcov, *groups, *ar_phi; /* the noise models (eqerr_noise.c) */
     int noise;                         /* 1: a noise option given */
     cli_noise_args na;                 /* their arguments */
     const char *plot; /* --plot FILE.svg */
@@ -149,6 +149,8 @@ static const cli_opt eqerr_options[] = {
      "lambda_1, at about twice the cost", NULL},
     {"--cov", CLI_OPT_STR, &EA.cov, NULL, "FILE", "3x3 tracking covariance per epoch instead of --sigma:\n"
      "one line of 6 lower-triangle entries (xx yx yy zx zy zz)", NULL},
+    {"--xcov", CLI_OPT_STR, &EA.xcov, NULL, "FILE", "with --cov: the cross blocks X_e = Cov(dW_e, dW_f),\n"
+     "f > e, of igea dw --xcov-out (9 entries per epoch,\nrow-major): judge with the whole K", NULL},
     {"--ar", CLI_OPT_NUM, EQ_OPT(AR), NULL, "P", "AR(P) tracking noise per axis (P <= 3), phi estimated\n"
      "from the residuals and iterated with the group scales", NULL},
     {"--ar-phi", CLI_OPT_STR, &EA.ar_phi, NULL, "a,b,c", "AR coefficients given (lags 1.., every axis)", NULL},
@@ -275,6 +277,21 @@ static int parse_noise(eqerr_args *a)
 {
     a->noise = a->cov || a->groups || a->ar_phi || a->opts[IGEA_EQERR_OPT_AR] != 0 ||
                a->opts[IGEA_EQERR_OPT_ROBUST] != 0 || a->opts[IGEA_EQERR_OPT_GROUP_BIAS] != 0;
+    if (a->xcov && !a->cov) {
+        cli_error("eqerr: --xcov FILE needs --cov FILE, the diagonal blocks K_ee of the same K "
+                  "(igea dw --k-out)");
+        return CLI_USAGE;
+    }
+    if (a->xcov && (a->ar_phi || a->opts[IGEA_EQERR_OPT_AR] != 0)) {
+        cli_error("eqerr: --xcov: K with its cross blocks is the noise's whole covariance; AR "
+                  "noise on top of it (--ar, --ar-phi) is not supported");
+        return CLI_USAGE;
+    }
+    if (a->xcov && a->groups) {
+        cli_error("eqerr: --xcov: the cross blocks couple every epoch with every later one, "
+                  "across stations; one scale per group (--groups) is not supported with them");
+        return CLI_USAGE;
+    }
     if (!a->noise)
         return CLI_OK;
     if (a->route != IGEA_EQERR_ROUTE_EIG) {
@@ -287,7 +304,7 @@ static int parse_noise(eqerr_args *a)
         return CLI_USAGE;
     }
     cli_noise_args na = {a->S, a->dw, a->sigma, a->spec, a->cov, a->groups, a->json, 0, {0},
-                         a->opts};
+                         a->opts, a->xcov};
     int p = 0, ec = CLI_OK;
     if (a->ar_phi && !(ec = cli_noise_parse_phi(a->ar_phi, na.phi, &p))) {
         a->opts[IGEA_EQERR_OPT_AR] = p;

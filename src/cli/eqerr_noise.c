@@ -1,7 +1,8 @@
-/* igea eqerr with the noise models (--cov, --ar, --ar-phi, --groups,
- * --robust, --group-bias): the flight read into memory, one call of
- * igea_noise_eqerr_resid; the report is cmd_eqerr.c's, with the noise
- * route's own lines and fields from here. */
+/* igea eqerr with the noise models (--cov, --xcov, --ar, --ar-phi,
+ * --groups, --robust, --group-bias): the flight read into memory, one call
+ * of igea_noise_eqerr_resid (igea_noise_eqerr_xcov with --xcov); the
+ * report is cmd_eqerr.c's, with the noise route's own lines and fields
+ * from here. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -9,7 +10,7 @@
 #include "cli.h"
 
 typedef struct {
-    cli_matrix S, dw, cov, grp;
+    cli_matrix S, dw, cov, xcov, grp;
     double *Sc, *sig, *spec, *phi;
     int *group, G, m, N;
 } noise_in;
@@ -19,6 +20,7 @@ static void in_free(noise_in *d)
     cli_matrix_free(&d->S);
     cli_matrix_free(&d->dw);
     cli_matrix_free(&d->cov);
+    cli_matrix_free(&d->xcov);
     cli_matrix_free(&d->grp);
     free(d->Sc);
     free(d->sig);
@@ -91,6 +93,62 @@ static int check_cov_names(const char *path)
                   "c_yy c_zx c_zy c_zz, the lower triangle by rows)%s", path,
                   pos[1] == 1 && pos[2] == 3 ? ": igea dw --cov-out's file? give --cov the "
                   "file of igea dw --k-out" : "");
+        return CLI_DATAERR;
+    }
+    return CLI_OK;
+}
+
+/* The position of a cross-block entry named x_ab (a, b of x y z: row a,
+ * column b of X_e) in the row-major order x_xx x_xy .. x_zz, or -1. */
+static int xcov_entry(const char *name, size_t len)
+{
+    if (len != 4 || (name[0] != 'x' && name[0] != 'X') || name[1] != '_' ||
+        !strchr("xyz", name[2]) || !strchr("xyz", name[3]))
+        return -1;
+    return 3 * (name[2] - 'x') + (name[3] - 'x');
+}
+
+/* A --xcov file whose header names its nine columns as cross-block
+ * entries in another order than igea dw --xcov-out writes (x_xx x_xy x_xz
+ * x_yx .. x_zz: X_e row-major, row the axis of dW_e, column that of the
+ * later epoch's) is refused: read by position, a transposed X_e would be
+ * taken silently. Other names pass (as --cov's). */
+static int check_xcov_names(const char *path)
+{
+    size_t lp = strlen(path);
+    if (!strcmp(path, "-") || (lp >= 4 && !strcmp(path + lp - 4, ".npy")))
+        return CLI_OK;
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return CLI_OK;
+    char *line = NULL;
+    size_t cap = 0;
+    int pos[9], named = 0, ok = 1;
+    while (getline(&line, &cap, f) > 0 && line[strspn(line, " \t")] == '#') {
+        const char *p = line + strspn(line, "# \t");
+        if (strncmp(p, "names", 5) || (p[5] != ' ' && p[5] != '\t'))
+            continue;
+        int k = 0, q[9], bad = 0;
+        for (p += 5;;) {
+            p += strspn(p, " \t,");
+            size_t len = strcspn(p, " \t,\r\n");
+            if (!len)
+                break;
+            if (k == 9 || (q[k++] = xcov_entry(p, len)) < 0)
+                bad = 1;
+            p += len;
+        }
+        if (!bad && k == 9)
+            named = 1, memcpy(pos, q, sizeof q);
+    }
+    free(line);
+    fclose(f);
+    for (int i = 0; i < 9 && named; i++)
+        ok = ok && pos[i] == i;
+    if (!ok) {
+        cli_error("%s: its columns are named in another order than --xcov reads (x_xx x_xy x_xz "
+                  "x_yx x_yy x_yz x_zx x_zy x_zz: X_e row-major, as igea dw --xcov-out writes)%s",
+                  path, pos[1] == 3 ? ": the blocks transposed?" : "");
         return CLI_DATAERR;
     }
     return CLI_OK;
@@ -190,6 +248,18 @@ static int read_inputs(const cli_noise_args *a, noise_in *d)
         }
         if ((ec = check_cov_names(a->cov)))
             return ec;
+        if (a->xcov) {
+            if ((ec = cli_read_matrix(a->xcov, &d->xcov)))
+                return ec;
+            if (d->xcov.cols != 9 || d->xcov.rows != d->m / 3) {
+                cli_error("%s: %ld rows x %d columns, but --xcov needs one line of the 9 "
+                          "entries of X_e (x_xx x_xy .. x_zz, row-major) per epoch (%d epochs)",
+                          a->xcov, d->xcov.rows, d->xcov.cols, d->m / 3);
+                return CLI_DATAERR;
+            }
+            if ((ec = check_xcov_names(a->xcov)))
+                return ec;
+        }
     } else if ((ec = cli_read_values(a->sigma, d->m, "--sigma (one per row)", &d->sig, NULL)))
         return ec;
     if (a->spec && (ec = cli_read_vector(a->spec, d->N, "--spec (one per column of S)",
@@ -205,10 +275,22 @@ static void name_bad_epoch(const cli_noise_args *a, const noise_in *d)
     igea_whiten *w = NULL;
     int bad = -1, N = d->N;
     double *A = calloc((size_t)N * N + N + 2, sizeof(double));
-    if (A && igea_whiten_create(N, 0, NULL, 1, &w) == 0 &&
-        igea_whiten_accumulate(w, IGEA_COLMAJOR, d->m, d->Sc, d->m, d->dw.v, NULL, 1, d->cov.v,
-                               NULL, NULL, NULL, A, N, A + (size_t)N * N,
-                               A + (size_t)N * N + N, NULL, &bad) == IGEA_ESINGULAR)
+    if (!A || igea_whiten_create(N, 0, NULL, 1, &w) != 0) {
+        free(A);
+        return;
+    }
+    double *b = A + (size_t)N * N, *wtw = b + N;
+    if (a->xcov) {
+        if (igea_whiten_accumulate_xcov(w, IGEA_COLMAJOR, d->m, d->Sc, d->m, d->dw.v, d->cov.v,
+                                        d->xcov.v, NULL, NULL, A, N, b, wtw, NULL,
+                                        &bad) == IGEA_ESINGULAR)
+            cli_error("%s:%d, %s: the covariance of epoch %d given the earlier epochs (K_ee "
+                      "with the cross blocks X_e) is not positive definite, or nearly not "
+                      "(its conditional variance below %g of the variances it is computed "
+                      "from)", a->cov, bad + 1, a->xcov, bad, IGEA_WHITEN_XCOV_RTOL);
+    } else if (igea_whiten_accumulate(w, IGEA_COLMAJOR, d->m, d->Sc, d->m, d->dw.v, NULL, 1,
+                                      d->cov.v, NULL, NULL, NULL, A, N, b, wtw, NULL,
+                                      &bad) == IGEA_ESINGULAR)
         cli_error("%s:%d: the covariance of epoch %d is not positive definite", a->cov,
                   bad + 1, bad);
     igea_whiten_free(w);
@@ -221,6 +303,10 @@ void cli_noise_text(FILE *f, const cli_noise_args *a, const cli_noise_result *r)
 {
     const double *info = r->info;
     int p = (int)info[IGEA_STATS_INFO_AR_ORDER];
+    if (a->xcov)
+        fprintf(f, "the whole K: cross blocks between epochs from %s (rows differenced between "
+                   "epochs, block-tridiagonal Cholesky; the whitened rows are each epoch's "
+                   "innovations)\n", a->xcov);
     for (int ax = 0; ax < 3 && p > 0; ax++) {
         fprintf(f, "AR(%d) axis %c%s: phi", p, "xyz"[ax],
                 r->ar_method == IGEA_NOISE_AR_REML ? " (REML)" : "");
@@ -324,7 +410,14 @@ int cli_eqerr_noise(const cli_noise_args *a, cli_noise_result *r)
         r->gout = r->z + N;
         r->row_w = r->gout + (size_t)d.G * IGEA_NOISE_GROUP_COLS;
         r->resid = r->row_w + m;
-        int st = igea_noise_eqerr_resid(d.m, d.N, d.Sc, d.m, d.dw.v, a->cov ? NULL : d.sig, 1,
+        int st;
+        if (a->xcov) {
+            st = igea_noise_eqerr_xcov(d.m, d.N, d.Sc, d.m, d.dw.v, d.cov.v, d.xcov.v, d.spec,
+                                       a->opts, r->lambda, r->P, d.N, r->xhat, r->z, r->reject,
+                                       r->info, r->gout, r->row_w, r->resid);
+            memset(r->ar, 0, sizeof r->ar);
+        } else
+            st = igea_noise_eqerr_resid(d.m, d.N, d.Sc, d.m, d.dw.v, a->cov ? NULL : d.sig, 1,
                                         a->cov ? d.cov.v : NULL, d.group, d.G, d.spec,
                                         a->p_given ? a->phi : NULL, a->opts, r->lambda, r->P,
                                         d.N, r->xhat, r->z, r->reject, r->info, r->ar, r->gout,

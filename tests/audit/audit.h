@@ -310,6 +310,42 @@ static inline igea_whiten *audit_whiten_new(void)
     return h;
 }
 
+/* The whole K of the audit's xcov baselines (igea_whiten_accumulate_xcov,
+ * igea_noise_eqerr_xcov): epoch e's K_ee = s (C + 0.1 e I) and X_e = 0.1 e s I
+ * (a white C per epoch and a random walk of steps 0.1 s I), C = [1 .2 .1;
+ * .2 1 .3; .1 .3 1], for epochs e0 .. e0 + n - 1 into k6 (6 n) and x9 (9 n). */
+static inline void audit_whole_k(int e0, int n, double s, double *k6, double *x9)
+{
+    for (int q = 0; q < n; q++) {
+        double r = 0.1 * (e0 + q), c6[6] = {1.0 + r, 0.2, 1.0 + r, 0.1, 0.3, 1.0 + r};
+        for (int k = 0; k < 6; k++)
+            k6[6 * q + k] = s * c6[k];
+        for (int k = 0; k < 9; k++)
+            x9[9 * q + k] = k % 4 == 0 ? s * r : 0.0;
+    }
+}
+
+/* A whitener of N = 3 columns for the whole K (p = 0, one group) after one
+ * block of two epochs of igea_whiten_accumulate_xcov. NULL on failure. */
+static inline igea_whiten *audit_whiten_xcov_new(void)
+{
+    double S[18], dw[6], k6[12], x9[18], A[9] = {0}, b[3] = {0}, wtw[2] = {0};
+    igea_whiten *h = NULL;
+    for (int i = 0; i < 18; i++)
+        S[i] = au(i + 740);
+    for (int i = 0; i < 6; i++)
+        dw[i] = au(i + 760);
+    audit_whole_k(0, 2, 1.0, k6, x9);
+    if (igea_whiten_create(3, 0, NULL, 1, &h) != 0)
+        return NULL;
+    if (igea_whiten_accumulate_xcov(h, IGEA_COLMAJOR, 6, S, 6, dw, k6, x9, NULL, NULL, A, 3, b,
+                                    wtw, NULL, NULL) != 0) {
+        igea_whiten_free(h);
+        return NULL;
+    }
+    return h;
+}
+
 /* The observable state of a whitener: epochs carried and current group. */
 static inline void audit_whiten_state(const igea_whiten *h, double st[64])
 {
