@@ -815,18 +815,14 @@ double igea__stability_pass_dev(int kind, int phase, double fs, long m, double s
 static int dev_pass(int n, const double *v, double fs, int data_type, int kind, int ntau,
                     const long *m, double *d)
 {
-    igea__aptau_spec *sp = malloc((size_t)ntau * sizeof *sp);
+    igea__aptau_spec *sp = calloc((size_t)ntau, sizeof *sp);
     igea__apass *p = NULL;
     if (!sp)
         return IGEA_ENOMEM;
     for (int j = 0; j < ntau; j++)
         igea__stability_pass_spec(kind, m[j], 0, &sp[j]);
     int phase = data_type == IGEA_STABILITY_DATA_PHASE;
-    int st = igea__apass_new(phase, ntau, sp, phase ? (long)n : (long)n + 1, &p);
-    if (!st)
-        st = igea__apass_feed(p, n, v);
-    if (!st)
-        st = igea__apass_end(p);
+    int st = igea__apass_whole(phase, ntau, sp, n, v, &p);
     for (int j = 0; j < ntau && !st; j++) {
         double ss;
         long cnt;
