@@ -79,6 +79,18 @@ static inline dd dd_mul_d(dd a, double b)
 
 static inline double dd_get(dd a) { return a.hi + a.lo; }
 
+static inline dd dd_sub(dd a, dd b) { return dd_add(a, dd_neg(b)); }
+
+/* v0 - 2 v1 + v2 as (v0 - v1) - (v1 - v2). */
+static inline dd dd_diff2(const dd *v) { return dd_sub(dd_sub(v[0], v[1]), dd_sub(v[1], v[2])); }
+
+/* v0 - 3 v1 + 3 v2 - v3 as (v0 - v3) - 3 (v1 - v2), 3 u = u + 2 u. */
+static inline dd dd_diff3(const dd *v)
+{
+    dd u = dd_sub(v[1], v[2]), u2 = {2.0 * u.hi, 2.0 * u.lo};
+    return dd_sub(dd_sub(v[0], v[3]), dd_add(u, u2));
+}
+
 /* ---- lag-1 autocorrelation accumulators (rate kinds' noise type) ---- */
 
 /* Sums of one series v_k less its first value sh: count, sum, sum of
@@ -182,6 +194,7 @@ struct igea__apass {
     aptau *t;
     double *z;         /* scratch: AP_B + 3 values */
     double *buf;       /* scratch: 8 streams of AP_BUF */
+    double *ws;        /* scratch of the lag-1 sums: 2 (255 + AP_B + 1) + 8 values */
 };
 
 static inline long mod_l(long a, long b) { return a % b; }
@@ -238,6 +251,7 @@ void igea__apass_free(igea__apass *p)
     free(p->t);
     free(p->z);
     free(p->buf);
+    free(p->ws);
     free(p);
 }
 
@@ -318,7 +332,8 @@ static int apass_alloc(int phase, int ntau, const igea__aptau_spec *spec, const 
     p->t = calloc((size_t)(ntau > 0 ? ntau : 1), sizeof(aptau));
     p->z = igea__dalloc(AP_B + 3);
     p->buf = igea__dalloc(8 * (size_t)AP_BUF);
-    if (!p->t || !p->z || !p->buf) {
+    p->ws = igea__dalloc(2 * (255 + AP_B + 1) + 8);
+    if (!p->t || !p->z || !p->buf || !p->ws) {
         igea__apass_free(p);
         return IGEA_ENOMEM;
     }
@@ -797,13 +812,12 @@ static const double cAV[4] = {1, -2, 1, 0}, cHV[4] = {1, -3, 3, -1};
 static double anchor(const igea__apass *p, const aptau *t, long e, const double *c, int w)
 {
     int np = c[3] != 0.0 ? 4 : 3;
-    dd s = {0, 0};
+    dd v[4];
     for (int q = 0; q < np; q++) {
         long i = e - q * t->m;
-        dd v = w ? w_at(p, i, p->buf) : x_at(p, i, p->buf);
-        s = dd_add(s, dd_mul_d(v, c[q]));
+        v[q] = w ? w_at(p, i, p->buf) : x_at(p, i, p->buf);
     }
-    return dd_get(s);
+    return dd_get(np == 3 ? dd_diff2(v) : dd_diff3(v));
 }
 
 /* The sum of the squared overlapping terms e0 <= e < e1 (one block) of a
@@ -910,27 +924,25 @@ static void terms_overlap(igea__apass *p, aptau *t, long e0, long e1)
         }
         if (t->type == IGEA__AP_MV) {
             double A = 0.0, Bc = 0.0;
-            if (!same) {
-                dd Ad = {0, 0}, Bd = {0, 0};
+            if (!same) { /* W and X of the bases at the four points, their differences */
+                dd w[4], x[4];
                 for (int q = 0; q < 4; q++) {
                     long off = e - q * t->m - blk[q] * AP_B;
-                    dd w = dd_add(*wb(p, blk[q]), dd_mul_d(*xb(p, blk[q]), (double)off));
-                    Ad = dd_add(Ad, dd_mul_d(w, cHV[q]));
-                    Bd = dd_add(Bd, dd_mul_d(*xb(p, blk[q]), cHV[q]));
+                    x[q] = *xb(p, blk[q]);
+                    w[q] = off ? dd_add(*wb(p, blk[q]), dd_mul_d(x[q], (double)off)) : *wb(p, blk[q]);
                 }
-                A = dd_get(Ad);
-                Bc = dd_get(Bd);
+                A = dd_get(dd_diff3(w));
+                Bc = dd_get(dd_diff3(x));
             }
             tot += same ? seg_mv0(a[0], a[1], a[2], a[3], len)
                         : seg_mv(a[0], a[1], a[2], a[3], len, A, Bc);
         } else {
             double C = 0.0;
             if (!same) {
-                dd Cd = {0, 0};
-                const double *c = t->type == IGEA__AP_AV ? cAV : cHV;
+                dd x[4];
                 for (int q = 0; q < np; q++)
-                    Cd = dd_add(Cd, dd_mul_d(*xb(p, blk[q]), c[q]));
-                C = dd_get(Cd);
+                    x[q] = *xb(p, blk[q]);
+                C = dd_get(np == 3 ? dd_diff2(x) : dd_diff3(x));
             }
             tot += t->type == IGEA__AP_AV ? seg_av(a[0], a[1], a[2], len, C)
                                           : seg_hv(a[0], a[1], a[2], a[3], len, C);
@@ -1022,6 +1034,36 @@ static void terms_stride(igea__apass *p, aptau *t, long e0, long e1)
     igea__ksum_add(&t->sum, tot);
 }
 
+#if AP_VEC
+#if defined(__clang__)
+#define AP_SHUF(a, b, i, j, k, l) __builtin_shufflevector(a, b, i, j, k, l)
+#else
+typedef long long ap_i4 __attribute__((vector_size(32)));
+#define AP_SHUF(a, b, i, j, k, l) __builtin_shuffle(a, b, (ap_i4){i, j, k, l})
+#endif
+#endif
+
+/* z[j] = (a0[j m] - a1[j m]) + C (m = 1) or times 1/2 (m = 2), j < cnt. */
+AP_CLONES static void means_12(const double *a0, const double *a1, long cnt, long m, double C,
+                               double *z)
+{
+    long j = 0;
+#if AP_VEC
+    if (m == 1)
+        for (; j + 4 <= cnt; j += 4)
+            AP_STV(z + j, (AP_LD(a0 + j) - AP_LD(a1 + j)) + C);
+    else /* (the odd values read: not past the last point) */
+        for (; j + 5 <= cnt; j += 4) {
+            const double *b0 = a0 + 2 * j, *b1 = a1 + 2 * j;
+            ap_v4 u = AP_SHUF(AP_LD(b0), AP_LD(b0 + 4), 0, 2, 4, 6);
+            ap_v4 v = AP_SHUF(AP_LD(b1), AP_LD(b1 + 4), 0, 2, 4, 6);
+            AP_STV(z + j, ((u - v) + C) * 0.5);
+        }
+#endif
+    for (; j < cnt; j++)
+        z[j] = m == 1 ? (a0[j] - a1[j]) + C : ((a0[2 * j] - a1[2 * j]) + C) * 0.5;
+}
+
 /* z[j] = (X_e - X_{e - m}) / m for the points e = e0, e0 + m, ... < e1 of
  * one block (e0 a multiple of m, m < AP_B): at most two segments where
  * X_{e - m} stays in one block. Returns their number. */
@@ -1042,9 +1084,8 @@ static long means_of(const igea__apass *p, long m, long e0, long e1, double *z)
             C = dd_get(dd_add(*xb(p, be), dd_neg(*xb(p, bi))));
         long cnt = (end - e + m - 1) / m;
         const double *a0 = lptr(p, e), *a1 = lptr(p, i);
-        if (m == 1)
-            for (long j = 0; j < cnt; j++)
-                z[K + j] = (a0[j] - a1[j]) + C;
+        if (m <= 2)
+            means_12(a0, a1, cnt, m, C, z + K);
         else if (pow2)
             for (long j = 0; j < cnt; j++)
                 z[K + j] = ((a0[j * m] - a1[j * m]) + C) * inv;
@@ -1061,9 +1102,27 @@ static long means_of(const igea__apass *p, long m, long e0, long e1, double *z)
  * differences w1(i) = (z(i) - z(i-1)) - sh1: out = {sum w0, sum w0^2, sum
  * w0(i-1) w0(i), sum w1, sum w1^2, sum w1(i-1) w1(i), sum w1(i-2) w1(i)}
  * (the second differences' sums follow from the last two, docs). z[-3] ..
- * z[-1] hold the three means before z[0]. Four lanes in a fixed order. */
-AP_CLONES static void acf_sums(const double *z, long K, double h0, double h1, double *out)
+ * z[-1] hold the three means before z[0]; ws holds 2 K + 8 values. Four
+ * lanes in a fixed order (i mod 4, the rest in lane 0); w0 and w1 are
+ * formed once each (ws) and read at their lags. */
+AP_CLONES static void acf_sums(const double *z, long K, double h0, double h1, double *ws,
+                               double *out)
 {
+    double *w0 = ws + 1, *w1 = ws + K + 4; /* w0[-1 .. K-1], w1[-2 .. K-1] */
+    long i = -1;
+#if AP_VEC
+    for (; i + 4 <= K; i += 4)
+        AP_STV(w0 + i, AP_LD(z + i) - h0);
+#endif
+    for (; i < K; i++)
+        w0[i] = z[i] - h0;
+    i = -2;
+#if AP_VEC
+    for (; i + 4 <= K; i += 4)
+        AP_STV(w1 + i, (AP_LD(z + i) - AP_LD(z + i - 1)) - h1);
+#endif
+    for (; i < K; i++)
+        w1[i] = (z[i] - z[i - 1]) - h1;
 #define AP_ACF_DECL(l)                                                                    \
     double s0##l = 0, q0##l = 0, g0##l = 0, s1##l = 0, q1##l = 0, g1##l = 0, k1##l = 0
     AP_ACF_DECL(0);
@@ -1072,33 +1131,28 @@ AP_CLONES static void acf_sums(const double *z, long K, double h0, double h1, do
     AP_ACF_DECL(3);
 #define AP_ACF_LANE(l)                                                                    \
     {                                                                                     \
-        double a = z[i + l], b = z[i + l - 1], c = z[i + l - 2], e = z[i + l - 3];        \
-        double w0 = a - h0, u0 = b - h0;                                                  \
-        double w1 = (a - b) - h1, u1 = (b - c) - h1, v1 = (c - e) - h1;                   \
-        s0##l += w0;                                                                      \
-        q0##l += w0 * w0;                                                                 \
-        g0##l += u0 * w0;                                                                 \
-        s1##l += w1;                                                                      \
-        q1##l += w1 * w1;                                                                 \
-        g1##l += u1 * w1;                                                                 \
-        k1##l += v1 * w1;                                                                 \
+        double a = w0[i + l], b = w1[i + l];                                              \
+        s0##l += a;                                                                       \
+        q0##l += a * a;                                                                   \
+        g0##l += w0[i + l - 1] * a;                                                       \
+        s1##l += b;                                                                       \
+        q1##l += b * b;                                                                   \
+        g1##l += w1[i + l - 1] * b;                                                       \
+        k1##l += w1[i + l - 2] * b;                                                       \
     }
-    long i = 0;
+    i = 0;
 #if AP_VEC
     {
         ap_v4 S0 = {0, 0, 0, 0}, Q0 = S0, G0 = S0, S1 = S0, Q1 = S0, G1 = S0, K1 = S0;
         for (; i + 4 <= K; i += 4) {
-            ap_v4 a = AP_LD(z + i), b = AP_LD(z + i - 1), c = AP_LD(z + i - 2),
-                  e = AP_LD(z + i - 3);
-            ap_v4 w0 = a - h0, u0 = b - h0;
-            ap_v4 w1 = (a - b) - h1, u1 = (b - c) - h1, v1 = (c - e) - h1;
-            S0 += w0;
-            Q0 += w0 * w0;
-            G0 += u0 * w0;
-            S1 += w1;
-            Q1 += w1 * w1;
-            G1 += u1 * w1;
-            K1 += v1 * w1;
+            ap_v4 a = AP_LD(w0 + i), b = AP_LD(w1 + i);
+            S0 += a;
+            Q0 += a * a;
+            G0 += AP_LD(w0 + i - 1) * a;
+            S1 += b;
+            Q1 += b * b;
+            G1 += AP_LD(w1 + i - 1) * b;
+            K1 += AP_LD(w1 + i - 2) * b;
         }
 #define AP_ACF_GET(l)                                                                     \
     s0##l = S0[l], q0##l = Q0[l], g0##l = G0[l], s1##l = S1[l], q1##l = Q1[l],            \
@@ -1130,7 +1184,7 @@ AP_CLONES static void acf_sums(const double *z, long K, double h0, double h1, do
 
 /* The means waiting in t->zb to the sums of the series and of its first
  * differences. */
-static void means_flush(aptau *t)
+static void means_flush(aptau *t, double *ws)
 {
     double *zz = t->zb, *z = zz + 3;
     long K = t->nzb, i = 0;
@@ -1151,7 +1205,7 @@ static void means_flush(aptau *t)
     }
     if (i < K) {
         double o[7];
-        acf_sums(z + i, K - i, t->a[0].sh, t->a[1].sh, o);
+        acf_sums(z + i, K - i, t->a[0].sh, t->a[1].sh, ws, o);
         for (int r = 0; r < 2; r++) {
             igea__apacf *a = &t->a[r];
             double zl = z[K - 1], z1 = z[K - 2];
@@ -1194,7 +1248,7 @@ static void means_push(igea__apass *p, aptau *t, long k, long e1)
     t->nzb += K;
     t->next_e += K * t->m;
     if (t->nzb >= 256)
-        means_flush(t);
+        means_flush(t, p->ws);
 }
 
 /* The strided term of a tau with m >= AP_B whose current point (a multiple
@@ -1291,6 +1345,45 @@ static void block_terms(igea__apass *p, long k, long x0, long x1, long w0, long 
     }
 }
 
+#if AP_VEC
+/* The 4 x 4 transpose of rows r0 .. r3 into c0 .. c3. */
+#define AP_T4(r0, r1, r2, r3, c0, c1, c2, c3)                                             \
+    {                                                                                     \
+        ap_v4 t0 = AP_SHUF(r0, r1, 0, 4, 2, 6), t1 = AP_SHUF(r0, r1, 1, 5, 3, 7);         \
+        ap_v4 t2 = AP_SHUF(r2, r3, 0, 4, 2, 6), t3 = AP_SHUF(r2, r3, 1, 5, 3, 7);         \
+        c0 = AP_SHUF(t0, t2, 0, 1, 4, 5), c1 = AP_SHUF(t1, t3, 0, 1, 4, 5);               \
+        c2 = AP_SHUF(t0, t2, 2, 3, 6, 7), c3 = AP_SHUF(t1, t3, 2, 3, 6, 7);               \
+    }
+
+/* The running sums of the eight lanes of a full block (prefix2's first
+ * part): lanes 0 .. 3 and 4 .. 7 side by side in two vectors, four steps
+ * at a time through 4 x 4 transposes (each lane adds its values in order,
+ * as the scalar loop). Returns the lanes' totals in a[8]. */
+AP_CLONES static void prefix_lanes(const double *d, double *out, double *a)
+{
+    enum { W = AP_B / 8 };
+    ap_v4 A[2] = {{0, 0, 0, 0}, {0, 0, 0, 0}};
+    for (long r = 0; r < W; r += 4)
+        for (int h = 0; h < 2; h++) {
+            const double *s = d + 4 * h * W + r;
+            double *o = out + 4 * h * W + r;
+            ap_v4 c0, c1, c2, c3, o0, o1, o2, o3;
+            AP_T4(AP_LD(s), AP_LD(s + W), AP_LD(s + 2 * W), AP_LD(s + 3 * W), c0, c1, c2, c3);
+            o0 = A[h] += c0;
+            o1 = A[h] += c1;
+            o2 = A[h] += c2;
+            o3 = A[h] += c3;
+            AP_T4(o0, o1, o2, o3, c0, c1, c2, c3);
+            AP_STV(o, c0);
+            AP_STV(o + W, c1);
+            AP_STV(o + 2 * W, c2);
+            AP_STV(o + 3 * W, c3);
+        }
+    for (int l = 0; l < 4; l++)
+        a[l] = A[0][l], a[4 + l] = A[1][l];
+}
+#endif
+
 /* Inclusive prefix sums out[j] = d[0] + ... + d[j], j < n <= AP_B (in place
  * allowed): eight lanes of AP_B / 8 values summed side by side, then each
  * lane offset by the totals of the lanes before it (values past n taken as
@@ -1299,6 +1392,13 @@ static void prefix2(const double *d, double *out, long n)
 {
     enum { W = AP_B / 8 };
     double a0 = 0, a1 = 0, a2 = 0, a3 = 0, a4 = 0, a5 = 0, a6 = 0, a7 = 0;
+#if AP_VEC
+    if (n == AP_B && d != out) {
+        double a[8];
+        prefix_lanes(d, out, a);
+        a0 = a[0], a1 = a[1], a2 = a[2], a3 = a[3], a4 = a[4], a5 = a[5], a6 = a[6];
+    } else
+#endif
     if (n == AP_B) {
         for (long r = 0; r < W; r++) {
             a0 += d[r];
@@ -1511,7 +1611,7 @@ static void acf_end(igea__apass *p)
 {
     for (int j = 0; j < p->ntau; j++)
         if (p->t[j].acf)
-            means_flush(&p->t[j]);
+            means_flush(&p->t[j], p->ws);
 }
 
 int igea__apass_end(igea__apass *p)
