@@ -15,7 +15,7 @@
 
 #define AP_B IGEA__AP_BLOCK /* phase points per block */
 #define AP_RS_MAX 256       /* blocks of the small ring of local values */
-#define AP_REANCHOR 16      /* lags off the block grid: exact anchors every 16 blocks */
+#define AP_REANCHOR 4       /* lags off the block grid: exact anchors every 4 blocks */
 #define AP_BUF (AP_B + 16)  /* one stream of the scratch buffer */
 #ifndef AP_PFL
 #define AP_PFL 2
