@@ -17,6 +17,7 @@
 #define AP_RS_MAX 256       /* blocks of the small ring of local values */
 #define AP_REANCHOR 4       /* lags off the block grid: exact anchors every 4 blocks */
 #define AP_BUF (AP_B + 16)  /* one stream of the scratch buffer */
+#define AP_LAZY 4           /* a whole record's taus m <= 4: the means' differences on demand */
 #ifndef AP_PFL
 #define AP_PFL 2
 #endif
@@ -344,7 +345,9 @@ static int apass_alloc(int phase, int ntau, const igea__aptau_spec *spec, const 
         t->m = spec[j].m;
         t->type = spec[j].type;
         t->stride = spec[j].stride;
-        t->acf = spec[j].acf;
+        /* a whole record's shortest taus (the most means): the sums of the
+         * differences later, if asked (acf_replay) */
+        t->acf = spec[j].acf ? (rec && t->m <= AP_LAZY ? 1 : 3) : 0;
         t->span = (t->type == IGEA__AP_AV ? 2 : 3) * t->m;
         t->cnext = -1;
         /* the overlapping lags that the small ring does not hold */
@@ -393,6 +396,9 @@ static int apass_alloc(int phase, int ntau, const igea__aptau_spec *spec, const 
     p->vbuf = p->need_w && !rsv ? igea__dalloc(AP_B + 1) : NULL;
     /* bases: back to the longest lag, plus the current block */
     p->cap_max = IGEA_MAX(span / AP_B + 4, IGEA_MAX(rsl, rsv) + 1);
+    for (int j = 0; rec && j < ntau; j++)
+        if (p->t[j].acf == 1) /* acf_replay reads the bases of every block */
+            p->cap_max = IGEA_MAX(p->cap_max, nb + 1);
     long c0 = p->cap_max;
     if (nb > 0 && nb + 1 < c0)
         c0 = nb + 1;
@@ -1098,88 +1104,103 @@ static long means_of(const igea__apass *p, long m, long e0, long e1, double *z)
     return K;
 }
 
-/* Sums over i < K of the shifted means w0(i) = z(i) - sh0 and first
- * differences w1(i) = (z(i) - z(i-1)) - sh1: out = {sum w0, sum w0^2, sum
- * w0(i-1) w0(i), sum w1, sum w1^2, sum w1(i-1) w1(i), sum w1(i-2) w1(i)}
- * (the second differences' sums follow from the last two, docs). z[-3] ..
- * z[-1] hold the three means before z[0]; ws holds 2 K + 8 values. Four
- * lanes in a fixed order (i mod 4, the rest in lane 0); w0 and w1 are
- * formed once each (ws) and read at their lags. */
-AP_CLONES static void acf_sums(const double *z, long K, double h0, double h1, double *ws,
-                               double *out)
+/* The lag-1 sums of K means z (z[-3] .. z[-1] hold the three before), in
+ * four lanes (i mod 4, the rest in lane 0, ((0 + 1) + (2 + 3))), each value
+ * formed once in ws (K + 4 values) and read at its lags. acf_sums0: of the
+ * shifted means w(i) = z(i) - h: out = {sum w, sum w^2, sum w(i-1) w(i)};
+ * acf_sums1: of the shifted first differences w(i) = (z(i) - z(i-1)) - h:
+ * out = {sum w, sum w^2, sum w(i-1) w(i), sum w(i-2) w(i)} (the second
+ * differences' sums follow from the last two, docs). */
+AP_CLONES static void acf_sums0(const double *z, long K, double h, double *ws, double *out)
 {
-    double *w0 = ws + 1, *w1 = ws + K + 4; /* w0[-1 .. K-1], w1[-2 .. K-1] */
+    double *w = ws + 1; /* w[-1 .. K-1] */
     long i = -1;
 #if AP_VEC
     for (; i + 4 <= K; i += 4)
-        AP_STV(w0 + i, AP_LD(z + i) - h0);
+        AP_STV(w + i, AP_LD(z + i) - h);
 #endif
     for (; i < K; i++)
-        w0[i] = z[i] - h0;
-    i = -2;
-#if AP_VEC
-    for (; i + 4 <= K; i += 4)
-        AP_STV(w1 + i, (AP_LD(z + i) - AP_LD(z + i - 1)) - h1);
-#endif
-    for (; i < K; i++)
-        w1[i] = (z[i] - z[i - 1]) - h1;
-#define AP_ACF_DECL(l)                                                                    \
-    double s0##l = 0, q0##l = 0, g0##l = 0, s1##l = 0, q1##l = 0, g1##l = 0, k1##l = 0
-    AP_ACF_DECL(0);
-    AP_ACF_DECL(1);
-    AP_ACF_DECL(2);
-    AP_ACF_DECL(3);
-#define AP_ACF_LANE(l)                                                                    \
-    {                                                                                     \
-        double a = w0[i + l], b = w1[i + l];                                              \
-        s0##l += a;                                                                       \
-        q0##l += a * a;                                                                   \
-        g0##l += w0[i + l - 1] * a;                                                       \
-        s1##l += b;                                                                       \
-        q1##l += b * b;                                                                   \
-        g1##l += w1[i + l - 1] * b;                                                       \
-        k1##l += w1[i + l - 2] * b;                                                       \
-    }
+        w[i] = z[i] - h;
+    double s[4] = {0}, q[4] = {0}, g[4] = {0};
     i = 0;
 #if AP_VEC
     {
-        ap_v4 S0 = {0, 0, 0, 0}, Q0 = S0, G0 = S0, S1 = S0, Q1 = S0, G1 = S0, K1 = S0;
+        ap_v4 S = {0, 0, 0, 0}, Q = S, G = S;
         for (; i + 4 <= K; i += 4) {
-            ap_v4 a = AP_LD(w0 + i), b = AP_LD(w1 + i);
-            S0 += a;
-            Q0 += a * a;
-            G0 += AP_LD(w0 + i - 1) * a;
-            S1 += b;
-            Q1 += b * b;
-            G1 += AP_LD(w1 + i - 1) * b;
-            K1 += AP_LD(w1 + i - 2) * b;
+            ap_v4 a = AP_LD(w + i);
+            S += a;
+            Q += a * a;
+            G += AP_LD(w + i - 1) * a;
         }
-#define AP_ACF_GET(l)                                                                     \
-    s0##l = S0[l], q0##l = Q0[l], g0##l = G0[l], s1##l = S1[l], q1##l = Q1[l],            \
-    g1##l = G1[l], k1##l = K1[l]
-        AP_ACF_GET(0);
-        AP_ACF_GET(1);
-        AP_ACF_GET(2);
-        AP_ACF_GET(3);
-#undef AP_ACF_GET
+        for (int l = 0; l < 4; l++)
+            s[l] = S[l], q[l] = Q[l], g[l] = G[l];
     }
 #else
-    for (; i + 4 <= K; i += 4) {
-        AP_ACF_LANE(0)
-        AP_ACF_LANE(1)
-        AP_ACF_LANE(2)
-        AP_ACF_LANE(3)
+    for (; i + 4 <= K; i += 4)
+        for (int l = 0; l < 4; l++) {
+            double a = w[i + l];
+            s[l] += a;
+            q[l] += a * a;
+            g[l] += w[i + l - 1] * a;
+        }
+#endif
+    for (; i < K; i++) {
+        double a = w[i];
+        s[0] += a;
+        q[0] += a * a;
+        g[0] += w[i - 1] * a;
     }
+    out[0] = (s[0] + s[1]) + (s[2] + s[3]);
+    out[1] = (q[0] + q[1]) + (q[2] + q[3]);
+    out[2] = (g[0] + g[1]) + (g[2] + g[3]);
+}
+
+AP_CLONES static void acf_sums1(const double *z, long K, double h, double *ws, double *out)
+{
+    double *w = ws + 2; /* w[-2 .. K-1] */
+    long i = -2;
+#if AP_VEC
+    for (; i + 4 <= K; i += 4)
+        AP_STV(w + i, (AP_LD(z + i) - AP_LD(z + i - 1)) - h);
 #endif
     for (; i < K; i++)
-        AP_ACF_LANE(0)
-#define AP_ACF_SUM(v) ((v##0 + v##1) + (v##2 + v##3))
-    out[0] = AP_ACF_SUM(s0), out[1] = AP_ACF_SUM(q0), out[2] = AP_ACF_SUM(g0);
-    out[3] = AP_ACF_SUM(s1), out[4] = AP_ACF_SUM(q1), out[5] = AP_ACF_SUM(g1);
-    out[6] = AP_ACF_SUM(k1);
-#undef AP_ACF_DECL
-#undef AP_ACF_LANE
-#undef AP_ACF_SUM
+        w[i] = (z[i] - z[i - 1]) - h;
+    double s[4] = {0}, q[4] = {0}, g[4] = {0}, k2[4] = {0};
+    i = 0;
+#if AP_VEC
+    {
+        ap_v4 S = {0, 0, 0, 0}, Q = S, G = S, K2 = S;
+        for (; i + 4 <= K; i += 4) {
+            ap_v4 b = AP_LD(w + i);
+            S += b;
+            Q += b * b;
+            G += AP_LD(w + i - 1) * b;
+            K2 += AP_LD(w + i - 2) * b;
+        }
+        for (int l = 0; l < 4; l++)
+            s[l] = S[l], q[l] = Q[l], g[l] = G[l], k2[l] = K2[l];
+    }
+#else
+    for (; i + 4 <= K; i += 4)
+        for (int l = 0; l < 4; l++) {
+            double b = w[i + l];
+            s[l] += b;
+            q[l] += b * b;
+            g[l] += w[i + l - 1] * b;
+            k2[l] += w[i + l - 2] * b;
+        }
+#endif
+    for (; i < K; i++) {
+        double b = w[i];
+        s[0] += b;
+        q[0] += b * b;
+        g[0] += w[i - 1] * b;
+        k2[0] += w[i - 2] * b;
+    }
+    out[0] = (s[0] + s[1]) + (s[2] + s[3]);
+    out[1] = (q[0] + q[1]) + (q[2] + q[3]);
+    out[2] = (g[0] + g[1]) + (g[2] + g[3]);
+    out[3] = (k2[0] + k2[1]) + (k2[2] + k2[3]);
 }
 
 /* The means waiting in t->zb to the sums of the series and of its first
@@ -1188,6 +1209,7 @@ static void means_flush(aptau *t, double *ws)
 {
     double *zz = t->zb, *z = zz + 3;
     long K = t->nzb, i = 0;
+    int d0 = t->acf & 1, d1 = t->acf & 2;
     if (K == 0)
         return;
     zz[0] = t->zc[0];
@@ -1196,28 +1218,34 @@ static void means_flush(aptau *t, double *ws)
     /* the first three means of the record start the series one by one */
     for (; i < K && t->nmean + i < 3; i++) {
         long g = t->nmean + i;
-        acf_block(&t->a[0], z + i, 1);
-        if (g >= 1) {
+        if (d0)
+            acf_block(&t->a[0], z + i, 1);
+        if (g >= 1 && d1) {
             double d = z[i] - z[i - 1];
             acf_block(&t->a[1], &d, 1);
             t->dfirst[g - 1] = d;
         }
     }
     if (i < K) {
-        double o[7];
-        acf_sums(z + i, K - i, t->a[0].sh, t->a[1].sh, ws, o);
+        double o[4], zl = z[K - 1], z1 = z[K - 2];
         for (int r = 0; r < 2; r++) {
+            if (!(r ? d1 : d0))
+                continue;
             igea__apacf *a = &t->a[r];
-            double zl = z[K - 1], z1 = z[K - 2];
-            igea__ksum_add(&a->s, o[3 * r]);
-            igea__ksum_add(&a->ss, o[3 * r + 1]);
-            igea__ksum_add(&a->lag, o[3 * r + 2]);
+            if (r == 0)
+                acf_sums0(z + i, K - i, a->sh, ws, o);
+            else
+                acf_sums1(z + i, K - i, a->sh, ws, o);
+            igea__ksum_add(&a->s, o[0]);
+            igea__ksum_add(&a->ss, o[1]);
+            igea__ksum_add(&a->lag, o[2]);
             a->n += (double)(K - i);
             a->prev = a->last = (r == 0 ? zl : zl - z1) - a->sh;
+            if (r)
+                igea__ksum_add(&t->lag2, o[3]);
         }
-        igea__ksum_add(&t->lag2, o[6]);
     }
-    if (t->nmean + K >= 3) {
+    if (t->nmean + K >= 3 && d1) {
         t->dlast[0] = z[K - 2] - z[K - 3];
         t->dlast[1] = z[K - 1] - z[K - 2];
     }
@@ -1630,6 +1658,61 @@ int igea__apass_end(igea__apass *p)
     return st;
 }
 
+static double apacf_r1(const igea__apacf *a);
+
+/* The local values L of block k (f points) again, as block_build made them
+ * (its base kept). */
+static void block_l(igea__apass *p, long k, long f)
+{
+    double *L = lblk(p, k), *bf = p->buf + 6 * AP_BUF;
+    if (p->phase) {
+        const double *x = raw_at(p, k * AP_B, f, bf);
+        double x0 = xb(p, k)->hi;
+        for (long j = 0; j < f; j++)
+            L[j] = x[j] - x0;
+        return;
+    }
+    const double *y = raw_at(p, k * AP_B - (k > 0), f, bf);
+    double *d = bf + AP_BUF;
+    d[0] = 0.0;
+    sub_off(y + (k > 0), f - 1, p->off, d + 1);
+    prefix2(d, L, f);
+}
+
+/* A whole record: the lag-1 sums of the means' first differences of the
+ * taus m <= AP_LAZY whose means ask for them (r1 / (1 + r1) >= 0.25, the
+ * identification's next step; short taus are mostly white, and their 2 N
+ * means cost as much as the rest of the identification), in a second run
+ * over the blocks, in the batches of the stream's single run (the same
+ * sums). */
+static void acf_replay(igea__apass *p)
+{
+    int again = 0;
+    for (int j = 0; j < p->ntau; j++) {
+        aptau *t = &p->t[j];
+        if (t->acf != 1 || t->nmean < 32)
+            continue;
+        double r1 = apacf_r1(&t->a[0]);
+        if (!(r1 / (1.0 + r1) >= 0.25))
+            continue;
+        t->acf = 2;
+        t->nmean = t->nzb = 0;
+        t->next_e = t->m;
+        t->zc[0] = t->zc[1] = t->zc[2] = 0.0;
+        again = 1;
+    }
+    for (long k = 0; again && k * AP_B < p->N; k++) {
+        long f = IGEA_MIN((long)AP_B, p->N - k * AP_B);
+        block_l(p, k, f);
+        for (int j = 0; j < p->ntau; j++)
+            if (p->t[j].acf == 2)
+                means_push(p, &p->t[j], k, k * AP_B + f);
+    }
+    for (int j = 0; again && j < p->ntau; j++)
+        if (p->t[j].acf == 2)
+            means_flush(&p->t[j], p->ws);
+}
+
 int igea__apass_whole(int phase, int ntau, const igea__aptau_spec *spec, long n,
                       const double *v, igea__apass **out)
 {
@@ -1646,6 +1729,8 @@ int igea__apass_whole(int phase, int ntau, const igea__aptau_spec *spec, long n,
     for (long k = 0; !st && k * AP_B < N; k++)
         st = block_do(p, k, IGEA_MIN((long)AP_B, N - k * AP_B), (k + 1) * AP_B >= N);
     acf_end(p);
+    if (!st)
+        acf_replay(p);
     if (st) {
         igea__apass_free(p);
         return st;
