@@ -14,7 +14,12 @@
 #include "stability_internal.h"
 
 #define AP_B IGEA__AP_BLOCK /* phase points per block */
-#define AP_RS_MAX 256       /* blocks of the small ring of local values */
+#ifndef AP_RS_MAX
+#define AP_RS_MAX 256 /* blocks of the small ring of local values (a build with
+                       * -DAP_RS_MAX=2 sends nearly every lag down the long
+                       * path: tests/test_stability.c then checks it on short
+                       * records) */
+#endif
 #define AP_REANCHOR 4       /* lags off the block grid: exact anchors every 4 blocks */
 #define AP_BUF (AP_B + 16)  /* one stream of the scratch buffer */
 #define AP_LAZY 4           /* a whole record's taus m <= 4: the means' differences on demand */
