@@ -3,10 +3,12 @@
 1. the Allan deviation of a 6-hour record at 1 kHz (21.6 M samples) over
    its 24 octave averaging times (23 for the modified one): igea's one pass
    (noise type given and identified) against the bandwidth floor (one pass
-   over the record, a numpy sum and a copy, measured in the same run), the
-   chunked numpy cumulative-sum peer and allantools; CPU seconds (user +
-   sys) of child processes run interleaved, the minimum of the repeats,
-   and the ratios;
+   over the record, a numpy sum and a copy, measured in the same run; the
+   floor of the issue is one such pass per tau, and every method's ratio to
+   it and to a single pass is printed), the chunked numpy cumulative-sum
+   peer and allantools; CPU seconds (user + sys) of child processes run
+   interleaved, the minimum of the repeats, and the growth of each child's
+   peak resident set over the loaded record;
 2. the driver on the same record as a .npy file: `igea stability` streamed
    against the same run loading the record (`--gaps` forces the loading
    path), maximum resident set and CPU time (user + sys) from /usr/bin/time;
@@ -123,34 +125,42 @@ def bench_allan(path, fs, reps, have_at):
                "numpy_oadev", "numpy_mdev"]
     if have_at:
         methods += ["allantools_oadev", "allantools_mdev"]
-    best, dev = {}, {}
+    best, dev, extra = {}, {}, {}
     for _ in range(reps):                       # interleaved repeats
         for m in methods:
             r = child(path, m, fs)
             best[m] = min(best.get(m, 1e300), r["cpu"])
+            extra[m] = max(extra.get(m, 0), r["extra"])
             dev[m] = np.array(r["dev"])
     n = int(np.load(path, mmap_mode="r").size)
     no, nm = dev["numpy_oadev"].size, dev["numpy_mdev"].size
-    print("Allan deviation of %d samples: %d octave taus (overlapping), %d (modified); "
-          "CPU s, min of %d interleaved runs, OPENBLAS_NUM_THREADS=1" % (n, no, nm, reps))
-    for m in methods:
-        print("  %-18s %9.4f s" % (m, best[m]))
     floor = best["sum"]
-    print("bandwidth floor: one pass over the record %.4f s (%.1f GB/s; a copy %.4f s)"
+    print("Allan deviation of %d samples (%.0f MB): %d octave taus (overlapping), %d (modified);"
+          " CPU s (user + sys), min of %d interleaved runs, OPENBLAS_NUM_THREADS=1"
+          % (n, 8 * n / 2 ** 20, no, nm, reps))
+    print("floor: one pass over the record (numpy sum) %.4f s = %.1f GB/s (a copy %.4f s);"
           % (floor, 8 * n / floor / 1e9, best["copy"]))
-    for k, peer, at, nt in (("o", "numpy_oadev", "allantools_oadev", no),
-                            ("m", "numpy_mdev", "allantools_mdev", nm)):
+    print("       one pass per tau: %.4f s (overlapping, %d passes), %.4f s (modified, %d)"
+          % (no * floor, no, nm * floor, nm))
+    print("  %-18s %9s %14s %10s %11s" % ("method", "CPU s", "/ pass per tau", "/ one pass",
+                                          "peak +MB"))
+    for m in methods[2:]:
+        nt = no if "_o" in m or "oadev" in m else nm
+        print("  %-18s %9.4f %14.2f %10.1f %11.1f" % (m, best[m], best[m] / (nt * floor),
+                                                     best[m] / floor, extra[m] / 2 ** 20))
+    for k, peer, at in (("o", "numpy_oadev", "allantools_oadev"),
+                        ("m", "numpy_mdev", "allantools_mdev")):
         w, a = best["igea_%s_wfm" % k], best["igea_%s_auto" % k]
-        line = ("%s: igea %.4f s = %.2f x one pass per tau (%d passes), %.1f x one pass; "
-                "chunked numpy / igea %.2f" % ("overlapping" if k == "o" else "modified", w,
-                                               w / (nt * floor), nt, w / floor, best[peer] / w))
+        line = ("%s: chunked numpy / igea %.2f" % ("overlapping" if k == "o" else "modified",
+                                                    best[peer] / w))
         if have_at:
             line += "; allantools / igea %.2f" % (best[at] / w)
+        line += "; noise='auto' / given %.3f (+%.1f %%)" % (a / w, 100 * (a / w - 1))
         print(line)
-        print("   noise='auto' / given: %.3f (+%.1f %%)" % (a / w, 100 * (a / w - 1)))
     for k, peer in (("o", "numpy_oadev"), ("m", "numpy_mdev")):
         d = np.max(np.abs(dev["igea_%s_wfm" % k] / dev[peer] - 1))
         print("max relative difference igea / numpy (%s): %.1e" % (k, d))
+    print("(peak +MB: growth of the child's peak resident set over the loaded record)")
 
 
 def bench_driver(path, fs, reps):

@@ -169,17 +169,13 @@ static double edf_mdev(double N, double m, int alpha)
 static int allan_devs(int n, const double *y, double fs, int ntau, const double *tau,
                       int kind, double *d, int *cw, int *al)
 {
-    igea__aptau_spec *sp = malloc((size_t)ntau * sizeof *sp);
+    igea__aptau_spec *sp = calloc((size_t)ntau, sizeof *sp);
     igea__apass *p = NULL;
     if (!sp)
         return IGEA_ENOMEM;
     for (int j = 0; j < ntau; j++)
         igea__stability_pass_spec(kind, lround(tau[j] * fs), al != NULL, &sp[j]);
-    int st = igea__apass_new(0, ntau, sp, (long)n + 1, &p);
-    if (!st)
-        st = igea__apass_feed(p, n, y);
-    if (!st)
-        st = igea__apass_end(p);
+    int st = igea__apass_whole(0, ntau, sp, n, y, &p);
     if (!st && igea__apass_nonfinite(p))
         st = IGEA_ENONFINITE;
     for (int j = 0; j < ntau && !st; j++) {

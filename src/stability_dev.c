@@ -481,45 +481,84 @@ static double dev_edf(int kind, int a, double N, double m)
 
 /* ---- noise identification at one averaging factor ---- */
 
-/* Lag-1 autocorrelation of z[K]. */
-static double lag1(long K, const double *z)
+/* The series of the lag-1 identification at factor m, generated on the fly
+ * from the phase (no copy of its length): u_k, k < K, the phase decimated
+ * by m (phase data) or its m-sample differences (frequency data), less the
+ * least-squares quadratic or line in k, differenced d times. */
+typedef struct {
+    const double *x;
+    long m, K;
+    int phase, d;
+    double c, p2m, b0, b1, b2;
+} nser;
+
+static inline double nser_u(const nser *s, long k)
+{
+    return s->phase ? s->x[k * s->m] : s->x[(k + 1) * s->m] - s->x[k * s->m];
+}
+
+/* The detrended value at k (the subtraction of detrend2 / detrend1). */
+static inline double nser_r(const nser *s, long k)
+{
+    double t = (double)k - s->c;
+    return s->phase ? nser_u(s, k) - (s->b0 + s->b1 * t + s->b2 * (t * t - s->p2m))
+                    : nser_u(s, k) - (s->b0 + s->b1 * t);
+}
+
+/* Element k of the series differenced d times ((r_{k+1} - r_k), ...). */
+static inline double nser_at(const nser *s, long k)
+{
+    if (s->d == 0)
+        return nser_r(s, k);
+    if (s->d == 1)
+        return nser_r(s, k + 1) - nser_r(s, k);
+    return (nser_r(s, k + 2) - nser_r(s, k + 1)) - (nser_r(s, k + 1) - nser_r(s, k));
+}
+
+/* The least-squares quadratic (phase) or line in k of u (orthogonal
+ * polynomials on k = 0 .. K-1). */
+static void nser_trend(nser *s)
+{
+    double c = 0.5 * (double)(s->K - 1), Kd = (double)s->K;
+    double p2m = (Kd * Kd - 1.0) / 12.0; /* mean of (k-c)^2 */
+    igea__ksum s0 = {0, 0}, s1 = {0, 0}, s2 = {0, 0}, n1 = {0, 0}, n2 = {0, 0};
+    for (long k = 0; k < s->K; k++) {
+        double t = (double)k - c, q = t * t - p2m, z = nser_u(s, k);
+        igea__ksum_add(&s0, z);
+        igea__ksum_add(&s1, z * t);
+        if (s->phase)
+            igea__ksum_add(&s2, z * q);
+        igea__ksum_add(&n1, t * t);
+        if (s->phase)
+            igea__ksum_add(&n2, q * q);
+    }
+    s->c = c;
+    s->p2m = p2m;
+    s->b0 = igea__ksum_get(&s0) / Kd;
+    s->b1 = igea__ksum_get(&s1) / igea__ksum_get(&n1);
+    double nq = igea__ksum_get(&n2);
+    s->b2 = s->phase && nq > 0.0 ? igea__ksum_get(&s2) / nq : 0.0;
+}
+
+/* Lag-1 autocorrelation of the series' first K values. */
+static double lag1(const nser *z, long K)
 {
     igea__ksum s = {0, 0};
     for (long i = 0; i < K; i++)
-        igea__ksum_add(&s, z[i]);
+        igea__ksum_add(&s, nser_at(z, i));
     double mu = igea__ksum_get(&s) / (double)K;
     igea__ksum num = {0, 0}, den = {0, 0};
+    double u = nser_at(z, 0) - mu;
     for (long i = 0; i < K; i++) {
-        double u = z[i] - mu;
         igea__ksum_add(&den, u * u);
-        if (i + 1 < K)
-            igea__ksum_add(&num, u * (z[i + 1] - mu));
+        if (i + 1 < K) {
+            double v = nser_at(z, i + 1) - mu;
+            igea__ksum_add(&num, u * v);
+            u = v;
+        }
     }
     double dd = igea__ksum_get(&den);
     return dd > 0.0 ? igea__ksum_get(&num) / dd : 0.0;
-}
-
-/* Remove the least-squares quadratic in k from z[K] (orthogonal
- * polynomials on k = 0 .. K-1). */
-static void detrend2(long K, double *z)
-{
-    double c = 0.5 * (double)(K - 1), Kd = (double)K;
-    double p2m = (Kd * Kd - 1.0) / 12.0; /* mean of (k-c)^2 */
-    igea__ksum s0 = {0, 0}, s1 = {0, 0}, s2 = {0, 0}, n1 = {0, 0}, n2 = {0, 0};
-    for (long k = 0; k < K; k++) {
-        double t = (double)k - c, q = t * t - p2m;
-        igea__ksum_add(&s0, z[k]);
-        igea__ksum_add(&s1, z[k] * t);
-        igea__ksum_add(&s2, z[k] * q);
-        igea__ksum_add(&n1, t * t);
-        igea__ksum_add(&n2, q * q);
-    }
-    double b0 = igea__ksum_get(&s0) / Kd, b1 = igea__ksum_get(&s1) / igea__ksum_get(&n1);
-    double nq = igea__ksum_get(&n2), b2 = nq > 0.0 ? igea__ksum_get(&s2) / nq : 0.0;
-    for (long k = 0; k < K; k++) {
-        double t = (double)k - c;
-        z[k] -= b0 + b1 * t + b2 * (t * t - p2m);
-    }
 }
 
 static double b1_theory(double N, int mu)
@@ -533,9 +572,10 @@ static double b1_theory(double N, int mu)
 }
 
 /* B1 / R(n) identification on K - 1 >= 4 averages of m samples. */
-static int noise_b1(long N, const double *x, long m, double tau0, long K, double *z)
+static int noise_b1(long N, const double *x, long m, double tau0, long K)
 {
     long Kf = K - 1;
+    double z[30];
     for (long k = 0; k < Kf; k++)
         z[k] = (x[(k + 1) * m] - x[k * m]) / ((double)m * tau0);
     igea__ksum s = {0, 0};
@@ -564,48 +604,24 @@ static int noise_b1(long N, const double *x, long m, double tau0, long K, double
     return rn > sqrt(rf / (double)m) ? IGEA_STABILITY_NOISE_FPM : IGEA_STABILITY_NOISE_WPM;
 }
 
-/* Remove the least-squares line in k from z[K]. */
-static void detrend1(long K, double *z)
-{
-    double c = 0.5 * (double)(K - 1), Kd = (double)K;
-    igea__ksum s0 = {0, 0}, s1 = {0, 0}, n1 = {0, 0};
-    for (long k = 0; k < K; k++) {
-        double t = (double)k - c;
-        igea__ksum_add(&s0, z[k]);
-        igea__ksum_add(&s1, z[k] * t);
-        igea__ksum_add(&n1, t * t);
-    }
-    double b0 = igea__ksum_get(&s0) / Kd, b1 = igea__ksum_get(&s1) / igea__ksum_get(&n1);
-    for (long k = 0; k < K; k++)
-        z[k] -= b0 + b1 * ((double)k - c);
-}
-
-/* Noise exponent alpha at averaging factor m (z: N doubles of workspace).
- * Frequency data: the m-sample means, linear trend removed, alpha = -2
- * (delta + d); phase data: the phase decimated by m, quadratic trend
- * removed, alpha = 2 - 2 (delta + d) (allantools' autocorr_noise_id). */
-static int noise_at(long N, const double *x, long m, double tau0, int phase, double *z)
+/* Noise exponent alpha at averaging factor m. Frequency data: the
+ * m-sample means, linear trend removed, alpha = -2 (delta + d); phase
+ * data: the phase decimated by m, quadratic trend removed, alpha = 2 - 2
+ * (delta + d) (allantools' autocorr_noise_id). */
+static int noise_at(long N, const double *x, long m, double tau0, int phase)
 {
     long K = (N - 1) / m + 1;
     if (K < 31) /* fewer than 30 means (or 31 phase points) */
-        return K - 1 >= 4 ? noise_b1(N, x, m, tau0, K, z) : IGEA_STABILITY_NOISE_WFM;
-    if (phase) {
-        for (long k = 0; k < K; k++)
-            z[k] = x[k * m];
-        detrend2(K, z);
-    } else {
-        for (long k = 0; k + 1 < K; k++)
-            z[k] = x[(k + 1) * m] - x[k * m];
-        detrend1(--K, z);
-    }
+        return K - 1 >= 4 ? noise_b1(N, x, m, tau0, K) : IGEA_STABILITY_NOISE_WFM;
+    nser z = {x, m, phase ? K : K - 1, phase, 0, 0, 0, 0, 0, 0};
+    nser_trend(&z);
     for (int d = 0;; d++) {
-        double r1 = lag1(K - d, z), delta = r1 / (1.0 + r1);
+        z.d = d;
+        double r1 = lag1(&z, z.K - d), delta = r1 / (1.0 + r1);
         if (delta < 0.25 || d == 2) {
             long a = (phase ? 2 : 0) - 2 * d - lround(2.0 * delta);
             return (int)IGEA_MAX(-2, IGEA_MIN(2, a));
         }
-        for (long k = 0; k + 1 < K - d; k++)
-            z[k] = z[k + 1] - z[k];
     }
 }
 
@@ -815,18 +831,14 @@ double igea__stability_pass_dev(int kind, int phase, double fs, long m, double s
 static int dev_pass(int n, const double *v, double fs, int data_type, int kind, int ntau,
                     const long *m, double *d)
 {
-    igea__aptau_spec *sp = malloc((size_t)ntau * sizeof *sp);
+    igea__aptau_spec *sp = calloc((size_t)ntau, sizeof *sp);
     igea__apass *p = NULL;
     if (!sp)
         return IGEA_ENOMEM;
     for (int j = 0; j < ntau; j++)
         igea__stability_pass_spec(kind, m[j], 0, &sp[j]);
     int phase = data_type == IGEA_STABILITY_DATA_PHASE;
-    int st = igea__apass_new(phase, ntau, sp, phase ? (long)n : (long)n + 1, &p);
-    if (!st)
-        st = igea__apass_feed(p, n, v);
-    if (!st)
-        st = igea__apass_end(p);
+    int st = igea__apass_whole(phase, ntau, sp, n, v, &p);
     for (int j = 0; j < ntau && !st; j++) {
         double ss;
         long cnt;
@@ -934,12 +946,13 @@ static int dev_intervals(const int *sk, long N, int ntau, const long *m, const i
     return 0;
 }
 
-/* Workspace: phase x, frequency y (HTOTDEV), 9 m_max doubles, N doubles
- * for the identification, 2N longs (MTIE), n + 1 gap counts (gaps); per
+/* Workspace: phase x (not for the Allan and Hadamard kinds with the noise
+ * type given), frequency y (HTOTDEV), 9 m_max doubles, 2N longs (MTIE),
+ * n + 1 gap counts (gaps); per
  * tau: m, the terms used, alpha, the statistic (THEOH: OADEV or THEOBR),
  * and 4 ntau doubles of results. */
 typedef struct {
-    double *x, *y, *w, *z, *r;
+    double *x, *y, *w, *r;
     long *q, *m, *P, *used;
     int *al, *sk;
 } dev_ws;
@@ -949,7 +962,6 @@ static void ws_free(dev_ws *s)
     free(s->x);
     free(s->y);
     free(s->w);
-    free(s->z);
     free(s->r);
     free(s->q);
     free(s->m);
@@ -959,19 +971,18 @@ static void ws_free(dev_ws *s)
     free(s->sk);
 }
 
-static int ws_alloc(dev_ws *s, int kind, long N, int ntau, long mmax, int need_id)
+static int ws_alloc(dev_ws *s, int kind, long N, int ntau, long mmax)
 {
     int tot = kind >= IGEA_STABILITY_ALLAN_MTOTDEV && kind <= IGEA_STABILITY_ALLAN_HTOTDEV;
     s->w = tot ? igea__dalloc(9 * (size_t)mmax) : NULL;
     s->y = kind == IGEA_STABILITY_ALLAN_HTOTDEV ? igea__dalloc((size_t)N) : NULL;
-    s->z = need_id ? igea__dalloc((size_t)N) : NULL;
     s->q = kind == IGEA_STABILITY_ALLAN_MTIE ? malloc(2 * (size_t)N * sizeof(long)) : NULL;
     s->r = igea__dalloc(4 * (size_t)ntau);
     s->m = malloc((size_t)ntau * sizeof(long));
     s->used = malloc((size_t)ntau * sizeof(long));
     s->al = igea__ialloc((size_t)ntau);
     s->sk = igea__ialloc((size_t)ntau);
-    if ((tot && !s->w) || (kind == IGEA_STABILITY_ALLAN_HTOTDEV && !s->y) || (need_id && !s->z) ||
+    if ((tot && !s->w) || (kind == IGEA_STABILITY_ALLAN_HTOTDEV && !s->y) ||
         (kind == IGEA_STABILITY_ALLAN_MTIE && !s->q) || !s->r || !s->m || !s->used || !s->al ||
         !s->sk)
         return IGEA_ENOMEM;
@@ -1049,7 +1060,11 @@ int igea_stability_dev(int n, const double *x, double fs, int data_type, int nta
     dev_ws s = {0};
     int htot = kind == IGEA_STABILITY_ALLAN_HTOTDEV, need_ci = lo || hi || edf;
     int need_id = (need_ci || alpha || htot) && noise == IGEA_STABILITY_NOISE_AUTO;
-    if ((st = dev_phase(n, x, fs, data_type, kind, gaps, &s, &N))) {
+    /* the Allan and Hadamard kinds with the noise type given read the
+     * record itself in their pass: no phase copy */
+    N = data_type == IGEA_STABILITY_DATA_PHASE ? n : (long)n + 1;
+    if (!(gap_kind(kind) && !gaps && !need_id) &&
+        (st = dev_phase(n, x, fs, data_type, kind, gaps, &s, &N))) {
         ws_free(&s);
         return st;
     }
@@ -1057,7 +1072,7 @@ int igea_stability_dev(int n, const double *x, double fs, int data_type, int nta
         int sk = sub_kind(kind, tau[j], fs, N);
         mmax = IGEA_MAX(mmax, dev_factor(sk, tau[j], fs, N));
     }
-    if ((st = ws_alloc(&s, kind, N, ntau, mmax, need_id))) {
+    if ((st = ws_alloc(&s, kind, N, ntau, mmax))) {
         ws_free(&s);
         return st;
     }
@@ -1097,7 +1112,7 @@ int igea_stability_dev(int n, const double *x, double fs, int data_type, int nta
         if (sk == IGEA_STABILITY_ALLAN_THEOBR)
             s.al[j] = br_alpha;
         else
-            s.al[j] = need_id ? noise_at(N, s.x, s.m[j], tau0, data_type, s.z) : noise;
+            s.al[j] = need_id ? noise_at(N, s.x, s.m[j], tau0, data_type) : noise;
         if (need_id && kind == IGEA_STABILITY_ALLAN_THEO1 && (N - 1) / s.m[j] < 4 && N >= 90) {
             /* Theo1 beyond a quarter of the record: fewer than 4 averages
              * for the lag-1 or B1 methods; the type of TheoBR's bias factor

@@ -39,11 +39,17 @@ typedef struct {
 typedef struct igea__apass igea__apass;
 
 /* A pass over phase points (phase 1) or rate samples (phase 0: integrated,
- * the mean of the first block removed) for ntau averaging times; nhint the
- * points expected (0: unknown; the ring of blocks grows as needed). Returns
- * 0 or IGEA_ENOMEM. */
+ * the mean of the first block removed) for ntau averaging times, fed as a
+ * stream (its ring of raw values as long as the longest lag); nhint the
+ * points expected (0: unknown; the rings grow as needed). Returns 0 or
+ * IGEA_ENOMEM. */
 int igea__apass_new(int phase, int ntau, const igea__aptau_spec *spec, long nhint,
                     igea__apass **out);
+/* The same pass run over a whole record v of n values, read in place (no
+ * ring of raw values; the results equal those of the stream bit for bit).
+ * Returns 0 or IGEA_ENOMEM. */
+int igea__apass_whole(int phase, int ntau, const igea__aptau_spec *spec, long n,
+                      const double *v, igea__apass **out);
 /* n more values; 0, IGEA_ENOMEM (a ring that could not grow), -1 after end. */
 int igea__apass_feed(igea__apass *p, long n, const double *v);
 /* The end of the record: the last block's terms. 0 or IGEA_ENOMEM. */

@@ -1,14 +1,34 @@
 /* stability_pass.c - one pass over a record for every averaging time of the
- * Allan and Hadamard families: the phase is built block by block from the
- * stream (rate samples integrated, or phase points as they come), kept in a
- * ring of the blocks that the longest lag still needs, each block as a base
- * (double-double) and values relative to it, and every requested tau takes
- * its terms from the block as it is closed (docs/stability.md, "One pass"). */
+ * Allan and Hadamard families. The phase is built block by block (rate
+ * samples integrated, or phase points as they come), each block as a base
+ * (double-double) and values relative to it. A tau whose lags reach no
+ * further back than the small ring of the last AP_RS_MAX blocks takes its
+ * terms from the local values kept there; a longer lag reads the raw values
+ * of the record itself (a whole-record call: the caller's array; a stream:
+ * a ring of raw values as long as that lag) and runs the differences as a
+ * recurrence from exact anchors; the strided terms and the tau-means of
+ * long lags keep the last points at multiples of m (docs/stability.md,
+ * "One pass"). */
 #include "igea/stability.h"
 #include "internal.h"
 #include "stability_internal.h"
 
 #define AP_B IGEA__AP_BLOCK /* phase points per block */
+#ifndef AP_RS_MAX
+#define AP_RS_MAX 256 /* blocks of the small ring of local values (a build with
+                       * -DAP_RS_MAX=2 sends nearly every lag down the long
+                       * path: tests/test_stability.c then checks it on short
+                       * records) */
+#endif
+#define AP_REANCHOR 4       /* lags off the block grid: exact anchors every 4 blocks */
+#define AP_BUF (AP_B + 16)  /* one stream of the scratch buffer */
+#define AP_LAZY 4           /* a whole record's taus m <= 4: the means' differences on demand */
+#ifndef AP_PFL
+#define AP_PFL 2
+#endif
+#ifndef AP_AHEAD
+#define AP_AHEAD 2 /* blocks ahead the long lags' raw values are fetched */
+#endif
 
 /* ---- double-double ---- */
 
@@ -64,6 +84,18 @@ static inline dd dd_mul_d(dd a, double b)
 }
 
 static inline double dd_get(dd a) { return a.hi + a.lo; }
+
+static inline dd dd_sub(dd a, dd b) { return dd_add(a, dd_neg(b)); }
+
+/* v0 - 2 v1 + v2 as (v0 - v1) - (v1 - v2). */
+static inline dd dd_diff2(const dd *v) { return dd_sub(dd_sub(v[0], v[1]), dd_sub(v[1], v[2])); }
+
+/* v0 - 3 v1 + 3 v2 - v3 as (v0 - v3) - 3 (v1 - v2), 3 u = u + 2 u. */
+static inline dd dd_diff3(const dd *v)
+{
+    dd u = dd_sub(v[1], v[2]), u2 = {2.0 * u.hi, 2.0 * u.lo};
+    return dd_sub(dd_sub(v[0], v[3]), dd_add(u, u2));
+}
 
 /* ---- lag-1 autocorrelation accumulators (rate kinds' noise type) ---- */
 
@@ -123,6 +155,9 @@ typedef struct {
     int type;      /* IGEA__AP_AV, _HV, _MV */
     int stride;    /* 1 (overlapping) or 0 (stride m) */
     int acf;       /* lag-1 autocorrelation of the m-sample means */
+    int large;     /* overlapping terms from the raw values (lags beyond the small ring) */
+    int hist;      /* strided terms and means from the last points at multiples of m */
+    int win;       /* overlapping, every lag within the block before: the window */
     igea__ksum sum;
     long cnt;
     long nmean;    /* means pushed to the sums */
@@ -132,47 +167,77 @@ typedef struct {
     igea__ksum lag2;  /* sum of w_j w_{j+2} of the first differences (shifted) */
     double dfirst[2], dlast[2]; /* the first two and the last two differences */
     igea__apacf a[3];
+    long cnext;       /* large: the term after the last one computed (-1: none yet) */
+    double c1, c2;    /* large: the last difference (D or T) and running sum (S) */
+    long hn;          /* hist: points kept (up to 3), newest first */
+    dd hb[3];         /* their blocks' bases */
+    double hl[3];     /* their local values */
 } aptau;
 
 struct igea__apass {
-    int phase, need_l, need_v;
-    long cap;          /* ring capacity, blocks */
-    long cap_max;      /* blocks the longest lag can need */
-    double *L, *V;     /* cap blocks of AP_B (L) and AP_B + 1 (V) values */
-    dd *Xb, *Wb;       /* block bases of the phase and of its running sum */
-    long k, fill;      /* current block, its points */
-    long kbase;        /* the block in slot 0 of the current pass through the ring */
-    double llast, vlast; /* the finished block's last L and V */
-    double *lbuf;      /* the block's local values when L is not kept */
+    int phase;
+    int need_w;        /* the running sums W (modified kinds) */
+    const double *rec; /* the whole record (NULL: a stream) */
+    long nrec;
+    long rsl, rsv;     /* blocks of the small rings of L and V */
+    double *L, *V;     /* rsl blocks of AP_B (L), rsv of AP_B + 1 (V) */
+    double *vbuf;      /* V of the current block when no ring keeps it */
+    double *lx, *vx;   /* the window: L (V) of the block before and of this one
+                        * on the block before's base (2 AP_B + 1 values) */
+    long cap, cap_max; /* the ring of block bases: blocks, and blocks the lags need */
+    dd *Xb, *Wb;
+    double *raw;       /* stream: raw values, value i at i % (rawcap AP_B) */
+    long rawcap, rawcap_max;
+    long reach;        /* raw values a block's terms read before its first */
+    long nraw;         /* raw values received */
+    long k;            /* the next block to finish */
     long N;            /* phase points so far */
-    double off;        /* rate feed: the offset removed (mean of the first block) */
-    double *pend;      /* rate feed: the first block's samples until its mean is known */
-    long npend;
-    int started, ended;
+    double llast, vlast; /* the finished block's last L and V */
+    double off;        /* rate data: the offset removed (mean of the first block) */
+    int have_off, ended;
     int bad;           /* a value was NaN or infinite */
     int ntau;
     aptau *t;
     double *z;         /* scratch: AP_B + 3 values */
+    double *buf;       /* scratch: 8 streams of AP_BUF */
+    double *ws;        /* scratch of the lag-1 sums: 2 (255 + AP_B + 1) + 8 values */
 };
 
-/* The ring slot of block blk (blk in k - cap + 1 .. k): no division. */
-static inline long slot_of(const igea__apass *p, long blk)
+static inline long mod_l(long a, long b) { return a % b; }
+
+/* The local phase values of block blk (kept in the small ring). */
+static inline double *lblk(const igea__apass *p, long blk)
 {
-    long d = blk - p->kbase;
-    return d < 0 ? d + p->cap : d;
+    return p->L + (size_t)mod_l(blk, p->rsl) * AP_B;
 }
 
-/* X at phase index i as base slot and local value. */
 static inline double *lptr(const igea__apass *p, long i)
 {
     long b = i / AP_B;
-    return p->L + (size_t)slot_of(p, b) * AP_B + (size_t)(i - b * AP_B);
+    return lblk(p, b) + (i - b * AP_B);
 }
 
 static inline double *vptr(const igea__apass *p, long i)
 {
     long b = i / AP_B;
-    return p->V + (size_t)slot_of(p, b) * (AP_B + 1) + (size_t)(i - b * AP_B);
+    return p->V + (size_t)mod_l(b, p->rsv) * (AP_B + 1) + (i - b * AP_B);
+}
+
+static inline dd *xb(const igea__apass *p, long blk) { return p->Xb + mod_l(blk, p->cap); }
+static inline dd *wb(const igea__apass *p, long blk) { return p->Wb + mod_l(blk, p->cap); }
+
+/* len raw values from value index i (rate: sample, phase: point): the
+ * caller's array, or the stream's ring (copied to buf where it wraps). */
+static const double *raw_at(const igea__apass *p, long i, long len, double *buf)
+{
+    if (p->rec)
+        return p->rec + i;
+    long R = p->rawcap * AP_B, s = mod_l(i, R);
+    if (s + len <= R)
+        return p->raw + s;
+    memcpy(buf, p->raw + s, (size_t)(R - s) * sizeof(double));
+    memcpy(buf + (R - s), p->raw, (size_t)(len - (R - s)) * sizeof(double));
+    return buf;
 }
 
 void igea__apass_free(igea__apass *p)
@@ -181,14 +246,18 @@ void igea__apass_free(igea__apass *p)
         return;
     free(p->L);
     free(p->V);
+    free(p->vbuf);
+    free(p->lx);
+    free(p->vx);
     free(p->Xb);
     free(p->Wb);
-    free(p->pend);
+    free(p->raw);
     for (int j = 0; p->t && j < p->ntau; j++)
         free(p->t[j].zb);
     free(p->t);
     free(p->z);
-    free(p->lbuf);
+    free(p->buf);
+    free(p->ws);
     free(p);
 }
 
@@ -198,92 +267,98 @@ static void *grow_array(void *p, size_t n, size_t sz)
     return n > (size_t)-1 / sz ? NULL : realloc(p, n * sz);
 }
 
-/* Grow the ring to newcap blocks, keeping blocks k - cap + 1 .. k. Before
- * the ring has wrapped (block k in slot k) the arrays are extended in
- * place (large ones by remapping, without a second copy). */
-static int ring_grow(igea__apass *p, long newcap)
+/* The ring of bases grown to newcap blocks, keeping blocks k - cap .. k
+ * (k the block being finished). Before the ring has wrapped the arrays are
+ * extended in place. */
+static int base_grow(igea__apass *p, long newcap)
 {
-    if (p->cap > 0 && p->k < p->cap && p->kbase == 0) {
-        dd *Xb = grow_array(p->Xb, (size_t)newcap, sizeof(dd));
-        if (Xb)
-            p->Xb = Xb;
-        dd *Wb = Xb ? grow_array(p->Wb, (size_t)newcap, sizeof(dd)) : NULL;
-        if (Wb)
-            p->Wb = Wb;
-        double *L = NULL, *V = NULL;
-        if (Wb && p->need_l && (L = grow_array(p->L, (size_t)newcap * AP_B, sizeof(double))))
-            p->L = L;
-        if (Wb && p->need_v &&
-            (V = grow_array(p->V, (size_t)newcap * (AP_B + 1), sizeof(double))))
-            p->V = V;
-        if (!Xb || !Wb || (p->need_l && !L) || (p->need_v && !V))
-            return IGEA_ENOMEM; /* the arrays kept their old size and content */
+    if (p->k < p->cap) {
+        dd *X = grow_array(p->Xb, (size_t)newcap, sizeof(dd));
+        if (X)
+            p->Xb = X;
+        dd *W = X ? grow_array(p->Wb, (size_t)newcap, sizeof(dd)) : NULL;
+        if (!W)
+            return IGEA_ENOMEM;
+        p->Wb = W;
         p->cap = newcap;
         return 0;
     }
-    double *L = NULL, *V = NULL;
-    dd *Xb = malloc((size_t)newcap * sizeof(dd)), *Wb = malloc((size_t)newcap * sizeof(dd));
-    if (p->need_l)
-        L = igea__dalloc((size_t)newcap * AP_B);
-    if (p->need_v)
-        V = igea__dalloc((size_t)newcap * (AP_B + 1));
-    if (!Xb || !Wb || (p->need_l && !L) || (p->need_v && !V)) {
-        free(Xb);
-        free(Wb);
-        free(L);
-        free(V);
+    dd *X = malloc((size_t)newcap * sizeof(dd)), *W = malloc((size_t)newcap * sizeof(dd));
+    if (!X || !W) {
+        free(X);
+        free(W);
         return IGEA_ENOMEM;
     }
-    long first = p->k - p->cap + 1;
-    if (first < 0)
-        first = 0;
-    for (long b = first; b <= p->k && p->cap > 0; b++) {
-        long so = b % p->cap, sn = b % newcap;
-        Xb[sn] = p->Xb[so];
-        Wb[sn] = p->Wb[so];
-        if (L)
-            memcpy(L + (size_t)sn * AP_B, p->L + (size_t)so * AP_B, AP_B * sizeof(double));
-        if (V)
-            memcpy(V + (size_t)sn * (AP_B + 1), p->V + (size_t)so * (AP_B + 1),
-                   (AP_B + 1) * sizeof(double));
+    for (long b = p->k - p->cap; b < p->k; b++) {
+        X[b % newcap] = p->Xb[b % p->cap];
+        W[b % newcap] = p->Wb[b % p->cap];
     }
-    free(p->L);
-    free(p->V);
     free(p->Xb);
     free(p->Wb);
-    p->L = L;
-    p->V = V;
-    p->Xb = Xb;
-    p->Wb = Wb;
+    p->Xb = X;
+    p->Wb = W;
     p->cap = newcap;
-    p->kbase = p->k - p->k % newcap;
     return 0;
 }
 
-int igea__apass_new(int phase, int ntau, const igea__aptau_spec *spec, long nhint,
-                    igea__apass **out)
+/* The stream's ring of raw values grown to newcap blocks, keeping the last
+ * rawcap AP_B values (in place before it has wrapped). */
+static int raw_grow(igea__apass *p, long newcap)
+{
+    size_t R = (size_t)p->rawcap * AP_B, Rn = (size_t)newcap * AP_B;
+    if ((size_t)p->nraw <= R) {
+        double *r = grow_array(p->raw, Rn, sizeof(double));
+        if (!r)
+            return IGEA_ENOMEM;
+        p->raw = r;
+        p->rawcap = newcap;
+        return 0;
+    }
+    double *r = igea__dalloc(Rn);
+    if (!r)
+        return IGEA_ENOMEM;
+    for (long i = p->nraw - (long)R; i < p->nraw; i++)
+        r[(size_t)i % Rn] = p->raw[(size_t)i % R];
+    free(p->raw);
+    p->raw = r;
+    p->rawcap = newcap;
+    return 0;
+}
+
+static int apass_alloc(int phase, int ntau, const igea__aptau_spec *spec, const double *rec,
+                       long nrec, long nhint, igea__apass **out)
 {
     igea__apass *p = calloc(1, sizeof *p);
     if (!p)
         return IGEA_ENOMEM;
     p->phase = phase;
+    p->rec = rec;
+    p->nrec = nrec;
     p->ntau = ntau;
     p->t = calloc((size_t)(ntau > 0 ? ntau : 1), sizeof(aptau));
     p->z = igea__dalloc(AP_B + 3);
-    p->lbuf = igea__dalloc(AP_B);
-    p->pend = phase ? NULL : igea__dalloc(AP_B);
-    if (!p->t || !p->z || !p->lbuf || (!phase && !p->pend)) {
+    p->buf = igea__dalloc(8 * (size_t)AP_BUF);
+    p->ws = igea__dalloc(2 * (255 + AP_B + 1) + 8);
+    if (!p->t || !p->z || !p->buf || !p->ws) {
         igea__apass_free(p);
         return IGEA_ENOMEM;
     }
-    long span = 1;
+    long span = 1, lspan = 0, rsl = 5, rsv = 0;
+    int wl = 0, wv = 0;
     for (int j = 0; j < ntau; j++) {
         aptau *t = &p->t[j];
         t->m = spec[j].m;
         t->type = spec[j].type;
         t->stride = spec[j].stride;
-        t->acf = spec[j].acf;
+        /* a whole record's shortest taus (the most means): the sums of the
+         * differences later, if asked (acf_replay) */
+        t->acf = spec[j].acf ? (rec && t->m <= AP_LAZY ? 1 : 3) : 0;
         t->span = (t->type == IGEA__AP_AV ? 2 : 3) * t->m;
+        t->cnext = -1;
+        /* the overlapping lags that the small ring does not hold */
+        long blocks = t->span / AP_B + 3;
+        t->large = t->stride && t->m > 1 && blocks > AP_RS_MAX;
+        t->hist = t->m >= AP_B && (t->acf || !(t->stride || t->m == 1));
         if (t->acf) { /* the three means before, 255 waiting, a block's */
             t->next_e = t->m;
             if (!(t->zb = igea__dalloc(3 + 255 + AP_B / (size_t)t->m + 1))) {
@@ -293,31 +368,72 @@ int igea__apass_new(int phase, int ntau, const igea__aptau_spec *spec, long nhin
         }
         if (t->span > span)
             span = t->span;
-        if (t->type == IGEA__AP_MV)
-            p->need_v = 1;
-        else
-            p->need_l = 1;
-        if (t->acf)
-            p->need_l = p->need_l || !p->need_v;
+        if (t->large && t->span > lspan)
+            lspan = t->span;
+        if ((t->stride || t->m == 1) && !t->large) { /* overlapping: the small ring */
+            t->win = t->span <= AP_B;
+            if (t->type == IGEA__AP_MV)
+                rsv = IGEA_MAX(rsv, blocks);
+            else
+                rsl = IGEA_MAX(rsl, blocks);
+            if (t->win && t->type == IGEA__AP_MV)
+                wv = 1;
+            else if (t->win)
+                wl = 1;
+        }
+        p->need_w = p->need_w || t->type == IGEA__AP_MV;
     }
-    if (!p->need_l && !p->need_v)
-        p->need_l = 1;
-    /* blocks the longest lag reaches back, plus the current one */
-    p->cap_max = span / AP_B + 3;
+    long nb = nhint > 0 ? nhint / AP_B + 2 : 0; /* blocks of the record, and one */
+    if (nb > 0) {
+        rsl = IGEA_MIN(rsl, nb);
+        rsv = IGEA_MIN(rsv, nb);
+    }
+    if (p->need_w)
+        rsv = IGEA_MAX(rsv, 2); /* the window's block before */
+    p->rsl = rsl;
+    p->rsv = rsv;
+    p->lx = wl ? igea__dalloc(2 * AP_B + 1) : NULL;
+    p->vx = wv ? igea__dalloc(2 * AP_B + 2) : NULL;
+    if (wv && !p->lx)
+        p->lx = NULL;
+    p->L = igea__dalloc((size_t)rsl * AP_B);
+    p->V = rsv ? igea__dalloc((size_t)rsv * (AP_B + 1)) : NULL;
+    p->vbuf = p->need_w && !rsv ? igea__dalloc(AP_B + 1) : NULL;
+    /* bases: back to the longest lag, plus the current block */
+    p->cap_max = IGEA_MAX(span / AP_B + 4, IGEA_MAX(rsl, rsv) + 1);
+    for (int j = 0; rec && j < ntau; j++)
+        if (p->t[j].acf == 1) /* acf_replay reads the bases of every block */
+            p->cap_max = IGEA_MAX(p->cap_max, nb + 1);
     long c0 = p->cap_max;
-    if (nhint > 0 && nhint / AP_B + 2 < c0)
-        c0 = nhint / AP_B + 2;
-    if (nhint <= 0 && c0 > 16)
+    if (nb > 0 && nb + 1 < c0)
+        c0 = nb + 1;
+    if (!rec && nhint <= 0 && c0 > 16)
         c0 = 16;
-    if (ring_grow(p, c0)) {
+    /* raw values before a block's first that its terms read (the lag,
+     * the sample before it, the block of an anchor), and the stream's ring */
+    p->reach = lspan ? lspan + AP_B + 1 : 1;
+    p->rawcap_max = (p->reach + AP_B - 1) / AP_B + 4;
+    int st = !p->L || (rsv && !p->V) || (p->need_w && !rsv && !p->vbuf) || (wl && !p->lx) ||
+                     (wv && !p->vx)
+                 ? IGEA_ENOMEM
+                 : 0;
+    if (!st)
+        st = base_grow(p, c0);
+    if (!st && !rec)
+        st = raw_grow(p, IGEA_MIN(p->rawcap_max, nhint <= 0 ? 16 : nhint / AP_B + 4));
+    if (st) {
         igea__apass_free(p);
-        return IGEA_ENOMEM;
+        return st;
     }
     *out = p;
     return 0;
 }
 
-/* ---- the terms of one block ---- */
+int igea__apass_new(int phase, int ntau, const igea__aptau_spec *spec, long nhint,
+                    igea__apass **out)
+{
+    return apass_alloc(phase, ntau, spec, NULL, 0, nhint, out);
+}
 
 /* The segment kernels: eight accumulators (one per lane, combined in a
  * fixed order), so that a wider vector unit gives the same sums. Built
@@ -479,8 +595,319 @@ double igea__ap_sumsq4(const double *a, const double *b, const double *c, const 
     return seg_t1(a, b, c, e, len);
 }
 
+/* ---- long lags: differences of the raw values and their running sums ---- */
+
+#if AP_VEC
+#define AP_STV(p, v) (*(ap_v4 *)(void *)(p) = (v))
+#endif
+
+/* g[i] = (a0[i] - a1[i]) - (a1[i] - a2[i]): the second difference of the
+ * raw values at lag m (its running sum is the Allan term's difference of
+ * the phase). */
+AP_CLONES static void inc_av(const double *a0, const double *a1, const double *a2, long len,
+                             double *g)
+{
+    long i = 0;
+#if AP_VEC
+    for (; i + 4 <= len; i += 4) {
+        ap_v4 b = AP_LD(a1 + i);
+        AP_STV(g + i, (AP_LD(a0 + i) - b) - (b - AP_LD(a2 + i)));
+    }
+#endif
+    for (; i < len; i++)
+        g[i] = (a0[i] - a1[i]) - (a1[i] - a2[i]);
+}
+
+/* h[i] = (a0[i] - a3[i]) - 3 (a1[i] - a2[i]): the third difference. */
+AP_CLONES static void inc_hv(const double *a0, const double *a1, const double *a2,
+                             const double *a3, long len, double *h)
+{
+    long i = 0;
+#if AP_VEC
+    for (; i + 4 <= len; i += 4)
+        AP_STV(h + i, (AP_LD(a0 + i) - AP_LD(a3 + i)) - 3.0 * (AP_LD(a1 + i) - AP_LD(a2 + i)));
+#endif
+    for (; i < len; i++)
+        h[i] = (a0[i] - a3[i]) - 3.0 * (a1[i] - a2[i]);
+}
+
+/* The running sum of len values from v0: v_i = v_{i-1} + inc[i-1] for i =
+ * 1, 2, 3 and v_i = v_{i-4} + ((inc[i-4] + inc[i-3]) + (inc[i-2] + inc[i-1]))
+ * from i = 4 on (four lanes, each a running sum of sums of four increments:
+ * a vector of four advances in one addition; inc[0 .. len-2] are read).
+ * SQ: returns the sum of the squares (lane i mod 4 over the first
+ * 4 floor(len/4) values, the rest in lane 0, ((s0 + s1) + (s2 + s3)));
+ * otherwise stores the values in out. *last = v_{len-1}. */
+#if AP_VEC
+#define AP_CHAIN_VEC(SQ)                                                                  \
+    ap_v4 V = {w0, w1, w2, w3}, S = {0, 0, 0, 0};                                         \
+    for (long q = 0;; q++) {                                                              \
+        if (SQ)                                                                           \
+            S += V * V;                                                                   \
+        else                                                                              \
+            AP_STV(out + 4 * q, V);                                                       \
+        if (q + 1 == n4)                                                                  \
+            break;                                                                        \
+        const double *c = inc + 4 * q;                                                    \
+        V += (AP_LD(c) + AP_LD(c + 1)) + (AP_LD(c + 2) + AP_LD(c + 3));                   \
+    }                                                                                     \
+    s0 = S[0], s1 = S[1], s2 = S[2], s3 = S[3];                                           \
+    w0 = V[0], w1 = V[1], w2 = V[2], w3 = V[3]
+#else
+#define AP_CHAIN_VEC(SQ)                                                                  \
+    for (long q = 0;; q++) {                                                              \
+        if (SQ) {                                                                         \
+            s0 += w0 * w0;                                                                \
+            s1 += w1 * w1;                                                                \
+            s2 += w2 * w2;                                                                \
+            s3 += w3 * w3;                                                                \
+        } else {                                                                          \
+            out[4 * q] = w0, out[4 * q + 1] = w1, out[4 * q + 2] = w2, out[4 * q + 3] = w3; \
+        }                                                                                 \
+        if (q + 1 == n4)                                                                  \
+            break;                                                                        \
+        const double *c = inc + 4 * q;                                                    \
+        w0 += (c[0] + c[1]) + (c[2] + c[3]);                                              \
+        w1 += (c[1] + c[2]) + (c[3] + c[4]);                                              \
+        w2 += (c[2] + c[3]) + (c[4] + c[5]);                                              \
+        w3 += (c[3] + c[4]) + (c[5] + c[6]);                                              \
+    }
+#endif
+#define AP_CHAIN(NAME, SQ)                                                                \
+    AP_CLONES static double NAME(double v0, const double *inc, long len, double *out,     \
+                                 double *last)                                            \
+    {                                                                                     \
+        double s0 = 0, s1 = 0, s2 = 0, s3 = 0, v = v0;                                    \
+        long n4 = len / 4, i = 0;                                                         \
+        (void)out;                                                                        \
+        if (n4 > 0) {                                                                     \
+            double w0 = v0, w1 = w0 + inc[0], w2 = w1 + inc[1], w3 = w2 + inc[2];         \
+            AP_CHAIN_VEC(SQ);                                                             \
+            double wl[4] = {w0, w1, w2, w3};                                              \
+            v = w3;                                                                       \
+            for (i = 4 * n4; i < len; i++) {                                              \
+                const double *c = inc + i - 4;                                            \
+                v = wl[i - 4 * n4] + ((c[0] + c[1]) + (c[2] + c[3]));                     \
+                if (SQ)                                                                   \
+                    s0 += v * v;                                                          \
+                else                                                                      \
+                    out[i] = v;                                                           \
+            }                                                                             \
+        } else {                                                                          \
+            for (; i < len; i++) {                                                        \
+                if (i)                                                                    \
+                    v += inc[i - 1];                                                      \
+                if (SQ)                                                                   \
+                    s0 += v * v;                                                          \
+                else                                                                      \
+                    out[i] = v;                                                           \
+            }                                                                             \
+        }                                                                                 \
+        *last = v;                                                                        \
+        return (s0 + s1) + (s2 + s3);                                                     \
+    }
+AP_CHAIN(chain_sq, 1)
+AP_CHAIN(chain_st, 0)
+#undef AP_CHAIN
+#undef AP_CHAIN_VEC
+
+/* d[i] = v[i] - o. */
+AP_CLONES static void sub_off(const double *v, long len, double o, double *d)
+{
+    long i = 0;
+#if AP_VEC
+    for (; i + 4 <= len; i += 4)
+        AP_STV(d + i, AP_LD(v + i) - o);
+#endif
+    for (; i < len; i++)
+        d[i] = v[i] - o;
+}
+
+/* out[i] = (c + i s) + v[i]. */
+AP_CLONES static void shift_add(const double *v, long len, double s, double c, double *out)
+{
+    long i = 0;
+#if AP_VEC
+    const ap_v4 i0 = {0, 1, 2, 3};
+    for (; i + 4 <= len; i += 4)
+        AP_STV(out + i, (c + ((double)i + i0) * s) + AP_LD(v + i));
+#endif
+    for (; i < len; i++)
+        out[i] = (c + (double)i * s) + v[i];
+}
+
+/* out[j] = (V[j] - vl) + (AP_B - j) dX, j < AP_B: the running sums of the
+ * block before on the next block's base. */
+AP_CLONES static void vx_prev(const double *V, double vl, double dX, double *out)
+{
+    long j = 0;
+#if AP_VEC
+    const ap_v4 j0 = {0, 1, 2, 3};
+    for (; j + 4 <= AP_B; j += 4)
+        AP_STV(out + j, (AP_LD(V + j) - vl) + ((double)(AP_B - j) - j0) * dX);
+#else
+    for (; j < AP_B; j++)
+        out[j] = (V[j] - vl) + (double)(AP_B - j) * dX;
+#endif
+}
+
+/* Sum of (v[i] - o) over len values, four lanes (i mod 4, the rest in lane
+ * 0). */
+static double lsum(const double *v, long len, double o)
+{
+    double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
+    long i = 0;
+    for (; i + 4 <= len; i += 4) {
+        s0 += v[i] - o;
+        s1 += v[i + 1] - o;
+        s2 += v[i + 2] - o;
+        s3 += v[i + 3] - o;
+    }
+    for (; i < len; i++)
+        s0 += v[i] - o;
+    return (s0 + s1) + (s2 + s3);
+}
+
+/* Sum of (len - i) (v[i] - o) over len values (the running sums of a
+ * running sum), four lanes as lsum. */
+static double wsum(const double *v, long len, double o)
+{
+    double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
+    long i = 0;
+    for (; i + 4 <= len; i += 4) {
+        s0 += (double)(len - i) * (v[i] - o);
+        s1 += (double)(len - i - 1) * (v[i + 1] - o);
+        s2 += (double)(len - i - 2) * (v[i + 2] - o);
+        s3 += (double)(len - i - 3) * (v[i + 3] - o);
+    }
+    for (; i < len; i++)
+        s0 += (double)(len - i) * (v[i] - o);
+    return (s0 + s1) + (s2 + s3);
+}
+
+/* The phase X_t (double-double): its block's base and, off the block
+ * grid, the rate samples since (phase data: the point itself). */
+static dd x_at(const igea__apass *p, long t, double *buf)
+{
+    long b = t / AP_B, j = t - b * AP_B;
+    if (j == 0)
+        return *xb(p, b);
+    if (p->phase) {
+        dd r = {*raw_at(p, t, 1, buf), 0.0};
+        return r;
+    }
+    return dd_add_d(*xb(p, b), lsum(raw_at(p, b * AP_B, j, buf), j, p->off));
+}
+
+/* The running sum W_t = sum of X_r, r < t (double-double): W_b + j X_b +
+ * the sum of the j local values of the block before t. */
+static dd w_at(const igea__apass *p, long t, double *buf)
+{
+    long b = t / AP_B, j = t - b * AP_B;
+    dd w = dd_add(*wb(p, b), dd_mul_d(*xb(p, b), (double)j));
+    if (j == 0)
+        return w;
+    if (p->phase) /* sum of (x_i - x_b) over the block's first j points */
+        return dd_add_d(w, lsum(raw_at(p, b * AP_B, j, buf), j, xb(p, b)->hi));
+    /* L_i = sum of the samples bB .. bB + i - 1: sum over i < j of L_i */
+    if (j == 1)
+        return w;
+    return dd_add_d(w, wsum(raw_at(p, b * AP_B, j - 1, buf), j - 1, p->off));
+}
+
 /* Coefficients of the difference at lags 0, m, 2m, 3m. */
 static const double cAV[4] = {1, -2, 1, 0}, cHV[4] = {1, -3, 3, -1};
+
+/* The exact difference of the phase (c = cAV or cHV) or of its running
+ * sum (w) at e, from the bases (double-double). */
+static double anchor(const igea__apass *p, const aptau *t, long e, const double *c, int w)
+{
+    int np = c[3] != 0.0 ? 4 : 3;
+    dd v[4];
+    for (int q = 0; q < np; q++) {
+        long i = e - q * t->m;
+        v[q] = w ? w_at(p, i, p->buf) : x_at(p, i, p->buf);
+    }
+    return dd_get(np == 3 ? dd_diff2(v) : dd_diff3(v));
+}
+
+/* The sum of the squared overlapping terms e0 <= e < e1 (one block) of a
+ * long lag. Phase data (Allan, Hadamard): the differences of the raw
+ * points. Otherwise the running sums of the raw values' differences (rate
+ * data: the phase's difference D or T from the samples' one; the modified
+ * kinds: S from T) from an exact anchor at e0 (every block for lags on the
+ * block grid, every AP_REANCHOR blocks off it, and at the first term) or
+ * continued from the block before. */
+static double large_block(igea__apass *p, aptau *t, long e0, long e1)
+{
+    long m = t->m, len = e1 - e0;
+    int np = t->type == IGEA__AP_AV ? 3 : 4;
+    double *bf = p->buf, *s[4], *inc = bf + 4 * AP_BUF, *tv = bf + 5 * AP_BUF;
+    const double *a[4];
+    double tot;
+    for (int q = 0; q < 4; q++)
+        s[q] = bf + q * AP_BUF;
+    if (p->phase && t->type != IGEA__AP_MV) {
+        for (int q = 0; q < np; q++)
+            a[q] = raw_at(p, e0 - q * m, len, s[q]);
+        return np == 3 ? seg_av(a[0], a[1], a[2], len, 0.0)
+                       : seg_hv(a[0], a[1], a[2], a[3], len, 0.0);
+    }
+    int cont = t->cnext == e0;
+    int exact = !cont || m % AP_B == 0 || (e0 / AP_B) % AP_REANCHOR == 0;
+    /* the increments from e0 - 1 (continued) or e0 (the first term) to
+     * e1 - 2 (rate data: not past the last sample, N - 2) */
+    long i0 = cont ? e0 - 1 : e0, ilast = e1 - 2;
+    if (!p->phase && ilast > p->N - 2)
+        ilast = p->N - 2;
+    long ni = ilast + 1 - i0;
+    if (ni > 0) {
+        for (int q = 0; q < np; q++)
+            a[q] = raw_at(p, i0 - q * m, ni, s[q]);
+        if (np == 3)
+            inc_av(a[0], a[1], a[2], ni, inc);
+        else
+            inc_hv(a[0], a[1], a[2], a[3], ni, inc);
+    }
+    const double *in = inc + (cont ? 1 : 0); /* the increment at e0 */
+    double last, v0;
+    if (t->type == IGEA__AP_AV || t->type == IGEA__AP_HV) { /* rate data */
+        const double *c = t->type == IGEA__AP_AV ? cAV : cHV;
+        v0 = exact ? anchor(p, t, e0, c, 0) : t->c1 + inc[0];
+        tot = chain_sq(v0, in, len, NULL, &last);
+        t->c1 = last;
+    } else {
+        const double *tt; /* T at e0 .. e1 - 1 */
+        if (p->phase) {
+            tt = in; /* the points' third difference is T itself */
+            v0 = exact ? anchor(p, t, e0, cHV, 1) : t->c2 + inc[0];
+        } else {
+            /* T at e0 .. e0 + nT - 1: all of the block's but, at the end of
+             * the record, the last (only S needs it: S_N = S_{N-1} + T_{N-1}) */
+            long nT = cont && ni < 1 ? 0 : IGEA_MIN(len, ni - cont + 1);
+            v0 = exact ? anchor(p, t, e0, cHV, 1) : t->c2 + t->c1;
+            if (nT > 0) {
+                double T0 = exact ? anchor(p, t, e0, cHV, 0) : t->c1 + inc[0];
+                chain_st(T0, in, nT, tv, &last);
+                t->c1 = last;
+            }
+            tt = tv;
+        }
+        tot = chain_sq(v0, tt, len, NULL, &last);
+        t->c2 = last;
+    }
+    t->cnext = e1;
+    return tot;
+}
+
+static void terms_large(igea__apass *p, aptau *t, long e0, long e1)
+{
+    igea__ksum_add(&t->sum, large_block(p, t, e0, e1));
+    t->cnt += e1 - e0;
+}
+
+
+/* ---- lags within the small ring ---- */
 
 /* The overlapping terms of tau t with current index in [e0, e1). */
 static void terms_overlap(igea__apass *p, aptau *t, long e0, long e1)
@@ -508,28 +935,25 @@ static void terms_overlap(igea__apass *p, aptau *t, long e0, long e1)
         }
         if (t->type == IGEA__AP_MV) {
             double A = 0.0, Bc = 0.0;
-            if (!same) {
-                dd Ad = {0, 0}, Bd = {0, 0};
+            if (!same) { /* W and X of the bases at the four points, their differences */
+                dd w[4], x[4];
                 for (int q = 0; q < 4; q++) {
-                    long s = slot_of(p, blk[q]);
                     long off = e - q * t->m - blk[q] * AP_B;
-                    dd w = dd_add(p->Wb[s], dd_mul_d(p->Xb[s], (double)off));
-                    Ad = dd_add(Ad, dd_mul_d(w, cHV[q]));
-                    Bd = dd_add(Bd, dd_mul_d(p->Xb[s], cHV[q]));
+                    x[q] = *xb(p, blk[q]);
+                    w[q] = off ? dd_add(*wb(p, blk[q]), dd_mul_d(x[q], (double)off)) : *wb(p, blk[q]);
                 }
-                A = dd_get(Ad);
-                Bc = dd_get(Bd);
+                A = dd_get(dd_diff3(w));
+                Bc = dd_get(dd_diff3(x));
             }
             tot += same ? seg_mv0(a[0], a[1], a[2], a[3], len)
                         : seg_mv(a[0], a[1], a[2], a[3], len, A, Bc);
         } else {
             double C = 0.0;
             if (!same) {
-                dd Cd = {0, 0};
-                const double *c = t->type == IGEA__AP_AV ? cAV : cHV;
+                dd x[4];
                 for (int q = 0; q < np; q++)
-                    Cd = dd_add(Cd, dd_mul_d(p->Xb[slot_of(p, blk[q])], c[q]));
-                C = dd_get(Cd);
+                    x[q] = *xb(p, blk[q]);
+                C = dd_get(np == 3 ? dd_diff2(x) : dd_diff3(x));
             }
             tot += t->type == IGEA__AP_AV ? seg_av(a[0], a[1], a[2], len, C)
                                           : seg_hv(a[0], a[1], a[2], a[3], len, C);
@@ -540,29 +964,52 @@ static void terms_overlap(igea__apass *p, aptau *t, long e0, long e1)
     t->cnt += e1 - e0;
 }
 
+/* The overlapping terms in [e0, e1) of block k of a tau whose lags stay
+ * within the block before: one segment of the window (one base). */
+static void terms_win(igea__apass *p, aptau *t, long k, long e0, long e1)
+{
+    long o = e0 - k * AP_B + AP_B, m = t->m, len = e1 - e0;
+    double tot;
+    if (t->type == IGEA__AP_MV) {
+        const double *v = p->vx + o;
+        tot = seg_mv0(v, v - m, v - 2 * m, v - 3 * m, len);
+    } else {
+        const double *a = p->lx + o;
+        tot = t->type == IGEA__AP_AV ? seg_av(a, a - m, a - 2 * m, len, 0.0)
+                                     : seg_hv(a, a - m, a - 2 * m, a - 3 * m, len, 0.0);
+    }
+    igea__ksum_add(&t->sum, tot);
+    t->cnt += e1 - e0;
+}
+
+/* One strided term from the points' local values a[] and, when they lie
+ * in different blocks, the bases' part C. */
+static inline double stride_term(int type, const double *a, double C)
+{
+    if (type == IGEA__AP_AV)
+        return ((a[0] - a[1]) - (a[1] - a[2])) + C;
+    double u = a[1] - a[2];
+    return (((a[0] - a[1]) - u) - (u - (a[2] - a[3]))) + C;
+}
+
 /* Strided segment: the terms at a0[j st], a1[j st], ... (scalar). */
 static double seg_stride(const aptau *t, const double *const *a, long cnt, long st, double C)
 {
     double s0 = 0, s1 = 0;
     for (long j = 0; j < cnt; j++) {
         const long o = j * st;
-        double v;
-        if (t->type == IGEA__AP_AV) {
-            v = ((a[0][o] - a[1][o]) - (a[1][o] - a[2][o])) + C;
-        } else {
-            double u = a[1][o] - a[2][o];
-            v = (((a[0][o] - a[1][o]) - u) - (u - (a[2][o] - a[3][o]))) + C;
-        }
+        double v[4] = {a[0][o], a[1][o], a[2][o], t->type == IGEA__AP_AV ? 0.0 : a[3][o]};
+        v[0] = stride_term(t->type, v, C);
         if (j & 1)
-            s1 += v * v;
+            s1 += v[0] * v[0];
         else
-            s0 += v * v;
+            s0 += v[0] * v[0];
     }
     return s0 + s1;
 }
 
 /* The strided terms (current index a multiple of m) in [e0, e1) of one
- * block (the non-overlapping Allan and Hadamard kinds). */
+ * block (the non-overlapping Allan and Hadamard kinds), m < AP_B. */
 static void terms_stride(igea__apass *p, aptau *t, long e0, long e1)
 {
     if (t->m == 1) {
@@ -588,7 +1035,7 @@ static void terms_stride(igea__apass *p, aptau *t, long e0, long e1)
         for (int q = 0; q < np; q++) {
             long i = e - q * m, b = i / AP_B;
             a[q] = lptr(p, i);
-            Cd = dd_add(Cd, dd_mul_d(p->Xb[slot_of(p, b)], c[q]));
+            Cd = dd_add(Cd, dd_mul_d(*xb(p, b), c[q]));
             same = same && b == b0;
         }
         tot += seg_stride(t, a, cnt, m, same ? 0.0 : dd_get(Cd));
@@ -598,9 +1045,39 @@ static void terms_stride(igea__apass *p, aptau *t, long e0, long e1)
     igea__ksum_add(&t->sum, tot);
 }
 
+#if AP_VEC
+#if defined(__clang__)
+#define AP_SHUF(a, b, i, j, k, l) __builtin_shufflevector(a, b, i, j, k, l)
+#else
+typedef long long ap_i4 __attribute__((vector_size(32)));
+#define AP_SHUF(a, b, i, j, k, l) __builtin_shuffle(a, b, (ap_i4){i, j, k, l})
+#endif
+#endif
+
+/* z[j] = (a0[j m] - a1[j m]) + C (m = 1) or times 1/2 (m = 2), j < cnt. */
+AP_CLONES static void means_12(const double *a0, const double *a1, long cnt, long m, double C,
+                               double *z)
+{
+    long j = 0;
+#if AP_VEC
+    if (m == 1)
+        for (; j + 4 <= cnt; j += 4)
+            AP_STV(z + j, (AP_LD(a0 + j) - AP_LD(a1 + j)) + C);
+    else /* (the odd values read: not past the last point) */
+        for (; j + 5 <= cnt; j += 4) {
+            const double *b0 = a0 + 2 * j, *b1 = a1 + 2 * j;
+            ap_v4 u = AP_SHUF(AP_LD(b0), AP_LD(b0 + 4), 0, 2, 4, 6);
+            ap_v4 v = AP_SHUF(AP_LD(b1), AP_LD(b1 + 4), 0, 2, 4, 6);
+            AP_STV(z + j, ((u - v) + C) * 0.5);
+        }
+#endif
+    for (; j < cnt; j++)
+        z[j] = m == 1 ? (a0[j] - a1[j]) + C : ((a0[2 * j] - a1[2 * j]) + C) * 0.5;
+}
+
 /* z[j] = (X_e - X_{e - m}) / m for the points e = e0, e0 + m, ... < e1 of
- * one block (e0 a multiple of m): at most two segments where X_{e - m}
- * stays in one block. Returns their number. */
+ * one block (e0 a multiple of m, m < AP_B): at most two segments where
+ * X_{e - m} stays in one block. Returns their number. */
 static long means_of(const igea__apass *p, long m, long e0, long e1, double *z)
 {
     long K = 0, e = e0;
@@ -615,108 +1092,129 @@ static long means_of(const igea__apass *p, long m, long e0, long e1, double *z)
             end = e + steps * m;
         double C = 0.0;
         if (bi != be)
-            C = dd_get(dd_add(p->Xb[slot_of(p, be)], dd_neg(p->Xb[slot_of(p, bi)])));
+            C = dd_get(dd_add(*xb(p, be), dd_neg(*xb(p, bi))));
         long cnt = (end - e + m - 1) / m;
-        if (p->need_l) {
-            const double *a0 = lptr(p, e), *a1 = lptr(p, i);
-            if (m == 1)
-                for (long j = 0; j < cnt; j++)
-                    z[K + j] = (a0[j] - a1[j]) + C;
-            else if (pow2)
-                for (long j = 0; j < cnt; j++)
-                    z[K + j] = ((a0[j * m] - a1[j * m]) + C) * inv;
-            else
-                for (long j = 0; j < cnt; j++)
-                    z[K + j] = ((a0[j * m] - a1[j * m]) + C) / (double)m;
-        } else { /* X_t = W_{t+1} - W_t within a block */
-            const double *v0 = vptr(p, e), *v1 = vptr(p, i);
+        const double *a0 = lptr(p, e), *a1 = lptr(p, i);
+        if (m <= 2)
+            means_12(a0, a1, cnt, m, C, z + K);
+        else if (pow2)
             for (long j = 0; j < cnt; j++)
-                z[K + j] = (((v0[j * m + 1] - v0[j * m]) - (v1[j * m + 1] - v1[j * m])) + C) /
-                           (double)m;
-        }
+                z[K + j] = ((a0[j * m] - a1[j * m]) + C) * inv;
+        else
+            for (long j = 0; j < cnt; j++)
+                z[K + j] = ((a0[j * m] - a1[j * m]) + C) / (double)m;
         K += cnt;
         e += cnt * m;
     }
     return K;
 }
 
-/* Sums over i < K of the shifted means w0(i) = z(i) - sh0 and first
- * differences w1(i) = (z(i) - z(i-1)) - sh1: out = {sum w0, sum w0^2, sum
- * w0(i-1) w0(i), sum w1, sum w1^2, sum w1(i-1) w1(i), sum w1(i-2) w1(i)}
- * (the second differences' sums follow from the last two, docs). z[-3] ..
- * z[-1] hold the three means before z[0]. Four lanes in a fixed order. */
-AP_CLONES static void acf_sums(const double *z, long K, double h0, double h1, double *out)
+/* The lag-1 sums of K means z (z[-3] .. z[-1] hold the three before), in
+ * four lanes (i mod 4, the rest in lane 0, ((0 + 1) + (2 + 3))), each value
+ * formed once in ws (K + 4 values) and read at its lags. acf_sums0: of the
+ * shifted means w(i) = z(i) - h: out = {sum w, sum w^2, sum w(i-1) w(i)};
+ * acf_sums1: of the shifted first differences w(i) = (z(i) - z(i-1)) - h:
+ * out = {sum w, sum w^2, sum w(i-1) w(i), sum w(i-2) w(i)} (the second
+ * differences' sums follow from the last two, docs). */
+AP_CLONES static void acf_sums0(const double *z, long K, double h, double *ws, double *out)
 {
-#define AP_ACF_DECL(l)                                                                    \
-    double s0##l = 0, q0##l = 0, g0##l = 0, s1##l = 0, q1##l = 0, g1##l = 0, k1##l = 0
-    AP_ACF_DECL(0);
-    AP_ACF_DECL(1);
-    AP_ACF_DECL(2);
-    AP_ACF_DECL(3);
-#define AP_ACF_LANE(l)                                                                    \
-    {                                                                                     \
-        double a = z[i + l], b = z[i + l - 1], c = z[i + l - 2], e = z[i + l - 3];        \
-        double w0 = a - h0, u0 = b - h0;                                                  \
-        double w1 = (a - b) - h1, u1 = (b - c) - h1, v1 = (c - e) - h1;                   \
-        s0##l += w0;                                                                      \
-        q0##l += w0 * w0;                                                                 \
-        g0##l += u0 * w0;                                                                 \
-        s1##l += w1;                                                                      \
-        q1##l += w1 * w1;                                                                 \
-        g1##l += u1 * w1;                                                                 \
-        k1##l += v1 * w1;                                                                 \
-    }
-    long i = 0;
+    double *w = ws + 1; /* w[-1 .. K-1] */
+    long i = -1;
 #if AP_VEC
-    {
-        ap_v4 S0 = {0, 0, 0, 0}, Q0 = S0, G0 = S0, S1 = S0, Q1 = S0, G1 = S0, K1 = S0;
-        for (; i + 4 <= K; i += 4) {
-            ap_v4 a = AP_LD(z + i), b = AP_LD(z + i - 1), c = AP_LD(z + i - 2),
-                  e = AP_LD(z + i - 3);
-            ap_v4 w0 = a - h0, u0 = b - h0;
-            ap_v4 w1 = (a - b) - h1, u1 = (b - c) - h1, v1 = (c - e) - h1;
-            S0 += w0;
-            Q0 += w0 * w0;
-            G0 += u0 * w0;
-            S1 += w1;
-            Q1 += w1 * w1;
-            G1 += u1 * w1;
-            K1 += v1 * w1;
-        }
-#define AP_ACF_GET(l)                                                                     \
-    s0##l = S0[l], q0##l = Q0[l], g0##l = G0[l], s1##l = S1[l], q1##l = Q1[l],            \
-    g1##l = G1[l], k1##l = K1[l]
-        AP_ACF_GET(0);
-        AP_ACF_GET(1);
-        AP_ACF_GET(2);
-        AP_ACF_GET(3);
-#undef AP_ACF_GET
-    }
-#else
-    for (; i + 4 <= K; i += 4) {
-        AP_ACF_LANE(0)
-        AP_ACF_LANE(1)
-        AP_ACF_LANE(2)
-        AP_ACF_LANE(3)
-    }
+    for (; i + 4 <= K; i += 4)
+        AP_STV(w + i, AP_LD(z + i) - h);
 #endif
     for (; i < K; i++)
-        AP_ACF_LANE(0)
-#define AP_ACF_SUM(v) ((v##0 + v##1) + (v##2 + v##3))
-    out[0] = AP_ACF_SUM(s0), out[1] = AP_ACF_SUM(q0), out[2] = AP_ACF_SUM(g0);
-    out[3] = AP_ACF_SUM(s1), out[4] = AP_ACF_SUM(q1), out[5] = AP_ACF_SUM(g1);
-    out[6] = AP_ACF_SUM(k1);
-#undef AP_ACF_DECL
-#undef AP_ACF_LANE
-#undef AP_ACF_SUM
+        w[i] = z[i] - h;
+    double s[4] = {0}, q[4] = {0}, g[4] = {0};
+    i = 0;
+#if AP_VEC
+    {
+        ap_v4 S = {0, 0, 0, 0}, Q = S, G = S;
+        for (; i + 4 <= K; i += 4) {
+            ap_v4 a = AP_LD(w + i);
+            S += a;
+            Q += a * a;
+            G += AP_LD(w + i - 1) * a;
+        }
+        for (int l = 0; l < 4; l++)
+            s[l] = S[l], q[l] = Q[l], g[l] = G[l];
+    }
+#else
+    for (; i + 4 <= K; i += 4)
+        for (int l = 0; l < 4; l++) {
+            double a = w[i + l];
+            s[l] += a;
+            q[l] += a * a;
+            g[l] += w[i + l - 1] * a;
+        }
+#endif
+    for (; i < K; i++) {
+        double a = w[i];
+        s[0] += a;
+        q[0] += a * a;
+        g[0] += w[i - 1] * a;
+    }
+    out[0] = (s[0] + s[1]) + (s[2] + s[3]);
+    out[1] = (q[0] + q[1]) + (q[2] + q[3]);
+    out[2] = (g[0] + g[1]) + (g[2] + g[3]);
+}
+
+AP_CLONES static void acf_sums1(const double *z, long K, double h, double *ws, double *out)
+{
+    double *w = ws + 2; /* w[-2 .. K-1] */
+    long i = -2;
+#if AP_VEC
+    for (; i + 4 <= K; i += 4)
+        AP_STV(w + i, (AP_LD(z + i) - AP_LD(z + i - 1)) - h);
+#endif
+    for (; i < K; i++)
+        w[i] = (z[i] - z[i - 1]) - h;
+    double s[4] = {0}, q[4] = {0}, g[4] = {0}, k2[4] = {0};
+    i = 0;
+#if AP_VEC
+    {
+        ap_v4 S = {0, 0, 0, 0}, Q = S, G = S, K2 = S;
+        for (; i + 4 <= K; i += 4) {
+            ap_v4 b = AP_LD(w + i);
+            S += b;
+            Q += b * b;
+            G += AP_LD(w + i - 1) * b;
+            K2 += AP_LD(w + i - 2) * b;
+        }
+        for (int l = 0; l < 4; l++)
+            s[l] = S[l], q[l] = Q[l], g[l] = G[l], k2[l] = K2[l];
+    }
+#else
+    for (; i + 4 <= K; i += 4)
+        for (int l = 0; l < 4; l++) {
+            double b = w[i + l];
+            s[l] += b;
+            q[l] += b * b;
+            g[l] += w[i + l - 1] * b;
+            k2[l] += w[i + l - 2] * b;
+        }
+#endif
+    for (; i < K; i++) {
+        double b = w[i];
+        s[0] += b;
+        q[0] += b * b;
+        g[0] += w[i - 1] * b;
+        k2[0] += w[i - 2] * b;
+    }
+    out[0] = (s[0] + s[1]) + (s[2] + s[3]);
+    out[1] = (q[0] + q[1]) + (q[2] + q[3]);
+    out[2] = (g[0] + g[1]) + (g[2] + g[3]);
+    out[3] = (k2[0] + k2[1]) + (k2[2] + k2[3]);
 }
 
 /* The means waiting in t->zb to the sums of the series and of its first
  * differences. */
-static void means_flush(aptau *t)
+static void means_flush(aptau *t, double *ws)
 {
     double *zz = t->zb, *z = zz + 3;
     long K = t->nzb, i = 0;
+    int d0 = t->acf & 1, d1 = t->acf & 2;
     if (K == 0)
         return;
     zz[0] = t->zc[0];
@@ -725,28 +1223,34 @@ static void means_flush(aptau *t)
     /* the first three means of the record start the series one by one */
     for (; i < K && t->nmean + i < 3; i++) {
         long g = t->nmean + i;
-        acf_block(&t->a[0], z + i, 1);
-        if (g >= 1) {
+        if (d0)
+            acf_block(&t->a[0], z + i, 1);
+        if (g >= 1 && d1) {
             double d = z[i] - z[i - 1];
             acf_block(&t->a[1], &d, 1);
             t->dfirst[g - 1] = d;
         }
     }
     if (i < K) {
-        double o[7];
-        acf_sums(z + i, K - i, t->a[0].sh, t->a[1].sh, o);
+        double o[4], zl = z[K - 1], z1 = z[K - 2];
         for (int r = 0; r < 2; r++) {
+            if (!(r ? d1 : d0))
+                continue;
             igea__apacf *a = &t->a[r];
-            double zl = z[K - 1], z1 = z[K - 2];
-            igea__ksum_add(&a->s, o[3 * r]);
-            igea__ksum_add(&a->ss, o[3 * r + 1]);
-            igea__ksum_add(&a->lag, o[3 * r + 2]);
+            if (r == 0)
+                acf_sums0(z + i, K - i, a->sh, ws, o);
+            else
+                acf_sums1(z + i, K - i, a->sh, ws, o);
+            igea__ksum_add(&a->s, o[0]);
+            igea__ksum_add(&a->ss, o[1]);
+            igea__ksum_add(&a->lag, o[2]);
             a->n += (double)(K - i);
             a->prev = a->last = (r == 0 ? zl : zl - z1) - a->sh;
+            if (r)
+                igea__ksum_add(&t->lag2, o[3]);
         }
-        igea__ksum_add(&t->lag2, o[6]);
     }
-    if (t->nmean + K >= 3) {
+    if (t->nmean + K >= 3 && d1) {
         t->dlast[0] = z[K - 2] - z[K - 3];
         t->dlast[1] = z[K - 1] - z[K - 2];
     }
@@ -757,17 +1261,85 @@ static void means_flush(aptau *t)
     t->nzb = 0;
 }
 
-/* The m-sample means whose last point is in [.., e1) of the current block
- * wait in t->zb; 256 or more go to the sums. */
-static void means_push(igea__apass *p, aptau *t, long e1)
+/* The m-sample means whose last point is in [.., e1) of block k wait in
+ * t->zb; 256 or more go to the sums. */
+static void means_push(igea__apass *p, aptau *t, long k, long e1)
 {
     if (t->next_e >= e1)
         return;
-    long K = means_of(p, t->m, t->next_e, e1, t->zb + 3 + t->nzb);
+    double *z = t->zb + 3 + t->nzb;
+    long K;
+    if (t->hist) { /* one mean (m >= AP_B): X_{e-m} kept when its block was current */
+        long e = t->next_e;
+        double C = dd_get(dd_add(*xb(p, k), dd_neg(t->hb[0])));
+        double v = (lblk(p, k)[e - k * AP_B] - t->hl[0]) + C, md = (double)t->m;
+        z[0] = (t->m & (t->m - 1)) == 0 ? v * (1.0 / md) : v / md;
+        K = 1;
+    } else {
+        K = means_of(p, t->m, t->next_e, e1, z);
+    }
     t->nzb += K;
     t->next_e += K * t->m;
     if (t->nzb >= 256)
-        means_flush(t);
+        means_flush(t, p->ws);
+}
+
+/* The strided term of a tau with m >= AP_B whose current point (a multiple
+ * of m) is in [e0, e1) of block k, from the points kept. */
+static void terms_hist(igea__apass *p, aptau *t, long k, long e0, long e1)
+{
+    long m = t->m, e = (e0 + m - 1) / m * m;
+    int np = t->type == IGEA__AP_AV ? 3 : 4;
+    if (e >= e1 || t->hn < np - 1)
+        return;
+    const double *c = t->type == IGEA__AP_AV ? cAV : cHV;
+    double a[4] = {lblk(p, k)[e - k * AP_B], t->hl[0], t->hl[1], t->hl[2]};
+    dd Cd = {0, 0};
+    for (int q = 0; q < np; q++)
+        Cd = dd_add(Cd, dd_mul_d(q ? t->hb[q - 1] : *xb(p, k), c[q]));
+    if (t->type == IGEA__AP_AV)
+        a[3] = 0.0;
+    double v = stride_term(t->type, a, dd_get(Cd));
+    igea__ksum_add(&t->sum, v * v);
+    t->cnt++;
+}
+
+/* The point of block k (f points) at a multiple of m, kept. */
+static void hist_push(igea__apass *p, aptau *t, long k, long f)
+{
+    long e = (k * AP_B + t->m - 1) / t->m * t->m;
+    if (e >= k * AP_B + f)
+        return;
+    t->hb[2] = t->hb[1], t->hl[2] = t->hl[1];
+    t->hb[1] = t->hb[0], t->hl[1] = t->hl[0];
+    t->hb[0] = *xb(p, k), t->hl[0] = lblk(p, k)[e - k * AP_B];
+    if (t->hn < 3)
+        t->hn++;
+}
+
+/* The raw values [i, i + len) asked for from memory (the long lags' streams
+ * of a block ahead: the hardware's prefetch does not follow so many). */
+static void raw_prefetch(const igea__apass *p, long i, long len)
+{
+#if defined(__GNUC__)
+    if (i < 0)
+        return;
+    const double *r;
+    if (p->rec) {
+        if (i + len > p->nrec)
+            len = p->nrec - i;
+        r = p->rec + i;
+    } else {
+        long R = p->rawcap * AP_B, s = mod_l(i, R);
+        if (s + len > R)
+            len = R - s;
+        r = p->raw + s;
+    }
+    for (long j = 0; j < len; j += 8)
+        __builtin_prefetch(r + j, 0, AP_PFL);
+#else
+    (void)p, (void)i, (void)len;
+#endif
 }
 
 /* The terms with current phase index in block k at offsets [x0, x1) and
@@ -775,6 +1347,12 @@ static void means_push(igea__apass *p, aptau *t, long e1)
 static void block_terms(igea__apass *p, long k, long x0, long x1, long w0, long w1)
 {
     long base = k * AP_B;
+    for (int j = 0; j < p->ntau; j++) { /* the long lags' streams, AP_AHEAD blocks on */
+        const aptau *t = &p->t[j];
+        if (t->large)
+            for (int q = 1; q <= (t->type == IGEA__AP_AV ? 2 : 3); q++)
+                raw_prefetch(p, base + AP_AHEAD * AP_B - q * t->m - 1, AP_B);
+    }
     for (int j = 0; j < p->ntau; j++) {
         aptau *t = &p->t[j];
         int w = t->type == IGEA__AP_MV;
@@ -782,15 +1360,62 @@ static void block_terms(igea__apass *p, long k, long x0, long x1, long w0, long 
         if (lo < t->span)
             lo = t->span;
         if (lo < hi) {
-            if (t->stride)
+            if (t->large)
+                terms_large(p, t, lo, hi);
+            else if (t->win)
+                terms_win(p, t, k, lo, hi);
+            else if (t->stride || t->m == 1)
                 terms_overlap(p, t, lo, hi);
+            else if (t->hist)
+                terms_hist(p, t, k, lo, hi);
             else
                 terms_stride(p, t, lo, hi);
         }
         if (t->acf)
-            means_push(p, t, base + x1);
+            means_push(p, t, k, base + x1);
+        if (t->hist)
+            hist_push(p, t, k, x1);
     }
 }
+
+#if AP_VEC
+/* The 4 x 4 transpose of rows r0 .. r3 into c0 .. c3. */
+#define AP_T4(r0, r1, r2, r3, c0, c1, c2, c3)                                             \
+    {                                                                                     \
+        ap_v4 t0 = AP_SHUF(r0, r1, 0, 4, 2, 6), t1 = AP_SHUF(r0, r1, 1, 5, 3, 7);         \
+        ap_v4 t2 = AP_SHUF(r2, r3, 0, 4, 2, 6), t3 = AP_SHUF(r2, r3, 1, 5, 3, 7);         \
+        c0 = AP_SHUF(t0, t2, 0, 1, 4, 5), c1 = AP_SHUF(t1, t3, 0, 1, 4, 5);               \
+        c2 = AP_SHUF(t0, t2, 2, 3, 6, 7), c3 = AP_SHUF(t1, t3, 2, 3, 6, 7);               \
+    }
+
+/* The running sums of the eight lanes of a full block (prefix2's first
+ * part): lanes 0 .. 3 and 4 .. 7 side by side in two vectors, four steps
+ * at a time through 4 x 4 transposes (each lane adds its values in order,
+ * as the scalar loop). Returns the lanes' totals in a[8]. */
+AP_CLONES static void prefix_lanes(const double *d, double *out, double *a)
+{
+    enum { W = AP_B / 8 };
+    ap_v4 A[2] = {{0, 0, 0, 0}, {0, 0, 0, 0}};
+    for (long r = 0; r < W; r += 4)
+        for (int h = 0; h < 2; h++) {
+            const double *s = d + 4 * h * W + r;
+            double *o = out + 4 * h * W + r;
+            ap_v4 c0, c1, c2, c3, o0, o1, o2, o3;
+            AP_T4(AP_LD(s), AP_LD(s + W), AP_LD(s + 2 * W), AP_LD(s + 3 * W), c0, c1, c2, c3);
+            o0 = A[h] += c0;
+            o1 = A[h] += c1;
+            o2 = A[h] += c2;
+            o3 = A[h] += c3;
+            AP_T4(o0, o1, o2, o3, c0, c1, c2, c3);
+            AP_STV(o, c0);
+            AP_STV(o + W, c1);
+            AP_STV(o + 2 * W, c2);
+            AP_STV(o + 3 * W, c3);
+        }
+    for (int l = 0; l < 4; l++)
+        a[l] = A[0][l], a[4 + l] = A[1][l];
+}
+#endif
 
 /* Inclusive prefix sums out[j] = d[0] + ... + d[j], j < n <= AP_B (in place
  * allowed): eight lanes of AP_B / 8 values summed side by side, then each
@@ -800,6 +1425,13 @@ static void prefix2(const double *d, double *out, long n)
 {
     enum { W = AP_B / 8 };
     double a0 = 0, a1 = 0, a2 = 0, a3 = 0, a4 = 0, a5 = 0, a6 = 0, a7 = 0;
+#if AP_VEC
+    if (n == AP_B && d != out) {
+        double a[8];
+        prefix_lanes(d, out, a);
+        a0 = a[0], a1 = a[1], a2 = a[2], a3 = a[3], a4 = a[4], a5 = a[5], a6 = a[6];
+    } else
+#endif
     if (n == AP_B) {
         for (long r = 0; r < W; r++) {
             a0 += d[r];
@@ -845,173 +1477,270 @@ static void prefix2(const double *d, double *out, long n)
     }
 }
 
-/* The current block (fill points, raw values in the block's L slot or in
- * lbuf) becomes local values L (and V), then its terms are computed. */
-static void block_finish(igea__apass *p, long x1, long w1)
+/* Block k (f points) from the raw values: its base, local values L
+ * (running sums of the samples less the offset, or the points less the
+ * block's first), the running sums V of L, the NaN check; and the window of
+ * the short lags (the block before on this block's base, then this one). */
+static void block_build(igea__apass *p, long k, long f)
 {
-    long k = p->k, s = slot_of(p, k), f = p->fill;
-    double *L = p->need_l ? p->L + (size_t)s * AP_B : p->lbuf;
+    double *L = lblk(p, k), *bf = p->buf + 6 * AP_BUF;
+    dd *X = xb(p, k);
     if (p->phase) {
-        double x0 = L[0], c0 = 0, c1 = 0, c2 = 0, c3 = 0;
-        p->Xb[s].hi = x0;
-        p->Xb[s].lo = 0.0;
+        const double *x = raw_at(p, k * AP_B, f, bf);
+        double x0 = x[0], c0 = 0, c1 = 0, c2 = 0, c3 = 0;
+        X->hi = x0;
+        X->lo = 0.0;
         long j = 0;
         for (; j + 4 <= f; j += 4) {
-            c0 += L[j] * 0.0;
-            c1 += L[j + 1] * 0.0;
-            c2 += L[j + 2] * 0.0;
-            c3 += L[j + 3] * 0.0;
+            c0 += x[j] * 0.0;
+            c1 += x[j + 1] * 0.0;
+            c2 += x[j + 2] * 0.0;
+            c3 += x[j + 3] * 0.0;
         }
         for (; j < f; j++)
-            c0 += L[j] * 0.0;
+            c0 += x[j] * 0.0;
         if (!((c0 + c1) + (c2 + c3) == 0.0))
             p->bad = 1;
         for (j = 0; j < f; j++)
-            L[j] -= x0;
+            L[j] = x[j] - x0;
     } else {
-        if (k > 0) { /* the base: the previous block's last point plus the sample */
-            long ps = slot_of(p, k - 1);
-            p->Xb[s] = dd_add_d(dd_add_d(p->Xb[ps], p->llast), L[0]);
-        } else {
-            p->Xb[s].hi = p->Xb[s].lo = 0.0;
-        }
-        L[0] = 0.0;
-        prefix2(L, L, f);
-        if (!(isfinite(L[f - 1]) && isfinite(p->Xb[s].hi)))
+        /* point kB + j is X_{kB} + the samples kB .. kB + j - 1 (less the
+         * offset); sample kB - 1 goes to the base (block 0: X_0 = 0) */
+        const double *y = raw_at(p, k * AP_B - (k > 0), f, bf);
+        double *d = bf + AP_BUF;
+        if (k > 0)
+            *X = dd_add_d(dd_add_d(*xb(p, k - 1), p->llast), y[0] - p->off);
+        else
+            X->hi = X->lo = 0.0;
+        d[0] = 0.0;
+        sub_off(y + (k > 0), f - 1, p->off, d + 1);
+        prefix2(d, L, f);
+        if (!(isfinite(L[f - 1]) && isfinite(X->hi)))
             p->bad = 1; /* a NaN or infinity spreads to the block's last sum */
     }
+    double dX = k > 0 ? dd_get(dd_add(*X, dd_neg(*xb(p, k - 1)))) : 0.0;
+    if (p->lx) { /* X - X_{kB}: the block before (L - dX), then this block */
+        if (k > 0)
+            shift_add(lblk(p, k - 1), AP_B, 0.0, -dX, p->lx);
+        memcpy(p->lx + AP_B, L, (size_t)f * sizeof(double));
+    }
     p->llast = L[f - 1];
-    if (p->need_v) {
-        double *V = p->V + (size_t)s * (AP_B + 1);
-        if (k > 0) {
-            long ps = slot_of(p, k - 1);
-            p->Wb[s] = dd_add_d(dd_add(p->Wb[ps], dd_mul_d(p->Xb[ps], (double)AP_B)), p->vlast);
-        } else {
-            p->Wb[s].hi = p->Wb[s].lo = 0.0;
-        }
+    if (p->need_w) {
+        double *V = p->rsv ? p->V + (size_t)mod_l(k, p->rsv) * (AP_B + 1) : p->vbuf;
+        dd *W = wb(p, k);
+        if (k > 0)
+            *W = dd_add_d(dd_add(*wb(p, k - 1), dd_mul_d(*xb(p, k - 1), (double)AP_B)), p->vlast);
+        else
+            W->hi = W->lo = 0.0;
         V[0] = 0.0;
         prefix2(L, V + 1, f);
+        if (p->vx) { /* W_t - W_{kB} - (t - kB) X_{kB}: the block before
+                      * ((V_j - vlast) + (B - j) dX), then this block */
+            if (k > 0)
+                vx_prev(p->V + (size_t)mod_l(k - 1, p->rsv) * (AP_B + 1), p->vlast, dX, p->vx);
+            memcpy(p->vx + AP_B, V, (size_t)(f + 1) * sizeof(double));
+        }
         p->vlast = V[f];
     }
-    block_terms(p, k, 0, x1 < 0 ? f : x1, 0, w1 < 0 ? f : w1);
 }
 
-/* Room for the next block. */
-static int block_next(igea__apass *p)
+/* Room in the ring of bases for block k. */
+static int base_room(igea__apass *p, long k)
 {
-    if (p->k + 1 >= p->cap && p->cap < p->cap_max) {
-        long nc = p->cap + p->cap / 2 + 1; /* 1.5 x: at most a third unused */
-        if (nc > p->cap_max)
-            nc = p->cap_max;
-        if (ring_grow(p, nc))
-            return IGEA_ENOMEM;
+    if (k < p->cap || p->cap >= p->cap_max)
+        return 0;
+    long nc = p->cap + p->cap / 2 + 1; /* 1.5 x: at most a third unused */
+    return base_grow(p, nc > p->cap_max ? p->cap_max : nc);
+}
+
+/* Block k (f points) built and its terms computed; the last block of the
+ * record (f <= AP_B) also gives the running sum's last index N. */
+static int block_do(igea__apass *p, long k, long f, int last)
+{
+    int st = base_room(p, k);
+    if (st)
+        return st;
+    block_build(p, k, f);
+    p->k = k + 1;
+    if (!last) {
+        block_terms(p, k, 0, f, 0, f);
+        return 0;
     }
-    p->k++;
-    if (p->k - p->kbase == p->cap)
-        p->kbase += p->cap;
-    p->fill = 0;
+    if (f < AP_B || !p->need_w) {
+        block_terms(p, k, 0, f, 0, f < AP_B ? f + 1 : f);
+        return 0;
+    }
+    /* a full last block: W_N is the first running sum of an empty block */
+    block_terms(p, k, 0, AP_B, 0, AP_B);
+    if ((st = base_room(p, k + 1)))
+        return st;
+    dd *X = xb(p, k + 1), *W = wb(p, k + 1);
+    X->hi = X->lo = 0.0;
+    *W = dd_add_d(dd_add(*wb(p, k), dd_mul_d(*xb(p, k), (double)AP_B)), p->vlast);
+    if (p->rsv)
+        *vptr(p, (k + 1) * AP_B) = 0.0;
+    p->k = k + 2;
+    block_terms(p, k + 1, 0, 0, 0, 1);
     return 0;
 }
 
-/* Raw values into the current block: rate samples (offset removed) or
- * phase points; a full block is finished. */
-static int feed_raw(igea__apass *p, long n, const double *v)
-{
-    long i = 0;
-    while (i < n) {
-        if (p->fill == AP_B) {
-            block_finish(p, -1, -1);
-            if (block_next(p))
-                return IGEA_ENOMEM;
-        }
-        double *L = p->need_l ? p->L + (size_t)slot_of(p, p->k) * AP_B : p->lbuf;
-        long take = AP_B - p->fill;
-        if (take > n - i)
-            take = n - i;
-        if (p->phase)
-            memcpy(L + p->fill, v + i, (size_t)take * sizeof(double));
-        else
-            for (long j = 0; j < take; j++)
-                L[p->fill + j] = v[i + j] - p->off;
-        p->fill += take;
-        p->N += take;
-        i += take;
-    }
-    return 0;
-}
-
-/* The first block's samples are held until their mean (the offset) is known. */
-static int rate_start(igea__apass *p)
+/* Rate data: the offset, the mean of the first min(n, AP_B) samples. */
+static void rate_offset(igea__apass *p, const double *v, long n)
 {
     igea__ksum k = {0, 0};
-    for (long i = 0; i < p->npend; i++)
-        igea__ksum_add(&k, p->pend[i]);
-    p->off = p->npend ? igea__ksum_get(&k) / (double)p->npend : 0.0;
-    p->started = 1;
-    p->fill = 1; /* X_0 = 0 */
-    p->N = 1;
-    return feed_raw(p, p->npend, p->pend);
+    for (long i = 0; i < n; i++)
+        igea__ksum_add(&k, v[i]);
+    p->off = n ? igea__ksum_get(&k) / (double)n : 0.0;
+    p->have_off = 1;
+}
+
+/* Every block complete in the values received (not the last one). */
+static int blocks_ready(igea__apass *p)
+{
+    if (!p->phase && !p->have_off)
+        return 0;
+    while (p->N > (p->k + 1) * AP_B) { /* a value past the block: not the last */
+        int st = block_do(p, p->k, AP_B, 0);
+        if (st)
+            return st;
+    }
+    return 0;
 }
 
 int igea__apass_feed(igea__apass *p, long n, const double *v)
 {
     if (p->ended)
         return -1;
-    if (p->phase) {
-        p->started = p->started || n > 0;
-        return feed_raw(p, n, v);
-    }
     long i = 0;
-    while (!p->started && i < n) {
-        p->pend[p->npend++] = v[i++];
-        if (p->npend == AP_B) {
-            int st = rate_start(p);
-            if (st)
-                return st;
+    while (i < n) {
+        /* raw values from the oldest a block's terms read on stay */
+        long keep = p->k * AP_B - p->reach - (p->phase ? 0 : 1), R = p->rawcap * AP_B;
+        if (keep < 0)
+            keep = 0;
+        long room = keep + R - p->nraw;
+        if (room < AP_B && p->rawcap < p->rawcap_max) {
+            long nc = p->rawcap + p->rawcap / 2 + 1;
+            if (raw_grow(p, nc > p->rawcap_max ? p->rawcap_max : nc))
+                return IGEA_ENOMEM;
+            continue;
         }
+        long take = IGEA_MIN(n - i, IGEA_MIN(room, (long)AP_B));
+        long s = mod_l(p->nraw, R), c1 = IGEA_MIN(take, R - s);
+        memcpy(p->raw + s, v + i, (size_t)c1 * sizeof(double));
+        memcpy(p->raw, v + i + c1, (size_t)(take - c1) * sizeof(double));
+        p->nraw += take;
+        i += take;
+        p->N = p->phase ? p->nraw : p->nraw + 1;
+        if (!p->phase && !p->have_off && p->nraw >= AP_B)
+            rate_offset(p, raw_at(p, 0, AP_B, p->buf), AP_B);
+        int st = blocks_ready(p);
+        if (st)
+            return st;
     }
-    return i < n ? feed_raw(p, n - i, v + i) : 0;
+    return 0;
 }
 
-static int apass_last(igea__apass *p);
+static void acf_end(igea__apass *p)
+{
+    for (int j = 0; j < p->ntau; j++)
+        if (p->t[j].acf)
+            means_flush(&p->t[j], p->ws);
+}
 
 int igea__apass_end(igea__apass *p)
 {
     if (p->ended)
         return 0;
-    if (!p->phase && !p->started) {
-        int st = rate_start(p);
-        if (st)
-            return st;
-    }
     p->ended = 1;
-    if (!p->started || p->fill == 0)
+    if (p->nraw == 0)
         return 0;
-    int st = apass_last(p);
-    for (int j = 0; j < p->ntau; j++)
-        if (p->t[j].acf)
-            means_flush(&p->t[j]);
+    if (!p->phase && !p->have_off)
+        rate_offset(p, raw_at(p, 0, p->nraw, p->buf), p->nraw);
+    int st = blocks_ready(p);
+    if (!st && p->N > p->k * AP_B)
+        st = block_do(p, p->k, p->N - p->k * AP_B, 1);
+    acf_end(p);
     return st;
 }
 
-/* The last block's terms. */
-static int apass_last(igea__apass *p)
+static double apacf_r1(const igea__apacf *a);
+
+/* The local values L of block k (f points) again, as block_build made them
+ * (its base kept). */
+static void block_l(igea__apass *p, long k, long f)
 {
-    /* the last block: X indices up to fill - 1, running sums up to fill
-     * (W_N; when the block is full, the first of an empty next block) */
-    long f = p->fill;
-    if (f < AP_B || !p->need_v) {
-        block_finish(p, f, f < AP_B ? f + 1 : f);
-        return 0;
+    double *L = lblk(p, k), *bf = p->buf + 6 * AP_BUF;
+    if (p->phase) {
+        const double *x = raw_at(p, k * AP_B, f, bf);
+        double x0 = xb(p, k)->hi;
+        for (long j = 0; j < f; j++)
+            L[j] = x[j] - x0;
+        return;
     }
-    block_finish(p, AP_B, AP_B);
-    if (block_next(p))
-        return IGEA_ENOMEM;
-    long s = slot_of(p, p->k), ps = slot_of(p, p->k - 1);
-    p->Xb[s].hi = p->Xb[s].lo = 0.0;
-    p->Wb[s] = dd_add_d(dd_add(p->Wb[ps], dd_mul_d(p->Xb[ps], (double)AP_B)), p->vlast);
-    p->V[(size_t)s * (AP_B + 1)] = 0.0;
-    block_terms(p, p->k, 0, 0, 0, 1);
+    const double *y = raw_at(p, k * AP_B - (k > 0), f, bf);
+    double *d = bf + AP_BUF;
+    d[0] = 0.0;
+    sub_off(y + (k > 0), f - 1, p->off, d + 1);
+    prefix2(d, L, f);
+}
+
+/* A whole record: the lag-1 sums of the means' first differences of the
+ * taus m <= AP_LAZY whose means ask for them (r1 / (1 + r1) >= 0.25, the
+ * identification's next step; short taus are mostly white, and their 2 N
+ * means cost as much as the rest of the identification), in a second run
+ * over the blocks, in the batches of the stream's single run (the same
+ * sums). */
+static void acf_replay(igea__apass *p)
+{
+    int again = 0;
+    for (int j = 0; j < p->ntau; j++) {
+        aptau *t = &p->t[j];
+        if (t->acf != 1 || t->nmean < 32)
+            continue;
+        double r1 = apacf_r1(&t->a[0]);
+        if (!(r1 / (1.0 + r1) >= 0.25))
+            continue;
+        t->acf = 2;
+        t->nmean = t->nzb = 0;
+        t->next_e = t->m;
+        t->zc[0] = t->zc[1] = t->zc[2] = 0.0;
+        again = 1;
+    }
+    for (long k = 0; again && k * AP_B < p->N; k++) {
+        long f = IGEA_MIN((long)AP_B, p->N - k * AP_B);
+        block_l(p, k, f);
+        for (int j = 0; j < p->ntau; j++)
+            if (p->t[j].acf == 2)
+                means_push(p, &p->t[j], k, k * AP_B + f);
+    }
+    for (int j = 0; again && j < p->ntau; j++)
+        if (p->t[j].acf == 2)
+            means_flush(&p->t[j], p->ws);
+}
+
+int igea__apass_whole(int phase, int ntau, const igea__aptau_spec *spec, long n,
+                      const double *v, igea__apass **out)
+{
+    igea__apass *p = NULL;
+    long N = phase ? n : n + 1;
+    int st = apass_alloc(phase, ntau, spec, v, n, N, &p);
+    if (st)
+        return st;
+    p->nraw = n;
+    p->N = N;
+    p->ended = 1;
+    if (!phase)
+        rate_offset(p, v, IGEA_MIN(n, (long)AP_B));
+    for (long k = 0; !st && k * AP_B < N; k++)
+        st = block_do(p, k, IGEA_MIN((long)AP_B, N - k * AP_B), (k + 1) * AP_B >= N);
+    acf_end(p);
+    if (!st)
+        acf_replay(p);
+    if (st) {
+        igea__apass_free(p);
+        return st;
+    }
+    *out = p;
     return 0;
 }
 

@@ -806,6 +806,131 @@ static void test_stream(void **state)
     igea_stability_stream_free(NULL);
 }
 
+
+/* Long lags (beyond the pass's small ring of 256 blocks: the running sums of
+ * the raw values' differences from exact anchors, on the block grid and
+ * off it) and short ones: the whole-record calls equal the stream bit for
+ * bit for any piece size, every Allan and Hadamard kind, both data types,
+ * noise type given and identified (a white record, and a random walk whose
+ * shortest taus ask for their means' differences); the overlapping and
+ * modified deviations equal sums of the definitions in long double. */
+static void stream_all(int n, const double *v, double fs, int dt, int kind, int noise, int nt,
+                       const double *tau, int piece, double *out)
+{
+    igea_stability_stream *h = NULL;
+    int k = -1, cnt[8], al[8];
+    assert_int_equal(igea_stability_stream_create(fs, dt, kind, noise, 0.683, nt, tau, 0, 0.0, &h), 0);
+    for (int i = 0; i < n; i += piece)
+        assert_int_equal(igea_stability_stream_feed(h, i + piece <= n ? piece : n - i, v + i), 0);
+    double t[8];
+    assert_int_equal(igea_stability_stream_result(h, 8, &k, t, out, out + 8, out + 16, out + 24, al,
+                                                  cnt, NULL),
+                     0);
+    assert_int_equal(k, nt);
+    for (int j = 0; j < nt; j++)
+        out[32 + j] = cnt[j];
+    igea_stability_stream_free(h);
+}
+
+static long double ld_oadev(int n, const double *y, long m, int modified)
+{
+    long double mu = 0, *X = malloc(sizeof(long double) * ((size_t)n + 2));
+    for (int i = 0; i < n; i++)
+        mu += y[i];
+    mu /= n;
+    X[0] = 0;
+    for (int i = 0; i < n; i++)
+        X[i + 1] = X[i] + ((long double)y[i] - mu);
+    long double s = 0;
+    long M = 0;
+    if (!modified) {
+        for (long e = 2 * m; e <= n; e++, M++) {
+            long double d = X[e] - 2 * X[e - m] + X[e - 2 * m];
+            s += d * d;
+        }
+        free(X);
+        return sqrtl(s / (2.0L * M * m * m));
+    }
+    long double *W = malloc(sizeof(long double) * ((size_t)n + 3));
+    W[0] = 0;
+    for (int i = 0; i <= n; i++)
+        W[i + 1] = W[i] + X[i];
+    for (long e = 3 * m; e <= n + 1; e++, M++) {
+        long double d = W[e] - 3 * W[e - m] + 3 * W[e - 2 * m] - W[e - 3 * m];
+        s += d * d;
+    }
+    free(X);
+    free(W);
+    return sqrtl(s / (2.0L * M * m * m * m * m));
+}
+
+static void test_long_lags(void **state)
+{
+    const int n = 420000;
+    double *y = malloc(sizeof(double) * n), *x = malloc(sizeof(double) * n);
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r, 17);
+    /* m = 1, 3, 1000, 4096, 100000 (off the grid, long for the modified
+     * kinds), 131072 (on the grid, long), 150000 (off the grid, long) */
+    const double tau[7] = {1, 3, 1000, 4096, 100000, 131072, 150000};
+    static const int pieces[3] = {1, 1000, 65536};
+    for (int rec = 0; rec < 2; rec++) {
+        double rw = 0, ph = 0;
+        for (int i = 0; i < n; i++) {
+            rw += gsl_ran_gaussian(r, rec ? 1.0 : 1e-3);
+            y[i] = 1e6 + (rec ? 0.0 : gsl_ran_gaussian(r, 1.0)) + rw;
+            x[i] = (ph += y[i] - 1e6) * 1e-3;
+        }
+        for (int kind = IGEA_STABILITY_ALLAN_OVERLAPPING; kind <= IGEA_STABILITY_ALLAN_NONOVERLAPPING; kind++)
+            for (int noise = 0; noise < 2; noise++) {
+                int nz = noise ? IGEA_STABILITY_NOISE_AUTO : IGEA_STABILITY_NOISE_WFM, nt = 7;
+                if (kind == IGEA_STABILITY_ALLAN_OVERLAPPING)
+                    nt = 7;
+                else if (kind == IGEA_STABILITY_ALLAN_MODIFIED)
+                    nt = 6; /* 3 m <= n */
+                double ref[40], got[40];
+                int cnt[8];
+                assert_int_equal(igea_stability_allan(n, y, 1.0, nt, tau, kind, nz, 0.683, ref, ref + 8,
+                                                      ref + 16, ref + 24, cnt),
+                                 0);
+                for (int j = 0; j < nt; j++)
+                    ref[32 + j] = cnt[j];
+                for (int pi = 0; pi < 3; pi++) {
+                    if (pieces[pi] == 1 && (rec || noise))
+                        continue;
+                    stream_all(n, y, 1.0, 0, kind, nz, nt, tau, pieces[pi], got);
+                    for (int j = 0; j < nt; j++)
+                        for (int f = 0; f < 5; f++)
+                            assert_true(got[8 * f + j] == ref[8 * f + j]);
+                }
+                if (kind == IGEA_STABILITY_ALLAN_NONOVERLAPPING)
+                    continue;
+                for (int j = 0; j < nt; j++) /* the modified kinds' short taus on a rate
+                                              * that wanders: the running sums' magnitude
+                                              * (docs/stability.md, "Precision") */
+                    assert_close(ref[j], (double)ld_oadev(n, y, lround(tau[j]), kind),
+                                 rec && kind == IGEA_STABILITY_ALLAN_MODIFIED && tau[j] < 10 ? 1e-8 : 1e-12);
+            }
+        for (int kind = IGEA_STABILITY_ALLAN_ADEV; kind <= IGEA_STABILITY_ALLAN_OHDEV; kind++)
+            for (int dt = 0; dt < 2; dt++) {
+                const double *v = dt ? x : y;
+                int nt = kind == IGEA_STABILITY_ALLAN_ADEV || kind == IGEA_STABILITY_ALLAN_OADEV ? 7 : 6;
+                double ref[40], got[40], lo[8], hi[8], e[8];
+                int cnt[8];
+                assert_int_equal(igea_stability_dev(n, v, 1.0, dt, nt, tau, kind, IGEA_STABILITY_NOISE_FFM,
+                                                    0.683, ref, lo, hi, e, NULL, cnt, NULL),
+                                 0);
+                stream_all(n, v, 1.0, dt, kind, IGEA_STABILITY_NOISE_FFM, nt, tau, 1000, got);
+                for (int j = 0; j < nt; j++)
+                    assert_true(got[j] == ref[j] && got[8 + j] == lo[j] && got[16 + j] == hi[j] &&
+                                got[24 + j] == e[j] && got[32 + j] == cnt[j]);
+            }
+    }
+    gsl_rng_free(r);
+    free(y);
+    free(x);
+}
+
 #ifndef OOM_DISABLED
 /* Allocation failures in the stream: refused cleanly, later calls too. */
 static void test_stream_oom(void **state)
@@ -987,6 +1112,7 @@ int main(void)
         cmocka_unit_test(test_fit),
         cmocka_unit_test(test_fit_boot),
         cmocka_unit_test(test_stream),
+        cmocka_unit_test(test_long_lags),
 #ifndef OOM_DISABLED
         cmocka_unit_test(test_oom),
         cmocka_unit_test(test_dev_oom),

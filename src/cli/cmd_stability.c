@@ -165,16 +165,20 @@ static int next_rows(const st_args *a, cli_reader *r, double *buf, double *y, lo
     return CLI_OK;
 }
 
-/* The whole record (the kinds that need it): *y, *n >= 2 samples. */
+/* The whole record (the kinds that need it): *y, *n >= 2 samples. The
+ * record alone is held: a .npy file's rows are known in advance (one array
+ * of their number); a text file's array grows by doubling (the untouched
+ * part of a large allocation is not resident) and is cut to the rows read. */
 static int read_record(const st_args *a, double **y, int *n)
 {
     cli_reader *r = NULL;
     int ec = open_record(a, &r);
     if (ec)
         return ec;
-    long cap = 0, rows = 0, got = 0;
+    long known = cli_reader_rows_known(r);
+    long cap = known >= 2 && known <= 2147483647L ? known + ROWS : 0, rows = 0, got = 0;
     double *buf = malloc(sizeof(double) * ROWS * (size_t)cli_reader_cols(r)), *v = NULL;
-    if (!buf)
+    if (!buf || (cap && !(v = malloc(sizeof(double) * (size_t)cap))))
         ec = cli_oom("the record");
     while (!ec) {
         if (rows + ROWS > cap) {
@@ -200,6 +204,11 @@ static int read_record(const st_args *a, double **y, int *n)
     if (ec) {
         free(v);
         return ec;
+    }
+    if (rows < cap) { /* the unused tail returned */
+        double *nv = realloc(v, sizeof(double) * (size_t)rows);
+        if (nv)
+            v = nv;
     }
     *y = v;
     *n = (int)rows;
