@@ -465,7 +465,7 @@ static int outer(njob *j, const double *o, int *iters, int *conv)
         for (int g = 0; g < j->G && j->G > 1; g++)
             dc = fmax(dc, fabs(j->c[g] / cprev[g] - 1.0));
         /* REML: quasi-Newton steps from the least-squares start (docs/eqerr.md) */
-        if (est && (st = reml && it > 0 ? igea__noise_reml_step(j, &dphi)
+        if (est && (st = reml && it > 0 ? igea__noise_reml_step(j, tol, &dphi)
                                         : ar_update(j, !reml, &dphi)))
             break;
         settled = dphi <= tol && dc <= tol && vconv && (nnew == 0 || !est);

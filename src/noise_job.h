@@ -110,11 +110,14 @@ int igea__noise_pinv_factor(int N, int G, const double *A, int lda, const double
 
 /* One quasi-Newton step of the REML of phi at the job's group scales
  * (after the Helmert scales of the current sums, so that the score is
- * the profile's): phi += H^-1 score with H the expected information of the
- * profile, then BFGS-updated from the previous step's score (reml_have
- * 0 restarts from the expected information); *d the largest change.
- * Returns 0 or a failure. */
-int igea__noise_reml_step(igea__njob *j, double *d);
+ * the profile's): the step H^-1 score in z (partial autocorrelations), H
+ * the expected information of the profile, then BFGS-updated from the
+ * previous step's score (reml_have 0 restarts from the expected
+ * information), at most 1 in z, halved until the profile restricted
+ * likelihood rises (Armijo) or the change of phi is below tol / 100 (no
+ * move); the accepted point's state becomes the job's. *d the largest
+ * change of phi. Returns 0 or a failure. */
+int igea__noise_reml_step(igea__njob *j, double tol, double *d);
 
 /* Standard errors of phi (into j->se) and of the scales (into
  * j->reml_se) from the inverse of the observed REML information of phi and

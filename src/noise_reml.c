@@ -137,6 +137,7 @@ typedef struct {
     double *x, *bb, *e, *v;  /* Nt, Nt, m (stage-1 residual), m (whitened residual) */
     double *H;               /* (p + 2) m: Y2.X~, Y2.U_S at lags 0..p */
     double *hv;              /* m: Y2.X~_e (the hat diagonal times c) */
+    int r;                   /* the rank of the last fit */
 } reml_ws;
 
 static double *ws_alloc(const igea__njob *j, reml_ws *w)
@@ -174,6 +175,7 @@ static int gls(const igea__njob *j, const igea__nstate *S, const double *c, reml
         w->bb[i] = t;
     }
     memset(w->x, 0, (size_t)Nt * sizeof(double));
+    w->r = r;
     if (r > 0) {
         double *t = w->Y2; /* r doubles of scratch */
         cblas_dgemv(CblasColMajor, CblasTrans, Nt, r, 1.0, w->F, Nt, w->bb, 1, 0.0, t, 1);
@@ -181,6 +183,9 @@ static int gls(const igea__njob *j, const igea__nstate *S, const double *c, reml
     }
     return r;
 }
+
+static int lval(const igea__njob *j, const igea__nstate *S, double *c, int r, int prof,
+                reml_ws *w, double *l);
 
 /* The derivative of one axis's whitening coefficients by phi_(a,k) (the
  * other axes' are 0): row t < p d(Gamma_p^-1/2), later rows d su and
@@ -201,10 +206,10 @@ static void darrows(int p, const ar_coef *ac, const double *phi, int a, int k, i
  *   l = sum_i log T_ii - 1/2 sum_g n_g log c_g - sum_b log det R_b
  *       - 1/2 log pdet(sum_g N_g / c_g) - 1/2 sum_g Omega_g / c_g
  * (every row; n_g, N_g, Omega_g after the projection) at c: s[a p + k] =
- * dl / dphi_(a,k), s[3 p + g] = dl / dc_g. Returns 0, IGEA_EDOMAIN (phi not
- * stationary) or a failure. */
+ * dl / dphi_(a,k), s[3 p + g] = dl / dc_g; *lr (unless NULL) l itself
+ * (lval). Returns 0, IGEA_EDOMAIN (phi not stationary) or a failure. */
 static int score(const igea__njob *j, const igea__nstate *S, const double *c, reml_ws *w,
-                 double *s)
+                 double *s, double *lr)
 {
     const int m = j->m, Nt = j->Nt, n1 = Nt + 1, G = j->G, p = j->p, M = j->M;
     const double *phi = S->phi, *V = S->V;
@@ -226,6 +231,14 @@ static int score(const igea__njob *j, const igea__nstate *S, const double *c, re
     if (r < 0) {
         free(Kb);
         return r;
+    }
+    if (lr) { /* the likelihood at c (one group: at its profile, which c is to rounding) */
+        double cc = c[0];
+        int sl = lval(j, S, G == 1 ? &cc : (double *)c, r, G == 1, w, lr);
+        if (sl) {
+            free(Kb);
+            return sl;
+        }
     }
     /* Y2 = X~_e N^+ */
     memset(w->Y2, 0, (size_t)m * Nt * sizeof(double));
@@ -377,27 +390,37 @@ static int score(const igea__njob *j, const igea__nstate *S, const double *c, re
     return igea__finite_vec(3 * p + G, s, 1) ? 0 : IGEA_EOVERFLOW;
 }
 
-/* The restricted log-likelihood of the state S at c (the terms of score()'s
- * l, to a constant). Returns 0 or a failure. */
-static int loglik(const igea__njob *j, const igea__nstate *S, const double *c, reml_ws *w,
-                  double *l)
+/* The restricted log-likelihood of the state S (score()'s l, to a
+ * constant) from the fit gls() left in w (rank r) at c. prof (one group):
+ * c[0] is first replaced by its profile, the Helmert (REML) scale Omega /
+ * (n - r), which does not depend on c there (the pseudo-determinant moves
+ * by r log(c / c_new)). Returns 0 or a failure. */
+static int lval(const igea__njob *j, const igea__nstate *S, double *c, int r, int prof,
+                reml_ws *w, double *l)
 {
     const int Nt = j->Nt, G = j->G, p = j->p;
-    int r = gls(j, S, c, w);
-    if (r < 0)
-        return r;
-    double v = -S->d.logdet, ld = 0.0;
+    double v = -S->d.logdet, ld = 0.0, om[64];
     for (int k = 0; k < r; k++)
         ld += log(w->lam[k]);
-    v -= 0.5 * ld;
     for (int g = 0; g < G; g++) {
         const double *Ag = S->A + (size_t)g * Nt * Nt, *bg = S->b + (size_t)g * Nt;
         double *Ax = w->bb;
         cblas_dsymv(CblasColMajor, CblasLower, Nt, 1.0, Ag, Nt, w->x, 1, 0.0, Ax, 1);
-        double om = S->wtw[2 * g] - 2.0 * cblas_ddot(Nt, w->x, 1, bg, 1) +
-                    cblas_ddot(Nt, w->x, 1, Ax, 1);
-        v -= 0.5 * (S->wtw[2 * g + 1] * log(c[g]) + om / c[g]);
+        om[g] = S->wtw[2 * g] - 2.0 * cblas_ddot(Nt, w->x, 1, bg, 1) +
+                cblas_ddot(Nt, w->x, 1, Ax, 1);
     }
+    if (prof && G == 1) {
+        if (!(S->wtw[1] - r > 0.5))
+            return IGEA_ERANK;
+        if (!(om[0] > 0))
+            return IGEA_EDOMAIN;
+        double cn = om[0] / (S->wtw[1] - r);
+        ld += r * log(c[0] / cn);
+        c[0] = cn;
+    }
+    v -= 0.5 * ld;
+    for (int g = 0; g < G; g++)
+        v -= 0.5 * (S->wtw[2 * g + 1] * log(c[g]) + om[g] / c[g]);
     if (p > 0) { /* sum_i log T_ii: per axis, log (Gamma_p^-1/2)_tt for t < p, log su after */
         int cnt[PMAX + 1] = {0};
         for (int e = 0; e < j->M; e++)
@@ -413,6 +436,13 @@ static int loglik(const igea__njob *j, const igea__nstate *S, const double *c, r
     }
     *l = v;
     return isfinite(v) ? 0 : IGEA_EOVERFLOW;
+}
+
+static int loglik(const igea__njob *j, const igea__nstate *S, double *c, int prof, reml_ws *w,
+                  double *l)
+{
+    int r = gls(j, S, c, w);
+    return r < 0 ? r : lval(j, S, c, r, prof, w, l);
 }
 
 /* Rows per group g and axis a (n[3 g + a]), less the rejected rows (each
@@ -552,7 +582,7 @@ static int z_of_phi(int p, const double *phi, double *z)
     return 0;
 }
 
-int igea__noise_reml_step(igea__njob *j, double *d)
+int igea__noise_reml_step(igea__njob *j, double tol, double *d)
 {
     const int p = j->p, q = 3 * p, G = j->G;
     reml_ws w;
@@ -565,7 +595,8 @@ int igea__noise_reml_step(igea__njob *j, double *d)
     }
     double *s = n + 3 * (size_t)G, S[9 * 9], step[9], z[9], sz[9], Jz[3][PMAX * PMAX];
     ar_coef ac[3];
-    int st = score(j, &j->st[j->cur], j->c, &w, s);
+    double l0 = 0.0;
+    int st = score(j, &j->st[j->cur], j->c, &w, s, G == 1 ? &l0 : NULL);
     for (int a = 0; st == 0 && a < 3; a++)
         if (ar_coefs(p, j->phi + a * p, &ac[a]) || z_of_phi(p, j->phi + a * p, z + a * p))
             st = IGEA_EDOMAIN;
@@ -619,7 +650,7 @@ int igea__noise_reml_step(igea__njob *j, double *d)
          * likelihood rises enough (Armijo, 1e-4 of the slope); phi(z) is
          * stationary for every z, the check guards the far tail (sigma_u
          * below 1e-7). The accepted trial state becomes the job's. */
-        double big = 0.0, slope = 0.0, l0 = 0.0, np[9], Jt[PMAX * PMAX];
+        double big = 0.0, slope = 0.0, np[9], Jt[PMAX * PMAX];
         for (int k = 0; k < q; k++)
             big = fmax(big, fabs(step[k]));
         for (int k = 0; big > 1.0 && k < q; k++)
@@ -630,12 +661,13 @@ int igea__noise_reml_step(igea__njob *j, double *d)
         int vit = 0, vconv = 0;
         if (!xt)
             st = IGEA_ENOMEM;
-        /* the profile at the current phi, as tight as at the trial points */
-        if (st == 0)
-            st = igea__noise_vce_iterate(j->Nt, G, j->A, j->Nt, j->b, j->wtw, 1e-10, 200, ct, rt,
+        /* several groups: the profile at the current phi as tight as at the
+         * trial points (one group: score() gave l0 at its profile) */
+        if (st == 0 && G > 1)
+            st = igea__noise_vce_iterate(j->Nt, G, j->A, j->Nt, j->b, j->wtw, 1e-8, 200, ct, rt,
                                          xt, &vit, &vconv);
-        if (st == 0)
-            st = loglik(j, &j->st[j->cur], ct, &w, &l0);
+        if (st == 0 && G > 1)
+            st = loglik(j, &j->st[j->cur], ct, 0, &w, &l0);
         *d = 0.0;
         igea__nstate *tr = &j->st[1 - j->cur];
         for (int h = 0; h < 40 && st == 0 && slope > 0; h++) {
@@ -644,14 +676,25 @@ int igea__noise_reml_step(igea__njob *j, double *d)
                 zn[k] = z[k] + step[k];
             for (int a = 0; a < 3; a++)
                 phi_of_z(p, zn + a * p, np + a * p, Jt);
+            double dn = 0.0;
+            for (int k = 0; k < q; k++)
+                dn = fmax(dn, fabs(np[k] - j->phi[k]));
+            if (h > 0 && dn < 0.01 * tol)
+                break; /* no cut rises: the maximum, to rounding */
             int ok = stationary(p, np);
             if (ok) {
                 int s2 = igea__noise_state(j, np, tr);
-                if (s2 == 0)
+                if (s2 == 0 && G > 1)
                     s2 = igea__noise_vce_iterate(j->Nt, G, tr->A, j->Nt, tr->b, tr->wtw,
-                                                 1e-10, 200, ct, rt, xt, &vit, &vconv);
+                                                 1e-8, 200, ct, rt, xt, &vit, &vconv);
+                if (G == 1)
+                    ct[0] = j->c[0];
                 if (s2 == 0)
-                    s2 = loglik(j, tr, ct, &w, &l1);
+                    s2 = loglik(j, tr, ct, G == 1, &w, &l1);
+                if (s2 == 0 && G == 1) { /* the Helmert scale's redundancy and fit */
+                    rt[0] = tr->wtw[1] - w.r;
+                    memcpy(xt, w.x, (size_t)j->Nt * sizeof(double));
+                }
                 if (s2 != 0 && s2 != IGEA_EDOMAIN && s2 != IGEA_ERANK && s2 != IGEA_EOVERFLOW)
                     st = s2;
                 ok = s2 == 0 && l1 >= l0 + 1e-4 * slope;
@@ -726,7 +769,7 @@ int igea__noise_reml_se(igea__njob *j)
     double *th = s0 + q, *n = th + q, *S = n + 3 * (size_t)G;
     memcpy(th, j->phi, 3 * (size_t)p * sizeof(double));
     memcpy(th + 3 * p, j->c, (size_t)G * sizeof(double));
-    int st = score(j, &j->st[j->cur], j->c, &w, s0);
+    int st = score(j, &j->st[j->cur], j->c, &w, s0, NULL);
     igea__nstate *tr = &j->st[1 - j->cur]; /* the state at a moved phi */
     /* observed information -d score / d theta by central differences of the
      * analytic score (one-sided where phi +- h leaves the stationary region) */
@@ -739,7 +782,7 @@ int igea__noise_reml_se(igea__njob *j)
         tp[col] = th[col] + h;
         int su = at(j, tp, isphi, tr);
         if (su == 0)
-            su = score(j, isphi ? tr : &j->st[j->cur], tp + 3 * p, &w, sp);
+            su = score(j, isphi ? tr : &j->st[j->cur], tp + 3 * p, &w, sp, NULL);
         if (su == IGEA_EDOMAIN)
             up = 0;
         else if (su)
@@ -747,7 +790,7 @@ int igea__noise_reml_se(igea__njob *j)
         tp[col] = th[col] - h;
         int sd = st ? 0 : at(j, tp, isphi, tr);
         if (st == 0 && sd == 0)
-            sd = score(j, isphi ? tr : &j->st[j->cur], tp + 3 * p, &w, sm);
+            sd = score(j, isphi ? tr : &j->st[j->cur], tp + 3 * p, &w, sm, NULL);
         if (sd == IGEA_EDOMAIN)
             dn = 0;
         else if (sd)
