@@ -11,8 +11,10 @@ Clopper-Pearson interval (igea_sim_interval_cp; the Wilson one of
 igea_sim_interval is in the JSON lines), the cell's CPU time, and appends
 one JSON line per cell to --results. --cells NAME,... runs some cells only
 (names below; a name that is not a cell's selects the family it begins:
-"ar1_ls", "ar1_reml", "power", "curve"); "naming" and "phi_bias" (phi-hat's
-bias by least squares and by REML, flight by flight) are asked by name;
+"ar1_ls", "ar1_reml", "power", "curve"); "naming", "phi_bias" (phi-hat's
+bias by least squares and by REML, flight by flight) and "ar_robust" (phi-hat
+with outliers and the robust route against the same flight without them,
+flight by flight) are asked by name;
 --plot-only draws noise_size_phi.png (size against phi), noise_power.png
 (power at 4 x spec with and without the robust route) and
 noise_power_curve.png (power against the term's size) into --outdir from
@@ -154,6 +156,56 @@ def phi_bias(n, seed=11):
                        cpu_s=time.process_time() - t0)
 
 
+AR_ROBUST_MODELS = (("AR(2) phi=(0.6, 0.3)", (0.6, 0.3)), ("AR(1) phi=0.9", (0.9,)))
+
+
+def ar_robust(n, seed=11):
+    """phi-hat with outliers and the robust route against phi-hat of the
+    same flight without them, flight by flight: igea.simulate(seed, flight,
+    ar, outlier_prob=0.01, outlier_scale=30) and the same draw with
+    outlier_prob=0 (the same noise: the outliers' draws are made for every
+    row), each judged by igea.eqerr(ar=p, robust=True), and the clean flight
+    also without the robust route. A flight matches when every phi_(a,k)
+    with outliers is within one standard error (the clean robust judge's)
+    of the clean one. Also counted: the flights with the smallest phi_1 of
+    the three axes below 0.3, the planted rows missed, and the rows rejected
+    that were not planted. Yields one row per model."""
+    for label, phi in AR_ROBUST_MODELS:
+        kw = dict(zip(("ar1", "ar2", "ar3"), phi))
+        p = len(phi)
+        t0 = time.process_time()
+        match = match_plain = low = low_clean = missed = false = planted = nconv = 0
+        dmax = []
+        for f in range(n):
+            clean = igea.simulate(seed=seed, flight=f, outlier_prob=0.0, **kw)
+            dirty = igea.simulate(seed=seed, flight=f, outlier_prob=0.01, outlier_scale=30.0, **kw)
+            rc = igea.eqerr(clean.S, clean.dw, clean.sigma, clean.spec, ar=p, robust=True)
+            rp = igea.eqerr(clean.S, clean.dw, clean.sigma, clean.spec, ar=p)
+            ro = igea.eqerr(dirty.S, dirty.dw, dirty.sigma, dirty.spec, ar=p, robust=True)
+            se = np.asarray(rc.ar_se)
+            d = np.max(np.abs(np.asarray(ro.ar_phi) - rc.ar_phi) / se)
+            dmax.append(d)
+            match += d <= 1.0
+            match_plain += np.max(np.abs(np.asarray(ro.ar_phi) - rp.ar_phi) / rp.ar_se) <= 1.0
+            low += np.min(np.asarray(ro.ar_phi)[:, 0]) < 0.3
+            low_clean += np.min(np.asarray(rp.ar_phi)[:, 0]) < 0.3
+            truth = set(np.flatnonzero(dirty.dw != clean.dw).tolist())
+            rej = {r["row"] for r in ro.rejected_rows}
+            planted += len(truth)
+            missed += len(truth - rej)
+            false += len(rej - truth)
+            nconv += bool(ro.noise_converged)
+        dmax = np.array(dmax)
+        yield dict(cell="ar_robust", label="%s, 1 %% rows at 30 sigma, robust" % label, phi=list(phi),
+                   flights=n, match=int(match), match_cp99=list(interval_cp(int(match), n)),
+                   match_plain=int(match_plain),
+                   match_plain_cp99=list(interval_cp(int(match_plain), n)),
+                   low=int(low), low_clean=int(low_clean), planted=planted, missed=missed,
+                   false=false, converged=nconv, dmax_q=[float(np.quantile(dmax, q)) for q in
+                                                         (0.5, 0.9, 0.99, 1.0)],
+                   cpu_s=time.process_time() - t0)
+
+
 def run_cell(name, spec, fl, a):
     label, kw, what = spec
     t0 = time.process_time()
@@ -286,7 +338,8 @@ def main():
     ap.add_argument("--outdir", default="docs")
     ap.add_argument("--plot-only", action="store_true")
     ap.add_argument("--naming-flights", type=int, default=0, help="0: --flights")
-    ap.add_argument("--phi-flights", type=int, default=0, help="phi_bias: 0: --flights")
+    ap.add_argument("--phi-flights", type=int, default=0,
+                    help="phi_bias, ar_robust: 0: --flights")
     a = ap.parse_args()
     if a.plot_only:
         plots(a.results, a.outdir)
@@ -315,6 +368,20 @@ def main():
                        rate=k / max(n, 1), cp99=list(interval_cp(k, max(n, 1))), wilson99=[],
                        cpu_s=cpu)
             report(row, "; %d flights drawn" % (a.naming_flights or a.flights))
+            with open(a.results, "a") as fh:
+                fh.write(json.dumps(row) + "\n")
+    if "ar_robust" in want:
+        print("\n| model | flights | phi-hat with outliers within 1 se of the clean flight's "
+              "(robust / plain judge) [99 % CP] | min-axis phi_1 < 0.3 (outliers / clean) | "
+              "planted rows missed, rows rejected not planted | max |d phi|/se: median, 90 %, "
+              "99 %, max | CPU |\n|---|---|---|---|---|---|---|")
+        for row in ar_robust(a.phi_flights or a.flights):
+            print("| %s | %d | %d [%.4f, %.4f] / %d [%.4f, %.4f] | %d / %d | %d of %d, %d | "
+                  "%.2f, %.2f, %.2f, %.2f | %.0f s |" % (
+                      row["label"], row["flights"], row["match"], *row["match_cp99"],
+                      row["match_plain"], *row["match_plain_cp99"], row["low"], row["low_clean"],
+                      row["missed"], row["planted"], row["false"], *row["dmax_q"], row["cpu_s"]),
+                  flush=True)
             with open(a.results, "a") as fh:
                 fh.write(json.dumps(row) + "\n")
     if "phi_bias" in want:

@@ -391,3 +391,269 @@ int igea_noise_vce_cov(int N, int G, const double *A, int lda, const double *wtw
     }
     return igea__noise_vce_cov(N, G, A, lda, wtw, scale, cov);
 }
+
+/* ---- Rejected rows as additive outliers ------------------------------------ */
+
+int igea__ar_setup(int p, const double *phi, double linv[][IGEA_NOISE_AR_MAX], double *su);
+
+int igea__noise_arrows(int p, const double *phi, igea__arrow co[3])
+{
+    memset(co, 0, 3 * sizeof *co);
+    for (int a = 0; a < 3; a++) {
+        double li[IGEA_NOISE_AR_MAX][IGEA_NOISE_AR_MAX], su;
+        co[a].diag = 1.0; /* p = 0: no serial correlation, stage 2 is the identity */
+        if (p == 0)
+            continue;
+        if (igea__ar_setup(p, phi + a * p, li, &su))
+            return 1;
+        for (int t = 0; t < p; t++)
+            for (int s = 0; s <= t; s++)
+                co[a].head[t][s] = li[t][s];
+        co[a].diag = su;
+        for (int l = 1; l <= p; l++)
+            co[a].lag[l] = -su * phi[a * p + l - 1];
+    }
+    return 0;
+}
+
+int igea__noise_ao_image(const igea__njob *j, const igea__arrow co[3], int i, int *rows,
+                         double *val)
+{
+    const int e = i / 3, a = i % 3, p = j->p, te = j->segpos[e];
+    int n = 0;
+    for (int l = 0; l <= p; l++) {
+        const int el = e + l, t = te + l;
+        if (el >= j->M || j->segpos[el] != t)
+            break; /* the segment ended: the next epochs are independent */
+        for (int r = 0; r < 3; r++) {
+            if (j->W1 ? r < a : r != a)
+                continue; /* L_e^-1 is lower triangular */
+            double s1 = j->W1 ? j->W1[3 * (size_t)e + r + (size_t)a * j->m] : 1.0;
+            double cf = t < p ? co[r].head[t][te] : (l == 0 ? co[r].diag : co[r].lag[l]);
+            rows[n] = 3 * el + r;
+            val[n++] = cf * s1;
+        }
+    }
+    return n;
+}
+
+void igea__ndum_free(igea__ndum *d)
+{
+    free(d->dblk);
+    free(d->Q);
+    free(d->qoff);
+    memset(d, 0, sizeof *d);
+}
+
+static int uf_find(int *par, int x)
+{
+    while (par[x] != x)
+        x = par[x] = par[par[x]];
+    return x;
+}
+
+static int cmp_int(const void *a, const void *b)
+{
+    int x = *(const int *)a, y = *(const int *)b;
+    return (x > y) - (x < y);
+}
+
+/* Block b of d (its dummies' images in img / cnt, cap entries each) into Q_b,
+ * R_b by modified Gram-Schmidt, twice (Giraud et al. 2005: twice is enough);
+ * 0 or IGEA_ERANK (an image in the span of the others: cannot happen for
+ * distinct rows, T and L_e being invertible). */
+static int block_qr(igea__ndum *d, int b, const int *img, const double *val, const int *cnt,
+                    int cap)
+{
+    const int kb = d->boff[b + 1] - d->boff[b], nr = d->roff[b + 1] - d->roff[b];
+    double *Q = d->Q + d->qoff[b], *R = d->R + d->roff2[b];
+    memset(Q, 0, (size_t)nr * kb * sizeof(double));
+    memset(R, 0, (size_t)kb * kb * sizeof(double));
+    for (int c = 0; c < kb; c++) {
+        int q = d->dblk[d->boff[b] + c];
+        double *v = Q + (size_t)c * nr, n0 = 0.0;
+        for (int t = 0; t < cnt[q]; t++) {
+            v[d->rpos[img[q * cap + t]]] = val[q * cap + t];
+            n0 += val[q * cap + t] * val[q * cap + t];
+        }
+        for (int pass = 0; pass < 2; pass++)
+            for (int cc = 0; cc < c; cc++) {
+                double r = cblas_ddot(nr, Q + (size_t)cc * nr, 1, v, 1);
+                cblas_daxpy(nr, -r, Q + (size_t)cc * nr, 1, v, 1);
+                R[cc + (size_t)c * kb] += r;
+            }
+        double nv = cblas_dnrm2(nr, v, 1);
+        if (!(nv > 1e-12 * sqrt(n0)))
+            return IGEA_ERANK;
+        R[c + (size_t)c * kb] = nv;
+        cblas_dscal(nr, 1.0 / nv, v, 1);
+        d->logdet += log(nv);
+    }
+    return 0;
+}
+
+int igea__noise_dummies(const igea__njob *j, igea__nstate *s)
+{
+    const int m = j->m, Nt = j->Nt, n1 = Nt + 1, G = j->G, k = j->nrej;
+    const int cap = 3 * (j->p + 1);
+    igea__ndum *d = &s->d;
+    for (int b = 0; b < d->nblk; b++) { /* the rows before the last projection */
+        int nr = d->roff[b + 1] - d->roff[b];
+        const double *v0 = d->V0 + (size_t)d->roff[b] * n1;
+        for (int q = 0; q < nr; q++)
+            for (int c = 0; c < n1; c++)
+                s->V[d->rows[d->roff[b] + q] + (size_t)c * m] = v0[q + (size_t)c * nr];
+    }
+    igea__ndum_free(d);
+    memcpy(s->A, s->A0, (size_t)G * Nt * Nt * sizeof(double));
+    memcpy(s->b, s->b0, (size_t)G * Nt * sizeof(double));
+    memcpy(s->wtw, s->wtw0, 2 * (size_t)G * sizeof(double));
+    if (k == 0)
+        return 0;
+    igea__arrow co[3];
+    if (igea__noise_arrows(j->p, s->phi, co))
+        return IGEA_EDOMAIN;
+    /* the images and their blocks (union-find over shared rows) */
+    size_t ni = (size_t)k * cap * 2 + 4 * (size_t)k + 3 + 2 * (size_t)m;
+    int *iw = igea__ialloc(ni);
+    double *val = igea__dalloc((size_t)k * cap);
+    if (!iw || !val) {
+        free(iw);
+        free(val);
+        return IGEA_ENOMEM;
+    }
+    int *img = iw, *cnt = img + (size_t)k * cap, *par = cnt + k, *bid = par + k,
+        *broot = bid + k, *own = broot + k, *rbuf = own + m, *tmpm = rbuf + (size_t)k * cap;
+    (void)tmpm;
+    for (int i = 0; i < m; i++)
+        own[i] = -1;
+    for (int q = 0; q < k; q++) {
+        cnt[q] = igea__noise_ao_image(j, co, j->rej[q], img + (size_t)q * cap,
+                                      val + (size_t)q * cap);
+        par[q] = q;
+        broot[q] = -1;
+        for (int t = 0; t < cnt[q]; t++) {
+            int r = img[(size_t)q * cap + t];
+            if (own[r] >= 0) {
+                int x = uf_find(par, q), y = uf_find(par, own[r]);
+                if (x != y)
+                    par[x > y ? x : y] = x < y ? x : y;
+            }
+            own[r] = q;
+        }
+    }
+    int nblk = 0;
+    for (int q = 0; q < k; q++) {
+        int r = uf_find(par, q);
+        if (broot[r] < 0)
+            broot[r] = nblk++;
+        bid[q] = broot[r];
+    }
+    /* sizes: dummies per block, then rows per block (sorted, unique) */
+    int st = 0;
+    d->nblk = nblk;
+    d->k = k;
+    d->dblk = igea__ialloc((size_t)k + 2 * ((size_t)nblk + 1) + (size_t)k * cap + 2 * (size_t)m);
+    d->qoff = malloc(2 * ((size_t)nblk + 1) * sizeof(size_t));
+    if (!d->dblk || !d->qoff) {
+        st = IGEA_ENOMEM;
+        goto done;
+    }
+    d->boff = d->dblk + k;
+    d->roff = d->boff + nblk + 1;
+    d->rows = d->roff + nblk + 1;
+    d->rblk = d->rows + (size_t)k * cap;
+    d->rpos = d->rblk + m;
+    d->roff2 = d->qoff + nblk + 1;
+    memset(d->boff, 0, ((size_t)nblk + 1) * sizeof(int));
+    for (int q = 0; q < k; q++)
+        d->boff[bid[q] + 1]++;
+    for (int b = 0; b < nblk; b++)
+        d->boff[b + 1] += d->boff[b];
+    for (int b = 0, *fill = par; b < nblk; b++) /* par reused as the fill pointers */
+        fill[b] = d->boff[b];
+    for (int q = 0; q < k; q++)
+        d->dblk[par[bid[q]]++] = q;
+    for (int i = 0; i < m; i++)
+        d->rblk[i] = d->rpos[i] = -1;
+    d->roff[0] = 0;
+    size_t nq = 0, nR = 0;
+    for (int b = 0; b < nblk; b++) {
+        int nr = 0;
+        for (int c = d->boff[b]; c < d->boff[b + 1]; c++) {
+            int q = d->dblk[c];
+            for (int t = 0; t < cnt[q]; t++)
+                rbuf[nr++] = img[(size_t)q * cap + t];
+        }
+        qsort(rbuf, (size_t)nr, sizeof(int), cmp_int);
+        int u = 0;
+        for (int t = 0; t < nr; t++)
+            if (t == 0 || rbuf[t] != rbuf[t - 1])
+                rbuf[u++] = rbuf[t];
+        for (int t = 0; t < u; t++) {
+            d->rows[d->roff[b] + t] = rbuf[t];
+            d->rblk[rbuf[t]] = b;
+            d->rpos[rbuf[t]] = t;
+        }
+        d->roff[b + 1] = d->roff[b] + u;
+        int kb = d->boff[b + 1] - d->boff[b];
+        d->qoff[b] = nq;
+        d->roff2[b] = nR;
+        nq += (size_t)u * kb;
+        nR += (size_t)kb * kb;
+    }
+    d->qoff[nblk] = nq;
+    d->roff2[nblk] = nR;
+    size_t nrow = (size_t)d->roff[nblk];
+    d->Q = igea__dalloc(nq + nR + (size_t)k * n1 + nrow * n1);
+    if (!d->Q) {
+        st = IGEA_ENOMEM;
+        goto done;
+    }
+    d->R = d->Q + nq;
+    d->Z = d->R + nR;
+    d->V0 = d->Z + (size_t)k * n1;
+    for (int b = 0; b < nblk && st == 0; b++) {
+        const int kb = d->boff[b + 1] - d->boff[b], nr = d->roff[b + 1] - d->roff[b];
+        const int *rw = d->rows + d->roff[b];
+        double *v0 = d->V0 + (size_t)d->roff[b] * n1, *Z = d->Z + (size_t)d->boff[b] * n1;
+        const double *Q = d->Q + d->qoff[b];
+        if ((st = block_qr(d, b, img, val, cnt, cap)))
+            break;
+        for (int c = 0; c < n1; c++)
+            for (int q = 0; q < nr; q++)
+                v0[q + (size_t)c * nr] = s->V[rw[q] + (size_t)c * m];
+        /* Z = Q' V0; the rows (I - Q Q') V0 */
+        cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, kb, n1, nr, 1.0, Q, nr, v0, nr,
+                    0.0, Z, kb);
+        for (int c = 0; c < n1; c++)
+            for (int q = 0; q < nr; q++) {
+                double t = v0[q + (size_t)c * nr];
+                for (int l = 0; l < kb; l++)
+                    t -= Q[q + (size_t)l * nr] * Z[l + (size_t)c * kb];
+                s->V[rw[q] + (size_t)c * m] = t;
+            }
+        /* the group sums lose Z'Z, one row count per dummy */
+        int g = j->group ? j->group[rw[0] / 3] : 0;
+        double *Ag = s->A + (size_t)g * Nt * Nt, *bg = s->b + (size_t)g * Nt;
+        const double *zw = Z + (size_t)Nt * kb;
+        for (int c = 0; c < Nt; c++) {
+            const double *zc = Z + (size_t)c * kb;
+            for (int r = c; r < Nt; r++) {
+                double t = cblas_ddot(kb, Z + (size_t)r * kb, 1, zc, 1);
+                Ag[r + (size_t)c * Nt] -= t;
+                if (r != c)
+                    Ag[c + (size_t)r * Nt] -= t;
+            }
+            bg[c] -= cblas_ddot(kb, zc, 1, zw, 1);
+        }
+        s->wtw[2 * g] = fmax(0.0, s->wtw[2 * g] - cblas_ddot(kb, zw, 1, zw, 1));
+        s->wtw[2 * g + 1] -= kb;
+    }
+done:
+    free(iw);
+    free(val);
+    if (st) /* the rows are those before any projection: nothing to restore */
+        igea__ndum_free(d);
+    return st;
+}

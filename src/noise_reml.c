@@ -13,6 +13,10 @@
 #define PMAX IGEA_NOISE_AR_MAX
 
 int igea__ar_setup(int p, const double *phi, double linv[][IGEA_NOISE_AR_MAX], double *su);
+/* noise.c */
+int igea__noise_vce_iterate(int N, int G, const double *A, int lda, const double *b,
+                            const double *wtw, double tol, int maxit, double *c,
+                            double *red, double *x, int *iters, int *conv);
 
 /* The coefficients of one axis's whitening and their derivatives: */
 typedef struct {
@@ -128,26 +132,22 @@ static int ar_coefs(int p, const double *phi, ar_coef *o)
 
 /* The scratch of one evaluation of the score. */
 typedef struct {
-    double *V, *A, *b, *wtw; /* stage 2 at a trial phi */
     double *Nt, *F, *lam;    /* pseudo-inverse of sum A_g / c_g (Nt: then N^+ = F F') */
-    double *Y2;              /* m x Nt: V_S N^+ */
+    double *Y2;              /* m x Nt: X~_e N^+ */
     double *x, *bb, *e, *v;  /* Nt, Nt, m (stage-1 residual), m (whitened residual) */
-    double *H;               /* (p + 2) m: Y2.V_S, Y2.U_S at lags 0..p */
+    double *H;               /* (p + 2) m: Y2.X~, Y2.U_S at lags 0..p */
+    double *hv;              /* m: Y2.X~_e (the hat diagonal times c) */
+    int r;                   /* the rank of the last fit */
 } reml_ws;
 
 static double *ws_alloc(const igea__njob *j, reml_ws *w)
 {
-    size_t m = (size_t)j->m, Nt = (size_t)j->Nt, n1 = Nt + 1, G = (size_t)j->G;
-    size_t nd = m * n1 + G * Nt * Nt + G * Nt + 2 * G + 2 * Nt * Nt + Nt + m * Nt + 2 * Nt +
-                2 * m + (size_t)(j->p + 2) * m;
+    size_t m = (size_t)j->m, Nt = (size_t)j->Nt;
+    size_t nd = 2 * Nt * Nt + Nt + m * Nt + 2 * Nt + 2 * m + (size_t)(j->p + 2) * m + m;
     double *d = igea__dalloc(nd);
     if (!d)
         return NULL;
-    w->V = d;
-    w->A = w->V + m * n1;
-    w->b = w->A + G * Nt * Nt;
-    w->wtw = w->b + G * Nt;
-    w->Nt = w->wtw + 2 * G;
+    w->Nt = d;
     w->F = w->Nt + Nt * Nt;
     w->lam = w->F + Nt * Nt;
     w->Y2 = w->lam + Nt;
@@ -156,58 +156,129 @@ static double *ws_alloc(const igea__njob *j, reml_ws *w)
     w->e = w->bb + Nt;
     w->v = w->e + m;
     w->H = w->v + m;
+    w->hv = w->H + (size_t)(j->p + 2) * m;
     return d;
 }
 
-/* The score of the restricted log-likelihood
- *   l = log|T| - 1/2 sum_g n_g log c_g - 1/2 log pdet(sum_g N_g / c_g)
- *       - 1/2 sum_g Omega_g / c_g
- * (kept rows) at phi and c: s[a p + k] = dl / dphi_(a,k), s[3 p + g] =
- * dl / dc_g. fresh 1: whiten U at phi into the scratch; 0: the job's V
- * and sums (phi the job's). Returns 0, IGEA_EDOMAIN (phi not stationary)
- * or a failure. */
-static int score(const igea__njob *j, const double *phi, const double *c, int fresh,
-                 reml_ws *w, double *s)
+/* x = F F' sum_g b_g / c_g and the rank r of the pseudo-inverse factor of
+ * the state's N = sum A_g / c_g (into w). Returns r or a failure < 0. */
+static int gls(const igea__njob *j, const igea__nstate *S, const double *c, reml_ws *w)
 {
-    const int m = j->m, Nt = j->Nt, G = j->G, p = j->p, M = j->M;
-    const double *V = j->V, *A = j->A, *b = j->b, *wtw = j->wtw;
+    const int Nt = j->Nt, G = j->G;
+    int r = igea__noise_pinv_factor(Nt, G, S->A, Nt, c, w->Nt, w->lam, w->F);
+    if (r < 0)
+        return r;
+    for (int i = 0; i < Nt; i++) {
+        double t = 0.0;
+        for (int g = 0; g < G; g++)
+            t += S->b[(size_t)g * Nt + i] / c[g];
+        w->bb[i] = t;
+    }
+    memset(w->x, 0, (size_t)Nt * sizeof(double));
+    w->r = r;
+    if (r > 0) {
+        double *t = w->Y2; /* r doubles of scratch */
+        cblas_dgemv(CblasColMajor, CblasTrans, Nt, r, 1.0, w->F, Nt, w->bb, 1, 0.0, t, 1);
+        cblas_dgemv(CblasColMajor, CblasNoTrans, Nt, r, 1.0, w->F, Nt, t, 1, 0.0, w->x, 1);
+    }
+    return r;
+}
+
+static int lval(const igea__njob *j, const igea__nstate *S, double *c, int r, int prof,
+                reml_ws *w, double *l);
+
+/* The derivative of one axis's whitening coefficients by phi_(a,k) (the
+ * other axes' are 0): row t < p d(Gamma_p^-1/2), later rows d su and
+ * d(-su phi_l) = -su (dls_k phi_l + [l = k + 1]). */
+static void darrows(int p, const ar_coef *ac, const double *phi, int a, int k, igea__arrow co[3])
+{
+    memset(co, 0, 3 * sizeof *co);
+    for (int t = 0; t < p; t++)
+        for (int s = 0; s <= t; s++)
+            co[a].head[t][s] = ac[a].dli[k][t][s];
+    co[a].diag = ac[a].su * ac[a].dls[k];
+    for (int l = 1; l <= p; l++)
+        co[a].lag[l] = -ac[a].su * (ac[a].dls[k] * phi[a * p + l - 1] + (l == k + 1));
+}
+
+/* The score of the restricted log-likelihood of the state S (its phi, the
+ * dummies projected out; docs/eqerr.md)
+ *   l = sum_i log T_ii - 1/2 sum_g n_g log c_g - sum_b log det R_b
+ *       - 1/2 log pdet(sum_g N_g / c_g) - 1/2 sum_g Omega_g / c_g
+ * (every row; n_g, N_g, Omega_g after the projection) at c: s[a p + k] =
+ * dl / dphi_(a,k), s[3 p + g] = dl / dc_g; *lr (unless NULL) l itself
+ * (lval). Returns 0, IGEA_EDOMAIN (phi not stationary) or a failure. */
+static int score(const igea__njob *j, const igea__nstate *S, const double *c, reml_ws *w,
+                 double *s, double *lr)
+{
+    const int m = j->m, Nt = j->Nt, n1 = Nt + 1, G = j->G, p = j->p, M = j->M;
+    const double *phi = S->phi, *V = S->V;
+    const igea__ndum *d = &S->d;
     ar_coef ac[3];
     for (int a = 0; a < 3; a++)
         if (ar_coefs(p, phi + a * p, &ac[a]))
             return IGEA_EDOMAIN;
-    int st;
-    if (fresh) {
-        if ((st = igea__noise_stage2(j, phi, w->V, w->A, w->b, w->wtw)))
-            return st;
-        V = w->V, A = w->A, b = w->b, wtw = w->wtw;
+    size_t nkb = 0, nkn = 0; /* the largest block's nr kb + kb and kb (Nt + 1) */
+    for (int b = 0; b < d->nblk; b++) {
+        size_t kb = (size_t)(d->boff[b + 1] - d->boff[b]), nr = (size_t)(d->roff[b + 1] - d->roff[b]);
+        nkb = nr * kb + kb > nkb ? nr * kb + kb : nkb;
+        nkn = kb * n1 > nkn ? kb * n1 : nkn;
     }
-    int r = igea__noise_pinv_factor(Nt, G, A, Nt, c, w->Nt, w->lam, w->F);
-    if (r < 0)
+    double *Kb = d->nblk ? igea__dalloc(nkb + nkn) : NULL, *Mb = Kb ? Kb + nkb : NULL;
+    if (d->nblk && !Kb)
+        return IGEA_ENOMEM;
+    int r = gls(j, S, c, w);
+    if (r < 0) {
+        free(Kb);
         return r;
-    /* x = F F' sum b_g / c_g; Y2 = V_S (F F') = V_S N^+ */
-    for (int i = 0; i < Nt; i++) {
-        double t = 0.0;
-        for (int g = 0; g < G; g++)
-            t += b[(size_t)g * Nt + i] / c[g];
-        w->bb[i] = t;
     }
+    if (lr) { /* the likelihood at c (one group: at its profile, which c is to rounding) */
+        double cc = c[0];
+        int sl = lval(j, S, G == 1 ? &cc : (double *)c, r, G == 1, w, lr);
+        if (sl) {
+            free(Kb);
+            return sl;
+        }
+    }
+    /* Y2 = X~_e N^+ */
     memset(w->Y2, 0, (size_t)m * Nt * sizeof(double));
     if (r > 0) {
-        cblas_dgemv(CblasColMajor, CblasTrans, Nt, r, 1.0, w->F, Nt, w->bb, 1, 0.0, w->lam, 1);
-        cblas_dgemv(CblasColMajor, CblasNoTrans, Nt, r, 1.0, w->F, Nt, w->lam, 1, 0.0, w->x, 1);
         cblas_dsyrk(CblasColMajor, CblasLower, CblasNoTrans, Nt, r, 1.0, w->F, Nt, 0.0, w->Nt,
                     Nt); /* N^+ = F F' over Nt's scratch, lower triangle */
         cblas_dsymm(CblasColMajor, CblasRight, CblasLower, m, Nt, 1.0, w->Nt, Nt, V, m, 0.0,
                     w->Y2, m);
-    } else {
-        memset(w->x, 0, (size_t)Nt * sizeof(double));
     }
-    /* e = U_w - U_S x (stage 1), v = V_w - V_S x (whitened) */
+    /* e = U_w - U_S x - D delta (stage 1, the dummies' fit delta_b = R_b^-1
+     * (Z_w - Z_S x) at their rows), v = V_w - V_S x (whitened, projected) */
     memcpy(w->e, j->U + (size_t)Nt * m, (size_t)m * sizeof(double));
     memcpy(w->v, V + (size_t)Nt * m, (size_t)m * sizeof(double));
     cblas_dgemv(CblasColMajor, CblasNoTrans, m, Nt, -1.0, j->U, m, w->x, 1, 1.0, w->e, 1);
     cblas_dgemv(CblasColMajor, CblasNoTrans, m, Nt, -1.0, V, m, w->x, 1, 1.0, w->v, 1);
-    /* H[0] = Y2_i . V_S,i (the hat diagonal times c), H[1 + l] = Y2_i . U_S,(i - 3 l) */
+    for (int b = 0; b < d->nblk; b++) {
+        const int kb = d->boff[b + 1] - d->boff[b];
+        const double *Z = d->Z + (size_t)d->boff[b] * n1, *R = d->R + d->roff2[b];
+        double *dl = Mb; /* free until below */
+        for (int l = 0; l < kb; l++) {
+            double t = Z[l + (size_t)Nt * kb];
+            for (int cc = 0; cc < Nt; cc++)
+                t -= Z[l + (size_t)cc * kb] * w->x[cc];
+            dl[l] = t;
+        }
+        for (int l = kb - 1; l >= 0; l--) { /* R delta = Z_w - Z_S x */
+            double t = dl[l];
+            for (int l2 = l + 1; l2 < kb; l2++)
+                t -= R[l + (size_t)l2 * kb] * dl[l2];
+            dl[l] = t / R[l + (size_t)l * kb];
+        }
+        for (int l = 0; l < kb; l++) {
+            int i = j->rej[d->dblk[d->boff[b] + l]], e0 = i - i % 3, a = i % 3;
+            for (int rr = a; rr < 3; rr++)
+                if (j->W1 ? j->W1[e0 + rr + (size_t)a * m] != 0.0 : rr == a)
+                    w->e[e0 + rr] -= dl[l] * (j->W1 ? j->W1[e0 + rr + (size_t)a * m] : 1.0);
+        }
+    }
+    /* hv = Y2_i . X~_e,i; H[0] = Y2_i . X~_i (the rows before the projection),
+     * H[1 + l] = Y2_i . U_S,(i - 3 l) */
     double *HV = w->H;
     memset(w->H, 0, (size_t)(p + 2) * m * sizeof(double));
     for (int cc = 0; cc < Nt; cc++) {
@@ -221,60 +292,166 @@ static int score(const igea__njob *j, const double *phi, const double *c, int fr
                 h[i] += y2[i] * uc[i - 3 * l];
         }
     }
+    memcpy(w->hv, HV, (size_t)m * sizeof(double));
+    for (int b = 0; b < d->nblk; b++) {
+        const int nr = d->roff[b + 1] - d->roff[b];
+        const double *v0 = d->V0 + (size_t)d->roff[b] * n1;
+        for (int q = 0; q < nr; q++) {
+            int i = d->rows[d->roff[b] + q];
+            double t = 0.0;
+            for (int cc = 0; cc < Nt; cc++)
+                t += w->Y2[i + (size_t)cc * m] * v0[q + (size_t)cc * nr];
+            HV[i] = t;
+        }
+    }
     for (int k = 0; k < 3 * p + G; k++)
         s[k] = 0.0;
-    /* phi: each kept row's d log T_ii - (Y2_i . dS~_i + v_i dv_i) / c_g */
+    /* phi: each row's d log T_ii - (Y2_i . dX~_i + v_i dv_i) / c_g, dX~ = dT U_S,
+     * dv = dT e */
     for (int a = 0; a < 3; a++) {
         const ar_coef *o = &ac[a];
-        int t = 0;
         for (int ep = 0; ep < M; ep++) {
-            int g = j->group ? j->group[ep] : 0;
-            if (ep > 0 && j->group && j->group[ep - 1] != g)
-                t = 0;
-            int i = 3 * ep + a;
-            if (!j->mask[i]) {
-                const double ci = c[g], vi = w->v[i];
-                for (int k = 0; k < p; k++) {
-                    double dlt, dxy, dv;
-                    if (t >= p) {
-                        dlt = o->dls[k];
-                        dxy = o->dls[k] * HV[i] - o->su * w->H[(size_t)(2 + k) * m + i];
-                        dv = o->dls[k] * vi - o->su * w->e[i - 3 * (k + 1)];
-                    } else {
-                        dlt = o->dli[k][t][t] / o->linv[t][t];
-                        dxy = dv = 0.0;
-                        for (int l = 0; l <= t; l++) {
-                            dxy += o->dli[k][t][l] * w->H[(size_t)(1 + t - l) * m + i];
-                            dv += o->dli[k][t][l] * w->e[i - 3 * (t - l)];
-                        }
+            const int g = j->group ? j->group[ep] : 0, t = j->segpos[ep], i = 3 * ep + a;
+            const double ci = c[g], vi = w->v[i];
+            for (int k = 0; k < p; k++) {
+                double dlt, dxy, dv;
+                if (t >= p) {
+                    dlt = o->dls[k];
+                    dxy = o->dls[k] * HV[i] - o->su * w->H[(size_t)(2 + k) * m + i];
+                    dv = o->dls[k] * vi - o->su * w->e[i - 3 * (k + 1)];
+                } else {
+                    dlt = o->dli[k][t][t] / o->linv[t][t];
+                    dxy = dv = 0.0;
+                    for (int l = 0; l <= t; l++) {
+                        dxy += o->dli[k][t][l] * w->H[(size_t)(1 + t - l) * m + i];
+                        dv += o->dli[k][t][l] * w->e[i - 3 * (t - l)];
                     }
-                    s[a * p + k] += dlt - (dxy + vi * dv) / ci;
                 }
+                s[a * p + k] += dlt - (dxy + vi * dv) / ci;
             }
-            t++;
         }
+    }
+    /* the dummies: sum over their images' derivatives dD_b of
+     * K_b = Y2 (R_b^-1 Z_S,b)' / c_g - Q_b R_b^-T (the projection's share of
+     * log pdet and log det R_b) */
+    for (int b = 0; b < d->nblk; b++) {
+        const int kb = d->boff[b + 1] - d->boff[b], nr = d->roff[b + 1] - d->roff[b];
+        const int *rw = d->rows + d->roff[b];
+        const double *Z = d->Z + (size_t)d->boff[b] * n1, *R = d->R + d->roff2[b];
+        const double *Q = d->Q + d->qoff[b];
+        const double cg = c[j->group ? j->group[rw[0] / 3] : 0];
+        for (int cc = 0; cc < Nt; cc++) /* Mb = R^-1 Z_S (kb x Nt) */
+            for (int l = kb - 1; l >= 0; l--) {
+                double t = Z[l + (size_t)cc * kb];
+                for (int l2 = l + 1; l2 < kb; l2++)
+                    t -= R[l + (size_t)l2 * kb] * Mb[l2 + (size_t)cc * kb];
+                Mb[l + (size_t)cc * kb] = t / R[l + (size_t)l * kb];
+            }
+        for (int q = 0; q < nr; q++) {
+            double *x = Kb + (size_t)nr * kb; /* (Q R^-T)_q. = (R^-1 Q_q.')' */
+            for (int l = kb - 1; l >= 0; l--) {
+                double t = Q[q + (size_t)l * nr];
+                for (int l2 = l + 1; l2 < kb; l2++)
+                    t -= R[l + (size_t)l2 * kb] * x[l2];
+                x[l] = t / R[l + (size_t)l * kb];
+            }
+            for (int l = 0; l < kb; l++) {
+                double t = 0.0;
+                for (int cc = 0; cc < Nt; cc++)
+                    t += w->Y2[rw[q] + (size_t)cc * m] * Mb[l + (size_t)cc * kb];
+                Kb[q + (size_t)l * nr] = t / cg - x[l];
+            }
+        }
+        for (int a = 0; a < 3; a++)
+            for (int k = 0; k < p; k++) {
+                igea__arrow dco[3];
+                int rows[12];
+                double val[12], t = 0.0;
+                darrows(p, ac, phi, a, k, dco);
+                for (int l = 0; l < kb; l++) {
+                    int n = igea__noise_ao_image(j, dco, j->rej[d->dblk[d->boff[b] + l]], rows,
+                                                 val);
+                    for (int u = 0; u < n; u++)
+                        t += val[u] * Kb[d->rpos[rows[u]] + (size_t)l * nr];
+                }
+                s[a * p + k] += t;
+            }
     }
     /* c_g: (Omega_g + tr(N^+ N_g)) / (2 c_g^2) - n_g / (2 c_g), zero at Helmert's
      * fixed point Omega_g = c_g r_g */
     double *sc = s + 3 * p;
     for (int i = 0; i < m; i++) {
-        if (j->mask[i])
-            continue;
         int g = j->group ? j->group[i / 3] : 0;
-        sc[g] += w->v[i] * w->v[i] + HV[i];
+        sc[g] += w->v[i] * w->v[i] + w->hv[i];
     }
     for (int g = 0; g < G; g++)
-        sc[g] = 0.5 * (sc[g] / c[g] - wtw[2 * g + 1]) / c[g];
+        sc[g] = 0.5 * (sc[g] / c[g] - S->wtw[2 * g + 1]) / c[g];
+    free(Kb);
     return igea__finite_vec(3 * p + G, s, 1) ? 0 : IGEA_EOVERFLOW;
 }
 
-/* Kept rows per group g and axis a (n[3 g + a]). */
+/* The restricted log-likelihood of the state S (score()'s l, to a
+ * constant) from the fit gls() left in w (rank r) at c. prof (one group):
+ * c[0] is first replaced by its profile, the Helmert (REML) scale Omega /
+ * (n - r), which does not depend on c there (the pseudo-determinant moves
+ * by r log(c / c_new)). Returns 0 or a failure. */
+static int lval(const igea__njob *j, const igea__nstate *S, double *c, int r, int prof,
+                reml_ws *w, double *l)
+{
+    const int Nt = j->Nt, G = j->G, p = j->p;
+    double v = -S->d.logdet, ld = 0.0, om[64];
+    for (int k = 0; k < r; k++)
+        ld += log(w->lam[k]);
+    for (int g = 0; g < G; g++) {
+        const double *Ag = S->A + (size_t)g * Nt * Nt, *bg = S->b + (size_t)g * Nt;
+        double *Ax = w->bb;
+        cblas_dsymv(CblasColMajor, CblasLower, Nt, 1.0, Ag, Nt, w->x, 1, 0.0, Ax, 1);
+        om[g] = S->wtw[2 * g] - 2.0 * cblas_ddot(Nt, w->x, 1, bg, 1) +
+                cblas_ddot(Nt, w->x, 1, Ax, 1);
+    }
+    if (prof && G == 1) {
+        if (!(S->wtw[1] - r > 0.5))
+            return IGEA_ERANK;
+        if (!(om[0] > 0))
+            return IGEA_EDOMAIN;
+        double cn = om[0] / (S->wtw[1] - r);
+        ld += r * log(c[0] / cn);
+        c[0] = cn;
+    }
+    v -= 0.5 * ld;
+    for (int g = 0; g < G; g++)
+        v -= 0.5 * (S->wtw[2 * g + 1] * log(c[g]) + om[g] / c[g]);
+    if (p > 0) { /* sum_i log T_ii: per axis, log (Gamma_p^-1/2)_tt for t < p, log su after */
+        int cnt[PMAX + 1] = {0};
+        for (int e = 0; e < j->M; e++)
+            cnt[j->segpos[e] < p ? j->segpos[e] : p]++;
+        for (int a = 0; a < 3; a++) {
+            double li[PMAX][PMAX], su;
+            if (igea__ar_setup(p, S->phi + a * p, li, &su))
+                return IGEA_EDOMAIN;
+            for (int t = 0; t < p; t++)
+                v += cnt[t] * log(li[t][t]);
+            v += cnt[p] * log(su);
+        }
+    }
+    *l = v;
+    return isfinite(v) ? 0 : IGEA_EOVERFLOW;
+}
+
+static int loglik(const igea__njob *j, const igea__nstate *S, double *c, int prof, reml_ws *w,
+                  double *l)
+{
+    int r = gls(j, S, c, w);
+    return r < 0 ? r : lval(j, S, c, r, prof, w, l);
+}
+
+/* Rows per group g and axis a (n[3 g + a]), less the rejected rows (each
+ * takes one degree of freedom). */
 static void kept_counts(const igea__njob *j, double *n)
 {
     memset(n, 0, 3 * (size_t)j->G * sizeof(double));
     for (int i = 0; i < j->m; i++)
-        if (!j->mask[i])
-            n[3 * (j->group ? j->group[i / 3] : 0) + i % 3] += 1.0;
+        n[3 * (j->group ? j->group[i / 3] : 0) + i % 3] += j->mask[i] ? 0.0 : 1.0;
 }
 
 /* The expected information of phi with the scales profiled out, to first
@@ -405,7 +582,7 @@ static int z_of_phi(int p, const double *phi, double *z)
     return 0;
 }
 
-int igea__noise_reml_step(igea__njob *j, double *d)
+int igea__noise_reml_step(igea__njob *j, double tol, double *d)
 {
     const int p = j->p, q = 3 * p, G = j->G;
     reml_ws w;
@@ -418,7 +595,8 @@ int igea__noise_reml_step(igea__njob *j, double *d)
     }
     double *s = n + 3 * (size_t)G, S[9 * 9], step[9], z[9], sz[9], Jz[3][PMAX * PMAX];
     ar_coef ac[3];
-    int st = score(j, j->phi, j->c, 0, &w, s);
+    double l0 = 0.0;
+    int st = score(j, &j->st[j->cur], j->c, &w, s, G == 1 ? &l0 : NULL);
     for (int a = 0; st == 0 && a < 3; a++)
         if (ar_coefs(p, j->phi + a * p, &ac[a]) || z_of_phi(p, j->phi + a * p, z + a * p))
             st = IGEA_EDOMAIN;
@@ -468,30 +646,75 @@ int igea__noise_reml_step(igea__njob *j, double *d)
         j->reml_have = 1;
     }
     if (st == 0) {
-        /* a step of at most 1 in z; phi(z) is stationary for every z, the
-         * check guards the far tail (sigma_u below 1e-7) */
-        double big = 0.0, np[9], Jt[PMAX * PMAX];
+        /* a step of at most 1 in z, halved until the profile restricted
+         * likelihood rises enough (Armijo, 1e-4 of the slope); phi(z) is
+         * stationary for every z, the check guards the far tail (sigma_u
+         * below 1e-7). The accepted trial state becomes the job's. */
+        double big = 0.0, slope = 0.0, np[9], Jt[PMAX * PMAX];
         for (int k = 0; k < q; k++)
             big = fmax(big, fabs(step[k]));
         for (int k = 0; big > 1.0 && k < q; k++)
             step[k] /= big;
-        int ok = 0;
-        for (int h = 0; h < 60 && !ok; h++) {
-            double zn[9];
+        for (int k = 0; k < q; k++)
+            slope += sz[k] * step[k];
+        double *ct = n, *rt = ct + G, *xt = igea__dalloc((size_t)j->Nt);
+        int vit = 0, vconv = 0;
+        if (!xt)
+            st = IGEA_ENOMEM;
+        /* several groups: the profile at the current phi as tight as at the
+         * trial points (one group: score() gave l0 at its profile) */
+        if (st == 0 && G > 1)
+            st = igea__noise_vce_iterate(j->Nt, G, j->A, j->Nt, j->b, j->wtw, 1e-8, 200, ct, rt,
+                                         xt, &vit, &vconv);
+        if (st == 0 && G > 1)
+            st = loglik(j, &j->st[j->cur], ct, 0, &w, &l0);
+        *d = 0.0;
+        igea__nstate *tr = &j->st[1 - j->cur];
+        for (int h = 0; h < 40 && st == 0 && slope > 0; h++) {
+            double zn[9], l1 = 0.0;
             for (int k = 0; k < q; k++)
                 zn[k] = z[k] + step[k];
             for (int a = 0; a < 3; a++)
                 phi_of_z(p, zn + a * p, np + a * p, Jt);
-            ok = stationary(p, np);
-            if (!ok)
-                for (int k = 0; k < q; k++)
-                    step[k] *= 0.5;
+            double dn = 0.0;
+            for (int k = 0; k < q; k++)
+                dn = fmax(dn, fabs(np[k] - j->phi[k]));
+            if (h > 0 && dn < 0.01 * tol)
+                break; /* no cut rises: the maximum, to rounding */
+            int ok = stationary(p, np);
+            if (ok) {
+                int s2 = igea__noise_state(j, np, tr);
+                if (s2 == 0 && G > 1)
+                    s2 = igea__noise_vce_iterate(j->Nt, G, tr->A, j->Nt, tr->b, tr->wtw,
+                                                 1e-8, 200, ct, rt, xt, &vit, &vconv);
+                if (G == 1)
+                    ct[0] = j->c[0];
+                if (s2 == 0)
+                    s2 = loglik(j, tr, ct, G == 1, &w, &l1);
+                if (s2 == 0 && G == 1) { /* the Helmert scale's redundancy and fit */
+                    rt[0] = tr->wtw[1] - w.r;
+                    memcpy(xt, w.x, (size_t)j->Nt * sizeof(double));
+                }
+                if (s2 != 0 && s2 != IGEA_EDOMAIN && s2 != IGEA_ERANK && s2 != IGEA_EOVERFLOW)
+                    st = s2;
+                ok = s2 == 0 && l1 >= l0 + 1e-4 * slope;
+            }
+            if (st == 0 && ok) {
+                for (int k = 0; k < q; k++) {
+                    *d = fmax(*d, fabs(np[k] - j->phi[k]));
+                    j->phi[k] = np[k];
+                }
+                for (int g = 0; g < G; g++)
+                    j->c[g] = ct[g], j->red[g] = rt[g];
+                memcpy(j->x, xt, (size_t)j->Nt * sizeof(double));
+                igea__noise_use(j, 1 - j->cur);
+                break;
+            }
+            for (int k = 0; k < q; k++)
+                step[k] *= 0.5;
+            slope *= 0.5;
         }
-        *d = 0.0;
-        for (int k = 0; ok && k < q; k++) {
-            *d = fmax(*d, fabs(np[k] - j->phi[k]));
-            j->phi[k] = np[k];
-        }
+        free(xt);
     }
     free(mem);
     free(n);
@@ -523,6 +746,14 @@ static int spd_inverse(int q, double *J, double *L)
     return 0;
 }
 
+/* The trial state at phi = th (when isphi; else nothing to do). */
+static int at(const igea__njob *j, const double *th, int isphi, igea__nstate *tr)
+{
+    if (!isphi)
+        return 0;
+    return stationary(j->p, th) ? igea__noise_state(j, th, tr) : IGEA_EDOMAIN;
+}
+
 int igea__noise_reml_se(igea__njob *j)
 {
     const int p = j->p, G = j->G, q = 3 * p + G;
@@ -538,7 +769,8 @@ int igea__noise_reml_se(igea__njob *j)
     double *th = s0 + q, *n = th + q, *S = n + 3 * (size_t)G;
     memcpy(th, j->phi, 3 * (size_t)p * sizeof(double));
     memcpy(th + 3 * p, j->c, (size_t)G * sizeof(double));
-    int st = score(j, j->phi, j->c, 0, &w, s0);
+    int st = score(j, &j->st[j->cur], j->c, &w, s0, NULL);
+    igea__nstate *tr = &j->st[1 - j->cur]; /* the state at a moved phi */
     /* observed information -d score / d theta by central differences of the
      * analytic score (one-sided where phi +- h leaves the stationary region) */
     for (int col = 0; st == 0 && col < q; col++) {
@@ -548,13 +780,17 @@ int igea__noise_reml_se(igea__njob *j)
         int up = 1, dn = 1;
         memcpy(tp, th, (size_t)q * sizeof(double));
         tp[col] = th[col] + h;
-        int su = score(j, tp, tp + 3 * p, isphi, &w, sp);
+        int su = at(j, tp, isphi, tr);
+        if (su == 0)
+            su = score(j, isphi ? tr : &j->st[j->cur], tp + 3 * p, &w, sp, NULL);
         if (su == IGEA_EDOMAIN)
             up = 0;
         else if (su)
             st = su;
         tp[col] = th[col] - h;
-        int sd = st ? 0 : score(j, tp, tp + 3 * p, isphi, &w, sm);
+        int sd = st ? 0 : at(j, tp, isphi, tr);
+        if (st == 0 && sd == 0)
+            sd = score(j, isphi ? tr : &j->st[j->cur], tp + 3 * p, &w, sm, NULL);
         if (sd == IGEA_EDOMAIN)
             dn = 0;
         else if (sd)
