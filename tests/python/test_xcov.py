@@ -241,9 +241,12 @@ def test_refusals(tmp_path):
     with pytest.raises(ValueError, match="xcov"):
         igea.eqerr(S, d.dw, None, cov=Kb, xcov=d.xcov[:-1])
     # robust and bias columns combine with the cross blocks: a 30-sigma
-    # outlier planted in one row is rejected, with at most the later axes
-    # of its epoch (their innovations carry it through the axes'
-    # correlation, as with the diagonal blocks alone), no other epoch's
+    # outlier planted in one row is rejected first; a rejected row is an
+    # additive outlier (its dummy column whitened with the data), so the
+    # later axes of its epoch, which its innovation reached through the
+    # axes' correlation, are clean again (|w| 17-22 when only the whitened
+    # row was dropped); any other rejection is a chance one of the 117 rows
+    # at |w| > 3.29 (about 11 % of flights), well below the outlier's w
     L = np.linalg.cholesky(full_k(d))
     rng = np.random.default_rng(8)
     dw = d.dw + L @ rng.standard_normal(L.shape[0])
@@ -252,7 +255,8 @@ def test_refusals(tmp_path):
     r = igea.eqerr(S, dw, None, cov=Kb, xcov=d.xcov, robust=True, group_bias=True)
     assert r.ar_order == 0 and len(r.groups) == 1
     rows = [o["row"] for o in r.rejected_rows]
-    assert rows[0] == i and set(rows) <= {i, i + 1} and r.rejected_rows[0]["w"] > 15
+    assert rows[0] == i and r.rejected_rows[0]["w"] > 15 and i + 1 not in rows
+    assert all(abs(o["w"]) < 5 for o in r.rejected_rows[1:])
     np.savetxt(tmp_path / "S.txt", S, fmt="%.17g")
     np.savetxt(tmp_path / "dw.txt", d.dw, fmt="%.17g")
     np.savetxt(tmp_path / "K.txt", low6(Kb), fmt="%.17g")
