@@ -247,9 +247,10 @@ IGEA_API int igea_triad_gyro_fit(int layout, int n, const double *gyro, int ldg,
  * G_k E0 x (weights N_k / s2_j) for b and x, until b and x move by less
  * than 1e-3 of their sds. cov: C_bb from that least squares, C_pp with
  * (b, x)'s covariance carried through the fit's linearisation.
- * Arguments 1-13 and outputs as igea_triad_gyro_fit, and 14 earth_rate >=
- * 0 (the Earth's rate in the gyro's calibrated unit, 7.292115e-5 for rad/s;
- * 0: igea_triad_gyro_fit's model), 15 lat_deg in [-90, 90]; outputs 16
+ * Arguments 1-13 as igea_triad_gyro_fit (11 cov_a may be NULL: not
+ * carried into cov), and 14 earth_rate >= 0 (the Earth's rate in the
+ * gyro's calibrated unit, 7.292115e-5 for rad/s; 0: igea_triad_gyro_fit's
+ * model), 15 lat_deg in [-90, 90]; outputs 16
  * theta[12], 17 cov (12 x 12, ldc; may be NULL), 18 ldc >= 12 (when cov),
  * 19 info[IGEA_TRIAD_GYRO_INFO_LEN] (may be NULL; its EARTH_* and
  * HEADING* slots set).
