@@ -28,6 +28,12 @@ the same runs as one call):
     ... accel_history_study.py --history 200 --first 0 --runs 500 --save h200a.npz
     ... accel_history_study.py --history 200 --first 500 --runs 500 --save h200b.npz
     ... accel_history_study.py --merge h200a.npz h200b.npz
+
+The CPU time of one fit with the history (igea_accel_fit_history: the
+posterior, the information, the second-order terms and the dof), the
+history given:
+
+    ... accel_history_study.py --history 20 [--full] --cpu 20
 """
 import argparse
 import time
@@ -62,6 +68,25 @@ def one_run(th, m, full, seed, r, max_iter):
     return dict(truth=bn, coef=f.coef, sd=f.sd, sd_plugin=f.sd_plugin, sd_dof=f.sd_dof,
                 lo=f.conf_int_lower, hi=f.conf_int_upper, tau_hat=h.tau, prior_sd=f.prior_sd,
                 beta0=h.beta0, v_cal=v_cal, capped=np.array([f.capped]))
+
+
+def cpu_per_fit(th, m, full, seed, reps, max_iter):
+    """CPU seconds of one igea.accel_fit(method="ebr", history=h), h from m
+    joint fits (run 0's history), the mean over reps calls."""
+    rng = np.random.default_rng([seed, 0])
+    hist = []
+    for i in range(m):
+        beta = BETA0 + TAU * rng.standard_normal(9)
+        ya, yb = igea.accel_simulate(th, np.append(beta, 0.0), head_sd_arcsec=1,
+                                     noise_sd=1e-6, seed=i)
+        hist.append(igea.accel_joint(th, ya, yb))
+    h = igea.accel_history(hist, full=full, max_iter=max_iter)
+    ya, yb = igea.accel_simulate(th, np.append(BETA0 + TAU * rng.standard_normal(9), 0.0),
+                                 head_sd_arcsec=1, noise_sd=1e-6, seed=m)
+    t0 = time.process_time()
+    for _ in range(reps):
+        igea.accel_fit(th, ya, yb, method="ebr", history=h)
+    return (time.process_time() - t0) / reps
 
 
 def cp(k, n, level=0.99):
@@ -113,7 +138,14 @@ def main():
     ap.add_argument("--max-iter", type=int, default=200000)
     ap.add_argument("--save", help="write the runs to this .npz")
     ap.add_argument("--merge", nargs="+", help="report the runs of these .npz files")
+    ap.add_argument("--cpu", type=int, metavar="REPS",
+                    help="only time REPS fits with one history of --history calibrations")
     a = ap.parse_args()
+    if a.cpu:
+        t = cpu_per_fit(igea.accel_schedule(20), a.history, a.full, a.seed, a.cpu, a.max_iter)
+        print("history %d calibrations, %s Sigma: %.1f ms CPU per accel_fit(history=) "
+              "(mean of %d)" % (a.history, "full" if a.full else "diagonal", 1e3 * t, a.cpu))
+        return
     if a.merge:
         parts = [np.load(f) for f in a.merge]
         m, full = int(parts[0]["history"]), bool(parts[0]["full"])
