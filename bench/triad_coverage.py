@@ -20,7 +20,10 @@ With --lat DEG the records are tests/python/test_triad_earth.py's
 navigation-grade IMU at that latitude (the Earth's rate in every static
 attitude and turn, a random heading; 50 ug and 3 urad/s noise, 5-s
 attitudes), calibrated with lat=DEG; the heading found is checked as a
-22nd estimate.
+22nd estimate. With --lat DEG --without-lat each record is also calibrated
+without lat= (the static mean taken as the bias) and the gyro biases'
+errors are printed for both fits: rms error in rad/s and the largest and
+median |error| / sd.
 
 (500 records take about 2.5 minutes of CPU; --first K starts the seeds at
 K, so that a larger study can be run in pieces and pooled with --merge.)
@@ -50,8 +53,8 @@ _spec.loader.exec_module(earth)
 NAMES = ["acc." + n for n in igea.triad.NAMES] + ["gyro." + n for n in igea.triad.GYRO_NAMES]
 
 
-def run(records, seed, first, lat=None):
-    z, failed = [], 0
+def run(records, seed, first, lat=None, without=False):
+    z, failed, before = [], 0, []
     for i in range(first, first + records):
         rng = np.random.default_rng([seed, i])
         if lat is None:
@@ -68,8 +71,26 @@ def run(records, seed, first, lat=None):
         zi = np.r_[(r.theta - truth_a) / r.sd, (r.gyro.theta - truth_g) / r.gyro.sd]
         if lat is not None:
             zi = np.r_[zi, ((r.gyro.heading - heading + 180) % 360 - 180) / r.gyro.heading_sd]
+        if without:
+            g0 = igea.triad_calibrate(raw_a, sim.FS, gyro=raw_g).gyro
+            e, e0 = r.gyro.theta[:3] - truth_g[:3], g0.theta[:3] - truth_g[:3]
+            before.append(np.r_[e, e / r.gyro.sd[:3], e0, e0 / g0.sd[:3],
+                                (r.gyro.heading - heading + 180) % 360 - 180,
+                                r.gyro.heading_sd])
         z.append(zi)
-    return np.array(z), failed
+    return np.array(z), failed, np.array(before)
+
+
+def report_before(b):
+    """The gyro biases with and without the Earth's rate (--without-lat)."""
+    print("gyro biases over %d records, fitted with lat= and without it:" % len(b))
+    for label, e, z in (("with lat", b[:, 0:3], b[:, 3:6]), ("without", b[:, 6:9], b[:, 9:12])):
+        print("  %-8s rms error %s rad/s; |error|/sd median %s, max %s" % (
+            label, " ".join("%.2e" % v for v in np.sqrt(np.mean(e ** 2, axis=0))),
+            " ".join("%.2f" % v for v in np.median(np.abs(z), axis=0)),
+            " ".join("%.2f" % v for v in np.max(np.abs(z), axis=0))))
+    print("  heading error rms %.4f deg, max |error| %.4f deg, mean heading_sd %.4f deg"
+          % (np.sqrt(np.mean(b[:, 12] ** 2)), np.max(np.abs(b[:, 12])), b[:, 13].mean()))
 
 
 def report(z, failed):
@@ -115,14 +136,20 @@ def main():
     ap.add_argument("--merge", nargs="*", default=[], help=".npy files of earlier runs to pool")
     ap.add_argument("--lat", type=float, help="the navigation-grade records with the Earth's "
                     "rate at this latitude (deg), calibrated with lat=")
+    ap.add_argument("--without-lat", action="store_true", help="with --lat: also fit each "
+                    "record without the Earth's rate and compare the gyro biases")
     a = ap.parse_args()
+    if a.without_lat and a.lat is None:
+        ap.error("--without-lat needs --lat")
     t0 = time.process_time()
-    z, failed = run(a.records, a.seed, a.first, a.lat)
+    z, failed, before = run(a.records, a.seed, a.first, a.lat, a.without_lat)
     if a.save:
         np.save(a.save, z)
     for f in a.merge:
         z = np.vstack([z, np.load(f)])
     report(z, failed)
+    if a.without_lat and len(before):
+        report_before(before)
     print("CPU %.1f s; load %s" % (time.process_time() - t0,
                                    json.dumps(os.getloadavg())))
 
