@@ -140,6 +140,7 @@ const char *igea_opt_name(int module, int slot)
         [IGEA_TRIAD_OPT_G] = "g",                   [IGEA_TRIAD_OPT_WINDOW] = "window",
         [IGEA_TRIAD_OPT_INIT] = "init",             [IGEA_TRIAD_OPT_MIN_STATIC] = "min_static",
         [IGEA_TRIAD_OPT_THRESHOLD] = "threshold",   [IGEA_TRIAD_OPT_MAX_ITER] = "max_iter",
+        [IGEA_TRIAD_OPT_EARTH_RATE] = "earth_rate", [IGEA_TRIAD_OPT_LAT] = "lat",
     };
     static const char *const inserr[IGEA_INSERR_OPT_LEN] = {
         [IGEA_INSERR_OPT_RADIUS] = "radius", [IGEA_INSERR_OPT_G] = "g",

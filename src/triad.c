@@ -43,6 +43,10 @@ int igea_triad_check_opts(const double *o)
     double it = o[IGEA_TRIAD_OPT_MAX_ITER];
     if (!(it >= 1 && it <= 10000 && it == floor(it)))
         return 1 + IGEA_TRIAD_OPT_MAX_ITER;
+    if (!(o[IGEA_TRIAD_OPT_EARTH_RATE] >= 0))
+        return 1 + IGEA_TRIAD_OPT_EARTH_RATE;
+    if (!(fabs(o[IGEA_TRIAD_OPT_LAT]) <= 90.0))
+        return 1 + IGEA_TRIAD_OPT_LAT;
     return 0;
 }
 
@@ -641,6 +645,7 @@ int igea_triad_apply(int layout, int n, const double *raw, int ldr, const double
 
 /* ---- the gyroscope ------------------------------------------------------------- */
 #define GP IGEA_TRIAD_GYRO_NP
+#define DEG (180.0 / 3.14159265358979323846)
 
 /* S = M K from p = (k_x, k_y, k_z, m_xy, m_xz, m_yx, m_yz, m_zx, m_zy). */
 static void gyro_matrix(const double *p, double S[3][3])
@@ -659,6 +664,8 @@ typedef struct {
     const double *v;        /* their unit gravity directions, 3 x (m + 1) */
     double b[3];            /* the gyro biases */
     double *R;              /* NULL, or 9 m: the rotations of the last residuals */
+    const double *vs;       /* NULL, or 3 m: the start directions turned by the
+                               Earth's rotation over each rotation (Earth rate) */
 } gyro_problem;
 
 /* d = q (x) (0, w) / 2 */
@@ -726,7 +733,8 @@ static void pair_residual(const gyro_problem *g, const double *p, const double *
     double S[3][3], R[9];
     gyro_matrix(p, S);
     rotation(g, S, b, k, R);
-    const double *v0 = g->v + 3 * (size_t)k, *v1 = v0 + 3;
+    const double *v1 = g->v + 3 * (size_t)k + 3;
+    const double *v0 = g->vs ? g->vs + 3 * (size_t)k : g->v + 3 * (size_t)k;
     for (int i = 0; i < 3; i++)
         r[i] = v1[i] - (R[i] * v0[0] + R[3 + i] * v0[1] + R[6 + i] * v0[2]);
     if (Rout)
@@ -793,8 +801,11 @@ static void directions(int nint, const double *m, const double *th, double *v, d
 }
 
 /* The biases: the mean over every static sample; s2[3] the pooled
- * within-interval variances; returns the number of static samples. */
-static int gyro_bias(const gyro_problem *g, int nint, double *b, double *s2)
+ * within-interval variances; rbar (3 nint) and cnt (nint), when not NULL,
+ * each interval's means and samples; returns the number of static
+ * samples. */
+static int gyro_bias(const gyro_problem *g, int nint, double *b, double *s2, double *rbar,
+                     double *cnt)
 {
     int N = 0;
     igea__ksum tot[3] = {{0.0, 0.0}, {0.0, 0.0}, {0.0, 0.0}}, ss[3] = {{0.0, 0.0}, {0.0, 0.0}, {0.0, 0.0}};
@@ -806,12 +817,16 @@ static int gyro_bias(const gyro_problem *g, int nint, double *b, double *s2)
                 igea__ksum_add(&s, at(&g->r, i, j));
             double mean = igea__ksum_get(&s) / (e - a);
             igea__ksum_add(&tot[j], igea__ksum_get(&s));
+            if (rbar)
+                rbar[3 * (size_t)k + j] = mean;
             for (int i = a; i < e; i++) {
                 double d = at(&g->r, i, j) - mean;
                 igea__ksum_add(&ss[j], d * d);
             }
         }
         N += e - a;
+        if (cnt)
+            cnt[k] = e - a;
     }
     for (int j = 0; j < 3; j++)
         b[j] = igea__ksum_get(&tot[j]) / N, s2[j] = igea__ksum_get(&ss[j]) / (N - nint);
@@ -916,21 +931,22 @@ static double gyro_predicted_sd(const gyro_problem *g, const double *p)
     return sqrt(p2);
 }
 
-/* Assemble the 12 x 12 covariance (b, then p) from C_pp, G_b and V_b. */
-static void gyro_cov_out(const double *Cpp, const double *Gb, const double *vb, double *cov,
+/* Assemble the 12 x 12 covariance (b, then p) from C_pp (9 x 9), C_pb
+ * (9 x 3) and C_bb (3 x 3). */
+static void gyro_cov_out(const double *Cpp, const double *Cpb, const double *Cbb, double *cov,
                          int ldc)
 {
     for (int j = 0; j < GP; j++)
         for (int i = 0; i < GP; i++) {
             double c;
             if (i < 3 && j < 3)
-                c = i == j ? vb[i] : 0.0;
+                c = Cbb[i + 3 * j];
             else if (i >= 3 && j >= 3)
                 c = Cpp[(i - 3) + NP * (j - 3)];
             else if (i >= 3)
-                c = Gb[(i - 3) + NP * j] * vb[j];
+                c = Cpb[(i - 3) + NP * j];
             else
-                c = Gb[(j - 3) + NP * i] * vb[i];
+                c = Cpb[(j - 3) + NP * i];
             IGEA_AT(cov, ldc, i, j) = c;
         }
 }
@@ -939,18 +955,251 @@ typedef struct {
     double theta[GP], cov[GP * GP], info[IGEA_TRIAD_GYRO_INFO_LEN];
 } gyro_result;
 
-/* The fit on a validated problem; the workspace: 3 nint (v) + 27 nint (D)
- * + 9 m (R) + 23 rows (LM, J_a, J_b), rows = 3 m. */
-static int gyro_run(gyro_problem *g, int nint, const double *means, const double *theta_a,
-                    const double *cov_a, int max_iter, double *work, gyro_result *out)
+/* ---- the Earth's rate (docs/calibration.md, "The Earth's rate") ----------------
+ * In static interval k the gyro reads b + S^-1 w_k, w_k = W sin(lat) v_k + h_k
+ * (the Earth's rate in the body: its vertical part along the gravity
+ * direction v_k, known; h_k the horizontal part, W cos(lat) towards north,
+ * unknown without the heading). An Earth-fixed vector is carried from the
+ * body of interval k to that of k + 1 by M_k = R_k^T E_k, E_k = exp([w_k x]
+ * dt_k) the Earth's turn over the rotation's dt_k; so h_k = P_k G_k E0 x,
+ * G_k = M_{k-1} ... M_0, E0 an orthonormal basis of the plane normal to v_0,
+ * P_k = I - v_k v_k^T, and x (2) the horizontal rate at the first interval
+ * in that basis. */
+
+/* out = exp([w x] dt) v (Rodrigues); out may be v. */
+static void earth_turn(const double *w, double dt, const double *v, double *out)
 {
-    int m = nint - 1, rows = 3 * m, st;
+    double n = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+    if (!(n > 0.0)) {
+        memmove(out, v, 3 * sizeof(double));
+        return;
+    }
+    double u[3] = {w[0] / n, w[1] / n, w[2] / n}, c = cos(n * dt), s = sin(n * dt);
+    double uv = u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
+    double x[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    double o[3];
+    for (int i = 0; i < 3; i++)
+        o[i] = v[i] * c + x[i] * s + u[i] * uv * (1.0 - c);
+    memcpy(out, o, sizeof o);
+}
+
+/* E0 (3 x 2, column-major): an orthonormal basis of the plane normal to v. */
+static void earth_plane(const double *v, double *E0)
+{
+    int a = 0;
+    for (int i = 1; i < 3; i++)
+        if (fabs(v[i]) < fabs(v[a]))
+            a = i;
+    double e[3] = {0.0, 0.0, 0.0}, d;
+    e[a] = 1.0;
+    d = v[a];
+    for (int i = 0; i < 3; i++)
+        e[i] -= d * v[i];
+    d = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+    for (int i = 0; i < 3; i++)
+        E0[i] = e[i] / d;
+    E0[3] = v[1] * E0[2] - v[2] * E0[1];
+    E0[4] = v[2] * E0[0] - v[0] * E0[2];
+    E0[5] = v[0] * E0[1] - v[1] * E0[0];
+}
+
+typedef struct {
+    double rate, sinl, cosl; /* the Earth's rate (rate units) and the latitude; rate 0: none */
+    double *G;               /* 9 nint: the chain G_k (row-major) */
+    double *hk, *vs;         /* 3 nint, 3 m */
+    double *rbar, *cnt;      /* 3 nint, nint: the static means and their samples */
+    double E0[6], x[2], Cbx[25];
+    int iter;
+} earth_state;
+
+static double rot_dt(const gyro_problem *g, int k)
+{
+    return (g->start[k + 1] - (g->end[k] - 1)) * g->h;
+}
+
+/* h_k and the turned start directions vs_k at x. */
+static void earth_dirs(const gyro_problem *g, int nint, earth_state *e, const double *x)
+{
+    for (int k = 0; k < nint; k++) {
+        const double *G = e->G + 9 * (size_t)k, *v = g->v + 3 * (size_t)k;
+        double y[3], *h = e->hk + 3 * (size_t)k;
+        for (int i = 0; i < 3; i++) {
+            double s = 0.0;
+            for (int c = 0; c < 3; c++)
+                s += G[3 * i + c] * (e->E0[c] * x[0] + e->E0[3 + c] * x[1]);
+            y[i] = s;
+        }
+        double vy = v[0] * y[0] + v[1] * y[1] + v[2] * y[2];
+        for (int i = 0; i < 3; i++)
+            h[i] = y[i] - vy * v[i];
+        if (k == nint - 1)
+            break;
+        double w[3];
+        for (int i = 0; i < 3; i++)
+            w[i] = e->rate * e->sinl * v[i] + h[i];
+        earth_turn(w, rot_dt(g, k), v, e->vs + 3 * (size_t)k);
+    }
+}
+
+/* The chain G_k from the rotations g->R (at the fitted p) and h_k. */
+static void earth_chain(const gyro_problem *g, int nint, earth_state *e)
+{
+    double *G = e->G;
+    for (int i = 0; i < 9; i++)
+        G[i] = i % 4 == 0;
+    for (int k = 0; k + 1 < nint; k++) {
+        const double *R = g->R + 9 * (size_t)k, *v = g->v + 3 * (size_t)k, *h = e->hk + 3 * (size_t)k;
+        double w[3], M[9], col[3], t[3];
+        for (int i = 0; i < 3; i++)
+            w[i] = e->rate * e->sinl * v[i] + h[i];
+        for (int c = 0; c < 3; c++) { /* column c of M = R^T E e_c */
+            for (int i = 0; i < 3; i++)
+                col[i] = i == c;
+            earth_turn(w, rot_dt(g, k), col, t);
+            for (int i = 0; i < 3; i++)
+                M[3 * i + c] = R[i] * t[0] + R[3 + i] * t[1] + R[6 + i] * t[2];
+        }
+        double *Gn = G + 9 * (size_t)(k + 1), *Gk = G + 9 * (size_t)k;
+        for (int i = 0; i < 3; i++)
+            for (int c = 0; c < 3; c++)
+                Gn[3 * i + c] = M[3 * i] * Gk[c] + M[3 * i + 1] * Gk[3 + c] + M[3 * i + 2] * Gk[6 + c];
+    }
+}
+
+/* The inverse of the 3 x 3 S (row-major 2-d array) by cofactors. */
+static int inverse3(double S[3][3], double Si[3][3])
+{
+    double det = S[0][0] * (S[1][1] * S[2][2] - S[1][2] * S[2][1]) -
+                 S[0][1] * (S[1][0] * S[2][2] - S[1][2] * S[2][0]) +
+                 S[0][2] * (S[1][0] * S[2][1] - S[1][1] * S[2][0]);
+    if (!(fabs(det) > 0.0) || !isfinite(det))
+        return IGEA_ESINGULAR;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            int a = (j + 1) % 3, b = (j + 2) % 3, c = (i + 1) % 3, d = (i + 2) % 3;
+            Si[i][j] = (S[a][c] * S[b][d] - S[a][d] * S[b][c]) / det;
+        }
+    return 0;
+}
+
+/* The biases and x by weighted least squares on the static means,
+ *   rbar_k - S^-1 W sin(lat) v_k = b + S^-1 P_k G_k E0 x,
+ * weights N_k / s2_j; (b, x) into bx, their covariance into e->Cbx.
+ * IGEA_ERANK when the attitudes do not separate b from x. */
+static int earth_static(const gyro_problem *g, int nint, earth_state *e, const double *p,
+                        const double *s2, double *bx)
+{
+    double S[3][3], Si[3][3], Nm[25] = {0.0}, rhs[5] = {0.0};
+    gyro_matrix(p, S);
+    if (inverse3(S, Si))
+        return IGEA_ERANK;
+    for (int k = 0; k < nint; k++) {
+        const double *G = e->G + 9 * (size_t)k, *v = g->v + 3 * (size_t)k;
+        double GE[3][2], PGE[3][2], H[3][2], sv[3];
+        for (int i = 0; i < 3; i++)
+            for (int c = 0; c < 2; c++)
+                GE[i][c] = G[3 * i] * e->E0[3 * c] + G[3 * i + 1] * e->E0[3 * c + 1] +
+                           G[3 * i + 2] * e->E0[3 * c + 2];
+        for (int c = 0; c < 2; c++) {
+            double vg = v[0] * GE[0][c] + v[1] * GE[1][c] + v[2] * GE[2][c];
+            for (int i = 0; i < 3; i++)
+                PGE[i][c] = GE[i][c] - vg * v[i];
+        }
+        for (int i = 0; i < 3; i++) {
+            sv[i] = e->rate * e->sinl * (Si[i][0] * v[0] + Si[i][1] * v[1] + Si[i][2] * v[2]);
+            for (int c = 0; c < 2; c++)
+                H[i][c] = Si[i][0] * PGE[0][c] + Si[i][1] * PGE[1][c] + Si[i][2] * PGE[2][c];
+        }
+        for (int j = 0; j < 3; j++) {
+            double a[5] = {j == 0, j == 1, j == 2, H[j][0], H[j][1]};
+            double w = e->cnt[k] / s2[j], y = e->rbar[3 * (size_t)k + j] - sv[j];
+            for (int r = 0; r < 5; r++) {
+                rhs[r] += w * a[r] * y;
+                for (int c = 0; c < 5; c++)
+                    Nm[r + 5 * c] += w * a[r] * a[c];
+            }
+        }
+    }
+    double L[25], col[5];
+    memcpy(L, Nm, sizeof L);
+    for (int i = 0; i < 5; i++) /* pivot test on the unit-diagonal scaling */
+        if (!(Nm[i + 5 * i] > 0.0))
+            return IGEA_ERANK;
+    for (int j = 0; j < 5; j++)
+        for (int i = 0; i < 5; i++)
+            L[i + 5 * j] = Nm[i + 5 * j] / sqrt(Nm[i + 5 * i] * Nm[j + 5 * j]);
+    if (igea__chol_lower(5, L, 5, 0.0))
+        return IGEA_ERANK;
+    for (int i = 0; i < 5; i++)
+        if (!(L[i + 5 * i] * L[i + 5 * i] > 1e-8))
+            return IGEA_ERANK;
+    for (int c = 0; c < 5; c++) { /* Cbx = Nm^-1 through the scaled factor */
+        for (int i = 0; i < 5; i++) {
+            double t = (i == c) / sqrt(Nm[i + 5 * i]);
+            for (int l = 0; l < i; l++)
+                t -= L[i + 5 * l] * col[l];
+            col[i] = t / L[i + 5 * i];
+        }
+        for (int i = 4; i >= 0; i--) {
+            double t = col[i];
+            for (int l = i + 1; l < 5; l++)
+                t -= L[l + 5 * i] * col[l];
+            col[i] = t / L[i + 5 * i];
+        }
+        for (int i = 0; i < 5; i++)
+            e->Cbx[i + 5 * c] = col[i] / sqrt(Nm[i + 5 * i]);
+    }
+    for (int i = 0; i < 5; i++) {
+        double t = 0.0;
+        for (int c = 0; c < 5; c++)
+            t += e->Cbx[i + 5 * c] * rhs[c];
+        bx[i] = t;
+    }
+    return 0;
+}
+
+/* dr/dx (rows x 2) by central differences of 1e-3 of the Earth's rate. */
+static void earth_jacobian(gyro_problem *g, int nint, earth_state *e, const double *p, double *Jx)
+{
+    int rows = 3 * g->m;
+    for (int c = 0; c < 2; c++) {
+        double xp[2] = {e->x[0], e->x[1]}, rp[3], rm[3], hc = 1e-3 * e->rate;
+        double *vsp = Jx + (size_t)rows * 2; /* scratch: 2 x 3 m after Jx */
+        xp[c] = e->x[c] + hc;
+        earth_dirs(g, nint, e, xp);
+        memcpy(vsp, e->vs, sizeof(double) * 3 * (size_t)g->m);
+        xp[c] = e->x[c] - hc;
+        earth_dirs(g, nint, e, xp);
+        double *vsm = vsp + 3 * (size_t)g->m;
+        memcpy(vsm, e->vs, sizeof(double) * 3 * (size_t)g->m);
+        const double *keep = g->vs;
+        for (int k = 0; k < g->m; k++) {
+            g->vs = vsp;
+            pair_residual(g, p, g->b, k, rp, NULL);
+            g->vs = vsm;
+            pair_residual(g, p, g->b, k, rm, NULL);
+            for (int i = 0; i < 3; i++)
+                IGEA_AT(Jx, rows, 3 * k + i, c) = (rp[i] - rm[i]) / (2.0 * hc);
+        }
+        g->vs = keep;
+    }
+    earth_dirs(g, nint, e, e->x);
+}
+
+/* The fit on a validated problem; the workspace: gyro_work(nint). */
+static int gyro_run(gyro_problem *g, int nint, const double *means, const double *theta_a,
+                    const double *cov_a, int max_iter, earth_state *e, double *work,
+                    gyro_result *out)
+{
+    int m = nint - 1, rows = 3 * m, st, earth = e && e->rate > 0.0;
     double *v = work, *D = v + 3 * (size_t)nint, *R = D + 27 * (size_t)nint;
     double *lw = R + 9 * (size_t)m, *Ja = lw + 11 * (size_t)rows, *Jb = Ja + 9 * (size_t)rows;
     double *r = lw, *J = lw + 2 * (size_t)rows, s2[3], vb[3];
+    double *ew = Jb + 3 * (size_t)rows; /* the Earth's: 9 + 3 + 3 + 1 nint, 3 m, 5 + 6 rows */
     directions(nint, means, theta_a, v, D);
-    g->v = v, g->m = m, g->R = NULL;
-    int N = gyro_bias(g, nint, g->b, s2);
+    g->v = v, g->m = m, g->R = NULL, g->vs = NULL;
+    int N = gyro_bias(g, nint, g->b, s2, earth ? ew + 15 * (size_t)nint : NULL,
+                      earth ? ew + 18 * (size_t)nint : NULL);
     for (int j = 0; j < 3; j++)
         vb[j] = s2[j] / N;
     if (!rotations_span(g))
@@ -958,23 +1207,84 @@ static int gyro_run(gyro_problem *g, int nint, const double *means, const double
     lm_state lm;
     for (int j = 0; j < NP; j++)
         lm.theta[j] = j < 3 ? 1.0 : 0.0;
-    st = lm_run(rows, gyro_residuals, g, max_iter, &lm, lw);
-    if ((!st || st == IGEA_ENOCONV) && !identifiable(lm.A))
-        st = IGEA_ERANK;
-    if (st)
-        return st;
-    double rms0 = sqrt(lm.rms0 * lm.rms0 * 3.0), s2f = lm.cost / (2 * m - NP);
-    double Cpp[NP * NP], Gb[NP * 3], Ga[NP * NP];
+    double rms0 = NAN, *Jbx = ew + 19 * (size_t)nint + 3 * (size_t)m;
+    if (earth) {
+        e->G = ew, e->hk = ew + 9 * (size_t)nint, e->vs = ew + 12 * (size_t)nint;
+        e->rbar = ew + 15 * (size_t)nint, e->cnt = ew + 18 * (size_t)nint;
+        e->x[0] = e->x[1] = 0.0;
+        earth_plane(v, e->E0);
+        for (int k = 0; k < nint; k++) /* no chain yet: x = 0 gives h = 0 */
+            for (int i = 0; i < 9; i++)
+                e->G[9 * (size_t)k + i] = i % 4 == 0;
+        earth_dirs(g, nint, e, e->x);
+        g->vs = e->vs;
+    }
+    for (int it = 0;; it++) {
+        st = lm_run(rows, gyro_residuals, g, max_iter, &lm, lw);
+        if ((!st || st == IGEA_ENOCONV) && !identifiable(lm.A))
+            st = IGEA_ERANK;
+        if (st)
+            return st;
+        if (it == 0)
+            rms0 = sqrt(lm.rms0 * lm.rms0 * 3.0);
+        if (!earth)
+            break;
+        /* the rotations at p, the chain, then b and x from the static means */
+        double bx[5], dmax = 0.0;
+        g->R = R;
+        gyro_residuals(g, lm.theta, r, NULL);
+        earth_chain(g, nint, e);
+        if ((st = earth_static(g, nint, e, lm.theta, s2, bx)))
+            return st;
+        for (int i = 0; i < 5; i++) {
+            double old = i < 3 ? g->b[i] : e->x[i - 3];
+            dmax = fmax(dmax, fabs(bx[i] - old) / sqrt(e->Cbx[i + 5 * i]));
+        }
+        memcpy(g->b, bx, 3 * sizeof(double));
+        e->x[0] = bx[3], e->x[1] = bx[4];
+        earth_dirs(g, nint, e, e->x);
+        e->iter = it + 1;
+        if (dmax < 1e-3)
+            break;
+        if (it >= 50)
+            return IGEA_ENOCONV;
+    }
+    double s2f = lm.cost / (2 * m - NP);
+    double Cpp[NP * NP], Gb[NP * 5], Ga[NP * NP], Cpb[NP * 3], Cbb[9];
     g->R = R;
     gyro_residuals(g, lm.theta, r, J);
     double grad[NP], Vb[9] = {vb[0], 0.0, 0.0, 0.0, vb[1], 0.0, 0.0, 0.0, vb[2]};
     normal_eq(rows, J, r, lm.A, grad);
     if ((st = covariance(lm.A, s2f, Cpp, NP)))
         return st;
-    bias_jacobian(g, lm.theta, Jb);
-    if ((st = sensitivity(rows, J, lm.A, Jb, 3, Gb)))
-        return st;
-    add_sandwich(Gb, Vb, 3, Cpp);
+    if (!earth) {
+        bias_jacobian(g, lm.theta, Jb);
+        if ((st = sensitivity(rows, J, lm.A, Jb, 3, Gb)))
+            return st;
+        add_sandwich(Gb, Vb, 3, Cpp);
+        for (int j = 0; j < 3; j++)
+            for (int i = 0; i < NP; i++)
+                Cpb[i + NP * j] = Gb[i + NP * j] * vb[j];
+        memcpy(Cbb, Vb, sizeof Cbb);
+    } else { /* (b, x) together: G = -(J^T J)^-1 J^T [dr/db dr/dx] */
+        double GC[NP * 5];
+        bias_jacobian(g, lm.theta, Jbx);
+        earth_jacobian(g, nint, e, lm.theta, Jbx + 3 * (size_t)rows);
+        if ((st = sensitivity(rows, J, lm.A, Jbx, 5, Gb)))
+            return st;
+        add_sandwich(Gb, e->Cbx, 5, Cpp);
+        for (int j = 0; j < 5; j++)
+            for (int i = 0; i < NP; i++) {
+                double t = 0.0;
+                for (int l = 0; l < 5; l++)
+                    t += Gb[i + NP * l] * e->Cbx[l + 5 * j];
+                GC[i + NP * j] = t;
+            }
+        memcpy(Cpb, GC, sizeof Cpb);
+        for (int j = 0; j < 3; j++)
+            for (int i = 0; i < 3; i++)
+                Cbb[i + 3 * j] = e->Cbx[i + 5 * j];
+    }
     if (cov_a) {
         accel_jacobian(g, D, Ja);
         if ((st = sensitivity(rows, J, lm.A, Ja, NP, Ga)))
@@ -983,7 +1293,7 @@ static int gyro_run(gyro_problem *g, int nint, const double *means, const double
     }
     memcpy(out->theta, g->b, sizeof g->b);
     memcpy(out->theta + 3, lm.theta, sizeof lm.theta);
-    gyro_cov_out(Cpp, Gb, vb, out->cov, GP);
+    gyro_cov_out(Cpp, Cpb, Cbb, out->cov, GP);
     double *f = out->info;
     for (int i = 0; i < IGEA_TRIAD_GYRO_INFO_LEN; i++)
         f[i] = 0.0;
@@ -996,6 +1306,23 @@ static int gyro_run(gyro_problem *g, int nint, const double *means, const double
     for (int j = 0; j < 3; j++)
         f[IGEA_TRIAD_GYRO_INFO_NOISE_X + j] = sqrt(s2[j]);
     f[IGEA_TRIAD_GYRO_INFO_MISFIT] = sqrt(s2f) / gyro_predicted_sd(g, lm.theta);
+    if (earth) {
+        double x0 = e->x[0], x1 = e->x[1], nx = hypot(x0, x1), *C = e->Cbx;
+        double cxx = (x0 * x0 * C[18] + 2 * x0 * x1 * C[23] + x1 * x1 * C[24]) / (nx * nx);
+        double cphi = (x1 * x1 * C[18] - 2 * x0 * x1 * C[23] + x0 * x0 * C[24]) / (nx * nx * nx * nx);
+        double nb[3], eb[3], *v0 = v;
+        for (int i = 0; i < 3; i++) /* north in the body of interval 0, then east = n x up */
+            nb[i] = (e->E0[i] * x0 + e->E0[3 + i] * x1) / nx;
+        eb[0] = nb[1] * v0[2] - nb[2] * v0[1];
+        eb[1] = nb[2] * v0[0] - nb[0] * v0[2];
+        eb[2] = nb[0] * v0[1] - nb[1] * v0[0];
+        double psi = atan2(eb[0], nb[0]) * DEG;
+        f[IGEA_TRIAD_GYRO_INFO_EARTH_H] = nx;
+        f[IGEA_TRIAD_GYRO_INFO_EARTH_H_SD] = sqrt(cxx);
+        f[IGEA_TRIAD_GYRO_INFO_HEADING] = psi < 0.0 ? psi + 360.0 : psi;
+        f[IGEA_TRIAD_GYRO_INFO_HEADING_SD] = sqrt(cphi) * DEG;
+        f[IGEA_TRIAD_GYRO_INFO_EARTH_ITER] = e->iter;
+    }
     for (int i = 0; i < GP; i++)
         if (!isfinite(out->theta[i]) || !isfinite(out->cov[i + GP * i]))
             return IGEA_ENOCONV;
@@ -1018,13 +1345,15 @@ static int check_intervals(int n, int nint, const int *start, const int *end)
 static double *gyro_work(int nint)
 {
     size_t m = (size_t)nint - 1;
-    return igea__dalloc(30 * (size_t)nint + 9 * m + 23 * 3 * m);
+    return igea__dalloc(49 * (size_t)nint + 9 * m + 23 * 3 * m + 24 * m);
 }
 
-int igea_triad_gyro_fit(int layout, int n, const double *gyro, int ldg, double fs, int nint,
-                        const int *start, const int *end, const double *means,
-                        const double *theta_a, const double *cov_a, int ldca, int max_iter,
-                        double *theta, double *cov, int ldc, double *info)
+/* igea_triad_gyro_fit(_earth): the outputs theta, cov, ldc are arguments
+ * 14.. (off = 0) or 16.. (off = 2). */
+static int gyro_fit(int layout, int n, const double *gyro, int ldg, double fs, int nint,
+                    const int *start, const int *end, const double *means,
+                    const double *theta_a, const double *cov_a, int ldca, int max_iter,
+                    earth_state *e, int off, double *theta, double *cov, int ldc, double *info)
 {
     gyro_problem g;
     int st = record_check(layout, n, gyro, ldg, &g.r);
@@ -1049,10 +1378,14 @@ int igea_triad_gyro_fit(int layout, int n, const double *gyro, int ldg, double f
         return -12;
     if (max_iter < 1)
         return -13;
-    if (!theta)
+    if (off && !(isfinite(e->rate) && e->rate >= 0.0))
         return -14;
+    if (off && !(e->sinl >= -1.0 && e->sinl <= 1.0)) /* NaN or beyond +-90 deg */
+        return -15;
+    if (!theta)
+        return -(14 + off);
     if (cov && ldc < GP)
-        return -16;
+        return -(16 + off);
     if (st || !igea__finite_vec(3 * nint, means, 1) || !igea__finite_vec(NP, theta_a, 1) ||
         (cov_a && !igea__finite_mat(NP, NP, cov_a, ldca)))
         return IGEA_ENONFINITE;
@@ -1067,7 +1400,7 @@ int igea_triad_gyro_fit(int layout, int n, const double *gyro, int ldg, double f
         return IGEA_ENOMEM;
     }
     g.h = 1.0 / fs, g.start = start, g.end = end;
-    st = gyro_run(&g, nint, means, theta_a, cov_a ? ca : NULL, max_iter, work, res);
+    st = gyro_run(&g, nint, means, theta_a, cov_a ? ca : NULL, max_iter, e, work, res);
     if (!st) {
         memcpy(theta, res->theta, sizeof res->theta);
         for (int j = 0; cov && j < GP; j++)
@@ -1078,6 +1411,38 @@ int igea_triad_gyro_fit(int layout, int n, const double *gyro, int ldg, double f
     }
     free(work), free(res);
     return st;
+}
+
+int igea_triad_gyro_fit(int layout, int n, const double *gyro, int ldg, double fs, int nint,
+                        const int *start, const int *end, const double *means,
+                        const double *theta_a, const double *cov_a, int ldca, int max_iter,
+                        double *theta, double *cov, int ldc, double *info)
+{
+    return gyro_fit(layout, n, gyro, ldg, fs, nint, start, end, means, theta_a, cov_a, ldca,
+                    max_iter, NULL, 0, theta, cov, ldc, info);
+}
+
+/* The Earth model of a rate (rate units) and a latitude (deg): sinl NaN
+ * for a latitude outside [-90, 90] or not finite. */
+static earth_state earth_model(double rate, double lat_deg)
+{
+    earth_state e;
+    memset(&e, 0, sizeof e);
+    e.rate = rate;
+    e.sinl = isfinite(lat_deg) && fabs(lat_deg) <= 90.0 ? sin(lat_deg / DEG) : NAN;
+    e.cosl = cos(lat_deg / DEG);
+    return e;
+}
+
+int igea_triad_gyro_fit_earth(int layout, int n, const double *gyro, int ldg, double fs,
+                              int nint, const int *start, const int *end, const double *means,
+                              const double *theta_a, const double *cov_a, int ldca, int max_iter,
+                              double earth_rate, double lat_deg, double *theta, double *cov,
+                              int ldc, double *info)
+{
+    earth_state e = earth_model(earth_rate, lat_deg);
+    return gyro_fit(layout, n, gyro, ldg, fs, nint, start, end, means, theta_a, cov_a, ldca,
+                    max_iter, &e, 2, theta, cov, ldc, info);
 }
 
 /* The static intervals and means at the threshold the accelerometer fit
@@ -1142,8 +1507,10 @@ int igea_triad_calibrate_imu(int layout, int n, const double *acc, int lda, cons
     if (!st && (!res || !work))
         st = IGEA_ENOMEM;
     if (!st) {
-        gyro_problem g = {rg, 1.0 / fs, 0, se, se + nint, NULL, {0.0, 0.0, 0.0}, NULL};
-        st = gyro_run(&g, nint, means, ta, ca, (int)opts[IGEA_TRIAD_OPT_MAX_ITER], work, res);
+        gyro_problem g = {rg, 1.0 / fs, 0, se, se + nint, NULL, {0.0, 0.0, 0.0}, NULL, NULL};
+        earth_state e = earth_model(opts[IGEA_TRIAD_OPT_EARTH_RATE], opts[IGEA_TRIAD_OPT_LAT]);
+        st = gyro_run(&g, nint, means, ta, ca, (int)opts[IGEA_TRIAD_OPT_MAX_ITER], &e, work,
+                      res);
     }
     if (!st) {
         memcpy(theta_a, ta, sizeof ta);

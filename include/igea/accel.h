@@ -602,6 +602,85 @@ IGEA_API int igea_accel_fit_prior(int model, int n, const double *theta_deg,
                                   double *coef, double *sd, double *cov, int ldc,
                                   double *info);
 
+/* ---------------------------------------------------------------------- */
+/* The uncertainty of the estimated prior (docs/accel.md, "The uncertainty
+ * of the estimated prior"). The variance parameters theta of Sigma: its
+ * diagonal Sigma_00, ..., Sigma_(p-1)(p-1) (q = p) for a diagonal Sigma,
+ * or its lower triangle by columns Sigma_00, Sigma_10, ..., Sigma_(p-1)0,
+ * Sigma_11, ... (q = p (p + 1) / 2) for a full one. */
+
+/*
+ * The expected REML information of theta [D]:
+ *     I_ab = (1/2) tr(P_R dOmega/dtheta_a P_R dOmega/dtheta_b),
+ * Omega = blockdiag(Sigma + V_i), P_R = Omega^-1 - Omega^-1 X (X^T Omega^-1
+ * X)^-1 X^T Omega^-1 (X the stacked identities of beta0); I^-1 is the
+ * large-sample covariance of the REML estimate (its sds: sqrt(diag I^-1)).
+ *  1 m >= 2 calibrations; 2 p: 1 <= p <= 10; 3 b (p x m), 4 ldb >= p; 5 V
+ *  (m blocks p x p, as igea_accel_history), 6 ldv >= p; 7 sigma_u (p x p,
+ *  ld lds): Sigma (only its diagonal read when full = 0, its lower
+ *  triangle when full = 1), 8 lds >= p; 9 full: 0 diagonal, 1 full;
+ * Output: 10 info (q x q, symmetric), 11 ldi >= q.
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_EDOMAIN (a negative variance on
+ * Sigma's diagonal), IGEA_ESINGULAR (Sigma + V_i not positive definite),
+ * IGEA_EOVERFLOW, IGEA_ENOMEM.
+ */
+IGEA_API int igea_accel_history_information(int m, int p, const double *b, int ldb,
+                                            const double *V, int ldv, const double *sigma_u,
+                                            int lds, int full, double *info, int ldi);
+
+/* Indices into info[IGEA_ACCEL_HFIT_LEN] of igea_accel_fit_history: slots
+ * 0..7 as IGEA_ACCEL_INFO_* (RANK, SIGMA, RMS, NOBS, DOF of the new
+ * calibration's least squares; LAMBDA, ITER, STEP 0), then: */
+#define IGEA_ACCEL_HFIT_NTHETA 8 /* q, the variance parameters of Sigma */
+#define IGEA_ACCEL_HFIT_CAPPED 9 /* coefficients whose bias factor f_j was
+                                    raised to its floor 0.2 (the history is
+                                    too short for their correction) */
+#define IGEA_ACCEL_HFIT_LEN 10
+
+/*
+ * A calibration fitted with the prior from the calibration history, with
+ * the uncertainty of that estimated prior [D]. The posterior mean coef and
+ * the plug-in covariance C are those of igea_accel_fit_prior with the prior
+ * N(beta0, Sigma + Q), beta0 = Q sum_i W_i b_i, Q = (sum_i W_i)^-1,
+ * W_i = (Sigma + V_i)^-1 (Sigma the REML estimate of igea_accel_history
+ * or igea_accel_history_full, whose prior_cov is Sigma + Q); C treats
+ * Sigma and the calibration's residual variance s2 (on n - rank degrees of
+ * freedom) as known. The reported mean squared error adds what their
+ * estimation costs, per coefficient j:
+ *     mse_jj = (C_jj + Lambda_jj) / f_j,   f_j = max(1 + B_jj / C_jj, 0.2),
+ * Lambda = sum_ab Cov(theta)_ab (dcoef/dtheta_a)(dcoef/dtheta_b)^T (the
+ * observed derivatives; Cov(theta) = I^-1 of
+ * igea_accel_history_information, and 2 s2^2 / (n - rank) for s2), B the
+ * second-order bias (1/2) sum_ab Cov_ab d2C/dtheta_a dtheta_b of the plug-in
+ * C (divided out: exact for a Wishart conditional variance); dof_j the
+ * Satterthwaite degrees of freedom 2 mse_jj^2 / Var(mse_jj), Var by the
+ * delta method (central differences of mse_jj in theta and s2); the
+ * interval coef_j -+ t_{dof_j, 1 - alpha/2} sqrt(mse_jj).
+ *  1 model: IGEA_ACCEL_SINGLE or IGEA_ACCEL_DUAL; 2 n >= 1 positions (n >
+ *  rank); 3 theta_deg[n]; 4 ya[n]; 5 yb[n] (dual; ignored and may be NULL
+ *  for single); 6 m >= 2 earlier calibrations; 7 b (np x m), 8 ldb >= np;
+ *  9 V (m blocks np x np, as igea_accel_history), 10 ldv >= np; 11
+ *  sigma_u (np x np): the REML Sigma (only the diagonal read when full =
+ *  0, the lower triangle when full = 1), 12 lds >= np; 13 full: 0 or 1;
+ *  14 alpha in (0, 1): intervals at 1 - alpha;
+ * Outputs: 15 coef[np]; 16 sd[np] (may be NULL): sqrt(mse_jj); 17
+ *  sd_plugin[np] (may be NULL): sqrt(C_jj), the sd of
+ *  igea_accel_fit_prior; 18 dof[np] (may be NULL), in [1, 1e5]; 19
+ *  ci[2 np] (may be NULL): lower limits, then upper limits; 20 cov (np x
+ *  np, may be NULL): (C + Lambda)_jk / sqrt(f_j f_k); 21 ldc >= np (>= 1
+ *  when cov is NULL); 22 info[IGEA_ACCEL_HFIT_LEN] (may be NULL).
+ * Returns 0, -i, IGEA_ENONFINITE, IGEA_EDOMAIN (no residual to estimate s2
+ * from, or a negative variance in sigma_u), IGEA_ESINGULAR (Sigma + V_i,
+ * Sigma + Q or the information not positive definite), IGEA_EOVERFLOW,
+ * IGEA_ENOMEM, IGEA_ELAPACK.
+ */
+IGEA_API int igea_accel_fit_history(int model, int n, const double *theta_deg,
+                                    const double *ya, const double *yb, int m, const double *b,
+                                    int ldb, const double *V, int ldv, const double *sigma_u,
+                                    int lds, int full, double alpha, double *coef, double *sd,
+                                    double *sd_plugin, double *dof, double *ci, double *cov,
+                                    int ldc, double *info);
+
 #ifdef __cplusplus
 }
 #endif

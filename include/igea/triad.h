@@ -47,7 +47,11 @@ extern "C" {
 #define IGEA_TRIAD_OPT_MIN_STATIC 3 /* shortest static interval used, s: 1 */
 #define IGEA_TRIAD_OPT_THRESHOLD 4  /* 0: scan k = 1..10; > 0: this k (see below) */
 #define IGEA_TRIAD_OPT_MAX_ITER 5   /* Levenberg-Marquardt iterations: 200 */
-#define IGEA_TRIAD_OPT_LEN 16       /* slots 6.. reserved for additions (0) */
+#define IGEA_TRIAD_OPT_EARTH_RATE 6 /* the Earth's rate in the gyro's calibrated unit
+                                       (7.292115e-5 for rad/s); 0: not modelled (the
+                                       default: the static rate is all bias) */
+#define IGEA_TRIAD_OPT_LAT 7        /* latitude, deg, in [-90, 90]: 0 (with EARTH_RATE) */
+#define IGEA_TRIAD_OPT_LEN 16       /* slots 8.. reserved for additions (0) */
 
 /* Indices into info[IGEA_TRIAD_INFO_LEN]. */
 #define IGEA_TRIAD_INFO_K 0          /* the threshold multiple k used */
@@ -71,7 +75,7 @@ IGEA_API int igea_triad_defaults(double *opts);
 /*
  * Check opts[IGEA_TRIAD_OPT_LEN]: every slot finite (the reserved ones
  * included), g > 0, window > 0, init > 0, min_static > 0, threshold >= 0,
- * 1 <= max_iter <= 10000. Returns 0, -1 for a NULL opts, else 1 + the
+ * 1 <= max_iter <= 10000, earth_rate >= 0, -90 <= lat <= 90. Returns 0, -1 for a NULL opts, else 1 + the
  * first bad slot (igea_opt_name(IGEA_MODULE_TRIAD, slot) names it).
  */
 IGEA_API int igea_triad_check_opts(const double *opts);
@@ -147,9 +151,10 @@ IGEA_API int igea_triad_apply(int layout, int n, const double *raw, int ldr,
  * scale + 6 misalignments, the same as a full 3 x 3 matrix S = M K (k_j =
  * S_jj, m_ij = S_ij / S_jj). b is the mean of the gyro over every static
  * interval (the earth's rate, 7.3e-5 rad/s at most, is taken as bias and
- * noise); the 9 others are fitted by Levenberg-Marquardt so that the
- * rotation integrated (quaternion RK4, w linear between samples) from the
- * last sample of each static interval to the first of the next carries
+ * noise; igea_triad_gyro_fit_earth models it); the 9 others are fitted by
+ * Levenberg-Marquardt so that the rotation integrated (quaternion RK4, w
+ * linear between samples) from the last sample of each static interval to
+ * the first of the next carries
  * the gravity direction seen by the calibrated accelerometer in the first
  * onto that of the second: residuals v_{k+1} - R_k^T v_k (3 per rotation).
  * The covariance: sigma^2 (J^T J)^-1, sigma^2 = sum r^2 / (2 m - 9) (m
@@ -189,6 +194,18 @@ IGEA_API int igea_triad_apply(int layout, int n, const double *raw, int ldr,
                                                  steps dt^2 mean_j k_j^2 var_j); about 1, well
                                                  above: motion in the intervals or a model that
                                                  does not hold */
+/* With the Earth's rate (igea_triad_gyro_fit_earth, or EARTH_RATE > 0 in
+ * igea_triad_calibrate_imu's opts; 0 otherwise): */
+#define IGEA_TRIAD_GYRO_INFO_EARTH_H 10    /* |x|, the horizontal Earth rate estimated
+                                              from the static intervals (about
+                                              W cos(lat): a check) */
+#define IGEA_TRIAD_GYRO_INFO_EARTH_H_SD 11 /* its sd */
+#define IGEA_TRIAD_GYRO_INFO_HEADING 12    /* the heading of the calibrated x axis in
+                                              the first static interval, deg from
+                                              north towards east, in [0, 360) */
+#define IGEA_TRIAD_GYRO_INFO_HEADING_SD 13 /* its sd, deg */
+#define IGEA_TRIAD_GYRO_INFO_EARTH_ITER 14 /* alternations of the rotation fit and the
+                                              static least squares */
 #define IGEA_TRIAD_GYRO_INFO_LEN 16
 
 /*
@@ -215,9 +232,45 @@ IGEA_API int igea_triad_gyro_fit(int layout, int n, const double *gyro, int ldg,
                                  int max_iter, double *theta, double *cov, int ldc, double *info);
 
 /*
+ * The same with the Earth's rate (docs/calibration.md, "The Earth's rate")
+ * [D]: in static interval k the gyro reads b + S^-1 w_k with w_k the
+ * Earth's rate in the body, W sin(lat) v_k along the calibrated gravity
+ * direction v_k (known) plus a horizontal part h_k (W cos(lat) towards
+ * north: it needs the heading, which is not known). The rotation between
+ * intervals k and k + 1 carries an Earth-fixed vector as M_k = R_k^T E_k,
+ * E_k = exp([w_k x] dt_k) the Earth's turn during it, so that every h_k =
+ * P_k G_k E0 x follows from one horizontal vector x (2 numbers) at the
+ * first interval (G_k = M_{k-1} ... M_0, E0 a basis of the plane normal to
+ * v_0, P_k = I - v_k v_k^T). The fit alternates Levenberg-Marquardt on the
+ * residuals v_{k+1} - R_k^T E_k v_k (with b, x) and the weighted least
+ * squares of the static means rbar_k - S^-1 W sin(lat) v_k = b + S^-1 P_k
+ * G_k E0 x (weights N_k / s2_j) for b and x, until b and x move by less
+ * than 1e-3 of their sds. cov: C_bb from that least squares, C_pp with
+ * (b, x)'s covariance carried through the fit's linearisation.
+ * Arguments 1-13 as igea_triad_gyro_fit (11 cov_a may be NULL: not
+ * carried into cov), and 14 earth_rate >= 0 (the Earth's rate in the
+ * gyro's calibrated unit, 7.292115e-5 for rad/s; 0: igea_triad_gyro_fit's
+ * model), 15 lat_deg in [-90, 90]; outputs 16
+ * theta[12], 17 cov (12 x 12, ldc; may be NULL), 18 ldc >= 12 (when cov),
+ * 19 info[IGEA_TRIAD_GYRO_INFO_LEN] (may be NULL; its EARTH_* and
+ * HEADING* slots set).
+ * Returns as igea_triad_gyro_fit; IGEA_ERANK also when the attitudes do
+ * not separate the biases from the horizontal Earth rate (the static
+ * least squares' scaled pivot^2 below 1e-8), IGEA_ENOCONV when the
+ * alternation does not settle in 50 rounds.
+ */
+IGEA_API int igea_triad_gyro_fit_earth(int layout, int n, const double *gyro, int ldg, double fs,
+                                       int nint, const int *start, const int *end,
+                                       const double *means, const double *theta_a,
+                                       const double *cov_a, int ldca, int max_iter,
+                                       double earth_rate, double lat_deg, double *theta,
+                                       double *cov, int ldc, double *info);
+
+/*
  * The whole IMU from one record: igea_triad_calibrate on acc, the static
  * intervals at the threshold it chose, then igea_triad_gyro_fit with the
- * accelerometer's covariance.
+ * accelerometer's covariance (igea_triad_gyro_fit_earth's model when
+ * opts[IGEA_TRIAD_OPT_EARTH_RATE] > 0).
  *  1 layout, 2 n, 3 acc, 4 lda as igea_triad_static; 5 gyro (n x 3, the
  *  same instants and layout), 6 ldg; 7 fs > 0; 8 opts[IGEA_TRIAD_OPT_LEN].
  *  Outputs: 9 theta_a[9]; 10 cov_a (9 x 9, ldca; may be NULL); 11 ldca >= 9

@@ -74,6 +74,9 @@ ACCEL_PLANE_IAOA = 1
 ACCEL_HIST_LOGLIK = 0
 ACCEL_HIST_ITER = 1
 ACCEL_HIST_LEN = 2
+ACCEL_HFIT_NTHETA = 8
+ACCEL_HFIT_CAPPED = 9
+ACCEL_HFIT_LEN = 10
 
 # igea/common.h
 VERSION_MAJOR = 1
@@ -622,6 +625,8 @@ TRIAD_OPT_INIT = 2
 TRIAD_OPT_MIN_STATIC = 3
 TRIAD_OPT_THRESHOLD = 4
 TRIAD_OPT_MAX_ITER = 5
+TRIAD_OPT_EARTH_RATE = 6
+TRIAD_OPT_LAT = 7
 TRIAD_OPT_LEN = 16
 TRIAD_INFO_K = 0
 TRIAD_INFO_THRESHOLD = 1
@@ -656,6 +661,11 @@ TRIAD_GYRO_INFO_NOISE_X = 6
 TRIAD_GYRO_INFO_NOISE_Y = 7
 TRIAD_GYRO_INFO_NOISE_Z = 8
 TRIAD_GYRO_INFO_MISFIT = 9
+TRIAD_GYRO_INFO_EARTH_H = 10
+TRIAD_GYRO_INFO_EARTH_H_SD = 11
+TRIAD_GYRO_INFO_HEADING = 12
+TRIAD_GYRO_INFO_HEADING_SD = 13
+TRIAD_GYRO_INFO_EARTH_ITER = 14
 TRIAD_GYRO_INFO_LEN = 16
 
 PROTOTYPES = {
@@ -710,6 +720,14 @@ PROTOTYPES = {
     "igea_accel_fit_prior": (c_int, (("model", c_int), ("n", c_int), ("theta_deg", _PD),
         ("ya", _PD), ("yb", _PD), ("prior_mean", _PD), ("prior_cov", _PD), ("ldp", c_int),
         ("coef", _PD), ("sd", _PD), ("cov", _PD), ("ldc", c_int), ("info", _PD),)),
+    "igea_accel_history_information": (c_int, (("m", c_int), ("p", c_int), ("b", _PD),
+        ("ldb", c_int), ("V", _PD), ("ldv", c_int), ("sigma_u", _PD), ("lds", c_int),
+        ("full", c_int), ("info", _PD), ("ldi", c_int),)),
+    "igea_accel_fit_history": (c_int, (("model", c_int), ("n", c_int), ("theta_deg", _PD),
+        ("ya", _PD), ("yb", _PD), ("m", c_int), ("b", _PD), ("ldb", c_int), ("V", _PD),
+        ("ldv", c_int), ("sigma_u", _PD), ("lds", c_int), ("full", c_int), ("alpha", c_double),
+        ("coef", _PD), ("sd", _PD), ("sd_plugin", _PD), ("dof", _PD), ("ci", _PD), ("cov", _PD),
+        ("ldc", c_int), ("info", _PD),)),
     # igea/common.h
     "igea_strerror": (c_char_p, (("status", c_int),)),
     "igea_status_class": (c_int, (("status", c_int),)),
@@ -1193,6 +1211,11 @@ PROTOTYPES = {
         ("fs", c_double), ("nint", c_int), ("start", _PI), ("end", _PI), ("means", _PD),
         ("theta_a", _PD), ("cov_a", _PD), ("ldca", c_int), ("max_iter", c_int), ("theta", _PD),
         ("cov", _PD), ("ldc", c_int), ("info", _PD),)),
+    "igea_triad_gyro_fit_earth": (c_int, (("layout", c_int), ("n", c_int), ("gyro", _PD),
+        ("ldg", c_int), ("fs", c_double), ("nint", c_int), ("start", _PI), ("end", _PI),
+        ("means", _PD), ("theta_a", _PD), ("cov_a", _PD), ("ldca", c_int), ("max_iter", c_int),
+        ("earth_rate", c_double), ("lat_deg", c_double), ("theta", _PD), ("cov", _PD),
+        ("ldc", c_int), ("info", _PD),)),
     "igea_triad_calibrate_imu": (c_int, (("layout", c_int), ("n", c_int), ("acc", _PD),
         ("lda", c_int), ("gyro", _PD), ("ldg", c_int), ("fs", c_double), ("opts", _PD),
         ("theta_a", _PD), ("cov_a", _PD), ("ldca", c_int), ("theta_g", _PD), ("cov_g", _PD),
@@ -1221,6 +1244,8 @@ INPUTS = {
     "igea_accel_history": ("b", "V",),
     "igea_accel_history_full": ("b", "V",),
     "igea_accel_fit_prior": ("theta_deg", "ya", "yb", "prior_mean", "prior_cov",),
+    "igea_accel_history_information": ("b", "V", "sigma_u",),
+    "igea_accel_fit_history": ("theta_deg", "ya", "yb", "b", "V", "sigma_u",),
     "igea_choice_code": ("name",),
     "igea_dw_compute": ("site", "q0", "tel", "trk",),
     "igea_dw_compute_k": ("site", "q0", "tel", "trk",),
@@ -1368,6 +1393,7 @@ INPUTS = {
     "igea_triad_calibrate": ("acc", "opts",),
     "igea_triad_apply": ("raw", "theta",),
     "igea_triad_gyro_fit": ("gyro", "start", "end", "means", "theta_a", "cov_a",),
+    "igea_triad_gyro_fit_earth": ("gyro", "start", "end", "means", "theta_a", "cov_a",),
     "igea_triad_calibrate_imu": ("acc", "gyro", "opts",),
     "igea_triad_gyro_apply": ("raw", "theta",),
 }

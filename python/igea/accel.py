@@ -203,7 +203,7 @@ class AccelFit:
 
 def accel_fit(theta_deg, y_a, y_b=None, *, model="dual", method="ls", prior=_UNSET,
               rule="sc", lam_floor=0.0, scale_a=None, scale_b=None, axis="pa",
-              prior_scale=_UNSET, history=None):
+              prior_scale=_UNSET, history=None, alpha=0.05):
     """Fit one calibration.
 
     theta_deg: head angles (one per position; see accel_merge); y_a, y_b:
@@ -215,7 +215,7 @@ def accel_fit(theta_deg, y_a, y_b=None, *, model="dual", method="ls", prior=_UNS
     and lam_floor), or "joint" (dual: returns accel_joint's AccelJoint).
     method "ebr" with history (earlier calibrations of the type, see
     accel_history) fits with the prior estimated from them and returns
-    accel_fit_history's AccelHistoryFit."""
+    accel_fit_history's AccelHistoryFit (intervals at 1 - alpha)."""
     prior = renamed("igea.accel_fit", "prior", prior, "prior_scale", prior_scale)
     m = _model(model)
     method_code = _lib.choice(_capi.CHOICE_ACCEL_METHOD, method, "igea.accel_fit", "method")
@@ -241,7 +241,7 @@ def accel_fit(theta_deg, y_a, y_b=None, *, model="dual", method="ls", prior=_UNS
     if history is not None:
         if method != "ebr" or prior is not None:
             raise ValueError("history: needs method='ebr' and no prior")
-        return accel_fit_history(t, ya, yb, history, model=m, axis=axis)
+        return accel_fit_history(t, ya, yb, history, model=m, axis=axis, alpha=alpha)
     ps = None if prior is None else _vec(prior, "prior", npar)
     coef, sd, flag = np.zeros(npar), np.zeros(npar), np.zeros(npar, dtype=np.intc)
     comb, csd, info = np.zeros(nc), np.zeros(nc), np.zeros(_capi.ACCEL_INFO_LEN)
@@ -648,7 +648,11 @@ def _history_entry(h, npar, k):
 @dataclass(frozen=True)
 class AccelHistory:
     """Prior of an instrument type from earlier calibrations
-    (igea.accel_history): REML fit of b_i = beta0 + u_i + e_i."""
+    (igea.accel_history): REML fit of b_i = beta0 + u_i + e_i. estimates
+    (m x p) and covariances (m x p x p) are the calibrations it was fitted
+    to; information the expected REML information of the variance
+    parameters (Sigma's diagonal, or its lower triangle by columns when
+    full), whose inverse is their large-sample covariance."""
     beta0: np.ndarray
     tau: np.ndarray
     sigma_u: np.ndarray
@@ -657,6 +661,9 @@ class AccelHistory:
     loglik: float
     iterations: int
     calibrations: int
+    estimates: np.ndarray = None
+    covariances: np.ndarray = None
+    information: np.ndarray = None
 
     def summary(self):
         lines = ["prior from %d calibrations (REML, %s Sigma, %d EM iterations)"
@@ -665,6 +672,12 @@ class AccelHistory:
             lines.append("%2d  beta0 %14.6e  tau %11.3e  prior sd %11.3e" % (
                 j, self.beta0[j], self.tau[j], np.sqrt(self.prior_cov[j, j])))
         return "\n".join(lines)
+
+
+def _history_arrays(b, V):
+    return (np.asfortranarray(np.asarray(b, dtype=float).T),
+            np.ascontiguousarray(np.concatenate([np.asfortranarray(Vi).ravel(order="F")
+                                                 for Vi in V])))
 
 
 def accel_history(history, *, model="dual", full=False, max_iter=20000, tol=1e-8):
@@ -679,9 +692,9 @@ def accel_history(history, *, model="dual", full=False, max_iter=20000, tol=1e-8
     mcal = len(entries)
     if mcal < 2:
         raise ValueError("history: needs at least two calibrations")
-    b = np.asfortranarray(np.array([e[0] for e in entries]).T)
-    V = np.asfortranarray(np.concatenate([np.asfortranarray(e[1]).ravel(order="F")
-                                          for e in entries]))
+    est = np.array([e[0] for e in entries])
+    covs = np.array([e[1] for e in entries])
+    b, V = _history_arrays(est, covs)
     beta0, tau = np.zeros(npar), np.zeros(npar)
     pc = np.zeros((npar, npar), order="F")
     info = np.zeros(_capi.ACCEL_HIST_LEN)
@@ -695,17 +708,28 @@ def accel_history(history, *, model="dual", full=False, max_iter=20000, tol=1e-8
         _lib.call("igea.accel_history", "igea_accel_history", mcal, npar, _lib.dptr(b), npar,
                   _lib.dptr(V), npar, int(max_iter), float(tol), _lib.dptr(beta0),
                   _lib.dptr(tau), _lib.dptr(pc), npar, _lib.dptr(info))
-        su = np.diag(tau ** 2)
+        su = np.asfortranarray(np.diag(tau ** 2))
+    q = npar * (npar + 1) // 2 if full else npar
+    inf = np.zeros((q, q), order="F")
+    _lib.call("igea.accel_history", "igea_accel_history_information", mcal, npar, _lib.dptr(b),
+              npar, _lib.dptr(V), npar, _lib.dptr(su), npar, int(bool(full)), _lib.dptr(inf), q)
     return AccelHistory(beta0, tau, np.ascontiguousarray(su), np.ascontiguousarray(pc),
                         bool(full), float(info[_capi.ACCEL_HIST_LOGLIK]),
-                        int(info[_capi.ACCEL_HIST_ITER]), mcal)
+                        int(info[_capi.ACCEL_HIST_ITER]), mcal, est, covs,
+                        np.ascontiguousarray(inf))
 
 
 @result
 @dataclass(frozen=True)
 class AccelHistoryFit:
     """A calibration fitted with the prior from the calibration history
-    (igea.accel_fit_history)."""
+    (igea.accel_fit_history). sd is the root mean squared error with the
+    uncertainty of the estimated prior and of the residual variance
+    (docs/accel.md); sd_plugin the posterior sd that treats them as known;
+    sd_dof its Satterthwaite degrees of freedom; [conf_int_lower,
+    conf_int_upper] the interval coef -+ t(sd_dof, 1 - alpha/2) sd; cov the
+    matching covariance; capped the coefficients whose bias correction hit
+    its floor."""
     model: str
     method: str
     names: list
@@ -719,35 +743,60 @@ class AccelHistoryFit:
     rms: float
     positions: int
     dof: int
+    sd_plugin: np.ndarray = None
+    sd_dof: np.ndarray = None
+    conf_int_lower: np.ndarray = None
+    conf_int_upper: np.ndarray = None
+    alpha: float = 0.05
+    capped: int = 0
 
     def summary(self):
-        lines = ["%s model, EBR with the history prior: %d positions, data rank %d"
-                 % (self.model, self.positions, self.rank)]
+        lines = ["%s model, EBR with the history prior: %d positions, data rank %d; "
+                 "intervals at %g %%" % (self.model, self.positions, self.rank,
+                                         100 * (1 - self.alpha))]
         for j, name in enumerate(self.names):
-            lines.append("%-8s %15.6e %12.3e   prior %12.4e +- %.3e" % (
-                name, self.coef[j], self.sd[j], self.prior_mean[j], self.prior_sd[j]))
+            lines.append("%-8s %15.6e %12.3e (plug-in %.3e, dof %5.1f) [%.6e, %.6e]  prior "
+                         "%12.4e +- %.3e" % (
+                             name, self.coef[j], self.sd[j], self.sd_plugin[j], self.sd_dof[j],
+                             self.conf_int_lower[j], self.conf_int_upper[j],
+                             self.prior_mean[j], self.prior_sd[j]))
         return "\n".join(lines)
 
 
-def accel_fit_history(theta_deg, y_a, y_b, history, *, model="dual", axis="pa"):
+def accel_fit_history(theta_deg, y_a, y_b, history, *, model="dual", axis="pa", alpha=0.05):
     """Fit one calibration with the prior N(beta0, prior_cov) estimated from
-    the history (accel_history, or the list of earlier calibrations)."""
+    the history (accel_history, or the list of earlier calibrations, then
+    fitted with a diagonal Sigma), with the uncertainty of that estimated
+    prior (igea_accel_fit_history)."""
     m = _model(model)
     h = history if isinstance(history, AccelHistory) else accel_history(history, model=m)
+    if h.estimates is None or h.covariances is None:
+        raise ValueError("history: an AccelHistory without its calibrations (estimates, "
+                         "covariances)")
     t = _theta(theta_deg)
     n, npar = t.shape[0], _NP[m]
+    if h.beta0.shape[0] != npar:
+        raise ValueError("history: %d coefficients, the %s model has %d"
+                         % (h.beta0.shape[0], m, npar))
     ya = _vec(y_a, "y_a", n)
     yb = _vec(y_b, "y_b", n) if m == "dual" else None
-    coef, sd = np.zeros(npar), np.zeros(npar)
+    b, V = _history_arrays(h.estimates, h.covariances)
+    coef, sd, sdp, dof = np.zeros(npar), np.zeros(npar), np.zeros(npar), np.zeros(npar)
+    ci = np.zeros(2 * npar)
     cov = np.zeros((npar, npar), order="F")
-    info = np.zeros(_capi.ACCEL_INFO_LEN)
-    pc = np.asfortranarray(h.prior_cov)
-    _lib.call("igea.accel_fit_history", "igea_accel_fit_prior", _MODELS[m], n, _lib.dptr(t),
-              _lib.dptr(ya), _lib.dptr(yb), _lib.dptr(h.beta0), _lib.dptr(pc), npar,
-              _lib.dptr(coef), _lib.dptr(sd), _lib.dptr(cov), npar, _lib.dptr(info))
+    info = np.zeros(_capi.ACCEL_HFIT_LEN)
+    su = np.asfortranarray(h.sigma_u)
+    _lib.call("igea.accel_fit_history", "igea_accel_fit_history", _MODELS[m], n, _lib.dptr(t),
+              _lib.dptr(ya), _lib.dptr(yb), h.calibrations, _lib.dptr(b), npar, _lib.dptr(V),
+              npar, _lib.dptr(su), npar, int(h.full), float(alpha), _lib.dptr(coef),
+              _lib.dptr(sd), _lib.dptr(sdp), _lib.dptr(dof), _lib.dptr(ci), _lib.dptr(cov), npar,
+              _lib.dptr(info))
     return AccelHistoryFit(m, "ebr", coefficient_names(m, axis), coef, sd,
                            np.ascontiguousarray(cov), h.beta0.copy(),
                            np.sqrt(np.diag(h.prior_cov)),
                            positions=int(info[_capi.ACCEL_INFO_NOBS]),
                            **_lib.fields(info, "ACCEL_INFO_", rank=int, sigma=float, rms=float,
-                                         dof=int))
+                                         dof=int),
+                           sd_plugin=sdp, sd_dof=dof, conf_int_lower=ci[:npar].copy(),
+                           conf_int_upper=ci[npar:].copy(), alpha=float(alpha),
+                           capped=int(info[_capi.ACCEL_HFIT_CAPPED]))

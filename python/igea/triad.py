@@ -15,6 +15,7 @@ from . import _capi, _lib
 from ._result import result
 
 NAMES = ("b_x", "b_y", "b_z", "k_x", "k_y", "k_z", "t_yx", "t_zx", "t_zy")
+EARTH_RATE = 7.292115e-5  # rad/s (WGS 84), the default earth_rate with lat=
 GYRO_NAMES = ("b_x", "b_y", "b_z", "k_x", "k_y", "k_z",
               "m_xy", "m_xz", "m_yx", "m_yz", "m_zx", "m_zy")
 
@@ -35,7 +36,11 @@ class GyroResult:
     pooled within-interval sd per axis (noise, raw units), and misfit:
     sigma over the sd the gyro noise of the first interval predicts (about
     1; well above: motion in the intervals or a model that does not
-    hold)."""
+    hold). With the Earth's rate (lat=): earth_h, the horizontal Earth rate
+    the static intervals show (about W cos(lat)), and heading, the heading
+    of the calibrated x axis in the first static interval (deg from north
+    towards east), each with its sd, and the lat and earth_rate used (None
+    without lat)."""
     theta: np.ndarray
     covariance: np.ndarray
     sd: np.ndarray
@@ -47,11 +52,20 @@ class GyroResult:
     static_samples: int
     noise: np.ndarray
     misfit: float
+    lat: float = None
+    earth_rate: float = None
+    earth_h: float = None
+    earth_h_sd: float = None
+    heading: float = None
+    heading_sd: float = None
 
     def summary(self):
         lines = ["gyro: %d rotations, rms gravity-direction mismatch %.3e -> %.3e rad, "
                  "misfit %.3g%s" % (self.pairs, self.rms_before, self.rms_after, self.misfit,
                                     _warn(self.misfit))]
+        if self.earth_h is not None:
+            lines.append("Earth rate: horizontal %.4e +- %.2e, heading of x %.2f +- %.2f deg"
+                         % (self.earth_h, self.earth_h_sd, self.heading, self.heading_sd))
         for name, v, s in zip(GYRO_NAMES, self.theta, self.sd):
             lines.append("%-6s %16.9g %12.3e" % (name, v, s))
         return "\n".join(lines)
@@ -115,13 +129,25 @@ def _result(theta, cov, info, **more):
     return TriadResult(theta, cov, np.sqrt(np.diag(cov)), **f, **more)
 
 
-def _gyro_result(theta, cov, info):
+def _gyro_result(theta, cov, info, lat=None, earth_rate=None):
     cov = np.ascontiguousarray(cov)
     f = _lib.fields(info, "TRIAD_GYRO_INFO_", pairs=int, rms_before=float, rms_after=float,
                     sigma=float, iterations=int, static_samples=int, misfit=float)
+    if lat is not None and earth_rate > 0:
+        f.update(_lib.fields(info, "TRIAD_GYRO_INFO_", earth_h=float, earth_h_sd=float,
+                             heading=float, heading_sd=float), lat=lat, earth_rate=earth_rate)
     noise = info[[_capi.TRIAD_GYRO_INFO_NOISE_X, _capi.TRIAD_GYRO_INFO_NOISE_Y,
                   _capi.TRIAD_GYRO_INFO_NOISE_Z]].copy()
     return GyroResult(theta, cov, np.sqrt(np.diag(cov)), noise=noise, **f)
+
+
+def _earth(lat, earth_rate):
+    """(earth_rate, lat) for the library: None, None without lat."""
+    if lat is None:
+        if earth_rate is not None:
+            raise ValueError("earth_rate: needs lat (the latitude, deg)")
+        return None, None
+    return (EARTH_RATE if earth_rate is None else float(earth_rate)), float(lat)
 
 
 def triad_static(acc, fs, *, window=2.0, threshold, min_static=1.0):
@@ -151,21 +177,26 @@ def triad_fit(means, *, g=9.80665, theta0=None, max_iter=200):
 
 
 def triad_calibrate(acc, fs, *, gyro=None, acc_scale=1.0, gyro_scale=1.0, g=None, window=None,
-                    init=None, min_static=None, threshold=None, max_iter=None):
+                    init=None, min_static=None, threshold=None, max_iter=None, lat=None,
+                    earth_rate=None):
     """The whole calibration from a raw record (n, 3) sampled at fs Hz:
     static intervals at threshold k zeta_init (k scanned 1..10 unless
     threshold= gives it), then the fit; with gyro (n, 3, the same instants)
     also the gyroscope (the result's gyro). acc_scale and gyro_scale (> 0)
     are nominal scale factors the raw outputs are multiplied by first.
     Options left None keep the library's defaults (g 9.80665, window 2 s,
-    init 30 s, min_static 1 s)."""
+    init 30 s, min_static 1 s). lat (deg) models the Earth's rate in the
+    gyro fit (earth_rate, in the gyro's calibrated unit: EARTH_RATE rad/s
+    unless given; docs/calibration.md)."""
     where = "igea.triad_calibrate"
+    earth_rate, lat = _earth(lat, earth_rate)
     for name, v in (("acc_scale", acc_scale), ("gyro_scale", gyro_scale)):
         if not (isinstance(v, (int, float)) and v > 0 and math.isfinite(v)):
             raise ValueError(f"{name}: expected a positive number, got {v!r}")
     a = _record(acc) * float(acc_scale)
     o = _lib.options("triad", where, ("igea_triad_calibrate", "opts"), g=g, window=window,
-                     init=init, min_static=min_static, threshold=threshold, max_iter=max_iter)
+                     init=init, min_static=min_static, threshold=threshold, max_iter=max_iter,
+                     earth_rate=earth_rate, lat=lat)
     theta, cov, info = np.zeros(9), np.zeros((9, 9), order="F"), np.zeros(_capi.TRIAD_INFO_LEN)
     if gyro is None:
         _lib.call(where, "igea_triad_calibrate", _capi.ROWMAJOR, a.shape[0], _lib.dptr(a), 3,
@@ -180,18 +211,21 @@ def triad_calibrate(acc, fs, *, gyro=None, acc_scale=1.0, gyro_scale=1.0, g=None
         _lib.call(where, "igea_triad_calibrate_imu", _capi.ROWMAJOR, a.shape[0], _lib.dptr(a), 3,
                   _lib.dptr(w), 3, float(fs), _lib.dptr(o), _lib.dptr(theta), _lib.dptr(cov), 9,
                   _lib.dptr(tg), _lib.dptr(cg), 12, _lib.dptr(info), _lib.dptr(ig))
-        gres = _gyro_result(tg, cg, ig)
+        gres = _gyro_result(tg, cg, ig, lat, earth_rate)
     intervals, _ = triad_static(a, fs, window=o[_capi.TRIAD_OPT_WINDOW],
                                 threshold=info[_capi.TRIAD_INFO_THRESHOLD],
                                 min_static=o[_capi.TRIAD_OPT_MIN_STATIC])
     return _result(theta, np.ascontiguousarray(cov), info, static_intervals=intervals, gyro=gres)
 
 
-def triad_gyro_fit(gyro, fs, intervals, means, theta_a, *, cov_a=None, max_iter=200):
+def triad_gyro_fit(gyro, fs, intervals, means, theta_a, *, cov_a=None, max_iter=200, lat=None,
+                   earth_rate=None):
     """The gyro parameters from a raw rate record (n, 3) at fs Hz, its static
     intervals [(start, end)] and the accelerometer's mean outputs there
     (nint, 3) with its calibration theta_a (9,) and covariance cov_a (9, 9;
-    None: not carried into the gyro covariance). Returns a GyroResult."""
+    None: not carried into the gyro covariance); lat (deg) and earth_rate as
+    triad_calibrate's. Returns a GyroResult."""
+    earth_rate, lat = _earth(lat, earth_rate)
     w = _record(gyro, "gyro")
     iv = np.asarray(intervals, dtype=np.intc).reshape(-1, 2)
     start, end = np.ascontiguousarray(iv[:, 0]), np.ascontiguousarray(iv[:, 1])
@@ -201,11 +235,15 @@ def triad_gyro_fit(gyro, fs, intervals, means, theta_a, *, cov_a=None, max_iter=
         _lib.as_f64(cov_a, "cov_a", ndim=2, shape=(9, 9)))
     theta, cov = np.zeros(12), np.zeros((12, 12), order="F")
     info = np.zeros(_capi.TRIAD_GYRO_INFO_LEN)
-    _lib.call("igea.triad_gyro_fit", "igea_triad_gyro_fit", _capi.ROWMAJOR, w.shape[0],
-              _lib.dptr(w), 3, float(fs), len(iv), _lib.iptr(start), _lib.iptr(end),
-              _lib.dptr(m), _lib.dptr(ta), _lib.dptr(ca), 9, int(max_iter), _lib.dptr(theta),
-              _lib.dptr(cov), 12, _lib.dptr(info))
-    return _gyro_result(theta, cov, info)
+    common = (_capi.ROWMAJOR, w.shape[0], _lib.dptr(w), 3, float(fs), len(iv), _lib.iptr(start),
+              _lib.iptr(end), _lib.dptr(m), _lib.dptr(ta), _lib.dptr(ca), 9, int(max_iter))
+    if lat is None:
+        _lib.call("igea.triad_gyro_fit", "igea_triad_gyro_fit", *common, _lib.dptr(theta),
+                  _lib.dptr(cov), 12, _lib.dptr(info))
+    else:
+        _lib.call("igea.triad_gyro_fit", "igea_triad_gyro_fit_earth", *common, earth_rate, lat,
+                  _lib.dptr(theta), _lib.dptr(cov), 12, _lib.dptr(info))
+    return _gyro_result(theta, cov, info, lat, earth_rate)
 
 
 def triad_gyro_apply(raw, theta):

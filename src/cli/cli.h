@@ -405,9 +405,10 @@ typedef struct {
 } cli_accel_args;
 int cli_accel_ieee(const cli_accel_args *a);
 int cli_accel_design(const cli_accel_args *a);
-/* --history LIST: the prior (beta0[np], prior_cov np x np) from earlier
- * 'igea accel --method joint --json' results (coef, cov, flags), m of them. */
-int cli_accel_history(const char *list, int np, double *beta0, double *prior_cov, int *m);
+/* --history LIST: earlier 'igea accel --method joint --json' results (coef,
+ * cov, flags): b (np x m) and V (m blocks np x np) in one allocation at *b
+ * (free(*b)); *m files. */
+int cli_accel_history_read(const char *list, int np, double **b, double **V, int *m);
 int cmd_regress(int argc, char **argv);
 int cmd_envfun(int argc, char **argv);
 int cmd_simulate(int argc, char **argv);

@@ -6,8 +6,8 @@
 
 typedef struct {
     const char *data, *prior, *out, *history;
-    int model, method, rule, axis, json, refine, hyst, design, ieee, have_ieee;
-    double lam_floor, scale_a, scale_b, tol, head_ratio;
+    int model, method, rule, axis, json, refine, hyst, design, ieee, have_ieee, full;
+    double lam_floor, scale_a, scale_b, tol, head_ratio, alpha;
 } ac_args;
 
 static ac_args A;
@@ -23,7 +23,12 @@ static const cli_opt options[] = {
     {"--history", CLI_OPT_STR, &A.history, NULL, "LIST", "--method ebr with the prior from earlier\n"
      "'igea accel --method joint --json' results of the\n"
      "same instrument type (comma-separated files):\n"
-     "REML mean and spread, then the posterior", NULL},
+     "REML mean and spread, then the posterior, its sd\n"
+     "with the uncertainty of the estimated prior\n"
+     "(sd_plugin: taken as known), dof and interval", NULL},
+    {"--full", CLI_OPT_FLAG, &A.full, NULL, NULL, "--history: a full instrument-to-instrument\n"
+     "covariance Sigma (default: diagonal)", NULL},
+    {"--alpha", CLI_OPT_NUM, &A.alpha, "0.05", "A", "--history: intervals at 1 - A", NULL},
     {"--rule", CLI_OPT_CHOICE, &A.rule, "sc", CLI_CHOICES(IGEA_CHOICE_REGRESS_EBR_RULE), "EBR rule for lambda (METHODS 4.3 eq. 17)", NULL},
     {"--lam-floor", CLI_OPT_NUM, &A.lam_floor, "0", "X", "EBR lower bound on lambda", NULL},
     {"--scale-a", CLI_OPT_NUM, &A.scale_a, "1", "K", "nominal scale factor of A (1: outputs in g)", NULL},
@@ -85,7 +90,8 @@ options,
 "  igea accel --data examples/accel_dual.txt\n"
 "  igea accel --method ebr --prior examples/accel_prior.txt --data examples/accel_dual.txt\n"
 "  igea accel --model single --json --data examples/accel_dual.txt\n"
-"  igea accel --method joint --data examples/accel_dual.txt\n""  igea accel --ieee harmonic --data tumble.txt\n"
+"  igea accel --method joint --data examples/accel_dual.txt\n"
+"  igea accel --method ebr --history cal1.json,cal2.json,... --data new.txt\n""  igea accel --ieee harmonic --data tumble.txt\n"
 "  igea accel --design --model single --data positions.txt\n"
 "\n"
 "exit status: 0 ok, 64 usage, 65 bad input, 66 missing input, 70 numerical\n"
@@ -107,6 +113,8 @@ static int parse(int argc, char **argv, ac_args *a)
                          ? "accel: --prior needs --method ebr"
                      : a->history && (a->method != IGEA_ACCEL_EBR || a->prior || a->refine)
                          ? "accel: --history needs --method ebr, without --prior or --refine"
+                     : a->full && !a->history ? "accel: --full needs --history"
+                     : !(a->alpha > 0.0 && a->alpha < 1.0) ? "accel: --alpha must be in (0, 1)"
                      : a->method == IGEA_ACCEL_JOINT && a->model != IGEA_ACCEL_DUAL
                          ? "accel: --method joint needs the dual model"
                      : a->have_ieee && a->method != IGEA_ACCEL_LS
@@ -129,6 +137,7 @@ typedef struct {
     double tau[9], coef[10], sd[10], cmb[7], csd[7], info[IGEA_ACCEL_INFO_LEN], comp[2];
     double cov[100]; /* joint: the 10 x 10 covariance */
     double pmean[9], pcov[81]; /* --history: the prior */
+    double sdp[9], sdof[9], ci[18], hinfo[IGEA_ACCEL_HFIT_LEN];
     int nhist;
     double rcoef[9], rsd[9], rcmb[7], rinfo[IGEA_ACCEL_INFO_LEN];
     int flag[10];
@@ -219,19 +228,35 @@ static int hysteresis(const ac_args *a, ac_run *r)
     return CLI_OK;
 }
 
-/* --method ebr --history: the prior from the files, the posterior, and
- * which coefficients the data determine (the others: from the prior). */
+/* --method ebr --history: the prior from the files (REML, diagonal or
+ * --full Sigma), the posterior with the uncertainty of that estimated
+ * prior, and which coefficients the data determine (the others: from the
+ * prior). */
 static int history_fit(const ac_args *a, ac_run *r)
 {
-    double load[9], sv[9];
-    int rank, ec = cli_accel_history(a->history, r->np, r->pmean, r->pcov, &r->nhist);
+    double load[9], sv[9], tau[9], su[81], *b, *V;
+    int rank, np = r->np, ec = cli_accel_history_read(a->history, np, &b, &V, &r->nhist);
     if (ec)
         return ec;
-    int st = igea_accel_fit_prior(a->model, r->npos, r->th, r->ma, r->dual ? r->mb : NULL,
-                                  r->pmean, r->pcov, r->np, r->coef, r->sd, NULL, 1, r->info);
+    /* a full Sigma's EM creeps towards a singular estimate with short
+     * histories (26469 iterations for 14 calibrations in the tests) */
+    int st = a->full ? igea_accel_history_full(r->nhist, np, b, np, V, np, 200000, 1e-8,
+                                               r->pmean, su, np, r->pcov, np, NULL)
+                     : igea_accel_history(r->nhist, np, b, np, V, np, 20000, 1e-8, r->pmean, tau,
+                                          r->pcov, np, NULL);
+    for (int j = 0; !st && !a->full && j < np; j++)
+        for (int k = 0; k < np; k++)
+            su[k + j * np] = k == j ? tau[j] * tau[j] : 0.0;
+    if (!st)
+        st = igea_accel_fit_history(a->model, r->npos, r->th, r->ma, r->dual ? r->mb : NULL,
+                                    r->nhist, b, np, V, np, su, np, a->full, a->alpha, r->coef,
+                                    r->sd, r->sdp, r->sdof, r->ci, NULL, 1, r->hinfo);
+    free(b);
+    for (int k = 0; !st && k < IGEA_ACCEL_INFO_LEN; k++)
+        r->info[k] = r->hinfo[k];
     if (!st)
         st = igea_accel_analyze(a->model, r->npos, r->th, sv, NULL, 1, load, NULL, &rank);
-    for (int j = 0; !st && j < r->np; j++)
+    for (int j = 0; !st && j < np; j++)
         r->flag[j] = load[j] > IGEA_ACCEL_LOADING_TOL;
     r->nc = 0; /* the posterior's combinations are not reported */
     return cli_status(st, "accel --history");
@@ -304,8 +329,15 @@ static void json_report(FILE *f, const ac_args *a, const ac_run *r)
     }
     if (a->history) {
         cli_jint(&j, "history", r->nhist);
+        cli_jbool(&j, "full", a->full);
+        cli_jnum(&j, "alpha", a->alpha);
         cli_jnums(&j, "prior_mean", r->pmean, r->np);
         cli_jrows(&j, "prior_cov", r->pcov, r->np, r->np);
+        cli_jnums(&j, "sd_plugin", r->sdp, r->np);
+        cli_jnums(&j, "sd_dof", r->sdof, r->np);
+        cli_jnums(&j, "conf_int_lower", r->ci, r->np);
+        cli_jnums(&j, "conf_int_upper", r->ci + r->np, r->np);
+        cli_jint(&j, "capped", (long)r->hinfo[IGEA_ACCEL_HFIT_CAPPED]);
     }
     if (a->hyst)
         for (int o = 0; o < (r->dual ? 2 : 1); o++) {
@@ -361,6 +393,33 @@ static void text_hysteresis(FILE *f, const ac_run *r)
     }
 }
 
+/* --history: sd with the uncertainty of the estimated prior, the plug-in
+ * sd, the dof and the interval. */
+static void text_history(FILE *f, const ac_args *a, const ac_run *r)
+{
+    fprintf(f, "\n\n%-9s %-6s %15s %11s %11s %6s  %-31s %s\n", "coef", "unit", "estimate", "sd",
+            "sd_plugin", "dof", "interval", "determined by");
+    int anyprior = 0;
+    for (int j = 0; j < r->np; j++) {
+        char iv[64];
+        snprintf(iv, sizeof iv, "[%.6e, %.6e]", r->ci[j], r->ci[r->np + j]);
+        fprintf(f, "%-9s %-6s %15.6e %11.3e %11.3e %6.1f  %-31s %s\n", r->names[j], r->units[j],
+                r->coef[j], r->sd[j], r->sdp[j], r->sdof[j], iv, r->flag[j] ? "PRIOR" : "data");
+        anyprior |= r->flag[j];
+    }
+    fprintf(f, "sd: root mean squared error with the uncertainty of the estimated prior and of "
+               "the\nresidual variance; sd_plugin takes them as known; interval: estimate -+ "
+               "t(dof) sd\nat %g %%.\n", 100.0 * (1.0 - a->alpha));
+    if ((int)r->hinfo[IGEA_ACCEL_HFIT_CAPPED])
+        fprintf(f, "WARNING: the history is too short for the correction of %d coefficient(s): "
+                   "its\nfactor was capped at 5 (see docs/accel.md).\n",
+                (int)r->hinfo[IGEA_ACCEL_HFIT_CAPPED]);
+    if (anyprior)
+        fprintf(f, "PRIOR: the calibration holds no information on these coefficients one by "
+                   "one;\ntheir values and sds combine it with the prior of the instrument type\n"
+                   "(REML from the --history files).\n");
+}
+
 static void text_report(FILE *f, const ac_args *a, const ac_run *r)
 {
     int ls = a->method == IGEA_ACCEL_LS, joint = a->method == IGEA_ACCEL_JOINT;
@@ -377,10 +436,15 @@ static void text_report(FILE *f, const ac_args *a, const ac_run *r)
         fprintf(f, "residual sd %.3e g, rms %.3e g", r->info[IGEA_ACCEL_INFO_SIGMA],
                 r->info[IGEA_ACCEL_INFO_RMS]);
     if (a->history)
-        fprintf(f, "; prior from %d earlier calibrations (REML), posterior sds", r->nhist);
+        fprintf(f, "; prior from %d earlier calibrations (REML, %s Sigma)", r->nhist,
+                a->full ? "full" : "diagonal");
     else if (!ls && !joint)
         fprintf(f, ", lambda %.6g%s", r->info[IGEA_ACCEL_INFO_LAMBDA],
                 a->prior ? " (prior-scaled)" : " (isotropic prior)");
+    if (a->history) {
+        text_history(f, a, r);
+        return;
+    }
     fprintf(f, "\n\n%-9s %-6s %15s %12s  %s\n", "coef", "unit", "estimate", "sd", "determined by");
     int anyprior = 0;
     for (int j = 0; j < r->np; j++) {
@@ -389,11 +453,7 @@ static void text_report(FILE *f, const ac_args *a, const ac_run *r)
                                            : "PRIOR (not from the data)") : "data");
         anyprior |= r->flag[j];
     }
-    if (anyprior && a->history)
-        fprintf(f, "PRIOR: the calibration holds no information on these coefficients "
-                   "one by one;\ntheir values and sds combine it with the prior of the "
-                   "instrument type\n(REML from the --history files).\n");
-    else if (anyprior)
+    if (anyprior)
         fprintf(f, "PRIOR: the calibration holds no information on these coefficients "
                    "one by one;\ntheir values and sds follow the %s, not the instrument: "
                    "use the estimable\ncombinations below.\n",

@@ -324,27 +324,27 @@ static int history_file(const char *path, int np, double *coef, double *cov)
     return ec;
 }
 
-int cli_accel_history(const char *list, int np, double *beta0, double *prior_cov, int *m)
+int cli_accel_history_read(const char *list, int np, double **b, double **V, int *m)
 {
     char **items;
     int n = 0, ec = cli_split_list(list, &items, &n);
     if (ec)
         return ec;
-    double *b = malloc(sizeof(double) * (size_t)(n * np + n * np * np + 1));
-    if (!b) {
+    double *w = malloc(sizeof(double) * (size_t)(n * np + n * np * np + 1));
+    if (!w) {
         free(items);
         return cli_oom("the history");
     }
-    double *V = b + (size_t)n * np, tau[IGEA_ACCEL_NP_DUAL];
     for (int i = 0; !ec && i < n; i++)
-        ec = history_file(items[i], np, b + (size_t)i * np, V + (size_t)i * np * np);
+        ec = history_file(items[i], np, w + (size_t)i * np,
+                          w + (size_t)n * np + (size_t)i * np * np);
     if (!ec && n < 2)
         ec = cli_usage("accel: --history needs at least two result files");
-    if (!ec)
-        ec = cli_status(igea_accel_history(n, np, b, np, V, np, 20000, 1e-8, beta0, tau,
-                                           prior_cov, np, NULL), "accel --history");
-    *m = n;
-    free(b);
     free(items);
-    return ec;
+    if (ec) {
+        free(w);
+        return ec;
+    }
+    *b = w, *V = w + (size_t)n * np, *m = n;
+    return CLI_OK;
 }

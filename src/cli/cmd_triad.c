@@ -10,7 +10,7 @@ typedef struct {
     const char *acc, *gyro, *out, *calibrated;
     double acc_scale, gyro_scale;
     double opts[IGEA_TRIAD_OPT_LEN];
-    int json;
+    int json, lat_given, rate_given;
 } tr_args;
 
 static tr_args A;
@@ -30,6 +30,11 @@ static const cli_opt options[] = {
     {"--threshold", CLI_OPT_NUM, &A.opts[IGEA_TRIAD_OPT_THRESHOLD], CLI_DEF_LIB, "K", "static below K x the initial variance (0: scan\n"
      "K = 1..10)", NULL},
     {"--max-iter", CLI_OPT_NUM, &A.opts[IGEA_TRIAD_OPT_MAX_ITER], CLI_DEF_LIB, "N", "Levenberg-Marquardt iterations", NULL},
+    {"--lat", CLI_OPT_NUM, &A.opts[IGEA_TRIAD_OPT_LAT], CLI_DEF_LIB, "DEG", "latitude: model the Earth's rate in the gyro fit\n"
+     "(its vertical part known, the horizontal part and the\n"
+     "heading estimated; for gyros that resolve it)", &A.lat_given},
+    {"--earth-rate", CLI_OPT_NUM, &A.opts[IGEA_TRIAD_OPT_EARTH_RATE], CLI_DEF_LIB, "W", "--lat: the Earth's rate in the gyro's unit\n"
+     "(default 7.292115e-5 rad/s)", &A.rate_given},
     {"--calibrated", CLI_OPT_STR, &A.calibrated, NULL, "FILE", "also write the compensated record there: rows t\n"
      "ax ay az [gx gy gz] (.npy or text)", NULL},
     CLI_JSON_OPT(&A.json),
@@ -60,6 +65,7 @@ options,
 "  igea triad --acc imu_acc.txt --gyro imu_gyro.txt\n"
 "  igea triad --acc acc.npy --gyro gyro.npy --acc-scale 0.000598 --gyro-scale 0.000266 --json --out cal.json\n"
 "  igea triad --acc acc.txt --gyro gyro.txt --calibrated compensated.npy\n"
+"  igea triad --acc nav_acc.txt --gyro nav_gyro.txt --lat 45.2   # Earth's rate\n"
 "\n"
 "exit status: 0 ok, 64 usage, 65 bad input (also fewer than 12 static\n"
 "intervals, or attitudes or rotations that do not determine the parameters),\n"
@@ -75,8 +81,12 @@ static int parse(int argc, char **argv, tr_args *a)
         return ec;
     if ((ec = cli_usage(!a->acc ? "triad: --acc FILE is required (see igea triad --help)"
                         : !(a->acc_scale > 0) ? "triad: --acc-scale must be positive"
-                        : !(a->gyro_scale > 0) ? "triad: --gyro-scale must be positive" : NULL)))
+                        : !(a->gyro_scale > 0) ? "triad: --gyro-scale must be positive"
+                        : a->rate_given && !a->lat_given ? "triad: --earth-rate needs --lat"
+                        : a->lat_given && !a->gyro ? "triad: --lat needs --gyro" : NULL)))
         return ec;
+    if (a->lat_given && !a->rate_given)
+        a->opts[IGEA_TRIAD_OPT_EARTH_RATE] = 7.292115e-5; /* rad/s, WGS 84 */
     return cli_check_opts("triad", IGEA_MODULE_TRIAD, igea_triad_check_opts(a->opts));
 }
 
@@ -214,7 +224,7 @@ static void json_params(cli_json *j, int np, const double *theta, const double *
     cli_jnums(j, "sd", sd, np);
 }
 
-static void json_report(FILE *f, const tr_run *r)
+static void json_report(FILE *f, const tr_args *a, const tr_run *r)
 {
     cli_json j;
     const double *ia = r->info_a, *ig = r->info_g;
@@ -245,6 +255,19 @@ static void json_report(FILE *f, const tr_run *r)
         cli_jint(&j, "static_samples", (long)ig[IGEA_TRIAD_GYRO_INFO_STATIC_SAMPLES]);
         cli_jnums(&j, "noise", ig + IGEA_TRIAD_GYRO_INFO_NOISE_X, 3);
         cli_jnum(&j, "misfit", ig[IGEA_TRIAD_GYRO_INFO_MISFIT]);
+        if (a->opts[IGEA_TRIAD_OPT_EARTH_RATE] > 0) {
+            cli_jnum(&j, "lat", a->opts[IGEA_TRIAD_OPT_LAT]);
+            cli_jnum(&j, "earth_rate", a->opts[IGEA_TRIAD_OPT_EARTH_RATE]);
+            cli_jnum(&j, "earth_h", ig[IGEA_TRIAD_GYRO_INFO_EARTH_H]);
+            cli_jnum(&j, "earth_h_sd", ig[IGEA_TRIAD_GYRO_INFO_EARTH_H_SD]);
+            cli_jnum(&j, "heading", ig[IGEA_TRIAD_GYRO_INFO_HEADING]);
+            cli_jnum(&j, "heading_sd", ig[IGEA_TRIAD_GYRO_INFO_HEADING_SD]);
+        } else {
+            static const char *const keys[] = {"lat", "earth_rate", "earth_h", "earth_h_sd",
+                                               "heading", "heading_sd"};
+            for (int k = 0; k < 6; k++)
+                cli_jstr(&j, keys[k], NULL);
+        }
         cli_json_close(&j);
     } else {
         cli_jstr(&j, "gyro", NULL);
@@ -269,7 +292,7 @@ static void text_misfit(FILE *f, const char *what, double misfit)
                            "not hold; the sds do not cover the errors" : "");
 }
 
-static void text_report(FILE *f, const tr_run *r)
+static void text_report(FILE *f, const tr_args *a, const tr_run *r)
 {
     const double *ia = r->info_a, *ig = r->info_g;
     fprintf(f, "igea triad: %d samples at %.6g Hz; %d static intervals at threshold %g x "
@@ -294,6 +317,13 @@ static void text_report(FILE *f, const tr_run *r)
             ig[IGEA_TRIAD_GYRO_INFO_NOISE_Y], ig[IGEA_TRIAD_GYRO_INFO_NOISE_Z]);
     text_params(f, IGEA_TRIAD_GYRO_NP, gyro_names, r->theta_g, r->cov_g);
     text_misfit(f, "gyro", ig[IGEA_TRIAD_GYRO_INFO_MISFIT]);
+    double w = a->opts[IGEA_TRIAD_OPT_EARTH_RATE], lat = a->opts[IGEA_TRIAD_OPT_LAT];
+    if (w > 0)
+        fprintf(f, "Earth's rate %.6g at latitude %g deg: horizontal part seen %.4e +- %.2e "
+                   "(expected %.4e);\nheading of the x axis in the first interval %.3f +- %.3f "
+                   "deg\n", w, lat, ig[IGEA_TRIAD_GYRO_INFO_EARTH_H],
+                ig[IGEA_TRIAD_GYRO_INFO_EARTH_H_SD], w * cos(lat * 3.14159265358979323846 / 180.0),
+                ig[IGEA_TRIAD_GYRO_INFO_HEADING], ig[IGEA_TRIAD_GYRO_INFO_HEADING_SD]);
 }
 
 int cmd_triad(int argc, char **argv)
@@ -310,7 +340,7 @@ int cmd_triad(int argc, char **argv)
         !(ec = sample_rate(a.acc, &r)) && !(ec = compute(&a, &r)) &&
         !(ec = a.calibrated ? write_calibrated(&a, &r) : CLI_OK) &&
         !(ec = cli_out_open(&o, a.out))) {
-        (a.json ? json_report : text_report)(o.f, &r);
+        (a.json ? json_report : text_report)(o.f, &a, &r);
         ec = cli_out_commit(&o);
     }
     free(r.t);

@@ -380,7 +380,7 @@ def test_the_walk_through_of_docs_calibration_md(tmp_path, monkeypatch):
                 page.index("# From a raw tumble file")]
     shells = re.findall(r"```sh\n(.*?)```", part, re.S)
     pys = re.findall(r"```python\n(.*?)```", part, re.S)
-    assert len(shells) == 3 and len(pys) == 1
+    assert len(shells) == 4 and len(pys) == 1
     rng = np.random.default_rng(18)
     raw_a, raw_g, _ = simulate(rng, attitudes=20)
     t = np.arange(len(raw_a)) / FS
@@ -408,3 +408,8 @@ def test_the_walk_through_of_docs_calibration_md(tmp_path, monkeypatch):
     iv = cal["static_intervals"]
     mags = [np.linalg.norm(comp[s:e, 1:4].mean(axis=0)) for s, e in iv]
     assert np.max(np.abs(np.array(mags) - G)) < 2e-3
+    # step 5 (--lat 45.2) on this MEMS-grade record: the page's claims
+    assert "heading of the x axis" in outs[3]
+    e = igea.triad_calibrate(raw_a, FS, gyro=raw_g, lat=45.2).gyro
+    assert np.all(np.abs(e.theta[:3] - cal["gyro"]["theta"][:3]) < np.array(cal["gyro"]["sd"][:3]))
+    assert 0.1 * 7.292115e-5 < e.earth_h_sd < 10 * 7.292115e-5 and e.heading_sd > 20
