@@ -295,11 +295,23 @@ CLASS = {
         "full": "True when Sigma was estimated as a full matrix",
         "prior_cov": "(p, p) prior of a new instrument: diag(tau^2) + Cov(beta0)",
         "loglik": "restricted log-likelihood at the estimate (without its constant)",
-        "iterations": "EM iterations", "calibrations": "earlier calibrations used"},
+        "iterations": "EM iterations", "calibrations": "earlier calibrations used",
+        "estimates": "(m, p) the earlier calibrations' coefficient estimates",
+        "covariances": "(m, p, p) their covariances",
+        "information": "expected REML information of the variance parameters (Sigma's "
+                       "diagonal, or its lower triangle by columns when full)"},
     "AccelHistoryFit": {
         "model": "single or dual", "method": "\"ebr\" (with the history prior)",
         "names": "coefficient names", "coef": "posterior means",
-        "sd": "posterior standard deviations", "cov": "posterior covariance",
+        "sd": "root mean squared errors: the posterior sd with the uncertainty of the "
+              "estimated prior and residual variance",
+        "cov": "the covariance matching sd",
+        "sd_plugin": "posterior sds that take the prior and residual variance as known",
+        "sd_dof": "Satterthwaite degrees of freedom of each sd",
+        "conf_int_lower": "coef - t(sd_dof, 1 - alpha/2) sd",
+        "conf_int_upper": "coef + t(sd_dof, 1 - alpha/2) sd",
+        "alpha": "the intervals' level is 1 - alpha",
+        "capped": "coefficients whose bias correction reached its floor",
         "prior_mean": "the prior mean used (beta0)",
         "prior_sd": "the prior sds used (sqrt of prior_cov's diagonal)",
         "rank": "rank of the calibration's own design",
@@ -570,7 +582,14 @@ CLASS = {
         "iterations": "iterations run",
         "static_samples": "samples the biases are the mean of",
         "noise": "(3,) pooled within-interval sd per axis (raw units)",
-        "misfit": "sigma over the sd the gyro noise of the first interval predicts (about 1)"},
+        "misfit": "sigma over the sd the gyro noise of the first interval predicts (about 1)",
+        "lat": "the latitude (deg) the Earth's rate was modelled at (None: not modelled)",
+        "earth_rate": "the Earth's rate used, in the gyro's unit (None without lat)",
+        "earth_h": "the horizontal Earth rate the static intervals show (about W cos lat)",
+        "earth_h_sd": "its standard deviation",
+        "heading": "heading of the calibrated x axis in the first static interval, deg from "
+                   "north towards east",
+        "heading_sd": "its standard deviation, deg"},
 }
 
 

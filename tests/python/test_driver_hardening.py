@@ -484,9 +484,13 @@ def test_simulate_dir_all_or_nothing(tmp_path):
 @pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT])
 def test_signal_removes_temporaries(tmp_path, sig):
     (tmp_path / "mc.txt").write_text("old table\n")
+    # the signal's default disposition in the child: a test run started in
+    # the background of a shell without job control inherits SIGINT ignored,
+    # which the driver rightly keeps (as it keeps nohup's SIGHUP)
     p = subprocess.Popen([DRIVER, "montecarlo", "--flights", "1000000", "--threads", "1",
                           "--out", "mc.txt"], cwd=tmp_path, stdout=subprocess.DEVNULL,
-                         stderr=subprocess.DEVNULL)
+                         stderr=subprocess.DEVNULL,
+                         preexec_fn=lambda: signal.signal(sig, signal.SIG_DFL))
     try:
         for _ in range(500):
             if [f for f in os.listdir(tmp_path) if ".tmp." in f]:
