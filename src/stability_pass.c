@@ -1362,7 +1362,8 @@ static void block_terms(igea__apass *p, long k, long x0, long x1, long w0, long 
         if (lo < hi) {
             if (t->large)
                 terms_large(p, t, lo, hi);
-            else if (t->win)
+            else if (t->win && x1 > 0) /* (not the empty block after a full
+                                        * last one: no window was built for it) */
                 terms_win(p, t, k, lo, hi);
             else if (t->stride || t->m == 1)
                 terms_overlap(p, t, lo, hi);

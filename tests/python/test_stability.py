@@ -71,6 +71,23 @@ def test_against_numpy_and_intervals():
     assert "overlapping Allan deviation" in igea.allan(y, fs).summary()
 
 
+def test_modified_when_the_phase_fills_its_last_block():
+    """n + 1 rate samples' phase points (or n phase points) a multiple of the
+    pass's block of 1024: the last running sum W_N lies in an empty block
+    after a full one; the short taus' terms there against the definition."""
+    rng = np.random.default_rng(5)
+    for n in (1023, 2047, 4095):
+        y = 3.0 + rng.normal(0, 1.0, n) + np.cumsum(rng.normal(0, 0.05, n))
+        for noise in ("wfm", "auto"):
+            r = igea.allan(y, 1.0, [1, 2, 4, 8, 64, 256], kind="modified", noise=noise)
+            np.testing.assert_allclose(r.dev, [ref_mdev(y, m) for m in (1, 2, 4, 8, 64, 256)],
+                                       rtol=1e-11)
+    x = np.cumsum(rng.normal(0, 1.0, 2048))               # phase, 2048 points
+    r = igea.stability(x, 1.0, [1, 2, 8, 100], kind="mdev", data_type="phase", noise="wfm")
+    np.testing.assert_allclose(r.dev, [ref_mdev(np.diff(x), m) for m in (1, 2, 8, 100)],
+                               rtol=1e-11)
+
+
 def exact_edf(n, m, kind, noise):
     """EDF = tr(C)^2 / |C|_F^2 of the estimator's terms z = A w for white w
     (independent of the library: direct matrix algebra)."""
