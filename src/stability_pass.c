@@ -23,6 +23,7 @@
 #define AP_REANCHOR 4       /* lags off the block grid: exact anchors every 4 blocks */
 #define AP_BUF (AP_B + 16)  /* one stream of the scratch buffer */
 #define AP_LAZY 4           /* a whole record's taus m <= 4: the means' differences on demand */
+#define AP_NLEV 16          /* levels of pyr_block: m = 1, 2, 4, ... < AP_B */
 #ifndef AP_PFL
 #define AP_PFL 2
 #endif
@@ -155,6 +156,8 @@ typedef struct {
     int type;      /* IGEA__AP_AV, _HV, _MV */
     int stride;    /* 1 (overlapping) or 0 (stride m) */
     int acf;       /* lag-1 autocorrelation of the m-sample means */
+    int pyr;       /* rate data, m = 2^pyr < AP_B: the means from the block's samples
+                    * (pyr_block), level pyr; -1: from the phase (means_push) */
     int large;     /* overlapping terms from the raw values (lags beyond the small ring) */
     int hist;      /* strided terms and means from the last points at multiples of m */
     int win;       /* overlapping, every lag within the block before: the window */
@@ -201,6 +204,8 @@ struct igea__apass {
     double *z;         /* scratch: AP_B + 3 values */
     double *buf;       /* scratch: 8 streams of AP_BUF */
     double *ws;        /* scratch of the lag-1 sums: 2 (255 + AP_B + 1) + 8 values */
+    double *pz;        /* scratch of pyr_block's levels (NULL: no such tau) */
+    int npyr, nrep;    /* levels pyr_block forms (the highest tau's, and one; nrep: the replay's) */
 };
 
 static inline long mod_l(long a, long b) { return a % b; }
@@ -258,6 +263,7 @@ void igea__apass_free(igea__apass *p)
     free(p->z);
     free(p->buf);
     free(p->ws);
+    free(p->pz);
     free(p);
 }
 
@@ -353,6 +359,14 @@ static int apass_alloc(int phase, int ntau, const igea__aptau_spec *spec, const 
         /* a whole record's shortest taus (the most means): the sums of the
          * differences later, if asked (acf_replay) */
         t->acf = spec[j].acf ? (rec && t->m <= AP_LAZY ? 1 : 3) : 0;
+        t->pyr = -1;
+        if (t->acf && !phase && t->m < AP_B && (t->m & (t->m - 1)) == 0) {
+            int l = 0;
+            while ((1L << l) < t->m)
+                l++;
+            t->pyr = l;
+            p->npyr = IGEA_MAX(p->npyr, l + 1);
+        }
         t->span = (t->type == IGEA__AP_AV ? 2 : 3) * t->m;
         t->cnext = -1;
         /* the overlapping lags that the small ring does not hold */
@@ -402,7 +416,7 @@ static int apass_alloc(int phase, int ntau, const igea__aptau_spec *spec, const 
     /* bases: back to the longest lag, plus the current block */
     p->cap_max = IGEA_MAX(span / AP_B + 4, IGEA_MAX(rsl, rsv) + 1);
     for (int j = 0; rec && j < ntau; j++)
-        if (p->t[j].acf == 1) /* acf_replay reads the bases of every block */
+        if (p->t[j].acf == 1 && p->t[j].pyr < 0) /* acf_replay reads the bases of every block */
             p->cap_max = IGEA_MAX(p->cap_max, nb + 1);
     long c0 = p->cap_max;
     if (nb > 0 && nb + 1 < c0)
@@ -413,7 +427,9 @@ static int apass_alloc(int phase, int ntau, const igea__aptau_spec *spec, const 
      * the sample before it, the block of an anchor), and the stream's ring */
     p->reach = lspan ? lspan + AP_B + 1 : 1;
     p->rawcap_max = (p->reach + AP_B - 1) / AP_B + 4;
-    int st = !p->L || (rsv && !p->V) || (p->need_w && !rsv && !p->vbuf) || (wl && !p->lx) ||
+    if (p->npyr)
+        p->pz = igea__dalloc(3 * AP_B + 3 * AP_NLEV + 6);
+    int st = !p->L || (p->npyr && !p->pz) || (rsv && !p->V) || (p->need_w && !rsv && !p->vbuf) || (wl && !p->lx) ||
                      (wv && !p->vx)
                  ? IGEA_ENOMEM
                  : 0;
@@ -1116,48 +1132,45 @@ static long means_of(const igea__apass *p, long m, long e0, long e1, double *z)
  * acf_sums1: of the shifted first differences w(i) = (z(i) - z(i-1)) - h:
  * out = {sum w, sum w^2, sum w(i-1) w(i), sum w(i-2) w(i)} (the second
  * differences' sums follow from the last two, docs). */
-AP_CLONES static void acf_sums0(const double *z, long K, double h, double *ws, double *out)
+AP_CLONES static void acf_sums0(const double *z, long K, double h, double *out)
 {
-    double *w = ws + 1; /* w[-1 .. K-1] */
-    long i = -1;
-#if AP_VEC
-    for (; i + 4 <= K; i += 4)
-        AP_STV(w + i, AP_LD(z + i) - h);
-#endif
-    for (; i < K; i++)
-        w[i] = z[i] - h;
-    double s[4] = {0}, q[4] = {0}, g[4] = {0};
-    i = 0;
+    double s[8] = {0}, q[8] = {0}, g[8] = {0};
+    long i = 0;
 #if AP_VEC
     {
-        ap_v4 S = {0, 0, 0, 0}, Q = S, G = S;
-        for (; i + 4 <= K; i += 4) {
-            ap_v4 a = AP_LD(w + i);
+        ap_v4 S = {0, 0, 0, 0}, Q = S, G = S, S4 = S, Q4 = S, G4 = S;
+        for (; i + 8 <= K; i += 8) {
+            ap_v4 a = AP_LD(z + i) - h, b = AP_LD(z + i + 4) - h;
             S += a;
+            S4 += b;
             Q += a * a;
-            G += AP_LD(w + i - 1) * a;
+            Q4 += b * b;
+            G += (AP_LD(z + i - 1) - h) * a;
+            G4 += (AP_LD(z + i + 3) - h) * b;
         }
-        for (int l = 0; l < 4; l++)
+        for (int l = 0; l < 4; l++) {
             s[l] = S[l], q[l] = Q[l], g[l] = G[l];
+            s[4 + l] = S4[l], q[4 + l] = Q4[l], g[4 + l] = G4[l];
+        }
     }
 #else
-    for (; i + 4 <= K; i += 4)
-        for (int l = 0; l < 4; l++) {
-            double a = w[i + l];
+    for (; i + 8 <= K; i += 8)
+        for (int l = 0; l < 8; l++) {
+            double a = z[i + l] - h;
             s[l] += a;
             q[l] += a * a;
-            g[l] += w[i + l - 1] * a;
+            g[l] += (z[i + l - 1] - h) * a;
         }
 #endif
     for (; i < K; i++) {
-        double a = w[i];
+        double a = z[i] - h;
         s[0] += a;
         q[0] += a * a;
-        g[0] += w[i - 1] * a;
+        g[0] += (z[i - 1] - h) * a;
     }
-    out[0] = (s[0] + s[1]) + (s[2] + s[3]);
-    out[1] = (q[0] + q[1]) + (q[2] + q[3]);
-    out[2] = (g[0] + g[1]) + (g[2] + g[3]);
+    out[0] = ((s[0] + s[1]) + (s[2] + s[3])) + ((s[4] + s[5]) + (s[6] + s[7]));
+    out[1] = ((q[0] + q[1]) + (q[2] + q[3])) + ((q[4] + q[5]) + (q[6] + q[7]));
+    out[2] = ((g[0] + g[1]) + (g[2] + g[3])) + ((g[4] + g[5]) + (g[6] + g[7]));
 }
 
 AP_CLONES static void acf_sums1(const double *z, long K, double h, double *ws, double *out)
@@ -1210,16 +1223,15 @@ AP_CLONES static void acf_sums1(const double *z, long K, double h, double *ws, d
 
 /* The means waiting in t->zb to the sums of the series and of its first
  * differences. */
-static void means_flush(aptau *t, double *ws)
+static void means_sums(aptau *t, double *z, long K, double *ws)
 {
-    double *zz = t->zb, *z = zz + 3;
-    long K = t->nzb, i = 0;
+    long i = 0;
     int d0 = t->acf & 1, d1 = t->acf & 2;
     if (K == 0)
         return;
-    zz[0] = t->zc[0];
-    zz[1] = t->zc[1];
-    zz[2] = t->zc[2];
+    z[-3] = t->zc[0];
+    z[-2] = t->zc[1];
+    z[-1] = t->zc[2];
     /* the first three means of the record start the series one by one */
     for (; i < K && t->nmean + i < 3; i++) {
         long g = t->nmean + i;
@@ -1238,7 +1250,7 @@ static void means_flush(aptau *t, double *ws)
                 continue;
             igea__apacf *a = &t->a[r];
             if (r == 0)
-                acf_sums0(z + i, K - i, a->sh, ws, o);
+                acf_sums0(z + i, K - i, a->sh, o);
             else
                 acf_sums1(z + i, K - i, a->sh, ws, o);
             igea__ksum_add(&a->s, o[0]);
@@ -1258,6 +1270,11 @@ static void means_flush(aptau *t, double *ws)
     t->zc[0] = z[K - 3];
     t->zc[1] = z[K - 2];
     t->zc[2] = z[K - 1];
+}
+
+static void means_flush(aptau *t, double *ws)
+{
+    means_sums(t, t->zb + 3, t->nzb, ws);
     t->nzb = 0;
 }
 
@@ -1282,6 +1299,73 @@ static void means_push(igea__apass *p, aptau *t, long k, long e1)
     t->next_e += K * t->m;
     if (t->nzb >= 256)
         means_flush(t, p->ws);
+}
+
+/* b[j] = (a[2 j] + a[2 j + 1]) / 2, j < cnt: the means of the next level. */
+AP_CLONES static void halve(const double *a, long cnt, double *b)
+{
+    long j = 0;
+#if AP_VEC
+    for (; j + 4 <= cnt; j += 4) {
+        /* the pairs' sums in the order 0 2 1 3 (within 128-bit halves), then
+         * put in order once */
+        ap_v4 lo = AP_LD(a + 2 * j), hi = AP_LD(a + 2 * j + 4);
+        ap_v4 u = AP_SHUF(lo, hi, 0, 4, 2, 6) + AP_SHUF(lo, hi, 1, 5, 3, 7);
+        AP_STV(b + j, AP_SHUF(u, u, 0, 2, 1, 3) * 0.5);
+    }
+#endif
+    for (; j < cnt; j++)
+        b[j] = (a[2 * j] + a[2 * j + 1]) * 0.5;
+}
+
+/* Rate data, m = 2^l < AP_B: the m-sample means of the samples of block k
+ * (kB .. kB + c - 1, c = min(AP_B, n - kB): the means ending at points
+ * kB + m, kB + 2m, ..., each within one block), level 0 the samples less
+ * the offset, level l + 1 the pairs of level l averaged (pairwise sums,
+ * halved exactly), pushed to the taus of their level (the replay: only
+ * those with acf 2), 256 or more waiting to the sums (docs/stability.md). */
+static void pyr_block(igea__apass *p, long k, int replay)
+{
+    long c = IGEA_MIN((long)AP_B, p->nraw - k * AP_B);
+    int nl = replay ? p->nrep : p->npyr;
+    if (c <= 0 || nl == 0)
+        return;
+    double *lv[AP_NLEV];
+    long cl[AP_NLEV];
+    if (replay) {
+        lv[0] = p->pz + 3;
+        sub_off(raw_at(p, k * AP_B, c, p->buf), c, p->off, lv[0]);
+    } else {
+        /* block_build's samples less the offset (kB .. kB + f - 2, after
+         * its d[0]; the three values before are free: d[0] and the end of
+         * the buffer before) and the block's last */
+        lv[0] = p->buf + 7 * AP_BUF + 1;
+        if (c == AP_B)
+            lv[0][AP_B - 1] = *raw_at(p, k * AP_B + AP_B - 1, 1, p->buf) - p->off;
+    }
+    cl[0] = c;
+    double *q = p->pz + AP_B + 6;
+    for (int l = 1; l < nl; l++) { /* each level after three free values */
+        lv[l] = q;
+        cl[l] = cl[l - 1] / 2;
+        halve(lv[l - 1], cl[l], q);
+        q += (AP_B >> l) + 3;
+    }
+    for (int j = 0; j < p->ntau; j++) {
+        aptau *t = &p->t[j];
+        if (t->pyr < 0 || !(replay ? t->acf == 2 : t->acf != 0) || cl[t->pyr] == 0)
+            continue;
+        double *a = lv[t->pyr];
+        long K = cl[t->pyr];
+        if (t->nzb == 0 && K >= 256) {
+            means_sums(t, a, K, p->ws);
+            continue;
+        }
+        memcpy(t->zb + 3 + t->nzb, a, (size_t)K * sizeof(double));
+        t->nzb += K;
+        if (t->nzb >= 256)
+            means_flush(t, p->ws);
+    }
 }
 
 /* The strided term of a tau with m >= AP_B whose current point (a multiple
@@ -1372,11 +1456,13 @@ static void block_terms(igea__apass *p, long k, long x0, long x1, long w0, long 
             else
                 terms_stride(p, t, lo, hi);
         }
-        if (t->acf)
+        if (t->acf && t->pyr < 0)
             means_push(p, t, k, base + x1);
         if (t->hist)
             hist_push(p, t, k, x1);
     }
+    if (p->npyr)
+        pyr_block(p, k, 0);
 }
 
 #if AP_VEC
@@ -1705,14 +1791,20 @@ static void acf_replay(igea__apass *p)
         t->nmean = t->nzb = 0;
         t->next_e = t->m;
         t->zc[0] = t->zc[1] = t->zc[2] = 0.0;
-        again = 1;
+        again |= t->pyr >= 0 ? 1 : 2;
+        if (t->pyr >= 0)
+            p->nrep = IGEA_MAX(p->nrep, t->pyr + 1);
     }
     for (long k = 0; again && k * AP_B < p->N; k++) {
         long f = IGEA_MIN((long)AP_B, p->N - k * AP_B);
-        block_l(p, k, f);
-        for (int j = 0; j < p->ntau; j++)
-            if (p->t[j].acf == 2)
-                means_push(p, &p->t[j], k, k * AP_B + f);
+        if (again & 2) { /* taus of the phase's means: its local values again */
+            block_l(p, k, f);
+            for (int j = 0; j < p->ntau; j++)
+                if (p->t[j].acf == 2 && p->t[j].pyr < 0)
+                    means_push(p, &p->t[j], k, k * AP_B + f);
+        }
+        if (again & 1)
+            pyr_block(p, k, 1);
     }
     for (int j = 0; again && j < p->ntau; j++)
         if (p->t[j].acf == 2)
