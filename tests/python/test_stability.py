@@ -153,6 +153,19 @@ def test_ramp_closed_form():
         np.testing.assert_allclose(r.dev, R * r.taus / math.sqrt(2), rtol=1e-8)
 
 
+def test_auto_noise_on_a_noiseless_ramp():
+    # the m-means of a ramp lie on a line: r1/(1 + r1) of the means is about
+    # 1/2, their first differences are constant (r1 = 0 in exact arithmetic),
+    # so the lag-1 method gives alpha = -2 (random-walk FM) at every tau
+    taus = [1, 2, 4, 8, 64, 1024]
+    for scale, offset in ((1e-3, 0.0), (1.0, 1e6), (1e3, 1.0)):
+        y = offset + scale * (3.0 + 1e-3 * np.arange(70001))
+        for kind in ("overlapping", "modified"):
+            auto = igea.allan(y, 1.0, taus, kind=kind, noise="auto")
+            rwfm = igea.allan(y, 1.0, taus, kind=kind, noise="rwfm")
+            np.testing.assert_array_equal(auto.edf, rwfm.edf)
+
+
 def test_block_3sigma():
     y = np.concatenate([np.full(100, v) for v in (1.0, 2.0, 3.0)] + [np.zeros(40)])
     y[:300] += np.where(np.arange(300) % 2, -0.5, 0.5)
