@@ -22,7 +22,7 @@
 #endif
 #define AP_REANCHOR 4       /* lags off the block grid: exact anchors every 4 blocks */
 #define AP_BUF (AP_B + 16)  /* one stream of the scratch buffer */
-#define AP_LAZY 4           /* a whole record's taus m <= 4: the means' differences on demand */
+#define AP_NLEV 16          /* levels of pyr_block: m = 1, 2, 4, ... < AP_B */
 #ifndef AP_PFL
 #define AP_PFL 2
 #endif
@@ -97,57 +97,6 @@ static inline dd dd_diff3(const dd *v)
     return dd_sub(dd_sub(v[0], v[3]), dd_add(u, u2));
 }
 
-/* ---- lag-1 autocorrelation accumulators (rate kinds' noise type) ---- */
-
-/* Sums of one series v_k less its first value sh: count, sum, sum of
- * squares, sum of v_k v_{k+1}, first and last (shifted), previous value;
- * the K new values of v appended (eight lanes combined in a fixed order). */
-static void acf_block(igea__apacf *a, const double *v, long K)
-{
-    if (K <= 0)
-        return;
-    double s0 = 0, q0 = 0, g0 = 0;
-    if (a->n == 0) {
-        a->sh = v[0];
-        a->first = 0.0;
-    } else {
-        double w = v[0] - a->sh;
-        s0 = w;
-        q0 = w * w;
-        g0 = a->prev * w;
-    }
-    const double sh = a->sh;
-    double s1 = 0, s2 = 0, s3 = 0, q1 = 0, q2 = 0, q3 = 0, g1 = 0, g2 = 0, g3 = 0;
-    long i = 1;
-    for (; i + 4 <= K; i += 4) {
-        double u0 = v[i - 1] - sh, w0 = v[i] - sh, w1 = v[i + 1] - sh, w2 = v[i + 2] - sh,
-               w3 = v[i + 3] - sh;
-        s0 += w0;
-        s1 += w1;
-        s2 += w2;
-        s3 += w3;
-        q0 += w0 * w0;
-        q1 += w1 * w1;
-        q2 += w2 * w2;
-        q3 += w3 * w3;
-        g0 += u0 * w0;
-        g1 += w0 * w1;
-        g2 += w1 * w2;
-        g3 += w2 * w3;
-    }
-    for (; i < K; i++) {
-        double w = v[i] - sh, u = v[i - 1] - sh;
-        s0 += w;
-        q0 += w * w;
-        g0 += u * w;
-    }
-    igea__ksum_add(&a->s, (s0 + s1) + (s2 + s3));
-    igea__ksum_add(&a->ss, (q0 + q1) + (q2 + q3));
-    igea__ksum_add(&a->lag, (g0 + g1) + (g2 + g3));
-    a->n += (double)K;
-    a->prev = a->last = v[K - 1] - sh;
-}
-
 /* ---- the pass ---- */
 
 typedef struct {
@@ -155,6 +104,8 @@ typedef struct {
     int type;      /* IGEA__AP_AV, _HV, _MV */
     int stride;    /* 1 (overlapping) or 0 (stride m) */
     int acf;       /* lag-1 autocorrelation of the m-sample means */
+    int pyr;       /* rate data, m = 2^pyr < AP_B: the means from the block's samples
+                    * (pyr_block), level pyr; -1: from the phase (means_push) */
     int large;     /* overlapping terms from the raw values (lags beyond the small ring) */
     int hist;      /* strided terms and means from the last points at multiples of m */
     int win;       /* overlapping, every lag within the block before: the window */
@@ -164,9 +115,8 @@ typedef struct {
     double zc[3];  /* the last three means pushed */
     double *zb;    /* means waiting: zb[3 ..], zb[0 .. 2] the three before */
     long nzb, next_e; /* means waiting; the last point of the next mean */
-    igea__ksum lag2;  /* sum of w_j w_{j+2} of the first differences (shifted) */
-    double dfirst[2], dlast[2]; /* the first two and the last two differences */
-    igea__apacf a[3];
+    igea__ksum zs[5]; /* sums of the means z_i: z, z^2, z_{i-1} z_i, z_{i-2} z_i, z_{i-3} z_i */
+    double zf[3];     /* the first three means */
     long cnext;       /* large: the term after the last one computed (-1: none yet) */
     double c1, c2;    /* large: the last difference (D or T) and running sum (S) */
     long hn;          /* hist: points kept (up to 3), newest first */
@@ -200,7 +150,8 @@ struct igea__apass {
     aptau *t;
     double *z;         /* scratch: AP_B + 3 values */
     double *buf;       /* scratch: 8 streams of AP_BUF */
-    double *ws;        /* scratch of the lag-1 sums: 2 (255 + AP_B + 1) + 8 values */
+    double *pz;        /* scratch of pyr_block's levels (NULL: no such tau) */
+    int npyr;          /* levels pyr_block forms (the highest tau's, and one) */
 };
 
 static inline long mod_l(long a, long b) { return a % b; }
@@ -257,7 +208,7 @@ void igea__apass_free(igea__apass *p)
     free(p->t);
     free(p->z);
     free(p->buf);
-    free(p->ws);
+    free(p->pz);
     free(p);
 }
 
@@ -338,8 +289,7 @@ static int apass_alloc(int phase, int ntau, const igea__aptau_spec *spec, const 
     p->t = calloc((size_t)(ntau > 0 ? ntau : 1), sizeof(aptau));
     p->z = igea__dalloc(AP_B + 3);
     p->buf = igea__dalloc(8 * (size_t)AP_BUF);
-    p->ws = igea__dalloc(2 * (255 + AP_B + 1) + 8);
-    if (!p->t || !p->z || !p->buf || !p->ws) {
+    if (!p->t || !p->z || !p->buf) {
         igea__apass_free(p);
         return IGEA_ENOMEM;
     }
@@ -350,9 +300,16 @@ static int apass_alloc(int phase, int ntau, const igea__aptau_spec *spec, const 
         t->m = spec[j].m;
         t->type = spec[j].type;
         t->stride = spec[j].stride;
-        /* a whole record's shortest taus (the most means): the sums of the
-         * differences later, if asked (acf_replay) */
-        t->acf = spec[j].acf ? (rec && t->m <= AP_LAZY ? 1 : 3) : 0;
+        /* (a whole record's tau with fewer than 32 means: no type from them) */
+        t->acf = spec[j].acf != 0 && !(rec && nrec / t->m < 32);
+        t->pyr = -1;
+        if (t->acf && !phase && t->m < AP_B && (t->m & (t->m - 1)) == 0) {
+            int l = 0;
+            while ((1L << l) < t->m)
+                l++;
+            t->pyr = l;
+            p->npyr = IGEA_MAX(p->npyr, l + 1);
+        }
         t->span = (t->type == IGEA__AP_AV ? 2 : 3) * t->m;
         t->cnext = -1;
         /* the overlapping lags that the small ring does not hold */
@@ -401,9 +358,6 @@ static int apass_alloc(int phase, int ntau, const igea__aptau_spec *spec, const 
     p->vbuf = p->need_w && !rsv ? igea__dalloc(AP_B + 1) : NULL;
     /* bases: back to the longest lag, plus the current block */
     p->cap_max = IGEA_MAX(span / AP_B + 4, IGEA_MAX(rsl, rsv) + 1);
-    for (int j = 0; rec && j < ntau; j++)
-        if (p->t[j].acf == 1) /* acf_replay reads the bases of every block */
-            p->cap_max = IGEA_MAX(p->cap_max, nb + 1);
     long c0 = p->cap_max;
     if (nb > 0 && nb + 1 < c0)
         c0 = nb + 1;
@@ -413,7 +367,9 @@ static int apass_alloc(int phase, int ntau, const igea__aptau_spec *spec, const 
      * the sample before it, the block of an anchor), and the stream's ring */
     p->reach = lspan ? lspan + AP_B + 1 : 1;
     p->rawcap_max = (p->reach + AP_B - 1) / AP_B + 4;
-    int st = !p->L || (rsv && !p->V) || (p->need_w && !rsv && !p->vbuf) || (wl && !p->lx) ||
+    if (p->npyr)
+        p->pz = igea__dalloc(AP_B + 3 * AP_NLEV);
+    int st = !p->L || (p->npyr && !p->pz) || (rsv && !p->V) || (p->need_w && !rsv && !p->vbuf) || (wl && !p->lx) ||
                      (wv && !p->vx)
                  ? IGEA_ENOMEM
                  : 0;
@@ -1109,155 +1065,95 @@ static long means_of(const igea__apass *p, long m, long e0, long e1, double *z)
     return K;
 }
 
-/* The lag-1 sums of K means z (z[-3] .. z[-1] hold the three before), in
- * four lanes (i mod 4, the rest in lane 0, ((0 + 1) + (2 + 3))), each value
- * formed once in ws (K + 4 values) and read at its lags. acf_sums0: of the
- * shifted means w(i) = z(i) - h: out = {sum w, sum w^2, sum w(i-1) w(i)};
- * acf_sums1: of the shifted first differences w(i) = (z(i) - z(i-1)) - h:
- * out = {sum w, sum w^2, sum w(i-1) w(i), sum w(i-2) w(i)} (the second
- * differences' sums follow from the last two, docs). */
-AP_CLONES static void acf_sums0(const double *z, long K, double h, double *ws, double *out)
+/* The sums of K means z (z[-3] .. z[-1] hold the three before) and of
+ * their products at lags 1, 2, 3: out = {sum z_i, sum z_i^2, sum z_{i-1}
+ * z_i, sum z_{i-2} z_i, sum z_{i-3} z_i}, in eight lanes (i mod 8, the
+ * rest in lane 0, ((0 + 1) + (2 + 3)) + ((4 + 5) + (6 + 7))). */
+AP_CLONES static void acf_lags(const double *z, long K, double *out)
 {
-    double *w = ws + 1; /* w[-1 .. K-1] */
-    long i = -1;
-#if AP_VEC
-    for (; i + 4 <= K; i += 4)
-        AP_STV(w + i, AP_LD(z + i) - h);
-#endif
-    for (; i < K; i++)
-        w[i] = z[i] - h;
-    double s[4] = {0}, q[4] = {0}, g[4] = {0};
-    i = 0;
+    double r[5][8] = {{0}};
+    long i = 0;
 #if AP_VEC
     {
-        ap_v4 S = {0, 0, 0, 0}, Q = S, G = S;
-        for (; i + 4 <= K; i += 4) {
-            ap_v4 a = AP_LD(w + i);
-            S += a;
-            Q += a * a;
-            G += AP_LD(w + i - 1) * a;
+        ap_v4 S0 = {0, 0, 0, 0}, S1 = S0, Q0 = S0, Q1 = S0, A0 = S0, A1 = S0, B0 = S0, B1 = S0,
+              C0 = S0, C1 = S0;
+        for (; i + 8 <= K; i += 8) {
+            ap_v4 a = AP_LD(z + i), b = AP_LD(z + i + 4);
+            S0 += a;
+            S1 += b;
+            Q0 += a * a;
+            Q1 += b * b;
+            A0 += AP_LD(z + i - 1) * a;
+            A1 += AP_LD(z + i + 3) * b;
+            B0 += AP_LD(z + i - 2) * a;
+            B1 += AP_LD(z + i + 2) * b;
+            C0 += AP_LD(z + i - 3) * a;
+            C1 += AP_LD(z + i + 1) * b;
         }
-        for (int l = 0; l < 4; l++)
-            s[l] = S[l], q[l] = Q[l], g[l] = G[l];
+        for (int l = 0; l < 4; l++) {
+            r[0][l] = S0[l], r[1][l] = Q0[l], r[2][l] = A0[l], r[3][l] = B0[l], r[4][l] = C0[l];
+            r[0][4 + l] = S1[l], r[1][4 + l] = Q1[l], r[2][4 + l] = A1[l], r[3][4 + l] = B1[l];
+            r[4][4 + l] = C1[l];
+        }
     }
 #else
-    for (; i + 4 <= K; i += 4)
-        for (int l = 0; l < 4; l++) {
-            double a = w[i + l];
-            s[l] += a;
-            q[l] += a * a;
-            g[l] += w[i + l - 1] * a;
+    for (; i + 8 <= K; i += 8)
+        for (int l = 0; l < 8; l++) {
+            double v = z[i + l];
+            r[0][l] += v;
+            r[1][l] += v * v;
+            r[2][l] += z[i + l - 1] * v;
+            r[3][l] += z[i + l - 2] * v;
+            r[4][l] += z[i + l - 3] * v;
         }
 #endif
     for (; i < K; i++) {
-        double a = w[i];
-        s[0] += a;
-        q[0] += a * a;
-        g[0] += w[i - 1] * a;
+        double v = z[i];
+        r[0][0] += v;
+        r[1][0] += v * v;
+        r[2][0] += z[i - 1] * v;
+        r[3][0] += z[i - 2] * v;
+        r[4][0] += z[i - 3] * v;
     }
-    out[0] = (s[0] + s[1]) + (s[2] + s[3]);
-    out[1] = (q[0] + q[1]) + (q[2] + q[3]);
-    out[2] = (g[0] + g[1]) + (g[2] + g[3]);
+    for (int q = 0; q < 5; q++)
+        out[q] = ((r[q][0] + r[q][1]) + (r[q][2] + r[q][3])) +
+                 ((r[q][4] + r[q][5]) + (r[q][6] + r[q][7]));
 }
 
-AP_CLONES static void acf_sums1(const double *z, long K, double h, double *ws, double *out)
+/* K means z (z[-3] .. z[-1] free) to the sums of tau t: the record's first
+ * three one by one with the lags they have, the rest in acf_lags. */
+static void means_sums(aptau *t, double *z, long K)
 {
-    double *w = ws + 2; /* w[-2 .. K-1] */
-    long i = -2;
-#if AP_VEC
-    for (; i + 4 <= K; i += 4)
-        AP_STV(w + i, (AP_LD(z + i) - AP_LD(z + i - 1)) - h);
-#endif
-    for (; i < K; i++)
-        w[i] = (z[i] - z[i - 1]) - h;
-    double s[4] = {0}, q[4] = {0}, g[4] = {0}, k2[4] = {0};
-    i = 0;
-#if AP_VEC
-    {
-        ap_v4 S = {0, 0, 0, 0}, Q = S, G = S, K2 = S;
-        for (; i + 4 <= K; i += 4) {
-            ap_v4 b = AP_LD(w + i);
-            S += b;
-            Q += b * b;
-            G += AP_LD(w + i - 1) * b;
-            K2 += AP_LD(w + i - 2) * b;
-        }
-        for (int l = 0; l < 4; l++)
-            s[l] = S[l], q[l] = Q[l], g[l] = G[l], k2[l] = K2[l];
-    }
-#else
-    for (; i + 4 <= K; i += 4)
-        for (int l = 0; l < 4; l++) {
-            double b = w[i + l];
-            s[l] += b;
-            q[l] += b * b;
-            g[l] += w[i + l - 1] * b;
-            k2[l] += w[i + l - 2] * b;
-        }
-#endif
-    for (; i < K; i++) {
-        double b = w[i];
-        s[0] += b;
-        q[0] += b * b;
-        g[0] += w[i - 1] * b;
-        k2[0] += w[i - 2] * b;
-    }
-    out[0] = (s[0] + s[1]) + (s[2] + s[3]);
-    out[1] = (q[0] + q[1]) + (q[2] + q[3]);
-    out[2] = (g[0] + g[1]) + (g[2] + g[3]);
-    out[3] = (k2[0] + k2[1]) + (k2[2] + k2[3]);
-}
-
-/* The means waiting in t->zb to the sums of the series and of its first
- * differences. */
-static void means_flush(aptau *t, double *ws)
-{
-    double *zz = t->zb, *z = zz + 3;
-    long K = t->nzb, i = 0;
-    int d0 = t->acf & 1, d1 = t->acf & 2;
+    long i = 0;
     if (K == 0)
         return;
-    zz[0] = t->zc[0];
-    zz[1] = t->zc[1];
-    zz[2] = t->zc[2];
-    /* the first three means of the record start the series one by one */
+    z[-3] = t->zc[0];
+    z[-2] = t->zc[1];
+    z[-1] = t->zc[2];
     for (; i < K && t->nmean + i < 3; i++) {
         long g = t->nmean + i;
-        if (d0)
-            acf_block(&t->a[0], z + i, 1);
-        if (g >= 1 && d1) {
-            double d = z[i] - z[i - 1];
-            acf_block(&t->a[1], &d, 1);
-            t->dfirst[g - 1] = d;
-        }
+        double v = z[i];
+        t->zf[g] = v;
+        igea__ksum_add(&t->zs[0], v);
+        igea__ksum_add(&t->zs[1], v * v);
+        for (long l = 1; l <= g; l++)
+            igea__ksum_add(&t->zs[1 + l], z[i - l] * v);
     }
     if (i < K) {
-        double o[4], zl = z[K - 1], z1 = z[K - 2];
-        for (int r = 0; r < 2; r++) {
-            if (!(r ? d1 : d0))
-                continue;
-            igea__apacf *a = &t->a[r];
-            if (r == 0)
-                acf_sums0(z + i, K - i, a->sh, ws, o);
-            else
-                acf_sums1(z + i, K - i, a->sh, ws, o);
-            igea__ksum_add(&a->s, o[0]);
-            igea__ksum_add(&a->ss, o[1]);
-            igea__ksum_add(&a->lag, o[2]);
-            a->n += (double)(K - i);
-            a->prev = a->last = (r == 0 ? zl : zl - z1) - a->sh;
-            if (r)
-                igea__ksum_add(&t->lag2, o[3]);
-        }
-    }
-    if (t->nmean + K >= 3 && d1) {
-        t->dlast[0] = z[K - 2] - z[K - 3];
-        t->dlast[1] = z[K - 1] - z[K - 2];
+        double o[5];
+        acf_lags(z + i, K - i, o);
+        for (int q = 0; q < 5; q++)
+            igea__ksum_add(&t->zs[q], o[q]);
     }
     t->nmean += K;
     t->zc[0] = z[K - 3];
     t->zc[1] = z[K - 2];
     t->zc[2] = z[K - 1];
+}
+
+static void means_flush(aptau *t)
+{
+    means_sums(t, t->zb + 3, t->nzb);
     t->nzb = 0;
 }
 
@@ -1281,7 +1177,69 @@ static void means_push(igea__apass *p, aptau *t, long k, long e1)
     t->nzb += K;
     t->next_e += K * t->m;
     if (t->nzb >= 256)
-        means_flush(t, p->ws);
+        means_flush(t);
+}
+
+/* b[j] = (a[2 j] + a[2 j + 1]) / 2, j < cnt: the means of the next level. */
+AP_CLONES static void halve(const double *a, long cnt, double *b)
+{
+    long j = 0;
+#if AP_VEC
+    for (; j + 4 <= cnt; j += 4) {
+        /* the pairs' sums in the order 0 2 1 3 (within 128-bit halves), then
+         * put in order once */
+        ap_v4 lo = AP_LD(a + 2 * j), hi = AP_LD(a + 2 * j + 4);
+        ap_v4 u = AP_SHUF(lo, hi, 0, 4, 2, 6) + AP_SHUF(lo, hi, 1, 5, 3, 7);
+        AP_STV(b + j, AP_SHUF(u, u, 0, 2, 1, 3) * 0.5);
+    }
+#endif
+    for (; j < cnt; j++)
+        b[j] = (a[2 * j] + a[2 * j + 1]) * 0.5;
+}
+
+/* Rate data, m = 2^l < AP_B: the m-sample means of the samples of block k
+ * (kB .. kB + c - 1, c = min(AP_B, n - kB): the means ending at points
+ * kB + m, kB + 2m, ..., each within one block), level 0 the samples less
+ * the offset, level l + 1 the pairs of level l averaged (pairwise sums,
+ * halved exactly), to the sums of the taus of their level (256 or more at
+ * once, fewer through t->zb; docs/stability.md). */
+static void pyr_block(igea__apass *p, long k)
+{
+    long c = IGEA_MIN((long)AP_B, p->nraw - k * AP_B);
+    int nl = p->npyr;
+    if (c <= 0 || nl == 0)
+        return;
+    double *lv[AP_NLEV];
+    long cl[AP_NLEV];
+    /* block_build's samples less the offset (kB .. kB + f - 2, after its
+     * d[0]; the three values before are free: d[0] and the end of the
+     * buffer before) and the block's last */
+    lv[0] = p->buf + 7 * AP_BUF + 1;
+    if (c == AP_B)
+        lv[0][AP_B - 1] = *raw_at(p, k * AP_B + AP_B - 1, 1, p->buf) - p->off;
+    cl[0] = c;
+    double *q = p->pz + 3;
+    for (int l = 1; l < nl; l++) { /* each level after three free values */
+        lv[l] = q;
+        cl[l] = cl[l - 1] / 2;
+        halve(lv[l - 1], cl[l], q);
+        q += (AP_B >> l) + 3;
+    }
+    for (int j = 0; j < p->ntau; j++) {
+        aptau *t = &p->t[j];
+        if (t->pyr < 0 || cl[t->pyr] == 0)
+            continue;
+        double *a = lv[t->pyr];
+        long K = cl[t->pyr];
+        if (t->nzb == 0 && K >= 256) {
+            means_sums(t, a, K);
+            continue;
+        }
+        memcpy(t->zb + 3 + t->nzb, a, (size_t)K * sizeof(double));
+        t->nzb += K;
+        if (t->nzb >= 256)
+            means_flush(t);
+    }
 }
 
 /* The strided term of a tau with m >= AP_B whose current point (a multiple
@@ -1362,7 +1320,8 @@ static void block_terms(igea__apass *p, long k, long x0, long x1, long w0, long 
         if (lo < hi) {
             if (t->large)
                 terms_large(p, t, lo, hi);
-            else if (t->win)
+            else if (t->win && x1 > 0) /* (not the empty block after a full
+                                        * last one: no window was built for it) */
                 terms_win(p, t, k, lo, hi);
             else if (t->stride || t->m == 1)
                 terms_overlap(p, t, lo, hi);
@@ -1371,11 +1330,13 @@ static void block_terms(igea__apass *p, long k, long x0, long x1, long w0, long 
             else
                 terms_stride(p, t, lo, hi);
         }
-        if (t->acf)
+        if (t->acf && t->pyr < 0)
             means_push(p, t, k, base + x1);
         if (t->hist)
             hist_push(p, t, k, x1);
     }
+    if (p->npyr)
+        pyr_block(p, k);
 }
 
 #if AP_VEC
@@ -1644,7 +1605,7 @@ static void acf_end(igea__apass *p)
 {
     for (int j = 0; j < p->ntau; j++)
         if (p->t[j].acf)
-            means_flush(&p->t[j], p->ws);
+            means_flush(&p->t[j]);
 }
 
 int igea__apass_end(igea__apass *p)
@@ -1663,61 +1624,6 @@ int igea__apass_end(igea__apass *p)
     return st;
 }
 
-static double apacf_r1(const igea__apacf *a);
-
-/* The local values L of block k (f points) again, as block_build made them
- * (its base kept). */
-static void block_l(igea__apass *p, long k, long f)
-{
-    double *L = lblk(p, k), *bf = p->buf + 6 * AP_BUF;
-    if (p->phase) {
-        const double *x = raw_at(p, k * AP_B, f, bf);
-        double x0 = xb(p, k)->hi;
-        for (long j = 0; j < f; j++)
-            L[j] = x[j] - x0;
-        return;
-    }
-    const double *y = raw_at(p, k * AP_B - (k > 0), f, bf);
-    double *d = bf + AP_BUF;
-    d[0] = 0.0;
-    sub_off(y + (k > 0), f - 1, p->off, d + 1);
-    prefix2(d, L, f);
-}
-
-/* A whole record: the lag-1 sums of the means' first differences of the
- * taus m <= AP_LAZY whose means ask for them (r1 / (1 + r1) >= 0.25, the
- * identification's next step; short taus are mostly white, and their 2 N
- * means cost as much as the rest of the identification), in a second run
- * over the blocks, in the batches of the stream's single run (the same
- * sums). */
-static void acf_replay(igea__apass *p)
-{
-    int again = 0;
-    for (int j = 0; j < p->ntau; j++) {
-        aptau *t = &p->t[j];
-        if (t->acf != 1 || t->nmean < 32)
-            continue;
-        double r1 = apacf_r1(&t->a[0]);
-        if (!(r1 / (1.0 + r1) >= 0.25))
-            continue;
-        t->acf = 2;
-        t->nmean = t->nzb = 0;
-        t->next_e = t->m;
-        t->zc[0] = t->zc[1] = t->zc[2] = 0.0;
-        again = 1;
-    }
-    for (long k = 0; again && k * AP_B < p->N; k++) {
-        long f = IGEA_MIN((long)AP_B, p->N - k * AP_B);
-        block_l(p, k, f);
-        for (int j = 0; j < p->ntau; j++)
-            if (p->t[j].acf == 2)
-                means_push(p, &p->t[j], k, k * AP_B + f);
-    }
-    for (int j = 0; again && j < p->ntau; j++)
-        if (p->t[j].acf == 2)
-            means_flush(&p->t[j], p->ws);
-}
-
 int igea__apass_whole(int phase, int ntau, const igea__aptau_spec *spec, long n,
                       const double *v, igea__apass **out)
 {
@@ -1734,8 +1640,6 @@ int igea__apass_whole(int phase, int ntau, const igea__aptau_spec *spec, long n,
     for (long k = 0; !st && k * AP_B < N; k++)
         st = block_do(p, k, IGEA_MIN((long)AP_B, N - k * AP_B), (k + 1) * AP_B >= N);
     acf_end(p);
-    if (!st)
-        acf_replay(p);
     if (st) {
         igea__apass_free(p);
         return st;
@@ -1756,13 +1660,13 @@ void igea__apass_get(const igea__apass *p, int j, double *sumsq, long *count)
 
 /* r1 of an accumulated series (Riley and Greenhall's estimator with the
  * series mean removed). */
-static double apacf_r1(const igea__apacf *a)
+static double apacf_r1(const igea__apacf *a, double tol)
 {
     double N = a->n, s = igea__ksum_get(&a->s), zb = s / N;
     double den = igea__ksum_get(&a->ss) - N * zb * zb;
     double num = igea__ksum_get(&a->lag) - zb * (s - a->last) - zb * (s - a->first) +
                  (N - 1) * zb * zb;
-    return den > 0.0 ? num / den : 0.0;
+    return den > tol ? num / den : 0.0;
 }
 
 int igea__apass_alpha(const igea__apass *p, int j)
@@ -1770,30 +1674,49 @@ int igea__apass_alpha(const igea__apass *p, int j)
     const aptau *t = &p->t[j];
     if (!t->acf || t->nmean < 32)
         return IGEA_STABILITY_NOISE_AUTO;
-    /* the second differences e_j = w_j - w_{j-1} of the K - 1 first
-     * differences w_j (shifted, j = 1 .. K-1) from their sums D2 = sum w^2,
-     * L1 = sum w_j w_{j+1}, L2 = sum w_j w_{j+2} and the end values
-     * (docs/stability.md) */
-    igea__apacf e = {0};
-    {
-        double sh = t->a[1].sh, K = (double)t->nmean;
-        double w1 = t->dfirst[0] - sh, w2 = t->dfirst[1] - sh;
-        double wk1 = t->dlast[0] - sh, wk = t->dlast[1] - sh;
-        double D2 = igea__ksum_get(&t->a[1].ss), L1 = igea__ksum_get(&t->a[1].lag);
-        double L2 = igea__ksum_get(&t->lag2);
-        e.n = K - 2.0;
-        igea__ksum_add(&e.s, wk - w1);
-        igea__ksum_add(&e.ss, 2.0 * D2 - w1 * w1 - wk * wk - 2.0 * L1);
-        igea__ksum_add(&e.lag, 2.0 * L1 - w1 * w2 - wk1 * wk - D2 + w1 * w1 + wk * wk - L2);
-        e.first = w2 - w1;
-        e.last = wk - wk1;
-    }
+    /* the means z_0 .. z_{K-1} (Q = sum z^2, L_l = sum z_{i-l} z_i), their
+     * first differences d_j = z_j - z_{j-1} (j = 1 .. K-1: D = sum d^2, M_l =
+     * sum d_{j-l} d_j) and second differences e_j = d_j - d_{j-1}, each
+     * series' sums from the lag sums of the one before and its end values
+     * (docs/stability.md, "One pass") */
+    double K = (double)t->nmean, Q = igea__ksum_get(&t->zs[1]);
+    double L1 = igea__ksum_get(&t->zs[2]), L2 = igea__ksum_get(&t->zs[3]);
+    double L3 = igea__ksum_get(&t->zs[4]);
+    double z0 = t->zf[0], z1 = t->zf[1], z2 = t->zf[2];
+    double y3 = t->zc[0], y2 = t->zc[1], y1 = t->zc[2]; /* z_{K-3}, z_{K-2}, z_{K-1} */
+    double D = 2.0 * Q - z0 * z0 - y1 * y1 - 2.0 * L1;
+    double M1 = 2.0 * L1 - z0 * z1 - y2 * y1 - Q + z0 * z0 + y1 * y1 - L2;
+    double M2 = (L2 - z0 * z2) - (L1 - z0 * z1 - y2 * y1) - L3 + (L2 - y3 * y1);
+    double w1 = z1 - z0, w2 = z2 - z1, wk1 = y2 - y3, wk = y1 - y2;
+    igea__apacf a[3] = {{0}};
+    a[0].n = K;
+    igea__ksum_add(&a[0].s, igea__ksum_get(&t->zs[0]));
+    igea__ksum_add(&a[0].ss, Q);
+    igea__ksum_add(&a[0].lag, L1);
+    a[0].first = z0;
+    a[0].last = y1;
+    a[1].n = K - 1.0;
+    igea__ksum_add(&a[1].s, y1 - z0);
+    igea__ksum_add(&a[1].ss, D);
+    igea__ksum_add(&a[1].lag, M1);
+    a[1].first = w1;
+    a[1].last = wk;
+    a[2].n = K - 2.0;
+    igea__ksum_add(&a[2].s, wk - w1);
+    igea__ksum_add(&a[2].ss, 2.0 * D - w1 * w1 - wk * wk - 2.0 * M1);
+    igea__ksum_add(&a[2].lag, 2.0 * M1 - w1 * w2 - wk1 * wk - D + w1 * w1 + wk * wk - M2);
+    a[2].first = w2 - w1;
+    a[2].last = wk - wk1;
+    /* the rounding of a derived series' sums: a series whose spread is
+     * below it is constant (r1 = 0) [D] */
+    double tol = 1e-12 * Q;
     for (int d = 0; d <= 2; d++) {
-        double r1 = apacf_r1(d == 2 ? &e : &t->a[d]), delta = r1 / (1.0 + r1);
+        double r1 = apacf_r1(&a[d], tol), delta = r1 / (1.0 + r1);
         if (delta < 0.25 || d == 2) {
             long alpha = lround(-2.0 * (delta + d));
             return (int)IGEA_MAX(IGEA_STABILITY_NOISE_RWFM, IGEA_MIN(IGEA_STABILITY_NOISE_WPM, alpha));
         }
+        tol *= 4.0;
     }
     return IGEA_STABILITY_NOISE_WFM;
 }

@@ -71,6 +71,23 @@ def test_against_numpy_and_intervals():
     assert "overlapping Allan deviation" in igea.allan(y, fs).summary()
 
 
+def test_modified_when_the_phase_fills_its_last_block():
+    """n + 1 rate samples' phase points (or n phase points) a multiple of the
+    pass's block of 1024: the last running sum W_N lies in an empty block
+    after a full one; the short taus' terms there against the definition."""
+    rng = np.random.default_rng(5)
+    for n in (1023, 2047, 4095):
+        y = 3.0 + rng.normal(0, 1.0, n) + np.cumsum(rng.normal(0, 0.05, n))
+        for noise in ("wfm", "auto"):
+            r = igea.allan(y, 1.0, [1, 2, 4, 8, 64, 256], kind="modified", noise=noise)
+            np.testing.assert_allclose(r.dev, [ref_mdev(y, m) for m in (1, 2, 4, 8, 64, 256)],
+                                       rtol=1e-11)
+    x = np.cumsum(rng.normal(0, 1.0, 2048))               # phase, 2048 points
+    r = igea.stability(x, 1.0, [1, 2, 8, 100], kind="mdev", data_type="phase", noise="wfm")
+    np.testing.assert_allclose(r.dev, [ref_mdev(np.diff(x), m) for m in (1, 2, 8, 100)],
+                               rtol=1e-11)
+
+
 def exact_edf(n, m, kind, noise):
     """EDF = tr(C)^2 / |C|_F^2 of the estimator's terms z = A w for white w
     (independent of the library: direct matrix algebra)."""
@@ -134,6 +151,19 @@ def test_ramp_closed_form():
     for kind in ("overlapping", "modified", "nonoverlapping"):
         r = igea.allan(y, fs, [0.1, 1.0, 10.0, 100.0], kind=kind, noise="rwfm")
         np.testing.assert_allclose(r.dev, R * r.taus / math.sqrt(2), rtol=1e-8)
+
+
+def test_auto_noise_on_a_noiseless_ramp():
+    # the m-means of a ramp lie on a line: r1/(1 + r1) of the means is about
+    # 1/2, their first differences are constant (r1 = 0 in exact arithmetic),
+    # so the lag-1 method gives alpha = -2 (random-walk FM) at every tau
+    taus = [1, 2, 4, 8, 64, 1024]
+    for scale, offset in ((1e-3, 0.0), (1.0, 1e6), (1e3, 1.0)):
+        y = offset + scale * (3.0 + 1e-3 * np.arange(70001))
+        for kind in ("overlapping", "modified"):
+            auto = igea.allan(y, 1.0, taus, kind=kind, noise="auto")
+            rwfm = igea.allan(y, 1.0, taus, kind=kind, noise="rwfm")
+            np.testing.assert_array_equal(auto.edf, rwfm.edf)
 
 
 def test_block_3sigma():
