@@ -215,14 +215,16 @@ static void mb_block(const mb_job *jb, gsl_rng *r, int f0, int nb, double *XS,
 }
 
 /* Flight f's verdict from its projections pb, recorded as mc_judge does
- * (sim.c), its components counted in cnt (the thread's own, 2 N); scratch
- * w (4 N + IGEA_STATS_INFO_LEN), vc the caches (6 N). */
-static int mb_judge(const mb_job *jb, int f, const double *pb, double *w, double *vc,
-                    int *rej, int *cnt)
+ * (sim.c), its components counted in cnt (the thread's own, 2 N); pre the
+ * model's sqrt(lam0) and sqrt(1 + 1 / lam0) (mb_pre), scratch w (4 N +
+ * IGEA_STATS_INFO_LEN), vc the caches (6 N). The p-value is not computed:
+ * no output of the study holds it. */
+static int mb_judge(const mb_job *jb, int f, const double *pb, const double *pre, double *w,
+                    double *vc, int *rej, int *cnt)
 {
     int N = jb->c->N;
     double *z = w + 3 * (size_t)N, *info = z + N;
-    int st = igea__eqerr_solve_projected(N, jb->lam0, pb, jb->eqo, vc, w, z, rej, info);
+    int st = igea__eqerr_solve_projected(N, jb->lam0, pre, 0, pb, jb->eqo, vc, w, z, rej, info);
     jb->status[f] = st;
     jb->fsize[f] = 0.0;
     jb->zmax[f] = 0.0;
@@ -291,13 +293,26 @@ static void mb_rows(const mb_job *jb)
     pthread_mutex_unlock(&jb->qrow->lock);
 }
 
+/* What the judgement of every flight takes from lam0 alone, computed once
+ * per thread: pre[i] = sqrt(lam0[i]), pre[N + i] = sqrt(1 + 1 / lam0[i])
+ * (the expressions of igea__eqerr_solve_projected and the accuracy test,
+ * hence their bits; zero where lam0[i] <= 0, below the rank, not read). */
+static void mb_pre(int N, const double *lam0, double *pre)
+{
+    for (int i = 0; i < N; i++) {
+        int pos = lam0[i] > 0.0;
+        pre[i] = pos ? sqrt(lam0[i]) : 0.0;
+        pre[N + i] = pos ? sqrt(1.0 + 1.0 / lam0[i]) : 0.0;
+    }
+}
+
 static void *mb_worker(void *arg)
 {
     const mb_job *jb = arg;
     const igea_sim_model *c = jb->c;
     size_t m = (size_t)c->m, N = (size_t)c->N, b = (size_t)jb->block;
     mb_rows(jb);
-    double *w = igea__dalloc(b * (N + m + N) + 11 * N + IGEA_STATS_INFO_LEN);
+    double *w = igea__dalloc(b * (N + m + N) + 13 * N + IGEA_STATS_INFO_LEN);
     int *rej = igea__ialloc(3 * N);
     gsl_rng *r = (w && rej) ? igea__rng_new(igea__sim_rng_type(c), 0) : NULL;
     if (!r) {
@@ -307,9 +322,10 @@ static void *mb_worker(void *arg)
         return NULL;
     }
     double *XS = w, *DW = XS + b * N, *PB = DW + b * m, *x = PB + b * N;
-    double *vc = x + N, *judge = vc + 6 * N;
+    double *vc = x + N, *pre = vc + 6 * N, *judge = pre + 2 * N;
     int *cnt = rej + N, f0, nb;
     memset(vc, 0, 6 * N * sizeof(double));
+    mb_pre((int)N, jb->lam0, pre);
     memset(cnt, 0, 2 * N * sizeof(int));
     while ((nb = igea__sim_queue_take(jb->q, jb->block, MB_CHUNK, &f0)) > 0) {
         if (r->type == igea__xoshiro_type)
@@ -317,7 +333,7 @@ static void *mb_worker(void *arg)
         else
             mb_block(jb, r, f0, nb, XS, DW, PB, x);
         for (int j = 0; j < nb; j++) {
-            int st = mb_judge(jb, f0 + j, PB + (size_t)j * N, judge, vc, rej, cnt);
+            int st = mb_judge(jb, f0 + j, PB + (size_t)j * N, pre, judge, vc, rej, cnt);
             if (st) {
                 igea__sim_queue_fail(jb->q, f0 + j, st);
                 break;
