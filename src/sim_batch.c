@@ -87,8 +87,11 @@ typedef struct {
     const double *Q, *lam0, *eqo, *L; /* L = V diag(lam0), N x N */
     /* Q = Sw V (m x N) in row segments before the flights (mb_rows) */
     const igea__sim_setup *s;
+    igea__sim_setup_fn setup; /* NULL, or run by the calling thread (mb_run) */
+    double *zeros;
     igea__sim_queue *qrow;
     int *rows_done;
+    int *setup_state;         /* 0 running, 1 done, -1 failed (under qrow's lock) */
     pthread_cond_t *rows_cv;
     int seed, first, block;
     double *chi2, *scale, *zmax, *fsize;
@@ -150,10 +153,12 @@ void igea__sim_noise_xoshiro(const igea_sim_model *c, void *st, double *dw)
 
 /* A block on the keyed streams: the truths X (N x b, unscaled) and the
  * whitened noises E (m x b; the noise models of sim_noise.c drawn as
- * igea__sim_draw_noise draws them, then divided by sigma), then PB = L^T X + Q^T E with L = V diag(lam0)
- * (Q^T Sw = V^T A = diag(lam0) V^T: the product with S is not formed). */
-static void mb_block_xoshiro(const mb_job *jb, gsl_rng *r, int f0, int nb, double *X,
-                             double *E, double *PB, double *xs)
+ * igea__sim_draw_noise draws them, then divided by sigma); mb_products_xoshiro
+ * then forms PB = L^T X + Q^T E with L = V diag(lam0) (Q^T Sw = V^T A =
+ * diag(lam0) V^T: the product with S is not formed). The draws need no
+ * set-up. */
+static void mb_draw_xoshiro(const mb_job *jb, gsl_rng *r, int f0, int nb, double *X,
+                            double *E, double *xs)
 {
     const igea_sim_model *c = jb->c;
     int m = c->m, N = c->N, b = (nb + MB_CHUNK - 1) / MB_CHUNK * MB_CHUNK;
@@ -174,6 +179,12 @@ static void mb_block_xoshiro(const mb_job *jb, gsl_rng *r, int f0, int nb, doubl
         for (int i = 0; i < m; i++)
             e[i] /= c->sigma[i];
     }
+}
+
+static void mb_products_xoshiro(const mb_job *jb, int nb, const double *X, const double *E,
+                                double *PB)
+{
+    int m = jb->c->m, N = jb->c->N, b = (nb + MB_CHUNK - 1) / MB_CHUNK * MB_CHUNK;
     for (int j0 = 0; j0 < b; j0 += MB_CHUNK) {
         double *pb = PB + (size_t)j0 * N;
         cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, N, MB_CHUNK, N, 1.0, jb->L, N,
@@ -184,11 +195,11 @@ static void mb_block_xoshiro(const mb_job *jb, gsl_rng *r, int f0, int nb, doubl
 }
 
 /* The block's truths (XS, N x b) and noises (DW, m x b), zero columns past
- * nb flights up to b = nb rounded up to MB_CHUNK, then DW =
- * diag(sigma)^-1 (DW + S XS) and PB = Q^T DW, by dgemm calls of MB_CHUNK
- * columns each. */
-static void mb_block(const mb_job *jb, gsl_rng *r, int f0, int nb, double *XS,
-                     double *DW, double *PB, double *x)
+ * nb flights up to b = nb rounded up to MB_CHUNK (no set-up needed);
+ * mb_products then forms DW = diag(sigma)^-1 (DW + S XS) and PB = Q^T DW,
+ * by dgemm calls of MB_CHUNK columns each. */
+static void mb_draw(const mb_job *jb, gsl_rng *r, int f0, int nb, double *XS, double *DW,
+                    double *x)
 {
     const igea_sim_model *c = jb->c;
     int m = c->m, N = c->N, b = (nb + MB_CHUNK - 1) / MB_CHUNK * MB_CHUNK;
@@ -202,6 +213,12 @@ static void mb_block(const mb_job *jb, gsl_rng *r, int f0, int nb, double *XS,
         igea__sim_draw_truth(c, r, jb->seed, jb->first + f0 + j, x, xs);
         igea__sim_draw_noise(c, r, dw);
     }
+}
+
+static void mb_products(const mb_job *jb, int nb, double *XS, double *DW, double *PB)
+{
+    const igea_sim_model *c = jb->c;
+    int m = c->m, N = c->N, b = (nb + MB_CHUNK - 1) / MB_CHUNK * MB_CHUNK;
     for (int j0 = 0; j0 < b; j0 += MB_CHUNK) {
         double *xs = XS + (size_t)j0 * N, *dw = DW + (size_t)j0 * m;
         cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, m, MB_CHUNK, N, 1.0, c->S, m,
@@ -311,7 +328,6 @@ static void *mb_worker(void *arg)
     const mb_job *jb = arg;
     const igea_sim_model *c = jb->c;
     size_t m = (size_t)c->m, N = (size_t)c->N, b = (size_t)jb->block;
-    mb_rows(jb);
     double *w = igea__dalloc(b * (N + m + N) + 13 * N + IGEA_STATS_INFO_LEN);
     int *rej = igea__ialloc(3 * N);
     gsl_rng *r = (w && rej) ? igea__rng_new(igea__sim_rng_type(c), 0) : NULL;
@@ -322,16 +338,49 @@ static void *mb_worker(void *arg)
         return NULL;
     }
     double *XS = w, *DW = XS + b * N, *PB = DW + b * m, *x = PB + b * N;
+    int xo = r->type == igea__xoshiro_type, f0 = 0, nb = 0, drawn = 0;
+    /* the first block's draws while the calling thread runs the set-up */
+    pthread_mutex_lock(&jb->qrow->lock);
+    int waiting = *jb->setup_state == 0;
+    pthread_mutex_unlock(&jb->qrow->lock);
+    if (waiting && (nb = igea__sim_queue_take(jb->q, jb->block, MB_CHUNK, &f0)) > 0) {
+        if (xo)
+            mb_draw_xoshiro(jb, r, f0, nb, XS, DW, x);
+        else
+            mb_draw(jb, r, f0, nb, XS, DW, x);
+        drawn = 1;
+    }
+    pthread_mutex_lock(&jb->qrow->lock);
+    while (*jb->setup_state == 0)
+        pthread_cond_wait(jb->rows_cv, &jb->qrow->lock);
+    int setup_ok = *jb->setup_state == 1;
+    pthread_mutex_unlock(&jb->qrow->lock);
+    if (!setup_ok) {
+        igea__rng_free(r);
+        free(w);
+        free(rej);
+        return NULL;
+    }
+    mb_rows(jb);
     double *vc = x + N, *pre = vc + 6 * N, *judge = pre + 2 * N;
-    int *cnt = rej + N, f0, nb;
+    int *cnt = rej + N;
     memset(vc, 0, 6 * N * sizeof(double));
     mb_pre((int)N, jb->lam0, pre);
     memset(cnt, 0, 2 * N * sizeof(int));
-    while ((nb = igea__sim_queue_take(jb->q, jb->block, MB_CHUNK, &f0)) > 0) {
-        if (r->type == igea__xoshiro_type)
-            mb_block_xoshiro(jb, r, f0, nb, XS, DW, PB, x);
+    for (;;) {
+        if (!drawn) {
+            if ((nb = igea__sim_queue_take(jb->q, jb->block, MB_CHUNK, &f0)) <= 0)
+                break;
+            if (xo)
+                mb_draw_xoshiro(jb, r, f0, nb, XS, DW, x);
+            else
+                mb_draw(jb, r, f0, nb, XS, DW, x);
+        }
+        drawn = 0;
+        if (xo)
+            mb_products_xoshiro(jb, nb, XS, DW, PB);
         else
-            mb_block(jb, r, f0, nb, XS, DW, PB, x);
+            mb_products(jb, nb, XS, DW, PB);
         for (int j = 0; j < nb; j++) {
             int st = mb_judge(jb, f0 + j, PB + (size_t)j * N, pre, judge, vc, rej, cnt);
             if (st) {
@@ -351,7 +400,10 @@ static void *mb_worker(void *arg)
 }
 
 /* Run the job on nthreads threads, the calling thread one of them (a
- * thread that cannot start leaves its share to the others). */
+ * thread that cannot start leaves its share to the others); the calling
+ * thread runs the set-up (if any) once the others are started: they draw
+ * their first block meanwhile (the draws need no set-up) and wait for it
+ * (a failed set-up is the result, at flight -2: before every other). */
 static void mb_run(mb_job *jb, int nthreads)
 {
     pthread_t *tid = calloc((size_t)nthreads, sizeof *tid);
@@ -361,19 +413,30 @@ static void mb_run(mb_job *jb, int nthreads)
             break;
         nstarted = t;
     }
+    if (jb->setup) {
+        int st = jb->setup(jb->c, jb->s, jb->zeros);
+        if (st)
+            igea__sim_queue_fail(jb->q, -2, st);
+        pthread_mutex_lock(&jb->qrow->lock);
+        *jb->setup_state = st ? -1 : 1;
+        pthread_cond_broadcast(jb->rows_cv);
+        pthread_mutex_unlock(&jb->qrow->lock);
+    }
     mb_worker(jb);
     for (int t = 1; t <= nstarted; t++)
         pthread_join(tid[t], NULL);
     free(tid);
 }
 
-int igea__sim_mc_batch(const igea_sim_model *c, const igea__sim_setup *s, int have_q,
+int igea__sim_mc_batch(const igea_sim_model *c, const igea__sim_setup *s,
+                       igea__sim_setup_fn setup, double *zeros, int have_q,
                        const double *eqo, int seed, int first, int nflights,
                        int nthreads, int block, double *chi2, double *scale, double *zmax,
                        double *fsize, int *dof, int *nrej, int *status, int *cnt)
 {
     int m = c->m, nseg = (m + MB_ROWS - 1) / MB_ROWS, ok = 0;
     int rows_done = have_q ? nseg : 0; /* a kept Q: nothing to do */
+    int setup_state = setup ? 0 : 1;
     igea__sim_queue q, qrow;
     pthread_mutex_t cnt_lock;
     pthread_cond_t rows_cv;
@@ -385,8 +448,9 @@ int igea__sim_mc_batch(const igea_sim_model *c, const igea__sim_setup *s, int ha
     int st = ok == 4 ? 0 : IGEA_ENOMEM;
     block = (block + MB_CHUNK - 1) / MB_CHUNK * MB_CHUNK;
     if (st == 0) {
-        mb_job jb = {c, s->Q, s->lam0, eqo, s->L, s, &qrow, &rows_done, &rows_cv, seed, first,
-                     block, chi2, scale, zmax, fsize, dof, nrej, status, cnt, &cnt_lock, &q};
+        mb_job jb = {c,     s->Q,  s->lam0, eqo,  s->L,   s,    setup, zeros, &qrow,
+                     &rows_done, &setup_state, &rows_cv, seed, first, block, chi2, scale,
+                     zmax,  fsize, dof,     nrej, status, cnt, &cnt_lock, &q};
         mb_run(&jb, nthreads);
         st = q.fail;
     }
