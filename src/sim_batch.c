@@ -107,9 +107,10 @@ void igea__sim_truth_xoshiro(const igea_sim_model *c, void *st, int seed, int fl
                              double *x, double *xs)
 {
     igea__xoshiro_key(st, seed, flight);
+    igea__xoshiro_normals(st, c->N, x); /* drawn for the fixed terms too */
     for (int j = 0; j < c->N; j++) {
-        double g = igea__xoshiro_normal(st);
-        x[j] = c->x_fixed[j] ? c->x_value[j] : g;
+        if (c->x_fixed[j])
+            x[j] = c->x_value[j];
         xs[j] = x[j] * c->spec[j];
     }
 }
@@ -125,10 +126,10 @@ static void noise_xoshiro(const igea_sim_model *c, igea__xoshiro *st, int whiten
     double out_scale = c->opts[IGEA_SIM_OPT_OUTLIER_SCALE];
     double innov = sqrt(1.0 - phi * phi), prev[3] = {0, 0, 0};
     if (whiten && phi == 0.0 && growth == 0.0 && p_out == 0.0) { /* white: the same values */
-        igea__xoshiro s = *st;
-        for (int i = 0; i < c->m; i++)
-            dw[i] = sw * igea__xoshiro_normal(&s);
-        *st = s;
+        int m = c->m;
+        igea__xoshiro_normals(st, m, dw);
+        for (int i = 0; i < m; i++)
+            dw[i] *= sw;
         return;
     }
     for (int e = 0; e < M; e++) {
