@@ -5,10 +5,12 @@
  * flights' own streams (those of igea_sim_flight), forms
  * W = diag(sigma)^-1 (E + S D X) and the projections Q^T W with two dgemm,
  * then each flight's sigma_w loop and tests run on its column
- * (igea__eqerr_solve_projected, with the verdict rule's cache). Every
- * dgemm has MB_CHUNK columns (a short block padded with zero columns), so
- * that a flight's result does not depend on the block it falls in, nor on
- * the thread that runs it. */
+ * (igea__eqerr_solve_projected, with the verdict rule's cache and the
+ * per-thread table of what depends on lam0 alone). Every dgemm has
+ * MB_CHUNK columns (a short block padded with zero columns), so that a
+ * flight's result does not depend on the block it falls in, nor on the
+ * thread that runs it. On a model's first call the other threads draw
+ * their first block while the calling thread runs the set-up. */
 #include <pthread.h>
 
 #include <cblas.h>
