@@ -146,7 +146,8 @@ static int apply_verdict(const double *o, const double *z, int *reject, double *
  */
 static int sigmaw_and_test(int N, int r, const double *lam0, const double *g0,
                            const double *xhat, const double *o, double *vc, double *cc,
-                           double *lambda, double *z, int *reject, double *info)
+                           const double *den0, int want_p, double *lambda, double *z,
+                           int *reject, double *info)
 {
     double c = 1.0;
     int flag = IGEA_STATS_SIGMAW_OFF, iters = 0, nsmall = 0;
@@ -198,9 +199,11 @@ static int sigmaw_and_test(int N, int r, const double *lam0, const double *g0,
         lambda[i] = lam0[i] / c;
     if (r == 0)
         return IGEA_ENOTESTABLE;
+    /* at c = 1, lambda = lam0 to the bit: the caller's sqrt(1 + 1 / lam0) */
     int st = igea__stats_accuracy_cached(r, xhat, lambda, o[IGEA_EQERR_OPT_ALPHA],
                                          o[IGEA_EQERR_OPT_LAMBDA_TEST],
-                                         o[IGEA_EQERR_OPT_Z_CRIT], cc, z, reject, info);
+                                         o[IGEA_EQERR_OPT_Z_CRIT], cc,
+                                         c == 1.0 ? den0 : NULL, want_p, z, reject, info);
     if (st != 0)
         return st < 0 && st > -1000 ? IGEA_EDOMAIN : st;
     for (int i = r; i < N; i++) {
@@ -302,7 +305,7 @@ static int solve_eig(int N, const double *A, int lda, const double *b,
         s->xhat[i] = pb / s->lam0[i];
         s->g0[i] = pb / sqrt(s->lam0[i]);
     }
-    return sigmaw_and_test(N, r, s->lam0, s->g0, s->xhat, o, vc, NULL, s->lambda, s->z,
+    return sigmaw_and_test(N, r, s->lam0, s->g0, s->xhat, o, vc, NULL, NULL, 1, s->lambda, s->z,
                            s->reject, s->info);
 }
 
@@ -398,7 +401,7 @@ static int solve_qr(int N, const double *R, int ldr, double rows, const double *
             if (!isfinite(s->lam0[i]) || (i < r && !(s->lam0[i] >= DBL_MIN)))
                 st = IGEA_EOVERFLOW;
         if (st == 0)
-            st = sigmaw_and_test(N, r, s->lam0, s->g0, s->xhat, o, NULL, NULL, s->lambda,
+            st = sigmaw_and_test(N, r, s->lam0, s->g0, s->xhat, o, NULL, NULL, NULL, 1, s->lambda,
                                  s->z, s->reject, s->info);
     }
     free(Rc);
@@ -1079,9 +1082,9 @@ int igea_eqerr_components(int N, const double *P, int ldp, int ncomp,
     return 0;
 }
 
-int igea__eqerr_solve_projected(int N, const double *lam0, const double *pb,
-                                const double *opts, double *vcache, double *work,
-                                double *z, int *reject, double *info)
+int igea__eqerr_solve_projected(int N, const double *lam0, const double *pre, int want_p,
+                                const double *pb, const double *opts, double *vcache,
+                                double *work, double *z, int *reject, double *info)
 {
     double *g0 = work, *xhat = g0 + N, *lambda = xhat + N;
     double tol = opts[IGEA_EQERR_OPT_RANK_TOL] > 0 ? opts[IGEA_EQERR_OPT_RANK_TOL]
@@ -1091,10 +1094,10 @@ int igea__eqerr_solve_projected(int N, const double *lam0, const double *pb,
         return IGEA_ENONFINITE;
     for (int i = 0; i < N; i++) {
         xhat[i] = i < r ? pb[i] / lam0[i] : 0.0;
-        g0[i] = i < r ? pb[i] / sqrt(lam0[i]) : 0.0;
+        g0[i] = i < r ? pb[i] / (pre ? pre[i] : sqrt(lam0[i])) : 0.0;
     }
     int st = sigmaw_and_test(N, r, lam0, g0, xhat, opts, vcache, vcache + 4 * (size_t)N,
-                             lambda, z, reject, info);
+                             pre ? pre + N : NULL, want_p, lambda, z, reject, info);
     if (st == 0 && !(igea__finite_vec(N, lambda, 1) && igea__finite_vec(N, xhat, 1) &&
                      igea__finite_vec(N, z, 1) &&
                      igea__finite_vec(IGEA_STATS_INFO_LEN, info, 1)))

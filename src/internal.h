@@ -176,16 +176,23 @@ int igea__eqerr_solve_cached(int N, const double *A, int lda, const double *b,
  * (N) the projections p_i^T b; work 3 N doubles; vcache 6 N doubles (the
  * verdict rule's 4 N, then chi2_alpha's 2 N), zeros at first, kept between
  * the calls of one thread; writes z, reject (N) and info; the same statuses
- * (IGEA_ENONFINITE for a non-finite pb). */
-int igea__eqerr_solve_projected(int N, const double *lam0, const double *pb,
-                                const double *opts, double *vcache, double *work,
-                                double *z, int *reject, double *info);
+ * (IGEA_ENONFINITE for a non-finite pb). pre NULL, or 2 N doubles computed
+ * once for lam0: sqrt(lam0[i]), then sqrt(1 + 1 / lam0[i]) (the same
+ * expressions as computed here: the same bits); want_p 0 leaves the
+ * p-value out of info (P_VALUE 0). */
+int igea__eqerr_solve_projected(int N, const double *lam0, const double *pre, int want_p,
+                                const double *pb, const double *opts, double *vcache,
+                                double *work, double *z, int *reject, double *info);
 
 /* igea_stats_accuracy_test (stats.c) with a cache of chi2_alpha(n_test):
  * cc NULL, or 2 n doubles, zeros at first, kept between the calls of one
- * thread with the same alpha (the batched Monte Carlo). */
+ * thread with the same alpha (the batched Monte Carlo); den NULL, or
+ * den[i] = sqrt(1 + 1 / lambda[i]) computed by the caller (the same
+ * expression: the same bits); want_p 0 leaves the p-value out (P_VALUE 0:
+ * for callers that do not read it). */
 int igea__stats_accuracy_cached(int n, const double *equiv_err, const double *lambda,
                                 double alpha, double lambda_test, double z_crit,
-                                double *cc, double *z, int *reject, double *info);
+                                double *cc, const double *den, int want_p, double *z,
+                                int *reject, double *info);
 
 #endif

@@ -103,6 +103,35 @@ double igea__xoshiro_normal_slow(igea__xoshiro *st, uint64_t b)
     return z;
 }
 
+/* igea__xoshiro_normal's steps with the four words in locals: the inline
+ * form keeps the state in memory around the loop (its address goes to the
+ * rare path), a store-to-load chain on every draw. */
+void igea__xoshiro_normals(igea__xoshiro *st, int n, double *z)
+{
+    uint64_t s0 = st->s[0], s1 = st->s[1], s2 = st->s[2], s3 = st->s[3];
+    for (int k = 0; k < n; k++) {
+        uint64_t a = s0 + s3;
+        uint64_t b = ((a << 23) | (a >> 41)) + s0;
+        uint64_t t = s1 << 17;
+        s2 ^= s0;
+        s3 ^= s1;
+        s1 ^= s2;
+        s0 ^= s3;
+        s2 ^= t;
+        s3 = (s3 << 45) | (s3 >> 19);
+        double u = (double)((int64_t)b >> 11) * 0x1.0p-52;
+        unsigned i = (unsigned)(b & (ZIG_C - 1));
+        if (fabs(u) < igea__zig_ratio[i]) {
+            z[k] = u * igea__zig_x[i];
+            continue;
+        }
+        igea__xoshiro w = {{s0, s1, s2, s3}};
+        z[k] = igea__xoshiro_normal_slow(&w, b);
+        s0 = w.s[0], s1 = w.s[1], s2 = w.s[2], s3 = w.s[3];
+    }
+    st->s[0] = s0, st->s[1] = s1, st->s[2] = s2, st->s[3] = s3;
+}
+
 /* ---- the GSL face ------------------------------------------------------ */
 
 static void gsl_set(void *state, unsigned long seed)

@@ -71,4 +71,8 @@ static inline double igea__xoshiro_normal(igea__xoshiro *st)
     return igea__xoshiro_normal_slow(st, b);
 }
 
+/* n standard normals into z, those of n calls of igea__xoshiro_normal (the
+ * same values; the state kept in registers through the loop: rng.c). */
+void igea__xoshiro_normals(igea__xoshiro *st, int n, double *z);
+
 #endif

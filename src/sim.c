@@ -903,11 +903,13 @@ static int mc_main(const igea_sim_model *c, const double *eqo, int seed,
                      f_dof, f_nrej, f_status, cnt, &cnt_lock, &q,
                      noise, ngroups, usecov ? cov6 : NULL, grp, {0}, f_cov, f_nout};
         memcpy(jb.phi, phi, sizeof phi);
-        if (own)
-            st = mc_setup(c, &su, zeros);
         int block = (int)c->opts[IGEA_SIM_OPT_BATCH];
-        if (st == 0 && !noise && !c->nonlinear && block != 1) { /* batched: sim_batch.c */
-            st = igea__sim_mc_batch(c, &su, kept != NULL, eqo, seed, first, nflights, nthreads,
+        int batched = !noise && !c->nonlinear && block != 1;
+        if (own && !batched) /* the batched path runs it beside its threads' first draws */
+            st = mc_setup(c, &su, zeros);
+        if (st == 0 && batched) { /* batched: sim_batch.c */
+            st = igea__sim_mc_batch(c, &su, own ? mc_setup : NULL, zeros, kept != NULL, eqo,
+                                    seed, first, nflights, nthreads,
                                     block ? block : IGEA_SIM_BATCH_DEFAULT, f_chi2, f_scale,
                                     f_zmax, f_size, f_dof, f_nrej, f_status, cnt);
         } else if (st == 0) {

@@ -5,10 +5,12 @@
  * flights' own streams (those of igea_sim_flight), forms
  * W = diag(sigma)^-1 (E + S D X) and the projections Q^T W with two dgemm,
  * then each flight's sigma_w loop and tests run on its column
- * (igea__eqerr_solve_projected, with the verdict rule's cache). Every
- * dgemm has MB_CHUNK columns (a short block padded with zero columns), so
- * that a flight's result does not depend on the block it falls in, nor on
- * the thread that runs it. */
+ * (igea__eqerr_solve_projected, with the verdict rule's cache and the
+ * per-thread table of what depends on lam0 alone). Every dgemm has
+ * MB_CHUNK columns (a short block padded with zero columns), so that a
+ * flight's result does not depend on the block it falls in, nor on the
+ * thread that runs it. On a model's first call the other threads draw
+ * their first block while the calling thread runs the set-up. */
 #include <pthread.h>
 
 #include <cblas.h>
@@ -87,8 +89,11 @@ typedef struct {
     const double *Q, *lam0, *eqo, *L; /* L = V diag(lam0), N x N */
     /* Q = Sw V (m x N) in row segments before the flights (mb_rows) */
     const igea__sim_setup *s;
+    igea__sim_setup_fn setup; /* NULL, or run by the calling thread (mb_run) */
+    double *zeros;
     igea__sim_queue *qrow;
     int *rows_done;
+    int *setup_state;         /* 0 running, 1 done, -1 failed (under qrow's lock) */
     pthread_cond_t *rows_cv;
     int seed, first, block;
     double *chi2, *scale, *zmax, *fsize;
@@ -104,9 +109,10 @@ void igea__sim_truth_xoshiro(const igea_sim_model *c, void *st, int seed, int fl
                              double *x, double *xs)
 {
     igea__xoshiro_key(st, seed, flight);
+    igea__xoshiro_normals(st, c->N, x); /* drawn for the fixed terms too */
     for (int j = 0; j < c->N; j++) {
-        double g = igea__xoshiro_normal(st);
-        x[j] = c->x_fixed[j] ? c->x_value[j] : g;
+        if (c->x_fixed[j])
+            x[j] = c->x_value[j];
         xs[j] = x[j] * c->spec[j];
     }
 }
@@ -122,10 +128,10 @@ static void noise_xoshiro(const igea_sim_model *c, igea__xoshiro *st, int whiten
     double out_scale = c->opts[IGEA_SIM_OPT_OUTLIER_SCALE];
     double innov = sqrt(1.0 - phi * phi), prev[3] = {0, 0, 0};
     if (whiten && phi == 0.0 && growth == 0.0 && p_out == 0.0) { /* white: the same values */
-        igea__xoshiro s = *st;
-        for (int i = 0; i < c->m; i++)
-            dw[i] = sw * igea__xoshiro_normal(&s);
-        *st = s;
+        int m = c->m;
+        igea__xoshiro_normals(st, m, dw);
+        for (int i = 0; i < m; i++)
+            dw[i] *= sw;
         return;
     }
     for (int e = 0; e < M; e++) {
@@ -150,10 +156,12 @@ void igea__sim_noise_xoshiro(const igea_sim_model *c, void *st, double *dw)
 
 /* A block on the keyed streams: the truths X (N x b, unscaled) and the
  * whitened noises E (m x b; the noise models of sim_noise.c drawn as
- * igea__sim_draw_noise draws them, then divided by sigma), then PB = L^T X + Q^T E with L = V diag(lam0)
- * (Q^T Sw = V^T A = diag(lam0) V^T: the product with S is not formed). */
-static void mb_block_xoshiro(const mb_job *jb, gsl_rng *r, int f0, int nb, double *X,
-                             double *E, double *PB, double *xs)
+ * igea__sim_draw_noise draws them, then divided by sigma); mb_products_xoshiro
+ * then forms PB = L^T X + Q^T E with L = V diag(lam0) (Q^T Sw = V^T A =
+ * diag(lam0) V^T: the product with S is not formed). The draws need no
+ * set-up. */
+static void mb_draw_xoshiro(const mb_job *jb, gsl_rng *r, int f0, int nb, double *X,
+                            double *E, double *xs)
 {
     const igea_sim_model *c = jb->c;
     int m = c->m, N = c->N, b = (nb + MB_CHUNK - 1) / MB_CHUNK * MB_CHUNK;
@@ -174,6 +182,12 @@ static void mb_block_xoshiro(const mb_job *jb, gsl_rng *r, int f0, int nb, doubl
         for (int i = 0; i < m; i++)
             e[i] /= c->sigma[i];
     }
+}
+
+static void mb_products_xoshiro(const mb_job *jb, int nb, const double *X, const double *E,
+                                double *PB)
+{
+    int m = jb->c->m, N = jb->c->N, b = (nb + MB_CHUNK - 1) / MB_CHUNK * MB_CHUNK;
     for (int j0 = 0; j0 < b; j0 += MB_CHUNK) {
         double *pb = PB + (size_t)j0 * N;
         cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, N, MB_CHUNK, N, 1.0, jb->L, N,
@@ -184,11 +198,11 @@ static void mb_block_xoshiro(const mb_job *jb, gsl_rng *r, int f0, int nb, doubl
 }
 
 /* The block's truths (XS, N x b) and noises (DW, m x b), zero columns past
- * nb flights up to b = nb rounded up to MB_CHUNK, then DW =
- * diag(sigma)^-1 (DW + S XS) and PB = Q^T DW, by dgemm calls of MB_CHUNK
- * columns each. */
-static void mb_block(const mb_job *jb, gsl_rng *r, int f0, int nb, double *XS,
-                     double *DW, double *PB, double *x)
+ * nb flights up to b = nb rounded up to MB_CHUNK (no set-up needed);
+ * mb_products then forms DW = diag(sigma)^-1 (DW + S XS) and PB = Q^T DW,
+ * by dgemm calls of MB_CHUNK columns each. */
+static void mb_draw(const mb_job *jb, gsl_rng *r, int f0, int nb, double *XS, double *DW,
+                    double *x)
 {
     const igea_sim_model *c = jb->c;
     int m = c->m, N = c->N, b = (nb + MB_CHUNK - 1) / MB_CHUNK * MB_CHUNK;
@@ -202,6 +216,12 @@ static void mb_block(const mb_job *jb, gsl_rng *r, int f0, int nb, double *XS,
         igea__sim_draw_truth(c, r, jb->seed, jb->first + f0 + j, x, xs);
         igea__sim_draw_noise(c, r, dw);
     }
+}
+
+static void mb_products(const mb_job *jb, int nb, double *XS, double *DW, double *PB)
+{
+    const igea_sim_model *c = jb->c;
+    int m = c->m, N = c->N, b = (nb + MB_CHUNK - 1) / MB_CHUNK * MB_CHUNK;
     for (int j0 = 0; j0 < b; j0 += MB_CHUNK) {
         double *xs = XS + (size_t)j0 * N, *dw = DW + (size_t)j0 * m;
         cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, m, MB_CHUNK, N, 1.0, c->S, m,
@@ -215,14 +235,16 @@ static void mb_block(const mb_job *jb, gsl_rng *r, int f0, int nb, double *XS,
 }
 
 /* Flight f's verdict from its projections pb, recorded as mc_judge does
- * (sim.c), its components counted in cnt (the thread's own, 2 N); scratch
- * w (4 N + IGEA_STATS_INFO_LEN), vc the caches (6 N). */
-static int mb_judge(const mb_job *jb, int f, const double *pb, double *w, double *vc,
-                    int *rej, int *cnt)
+ * (sim.c), its components counted in cnt (the thread's own, 2 N); pre the
+ * model's sqrt(lam0) and sqrt(1 + 1 / lam0) (mb_pre), scratch w (4 N +
+ * IGEA_STATS_INFO_LEN), vc the caches (6 N). The p-value is not computed:
+ * no output of the study holds it. */
+static int mb_judge(const mb_job *jb, int f, const double *pb, const double *pre, double *w,
+                    double *vc, int *rej, int *cnt)
 {
     int N = jb->c->N;
     double *z = w + 3 * (size_t)N, *info = z + N;
-    int st = igea__eqerr_solve_projected(N, jb->lam0, pb, jb->eqo, vc, w, z, rej, info);
+    int st = igea__eqerr_solve_projected(N, jb->lam0, pre, 0, pb, jb->eqo, vc, w, z, rej, info);
     jb->status[f] = st;
     jb->fsize[f] = 0.0;
     jb->zmax[f] = 0.0;
@@ -291,13 +313,25 @@ static void mb_rows(const mb_job *jb)
     pthread_mutex_unlock(&jb->qrow->lock);
 }
 
+/* What the judgement of every flight takes from lam0 alone, computed once
+ * per thread: pre[i] = sqrt(lam0[i]), pre[N + i] = sqrt(1 + 1 / lam0[i])
+ * (the expressions of igea__eqerr_solve_projected and the accuracy test,
+ * hence their bits; zero where lam0[i] <= 0, below the rank, not read). */
+static void mb_pre(int N, const double *lam0, double *pre)
+{
+    for (int i = 0; i < N; i++) {
+        int pos = lam0[i] > 0.0;
+        pre[i] = pos ? sqrt(lam0[i]) : 0.0;
+        pre[N + i] = pos ? sqrt(1.0 + 1.0 / lam0[i]) : 0.0;
+    }
+}
+
 static void *mb_worker(void *arg)
 {
     const mb_job *jb = arg;
     const igea_sim_model *c = jb->c;
     size_t m = (size_t)c->m, N = (size_t)c->N, b = (size_t)jb->block;
-    mb_rows(jb);
-    double *w = igea__dalloc(b * (N + m + N) + 11 * N + IGEA_STATS_INFO_LEN);
+    double *w = igea__dalloc(b * (N + m + N) + 13 * N + IGEA_STATS_INFO_LEN);
     int *rej = igea__ialloc(3 * N);
     gsl_rng *r = (w && rej) ? igea__rng_new(igea__sim_rng_type(c), 0) : NULL;
     if (!r) {
@@ -307,17 +341,51 @@ static void *mb_worker(void *arg)
         return NULL;
     }
     double *XS = w, *DW = XS + b * N, *PB = DW + b * m, *x = PB + b * N;
-    double *vc = x + N, *judge = vc + 6 * N;
-    int *cnt = rej + N, f0, nb;
-    memset(vc, 0, 6 * N * sizeof(double));
-    memset(cnt, 0, 2 * N * sizeof(int));
-    while ((nb = igea__sim_queue_take(jb->q, jb->block, MB_CHUNK, &f0)) > 0) {
-        if (r->type == igea__xoshiro_type)
-            mb_block_xoshiro(jb, r, f0, nb, XS, DW, PB, x);
+    int xo = r->type == igea__xoshiro_type, f0 = 0, nb = 0, drawn = 0;
+    /* the first block's draws while the calling thread runs the set-up */
+    pthread_mutex_lock(&jb->qrow->lock);
+    int waiting = *jb->setup_state == 0;
+    pthread_mutex_unlock(&jb->qrow->lock);
+    if (waiting && (nb = igea__sim_queue_take(jb->q, jb->block, MB_CHUNK, &f0)) > 0) {
+        if (xo)
+            mb_draw_xoshiro(jb, r, f0, nb, XS, DW, x);
         else
-            mb_block(jb, r, f0, nb, XS, DW, PB, x);
+            mb_draw(jb, r, f0, nb, XS, DW, x);
+        drawn = 1;
+    }
+    pthread_mutex_lock(&jb->qrow->lock);
+    while (*jb->setup_state == 0)
+        pthread_cond_wait(jb->rows_cv, &jb->qrow->lock);
+    int setup_ok = *jb->setup_state == 1;
+    pthread_mutex_unlock(&jb->qrow->lock);
+    if (!setup_ok) {
+        igea__rng_free(r);
+        free(w);
+        free(rej);
+        return NULL;
+    }
+    mb_rows(jb);
+    double *vc = x + N, *pre = vc + 6 * N, *judge = pre + 2 * N;
+    int *cnt = rej + N;
+    memset(vc, 0, 6 * N * sizeof(double));
+    mb_pre((int)N, jb->lam0, pre);
+    memset(cnt, 0, 2 * N * sizeof(int));
+    for (;;) {
+        if (!drawn) {
+            if ((nb = igea__sim_queue_take(jb->q, jb->block, MB_CHUNK, &f0)) <= 0)
+                break;
+            if (xo)
+                mb_draw_xoshiro(jb, r, f0, nb, XS, DW, x);
+            else
+                mb_draw(jb, r, f0, nb, XS, DW, x);
+        }
+        drawn = 0;
+        if (xo)
+            mb_products_xoshiro(jb, nb, XS, DW, PB);
+        else
+            mb_products(jb, nb, XS, DW, PB);
         for (int j = 0; j < nb; j++) {
-            int st = mb_judge(jb, f0 + j, PB + (size_t)j * N, judge, vc, rej, cnt);
+            int st = mb_judge(jb, f0 + j, PB + (size_t)j * N, pre, judge, vc, rej, cnt);
             if (st) {
                 igea__sim_queue_fail(jb->q, f0 + j, st);
                 break;
@@ -335,7 +403,10 @@ static void *mb_worker(void *arg)
 }
 
 /* Run the job on nthreads threads, the calling thread one of them (a
- * thread that cannot start leaves its share to the others). */
+ * thread that cannot start leaves its share to the others); the calling
+ * thread runs the set-up (if any) once the others are started: they draw
+ * their first block meanwhile (the draws need no set-up) and wait for it
+ * (a failed set-up is the result, at flight -2: before every other). */
 static void mb_run(mb_job *jb, int nthreads)
 {
     pthread_t *tid = calloc((size_t)nthreads, sizeof *tid);
@@ -345,19 +416,30 @@ static void mb_run(mb_job *jb, int nthreads)
             break;
         nstarted = t;
     }
+    if (jb->setup) {
+        int st = jb->setup(jb->c, jb->s, jb->zeros);
+        if (st)
+            igea__sim_queue_fail(jb->q, -2, st);
+        pthread_mutex_lock(&jb->qrow->lock);
+        *jb->setup_state = st ? -1 : 1;
+        pthread_cond_broadcast(jb->rows_cv);
+        pthread_mutex_unlock(&jb->qrow->lock);
+    }
     mb_worker(jb);
     for (int t = 1; t <= nstarted; t++)
         pthread_join(tid[t], NULL);
     free(tid);
 }
 
-int igea__sim_mc_batch(const igea_sim_model *c, const igea__sim_setup *s, int have_q,
+int igea__sim_mc_batch(const igea_sim_model *c, const igea__sim_setup *s,
+                       igea__sim_setup_fn setup, double *zeros, int have_q,
                        const double *eqo, int seed, int first, int nflights,
                        int nthreads, int block, double *chi2, double *scale, double *zmax,
                        double *fsize, int *dof, int *nrej, int *status, int *cnt)
 {
     int m = c->m, nseg = (m + MB_ROWS - 1) / MB_ROWS, ok = 0;
     int rows_done = have_q ? nseg : 0; /* a kept Q: nothing to do */
+    int setup_state = setup ? 0 : 1;
     igea__sim_queue q, qrow;
     pthread_mutex_t cnt_lock;
     pthread_cond_t rows_cv;
@@ -369,8 +451,9 @@ int igea__sim_mc_batch(const igea_sim_model *c, const igea__sim_setup *s, int ha
     int st = ok == 4 ? 0 : IGEA_ENOMEM;
     block = (block + MB_CHUNK - 1) / MB_CHUNK * MB_CHUNK;
     if (st == 0) {
-        mb_job jb = {c, s->Q, s->lam0, eqo, s->L, s, &qrow, &rows_done, &rows_cv, seed, first,
-                     block, chi2, scale, zmax, fsize, dof, nrej, status, cnt, &cnt_lock, &q};
+        mb_job jb = {c,     s->Q,  s->lam0, eqo,  s->L,   s,    setup, zeros, &qrow,
+                     &rows_done, &setup_state, &rows_cv, seed, first, block, chi2, scale,
+                     zmax,  fsize, dof,     nrej, status, cnt, &cnt_lock, &q};
         mb_run(&jb, nthreads);
         st = q.fail;
     }

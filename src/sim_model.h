@@ -106,15 +106,22 @@ static inline double igea__sim_zmax(int N, const double *z, const int *reject)
  * MB_ROWS), on the calling thread. */
 void igea__sim_setup_q(const igea__sim_setup *s, int m, int N);
 
+/* The set-up of s but Q (sim.c's mc_setup), zeros its scratch. */
+typedef int (*igea__sim_setup_fn)(const igea_sim_model *c, const igea__sim_setup *s,
+                                  double *zeros);
+
 /* The batched Monte Carlo (sim_batch.c): flights first .. first + nflights
  * - 1 judged on the stated K common to them, in blocks of at most `block`
  * flights (rounded up to a multiple of 32), on nthreads threads, with the
- * set-up s (its Q computed here on the threads first unless have_q); the
- * per-flight outputs chi2, scale, zmax, fsize (the overall size), dof,
- * nrej, status (nflights each, as mc_judge writes them) and the component
- * counts cnt (tested then rejected, N each, added to). Returns 0 or a
- * failure as mc_judge's. */
-int igea__sim_mc_batch(const igea_sim_model *c, const igea__sim_setup *s, int have_q,
+ * set-up s: when setup is not NULL, the calling thread runs setup(c, s,
+ * zeros) first while the other threads draw their first block (a failure
+ * of it is the result); then its Q is computed on the threads unless
+ * have_q. The per-flight outputs chi2, scale, zmax, fsize (the overall
+ * size), dof, nrej, status (nflights each, as mc_judge writes them) and
+ * the component counts cnt (tested then rejected, N each, added to).
+ * Returns 0 or a failure as mc_judge's or setup's. */
+int igea__sim_mc_batch(const igea_sim_model *c, const igea__sim_setup *s,
+                       igea__sim_setup_fn setup, double *zeros, int have_q,
                        const double *eqo, int seed, int first, int nflights,
                        int nthreads, int block, double *chi2, double *scale, double *zmax,
                        double *fsize, int *dof, int *nrej, int *status, int *cnt);

@@ -509,12 +509,13 @@ int igea_stats_accuracy_test(int n, const double *equiv_err,
                              int *reject, double *info)
 {
     return igea__stats_accuracy_cached(n, equiv_err, lambda, alpha, lambda_test, z_crit,
-                                       NULL, z, reject, info);
+                                       NULL, NULL, 1, z, reject, info);
 }
 
 int igea__stats_accuracy_cached(int n, const double *equiv_err, const double *lambda,
                                 double alpha, double lambda_test, double z_crit,
-                                double *cc, double *z, int *reject, double *info)
+                                double *cc, const double *den, int want_p, double *z,
+                                int *reject, double *info)
 {
     if (n < 1) return -1;
     if (!equiv_err) return -2;
@@ -554,13 +555,13 @@ int igea__stats_accuracy_cached(int n, const double *equiv_err, const double *la
     sat_sum t = {{0, 0}, 0};
     for (int i = 0; i < n; i++) {
         if (lambda[i] >= lambda_test) {
-            double zi = equiv_err[i] / sqrt(1.0 + 1.0 / lambda[i]);
+            double zi = equiv_err[i] / (den ? den[i] : sqrt(1.0 + 1.0 / lambda[i]));
             sat_add(&t, zi * zi);
         }
     }
     double T = sat_get(&t);
-    if (t.sat)
-        pval = 0.0; /* Q(T) < Q(DBL_MAX) = 0 to double precision */
+    if (t.sat || !want_p)
+        pval = 0.0; /* Q(T) < Q(DBL_MAX) = 0 to double precision; or not asked */
     else {
         st = igea_stats_chi2_sf(T, (double)ntest, &pval);
         if (st != 0)
@@ -570,7 +571,7 @@ int igea__stats_accuracy_cached(int n, const double *equiv_err, const double *la
     int nrej = 0;
     for (int i = 0; i < n; i++) {
         if (lambda[i] >= lambda_test) {
-            double zi = equiv_err[i] / sqrt(1.0 + 1.0 / lambda[i]);
+            double zi = equiv_err[i] / (den ? den[i] : sqrt(1.0 + 1.0 / lambda[i]));
             z[i] = zi;
             reject[i] = fabs(zi) > zc;
             nrej += reject[i];
