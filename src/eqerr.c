@@ -679,6 +679,32 @@ static int residual_threads(int layout, int m, int N, const double *S, int lds,
     return st;
 }
 
+/* The residuals copied out segment by segment on the threads (the pages of
+ * a fresh output are first touched there too). */
+typedef struct {
+    const double *e;
+    double *out;
+    int m;
+} cp_job;
+
+static void cp_segment(void *arg, int k)
+{
+    const cp_job *jb = arg;
+    size_t r0 = (size_t)k * IGEA_NORMAL_SEGMENT;
+    size_t nr = (size_t)IGEA_MIN(IGEA_NORMAL_SEGMENT, jb->m - (int)r0);
+    memcpy(jb->out + r0, jb->e + r0, nr * sizeof(double));
+}
+
+static void copy_out(int m, const double *e, double *out, int nthreads)
+{
+    cp_job jb = {e, out, m};
+    if (nthreads >= 2)
+        igea__parallel_for((m + IGEA_NORMAL_SEGMENT - 1) / IGEA_NORMAL_SEGMENT, nthreads,
+                           cp_segment, &jb);
+    else
+        memcpy(out, e, (size_t)m * sizeof(double));
+}
+
 /* Residuals e (m) and the per-axis sums ss of the fit in the scratch; the
  * route eig's thread count (IGEA_EQERR_OPT_THREADS) >= 2: on that many
  * threads, in the normal equations' segments. */
@@ -785,7 +811,10 @@ static int run_layout(int layout, int off, int m, int N, const double *S, int ld
     if (st == 0) {
         scratch_out(&s, N, lambda, P, ldp, equiv_err, z, reject, info);
         if (residual)
-            memcpy(residual, e, (size_t)m * sizeof(double));
+            copy_out(m, e, residual,
+                     opts[IGEA_EQERR_OPT_ROUTE] == IGEA_EQERR_ROUTE_SVD
+                         ? 1
+                         : (int)opts[IGEA_EQERR_OPT_THREADS]);
         if (rms)
             for (int a = 0; a < 3; a++)
                 rms[a] = ss[3 + a] > 0 ? sqrt(ss[a] / ss[3 + a]) : 0.0;
