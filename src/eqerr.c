@@ -610,8 +610,9 @@ typedef struct {
 } rs_job;
 
 /* Segment k: its residuals, and per axis a (row r0 + i of the block,
- * (row0 + r0 + i) mod 3 = a) the sum of their squares in row order and their count. A non-finite
- * dw or residual makes the sums non-finite: rs_sum finds out why. */
+ * (row0 + r0 + i) mod 3 = a) the sum of their squares in row order and
+ * their count. A non-finite dw or residual makes the sums non-finite:
+ * rs_sum finds out why. */
 static void rs_segment(void *arg, int k)
 {
     const rs_job *jb = arg;
