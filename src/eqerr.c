@@ -518,9 +518,9 @@ static int residual_into(int layout, int m, int N, const double *S, int lds, con
     return igea__finite_vec(3, t, 1) ? 0 : IGEA_EOVERFLOW;
 }
 
-int igea_eqerr_residual(int layout, int m, int N, const double *S, int lds,
-                        const double *dw, const double *coef, int row0,
-                        double *residual, double *axis_ss)
+/* igea_eqerr_residual's checks of its arguments 1-8 and of coef and dw. */
+static int residual_check(int layout, int m, int N, const double *S, int lds,
+                          const double *dw, const double *coef, int row0)
 {
     if (layout != IGEA_COLMAJOR && layout != IGEA_ROWMAJOR) return -1;
     if (m < 0) return -2;
@@ -532,8 +532,16 @@ int igea_eqerr_residual(int layout, int m, int N, const double *S, int lds,
     if (row0 < 0) return -8;
     if (!igea__finite_vec(N, coef, 1) || !igea__finite_vec(m, dw, 1))
         return IGEA_ENONFINITE;
-    if (m == 0)
-        return 0;
+    return 0;
+}
+
+int igea_eqerr_residual(int layout, int m, int N, const double *S, int lds,
+                        const double *dw, const double *coef, int row0,
+                        double *residual, double *axis_ss)
+{
+    int st0 = residual_check(layout, m, N, S, lds, dw, coef, row0);
+    if (st0 || m == 0)
+        return st0;
     double *e = igea__dalloc((size_t)m), t[6];
     if (!e)
         return IGEA_ENOMEM;
@@ -599,14 +607,15 @@ static int run_eig(int layout, int m, int N, const double *S, int lds, const dou
  * own 6 slots, whatever thread runs it; the sums are added in segment order
  * afterwards, so the result does not depend on the thread count. */
 typedef struct {
-    int layout, m, N, lds, nseg;
+    int layout, m, N, lds, nseg, row0;
     const double *S, *dw, *coef;
     double *e, *part; /* e: m; part: nseg x 6, each segment's axis_ss */
 } rs_job;
 
-/* Segment k: its residuals, and per axis a (row r0 + i, (r0 + i) mod 3 =
- * a) the sum of their squares in row order and their count. A non-finite
- * dw or residual makes the sums non-finite: rs_sum finds out why. */
+/* Segment k: its residuals, and per axis a (row r0 + i of the block,
+ * (row0 + r0 + i) mod 3 = a) the sum of their squares in row order and
+ * their count. A non-finite dw or residual makes the sums non-finite:
+ * rs_sum finds out why. */
 static void rs_segment(void *arg, int k)
 {
     const rs_job *jb = arg;
@@ -619,7 +628,7 @@ static void rs_segment(void *arg, int k)
     else
         rows_dot(nr, jb->N, jb->S + (size_t)r0 * jb->lds, jb->lds, jb->coef, e);
     for (int i0 = 0; i0 < 3 && i0 < nr; i0++) {
-        int a = (r0 + i0) % 3;
+        int a = (int)(((long long)jb->row0 + r0 + i0) % 3);
         double acc = 0.0;
         for (int i = i0; i < nr; i += 3)
             acc += e[i] * e[i];
@@ -628,12 +637,14 @@ static void rs_segment(void *arg, int k)
     }
 }
 
-/* The segments' sums added in segment order into ss; when they are not
- * finite, igea_eqerr_residual's status: a non-finite dw, or a non-finite
- * residual from a non-finite S: IGEA_ENONFINITE; else IGEA_EOVERFLOW. */
+/* The segments' sums added in segment order to ss (input-output); when
+ * they are not finite, igea_eqerr_residual's status: a non-finite dw, or a
+ * non-finite residual from a non-finite S: IGEA_ENONFINITE; else
+ * IGEA_EOVERFLOW. */
 static int rs_sum(const rs_job *jb, double *ss)
 {
-    double t[6] = {0, 0, 0, 0, 0, 0};
+    double t[6];
+    memcpy(t, ss, sizeof t);
     for (int k = 0; k < jb->nseg; k++)
         for (int j = 0; j < 6; j++)
             t[j] += jb->part[6 * (size_t)k + j];
@@ -650,11 +661,12 @@ static int rs_sum(const rs_job *jb, double *ss)
     return IGEA_EOVERFLOW;
 }
 
-/* igea_eqerr_residual (column-major, row0 = 0, ss zero on entry) on
- * nthreads >= 2 threads: e (m) and ss (6) written on success only. */
+/* igea_eqerr_residual on nthreads >= 2 threads after its checks (m >= 1),
+ * the segments' sums added to ss: e (m, scratch) and ss (6) hold the
+ * results on success; ss is untouched on failure. */
 static int residual_threads(int layout, int m, int N, const double *S, int lds,
-                            const double *dw,
-                            const double *coef, double *e, double *ss, int nthreads)
+                            const double *dw, const double *coef, int row0, double *e,
+                            double *ss, int nthreads)
 {
     if (!igea__finite_vec(N, coef, 1))
         return IGEA_ENONFINITE;
@@ -663,12 +675,38 @@ static int residual_threads(int layout, int m, int N, const double *S, int lds,
     int st = IGEA_ENOMEM;
     if (part) {
         memset(part, 0, 6 * (size_t)nseg * sizeof(double));
-        rs_job jb = {layout, m, N, lds, nseg, S, dw, coef, e, part};
+        rs_job jb = {layout, m, N, lds, nseg, row0, S, dw, coef, e, part};
         igea__parallel_for(nseg, nthreads, rs_segment, &jb);
         st = rs_sum(&jb, ss);
     }
     free(part);
     return st;
+}
+
+/* The residuals copied out segment by segment on the threads (the pages of
+ * a fresh output are first touched there too). */
+typedef struct {
+    const double *e;
+    double *out;
+    int m;
+} cp_job;
+
+static void cp_segment(void *arg, int k)
+{
+    const cp_job *jb = arg;
+    size_t r0 = (size_t)k * IGEA_NORMAL_SEGMENT;
+    size_t nr = (size_t)IGEA_MIN(IGEA_NORMAL_SEGMENT, jb->m - (int)r0);
+    memcpy(jb->out + r0, jb->e + r0, nr * sizeof(double));
+}
+
+static void copy_out(int m, const double *e, double *out, int nthreads)
+{
+    cp_job jb = {e, out, m};
+    if (nthreads >= 2)
+        igea__parallel_for((m + IGEA_NORMAL_SEGMENT - 1) / IGEA_NORMAL_SEGMENT, nthreads,
+                           cp_segment, &jb);
+    else
+        memcpy(out, e, (size_t)m * sizeof(double));
 }
 
 /* Residuals e (m) and the per-axis sums ss of the fit in the scratch; the
@@ -684,11 +722,42 @@ static int run_residuals(int layout, int m, int N, const double *S, int lds, con
                        ? 1
                        : (int)opts[IGEA_EQERR_OPT_THREADS];
     if (st == 0 && nthreads >= 2)
-        st = residual_threads(layout, m, N, S, lds, dw, coef, e, ss, nthreads);
+        st = residual_threads(layout, m, N, S, lds, dw, coef, 0, e, ss, nthreads);
     else if (st == 0 && (!igea__finite_vec(N, coef, 1) || !igea__finite_vec(m, dw, 1)))
         st = IGEA_ENONFINITE;
     else if (st == 0) /* igea_eqerr_residual, into e itself */
         st = residual_into(layout, m, N, S, lds, dw, coef, 0, e, ss);
+    return st;
+}
+
+int igea_eqerr_residual_threads(int layout, int m, int N, const double *S, int lds,
+                                const double *dw, const double *coef, int row0,
+                                double *residual, double *axis_ss, int nthreads)
+{
+    if (nthreads <= 1 && nthreads >= 0)
+        return igea_eqerr_residual(layout, m, N, S, lds, dw, coef, row0, residual, axis_ss);
+    int st0 = residual_check(layout, m, N, S, lds, dw, coef, row0);
+    if (st0 < 0)
+        return st0;
+    if (nthreads < 0 || nthreads > IGEA_NORMAL_THREADS_MAX)
+        return -11;
+    if (st0 || m == 0)
+        return st0;
+    double *e = igea__dalloc((size_t)m), t[6] = {0, 0, 0, 0, 0, 0};
+    if (!e)
+        return IGEA_ENOMEM;
+    if (axis_ss)
+        memcpy(t, axis_ss, sizeof t);
+    int st = residual_threads(layout, m, N, S, lds, dw, coef, row0, e, t, nthreads);
+    /* without axis_ss, as igea_eqerr_residual: only a residual that is
+     * not finite fails (the sums of squares may overflow) */
+    if (!axis_ss && st == IGEA_EOVERFLOW && igea__finite_vec(m, e, 1))
+        st = 0;
+    if (st == 0 && axis_ss)
+        memcpy(axis_ss, t, sizeof t);
+    if (st == 0 && residual)
+        memcpy(residual, e, (size_t)m * sizeof(double));
+    free(e);
     return st;
 }
 
@@ -746,7 +815,10 @@ static int run_layout(int layout, int off, int m, int N, const double *S, int ld
     if (st == 0) {
         scratch_out(&s, N, lambda, P, ldp, equiv_err, z, reject, info);
         if (residual)
-            memcpy(residual, e, (size_t)m * sizeof(double));
+            copy_out(m, e, residual,
+                     opts[IGEA_EQERR_OPT_ROUTE] == IGEA_EQERR_ROUTE_SVD
+                         ? 1
+                         : (int)opts[IGEA_EQERR_OPT_THREADS]);
         if (rms)
             for (int a = 0; a < 3; a++)
                 rms[a] = ss[3 + a] > 0 ? sqrt(ss[a] / ss[3 + a]) : 0.0;

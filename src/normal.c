@@ -370,6 +370,7 @@ static void mt_segment(void *arg, int k)
     int r0 = k * MT_SEGMENT, nr = IGEA_MIN(MT_SEGMENT, jb->m - r0);
     const double *Sk = jb->layout == IGEA_COLMAJOR ? jb->S + r0 : jb->S + (size_t)r0 * jb->lds;
     double *Ak = jb->part + (size_t)k * jb->stride;
+    memset(Ak, 0, jb->stride * sizeof(double)); /* here, on the segment's thread [D] */
     axis_acc ax = {(int)(((long long)jb->row0 + r0) % 3), Ak + N * N + N + 2};
     jb->status[k] = accumulate_ax(jb->layout, nr, jb->N, Sk, jb->lds, jb->dw + r0,
                                   jb->track_sigma + (jb->sigma_inc ? r0 : 0), jb->sigma_inc,
@@ -416,7 +417,6 @@ static int accumulate_mt(int layout, int m, int N, const double *S, int lds, con
     int *status = igea__ialloc((size_t)nseg);
     int st = IGEA_ENOMEM;
     if (part && status) {
-        memset(part, 0, (size_t)nseg * stride * sizeof(double));
         mt_job jb = {layout, m, N, lds, sigma_inc, nseg, row0, S, dw, track_sigma, spec_sigma,
                      part, stride, t != NULL, status};
         igea__parallel_for(nseg, nthreads, mt_segment, &jb);

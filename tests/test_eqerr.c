@@ -1131,6 +1131,103 @@ static void test_accumulate_one_pass(void **state)
  * rounding on both routes and on 1 and 3 threads (segments of
  * IGEA_NORMAL_SEGMENT rows: 40,000 rows are five); its statuses are
  * igea_eqerr_run's shifted by the layout argument. */
+/* igea_eqerr_residual_threads: 3 segments of IGEA_NORMAL_SEGMENT rows and
+ * a part, both layouts, row0 = 2 and axis sums that start from nonzero
+ * values. The residuals against long double dot products, the axis sums
+ * against the header's definition (each segment's squares of the returned
+ * residuals in row order, the segments added in order, bit for bit) and
+ * against long double sums; the same bits on 2, 3 and 4 threads; 0 and 1
+ * thread are igea_eqerr_residual's bits. */
+static void test_residual_threads(void **state)
+{
+    enum { SEG = IGEA_NORMAL_SEGMENT, M = 3 * SEG + 1001, N = 5, R0 = 2 };
+    double *S = malloc(sizeof(double) * M * N), *Sr = malloc(sizeof(double) * M * N);
+    double *dw = malloc(sizeof(double) * M), *e = malloc(sizeof(double) * M);
+    double *e1 = malloc(sizeof(double) * M), *ek = malloc(sizeof(double) * M);
+    assert_non_null(S); assert_non_null(Sr); assert_non_null(dw);
+    assert_non_null(e); assert_non_null(e1); assert_non_null(ek);
+    const double coef[N] = {0.7, -1.3, 0.25, 2.0, -0.05}, ss0[6] = {0.5, 0.25, 0.125, 7, 8, 9};
+    unsigned long long x = 12345;
+    for (int i = 0; i < M; i++) {
+        for (int j = 0; j < N; j++) {
+            x = x * 6364136223846793005ULL + 1442695040888963407ULL;
+            double v = (double)(x >> 11) / 9007199254740992.0 - 0.5;
+            S[i + (size_t)j * M] = v;
+            Sr[(size_t)i * N + j] = v;
+        }
+        dw[i] = 0.3 * sin(0.01 * i);
+    }
+    for (int layout = 0; layout < 2; layout++) {
+        const double *SS = layout == IGEA_COLMAJOR ? S : Sr;
+        int lds = layout == IGEA_COLMAJOR ? M : N;
+        double ss[6], ss1[6], ssk[6];
+        memcpy(ss, ss0, sizeof ss);
+        assert_int_equal(igea_eqerr_residual_threads(layout, M, N, SS, lds, dw, coef, R0, e, ss, 2), 0);
+        long double tl[3] = {0, 0, 0};
+        for (int i = 0; i < M; i++) {
+            long double r = dw[i];
+            for (int j = 0; j < N; j++)
+                r -= (long double)S[i + (size_t)j * M] * coef[j];
+            assert_close_abs(e[i], (double)r, 1e-14, 1e-15);
+            tl[(R0 + i) % 3] += r * r;
+        }
+        double def[6];
+        memcpy(def, ss0, sizeof def);
+        for (int k = 0; k * SEG < M; k++) {
+            double t[3] = {0, 0, 0};
+            for (int i = k * SEG; i < M && i < (k + 1) * SEG; i++)
+                t[(R0 + i) % 3] += e[i] * e[i];
+            for (int a = 0; a < 3; a++)
+                def[a] += t[a];
+        }
+        for (int a = 0; a < 3; a++) {
+            assert_true(ss[a] == def[a]);
+            assert_close(ss[a], (double)(ss0[a] + tl[a]), 1e-13);
+            assert_true(ss[3 + a] == ss0[3 + a] + (M - ((a - R0 + 3) % 3) + 2) / 3);
+        }
+        for (int th = 3; th <= 4; th++) {
+            memcpy(ssk, ss0, sizeof ssk);
+            assert_int_equal(igea_eqerr_residual_threads(layout, M, N, SS, lds, dw, coef, R0, ek, ssk, th), 0);
+            assert_memory_equal(ek, e, sizeof(double) * M);
+            assert_memory_equal(ssk, ss, sizeof ss);
+        }
+        for (int th = 0; th <= 1; th++) {
+            memcpy(ss1, ss0, sizeof ss1);
+            memcpy(ssk, ss0, sizeof ssk);
+            assert_int_equal(igea_eqerr_residual(layout, M, N, SS, lds, dw, coef, R0, e1, ss1), 0);
+            assert_int_equal(igea_eqerr_residual_threads(layout, M, N, SS, lds, dw, coef, R0, ek, ssk, th), 0);
+            assert_memory_equal(ek, e1, sizeof(double) * M);
+            assert_memory_equal(ssk, ss1, sizeof ss1);
+            for (int a = 0; a < 3; a++)
+                assert_close(ssk[a], ss[a], 1e-13);
+        }
+        /* failures leave the outputs as they were */
+        for (int i = 0; i < M; i++)
+            ek[i] = -1.0;
+        memcpy(ssk, ss0, sizeof ssk);
+        dw[M - 3] = NAN;
+        assert_int_equal(igea_eqerr_residual_threads(layout, M, N, SS, lds, dw, coef, R0, ek, ssk, 2), IGEA_ENONFINITE);
+        dw[M - 3] = 1e200; /* a residual of 1e200: its square overflows */
+        assert_int_equal(igea_eqerr_residual_threads(layout, M, N, SS, lds, dw, coef, R0, ek, ssk, 2), IGEA_EOVERFLOW);
+        assert_true(ek[0] == -1.0 && ek[M - 1] == -1.0);
+        assert_memory_equal(ssk, ss0, sizeof ss0);
+        /* without the sums only a residual beyond the double range fails,
+         * as in igea_eqerr_residual */
+        assert_int_equal(igea_eqerr_residual_threads(layout, M, N, SS, lds, dw, coef, R0, ek, NULL, 2), 0);
+        assert_int_equal(igea_eqerr_residual(layout, M, N, SS, lds, dw, coef, R0, e1, NULL), 0);
+        assert_true(ek[M - 3] == e1[M - 3] && ek[M - 3] > 9e199);
+        assert_memory_equal(ek, e, sizeof(double) * (M - 3));
+        dw[M - 3] = 0.3 * sin(0.01 * (M - 3));
+        assert_int_equal(igea_eqerr_residual_threads(layout, M, N, SS, lds, dw, coef, R0, ek, ssk, -1), -11);
+        assert_int_equal(igea_eqerr_residual_threads(layout, M, N, SS, lds, dw, coef, R0, ek, ssk, IGEA_NORMAL_THREADS_MAX + 1), -11);
+        assert_int_equal(igea_eqerr_residual_threads(layout, M, N, SS, lds, dw, coef, -1, ek, ssk, 2), -8);
+        assert_int_equal(igea_eqerr_residual_threads(layout, M, N, SS, lds, dw, coef, -1, ek, ssk, -1), -8);
+        assert_int_equal(igea_eqerr_residual_threads(layout, 0, N, SS, lds, dw, coef, R0, ek, ssk, 2), 0);
+    }
+    assert_int_equal(igea_eqerr_residual_threads(7, M, N, S, M, dw, coef, R0, e, NULL, 2), -1);
+    free(S); free(Sr); free(dw); free(e); free(e1); free(ek);
+}
+
 static void test_run_layout(void **state)
 {
     (void)state;
@@ -1261,6 +1358,7 @@ int main(void)
         cmocka_unit_test(test_axis_sums_statuses),
         cmocka_unit_test(test_accumulate_one_pass),
         cmocka_unit_test(test_run_layout),
+        cmocka_unit_test(test_residual_threads),
         cmocka_unit_test(test_components_closed_form),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -217,6 +217,27 @@ IGEA_API int igea_eqerr_residual(int layout, int m, int N, const double *S,
                                  int row0, double *residual, double *axis_ss);
 
 /*
+ * igea_eqerr_residual on nthreads threads [D]. Arguments: 1 layout, 2 m,
+ * 3 N, 4 S, 5 lds, 6 dw, 7 coef, 8 row0, 9 residual[m] (or NULL), 10
+ * axis_ss[6] (or NULL), as igea_eqerr_residual's; 11 nthreads, 0 ..
+ * IGEA_NORMAL_THREADS_MAX. With nthreads 0 or 1 it is
+ * igea_eqerr_residual, bit for bit. With nthreads >= 2 the rows are cut
+ * into segments of IGEA_NORMAL_SEGMENT rows from the block's first row,
+ * handed to the threads as they ask for them; each segment's residuals
+ * are those of its own matrix-vector product, and its per-axis sums of
+ * squares, in row order, are added to axis_ss in segment order. The
+ * results are therefore the same for every nthreads >= 2 and equal
+ * igea_eqerr_residual's to rounding. The BLAS calls are made
+ * on each thread: with an OpenBLAS of several threads of its own, set it to
+ * one while this runs. Returns as igea_eqerr_residual; residual and
+ * axis_ss are untouched on failure.
+ */
+IGEA_API int igea_eqerr_residual_threads(int layout, int m, int N, const double *S,
+                                         int lds, const double *dw, const double *coef,
+                                         int row0, double *residual, double *axis_ss,
+                                         int nthreads);
+
+/*
  * Pooled verdict of independent flights (METHODS 1.2 step 6) by the rule
  * IGEA_EQERR_OPT_VERDICT: under H0 the z of all the flights' tested
  * components are independent N(0, 1), so the pooled test is the rule for

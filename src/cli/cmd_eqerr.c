@@ -162,7 +162,7 @@ static const cli_opt eqerr_options[] = {
     {"--group-bias", CLI_OPT_DSET, EQ_OPT(GROUP_BIAS), NULL, NULL, "per-group x, y, z bias columns (nuisance, not tested)", NULL},
     {"--robust", CLI_OPT_DSET, EQ_OPT(ROBUST), NULL, NULL, "reject outlying rows by data snooping (w-test)", NULL},
     {"--robust-alpha", CLI_OPT_NUM, EQ_OPT(ROBUST_ALPHA), NULL, "A", "level of the w-test per row (0: 0.001)", NULL},
-    {"--threads", CLI_OPT_NUM, EQ_OPT(THREADS), NULL, "T", "normal equations on T threads (route eig; 0 or 1:\none; the driver's blocks keep two busy); results\nequal for T >= 2 and to one thread's to rounding", NULL},
+    {"--threads", CLI_OPT_NUM, EQ_OPT(THREADS), NULL, "T", "normal equations and residuals on T threads (route\neig; 0 or 1: one; the driver's blocks keep two\nbusy); results equal for T >= 2 and to one thread's\nto rounding", NULL},
     {"--residuals", CLI_OPT_STR, &EA.residuals, NULL, "FILE", "write epoch, axis, residual per row: dw - S D P_t Xhat_t\n(whitened, with the noise models)", NULL},
     {"--burnout", CLI_OPT_STR, &EA.burnout, NULL, "X,Y,Z,VX,VY,VZ", "with --burnout-errors: the nominal burnout state\n"
      "(ECEF, m and m/s, as igea impact); the report adds the\nmiss (Kepler) of each tested component", NULL},
@@ -881,6 +881,9 @@ static int pass_residuals(const eqerr_args *a, streams *s, flight *r, FILE *res,
     }
     double ss[6] = {0, 0, 0, 0, 0, 0};
     long row0 = 0, n;
+    /* --threads T >= 2 (route eig): each block's residuals on T threads,
+     * in the segments of pass 1 (the same results for every T >= 2) */
+    int nth = a->route == IGEA_EQERR_ROUTE_SVD ? 1 : (int)a->opts[IGEA_EQERR_OPT_THREADS];
     if (j)
         json_head(j, r, a);
     residual_header(res, 0);
@@ -888,8 +891,8 @@ static int pass_residuals(const eqerr_args *a, streams *s, flight *r, FILE *res,
     cli_progress_start(&pr, "eqerr", "rows, pass 2 of 2", r->m);
     while (!(ec = streams_next(a, s, &n)) && n > 0) {
         cli_progress_update(&pr, (double)(row0 + n));
-        int st = igea_eqerr_residual(IGEA_ROWMAJOR, (int)n, N, s->srows, N, s->drows, coef,
-                                     (int)row0, e, ss);
+        int st = igea_eqerr_residual_threads(IGEA_ROWMAJOR, (int)n, N, s->srows, N, s->drows,
+                                             coef, (int)row0, e, ss, nth);
         if (!st)
             st = igea_eqerr_diag_add((int)n, e, (int)row0, r->dstate);
         if (st && (ec = s_failed(s)))
@@ -922,15 +925,15 @@ static int run_streamed(const eqerr_args *a, flight *r, FILE *res, cli_json *j)
         ec = flight_alloc(r, s.N);
     if (!ec && a->spec)
         ec = read_spec(a->spec, a->S, s.N, &r->spec);
-    if (!ec) { /* the library's threads, each with a one-thread BLAS */
-        int blas = a->opts[IGEA_EQERR_OPT_THREADS] > 1 ? cli_blas_threads(1) : 0;
+    /* the library's threads, each with a one-thread BLAS */
+    int blas = !ec && a->opts[IGEA_EQERR_OPT_THREADS] > 1 ? cli_blas_threads(1) : 0;
+    if (!ec)
         ec = pass_solve(a, &s, r);
-        cli_blas_threads(blas);
-    }
     if (!ec)
         ec = streams_rewind(&s);
     if (!ec)
         ec = pass_residuals(a, &s, r, res, j);
+    cli_blas_threads(blas);
     streams_close(&s);
     return ec;
 }

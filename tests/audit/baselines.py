@@ -190,6 +190,8 @@ BASE = {
     'igea_eqerr_coef': dict(P='u', equiv_err='u', n_test='2', _int=dict(n_test='nonneg'),
                             _req=['coef']),
     'igea_eqerr_residual': dict(coef='u', row0='0', axis_ss='0', _zero_ok=['m']),
+    'igea_eqerr_residual_threads': dict(coef='u', row0='0', axis_ss='0', nthreads='2',
+                                        _zero_ok=['m']),
     'igea_eqerr_pool': dict(nflights='3', chi2='[2.0, 3.0, 1.5]', dof='[2, 3, 2]', z='u',
                             unit_id='[1, 2, 3]', opts=EQ_OPTS, _req=['z'], _opt=['reject']),
     'igea_eqerr_limits': dict(n='3', **{'lambda': 'c:20.0 + (double)i'}, z_crit='2.58'),
