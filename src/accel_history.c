@@ -14,33 +14,42 @@
 
 #define HP_MAXP 10
 
+/* The inverse of the k x k SPD matrix a (destroyed) into inv; work k
+ * doubles. Returns 0 or IGEA_ESINGULAR. */
+static int spd_inv(int k, double *a, double *inv, double *work)
+{
+    if (igea__chol_lower(k, a, k, 0.0) != 0)
+        return IGEA_ESINGULAR;
+    for (int c = 0; c < k; c++) {
+        for (int i = 0; i < k; i++) {
+            double t = i == c ? 1.0 : 0.0;
+            for (int l = 0; l < i; l++)
+                t -= a[i + l * k] * work[l];
+            work[i] = t / a[i + i * k];
+        }
+        for (int i = k - 1; i >= 0; i--) {
+            double t = work[i];
+            for (int l = i + 1; l < k; l++)
+                t -= a[l + i * k] * work[l];
+            work[i] = t / a[i + i * k];
+        }
+        for (int i = 0; i < k; i++)
+            inv[i + c * k] = work[i];
+    }
+    return 0;
+}
+
 /* In-place Cholesky of the p x p SPD matrix a (ld p) and its inverse into
  * inv; log det into *ld. Returns 0 or IGEA_ESINGULAR. */
 static int spd_inverse(int p, double *a, double *inv, double *ld)
 {
-    if (igea__chol_lower(p, a, p, 0.0) != 0)
+    double x[HP_MAXP];
+    if (spd_inv(p, a, inv, x) != 0)
         return IGEA_ESINGULAR;
     double s = 0.0;
     for (int j = 0; j < p; j++)
         s += 2.0 * log(a[j + j * p]);
     *ld = s;
-    for (int c = 0; c < p; c++) { /* solve L L^T x = e_c */
-        double x[HP_MAXP];
-        for (int i = 0; i < p; i++) {
-            double t = i == c ? 1.0 : 0.0;
-            for (int k = 0; k < i; k++)
-                t -= a[i + k * p] * x[k];
-            x[i] = t / a[i + i * p];
-        }
-        for (int i = p - 1; i >= 0; i--) {
-            double t = x[i];
-            for (int k = i + 1; k < p; k++)
-                t -= a[k + i * p] * x[k];
-            x[i] = t / a[i + i * p];
-        }
-        for (int i = 0; i < p; i++)
-            inv[i + c * p] = x[i];
-    }
     return 0;
 }
 
@@ -419,31 +428,6 @@ static void mm(int p, const double *a, int ta, const double *b, int tb, double *
                 s += (ta ? a[k + i * p] : a[i + k * p]) * (tb ? b[j + k * p] : b[k + j * p]);
             c[i + j * p] = s;
         }
-}
-
-/* The inverse of the k x k SPD matrix a (destroyed) into inv; work k
- * doubles. Returns 0 or IGEA_ESINGULAR. */
-static int spd_inv(int k, double *a, double *inv, double *work)
-{
-    if (igea__chol_lower(k, a, k, 0.0) != 0)
-        return IGEA_ESINGULAR;
-    for (int c = 0; c < k; c++) {
-        for (int i = 0; i < k; i++) {
-            double t = i == c ? 1.0 : 0.0;
-            for (int l = 0; l < i; l++)
-                t -= a[i + l * k] * work[l];
-            work[i] = t / a[i + i * k];
-        }
-        for (int i = k - 1; i >= 0; i--) {
-            double t = work[i];
-            for (int l = i + 1; l < k; l++)
-                t -= a[l + i * k] * work[l];
-            work[i] = t / a[i + i * k];
-        }
-        for (int i = 0; i < k; i++)
-            inv[i + c * k] = work[i];
-    }
-    return 0;
 }
 
 /* The directions: Sigma_kk (diagonal); Sigma_kl, k >= l, by columns (full). */
