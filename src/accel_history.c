@@ -305,9 +305,10 @@ int igea_accel_history_full(int m, int p, const double *b, int ldb, const double
 
 /* ---------------------------------------------------------------------- */
 
-static int fp_check(int model, int n, const double *theta_deg, const double *ya,
-                    const double *yb, const double *prior_mean, const double *prior_cov,
-                    int ldp, const double *coef, const double *cov, int ldc)
+/* Arguments 1-5 of a fit on one calibration's readings (model, n,
+ * theta_deg, ya, yb): 0 or -1 .. -5. */
+static int readings_check(int model, int n, const double *theta_deg, const double *ya,
+                          const double *yb)
 {
     if (model != IGEA_ACCEL_SINGLE && model != IGEA_ACCEL_DUAL)
         return -1;
@@ -319,6 +320,16 @@ static int fp_check(int model, int n, const double *theta_deg, const double *ya,
         return -4;
     if (model == IGEA_ACCEL_DUAL && !yb)
         return -5;
+    return 0;
+}
+
+static int fp_check(int model, int n, const double *theta_deg, const double *ya,
+                    const double *yb, const double *prior_mean, const double *prior_cov,
+                    int ldp, const double *coef, const double *cov, int ldc)
+{
+    int st0 = readings_check(model, n, theta_deg, ya, yb);
+    if (st0)
+        return st0;
     int np = model == IGEA_ACCEL_DUAL ? IGEA_ACCEL_NP_DUAL : IGEA_ACCEL_NP_SINGLE;
     if (!prior_mean)
         return -6;
@@ -841,16 +852,9 @@ int igea_accel_fit_history(int model, int n, const double *theta_deg, const doub
                            double *coef, double *sd, double *sd_plugin, double *dof,
                            double *ci, double *cov, int ldc, double *info)
 {
-    if (model != IGEA_ACCEL_SINGLE && model != IGEA_ACCEL_DUAL)
-        return -1;
-    if (n < 1)
-        return -2;
-    if (!theta_deg)
-        return -3;
-    if (!ya)
-        return -4;
-    if (model == IGEA_ACCEL_DUAL && !yb)
-        return -5;
+    int st0 = readings_check(model, n, theta_deg, ya, yb);
+    if (st0)
+        return st0;
     int p = model == IGEA_ACCEL_DUAL ? IGEA_ACCEL_NP_DUAL : IGEA_ACCEL_NP_SINGLE;
     int st = hf_check_history(m, p, b, ldb, V, ldv, sigma_u, lds, full, 5);
     if (st)

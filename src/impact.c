@@ -10,6 +10,7 @@
 #include "igea/impact.h"
 #include "igea/nav.h"
 #include "internal.h"
+#include "rotation.h"
 
 #define IMPACT_PI 3.14159265358979323846
 
@@ -964,14 +965,9 @@ int igea_impact_burnout(int system, int nsamp, const double *traj, int ldt, int 
                         const int *terms, const int *axes, const double *spec,
                         const double *site, double tb, double *state, double *E, int lde)
 {
-    if (system != IGEA_ENVFUN_STRAPDOWN && system != IGEA_ENVFUN_PLATFORM)
-        return -1;
-    if (nsamp < 2)
-        return -2;
-    if (!traj)
-        return -3;
-    if (ldt < nsamp)
-        return -4;
+    int st0 = igea__traj_args(system, nsamp, traj, ldt);
+    if (st0)
+        return st0;
     if (nterms < 0 || nterms > INT_MAX / 6)
         return -5;
     if (nterms > 0 && !terms)

@@ -1046,6 +1046,22 @@ static int pool_group(int size, const double *T, const double *D, const double *
     return 0;
 }
 
+/* The pooled study's counts, rate and 99 % interval into pooled (the other
+ * slots 0). */
+static void pool_counts(int npools, int nfail, double *pooled)
+{
+    double lohi[2] = {NAN, NAN};
+    if (npools > 0)
+        igea_sim_interval(nfail, npools, lohi);
+    for (int k = 0; k < IGEA_SIM_POOL_LEN; k++)
+        pooled[k] = 0.0;
+    pooled[IGEA_SIM_POOL_POOLS] = npools;
+    pooled[IGEA_SIM_POOL_FAILED] = nfail;
+    pooled[IGEA_SIM_POOL_RATE] = npools > 0 ? (double)nfail / npools : NAN;
+    pooled[IGEA_SIM_POOL_CI99_LO] = lohi[0];
+    pooled[IGEA_SIM_POOL_CI99_HI] = lohi[1];
+}
+
 int igea_sim_pool(int nflights, const double *table, int ldt, int size,
                   double alpha, double *pooled)
 {
@@ -1084,16 +1100,7 @@ int igea_sim_pool(int nflights, const double *table, int ldt, int size,
         if (st)
             return st;
     }
-    double lohi[2] = {NAN, NAN};
-    if (npools > 0)
-        igea_sim_interval(nfail, npools, lohi);
-    for (int k = 0; k < IGEA_SIM_POOL_LEN; k++)
-        pooled[k] = 0.0;
-    pooled[IGEA_SIM_POOL_POOLS] = npools;
-    pooled[IGEA_SIM_POOL_FAILED] = nfail;
-    pooled[IGEA_SIM_POOL_RATE] = npools > 0 ? (double)nfail / npools : NAN;
-    pooled[IGEA_SIM_POOL_CI99_LO] = lohi[0];
-    pooled[IGEA_SIM_POOL_CI99_HI] = lohi[1];
+    pool_counts(npools, nfail, pooled);
     return 0;
 }
 
@@ -1219,16 +1226,7 @@ int igea_sim_pool_ex(int nflights, const double *table, int ldt, int size,
         if (st)
             return st;
     }
-    double lohi[2] = {NAN, NAN};
-    if (npools > 0)
-        igea_sim_interval(nfail, npools, lohi);
-    for (int k = 0; k < IGEA_SIM_POOL_LEN; k++)
-        pooled[k] = 0.0;
-    pooled[IGEA_SIM_POOL_POOLS] = npools;
-    pooled[IGEA_SIM_POOL_FAILED] = nfail;
-    pooled[IGEA_SIM_POOL_RATE] = npools > 0 ? (double)nfail / npools : NAN;
-    pooled[IGEA_SIM_POOL_CI99_LO] = lohi[0];
-    pooled[IGEA_SIM_POOL_CI99_HI] = lohi[1];
+    pool_counts(npools, nfail, pooled);
     pooled[IGEA_SIM_POOL_MEAN_SIZE] =
         npools == 0 ? NAN : (ntest > 0 && size_ok ? size_sum / ntest : 0.0);
     return 0;
