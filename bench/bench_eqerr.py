@@ -7,6 +7,11 @@ item once per round over several rounds (interleaved, so that a change of
 the machine's load reaches all of them alike), keeping each one's fastest:
   floor   one bare OpenBLAS cblas_dsyrk (S^T S, column-major) on one thread:
           the least any method must do
+  passes  igea_eqerr_run's two passes over S alone: the normal equations
+          (igea_normal_accumulate_threads) and the residuals
+          (igea_eqerr_residual_threads), 1 and 2 threads, beside one read of
+          S (a numpy sum): two threads can do no better than half the floor
+          and then one read of S, since the residuals need the solution
   run     igea_eqerr_run alone (normal equations, dsyevd, sigma_w loop,
           tests, residuals; no overall size) on S in Fortran order and, by
           igea_eqerr_run_layout, in C order, 1 and 2 threads
@@ -90,6 +95,33 @@ def eqerr_run(S, dw, sigma, spec, threads, lib=None):
                                        ptr[0], ptr[1], N, *ptr[2:])
     if st != 0:
         raise RuntimeError("igea_eqerr_run: status %d" % st)
+
+
+def normal_eq(S, sigma, spec, threads):
+    """igea_normal_accumulate_threads on S in Fortran order: the normal
+    equations (S scaled by spec / sigma) that igea_eqerr_run forms first."""
+    from igea import _lib
+    m, N = S.shape
+    A, b, w = np.zeros((N, N), order="F"), np.zeros(N), np.zeros(2)
+    st = _lib.lib.igea_normal_accumulate_threads(
+        0, m, N, _lib.dptr(S), m, _lib.dptr(np.zeros(m)), _lib.dptr(sigma), 1, _lib.dptr(spec),
+        _lib.dptr(A), N, _lib.dptr(b), _lib.dptr(w), threads)
+    if st != 0:
+        raise RuntimeError("igea_normal_accumulate_threads: status %d" % st)
+
+
+def residual_pass(S, dw, threads, coef=None):
+    """igea_eqerr_residual_threads on S in Fortran order: the second pass of
+    igea_eqerr_run (residuals and their per-axis sums of squares)."""
+    from igea import _lib
+    m, N = S.shape
+    coef = np.full(N, 1e-3) if coef is None else coef
+    e, ss = np.empty(m), np.zeros(6)
+    st = _lib.lib.igea_eqerr_residual_threads(0, m, N, _lib.dptr(S), m, _lib.dptr(dw),
+                                              _lib.dptr(coef), 0, _lib.dptr(e), _lib.dptr(ss),
+                                              threads)
+    if st != 0:
+        raise RuntimeError("igea_eqerr_residual_threads: status %d" % st)
 
 
 def thread_cpu():
@@ -220,6 +252,11 @@ def main():
                "--spec", "spec.npy", "--out", "report.txt"]
         items = {
             "floor": lambda: in_process(floor),
+            "read": lambda: in_process(lambda: S.sum()),
+            "norm1": lambda: in_process(lambda: normal_eq(S, sigma, spec, 1)),
+            "norm2": lambda: in_process(lambda: normal_eq(S, sigma, spec, 2)),
+            "res1": lambda: in_process(lambda: residual_pass(S, dw, 1)),
+            "res2": lambda: in_process(lambda: residual_pass(S, dw, 2)),
             "run1": lambda: in_process(lambda: eqerr_run(S, dw, sigma, spec, 1)),
             "run2": lambda: in_process(lambda: eqerr_run(S, dw, sigma, spec, 2)),
             "runc1": lambda: in_process(lambda: eqerr_run(Sc, dw, sigma, spec, 1)),
@@ -269,6 +306,17 @@ def main():
               f"path (the busier thread) {crit * 1e3:6.1f} ms = {crit / fc:4.2f} x, all threads "
               f"{c * 1e3:6.1f} ms = {c / fc:4.2f} x; wall {w * 1e3:6.1f} ms = {w / fw:4.2f} x{t}")
 
+    print("  igea_eqerr_run's two passes over S in Fortran order, each alone:")
+    one("  normal equations, 1 thread", "norm1")
+    two("  normal equations, threads=2", "norm2", 0.6)
+    one("  residuals, 1 thread", "res1")
+    two("  residuals, threads=2", "res2")
+    rw, _, rc, _ = r["read"]
+    print(f"    one read of S (numpy sum, 1 thread)   {rc * 1e3:7.1f} ms CPU = {rc / fc:5.2f} x, "
+          f"{rw * 1e3:7.1f} ms wall = {rw / fw:5.2f} x")
+    print(f"    the least two threads can do for both passes (half the floor, then one read of S "
+          f"for the residuals, which need the solution): {fw / 2 * 1e3 + rw * 1e3:.1f} ms wall = "
+          f"{0.5 + rw / fw:.2f} x")
     print("  igea_eqerr_run (normal equations, eig, sigma_w loop, tests, residuals; no overall size):")
     one("  S in Fortran order, 1 thread", "run1")
     two("  S in Fortran order, threads=2", "run2", 0.6)
