@@ -42,6 +42,53 @@ static int state_ok(const double *s)
     return igea__finite_vec(IGEA_STATS_DIAG_STATE_LEN, s, 1);
 }
 
+/* Sixteen lags k .. k + 15 at once: cross[k + q - 1] += d[i] d[i - k - q]
+ * for every element i of the chunk that reaches lag k + q (i >= k + q -
+ * H), in element order, as element by element: the first elements of the
+ * shorter lags one by one, then four vectors of four lags, lane l of
+ * vector v holding lag k + 4 v + 3 - l, so that its d[i - k - q] are one
+ * contiguous load (each lane is the same product and sum as the scalar
+ * one: the same bits) [D]. */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) && \
+    !defined(IGEA_NO_CLONES)
+#define DG_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define DG_CLONES
+#endif
+#if defined(__GNUC__)
+typedef double dg_v4 __attribute__((vector_size(32), aligned(8)));
+#define DG_LD(p) (*(const dg_v4 *)(const void *)(p))
+#define DG_VEC 1
+#else
+#define DG_VEC 0
+#endif
+
+#if DG_VEC
+DG_CLONES static void lag16(const double *d, int H, int nc, int k, double *cross)
+{
+    int from = k + 15 - H > 0 ? k + 15 - H : 0;
+    for (int q = 0; q < 15; q++)
+        for (int i = k + q - H > 0 ? k + q - H : 0; i < from && i < nc; i++)
+            cross[k + q - 1] += d[i] * d[i - k - q];
+    dg_v4 s[4];
+    for (int v = 0; v < 4; v++)
+        for (int l = 0; l < 4; l++)
+            s[v][l] = cross[k + 4 * v + 3 - l - 1];
+    for (int i = from; i < nc; i++) {
+        const double x = d[i];
+        const dg_v4 b = {x, x, x, x};
+        const double *p = d + i - k - 3;
+        s[0] += b * DG_LD(p);
+        s[1] += b * DG_LD(p - 4);
+        s[2] += b * DG_LD(p - 8);
+        s[3] += b * DG_LD(p - 12);
+    }
+    for (int v = 0; v < 4; v++)
+        for (int l = 0; l < 4; l++)
+            cross[k + 4 * v + 3 - l - 1] = s[v][l];
+}
+#endif
+
 int igea_stats_diag_add(int n, const double *x, int incx, double *state)
 {
     if (n < 0) return -1;
@@ -65,7 +112,7 @@ int igea_stats_diag_add(int n, const double *x, int incx, double *state)
      * them in order in dev[]; each cross[k - 1] then gets d_i times the
      * deviation k before it for every element i of the chunk in element
      * order, as element by element, so the sums are the same; the lags
-     * four at a time (independent sums). The deviation of element k sits
+     * sixteen (lag16), then four at a time (independent sums). The deviation of element k sits
      * at ring[k % L] between calls. */
     double dev[DIAG_CHUNK + IGEA_STATS_DIAG_LAGS_MAX];
     for (int i0 = 0; i0 < n; i0 += DIAG_CHUNK) {
@@ -88,6 +135,10 @@ int igea_stats_diag_add(int n, const double *x, int incx, double *state)
         }
         /* element i of the chunk reaches lag k when k <= H + i */
         int k = 1;
+#if DG_VEC
+        for (; k + 15 <= L; k += 16)
+            lag16(d, H, nc, k, cross);
+#endif
         for (; k + 3 <= L; k += 4) {
             int from = k + 3 - H > 0 ? k + 3 - H : 0;
             for (int q = 0; q < 3; q++) /* the first elements of the shorter lags */
