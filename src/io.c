@@ -449,6 +449,7 @@ static int fd_kind(igea_io_reader *r, int from_offset)
         off_t at = from_offset ? lseek(r->s.fd, 0, SEEK_CUR) : 0;
         if (at >= 0 && at <= st.st_size) {
             r->s.seekable = 1;
+            r->s.inplace = 1;
             r->s.delta = at;
             r->s.size = st.st_size - at;
         }
@@ -578,6 +579,9 @@ int igea_io_reader_info(const igea_io_reader *r, double *info)
     info[IGEA_IO_INFO_NPY] = r->open ? r->npy : 0;
     info[IGEA_IO_INFO_NPY_ROWS] = r->open && r->npy ? (double)r->rows : 0.0;
     info[IGEA_IO_INFO_CHECKED] = r->open && r->npy && r->s.seekable ? 1.0 : 0.0;
+    info[IGEA_IO_INFO_NPY_DATA] =
+        r->open && r->npy && r->s.inplace ? (double)(r->s.delta + r->data_off) : -1.0;
+    info[IGEA_IO_INFO_NPY_FORTRAN] = r->open && r->npy && r->fortran && !r->oned && r->cols > 1;
     return 0;
 }
 

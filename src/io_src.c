@@ -225,6 +225,7 @@ int io_src_spool(igea_io_reader *r)
     s->fd = sp;
     s->own = 1;
     s->seekable = 1;
+    s->inplace = 0;
     s->delta = -start;
     s->size = start + end;
     s->bpos = s->blen = 0;

@@ -31,6 +31,7 @@ typedef struct {
     size_t bpos, blen;
     int eof;
     int tee;      /* spool receiving a copy of every byte read, -1 none */
+    int inplace;  /* a regular file read where it is (not a spool) */
 } io_src;
 
 struct igea_io_reader {

@@ -14,6 +14,8 @@ double igea__stability_edf_greenhall(int a, int d, double m, double N, int overl
 /* ---- one pass over a record for every tau (stability_pass.c) ---- */
 
 #define IGEA__AP_BLOCK 1024 /* phase points per block */
+#define IGEA__AP_SRC_RING 1024 /* blocks a stream's ring keeps when older values
+                                * can be read back (8 MB) */
 #define IGEA__AP_AV 2       /* second differences x_e - 2 x_{e-m} + x_{e-2m} */
 #define IGEA__AP_HV 3       /* third differences */
 #define IGEA__AP_MV 4       /* sums of m second differences (modified) */
@@ -50,9 +52,21 @@ int igea__apass_new(int phase, int ntau, const igea__aptau_spec *spec, long nhin
  * Returns 0 or IGEA_ENOMEM. */
 int igea__apass_whole(int phase, int ntau, const igea__aptau_spec *spec, long n,
                       const double *v, igea__apass **out);
-/* n more values; 0, IGEA_ENOMEM (a ring that could not grow), -1 after end. */
+/* A stream's values read back from a file (before the first value is
+ * fed): value i at byte off + i stride of fd; the ring then stops at ring
+ * blocks and older values are read with pread, each block checked against
+ * the bits fed (docs/stability.md, "The driver's stream"). Without a lag
+ * beyond ring blocks nothing changes. Returns 0, -1 (a whole-record pass,
+ * values already fed, or a source already set), IGEA_ENOMEM. */
+int igea__apass_source(igea__apass *p, int fd, double off, long stride, long ring);
+/* igea_stability_stream_source with a ring of ring >= 8 blocks. */
+struct igea_stability_stream;
+int igea__stability_stream_source_ring(struct igea_stability_stream *h, int fd, double offset,
+                                       int stride, long ring);
+/* n more values; 0, IGEA_ENOMEM (a ring that could not grow), IGEA_EREAD (a
+ * value read back could not be read or was not the one fed), -1 after end. */
 int igea__apass_feed(igea__apass *p, long n, const double *v);
-/* The end of the record: the last block's terms. 0 or IGEA_ENOMEM. */
+/* The end of the record: the last block's terms. 0, IGEA_ENOMEM or IGEA_EREAD. */
 int igea__apass_end(igea__apass *p);
 /* Sum of the squared terms of tau j (phase units: the rate samples' sums)
  * and their count. */

@@ -9,6 +9,10 @@
  * recurrence from exact anchors; the strided terms and the tau-means of
  * long lags keep the last points at multiples of m (docs/stability.md,
  * "One pass"). */
+#include <errno.h>
+#include <stdint.h>
+#include <unistd.h>
+
 #include "igea/stability.h"
 #include "internal.h"
 #include "stability_internal.h"
@@ -152,6 +156,7 @@ struct igea__apass {
     double *buf;       /* scratch: 8 streams of AP_BUF */
     double *pz;        /* scratch of pyr_block's levels (NULL: no such tau) */
     int npyr;          /* levels pyr_block forms (the highest tau's, and one) */
+    struct apsrc *src; /* stream: the values beyond the ring read back (NULL: none) */
 };
 
 static inline long mod_l(long a, long b) { return a % b; }
@@ -179,16 +184,174 @@ static inline dd *wb(const igea__apass *p, long blk) { return p->Wb + mod_l(blk,
 
 /* len raw values from value index i (rate: sample, phase: point): the
  * caller's array, or the stream's ring (copied to buf where it wraps). */
+static const double *src_at(const igea__apass *p, long i, long len);
+
 static const double *raw_at(const igea__apass *p, long i, long len, double *buf)
 {
     if (p->rec)
         return p->rec + i;
+    if (p->src && i < p->nraw - p->rawcap * AP_B)
+        return src_at(p, i, len);
     long R = p->rawcap * AP_B, s = mod_l(i, R);
     if (s + len <= R)
         return p->raw + s;
     memcpy(buf, p->raw + s, (size_t)(R - s) * sizeof(double));
     memcpy(buf + (R - s), p->raw, (size_t)(len - (R - s)) * sizeof(double));
     return buf;
+}
+
+/* ---- a stream's values read back from their file ---- */
+
+/* When the longest lag needs more raw values than the ring of a source
+ * holds (IGEA__AP_SRC_RING blocks) and the caller says where the values are
+ * in a file (igea__apass_source), the ring stops there and older values are read back with pread into a few
+ * windows of AP_WIN_BLOCKS blocks, one per long lag's stream (each lag reads
+ * its values in order, a window at a time). Each block read back is checked
+ * against the sum of the bits of the values fed (mod 2^64): a file that
+ * changed, or a wrong offset or stride, is an error, never other values
+ * [D]. An error is kept (src->err): the pass goes on over zeros, and the
+ * feed or the end return it. */
+#define AP_WIN_BLOCKS 32 /* blocks of a window (256 KB) */
+#define AP_WIN_MAX 64    /* windows at most */
+#define AP_SRC_CHUNK (1 << 20) /* bytes of one pread of a strided column */
+
+static void *grow_array(void *p, size_t n, size_t sz);
+
+struct apsrc {
+    int fd;
+    long stride;         /* bytes from one value to the next */
+    double off;          /* byte offset of value 0 */
+    int nwin;
+    double *win;         /* nwin windows of AP_WIN_BLOCKS AP_B values */
+    long *wfirst, *wlen; /* each window's first value and how many it holds */
+    unsigned long *wuse, clock;
+    unsigned char *tmp;  /* AP_SRC_CHUNK bytes (stride > 8) */
+    uint64_t *ck;        /* per whole block fed: the sum of its values' bits */
+    long nck, capck;
+    uint64_t cur;        /* the block being fed: its partial sum */
+    int err;             /* 0, IGEA_EREAD or IGEA_ENOMEM */
+};
+
+static void src_free(struct apsrc *s)
+{
+    if (!s)
+        return;
+    free(s->win);
+    free(s->wfirst);
+    free(s->wuse);
+    free(s->tmp);
+    free(s->ck);
+    free(s);
+}
+
+static uint64_t bits_sum(const double *v, long n)
+{
+    uint64_t a = 0;
+    for (long j = 0; j < n; j++) {
+        uint64_t u;
+        memcpy(&u, v + j, sizeof u);
+        a += u;
+    }
+    return a;
+}
+
+/* The checksums of the n values v fed after the first nraw0. */
+static void src_fed(struct apsrc *s, long nraw0, const double *v, long n)
+{
+    long j = 0;
+    while (j < n && !s->err) {
+        long in = (nraw0 + j) % AP_B, c = IGEA_MIN(n - j, AP_B - in);
+        s->cur += bits_sum(v + j, c);
+        j += c;
+        if (in + c == AP_B) { /* a whole block */
+            if (s->nck == s->capck) {
+                long nc = s->capck ? 2 * s->capck : 1024;
+                uint64_t *k = grow_array(s->ck, (size_t)nc, sizeof *k);
+                if (!k) {
+                    s->err = IGEA_ENOMEM;
+                    return;
+                }
+                s->ck = k;
+                s->capck = nc;
+            }
+            s->ck[s->nck++] = s->cur;
+            s->cur = 0;
+        }
+    }
+}
+
+/* cnt values from value first into w (pread; strided: through tmp).
+ * 0 or IGEA_EREAD. */
+static int src_read(struct apsrc *s, long first, long cnt, double *w)
+{
+    double pos = s->off + (double)first * (double)s->stride;
+    if (s->stride == (long)sizeof(double)) {
+        size_t want = (size_t)cnt * sizeof(double), got = 0;
+        while (got < want) {
+            ssize_t k = pread(s->fd, (char *)w + got, want - got, (off_t)pos + (off_t)got);
+            if (k < 0 && errno == EINTR)
+                continue;
+            if (k <= 0)
+                return IGEA_EREAD;
+            got += (size_t)k;
+        }
+        return 0;
+    }
+    long per = AP_SRC_CHUNK / s->stride; /* values per pread (stride <= AP_SRC_CHUNK / 8) */
+    for (long j = 0; j < cnt; j += per) {
+        long c = IGEA_MIN(per, cnt - j);
+        size_t want = (size_t)(c - 1) * (size_t)s->stride + sizeof(double), got = 0;
+        off_t at = (off_t)pos + (off_t)j * (off_t)s->stride;
+        while (got < want) {
+            ssize_t k = pread(s->fd, s->tmp + got, want - got, at + (off_t)got);
+            if (k < 0 && errno == EINTR)
+                continue;
+            if (k <= 0)
+                return IGEA_EREAD;
+            got += (size_t)k;
+        }
+        for (long q = 0; q < c; q++)
+            memcpy(w + j + q, s->tmp + (size_t)q * (size_t)s->stride, sizeof(double));
+    }
+    return 0;
+}
+
+/* len values from value i, older than the ring: from the window that holds
+ * them, or the least recently used one filled from i's block on (whole
+ * blocks fed, each checked). On an error, zeros. */
+static const double *src_at(const igea__apass *p, long i, long len)
+{
+    struct apsrc *s = p->src;
+    int lru = 0;
+    s->clock++;
+    for (int w = 0; w < s->nwin; w++) {
+        if (s->wlen[w] > 0 && s->wfirst[w] <= i && i + len <= s->wfirst[w] + s->wlen[w]) {
+            s->wuse[w] = s->clock;
+            return s->win + (size_t)w * AP_WIN_BLOCKS * AP_B + (i - s->wfirst[w]);
+        }
+        if (s->wuse[w] < s->wuse[lru])
+            lru = w;
+    }
+    double *w = s->win + (size_t)lru * AP_WIN_BLOCKS * AP_B;
+    long b0 = i / AP_B, nb = IGEA_MIN((long)AP_WIN_BLOCKS, s->nck - b0);
+    int st = s->err;
+    if (!st && (nb < 1 || i + len > (b0 + nb) * AP_B))
+        st = IGEA_EREAD; /* cannot happen: the ring holds the newest blocks */
+    if (!st)
+        st = src_read(s, b0 * AP_B, nb * AP_B, w);
+    for (long b = 0; !st && b < nb; b++)
+        if (bits_sum(w + b * AP_B, AP_B) != s->ck[b0 + b])
+            st = IGEA_EREAD;
+    s->wuse[lru] = s->clock;
+    if (st) {
+        s->err = st;
+        s->wlen[lru] = 0;
+        memset(w, 0, (size_t)AP_WIN_BLOCKS * AP_B * sizeof(double));
+        return w;
+    }
+    s->wfirst[lru] = b0 * AP_B;
+    s->wlen[lru] = nb * AP_B;
+    return w + (i - b0 * AP_B);
 }
 
 void igea__apass_free(igea__apass *p)
@@ -203,6 +366,7 @@ void igea__apass_free(igea__apass *p)
     free(p->Xb);
     free(p->Wb);
     free(p->raw);
+    src_free(p->src);
     for (int j = 0; p->t && j < p->ntau; j++)
         free(p->t[j].zb);
     free(p->t);
@@ -389,6 +553,40 @@ int igea__apass_new(int phase, int ntau, const igea__aptau_spec *spec, long nhin
                     igea__apass **out)
 {
     return apass_alloc(phase, ntau, spec, NULL, 0, nhint, out);
+}
+
+int igea__apass_source(igea__apass *p, int fd, double off, long stride, long ring)
+{
+    if (p->rec || p->nraw > 0 || p->src)
+        return -1;
+    if (p->rawcap_max <= ring)
+        return 0; /* the ring holds every lag: nothing is read back */
+    struct apsrc *s = calloc(1, sizeof *s);
+    if (!s)
+        return IGEA_ENOMEM;
+    s->fd = fd;
+    s->off = off;
+    s->stride = stride;
+    /* a window per long lag's stream (the lags beyond the ring), and spares */
+    int streams = 0;
+    for (int j = 0; j < p->ntau; j++)
+        if (p->t[j].large && p->t[j].span + 2 * AP_B > (ring - 4) * AP_B)
+            streams += p->t[j].type == IGEA__AP_AV ? 2 : 3;
+    s->nwin = IGEA_MIN(AP_WIN_MAX, IGEA_MAX(8, streams + 4));
+    s->win = igea__dalloc((size_t)s->nwin * AP_WIN_BLOCKS * AP_B);
+    s->wfirst = malloc(2 * (size_t)s->nwin * sizeof(long));
+    s->wuse = calloc((size_t)s->nwin, sizeof(unsigned long));
+    s->tmp = stride > (long)sizeof(double) ? malloc(AP_SRC_CHUNK) : NULL;
+    if (!s->win || !s->wfirst || !s->wuse || (stride > (long)sizeof(double) && !s->tmp)) {
+        src_free(s);
+        return IGEA_ENOMEM;
+    }
+    s->wlen = s->wfirst + s->nwin;
+    for (int w = 0; w < s->nwin; w++)
+        s->wfirst[w] = s->wlen[w] = 0;
+    p->src = s;
+    p->rawcap_max = ring;
+    return 0;
 }
 
 /* The segment kernels: eight accumulators (one per lane, combined in a
@@ -1289,6 +1487,8 @@ static void raw_prefetch(const igea__apass *p, long i, long len)
         r = p->rec + i;
     } else {
         long R = p->rawcap * AP_B, s = mod_l(i, R);
+        if (p->src && i < p->nraw - R)
+            return; /* read back when asked for */
         if (s + len > R)
             len = R - s;
         r = p->raw + s;
@@ -1576,6 +1776,8 @@ int igea__apass_feed(igea__apass *p, long n, const double *v)
     while (i < n) {
         /* raw values from the oldest a block's terms read on stay */
         long keep = p->k * AP_B - p->reach - (p->phase ? 0 : 1), R = p->rawcap * AP_B;
+        if (p->src && p->rawcap >= p->rawcap_max) /* older values are read back: */
+            keep = p->k * AP_B - AP_B - 1;        /* the block before stays */
         if (keep < 0)
             keep = 0;
         long room = keep + R - p->nraw;
@@ -1589,12 +1791,16 @@ int igea__apass_feed(igea__apass *p, long n, const double *v)
         long s = mod_l(p->nraw, R), c1 = IGEA_MIN(take, R - s);
         memcpy(p->raw + s, v + i, (size_t)c1 * sizeof(double));
         memcpy(p->raw, v + i + c1, (size_t)(take - c1) * sizeof(double));
+        if (p->src)
+            src_fed(p->src, p->nraw, v + i, take);
         p->nraw += take;
         i += take;
         p->N = p->phase ? p->nraw : p->nraw + 1;
         if (!p->phase && !p->have_off && p->nraw >= AP_B)
             rate_offset(p, raw_at(p, 0, AP_B, p->buf), AP_B);
         int st = blocks_ready(p);
+        if (!st && p->src)
+            st = p->src->err;
         if (st)
             return st;
     }
@@ -1621,6 +1827,8 @@ int igea__apass_end(igea__apass *p)
     if (!st && p->N > p->k * AP_B)
         st = block_do(p, p->k, p->N - p->k * AP_B, 1);
     acf_end(p);
+    if (!st && p->src)
+        st = p->src->err;
     return st;
 }
 

@@ -16,7 +16,8 @@ struct igea_stability_stream {
     long *m;              /* their factors */
     igea__apass *p;
     double nfed;          /* samples fed */
-    int failed;           /* the ring could not grow */
+    int failed;           /* 0, or the status that made it unusable (IGEA_ENOMEM:
+                           * the ring could not grow; IGEA_EREAD: a value read back) */
     int ended;            /* the results were asked for */
     long nb;              /* block statistic: samples per block (0: none) */
     igea__ksum cur;       /* the current block's sum */
@@ -141,7 +142,7 @@ int igea_stability_stream_feed(igea_stability_stream *h, int n, const double *v)
     if (n > 0 && !v)
         return -3;
     if (h->failed)
-        return IGEA_ENOMEM;
+        return h->failed;
     if (h->ended)
         return IGEA_EEMPTY;
     if (!igea__finite_vec(n, v, 1))
@@ -154,7 +155,7 @@ int igea_stability_stream_feed(igea_stability_stream *h, int n, const double *v)
                     long nc = h->capmeans ? 2 * h->capmeans : 64;
                     double *nm = realloc(h->means, (size_t)nc * sizeof(double));
                     if (!nm) {
-                        h->failed = 1;
+                        h->failed = IGEA_ENOMEM;
                         return IGEA_ENOMEM;
                     }
                     h->means = nm;
@@ -166,12 +167,34 @@ int igea_stability_stream_feed(igea_stability_stream *h, int n, const double *v)
             }
         }
     }
-    if (igea__apass_feed(h->p, n, v)) {
-        h->failed = 1;
-        return IGEA_ENOMEM;
+    int st = igea__apass_feed(h->p, n, v);
+    if (st) {
+        h->failed = st == IGEA_EREAD ? IGEA_EREAD : IGEA_ENOMEM;
+        return h->failed;
     }
     h->nfed += (double)n;
     return 0;
+}
+
+/* igea_stability_stream_source with a ring of ring blocks (the tests' short
+ * records reach past a small one). */
+int igea__stability_stream_source_ring(igea_stability_stream *h, int fd, double offset,
+                                       int stride, long ring)
+{
+    if (!h || h->nfed > 0 || h->ended || h->failed)
+        return -1;
+    if (fd < 0)
+        return -2;
+    if (!(offset >= 0 && offset <= 9007199254740992.0 && offset == floor(offset)))
+        return -3;
+    if (stride < (int)sizeof(double) || stride > (1 << 17))
+        return -4;
+    return igea__apass_source(h->p, fd, offset, stride, ring < 8 ? 8 : ring);
+}
+
+int igea_stability_stream_source(igea_stability_stream *h, int fd, double offset, int stride)
+{
+    return igea__stability_stream_source_ring(h, fd, offset, stride, IGEA__AP_SRC_RING);
 }
 
 int igea_stability_stream_samples(const igea_stability_stream *h, double *n)
@@ -199,7 +222,7 @@ int igea_stability_stream_result(igea_stability_stream *h, int ntau_max, int *nt
     if (!dev)
         return -5;
     if (h->failed)
-        return IGEA_ENOMEM;
+        return h->failed;
     if (h->nfed < 2.0 || h->nfed > 2147483647.0)
         return IGEA_EEMPTY;
     igea__apass *p = h->p;

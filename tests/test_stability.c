@@ -11,6 +11,15 @@
 /* Out-of-memory loop (as tests/test_oom.c); not under AddressSanitizer. */
 #include "oom.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
+/* stability_stream.c: igea_stability_stream_source with a ring of ring
+ * blocks (a short record then reaches past it) */
+struct igea_stability_stream;
+int igea__stability_stream_source_ring(struct igea_stability_stream *h, int fd, double offset,
+                                       int stride, long ring);
+
 /* The NBS 1000-point frequency data set: x_{k+1} = 16807 x_k mod
  * 2^31 - 1, x_0 = 1234567890, y = x / (2^31 - 1) (Riley, "The calculation
  * of time domain frequency stability"; NIST SP 1065 section 12). */
@@ -931,6 +940,178 @@ static void test_long_lags(void **state)
     free(x);
 }
 
+/* v[n] written to a temporary file as column col of cols (C order: the
+ * row's values side by side; fortran: the columns one after the other)
+ * after hdr bytes of zeros; the descriptor, the file unlinked. */
+static int source_file(const double *v, int n, int hdr, int cols, int col, int fortran)
+{
+    char path[] = "/tmp/igea_srcXXXXXX";
+    int fd = mkstemp(path);
+    assert_true(fd >= 0);
+    unlink(path);
+    size_t len = (size_t)hdr + (size_t)n * cols * sizeof(double);
+    unsigned char *b = calloc(1, len);
+    for (int i = 0; i < n; i++)
+        for (int c = 0; c < cols; c++) {
+            double x = c == col ? v[i] : -1.0 - i - c;
+            size_t at = fortran ? (size_t)c * n + i : (size_t)i * cols + c;
+            memcpy(b + hdr + at * sizeof(double), &x, sizeof x);
+        }
+    assert_int_equal(write(fd, b, len), (ssize_t)len);
+    free(b);
+    return fd;
+}
+
+/* A stream with a source of ring blocks over fd (offset, stride), fed in
+ * pieces: its results (dev, lo, hi, edf, count) into out[40]; the status
+ * of the first failing call. */
+static int stream_src(int n, const double *v, int dt, int kind, int noise, int nt,
+                      const double *tau, int fd, double off, int stride, long ring, int piece,
+                      double *out, int modify_at, int truncate_at)
+{
+    igea_stability_stream *h = NULL;
+    int k = -1, cnt[8], al[8], st = 0;
+    assert_int_equal(igea_stability_stream_create(1.0, dt, kind, noise, 0.683, nt, tau, 0, 0.0, &h), 0);
+    assert_int_equal(igea__stability_stream_source_ring(h, fd, off, stride, ring), 0);
+    for (int i = 0; i < n && !st; i += piece) {
+        if (modify_at >= 0 && i == 0) { /* the file differs from the values fed */
+            double x = v[modify_at] + 1.0;
+            assert_int_equal(pwrite(fd, &x, sizeof x, (off_t)(off + (double)modify_at * stride)),
+                             (ssize_t)sizeof x);
+        }
+        if (truncate_at >= 0 && i == 0)
+            assert_int_equal(ftruncate(fd, (off_t)(off + (double)truncate_at * stride)), 0);
+        st = igea_stability_stream_feed(h, i + piece <= n ? piece : n - i, v + i);
+    }
+    double t[8];
+    int st2 = igea_stability_stream_result(h, 8, &k, t, out, out + 8, out + 16, out + 24, al,
+                                           cnt, NULL);
+    if (!st && !st2) {
+        assert_int_equal(k, nt);
+        for (int j = 0; j < nt; j++)
+            out[32 + j] = cnt[j];
+    }
+    if (st) /* a failed stream stays failed */
+        assert_int_equal(st2, st);
+    igea_stability_stream_free(h);
+    return st ? st : st2;
+}
+
+/* The stream reading its long lags back from a file (a ring of 8 blocks,
+ * every lag beyond it read back): the whole-record results bit for bit,
+ * for every Allan and Hadamard kind, both data types, lags on the block
+ * grid and off it, the record alone in its file or a column of a table in
+ * either order behind a header; a value changed in the file, a file cut
+ * short, a wrong stride: IGEA_EREAD, never other values. */
+static void test_stream_source(void **state)
+{
+    (void)state;
+    const int n = 420000;
+    double *y = malloc(sizeof(double) * n), *x = malloc(sizeof(double) * n);
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r, 29);
+    double rw = 0, ph = 0;
+    for (int i = 0; i < n; i++) {
+        rw += gsl_ran_gaussian(r, 1e-2);
+        y[i] = 3.0 + gsl_ran_gaussian(r, 1.0) + rw;
+        x[i] = (ph += y[i] - 3.0) * 1e-3;
+    }
+    /* m = 1, 3, 1000 (the pass's small ring), 131072 (long, on the block
+     * grid), 100000, 150000 (long, off it) */
+    const double tau[6] = {1, 3, 1000, 100000, 131072, 150000};
+    static const int lay[4][4] = {{0, 1, 0, 0}, {56, 1, 0, 0}, {128, 3, 1, 0}, {64, 2, 1, 1}};
+    for (int L = 0; L < 4; L++)
+        for (int dt = 0; dt < 2; dt++) {
+            const double *v = dt ? x : y;
+            int hdr = lay[L][0], cols = lay[L][1], col = lay[L][2], fo = lay[L][3];
+            int fd = source_file(v, n, hdr, cols, col, fo);
+            double off = hdr + 8.0 * col * (fo ? n : 1);
+            int stride = fo ? 8 : 8 * cols;
+            int k0 = dt ? IGEA_STABILITY_ALLAN_ADEV : IGEA_STABILITY_ALLAN_OVERLAPPING;
+            int k1 = dt ? IGEA_STABILITY_ALLAN_OHDEV : IGEA_STABILITY_ALLAN_OHDEV;
+            for (int kind = k0; kind <= k1; kind++) {
+                int rate = kind <= IGEA_STABILITY_ALLAN_NONOVERLAPPING;
+                int nt = kind == IGEA_STABILITY_ALLAN_ADEV || kind == IGEA_STABILITY_ALLAN_OADEV ||
+                                 kind == IGEA_STABILITY_ALLAN_OVERLAPPING ||
+                                 kind == IGEA_STABILITY_ALLAN_NONOVERLAPPING
+                             ? 6 : 5;
+                int nz = rate && L % 2 ? IGEA_STABILITY_NOISE_AUTO : IGEA_STABILITY_NOISE_WFM;
+                double ref[40], got[40], lo[8], hi[8], e[8];
+                int cnt[8];
+                if (rate)
+                    assert_int_equal(igea_stability_allan(n, v, 1.0, nt, tau, kind, nz, 0.683, ref,
+                                                          lo, hi, e, cnt),
+                                     0);
+                else
+                    assert_int_equal(igea_stability_dev(n, v, 1.0, dt, nt, tau, kind, nz, 0.683, ref,
+                                                        lo, hi, e, NULL, cnt, NULL),
+                                     0);
+                assert_int_equal(stream_src(n, v, dt, kind, nz, nt, tau, fd, off, stride, 8,
+                                            L == 2 ? 777 : 4096, got, -1, -1),
+                                 0);
+                for (int j = 0; j < nt; j++)
+                    assert_true(got[j] == ref[j] && got[8 + j] == lo[j] && got[16 + j] == hi[j] &&
+                                got[24 + j] == e[j] && got[32 + j] == cnt[j]);
+            }
+            if (L == 1 && dt == 0) {
+                double got[40];
+                /* a value in the file other than the one fed (the file changed) */
+                assert_int_equal(stream_src(n, v, 0, IGEA_STABILITY_ALLAN_MODIFIED,
+                                            IGEA_STABILITY_NOISE_WFM, 5, tau, fd, off, stride, 8,
+                                            1000, got, 5, -1),
+                                 IGEA_EREAD);
+                double back = v[5]; /* put back: the file is the record again */
+                assert_int_equal(pwrite(fd, &back, 8, (off_t)(off + 40)), 8);
+                /* a wrong stride: other values */
+                assert_int_equal(stream_src(n, v, 0, IGEA_STABILITY_ALLAN_OVERLAPPING,
+                                            IGEA_STABILITY_NOISE_WFM, 6, tau, fd, off, 16, 8, 1000,
+                                            got, -1, -1),
+                                 IGEA_EREAD);
+                /* the file cut short */
+                assert_int_equal(stream_src(n, v, 0, IGEA_STABILITY_ALLAN_OVERLAPPING,
+                                            IGEA_STABILITY_NOISE_WFM, 6, tau, fd, off, stride, 8,
+                                            1000, got, -1, 3000),
+                                 IGEA_EREAD);
+            }
+            close(fd);
+        }
+    /* arguments; a stream whose lags stay in the ring never reads */
+    igea_stability_stream *h = NULL;
+    assert_int_equal(igea_stability_stream_source(NULL, 0, 0, 8), -1);
+    assert_int_equal(igea_stability_stream_create(1.0, 0, IGEA_STABILITY_ALLAN_OVERLAPPING,
+                                                  IGEA_STABILITY_NOISE_WFM, 0.683, 3, tau, 0, 0, &h),
+                     0);
+    assert_int_equal(igea_stability_stream_source(h, -1, 0, 8), -2);
+    assert_int_equal(igea_stability_stream_source(h, 0, -8, 8), -3);
+    assert_int_equal(igea_stability_stream_source(h, 0, 0.5, 8), -3);
+    assert_int_equal(igea_stability_stream_source(h, 0, 0, 4), -4);
+    assert_int_equal(igea_stability_stream_source(h, 0, 0, 131080), -4);
+    int nul = open("/dev/null", O_RDONLY);
+    assert_int_equal(igea_stability_stream_source(h, nul, 0, 8), 0);
+    assert_int_equal(igea_stability_stream_feed(h, n, y), 0);
+    assert_int_equal(igea_stability_stream_source(h, nul, 0, 8), -1); /* after a feed */
+    double d[8], ref[8];
+    int k;
+    assert_int_equal(igea_stability_stream_result(h, 8, &k, NULL, d, NULL, NULL, NULL, NULL, NULL,
+                                                  NULL),
+                     -4);
+    double t[8];
+    assert_int_equal(igea_stability_stream_result(h, 8, &k, t, d, NULL, NULL, NULL, NULL, NULL,
+                                                  NULL),
+                     0);
+    assert_int_equal(igea_stability_allan(n, y, 1.0, 3, tau, IGEA_STABILITY_ALLAN_OVERLAPPING,
+                                          IGEA_STABILITY_NOISE_WFM, 0.683, ref, NULL, NULL, NULL,
+                                          NULL),
+                     0);
+    for (int j = 0; j < 3; j++)
+        assert_true(d[j] == ref[j]);
+    close(nul);
+    igea_stability_stream_free(h);
+    gsl_rng_free(r);
+    free(y);
+    free(x);
+}
+
 #ifndef OOM_DISABLED
 /* Allocation failures in the stream: refused cleanly, later calls too. */
 static void test_stream_oom(void **state)
@@ -1112,6 +1293,7 @@ int main(void)
         cmocka_unit_test(test_fit),
         cmocka_unit_test(test_fit_boot),
         cmocka_unit_test(test_stream),
+        cmocka_unit_test(test_stream_source),
         cmocka_unit_test(test_long_lags),
 #ifndef OOM_DISABLED
         cmocka_unit_test(test_oom),

@@ -89,6 +89,12 @@ extern "C" {
 #define IGEA_IO_INFO_NPY_ROWS 8 /* rows its .npy header states, 0 */
 #define IGEA_IO_INFO_CHECKED 9  /* 1 when those rows were checked against the
                                    bytes present (a seekable input) */
+#define IGEA_IO_INFO_NPY_DATA 10 /* a .npy read where it is in a regular file
+                                    (not a temporary copy): the byte offset of
+                                    its first value in that file; -1 */
+#define IGEA_IO_INFO_NPY_FORTRAN 11 /* 1 for a .npy in Fortran order with more
+                                       than one column (a column's values
+                                       then follow each other), 0 */
 #define IGEA_IO_INFO_LEN 16
 
 typedef struct igea_io_reader igea_io_reader;

@@ -294,12 +294,32 @@ IGEA_API int igea_stability_stream_create(double fs, int data_type, int kind, in
                                           double block, igea_stability_stream **out);
 /* Release a stream (h may be NULL). */
 IGEA_API void igea_stability_stream_free(igea_stability_stream *h);
+/*
+ * Let the stream read back from a file the values its long lags need, so
+ * that it holds 1024 blocks of 1024 values (8 MB), not the longest lag:
+ * value i of the record (the i-th fed, from 0) is the double in this
+ * machine's byte order at byte offset + i stride of fd. Once the lags
+ * reach further back than that ring, older values are read with pread
+ * (fd's position is neither used nor moved; fd stays open, the caller's,
+ * until the stream is freed) a window at a time, and each block read back
+ * is checked against the bits of the values fed: a value that cannot be
+ * read, or differs from the one fed (the file changed, a wrong offset or
+ * stride), makes the feed or the result return IGEA_EREAD, and the stream
+ * unusable. The results are those without a source, bit for bit. Call it
+ * before the first feed; without a lag beyond the ring nothing changes.
+ *  1 h (nothing fed yet), 2 fd >= 0, 3 offset >= 0 (bytes, an exact
+ *  integer), 4 8 <= stride <= 131072 (bytes).
+ * Returns 0, -i, IGEA_ENOMEM.
+ */
+IGEA_API int igea_stability_stream_source(igea_stability_stream *h, int fd, double offset,
+                                          int stride);
 /* The next n >= 0 samples v[n] (rate samples, or phase points for phase
  * data; at most 2^31 - 1 in all). Returns 0, -1 (h NULL), -2 (n < 0), -3
  * (v NULL with n > 0), IGEA_ENONFINITE (a NaN or infinity in v: nothing of
  * v is fed), IGEA_EEMPTY (the stream has ended: its results were asked
  * for), IGEA_ENOMEM (the ring could not grow: the stream is then unusable,
- * and every later call returns IGEA_ENOMEM). */
+ * and every later call returns IGEA_ENOMEM), IGEA_EREAD (with a source: a
+ * value read back, as IGEA_ENOMEM). */
 IGEA_API int igea_stability_stream_feed(igea_stability_stream *h, int n, const double *v);
 /* The samples fed so far (*n, an exact integer). Returns 0, -1, -2. */
 IGEA_API int igea_stability_stream_samples(const igea_stability_stream *h, double *n);
@@ -318,7 +338,8 @@ IGEA_API int igea_stability_stream_samples(const igea_stability_stream *h, doubl
  *  block[IGEA_STABILITY_BLOCK_LEN] (may be NULL).
  * Returns 0, -i, IGEA_EEMPTY (fewer than 2 samples, a given tau without a
  * term, or more taus than ntau_max), IGEA_ENONFINITE (a NaN or infinity
- * was fed), IGEA_ENOMEM, IGEA_ENOCONV; outputs untouched on failure.
+ * was fed), IGEA_ENOMEM, IGEA_ENOCONV, IGEA_EREAD (with a source: a value
+ * read back); outputs untouched on failure.
  */
 IGEA_API int igea_stability_stream_result(igea_stability_stream *h, int ntau_max, int *ntau,
                                           double *tau, double *dev, double *lo, double *hi,

@@ -285,6 +285,8 @@ IO_INFO_NAMES = 6
 IO_INFO_NPY = 7
 IO_INFO_NPY_ROWS = 8
 IO_INFO_CHECKED = 9
+IO_INFO_NPY_DATA = 10
+IO_INFO_NPY_FORTRAN = 11
 IO_INFO_LEN = 16
 
 # igea/nav.h
@@ -1160,6 +1162,8 @@ PROTOTYPES = {
         ("kind", c_int), ("noise", c_int), ("conf", c_double), ("ntau", c_int), ("tau", _PD),
         ("spacing", c_int), ("block", c_double), ("out", _PH),)),
     "igea_stability_stream_free": (None, (("h", c_void_p),)),
+    "igea_stability_stream_source": (c_int, (("h", c_void_p), ("fd", c_int), ("offset", c_double),
+        ("stride", c_int),)),
     "igea_stability_stream_feed": (c_int, (("h", c_void_p), ("n", c_int), ("v", _PD),)),
     "igea_stability_stream_samples": (c_int, (("h", c_void_p), ("n", _PD),)),
     "igea_stability_stream_result": (c_int, (("h", c_void_p), ("ntau_max", c_int), ("ntau", _PI),

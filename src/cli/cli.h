@@ -98,6 +98,10 @@ int cli_reader_cols(const cli_reader *r);
 /* The rows of the input when known before reading them (a .npy file whose
  * header was checked against its size), else -1. */
 long cli_reader_rows_known(const cli_reader *r);
+/* Where a .npy input's values are, read where they are in a regular file:
+ * *data the byte offset of the first value, *fortran 1 for Fortran order
+ * with more than one column. Returns 1, or 0 (text, a pipe, a copy). */
+int cli_reader_npy_data(const cli_reader *r, double *data, int *fortran);
 /* Read up to maxrows rows into buf (row-major, maxrows * cols doubles);
  * *nread = rows read, 0 at end of file. Returns an exit code. */
 int cli_reader_next(cli_reader *r, long maxrows, double *buf, long *nread);

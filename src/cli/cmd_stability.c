@@ -3,9 +3,12 @@
  * Stable32's statistics on phase or frequency data with confidence
  * intervals, the IEEE Std 952 noise model fitted to the curve
  * (docs/stability.md). */
+#include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "cli.h"
 
@@ -509,8 +512,52 @@ static int streamed(const st_args *a)
            (a->taus || rate || a->spacing != IGEA_STABILITY_TAUS_ALL);
 }
 
+/* A .npy file read where it is: the stream reads the values of its long
+ * lags back from the file (igea_stability_stream_source, a descriptor of
+ * its own in *fd) instead of holding them; otherwise (text, a pipe, a
+ * failure to open the file again) it holds them. */
+static int stream_source(const st_args *a, cli_reader *rd, igea_stability_stream *h, int *fd)
+{
+    double data;
+    int fortran, cols = cli_reader_cols(rd);
+    long rows = cli_reader_rows_known(rd);
+    if (!cli_reader_npy_data(rd, &data, &fortran) || rows < 0)
+        return CLI_OK;
+    double off = data + 8.0 * a->column * (cols > 1 && fortran ? (double)rows : 1.0);
+    long stride = cols > 1 && !fortran ? 8L * cols : 8L;
+    if (stride > 131072)
+        return CLI_OK;
+    int f;
+    do
+        f = open(a->file, O_RDONLY | O_CLOEXEC);
+    while (f < 0 && errno == EINTR);
+    if (f < 0)
+        return CLI_OK;
+    int st = igea_stability_stream_source(h, f, off, (int)stride);
+    if (st) {
+        close(f);
+        return st == IGEA_ENOMEM ? cli_oom("the record's windows")
+                                 : cli_status(st, "stability: stream");
+    }
+    *fd = f;
+    return CLI_OK;
+}
+
+/* A stream's failure st: a value read back from the file that is not the
+ * one read before, or cannot be read, is the file's fault. */
+static int stream_failed(const st_args *a, int st, const char *what)
+{
+    if (st != IGEA_EREAD)
+        return cli_status(st, what);
+    cli_error("%s: a value read back from the file is not the one read before, or cannot be "
+              "read (the file changed while it was read?)",
+              a->file);
+    return CLI_DATAERR;
+}
+
 /* The record read in blocks and fed to a stream (igea_stability_stream_*):
- * memory for the longest lag, not for the record. */
+ * memory for the longest lag, not for the record (a .npy file: 8 MB and
+ * the lags read back, stream_source). */
 static int stream_record(const st_args *a, st_result *r)
 {
     double *tin = NULL;
@@ -559,6 +606,7 @@ static int stream_record(const st_args *a, st_result *r)
     r->alpha = r->cnt + cap;
     igea_stability_stream *h = NULL;
     double *buf = NULL, *y = NULL;
+    int sfd = -1;
     /* a block shorter than half a sample: no block statistic (as the
      * whole-record path, where igea_stability_block refuses it) */
     double blk = a->block * a->fs >= 0.5 ? a->block : 0.0;
@@ -570,6 +618,8 @@ static int stream_record(const st_args *a, st_result *r)
         ec = tau_range_error();
     else if (st)
         ec = cli_status(st, "stability: stream");
+    if (!ec)
+        ec = stream_source(a, rd, h, &sfd);
     if (ec || (ec = cli_progress_start(&pr, "stability", "samples read", CLI_PROGRESS_UNKNOWN)))
         goto done;
     buf = malloc(sizeof(double) * ROWS * (size_t)cli_reader_cols(rd));
@@ -581,7 +631,7 @@ static int stream_record(const st_args *a, st_result *r)
         if ((ec = next_rows(a, rd, buf, y, &got)) || got == 0)
             break;
         if ((st = igea_stability_stream_feed(h, (int)got, y)))
-            ec = cli_status(st, "stability: stream");
+            ec = stream_failed(a, st, "stability: stream");
         total += (double)got;
         cli_progress_count(&pr, total);
     }
@@ -600,7 +650,7 @@ static int stream_record(const st_args *a, st_result *r)
         } else if (st == IGEA_EEMPTY) {
             ec = tau_range_error();
         } else if (st) {
-            ec = cli_status(st, "stability: deviation");
+            ec = stream_failed(a, st, "stability: deviation");
         }
     }
     if (!ec) {
@@ -612,6 +662,8 @@ done:
     free(y);
     cli_reader_close(rd);
     igea_stability_stream_free(h);
+    if (sfd >= 0)
+        close(sfd);
     return ec;
 }
 

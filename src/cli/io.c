@@ -185,6 +185,16 @@ long cli_reader_rows_known(const cli_reader *r)
     return info[IGEA_IO_INFO_NPY] != 0 && info[IGEA_IO_INFO_CHECKED] != 0
                ? (long)info[IGEA_IO_INFO_NPY_ROWS] : -1;
 }
+int cli_reader_npy_data(const cli_reader *r, double *data, int *fortran)
+{
+    double info[IGEA_IO_INFO_LEN];
+    igea_io_reader_info(r->r, info);
+    if (info[IGEA_IO_INFO_NPY_DATA] < 0)
+        return 0;
+    *data = info[IGEA_IO_INFO_NPY_DATA];
+    *fortran = info[IGEA_IO_INFO_NPY_FORTRAN] != 0;
+    return 1;
+}
 const char *cli_reader_path(const cli_reader *r) { return r->path; }
 const char *cli_reader_names(const cli_reader *r) { return igea_io_reader_names(r->r); }
 

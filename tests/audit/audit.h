@@ -375,6 +375,18 @@ static inline igea_stability_stream *audit_stream_new(void)
     return h;
 }
 
+/* The same stream before any sample is fed (igea_stability_stream_source
+ * is called then). NULL on failure. */
+static inline igea_stability_stream *audit_stream_new0(void)
+{
+    igea_stability_stream *h = NULL;
+    if (igea_stability_stream_create(10.0, IGEA_STABILITY_DATA_FREQ, IGEA_STABILITY_ALLAN_OVERLAPPING,
+                                     IGEA_STABILITY_NOISE_AUTO, 0.683, 0, NULL,
+                                     IGEA_STABILITY_TAUS_OCTAVE, 10.0, &h) != 0)
+        return NULL;
+    return h;
+}
+
 /* The observable state of a stream: the samples fed. */
 static inline void audit_stream_state(const igea_stability_stream *h, double st[64])
 {

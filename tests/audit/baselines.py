@@ -644,6 +644,12 @@ BASE = {
                                          _zero_ok=['ntau'], _req=['tau', 'out']),
     'igea_stability_stream_feed': dict(h='st', n='20', v='u', _zero_ok=['n'], _req=['h', 'v']),
     'igea_stability_stream_samples': dict(h='st'),
+    # a fresh stream (nothing fed); descriptor 0 is never read (its octave
+    # taus grow with the record: the ring keeps up to 8 MB first)
+    'igea_stability_stream_source': dict(h='st0', fd='0', offset='0.0', stride='8',
+                                         _int=dict(fd='nonneg', stride='size'),
+                                         _extra=[('stride', '4', 'fail'), ('stride', '131080', 'fail'),
+                                                 ('offset', '0.5', 'fail'), ('offset', '-8.0', 'fail')]),
     'igea_stability_stream_result': dict(h='st', ntau_max='16',
                                          _opt=['lo', 'hi', 'edf', 'alpha', 'count', 'block']),
     'igea_stability_fit': dict(ntau='8', tau='c:0.1 * pow(2.0, (double)i)',

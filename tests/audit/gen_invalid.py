@@ -137,11 +137,11 @@ def fill_code(p, val, idx):
                'io0': 'audit_io_new(0)', 'io': 'audit_io_new(1)', 'io2': 'audit_io_new(2)',
                'iol': 'audit_io_new(3)', 'w': 'audit_whiten_new()',
                'wx': 'audit_whiten_xcov_new()',
-               'st': 'audit_stream_new()'}
+               'st': 'audit_stream_new()', 'st0': 'audit_stream_new0()'}
         kinds = {'m': 'AUDIT_HK_SIM', 'mtraj': 'AUDIT_HK_SIM', 'mnl': 'AUDIT_HK_SIM',
                  'io0': 'AUDIT_HK_IO', 'io': 'AUDIT_HK_IO', 'io2': 'AUDIT_HK_IO',
                  'iol': 'AUDIT_HK_IO', 'w': 'AUDIT_HK_WHITEN', 'wx': 'AUDIT_HK_WHITEN',
-                 'st': 'AUDIT_HK_STREAM'}
+                 'st': 'AUDIT_HK_STREAM', 'st0': 'AUDIT_HK_STREAM'}
         if kinds.get(val, 'AUDIT_HK_RLS') != p.hkind:
             raise SystemExit('gen_invalid: handle %s: %s is not of its type' % (p.name, val))
         if val not in new:

@@ -161,6 +161,38 @@ def test_driver_streams_bit_for_bit_and_through_a_pipe(tmp_path, record):
 
 
 @needs_driver
+def test_driver_reads_long_lags_back_from_a_npy(tmp_path):
+    """A .npy record whose lags reach beyond the stream's 8 MB ring (2.2 M
+    samples, octave taus to N/2): the driver reads those values back from
+    the file (igea_stability_stream_source) instead of holding them; the
+    results equal the whole-record library call bit for bit, for the record
+    alone, a column of a C-order table and of a Fortran-order one, rate and
+    phase kinds (the C tests change the file, cut it short and give a wrong
+    stride: refused)."""
+    rng = np.random.default_rng(41)
+    n = 2_200_000
+    y = 5.0 + rng.standard_normal(n) + np.cumsum(rng.standard_normal(n)) * 1e-3
+    np.save(tmp_path / "y.npy", y)
+    tab = np.column_stack([-y, y, 2 * y])
+    np.save(tmp_path / "c.npy", tab)
+    np.save(tmp_path / "f.npy", np.asfortranarray(tab))
+    cases = (("overlapping", ()), ("modified", ("--noise", "wfm")), ("ohdev", ("--noise", "wfm")))
+    for kind, extra in cases:
+        if kind in ("overlapping", "modified"):
+            ref = igea.allan(y, 100.0, None, kind=kind, noise=extra[1] if extra else "auto")
+        else:
+            ref = igea.stability(y, 100.0, None, kind=kind, noise=extra[1])
+        assert ref.taus[-1] * 100.0 * (2 if kind == "overlapping" else 3) > 1024 * 1024
+        for f, col in (("y.npy", ()), ("c.npy", ("--column", 1)), ("f.npy", ("--column", 1))):
+            r = run("stability", "--data", f, *col, "--fs", 100, "--kind", kind, *extra, "--json",
+                    cwd=tmp_path)
+            assert r.returncode == 0, r.stderr
+            j = json.loads(r.stdout)
+            assert j["dev"] == list(map(float, ref.dev)), (kind, f)
+            assert j["count"] == list(map(int, ref.count))
+
+
+@needs_driver
 def test_driver_gaps(tmp_path):
     rng = np.random.default_rng(2)
     x = np.cumsum(rng.standard_normal(3000)) * 1e-9
