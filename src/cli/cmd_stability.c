@@ -521,7 +521,8 @@ static int stream_source(const st_args *a, cli_reader *rd, igea_stability_stream
     double data;
     int fortran, cols = cli_reader_cols(rd);
     long rows = cli_reader_rows_known(rd);
-    if (!cli_reader_npy_data(rd, &data, &fortran) || rows < 0)
+    const unsigned short one = 1; /* '<f8' is this machine's double: little-endian */
+    if (*(const unsigned char *)&one != 1 || !cli_reader_npy_data(rd, &data, &fortran) || rows < 0)
         return CLI_OK;
     double off = data + 8.0 * a->column * (cols > 1 && fortran ? (double)rows : 1.0);
     long stride = cols > 1 && !fortran ? 8L * cols : 8L;
