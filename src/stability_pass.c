@@ -412,6 +412,15 @@ typedef double ap_v4 __attribute__((vector_size(32), aligned(8)));
 #define AP_VEC 0
 #endif
 
+#if AP_VEC
+#if defined(__clang__)
+#define AP_SHUF(a, b, i, j, k, l) __builtin_shufflevector(a, b, i, j, k, l)
+#else
+typedef long long ap_i4 __attribute__((vector_size(32)));
+#define AP_SHUF(a, b, i, j, k, l) __builtin_shuffle(a, b, (ap_i4){i, j, k, l})
+#endif
+#endif
+
 /* Sum of squares of EXPR(l) over the len values: eight lanes (element i + l
  * in lane l), the tail in lane 0, combined as ((0+1)+(2+3))+((4+5)+(6+7)).
  * The vector form computes the same lanes. */
@@ -667,6 +676,75 @@ AP_CHAIN(chain_st, 0)
 #undef AP_CHAIN
 #undef AP_CHAIN_VEC
 
+/* chain_st from T0 over inc (len values T) and chain_sq from S0 over those
+ * values in one loop (the same sums bit for bit: the T lanes shifted by one,
+ * two and three values are the unaligned loads chain_sq makes), len >= 4:
+ * two recurrences in flight instead of one after the other. Returns the sum
+ * of the squares of S; *tlast, *slast the last T and S. */
+AP_CLONES static double chain_ts(double T0, double S0, const double *inc, long len,
+                                 double *tlast, double *slast)
+{
+    long n4 = len / 4;
+    double t[8], s0, s1, s2, s3;
+    double w0 = T0, w1 = w0 + inc[0], w2 = w1 + inc[1], w3 = w2 + inc[2];
+    double u0 = S0, u1 = u0 + w0, u2 = u1 + w1, u3 = u2 + w2;
+#if AP_VEC
+    ap_v4 VT = {w0, w1, w2, w3}, VS = {u0, u1, u2, u3}, SS = {0, 0, 0, 0};
+    for (long q = 0;; q++) {
+        SS += VS * VS;
+        if (q + 1 == n4)
+            break;
+        const double *c = inc + 4 * q;
+        ap_v4 VN = VT + ((AP_LD(c) + AP_LD(c + 1)) + (AP_LD(c + 2) + AP_LD(c + 3)));
+        ap_v4 h2 = AP_SHUF(VT, VN, 2, 3, 4, 5), h1 = AP_SHUF(VT, h2, 1, 4, 3, 6);
+        ap_v4 h3 = AP_SHUF(h2, VN, 1, 4, 3, 6);
+        VS += (VT + h1) + (h2 + h3);
+        VT = VN;
+    }
+    s0 = SS[0], s1 = SS[1], s2 = SS[2], s3 = SS[3];
+    for (int l = 0; l < 4; l++)
+        t[l] = VT[l], t[4 + l] = VS[l];
+#else
+    s0 = s1 = s2 = s3 = 0.0;
+    for (long q = 0;; q++) {
+        s0 += u0 * u0;
+        s1 += u1 * u1;
+        s2 += u2 * u2;
+        s3 += u3 * u3;
+        if (q + 1 == n4)
+            break;
+        const double *c = inc + 4 * q;
+        double n0 = w0 + ((c[0] + c[1]) + (c[2] + c[3]));
+        double n1 = w1 + ((c[1] + c[2]) + (c[3] + c[4]));
+        double n2 = w2 + ((c[2] + c[3]) + (c[4] + c[5]));
+        double n3 = w3 + ((c[3] + c[4]) + (c[5] + c[6]));
+        u0 += (w0 + w1) + (w2 + w3);
+        u1 += (w1 + w2) + (w3 + n0);
+        u2 += (w2 + w3) + (n0 + n1);
+        u3 += (w3 + n0) + (n1 + n2);
+        w0 = n0, w1 = n1, w2 = n2, w3 = n3;
+    }
+    t[0] = w0, t[1] = w1, t[2] = w2, t[3] = w3, t[4] = u0, t[5] = u1, t[6] = u2, t[7] = u3;
+#endif
+    /* the tails (fewer than four values): T then S, as the two chains do */
+    double tt[7], tv = t[3], sv = t[7];
+    for (int l = 0; l < 4; l++)
+        tt[l] = t[l];
+    for (long i = 4 * n4; i < len; i++) {
+        const double *c = inc + i - 4;
+        tv = tt[i - 4 * n4 + 4 - 4] + ((c[0] + c[1]) + (c[2] + c[3]));
+        tt[i - 4 * n4 + 4] = tv;
+    }
+    for (long i = 4 * n4; i < len; i++) {
+        const double *c = tt + (i - 4 * n4);
+        sv = t[4 + i - 4 * n4] + ((c[0] + c[1]) + (c[2] + c[3]));
+        s0 += sv * sv;
+    }
+    *tlast = tv;
+    *slast = sv;
+    return (s0 + s1) + (s2 + s3);
+}
+
 /* d[i] = v[i] - o. */
 AP_CLONES static void sub_off(const double *v, long len, double o, double *d)
 {
@@ -842,6 +920,12 @@ static double large_block(igea__apass *p, aptau *t, long e0, long e1)
              * the record, the last (only S needs it: S_N = S_{N-1} + T_{N-1}) */
             long nT = cont && ni < 1 ? 0 : IGEA_MIN(len, ni - cont + 1);
             v0 = exact ? anchor(p, t, e0, cHV, 1) : t->c2 + t->c1;
+            if (nT == len && len >= 4) { /* T and S in one loop */
+                double T0 = exact ? anchor(p, t, e0, cHV, 0) : t->c1 + inc[0];
+                tot = chain_ts(T0, v0, in, len, &t->c1, &t->c2);
+                t->cnext = e1;
+                return tot;
+            }
             if (nT > 0) {
                 double T0 = exact ? anchor(p, t, e0, cHV, 0) : t->c1 + inc[0];
                 chain_st(T0, in, nT, tv, &last);
@@ -1001,14 +1085,6 @@ static void terms_stride(igea__apass *p, aptau *t, long e0, long e1)
     igea__ksum_add(&t->sum, tot);
 }
 
-#if AP_VEC
-#if defined(__clang__)
-#define AP_SHUF(a, b, i, j, k, l) __builtin_shufflevector(a, b, i, j, k, l)
-#else
-typedef long long ap_i4 __attribute__((vector_size(32)));
-#define AP_SHUF(a, b, i, j, k, l) __builtin_shuffle(a, b, (ap_i4){i, j, k, l})
-#endif
-#endif
 
 /* z[j] = (a0[j m] - a1[j m]) + C (m = 1) or times 1/2 (m = 2), j < cnt. */
 AP_CLONES static void means_12(const double *a0, const double *a1, long cnt, long m, double C,
