@@ -745,6 +745,62 @@ AP_CLONES static double chain_ts(double T0, double S0, const double *inc, long l
     return (s0 + s1) + (s2 + s3);
 }
 
+#if AP_VEC
+/* The modified kind's long lag for rate data with the increments formed in
+ * the same loop: a[q] the raw values at lag q m from the block's first term
+ * (len of each, len >= 4), h_i = (a0 - a3) - 3 (a1 - a2) as inc_hv forms
+ * them, the four values after the vector's from the next one by shuffles.
+ * The same sums as inc_hv then chain_ts bit for bit; the recurrences wait
+ * on the raw values' loads rather than after them. */
+AP_CLONES static double chain_hts(const double *const *a, double T0, double S0, long len,
+                                  double *tlast, double *slast)
+{
+    const double *a0 = a[0], *a1 = a[1], *a2 = a[2], *a3 = a[3];
+#define AP_HV4(k) ((AP_LD(a0 + (k)) - AP_LD(a3 + (k))) - 3.0 * (AP_LD(a1 + (k)) - AP_LD(a2 + (k))))
+    long n4 = len / 4;
+    ap_v4 H = AP_HV4(0);
+    double w0 = T0, w1 = w0 + H[0], w2 = w1 + H[1], w3 = w2 + H[2];
+    double u0 = S0, u1 = u0 + w0, u2 = u1 + w1, u3 = u2 + w2;
+    ap_v4 VT = {w0, w1, w2, w3}, VS = {u0, u1, u2, u3}, SS = {0, 0, 0, 0};
+    for (long q = 0;; q++) {
+        SS += VS * VS;
+        if (q + 1 == n4)
+            break;
+        ap_v4 HN = AP_HV4(4 * q + 4);
+        ap_v4 g2 = AP_SHUF(H, HN, 2, 3, 4, 5), g1 = AP_SHUF(H, g2, 1, 4, 3, 6);
+        ap_v4 g3 = AP_SHUF(g2, HN, 1, 4, 3, 6);
+        ap_v4 VN = VT + ((H + g1) + (g2 + g3));
+        ap_v4 h2 = AP_SHUF(VT, VN, 2, 3, 4, 5), h1 = AP_SHUF(VT, h2, 1, 4, 3, 6);
+        ap_v4 h3 = AP_SHUF(h2, VN, 1, 4, 3, 6);
+        VS += (VT + h1) + (h2 + h3);
+        VT = VN;
+        H = HN;
+    }
+#undef AP_HV4
+    /* the tails (fewer than four values), as chain_ts */
+    double hh[7], tt[7], tv = VT[3], sv = VS[3];
+    double s0 = SS[0], s1 = SS[1], s2 = SS[2], s3 = SS[3];
+    long b = 4 * n4 - 4;
+    for (int l = 0; l < 4; l++)
+        hh[l] = H[l], tt[l] = VT[l];
+    for (long i = b + 4; i < len - 1; i++)
+        hh[i - b] = (a0[i] - a3[i]) - 3.0 * (a1[i] - a2[i]);
+    for (long i = b + 4; i < len; i++) {
+        const double *c = hh + (i - 4 - b);
+        tv = tt[i - 4 - b] + ((c[0] + c[1]) + (c[2] + c[3]));
+        tt[i - b] = tv;
+    }
+    for (long i = b + 4; i < len; i++) {
+        const double *c = tt + (i - 4 - b);
+        sv = VS[i - 4 - b] + ((c[0] + c[1]) + (c[2] + c[3]));
+        s0 += sv * sv;
+    }
+    *tlast = tv;
+    *slast = sv;
+    return (s0 + s1) + (s2 + s3);
+}
+#endif
+
 /* d[i] = v[i] - o. */
 AP_CLONES static void sub_off(const double *v, long len, double o, double *d)
 {
@@ -889,6 +945,26 @@ static double large_block(igea__apass *p, aptau *t, long e0, long e1)
     }
     int cont = t->cnext == e0;
     int exact = !cont || m % AP_B == 0 || (e0 / AP_B) % AP_REANCHOR == 0;
+#if AP_VEC
+    if (!p->phase && t->type == IGEA__AP_MV && len >= 4 && e1 <= p->nraw) {
+        /* (every increment the block's terms need is there: the T and S
+         * of the block from the raw values in one loop) */
+        double T0, v0 = exact ? anchor(p, t, e0, cHV, 1) : t->c2 + t->c1;
+        if (exact)
+            T0 = anchor(p, t, e0, cHV, 0);
+        else { /* T_{e0} = T_{e0-1} + the increment at e0 - 1 */
+            double y[4];
+            for (int q = 0; q < 4; q++)
+                y[q] = *raw_at(p, e0 - 1 - q * m, 1, s[q]);
+            T0 = t->c1 + ((y[0] - y[3]) - 3.0 * (y[1] - y[2]));
+        }
+        for (int q = 0; q < 4; q++)
+            a[q] = raw_at(p, e0 - q * m, len, s[q]);
+        tot = chain_hts(a, T0, v0, len, &t->c1, &t->c2);
+        t->cnext = e1;
+        return tot;
+    }
+#endif
     /* the increments from e0 - 1 (continued) or e0 (the first term) to
      * e1 - 2 (rate data: not past the last sample, N - 2) */
     long i0 = cont ? e0 - 1 : e0, ilast = e1 - 2;
