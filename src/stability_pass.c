@@ -1530,6 +1530,22 @@ AP_CLONES static void prefix_lanes(const double *d, double *out, double *a)
 }
 #endif
 
+/* Lane l of the n values (AP_B / 8 each) offset by off[l], l >= 1. */
+AP_CLONES static void lanes_off(double *out, long n, const double *off)
+{
+    enum { W = AP_B / 8 };
+    for (int l = 1; l < 8; l++) {
+        long r1 = n - l * W < W ? n - l * W : W, r = 0;
+        double o = off[l], *q = out + l * W;
+#if AP_VEC
+        for (; r + 4 <= r1; r += 4)
+            AP_STV(q + r, AP_LD(q + r) + o);
+#endif
+        for (; r < r1; r++)
+            q[r] += o;
+    }
+}
+
 /* Inclusive prefix sums out[j] = d[0] + ... + d[j], j < n <= AP_B (in place
  * allowed): eight lanes of AP_B / 8 values summed side by side, then each
  * lane offset by the totals of the lanes before it (values past n taken as
@@ -1582,12 +1598,7 @@ static void prefix2(const double *d, double *out, long n)
     off[5] = off[4] + a4;
     off[6] = off[5] + a5;
     off[7] = off[6] + a6;
-    for (int l = 1; l < 8; l++) {
-        long r1 = n - l * W < W ? n - l * W : W;
-        double o = off[l], *q = out + l * W;
-        for (long r = 0; r < r1; r++)
-            q[r] += o;
-    }
+    lanes_off(out, n, off);
 }
 
 /* Block k (f points) from the raw values: its base, local values L
