@@ -446,13 +446,16 @@ typedef long long ap_i4 __attribute__((vector_size(32)));
     return ((s0 + s1) + (s2 + s3)) + ((s4 + s5) + (s6 + s7))
 
 #if AP_VEC
-#define AP_VLANES8(VEXPR, EXPR)                                                           \
+#define AP_VLANES8(VEXPR, EXPR) AP_VLANES8N(VEXPR, EXPR, (void)0)
+/* NEXT: what the kernel carries on to the next eight values */
+#define AP_VLANES8N(VEXPR, EXPR, NEXT)                                                    \
     ap_v4 va = {0, 0, 0, 0}, vb = {0, 0, 0, 0};                                           \
     long i = 0;                                                                           \
     for (; i + 8 <= len; i += 8) {                                                        \
         ap_v4 ta = VEXPR(0), tb = VEXPR(4);                                               \
         va += ta * ta;                                                                    \
         vb += tb * tb;                                                                    \
+        NEXT;                                                                             \
     }                                                                                     \
     double s0 = va[0], s1 = va[1], s2 = va[2], s3 = va[3], s4 = vb[0], s5 = vb[1],        \
            s6 = vb[2], s7 = vb[3];                                                        \
@@ -507,12 +510,13 @@ AP_CLONES static double seg_mv(const double *v0, const double *v1, const double 
 #define AP_MV_T(l)                                                                        \
     (((v0[i + l] - v3[i + l]) - 3.0 * (v1[i + l] - v2[i + l])) + (A + ((double)i + l) * Bc))
 #if AP_VEC
-    const ap_v4 lo = {0, 1, 2, 3}, hi = {4, 5, 6, 7};
+    /* (the indices i + l as doubles carried in two vectors: the same values) */
+    ap_v4 lo = {0, 1, 2, 3}, hi = {4, 5, 6, 7};
 #define AP_MV_V(l)                                                                        \
     (((AP_LD(v0 + i + l) - AP_LD(v3 + i + l)) -                                           \
       3.0 * (AP_LD(v1 + i + l) - AP_LD(v2 + i + l))) +                                    \
-     (A + ((double)i + (l ? hi : lo)) * Bc))
-    AP_VLANES8(AP_MV_V, AP_MV_T);
+     (A + (l ? hi : lo) * Bc))
+    AP_VLANES8N(AP_MV_V, AP_MV_T, (lo += 8.0, hi += 8.0));
 #undef AP_MV_V
 #else
     AP_LANES8(AP_MV_T);
