@@ -23,11 +23,9 @@
 #define AP_REANCHOR 4       /* lags off the block grid: exact anchors every 4 blocks */
 #define AP_BUF (AP_B + 16)  /* one stream of the scratch buffer */
 #define AP_NLEV 16          /* levels of pyr_block: m = 1, 2, 4, ... < AP_B */
-#ifndef AP_PFL
-#define AP_PFL 2
-#endif
-#ifndef AP_AHEAD
-#define AP_AHEAD 2 /* blocks ahead the long lags' raw values are fetched */
+#ifndef AP_DEFER
+#define AP_DEFER 64 /* blocks whose long-lag terms are taken together, tau by tau
+                     * (a stream keeps as many more raw values) */
 #endif
 
 /* ---- double-double ---- */
@@ -147,6 +145,8 @@ struct igea__apass {
     int have_off, ended;
     int bad;           /* a value was NaN or infinite */
     int ntau;
+    int nlarge;        /* taus with long lags */
+    long kd, nd;       /* blocks kd .. kd + nd - 1: their long-lag terms deferred */
     aptau *t;
     double *z;         /* scratch: AP_B + 3 values */
     double *buf;       /* scratch: 8 streams of AP_BUF */
@@ -327,6 +327,7 @@ static int apass_alloc(int phase, int ntau, const igea__aptau_spec *spec, const 
             span = t->span;
         if (t->large && t->span > lspan)
             lspan = t->span;
+        p->nlarge += t->large;
         if ((t->stride || t->m == 1) && !t->large) { /* overlapping: the small ring */
             t->win = t->span <= AP_B;
             if (t->type == IGEA__AP_MV)
@@ -357,7 +358,7 @@ static int apass_alloc(int phase, int ntau, const igea__aptau_spec *spec, const 
     p->V = rsv ? igea__dalloc((size_t)rsv * (AP_B + 1)) : NULL;
     p->vbuf = p->need_w && !rsv ? igea__dalloc(AP_B + 1) : NULL;
     /* bases: back to the longest lag, plus the current block */
-    p->cap_max = IGEA_MAX(span / AP_B + 4, IGEA_MAX(rsl, rsv) + 1);
+    p->cap_max = IGEA_MAX(span / AP_B + 4 + (lspan ? AP_DEFER : 0), IGEA_MAX(rsl, rsv) + 1);
     long c0 = p->cap_max;
     if (nb > 0 && nb + 1 < c0)
         c0 = nb + 1;
@@ -365,7 +366,7 @@ static int apass_alloc(int phase, int ntau, const igea__aptau_spec *spec, const 
         c0 = 16;
     /* raw values before a block's first that its terms read (the lag,
      * the sample before it, the block of an anchor), and the stream's ring */
-    p->reach = lspan ? lspan + AP_B + 1 : 1;
+    p->reach = lspan ? lspan + (AP_DEFER + 1) * AP_B + 1 : 1;
     p->rawcap_max = (p->reach + AP_B - 1) / AP_B + 4;
     if (p->npyr)
         p->pz = igea__dalloc(AP_B + 3 * AP_NLEV);
@@ -1431,42 +1432,34 @@ static void hist_push(igea__apass *p, aptau *t, long k, long f)
         t->hn++;
 }
 
-/* The raw values [i, i + len) asked for from memory (the long lags' streams
- * of a block ahead: the hardware's prefetch does not follow so many). */
-static void raw_prefetch(const igea__apass *p, long i, long len)
+/* The long-lag terms of the deferred blocks kd .. kd + nd - 1 (full ones),
+ * tau by tau: each tau's streams read on for AP_DEFER blocks rather than
+ * every long lag's at once (the same terms, added to each tau's sum in the
+ * same order). */
+static void large_flush(igea__apass *p)
 {
-#if defined(__GNUC__)
-    if (i < 0)
-        return;
-    const double *r;
-    if (p->rec) {
-        if (i + len > p->nrec)
-            len = p->nrec - i;
-        r = p->rec + i;
-    } else {
-        long R = p->rawcap * AP_B, s = mod_l(i, R);
-        if (s + len > R)
-            len = R - s;
-        r = p->raw + s;
+    long k1 = p->kd + p->nd;
+    for (int j = 0; j < p->ntau && p->nd > 0; j++) {
+        aptau *t = &p->t[j];
+        if (!t->large)
+            continue;
+        for (long b = p->kd; b < k1; b++) {
+            long lo = b * AP_B, hi = lo + AP_B;
+            if (lo < t->span)
+                lo = t->span;
+            if (lo < hi)
+                terms_large(p, t, lo, hi);
+        }
     }
-    for (long j = 0; j < len; j += 8)
-        __builtin_prefetch(r + j, 0, AP_PFL);
-#else
-    (void)p, (void)i, (void)len;
-#endif
+    p->nd = 0;
 }
 
 /* The terms with current phase index in block k at offsets [x0, x1) and
- * current running-sum index (the modified kinds) at offsets [w0, w1). */
-static void block_terms(igea__apass *p, long k, long x0, long x1, long w0, long w1)
+ * current running-sum index (the modified kinds) at offsets [w0, w1); defer:
+ * not the long lags' (large_flush takes them). */
+static void block_terms(igea__apass *p, long k, long x0, long x1, long w0, long w1, int defer)
 {
     long base = k * AP_B;
-    for (int j = 0; j < p->ntau; j++) { /* the long lags' streams, AP_AHEAD blocks on */
-        const aptau *t = &p->t[j];
-        if (t->large)
-            for (int q = 1; q <= (t->type == IGEA__AP_AV ? 2 : 3); q++)
-                raw_prefetch(p, base + AP_AHEAD * AP_B - q * t->m - 1, AP_B);
-    }
     for (int j = 0; j < p->ntau; j++) {
         aptau *t = &p->t[j];
         int w = t->type == IGEA__AP_MV;
@@ -1474,9 +1467,10 @@ static void block_terms(igea__apass *p, long k, long x0, long x1, long w0, long 
         if (lo < t->span)
             lo = t->span;
         if (lo < hi) {
-            if (t->large)
-                terms_large(p, t, lo, hi);
-            else if (t->win && x1 > 0) /* (not the empty block after a full
+            if (t->large) {
+                if (!defer)
+                    terms_large(p, t, lo, hi);
+            } else if (t->win && x1 > 0) /* (not the empty block after a full
                                         * last one: no window was built for it) */
                 terms_win(p, t, k, lo, hi);
             else if (t->stride || t->m == 1)
@@ -1691,15 +1685,23 @@ static int block_do(igea__apass *p, long k, long f, int last)
     block_build(p, k, f);
     p->k = k + 1;
     if (!last) {
-        block_terms(p, k, 0, f, 0, f);
+        int defer = AP_DEFER > 1 && p->nlarge > 0;
+        block_terms(p, k, 0, f, 0, f, defer);
+        if (defer) {
+            if (p->nd++ == 0)
+                p->kd = k;
+            if (p->nd == AP_DEFER)
+                large_flush(p);
+        }
         return 0;
     }
+    large_flush(p);
     if (f < AP_B || !p->need_w) {
-        block_terms(p, k, 0, f, 0, f < AP_B ? f + 1 : f);
+        block_terms(p, k, 0, f, 0, f < AP_B ? f + 1 : f, 0);
         return 0;
     }
     /* a full last block: W_N is the first running sum of an empty block */
-    block_terms(p, k, 0, AP_B, 0, AP_B);
+    block_terms(p, k, 0, AP_B, 0, AP_B, 0);
     if ((st = base_room(p, k + 1)))
         return st;
     dd *X = xb(p, k + 1), *W = wb(p, k + 1);
@@ -1708,7 +1710,7 @@ static int block_do(igea__apass *p, long k, long f, int last)
     if (p->rsv)
         *vptr(p, (k + 1) * AP_B) = 0.0;
     p->k = k + 2;
-    block_terms(p, k + 1, 0, 0, 0, 1);
+    block_terms(p, k + 1, 0, 0, 0, 1, 0);
     return 0;
 }
 
