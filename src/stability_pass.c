@@ -753,42 +753,56 @@ AP_CLONES static double chain_ts(double T0, double S0, const double *inc, long l
 #if AP_VEC
 /* The modified kind's long lag for rate data with the increments formed in
  * the same loop: a[q] the raw values at lag q m from the block's first term
- * (len of each, len >= 4), h_i = (a0 - a3) - 3 (a1 - a2) as inc_hv forms
- * them, the four values after the vector's from the next one by shuffles.
- * The same sums as inc_hv then chain_ts bit for bit; the recurrences wait
- * on the raw values' loads rather than after them. */
+ * (len + 8 of each, len >= 4), h_i = (a0 - a3) - 3 (a1 - a2) as inc_hv forms
+ * them, the four values after a vector's from the next one by shuffles. The
+ * loop is skewed: while S steps from q to q + 1, T steps from q + 1 and the
+ * increments are formed for q + 3, so that each step's operands are ready
+ * (at most eight values past len are read, none used). The same sums as
+ * inc_hv then chain_ts bit for bit. */
 AP_CLONES static double chain_hts(const double *const *a, double T0, double S0, long len,
                                   double *tlast, double *slast)
 {
     const double *a0 = a[0], *a1 = a[1], *a2 = a[2], *a3 = a[3];
 #define AP_HV4(k) ((AP_LD(a0 + (k)) - AP_LD(a3 + (k))) - 3.0 * (AP_LD(a1 + (k)) - AP_LD(a2 + (k))))
+/* R = the sums of four from each lane of X on (Y the vector after X) */
+#define AP_SUM4(X, Y, R)                                                                  \
+    {                                                                                     \
+        ap_v4 g2 = AP_SHUF(X, Y, 2, 3, 4, 5), g1 = AP_SHUF(X, g2, 1, 4, 3, 6);            \
+        ap_v4 g3 = AP_SHUF(g2, Y, 1, 4, 3, 6);                                            \
+        R = (X + g1) + (g2 + g3);                                                         \
+    }
     long n4 = len / 4;
-    ap_v4 H = AP_HV4(0);
+    ap_v4 H = AP_HV4(0), H1 = AP_HV4(4), D;
     double w0 = T0, w1 = w0 + H[0], w2 = w1 + H[1], w3 = w2 + H[2];
     double u0 = S0, u1 = u0 + w0, u2 = u1 + w1, u3 = u2 + w2;
-    ap_v4 VT = {w0, w1, w2, w3}, VS = {u0, u1, u2, u3}, SS = {0, 0, 0, 0};
+    ap_v4 VT = {w0, w1, w2, w3}, VS = {u0, u1, u2, u3}, SS = {0, 0, 0, 0}, VT1;
+    AP_SUM4(H, H1, D);
+    VT1 = VT + D;           /* T of step 1 */
+    H = AP_HV4(8);
+    AP_SUM4(H1, H, D);      /* the increments' sums of step 1 to 2 */
     for (long q = 0;; q++) {
+        /* VS: S of step q; VT, VT1: T of steps q and q + 1; D: the sums from
+         * q + 1 to q + 2; H: h of step q + 2 */
         SS += VS * VS;
         if (q + 1 == n4)
             break;
-        ap_v4 HN = AP_HV4(4 * q + 4);
-        ap_v4 g2 = AP_SHUF(H, HN, 2, 3, 4, 5), g1 = AP_SHUF(H, g2, 1, 4, 3, 6);
-        ap_v4 g3 = AP_SHUF(g2, HN, 1, 4, 3, 6);
-        ap_v4 VN = VT + ((H + g1) + (g2 + g3));
-        ap_v4 h2 = AP_SHUF(VT, VN, 2, 3, 4, 5), h1 = AP_SHUF(VT, h2, 1, 4, 3, 6);
-        ap_v4 h3 = AP_SHUF(h2, VN, 1, 4, 3, 6);
-        VS += (VT + h1) + (h2 + h3);
-        VT = VN;
+        ap_v4 E, HN = AP_HV4(4 * q + 12), VT2 = VT1 + D;
+        AP_SUM4(VT, VT1, E);
+        VS += E;
+        AP_SUM4(H, HN, D);
         H = HN;
+        VT = VT1;
+        VT1 = VT2;
     }
+#undef AP_SUM4
 #undef AP_HV4
     /* the tails (fewer than four values), as chain_ts */
     double hh[7], tt[7], tv = VT[3], sv = VS[3];
     double s0 = SS[0], s1 = SS[1], s2 = SS[2], s3 = SS[3];
     long b = 4 * n4 - 4;
     for (int l = 0; l < 4; l++)
-        hh[l] = H[l], tt[l] = VT[l];
-    for (long i = b + 4; i < len - 1; i++)
+        tt[l] = VT[l];
+    for (long i = b; i < len - 1; i++)
         hh[i - b] = (a0[i] - a3[i]) - 3.0 * (a1[i] - a2[i]);
     for (long i = b + 4; i < len; i++) {
         const double *c = hh + (i - 4 - b);
@@ -951,9 +965,10 @@ static double large_block(igea__apass *p, aptau *t, long e0, long e1)
     int cont = t->cnext == e0;
     int exact = !cont || m % AP_B == 0 || (e0 / AP_B) % AP_REANCHOR == 0;
 #if AP_VEC
-    if (!p->phase && t->type == IGEA__AP_MV && len >= 4 && e1 <= p->nraw) {
-        /* (every increment the block's terms need is there: the T and S
-         * of the block from the raw values in one loop) */
+    if (!p->phase && t->type == IGEA__AP_MV && len >= 4 && e1 + 8 <= p->nraw) {
+        /* (every increment the block's terms need is there, and eight raw
+         * values more: the T and S of the block from the raw values in one
+         * loop) */
         double T0, v0 = exact ? anchor(p, t, e0, cHV, 1) : t->c2 + t->c1;
         if (exact)
             T0 = anchor(p, t, e0, cHV, 0);
@@ -964,7 +979,7 @@ static double large_block(igea__apass *p, aptau *t, long e0, long e1)
             T0 = t->c1 + ((y[0] - y[3]) - 3.0 * (y[1] - y[2]));
         }
         for (int q = 0; q < 4; q++)
-            a[q] = raw_at(p, e0 - q * m, len, s[q]);
+            a[q] = raw_at(p, e0 - q * m, len + 8, s[q]);
         tot = chain_hts(a, T0, v0, len, &t->c1, &t->c2);
         t->cnext = e1;
         return tot;
