@@ -12,6 +12,7 @@
 #include "igea/stability.h"
 #include "internal.h"
 #include "stability_internal.h"
+#include <stdint.h>
 
 #define AP_B IGEA__AP_BLOCK /* phase points per block */
 #ifndef AP_RS_MAX
@@ -22,6 +23,7 @@
 #endif
 #define AP_REANCHOR 4       /* lags off the block grid: exact anchors every 4 blocks */
 #define AP_BUF (AP_B + 16)  /* one stream of the scratch buffer */
+#define AP_VS (AP_B + 8)    /* a block of the ring of V (AP_B + 1 values from the 4th) */
 #define AP_NLEV 16          /* levels of pyr_block: m = 1, 2, 4, ... < AP_B */
 #ifndef AP_DEFER
 #define AP_DEFER 64 /* blocks whose long-lag terms are taken together, tau by tau
@@ -128,10 +130,12 @@ struct igea__apass {
     const double *rec; /* the whole record (NULL: a stream) */
     long nrec;
     long rsl, rsv;     /* blocks of the small rings of L and V */
-    double *L, *V;     /* rsl blocks of AP_B (L), rsv of AP_B + 1 (V) */
+    double *L, *V;     /* rsl blocks of AP_B (L), rsv of AP_VS (V, from the 4th) */
     double *vbuf;      /* V of the current block when no ring keeps it */
     double *lx, *vx;   /* the window: L (V) of the block before and of this one
                         * on the block before's base (2 AP_B + 1 values) */
+    void *mem[5];      /* the allocations of L, V, lx, vx and buf (these aligned
+                        * to 64 bytes in them) */
     long cap, cap_max; /* the ring of block bases: blocks, and blocks the lags need */
     dd *Xb, *Wb;
     double *raw;       /* stream: raw values, value i at i % (rawcap AP_B) */
@@ -168,10 +172,17 @@ static inline double *lptr(const igea__apass *p, long i)
     return lblk(p, b) + (i - b * AP_B);
 }
 
+/* The running sums V of block blk (AP_B + 1 values; V + 1 on a multiple of
+ * 32 bytes, as the vectors of prefix2 store them). */
+static inline double *vblk(const igea__apass *p, long blk)
+{
+    return p->V + (size_t)mod_l(blk, p->rsv) * AP_VS + 3;
+}
+
 static inline double *vptr(const igea__apass *p, long i)
 {
     long b = i / AP_B;
-    return p->V + (size_t)mod_l(b, p->rsv) * (AP_B + 1) + (i - b * AP_B);
+    return vblk(p, b) + (i - b * AP_B);
 }
 
 static inline dd *xb(const igea__apass *p, long blk) { return p->Xb + mod_l(blk, p->cap); }
@@ -195,11 +206,9 @@ void igea__apass_free(igea__apass *p)
 {
     if (!p)
         return;
-    free(p->L);
-    free(p->V);
+    for (int i = 0; i < 5; i++)
+        free(p->mem[i]);
     free(p->vbuf);
-    free(p->lx);
-    free(p->vx);
     free(p->Xb);
     free(p->Wb);
     free(p->raw);
@@ -207,7 +216,6 @@ void igea__apass_free(igea__apass *p)
         free(p->t[j].zb);
     free(p->t);
     free(p->z);
-    free(p->buf);
     free(p->pz);
     free(p);
 }
@@ -276,6 +284,15 @@ static int raw_grow(igea__apass *p, long newcap)
     return 0;
 }
 
+/* n doubles from a multiple of 64 bytes (the vectors' stores within one
+ * cache line), *mem the allocation to free (NULL on failure). */
+static double *dalloc64(size_t n, void **mem)
+{
+    double *a = n > (size_t)-1 / sizeof(double) - 8 ? NULL : igea__dalloc(n + 8);
+    *mem = a;
+    return a ? a + ((64 - (size_t)((uintptr_t)a & 63)) & 63) / sizeof(double) : NULL;
+}
+
 static int apass_alloc(int phase, int ntau, const igea__aptau_spec *spec, const double *rec,
                        long nrec, long nhint, igea__apass **out)
 {
@@ -288,7 +305,7 @@ static int apass_alloc(int phase, int ntau, const igea__aptau_spec *spec, const 
     p->ntau = ntau;
     p->t = calloc((size_t)(ntau > 0 ? ntau : 1), sizeof(aptau));
     p->z = igea__dalloc(AP_B + 3);
-    p->buf = igea__dalloc(8 * (size_t)AP_BUF);
+    p->buf = dalloc64(8 * (size_t)AP_BUF, &p->mem[4]);
     if (!p->t || !p->z || !p->buf) {
         igea__apass_free(p);
         return IGEA_ENOMEM;
@@ -350,12 +367,12 @@ static int apass_alloc(int phase, int ntau, const igea__aptau_spec *spec, const 
         rsv = IGEA_MAX(rsv, 2); /* the window's block before */
     p->rsl = rsl;
     p->rsv = rsv;
-    p->lx = wl ? igea__dalloc(2 * AP_B + 1) : NULL;
-    p->vx = wv ? igea__dalloc(2 * AP_B + 2) : NULL;
+    p->lx = wl ? dalloc64(2 * AP_B + 1, &p->mem[2]) : NULL;
+    p->vx = wv ? dalloc64(2 * AP_B + 2, &p->mem[3]) : NULL;
     if (wv && !p->lx)
         p->lx = NULL;
-    p->L = igea__dalloc((size_t)rsl * AP_B);
-    p->V = rsv ? igea__dalloc((size_t)rsv * (AP_B + 1)) : NULL;
+    p->L = dalloc64((size_t)rsl * AP_B, &p->mem[0]);
+    p->V = rsv ? dalloc64((size_t)rsv * AP_VS, &p->mem[1]) : NULL;
     p->vbuf = p->need_w && !rsv ? igea__dalloc(AP_B + 1) : NULL;
     /* bases: back to the longest lag, plus the current block */
     p->cap_max = IGEA_MAX(span / AP_B + 4 + (lspan ? AP_DEFER : 0), IGEA_MAX(rsl, rsv) + 1);
@@ -1649,8 +1666,13 @@ static void block_build(igea__apass *p, long k, long f)
             *X = dd_add_d(dd_add_d(*xb(p, k - 1), p->llast), y[0] - p->off);
         else
             X->hi = X->lo = 0.0;
-        d[0] = 0.0;
-        sub_off(y + (k > 0), f - 1, p->off, d + 1);
+        if (k > 0) { /* (stores on the vectors' boundaries: d[0] set after) */
+            sub_off(y, f, p->off, d);
+            d[0] = 0.0;
+        } else {
+            d[0] = 0.0;
+            sub_off(y, f - 1, p->off, d + 1);
+        }
         prefix2(d, L, f);
         if (!(isfinite(L[f - 1]) && isfinite(X->hi)))
             p->bad = 1; /* a NaN or infinity spreads to the block's last sum */
@@ -1663,7 +1685,7 @@ static void block_build(igea__apass *p, long k, long f)
     }
     p->llast = L[f - 1];
     if (p->need_w) {
-        double *V = p->rsv ? p->V + (size_t)mod_l(k, p->rsv) * (AP_B + 1) : p->vbuf;
+        double *V = p->rsv ? vblk(p, k) : p->vbuf;
         dd *W = wb(p, k);
         if (k > 0)
             *W = dd_add_d(dd_add(*wb(p, k - 1), dd_mul_d(*xb(p, k - 1), (double)AP_B)), p->vlast);
@@ -1674,7 +1696,7 @@ static void block_build(igea__apass *p, long k, long f)
         if (p->vx) { /* W_t - W_{kB} - (t - kB) X_{kB}: the block before
                       * ((V_j - vlast) + (B - j) dX), then this block */
             if (k > 0)
-                vx_prev(p->V + (size_t)mod_l(k - 1, p->rsv) * (AP_B + 1), p->vlast, dX, p->vx);
+                vx_prev(vblk(p, k - 1), p->vlast, dX, p->vx);
             memcpy(p->vx + AP_B, V, (size_t)(f + 1) * sizeof(double));
         }
         p->vlast = V[f];
