@@ -134,8 +134,8 @@ struct igea__apass {
     double *vbuf;      /* V of the current block when no ring keeps it */
     double *lx, *vx;   /* the window: L (V) of the block before and of this one
                         * on the block before's base (2 AP_B + 1 values) */
-    void *mem[5];      /* the allocations of L, V, lx, vx and buf (these aligned
-                        * to 64 bytes in them) */
+    void *mem[6];      /* the allocations of L, V, lx, vx, buf and pz (these
+                        * aligned to 64 bytes in them) */
     long cap, cap_max; /* the ring of block bases: blocks, and blocks the lags need */
     dd *Xb, *Wb;
     double *raw;       /* stream: raw values, value i at i % (rawcap AP_B) */
@@ -206,7 +206,7 @@ void igea__apass_free(igea__apass *p)
 {
     if (!p)
         return;
-    for (int i = 0; i < 5; i++)
+    for (int i = 0; i < 6; i++)
         free(p->mem[i]);
     free(p->vbuf);
     free(p->Xb);
@@ -216,7 +216,6 @@ void igea__apass_free(igea__apass *p)
         free(p->t[j].zb);
     free(p->t);
     free(p->z);
-    free(p->pz);
     free(p);
 }
 
@@ -386,7 +385,7 @@ static int apass_alloc(int phase, int ntau, const igea__aptau_spec *spec, const 
     p->reach = lspan ? lspan + (AP_DEFER + 1) * AP_B + 1 : 1;
     p->rawcap_max = (p->reach + AP_B - 1) / AP_B + 4;
     if (p->npyr)
-        p->pz = igea__dalloc(AP_B + 3 * AP_NLEV);
+        p->pz = dalloc64(AP_B + 8 * AP_NLEV, &p->mem[5]);
     int st = !p->L || (p->npyr && !p->pz) || (rsv && !p->V) || (p->need_w && !rsv && !p->vbuf) || (wl && !p->lx) ||
                      (wv && !p->vx)
                  ? IGEA_ENOMEM
@@ -1260,9 +1259,9 @@ static long means_of(const igea__apass *p, long m, long e0, long e1, double *z)
  * rest in lane 0, ((0 + 1) + (2 + 3)) + ((4 + 5) + (6 + 7))). */
 AP_CLONES static void acf_lags(const double *z, long K, double *out)
 {
-    double r[5][8] = {{0}};
     long i = 0;
 #if AP_VEC
+    double r[5][8]; /* (every entry set from the vectors) */
     {
         ap_v4 S0 = {0, 0, 0, 0}, S1 = S0, Q0 = S0, Q1 = S0, A0 = S0, A1 = S0, B0 = S0, B1 = S0,
               C0 = S0, C1 = S0;
@@ -1286,6 +1285,7 @@ AP_CLONES static void acf_lags(const double *z, long K, double *out)
         }
     }
 #else
+    double r[5][8] = {{0}};
     for (; i + 8 <= K; i += 8)
         for (int l = 0; l < 8; l++) {
             double v = z[i + l];
@@ -1407,12 +1407,13 @@ static void pyr_block(igea__apass *p, long k)
     if (c == AP_B)
         lv[0][AP_B - 1] = *raw_at(p, k * AP_B + AP_B - 1, 1, p->buf) - p->off;
     cl[0] = c;
-    double *q = p->pz + 3;
-    for (int l = 1; l < nl; l++) { /* each level after three free values */
+    double *q = p->pz + 4;
+    for (int l = 1; l < nl; l++) { /* each level after three free values, from
+                                    * a multiple of 32 bytes */
         lv[l] = q;
         cl[l] = cl[l - 1] / 2;
         halve(lv[l - 1], cl[l], q);
-        q += (AP_B >> l) + 3;
+        q += ((AP_B >> l) + 3) / 4 * 4 + 4;
     }
     for (int j = 0; j < p->ntau; j++) {
         aptau *t = &p->t[j];
