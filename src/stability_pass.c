@@ -1401,9 +1401,9 @@ static void pyr_block(igea__apass *p, long k)
     double *lv[AP_NLEV];
     long cl[AP_NLEV];
     /* block_build's samples less the offset (kB .. kB + f - 2, after its
-     * d[0]; the three values before are free: d[0] and the end of the
-     * buffer before) and the block's last */
-    lv[0] = p->buf + 7 * AP_BUF + 1;
+     * d[0]; the three values before are free: d[0] and the two before it)
+     * and the block's last */
+    lv[0] = p->buf + 7 * AP_BUF + 4;
     if (c == AP_B)
         lv[0][AP_B - 1] = *raw_at(p, k * AP_B + AP_B - 1, 1, p->buf) - p->off;
     cl[0] = c;
@@ -1662,18 +1662,15 @@ static void block_build(igea__apass *p, long k, long f)
         /* point kB + j is X_{kB} + the samples kB .. kB + j - 1 (less the
          * offset); sample kB - 1 goes to the base (block 0: X_0 = 0) */
         const double *y = raw_at(p, k * AP_B - (k > 0), f, bf);
-        double *d = bf + AP_BUF;
+        double *d = bf + AP_BUF + 3; /* (d + 1, the samples, on a multiple of
+                                      * 32 bytes: the vectors' stores and
+                                      * pyr_block's loads within a line) */
         if (k > 0)
             *X = dd_add_d(dd_add_d(*xb(p, k - 1), p->llast), y[0] - p->off);
         else
             X->hi = X->lo = 0.0;
-        if (k > 0) { /* (stores on the vectors' boundaries: d[0] set after) */
-            sub_off(y, f, p->off, d);
-            d[0] = 0.0;
-        } else {
-            d[0] = 0.0;
-            sub_off(y, f - 1, p->off, d + 1);
-        }
+        d[0] = 0.0;
+        sub_off(y + (k > 0), f - 1, p->off, d + 1);
         prefix2(d, L, f);
         if (!(isfinite(L[f - 1]) && isfinite(X->hi)))
             p->bad = 1; /* a NaN or infinity spreads to the block's last sum */
