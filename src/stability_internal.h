@@ -59,7 +59,7 @@ int igea__apass_whole(int phase, int ntau, const igea__aptau_spec *spec, long n,
  * beyond ring blocks nothing changes. Returns 0, -1 (a whole-record pass,
  * values already fed, or a source already set), IGEA_ENOMEM. */
 int igea__apass_source(igea__apass *p, int fd, double off, long stride, long ring);
-/* igea_stability_stream_source with a ring of ring >= 8 blocks. */
+/* igea_stability_stream_source with a ring of ring blocks (at least the deferred blocks and 8). */
 struct igea_stability_stream;
 int igea__stability_stream_source_ring(struct igea_stability_stream *h, int fd, double offset,
                                        int stride, long ring);

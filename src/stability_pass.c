@@ -26,12 +26,11 @@
 #endif
 #define AP_REANCHOR 4       /* lags off the block grid: exact anchors every 4 blocks */
 #define AP_BUF (AP_B + 16)  /* one stream of the scratch buffer */
+#define AP_VS (AP_B + 8)    /* a block of the ring of V (AP_B + 1 values from the 4th) */
 #define AP_NLEV 16          /* levels of pyr_block: m = 1, 2, 4, ... < AP_B */
-#ifndef AP_PFL
-#define AP_PFL 2
-#endif
-#ifndef AP_AHEAD
-#define AP_AHEAD 2 /* blocks ahead the long lags' raw values are fetched */
+#ifndef AP_DEFER
+#define AP_DEFER 64 /* blocks whose long-lag terms are taken together, tau by tau
+                     * (a stream keeps as many more raw values) */
 #endif
 
 /* ---- double-double ---- */
@@ -134,10 +133,12 @@ struct igea__apass {
     const double *rec; /* the whole record (NULL: a stream) */
     long nrec;
     long rsl, rsv;     /* blocks of the small rings of L and V */
-    double *L, *V;     /* rsl blocks of AP_B (L), rsv of AP_B + 1 (V) */
+    double *L, *V;     /* rsl blocks of AP_B (L), rsv of AP_VS (V, from the 4th) */
     double *vbuf;      /* V of the current block when no ring keeps it */
     double *lx, *vx;   /* the window: L (V) of the block before and of this one
                         * on the block before's base (2 AP_B + 1 values) */
+    void *mem[6];      /* the allocations of L, V, lx, vx, buf and pz (these
+                        * aligned to 64 bytes in them) */
     long cap, cap_max; /* the ring of block bases: blocks, and blocks the lags need */
     dd *Xb, *Wb;
     double *raw;       /* stream: raw values, value i at i % (rawcap AP_B) */
@@ -151,6 +152,8 @@ struct igea__apass {
     int have_off, ended;
     int bad;           /* a value was NaN or infinite */
     int ntau;
+    int nlarge;        /* taus with long lags */
+    long kd, nd;       /* blocks kd .. kd + nd - 1: their long-lag terms deferred */
     aptau *t;
     double *z;         /* scratch: AP_B + 3 values */
     double *buf;       /* scratch: 8 streams of AP_BUF */
@@ -173,10 +176,17 @@ static inline double *lptr(const igea__apass *p, long i)
     return lblk(p, b) + (i - b * AP_B);
 }
 
+/* The running sums V of block blk (AP_B + 1 values; V + 1 on a multiple of
+ * 32 bytes, as the vectors of prefix2 store them). */
+static inline double *vblk(const igea__apass *p, long blk)
+{
+    return p->V + (size_t)mod_l(blk, p->rsv) * AP_VS + 3;
+}
+
 static inline double *vptr(const igea__apass *p, long i)
 {
     long b = i / AP_B;
-    return p->V + (size_t)mod_l(b, p->rsv) * (AP_B + 1) + (i - b * AP_B);
+    return vblk(p, b) + (i - b * AP_B);
 }
 
 static inline dd *xb(const igea__apass *p, long blk) { return p->Xb + mod_l(blk, p->cap); }
@@ -358,11 +368,9 @@ void igea__apass_free(igea__apass *p)
 {
     if (!p)
         return;
-    free(p->L);
-    free(p->V);
+    for (int i = 0; i < 6; i++)
+        free(p->mem[i]);
     free(p->vbuf);
-    free(p->lx);
-    free(p->vx);
     free(p->Xb);
     free(p->Wb);
     free(p->raw);
@@ -371,8 +379,6 @@ void igea__apass_free(igea__apass *p)
         free(p->t[j].zb);
     free(p->t);
     free(p->z);
-    free(p->buf);
-    free(p->pz);
     free(p);
 }
 
@@ -440,6 +446,15 @@ static int raw_grow(igea__apass *p, long newcap)
     return 0;
 }
 
+/* n doubles from a multiple of 64 bytes (the vectors' stores within one
+ * cache line), *mem the allocation to free (NULL on failure). */
+static double *dalloc64(size_t n, void **mem)
+{
+    double *a = n > (size_t)-1 / sizeof(double) - 8 ? NULL : igea__dalloc(n + 8);
+    *mem = a;
+    return a ? a + ((64 - (size_t)((uintptr_t)a & 63)) & 63) / sizeof(double) : NULL;
+}
+
 static int apass_alloc(int phase, int ntau, const igea__aptau_spec *spec, const double *rec,
                        long nrec, long nhint, igea__apass **out)
 {
@@ -452,7 +467,7 @@ static int apass_alloc(int phase, int ntau, const igea__aptau_spec *spec, const 
     p->ntau = ntau;
     p->t = calloc((size_t)(ntau > 0 ? ntau : 1), sizeof(aptau));
     p->z = igea__dalloc(AP_B + 3);
-    p->buf = igea__dalloc(8 * (size_t)AP_BUF);
+    p->buf = dalloc64(8 * (size_t)AP_BUF, &p->mem[4]);
     if (!p->t || !p->z || !p->buf) {
         igea__apass_free(p);
         return IGEA_ENOMEM;
@@ -491,6 +506,7 @@ static int apass_alloc(int phase, int ntau, const igea__aptau_spec *spec, const 
             span = t->span;
         if (t->large && t->span > lspan)
             lspan = t->span;
+        p->nlarge += t->large;
         if ((t->stride || t->m == 1) && !t->large) { /* overlapping: the small ring */
             t->win = t->span <= AP_B;
             if (t->type == IGEA__AP_MV)
@@ -513,15 +529,15 @@ static int apass_alloc(int phase, int ntau, const igea__aptau_spec *spec, const 
         rsv = IGEA_MAX(rsv, 2); /* the window's block before */
     p->rsl = rsl;
     p->rsv = rsv;
-    p->lx = wl ? igea__dalloc(2 * AP_B + 1) : NULL;
-    p->vx = wv ? igea__dalloc(2 * AP_B + 2) : NULL;
+    p->lx = wl ? dalloc64(2 * AP_B + 1, &p->mem[2]) : NULL;
+    p->vx = wv ? dalloc64(2 * AP_B + 2, &p->mem[3]) : NULL;
     if (wv && !p->lx)
         p->lx = NULL;
-    p->L = igea__dalloc((size_t)rsl * AP_B);
-    p->V = rsv ? igea__dalloc((size_t)rsv * (AP_B + 1)) : NULL;
+    p->L = dalloc64((size_t)rsl * AP_B, &p->mem[0]);
+    p->V = rsv ? dalloc64((size_t)rsv * AP_VS, &p->mem[1]) : NULL;
     p->vbuf = p->need_w && !rsv ? igea__dalloc(AP_B + 1) : NULL;
     /* bases: back to the longest lag, plus the current block */
-    p->cap_max = IGEA_MAX(span / AP_B + 4, IGEA_MAX(rsl, rsv) + 1);
+    p->cap_max = IGEA_MAX(span / AP_B + 4 + (lspan ? AP_DEFER : 0), IGEA_MAX(rsl, rsv) + 1);
     long c0 = p->cap_max;
     if (nb > 0 && nb + 1 < c0)
         c0 = nb + 1;
@@ -529,10 +545,10 @@ static int apass_alloc(int phase, int ntau, const igea__aptau_spec *spec, const 
         c0 = 16;
     /* raw values before a block's first that its terms read (the lag,
      * the sample before it, the block of an anchor), and the stream's ring */
-    p->reach = lspan ? lspan + AP_B + 1 : 1;
+    p->reach = lspan ? lspan + (AP_DEFER + 1) * AP_B + 1 : 1;
     p->rawcap_max = (p->reach + AP_B - 1) / AP_B + 4;
     if (p->npyr)
-        p->pz = igea__dalloc(AP_B + 3 * AP_NLEV);
+        p->pz = dalloc64(AP_B + 8 * AP_NLEV, &p->mem[5]);
     int st = !p->L || (p->npyr && !p->pz) || (rsv && !p->V) || (p->need_w && !rsv && !p->vbuf) || (wl && !p->lx) ||
                      (wv && !p->vx)
                  ? IGEA_ENOMEM
@@ -559,6 +575,7 @@ int igea__apass_source(igea__apass *p, int fd, double off, long stride, long rin
 {
     if (p->rec || p->nraw > 0 || p->src)
         return -1;
+    ring = IGEA_MAX(ring, AP_DEFER + 8); /* the deferred blocks stay in the ring */
     if (p->rawcap_max <= ring)
         return 0; /* the ring holds every lag: nothing is read back */
     struct apsrc *s = calloc(1, sizeof *s);
@@ -610,6 +627,15 @@ typedef double ap_v4 __attribute__((vector_size(32), aligned(8)));
 #define AP_VEC 0
 #endif
 
+#if AP_VEC
+#if defined(__clang__)
+#define AP_SHUF(a, b, i, j, k, l) __builtin_shufflevector(a, b, i, j, k, l)
+#else
+typedef long long ap_i4 __attribute__((vector_size(32)));
+#define AP_SHUF(a, b, i, j, k, l) __builtin_shuffle(a, b, (ap_i4){i, j, k, l})
+#endif
+#endif
+
 /* Sum of squares of EXPR(l) over the len values: eight lanes (element i + l
  * in lane l), the tail in lane 0, combined as ((0+1)+(2+3))+((4+5)+(6+7)).
  * The vector form computes the same lanes. */
@@ -635,13 +661,16 @@ typedef double ap_v4 __attribute__((vector_size(32), aligned(8)));
     return ((s0 + s1) + (s2 + s3)) + ((s4 + s5) + (s6 + s7))
 
 #if AP_VEC
-#define AP_VLANES8(VEXPR, EXPR)                                                           \
+#define AP_VLANES8(VEXPR, EXPR) AP_VLANES8N(VEXPR, EXPR, (void)0)
+/* NEXT: what the kernel carries on to the next eight values */
+#define AP_VLANES8N(VEXPR, EXPR, NEXT)                                                    \
     ap_v4 va = {0, 0, 0, 0}, vb = {0, 0, 0, 0};                                           \
     long i = 0;                                                                           \
     for (; i + 8 <= len; i += 8) {                                                        \
         ap_v4 ta = VEXPR(0), tb = VEXPR(4);                                               \
         va += ta * ta;                                                                    \
         vb += tb * tb;                                                                    \
+        NEXT;                                                                             \
     }                                                                                     \
     double s0 = va[0], s1 = va[1], s2 = va[2], s3 = va[3], s4 = vb[0], s5 = vb[1],        \
            s6 = vb[2], s7 = vb[3];                                                        \
@@ -696,12 +725,13 @@ AP_CLONES static double seg_mv(const double *v0, const double *v1, const double 
 #define AP_MV_T(l)                                                                        \
     (((v0[i + l] - v3[i + l]) - 3.0 * (v1[i + l] - v2[i + l])) + (A + ((double)i + l) * Bc))
 #if AP_VEC
-    const ap_v4 lo = {0, 1, 2, 3}, hi = {4, 5, 6, 7};
+    /* (the indices i + l as doubles carried in two vectors: the same values) */
+    ap_v4 lo = {0, 1, 2, 3}, hi = {4, 5, 6, 7};
 #define AP_MV_V(l)                                                                        \
     (((AP_LD(v0 + i + l) - AP_LD(v3 + i + l)) -                                           \
       3.0 * (AP_LD(v1 + i + l) - AP_LD(v2 + i + l))) +                                    \
-     (A + ((double)i + (l ? hi : lo)) * Bc))
-    AP_VLANES8(AP_MV_V, AP_MV_T);
+     (A + (l ? hi : lo) * Bc))
+    AP_VLANES8N(AP_MV_V, AP_MV_T, (lo += 8.0, hi += 8.0));
 #undef AP_MV_V
 #else
     AP_LANES8(AP_MV_T);
@@ -865,6 +895,145 @@ AP_CHAIN(chain_st, 0)
 #undef AP_CHAIN
 #undef AP_CHAIN_VEC
 
+/* chain_st from T0 over inc (len values T) and chain_sq from S0 over those
+ * values in one loop (the same sums bit for bit: the T lanes shifted by one,
+ * two and three values are the unaligned loads chain_sq makes), len >= 4:
+ * two recurrences in flight instead of one after the other. Returns the sum
+ * of the squares of S; *tlast, *slast the last T and S. */
+AP_CLONES static double chain_ts(double T0, double S0, const double *inc, long len,
+                                 double *tlast, double *slast)
+{
+    long n4 = len / 4;
+    double t[8], s0, s1, s2, s3;
+    double w0 = T0, w1 = w0 + inc[0], w2 = w1 + inc[1], w3 = w2 + inc[2];
+    double u0 = S0, u1 = u0 + w0, u2 = u1 + w1, u3 = u2 + w2;
+#if AP_VEC
+    ap_v4 VT = {w0, w1, w2, w3}, VS = {u0, u1, u2, u3}, SS = {0, 0, 0, 0};
+    for (long q = 0;; q++) {
+        SS += VS * VS;
+        if (q + 1 == n4)
+            break;
+        const double *c = inc + 4 * q;
+        ap_v4 VN = VT + ((AP_LD(c) + AP_LD(c + 1)) + (AP_LD(c + 2) + AP_LD(c + 3)));
+        ap_v4 h2 = AP_SHUF(VT, VN, 2, 3, 4, 5), h1 = AP_SHUF(VT, h2, 1, 4, 3, 6);
+        ap_v4 h3 = AP_SHUF(h2, VN, 1, 4, 3, 6);
+        VS += (VT + h1) + (h2 + h3);
+        VT = VN;
+    }
+    s0 = SS[0], s1 = SS[1], s2 = SS[2], s3 = SS[3];
+    for (int l = 0; l < 4; l++)
+        t[l] = VT[l], t[4 + l] = VS[l];
+#else
+    s0 = s1 = s2 = s3 = 0.0;
+    for (long q = 0;; q++) {
+        s0 += u0 * u0;
+        s1 += u1 * u1;
+        s2 += u2 * u2;
+        s3 += u3 * u3;
+        if (q + 1 == n4)
+            break;
+        const double *c = inc + 4 * q;
+        double n0 = w0 + ((c[0] + c[1]) + (c[2] + c[3]));
+        double n1 = w1 + ((c[1] + c[2]) + (c[3] + c[4]));
+        double n2 = w2 + ((c[2] + c[3]) + (c[4] + c[5]));
+        double n3 = w3 + ((c[3] + c[4]) + (c[5] + c[6]));
+        u0 += (w0 + w1) + (w2 + w3);
+        u1 += (w1 + w2) + (w3 + n0);
+        u2 += (w2 + w3) + (n0 + n1);
+        u3 += (w3 + n0) + (n1 + n2);
+        w0 = n0, w1 = n1, w2 = n2, w3 = n3;
+    }
+    t[0] = w0, t[1] = w1, t[2] = w2, t[3] = w3, t[4] = u0, t[5] = u1, t[6] = u2, t[7] = u3;
+#endif
+    /* the tails (fewer than four values): T then S, as the two chains do */
+    double tt[7], tv = t[3], sv = t[7];
+    for (int l = 0; l < 4; l++)
+        tt[l] = t[l];
+    for (long i = 4 * n4; i < len; i++) {
+        const double *c = inc + i - 4;
+        tv = tt[i - 4 * n4 + 4 - 4] + ((c[0] + c[1]) + (c[2] + c[3]));
+        tt[i - 4 * n4 + 4] = tv;
+    }
+    for (long i = 4 * n4; i < len; i++) {
+        const double *c = tt + (i - 4 * n4);
+        sv = t[4 + i - 4 * n4] + ((c[0] + c[1]) + (c[2] + c[3]));
+        s0 += sv * sv;
+    }
+    *tlast = tv;
+    *slast = sv;
+    return (s0 + s1) + (s2 + s3);
+}
+
+#if AP_VEC
+/* The modified kind's long lag for rate data with the increments formed in
+ * the same loop: a[q] the raw values at lag q m from the block's first term
+ * (len + 8 of each, len >= 4), h_i = (a0 - a3) - 3 (a1 - a2) as inc_hv forms
+ * them, the four values after a vector's from the next one by shuffles. The
+ * loop is skewed: while S steps from q to q + 1, T steps from q + 1 and the
+ * increments are formed for q + 3, so that each step's operands are ready
+ * (at most eight values past len are read, none used). The same sums as
+ * inc_hv then chain_ts bit for bit. */
+AP_CLONES static double chain_hts(const double *const *a, double T0, double S0, long len,
+                                  double *tlast, double *slast)
+{
+    const double *a0 = a[0], *a1 = a[1], *a2 = a[2], *a3 = a[3];
+#define AP_HV4(k) ((AP_LD(a0 + (k)) - AP_LD(a3 + (k))) - 3.0 * (AP_LD(a1 + (k)) - AP_LD(a2 + (k))))
+/* R = the sums of four from each lane of X on (Y the vector after X) */
+#define AP_SUM4(X, Y, R)                                                                  \
+    {                                                                                     \
+        ap_v4 g2 = AP_SHUF(X, Y, 2, 3, 4, 5), g1 = AP_SHUF(X, g2, 1, 4, 3, 6);            \
+        ap_v4 g3 = AP_SHUF(g2, Y, 1, 4, 3, 6);                                            \
+        R = (X + g1) + (g2 + g3);                                                         \
+    }
+    long n4 = len / 4;
+    ap_v4 H = AP_HV4(0), H1 = AP_HV4(4), D;
+    double w0 = T0, w1 = w0 + H[0], w2 = w1 + H[1], w3 = w2 + H[2];
+    double u0 = S0, u1 = u0 + w0, u2 = u1 + w1, u3 = u2 + w2;
+    ap_v4 VT = {w0, w1, w2, w3}, VS = {u0, u1, u2, u3}, SS = {0, 0, 0, 0}, VT1;
+    AP_SUM4(H, H1, D);
+    VT1 = VT + D;           /* T of step 1 */
+    H = AP_HV4(8);
+    AP_SUM4(H1, H, D);      /* the increments' sums of step 1 to 2 */
+    for (long q = 0;; q++) {
+        /* VS: S of step q; VT, VT1: T of steps q and q + 1; D: the sums from
+         * q + 1 to q + 2; H: h of step q + 2 */
+        SS += VS * VS;
+        if (q + 1 == n4)
+            break;
+        ap_v4 E, HN = AP_HV4(4 * q + 12), VT2 = VT1 + D;
+        AP_SUM4(VT, VT1, E);
+        VS += E;
+        AP_SUM4(H, HN, D);
+        H = HN;
+        VT = VT1;
+        VT1 = VT2;
+    }
+#undef AP_SUM4
+#undef AP_HV4
+    /* the tails (fewer than four values), as chain_ts */
+    double hh[7], tt[7], tv = VT[3], sv = VS[3];
+    double s0 = SS[0], s1 = SS[1], s2 = SS[2], s3 = SS[3];
+    long b = 4 * n4 - 4;
+    for (int l = 0; l < 4; l++)
+        tt[l] = VT[l];
+    for (long i = b; i < len - 1; i++)
+        hh[i - b] = (a0[i] - a3[i]) - 3.0 * (a1[i] - a2[i]);
+    for (long i = b + 4; i < len; i++) {
+        const double *c = hh + (i - 4 - b);
+        tv = tt[i - 4 - b] + ((c[0] + c[1]) + (c[2] + c[3]));
+        tt[i - b] = tv;
+    }
+    for (long i = b + 4; i < len; i++) {
+        const double *c = tt + (i - 4 - b);
+        sv = VS[i - 4 - b] + ((c[0] + c[1]) + (c[2] + c[3]));
+        s0 += sv * sv;
+    }
+    *tlast = tv;
+    *slast = sv;
+    return (s0 + s1) + (s2 + s3);
+}
+#endif
+
 /* d[i] = v[i] - o. */
 AP_CLONES static void sub_off(const double *v, long len, double o, double *d)
 {
@@ -1009,6 +1178,27 @@ static double large_block(igea__apass *p, aptau *t, long e0, long e1)
     }
     int cont = t->cnext == e0;
     int exact = !cont || m % AP_B == 0 || (e0 / AP_B) % AP_REANCHOR == 0;
+#if AP_VEC
+    if (!p->phase && t->type == IGEA__AP_MV && len >= 4 && e1 + 8 <= p->nraw) {
+        /* (every increment the block's terms need is there, and eight raw
+         * values more: the T and S of the block from the raw values in one
+         * loop) */
+        double T0, v0 = exact ? anchor(p, t, e0, cHV, 1) : t->c2 + t->c1;
+        if (exact)
+            T0 = anchor(p, t, e0, cHV, 0);
+        else { /* T_{e0} = T_{e0-1} + the increment at e0 - 1 */
+            double y[4];
+            for (int q = 0; q < 4; q++)
+                y[q] = *raw_at(p, e0 - 1 - q * m, 1, s[q]);
+            T0 = t->c1 + ((y[0] - y[3]) - 3.0 * (y[1] - y[2]));
+        }
+        for (int q = 0; q < 4; q++)
+            a[q] = raw_at(p, e0 - q * m, len + 8, s[q]);
+        tot = chain_hts(a, T0, v0, len, &t->c1, &t->c2);
+        t->cnext = e1;
+        return tot;
+    }
+#endif
     /* the increments from e0 - 1 (continued) or e0 (the first term) to
      * e1 - 2 (rate data: not past the last sample, N - 2) */
     long i0 = cont ? e0 - 1 : e0, ilast = e1 - 2;
@@ -1040,6 +1230,12 @@ static double large_block(igea__apass *p, aptau *t, long e0, long e1)
              * the record, the last (only S needs it: S_N = S_{N-1} + T_{N-1}) */
             long nT = cont && ni < 1 ? 0 : IGEA_MIN(len, ni - cont + 1);
             v0 = exact ? anchor(p, t, e0, cHV, 1) : t->c2 + t->c1;
+            if (nT == len && len >= 4) { /* T and S in one loop */
+                double T0 = exact ? anchor(p, t, e0, cHV, 0) : t->c1 + inc[0];
+                tot = chain_ts(T0, v0, in, len, &t->c1, &t->c2);
+                t->cnext = e1;
+                return tot;
+            }
             if (nT > 0) {
                 double T0 = exact ? anchor(p, t, e0, cHV, 0) : t->c1 + inc[0];
                 chain_st(T0, in, nT, tv, &last);
@@ -1199,14 +1395,6 @@ static void terms_stride(igea__apass *p, aptau *t, long e0, long e1)
     igea__ksum_add(&t->sum, tot);
 }
 
-#if AP_VEC
-#if defined(__clang__)
-#define AP_SHUF(a, b, i, j, k, l) __builtin_shufflevector(a, b, i, j, k, l)
-#else
-typedef long long ap_i4 __attribute__((vector_size(32)));
-#define AP_SHUF(a, b, i, j, k, l) __builtin_shuffle(a, b, (ap_i4){i, j, k, l})
-#endif
-#endif
 
 /* z[j] = (a0[j m] - a1[j m]) + C (m = 1) or times 1/2 (m = 2), j < cnt. */
 AP_CLONES static void means_12(const double *a0, const double *a1, long cnt, long m, double C,
@@ -1269,9 +1457,9 @@ static long means_of(const igea__apass *p, long m, long e0, long e1, double *z)
  * rest in lane 0, ((0 + 1) + (2 + 3)) + ((4 + 5) + (6 + 7))). */
 AP_CLONES static void acf_lags(const double *z, long K, double *out)
 {
-    double r[5][8] = {{0}};
     long i = 0;
 #if AP_VEC
+    double r[5][8]; /* (every entry set from the vectors) */
     {
         ap_v4 S0 = {0, 0, 0, 0}, S1 = S0, Q0 = S0, Q1 = S0, A0 = S0, A1 = S0, B0 = S0, B1 = S0,
               C0 = S0, C1 = S0;
@@ -1295,6 +1483,7 @@ AP_CLONES static void acf_lags(const double *z, long K, double *out)
         }
     }
 #else
+    double r[5][8] = {{0}};
     for (; i + 8 <= K; i += 8)
         for (int l = 0; l < 8; l++) {
             double v = z[i + l];
@@ -1410,18 +1599,19 @@ static void pyr_block(igea__apass *p, long k)
     double *lv[AP_NLEV];
     long cl[AP_NLEV];
     /* block_build's samples less the offset (kB .. kB + f - 2, after its
-     * d[0]; the three values before are free: d[0] and the end of the
-     * buffer before) and the block's last */
-    lv[0] = p->buf + 7 * AP_BUF + 1;
+     * d[0]; the three values before are free: d[0] and the two before it)
+     * and the block's last */
+    lv[0] = p->buf + 7 * AP_BUF + 4;
     if (c == AP_B)
         lv[0][AP_B - 1] = *raw_at(p, k * AP_B + AP_B - 1, 1, p->buf) - p->off;
     cl[0] = c;
-    double *q = p->pz + 3;
-    for (int l = 1; l < nl; l++) { /* each level after three free values */
+    double *q = p->pz + 4;
+    for (int l = 1; l < nl; l++) { /* each level after three free values, from
+                                    * a multiple of 32 bytes */
         lv[l] = q;
         cl[l] = cl[l - 1] / 2;
         halve(lv[l - 1], cl[l], q);
-        q += (AP_B >> l) + 3;
+        q += ((AP_B >> l) + 3) / 4 * 4 + 4;
     }
     for (int j = 0; j < p->ntau; j++) {
         aptau *t = &p->t[j];
@@ -1473,44 +1663,34 @@ static void hist_push(igea__apass *p, aptau *t, long k, long f)
         t->hn++;
 }
 
-/* The raw values [i, i + len) asked for from memory (the long lags' streams
- * of a block ahead: the hardware's prefetch does not follow so many). */
-static void raw_prefetch(const igea__apass *p, long i, long len)
+/* The long-lag terms of the deferred blocks kd .. kd + nd - 1 (full ones),
+ * tau by tau: each tau's streams read on for AP_DEFER blocks rather than
+ * every long lag's at once (the same terms, added to each tau's sum in the
+ * same order). */
+static void large_flush(igea__apass *p)
 {
-#if defined(__GNUC__)
-    if (i < 0)
-        return;
-    const double *r;
-    if (p->rec) {
-        if (i + len > p->nrec)
-            len = p->nrec - i;
-        r = p->rec + i;
-    } else {
-        long R = p->rawcap * AP_B, s = mod_l(i, R);
-        if (p->src && i < p->nraw - R)
-            return; /* read back when asked for */
-        if (s + len > R)
-            len = R - s;
-        r = p->raw + s;
+    long k1 = p->kd + p->nd;
+    for (int j = 0; j < p->ntau && p->nd > 0; j++) {
+        aptau *t = &p->t[j];
+        if (!t->large)
+            continue;
+        for (long b = p->kd; b < k1; b++) {
+            long lo = b * AP_B, hi = lo + AP_B;
+            if (lo < t->span)
+                lo = t->span;
+            if (lo < hi)
+                terms_large(p, t, lo, hi);
+        }
     }
-    for (long j = 0; j < len; j += 8)
-        __builtin_prefetch(r + j, 0, AP_PFL);
-#else
-    (void)p, (void)i, (void)len;
-#endif
+    p->nd = 0;
 }
 
 /* The terms with current phase index in block k at offsets [x0, x1) and
- * current running-sum index (the modified kinds) at offsets [w0, w1). */
-static void block_terms(igea__apass *p, long k, long x0, long x1, long w0, long w1)
+ * current running-sum index (the modified kinds) at offsets [w0, w1); defer:
+ * not the long lags' (large_flush takes them). */
+static void block_terms(igea__apass *p, long k, long x0, long x1, long w0, long w1, int defer)
 {
     long base = k * AP_B;
-    for (int j = 0; j < p->ntau; j++) { /* the long lags' streams, AP_AHEAD blocks on */
-        const aptau *t = &p->t[j];
-        if (t->large)
-            for (int q = 1; q <= (t->type == IGEA__AP_AV ? 2 : 3); q++)
-                raw_prefetch(p, base + AP_AHEAD * AP_B - q * t->m - 1, AP_B);
-    }
     for (int j = 0; j < p->ntau; j++) {
         aptau *t = &p->t[j];
         int w = t->type == IGEA__AP_MV;
@@ -1518,9 +1698,10 @@ static void block_terms(igea__apass *p, long k, long x0, long x1, long w0, long 
         if (lo < t->span)
             lo = t->span;
         if (lo < hi) {
-            if (t->large)
-                terms_large(p, t, lo, hi);
-            else if (t->win && x1 > 0) /* (not the empty block after a full
+            if (t->large) {
+                if (!defer)
+                    terms_large(p, t, lo, hi);
+            } else if (t->win && x1 > 0) /* (not the empty block after a full
                                         * last one: no window was built for it) */
                 terms_win(p, t, k, lo, hi);
             else if (t->stride || t->m == 1)
@@ -1578,6 +1759,22 @@ AP_CLONES static void prefix_lanes(const double *d, double *out, double *a)
 }
 #endif
 
+/* Lane l of the n values (AP_B / 8 each) offset by off[l], l >= 1. */
+AP_CLONES static void lanes_off(double *out, long n, const double *off)
+{
+    enum { W = AP_B / 8 };
+    for (int l = 1; l < 8; l++) {
+        long r1 = n - l * W < W ? n - l * W : W, r = 0;
+        double o = off[l], *q = out + l * W;
+#if AP_VEC
+        for (; r + 4 <= r1; r += 4)
+            AP_STV(q + r, AP_LD(q + r) + o);
+#endif
+        for (; r < r1; r++)
+            q[r] += o;
+    }
+}
+
 /* Inclusive prefix sums out[j] = d[0] + ... + d[j], j < n <= AP_B (in place
  * allowed): eight lanes of AP_B / 8 values summed side by side, then each
  * lane offset by the totals of the lanes before it (values past n taken as
@@ -1630,12 +1827,7 @@ static void prefix2(const double *d, double *out, long n)
     off[5] = off[4] + a4;
     off[6] = off[5] + a5;
     off[7] = off[6] + a6;
-    for (int l = 1; l < 8; l++) {
-        long r1 = n - l * W < W ? n - l * W : W;
-        double o = off[l], *q = out + l * W;
-        for (long r = 0; r < r1; r++)
-            q[r] += o;
-    }
+    lanes_off(out, n, off);
 }
 
 /* Block k (f points) from the raw values: its base, local values L
@@ -1668,7 +1860,9 @@ static void block_build(igea__apass *p, long k, long f)
         /* point kB + j is X_{kB} + the samples kB .. kB + j - 1 (less the
          * offset); sample kB - 1 goes to the base (block 0: X_0 = 0) */
         const double *y = raw_at(p, k * AP_B - (k > 0), f, bf);
-        double *d = bf + AP_BUF;
+        double *d = bf + AP_BUF + 3; /* (d + 1, the samples, on a multiple of
+                                      * 32 bytes: the vectors' stores and
+                                      * pyr_block's loads within a line) */
         if (k > 0)
             *X = dd_add_d(dd_add_d(*xb(p, k - 1), p->llast), y[0] - p->off);
         else
@@ -1687,7 +1881,7 @@ static void block_build(igea__apass *p, long k, long f)
     }
     p->llast = L[f - 1];
     if (p->need_w) {
-        double *V = p->rsv ? p->V + (size_t)mod_l(k, p->rsv) * (AP_B + 1) : p->vbuf;
+        double *V = p->rsv ? vblk(p, k) : p->vbuf;
         dd *W = wb(p, k);
         if (k > 0)
             *W = dd_add_d(dd_add(*wb(p, k - 1), dd_mul_d(*xb(p, k - 1), (double)AP_B)), p->vlast);
@@ -1698,7 +1892,7 @@ static void block_build(igea__apass *p, long k, long f)
         if (p->vx) { /* W_t - W_{kB} - (t - kB) X_{kB}: the block before
                       * ((V_j - vlast) + (B - j) dX), then this block */
             if (k > 0)
-                vx_prev(p->V + (size_t)mod_l(k - 1, p->rsv) * (AP_B + 1), p->vlast, dX, p->vx);
+                vx_prev(vblk(p, k - 1), p->vlast, dX, p->vx);
             memcpy(p->vx + AP_B, V, (size_t)(f + 1) * sizeof(double));
         }
         p->vlast = V[f];
@@ -1724,15 +1918,23 @@ static int block_do(igea__apass *p, long k, long f, int last)
     block_build(p, k, f);
     p->k = k + 1;
     if (!last) {
-        block_terms(p, k, 0, f, 0, f);
+        int defer = AP_DEFER > 1 && p->nlarge > 0;
+        block_terms(p, k, 0, f, 0, f, defer);
+        if (defer) {
+            if (p->nd++ == 0)
+                p->kd = k;
+            if (p->nd == AP_DEFER)
+                large_flush(p);
+        }
         return 0;
     }
+    large_flush(p);
     if (f < AP_B || !p->need_w) {
-        block_terms(p, k, 0, f, 0, f < AP_B ? f + 1 : f);
+        block_terms(p, k, 0, f, 0, f < AP_B ? f + 1 : f, 0);
         return 0;
     }
     /* a full last block: W_N is the first running sum of an empty block */
-    block_terms(p, k, 0, AP_B, 0, AP_B);
+    block_terms(p, k, 0, AP_B, 0, AP_B, 0);
     if ((st = base_room(p, k + 1)))
         return st;
     dd *X = xb(p, k + 1), *W = wb(p, k + 1);
@@ -1741,7 +1943,7 @@ static int block_do(igea__apass *p, long k, long f, int last)
     if (p->rsv)
         *vptr(p, (k + 1) * AP_B) = 0.0;
     p->k = k + 2;
-    block_terms(p, k + 1, 0, 0, 0, 1);
+    block_terms(p, k + 1, 0, 0, 0, 1, 0);
     return 0;
 }
 
@@ -1776,8 +1978,8 @@ int igea__apass_feed(igea__apass *p, long n, const double *v)
     while (i < n) {
         /* raw values from the oldest a block's terms read on stay */
         long keep = p->k * AP_B - p->reach - (p->phase ? 0 : 1), R = p->rawcap * AP_B;
-        if (p->src && p->rawcap >= p->rawcap_max) /* older values are read back: */
-            keep = p->k * AP_B - AP_B - 1;        /* the block before stays */
+        if (p->src && p->rawcap >= p->rawcap_max) /* older values are read back: the */
+            keep = p->k * AP_B - (AP_DEFER + 2) * AP_B; /* deferred blocks and one before stay */
         if (keep < 0)
             keep = 0;
         long room = keep + R - p->nraw;

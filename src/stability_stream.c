@@ -189,7 +189,7 @@ int igea__stability_stream_source_ring(igea_stability_stream *h, int fd, double 
         return -3;
     if (stride < (int)sizeof(double) || stride > (1 << 17))
         return -4;
-    return igea__apass_source(h->p, fd, offset, stride, ring < 8 ? 8 : ring);
+    return igea__apass_source(h->p, fd, offset, stride, ring);
 }
 
 int igea_stability_stream_source(igea_stability_stream *h, int fd, double offset, int stride)

@@ -997,7 +997,7 @@ static int stream_src(int n, const double *v, int dt, int kind, int noise, int n
     return st ? st : st2;
 }
 
-/* The stream reading its long lags back from a file (a ring of 8 blocks,
+/* The stream reading its long lags back from a file (the smallest ring, 72 blocks,
  * every lag beyond it read back): the whole-record results bit for bit,
  * for every Allan and Hadamard kind, both data types, lags on the block
  * grid and off it, the record alone in its file or a column of a table in
