@@ -195,4 +195,9 @@ int igea__stats_accuracy_cached(int n, const double *equiv_err, const double *la
                                 double *cc, const double *den, int want_p, double *z,
                                 int *reject, double *info);
 
+/* n bytes of fd from byte off into p (pread, retried on EINTR; the
+ * descriptor's position unused): 0, or IGEA_EREAD on an error or the end of
+ * the file before n bytes (io_src.c). */
+int igea__pread_full(int fd, void *p, size_t n, long long off);
+
 #endif

@@ -62,6 +62,17 @@ static ssize_t pread_retry(int fd, void *p, size_t n, off_t off)
     return k;
 }
 
+int igea__pread_full(int fd, void *p, size_t n, long long off)
+{
+    for (size_t got = 0; got < n;) {
+        ssize_t k = pread_retry(fd, (char *)p + got, n - got, (off_t)off + (off_t)got);
+        if (k <= 0)
+            return IGEA_EREAD;
+        got += (size_t)k;
+    }
+    return 0;
+}
+
 int io_spool_new(igea_io_reader *r)
 {
     const char *dir = r->tmpdir && *r->tmpdir ? r->tmpdir : "/tmp";

@@ -9,9 +9,7 @@
  * recurrence from exact anchors; the strided terms and the tau-means of
  * long lags keep the last points at multiples of m (docs/stability.md,
  * "One pass"). */
-#include <errno.h>
 #include <stdint.h>
-#include <unistd.h>
 
 #include "igea/stability.h"
 #include "internal.h"
@@ -294,32 +292,16 @@ static void src_fed(struct apsrc *s, long nraw0, const double *v, long n)
  * 0 or IGEA_EREAD. */
 static int src_read(struct apsrc *s, long first, long cnt, double *w)
 {
-    double pos = s->off + (double)first * (double)s->stride;
-    if (s->stride == (long)sizeof(double)) {
-        size_t want = (size_t)cnt * sizeof(double), got = 0;
-        while (got < want) {
-            ssize_t k = pread(s->fd, (char *)w + got, want - got, (off_t)pos + (off_t)got);
-            if (k < 0 && errno == EINTR)
-                continue;
-            if (k <= 0)
-                return IGEA_EREAD;
-            got += (size_t)k;
-        }
-        return 0;
-    }
+    long long pos = (long long)s->off + (long long)first * s->stride;
+    if (s->stride == (long)sizeof(double))
+        return igea__pread_full(s->fd, w, (size_t)cnt * sizeof(double), pos);
     long per = AP_SRC_CHUNK / s->stride; /* values per pread (stride <= AP_SRC_CHUNK / 8) */
     for (long j = 0; j < cnt; j += per) {
         long c = IGEA_MIN(per, cnt - j);
-        size_t want = (size_t)(c - 1) * (size_t)s->stride + sizeof(double), got = 0;
-        off_t at = (off_t)pos + (off_t)j * (off_t)s->stride;
-        while (got < want) {
-            ssize_t k = pread(s->fd, s->tmp + got, want - got, at + (off_t)got);
-            if (k < 0 && errno == EINTR)
-                continue;
-            if (k <= 0)
-                return IGEA_EREAD;
-            got += (size_t)k;
-        }
+        int st = igea__pread_full(s->fd, s->tmp, (size_t)(c - 1) * (size_t)s->stride + sizeof(double),
+                                  pos + (long long)j * s->stride);
+        if (st)
+            return st;
         for (long q = 0; q < c; q++)
             memcpy(w + j + q, s->tmp + (size_t)q * (size_t)s->stride, sizeof(double));
     }
